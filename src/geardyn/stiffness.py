@@ -1,0 +1,175 @@
+"""Mesh stiffness of a spur pair: ISO 6336-1 method B and the parabolic k(t) of paper 1.
+
+Paper 1 is Li et al. (2013), "Effect of modification coefficient on nonlinear dynamic
+characteristics of planetary drive with small teeth number difference", Eqs. (7)-(10).
+
+Units: stiffness in N/m (SI) unless a name says otherwise; time ``t`` in mesh periods,
+so that one mesh period is ``t in [0, 1)``.
+
+Two misprints in the paper are handled here (see ``docs/paper1_choices.md``):
+
+* ``C1`` is printed 0.04732; ISO 6336-1 gives 0.04723 (transposed digits).
+* Eq. (9) prints its two intervals swapped.  Summing the single-tooth parabolas of the
+  pairs in contact gives the double-pair expression on ``[0, eps - 1]`` and the
+  single-pair expression on ``[eps - 1, 1]``.  ``form="printed"`` keeps the paper's order.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+#: ISO 6336-1:2006 Table 8 (method B), coefficients of q' in mm um / N.
+ISO_C: tuple[float, ...] = (
+    0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182,
+)
+#: The same as printed in paper 1, Eq. (8): C1 = 0.04732 (a transposition).
+PRINTED_C: tuple[float, ...] = (0.04732,) + ISO_C[1:]
+
+QVariant = Literal["iso", "paper"]
+KForm = Literal["corrected", "printed"]
+
+#: Paper 1, Eq. (7): k_C = 0.8 B / q' (the product of ISO's C_M C_R C_B cos(beta) = 0.8).
+ISO_REDUCTION = 0.8
+
+
+def flexibility_q(
+    z1: int,
+    z2: int,
+    x1: ArrayLike,
+    x2: ArrayLike,
+    *,
+    internal: bool = True,
+    variant: QVariant = "iso",
+    constants: tuple[float, ...] = ISO_C,
+) -> NDArray[np.float64]:
+    """Minimum single-tooth flexibility q' in mm um / N (ISO 6336-1 method B; paper 1 Eq. 8).
+
+    ``x2`` uses the sign convention of :mod:`geardyn.geometry`: for an internal pair,
+    positive ``x2`` enlarges the annulus tip circle and thins its teeth ("Chinese" convention).
+
+    ``variant="iso"``: ISO 6336-1 for internal gears, ``z_n2 -> infinity`` and ``x2`` taken in
+    the ISO 21771 / DIN 3960 convention, which for an annulus is ``x2_iso = -x2``.  It is the
+    same convention that makes ``inv a' = 2 (x1 + x2) tan a / (z1 + z2) + inv a`` hold with a
+    negative annulus tooth count.
+
+    ``variant="paper"``: paper 1's reading, ``z_n2 = z2`` with "+" in front of the C6 and C7
+    terms for internal gearing (i.e. ISO's external formula with ``x2 -> -x2`` but a finite
+    ``z_n2``).  For external pairs both variants are ISO's formula.
+    """
+    c = constants
+    x1 = np.asarray(x1, dtype=float)
+    x2 = np.asarray(x2, dtype=float)
+    if not internal:
+        inv_z2, x2_eff = 1.0 / z2, x2
+    elif variant == "iso":
+        inv_z2, x2_eff = 0.0, -x2
+    elif variant == "paper":
+        inv_z2, x2_eff = 1.0 / z2, -x2
+    else:
+        raise ValueError(f"unknown stiffness variant {variant!r}; allowed: 'iso', 'paper'")
+    return (
+        c[0]
+        + c[1] / z1
+        + c[2] * inv_z2
+        + c[3] * x1
+        + c[4] * x1 / z1
+        + c[5] * x2_eff
+        + c[6] * x2_eff * inv_z2
+        + c[7] * x1**2
+        + c[8] * x2_eff**2
+    )
+
+
+def pitch_point_stiffness(q: ArrayLike, facewidth_mm: float) -> NDArray[np.float64]:
+    """Single-pair stiffness at the pitch point k_C in N/m (paper 1 Eq. 7: 0.8e3 B / q N/mm)."""
+    return ISO_REDUCTION * facewidth_mm / np.asarray(q, dtype=float) * 1e6
+
+
+def tip_stiffness(k_c: ArrayLike) -> NDArray[np.float64]:
+    """Stiffness k' at the start and end of a tooth's engagement, k' = k_C / 1.5 (paper 1 Sec. 3.3)."""
+    return np.asarray(k_c, dtype=float) / 1.5
+
+
+def single_tooth_stiffness(s: ArrayLike, eps: float, k_prime: float) -> NDArray[np.float64]:
+    """Stiffness of one tooth pair at engagement time ``s`` (mesh periods), zero outside [0, eps].
+
+    The parabola k'(1 + 2u(1 - u)) with u = s / eps: k' at entry and exit, 1.5 k' mid-way
+    (paper 1 Fig. 4).
+    """
+    s = np.asarray(s, dtype=float)
+    u = s / eps
+    inside = (u >= 0.0) & (u <= 1.0)
+    return np.where(inside, k_prime * (1.0 + 2.0 * u * (1.0 - u)), 0.0)
+
+
+@dataclass(frozen=True)
+class ParabolicStiffness:
+    """Coefficients of paper 1 Eq. (9): A = -2k'/eps^2, B = 2k'/eps, C = k' (N/m per period^n)."""
+
+    eps: float
+    k_prime: float
+    form: KForm = "corrected"
+
+    def __post_init__(self) -> None:
+        if not 1.0 <= self.eps < 2.0:
+            raise ValueError(f"contact ratio eps={self.eps:.4g} outside [1, 2): the two-zone k(t) needs it")
+        if self.form not in ("corrected", "printed"):
+            raise ValueError(f"unknown stiffness form {self.form!r}; allowed: 'corrected', 'printed'")
+
+    @property
+    def a(self) -> float:
+        return -2.0 * self.k_prime / self.eps**2
+
+    @property
+    def b(self) -> float:
+        return 2.0 * self.k_prime / self.eps
+
+    @property
+    def c(self) -> float:
+        return self.k_prime
+
+    @property
+    def jump_phases(self) -> tuple[float, float]:
+        """Phases (mesh periods) where a pair enters (0) or leaves (eps - 1): k(t) jumps there."""
+        return (0.0, self.eps - 1.0)
+
+    def single(self, t: NDArray[np.float64]) -> NDArray[np.float64]:
+        return self.a * t**2 + self.b * t + self.c
+
+    def double(self, t: NDArray[np.float64]) -> NDArray[np.float64]:
+        return 2 * self.a * t**2 + 2 * (self.a + self.b) * t + (self.a + self.b + 2 * self.c)
+
+    def __call__(self, t: ArrayLike) -> NDArray[np.float64]:
+        """k(t) in N/m, periodic with period 1; right-continuous at the jumps."""
+        tau = np.mod(np.asarray(t, dtype=float), 1.0)
+        first = tau < self.eps - 1.0
+        if self.form == "corrected":
+            return np.where(first, self.double(tau), self.single(tau))
+        return np.where(first, self.single(tau), self.double(tau))
+
+    def mean(self) -> float:
+        """Exact mean of k(t) over one period (closed form of the piecewise polynomial)."""
+        e1 = self.eps - 1.0
+
+        def integral(p: tuple[float, float, float], lo: float, hi: float) -> float:
+            a, b, c = p
+            return a * (hi**3 - lo**3) / 3 + b * (hi**2 - lo**2) / 2 + c * (hi - lo)
+
+        single = (self.a, self.b, self.c)
+        double = (2 * self.a, 2 * (self.a + self.b), self.a + self.b + 2 * self.c)
+        first, second = (double, single) if self.form == "corrected" else (single, double)
+        return integral(first, 0.0, e1) + integral(second, e1, 1.0)
+
+    def minimum(self) -> float:
+        """Smallest value over a period (negative values make the model meaningless)."""
+        t = np.concatenate([np.linspace(0.0, 1.0, 4001), [self.eps - 1.0]])
+        return float(np.min(self(t)))
+
+
+def mean_stiffness_corrected(eps: float, k_c: float) -> float:
+    """Closed form of the corrected mean: (4/3) eps k' = (8/9) eps k_C (paper 1 prints 0.866268 eps k_C)."""
+    return 8.0 / 9.0 * eps * k_c
