@@ -25,6 +25,7 @@ config.update(_filled)
 include: "workflow/rules/common.smk"
 include: "workflow/rules/geometry.smk"
 include: "workflow/rules/stiffness.smk"
+include: "workflow/rules/sweeps.smk"
 
 
 rule all:
@@ -32,3 +33,4 @@ rule all:
     input:
         GEOMETRY_TARGETS,
         STIFFNESS_TARGETS,
+        SWEEP_TARGETS,

@@ -206,4 +206,37 @@ def validate_workflow(config: dict[str, Any], root: str | Path = ".") -> tuple[d
         if raw["kind"] == "khv":
             _design.from_dict(raw, str(path))
         designs[name] = raw
+    _check_runs(filled, designs)
     return filled, designs
+
+
+#: Control parameters that must not be negative (b and e are amplitudes in um).
+_NON_NEGATIVE = {"b": "half backlash b (um)", "e": "transmission-error amplitude e (um)"}
+
+
+def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> None:
+    """Semantic checks of sweeps and point runs: known design, sensible values, x1 inside the segment."""
+    for section in ("sweeps", "points"):
+        for name, spec in filled.get(section, {}).items():
+            where = f"config: {section}.{name}"
+            if spec["design"] not in designs:
+                raise ConfigError(f"{where}.design = {spec['design']!r} is not allowed: one of "
+                                  + ", ".join(repr(d) for d in designs))
+            raw = designs[spec["design"]]
+            overrides = [("fixed", spec.get("fixed", {}))] + [
+                (f"cases[{i}]", case) for i, case in enumerate(spec.get("cases", []))]
+            if section == "sweeps":
+                if spec["num"] > 1 and not spec["stop"] > spec["start"]:
+                    raise ConfigError(f"{where}: stop = {spec['stop']} must be above start = {spec['start']}")
+                overrides.append(("start", {spec["parameter"]: spec["start"]}))
+                overrides.append(("stop", {spec["parameter"]: spec["stop"]}))
+            for label, values in overrides:
+                for key, value in values.items():
+                    if key in _NON_NEGATIVE and value < 0:
+                        raise ConfigError(f"{where}.{label}: {key} = {value} is not allowed: "
+                                          f"number >= 0 ({_NON_NEGATIVE[key]})")
+                    if key == "x1" and raw["kind"] == "khv":
+                        lo, hi = raw["admissible"]["x1_min"], raw["admissible"]["x1_max"]
+                        if not lo - 1e-12 <= value <= hi + 1e-12:
+                            raise ConfigError(f"{where}.{label}: x1 = {value} is not allowed: number >= {lo} and "
+                                              f"<= {hi} (the admissible segment M-N of design {raw['name']})")
