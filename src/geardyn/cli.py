@@ -25,7 +25,8 @@ def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
     pair = spec.base
     derived = geometry.describe(pair)
     values = geometry.constraints(pair, min_tip_thickness=spec.min_tip_thickness)
-    failed = [name for name, v in values.items() if v < 0]
+    failed = design.violated_constraints(pair, spec.min_tip_thickness,
+                                         raw["admissible"]["enforce_cutter_constraints"])
     mesh = design.mesh_properties(spec, pair.x1)
     segment = {}
     for label, x1 in (("M", spec.x1_min), ("N", spec.x1_max)):
