@@ -141,13 +141,28 @@ def _node_for(error: jsonschema.ValidationError) -> Mapping[str, Any]:
     return node if isinstance(node, Mapping) else {}
 
 
-def _fill_defaults(node: Mapping[str, Any], value: Any) -> Any:
-    if isinstance(value, dict) and "properties" in node:
-        for name, sub in node["properties"].items():
-            if name not in value and "default" in sub:
-                value[name] = copy.deepcopy(sub["default"])
-            if name in value:
-                value[name] = _fill_defaults(sub, value[name])
+def _fill_defaults(node: Mapping[str, Any], value: Any, root: Mapping[str, Any] | None = None) -> Any:
+    """Insert schema defaults into ``value`` (in place), through properties, maps and local $refs."""
+    root = root if root is not None else node
+    ref = node.get("$ref")
+    if isinstance(ref, str) and ref.startswith("#/"):
+        target: Any = root
+        for part in ref[2:].split("/"):
+            target = target[part]
+        node = {**target, **{k: v for k, v in node.items() if k != "$ref"}}
+    if not isinstance(value, dict):
+        return value
+    props = node.get("properties", {})
+    for name, sub in props.items():
+        if name not in value and "default" in sub:
+            value[name] = copy.deepcopy(sub["default"])
+        if name in value:
+            value[name] = _fill_defaults(sub, value[name], root)
+    extra = node.get("additionalProperties")
+    if isinstance(extra, Mapping):
+        for name in value:
+            if name not in props:
+                value[name] = _fill_defaults(extra, value[name], root)
     return value
 
 
