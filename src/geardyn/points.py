@@ -80,10 +80,11 @@ def dense_points(design: KHVDesign, fixed: Mapping[str, float], cases: list[Mapp
         ds = ds.expand_dims(case=[label])
         for key, value in attrs.items():
             if key.startswith(("coef_", "override_", "diverged")):
-                ds[key] = ("case", [value], {"units": "1", "long_name": key})
+                ds[key] = ("case", [value], {"units": "1", "long_name": f"point parameter {key}"})
         parts.append(ds)
     out = xr.concat(parts, dim="case", join="outer", data_vars="all", coords="different", compat="equals",
-                    combine_attrs="drop")
+                    combine_attrs="override")
+    out.attrs = {}
     out["case"].attrs["long_name"] = "operating point (overrides)"
     out.attrs.update({"integrator": settings.integrator, "steps_per_period": settings.steps_per_period,
                       "transient_periods": settings.transient_periods,
