@@ -1,0 +1,1 @@
+"""Figure builders (matplotlib, Agg-safe; no plt.show, no file I/O)."""
