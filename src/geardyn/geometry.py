@@ -209,12 +209,13 @@ def working_pressure_angle(pair: GearPair) -> FloatArray:
     """Working pressure angle a' in rad from the no-backlash condition.
 
     External: inv a' = 2 (x1 + x2) tan a / (z1 + z2) + inv a.
-    Internal: inv a' = 2 (x2 - x1) tan a / (z2 - z1) + inv a (MODEL_NOTES; KHK Table 5-1).
+    Internal: inv a' = 2 (x2 - x1) tan a / (z2 - z1) + inv a (MODEL_NOTES; KHK Sec. 5.1).
+    NaN where inv a' <= 0: no positive working angle exists and the teeth cannot mesh.
     """
     x1, x2 = _x(pair)
     s = pair.sigma
     inv_w = 2.0 * (x2 + s * x1) * math.tan(pair.alpha) / (pair.z2 + s * pair.z1) + involute(pair.alpha)
-    return inverse_involute(inv_w)
+    return cast(FloatArray, np.where(inv_w > 0.0, inverse_involute(np.maximum(inv_w, 0.0)), np.nan))
 
 
 def working_centre_distance(pair: GearPair) -> FloatArray:
