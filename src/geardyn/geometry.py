@@ -101,7 +101,8 @@ class GearPair:
     facewidth: mm (carried for the stiffness model; not used by the geometry).
     tip_shortening: external pairs only.  True (default) shortens both tips by
         ``(x1 + x2 - y) m`` so that the standard bottom clearance c* m is kept at the working
-        centre distance (KHK Table 4-? / Chinese practice, ``da = d + 2 (ha* + x - dy) m``).
+        centre distance (KHK/SDP-SI profile-shifted spur example and Chinese practice,
+        ``da = d + 2 (ha* + x - dy) m``).  False keeps ``da = d + 2 (ha* + x) m``.
         Internal pairs are never shortened (MODEL_NOTES).
     """
 
@@ -286,8 +287,8 @@ def root_diameters(pair: GearPair) -> tuple[FloatArray, FloatArray]:
     """Root diameters (df1, df2) in mm, rack-equivalent generation.
 
     df1 = d1 - 2 (ha* + c* - x1) m.  External wheel: df2 = d2 - 2 (ha* + c* - x2) m.
-    Annulus: df2 = d2 + 2 (ha* + c* + x2) m (the shaper-cut root is 2 a02' + da0, which equals
-    this when the cutter is unshifted and has addendum ha* + c*; not used by any constraint).
+    Annulus: df2 = d2 + 2 (ha* + c* + x2) m.  A shaper-cut root is really 2 a0' + da0, which is
+    close to this (equal when x2 = x0 = 0 and ha0* = ha* + c*); no constraint uses df.
     """
     x1, x2 = _x(pair)
     d1, d2 = pitch_diameters(pair)
