@@ -93,6 +93,10 @@ def caption_closed_graph(ds: xr.Dataset) -> str:
             f"{float(s.contact_ratio_point):.4f}, a' = {float(s.working_pressure_angle_point):.3f} deg"
         )
     lo, hi = a["line4_feasible_x1_min"], a["line4_feasible_x1_max"]
+    segment = (
+        f"the admissible part of line 4 on the grid is x1 in [{lo:.3f}, {hi:.3f}]"
+        if np.isfinite(lo) else "no grid point of line 4 is admissible"
+    )
     trim = line4_crossings(ds, "trimming_interference_annulus")
     root = line4_crossings(ds, "root_interference_annulus")
     eps1 = line4_crossings(ds, "contact_ratio_margin")
@@ -106,8 +110,8 @@ def caption_closed_graph(ds: xr.Dataset) -> str:
         "interference G_s = 0. The paper calls line 4 'equal meshing angle', but its limit points lie on "
         "G_s = 0 where a' varies. " + "; ".join(pts) + ". "
         f"Differences from the paper: the cutter is not given; with the {a['cutter_source']} cutter "
-        f"z0 = {a['cutter_teeth']}, x0 = {a['cutter_shift']}, ha0* = {a['cutter_addendum']} the "
-        f"admissible part of line 4 is x1 in [{lo:.3f}, {hi:.3f}] (paper [0.416, 0.835]); on line 4 the "
+        f"z0 = {a['cutter_teeth']}, x0 = {a['cutter_shift']:.4f}, ha0* = {a['cutter_addendum']} "
+        f"{segment} (paper [0.416, 0.835]); on line 4 the "
         f"trimming limit is at x1 = {', '.join(f'{v:.3f}' for v in trim) or 'none'}, the annulus root "
         f"interference limit at x1 = {', '.join(f'{v:.3f}' for v in root) or 'none'} and eps = 1 at "
         f"x1 = {', '.join(f'{v:.3f}' for v in eps1) or 'none (outside the grid)'}. M and N themselves are "
