@@ -325,3 +325,22 @@ def to_markdown(df: pd.DataFrame, floatfmt: str = ".4g") -> str:
     lines = ["| " + " | ".join(cols) + " |", "|" + "|".join("---" for _ in cols) + "|"]
     lines += ["| " + " | ".join(fmt(v) for v in row) + " |" for row in df.itertuples(index=False)]
     return "\n".join(lines) + "\n"
+
+
+def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
+    """Peak-to-peak TE over (amount, length) for both relief shapes, CF attrs (um, mm)."""
+    from .ishikawa import design_grid
+    from .relief import SHAPES, landscape, landscape_axes
+
+    amounts, lengths = landscape_axes(design, n)
+    grid = design_grid(design)
+    z = np.array([landscape(design, sh, amounts, lengths, grid=grid) for sh in SHAPES]) * 1e6
+    return xr.Dataset(
+        {"te_ptp": (("shape", "amount", "length"), z,
+                    {"units": "um", "long_name": "peak-to-peak static transmission error of the p-d pair"})},
+        coords={"shape": ("shape", list(SHAPES), {"units": "1", "long_name": "tip relief shape"}),
+                "amount": ("amount", amounts * 1e6, {"units": "um", "long_name": "tip relief amount along the line of action"}),
+                "length": ("length", lengths * 1e3, {"units": "mm", "long_name": "tip relief length along the path of contact"})},
+        attrs={"title": "Objective landscape of the tip-relief optimisation (Yue et al. 2014, Sec. 4)",
+               "relief_applied_to": design.relief.apply_to, "load_N": pd_mesh_load(design)},
+    )
