@@ -330,10 +330,12 @@ def damped_frequencies(mat: Matrices, n_rigid: int, omega_min: float) -> tuple[N
     n_el = n - n_rigid
     damped = np.full(n, np.nan)
     zeta = np.full(n, np.nan)
-    if len(osc) != n_el:
-        raise RuntimeError(f"{len(osc)} oscillatory eigenvalues for {n_el} elastic modes (overdamped mode?)")
-    damped[n_rigid:] = osc.imag / (2 * np.pi)
-    zeta[n_rigid:] = -osc.real / np.abs(osc)
+    if len(osc) > n_el:
+        raise RuntimeError(f"{len(osc)} oscillatory eigenvalues for {n_el} elastic modes")
+    # overdamped modes (none for Table 1) have no damped frequency: they keep NaN at the top of the list
+    m = len(osc)
+    damped[n_rigid:n_rigid + m] = osc.imag / (2 * np.pi)
+    zeta[n_rigid:n_rigid + m] = -osc.real / np.abs(osc)
     return damped, zeta
 
 
