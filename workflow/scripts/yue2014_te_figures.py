@@ -32,7 +32,11 @@ def main(design_path, te_nc, landscape_nc, optima_csv, fig04, fig09, fig09b, log
             f"\nResult: peak-to-peak {np.ptp(tr0):.2f} um (paper Fig. 9 FE: about 9 um; Fig. 4 Ishikawa: larger by about "
             f"7.8 %). Contact ratio {te.attrs['contact_ratio']:.3f}."))
         lines = [f"  {r.shape}/{r.bounds}: amount {r.amount_um:.2f} um, length {r.length_mm:.3f} mm, ptp "
-                 f"{r.te_ptp_before_um:.2f} -> {r.te_ptp_after_um:.2f} um ({r.reduction_pct:+.1f} %)" for r in opt.itertuples()]
+                 f"{r.te_ptp_before_um:.2f} -> {r.te_ptp_after_um:.2f} um ({r.reduction_pct:+.1f} %)"
+                 for r in opt.itertuples() if not r.shape.startswith("linear (paper)")]
+        lines += [f"  paper's optimum (linear, {r.amount_um:.2f} um, {r.length_mm:.3f} mm) in our model: "
+                  f"{r.ours_at_this_relief_um:.2f} um (unmodified {np.ptp(tr0):.2f} um)"
+                  for r in opt.itertuples() if r.shape.startswith("linear (paper)")]
         f9 = plots.te_relief_figure(te)
         files.write_figure(f9, fig09, (
             "Fig. 9 analogue: static TE of the p-d pair (mean removed) before and after the optimal linear and parabolic "

@@ -349,7 +349,8 @@ def strain_energy_fractions(design: PlusDesign, md: Modes) -> dict[str, NDArray]
     energy = {el.name: 0.5 * el.k * (el.v @ phis) ** 2 for el in els}
     total = sum(energy.values())
     with np.errstate(invalid="ignore", divide="ignore"):
-        return {k: np.where(md.omega2 > 0, v / total, np.nan) for k, v in energy.items()}
+        out = {k: np.where(md.omega2 > 0, v / total, np.nan) for k, v in energy.items()}
+    return {k: np.where(np.abs(v) < 1e-12, 0.0, v) for k, v in out.items()}  # round-off of exact zeros
 
 
 def kinetic_energy_fractions(design: PlusDesign, md: Modes) -> dict[str, NDArray]:
@@ -358,7 +359,7 @@ def kinetic_energy_fractions(design: PlusDesign, md: Modes) -> dict[str, NDArray
     phis = np.column_stack([md.full_shape(i) for i in range(md.shapes.shape[1])])
     energy = {k: np.einsum("im,ij,jm->m", phis, Mc, phis) for k, Mc in comps.items()}
     total = sum(energy.values())
-    return {k: v / total for k, v in energy.items()}
+    return {k: np.where(np.abs(v / total) < 1e-12, 0.0, v / total) for k, v in energy.items()}  # round-off of exact zeros
 
 
 def group_strain(fr: dict[str, NDArray]) -> dict[str, NDArray]:

@@ -6,6 +6,8 @@ every variable.  Paper values are transcribed below from Yue et al. (2014).
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pandas as pd
 import xarray as xr
@@ -145,8 +147,6 @@ def stiffness_scaling(design: PlusDesign, reference: str = "theoretical", matchi
     }
 
     def mesh_only(log_s: float) -> float:
-        from dataclasses import replace
-
         k = design.stiffness
         d2 = replace(design, stiffness=type(k)(k.sun_planet * np.exp(log_s), k.planet_planet * np.exp(log_s),
                                                k.planet_ring * np.exp(log_s), k.sun_bearing))
@@ -258,7 +258,7 @@ def stiffness_comparison(design: PlusDesign) -> pd.DataFrame:
     pair, mat = spur_pair(design), material(design)
     iso = iso_single_stiffness(pair, design.facewidth * 1e3)
     k_ish = single_pair_stiffness_pitch(pair, mat)
-    te0 = design_te(design.__class__(**{**design.__dict__, "te": design.te.__class__(**{**design.te.__dict__, "es": 0.0})}))
+    te0 = design_te(replace(design, te=replace(design.te, es=0.0)))
     eps = pair.contact_ratio
     rows = [
         {"quantity": "single-pair stiffness at the pitch point, Ishikawa", "value_N_per_m": k_ish},
