@@ -1,0 +1,36 @@
+"""geardyn: every figure and table of papers 1 (Li et al. 2013) and 2 (Yue et al. 2014).
+
+    snakemake --cores 2            # build everything under results/
+
+The configuration and every design file are validated here, before any job runs: a bad
+value stops the run with one line naming the key, the value and what is allowed.
+"""
+
+import sys
+
+from geardyn.config import ConfigError, validate_workflow
+
+
+configfile: "config/config.yaml"
+
+
+try:
+    _filled, DESIGNS = validate_workflow(config, workflow.basedir)
+except ConfigError as err:
+    sys.stderr.write(f"geardyn config error: {err}\n")
+    sys.exit(1)
+config.update(_filled)
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/geometry.smk"
+include: "workflow/rules/stiffness.smk"
+include: "workflow/rules/sweeps.smk"
+
+
+rule all:
+    default_target: True
+    input:
+        GEOMETRY_TARGETS,
+        STIFFNESS_TARGETS,
+        SWEEP_TARGETS,

@@ -1,0 +1,97 @@
+"""Search the paper's unknowns for the best agreement with its regime sequence along x1.
+
+Paper 1 (Sec. 4.1, b = 2, e = 5) states: period-1 up to x1 = 0.565, quasi-periodic to 0.568,
+period-5 to 0.593, chaos, period-6 near 0.761, chaos above 0.768.  Shaft stiffnesses, mesh
+frequency and planet mass are not given.  A candidate is a set of values of such unknowns;
+its score is the fraction of x1 points of a coarse sweep whose label matches the paper's.
+Quasi-periodic and chaotic are both "not periodic" here (the Poincaré period test cannot
+separate them; the classifier of :mod:`geardyn.classify` does that for the final figures).
+
+Nothing is tuned silently: every candidate's score is written to netCDF, and the best set is
+written to a design file with its score in the header.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+import xarray as xr
+
+from geardyn import classify, khv
+from geardyn.design import KHVDesign
+from geardyn.integrators import SimulationSettings, simulate
+
+#: The paper's regime sequence along x1 (Sec. 4.1): (x1 from, x1 to, period; 0 = not periodic).
+PAPER_SEQUENCE: tuple[tuple[float, float, int], ...] = (
+    (0.416, 0.565, 1),
+    (0.565, 0.568, 0),
+    (0.568, 0.593, 5),
+    (0.593, 0.755, 0),
+    (0.755, 0.768, 6),
+    (0.768, 0.835, 0),
+)
+
+
+def paper_label(x1: np.ndarray) -> np.ndarray:
+    """The paper's label at each x1 (period n, or 0 for quasi-periodic/chaotic)."""
+    x1 = np.asarray(x1, dtype=float)
+    out = np.full(x1.shape, -1, dtype=np.int16)
+    for lo, hi, n in PAPER_SEQUENCE:
+        out[(x1 >= lo) & (x1 <= hi)] = n
+    return out
+
+
+def score(x1: np.ndarray, labels: np.ndarray) -> float:
+    """Fraction of points whose label equals the paper's (diverged and undetermined never match)."""
+    return float(np.mean(np.asarray(labels) == paper_label(x1)))
+
+
+def candidate_grid(grid: Mapping[str, Sequence[float]]) -> list[dict[str, float]]:
+    """Every combination of the grid values, in a fixed order (last key fastest)."""
+    keys = list(grid)
+    return [dict(zip(keys, map(float, combo), strict=True)) for combo in itertools.product(*(grid[k] for k in keys))]
+
+
+def labels_along_x1(design: KHVDesign, overrides: Mapping[str, float], x1: np.ndarray,
+                    settings: SimulationSettings) -> np.ndarray:
+    """Poincaré period at each x1 (independent points from the static deflection)."""
+    out = np.empty(x1.size, dtype=np.int16)
+    for i, value in enumerate(x1):
+        coeffs = khv.point_coefficients(design, {**overrides, "x1": float(value)})
+        res = simulate(coeffs, settings)
+        out[i] = classify.LABELS["diverged"] if res.diverged else classify.poincare_period(res.poincare)
+    return out
+
+
+def run_candidates(design: KHVDesign, candidates: Sequence[Mapping[str, float]], fixed: Mapping[str, float],
+                   x1: np.ndarray, settings: SimulationSettings, first_index: int = 0) -> xr.Dataset:
+    """Labels and score of each candidate; ``first_index`` numbers the candidates globally."""
+    keys = sorted({k for c in candidates for k in c})
+    labels = np.stack([labels_along_x1(design, {**fixed, **c}, x1, settings) for c in candidates]) \
+        if candidates else np.zeros((0, x1.size), np.int16)
+    scores = np.array([score(x1, row) for row in labels])
+    data = {
+        "label": (("candidate", "x1"), labels, {"units": "1", "long_name": "Poincare period (0 not periodic, -2 diverged)"}),
+        "score": ("candidate", scores, {"units": "1", "long_name": "fraction of x1 points agreeing with the paper"}),
+        "paper_label": ("x1", paper_label(x1), {"units": "1", "long_name": "the paper's label at x1"}),
+    }
+    for k in keys:
+        data[k] = ("candidate", np.array([c.get(k, np.nan) for c in candidates], float),
+                   {"units": khv.CONTROLS.get(k, ("1", k))[0] if k in khv.CONTROLS else "SI",
+                    "long_name": f"candidate value of {k}"})
+    coords = {
+        "candidate": ("candidate", np.arange(first_index, first_index + len(candidates)),
+                      {"units": "1", "long_name": "candidate index"}),
+        "x1": ("x1", x1, {"units": "1", "long_name": "planet profile-shift coefficient x1"}),
+    }
+    return xr.Dataset(data, coords=coords)
+
+
+def best(scores: xr.Dataset) -> tuple[int, dict[str, float], float]:
+    """Index, values and score of the best candidate (the first one on ties: deterministic)."""
+    i = int(np.argmax(scores["score"].values))
+    names = [v for v in scores.data_vars if v not in ("label", "score", "paper_label")]
+    values = {k: float(scores[k].values[i]) for k in names}
+    return int(scores["candidate"].values[i]), values, float(scores["score"].values[i])

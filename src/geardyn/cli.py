@@ -1,0 +1,111 @@
+"""Command line: ``geardyn check-design PATH [--json]`` and ``geardyn check-config PATH``.
+
+``check-design`` is how a user checks a new gear design before launching sweeps: it validates
+the file (one clear line on any problem, exit code 2) and prints the derived geometry and
+stiffness, and whether the design point is feasible and why.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+from geardyn import __version__
+from geardyn.config import ConfigError, load_config, load_design_dict, validate_workflow
+
+
+def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
+    from geardyn import design, geometry
+
+    spec = design.from_dict({**raw, "admissible": {**raw["admissible"], "check_feasibility": False}}, path)
+    pair = spec.base
+    derived = geometry.describe(pair)
+    values = geometry.constraints(pair, min_tip_thickness=spec.min_tip_thickness)
+    failed = design.violated_constraints(pair, spec.min_tip_thickness,
+                                         raw["admissible"]["enforce_cutter_constraints"])
+    mesh = design.mesh_properties(spec, pair.x1)
+    segment = {}
+    for label, x1 in (("M", spec.x1_min), ("N", spec.x1_max)):
+        try:
+            segment[label] = {"x1": x1, "x2": design.x2_for(spec, x1)}
+        except ValueError as err:
+            segment[label] = {"x1": x1, "error": str(err)}
+    return {
+        "design": spec.name,
+        "kind": "khv",
+        "pair": {"z1": pair.z1, "z2": pair.z2, "module_mm": pair.module, "x1": pair.x1, "x2": pair.x2,
+                 "pressure_angle_deg": pair.pressure_angle_deg, "addendum": pair.addendum,
+                 "clearance": pair.clearance, "facewidth_mm": pair.facewidth},
+        "x2_source": "line 4 (G_s = 0)" if spec.x2_on_line4 else "fixed in design",
+        "geometry": derived,
+        "constraints (>= 0 is satisfied)": values,
+        "stiffness": {"options": spec.stiffness.label, "q_mm_um_per_N": mesh.q,
+                      "k_C_N_per_um": mesh.k_c / 1e6, "k_prime_N_per_um": mesh.k_prime / 1e6,
+                      "k_mean_N_per_um": mesh.k_mean / 1e6, "k_min_N_per_um": mesh.k_min / 1e6,
+                      "contact_ratio": mesh.contact_ratio},
+        "admissible_segment": segment,
+        "feasible": not failed,
+        "violated": failed,
+    }
+
+
+def _print_tree(data: dict[str, Any], indent: int = 0) -> None:
+    pad = "  " * indent
+    for key, value in data.items():
+        if isinstance(value, dict):
+            print(f"{pad}{key}:")
+            _print_tree(value, indent + 1)
+        elif isinstance(value, float):
+            print(f"{pad}{key}: {value:.6g}" if math.isfinite(value) else f"{pad}{key}: {value}")
+        else:
+            print(f"{pad}{key}: {value}")
+
+
+def check_design(path: str, as_json: bool) -> int:
+    raw = load_design_dict(path)
+    if raw["kind"] == "khv":
+        summary = _khv_summary(raw, path)
+    else:
+        summary = {"design": raw["name"], "kind": raw["kind"], "valid": True}
+    if as_json:
+        print(json.dumps(summary, indent=2, default=float))
+    else:
+        _print_tree(summary)
+        if summary.get("violated"):
+            print(f"NOT FEASIBLE: violates {', '.join(summary['violated'])}")
+    return 0 if not summary.get("violated") else 1
+
+
+def check_config(path: str) -> int:
+    cfg = load_config(path)
+    root = Path(path).resolve().parent.parent
+    _, designs = validate_workflow(cfg, root)
+    print(f"{path}: valid; designs: {', '.join(designs)}")
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="geardyn", description="geardyn gear-dynamics tools")
+    parser.add_argument("--version", action="version", version=f"geardyn {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("check-design", help="validate a design file and print its derived geometry")
+    p.add_argument("path")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p = sub.add_parser("check-config", help="validate the workflow config and every design it lists")
+    p.add_argument("path", nargs="?", default="config/config.yaml")
+    args = parser.parse_args(argv)
+    try:
+        if args.command == "check-design":
+            return check_design(args.path, args.json)
+        return check_config(args.path)
+    except ConfigError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,215 @@
+"""Closed graph of paper 1 (Li et al. 2013, Fig. 3) computed on an (x1, x2) grid.
+
+The paper names four lines (Sec. 3.2):
+
+* line 1: eps = 1                         -> ``contact_ratio_margin``
+* line 2: no tooth-profile interference   -> ``involute_interference_*``, ``root_interference_*``
+* line 3: no "shortcut" of the gear       -> ``tip_thickness_*``, ``trimming_interference_annulus``
+* line 4: "equal meshing angle"           -> ``overlap_interference`` (G_s = 0)
+
+Line 4 is drawn as G_s = 0, not as a line of constant working pressure angle: the paper's limit
+points M (0.416, 0.601) and N (0.835, 0.995) both lie on G_s = 0 (x2 = 0.60095 and 0.99443), and
+a' falls from 31.0 deg to 29.97 deg between them (MODEL_NOTES, "Geometry and closed graph").
+
+Pure: returns an :class:`xarray.Dataset`; writing it is the caller's job.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+from numpy.typing import ArrayLike
+
+from scipy.optimize import brentq
+
+from geardyn import geometry as geo
+
+#: Paper 1, Sec. 3.2: the limit points of the admissible segment on line 4.
+PAPER_POINTS: dict[str, tuple[float, float]] = {"M": (0.416, 0.601), "N": (0.835, 0.995)}
+
+#: Which of the paper's lines each constraint belongs to (0: drawn but not one of lines 1-4).
+LINE_OF: dict[str, int] = {
+    "contact_ratio_margin": 1,
+    "involute_interference_planet": 2,
+    "involute_interference_annulus": 2,
+    "root_interference_planet": 2,
+    "root_interference_annulus": 2,
+    "tip_thickness_planet": 3,
+    "tip_thickness_annulus": 3,
+    "trimming_interference_annulus": 3,
+    "overlap_interference": 4,
+    "undercut_planet": 0,
+}
+
+#: Constraints that need the (unknown) shaper cutter of the annulus.
+CUTTER_DEPENDENT = ("root_interference_annulus", "trimming_interference_annulus")
+
+#: Tolerance on G_s (rad) when testing points that lie on line 4 by construction.
+_ON_LINE_TOL = 1e-9
+
+
+def _cutter_attrs(base: geo.GearPair, cutter: geo.ShaperCutter | None) -> dict[str, float | int | str]:
+    cut = cutter if cutter is not None else geo.default_cutter(base)
+    ha0 = cut.addendum if cut.addendum is not None else base.addendum + base.clearance
+    return {
+        "cutter_teeth": int(cut.teeth),
+        "cutter_shift": float(cut.shift),
+        "cutter_addendum": float(ha0),
+        "cutter_source": "configured" if cutter is not None else "assumed (geometry.default_cutter)",
+    }
+
+
+def closed_graph(
+    base: geo.GearPair,
+    x1: ArrayLike,
+    x2: ArrayLike,
+    *,
+    min_tip_thickness: float = 0.25,
+    min_contact_ratio: float = 1.0,
+    cutter: geo.ShaperCutter | None = None,
+) -> xr.Dataset:
+    """All constraints of an internal pair on the (x1, x2) grid, plus line 4 and the points M, N.
+
+    ``base`` gives teeth, module, ha*, c*, pressure angle; its own x1/x2 are ignored.
+    Variables (dims ``x2, x1`` so that ``ds[v].plot()`` has x1 across):
+    one per constraint (signed margin, >= 0 satisfied), ``contact_ratio``,
+    ``working_pressure_angle``, ``feasible`` (int8, all constraints), ``feasible_cutter_free``
+    (int8, the constraints that do not depend on the assumed cutter), ``x2_line4(x1)`` (G_s = 0),
+    the paper's points and ours with residuals along dim ``point``.
+    """
+    if not base.internal:
+        raise ValueError("the closed graph of paper 1 is for an internal pair")
+    x1a = np.asarray(x1, dtype=float)
+    x2a = np.asarray(x2, dtype=float)
+    if x1a.ndim != 1 or x2a.ndim != 1:
+        raise ValueError("x1 and x2 must be 1-D grids")
+    kw = {"min_tip_thickness": min_tip_thickness, "min_contact_ratio": min_contact_ratio, "cutter": cutter}
+
+    grid_pair = geo.with_shifts(base, x1a[np.newaxis, :], x2a[:, np.newaxis])
+    margins = geo.constraint_grid(grid_pair, **kw)  # type: ignore[arg-type]
+    coords = {
+        "x1": ("x1", x1a, {"units": "1", "long_name": "planet profile-shift coefficient x1"}),
+        "x2": (
+            "x2",
+            x2a,
+            {"units": "1", "long_name": "annulus profile-shift coefficient x2 (Chinese sign convention)"},
+        ),
+        "point": ("point", np.array(list(PAPER_POINTS)), {"long_name": "paper 1 limit point"}),
+    }
+    ds = xr.Dataset(coords=coords)
+    for name, value in margins.items():
+        units, long_name = geo.constraint_info(name)
+        ds[name] = (("x2", "x1"), np.asarray(value, dtype=float), {
+            "units": units,
+            "long_name": long_name,
+            "closed_graph_line": LINE_OF.get(name, 0),
+            "cutter_dependent": int(name in CUTTER_DEPENDENT),
+            "sign_convention": ">= 0 satisfied",
+        })
+    ds["contact_ratio"] = (("x2", "x1"), geo.contact_ratio(grid_pair), {
+        "units": "1", "long_name": "transverse contact ratio"})
+    ds["working_pressure_angle"] = (("x2", "x1"), np.degrees(geo.working_pressure_angle(grid_pair)), {
+        "units": "degree", "long_name": "working pressure angle a'"})
+
+    stack = np.stack([ds[n].values for n in margins])
+    free = np.stack([ds[n].values for n in margins if n not in CUTTER_DEPENDENT])
+    flag = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "infeasible feasible"}
+    ds["feasible"] = (("x2", "x1"), np.all(stack >= 0.0, axis=0).astype(np.int8), {
+        "units": "1", "long_name": "all constraints satisfied", **flag})
+    ds["feasible_cutter_free"] = (("x2", "x1"), np.all(free >= 0.0, axis=0).astype(np.int8), {
+        "units": "1", "long_name": "all constraints satisfied except the cutter-dependent ones", **flag})
+
+    # Line 4 along the x1 grid, with the other constraints evaluated on it.
+    x2_l4 = geo.x2_on_overlap_boundary_many(x1a, base)
+    line_pair = geo.with_shifts(base, x1a, x2_l4)
+    on_line = geo.constraint_grid(line_pair, **kw)  # type: ignore[arg-type]
+    others = np.stack([v for k, v in on_line.items() if k != "overlap_interference"])
+    ok_line = np.all(others >= 0.0, axis=0) & (np.abs(on_line["overlap_interference"]) < _ON_LINE_TOL)
+    others_free = np.stack([v for k, v in on_line.items() if k not in (*CUTTER_DEPENDENT, "overlap_interference")])
+    ok_line_free = np.all(others_free >= 0.0, axis=0)
+    ds["x2_line4"] = ("x1", x2_l4, {"units": "1", "long_name": "annulus shift x2 on line 4 (G_s = 0)"})
+    ds["contact_ratio_line4"] = ("x1", geo.contact_ratio(line_pair), {
+        "units": "1", "long_name": "transverse contact ratio on line 4"})
+    ds["working_pressure_angle_line4"] = ("x1", np.degrees(geo.working_pressure_angle(line_pair)), {
+        "units": "degree", "long_name": "working pressure angle a' on line 4"})
+    ds["feasible_line4"] = ("x1", ok_line.astype(np.int8), {
+        "units": "1", "long_name": "line-4 point satisfying every other constraint", **flag})
+    ds["feasible_line4_cutter_free"] = ("x1", ok_line_free.astype(np.int8), {
+        "units": "1", "long_name": "line-4 point satisfying every cutter-independent constraint", **flag})
+
+    # The paper's points M and N and ours.
+    px1 = np.array([p[0] for p in PAPER_POINTS.values()])
+    px2 = np.array([p[1] for p in PAPER_POINTS.values()])
+    cx2 = geo.x2_on_overlap_boundary_many(px1, base)
+    pt_pair = geo.with_shifts(base, px1, cx2)
+    ds["paper_x1"] = ("point", px1, {"units": "1", "long_name": "x1 of the paper's limit point"})
+    ds["paper_x2"] = ("point", px2, {"units": "1", "long_name": "x2 of the paper's limit point"})
+    ds["computed_x2"] = ("point", cx2, {"units": "1", "long_name": "computed x2 on G_s = 0 at the paper's x1"})
+    ds["residual_x2"] = ("point", cx2 - px2, {"units": "1", "long_name": "computed minus paper x2"})
+    ds["contact_ratio_point"] = ("point", geo.contact_ratio(pt_pair), {
+        "units": "1", "long_name": "transverse contact ratio at the computed point"})
+    ds["working_pressure_angle_point"] = ("point", np.degrees(geo.working_pressure_angle(pt_pair)), {
+        "units": "degree", "long_name": "working pressure angle a' at the computed point"})
+    ds["working_centre_distance_point"] = ("point", geo.working_centre_distance(pt_pair), {
+        "units": "mm", "long_name": "working centre distance a' at the computed point"})
+
+    feas_x1 = x1a[ok_line]
+    ds.attrs.update({
+        "title": "Fig. 3 closed graph (Li et al. 2013), computed",
+        "source": "geardyn.closed_graph.closed_graph",
+        "conventions_note": "every constraint is a signed margin, >= 0 satisfied; x2 in the Chinese convention",
+        "line4_definition": "G_s = 0 (tooth-profile overlap interference); the paper's 'equal meshing angle' "
+        "does not hold: a' varies along the line",
+        "z1": base.z1, "z2": base.z2, "module_mm": base.module,
+        "pressure_angle_deg": base.pressure_angle_deg, "addendum_coefficient": base.addendum,
+        "clearance_coefficient": base.clearance,
+        "min_tip_thickness_modules": min_tip_thickness, "min_contact_ratio": min_contact_ratio,
+        **_cutter_attrs(base, cutter),
+        "line4_feasible_x1_min": float(feas_x1.min()) if feas_x1.size else math.nan,
+        "line4_feasible_x1_max": float(feas_x1.max()) if feas_x1.size else math.nan,
+    })
+    return ds
+
+
+def line4_crossings(ds: xr.Dataset, name: str) -> list[float]:
+    """x1 values (linear interpolation on the grid) where constraint ``name`` changes sign on line 4.
+
+    Re-evaluates the constraint along ``x2_line4`` from the dataset attributes.
+    """
+    base = geo.GearPair(
+        z1=int(ds.attrs["z1"]), z2=int(ds.attrs["z2"]), module=float(ds.attrs["module_mm"]), x1=0.0, x2=0.0,
+        pressure_angle_deg=float(ds.attrs["pressure_angle_deg"]), addendum=float(ds.attrs["addendum_coefficient"]),
+        clearance=float(ds.attrs["clearance_coefficient"]),
+    )
+    cutter = geo.ShaperCutter(int(ds.attrs["cutter_teeth"]), float(ds.attrs["cutter_shift"]),
+                              float(ds.attrs["cutter_addendum"]))
+    x1 = ds["x1"].values
+    pair = geo.with_shifts(base, x1, ds["x2_line4"].values)
+    v = geo.constraint_grid(pair, min_tip_thickness=float(ds.attrs["min_tip_thickness_modules"]),
+                            min_contact_ratio=float(ds.attrs["min_contact_ratio"]), cutter=cutter)[name]
+    out = []
+    for i in range(len(x1) - 1):
+        if np.sign(v[i]) != np.sign(v[i + 1]) and np.isfinite(v[i]) and np.isfinite(v[i + 1]):
+            out.append(float(x1[i] - v[i] * (x1[i + 1] - x1[i]) / (v[i + 1] - v[i])))
+    return out
+
+
+def cutter_shift_for_trimming_limit(
+    base: geo.GearPair, x1_limit: float, teeth: int, addendum: float | None = None
+) -> geo.ShaperCutter:
+    """Shaper cutter (given z0, ha0*) whose trimming limit on line 4 falls at ``x1_limit``.
+
+    Solves trimming_interference(x1_limit, x2_line4(x1_limit); z0, x0, ha0*) = 0 for x0.  Used to
+    test the hypothesis that the paper's M is a cutter-trimming limit (docs/geometry.md); the
+    result is a fit, not a datum of the paper.
+    """
+    x2 = geo.x2_on_overlap_boundary(x1_limit, base)
+    pair = geo.with_shifts(base, x1_limit, x2)
+
+    def f(x0: float) -> float:
+        return float(geo.trimming_interference(pair, geo.ShaperCutter(teeth, x0, addendum)))
+
+    x0 = float(brentq(f, -1.0, 1.5, xtol=1e-12))
+    return geo.ShaperCutter(teeth, x0, addendum)

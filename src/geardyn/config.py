@@ -1,0 +1,257 @@
+"""Load and validate configuration and design files against the JSON Schemas in ``schemas/``.
+
+Every problem is reported as a single :class:`ConfigError` line that names the file, the key,
+the offending value and what is allowed, e.g.::
+
+    config/designs/li2013.yaml: pair.module = -3.5 is not allowed: number > 0 and <= 100 (Module m (mm).)
+
+Defaults declared in the schema are filled in, so downstream code sees every key.
+"""
+
+from __future__ import annotations
+
+import copy
+import difflib
+import json
+from collections.abc import Mapping
+from functools import cache
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import jsonschema
+import yaml
+
+#: Design kinds and the schema that validates each.
+DESIGN_SCHEMAS = {"khv": "khv.schema.json", "plus_planetary": "plus_planetary.schema.json"}
+
+
+class ConfigError(ValueError):
+    """A configuration or design value is invalid; the message is one line meant for the user."""
+
+
+@cache
+def _raw_schema(name: str) -> dict[str, Any]:
+    text = resources.files("geardyn").joinpath("schemas", name).read_text(encoding="utf-8")
+    return json.loads(text)
+
+
+def schema(name: str) -> dict[str, Any]:
+    """The named schema with references to other schema files inlined (local ``#/$defs`` kept)."""
+    return _inline(copy.deepcopy(_raw_schema(name)))
+
+
+def _inline(node: Any) -> Any:
+    if isinstance(node, dict):
+        ref = node.get("$ref")
+        if isinstance(ref, str) and ref.endswith(".schema.json"):
+            target = schema(ref)
+            target.pop("$schema", None)
+            target.pop("$id", None)
+            rest = {k: v for k, v in node.items() if k != "$ref"}
+            return {**target, **rest}
+        return {k: _inline(v) for k, v in node.items()}
+    if isinstance(node, list):
+        return [_inline(v) for v in node]
+    return node
+
+
+def read_yaml(path: str | Path) -> Any:
+    """Parse a YAML file, turning unreadable/undecodable/ill-formed files into one-line errors."""
+    path = Path(path)
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except FileNotFoundError:
+        raise ConfigError(f"{path}: file not found") from None
+    except UnicodeDecodeError as err:
+        raise ConfigError(f"{path}: not UTF-8 text (byte {err.start}); save the file as UTF-8") from None
+    except OSError as err:
+        raise ConfigError(f"{path}: cannot read ({err.strerror})") from None
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None)
+        where = f" line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        problem = getattr(err, "problem", None) or str(err).splitlines()[0]
+        raise ConfigError(f"{path}: YAML syntax error at{where}: {problem}") from None
+
+
+def _allowed(node: Mapping[str, Any]) -> str:
+    """Human-readable description of what a schema node accepts."""
+    if "const" in node:
+        return repr(node["const"])
+    if "enum" in node:
+        return "one of " + ", ".join(repr(v) for v in node["enum"])
+    for key in ("anyOf", "oneOf"):
+        if key in node:
+            return " or ".join(_allowed(sub) for sub in node[key])
+    kind = node.get("type", "value")
+    kind = {"integer": "integer", "number": "number", "string": "string", "boolean": "true/false",
+            "array": "list", "object": "mapping"}.get(kind, str(kind))
+    bounds = []
+    if "minimum" in node:
+        bounds.append(f">= {node['minimum']}")
+    if "exclusiveMinimum" in node:
+        bounds.append(f"> {node['exclusiveMinimum']}")
+    if "maximum" in node:
+        bounds.append(f"<= {node['maximum']}")
+    if "exclusiveMaximum" in node:
+        bounds.append(f"< {node['exclusiveMaximum']}")
+    if "minItems" in node:
+        bounds.append(f"with at least {node['minItems']} items")
+    if "maxItems" in node:
+        bounds.append(f"with at most {node['maxItems']} items")
+    if "pattern" in node:
+        bounds.append(f"matching {node['pattern']}")
+    return kind + (" " + " and ".join(bounds) if bounds else "")
+
+
+def _key(path: Any) -> str:
+    parts = [f"[{p}]" if isinstance(p, int) else str(p) for p in path]
+    return ".".join(parts).replace(".[", "[") or "(top level)"
+
+
+def _format(error: jsonschema.ValidationError, where: str) -> str:
+    key = _key(error.absolute_path)
+    node = error.schema if isinstance(error.schema, Mapping) else {}
+    if error.validator == "additionalProperties":
+        allowed = sorted(node.get("properties", {}))
+        extra = sorted(set(error.instance) - set(allowed)) if isinstance(error.instance, Mapping) else []
+        bad = extra[0] if extra else "?"
+        full = f"{key}.{bad}" if error.absolute_path else bad
+        close = difflib.get_close_matches(bad, allowed, n=1)
+        hint = f" (did you mean '{close[0]}'?)" if close else f" (allowed keys: {', '.join(allowed)})"
+        return f"{where}: unknown key '{full}'{hint}"
+    if error.validator == "required":
+        missing = error.message.split("'")[1] if "'" in error.message else error.message
+        full = f"{key}.{missing}" if error.absolute_path else missing
+        return f"{where}: missing required key '{full}'"
+    # point at the schema node of the offending value (the property, not the sub-branch of anyOf)
+    value_node = _node_for(error)
+    desc = value_node.get("description", "")
+    return (f"{where}: {key} = {error.instance!r} is not allowed: {_allowed(value_node)}"
+            + (f" ({desc})" if desc else ""))
+
+
+def _node_for(error: jsonschema.ValidationError) -> Mapping[str, Any]:
+    parent = error
+    while parent.parent is not None and parent.parent.absolute_path == error.absolute_path:
+        parent = parent.parent
+    node = parent.schema
+    return node if isinstance(node, Mapping) else {}
+
+
+def _fill_defaults(node: Mapping[str, Any], value: Any, root: Mapping[str, Any] | None = None) -> Any:
+    """Insert schema defaults into ``value`` (in place), through properties, maps and local $refs."""
+    root = root if root is not None else node
+    ref = node.get("$ref")
+    if isinstance(ref, str) and ref.startswith("#/"):
+        target: Any = root
+        for part in ref[2:].split("/"):
+            target = target[part]
+        node = {**target, **{k: v for k, v in node.items() if k != "$ref"}}
+    if not isinstance(value, dict):
+        return value
+    props = node.get("properties", {})
+    for name, sub in props.items():
+        if name not in value and "default" in sub:
+            value[name] = copy.deepcopy(sub["default"])
+        if name in value:
+            value[name] = _fill_defaults(sub, value[name], root)
+    extra = node.get("additionalProperties")
+    if isinstance(extra, Mapping):
+        for name in value:
+            if name not in props:
+                value[name] = _fill_defaults(extra, value[name], root)
+    return value
+
+
+def validate(data: Any, schema_name: str, where: str) -> dict[str, Any]:
+    """Validate ``data`` against a schema; return a copy with defaults filled in.
+
+    Raises :class:`ConfigError` with one line for the first problem (the most specific one).
+    """
+    if data is None:
+        data = {}
+    if not isinstance(data, dict):
+        raise ConfigError(f"{where}: expected a mapping of keys to values at the top level, got {type(data).__name__}")
+    sch = schema(schema_name)
+    filled = _fill_defaults(sch, copy.deepcopy(data))
+    validator = jsonschema.Draft202012Validator(sch)
+    errors = sorted(validator.iter_errors(filled), key=lambda e: (len(e.absolute_path), str(e.absolute_path)))
+    if errors:
+        best = jsonschema.exceptions.best_match(errors)
+        raise ConfigError(_format(best, where))
+    return filled
+
+
+def load_config(path: str | Path) -> dict[str, Any]:
+    """Read and validate the workflow configuration (``config/config.yaml``)."""
+    return validate(read_yaml(path), "config.schema.json", str(path))
+
+
+def load_design_dict(path: str | Path) -> dict[str, Any]:
+    """Read and schema-validate one design file; the schema is chosen by its ``kind`` key."""
+    data = read_yaml(path)
+    where = str(path)
+    if not isinstance(data, dict):
+        raise ConfigError(f"{where}: expected a mapping with a 'kind' key at the top level")
+    kind = data.get("kind")
+    if kind not in DESIGN_SCHEMAS:
+        raise ConfigError(f"{where}: kind = {kind!r} is not allowed: one of "
+                          + ", ".join(repr(k) for k in DESIGN_SCHEMAS))
+    return validate(data, DESIGN_SCHEMAS[kind], where)
+
+
+def validate_workflow(config: dict[str, Any], root: str | Path = ".") -> tuple[dict[str, Any], dict[str, dict[str, Any]]]:
+    """Validate the workflow config and every design it lists, before any job runs.
+
+    Returns the config with defaults filled and ``{design name: validated design dict}``.
+    KHV designs are also checked semantically (z2 - z1, feasibility of the design point).
+    """
+    from geardyn import design as _design  # local: design imports geometry, which is heavier
+
+    filled = validate(config, "config.schema.json", "config")
+    designs: dict[str, dict[str, Any]] = {}
+    for name, rel in filled["designs"].items():
+        path = Path(root) / rel
+        raw = load_design_dict(path)
+        if raw["name"] != name:
+            raise ConfigError(f"{path}: name = {raw['name']!r} differs from its key {name!r} in config designs")
+        if raw["kind"] == "khv":
+            _design.from_dict(raw, str(path))
+        designs[name] = raw
+    _check_runs(filled, designs)
+    return filled, designs
+
+
+#: Control parameters that must not be negative (b and e are amplitudes in um).
+_NON_NEGATIVE = {"b": "half backlash b (um)", "e": "transmission-error amplitude e (um)"}
+
+
+def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> None:
+    """Semantic checks of sweeps and point runs: known design, sensible values, x1 inside the segment."""
+    for section in ("sweeps", "points"):
+        for name, spec in filled.get(section, {}).items():
+            where = f"config: {section}.{name}"
+            if spec["design"] not in designs:
+                raise ConfigError(f"{where}.design = {spec['design']!r} is not allowed: one of "
+                                  + ", ".join(repr(d) for d in designs))
+            raw = designs[spec["design"]]
+            overrides = [("fixed", spec.get("fixed", {}))] + [
+                (f"cases[{i}]", case) for i, case in enumerate(spec.get("cases", []))]
+            if section == "sweeps":
+                if spec["num"] > 1 and not spec["stop"] > spec["start"]:
+                    raise ConfigError(f"{where}: stop = {spec['stop']} must be above start = {spec['start']}")
+                overrides.append(("start", {spec["parameter"]: spec["start"]}))
+                overrides.append(("stop", {spec["parameter"]: spec["stop"]}))
+            for label, values in overrides:
+                for key, value in values.items():
+                    if key in _NON_NEGATIVE and value < 0:
+                        raise ConfigError(f"{where}.{label}: {key} = {value} is not allowed: "
+                                          f"number >= 0 ({_NON_NEGATIVE[key]})")
+                    if key == "x1" and raw["kind"] == "khv":
+                        lo, hi = raw["admissible"]["x1_min"], raw["admissible"]["x1_max"]
+                        if not lo - 1e-12 <= value <= hi + 1e-12:
+                            raise ConfigError(f"{where}.{label}: x1 = {value} is not allowed: number >= {lo} and "
+                                              f"<= {hi} (the admissible segment M-N of design {raw['name']})")

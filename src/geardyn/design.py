@@ -1,0 +1,183 @@
+"""A KHV design: the validated design file turned into a gear pair and mesh properties.
+
+This is the one place where the design file meets the numerics: geometry (:mod:`geardyn.geometry`)
+gives x2 on line 4, the contact ratio and the constraints; :mod:`geardyn.stiffness` gives k_C, k'
+and k(t).  Everything downstream (tables, dynamics, sweeps) asks this module for the mesh at x1.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from geardyn import geometry, stiffness
+from geardyn.config import ConfigError, load_design_dict
+
+
+@dataclass(frozen=True)
+class StiffnessOptions:
+    """Paper 1 Eqs. (7)-(9) choices; see ``docs/paper1_choices.md``."""
+
+    q_variant: stiffness.QVariant = "iso"
+    constants: str = "iso"
+    form: stiffness.KForm = "corrected"
+
+    @property
+    def c_constants(self) -> tuple[float, ...]:
+        return stiffness.PRINTED_C if self.constants == "printed" else stiffness.ISO_C
+
+    @property
+    def label(self) -> str:
+        return f"q={self.q_variant},C={self.constants},k(t)={self.form}"
+
+
+@dataclass(frozen=True)
+class KHVDesign:
+    """A validated KHV design (paper 1 type)."""
+
+    name: str
+    title: str
+    base: geometry.GearPair  # x1, x2 of the configured design point
+    x1_min: float
+    x1_max: float
+    min_tip_thickness: float
+    stiffness: StiffnessOptions
+    paper_points: dict[str, tuple[float, float]]
+    dynamics: dict[str, Any]
+    raw: dict[str, Any]  # the validated file with defaults, for provenance
+
+    @property
+    def x2_on_line4(self) -> bool:
+        return self.raw["pair"].get("x2", "line4") == "line4"
+
+
+@dataclass(frozen=True)
+class MeshProperties:
+    """Derived mesh quantities of the pair at one design point (SI units for stiffness)."""
+
+    x1: float
+    x2: float
+    working_pressure_angle_deg: float
+    contact_ratio: float
+    q: float  # mm um / N
+    k_c: float  # N/m, pitch point single pair
+    k_prime: float  # N/m, single pair at entry/exit
+    k_mean: float  # N/m, exact mean of k(t)
+    k_min: float  # N/m, smallest k(t) over a period
+
+    def k_of_t(self, form: stiffness.KForm) -> stiffness.ParabolicStiffness:
+        return stiffness.ParabolicStiffness(self.contact_ratio, self.k_prime, form)
+
+
+def _pair_from(raw: dict[str, Any], x2: float) -> geometry.GearPair:
+    p = raw["pair"]
+    return geometry.GearPair(
+        z1=p["z1"], z2=p["z2"], module=p["module"], x1=p["x1"], x2=x2,
+        pressure_angle_deg=p["pressure_angle_deg"], addendum=p["addendum"],
+        clearance=p["clearance"], internal=True, facewidth=p["facewidth"],
+    )
+
+
+def x2_for(design: KHVDesign, x1: float) -> float:
+    """x2 at ``x1``: on line 4 (G_s = 0) when the design says 'line4', else the fixed x2."""
+    if not design.x2_on_line4:
+        return design.base.x2
+    return float(geometry.x2_on_overlap_boundary(x1, design.base))
+
+
+def pair_at(design: KHVDesign, x1: float) -> geometry.GearPair:
+    """The gear pair of ``design`` at planet shift ``x1`` (x2 from :func:`x2_for`)."""
+    return dataclasses.replace(design.base, x1=float(x1), x2=x2_for(design, x1))
+
+
+def mesh_properties(design: KHVDesign, x1: float) -> MeshProperties:
+    """Contact ratio and ISO 6336 stiffness of ``design`` at ``x1`` (paper 1 Eqs. 7-10)."""
+    pair = pair_at(design, x1)
+    opts = design.stiffness
+    q = float(stiffness.flexibility_q(pair.z1, pair.z2, pair.x1, pair.x2, internal=True,
+                                      variant=opts.q_variant, constants=opts.c_constants))
+    k_c = float(stiffness.pitch_point_stiffness(q, pair.facewidth))
+    k_prime = float(stiffness.tip_stiffness(k_c))
+    eps = float(geometry.contact_ratio(pair))
+    if not 1.0 <= eps < 2.0:
+        raise ConfigError(f"{design.name}: contact ratio eps = {eps:.4f} at x1 = {x1:.4f} is outside [1, 2): "
+                          "the two-zone stiffness of paper 1 Eq. (9) needs 1 <= eps < 2")
+    k_t = stiffness.ParabolicStiffness(eps, k_prime, opts.form)
+    return MeshProperties(
+        x1=pair.x1, x2=pair.x2,
+        working_pressure_angle_deg=math.degrees(float(geometry.working_pressure_angle(pair))),
+        contact_ratio=eps, q=q, k_c=k_c, k_prime=k_prime, k_mean=k_t.mean(), k_min=k_t.minimum(),
+    )
+
+
+def _check(design_raw: dict[str, Any], where: str) -> None:
+    p = design_raw["pair"]
+    if p["z2"] - p["z1"] < 1:
+        raise ConfigError(f"{where}: pair.z2 - pair.z1 = {p['z2'] - p['z1']} is not allowed: "
+                          "the annulus needs at least one tooth more than the planet (z2 - z1 >= 1)")
+    adm = design_raw["admissible"]
+    if not adm["x1_min"] < adm["x1_max"]:
+        raise ConfigError(f"{where}: admissible.x1_min = {adm['x1_min']} must be below "
+                          f"admissible.x1_max = {adm['x1_max']}")
+
+
+#: Constraints that need the shaper cutter (teeth, shift), which paper 1 does not give: reported
+#: always, enforced only with ``admissible.enforce_cutter_constraints``.
+CUTTER_CONSTRAINTS = ("root_interference_annulus", "trimming_interference_annulus")
+#: Margin below which a constraint counts as violated: points on line 4 have G_s = 0 up to round-off.
+FEASIBILITY_TOLERANCE = 1e-9
+
+
+def violated_constraints(pair: geometry.GearPair, min_tip_thickness: float, enforce_cutter: bool) -> list[str]:
+    """Names of the closed-graph constraints that ``pair`` violates (margin < -1e-9)."""
+    values = geometry.constraints(pair, min_tip_thickness=min_tip_thickness)
+    return [name for name, v in values.items()
+            if float(v) < -FEASIBILITY_TOLERANCE and (enforce_cutter or name not in CUTTER_CONSTRAINTS)]
+
+
+def from_dict(raw: dict[str, Any], where: str = "design") -> KHVDesign:
+    """Build a :class:`KHVDesign` from a schema-validated dict, with the semantic checks."""
+    _check(raw, where)
+    p = raw["pair"]
+    provisional = _pair_from(raw, 0.0)
+    if p["x2"] == "line4":
+        try:
+            x2 = float(geometry.x2_on_overlap_boundary(p["x1"], provisional))
+        except ValueError as err:
+            raise ConfigError(f"{where}: pair.x1 = {p['x1']}: no x2 on line 4 (G_s = 0): {err}") from None
+    else:
+        x2 = float(p["x2"])
+    base = _pair_from(raw, x2)
+    adm = raw["admissible"]
+    if adm["check_feasibility"]:
+        bad = violated_constraints(base, adm["min_tip_thickness"], adm["enforce_cutter_constraints"])
+        if bad:
+            values = geometry.constraints(base, min_tip_thickness=adm["min_tip_thickness"])
+            detail = ", ".join(f"{name} = {values[name]:.4g} (needs >= 0)" for name in bad)
+            raise ConfigError(f"{where}: design point (x1, x2) = ({base.x1:.4f}, {base.x2:.4f}) is outside the "
+                              f"feasible region: {detail}")
+    return KHVDesign(
+        name=raw["name"], title=raw.get("title", ""), base=base,
+        x1_min=adm["x1_min"], x1_max=adm["x1_max"], min_tip_thickness=adm["min_tip_thickness"],
+        stiffness=StiffnessOptions(**raw["stiffness"]),
+        paper_points={k: tuple(v) for k, v in raw["paper"].items()},
+        dynamics=raw.get("dynamics", {}), raw=raw,
+    )
+
+
+def load(path: str | Path) -> KHVDesign:
+    """Read, validate and check a KHV design file (one-line :class:`ConfigError` on any problem)."""
+    raw = load_design_dict(path)
+    if raw["kind"] != "khv":
+        raise ConfigError(f"{path}: kind = {raw['kind']!r} is not a KHV design")
+    return from_dict(raw, str(path))
+
+
+def x1_grid(design: KHVDesign, num: int) -> np.ndarray:
+    """``num`` evenly spaced x1 values over the admissible segment [x1_min, x1_max]."""
+    return np.linspace(design.x1_min, design.x1_max, num)

@@ -1,0 +1,160 @@
+"""Self-describing netCDF output: CF-style global attributes, provenance, atomic writes.
+
+Every dataset written by the pipeline goes through :func:`write_netcdf`, so every file
+says where it came from (package version, git commit, config hash, model variant) and no
+reader ever sees a half-written file (write to a temporary name, then rename).
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import hashlib
+import json
+import os
+import subprocess
+import tempfile
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from geardyn import __version__
+
+CONVENTIONS = "CF-1.10"
+REFERENCES = {
+    "li2013": (
+        "Li H., Niu W., Zhang D., Tian Y., Fu S. (2013) Effect of modification coefficient on "
+        "nonlinear dynamic characteristics of planetary drive with small teeth number difference. "
+        "Journal of Vibroengineering 15(4), paper 1131."
+    ),
+    "yue2014": (
+        "Yue H., Liu Y., Xu X., Lai J. (2014) Study on vibration characteristics and tooth profile "
+        "modification of a plus planetary gear set. Journal of Vibroengineering 16(2)."
+    ),
+}
+
+
+def config_hash(config: Mapping[str, Any]) -> str:
+    """Short sha256 of a configuration mapping, independent of key order."""
+    text = json.dumps(config, sort_keys=True, default=_json_default)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def _json_default(obj: Any) -> Any:
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    return str(obj)
+
+
+def git_commit(repo: str | os.PathLike[str] | None = None) -> str:
+    """The current git commit of the source tree (with ``-dirty``), or ``unknown`` outside git."""
+    where = Path(repo) if repo is not None else Path(__file__).resolve().parent
+    try:
+        out = subprocess.run(
+            ["git", "describe", "--always", "--dirty", "--abbrev=12"],
+            cwd=where, capture_output=True, text=True, timeout=10, check=True,
+        )
+        return out.stdout.strip() or "unknown"
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+
+
+def provenance(
+    *,
+    title: str,
+    paper: str | None = None,
+    config: Mapping[str, Any] | None = None,
+    model_variant: str | None = None,
+    extra: Mapping[str, Any] | None = None,
+) -> dict[str, str]:
+    """Global attributes for a dataset: CF basics plus where and how it was made."""
+    now = _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
+    attrs: dict[str, str] = {
+        "Conventions": CONVENTIONS,
+        "title": title,
+        "institution": "geardyn project",
+        "source": f"geardyn {__version__}",
+        "history": f"{now} created by geardyn {__version__}",
+        "references": REFERENCES.get(paper or "", "") or "geardyn documentation",
+        "geardyn_version": __version__,
+        "git_commit": git_commit(),
+    }
+    if config is not None:
+        attrs["config_hash"] = config_hash(config)
+        attrs["config_json"] = json.dumps(config, sort_keys=True, default=_json_default)
+    if model_variant is not None:
+        attrs["model_variant"] = model_variant
+    for key, value in (extra or {}).items():
+        attrs[key] = value if isinstance(value, str) else json.dumps(value, default=_json_default)
+    return attrs
+
+
+def missing_cf_attributes(ds: xr.Dataset) -> list[str]:
+    """Names of variables/coordinates lacking ``units`` or ``long_name`` (flags and masks need no units)."""
+    missing = []
+    for name, var in {**ds.coords, **ds.data_vars}.items():
+        if "long_name" not in var.attrs:
+            missing.append(f"{name}: long_name")
+        if "units" not in var.attrs and "flag_values" not in var.attrs and var.dtype.kind not in "OSUb":
+            missing.append(f"{name}: units")
+    return missing
+
+
+def write_netcdf(
+    ds: xr.Dataset,
+    path: str | os.PathLike[str],
+    attrs: Mapping[str, str] | None = None,
+    *,
+    require_cf: bool = True,
+) -> Path:
+    """Write ``ds`` to ``path`` atomically (temporary file + rename) with global ``attrs`` merged in.
+
+    Raises ``ValueError`` if a variable lacks ``units``/``long_name`` and ``require_cf`` is set, so
+    no undocumented file is ever produced.
+    """
+    path = Path(path)
+    out = ds.copy()
+    out.attrs = {**ds.attrs, **(attrs or {})}
+    if require_cf:
+        missing = missing_cf_attributes(out)
+        if missing:
+            raise ValueError(f"dataset for {path.name} lacks CF attributes: {', '.join(missing)}")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    os.close(fd)
+    try:
+        out.to_netcdf(tmp, engine="netcdf4")
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return path
+
+
+def write_text(text: str, path: str | os.PathLike[str]) -> Path:
+    """Write a text file atomically (captions, Markdown tables)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)
+    return path
+
+
+def save_figure(fig: Any, path: str | os.PathLike[str], caption: str | None = None, dpi: int = 150) -> Path:
+    """Save a matplotlib figure atomically, and its caption beside it as ``<name>.txt``."""
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")
+    fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
+    plt.close(fig)
+    os.replace(tmp, path)
+    if caption is not None:
+        write_text(caption.strip() + "\n", path.with_name(path.name + ".txt"))
+    return path

@@ -1,0 +1,88 @@
+"""From a KHV design file to the dimensionless model at one operating point.
+
+A point is the design plus *overrides* of control parameters, in the units a user thinks in:
+
+=========  ==========================================================================
+``x1``     planet profile shift (-); x2 follows line 4, eps and k_C follow x1
+``b``      half backlash in um (= dimensionless b with b_c = 1 um)
+``e``      transmission-error amplitude in um
+``w``      dimensionless mesh frequency w_m / w_n (``frequency_mode: dimensionless``)
+``speed``  input speed in rpm (``frequency_mode: physical``)
+any other  a field of :class:`geardyn.model.KHVParameters` in SI units (e.g. ``K_DH``)
+=========  ==========================================================================
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from typing import Any
+
+from geardyn import design as design_mod
+from geardyn.integrators import SimulationSettings
+from geardyn.model import B_C, Coefficients, KHVParameters, Options, dimensionless
+
+#: Control parameters with their units and long names (for cube coordinates).
+CONTROLS: dict[str, tuple[str, str]] = {
+    "x1": ("1", "planet profile-shift coefficient x1"),
+    "b": ("1", "half backlash b / b_c (b_c = 1 um)"),
+    "e": ("1", "transmission-error amplitude e / b_c (b_c = 1 um)"),
+    "w": ("1", "dimensionless mesh frequency w_m / w_n"),
+    "speed": ("rpm", "input speed"),
+}
+
+_PARAM_FIELDS = {f.name for f in dataclasses.fields(KHVParameters)} - {"eps", "k_c"}
+_OPTION_FIELDS = {f.name for f in dataclasses.fields(Options)}
+_SETTING_FIELDS = {f.name for f in dataclasses.fields(SimulationSettings)}
+
+
+def dynamics_section(design: design_mod.KHVDesign) -> dict[str, Any]:
+    """The validated ``dynamics`` mapping of the design (parameters, options, integration)."""
+    return dict(design.dynamics)
+
+
+def _split(dynamics: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any]]:
+    params = {k: v for k, v in dynamics.get("parameters", {}).items() if k in _PARAM_FIELDS}
+    options = {k: v for k, v in dynamics.get("options", {}).items() if k in _OPTION_FIELDS}
+    settings = {k: v for k, v in dynamics.get("integration", {}).items() if k in _SETTING_FIELDS}
+    return params, options, settings
+
+
+def point_model(
+    design: design_mod.KHVDesign, overrides: Mapping[str, float] | None = None
+) -> tuple[KHVParameters, Options, design_mod.MeshProperties]:
+    """Physical parameters and options of ``design`` at the point given by ``overrides``."""
+    overrides = dict(overrides or {})
+    params, options, _ = _split(dynamics_section(design))
+    options.setdefault("stiffness_form", design.stiffness.form)
+    x1 = float(overrides.pop("x1", design.base.x1))
+    mesh = design_mod.mesh_properties(design, x1)
+    for key, value in overrides.items():
+        if key == "b":
+            params["backlash"] = float(value) * B_C
+        elif key == "e":
+            params["te_amplitude"] = float(value) * B_C
+        elif key == "w":
+            params["omega_bar"] = float(value)
+        elif key == "speed":
+            params["input_speed_rpm"] = float(value)
+        elif key in _PARAM_FIELDS:
+            params[key] = float(value)
+        else:
+            allowed = ", ".join(sorted(set(CONTROLS) | _PARAM_FIELDS))
+            raise ValueError(f"unknown control parameter {key!r}; allowed: {allowed}")
+    phys = KHVParameters(eps=mesh.contact_ratio, k_c=mesh.k_c, **params)
+    return phys, Options(**options), mesh
+
+
+def point_coefficients(design: design_mod.KHVDesign, overrides: Mapping[str, float] | None = None) -> Coefficients:
+    """The dimensionless coefficients (paper 1 Eq. 13, corrected) at one point."""
+    phys, opts, _ = point_model(design, overrides)
+    return dimensionless(phys, opts)
+
+
+def integration_settings(design: design_mod.KHVDesign, **changes: Any) -> SimulationSettings:
+    """Integrator settings from the design's ``dynamics.integration`` with ``changes`` applied."""
+    _, _, settings = _split(dynamics_section(design))
+    settings.update({k: v for k, v in changes.items() if v is not None})
+    return SimulationSettings(**settings)

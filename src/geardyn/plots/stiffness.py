@@ -1,0 +1,99 @@
+"""Figures 4-6 of paper 1: single-tooth stiffness, k(t) for three x1 values, backlash function."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+
+from geardyn.backlash import backlash  # noqa: E402
+
+_STYLES = ("-.", ":", "--", "-")
+
+
+def plot_single_tooth(curve: xr.Dataset) -> Figure:
+    """Fig. 4: stiffness of one tooth pair from engaging-in point A through pitch C to exit B."""
+    fig, ax = plt.subplots(figsize=(5.5, 3.5))
+    k = curve["k_single"] / 1e6
+    ax.plot(curve["s"], k, color="k")
+    eps = float(curve.attrs["contact_ratio"])
+    k_prime = float(curve.attrs["k_prime"]) / 1e6
+    for label, s, kk in (("A", 0.0, k_prime), ("C", eps / 2, 1.5 * k_prime), ("B", eps, k_prime)):
+        ax.plot([s], [kk], "o", color="k")
+        ax.annotate(label, (s, kk), textcoords="offset points", xytext=(4, 6))
+    ax.set_xlabel("time since engagement (mesh periods)")
+    ax.set_ylabel("single-pair stiffness (N/um)")
+    ax.set_ylim(0, 1.7 * k_prime)
+    ax.set_title("Fig. 4  single tooth-pair stiffness")
+    fig.tight_layout()
+    return fig
+
+
+def plot_mesh_stiffness(table: xr.Dataset) -> Figure:
+    """Fig. 5: k(t) over two mesh periods at the x1 values of ``table`` (already selected)."""
+    fig, ax = plt.subplots(figsize=(6.5, 3.8))
+    t = np.concatenate([table["phase"].values, table["phase"].values + 1.0])
+    for i, x1 in enumerate(table["x1"].values):
+        k = np.tile(table["k_t"].sel(x1=x1).values, 2) / 1e6
+        ax.step(t, k, where="post", linestyle=_STYLES[i % len(_STYLES)],
+                label=f"x1 = {x1:.3f}, eps = {float(table['contact_ratio'].sel(x1=x1)):.3f}")
+    ax.set_xlabel("t (mesh periods)")
+    ax.set_ylabel("k(t) (N/um)")
+    ax.set_title("Fig. 5  time-varying mesh stiffness")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def plot_backlash(b: float = 1.0) -> Figure:
+    """Fig. 6: the dead-zone backlash function f(X) of Eq. (11), in units of b."""
+    x = np.linspace(-3 * b, 3 * b, 601)
+    fig, ax = plt.subplots(figsize=(4.5, 3.5))
+    ax.plot(x / b, backlash(x, b) / b, color="k")
+    ax.axhline(0, color="0.7", lw=0.5)
+    ax.axvline(0, color="0.7", lw=0.5)
+    ax.set_xticks([-2, -1, 0, 1, 2], ["-2b", "-b", "0", "b", "2b"])
+    ax.set_yticks([-2, -1, 0, 1, 2], ["-2b", "-b", "0", "b", "2b"])
+    ax.set_xlabel("X")
+    ax.set_ylabel("f(X)")
+    ax.set_title("Fig. 6  backlash function")
+    fig.tight_layout()
+    return fig
+
+
+def caption_fig04(props) -> str:  # props: geardyn.design.MeshProperties
+    return (
+        f"Fig. 4 (paper 1): stiffness of one tooth pair over its engagement, the parabola "
+        f"k'(1 + 2u(1 - u)), u = s/eps, drawn at x1 = {props.x1:.3f} (eps = {props.contact_ratio:.4f}, "
+        f"k' = {props.k_prime / 1e6:.1f} N/um, k_C = 1.5 k' = {props.k_c / 1e6:.1f} N/um, ISO 6336-1 method B). "
+        "As in the paper, k_A = k_B = k' and k_C = 1.5 k'. The paper's sentence that the meshing point is "
+        "'1.67 times' the engaging-in point does not match its own k_C = 1.5 k'; we follow k_C = 1.5 k'."
+    )
+
+
+def caption_fig05(table: xr.Dataset, design) -> str:
+    rows = "; ".join(
+        f"x1 = {x1:.3f}: x2 = {float(table['x2'].sel(x1=x1)):.4f}, eps = {float(table['contact_ratio'].sel(x1=x1)):.4f}, "
+        f"k_C = {float(table['k_c'].sel(x1=x1)) / 1e6:.1f} N/um, mean k = {float(table['k_mean'].sel(x1=x1)) / 1e6:.1f} N/um"
+        for x1 in table["x1"].values
+    )
+    return (
+        "Fig. 5 (paper 1): time-varying mesh stiffness k(t) over two mesh periods for the paper's three x1 values, "
+        f"x2 on line 4 (G_s = 0). Stiffness options: {design.stiffness.label}. {rows}. "
+        "Differences from the paper: Eq. (9) prints its two intervals swapped; here the double-pair zone is on "
+        "[0, eps - 1] (sum of the single-pair parabolas), so k(t) jumps by k' where a pair enters or leaves. "
+        "The exact mean is (8/9) eps k_C, not the printed 0.866268 eps k_C (that constant equals cos a' at N). "
+        "Stiffness still falls with x1 because eps falls."
+    )
+
+
+def caption_fig06() -> str:
+    return (
+        "Fig. 6 (paper 1): the backlash (dead-zone) function f(X) of Eq. (11), X - b above b, 0 inside |X| <= b, "
+        "X + b below -b, with b half the backlash. Identical to the paper's figure; Eq. (14)'s last case is "
+        "misprinted ('-b' should read 'X < -b')."
+    )

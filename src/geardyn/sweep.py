@@ -1,0 +1,229 @@
+"""Parameter sweeps: bifurcation cubes built in chunks that can run in any order, anywhere.
+
+A sweep varies one control parameter (``x1``, ``b``, ``e``, ``w``, ... see :mod:`geardyn.khv`)
+over a range, for one or more *cases* (fixed overrides, e.g. three x1 values for Figs. 9 and 11).
+The points are numbered case-major and split into contiguous chunks; every point is computed
+from its own parameters only, so a chunk's numbers do not depend on how the sweep was cut.
+
+With ``continuation`` each point starts from the previous point's final state (up and/or down
+the sweep), which shows hysteresis and coexisting attractors. That makes the points of one
+(case, direction) sequential, so a continued sweep is chunked by (case, direction) only.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from geardyn import khv
+from geardyn.design import KHVDesign
+from geardyn.integrators import SimulationSettings, simulate
+
+log = logging.getLogger("geardyn.sweep")
+
+STATES = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
+_STATE_NAMES = {
+    "x_dh": "relative displacement X_DH / b_c (drive - carrier)",
+    "x_vh": "mesh deflection X_VH / b_c (planet - carrier - TE)",
+    "x_vl": "relative displacement X_VL / b_c (planet - load)",
+    "v_dh": "dimensionless velocity dX_DH/dtau / b_c",
+    "v_vh": "dimensionless velocity dX_VH/dtau / b_c",
+    "v_vl": "dimensionless velocity dX_VL/dtau / b_c",
+}
+DIRECTIONS = ("none", "up", "down", "both")
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    """One sweep as declared in ``config.yaml`` under ``sweeps:``."""
+
+    name: str
+    design: str
+    parameter: str
+    start: float
+    stop: float
+    num: int
+    cases: tuple[tuple[tuple[str, float], ...], ...] = ((),)
+    fixed: tuple[tuple[str, float], ...] = ()
+    chunks: int = 1
+    continuation: str = "none"
+    integration: tuple[tuple[str, Any], ...] = ()
+
+    @classmethod
+    def from_config(cls, name: str, spec: Mapping[str, Any]) -> SweepSpec:
+        cases = tuple(tuple(sorted(c.items())) for c in spec.get("cases") or [{}])
+        return cls(
+            name=name, design=spec["design"], parameter=spec["parameter"],
+            start=float(spec["start"]), stop=float(spec["stop"]), num=int(spec["num"]),
+            cases=cases, fixed=tuple(sorted(spec.get("fixed", {}).items())),
+            chunks=int(spec.get("chunks", 1)), continuation=spec.get("continuation", "none"),
+            integration=tuple(sorted(spec.get("integration", {}).items())),
+        )
+
+    @property
+    def values(self) -> np.ndarray:
+        return np.linspace(self.start, self.stop, self.num)
+
+    @property
+    def directions(self) -> tuple[str, ...]:
+        return ("up", "down") if self.continuation == "both" else (self.continuation,)
+
+    @property
+    def n_chunks(self) -> int:
+        """Number of chunk jobs: the configured count, or one per (case, direction) when continued."""
+        if self.continuation != "none":
+            return len(self.cases) * len(self.directions)
+        return max(1, min(self.chunks, len(self.cases) * self.num))
+
+    def case_label(self, i: int) -> str:
+        return ",".join(f"{k}={v:g}" for k, v in self.cases[i]) or "base"
+
+
+@dataclass
+class ChunkWork:
+    """The points one chunk computes: (case index, direction index, parameter indices in order)."""
+
+    items: list[tuple[int, int, list[int]]] = field(default_factory=list)
+
+
+def chunk_work(spec: SweepSpec, chunk: int) -> ChunkWork:
+    """Which points chunk ``chunk`` (0-based) computes; deterministic and covering each point once."""
+    if not 0 <= chunk < spec.n_chunks:
+        raise ValueError(f"chunk {chunk} outside 0..{spec.n_chunks - 1} for sweep {spec.name}")
+    if spec.continuation != "none":
+        case, d = divmod(chunk, len(spec.directions))
+        order = list(range(spec.num))
+        if spec.directions[d] == "down":
+            order.reverse()
+        return ChunkWork([(case, d, order)])
+    flat = np.arange(len(spec.cases) * spec.num)
+    mine = np.array_split(flat, spec.n_chunks)[chunk]
+    work = ChunkWork()
+    for case in range(len(spec.cases)):
+        idx = [int(i) - case * spec.num for i in mine if case * spec.num <= i < (case + 1) * spec.num]
+        if idx:
+            work.items.append((case, 0, idx))
+    return work
+
+
+def point_overrides(spec: SweepSpec, case: int, value: float) -> dict[str, float]:
+    """Overrides of one point: fixed values, then the case's, then the swept parameter."""
+    return {**dict(spec.fixed), **dict(spec.cases[case]), spec.parameter: float(value)}
+
+
+def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
+              settings: SimulationSettings | None = None) -> xr.Dataset:
+    """Integrate the points of one chunk and return them as a partial cube (see :func:`empty_cube`)."""
+    settings = settings or khv.integration_settings(design, **dict(spec.integration))
+    work = chunk_work(spec, chunk)
+    values = spec.values
+    cube = empty_cube(spec, settings)
+    done = 0
+    total = sum(len(idx) for _, _, idx in work.items)
+    t0 = time.perf_counter()
+    keep = np.zeros((len(spec.cases), len(spec.directions), spec.num), dtype=bool)
+    for case, d, indices in work.items:
+        state = None
+        for j in indices:
+            coeffs = khv.point_coefficients(design, point_overrides(spec, case, values[j]))
+            x0 = state if (spec.continuation != "none" and state is not None) else None
+            res = simulate(coeffs, settings, x0=x0)
+            _store(cube, case, d, j, coeffs, res, settings)
+            keep[case, d, j] = True
+            state = None if res.diverged else res.final_state
+            done += 1
+            if done % max(1, total // 10) == 0 or done == total:
+                elapsed = time.perf_counter() - t0
+                log.info("%s chunk %d: %d/%d points, %.1f s elapsed, %.1f s remaining", spec.name, chunk,
+                         done, total, elapsed, elapsed / done * (total - done))
+    # keep only this chunk's points along the parameter axis (a chunk may cover several cases)
+    cube["computed"] = (("case", "direction", spec.parameter), keep.astype(np.int8),
+                        {"long_name": "1 where this file holds the point", "flag_values": np.array([0, 1], np.int8),
+                         "flag_meanings": "absent present"})
+    return cube
+
+
+def empty_cube(spec: SweepSpec, settings: SimulationSettings) -> xr.Dataset:
+    """A cube of NaN (float) / -1 (int) for every point of the sweep, with CF attributes."""
+    nc, nd, npar, ns = len(spec.cases), len(spec.directions), spec.num, settings.recorded_periods
+    shape = (nc, nd, npar, ns)
+    dims = ("case", "direction", spec.parameter, "section")
+    data: dict[str, Any] = {}
+    for name in STATES:
+        data[name] = (dims, np.full(shape, np.nan), {"units": "1", "long_name": f"Poincare section: {_STATE_NAMES[name]}"})
+    pdims = dims[:3]
+    data["diverged"] = (pdims, np.full(shape[:3], -1, np.int8), {
+        "long_name": "unbounded growth detected (parametric instability)",
+        "flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "not_computed bounded diverged"})
+    data["diverged_period"] = (pdims, np.full(shape[:3], -1, np.int32), {
+        "units": "1", "long_name": "mesh period at which the state exceeded the threshold (-1: never)"})
+    data["n_events"] = (pdims, np.full(shape[:3], -1, np.int64), {
+        "units": "1", "long_name": "number of contact-switch events located (rk4_event)"})
+    for cname, (units, long_name) in _COEFF_ATTRS.items():
+        data[f"coef_{cname}"] = (pdims, np.full(shape[:3], np.nan), {"units": units, "long_name": long_name})
+    coords = {
+        "case": ("case", [spec.case_label(i) for i in range(nc)], {"long_name": "case (fixed overrides)"}),
+        "direction": ("direction", list(spec.directions), {"long_name": "continuation direction of the sweep"}),
+        spec.parameter: (spec.parameter, spec.values, {
+            "units": khv.CONTROLS.get(spec.parameter, ("1", spec.parameter))[0],
+            "long_name": khv.CONTROLS.get(spec.parameter, ("1", spec.parameter))[1]}),
+        "section": ("section", np.arange(ns, dtype=np.int32), {
+            "units": "1", "long_name": "index of the recorded mesh period (Poincare section at phase 0)"}),
+    }
+    attrs = {
+        "sweep": spec.name, "design": spec.design, "control_parameter": spec.parameter,
+        "integrator": settings.integrator, "steps_per_period": settings.steps_per_period,
+        "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
+        "divergence_threshold": settings.divergence_threshold, "continuation": spec.continuation,
+        "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
+    }
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+_COEFF_ATTRS = {
+    "mu_D": ("1", "drive mass M_D / M_VH"), "mu_H": ("1", "carrier mass M_H / M_VH"),
+    "mu_V": ("1", "planet mass M_V / M_VH"), "mu_L": ("1", "load mass M_L / M_VH"),
+    "k_DH": ("1", "input shaft stiffness / k_mean"), "k_VL": ("1", "output shaft stiffness / k_mean"),
+    "c_DH": ("1", "input shaft damping / (M_VH w_n)"), "c_VL": ("1", "output shaft damping / (M_VH w_n)"),
+    "c_m": ("1", "mesh damping / (M_VH w_n)"), "P_D": ("1", "drive force / (k_mean b_c)"),
+    "P_L": ("1", "load force / (k_mean b_c)"), "b": ("1", "half backlash / b_c"),
+    "e": ("1", "TE amplitude / b_c"), "phi": ("rad", "TE phase"), "omega": ("1", "mesh frequency w_m / w_n"),
+    "eps": ("1", "contact ratio"), "omega_n": ("rad s-1", "natural-frequency scale w_n"),
+    "k_mean": ("N m-1", "mean mesh stiffness"),
+}
+
+
+def _store(cube: xr.Dataset, case: int, d: int, j: int, coeffs: Any, res: Any, settings: SimulationSettings) -> None:
+    n = res.poincare.shape[0]
+    for k, name in enumerate(STATES):
+        cube[name].values[case, d, j, :n] = res.poincare[:, k]
+    cube["diverged"].values[case, d, j] = 1 if res.diverged else 0
+    cube["diverged_period"].values[case, d, j] = res.diverged_period
+    cube["n_events"].values[case, d, j] = res.n_events
+    values = coeffs.as_dict()
+    for cname in _COEFF_ATTRS:
+        cube[f"coef_{cname}"].values[case, d, j] = float(values[cname])
+
+
+def merge_chunks(chunks: Sequence[xr.Dataset]) -> xr.Dataset:
+    """Combine chunk cubes into one; each point must be present exactly once."""
+    if not chunks:
+        raise ValueError("no chunks to merge")
+    present = sum(c["computed"].values.astype(int) for c in chunks)
+    if np.any(present != 1):
+        missing = int(np.sum(present == 0))
+        twice = int(np.sum(present > 1))
+        raise ValueError(f"chunks do not tile the sweep: {missing} points missing, {twice} computed twice")
+    out = chunks[0].drop_vars("computed").copy(deep=True)
+    for c in chunks[1:]:
+        mask = c["computed"].values.astype(bool)
+        for name in out.data_vars:
+            arr = out[name].values
+            arr[mask] = c[name].values[mask]
+    return out

@@ -1,0 +1,42 @@
+"""Period labels from Poincaré points, on sequences whose answers are known."""
+
+import numpy as np
+import pytest
+
+from geardyn import calibrate, classify
+from geardyn.points import amplitude_spectrum
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 5, 6, 12])
+def test_period_n_sequence(n):
+    rng = np.random.default_rng(n)
+    cycle = rng.normal(size=(n, 6))
+    pts = np.tile(cycle, (100 // n + 1, 1))[:100] + 1e-9 * rng.normal(size=(100, 6))  # integration noise
+    assert classify.poincare_period(pts) == n
+
+
+def test_quasi_periodic_circle_is_not_periodic():
+    k = np.arange(100)
+    theta = 2 * np.pi * k * (np.sqrt(5) - 1) / 2  # irrational rotation number
+    pts = np.column_stack([np.cos(theta), np.sin(theta)])
+    assert classify.poincare_period(pts) == 0
+
+
+def test_bands_and_paper_sequence():
+    x = np.array([0.1, 0.2, 0.3, 0.4])
+    assert classify.bands(x, np.array([1, 1, 0, 5])) == [(0.1, 0.2, 1), (0.3, 0.3, 0), (0.4, 0.4, 5)]
+    x1 = np.array([0.5, 0.566, 0.58, 0.7, 0.761, 0.8])
+    np.testing.assert_array_equal(calibrate.paper_label(x1), [1, 0, 5, 0, 6, 0])
+    assert calibrate.score(x1, np.array([1, 0, 5, 0, 6, 0])) == 1.0
+    assert calibrate.score(x1, np.array([1, 1, 1, 1, 1, 1])) == pytest.approx(1 / 6)
+
+
+def test_spectrum_of_a_sine_shows_its_amplitude_and_frequency():
+    spp = 64
+    t = np.arange(100 * spp) / spp  # 100 mesh periods
+    x = 3.0 + 2.0 * np.sin(2 * np.pi * 1.0 * t) + 0.5 * np.sin(2 * np.pi * 0.48 * t)
+    f, a = amplitude_spectrum(x, spp)
+    assert f[np.argmax(a)] == pytest.approx(1.0)
+    assert a.max() == pytest.approx(2.0, rel=0.02)  # Hann coherent-gain corrected
+    near = (f > 0.4) & (f < 0.56)
+    assert f[near][np.argmax(a[near])] == pytest.approx(0.48, abs=0.01)

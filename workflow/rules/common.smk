@@ -1,0 +1,62 @@
+# Helpers shared by the rules: which designs exist and the config slice each rule needs.
+
+
+def designs_of_kind(kind):
+    return [name for name, raw in DESIGNS.items() if raw["kind"] == kind]
+
+
+KHV_DESIGNS = designs_of_kind("khv")
+
+
+wildcard_constraints:
+    design="|".join(KHV_DESIGNS) or "no-khv-design",
+
+
+def design_file(wildcards):
+    return config["designs"][wildcards.design]
+
+
+def closed_graph_spec(wildcards):
+    return config["closed_graph"]
+
+
+def stiffness_spec(wildcards):
+    return config["stiffness_table"]
+
+
+def per_khv_design(pattern):
+    return expand(pattern, design=KHV_DESIGNS)
+
+
+wildcard_constraints:
+    sweep="|".join(config["sweeps"]) or "no-sweep",
+    points="|".join(config["points"]) or "no-points",
+    chunk=r"\d+",
+
+
+def sweep_spec(wildcards):
+    return config["sweeps"][wildcards.sweep]
+
+
+def points_spec(wildcards):
+    return config["points"][wildcards.points]
+
+
+def sweep_design_file(wildcards):
+    return config["designs"][config["sweeps"][wildcards.sweep]["design"]]
+
+
+def points_design_file(wildcards):
+    return config["designs"][config["points"][wildcards.points]["design"]]
+
+
+def sweep_chunk_files(wildcards):
+    from geardyn.sweep import SweepSpec
+
+    spec = SweepSpec.from_config(wildcards.sweep, config["sweeps"][wildcards.sweep])
+    return expand(
+        "results/{design}/sweeps/{sweep}/chunk_{chunk}.nc",
+        design=wildcards.design,
+        sweep=wildcards.sweep,
+        chunk=range(spec.n_chunks),
+    )

@@ -1,0 +1,17 @@
+"""Adapter: paper 1 Figs. 4 (single tooth), 5 (k(t) at three x1) and 6 (backlash function)."""
+
+from geardyn import design, io, logs, mesh_table
+from geardyn.plots import stiffness as plots
+
+log = logs.to_file(snakemake.log[0])
+spec = design.load(snakemake.input.design)
+params = snakemake.params.spec
+x1_values = params["fig05_x1"]
+props = [design.mesh_properties(spec, x1) for x1 in x1_values]
+middle = props[len(props) // 2]
+curve = mesh_table.single_tooth_curve(middle.contact_ratio, middle.k_prime)
+io.save_figure(plots.plot_single_tooth(curve), snakemake.output.fig04, plots.caption_fig04(middle))
+curves = mesh_table.stiffness_table(spec, x1_values, params["phase_points"])
+io.save_figure(plots.plot_mesh_stiffness(curves), snakemake.output.fig05, plots.caption_fig05(curves, spec))
+io.save_figure(plots.plot_backlash(), snakemake.output.fig06, plots.caption_fig06())
+log.info("Figs. 4-6 written for x1 = %s", x1_values)
