@@ -8,7 +8,7 @@ def main(design_path, landscape_nc, log_path=None):
     with files.logger(log_path, "yue2014_landscape") as log:
         design = files.read_design(design_path)
         ds = tables.landscape_dataset(design)
-        files.write_netcdf(ds, landscape_nc, files.provenance(design_path, ds.attrs["title"], "Ishikawa static TE", design.raw))
+        files.write_netcdf(ds, landscape_nc, files.provenance(design, ds.attrs["title"], "Ishikawa static TE"))
         log.info("landscape %s, ptp range %.2f-%.2f um", dict(ds.sizes), float(ds.te_ptp.min()), float(ds.te_ptp.max()))
 
 

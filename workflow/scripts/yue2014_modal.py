@@ -8,7 +8,7 @@ def main(design_path, modal_nc, table02_csv, table02_md, scaling_csv, scaling_md
     with files.logger(log_path, "yue2014_modal") as log:
         design = files.read_design(design_path)
         ds = tables.modal_dataset(design)
-        files.write_netcdf(ds, modal_nc, files.provenance(design_path, ds.attrs["title"], ds.attrs["model_variant"], design.raw))
+        files.write_netcdf(ds, modal_nc, files.provenance(design, ds.attrs["title"], ds.attrs["model_variant"]))
         t2 = tables.frequency_table(design)
         files.write_table(t2, table02_csv, table02_md, header=(
             "# Table 2: natural frequencies (Hz), ours (11-DOF Lagrangian from Table 1) vs paper 2\n\n"
@@ -31,9 +31,7 @@ def main(design_path, modal_nc, table02_csv, table02_md, scaling_csv, scaling_md
               "three frequencies shared by I-III, our overall modes vs the rest. Residuals in percent.\n\n"
               + tables.to_markdown(sc) + "\n## Residual against the theoretical column for given stiffness factors\n\n"
               + tables.to_markdown(fixed) + f"\n## Table 2 with every stiffness x {best:.3g}\n\n" + tables.to_markdown(scaled))
-        from pathlib import Path
-
-        Path(scaling_md).write_text(md)
+        files.write_text(md, scaling_md)
         t5 = tables.key_element_table(design)
         files.write_table(t5, table05_csv, table05_md, header=(
             "# Table 5 analogue: key element (largest modal strain-energy share) and key components "

@@ -22,7 +22,7 @@ def main(design_path, te_nc, optima_csv, optima_md, stiffness_csv, stiffness_md,
             f"relief on '{design.relief.apply_to}' tip(s). The last row is the paper's result; its "
             "'ours_at_this_relief_um' is our TE with the paper's optimum relief."))
         ds = tables.te_dataset(design, optima)
-        files.write_netcdf(ds, te_nc, files.provenance(design_path, ds.attrs["title"], ds.attrs["model_variant"], design.raw))
+        files.write_netcdf(ds, te_nc, files.provenance(design, ds.attrs["title"], ds.attrs["model_variant"]))
         st = tables.stiffness_comparison(design)
         files.write_table(st, stiffness_csv, stiffness_md, header=(
             "# Mesh stiffness of the p-d pair: Ishikawa (Sec. 2.2) vs ISO 6336-1 method B vs Table 1\n\n"

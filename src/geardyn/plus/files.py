@@ -1,4 +1,4 @@
-"""File helpers of the paper-2 adapters (to be replaced by ``geardyn.io`` once it is on main).
+"""File helpers of the paper-2 adapters: thin wrappers over :mod:`geardyn.io` and :mod:`geardyn.config`.
 
 This is the only module of :mod:`geardyn.plus` that touches files; the numerical modules stay pure.
 """
@@ -6,67 +6,53 @@ This is the only module of :mod:`geardyn.plus` that touches files; the numerical
 from __future__ import annotations
 
 import contextlib
-import datetime as _dt
-import hashlib
-import json
 import logging
 from pathlib import Path
 from typing import Any, Iterator, Mapping
 
 import pandas as pd
 import xarray as xr
-import yaml
+
+from geardyn import io
+from geardyn.config import load_design_dict
 
 from .design import PlusDesign, design_from_dict
 
+PAPER = "yue2014"
+
 
 def read_design(path: str | Path) -> PlusDesign:
-    """Parse the YAML design file and build the validated :class:`PlusDesign`."""
-    return design_from_dict(yaml.safe_load(Path(path).read_text()))
+    """Read and schema-validate the YAML design (``geardyn.config``), then build the :class:`PlusDesign`."""
+    return design_from_dict(load_design_dict(path))
 
 
-def config_hash(path: str | Path) -> str:
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
+def provenance(design: PlusDesign, title: str, variant: str, extra: Mapping[str, Any] | None = None) -> dict[str, str]:
+    """Global attributes (source, history, git commit, config hash of the validated design, variant)."""
+    return io.provenance(title=title, paper=PAPER, config=dict(design.raw), model_variant=variant, extra=extra)
 
 
-def provenance(design_path: str | Path, title: str, variant: str, extra: Mapping[str, Any] | None = None) -> dict[str, str]:
-    """Global attributes: source, history, config hash, model variant."""
-    now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
-    attrs = {
-        "title": title,
-        "source": "geardyn.plus (Yue et al. 2014, J. Vibroengineering, plus planetary gear set)",
-        "history": f"{now} created by geardyn.plus from {Path(design_path).name}",
-        "config_hash": config_hash(design_path),
-        "model_variant": variant,
-        "Conventions": "CF-1.10",
-    }
-    if extra:
-        attrs["config"] = json.dumps(extra, default=str, sort_keys=True)
-    return attrs
-
-
-def write_netcdf(ds: xr.Dataset, path: str | Path, attrs: Mapping[str, str]) -> None:
-    """Write ``ds`` with provenance attributes (object/str variables stored as strings)."""
-    ds = ds.copy()
-    ds.attrs.update(attrs)
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    ds.to_netcdf(path)
+def write_netcdf(ds: xr.Dataset, path: str | Path, attrs: Mapping[str, str]) -> Path:
+    """Atomic, CF-checked netCDF write (``geardyn.io.write_netcdf``)."""
+    return io.write_netcdf(ds, path, attrs)
 
 
 def write_table(df: pd.DataFrame, csv: str | Path, md: str | Path | None = None, header: str = "", floatfmt: str = ".4g") -> None:
+    """CSV (full precision) and, if asked, a Markdown version with a header paragraph."""
     from .tables import to_markdown
 
     Path(csv).parent.mkdir(parents=True, exist_ok=True)
-    df.to_csv(csv, index=False, float_format="%.6g")
+    io.write_text(df.to_csv(index=False, float_format="%.6g"), csv)
     if md is not None:
-        Path(md).write_text((header + "\n\n" if header else "") + to_markdown(df, floatfmt))
+        io.write_text((header + "\n\n" if header else "") + to_markdown(df, floatfmt), md)
 
 
-def write_figure(fig, path: str | Path, caption: str) -> None:
-    """Save a Figure (PNG, 150 dpi) and its caption file ``<path>.txt``."""
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=150)
-    Path(str(path) + ".txt").write_text(caption.strip() + "\n")
+def write_text(text: str, path: str | Path) -> Path:
+    return io.write_text(text, path)
+
+
+def write_figure(fig, path: str | Path, caption: str) -> Path:
+    """Save a Figure (PNG, 150 dpi) and its caption file ``<path>.txt`` (``geardyn.io.save_figure``)."""
+    return io.save_figure(fig, path, caption)
 
 
 @contextlib.contextmanager
@@ -78,7 +64,7 @@ def logger(path: str | Path | None, name: str) -> Iterator[logging.Logger]:
     handlers: list[logging.Handler] = []
     if path:
         Path(path).parent.mkdir(parents=True, exist_ok=True)
-        h = logging.FileHandler(path, mode="w")
+        h = logging.FileHandler(path, mode="w", encoding="utf-8")
         h.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(message)s"))
         log.addHandler(h)
         handlers.append(h)
