@@ -114,3 +114,14 @@ def test_relief_profile_shapes():
     par = ik.relief_profile(u, ga, 10e-6, 2e-3, "parabolic")
     np.testing.assert_allclose(lin, [10e-6, 5e-6, 0, 0, 10e-6], atol=1e-15)
     np.testing.assert_allclose(par, [10e-6, 2.5e-6, 0, 0, 10e-6], atol=1e-15)
+
+
+def test_pair_geometry_agrees_with_shared_geometry_module():
+    """geardyn.geometry (written independently for paper 1, external pairs supported) gives the same pair."""
+    from geardyn import geometry
+
+    g = geometry.GearPair(z1=19, z2=20, module=4.0, x1=0.0, x2=0.0, pressure_angle_deg=25.0, internal=False, facewidth=10.0)
+    assert float(geometry.contact_ratio(g)) == pytest.approx(PAIR.contact_ratio, rel=1e-12)
+    assert float(np.degrees(geometry.working_pressure_angle(g))) == pytest.approx(np.degrees(PAIR.working_alpha), abs=1e-9)
+    da1, da2 = geometry.tip_diameters(g)
+    assert (float(da1) / 2e3, float(da2) / 2e3) == pytest.approx((PAIR.driver.ra, PAIR.driven.ra), rel=1e-12)

@@ -218,7 +218,7 @@ def relief_profile(u: ArrayLike, path_length: float, amount: float, length: floa
     ``length`` L is measured along the path of contact (= roll length) in m.
     """
     u = np.asarray(u, dtype=float)
-    if amount <= 0 or length <= 0:
+    if amount <= 0 or length <= 1e-12:  # below 1 pm a relief has no extent (and d/L would overflow)
         return np.zeros_like(u)
     power = {"linear": 1, "parabolic": 2}[shape]
 
