@@ -11,6 +11,7 @@ YUE2014_TARGETS = [
     "results/yue2014/tables/table05_key_elements.md",
     "results/yue2014/figures/fig06_modal_strain_energy.png",
     "results/yue2014/figures/fig07_modal_kinetic_energy.png",
+    "results/yue2014/figures/fig07b_mode_shapes.png",
     "results/yue2014/data/te.nc",
     "results/yue2014/data/relief_landscape.nc",
     "results/yue2014/tables/sec4_relief_optima.csv",
@@ -49,6 +50,8 @@ rule yue2014_modal_figures:
         fig06_caption="results/yue2014/figures/fig06_modal_strain_energy.png.txt",
         fig07="results/yue2014/figures/fig07_modal_kinetic_energy.png",
         fig07_caption="results/yue2014/figures/fig07_modal_kinetic_energy.png.txt",
+        fig07b="results/yue2014/figures/fig07b_mode_shapes.png",
+        fig07b_caption="results/yue2014/figures/fig07b_mode_shapes.png.txt",
     log:
         "results/yue2014/logs/modal_figures.log",
     threads: 1

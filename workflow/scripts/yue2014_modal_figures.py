@@ -26,7 +26,7 @@ def _summary(ds: xr.Dataset, var: str, dim: str) -> str:
     return "\n".join(lines)
 
 
-def main(modal_nc, fig06, fig07, log_path=None):
+def main(modal_nc, fig06, fig07, fig07b, log_path=None):
     with files.logger(log_path, "yue2014_modal_figures") as log:
         with xr.open_dataset(modal_nc) as ds:
             ds = ds.load()
@@ -43,9 +43,16 @@ def main(modal_nc, fig06, fig07, log_path=None):
         files.write_figure(f7, fig07, "Fig. 7 analogue: share of the modal kinetic energy in each component (Table 4 "
                            "numbering 1-12: planet revolution, planet rotations, sun incl. translation, ring, carrier).\n"
                            + common + "\nLargest shares (component share):\n" + _summary(ds, "kinetic_energy_share", "component"))
-        log.info("figures written: %s, %s", fig06, fig07)
+        f7b = plots.mode_shape_figure(ds)
+        files.write_figure(f7b, fig07b, "Fig. 7 analogue (mode shapes): displacement of each coordinate in the first six "
+                           "distinct elastic modes of conditions I-III; rotations times their lever arm (base radius; carrier: "
+                           "sun-planet centre distance 102 mm), planets relative to the carrier, sun translation x_s, y_s; "
+                           "normalised to a largest |value| of 1. Doubled (planet) modes: the member with y_s = 0.\n" + common +
+                           "\nPlanet modes (doubled, shared by I-III at 339.8, 877.6, 1314.0 Hz) keep sun, ring and carrier "
+                           "rotations at zero and move the sun on its bearing; overall modes move all planet sets alike.")
+        log.info("figures written: %s, %s, %s", fig06, fig07, fig07b)
 
 
 if "snakemake" in globals():
     sm = globals()["snakemake"]
-    main(sm.input.modal, sm.output.fig06, sm.output.fig07, sm.log[0])
+    main(sm.input.modal, sm.output.fig06, sm.output.fig07, sm.output.fig07b, sm.log[0])

@@ -135,3 +135,36 @@ def relief_landscape_figure(land: xr.Dataset, optima: list[dict] | None = None, 
         ax.legend(fontsize=7, loc="upper right")
         fig.colorbar(cs, ax=ax, label="peak-to-peak TE (um)")
     return fig
+
+
+COORD_TICKS = ["s", "r", "c", "p1", "p2", "p3", "d1", "d2", "d3", "x_s", "y_s"]
+
+
+def mode_shape_figure(ds: xr.Dataset, n_orders: int = 6) -> Figure:
+    """Fig. 7-style mode shapes: displacement amplitude of each coordinate (rotations times their lever
+    arm: base radius, carrier a_sp; planets relative to the carrier), normalised to a largest |value| of 1.
+    For a doubled frequency the member of the pair with y_s = 0 is drawn."""
+    conds = list(ds.condition.values)
+    fig = Figure(figsize=(2.3 * n_orders, 2.2 * len(conds)), constrained_layout=True)
+    axes = fig.subplots(len(conds), n_orders, squeeze=False, sharey=True)
+    arm = ds.lever_arm.values
+    x = np.arange(len(COORD_TICKS))
+    colours = ["tab:blue"] * 3 + ["tab:orange"] * 3 + ["tab:green"] * 3 + ["tab:red"] * 2
+    for r, cond in enumerate(conds):
+        sub = ds.sel(condition=cond)
+        freq = sub.natural_frequency.values
+        groups = _distinct_groups(freq)[:n_orders]
+        for c, grp in enumerate(groups):
+            ax = axes[r, c]
+            shape = sub.mode_shape.isel(mode=grp[0]).values * arm
+            shape = shape / np.max(np.abs(shape))
+            ax.bar(x, shape, color=colours)
+            ax.axhline(0, color="k", lw=0.5)
+            ax.set_xticks(x, COORD_TICKS, fontsize=6, rotation=90)
+            kind = sub.mode_type.values[grp[0]]
+            ax.set_title(f"{cond}-{c+1}: {freq[grp[0]]:.0f} Hz\n{kind}{' x2' if len(grp) == 2 else ''}", fontsize=8)
+            ax.set_ylim(-1.1, 1.1)
+            ax.tick_params(axis="y", labelsize=7)
+        axes[r, 0].set_ylabel("normalised\ndisplacement (-)", fontsize=8)
+    fig.suptitle("Mode shapes (displacement along the lever arms; planets relative to the carrier)", fontsize=10)
+    return fig

@@ -235,6 +235,8 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
             "strain_energy_share": (("condition", "mode", "element"), se, {"units": "1", "long_name": "share of the modal strain energy per spring"}),
             "kinetic_energy_share": (("condition", "mode", "component"), ke, {"units": "1", "long_name": "share of the modal kinetic energy per component"}),
             "mode_type": (("condition", "mode"), mtype.astype(str), {"units": "1", "long_name": "mode class: rigid, planet (doubled) or overall (axisymmetric)"}),
+            "lever_arm": (("coordinate",), _lever_arms(design),
+                          {"units": "m", "long_name": "radius turning a rotation into a displacement (base radius; carrier: a_sp; 1 for x_s, y_s)"}),
         },
         coords={
             "condition": ("condition", conds, {"long_name": "working condition (I carrier, II ring, III sun fixed)", "units": "1"}),
@@ -246,6 +248,16 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
         attrs={"title": "Modal analysis of the plus planetary set (Yue et al. 2014)", "model_variant": _variant(design)},
     )
     return ds
+
+
+def _lever_arms(design: PlusDesign) -> np.ndarray:
+    geo = modal.geometry(design)
+    arms = {"theta_s": design.sun.base_radius, "theta_r": design.ring.base_radius, "theta_c": geo.a_sp,
+            "x_s": 1.0, "y_s": 1.0}
+    for j in (1, 2, 3):
+        arms[f"theta_p{j}"] = design.planet_p.base_radius
+        arms[f"theta_d{j}"] = design.planet_d.base_radius
+    return np.array([arms[c] for c in modal.COORDS])
 
 
 def _variant(design: PlusDesign) -> str:
