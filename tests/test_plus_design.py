@@ -50,7 +50,7 @@ def test_yaml_validates_and_has_table1_values():
 
 
 @pytest.mark.parametrize("patch", [{"unknown_key": 1}, {"module_mm": -4}, {"sun": {"teeth": 32, "inertia_kgm2": 0.1, "colour": "red"}},
-                                   {"kind": "khv"}])
+                                   {"kind": "khv"}, {"outer_planet_side": 0}, {"stiffness": {"sun_planet": "2.1e7"}}])
 def test_invalid_designs_rejected(patch):
     raw = {"kind": "plus_planetary", **patch}
     with pytest.raises(jsonschema.ValidationError):

@@ -269,7 +269,7 @@ class Modes:
         return out
 
 
-def _canonical_pairs(omega2: NDArray, shapes: NDArray, coords: tuple[str, ...], M: NDArray, rtol: float) -> NDArray:
+def _canonical_pairs(omega2: NDArray, shapes: NDArray, coords: tuple[str, ...], rtol: float) -> NDArray:
     """Rotate each degenerate pair so that its first member has y_s = 0 (deterministic shapes)."""
     shapes = shapes.copy()
     iy = coords.index("y_s") if "y_s" in coords else None
@@ -309,7 +309,7 @@ def modes(design: PlusDesign, condition: Condition, *, rigid_tol: float = 1e-8, 
     rigid = np.abs(omega2) < rigid_tol * scale
     omega2 = np.where(rigid, 0.0, omega2)
     n_rigid = int(rigid.sum())
-    shapes = _canonical_pairs(omega2, shapes, mat.coords, mat.M, degenerate_rtol)
+    shapes = _canonical_pairs(omega2, shapes, mat.coords, degenerate_rtol)
     damped, zeta = damped_frequencies(mat, n_rigid, float(np.sqrt(omega2[n_rigid])) if n_rigid < len(omega2) else 1.0)
     return Modes(condition, mat.coords, omega2, shapes, n_rigid, damped, zeta)
 
