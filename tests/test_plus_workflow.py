@@ -35,11 +35,12 @@ def run(tmp_path_factory):
     design.write_text(yaml.safe_dump(raw))
     p = {k: tmp / v for k, v in dict(
         modal="modal.nc", t2c="t2.csv", t2m="t2.md", scc="sc.csv", scm="sc.md", t5c="t5.csv", t5m="t5.md",
-        f6="f6.png", f7="f7.png", f7b="f7b.png", te="te.nc", oc="opt.csv", om="opt.md", sc2="st.csv", sm2="st.md", land="land.nc",
+        f6="f6.png", f7="f7.png", f7b="f7b.png", te="te.nc", oc="opt.csv", om="opt.md", sc2="st.csv", sm2="st.md", lc="load.csv", lm="load.md", land="land.nc",
         f4="f4.png", f9="f9.png", f9b="f9b.png").items()}
     _script("yue2014_modal").main(design, p["modal"], p["t2c"], p["t2m"], p["scc"], p["scm"], p["t5c"], p["t5m"], tmp / "m.log")
     _script("yue2014_modal_figures").main(p["modal"], p["f6"], p["f7"], p["f7b"], tmp / "mf.log")
-    _script("yue2014_relief").main(design, p["te"], p["oc"], p["om"], p["sc2"], p["sm2"], tmp / "r.log")
+    _script("yue2014_relief").main(design, p["te"], p["oc"], p["om"], p["sc2"], p["sm2"], p["lc"], p["lm"], tmp / "r.log",
+                                    torques=(43.0, 1000.0))
     _script("yue2014_landscape").main(design, p["land"], tmp / "l.log")
     _script("yue2014_te_figures").main(design, p["te"], p["land"], p["oc"], p["f4"], p["f9"], p["f9b"], tmp / "tf.log")
     return p

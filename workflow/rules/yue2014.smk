@@ -18,6 +18,8 @@ YUE2014_TARGETS = [
     "results/yue2014/tables/sec4_relief_optima.md",
     "results/yue2014/tables/sec22_mesh_stiffness.csv",
     "results/yue2014/tables/sec22_mesh_stiffness.md",
+    "results/yue2014/tables/sec4_relief_vs_load.csv",
+    "results/yue2014/tables/sec4_relief_vs_load.md",
     "results/yue2014/figures/fig04_te_unmodified.png",
     "results/yue2014/figures/fig09_te_relief.png",
     "results/yue2014/figures/fig09b_relief_landscape.png",
@@ -68,6 +70,8 @@ rule yue2014_relief:
         optima_md="results/yue2014/tables/sec4_relief_optima.md",
         stiffness_csv="results/yue2014/tables/sec22_mesh_stiffness.csv",
         stiffness_md="results/yue2014/tables/sec22_mesh_stiffness.md",
+        load_csv="results/yue2014/tables/sec4_relief_vs_load.csv",
+        load_md="results/yue2014/tables/sec4_relief_vs_load.md",
     log:
         "results/yue2014/logs/relief.log",
     threads: 1

@@ -4,7 +4,8 @@
 from geardyn.plus import files, ishikawa, relief, tables
 
 
-def main(design_path, te_nc, optima_csv, optima_md, stiffness_csv, stiffness_md, log_path=None):
+def main(design_path, te_nc, optima_csv, optima_md, stiffness_csv, stiffness_md, load_csv=None, load_md=None, log_path=None,
+         torques=(43.0, 100.0, 200.0, 500.0, 750.0, 1000.0, 1500.0, 2000.0)):
     with files.logger(log_path, "yue2014_relief") as log:
         design = files.read_design(design_path)
         grid = ishikawa.design_grid(design)
@@ -27,9 +28,17 @@ def main(design_path, te_nc, optima_csv, optima_md, stiffness_csv, stiffness_md,
         files.write_table(st, stiffness_csv, stiffness_md, header=(
             "# Mesh stiffness of the p-d pair: Ishikawa (Sec. 2.2) vs ISO 6336-1 method B vs Table 1\n\n"
             "ISO's C1..C9 are fitted for 20 deg racks; the 25 deg rack enters through C_B (1 - 0.02 (20 - 25)) = 1.10."))
+        if load_csv is not None:
+            lt = tables.relief_load_table(relief.load_study(design, tuple(torques)))
+            files.write_table(lt, load_csv, load_md, header=(
+                "# Optimal linear tip relief against the load (sensitivity study, not in the paper)\n\n"
+                "Sun torque shared by three planets; ES = 10 um. 'paper' bounds: amount 20-80 um, length 0.0001-2.6 mm; "
+                "'wide' bounds: amount 0-80 um, length 0-4.5 mm. Paper: 32.5 um, 2.498 mm, -27.78 % at T = 43 N m. "
+                "DE on 200 mesh positions per period."))
+            log.info("load study: %s", lt.round(2).to_dict("records"))
 
 
 if "snakemake" in globals():
     sm = globals()["snakemake"]
     main(sm.input.design, sm.output.te, sm.output.optima_csv, sm.output.optima_md, sm.output.stiffness_csv,
-         sm.output.stiffness_md, sm.log[0])
+         sm.output.stiffness_md, sm.output.load_csv, sm.output.load_md, sm.log[0])

@@ -92,3 +92,26 @@ def landscape_axes(design: PlusDesign, n: int | None = None) -> tuple[NDArray, N
     amax = max(r.paper_amount[1], r.physical_amount[1])
     lmax = max(r.paper_length[1], r.physical_length[1])
     return np.linspace(0.0, amax, n), np.linspace(0.0, lmax, n)
+
+
+def load_study(design: PlusDesign, torques: tuple[float, ...], shape: str = "linear", points: int = 200) -> list[dict]:
+    """Optimal relief against the load: for each sun torque (N m) the optimum within the paper's bounds and
+    within wide bounds (amount 0 to the paper's upper bound, length 0 to the physical upper bound).
+
+    Shows at which load the paper's optimum (32.5 um, 2.498 mm) would be the optimum of this model.
+    Returns dicts with torque (N m), load (N), optima (m) and peak-to-peak TE (m).
+    """
+    from dataclasses import replace
+
+    rows = []
+    for t in torques:
+        d = replace(design, torque=float(t), torque_member="sun")
+        d_wide = replace(d, relief=replace(d.relief, physical_amount=(0.0, d.relief.paper_amount[1]),
+                                           physical_length=(0.0, d.relief.physical_length[1])))
+        grid = design_grid(d, points)
+        paper = optimise(d, shape, "paper", grid=grid)
+        wide = optimise(d_wide, shape, "physical", grid=grid)
+        rows.append({"torque": float(t), "load": pd_mesh_load(d), "ptp_unmodified": paper.ptp_unmodified,
+                     "paper_amount": paper.amount, "paper_length": paper.length, "paper_ptp": paper.ptp,
+                     "wide_amount": wide.amount, "wide_length": wide.length, "wide_ptp": wide.ptp})
+    return rows
