@@ -26,6 +26,7 @@ include: "workflow/rules/common.smk"
 include: "workflow/rules/geometry.smk"
 include: "workflow/rules/stiffness.smk"
 include: "workflow/rules/sweeps.smk"
+include: "workflow/rules/calibration.smk"
 
 
 rule all:
@@ -34,3 +35,4 @@ rule all:
         GEOMETRY_TARGETS,
         STIFFNESS_TARGETS,
         SWEEP_TARGETS,
+        CALIBRATION_TARGETS,

@@ -23,10 +23,10 @@ def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
 
     spec = design.from_dict({**raw, "admissible": {**raw["admissible"], "check_feasibility": False}}, path)
     pair = spec.base
-    derived = geometry.describe(pair)
-    values = geometry.constraints(pair, min_tip_thickness=spec.min_tip_thickness)
-    failed = design.violated_constraints(pair, spec.min_tip_thickness,
-                                         raw["admissible"]["enforce_cutter_constraints"])
+    derived = geometry.describe(pair, cutter=spec.cutter)
+    values = geometry.constraints(pair, min_tip_thickness=spec.min_tip_thickness, cutter=spec.cutter)
+    failed = design.violated_constraints(pair, spec.min_tip_thickness, spec.enforce_cutter_constraints,
+                                         spec.cutter)
     mesh = design.mesh_properties(spec, pair.x1)
     segment = {}
     for label, x1 in (("M", spec.x1_min), ("N", spec.x1_max)):
@@ -41,7 +41,7 @@ def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
                  "pressure_angle_deg": pair.pressure_angle_deg, "addendum": pair.addendum,
                  "clearance": pair.clearance, "facewidth_mm": pair.facewidth},
         "x2_source": "line 4 (G_s = 0)" if spec.x2_on_line4 else "fixed in design",
-        "geometry": derived,
+        "geometry": {k: v for k, v in derived.items() if not k.startswith("margin_")},
         "constraints (>= 0 is satisfied)": values,
         "stiffness": {"options": spec.stiffness.label, "q_mm_um_per_N": mesh.q,
                       "k_C_N_per_um": mesh.k_c / 1e6, "k_prime_N_per_um": mesh.k_prime / 1e6,

@@ -231,7 +231,7 @@ _NON_NEGATIVE = {"b": "half backlash b (um)", "e": "transmission-error amplitude
 
 def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> None:
     """Semantic checks of sweeps and point runs: known design, sensible values, x1 inside the segment."""
-    for section in ("sweeps", "points"):
+    for section in ("sweeps", "points", "calibration"):
         for name, spec in filled.get(section, {}).items():
             where = f"config: {section}.{name}"
             if spec["design"] not in designs:

@@ -46,6 +46,8 @@ class KHVDesign:
     x1_min: float
     x1_max: float
     min_tip_thickness: float
+    cutter: geometry.ShaperCutter
+    enforce_cutter_constraints: bool
     stiffness: StiffnessOptions
     paper_points: dict[str, tuple[float, float]]
     dynamics: dict[str, Any]
@@ -130,14 +132,23 @@ def _check(design_raw: dict[str, Any], where: str) -> None:
 #: always, enforced only with ``admissible.enforce_cutter_constraints``.
 CUTTER_CONSTRAINTS = ("root_interference_annulus", "trimming_interference_annulus")
 #: Margin below which a constraint counts as violated: points on line 4 have G_s = 0 up to round-off.
-FEASIBILITY_TOLERANCE = 1e-9
+FEASIBILITY_TOLERANCE = 1e-6
 
 
-def violated_constraints(pair: geometry.GearPair, min_tip_thickness: float, enforce_cutter: bool) -> list[str]:
-    """Names of the closed-graph constraints that ``pair`` violates (margin < -1e-9)."""
-    values = geometry.constraints(pair, min_tip_thickness=min_tip_thickness)
+def violated_constraints(pair: geometry.GearPair, min_tip_thickness: float, enforce_cutter: bool,
+                         cutter: geometry.ShaperCutter | None = None) -> list[str]:
+    """Names of the closed-graph constraints that ``pair`` violates (margin < -1e-6 mm or rad)."""
+    values = geometry.constraints(pair, min_tip_thickness=min_tip_thickness, cutter=cutter)
     return [name for name, v in values.items()
             if float(v) < -FEASIBILITY_TOLERANCE and (enforce_cutter or name not in CUTTER_CONSTRAINTS)]
+
+
+def cutter_of(raw: dict[str, Any], pair: geometry.GearPair) -> geometry.ShaperCutter:
+    """The configured shaper cutter, or the geometry module's nominal one when ``teeth`` is null."""
+    c = raw.get("cutter", {})
+    if c.get("teeth") is None:
+        return geometry.default_cutter(pair)
+    return geometry.ShaperCutter(teeth=c["teeth"], shift=c.get("shift", 0.0), addendum=c.get("addendum"))
 
 
 def from_dict(raw: dict[str, Any], where: str = "design") -> KHVDesign:
@@ -154,16 +165,18 @@ def from_dict(raw: dict[str, Any], where: str = "design") -> KHVDesign:
         x2 = float(p["x2"])
     base = _pair_from(raw, x2)
     adm = raw["admissible"]
+    cutter = cutter_of(raw, base)
     if adm["check_feasibility"]:
-        bad = violated_constraints(base, adm["min_tip_thickness"], adm["enforce_cutter_constraints"])
+        bad = violated_constraints(base, adm["min_tip_thickness"], adm["enforce_cutter_constraints"], cutter)
         if bad:
-            values = geometry.constraints(base, min_tip_thickness=adm["min_tip_thickness"])
+            values = geometry.constraints(base, min_tip_thickness=adm["min_tip_thickness"], cutter=cutter)
             detail = ", ".join(f"{name} = {values[name]:.4g} (needs >= 0)" for name in bad)
             raise ConfigError(f"{where}: design point (x1, x2) = ({base.x1:.4f}, {base.x2:.4f}) is outside the "
                               f"feasible region: {detail}")
     return KHVDesign(
         name=raw["name"], title=raw.get("title", ""), base=base,
         x1_min=adm["x1_min"], x1_max=adm["x1_max"], min_tip_thickness=adm["min_tip_thickness"],
+        cutter=cutter, enforce_cutter_constraints=adm["enforce_cutter_constraints"],
         stiffness=StiffnessOptions(**raw["stiffness"]),
         paper_points={k: tuple(v) for k, v in raw["paper"].items()},
         dynamics=raw.get("dynamics", {}), raw=raw,

@@ -60,3 +60,28 @@ def sweep_chunk_files(wildcards):
         sweep=wildcards.sweep,
         chunk=range(spec.n_chunks),
     )
+
+
+wildcard_constraints:
+    calibration="|".join(config["calibration"]) or "no-calibration",
+
+
+def calibration_spec(wildcards):
+    return config["calibration"][wildcards.calibration]
+
+
+def calibration_design_file(wildcards):
+    return config["designs"][config["calibration"][wildcards.calibration]["design"]]
+
+
+def calibration_chunk_files(wildcards):
+    from geardyn.calibrate import candidate_grid, n_chunks
+
+    spec = config["calibration"][wildcards.calibration]
+    count = n_chunks(len(candidate_grid(spec["grid"])), spec["chunks"])
+    return expand(
+        "results/{design}/calibration/{calibration}/chunk_{chunk}.nc",
+        design=wildcards.design,
+        calibration=wildcards.calibration,
+        chunk=range(count),
+    )

@@ -9,7 +9,7 @@ spec = design.load(snakemake.input.design)
 grid = snakemake.params.grid
 x1 = np.linspace(grid["x1"]["start"], grid["x1"]["stop"], grid["x1"]["num"])
 x2 = np.linspace(grid["x2"]["start"], grid["x2"]["stop"], grid["x2"]["num"])
-ds = closed_graph.closed_graph(spec.base, x1, x2)
+ds = closed_graph.closed_graph(spec.base, x1, x2, min_tip_thickness=spec.min_tip_thickness, cutter=spec.cutter)
 attrs = io.provenance(title=f"Closed graph of profile-shift coefficients, {spec.title}", paper="li2013",
                       config={"design": spec.raw, "grid": grid}, model_variant="geometry")
 io.write_netcdf(ds, snakemake.output[0], attrs)
