@@ -1,0 +1,170 @@
+"""Figures of paper 2 (plus planetary set): modal energy bars (Figs. 6-7 style), TE and relief.
+
+Every function returns a :class:`matplotlib.figure.Figure` built with the object API (no pyplot
+state, safe under the Agg backend); saving is the caller's job.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
+
+ELEMENT_ORDER = ["sp1", "sp2", "sp3", "pd1", "pd2", "pd3", "dr1", "dr2", "dr3"]
+ELEMENT_TICKS = ["1\ns-p1", "2\ns-p2", "3\ns-p3", "4\np1-d1", "5\np2-d2", "6\np3-d3", "7\nd1-r", "8\nd2-r", "9\nd3-r"]
+COMPONENT_ORDER = ["revolution1", "revolution2", "revolution3", "p1", "p2", "p3", "d1", "d2", "d3", "sun", "ring", "carrier"]
+COMPONENT_TICKS = ["1\nrev 1", "2\nrev 2", "3\nrev 3", "4\np1", "5\np2", "6\np3", "7\nd1", "8\nd2", "9\nd3", "10\nsun", "11\nring", "12\ncarrier"]
+
+
+def _distinct_groups(freq: np.ndarray, rtol: float = 1e-6) -> list[list[int]]:
+    groups: list[list[int]] = []
+    for i, f in enumerate(freq):
+        if not f > 0:
+            continue
+        if groups and abs(f - freq[groups[-1][0]]) <= rtol * f:
+            groups[-1].append(i)
+        else:
+            groups.append([i])
+    return groups
+
+
+def _energy_bars(ds: xr.Dataset, var: str, dim: str, order: list[str], ticks: list[str], title: str, n_orders: int = 6) -> Figure:
+    conds = list(ds.condition.values)
+    fig = Figure(figsize=(11, 2.9 * len(conds)), constrained_layout=True)
+    axes = fig.subplots(len(conds), 1, squeeze=False)[:, 0]
+    for ax, cond in zip(axes, conds):
+        sub = ds.sel(condition=cond)
+        freq = sub.natural_frequency.values
+        groups = _distinct_groups(freq)[:n_orders]
+        width = 0.8 / len(groups)
+        x = np.arange(len(order))
+        for g_i, grp in enumerate(groups):
+            # mean over a doubled pair: basis-independent (trace over the eigenspace)
+            vals = sub[var].isel(mode=grp).sel({dim: order}).mean("mode").values
+            tag = "x2" if len(grp) == 2 else ""
+            ax.bar(x + (g_i - (len(groups) - 1) / 2) * width, vals, width,
+                   label=f"{g_i+1}: {freq[grp[0]]:.0f} Hz {tag}".strip())
+        ax.set_xticks(x, ticks, fontsize=7)
+        ax.set_ylabel("share of energy (-)")
+        ax.set_title(f"working condition {cond}", fontsize=9)
+        ax.legend(fontsize=7, ncol=3, title="order: frequency", title_fontsize=7)
+        ax.grid(axis="y", alpha=0.3)
+    fig.suptitle(title, fontsize=10)
+    return fig
+
+
+def modal_strain_energy_figure(ds: xr.Dataset) -> Figure:
+    """Fig. 6 analogue: share of the modal strain energy in each mesh of Table 3 (orders 1-6)."""
+    return _energy_bars(ds, "strain_energy_share", "element", ELEMENT_ORDER, ELEMENT_TICKS,
+                        "Modal strain energy per mesh (Table 3 numbering; doubled modes averaged over the pair)")
+
+
+def modal_kinetic_energy_figure(ds: xr.Dataset) -> Figure:
+    """Fig. 7 analogue: share of the modal kinetic energy in each component of Table 4 (orders 1-6)."""
+    return _energy_bars(ds, "kinetic_energy_share", "component", COMPONENT_ORDER, COMPONENT_TICKS,
+                        "Modal kinetic energy per component (Table 4 numbering; doubled modes averaged over the pair)")
+
+
+def te_unmodified_figure(te: xr.Dataset) -> Figure:
+    """Fig. 4 analogue: TE of the unmodified p-d pair over two mesh periods, with the load per pair."""
+    fig = Figure(figsize=(8, 5.5), constrained_layout=True)
+    ax1, ax2 = fig.subplots(2, 1, sharex=True)
+    s = te.mesh_phase.values
+    s2 = np.concatenate([s, s + 1])
+    tr = te.transmission_error.sel(case="unmodified").values
+    ax1.plot(s2, np.tile(tr, 2), color="k")
+    ax1.set_ylabel("TE = E - delta (um)")
+    ax1.set_title(f"p-d pair, W = {te.attrs['load_N']:.0f} N, eps = {te.attrs['contact_ratio']:.3f}; peak-to-peak {np.ptp(tr):.2f} um", fontsize=9)
+    ax1.grid(alpha=0.3)
+    loads = te.load_per_pair.values
+    for k in range(loads.shape[0]):
+        ax2.plot(s2, np.tile(loads[k], 2), label=f"pair slot {k}")
+    ax2.set_xlabel("mesh phase (base pitches)")
+    ax2.set_ylabel("load per pair (N)")
+    ax2.legend(fontsize=8)
+    ax2.grid(alpha=0.3)
+    return fig
+
+
+def te_relief_figure(te: xr.Dataset, paper_before_um: float = 9.0, paper_after_um: float = 6.5) -> Figure:
+    """Fig. 9 analogue: TE before and after the optimal reliefs (two mesh periods, mean removed)."""
+    fig = Figure(figsize=(8, 4.5), constrained_layout=True)
+    ax = fig.subplots()
+    s = te.mesh_phase.values
+    s2 = np.concatenate([s, s + 1])
+    for case in te.case.values:
+        tr = te.transmission_error.sel(case=case).values
+        tr = tr - tr.mean()
+        ax.plot(s2, np.tile(tr, 2), label=f"{case}: ptp {np.ptp(tr):.2f} um", lw=2 if case == "unmodified" else 1.2)
+    ax.set_xlabel("mesh phase (base pitches)")
+    ax.set_ylabel("TE - mean (um)")
+    ax.set_title(f"Static TE of the p-d pair before/after optimal tip relief (paper: {paper_before_um:g} -> {paper_after_um:g} um)", fontsize=9)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def relief_landscape_figure(land: xr.Dataset, optima: list[dict] | None = None, boxes: dict | None = None) -> Figure:
+    """Objective landscape: peak-to-peak TE over (relief amount, relief length), one panel per shape.
+
+    ``optima``: dicts with shape, bounds, amount_um, length_mm; ``boxes``: {name: (a0, a1, l0, l1)} in um/mm.
+    """
+    shapes = list(land.shape_.values) if "shape_" in land.dims else list(land["shape"].values)
+    fig = Figure(figsize=(5.2 * len(shapes), 4.4), constrained_layout=True)
+    axes = fig.subplots(1, len(shapes), squeeze=False)[0]
+    a = land.amount.values
+    L = land.length.values
+    vmin, vmax = float(land.te_ptp.min()), float(land.te_ptp.max())
+    for ax, sh in zip(axes, shapes):
+        z = land.te_ptp.sel(shape=sh).values
+        cs = ax.contourf(L, a, z, levels=np.linspace(vmin, vmax, 25), cmap="viridis")
+        ax.contour(L, a, z, levels=np.arange(np.floor(vmin), np.ceil(vmax) + 0.01, 1.0), colors="w", linewidths=0.5)
+        for name, (a0, a1, l0, l1) in (boxes or {}).items():
+            ax.plot([l0, l1, l1, l0, l0], [a0, a0, a1, a1, a0], ls="--", color="r" if name == "paper" else "orange", lw=1.2, label=f"{name} bounds")
+        for o in optima or []:
+            if o["shape"] == sh:
+                ax.plot(o["length_mm"], o["amount_um"], marker="*" if o["bounds"] == "physical" else "o", ms=11,
+                        mec="k", color="orange" if o["bounds"] == "physical" else "r", ls="none",
+                        label=f"{o['bounds']} optimum: {o['te_ptp_after_um']:.2f} um")
+            if o["shape"].startswith("linear (paper)") and sh == "linear":
+                ax.plot(o["length_mm"], o["amount_um"], marker="X", ms=10, mec="k", color="w", ls="none",
+                        label=f"paper optimum (ours: {o.get('ours_um', float('nan')):.2f} um)")
+        ax.set_xlabel("relief length along the path of contact (mm)")
+        ax.set_ylabel("relief amount (um)")
+        ax.set_title(f"{sh} tip relief", fontsize=9)
+        ax.legend(fontsize=7, loc="upper right")
+        fig.colorbar(cs, ax=ax, label="peak-to-peak TE (um)")
+    return fig
+
+
+COORD_TICKS = ["s", "r", "c", "p1", "p2", "p3", "d1", "d2", "d3", "x_s", "y_s"]
+
+
+def mode_shape_figure(ds: xr.Dataset, n_orders: int = 6) -> Figure:
+    """Fig. 7-style mode shapes: displacement amplitude of each coordinate (rotations times their lever
+    arm: base radius, carrier a_sp; planets relative to the carrier), normalised to a largest |value| of 1.
+    For a doubled frequency the member of the pair with y_s = 0 is drawn."""
+    conds = list(ds.condition.values)
+    fig = Figure(figsize=(2.3 * n_orders, 2.2 * len(conds)), constrained_layout=True)
+    axes = fig.subplots(len(conds), n_orders, squeeze=False, sharey=True)
+    arm = ds.lever_arm.values
+    x = np.arange(len(COORD_TICKS))
+    colours = ["tab:blue"] * 3 + ["tab:orange"] * 3 + ["tab:green"] * 3 + ["tab:red"] * 2
+    for r, cond in enumerate(conds):
+        sub = ds.sel(condition=cond)
+        freq = sub.natural_frequency.values
+        groups = _distinct_groups(freq)[:n_orders]
+        for c, grp in enumerate(groups):
+            ax = axes[r, c]
+            shape = sub.mode_shape.isel(mode=grp[0]).values * arm
+            shape = shape / np.max(np.abs(shape))
+            ax.bar(x, shape, color=colours)
+            ax.axhline(0, color="k", lw=0.5)
+            ax.set_xticks(x, COORD_TICKS, fontsize=6, rotation=90)
+            kind = sub.mode_type.values[grp[0]]
+            ax.set_title(f"{cond}-{c+1}: {freq[grp[0]]:.0f} Hz\n{kind}{' x2' if len(grp) == 2 else ''}", fontsize=8)
+            ax.set_ylim(-1.1, 1.1)
+            ax.tick_params(axis="y", labelsize=7)
+        axes[r, 0].set_ylabel("normalised\ndisplacement (-)", fontsize=8)
+    fig.suptitle("Mode shapes (displacement along the lever arms; planets relative to the carrier)", fontsize=10)
+    return fig

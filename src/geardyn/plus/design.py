@@ -1,0 +1,221 @@
+"""Design of the plus planetary set of paper 2 (Yue et al. 2014, Table 1) as frozen dataclasses.
+
+:func:`design_from_dict` validates a plain dict (e.g. the parsed ``config/designs/yue2014.yaml``)
+against ``schemas/plus_planetary.schema.json`` (JSON Schema 2020-12), fills in the schema defaults
+and returns a :class:`PlusDesign`.  No file I/O happens here except reading the packaged schema.
+
+Units: lengths in mm in the design (as printed), converted to SI by the numerical modules.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+from typing import Any, Mapping
+
+import jsonschema
+
+SCHEMA_PATH = Path(__file__).resolve().parent.parent / "schemas" / "plus_planetary.schema.json"
+
+
+@lru_cache(maxsize=1)
+def schema() -> dict[str, Any]:
+    """The JSON Schema (2020-12) of a plus-planetary design file."""
+    return json.loads(SCHEMA_PATH.read_text())
+
+
+def _fill_defaults(node: Any, sch: Mapping[str, Any]) -> Any:
+    """Recursively insert the schema's ``default`` values for missing object keys."""
+    if sch.get("type") != "object" or not isinstance(node, dict):
+        return node
+    out = dict(node)
+    for key, sub in sch.get("properties", {}).items():
+        if key not in out and "default" in sub:
+            out[key] = copy.deepcopy(sub["default"])
+        if key in out:
+            out[key] = _fill_defaults(out[key], sub)
+    return out
+
+
+@dataclass(frozen=True)
+class Body:
+    """A gear or the carrier. ``base_radius`` in m, ``mass`` in kg, ``inertia`` in kg m^2."""
+
+    teeth: int
+    base_radius: float
+    mass: float
+    inertia: float
+
+
+@dataclass(frozen=True)
+class Springs:
+    """Spring (N/m) or damper (N s/m) constants: sun-planet, planet-planet, planet-ring, sun bearing."""
+
+    sun_planet: float
+    planet_planet: float
+    planet_ring: float
+    sun_bearing: float
+
+    def scaled(self, factor: float) -> "Springs":
+        return Springs(*(factor * v for v in (self.sun_planet, self.planet_planet, self.planet_ring, self.sun_bearing)))
+
+
+@dataclass(frozen=True)
+class TESpec:
+    """Transmission-error settings (paper 2 Eq. 9); deviations in m."""
+
+    driver: str
+    ef1: float
+    ef2: float
+    es: float
+    pitch_error_sign: int
+    shear_coefficient: float
+    points_per_period: int
+
+
+@dataclass(frozen=True)
+class ReliefSpec:
+    """Tip-relief optimisation settings; bounds in m (amount) and m (length along the path of contact)."""
+
+    apply_to: str
+    paper_amount: tuple[float, float]
+    paper_length: tuple[float, float]
+    physical_amount: tuple[float, float]
+    physical_length: tuple[float, float]
+    seed: int
+    popsize: int
+    maxiter: int
+    tol: float
+    landscape_points: int
+
+
+@dataclass(frozen=True)
+class PlusDesign:
+    """Plus (double-planet) planetary gear set.  Lengths in m, angles in rad, SI otherwise."""
+
+    name: str
+    title: str
+    module: float
+    pressure_angle: float
+    addendum: float
+    clearance: float
+    facewidth: float
+    planet_angles: tuple[float, ...]
+    outer_planet_side: int
+    sun: Body
+    planet_p: Body
+    planet_d: Body
+    carrier: Body
+    ring: Body
+    stiffness: Springs
+    damping: Springs
+    youngs_modulus: float
+    poisson: float
+    torque: float
+    torque_member: str
+    te: TESpec
+    relief: ReliefSpec
+    planet_angles_in_sun_terms: bool = True
+    plus_set_sign: bool = True
+    raw: Mapping[str, Any] = field(default_factory=dict, compare=False, repr=False)
+
+    @property
+    def n_planets(self) -> int:
+        return len(self.planet_angles)
+
+    def with_stiffness_scale(self, factor: float) -> "PlusDesign":
+        """Copy with every spring (meshes and bearing) multiplied by ``factor``."""
+        from dataclasses import replace
+
+        return replace(self, stiffness=self.stiffness.scaled(factor))
+
+    def with_damping_scale(self, factor: float) -> "PlusDesign":
+        from dataclasses import replace
+
+        return replace(self, damping=self.damping.scaled(factor))
+
+
+def _body(d: Mapping[str, Any]) -> Body:
+    return Body(
+        teeth=int(d.get("teeth", 0)),
+        base_radius=float(d.get("base_radius_mm", 0.0)) * 1e-3,
+        mass=float(d.get("mass_kg", 0.0)),
+        inertia=float(d["inertia_kgm2"]),
+    )
+
+
+def _springs(d: Mapping[str, Any]) -> Springs:
+    return Springs(float(d["sun_planet"]), float(d["planet_planet"]), float(d["planet_ring"]), float(d["sun_bearing"]))
+
+
+def validate(raw: Mapping[str, Any]) -> None:
+    """Raise ``jsonschema.ValidationError`` if ``raw`` does not follow the schema."""
+    jsonschema.Draft202012Validator(schema()).validate(raw)
+
+
+def design_from_dict(raw: Mapping[str, Any]) -> PlusDesign:
+    """Validate ``raw`` (parsed YAML), fill defaults and build a :class:`PlusDesign` (SI units)."""
+    import math
+
+    validate(raw)
+    d = _fill_defaults(dict(raw), schema())
+    validate(d)
+    te, rl = d["transmission_error"], d["relief"]
+    for lo_hi in ("paper_amount_mm", "paper_length_mm", "physical_amount_mm", "physical_length_mm"):
+        lo, hi = rl[lo_hi]
+        if not lo < hi:
+            raise ValueError(f"relief.{lo_hi} = {rl[lo_hi]}: lower bound must be below the upper bound")
+    return PlusDesign(
+        name=d["name"],
+        title=d["title"],
+        module=d["module_mm"] * 1e-3,
+        pressure_angle=math.radians(d["pressure_angle_deg"]),
+        addendum=d["addendum_coefficient"],
+        clearance=d["clearance_coefficient"],
+        facewidth=d["facewidth_mm"] * 1e-3,
+        planet_angles=tuple(math.radians(a) for a in d["planet_angles_deg"]),
+        outer_planet_side=int(d["outer_planet_side"]),
+        sun=_body(d["sun"]),
+        planet_p=_body(d["planet_p"]),
+        planet_d=_body(d["planet_d"]),
+        carrier=_body(d["carrier"]),
+        ring=_body(d["ring"]),
+        stiffness=_springs(d["stiffness"]),
+        damping=_springs(d["damping"]),
+        youngs_modulus=d["material"]["youngs_modulus_MPa"] * 1e6,
+        poisson=d["material"]["poisson_ratio"],
+        torque=d["load"]["torque_Nmm"] * 1e-3,
+        torque_member=d["load"]["member"],
+        te=TESpec(
+            driver=te["driver"],
+            ef1=te["Ef1_um"] * 1e-6,
+            ef2=te["Ef2_um"] * 1e-6,
+            es=te["ES_um"] * 1e-6,
+            pitch_error_sign=int(te["pitch_error_sign"]),
+            shear_coefficient=te["shear_coefficient"],
+            points_per_period=te["points_per_period"],
+        ),
+        relief=ReliefSpec(
+            apply_to=rl["apply_to"],
+            paper_amount=tuple(v * 1e-3 for v in rl["paper_amount_mm"]),
+            paper_length=tuple(v * 1e-3 for v in rl["paper_length_mm"]),
+            physical_amount=tuple(v * 1e-3 for v in rl["physical_amount_mm"]),
+            physical_length=tuple(v * 1e-3 for v in rl["physical_length_mm"]),
+            seed=rl["seed"],
+            popsize=rl["popsize"],
+            maxiter=rl["maxiter"],
+            tol=rl["tol"],
+            landscape_points=rl["landscape_points"],
+        ),
+        planet_angles_in_sun_terms=d["fixes"]["planet_angles_in_sun_terms"],
+        plus_set_sign=d["fixes"]["plus_set_sign"],
+        raw=d,
+    )
+
+
+def default_design() -> PlusDesign:
+    """The schema defaults, i.e. Table 1 of paper 2 with the documented assumptions."""
+    return design_from_dict({"kind": "plus_planetary"})

@@ -1,0 +1,423 @@
+"""Lumped-parameter modal model of the plus planetary set (paper 2, Eqs. 1-8, Table 1).
+
+Eleven generalised coordinates (:data:`COORDS`): sun, ring and carrier rotations, the rotations of the
+three inner planets p_j and three outer planets d_j *relative to the carrier* (Eqs. 3-4), and the
+sun translation x_s, y_s on its elastic bearing.  Rotations in rad, translations in m.
+
+The energy expressions are derived geometrically rather than copied from Eq. (6):
+
+* every gear is a rigid body with a centre ``c`` (m), a translation map and an absolute rotation map
+  (rows of linear maps acting on the coordinate vector q);
+* every mesh is a spring along its line of action, tangent to both base circles; its compression is
+  ``delta = v . q`` with ``v = n^T (D_1(P) - D_2(P))``, where ``D_i(P)`` maps q to the displacement
+  of the contact point P on gear i and ``n`` is the unit normal of the loaded flank;
+* ``K = sum_e k_e v_e v_e^T``, ``C = sum_e c_e v_e v_e^T``; ``M`` from the kinetic energy Eq. (2).
+
+For the s-p mesh this gives delta = r_s (th_s - th_c) + r_p th_p - (x_s, y_s) . n_j, with n_j the
+line of action of planet j (angle psi_j enters: fix 1); for the p-d mesh delta = r_p th_p + r_d th_d
+(no carrier term, "+": fix 2, a plus set); for the d-r mesh delta = r_d th_d - r_r (th_r - th_c).
+The printed forms can be switched back on with ``PlusDesign.planet_angles_in_sun_terms = False`` and
+``plus_set_sign = False`` to show their consequences.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+import scipy.linalg
+from numpy.typing import NDArray
+
+from .design import PlusDesign
+
+COORDS: tuple[str, ...] = (
+    "theta_s", "theta_r", "theta_c",
+    "theta_p1", "theta_p2", "theta_p3",
+    "theta_d1", "theta_d2", "theta_d3",
+    "x_s", "y_s",
+)
+#: Working conditions of the paper (Sec. 2.1): the static member's rotation is removed.
+CONDITIONS: dict[str, str] = {"I": "theta_c", "II": "theta_r", "III": "theta_s", "free": ""}
+CONDITION_LABELS = {"I": "carrier fixed", "II": "ring fixed", "III": "sun fixed", "free": "no member fixed"}
+Condition = Literal["I", "II", "III", "free"]
+
+MESH_TYPES = ("sp", "pd", "dr")
+MESH_LABELS = {"sp": "sun-planet p", "pd": "planet p-planet d", "dr": "planet d-ring", "bearing": "sun bearing"}
+#: Components of Table 4 grouped for the kinetic-energy bars.
+COMPONENT_GROUPS = ("revolution", "planet_p", "planet_d", "sun", "ring", "carrier")
+
+
+def _rot(v: NDArray, angle: float) -> NDArray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
+
+
+def _unit(name: str, n: int = len(COORDS)) -> NDArray:
+    e = np.zeros(n)
+    e[COORDS.index(name)] = 1.0
+    return e
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Centres (m) of the planets in the carrier frame at q = 0, and the centre distances (m)."""
+
+    p_centres: NDArray
+    d_centres: NDArray
+    a_sp: float
+    a_pd: float
+    a_dr: float
+    beta: float  # angle between p_j and d_j seen from the sun centre (rad)
+
+
+def geometry(design: PlusDesign) -> Geometry:
+    """Standard centre distances a = m (z1 +/- z2)/2 and the triangle sun-p-d that places d_j."""
+    m = design.module
+    zs, zp, zd, zr = design.sun.teeth, design.planet_p.teeth, design.planet_d.teeth, design.ring.teeth
+    a_sp, a_pd, a_dr = m * (zs + zp) / 2, m * (zp + zd) / 2, m * (zr - zd) / 2
+    cos_beta = (a_sp**2 + a_dr**2 - a_pd**2) / (2 * a_sp * a_dr)
+    if not -1.0 < cos_beta < 1.0:
+        raise ValueError(f"planets p (a={a_sp*1e3:.1f} mm) and d (a={a_dr*1e3:.1f} mm) cannot mesh: a_pd={a_pd*1e3:.1f} mm")
+    beta = design.outer_planet_side * float(np.arccos(cos_beta))
+    psi = np.asarray(design.planet_angles)
+    p_c = a_sp * np.column_stack([np.cos(psi), np.sin(psi)])
+    d_c = a_dr * np.column_stack([np.cos(psi + beta), np.sin(psi + beta)])
+    return Geometry(p_c, d_c, a_sp, a_pd, a_dr, beta)
+
+
+@dataclass(frozen=True)
+class _Gear:
+    centre: NDArray  # (2,)
+    base_radius: float
+    rotation: NDArray  # (n,) absolute rotation map
+    translation: NDArray  # (2, n) centre translation map
+
+    def point_map(self, p: NDArray) -> NDArray:
+        """(2, n) map q -> displacement of the material point at p (small rotations)."""
+        r = p - self.centre
+        return self.translation + np.outer([-r[1], r[0]], self.rotation)
+
+
+def _line_of_action(g1: _Gear, g2: _Gear, internal: bool, drive: int) -> tuple[NDArray, NDArray]:
+    """Unit normal ``n`` of the loaded flank and a point on the line of action.
+
+    ``drive`` is the sense (+1 ccw) in which gear 1 turns while transmitting the load; the contact
+    force on gear 1 is along +n.  External: m.e = -cos a_w; internal: m.e = +cos a_w, where the line is
+    {p : m.p = const} and e the unit vector from c1 to c2.
+    """
+    e = g2.centre - g1.centre
+    a = float(np.hypot(*e))
+    e = e / a
+    if internal:
+        cos_aw = (g2.base_radius - g1.base_radius) / a
+        alpha = np.arccos(cos_aw)
+        m = _rot(e, -drive * alpha)
+    else:
+        cos_aw = (g1.base_radius + g2.base_radius) / a
+        alpha = np.arccos(cos_aw)
+        m = _rot(e, np.pi - drive * alpha)
+    n = _rot(m, np.pi / 2)
+    point = g1.centre - g1.base_radius * m  # tangent point on gear 1's base circle
+    return n, point
+
+
+@dataclass(frozen=True)
+class Element:
+    """A spring-damper: mesh ``kind`` in {'sp','pd','dr','bearing'} of planet ``j``, along ``v`` (m or m/rad)."""
+
+    name: str
+    kind: str
+    j: int
+    k: float
+    c: float
+    v: NDArray
+    n: NDArray  # line-of-action direction in the carrier frame (for plots)
+
+
+def elements(design: PlusDesign) -> list[Element]:
+    """The 3N meshes and two bearing springs with their displacement vectors ``v`` (delta = v . q)."""
+    if design.n_planets != 3:
+        raise ValueError("the coordinate set is written for three planet pairs (paper 2)")
+    geo = geometry(design)
+    n = len(COORDS)
+    e_s, e_r, e_c = _unit("theta_s"), _unit("theta_r"), _unit("theta_c")
+    ex, ey = _unit("x_s"), _unit("y_s")
+    zero_t = np.zeros((2, n))
+    sun = _Gear(np.zeros(2), design.sun.base_radius, e_s, np.vstack([ex, ey]))
+    ring = _Gear(np.zeros(2), design.ring.base_radius, e_r, zero_t)
+    ks, cs = design.stiffness, design.damping
+    out: list[Element] = []
+    # kinematic senses with the carrier fixed and the sun turning ccw: p cw, d ccw (plus set)
+    for j in range(3):
+        e_p, e_d = _unit(f"theta_p{j+1}"), _unit(f"theta_d{j+1}")
+        pc, dc = geo.p_centres[j], geo.d_centres[j]
+        planet_p = _Gear(pc, design.planet_p.base_radius, e_c + e_p, np.outer([-pc[1], pc[0]], e_c))
+        planet_d = _Gear(dc, design.planet_d.base_radius, e_c + e_d, np.outer([-dc[1], dc[0]], e_c))
+        for kind, g1, g2, internal, drive, k, c in (
+            ("sp", sun, planet_p, False, +1, ks.sun_planet, cs.sun_planet),
+            ("pd", planet_p, planet_d, False, -1, ks.planet_planet, cs.planet_planet),
+            ("dr", planet_d, ring, True, +1, ks.planet_ring, cs.planet_ring),
+        ):
+            nvec, point = _line_of_action(g1, g2, internal, drive)
+            v = nvec @ (g1.point_map(point) - g2.point_map(point))
+            v[np.abs(v) < 1e-15] = 0.0
+            out.append(Element(f"{kind}{j+1}", kind, j, k, c, v, nvec))
+    # printed variants (for the documentation of the fixes)
+    if not design.planet_angles_in_sun_terms:
+        first = out[0].v
+        for el in out:
+            if el.kind == "sp":
+                el.v[COORDS.index("x_s")] = first[COORDS.index("x_s")]
+                el.v[COORDS.index("y_s")] = first[COORDS.index("y_s")]
+    if not design.plus_set_sign:
+        for el in out:
+            if el.kind == "pd":
+                el.v[COORDS.index(f"theta_d{el.j+1}")] *= -1.0
+    out.append(Element("bearing_x", "bearing", -1, ks.sun_bearing, cs.sun_bearing, ex, np.array([1.0, 0.0])))
+    out.append(Element("bearing_y", "bearing", -1, ks.sun_bearing, cs.sun_bearing, ey, np.array([0.0, 1.0])))
+    return out
+
+
+def mass_components(design: PlusDesign) -> dict[str, NDArray]:
+    """Kinetic-energy matrices of the Table 4 components (Eq. 2): M = sum of the values.
+
+    Keys: ``revolution{j}`` (planet centres moving with the carrier), ``p{j}``, ``d{j}`` (absolute
+    planet rotation th_c + th_pj, Eqs. 3-4), ``sun`` (rotation and translation), ``ring``, ``carrier``.
+    """
+    geo = geometry(design)
+    e_s, e_r, e_c = _unit("theta_s"), _unit("theta_r"), _unit("theta_c")
+    ex, ey = _unit("x_s"), _unit("y_s")
+    comps: dict[str, NDArray] = {}
+    for j in range(3):
+        rev = design.planet_p.mass * geo.a_sp**2 + design.planet_d.mass * geo.a_dr**2
+        comps[f"revolution{j+1}"] = rev * np.outer(e_c, e_c)
+    for j in range(3):
+        w = e_c + _unit(f"theta_p{j+1}")
+        comps[f"p{j+1}"] = design.planet_p.inertia * np.outer(w, w)
+    for j in range(3):
+        w = e_c + _unit(f"theta_d{j+1}")
+        comps[f"d{j+1}"] = design.planet_d.inertia * np.outer(w, w)
+    comps["sun"] = design.sun.inertia * np.outer(e_s, e_s) + design.sun.mass * (np.outer(ex, ex) + np.outer(ey, ey))
+    comps["ring"] = design.ring.inertia * np.outer(e_r, e_r)
+    comps["carrier"] = design.carrier.inertia * np.outer(e_c, e_c)
+    return comps
+
+
+@dataclass(frozen=True)
+class Matrices:
+    """M (kg, kg m^2), K (N/m, N m/rad, N/rad), C (same with s) over ``coords``."""
+
+    coords: tuple[str, ...]
+    M: NDArray
+    K: NDArray
+    C: NDArray
+
+
+def _keep(condition: Condition) -> NDArray:
+    if condition not in CONDITIONS:
+        raise ValueError(f"unknown working condition {condition!r}; allowed: {sorted(CONDITIONS)}")
+    fixed = CONDITIONS[condition]
+    return np.array([i for i, c in enumerate(COORDS) if c != fixed])
+
+
+def matrices(design: PlusDesign, condition: Condition = "free") -> Matrices:
+    """Assemble M, K, C (Eq. 8) and remove the static member's rotation for conditions I-III."""
+    els = elements(design)
+    K = sum(el.k * np.outer(el.v, el.v) for el in els)
+    C = sum(el.c * np.outer(el.v, el.v) for el in els)
+    M = sum(mass_components(design).values())
+    keep = _keep(condition)
+    ix = np.ix_(keep, keep)
+    return Matrices(tuple(COORDS[i] for i in keep), M[ix], K[ix], C[ix])
+
+
+def kinematic_ratio_carrier_fixed(design: PlusDesign) -> float:
+    """theta_r / theta_s of the rigid-body mode with the carrier fixed (+z_s/z_r for a plus set)."""
+    mat = matrices(design, "I")
+    w, vec = scipy.linalg.eigh(mat.K, mat.M)
+    rigid = vec[:, 0]
+    return float(rigid[mat.coords.index("theta_r")] / rigid[mat.coords.index("theta_s")])
+
+
+@dataclass(frozen=True)
+class Modes:
+    """Modal solution of one working condition.
+
+    ``omega2`` (rad^2/s^2) and ``shapes`` (M-normalised columns) in ascending order over all
+    coordinates of ``coords``; the first ``n_rigid`` are rigid-body modes.  ``damped_hz`` and ``zeta``
+    are from the state-space eigenvalues, matched to the undamped modes in order.
+    """
+
+    condition: str
+    coords: tuple[str, ...]
+    omega2: NDArray
+    shapes: NDArray
+    n_rigid: int
+    damped_hz: NDArray
+    zeta: NDArray
+
+    @property
+    def freq_hz(self) -> NDArray:
+        return np.sqrt(np.clip(self.omega2, 0.0, None)) / (2 * np.pi)
+
+    def full_shape(self, i: int) -> NDArray:
+        """Mode ``i`` on all 11 coordinates (0 for the fixed one)."""
+        out = np.zeros(len(COORDS))
+        for c, val in zip(self.coords, self.shapes[:, i]):
+            out[COORDS.index(c)] = val
+        return out
+
+
+def _canonical_pairs(omega2: NDArray, shapes: NDArray, coords: tuple[str, ...], rtol: float) -> NDArray:
+    """Rotate each degenerate pair so that its first member has y_s = 0 (deterministic shapes)."""
+    shapes = shapes.copy()
+    iy = coords.index("y_s") if "y_s" in coords else None
+    i = 0
+    n = len(omega2)
+    while i < n - 1:
+        if omega2[i] > 0 and abs(omega2[i + 1] - omega2[i]) <= rtol * abs(omega2[i]):
+            a, b = shapes[:, i].copy(), shapes[:, i + 1].copy()
+            if iy is not None and np.hypot(a[iy], b[iy]) > 0:
+                # first = cos*a + sin*b has y = 0 when tan(ang) = -a_y / b_y
+                ang = np.arctan2(-a[iy], b[iy])
+                u = np.cos(ang) * a + np.sin(ang) * b
+                w = -np.sin(ang) * a + np.cos(ang) * b
+                shapes[:, i], shapes[:, i + 1] = u, w
+            for k in (i, i + 1):  # sign: largest |entry| positive
+                col = shapes[:, k]
+                if col[np.argmax(np.abs(col))] < 0:
+                    shapes[:, k] = -col
+            i += 2
+        else:
+            col = shapes[:, i]
+            if col[np.argmax(np.abs(col))] < 0:
+                shapes[:, i] = -col
+            i += 1
+    if i == n - 1:
+        col = shapes[:, i]
+        if col[np.argmax(np.abs(col))] < 0:
+            shapes[:, i] = -col
+    return shapes
+
+
+def modes(design: PlusDesign, condition: Condition, *, rigid_tol: float = 1e-8, degenerate_rtol: float = 1e-7) -> Modes:
+    """Undamped (generalised symmetric eigenproblem K phi = w^2 M phi) and damped natural frequencies."""
+    mat = matrices(design, condition)
+    omega2, shapes = scipy.linalg.eigh(mat.K, mat.M)
+    scale = max(float(np.max(np.abs(omega2))), 1.0)
+    rigid = np.abs(omega2) < rigid_tol * scale
+    omega2 = np.where(rigid, 0.0, omega2)
+    n_rigid = int(rigid.sum())
+    shapes = _canonical_pairs(omega2, shapes, mat.coords, degenerate_rtol)
+    damped, zeta = damped_frequencies(mat, n_rigid, float(np.sqrt(omega2[n_rigid])) if n_rigid < len(omega2) else 1.0)
+    return Modes(condition, mat.coords, omega2, shapes, n_rigid, damped, zeta)
+
+
+def damped_frequencies(mat: Matrices, n_rigid: int, omega_min: float) -> tuple[NDArray, NDArray]:
+    """Damped natural frequencies (Hz) and damping ratios from the first-order form of Eq. (8).
+
+    ``omega_min`` (rad/s) is the lowest undamped elastic circular frequency.  Rigid-body modes get NaN.  The oscillatory eigenvalue pairs are sorted by |lambda| and matched to
+    the undamped modes in order (valid for light damping; checked against the undamped limit in tests).
+    """
+    n = mat.M.shape[0]
+    Minv = np.linalg.inv(mat.M)
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ mat.K, -Minv @ mat.C]])
+    lam = np.linalg.eigvals(A)
+    # rigid-body modes give a (numerically split) double eigenvalue at 0: drop |lambda| << omega_min
+    osc = lam[(lam.imag > 0) & (np.abs(lam) > 1e-3 * omega_min)]
+    osc = osc[np.argsort(np.abs(osc))]
+    n_el = n - n_rigid
+    damped = np.full(n, np.nan)
+    zeta = np.full(n, np.nan)
+    if len(osc) > n_el:
+        raise RuntimeError(f"{len(osc)} oscillatory eigenvalues for {n_el} elastic modes")
+    # overdamped modes (none for Table 1) have no damped frequency: they keep NaN at the top of the list
+    m = len(osc)
+    damped[n_rigid:n_rigid + m] = osc.imag / (2 * np.pi)
+    zeta[n_rigid:n_rigid + m] = -osc.real / np.abs(osc)
+    return damped, zeta
+
+
+def strain_energy_fractions(design: PlusDesign, md: Modes) -> dict[str, NDArray]:
+    """Share of each spring in the modal strain energy, per element name, shape (n_modes,).
+
+    U_e = k_e (v_e . phi)^2 / 2 and sum_e U_e = w^2 / 2 for an M-normalised phi.  Rigid modes: NaN.
+    """
+    els = elements(design)
+    phis = np.column_stack([md.full_shape(i) for i in range(md.shapes.shape[1])])
+    energy = {el.name: 0.5 * el.k * (el.v @ phis) ** 2 for el in els}
+    total = sum(energy.values())
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out = {k: np.where(md.omega2 > 0, v / total, np.nan) for k, v in energy.items()}
+    return {k: np.where(np.abs(v) < 1e-12, 0.0, v) for k, v in out.items()}  # round-off of exact zeros
+
+
+def kinetic_energy_fractions(design: PlusDesign, md: Modes) -> dict[str, NDArray]:
+    """Share of each Table 4 component in the modal kinetic energy, per component, shape (n_modes,)."""
+    comps = mass_components(design)
+    phis = np.column_stack([md.full_shape(i) for i in range(md.shapes.shape[1])])
+    energy = {k: np.einsum("im,ij,jm->m", phis, Mc, phis) for k, Mc in comps.items()}
+    total = sum(energy.values())
+    return {k: np.where(np.abs(v / total) < 1e-12, 0.0, v / total) for k, v in energy.items()}  # round-off of exact zeros
+
+
+def group_strain(fr: dict[str, NDArray]) -> dict[str, NDArray]:
+    """Strain-energy shares summed per mesh type (Table 3 groups 1-3, 4-6, 7-9) and the bearing."""
+    out = {t: sum(v for k, v in fr.items() if k.startswith(t) and k[len(t):].isdigit()) for t in MESH_TYPES}
+    out["bearing"] = fr["bearing_x"] + fr["bearing_y"]
+    return out
+
+
+def group_kinetic(fr: dict[str, NDArray]) -> dict[str, NDArray]:
+    """Kinetic-energy shares per component group (Table 4 grouped)."""
+    return {
+        "revolution": sum(fr[f"revolution{j}"] for j in (1, 2, 3)),
+        "planet_p": sum(fr[f"p{j}"] for j in (1, 2, 3)),
+        "planet_d": sum(fr[f"d{j}"] for j in (1, 2, 3)),
+        "sun": fr["sun"],
+        "ring": fr["ring"],
+        "carrier": fr["carrier"],
+    }
+
+
+def classify(md: Modes, *, rtol: float = 1e-6, atol: float = 1e-9) -> list[str]:
+    """'rigid', 'planet' (doubled frequency, central members still) or 'overall' (axisymmetric).
+
+    A planet mode of paper 2 (after Kahraman 2001) has the loaded central members at rest and the
+    planet sets moving differently; with three planets such modes come in degenerate pairs and move
+    the floating sun (x_s, y_s).  An overall mode has every planet set moving alike and x_s = y_s = 0.
+    Anything else is 'mixed' (none occur for the symmetric set).
+    """
+    out: list[str] = []
+    f = md.omega2
+    for i in range(len(f)):
+        if f[i] == 0:
+            out.append("rigid")
+            continue
+        phi = md.full_shape(i)
+        scale = np.max(np.abs(phi))
+        central = np.abs(phi[[COORDS.index(c) for c in ("theta_s", "theta_r", "theta_c")]]).max() / scale
+        degenerate = (i > 0 and abs(f[i] - f[i - 1]) <= rtol * f[i]) or (i + 1 < len(f) and abs(f[i + 1] - f[i]) <= rtol * f[i])
+        p = phi[[COORDS.index(f"theta_p{j}") for j in (1, 2, 3)]]
+        d = phi[[COORDS.index(f"theta_d{j}") for j in (1, 2, 3)]]
+        xy = np.abs(phi[[COORDS.index("x_s"), COORDS.index("y_s")]]).max() / scale
+        axisym = np.ptp(p) / scale < 1e-6 and np.ptp(d) / scale < 1e-6 and xy < 1e-6
+        if degenerate and central < 1e-6:
+            out.append("planet")
+        elif axisym:
+            out.append("overall")
+        else:
+            out.append("mixed")
+    return out
+
+
+def distinct_elastic(md: Modes, *, rtol: float = 1e-6) -> list[list[int]]:
+    """Indices of the elastic modes grouped by (numerically) equal frequency, ascending."""
+    groups: list[list[int]] = []
+    for i in range(md.n_rigid, len(md.omega2)):
+        if groups and abs(md.omega2[i] - md.omega2[groups[-1][0]]) <= rtol * md.omega2[i]:
+            groups[-1].append(i)
+        else:
+            groups.append([i])
+    return groups
