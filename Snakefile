@@ -27,6 +27,7 @@ include: "workflow/rules/geometry.smk"
 include: "workflow/rules/stiffness.smk"
 include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/calibration.smk"
+include: "workflow/rules/yue2014.smk"
 
 
 rule all:
@@ -36,3 +37,4 @@ rule all:
         STIFFNESS_TARGETS,
         SWEEP_TARGETS,
         CALIBRATION_TARGETS,
+        YUE2014_TARGETS,
