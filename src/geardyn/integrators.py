@@ -71,7 +71,8 @@ class SimulationResult:
     x = (X_DH, X_VH, X_VL) / b_c, v = dx / dtau).
 
     poincare: (n, 6) state at the end of each recorded mesh period (phase 0).
-    final_state: (6,) state at the end of the run (phase 0): continue a sweep from it.
+    final_state: (6,) state at the end of the run (phase 0): continue a sweep from it
+    (after a divergence: the state at the period end where it was detected).
     diverged / diverged_period: the period (counted from the start, transient included)
     at which |state| first exceeded the threshold, else -1; poincare then holds only the
     points recorded before.
@@ -239,7 +240,7 @@ def _hermite_root(x0, x1, d0, d1, h, target):
 
 @njit(cache=True)
 def _run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event, threshold,
-         stride, poinc, dense_t, dense_y):
+         stride, poinc, dense_t, dense_y, yfinal):
     """Integrate n_trans + n_rec mesh periods from y0 (phase 0).
 
     Returns (status, last_period, n_events, n_dense): status 0 ok, 1 diverged.
@@ -249,7 +250,7 @@ def _run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event
     nsteps = tab_h.shape[0]
     T = c[_T]
     b = c[_B]
-    use_events = event and c[_BON] != 0.0
+    use_events = event and c[_BON] != 0.0 and b > 0.0
     y = y0.copy()
     ynew = np.empty(6)
     ytmp = np.empty(6)
@@ -307,10 +308,14 @@ def _run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event
             if not (abs(y[i]) <= threshold):
                 bad = True
         if bad:
+            for i in range(6):
+                yfinal[i] = y[i]
             return 1, per, n_events, n_dense
         if per >= n_trans:
             for i in range(6):
                 poinc[per - n_trans, i] = y[i]
+    for i in range(6):
+        yfinal[i] = y[i]
     return 0, n_trans + n_rec, n_events, n_dense
 
 
@@ -390,17 +395,14 @@ def simulate(
     nd = (nrec * n) // stride if dense else 0
     dt = np.empty(nd)
     dy = np.empty((nd, 6))
+    final = np.empty(6)
     status, per, nev, ndense = _run(
         c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, settings.transient_periods, nrec,
-        settings.integrator == "rk4_event", settings.divergence_threshold, stride, poinc, dt, dy,
+        settings.integrator == "rk4_event", settings.divergence_threshold, stride, poinc, dt, dy, final,
     )
-    # final state: _run works on a copy; rerun-free access via the last Poincare point
     diverged = status == 1
     npts = max(0, per - settings.transient_periods) if diverged else nrec
     poinc = poinc[:npts]
-    final = poinc[-1].copy() if npts > 0 and not diverged else np.full(6, np.nan)
-    if not diverged and nrec == 0:
-        final = _final_state_no_record(coeffs, settings, y0)
     return SimulationResult(
         poincare=poinc,
         final_state=final,
@@ -412,16 +414,6 @@ def simulate(
         period=coeffs.period,
         settings=settings,
     )
-
-
-def _final_state_no_record(coeffs, settings, y0):
-    s = SimulationSettings(
-        integrator=settings.integrator, steps_per_period=settings.steps_per_period,
-        transient_periods=max(0, settings.transient_periods - 1), recorded_periods=1,
-        divergence_threshold=settings.divergence_threshold, aligned=settings.aligned,
-    )
-    r = simulate(coeffs, s, y0)
-    return r.final_state
 
 
 def warm_up() -> None:

@@ -4,7 +4,9 @@ Every mesh period is integrated zone by zone ([0, eps-1] and [eps-1, 1]: no stif
 inside a call).  Inside a zone the vector field is evaluated with the contact region held
 fixed (f = x2 - b, 0 or x2 + b: each one smooth) and a terminal event on x2 = +-b, with the
 direction that leaves the region, stops the call; the run restarts in the new region.  The
-solver therefore never steps over a kink and keeps its 8th order.  Independent of the numba
+solver therefore never steps over a kink and keeps its 8th order.  Steps are limited to
+T/128 so that a grazing excursion into another region lasting longer than that is seen
+(a sign change of the event function is only looked for between step ends).  Independent of the numba
 kernels (only the coefficients are shared).
 """
 
@@ -95,7 +97,7 @@ def integrate_period(coeffs: Coefficients, y: np.ndarray, per: int = 0, rtol: fl
         while True:
             evs, nxt = _events(b, reg) if reg != 2 else ([], [])
             sol = solve_ivp(
-                _rhs_region, (t, t_end), y, method="DOP853", rtol=rtol, atol=atol,
+                _rhs_region, (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, max_step=T / 128,
                 events=evs or None, args=(c, poly, seg, reg, float(per)),
             )
             if collect is not None:
