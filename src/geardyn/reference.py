@@ -77,8 +77,12 @@ def _initial_region(y: np.ndarray, b: float) -> int:
 
 
 def integrate_period(coeffs: Coefficients, y: np.ndarray, per: int = 0, rtol: float = 1e-12,
-                     atol: float | None = None, reg: int | None = None, collect: list | None = None):
-    """Integrate one mesh period (phase 0 -> 1) from y; returns (y_end, region, n_events)."""
+                     atol: float | None = None, reg: int | None = None, collect: list | None = None,
+                     max_step_fraction: float = 1.0 / 128):
+    """Integrate one mesh period (phase 0 -> 1) from y; returns (y_end, region, n_events).
+
+    max_step_fraction: largest DOP853 step in mesh periods (``inf``: unlimited).
+    """
     c = coeffs.kernel_array()
     poly = coeffs.stiffness_polys()
     T = coeffs.period
@@ -97,7 +101,7 @@ def integrate_period(coeffs: Coefficients, y: np.ndarray, per: int = 0, rtol: fl
         while True:
             evs, nxt = _events(b, reg) if reg != 2 else ([], [])
             sol = solve_ivp(
-                _rhs_region, (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, max_step=T / 128,
+                _rhs_region, (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, max_step=T * max_step_fraction,
                 events=evs or None, args=(c, poly, seg, reg, float(per)),
             )
             if collect is not None:
@@ -119,7 +123,8 @@ def integrate_period(coeffs: Coefficients, y: np.ndarray, per: int = 0, rtol: fl
     return y, reg, nev
 
 
-def simulate_reference(coeffs: Coefficients, settings, y0: np.ndarray, dense: bool = False):
+def simulate_reference(coeffs: Coefficients, settings, y0: np.ndarray, dense: bool = False,
+                       max_step_fraction: float = 1.0 / 128):
     """DOP853 counterpart of :func:`geardyn.integrators.simulate` (same result type)."""
     from geardyn.integrators import SimulationResult
 
@@ -131,7 +136,8 @@ def simulate_reference(coeffs: Coefficients, settings, y0: np.ndarray, dense: bo
     chunks: list | None = [] if dense else None
     for per in range(ntr + nrec):
         collect = chunks if (dense and per >= ntr) else None
-        y, reg, k = integrate_period(coeffs, y, per, settings.rtol, reg=reg, collect=collect)
+        y, reg, k = integrate_period(coeffs, y, per, settings.rtol, reg=reg, collect=collect,
+                                     max_step_fraction=max_step_fraction)
         nev += k
         if not np.all(np.abs(y) <= settings.divergence_threshold):
             return SimulationResult(poinc[: max(0, per - ntr)], np.full(6, np.nan), True, per, nev,
