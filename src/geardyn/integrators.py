@@ -44,13 +44,13 @@ _CM, _B, _TE, _PHI, _T, _BON, _EPS = range(12, 19)
 class SimulationSettings:
     """How to integrate.  Times in mesh periods; thresholds in units of b_c.
 
-    steps_per_period: N (default 256 from the work-precision study, ``python -m geardyn.bench``).
+    steps_per_period: N (default 512 from the work-precision study, ``python -m geardyn.bench``).
     aligned: False spreads N equal steps over the period regardless of the stiffness jumps
     (for demonstrations only; rk4 integrators).  rtol: only used by ``"dop853"``.
     """
 
     integrator: IntegratorName = "rk4_event"
-    steps_per_period: int = 256
+    steps_per_period: int = 512
     transient_periods: int = 500
     recorded_periods: int = 100
     divergence_threshold: float = 1.0e4
