@@ -85,7 +85,7 @@ class KHVParameters:
     te_amplitude: float = 5.0e-6
     te_phase: float = 0.0
     z_annulus: int = 33
-    input_speed_rpm: float = 2.0e3
+    input_speed_rpm: float = 525.0
     omega_bar: float = 0.9
 
     def stiffness(self, form: StiffnessForm = "corrected") -> ParabolicStiffness:
