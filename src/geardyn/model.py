@@ -1,0 +1,427 @@
+"""The KHV torsional model of paper 1 (Li et al. 2013, Eqs. 1-6 and 11-16), corrected.
+
+Physical model (Eq. 2), line-of-action coordinates X_D = theta_D r_bH, X_H = theta_H r_bH,
+X_V = theta_V r_bV, X_L = theta_L r_bV (Eq. 1)::
+
+    M_D X_D'' + F_DH                 = P_D
+    M_H X_H'' - F_DH - F_m           = 0
+    M_V X_V'' + F_VL + F_m           = 0
+    M_L X_L'' - F_VL                 = -P_L
+
+with F_DH = k_DH X_DH + c_DH X_DH', F_VL = k_VL X_VL + c_VL X_VL' and the mesh force
+F_m = k_m(t) f(X_VH, b) + c_m X_VH', X_VH = X_V - X_H - e(t) (Eq. 3).  The relative 3-DOF form
+(Eq. 4 corrected: no extra ``- e'`` in the first and third lines, reduced mass M_VH in the
+second) and its dimensionless version (Eq. 13) are derived in ``docs/model.md``.
+
+Everything dimensionless is produced by ONE function, :func:`dimensionless`, and held in the
+frozen :class:`Coefficients`, which can be stored (``as_dict``) and rebuilt (``from_dict``).
+Scales: displacement b_c = 1 um, time 1/w_n with w_n = sqrt(k_mean / M_VH), force
+M_VH w_n^2 b_c = k_mean b_c, energy k_mean b_c^2.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields, replace
+from typing import Literal
+
+import numpy as np
+
+from geardyn.stiffness import ParabolicStiffness
+
+#: Paper 1 Eq. (13): displacement scale b_c = 1 um.
+B_C = 1.0e-6
+
+_ALPHA = math.radians(20.0)
+#: Paper design (Table 1): planet base radius m z1 cos(alpha) / 2 in m.
+R_BV_PAPER = 3.5e-3 * 30 / 2 * math.cos(_ALPHA)
+#: Carrier "base radius" a cos(alpha), a = m (z2 - z1) / 2 = 5.25 mm (consistent with M_H in Eq. 2).
+R_BH_PAPER = 3.5e-3 * (33 - 30) / 2 * math.cos(_ALPHA)
+#: Planet mass: solid steel disc of the pitch diameter (105 mm) and the facewidth (20 mm), in kg.
+M_V_PAPER = 7850.0 * math.pi * 0.0525**2 * 0.020
+
+StiffnessForm = Literal["corrected", "printed"]
+FrequencyMode = Literal["physical", "dimensionless"]
+StiffnessMode = Literal["time_varying", "mean"]
+
+
+@dataclass(frozen=True)
+class KHVParameters:
+    """Physical parameters of the KHV drive (SI units unless stated).
+
+    Mesh inputs (plain numbers, computed elsewhere from the geometry):
+      eps  contact ratio (-), k_c pitch-point single-pair stiffness (N/m, Eq. 7),
+      r_bV planet base radius (m), r_bH carrier radius a cos(alpha) (m).
+
+    Table 2 "I_K" (0.15 kg m^2) is mapped to the carrier inertia I_H: the annulus K is fixed
+    (assumption b of the paper) so its inertia cannot enter, and the carrier, a degree of
+    freedom of Eq. (2), has no other inertia in Table 2.
+
+    Shaft stiffnesses are torsional (N m / rad); ``k_DH = K_DH / r_bH^2`` and
+    ``k_VL = K_VL / r_bV^2`` on the line of action.  Damping: c_m = 2 zeta sqrt(k_mean M_VH),
+    c_DH = 2 eta sqrt(k_DH M_DH), c_VL = 2 eta sqrt(k_VL M_VL).
+
+    Mesh frequency: with the annulus fixed, w_m = z_annulus * (input speed); in
+    ``frequency_mode="physical"`` the input speed ``input_speed_rpm`` is held, in
+    ``"dimensionless"`` w_m / w_n = ``omega_bar`` is held.
+    """
+
+    eps: float
+    k_c: float
+    r_bV: float = R_BV_PAPER
+    r_bH: float = R_BH_PAPER
+    I_D: float = 0.03
+    I_H: float = 0.15
+    I_V: float = 0.2175
+    I_L: float = 0.03
+    m_V: float = M_V_PAPER
+    K_DH: float = 3.0e4
+    K_VL: float = 3.0e4
+    zeta: float = 0.1
+    eta: float = 0.005
+    T_D: float = 50.0
+    T_L: float = 50.0
+    backlash: float = 2.0e-6
+    te_amplitude: float = 5.0e-6
+    te_phase: float = 0.0
+    z_annulus: int = 33
+    input_speed_rpm: float = 525.0
+    omega_bar: float = 0.9
+
+    def stiffness(self, form: StiffnessForm = "corrected") -> ParabolicStiffness:
+        """Parabolic k(t) of Eq. (9) with k' = k_C / 1.5 (Sec. 3.3)."""
+        return ParabolicStiffness(self.eps, self.k_c / 1.5, form)
+
+
+@dataclass(frozen=True)
+class Options:
+    """Model variants (all switches that change the equations, not the numbers)."""
+
+    stiffness_form: StiffnessForm = "corrected"
+    frequency_mode: FrequencyMode = "dimensionless"
+    stiffness_mode: StiffnessMode = "time_varying"
+    backlash: bool = True
+    transmission_error: bool = True
+
+    def __post_init__(self) -> None:
+        for name, allowed in (
+            ("stiffness_form", ("corrected", "printed")),
+            ("frequency_mode", ("physical", "dimensionless")),
+            ("stiffness_mode", ("time_varying", "mean")),
+        ):
+            if getattr(self, name) not in allowed:
+                raise ValueError(f"{name}={getattr(self, name)!r}; allowed: {allowed}")
+
+
+@dataclass(frozen=True)
+class Coefficients:
+    """Every dimensionless number of the model (paper 1 Eq. 13, corrected); hashable and storable.
+
+    Masses are given relative to M_VH (``mu_*``), stiffnesses relative to k_mean, damping
+    relative to M_VH w_n, forces relative to k_mean b_c, lengths relative to b_c.
+    The mesh stiffness is k_m(tau) = k_mean kappa(s), s = tau / T the mesh phase,
+    kappa = k(s) / k_mean from :class:`~geardyn.stiffness.ParabolicStiffness` (mean 1),
+    or kappa = 1 when ``stiffness_mode == "mean"``.
+    """
+
+    mu_D: float
+    mu_H: float
+    mu_V: float
+    mu_L: float
+    k_DH: float
+    k_VL: float
+    c_DH: float
+    c_VL: float
+    c_m: float
+    P_D: float
+    P_L: float
+    b: float
+    e: float
+    phi: float
+    omega: float
+    eps: float
+    stiffness_form: str = "corrected"
+    stiffness_mode: str = "time_varying"
+    backlash_on: bool = True
+    # provenance (not used by the equations): w_n in rad/s and k_mean in N/m
+    omega_n: float = float("nan")
+    k_mean: float = float("nan")
+
+    # --- storage -------------------------------------------------------------------------
+    def as_dict(self) -> dict[str, float | str | int]:
+        """Plain dict (bools as int) fit for netCDF attributes."""
+        d = asdict(self)
+        d["backlash_on"] = int(self.backlash_on)
+        return d
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Coefficients":
+        names = {f.name for f in fields(cls)}
+        kw = {k: d[k] for k in names if k in d}
+        for k, v in kw.items():
+            if isinstance(v, np.generic):
+                kw[k] = v.item()
+        kw["backlash_on"] = bool(kw.get("backlash_on", True))
+        return cls(**kw)
+
+    def replace(self, **changes) -> "Coefficients":
+        return replace(self, **changes)
+
+    # --- derived -------------------------------------------------------------------------
+    @property
+    def period(self) -> float:
+        """Mesh period T = 2 pi / omega in dimensionless time."""
+        return 2.0 * math.pi / self.omega
+
+    @property
+    def te_forcing(self) -> float:
+        """Amplitude of -e''(tau) / b_c in the X_VH equation: e_bar omega^2."""
+        return self.e * self.omega**2
+
+    def stiffness_polys(self) -> np.ndarray:
+        """kappa(s) on the two zones [0, eps-1] and [eps-1, 1] as rows (a, b, c): a s^2 + b s + c."""
+        if self.stiffness_mode == "mean":
+            return np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
+        ps = ParabolicStiffness(self.eps, 1.0, self.stiffness_form)  # type: ignore[arg-type]
+        m = ps.mean()
+        single = np.array([ps.a, ps.b, ps.c]) / m
+        double = np.array([2 * ps.a, 2 * (ps.a + ps.b), ps.a + ps.b + 2 * ps.c]) / m
+        return np.vstack([double, single] if self.stiffness_form == "corrected" else [single, double])
+
+    def kappa(self, s: np.ndarray) -> np.ndarray:
+        """Normalised mesh stiffness at mesh phase s (periods), right-continuous at the jumps."""
+        s = np.mod(np.asarray(s, dtype=float), 1.0)
+        p = self.stiffness_polys()
+        first = s < self.eps - 1.0
+        return np.where(first, np.polyval(p[0], s), np.polyval(p[1], s))
+
+    def matrices(self) -> dict[str, np.ndarray | float]:
+        """The 3-DOF dimensionless system (Eq. 16) x'' + C x' + K x + g (kappa f(x2) + c_m x2') = p.
+
+        x = (X_DH, X_VH, X_VL) / b_c.  Returns K (3x3, shafts only), C (3x3, shafts only),
+        g (mesh coupling, g[1] = 1), p (constant loads) and ``te`` (amplitude of the
+        e_bar omega^2 sin(omega tau + phi) forcing of the second row).
+        """
+        mu_DH = self.mu_D * self.mu_H / (self.mu_D + self.mu_H)
+        mu_VL = self.mu_V * self.mu_L / (self.mu_V + self.mu_L)
+        K = np.array(
+            [
+                [self.k_DH / mu_DH, 0.0, 0.0],
+                [self.k_DH / self.mu_H, 0.0, self.k_VL / self.mu_V],
+                [0.0, 0.0, self.k_VL / mu_VL],
+            ]
+        )
+        C = np.array(
+            [
+                [self.c_DH / mu_DH, 0.0, 0.0],
+                [self.c_DH / self.mu_H, 0.0, self.c_VL / self.mu_V],
+                [0.0, 0.0, self.c_VL / mu_VL],
+            ]
+        )
+        g = np.array([1.0 / self.mu_H, 1.0, 1.0 / self.mu_V])
+        p = np.array([self.P_D / self.mu_D, 0.0, self.P_L / self.mu_L])
+        return {"K": K, "C": C, "g": g, "p": p, "te": self.te_forcing}
+
+    def kernel_array(self) -> np.ndarray:
+        """Flat float64 array read by the numba kernels (order fixed in integrators._C_*)."""
+        m = self.matrices()
+        K, C, g, p = m["K"], m["C"], m["g"], m["p"]
+        return np.array(
+            [
+                K[0, 0], C[0, 0], g[0], p[0],
+                K[1, 0], C[1, 0], K[1, 2], C[1, 2],
+                K[2, 2], C[2, 2], g[2], p[2],
+                self.c_m, self.b, self.te_forcing, self.phi, self.period,
+                1.0 if self.backlash_on else 0.0, self.eps,
+            ],
+            dtype=np.float64,
+        )
+
+
+def mesh_omega(params: KHVParameters) -> float:
+    """Physical mesh angular frequency (rad/s) at the input speed: w_m = z_K * 2 pi n / 60."""
+    return params.z_annulus * 2.0 * math.pi * params.input_speed_rpm / 60.0
+
+
+def physical_masses(params: KHVParameters) -> dict[str, float]:
+    """Equivalent masses of Eq. (2) in kg (M_H includes the planet's translation on the crank)."""
+    M_D = params.I_D / params.r_bH**2
+    M_H = (params.I_H + params.m_V * params.r_bH**2 / math.cos(_ALPHA) ** 2) / params.r_bH**2
+    M_V = params.I_V / params.r_bV**2
+    M_L = params.I_L / params.r_bV**2
+    return {"M_D": M_D, "M_H": M_H, "M_V": M_V, "M_L": M_L, "M_VH": M_V * M_H / (M_V + M_H)}
+
+
+def dimensionless(params: KHVParameters, options: Options = Options()) -> Coefficients:
+    """All dimensionless coefficients of the corrected Eq. (13)-(16).
+
+    w_n = sqrt(k_mean / M_VH) with k_mean the exact mean of the chosen stiffness form
+    (corrected: 8/9 eps k_C, not the printed 0.866268 eps k_C of Eq. 10).
+    """
+    ms = physical_masses(params)
+    M_VH = ms["M_VH"]
+    k_mean = params.stiffness(options.stiffness_form).mean()
+    w_n = math.sqrt(k_mean / M_VH)
+    k_DH = params.K_DH / params.r_bH**2
+    k_VL = params.K_VL / params.r_bV**2
+    M_DH = ms["M_D"] * ms["M_H"] / (ms["M_D"] + ms["M_H"])
+    M_VL = ms["M_V"] * ms["M_L"] / (ms["M_V"] + ms["M_L"])
+    c_m = 2.0 * params.zeta * math.sqrt(k_mean * M_VH)
+    c_DH = 2.0 * params.eta * math.sqrt(k_DH * M_DH)
+    c_VL = 2.0 * params.eta * math.sqrt(k_VL * M_VL)
+    if options.frequency_mode == "physical":
+        omega = mesh_omega(params) / w_n
+    else:
+        omega = params.omega_bar
+    fscale = k_mean * B_C
+    return Coefficients(
+        mu_D=ms["M_D"] / M_VH,
+        mu_H=ms["M_H"] / M_VH,
+        mu_V=ms["M_V"] / M_VH,
+        mu_L=ms["M_L"] / M_VH,
+        k_DH=k_DH / k_mean,
+        k_VL=k_VL / k_mean,
+        c_DH=c_DH / (M_VH * w_n),
+        c_VL=c_VL / (M_VH * w_n),
+        c_m=c_m / (M_VH * w_n),
+        P_D=params.T_D / params.r_bH / fscale,
+        P_L=params.T_L / params.r_bV / fscale,
+        b=params.backlash / B_C if options.backlash else 0.0,
+        e=params.te_amplitude / B_C if options.transmission_error else 0.0,
+        phi=params.te_phase,
+        omega=omega,
+        eps=params.eps,
+        stiffness_form=options.stiffness_form,
+        stiffness_mode=options.stiffness_mode,
+        backlash_on=options.backlash,
+        omega_n=w_n,
+        k_mean=k_mean,
+    )
+
+
+# --- simple closed forms -----------------------------------------------------------------
+
+
+def static_deflection(coeffs: Coefficients) -> np.ndarray:
+    """Static equilibrium state (6,) with the mean stiffness and no TE: the default initial state.
+
+    Solves K x + g F = p with F = f(x2) (kappa = 1) for (x1, x3, F), then x2 = F + b sign(F).
+    """
+    m = coeffs.matrices()
+    K, g, p = m["K"], m["g"], m["p"]
+    A = np.array(
+        [
+            [K[0, 0], 0.0, g[0]],
+            [K[1, 0], K[1, 2], g[1]],
+            [0.0, K[2, 2], g[2]],
+        ]
+    )
+    x1, x3, F = np.linalg.solve(A, p)
+    b = coeffs.b if coeffs.backlash_on else 0.0
+    x2 = F + math.copysign(b, F) if F != 0.0 else 0.0
+    return np.array([x1, x2, x3, 0.0, 0.0, 0.0])
+
+
+def backlash_f(x: np.ndarray, b: float) -> np.ndarray:
+    """Eq. (14): dead zone of half width b."""
+    x = np.asarray(x, dtype=float)
+    return np.where(x > b, x - b, np.where(x < -b, x + b, 0.0))
+
+
+def rhs3(coeffs: Coefficients, tau: float, y: np.ndarray) -> np.ndarray:
+    """Right-hand side of the dimensionless 3-DOF system (NumPy, for checks and plots)."""
+    m = coeffs.matrices()
+    s = tau / coeffs.period
+    kap = float(coeffs.kappa(s))
+    x, v = y[:3], y[3:]
+    fm = kap * float(backlash_f(x[1], coeffs.b)) + coeffs.c_m * v[1]
+    te = m["te"] * math.sin(coeffs.omega * tau + coeffs.phi)
+    a = m["p"] - m["K"] @ x - m["C"] @ v - m["g"] * fm + np.array([0.0, te, 0.0])
+    return np.concatenate([v, a])
+
+
+def rhs4(coeffs: Coefficients, tau: float, z: np.ndarray) -> np.ndarray:
+    """Dimensionless 4-DOF form of Eq. (2): z = (X_D, X_H, X_V, X_L, velocities) / b_c.
+
+    Same scaling as the 3-DOF form (masses / M_VH, forces / k_mean b_c, time * w_n).
+    """
+    c = coeffs
+    XD, XH, XV, XL, VD, VH, VV, VL = z
+    s = tau / c.period
+    kap = float(c.kappa(s))
+    e = c.e * math.sin(c.omega * tau + c.phi)
+    de = c.e * c.omega * math.cos(c.omega * tau + c.phi)
+    xvh = XV - XH - e
+    fm = kap * float(backlash_f(xvh, c.b)) + c.c_m * (VV - VH - de)
+    fdh = c.k_DH * (XD - XH) + c.c_DH * (VD - VH)
+    fvl = c.k_VL * (XV - XL) + c.c_VL * (VV - VL)
+    aD = (c.P_D - fdh) / c.mu_D
+    aH = (fdh + fm) / c.mu_H
+    aV = (-fvl - fm) / c.mu_V
+    aL = (fvl - c.P_L) / c.mu_L
+    return np.array([VD, VH, VV, VL, aD, aH, aV, aL])
+
+
+def to_relative(coeffs: Coefficients, tau: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """Map 4-DOF states z (..., 8) at times tau to 3-DOF relative states (..., 6), Eq. (3)."""
+    z = np.asarray(z, dtype=float)
+    tau = np.asarray(tau, dtype=float)
+    e = coeffs.e * np.sin(coeffs.omega * tau + coeffs.phi)
+    de = coeffs.e * coeffs.omega * np.cos(coeffs.omega * tau + coeffs.phi)
+    XD, XH, XV, XL, VD, VH, VV, VL = np.moveaxis(z, -1, 0)
+    return np.stack([XD - XH, XV - XH - e, XV - XL, VD - VH, VV - VH - de, VV - VL], axis=-1)
+
+
+def from_relative(coeffs: Coefficients, tau: float, y: np.ndarray) -> np.ndarray:
+    """One 4-DOF state with X_H = 0, X_H' = 0 that maps to the relative state y at time tau."""
+    e = coeffs.e * math.sin(coeffs.omega * tau + coeffs.phi)
+    de = coeffs.e * coeffs.omega * math.cos(coeffs.omega * tau + coeffs.phi)
+    x1, x2, x3, v1, v2, v3 = y
+    XV = x2 + e
+    VV = v2 + de
+    return np.array([x1, 0.0, XV, XV - x3, v1, 0.0, VV, VV - v3])
+
+
+def energy(coeffs: Coefficients, y: np.ndarray, kappa: float = 1.0) -> np.ndarray:
+    """Mechanical energy of the relative motion in units of k_mean b_c^2.
+
+    Kinetic energy of the 4 masses minus that of the centre of mass (conserved separately
+    when no external torque acts), plus shaft and mesh potentials (mesh: kappa/2 f(x2)^2,
+    valid for constant kappa; TE must be off for this to be a conserved quantity).
+    """
+    y = np.asarray(y, dtype=float)
+    x1, x2, x3, u1, u2, u3 = np.moveaxis(y, -1, 0)
+    muD, muH, muV, muL = coeffs.mu_D, coeffs.mu_H, coeffs.mu_V, coeffs.mu_L
+    # velocities relative to the carrier: D = u1, H = 0, V = u2, L = u2 - u3
+    vD, vV, vL = u1, u2, u2 - u3
+    mtot = muD + muH + muV + muL
+    p = muD * vD + muV * vV + muL * vL
+    kin = 0.5 * (muD * vD**2 + muV * vV**2 + muL * vL**2) - 0.5 * p**2 / mtot
+    pot = 0.5 * coeffs.k_DH * x1**2 + 0.5 * coeffs.k_VL * x3**2
+    pot = pot + 0.5 * kappa * backlash_f(x2, coeffs.b) ** 2
+    return kin + pot
+
+
+def lti_response(coeffs: Coefficients, tau: np.ndarray) -> np.ndarray:
+    """Exact steady state of the linear time-invariant case (kappa = 1, b = 0), states (..., 6).
+
+    x(tau) = x_static + Im[X exp(i (omega tau + phi))], (-omega^2 I + i omega (C + c_m g e2^T)
+    + K + g e2^T) X = (0, e_bar omega^2, 0).
+    """
+    m = coeffs.matrices()
+    K = m["K"] + np.outer(m["g"], [0.0, 1.0, 0.0])
+    C = m["C"] + coeffs.c_m * np.outer(m["g"], [0.0, 1.0, 0.0])
+    w = coeffs.omega
+    X = np.linalg.solve(-(w**2) * np.eye(3) + 1j * w * C + K, np.array([0.0, m["te"], 0.0]))
+    xs = np.linalg.solve(K, m["p"])
+    ph = np.exp(1j * (w * np.asarray(tau, dtype=float)[..., None] + coeffs.phi))
+    x = xs + np.imag(X * ph)
+    v = np.imag(1j * w * X * ph)
+    return np.concatenate([x, v], axis=-1)
+
+
+def natural_frequencies(coeffs: Coefficients) -> np.ndarray:
+    """Undamped natural frequencies (units of w_n) of the linearised 3-DOF system (kappa = 1, in contact)."""
+    m = coeffs.matrices()
+    K = m["K"] + np.outer(m["g"], [0.0, 1.0, 0.0])
+    return np.sort(np.sqrt(np.abs(np.linalg.eigvals(K))))

@@ -1,0 +1,151 @@
+"""Reference solution: scipy ``solve_ivp`` (DOP853) with the switching events, rtol 1e-12.
+
+Every mesh period is integrated zone by zone ([0, eps-1] and [eps-1, 1]: no stiffness jump
+inside a call).  Inside a zone the vector field is evaluated with the contact region held
+fixed (f = x2 - b, 0 or x2 + b: each one smooth) and a terminal event on x2 = +-b, with the
+direction that leaves the region, stops the call; the run restarts in the new region.  The
+solver therefore never steps over a kink and keeps its 8th order.  Steps are limited to
+T/128 so that a grazing excursion into another region lasting longer than that is seen
+(a sign change of the event function is only looked for between step ends).  Independent of the numba
+kernels (only the coefficients are shared).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+from scipy.integrate import solve_ivp
+
+from geardyn.model import Coefficients
+
+
+@njit(cache=True)
+def _rhs_region(t, y, c, poly, seg, reg, per):
+    # c: kernel_array; poly: (2, 3); reg: -1, 0, 1 (or 2 = no backlash: f = x2)
+    T = c[16]
+    s = t / T - per
+    kap = (poly[seg, 0] * s + poly[seg, 1]) * s + poly[seg, 2]
+    x2 = y[1]
+    if reg == 2:
+        f = x2
+    elif reg == 1:
+        f = x2 - c[13]
+    elif reg == -1:
+        f = x2 + c[13]
+    else:
+        f = 0.0
+    fm = kap * f + c[12] * y[4]
+    pe = c[14] * math.sin(2.0 * math.pi * s + c[15])
+    out = np.empty(6)
+    out[0] = y[3]
+    out[1] = y[4]
+    out[2] = y[5]
+    out[3] = c[3] - c[0] * y[0] - c[1] * y[3] - c[2] * fm
+    out[4] = pe - c[4] * y[0] - c[5] * y[3] - c[6] * y[2] - c[7] * y[5] - fm
+    out[5] = c[11] - c[8] * y[2] - c[9] * y[5] - c[10] * fm
+    return out
+
+
+def _events(b: float, reg: int):
+    def up(t, y, *_):
+        return y[1] - b
+
+    def down(t, y, *_):
+        return y[1] + b
+
+    up.terminal = True
+    down.terminal = True
+    if reg == 0:
+        up.direction, down.direction = 1.0, -1.0
+        return [up, down], [1, -1]
+    if reg == 1:
+        up.direction = -1.0
+        return [up], [0]
+    down.direction = 1.0
+    return [down], [0]
+
+
+def _initial_region(y: np.ndarray, b: float) -> int:
+    x, v = y[1], y[4]
+    if x > b or (x == b and v > 0):
+        return 1
+    if x < -b or (x == -b and v < 0):
+        return -1
+    return 0
+
+
+def integrate_period(coeffs: Coefficients, y: np.ndarray, per: int = 0, rtol: float = 1e-12,
+                     atol: float | None = None, reg: int | None = None, collect: list | None = None,
+                     max_step_fraction: float = 1.0 / 128):
+    """Integrate one mesh period (phase 0 -> 1) from y; returns (y_end, region, n_events).
+
+    max_step_fraction: largest DOP853 step in mesh periods (``inf``: unlimited).
+    """
+    c = coeffs.kernel_array()
+    poly = coeffs.stiffness_polys()
+    T = coeffs.period
+    b = coeffs.b
+    atol = rtol if atol is None else atol
+    backlash = coeffs.backlash_on
+    if reg is None:
+        reg = _initial_region(y, b) if backlash else 2
+    nev = 0
+    bounds = ((0.0, coeffs.eps - 1.0, 0), (coeffs.eps - 1.0, 1.0, 1))
+    if coeffs.stiffness_mode == "mean":
+        bounds = ((0.0, 1.0, 0),)
+    for sa, sb, seg in bounds:
+        t = (per + sa) * T
+        t_end = (per + sb) * T
+        while True:
+            evs, nxt = _events(b, reg) if reg != 2 else ([], [])
+            sol = solve_ivp(
+                _rhs_region, (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, max_step=T * max_step_fraction,
+                events=evs or None, args=(c, poly, seg, reg, float(per)),
+            )
+            if collect is not None:
+                collect.append((sol.t, sol.y.T))
+            if sol.status == 1:
+                k = next(i for i, te in enumerate(sol.t_events) if len(te))
+                t = float(sol.t_events[k][0])
+                y = sol.y_events[k][0].copy()
+                if reg == 0:
+                    reg = nxt[k]
+                else:
+                    reg = 0
+                nev += 1
+                if t_end - t <= 1e-14 * T:
+                    break
+                continue
+            y = sol.y[:, -1].copy()
+            break
+    return y, reg, nev
+
+
+def simulate_reference(coeffs: Coefficients, settings, y0: np.ndarray, dense: bool = False,
+                       max_step_fraction: float = 1.0 / 128):
+    """DOP853 counterpart of :func:`geardyn.integrators.simulate` (same result type)."""
+    from geardyn.integrators import SimulationResult
+
+    y = np.asarray(y0, dtype=float).copy()
+    reg = None
+    ntr, nrec = settings.transient_periods, settings.recorded_periods
+    poinc = np.full((nrec, 6), np.nan)
+    nev = 0
+    chunks: list | None = [] if dense else None
+    for per in range(ntr + nrec):
+        collect = chunks if (dense and per >= ntr) else None
+        y, reg, k = integrate_period(coeffs, y, per, settings.rtol, reg=reg, collect=collect,
+                                     max_step_fraction=max_step_fraction)
+        nev += k
+        if not np.all(np.abs(y) <= settings.divergence_threshold):
+            return SimulationResult(poinc[: max(0, per - ntr)], np.full(6, np.nan), True, per, nev,
+                                    period=coeffs.period, settings=settings)
+        if per >= ntr:
+            poinc[per - ntr] = y
+    tau = states = None
+    if dense and chunks:
+        tau = np.concatenate([t for t, _ in chunks])
+        states = np.concatenate([s for _, s in chunks])
+    return SimulationResult(poinc, y.copy(), False, -1, nev, tau, states, coeffs.period, settings)
