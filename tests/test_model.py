@@ -138,12 +138,17 @@ def test_schema_defaults_match_dataclasses():
     jsonschema.validate({}, schema)
     sections = {"parameters": KHVParameters(eps=1.3, k_c=3e8), "options": Options(),
                 "integration": SimulationSettings()}
+    # set from the design, not from the dynamics section: the mesh inputs and the pressure angle come
+    # from the pair, the stiffness form from the design's stiffness section (one source each)
+    derived = {"eps", "k_c", "pressure_angle_deg", "stiffness_form"}
     for name, obj in sections.items():
         props = schema["properties"][name]["properties"]
-        fields_ = {f.name for f in dataclasses.fields(obj)} - {"eps", "k_c"}
+        fields_ = {f.name for f in dataclasses.fields(obj)} - derived
         assert set(props) == fields_, name
         for key, spec in props.items():
             assert spec["description"]
+            if spec["default"] is None:  # null: taken from the pair (test_pair_derived_parameters)
+                continue
             want = getattr(obj, key)
             if isinstance(want, float):
                 assert spec["default"] == pytest.approx(want, rel=1e-9), key
@@ -153,3 +158,16 @@ def test_schema_defaults_match_dataclasses():
         jsonschema.validate({"parameters": {"zeta": -1}}, schema)
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate({"parameters": {"unknown": 1}}, schema)
+
+
+def test_pair_derived_parameters_equal_the_paper_constants():
+    from pathlib import Path
+
+    from geardyn import design, khv
+
+    spec = design.load(Path(__file__).resolve().parents[1] / "config" / "designs" / "li2013.yaml")
+    phys, opts, _ = khv.point_model(spec, {"x1": 0.5})
+    assert phys.r_bV == pytest.approx(model.R_BV_PAPER, rel=1e-12)  # m z1 cos(a) / 2 = 49.33 mm
+    assert phys.r_bH == pytest.approx(model.R_BH_PAPER, rel=1e-12)  # a cos(a) = 4.933 mm
+    assert phys.z_annulus == 33 and phys.pressure_angle_deg == 20.0
+    assert opts.stiffness_form == spec.stiffness.form

@@ -15,6 +15,7 @@ any other  a field of :class:`geardyn.model.KHVParameters` in SI units (e.g. ``K
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Mapping
 from typing import Any
 
@@ -31,7 +32,7 @@ CONTROLS: dict[str, tuple[str, str]] = {
     "speed": ("rpm", "input speed"),
 }
 
-_PARAM_FIELDS = {f.name for f in dataclasses.fields(KHVParameters)} - {"eps", "k_c"}
+_PARAM_FIELDS = {f.name for f in dataclasses.fields(KHVParameters)} - {"eps", "k_c", "pressure_angle_deg"}
 _OPTION_FIELDS = {f.name for f in dataclasses.fields(Options)}
 _SETTING_FIELDS = {f.name for f in dataclasses.fields(SimulationSettings)}
 
@@ -54,9 +55,19 @@ def point_model(
     """Physical parameters and options of ``design`` at the point given by ``overrides``."""
     overrides = dict(overrides or {})
     params, options, _ = _split(dynamics_section(design))
-    options.setdefault("stiffness_form", design.stiffness.form)
+    options["stiffness_form"] = design.stiffness.form  # one source: the design's stiffness section
     x1 = float(overrides.pop("x1", design.base.x1))
     mesh = design_mod.mesh_properties(design, x1)
+    pair = design.base
+    alpha = math.radians(pair.pressure_angle_deg)
+    # radii and the mesh-frequency tooth count follow the pair unless the design states them
+    if params.get("r_bV") is None:
+        params["r_bV"] = pair.module * 1e-3 * pair.z1 * math.cos(alpha) / 2.0
+    if params.get("r_bH") is None:
+        params["r_bH"] = pair.module * 1e-3 * (pair.z2 - pair.z1) / 2.0 * math.cos(alpha)
+    if params.get("z_annulus") is None:
+        params["z_annulus"] = pair.z2
+    params["pressure_angle_deg"] = pair.pressure_angle_deg
     for key, value in overrides.items():
         if key == "b":
             params["backlash"] = float(value) * B_C
@@ -71,6 +82,7 @@ def point_model(
         else:
             allowed = ", ".join(sorted(set(CONTROLS) | _PARAM_FIELDS))
             raise ValueError(f"unknown control parameter {key!r}; allowed: {allowed}")
+    params = {k: v for k, v in params.items() if v is not None}
     phys = KHVParameters(eps=mesh.contact_ratio, k_c=mesh.k_c, **params)
     return phys, Options(**options), mesh
 

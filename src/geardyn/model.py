@@ -87,6 +87,7 @@ class KHVParameters:
     z_annulus: int = 33
     input_speed_rpm: float = 525.0
     omega_bar: float = 0.9
+    pressure_angle_deg: float = 20.0  # of the pair; enters M_H through a = r_bH / cos(alpha)
 
     def stiffness(self, form: StiffnessForm = "corrected") -> ParabolicStiffness:
         """Parabolic k(t) of Eq. (9) with k' = k_C / 1.5 (Sec. 3.3)."""
@@ -246,7 +247,8 @@ def mesh_omega(params: KHVParameters) -> float:
 def physical_masses(params: KHVParameters) -> dict[str, float]:
     """Equivalent masses of Eq. (2) in kg (M_H includes the planet's translation on the crank)."""
     M_D = params.I_D / params.r_bH**2
-    M_H = (params.I_H + params.m_V * params.r_bH**2 / math.cos(_ALPHA) ** 2) / params.r_bH**2
+    cos_a = math.cos(math.radians(params.pressure_angle_deg))
+    M_H = (params.I_H + params.m_V * params.r_bH**2 / cos_a**2) / params.r_bH**2
     M_V = params.I_V / params.r_bV**2
     M_L = params.I_L / params.r_bV**2
     return {"M_D": M_D, "M_H": M_H, "M_V": M_V, "M_L": M_L, "M_VH": M_V * M_H / (M_V + M_H)}
