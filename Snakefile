@@ -28,6 +28,7 @@ include: "workflow/rules/stiffness.smk"
 include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/calibration.smk"
 include: "workflow/rules/yue2014.smk"
+include: "workflow/rules/benchmarks.smk"
 
 
 rule all:
@@ -38,3 +39,4 @@ rule all:
         SWEEP_TARGETS,
         CALIBRATION_TARGETS,
         YUE2014_TARGETS,
+        BENCHMARK_TARGETS,

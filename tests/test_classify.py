@@ -28,7 +28,9 @@ def test_bands_and_paper_sequence():
     x1 = np.array([0.5, 0.566, 0.58, 0.7, 0.761, 0.8])
     np.testing.assert_array_equal(calibrate.paper_label(x1), [1, 0, 5, 0, 6, 0])
     assert calibrate.score(x1, np.array([1, 0, 5, 0, 6, 0])) == 1.0
-    assert calibrate.score(x1, np.array([1, 1, 1, 1, 1, 1])) == pytest.approx(1 / 6)
+    # balanced over the regime types P1, P5, P6, not periodic: all-P1 gets only P1 right
+    assert calibrate.score(x1, np.array([1, 1, 1, 1, 1, 1])) == pytest.approx(1 / 4)
+    assert calibrate.score(x1, np.array([0, 0, 0, 0, 0, 0])) == pytest.approx(1 / 4)
 
 
 def test_spectrum_of_a_sine_shows_its_amplitude_and_frequency():
@@ -40,3 +42,21 @@ def test_spectrum_of_a_sine_shows_its_amplitude_and_frequency():
     assert a.max() == pytest.approx(2.0, rel=0.02)  # Hann coherent-gain corrected
     near = (f > 0.4) & (f < 0.56)
     assert f[near][np.argmax(a[near])] == pytest.approx(0.48, abs=0.01)
+
+
+def test_converging_period_two_counts_as_period_two():
+    # a period-2 orbit plus a transient decaying 2 % per period (the weakly damped shaft mode)
+    k = np.arange(100)
+    cycle = np.where(k % 2 == 0, 1.0, -1.0)
+    transient = 0.3 * 0.98**k * np.cos(0.9 * k)
+    pts = np.column_stack([cycle + transient, 0.5 * cycle - transient])
+    assert classify.poincare_period(pts, converging=False) == 0
+    assert classify.poincare_period(pts) == 2
+
+
+def test_chaotic_logistic_map_is_not_periodic():
+    x = np.empty(200)
+    x[0] = 0.3
+    for i in range(199):
+        x[i + 1] = 4.0 * x[i] * (1 - x[i])
+    assert classify.poincare_period(x[100:]) == 0

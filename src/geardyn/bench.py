@@ -281,8 +281,12 @@ def main(argv: list[str] | None = None) -> int:
     print(md)
     if a.out is not None:
         a.out.mkdir(parents=True, exist_ok=True)
-        to_dataset(out).to_netcdf(a.out / "work_precision.nc")
-        (a.out / "work_precision.md").write_text(md)
+        from geardyn import io
+
+        io.write_netcdf(to_dataset(out), a.out / "work_precision.nc",
+                        io.provenance(title="Work-precision study of the KHV integrators", paper="li2013",
+                                      model_variant="benchmark"))
+        io.write_text(md, a.out / "work_precision.md")
         figure(out, a.out / "work_precision.png")
         print(f"wrote {a.out}/work_precision.nc, .md, .png")
     return 0
