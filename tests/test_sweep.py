@@ -17,7 +17,7 @@ def li2013():
 
 
 def _spec(**changes):
-    base = dict(design="li2013", parameter="x1", start=0.45, stop=0.80, num=7, fixed={"b": 2.0, "e": 5.0},
+    base = dict(designs=["li2013"], parameter="x1", start=0.45, stop=0.80, num=7, fixed={"b": 2.0, "e": 5.0},
                 cases=[{}], chunks=1, integration={"transient_periods": 30, "recorded_periods": 8,
                                                    "steps_per_period": 64})
     base.update(changes)

@@ -234,24 +234,31 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
     for section in ("sweeps", "points", "calibration"):
         for name, spec in filled.get(section, {}).items():
             where = f"config: {section}.{name}"
-            if spec["design"] not in designs:
-                raise ConfigError(f"{where}.design = {spec['design']!r} is not allowed: one of "
-                                  + ", ".join(repr(d) for d in designs))
-            raw = designs[spec["design"]]
-            overrides = [("fixed", spec.get("fixed", {}))] + [
-                (f"cases[{i}]", case) for i, case in enumerate(spec.get("cases", []))]
-            if section == "sweeps":
-                if spec["num"] > 1 and not spec["stop"] > spec["start"]:
-                    raise ConfigError(f"{where}: stop = {spec['stop']} must be above start = {spec['start']}")
-                overrides.append(("start", {spec["parameter"]: spec["start"]}))
-                overrides.append(("stop", {spec["parameter"]: spec["stop"]}))
-            for label, values in overrides:
-                for key, value in values.items():
-                    if key in _NON_NEGATIVE and value < 0:
-                        raise ConfigError(f"{where}.{label}: {key} = {value} is not allowed: "
-                                          f"number >= 0 ({_NON_NEGATIVE[key]})")
-                    if key == "x1" and raw["kind"] == "khv":
-                        lo, hi = raw["admissible"]["x1_min"], raw["admissible"]["x1_max"]
-                        if not lo - 1e-12 <= value <= hi + 1e-12:
-                            raise ConfigError(f"{where}.{label}: x1 = {value} is not allowed: number >= {lo} and "
-                                              f"<= {hi} (the admissible segment M-N of design {raw['name']})")
+            names = spec["designs"] if "designs" in spec else [spec["design"]]
+            for design_name in names:
+                if design_name not in designs or designs[design_name]["kind"] != "khv":
+                    raise ConfigError(f"{where}: design {design_name!r} is not allowed: one of "
+                                      + ", ".join(repr(d) for d, r in designs.items() if r["kind"] == "khv"))
+            for design_name in names:
+                _check_overrides(section, spec, designs[design_name], where)
+
+
+def _check_overrides(section: str, spec: dict[str, Any], raw: dict[str, Any], where: str) -> None:
+    """Overrides of one run against one design: b and e not negative, x1 inside the segment M-N."""
+    overrides = [("fixed", spec.get("fixed", {}))] + [
+        (f"cases[{i}]", case) for i, case in enumerate(spec.get("cases", []))]
+    if section == "sweeps":
+        if spec["num"] > 1 and not spec["stop"] > spec["start"]:
+            raise ConfigError(f"{where}: stop = {spec['stop']} must be above start = {spec['start']}")
+        overrides.append(("start", {spec["parameter"]: spec["start"]}))
+        overrides.append(("stop", {spec["parameter"]: spec["stop"]}))
+    for label, values in overrides:
+        for key, value in values.items():
+            if key in _NON_NEGATIVE and value < 0:
+                raise ConfigError(f"{where}.{label}: {key} = {value} is not allowed: "
+                                  f"number >= 0 ({_NON_NEGATIVE[key]})")
+            if key == "x1" and raw["kind"] == "khv":
+                lo, hi = raw["admissible"]["x1_min"], raw["admissible"]["x1_max"]
+                if not lo - 1e-12 <= value <= hi + 1e-12:
+                    raise ConfigError(f"{where}.{label}: x1 = {value} is not allowed: number >= {lo} and "
+                                      f"<= {hi} (the admissible segment M-N of design {raw['name']})")

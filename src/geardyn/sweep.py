@@ -56,10 +56,12 @@ class SweepSpec:
     integration: tuple[tuple[str, Any], ...] = ()
 
     @classmethod
-    def from_config(cls, name: str, spec: Mapping[str, Any]) -> SweepSpec:
+    def from_config(cls, name: str, spec: Mapping[str, Any], design: str | None = None) -> SweepSpec:
+        """The sweep ``name`` of ``config["sweeps"]`` for one of its designs (default: the first)."""
         cases = tuple(tuple(sorted(c.items())) for c in spec.get("cases") or [{}])
+        design = design or (spec["designs"][0] if "designs" in spec else spec["design"])
         return cls(
-            name=name, design=spec["design"], parameter=spec["parameter"],
+            name=name, design=design, parameter=spec["parameter"],
             start=float(spec["start"]), stop=float(spec["stop"]), num=int(spec["num"]),
             cases=cases, fixed=tuple(sorted(spec.get("fixed", {}).items())),
             chunks=int(spec.get("chunks", 1)), continuation=spec.get("continuation", "none"),

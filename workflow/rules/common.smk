@@ -9,7 +9,7 @@ KHV_DESIGNS = designs_of_kind("khv")
 
 
 wildcard_constraints:
-    design="|".join(KHV_DESIGNS) or "no-khv-design",
+    design="|".join(sorted(KHV_DESIGNS, key=len, reverse=True)) or "no-khv-design",
 
 
 def design_file(wildcards):
@@ -43,17 +43,26 @@ def points_spec(wildcards):
 
 
 def sweep_design_file(wildcards):
-    return config["designs"][config["sweeps"][wildcards.sweep]["design"]]
+    return config["designs"][wildcards.design]
 
 
 def points_design_file(wildcards):
-    return config["designs"][config["points"][wildcards.points]["design"]]
+    return config["designs"][wildcards.design]
+
+
+def runs_for(section, pattern):
+    """``pattern`` for every (design, name) of a config section whose entries list their designs."""
+    return [
+        pattern.format(design=design, name=name)
+        for name, spec in config[section].items()
+        for design in spec["designs"]
+    ]
 
 
 def sweep_chunk_files(wildcards):
     from geardyn.sweep import SweepSpec
 
-    spec = SweepSpec.from_config(wildcards.sweep, config["sweeps"][wildcards.sweep])
+    spec = SweepSpec.from_config(wildcards.sweep, config["sweeps"][wildcards.sweep], wildcards.design)
     return expand(
         "results/{design}/sweeps/{sweep}/chunk_{chunk}.nc",
         design=wildcards.design,

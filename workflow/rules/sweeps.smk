@@ -74,13 +74,9 @@ rule point_figure:
         "../scripts/point_figure.py"
 
 
-SWEEP_TARGETS = [
-    f"results/{spec['design']}/{kind}/{name}.{ext}"
-    for section, kind in (("sweeps", "sweeps"), ("points", "points"))
-    for name, spec in config[section].items()
-    for ext in ("nc",)
-] + [
-    f"results/{spec['design']}/figures/{name}.png"
-    for section in ("sweeps", "points")
-    for name, spec in config[section].items()
-]
+SWEEP_TARGETS = (
+    runs_for("sweeps", "results/{design}/sweeps/{name}.nc")
+    + runs_for("sweeps", "results/{design}/figures/{name}.png")
+    + runs_for("points", "results/{design}/points/{name}.nc")
+    + runs_for("points", "results/{design}/figures/{name}.png")
+)

@@ -4,7 +4,7 @@ from geardyn import design, io, khv, logs, sweep
 from geardyn.integrators import warm_up
 
 log = logs.to_file(snakemake.log[0])
-spec = sweep.SweepSpec.from_config(snakemake.wildcards.sweep, snakemake.params.sweep)
+spec = sweep.SweepSpec.from_config(snakemake.wildcards.sweep, snakemake.params.sweep, snakemake.wildcards.design)
 model = design.load(snakemake.input.design)
 warm_up()  # load the compiled kernels from numba's cache before timing starts
 chunk = int(snakemake.wildcards.chunk)
