@@ -54,7 +54,11 @@ def plot_points(ds: xr.Dataset, title: str, fmax: float = 3.0) -> Figure:
         ax_t.set_xlabel(_LABELS["x_vh"])
         ax_t.set_ylabel(_LABELS["v_vh"])
         ax_t.set_title(f"({chr(97 + i)}) {case}: trajectory", fontsize=9, loc="left")
+        # the map on the trajectory's axes: a period-1 point is one dot, not a cloud of round-off
+        ax_p.plot(d["x_vh"], d["v_vh"], lw=0.3, color="0.85")
         ax_p.plot(d["poincare_x_vh"], d["poincare_v_vh"], ".", ms=3, color="k")
+        ax_p.set_xlim(ax_t.get_xlim())
+        ax_p.set_ylim(ax_t.get_ylim())
         ax_p.set_xlabel(_LABELS["x_vh"])
         ax_p.set_title("Poincare map", fontsize=9, loc="left")
         f = d["frequency"].values
