@@ -28,13 +28,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from geardyn.geometry import involute as inv
+
 from .design import PlusDesign
-
-
-def inv(a: ArrayLike) -> NDArray:
-    """Involute function tan(a) - a."""
-    a = np.asarray(a, dtype=float)
-    return np.tan(a) - a
 
 
 @dataclass(frozen=True)
