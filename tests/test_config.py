@@ -50,7 +50,7 @@ def test_every_schema_key_has_description_and_defaults_where_optional():
                     assert "default" in sub, f"{path}.{name} is optional but has no default"
                 walk(sub, f"{path}.{name}")
 
-    for name in ("khv.schema.json", "config.schema.json"):
+    for name in ("khv.schema.json", "config.schema.json", "plus_planetary.schema.json", "dynamics.schema.json"):
         walk(config.schema(name), name)
 
 
