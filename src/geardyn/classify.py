@@ -1,16 +1,25 @@
-"""Labels for steady motions from their Poincaré points (period-n, or not periodic).
+"""Labels for steady motions: period-n, quasi-periodic, chaotic, diverged, undetermined.
 
 A sequence of Poincaré points p_0, p_1, ... (one per mesh period) is period-n when
 p_{k+n} = p_k for all k, to a tolerance scaled to the attractor size and kept above the
 integration error.  The smallest such n (up to ``max_n``) is the period.
+
+Points that are not periodic are told apart by the largest Lyapunov exponent (tangent vector
+integrated alongside the orbit, :mod:`geardyn.tangent`), cross-checked by the 0-1 test for chaos
+(Gottwald & Melbourne 2009, correlation method, on the stroboscopic samples) and by the spectral
+flatness of the stroboscopic samples (discrete lines vs broadband).  :func:`classify_point` gives
+the decision rules; :func:`analyse_point` integrates one point and classifies it.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass, fields
+
 import numpy as np
 
-#: Label codes stored in cubes (``flag_values``/``flag_meanings``).
-LABELS = {"diverged": -2, "undetermined": -1, "not_periodic": 0}
+#: Label codes stored in cubes (``flag_values``/``flag_meanings``); n >= 1 is period-n.
+#: ``not_periodic`` is what the Poincaré test alone says (QP or chaos, unresolved).
+LABELS = {"chaotic": -4, "quasi_periodic": -3, "diverged": -2, "undetermined": -1, "not_periodic": 0}
 
 
 def _return_distances(p: np.ndarray, n: int) -> np.ndarray:
@@ -90,6 +99,255 @@ def label_name(n: int) -> str:
         return "diverged"
     if n == LABELS["undetermined"]:
         return "undetermined"
+    if n == LABELS["chaotic"]:
+        return "chaotic"
+    if n == LABELS["quasi_periodic"]:
+        return "quasi-periodic"
     if n == 0:
         return "not periodic (QP or chaos)"
     return f"P{n}"
+
+
+def short_name(n: int) -> str:
+    """Compact label: P1, P5, QP, chaos, div, undet."""
+    return {LABELS["diverged"]: "div", LABELS["undetermined"]: "undet", LABELS["chaotic"]: "chaos",
+            LABELS["quasi_periodic"]: "QP", 0: "NP"}.get(int(n), f"P{int(n)}")
+
+
+def flag_attrs(max_n: int = 12) -> dict:
+    """CF ``flag_values``/``flag_meanings`` of the label codes (period-n for n = 1..max_n)."""
+    values = [LABELS[k] for k in ("chaotic", "quasi_periodic", "diverged", "undetermined", "not_periodic")]
+    meanings = ["chaotic", "quasi_periodic", "diverged", "undetermined", "not_periodic"]
+    values += list(range(1, max_n + 1))
+    meanings += [f"period_{n}" for n in range(1, max_n + 1)]
+    return {"flag_values": np.array(values, np.int16), "flag_meanings": " ".join(meanings)}
+
+
+# ----------------------------------------------------------------------------------------
+# indicators
+# ----------------------------------------------------------------------------------------
+
+
+def lyapunov_estimate(growth: np.ndarray, period: float, skip: int | None = None,
+                      blocks: int = 8) -> tuple[float, float]:
+    """Largest Lyapunov exponent (per unit dimensionless time) and its uncertainty.
+
+    ``growth[k]``: log growth of the renormalised tangent vector over mesh period k.  The first
+    ``skip`` periods (default max(5, 10 %)) are left out while the vector aligns with the most
+    unstable direction.  Uncertainty: the larger of the batch-means standard error (``blocks``
+    contiguous blocks) and half the difference between the estimates of the two halves (the
+    convergence of the running estimate).  (inf, 0) when the growth is infinite (divergence).
+    """
+    g = np.asarray(growth, dtype=float)
+    if g.size == 0 or not np.all(np.isfinite(g)):
+        return (float("nan"), float("nan")) if g.size == 0 else (float("inf"), 0.0)
+    skip = max(5, g.size // 10) if skip is None else skip
+    g = g[skip:] if g.size > skip + 4 else g
+    lam = float(g.mean()) / period
+    nb = max(2, min(blocks, g.size // 4))
+    means = np.array([b.mean() for b in np.array_split(g, nb)])
+    se = float(means.std(ddof=1)) / np.sqrt(nb) / period
+    half = g.size // 2
+    drift = abs(float(g[:half].mean()) - float(g[half:].mean())) / period if half > 0 else 0.0
+    return lam, max(se, 0.5 * drift)
+
+
+def zero_one_test(phi: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
+    """K of the 0-1 test for chaos (Gottwald & Melbourne, SIAM J. Appl. Dyn. Syst. 8 (2009) 129,
+    correlation method, mean removed): ~0 for regular motion, ~1 for chaos.
+
+    ``phi``: one observable at stroboscopic times (e.g. X_VH at the Poincaré section).  K is the
+    median over ``n_c`` fixed frequencies c in (pi/5, 4 pi/5) (fixed seed: reproducible) of the
+    correlation of the mean-square displacement D_c(n), n <= N/10, with n.  A constant series
+    (period-1) gives 0.
+    """
+    x = np.asarray(phi, dtype=float)
+    x = x[np.isfinite(x)]
+    n_pts = x.size
+    if n_pts < 20:
+        return float("nan")
+    x = x - x.mean()
+    if float(np.max(np.abs(x))) <= 1e-12 * max(1.0, float(np.max(np.abs(phi)))):
+        return 0.0
+    ncut = max(3, n_pts // 10)
+    cs = np.random.default_rng(seed).uniform(np.pi / 5, 4 * np.pi / 5, n_c)
+    j = np.arange(1, n_pts + 1)
+    ns = np.arange(1, ncut + 1)
+    arg = np.outer(cs, j)
+    p = np.cumsum(x * np.cos(arg), axis=1)
+    q = np.cumsum(x * np.sin(arg), axis=1)
+    d = np.stack([np.mean((p[:, n:] - p[:, :-n]) ** 2 + (q[:, n:] - q[:, :-n]) ** 2, axis=1) for n in ns], axis=1)
+    dn = d - d.mean(axis=1, keepdims=True)
+    nn = ns - ns.mean()
+    den = np.sqrt((dn**2).sum(axis=1) * (nn**2).sum())
+    ks = np.where(den > 0, (dn @ nn) / np.where(den > 0, den, 1.0), 0.0)
+    return float(np.median(ks))
+
+
+def spectral_flatness(phi: np.ndarray) -> float:
+    """Wiener entropy of the stroboscopic series: geometric / arithmetic mean of the Hann-windowed
+    power spectrum (DC left out).  About 0.56 for white noise, below 1e-2 for a few discrete lines
+    (quasi-periodic or periodic samples); 0 for a constant series."""
+    x = np.asarray(phi, dtype=float)
+    x = x[np.isfinite(x)]
+    if x.size < 16:
+        return float("nan")
+    x = x - x.mean()
+    if float(np.max(np.abs(x))) == 0.0:
+        return 0.0
+    pw = np.abs(np.fft.rfft(x * np.hanning(x.size)))[1:] ** 2
+    pw = pw + 1e-30 * pw.max()
+    return float(np.exp(np.mean(np.log(pw))) / np.mean(pw))
+
+
+# ----------------------------------------------------------------------------------------
+# decision
+# ----------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ClassifierSettings:
+    """Thresholds of :func:`classify_point` (exponents per unit dimensionless time tau = w_n t).
+
+    max_n: largest period tested.  rtol, atol: return-distance tolerance rtol * attractor size +
+    atol * max(|p|, 1).  error_floor: the tolerance is never below this (integration error of the
+    Poincaré points, e.g. 7.5e-8 at 512 steps and 1.9e-5 at 128, docs/model.md Sec. 6; 10x margin by
+    default via ``error_margin``).  lam_tol: |lambda| below this is "zero" (quasi-periodic); the
+    least-damped mode of the KHV model decays at about 2.5e-3, chaos in the model shows 3e-2.
+    k_chaos: 0-1 statistic above which the series looks chaotic.  flat_broadband: spectral
+    flatness above which the samples look broadband.  tangent_periods: mesh periods the tangent
+    vector is carried (the last ones of the run).
+    """
+
+    max_n: int = 12
+    rtol: float = 1e-4
+    atol: float = 1e-6
+    error_floor: float = 7.5e-8
+    error_margin: float = 10.0
+    lam_tol: float = 1e-3
+    k_chaos: float = 0.5
+    flat_broadband: float = 0.05
+    tangent_periods: int = 400
+
+    @classmethod
+    def from_mapping(cls, spec: dict | None) -> ClassifierSettings:
+        spec = dict(spec or {})
+        names = {f.name for f in fields(cls)}
+        unknown = set(spec) - names
+        if unknown:
+            raise ValueError(f"unknown classifier settings {sorted(unknown)}; allowed: {sorted(names)}")
+        return cls(**spec)
+
+
+@dataclass(frozen=True)
+class Classification:
+    """Result of :func:`classify_point`.
+
+    label: code of :data:`LABELS` or n >= 1 (period-n).  period: n (0 when not periodic).
+    lyapunov, lyapunov_sigma: largest exponent and its uncertainty (per unit tau).
+    k01: 0-1 statistic; flatness: spectral flatness of the stroboscopic X_VH.
+    crosscheck: 1 when the 0-1 test and the spectrum both agree with the label, 0 when only one
+    does, -1 when not applicable (periodic by the return test, diverged).
+    reason: short text.
+    """
+
+    label: int
+    period: int
+    lyapunov: float
+    lyapunov_sigma: float
+    k01: float
+    flatness: float
+    crosscheck: int
+    reason: str
+
+
+def _tolerance(p: np.ndarray, cs: ClassifierSettings) -> float:
+    size = float(np.max(np.ptp(p, axis=0)))
+    scale = max(float(np.max(np.abs(p))), 1.0)
+    return max(cs.atol * scale + cs.rtol * size, cs.error_margin * cs.error_floor)
+
+
+def classify_point(poincare: np.ndarray, growth: np.ndarray, period: float, diverged: bool = False,
+                   settings: ClassifierSettings = ClassifierSettings(),
+                   samples: np.ndarray | None = None) -> Classification:
+    """Label one point from its Poincaré points (n, 6) and its tangent growth per period.
+
+    ``samples``: a longer stroboscopic series of X_VH for the 0-1 test and the spectrum (default:
+    column 1 of ``poincare``).  The 0-1 test needs about 400 samples to separate a quasi-periodic
+    circle (K < 0.1) from chaos (K > 0.99); with 100 it gives K = 0.4-0.9 for quasi-periodic
+    samples (measured, tests/test_classify.py), hence the default of 400 tangent periods.
+
+    Rules, in order:
+
+    1. diverged -> ``diverged``.
+    2. fewer than 3 points -> ``undetermined``.
+    3. period-n: the smallest n <= max_n with max_k |p_{k+n} - p_k| <= tol (tolerance scaled to the
+       attractor, above the integration error) -> ``P n``.
+    4. lambda > lam_tol + 2 sigma -> ``chaotic`` if the 0-1 test (K > k_chaos) or the spectrum
+       (flatness > flat_broadband) agrees, else ``undetermined``.
+    5. lambda < -(lam_tol + 2 sigma): the orbit is attracted to a periodic orbit not yet reached
+       (the slowly decaying shaft mode) -> ``P n`` if the return distance for some n <= max_n falls
+       geometrically (:func:`poincare_period` ``converging`` rule), else ``undetermined``
+       (transient not settled, or a period above max_n).
+    6. |lambda| <= lam_tol with sigma <= lam_tol -> ``quasi_periodic`` if the 0-1 test (K < k_chaos)
+       or the spectrum (flatness <= flat_broadband) agrees, else ``undetermined``.
+    7. anything else (exponent not resolved) -> ``undetermined``.
+    """
+    nan = float("nan")
+    if diverged:
+        lam, sig = lyapunov_estimate(growth, period) if len(growth) else (float("inf"), 0.0)
+        return Classification(LABELS["diverged"], 0, lam, sig, nan, nan, -1, "diverged")
+    p = np.asarray(poincare, dtype=float)
+    if p.ndim == 1:
+        p = p[:, None]
+    p = p[~np.isnan(p).any(axis=1)]
+    lam, sig = lyapunov_estimate(growth, period)
+    if p.shape[0] < 3:
+        return Classification(LABELS["undetermined"], 0, lam, sig, nan, nan, -1, "too few points")
+    tol = _tolerance(p, settings)
+    for n in range(1, min(settings.max_n, p.shape[0] - 1) + 1):
+        if np.max(_return_distances(p, n)) <= tol:
+            return Classification(n, n, lam, sig, nan, nan, -1, f"returns within {tol:.2g} after {n}")
+    phi = p[:, 1] if samples is None else np.asarray(samples, dtype=float)  # X_VH at the section
+    k01 = zero_one_test(phi)
+    flat = spectral_flatness(phi)
+    k_chaos = bool(k01 > settings.k_chaos)
+    broad = bool(flat > settings.flat_broadband)
+    if not np.isfinite(lam):
+        return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, -1, "no exponent")
+    if lam > settings.lam_tol + 2 * sig:
+        agree = int(k_chaos) + int(broad)
+        if agree:
+            return Classification(LABELS["chaotic"], 0, lam, sig, k01, flat, int(agree == 2), "positive exponent")
+        return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, 0,
+                              "positive exponent, but 0-1 test and spectrum say regular")
+    if lam < -(settings.lam_tol + 2 * sig):
+        n = poincare_period(p, max_n=settings.max_n, rtol=settings.rtol, atol=settings.atol, converging=True)
+        if n > 0:
+            return Classification(n, n, lam, sig, k01, flat, -1, f"negative exponent, converging to period {n}")
+        return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, -1,
+                              "negative exponent, transient not settled (or period > max_n)")
+    if abs(lam) <= settings.lam_tol and sig <= settings.lam_tol:
+        agree = int(not k_chaos) + int(not broad)
+        if agree:
+            return Classification(LABELS["quasi_periodic"], 0, lam, sig, k01, flat, int(agree == 2),
+                                  "zero exponent")
+        return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, 0,
+                              "zero exponent, but 0-1 test and spectrum say chaotic")
+    return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, -1, "exponent not resolved")
+
+
+def analyse_point(coeffs, settings, classifier: ClassifierSettings = ClassifierSettings(),
+                  x0: np.ndarray | None = None):
+    """Integrate one point with its tangent vector and classify it: (TangentResult, Classification)."""
+    from geardyn.tangent import simulate_tangent
+
+    res = simulate_tangent(coeffs, settings, x0=x0, tangent_periods=classifier.tangent_periods)
+    return res, classify_point(res.poincare, res.growth, res.period, res.diverged, classifier, samples=res.strobe)
+
+
+def labels_of_cube(cube) -> np.ndarray:
+    """The cube's stored labels (``label``) if present, else :func:`periods_of_cube`."""
+    if "label" in cube:
+        return cube["label"].values.astype(np.int16)
+    return periods_of_cube(cube)

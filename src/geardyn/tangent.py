@@ -96,10 +96,11 @@ def _rk4v_sub(c, poly, seg, y, w, s0, dt, yout, wout):
 
 @njit(cache=True)
 def _run_tangent(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, n_tan, event, threshold,
-                 poinc, growth, yfinal):
+                 poinc, growth, strobe, yfinal):
     """Like integrators._run (no dense output), plus a tangent vector over the last n_tan periods.
 
-    growth[k] = log |w| at the end of tangent period k (w renormalised to 1 after each period).
+    growth[k] = log |w| at the end of tangent period k (w renormalised to 1 after each period);
+    strobe[k] = x2 (X_VH) at the end of tangent period k (stroboscopic samples for the 0-1 test).
     Returns (status, last_period, n_events).
     """
     c = (c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9], c[10], c[11], c[12], c[13],
@@ -195,6 +196,7 @@ def _run_tangent(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_re
                 nrm += w[i] * w[i]
             nrm = math.sqrt(nrm)
             growth[per - tan_start] = math.log(nrm) if nrm > 0.0 else -np.inf
+            strobe[per - tan_start] = y[1]
             for i in range(6):
                 w[i] /= nrm
         if per >= n_trans:
@@ -236,7 +238,8 @@ class TangentResult:
     """Orbit (as :class:`integrators.SimulationResult` without dense output) plus tangent growth.
 
     growth: (n,) log of the tangent vector's growth over each of the last ``n_tan`` mesh periods
-    (fewer after a divergence).  period: T in dimensionless time.
+    (fewer after a divergence); strobe: (n,) X_VH / b_c at the end of those periods.
+    period: T in dimensionless time.
     """
 
     poincare: np.ndarray
@@ -245,6 +248,7 @@ class TangentResult:
     diverged_period: int
     n_events: int
     growth: np.ndarray
+    strobe: np.ndarray
     period: float
 
 
@@ -264,12 +268,13 @@ def simulate_tangent(coeffs: Coefficients, settings: SimulationSettings, x0: np.
     n_tan = max(0, min(n_tan, n_trans + n_rec))
     poinc = np.full((n_rec, 6), np.nan)
     growth = np.full(n_tan, np.nan)
+    strobe = np.full(n_tan, np.nan)
     final = np.empty(6)
     status, per, nev = _run_tangent(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, n_tan,
                                     settings.integrator == "rk4_event", settings.divergence_threshold,
-                                    poinc, growth, final)
+                                    poinc, growth, strobe, final)
     diverged = status == 1
     npts = max(0, per - n_trans) if diverged else n_rec
     ngrowth = max(0, per - (n_trans + n_rec - n_tan)) if diverged else n_tan
     return TangentResult(poinc[:npts], final, diverged, int(per) if diverged else -1, int(nev),
-                         growth[:ngrowth], coeffs.period)
+                         growth[:ngrowth], strobe[:ngrowth], coeffs.period)
