@@ -13,6 +13,7 @@ the decision rules; :func:`analyse_point` integrates one point and classifies it
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, fields
 
 import numpy as np
@@ -216,7 +217,8 @@ class ClassifierSettings:
     least-damped mode of the KHV model decays at about 2.5e-3, chaos in the model shows 3e-2.
     k_chaos: 0-1 statistic above which the series looks chaotic.  flat_broadband: spectral
     flatness above which the samples look broadband.  tangent_periods: mesh periods the tangent
-    vector is carried (the last ones of the run).
+    vector is carried (the last ones of the run).  separation: the points of a period-n cycle must
+    differ by more than separation * tol (return distances for m < n).
     """
 
     max_n: int = 12
@@ -228,6 +230,7 @@ class ClassifierSettings:
     k_chaos: float = 0.5
     flat_broadband: float = 0.05
     tangent_periods: int = 400
+    separation: float = 10.0
 
     @classmethod
     def from_mapping(cls, spec: dict | None) -> ClassifierSettings:
@@ -267,6 +270,23 @@ def _tolerance(p: np.ndarray, cs: ClassifierSettings) -> float:
     return max(cs.atol * scale + cs.rtol * size, cs.error_margin * cs.error_floor)
 
 
+def _converging_period(p: np.ndarray, rate: float, max_n: int, tol: float) -> int:
+    """Smallest n whose return distance decays like the exponent says (no floor): the last quarter's
+    maximum is below the first quarter's times sqrt(exp(rate * span)), i.e. at least half the decay in
+    log terms that the Lyapunov exponent (``rate`` = lambda T per period, < 0) predicts, or below tol.
+    A period that is not a multiple of the true one leaves a constant floor (the cycle's spread)."""
+    for n in range(1, max_n + 1):
+        d = _return_distances(p, n)
+        if d.size < 8:
+            return 0
+        q = np.array_split(d, 4)
+        first, last = float(np.max(q[0])), float(np.max(q[-1]))
+        span = d.size - 0.5 * (q[0].size + q[-1].size)
+        if last <= tol or last <= first * math.exp(0.5 * rate * span):
+            return n
+    return 0
+
+
 def classify_point(poincare: np.ndarray, growth: np.ndarray, period: float, diverged: bool = False,
                    settings: ClassifierSettings = ClassifierSettings(),
                    samples: np.ndarray | None = None) -> Classification:
@@ -282,12 +302,13 @@ def classify_point(poincare: np.ndarray, growth: np.ndarray, period: float, dive
     1. diverged -> ``diverged``.
     2. fewer than 3 points -> ``undetermined``.
     3. period-n: the smallest n <= max_n with max_k |p_{k+n} - p_k| <= tol (tolerance scaled to the
-       attractor, above the integration error) -> ``P n``.
+       attractor, above the integration error) and max_k |p_{k+m} - p_k| > separation * tol for every
+       m < n (distinct cycle points) -> ``P n``.
     4. lambda > lam_tol + 2 sigma -> ``chaotic`` if the 0-1 test (K > k_chaos) or the spectrum
        (flatness > flat_broadband) agrees, else ``undetermined``.
     5. lambda < -(lam_tol + 2 sigma): the orbit is attracted to a periodic orbit not yet reached
-       (the slowly decaying shaft mode) -> ``P n`` if the return distance for some n <= max_n falls
-       geometrically (:func:`poincare_period` ``converging`` rule), else ``undetermined``
+       (the slowly decaying shaft mode) -> ``P n`` for the smallest n <= max_n whose return distance
+       decays at (at least half) the rate the exponent predicts, with no floor; else ``undetermined``
        (transient not settled, or a period above max_n).
     6. |lambda| <= lam_tol with sigma <= lam_tol -> ``quasi_periodic`` if the 0-1 test (K < k_chaos)
        or the spectrum (flatness <= flat_broadband) agrees, else ``undetermined``.
@@ -305,9 +326,14 @@ def classify_point(poincare: np.ndarray, growth: np.ndarray, period: float, dive
     if p.shape[0] < 3:
         return Classification(LABELS["undetermined"], 0, lam, sig, nan, nan, -1, "too few points")
     tol = _tolerance(p, settings)
+    dmax = [np.inf]
     for n in range(1, min(settings.max_n, p.shape[0] - 1) + 1):
-        if np.max(_return_distances(p, n)) <= tol:
+        dn = float(np.max(_return_distances(p, n)))
+        # the n points of a period-n cycle must be distinct well above the tolerance: a decaying
+        # transient rotating by about 1/n per period returns closely after n periods too
+        if dn <= tol and min(dmax[1:], default=np.inf) > settings.separation * tol:
             return Classification(n, n, lam, sig, nan, nan, -1, f"returns within {tol:.2g} after {n}")
+        dmax.append(dn)
     phi = p[:, 1] if samples is None else np.asarray(samples, dtype=float)  # X_VH at the section
     k01 = zero_one_test(phi)
     flat = spectral_flatness(phi)
@@ -322,7 +348,7 @@ def classify_point(poincare: np.ndarray, growth: np.ndarray, period: float, dive
         return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, 0,
                               "positive exponent, but 0-1 test and spectrum say regular")
     if lam < -(settings.lam_tol + 2 * sig):
-        n = poincare_period(p, max_n=settings.max_n, rtol=settings.rtol, atol=settings.atol, converging=True)
+        n = _converging_period(p, lam * period, settings.max_n, tol)
         if n > 0:
             return Classification(n, n, lam, sig, k01, flat, -1, f"negative exponent, converging to period {n}")
         return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, -1,
