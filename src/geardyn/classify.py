@@ -270,6 +270,22 @@ def _tolerance(p: np.ndarray, cs: ClassifierSettings) -> float:
     return max(cs.atol * scale + cs.rtol * size, cs.error_margin * cs.error_floor)
 
 
+def strict_period(p: np.ndarray, settings: ClassifierSettings = ClassifierSettings()) -> int:
+    """Rule 3 of :func:`classify_point`: the smallest n <= max_n with every return distance after n
+    periods within the tolerance and the n cycle points distinct (> separation * tol); 0 if none.
+    ``p``: (n_points, n_states) without NaN rows."""
+    tol = _tolerance(p, settings)
+    dmax: list[float] = []
+    for n in range(1, min(settings.max_n, p.shape[0] - 1) + 1):
+        dn = float(np.max(_return_distances(p, n)))
+        # the n points of a period-n cycle must be distinct well above the tolerance: a decaying
+        # transient rotating by about 1/n per period returns closely after n periods too
+        if dn <= tol and min(dmax, default=np.inf) > settings.separation * tol:
+            return n
+        dmax.append(dn)
+    return 0
+
+
 def _converging_period(p: np.ndarray, rate: float, max_n: int, tol: float) -> int:
     """Smallest n whose return distance decays like the exponent says (no floor): the last quarter's
     maximum is below the first quarter's times sqrt(exp(rate * span)), i.e. at least half the decay in
@@ -326,14 +342,9 @@ def classify_point(poincare: np.ndarray, growth: np.ndarray, period: float, dive
     if p.shape[0] < 3:
         return Classification(LABELS["undetermined"], 0, lam, sig, nan, nan, -1, "too few points")
     tol = _tolerance(p, settings)
-    dmax = [np.inf]
-    for n in range(1, min(settings.max_n, p.shape[0] - 1) + 1):
-        dn = float(np.max(_return_distances(p, n)))
-        # the n points of a period-n cycle must be distinct well above the tolerance: a decaying
-        # transient rotating by about 1/n per period returns closely after n periods too
-        if dn <= tol and min(dmax[1:], default=np.inf) > settings.separation * tol:
-            return Classification(n, n, lam, sig, nan, nan, -1, f"returns within {tol:.2g} after {n}")
-        dmax.append(dn)
+    n = strict_period(p, settings)
+    if n > 0:
+        return Classification(n, n, lam, sig, nan, nan, -1, f"returns within {tol:.2g} after {n}")
     phi = p[:, 1] if samples is None else np.asarray(samples, dtype=float)  # X_VH at the section
     k01 = zero_one_test(phi)
     flat = spectral_flatness(phi)
@@ -364,12 +375,36 @@ def classify_point(poincare: np.ndarray, growth: np.ndarray, period: float, dive
 
 
 def analyse_point(coeffs, settings, classifier: ClassifierSettings = ClassifierSettings(),
-                  x0: np.ndarray | None = None):
-    """Integrate one point with its tangent vector and classify it: (TangentResult, Classification)."""
+                  x0: np.ndarray | None = None, cheap: bool = False):
+    """Integrate one point with its tangent vector and classify it: (TangentResult, Classification).
+
+    ``cheap`` (regime maps): integrate without the tangent vector first; a point that passes the
+    strict period test (rule 3) is labelled at once with no exponent (NaN); only the others are
+    continued from their final state for ``tangent_periods`` more periods with the tangent vector
+    (Poincaré points and the 0-1 samples then come from the continuation).  The labels of periodic
+    points are the same as the full path's; non-periodic points get a longer transient.
+    """
+    from dataclasses import replace
+
     from geardyn.tangent import simulate_tangent
 
-    res = simulate_tangent(coeffs, settings, x0=x0, tangent_periods=classifier.tangent_periods)
-    return res, classify_point(res.poincare, res.growth, res.period, res.diverged, classifier, samples=res.strobe)
+    if not cheap:
+        res = simulate_tangent(coeffs, settings, x0=x0, tangent_periods=classifier.tangent_periods)
+        return res, classify_point(res.poincare, res.growth, res.period, res.diverged, classifier,
+                                   samples=res.strobe)
+    res = simulate_tangent(coeffs, settings, x0=x0, tangent_periods=0)
+    if res.diverged:
+        return res, classify_point(res.poincare, res.growth, res.period, True, classifier)
+    p = res.poincare[~np.isnan(res.poincare).any(axis=1)]
+    n = strict_period(p, classifier) if p.shape[0] >= 3 else 0
+    if n > 0:
+        nan = float("nan")
+        return res, Classification(n, n, nan, nan, nan, nan, -1, "periodic (cheap path: no exponent)")
+    more = replace(settings, transient_periods=0,
+                   recorded_periods=max(settings.recorded_periods, classifier.tangent_periods))
+    res2 = simulate_tangent(coeffs, more, x0=res.final_state, tangent_periods=classifier.tangent_periods)
+    return res2, classify_point(res2.poincare, res2.growth, res2.period, res2.diverged, classifier,
+                                samples=res2.strobe)
 
 
 def labels_of_cube(cube) -> np.ndarray:
@@ -377,3 +412,53 @@ def labels_of_cube(cube) -> np.ndarray:
     if "label" in cube:
         return cube["label"].values.astype(np.int16)
     return periods_of_cube(cube)
+
+
+# ----------------------------------------------------------------------------------------
+# regime bands of a sweep
+# ----------------------------------------------------------------------------------------
+
+BAND_COLUMNS = ("case", "direction", "label", "name", "start", "stop", "n_points", "lyapunov_median",
+                "transition_to_next")
+
+
+def band_rows(cube) -> list[dict]:
+    """Regime bands of a sweep cube: runs of equal labels along the control parameter per (case,
+    direction), with the median exponent and the transition point to the next band (midway between
+    the last point of this band and the first of the next; NaN for the last band)."""
+    par = cube.attrs["control_parameter"]
+    values = cube[par].values
+    labels = labels_of_cube(cube)
+    lam = cube["lyapunov"].values if "lyapunov" in cube else np.full(labels.shape, np.nan)
+    rows = []
+    for i, case in enumerate(cube["case"].values):
+        for j, direction in enumerate(cube["direction"].values):
+            runs = bands(values, labels[i, j])
+            for r, (a, b, lab) in enumerate(runs):
+                m = (values >= a) & (values <= b)
+                nxt = 0.5 * (b + runs[r + 1][0]) if r + 1 < len(runs) else float("nan")
+                lm = lam[i, j][m]
+                rows.append({"case": str(case), "direction": str(direction), "label": int(lab),
+                             "name": short_name(lab), "start": a, "stop": b, "n_points": int(m.sum()),
+                             "lyapunov_median": float(np.nanmedian(lm)) if np.isfinite(lm).any() else float("nan"),
+                             "transition_to_next": nxt})
+    return rows
+
+
+def bands_csv(rows: list[dict]) -> str:
+    lines = [",".join(BAND_COLUMNS)]
+    for r in rows:
+        lines.append(",".join(f"{r[c]:.6g}" if isinstance(r[c], float) else str(r[c]) for c in BAND_COLUMNS))
+    return "\n".join(lines) + "\n"
+
+
+def bands_markdown(rows: list[dict], title: str, par: str) -> str:
+    lines = [f"# Regime bands: {title}", "",
+             f"Runs of equal motion labels along {par} (geardyn.classify.classify_point); transition = midway "
+             "between the last point of a band and the first of the next (half a grid step uncertainty).", "",
+             "| case | direction | label | from | to | points | median lambda_max | transition to next |",
+             "|---|---|---|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        lines.append(f"| {r['case']} | {r['direction']} | {r['name']} | {r['start']:.4g} | {r['stop']:.4g} | "
+                     f"{r['n_points']} | {r['lyapunov_median']:.2e} | {r['transition_to_next']:.4g} |")
+    return "\n".join(lines) + "\n"
