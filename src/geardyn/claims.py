@@ -202,13 +202,13 @@ def claims(closed_graph: xr.Dataset, stiffness: xr.Dataset, fig07: xr.Dataset, f
         first_qp = ve[le == QP].min() if (le == QP).any() else np.inf
         first_ch = ve[le == CHAOS].min() if (le == CHAOS).any() else np.inf
         ok.append(bool(le[0] == P1 and np.isfinite(first_ch) and first_qp <= first_ch))
-        parts.append(f"x1={x1}: P1 until e = {end_p1:.3g}, first QP {first_qp:.3g}, first chaos {first_ch:.3g}")
+        parts.append(f"x1={x1}: leaves P1 at e = {end_p1:.3g}, first QP {first_qp:.3g}, first chaos {first_ch:.3g}")
     out.append(Claim("fig11_route", "Fig. 11", "as e grows the response goes P1 -> quasi-periodic -> chaos",
                      "P1, then QP, then chaos", "; ".join(parts), "agree" if all(ok) else "disagree",
                      f"{sum(ok)}/3 cases show P1 first, then QP no later than the first chaos"))
     narrower = all(a > b for a, b in zip(sync, sync[1:], strict=False))
     out.append(Claim("fig11_sync_range", "Fig. 11", "the range of synchronous motion narrows as x1 increases",
-                     "narrower for larger x1", "P1 from e = 0 up to " + ", ".join(
+                     "narrower for larger x1", "leaves P1 (from e = 0) at e = " + ", ".join(
                          f"{s:.3g} (x1={x})" for s, x in zip(sync, (0.5, 0.761, 0.83), strict=True)),
                      "agree" if narrower else "disagree",
                      "first e where the label leaves P1, compared across x1 = 0.5, 0.761, 0.83 (inf: P1 throughout)"))
