@@ -19,7 +19,7 @@ def label_colour(code: int) -> str:
 
     fixed = {LABELS["chaotic"]: "#d62728", LABELS["quasi_periodic"]: "#ff7f0e", LABELS["diverged"]: "#000000",
              LABELS["undetermined"]: "#9e9e9e", LABELS["not_periodic"]: "#8c564b"}
-    periods = ["#1f77b4", "#2ca02c", "#17becf", "#9467bd", "#bcbd22", "#e377c2", "#7f7f7f", "#393b79",
+    periods = ["#1f77b4", "#2ca02c", "#17becf", "#9467bd", "#bcbd22", "#e377c2", "#00441b", "#393b79",
                "#637939", "#8c6d31", "#843c39", "#7b4173"]
     code = int(code)
     return fixed.get(code, periods[(code - 1) % len(periods)] if code >= 1 else "#9e9e9e")
