@@ -103,8 +103,8 @@ def test_duffing_period_doubling(gamma, expected):
 def test_duffing_chaos():
     lab = _classify_duffing(0.3, -1.0, 1.0, 0.50, 1.2, n_rec=800)
     assert lab.label == classify.LABELS["chaotic"]
-    # published largest exponent of this attractor is about 0.15 per unit time (e.g. Parlitz &
-    # Lauterborn 1987 style computations); we only require clearly positive and resolved
+    # no published value is asserted here: the test requires a clearly positive, resolved exponent
+    # (measured 0.127 +- 0.010 per unit time with 200 steps per period and 800 periods)
     assert lab.lyapunov > 0.05
     assert lab.lyapunov > 5 * lab.lyapunov_sigma
     assert lab.k01 > 0.9  # 0-1 test: chaos -> K near 1 (Gottwald & Melbourne 2009)
