@@ -29,6 +29,8 @@ include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/calibration.smk"
 include: "workflow/rules/yue2014.smk"
 include: "workflow/rules/benchmarks.smk"
+include: "workflow/rules/classify.smk"
+include: "workflow/rules/maps.smk"
 
 
 rule all:
@@ -40,3 +42,5 @@ rule all:
         CALIBRATION_TARGETS,
         YUE2014_TARGETS,
         BENCHMARK_TARGETS,
+        CLASSIFY_TARGETS,
+        MAP_TARGETS,

@@ -24,8 +24,9 @@ PAPER_CLAIMS = {
 _ASSUMPTIONS = (
     "Assumptions (paper silent, see config/designs/<design>.yaml and docs/model.md): shaft stiffnesses, planet "
     "mass, carrier radius a cos(alpha), dimensionless mesh frequency, TE phase; corrected Eq. (4) damping and "
-    "Eq. (9) stiffness. Motion labels come from the Poincare return distance (period-n up to 12); 'not periodic' "
-    "covers quasi-periodic and chaotic motion."
+    "Eq. (9) stiffness. Motion labels (geardyn.classify.classify_point): period-n (n <= 12) from the Poincare "
+    "return distance; otherwise quasi-periodic or chaotic from the largest Lyapunov exponent, cross-checked by "
+    "the 0-1 test and the spectral flatness of the stroboscopic samples."
 )
 
 
@@ -35,7 +36,7 @@ def _claim(name: str) -> str:
 
 def bifurcation(name: str, cube: xr.Dataset) -> str:
     par = cube.attrs["control_parameter"]
-    periods = classify.periods_of_cube(cube)
+    periods = classify.labels_of_cube(cube)
     lines = [f"{name}: Poincare points of X_VH / b_c over {par} ({cube.sizes[par]} values, "
              f"{cube.sizes['section']} sections after {cube.attrs['transient_periods']} transient mesh periods, "
              f"{cube.attrs['integrator']} with {cube.attrs['steps_per_period']} steps per period)."]

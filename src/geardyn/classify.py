@@ -1,16 +1,26 @@
-"""Labels for steady motions from their Poincaré points (period-n, or not periodic).
+"""Labels for steady motions: period-n, quasi-periodic, chaotic, diverged, undetermined.
 
 A sequence of Poincaré points p_0, p_1, ... (one per mesh period) is period-n when
 p_{k+n} = p_k for all k, to a tolerance scaled to the attractor size and kept above the
 integration error.  The smallest such n (up to ``max_n``) is the period.
+
+Points that are not periodic are told apart by the largest Lyapunov exponent (tangent vector
+integrated alongside the orbit, :mod:`geardyn.tangent`), cross-checked by the 0-1 test for chaos
+(Gottwald & Melbourne 2009, correlation method, on the stroboscopic samples) and by the spectral
+flatness of the stroboscopic samples (discrete lines vs broadband).  :func:`classify_point` gives
+the decision rules; :func:`analyse_point` integrates one point and classifies it.
 """
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass, fields
+
 import numpy as np
 
-#: Label codes stored in cubes (``flag_values``/``flag_meanings``).
-LABELS = {"diverged": -2, "undetermined": -1, "not_periodic": 0}
+#: Label codes stored in cubes (``flag_values``/``flag_meanings``); n >= 1 is period-n.
+#: ``not_periodic`` is what the Poincaré test alone says (QP or chaos, unresolved).
+LABELS = {"chaotic": -4, "quasi_periodic": -3, "diverged": -2, "undetermined": -1, "not_periodic": 0}
 
 
 def _return_distances(p: np.ndarray, n: int) -> np.ndarray:
@@ -90,6 +100,365 @@ def label_name(n: int) -> str:
         return "diverged"
     if n == LABELS["undetermined"]:
         return "undetermined"
+    if n == LABELS["chaotic"]:
+        return "chaotic"
+    if n == LABELS["quasi_periodic"]:
+        return "quasi-periodic"
     if n == 0:
         return "not periodic (QP or chaos)"
     return f"P{n}"
+
+
+def short_name(n: int) -> str:
+    """Compact label: P1, P5, QP, chaos, div, undet."""
+    return {LABELS["diverged"]: "div", LABELS["undetermined"]: "undet", LABELS["chaotic"]: "chaos",
+            LABELS["quasi_periodic"]: "QP", 0: "NP"}.get(int(n), f"P{int(n)}")
+
+
+def flag_attrs(max_n: int = 12) -> dict:
+    """CF ``flag_values``/``flag_meanings`` of the label codes (period-n for n = 1..max_n)."""
+    values = [LABELS[k] for k in ("chaotic", "quasi_periodic", "diverged", "undetermined", "not_periodic")]
+    meanings = ["chaotic", "quasi_periodic", "diverged", "undetermined", "not_periodic"]
+    values += list(range(1, max_n + 1))
+    meanings += [f"period_{n}" for n in range(1, max_n + 1)]
+    return {"flag_values": np.array(values, np.int16), "flag_meanings": " ".join(meanings)}
+
+
+# ----------------------------------------------------------------------------------------
+# indicators
+# ----------------------------------------------------------------------------------------
+
+
+def lyapunov_estimate(growth: np.ndarray, period: float, skip: int | None = None,
+                      blocks: int = 8) -> tuple[float, float]:
+    """Largest Lyapunov exponent (per unit dimensionless time) and its uncertainty.
+
+    ``growth[k]``: log growth of the renormalised tangent vector over mesh period k.  The first
+    ``skip`` periods (default max(5, 10 %)) are left out while the vector aligns with the most
+    unstable direction.  Uncertainty: the larger of the batch-means standard error (``blocks``
+    contiguous blocks) and half the difference between the estimates of the two halves (the
+    convergence of the running estimate).  (inf, 0) when the growth is infinite (divergence).
+    """
+    g = np.asarray(growth, dtype=float)
+    if g.size == 0 or not np.all(np.isfinite(g)):
+        return (float("nan"), float("nan")) if g.size == 0 else (float("inf"), 0.0)
+    skip = max(5, g.size // 10) if skip is None else skip
+    g = g[skip:] if g.size > skip + 4 else g
+    lam = float(g.mean()) / period
+    nb = max(2, min(blocks, g.size // 4))
+    means = np.array([b.mean() for b in np.array_split(g, nb)])
+    se = float(means.std(ddof=1)) / np.sqrt(nb) / period
+    half = g.size // 2
+    drift = abs(float(g[:half].mean()) - float(g[half:].mean())) / period if half > 0 else 0.0
+    return lam, max(se, 0.5 * drift)
+
+
+def zero_one_test(phi: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
+    """K of the 0-1 test for chaos (Gottwald & Melbourne, SIAM J. Appl. Dyn. Syst. 8 (2009) 129,
+    correlation method, mean removed): ~0 for regular motion, ~1 for chaos.
+
+    ``phi``: one observable at stroboscopic times (e.g. X_VH at the Poincaré section).  K is the
+    median over ``n_c`` fixed frequencies c in (pi/5, 4 pi/5) (fixed seed: reproducible) of the
+    correlation of the mean-square displacement D_c(n), n <= N/10, with n.  A constant series
+    (period-1) gives 0.
+    """
+    x = np.asarray(phi, dtype=float)
+    x = x[np.isfinite(x)]
+    n_pts = x.size
+    if n_pts < 20:
+        return float("nan")
+    x = x - x.mean()
+    if float(np.max(np.abs(x))) <= 1e-12 * max(1.0, float(np.max(np.abs(phi)))):
+        return 0.0
+    ncut = max(3, n_pts // 10)
+    cs = np.random.default_rng(seed).uniform(np.pi / 5, 4 * np.pi / 5, n_c)
+    j = np.arange(1, n_pts + 1)
+    ns = np.arange(1, ncut + 1)
+    arg = np.outer(cs, j)
+    p = np.cumsum(x * np.cos(arg), axis=1)
+    q = np.cumsum(x * np.sin(arg), axis=1)
+    d = np.stack([np.mean((p[:, n:] - p[:, :-n]) ** 2 + (q[:, n:] - q[:, :-n]) ** 2, axis=1) for n in ns], axis=1)
+    dn = d - d.mean(axis=1, keepdims=True)
+    nn = ns - ns.mean()
+    den = np.sqrt((dn**2).sum(axis=1) * (nn**2).sum())
+    ks = np.where(den > 0, (dn @ nn) / np.where(den > 0, den, 1.0), 0.0)
+    return float(np.median(ks))
+
+
+def spectral_flatness(phi: np.ndarray) -> float:
+    """Wiener entropy of the stroboscopic series: geometric / arithmetic mean of the Hann-windowed
+    power spectrum (DC left out).  About 0.56 for white noise, below 1e-2 for a few discrete lines
+    (quasi-periodic or periodic samples); 0 for a constant series."""
+    x = np.asarray(phi, dtype=float)
+    x = x[np.isfinite(x)]
+    if x.size < 16:
+        return float("nan")
+    x = x - x.mean()
+    if float(np.max(np.abs(x))) == 0.0:
+        return 0.0
+    pw = np.abs(np.fft.rfft(x * np.hanning(x.size)))[1:] ** 2
+    pw = pw + 1e-30 * pw.max()
+    return float(np.exp(np.mean(np.log(pw))) / np.mean(pw))
+
+
+# ----------------------------------------------------------------------------------------
+# decision
+# ----------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ClassifierSettings:
+    """Thresholds of :func:`classify_point` (exponents per unit dimensionless time tau = w_n t).
+
+    max_n: largest period tested.  rtol, atol: return-distance tolerance rtol * attractor size +
+    atol * max(|p|, 1).  error_floor: the tolerance is never below this (integration error of the
+    Poincaré points, e.g. 7.5e-8 at 512 steps and 1.9e-5 at 128, docs/model.md Sec. 6; 10x margin by
+    default via ``error_margin``).  lam_tol: |lambda| below this is "zero" (quasi-periodic); the
+    least-damped mode of the KHV model decays at about 2.5e-3, chaos in the model shows 3e-2.
+    k_chaos: 0-1 statistic above which the series looks chaotic.  flat_broadband: spectral
+    flatness above which the samples look broadband.  tangent_periods: mesh periods the tangent
+    vector is carried (the last ones of the run).  separation: the points of a period-n cycle must
+    differ by more than separation * tol (return distances for m < n).
+    """
+
+    max_n: int = 12
+    rtol: float = 1e-4
+    atol: float = 1e-6
+    error_floor: float = 7.5e-8
+    error_margin: float = 10.0
+    lam_tol: float = 1e-3
+    k_chaos: float = 0.5
+    flat_broadband: float = 0.05
+    tangent_periods: int = 400
+    separation: float = 10.0
+
+    @classmethod
+    def from_mapping(cls, spec: dict | None) -> ClassifierSettings:
+        spec = dict(spec or {})
+        names = {f.name for f in fields(cls)}
+        unknown = set(spec) - names
+        if unknown:
+            raise ValueError(f"unknown classifier settings {sorted(unknown)}; allowed: {sorted(names)}")
+        return cls(**spec)
+
+
+@dataclass(frozen=True)
+class Classification:
+    """Result of :func:`classify_point`.
+
+    label: code of :data:`LABELS` or n >= 1 (period-n).  period: n (0 when not periodic).
+    lyapunov, lyapunov_sigma: largest exponent and its uncertainty (per unit tau).
+    k01: 0-1 statistic; flatness: spectral flatness of the stroboscopic X_VH.
+    crosscheck: 1 when the 0-1 test and the spectrum both agree with the label, 0 when only one
+    does, -1 when not applicable (periodic by the return test, diverged).
+    reason: short text.
+    """
+
+    label: int
+    period: int
+    lyapunov: float
+    lyapunov_sigma: float
+    k01: float
+    flatness: float
+    crosscheck: int
+    reason: str
+
+
+def _tolerance(p: np.ndarray, cs: ClassifierSettings) -> float:
+    size = float(np.max(np.ptp(p, axis=0)))
+    scale = max(float(np.max(np.abs(p))), 1.0)
+    return max(cs.atol * scale + cs.rtol * size, cs.error_margin * cs.error_floor)
+
+
+def strict_period(p: np.ndarray, settings: ClassifierSettings = ClassifierSettings()) -> int:
+    """Rule 3 of :func:`classify_point`: the smallest n <= max_n with every return distance after n
+    periods within the tolerance and the n cycle points distinct (> separation * tol); 0 if none.
+    ``p``: (n_points, n_states) without NaN rows."""
+    tol = _tolerance(p, settings)
+    dmax: list[float] = []
+    for n in range(1, min(settings.max_n, p.shape[0] - 1) + 1):
+        dn = float(np.max(_return_distances(p, n)))
+        # the n points of a period-n cycle must be distinct well above the tolerance: a decaying
+        # transient rotating by about 1/n per period returns closely after n periods too
+        if dn <= tol and min(dmax, default=np.inf) > settings.separation * tol:
+            return n
+        dmax.append(dn)
+    return 0
+
+
+def _converging_period(p: np.ndarray, rate: float, max_n: int, tol: float) -> int:
+    """Smallest n whose return distance decays like the exponent says (no floor): the last quarter's
+    maximum is below the first quarter's times sqrt(exp(rate * span)), i.e. at least half the decay in
+    log terms that the Lyapunov exponent (``rate`` = lambda T per period, < 0) predicts, or below tol.
+    A period that is not a multiple of the true one leaves a constant floor (the cycle's spread)."""
+    for n in range(1, max_n + 1):
+        d = _return_distances(p, n)
+        if d.size < 8:
+            return 0
+        q = np.array_split(d, 4)
+        first, last = float(np.max(q[0])), float(np.max(q[-1]))
+        span = d.size - 0.5 * (q[0].size + q[-1].size)
+        if last <= tol or last <= first * math.exp(0.5 * rate * span):
+            return n
+    return 0
+
+
+def classify_point(poincare: np.ndarray, growth: np.ndarray, period: float, diverged: bool = False,
+                   settings: ClassifierSettings = ClassifierSettings(),
+                   samples: np.ndarray | None = None) -> Classification:
+    """Label one point from its Poincaré points (n, 6) and its tangent growth per period.
+
+    ``samples``: a longer stroboscopic series of X_VH for the 0-1 test and the spectrum (default:
+    column 1 of ``poincare``).  The 0-1 test needs about 400 samples to separate a quasi-periodic
+    circle (K < 0.1) from chaos (K > 0.99); with 100 it gives K = 0.4-0.9 for quasi-periodic
+    samples (measured, tests/test_classify.py), hence the default of 400 tangent periods.
+
+    Rules, in order:
+
+    1. diverged -> ``diverged``.
+    2. fewer than 3 points -> ``undetermined``.
+    3. period-n: the smallest n <= max_n with max_k |p_{k+n} - p_k| <= tol (tolerance scaled to the
+       attractor, above the integration error) and max_k |p_{k+m} - p_k| > separation * tol for every
+       m < n (distinct cycle points) -> ``P n``.
+    4. lambda > lam_tol + 2 sigma -> ``chaotic`` if the 0-1 test (K > k_chaos) or the spectrum
+       (flatness > flat_broadband) agrees, else ``undetermined``.
+    5. lambda < -(lam_tol + 2 sigma): the orbit is attracted to a periodic orbit not yet reached
+       (the slowly decaying shaft mode) -> ``P n`` for the smallest n <= max_n whose return distance
+       decays at (at least half) the rate the exponent predicts, with no floor; else ``undetermined``
+       (transient not settled, or a period above max_n).
+    6. |lambda| <= lam_tol with sigma <= lam_tol -> ``quasi_periodic`` if the 0-1 test (K < k_chaos)
+       or the spectrum (flatness <= flat_broadband) agrees, else ``undetermined``.
+    7. anything else (exponent not resolved) -> ``undetermined``.
+    """
+    nan = float("nan")
+    if diverged:
+        lam, sig = lyapunov_estimate(growth, period) if len(growth) else (float("inf"), 0.0)
+        return Classification(LABELS["diverged"], 0, lam, sig, nan, nan, -1, "diverged")
+    p = np.asarray(poincare, dtype=float)
+    if p.ndim == 1:
+        p = p[:, None]
+    p = p[~np.isnan(p).any(axis=1)]
+    lam, sig = lyapunov_estimate(growth, period)
+    if p.shape[0] < 3:
+        return Classification(LABELS["undetermined"], 0, lam, sig, nan, nan, -1, "too few points")
+    tol = _tolerance(p, settings)
+    n = strict_period(p, settings)
+    if n > 0:
+        return Classification(n, n, lam, sig, nan, nan, -1, f"returns within {tol:.2g} after {n}")
+    phi = p[:, 1] if samples is None else np.asarray(samples, dtype=float)  # X_VH at the section
+    k01 = zero_one_test(phi)
+    flat = spectral_flatness(phi)
+    k_chaos = bool(k01 > settings.k_chaos)
+    broad = bool(flat > settings.flat_broadband)
+    if not np.isfinite(lam):
+        return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, -1, "no exponent")
+    if lam > settings.lam_tol + 2 * sig:
+        agree = int(k_chaos) + int(broad)
+        if agree:
+            return Classification(LABELS["chaotic"], 0, lam, sig, k01, flat, int(agree == 2), "positive exponent")
+        return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, 0,
+                              "positive exponent, but 0-1 test and spectrum say regular")
+    if lam < -(settings.lam_tol + 2 * sig):
+        n = _converging_period(p, lam * period, settings.max_n, tol)
+        if n > 0:
+            return Classification(n, n, lam, sig, k01, flat, -1, f"negative exponent, converging to period {n}")
+        return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, -1,
+                              "negative exponent, transient not settled (or period > max_n)")
+    if abs(lam) <= settings.lam_tol and sig <= settings.lam_tol:
+        agree = int(not k_chaos) + int(not broad)
+        if agree:
+            return Classification(LABELS["quasi_periodic"], 0, lam, sig, k01, flat, int(agree == 2),
+                                  "zero exponent")
+        return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, 0,
+                              "zero exponent, but 0-1 test and spectrum say chaotic")
+    return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, -1, "exponent not resolved")
+
+
+def analyse_point(coeffs, settings, classifier: ClassifierSettings = ClassifierSettings(),
+                  x0: np.ndarray | None = None, cheap: bool = False):
+    """Integrate one point with its tangent vector and classify it: (TangentResult, Classification).
+
+    ``cheap`` (regime maps): integrate without the tangent vector first; a point that passes the
+    strict period test (rule 3) is labelled at once with no exponent (NaN); only the others are
+    continued from their final state for ``tangent_periods`` more periods with the tangent vector
+    (Poincaré points and the 0-1 samples then come from the continuation).  The labels of periodic
+    points are the same as the full path's; non-periodic points get a longer transient.
+    """
+    from dataclasses import replace
+
+    from geardyn.tangent import simulate_tangent
+
+    if not cheap:
+        res = simulate_tangent(coeffs, settings, x0=x0, tangent_periods=classifier.tangent_periods)
+        return res, classify_point(res.poincare, res.growth, res.period, res.diverged, classifier,
+                                   samples=res.strobe)
+    res = simulate_tangent(coeffs, settings, x0=x0, tangent_periods=0)
+    if res.diverged:
+        return res, classify_point(res.poincare, res.growth, res.period, True, classifier)
+    p = res.poincare[~np.isnan(res.poincare).any(axis=1)]
+    n = strict_period(p, classifier) if p.shape[0] >= 3 else 0
+    if n > 0:
+        nan = float("nan")
+        return res, Classification(n, n, nan, nan, nan, nan, -1, "periodic (cheap path: no exponent)")
+    more = replace(settings, transient_periods=0,
+                   recorded_periods=max(settings.recorded_periods, classifier.tangent_periods))
+    res2 = simulate_tangent(coeffs, more, x0=res.final_state, tangent_periods=classifier.tangent_periods)
+    return res2, classify_point(res2.poincare, res2.growth, res2.period, res2.diverged, classifier,
+                                samples=res2.strobe)
+
+
+def labels_of_cube(cube) -> np.ndarray:
+    """The cube's stored labels (``label``) if present, else :func:`periods_of_cube`."""
+    if "label" in cube:
+        return cube["label"].values.astype(np.int16)
+    return periods_of_cube(cube)
+
+
+# ----------------------------------------------------------------------------------------
+# regime bands of a sweep
+# ----------------------------------------------------------------------------------------
+
+BAND_COLUMNS = ("case", "direction", "label", "name", "start", "stop", "n_points", "lyapunov_median",
+                "transition_to_next")
+
+
+def band_rows(cube) -> list[dict]:
+    """Regime bands of a sweep cube: runs of equal labels along the control parameter per (case,
+    direction), with the median exponent and the transition point to the next band (midway between
+    the last point of this band and the first of the next; NaN for the last band)."""
+    par = cube.attrs["control_parameter"]
+    values = cube[par].values
+    labels = labels_of_cube(cube)
+    lam = cube["lyapunov"].values if "lyapunov" in cube else np.full(labels.shape, np.nan)
+    rows = []
+    for i, case in enumerate(cube["case"].values):
+        for j, direction in enumerate(cube["direction"].values):
+            runs = bands(values, labels[i, j])
+            for r, (a, b, lab) in enumerate(runs):
+                m = (values >= a) & (values <= b)
+                nxt = 0.5 * (b + runs[r + 1][0]) if r + 1 < len(runs) else float("nan")
+                lm = lam[i, j][m]
+                rows.append({"case": str(case), "direction": str(direction), "label": int(lab),
+                             "name": short_name(lab), "start": a, "stop": b, "n_points": int(m.sum()),
+                             "lyapunov_median": float(np.nanmedian(lm)) if np.isfinite(lm).any() else float("nan"),
+                             "transition_to_next": nxt})
+    return rows
+
+
+def bands_csv(rows: list[dict]) -> str:
+    lines = [",".join(BAND_COLUMNS)]
+    for r in rows:
+        lines.append(",".join(f"{r[c]:.6g}" if isinstance(r[c], float) else str(r[c]) for c in BAND_COLUMNS))
+    return "\n".join(lines) + "\n"
+
+
+def bands_markdown(rows: list[dict], title: str, par: str) -> str:
+    lines = [f"# Regime bands: {title}", "",
+             f"Runs of equal motion labels along {par} (geardyn.classify.classify_point); transition = midway "
+             "between the last point of a band and the first of the next (half a grid step uncertainty).", "",
+             "| case | direction | label | from | to | points | median lambda_max | transition to next |",
+             "|---|---|---|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        lines.append(f"| {r['case']} | {r['direction']} | {r['name']} | {r['start']:.4g} | {r['stop']:.4g} | "
+                     f"{r['n_points']} | {r['lyapunov_median']:.2e} | {r['transition_to_next']:.4g} |")
+    return "\n".join(lines) + "\n"

@@ -231,7 +231,7 @@ _NON_NEGATIVE = {"b": "half backlash b (um)", "e": "transmission-error amplitude
 
 def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> None:
     """Semantic checks of sweeps and point runs: known design, sensible values, x1 inside the segment."""
-    for section in ("sweeps", "points", "calibration"):
+    for section in ("sweeps", "points", "calibration", "maps"):
         for name, spec in filled.get(section, {}).items():
             where = f"config: {section}.{name}"
             names = spec["designs"] if "designs" in spec else [spec["design"]]
@@ -252,6 +252,13 @@ def _check_overrides(section: str, spec: dict[str, Any], raw: dict[str, Any], wh
             raise ConfigError(f"{where}: stop = {spec['stop']} must be above start = {spec['start']}")
         overrides.append(("start", {spec["parameter"]: spec["start"]}))
         overrides.append(("stop", {spec["parameter"]: spec["stop"]}))
+    if section == "maps":
+        for ax in ("x", "y"):
+            a = spec[ax]
+            if not a["stop"] > a["start"]:
+                raise ConfigError(f"{where}.{ax}: stop = {a['stop']} must be above start = {a['start']}")
+            overrides.append((f"{ax}.start", {a["parameter"]: a["start"]}))
+            overrides.append((f"{ax}.stop", {a["parameter"]: a["stop"]}))
     for label, values in overrides:
         for key, value in values.items():
             if key in _NON_NEGATIVE and value < 0:

@@ -12,6 +12,7 @@ the sweep), which shows hysteresis and coexisting attractors. That makes the poi
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 from collections.abc import Mapping, Sequence
@@ -21,9 +22,9 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn import khv
+from geardyn import classify, khv
 from geardyn.design import KHVDesign
-from geardyn.integrators import SimulationSettings, simulate
+from geardyn.integrators import SimulationSettings
 
 log = logging.getLogger("geardyn.sweep")
 
@@ -54,6 +55,7 @@ class SweepSpec:
     chunks: int = 1
     continuation: str = "none"
     integration: tuple[tuple[str, Any], ...] = ()
+    classifier: tuple[tuple[str, Any], ...] = ()
 
     @classmethod
     def from_config(cls, name: str, spec: Mapping[str, Any], design: str | None = None) -> SweepSpec:
@@ -66,6 +68,7 @@ class SweepSpec:
             cases=cases, fixed=tuple(sorted(spec.get("fixed", {}).items())),
             chunks=int(spec.get("chunks", 1)), continuation=spec.get("continuation", "none"),
             integration=tuple(sorted(spec.get("integration", {}).items())),
+            classifier=tuple(sorted(spec.get("classifier", {}).items())),
         )
 
     @property
@@ -123,9 +126,10 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
               settings: SimulationSettings | None = None) -> xr.Dataset:
     """Integrate the points of one chunk and return them as a partial cube (see :func:`empty_cube`)."""
     settings = settings or khv.integration_settings(design, **dict(spec.integration))
+    cls = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
     work = chunk_work(spec, chunk)
     values = spec.values
-    cube = empty_cube(spec, settings)
+    cube = empty_cube(spec, settings, cls)
     done = 0
     total = sum(len(idx) for _, _, idx in work.items)
     t0 = time.perf_counter()
@@ -135,8 +139,9 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
         for j in indices:
             coeffs = khv.point_coefficients(design, point_overrides(spec, case, values[j]))
             x0 = state if (spec.continuation != "none" and state is not None) else None
-            res = simulate(coeffs, settings, x0=x0)
+            res, lab = classify.analyse_point(coeffs, settings, cls, x0=x0)
             _store(cube, case, d, j, coeffs, res, settings)
+            store_label(cube, (case, d, j), lab)
             keep[case, d, j] = True
             state = None if res.diverged else res.final_state
             done += 1
@@ -151,8 +156,47 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
     return cube
 
 
-def empty_cube(spec: SweepSpec, settings: SimulationSettings) -> xr.Dataset:
+def label_variables(dims: tuple[str, ...], shape: tuple[int, ...],
+                    cls: classify.ClassifierSettings) -> dict[str, Any]:
+    """Empty per-point classification variables (see :func:`geardyn.classify.classify_point`)."""
+    return {
+        "label": (dims, np.full(shape, classify.LABELS["undetermined"], np.int16), {
+            "long_name": "motion label (classify.classify_point)", **classify.flag_attrs(cls.max_n)}),
+        "period": (dims, np.zeros(shape, np.int16), {
+            "units": "1", "long_name": "period n in mesh periods (0: not periodic)"}),
+        "lyapunov": (dims, np.full(shape, np.nan), {
+            "units": "1", "long_name": "largest Lyapunov exponent per unit dimensionless time tau = w_n t "
+                                       "(tangent vector over the last tangent_periods)"}),
+        "lyapunov_sigma": (dims, np.full(shape, np.nan), {
+            "units": "1", "long_name": "uncertainty of the largest Lyapunov exponent (batch means / half-run drift)"}),
+        "zero_one_k": (dims, np.full(shape, np.nan), {
+            "units": "1", "long_name": "0-1 test statistic K on stroboscopic X_VH (Gottwald-Melbourne; NaN if periodic)"}),
+        "spectral_flatness": (dims, np.full(shape, np.nan), {
+            "units": "1", "long_name": "spectral flatness of stroboscopic X_VH (0 lines, ~0.56 white; NaN if periodic)"}),
+        "crosscheck": (dims, np.full(shape, -1, np.int8), {
+            "long_name": "0-1 test and spectrum agree with the label",
+            "flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "not_applicable one_agrees both_agree"}),
+    }
+
+
+def store_label(ds: xr.Dataset, idx: tuple, lab: classify.Classification) -> None:
+    ds["label"].values[idx] = lab.label
+    ds["period"].values[idx] = lab.period
+    ds["lyapunov"].values[idx] = lab.lyapunov
+    ds["lyapunov_sigma"].values[idx] = lab.lyapunov_sigma
+    ds["zero_one_k"].values[idx] = lab.k01
+    ds["spectral_flatness"].values[idx] = lab.flatness
+    ds["crosscheck"].values[idx] = lab.crosscheck
+
+
+def classifier_attrs(cls: classify.ClassifierSettings) -> dict[str, Any]:
+    return {f"classifier_{k}": v for k, v in dataclasses.asdict(cls).items()}
+
+
+def empty_cube(spec: SweepSpec, settings: SimulationSettings,
+               cls: classify.ClassifierSettings | None = None) -> xr.Dataset:
     """A cube of NaN (float) / -1 (int) for every point of the sweep, with CF attributes."""
+    cls = cls or classify.ClassifierSettings()
     nc, nd, npar, ns = len(spec.cases), len(spec.directions), spec.num, settings.recorded_periods
     shape = (nc, nd, npar, ns)
     dims = ("case", "direction", spec.parameter, "section")
@@ -167,6 +211,7 @@ def empty_cube(spec: SweepSpec, settings: SimulationSettings) -> xr.Dataset:
         "units": "1", "long_name": "mesh period at which the state exceeded the threshold (-1: never)"})
     data["n_events"] = (pdims, np.full(shape[:3], -1, np.int64), {
         "units": "1", "long_name": "number of contact-switch events located (rk4_event)"})
+    data.update(label_variables(pdims, shape[:3], cls))
     for cname, (units, long_name) in _COEFF_ATTRS.items():
         data[f"coef_{cname}"] = (pdims, np.full(shape[:3], np.nan), {"units": units, "long_name": long_name})
     coords = {
@@ -184,6 +229,7 @@ def empty_cube(spec: SweepSpec, settings: SimulationSettings) -> xr.Dataset:
         "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
         "divergence_threshold": settings.divergence_threshold, "continuation": spec.continuation,
         "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
+        **classifier_attrs(cls),
     }
     return xr.Dataset(data, coords=coords, attrs=attrs)
 

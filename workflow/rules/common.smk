@@ -94,3 +94,27 @@ def calibration_chunk_files(wildcards):
         calibration=wildcards.calibration,
         chunk=range(count),
     )
+
+
+def claims_spec(wildcards):
+    return config["claims"]
+
+
+wildcard_constraints:
+    map="|".join(config["maps"]) or "no-map",
+
+
+def map_spec(wildcards):
+    return config["maps"][wildcards.map]
+
+
+def map_chunk_files(wildcards):
+    from geardyn.maps import MapSpec
+
+    spec = MapSpec.from_config(wildcards.map, config["maps"][wildcards.map], wildcards.design)
+    return expand(
+        "results/{design}/maps/{map}/chunk_{chunk}.nc",
+        design=wildcards.design,
+        map=wildcards.map,
+        chunk=range(spec.n_chunks),
+    )

@@ -13,28 +13,65 @@ from matplotlib.figure import Figure  # noqa: E402
 _LABELS = {"x_vh": "X_VH / b_c", "v_vh": "dX_VH/dtau / b_c", "x_dh": "X_DH / b_c", "x_vl": "X_VL / b_c"}
 
 
+def label_colour(code: int) -> str:
+    """Colour of a motion label: periods in blues/greens/purples, QP orange, chaos red, others grey/black."""
+    from geardyn.classify import LABELS
+
+    fixed = {LABELS["chaotic"]: "#d62728", LABELS["quasi_periodic"]: "#ff7f0e", LABELS["diverged"]: "#000000",
+             LABELS["undetermined"]: "#9e9e9e", LABELS["not_periodic"]: "#8c564b"}
+    periods = ["#1f77b4", "#2ca02c", "#17becf", "#9467bd", "#bcbd22", "#e377c2", "#00441b", "#393b79",
+               "#637939", "#8c6d31", "#843c39", "#7b4173"]
+    code = int(code)
+    return fixed.get(code, periods[(code - 1) % len(periods)] if code >= 1 else "#9e9e9e")
+
+
 def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figure:
-    """Poincaré points of ``state`` against the control parameter; one panel per case and direction."""
+    """Poincaré points of ``state`` against the control parameter, coloured by the motion label, with
+    the largest Lyapunov exponent (and its uncertainty) in a panel below; one pair per case and direction."""
+    from geardyn import classify
+
     par = cube.attrs["control_parameter"]
     cases = list(cube["case"].values)
     directions = list(cube["direction"].values)
     n = len(cases) * len(directions)
-    fig, axes = plt.subplots(n, 1, figsize=(7.0, 2.6 * n + 0.6), squeeze=False, sharex=True)
+    labels = classify.labels_of_cube(cube)
+    has_lyap = "lyapunov" in cube
+    rows = 2 * n if has_lyap else n
+    ratios = [3, 1.3] * n if has_lyap else [1] * n
+    fig, axes = plt.subplots(rows, 1, figsize=(7.5, (3.4 if has_lyap else 2.6) * n + 0.9), squeeze=False,
+                             sharex=True, gridspec_kw={"height_ratios": ratios})
     for i, case in enumerate(cases):
         for j, direction in enumerate(directions):
-            ax = axes[i * len(directions) + j, 0]
+            k = i * len(directions) + j
+            ax = axes[2 * k if has_lyap else k, 0]
             sel = cube[state].sel(case=case, direction=direction)
-            x = np.broadcast_to(sel[par].values[:, None], sel.shape)
-            ax.plot(x.ravel(), sel.values.ravel(), ",", color="k", alpha=0.6, rasterized=True)
+            xv = sel[par].values
+            lab = labels[i, j]
+            present = []
+            for code in np.unique(lab):
+                m = lab == code
+                x = np.broadcast_to(xv[m][:, None], sel.values[m].shape)
+                ax.plot(x.ravel(), sel.values[m].ravel(), ",", color=label_colour(code), alpha=0.7, rasterized=True)
+                present.append(code)
+            handles = [plt.Line2D([], [], ls="", marker="s", color=label_colour(c), label=classify.short_name(c))
+                       for c in sorted(present)]
+            ax.legend(handles=handles, loc="upper right", fontsize=6, ncol=min(6, len(handles)), framealpha=0.7)
             div = cube["diverged"].sel(case=case, direction=direction).values == 1
             if div.any():
-                ax.plot(sel[par].values[div], np.zeros(div.sum()), "|", color="r", label="diverged")
-                ax.legend(loc="upper right", fontsize=7)
+                ax.plot(xv[div], np.zeros(div.sum()), "|", color="k")
             label = f"({chr(97 + i)}) {case}" if len(cases) > 1 else case
             if direction != "none":
                 label += f", sweep {direction}"
             ax.set_title(label, fontsize=9, loc="left")
             ax.set_ylabel(_LABELS.get(state, state))
+            if has_lyap:
+                axl = axes[2 * k + 1, 0]
+                lam = cube["lyapunov"].sel(case=case, direction=direction).values
+                sig = cube["lyapunov_sigma"].sel(case=case, direction=direction).values
+                axl.fill_between(xv, lam - 2 * sig, lam + 2 * sig, color="0.8", lw=0)
+                axl.scatter(xv, lam, s=2, c=[label_colour(c) for c in lab], rasterized=True)
+                axl.axhline(0.0, color="k", lw=0.5)
+                axl.set_ylabel("lambda_max", fontsize=8)
     axes[-1, 0].set_xlabel(cube[par].attrs.get("long_name", par))
     fig.suptitle(title)
     fig.tight_layout()
@@ -67,6 +104,44 @@ def plot_points(ds: xr.Dataset, title: str, fmax: float = 3.0) -> Figure:
         ax_s.set_xlabel("f / f_mesh")
         ax_s.set_ylabel("amplitude")
         ax_s.set_title("spectrum", fontsize=9, loc="left")
+    fig.suptitle(title)
+    fig.tight_layout()
+    return fig
+
+
+def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=()) -> Figure:
+    """Regime map: label image (left) and largest Lyapunov exponent (right; blank where the cheap
+    path gave none), with the paper's 1-D cuts as dashed lines."""
+    from matplotlib.colors import BoundaryNorm, ListedColormap, TwoSlopeNorm
+
+    from geardyn import classify
+
+    lab = ds["label"].values
+    codes = sorted(int(c) for c in np.unique(lab))
+    cmap = ListedColormap([label_colour(c) for c in codes])
+    index = np.searchsorted(codes, lab)
+    norm = BoundaryNorm(np.arange(len(codes) + 1) - 0.5, len(codes))
+    x, y = ds["x"].values, ds["y"].values
+    fig, (ax, axl) = plt.subplots(1, 2, figsize=(12.0, 5.0))
+    im = ax.pcolormesh(x, y, index, cmap=cmap, norm=norm, shading="nearest", rasterized=True)
+    cb = fig.colorbar(im, ax=ax, ticks=np.arange(len(codes)))
+    cb.ax.set_yticklabels([classify.short_name(c) for c in codes], fontsize=7)
+    lam = ds["lyapunov"].values
+    finite = np.isfinite(lam)
+    vmax = float(np.nanmax(np.abs(lam))) if finite.any() else 1.0
+    iml = axl.pcolormesh(x, y, np.where(finite, lam, np.nan), cmap="coolwarm",
+                         norm=TwoSlopeNorm(0.0, -max(vmax, 1e-6), max(vmax, 1e-6)), shading="nearest",
+                         rasterized=True)
+    fig.colorbar(iml, ax=axl, label="lambda_max (per unit tau)")
+    for a in (ax, axl):
+        for cx in cuts_x:
+            a.axvline(cx, color="k", ls="--", lw=0.8)
+        for cy in cuts_y:
+            a.axhline(cy, color="k", ls="--", lw=0.8)
+        a.set_xlabel(ds["x"].attrs.get("long_name", "x"))
+        a.set_ylabel(ds["y"].attrs.get("long_name", "y"))
+    ax.set_title("motion label", fontsize=9, loc="left")
+    axl.set_title("largest Lyapunov exponent", fontsize=9, loc="left")
     fig.suptitle(title)
     fig.tight_layout()
     return fig

@@ -1,0 +1,186 @@
+"""Two-parameter regime maps: the motion label over a grid of (x, y) control parameters.
+
+A map is like a sweep with two swept parameters and no stored Poincaré sections: each point keeps
+its label, period, largest Lyapunov exponent (with uncertainty), 0-1 statistic, spectral flatness
+and the mean and spread of its Poincaré X_VH.  Points are numbered x-major (all y values of the
+first x, then the next x, ...) and split into contiguous chunks; every point is computed from its
+own parameters from the static deflection, so the result does not depend on the chunking.
+
+Coefficients are built once per x value (:func:`khv.point_coefficients`, ~3-7 ms: geometry and
+stiffness) and the y parameter is then set directly on the dimensionless coefficients when it is
+``b``, ``e`` or ``w`` (b / b_c, e / b_c and w_m / w_n enter them unscaled); any other y parameter
+falls back to :func:`khv.point_coefficients` per point.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from geardyn import classify, khv
+from geardyn.design import KHVDesign
+from geardyn.model import Coefficients
+from geardyn.sweep import classifier_attrs, label_variables, store_label
+
+log = logging.getLogger("geardyn.maps")
+
+#: y parameters that can be set on the dimensionless coefficients directly (design option permitting).
+_DIRECT = {"b": "b", "e": "e", "w": "omega"}
+
+
+@dataclass(frozen=True)
+class Axis:
+    parameter: str
+    start: float
+    stop: float
+    num: int
+
+    @property
+    def values(self) -> np.ndarray:
+        return np.linspace(self.start, self.stop, self.num)
+
+
+@dataclass(frozen=True)
+class MapSpec:
+    """One map as declared in ``config.yaml`` under ``maps:``."""
+
+    name: str
+    design: str
+    x: Axis
+    y: Axis
+    fixed: tuple[tuple[str, float], ...] = ()
+    chunks: int = 1
+    integration: tuple[tuple[str, Any], ...] = ()
+    classifier: tuple[tuple[str, Any], ...] = ()
+
+    @classmethod
+    def from_config(cls, name: str, spec: Mapping[str, Any], design: str | None = None) -> MapSpec:
+        def axis(a: Mapping[str, Any]) -> Axis:
+            return Axis(a["parameter"], float(a["start"]), float(a["stop"]), int(a["num"]))
+
+        return cls(name=name, design=design or spec["designs"][0], x=axis(spec["x"]), y=axis(spec["y"]),
+                   fixed=tuple(sorted(spec.get("fixed", {}).items())), chunks=int(spec.get("chunks", 1)),
+                   integration=tuple(sorted(spec.get("integration", {}).items())),
+                   classifier=tuple(sorted(spec.get("classifier", {}).items())))
+
+    @property
+    def n_points(self) -> int:
+        return self.x.num * self.y.num
+
+    @property
+    def n_chunks(self) -> int:
+        return max(1, min(self.chunks, self.n_points))
+
+
+def chunk_points(spec: MapSpec, chunk: int) -> np.ndarray:
+    """Flat point indices (x-major) of chunk ``chunk``; the chunks tile the map."""
+    if not 0 <= chunk < spec.n_chunks:
+        raise ValueError(f"chunk {chunk} outside 0..{spec.n_chunks - 1} for map {spec.name}")
+    return np.array_split(np.arange(spec.n_points), spec.n_chunks)[chunk]
+
+
+def _direct_ok(design: KHVDesign, par: str) -> bool:
+    if par not in _DIRECT:
+        return False
+    if par == "w":
+        opts = dict(design.dynamics).get("options", {})
+        return opts.get("frequency_mode", "dimensionless") == "dimensionless"
+    return True
+
+
+def point_coefficients(design: KHVDesign, spec: MapSpec, xv: float, yv: float,
+                       base: Coefficients | None = None) -> Coefficients:
+    """Coefficients at (xv, yv); ``base`` = coefficients at xv with the fixed values (reused)."""
+    if base is not None and _direct_ok(design, spec.y.parameter):
+        field = _DIRECT[spec.y.parameter]
+        return base.replace(**{field: float(yv)})
+    return khv.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(xv),
+                                           spec.y.parameter: float(yv)})
+
+
+def empty_map(spec: MapSpec, cls: classify.ClassifierSettings, settings) -> xr.Dataset:
+    dims = ("y", "x")
+    shape = (spec.y.num, spec.x.num)
+    data: dict[str, Any] = label_variables(dims, shape, cls)
+    data["diverged"] = (dims, np.full(shape, -1, np.int8), {
+        "long_name": "unbounded growth detected", "flag_values": np.array([-1, 0, 1], np.int8),
+        "flag_meanings": "not_computed bounded diverged"})
+    data["x_vh_mean"] = (dims, np.full(shape, np.nan), {"units": "1", "long_name": "mean Poincare X_VH / b_c"})
+    data["x_vh_spread"] = (dims, np.full(shape, np.nan), {"units": "1",
+                                                           "long_name": "peak-to-peak of Poincare X_VH / b_c"})
+    data["computed"] = (dims, np.zeros(shape, np.int8), {
+        "long_name": "1 where this file holds the point", "flag_values": np.array([0, 1], np.int8),
+        "flag_meanings": "absent present"})
+    coords = {}
+    for dim, ax in (("x", spec.x), ("y", spec.y)):
+        units, long_name = khv.CONTROLS.get(ax.parameter, ("1", ax.parameter))
+        coords[dim] = (dim, ax.values, {"units": units, "long_name": long_name, "parameter": ax.parameter})
+    attrs = {"map": spec.name, "design": spec.design, "x_parameter": spec.x.parameter,
+             "y_parameter": spec.y.parameter,
+             "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
+             "integrator": settings.integrator, "steps_per_period": settings.steps_per_period,
+             "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
+             **classifier_attrs(cls)}
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
+    """Classify the points of one chunk; a partial map (``computed`` marks them)."""
+    settings = khv.integration_settings(design, **dict(spec.integration))
+    cls = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
+    ds = empty_map(spec, cls, settings)
+    xs, ys = spec.x.values, spec.y.values
+    idx = chunk_points(spec, chunk)
+    base_cache: dict[int, Coefficients | None] = {}
+    t0 = time.perf_counter()
+    for count, flat in enumerate(idx, 1):
+        i, j = divmod(int(flat), spec.y.num)  # x index, y index
+        if i not in base_cache:
+            base_cache.clear()
+            base_cache[i] = (khv.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(xs[i])})
+                             if _direct_ok(design, spec.y.parameter) else None)
+        coeffs = point_coefficients(design, spec, xs[i], ys[j], base_cache[i])
+        res, lab = classify.analyse_point(coeffs, settings, cls, cheap=True)
+        store_label(ds, (j, i), lab)
+        ds["diverged"].values[j, i] = int(res.diverged)
+        if res.poincare.shape[0]:
+            ds["x_vh_mean"].values[j, i] = float(np.mean(res.poincare[:, 1]))
+            ds["x_vh_spread"].values[j, i] = float(np.ptp(res.poincare[:, 1]))
+        ds["computed"].values[j, i] = 1
+        if count % max(1, len(idx) // 10) == 0:
+            el = time.perf_counter() - t0
+            log.info("%s chunk %d: %d/%d points, %.1f s (%.2f ms/point)", spec.name, chunk, count, len(idx), el,
+                     1e3 * el / count)
+    ds.attrs["wall_time_s"] = time.perf_counter() - t0
+    return ds
+
+
+def merge_chunks(chunks: list[xr.Dataset]) -> xr.Dataset:
+    """Combine partial maps; each point must be present exactly once."""
+    if not chunks:
+        raise ValueError("no chunks to merge")
+    present = sum(c["computed"].values.astype(int) for c in chunks)
+    if np.any(present != 1):
+        raise ValueError(f"chunks do not tile the map: {int(np.sum(present == 0))} points missing, "
+                         f"{int(np.sum(present > 1))} computed twice")
+    out = chunks[0].drop_vars("computed").copy(deep=True)
+    for c in chunks[1:]:
+        mask = c["computed"].values.astype(bool)
+        for name in out.data_vars:
+            out[name].values[mask] = c[name].values[mask]
+    out.attrs.pop("wall_time_s", None)
+    out.attrs["chunk_wall_time_s"] = ",".join(f"{float(c.attrs.get('wall_time_s', np.nan)):.1f}" for c in chunks)
+    return out
+
+
+def fractions(ds: xr.Dataset) -> dict[str, float]:
+    """Share of each label over the map."""
+    lab = ds["label"].values.ravel()
+    codes, n = np.unique(lab, return_counts=True)
+    return {classify.short_name(int(c)): float(k) / lab.size for c, k in zip(codes, n, strict=True)}
