@@ -31,12 +31,15 @@ config.update(_filled)
 
 
 include: "workflow/rules/common.smk"
+include: "workflow/rules/report.smk"
 include: "workflow/rules/geometry.smk"
 include: "workflow/rules/stiffness.smk"
 include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/calibration.smk"
 include: "workflow/rules/yue2014.smk"
 include: "workflow/rules/benchmarks.smk"
+include: "workflow/rules/archive.smk"
+include: "workflow/rules/cluster.smk"
 
 
 rule all:
