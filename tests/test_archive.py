@@ -29,7 +29,7 @@ def built(tmp_path):
     des = data / "d.yaml"
     des.write_text("kind: khv\nname: d\n")
     out = tmp_path / "d_archive.tar.gz"
-    manifest = archive.build(out, "d", {"a.nc": a, "sweeps/b.nc": b}, {"config.yaml": cfg, "designs/d.yaml": des},
+    manifest = archive.build(out, "d", {"results/d/a.nc": a, "results/d/sweeps/b.nc": b}, {"config.yaml": cfg, "designs/d.yaml": des},
                              effective_config={"designs": {"d": "config/designs/d.yaml"}})
     return out, manifest
 
@@ -53,16 +53,16 @@ def test_archive_holds_cubes_configs_manifest_and_readme(built):
     members = _members(out)
     assert set(members) == {f"d_archive/{n}" for n in (
         "MANIFEST.json", "SHA256SUMS", "README.txt", "config/config.yaml", "config/designs/d.yaml",
-        "config/effective_config.yaml", "data/a.nc", "data/sweeps/b.nc")}
+        "config/effective_config.yaml", "results/d/a.nc", "results/d/sweeps/b.nc")}
     listed = json.loads(members["d_archive/MANIFEST.json"])
     assert listed == manifest
     assert listed["geardyn_version"] == __version__ and listed["git_commit"] == io.git_commit()
     for entry in listed["files"]:  # sums computed independently of the module
         assert hashlib.sha256(members[f"d_archive/{entry['path']}"]).hexdigest() == entry["sha256"]
-    cube = next(e for e in listed["files"] if e["path"] == "data/a.nc")
+    cube = next(e for e in listed["files"] if e["path"] == "results/d/a.nc")
     assert cube["kind"] == "netcdf" and cube["geardyn_version"] == __version__
     sums = members["d_archive/SHA256SUMS"].decode().splitlines()
-    assert f"{cube['sha256']}  data/a.nc" in sums  # the format `sha256sum -c` reads
+    assert f"{cube['sha256']}  results/d/a.nc" in sums  # the format `sha256sum -c` reads
     readme = members["d_archive/README.txt"].decode()
     assert "xr.open_dataset" in readme and "geardyn verify-archive d_archive.tar.gz" in readme
 
@@ -86,11 +86,11 @@ def _flip_member(out, name, tmp_path):
 def _cube_replaced_and_relisted(out, tmp_path):
     """A damaged cube whose manifest entry was recomputed: only opening the cube finds it."""
     members = _members(out)
-    bad = members["d_archive/data/a.nc"][:200]
-    members["d_archive/data/a.nc"] = bad
+    bad = members["d_archive/results/d/a.nc"][:200]
+    members["d_archive/results/d/a.nc"] = bad
     manifest = json.loads(members["d_archive/MANIFEST.json"])
     for entry in manifest["files"]:
-        if entry["path"] == "data/a.nc":
+        if entry["path"] == "results/d/a.nc":
             entry.update(bytes=len(bad), sha256=hashlib.sha256(bad).hexdigest())
     members["d_archive/MANIFEST.json"] = json.dumps(manifest).encode()
     return _repack(members, tmp_path / "bad.tar.gz")
@@ -113,7 +113,7 @@ def _without(name):
 
 def _with_extra(out, tmp_path):
     members = _members(out)
-    members["d_archive/data/extra.nc"] = b"not listed"
+    members["d_archive/results/d/extra.nc"] = b"not listed"
     return _repack(members, tmp_path / "bad.tar.gz")
 
 
@@ -130,13 +130,13 @@ def _plain_gzip(out, tmp_path):
 
 
 DAMAGE = [
-    (lambda out, tmp: _flip_member(out, "data/a.nc", tmp), "data/a.nc sha256 mismatch"),
+    (lambda out, tmp: _flip_member(out, "results/d/a.nc", tmp), "results/d/a.nc sha256 mismatch"),
     (lambda out, tmp: _flip_member(out, "config/designs/d.yaml", tmp), "config/designs/d.yaml sha256 mismatch"),
-    (_cube_replaced_and_relisted, "data/a.nc does not open as netCDF"),
+    (_cube_replaced_and_relisted, "results/d/a.nc does not open as netCDF"),
     (_truncated, "not a readable .tar.gz archive (damaged or truncated"),
-    (_without("data/sweeps/b.nc"), "data/sweeps/b.nc is listed in the manifest but missing from the archive"),
+    (_without("results/d/sweeps/b.nc"), "results/d/sweeps/b.nc is listed in the manifest but missing from the archive"),
     (_without("MANIFEST.json"), "no d_archive/MANIFEST.json in the archive"),
-    (_with_extra, "data/extra.nc is in the archive but not in the manifest"),
+    (_with_extra, "results/d/extra.nc is in the archive but not in the manifest"),
     (_not_gzip, "not a readable .tar.gz archive"),
     (_plain_gzip, "not a readable .tar.gz archive"),
 ]

@@ -7,7 +7,7 @@
         SHA256SUMS         the same sums for ``sha256sum -c`` (no geardyn needed)
         README.txt         what the files are and how to open them
         config/...         the workflow config, the effective (validated) config, the design file
-        data/...           the cubes, with their paths under results/<design>/
+        results/<design>/  the cubes, at the paths where the pipeline writes them
 
 :func:`verify` checks such an archive: every listed file is present with its sum and size, nothing
 unlisted is present, and every cube opens with xarray and its data read back. Any problem is one
@@ -45,7 +45,7 @@ J. Vibroengineering 16(2) (plus planetary set).
 
 Files
 -----
-data/      {n_cubes} netCDF-4 cubes, paths as under results/{design}/ of the pipeline
+results/   {n_cubes} netCDF-4 cubes, at the paths where the pipeline writes them (results/{design}/...)
 config/    the workflow config file, the effective config the run used (defaults filled in), the design file
 MANIFEST.json  sha256 and size of every file, geardyn version and git commit per cube
 SHA256SUMS     the same sums, for `sha256sum -c SHA256SUMS` inside this folder
@@ -55,11 +55,11 @@ Check the archive (with geardyn installed):   geardyn verify-archive {design}_ar
 Open a cube (Python, xarray + netCDF4):
 
     import xarray as xr
-    ds = xr.open_dataset("{design}_archive/data/{example}")
+    ds = xr.open_dataset("{design}_archive/{example}")
     print(ds)                  # every variable has units and long_name
     print(ds.attrs["config_json"])   # the exact design and run settings behind it
 
-or from a shell: ncdump -h {design}_archive/data/{example}
+or from a shell: ncdump -h {design}_archive/{example}
 
 Every cube carries CF-1.10 global attributes (title, source, history, references) and its
 provenance (geardyn_version, git_commit, config_hash, model_variant).
@@ -101,7 +101,8 @@ def build(out: str | Path, design: str, cubes: Mapping[str, str | Path], configs
           effective_config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Write the archive ``out`` (``.tar.gz``) and return its manifest.
 
-    ``cubes`` and ``configs`` map a path inside ``data/`` and ``config/`` to a file on disk.
+    ``cubes`` maps a path inside the archive (the pipeline's own, ``results/<design>/...``) to a file on
+    disk, ``configs`` a path inside ``config/``.
     ``effective_config`` (the validated workflow config) is stored as ``config/effective_config.yaml``.
     The archive is written to a temporary name and renamed, so it is never seen half-written.
     """
@@ -125,8 +126,8 @@ def build(out: str | Path, design: str, cubes: Mapping[str, str | Path], configs
             json.loads(json.dumps(effective_config, default=str)), sort_keys=True)
         add("config/effective_config.yaml", text.encode(), "config")
     for rel, src in sorted(cubes.items()):
-        add(f"data/{rel}", Path(src).read_bytes(), "netcdf", _cube_provenance(Path(src)))
-    example = sorted(cubes)[0] if cubes else "<cube>.nc"
+        add(rel, Path(src).read_bytes(), "netcdf", _cube_provenance(Path(src)))
+    example = sorted(cubes)[0] if cubes else "results/<cube>.nc"
     readme = _README.format(design=design, version=__version__, commit=commit, created=created,
                             n_cubes=len(cubes), example=example)
     add("README.txt", readme.encode(), "readme")
