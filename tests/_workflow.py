@@ -1,12 +1,13 @@
 """Helpers for tests that run the Snakemake workflow on a copy in a temporary directory.
 
-The copy holds Snakefile, workflow/, profiles/ and config/; the library comes from this checkout's src/ via
+The copy holds Snakefile, workflow/ and config/; the library comes from this checkout's src/ via
 PYTHONPATH. Nothing is ever written into the repository's own results/.
 """
 
 from __future__ import annotations
 
 import copy
+import fcntl
 import os
 import shutil
 import subprocess
@@ -30,7 +31,7 @@ def workflow_copy(dest: Path, config: dict[str, Any] | None = None,
                   designs: dict[str, dict[str, Any]] | None = None) -> Path:
     """Copy the workflow to ``dest``; replace config.yaml and design files by the given mappings."""
     dest.mkdir(parents=True, exist_ok=True)
-    for item in ("Snakefile", "workflow", "profiles", "config"):
+    for item in ("Snakefile", "workflow", "config"):
         src = ROOT / item
         (shutil.copytree if src.is_dir() else shutil.copy)(src, dest / item)
     if config is not None:
@@ -92,6 +93,21 @@ def small_designs() -> dict[str, dict[str, Any]]:
     yue["relief"].update(landscape_points=5, maxiter=10, popsize=6)
     yue["transmission_error"]["points_per_period"] = 60
     return {"li2013": li, "yue2014": yue}
+
+
+def shared(tmp_path_factory, name: str, build) -> Path:
+    """A directory ``build(path)`` fills once per test session, whichever pytest-xdist worker asks first;
+    the others wait for it (a file lock) and then read the same directory."""
+    base = tmp_path_factory.getbasetemp()
+    root = base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+    work = root / name
+    with open(root / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (root / f"{name}.done").exists():
+            shutil.rmtree(work, ignore_errors=True)
+            build(work)
+            (root / f"{name}.done").touch()
+    return work
 
 
 def deep(data: dict[str, Any]) -> dict[str, Any]:

@@ -20,8 +20,6 @@ import xarray as xr
 import _workflow as wf
 from geardyn import io
 
-pytestmark = pytest.mark.xdist_group("faults")  # one worker runs the shared reference run once
-
 CUBE = "results/li2013/sweeps/fig07_small.nc"
 CHUNKS = 6
 #: A sweep of 60 points (10 per chunk): each chunk job is mostly start-up, about 2 s.
@@ -61,12 +59,16 @@ def assert_same_cube(a, b, ignore=("history",)):
     assert strip(a.attrs) == strip(b.attrs)
 
 
-@pytest.fixture(scope="module")
-def reference(tmp_path_factory):
-    """An uninterrupted `snakemake --cores 2` run: the work directory and its merged cube."""
-    work = wf.workflow_copy(tmp_path_factory.mktemp("reference"), _config())
+def _reference_run(work):
+    wf.workflow_copy(work, _config())
     run = _run(work, "--cores", "2")
     assert _jobs(run, "sweep_chunk") == CHUNKS
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    """An uninterrupted `snakemake --cores 2` run (once per session): its directory and merged cube."""
+    work = wf.shared(tmp_path_factory, "reference", _reference_run)
     return work, _open(work / CUBE)
 
 
@@ -96,9 +98,9 @@ def test_killed_run_resumes_without_recomputing_and_gives_the_same_cube(tmp_path
     done = {p.name: p.stat().st_mtime_ns for p in _chunk_paths(work) if p.name in recorded}
     assert 1 <= len(done) < CHUNKS, done  # interrupted mid-sweep
     assert not (work / CUBE).exists()
-    if sig == signal.SIGKILL:  # README: after a hard kill, remove Snakemake's stale lock first
+    if sig == signal.SIGKILL:  # README: after a hard kill, `--unlock` first (Snakemake's lock is left)
         wf.snakemake(work, "--unlock")
-    rerun = _run(work, "--cores", "2")  # the plain command again (profiles/default: rerun-incomplete)
+    rerun = _run(work, "--cores", "2", "--rerun-incomplete")  # README: the command with --rerun-incomplete
     assert _jobs(rerun, "sweep_chunk") == CHUNKS - len(done)
     for path in _chunk_paths(work):
         if path.name in done:

@@ -17,12 +17,8 @@ import yaml
 import _workflow as wf
 from geardyn import archive, io
 
-pytestmark = pytest.mark.xdist_group("pipeline")  # one worker runs the shared small pipeline once
-
-
-@pytest.fixture(scope="module")
-def small_run(tmp_path_factory):
-    work = wf.workflow_copy(tmp_path_factory.mktemp("pipeline"), wf.small_config(), wf.small_designs())
+def _small_pipeline(work):
+    wf.workflow_copy(work, wf.small_config(), wf.small_designs())
     bench = work / "workflow/scripts/work_precision.py"
     text = bench.read_text()
     assert "quick=False" in text
@@ -30,7 +26,12 @@ def small_run(tmp_path_factory):
     wf.snakemake(work, "--cores", "2", timeout=900)
     wf.snakemake(work, "--cores", "2", "archive", timeout=300)
     wf.snakemake(work, "--report", "results/report.html", timeout=300)
-    return work
+
+
+@pytest.fixture(scope="module")
+def small_run(tmp_path_factory):
+    """The small pipeline, its archives and report, built once per session."""
+    return wf.shared(tmp_path_factory, "pipeline", _small_pipeline)
 
 
 def _netcdf_files(work):
