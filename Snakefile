@@ -8,7 +8,15 @@ value stops the run with one line naming the key, the value and what is allowed.
 
 import sys
 
-from geardyn.config import ConfigError, validate_workflow
+from geardyn.config import ConfigError, read_yaml, validate_workflow
+
+
+if not workflow.overwrite_configfiles:
+    try:
+        read_yaml("config/config.yaml")  # encoding and YAML syntax errors as one line, before Snakemake reads it
+    except ConfigError as err:
+        sys.stderr.write(f"geardyn config error: {err}\n")
+        sys.exit(1)
 
 
 configfile: "config/config.yaml"
@@ -23,6 +31,7 @@ config.update(_filled)
 
 
 include: "workflow/rules/common.smk"
+include: "workflow/rules/report.smk"
 include: "workflow/rules/geometry.smk"
 include: "workflow/rules/stiffness.smk"
 include: "workflow/rules/sweeps.smk"
@@ -31,6 +40,8 @@ include: "workflow/rules/yue2014.smk"
 include: "workflow/rules/benchmarks.smk"
 include: "workflow/rules/classify.smk"
 include: "workflow/rules/maps.smk"
+include: "workflow/rules/archive.smk"
+include: "workflow/rules/cluster.smk"
 
 
 rule all:

@@ -87,7 +87,7 @@ def run_candidates(design: KHVDesign, candidates: Sequence[Mapping[str, float]],
     }
     for k in keys:
         data[k] = ("candidate", np.array([c.get(k, np.nan) for c in candidates], float),
-                   {"units": khv.CONTROLS.get(k, ("1", k))[0] if k in khv.CONTROLS else "SI",
+                   {"units": khv.units_of(k),
                     "long_name": f"candidate value of {k}"})
     coords = {
         "candidate": ("candidate", np.arange(first_index, first_index + len(candidates)),

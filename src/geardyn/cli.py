@@ -1,8 +1,11 @@
-"""Command line: ``geardyn check-design PATH [--json]`` and ``geardyn check-config PATH``.
+"""Command line: ``geardyn check-design PATH [--json]``, ``geardyn check-config PATH`` and
+``geardyn verify-archive PATH``.
 
 ``check-design`` is how a user checks a new gear design before launching sweeps: it validates
 the file (one clear line on any problem, exit code 2) and prints the derived geometry and
-stiffness, and whether the design point is feasible and why.
+stiffness, and whether the design point is feasible and why. ``verify-archive`` checks a results
+archive (``results/<design>_archive.tar.gz``): sha256 sums, nothing missing or added, every cube
+opens (exit code 1 with one line naming the member otherwise).
 """
 
 from __future__ import annotations
@@ -88,6 +91,17 @@ def check_config(path: str) -> int:
     return 0
 
 
+def verify_archive(path: str) -> int:
+    from geardyn.archive import ArchiveError, verify
+
+    try:
+        print(verify(path).line())
+    except ArchiveError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 1
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="geardyn", description="geardyn gear-dynamics tools")
     parser.add_argument("--version", action="version", version=f"geardyn {__version__}")
@@ -97,7 +111,11 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p = sub.add_parser("check-config", help="validate the workflow config and every design it lists")
     p.add_argument("path", nargs="?", default="config/config.yaml")
+    p = sub.add_parser("verify-archive", help="check a results archive: sha256 sums and that every cube opens")
+    p.add_argument("path")
     args = parser.parse_args(argv)
+    if args.command == "verify-archive":
+        return verify_archive(args.path)
     try:
         if args.command == "check-design":
             return check_design(args.path, args.json)

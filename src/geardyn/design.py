@@ -183,6 +183,37 @@ def from_dict(raw: dict[str, Any], where: str = "design") -> KHVDesign:
     )
 
 
+def check_segment(design: KHVDesign, where: str = "design", points: int = 11) -> None:
+    """Refuse a design whose admissible segment M-N leaves the region the model can run in.
+
+    Checks ``points`` evenly spaced x1 from ``x1_min`` to ``x1_max`` (ends included): x2 exists on
+    line 4, the contact ratio is in [1, 2) (paper 1 Eq. 9), and, with ``check_feasibility``, no
+    closed-graph constraint is violated. Sweeps, point runs and calibrations stay inside the segment
+    (checked in :mod:`geardyn.config`), so this is what keeps them inside the feasible region.
+    """
+    adm = design.raw["admissible"]
+    for x1 in np.linspace(design.x1_min, design.x1_max, points):
+        try:
+            pair = pair_at(design, x1)
+        except (ValueError, RuntimeError) as err:
+            raise ConfigError(f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
+                              f"region the model covers at x1 = {x1:.4f}: no x2 on line 4 (G_s = 0): {err}") from None
+        try:
+            mesh_properties(design, x1)
+        except (ValueError, RuntimeError) as err:  # ConfigError is a ValueError
+            reason = str(err).split(": ", 1)[-1] if isinstance(err, ConfigError) else str(err)
+            raise ConfigError(f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
+                              f"region the model covers at x1 = {x1:.4f}: {reason}") from None
+        if adm["check_feasibility"]:
+            bad = violated_constraints(pair, design.min_tip_thickness, design.enforce_cutter_constraints,
+                                       design.cutter)
+            if bad:
+                values = geometry.constraints(pair, min_tip_thickness=design.min_tip_thickness, cutter=design.cutter)
+                detail = ", ".join(f"{name} = {values[name]:.4g} (needs >= 0)" for name in bad)
+                raise ConfigError(f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
+                                  f"feasible region at x1 = {x1:.4f}: {detail}")
+
+
 def load(path: str | Path) -> KHVDesign:
     """Read, validate and check a KHV design file (one-line :class:`ConfigError` on any problem)."""
     raw = load_design_dict(path)

@@ -110,11 +110,14 @@ def write_netcdf(
     attrs: Mapping[str, str] | None = None,
     *,
     require_cf: bool = True,
+    checksum: bool = False,
 ) -> Path:
     """Write ``ds`` to ``path`` atomically (temporary file + rename) with global ``attrs`` merged in.
 
     Raises ``ValueError`` if a variable lacks ``units``/``long_name`` and ``require_cf`` is set, so
-    no undocumented file is ever produced.
+    no undocumented file is ever produced. Coordinate variables get no ``_FillValue`` (CF 2.5.1).
+    With ``checksum`` every non-empty numeric variable is stored with HDF5's Fletcher-32 checksum,
+    so that reading it back (:func:`netcdf_problem`) detects any damaged byte, not only truncation.
     """
     path = Path(path)
     out = ds.copy()
@@ -123,16 +126,83 @@ def write_netcdf(
         missing = missing_cf_attributes(out)
         if missing:
             raise ValueError(f"dataset for {path.name} lacks CF attributes: {', '.join(missing)}")
+    for name in out.coords:
+        if name in out.dims and out[name].dtype.kind == "f":
+            out[name].encoding = {**out[name].encoding, "_FillValue": None}
+    if checksum:
+        for name, var in out.variables.items():
+            if var.ndim > 0 and var.size > 0 and var.dtype.kind in "biuf":
+                var.encoding = {**var.encoding, "fletcher32": True}
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     os.close(fd)
     try:
         out.to_netcdf(tmp, engine="netcdf4")
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600: give the file the permissions of any other
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
     return path
+
+
+HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
+
+
+def netcdf_problem(path: str | os.PathLike[str]) -> str | None:
+    """Why the netCDF file ``path`` cannot be trusted (one short line), or ``None`` if it reads back whole.
+
+    Checks the signature, opens the file and reads every variable, which finds truncated and cut files
+    and, for files written with ``checksum=True``, any byte that differs from what was written.
+    """
+    path = Path(path)
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(8)
+    except OSError as err:
+        return f"cannot read ({err.strerror})"
+    if not head:
+        return "empty file"
+    if head != HDF5_SIGNATURE and not head.startswith(b"CDF"):
+        return "not a netCDF file (wrong signature)"
+    import netCDF4
+
+    try:
+        with netCDF4.Dataset(path) as nc:
+            nc.set_auto_mask(False)
+            for var in nc.variables.values():
+                var[...]
+    except Exception as err:  # noqa: BLE001 - any failure to read back is the answer
+        text = str(err).splitlines()[0] if str(err) else ""
+        return f"does not read back ({type(err).__name__}: {text})"
+    return None
+
+
+def set_aside_damaged(paths: list[str], log: Any = None) -> list[str]:
+    """Rename every existing file of ``paths`` that :func:`netcdf_problem` rejects to ``<name>.damaged``.
+
+    Used on chunk files before a merge is scheduled: a damaged chunk then counts as missing, so
+    Snakemake recomputes it instead of merging it; the damaged copy is kept for inspection.
+    Returns the paths set aside; ``log`` (a callable) gets one line for each.
+    """
+    moved = []
+    for p in paths:
+        if not os.path.exists(p):
+            continue
+        problem = netcdf_problem(p)
+        if problem is None:
+            continue
+        os.replace(p, f"{p}.damaged")
+        moved.append(p)
+        if log is not None:
+            log(f"geardyn: {p} is damaged ({problem}); moved to {p}.damaged, it will be recomputed")
+    return moved
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 def write_text(text: str, path: str | os.PathLike[str]) -> Path:

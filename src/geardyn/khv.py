@@ -32,6 +32,22 @@ CONTROLS: dict[str, tuple[str, str]] = {
     "speed": ("rpm", "input speed"),
 }
 
+#: UDUNITS units of the model parameters (fields of :class:`KHVParameters`) when used as overrides.
+PARAMETER_UNITS: dict[str, str] = {
+    "r_bV": "m", "r_bH": "m", "I_D": "kg m2", "I_H": "kg m2", "I_V": "kg m2", "I_L": "kg m2", "m_V": "kg",
+    "K_DH": "N m rad-1", "K_VL": "N m rad-1", "zeta": "1", "eta": "1", "T_D": "N m", "T_L": "N m",
+    "backlash": "m", "te_amplitude": "m", "te_phase": "rad", "z_annulus": "1", "input_speed_rpm": "rpm",
+    "omega_bar": "1",
+}
+
+
+def units_of(name: str) -> str:
+    """UDUNITS units of an override: a control parameter (``CONTROLS``) or a model parameter."""
+    if name in CONTROLS:
+        return CONTROLS[name][0]
+    return PARAMETER_UNITS[name]
+
+
 _PARAM_FIELDS = {f.name for f in dataclasses.fields(KHVParameters)} - {"eps", "k_c", "pressure_angle_deg"}
 _OPTION_FIELDS = {f.name for f in dataclasses.fields(Options)}
 _SETTING_FIELDS = {f.name for f in dataclasses.fields(SimulationSettings)}

@@ -59,16 +59,27 @@ def runs_for(section, pattern):
     ]
 
 
+def checked_chunks(paths):
+    """``paths``, after setting aside (``.damaged``) any chunk file that does not read back whole, so
+    that it is recomputed rather than merged (issue 7; see geardyn.io.set_aside_damaged)."""
+    from snakemake.logging import logger
+
+    from geardyn.io import set_aside_damaged
+
+    set_aside_damaged(paths, log=logger.warning)
+    return paths
+
+
 def sweep_chunk_files(wildcards):
     from geardyn.sweep import SweepSpec
 
     spec = SweepSpec.from_config(wildcards.sweep, config["sweeps"][wildcards.sweep], wildcards.design)
-    return expand(
+    return checked_chunks(expand(
         "results/{design}/sweeps/{sweep}/chunk_{chunk}.nc",
         design=wildcards.design,
         sweep=wildcards.sweep,
         chunk=range(spec.n_chunks),
-    )
+    ))
 
 
 wildcard_constraints:
@@ -88,12 +99,12 @@ def calibration_chunk_files(wildcards):
 
     spec = config["calibration"][wildcards.calibration]
     count = n_chunks(len(candidate_grid(spec["grid"])), spec["chunks"])
-    return expand(
+    return checked_chunks(expand(
         "results/{design}/calibration/{calibration}/chunk_{chunk}.nc",
         design=wildcards.design,
         calibration=wildcards.calibration,
         chunk=range(count),
-    )
+    ))
 
 
 def claims_spec(wildcards):
@@ -112,9 +123,9 @@ def map_chunk_files(wildcards):
     from geardyn.maps import MapSpec
 
     spec = MapSpec.from_config(wildcards.map, config["maps"][wildcards.map], wildcards.design)
-    return expand(
+    return checked_chunks(expand(
         "results/{design}/maps/{map}/chunk_{chunk}.nc",
         design=wildcards.design,
         map=wildcards.map,
         chunk=range(spec.n_chunks),
-    )
+    ))

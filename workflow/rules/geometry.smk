@@ -19,7 +19,8 @@ rule fig03_closed_graph:
     input:
         data="results/{design}/data/closed_graph.nc",
     output:
-        figure="results/{design}/figures/fig03_closed_graph.png",
+        figure=report("results/{design}/figures/fig03_closed_graph.png", caption="../report/fig03_closed_graph.rst",
+                      category=PAPER1, subcategory="Fig. 03: closed graph", labels={"design": "{design}"}),
         caption="results/{design}/figures/fig03_closed_graph.png.txt",
     log:
         "results/{design}/logs/fig03_closed_graph.log",

@@ -20,9 +20,12 @@ rule stiffness_figures:
         design=design_file,
         table="results/{design}/data/stiffness_table.nc",
     output:
-        fig04="results/{design}/figures/fig04_single_tooth_stiffness.png",
-        fig05="results/{design}/figures/fig05_mesh_stiffness.png",
-        fig06="results/{design}/figures/fig06_backlash.png",
+        fig04=report("results/{design}/figures/fig04_single_tooth_stiffness.png", caption="../report/fig04_single_tooth_stiffness.rst",
+                     category=PAPER1, subcategory="Fig. 04: single tooth stiffness", labels={"design": "{design}"}),
+        fig05=report("results/{design}/figures/fig05_mesh_stiffness.png", caption="../report/fig05_mesh_stiffness.rst",
+                     category=PAPER1, subcategory="Fig. 05: mesh stiffness", labels={"design": "{design}"}),
+        fig06=report("results/{design}/figures/fig06_backlash.png", caption="../report/fig06_backlash.rst",
+                     category=PAPER1, subcategory="Fig. 06: backlash", labels={"design": "{design}"}),
     log:
         "results/{design}/logs/stiffness_figures.log",
     params:

@@ -34,7 +34,8 @@ rule bifurcation_figure:
     input:
         cube="results/{design}/sweeps/{sweep}.nc",
     output:
-        figure="results/{design}/figures/{sweep}.png",
+        figure=report("results/{design}/figures/{sweep}.png", caption="../report/bifurcation.rst",
+                      category=PAPER1, subcategory=sweep_figure, labels={"design": "{design}"}),
         caption="results/{design}/figures/{sweep}.png.txt",
     log:
         "results/{design}/logs/figure_{sweep}.log",
@@ -63,7 +64,8 @@ rule point_figure:
     input:
         data="results/{design}/points/{points}.nc",
     output:
-        figure="results/{design}/figures/{points}.png",
+        figure=report("results/{design}/figures/{points}.png", caption="../report/points.rst",
+                      category=PAPER1, subcategory=points_figure, labels={"design": "{design}"}),
         caption="results/{design}/figures/{points}.png.txt",
     log:
         "results/{design}/logs/figure_{points}.log",

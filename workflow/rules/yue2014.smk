@@ -48,11 +48,14 @@ rule yue2014_modal_figures:
     input:
         modal="results/yue2014/data/modal.nc",
     output:
-        fig06="results/yue2014/figures/fig06_modal_strain_energy.png",
+        fig06=report("results/yue2014/figures/fig06_modal_strain_energy.png", caption="../report/yue2014_fig06_modal_strain_energy.rst",
+                     category=PAPER2, subcategory="Fig. 06: modal strain energy", labels={"design": "yue2014"}),
         fig06_caption="results/yue2014/figures/fig06_modal_strain_energy.png.txt",
-        fig07="results/yue2014/figures/fig07_modal_kinetic_energy.png",
+        fig07=report("results/yue2014/figures/fig07_modal_kinetic_energy.png", caption="../report/yue2014_fig07_modal_kinetic_energy.rst",
+                     category=PAPER2, subcategory="Fig. 07: modal kinetic energy", labels={"design": "yue2014"}),
         fig07_caption="results/yue2014/figures/fig07_modal_kinetic_energy.png.txt",
-        fig07b="results/yue2014/figures/fig07b_mode_shapes.png",
+        fig07b=report("results/yue2014/figures/fig07b_mode_shapes.png", caption="../report/yue2014_fig07b_mode_shapes.rst",
+                     category=PAPER2, subcategory="Fig. 07b: mode shapes", labels={"design": "yue2014"}),
         fig07b_caption="results/yue2014/figures/fig07b_mode_shapes.png.txt",
     log:
         "results/yue2014/logs/modal_figures.log",
@@ -98,11 +101,14 @@ rule yue2014_te_figures:
         landscape="results/yue2014/data/relief_landscape.nc",
         optima_csv="results/yue2014/tables/sec4_relief_optima.csv",
     output:
-        fig04="results/yue2014/figures/fig04_te_unmodified.png",
+        fig04=report("results/yue2014/figures/fig04_te_unmodified.png", caption="../report/yue2014_fig04_te_unmodified.rst",
+                     category=PAPER2, subcategory="Fig. 04: transmission error", labels={"design": "yue2014"}),
         fig04_caption="results/yue2014/figures/fig04_te_unmodified.png.txt",
-        fig09="results/yue2014/figures/fig09_te_relief.png",
+        fig09=report("results/yue2014/figures/fig09_te_relief.png", caption="../report/yue2014_fig09_te_relief.rst",
+                     category=PAPER2, subcategory="Fig. 09: tip relief", labels={"design": "yue2014"}),
         fig09_caption="results/yue2014/figures/fig09_te_relief.png.txt",
-        fig09b="results/yue2014/figures/fig09b_relief_landscape.png",
+        fig09b=report("results/yue2014/figures/fig09b_relief_landscape.png", caption="../report/yue2014_fig09b_relief_landscape.rst",
+                     category=PAPER2, subcategory="Fig. 09b: relief landscape", labels={"design": "yue2014"}),
         fig09b_caption="results/yue2014/figures/fig09b_relief_landscape.png.txt",
     log:
         "results/yue2014/logs/te_figures.log",

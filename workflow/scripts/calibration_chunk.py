@@ -17,6 +17,6 @@ ds = calibrate.run_candidates(model, candidates[part], spec.get("fixed", {}), x1
 attrs = io.provenance(title=f"Calibration {snakemake.wildcards.calibration} chunk {snakemake.wildcards.chunk}",
                       paper="li2013", config={"design": model.raw, "calibration": spec},
                       model_variant=model.stiffness.label)
-io.write_netcdf(ds, snakemake.output[0], attrs)
+io.write_netcdf(ds, snakemake.output[0], attrs, checksum=True)  # Fletcher-32: damage is found before a merge
 log.info("scored candidates %d..%d, best score %.3f", part.start, part.stop - 1,
          float(ds["score"].max()) if ds.sizes["candidate"] else float("nan"))

@@ -11,6 +11,9 @@ spec = snakemake.params.spec
 model = design.load(snakemake.input.design)
 parts = []
 for path in snakemake.input.chunks:
+    problem = io.netcdf_problem(path)  # damaged since the DAG was built: refuse, never merge it
+    if problem:
+        raise ValueError(f"{path}: damaged chunk ({problem}); rerun snakemake to recompute it")
     with xr.open_dataset(path) as ds:
         parts.append(ds.load())
 scores = xr.concat(parts, dim="candidate", data_vars="minimal", coords="minimal", compat="override",

@@ -13,4 +13,4 @@ settings = khv.integration_settings(model, **dict(spec.integration))
 attrs = io.provenance(title=f"{spec.name} chunk {chunk}", paper="li2013",
                       config={"design": model.raw, "sweep": snakemake.params.sweep},
                       model_variant=model.stiffness.label, extra={"chunk": chunk, "n_chunks": spec.n_chunks})
-io.write_netcdf(cube, snakemake.output[0], attrs)
+io.write_netcdf(cube, snakemake.output[0], attrs, checksum=True)  # Fletcher-32: damage is found before a merge

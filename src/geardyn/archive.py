@@ -1,0 +1,223 @@
+"""Archives of one design's results: every netCDF cube, the configs, a sha256 manifest, a README.
+
+:func:`build` writes ``<design>_archive.tar.gz`` with this layout (one top folder)::
+
+    <design>_archive/
+        MANIFEST.json      design, geardyn version, git commit, and every other file with sha256 and size
+        SHA256SUMS         the same sums for ``sha256sum -c`` (no geardyn needed)
+        README.txt         what the files are and how to open them
+        config/...         the workflow config, the effective (validated) config, the design file
+        results/<design>/  the cubes, at the paths where the pipeline writes them
+
+:func:`verify` checks such an archive: every listed file is present with its sum and size, nothing
+unlisted is present, and every cube opens with xarray and its data read back. Any problem is one
+:class:`ArchiveError` line that names the archive and the member.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import hashlib
+import io as _io
+import json
+import tarfile
+import tempfile
+import zlib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from geardyn import __version__
+from geardyn import io as gio
+
+MANIFEST = "MANIFEST.json"
+SUMS = "SHA256SUMS"
+FORMAT = 1
+
+_README = """\
+geardyn results archive: design {design}
+==========================================
+
+Made by geardyn {version} (git commit {commit}) on {created}.
+Papers: Li et al. (2013), J. Vibroengineering 15(4) (KHV designs); Yue et al. (2014),
+J. Vibroengineering 16(2) (plus planetary set).
+
+Files
+-----
+results/   {n_cubes} netCDF-4 cubes, at the paths where the pipeline writes them (results/{design}/...)
+config/    the workflow config file, the effective config the run used (defaults filled in), the design file
+MANIFEST.json  sha256 and size of every file, geardyn version and git commit per cube
+SHA256SUMS     the same sums, for `sha256sum -c SHA256SUMS` inside this folder
+
+Check the archive (with geardyn installed):   geardyn verify-archive {design}_archive.tar.gz
+
+Open a cube (Python, xarray + netCDF4):
+
+    import xarray as xr
+    ds = xr.open_dataset("{design}_archive/{example}")
+    print(ds)                  # every variable has units and long_name
+    print(ds.attrs["config_json"])   # the exact design and run settings behind it
+
+or from a shell: ncdump -h {design}_archive/{example}
+
+Every cube carries CF-1.10 global attributes (title, source, history, references) and its
+provenance (geardyn_version, git_commit, config_hash, model_variant).
+"""
+
+
+class ArchiveError(ValueError):
+    """An archive is unreadable, incomplete or altered; the message is one line for the user."""
+
+
+@dataclass(frozen=True)
+class Summary:
+    """What :func:`verify` found in a good archive."""
+
+    path: str
+    design: str
+    files: int
+    cubes: int
+    geardyn_version: str
+    git_commit: str
+
+    def line(self) -> str:
+        return (f"{self.path}: OK, design {self.design}: {self.files} files match their sha256, "
+                f"{self.cubes} netCDF cubes open (geardyn {self.geardyn_version}, commit {self.git_commit})")
+
+
+def sha256_bytes(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def _cube_provenance(path: Path) -> dict[str, str]:
+    import xarray as xr
+
+    with xr.open_dataset(path) as ds:
+        return {k: str(ds.attrs.get(k, "unknown")) for k in ("geardyn_version", "git_commit", "config_hash")}
+
+
+def build(out: str | Path, design: str, cubes: Mapping[str, str | Path], configs: Mapping[str, str | Path],
+          effective_config: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """Write the archive ``out`` (``.tar.gz``) and return its manifest.
+
+    ``cubes`` maps a path inside the archive (the pipeline's own, ``results/<design>/...``) to a file on
+    disk, ``configs`` a path inside ``config/``.
+    ``effective_config`` (the validated workflow config) is stored as ``config/effective_config.yaml``.
+    The archive is written to a temporary name and renamed, so it is never seen half-written.
+    """
+    import yaml
+
+    out = Path(out)
+    top = f"{design}_archive"
+    created = _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
+    commit = gio.git_commit()
+    members: dict[str, bytes] = {}
+    entries: list[dict[str, Any]] = []
+
+    def add(name: str, data: bytes, kind: str, extra: Mapping[str, str] | None = None) -> None:
+        members[name] = data
+        entries.append({"path": name, "kind": kind, "bytes": len(data), "sha256": sha256_bytes(data), **(extra or {})})
+
+    for rel, src in sorted(configs.items()):
+        add(f"config/{rel}", Path(src).read_bytes(), "config")
+    if effective_config is not None:
+        text = "# The workflow config as the run used it: validated, defaults filled in.\n" + yaml.safe_dump(
+            json.loads(json.dumps(effective_config, default=str)), sort_keys=True)
+        add("config/effective_config.yaml", text.encode(), "config")
+    for rel, src in sorted(cubes.items()):
+        add(rel, Path(src).read_bytes(), "netcdf", _cube_provenance(Path(src)))
+    example = sorted(cubes)[0] if cubes else "results/<cube>.nc"
+    readme = _README.format(design=design, version=__version__, commit=commit, created=created,
+                            n_cubes=len(cubes), example=example)
+    add("README.txt", readme.encode(), "readme")
+    manifest = {"format": FORMAT, "design": design, "geardyn_version": __version__, "git_commit": commit,
+                "created": created, "files": entries}
+    sums = "".join(f"{e['sha256']}  {e['path']}\n" for e in entries)
+    add(SUMS, sums.encode(), "sums")
+    manifest_bytes = (json.dumps(manifest, indent=1) + "\n").encode()
+
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_name(f".{out.name}.tmp")
+    mtime = int(_dt.datetime.fromisoformat(created).timestamp())
+    with tarfile.open(tmp, "w:gz") as tar:
+        for name, data in [(MANIFEST, manifest_bytes), *sorted(members.items())]:
+            info = tarfile.TarInfo(f"{top}/{name}")
+            info.size, info.mtime, info.mode = len(data), mtime, 0o644
+            tar.addfile(info, _io.BytesIO(data))
+    tmp.replace(out)
+    return manifest
+
+
+def _read_members(path: Path) -> tuple[str, dict[str, bytes]]:
+    """All regular files of the archive by their name below the top folder, and the top folder."""
+    where = str(path)
+    if not path.is_file():
+        raise ArchiveError(f"{where}: file not found")
+    members: dict[str, bytes] = {}
+    tops = set()
+    try:
+        with tarfile.open(path, "r:gz") as tar:
+            for info in tar:
+                name = info.name
+                if name.startswith("/") or ".." in Path(name).parts:
+                    raise ArchiveError(f"{where}: unsafe member path {name!r}")
+                if info.isdir():
+                    continue
+                if not info.isfile():
+                    raise ArchiveError(f"{where}: member {name!r} is not a regular file")
+                top, _, rest = name.partition("/")
+                tops.add(top)
+                fh = tar.extractfile(info)
+                members[rest] = fh.read() if fh is not None else b""
+    except ArchiveError:
+        raise
+    except (tarfile.TarError, EOFError, OSError, zlib.error) as err:
+        raise ArchiveError(f"{where}: not a readable .tar.gz archive (damaged or truncated: {err})") from None
+    if len(tops) != 1:
+        raise ArchiveError(f"{where}: expected one top folder, found {sorted(tops) or 'none'}")
+    return tops.pop(), members
+
+
+def verify(path: str | Path) -> Summary:
+    """Check an archive written by :func:`build`; raise :class:`ArchiveError` on the first problem."""
+    import xarray as xr
+
+    path = Path(path)
+    where = str(path)
+    top, members = _read_members(path)
+    if MANIFEST not in members:
+        raise ArchiveError(f"{where}: no {top}/{MANIFEST} in the archive")
+    try:
+        manifest = json.loads(members.pop(MANIFEST).decode("utf-8"))
+        entries = {e["path"]: e for e in manifest["files"]}
+    except (ValueError, KeyError, TypeError) as err:
+        raise ArchiveError(f"{where}: {top}/{MANIFEST} is not a valid manifest ({err})") from None
+    for name, entry in entries.items():
+        if name not in members:
+            raise ArchiveError(f"{where}: {top}/{name} is listed in the manifest but missing from the archive")
+        data = members[name]
+        if len(data) != entry["bytes"]:
+            raise ArchiveError(f"{where}: {top}/{name} has {len(data)} bytes, the manifest says {entry['bytes']}")
+        digest = sha256_bytes(data)
+        if digest != entry["sha256"]:
+            raise ArchiveError(f"{where}: {top}/{name} sha256 mismatch: manifest {entry['sha256'][:16]}..., "
+                               f"archive {digest[:16]}...")
+    extra = sorted(set(members) - set(entries))
+    if extra:
+        raise ArchiveError(f"{where}: {top}/{extra[0]} is in the archive but not in the manifest")
+    cubes = [name for name, e in entries.items() if e["kind"] == "netcdf"]
+    with tempfile.TemporaryDirectory(prefix="geardyn-verify-") as tmp:
+        for name in cubes:
+            local = Path(tmp) / Path(name).name
+            local.write_bytes(members[name])
+            try:
+                with xr.open_dataset(local) as ds:
+                    ds.load()
+            except Exception as err:  # noqa: BLE001 - any failure to open is the answer
+                text = str(err).replace(str(local), name).splitlines()
+                raise ArchiveError(f"{where}: {top}/{name} does not open as netCDF ({type(err).__name__}: "
+                                   f"{text[0] if text else ''})") from None
+            local.unlink()
+    return Summary(where, str(manifest.get("design", "?")), len(entries), len(cubes),
+                   str(manifest.get("geardyn_version", "?")), str(manifest.get("git_commit", "?")))

@@ -1,0 +1,114 @@
+"""Helpers for tests that run the Snakemake workflow on a copy in a temporary directory.
+
+The copy holds Snakefile, workflow/ and config/; the library comes from this checkout's src/ via
+PYTHONPATH. Nothing is ever written into the repository's own results/.
+"""
+
+from __future__ import annotations
+
+import copy
+import fcntl
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: Integrator settings that make a sweep point take a few milliseconds.
+FAST = {"steps_per_period": 64, "transient_periods": 40, "recorded_periods": 8}
+
+
+def shipped(rel: str) -> dict[str, Any]:
+    return yaml.safe_load((ROOT / rel).read_text(encoding="utf-8"))
+
+
+def workflow_copy(dest: Path, config: dict[str, Any] | None = None,
+                  designs: dict[str, dict[str, Any]] | None = None) -> Path:
+    """Copy the workflow to ``dest``; replace config.yaml and design files by the given mappings."""
+    dest.mkdir(parents=True, exist_ok=True)
+    for item in ("Snakefile", "workflow", "config"):
+        src = ROOT / item
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, dest / item)
+    if config is not None:
+        (dest / "config" / "config.yaml").write_text(yaml.safe_dump(config, sort_keys=False), encoding="utf-8")
+    for name, raw in (designs or {}).items():
+        (dest / "config" / "designs" / f"{name}.yaml").write_text(yaml.safe_dump(raw, sort_keys=False),
+                                                                  encoding="utf-8")
+    return dest
+
+
+def env() -> dict[str, str]:
+    return {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+
+
+def snakemake_cmd(*args: str) -> list[str]:
+    return [sys.executable, "-m", "snakemake", *args]
+
+
+def snakemake(work: Path, *args: str, timeout: float = 600, check: bool = True) -> subprocess.CompletedProcess:
+    """Run Snakemake in ``work``; with ``check`` a failure shows its stderr."""
+    run = subprocess.run(snakemake_cmd(*args), cwd=work, env=env(), capture_output=True, text=True,
+                         timeout=timeout)
+    if check and run.returncode != 0:
+        raise AssertionError(f"snakemake {' '.join(args)} failed ({run.returncode}):\n{run.stderr[-4000:]}")
+    return run
+
+
+def sweep_config(chunks: int = 4, num: int = 12, integration: dict[str, Any] | None = None) -> dict[str, Any]:
+    """A config with design li2013 and one x1 sweep, nothing else."""
+    return {
+        "designs": {"li2013": "config/designs/li2013.yaml"},
+        "sweeps": {"fig07_small": {
+            "designs": ["li2013"], "title": "small x1 sweep", "parameter": "x1", "start": 0.45, "stop": 0.80,
+            "num": num, "fixed": {"b": 2.0, "e": 5.0}, "chunks": chunks,
+            "integration": dict(FAST if integration is None else integration)}},
+        "points": {}, "calibration": {},
+    }
+
+
+def small_config() -> dict[str, Any]:
+    """Every kind of job of the pipeline on small grids (seconds each)."""
+    cfg = sweep_config(chunks=2, num=6)
+    cfg["designs"]["yue2014"] = "config/designs/yue2014.yaml"
+    cfg["closed_graph"] = {"x1": {"start": 0.2, "stop": 1.1, "num": 19}, "x2": {"start": 0.3, "stop": 1.4, "num": 23}}
+    cfg["stiffness_table"] = {"points": 11, "phase_points": 32, "fig05_x1": [0.416, 0.626, 0.835]}
+    cfg["points"] = {"fig08_small": {"designs": ["li2013"], "title": "small points", "fixed": {"b": 2.0, "e": 5.0},
+                                     "cases": [{"x1": 0.5}, {"x1": 0.761}], "samples_per_period": 16}}
+    cfg["calibration"] = {"small_sequence": {
+        "design": "li2013", "fixed": {"b": 2.0, "e": 5.0}, "x1": {"start": 0.416, "stop": 0.835, "num": 5},
+        "grid": {"w": [0.9, 1.0]}, "chunks": 2, "integration": dict(FAST)}}
+    return cfg
+
+
+def small_designs() -> dict[str, dict[str, Any]]:
+    """li2013 with short point runs, yue2014 with a small relief search (as in test_plus_workflow)."""
+    li = shipped("config/designs/li2013.yaml")
+    li["dynamics"]["integration"].update(FAST)
+    yue = shipped("config/designs/yue2014.yaml")
+    yue["relief"].update(landscape_points=5, maxiter=10, popsize=6)
+    yue["transmission_error"]["points_per_period"] = 60
+    return {"li2013": li, "yue2014": yue}
+
+
+def shared(tmp_path_factory, name: str, build) -> Path:
+    """A directory ``build(path)`` fills once per test session, whichever pytest-xdist worker asks first;
+    the others wait for it (a file lock) and then read the same directory."""
+    base = tmp_path_factory.getbasetemp()
+    root = base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+    work = root / name
+    with open(root / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (root / f"{name}.done").exists():
+            shutil.rmtree(work, ignore_errors=True)
+            build(work)
+            (root / f"{name}.done").touch()
+    return work
+
+
+def deep(data: dict[str, Any]) -> dict[str, Any]:
+    return copy.deepcopy(data)

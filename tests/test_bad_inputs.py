@@ -1,0 +1,135 @@
+"""Malformed designs and configs: each stops `snakemake` before any job, with one line, writing nothing.
+
+Every case runs the real workflow (a copy in tmp_path, `snakemake --cores 1`, no dry run): if a case
+slipped through validation, jobs would start and results/ would appear.
+"""
+
+import pytest
+
+import _workflow as wf
+
+LI2013 = "config/designs/li2013.yaml"
+
+
+def _design(change):
+    def make(cfg, designs, work):
+        change(designs["li2013"])
+    return make
+
+
+def _config(change):
+    def make(cfg, designs, work):
+        change(cfg)
+    return make
+
+
+def _sweep(change):
+    return _config(lambda c: change(c["sweeps"]["fig07_small"]))
+
+
+def _raw_file(rel, data):
+    def make(cfg, designs, work):
+        designs.pop("li2013", None) if rel == LI2013 else None
+        return rel, data
+    return make
+
+
+def _pop(mapping, *keys):
+    for key in keys[:-1]:
+        mapping = mapping[key]
+    mapping.pop(keys[-1])
+
+
+#: (id, how to break the input, text the one-line error must contain)
+CASES = [
+    # design file: wrong types
+    ("z1-not-integer", _design(lambda d: d["pair"].update(z1="thirty")), "pair.z1 = 'thirty' is not allowed: integer"),
+    ("module-a-list", _design(lambda d: d["pair"].update(module=[3.5])), "pair.module = [3.5] is not allowed: number"),
+    ("torque-a-string", _design(lambda d: d["dynamics"]["parameters"].update(T_D="50")),
+     "dynamics.parameters.T_D = '50' is not allowed: number"),
+    # design file: out-of-range values
+    ("pressure-angle-60", _design(lambda d: d["pair"].update(pressure_angle_deg=60)),
+     "pair.pressure_angle_deg = 60 is not allowed: number > 0 and < 45"),
+    ("negative-damping", _design(lambda d: d["dynamics"]["parameters"].update(zeta=-0.1)),
+     "dynamics.parameters.zeta = -0.1 is not allowed: number >= 0"),
+    ("few-teeth", _design(lambda d: d["pair"].update(z1=5)), "pair.z1 = 5 is not allowed: integer >= 8"),
+    # design file: infeasible gear pairs
+    ("same-teeth-number", _design(lambda d: d["pair"].update(z1=33, z2=33)), "pair.z2 - pair.z1 = 0 is not allowed"),
+    ("design-point-infeasible", _design(lambda d: d["pair"].update(x1=0.2, x2=0.2)),
+     "design point (x1, x2) = (0.2000, 0.2000) is outside the feasible region"),
+    ("segment-leaves-feasible-region", _design(lambda d: d["admissible"].update(x1_max=1.5)),
+     "admissible segment x1 = [0.416, 1.5] leaves the feasible region"),
+    ("segment-below-line4", _design(lambda d: d["admissible"].update(x1_min=-0.9)),
+     "admissible segment x1 = [-0.9, 0.835] leaves the region the model covers at x1 = -0.9000: no x2 on line 4"),
+    ("segment-reversed", _design(lambda d: d["admissible"].update(x1_min=0.9)),
+     "admissible.x1_min = 0.9 must be below admissible.x1_max"),
+    # design file: missing keys, typos in keys, wrong kind or name
+    ("missing-pair", _design(lambda d: d.pop("pair")), "missing required key 'pair'"),
+    ("missing-module", _design(lambda d: _pop(d, "pair", "module")), "missing required key 'pair.module'"),
+    ("typo-stifness", _design(lambda d: d.update(stifness=d.pop("stiffness"))),
+     "unknown key 'stifness' (did you mean 'stiffness'?)"),
+    ("typo-modul", _design(lambda d: d["pair"].update(modul=d["pair"].pop("module"))),
+     "unknown key 'pair.modul' (did you mean 'module'?)"),
+    ("kind-typo", _design(lambda d: d.update(kind="kvh")), "kind = 'kvh' is not allowed: one of 'khv'"),
+    ("name-differs", _design(lambda d: d.update(name="li2014")), "name = 'li2014' differs from its key 'li2013'"),
+    # design file: unreadable
+    ("design-not-utf8", _raw_file(LI2013, "kind: khv\nname: li2013\ntitle: caf\xe9\n".encode("latin-1")),
+     "li2013.yaml: not UTF-8 text"),
+    ("design-yaml-syntax", _raw_file(LI2013, b"kind: khv\npair: {z1: 30, z2: 33\nname: li2013\n"),
+     "li2013.yaml: YAML syntax error at line"),
+    ("design-empty", _raw_file(LI2013, b""), "li2013.yaml: expected a mapping with a 'kind' key"),
+    # config: empty sweeps
+    ("sweep-no-points", _sweep(lambda s: s.update(num=0)), "sweeps.fig07_small.num = 0 is not allowed: integer >= 1"),
+    ("sweep-no-cases", _sweep(lambda s: s.update(cases=[])), "sweeps.fig07_small.cases = [] is not allowed"),
+    ("sweep-no-designs", _sweep(lambda s: s.update(designs=[])), "sweeps.fig07_small.designs = [] is not allowed"),
+    ("sweep-empty-spec", _config(lambda c: c["sweeps"].update(fig07_small={})),
+     "missing required key 'sweeps.fig07_small.designs'"),
+    # config: sweep ranges outside the feasible region / allowed range
+    ("sweep-leaves-segment", _sweep(lambda s: s.update(start=0.3, stop=0.9)),
+     "sweeps.fig07_small.start: x1 = 0.3 is not allowed: number >= 0.416 and <= 0.835 (the admissible segment M-N"),
+    ("case-x1-outside", _sweep(lambda s: s.update(parameter="b", start=0.0, stop=2.0, cases=[{"x1": 0.9}])),
+     "sweeps.fig07_small.cases[0]: x1 = 0.9 is not allowed"),
+    ("negative-backlash", _sweep(lambda s: s.update(parameter="b", start=-1.0, stop=2.0)),
+     "sweeps.fig07_small.start: b = -1.0 is not allowed: number >= 0"),
+    ("sweep-reversed", _sweep(lambda s: s.update(start=0.8, stop=0.5)), "stop = 0.5 must be above start = 0.8"),
+    ("steps-too-few", _sweep(lambda s: s["integration"].update(steps_per_period=2)),
+     "sweeps.fig07_small.integration.steps_per_period = 2 is not allowed: integer >= 4"),
+    # config: unknown names, typos, wrong types
+    ("unknown-parameter", _sweep(lambda s: s.update(parameter="x3")),
+     "sweeps.fig07_small.parameter: unknown control parameter 'x3' (allowed: b, e, speed, w, x1, I_D"),
+    ("override-typo", _sweep(lambda s: s["fixed"].update(bb=1.0)), "unknown control parameter 'bb' (did you mean 'b'?)"),
+    ("sweep-key-typo", _sweep(lambda s: s.update(chunk=s.pop("chunks"))),
+     "unknown key 'sweeps.fig07_small.chunk' (did you mean 'chunks'?)"),
+    ("top-key-typo", _config(lambda c: c.update(sweep=c.pop("sweeps"))), "unknown key 'sweep' (did you mean 'sweeps'?)"),
+    ("num-a-string", _sweep(lambda s: s.update(num="many")), "sweeps.fig07_small.num = 'many' is not allowed: integer"),
+    ("unknown-design", _sweep(lambda s: s.update(designs=["li2031"])), "design 'li2031' is not allowed: one of 'li2013'"),
+    ("design-file-missing", _config(lambda c: c["designs"].update(li2013="config/designs/none.yaml")),
+     "config/designs/none.yaml: file not found"),
+    ("calibration-empty-grid", _config(lambda c: c["calibration"].update(cal={"design": "li2013", "grid": {"w": []}})),
+     "calibration.cal.grid.w = [] is not allowed: list with at least 1 items"),
+    # config file: unreadable
+    ("config-not-utf8", _raw_file("config/config.yaml", "designs:\n  li2013: caf\xe9.yaml\n".encode("latin-1")),
+     "config/config.yaml: not UTF-8 text"),
+    ("config-yaml-syntax", _raw_file("config/config.yaml", b"designs: {li2013: config/designs/li2013.yaml\n"),
+     "config/config.yaml: YAML syntax error at line"),
+]
+
+
+@pytest.mark.parametrize(("make", "message"), [c[1:] for c in CASES], ids=[c[0] for c in CASES])
+def test_bad_input_stops_before_any_job_with_one_line(tmp_path, make, message):
+    cfg, designs = wf.sweep_config(num=3, chunks=1), {"li2013": wf.shipped(LI2013)}
+    raw = make(cfg, designs, tmp_path)
+    work = wf.workflow_copy(tmp_path / "w", cfg, designs)
+    if raw:
+        rel, data = raw
+        (work / rel).write_bytes(data)
+    run = wf.snakemake(work, "--cores", "1", "results/li2013/sweeps/fig07_small.nc", timeout=120, check=False)
+    assert run.returncode != 0
+    lines = [line for line in (run.stderr + run.stdout).splitlines() if line.strip()]
+    assert len(lines) == 1, run.stderr + run.stdout
+    assert lines[0].startswith("geardyn config error:") and message in lines[0], lines[0]
+    assert not (work / "results").exists()
+
+
+def test_at_least_twenty_cases():
+    assert len(CASES) >= 20 and len({c[0] for c in CASES}) == len(CASES)

@@ -1,0 +1,196 @@
+"""Faults, measured: a run killed mid-sweep resumes without recomputing finished chunks and gives the
+same cube; damaged chunks are recomputed, never merged; cubes do not depend on the number of cores or
+chunks; sweep jobs log their progress.
+
+All runs use a copy of the workflow in a temporary directory (see _workflow.py).
+"""
+
+import base64
+import os
+import re
+import shutil
+import signal
+import subprocess
+import time
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import _workflow as wf
+from geardyn import io
+
+CUBE = "results/li2013/sweeps/fig07_small.nc"
+CHUNKS = 6
+#: A sweep of 60 points (10 per chunk): each chunk job is mostly start-up, about 2 s.
+INTEGRATION = {"steps_per_period": 128, "transient_periods": 100, "recorded_periods": 20}
+
+
+def _config(chunks=CHUNKS):
+    return wf.sweep_config(chunks=chunks, num=60, integration=INTEGRATION)
+
+
+def _chunk_paths(work):
+    return sorted((work / "results/li2013/sweeps/fig07_small").glob("chunk_*.nc"))
+
+
+def _run(work, *args):
+    return wf.snakemake(work, *args, CUBE, timeout=300)
+
+
+def _jobs(run, rule):
+    """How many jobs of ``rule`` a run executed (from Snakemake's 'Job stats' table)."""
+    match = re.search(rf"^{rule}\s+(\d+)$", run.stderr + run.stdout, re.M)
+    return int(match.group(1)) if match else 0
+
+
+def _open(path):
+    with xr.open_dataset(path) as ds:
+        return ds.load()
+
+
+def assert_same_cube(a, b, ignore=("history",)):
+    """Values, coordinates, dimensions and variable attributes identical; global attributes too, but
+    for ``ignore`` (the creation time, and the config hash when the chunk count differs)."""
+    xr.testing.assert_equal(a, b)
+    for name in a.variables:
+        assert a[name].attrs.keys() == b[name].attrs.keys(), name
+    strip = lambda attrs: {k: v for k, v in attrs.items() if k not in ignore}  # noqa: E731
+    assert strip(a.attrs) == strip(b.attrs)
+
+
+def _reference_run(work):
+    wf.workflow_copy(work, _config())
+    run = _run(work, "--cores", "2")
+    assert _jobs(run, "sweep_chunk") == CHUNKS
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    """An uninterrupted `snakemake --cores 2` run (once per session): its directory and merged cube."""
+    work = wf.shared(tmp_path_factory, "reference", _reference_run)
+    return work, _open(work / CUBE)
+
+
+def _recorded_chunks(work):
+    """Chunk files that exist and whose job Snakemake recorded as finished (no 'incomplete' marker)."""
+    marked = {base64.b64decode(p.name).decode() for p in (work / ".snakemake" / "incomplete").glob("*")
+              if p.name != "migration_underway"} if (work / ".snakemake" / "incomplete").exists() else set()
+    return {p.name for p in _chunk_paths(work) if str(p.relative_to(work)) not in marked}
+
+
+# SIGINT is Ctrl-C in the terminal (to the whole process group); SIGKILL a power cut or the OOM killer.
+# (SIGTERM is not used: Snakemake 9.27's SIGTERM handler takes a lock the main thread may hold, and
+# the run can hang; see docs/operations.md.)
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGKILL], ids=["SIGINT", "SIGKILL"])
+def test_killed_run_resumes_without_recomputing_and_gives_the_same_cube(tmp_path, reference, sig):
+    work = wf.workflow_copy(tmp_path / "w", _config())
+    proc = subprocess.Popen(wf.snakemake_cmd("--cores", "2", CUBE), cwd=work, env=wf.env(),
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    deadline = time.monotonic() + 240
+    while not _recorded_chunks(work) and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    assert proc.poll() is None, "the run ended before it could be interrupted"
+    os.killpg(proc.pid, sig)  # Snakemake and its running jobs
+    proc.wait(timeout=120)
+    time.sleep(0.5)
+    recorded = _recorded_chunks(work)
+    done = {p.name: p.stat().st_mtime_ns for p in _chunk_paths(work) if p.name in recorded}
+    assert 1 <= len(done) < CHUNKS, done  # interrupted mid-sweep
+    assert not (work / CUBE).exists()
+    if sig == signal.SIGKILL:  # README: after a hard kill, `--unlock` first (Snakemake's lock is left)
+        wf.snakemake(work, "--unlock")
+    rerun = _run(work, "--cores", "2", "--rerun-incomplete")  # README: the command with --rerun-incomplete
+    assert _jobs(rerun, "sweep_chunk") == CHUNKS - len(done)
+    for path in _chunk_paths(work):
+        if path.name in done:
+            assert path.stat().st_mtime_ns == done[path.name], f"{path.name} was recomputed"
+    assert_same_cube(_open(work / CUBE), reference[1])
+
+
+def _copy_of(reference, tmp_path):
+    """The reference run with every chunk done but the merge not yet run (as after a run stopped then).
+
+    (Once the cube exists, a damaged chunk is still set aside but nothing needs recomputing: the cube
+    was merged from the good file, and the chunk is recomputed when a merge next needs it.)
+    """
+    work = tmp_path / "w"
+    shutil.copytree(reference[0], work, symlinks=True)  # copy2: mtimes kept, so Snakemake sees no change
+    (work / CUBE).unlink()
+    dry = wf.snakemake(work, "-n", "--cores", "2", CUBE)
+    assert _jobs(dry, "sweep_chunk") == 0 and _jobs(dry, "sweep_merge") == 1
+    return work
+
+
+def test_truncated_chunk_is_recomputed_not_merged(tmp_path, reference):
+    work = _copy_of(reference, tmp_path)
+    victim = work / "results/li2013/sweeps/fig07_small/chunk_2.nc"
+    data = victim.read_bytes()
+    victim.write_bytes(data[: len(data) // 3])  # a copy cut short, a disk that filled up
+    others = {p.name: p.stat().st_mtime_ns for p in _chunk_paths(work) if p != victim}
+    run = _run(work, "--cores", "2")
+    assert "chunk_2.nc is damaged (does not read back" in run.stderr
+    assert _jobs(run, "sweep_chunk") == 1 and _jobs(run, "sweep_merge") == 1
+    assert (victim.parent / "chunk_2.nc.damaged").stat().st_size == len(data) // 3  # kept for inspection
+    assert io.netcdf_problem(victim) is None
+    assert {p.name: p.stat().st_mtime_ns for p in _chunk_paths(work) if p != victim} == others
+    assert_same_cube(_open(work / CUBE), reference[1])
+
+
+def test_silently_flipped_byte_in_a_chunk_is_found_by_its_checksum(tmp_path, reference):
+    work = _copy_of(reference, tmp_path)
+    victim = work / "results/li2013/sweeps/fig07_small/chunk_4.nc"
+    stat = victim.stat()
+    with xr.open_dataset(victim) as ds:  # flip a byte inside the stored x_vh data, not in the metadata
+        values = ds["x_vh"].values
+        finite = values[np.isfinite(values)]
+    data = bytearray(victim.read_bytes())
+    at = data.find(finite[len(finite) // 2].tobytes())
+    assert at > 0
+    data[at] ^= 0x01
+    victim.write_bytes(bytes(data))
+    os.utime(victim, ns=(stat.st_atime_ns, stat.st_mtime_ns))  # bit rot: same size, same time stamp
+    run = _run(work, "--cores", "2")
+    assert "chunk_4.nc is damaged" in run.stderr
+    assert _jobs(run, "sweep_chunk") == 1
+    assert_same_cube(_open(work / CUBE), reference[1])
+
+
+def test_merge_refuses_a_damaged_chunk_by_name(tmp_path, reference):
+    """The last line of defence: a chunk damaged after Snakemake planned the merge."""
+    import importlib.util
+    from types import SimpleNamespace
+
+    chunks = [tmp_path / p.name for p in _chunk_paths(reference[0])]
+    for src, dst in zip(_chunk_paths(reference[0]), chunks):
+        shutil.copy(src, dst)
+    chunks[1].write_bytes(chunks[1].read_bytes()[:5000])
+    cfg = _config()["sweeps"]["fig07_small"]
+    smk = SimpleNamespace(input=SimpleNamespace(design=str(wf.ROOT / "config/designs/li2013.yaml"),
+                                                chunks=[str(c) for c in chunks]),
+                          output=[str(tmp_path / "cube.nc")], log=[str(tmp_path / "merge.log")],
+                          params=SimpleNamespace(sweep=cfg), wildcards=SimpleNamespace(sweep="fig07_small"))
+    spec = importlib.util.spec_from_file_location("sweep_merge", wf.ROOT / "workflow/scripts/sweep_merge.py")
+    module = importlib.util.module_from_spec(spec)
+    module.snakemake = smk
+    with pytest.raises(ValueError, match=rf"{re.escape(str(chunks[1]))}: damaged chunk \(does not read back"):
+        spec.loader.exec_module(module)
+    assert not (tmp_path / "cube.nc").exists()
+
+
+def test_cubes_do_not_depend_on_cores_or_chunks(tmp_path, reference):
+    one_core = wf.workflow_copy(tmp_path / "cores1", _config())
+    _run(one_core, "--cores", "1")
+    assert_same_cube(_open(one_core / CUBE), reference[1])
+    other_chunks = wf.workflow_copy(tmp_path / "chunks4", _config(chunks=4))
+    run = _run(other_chunks, "--cores", "2")
+    assert _jobs(run, "sweep_chunk") == 4
+    # the config (hence its hash) says 4 chunks instead of 6; everything else is identical
+    assert_same_cube(_open(other_chunks / CUBE), reference[1], ignore=("history", "config_hash", "config_json"))
+
+
+def test_sweep_jobs_log_progress_and_remaining_time(reference):
+    log = (reference[0] / "results/li2013/logs/sweep_fig07_small_0.log").read_text()
+    lines = re.findall(r"fig07_small chunk 0: (\d+)/(\d+) points, ([\d.]+) s elapsed, ([\d.]+) s remaining", log)
+    assert len(lines) >= 5  # every 10 %
+    assert lines[-1][:2] == ("10", "10") and float(lines[-1][3]) == 0.0
