@@ -243,7 +243,7 @@ def markdown(out: dict) -> str:
               f"- ns per step (median, N >= 128): event {s['ns_per_step_event']:.1f}, plain {s['ns_per_step_plain']:.1f}",
               f"- default steps per period: {s['default_steps']} (error {s['default_error']:.2e} < {TARGET_ERROR:g}), "
               f"{s['default_time_per_point'] * 1e3:.1f} ms per 600-period sweep point",
-              f"- speed ratio vs DOP853 at equal error: " + ", ".join(f"{k}: {v:.0f}x" for k, v in s['speed_ratio'].items())]
+              "- speed ratio vs DOP853 at equal error: " + ", ".join(f"{k}: {v:.0f}x" for k, v in s['speed_ratio'].items())]
     return "\n".join(lines) + "\n"
 
 

@@ -23,8 +23,7 @@ Method (MODEL_NOTES "Numerics"):
 from __future__ import annotations
 
 import math
-import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import lru_cache
 from typing import Literal
 

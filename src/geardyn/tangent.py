@@ -24,7 +24,8 @@ from numba import njit
 
 from geardyn.integrators import (
     _A11, _A21, _A23, _A33, _B, _BON, _CM, _D11, _D21, _D23, _D33, _EPS, _G1, _G3, _T,
-    SimulationSettings, _hermite_root, _kappa_at, _region, _rk4, _rhs, _te_at, default_initial_state, step_grid,
+    SimulationSettings, _hermite_root, _kappa_at, _region, _rk4, _rk4_sub, _rhs, _te_at, default_initial_state,
+    step_grid,
 )
 from geardyn.model import Coefficients
 
@@ -148,13 +149,7 @@ def _run_tangent(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_re
                             for i in range(6):
                                 w[i] = wtmp[i]
                         else:
-                            # same call sequence as integrators._rk4_sub (bit-identical orbit)
-                            eps1 = c[_EPS] - 1.0
-                            sm = s_cur + 0.5 * th / T
-                            se = s_cur + th / T
-                            _rk4(c, y, th, _kappa_at(poly, seg, eps1, s_cur), _kappa_at(poly, seg, eps1, sm),
-                                 _kappa_at(poly, seg, eps1, se), _te_at(c, s_cur), _te_at(c, sm), _te_at(c, se),
-                                 ytmp)
+                            _rk4_sub(c, poly, seg, y, s_cur, th, ytmp)  # the plain integrator's sub-step
                         n_events += 1
                         for i in range(6):
                             y[i] = ytmp[i]
@@ -167,12 +162,7 @@ def _run_tangent(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_re
                         if tan:
                             _rk4v_sub(c, poly, seg, y, w, s_cur, left, ynew, wnew)
                         else:
-                            eps1 = c[_EPS] - 1.0
-                            sm = s_cur + 0.5 * left / T
-                            se = s_cur + left / T
-                            _rk4(c, y, left, _kappa_at(poly, seg, eps1, s_cur), _kappa_at(poly, seg, eps1, sm),
-                                 _kappa_at(poly, seg, eps1, se), _te_at(c, s_cur), _te_at(c, sm), _te_at(c, se),
-                                 ynew)
+                            _rk4_sub(c, poly, seg, y, s_cur, left, ynew)
                         rnew = _region(ynew[1], b)
                         if rnew == reg:
                             break

@@ -5,7 +5,6 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import numpy as np
 import xarray as xr
 
 from geardyn.plots import plus as plots
