@@ -228,3 +228,18 @@ def save_figure(fig: Any, path: str | os.PathLike[str], caption: str | None = No
     if caption is not None:
         write_text(caption.strip() + "\n", path.with_name(path.name + ".txt"))
     return path
+
+
+def read_chunks(paths: list[str] | tuple[str, ...]) -> list[xr.Dataset]:
+    """Load chunk files for a merge, refusing any that no longer reads back whole (named in the error).
+
+    A chunk damaged after Snakemake planned the run must never be merged; rerunning recomputes it.
+    """
+    parts = []
+    for path in paths:
+        problem = netcdf_problem(path)
+        if problem:
+            raise ValueError(f"{path}: damaged chunk ({problem}); rerun snakemake to recompute it")
+        with xr.open_dataset(path) as ds:
+            parts.append(ds.load())
+    return parts

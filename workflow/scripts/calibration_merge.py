@@ -9,13 +9,7 @@ from geardyn import calibrate, design, io, logs
 log = logs.to_file(snakemake.log[0])
 spec = snakemake.params.spec
 model = design.load(snakemake.input.design)
-parts = []
-for path in snakemake.input.chunks:
-    problem = io.netcdf_problem(path)  # damaged since the DAG was built: refuse, never merge it
-    if problem:
-        raise ValueError(f"{path}: damaged chunk ({problem}); rerun snakemake to recompute it")
-    with xr.open_dataset(path) as ds:
-        parts.append(ds.load())
+parts = io.read_chunks(snakemake.input.chunks)
 scores = xr.concat(parts, dim="candidate", data_vars="minimal", coords="minimal", compat="override",
                    combine_attrs="override")
 attrs = io.provenance(title=f"Calibration {snakemake.wildcards.calibration}", paper="li2013",

@@ -1,15 +1,10 @@
 """Adapter: merge the chunks of one regime map."""
 
-import xarray as xr
-
 from geardyn import design, io, logs, maps
 
 log = logs.to_file(snakemake.log[0])
 model = design.load(snakemake.input.design)
-parts = []
-for path in snakemake.input.chunks:
-    with xr.open_dataset(path) as ds:
-        parts.append(ds.load())
+parts = io.read_chunks(snakemake.input.chunks)  # a damaged chunk is refused by name, never merged
 out = maps.merge_chunks(parts)
 attrs = io.provenance(title=f"Regime map {snakemake.wildcards.map}, {model.title}", paper="li2013",
                       config={"design": model.raw, "map": snakemake.params.spec}, model_variant=model.stiffness.label)

@@ -1,18 +1,10 @@
 """Adapter: merge the chunk cubes of one sweep into a single bifurcation cube."""
 
-import xarray as xr
-
 from geardyn import design, io, logs, sweep
 
 log = logs.to_file(snakemake.log[0])
 model = design.load(snakemake.input.design)
-parts = []
-for path in snakemake.input.chunks:
-    problem = io.netcdf_problem(path)  # damaged since the DAG was built: refuse, never merge it
-    if problem:
-        raise ValueError(f"{path}: damaged chunk ({problem}); rerun snakemake to recompute it")
-    with xr.open_dataset(path) as ds:
-        parts.append(ds.load())
+parts = io.read_chunks(snakemake.input.chunks)
 cube = sweep.merge_chunks(parts)
 for key in ("chunk", "n_chunks"):  # attributes of chunk 0, not of the merged cube
     cube.attrs.pop(key, None)
