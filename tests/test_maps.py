@@ -29,11 +29,9 @@ def test_map_independent_of_chunking(model, tmp_path):
     merged = []
     for chunks in (1, 5):
         spec = _spec(chunks=chunks)
-        parts = []
-        for c in range(spec.n_chunks):
-            path = io.write_netcdf(maps.run_chunk(model, spec, c), tmp_path / f"{chunks}_{c}.nc")
-            with xr.open_dataset(path) as ds:
-                parts.append(ds.load())
+        # through netCDF and the merge rules' loader, as in the pipeline
+        paths = [io.write_netcdf(maps.run_chunk(model, spec, c), tmp_path / f"{chunks}_{c}.nc") for c in range(spec.n_chunks)]
+        parts = io.read_chunks(paths)
         out = maps.merge_chunks(parts)
         out.attrs.pop("chunk_wall_time_s")
         merged.append(out)

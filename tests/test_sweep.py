@@ -39,12 +39,9 @@ def test_result_independent_of_chunking(li2013, tmp_path):
     merged = []
     for chunks in (1, 3):
         spec = _spec(chunks=chunks)
-        parts = []
-        for c in range(spec.n_chunks):
-            # through netCDF, as in the pipeline
-            path = io.write_netcdf(sweep.run_chunk(li2013, spec, c), tmp_path / f"{chunks}_{c}.nc")
-            with xr.open_dataset(path) as ds:
-                parts.append(ds.load())
+        # through netCDF and the merge rules' loader, as in the pipeline
+        paths = [io.write_netcdf(sweep.run_chunk(li2013, spec, c), tmp_path / f"{chunks}_{c}.nc") for c in range(spec.n_chunks)]
+        parts = io.read_chunks(paths)
         merged.append(sweep.merge_chunks(parts))
     xr.testing.assert_equal(merged[0], merged[1])  # bit-identical values, coordinates and dims
     assert int((merged[0]["diverged"] == -1).sum()) == 0  # every point computed

@@ -76,6 +76,13 @@ def read_yaml(path: str | Path) -> Any:
         raise ConfigError(f"{path}: YAML syntax error at{where}: {problem}") from None
 
 
+#: How each JSON Schema bound reads in an error message, in the order it is printed.
+_BOUND_TEXT = (
+    ("minimum", ">= {}"), ("exclusiveMinimum", "> {}"), ("maximum", "<= {}"), ("exclusiveMaximum", "< {}"),
+    ("minItems", "with at least {} items"), ("maxItems", "with at most {} items"), ("pattern", "matching {}"),
+)
+
+
 def _allowed(node: Mapping[str, Any]) -> str:
     """Human-readable description of what a schema node accepts."""
     if "const" in node:
@@ -88,21 +95,7 @@ def _allowed(node: Mapping[str, Any]) -> str:
     kind = node.get("type", "value")
     kind = {"integer": "integer", "number": "number", "string": "string", "boolean": "true/false",
             "array": "list", "object": "mapping"}.get(kind, str(kind))
-    bounds = []
-    if "minimum" in node:
-        bounds.append(f">= {node['minimum']}")
-    if "exclusiveMinimum" in node:
-        bounds.append(f"> {node['exclusiveMinimum']}")
-    if "maximum" in node:
-        bounds.append(f"<= {node['maximum']}")
-    if "exclusiveMaximum" in node:
-        bounds.append(f"< {node['exclusiveMaximum']}")
-    if "minItems" in node:
-        bounds.append(f"with at least {node['minItems']} items")
-    if "maxItems" in node:
-        bounds.append(f"with at most {node['maxItems']} items")
-    if "pattern" in node:
-        bounds.append(f"matching {node['pattern']}")
+    bounds = [text.format(node[key]) for key, text in _BOUND_TEXT if key in node]
     return kind + (" " + " and ".join(bounds) if bounds else "")
 
 
