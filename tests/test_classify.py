@@ -3,8 +3,9 @@
 import numpy as np
 import pytest
 
-from geardyn import calibrate, classify
-from geardyn.points import amplitude_spectrum
+from geardyn import classify
+from geardyn.khv import calibrate
+from geardyn.runs.points import amplitude_spectrum
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 5, 6, 12])

@@ -17,8 +17,10 @@ import numpy as np
 import pytest
 from numba import njit
 
-from geardyn import classify, design, floquet, khv
-from geardyn.integrators import SimulationSettings
+from geardyn import classify
+from geardyn.khv import design, point
+from geardyn.solve import floquet
+from geardyn.solve import SimulationSettings
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -142,7 +144,7 @@ def test_zero_one_test_needs_about_400_samples_for_quasi_periodic_series():
 
 def test_linear_gear_model_p1_with_least_damped_floquet_exponent():
     model = design.load(ROOT / "config" / "designs" / "li2013.yaml")
-    coeffs = floquet.linear_part(khv.point_coefficients(model, {"x1": 0.5, "e": 5.0}))
+    coeffs = floquet.linear_part(point.point_coefficients(model, {"x1": 0.5, "e": 5.0}))
     fl = floquet.floquet(coeffs)
     least = float(np.max(np.log(np.abs(fl.multipliers)))) / coeffs.period
     settings = SimulationSettings(steps_per_period=128, transient_periods=500, recorded_periods=100)

@@ -11,8 +11,8 @@ import pytest
 import xarray as xr
 from matplotlib.figure import Figure
 
-from geardyn import closed_graph as cg
-from geardyn import geometry as geo
+from geardyn.khv import closed_graph as cg
+from geardyn.gears import geometry as geo
 from geardyn.plots.closed_graph import caption_closed_graph, plot_closed_graph
 
 KHV = geo.GearPair(z1=30, z2=33, module=3.5, x1=0.0, x2=0.0, addendum=0.8)

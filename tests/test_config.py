@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from geardyn import config, design
+from geardyn import config
+from geardyn.khv import design
 
 ROOT = Path(__file__).resolve().parents[1]
 LI2013 = ROOT / "config" / "designs" / "li2013.yaml"

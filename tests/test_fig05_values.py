@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 from scipy.optimize import brentq
 
-from geardyn import design
+from geardyn.khv import design
 
 Z1, Z2, M, HA, ALPHA, B = 30, 33, 3.5, 0.8, math.radians(20.0), 20.0
 

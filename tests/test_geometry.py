@@ -10,7 +10,7 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from geardyn import geometry as geo
+from geardyn.gears import geometry as geo
 
 #: Paper 1, Table 1: planet V z = 30, annulus K z = 33, m = 3.5 mm, ha* = 0.8, B = 20 mm.
 KHV = geo.GearPair(z1=30, z2=33, module=3.5, x1=0.0, x2=0.0, addendum=0.8, facewidth=20.0)

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from geardyn import model
-from geardyn.floquet import floquet
-from geardyn.integrators import SimulationSettings, simulate, warm_up
-from geardyn.model import KHVParameters, Options, dimensionless
+from geardyn.khv import model
+from geardyn.solve.floquet import floquet
+from geardyn.solve import SimulationSettings, simulate, warm_up
+from geardyn.khv.model import KHVParameters, Options, dimensionless
 
 BASE = dimensionless(KHVParameters(eps=1.30, k_c=3.1e8, omega_bar=0.9))
 

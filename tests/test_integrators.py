@@ -7,8 +7,8 @@ import json
 import numpy as np
 import pytest
 
-from geardyn.integrators import SimulationSettings, simulate, step_grid, warm_up
-from geardyn.model import Coefficients, KHVParameters, dimensionless
+from geardyn.solve import SimulationSettings, simulate, step_grid, warm_up
+from geardyn.khv.model import Coefficients, KHVParameters, dimensionless
 
 # Periodic case with contact loss every period (4 switches per period): x1 = 0.416 numbers
 PERIODIC = dimensionless(KHVParameters(eps=1.30, k_c=3.1e8, omega_bar=0.9))

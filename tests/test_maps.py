@@ -7,7 +7,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from geardyn import design, io, khv, maps
+from geardyn import io
+from geardyn.khv import design, point
+from geardyn.runs import maps
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -45,10 +47,10 @@ def test_map_independent_of_chunking(model, tmp_path):
 def test_direct_coefficients_equal_point_model(model, y):
     spec = _spec(y)
     fixed = dict(spec.fixed)
-    base = khv.point_coefficients(model, {**fixed, "x1": 0.6})
+    base = point.point_coefficients(model, {**fixed, "x1": 0.6})
     for value in (0.5, 1.37, 2.0):
         assert maps.point_coefficients(model, spec, 0.6, value, base) == \
-            khv.point_coefficients(model, {**fixed, "x1": 0.6, y: value})
+            point.point_coefficients(model, {**fixed, "x1": 0.6, y: value})
 
 
 def test_map_has_cf_attributes(model):

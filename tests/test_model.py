@@ -13,9 +13,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
-from geardyn import model
-from geardyn.integrators import SimulationSettings, simulate
-from geardyn.model import KHVParameters, Options, dimensionless
+from geardyn.khv import model
+from geardyn.solve import SimulationSettings, simulate
+from geardyn.khv.model import KHVParameters, Options, dimensionless
 
 # Paper design along the admissible line (numbers given in the issue, not computed here)
 P416 = KHVParameters(eps=1.30, k_c=3.1e8)
@@ -163,10 +163,10 @@ def test_schema_defaults_match_dataclasses():
 def test_pair_derived_parameters_equal_the_paper_constants():
     from pathlib import Path
 
-    from geardyn import design, khv
+    from geardyn.khv import design, point
 
     spec = design.load(Path(__file__).resolve().parents[1] / "config" / "designs" / "li2013.yaml")
-    phys, opts, _ = khv.point_model(spec, {"x1": 0.5})
+    phys, opts, _ = point.point_model(spec, {"x1": 0.5})
     assert phys.r_bV == pytest.approx(model.R_BV_PAPER, rel=1e-12)  # m z1 cos(a) / 2 = 49.33 mm
     assert phys.r_bH == pytest.approx(model.R_BH_PAPER, rel=1e-12)  # a cos(a) = 4.933 mm
     assert phys.z_annulus == 33 and phys.pressure_angle_deg == 20.0

@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate, optimize
 
-from geardyn import stiffness as s
+from geardyn.gears import stiffness as s
 
 EPS_GRID = [1.05, 1.17, 1.24, 1.30, 1.6, 1.95]
 

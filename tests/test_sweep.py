@@ -6,7 +6,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from geardyn import design, io, sweep
+from geardyn import io
+from geardyn.khv import design
+from geardyn.runs import sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 

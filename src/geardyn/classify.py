@@ -5,10 +5,10 @@ p_{k+n} = p_k for all k, to a tolerance scaled to the attractor size and kept ab
 integration error.  The smallest such n (up to ``max_n``) is the period.
 
 Points that are not periodic are told apart by the largest Lyapunov exponent (tangent vector
-integrated alongside the orbit, :mod:`geardyn.tangent`), cross-checked by the 0-1 test for chaos
+integrated alongside the orbit by :func:`geardyn.solve.simulate`), cross-checked by the 0-1 test for chaos
 (Gottwald & Melbourne 2009, correlation method, on the stroboscopic samples) and by the spectral
 flatness of the stroboscopic samples (discrete lines vs broadband).  :func:`classify_point` gives
-the decision rules; :func:`analyse_point` integrates one point and classifies it.
+the decision rules; :func:`geardyn.runs.points.analyse_point` integrates one point and classifies it.
 """
 
 from __future__ import annotations
@@ -26,62 +26,6 @@ LABELS = {"chaotic": -4, "quasi_periodic": -3, "diverged": -2, "undetermined": -
 def _return_distances(p: np.ndarray, n: int) -> np.ndarray:
     """max over states of |p_{k+n} - p_k| for each k."""
     return np.max(np.abs(p[n:] - p[:-n]), axis=1)
-
-
-def poincare_period(points: np.ndarray, *, max_n: int = 12, rtol: float = 1e-4, atol: float = 1e-6,
-                    converging: bool = True) -> int:
-    """Smallest n <= max_n with |p_{k+n} - p_k| <= tol for every k; 0 if none; -1 if too few points.
-
-    ``points``: (n_sections, n_states) with NaN rows for missing sections.  The tolerance is
-    ``atol * max(|p|, 1) + rtol * size`` with ``size`` the largest spread of any state over the
-    points, so it scales with the attractor and does not depend on the units.
-
-    With ``converging`` a sequence whose return distance for some n falls geometrically (the last
-    quarter at most 1/4 of the first quarter, and falling in each quarter) also counts as period-n:
-    the weakly damped shaft mode of the KHV model leaves such slowly decaying transients after the
-    paper's 500 discarded periods.  Quasi-periodic and chaotic motion show no such decay.
-    """
-    p = np.asarray(points, dtype=float)
-    if p.ndim == 1:
-        p = p[:, None]
-    p = p[~np.isnan(p).any(axis=1)]
-    if p.shape[0] < 3:
-        return -1
-    size = float(np.max(np.ptp(p, axis=0)))
-    scale = max(float(np.max(np.abs(p))), 1.0)
-    tol = atol * scale + rtol * size
-    for n in range(1, max_n + 1):
-        if p.shape[0] <= n:
-            return -1
-        if np.max(_return_distances(p, n)) <= tol:
-            return n
-    if converging:
-        for n in range(1, max_n + 1):
-            d = _return_distances(p, n)
-            if d.size < 8:
-                break
-            quarters = [float(np.max(q)) for q in np.array_split(d, 4)]
-            falling = all(b < a for a, b in zip(quarters, quarters[1:], strict=False))
-            if falling and quarters[-1] <= 0.25 * quarters[0]:
-                return n
-    return 0
-
-
-def periods_of_cube(cube, *, max_n: int = 12, rtol: float = 1e-4) -> np.ndarray:
-    """:func:`poincare_period` for every point of a sweep cube: array (case, direction, parameter).
-
-    -2 marks diverged points.
-    """
-    from geardyn.sweep import STATES
-
-    stacked = np.stack([cube[name].values for name in STATES], axis=-1)  # (..., section, state)
-    out = np.empty(stacked.shape[:3], dtype=np.int16)
-    for idx in np.ndindex(out.shape):
-        if int(cube["diverged"].values[idx]) == 1:
-            out[idx] = LABELS["diverged"]
-        else:
-            out[idx] = poincare_period(stacked[idx], max_n=max_n, rtol=rtol)
-    return out
 
 
 def bands(values: np.ndarray, labels: np.ndarray) -> list[tuple[float, float, int]]:
@@ -372,93 +316,3 @@ def classify_point(poincare: np.ndarray, growth: np.ndarray, period: float, dive
         return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, 0,
                               "zero exponent, but 0-1 test and spectrum say chaotic")
     return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, -1, "exponent not resolved")
-
-
-def analyse_point(coeffs, settings, classifier: ClassifierSettings = ClassifierSettings(),
-                  x0: np.ndarray | None = None, cheap: bool = False):
-    """Integrate one point with its tangent vector and classify it: (TangentResult, Classification).
-
-    ``cheap`` (regime maps): integrate without the tangent vector first; a point that passes the
-    strict period test (rule 3) is labelled at once with no exponent (NaN); only the others are
-    continued from their final state for ``tangent_periods`` more periods with the tangent vector
-    (Poincaré points and the 0-1 samples then come from the continuation).  The labels of periodic
-    points are the same as the full path's; non-periodic points get a longer transient.
-    """
-    from dataclasses import replace
-
-    from geardyn.tangent import simulate_tangent
-
-    if not cheap:
-        res = simulate_tangent(coeffs, settings, x0=x0, tangent_periods=classifier.tangent_periods)
-        return res, classify_point(res.poincare, res.growth, res.period, res.diverged, classifier,
-                                   samples=res.strobe)
-    res = simulate_tangent(coeffs, settings, x0=x0, tangent_periods=0)
-    if res.diverged:
-        return res, classify_point(res.poincare, res.growth, res.period, True, classifier)
-    p = res.poincare[~np.isnan(res.poincare).any(axis=1)]
-    n = strict_period(p, classifier) if p.shape[0] >= 3 else 0
-    if n > 0:
-        nan = float("nan")
-        return res, Classification(n, n, nan, nan, nan, nan, -1, "periodic (cheap path: no exponent)")
-    more = replace(settings, transient_periods=0,
-                   recorded_periods=max(settings.recorded_periods, classifier.tangent_periods))
-    res2 = simulate_tangent(coeffs, more, x0=res.final_state, tangent_periods=classifier.tangent_periods)
-    return res2, classify_point(res2.poincare, res2.growth, res2.period, res2.diverged, classifier,
-                                samples=res2.strobe)
-
-
-def labels_of_cube(cube) -> np.ndarray:
-    """The cube's stored labels (``label``) if present, else :func:`periods_of_cube`."""
-    if "label" in cube:
-        return cube["label"].values.astype(np.int16)
-    return periods_of_cube(cube)
-
-
-# ----------------------------------------------------------------------------------------
-# regime bands of a sweep
-# ----------------------------------------------------------------------------------------
-
-BAND_COLUMNS = ("case", "direction", "label", "name", "start", "stop", "n_points", "lyapunov_median",
-                "transition_to_next")
-
-
-def band_rows(cube) -> list[dict]:
-    """Regime bands of a sweep cube: runs of equal labels along the control parameter per (case,
-    direction), with the median exponent and the transition point to the next band (midway between
-    the last point of this band and the first of the next; NaN for the last band)."""
-    par = cube.attrs["control_parameter"]
-    values = cube[par].values
-    labels = labels_of_cube(cube)
-    lam = cube["lyapunov"].values if "lyapunov" in cube else np.full(labels.shape, np.nan)
-    rows = []
-    for i, case in enumerate(cube["case"].values):
-        for j, direction in enumerate(cube["direction"].values):
-            runs = bands(values, labels[i, j])
-            for r, (a, b, lab) in enumerate(runs):
-                m = (values >= a) & (values <= b)
-                nxt = 0.5 * (b + runs[r + 1][0]) if r + 1 < len(runs) else float("nan")
-                lm = lam[i, j][m]
-                rows.append({"case": str(case), "direction": str(direction), "label": int(lab),
-                             "name": short_name(lab), "start": a, "stop": b, "n_points": int(m.sum()),
-                             "lyapunov_median": float(np.nanmedian(lm)) if np.isfinite(lm).any() else float("nan"),
-                             "transition_to_next": nxt})
-    return rows
-
-
-def bands_csv(rows: list[dict]) -> str:
-    lines = [",".join(BAND_COLUMNS)]
-    for r in rows:
-        lines.append(",".join(f"{r[c]:.6g}" if isinstance(r[c], float) else str(r[c]) for c in BAND_COLUMNS))
-    return "\n".join(lines) + "\n"
-
-
-def bands_markdown(rows: list[dict], title: str, par: str) -> str:
-    lines = [f"# Regime bands: {title}", "",
-             f"Runs of equal motion labels along {par} (geardyn.classify.classify_point); transition = midway "
-             "between the last point of a band and the first of the next (half a grid step uncertainty).", "",
-             "| case | direction | label | from | to | points | median lambda_max | transition to next |",
-             "|---|---|---|---:|---:|---:|---:|---:|"]
-    for r in rows:
-        lines.append(f"| {r['case']} | {r['direction']} | {r['name']} | {r['start']:.4g} | {r['stop']:.4g} | "
-                     f"{r['n_points']} | {r['lyapunov_median']:.2e} | {r['transition_to_next']:.4g} |")
-    return "\n".join(lines) + "\n"

@@ -22,7 +22,8 @@ from geardyn.config import ConfigError, load_config, load_design_dict, validate_
 
 
 def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
-    from geardyn import design, geometry
+    from geardyn.khv import design
+    from geardyn.gears import geometry
 
     spec = design.from_dict({**raw, "admissible": {**raw["admissible"], "check_feasibility": False}}, path)
     pair = spec.base

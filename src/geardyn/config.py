@@ -203,7 +203,7 @@ def validate_workflow(config: dict[str, Any], root: str | Path = ".") -> tuple[d
     KHV designs are also checked semantically (z2 - z1, feasibility of the design point and of the
     admissible segment M-N that sweeps, point runs and calibrations stay inside).
     """
-    from geardyn import design as _design  # local: design imports geometry, which is heavier
+    from geardyn.khv import design as _design  # local: design imports geometry, which is heavier
 
     filled = validate(config, "config.schema.json", "config")
     designs: dict[str, dict[str, Any]] = {}

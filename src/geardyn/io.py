@@ -23,19 +23,6 @@ import xarray as xr
 from geardyn import __version__
 
 CONVENTIONS = "CF-1.10"
-REFERENCES = {
-    "li2013": (
-        "Li H., Niu W., Zhang D., Tian Y., Fu S. (2013) Effect of modification coefficient on "
-        "nonlinear dynamic characteristics of planetary drive with small teeth number difference. "
-        "Journal of Vibroengineering 15(4), paper 1131."
-    ),
-    "yue2014": (
-        "Yue H., Liu Y., Xu X., Lai J. (2014) Study on vibration characteristics and tooth profile "
-        "modification of a plus planetary gear set. Journal of Vibroengineering 16(2)."
-    ),
-}
-
-
 def config_hash(config: Mapping[str, Any]) -> str:
     """Short sha256 of a configuration mapping, independent of key order."""
     text = json.dumps(config, sort_keys=True, default=_json_default)
@@ -79,10 +66,12 @@ def provenance(
         "institution": "geardyn project",
         "source": f"geardyn {__version__}",
         "history": f"{now} created by geardyn {__version__}",
-        "references": REFERENCES.get(paper or "", "") or "geardyn documentation",
+        "references": _reference(paper),
         "geardyn_version": __version__,
         "git_commit": git_commit(),
     }
+    if paper:
+        attrs["paper"] = paper
     if config is not None:
         attrs["config_hash"] = config_hash(config)
         attrs["config_json"] = json.dumps(config, sort_keys=True, default=_json_default)
@@ -91,6 +80,14 @@ def provenance(
     for key, value in (extra or {}).items():
         attrs[key] = value if isinstance(value, str) else json.dumps(value, default=_json_default)
     return attrs
+
+
+def _reference(paper: str | None) -> str:
+    """The paper's full reference for a design that names one, else the project's documentation."""
+    from geardyn.papers import paper_of
+
+    mod = paper_of(paper)
+    return mod.REFERENCE if mod is not None else "geardyn documentation (docs/)"
 
 
 def missing_cf_attributes(ds: xr.Dataset) -> list[str]:
@@ -178,12 +175,11 @@ def netcdf_problem(path: str | os.PathLike[str]) -> str | None:
     return None
 
 
-def set_aside_damaged(paths: list[str], log: Any = None) -> list[str]:
+def set_aside_damaged(paths: list[str]) -> list[str]:
     """Rename every existing file of ``paths`` that :func:`netcdf_problem` rejects to ``<name>.damaged``.
 
-    Used on chunk files before a merge is scheduled: a damaged chunk then counts as missing, so
-    Snakemake recomputes it instead of merging it; the damaged copy is kept for inspection.
-    Returns the paths set aside; ``log`` (a callable) gets one line for each.
+    A damaged chunk then counts as missing, so Snakemake recomputes it instead of merging it; the
+    damaged copy is kept for inspection.  Returns one line for each file set aside (path and problem).
     """
     moved = []
     for p in paths:
@@ -193,9 +189,7 @@ def set_aside_damaged(paths: list[str], log: Any = None) -> list[str]:
         if problem is None:
             continue
         os.replace(p, f"{p}.damaged")
-        moved.append(p)
-        if log is not None:
-            log(f"geardyn: {p} is damaged ({problem}); moved to {p}.damaged, it will be recomputed")
+        moved.append(f"{p} ({problem})")
     return moved
 
 
@@ -230,16 +224,26 @@ def save_figure(fig: Any, path: str | os.PathLike[str], caption: str | None = No
     return path
 
 
-def read_chunks(paths: list[str] | tuple[str, ...]) -> list[xr.Dataset]:
-    """Load chunk files for a merge, refusing any that no longer reads back whole (named in the error).
+def read_dataset(path: str | os.PathLike[str]) -> xr.Dataset:
+    """Open a netCDF file, load it into memory and close it."""
+    with xr.open_dataset(path) as ds:
+        return ds.load()
 
-    A chunk damaged after Snakemake planned the run must never be merged; rerunning recomputes it.
+
+def read_chunks(paths: list[str] | tuple[str, ...]) -> list[xr.Dataset]:
+    """Load the chunk files of a merge; refuse any that does not read back whole.
+
+    Runs inside the merge job (never while Snakemake plans): every damaged chunk is first set aside as
+    ``<name>.damaged`` (kept for inspection), then one ``ValueError`` names them.  The chunk is then
+    missing, so running the same command again recomputes exactly those chunks and merges.
     """
+    moved = set_aside_damaged(list(paths))
+    if moved:
+        problems = ", ".join(moved)
+        raise ValueError(f"damaged chunk(s) {problems} set aside as .damaged; run the same command again to "
+                         "recompute them")
     parts = []
     for path in paths:
-        problem = netcdf_problem(path)
-        if problem:
-            raise ValueError(f"{path}: damaged chunk ({problem}); rerun snakemake to recompute it")
         with xr.open_dataset(path) as ds:
             parts.append(ds.load())
     return parts

@@ -1,53 +1,57 @@
-# Helpers shared by the rules: which designs exist and the config slice each rule needs.
+# Helpers shared by the rules: which designs exist, the one config accessor, the design file of a job.
 
 
 def designs_of_kind(kind):
     return [name for name, raw in DESIGNS.items() if raw["kind"] == kind]
 
 
+def designs_of_paper(paper):
+    return [name for name, raw in DESIGNS.items() if raw.get("paper") == paper]
+
+
 KHV_DESIGNS = designs_of_kind("khv")
+PLUS_DESIGNS = designs_of_kind("plus_planetary")
+
+#: The wildcard that names an entry of each config section.
+SECTION_KEYS = {
+    "sweeps": "sweep",
+    "points": "points",
+    "maps": "map",
+    "calibration": "calibration",
+}
 
 
-wildcard_constraints:
-    design="|".join(sorted(KHV_DESIGNS, key=len, reverse=True)) or "no-khv-design",
+def config_slice(section):
+    """The one accessor of config slices (for ``params:``): the entry of ``section`` named by the
+    job's wildcard (``SECTION_KEYS``), or the whole section when it has no such wildcard."""
+
+    def get(wildcards):
+        key = SECTION_KEYS.get(section)
+        return config[section][wildcards[key]] if key else config[section]
+
+    return get
 
 
 def design_file(wildcards):
+    """The design file of the job's design (``{design}`` wildcard)."""
     return config["designs"][wildcards.design]
 
 
-def closed_graph_spec(wildcards):
-    return config["closed_graph"]
-
-
-def stiffness_spec(wildcards):
-    return config["stiffness_table"]
-
-
-def per_khv_design(pattern):
-    return expand(pattern, design=KHV_DESIGNS)
+def either(names, none):
+    return "|".join(sorted(names, key=len, reverse=True)) or none
 
 
 wildcard_constraints:
-    sweep="|".join(config["sweeps"]) or "no-sweep",
-    points="|".join(config["points"]) or "no-points",
+    design=either(DESIGNS, "no-design"),
+    sweep=either(config["sweeps"], "no-sweep"),
+    points=either(config["points"], "no-points"),
+    map=either(config["maps"], "no-map"),
+    calibration=either(config["calibration"], "no-calibration"),
     chunk=r"\d+",
 
 
-def sweep_spec(wildcards):
-    return config["sweeps"][wildcards.sweep]
-
-
-def points_spec(wildcards):
-    return config["points"][wildcards.points]
-
-
-def sweep_design_file(wildcards):
-    return config["designs"][wildcards.design]
-
-
-def points_design_file(wildcards):
-    return config["designs"][wildcards.design]
+def per_design(pattern, designs):
+    return expand(pattern, design=designs)
 
 
 def runs_for(section, pattern):
@@ -59,73 +63,31 @@ def runs_for(section, pattern):
     ]
 
 
-def checked_chunks(paths):
-    """``paths``, after setting aside (``.damaged``) any chunk file that does not read back whole, so
-    that it is recomputed rather than merged (issue 7; see geardyn.io.set_aside_damaged)."""
-    from snakemake.logging import logger
+def chunk_files(section, pattern, n_chunks):
+    """Input function: the chunk files of one run; ``n_chunks(name, spec, design)`` counts them."""
 
-    from geardyn.io import set_aside_damaged
+    def get(wildcards):
+        key = SECTION_KEYS[section]
+        name = wildcards[key]
+        count = n_chunks(name, config[section][name], wildcards.design)
+        return expand(pattern, design=wildcards.design, name=name, chunk=range(count))
 
-    set_aside_damaged(paths, log=logger.warning)
-    return paths
-
-
-def sweep_chunk_files(wildcards):
-    from geardyn.sweep import SweepSpec
-
-    spec = SweepSpec.from_config(wildcards.sweep, config["sweeps"][wildcards.sweep], wildcards.design)
-    return checked_chunks(expand(
-        "results/{design}/sweeps/{sweep}/chunk_{chunk}.nc",
-        design=wildcards.design,
-        sweep=wildcards.sweep,
-        chunk=range(spec.n_chunks),
-    ))
+    return get
 
 
-wildcard_constraints:
-    calibration="|".join(config["calibration"]) or "no-calibration",
+def sweep_chunks(name, spec, design):
+    from geardyn.runs.sweep import SweepSpec
+
+    return SweepSpec.from_config(name, spec, design).n_chunks
 
 
-def calibration_spec(wildcards):
-    return config["calibration"][wildcards.calibration]
+def map_chunks(name, spec, design):
+    from geardyn.runs.maps import MapSpec
+
+    return MapSpec.from_config(name, spec, design).n_chunks
 
 
-def calibration_design_file(wildcards):
-    return config["designs"][config["calibration"][wildcards.calibration]["design"]]
+def calibration_chunks(name, spec, design):
+    from geardyn.khv.calibrate import candidate_grid, n_chunks
 
-
-def calibration_chunk_files(wildcards):
-    from geardyn.calibrate import candidate_grid, n_chunks
-
-    spec = config["calibration"][wildcards.calibration]
-    count = n_chunks(len(candidate_grid(spec["grid"])), spec["chunks"])
-    return checked_chunks(expand(
-        "results/{design}/calibration/{calibration}/chunk_{chunk}.nc",
-        design=wildcards.design,
-        calibration=wildcards.calibration,
-        chunk=range(count),
-    ))
-
-
-def claims_spec(wildcards):
-    return config["claims"]
-
-
-wildcard_constraints:
-    map="|".join(config["maps"]) or "no-map",
-
-
-def map_spec(wildcards):
-    return config["maps"][wildcards.map]
-
-
-def map_chunk_files(wildcards):
-    from geardyn.maps import MapSpec
-
-    spec = MapSpec.from_config(wildcards.map, config["maps"][wildcards.map], wildcards.design)
-    return checked_chunks(expand(
-        "results/{design}/maps/{map}/chunk_{chunk}.nc",
-        design=wildcards.design,
-        map=wildcards.map,
-        chunk=range(spec.n_chunks),
-    ))
+    return n_chunks(len(candidate_grid(spec["grid"])), spec["chunks"])

@@ -1,4 +1,4 @@
-# Paper 1 Fig. 3: the closed graph of profile-shift coefficients.
+# The closed graph of profile-shift coefficients (paper 1 Fig. 3 for a paper design), every KHV design.
 
 
 rule closed_graph:
@@ -9,7 +9,7 @@ rule closed_graph:
     log:
         "results/{design}/logs/closed_graph.log",
     params:
-        grid=closed_graph_spec,
+        spec=config_slice("closed_graph"),
     threads: 1
     script:
         "../scripts/closed_graph.py"
@@ -17,10 +17,16 @@ rule closed_graph:
 
 rule fig03_closed_graph:
     input:
-        data="results/{design}/data/closed_graph.nc",
+        design=design_file,
+        data=rules.closed_graph.output[0],
     output:
-        figure=report("results/{design}/figures/fig03_closed_graph.png", caption="../report/fig03_closed_graph.rst",
-                      category=PAPER1, subcategory="Fig. 03: closed graph", labels={"design": "{design}"}),
+        figure=report(
+            "results/{design}/figures/fig03_closed_graph.png",
+            caption="../report/fig03_closed_graph.rst",
+            category=category,
+            subcategory="Fig. 03: closed graph",
+            labels={"design": "{design}"},
+        ),
         caption="results/{design}/figures/fig03_closed_graph.png.txt",
     log:
         "results/{design}/logs/fig03_closed_graph.log",
@@ -29,6 +35,7 @@ rule fig03_closed_graph:
         "../scripts/fig03_closed_graph.py"
 
 
-GEOMETRY_TARGETS = per_khv_design(
-    ["results/{design}/data/closed_graph.nc", "results/{design}/figures/fig03_closed_graph.png"]
+GEOMETRY_TARGETS = per_design(
+    ["results/{design}/data/closed_graph.nc", "results/{design}/figures/fig03_closed_graph.png"],
+    KHV_DESIGNS,
 )

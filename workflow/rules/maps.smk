@@ -3,13 +3,13 @@
 
 rule map_chunk:
     input:
-        design=sweep_design_file,
+        design=design_file,
     output:
         "results/{design}/maps/{map}/chunk_{chunk}.nc",
     log:
         "results/{design}/logs/map_{map}_{chunk}.log",
     params:
-        spec=map_spec,
+        spec=config_slice("maps"),
     threads: 1
     script:
         "../scripts/map_chunk.py"
@@ -17,14 +17,14 @@ rule map_chunk:
 
 rule map_merge:
     input:
-        design=sweep_design_file,
-        chunks=map_chunk_files,
+        design=design_file,
+        chunks=chunk_files("maps", "results/{design}/maps/{name}/chunk_{chunk}.nc", map_chunks),
     output:
         "results/{design}/maps/{map}.nc",
     log:
         "results/{design}/logs/map_{map}_merge.log",
     params:
-        spec=map_spec,
+        spec=config_slice("maps"),
     threads: 1
     script:
         "../scripts/map_merge.py"
@@ -32,14 +32,20 @@ rule map_merge:
 
 rule map_figure:
     input:
-        cube="results/{design}/maps/{map}.nc",
+        cube=rules.map_merge.output[0],
     output:
-        figure="results/{design}/figures/{map}.png",
+        figure=report(
+            "results/{design}/figures/{map}.png",
+            caption="../report/map.rst",
+            category=category,
+            subcategory=subcategory("map"),
+            labels={"design": "{design}"},
+        ),
         caption="results/{design}/figures/{map}.png.txt",
     log:
         "results/{design}/logs/figure_{map}.log",
     params:
-        spec=map_spec,
+        spec=config_slice("maps"),
     threads: 1
     script:
         "../scripts/map_figure.py"

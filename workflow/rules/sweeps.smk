@@ -1,15 +1,16 @@
-# Paper 1 Figs. 7, 9, 11: bifurcation sweeps in chunks, merged into one cube per sweep.
+# Bifurcation sweeps in chunks, merged into one cube per sweep (paper 1 Figs. 7, 9, 11 for a paper
+# design), and dense runs at single points (Figs. 8, 10, 12).
 
 
 rule sweep_chunk:
     input:
-        design=sweep_design_file,
+        design=design_file,
     output:
         "results/{design}/sweeps/{sweep}/chunk_{chunk}.nc",
     log:
         "results/{design}/logs/sweep_{sweep}_{chunk}.log",
     params:
-        sweep=sweep_spec,
+        spec=config_slice("sweeps"),
     threads: 1
     script:
         "../scripts/sweep_chunk.py"
@@ -17,14 +18,14 @@ rule sweep_chunk:
 
 rule sweep_merge:
     input:
-        design=sweep_design_file,
-        chunks=sweep_chunk_files,
+        design=design_file,
+        chunks=chunk_files("sweeps", "results/{design}/sweeps/{name}/chunk_{chunk}.nc", sweep_chunks),
     output:
         "results/{design}/sweeps/{sweep}.nc",
     log:
         "results/{design}/logs/sweep_{sweep}_merge.log",
     params:
-        sweep=sweep_spec,
+        spec=config_slice("sweeps"),
     threads: 1
     script:
         "../scripts/sweep_merge.py"
@@ -32,15 +33,21 @@ rule sweep_merge:
 
 rule bifurcation_figure:
     input:
-        cube="results/{design}/sweeps/{sweep}.nc",
+        design=design_file,
+        cube=rules.sweep_merge.output[0],
     output:
-        figure=report("results/{design}/figures/{sweep}.png", caption="../report/bifurcation.rst",
-                      category=PAPER1, subcategory=sweep_figure, labels={"design": "{design}"}),
+        figure=report(
+            "results/{design}/figures/{sweep}.png",
+            caption="../report/bifurcation.rst",
+            category=category,
+            subcategory=subcategory("sweep"),
+            labels={"design": "{design}"},
+        ),
         caption="results/{design}/figures/{sweep}.png.txt",
     log:
         "results/{design}/logs/figure_{sweep}.log",
     params:
-        sweep=sweep_spec,
+        spec=config_slice("sweeps"),
     threads: 1
     script:
         "../scripts/bifurcation_figure.py"
@@ -48,13 +55,13 @@ rule bifurcation_figure:
 
 rule point_runs:
     input:
-        design=points_design_file,
+        design=design_file,
     output:
         data="results/{design}/points/{points}.nc",
     log:
         "results/{design}/logs/points_{points}.log",
     params:
-        points=points_spec,
+        spec=config_slice("points"),
     threads: 1
     script:
         "../scripts/point_runs.py"
@@ -62,15 +69,21 @@ rule point_runs:
 
 rule point_figure:
     input:
-        data="results/{design}/points/{points}.nc",
+        design=design_file,
+        data=rules.point_runs.output.data,
     output:
-        figure=report("results/{design}/figures/{points}.png", caption="../report/points.rst",
-                      category=PAPER1, subcategory=points_figure, labels={"design": "{design}"}),
+        figure=report(
+            "results/{design}/figures/{points}.png",
+            caption="../report/points.rst",
+            category=category,
+            subcategory=subcategory("points"),
+            labels={"design": "{design}"},
+        ),
         caption="results/{design}/figures/{points}.png.txt",
     log:
         "results/{design}/logs/figure_{points}.log",
     params:
-        points=points_spec,
+        spec=config_slice("points"),
     threads: 1
     script:
         "../scripts/point_figure.py"

@@ -1,13 +1,14 @@
-"""Adapter: draw a bifurcation diagram (paper 1 Figs. 7, 9, 11) from its cube."""
+"""Adapter: draw a bifurcation diagram (paper 1 Figs. 7, 9, 11 for a paper design) from its cube."""
 
-import xarray as xr
-
-from geardyn import captions, io, logs
+from geardyn import io, logs
+from geardyn.khv import design
+from geardyn.papers import paper_of
+from geardyn.plots import captions
 from geardyn.plots.dynamics import plot_bifurcation
 
 log = logs.to_file(snakemake.log[0])
-with xr.open_dataset(snakemake.input.cube) as cube:
-    cube.load()
-title = snakemake.params.sweep.get("title") or snakemake.wildcards.sweep
+drive = design.load(snakemake.input.design)
+cube = io.read_dataset(snakemake.input.cube)
+title = snakemake.params.spec.get("title") or snakemake.wildcards.sweep
 io.save_figure(plot_bifurcation(cube, title), snakemake.output.figure,
-               captions.bifurcation(snakemake.wildcards.sweep, cube))
+               captions.bifurcation(snakemake.wildcards.sweep, cube, paper_of(drive.paper)))

@@ -1,12 +1,13 @@
-"""Adapter: draw paper 1 Fig. 3 from the closed-graph cube."""
-
-import xarray as xr
+"""Adapter: draw the closed graph (paper 1 Fig. 3 for a paper design) from its cube."""
 
 from geardyn import io, logs
+from geardyn.khv import design
+from geardyn.papers import paper_of
 from geardyn.plots.closed_graph import caption_closed_graph, plot_closed_graph
 
 log = logs.to_file(snakemake.log[0])
-with xr.open_dataset(snakemake.input.data) as ds:
-    ds.load()
-io.save_figure(plot_closed_graph(ds), snakemake.output.figure, caption_closed_graph(ds))
+drive = design.load(snakemake.input.design)
+ds = io.read_dataset(snakemake.input.data)
+caption = caption_closed_graph(ds, paper_of(drive.paper), (drive.x1_min, drive.x1_max))
+io.save_figure(plot_closed_graph(ds), snakemake.output.figure, caption)
 log.info("wrote %s", snakemake.output.figure)

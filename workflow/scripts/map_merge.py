@@ -1,12 +1,14 @@
 """Adapter: merge the chunks of one regime map."""
 
-from geardyn import design, io, logs, maps
+from geardyn import io, logs
+from geardyn.khv import design
+from geardyn.runs import cube, maps
 
 log = logs.to_file(snakemake.log[0])
-model = design.load(snakemake.input.design)
+drive = design.load(snakemake.input.design)
 parts = io.read_chunks(snakemake.input.chunks)  # a damaged chunk is refused by name, never merged
-out = maps.merge_chunks(parts)
-attrs = io.provenance(title=f"Regime map {snakemake.wildcards.map}, {model.title}", paper="li2013",
-                      config={"design": model.raw, "map": snakemake.params.spec}, model_variant=model.stiffness.label)
-io.write_netcdf(out, snakemake.output[0], {**out.attrs, **attrs})
-log.info("merged %d chunks; label shares %s", len(parts), maps.fractions(out))
+merged = cube.merge_chunks(parts)
+attrs = io.provenance(title=f"Regime map {snakemake.wildcards.map}, {drive.title}", paper=drive.paper,
+                      config={"design": drive.raw, "map": snakemake.params.spec}, model_variant=drive.stiffness.label)
+io.write_netcdf(merged, snakemake.output[0], {**merged.attrs, **attrs})
+log.info("merged %d chunks; label shares %s", len(parts), maps.fractions(merged))

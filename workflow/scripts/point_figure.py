@@ -1,12 +1,14 @@
-"""Adapter: trajectory / Poincare map / spectrum panels (paper 1 Figs. 8, 10, 12)."""
+"""Adapter: trajectory / Poincare map / spectrum panels (paper 1 Figs. 8, 10, 12 for a paper design)."""
 
-import xarray as xr
-
-from geardyn import captions, io, logs
+from geardyn import io, logs
+from geardyn.khv import design
+from geardyn.papers import paper_of
+from geardyn.plots import captions
 from geardyn.plots.dynamics import plot_points
 
 log = logs.to_file(snakemake.log[0])
-with xr.open_dataset(snakemake.input.data) as ds:
-    ds.load()
-title = snakemake.params.points.get("title") or snakemake.wildcards.points
-io.save_figure(plot_points(ds, title), snakemake.output.figure, captions.points(snakemake.wildcards.points, ds))
+drive = design.load(snakemake.input.design)
+ds = io.read_dataset(snakemake.input.data)
+title = snakemake.params.spec.get("title") or snakemake.wildcards.points
+io.save_figure(plot_points(ds, title), snakemake.output.figure,
+               captions.points(snakemake.wildcards.points, ds, paper_of(drive.paper)))

@@ -1,14 +1,12 @@
 """Adapter: regime bands with transition points of one sweep cube -> CSV + Markdown."""
 
-import xarray as xr
-
-from geardyn import classify, io, logs
+from geardyn import io, logs
+from geardyn.runs import bands
 
 log = logs.to_file(snakemake.log[0])
-with xr.open_dataset(snakemake.input.cube) as cube:
-    cube.load()
-rows = classify.band_rows(cube)
-title = f"{snakemake.params.sweep.get('title') or snakemake.wildcards.sweep} ({snakemake.wildcards.design})"
-io.write_text(classify.bands_csv(rows), snakemake.output.csv)
-io.write_text(classify.bands_markdown(rows, title, cube.attrs["control_parameter"]), snakemake.output.md)
+cube = io.read_dataset(snakemake.input.cube)
+rows = bands.band_rows(cube)
+title = f"{snakemake.params.spec.get('title') or snakemake.wildcards.sweep} ({snakemake.wildcards.design})"
+io.write_text(bands.bands_csv(rows), snakemake.output.csv)
+io.write_text(bands.bands_markdown(rows, title, cube.attrs["control_parameter"]), snakemake.output.md)
 log.info("%d bands written", len(rows))

@@ -1,17 +1,20 @@
-"""Adapter: paper 1 Figs. 4 (single tooth), 5 (k(t) at three x1) and 6 (backlash function)."""
+"""Adapter: single-tooth stiffness, k(t) at three x1, and the backlash function (paper 1 Figs. 4-6)."""
 
-from geardyn import design, io, logs, mesh_table
+from geardyn import io, logs
+from geardyn.khv import design, mesh_table
+from geardyn.papers import paper_of
 from geardyn.plots import stiffness as plots
 
 log = logs.to_file(snakemake.log[0])
-spec = design.load(snakemake.input.design)
-params = snakemake.params.spec
-x1_values = params["fig05_x1"]
-props = [design.mesh_properties(spec, x1) for x1 in x1_values]
+drive = design.load(snakemake.input.design)
+spec = snakemake.params.spec
+x1_values = design.figure_x1(drive, spec["fig05_x1"])
+props = [design.mesh_properties(drive, x1) for x1 in x1_values]
 middle = props[len(props) // 2]
 curve = mesh_table.single_tooth_curve(middle.contact_ratio, middle.k_prime)
 io.save_figure(plots.plot_single_tooth(curve), snakemake.output.fig04, plots.caption_fig04(middle))
-curves = mesh_table.stiffness_table(spec, x1_values, params["phase_points"])
-io.save_figure(plots.plot_mesh_stiffness(curves), snakemake.output.fig05, plots.caption_fig05(curves, spec))
+curves = mesh_table.stiffness_table(drive, x1_values, spec["phase_points"])
+io.save_figure(plots.plot_mesh_stiffness(curves), snakemake.output.fig05,
+               plots.caption_fig05(curves, drive, paper_of(drive.paper)))
 io.save_figure(plots.plot_backlash(), snakemake.output.fig06, plots.caption_fig06())
 log.info("Figs. 4-6 written for x1 = %s", x1_values)

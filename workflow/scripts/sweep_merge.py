@@ -1,15 +1,15 @@
 """Adapter: merge the chunk cubes of one sweep into a single bifurcation cube."""
 
-from geardyn import design, io, logs, sweep
+from geardyn import io, logs
+from geardyn.khv import design
+from geardyn.runs import cube
 
 log = logs.to_file(snakemake.log[0])
-model = design.load(snakemake.input.design)
-parts = io.read_chunks(snakemake.input.chunks)
-cube = sweep.merge_chunks(parts)
-for key in ("chunk", "n_chunks"):  # attributes of chunk 0, not of the merged cube
-    cube.attrs.pop(key, None)
-attrs = io.provenance(title=f"Bifurcation cube {snakemake.wildcards.sweep}, {model.title}", paper="li2013",
-                      config={"design": model.raw, "sweep": snakemake.params.sweep},
-                      model_variant=model.stiffness.label)
-io.write_netcdf(cube, snakemake.output[0], {**cube.attrs, **attrs})
+drive = design.load(snakemake.input.design)
+parts = io.read_chunks(snakemake.input.chunks)  # a damaged chunk is refused by name, never merged
+merged = cube.merge_chunks(parts)
+attrs = io.provenance(title=f"Bifurcation cube {snakemake.wildcards.sweep}, {drive.title}", paper=drive.paper,
+                      config={"design": drive.raw, "sweep": snakemake.params.spec},
+                      model_variant=drive.stiffness.label)
+io.write_netcdf(merged, snakemake.output[0], {**merged.attrs, **attrs})
 log.info("merged %d chunks into %s", len(parts), snakemake.output[0])

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+from types import ModuleType
+
 import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from geardyn.closed_graph import CUTTER_DEPENDENT, line4_crossings
+from geardyn.khv.closed_graph import CUTTER_DEPENDENT, line4_crossings
 
 _LINE_COLOURS = {0: "0.5", 1: "tab:blue", 2: "tab:orange", 3: "tab:green", 4: "black"}
 _SHORT = {
@@ -63,27 +65,59 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
     ]
     for line in (1, 2, 3):
         handles.append(Line2D([], [], color=_LINE_COLOURS[line], label=f"line {line}"))
-    ax.plot(ds["paper_x1"].values, ds["paper_x2"].values, "o", mfc="none", mec="crimson", ms=9)
-    ax.plot(ds["paper_x1"].values, ds["computed_x2"].values, "x", color="k", ms=7)
-    for p in ds["point"].values:
-        ax.annotate(str(p), (float(ds["paper_x1"].sel(point=p)), float(ds["paper_x2"].sel(point=p))),
-                    xytext=(6, -12), textcoords="offset points", color="crimson")
-    handles += [
-        Line2D([], [], ls="", marker="o", mfc="none", mec="crimson", label="paper M, N"),
-        Line2D([], [], ls="", marker="x", color="k", label="computed (G_s = 0)"),
-    ]
+    if "point" in ds.dims:
+        ax.plot(ds["paper_x1"].values, ds["paper_x2"].values, "o", mfc="none", mec="crimson", ms=9)
+        ax.plot(ds["paper_x1"].values, ds["computed_x2"].values, "x", color="k", ms=7)
+        for p in ds["point"].values:
+            ax.annotate(str(p), (float(ds["paper_x1"].sel(point=p)), float(ds["paper_x2"].sel(point=p))),
+                        xytext=(6, -12), textcoords="offset points", color="crimson")
+        handles += [
+            Line2D([], [], ls="", marker="o", mfc="none", mec="crimson",
+                   label="printed " + ", ".join(str(p) for p in ds["point"].values)),
+            Line2D([], [], ls="", marker="x", color="k", label="computed (G_s = 0)"),
+        ]
     ax.set_xlim(x1.min(), x1.max())
     ax.set_ylim(x2.min(), x2.max())
     ax.set_xlabel("planet shift x1")
     ax.set_ylabel("annulus shift x2 (Chinese convention)")
-    ax.set_title("Fig. 3 closed graph")
+    ax.set_title(f"Closed graph, z1 = {ds.attrs['z1']}, z2 = {ds.attrs['z2']}, m = {ds.attrs['module_mm']} mm")
     ax.legend(handles=handles, fontsize=7, loc="upper left")
     return fig
 
 
-def caption_closed_graph(ds: xr.Dataset) -> str:
-    """Caption: what the figure shows and how it differs from the paper, with numbers."""
+def caption_closed_graph(ds: xr.Dataset, paper: ModuleType | None = None,
+                         segment: tuple[float, float] | None = None) -> str:
+    """Caption: what the figure shows and, for a design that names a paper, how it compares, with numbers.
+
+    ``segment``: the design's configured admissible segment (x1_min, x1_max).
+    """
     a = ds.attrs
+    lo, hi = a["line4_feasible_x1_min"], a["line4_feasible_x1_max"]
+    found = (
+        f"the admissible part of line 4 on the grid is x1 in [{lo:.3f}, {hi:.3f}]"
+        if np.isfinite(lo) else "no grid point of line 4 is admissible"
+    )
+    if segment is not None:
+        found += f" (design segment [{segment[0]:.3f}, {segment[1]:.3f}])"
+    trim = line4_crossings(ds, "trimming_interference_annulus")
+    root = line4_crossings(ds, "root_interference_annulus")
+    eps1 = line4_crossings(ds, "contact_ratio_margin")
+    text = (
+        f"Closed graph of the internal pair z1 = {a['z1']}, z2 = {a['z2']}, "
+        f"m = {a['module_mm']} mm, ha* = {a['addendum_coefficient']}, alpha = {a['pressure_angle_deg']} deg, "
+        "computed from the geometry (every constraint a signed margin, zero contours drawn; "
+        "dashed = depends on the shaper cutter). "
+        "Line 1: eps = 1; line 2: involute and root transition-curve interference; line 3: tip thickness "
+        f">= {a['min_tip_thickness_modules']} m and shaper-cutter trimming; line 4: tooth-profile overlap "
+        "interference G_s = 0. "
+        f"With the {a['cutter_source']} cutter z0 = {a['cutter_teeth']}, x0 = {a['cutter_shift']:.4f}, "
+        f"ha0* = {a['cutter_addendum']} {found}; on line 4 the "
+        f"trimming limit is at x1 = {', '.join(f'{v:.3f}' for v in trim) or 'none'}, the annulus root "
+        f"interference limit at x1 = {', '.join(f'{v:.3f}' for v in root) or 'none'} and eps = 1 at "
+        f"x1 = {', '.join(f'{v:.3f}' for v in eps1) or 'none (outside the grid)'}."
+    )
+    if paper is None or "point" not in ds.dims:
+        return text
     pts = []
     for p in ds["point"].values:
         s = ds.sel(point=p)
@@ -92,28 +126,11 @@ def caption_closed_graph(ds: xr.Dataset) -> str:
             f"{float(s.computed_x2):.5f} (residual {float(s.residual_x2):+.5f}), eps = "
             f"{float(s.contact_ratio_point):.4f}, a' = {float(s.working_pressure_angle_point):.3f} deg"
         )
-    lo, hi = a["line4_feasible_x1_min"], a["line4_feasible_x1_max"]
-    segment = (
-        f"the admissible part of line 4 on the grid is x1 in [{lo:.3f}, {hi:.3f}]"
-        if np.isfinite(lo) else "no grid point of line 4 is admissible"
-    )
-    trim = line4_crossings(ds, "trimming_interference_annulus")
-    root = line4_crossings(ds, "root_interference_annulus")
-    eps1 = line4_crossings(ds, "contact_ratio_margin")
+    worst = float(np.max(np.abs(ds["residual_x2"].values)))
+    verdict = ("within" if worst <= paper.POINT_TOLERANCE else "NOT within")
     return (
-        f"Fig. 3 (Li et al. 2013), closed graph of the KHV pair z1 = {a['z1']}, z2 = {a['z2']}, "
-        f"m = {a['module_mm']} mm, ha* = {a['addendum_coefficient']}, alpha = {a['pressure_angle_deg']} deg, "
-        "computed from the geometry (every constraint a signed margin, zero contours drawn; "
-        "dashed = depends on the shaper cutter). "
-        "Line 1: eps = 1; line 2: involute and root transition-curve interference; line 3: tip thickness "
-        f">= {a['min_tip_thickness_modules']} m and shaper-cutter trimming; line 4: tooth-profile overlap "
-        "interference G_s = 0. The paper calls line 4 'equal meshing angle', but its limit points lie on "
-        "G_s = 0 where a' varies. " + "; ".join(pts) + ". "
-        f"Differences from the paper: the cutter is not given; with the {a['cutter_source']} cutter "
-        f"z0 = {a['cutter_teeth']}, x0 = {a['cutter_shift']:.4f}, ha0* = {a['cutter_addendum']} "
-        f"{segment} (paper [0.416, 0.835]); on line 4 the "
-        f"trimming limit is at x1 = {', '.join(f'{v:.3f}' for v in trim) or 'none'}, the annulus root "
-        f"interference limit at x1 = {', '.join(f'{v:.3f}' for v in root) or 'none'} and eps = 1 at "
-        f"x1 = {', '.join(f'{v:.3f}' for v in eps1) or 'none (outside the grid)'}. M and N themselves are "
-        "reproduced to within 0.001 in x2, which is what the paper's numbers constrain."
+        f"Fig. 3 of {paper.SHORT}. " + text + " The paper calls line 4 'equal meshing angle', but its limit "
+        "points lie on G_s = 0 where a' varies. " + "; ".join(pts) + ". "
+        f"The printed points are reproduced {verdict} {paper.POINT_TOLERANCE:g} in x2 (largest |residual| "
+        f"{worst:.5f}), the precision the paper prints. The paper gives no cutter."
     )

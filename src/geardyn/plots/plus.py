@@ -16,7 +16,7 @@ COMPONENT_ORDER = ["revolution1", "revolution2", "revolution3", "p1", "p2", "p3"
 COMPONENT_TICKS = ["1\nrev 1", "2\nrev 2", "3\nrev 3", "4\np1", "5\np2", "6\np3", "7\nd1", "8\nd2", "9\nd3", "10\nsun", "11\nring", "12\ncarrier"]
 
 
-def _distinct_groups(freq: np.ndarray, rtol: float = 1e-6) -> list[list[int]]:
+def distinct_groups(freq: np.ndarray, rtol: float = 1e-6) -> list[list[int]]:
     groups: list[list[int]] = []
     for i, f in enumerate(freq):
         if not f > 0:
@@ -35,7 +35,7 @@ def _energy_bars(ds: xr.Dataset, var: str, dim: str, order: list[str], ticks: li
     for ax, cond in zip(axes, conds):
         sub = ds.sel(condition=cond)
         freq = sub.natural_frequency.values
-        groups = _distinct_groups(freq)[:n_orders]
+        groups = distinct_groups(freq)[:n_orders]
         width = 0.8 / len(groups)
         x = np.arange(len(order))
         for g_i, grp in enumerate(groups):
@@ -86,8 +86,9 @@ def te_unmodified_figure(te: xr.Dataset) -> Figure:
     return fig
 
 
-def te_relief_figure(te: xr.Dataset, paper_before_um: float = 9.0, paper_after_um: float = 6.5) -> Figure:
-    """Fig. 9 analogue: TE before and after the optimal reliefs (two mesh periods, mean removed)."""
+def te_relief_figure(te: xr.Dataset, paper=None) -> Figure:
+    """TE before and after the optimal reliefs (two mesh periods, mean removed); the title gives the
+    paper's before and after values for a design that names a paper."""
     fig = Figure(figsize=(8, 4.5), constrained_layout=True)
     ax = fig.subplots()
     s = te.mesh_phase.values
@@ -98,7 +99,10 @@ def te_relief_figure(te: xr.Dataset, paper_before_um: float = 9.0, paper_after_u
         ax.plot(s2, np.tile(tr, 2), label=f"{case}: ptp {np.ptp(tr):.2f} um", lw=2 if case == "unmodified" else 1.2)
     ax.set_xlabel("mesh phase (base pitches)")
     ax.set_ylabel("TE - mean (um)")
-    ax.set_title(f"Static TE of the p-d pair before/after optimal tip relief (paper: {paper_before_um:g} -> {paper_after_um:g} um)", fontsize=9)
+    title = "Static TE of the p-d pair before/after optimal tip relief"
+    if paper is not None:
+        title += f" (paper: {paper.TE_BEFORE_UM:g} -> {paper.TE_AFTER_UM:g} um)"
+    ax.set_title(title, fontsize=9)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     return fig
@@ -137,6 +141,24 @@ def relief_landscape_figure(land: xr.Dataset, optima: list[dict] | None = None, 
     return fig
 
 
+def landscape_markers(optima) -> list[dict]:
+    """The optima table's rows as markers for :func:`relief_landscape_figure` (the paper row, if any,
+    with our TE at its relief as ``ours_um``)."""
+    recs = optima.to_dict("records")
+    for rec in recs:
+        if rec["shape"].startswith("linear (paper)"):
+            rec["ours_um"] = rec.get("ours_at_this_relief_um", float("nan"))
+    return recs
+
+
+def bound_boxes(design) -> dict[str, tuple[float, float, float, float]]:
+    """The stated and the physical relief bounds of a design as boxes (amount um, amount um, length mm, length mm)."""
+    r = design.relief
+    return {"paper": (r.paper_amount[0] * 1e6, r.paper_amount[1] * 1e6, r.paper_length[0] * 1e3, r.paper_length[1] * 1e3),
+            "physical": (r.physical_amount[0] * 1e6, r.physical_amount[1] * 1e6, r.physical_length[0] * 1e3,
+                         r.physical_length[1] * 1e3)}
+
+
 COORD_TICKS = ["s", "r", "c", "p1", "p2", "p3", "d1", "d2", "d3", "x_s", "y_s"]
 
 
@@ -153,7 +175,7 @@ def mode_shape_figure(ds: xr.Dataset, n_orders: int = 6) -> Figure:
     for r, cond in enumerate(conds):
         sub = ds.sel(condition=cond)
         freq = sub.natural_frequency.values
-        groups = _distinct_groups(freq)[:n_orders]
+        groups = distinct_groups(freq)[:n_orders]
         for c, grp in enumerate(groups):
             ax = axes[r, c]
             shape = sub.mode_shape.isel(mode=grp[0]).values * arm

@@ -10,7 +10,7 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
-from geardyn.backlash import backlash  # noqa: E402
+from geardyn.gears.backlash import backlash  # noqa: E402
 
 _STYLES = ("-.", ":", "--", "-")
 
@@ -75,15 +75,22 @@ def caption_fig04(props) -> str:  # props: geardyn.design.MeshProperties
     )
 
 
-def caption_fig05(table: xr.Dataset, design) -> str:
+def caption_fig05(table: xr.Dataset, design, paper=None) -> str:
+    """Caption of the k(t) figure; the comparison with the paper only for a design that names one."""
     rows = "; ".join(
         f"x1 = {x1:.3f}: x2 = {float(table['x2'].sel(x1=x1)):.4f}, eps = {float(table['contact_ratio'].sel(x1=x1)):.4f}, "
         f"k_C = {float(table['k_c'].sel(x1=x1)) / 1e6:.1f} N/um, mean k = {float(table['k_mean'].sel(x1=x1)) / 1e6:.1f} N/um"
         for x1 in table["x1"].values
     )
+    x2_text = "x2 on line 4 (G_s = 0)" if design.x2_on_line4 else f"x2 fixed at {design.base.x2:g}"
+    text = (f"Time-varying mesh stiffness k(t) over two mesh periods at x1 = "
+            f"{', '.join(f'{v:g}' for v in table['x1'].values)}, {x2_text}. Stiffness options: "
+            f"{design.stiffness.label}. {rows}. The double-pair zone is on [0, eps - 1] (sum of the single-pair "
+            "parabolas), so k(t) jumps by k' where a pair enters or leaves; the exact mean is (8/9) eps k_C.")
+    if paper is None:
+        return text
     return (
-        "Fig. 5 (paper 1): time-varying mesh stiffness k(t) over two mesh periods for the paper's three x1 values, "
-        f"x2 on line 4 (G_s = 0). Stiffness options: {design.stiffness.label}. {rows}. "
+        f"Fig. 5 of {paper.SHORT} (the paper's three x1 values). " + text + " "
         "Differences from the paper: Eq. (9) prints its two intervals swapped; here the double-pair zone is on "
         "[0, eps - 1] (sum of the single-pair parabolas), so k(t) jumps by k' where a pair enters or leaves. "
         "The exact mean is (8/9) eps k_C, not the printed 0.866268 eps k_C (that constant equals cos a' at N). "

@@ -1,44 +1,18 @@
 """Design of the plus planetary set of paper 2 (Yue et al. 2014, Table 1) as frozen dataclasses.
 
-:func:`design_from_dict` validates a plain dict (e.g. the parsed ``config/designs/yue2014.yaml``)
-against ``schemas/plus_planetary.schema.json`` (JSON Schema 2020-12), fills in the schema defaults
-and returns a :class:`PlusDesign`.  No file I/O happens here except reading the packaged schema.
+:func:`load` reads a design file through :mod:`geardyn.config` (the one validator: schema, defaults,
+one-line errors) and :func:`design_from_dict` builds the :class:`PlusDesign` from the validated dict.
 
 Units: lengths in mm in the design (as printed), converted to SI by the numerical modules.
 """
 
 from __future__ import annotations
 
-import copy
-import json
 from dataclasses import dataclass, field
-from functools import lru_cache
 from pathlib import Path
 from typing import Any, Mapping
 
-import jsonschema
-
-SCHEMA_PATH = Path(__file__).resolve().parent.parent / "schemas" / "plus_planetary.schema.json"
-
-
-@lru_cache(maxsize=1)
-def schema() -> dict[str, Any]:
-    """The JSON Schema (2020-12) of a plus-planetary design file."""
-    return json.loads(SCHEMA_PATH.read_text())
-
-
-def _fill_defaults(node: Any, sch: Mapping[str, Any]) -> Any:
-    """Recursively insert the schema's ``default`` values for missing object keys."""
-    if sch.get("type") != "object" or not isinstance(node, dict):
-        return node
-    out = dict(node)
-    for key, sub in sch.get("properties", {}).items():
-        if key not in out and "default" in sub:
-            out[key] = copy.deepcopy(sub["default"])
-        if key in out:
-            out[key] = _fill_defaults(out[key], sub)
-    return out
-
+from geardyn.config import ConfigError, load_design_dict, validate
 
 @dataclass(frozen=True)
 class Body:
@@ -98,6 +72,7 @@ class PlusDesign:
 
     name: str
     title: str
+    paper: str | None
     module: float
     pressure_angle: float
     addendum: float
@@ -151,25 +126,20 @@ def _springs(d: Mapping[str, Any]) -> Springs:
     return Springs(float(d["sun_planet"]), float(d["planet_planet"]), float(d["planet_ring"]), float(d["sun_bearing"]))
 
 
-def validate(raw: Mapping[str, Any]) -> None:
-    """Raise ``jsonschema.ValidationError`` if ``raw`` does not follow the schema."""
-    jsonschema.Draft202012Validator(schema()).validate(raw)
-
-
-def design_from_dict(raw: Mapping[str, Any]) -> PlusDesign:
-    """Validate ``raw`` (parsed YAML), fill defaults and build a :class:`PlusDesign` (SI units)."""
+def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
+    """Build a :class:`PlusDesign` (SI units) from a schema-validated dict with defaults filled
+    (:func:`geardyn.config.load_design_dict`), with the checks the schema cannot state."""
     import math
 
-    validate(raw)
-    d = _fill_defaults(dict(raw), schema())
-    validate(d)
     te, rl = d["transmission_error"], d["relief"]
     for lo_hi in ("paper_amount_mm", "paper_length_mm", "physical_amount_mm", "physical_length_mm"):
         lo, hi = rl[lo_hi]
         if not lo < hi:
-            raise ValueError(f"relief.{lo_hi} = {rl[lo_hi]}: lower bound must be below the upper bound")
+            raise ConfigError(f"{where}: relief.{lo_hi} = {rl[lo_hi]} is not allowed: the lower bound must be below "
+                              "the upper bound")
     return PlusDesign(
         name=d["name"],
+        paper=d.get("paper"),
         title=d["title"],
         module=d["module_mm"] * 1e-3,
         pressure_angle=math.radians(d["pressure_angle_deg"]),
@@ -216,6 +186,14 @@ def design_from_dict(raw: Mapping[str, Any]) -> PlusDesign:
     )
 
 
+def load(path: str | Path) -> PlusDesign:
+    """Read, validate and build a plus-set design file (one-line :class:`ConfigError` on any problem)."""
+    raw = load_design_dict(path)
+    if raw["kind"] != "plus_planetary":
+        raise ConfigError(f"{path}: kind = {raw['kind']!r} is not a plus planetary design")
+    return design_from_dict(raw, str(path))
+
+
 def default_design() -> PlusDesign:
-    """The schema defaults, i.e. Table 1 of paper 2 with the documented assumptions."""
-    return design_from_dict({"kind": "plus_planetary"})
+    """The schema defaults (the values of the schema file), validated like any design."""
+    return design_from_dict(validate({"kind": "plus_planetary"}, "plus_planetary.schema.json", "defaults"))

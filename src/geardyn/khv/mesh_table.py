@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from geardyn import stiffness
-from geardyn.design import KHVDesign, mesh_properties
+from geardyn.gears import stiffness
+from geardyn.khv.design import KHVDesign, mesh_properties
 
 _FIELDS = {
     # name: (attribute of MeshProperties, units, long_name, scale)

@@ -6,8 +6,8 @@ fixed (f = x2 - b, 0 or x2 + b: each one smooth) and a terminal event on x2 = +-
 direction that leaves the region, stops the call; the run restarts in the new region.  The
 solver therefore never steps over a kink and keeps its 8th order.  Steps are limited to
 T/128 so that a grazing excursion into another region lasting longer than that is seen
-(a sign change of the event function is only looked for between step ends).  Independent of the numba
-kernels (only the coefficients are shared).
+(a sign change of the event function is only looked for between step ends).  Independent of the RK4
+kernels (only the coefficient array and its named layout are shared).
 """
 
 from __future__ import annotations
@@ -18,33 +18,36 @@ import numpy as np
 from numba import njit
 from scipy.integrate import solve_ivp
 
-from geardyn.model import Coefficients
+from geardyn.solve.base import (
+    B, C11, C21, C23, C33, CM, G1, G3, K11, K21, K23, K33, P1, P3, PHI, T, TE, SimulationResult, SimulationSettings,
+    System,
+)
 
 
 @njit(cache=True)
 def _rhs_region(t, y, c, poly, seg, reg, per):
-    # c: kernel_array; poly: (2, 3); reg: -1, 0, 1 (or 2 = no backlash: f = x2)
-    T = c[16]
-    s = t / T - per
+    # c: kernel_array (named indices of geardyn.solve.base.LAYOUT); poly: (2, 3);
+    # reg: -1, 0, 1 (or 2 = no backlash: f = x2)
+    s = t / c[T] - per
     kap = (poly[seg, 0] * s + poly[seg, 1]) * s + poly[seg, 2]
     x2 = y[1]
     if reg == 2:
         f = x2
     elif reg == 1:
-        f = x2 - c[13]
+        f = x2 - c[B]
     elif reg == -1:
-        f = x2 + c[13]
+        f = x2 + c[B]
     else:
         f = 0.0
-    fm = kap * f + c[12] * y[4]
-    pe = c[14] * math.sin(2.0 * math.pi * s + c[15])
+    fm = kap * f + c[CM] * y[4]
+    pe = c[TE] * math.sin(2.0 * math.pi * s + c[PHI])
     out = np.empty(6)
     out[0] = y[3]
     out[1] = y[4]
     out[2] = y[5]
-    out[3] = c[3] - c[0] * y[0] - c[1] * y[3] - c[2] * fm
-    out[4] = pe - c[4] * y[0] - c[5] * y[3] - c[6] * y[2] - c[7] * y[5] - fm
-    out[5] = c[11] - c[8] * y[2] - c[9] * y[5] - c[10] * fm
+    out[3] = c[P1] - c[K11] * y[0] - c[C11] * y[3] - c[G1] * fm
+    out[4] = pe - c[K21] * y[0] - c[C21] * y[3] - c[K23] * y[2] - c[C23] * y[5] - fm
+    out[5] = c[P3] - c[K33] * y[2] - c[C33] * y[5] - c[G3] * fm
     return out
 
 
@@ -76,7 +79,7 @@ def _initial_region(y: np.ndarray, b: float) -> int:
     return 0
 
 
-def integrate_period(coeffs: Coefficients, y: np.ndarray, per: int = 0, rtol: float = 1e-12,
+def integrate_period(coeffs: System, y: np.ndarray, per: int = 0, rtol: float = 1e-12,
                      atol: float | None = None, reg: int | None = None, collect: list | None = None,
                      max_step_fraction: float = 1.0 / 128):
     """Integrate one mesh period (phase 0 -> 1) from y; returns (y_end, region, n_events).
@@ -123,11 +126,9 @@ def integrate_period(coeffs: Coefficients, y: np.ndarray, per: int = 0, rtol: fl
     return y, reg, nev
 
 
-def simulate_reference(coeffs: Coefficients, settings, y0: np.ndarray, dense: bool = False,
-                       max_step_fraction: float = 1.0 / 128):
-    """DOP853 counterpart of :func:`geardyn.integrators.simulate` (same result type)."""
-    from geardyn.integrators import SimulationResult
-
+def simulate_reference(coeffs: System, settings: SimulationSettings, y0: np.ndarray, dense: bool = False,
+                       max_step_fraction: float = 1.0 / 128) -> SimulationResult:
+    """DOP853 counterpart of :func:`geardyn.solve.simulate` (same result type)."""
     y = np.asarray(y0, dtype=float).copy()
     reg = None
     ntr, nrec = settings.transient_periods, settings.recorded_periods

@@ -9,7 +9,7 @@ The paper names four lines (Sec. 3.2):
 
 Line 4 is drawn as G_s = 0, not as a line of constant working pressure angle: the paper's limit
 points M (0.416, 0.601) and N (0.835, 0.995) both lie on G_s = 0 (x2 = 0.60095 and 0.99443), and
-a' falls from 31.0 deg to 29.97 deg between them (MODEL_NOTES, "Geometry and closed graph").
+a' falls from 31.0 deg to 29.97 deg between them (docs/geometry.md).
 
 Pure: returns an :class:`xarray.Dataset`; writing it is the caller's job.
 """
@@ -17,6 +17,7 @@ Pure: returns an :class:`xarray.Dataset`; writing it is the caller's job.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 
 import numpy as np
 import xarray as xr
@@ -24,10 +25,7 @@ from numpy.typing import ArrayLike
 
 from scipy.optimize import brentq
 
-from geardyn import geometry as geo
-
-#: Paper 1, Sec. 3.2: the limit points of the admissible segment on line 4.
-PAPER_POINTS: dict[str, tuple[float, float]] = {"M": (0.416, 0.601), "N": (0.835, 0.995)}
+from geardyn.gears import geometry as geo
 
 #: Which of the paper's lines each constraint belongs to (0: drawn but not one of lines 1-4).
 LINE_OF: dict[str, int] = {
@@ -69,15 +67,17 @@ def closed_graph(
     min_tip_thickness: float = 0.25,
     min_contact_ratio: float = 1.0,
     cutter: geo.ShaperCutter | None = None,
+    reference_points: Mapping[str, tuple[float, float]] | None = None,
 ) -> xr.Dataset:
-    """All constraints of an internal pair on the (x1, x2) grid, plus line 4 and the points M, N.
+    """All constraints of an internal pair on the (x1, x2) grid, plus line 4 and reference points.
 
     ``base`` gives teeth, module, ha*, c*, pressure angle; its own x1/x2 are ignored.
     Variables (dims ``x2, x1`` so that ``ds[v].plot()`` has x1 across):
     one per constraint (signed margin, >= 0 satisfied), ``contact_ratio``,
     ``working_pressure_angle``, ``feasible`` (int8, all constraints), ``feasible_cutter_free``
     (int8, the constraints that do not depend on the assumed cutter), ``x2_line4(x1)`` (G_s = 0),
-    the paper's points and ours with residuals along dim ``point``.
+    and, with ``reference_points`` (a paper's printed (x1, x2), e.g. its M and N), those points and
+    ours on line 4 with residuals along dim ``point``.
     """
     if not base.internal:
         raise ValueError("the closed graph of paper 1 is for an internal pair")
@@ -96,8 +96,9 @@ def closed_graph(
             x2a,
             {"units": "1", "long_name": "annulus profile-shift coefficient x2 (Chinese sign convention)"},
         ),
-        "point": ("point", np.array(list(PAPER_POINTS)), {"long_name": "paper 1 limit point"}),
     }
+    if reference_points:
+        coords["point"] = ("point", np.array(list(reference_points)), {"long_name": "printed limit point"})
     ds = xr.Dataset(coords=coords)
     for name, value in margins.items():
         units, long_name = geo.constraint_info(name)
@@ -139,26 +140,12 @@ def closed_graph(
     ds["feasible_line4_cutter_free"] = ("x1", ok_line_free.astype(np.int8), {
         "units": "1", "long_name": "line-4 point satisfying every cutter-independent constraint", **flag})
 
-    # The paper's points M and N and ours.
-    px1 = np.array([p[0] for p in PAPER_POINTS.values()])
-    px2 = np.array([p[1] for p in PAPER_POINTS.values()])
-    cx2 = geo.x2_on_overlap_boundary_many(px1, base)
-    pt_pair = geo.with_shifts(base, px1, cx2)
-    ds["paper_x1"] = ("point", px1, {"units": "1", "long_name": "x1 of the paper's limit point"})
-    ds["paper_x2"] = ("point", px2, {"units": "1", "long_name": "x2 of the paper's limit point"})
-    ds["computed_x2"] = ("point", cx2, {"units": "1", "long_name": "computed x2 on G_s = 0 at the paper's x1"})
-    ds["residual_x2"] = ("point", cx2 - px2, {"units": "1", "long_name": "computed minus paper x2"})
-    ds["contact_ratio_point"] = ("point", geo.contact_ratio(pt_pair), {
-        "units": "1", "long_name": "transverse contact ratio at the computed point"})
-    ds["working_pressure_angle_point"] = ("point", np.degrees(geo.working_pressure_angle(pt_pair)), {
-        "units": "degree", "long_name": "working pressure angle a' at the computed point"})
-    ds["working_centre_distance_point"] = ("point", geo.working_centre_distance(pt_pair), {
-        "units": "mm", "long_name": "working centre distance a' at the computed point"})
-
+    if reference_points:
+        _reference_points(ds, base, reference_points)
     feas_x1 = x1a[ok_line]
     ds.attrs.update({
-        "title": "Fig. 3 closed graph (Li et al. 2013), computed",
-        "source": "geardyn.closed_graph.closed_graph",
+        "title": "Closed graph of profile-shift coefficients, computed",
+        "source": "geardyn.khv.closed_graph.closed_graph",
         "conventions_note": "every constraint is a signed margin, >= 0 satisfied; x2 in the Chinese convention",
         "line4_definition": "G_s = 0 (tooth-profile overlap interference); the paper's 'equal meshing angle' "
         "does not hold: a' varies along the line",
@@ -171,6 +158,24 @@ def closed_graph(
         "line4_feasible_x1_max": float(feas_x1.max()) if feas_x1.size else math.nan,
     })
     return ds
+
+
+def _reference_points(ds: xr.Dataset, base: geo.GearPair, points: Mapping[str, tuple[float, float]]) -> None:
+    """Printed points (x1, x2) and ours on G_s = 0 at the same x1, with residuals, along ``point``."""
+    px1 = np.array([p[0] for p in points.values()])
+    px2 = np.array([p[1] for p in points.values()])
+    cx2 = geo.x2_on_overlap_boundary_many(px1, base)
+    pt_pair = geo.with_shifts(base, px1, cx2)
+    ds["paper_x1"] = ("point", px1, {"units": "1", "long_name": "x1 of the printed limit point"})
+    ds["paper_x2"] = ("point", px2, {"units": "1", "long_name": "x2 of the printed limit point"})
+    ds["computed_x2"] = ("point", cx2, {"units": "1", "long_name": "computed x2 on G_s = 0 at the paper's x1"})
+    ds["residual_x2"] = ("point", cx2 - px2, {"units": "1", "long_name": "computed minus paper x2"})
+    ds["contact_ratio_point"] = ("point", geo.contact_ratio(pt_pair), {
+        "units": "1", "long_name": "transverse contact ratio at the computed point"})
+    ds["working_pressure_angle_point"] = ("point", np.degrees(geo.working_pressure_angle(pt_pair)), {
+        "units": "degree", "long_name": "working pressure angle a' at the computed point"})
+    ds["working_centre_distance_point"] = ("point", geo.working_centre_distance(pt_pair), {
+        "units": "mm", "long_name": "working centre distance a' at the computed point"})
 
 
 def line4_crossings(ds: xr.Dataset, name: str) -> list[float]:

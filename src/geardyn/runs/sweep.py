@@ -22,22 +22,16 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn import classify, khv
-from geardyn.design import KHVDesign
-from geardyn.integrators import SimulationSettings
+from geardyn import classify
+from geardyn.khv.model import COEFFICIENT_ATTRS
+from geardyn.runs.cube import COMPUTED_ATTRS, STATE_NAMES, STATES, classifier_attrs, label_variables, store_label
+from geardyn.runs.points import analyse_point
+from geardyn.khv import point
+from geardyn.khv.design import KHVDesign
+from geardyn.solve import SimulationSettings
 
 log = logging.getLogger("geardyn.sweep")
 
-STATES = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
-_STATE_NAMES = {
-    "x_dh": "relative displacement X_DH / b_c (drive - carrier)",
-    "x_vh": "mesh deflection X_VH / b_c (planet - carrier - TE)",
-    "x_vl": "relative displacement X_VL / b_c (planet - load)",
-    "v_dh": "dimensionless velocity dX_DH/dtau / b_c",
-    "v_vh": "dimensionless velocity dX_VH/dtau / b_c",
-    "v_vl": "dimensionless velocity dX_VL/dtau / b_c",
-}
-DIRECTIONS = ("none", "up", "down", "both")
 
 
 @dataclass(frozen=True)
@@ -125,7 +119,7 @@ def point_overrides(spec: SweepSpec, case: int, value: float) -> dict[str, float
 def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
               settings: SimulationSettings | None = None) -> xr.Dataset:
     """Integrate the points of one chunk and return them as a partial cube (see :func:`empty_cube`)."""
-    settings = settings or khv.integration_settings(design, **dict(spec.integration))
+    settings = settings or point.integration_settings(design, **dict(spec.integration))
     cls = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
     work = chunk_work(spec, chunk)
     values = spec.values
@@ -137,9 +131,9 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
     for case, d, indices in work.items:
         state = None
         for j in indices:
-            coeffs = khv.point_coefficients(design, point_overrides(spec, case, values[j]))
+            coeffs = point.point_coefficients(design, point_overrides(spec, case, values[j]))
             x0 = state if (spec.continuation != "none" and state is not None) else None
-            res, lab = classify.analyse_point(coeffs, settings, cls, x0=x0)
+            res, lab = analyse_point(coeffs, settings, cls, x0=x0)
             _store(cube, case, d, j, coeffs, res, settings)
             store_label(cube, (case, d, j), lab)
             keep[case, d, j] = True
@@ -150,47 +144,8 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
                 log.info("%s chunk %d: %d/%d points, %.1f s elapsed, %.1f s remaining", spec.name, chunk,
                          done, total, elapsed, elapsed / done * (total - done))
     # keep only this chunk's points along the parameter axis (a chunk may cover several cases)
-    cube["computed"] = (("case", "direction", spec.parameter), keep.astype(np.int8),
-                        {"long_name": "1 where this file holds the point", "flag_values": np.array([0, 1], np.int8),
-                         "flag_meanings": "absent present"})
+    cube["computed"] = (("case", "direction", spec.parameter), keep.astype(np.int8), COMPUTED_ATTRS)
     return cube
-
-
-def label_variables(dims: tuple[str, ...], shape: tuple[int, ...],
-                    cls: classify.ClassifierSettings) -> dict[str, Any]:
-    """Empty per-point classification variables (see :func:`geardyn.classify.classify_point`)."""
-    return {
-        "label": (dims, np.full(shape, classify.LABELS["undetermined"], np.int16), {
-            "long_name": "motion label (classify.classify_point)", **classify.flag_attrs(cls.max_n)}),
-        "period": (dims, np.zeros(shape, np.int16), {
-            "units": "1", "long_name": "period n in mesh periods (0: not periodic)"}),
-        "lyapunov": (dims, np.full(shape, np.nan), {
-            "units": "1", "long_name": "largest Lyapunov exponent per unit dimensionless time tau = w_n t "
-                                       "(tangent vector over the last tangent_periods)"}),
-        "lyapunov_sigma": (dims, np.full(shape, np.nan), {
-            "units": "1", "long_name": "uncertainty of the largest Lyapunov exponent (batch means / half-run drift)"}),
-        "zero_one_k": (dims, np.full(shape, np.nan), {
-            "units": "1", "long_name": "0-1 test statistic K on stroboscopic X_VH (Gottwald-Melbourne; NaN if periodic)"}),
-        "spectral_flatness": (dims, np.full(shape, np.nan), {
-            "units": "1", "long_name": "spectral flatness of stroboscopic X_VH (0 lines, ~0.56 white; NaN if periodic)"}),
-        "crosscheck": (dims, np.full(shape, -1, np.int8), {
-            "long_name": "0-1 test and spectrum agree with the label",
-            "flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "not_applicable one_agrees both_agree"}),
-    }
-
-
-def store_label(ds: xr.Dataset, idx: tuple, lab: classify.Classification) -> None:
-    ds["label"].values[idx] = lab.label
-    ds["period"].values[idx] = lab.period
-    ds["lyapunov"].values[idx] = lab.lyapunov
-    ds["lyapunov_sigma"].values[idx] = lab.lyapunov_sigma
-    ds["zero_one_k"].values[idx] = lab.k01
-    ds["spectral_flatness"].values[idx] = lab.flatness
-    ds["crosscheck"].values[idx] = lab.crosscheck
-
-
-def classifier_attrs(cls: classify.ClassifierSettings) -> dict[str, Any]:
-    return {f"classifier_{k}": v for k, v in dataclasses.asdict(cls).items()}
 
 
 def empty_cube(spec: SweepSpec, settings: SimulationSettings,
@@ -202,7 +157,7 @@ def empty_cube(spec: SweepSpec, settings: SimulationSettings,
     dims = ("case", "direction", spec.parameter, "section")
     data: dict[str, Any] = {}
     for name in STATES:
-        data[name] = (dims, np.full(shape, np.nan), {"units": "1", "long_name": f"Poincare section: {_STATE_NAMES[name]}"})
+        data[name] = (dims, np.full(shape, np.nan), {"units": "1", "long_name": f"Poincare section: {STATE_NAMES[name]}"})
     pdims = dims[:3]
     data["diverged"] = (pdims, np.full(shape[:3], -1, np.int8), {
         "long_name": "unbounded growth detected (parametric instability)",
@@ -212,14 +167,14 @@ def empty_cube(spec: SweepSpec, settings: SimulationSettings,
     data["n_events"] = (pdims, np.full(shape[:3], -1, np.int64), {
         "units": "1", "long_name": "number of contact-switch events located (rk4_event)"})
     data.update(label_variables(pdims, shape[:3], cls))
-    for cname, (units, long_name) in _COEFF_ATTRS.items():
+    for cname, (units, long_name) in COEFFICIENT_ATTRS.items():
         data[f"coef_{cname}"] = (pdims, np.full(shape[:3], np.nan), {"units": units, "long_name": long_name})
     coords = {
         "case": ("case", [spec.case_label(i) for i in range(nc)], {"long_name": "case (fixed overrides)"}),
         "direction": ("direction", list(spec.directions), {"long_name": "continuation direction of the sweep"}),
         spec.parameter: (spec.parameter, spec.values, {
-            "units": khv.CONTROLS.get(spec.parameter, ("1", spec.parameter))[0],
-            "long_name": khv.CONTROLS.get(spec.parameter, ("1", spec.parameter))[1]}),
+            "units": point.CONTROLS.get(spec.parameter, ("1", spec.parameter))[0],
+            "long_name": point.CONTROLS.get(spec.parameter, ("1", spec.parameter))[1]}),
         "section": ("section", np.arange(ns, dtype=np.int32), {
             "units": "1", "long_name": "index of the recorded mesh period (Poincare section at phase 0)"}),
     }
@@ -234,19 +189,6 @@ def empty_cube(spec: SweepSpec, settings: SimulationSettings,
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-_COEFF_ATTRS = {
-    "mu_D": ("1", "drive mass M_D / M_VH"), "mu_H": ("1", "carrier mass M_H / M_VH"),
-    "mu_V": ("1", "planet mass M_V / M_VH"), "mu_L": ("1", "load mass M_L / M_VH"),
-    "k_DH": ("1", "input shaft stiffness / k_mean"), "k_VL": ("1", "output shaft stiffness / k_mean"),
-    "c_DH": ("1", "input shaft damping / (M_VH w_n)"), "c_VL": ("1", "output shaft damping / (M_VH w_n)"),
-    "c_m": ("1", "mesh damping / (M_VH w_n)"), "P_D": ("1", "drive force / (k_mean b_c)"),
-    "P_L": ("1", "load force / (k_mean b_c)"), "b": ("1", "half backlash / b_c"),
-    "e": ("1", "TE amplitude / b_c"), "phi": ("rad", "TE phase"), "omega": ("1", "mesh frequency w_m / w_n"),
-    "eps": ("1", "contact ratio"), "omega_n": ("rad s-1", "natural-frequency scale w_n"),
-    "k_mean": ("N m-1", "mean mesh stiffness"),
-}
-
-
 def _store(cube: xr.Dataset, case: int, d: int, j: int, coeffs: Any, res: Any, settings: SimulationSettings) -> None:
     n = res.poincare.shape[0]
     for k, name in enumerate(STATES):
@@ -255,23 +197,7 @@ def _store(cube: xr.Dataset, case: int, d: int, j: int, coeffs: Any, res: Any, s
     cube["diverged_period"].values[case, d, j] = res.diverged_period
     cube["n_events"].values[case, d, j] = res.n_events
     values = coeffs.as_dict()
-    for cname in _COEFF_ATTRS:
+    for cname in COEFFICIENT_ATTRS:
         cube[f"coef_{cname}"].values[case, d, j] = float(values[cname])
 
 
-def merge_chunks(chunks: Sequence[xr.Dataset]) -> xr.Dataset:
-    """Combine chunk cubes into one; each point must be present exactly once."""
-    if not chunks:
-        raise ValueError("no chunks to merge")
-    present = sum(c["computed"].values.astype(int) for c in chunks)
-    if np.any(present != 1):
-        missing = int(np.sum(present == 0))
-        twice = int(np.sum(present > 1))
-        raise ValueError(f"chunks do not tile the sweep: {missing} points missing, {twice} computed twice")
-    out = chunks[0].drop_vars("computed").copy(deep=True)
-    for c in chunks[1:]:
-        mask = c["computed"].values.astype(bool)
-        for name in out.data_vars:
-            arr = out[name].values
-            arr[mask] = c[name].values[mask]
-    return out

@@ -6,10 +6,10 @@ and the mean and spread of its Poincaré X_VH.  Points are numbered x-major (all
 first x, then the next x, ...) and split into contiguous chunks; every point is computed from its
 own parameters from the static deflection, so the result does not depend on the chunking.
 
-Coefficients are built once per x value (:func:`khv.point_coefficients`, ~3-7 ms: geometry and
+Coefficients are built once per x value (:func:`point.point_coefficients`, ~3-7 ms: geometry and
 stiffness) and the y parameter is then set directly on the dimensionless coefficients when it is
 ``b``, ``e`` or ``w`` (b / b_c, e / b_c and w_m / w_n enter them unscaled); any other y parameter
-falls back to :func:`khv.point_coefficients` per point.
+falls back to :func:`point.point_coefficients` per point.
 """
 
 from __future__ import annotations
@@ -23,10 +23,12 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn import classify, khv
-from geardyn.design import KHVDesign
-from geardyn.model import Coefficients
-from geardyn.sweep import classifier_attrs, label_variables, store_label
+from geardyn import classify
+from geardyn.khv import point
+from geardyn.khv.design import KHVDesign
+from geardyn.khv.model import Coefficients
+from geardyn.runs.cube import COMPUTED_ATTRS, classifier_attrs, label_variables, store_label
+from geardyn.runs.points import analyse_point
 
 log = logging.getLogger("geardyn.maps")
 
@@ -100,7 +102,7 @@ def point_coefficients(design: KHVDesign, spec: MapSpec, xv: float, yv: float,
     if base is not None and _direct_ok(design, spec.y.parameter):
         field = _DIRECT[spec.y.parameter]
         return base.replace(**{field: float(yv)})
-    return khv.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(xv),
+    return point.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(xv),
                                            spec.y.parameter: float(yv)})
 
 
@@ -114,12 +116,10 @@ def empty_map(spec: MapSpec, cls: classify.ClassifierSettings, settings) -> xr.D
     data["x_vh_mean"] = (dims, np.full(shape, np.nan), {"units": "1", "long_name": "mean Poincare X_VH / b_c"})
     data["x_vh_spread"] = (dims, np.full(shape, np.nan), {"units": "1",
                                                            "long_name": "peak-to-peak of Poincare X_VH / b_c"})
-    data["computed"] = (dims, np.zeros(shape, np.int8), {
-        "long_name": "1 where this file holds the point", "flag_values": np.array([0, 1], np.int8),
-        "flag_meanings": "absent present"})
+    data["computed"] = (dims, np.zeros(shape, np.int8), COMPUTED_ATTRS)
     coords = {}
     for dim, ax in (("x", spec.x), ("y", spec.y)):
-        units, long_name = khv.CONTROLS.get(ax.parameter, ("1", ax.parameter))
+        units, long_name = point.CONTROLS.get(ax.parameter, ("1", ax.parameter))
         coords[dim] = (dim, ax.values, {"units": units, "long_name": long_name, "parameter": ax.parameter})
     attrs = {"map": spec.name, "design": spec.design, "x_parameter": spec.x.parameter,
              "y_parameter": spec.y.parameter,
@@ -132,7 +132,7 @@ def empty_map(spec: MapSpec, cls: classify.ClassifierSettings, settings) -> xr.D
 
 def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
     """Classify the points of one chunk; a partial map (``computed`` marks them)."""
-    settings = khv.integration_settings(design, **dict(spec.integration))
+    settings = point.integration_settings(design, **dict(spec.integration))
     cls = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
     ds = empty_map(spec, cls, settings)
     xs, ys = spec.x.values, spec.y.values
@@ -143,10 +143,10 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
         i, j = divmod(int(flat), spec.y.num)  # x index, y index
         if i not in base_cache:
             base_cache.clear()
-            base_cache[i] = (khv.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(xs[i])})
+            base_cache[i] = (point.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(xs[i])})
                              if _direct_ok(design, spec.y.parameter) else None)
         coeffs = point_coefficients(design, spec, xs[i], ys[j], base_cache[i])
-        res, lab = classify.analyse_point(coeffs, settings, cls, cheap=True)
+        res, lab = analyse_point(coeffs, settings, cls, cheap=True)
         store_label(ds, (j, i), lab)
         ds["diverged"].values[j, i] = int(res.diverged)
         if res.poincare.shape[0]:
@@ -159,24 +159,6 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
                      1e3 * el / count)
     ds.attrs["wall_time_s"] = time.perf_counter() - t0
     return ds
-
-
-def merge_chunks(chunks: list[xr.Dataset]) -> xr.Dataset:
-    """Combine partial maps; each point must be present exactly once."""
-    if not chunks:
-        raise ValueError("no chunks to merge")
-    present = sum(c["computed"].values.astype(int) for c in chunks)
-    if np.any(present != 1):
-        raise ValueError(f"chunks do not tile the map: {int(np.sum(present == 0))} points missing, "
-                         f"{int(np.sum(present > 1))} computed twice")
-    out = chunks[0].drop_vars("computed").copy(deep=True)
-    for c in chunks[1:]:
-        mask = c["computed"].values.astype(bool)
-        for name in out.data_vars:
-            out[name].values[mask] = c[name].values[mask]
-    out.attrs.pop("wall_time_s", None)
-    out.attrs["chunk_wall_time_s"] = ",".join(f"{float(c.attrs.get('wall_time_s', np.nan)):.1f}" for c in chunks)
-    return out
 
 
 def fractions(ds: xr.Dataset) -> dict[str, float]:

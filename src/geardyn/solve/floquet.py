@@ -2,7 +2,7 @@
 
 The model is then y' = A(tau) y + q(tau) with period T.  The monodromy matrix Phi (one mesh
 period of the homogeneous system) and the particular solution y_p(T) from y(0) = 0 are
-integrated with DOP853 (rtol 1e-12, zone by zone, see :mod:`geardyn.reference`), so
+integrated with DOP853 (rtol 1e-12, zone by zone, see :mod:`geardyn.solve.reference`), so
 
 * the T-periodic orbit is y* = (I - Phi)^-1 y_p(T) (Poincare point at phase 0),
 * it is asymptotically stable iff every Floquet multiplier (eigenvalue of Phi) has |mu| < 1;
@@ -15,8 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geardyn.model import Coefficients
-from geardyn.reference import integrate_period
+from geardyn.solve.reference import integrate_period
 
 
 @dataclass(frozen=True)
@@ -34,12 +33,12 @@ class FloquetResult:
         return self.spectral_radius < 1.0
 
 
-def linear_part(coeffs: Coefficients) -> Coefficients:
+def linear_part(coeffs):
     """The linear (b = 0) model of the same coefficients."""
     return coeffs.replace(b=0.0, backlash_on=False)
 
 
-def floquet(coeffs: Coefficients, rtol: float = 1e-12) -> FloquetResult:
+def floquet(coeffs, rtol: float = 1e-12) -> FloquetResult:
     """Monodromy, multipliers and periodic orbit of the b = 0 model (backlash ignored)."""
     lin = linear_part(coeffs)
     hom = lin.replace(P_D=0.0, P_L=0.0, e=0.0)

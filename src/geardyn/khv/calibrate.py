@@ -1,8 +1,7 @@
 """Search the paper's unknowns for the best agreement with its regime sequence along x1.
 
-Paper 1 (Sec. 4.1, b = 2, e = 5) states: period-1 up to x1 = 0.565, quasi-periodic to 0.568,
-period-5 to 0.593, chaos, period-6 near 0.761, chaos above 0.768.  Shaft stiffnesses, mesh
-frequency and planet mass are not given.  A candidate is a set of values of such unknowns;
+The target is a paper's regime sequence along x1 (for paper 1: :data:`geardyn.papers.li2013.SEQUENCE`,
+Sec. 4.1, b = 2, e = 5).  Shaft stiffnesses, mesh frequency and planet mass are not given.  A candidate is a set of values of such unknowns;
 its score is the fraction of x1 points of a coarse sweep whose label matches the paper's.
 Quasi-periodic and chaotic are both "not periodic" here (the Poincaré period test cannot
 separate them; the classifier of :mod:`geardyn.classify` does that for the final figures).
@@ -19,38 +18,32 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import xarray as xr
 
-from geardyn import classify, khv
-from geardyn.design import KHVDesign
-from geardyn.integrators import SimulationSettings, simulate
+from geardyn import classify
+from geardyn.khv import point
+from geardyn.khv.design import KHVDesign
+from geardyn.solve import SimulationSettings, simulate
 
-#: The paper's regime sequence along x1 (Sec. 4.1): (x1 from, x1 to, period; 0 = not periodic).
-PAPER_SEQUENCE: tuple[tuple[float, float, int], ...] = (
-    (0.416, 0.565, 1),
-    (0.565, 0.568, 0),
-    (0.568, 0.593, 5),
-    (0.593, 0.755, 0),
-    (0.755, 0.768, 6),
-    (0.768, 0.835, 0),
-)
+RegimeSequence = Sequence[tuple[float, float, "int | str"]]
 
 
-def paper_label(x1: np.ndarray) -> np.ndarray:
-    """The paper's label at each x1 (period n, or 0 for quasi-periodic/chaotic)."""
+def paper_label(x1: np.ndarray, sequence: RegimeSequence) -> np.ndarray:
+    """The paper's label at each x1 from its regime ``sequence`` ((from, to, label) with label n >= 1
+    for period-n, "QP" or "chaos"): period n, or 0 for quasi-periodic or chaotic, -1 outside."""
     x1 = np.asarray(x1, dtype=float)
     out = np.full(x1.shape, -1, dtype=np.int16)
-    for lo, hi, n in PAPER_SEQUENCE:
-        out[(x1 >= lo) & (x1 <= hi)] = n
+    for lo, hi, lab in sequence:
+        out[(x1 >= lo) & (x1 <= hi)] = lab if isinstance(lab, int) else 0
     return out
 
 
-def score(x1: np.ndarray, labels: np.ndarray) -> float:
+def score(x1: np.ndarray, labels: np.ndarray, sequence: RegimeSequence) -> float:
     """Balanced agreement with the paper: for each regime type the paper names along ``x1`` (P1, P5, P6,
     not periodic), the fraction of its points we label the same; then the mean over the types.
 
     Balanced so that a candidate cannot score by getting only the commonest regime right (plain
     accuracy gives 0.56 to 'not periodic everywhere').  Diverged and undetermined never match.
     """
-    want = paper_label(x1)
+    want = paper_label(x1, sequence)
     got = np.asarray(labels)
     types = [t for t in np.unique(want) if t >= 0]
     return float(np.mean([np.mean(got[want == t] == t) for t in types])) if types else 0.0
@@ -64,30 +57,33 @@ def candidate_grid(grid: Mapping[str, Sequence[float]]) -> list[dict[str, float]
 
 def labels_along_x1(design: KHVDesign, overrides: Mapping[str, float], x1: np.ndarray,
                     settings: SimulationSettings) -> np.ndarray:
-    """Poincaré period at each x1 (independent points from the static deflection)."""
+    """Poincaré period at each x1 (:func:`geardyn.classify.strict_period`; independent points from the
+    static deflection)."""
+    cs = classify.ClassifierSettings()
     out = np.empty(x1.size, dtype=np.int16)
     for i, value in enumerate(x1):
-        coeffs = khv.point_coefficients(design, {**overrides, "x1": float(value)})
+        coeffs = point.point_coefficients(design, {**overrides, "x1": float(value)})
         res = simulate(coeffs, settings)
-        out[i] = classify.LABELS["diverged"] if res.diverged else classify.poincare_period(res.poincare)
+        out[i] = classify.LABELS["diverged"] if res.diverged else classify.strict_period(res.poincare, cs)
     return out
 
 
 def run_candidates(design: KHVDesign, candidates: Sequence[Mapping[str, float]], fixed: Mapping[str, float],
-                   x1: np.ndarray, settings: SimulationSettings, first_index: int = 0) -> xr.Dataset:
+                   x1: np.ndarray, settings: SimulationSettings, sequence: RegimeSequence,
+                   first_index: int = 0) -> xr.Dataset:
     """Labels and score of each candidate; ``first_index`` numbers the candidates globally."""
     keys = sorted({k for c in candidates for k in c})
     labels = np.stack([labels_along_x1(design, {**fixed, **c}, x1, settings) for c in candidates]) \
         if candidates else np.zeros((0, x1.size), np.int16)
-    scores = np.array([score(x1, row) for row in labels])
+    scores = np.array([score(x1, row, sequence) for row in labels])
     data = {
         "label": (("candidate", "x1"), labels, {"units": "1", "long_name": "Poincare period (0 not periodic, -2 diverged)"}),
         "score": ("candidate", scores, {"units": "1", "long_name": "balanced agreement with the paper's regimes along x1"}),
-        "paper_label": ("x1", paper_label(x1), {"units": "1", "long_name": "the paper's label at x1"}),
+        "paper_label": ("x1", paper_label(x1, sequence), {"units": "1", "long_name": "the paper's label at x1"}),
     }
     for k in keys:
         data[k] = ("candidate", np.array([c.get(k, np.nan) for c in candidates], float),
-                   {"units": khv.units_of(k),
+                   {"units": point.units_of(k),
                     "long_name": f"candidate value of {k}"})
     coords = {
         "candidate": ("candidate", np.arange(first_index, first_index + len(candidates)),
@@ -160,7 +156,7 @@ def score_table(scores: xr.Dataset, top: int = 10) -> str:
     best_i = int(order[0])
     lines += ["", "Best candidate, regime bands along x1 (label: period n, 0 = not periodic, -2 diverged):", "",
               "| source | bands |", "|---|---|"]
-    for source, labels in (("paper", paper_label(x1)), ("best candidate", scores["label"].values[best_i])):
+    for source, labels in (("paper", scores["paper_label"].values), ("best candidate", scores["label"].values[best_i])):
         text = "; ".join(f"{classify.label_name(lab)} [{a:.3f}, {b:.3f}]" for a, b, lab in classify.bands(x1, labels))
         lines.append(f"| {source} | {text} |")
     lines += ["", "Scores are measured, not tuned by hand: every candidate's labels are in the netCDF file."]

@@ -27,18 +27,11 @@ from typing import Literal
 
 import numpy as np
 
-from geardyn.stiffness import ParabolicStiffness
+from geardyn.gears.stiffness import ParabolicStiffness
+from geardyn.solve import base as layout
 
 #: Paper 1 Eq. (13): displacement scale b_c = 1 um.
 B_C = 1.0e-6
-
-_ALPHA = math.radians(20.0)
-#: Paper design (Table 1): planet base radius m z1 cos(alpha) / 2 in m.
-R_BV_PAPER = 3.5e-3 * 30 / 2 * math.cos(_ALPHA)
-#: Carrier "base radius" a cos(alpha), a = m (z2 - z1) / 2 = 5.25 mm (consistent with M_H in Eq. 2).
-R_BH_PAPER = 3.5e-3 * (33 - 30) / 2 * math.cos(_ALPHA)
-#: Planet mass: solid steel disc of the pitch diameter (105 mm) and the facewidth (20 mm), in kg.
-M_V_PAPER = 7850.0 * math.pi * 0.0525**2 * 0.020
 
 StiffnessForm = Literal["corrected", "printed"]
 FrequencyMode = Literal["physical", "dimensionless"]
@@ -53,9 +46,8 @@ class KHVParameters:
       eps  contact ratio (-), k_c pitch-point single-pair stiffness (N/m, Eq. 7),
       r_bV planet base radius (m), r_bH carrier radius a cos(alpha) (m).
 
-    Table 2 "I_K" (0.15 kg m^2) is mapped to the carrier inertia I_H: the annulus K is fixed
-    (assumption b of the paper) so its inertia cannot enter, and the carrier, a degree of
-    freedom of Eq. (2), has no other inertia in Table 2.
+    Every field is required: a design states them (``dynamics.parameters`` of its file), and a
+    paper's values live in :mod:`geardyn.papers`, never here.
 
     Shaft stiffnesses are torsional (N m / rad); ``k_DH = K_DH / r_bH^2`` and
     ``k_VL = K_VL / r_bV^2`` on the line of action.  Damping: c_m = 2 zeta sqrt(k_mean M_VH),
@@ -68,26 +60,26 @@ class KHVParameters:
 
     eps: float
     k_c: float
-    r_bV: float = R_BV_PAPER
-    r_bH: float = R_BH_PAPER
-    I_D: float = 0.03
-    I_H: float = 0.15
-    I_V: float = 0.2175
-    I_L: float = 0.03
-    m_V: float = M_V_PAPER
-    K_DH: float = 3.0e4
-    K_VL: float = 3.0e4
-    zeta: float = 0.1
-    eta: float = 0.005
-    T_D: float = 50.0
-    T_L: float = 50.0
-    backlash: float = 2.0e-6
-    te_amplitude: float = 5.0e-6
-    te_phase: float = 0.0
-    z_annulus: int = 33
-    input_speed_rpm: float = 525.0
-    omega_bar: float = 0.9
-    pressure_angle_deg: float = 20.0  # of the pair; enters M_H through a = r_bH / cos(alpha)
+    r_bV: float
+    r_bH: float
+    I_D: float
+    I_H: float
+    I_V: float
+    I_L: float
+    m_V: float
+    K_DH: float
+    K_VL: float
+    zeta: float
+    eta: float
+    T_D: float
+    T_L: float
+    backlash: float
+    te_amplitude: float
+    te_phase: float
+    z_annulus: int
+    input_speed_rpm: float
+    omega_bar: float
+    pressure_angle_deg: float  # of the pair; enters M_H through a = r_bH / cos(alpha)
 
     def stiffness(self, form: StiffnessForm = "corrected") -> ParabolicStiffness:
         """Parabolic k(t) of Eq. (9) with k' = k_C / 1.5 (Sec. 3.3)."""
@@ -112,6 +104,20 @@ class Options:
         ):
             if getattr(self, name) not in allowed:
                 raise ValueError(f"{name}={getattr(self, name)!r}; allowed: {allowed}")
+
+
+#: Units and long names of the :class:`Coefficients` fields stored per point in sweep cubes.
+COEFFICIENT_ATTRS = {
+    "mu_D": ("1", "drive mass M_D / M_VH"), "mu_H": ("1", "carrier mass M_H / M_VH"),
+    "mu_V": ("1", "planet mass M_V / M_VH"), "mu_L": ("1", "load mass M_L / M_VH"),
+    "k_DH": ("1", "input shaft stiffness / k_mean"), "k_VL": ("1", "output shaft stiffness / k_mean"),
+    "c_DH": ("1", "input shaft damping / (M_VH w_n)"), "c_VL": ("1", "output shaft damping / (M_VH w_n)"),
+    "c_m": ("1", "mesh damping / (M_VH w_n)"), "P_D": ("1", "drive force / (k_mean b_c)"),
+    "P_L": ("1", "load force / (k_mean b_c)"), "b": ("1", "half backlash / b_c"),
+    "e": ("1", "TE amplitude / b_c"), "phi": ("rad", "TE phase"), "omega": ("1", "mesh frequency w_m / w_n"),
+    "eps": ("1", "contact ratio"), "omega_n": ("rad s-1", "natural-frequency scale w_n"),
+    "k_mean": ("N m-1", "mean mesh stiffness"),
+}
 
 
 @dataclass(frozen=True)
@@ -224,19 +230,21 @@ class Coefficients:
         return {"K": K, "C": C, "g": g, "p": p, "te": self.te_forcing}
 
     def kernel_array(self) -> np.ndarray:
-        """Flat float64 array read by the numba kernels (order fixed in integrators._C_*)."""
+        """Flat float64 array read by the solver, in the named order of :data:`geardyn.solve.base.LAYOUT`."""
         m = self.matrices()
         K, C, g, p = m["K"], m["C"], m["g"], m["p"]
-        return np.array(
-            [
-                K[0, 0], C[0, 0], g[0], p[0],
-                K[1, 0], C[1, 0], K[1, 2], C[1, 2],
-                K[2, 2], C[2, 2], g[2], p[2],
-                self.c_m, self.b, self.te_forcing, self.phi, self.period,
-                1.0 if self.backlash_on else 0.0, self.eps,
-            ],
-            dtype=np.float64,
-        )
+        values = {
+            "K11": K[0, 0], "C11": C[0, 0], "G1": g[0], "P1": p[0],
+            "K21": K[1, 0], "C21": C[1, 0], "K23": K[1, 2], "C23": C[1, 2],
+            "K33": K[2, 2], "C33": C[2, 2], "G3": g[2], "P3": p[2],
+            "CM": self.c_m, "B": self.b, "TE": self.te_forcing, "PHI": self.phi, "T": self.period,
+            "BACKLASH_ON": 1.0 if self.backlash_on else 0.0, "EPS": self.eps,
+        }
+        return np.array([values[name] for name in layout.LAYOUT], dtype=np.float64)
+
+    def static_state(self) -> np.ndarray:
+        """The static deflection at rest (:func:`static_deflection`): the solver's default start."""
+        return static_deflection(self)
 
 
 def mesh_omega(params: KHVParameters) -> float:
@@ -420,10 +428,3 @@ def lti_response(coeffs: Coefficients, tau: np.ndarray) -> np.ndarray:
     x = xs + np.imag(X * ph)
     v = np.imag(1j * w * X * ph)
     return np.concatenate([x, v], axis=-1)
-
-
-def natural_frequencies(coeffs: Coefficients) -> np.ndarray:
-    """Undamped natural frequencies (units of w_n) of the linearised 3-DOF system (kappa = 1, in contact)."""
-    m = coeffs.matrices()
-    K = m["K"] + np.outer(m["g"], [0.0, 1.0, 0.0])
-    return np.sort(np.sqrt(np.abs(np.linalg.eigvals(K))))

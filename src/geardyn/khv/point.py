@@ -19,9 +19,9 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-from geardyn import design as design_mod
-from geardyn.integrators import SimulationSettings
-from geardyn.model import B_C, Coefficients, KHVParameters, Options, dimensionless
+from geardyn.khv import design as design_mod
+from geardyn.solve import SimulationSettings
+from geardyn.khv.model import B_C, Coefficients, KHVParameters, Options, dimensionless
 
 #: Control parameters with their units and long names (for cube coordinates).
 CONTROLS: dict[str, tuple[str, str]] = {

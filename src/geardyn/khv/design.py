@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from geardyn import geometry, stiffness
+from geardyn.gears import geometry, stiffness
 from geardyn.config import ConfigError, load_design_dict
 
 
@@ -49,7 +49,7 @@ class KHVDesign:
     cutter: geometry.ShaperCutter
     enforce_cutter_constraints: bool
     stiffness: StiffnessOptions
-    paper_points: dict[str, tuple[float, float]]
+    paper: str | None  # key of the paper this design reproduces (geardyn.papers), or None
     dynamics: dict[str, Any]
     raw: dict[str, Any]  # the validated file with defaults, for provenance
 
@@ -178,7 +178,7 @@ def from_dict(raw: dict[str, Any], where: str = "design") -> KHVDesign:
         x1_min=adm["x1_min"], x1_max=adm["x1_max"], min_tip_thickness=adm["min_tip_thickness"],
         cutter=cutter, enforce_cutter_constraints=adm["enforce_cutter_constraints"],
         stiffness=StiffnessOptions(**raw["stiffness"]),
-        paper_points={k: tuple(v) for k, v in raw["paper"].items()},
+        paper=raw.get("paper"),
         dynamics=raw.get("dynamics", {}), raw=raw,
     )
 
@@ -220,6 +220,13 @@ def load(path: str | Path) -> KHVDesign:
     if raw["kind"] != "khv":
         raise ConfigError(f"{path}: kind = {raw['kind']!r} is not a KHV design")
     return from_dict(raw, str(path))
+
+
+def figure_x1(design: KHVDesign, configured: list[float] | None = None) -> list[float]:
+    """The x1 values of the k(t) figure: the configured ones, else the segment's ends and middle."""
+    if configured:
+        return [float(v) for v in configured]
+    return [design.x1_min, 0.5 * (design.x1_min + design.x1_max), design.x1_max]
 
 
 def x1_grid(design: KHVDesign, num: int) -> np.ndarray:

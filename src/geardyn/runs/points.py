@@ -6,15 +6,17 @@ computed here, for those points only, and never inside a sweep.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 
 import numpy as np
 import xarray as xr
 
-from geardyn import khv
-from geardyn.design import KHVDesign
-from geardyn.integrators import SimulationSettings, simulate
-from geardyn.sweep import _STATE_NAMES, STATES
+from geardyn.khv import point
+from geardyn.khv.design import KHVDesign
+from geardyn.solve import SimulationSettings, simulate
+from geardyn import classify
+from geardyn.runs.cube import STATE_NAMES, STATES
 
 
 def amplitude_spectrum(x: np.ndarray, samples_per_period: int) -> tuple[np.ndarray, np.ndarray]:
@@ -35,7 +37,7 @@ def amplitude_spectrum(x: np.ndarray, samples_per_period: int) -> tuple[np.ndarr
 def dense_point(design: KHVDesign, overrides: Mapping[str, float], settings: SimulationSettings,
                 samples_per_period: int = 64) -> xr.Dataset:
     """Trajectory over the recorded periods (uniform, ``samples_per_period``), Poincaré points, spectrum."""
-    coeffs = khv.point_coefficients(design, overrides)
+    coeffs = point.point_coefficients(design, overrides)
     res = simulate(coeffs, settings, dense=True)
     data: dict = {}
     if res.diverged:
@@ -44,9 +46,9 @@ def dense_point(design: KHVDesign, overrides: Mapping[str, float], settings: Sim
     else:
         tau, states = res.uniform(samples_per_period)
     for k, name in enumerate(STATES):
-        data[name] = ("time", states[:, k], {"units": "1", "long_name": _STATE_NAMES[name]})
+        data[name] = ("time", states[:, k], {"units": "1", "long_name": STATE_NAMES[name]})
         data[f"poincare_{name}"] = ("section", res.poincare[:, k],
-                                    {"units": "1", "long_name": f"Poincare section: {_STATE_NAMES[name]}"})
+                                    {"units": "1", "long_name": f"Poincare section: {STATE_NAMES[name]}"})
     if states.shape[0] > 8:
         freq, amp = amplitude_spectrum(states[:, 1], samples_per_period)
     else:
@@ -91,3 +93,32 @@ def dense_points(design: KHVDesign, fixed: Mapping[str, float], cases: list[Mapp
                       "recorded_periods": settings.recorded_periods,
                       "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in fixed.items())})
     return out
+
+
+def analyse_point(coeffs, settings, classifier: classify.ClassifierSettings = classify.ClassifierSettings(),
+                  x0: np.ndarray | None = None, cheap: bool = False):
+    """Integrate one point with its tangent vector and classify it: (TangentResult, Classification).
+
+    ``cheap`` (regime maps): integrate without the tangent vector first; a point that passes the
+    strict period test (rule 3) is labelled at once with no exponent (NaN); only the others are
+    continued from their final state for ``tangent_periods`` more periods with the tangent vector
+    (Poincaré points and the 0-1 samples then come from the continuation).  The labels of periodic
+    points are the same as the full path's; non-periodic points get a longer transient.
+    """
+    if not cheap:
+        res = simulate(coeffs, settings, x0=x0, tangent_periods=classifier.tangent_periods)
+        return res, classify.classify_point(res.poincare, res.growth, res.period, res.diverged, classifier,
+                                   samples=res.strobe)
+    res = simulate(coeffs, settings, x0=x0, tangent_periods=0)
+    if res.diverged:
+        return res, classify.classify_point(res.poincare, res.growth, res.period, True, classifier)
+    p = res.poincare[~np.isnan(res.poincare).any(axis=1)]
+    n = classify.strict_period(p, classifier) if p.shape[0] >= 3 else 0
+    if n > 0:
+        nan = float("nan")
+        return res, classify.Classification(n, n, nan, nan, nan, nan, -1, "periodic (cheap path: no exponent)")
+    more = dataclasses.replace(settings, transient_periods=0,
+                   recorded_periods=max(settings.recorded_periods, classifier.tangent_periods))
+    res2 = simulate(coeffs, more, x0=res.final_state, tangent_periods=classifier.tangent_periods)
+    return res2, classify.classify_point(res2.poincare, res2.growth, res2.period, res2.diverged, classifier,
+                                samples=res2.strobe)

@@ -1,0 +1,94 @@
+"""Caption texts for the KHV dynamic figures: what is shown, how it was computed and what we
+measured.  For a design that names a paper (``paper`` given), the paper's statement about the same
+figure is set beside ours; a user's own design gets no paper text."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from types import ModuleType
+
+from geardyn import classify
+from geardyn.runs.cube import STATES, labels_of_cube
+
+_METHOD = (
+    "Model: the corrected KHV equations of docs/model.md with the parameters of the design file. Motion labels "
+    "(geardyn.classify.classify_point): period-n (n <= 12) from the Poincare return distance; otherwise "
+    "quasi-periodic or chaotic from the largest Lyapunov exponent, cross-checked by the 0-1 test and the "
+    "spectral flatness of the stroboscopic samples."
+)
+_PAPER_ASSUMPTIONS = (
+    "Assumptions where the paper is silent (see the design file and docs/model.md): shaft stiffnesses, planet "
+    "mass, carrier radius a cos(alpha), dimensionless mesh frequency, TE phase; corrected Eq. (4) damping and "
+    "Eq. (9) stiffness."
+)
+
+
+def _tail(name: str, paper: ModuleType | None) -> list[str]:
+    """The closing lines: the paper's statement and its assumptions (paper designs), then the method."""
+    if paper is None:
+        return [_METHOD]
+    claim = paper.FIGURE_CLAIMS.get(name[:5], "no statement in the paper")
+    return [f"Paper ({paper.SHORT}): {claim}", _PAPER_ASSUMPTIONS, _METHOD]
+
+
+def bifurcation(name: str, cube: xr.Dataset, paper: ModuleType | None = None) -> str:
+    par = cube.attrs["control_parameter"]
+    periods = labels_of_cube(cube)
+    lines = [f"{name}: Poincare points of X_VH / b_c over {par} ({cube.sizes[par]} values, "
+             f"{cube.sizes['section']} sections after {cube.attrs['transient_periods']} transient mesh periods, "
+             f"{cube.attrs['integrator']} with {cube.attrs['steps_per_period']} steps per period)."]
+    for i, case in enumerate(cube["case"].values):
+        for j, direction in enumerate(cube["direction"].values):
+            runs = classify.bands(cube[par].values, periods[i, j])
+            text = "; ".join(f"{classify.label_name(lab)} on [{a:.4g}, {b:.4g}]" for a, b, lab in runs[:12])
+            more = f" (+{len(runs) - 12} more bands)" if len(runs) > 12 else ""
+            lines.append(f"Ours, {case}{'' if direction == 'none' else ', ' + direction}: {text}{more}.")
+    lines += _tail(name, paper)
+    return "\n".join(lines)
+
+
+def spectral_peaks(freq, amp, n: int = 5, fmax: float = 3.0) -> list[float]:
+    """The ``n`` highest local maxima of a spectrum below ``fmax`` (>= 2 % of the largest), by height."""
+    from scipy.signal import find_peaks
+
+    keep = (freq > 0.02) & (freq <= fmax)
+    if keep.sum() < 3:
+        return []
+    f, a = freq[keep], amp[keep]
+    idx, _ = find_peaks(a, height=0.02 * a.max())
+    return [float(f[i]) for i in idx[a[idx].argsort()[::-1][:n]]]
+
+
+def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
+    lines = [f"{name}: phase trajectory (X_VH, dX_VH/dtau), Poincare map and amplitude spectrum of X_VH over the "
+             f"{ds.attrs.get('recorded_periods')} recorded mesh periods ({ds.attrs.get('fixed_overrides')})."]
+    for case in ds["case"].values:
+        d = ds.sel(case=case)
+        pts = d[[f"poincare_{s}" for s in STATES]].to_array().values.T
+        pts = pts[~np.isnan(pts).any(axis=1)]
+        if int(d["diverged"]) == 1:
+            n = classify.LABELS["diverged"]
+        elif pts.shape[0] < 3:
+            n = classify.LABELS["undetermined"]
+        else:
+            n = classify.strict_period(pts) or classify.LABELS["not_periodic"]
+        peaks = spectral_peaks(d["frequency"].values, d["amplitude"].values)
+        peaks = (", peaks at " + ", ".join(f"{v:.3g}" for v in peaks) + " x f_mesh") if peaks else ""
+        lines.append(f"Ours, {case}: {classify.label_name(n)}{peaks}.")
+    lines += _tail(name, paper)
+    return "\n".join(lines)
+
+
+def regime_map(name: str, ds: xr.Dataset) -> str:
+    """Caption of a two-parameter regime map: grid, settings, classifier path and the label shares."""
+    from geardyn.runs.maps import fractions
+
+    shares = ", ".join(f"{k} {100 * v:.1f} %" for k, v in sorted(fractions(ds).items(), key=lambda kv: -kv[1]))
+    return (f"{name}: motion label over ({ds.attrs['x_parameter']}, {ds.attrs['y_parameter']}), "
+            f"{ds.sizes['x']} x {ds.sizes['y']} points, fixed {ds.attrs['fixed_overrides']}; "
+            f"{ds.attrs['steps_per_period']} steps per period, {ds.attrs['transient_periods']} transient + "
+            f"{ds.attrs['recorded_periods']} recorded periods, classifier cheap path (periodic points get no exponent; "
+            f"the others {ds.attrs['classifier_tangent_periods']} more periods with the tangent vector). "
+            f"Label shares: {shares}. Lines: the configured 1-D cuts (the sweeps of the same design).")

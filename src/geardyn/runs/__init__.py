@@ -1,0 +1,10 @@
+"""The runs: how a design is explored.
+
+=======  ==========================================================================
+cube     state names, per-point label variables and the one chunk merge of sweeps and maps
+points   one operating point: dense runs (trajectory, Poincare map, spectrum) and analyse_point
+sweep    one-parameter sweeps (bifurcation cubes) in chunks
+maps     two-parameter regime maps in chunks
+bands    regime bands of a sweep (tables)
+=======  ==========================================================================
+"""

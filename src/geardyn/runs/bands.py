@@ -1,0 +1,55 @@
+"""Regime bands of a sweep: runs of equal motion labels along the control parameter, as rows,
+CSV and Markdown."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from geardyn import classify
+from geardyn.runs.cube import labels_of_cube
+
+BAND_COLUMNS = ("case", "direction", "label", "name", "start", "stop", "n_points", "lyapunov_median",
+                "transition_to_next")
+
+
+def band_rows(cube: xr.Dataset) -> list[dict]:
+    """Regime bands of a sweep cube: runs of equal labels along the control parameter per (case,
+    direction), with the median exponent and the transition point to the next band (midway between
+    the last point of this band and the first of the next; NaN for the last band)."""
+    par = cube.attrs["control_parameter"]
+    values = cube[par].values
+    labels = labels_of_cube(cube)
+    lam = cube["lyapunov"].values if "lyapunov" in cube else np.full(labels.shape, np.nan)
+    rows = []
+    for i, case in enumerate(cube["case"].values):
+        for j, direction in enumerate(cube["direction"].values):
+            runs = classify.bands(values, labels[i, j])
+            for r, (a, b, lab) in enumerate(runs):
+                m = (values >= a) & (values <= b)
+                nxt = 0.5 * (b + runs[r + 1][0]) if r + 1 < len(runs) else float("nan")
+                lm = lam[i, j][m]
+                rows.append({"case": str(case), "direction": str(direction), "label": int(lab),
+                             "name": classify.short_name(lab), "start": a, "stop": b, "n_points": int(m.sum()),
+                             "lyapunov_median": float(np.nanmedian(lm)) if np.isfinite(lm).any() else float("nan"),
+                             "transition_to_next": nxt})
+    return rows
+
+
+def bands_csv(rows: list[dict]) -> str:
+    lines = [",".join(BAND_COLUMNS)]
+    for r in rows:
+        lines.append(",".join(f"{r[c]:.6g}" if isinstance(r[c], float) else str(r[c]) for c in BAND_COLUMNS))
+    return "\n".join(lines) + "\n"
+
+
+def bands_markdown(rows: list[dict], title: str, par: str) -> str:
+    lines = [f"# Regime bands: {title}", "",
+             f"Runs of equal motion labels along {par} (geardyn.classify.classify_point); transition = midway "
+             "between the last point of a band and the first of the next (half a grid step uncertainty).", "",
+             "| case | direction | label | from | to | points | median lambda_max | transition to next |",
+             "|---|---|---|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        lines.append(f"| {r['case']} | {r['direction']} | {r['name']} | {r['start']:.4g} | {r['stop']:.4g} | "
+                     f"{r['n_points']} | {r['lyapunov_median']:.2e} | {r['transition_to_next']:.4g} |")
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,334 @@
+"""The compiled core: one fixed-step RK4 loop with contact-switch location and an optional
+variational (tangent) part.  Private to :mod:`geardyn.solve`; use :func:`geardyn.solve.simulate`.
+
+Method:
+
+* The step grid is aligned to the stiffness jumps: each mesh period [0, 1) (phase s) is split
+  into the double-contact zone [0, eps-1] and the single-contact zone [eps-1, 1], so no RK4 stage
+  ever sees a jump.  Stiffness kappa and TE forcing are tabulated per step at the three stage
+  times (start+, middle, end-): a step costs four right-hand sides and no transcendental function.
+* With ``event``: after each step, a change of contact region (x2 < -b, |x2| <= b, x2 > b) means
+  a crossing of x2 = +-b inside the step; it is located as the root of the cubic Hermite
+  interpolant of x2 (values and x2' = v2 at both ends), the step is redone up to the crossing and
+  continued from there to the grid point.  The error of the crossing time is O(h^4) and enters
+  the solution only at second order (the vector field is continuous there), so 4th order is
+  recovered.
+* Variational part: ``m`` tangent columns W (6, m) advance with the same RK4 stages,
+  w' = J(tau, y) w with f'(x2) = 1 in contact and 0 inside the backlash, evaluated at each stage
+  state of the orbit: W is the derivative of the discrete flow.  The vector field is continuous
+  across x2 = +-b (only its derivative jumps), so the saltation matrix of a contact switch is the
+  identity and W needs no jump there.  The orbit arithmetic is the same with or without W, so the
+  orbit is bit-identical either way.
+* Divergence: checked once per mesh period; any |state| > threshold or non-finite value stops the
+  run with status 1.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from geardyn.solve.base import B, BACKLASH_ON, C11, C21, C23, C33, CM, EPS, G1, G3, K11, K21, K23, K33, P1, P3, PHI, T, TE
+
+
+@njit(cache=True, inline="always")
+def fdead(x, b, on):
+    """Dead zone of half width b (identity when the backlash is off)."""
+    if on == 0.0:
+        return x
+    if x > b:
+        return x - b
+    if x < -b:
+        return x + b
+    return 0.0
+
+
+@njit(cache=True, inline="always")
+def slope(c, x2):
+    """f'(x2): 1 in contact (or no backlash), 0 inside the backlash."""
+    if c[BACKLASH_ON] == 0.0:
+        return 1.0
+    b = c[B]
+    return 1.0 if (x2 > b or x2 < -b) else 0.0
+
+
+@njit(cache=True, inline="always")
+def rhs(c, x1, x2, x3, v1, v2, v3, kap, pe):
+    """Accelerations of the 3-DOF system at stiffness kap and TE forcing pe."""
+    fm = kap * fdead(x2, c[B], c[BACKLASH_ON]) + c[CM] * v2
+    a1 = c[P1] - c[K11] * x1 - c[C11] * v1 - c[G1] * fm
+    a2 = pe - c[K21] * x1 - c[C21] * v1 - c[K23] * x3 - c[C23] * v3 - fm
+    a3 = c[P3] - c[K33] * x3 - c[C33] * v3 - c[G3] * fm
+    return a1, a2, a3
+
+
+@njit(cache=True, inline="always")
+def lin(c, w0, w1, w2, w3, w4, w5, ks):
+    """Tangent accelerations for the stiffness slope ks = kappa f'(x2)."""
+    fm = ks * w1 + c[CM] * w4
+    a1 = -c[K11] * w0 - c[C11] * w3 - c[G1] * fm
+    a2 = -c[K21] * w0 - c[C21] * w3 - c[K23] * w2 - c[C23] * w5 - fm
+    a3 = -c[K33] * w2 - c[C33] * w5 - c[G3] * fm
+    return a1, a2, a3
+
+
+@njit(cache=True, inline="always")
+def rk4_step(c, y, h, k0, k1, k2, p0, p1, p2, out):
+    """One RK4 step of size h from y (6,) into out (6,), with stage values of kappa and TE."""
+    x1, x2, x3, v1, v2, v3 = y[0], y[1], y[2], y[3], y[4], y[5]
+    hh = 0.5 * h
+    a1, a2, a3 = rhs(c, x1, x2, x3, v1, v2, v3, k0, p0)
+    X1 = x1 + hh * v1
+    X2 = x2 + hh * v2
+    X3 = x3 + hh * v3
+    V1 = v1 + hh * a1
+    V2 = v2 + hh * a2
+    V3 = v3 + hh * a3
+    b1, b2, b3 = rhs(c, X1, X2, X3, V1, V2, V3, k1, p1)
+    sx1, sx2, sx3 = v1 + 2.0 * V1, v2 + 2.0 * V2, v3 + 2.0 * V3
+    sv1, sv2, sv3 = a1 + 2.0 * b1, a2 + 2.0 * b2, a3 + 2.0 * b3
+    W1 = v1 + hh * b1
+    W2 = v2 + hh * b2
+    W3 = v3 + hh * b3
+    c1, c2, c3 = rhs(c, x1 + hh * V1, x2 + hh * V2, x3 + hh * V3, W1, W2, W3, k1, p1)
+    sx1 += 2.0 * W1
+    sx2 += 2.0 * W2
+    sx3 += 2.0 * W3
+    sv1 += 2.0 * c1
+    sv2 += 2.0 * c2
+    sv3 += 2.0 * c3
+    U1 = v1 + h * c1
+    U2 = v2 + h * c2
+    U3 = v3 + h * c3
+    d1, d2, d3 = rhs(c, x1 + h * W1, x2 + h * W2, x3 + h * W3, U1, U2, U3, k2, p2)
+    h6 = h / 6.0
+    out[0] = x1 + h6 * (sx1 + U1)
+    out[1] = x2 + h6 * (sx2 + U2)
+    out[2] = x3 + h6 * (sx3 + U3)
+    out[3] = v1 + h6 * (sv1 + d1)
+    out[4] = v2 + h6 * (sv2 + d2)
+    out[5] = v3 + h6 * (sv3 + d3)
+
+
+@njit(cache=True, inline="always")
+def tangent_step(c, y, W, m, h, k0, k1, k2, p0, p1, p2, Wout):
+    """Advance the m tangent columns W (6, m) over the RK4 step from the orbit state y.
+
+    The slopes f'(x2) are those of the orbit's four stage states (the derivative of the discrete
+    flow of :func:`rk4_step`)."""
+    hh = 0.5 * h
+    a1, a2, a3 = rhs(c, y[0], y[1], y[2], y[3], y[4], y[5], k0, p0)
+    x2_2 = y[1] + hh * y[4]
+    b1, b2, b3 = rhs(c, y[0] + hh * y[3], x2_2, y[2] + hh * y[5],
+                     y[3] + hh * a1, y[4] + hh * a2, y[5] + hh * a3, k1, p1)
+    x2_3 = y[1] + hh * (y[4] + hh * a2)
+    x2_4 = y[1] + h * (y[4] + hh * b2)
+    s1 = k0 * slope(c, y[1])
+    s2 = k1 * slope(c, x2_2)
+    s3 = k1 * slope(c, x2_3)
+    s4 = k2 * slope(c, x2_4)
+    h6 = h / 6.0
+    for col in range(m):
+        w0, w1, w2, w3, w4, w5 = W[0, col], W[1, col], W[2, col], W[3, col], W[4, col], W[5, col]
+        A1, A2, A3 = lin(c, w0, w1, w2, w3, w4, w5, s1)
+        B0, B1, B2 = w0 + hh * w3, w1 + hh * w4, w2 + hh * w5
+        B3, B4, B5 = w3 + hh * A1, w4 + hh * A2, w5 + hh * A3
+        Q1, Q2, Q3 = lin(c, B0, B1, B2, B3, B4, B5, s2)
+        C0, C1, C2 = w0 + hh * B3, w1 + hh * B4, w2 + hh * B5
+        C3, C4, C5 = w3 + hh * Q1, w4 + hh * Q2, w5 + hh * Q3
+        R1, R2, R3 = lin(c, C0, C1, C2, C3, C4, C5, s3)
+        D0, D1, D2 = w0 + h * C3, w1 + h * C4, w2 + h * C5
+        D3, D4, D5 = w3 + h * R1, w4 + h * R2, w5 + h * R3
+        S1, S2, S3 = lin(c, D0, D1, D2, D3, D4, D5, s4)
+        Wout[0, col] = w0 + h6 * (w3 + 2.0 * B3 + 2.0 * C3 + D3)
+        Wout[1, col] = w1 + h6 * (w4 + 2.0 * B4 + 2.0 * C4 + D4)
+        Wout[2, col] = w2 + h6 * (w5 + 2.0 * B5 + 2.0 * C5 + D5)
+        Wout[3, col] = w3 + h6 * (A1 + 2.0 * Q1 + 2.0 * R1 + S1)
+        Wout[4, col] = w4 + h6 * (A2 + 2.0 * Q2 + 2.0 * R2 + S2)
+        Wout[5, col] = w5 + h6 * (A3 + 2.0 * Q3 + 2.0 * R3 + S3)
+
+
+@njit(cache=True, inline="always")
+def kappa_at(poly, seg, eps1, s):
+    """kappa at phase s (0 <= s <= 1 + tiny) on segment seg (0, 1), or the global function if seg < 0."""
+    if seg < 0:
+        s = s - math.floor(s)
+        seg = 0 if s < eps1 else 1
+    return (poly[seg, 0] * s + poly[seg, 1]) * s + poly[seg, 2]
+
+
+@njit(cache=True, inline="always")
+def te_at(c, s):
+    return c[TE] * math.sin(2.0 * math.pi * s + c[PHI])
+
+
+@njit(cache=True, inline="always")
+def region(x, b):
+    if x > b:
+        return 1
+    if x < -b:
+        return -1
+    return 0
+
+
+@njit(cache=True)
+def sub_step(c, poly, seg, y, W, m, s0, dt, yout, Wout):
+    """RK4 sub-step of length dt (time) from phase s0, kappa and TE evaluated on the fly; the m
+    tangent columns follow when m > 0."""
+    period = c[T]
+    eps1 = c[EPS] - 1.0
+    sm = s0 + 0.5 * dt / period
+    se = s0 + dt / period
+    k0, k1, k2 = kappa_at(poly, seg, eps1, s0), kappa_at(poly, seg, eps1, sm), kappa_at(poly, seg, eps1, se)
+    p0, p1, p2 = te_at(c, s0), te_at(c, sm), te_at(c, se)
+    if m > 0:
+        tangent_step(c, y, W, m, dt, k0, k1, k2, p0, p1, p2, Wout)
+    rk4_step(c, y, dt, k0, k1, k2, p0, p1, p2, yout)
+
+
+@njit(cache=True)
+def hermite_root(x0, x1, d0, d1, h, target):
+    """Root in (0, h) of the cubic Hermite interpolant of x (values x0, x1, slopes d0, d1) = target.
+
+    Safeguarded Newton on the cubic (bisection when a Newton step leaves the bracket);
+    converges in 3-5 iterations to |dt| < 1e-14 h.
+    """
+    dx = x1 - x0
+    c1 = h * d0
+    c2 = 3.0 * dx - h * (2.0 * d0 + d1)
+    c3 = -2.0 * dx + h * (d0 + d1)
+    f0 = x0 - target
+    lo, hi = 0.0, 1.0
+    flo = f0
+    u = f0 / (f0 - (x1 - target))  # secant start
+    for _ in range(40):
+        fu = f0 + u * (c1 + u * (c2 + u * c3))
+        if fu == 0.0:
+            break
+        if (fu > 0.0) == (flo > 0.0):
+            lo, flo = u, fu
+        else:
+            hi = u
+        du = c1 + u * (2.0 * c2 + 3.0 * u * c3)
+        un = u - fu / du if du != 0.0 else 0.5 * (lo + hi)
+        if not (lo < un < hi):
+            un = 0.5 * (lo + hi)
+        if abs(un - u) < 1e-14:
+            u = un
+            break
+        u = un
+    return u * h
+
+
+@njit(cache=True)
+def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event, threshold,
+        stride, poinc, dense_t, dense_y, W, n_tan, renorm, growth, strobe, yfinal):
+    """Integrate n_trans + n_rec mesh periods from y0 (phase 0).
+
+    poinc (n_rec, 6) gets the state at the end of each recorded period; dense_t/dense_y (if their
+    length > 0) get every ``stride``-th step of the recorded periods.  W (6, m): tangent columns
+    carried over the last n_tan periods (m = 0: none).  With ``renorm`` (m = 1) the column is
+    renormalised at the end of every tangent period, growth[k] = log of its norm before that and
+    strobe[k] = x2 at that time; without it W ends as the derivative of the final state with respect
+    to the state n_tan periods before the end.
+
+    Returns (status, last_period, n_events, n_dense): status 0 ok, 1 diverged.
+    """
+    # coefficients as a tuple: numba keeps them in registers instead of reloading the array
+    c = (c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9], c[10], c[11], c[12], c[13],
+         c[14], c[15], c[16], c[17], c[18])
+    nsteps = tab_h.shape[0]
+    period = c[T]
+    b = c[B]
+    m = W.shape[1]
+    use_events = event and c[BACKLASH_ON] != 0.0 and b > 0.0
+    y = y0.copy()
+    ynew = np.empty(6)
+    ytmp = np.empty(6)
+    Wnew = np.empty((6, m))
+    Wtmp = np.empty((6, m))
+    n_events = 0
+    n_dense = 0
+    ndmax = dense_t.shape[0]
+    n_total = n_trans + n_rec
+    tan_start = n_total - n_tan
+    reg = region(y[1], b)
+    for per in range(n_total):
+        mt = m if per >= tan_start else 0
+        for j in range(nsteps):
+            h = tab_h[j]
+            if mt > 0:
+                tangent_step(c, y, W, mt, h, tab_k[j, 0], tab_k[j, 1], tab_k[j, 2],
+                             tab_p[j, 0], tab_p[j, 1], tab_p[j, 2], Wnew)
+            rk4_step(c, y, h, tab_k[j, 0], tab_k[j, 1], tab_k[j, 2], tab_p[j, 0], tab_p[j, 1], tab_p[j, 2], ynew)
+            if use_events:
+                rnew = region(ynew[1], b)
+                if rnew != reg:
+                    # locate crossings inside the step and restart there
+                    s_cur = tab_s[j]
+                    left = h
+                    seg = tab_seg[j]
+                    for _it in range(8):
+                        if reg == 0:
+                            target = b if rnew > 0 else -b
+                        else:
+                            target = b if reg > 0 else -b
+                        th = hermite_root(y[1], ynew[1], y[4], ynew[4], left, target)
+                        if th <= 1e-12 * h or th >= left * (1.0 - 1e-12):
+                            # crossing at an end point: accept the step as it is
+                            reg = rnew
+                            break
+                        sub_step(c, poly, seg, y, W, mt, s_cur, th, ytmp, Wtmp)
+                        n_events += 1
+                        for i in range(6):
+                            y[i] = ytmp[i]
+                        for col in range(mt):
+                            for i in range(6):
+                                W[i, col] = Wtmp[i, col]
+                        # new region: entering from the dead zone or leaving a contact side
+                        if reg == 0:
+                            reg = 1 if target > 0 else -1
+                        else:
+                            reg = 0
+                        s_cur += th / period
+                        left -= th
+                        sub_step(c, poly, seg, y, W, mt, s_cur, left, ynew, Wnew)
+                        rnew = region(ynew[1], b)
+                        if rnew == reg:
+                            break
+                    reg = rnew
+            for i in range(6):
+                y[i] = ynew[i]
+            for col in range(mt):
+                for i in range(6):
+                    W[i, col] = Wnew[i, col]
+            if per >= n_trans and ndmax > 0 and (j % stride) == stride - 1 and n_dense < ndmax:
+                dense_t[n_dense] = (per + tab_s[j]) * period + h
+                for i in range(6):
+                    dense_y[n_dense, i] = y[i]
+                n_dense += 1
+        bad = False
+        for i in range(6):
+            if not (abs(y[i]) <= threshold):
+                bad = True
+        if bad:
+            for i in range(6):
+                yfinal[i] = y[i]
+            return 1, per, n_events, n_dense
+        if mt > 0 and renorm:
+            nrm = 0.0
+            for i in range(6):
+                nrm += W[i, 0] * W[i, 0]
+            nrm = math.sqrt(nrm)
+            growth[per - tan_start] = math.log(nrm) if nrm > 0.0 else -np.inf
+            strobe[per - tan_start] = y[1]
+            for i in range(6):
+                W[i, 0] /= nrm
+        if per >= n_trans:
+            for i in range(6):
+                poinc[per - n_trans, i] = y[i]
+    for i in range(6):
+        yfinal[i] = y[i]
+    return 0, n_total, n_events, n_dense

@@ -1,0 +1,188 @@
+"""Integrate the 3-DOF backlash system: :func:`simulate`, with an optional variational part.
+
+``"rk4"`` is plain RK4 on the grid aligned to the stiffness jumps (the dead zone's kinked
+derivative costs it its order when a step straddles a contact switch); ``"rk4_event"`` locates
+every contact switch inside a step and restarts there (4th order); ``"dop853"`` is the independent
+reference of :mod:`geardyn.solve.reference`.  The compiled loop is :mod:`geardyn.solve._kernel`.
+
+One call can also carry the variational equations along the orbit (the orbit is bit-identical
+with or without them):
+
+* ``tangent_periods = n``: one tangent vector over the last n mesh periods, renormalised every
+  period; its log growth per period gives the largest Lyapunov exponent (:mod:`geardyn.classify`);
+* ``monodromy_periods = n``: the full 6 x 6 derivative of the final state with respect to the
+  state n periods before the end: the monodromy matrix of a period-n orbit (Floquet multipliers).
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+
+from geardyn.solve import _kernel
+from geardyn.solve.base import SimulationResult, SimulationSettings, System
+
+
+def step_grid(eps: float, n: int, aligned: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Step start phases s_j (n,) and segment ids (n,) of one mesh period.
+
+    Aligned: N1 = max(1, round(n (eps - 1))) equal steps on [0, eps - 1], n - N1 on [eps - 1, 1].
+    Not aligned: n equal steps, segment id -1 (kappa evaluated by its global definition).
+    """
+    e1 = eps - 1.0
+    if not aligned:
+        return np.arange(n) / n, np.full(n, -1, dtype=np.int64)
+    n1 = min(max(1, int(round(n * e1))), n - 1)
+    s = np.concatenate([np.arange(n1) * (e1 / n1), e1 + np.arange(n - n1) * ((1.0 - e1) / (n - n1))])
+    seg = np.concatenate([np.zeros(n1, dtype=np.int64), np.ones(n - n1, dtype=np.int64)])
+    return s, seg
+
+
+@lru_cache(maxsize=64)
+def step_tables(system: System, n: int, aligned: bool = True):
+    """Per-step tables of one mesh period: (c, h, s, seg, kappa at the 3 stage times, TE at them, polys).
+
+    Vectorised; kappa by Horner as ``np.polyval`` evaluates it. Cached per (system, n, aligned)
+    (systems are frozen and hashable); the arrays are read-only.
+    """
+    c = system.kernel_array()
+    poly = system.stiffness_polys()
+    s, seg = step_grid(system.eps, n, aligned)
+    ds = np.diff(np.append(s, 1.0))
+    e1 = system.eps - 1.0
+    sv = s[:, None] + np.array([0.0, 0.5, 1.0])[None, :] * ds[:, None]
+    sg = np.broadcast_to(seg[:, None], sv.shape)
+    if not aligned:
+        sv_k = sv % 1.0
+        sg = np.where(sv_k < e1, 0, 1)
+    else:
+        sv_k = sv
+    pa, pb, pc = poly[sg, 0], poly[sg, 1], poly[sg, 2]
+    tab_k = (pa * sv_k + pb) * sv_k + pc
+    te = system.te_forcing
+    tab_p = np.array([te * math.sin(2 * math.pi * v + system.phi) for v in sv.ravel()]).reshape(sv.shape)
+    h = ds * system.period
+    for a in (c, poly, tab_k, tab_p, h, s, seg):
+        a.setflags(write=False)
+    return c, h, s, seg, tab_k, tab_p, poly
+
+
+def simulate(
+    system: System,
+    settings: SimulationSettings = SimulationSettings(),
+    x0: np.ndarray | None = None,
+    dense: bool = False,
+    tangent_periods: int = 0,
+    monodromy_periods: int = 0,
+) -> SimulationResult:
+    """Integrate the dimensionless 3-DOF system; see :class:`~geardyn.solve.base.SimulationResult`.
+
+    x0: initial state (6,) at phase 0 (default: ``system.static_state()``, the static deflection).
+    tangent_periods / monodromy_periods: carry one renormalised tangent vector, or the full 6 x 6
+    variational matrix, over that many final mesh periods (at most the whole run; not both).
+    Never raises on divergence: it returns ``diverged=True``.
+    """
+    y0 = system.static_state() if x0 is None else np.asarray(x0, dtype=float).copy()
+    if settings.integrator == "dop853":
+        if tangent_periods or monodromy_periods:
+            raise ValueError("the variational part needs a fixed-step integrator ('rk4' or 'rk4_event')")
+        from geardyn.solve.reference import simulate_reference
+
+        return simulate_reference(system, settings, y0, dense=dense)
+    if tangent_periods and monodromy_periods:
+        raise ValueError("carry either a tangent vector (tangent_periods) or the monodromy matrix, not both")
+    n = settings.steps_per_period
+    c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly = step_tables(system, n, settings.aligned)
+    n_trans, n_rec = settings.transient_periods, settings.recorded_periods
+    poinc = np.full((n_rec, 6), np.nan)
+    stride = max(1, settings.dense_stride)
+    nd = (n_rec * n) // stride if dense else 0
+    dt = np.empty(nd)
+    dy = np.empty((nd, 6))
+    final = np.empty(6)
+    n_var = max(0, min(int(tangent_periods or monodromy_periods), n_trans + n_rec))
+    if tangent_periods:
+        W = np.full((6, 1), 1.0 / math.sqrt(6.0))
+    elif monodromy_periods:
+        W = np.eye(6)
+    else:
+        W = np.empty((6, 0))
+    growth = np.full(n_var if tangent_periods else 0, np.nan)
+    strobe = np.full(n_var if tangent_periods else 0, np.nan)
+    status, per, nev, ndense = _kernel.run(
+        c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec,
+        settings.integrator == "rk4_event", settings.divergence_threshold, stride, poinc, dt, dy,
+        W, n_var, bool(tangent_periods), growth, strobe, final,
+    )
+    diverged = status == 1
+    npts = max(0, per - n_trans) if diverged else n_rec
+    ngrowth = max(0, per - (n_trans + n_rec - n_var)) if diverged else n_var
+    return SimulationResult(
+        poincare=poinc[:npts],
+        final_state=final,
+        diverged=diverged,
+        diverged_period=int(per) if diverged else -1,
+        n_events=int(nev),
+        tau=dt[:ndense] if dense else None,
+        states=dy[:ndense] if dense else None,
+        period=system.period,
+        settings=settings,
+        growth=growth[:ngrowth],
+        strobe=strobe[:ngrowth],
+        monodromy=W if (monodromy_periods and not diverged) else None,
+    )
+
+
+def warm_up(system: System) -> None:
+    """Compile (or load from the numba cache) the kernels once per process, on ``system``."""
+    for integ in ("rk4", "rk4_event"):
+        tiny = SimulationSettings(integrator=integ, steps_per_period=16, transient_periods=1, recorded_periods=1)
+        simulate(system, tiny, dense=True)
+        simulate(system, tiny, tangent_periods=1)
+        simulate(system, tiny, monodromy_periods=1)
+
+
+def largest_lyapunov(
+    coeffs: System,
+    settings: SimulationSettings = SimulationSettings(),
+    x0: np.ndarray | None = None,
+    n_periods: int = 500,
+    d0: float = 1e-7,
+) -> tuple[float, np.ndarray]:
+    """Largest Lyapunov exponent (per unit dimensionless time) by two nearby trajectories.
+
+    Benettin's method: a companion started d0 away (all 6 states, Euclidean norm) is
+    renormalised back to distance d0 at the end of every mesh period.  Starts after
+    ``settings.transient_periods``.  Returns (lambda, running estimate per period).
+    Positive: chaos (or parametric instability); ~0: quasi-periodic; negative: periodic.
+    """
+    one = SimulationSettings(integrator=settings.integrator, steps_per_period=settings.steps_per_period,
+                             transient_periods=0, recorded_periods=1,
+                             divergence_threshold=settings.divergence_threshold, aligned=settings.aligned)
+    y = coeffs.static_state() if x0 is None else np.asarray(x0, dtype=float)
+    if settings.transient_periods > 0:
+        tr = SimulationSettings(integrator=settings.integrator, steps_per_period=settings.steps_per_period,
+                                transient_periods=settings.transient_periods - 1, recorded_periods=1,
+                                divergence_threshold=settings.divergence_threshold, aligned=settings.aligned)
+        r = simulate(coeffs, tr, y)
+        if r.diverged:
+            return float("inf"), np.array([np.inf])
+        y = r.final_state
+    rng = np.random.default_rng(0)
+    d = rng.standard_normal(6)
+    z = y + d0 * d / np.linalg.norm(d)
+    acc = 0.0
+    est = np.empty(n_periods)
+    for k in range(n_periods):
+        ry = simulate(coeffs, one, y)
+        rz = simulate(coeffs, one, z)
+        if ry.diverged or rz.diverged:
+            return float("inf"), est[:k]
+        y, z = ry.final_state, rz.final_state
+        dist = np.linalg.norm(z - y)
+        acc += math.log(dist / d0)
+        z = y + (z - y) * (d0 / dist)
+        est[k] = acc / ((k + 1) * coeffs.period)
+    return float(est[-1]), est
