@@ -1,4 +1,4 @@
-"""geardyn: every figure and table of papers 1 (Li et al. 2013) and 2 (Yue et al. 2014).
+"""geardyn: every study of every design listed in config/config.yaml, under results/<design>/.
 
     snakemake --cores 2            # build everything under results/
 
@@ -8,7 +8,8 @@ value stops the run with one line naming the key, the value and what is allowed.
 
 import sys
 
-from geardyn.config import ConfigError, read_yaml, validate_workflow
+from geardyn.config import ConfigError, read_yaml
+from geardyn.validate import validate_workflow
 
 
 if not workflow.overwrite_configfiles:
@@ -36,7 +37,7 @@ include: "workflow/rules/geometry.smk"
 include: "workflow/rules/stiffness.smk"
 include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/calibration.smk"
-include: "workflow/rules/yue2014.smk"
+include: "workflow/rules/plus.smk"
 include: "workflow/rules/benchmarks.smk"
 include: "workflow/rules/classify.smk"
 include: "workflow/rules/maps.smk"
@@ -51,7 +52,7 @@ rule all:
         STIFFNESS_TARGETS,
         SWEEP_TARGETS,
         CALIBRATION_TARGETS,
-        YUE2014_TARGETS,
+        PLUS_TARGETS,
         BENCHMARK_TARGETS,
         CLASSIFY_TARGETS,
         MAP_TARGETS,

@@ -13,6 +13,7 @@ from matplotlib.figure import Figure
 
 from geardyn.khv import closed_graph as cg
 from geardyn.gears import geometry as geo
+from geardyn.papers import li2013
 from geardyn.plots.closed_graph import caption_closed_graph, plot_closed_graph
 
 KHV = geo.GearPair(z1=30, z2=33, module=3.5, x1=0.0, x2=0.0, addendum=0.8)
@@ -22,13 +23,13 @@ X2 = np.linspace(0.0, 1.8, 91)
 
 @pytest.fixture(scope="module")
 def ds() -> xr.Dataset:
-    return cg.closed_graph(KHV, X1, X2)
+    return cg.closed_graph(KHV, X1, X2, reference_points=li2013.POINTS)
 
 
 @pytest.fixture(scope="module")
 def fitted() -> xr.Dataset:
     cutter = cg.cutter_shift_for_trimming_limit(KHV, 0.416, teeth=28, addendum=1.25)
-    return cg.closed_graph(KHV, X1, X2, cutter=cutter)
+    return cg.closed_graph(KHV, X1, X2, cutter=cutter, reference_points=li2013.POINTS)
 
 
 def test_every_variable_and_numeric_coordinate_is_described(ds: xr.Dataset) -> None:
@@ -102,7 +103,12 @@ def test_external_pair_rejected() -> None:
 def test_plot_and_caption(fitted: xr.Dataset) -> None:
     fig = plot_closed_graph(fitted)
     assert isinstance(fig, Figure)
-    assert fig.axes[0].get_title() == "Fig. 3 closed graph"
-    text = caption_closed_graph(fitted)
-    for piece in ("0.60095", "0.99443", "G_s = 0", "line 4", "cutter"):
+    assert fig.axes[0].get_title() == "Closed graph, z1 = 30, z2 = 33, m = 3.5 mm"
+    text = caption_closed_graph(fitted, li2013)
+    for piece in ("0.60095", "0.99443", "G_s = 0", "line 4", "cutter", "reproduced within 0.0011"):
         assert piece in text
+    # a design that names no paper: no printed points, no paper text
+    own = cg.closed_graph(KHV, X1, X2)
+    assert "point" not in own.dims
+    text = caption_closed_graph(own)
+    assert "paper" not in text.lower() and "G_s = 0" in text

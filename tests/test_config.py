@@ -11,6 +11,7 @@ import yaml
 
 from geardyn import config
 from geardyn.khv import design
+from geardyn import validate
 
 ROOT = Path(__file__).resolve().parents[1]
 LI2013 = ROOT / "config" / "designs" / "li2013.yaml"
@@ -28,7 +29,7 @@ def _write(tmp_path, data, name="d.yaml"):
 
 def test_shipped_config_and_designs_validate():
     cfg = config.load_config(ROOT / "config" / "config.yaml")
-    filled, designs = config.validate_workflow(cfg, ROOT)
+    filled, designs = validate.validate_workflow(cfg, ROOT)
     assert "li2013" in designs
     spec = design.load(LI2013)
     assert spec.stiffness.q_variant == "iso" and spec.stiffness.form == "corrected"

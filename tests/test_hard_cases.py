@@ -9,8 +9,9 @@ from geardyn.khv import model
 from geardyn.solve.floquet import floquet
 from geardyn.solve import SimulationSettings, simulate, warm_up
 from geardyn.khv.model import KHVParameters, Options, dimensionless
+from _paper import li2013_parameters
 
-BASE = dimensionless(KHVParameters(eps=1.30, k_c=3.1e8, omega_bar=0.9))
+BASE = dimensionless(li2013_parameters(eps=1.30, k_c=3.1e8, omega_bar=0.9))
 
 
 def run(c, n=512, trans=0, rec=20, integ="rk4_event", **kw):
@@ -20,7 +21,7 @@ def run(c, n=512, trans=0, rec=20, integ="rk4_event", **kw):
 
 @pytest.fixture(scope="module", autouse=True)
 def _jit():
-    warm_up()
+    warm_up(BASE)
 
 
 def test_b0_linear_event_equals_plain_and_floquet_orbit():
@@ -111,7 +112,7 @@ def test_large_te_double_sided_impacts():
 
 def test_parametric_instability_is_flagged():
     # printed Eq. (9) with eps = 1.17 < 1.193: k(t) < 0 over part of the period (MODEL_NOTES)
-    p = KHVParameters(eps=1.17, k_c=3.1e8, omega_bar=1.5)
+    p = li2013_parameters(eps=1.17, k_c=3.1e8, omega_bar=1.5)
     c = dimensionless(p, Options(stiffness_form="printed"))
     assert p.stiffness("printed").minimum() < 0
     assert floquet(c).spectral_radius > 1.0  # linear (b = 0) model: unstable

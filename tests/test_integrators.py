@@ -9,9 +9,10 @@ import pytest
 
 from geardyn.solve import SimulationSettings, simulate, step_grid, warm_up
 from geardyn.khv.model import Coefficients, KHVParameters, dimensionless
+from _paper import li2013_parameters
 
 # Periodic case with contact loss every period (4 switches per period): x1 = 0.416 numbers
-PERIODIC = dimensionless(KHVParameters(eps=1.30, k_c=3.1e8, omega_bar=0.9))
+PERIODIC = dimensionless(li2013_parameters(eps=1.30, k_c=3.1e8, omega_bar=0.9))
 N_PER, N_REC = 20, 10
 
 
@@ -22,7 +23,7 @@ def _settings(integrator, n, **kw):
 
 @pytest.fixture(scope="module")
 def reference():
-    warm_up()
+    warm_up(PERIODIC)
     r = simulate(PERIODIC, _settings("dop853", 0 + 2))
     assert not r.diverged and r.n_events >= 3 * N_PER  # contact is lost and regained every period
     return r.poincare

@@ -9,7 +9,7 @@ import xarray as xr
 
 from geardyn import io
 from geardyn.khv import design, point
-from geardyn.runs import maps
+from geardyn.runs import cube, maps
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -24,7 +24,7 @@ def _spec(y="b", chunks=1):
         "designs": ["li2013_calibrated"], "x": {"parameter": "x1", "start": 0.5, "stop": 0.8, "num": 3},
         "y": {"parameter": y, "start": 0.5, "stop": 2.0, "num": 4}, "fixed": {"e": 5.0} if y != "e" else {"b": 2.0},
         "chunks": chunks, "integration": {"steps_per_period": 64, "transient_periods": 40, "recorded_periods": 20},
-        "classifier": {"error_floor": 3e-4, "tangent_periods": 30}})
+        "classifier": {"error_floor": 3e-4, "tangent_periods": 30}}, "li2013_calibrated", (0.416, 0.835))
 
 
 def test_map_independent_of_chunking(model, tmp_path):
@@ -34,13 +34,13 @@ def test_map_independent_of_chunking(model, tmp_path):
         # through netCDF and the merge rules' loader, as in the pipeline
         paths = [io.write_netcdf(maps.run_chunk(model, spec, c), tmp_path / f"{chunks}_{c}.nc") for c in range(spec.n_chunks)]
         parts = io.read_chunks(paths)
-        out = maps.merge_chunks(parts)
+        out = cube.merge_chunks(parts)
         out.attrs.pop("chunk_wall_time_s")
         merged.append(out)
     xr.testing.assert_equal(merged[0], merged[1])
     assert (merged[0]["diverged"].values >= 0).all()
     with pytest.raises(ValueError, match="points missing"):
-        maps.merge_chunks(parts[:2])
+        cube.merge_chunks(parts[:2])
 
 
 @pytest.mark.parametrize("y", ["b", "e", "w"])

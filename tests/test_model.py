@@ -16,10 +16,11 @@ from scipy.integrate import solve_ivp
 from geardyn.khv import model
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.khv.model import KHVParameters, Options, dimensionless
+from _paper import li2013_parameters
 
 # Paper design along the admissible line (numbers given in the issue, not computed here)
-P416 = KHVParameters(eps=1.30, k_c=3.1e8)
-P835 = KHVParameters(eps=1.17, k_c=3.1e8)
+P416 = li2013_parameters(eps=1.30, k_c=3.1e8)
+P835 = li2013_parameters(eps=1.17, k_c=3.1e8)
 
 
 def test_masses_and_scaling_by_hand():
@@ -115,7 +116,7 @@ def test_relative_form_is_exact_reduction_of_4dof(z, tau, form):
 
 def test_4dof_and_3dof_trajectories_agree():
     """Integrate Eq. (2) (4-DOF, DOP853) and the 3-DOF relative form (event RK4) on one case."""
-    c = dimensionless(KHVParameters(eps=1.24, k_c=3.1e8, omega_bar=0.9))
+    c = dimensionless(li2013_parameters(eps=1.24, k_c=3.1e8, omega_bar=0.9))
     y0 = model.static_deflection(c)
     n = 10
     s = SimulationSettings(steps_per_period=1024, transient_periods=0, recorded_periods=n)
@@ -136,7 +137,7 @@ def test_schema_defaults_match_dataclasses():
     schema = json.loads(resources.files("geardyn").joinpath("schemas/dynamics.schema.json").read_text())
     jsonschema.Draft202012Validator.check_schema(schema)
     jsonschema.validate({}, schema)
-    sections = {"parameters": KHVParameters(eps=1.3, k_c=3e8), "options": Options(),
+    sections = {"parameters": li2013_parameters(eps=1.3, k_c=3e8), "options": Options(),
                 "integration": SimulationSettings()}
     # set from the design, not from the dynamics section: the mesh inputs and the pressure angle come
     # from the pair, the stiffness form from the design's stiffness section (one source each)
@@ -167,7 +168,7 @@ def test_pair_derived_parameters_equal_the_paper_constants():
 
     spec = design.load(Path(__file__).resolve().parents[1] / "config" / "designs" / "li2013.yaml")
     phys, opts, _ = point.point_model(spec, {"x1": 0.5})
-    assert phys.r_bV == pytest.approx(model.R_BV_PAPER, rel=1e-12)  # m z1 cos(a) / 2 = 49.33 mm
-    assert phys.r_bH == pytest.approx(model.R_BH_PAPER, rel=1e-12)  # a cos(a) = 4.933 mm
+    assert phys.r_bV == pytest.approx(3.5e-3 * 30 / 2 * math.cos(math.radians(20)), rel=1e-12)  # m z1 cos(a) / 2 = 49.33 mm
+    assert phys.r_bH == pytest.approx(3.5e-3 * 3 / 2 * math.cos(math.radians(20)), rel=1e-12)  # a cos(a) = 4.933 mm
     assert phys.z_annulus == 33 and phys.pressure_angle_deg == 20.0
     assert opts.stiffness_form == spec.stiffness.form

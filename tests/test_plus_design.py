@@ -6,9 +6,14 @@ from dataclasses import replace
 
 import jsonschema
 import pytest
-import yaml
 
-from geardyn.plus.design import default_design, design_from_dict, schema
+from geardyn import config
+from geardyn.config import ConfigError
+from geardyn.plus.design import default_design, design_from_dict, load
+
+
+def schema():
+    return config.schema("plus_planetary.schema.json")
 
 ROOT = Path(__file__).resolve().parents[1]
 YAML = ROOT / "config" / "designs" / "yue2014.yaml"
@@ -38,28 +43,29 @@ def test_every_key_documented_with_default_and_closed_objects():
 
 
 def test_yaml_validates_and_has_table1_values():
-    raw = yaml.safe_load(YAML.read_text())
-    assert raw["kind"] == "plus_planetary"
-    d = design_from_dict(raw)
+    d = load(YAML)
     assert (d.sun.teeth, d.planet_p.teeth, d.planet_d.teeth, d.ring.teeth) == (32, 19, 20, 77)
     assert d.stiffness.sun_planet == pytest.approx(21e6)  # Table 1: 21 MN/m
     assert d.sun.base_radius == pytest.approx(0.058)
     assert d.torque == pytest.approx(43.0)  # 43000 N mm
     # the YAML and the schema defaults describe the same design
-    assert replace(d, title="") == default_design()
+    assert replace(d, title="", paper=None) == default_design()
+    assert d.paper == "yue2014"
 
 
 @pytest.mark.parametrize("patch", [{"unknown_key": 1}, {"module_mm": -4}, {"sun": {"teeth": 32, "inertia_kgm2": 0.1, "colour": "red"}},
                                    {"kind": "khv"}, {"outer_planet_side": 0}, {"stiffness": {"sun_planet": "2.1e7"}}])
 def test_invalid_designs_rejected(patch):
     raw = {"kind": "plus_planetary", **patch}
-    with pytest.raises(jsonschema.ValidationError):
-        design_from_dict(raw)
+    with pytest.raises(ConfigError, match="is not allowed|unknown key|kind"):
+        design_from_dict(config.validate(raw, "plus_planetary.schema.json", "design"))
 
 
 def test_reversed_bounds_rejected():
-    with pytest.raises(ValueError, match="lower bound"):
-        design_from_dict({"kind": "plus_planetary", "relief": {"physical_amount_mm": [0.03, 0.0]}})
+    raw = config.validate({"kind": "plus_planetary", "relief": {"physical_amount_mm": [0.03, 0.0]}},
+                          "plus_planetary.schema.json", "design")
+    with pytest.raises(ConfigError, match="lower bound"):
+        design_from_dict(raw)
 
 
 def test_base_radii_imply_25_degrees():

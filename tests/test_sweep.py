@@ -8,7 +8,7 @@ import xarray as xr
 
 from geardyn import io
 from geardyn.khv import design
-from geardyn.runs import sweep
+from geardyn.runs import cube, sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -23,7 +23,7 @@ def _spec(**changes):
                 cases=[{}], chunks=1, integration={"transient_periods": 30, "recorded_periods": 8,
                                                    "steps_per_period": 64})
     base.update(changes)
-    return sweep.SweepSpec.from_config("t", base)
+    return sweep.SweepSpec.from_config("t", base, "li2013", (0.416, 0.835))
 
 
 @pytest.mark.parametrize("chunks", [1, 2, 3, 7])
@@ -44,7 +44,7 @@ def test_result_independent_of_chunking(li2013, tmp_path):
         # through netCDF and the merge rules' loader, as in the pipeline
         paths = [io.write_netcdf(sweep.run_chunk(li2013, spec, c), tmp_path / f"{chunks}_{c}.nc") for c in range(spec.n_chunks)]
         parts = io.read_chunks(paths)
-        merged.append(sweep.merge_chunks(parts))
+        merged.append(cube.merge_chunks(parts))
     xr.testing.assert_equal(merged[0], merged[1])  # bit-identical values, coordinates and dims
     assert int((merged[0]["diverged"] == -1).sum()) == 0  # every point computed
     assert np.isfinite(merged[0]["x_vh"].values).all()
@@ -54,18 +54,18 @@ def test_merge_refuses_missing_or_duplicate_chunks(li2013):
     spec = _spec(chunks=2, num=4)
     a = sweep.run_chunk(li2013, spec, 0)
     with pytest.raises(ValueError, match="2 points missing"):
-        sweep.merge_chunks([a])
+        cube.merge_chunks([a])
     with pytest.raises(ValueError, match="computed twice"):
-        sweep.merge_chunks([a, a, sweep.run_chunk(li2013, spec, 1)])
+        cube.merge_chunks([a, a, sweep.run_chunk(li2013, spec, 1)])
 
 
 def test_continuation_both_directions_has_direction_coordinate(li2013):
     spec = _spec(continuation="both", num=4, chunks=5)
     assert spec.n_chunks == 2  # one job per (case, direction), whatever 'chunks' says
-    cube = sweep.merge_chunks([sweep.run_chunk(li2013, spec, c) for c in range(spec.n_chunks)])
-    assert list(cube["direction"].values) == ["up", "down"]
-    assert np.isfinite(cube["x_vh"].values).all()
+    merged = cube.merge_chunks([sweep.run_chunk(li2013, spec, c) for c in range(spec.n_chunks)])
+    assert list(merged["direction"].values) == ["up", "down"]
+    assert np.isfinite(merged["x_vh"].values).all()
     # the first point of the upward sweep starts from the static deflection, like an unchained run
     plain = sweep.run_chunk(li2013, _spec(num=4), 0)
-    np.testing.assert_array_equal(cube["x_vh"].sel(direction="up").values[:, 0],
+    np.testing.assert_array_equal(merged["x_vh"].sel(direction="up").values[:, 0],
                                   plain["x_vh"].sel(direction="none").values[:, 0])

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from geardyn import __version__
-from geardyn.config import ConfigError, load_config, load_design_dict, validate_workflow
+from geardyn.config import ConfigError, load_config, load_design_dict
 
 
 def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
@@ -52,7 +52,6 @@ def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
                       "k_mean_N_per_um": mesh.k_mean / 1e6, "k_min_N_per_um": mesh.k_min / 1e6,
                       "contact_ratio": mesh.contact_ratio},
         "admissible_segment": segment,
-        "feasible": not failed,
         "violated": failed,
     }
 
@@ -69,22 +68,48 @@ def _print_tree(data: dict[str, Any], indent: int = 0) -> None:
             print(f"{pad}{key}: {value}")
 
 
+def _plus_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
+    from geardyn.plus import design, modal
+
+    plus = design.design_from_dict(raw, path)
+    freqs = {}
+    for cond in ("I", "II", "III"):
+        md = modal.modes(plus, cond)
+        f = [float(v) for v in md.freq_hz[md.n_rigid:]]
+        freqs[cond] = ", ".join(f"{v:.1f}" for v in f[:6])
+    return {"design": plus.name, "kind": "plus_planetary", "paper": plus.paper or "none",
+            "teeth (sun, inner planet, outer planet, ring)": f"{plus.sun.teeth}, {plus.planet_p.teeth}, "
+                                                              f"{plus.planet_d.teeth}, {plus.ring.teeth}",
+            "planets": plus.n_planets, "module_mm": plus.module * 1e3,
+            "first natural frequencies (Hz)": freqs}
+
+
 def check_design(path: str, as_json: bool) -> int:
+    """Print what can be computed of the design, then run the pipeline's own checks of it
+    (:func:`geardyn.validate.check_design`): exit 0 when it builds, 1 when not (with the reason)."""
+    from geardyn.validate import check_design as pipeline_check
+
     raw = load_design_dict(path)
-    if raw["kind"] == "khv":
-        summary = _khv_summary(raw, path)
-    else:
-        summary = {"design": raw["name"], "kind": raw["kind"], "valid": True}
+    summary = _khv_summary(raw, path) if raw["kind"] == "khv" else _plus_summary(raw, path)
+    try:
+        pipeline_check(raw, path)
+        verdict = None
+    except ConfigError as err:
+        verdict = str(err).removeprefix(f"{path}: ")
+    summary["feasible"] = verdict is None
+    summary["why not"] = verdict or ""
     if as_json:
         print(json.dumps(summary, indent=2, default=float))
     else:
         _print_tree(summary)
-        if summary.get("violated"):
-            print(f"NOT FEASIBLE: violates {', '.join(summary['violated'])}")
-    return 0 if not summary.get("violated") else 1
+        if verdict:
+            print(f"NOT FEASIBLE: {verdict}")
+    return 0 if verdict is None else 1
 
 
 def check_config(path: str) -> int:
+    from geardyn.validate import validate_workflow
+
     cfg = load_config(path)
     root = Path(path).resolve().parent.parent
     _, designs = validate_workflow(cfg, root)

@@ -83,7 +83,7 @@ _BOUND_TEXT = (
 )
 
 
-def _allowed(node: Mapping[str, Any]) -> str:
+def allowed_text(node: Mapping[str, Any]) -> str:
     """Human-readable description of what a schema node accepts."""
     if "const" in node:
         return repr(node["const"])
@@ -91,7 +91,7 @@ def _allowed(node: Mapping[str, Any]) -> str:
         return "one of " + ", ".join(repr(v) for v in node["enum"])
     for key in ("anyOf", "oneOf"):
         if key in node:
-            return " or ".join(_allowed(sub) for sub in node[key])
+            return " or ".join(allowed_text(sub) for sub in node[key])
     kind = node.get("type", "value")
     kind = {"integer": "integer", "number": "number", "string": "string", "boolean": "true/false",
             "array": "list", "object": "mapping"}.get(kind, str(kind))
@@ -122,7 +122,7 @@ def _format(error: jsonschema.ValidationError, where: str) -> str:
     # point at the schema node of the offending value (the property, not the sub-branch of anyOf)
     value_node = _node_for(error)
     desc = value_node.get("description", "")
-    return (f"{where}: {key} = {error.instance!r} is not allowed: {_allowed(value_node)}"
+    return (f"{where}: {key} = {error.instance!r} is not allowed: {allowed_text(value_node)}"
             + (f" ({desc})" if desc else ""))
 
 
@@ -194,121 +194,3 @@ def load_design_dict(path: str | Path) -> dict[str, Any]:
         raise ConfigError(f"{where}: kind = {kind!r} is not allowed: one of "
                           + ", ".join(repr(k) for k in DESIGN_SCHEMAS))
     return validate(data, DESIGN_SCHEMAS[kind], where)
-
-
-def validate_workflow(config: dict[str, Any], root: str | Path = ".") -> tuple[dict[str, Any], dict[str, dict[str, Any]]]:
-    """Validate the workflow config and every design it lists, before any job runs.
-
-    Returns the config with defaults filled and ``{design name: validated design dict}``.
-    KHV designs are also checked semantically (z2 - z1, feasibility of the design point and of the
-    admissible segment M-N that sweeps, point runs and calibrations stay inside).
-    """
-    from geardyn.khv import design as _design  # local: design imports geometry, which is heavier
-
-    filled = validate(config, "config.schema.json", "config")
-    designs: dict[str, dict[str, Any]] = {}
-    for name, rel in filled["designs"].items():
-        path = Path(root) / rel
-        raw = load_design_dict(path)
-        if raw["name"] != name:
-            raise ConfigError(f"{path}: name = {raw['name']!r} differs from its key {name!r} in config designs")
-        if raw["kind"] == "khv":
-            _design.check_segment(_design.from_dict(raw, str(path)), str(path))
-        designs[name] = raw
-    _check_runs(filled, designs)
-    return filled, designs
-
-
-#: The control parameters of :mod:`geardyn.khv` (``khv.CONTROLS``) with the values a run may give them,
-#: as schema nodes. b and e are in um; their limits are those of the design file's ``backlash`` and
-#: ``te_amplitude`` (m). Any other override must be a ``dynamics.parameters`` key, with that key's limits.
-CONTROL_LIMITS: dict[str, dict[str, Any]] = {
-    "x1": {"type": "number", "minimum": -1.0, "maximum": 2.0, "description": "planet profile-shift coefficient x1 (-)"},
-    "b": {"type": "number", "minimum": 0, "maximum": 1000, "description": "half backlash b (um)"},
-    "e": {"type": "number", "minimum": 0, "maximum": 1000, "description": "transmission-error amplitude e (um)"},
-    "w": {"type": "number", "exclusiveMinimum": 0, "maximum": 100,
-          "description": "dimensionless mesh frequency w_m / w_n (-)"},
-    "speed": {"type": "number", "exclusiveMinimum": 0, "maximum": 1000000, "description": "input speed (rpm)"},
-}
-
-
-def _override_node(key: str, where: str) -> Mapping[str, Any]:
-    """The schema node an override ``key`` is checked against; unknown keys are refused with a hint."""
-    if key in CONTROL_LIMITS:
-        return CONTROL_LIMITS[key]
-    params = schema("dynamics.schema.json")["properties"]["parameters"]["properties"]
-    if key in params:
-        return params[key]
-    allowed = sorted(CONTROL_LIMITS) + sorted(params)
-    close = difflib.get_close_matches(key, allowed, n=1)
-    hint = f" (did you mean '{close[0]}'?)" if close else f" (allowed: {', '.join(allowed)})"
-    raise ConfigError(f"{where}: unknown control parameter '{key}'{hint}")
-
-
-def _check_value(key: str, value: Any, where: str) -> None:
-    node = _override_node(key, where)
-    if not jsonschema.Draft202012Validator(node).is_valid(value):
-        desc = node.get("description", "")
-        raise ConfigError(f"{where}: {key} = {value!r} is not allowed: {_allowed(node)}" + (f" ({desc})" if desc else ""))
-
-
-def _check_range(rng: Mapping[str, Any], where: str) -> None:
-    if rng["num"] > 1 and not rng["stop"] > rng["start"]:
-        raise ConfigError(f"{where}: stop = {rng['stop']} must be above start = {rng['start']}")
-
-
-def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> None:
-    """Semantic checks of sweeps, point runs and calibrations: known design, known control parameters
-    with values in range, ranges that go upwards, x1 inside every design's admissible segment M-N."""
-    khv_designs = [raw for raw in designs.values() if raw["kind"] == "khv"]
-    for axis in ("x1", "x2"):
-        _check_range(filled["closed_graph"][axis], f"config: closed_graph.{axis}")
-    for i, x1 in enumerate(filled["stiffness_table"]["fig05_x1"]):
-        for raw in khv_designs:
-            _check_x1(x1, raw, f"config: stiffness_table.fig05_x1[{i}]")
-    for section in ("sweeps", "points", "calibration", "maps"):
-        for name, spec in filled.get(section, {}).items():
-            where = f"config: {section}.{name}"
-            names = spec["designs"] if "designs" in spec else [spec["design"]]
-            for design_name in names:
-                if design_name not in designs or designs[design_name]["kind"] != "khv":
-                    raise ConfigError(f"{where}: design {design_name!r} is not allowed: one of "
-                                      + ", ".join(repr(d) for d, r in designs.items() if r["kind"] == "khv"))
-            for design_name in names:
-                _check_overrides(section, spec, designs[design_name], where)
-
-
-def _check_x1(value: float, raw: dict[str, Any], where: str) -> None:
-    lo, hi = raw["admissible"]["x1_min"], raw["admissible"]["x1_max"]
-    if not lo - 1e-12 <= value <= hi + 1e-12:
-        raise ConfigError(f"{where}: x1 = {value} is not allowed: number >= {lo} and "
-                          f"<= {hi} (the admissible segment M-N of design {raw['name']})")
-
-
-def _check_overrides(section: str, spec: dict[str, Any], raw: dict[str, Any], where: str) -> None:
-    """Overrides of one run against one design: known keys, values in range, x1 inside the segment M-N."""
-    overrides = [("fixed", spec.get("fixed", {}))] + [
-        (f"cases[{i}]", case) for i, case in enumerate(spec.get("cases", []))]
-    if section == "sweeps":
-        _override_node(spec["parameter"], f"{where}.parameter")
-        _check_range(spec, where)
-        overrides.append(("start", {spec["parameter"]: spec["start"]}))
-        overrides.append(("stop", {spec["parameter"]: spec["stop"]}))
-    if section == "maps":
-        for ax in ("x", "y"):
-            a = spec[ax]
-            _override_node(a["parameter"], f"{where}.{ax}.parameter")
-            _check_range(a, f"{where}.{ax}")
-            overrides.append((f"{ax}.start", {a["parameter"]: a["start"]}))
-            overrides.append((f"{ax}.stop", {a["parameter"]: a["stop"]}))
-    if section == "calibration":
-        _check_range(spec["x1"], f"{where}.x1")
-        overrides.append(("x1.start", {"x1": spec["x1"]["start"]}))
-        overrides.append(("x1.stop", {"x1": spec["x1"]["stop"]}))
-        for key, values in spec["grid"].items():
-            overrides += [(f"grid.{key}[{i}]", {key: v}) for i, v in enumerate(values)]
-    for label, values in overrides:
-        for key, value in values.items():
-            if key == "x1" and raw["kind"] == "khv":
-                _check_x1(value, raw, f"{where}.{label}")
-            _check_value(key, value, f"{where}.{label}")

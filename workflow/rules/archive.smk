@@ -1,4 +1,4 @@
-# Issue 7: one archive per design with every netCDF cube, the configs and a sha256 manifest.
+# One archive per design with every netCDF cube, the configs and a sha256 manifest.
 #   snakemake --cores 2 archive                         # all designs
 #   geardyn verify-archive results/li2013_archive.tar.gz
 
@@ -9,10 +9,6 @@ def archive_cubes(wildcards):
     return sorted({str(f) for f in rules.all.input if str(f).startswith(prefix) and str(f).endswith(".nc")})
 
 
-def archive_design_file(wildcards):
-    return config["designs"][wildcards.design]
-
-
 def effective_config(wildcards):
     return config
 
@@ -20,7 +16,7 @@ def effective_config(wildcards):
 rule design_archive:
     input:
         cubes=archive_cubes,
-        design=archive_design_file,
+        design=design_file,
         config="config/config.yaml",
     output:
         "results/{design}_archive.tar.gz",
@@ -28,8 +24,6 @@ rule design_archive:
         "results/{design}/logs/archive.log",
     params:
         config=effective_config,
-    wildcard_constraints:
-        design="|".join(sorted(DESIGNS, key=len, reverse=True)),
     localrule: True
     threads: 1
     script:

@@ -1,15 +1,15 @@
-# Search the unknowns of paper 1 for the best agreement with its regime sequence along x1.
+# Search a paper design's unknowns for the best agreement with the paper's regime sequence along x1.
 
 
 rule calibration_chunk:
     input:
-        design=calibration_design_file,
+        design=design_file,
     output:
         "results/{design}/calibration/{calibration}/chunk_{chunk}.nc",
     log:
         "results/{design}/logs/calibration_{calibration}_{chunk}.log",
     params:
-        spec=calibration_spec,
+        spec=config_slice("calibration"),
     threads: 1
     script:
         "../scripts/calibration_chunk.py"
@@ -17,8 +17,10 @@ rule calibration_chunk:
 
 rule calibration_merge:
     input:
-        design=calibration_design_file,
-        chunks=calibration_chunk_files,
+        design=design_file,
+        chunks=chunk_files(
+            "calibration", "results/{design}/calibration/{name}/chunk_{chunk}.nc", calibration_chunks
+        ),
     output:
         scores="results/{design}/calibration/{calibration}.nc",
         design="results/{design}/calibration/{calibration}_design.yaml",
@@ -26,12 +28,13 @@ rule calibration_merge:
     log:
         "results/{design}/logs/calibration_{calibration}_merge.log",
     params:
-        spec=calibration_spec,
+        spec=config_slice("calibration"),
     threads: 1
     script:
         "../scripts/calibration_merge.py"
 
 
 CALIBRATION_TARGETS = [
-    f"results/{spec['design']}/calibration/{name}.nc" for name, spec in config["calibration"].items()
+    f"results/{spec['design']}/calibration/{name}.nc"
+    for name, spec in config["calibration"].items()
 ]

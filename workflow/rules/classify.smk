@@ -1,16 +1,17 @@
-# Regime bands of every sweep (labels from geardyn.classify) and paper 1's claims checked.
+# Regime bands of every sweep (labels from geardyn.classify) and, for designs that name paper 1, its
+# claims checked one by one.
 
 
 rule regime_bands:
     input:
-        cube="results/{design}/sweeps/{sweep}.nc",
+        cube=rules.sweep_merge.output[0],
     output:
         csv="results/{design}/tables/{sweep}_bands.csv",
         md="results/{design}/tables/{sweep}_bands.md",
     log:
         "results/{design}/logs/bands_{sweep}.log",
     params:
-        sweep=sweep_spec,
+        spec=config_slice("sweeps"),
     threads: 1
     script:
         "../scripts/regime_bands.py"
@@ -19,8 +20,8 @@ rule regime_bands:
 rule claims:
     input:
         design=design_file,
-        closed_graph="results/{design}/data/closed_graph.nc",
-        stiffness="results/{design}/data/stiffness_table.nc",
+        closed_graph=rules.closed_graph.output[0],
+        stiffness=rules.stiffness_table.output[0],
         fig07="results/{design}/sweeps/fig07_bifurcation_x1.nc",
         fig09="results/{design}/sweeps/fig09_bifurcation_b.nc",
         fig11="results/{design}/sweeps/fig11_bifurcation_e.nc",
@@ -31,7 +32,7 @@ rule claims:
     log:
         "results/{design}/logs/claims.log",
     params:
-        spec=claims_spec,
+        spec=config_slice("claims"),
     threads: 1
     script:
         "../scripts/claims.py"

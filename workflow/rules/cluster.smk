@@ -1,4 +1,4 @@
-# Issue 7: rules that take seconds (figures, merges, tables, archives) run on the submitting host
+# Rules that take seconds (figures, merges, tables, archives) run on the submitting host
 # under a cluster executor (workflow/profiles/slurm): a batch job would cost more in queueing and
 # start-up than the work itself. Without a cluster executor every job is local anyway.
 
@@ -10,8 +10,8 @@ localrules:
     bifurcation_figure,
     point_figure,
     calibration_merge,
-    yue2014_modal_figures,
-    yue2014_te_figures,
+    plus_modal_figures,
+    plus_te_figures,
     regime_bands,
     claims,
     map_merge,

@@ -55,11 +55,13 @@ def per_design(pattern, designs):
 
 
 def runs_for(section, pattern):
-    """``pattern`` for every (design, name) of a config section whose entries list their designs."""
+    """``pattern`` for every (design, name) of a config section: the designs each entry selects."""
+    from geardyn.validate import selected_designs
+
     return [
         pattern.format(design=design, name=name)
         for name, spec in config[section].items()
-        for design in spec["designs"]
+        for design in selected_designs(spec["designs"], DESIGNS)
     ]
 
 
@@ -75,16 +77,22 @@ def chunk_files(section, pattern, n_chunks):
     return get
 
 
+def segment_of(design):
+    """The admissible segment (x1_min, x1_max) of a KHV design (resolves percentages of x1)."""
+    adm = DESIGNS[design]["admissible"]
+    return (adm["x1_min"], adm["x1_max"])
+
+
 def sweep_chunks(name, spec, design):
     from geardyn.runs.sweep import SweepSpec
 
-    return SweepSpec.from_config(name, spec, design).n_chunks
+    return SweepSpec.from_config(name, spec, design, segment_of(design)).n_chunks
 
 
 def map_chunks(name, spec, design):
     from geardyn.runs.maps import MapSpec
 
-    return MapSpec.from_config(name, spec, design).n_chunks
+    return MapSpec.from_config(name, spec, design, segment_of(design)).n_chunks
 
 
 def calibration_chunks(name, spec, design):

@@ -7,7 +7,7 @@ from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
 drive = design.load(snakemake.input.design)
-spec = maps.MapSpec.from_config(snakemake.wildcards.map, snakemake.params.spec, drive.name)
+spec = maps.MapSpec.from_config(snakemake.wildcards.map, snakemake.params.spec, drive.name, drive.segment)
 chunk = int(snakemake.wildcards.chunk)
 warm_up(point.point_coefficients(drive))
 ds = maps.run_chunk(drive, spec, chunk)

@@ -1,46 +1,41 @@
-"""Adapter: paper 2 modal analysis -> modal.nc, Table 2 comparison, stiffness scaling, Table 5."""
+"""Adapter: modal analysis of a plus set -> modal.nc, natural frequencies, stiffness scaling, key elements
+(paper 2 Tables 2 and 5 beside ours for a design that names the paper)."""
 
+import pandas as pd
 
-from geardyn.plus import files, tables
+from geardyn import io, logs
+from geardyn.papers import paper_of
+from geardyn.plus import captions, design, tables
 
-
-def main(design_path, modal_nc, table02_csv, table02_md, scaling_csv, scaling_md, table05_csv, table05_md, log_path=None):
-    with files.logger(log_path, "yue2014_modal") as log:
-        design = files.read_design(design_path)
-        ds = tables.modal_dataset(design)
-        files.write_netcdf(ds, modal_nc, files.provenance(design, ds.attrs["title"], ds.attrs["model_variant"]))
-        t2 = tables.frequency_table(design)
-        files.write_table(t2, table02_csv, table02_md, header=(
-            "# Table 2: natural frequencies (Hz), ours (11-DOF Lagrangian from Table 1) vs paper 2\n\n"
-            "err_*_pct = 100 (ours - paper) / paper; orders matched by rank of the distinct elastic frequencies; "
-            "multiplicity 2 = doubled planet mode."))
-        sc = tables.scaling_table(design)
-        factors = [1.0] + [float(v) for v in tables.stiffness_comparison(design)["ratio_to_table1"].iloc[[2, 3, 4]]]
-        import pandas as pd
-
-        fixed = pd.DataFrame([{**tables.fixed_factor_residual(design, f), "why": w} for f, w in zip(
-            factors + [float(sc.uniform_factor.iloc[0])],
-            ["Table 1 as printed", "ISO 6336-1 c' b (single pair, 25 deg C_B)", "Ishikawa mean mesh stiffness",
-             "ISO 6336-1 c_gamma b", "best uniform factor (rank matching, theoretical)"])])
-        best = float(sc.uniform_factor.iloc[0])
-        scaled = tables.scaled_frequency_table(design, best)[["condition", "order", "stiffness_factor", "freq_hz", "mode_type",
-                                                               "paper_theoretical_hz", "err_theoretical_pct", "err_experimental_pct"]]
-        files.write_table(sc, scaling_csv, None)
-        md = ("# Stiffness scaling needed to match paper 2's Table 2\n\n"
-              "Least squares in log frequency. rank: order k vs order k; type: our doubled (planet) modes vs the paper's "
-              "three frequencies shared by I-III, our overall modes vs the rest. Residuals in percent.\n\n"
-              + tables.to_markdown(sc) + "\n## Residual against the theoretical column for given stiffness factors\n\n"
-              + tables.to_markdown(fixed) + f"\n## Table 2 with every stiffness x {best:.3g}\n\n" + tables.to_markdown(scaled))
-        files.write_text(md, scaling_md)
-        t5 = tables.key_element_table(design)
-        files.write_table(t5, table05_csv, table05_md, header=(
-            "# Table 5 analogue: key element (largest modal strain-energy share) and key components "
-            "(kinetic-energy share >= 0.25), beside the paper's Table 5"))
-        log.info("first elastic frequencies (Hz): %s", t2.groupby("condition").freq_hz.first().round(1).to_dict())
-        log.info("uniform stiffness factor %.3g, residual rms %.1f %%", best, float(sc.uniform_rms_pct.iloc[0]))
-
-
-if "snakemake" in globals():
-    sm = globals()["snakemake"]
-    main(sm.input.design, sm.output.modal, sm.output.table02_csv, sm.output.table02_md, sm.output.scaling_csv,
-         sm.output.scaling_md, sm.output.table05_csv, sm.output.table05_md, sm.log[0])
+log = logs.to_file(snakemake.log[0])
+out = snakemake.output
+plus = design.load(snakemake.input.design)
+paper = paper_of(plus.paper)
+ds = tables.modal_dataset(plus)
+io.write_netcdf(ds, out.modal, io.provenance(title=ds.attrs["title"], paper=plus.paper, config=dict(plus.raw),
+                                             model_variant=ds.attrs["model_variant"]))
+t2 = tables.frequency_table(plus)
+t5 = tables.key_element_table(plus)
+if paper is None:
+    tables.write_table(tables.without_paper(t2), out.table02_csv, out.table02_md, captions.table02_header(None))
+    tables.write_table(tables.without_paper(t5), out.table05_csv, out.table05_md, captions.KEY_ELEMENT_HEADER)
+    note = pd.DataFrame([{"note": "no paper to compare with: the design names none"}])
+    tables.write_table(note, out.scaling_csv, out.scaling_md, "# Stiffness scaling against a paper: not applicable")
+else:
+    tables.write_table(t2, out.table02_csv, out.table02_md, captions.table02_header(paper))
+    tables.write_table(t5, out.table05_csv, out.table05_md, captions.TABLE05_HEADER)
+    sc = tables.scaling_table(plus)
+    best = float(sc.uniform_factor.iloc[0])
+    factors = [1.0] + [float(v) for v in tables.stiffness_comparison(plus)["ratio_to_table1"].iloc[[2, 3, 4]]] + [best]
+    fixed = pd.DataFrame([{**tables.fixed_factor_residual(plus, f), "why": why}
+                          for f, why in zip(factors, captions.FIXED_FACTOR_WHY, strict=True)])
+    scaled = tables.scaled_frequency_table(plus, best)[["condition", "order", "stiffness_factor", "freq_hz", "mode_type",
+                                                        "paper_theoretical_hz", "err_theoretical_pct",
+                                                        "err_experimental_pct"]]
+    tables.write_table(sc, out.scaling_csv, None)
+    io.write_text(captions.SCALING_INTRO + tables.to_markdown(sc)
+                  + "\n## Residual against the theoretical column for given stiffness factors\n\n"
+                  + tables.to_markdown(fixed) + f"\n## Table 2 with every stiffness x {best:.3g}\n\n"
+                  + tables.to_markdown(scaled), out.scaling_md)
+    log.info("uniform stiffness factor %.3g, residual rms %.1f %%", best, float(sc.uniform_rms_pct.iloc[0]))
+log.info("first elastic frequencies (Hz): %s", t2.groupby("condition").freq_hz.first().round(1).to_dict())

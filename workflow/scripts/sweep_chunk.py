@@ -7,7 +7,7 @@ from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
 drive = design.load(snakemake.input.design)
-spec = sweep.SweepSpec.from_config(snakemake.wildcards.sweep, snakemake.params.spec, drive.name)
+spec = sweep.SweepSpec.from_config(snakemake.wildcards.sweep, snakemake.params.spec, drive.name, drive.segment)
 chunk = int(snakemake.wildcards.chunk)
 warm_up(point.point_coefficients(drive))  # load the compiled kernels from numba's cache before timing starts
 cube = sweep.run_chunk(drive, spec, chunk)

@@ -54,6 +54,11 @@ class KHVDesign:
     raw: dict[str, Any]  # the validated file with defaults, for provenance
 
     @property
+    def segment(self) -> tuple[float, float]:
+        """The admissible segment (x1_min, x1_max) on which every run of this design stays."""
+        return (self.x1_min, self.x1_max)
+
+    @property
     def x2_on_line4(self) -> bool:
         return self.raw["pair"].get("x2", "line4") == "line4"
 
@@ -222,11 +227,14 @@ def load(path: str | Path) -> KHVDesign:
     return from_dict(raw, str(path))
 
 
-def figure_x1(design: KHVDesign, configured: list[float] | None = None) -> list[float]:
-    """The x1 values of the k(t) figure: the configured ones, else the segment's ends and middle."""
-    if configured:
-        return [float(v) for v in configured]
-    return [design.x1_min, 0.5 * (design.x1_min + design.x1_max), design.x1_max]
+def figure_x1(design: KHVDesign, configured: list[float | str], paper_values: tuple[float, ...] | None = None
+              ) -> list[float]:
+    """The x1 values of the k(t) figure: the paper's for a design that names a paper (``paper_values``),
+    else the configured ones (numbers or percentages of the admissible segment)."""
+    from geardyn.khv.point import along_segment
+
+    values = paper_values if paper_values is not None else configured
+    return [along_segment(v, design.segment) for v in values]
 
 
 def x1_grid(design: KHVDesign, num: int) -> np.ndarray:

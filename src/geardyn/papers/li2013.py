@@ -62,6 +62,8 @@ FIG10_LABELS: tuple[tuple[str, float, int | str], ...] = (
 FIG12_E = 4.55
 FIG12_LABELS: tuple[tuple[str, float, int | str], ...] = (
     ("11a/12a", 0.5, 1), ("12b", 0.761, "QP|chaos"), ("12c", 0.83, "QP|chaos"))
+#: Fig. 5: the three x1 values of the k(t) curves.
+FIG05_X1: tuple[float, ...] = (0.416, 0.626, 0.835)
 #: Fig. 8c: the spectral peaks at x1 = 0.585, in multiples of the mesh frequency.
 PEAKS_0585: tuple[float, ...] = (0.48, 0.57, 0.8099, 1.0, 1.2)
 #: Upper end of the P1 range in which the paper says the amplitude falls as x1 grows.

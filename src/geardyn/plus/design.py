@@ -64,6 +64,7 @@ class ReliefSpec:
     maxiter: int
     tol: float
     landscape_points: int
+    load_study_torques: tuple[float, ...] = (43.0,)
 
 
 @dataclass(frozen=True)
@@ -179,6 +180,7 @@ def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
             maxiter=rl["maxiter"],
             tol=rl["tol"],
             landscape_points=rl["landscape_points"],
+            load_study_torques=tuple(float(t) for t in rl["load_study_torques_Nm"]),
         ),
         planet_angles_in_sun_terms=d["fixes"]["planet_angles_in_sun_terms"],
         plus_set_sign=d["fixes"]["plus_set_sign"],

@@ -343,3 +343,21 @@ def relief_load_table(rows: list[dict]) -> pd.DataFrame:
                     "wide_bounds_amount_um": r["wide_amount"] * 1e6, "wide_bounds_length_mm": r["wide_length"] * 1e3,
                     "wide_bounds_change_pct": 100 * (r["wide_ptp"] / r["ptp_unmodified"] - 1)})
     return pd.DataFrame(out)
+
+
+def without_paper(df: pd.DataFrame) -> pd.DataFrame:
+    """A comparison table with the paper's columns and rows taken out (for a design that names no paper)."""
+    keep = [c for c in df.columns if not c.startswith(("paper_", "err_")) and c != "element_agrees"]
+    out = df[keep]
+    if "shape" in out.columns:
+        out = out[~out["shape"].astype(str).str.startswith("linear (paper)")]
+    return out.reset_index(drop=True)
+
+
+def write_table(df: pd.DataFrame, csv: str, md: str | None = None, header: str = "", floatfmt: str = ".4g") -> None:
+    """CSV (full precision) and, if asked, a Markdown version with a header paragraph."""
+    from geardyn import io
+
+    io.write_text(df.to_csv(index=False, float_format="%.6g"), csv)
+    if md is not None:
+        io.write_text((header + "\n\n" if header else "") + to_markdown(df, floatfmt), md)

@@ -62,11 +62,16 @@ class MapSpec:
     classifier: tuple[tuple[str, Any], ...] = ()
 
     @classmethod
-    def from_config(cls, name: str, spec: Mapping[str, Any], design: str | None = None) -> MapSpec:
+    def from_config(cls, name: str, spec: Mapping[str, Any], design: str,
+                    segment: tuple[float, float]) -> MapSpec:
+        """The map ``name`` of ``config["maps"]`` for ``design``, whose admissible segment (x1_min,
+        x1_max) resolves percentages of x1 (:func:`geardyn.khv.point.resolve_fractions`)."""
+        spec = point.resolve_fractions(spec, segment)
+
         def axis(a: Mapping[str, Any]) -> Axis:
             return Axis(a["parameter"], float(a["start"]), float(a["stop"]), int(a["num"]))
 
-        return cls(name=name, design=design or spec["designs"][0], x=axis(spec["x"]), y=axis(spec["y"]),
+        return cls(name=name, design=design, x=axis(spec["x"]), y=axis(spec["y"]),
                    fixed=tuple(sorted(spec.get("fixed", {}).items())), chunks=int(spec.get("chunks", 1)),
                    integration=tuple(sorted(spec.get("integration", {}).items())),
                    classifier=tuple(sorted(spec.get("classifier", {}).items())))

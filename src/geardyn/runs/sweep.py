@@ -52,10 +52,12 @@ class SweepSpec:
     classifier: tuple[tuple[str, Any], ...] = ()
 
     @classmethod
-    def from_config(cls, name: str, spec: Mapping[str, Any], design: str | None = None) -> SweepSpec:
-        """The sweep ``name`` of ``config["sweeps"]`` for one of its designs (default: the first)."""
+    def from_config(cls, name: str, spec: Mapping[str, Any], design: str,
+                    segment: tuple[float, float]) -> SweepSpec:
+        """The sweep ``name`` of ``config["sweeps"]`` for ``design``, whose admissible segment
+        (x1_min, x1_max) resolves percentages of x1 (:func:`geardyn.khv.point.resolve_fractions`)."""
+        spec = point.resolve_fractions(spec, segment)
         cases = tuple(tuple(sorted(c.items())) for c in spec.get("cases") or [{}])
-        design = design or (spec["designs"][0] if "designs" in spec else spec["design"])
         return cls(
             name=name, design=design, parameter=spec["parameter"],
             start=float(spec["start"]), stop=float(spec["stop"]), num=int(spec["num"]),

@@ -1,0 +1,68 @@
+"""Run a workflow script without Snakemake: a stand-in for the ``snakemake`` object it reads.
+
+Every script under ``workflow/scripts/`` is a module-level adapter that unpacks ``snakemake.input``,
+``.output``, ``.params``, ``.wildcards`` and ``.log``, calls the library and writes its outputs.
+:func:`run_script` runs one of them with a :class:`Job` in place of that object, e.g. from a test or a
+notebook::
+
+    from geardyn.testing import Job, run_script
+    run_script("workflow/scripts/plus_landscape.py",
+               Job(input={"design": "config/designs/yue2014.yaml"},
+                   output={"landscape": "/tmp/land.nc"}, log=["/tmp/land.log"]))
+"""
+
+from __future__ import annotations
+
+import runpy
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+
+class Files(list):
+    """Named and positional access, like Snakemake's ``input``/``output`` (``f.name`` and ``f[0]``)."""
+
+    def __init__(self, items: Mapping[str, Any] | Sequence[Any] | None = None) -> None:
+        items = items or {}
+        if isinstance(items, Mapping):
+            super().__init__(items.values())
+            self._names = dict(items)
+        else:
+            super().__init__(items)
+            self._names = {}
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return self._names[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __getitem__(self, key: Any) -> Any:  # type: ignore[override]
+        if isinstance(key, str):
+            return self._names[key]
+        return super().__getitem__(key)
+
+
+class Job:
+    """What a script reads from ``snakemake``: input, output, params, wildcards and log."""
+
+    def __init__(self, input: Mapping[str, Any] | Sequence[Any] | None = None,  # noqa: A002 - Snakemake's name
+                 output: Mapping[str, Any] | Sequence[Any] | None = None,
+                 params: Mapping[str, Any] | None = None, wildcards: Mapping[str, Any] | None = None,
+                 log: Sequence[Any] | None = None) -> None:
+        self.input = Files(_strings(input))
+        self.output = Files(_strings(output))
+        self.params = Files(params or {})
+        self.wildcards = Files({k: str(v) for k, v in (wildcards or {}).items()})
+        self.log = Files([str(p) for p in (log or [])])
+
+
+def _strings(items: Mapping[str, Any] | Sequence[Any] | None) -> Mapping[str, Any] | Sequence[Any] | None:
+    if isinstance(items, Mapping):
+        return {k: [str(x) for x in v] if isinstance(v, list | tuple) else str(v) for k, v in items.items()}
+    return [str(x) for x in items] if items is not None else None
+
+
+def run_script(path: str | Path, job: Job) -> dict[str, Any]:
+    """Run the workflow script at ``path`` with ``job`` as its ``snakemake`` object; returns its globals."""
+    return runpy.run_path(str(path), init_globals={"snakemake": job})
