@@ -67,7 +67,7 @@ def sweep_config(chunks: int = 4, num: int = 12, integration: dict[str, Any] | N
             "designs": ["li2013"], "title": "small x1 sweep", "parameter": "x1", "start": 0.45, "stop": 0.80,
             "num": num, "fixed": {"b": 2.0, "e": 5.0}, "chunks": chunks,
             "integration": dict(FAST if integration is None else integration)}},
-        "points": {}, "calibration": {},
+        "points": {}, "calibration": {}, "benchmarks": {"work_precision": False},
     }
 
 
@@ -79,6 +79,7 @@ def small_config() -> dict[str, Any]:
     cfg["stiffness_table"] = {"points": 11, "phase_points": 32, "fig05_x1": [0.416, 0.626, 0.835]}
     cfg["points"] = {"fig08_small": {"designs": ["li2013"], "title": "small points", "fixed": {"b": 2.0, "e": 5.0},
                                      "cases": [{"x1": 0.5}, {"x1": 0.761}], "samples_per_period": 16}}
+    cfg["benchmarks"] = {"work_precision": True, "quick": True}
     cfg["calibration"] = {"small_sequence": {
         "design": "li2013", "fixed": {"b": 2.0, "e": 5.0}, "x1": {"start": 0.416, "stop": 0.835, "num": 5},
         "grid": {"w": [0.9, 1.0]}, "chunks": 2, "integration": dict(FAST)}}

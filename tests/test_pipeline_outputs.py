@@ -18,11 +18,7 @@ import _workflow as wf
 from geardyn import archive, io
 
 def _small_pipeline(work):
-    wf.workflow_copy(work, wf.small_config(), wf.small_designs())
-    bench = work / "workflow/scripts/work_precision.py"
-    text = bench.read_text()
-    assert "quick=False" in text
-    bench.write_text(text.replace("quick=False", "quick=True"))  # the benchmark at its smoke-test size
+    wf.workflow_copy(work, wf.small_config(), wf.small_designs())  # the benchmark at its smoke-test size
     wf.snakemake(work, "--cores", "2", timeout=900)
     wf.snakemake(work, "--cores", "2", "archive", timeout=300)
     wf.snakemake(work, "--report", "results/report.html", timeout=300)
@@ -42,7 +38,7 @@ def _netcdf_files(work):
 KINDS = [
     "li2013/data/closed_graph.nc", "li2013/data/stiffness_table.nc", "li2013/sweeps/fig07_small.nc",
     "li2013/sweeps/fig07_small/chunk_0.nc", "li2013/points/fig08_small.nc", "li2013/calibration/small_sequence.nc",
-    "li2013/calibration/small_sequence/chunk_0.nc", "li2013/benchmarks/work_precision.nc", "yue2014/data/modal.nc",
+    "li2013/calibration/small_sequence/chunk_0.nc", "benchmarks/work_precision.nc", "yue2014/data/modal.nc",
     "yue2014/data/te.nc", "yue2014/data/relief_landscape.nc",
 ]
 
@@ -168,11 +164,11 @@ def test_slurm_profile_keeps_cheap_rules_local(tmp_path):
     block = (wf.ROOT / "workflow/rules/cluster.smk").read_text().split("localrules:")[1]
     local = set(re.findall(r"^\s+(\w+),", block, re.M))
     assert {"sweep_merge", "calibration_merge", "bifurcation_figure", "point_figure", "fig03_closed_graph",
-            "stiffness_figures", "yue2014_modal_figures", "yue2014_te_figures", "regime_bands", "claims",
+            "stiffness_figures", "plus_modal_figures", "plus_te_figures", "regime_bands", "claims",
             "map_merge", "map_figure"} == local
     assert "localrule: True" in (wf.ROOT / "workflow/rules/archive.smk").read_text()
-    heavy = {"sweep_chunk", "calibration_chunk", "map_chunk", "point_runs", "work_precision", "yue2014_relief",
-             "yue2014_landscape"}
+    heavy = {"sweep_chunk", "calibration_chunk", "map_chunk", "point_runs", "work_precision", "plus_relief",
+             "plus_landscape"}
     assert heavy <= set(profile["set-resources"]) and not local & set(profile["set-resources"])
     planned = set(re.findall(r"^rule (\w+):", text, re.M))
     remote = planned - local - {"all"}

@@ -14,6 +14,8 @@ rule work_precision:
         ),
     log:
         "results/benchmarks/logs/work_precision.log",
+    params:
+        spec=config_slice("benchmarks"),
     threads: 1
     script:
         "../scripts/work_precision.py"

@@ -29,12 +29,13 @@ def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figur
     """Poincaré points of ``state`` against the control parameter, coloured by the motion label, with
     the largest Lyapunov exponent (and its uncertainty) in a panel below; one pair per case and direction."""
     from geardyn import classify
+    from geardyn.runs.cube import labels_of_cube
 
     par = cube.attrs["control_parameter"]
     cases = list(cube["case"].values)
     directions = list(cube["direction"].values)
     n = len(cases) * len(directions)
-    labels = classify.labels_of_cube(cube)
+    labels = labels_of_cube(cube)
     has_lyap = "lyapunov" in cube
     rows = 2 * n if has_lyap else n
     ratios = [3, 1.3] * n if has_lyap else [1] * n

@@ -108,14 +108,24 @@ def te_relief(design: PlusDesign, te: xr.Dataset, optima: pd.DataFrame, paper: M
     return text
 
 
-def relief_landscape(te: xr.Dataset, land: xr.Dataset, design: PlusDesign) -> str:
+def relief_landscape(te: xr.Dataset, land: xr.Dataset, design: PlusDesign, optima: pd.DataFrame,
+                     paper: ModuleType | None) -> str:
     tr0 = te.transmission_error.sel(case="unmodified").values
     z = land.te_ptp
-    return ("Objective landscape of the relief optimisation: peak-to-peak static TE of the p-d pair over relief amount "
+    text = ("Objective landscape of the relief optimisation: peak-to-peak static TE of the p-d pair over relief amount "
             "and length, for linear and parabolic relief applied to both tips; dashed boxes: the stated and the "
             "physical bounds; markers: the optima found.\n" + te_assumptions(design, te)
             + f"\nGrid {z.sizes['amount']} x {z.sizes['length']}; ptp from {float(z.min()):.2f} to "
               f"{float(z.max()):.2f} um; unmodified {np.ptp(tr0):.2f} um.")
+    if paper is None:
+        return text
+    physical = optima[optima["bounds"] == "physical"]
+    lower = design.relief.paper_amount[0] * 1e6
+    best = float(physical["amount_um"].max()) if len(physical) else float("nan")
+    where = "above" if lower > best else "not above"
+    return (text + f" {paper.SHORT} shows no such landscape. Its lower amount bound ({lower:g} um) lies {where} "
+            f"the optimum amounts within physical bounds (at most {best:.1f} um at this load), so the optima "
+            "within the paper's bounds sit on that bound.")
 
 
 # --- table headers -----------------------------------------------------------------------------
