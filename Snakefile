@@ -2,27 +2,31 @@
 
     snakemake --cores 2            # build everything under results/
 
-The configuration and every design file are validated here, before any job runs: a bad
-value stops the run with one line naming the key, the value and what is allowed.
+The configuration and every design file are validated here, before any job runs, by the same code
+as `geardyn check-config` (geardyn.validate): a bad value stops the run with one line naming the
+key, the value and what is allowed.
 """
 
 import sys
 
-from geardyn.config import ConfigError, read_yaml
-from geardyn.validate import validate_workflow
+from geardyn.config import ConfigError
+from geardyn.validate import read_config_file, validate_workflow
 
-
-if not workflow.overwrite_configfiles:
-    try:
-        read_yaml("config/config.yaml")  # encoding and YAML syntax errors as one line, before Snakemake reads it
-    except ConfigError as err:
-        sys.stderr.write(f"geardyn config error: {err}\n")
-        sys.exit(1)
+CONFIG_FILES = workflow.overwrite_configfiles or ["config/config.yaml"]
+try:
+    # geardyn's YAML reading (1e6 is a number, duplicate keys are refused, the top level must be a
+    # mapping), before Snakemake reads the same files
+    _read = [read_config_file(path) for path in CONFIG_FILES]
+except ConfigError as err:
+    sys.stderr.write(f"geardyn config error: {err}\n")
+    sys.exit(1)
 
 
 configfile: "config/config.yaml"
 
 
+for _data in _read:
+    config.update(_data)
 try:
     _filled, DESIGNS = validate_workflow(config, workflow.basedir)
 except ConfigError as err:

@@ -1,12 +1,16 @@
-"""Malformed designs and configs: each stops `snakemake` before any job, with one line, writing nothing.
+"""Malformed designs and configs: each gives one geardyn line, before anything runs.
 
-Every case runs the real workflow (a copy in tmp_path, `snakemake --cores 1`, no dry run): if a case
-slipped through validation, jobs would start and results/ would appear.
+Every case goes through :func:`geardyn.validate.validate_workflow` in-process, the code the Snakefile
+and `geardyn check-config` run; a handful (END_TO_END) also run the real workflow (a copy in tmp_path,
+`snakemake --cores 1`, no dry run): if a case slipped through, jobs would start and results/ would appear.
 """
 
 import pytest
+import yaml
 
 import _workflow as wf
+from geardyn.config import ConfigError
+from geardyn.validate import read_config_file, validate_workflow
 
 LI2013 = "config/designs/li2013.yaml"
 
@@ -83,10 +87,10 @@ CASES = [
     ("sweep-no-cases", _sweep(lambda s: s.update(cases=[])), "sweeps.fig07_small.cases = [] is not allowed"),
     ("sweep-no-designs", _sweep(lambda s: s.update(designs=[])), "sweeps.fig07_small.designs = [] is not allowed"),
     ("sweep-empty-spec", _config(lambda c: c["sweeps"].update(fig07_small={})),
-     "missing required key 'sweeps.fig07_small.designs'"),
+     "missing required key 'sweeps.fig07_small.parameter'"),
     # config: sweep ranges outside the feasible region / allowed range
     ("sweep-leaves-segment", _sweep(lambda s: s.update(start=0.3, stop=0.9)),
-     "sweeps.fig07_small.start: x1 = 0.3 is not allowed: number >= 0.416 and <= 0.835 (the admissible segment M-N"),
+     "sweeps.fig07_small.start: x1 = 0.3 is not allowed: number >= 0.416 and <= 0.835 (the admissible segment of"),
     ("case-x1-outside", _sweep(lambda s: s.update(parameter="b", start=0.0, stop=2.0, cases=[{"x1": 0.9}])),
      "sweeps.fig07_small.cases[0]: x1 = 0.9 is not allowed"),
     ("negative-backlash", _sweep(lambda s: s.update(parameter="b", start=-1.0, stop=2.0)),
@@ -112,17 +116,64 @@ CASES = [
      "config/config.yaml: not UTF-8 text"),
     ("config-yaml-syntax", _raw_file("config/config.yaml", b"designs: {li2013: config/designs/li2013.yaml\n"),
      "config/config.yaml: YAML syntax error at line"),
+    ("config-empty", _raw_file("config/config.yaml", b""), "config/config.yaml: the file is empty"),
+    ("config-a-list", _raw_file("config/config.yaml", b"- li2013\n- yue2014\n"),
+     "config/config.yaml: expected a mapping with a 'designs' key at the top level, got list"),
+    ("config-duplicate-key", _raw_file("config/config.yaml", b"designs: {li2013: config/designs/li2013.yaml}\n"
+                                                             b"sweeps: {}\nsweeps: {}\n"),
+     "config/config.yaml: duplicate key 'sweeps' at line 3 (first at line 2)"),
+    # NaN, infinity and numbers YAML 1.1 reads as strings
+    ("module-nan", _design(lambda d: d["pair"].update(module=float("nan"))),
+     "pair.module = nan is not allowed: a finite number"),
+    ("torque-nan", _design(lambda d: d["dynamics"]["parameters"].update(T_D=float("nan"))),
+     "dynamics.parameters.T_D = nan is not allowed: a finite number"),
+    ("zeta-inf", _design(lambda d: d["dynamics"]["parameters"].update(zeta=float("inf"))),
+     "dynamics.parameters.zeta = inf is not allowed: a finite number"),
+    ("sweep-b-nan", _sweep(lambda s: s["fixed"].update(b=float("nan"))),
+     "sweeps.fig07_small.fixed.b = nan is not allowed: a finite number"),
+    ("claims-unknown-design", _config(lambda c: c.update(claims={"designs": ["li2031"]})),
+     "claims.designs: design 'li2031' is not allowed: one of 'li2013'"),
+    ("percent-for-b", _sweep(lambda s: s["fixed"].update(b="50%")),
+     "sweeps.fig07_small.fixed.b = '50%' is not allowed: a number (percentages of the admissible segment are for x1"),
+    ("unknown-selector-paper", _sweep(lambda s: s.update(designs="paper:li2031")), None),
 ]
 
+#: Cases that also run the real workflow end to end (Snakemake's start-up costs seconds each).
+END_TO_END = ("design-empty", "config-a-list", "sweep-b-nan", "segment-leaves-feasible-region", "module-nan")
 
-@pytest.mark.parametrize(("make", "message"), [c[1:] for c in CASES], ids=[c[0] for c in CASES])
-def test_bad_input_stops_before_any_job_with_one_line(tmp_path, make, message):
+
+def _inputs(tmp_path, make):
     cfg, designs = wf.sweep_config(num=3, chunks=1), {"li2013": wf.shipped(LI2013)}
     raw = make(cfg, designs, tmp_path)
     work = wf.workflow_copy(tmp_path / "w", cfg, designs)
     if raw:
         rel, data = raw
         (work / rel).write_bytes(data)
+    return work
+
+
+@pytest.mark.parametrize(("make", "message"), [c[1:] for c in CASES if c[2]], ids=[c[0] for c in CASES if c[2]])
+def test_bad_input_gives_one_line_from_the_validator(tmp_path, make, message):
+    work = _inputs(tmp_path, make)
+    with pytest.raises(ConfigError) as err:
+        validate_workflow(read_config_file(work / "config/config.yaml"), work)
+    text = str(err.value)
+    assert "\n" not in text and message in text, text
+
+
+def test_a_selector_that_selects_nothing_runs_nothing(tmp_path):
+    make = dict((c[0], c[1]) for c in CASES)["unknown-selector-paper"]
+    work = _inputs(tmp_path, make)
+    filled, designs = validate_workflow(read_config_file(work / "config/config.yaml"), work)
+    from geardyn.validate import selected_designs
+
+    assert selected_designs(filled["sweeps"]["fig07_small"]["designs"], designs) == []
+
+
+@pytest.mark.parametrize("case", END_TO_END)
+def test_bad_input_stops_snakemake_before_any_job_with_one_line(tmp_path, case):
+    make, message = dict((c[0], c[1:]) for c in CASES)[case]
+    work = _inputs(tmp_path, make)
     run = wf.snakemake(work, "--cores", "1", "results/li2013/sweeps/fig07_small.nc", timeout=120, check=False)
     assert run.returncode != 0
     lines = [line for line in (run.stderr + run.stdout).splitlines() if line.strip()]
@@ -131,5 +182,7 @@ def test_bad_input_stops_before_any_job_with_one_line(tmp_path, make, message):
     assert not (work / "results").exists()
 
 
-def test_at_least_twenty_cases():
-    assert len(CASES) >= 20 and len({c[0] for c in CASES}) == len(CASES)
+def test_yaml_numbers_as_yaml_1_2_reads_them(tmp_path):
+    path = tmp_path / "c.yaml"
+    path.write_text("a: 1.0e6\nb: 2e-6\nc: 1e-3\nd: '1e6'\n")
+    assert read_config_file(path) == {"a": 1.0e6, "b": 2e-6, "c": 1e-3, "d": "1e6"}

@@ -11,7 +11,6 @@ import re
 import shutil
 import signal
 import subprocess
-import time
 
 import numpy as np
 import pytest
@@ -81,24 +80,20 @@ def _recorded_chunks(work):
 
 # SIGINT is Ctrl-C in the terminal (to the whole process group); SIGKILL a power cut or the OOM killer.
 # (SIGTERM is not used: Snakemake 9.27's SIGTERM handler takes a lock the main thread may hold, and
-# the run can hang; see docs/operations.md.)
-@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGKILL], ids=["SIGINT", "SIGKILL"])
+# the run can hang; see docs/operations.md.) The interruption is deterministic: the third chunk job
+# sends the signal to the process group as it starts (geardyn.testing.fault_point), with --cores 1.
+@pytest.mark.parametrize("sig", ["SIGINT", "SIGKILL"])
 def test_killed_run_resumes_without_recomputing_and_gives_the_same_cube(tmp_path, reference, sig):
     work = wf.workflow_copy(tmp_path / "w", _config())
-    proc = subprocess.Popen(wf.snakemake_cmd("--cores", "2", CUBE), cwd=work, env=wf.env(),
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
-    deadline = time.monotonic() + 240
-    while not _recorded_chunks(work) and proc.poll() is None and time.monotonic() < deadline:
-        time.sleep(0.02)
-    assert proc.poll() is None, "the run ended before it could be interrupted"
-    os.killpg(proc.pid, sig)  # Snakemake and its running jobs
-    proc.wait(timeout=120)
-    time.sleep(0.5)
+    env = {**wf.env(), "GEARDYN_FAULT": f"sweep_chunk:3:{sig}", "GEARDYN_FAULT_COUNTER": str(tmp_path / "count")}
+    proc = subprocess.run(wf.snakemake_cmd("--cores", "1", CUBE), cwd=work, env=env, capture_output=True,
+                          start_new_session=True, timeout=300)
+    assert proc.returncode != 0
     recorded = _recorded_chunks(work)
     done = {p.name: p.stat().st_mtime_ns for p in _chunk_paths(work) if p.name in recorded}
-    assert 1 <= len(done) < CHUNKS, done  # interrupted mid-sweep
+    assert len(done) == 2, done  # interrupted as the third chunk started
     assert not (work / CUBE).exists()
-    if sig == signal.SIGKILL:  # README: after a hard kill, `--unlock` first (Snakemake's lock is left)
+    if sig == "SIGKILL":  # README: after a hard kill, `--unlock` first (Snakemake's lock is left)
         wf.snakemake(work, "--unlock")
     rerun = _run(work, "--cores", "2", "--rerun-incomplete")  # README: the command with --rerun-incomplete
     assert _jobs(rerun, "sweep_chunk") == CHUNKS - len(done)
@@ -109,11 +104,7 @@ def test_killed_run_resumes_without_recomputing_and_gives_the_same_cube(tmp_path
 
 
 def _copy_of(reference, tmp_path):
-    """The reference run with every chunk done but the merge not yet run (as after a run stopped then).
-
-    (Once the cube exists, a damaged chunk is still set aside but nothing needs recomputing: the cube
-    was merged from the good file, and the chunk is recomputed when a merge next needs it.)
-    """
+    """The reference run with every chunk done but the merge not yet run (as after a run stopped then)."""
     work = tmp_path / "w"
     shutil.copytree(reference[0], work, symlinks=True)  # copy2: mtimes kept, so Snakemake sees no change
     (work / CUBE).unlink()
@@ -122,19 +113,29 @@ def _copy_of(reference, tmp_path):
     return work
 
 
+def _damaged_then_recomputed(work, victim, reference, problem):
+    """The merge job finds the damaged chunk, sets it aside and fails naming it; the same command run
+    again recomputes that chunk only and merges a cube identical to the reference."""
+    others = {p.name: p.stat().st_mtime_ns for p in _chunk_paths(work) if p != victim}
+    first = wf.snakemake(work, "--cores", "2", CUBE, timeout=300, check=False)
+    assert first.returncode != 0
+    assert f"{victim.name} ({problem}" in first.stderr and "run the same command again" in first.stderr
+    assert not (work / CUBE).exists() and not victim.exists()
+    assert (victim.parent / f"{victim.name}.damaged").exists()  # kept for inspection
+    rerun = _run(work, "--cores", "2")
+    assert _jobs(rerun, "sweep_chunk") == 1 and _jobs(rerun, "sweep_merge") == 1
+    assert io.netcdf_problem(victim) is None
+    assert {p.name: p.stat().st_mtime_ns for p in _chunk_paths(work) if p != victim} == others
+    assert_same_cube(_open(work / CUBE), reference[1])
+
+
 def test_truncated_chunk_is_recomputed_not_merged(tmp_path, reference):
     work = _copy_of(reference, tmp_path)
     victim = work / "results/li2013/sweeps/fig07_small/chunk_2.nc"
     data = victim.read_bytes()
     victim.write_bytes(data[: len(data) // 3])  # a copy cut short, a disk that filled up
-    others = {p.name: p.stat().st_mtime_ns for p in _chunk_paths(work) if p != victim}
-    run = _run(work, "--cores", "2")
-    assert "chunk_2.nc is damaged (does not read back" in run.stderr
-    assert _jobs(run, "sweep_chunk") == 1 and _jobs(run, "sweep_merge") == 1
-    assert (victim.parent / "chunk_2.nc.damaged").stat().st_size == len(data) // 3  # kept for inspection
-    assert io.netcdf_problem(victim) is None
-    assert {p.name: p.stat().st_mtime_ns for p in _chunk_paths(work) if p != victim} == others
-    assert_same_cube(_open(work / CUBE), reference[1])
+    _damaged_then_recomputed(work, victim, reference, "does not read back")
+    assert (victim.parent / "chunk_2.nc.damaged").stat().st_size == len(data) // 3
 
 
 def test_silently_flipped_byte_in_a_chunk_is_found_by_its_checksum(tmp_path, reference):
@@ -150,32 +151,16 @@ def test_silently_flipped_byte_in_a_chunk_is_found_by_its_checksum(tmp_path, ref
     data[at] ^= 0x01
     victim.write_bytes(bytes(data))
     os.utime(victim, ns=(stat.st_atime_ns, stat.st_mtime_ns))  # bit rot: same size, same time stamp
-    run = _run(work, "--cores", "2")
-    assert "chunk_4.nc is damaged" in run.stderr
-    assert _jobs(run, "sweep_chunk") == 1
-    assert_same_cube(_open(work / CUBE), reference[1])
+    _damaged_then_recomputed(work, victim, reference, "does not read back")
 
 
-def test_merge_refuses_a_damaged_chunk_by_name(tmp_path, reference):
-    """The last line of defence: a chunk damaged after Snakemake planned the merge."""
-    import importlib.util
-    from types import SimpleNamespace
-
-    chunks = [tmp_path / p.name for p in _chunk_paths(reference[0])]
-    for src, dst in zip(_chunk_paths(reference[0]), chunks):
-        shutil.copy(src, dst)
-    chunks[1].write_bytes(chunks[1].read_bytes()[:5000])
-    cfg = _config()["sweeps"]["fig07_small"]
-    smk = SimpleNamespace(input=SimpleNamespace(design=str(wf.ROOT / "config/designs/li2013.yaml"),
-                                                chunks=[str(c) for c in chunks]),
-                          output=[str(tmp_path / "cube.nc")], log=[str(tmp_path / "merge.log")],
-                          params=SimpleNamespace(sweep=cfg), wildcards=SimpleNamespace(sweep="fig07_small"))
-    spec = importlib.util.spec_from_file_location("sweep_merge", wf.ROOT / "workflow/scripts/sweep_merge.py")
-    module = importlib.util.module_from_spec(spec)
-    module.snakemake = smk
-    with pytest.raises(ValueError, match=rf"{re.escape(str(chunks[1]))}: damaged chunk \(does not read back"):
-        spec.loader.exec_module(module)
-    assert not (tmp_path / "cube.nc").exists()
+def test_planning_never_touches_chunk_files(tmp_path, reference):
+    """A dry run (Snakemake planning) leaves a damaged chunk where it is: only a job sets it aside."""
+    work = _copy_of(reference, tmp_path)
+    victim = work / "results/li2013/sweeps/fig07_small/chunk_1.nc"
+    victim.write_bytes(victim.read_bytes()[:5000])
+    wf.snakemake(work, "-n", "--cores", "2", CUBE)
+    assert victim.exists() and not (victim.parent / "chunk_1.nc.damaged").exists()
 
 
 def test_cubes_do_not_depend_on_cores_or_chunks(tmp_path, reference):

@@ -13,6 +13,8 @@ from __future__ import annotations
 import copy
 import difflib
 import json
+import math
+import re
 from collections.abc import Mapping
 from functools import cache
 from importlib import resources
@@ -56,6 +58,34 @@ def _inline(node: Any) -> Any:
     return node
 
 
+class _Loader(yaml.SafeLoader):
+    """YAML with the number syntax of YAML 1.2 and JSON (``1e6``, ``2e-6`` and ``1.0e6`` are numbers,
+    not strings as YAML 1.1 reads them) and duplicate keys refused."""
+
+    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict[Any, Any]:
+        seen: dict[Any, int] = {}
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=deep)
+            line = key_node.start_mark.line + 1
+            if key in seen:
+                raise ConfigError(f"duplicate key {key!r} at line {line} (first at line {seen[key]}): each key may "
+                                  "appear once")
+            seen[key] = line
+        return super().construct_mapping(node, deep=deep)
+
+
+_Loader.yaml_implicit_resolvers = {k: list(v) for k, v in yaml.SafeLoader.yaml_implicit_resolvers.items()}
+_Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?(?:[eE][-+]?[0-9]+)
+                   |[-+]?\.[0-9_]+(?:[eE][-+]?[0-9]+)?
+                   |[-+]?(?:[0-9][0-9_]*)\.[0-9_]*
+                   |[-+]?\.(?:inf|Inf|INF)
+                   |\.(?:nan|NaN|NAN))$""", re.X),
+    list("-+0123456789."),
+)
+
+
 def read_yaml(path: str | Path) -> Any:
     """Parse a YAML file, turning unreadable/undecodable/ill-formed files into one-line errors."""
     path = Path(path)
@@ -68,7 +98,9 @@ def read_yaml(path: str | Path) -> Any:
     except OSError as err:
         raise ConfigError(f"{path}: cannot read ({err.strerror})") from None
     try:
-        return yaml.safe_load(text)
+        return yaml.load(text, Loader=_Loader)  # noqa: S506 - a SafeLoader subclass
+    except ConfigError as err:
+        raise ConfigError(f"{path}: {err}") from None
     except yaml.YAMLError as err:
         mark = getattr(err, "problem_mark", None)
         where = f" line {mark.line + 1}, column {mark.column + 1}" if mark else ""
@@ -165,9 +197,11 @@ def validate(data: Any, schema_name: str, where: str) -> dict[str, Any]:
     Raises :class:`ConfigError` with one line for the first problem (the most specific one).
     """
     if data is None:
-        data = {}
+        raise ConfigError(f"{where}: the file is empty; expected a mapping of keys to values")
     if not isinstance(data, dict):
-        raise ConfigError(f"{where}: expected a mapping of keys to values at the top level, got {type(data).__name__}")
+        raise ConfigError(f"{where}: expected a mapping of keys to values at the top level, got "
+                          f"{_kind_of(data)}")
+    _refuse_non_finite(data, where)
     sch = schema(schema_name)
     filled = _fill_defaults(sch, copy.deepcopy(data))
     validator = jsonschema.Draft202012Validator(sch)
@@ -176,6 +210,23 @@ def validate(data: Any, schema_name: str, where: str) -> dict[str, Any]:
         best = jsonschema.exceptions.best_match(errors)
         raise ConfigError(_format(best, where))
     return filled
+
+
+def _kind_of(value: Any) -> str:
+    return {list: "a list", str: "a string", int: "a number", float: "a number", bool: "true/false"}.get(
+        type(value), type(value).__name__)
+
+
+def _refuse_non_finite(node: Any, where: str, path: tuple[Any, ...] = ()) -> None:
+    """NaN and infinity are not values of any key: refuse them with the key's name."""
+    if isinstance(node, dict):
+        for k, v in node.items():
+            _refuse_non_finite(v, where, (*path, k))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            _refuse_non_finite(v, where, (*path, i))
+    elif isinstance(node, float) and not math.isfinite(node):
+        raise ConfigError(f"{where}: {_key(path)} = {node} is not allowed: a finite number")
 
 
 def load_config(path: str | Path) -> dict[str, Any]:

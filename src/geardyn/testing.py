@@ -13,7 +13,9 @@ notebook::
 
 from __future__ import annotations
 
+import os
 import runpy
+import signal
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -66,3 +68,28 @@ def _strings(items: Mapping[str, Any] | Sequence[Any] | None) -> Mapping[str, An
 def run_script(path: str | Path, job: Job) -> dict[str, Any]:
     """Run the workflow script at ``path`` with ``job`` as its ``snakemake`` object; returns its globals."""
     return runpy.run_path(str(path), init_globals={"snakemake": job})
+
+
+#: ``<rule>:<n>:<SIGNAL>``: when the n-th job of ``rule`` starts (counted in the file named by
+#: ``GEARDYN_FAULT_COUNTER``), send SIGNAL to the whole process group (Snakemake and its jobs).
+FAULT_ENV = "GEARDYN_FAULT"
+
+
+def fault_point(rule: str) -> None:
+    """A deterministic interruption for fault tests: does nothing unless ``GEARDYN_FAULT`` names ``rule``.
+
+    The kill-and-resume tests start Snakemake in its own process group with ``GEARDYN_FAULT=
+    sweep_chunk:3:SIGINT`` (Ctrl-C) or ``...:SIGKILL`` (a power cut) and ``--cores 1``: exactly two
+    chunks are finished when the third starts and the run dies, whatever the machine's speed.
+    """
+    spec = os.environ.get(FAULT_ENV, "")
+    if not spec.startswith(f"{rule}:"):
+        return
+    _, nth, name = spec.split(":")
+    counter = os.environ["GEARDYN_FAULT_COUNTER"]
+    with open(counter, "a+", encoding="utf-8") as fh:
+        fh.write("x")
+        fh.seek(0)
+        count = len(fh.read())
+    if count == int(nth):
+        os.killpg(os.getpgrp(), getattr(signal, name))

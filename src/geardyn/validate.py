@@ -15,8 +15,20 @@ from typing import Any
 
 import jsonschema
 
-from geardyn.config import ConfigError, allowed_text, load_design_dict, schema, validate
+from geardyn.config import ConfigError, allowed_text, load_design_dict, read_yaml, schema, validate
 from geardyn.khv import design as khv_design
+
+
+def read_config_file(path: str | Path) -> dict[str, Any]:
+    """Read a workflow config file: YAML errors, an empty file or a top level that is not a mapping are
+    one line each (schema validation follows in :func:`validate_workflow`)."""
+    data = read_yaml(path)
+    if data is None:
+        raise ConfigError(f"{path}: the file is empty; expected a mapping with a 'designs' key")
+    if not isinstance(data, dict):
+        raise ConfigError(f"{path}: expected a mapping with a 'designs' key at the top level, got "
+                          f"{type(data).__name__}")
+    return data
 
 
 def check_design(raw: dict[str, Any], where: str) -> None:

@@ -4,8 +4,10 @@ from geardyn import io, logs
 from geardyn.khv import design, point
 from geardyn.runs import sweep
 from geardyn.solve import warm_up
+from geardyn.testing import fault_point
 
 log = logs.to_file(snakemake.log[0])
+fault_point("sweep_chunk")  # no-op unless a fault test asks for an interruption here
 drive = design.load(snakemake.input.design)
 spec = sweep.SweepSpec.from_config(snakemake.wildcards.sweep, snakemake.params.spec, drive.name, drive.segment)
 chunk = int(snakemake.wildcards.chunk)
