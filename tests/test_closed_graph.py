@@ -9,7 +9,6 @@ matplotlib.use("Agg")
 import numpy as np
 import pytest
 import xarray as xr
-from matplotlib.figure import Figure
 
 from geardyn.khv import closed_graph as cg
 from geardyn.gears import geometry as geo
@@ -102,7 +101,8 @@ def test_external_pair_rejected() -> None:
 
 def test_plot_and_caption(fitted: xr.Dataset) -> None:
     fig = plot_closed_graph(fitted)
-    assert isinstance(fig, Figure)
+    labels = [h.get_label() for h in fig.axes[0].get_legend().legend_handles]
+    assert "printed M, N" in labels and "line 4: G_s = 0" in labels
     assert fig.axes[0].get_title() == "Closed graph, z1 = 30, z2 = 33, m = 3.5 mm"
     text = caption_closed_graph(fitted, li2013)
     for piece in ("0.60095", "0.99443", "G_s = 0", "line 4", "cutter", "reproduced within 0.0011"):

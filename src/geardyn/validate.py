@@ -123,7 +123,7 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
     """Semantic checks of every run against every design it selects: known KHV design, known control
     parameters with values in range (NaN and inf refused), ranges that go upwards, x1 inside the design's
     admissible segment, percentages only for x1; claims and calibrations only for paper designs."""
-    from geardyn.khv.point import resolve_fractions
+    from geardyn.khv.design import resolve_fractions
 
     khv = [name for name, raw in designs.items() if raw["kind"] == "khv"]
     for axis in ("x1", "x2"):
@@ -162,7 +162,7 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
 
 def _no_fraction_but_x1(spec: Mapping[str, Any], where: str) -> None:
     """Percentages of the admissible segment are x1 values: refuse them for any other parameter."""
-    from geardyn.khv.point import is_fraction
+    from geardyn.khv.design import is_fraction
 
     def walk(node: Any, key: str | None, path: str) -> None:
         if isinstance(node, Mapping):

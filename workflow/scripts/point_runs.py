@@ -7,7 +7,7 @@ from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
 drive = design.load(snakemake.input.design)
-spec = point.resolve_fractions(snakemake.params.spec, drive.segment)
+spec = design.resolve_fractions(snakemake.params.spec, drive.segment)
 warm_up(point.point_coefficients(drive))
 ds = points.dense_points(drive, spec.get("fixed", {}), spec["cases"], point.integration_settings(drive),
                          spec["samples_per_period"])

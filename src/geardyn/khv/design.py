@@ -11,6 +11,7 @@ import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -231,8 +232,6 @@ def figure_x1(design: KHVDesign, configured: list[float | str], paper_values: tu
               ) -> list[float]:
     """The x1 values of the k(t) figure: the paper's for a design that names a paper (``paper_values``),
     else the configured ones (numbers or percentages of the admissible segment)."""
-    from geardyn.khv.point import along_segment
-
     values = paper_values if paper_values is not None else configured
     return [along_segment(v, design.segment) for v in values]
 
@@ -240,3 +239,27 @@ def figure_x1(design: KHVDesign, configured: list[float | str], paper_values: tu
 def x1_grid(design: KHVDesign, num: int) -> np.ndarray:
     """``num`` evenly spaced x1 values over the admissible segment [x1_min, x1_max]."""
     return np.linspace(design.x1_min, design.x1_max, num)
+
+
+def is_fraction(value: Any) -> bool:
+    """Whether ``value`` is a percentage of the admissible segment such as ``"25%"``."""
+    return isinstance(value, str) and value.endswith("%")
+
+
+def along_segment(value: float | str, segment: tuple[float, float]) -> float:
+    """x1 from a number (returned as it is) or a percentage of the segment (x1_min, x1_max): '0%' is
+    x1_min, '100%' is x1_max."""
+    if is_fraction(value):
+        f = float(str(value)[:-1]) / 100.0
+        return segment[0] + f * (segment[1] - segment[0])
+    return float(value)
+
+
+def resolve_fractions(spec: Any, segment: tuple[float, float]) -> Any:
+    """A copy of a run's config entry with every percentage turned into x1 on the design's segment
+    (percentages are allowed for x1 only; :mod:`geardyn.validate` refuses them elsewhere)."""
+    if isinstance(spec, Mapping):
+        return {k: resolve_fractions(v, segment) for k, v in spec.items()}
+    if isinstance(spec, list | tuple):
+        return [resolve_fractions(v, segment) for v in spec]
+    return along_segment(spec, segment) if is_fraction(spec) else spec

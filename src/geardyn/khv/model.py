@@ -27,6 +27,7 @@ from typing import Literal
 
 import numpy as np
 
+from geardyn.gears.backlash import backlash
 from geardyn.gears.stiffness import ParabolicStiffness
 from geardyn.solve import base as layout
 
@@ -332,19 +333,13 @@ def static_deflection(coeffs: Coefficients) -> np.ndarray:
     return np.array([x1, x2, x3, 0.0, 0.0, 0.0])
 
 
-def backlash_f(x: np.ndarray, b: float) -> np.ndarray:
-    """Eq. (14): dead zone of half width b."""
-    x = np.asarray(x, dtype=float)
-    return np.where(x > b, x - b, np.where(x < -b, x + b, 0.0))
-
-
 def rhs3(coeffs: Coefficients, tau: float, y: np.ndarray) -> np.ndarray:
     """Right-hand side of the dimensionless 3-DOF system (NumPy, for checks and plots)."""
     m = coeffs.matrices()
     s = tau / coeffs.period
     kap = float(coeffs.kappa(s))
     x, v = y[:3], y[3:]
-    fm = kap * float(backlash_f(x[1], coeffs.b)) + coeffs.c_m * v[1]
+    fm = kap * float(backlash(x[1], coeffs.b)) + coeffs.c_m * v[1]
     te = m["te"] * math.sin(coeffs.omega * tau + coeffs.phi)
     a = m["p"] - m["K"] @ x - m["C"] @ v - m["g"] * fm + np.array([0.0, te, 0.0])
     return np.concatenate([v, a])
@@ -362,7 +357,7 @@ def rhs4(coeffs: Coefficients, tau: float, z: np.ndarray) -> np.ndarray:
     e = c.e * math.sin(c.omega * tau + c.phi)
     de = c.e * c.omega * math.cos(c.omega * tau + c.phi)
     xvh = XV - XH - e
-    fm = kap * float(backlash_f(xvh, c.b)) + c.c_m * (VV - VH - de)
+    fm = kap * float(backlash(xvh, c.b)) + c.c_m * (VV - VH - de)
     fdh = c.k_DH * (XD - XH) + c.c_DH * (VD - VH)
     fvl = c.k_VL * (XV - XL) + c.c_VL * (VV - VL)
     aD = (c.P_D - fdh) / c.mu_D
@@ -408,7 +403,7 @@ def energy(coeffs: Coefficients, y: np.ndarray, kappa: float = 1.0) -> np.ndarra
     p = muD * vD + muV * vV + muL * vL
     kin = 0.5 * (muD * vD**2 + muV * vV**2 + muL * vL**2) - 0.5 * p**2 / mtot
     pot = 0.5 * coeffs.k_DH * x1**2 + 0.5 * coeffs.k_VL * x3**2
-    pot = pot + 0.5 * kappa * backlash_f(x2, coeffs.b) ** 2
+    pot = pot + 0.5 * kappa * backlash(x2, coeffs.b) ** 2
     return kin + pot
 
 

@@ -115,26 +115,3 @@ def integration_settings(design: design_mod.KHVDesign, **changes: Any) -> Simula
     settings.update({k: v for k, v in changes.items() if v is not None})
     return SimulationSettings(**settings)
 
-
-def is_fraction(value: Any) -> bool:
-    """Whether ``value`` is a percentage of the admissible segment such as ``"25%"``."""
-    return isinstance(value, str) and value.endswith("%")
-
-
-def along_segment(value: float | str, segment: tuple[float, float]) -> float:
-    """x1 from a number (returned as it is) or a percentage of the segment (x1_min, x1_max): '0%' is
-    x1_min, '100%' is x1_max."""
-    if is_fraction(value):
-        f = float(str(value)[:-1]) / 100.0
-        return segment[0] + f * (segment[1] - segment[0])
-    return float(value)
-
-
-def resolve_fractions(spec: Any, segment: tuple[float, float]) -> Any:
-    """A copy of a run's config entry with every percentage turned into x1 on the design's segment
-    (percentages are allowed for x1 only; :mod:`geardyn.validate` refuses them elsewhere)."""
-    if isinstance(spec, Mapping):
-        return {k: resolve_fractions(v, segment) for k, v in spec.items()}
-    if isinstance(spec, list | tuple):
-        return [resolve_fractions(v, segment) for v in spec]
-    return along_segment(spec, segment) if is_fraction(spec) else spec

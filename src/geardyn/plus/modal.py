@@ -39,7 +39,6 @@ COORDS: tuple[str, ...] = (
 )
 #: Working conditions of the paper (Sec. 2.1): the static member's rotation is removed.
 CONDITIONS: dict[str, str] = {"I": "theta_c", "II": "theta_r", "III": "theta_s", "free": ""}
-CONDITION_LABELS = {"I": "carrier fixed", "II": "ring fixed", "III": "sun fixed", "free": "no member fixed"}
 Condition = Literal["I", "II", "III", "free"]
 
 MESH_TYPES = ("sp", "pd", "dr")

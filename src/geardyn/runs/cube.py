@@ -26,11 +26,11 @@ STATE_NAMES = {
     "v_vl": "dimensionless velocity dX_VL/dtau / b_c",
 }
 def label_variables(dims: tuple[str, ...], shape: tuple[int, ...],
-                    cls: classify.ClassifierSettings) -> dict[str, Any]:
+                    classifier: classify.ClassifierSettings) -> dict[str, Any]:
     """Empty per-point classification variables (see :func:`geardyn.classify.classify_point`)."""
     return {
         "label": (dims, np.full(shape, classify.LABELS["undetermined"], np.int16), {
-            "long_name": "motion label (classify.classify_point)", **classify.flag_attrs(cls.max_n)}),
+            "long_name": "motion label (classify.classify_point)", **classify.flag_attrs(classifier.max_n)}),
         "period": (dims, np.zeros(shape, np.int16), {
             "units": "1", "long_name": "period n in mesh periods (0: not periodic)"}),
         "lyapunov": (dims, np.full(shape, np.nan), {
@@ -58,7 +58,7 @@ def store_label(ds: xr.Dataset, idx: tuple, lab: classify.Classification) -> Non
     ds["crosscheck"].values[idx] = lab.crosscheck
 
 
-def classifier_attrs(cls: classify.ClassifierSettings) -> dict[str, Any]:
+def classifier_attrs(classifier: classify.ClassifierSettings) -> dict[str, Any]:
     return {f"classifier_{k}": v for k, v in dataclasses.asdict(cls).items()}
 
 

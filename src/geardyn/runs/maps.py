@@ -25,7 +25,7 @@ import xarray as xr
 
 from geardyn import classify
 from geardyn.khv import point
-from geardyn.khv.design import KHVDesign
+from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.khv.model import Coefficients
 from geardyn.runs.cube import COMPUTED_ATTRS, classifier_attrs, label_variables, store_label
 from geardyn.runs.points import analyse_point
@@ -62,16 +62,16 @@ class MapSpec:
     classifier: tuple[tuple[str, Any], ...] = ()
 
     @classmethod
-    def from_config(cls, name: str, spec: Mapping[str, Any], design: str,
+    def from_config(classifier, name: str, spec: Mapping[str, Any], design: str,
                     segment: tuple[float, float]) -> MapSpec:
         """The map ``name`` of ``config["maps"]`` for ``design``, whose admissible segment (x1_min,
-        x1_max) resolves percentages of x1 (:func:`geardyn.khv.point.resolve_fractions`)."""
-        spec = point.resolve_fractions(spec, segment)
+        x1_max) resolves percentages of x1 (:func:`geardyn.khv.design.resolve_fractions`)."""
+        spec = resolve_fractions(spec, segment)
 
         def axis(a: Mapping[str, Any]) -> Axis:
             return Axis(a["parameter"], float(a["start"]), float(a["stop"]), int(a["num"]))
 
-        return cls(name=name, design=design, x=axis(spec["x"]), y=axis(spec["y"]),
+        return classifier(name=name, design=design, x=axis(spec["x"]), y=axis(spec["y"]),
                    fixed=tuple(sorted(spec.get("fixed", {}).items())), chunks=int(spec.get("chunks", 1)),
                    integration=tuple(sorted(spec.get("integration", {}).items())),
                    classifier=tuple(sorted(spec.get("classifier", {}).items())))
@@ -111,7 +111,7 @@ def point_coefficients(design: KHVDesign, spec: MapSpec, xv: float, yv: float,
                                            spec.y.parameter: float(yv)})
 
 
-def empty_map(spec: MapSpec, cls: classify.ClassifierSettings, settings) -> xr.Dataset:
+def empty_map(spec: MapSpec, classifier: classify.ClassifierSettings, settings) -> xr.Dataset:
     dims = ("y", "x")
     shape = (spec.y.num, spec.x.num)
     data: dict[str, Any] = label_variables(dims, shape, cls)
@@ -138,8 +138,8 @@ def empty_map(spec: MapSpec, cls: classify.ClassifierSettings, settings) -> xr.D
 def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
     """Classify the points of one chunk; a partial map (``computed`` marks them)."""
     settings = point.integration_settings(design, **dict(spec.integration))
-    cls = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
-    ds = empty_map(spec, cls, settings)
+    classifier = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
+    ds = empty_map(spec, classifier, settings)
     xs, ys = spec.x.values, spec.y.values
     idx = chunk_points(spec, chunk)
     base_cache: dict[int, Coefficients | None] = {}
@@ -151,7 +151,7 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
             base_cache[i] = (point.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(xs[i])})
                              if _direct_ok(design, spec.y.parameter) else None)
         coeffs = point_coefficients(design, spec, xs[i], ys[j], base_cache[i])
-        res, lab = analyse_point(coeffs, settings, cls, cheap=True)
+        res, lab = analyse_point(coeffs, settings, classifier, cheap=True)
         store_label(ds, (j, i), lab)
         ds["diverged"].values[j, i] = int(res.diverged)
         if res.poincare.shape[0]:

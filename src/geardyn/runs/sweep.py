@@ -27,7 +27,7 @@ from geardyn.khv.model import COEFFICIENT_ATTRS
 from geardyn.runs.cube import COMPUTED_ATTRS, STATE_NAMES, STATES, classifier_attrs, label_variables, store_label
 from geardyn.runs.points import analyse_point
 from geardyn.khv import point
-from geardyn.khv.design import KHVDesign
+from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.solve import SimulationSettings
 
 log = logging.getLogger("geardyn.sweep")
@@ -52,13 +52,13 @@ class SweepSpec:
     classifier: tuple[tuple[str, Any], ...] = ()
 
     @classmethod
-    def from_config(cls, name: str, spec: Mapping[str, Any], design: str,
+    def from_config(classifier, name: str, spec: Mapping[str, Any], design: str,
                     segment: tuple[float, float]) -> SweepSpec:
         """The sweep ``name`` of ``config["sweeps"]`` for ``design``, whose admissible segment
-        (x1_min, x1_max) resolves percentages of x1 (:func:`geardyn.khv.point.resolve_fractions`)."""
-        spec = point.resolve_fractions(spec, segment)
+        (x1_min, x1_max) resolves percentages of x1 (:func:`geardyn.khv.design.resolve_fractions`)."""
+        spec = resolve_fractions(spec, segment)
         cases = tuple(tuple(sorted(c.items())) for c in spec.get("cases") or [{}])
-        return cls(
+        return classifier(
             name=name, design=design, parameter=spec["parameter"],
             start=float(spec["start"]), stop=float(spec["stop"]), num=int(spec["num"]),
             cases=cases, fixed=tuple(sorted(spec.get("fixed", {}).items())),
@@ -122,7 +122,7 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
               settings: SimulationSettings | None = None) -> xr.Dataset:
     """Integrate the points of one chunk and return them as a partial cube (see :func:`empty_cube`)."""
     settings = settings or point.integration_settings(design, **dict(spec.integration))
-    cls = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
+    classifier = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
     work = chunk_work(spec, chunk)
     values = spec.values
     cube = empty_cube(spec, settings, cls)
@@ -135,7 +135,7 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
         for j in indices:
             coeffs = point.point_coefficients(design, point_overrides(spec, case, values[j]))
             x0 = state if (spec.continuation != "none" and state is not None) else None
-            res, lab = analyse_point(coeffs, settings, cls, x0=x0)
+            res, lab = analyse_point(coeffs, settings, classifier, x0=x0)
             _store(cube, case, d, j, coeffs, res, settings)
             store_label(cube, (case, d, j), lab)
             keep[case, d, j] = True
@@ -151,9 +151,9 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
 
 
 def empty_cube(spec: SweepSpec, settings: SimulationSettings,
-               cls: classify.ClassifierSettings | None = None) -> xr.Dataset:
+               classifier: classify.ClassifierSettings | None = None) -> xr.Dataset:
     """A cube of NaN (float) / -1 (int) for every point of the sweep, with CF attributes."""
-    cls = cls or classify.ClassifierSettings()
+    classifier = classifier or classify.ClassifierSettings()
     nc, nd, npar, ns = len(spec.cases), len(spec.directions), spec.num, settings.recorded_periods
     shape = (nc, nd, npar, ns)
     dims = ("case", "direction", spec.parameter, "section")

@@ -21,7 +21,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from geardyn.solve import _kernel
+import geardyn.solve._kernel as _kernel
 from geardyn.solve.base import SimulationResult, SimulationSettings, System
 
 
