@@ -59,7 +59,7 @@ def store_label(ds: xr.Dataset, idx: tuple, lab: classify.Classification) -> Non
 
 
 def classifier_attrs(classifier: classify.ClassifierSettings) -> dict[str, Any]:
-    return {f"classifier_{k}": v for k, v in dataclasses.asdict(cls).items()}
+    return {f"classifier_{k}": v for k, v in dataclasses.asdict(classifier).items()}
 
 
 COMPUTED_ATTRS = {"long_name": "1 where this file holds the point", "flag_values": np.array([0, 1], np.int8),

@@ -114,7 +114,7 @@ def point_coefficients(design: KHVDesign, spec: MapSpec, xv: float, yv: float,
 def empty_map(spec: MapSpec, classifier: classify.ClassifierSettings, settings) -> xr.Dataset:
     dims = ("y", "x")
     shape = (spec.y.num, spec.x.num)
-    data: dict[str, Any] = label_variables(dims, shape, cls)
+    data: dict[str, Any] = label_variables(dims, shape, classifier)
     data["diverged"] = (dims, np.full(shape, -1, np.int8), {
         "long_name": "unbounded growth detected", "flag_values": np.array([-1, 0, 1], np.int8),
         "flag_meanings": "not_computed bounded diverged"})
@@ -131,7 +131,7 @@ def empty_map(spec: MapSpec, classifier: classify.ClassifierSettings, settings) 
              "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
              "integrator": settings.integrator, "steps_per_period": settings.steps_per_period,
              "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
-             **classifier_attrs(cls)}
+             **classifier_attrs(classifier)}
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 

@@ -125,7 +125,7 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
     classifier = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
     work = chunk_work(spec, chunk)
     values = spec.values
-    cube = empty_cube(spec, settings, cls)
+    cube = empty_cube(spec, settings, classifier)
     done = 0
     total = sum(len(idx) for _, _, idx in work.items)
     t0 = time.perf_counter()
@@ -168,7 +168,7 @@ def empty_cube(spec: SweepSpec, settings: SimulationSettings,
         "units": "1", "long_name": "mesh period at which the state exceeded the threshold (-1: never)"})
     data["n_events"] = (pdims, np.full(shape[:3], -1, np.int64), {
         "units": "1", "long_name": "number of contact-switch events located (rk4_event)"})
-    data.update(label_variables(pdims, shape[:3], cls))
+    data.update(label_variables(pdims, shape[:3], classifier))
     for cname, (units, long_name) in COEFFICIENT_ATTRS.items():
         data[f"coef_{cname}"] = (pdims, np.full(shape[:3], np.nan), {"units": units, "long_name": long_name})
     coords = {
@@ -186,7 +186,7 @@ def empty_cube(spec: SweepSpec, settings: SimulationSettings,
         "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
         "divergence_threshold": settings.divergence_threshold, "continuation": spec.continuation,
         "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
-        **classifier_attrs(cls),
+        **classifier_attrs(classifier),
     }
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
