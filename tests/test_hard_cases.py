@@ -149,3 +149,13 @@ def test_energy_conserved_in_conservative_variant():
     # 4th-order integrator: relative energy error ~ h^4; 1e-7 at 512 steps over 100 periods
     assert errs[1] < 1e-7
     assert errs[0] / errs[1] > 10  # order >= 3.3 in the energy error
+
+
+def test_contact_ratio_above_two_event_rk4_against_dop853():
+    """eps = 2.3: three pairs mesh on [0, 0.3), two on [0.3, 1); the aligned grid and the reference both
+    follow the zones, and agree like the two-zone case of eps < 2."""
+    c = dimensionless(li2013_parameters(eps=2.3, k_c=3.1e8, omega_bar=0.9))
+    ev = run(c, n=512, trans=20, rec=10)
+    ref = simulate(c, SimulationSettings(integrator="dop853", transient_periods=20, recorded_periods=10))
+    assert not ev.diverged and ev.n_events > 0
+    np.testing.assert_allclose(ev.poincare, ref.poincare, atol=1e-6)

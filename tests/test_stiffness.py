@@ -104,7 +104,22 @@ def test_corrected_stiffness_bounded_by_single_and_double_pair(eps, kp, t):
 
 
 def test_bad_inputs_raise_clear_errors():
-    with pytest.raises(ValueError, match="contact ratio"):
-        s.ParabolicStiffness(2.3, 1.0)
+    with pytest.raises(ValueError, match="below 1"):
+        s.ParabolicStiffness(0.9, 1.0)
+    with pytest.raises(ValueError, match="printed Eq. \\(9\\) is stated for 1 <= eps < 2"):
+        s.ParabolicStiffness(2.3, 1.0, "printed")
     with pytest.raises(ValueError, match="unknown stiffness variant"):
         s.flexibility_q(30, 33, 0.5, 0.7, variant="nope")
+
+
+@pytest.mark.parametrize("eps", [1.0, 1.3, 2.0, 2.3, 3.75])
+def test_any_contact_ratio_sums_the_pairs_in_contact(eps):
+    """k(s) = sum over every pair in contact of the single-pair parabola k'(1 + 2u(1 - u)), u = t / eps,
+    t = s + j; n + 1 pairs on [0, f), n on [f, 1) with n = floor(eps); mean (4/3) eps k' for any eps."""
+    kp = 2.0e8
+    ks = s.ParabolicStiffness(eps, kp)
+    phase = np.linspace(0.0, 0.999, 37)
+    brute = [sum(kp * (1 + 2 * (t / eps) * (1 - t / eps)) for t in ph + np.arange(5) if t < eps) for ph in phase]
+    np.testing.assert_allclose(ks(phase), brute, rtol=1e-13)
+    assert ks.mean() == pytest.approx(4.0 / 3.0 * eps * kp, rel=1e-13)  # each pair's full contact, once a period
+    assert ks.pairs == int(eps) and ks.fraction == pytest.approx(eps - int(eps))

@@ -16,6 +16,8 @@ Two misprints in the paper are handled here (see ``docs/paper1_choices.md``):
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 from typing import Literal
 
@@ -108,17 +110,51 @@ def single_tooth_stiffness(s: ArrayLike, eps: float, k_prime: float) -> NDArray[
 
 @dataclass(frozen=True)
 class ParabolicStiffness:
-    """Coefficients of paper 1 Eq. (9): A = -2k'/eps^2, B = 2k'/eps, C = k' (N/m per period^n)."""
+    """Coefficients of paper 1 Eq. (9): A = -2k'/eps^2, B = 2k'/eps, C = k' (N/m per period^n).
+
+    The corrected k(t) is the sum of the single-pair parabolas k_s(t) = A t^2 + B t + C (t in [0, eps])
+    of every pair in contact, for any contact ratio eps >= 1: with n = floor(eps) and f = eps - n,
+    n + 1 pairs mesh on [0, f) and n pairs on [f, 1) of each mesh period (docs/findings.md).  The
+    printed form (intervals swapped) exists only for 1 <= eps < 2, where the paper states it.
+    """
 
     eps: float
     k_prime: float
     form: KForm = "corrected"
 
     def __post_init__(self) -> None:
-        if not 1.0 <= self.eps < 2.0:
-            raise ValueError(f"contact ratio eps={self.eps:.4g} outside [1, 2): the two-zone k(t) needs it")
         if self.form not in ("corrected", "printed"):
             raise ValueError(f"unknown stiffness form {self.form!r}; allowed: 'corrected', 'printed'")
+        if not self.eps >= 1.0:
+            raise ValueError(f"contact ratio eps={self.eps:.4g} below 1: the gears do not mesh continuously")
+        if self.form == "printed" and not self.eps < 2.0:
+            raise ValueError(f"contact ratio eps={self.eps:.4g}: the printed Eq. (9) is stated for 1 <= eps < 2 only")
+
+    @property
+    def pairs(self) -> int:
+        """n = floor(eps): pairs in contact on the second zone [f, 1) (n + 1 on the first)."""
+        return int(math.floor(self.eps))
+
+    @property
+    def fraction(self) -> float:
+        """f = eps - floor(eps): the length of the first zone (one pair more) in mesh periods."""
+        return self.eps - math.floor(self.eps)
+
+    def zone_poly(self, m: int) -> tuple[float, float, float]:
+        """(a, b, c) of a s^2 + b s + c: the sum of the single-pair parabolas of m pairs at t = s + j."""
+        a, b, c = self.a, self.b, self.c
+        if m == 1:
+            return (a, b, c)
+        if m == 2:
+            return (2 * a, 2 * (a + b), a + b + 2 * c)
+        sj = m * (m - 1) / 2.0
+        sj2 = (m - 1) * m * (2 * m - 1) / 6.0
+        return (m * a, 2 * a * sj + m * b, a * sj2 + b * sj + m * c)
+
+    def zone_polys(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+        """The polynomials of the first zone [0, f) and the second [f, 1) (swapped in the printed form)."""
+        more, fewer = self.zone_poly(self.pairs + 1), self.zone_poly(self.pairs)
+        return (more, fewer) if self.form == "corrected" else (fewer, more)
 
     @property
     def a(self) -> float:
@@ -134,39 +170,29 @@ class ParabolicStiffness:
 
     @property
     def jump_phases(self) -> tuple[float, float]:
-        """Phases (mesh periods) where a pair enters (0) or leaves (eps - 1): k(t) jumps there."""
-        return (0.0, self.eps - 1.0)
-
-    def single(self, t: NDArray[np.float64]) -> NDArray[np.float64]:
-        return self.a * t**2 + self.b * t + self.c
-
-    def double(self, t: NDArray[np.float64]) -> NDArray[np.float64]:
-        return 2 * self.a * t**2 + 2 * (self.a + self.b) * t + (self.a + self.b + 2 * self.c)
+        """Phases (mesh periods) where a pair enters (0) or leaves (f = eps - floor(eps)): k(t) jumps there."""
+        return (0.0, self.fraction)
 
     def __call__(self, t: ArrayLike) -> NDArray[np.float64]:
         """k(t) in N/m, periodic with period 1; right-continuous at the jumps."""
         tau = np.mod(np.asarray(t, dtype=float), 1.0)
-        first = tau < self.eps - 1.0
-        if self.form == "corrected":
-            return np.where(first, self.double(tau), self.single(tau))
-        return np.where(first, self.single(tau), self.double(tau))
+        (a1, b1, c1), (a2, b2, c2) = self.zone_polys()
+        return np.where(tau < self.fraction, a1 * tau**2 + b1 * tau + c1, a2 * tau**2 + b2 * tau + c2)
 
     def mean(self) -> float:
         """Exact mean of k(t) over one period (closed form of the piecewise polynomial)."""
-        e1 = self.eps - 1.0
+        e1 = self.fraction
 
         def integral(p: tuple[float, float, float], lo: float, hi: float) -> float:
             a, b, c = p
             return a * (hi**3 - lo**3) / 3 + b * (hi**2 - lo**2) / 2 + c * (hi - lo)
 
-        single = (self.a, self.b, self.c)
-        double = (2 * self.a, 2 * (self.a + self.b), self.a + self.b + 2 * self.c)
-        first, second = (double, single) if self.form == "corrected" else (single, double)
+        first, second = self.zone_polys()
         return integral(first, 0.0, e1) + integral(second, e1, 1.0)
 
     def minimum(self) -> float:
         """Smallest value over a period (negative values make the model meaningless)."""
-        t = np.concatenate([np.linspace(0.0, 1.0, 4001), [self.eps - 1.0]])
+        t = np.concatenate([np.linspace(0.0, 1.0, 4001), [self.fraction]])
         return float(np.min(self(t)))
 
 

@@ -112,9 +112,12 @@ def mesh_properties(design: KHVDesign, x1: float) -> MeshProperties:
     k_c = float(stiffness.pitch_point_stiffness(q, pair.facewidth))
     k_prime = float(stiffness.tip_stiffness(k_c))
     eps = float(geometry.contact_ratio(pair))
-    if not 1.0 <= eps < 2.0:
-        raise ConfigError(f"{design.name}: contact ratio eps = {eps:.4f} at x1 = {x1:.4f} is outside [1, 2): "
-                          "the two-zone stiffness of paper 1 Eq. (9) needs 1 <= eps < 2")
+    if not eps >= 1.0:  # also NaN: no working pressure angle
+        raise ConfigError(f"{design.name}: contact ratio eps = {eps:.4f} at x1 = {x1:.4f} is not allowed: >= 1 "
+                          "(below 1 the gears do not mesh continuously)")
+    if opts.form == "printed" and not eps < 2.0:
+        raise ConfigError(f"{design.name}: contact ratio eps = {eps:.4f} at x1 = {x1:.4f} is not allowed with "
+                          "stiffness.form = 'printed': < 2 (the printed Eq. (9) is stated for 1 <= eps < 2)")
     k_t = stiffness.ParabolicStiffness(eps, k_prime, opts.form)
     return MeshProperties(
         x1=pair.x1, x2=pair.x2,

@@ -187,20 +187,18 @@ class Coefficients:
         return self.e * self.omega**2
 
     def stiffness_polys(self) -> np.ndarray:
-        """kappa(s) on the two zones [0, eps-1] and [eps-1, 1] as rows (a, b, c): a s^2 + b s + c."""
+        """kappa(s) on the two zones [0, f] and [f, 1] (f = eps - floor(eps)) as rows (a, b, c): a s^2 + b s + c."""
         if self.stiffness_mode == "mean":
             return np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
         ps = ParabolicStiffness(self.eps, 1.0, self.stiffness_form)  # type: ignore[arg-type]
         m = ps.mean()
-        single = np.array([ps.a, ps.b, ps.c]) / m
-        double = np.array([2 * ps.a, 2 * (ps.a + ps.b), ps.a + ps.b + 2 * ps.c]) / m
-        return np.vstack([double, single] if self.stiffness_form == "corrected" else [single, double])
+        return np.vstack([np.array(p) / m for p in ps.zone_polys()])
 
     def kappa(self, s: np.ndarray) -> np.ndarray:
         """Normalised mesh stiffness at mesh phase s (periods), right-continuous at the jumps."""
         s = np.mod(np.asarray(s, dtype=float), 1.0)
         p = self.stiffness_polys()
-        first = s < self.eps - 1.0
+        first = s < self.eps - math.floor(self.eps)
         return np.where(first, np.polyval(p[0], s), np.polyval(p[1], s))
 
     def matrices(self) -> dict[str, np.ndarray | float]:

@@ -4,7 +4,7 @@ variational (tangent) part.  Private to :mod:`geardyn.solve`; use :func:`geardyn
 Method:
 
 * The step grid is aligned to the stiffness jumps: each mesh period [0, 1) (phase s) is split
-  into the double-contact zone [0, eps-1] and the single-contact zone [eps-1, 1], so no RK4 stage
+  into the zone [0, f] with one pair more and the zone [f, 1] (f = eps - floor(eps)), so no RK4 stage
   ever sees a jump.  Stiffness kappa and TE forcing are tabulated per step at the three stage
   times (start+, middle, end-): a step costs four right-hand sides and no transcendental function.
 * With ``event``: after each step, a change of contact region (x2 < -b, |x2| <= b, x2 > b) means
@@ -178,7 +178,7 @@ def sub_step(c, poly, seg, y, W, m, s0, dt, yout, Wout):
     """RK4 sub-step of length dt (time) from phase s0, kappa and TE evaluated on the fly; the m
     tangent columns follow when m > 0."""
     period = c[T]
-    eps1 = c[EPS] - 1.0
+    eps1 = c[EPS] - math.floor(c[EPS])
     sm = s0 + 0.5 * dt / period
     se = s0 + dt / period
     k0, k1, k2 = kappa_at(poly, seg, eps1, s0), kappa_at(poly, seg, eps1, sm), kappa_at(poly, seg, eps1, se)

@@ -6,7 +6,7 @@ one backlash mesh (paper 1 Eq. 16, corrected)::
     x'' + C x' + K x + g (kappa(s) f(x2) + c_m x2') = p + (0, te sin(2 pi s + phi), 0)
 
 with the mesh phase s = tau / T, a piecewise-quadratic stiffness kappa(s) on the two zones
-[0, eps - 1] and [eps - 1, 1] of every mesh period, and the dead zone f of half width b.  Any
+[0, f] and [f, 1] of every mesh period (f = eps - floor(eps), one pair more on the first), and the dead zone f of half width b.  Any
 object that satisfies :class:`System` can be integrated; :class:`geardyn.khv.model.Coefficients`
 is the one the KHV model family builds.
 

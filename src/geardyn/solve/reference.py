@@ -1,6 +1,6 @@
 """Reference solution: scipy ``solve_ivp`` (DOP853) with the switching events, rtol 1e-12.
 
-Every mesh period is integrated zone by zone ([0, eps-1] and [eps-1, 1]: no stiffness jump
+Every mesh period is integrated zone by zone ([0, f] and [f, 1], f = eps - floor(eps): no stiffness jump
 inside a call).  Inside a zone the vector field is evaluated with the contact region held
 fixed (f = x2 - b, 0 or x2 + b: each one smooth) and a terminal event on x2 = +-b, with the
 direction that leaves the region, stops the call; the run restarts in the new region.  The
@@ -95,7 +95,8 @@ def integrate_period(coeffs: System, y: np.ndarray, per: int = 0, rtol: float = 
     if reg is None:
         reg = _initial_region(y, b) if backlash else 2
     nev = 0
-    bounds = ((0.0, coeffs.eps - 1.0, 0), (coeffs.eps - 1.0, 1.0, 1))
+    f = coeffs.eps - math.floor(coeffs.eps)
+    bounds = ((0.0, f, 0), (f, 1.0, 1)) if f > 0.0 else ((0.0, 1.0, 1),)
     if coeffs.stiffness_mode == "mean":
         bounds = ((0.0, 1.0, 0),)
     for sa, sb, seg in bounds:

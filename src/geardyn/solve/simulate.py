@@ -28,12 +28,15 @@ from geardyn.solve.base import SimulationResult, SimulationSettings, System
 def step_grid(eps: float, n: int, aligned: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """Step start phases s_j (n,) and segment ids (n,) of one mesh period.
 
-    Aligned: N1 = max(1, round(n (eps - 1))) equal steps on [0, eps - 1], n - N1 on [eps - 1, 1].
+    Aligned: N1 = max(1, round(n f)) equal steps on [0, f], n - N1 on [f, 1], f = eps - floor(eps) (the
+    zone with one pair more); for an integer eps (f = 0) n equal steps on the second zone.
     Not aligned: n equal steps, segment id -1 (kappa evaluated by its global definition).
     """
-    e1 = eps - 1.0
+    e1 = eps - math.floor(eps)
     if not aligned:
         return np.arange(n) / n, np.full(n, -1, dtype=np.int64)
+    if e1 == 0.0:
+        return np.arange(n) / n, np.ones(n, dtype=np.int64)
     n1 = min(max(1, int(round(n * e1))), n - 1)
     s = np.concatenate([np.arange(n1) * (e1 / n1), e1 + np.arange(n - n1) * ((1.0 - e1) / (n - n1))])
     seg = np.concatenate([np.zeros(n1, dtype=np.int64), np.ones(n - n1, dtype=np.int64)])
@@ -51,7 +54,7 @@ def step_tables(system: System, n: int, aligned: bool = True):
     poly = system.stiffness_polys()
     s, seg = step_grid(system.eps, n, aligned)
     ds = np.diff(np.append(s, 1.0))
-    e1 = system.eps - 1.0
+    e1 = system.eps - math.floor(system.eps)
     sv = s[:, None] + np.array([0.0, 0.5, 1.0])[None, :] * ds[:, None]
     sg = np.broadcast_to(seg[:, None], sv.shape)
     if not aligned:
