@@ -1,4 +1,4 @@
-"""The classifier on systems whose answers are known (issue 5).
+"""The classifier on systems whose answers are known (docs/classify.md, "Validation").
 
 * linear damped forced oscillator: period-1, largest exponent = -delta / 2 (analytic);
 * forced double-well Duffing oscillator x'' + 0.3 x' - x + x^3 = g cos(1.2 t): period-1 at g = 0.20,

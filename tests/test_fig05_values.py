@@ -1,8 +1,8 @@
 """Paper 1 Fig. 5 points: eps, k_C and mean stiffness against an independent calculation.
 
-The independent calculation below uses only the formulas of MODEL_NOTES (internal pair, Chinese
-sign convention) and ISO 6336-1's constants, written out here with scipy's root finder; it shares
-no code with geardyn.geometry or geardyn.stiffness.
+The independent calculation below uses only the formulas of docs/findings.md ("Paper 1 geometry and
+closed graph": internal pair, Chinese sign convention) and ISO 6336-1's constants, written out here
+with scipy's root finder; it shares no code with geardyn.geometry or geardyn.stiffness.
 """
 
 import math
@@ -50,7 +50,7 @@ def test_fig05_points_match_independent_calculation(x1):
     spec = design.load(Path(__file__).resolve().parents[1] / "config" / "designs" / "li2013.yaml")
     props = design.mesh_properties(spec, x1)
     x2, eps, k_c, k_mean = independent(x1)
-    # the issue's acceptance: within 0.5 %; both are exact formulas, so they agree far closer
+    # required: within 0.5 %; both are exact formulas, so they agree far closer
     assert props.x2 == pytest.approx(x2, rel=1e-6)
     assert props.contact_ratio == pytest.approx(eps, rel=5e-3)
     assert props.k_c == pytest.approx(k_c, rel=5e-3)

@@ -1,4 +1,5 @@
-"""Gear geometry against numbers from outside the code: paper 1, MODEL_NOTES, published tables."""
+"""Gear geometry against numbers from outside the code: paper 1, published tables, hand derivations
+(docs/findings.md, "Paper 1 geometry and closed graph")."""
 
 from __future__ import annotations
 
@@ -21,37 +22,38 @@ def at(x1: float, x2: float, base: geo.GearPair = KHV) -> geo.GearPair:
 
 
 # ------------------------------------------------------------------------------------------
-# Paper 1 (Sec. 3.2, Eq. 10) and MODEL_NOTES
+# Paper 1 (Sec. 3.2, Eq. 10) and docs/findings.md, "Paper 1 geometry and closed graph"
 # ------------------------------------------------------------------------------------------
 
 
 def test_reference_centre_distance_khv() -> None:
-    # MODEL_NOTES: a = m (z2 - z1) / 2 = 5.25 mm (exact arithmetic).
+    # a = m (z2 - z1) / 2 = 3.5 x 3 / 2 = 5.25 mm (exact arithmetic).
     assert geo.reference_centre_distance(KHV) == pytest.approx(5.25, abs=1e-12)
 
 
 @pytest.mark.parametrize(
     ("x1", "paper_x2", "notes_x2"),
-    [(0.416, 0.601, 0.60095), (0.835, 0.995, 0.99443)],  # paper M and N; MODEL_NOTES values
+    [(0.416, 0.601, 0.60095), (0.835, 0.995, 0.99443)],  # paper M and N; G_s = 0 to 5 decimals (docs/findings.md)
 )
 def test_paper_points_on_overlap_boundary(x1: float, paper_x2: float, notes_x2: float) -> None:
     x2 = geo.x2_on_overlap_boundary(x1, KHV)
-    # Acceptance of issue 2: within 0.002 of the paper's 3-decimal values.
+    # Requirement: within 0.002 of the paper's 3-decimal values.
     assert abs(x2 - paper_x2) < 0.002
-    # MODEL_NOTES prints 5 decimals: half a unit in the last digit.
+    # The 5-decimal values of docs/findings.md ("M and N lie on G_s = 0"): half a unit in the last digit.
     assert x2 == pytest.approx(notes_x2, abs=5e-6)
     # By construction G_s = 0 there (brentq xtol 1e-12 in x2, dG_s/dx2 ~ 10).
     assert float(geo.overlap_interference(at(x1, x2))) == pytest.approx(0.0, abs=1e-9)
 
 
 def test_eq10_constant_is_cos_working_angle_at_n() -> None:
-    # MODEL_NOTES: the constant 0.866268 of paper Eq. (10) equals cos a' at N; printed to 6 digits.
+    # The constant 0.866268 of paper Eq. (10) equals cos a' at N (cos 29.9722 deg); printed to 6 digits.
     x2 = geo.x2_on_overlap_boundary(0.835, KHV)
     assert math.cos(float(geo.working_pressure_angle(at(0.835, x2)))) == pytest.approx(0.866268, abs=5e-7)
 
 
 def test_working_angle_along_line4_matches_notes() -> None:
-    # MODEL_NOTES: a' falls from about 31.0 deg (M) to 29.97 deg (N); eps about 1.30 -> 1.17.
+    # a' falls from 30.996 deg (M) to 29.972 deg (N), so line 4 is not a constant-a' line; eps 1.298 -> 1.171
+    # (docs/findings.md, "Line 4 is not a constant-a' line").
     pm = at(0.416, geo.x2_on_overlap_boundary(0.416, KHV))
     pn = at(0.835, geo.x2_on_overlap_boundary(0.835, KHV))
     assert math.degrees(float(geo.working_pressure_angle(pm))) == pytest.approx(31.0, abs=0.05)
@@ -61,7 +63,8 @@ def test_working_angle_along_line4_matches_notes() -> None:
 
 
 def test_internal_tip_diameters_follow_model_notes() -> None:
-    # MODEL_NOTES: da1 = d1 + 2 (ha* + x1) m, da2 = d2 - 2 (ha* - x2) m; exact arithmetic.
+    # Chinese convention, no tip shortening for internal pairs: da1 = d1 + 2 (ha* + x1) m,
+    # da2 = d2 - 2 (ha* - x2) m; exact arithmetic.
     da1, da2 = geo.tip_diameters(at(0.5, 0.7))
     assert float(da1) == pytest.approx(105.0 + 2 * 1.3 * 3.5, abs=1e-12)
     assert float(da2) == pytest.approx(115.5 - 2 * 0.1 * 3.5, abs=1e-12)

@@ -1,4 +1,4 @@
-"""Hard cases of issue 3, each checked against something outside the RK4 kernels."""
+"""Hard cases for the KHV integrators, each checked against something outside the RK4 kernels."""
 
 from __future__ import annotations
 
@@ -30,7 +30,7 @@ def test_b0_linear_event_equals_plain_and_floquet_orbit():
     assert fl.stable and fl.spectral_radius > 0.9  # weakly damped shaft mode: slow decay
     ev = run(c, x0=fl.periodic_state, rec=30)
     pl = run(c, x0=fl.periodic_state, rec=30, integ="rk4")
-    # b = 0: no switching surface, both kernels do the same arithmetic (issue: agree to 1e-10)
+    # b = 0: no switching surface, both kernels do the same arithmetic (required: agree to 1e-10)
     np.testing.assert_allclose(ev.poincare, pl.poincare, rtol=0, atol=1e-10)
     # started on the Floquet periodic orbit it stays there; RK4 error at 512 steps/period
     # (~1e-8 per period relative to O(50) states, not accumulating on a stable orbit)
@@ -111,7 +111,8 @@ def test_large_te_double_sided_impacts():
 
 
 def test_parametric_instability_is_flagged():
-    # printed Eq. (9) with eps = 1.17 < 1.193: k(t) < 0 over part of the period (MODEL_NOTES)
+    # printed Eq. (9) with eps = 1.17 < 1.193: k(t) < 0 over part of the period (docs/findings.md,
+    # "The printed form is negative for eps < 1.193")
     p = li2013_parameters(eps=1.17, k_c=3.1e8, omega_bar=1.5)
     c = dimensionless(p, Options(stiffness_form="printed"))
     assert p.stiffness("printed").minimum() < 0

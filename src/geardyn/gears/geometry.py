@@ -1,4 +1,4 @@
-"""Involute spur-pair geometry for internal and external pairs (paper 1, Sec. 3.2; MODEL_NOTES).
+"""Involute spur-pair geometry for internal and external pairs (paper 1, Sec. 3.2; docs/findings.md).
 
 Units: lengths in mm, angles in rad (names ending ``_deg`` are in degrees). Gear 1 is the
 pinion (the planet V of paper 1), gear 2 the annulus (internal pair) or the wheel (external pair).
@@ -8,8 +8,8 @@ Sign convention
 External pairs use the ordinary convention: positive ``x`` moves the tool away from the gear
 centre, thickens the tooth and enlarges the tip circle.
 
-Internal pairs use the Chinese-textbook convention for the annulus (MODEL_NOTES, "Geometry and
-closed graph"): positive ``x2`` enlarges the annulus tip circle and *thins* its tooth::
+Internal pairs use the Chinese-textbook convention for the annulus (docs/findings.md, "Internal pair
+sign convention"): positive ``x2`` enlarges the annulus tip circle and *thins* its tooth::
 
     da2 = d2 - 2 (ha* - x2) m,      s2 = m (pi/2 - 2 x2 tan a),
     inv a' = 2 (x2 - x1) tan a / (z2 - z1) + inv a.
@@ -103,7 +103,8 @@ class GearPair:
         ``(x1 + x2 - y) m`` so that the standard bottom clearance c* m is kept at the working
         centre distance (KHK/SDP-SI profile-shifted spur example and Chinese practice,
         ``da = d + 2 (ha* + x - dy) m``).  False keeps ``da = d + 2 (ha* + x) m``.
-        Internal pairs are never shortened (MODEL_NOTES).
+        Internal pairs are never shortened (docs/findings.md, "Working angle, centre distance, tip
+        diameters, contact ratio").
     """
 
     z1: int
@@ -202,7 +203,7 @@ def _x(pair: GearPair) -> tuple[FloatArray, FloatArray]:
 
 
 def reference_centre_distance(pair: GearPair) -> float:
-    """a = m (z2 + z1) / 2 (external) or m (z2 - z1) / 2 (internal), mm (MODEL_NOTES: 5.25 mm)."""
+    """a = m (z2 + z1) / 2 (external) or m (z2 - z1) / 2 (internal), mm (paper 1: 3.5 x 3 / 2 = 5.25 mm)."""
     return pair.module * (pair.z2 + pair.sigma * pair.z1) / 2.0
 
 
@@ -210,7 +211,8 @@ def working_pressure_angle(pair: GearPair) -> FloatArray:
     """Working pressure angle a' in rad from the no-backlash condition.
 
     External: inv a' = 2 (x1 + x2) tan a / (z1 + z2) + inv a.
-    Internal: inv a' = 2 (x2 - x1) tan a / (z2 - z1) + inv a (MODEL_NOTES; KHK Sec. 5.1).
+    Internal: inv a' = 2 (x2 - x1) tan a / (z2 - z1) + inv a (KHK Sec. 5.1; docs/findings.md, "Working
+    angle, centre distance, tip diameters, contact ratio").
     NaN where inv a' <= 0: no positive working angle exists and the teeth cannot mesh.
     """
     x1, x2 = _x(pair)
@@ -267,7 +269,8 @@ def _tip_shortening(pair: GearPair) -> FloatArray:
 def tip_diameters(pair: GearPair) -> tuple[FloatArray, FloatArray]:
     """Tip diameters (da1, da2) in mm.
 
-    Internal (MODEL_NOTES): da1 = d1 + 2 (ha* + x1) m, da2 = d2 - 2 (ha* - x2) m, no shortening.
+    Internal (docs/findings.md, "Working angle, centre distance, tip diameters, contact ratio"):
+    da1 = d1 + 2 (ha* + x1) m, da2 = d2 - 2 (ha* - x2) m, no shortening.
     External: da = d + 2 (ha* + x - dy) m with dy = x1 + x2 - y when ``tip_shortening`` (default)
     keeps the standard clearance c* m; dy = 0 otherwise.
     """
@@ -318,7 +321,7 @@ def tip_pressure_angles(pair: GearPair) -> tuple[FloatArray, FloatArray]:
 
 
 def contact_ratio(pair: GearPair) -> FloatArray:
-    """Transverse contact ratio (paper 1 Sec. 3.2 line 1; MODEL_NOTES).
+    """Transverse contact ratio (paper 1 Sec. 3.2 line 1; checked against KHK Table 5-4, docs/findings.md).
 
     eps = [z1 (tan aa1 - tan a') + sigma z2 (tan aa2 - tan a')] / (2 pi), sigma = -1 internal.
     """
