@@ -32,15 +32,15 @@ def test_reference_centre_distance_khv() -> None:
 
 
 @pytest.mark.parametrize(
-    ("x1", "paper_x2", "notes_x2"),
+    ("x1", "paper_x2", "computed_x2"),
     [(0.416, 0.601, 0.60095), (0.835, 0.995, 0.99443)],  # paper M and N; G_s = 0 to 5 decimals (docs/findings.md)
 )
-def test_paper_points_on_overlap_boundary(x1: float, paper_x2: float, notes_x2: float) -> None:
+def test_paper_points_on_overlap_boundary(x1: float, paper_x2: float, computed_x2: float) -> None:
     x2 = geo.x2_on_overlap_boundary(x1, KHV)
     # Requirement: within 0.002 of the paper's 3-decimal values.
     assert abs(x2 - paper_x2) < 0.002
     # The 5-decimal values of docs/findings.md ("M and N lie on G_s = 0"): half a unit in the last digit.
-    assert x2 == pytest.approx(notes_x2, abs=5e-6)
+    assert x2 == pytest.approx(computed_x2, abs=5e-6)
     # By construction G_s = 0 there (brentq xtol 1e-12 in x2, dG_s/dx2 ~ 10).
     assert float(geo.overlap_interference(at(x1, x2))) == pytest.approx(0.0, abs=1e-9)
 
@@ -51,7 +51,7 @@ def test_eq10_constant_is_cos_working_angle_at_n() -> None:
     assert math.cos(float(geo.working_pressure_angle(at(0.835, x2)))) == pytest.approx(0.866268, abs=5e-7)
 
 
-def test_working_angle_along_line4_matches_notes() -> None:
+def test_working_angle_along_line4_is_not_constant() -> None:
     # a' falls from 30.996 deg (M) to 29.972 deg (N), so line 4 is not a constant-a' line; eps 1.298 -> 1.171
     # (docs/findings.md, "Line 4 is not a constant-a' line").
     pm = at(0.416, geo.x2_on_overlap_boundary(0.416, KHV))
@@ -62,7 +62,7 @@ def test_working_angle_along_line4_matches_notes() -> None:
     assert float(geo.contact_ratio(pn)) == pytest.approx(1.17, abs=0.005)
 
 
-def test_internal_tip_diameters_follow_model_notes() -> None:
+def test_internal_tip_diameters_have_no_shortening() -> None:
     # Chinese convention, no tip shortening for internal pairs: da1 = d1 + 2 (ha* + x1) m,
     # da2 = d2 - 2 (ha* - x2) m; exact arithmetic.
     da1, da2 = geo.tip_diameters(at(0.5, 0.7))

@@ -90,7 +90,7 @@ def test_mode_counts_and_three_doubled_planet_frequencies_shared():
         assert types.count("planet") == 6 and types.count("overall") == 3 and types.count("rigid") == 1
 
 
-def test_first_mode_near_340_hz_as_model_notes_say():
+def test_first_mode_near_340_hz():
     # first mode 339.8 Hz against the paper's 1295 Hz (docs/findings.md, "The frequency gap")
     assert modal.modes(D, "I").freq_hz[1] == pytest.approx(340.0, rel=0.01)
 
