@@ -223,10 +223,11 @@ def hermite_root(x0, x1, d0, d1, h, target):
 
 
 @njit(cache=True)
-def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event, threshold,
+def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event, limits,
         stride, poinc, dense_t, dense_y, W, n_tan, renorm, growth, strobe, yfinal):
     """Integrate n_trans + n_rec mesh periods from y0 (phase 0).
 
+    limits (6,): a run whose |y_i| exceeds limits[i] (or is not finite) at a period end has diverged.
     poinc (n_rec, 6) gets the state at the end of each recorded period; dense_t/dense_y (if their
     length > 0) get every ``stride``-th step of the recorded periods.  W (6, m): tangent columns
     carried over the last n_tan periods (m = 0: none).  With ``renorm`` (m = 1) the column is
@@ -311,7 +312,7 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
                 n_dense += 1
         bad = False
         for i in range(6):
-            if not (abs(y[i]) <= threshold):
+            if not (abs(y[i]) <= limits[i]):
                 bad = True
         if bad:
             for i in range(6):

@@ -64,7 +64,8 @@ class SimulationSettings:
     steps_per_period: N (default 512 from the work-precision study, ``python -m geardyn.bench``).
     aligned: False spreads N equal steps over the period regardless of the stiffness jumps
     (for demonstrations only; rk4 integrators).  rtol: only used by ``"dop853"``.
-    divergence_threshold: a run has diverged when any |state| exceeds it (or is not finite).
+    divergence_threshold: a run has diverged when any |state_i| exceeds this many times the larger of 1
+    and the same component of the static deflection (:func:`divergence_limits`), or is not finite.
     """
 
     integrator: IntegratorName = "rk4_event"
@@ -129,3 +130,16 @@ class SimulationResult:
         tu = t[0] + np.arange(n + 1) * self.period / samples_per_period
         tu = tu[tu <= t[-1]]
         return tu, cs(tu)
+
+
+def divergence_limits(system: System, settings: SimulationSettings) -> np.ndarray:
+    """|state_i| above which a run has diverged, per state (6,): ``divergence_threshold`` times the larger
+    of 1 and that displacement's static deflection (velocities: the largest static displacement, the
+    dimensionless frequencies being of order 1).  A heavily loaded design (a large static deflection) is
+    therefore not called diverged; growth by that factor is unbounded growth whatever the load."""
+    static = np.abs(system.static_state())
+    if not np.all(np.isfinite(static)):
+        static = np.zeros(6)
+    scale = np.maximum(1.0, static)
+    scale[3:] = max(1.0, float(np.max(static[:3])))
+    return settings.divergence_threshold * scale

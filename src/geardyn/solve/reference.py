@@ -20,7 +20,7 @@ from scipy.integrate import solve_ivp
 
 from geardyn.solve.base import (
     B, C11, C21, C23, C33, CM, G1, G3, K11, K21, K23, K33, P1, P3, PHI, T, TE, SimulationResult, SimulationSettings,
-    System,
+    System, divergence_limits,
 )
 
 
@@ -135,13 +135,14 @@ def simulate_reference(coeffs: System, settings: SimulationSettings, y0: np.ndar
     ntr, nrec = settings.transient_periods, settings.recorded_periods
     poinc = np.full((nrec, 6), np.nan)
     nev = 0
+    limit = divergence_limits(coeffs, settings)
     chunks: list | None = [] if dense else None
     for per in range(ntr + nrec):
         collect = chunks if (dense and per >= ntr) else None
         y, reg, k = integrate_period(coeffs, y, per, settings.rtol, reg=reg, collect=collect,
                                      max_step_fraction=max_step_fraction)
         nev += k
-        if not np.all(np.abs(y) <= settings.divergence_threshold):
+        if not np.all(np.abs(y) <= limit):
             return SimulationResult(poinc[: max(0, per - ntr)], np.full(6, np.nan), True, per, nev,
                                     period=coeffs.period, settings=settings)
         if per >= ntr:

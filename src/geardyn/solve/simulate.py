@@ -22,7 +22,7 @@ from functools import lru_cache
 import numpy as np
 
 import geardyn.solve._kernel as _kernel
-from geardyn.solve.base import SimulationResult, SimulationSettings, System
+from geardyn.solve.base import SimulationResult, SimulationSettings, System, divergence_limits
 
 
 def step_grid(eps: float, n: int, aligned: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -116,7 +116,7 @@ def simulate(
     strobe = np.full(n_var if tangent_periods else 0, np.nan)
     status, per, nev, ndense = _kernel.run(
         c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec,
-        settings.integrator == "rk4_event", settings.divergence_threshold, stride, poinc, dt, dy,
+        settings.integrator == "rk4_event", divergence_limits(system, settings), stride, poinc, dt, dy,
         W, n_var, bool(tangent_periods), growth, strobe, final,
     )
     diverged = status == 1
