@@ -158,3 +158,19 @@ def test_damaged_archive_is_refused_with_one_line(built, tmp_path, capsys, damag
 def test_missing_archive(tmp_path):
     with pytest.raises(archive.ArchiveError, match="file not found"):
         archive.verify(tmp_path / "none.tar.gz")
+
+
+def test_an_archive_without_cubes_is_an_error(tmp_path, built):
+    cfg = tmp_path / "config.yaml"
+    cfg.write_text("designs: {d: config/designs/d.yaml}\n")
+    with pytest.raises(archive.ArchiveError, match="no netCDF cube of design 'd'"):
+        archive.build(tmp_path / "empty" / "d_archive.tar.gz", "d", {}, {"config.yaml": cfg})
+    assert not (tmp_path / "empty").exists()
+    # an archive whose cubes were all taken out, manifest and all, does not verify either
+    members = {k: v for k, v in _members(built[0]).items() if not k.endswith(".nc")}
+    manifest_name = next(k for k in members if k.endswith("MANIFEST.json"))
+    manifest = json.loads(members[manifest_name])
+    manifest["files"] = [e for e in manifest["files"] if e["kind"] != "netcdf"]
+    members[manifest_name] = json.dumps(manifest).encode()
+    with pytest.raises(archive.ArchiveError, match="holds no netCDF cube"):
+        archive.verify(_repack(members, tmp_path / "empty_archive.tar.gz"))

@@ -108,6 +108,8 @@ def build(out: str | Path, design: str, cubes: Mapping[str, str | Path], configs
     """
     import yaml
 
+    if not cubes:
+        raise ArchiveError(f"{out}: no netCDF cube of design {design!r} to archive (its rules built none)")
     out = Path(out)
     top = f"{design}_archive"
     created = _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
@@ -207,6 +209,8 @@ def verify(path: str | Path) -> Summary:
     if extra:
         raise ArchiveError(f"{where}: {top}/{extra[0]} is in the archive but not in the manifest")
     cubes = [name for name, e in entries.items() if e["kind"] == "netcdf"]
+    if not cubes:
+        raise ArchiveError(f"{where}: the archive holds no netCDF cube")
     with tempfile.TemporaryDirectory(prefix="geardyn-verify-") as tmp:
         for name in cubes:
             local = Path(tmp) / Path(name).name
