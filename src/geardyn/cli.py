@@ -117,6 +117,23 @@ def check_config(path: str) -> int:
     return 0
 
 
+def new_design(kind: str, name: str, out: str | None, force: bool, z1: int, z2: int, module: float) -> int:
+    """Write a new design file and print the next two commands."""
+    from geardyn import scaffold
+
+    path = Path(out or f"config/designs/{name}.yaml")
+    if path.exists() and not force:
+        raise ConfigError(f"{path}: exists already; choose another name or pass --force")
+    raw = scaffold.khv_design(name, z1, z2, module) if kind == "khv" else scaffold.plus_design(name)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(scaffold.render(raw, kind), encoding="utf-8")
+    print(f"wrote {path}")
+    print("next:")
+    print(f"  geardyn check-design {path}")
+    print(f"  add '{name}: {path}' under designs: in config/config.yaml, then: snakemake --cores 2")
+    return 0
+
+
 def verify_archive(path: str) -> int:
     from geardyn.archive import ArchiveError, verify
 
@@ -137,6 +154,14 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p = sub.add_parser("check-config", help="validate the workflow config and every design it lists")
     p.add_argument("path", nargs="?", default="config/config.yaml")
+    p = sub.add_parser("new-design", help="write a clean, commented design file of your own")
+    p.add_argument("--kind", choices=("khv", "plus"), required=True)
+    p.add_argument("name", help="design name (letters, digits, _), used in results/<name>/")
+    p.add_argument("--out", help="file to write (default config/designs/<name>.yaml)")
+    p.add_argument("--force", action="store_true", help="overwrite an existing file")
+    p.add_argument("--z1", type=int, default=40, help="KHV: planet teeth (default 40)")
+    p.add_argument("--z2", type=int, default=43, help="KHV: annulus teeth (default 43)")
+    p.add_argument("--module", type=float, default=2.0, help="KHV: module in mm (default 2)")
     p = sub.add_parser("verify-archive", help="check a results archive: sha256 sums and that every cube opens")
     p.add_argument("path")
     args = parser.parse_args(argv)
@@ -145,6 +170,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if args.command == "check-design":
             return check_design(args.path, args.json)
+        if args.command == "new-design":
+            return new_design(args.kind, args.name, args.out, args.force, args.z1, args.z2, args.module)
         return check_config(args.path)
     except ConfigError as err:
         print(f"error: {err}", file=sys.stderr)

@@ -1,0 +1,106 @@
+"""``geardyn new-design``: a clean, commented design file to start a study of your own.
+
+A KHV file gets the pair you name, x2 on line 4, the nominal shaper cutter (its limits reported, not
+enforced), and an admissible segment computed from the geometry: the longest stretch of line 4 on which
+every cutter-independent constraint of the closed graph holds, trimmed by 2 % at each end.  The dynamic
+parameters are the schema's defaults, marked as example values to replace.  A plus file gets the
+schema's defaults.  Neither names a paper.  Every key carries its schema description as a comment.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import yaml
+
+from geardyn.config import ConfigError, schema, validate
+
+KINDS = {"khv": "khv.schema.json", "plus": "plus_planetary.schema.json"}
+
+
+def admissible_segment(z1: int, z2: int, module: float, pressure_angle_deg: float = 20.0, addendum: float = 1.0,
+                       clearance: float = 0.25, min_tip_thickness: float = 0.25) -> tuple[float, float]:
+    """The longest x1 interval on line 4 (G_s = 0) where every cutter-independent constraint holds,
+    trimmed by 2 % of its length at each end (x1 on a 0.002 grid from -1 to 2)."""
+    from geardyn.gears import geometry as geo
+    from geardyn.khv.closed_graph import CUTTER_DEPENDENT
+
+    base = geo.GearPair(z1=z1, z2=z2, module=module, x1=0.0, x2=0.0, pressure_angle_deg=pressure_angle_deg,
+                        addendum=addendum, clearance=clearance)
+    x1 = np.round(np.arange(-1.0, 2.0005, 0.002), 6)
+
+    def on_line4(v: float) -> float:
+        try:
+            return geo.x2_on_overlap_boundary(float(v), base)
+        except (ValueError, RuntimeError):
+            return float("nan")
+
+    with np.errstate(all="ignore"):
+        x2 = np.array([on_line4(v) for v in x1])
+        pair = geo.with_shifts(base, x1, np.where(np.isfinite(x2), x2, 0.0))
+        margins = geo.constraint_grid(pair, min_tip_thickness=min_tip_thickness)
+    ok = np.isfinite(x2)
+    for name, value in margins.items():
+        if name not in (*CUTTER_DEPENDENT, "overlap_interference"):
+            ok &= np.asarray(value) >= 0.0
+    best, start = (0, -1), None
+    for i, good in enumerate(np.append(ok, False)):
+        if good and start is None:
+            start = i
+        elif not good and start is not None:
+            if i - start > best[1] - best[0]:
+                best = (start, i - 1)
+            start = None
+    if best[1] <= best[0]:
+        raise ConfigError(f"z1 = {z1}, z2 = {z2}, m = {module}: no part of line 4 satisfies every constraint; "
+                          "choose another pair")
+    lo, hi = float(x1[best[0]]), float(x1[best[1]])
+    trim = 0.02 * (hi - lo)
+    return round(lo + trim, 4), round(hi - trim, 4)
+
+
+def khv_design(name: str, z1: int = 40, z2: int = 43, module: float = 2.0) -> dict[str, Any]:
+    """The validated dict of a new KHV design (see the module docstring)."""
+    lo, hi = admissible_segment(z1, z2, module)
+    raw = {"kind": "khv", "name": name, "title": f"KHV drive z1 = {z1}, z2 = {z2}, m = {module} mm", "paper": None,
+           "pair": {"z1": z1, "z2": z2, "module": module, "x1": round(0.5 * (lo + hi), 4), "x2": "line4"},
+           "admissible": {"x1_min": lo, "x1_max": hi, "enforce_cutter_constraints": False}}
+    return validate(raw, KINDS["khv"], name)
+
+
+def plus_design(name: str) -> dict[str, Any]:
+    """The validated dict of a new plus-set design: the schema's defaults under a name of your own."""
+    return validate({"kind": "plus_planetary", "name": name, "title": f"Plus planetary set {name}", "paper": None},
+                    KINDS["plus"], name)
+
+
+def _scalar(value: Any) -> str:
+    return yaml.safe_dump(value, default_flow_style=True, width=1000).strip().removesuffix("\n...").strip()
+
+
+def _emit(data: dict[str, Any], node: dict[str, Any], indent: int, lines: list[str]) -> None:
+    props = node.get("properties", {})
+    for key, value in data.items():
+        sub = props.get(key, {})
+        desc = " ".join(str(sub.get("description", "")).split())
+        pad = "  " * indent
+        if isinstance(value, dict) and value:
+            lines.append(f"{pad}{key}:" + (f"  # {desc}" if desc else ""))
+            _emit(value, sub, indent + 1, lines)
+        else:
+            text = f"{pad}{key}: {_scalar(value)}"
+            lines.append(text + (f"  # {desc}" if desc else ""))
+
+
+def render(raw: dict[str, Any], kind: str) -> str:
+    """YAML text of a design dict, every key followed by its schema description as a comment."""
+    header = [f"# Design {raw['name']}: written by `geardyn new-design --kind {kind}`.",
+              "# Every value below is an example or a default: replace it with your drive's. It names no paper,",
+              "# so its results are compared with none. Check it with `geardyn check-design <this file>`."]
+    if kind == "khv":
+        header.append(f"# admissible: computed from the geometry (line 4, every cutter-independent constraint, "
+                      f"2 % inside its ends).")
+    lines: list[str] = []
+    _emit(raw, schema(KINDS[kind]), 0, lines)
+    return "\n".join(header + lines) + "\n"
