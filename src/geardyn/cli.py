@@ -25,13 +25,18 @@ def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
     from geardyn.khv import design
     from geardyn.gears import geometry
 
-    spec = design.from_dict({**raw, "admissible": {**raw["admissible"], "check_feasibility": False}}, path)
+    spec = design.from_dict(raw, path, check=False)
     pair = spec.base
     derived = geometry.describe(pair, cutter=spec.cutter)
     values = geometry.constraints(pair, min_tip_thickness=spec.min_tip_thickness, cutter=spec.cutter)
     failed = design.violated_constraints(pair, spec.min_tip_thickness, spec.enforce_cutter_constraints,
                                          spec.cutter)
-    mesh = design.mesh_properties(spec, pair.x1)
+    problem = design.meshing_problem(pair)
+    try:
+        mesh = None if problem else design.mesh_properties(spec, pair.x1)
+    except ConfigError as err:
+        problem = str(err).split(": ", 1)[-1]
+        mesh = None
     segment = {}
     for label, x1 in (("M", spec.x1_min), ("N", spec.x1_max)):
         try:
@@ -47,13 +52,23 @@ def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
         "x2_source": "line 4 (G_s = 0)" if spec.x2_on_line4 else "fixed in design",
         "geometry": {k: v for k, v in derived.items() if not k.startswith("margin_")},
         "constraints (>= 0 is satisfied)": values,
-        "stiffness": {"options": spec.stiffness.label, "q_mm_um_per_N": mesh.q,
-                      "k_C_N_per_um": mesh.k_c / 1e6, "k_prime_N_per_um": mesh.k_prime / 1e6,
-                      "k_mean_N_per_um": mesh.k_mean / 1e6, "k_min_N_per_um": mesh.k_min / 1e6,
-                      "contact_ratio": mesh.contact_ratio},
+        "stiffness": ({"options": spec.stiffness.label, "q_mm_um_per_N": mesh.q,
+                       "k_C_N_per_um": mesh.k_c / 1e6, "k_prime_N_per_um": mesh.k_prime / 1e6,
+                       "k_mean_N_per_um": mesh.k_mean / 1e6, "k_min_N_per_um": mesh.k_min / 1e6,
+                       "contact_ratio": mesh.contact_ratio} if mesh is not None
+                      else {"not computed": problem}),
         "admissible_segment": segment,
         "violated": failed,
     }
+
+
+def _defined(data: Any) -> Any:
+    """The summary with every NaN replaced by 'undefined' (a quantity the pair does not have)."""
+    if isinstance(data, dict):
+        return {k: _defined(v) for k, v in data.items()}
+    if isinstance(data, float) and math.isnan(data):
+        return "undefined"
+    return data
 
 
 def _print_tree(data: dict[str, Any], indent: int = 0) -> None:
@@ -90,7 +105,7 @@ def check_design(path: str, as_json: bool) -> int:
     from geardyn.validate import check_design as pipeline_check
 
     raw = load_design_dict(path)
-    summary = _khv_summary(raw, path) if raw["kind"] == "khv" else _plus_summary(raw, path)
+    summary = _defined(_khv_summary(raw, path) if raw["kind"] == "khv" else _plus_summary(raw, path))
     try:
         pipeline_check(raw, path)
         verdict = None

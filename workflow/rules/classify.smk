@@ -6,7 +6,13 @@ rule regime_bands:
     input:
         cube=rules.sweep_merge.output[0],
     output:
-        csv="results/{design}/tables/{sweep}_bands.csv",
+        csv=report(
+            "results/{design}/tables/{sweep}_bands.csv",
+            caption="../report/bands.rst",
+            category=category,
+            subcategory=subcategory("sweep"),
+            labels={"design": "{design}", "table": "regime bands"},
+        ),
         md="results/{design}/tables/{sweep}_bands.md",
     log:
         "results/{design}/logs/bands_{sweep}.log",
@@ -28,7 +34,13 @@ rule claims:
         fig08_points="results/{design}/points/fig08_points_x1.nc",
     output:
         md="results/{design}/claims.md",
-        csv="results/{design}/claims.csv",
+        csv=report(
+            "results/{design}/claims.csv",
+            caption="../report/claims.rst",
+            category=category,
+            subcategory="Claims of the paper",
+            labels={"design": "{design}", "table": "claims"},
+        ),
     log:
         "results/{design}/logs/claims.log",
     params:

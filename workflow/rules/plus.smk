@@ -7,11 +7,23 @@ rule plus_modal:
         design=design_file,
     output:
         modal="results/{design}/data/modal.nc",
-        table02_csv="results/{design}/tables/table02_natural_frequencies.csv",
+        table02_csv=report(
+            "results/{design}/tables/table02_natural_frequencies.csv",
+            caption="../report/plus_table.rst",
+            category=category,
+            subcategory="Table 02: natural frequencies",
+            labels={"design": "{design}", "table": "natural frequencies"},
+        ),
         table02_md="results/{design}/tables/table02_natural_frequencies.md",
         scaling_csv="results/{design}/tables/table02b_stiffness_scaling.csv",
         scaling_md="results/{design}/tables/table02b_stiffness_scaling.md",
-        table05_csv="results/{design}/tables/table05_key_elements.csv",
+        table05_csv=report(
+            "results/{design}/tables/table05_key_elements.csv",
+            caption="../report/plus_table.rst",
+            category=category,
+            subcategory="Table 05: key elements",
+            labels={"design": "{design}", "table": "key elements"},
+        ),
         table05_md="results/{design}/tables/table05_key_elements.md",
     log:
         "results/{design}/logs/modal.log",
@@ -61,7 +73,13 @@ rule plus_relief:
         design=design_file,
     output:
         te="results/{design}/data/te.nc",
-        optima_csv="results/{design}/tables/sec4_relief_optima.csv",
+        optima_csv=report(
+            "results/{design}/tables/sec4_relief_optima.csv",
+            caption="../report/plus_table.rst",
+            category=category,
+            subcategory="Tip-relief optima",
+            labels={"design": "{design}", "table": "relief optima"},
+        ),
         optima_md="results/{design}/tables/sec4_relief_optima.md",
         stiffness_csv="results/{design}/tables/sec22_mesh_stiffness.csv",
         stiffness_md="results/{design}/tables/sec22_mesh_stiffness.md",

@@ -147,8 +147,8 @@ def closed_graph(
         "title": "Closed graph of profile-shift coefficients, computed",
         "source": "geardyn.khv.closed_graph.closed_graph",
         "conventions_note": "every constraint is a signed margin, >= 0 satisfied; x2 in the Chinese convention",
-        "line4_definition": "G_s = 0 (tooth-profile overlap interference); the paper's 'equal meshing angle' "
-        "does not hold: a' varies along the line",
+        "line4_definition": "G_s = 0 (tooth-profile overlap interference); the working pressure angle a' varies "
+        "along it",
         "z1": base.z1, "z2": base.z2, "module_mm": base.module,
         "pressure_angle_deg": base.pressure_angle_deg, "addendum_coefficient": base.addendum,
         "clearance_coefficient": base.clearance,

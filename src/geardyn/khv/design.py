@@ -146,10 +146,27 @@ FEASIBILITY_TOLERANCE = 1e-6
 
 def violated_constraints(pair: geometry.GearPair, min_tip_thickness: float, enforce_cutter: bool,
                          cutter: geometry.ShaperCutter | None = None) -> list[str]:
-    """Names of the closed-graph constraints that ``pair`` violates (margin < -1e-6 mm or rad)."""
+    """Names of the closed-graph constraints that ``pair`` violates (margin < -1e-6 mm or rad, or no margin
+    at all: NaN where the pair has no working pressure angle)."""
     values = geometry.constraints(pair, min_tip_thickness=min_tip_thickness, cutter=cutter)
     return [name for name, v in values.items()
-            if float(v) < -FEASIBILITY_TOLERANCE and (enforce_cutter or name not in CUTTER_CONSTRAINTS)]
+            if not float(v) >= -FEASIBILITY_TOLERANCE and (enforce_cutter or name not in CUTTER_CONSTRAINTS)]
+
+
+def meshing_problem(pair: geometry.GearPair) -> str | None:
+    """Why ``pair`` cannot mesh at all (no working pressure angle), in words, or None."""
+    alpha = math.radians(pair.pressure_angle_deg)
+    inv_w = 2.0 * (pair.x2 - pair.x1) * math.tan(alpha) / (pair.z2 - pair.z1) + geometry.involute(alpha)
+    if inv_w > 0.0:
+        return None
+    return (f"(x1, x2) = ({pair.x1:.4f}, {pair.x2:.4f}) has no working pressure angle: inv a' = 2 (x2 - x1) tan a "
+            f"/ (z2 - z1) + inv a = {inv_w:.4g} <= 0, so x2 - x1 = {pair.x2 - pair.x1:.4f} is too small for "
+            f"z2 - z1 = {pair.z2 - pair.z1}")
+
+
+def _violations(values: dict[str, Any], bad: list[str]) -> str:
+    return ", ".join(f"{name} = {float(values[name]):.4g} (needs >= 0)" if math.isfinite(float(values[name]))
+                     else f"{name} undefined" for name in bad)
 
 
 def cutter_of(raw: dict[str, Any], pair: geometry.GearPair) -> geometry.ShaperCutter:
@@ -160,8 +177,9 @@ def cutter_of(raw: dict[str, Any], pair: geometry.GearPair) -> geometry.ShaperCu
     return geometry.ShaperCutter(teeth=c["teeth"], shift=c.get("shift", 0.0), addendum=c.get("addendum"))
 
 
-def from_dict(raw: dict[str, Any], where: str = "design") -> KHVDesign:
-    """Build a :class:`KHVDesign` from a schema-validated dict, with the semantic checks."""
+def from_dict(raw: dict[str, Any], where: str = "design", check: bool = True) -> KHVDesign:
+    """Build a :class:`KHVDesign` from a schema-validated dict, with the semantic checks (``check=False``:
+    only what is needed to build it, for printing the geometry of a design that does not pass)."""
     _check(raw, where)
     p = raw["pair"]
     provisional = _pair_from(raw, 0.0)
@@ -175,11 +193,14 @@ def from_dict(raw: dict[str, Any], where: str = "design") -> KHVDesign:
     base = _pair_from(raw, x2)
     adm = raw["admissible"]
     cutter = cutter_of(raw, base)
-    if adm["check_feasibility"]:
+    problem = meshing_problem(base)
+    if problem and check:
+        raise ConfigError(f"{where}: design point {problem}")
+    if adm["check_feasibility"] and check:
         bad = violated_constraints(base, adm["min_tip_thickness"], adm["enforce_cutter_constraints"], cutter)
         if bad:
             values = geometry.constraints(base, min_tip_thickness=adm["min_tip_thickness"], cutter=cutter)
-            detail = ", ".join(f"{name} = {values[name]:.4g} (needs >= 0)" for name in bad)
+            detail = _violations(values, bad)
             raise ConfigError(f"{where}: design point (x1, x2) = ({base.x1:.4f}, {base.x2:.4f}) is outside the "
                               f"feasible region: {detail}")
     return KHVDesign(
@@ -207,6 +228,10 @@ def check_segment(design: KHVDesign, where: str = "design", points: int = 11) ->
         except (ValueError, RuntimeError) as err:
             raise ConfigError(f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
                               f"region the model covers at x1 = {x1:.4f}: no x2 on line 4 (G_s = 0): {err}") from None
+        problem = meshing_problem(pair)
+        if problem:
+            raise ConfigError(f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
+                              f"region the model covers at x1 = {x1:.4f}: {problem}")
         try:
             mesh_properties(design, x1)
         except (ValueError, RuntimeError) as err:  # ConfigError is a ValueError
@@ -218,7 +243,7 @@ def check_segment(design: KHVDesign, where: str = "design", points: int = 11) ->
                                        design.cutter)
             if bad:
                 values = geometry.constraints(pair, min_tip_thickness=design.min_tip_thickness, cutter=design.cutter)
-                detail = ", ".join(f"{name} = {values[name]:.4g} (needs >= 0)" for name in bad)
+                detail = _violations(values, bad)
                 raise ConfigError(f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
                                   f"feasible region at x1 = {x1:.4f}: {detail}")
 

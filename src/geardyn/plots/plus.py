@@ -124,7 +124,7 @@ def relief_landscape_figure(land: xr.Dataset, optima: list[dict] | None = None, 
         cs = ax.contourf(L, a, z, levels=np.linspace(vmin, vmax, 25), cmap="viridis")
         ax.contour(L, a, z, levels=np.arange(np.floor(vmin), np.ceil(vmax) + 0.01, 1.0), colors="w", linewidths=0.5)
         for name, (a0, a1, l0, l1) in (boxes or {}).items():
-            ax.plot([l0, l1, l1, l0, l0], [a0, a0, a1, a1, a0], ls="--", color="r" if name == "paper" else "orange", lw=1.2, label=f"{name} bounds")
+            ax.plot([l0, l1, l1, l0, l0], [a0, a0, a1, a1, a0], ls="--", color="r" if name in ("paper", "stated") else "orange", lw=1.2, label=f"{name} bounds")
         for o in optima or []:
             if o["shape"] == sh:
                 ax.plot(o["length_mm"], o["amount_um"], marker="*" if o["bounds"] == "physical" else "o", ms=11,
@@ -154,7 +154,7 @@ def landscape_markers(optima) -> list[dict]:
 def bound_boxes(design) -> dict[str, tuple[float, float, float, float]]:
     """The stated and the physical relief bounds of a design as boxes (amount um, amount um, length mm, length mm)."""
     r = design.relief
-    return {"paper": (r.paper_amount[0] * 1e6, r.paper_amount[1] * 1e6, r.paper_length[0] * 1e3, r.paper_length[1] * 1e3),
+    return {("paper" if design.paper else "stated"): (r.paper_amount[0] * 1e6, r.paper_amount[1] * 1e6, r.paper_length[0] * 1e3, r.paper_length[1] * 1e3),
             "physical": (r.physical_amount[0] * 1e6, r.physical_amount[1] * 1e6, r.physical_length[0] * 1e3,
                          r.physical_length[1] * 1e3)}
 

@@ -65,14 +65,16 @@ def plot_backlash(b: float = 1.0) -> Figure:
     return fig
 
 
-def caption_fig04(props) -> str:  # props: geardyn.design.MeshProperties
-    return (
-        f"Fig. 4 (paper 1): stiffness of one tooth pair over its engagement, the parabola "
-        f"k'(1 + 2u(1 - u)), u = s/eps, drawn at x1 = {props.x1:.3f} (eps = {props.contact_ratio:.4f}, "
-        f"k' = {props.k_prime / 1e6:.1f} N/um, k_C = 1.5 k' = {props.k_c / 1e6:.1f} N/um, ISO 6336-1 method B). "
-        "As in the paper, k_A = k_B = k' and k_C = 1.5 k'. The paper's sentence that the meshing point is "
-        "'1.67 times' the engaging-in point does not match its own k_C = 1.5 k'; we follow k_C = 1.5 k'."
-    )
+def caption_fig04(props, paper=None) -> str:  # props: geardyn.khv.design.MeshProperties
+    """Caption of the single-pair stiffness; the paper's wording only for a design that names one."""
+    text = (f"Stiffness of one tooth pair over its engagement, the parabola "
+            f"k'(1 + 2u(1 - u)), u = s/eps, drawn at x1 = {props.x1:.3f} (eps = {props.contact_ratio:.4f}, "
+            f"k' = {props.k_prime / 1e6:.1f} N/um, k_C = 1.5 k' = {props.k_c / 1e6:.1f} N/um, ISO 6336-1 method B); "
+            "k_A = k_B = k' at the ends of the engagement and k_C = 1.5 k' at the pitch point.")
+    if paper is None:
+        return text
+    return (f"Fig. 4 of {paper.SHORT}. " + text + " The paper's sentence that the meshing point is "
+            "'1.67 times' the engaging-in point does not match its own k_C = 1.5 k'; we follow k_C = 1.5 k'.")
 
 
 def caption_fig05(table: xr.Dataset, design, paper=None) -> str:
@@ -98,9 +100,11 @@ def caption_fig05(table: xr.Dataset, design, paper=None) -> str:
     )
 
 
-def caption_fig06() -> str:
-    return (
-        "Fig. 6 (paper 1): the backlash (dead-zone) function f(X) of Eq. (11), X - b above b, 0 inside |X| <= b, "
-        "X + b below -b, with b half the backlash. Identical to the paper's figure; Eq. (14)'s last case is "
-        "misprinted ('-b' should read 'X < -b')."
-    )
+def caption_fig06(paper=None) -> str:
+    """Caption of the backlash function; the paper's misprint only for a design that names it."""
+    text = ("The backlash (dead-zone) function f(X): X - b above b, 0 inside |X| <= b, X + b below -b, with b half "
+            "the backlash.")
+    if paper is None:
+        return text
+    return (f"Fig. 6 of {paper.SHORT} (Eq. (11)). " + text + " Identical to the paper's figure; Eq. (14)'s last "
+            "case is misprinted ('-b' should read 'X < -b').")

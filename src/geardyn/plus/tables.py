@@ -220,7 +220,7 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
             "element": ("element", el_names, {"long_name": "spring (Table 3 meshes, sun bearing)", "units": "1"}),
             "component": ("component", comp_names, {"long_name": "kinetic-energy component (Table 4)", "units": "1"}),
         },
-        attrs={"title": "Modal analysis of the plus planetary set (Yue et al. 2014)", "model_variant": _variant(design)},
+        attrs={"title": f"Modal analysis of the plus planetary set {design.name}", "model_variant": _variant(design)},
     )
     return ds
 
@@ -279,7 +279,7 @@ def te_dataset(design: PlusDesign, optima: list[ReliefOptimum]) -> xr.Dataset:
         coords={"case": ("case", labels, {"units": "1", "long_name": "relief case"}),
                 "mesh_phase": ("mesh_phase", base.s, {"units": "1", "long_name": "mesh phase in base pitches"}),
                 "slot": ("slot", np.arange(base.loads.shape[0]), {"units": "1", "long_name": "tooth pair slot (0 = newest)"})},
-        attrs={"title": "Static TE of the p-d pair (Yue et al. 2014, Eq. 9)", "contact_ratio": pair.contact_ratio,
+        attrs={"title": f"Static TE of the p-d pair, design {design.name}", "contact_ratio": pair.contact_ratio,
                "load_N": pd_mesh_load(design), "model_variant": "Ishikawa rectangle+trapezoid, base-pitch error model"},
     )
     return ds
@@ -328,7 +328,7 @@ def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
         coords={"shape": ("shape", list(SHAPES), {"units": "1", "long_name": "tip relief shape"}),
                 "amount": ("amount", amounts * 1e6, {"units": "um", "long_name": "tip relief amount along the line of action"}),
                 "length": ("length", lengths * 1e3, {"units": "mm", "long_name": "tip relief length along the path of contact"})},
-        attrs={"title": "Objective landscape of the tip-relief optimisation (Yue et al. 2014, Sec. 4)",
+        attrs={"title": f"Objective landscape of the tip-relief optimisation, design {design.name}",
                "relief_applied_to": design.relief.apply_to, "load_N": pd_mesh_load(design)},
     )
 

@@ -1,0 +1,118 @@
+"""A user's own designs, end to end through config alone: `geardyn new-design` writes a KHV and a plus
+design, config.yaml lists them, and `snakemake --cores 2` builds every study derived from them under
+results/<design>/, with no paper attribution anywhere; `snakemake --report` then works too.
+
+The studies are the standard ones of config/config.yaml (designs: own) at small sizes.
+"""
+
+import re
+import subprocess
+
+import pytest
+import xarray as xr
+import yaml
+
+import _workflow as wf
+from geardyn import cli
+
+PAPER_WORDS = re.compile(r"Li et al|Yue et al|paper 1|paper 2|Paper \(|li2013|yue2014|0\.416|0\.835", re.I)
+
+
+def _own_config(shipped):
+    cfg = {k: v for k, v in shipped.items() if k in ("closed_graph", "stiffness_table")}
+    cfg["closed_graph"] = {"x1": {"start": -0.2, "stop": 1.6, "num": 19}, "x2": {"start": 0.0, "stop": 2.4, "num": 25}}
+    cfg["stiffness_table"] = {"points": 11, "phase_points": 32}
+    cfg["designs"] = {"mydrive": "config/designs/mydrive.yaml", "myplus": "config/designs/myplus.yaml"}
+    own = {name: spec for name, spec in shipped["sweeps"].items() if spec.get("designs") == "own"}
+    for spec in own.values():
+        spec.update(num=4, chunks=2, integration=dict(wf.FAST))
+    cfg["sweeps"] = own
+    cfg["points"] = {n: {**s, "samples_per_period": 16} for n, s in shipped["points"].items() if s.get("designs") == "own"}
+    cfg["maps"] = {n: s for n, s in shipped["maps"].items() if s.get("designs") == "own"}
+    for spec in cfg["maps"].values():
+        spec["x"]["num"], spec["y"]["num"], spec["chunks"] = 3, 3, 1
+        spec["integration"] = dict(wf.FAST)
+        spec["classifier"] = {"error_floor": 3e-4, "tangent_periods": 30}
+    cfg["calibration"], cfg["claims"], cfg["benchmarks"] = {}, {"designs": []}, {"work_precision": False}
+    return cfg
+
+
+def _build(work):
+    wf.workflow_copy(work)
+    shipped = yaml.safe_load((work / "config/config.yaml").read_text())
+    for kind, name in (("khv", "mydrive"), ("plus", "myplus")):
+        assert cli.main(["new-design", "--kind", kind, name, "--out", str(work / f"config/designs/{name}.yaml")]) == 0
+    plus = yaml.safe_load((work / "config/designs/myplus.yaml").read_text())
+    plus["relief"].update(landscape_points=5, maxiter=10, popsize=6, load_study_torques_Nm=[43.0])
+    plus["transmission_error"]["points_per_period"] = 60
+    (work / "config/designs/myplus.yaml").write_text(yaml.safe_dump(plus))
+    drive = yaml.safe_load((work / "config/designs/mydrive.yaml").read_text())
+    drive["dynamics"] = {"integration": dict(wf.FAST)}
+    (work / "config/designs/mydrive.yaml").write_text(yaml.safe_dump(drive))
+    (work / "config/config.yaml").write_text(yaml.safe_dump(_own_config(shipped)))
+    wf.snakemake(work, "--cores", "2", timeout=900)
+    wf.snakemake(work, "--report", "results/report.html", timeout=300)
+
+
+@pytest.fixture(scope="module")
+def own(tmp_path_factory):
+    return wf.shared(tmp_path_factory, "own_designs", _build)
+
+
+def test_every_standard_study_is_built_under_the_designs_own_names(own):
+    res = own / "results"
+    for rel in ("data/closed_graph.nc", "data/stiffness_table.nc", "figures/fig03_closed_graph.png",
+                "figures/fig05_mesh_stiffness.png", "sweeps/bifurcation_x1.nc", "sweeps/bifurcation_b.nc",
+                "sweeps/bifurcation_e.nc", "points/points_x1.nc", "maps/map_own_x1_b.nc",
+                "tables/bifurcation_x1_bands.md", "figures/bifurcation_b.png", "figures/map_own_x1_b.png"):
+        assert (res / "mydrive" / rel).exists(), rel
+    for rel in ("data/modal.nc", "data/te.nc", "tables/table02_natural_frequencies.csv", "figures/fig09_te_relief.png"):
+        assert (res / "myplus" / rel).exists(), rel
+    assert not (res / "li2013").exists() and not (res / "yue2014").exists()  # only listed designs are built
+    assert not (res / "mydrive" / "claims.md").exists()  # claims are a paper's
+
+
+def test_the_studies_run_on_the_designs_own_segment(own):
+    drive = yaml.safe_load((own / "config/designs/mydrive.yaml").read_text())
+    lo, hi = drive["admissible"]["x1_min"], drive["admissible"]["x1_max"]
+    with xr.open_dataset(own / "results/mydrive/sweeps/bifurcation_x1.nc") as cube:
+        x1 = cube["x1"].values
+    assert x1[0] == pytest.approx(lo) and x1[-1] == pytest.approx(hi)
+    with xr.open_dataset(own / "results/mydrive/sweeps/bifurcation_b.nc") as cube:
+        cases = [str(c) for c in cube["case"].values]
+    assert cases == [f"x1={lo + f * (hi - lo):g}" for f in (0.1, 0.5, 0.9)]
+
+
+def test_no_paper_attribution_in_any_output(own):
+    res = own / "results"
+    checked = 0
+    for path in sorted(res.rglob("*")):
+        if path.suffix == ".nc":
+            with xr.open_dataset(path) as ds:
+                assert "paper" not in ds.attrs, path
+                text = " ".join(str(v) for k, v in ds.attrs.items() if k not in ("config_json",))
+        elif path.suffix in (".txt", ".md", ".csv"):
+            text = path.read_text()
+        else:
+            continue
+        checked += 1
+        found = PAPER_WORDS.search(text)
+        assert found is None, f"{path.relative_to(res)}: {found.group(0) if found else ''}"
+    assert checked >= 30
+
+
+def test_the_report_files_the_designs_under_their_own_names(own):
+    html = (own / "results/report.html").read_text(errors="replace")
+    assert "Design mydrive" in html and "Design myplus" in html
+    assert "Paper 1" not in html and "Paper 2" not in html
+
+
+def test_check_design_prints_the_geometry_of_an_infeasible_design(own, capsys):
+    path = own / "config/designs/mydrive.yaml"
+    raw = yaml.safe_load(path.read_text())
+    raw["pair"]["x2"] = 0.3  # fixed x2 far off line 4
+    bad = path.with_name("bad.yaml")
+    bad.write_text(yaml.safe_dump(raw))
+    assert cli.main(["check-design", str(bad)]) == 1
+    out = capsys.readouterr().out
+    assert "contact_ratio" in out and "NOT FEASIBLE" in out and "nan" not in out.lower().split("not feasible")[0]
