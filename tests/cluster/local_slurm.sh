@@ -169,13 +169,24 @@ kill_pidfile() {  # pid file, name: TERM, then KILL after 10 s
 }
 
 our_stepds() {  # slurmstepd processes of this cluster (they hold files under $STATE open)
-    local proc
+    local proc comm
     for proc in /proc/[0-9]*; do
-        [[ $(readlink "$proc/exe" 2>/dev/null) == */slurmstepd ]] || continue
+        read -r comm <"$proc/comm" 2>/dev/null || continue
+        [[ $comm == slurmstepd* ]] || continue  # slurmstepd-wlm on Debian
         if ls -l "$proc/fd" 2>/dev/null | grep -q -- "$STATE/"; then
             echo "${proc#/proc/}"
         fi
     done
+}
+
+descendants() {  # pids... -> those pids and all their descendants
+    ps -eo pid=,ppid= | awk -v roots="$*" '
+        { parent[$1] = $2 }
+        END {
+            n = split(roots, r, " "); for (i = 1; i <= n; i++) keep[r[i]] = 1
+            do { grew = 0; for (p in parent) if (!(p in keep) && (parent[p] in keep)) { keep[p] = 1; grew = 1 } } while (grew)
+            for (p in keep) print p
+        }'
 }
 
 cmd_stop() {
@@ -191,12 +202,14 @@ cmd_stop() {
     kill_pidfile "$STATE/slurmd.pid" slurmd
     kill_pidfile "$STATE/slurmctld.pid" slurmctld
     kill_pidfile "$STATE/munge/munged.pid" munged
-    # a job step that outlived the cancel (slurmstepd is reparented to init, not a child of slurmd)
-    local stepds
+    # job steps that outlived the cancel (e.g. slurmctld was gone), with the job's processes:
+    # slurmstepd is reparented to init, not a child of slurmd
+    local stepds leftover
     mapfile -t stepds < <(our_stepds)
     if ((${#stepds[@]})); then
-        echo "local_slurm: killing leftover job steps ${stepds[*]}" >&2
-        kill -9 "${stepds[@]}" 2>/dev/null || true
+        mapfile -t leftover < <(descendants "${stepds[@]}")
+        echo "local_slurm: killing leftover job steps ${stepds[*]} and their processes" >&2
+        kill -9 "${leftover[@]}" 2>/dev/null || true
     fi
     if [[ -L $ETC_CONF && $(readlink "$ETC_CONF") == "$CONF" ]]; then
         rm -f "$ETC_CONF"
