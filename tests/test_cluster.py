@@ -2,7 +2,8 @@
 this machine (``tests/cluster/local_slurm.sh``). The cubes equal those of a local ``--cores 2`` run;
 each rule's runtime and memory reach sbatch (read back from slurmctld with ``scontrol show job``); a
 job cancelled mid-run is resubmitted, one cancelled twice fails the run, and the rerun completes with
-nothing lost; the per-job overhead against local execution is measured and printed.
+nothing lost; Ctrl-C on the login node cancels the run's jobs and the same command resumes; the
+per-job overhead against local execution is measured and printed.
 
 Opt-in (marker ``cluster``): every test here is skipped unless ``GEARDYN_CLUSTER_TEST=1``. Needs root
 and SLURM + munge installed (``tests/cluster/local_slurm.sh install``). The cluster is started for the
@@ -149,7 +150,7 @@ def study(cluster, local, tmp_path_factory):
     _profile(work, RESOURCES)
     run, wall = _timed(work, "--profile", PROFILE, *FIGURES)
     print(f"\n[cluster] small study ({SWEEP_CHUNKS} sweep + {MAP_CHUNKS} map chunk jobs, merges, 2 figures): "
-          f"local --cores 2 {local[1]:.1f} s, SLURM profile {wall:.1f} s")
+          f"local --cores 2 {local[1]:.1f} s, SLURM profile {wall:.1f} s (load average {os.getloadavg()[0]:.1f})")
     return work, run, slurm_jobs(work)
 
 
@@ -242,6 +243,30 @@ def test_cancelled_jobs_are_resubmitted_then_fail_and_a_rerun_loses_nothing(clus
     assert_same_data(_open(work / cube), _open(local[0] / cube))
 
 
+def test_interrupted_run_cancels_its_jobs_and_the_same_command_resumes(cluster, local, tmp_path):
+    """Ctrl-C on the login node's Snakemake while a chunk job runs: Snakemake scancels every job it
+    submitted (none is left running or queued), and the same command completes the cube."""
+    work = wf.workflow_copy(tmp_path / "w", _config())
+    _profile(work, **FAST_POLLING)
+    cube = CUBES["sweep"]
+    proc = subprocess.Popen(wf.snakemake_cmd("--profile", PROFILE, cube), cwd=work, env=wf.env(),
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    deadline = time.monotonic() + 300
+    while proc.poll() is None and time.monotonic() < deadline:
+        if any(job["JobState"] == "RUNNING" for job in slurm_jobs(work)):
+            break
+        time.sleep(0.2)
+    assert proc.poll() is None, "the run ended before it could be interrupted"
+    os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C in the login node's terminal
+    proc.wait(timeout=300)
+    assert proc.returncode != 0
+    states = Counter(job["JobState"] for job in slurm_jobs(work))
+    assert states["CANCELLED"] >= 1 and set(states) <= {"CANCELLED", "COMPLETED"}, states
+    assert not (work / cube).exists()
+    wf.snakemake(work, "--profile", PROFILE, cube)
+    assert_same_data(_open(work / cube), _open(local[0] / cube))
+
+
 def test_per_job_overhead_against_local_execution(cluster, tmp_path):
     """Six chunk jobs of one point each (milliseconds of compute), locally with --cores 2 and through
     the SLURM profile (as shipped, then with 2 s status polling). Prints the wall times and the
@@ -268,7 +293,8 @@ def test_per_job_overhead_against_local_execution(cluster, tmp_path):
     run_time = [_seconds(job, "StartTime", "EndTime") for job in both]
     wait = [_seconds(job, "SubmitTime", "StartTime") for job in both]
     print(f"\n[cluster] {n} one-point chunk jobs, wall time: local --cores 2 {walls['local']:.1f} s, "
-          f"SLURM profile {walls['slurm']:.1f} s, SLURM with 2 s polling {walls['slurm_fast_polling']:.1f} s")
+          f"SLURM profile {walls['slurm']:.1f} s, SLURM with 2 s polling {walls['slurm_fast_polling']:.1f} s "
+          f"(load average {os.getloadavg()[0]:.1f})")
     print(f"[cluster] core-seconds per job: local {per_job['local']:.1f}, SLURM {per_job['slurm']:.1f} "
           f"(+{per_job['slurm'] - per_job['local']:.1f}), SLURM with 2 s polling {per_job['slurm_fast_polling']:.1f} "
           f"(+{per_job['slurm_fast_polling'] - per_job['local']:.1f})")
