@@ -47,9 +47,10 @@ MAP_CHUNKS = 2
 #: Per-rule requests written into the test's copy of the profile: values no default and no shipped
 #: setting has, so that finding them on the SLURM jobs cannot happen by accident.
 RESOURCES = {"sweep_chunk": {"runtime": 7, "mem_mb": 1111}, "map_chunk": {"runtime": 9, "mem_mb": 1333}}
-#: Status polling every 2 s instead of the plugin's 40 s and more (only where stated).
+#: Job status checked 2 s after a check that saw a job end (plugin default: 40 s; the interval grows
+#: by 10 s with each check that sees none). Only where stated: where the test waits for retries.
 FAST_POLLING = {"slurm-init-seconds-before-status-checks": 2, "seconds-between-status-checks": 2}
-#: Global attributes that say when and from which checkout a file was made, not what it holds.
+#: Global attributes that say when, from which checkout and how fast a file was made, not what it holds.
 PROVENANCE = ("history", "git_commit", "chunk_wall_time_s")
 
 
