@@ -599,3 +599,240 @@ def _fold(br: Branch, i: int, corr: _Corrector | None, iterations: int = 12) -> 
         else:
             hi = q
     return (best, ok) if best is not None else (_interpolated(br, i, 0.5), False)
+
+
+# ----------------------------------------------------------------------------------------------
+# a whole sweep: seeds from the simulated cube, branches, dataset, table
+# ----------------------------------------------------------------------------------------------
+
+#: Integer codes of the bifurcation types in netCDF files (``flag_values``).
+TYPE_CODES = {kind: k for k, kind in enumerate(BIFURCATION_TYPES)}
+
+
+@dataclass(frozen=True)
+class OrbitSpec:
+    """One ``orbits:`` entry of the configuration (keyed by the sweep it continues).
+
+    max_period: sweep points labelled P1..P<max_period> are seeds.  max_seeds: per case.
+    nodes: coefficient interpolation nodes of :class:`KHVFamily`.  continuation: the
+    :class:`ContinuationSettings`.  attractors: the mapping for :mod:`geardyn.runs.attractors`.
+    """
+
+    max_period: int = 6
+    max_seeds: int = 6
+    nodes: int = 101
+    continuation: ContinuationSettings = ContinuationSettings()
+    attractors: tuple[tuple[str, Any], ...] = ()
+
+    @classmethod
+    def from_config(cls, spec: Mapping[str, Any] | None) -> OrbitSpec:
+        spec = dict(spec or {})
+        spec.pop("designs", None)
+        known = {"max_period", "max_seeds", "nodes", "continuation", "attractors"}
+        unknown = set(spec) - known
+        if unknown:
+            raise ValueError(f"unknown orbits settings {sorted(unknown)}; allowed: {sorted(known)}")
+        return cls(max_period=int(spec.get("max_period", 6)), max_seeds=int(spec.get("max_seeds", 6)),
+                   nodes=int(spec.get("nodes", 101)),
+                   continuation=ContinuationSettings.from_mapping(spec.get("continuation")),
+                   attractors=tuple(sorted((spec.get("attractors") or {}).items())))
+
+
+STATE_VARS = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
+
+
+def seeds_from_cube(cube: Any, case: int, max_period: int, max_seeds: int) -> list[tuple[float, np.ndarray, int]]:
+    """(p, final state, n) at the middle of each run of equal label P1..P<max_period> along the sweep
+    (first direction of the cube), longest runs first, at most ``max_seeds``."""
+    par = cube.attrs["control_parameter"]
+    values = np.asarray(cube[par].values, dtype=float)
+    labels = np.asarray(cube["label"].values[case, 0], dtype=int)
+    runs: list[tuple[int, int, int]] = []
+    start = 0
+    for i in range(1, labels.size + 1):
+        if i == labels.size or labels[i] != labels[start]:
+            if 1 <= labels[start] <= max_period:
+                runs.append((i - start, start, int(labels[start])))
+            start = i
+    runs.sort(key=lambda r: (-r[0], r[1]))
+    seeds = []
+    for length, first, n in runs[:max_seeds]:
+        j = first + length // 2
+        x = np.array([float(cube[v].values[case, 0, j, -1]) for v in STATE_VARS])
+        if np.all(np.isfinite(x)):
+            seeds.append((float(values[j]), x, n))
+    return seeds
+
+
+def cycle_states(family: Family, p: float, x: np.ndarray, n: int) -> np.ndarray:
+    """The n phase-0 points (n, d) of a period-n orbit through x (x first)."""
+    pts = [np.asarray(x, dtype=float)]
+    fl = family.flow(p, 1)
+    for _ in range(n - 1):
+        y, _ = fl(pts[-1], False)
+        if y is None:
+            break
+        pts.append(y)
+    return np.array(pts)
+
+
+def on_branch(br: Branch, p: float, points: np.ndarray, tol: float) -> bool:
+    """True when one of ``points`` (phase-0 points of an orbit at p) lies on the branch."""
+    scale = max(1.0, float(np.max(np.abs(br.states))))
+    for i in range(len(br) - 1):
+        a, b = br.p[i], br.p[i + 1]
+        if min(a, b) - 1e-12 <= p <= max(a, b) + 1e-12:
+            w = 0.0 if a == b else (p - a) / (b - a)
+            x = br.states[i] + w * (br.states[i + 1] - br.states[i])
+            if float(np.min(np.max(np.abs(points - x), axis=1))) <= tol * scale:
+                return True
+    return False
+
+
+def sweep_branches(family_of: Callable[[int], KHVFamily], cube: Any, n_cases: int, spec: OrbitSpec
+                   ) -> list[tuple[int, Branch]]:
+    """Continue every distinct branch seeded by the cube's periodic points, case by case."""
+    out: list[tuple[int, Branch]] = []
+    for case in range(n_cases):
+        family = family_of(case)
+        mine: list[Branch] = []
+        for p, x, n in seeds_from_cube(cube, case, spec.max_period, spec.max_seeds):
+            r = newton_shooting(family.flow(p, n), x, n, spec.continuation.tol)
+            if not r.converged:
+                log.info("case %d: seed P%d at %g not converged (%s)", case, n, p, r.status)
+                continue
+            cyc = cycle_states(family, p, r.state, n)
+            if any(b.n == n and on_branch(b, p, cyc, 1e-3) for b in mine):
+                continue
+            br = continue_branch(family, p, r.state, n, family.lo, family.hi, spec.continuation)
+            if br is not None:
+                log.info("case %d: P%d branch from %g: %d points, %d bifurcations, ends %s", case, n, p, len(br),
+                         len(br.bifurcations), br.end_status)
+                mine.append(br)
+        out.extend((case, b) for b in mine)
+    return out
+
+
+def branch_dataset(branches: Sequence[tuple[int, Branch]], families: Mapping[int, Family], parameter: str,
+                   case_labels: Sequence[str]):
+    """All branches of a sweep as one CF dataset (points of all branches along ``point``)."""
+    import xarray as xr
+
+    units, long_name = point.CONTROLS.get(parameter, (point.units_of(parameter), parameter))
+    nmax = max([b.n for _, b in branches], default=1)
+    rows = sum(len(b) for _, b in branches)
+    d = 6
+    bid = np.zeros(rows, np.int32)
+    case = np.zeros(rows, np.int32)
+    per = np.zeros(rows, np.int16)
+    pv = np.zeros(rows)
+    st = np.zeros((rows, d))
+    mu = np.zeros((rows, d), complex)
+    arc = np.zeros(rows)
+    graz = np.zeros(rows)
+    cyc = np.full((rows, nmax), np.nan)
+    k = 0
+    for j, (c, b) in enumerate(branches):
+        m = len(b)
+        sl = slice(k, k + m)
+        bid[sl], case[sl], per[sl] = j, c, b.n
+        pv[sl], st[sl], mu[sl], arc[sl], graz[sl] = b.p, b.states, b.multipliers, b.arclength, b.grazing
+        for i in range(m):
+            cyc[k + i, :b.n] = cycle_states(families[c], float(b.p[i]), b.states[i], b.n)[:, 1] if b.n > 1 else b.states[i, 1]
+        k += m
+    bifs = [(j, c, bf) for j, (c, b) in enumerate(branches) for bf in b.bifurcations]
+    nb = len(bifs)
+    one = {"units": "1"}
+    data = {
+        "branch": ("point", bid, {**one, "long_name": "index of the continued branch"}),
+        "case_index": ("point", case, {**one, "long_name": "index of the sweep case (fixed overrides)"}),
+        "orbit_period": ("point", per, {**one, "long_name": "period of the orbit in mesh periods"}),
+        "parameter": ("point", pv, {"units": units, "long_name": long_name}),
+        "state": (("point", "state"), st, {**one, "long_name": "orbit state at mesh phase 0 (x / b_c, dx/dtau / b_c)"}),
+        "multiplier_real": (("point", "multiplier"), mu.real, {**one, "long_name": "Floquet multiplier, real part"}),
+        "multiplier_imag": (("point", "multiplier"), mu.imag, {**one, "long_name": "Floquet multiplier, imaginary part"}),
+        "spectral_radius": ("point", np.max(np.abs(mu), axis=1) if rows else np.zeros(0),
+                            {**one, "long_name": "largest Floquet multiplier modulus (< 1: stable)"}),
+        "stable": ("point", (np.max(np.abs(mu), axis=1) < 1.0).astype(np.int8) if rows else np.zeros(0, np.int8),
+                   {"long_name": "orbit asymptotically stable", "flag_values": np.array([0, 1], np.int8),
+                    "flag_meanings": "unstable stable"}),
+        "arclength": ("point", arc, {**one, "long_name": "arclength along the branch in scaled variables"}),
+        "grazing_margin": ("point", graz, {**one, "long_name": "min over the cycle of |X_VH| / b_c - b (< 0: contact lost)"}),
+        "cycle_x_vh": (("point", "cycle"), cyc, {**one, "long_name": "X_VH / b_c at the phase-0 points of the cycle"}),
+        "bifurcation_branch": ("bifurcation", np.array([j for j, _, _ in bifs], np.int32),
+                               {**one, "long_name": "branch of the bifurcation point"}),
+        "bifurcation_type": ("bifurcation", np.array([TYPE_CODES[bf.kind] for _, _, bf in bifs], np.int8),
+                             {"long_name": "type of the bifurcation point",
+                              "flag_values": np.arange(len(BIFURCATION_TYPES), dtype=np.int8),
+                              "flag_meanings": " ".join(BIFURCATION_TYPES)}),
+        "bifurcation_parameter": ("bifurcation", np.array([bf.p for _, _, bf in bifs]), {"units": units,
+                                  "long_name": f"{long_name} at the bifurcation point"}),
+        "bifurcation_x_vh": ("bifurcation", np.array([bf.state[1] for _, _, bf in bifs]),
+                             {**one, "long_name": "X_VH / b_c of the orbit at the bifurcation point (phase 0)"}),
+        "critical_multiplier_real": ("bifurcation", np.array([bf.critical.real for _, _, bf in bifs]),
+                                     {**one, "long_name": "crossing multiplier, real part (NaN for grazing)"}),
+        "critical_multiplier_imag": ("bifurcation", np.array([bf.critical.imag for _, _, bf in bifs]),
+                                     {**one, "long_name": "crossing multiplier, imaginary part"}),
+        "rotation_number": ("bifurcation", np.array([bf.rotation_number for _, _, bf in bifs]),
+                            {**one, "long_name": "arg(mu) / (2 pi) of the Neimark-Sacker pair (NaN otherwise)"}),
+        "located": ("bifurcation", np.array([int(bf.located) for _, _, bf in bifs], np.int8),
+                    {"long_name": "point refined on the branch (else interpolated between two points)",
+                     "flag_values": np.array([0, 1], np.int8), "flag_meanings": "bracketed located"}),
+        "bifurcation_multiplier_real": (("bifurcation", "multiplier"),
+                                        np.array([bf.multipliers.real for _, _, bf in bifs]).reshape(nb, d),
+                                        {**one, "long_name": "Floquet multipliers at the bifurcation point, real part"}),
+        "bifurcation_multiplier_imag": (("bifurcation", "multiplier"),
+                                        np.array([bf.multipliers.imag for _, _, bf in bifs]).reshape(nb, d),
+                                        {**one, "long_name": "Floquet multipliers at the bifurcation point, imaginary part"}),
+    }
+    coords = {
+        "state": ("state", list(STATE_VARS), {"long_name": "state component"}),
+        "multiplier": ("multiplier", np.arange(d, dtype=np.int32), {**one, "long_name": "multiplier index (by decreasing modulus)"}),
+        "cycle": ("cycle", np.arange(nmax, dtype=np.int32), {**one, "long_name": "index of the phase-0 point in the cycle"}),
+        "case": ("case", list(case_labels), {"long_name": "case (fixed overrides)"}),
+    }
+    ends = {f"branch_{j}_ends": f"down={b.end_status.get('down')} up={b.end_status.get('up')}"
+            for j, (_, b) in enumerate(branches)}
+    return xr.Dataset(data, coords=coords, attrs={"control_parameter": parameter, **ends})
+
+
+TABLE_COLUMNS = ("case", "branch", "period", "type", "parameter", "value", "critical_multiplier", "modulus",
+                 "rotation_number", "located", "multipliers", "paper_transition", "paper_difference")
+
+
+def bifurcation_rows(branches: Sequence[tuple[int, Branch]], parameter: str, case_labels: Sequence[str],
+                     paper_transitions: Sequence[float] | None = None) -> list[dict[str, Any]]:
+    """One row per bifurcation point; ``paper_transitions``: the paper's transition values along the
+    same parameter (only for a design that names its paper), nearest one and the difference."""
+    rows = []
+    for j, (c, b) in enumerate(branches):
+        for bf in b.bifurcations:
+            near, diff = "", ""
+            if paper_transitions:
+                t = min(paper_transitions, key=lambda v: abs(v - bf.p))
+                near, diff = f"{t:g}", f"{bf.p - t:+.4f}"
+            crit = bf.critical
+            rows.append({
+                "case": case_labels[c], "branch": j, "period": b.n, "type": bf.kind, "parameter": parameter,
+                "value": f"{bf.p:.7f}",
+                "critical_multiplier": "" if not np.isfinite(crit.real) else f"{crit.real:+.6f}{crit.imag:+.6f}j",
+                "modulus": "" if not np.isfinite(crit.real) else f"{abs(crit):.6f}",
+                "rotation_number": "" if not np.isfinite(bf.rotation_number) else f"{bf.rotation_number:.5f}",
+                "located": int(bf.located),
+                "multipliers": " ".join(f"{m.real:+.4f}{m.imag:+.4f}j" for m in bf.multipliers),
+                "paper_transition": near, "paper_difference": diff,
+            })
+    rows.sort(key=lambda r: (r["case"], float(r["value"])))
+    return rows
+
+
+def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
+    import csv
+    import io as _io
+
+    buf = _io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=list(TABLE_COLUMNS), lineterminator="\n")
+    w.writeheader()
+    for r in rows:
+        w.writerow(r)
+    return buf.getvalue()
