@@ -748,7 +748,7 @@ def branch_dataset(branches: Sequence[tuple[int, Branch]], families: Mapping[int
         "case_index": ("point", case, {**one, "long_name": "index of the sweep case (fixed overrides)"}),
         "orbit_period": ("point", per, {**one, "long_name": "period of the orbit in mesh periods"}),
         "parameter": ("point", pv, {"units": units, "long_name": long_name}),
-        "state": (("point", "state"), st, {**one, "long_name": "orbit state at mesh phase 0 (x / b_c, dx/dtau / b_c)"}),
+        "orbit_state": (("point", "state"), st, {**one, "long_name": "orbit state at mesh phase 0 (x / b_c, dx/dtau / b_c)"}),
         "multiplier_real": (("point", "multiplier"), mu.real, {**one, "long_name": "Floquet multiplier, real part"}),
         "multiplier_imag": (("point", "multiplier"), mu.imag, {**one, "long_name": "Floquet multiplier, imaginary part"}),
         "spectral_radius": ("point", np.max(np.abs(mu), axis=1) if rows else np.zeros(0),
@@ -828,9 +828,9 @@ def bifurcation_rows(branches: Sequence[tuple[int, Branch]], parameter: str, cas
 
 def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
     import csv
-    import io as _io
+    from io import StringIO
 
-    buf = _io.StringIO()
+    buf = StringIO()
     w = csv.DictWriter(buf, fieldnames=list(TABLE_COLUMNS), lineterminator="\n")
     w.writeheader()
     for r in rows:
