@@ -11,10 +11,13 @@ At one point (design + overrides) the motion is integrated from
   in units of b_c.
 
 Each run is labelled by :func:`geardyn.runs.points.analyse_point` (cheap path).  Two runs reached
-the same attractor when their labels agree and their Poincaré sets lie within ``distance_tol``
-of each other (symmetric Hausdorff distance, max norm) relative to max(1, size), where size is the
-largest extent of the two sets (so two points of one periodic orbit at 1e-8 agree, two distinct
-P1 orbits do not).  The basin fraction of an attractor is the share of the *random* starts that
+the same attractor when their labels agree and
+
+* periodic: their cycles (the last n Poincaré points) lie within ``distance_tol`` of each other
+  (symmetric Hausdorff distance, max norm) relative to max(1, size), size the largest extent of the
+  two sets (two phases of one orbit agree to 1e-8; two distinct P1 orbits do not);
+* otherwise (quasi-periodic, chaotic, undetermined): centroids and bounding boxes of the Poincaré
+  sets agree within ``chaotic_distance_tol`` * max(1, size) (two finite samples of one cloud).  The basin fraction of an attractor is the share of the *random* starts that
 reach it (a Monte-Carlo estimate over the box; with ``n_random`` starts its standard error is about
 sqrt(f (1 - f) / n_random)).
 """
@@ -102,8 +105,13 @@ def same_attractor(label_a: int, pa: np.ndarray, label_b: int, pb: np.ndarray, s
     if pa.shape[0] == 0 or pb.shape[0] == 0:
         return False
     size = max(float(np.max(np.ptp(pa, axis=0))), float(np.max(np.ptp(pb, axis=0))))
-    tol = settings.distance_tol if label_a >= 1 else settings.chaotic_distance_tol
-    return hausdorff(pa, pb) <= tol * max(1.0, size)
+    if label_a >= 1:
+        return hausdorff(pa, pb) <= settings.distance_tol * max(1.0, size)
+    # quasi-periodic / chaotic / undetermined: a finite sample of the same set; compare the centroids
+    # and the bounding boxes (a Hausdorff distance of two samples of a cloud is sampling noise)
+    tol = settings.chaotic_distance_tol * max(1.0, size)
+    box = max(float(np.max(np.abs(pa.min(0) - pb.min(0)))), float(np.max(np.abs(pa.max(0) - pb.max(0)))))
+    return float(np.max(np.abs(pa.mean(0) - pb.mean(0)))) <= tol and box <= tol
 
 
 def find_attractors(system: System, starts: Mapping[str, np.ndarray], settings: AttractorSettings,
@@ -136,3 +144,119 @@ def basin_fractions(attractors: Sequence[Attractor], n_random: int) -> np.ndarra
     if n_random <= 0:
         return np.full(len(attractors), np.nan)
     return np.array([a.n_random / n_random for a in attractors], dtype=float)
+
+
+# ----------------------------------------------------------------------------------------------
+# along a sweep
+# ----------------------------------------------------------------------------------------------
+
+STATE_VARS = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
+
+
+def subset_indices(values: np.ndarray, every: int | None = None, at: Sequence[float] | None = None) -> list[int]:
+    """Sweep indices to examine: every ``every``-th point (first and last included) and/or the points
+    nearest to the values ``at``."""
+    idx: set[int] = set()
+    if every:
+        idx.update(range(0, values.size, int(every)))
+        idx.add(values.size - 1)
+    for v in at or ():
+        idx.add(int(np.argmin(np.abs(values - float(v)))))
+    return sorted(idx)
+
+
+def branch_starts(branches: Sequence[Any], p: float, perturb: float = 1e-3) -> dict[str, np.ndarray]:
+    """Starts on the continued branches at p: the orbit itself where it is stable, the orbit moved by
+    ``perturb`` (every state) where it is unstable (to find what it loses stability to, e.g. a torus)."""
+    out: dict[str, np.ndarray] = {}
+    k = 0
+    for br in branches:
+        for i in range(len(br) - 1):
+            a, b = br.p[i], br.p[i + 1]
+            if min(a, b) <= p <= max(a, b) and a != b:
+                w = (p - a) / (b - a)
+                x = br.states[i] + w * (br.states[i + 1] - br.states[i])
+                if bool(br.stable[i] and br.stable[i + 1]):
+                    out[f"orbit_{k}"] = x
+                else:
+                    out[f"near_unstable_{k}"] = x + perturb
+                k += 1
+    return out
+
+
+def attractors_along_sweep(system_of: Any, values: np.ndarray, indices: Sequence[int],
+                           neighbour_state: Any, branches: Sequence[Any], settings: AttractorSettings,
+                           integration: SimulationSettings, classifier: classify.ClassifierSettings,
+                           parameter: str, units: str, long_name: str):
+    """Attractors at the sweep points ``indices`` as a CF dataset.
+
+    system_of(p): the coefficients at p; neighbour_state(j): final state of sweep point j (or None).
+    """
+    import xarray as xr
+
+    fixed_names = ["static", "up", "down"] + [f"random_{k}" for k in range(settings.n_random)]
+    per_point = []
+    for j in indices:
+        p = float(values[j])
+        sys_ = system_of(p)
+        starts: dict[str, np.ndarray] = {"static": sys_.static_state()}
+        for name, jj in (("up", j - 1), ("down", j + 1)):
+            if 0 <= jj < values.size:
+                x = neighbour_state(jj)
+                if x is not None and np.all(np.isfinite(x)):
+                    starts[name] = x
+        starts.update(branch_starts(branches, p))
+        starts.update(random_starts(sys_, settings))
+        atts, where = find_attractors(sys_, starts, settings, integration, classifier)
+        per_point.append((p, atts, where, len(starts)))
+    na = max([len(a) for _, a, _, _ in per_point], default=1)
+    npnt = len(per_point)
+    label = np.full((npnt, na), classify.LABELS["undetermined"], np.int16)
+    valid = np.zeros((npnt, na), np.int8)
+    cen = np.full((npnt, na, 6), np.nan)
+    size = np.full((npnt, na), np.nan)
+    lyap = np.full((npnt, na), np.nan)
+    frac = np.full((npnt, na), np.nan)
+    nst = np.zeros((npnt, na), np.int32)
+    reach = np.full((npnt, len(fixed_names)), -1, np.int16)
+    for r, (p, atts, where, _) in enumerate(per_point):
+        fr = basin_fractions(atts, settings.n_random)
+        for k, a in enumerate(atts):
+            label[r, k], valid[r, k] = a.label, 1
+            cen[r, k], size[r, k], lyap[r, k], frac[r, k], nst[r, k] = a.centroid, a.size, a.lyapunov, fr[k], len(a.starts)
+        for s, name in enumerate(fixed_names):
+            reach[r, s] = where.get(name, -1)
+    one = {"units": "1"}
+    data = {
+        "parameter": ("point", np.array([q[0] for q in per_point]), {"units": units, "long_name": long_name}),
+        "sweep_index": ("point", np.asarray(indices, np.int32), {**one, "long_name": "index of the point in the sweep"}),
+        "n_attractors": ("point", np.array([len(q[1]) for q in per_point], np.int16),
+                         {**one, "long_name": "number of distinct attractors found"}),
+        "n_starts": ("point", np.array([q[3] for q in per_point], np.int16),
+                     {**one, "long_name": "number of initial conditions integrated"}),
+        "attractor_label": (("point", "attractor"), label, {"long_name": "motion label of the attractor (classify)",
+                                                            **classify.flag_attrs(classifier.max_n)}),
+        "attractor_found": (("point", "attractor"), valid, {"long_name": "attractor slot used",
+                                                            "flag_values": np.array([0, 1], np.int8),
+                                                            "flag_meanings": "empty found"}),
+        "centroid": (("point", "attractor", "state"), cen,
+                     {**one, "long_name": "centroid of the attractor's Poincare points (x / b_c, dx/dtau / b_c)"}),
+        "attractor_size": (("point", "attractor"), size, {**one, "long_name": "largest extent of the Poincare points"}),
+        "attractor_lyapunov": (("point", "attractor"), lyap,
+                               {**one, "long_name": "largest Lyapunov exponent per unit tau (NaN: periodic, cheap path)"}),
+        "basin_fraction": (("point", "attractor"), frac,
+                           {**one, "long_name": "share of the random starts in the box that reach the attractor"}),
+        "starts_reaching": (("point", "attractor"), nst, {**one, "long_name": "number of starts (all kinds) reaching it"}),
+        "reached_from": (("point", "start"), reach,
+                         {**one, "long_name": "attractor index reached from the named start (-1: start not used)"}),
+    }
+    coords = {
+        "state": ("state", list(STATE_VARS), {"long_name": "state component"}),
+        "start": ("start", fixed_names, {"long_name": "named initial condition"}),
+        "attractor": ("attractor", np.arange(na, dtype=np.int32), {**one, "long_name": "attractor slot"}),
+    }
+    attrs = {"control_parameter": parameter, "n_random": settings.n_random, "random_seed": settings.seed,
+             "box": f"static state +- {settings.box_x:g} (displacements), +- {settings.box_v:g} (velocities), units b_c",
+             "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
+             "distance_tol": settings.distance_tol, "chaotic_distance_tol": settings.chaotic_distance_tol}
+    return xr.Dataset(data, coords=coords, attrs=attrs)
