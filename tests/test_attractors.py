@@ -56,9 +56,9 @@ def coexistence():
     br = C.continue_branch(fam, 0.71, r.final_state, 1, 0.70, 0.78,
                            C.ContinuationSettings(ds=5e-3, ds_max=5e-3, grazing=False))
     values = np.array([0.74, 0.76])
-    ds = A.attractors_along_sweep(fam.coefficients, values, [0, 1], lambda j: None, [br],
-                                  A.AttractorSettings(n_random=4), point.integration_settings(d),
-                                  classify.ClassifierSettings(), "x1", "1", "planet profile shift x1")
+    pts = A.sweep_points(fam.coefficients, values, [0, 1], 0, lambda j: None, [br])
+    ds = A.attractors_dataset(pts, A.AttractorSettings(n_random=4), point.integration_settings(d),
+                              classify.ClassifierSettings(), "x1", "1", "planet profile shift x1")
     return ds
 
 

@@ -184,31 +184,50 @@ def branch_starts(branches: Sequence[Any], p: float, perturb: float = 1e-3) -> d
     return out
 
 
-def attractors_along_sweep(system_of: Any, values: np.ndarray, indices: Sequence[int],
-                           neighbour_state: Any, branches: Sequence[Any], settings: AttractorSettings,
-                           integration: SimulationSettings, classifier: classify.ClassifierSettings,
-                           parameter: str, units: str, long_name: str):
-    """Attractors at the sweep points ``indices`` as a CF dataset.
+@dataclass
+class PointStarts:
+    """One point to examine: its case and sweep index, parameter value, system and the starts other
+    than the static state and the random ones (neighbour states, branch orbits)."""
 
-    system_of(p): the coefficients at p; neighbour_state(j): final state of sweep point j (or None).
-    """
-    import xarray as xr
+    case: int
+    index: int
+    p: float
+    system: Any
+    extra: dict[str, np.ndarray] = field(default_factory=dict)
 
-    fixed_names = ["static", "up", "down"] + [f"random_{k}" for k in range(settings.n_random)]
-    per_point = []
+
+def sweep_points(system_of: Any, values: np.ndarray, indices: Sequence[int], case: int,
+                 neighbour_state: Any, branches: Sequence[Any]) -> list[PointStarts]:
+    """The :class:`PointStarts` of one case: ``up`` / ``down`` are the final states of the sweep
+    points below / above (a sweep continued upwards / downwards arrives from there), then the branch
+    starts of :func:`branch_starts`.  system_of(p): coefficients; neighbour_state(j): state or None."""
+    out = []
     for j in indices:
         p = float(values[j])
-        sys_ = system_of(p)
-        starts: dict[str, np.ndarray] = {"static": sys_.static_state()}
+        extra: dict[str, np.ndarray] = {}
         for name, jj in (("up", j - 1), ("down", j + 1)):
             if 0 <= jj < values.size:
                 x = neighbour_state(jj)
                 if x is not None and np.all(np.isfinite(x)):
-                    starts[name] = x
-        starts.update(branch_starts(branches, p))
-        starts.update(random_starts(sys_, settings))
-        atts, where = find_attractors(sys_, starts, settings, integration, classifier)
-        per_point.append((p, atts, where, len(starts)))
+                    extra[name] = np.asarray(x, dtype=float)
+        extra.update(branch_starts(branches, p))
+        out.append(PointStarts(case, int(j), p, system_of(p), extra))
+    return out
+
+
+def attractors_dataset(points: Sequence[PointStarts], settings: AttractorSettings, integration: SimulationSettings,
+                       classifier: classify.ClassifierSettings, parameter: str, units: str, long_name: str,
+                       case_labels: Sequence[str] = ("base",)):
+    """Attractors at each of ``points`` as one CF dataset (dimension ``point``)."""
+    import xarray as xr
+
+    fixed_names = ["static", "up", "down"] + [f"random_{k}" for k in range(settings.n_random)]
+    per_point = []
+    for q in points:
+        starts: dict[str, np.ndarray] = {"static": q.system.static_state(), **q.extra}
+        starts.update(random_starts(q.system, settings))
+        atts, where = find_attractors(q.system, starts, settings, integration, classifier)
+        per_point.append((q, atts, where, len(starts)))
     na = max([len(a) for _, a, _, _ in per_point], default=1)
     npnt = len(per_point)
     label = np.full((npnt, na), classify.LABELS["undetermined"], np.int16)
@@ -219,20 +238,23 @@ def attractors_along_sweep(system_of: Any, values: np.ndarray, indices: Sequence
     frac = np.full((npnt, na), np.nan)
     nst = np.zeros((npnt, na), np.int32)
     reach = np.full((npnt, len(fixed_names)), -1, np.int16)
-    for r, (p, atts, where, _) in enumerate(per_point):
+    for r, (_, atts, where, _) in enumerate(per_point):
         fr = basin_fractions(atts, settings.n_random)
         for k, a in enumerate(atts):
             label[r, k], valid[r, k] = a.label, 1
             cen[r, k], size[r, k], lyap[r, k], frac[r, k], nst[r, k] = a.centroid, a.size, a.lyapunov, fr[k], len(a.starts)
-        for s, name in enumerate(fixed_names):
-            reach[r, s] = where.get(name, -1)
+        for s_, name in enumerate(fixed_names):
+            reach[r, s_] = where.get(name, -1)
     one = {"units": "1"}
     data = {
-        "parameter": ("point", np.array([q[0] for q in per_point]), {"units": units, "long_name": long_name}),
-        "sweep_index": ("point", np.asarray(indices, np.int32), {**one, "long_name": "index of the point in the sweep"}),
-        "n_attractors": ("point", np.array([len(q[1]) for q in per_point], np.int16),
+        "parameter": ("point", np.array([q.p for q, *_ in per_point]), {"units": units, "long_name": long_name}),
+        "case_index": ("point", np.array([q.case for q, *_ in per_point], np.int32),
+                       {**one, "long_name": "index of the sweep case (fixed overrides)"}),
+        "sweep_index": ("point", np.array([q.index for q, *_ in per_point], np.int32),
+                        {**one, "long_name": "index of the point in the sweep"}),
+        "n_attractors": ("point", np.array([len(a) for _, a, _, _ in per_point], np.int16),
                          {**one, "long_name": "number of distinct attractors found"}),
-        "n_starts": ("point", np.array([q[3] for q in per_point], np.int16),
+        "n_starts": ("point", np.array([n for *_, n in per_point], np.int16),
                      {**one, "long_name": "number of initial conditions integrated"}),
         "attractor_label": (("point", "attractor"), label, {"long_name": "motion label of the attractor (classify)",
                                                             **classify.flag_attrs(classifier.max_n)}),
@@ -254,9 +276,49 @@ def attractors_along_sweep(system_of: Any, values: np.ndarray, indices: Sequence
         "state": ("state", list(STATE_VARS), {"long_name": "state component"}),
         "start": ("start", fixed_names, {"long_name": "named initial condition"}),
         "attractor": ("attractor", np.arange(na, dtype=np.int32), {**one, "long_name": "attractor slot"}),
+        "case": ("case", list(case_labels), {"long_name": "case (fixed overrides)"}),
     }
     attrs = {"control_parameter": parameter, "n_random": settings.n_random, "random_seed": settings.seed,
              "box": f"static state +- {settings.box_x:g} (displacements), +- {settings.box_v:g} (velocities), units b_c",
              "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
              "distance_tol": settings.distance_tol, "chaotic_distance_tol": settings.chaotic_distance_tol}
     return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def sweep_attractors(drive: Any, spec: Any, cube: Any, branches_ds: Any, attractor_spec: Mapping[str, Any],
+                     settings: SimulationSettings | None = None,
+                     classifier: classify.ClassifierSettings | None = None):
+    """Attractors at a subset of a sweep's points (``every`` / ``at`` in ``attractor_spec``, the rest
+    are :class:`AttractorSettings`), every case; the branches come from the orbits dataset."""
+    from geardyn.khv import point
+    from geardyn.runs.continuation import branches_from_dataset
+
+    spec_map = dict(attractor_spec)
+    every = spec_map.pop("every", None)
+    at = spec_map.pop("at", None)
+    if not every and not at:
+        every = max(1, spec.num // 10)
+    aset = AttractorSettings.from_mapping(spec_map)
+    settings = settings or point.integration_settings(drive, **dict(spec.integration))
+    classifier = classifier or classify.ClassifierSettings.from_mapping(dict(spec.classifier))
+    values = spec.values
+    idx = subset_indices(values, every, at)
+    par = spec.parameter
+    allb = branches_from_dataset(branches_ds) if branches_ds is not None else []
+    pts: list[PointStarts] = []
+    for case in range(len(spec.cases)):
+        fixed = {**dict(spec.fixed), **dict(spec.cases[case])}
+
+        def system_of(p: float, fixed=fixed):
+            return point.point_coefficients(drive, {**fixed, par: float(p)})
+
+        def neighbour(j: int, case=case):
+            x = np.array([float(cube[v].values[case, 0, j, -1]) for v in STATE_VARS])
+            return x if np.all(np.isfinite(x)) else None
+
+        pts += sweep_points(system_of, values, idx, case, neighbour, [b for c, b in allb if c == case])
+    units, long_name = point.CONTROLS.get(par, (point.units_of(par), par))
+    ds = attractors_dataset(pts, aset, settings, classifier, par, units, long_name,
+                            [spec.case_label(i) for i in range(len(spec.cases))])
+    ds.attrs.update({"sweep": spec.name, "design": spec.design})
+    return ds

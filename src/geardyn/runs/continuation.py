@@ -263,18 +263,22 @@ class _Corrector:
         self.family, self.n, self.sx, self.sp, self.cs = family, n, sx, sp, cs
         self.evals = 0
 
-    def evaluate(self, x: np.ndarray, p: float):
-        """F, dF/dx (= M - I), dF/dp, M at (x, p); None when the orbit diverged."""
+    def evaluate(self, x: np.ndarray, p: float, Fp: np.ndarray | None = None):
+        """F, dF/dx (= M - I), dF/dp, M at (x, p); None when the orbit diverged.  dF/dp by a forward
+        difference unless ``Fp`` is given (the corrector reuses the one of its first iterate: a chord
+        step in the parameter column, which saves one new system per iteration)."""
         phi, M = self.family.flow(p, self.n)(x, True)
         self.evals += 1
         if phi is None:
             return None
-        dp = self.cs.dp_rel * self.sp
-        phi2, _ = self.family.flow(p + dp, self.n)(x, False)
-        if phi2 is None:
-            return None
+        if Fp is None:
+            dp = self.cs.dp_rel * self.sp
+            phi2, _ = self.family.flow(p + dp, self.n)(x, False)
+            if phi2 is None:
+                return None
+            Fp = (phi2 - phi) / dp
         F = phi - x
-        return F, M - np.eye(x.size), (phi2 - phi) / dp, M
+        return F, M - np.eye(x.size), Fp, M
 
     def tangent(self, A: np.ndarray, Fp: np.ndarray, t_prev: np.ndarray) -> np.ndarray:
         """Unit null vector of [A sx, Fp sp] oriented like t_prev."""
@@ -294,8 +298,9 @@ class _Corrector:
         d = x.size
         u_pred = np.append(x / self.sx, p / self.sp)
         last = np.inf
+        Fp = None
         for it in range(self.cs.max_corrector):
-            ev = self.evaluate(x, p)
+            ev = self.evaluate(x, p, Fp)
             if ev is None:
                 return None
             F, A, Fp, M = ev
@@ -836,3 +841,54 @@ def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
     for r in rows:
         w.writerow(r)
     return buf.getvalue()
+
+
+def branches_from_dataset(ds: Any) -> list[tuple[int, Branch]]:
+    """The branches of a :func:`branch_dataset` file (points, states, multipliers; no bifurcations)."""
+    out = []
+    ids = ds["branch"].values
+    for b in np.unique(ids):
+        m = ids == b
+        mu = ds["multiplier_real"].values[m] + 1j * ds["multiplier_imag"].values[m]
+        br = Branch(n=int(ds["orbit_period"].values[m][0]), p=ds["parameter"].values[m],
+                    states=ds["orbit_state"].values[m], multipliers=mu, arclength=ds["arclength"].values[m],
+                    grazing=ds["grazing_margin"].values[m], iterations=np.zeros(int(m.sum()), np.int32))
+        out.append((int(ds["case_index"].values[m][0]), br))
+    return out
+
+
+def sweep_orbits(drive: Any, spec: Any, cube: Any, orbit_spec: OrbitSpec,
+                 settings: SimulationSettings | None = None) -> tuple[Any, list[dict[str, Any]]]:
+    """Branches of one sweep (a :class:`geardyn.runs.sweep.SweepSpec` and its merged cube): the CF
+    dataset and the bifurcation table rows.  The paper's transitions are named only for a design
+    that names its paper and only along x1 (the paper's Fig. 7 sequence)."""
+    import time
+
+    from geardyn.papers import paper_of
+
+    settings = settings or point.integration_settings(drive, **dict(spec.integration))
+    fams: dict[int, KHVFamily] = {}
+
+    def family_of(case: int) -> KHVFamily:
+        if case not in fams:
+            fixed = {**dict(spec.fixed), **dict(spec.cases[case])}
+            fams[case] = KHVFamily(drive, spec.parameter, fixed, spec.start, spec.stop, settings, orbit_spec.nodes)
+            log.info("case %d: coefficient interpolation error %.2e", case, fams[case].interpolation_error)
+        return fams[case]
+
+    t0 = time.perf_counter()
+    branches = sweep_branches(family_of, cube, len(spec.cases), orbit_spec)
+    log.info("%d branches in %.1f s", len(branches), time.perf_counter() - t0)
+    labels = [spec.case_label(i) for i in range(len(spec.cases))]
+    for c in range(len(spec.cases)):
+        family_of(c)
+    ds = branch_dataset(branches, fams, spec.parameter, labels)
+    ds.attrs.update({"sweep": spec.name, "design": spec.design,
+                     "interpolation_error": max((f.interpolation_error for f in fams.values()), default=0.0),
+                     "continuation_ds_max": orbit_spec.continuation.ds_max,
+                     "shooting_tol": orbit_spec.continuation.tol, "steps_per_period": settings.steps_per_period,
+                     "integrator": "rk4_event"})
+    mod = paper_of(getattr(drive, "paper", None))
+    transitions = getattr(mod, "TRANSITIONS", None) if (mod is not None and spec.parameter == "x1") else None
+    rows = bifurcation_rows(branches, spec.parameter, labels, transitions)
+    return ds, rows
