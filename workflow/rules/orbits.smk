@@ -66,4 +66,6 @@ ORBIT_TARGETS = (
     + runs_for("orbits", "results/{design}/orbits/{name}_bifurcations.csv")
     + runs_for("orbits", "results/{design}/figures/{name}_orbits.png")
     + runs_for("orbits", "results/{design}/orbits/{name}_attractors.nc")
+    if config.get("orbits")
+    else []
 )
