@@ -158,3 +158,67 @@ def test_duffing_period_doubling_bracketed_by_brute_force_simulation():
     # independent of shooting: long runs on either side of the reference value
     assert _duffing_returns(GAMMA_PD - 1e-3, 3000, 200) < 1e-6
     assert _duffing_returns(GAMMA_PD + 1e-3, 3000, 200) > 1e-2
+
+
+@njit(cache=True)
+def _duffing_map(gamma, y0, n, steps, want_jac):
+    """n-period map of the double-well Duffing oscillator and its 2 x 2 derivative (numba RK4 with
+    the variational equations, the same scheme as :func:`geardyn.solve.shooting.rk4_flow`)."""
+    d, w = 0.3, 1.2
+    h = 2 * math.pi / w / steps
+    x, v = y0[0], y0[1]
+    Y = np.eye(2)
+    for k in range(n * steps):
+        t = k * h
+        a1 = gamma * math.cos(w * t) - d * v + x - x ** 3
+        x2, v2 = x + 0.5 * h * v, v + 0.5 * h * a1
+        a2 = gamma * math.cos(w * (t + 0.5 * h)) - d * v2 + x2 - x2 ** 3
+        x3, v3 = x + 0.5 * h * v2, v + 0.5 * h * a2
+        a3 = gamma * math.cos(w * (t + 0.5 * h)) - d * v3 + x3 - x3 ** 3
+        x4, v4 = x + h * v3, v + h * a3
+        if want_jac:
+            J1 = np.array([[0.0, 1.0], [1.0 - 3 * x * x, -d]])
+            J2 = np.array([[0.0, 1.0], [1.0 - 3 * x2 * x2, -d]])
+            J3 = np.array([[0.0, 1.0], [1.0 - 3 * x3 * x3, -d]])
+            J4 = np.array([[0.0, 1.0], [1.0 - 3 * x4 * x4, -d]])
+            K1 = J1 @ Y
+            K2 = J2 @ (Y + 0.5 * h * K1)
+            K3 = J3 @ (Y + 0.5 * h * K2)
+            K4 = J4 @ (Y + h * K3)
+            Y = Y + h / 6 * (K1 + 2 * K2 + 2 * K3 + K4)
+        a4 = gamma * math.cos(w * (t + h)) - d * v4 + x4 - x4 ** 3
+        x += h / 6 * (v + 2 * v2 + 2 * v3 + v4)
+        v += h / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
+    return np.array([x, v]), Y
+
+
+def fast_duffing_family(steps=200):
+    def flow_of(g, n):
+        def flow(x, jacobian=True):
+            y, Y = _duffing_map(g, np.asarray(x, dtype=float), n, steps, jacobian)
+            return y, (Y if jacobian else None)
+
+        return flow
+
+    return CallableFamily(flow_of)
+
+
+def test_duffing_cascade_by_branch_switching():
+    """P1 -> P2 at 0.2655818, P2 -> P4 at 0.2866932 (scipy DOP853 + fsolve + brentq on the 2-period
+    map: 0.286693157824; measured here 0.2866931603)."""
+    from geardyn.runs.continuation import switch_at_period_doubling
+
+    fam = fast_duffing_family()
+    x = np.array([0.1, 0.0])
+    for _ in range(200):
+        x, _ = fam.flow(0.2, 1)(x, False)
+    cs = ContinuationSettings(ds=0.02, ds_max=0.02)
+    br = continue_branch(fam, 0.2, x, 1, 0.2, 0.3, cs)
+    pd1 = [b for b in br.bifurcations if b.kind == "period_doubling"][0]
+    assert abs(pd1.p - GAMMA_PD) < 1e-6
+    p2 = switch_at_period_doubling(fam, pd1, 0.2, 0.3, cs)
+    assert p2 is not None and p2.n == 2
+    assert p2.stable[p2.p < 0.28].all()
+    pd2 = [b for b in p2.bifurcations if b.kind == "period_doubling"]
+    assert len(pd2) == 1 and pd2[0].n == 2
+    assert abs(pd2[0].p - 0.286693158) < 1e-3  # measured 2.4e-9

@@ -375,8 +375,10 @@ def _march(corr: _Corrector, x: np.ndarray, p: float, t: np.ndarray, lo: float, 
 
 
 def continue_branch(family: Family, p0: float, x0: np.ndarray, n: int, lo: float, hi: float,
-                    cs: ContinuationSettings = ContinuationSettings()) -> Branch | None:
-    """Shoot the period-n orbit at p0 from x0, then continue it both ways within [lo, hi].
+                    cs: ContinuationSettings = ContinuationSettings(),
+                    directions: tuple[str, ...] = ("down", "up")) -> Branch | None:
+    """Shoot the period-n orbit at p0 from x0, then continue it within [lo, hi] in ``directions``
+    (``up``: the direction of increasing p at the seed).
 
     Returns None when the shooting at p0 does not converge.  Bifurcations are detected (and located
     when ``cs.locate``) on the returned branch.
@@ -402,8 +404,9 @@ def continue_branch(family: Family, p0: float, x0: np.ndarray, n: int, lo: float
         t0[d] = 1.0
     t0 /= np.linalg.norm(t0)
     first = (r.state, p0, M, A, Fp, 1)
-    up, st_up = _march(corr, r.state, p0, t0, lo, hi, cs, first)
-    down, st_down = _march(corr, r.state, p0, -t0, lo, hi, cs, first)
+    up, st_up = _march(corr, r.state, p0, t0, lo, hi, cs, first) if "up" in directions else ([], "not_followed")
+    down, st_down = (_march(corr, r.state, p0, -t0, lo, hi, cs, first) if "down" in directions
+                     else ([], "not_followed"))
     # the down march's tangents point down the branch: flip them to the branch order
     down = [(q[0], q[1], q[2], -q[3], q[4]) for q in reversed(down)]
     pts = down + [(r.state, p0, M, t0, r.iterations)] + up
@@ -606,6 +609,46 @@ def _fold(br: Branch, i: int, corr: _Corrector | None, iterations: int = 12) -> 
     return (best, ok) if best is not None else (_interpolated(br, i, 0.5), False)
 
 
+def switch_at_period_doubling(family: Family, bf: Bifurcation, lo: float, hi: float,
+                              cs: ContinuationSettings = ContinuationSettings()) -> Branch | None:
+    """The period-2n branch born at a period-doubling point of a period-n branch.
+
+    Shooting for period 2n from the bifurcating orbit moved along the eigenvector of the multiplier
+    -1, a little past the point on either side (1e-3 and 1e-2 of the range; amplitudes 1e-2 to 1 of
+    max(1, max|x|) times the square root of the parameter offset, the scaling of a
+    period-doubling normal form); the first orbit that is genuinely of period 2n (not the period-n
+    orbit) is continued away from the bifurcation point only: towards it, the period-2n branch
+    ends in the bifurcating orbit and turns back as the same orbit shifted by n periods.  None when
+    none is found.
+    """
+    n = bf.n
+    flow = family.flow(bf.p, n)
+    phi, M = flow(bf.state, True)
+    if phi is None:
+        return None
+    mu, vecs = np.linalg.eig(M)
+    k = int(np.argmin(np.abs(mu + 1.0)))
+    v = np.real(vecs[:, k])
+    v /= float(np.max(np.abs(v)))
+    scale = max(1.0, float(np.max(np.abs(bf.state))))
+    span = hi - lo
+    for frac in (1e-3, 1e-2):
+        for side in (1.0, -1.0):
+            p = bf.p + side * frac * span
+            if not lo <= p <= hi:
+                continue
+            for amp in (1e-2, 1e-1, 1.0):
+                x0 = bf.state + amp * scale * math.sqrt(frac) * v
+                r = newton_shooting(family.flow(p, 2 * n), x0, 2 * n, cs.tol)
+                if not r.converged:
+                    continue
+                back, _ = family.flow(p, n)(r.state, False)
+                if back is None or float(np.max(np.abs(back - r.state))) < 1e-6 * scale:
+                    continue  # the period-n orbit itself
+                return continue_branch(family, p, r.state, 2 * n, lo, hi, cs, ("up",) if side > 0 else ("down",))
+    return None
+
+
 # ----------------------------------------------------------------------------------------------
 # a whole sweep: seeds from the simulated cube, branches, dataset, table
 # ----------------------------------------------------------------------------------------------
@@ -621,6 +664,8 @@ class OrbitSpec:
     max_period: sweep points labelled P1..P<max_period> are seeds.  max_seeds: per case.
     nodes: coefficient interpolation nodes of :class:`KHVFamily`.  continuation: the
     :class:`ContinuationSettings`.  attractors: the mapping for :mod:`geardyn.runs.attractors`.
+    switch_period_doubling: continue the period-2n branch born at each located period doubling
+    (when 2n <= max_period), see :func:`switch_at_period_doubling`.
     """
 
     max_period: int = 6
@@ -628,19 +673,21 @@ class OrbitSpec:
     nodes: int = 101
     continuation: ContinuationSettings = ContinuationSettings()
     attractors: tuple[tuple[str, Any], ...] = ()
+    switch_period_doubling: bool = True
 
     @classmethod
     def from_config(cls, spec: Mapping[str, Any] | None) -> OrbitSpec:
         spec = dict(spec or {})
         spec.pop("designs", None)
-        known = {"max_period", "max_seeds", "nodes", "continuation", "attractors"}
+        known = {"max_period", "max_seeds", "nodes", "continuation", "attractors", "switch_period_doubling"}
         unknown = set(spec) - known
         if unknown:
             raise ValueError(f"unknown orbits settings {sorted(unknown)}; allowed: {sorted(known)}")
         return cls(max_period=int(spec.get("max_period", 6)), max_seeds=int(spec.get("max_seeds", 6)),
                    nodes=int(spec.get("nodes", 101)),
                    continuation=ContinuationSettings.from_mapping(spec.get("continuation")),
-                   attractors=tuple(sorted((spec.get("attractors") or {}).items())))
+                   attractors=tuple(sorted((spec.get("attractors") or {}).items())),
+                   switch_period_doubling=bool(spec.get("switch_period_doubling", True)))
 
 
 STATE_VARS = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
@@ -714,7 +761,31 @@ def sweep_branches(family_of: Callable[[int], KHVFamily], cube: Any, n_cases: in
                 log.info("case %d: P%d branch from %g: %d points, %d bifurcations, ends %s", case, n, p, len(br),
                          len(br.bifurcations), br.end_status)
                 mine.append(br)
+                if spec.switch_period_doubling:
+                    mine.extend(_doubled(family, br, mine, spec, case))
         out.extend((case, b) for b in mine)
+    return out
+
+
+def _doubled(family: KHVFamily, br: Branch, known: list[Branch], spec: OrbitSpec, case: int,
+             depth: int = 0) -> list[Branch]:
+    """Branches born at the located period doublings of ``br`` (recursively, up to max_period)."""
+    out: list[Branch] = []
+    for bf in br.bifurcations:
+        if bf.kind != "period_doubling" or not bf.located or 2 * br.n > spec.max_period:
+            continue
+        pts = cycle_states(family, bf.p, bf.state, br.n)
+        if any(b.n == 2 * br.n and any(on_branch(b, bf.p, pts, 1e-2) for _ in (0,)) for b in known + out):
+            continue
+        new = switch_at_period_doubling(family, bf, family.lo, family.hi, spec.continuation)
+        if new is None:
+            log.info("case %d: no period-%d branch found at the period doubling at %g", case, 2 * br.n, bf.p)
+            continue
+        log.info("case %d: P%d branch switched at %g: %d points, %d bifurcations", case, new.n, bf.p, len(new),
+                 len(new.bifurcations))
+        out.append(new)
+        if depth < 4:
+            out.extend(_doubled(family, new, known + out, spec, case, depth + 1))
     return out
 
 
