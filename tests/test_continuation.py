@@ -129,3 +129,27 @@ def test_dataset_is_cf_and_table_names_paper_transitions(calibrated_branch, tmp_
     ns = [r for r in rows if r["type"] == "neimark_sacker"][0]
     assert ns["paper_transition"] == "0.761" or float(ns["paper_transition"]) in paper.TRANSITIONS
     assert C.rows_to_csv(rows).splitlines()[0].startswith("case,branch,period,type")
+
+
+def test_overlay_figure_draws_stable_unstable_and_typed_points(calibrated_branch, tmp_path):
+    from geardyn.plots.orbits import plot_branches
+
+    _, fam, br = calibrated_branch
+    ds = C.branch_dataset([(0, br)], {0: fam}, "x1", ["base"])
+    fig = plot_branches(None, ds, "calibrated, b = 2, e = 5")
+    ax = fig.axes[0]
+    styles = {line.get_linestyle() for line in ax.get_lines()}
+    assert "-" in styles and "--" in styles
+    labels = ax.get_legend_handles_labels()[1]
+    assert any("fold" in t for t in labels) and any("Neimark-Sacker" in t for t in labels)
+    io.save_figure(fig, tmp_path / "o.png", "caption")
+    assert (tmp_path / "o.png").stat().st_size > 1000
+
+
+def test_orbit_spec_from_config_checks_keys():
+    spec = C.OrbitSpec.from_config({"designs": ["li2013"], "max_period": 4, "continuation": {"ds_max": 2e-3}})
+    assert spec.max_period == 4 and spec.continuation.ds_max == 2e-3
+    with pytest.raises(ValueError):
+        C.OrbitSpec.from_config({"max_perod": 4})
+    with pytest.raises(ValueError):
+        C.OrbitSpec.from_config({"continuation": {"dsmax": 1e-3}})
