@@ -334,6 +334,7 @@ def _march(corr: _Corrector, x: np.ndarray, p: float, t: np.ndarray, lo: float, 
     sx, sp = corr.sx, corr.sp
     d = x.size
     _, _, _, A, Fp, _ = first
+    u_start, t_start = np.append(x / sx, p / sp), t.copy()
     while len(pts) < cs.max_points:
         u = np.append(x / sx, p / sp) + ds * t
         xp, pp = u[:d] * sx, u[d] * sp
@@ -367,6 +368,9 @@ def _march(corr: _Corrector, x: np.ndarray, p: float, t: np.ndarray, lo: float, 
             return pts, "singular_tangent"
         x, p = x_new, p_new
         pts.append((x, p, M, t, its))
+        u_now = np.append(x / sx, p / sp)
+        if len(pts) > 10 and float(np.linalg.norm(u_now - u_start)) < ds and float(t @ t_start) > 0:
+            return pts, "closed_loop"  # an isola: back at the seed
         if its <= 3:
             ds = min(ds * 1.3, cs.ds_max)
         if float(np.max(np.abs(sorted_multipliers(M)))) > 1e8:
@@ -405,8 +409,11 @@ def continue_branch(family: Family, p0: float, x0: np.ndarray, n: int, lo: float
     t0 /= np.linalg.norm(t0)
     first = (r.state, p0, M, A, Fp, 1)
     up, st_up = _march(corr, r.state, p0, t0, lo, hi, cs, first) if "up" in directions else ([], "not_followed")
-    down, st_down = (_march(corr, r.state, p0, -t0, lo, hi, cs, first) if "down" in directions
-                     else ([], "not_followed"))
+    if st_up == "closed_loop":
+        down, st_down = [], "closed_loop"  # the up march went round the whole isola
+    else:
+        down, st_down = (_march(corr, r.state, p0, -t0, lo, hi, cs, first) if "down" in directions
+                         else ([], "not_followed"))
     # the down march's tangents point down the branch: flip them to the branch order
     down = [(q[0], q[1], q[2], -q[3], q[4]) for q in reversed(down)]
     pts = down + [(r.state, p0, M, t0, r.iterations)] + up
@@ -775,7 +782,7 @@ def _doubled(family: KHVFamily, br: Branch, known: list[Branch], spec: OrbitSpec
         if bf.kind != "period_doubling" or not bf.located or 2 * br.n > spec.max_period:
             continue
         pts = cycle_states(family, bf.p, bf.state, br.n)
-        if any(b.n == 2 * br.n and any(on_branch(b, bf.p, pts, 1e-2) for _ in (0,)) for b in known + out):
+        if any(b.n == 2 * br.n and on_branch(b, bf.p, pts, 1e-2) for b in known + out):
             continue
         new = switch_at_period_doubling(family, bf, family.lo, family.hi, spec.continuation)
         if new is None:
