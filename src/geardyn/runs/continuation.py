@@ -138,8 +138,10 @@ class KHVFamily:
 def grazing_margin(system: Coefficients, x: np.ndarray, n: int, settings: SimulationSettings) -> float:
     """g = min over the cycle of |x_VH| - b (NaN without backlash): g < 0 when contact is lost.
 
-    Dense run of the n periods from x (every step); the discrete minimum of |x_VH| is refined by
-    the parabola through it and its two neighbours.
+    Dense run of the n periods from x (every step).  When x_VH changes sign the orbit crosses the
+    whole backlash zone and g = -b (|x_VH| has a kink at 0, which a parabola would misread as a
+    minimum above 0).  Otherwise the discrete minimum of |x_VH| is refined by the parabola through it
+    and its two neighbours.
     """
     if not system.backlash_on or system.b <= 0.0:
         return float("nan")
@@ -148,7 +150,10 @@ def grazing_margin(system: Coefficients, x: np.ndarray, n: int, settings: Simula
     r = simulate(system, s, x, dense=True)
     if r.diverged or r.states is None or r.states.shape[0] < 3:
         return float("nan")
-    a = np.abs(np.concatenate([[x[1]], r.states[:, 1]]))
+    x2 = np.concatenate([[x[1]], r.states[:, 1]])
+    if x2.min() < 0.0 < x2.max():
+        return -float(system.b)  # x_VH changes sign: the orbit passes right through the backlash
+    a = np.abs(x2)
     i = int(np.argmin(a))
     m = float(a[i])
     if 0 < i < a.size - 1:
