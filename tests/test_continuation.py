@@ -153,3 +153,18 @@ def test_orbit_spec_from_config_checks_keys():
         C.OrbitSpec.from_config({"max_perod": 4})
     with pytest.raises(ValueError):
         C.OrbitSpec.from_config({"continuation": {"dsmax": 1e-3}})
+
+
+def test_label_agreement_counts_points_on_stable_branch(calibrated_branch):
+    import xarray as xr
+
+    _, fam, br = calibrated_branch
+    # a two-point "cube": one P1 point on the stable lower branch, one P1 point off it
+    j = int(np.argmin(np.abs(br.p - 0.71)))
+    on, off = br.states[j], br.states[j] + 1.0
+    data = {v: (("case", "direction", "x1", "section"), np.array([on[k], off[k]]).reshape(1, 1, 2, 1))
+            for k, v in enumerate(C.STATE_VARS)}
+    data["label"] = (("case", "direction", "x1"), np.array([[[1, 1]]]))
+    cube = xr.Dataset(data, coords={"x1": [br.p[j], br.p[j]]}, attrs={"control_parameter": "x1"})
+    checked, agree, bad = C.label_agreement(cube, 0, [br], 6)
+    assert (checked, agree) == (2, 1) and len(bad) == 1

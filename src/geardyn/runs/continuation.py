@@ -940,6 +940,44 @@ def branches_from_dataset(ds: Any) -> list[tuple[int, Branch]]:
     return out
 
 
+def label_agreement(cube: Any, case: int, branches: Sequence[Branch], max_period: int,
+                    tol: float = 1e-4) -> tuple[int, int, list[float]]:
+    """Consistency of the simulated labels with the branches: of the sweep points labelled P1..P<max_period>,
+    how many have their last Poincare point on a *stable* part of a branch of that period (within
+    tol * max(1, max|x|)).  Returns (checked, agreeing, parameter values that disagree)."""
+    par = cube.attrs["control_parameter"]
+    values = np.asarray(cube[par].values, dtype=float)
+    labels = np.asarray(cube["label"].values[case, 0], dtype=int)
+    checked, agree, bad = 0, 0, []
+    for j, lab in enumerate(labels):
+        if not 1 <= lab <= max_period:
+            continue
+        x = np.array([float(cube[v].values[case, 0, j, -1]) for v in STATE_VARS])
+        if not np.all(np.isfinite(x)):
+            continue
+        checked += 1
+        ok = False
+        for br in branches:
+            if br.n != lab:
+                continue
+            scale = max(1.0, float(np.max(np.abs(br.states))))
+            st = br.stable
+            for i in range(len(br) - 1):
+                a, b = br.p[i], br.p[i + 1]
+                if st[i] and st[i + 1] and min(a, b) <= values[j] <= max(a, b) and a != b:
+                    w = (values[j] - a) / (b - a)
+                    y = br.states[i] + w * (br.states[i + 1] - br.states[i])
+                    if float(np.max(np.abs(y - x))) <= tol * scale:
+                        ok = True
+                        break
+            if ok:
+                break
+        agree += int(ok)
+        if not ok:
+            bad.append(float(values[j]))
+    return checked, agree, bad
+
+
 def sweep_orbits(drive: Any, spec: Any, cube: Any, orbit_spec: OrbitSpec,
                  settings: SimulationSettings | None = None) -> tuple[Any, list[dict[str, Any]]]:
     """Branches of one sweep (a :class:`geardyn.runs.sweep.SweepSpec` and its merged cube): the CF
@@ -971,6 +1009,11 @@ def sweep_orbits(drive: Any, spec: Any, cube: Any, orbit_spec: OrbitSpec,
                      "continuation_ds_max": orbit_spec.continuation.ds_max,
                      "shooting_tol": orbit_spec.continuation.tol, "steps_per_period": settings.steps_per_period,
                      "integrator": "rk4_event"})
+    for c in range(len(spec.cases)):
+        n_chk, n_ok, bad = label_agreement(cube, c, [b for cc, b in branches if cc == c], orbit_spec.max_period)
+        ds.attrs[f"case_{c}_label_agreement"] = (f"{n_ok} of {n_chk} simulated P-n points lie on a stable branch"
+                                                 + (f"; not: {', '.join(f'{v:g}' for v in bad[:20])}" if bad else ""))
+        log.info("case %d: %s", c, ds.attrs[f"case_{c}_label_agreement"])
     mod = paper_of(getattr(drive, "paper", None))
     transitions = getattr(mod, "TRANSITIONS", None) if (mod is not None and spec.parameter == "x1") else None
     rows = bifurcation_rows(branches, spec.parameter, labels, transitions)
