@@ -168,3 +168,36 @@ def test_label_agreement_counts_points_on_stable_branch(calibrated_branch):
     cube = xr.Dataset(data, coords={"x1": [br.p[j], br.p[j]]}, attrs={"control_parameter": "x1"})
     checked, agree, bad = C.label_agreement(cube, 0, [br], 6)
     assert (checked, agree) == (2, 1) and len(bad) == 1
+
+
+def test_period_doubling_bubble_of_the_khv_model_under_light_load():
+    """li2013 with T_D = T_L = 2 N m, w = 0.55, b = 2, e = 5 along x1: period doubling at x1 = 0.801349
+    and back at 0.808879 (multiplier -1); the period-2 branch between them is stable and ends where it
+    merges into the period-1 orbit; a simulation at 0.805 is P2 on that branch."""
+    d = design.load(ROOT / "config" / "designs" / "li2013.yaml")
+    fixed = {"b": 2.0, "e": 5.0, "T_D": 2.0, "T_L": 2.0, "w": 0.55}
+    fam = C.KHVFamily(d, "x1", fixed, 0.79, 0.82, nodes=7)
+    c = fam.coefficients(0.79)
+    r = simulate(c, SimulationSettings(transient_periods=3000, recorded_periods=1))
+    cs = C.ContinuationSettings(ds=0.01, ds_max=0.01, grazing=False)
+    br = C.continue_branch(fam, 0.79, r.final_state, 1, 0.79, 0.82, cs)
+    pds = sorted((b for b in br.bifurcations if b.kind == "period_doubling"), key=lambda b: b.p)
+    assert [round(b.p, 4) for b in pds] == [0.8013, 0.8089]
+    assert all(b.located and abs(b.critical + 1.0) < 1e-6 for b in pds)
+    p2 = C.switch_at_period_doubling(fam, pds[0], 0.79, 0.82, cs)
+    assert p2 is not None and p2.n == 2 and p2.stable.all()
+    assert p2.end_status["up"] == "merged_into_period_1"
+    assert p2.p.max() == pytest.approx(pds[1].p, abs=1e-3)
+    res, lab = analyse_point(fam.coefficients(0.805), point.integration_settings(d), classify.ClassifierSettings())
+    assert lab.label == 2
+    checked, agree, _ = C.label_agreement(_one_point_cube(0.805, res.poincare[-1], 2), 0, [p2], 6)
+    assert (checked, agree) == (1, 1)
+
+
+def _one_point_cube(p, x, label):
+    import xarray as xr
+
+    data = {v: (("case", "direction", "x1", "section"), np.array([[[[x[k]], [x[k]]]]]))
+            for k, v in enumerate(C.STATE_VARS)}
+    data["label"] = (("case", "direction", "x1"), np.array([[[label, 0]]]))
+    return xr.Dataset(data, coords={"x1": [p, p + 1.0]}, attrs={"control_parameter": "x1"})

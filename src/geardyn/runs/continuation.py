@@ -331,6 +331,21 @@ class _Corrector:
         return None
 
 
+def _merged_period(corr: _Corrector, x: np.ndarray, p: float, rtol: float = 1e-6) -> int:
+    """For a period-n branch (n > 1): the proper divisor m of n for which x is already a fixed point of
+    the m-period map (within rtol * x_scale), else 0.  A period-2n branch that reaches a second
+    period doubling merges there into the period-n orbit (traversed twice) and would otherwise
+    continue along it."""
+    n = corr.n
+    for m in range(1, n):
+        if n % m:
+            continue
+        y, _ = corr.family.flow(p, m)(x, False)
+        if y is not None and float(np.max(np.abs(y - x))) <= rtol * corr.sx:
+            return m
+    return 0
+
+
 def _march(corr: _Corrector, x: np.ndarray, p: float, t: np.ndarray, lo: float, hi: float,
            cs: ContinuationSettings, first: tuple) -> tuple[list, str]:
     """Points along one direction (excluding the start); returns (points, end status)."""
@@ -367,6 +382,9 @@ def _march(corr: _Corrector, x: np.ndarray, p: float, t: np.ndarray, lo: float, 
                 return pts, "step_too_small"
             continue
         x_new, p_new, M, A, Fp, its = out
+        merged = _merged_period(corr, x_new, p_new)
+        if merged:
+            return pts, f"merged_into_period_{merged}"
         try:
             t = corr.tangent(A, Fp, t)
         except np.linalg.LinAlgError:
@@ -422,6 +440,27 @@ def continue_branch(family: Family, p0: float, x0: np.ndarray, n: int, lo: float
     # the down march's tangents point down the branch: flip them to the branch order
     down = [(q[0], q[1], q[2], -q[3], q[4]) for q in reversed(down)]
     pts = down + [(r.state, p0, M, t0, r.iterations)] + up
+    ends = {"down": st_down, "up": st_up}
+    br = _assemble(family, pts, n, sx, sp, ends, p0, cs, corr)
+    if n > 1:
+        # a fold of a period-n branch on a period-m orbit (m | n) is where the branch was born at (or
+        # merges back into) a period doubling of the period-m orbit: beyond it lies the same orbit
+        # shifted by m periods.  Cut there (the period doubling is a point of the period-m branch).
+        seed = len(down)
+        for bf in br.bifurcations:
+            m = _merged_period(corr, bf.state, bf.p, 1e-4) if bf.kind == "fold" else 0
+            if m:
+                if bf.index >= seed:
+                    pts, ends["up"] = pts[:bf.index + 1], f"merged_into_period_{m}"
+                else:
+                    pts, ends["down"] = pts[bf.index + 1:], f"merged_into_period_{m}"
+                br = _assemble(family, pts, n, sx, sp, ends, p0, cs, corr)
+                break
+    return br
+
+
+def _assemble(family: Family, pts: list, n: int, sx: float, sp: float, ends: dict[str, str], p0: float,
+              cs: ContinuationSettings, corr: _Corrector) -> Branch:
     states = np.array([q[0] for q in pts])
     ps = np.array([q[1] for q in pts])
     mult = np.array([sorted_multipliers(q[2]) for q in pts])
@@ -430,8 +469,7 @@ def continue_branch(family: Family, p0: float, x0: np.ndarray, n: int, lo: float
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(u, axis=0), axis=1))])
     graz = np.array([family.grazing(q[1], q[0], n) for q in pts]) if cs.grazing else np.full(len(pts), np.nan)
     br = Branch(n=n, p=ps, states=states, multipliers=mult, arclength=arc, grazing=graz,
-                iterations=np.array([q[4] for q in pts], dtype=np.int32),
-                end_status={"down": st_down, "up": st_up}, seed_p=float(p0))
+                iterations=np.array([q[4] for q in pts], dtype=np.int32), end_status=dict(ends), seed_p=float(p0))
     br.bifurcations = detect_bifurcations(family, br, tang, cs, corr)
     return br
 
@@ -466,6 +504,13 @@ def ns_pair(mu: np.ndarray) -> complex | None:
     if c.size == 0:
         return None
     return complex(c[np.argmin(np.abs(np.abs(c) - 1.0))])
+
+
+def ns_product(mu: np.ndarray) -> float:
+    """prod over the complex multipliers in the upper half plane of (|mu| - 1): changes sign when one
+    pair crosses the unit circle, whatever the other pairs do (NaN without complex multipliers)."""
+    c = mu[_is_complex(mu) & (mu.imag > 0)]
+    return float(np.prod(np.abs(c) - 1.0)) if c.size else float("nan")
 
 
 def _lin_zero(a: float, b: float) -> float:
@@ -514,8 +559,10 @@ def _bifurcation(kind: str, q: _Onb, i: int, located: bool, br: Branch,
 
 
 def _interpolated(br: Branch, i: int, w: float) -> _Onb:
+    """Linear interpolation of state and parameter; the multipliers of the nearer end point (the sorted
+    multiplier lists of two points need not correspond element by element)."""
     return _Onb(w, br.states[i] + w * (br.states[i + 1] - br.states[i]), float(br.p[i] + w * (br.p[i + 1] - br.p[i])),
-                br.multipliers[i] + w * (br.multipliers[i + 1] - br.multipliers[i]), br.tangents[i])
+                br.multipliers[i if w < 0.5 else i + 1], br.tangents[i])
 
 
 def _locate(family: Family, br: Branch, i: int, test: Callable[[_Onb], float], corr: _Corrector | None,
@@ -573,12 +620,11 @@ def detect_bifurcations(family: Family, br: Branch, tangents: np.ndarray, cs: Co
             found.append(_bifurcation("branch_point", q, i, ok, br, near_p1))
         (o0, c0), (o1, c1) = _counts(m0), _counts(m1)
         if abs(o1 - o0) == 2 and abs(c1 - c0) == 2 and (o1 - o0) == (c1 - c0):
-            q0, q1 = ns_pair(m0), ns_pair(m1)
-            w = _lin_zero(abs(q0) - 1.0, abs(q1) - 1.0) if q0 is not None and q1 is not None else 0.5
+            n0, n1 = ns_product(m0), ns_product(m1)
+            w = _lin_zero(n0, n1) if np.isfinite(n0) and np.isfinite(n1) else 0.5
 
             def ns_test(q: _Onb) -> float:
-                z = ns_pair(q.multipliers)
-                return abs(z) - 1.0 if z is not None else float("nan")
+                return ns_product(q.multipliers)
 
             q, ok = _locate(family, br, i, ns_test, corr, cs, w)
             found.append(_bifurcation("neimark_sacker", q, i, ok, br, ns_pair))
