@@ -113,11 +113,14 @@ def rk4_step(c, y, h, k0, k1, k2, p0, p1, p2, out):
 
 
 @njit(cache=True, inline="always")
-def tangent_step(c, y, W, m, h, k0, k1, k2, p0, p1, p2, Wout):
+def tangent_step(c, y, W, m, h, k0, k1, k2, p0, p1, p2, Wout, fixed):
     """Advance the m tangent columns W (6, m) over the RK4 step from the orbit state y.
 
     The slopes f'(x2) are those of the orbit's four stage states (the derivative of the discrete
-    flow of :func:`rk4_step`)."""
+    flow of :func:`rk4_step`), or ``fixed`` (0 or 1) for all four when ``fixed >= 0``: a sub-step
+    that ends or starts on a located switch lies in one contact region, and a stage state on the
+    switch itself must not pick the other region's slope (the crossing time moves with the state,
+    which cancels that stage's dependence; see :func:`run`)."""
     hh = 0.5 * h
     a1, a2, a3 = rhs(c, y[0], y[1], y[2], y[3], y[4], y[5], k0, p0)
     x2_2 = y[1] + hh * y[4]
@@ -125,10 +128,13 @@ def tangent_step(c, y, W, m, h, k0, k1, k2, p0, p1, p2, Wout):
                      y[3] + hh * a1, y[4] + hh * a2, y[5] + hh * a3, k1, p1)
     x2_3 = y[1] + hh * (y[4] + hh * a2)
     x2_4 = y[1] + h * (y[4] + hh * b2)
-    s1 = k0 * slope(c, y[1])
-    s2 = k1 * slope(c, x2_2)
-    s3 = k1 * slope(c, x2_3)
-    s4 = k2 * slope(c, x2_4)
+    if fixed >= 0.0:
+        s1, s2, s3, s4 = k0 * fixed, k1 * fixed, k1 * fixed, k2 * fixed
+    else:
+        s1 = k0 * slope(c, y[1])
+        s2 = k1 * slope(c, x2_2)
+        s3 = k1 * slope(c, x2_3)
+        s4 = k2 * slope(c, x2_4)
     h6 = h / 6.0
     for col in range(m):
         w0, w1, w2, w3, w4, w5 = W[0, col], W[1, col], W[2, col], W[3, col], W[4, col], W[5, col]
@@ -174,9 +180,9 @@ def region(x, b):
 
 
 @njit(cache=True)
-def sub_step(c, poly, seg, y, W, m, s0, dt, yout, Wout):
+def sub_step(c, poly, seg, y, W, m, s0, dt, yout, Wout, fixed):
     """RK4 sub-step of length dt (time) from phase s0, kappa and TE evaluated on the fly; the m
-    tangent columns follow when m > 0."""
+    tangent columns follow when m > 0 (slope ``fixed``, see :func:`tangent_step`)."""
     period = c[T]
     eps1 = c[EPS] - math.floor(c[EPS])
     sm = s0 + 0.5 * dt / period
@@ -184,7 +190,7 @@ def sub_step(c, poly, seg, y, W, m, s0, dt, yout, Wout):
     k0, k1, k2 = kappa_at(poly, seg, eps1, s0), kappa_at(poly, seg, eps1, sm), kappa_at(poly, seg, eps1, se)
     p0, p1, p2 = te_at(c, s0), te_at(c, sm), te_at(c, se)
     if m > 0:
-        tangent_step(c, y, W, m, dt, k0, k1, k2, p0, p1, p2, Wout)
+        tangent_step(c, y, W, m, dt, k0, k1, k2, p0, p1, p2, Wout, fixed)
     rk4_step(c, y, dt, k0, k1, k2, p0, p1, p2, yout)
 
 
@@ -262,7 +268,7 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
             h = tab_h[j]
             if mt > 0:
                 tangent_step(c, y, W, mt, h, tab_k[j, 0], tab_k[j, 1], tab_k[j, 2],
-                             tab_p[j, 0], tab_p[j, 1], tab_p[j, 2], Wnew)
+                             tab_p[j, 0], tab_p[j, 1], tab_p[j, 2], Wnew, -1.0)
             rk4_step(c, y, h, tab_k[j, 0], tab_k[j, 1], tab_k[j, 2], tab_p[j, 0], tab_p[j, 1], tab_p[j, 2], ynew)
             if use_events:
                 rnew = region(ynew[1], b)
@@ -281,7 +287,7 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
                             # crossing at an end point: accept the step as it is
                             reg = rnew
                             break
-                        sub_step(c, poly, seg, y, W, mt, s_cur, th, ytmp, Wtmp)
+                        sub_step(c, poly, seg, y, W, mt, s_cur, th, ytmp, Wtmp, 0.0 if reg == 0 else 1.0)
                         n_events += 1
                         for i in range(6):
                             y[i] = ytmp[i]
@@ -295,7 +301,7 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
                             reg = 0
                         s_cur += th / period
                         left -= th
-                        sub_step(c, poly, seg, y, W, mt, s_cur, left, ynew, Wnew)
+                        sub_step(c, poly, seg, y, W, mt, s_cur, left, ynew, Wnew, 0.0 if reg == 0 else 1.0)
                         rnew = region(ynew[1], b)
                         if rnew == reg:
                             break

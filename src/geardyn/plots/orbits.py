@@ -1,0 +1,75 @@
+"""Continued branches drawn over a simulated bifurcation diagram.
+
+Grey dots: the sweep's Poincaré points of X_VH (what brute-force simulation shows).  Lines: the
+phase-0 points of every continued periodic orbit (a period-n orbit has n lines), solid where the
+orbit is stable, dashed where it is unstable.  Markers: the typed bifurcation points.
+"""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+
+#: Marker, colour and legend text of each bifurcation type.
+MARKERS = {
+    "period_doubling": ("v", "#d62728", "period doubling (mu = -1)"),
+    "neimark_sacker": ("D", "#9467bd", "Neimark-Sacker (|mu| = 1, complex)"),
+    "fold": ("o", "#2ca02c", "fold (mu = +1, turning point)"),
+    "branch_point": ("X", "#8c564b", "branch point (mu = +1)"),
+    "grazing": ("^", "#ff7f0e", "grazing (min |X_VH| = b)"),
+}
+_BRANCH_COLOURS = ["#1f77b4", "#17becf", "#393b79", "#637939", "#e377c2", "#7f7f7f"]
+
+
+def _dilate(mask: np.ndarray) -> np.ndarray:
+    out = mask.copy()
+    out[1:] |= mask[:-1]
+    out[:-1] |= mask[1:]
+    return out
+
+
+def plot_branches(cube: xr.Dataset | None, branches: xr.Dataset, title: str) -> Figure:
+    """One panel per case: sweep dots (if ``cube``), branches, bifurcation points."""
+    par = branches.attrs["control_parameter"]
+    cases = [str(c) for c in branches["case"].values]
+    fig, axes = plt.subplots(len(cases), 1, figsize=(9, 3.6 * len(cases)), squeeze=False)
+    types = [t for t in branches["bifurcation_type"].attrs["flag_meanings"].split()]
+    for k, case in enumerate(cases):
+        ax = axes[k, 0]
+        if cube is not None and "x_vh" in cube:
+            xs = np.asarray(cube[par].values, dtype=float)
+            y = cube["x_vh"].isel(case=k, direction=0).values
+            ax.plot(np.repeat(xs, y.shape[1]), y.ravel(), ",", color="0.6", alpha=0.6, rasterized=True)
+        sel = branches["case_index"].values == k
+        ids = np.unique(branches["branch"].values[sel])
+        for j, b in enumerate(ids):
+            m = branches["branch"].values == b
+            p = branches["parameter"].values[m]
+            stable = branches["stable"].values[m].astype(bool)
+            cyc = branches["cycle_x_vh"].values[m]
+            n = int(branches["orbit_period"].values[m][0])
+            colour = _BRANCH_COLOURS[j % len(_BRANCH_COLOURS)]
+            for c in range(n):
+                yc = cyc[:, c]
+                ax.plot(p, np.where(stable, yc, np.nan), "-", color=colour, lw=1.4,
+                        label=f"P{n} branch {int(b)} stable" if c == 0 else None)
+                ax.plot(p, np.where(_dilate(~stable), yc, np.nan), "--", color=colour, lw=1.0,
+                        label=f"P{n} branch {int(b)} unstable" if c == 0 and (~stable).any() else None)
+        bsel = np.isin(branches["bifurcation_branch"].values, ids)
+        for code, kind in enumerate(types):
+            mk = bsel & (branches["bifurcation_type"].values == code)
+            if mk.any():
+                marker, colour, text = MARKERS.get(kind, ("s", "k", kind))
+                ax.plot(branches["bifurcation_parameter"].values[mk], branches["bifurcation_x_vh"].values[mk],
+                        marker, color=colour, ms=7, mec="k", mew=0.6, ls="none", label=text)
+        ax.set_xlabel(par)
+        ax.set_ylabel("X_VH / b_c (phase 0)")
+        ax.set_title(f"{title} ({case})" if len(cases) > 1 or case != "base" else title, fontsize=10)
+        ax.legend(fontsize=7, loc="best", ncol=2)
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,197 @@
+"""Periodic orbits by Newton shooting on the stroboscopic (mesh-period) map, with Floquet multipliers.
+
+A period-n orbit of the T-periodic system is a fixed point of the n-fold stroboscopic map
+P^n = phi_nT (state at phase 0 -> state n mesh periods later)::
+
+    F(x) = phi_nT(x) - x = 0,        DF = M - I,     M = D phi_nT (monodromy)
+
+Newton's method needs M, which :func:`geardyn.solve.simulate` carries along the orbit
+(``monodromy_periods=n``): the variational equations advanced with the same event-located RK4
+stages, so M is the derivative of the discrete map itself.  The contact force kappa f(x2) is
+continuous at x2 = +-b (only its slope jumps), so the saltation matrix of a contact switch is the
+identity: the variational equations need no jump at a switch, only the slope f' of the region each
+sub-step lies in (``tests/test_shooting.py`` compares M with a finite-difference monodromy on an
+orbit that leaves contact four times per period).
+
+At convergence the eigenvalues of M are the Floquet multipliers of the orbit: it is asymptotically
+stable when all |mu| < 1.
+
+Everything here works on a *flow map*: a callable ``flow(x, jacobian) -> (phi(x), M or None)``
+returning ``(None, None)`` when the orbit diverged.  :func:`khv_flow` builds it for a
+:class:`~geardyn.solve.base.System`; :func:`rk4_flow` for any smooth forced ODE (used to validate
+the method on the Duffing oscillator).  Non-convergence is never silent: :class:`ShootingResult`
+carries ``converged`` and a ``status`` word.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from geardyn.solve.base import SimulationSettings, System
+from geardyn.solve.simulate import simulate
+
+#: flow(x, jacobian) -> (state after n periods, monodromy or None); (None, None) when diverged.
+FlowMap = Callable[[np.ndarray, bool], tuple[np.ndarray | None, np.ndarray | None]]
+
+#: Status words of :class:`ShootingResult`.
+STATUSES = ("converged", "max_iterations", "diverged", "singular", "not_finite")
+
+
+@dataclass
+class ShootingResult:
+    """A periodic orbit found (or not) by :func:`newton_shooting`.
+
+    state: (d,) point of the orbit at phase 0 (last Newton iterate when not converged).
+    n: period in mesh periods.  monodromy: (d, d) at ``state``; multipliers: its eigenvalues,
+    sorted by decreasing modulus.  residual: max |phi_nT(state) - state|.  converged: residual
+    within ``tol * max(1, max |state|)``.  status: one of :data:`STATUSES`.
+    """
+
+    state: np.ndarray
+    n: int
+    converged: bool
+    status: str
+    iterations: int
+    residual: float
+    monodromy: np.ndarray | None = None
+    multipliers: np.ndarray = field(default_factory=lambda: np.zeros(0, complex))
+
+    @property
+    def spectral_radius(self) -> float:
+        return float(np.max(np.abs(self.multipliers))) if self.multipliers.size else float("nan")
+
+    @property
+    def stable(self) -> bool:
+        return bool(self.converged and self.spectral_radius < 1.0)
+
+
+def sorted_multipliers(monodromy: np.ndarray) -> np.ndarray:
+    """Eigenvalues of the monodromy, by decreasing modulus (conjugate pairs adjacent)."""
+    mu = np.linalg.eigvals(monodromy)
+    return mu[np.lexsort((-mu.imag, -np.round(np.abs(mu), 12)))]
+
+
+def newton_shooting(flow: FlowMap, x0: np.ndarray, n: int = 1, tol: float = 1e-9, max_iter: int = 30,
+                    max_step: float | None = None) -> ShootingResult:
+    """Newton on F(x) = phi(x) - x from x0.
+
+    Convergence: max |F| <= tol * max(1, max |x|).  The Newton step is capped at ``max_step``
+    (default 10 * max(1, max |x0|)) in the max norm.  The monodromy and multipliers returned are
+    evaluated at the returned state.
+    """
+    x = np.asarray(x0, dtype=float).copy()
+    cap = max_step if max_step is not None else 10.0 * max(1.0, float(np.max(np.abs(x))))
+    res = float("inf")
+    for it in range(max_iter + 1):
+        phi, M = flow(x, True)
+        if phi is None or M is None:
+            return ShootingResult(x, n, False, "diverged", it, float("inf"))
+        F = phi - x
+        res = float(np.max(np.abs(F)))
+        if not (np.all(np.isfinite(F)) and np.all(np.isfinite(M))):
+            return ShootingResult(x, n, False, "not_finite", it, res)
+        if res <= tol * max(1.0, float(np.max(np.abs(x)))):
+            return ShootingResult(x, n, True, "converged", it, res, M, sorted_multipliers(M))
+        if it == max_iter:
+            break
+        try:
+            dx = np.linalg.solve(M - np.eye(x.size), -F)
+        except np.linalg.LinAlgError:
+            return ShootingResult(x, n, False, "singular", it, res, M, sorted_multipliers(M))
+        step = float(np.max(np.abs(dx)))
+        if step > cap:
+            dx *= cap / step
+        x = x + dx
+    return ShootingResult(x, n, False, "max_iterations", max_iter, res, M, sorted_multipliers(M))
+
+
+# ----------------------------------------------------------------------------------------------
+# flow maps
+# ----------------------------------------------------------------------------------------------
+
+
+def period_settings(settings: SimulationSettings | None, n: int) -> SimulationSettings:
+    """The settings of one shooting evaluation: no transient, n recorded periods, event-located RK4
+    (``rk4_event``) unless plain ``rk4`` was asked for (DOP853 carries no variational part)."""
+    s = settings or SimulationSettings()
+    integ = s.integrator if s.integrator in ("rk4", "rk4_event") else "rk4_event"
+    return SimulationSettings(integrator=integ, steps_per_period=s.steps_per_period, transient_periods=0,
+                              recorded_periods=n, divergence_threshold=s.divergence_threshold, aligned=s.aligned)
+
+
+def khv_flow(system: System, n: int = 1, settings: SimulationSettings | None = None) -> FlowMap:
+    """The n-period stroboscopic map of ``system`` with its monodromy (variational equations)."""
+    s = period_settings(settings, n)
+
+    def flow(x: np.ndarray, jacobian: bool = True):
+        r = simulate(system, s, x, monodromy_periods=n if jacobian else 0)
+        if r.diverged:
+            return None, None
+        return r.final_state.copy(), (r.monodromy.copy() if jacobian else None)
+
+    return flow
+
+
+def fd_monodromy(flow: FlowMap, x: np.ndarray, h: float = 1e-5) -> np.ndarray:
+    """Central finite-difference monodromy (relative step h * max(1, |x_i|)), for checks."""
+    x = np.asarray(x, dtype=float)
+    M = np.empty((x.size, x.size))
+    for i in range(x.size):
+        d = h * max(1.0, abs(x[i]))
+        e = np.zeros(x.size)
+        e[i] = d
+        up, _ = flow(x + e, False)
+        dn, _ = flow(x - e, False)
+        M[:, i] = (up - dn) / (2 * d)
+    return M
+
+
+def shoot(system: System, x0: np.ndarray | None = None, n: int = 1, settings: SimulationSettings | None = None,
+          tol: float = 1e-9, max_iter: int = 30) -> ShootingResult:
+    """Period-n orbit of a KHV system from x0 (default: the static deflection)."""
+    x0 = system.static_state() if x0 is None else x0
+    return newton_shooting(khv_flow(system, n, settings), x0, n, tol, max_iter)
+
+
+def rk4_flow(rhs: Callable[[float, np.ndarray], np.ndarray], jac: Callable[[float, np.ndarray], np.ndarray],
+             period: float, steps_per_period: int = 400, n: int = 1, threshold: float = 1e6) -> FlowMap:
+    """n-period map of a smooth T-periodic ODE y' = rhs(t, y) by classical RK4, with the variational
+    equations Y' = jac(t, y) Y advanced by the same stages (the derivative of the discrete map)."""
+    h = period / steps_per_period
+
+    def flow(x: np.ndarray, jacobian: bool = True):
+        y = np.asarray(x, dtype=float).copy()
+        d = y.size
+        Y = np.eye(d) if jacobian else None
+        t = 0.0
+        for _ in range(n * steps_per_period):
+            k1 = rhs(t, y)
+            y2 = y + 0.5 * h * k1
+            k2 = rhs(t + 0.5 * h, y2)
+            y3 = y + 0.5 * h * k2
+            k3 = rhs(t + 0.5 * h, y3)
+            y4 = y + h * k3
+            k4 = rhs(t + h, y4)
+            if jacobian:
+                J1, J2, J3, J4 = jac(t, y), jac(t + 0.5 * h, y2), jac(t + 0.5 * h, y3), jac(t + h, y4)
+                K1 = J1 @ Y
+                K2 = J2 @ (Y + 0.5 * h * K1)
+                K3 = J3 @ (Y + 0.5 * h * K2)
+                K4 = J4 @ (Y + h * K3)
+                Y = Y + h / 6.0 * (K1 + 2 * K2 + 2 * K3 + K4)
+            y = y + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+            t += h
+        if not (np.all(np.isfinite(y)) and np.max(np.abs(y)) < threshold):
+            return None, None
+        return y, Y
+
+    return flow
+
+
+def rotation_number(mu: complex) -> float:
+    """arg(mu) / (2 pi) in [0, 0.5] for a multiplier of a conjugate pair."""
+    return abs(math.atan2(mu.imag, mu.real)) / (2.0 * math.pi)

@@ -1,0 +1,71 @@
+# Periodic orbits of a sweep: Newton shooting seeded by the sweep's periodic points, pseudo-arclength
+# continuation with Floquet multipliers and typed bifurcation points, the branches drawn over the
+# sweep's bifurcation diagram, and coexisting attractors at a subset of the sweep's points.
+# Configuration: the `orbits:` section, one entry per sweep name (docs/orbits.md).
+
+
+rule orbit_branches:
+    input:
+        design=design_file,
+        cube=rules.sweep_merge.output[0],
+    output:
+        data="results/{design}/orbits/{sweep}_branches.nc",
+        table="results/{design}/orbits/{sweep}_bifurcations.csv",
+    log:
+        "results/{design}/logs/orbits_{sweep}.log",
+    params:
+        spec=config_slice("orbits"),
+        sweep=config_slice("sweeps"),
+    threads: 1
+    script:
+        "../scripts/orbits_branches.py"
+
+
+rule orbit_figure:
+    input:
+        design=design_file,
+        cube=rules.sweep_merge.output[0],
+        branches=rules.orbit_branches.output.data,
+    output:
+        figure=report(
+            "results/{design}/figures/{sweep}_orbits.png",
+            caption="../report/orbits.rst",
+            category=category,
+            subcategory=subcategory("sweep"),
+            labels={"design": "{design}"},
+        ),
+        caption="results/{design}/figures/{sweep}_orbits.png.txt",
+    log:
+        "results/{design}/logs/figure_{sweep}_orbits.log",
+    params:
+        sweep=config_slice("sweeps"),
+    threads: 1
+    script:
+        "../scripts/orbits_figure.py"
+
+
+rule orbit_attractors:
+    input:
+        design=design_file,
+        cube=rules.sweep_merge.output[0],
+        branches=rules.orbit_branches.output.data,
+    output:
+        data="results/{design}/orbits/{sweep}_attractors.nc",
+    log:
+        "results/{design}/logs/attractors_{sweep}.log",
+    params:
+        spec=config_slice("orbits"),
+        sweep=config_slice("sweeps"),
+    threads: 1
+    script:
+        "../scripts/orbits_attractors.py"
+
+
+ORBIT_TARGETS = (
+    runs_for("orbits", "results/{design}/orbits/{name}_branches.nc")
+    + runs_for("orbits", "results/{design}/orbits/{name}_bifurcations.csv")
+    + runs_for("orbits", "results/{design}/figures/{name}_orbits.png")
+    + runs_for("orbits", "results/{design}/orbits/{name}_attractors.nc")
+    if config.get("orbits")
+    else []
+)

@@ -1,0 +1,21 @@
+"""Adapter: coexisting attractors and basin fractions at a subset of one sweep's points."""
+
+from geardyn import io, logs
+from geardyn.khv import design, point
+from geardyn.runs import attractors, sweep
+from geardyn.solve import warm_up
+
+log = logs.to_file(snakemake.log[0])
+drive = design.load(snakemake.input.design)
+name = snakemake.wildcards.sweep
+section = snakemake.params.spec
+entry = section[name] if name in section else section
+spec = sweep.SweepSpec.from_config(name, snakemake.params.sweep, drive.name)
+cube = io.read_dataset(snakemake.input.cube)
+branches = io.read_dataset(snakemake.input.branches)
+warm_up(point.point_coefficients(drive))
+ds = attractors.sweep_attractors(drive, spec, cube, branches, entry.get("attractors") or {})
+attrs = io.provenance(title=f"{name}: coexisting attractors", paper=drive.paper,
+                      config={"design": drive.raw, "sweep": snakemake.params.sweep, "orbits": entry},
+                      model_variant=drive.stiffness.label)
+io.write_netcdf(ds, snakemake.output.data, attrs)

@@ -1,0 +1,22 @@
+"""Adapter: continue the periodic orbits of one sweep -> branches (netCDF) and bifurcation table (CSV)."""
+
+from geardyn import io, logs
+from geardyn.khv import design, point
+from geardyn.runs import continuation, sweep
+from geardyn.solve import warm_up
+
+log = logs.to_file(snakemake.log[0])
+drive = design.load(snakemake.input.design)
+name = snakemake.wildcards.sweep
+section = snakemake.params.spec
+entry = section[name] if name in section else section  # the section, or already this sweep's entry
+spec = sweep.SweepSpec.from_config(name, snakemake.params.sweep, drive.name)
+orbits = continuation.OrbitSpec.from_config(entry)
+cube = io.read_dataset(snakemake.input.cube)
+warm_up(point.point_coefficients(drive))  # compiled kernels from numba's cache before timing starts
+ds, rows = continuation.sweep_orbits(drive, spec, cube, orbits)
+attrs = io.provenance(title=f"{name}: continued periodic orbits", paper=drive.paper,
+                      config={"design": drive.raw, "sweep": snakemake.params.sweep, "orbits": entry},
+                      model_variant=drive.stiffness.label)
+io.write_netcdf(ds, snakemake.output.data, attrs)
+io.write_text(continuation.rows_to_csv(rows), snakemake.output.table)
