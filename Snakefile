@@ -40,6 +40,7 @@ include: "workflow/rules/report.smk"
 include: "workflow/rules/geometry.smk"
 include: "workflow/rules/stiffness.smk"
 include: "workflow/rules/sweeps.smk"
+include: "workflow/rules/orbits.smk"
 include: "workflow/rules/calibration.smk"
 include: "workflow/rules/plus.smk"
 include: "workflow/rules/benchmarks.smk"
@@ -60,3 +61,4 @@ rule all:
         BENCHMARK_TARGETS,
         CLASSIFY_TARGETS,
         MAP_TARGETS,
+        ORBIT_TARGETS,

@@ -146,6 +146,16 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
                     raise ConfigError(f"{where}: design {design_name!r} names no paper: a calibration fits a "
                                       "design's unknowns to its paper's results (set 'paper:' in the design file)")
                 _check_overrides(section, resolve_fractions(spec, _segment(raw)), raw, where)
+    for name, spec in filled.get("orbits", {}).items():
+        where = f"config: orbits.{name}"
+        if name not in filled["sweeps"]:
+            raise ConfigError(f"{where}: {name!r} is not allowed: the name of a sweep, one of "
+                              + (", ".join(repr(s) for s in filled["sweeps"]) or "none"))
+        swept = selected_designs(filled["sweeps"][name]["designs"], designs)
+        for design_name in selected_designs(spec["designs"], designs):
+            if design_name not in swept:
+                raise ConfigError(f"{where}: design {design_name!r} is not allowed: one of "
+                                  + ", ".join(repr(d) for d in swept) + f" (the designs of sweep {name})")
     for design_name in filled["claims"]["designs"]:
         where = "config: claims.designs"
         if design_name not in designs or designs[design_name].get("paper") != "li2013":

@@ -18,6 +18,7 @@ SECTION_KEYS = {
     "points": "points",
     "maps": "map",
     "calibration": "calibration",
+    "orbits": "sweep",
 }
 
 

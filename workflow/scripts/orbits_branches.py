@@ -8,9 +8,8 @@ from geardyn.solve import warm_up
 log = logs.to_file(snakemake.log[0])
 drive = design.load(snakemake.input.design)
 name = snakemake.wildcards.sweep
-section = snakemake.params.spec
-entry = section[name] if name in section else section  # the section, or already this sweep's entry
-spec = sweep.SweepSpec.from_config(name, snakemake.params.sweep, drive.name)
+entry = snakemake.params.spec
+spec = sweep.SweepSpec.from_config(name, snakemake.params.sweep, drive.name, drive.segment)
 orbits = continuation.OrbitSpec.from_config(entry)
 cube = io.read_dataset(snakemake.input.cube)
 warm_up(point.point_coefficients(drive))  # compiled kernels from numba's cache before timing starts
