@@ -14,11 +14,13 @@ rule work_precision:
         ),
     log:
         "results/benchmarks/logs/work_precision.log",
+    threads: 1
     params:
         spec=config_slice("benchmarks"),
-    threads: 1
     script:
         "../scripts/work_precision.py"
 
 
-BENCHMARK_TARGETS = rules.work_precision.output if config["benchmarks"]["work_precision"] else []
+BENCHMARK_TARGETS = (
+    rules.work_precision.output if config["benchmarks"]["work_precision"] else []
+)

@@ -8,9 +8,9 @@ rule calibration_chunk:
         "results/{design}/calibration/{calibration}/chunk_{chunk}.nc",
     log:
         "results/{design}/logs/calibration_{calibration}_{chunk}.log",
+    threads: 1
     params:
         spec=config_slice("calibration"),
-    threads: 1
     script:
         "../scripts/calibration_chunk.py"
 
@@ -19,7 +19,9 @@ rule calibration_merge:
     input:
         design=design_file,
         chunks=chunk_files(
-            "calibration", "results/{design}/calibration/{name}/chunk_{chunk}.nc", calibration_chunks
+            "calibration",
+            "results/{design}/calibration/{name}/chunk_{chunk}.nc",
+            calibration_chunks,
         ),
     output:
         scores="results/{design}/calibration/{calibration}.nc",
@@ -27,9 +29,9 @@ rule calibration_merge:
         table="results/{design}/calibration/{calibration}.md",
     log:
         "results/{design}/logs/calibration_{calibration}_merge.log",
+    threads: 1
     params:
         spec=config_slice("calibration"),
-    threads: 1
     script:
         "../scripts/calibration_merge.py"
 

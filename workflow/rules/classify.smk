@@ -16,9 +16,9 @@ rule regime_bands:
         md="results/{design}/tables/{sweep}_bands.md",
     log:
         "results/{design}/logs/bands_{sweep}.log",
+    threads: 1
     params:
         spec=config_slice("sweeps"),
-    threads: 1
     script:
         "../scripts/regime_bands.py"
 
@@ -43,13 +43,13 @@ rule claims:
         ),
     log:
         "results/{design}/logs/claims.log",
+    threads: 1
     params:
         spec=config_slice("claims"),
-    threads: 1
     script:
         "../scripts/claims.py"
 
 
-CLASSIFY_TARGETS = runs_for("sweeps", "results/{design}/tables/{name}_bands.md") + expand(
-    "results/{design}/claims.md", design=config["claims"]["designs"]
-)
+CLASSIFY_TARGETS = runs_for(
+    "sweeps", "results/{design}/tables/{name}_bands.md"
+) + expand("results/{design}/claims.md", design=config["claims"]["designs"])

@@ -24,7 +24,8 @@ SECTION_KEYS = {
 
 def config_slice(section):
     """The one accessor of config slices (for ``params:``): the entry of ``section`` named by the
-    job's wildcard (``SECTION_KEYS``), or the whole section when it has no such wildcard."""
+    job's wildcard (``SECTION_KEYS``), or the whole section when it has no such wildcard.
+    """
 
     def get(wildcards):
         key = SECTION_KEYS.get(section)
@@ -100,3 +101,19 @@ def calibration_chunks(name, spec, design):
     from geardyn.khv.calibrate import candidate_grid, n_chunks
 
     return n_chunks(len(candidate_grid(spec["grid"])), spec["chunks"])
+
+
+def archive_cubes(wildcards):
+    """The netCDF cubes of ``rule all`` under results/<design>/ (chunk files are not final cubes)."""
+    prefix = f"results/{wildcards.design}/"
+    return sorted(
+        {
+            str(f)
+            for f in rules.all.input
+            if str(f).startswith(prefix) and str(f).endswith(".nc")
+        }
+    )
+
+
+def effective_config(wildcards):
+    return config

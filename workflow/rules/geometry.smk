@@ -8,9 +8,9 @@ rule closed_graph:
         "results/{design}/data/closed_graph.nc",
     log:
         "results/{design}/logs/closed_graph.log",
+    threads: 1
     params:
         spec=config_slice("closed_graph"),
-    threads: 1
     script:
         "../scripts/closed_graph.py"
 
@@ -36,6 +36,9 @@ rule fig03_closed_graph:
 
 
 GEOMETRY_TARGETS = per_design(
-    ["results/{design}/data/closed_graph.nc", "results/{design}/figures/fig03_closed_graph.png"],
+    [
+        "results/{design}/data/closed_graph.nc",
+        "results/{design}/figures/fig03_closed_graph.png",
+    ],
     KHV_DESIGNS,
 )

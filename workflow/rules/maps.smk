@@ -8,9 +8,9 @@ rule map_chunk:
         "results/{design}/maps/{map}/chunk_{chunk}.nc",
     log:
         "results/{design}/logs/map_{map}_{chunk}.log",
+    threads: 1
     params:
         spec=config_slice("maps"),
-    threads: 1
     script:
         "../scripts/map_chunk.py"
 
@@ -18,14 +18,16 @@ rule map_chunk:
 rule map_merge:
     input:
         design=design_file,
-        chunks=chunk_files("maps", "results/{design}/maps/{name}/chunk_{chunk}.nc", map_chunks),
+        chunks=chunk_files(
+            "maps", "results/{design}/maps/{name}/chunk_{chunk}.nc", map_chunks
+        ),
     output:
         "results/{design}/maps/{map}.nc",
     log:
         "results/{design}/logs/map_{map}_merge.log",
+    threads: 1
     params:
         spec=config_slice("maps"),
-    threads: 1
     script:
         "../scripts/map_merge.py"
 
@@ -44,9 +46,9 @@ rule map_figure:
         caption="results/{design}/figures/{map}.png.txt",
     log:
         "results/{design}/logs/figure_{map}.log",
+    threads: 1
     params:
         spec=config_slice("maps"),
-    threads: 1
     script:
         "../scripts/map_figure.py"
 

@@ -13,10 +13,10 @@ rule orbit_branches:
         table="results/{design}/orbits/{sweep}_bifurcations.csv",
     log:
         "results/{design}/logs/orbits_{sweep}.log",
+    threads: 1
     params:
         spec=config_slice("orbits"),
         sweep=config_slice("sweeps"),
-    threads: 1
     script:
         "../scripts/orbits_branches.py"
 
@@ -37,9 +37,9 @@ rule orbit_figure:
         caption="results/{design}/figures/{sweep}_orbits.png.txt",
     log:
         "results/{design}/logs/figure_{sweep}_orbits.log",
+    threads: 1
     params:
         sweep=config_slice("sweeps"),
-    threads: 1
     script:
         "../scripts/orbits_figure.py"
 
@@ -53,10 +53,10 @@ rule orbit_attractors:
         data="results/{design}/orbits/{sweep}_attractors.nc",
     log:
         "results/{design}/logs/attractors_{sweep}.log",
+    threads: 1
     params:
         spec=config_slice("orbits"),
         sweep=config_slice("sweeps"),
-    threads: 1
     script:
         "../scripts/orbits_attractors.py"
 

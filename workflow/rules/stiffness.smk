@@ -8,9 +8,9 @@ rule stiffness_table:
         "results/{design}/data/stiffness_table.nc",
     log:
         "results/{design}/logs/stiffness_table.log",
+    threads: 1
     params:
         spec=config_slice("stiffness_table"),
-    threads: 1
     script:
         "../scripts/stiffness_table.py"
 
@@ -42,9 +42,9 @@ rule stiffness_figures:
         ),
     log:
         "results/{design}/logs/stiffness_figures.log",
+    threads: 1
     params:
         spec=config_slice("stiffness_table"),
-    threads: 1
     script:
         "../scripts/stiffness_figures.py"
 

@@ -9,9 +9,9 @@ rule sweep_chunk:
         "results/{design}/sweeps/{sweep}/chunk_{chunk}.nc",
     log:
         "results/{design}/logs/sweep_{sweep}_{chunk}.log",
+    threads: 1
     params:
         spec=config_slice("sweeps"),
-    threads: 1
     script:
         "../scripts/sweep_chunk.py"
 
@@ -19,14 +19,16 @@ rule sweep_chunk:
 rule sweep_merge:
     input:
         design=design_file,
-        chunks=chunk_files("sweeps", "results/{design}/sweeps/{name}/chunk_{chunk}.nc", sweep_chunks),
+        chunks=chunk_files(
+            "sweeps", "results/{design}/sweeps/{name}/chunk_{chunk}.nc", sweep_chunks
+        ),
     output:
         "results/{design}/sweeps/{sweep}.nc",
     log:
         "results/{design}/logs/sweep_{sweep}_merge.log",
+    threads: 1
     params:
         spec=config_slice("sweeps"),
-    threads: 1
     script:
         "../scripts/sweep_merge.py"
 
@@ -46,9 +48,9 @@ rule bifurcation_figure:
         caption="results/{design}/figures/{sweep}.png.txt",
     log:
         "results/{design}/logs/figure_{sweep}.log",
+    threads: 1
     params:
         spec=config_slice("sweeps"),
-    threads: 1
     script:
         "../scripts/bifurcation_figure.py"
 
@@ -60,9 +62,9 @@ rule point_runs:
         data="results/{design}/points/{points}.nc",
     log:
         "results/{design}/logs/points_{points}.log",
+    threads: 1
     params:
         spec=config_slice("points"),
-    threads: 1
     script:
         "../scripts/point_runs.py"
 
@@ -82,9 +84,9 @@ rule point_figure:
         caption="results/{design}/figures/{points}.png.txt",
     log:
         "results/{design}/logs/figure_{points}.log",
+    threads: 1
     params:
         spec=config_slice("points"),
-    threads: 1
     script:
         "../scripts/point_figure.py"
 
