@@ -10,11 +10,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import _orbits
+
 from geardyn import classify, io
 from geardyn.khv import design, point
 from geardyn.runs import attractors as A
-from geardyn.runs import continuation as C
-from geardyn.solve import SimulationSettings, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 S = A.AttractorSettings()
@@ -49,12 +49,7 @@ def test_random_starts_reproducible_and_in_the_box():
 
 @pytest.fixture(scope="module")
 def coexistence():
-    d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
-    fam = C.KHVFamily(d, "x1", {"b": 2.0, "e": 5.0}, 0.70, 0.78, nodes=17)
-    c = fam.coefficients(0.71)
-    r = simulate(c, SimulationSettings(transient_periods=2000, recorded_periods=1))
-    br = C.continue_branch(fam, 0.71, r.final_state, 1, 0.70, 0.78,
-                           C.ContinuationSettings(ds=5e-3, ds_max=5e-3, grazing=False))
+    d, fam, br = _orbits.calibrated_branch()
     values = np.array([0.74, 0.76])
     pts = A.sweep_points(fam.coefficients, values, [0, 1], 0, lambda j: None, [br])
     ds = A.attractors_dataset(pts, A.AttractorSettings(n_random=4), point.integration_settings(d),

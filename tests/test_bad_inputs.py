@@ -6,7 +6,6 @@ and `geardyn check-config` run; a handful (END_TO_END) also run the real workflo
 """
 
 import pytest
-import yaml
 
 import _workflow as wf
 from geardyn.config import ConfigError

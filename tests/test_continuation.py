@@ -11,6 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import _orbits
+
 from geardyn import classify, io
 from geardyn.khv import design, point
 from geardyn.papers import li2013 as paper
@@ -23,13 +25,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @pytest.fixture(scope="module")
 def calibrated_branch():
-    d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
-    fam = C.KHVFamily(d, "x1", {"b": 2.0, "e": 5.0}, 0.70, 0.78, nodes=17)
-    c = fam.coefficients(0.71)
-    r = simulate(c, SimulationSettings(transient_periods=2000, recorded_periods=1))
-    br = C.continue_branch(fam, 0.71, r.final_state, 1, 0.70, 0.78,
-                           C.ContinuationSettings(ds=5e-3, ds_max=5e-3, grazing=False))
-    return d, fam, br
+    return _orbits.calibrated_branch()
 
 
 def test_interpolated_coefficients_match_direct(calibrated_branch):

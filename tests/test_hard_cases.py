@@ -8,7 +8,7 @@ import pytest
 from geardyn.khv import model
 from geardyn.solve.floquet import floquet
 from geardyn.solve import SimulationSettings, simulate, warm_up
-from geardyn.khv.model import KHVParameters, Options, dimensionless
+from geardyn.khv.model import Options, dimensionless
 from _paper import li2013_parameters
 
 BASE = dimensionless(li2013_parameters(eps=1.30, k_c=3.1e8, omega_bar=0.9))

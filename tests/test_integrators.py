@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from geardyn.solve import SimulationSettings, simulate, step_grid, warm_up
-from geardyn.khv.model import Coefficients, KHVParameters, dimensionless
+from geardyn.khv.model import Coefficients, dimensionless
 from _paper import li2013_parameters
 
 # Periodic case with contact loss every period (4 switches per period): x1 = 0.416 numbers

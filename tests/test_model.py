@@ -15,7 +15,7 @@ from scipy.integrate import solve_ivp
 
 from geardyn.khv import model
 from geardyn.solve import SimulationSettings, simulate
-from geardyn.khv.model import KHVParameters, Options, dimensionless
+from geardyn.khv.model import Options, dimensionless
 from _paper import li2013_parameters
 
 # Paper design at M and N: eps and the ISO k_C rounded (docs/findings.md, "M and N lie on G_s = 0" and

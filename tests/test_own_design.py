@@ -6,7 +6,6 @@ The studies are the standard ones of config/config.yaml (designs: own) at small 
 """
 
 import re
-import subprocess
 
 import pytest
 import xarray as xr

@@ -99,8 +99,8 @@ def render(raw: dict[str, Any], kind: str) -> str:
               "# Every value below is an example or a default: replace it with your drive's. It names no paper,",
               "# so its results are compared with none. Check it with `geardyn check-design <this file>`."]
     if kind == "khv":
-        header.append(f"# admissible: computed from the geometry (line 4, every cutter-independent constraint, "
-                      f"2 % inside its ends).")
+        header.append("# admissible: computed from the geometry (line 4, every cutter-independent constraint, "
+                      "2 % inside its ends).")
     lines: list[str] = []
     _emit(raw, schema(KINDS[kind]), 0, lines)
     return "\n".join(header + lines) + "\n"

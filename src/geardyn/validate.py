@@ -45,11 +45,9 @@ def validate_workflow(config: dict[str, Any], root: str | Path = ".") -> tuple[d
     """Validate the workflow config and every design it lists, before any job runs.
 
     Returns the config with defaults filled and ``{design name: validated design dict}``.
-    KHV designs are also checked semantically (z2 - z1, feasibility of the design point and of the
-    admissible segment M-N that sweeps, point runs and calibrations stay inside).
+    Each design is also checked semantically (:func:`check_design`; for a KHV design z2 - z1, the design
+    point and the admissible segment the runs stay inside), then every run against its designs.
     """
-    from geardyn.khv import design as _design  # local: design imports geometry, which is heavier
-
     filled = validate(config, "config.schema.json", "config")
     designs: dict[str, dict[str, Any]] = {}
     for name, rel in filled["designs"].items():

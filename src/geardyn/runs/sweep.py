@@ -12,10 +12,9 @@ the sweep), which shows hysteresis and coexisting attractors. That makes the poi
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
