@@ -50,12 +50,22 @@ def run(tmp_path_factory):
     return p
 
 
-def test_all_outputs_written(run):
+def test_every_output_holds_what_it_should(run):
+    import matplotlib.image as mpimg
+
     for key, path in run.items():
-        assert path.exists() and path.stat().st_size > 0, key
         if path.suffix == ".png":
+            height, width = mpimg.imread(path).shape[:2]
+            assert height > 200 and width > 200, key
             caption = Path(str(path) + ".txt").read_text()
             assert "Yue et al. (2014)" in caption, key  # a design that names paper 2 is compared with it
+        elif path.suffix == ".csv":
+            assert len(pd.read_csv(path)) >= 1, key
+        elif path.suffix == ".md":
+            assert path.read_text().startswith("#") and "|---" in path.read_text(), key
+        elif path.suffix == ".nc":
+            with xr.open_dataset(path) as ds:
+                assert ds.sizes and all(ds[v].size for v in ds.data_vars), key
 
 
 @pytest.mark.parametrize("key", ["modal", "te", "land"])
