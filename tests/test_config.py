@@ -37,10 +37,15 @@ def test_shipped_config_and_designs_validate():
 
 
 def test_defaults_are_filled(tmp_path):
-    data = {"kind": "khv", "name": "minimal", "pair": {"z1": 30, "z2": 33, "module": 3.5, "addendum": 0.8}}
+    data = {"kind": "khv", "name": "minimal", "pair": {"z1": 30, "z2": 33, "module": 3.5, "addendum": 0.8},
+            "admissible": {"x1_min": 0.5, "x1_max": 0.7}}
     raw = config.load_design_dict(_write(tmp_path, data))
-    assert raw["pair"]["pressure_angle_deg"] == 20.0
-    assert raw["admissible"]["x1_min"] == 0.416 and raw["stiffness"]["form"] == "corrected"
+    assert raw["pair"]["pressure_angle_deg"] == 20.0 and raw["paper"] is None
+    assert raw["admissible"]["min_tip_thickness"] == 0.25 and raw["stiffness"]["form"] == "corrected"
+    # the admissible segment has no default (it would be some paper's): a design must state it
+    del data["admissible"]
+    with pytest.raises(config.ConfigError, match="missing required key 'admissible'"):
+        config.load_design_dict(_write(tmp_path, data))
 
 
 def test_every_schema_key_has_description_and_defaults_where_optional():

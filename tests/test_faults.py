@@ -19,13 +19,13 @@ import _workflow as wf
 from geardyn import io
 
 CUBE = "results/li2013/sweeps/fig07_small.nc"
-CHUNKS = 6
-#: A sweep of 60 points (10 per chunk): each chunk job is mostly start-up, about 2 s.
+CHUNKS = 4
+#: A sweep of 24 points (6 per chunk): each chunk job is mostly start-up, about 2 s.
 INTEGRATION = {"steps_per_period": 128, "transient_periods": 100, "recorded_periods": 20}
 
 
 def _config(chunks=CHUNKS):
-    return wf.sweep_config(chunks=chunks, num=60, integration=INTEGRATION)
+    return wf.sweep_config(chunks=chunks, num=24, integration=INTEGRATION)
 
 
 def _chunk_paths(work):
@@ -139,7 +139,7 @@ def test_truncated_chunk_is_recomputed_not_merged(tmp_path, reference):
 
 def test_silently_flipped_byte_in_a_chunk_is_found_by_its_checksum(tmp_path, reference):
     work = _copy_of(reference, tmp_path)
-    victim = work / "results/li2013/sweeps/fig07_small/chunk_4.nc"
+    victim = work / "results/li2013/sweeps/fig07_small/chunk_3.nc"
     stat = victim.stat()
     with xr.open_dataset(victim) as ds:  # flip a byte inside the stored x_vh data, not in the metadata
         values = ds["x_vh"].values
@@ -166,15 +166,16 @@ def test_cubes_do_not_depend_on_cores_or_chunks(tmp_path, reference):
     one_core = wf.workflow_copy(tmp_path / "cores1", _config())
     _run(one_core, "--cores", "1")
     assert_same_cube(_open(one_core / CUBE), reference[1])
-    other_chunks = wf.workflow_copy(tmp_path / "chunks4", _config(chunks=4))
+    other_chunks = wf.workflow_copy(tmp_path / "chunks3", _config(chunks=3))
     run = _run(other_chunks, "--cores", "2")
-    assert _jobs(run, "sweep_chunk") == 4
-    # the config (hence its hash) says 4 chunks instead of 6; everything else is identical
+    assert _jobs(run, "sweep_chunk") == 3
+    # the config (hence its hash) says 3 chunks instead of 4; everything else is identical
     assert_same_cube(_open(other_chunks / CUBE), reference[1], ignore=("history", "config_hash", "config_json"))
 
 
 def test_sweep_jobs_log_progress_and_remaining_time(reference):
     log = (reference[0] / "results/li2013/logs/sweep_fig07_small_0.log").read_text()
     lines = re.findall(r"fig07_small chunk 0: (\d+)/(\d+) points, ([\d.]+) s elapsed, ([\d.]+) s remaining", log)
-    assert len(lines) >= 5  # every 10 %
-    assert lines[-1][:2] == ("10", "10") and float(lines[-1][3]) == 0.0
+    assert len(lines) == 6  # a line every 10 % of the 6 points of the chunk: after each point
+    assert [int(done) for done, _, _, _ in lines] == [1, 2, 3, 4, 5, 6]
+    assert lines[-1][:2] == ("6", "6") and float(lines[-1][3]) == 0.0
