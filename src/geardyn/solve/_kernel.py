@@ -223,6 +223,46 @@ def hermite_root(x0, x1, d0, d1, h, target):
 
 
 @njit(cache=True)
+def locate_switches(c, poly, y, ynew, W, Wnew, mt, ytmp, Wtmp, h, s0, seg, reg, rnew, b, period):
+    """Contact switches inside the step of size h from y (phase s0) whose plain RK4 result ynew left
+    region ``reg`` for ``rnew``: locate each crossing (cubic Hermite root), restart there and redo
+    the rest of the step.  Updates y (to the last crossing), ynew (end of the step) and the m tangent
+    columns W / Wnew alike; returns (region at the end of the step, number of crossings located)."""
+    s_cur = s0
+    left = h
+    n_events = 0
+    for _it in range(8):
+        if reg == 0:
+            target = b if rnew > 0 else -b
+        else:
+            target = b if reg > 0 else -b
+        th = hermite_root(y[1], ynew[1], y[4], ynew[4], left, target)
+        if th <= 1e-12 * h or th >= left * (1.0 - 1e-12):
+            # crossing at an end point: accept the step as it is
+            reg = rnew
+            break
+        sub_step(c, poly, seg, y, W, mt, s_cur, th, ytmp, Wtmp)
+        n_events += 1
+        for i in range(6):
+            y[i] = ytmp[i]
+        for col in range(mt):
+            for i in range(6):
+                W[i, col] = Wtmp[i, col]
+        # new region: entering from the dead zone or leaving a contact side
+        if reg == 0:
+            reg = 1 if target > 0 else -1
+        else:
+            reg = 0
+        s_cur += th / period
+        left -= th
+        sub_step(c, poly, seg, y, W, mt, s_cur, left, ynew, Wnew)
+        rnew = region(ynew[1], b)
+        if rnew == reg:
+            break
+    return rnew, n_events
+
+
+@njit(cache=True)
 def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event, threshold,
         stride, poinc, dense_t, dense_y, W, n_tan, renorm, growth, strobe, yfinal):
     """Integrate n_trans + n_rec mesh periods from y0 (phase 0).
@@ -266,39 +306,9 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
             if use_events:
                 rnew = region(ynew[1], b)
                 if rnew != reg:
-                    # locate crossings inside the step and restart there
-                    s_cur = tab_s[j]
-                    left = h
-                    seg = tab_seg[j]
-                    for _it in range(8):
-                        if reg == 0:
-                            target = b if rnew > 0 else -b
-                        else:
-                            target = b if reg > 0 else -b
-                        th = hermite_root(y[1], ynew[1], y[4], ynew[4], left, target)
-                        if th <= 1e-12 * h or th >= left * (1.0 - 1e-12):
-                            # crossing at an end point: accept the step as it is
-                            reg = rnew
-                            break
-                        sub_step(c, poly, seg, y, W, mt, s_cur, th, ytmp, Wtmp)
-                        n_events += 1
-                        for i in range(6):
-                            y[i] = ytmp[i]
-                        for col in range(mt):
-                            for i in range(6):
-                                W[i, col] = Wtmp[i, col]
-                        # new region: entering from the dead zone or leaving a contact side
-                        if reg == 0:
-                            reg = 1 if target > 0 else -1
-                        else:
-                            reg = 0
-                        s_cur += th / period
-                        left -= th
-                        sub_step(c, poly, seg, y, W, mt, s_cur, left, ynew, Wnew)
-                        rnew = region(ynew[1], b)
-                        if rnew == reg:
-                            break
-                    reg = rnew
+                    reg, nev = locate_switches(c, poly, y, ynew, W, Wnew, mt, ytmp, Wtmp, h, tab_s[j], tab_seg[j],
+                                               reg, rnew, b, period)
+                    n_events += nev
             for i in range(6):
                 y[i] = ynew[i]
             for col in range(mt):
