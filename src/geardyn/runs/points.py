@@ -122,3 +122,114 @@ def analyse_point(coeffs, settings, classifier: classify.ClassifierSettings = cl
     res2 = simulate(coeffs, more, x0=res.final_state, tangent_periods=classifier.tangent_periods)
     return res2, classify.classify_point(res2.poincare, res2.growth, res2.period, res2.diverged, classifier,
                                 samples=res2.strobe)
+
+
+def _floquet_label(res, n: int, mono: np.ndarray, period: float, tol: float) -> classify.Classification:
+    """Label of a point periodic by rule 3, with the exponent from the monodromy of its cycle."""
+    mu = np.abs(np.linalg.eigvals(mono))
+    lam = float(np.log(np.max(mu))) / (n * period)
+    nan = float("nan")
+    return classify.Classification(n, n, lam, 0.0, nan, nan, -1,
+                                   f"returns within {tol:.2g} after {n}; Floquet max|mu| {np.max(mu):.4g}")
+
+
+def early_stop_of(settings, classifier: classify.ClassifierSettings):
+    """The early-stop criterion of ``settings`` (None when off), scaled to the classifier's tolerance:
+    stop once d_n <= early_stop_tol_factor x max(atol max(|p|, 1), error_margin error_floor)."""
+    from geardyn.solve.simulate import EarlyStop
+
+    if not settings.early_stop:
+        return None
+    f = settings.early_stop_tol_factor
+    return EarlyStop(min_periods=settings.early_stop_min_periods, confirm=settings.early_stop_confirm,
+                     max_n=classifier.max_n, floor=f * classifier.error_margin * classifier.error_floor,
+                     atol=f * classifier.atol)
+
+
+def analyse_points(systems, settings, classifier: classify.ClassifierSettings = classify.ClassifierSettings(),
+                   cheap: bool = False, x0=None):
+    """:func:`analyse_point` for many points at once: a list of (SimulationResult, Classification).
+
+    The points are integrated together (:func:`geardyn.solve.simulate.simulate_batch`, both cores)
+    when ``settings.batch``.  With ``settings.early_stop`` a point whose stroboscopic map has
+    converged to a period-n cycle ends its transient there (``transient_used``).  With
+    ``settings.periodic_exponent == "floquet"``, a point periodic by rule 3 gets its exponent from the
+    monodromy of its cycle (n more periods with the 6 x 6 variational matrix: lambda = log max|mu| /
+    (n T), sigma 0); if that cycle is not stable (max|mu| >= 1) or the early-stopped point is not
+    periodic by rule 3 on its recorded points, the point is redone by the previous method (full
+    transient, tangent vector), so an early stop never decides a label on its own.
+
+    Without early stop and with ``periodic_exponent="tangent"`` the labels are those of
+    :func:`analyse_point`, bit for bit (the same orbit arithmetic), batch or not.
+    """
+    from geardyn.solve.simulate import simulate_batch
+
+    systems = list(systems)
+    L = len(systems)
+    x0s = [None] * L if x0 is None else list(x0)
+    if not settings.batch:
+        if settings.early_stop or settings.periodic_exponent != "tangent":
+            raise ValueError("early_stop and periodic_exponent='floquet' need batch=True")
+        return [analyse_point(c, settings, classifier, x0=x, cheap=cheap) for c, x in zip(systems, x0s, strict=True)]
+    es = early_stop_of(settings, classifier)
+    floquet = settings.periodic_exponent == "floquet"
+    out: list = [None] * L
+    # phase 1: transient (early stop) and recorded periods; the full path carries the tangent vector
+    # over the last tangent_periods of the nominal run for the points that do not stop early
+    res1 = simulate_batch(systems, settings, x0s, tangent_periods=0 if cheap else classifier.tangent_periods,
+                          early_stop=es)
+    todo_tan: list[int] = []      # cheap path: continue with the tangent vector
+    todo_mono: list[tuple[int, int]] = []
+    redo: list[int] = []          # redo by the previous method
+    for i, res in enumerate(res1):
+        if res.diverged:
+            growth = res.growth if not cheap else np.zeros(0)
+            out[i] = (res, classify.classify_point(res.poincare, growth, res.period, True, classifier))
+            continue
+        p = res.poincare[~np.isnan(res.poincare).any(axis=1)]
+        n = classify.strict_period(p, classifier) if p.shape[0] >= 3 else 0
+        if n > 0 and floquet:
+            todo_mono.append((i, n))
+        elif res.stop_period:
+            redo.append(i)        # stopped early but not periodic on the record: no label from a short run
+        elif n > 0 and cheap:
+            nan = float("nan")
+            out[i] = (res, classify.Classification(n, n, nan, nan, nan, nan, -1, "periodic (cheap path: no exponent)"))
+        elif cheap:
+            todo_tan.append(i)
+        else:
+            out[i] = (res, classify.classify_point(res.poincare, res.growth, res.period, False, classifier,
+                                                   samples=res.strobe))
+    if todo_mono:
+        idx = [i for i, _ in todo_mono]
+        ns = [n for _, n in todo_mono]
+        mono_settings = dataclasses.replace(settings, recorded_periods=0)
+        rm = simulate_batch([systems[i] for i in idx], mono_settings, [res1[i].final_state for i in idx],
+                            monodromy_periods=ns, transient_periods=ns)
+        for i, n, r in zip(idx, ns, rm, strict=True):
+            res = res1[i]
+            p = res.poincare[~np.isnan(res.poincare).any(axis=1)]
+            tol = classify._tolerance(p, classifier)
+            if r.diverged or r.monodromy is None:
+                redo.append(i)
+                continue
+            lab = _floquet_label(res, n, r.monodromy, res.period, tol)
+            if res.stop_period and not lab.lyapunov < 0.0:
+                redo.append(i)    # an unstable (or neutral) cycle the orbit only lingered near
+                continue
+            out[i] = (res, lab)
+    if todo_tan:
+        more = dataclasses.replace(settings, transient_periods=0,
+                                   recorded_periods=max(settings.recorded_periods, classifier.tangent_periods))
+        r2 = simulate_batch([systems[i] for i in todo_tan], more, [res1[i].final_state for i in todo_tan],
+                            tangent_periods=classifier.tangent_periods)
+        for i, res2 in zip(todo_tan, r2, strict=True):
+            res2.transient_used = res1[i].transient_used
+            out[i] = (res2, classify.classify_point(res2.poincare, res2.growth, res2.period, res2.diverged,
+                                                    classifier, samples=res2.strobe))
+    if redo:
+        old = dataclasses.replace(settings, early_stop=False, periodic_exponent="tangent")
+        again = analyse_points([systems[i] for i in redo], old, classifier, cheap=cheap, x0=[x0s[i] for i in redo])
+        for i, pair in zip(redo, again, strict=True):
+            out[i] = pair
+    return out
