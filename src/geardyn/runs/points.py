@@ -124,9 +124,47 @@ def analyse_point(coeffs, settings, classifier: classify.ClassifierSettings = cl
                                 samples=res2.strobe)
 
 
-def _floquet_label(res, n: int, mono: np.ndarray, period: float, tol: float) -> classify.Classification:
-    """Label of a point periodic by rule 3, with the exponent from the monodromy of its cycle."""
-    mu = np.abs(np.linalg.eigvals(mono))
+#: CF attributes of the per-point ``transient_used`` of sweep cubes and maps.
+TRANSIENT_USED_ATTRS = {
+    "units": "1",
+    "long_name": "transient mesh periods integrated before the recorded ones (early stop; "
+                 "transient_periods when the transient ran to its end)"}
+
+
+def speed_attrs(settings) -> dict:
+    """Attributes recording how the points were computed (early stop, exponent of periodic points)."""
+    return {"early_stop": int(settings.early_stop), "early_stop_min_periods": settings.early_stop_min_periods,
+            "early_stop_confirm": settings.early_stop_confirm, "early_stop_tol_factor": settings.early_stop_tol_factor,
+            "periodic_exponent": settings.periodic_exponent, "batch": int(settings.batch)}
+
+
+class _Periods(list):
+    tol: np.ndarray
+
+
+def _strict_periods(results, cs: classify.ClassifierSettings) -> _Periods:
+    """Rule 3 (:func:`geardyn.classify.strict_period`) for every result at once (compiled); 0 for a
+    diverged run or fewer than 3 points.  ``.tol``: the tolerance of each."""
+    from geardyn.solve import _batch
+
+    L = len(results)
+    m = max([r.poincare.shape[0] for r in results] + [0])
+    pts = np.zeros((L, m, 6))
+    npts = np.zeros(L, np.int64)
+    for i, r in enumerate(results):
+        p = r.poincare
+        if not r.diverged and p.shape[0] and not np.isnan(p).any():
+            pts[i, :p.shape[0]] = p
+            npts[i] = p.shape[0]
+    out = np.zeros((L, 2))
+    _batch.strict_periods(pts, npts, cs.max_n, cs.atol, cs.rtol, cs.error_margin * cs.error_floor, cs.separation, out)
+    per = _Periods(int(v) for v in out[:, 0])
+    per.tol = out[:, 1]
+    return per
+
+
+def _floquet_label(n: int, mu: np.ndarray, period: float, tol: float) -> classify.Classification:
+    """Label of a point periodic by rule 3, with the exponent from the multipliers |mu| of its cycle."""
     lam = float(np.log(np.max(mu))) / (n * period)
     nan = float("nan")
     return classify.Classification(n, n, lam, 0.0, nan, nan, -1,
@@ -160,7 +198,8 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
     transient, tangent vector), so an early stop never decides a label on its own.
 
     Without early stop and with ``periodic_exponent="tangent"`` the labels are those of
-    :func:`analyse_point`, bit for bit (the same orbit arithmetic), batch or not.
+    :func:`analyse_point`, bit for bit (the same orbit arithmetic).  ``settings.batch = False``:
+    :func:`analyse_point` point by point (the previous method; early_stop and periodic_exponent ignored).
     """
     from geardyn.solve.simulate import simulate_batch
 
@@ -168,26 +207,30 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
     L = len(systems)
     x0s = [None] * L if x0 is None else list(x0)
     if not settings.batch:
-        if settings.early_stop or settings.periodic_exponent != "tangent":
-            raise ValueError("early_stop and periodic_exponent='floquet' need batch=True")
         return [analyse_point(c, settings, classifier, x0=x, cheap=cheap) for c, x in zip(systems, x0s, strict=True)]
     es = early_stop_of(settings, classifier)
     floquet = settings.periodic_exponent == "floquet"
     out: list = [None] * L
     # phase 1: transient (early stop) and recorded periods; the full path carries the tangent vector
     # over the last tangent_periods of the nominal run for the points that do not stop early
-    res1 = simulate_batch(systems, settings, x0s, tangent_periods=0 if cheap else classifier.tangent_periods,
+    # phase 1: transient (early stop) and recorded periods, no tangent vector (8 lanes in lockstep)
+    # unless the previous method (tangent exponent for every point) is asked for
+    carry = not cheap and not floquet
+    res1 = simulate_batch(systems, settings, x0s, tangent_periods=classifier.tangent_periods if carry else 0,
                           early_stop=es)
     todo_tan: list[int] = []      # cheap path: continue with the tangent vector
     todo_mono: list[tuple[int, int]] = []
-    redo: list[int] = []          # redo by the previous method
+    redo: list[int] = []          # redo by the previous method (full transient, tangent vector)
+    periods = _strict_periods(res1, classifier)
     for i, res in enumerate(res1):
-        if res.diverged:
-            growth = res.growth if not cheap else np.zeros(0)
+        if res.diverged and (cheap or carry):
+            growth = res.growth if carry else np.zeros(0)
             out[i] = (res, classify.classify_point(res.poincare, growth, res.period, True, classifier))
             continue
-        p = res.poincare[~np.isnan(res.poincare).any(axis=1)]
-        n = classify.strict_period(p, classifier) if p.shape[0] >= 3 else 0
+        if res.diverged:
+            redo.append(i)        # the full path reports the exponent up to the divergence
+            continue
+        n = periods[i]
         if n > 0 and floquet:
             todo_mono.append((i, n))
         elif res.stop_period:
@@ -197,23 +240,27 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
             out[i] = (res, classify.Classification(n, n, nan, nan, nan, nan, -1, "periodic (cheap path: no exponent)"))
         elif cheap:
             todo_tan.append(i)
-        else:
+        elif carry:
             out[i] = (res, classify.classify_point(res.poincare, res.growth, res.period, False, classifier,
                                                    samples=res.strobe))
+        else:
+            redo.append(i)        # not periodic: the tangent run over the last tangent_periods, as before
     if todo_mono:
         idx = [i for i, _ in todo_mono]
         ns = [n for _, n in todo_mono]
         mono_settings = dataclasses.replace(settings, recorded_periods=0)
         rm = simulate_batch([systems[i] for i in idx], mono_settings, [res1[i].final_state for i in idx],
                             monodromy_periods=ns, transient_periods=ns)
-        for i, n, r in zip(idx, ns, rm, strict=True):
+        ok = [r.monodromy is not None and not r.diverged and np.all(np.isfinite(r.monodromy)) for r in rm]
+        mu = np.ones((len(rm), 6))
+        if any(ok):
+            mu[ok] = np.abs(np.linalg.eigvals(np.stack([r.monodromy for r, g in zip(rm, ok) if g])))
+        for i, n, r, good, mui in zip(idx, ns, rm, ok, mu, strict=True):
             res = res1[i]
-            p = res.poincare[~np.isnan(res.poincare).any(axis=1)]
-            tol = classify._tolerance(p, classifier)
-            if r.diverged or r.monodromy is None:
+            if not good:
                 redo.append(i)
                 continue
-            lab = _floquet_label(res, n, r.monodromy, res.period, tol)
+            lab = _floquet_label(n, mui, res.period, periods.tol[i])
             if res.stop_period and not lab.lyapunov < 0.0:
                 redo.append(i)    # an unstable (or neutral) cycle the orbit only lingered near
                 continue

@@ -25,7 +25,7 @@ import xarray as xr
 from geardyn import classify
 from geardyn.khv.model import COEFFICIENT_ATTRS
 from geardyn.runs.cube import COMPUTED_ATTRS, STATE_NAMES, STATES, classifier_attrs, label_variables, store_label
-from geardyn.runs.points import analyse_point
+from geardyn.runs.points import TRANSIENT_USED_ATTRS, analyse_points, speed_attrs
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.solve import SimulationSettings
@@ -128,12 +128,23 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
     total = sum(len(idx) for _, _, idx in work.items)
     t0 = time.perf_counter()
     keep = np.zeros((len(spec.cases), len(spec.directions), spec.num), dtype=bool)
+    if spec.continuation == "none":
+        # independent points: the whole chunk at once (simulate_batch: both cores, 8 lanes in lockstep)
+        where = [(case, d, j) for case, d, indices in work.items for j in indices]
+        systems = [point.point_coefficients(design, point_overrides(spec, case, values[j])) for case, d, j in where]
+        for (case, d, j), coeffs, (res, lab) in zip(where, systems, analyse_points(systems, settings, cls),
+                                                    strict=True):
+            _store(cube, case, d, j, coeffs, res, settings)
+            store_label(cube, (case, d, j), lab)
+            keep[case, d, j] = True
+        log.info("%s chunk %d: %d points, %.1f s", spec.name, chunk, total, time.perf_counter() - t0)
+        work = ChunkWork()
     for case, d, indices in work.items:
         state = None
         for j in indices:
             coeffs = point.point_coefficients(design, point_overrides(spec, case, values[j]))
             x0 = state if (spec.continuation != "none" and state is not None) else None
-            res, lab = analyse_point(coeffs, settings, cls, x0=x0)
+            res, lab = analyse_points([coeffs], settings, cls, x0=[x0])[0]
             _store(cube, case, d, j, coeffs, res, settings)
             store_label(cube, (case, d, j), lab)
             keep[case, d, j] = True
@@ -166,6 +177,7 @@ def empty_cube(spec: SweepSpec, settings: SimulationSettings,
         "units": "1", "long_name": "mesh period at which the state exceeded the threshold (-1: never)"})
     data["n_events"] = (pdims, np.full(shape[:3], -1, np.int64), {
         "units": "1", "long_name": "number of contact-switch events located (rk4_event)"})
+    data["transient_used"] = (pdims, np.full(shape[:3], -1, np.int32), TRANSIENT_USED_ATTRS)
     data.update(label_variables(pdims, shape[:3], cls))
     for cname, (units, long_name) in COEFFICIENT_ATTRS.items():
         data[f"coef_{cname}"] = (pdims, np.full(shape[:3], np.nan), {"units": units, "long_name": long_name})
@@ -183,6 +195,7 @@ def empty_cube(spec: SweepSpec, settings: SimulationSettings,
         "integrator": settings.integrator, "steps_per_period": settings.steps_per_period,
         "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
         "divergence_threshold": settings.divergence_threshold, "continuation": spec.continuation,
+        **speed_attrs(settings),
         "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
         **classifier_attrs(cls),
     }
@@ -196,6 +209,7 @@ def _store(cube: xr.Dataset, case: int, d: int, j: int, coeffs: Any, res: Any, s
     cube["diverged"].values[case, d, j] = 1 if res.diverged else 0
     cube["diverged_period"].values[case, d, j] = res.diverged_period
     cube["n_events"].values[case, d, j] = res.n_events
+    cube["transient_used"].values[case, d, j] = res.transient_used
     values = coeffs.as_dict()
     for cname in COEFFICIENT_ATTRS:
         cube[f"coef_{cname}"].values[case, d, j] = float(values[cname])

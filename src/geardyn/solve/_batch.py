@@ -405,3 +405,66 @@ def run_blocks(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, event, threshold, POI
         lanes = np.arange(blk * WIDTH, min(n_lanes, (blk + 1) * WIDTH))
         _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, POINC, YFINAL,
                es_min, es_confirm, es_max_n, es_floor, es_atol, OUT)
+
+
+@njit(cache=True)
+def fill_tables(lane, eps, period, te, phi, poly, n, H, S, SEG, K, P):
+    """The aligned step tables of :func:`geardyn.solve.simulate.step_tables` for one lane, written
+    into row ``lane`` of H, S, SEG, K, P (the same operations in the same order: the same bits)."""
+    e1 = eps - 1.0
+    n1 = min(max(1, int(round(n * e1))), n - 1)
+    a = e1 / n1
+    bb = (1.0 - e1) / (n - n1)
+    for k in range(n1):
+        S[lane, k] = k * a
+        SEG[lane, k] = 0
+    for k in range(n - n1):
+        S[lane, n1 + k] = e1 + k * bb
+        SEG[lane, n1 + k] = 1
+    for k in range(n):
+        nxt = S[lane, k + 1] if k + 1 < n else 1.0
+        ds = nxt - S[lane, k]
+        H[lane, k] = ds * period
+        sg = SEG[lane, k]
+        for r in range(3):
+            f = 0.5 * r
+            v = S[lane, k] + f * ds
+            K[lane, k, r] = (poly[sg, 0] * v + poly[sg, 1]) * v + poly[sg, 2]
+            P[lane, k, r] = te * math.sin(2.0 * math.pi * v + phi)
+
+
+@njit(cache=True)
+def strict_periods(POINC, npts, max_n, atol, rtol, floor_tol, separation, OUT):
+    """:func:`geardyn.classify.strict_period` for every lane l on POINC[l, :npts[l]] (rows without NaN
+    assumed), compiled: the same max / peak-to-peak / comparison operations, so the same n.  Also writes
+    the tolerance of :func:`geardyn.classify._tolerance` (OUT[l, 1])."""
+    for lane in range(POINC.shape[0]):
+        m = npts[lane]
+        OUT[lane, 0] = 0.0
+        OUT[lane, 1] = np.nan
+        if m < 3:
+            continue
+        size = 0.0
+        scale = 0.0
+        for i in range(POINC.shape[2]):
+            lo = POINC[lane, 0, i]
+            hi = lo
+            for k in range(m):
+                v = POINC[lane, k, i]
+                lo = min(lo, v)
+                hi = max(hi, v)
+                scale = max(scale, abs(v))
+            size = max(size, hi - lo)
+        scale = max(scale, 1.0)
+        tol = max(atol * scale + rtol * size, floor_tol)
+        OUT[lane, 1] = tol
+        dmin = np.inf
+        for n in range(1, min(max_n, m - 1) + 1):
+            dn = 0.0
+            for k in range(m - n):
+                for i in range(POINC.shape[2]):
+                    dn = max(dn, abs(POINC[lane, k + n, i] - POINC[lane, k, i]))
+            if dn <= tol and dmin > separation * tol:
+                OUT[lane, 0] = n
+                break
+            dmin = min(dmin, dn)

@@ -196,8 +196,14 @@ def simulate_batch(
     POLY = np.empty((L, 2, 3))
     Y0 = np.empty((L, 6))
     for lane, system in enumerate(systems):
-        c, h, st, sg, tk, tp, poly = step_tables(system, n, settings.aligned)
-        C[lane], H[lane], S[lane], SEG[lane], K[lane], P[lane], POLY[lane] = c, h, st, sg, tk, tp, poly
+        if settings.aligned:
+            C[lane] = system.kernel_array()
+            POLY[lane] = system.stiffness_polys()
+            _batch.fill_tables(lane, float(system.eps), float(system.period), float(system.te_forcing),
+                               float(system.phi), POLY[lane], n, H, S, SEG, K, P)
+        else:
+            c, h, st, sg, tk, tp, poly = step_tables(system, n, settings.aligned)
+            C[lane], H[lane], S[lane], SEG[lane], K[lane], P[lane], POLY[lane] = c, h, st, sg, tk, tp, poly
         x = None if x0 is None else x0[lane]
         Y0[lane] = system.static_state() if x is None else np.asarray(x, dtype=float)
     m = 1 if tangent_periods else (6 if np.any(mono) else 0)
