@@ -18,8 +18,9 @@ from __future__ import annotations
 
 import os
 
-for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_v, "1")
+# numba threads: one for the work-precision study (set in run()), all cores for ``throughput``
 
 import argparse  # noqa: E402
 import json  # noqa: E402
@@ -75,6 +76,9 @@ def _w1(a: np.ndarray, b: np.ndarray) -> float:
 
 def run(quick: bool = False, log=print) -> dict:
     """Compute the study; returns a dict of arrays and scalars (see :func:`to_dataset`)."""
+    import numba
+
+    numba.set_num_threads(1)
     for c in cases().values():
         warm_up(c)
     steps = STEPS[:4] if quick else STEPS
@@ -300,3 +304,182 @@ def main(argv: list[str] | None = None) -> int:
 
 if __name__ == "__main__":
     sys.exit(main())
+
+
+# ----------------------------------------------------------------------------------------------
+# throughput and agreement: the batch method (early stop, Floquet exponents, lockstep lanes on all
+# cores) against the previous method (point by point, full transient, tangent vector), one run
+# ----------------------------------------------------------------------------------------------
+
+PAPER1_SWEEPS = ("fig07_bifurcation_x1", "fig09_bifurcation_b", "fig11_bifurcation_e")
+
+
+def _config(path: Path) -> dict:
+    from geardyn import config as cfg_mod
+
+    return cfg_mod.read_yaml(path)
+
+
+def _design(name: str, config: dict, root: Path):
+    from geardyn.khv import design as design_mod
+
+    return design_mod.load(root / config["designs"][name])
+
+
+def _sweep_points(design, spec):
+    from geardyn.khv import point
+    from geardyn.runs.sweep import point_overrides
+
+    out = []
+    for case in range(len(spec.cases)):
+        for j, v in enumerate(spec.values):
+            out.append(((spec.case_label(case), float(v)), point.point_coefficients(design, point_overrides(spec, case, v))))
+    return out
+
+
+def _map_points(design, spec, stride: int = 1):
+    from geardyn.khv import point
+    from geardyn.runs import maps
+
+    out = []
+    xs, ys = spec.x.values, spec.y.values
+    for i in range(0, len(xs), stride):
+        base = point.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(xs[i])})
+        for j in range(0, len(ys), stride):
+            out.append(((float(xs[i]), float(ys[j])), maps.point_coefficients(design, spec, xs[i], ys[j], base)))
+    return out
+
+
+def _old_worker(args):
+    systems, settings, cls, cheap = args
+    from geardyn.runs.points import analyse_point
+
+    t0 = time.process_time()
+    out = [analyse_point(c, settings, cls, cheap=cheap) for c in systems]
+    return [(lab.label, lab.lyapunov, lab.reason, r.transient_used) for r, lab in out], time.process_time() - t0
+
+
+def compare_methods(systems, settings, cls, cheap: bool, workers: int = 2, log=print) -> dict:
+    """Labels and costs of the previous method (``analyse_point`` point by point, full transient,
+    tangent exponent; ``workers`` processes) and of the batch method (``analyse_points`` with the
+    settings' early stop and exponent; numba threads) on the same points."""
+    import dataclasses
+    from concurrent.futures import ProcessPoolExecutor
+
+    from geardyn.runs.points import analyse_points
+
+    old_settings = dataclasses.replace(settings, batch=False)
+    parts = np.array_split(np.arange(len(systems)), workers)
+    t0 = time.perf_counter()
+    with ProcessPoolExecutor(workers) as ex:
+        res = list(ex.map(_old_worker, [([systems[i] for i in p], old_settings, cls, cheap) for p in parts]))
+    old_wall = time.perf_counter() - t0
+    old = [x for r, _ in res for x in r]
+    old_cpu = sum(c for _, c in res)
+    analyse_points(systems[:16], settings, cls, cheap=cheap)  # compile / load the kernels
+    t0 = time.perf_counter()
+    c0 = time.process_time()
+    new_pairs = analyse_points(systems, settings, cls, cheap=cheap)
+    new_wall = time.perf_counter() - t0
+    new_cpu = time.process_time() - c0
+    new = [(lab.label, lab.lyapunov, lab.reason, r.transient_used) for r, lab in new_pairs]
+    log(f"  {len(systems)} points: previous {old_cpu:.1f} CPU-s ({old_wall:.1f} s wall on {workers} processes), "
+        f"batch {new_wall:.1f} s wall ({new_cpu:.1f} CPU-s)")
+    return {"old": old, "new": new, "old_cpu": old_cpu, "old_wall": old_wall, "new_wall": new_wall,
+            "new_cpu": new_cpu}
+
+
+def confusion(old_labels, new_labels) -> tuple[list[int], np.ndarray]:
+    """Confusion matrix (rows: previous label, columns: new label) over the codes present."""
+    codes = sorted(set(old_labels) | set(new_labels))
+    m = np.zeros((len(codes), len(codes)), np.int64)
+    pos = {c: k for k, c in enumerate(codes)}
+    for a, b in zip(old_labels, new_labels, strict=True):
+        m[pos[a], pos[b]] += 1
+    return codes, m
+
+
+def confusion_markdown(codes, m) -> str:
+    from geardyn.classify import short_name
+
+    head = "| previous \\ new | " + " | ".join(short_name(c) for c in codes) + " |"
+    lines = [head, "|---|" + "---:|" * len(codes)]
+    for k, c in enumerate(codes):
+        lines.append(f"| {short_name(c)} | " + " | ".join(str(int(v)) for v in m[k]) + " |")
+    return "\n".join(lines)
+
+
+def agreement(config_path: Path = Path("config/config.yaml"), designs=("li2013", "li2013_calibrated"),
+              map_name: str = "map_x1_b", map_stride: int = 1, sweep_stride: int = 1, log=print) -> dict:
+    """Previous vs batch method on paper 1's sweeps (Figs. 7, 9, 11) for ``designs`` and on one map:
+    labels (confusion matrices, every disagreement listed) and costs."""
+    from geardyn import classify
+    from geardyn.khv import point
+    from geardyn.runs.maps import MapSpec
+    from geardyn.runs.sweep import SweepSpec
+
+    root = config_path.resolve().parent.parent
+    config = _config(config_path)
+    runs = {}
+    for dname in designs:
+        design = _design(dname, config, root)
+        for sname in PAPER1_SWEEPS:
+            spec = SweepSpec.from_config(sname, config["sweeps"][sname], dname)
+            settings = point.integration_settings(design, **dict(spec.integration))
+            cls = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
+            pts = _sweep_points(design, spec)[::sweep_stride]
+            log(f"[{dname} {sname}] {settings.steps_per_period} steps/period, "
+                f"{settings.transient_periods}+{settings.recorded_periods} periods")
+            r = compare_methods([c for _, c in pts], settings, cls, cheap=False, log=log)
+            r["where"] = [w for w, _ in pts]
+            runs[f"{dname}/{sname}"] = r
+    if map_name:
+        mspec_raw = config["maps"][map_name]
+        dname = mspec_raw["designs"][0]
+        design = _design(dname, config, root)
+        spec = MapSpec.from_config(map_name, mspec_raw, dname)
+        settings = point.integration_settings(design, **dict(spec.integration))
+        cls = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
+        pts = _map_points(design, spec, map_stride)
+        log(f"[{dname} {map_name}] {len(pts)} points (every {map_stride}. x and y)")
+        r = compare_methods([c for _, c in pts], settings, cls, cheap=True, log=log)
+        r["where"] = [w for w, _ in pts]
+        runs[f"{dname}/{map_name}"] = r
+    return runs
+
+
+def agreement_markdown(runs: dict) -> str:
+    from geardyn.classify import short_name
+
+    lines = ["| run | points | agree | share | previous CPU-s | batch wall s | batch CPU-s | mean transient used |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|"]
+    allo, alln = [], []
+    for name, r in runs.items():
+        lo = [o[0] for o in r["old"]]
+        ln = [n[0] for n in r["new"]]
+        agree = sum(a == b for a, b in zip(lo, ln, strict=True))
+        used = np.mean([n[3] for n in r["new"]])
+        lines.append(f"| {name} | {len(lo)} | {agree} | {agree / len(lo):.4f} | {r['old_cpu']:.1f} | "
+                     f"{r['new_wall']:.1f} | {r['new_cpu']:.1f} | {used:.0f} |")
+        if "map" not in name:
+            allo += lo
+            alln += ln
+    if allo:
+        agree = sum(a == b for a, b in zip(allo, alln, strict=True))
+        lines.append(f"| all sweeps | {len(allo)} | {agree} | {agree / len(allo):.4f} | | | | |")
+    for name, r in runs.items():
+        lo = [o[0] for o in r["old"]]
+        ln = [n[0] for n in r["new"]]
+        codes, m = confusion(lo, ln)
+        lines += ["", f"### {name}", "", confusion_markdown(codes, m), ""]
+        bad = [k for k in range(len(lo)) if lo[k] != ln[k]]
+        if bad:
+            lines += ["| point | previous | new | previous reason | new reason | transient used |", "|---|---|---|---|---|---:|"]
+            for k in bad:
+                o, n = r["old"][k], r["new"][k]
+                lines.append(f"| {r['where'][k]} | {short_name(o[0])} (lambda {o[1]:.2e}) | {short_name(n[0])} "
+                             f"(lambda {n[1]:.2e}) | {o[2]} | {n[2]} | {n[3]} |")
+        used = np.array([n[3] for n in r["new"]])
+        lines.append(f"\ntransient periods used: min {used.min()}, median {np.median(used):.0f}, max {used.max()}; "
+                     f"stopped early: {int(np.sum(used < max(used.max(), 1)))} of {used.size}")
+    return "\n".join(lines) + "\n"

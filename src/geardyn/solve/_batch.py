@@ -252,9 +252,146 @@ def _vstep(A):
         A[32 * WIDTH + q] = v3 + h6 * (sv3 + d3)
 
 
+@njit(cache=True, inline="never")
+def _vstep_tan(A):
+    """:func:`_vstep` and one tangent column per lane (rows 33-38 of A -> 39-44; row 45: 1 when the
+    dead zone is on), the arithmetic of :func:`geardyn.solve._kernel.tangent_step`."""
+    for q in range(WIDTH):
+        h = A[14 * WIDTH + q]
+        k0 = A[15 * WIDTH + q]
+        k1 = A[16 * WIDTH + q]
+        k2 = A[17 * WIDTH + q]
+        p0 = A[18 * WIDTH + q]
+        p1 = A[19 * WIDTH + q]
+        p2 = A[20 * WIDTH + q]
+        cK11 = A[0 * WIDTH + q]
+        cC11 = A[1 * WIDTH + q]
+        cG1 = A[2 * WIDTH + q]
+        cP1 = A[3 * WIDTH + q]
+        cK21 = A[4 * WIDTH + q]
+        cC21 = A[5 * WIDTH + q]
+        cK23 = A[6 * WIDTH + q]
+        cC23 = A[7 * WIDTH + q]
+        cK33 = A[8 * WIDTH + q]
+        cC33 = A[9 * WIDTH + q]
+        cG3 = A[10 * WIDTH + q]
+        cP3 = A[11 * WIDTH + q]
+        cCM = A[12 * WIDTH + q]
+        b = A[13 * WIDTH + q]
+        x1 = A[21 * WIDTH + q]
+        x2 = A[22 * WIDTH + q]
+        x3 = A[23 * WIDTH + q]
+        v1 = A[24 * WIDTH + q]
+        v2 = A[25 * WIDTH + q]
+        v3 = A[26 * WIDTH + q]
+        hh2 = 0.5 * h
+        # stage 1
+        f = x2 - min(max(x2, -b), b)
+        fm = k0 * f + cCM * v2
+        a1 = cP1 - cK11 * x1 - cC11 * v1 - cG1 * fm
+        a2 = p0 - cK21 * x1 - cC21 * v1 - cK23 * x3 - cC23 * v3 - fm
+        a3 = cP3 - cK33 * x3 - cC33 * v3 - cG3 * fm
+        X1 = x1 + hh2 * v1
+        X2 = x2 + hh2 * v2
+        X3 = x3 + hh2 * v3
+        V1 = v1 + hh2 * a1
+        V2 = v2 + hh2 * a2
+        V3 = v3 + hh2 * a3
+        # stage 2
+        f = X2 - min(max(X2, -b), b)
+        fm = k1 * f + cCM * V2
+        b1 = cP1 - cK11 * X1 - cC11 * V1 - cG1 * fm
+        b2 = p1 - cK21 * X1 - cC21 * V1 - cK23 * X3 - cC23 * V3 - fm
+        b3 = cP3 - cK33 * X3 - cC33 * V3 - cG3 * fm
+        sx1 = v1 + 2.0 * V1
+        sx2 = v2 + 2.0 * V2
+        sx3 = v3 + 2.0 * V3
+        sv1 = a1 + 2.0 * b1
+        sv2 = a2 + 2.0 * b2
+        sv3 = a3 + 2.0 * b3
+        W1 = v1 + hh2 * b1
+        W2 = v2 + hh2 * b2
+        W3 = v3 + hh2 * b3
+        # stage 3
+        Z1 = x1 + hh2 * V1
+        Z2 = x2 + hh2 * V2
+        Z3 = x3 + hh2 * V3
+        f = Z2 - min(max(Z2, -b), b)
+        fm = k1 * f + cCM * W2
+        c1 = cP1 - cK11 * Z1 - cC11 * W1 - cG1 * fm
+        c2 = p1 - cK21 * Z1 - cC21 * W1 - cK23 * Z3 - cC23 * W3 - fm
+        c3 = cP3 - cK33 * Z3 - cC33 * W3 - cG3 * fm
+        sx1 += 2.0 * W1
+        sx2 += 2.0 * W2
+        sx3 += 2.0 * W3
+        sv1 += 2.0 * c1
+        sv2 += 2.0 * c2
+        sv3 += 2.0 * c3
+        U1 = v1 + h * c1
+        U2 = v2 + h * c2
+        U3 = v3 + h * c3
+        # stage 4
+        Q1 = x1 + h * W1
+        Q2 = x2 + h * W2
+        Q3 = x3 + h * W3
+        f = Q2 - min(max(Q2, -b), b)
+        fm = k2 * f + cCM * U2
+        d1 = cP1 - cK11 * Q1 - cC11 * U1 - cG1 * fm
+        d2 = p2 - cK21 * Q1 - cC21 * U1 - cK23 * Q3 - cC23 * U3 - fm
+        d3 = cP3 - cK33 * Q3 - cC33 * U3 - cG3 * fm
+        h6 = h / 6.0
+        A[27 * WIDTH + q] = x1 + h6 * (sx1 + U1)
+        A[28 * WIDTH + q] = x2 + h6 * (sx2 + U2)
+        A[29 * WIDTH + q] = x3 + h6 * (sx3 + U3)
+        A[30 * WIDTH + q] = v1 + h6 * (sv1 + d1)
+        A[31 * WIDTH + q] = v2 + h6 * (sv2 + d2)
+        A[32 * WIDTH + q] = v3 + h6 * (sv3 + d3)
+        # tangent column (rows 33-38 -> 39-44): the expressions of _kernel.tangent_step, slopes
+        # kappa f'(x2) at the orbit's four stage states (the same stage values as above)
+        on = A[45 * WIDTH + q]
+        s1 = k0 * (1.0 if (on == 0.0 or x2 > b or x2 < -b) else 0.0)
+        s2 = k1 * (1.0 if (on == 0.0 or X2 > b or X2 < -b) else 0.0)
+        s3 = k1 * (1.0 if (on == 0.0 or Z2 > b or Z2 < -b) else 0.0)
+        s4 = k2 * (1.0 if (on == 0.0 or Q2 > b or Q2 < -b) else 0.0)
+        w0 = A[33 * WIDTH + q]
+        w1 = A[34 * WIDTH + q]
+        w2 = A[35 * WIDTH + q]
+        w3 = A[36 * WIDTH + q]
+        w4 = A[37 * WIDTH + q]
+        w5 = A[38 * WIDTH + q]
+        fm = s1 * w1 + cCM * w4
+        A1 = -cK11 * w0 - cC11 * w3 - cG1 * fm
+        A2 = -cK21 * w0 - cC21 * w3 - cK23 * w2 - cC23 * w5 - fm
+        A3 = -cK33 * w2 - cC33 * w5 - cG3 * fm
+        B0, B1, B2 = w0 + hh2 * w3, w1 + hh2 * w4, w2 + hh2 * w5
+        B3, B4, B5 = w3 + hh2 * A1, w4 + hh2 * A2, w5 + hh2 * A3
+        fm = s2 * B1 + cCM * B4
+        Q1_ = -cK11 * B0 - cC11 * B3 - cG1 * fm
+        Q2_ = -cK21 * B0 - cC21 * B3 - cK23 * B2 - cC23 * B5 - fm
+        Q3_ = -cK33 * B2 - cC33 * B5 - cG3 * fm
+        C0, C1, C2 = w0 + hh2 * B3, w1 + hh2 * B4, w2 + hh2 * B5
+        C3, C4, C5 = w3 + hh2 * Q1_, w4 + hh2 * Q2_, w5 + hh2 * Q3_
+        fm = s3 * C1 + cCM * C4
+        R1 = -cK11 * C0 - cC11 * C3 - cG1 * fm
+        R2 = -cK21 * C0 - cC21 * C3 - cK23 * C2 - cC23 * C5 - fm
+        R3 = -cK33 * C2 - cC33 * C5 - cG3 * fm
+        D0, D1, D2 = w0 + h * C3, w1 + h * C4, w2 + h * C5
+        D3, D4, D5 = w3 + h * R1, w4 + h * R2, w5 + h * R3
+        fm = s4 * D1 + cCM * D4
+        S1 = -cK11 * D0 - cC11 * D3 - cG1 * fm
+        S2 = -cK21 * D0 - cC21 * D3 - cK23 * D2 - cC23 * D5 - fm
+        S3 = -cK33 * D2 - cC33 * D5 - cG3 * fm
+        A[39 * WIDTH + q] = w0 + h6 * (w3 + 2.0 * B3 + 2.0 * C3 + D3)
+        A[40 * WIDTH + q] = w1 + h6 * (w4 + 2.0 * B4 + 2.0 * C4 + D4)
+        A[41 * WIDTH + q] = w2 + h6 * (w5 + 2.0 * B5 + 2.0 * C5 + D5)
+        A[42 * WIDTH + q] = w3 + h6 * (A1 + 2.0 * Q1_ + 2.0 * R1 + S1)
+        A[43 * WIDTH + q] = w4 + h6 * (A2 + 2.0 * Q2_ + 2.0 * R2 + S2)
+        A[44 * WIDTH + q] = w5 + h6 * (A3 + 2.0 * Q3_ + 2.0 * R3 + S3)
+
+
 @njit(cache=True)
 def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, POINC, YFINAL,
-           es_min, es_confirm, es_max_n, es_floor, es_atol, OUT):
+           es_min, es_confirm, es_max_n, es_floor, es_atol, OUT, W, NTAN, GROWTH, STROBE):
     """Lanes ``lanes`` (<= WIDTH of them) stepped in lockstep, structure of arrays (state (6, WIDTH)):
     the plain RK4 step of every lane is one loop over the lanes that the compiler vectorises (the dead
     zone as selects, no branch); a lane whose step changed contact region is then corrected alone by
@@ -264,7 +401,8 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, 
     nsteps = H.shape[1]
     Wd = WIDTH
     # structure of arrays; padding lanes repeat the first lane and are never written out
-    A = np.empty(33 * Wd)
+    A = np.zeros(46 * Wd)
+    m = W.shape[2]
     tab = np.empty((nsteps, 7 * Wd))  # per step: rows 14-20 of A
     cc = np.empty((19, Wd))
     for q in range(Wd):
@@ -281,6 +419,9 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, 
                 tab[j, (4 + r) * Wd + q] = P[ln, j, r]
         for i in range(6):
             A[(21 + i) * Wd + q] = Y0[ln, i]
+            if m > 0:
+                A[(33 + i) * Wd + q] = W[ln, i, 0]
+        A[45 * Wd + q] = C[ln, BACKLASH_ON]
     use_ev = np.zeros(Wd, dtype=np.bool_)
     reg = np.zeros(Wd, dtype=np.int64)
     n_tr = np.empty(Wd, dtype=np.int64)
@@ -291,12 +432,18 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, 
     ring = np.empty((Wd, es_max_n + 1, 6))
     count = np.zeros((Wd, es_max_n + 1), dtype=np.int64)
     n_seen = np.zeros(Wd, dtype=np.int64)
+    tan_start = np.zeros(Wd, dtype=np.int64)
+    tan_on = np.zeros(Wd, dtype=np.bool_)
+    Wa = np.empty((6, 1))
+    Wb = np.empty((6, 1))
+    Wt = np.empty((6, 1))
     for q in range(Wd):
         ln = lanes[q] if q < nl else lanes[0]
         use_ev[q] = event and cc[BACKLASH_ON, q] != 0.0 and cc[B, q] > 0.0
         reg[q] = region(A[22 * Wd + q], cc[B, q])
         n_tr[q] = NTRANS[ln]
         n_end[q] = NTRANS[ln] + NREC[ln]
+        tan_start[q] = NTRANS[ln] + NREC[ln] - NTAN[ln]
         if q >= nl:
             done[q] = True
     y1 = np.empty(6)
@@ -311,10 +458,17 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, 
                 alive = True
         if not alive:
             break
+        any_tan = False
+        for q in range(Wd):
+            tan_on[q] = m > 0 and (not done[q]) and per >= tan_start[q] and stop_n[q] == 0
+            any_tan = any_tan or tan_on[q]
         for j in range(nsteps):
             for i in range(7 * Wd):
                 A[14 * Wd + i] = tab[j, i]
-            _vstep(A)
+            if any_tan:
+                _vstep_tan(A)
+            else:
+                _vstep(A)
             # contact switches, lane by lane
             for q in range(nl):
                 if done[q] or not use_ev[q]:
@@ -329,14 +483,28 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, 
                     for i in range(6):
                         y1[i] = A[(21 + i) * Wd + q]
                         y2[i] = A[(27 + i) * Wd + q]
-                    r, nv = locate_switches(c, POLY[ln], y1, y2, W0, W0, 0, ytmp, W0, H[ln, j], S[ln, j],
-                                            SEG[ln, j], reg[q], rnew, b, c[T])
+                    if tan_on[q]:
+                        for i in range(6):
+                            Wa[i, 0] = A[(33 + i) * Wd + q]
+                            Wb[i, 0] = A[(39 + i) * Wd + q]
+                        r, nv = locate_switches(c, POLY[ln], y1, y2, Wa, Wb, 1, ytmp, Wt, H[ln, j], S[ln, j],
+                                                SEG[ln, j], reg[q], rnew, b, c[T])
+                        for i in range(6):
+                            A[(39 + i) * Wd + q] = Wb[i, 0]
+                    else:
+                        r, nv = locate_switches(c, POLY[ln], y1, y2, W0, W0, 0, ytmp, W0, H[ln, j], S[ln, j],
+                                                SEG[ln, j], reg[q], rnew, b, c[T])
                     reg[q] = r
                     nev[q] += nv
                     for i in range(6):
                         A[(27 + i) * Wd + q] = y2[i]
             for i in range(6 * Wd):
                 A[21 * Wd + i] = A[27 * Wd + i]
+            if any_tan:
+                for q in range(Wd):
+                    if tan_on[q]:
+                        for i in range(6):
+                            A[(33 + i) * Wd + q] = A[(39 + i) * Wd + q]
         # end of mesh period `per`: divergence, record, early stop
         for q in range(nl):
             if done[q]:
@@ -357,6 +525,15 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, 
                 OUT[ln, 4] = stop_n[q]
                 done[q] = True
                 continue
+            if tan_on[q]:
+                nrm = 0.0
+                for i in range(6):
+                    nrm += A[(33 + i) * Wd + q] * A[(33 + i) * Wd + q]
+                nrm = math.sqrt(nrm)
+                GROWTH[ln, per - tan_start[q]] = math.log(nrm) if nrm > 0.0 else -np.inf
+                STROBE[ln, per - tan_start[q]] = A[22 * Wd + q]
+                for i in range(6):
+                    A[(33 + i) * Wd + q] /= nrm
             if per >= n_tr[q]:
                 for i in range(6):
                     POINC[ln, per - n_tr[q], i] = A[(21 + i) * Wd + q]
@@ -396,15 +573,16 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, 
 
 @njit(cache=True, parallel=True)
 def run_blocks(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, event, threshold, POINC, YFINAL,
-               es_min, es_confirm, es_max_n, es_floor, es_atol, OUT):
-    """:func:`run_lane` without tangent for every lane, WIDTH lanes in lockstep per block
+               es_min, es_confirm, es_max_n, es_floor, es_atol, OUT, W, NTAN, GROWTH, STROBE):
+    """:func:`run_lane` (no tangent, or one renormalised tangent column: W (L, 6, 0 or 1)) for every lane,
+    WIDTH lanes in lockstep per block
     (:func:`_block`), blocks in parallel.  Blocks are consecutive lanes; results do not depend on it."""
     n_lanes = C.shape[0]
     n_blocks = (n_lanes + WIDTH - 1) // WIDTH
     for blk in prange(n_blocks):
         lanes = np.arange(blk * WIDTH, min(n_lanes, (blk + 1) * WIDTH))
         _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, POINC, YFINAL,
-               es_min, es_confirm, es_max_n, es_floor, es_atol, OUT)
+               es_min, es_confirm, es_max_n, es_floor, es_atol, OUT, W, NTAN, GROWTH, STROBE)
 
 
 @njit(cache=True)

@@ -172,7 +172,7 @@ def simulate_batch(
     ``transient_periods = n`` to get the monodromy of n periods only).
     With ``early_stop``, a point whose stroboscopic map has converged ends its transient early
     (``transient_used``, ``stop_period``) and drops its tangent vector (``growth`` empty).
-    ``lockstep``: without tangent or monodromy, step 8 points together (one vector register,
+    ``lockstep``: without monodromy, step 8 points together (vectorised, with their tangent vectors,
     :func:`geardyn.solve._batch.run_blocks`); False: one point per thread at a time (same numbers).
     """
     if settings.integrator == "dop853":
@@ -224,11 +224,11 @@ def simulate_batch(
     final = np.empty((L, 6))
     out = np.zeros((L, 5), np.int64)
     es = early_stop
-    if m == 0 and lockstep:
+    if m <= 1 and lockstep:
         _batch.run_blocks(C, H, S, SEG, K, P, POLY, Y0, ntr, nrec, settings.integrator == "rk4_event",
                           settings.divergence_threshold, poinc, final,
                           es.min_periods if es else 0, es.confirm if es else 0, es.max_n if es else 1,
-                          es.floor if es else 0.0, es.atol if es else 0.0, out)
+                          es.floor if es else 0.0, es.atol if es else 0.0, out, W, ntan, growth, strobe)
     else:
         _batch.run_batch(C, H, S, SEG, K, P, POLY, Y0, ntr, nrec, settings.integrator == "rk4_event",
                        settings.divergence_threshold, W, ntan, bool(tangent_periods), growth, strobe, poinc,
