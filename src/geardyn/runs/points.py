@@ -211,11 +211,10 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
     es = early_stop_of(settings, classifier)
     floquet = settings.periodic_exponent == "floquet"
     out: list = [None] * L
-    # phase 1: transient (early stop) and recorded periods; the full path carries the tangent vector
-    # over the last tangent_periods of the nominal run for the points that do not stop early
-    # phase 1: transient (early stop) and recorded periods, no tangent vector (8 lanes in lockstep)
-    # unless the previous method (tangent exponent for every point) is asked for
-    carry = not cheap and not floquet
+    # phase 1: transient (early stop) and recorded periods, 8 lanes in lockstep; the full path carries
+    # the tangent vector over the last tangent_periods of the nominal run, as before (a lane that
+    # stops early drops it: its exponent comes from the monodromy of its cycle)
+    carry = not cheap
     res1 = simulate_batch(systems, settings, x0s, tangent_periods=classifier.tangent_periods if carry else 0,
                           early_stop=es)
     todo_tan: list[int] = []      # cheap path: continue with the tangent vector
@@ -223,12 +222,9 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
     redo: list[int] = []          # redo by the previous method (full transient, tangent vector)
     periods = _strict_periods(res1, classifier)
     for i, res in enumerate(res1):
-        if res.diverged and (cheap or carry):
+        if res.diverged:
             growth = res.growth if carry else np.zeros(0)
             out[i] = (res, classify.classify_point(res.poincare, growth, res.period, True, classifier))
-            continue
-        if res.diverged:
-            redo.append(i)        # the full path reports the exponent up to the divergence
             continue
         n = periods[i]
         if n > 0 and floquet:
@@ -240,11 +236,9 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
             out[i] = (res, classify.Classification(n, n, nan, nan, nan, nan, -1, "periodic (cheap path: no exponent)"))
         elif cheap:
             todo_tan.append(i)
-        elif carry:
+        else:
             out[i] = (res, classify.classify_point(res.poincare, res.growth, res.period, False, classifier,
                                                    samples=res.strobe))
-        else:
-            redo.append(i)        # not periodic: the tangent run over the last tangent_periods, as before
     if todo_mono:
         idx = [i for i, _ in todo_mono]
         ns = [n for _, n in todo_mono]
