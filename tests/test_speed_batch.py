@@ -42,8 +42,8 @@ def test_batch_is_bit_identical_to_simulate(systems, integrator, kw):
 
 
 def test_independent_of_threads_order_and_chunking(systems):
-    s = SimulationSettings(**SHORT)
-    es = EarlyStop(min_periods=5, confirm=3, floor=1e-3)
+    s = SimulationSettings(steps_per_period=32, transient_periods=400, recorded_periods=12)
+    es = EarlyStop(min_periods=50, confirm=5, floor=4e-3)
     ref = simulate_batch(systems, s, tangent_periods=15, early_stop=es)
     n0 = numba.get_num_threads()
     try:
@@ -54,7 +54,9 @@ def test_independent_of_threads_order_and_chunking(systems):
     rev = simulate_batch(systems[::-1], s, tangent_periods=15, early_stop=es)[::-1]
     parts = simulate_batch(systems[:3], s, tangent_periods=15, early_stop=es) + \
         simulate_batch(systems[3:], s, tangent_periods=15, early_stop=es)
-    for other in (one, rev, parts):
+    lanes = simulate_batch(systems, s, tangent_periods=15, early_stop=es, lockstep=False)
+    assert any(r.stop_period for r in ref) and not all(r.stop_period for r in ref)
+    for other in (one, rev, parts, lanes):
         for a, b in zip(ref, other, strict=True):
             assert np.array_equal(a.poincare, b.poincare) and np.array_equal(a.growth, b.growth)
             assert a.transient_used == b.transient_used and a.stop_period == b.stop_period

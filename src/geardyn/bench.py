@@ -717,25 +717,28 @@ def map_throughput(config_path: Path, map_name: str = "map_x1_b", subset_stride:
     sub = [c for k, (_, c) in enumerate(pts) if (k // spec.y.num) % subset_stride == 0]
     analyse_points(sub[:16], settings, cls, cheap=True)
     old_s = dataclasses.replace(settings, batch=False)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     old = [analyse_point(c, old_s, cls, cheap=True) for c in sub]
-    t_old_sub = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    t_old_sub, c_old_sub = time.perf_counter() - t0, time.process_time() - c0
+    t0, c0 = time.perf_counter(), time.process_time()
     new_sub = analyse_points(sub, settings, cls, cheap=True)
-    t_new_sub = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    t_new_sub, c_new_sub = time.perf_counter() - t0, time.process_time() - c0
+    t0, c0 = time.perf_counter(), time.process_time()
     ds = maps.run_chunk(design, spec, 0)
-    t_map = time.perf_counter() - t0
+    t_map, c_map = time.perf_counter() - t0, time.process_time() - c0
     agree = sum(a[1].label == b[1].label for a, b in zip(old, new_sub, strict=True))
     out = {"map": map_name, "design": dname, "points": spec.n_points, "subset_points": len(sub),
            "old_ms_per_point": 1e3 * t_old_sub / len(sub), "new_ms_per_point_subset": 1e3 * t_new_sub / len(sub),
            "map_wall_s": t_map, "old_map_s_estimate": t_old_sub / len(sub) * spec.n_points,
+           "map_cpu_s": c_map, "old_map_cpu_estimate": c_old_sub / len(sub) * spec.n_points,
+           "subset_cpu_ratio": c_old_sub / c_new_sub, "load_average": os.getloadavg()[0],
            "subset_agree": agree, "transient_used_mean": float(ds["transient_used"].mean()),
            "transient_used_min": int(ds["transient_used"].min())}
     log(f"[map] {map_name} {spec.n_points} points: batch {t_map:.1f} s wall "
         f"({1e3 * t_map / spec.n_points:.2f} ms/point); previous {out['old_ms_per_point']:.2f} ms/point "
         f"(subset of {len(sub)}), i.e. {out['old_map_s_estimate']:.0f} s for the map; subset labels agree "
-        f"{agree}/{len(sub)}")
+        f"{agree}/{len(sub)}; CPU: batch {c_map:.1f} CPU-s for the map, previous {out['old_map_cpu_estimate']:.0f} "
+        f"CPU-s (estimate); load average {out['load_average']:.1f}")
     return out
 
 
@@ -747,7 +750,9 @@ def figures_throughput(config_path: Path, design: str = "li2013", quick: bool = 
     new_wall = sum(r["new_wall"] for r in runs.values())
     n = sum(len(r["old"]) for r in runs.values())
     agree = sum(sum(a[0] == b[0] for a, b in zip(r["old"], r["new"], strict=True)) for r in runs.values())
+    new_cpu = sum(r["new_cpu"] for r in runs.values())
     return {"design": design, "points": n, "old_cpu_s": old_cpu, "new_wall_s": new_wall, "agree": agree,
+            "new_cpu_s": new_cpu,
             "runs": runs}
 
 
@@ -764,14 +769,20 @@ def throughput_markdown(out: dict) -> str:
 
     k, d, m, f = out["kernel"], out["dop853"], out["map"], out["figures"]
     lines = [f"Machine: {platform.node()} {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-             f"{numba.get_num_threads()} numba threads; previous and batch method measured in the same run.", "",
+             f"{numba.get_num_threads()} numba threads; previous and batch method measured in the same run; "
+             f"load average {os.getloadavg()[0]:.1f} at the end (shared machine: wall times are upper bounds, "
+             f"CPU times are the steadier comparison).", "",
              "| what | previous method | batch method | ratio (previous / batch) |", "|---|---:|---:|---:|"]
     lines.append(f"| map {m['map']} ({m['points']} points, 128 steps/period, 400+50 periods, cheap classifier), wall | "
                  f"{m['old_map_s_estimate']:.0f} s (1 core, {m['old_ms_per_point']:.2f} ms/point on a subset of "
                  f"{m['subset_points']}) | {m['map_wall_s']:.1f} s | {m['old_map_s_estimate'] / m['map_wall_s']:.1f}x |")
+    lines.append(f"| same map, CPU time (both threads counted) | {m['old_map_cpu_estimate']:.0f} CPU-s | "
+                 f"{m['map_cpu_s']:.1f} CPU-s | {m['old_map_cpu_estimate'] / m['map_cpu_s']:.1f}x |")
     lines.append(f"| paper 1 sweeps for {f['design']} ({f['points']} points, 512 steps/period, 500+100 periods, "
                  f"full classifier) | {f['old_cpu_s']:.0f} CPU-s | {f['new_wall_s']:.1f} s wall | "
                  f"{f['old_cpu_s'] / f['new_wall_s']:.1f}x |")
+    lines.append(f"| same sweeps, CPU time | {f['old_cpu_s']:.0f} CPU-s | {f['new_cpu_s']:.1f} CPU-s | "
+                 f"{f['old_cpu_s'] / f['new_cpu_s']:.1f}x |")
     for integ in ("rk4", "rk4_event"):
         r = k[integ]
         lines.append(f"| cost per point-step, {integ}, vs scalar C RK4 ({k['c_ns']:.1f} ns) | "
