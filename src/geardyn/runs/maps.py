@@ -18,6 +18,7 @@ import logging
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -131,6 +132,11 @@ def empty_map(spec: MapSpec, cls: classify.ClassifierSettings, settings) -> xr.D
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
+def _arrays(ds: xr.Dataset) -> dict[str, SimpleNamespace]:
+    """The data variables of ``ds`` as objects with a writable numpy ``values`` (the same memory)."""
+    return {name: SimpleNamespace(values=ds[name].values) for name in ds.data_vars}
+
+
 def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
     """Classify the points of one chunk; a partial map (``computed`` marks them)."""
     settings = point.integration_settings(design, **dict(spec.integration))
@@ -151,14 +157,15 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
         systems.append(point_coefficients(design, spec, xs[i], ys[j], base_cache[i]))
     # the whole chunk at once (simulate_batch: both cores, 8 lanes in lockstep); point by point when
     # settings.batch is False (the previous method)
+    arrays = _arrays(ds)  # numpy views: no xarray lookup per point
     for (j, i), (res, lab) in zip(where, analyse_points(systems, settings, cls, cheap=True), strict=True):
-        store_label(ds, (j, i), lab)
-        ds["diverged"].values[j, i] = int(res.diverged)
+        store_label(arrays, (j, i), lab)
+        arrays["diverged"].values[j, i] = int(res.diverged)
         if res.poincare.shape[0]:
-            ds["x_vh_mean"].values[j, i] = float(np.mean(res.poincare[:, 1]))
-            ds["x_vh_spread"].values[j, i] = float(np.ptp(res.poincare[:, 1]))
-        ds["transient_used"].values[j, i] = res.transient_used
-        ds["computed"].values[j, i] = 1
+            arrays["x_vh_mean"].values[j, i] = float(np.mean(res.poincare[:, 1]))
+            arrays["x_vh_spread"].values[j, i] = float(np.ptp(res.poincare[:, 1]))
+        arrays["transient_used"].values[j, i] = res.transient_used
+        arrays["computed"].values[j, i] = 1
     el = time.perf_counter() - t0
     log.info("%s chunk %d: %d points, %.1f s (%.2f ms/point)", spec.name, chunk, len(idx), el,
              1e3 * el / max(1, len(idx)))

@@ -7,6 +7,7 @@ computed here, for those points only, and never inside a sweep.
 from __future__ import annotations
 
 import dataclasses
+import logging
 from collections.abc import Mapping
 
 import numpy as np
@@ -17,6 +18,8 @@ from geardyn.khv.design import KHVDesign
 from geardyn.solve import SimulationSettings, simulate
 from geardyn import classify
 from geardyn.runs.cube import STATE_NAMES, STATES
+
+log = logging.getLogger("geardyn.points")
 
 
 def amplitude_spectrum(x: np.ndarray, samples_per_period: int) -> tuple[np.ndarray, np.ndarray]:
@@ -268,6 +271,10 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
             res2.transient_used = res1[i].transient_used
             out[i] = (res2, classify.classify_point(res2.poincare, res2.growth, res2.period, res2.diverged,
                                                     classifier, samples=res2.strobe))
+    redone = set(redo)
+    log.info("%d points: %d stopped the transient early, %d periodic with a Floquet exponent, %d redone by the "
+             "previous method, %d continued with the tangent vector", L, sum(1 for r in res1 if r.stop_period),
+             sum(1 for i, _ in todo_mono if i not in redone), len(redo), len(todo_tan))
     if redo:
         old = dataclasses.replace(settings, early_stop=False, periodic_exponent="tangent")
         again = analyse_points([systems[i] for i in redo], old, classifier, cheap=cheap, x0=[x0s[i] for i in redo])

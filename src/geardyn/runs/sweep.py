@@ -17,6 +17,7 @@ import logging
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -132,10 +133,11 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
         # independent points: the whole chunk at once (simulate_batch: both cores, 8 lanes in lockstep)
         where = [(case, d, j) for case, d, indices in work.items for j in indices]
         systems = [point.point_coefficients(design, point_overrides(spec, case, values[j])) for case, d, j in where]
+        arrays = {name: SimpleNamespace(values=cube[name].values) for name in cube.data_vars}  # numpy views
         for (case, d, j), coeffs, (res, lab) in zip(where, systems, analyse_points(systems, settings, cls),
                                                     strict=True):
-            _store(cube, case, d, j, coeffs, res, settings)
-            store_label(cube, (case, d, j), lab)
+            _store(arrays, case, d, j, coeffs, res, settings)
+            store_label(arrays, (case, d, j), lab)
             keep[case, d, j] = True
         log.info("%s chunk %d: %d points, %.1f s", spec.name, chunk, total, time.perf_counter() - t0)
         work = ChunkWork()
