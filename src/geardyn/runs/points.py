@@ -174,6 +174,29 @@ def _floquet_label(n: int, mu: np.ndarray, period: float, tol: float) -> classif
                                    f"returns within {tol:.2g} after {n}; Floquet max|mu| {np.max(mu):.4g}")
 
 
+def _classify_all(items, classifier: classify.ClassifierSettings, out: list) -> None:
+    """``classify_point`` of every (index, result) into ``out[index]``, in a thread pool as wide as the
+    numba thread count (numpy releases the GIL in the 0-1 test's array work; each call is independent,
+    so the results do not depend on the threads)."""
+    import numba
+
+    def one(item):
+        i, r = item
+        return i, (r, classify.classify_point(r.poincare, r.growth, r.period, r.diverged, classifier,
+                                              samples=r.strobe))
+
+    workers = numba.get_num_threads()
+    if workers <= 1 or len(items) < 16:
+        done = map(one, items)
+    else:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(workers) as ex:
+            done = list(ex.map(one, items, chunksize=8))
+    for i, pair in done:
+        out[i] = pair
+
+
 def early_stop_of(settings, classifier: classify.ClassifierSettings):
     """The early-stop criterion of ``settings`` (None when off), scaled to the classifier's tolerance:
     stop once d_n <= early_stop_tol_factor x max(atol max(|p|, 1), error_margin error_floor)."""
@@ -224,6 +247,7 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
     todo_mono: list[tuple[int, int]] = []
     redo: list[int] = []          # redo by the previous method (full transient, tangent vector)
     periods = _strict_periods(res1, classifier)
+    to_classify: list = []        # (index, result) classified by the full rules (numpy; in threads)
     for i, res in enumerate(res1):
         if res.diverged:
             growth = res.growth if carry else np.zeros(0)
@@ -240,8 +264,7 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
         elif cheap:
             todo_tan.append(i)
         else:
-            out[i] = (res, classify.classify_point(res.poincare, res.growth, res.period, False, classifier,
-                                                   samples=res.strobe))
+            to_classify.append((i, res))
     if todo_mono:
         idx = [i for i, _ in todo_mono]
         ns = [n for _, n in todo_mono]
@@ -269,8 +292,8 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
                             tangent_periods=classifier.tangent_periods)
         for i, res2 in zip(todo_tan, r2, strict=True):
             res2.transient_used = res1[i].transient_used
-            out[i] = (res2, classify.classify_point(res2.poincare, res2.growth, res2.period, res2.diverged,
-                                                    classifier, samples=res2.strobe))
+            to_classify.append((i, res2))
+    _classify_all(to_classify, classifier, out)
     redone = set(redo)
     log.info("%d points: %d stopped the transient early, %d periodic with a Floquet exponent, %d redone by the "
              "previous method, %d continued with the tangent vector", L, sum(1 for r in res1 if r.stop_period),
