@@ -6,6 +6,10 @@ and the mean and spread of its Poincaré X_VH.  Points are numbered x-major (all
 first x, then the next x, ...) and split into contiguous chunks; every point is computed from its
 own parameters from the static deflection, so the result does not depend on the chunking.
 
+A chunk's points are integrated together (:func:`geardyn.runs.points.analyse_points`, see
+docs/performance.md); ``transient_used`` records the transient periods each point needed, and
+periodic points get their exponent from the monodromy of their cycle.
+
 Coefficients are built once per x value (:func:`point.point_coefficients`, ~3-7 ms: geometry and
 stiffness) and the y parameter is then set directly on the dimensionless coefficients when it is
 ``b``, ``e`` or ``w`` (b / b_c, e / b_c and w_m / w_n enter them unscaled); any other y parameter

@@ -5,6 +5,11 @@ over a range, for one or more *cases* (fixed overrides, e.g. three x1 values for
 The points are numbered case-major and split into contiguous chunks; every point is computed
 from its own parameters only, so a chunk's numbers do not depend on how the sweep was cut.
 
+The points of a chunk are integrated together (:func:`geardyn.runs.points.analyse_points`: lanes in
+lockstep on all cores, early stop of the transient, Floquet exponent for periodic points; each
+point's numbers are independent of the others, docs/performance.md); ``transient_used`` records
+the transient periods each point needed.
+
 With ``continuation`` each point starts from the previous point's final state (up and/or down
 the sweep), which shows hysteresis and coexisting attractors. That makes the points of one
 (case, direction) sequential, so a continued sweep is chunked by (case, direction) only.
