@@ -21,14 +21,14 @@ def test_stop_when_converged_and_not_before_minimum():
     s = SimulationSettings(steps_per_period=32, transient_periods=900, recorded_periods=20)
     es = EarlyStop(min_periods=50, confirm=10, floor=4e-4)
     r = simulate_batch([c], s, early_stop=es)[0]
-    # period 1, seen first after 2 periods: the decaying shaft mode turns by about half a turn per period
-    assert r.stop_period in (1, 2) and 50 <= r.transient_used < 900
+    # period 1 (the decaying shaft mode turns by about half a turn per period, so d_2 falls below the
+    # tolerance first; the stop waits for distinct cycle points, as rule 3 does)
+    assert r.stop_period == 1 and 50 <= r.transient_used < 900
     # the run continued from the stop: the recorded points are those of a run with that transient
     ref = simulate(c, SimulationSettings(steps_per_period=32, transient_periods=r.transient_used, recorded_periods=20))
     assert np.array_equal(ref.poincare, r.poincare)
-    # converged: the record returns after 2 periods within the stop tolerance, after 1 within 10 x it
-    assert np.max(np.abs(r.poincare[2:] - r.poincare[:-2])) <= 4e-4
-    assert np.max(np.abs(np.diff(r.poincare, axis=0))) <= 4e-3
+    # converged: the record returns after one period within the stop tolerance
+    assert np.max(np.abs(np.diff(r.poincare, axis=0))) <= 4e-4
     late = simulate_batch([c], s, early_stop=EarlyStop(min_periods=700, confirm=10, floor=4e-4))[0]
     assert late.transient_used == 700
 

@@ -207,7 +207,7 @@ def early_stop_of(settings, classifier: classify.ClassifierSettings):
     f = settings.early_stop_tol_factor
     return EarlyStop(min_periods=settings.early_stop_min_periods, confirm=settings.early_stop_confirm,
                      max_n=classifier.max_n, floor=f * classifier.error_margin * classifier.error_floor,
-                     atol=f * classifier.atol)
+                     atol=f * classifier.atol, separation=classifier.separation)
 
 
 def analyse_points(systems, settings, classifier: classify.ClassifierSettings = classify.ClassifierSettings(),

@@ -11,8 +11,10 @@ Private to :mod:`geardyn.solve`; use :func:`geardyn.solve.simulate_batch`.
 * Early stop: after every mesh period of the transient (from ``es_min`` periods on), the return
   distance d_n = max_i |p_k,i - p_k-n,i| of the stroboscopic (Poincaré) points is updated for
   n = 1 .. max_n; once d_n <= tol for ``es_confirm`` consecutive periods for some n, the transient
-  ends there: the recorded periods follow at once and ``transient_used`` says how many transient
-  periods the lane integrated.  tol = max(es_atol * max(|p_k|, 1), es_floor).  ``es_confirm = 0``
+  ends there (the smallest such n, and only if d_m > es_sep * tol for every m < n: distinct cycle
+  points, as rule 3 of the classifier asks); the recorded periods follow at once and
+  ``transient_used`` says how many transient periods the lane integrated.
+  tol = max(es_atol * max(|p_k|, 1), es_floor).  ``es_confirm = 0``
   switches the stop off (the full transient, bit-identical to the scalar loop).
 * Tangent (m = 1, renormalised) or variational matrix (m = 6) columns are carried over the last
   ``n_tan`` periods of the *nominal* run (transient + recorded) for lanes that have not stopped
@@ -33,7 +35,7 @@ from geardyn.solve.base import B, BACKLASH_ON, T
 
 @njit(cache=True)
 def run_lane(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event, threshold,
-             W, n_tan, renorm, growth, strobe, poinc, yfinal, es_min, es_confirm, es_max_n, es_floor, es_atol):
+             W, n_tan, renorm, growth, strobe, poinc, yfinal, es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep):
     """One lane: :func:`geardyn.solve._kernel.run` (no dense output) with the early stop.
 
     Returns (status, last_period, n_events, transient_used, stop_period): status 0 ok, 1 diverged;
@@ -55,6 +57,7 @@ def run_lane(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, e
     # early stop: ring of the last max_n + 1 Poincaré points, consecutive counts per n
     ring = np.empty((es_max_n + 1, 6))
     count = np.zeros(es_max_n + 1, dtype=np.int64)
+    dcur = np.full(es_max_n + 1, np.inf)
     n_seen = 0
     stopped = False
     stop_n = 0
@@ -109,19 +112,24 @@ def run_lane(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, e
             tol = max(es_atol * scale, es_floor)
             n_seen += 1
             for n in range(1, es_max_n + 1):
+                dcur[n] = np.inf
                 if n < n_seen:
                     old = (n_seen - 1 - n) % (es_max_n + 1)
                     d = 0.0
                     for i in range(6):
                         d = max(d, abs(y[i] - ring[old, i]))
+                    dcur[n] = d
                     count[n] = count[n] + 1 if d <= tol else 0
             if per + 1 >= es_min and per + 1 < n_tr:
+                # as rule 3: the smallest confirmed n whose cycle points are distinct (d_m > es_sep tol, m < n)
+                dmin = np.inf
                 for n in range(1, es_max_n + 1):
-                    if count[n] >= es_confirm:
+                    if count[n] >= es_confirm and dmin > es_sep * tol:
                         stopped = True
                         stop_n = n
                         n_tr = per + 1
                         break
+                    dmin = min(dmin, dcur[n])
         per += 1
     for i in range(6):
         yfinal[i] = y[i]
@@ -130,7 +138,7 @@ def run_lane(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, e
 
 @njit(cache=True, parallel=True)
 def run_batch(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, event, threshold, W, NTAN, renorm,
-              GROWTH, STROBE, POINC, YFINAL, es_min, es_confirm, es_max_n, es_floor, es_atol, OUT):
+              GROWTH, STROBE, POINC, YFINAL, es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep, OUT):
     """:func:`run_lane` for every lane l (arrays indexed by l first), in parallel over lanes.
 
     W (L, 6, m) is updated in place; OUT (L, 5) int64 gets (status, last_period, n_events,
@@ -140,7 +148,7 @@ def run_batch(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, event, threshold, W, N
         st, per, nev, used, stop_n = run_lane(
             C[lane], H[lane], S[lane], SEG[lane], K[lane], P[lane], POLY[lane], Y0[lane], NTRANS[lane],
             NREC[lane], event, threshold, W[lane], NTAN[lane], renorm, GROWTH[lane], STROBE[lane], POINC[lane],
-            YFINAL[lane], es_min, es_confirm, es_max_n, es_floor, es_atol)
+            YFINAL[lane], es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep)
         OUT[lane, 0] = st
         OUT[lane, 1] = per
         OUT[lane, 2] = nev
@@ -391,7 +399,7 @@ def _vstep_tan(A):
 
 @njit(cache=True)
 def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, POINC, YFINAL,
-           es_min, es_confirm, es_max_n, es_floor, es_atol, OUT, W, NTAN, GROWTH, STROBE):
+           es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep, OUT, W, NTAN, GROWTH, STROBE):
     """Lanes ``lanes`` (<= WIDTH of them) stepped in lockstep, structure of arrays (state (6, WIDTH)):
     the plain RK4 step of every lane is one loop over the lanes that the compiler vectorises (the dead
     zone as selects, no branch); a lane whose step changed contact region is then corrected alone by
@@ -432,6 +440,7 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, 
     ring = np.empty((Wd, es_max_n + 1, 6))
     count = np.zeros((Wd, es_max_n + 1), dtype=np.int64)
     n_seen = np.zeros(Wd, dtype=np.int64)
+    dcur = np.full(es_max_n + 1, np.inf)
     tan_start = np.zeros(Wd, dtype=np.int64)
     tan_on = np.zeros(Wd, dtype=np.bool_)
     Wa = np.empty((6, 1))
@@ -546,19 +555,23 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, 
                 tol = max(es_atol * scale, es_floor)
                 n_seen[q] += 1
                 for n in range(1, es_max_n + 1):
+                    dcur[n] = np.inf
                     if n < n_seen[q]:
                         old = (n_seen[q] - 1 - n) % (es_max_n + 1)
                         d = 0.0
                         for i in range(6):
                             d = max(d, abs(A[(21 + i) * Wd + q] - ring[q, old, i]))
+                        dcur[n] = d
                         count[q, n] = count[q, n] + 1 if d <= tol else 0
                 if per + 1 >= es_min and per + 1 < n_tr[q]:
+                    dmin = np.inf
                     for n in range(1, es_max_n + 1):
-                        if count[q, n] >= es_confirm:
+                        if count[q, n] >= es_confirm and dmin > es_sep * tol:
                             stop_n[q] = n
                             n_end[q] = per + 1 + (n_end[q] - n_tr[q])
                             n_tr[q] = per + 1
                             break
+                        dmin = min(dmin, dcur[n])
             if per + 1 >= n_end[q]:
                 for i in range(6):
                     YFINAL[ln, i] = A[(21 + i) * Wd + q]
@@ -573,7 +586,7 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, 
 
 @njit(cache=True, parallel=True)
 def run_blocks(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, event, threshold, POINC, YFINAL,
-               es_min, es_confirm, es_max_n, es_floor, es_atol, OUT, W, NTAN, GROWTH, STROBE):
+               es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep, OUT, W, NTAN, GROWTH, STROBE):
     """:func:`run_lane` (no tangent, or one renormalised tangent column: W (L, 6, 0 or 1)) for every lane,
     WIDTH lanes in lockstep per block
     (:func:`_block`), blocks in parallel.  Blocks are consecutive lanes; results do not depend on it."""
@@ -582,7 +595,7 @@ def run_blocks(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, event, threshold, POI
     for blk in prange(n_blocks):
         lanes = np.arange(blk * WIDTH, min(n_lanes, (blk + 1) * WIDTH))
         _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, threshold, POINC, YFINAL,
-               es_min, es_confirm, es_max_n, es_floor, es_atol, OUT, W, NTAN, GROWTH, STROBE)
+               es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep, OUT, W, NTAN, GROWTH, STROBE)
 
 
 @njit(cache=True)

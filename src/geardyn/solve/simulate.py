@@ -141,14 +141,15 @@ def simulate(
 @dataclass(frozen=True)
 class EarlyStop:
     """Early stop of the transient (see :mod:`geardyn.solve._batch`): from ``min_periods`` on, stop
-    once a return distance d_n (n <= max_n) stays <= max(atol max(|p|, 1), floor) for ``confirm``
-    consecutive mesh periods."""
+    once a return distance d_n (n <= max_n) stays <= tol = max(atol max(|p|, 1), floor) for ``confirm``
+    consecutive mesh periods, the smallest such n, with d_m > separation * tol for m < n."""
 
     min_periods: int = 50
     confirm: int = 10
     max_n: int = 12
     floor: float = 1.9e-5
     atol: float = 1e-7
+    separation: float = 10.0
 
 
 def simulate_batch(
@@ -228,12 +229,13 @@ def simulate_batch(
         _batch.run_blocks(C, H, S, SEG, K, P, POLY, Y0, ntr, nrec, settings.integrator == "rk4_event",
                           settings.divergence_threshold, poinc, final,
                           es.min_periods if es else 0, es.confirm if es else 0, es.max_n if es else 1,
-                          es.floor if es else 0.0, es.atol if es else 0.0, out, W, ntan, growth, strobe)
+                          es.floor if es else 0.0, es.atol if es else 0.0, es.separation if es else 0.0,
+                          out, W, ntan, growth, strobe)
     else:
         _batch.run_batch(C, H, S, SEG, K, P, POLY, Y0, ntr, nrec, settings.integrator == "rk4_event",
                        settings.divergence_threshold, W, ntan, bool(tangent_periods), growth, strobe, poinc,
                        final, es.min_periods if es else 0, es.confirm if es else 0, es.max_n if es else 1,
-                       es.floor if es else 0.0, es.atol if es else 0.0, out)
+                       es.floor if es else 0.0, es.atol if es else 0.0, es.separation if es else 0.0, out)
     results = []
     for lane in range(L):
         status, per, nev, used, stop_n = (int(v) for v in out[lane])
