@@ -264,6 +264,10 @@ def warm_up(system: System) -> None:
         simulate(system, tiny, dense=True)
         simulate(system, tiny, tangent_periods=1)
         simulate(system, tiny, monodromy_periods=1)
+        # the batch loops of simulate_batch (lockstep, with tangent, lanes with monodromy)
+        simulate_batch([system] * 2, tiny, early_stop=EarlyStop(min_periods=0, confirm=1))
+        simulate_batch([system] * 2, tiny, tangent_periods=1)
+        simulate_batch([system] * 2, tiny, monodromy_periods=1)
 
 
 def largest_lyapunov(
