@@ -6,6 +6,10 @@ and the mean and spread of its Poincaré X_VH.  Points are numbered x-major (all
 first x, then the next x, ...) and split into contiguous chunks; every point is computed from its
 own parameters from the static deflection, so the result does not depend on the chunking.
 
+A chunk's points are integrated together (:func:`geardyn.runs.points.analyse_points`, see
+docs/performance.md); ``transient_used`` records the transient periods each point needed, and
+periodic points get their exponent from the monodromy of their cycle.
+
 Coefficients are built once per x value (:func:`point.point_coefficients`, ~3-7 ms: geometry and
 stiffness) and the y parameter is then set directly on the dimensionless coefficients when it is
 ``b``, ``e`` or ``w`` (b / b_c, e / b_c and w_m / w_n enter them unscaled); any other y parameter
@@ -18,6 +22,7 @@ import logging
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -28,7 +33,7 @@ from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.khv.model import Coefficients
 from geardyn.runs.cube import COMPUTED_ATTRS, classifier_attrs, label_variables, store_label
-from geardyn.runs.points import analyse_point
+from geardyn.runs.points import TRANSIENT_USED_ATTRS, analyse_points, speed_attrs
 
 log = logging.getLogger("geardyn.maps")
 
@@ -62,7 +67,7 @@ class MapSpec:
     classifier: tuple[tuple[str, Any], ...] = ()
 
     @classmethod
-    def from_config(classifier, name: str, spec: Mapping[str, Any], design: str,
+    def from_config(cls, name: str, spec: Mapping[str, Any], design: str,
                     segment: tuple[float, float]) -> MapSpec:
         """The map ``name`` of ``config["maps"]`` for ``design``, whose admissible segment (x1_min,
         x1_max) resolves percentages of x1 (:func:`geardyn.khv.design.resolve_fractions`)."""
@@ -71,7 +76,7 @@ class MapSpec:
         def axis(a: Mapping[str, Any]) -> Axis:
             return Axis(a["parameter"], float(a["start"]), float(a["stop"]), int(a["num"]))
 
-        return classifier(name=name, design=design, x=axis(spec["x"]), y=axis(spec["y"]),
+        return cls(name=name, design=design, x=axis(spec["x"]), y=axis(spec["y"]),
                    fixed=tuple(sorted(spec.get("fixed", {}).items())), chunks=int(spec.get("chunks", 1)),
                    integration=tuple(sorted(spec.get("integration", {}).items())),
                    classifier=tuple(sorted(spec.get("classifier", {}).items())))
@@ -121,6 +126,7 @@ def empty_map(spec: MapSpec, classifier: classify.ClassifierSettings, settings) 
     data["x_vh_mean"] = (dims, np.full(shape, np.nan), {"units": "1", "long_name": "mean Poincare X_VH / b_c"})
     data["x_vh_spread"] = (dims, np.full(shape, np.nan), {"units": "1",
                                                            "long_name": "peak-to-peak of Poincare X_VH / b_c"})
+    data["transient_used"] = (dims, np.full(shape, -1, np.int32), TRANSIENT_USED_ATTRS)
     data["computed"] = (dims, np.zeros(shape, np.int8), COMPUTED_ATTRS)
     coords = {}
     for dim, ax in (("x", spec.x), ("y", spec.y)):
@@ -131,8 +137,13 @@ def empty_map(spec: MapSpec, classifier: classify.ClassifierSettings, settings) 
              "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
              "integrator": settings.integrator, "steps_per_period": settings.steps_per_period,
              "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
-             **classifier_attrs(classifier)}
+             **speed_attrs(settings), **classifier_attrs(classifier)}
     return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def _arrays(ds: xr.Dataset) -> dict[str, SimpleNamespace]:
+    """The data variables of ``ds`` as objects with a writable numpy ``values`` (the same memory)."""
+    return {name: SimpleNamespace(values=ds[name].values) for name in ds.data_vars}
 
 
 def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
@@ -144,24 +155,29 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
     idx = chunk_points(spec, chunk)
     base_cache: dict[int, Coefficients | None] = {}
     t0 = time.perf_counter()
-    for count, flat in enumerate(idx, 1):
+    where, systems = [], []
+    for flat in idx:
         i, j = divmod(int(flat), spec.y.num)  # x index, y index
         if i not in base_cache:
             base_cache.clear()
             base_cache[i] = (point.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(xs[i])})
                              if _direct_ok(design, spec.y.parameter) else None)
-        coeffs = point_coefficients(design, spec, xs[i], ys[j], base_cache[i])
-        res, lab = analyse_point(coeffs, settings, classifier, cheap=True)
-        store_label(ds, (j, i), lab)
-        ds["diverged"].values[j, i] = int(res.diverged)
+        where.append((j, i))
+        systems.append(point_coefficients(design, spec, xs[i], ys[j], base_cache[i]))
+    # the whole chunk at once (simulate_batch: both cores, 8 lanes in lockstep); point by point when
+    # settings.batch is False (the previous method)
+    arrays = _arrays(ds)  # numpy views: no xarray lookup per point
+    for (j, i), (res, lab) in zip(where, analyse_points(systems, settings, classifier, cheap=True), strict=True):
+        store_label(arrays, (j, i), lab)
+        arrays["diverged"].values[j, i] = int(res.diverged)
         if res.poincare.shape[0]:
-            ds["x_vh_mean"].values[j, i] = float(np.mean(res.poincare[:, 1]))
-            ds["x_vh_spread"].values[j, i] = float(np.ptp(res.poincare[:, 1]))
-        ds["computed"].values[j, i] = 1
-        if count % max(1, len(idx) // 10) == 0:
-            el = time.perf_counter() - t0
-            log.info("%s chunk %d: %d/%d points, %.1f s (%.2f ms/point)", spec.name, chunk, count, len(idx), el,
-                     1e3 * el / count)
+            arrays["x_vh_mean"].values[j, i] = float(np.mean(res.poincare[:, 1]))
+            arrays["x_vh_spread"].values[j, i] = float(np.ptp(res.poincare[:, 1]))
+        arrays["transient_used"].values[j, i] = res.transient_used
+        arrays["computed"].values[j, i] = 1
+    el = time.perf_counter() - t0
+    log.info("%s chunk %d: %d points, %.1f s (%.2f ms/point)", spec.name, chunk, len(idx), el,
+             1e3 * el / max(1, len(idx)))
     ds.attrs["wall_time_s"] = time.perf_counter() - t0
     return ds
 

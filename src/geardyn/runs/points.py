@@ -7,6 +7,7 @@ computed here, for those points only, and never inside a sweep.
 from __future__ import annotations
 
 import dataclasses
+import logging
 from collections.abc import Mapping
 
 import numpy as np
@@ -17,6 +18,8 @@ from geardyn.khv.design import KHVDesign
 from geardyn.solve import SimulationSettings, simulate
 from geardyn import classify
 from geardyn.runs.cube import STATE_NAMES, STATES
+
+log = logging.getLogger("geardyn.points")
 
 
 def amplitude_spectrum(x: np.ndarray, samples_per_period: int) -> tuple[np.ndarray, np.ndarray]:
@@ -122,3 +125,182 @@ def analyse_point(coeffs, settings, classifier: classify.ClassifierSettings = cl
     res2 = simulate(coeffs, more, x0=res.final_state, tangent_periods=classifier.tangent_periods)
     return res2, classify.classify_point(res2.poincare, res2.growth, res2.period, res2.diverged, classifier,
                                 samples=res2.strobe)
+
+
+#: CF attributes of the per-point ``transient_used`` of sweep cubes and maps.
+TRANSIENT_USED_ATTRS = {
+    "units": "1",
+    "long_name": "transient mesh periods integrated before the recorded ones (early stop; "
+                 "transient_periods when the transient ran to its end)"}
+
+
+def speed_attrs(settings) -> dict:
+    """Attributes recording how the points were computed (early stop, exponent of periodic points)."""
+    return {"early_stop": int(settings.early_stop), "early_stop_min_periods": settings.early_stop_min_periods,
+            "early_stop_confirm": settings.early_stop_confirm, "early_stop_tol_factor": settings.early_stop_tol_factor,
+            "periodic_exponent": settings.periodic_exponent, "batch": int(settings.batch)}
+
+
+class _Periods(list):
+    tol: np.ndarray
+
+
+def _strict_periods(results, cs: classify.ClassifierSettings) -> _Periods:
+    """Rule 3 (:func:`geardyn.classify.strict_period`) for every result at once (compiled); 0 for a
+    diverged run or fewer than 3 points.  ``.tol``: the tolerance of each."""
+    from geardyn.solve import _batch
+
+    L = len(results)
+    m = max([r.poincare.shape[0] for r in results] + [0])
+    pts = np.zeros((L, m, 6))
+    npts = np.zeros(L, np.int64)
+    for i, r in enumerate(results):
+        p = r.poincare
+        if not r.diverged and p.shape[0] and not np.isnan(p).any():
+            pts[i, :p.shape[0]] = p
+            npts[i] = p.shape[0]
+    out = np.zeros((L, 2))
+    _batch.strict_periods(pts, npts, cs.max_n, cs.atol, cs.rtol, cs.error_margin * cs.error_floor, cs.separation, out)
+    per = _Periods(int(v) for v in out[:, 0])
+    per.tol = out[:, 1]
+    return per
+
+
+def _floquet_label(n: int, mu: np.ndarray, period: float, tol: float) -> classify.Classification:
+    """Label of a point periodic by rule 3, with the exponent from the multipliers |mu| of its cycle."""
+    lam = float(np.log(np.max(mu))) / (n * period)
+    nan = float("nan")
+    return classify.Classification(n, n, lam, 0.0, nan, nan, -1,
+                                   f"returns within {tol:.2g} after {n}; Floquet max|mu| {np.max(mu):.4g}")
+
+
+def _classify_all(items, classifier: classify.ClassifierSettings, out: list) -> None:
+    """``classify_point`` of every (index, result) into ``out[index]``, in a thread pool as wide as the
+    numba thread count (numpy releases the GIL in the 0-1 test's array work; each call is independent,
+    so the results do not depend on the threads)."""
+    import numba
+
+    def one(item):
+        i, r = item
+        return i, (r, classify.classify_point(r.poincare, r.growth, r.period, r.diverged, classifier,
+                                              samples=r.strobe))
+
+    workers = numba.get_num_threads()
+    if workers <= 1 or len(items) < 16:
+        done = map(one, items)
+    else:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(workers) as ex:
+            done = list(ex.map(one, items, chunksize=8))
+    for i, pair in done:
+        out[i] = pair
+
+
+def early_stop_of(settings, classifier: classify.ClassifierSettings):
+    """The early-stop criterion of ``settings`` (None when off), scaled to the classifier's tolerance:
+    stop once d_n <= early_stop_tol_factor x max(atol max(|p|, 1), error_margin error_floor)."""
+    from geardyn.solve.simulate import EarlyStop
+
+    if not settings.early_stop:
+        return None
+    f = settings.early_stop_tol_factor
+    return EarlyStop(min_periods=settings.early_stop_min_periods, confirm=settings.early_stop_confirm,
+                     max_n=classifier.max_n, floor=f * classifier.error_margin * classifier.error_floor,
+                     atol=f * classifier.atol, separation=classifier.separation)
+
+
+def analyse_points(systems, settings, classifier: classify.ClassifierSettings = classify.ClassifierSettings(),
+                   cheap: bool = False, x0=None):
+    """:func:`analyse_point` for many points at once: a list of (SimulationResult, Classification).
+
+    The points are integrated together (:func:`geardyn.solve.simulate.simulate_batch`, both cores)
+    when ``settings.batch``.  With ``settings.early_stop`` a point whose stroboscopic map has
+    converged to a period-n cycle ends its transient there (``transient_used``).  With
+    ``settings.periodic_exponent == "floquet"``, a point periodic by rule 3 gets its exponent from the
+    monodromy of its cycle (n more periods with the 6 x 6 variational matrix: lambda = log max|mu| /
+    (n T), sigma 0); if that cycle is not stable (max|mu| >= 1) or the early-stopped point is not
+    periodic by rule 3 on its recorded points, the point is redone by the previous method (full
+    transient, tangent vector), so an early stop never decides a label on its own.
+
+    Without early stop and with ``periodic_exponent="tangent"`` the labels are those of
+    :func:`analyse_point`, bit for bit (the same orbit arithmetic).  ``settings.batch = False``:
+    :func:`analyse_point` point by point (the previous method; early_stop and periodic_exponent ignored).
+    """
+    from geardyn.solve.simulate import simulate_batch
+
+    systems = list(systems)
+    L = len(systems)
+    x0s = [None] * L if x0 is None else list(x0)
+    if not settings.batch:
+        return [analyse_point(c, settings, classifier, x0=x, cheap=cheap) for c, x in zip(systems, x0s, strict=True)]
+    es = early_stop_of(settings, classifier)
+    floquet = settings.periodic_exponent == "floquet"
+    out: list = [None] * L
+    # phase 1: transient (early stop) and recorded periods, 8 lanes in lockstep; the full path carries
+    # the tangent vector over the last tangent_periods of the nominal run, as before (a lane that
+    # stops early drops it: its exponent comes from the monodromy of its cycle)
+    carry = not cheap
+    res1 = simulate_batch(systems, settings, x0s, tangent_periods=classifier.tangent_periods if carry else 0,
+                          early_stop=es)
+    todo_tan: list[int] = []      # cheap path: continue with the tangent vector
+    todo_mono: list[tuple[int, int]] = []
+    redo: list[int] = []          # redo by the previous method (full transient, tangent vector)
+    periods = _strict_periods(res1, classifier)
+    to_classify: list = []        # (index, result) classified by the full rules (numpy; in threads)
+    for i, res in enumerate(res1):
+        if res.diverged:
+            growth = res.growth if carry else np.zeros(0)
+            out[i] = (res, classify.classify_point(res.poincare, growth, res.period, True, classifier))
+            continue
+        n = periods[i]
+        if n > 0 and floquet:
+            todo_mono.append((i, n))
+        elif res.stop_period:
+            redo.append(i)        # stopped early but not periodic on the record: no label from a short run
+        elif n > 0 and cheap:
+            nan = float("nan")
+            out[i] = (res, classify.Classification(n, n, nan, nan, nan, nan, -1, "periodic (cheap path: no exponent)"))
+        elif cheap:
+            todo_tan.append(i)
+        else:
+            to_classify.append((i, res))
+    if todo_mono:
+        idx = [i for i, _ in todo_mono]
+        ns = [n for _, n in todo_mono]
+        mono_settings = dataclasses.replace(settings, recorded_periods=0)
+        rm = simulate_batch([systems[i] for i in idx], mono_settings, [res1[i].final_state for i in idx],
+                            monodromy_periods=ns, transient_periods=ns)
+        ok = [r.monodromy is not None and not r.diverged and np.all(np.isfinite(r.monodromy)) for r in rm]
+        mu = np.ones((len(rm), 6))
+        if any(ok):
+            mu[ok] = np.abs(np.linalg.eigvals(np.stack([r.monodromy for r, g in zip(rm, ok) if g])))
+        for i, n, r, good, mui in zip(idx, ns, rm, ok, mu, strict=True):
+            res = res1[i]
+            if not good:
+                redo.append(i)
+                continue
+            lab = _floquet_label(n, mui, res.period, periods.tol[i])
+            if res.stop_period and not lab.lyapunov < 0.0:
+                redo.append(i)    # an unstable (or neutral) cycle the orbit only lingered near
+                continue
+            out[i] = (res, lab)
+    if todo_tan:
+        more = dataclasses.replace(settings, transient_periods=0,
+                                   recorded_periods=max(settings.recorded_periods, classifier.tangent_periods))
+        r2 = simulate_batch([systems[i] for i in todo_tan], more, [res1[i].final_state for i in todo_tan],
+                            tangent_periods=classifier.tangent_periods)
+        for i, res2 in zip(todo_tan, r2, strict=True):
+            res2.transient_used = res1[i].transient_used
+            to_classify.append((i, res2))
+    _classify_all(to_classify, classifier, out)
+    redone = set(redo)
+    log.info("%d points: %d stopped the transient early, %d periodic with a Floquet exponent, %d redone by the "
+             "previous method, %d continued with the tangent vector", L, sum(1 for r in res1 if r.stop_period),
+             sum(1 for i, _ in todo_mono if i not in redone), len(redo), len(todo_tan))
+    if redo:
+        old = dataclasses.replace(settings, early_stop=False, periodic_exponent="tangent")
+        again = analyse_points([systems[i] for i in redo], old, classifier, cheap=cheap, x0=[x0s[i] for i in redo])
+        for i, pair in zip(redo, again, strict=True):
+            out[i] = pair
+    return out

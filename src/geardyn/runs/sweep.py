@@ -5,6 +5,11 @@ over a range, for one or more *cases* (fixed overrides, e.g. three x1 values for
 The points are numbered case-major and split into contiguous chunks; every point is computed
 from its own parameters only, so a chunk's numbers do not depend on how the sweep was cut.
 
+The points of a chunk are integrated together (:func:`geardyn.runs.points.analyse_points`: lanes in
+lockstep on all cores, early stop of the transient, Floquet exponent for periodic points; each
+point's numbers are independent of the others, docs/performance.md); ``transient_used`` records
+the transient periods each point needed.
+
 With ``continuation`` each point starts from the previous point's final state (up and/or down
 the sweep), which shows hysteresis and coexisting attractors. That makes the points of one
 (case, direction) sequential, so a continued sweep is chunked by (case, direction) only.
@@ -16,6 +21,7 @@ import logging
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -24,7 +30,7 @@ import xarray as xr
 from geardyn import classify
 from geardyn.khv.model import COEFFICIENT_ATTRS
 from geardyn.runs.cube import COMPUTED_ATTRS, STATE_NAMES, STATES, classifier_attrs, label_variables, store_label
-from geardyn.runs.points import analyse_point
+from geardyn.runs.points import TRANSIENT_USED_ATTRS, analyse_points, speed_attrs
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.solve import SimulationSettings
@@ -51,13 +57,13 @@ class SweepSpec:
     classifier: tuple[tuple[str, Any], ...] = ()
 
     @classmethod
-    def from_config(classifier, name: str, spec: Mapping[str, Any], design: str,
+    def from_config(cls, name: str, spec: Mapping[str, Any], design: str,
                     segment: tuple[float, float]) -> SweepSpec:
         """The sweep ``name`` of ``config["sweeps"]`` for ``design``, whose admissible segment
         (x1_min, x1_max) resolves percentages of x1 (:func:`geardyn.khv.design.resolve_fractions`)."""
         spec = resolve_fractions(spec, segment)
         cases = tuple(tuple(sorted(c.items())) for c in spec.get("cases") or [{}])
-        return classifier(
+        return cls(
             name=name, design=design, parameter=spec["parameter"],
             start=float(spec["start"]), stop=float(spec["stop"]), num=int(spec["num"]),
             cases=cases, fixed=tuple(sorted(spec.get("fixed", {}).items())),
@@ -129,12 +135,30 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
     total = sum(len(idx) for _, _, idx in work.items)
     t0 = time.perf_counter()
     keep = np.zeros((len(spec.cases), len(spec.directions), spec.num), dtype=bool)
+    if spec.continuation == "none":
+        # independent points: the whole chunk at once (simulate_batch: both cores, 8 lanes in lockstep)
+        where = [(case, d, j) for case, d, indices in work.items for j in indices]
+        systems = [point.point_coefficients(design, point_overrides(spec, case, values[j])) for case, d, j in where]
+        arrays = {name: SimpleNamespace(values=cube[name].values) for name in cube.data_vars}  # numpy views
+        # in ten slices, for the progress log (every lane's result is independent of its batch)
+        for part in np.array_split(np.arange(len(where)), min(10, max(1, len(where)))):
+            batch = [systems[k] for k in part]
+            for k, (res, lab) in zip(part, analyse_points(batch, settings, classifier), strict=True):
+                case, d, j = where[k]
+                _store(arrays, case, d, j, systems[k], res, settings)
+                store_label(arrays, (case, d, j), lab)
+                keep[case, d, j] = True
+            done += len(part)
+            elapsed = time.perf_counter() - t0
+            log.info("%s chunk %d: %d/%d points, %.1f s elapsed, %.1f s remaining", spec.name, chunk, done, total,
+                     elapsed, elapsed / done * (total - done))
+        work = ChunkWork()
     for case, d, indices in work.items:
         state = None
         for j in indices:
             coeffs = point.point_coefficients(design, point_overrides(spec, case, values[j]))
             x0 = state if (spec.continuation != "none" and state is not None) else None
-            res, lab = analyse_point(coeffs, settings, classifier, x0=x0)
+            res, lab = analyse_points([coeffs], settings, classifier, x0=[x0])[0]
             _store(cube, case, d, j, coeffs, res, settings)
             store_label(cube, (case, d, j), lab)
             keep[case, d, j] = True
@@ -167,6 +191,7 @@ def empty_cube(spec: SweepSpec, settings: SimulationSettings,
         "units": "1", "long_name": "mesh period at which the state exceeded the threshold (-1: never)"})
     data["n_events"] = (pdims, np.full(shape[:3], -1, np.int64), {
         "units": "1", "long_name": "number of contact-switch events located (rk4_event)"})
+    data["transient_used"] = (pdims, np.full(shape[:3], -1, np.int32), TRANSIENT_USED_ATTRS)
     data.update(label_variables(pdims, shape[:3], classifier))
     for cname, (units, long_name) in COEFFICIENT_ATTRS.items():
         data[f"coef_{cname}"] = (pdims, np.full(shape[:3], np.nan), {"units": units, "long_name": long_name})
@@ -184,6 +209,7 @@ def empty_cube(spec: SweepSpec, settings: SimulationSettings,
         "integrator": settings.integrator, "steps_per_period": settings.steps_per_period,
         "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
         "divergence_threshold": settings.divergence_threshold, "continuation": spec.continuation,
+        **speed_attrs(settings),
         "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
         **classifier_attrs(classifier),
     }
@@ -197,6 +223,7 @@ def _store(cube: xr.Dataset, case: int, d: int, j: int, coeffs: Any, res: Any, s
     cube["diverged"].values[case, d, j] = 1 if res.diverged else 0
     cube["diverged_period"].values[case, d, j] = res.diverged_period
     cube["n_events"].values[case, d, j] = res.n_events
+    cube["transient_used"].values[case, d, j] = res.transient_used
     values = coeffs.as_dict()
     for cname in COEFFICIENT_ATTRS:
         cube[f"coef_{cname}"].values[case, d, j] = float(values[cname])

@@ -19,7 +19,7 @@ Method:
   across x2 = +-b (only its derivative jumps), so the saltation matrix of a contact switch is the
   identity and W needs no jump there.  The orbit arithmetic is the same with or without W, so the
   orbit is bit-identical either way.
-* Divergence: checked once per mesh period; any |state| > threshold or non-finite value stops the
+* Divergence: checked once per mesh period; any |state_i| > limits[i] or non-finite value stops the
   run with status 1.
 """
 
@@ -120,7 +120,7 @@ def tangent_step(c, y, W, m, h, k0, k1, k2, p0, p1, p2, Wout, fixed):
     flow of :func:`rk4_step`), or ``fixed`` (0 or 1) for all four when ``fixed >= 0``: a sub-step
     that ends or starts on a located switch lies in one contact region, and a stage state on the
     switch itself must not pick the other region's slope (the crossing time moves with the state,
-    which cancels that stage's dependence; see :func:`run`)."""
+    which cancels that stage's dependence; see :func:`locate_switches`)."""
     hh = 0.5 * h
     a1, a2, a3 = rhs(c, y[0], y[1], y[2], y[3], y[4], y[5], k0, p0)
     x2_2 = y[1] + hh * y[4]
@@ -182,7 +182,7 @@ def region(x, b):
 @njit(cache=True)
 def sub_step(c, poly, seg, y, W, m, s0, dt, yout, Wout, fixed):
     """RK4 sub-step of length dt (time) from phase s0, kappa and TE evaluated on the fly; the m
-    tangent columns follow when m > 0 (slope ``fixed``, see :func:`tangent_step`)."""
+    tangent columns follow when m > 0."""
     period = c[T]
     eps1 = c[EPS] - math.floor(c[EPS])
     sm = s0 + 0.5 * dt / period
@@ -229,11 +229,50 @@ def hermite_root(x0, x1, d0, d1, h, target):
 
 
 @njit(cache=True)
+def locate_switches(c, poly, y, ynew, W, Wnew, mt, ytmp, Wtmp, h, s0, seg, reg, rnew, b, period):
+    """Contact switches inside the step of size h from y (phase s0) whose plain RK4 result ynew left
+    region ``reg`` for ``rnew``: locate each crossing (cubic Hermite root), restart there and redo
+    the rest of the step.  Updates y (to the last crossing), ynew (end of the step) and the m tangent
+    columns W / Wnew alike; returns (region at the end of the step, number of crossings located)."""
+    s_cur = s0
+    left = h
+    n_events = 0
+    for _it in range(8):
+        if reg == 0:
+            target = b if rnew > 0 else -b
+        else:
+            target = b if reg > 0 else -b
+        th = hermite_root(y[1], ynew[1], y[4], ynew[4], left, target)
+        if th <= 1e-12 * h or th >= left * (1.0 - 1e-12):
+            # crossing at an end point: accept the step as it is
+            reg = rnew
+            break
+        sub_step(c, poly, seg, y, W, mt, s_cur, th, ytmp, Wtmp, 0.0 if reg == 0 else 1.0)
+        n_events += 1
+        for i in range(6):
+            y[i] = ytmp[i]
+        for col in range(mt):
+            for i in range(6):
+                W[i, col] = Wtmp[i, col]
+        # new region: entering from the dead zone or leaving a contact side
+        if reg == 0:
+            reg = 1 if target > 0 else -1
+        else:
+            reg = 0
+        s_cur += th / period
+        left -= th
+        sub_step(c, poly, seg, y, W, mt, s_cur, left, ynew, Wnew, 0.0 if reg == 0 else 1.0)
+        rnew = region(ynew[1], b)
+        if rnew == reg:
+            break
+    return rnew, n_events
+
+
+@njit(cache=True)
 def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event, limits,
         stride, poinc, dense_t, dense_y, W, n_tan, renorm, growth, strobe, yfinal):
     """Integrate n_trans + n_rec mesh periods from y0 (phase 0).
 
-    limits (6,): a run whose |y_i| exceeds limits[i] (or is not finite) at a period end has diverged.
     poinc (n_rec, 6) gets the state at the end of each recorded period; dense_t/dense_y (if their
     length > 0) get every ``stride``-th step of the recorded periods.  W (6, m): tangent columns
     carried over the last n_tan periods (m = 0: none).  With ``renorm`` (m = 1) the column is
@@ -273,39 +312,9 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
             if use_events:
                 rnew = region(ynew[1], b)
                 if rnew != reg:
-                    # locate crossings inside the step and restart there
-                    s_cur = tab_s[j]
-                    left = h
-                    seg = tab_seg[j]
-                    for _it in range(8):
-                        if reg == 0:
-                            target = b if rnew > 0 else -b
-                        else:
-                            target = b if reg > 0 else -b
-                        th = hermite_root(y[1], ynew[1], y[4], ynew[4], left, target)
-                        if th <= 1e-12 * h or th >= left * (1.0 - 1e-12):
-                            # crossing at an end point: accept the step as it is
-                            reg = rnew
-                            break
-                        sub_step(c, poly, seg, y, W, mt, s_cur, th, ytmp, Wtmp, 0.0 if reg == 0 else 1.0)
-                        n_events += 1
-                        for i in range(6):
-                            y[i] = ytmp[i]
-                        for col in range(mt):
-                            for i in range(6):
-                                W[i, col] = Wtmp[i, col]
-                        # new region: entering from the dead zone or leaving a contact side
-                        if reg == 0:
-                            reg = 1 if target > 0 else -1
-                        else:
-                            reg = 0
-                        s_cur += th / period
-                        left -= th
-                        sub_step(c, poly, seg, y, W, mt, s_cur, left, ynew, Wnew, 0.0 if reg == 0 else 1.0)
-                        rnew = region(ynew[1], b)
-                        if rnew == reg:
-                            break
-                    reg = rnew
+                    reg, nev = locate_switches(c, poly, y, ynew, W, Wnew, mt, ytmp, Wtmp, h, tab_s[j], tab_seg[j],
+                                               reg, rnew, b, period)
+                    n_events += nev
             for i in range(6):
                 y[i] = ynew[i]
             for col in range(mt):

@@ -66,6 +66,19 @@ class SimulationSettings:
     (for demonstrations only; rk4 integrators).  rtol: only used by ``"dop853"``.
     divergence_threshold: a run has diverged when any |state_i| exceeds this many times the larger of 1
     and the same component of the static deflection (:func:`divergence_limits`), or is not finite.
+
+    Used by sweeps and maps (:mod:`geardyn.runs`, :func:`geardyn.solve.simulate_batch`), never by
+    :func:`geardyn.solve.simulate` itself (docs/performance.md):
+
+    early_stop: end the transient once the stroboscopic map has converged to a period-n cycle
+    (return distance <= early_stop_tol_factor x the classifier's tolerance floor for
+    early_stop_confirm consecutive periods, not before early_stop_min_periods); False: always the
+    full ``transient_periods`` (the previous method).
+    periodic_exponent: ``"floquet"``: the exponent of a periodic point is log max|mu| / (n T) from the
+    monodromy of its converged period-n cycle (the tangent run is kept for the others);
+    ``"tangent"``: the tangent vector for every point (the previous method).
+    batch: integrate the points of a chunk together, in parallel over both cores (numba prange);
+    False: one point after the other (bit-identical results).
     """
 
     integrator: IntegratorName = "rk4_event"
@@ -76,12 +89,22 @@ class SimulationSettings:
     aligned: bool = True
     rtol: float = 1.0e-12
     dense_stride: int = 1
+    early_stop: bool = True
+    early_stop_min_periods: int = 50
+    early_stop_confirm: int = 10
+    early_stop_tol_factor: float = 0.1
+    periodic_exponent: Literal["floquet", "tangent"] = "floquet"
+    batch: bool = True
 
     def __post_init__(self) -> None:
         if self.integrator not in ("rk4", "rk4_event", "dop853"):
             raise ValueError(f"integrator {self.integrator!r}; allowed: 'rk4', 'rk4_event', 'dop853'")
         if self.steps_per_period < 2:
             raise ValueError("steps_per_period must be >= 2")
+        if self.periodic_exponent not in ("floquet", "tangent"):
+            raise ValueError(f"periodic_exponent {self.periodic_exponent!r}; allowed: 'floquet', 'tangent'")
+        if self.early_stop_confirm < 1 or self.early_stop_min_periods < 0 or not self.early_stop_tol_factor > 0:
+            raise ValueError("early_stop_confirm >= 1, early_stop_min_periods >= 0, early_stop_tol_factor > 0")
 
 
 @dataclass
@@ -103,6 +126,9 @@ class SimulationResult:
     monodromy: with ``monodromy_periods = n``, the (6, 6) derivative of the state after the last n
     periods with respect to the state n periods before the end (the monodromy matrix of a period-n
     orbit, when the run ends on it).
+    transient_used: transient periods actually integrated (less than ``transient_periods`` after an
+    early stop, :func:`geardyn.solve.simulate_batch`); stop_period: the n of the period-n cycle the
+    early stop saw (0: no early stop).
     """
 
     poincare: np.ndarray
@@ -117,6 +143,8 @@ class SimulationResult:
     growth: np.ndarray | None = None
     strobe: np.ndarray | None = None
     monodromy: np.ndarray | None = None
+    transient_used: int = -1
+    stop_period: int = 0
 
     def uniform(self, samples_per_period: int) -> tuple[np.ndarray, np.ndarray]:
         """Dense trajectory resampled on a uniform grid (cubic spline) for FFTs."""

@@ -17,10 +17,13 @@ with or without them):
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 
+import geardyn.solve._batch as _batch
 import geardyn.solve._kernel as _kernel
 from geardyn.solve.base import SimulationResult, SimulationSettings, System, divergence_limits
 
@@ -135,7 +138,128 @@ def simulate(
         growth=growth[:ngrowth],
         strobe=strobe[:ngrowth],
         monodromy=W if (monodromy_periods and not diverged) else None,
+        transient_used=min(int(per) + 1, n_trans) if diverged else n_trans,
     )
+
+
+@dataclass(frozen=True)
+class EarlyStop:
+    """Early stop of the transient (see :mod:`geardyn.solve._batch`): from ``min_periods`` on, stop
+    once a return distance d_n (n <= max_n) stays <= tol = max(atol max(|p|, 1), floor) for ``confirm``
+    consecutive mesh periods, the smallest such n, with d_m > separation * tol for m < n."""
+
+    min_periods: int = 50
+    confirm: int = 10
+    max_n: int = 12
+    floor: float = 1.9e-5
+    atol: float = 1e-7
+    separation: float = 10.0
+
+
+def simulate_batch(
+    systems: Sequence[System],
+    settings: SimulationSettings = SimulationSettings(),
+    x0: np.ndarray | Sequence[np.ndarray | None] | None = None,
+    tangent_periods: int = 0,
+    monodromy_periods: int | Sequence[int] = 0,
+    early_stop: EarlyStop | None = None,
+    transient_periods: Sequence[int] | None = None,
+    lockstep: bool = True,
+) -> list[SimulationResult]:
+    """:func:`simulate` for many systems at once (``rk4``/``rk4_event``, no dense output), in parallel
+    over the points (numba threads), with an optional early stop of the transient.
+
+    Each point's arithmetic is that of :func:`simulate`: without ``early_stop`` its result is
+    bit-identical to ``simulate(system, settings, x0, tangent_periods=..., monodromy_periods=...)``,
+    whatever the batch, its order and the number of threads.  ``monodromy_periods`` may differ per
+    point (then the run of point l is ``transient_periods[l]`` (default: the settings') + its own
+    recorded count ``settings.recorded_periods``; use ``recorded_periods = 0`` settings with
+    ``transient_periods = n`` to get the monodromy of n periods only).
+    With ``early_stop``, a point whose stroboscopic map has converged ends its transient early
+    (``transient_used``, ``stop_period``) and drops its tangent vector (``growth`` empty).
+    ``lockstep``: without monodromy, step 8 points together (vectorised, with their tangent vectors,
+    :func:`geardyn.solve._batch.run_blocks`); False: one point per thread at a time (same numbers).
+    """
+    if settings.integrator == "dop853":
+        raise ValueError("simulate_batch integrates with 'rk4' or 'rk4_event'")
+    L = len(systems)
+    if L == 0:
+        return []
+    mono = np.broadcast_to(np.asarray(monodromy_periods, dtype=np.int64), (L,))
+    if tangent_periods and np.any(mono):
+        raise ValueError("carry either a tangent vector (tangent_periods) or the monodromy matrix, not both")
+    n = settings.steps_per_period
+    ntr = np.full(L, settings.transient_periods, np.int64) if transient_periods is None else \
+        np.asarray(transient_periods, dtype=np.int64)
+    nrec = np.full(L, settings.recorded_periods, np.int64)
+    C = np.empty((L, 19))
+    H = np.empty((L, n))
+    S = np.empty((L, n))
+    SEG = np.empty((L, n), np.int64)
+    K = np.empty((L, n, 3))
+    P = np.empty((L, n, 3))
+    POLY = np.empty((L, 2, 3))
+    Y0 = np.empty((L, 6))
+    for lane, system in enumerate(systems):
+        if settings.aligned:
+            C[lane] = system.kernel_array()
+            POLY[lane] = system.stiffness_polys()
+            _batch.fill_tables(lane, float(system.eps), float(system.period), float(system.te_forcing),
+                               float(system.phi), POLY[lane], n, H, S, SEG, K, P)
+        else:
+            c, h, st, sg, tk, tp, poly = step_tables(system, n, settings.aligned)
+            C[lane], H[lane], S[lane], SEG[lane], K[lane], P[lane], POLY[lane] = c, h, st, sg, tk, tp, poly
+        x = None if x0 is None else x0[lane]
+        Y0[lane] = system.static_state() if x is None else np.asarray(x, dtype=float)
+    m = 1 if tangent_periods else (6 if np.any(mono) else 0)
+    if tangent_periods:
+        ntan = np.minimum(int(tangent_periods), ntr + nrec)
+        W = np.full((L, 6, 1), 1.0 / math.sqrt(6.0))
+    elif m:
+        ntan = np.minimum(mono, ntr + nrec)
+        W = np.zeros((L, 6, 6))
+        W[:, range(6), range(6)] = 1.0
+    else:
+        ntan = np.zeros(L, np.int64)
+        W = np.empty((L, 6, 0))
+    ng = int(ntan.max()) if tangent_periods else 0
+    growth = np.full((L, ng), np.nan)
+    strobe = np.full((L, ng), np.nan)
+    poinc = np.full((L, int(nrec.max()), 6), np.nan)
+    final = np.empty((L, 6))
+    out = np.zeros((L, 5), np.int64)
+    es = early_stop
+    limits = np.stack([divergence_limits(system, settings) for system in systems])
+    if m <= 1 and lockstep:
+        _batch.run_blocks(C, H, S, SEG, K, P, POLY, Y0, ntr, nrec, settings.integrator == "rk4_event",
+                          limits, poinc, final,
+                          es.min_periods if es else 0, es.confirm if es else 0, es.max_n if es else 1,
+                          es.floor if es else 0.0, es.atol if es else 0.0, es.separation if es else 0.0,
+                          out, W, ntan, growth, strobe)
+    else:
+        _batch.run_batch(C, H, S, SEG, K, P, POLY, Y0, ntr, nrec, settings.integrator == "rk4_event",
+                       limits, W, ntan, bool(tangent_periods), growth, strobe, poinc,
+                       final, es.min_periods if es else 0, es.confirm if es else 0, es.max_n if es else 1,
+                       es.floor if es else 0.0, es.atol if es else 0.0, es.separation if es else 0.0, out)
+    results = []
+    for lane in range(L):
+        status, per, nev, used, stop_n = (int(v) for v in out[lane])
+        diverged = status == 1
+        npts = max(0, per - used) if diverged else int(nrec[lane])
+        tan_start = int(ntr[lane] + nrec[lane] - ntan[lane])
+        if stop_n:
+            ngrowth = 0
+        else:
+            ngrowth = max(0, per - tan_start) if diverged else int(ntan[lane])
+        results.append(SimulationResult(
+            poincare=poinc[lane, :npts], final_state=final[lane], diverged=diverged,
+            diverged_period=per if diverged else -1, n_events=nev, period=systems[lane].period, settings=settings,
+            growth=growth[lane, :ngrowth] if tangent_periods else np.zeros(0),
+            strobe=strobe[lane, :ngrowth] if tangent_periods else np.zeros(0),
+            monodromy=W[lane] if (m == 6 and mono[lane] and not diverged) else None,
+            transient_used=used, stop_period=stop_n,
+        ))
+    return results
 
 
 def warm_up(system: System) -> None:
@@ -145,6 +269,10 @@ def warm_up(system: System) -> None:
         simulate(system, tiny, dense=True)
         simulate(system, tiny, tangent_periods=1)
         simulate(system, tiny, monodromy_periods=1)
+        # the batch loops of simulate_batch (lockstep, with tangent, lanes with monodromy)
+        simulate_batch([system] * 2, tiny, early_stop=EarlyStop(min_periods=0, confirm=1))
+        simulate_batch([system] * 2, tiny, tangent_periods=1)
+        simulate_batch([system] * 2, tiny, monodromy_periods=1)
 
 
 def largest_lyapunov(

@@ -1,0 +1,83 @@
+"""Early stop of the transient: when it fires, what it records, and that a map or sweep chunk does not
+depend on the chunking with it (transient_used stored per point)."""
+
+import numpy as np
+import pytest
+import xarray as xr
+from pathlib import Path
+
+from geardyn import classify, io
+from geardyn.bench import cases
+from geardyn.khv import design
+from geardyn.runs import cube, maps, sweep
+from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.simulate import EarlyStop, simulate_batch
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_stop_when_converged_and_not_before_minimum():
+    c = cases()["periodic"]
+    s = SimulationSettings(steps_per_period=32, transient_periods=900, recorded_periods=20)
+    es = EarlyStop(min_periods=50, confirm=10, floor=4e-4)
+    r = simulate_batch([c], s, early_stop=es)[0]
+    # period 1 (the decaying shaft mode turns by about half a turn per period, so d_2 falls below the
+    # tolerance first; the stop waits for distinct cycle points, as rule 3 does)
+    assert r.stop_period == 1 and 50 <= r.transient_used < 900
+    # the run continued from the stop: the recorded points are those of a run with that transient
+    ref = simulate(c, SimulationSettings(steps_per_period=32, transient_periods=r.transient_used, recorded_periods=20))
+    assert np.array_equal(ref.poincare, r.poincare)
+    # converged: the record returns after one period within the stop tolerance
+    assert np.max(np.abs(np.diff(r.poincare, axis=0))) <= 4e-4
+    late = simulate_batch([c], s, early_stop=EarlyStop(min_periods=700, confirm=10, floor=4e-4))[0]
+    assert late.transient_used == 700
+
+
+def test_chaotic_point_runs_the_full_transient():
+    c = cases()["chaotic"]
+    s = SimulationSettings(steps_per_period=32, transient_periods=300, recorded_periods=20)
+    r = simulate_batch([c], s, early_stop=EarlyStop(min_periods=10, confirm=5, floor=1e-3))[0]
+    assert r.stop_period == 0 and r.transient_used == 300
+
+
+def _spec(chunks):
+    return maps.MapSpec.from_config("t", {
+        "designs": ["li2013_calibrated"], "x": {"parameter": "x1", "start": 0.5, "stop": 0.8, "num": 3},
+        "y": {"parameter": "b", "start": 0.5, "stop": 2.0, "num": 4}, "fixed": {"e": 5.0}, "chunks": chunks,
+        "integration": {"steps_per_period": 32, "transient_periods": 300, "recorded_periods": 20,
+                        "early_stop_min_periods": 20},
+        "classifier": {"error_floor": 4e-3, "tangent_periods": 30}})
+
+
+def test_map_with_early_stop_independent_of_chunking(tmp_path):
+    model = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    merged = []
+    for chunks in (1, 5):
+        spec = _spec(chunks)
+        paths = [io.write_netcdf(maps.run_chunk(model, spec, k), tmp_path / f"{chunks}_{k}.nc")
+                 for k in range(spec.n_chunks)]
+        out = cube.merge_chunks(io.read_chunks(paths))
+        out.attrs.pop("chunk_wall_time_s", None)
+        merged.append(out)
+    xr.testing.assert_equal(merged[0], merged[1])
+    used = merged[0]["transient_used"]
+    assert used.attrs["units"] == "1" and "transient" in used.attrs["long_name"]
+    assert int(used.min()) >= 20 and int(used.max()) <= 300 and int(used.min()) < 300
+    assert merged[0].attrs["early_stop"] == 1
+
+
+def test_sweep_cube_records_transient_used():
+    model = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    spec = sweep.SweepSpec.from_config("t", {
+        "designs": ["li2013_calibrated"], "parameter": "b", "start": 0.5, "stop": 2.0, "num": 5,
+        "fixed": {"e": 5.0, "x1": 0.6}, "chunks": 1,
+        "integration": {"steps_per_period": 32, "transient_periods": 300, "recorded_periods": 20,
+                        "early_stop_min_periods": 20},
+        "classifier": {"error_floor": 4e-3, "tangent_periods": 30}})
+    cb = sweep.run_chunk(model, spec, 0)
+    used = cb["transient_used"].values
+    assert used.shape == (1, 1, 5) and np.all((used >= 20) & (used <= 300))
+    # points that stopped early are labelled periodic, with a Floquet exponent (sigma 0)
+    lab = cb["label"].values[used < 300]
+    assert np.all(lab >= 1)
+    assert np.all(cb["lyapunov_sigma"].values[used < 300] == 0.0)

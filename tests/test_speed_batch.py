@@ -1,0 +1,123 @@
+"""Batch integration (simulate_batch, analyse_points): the same numbers as the point-by-point path,
+whatever the batch, its order, its chunking and the number of threads."""
+
+import dataclasses
+
+import numba
+import numpy as np
+import pytest
+
+from geardyn import classify
+from geardyn.bench import cases
+from geardyn.runs.points import analyse_point, analyse_points
+from geardyn.solve import SimulationSettings, _batch, simulate
+from geardyn.solve.simulate import EarlyStop, simulate_batch, step_tables
+
+
+@pytest.fixture(scope="module")
+def systems():
+    cs = list(cases().values())
+    # contact loss (b > 0), b = 0, backlash off, both cases
+    return [c.replace(b=b) for c in cs for b in (0.0, 0.7, 2.0, 3.0)] + [cs[0].replace(backlash_on=False)]
+
+
+SHORT = dict(steps_per_period=32, transient_periods=30, recorded_periods=12)
+
+
+@pytest.mark.parametrize("integrator", ["rk4", "rk4_event"])
+@pytest.mark.parametrize("kw", [{}, {"tangent_periods": 20}, {"monodromy_periods": 3}])
+def test_batch_is_bit_identical_to_simulate(systems, integrator, kw):
+    s = SimulationSettings(integrator=integrator, **SHORT)
+    for lockstep in (True, False):
+        batch = simulate_batch(systems, s, lockstep=lockstep, **kw)
+        for c, r in zip(systems, batch, strict=True):
+            r0 = simulate(c, s, **kw)
+            assert np.array_equal(r0.poincare, r.poincare)
+            assert np.array_equal(r0.final_state, r.final_state)
+            assert r0.n_events == r.n_events and r0.diverged == r.diverged
+            if "tangent_periods" in kw:
+                assert np.array_equal(r0.growth, r.growth) and np.array_equal(r0.strobe, r.strobe)
+            if "monodromy_periods" in kw:
+                assert np.array_equal(r0.monodromy, r.monodromy)
+
+
+def test_independent_of_threads_order_and_chunking(systems):
+    s = SimulationSettings(steps_per_period=32, transient_periods=400, recorded_periods=12)
+    es = EarlyStop(min_periods=50, confirm=5, floor=4e-3)
+    ref = simulate_batch(systems, s, tangent_periods=15, early_stop=es)
+    n0 = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        one = simulate_batch(systems, s, tangent_periods=15, early_stop=es)
+    finally:
+        numba.set_num_threads(n0)
+    rev = simulate_batch(systems[::-1], s, tangent_periods=15, early_stop=es)[::-1]
+    parts = simulate_batch(systems[:3], s, tangent_periods=15, early_stop=es) + \
+        simulate_batch(systems[3:], s, tangent_periods=15, early_stop=es)
+    lanes = simulate_batch(systems, s, tangent_periods=15, early_stop=es, lockstep=False)
+    assert any(r.stop_period for r in ref) and not all(r.stop_period for r in ref)
+    for other in (one, rev, parts, lanes):
+        for a, b in zip(ref, other, strict=True):
+            assert np.array_equal(a.poincare, b.poincare) and np.array_equal(a.growth, b.growth)
+            assert a.transient_used == b.transient_used and a.stop_period == b.stop_period
+
+
+def test_compiled_tables_equal_step_tables(systems):
+    n = 48
+    L = len(systems)
+    H, S, K, P = np.empty((L, n)), np.empty((L, n)), np.empty((L, n, 3)), np.empty((L, n, 3))
+    SEG = np.empty((L, n), np.int64)
+    for lane, c in enumerate(systems):
+        _batch.fill_tables(lane, float(c.eps), float(c.period), float(c.te_forcing), float(c.phi),
+                           c.stiffness_polys(), n, H, S, SEG, K, P)
+        _, h, st, sg, tk, tp, _ = step_tables(c, n, True)
+        for a, b in ((h, H[lane]), (st, S[lane]), (sg, SEG[lane]), (tk, K[lane]), (tp, P[lane])):
+            assert np.array_equal(a, b)
+
+
+def test_compiled_rule3_equals_strict_period():
+    rng = np.random.default_rng(3)
+    cs = classify.ClassifierSettings()
+    seqs = []
+    for n in (1, 2, 3, 5, 12):
+        cyc = rng.normal(size=(n, 6))
+        seqs.append(np.tile(cyc, (60 // n + 1, 1))[:60] + 1e-9 * rng.normal(size=(60, 6)))
+    k = np.arange(60)[:, None]
+    seqs.append(np.hstack([np.cos(0.7 * k), np.sin(0.7 * k), np.zeros((60, 4))]))  # quasi-periodic circle
+    seqs.append(rng.normal(size=(60, 6)))
+    pts = np.stack(seqs)
+    out = np.zeros((len(seqs), 2))
+    _batch.strict_periods(pts, np.full(len(seqs), 60), cs.max_n, cs.atol, cs.rtol, cs.error_margin * cs.error_floor,
+                          cs.separation, out)
+    assert [int(v) for v in out[:, 0]] == [classify.strict_period(p, cs) for p in seqs] == [1, 2, 3, 5, 12, 0, 0]
+
+
+@pytest.mark.parametrize("cheap", [False, True])
+def test_previous_method_through_the_batch_is_bit_identical(systems, cheap):
+    """early_stop off and the tangent exponent: analyse_points == analyse_point, label and numbers."""
+    s = SimulationSettings(steps_per_period=32, transient_periods=40, recorded_periods=25, early_stop=False,
+                           periodic_exponent="tangent")
+    cls = classify.ClassifierSettings(error_floor=4e-3, tangent_periods=30)
+    new = analyse_points(systems, s, cls, cheap=cheap)
+    for c, (r, lab) in zip(systems, new, strict=True):
+        r0, lab0 = analyse_point(c, s, cls, cheap=cheap)
+        assert lab.label == lab0.label and lab.reason == lab0.reason
+        np.testing.assert_array_equal([lab.lyapunov, lab.k01, lab.flatness], [lab0.lyapunov, lab0.k01, lab0.flatness])
+        assert np.array_equal(r.poincare, r0.poincare)
+
+
+def test_floquet_exponent_of_periodic_points():
+    """Periodic points (the periodic benchmark case, slow shaft mode): the early stop ends the transient
+    well before its end, the label is the previous method's, and the Floquet exponent is the least-damped
+    multiplier's (log 0.9812 per period) inside the tangent estimate's error bar."""
+    periodic = [cases()["periodic"].replace(b=b) for b in (0.0, 1.0, 2.5)]
+    base = SimulationSettings(steps_per_period=32, transient_periods=900, recorded_periods=50)
+    cls = classify.ClassifierSettings(error_floor=4e-3, tangent_periods=200)
+    old = analyse_points(periodic, dataclasses.replace(base, early_stop=False, periodic_exponent="tangent"), cls)
+    new = analyse_points(periodic, base, cls)
+    for (r0, lo), (r, ln) in zip(old, new, strict=True):
+        assert lo.label == ln.label == 1
+        assert r0.transient_used == 900 and 250 < r.transient_used < 400
+        assert ln.lyapunov_sigma == 0.0
+        assert ln.lyapunov == pytest.approx(-0.002717, abs=2e-6)
+        assert abs(ln.lyapunov - lo.lyapunov) <= 2 * lo.lyapunov_sigma
