@@ -46,7 +46,7 @@ def _spec(chunks):
         "y": {"parameter": "b", "start": 0.5, "stop": 2.0, "num": 4}, "fixed": {"e": 5.0}, "chunks": chunks,
         "integration": {"steps_per_period": 32, "transient_periods": 300, "recorded_periods": 20,
                         "early_stop_min_periods": 20},
-        "classifier": {"error_floor": 4e-3, "tangent_periods": 30}})
+        "classifier": {"error_floor": 4e-3, "tangent_periods": 30}}, "li2013_calibrated", (0.416, 0.835))
 
 
 def test_map_with_early_stop_independent_of_chunking(tmp_path):
@@ -73,7 +73,7 @@ def test_sweep_cube_records_transient_used():
         "fixed": {"e": 5.0, "x1": 0.6}, "chunks": 1,
         "integration": {"steps_per_period": 32, "transient_periods": 300, "recorded_periods": 20,
                         "early_stop_min_periods": 20},
-        "classifier": {"error_floor": 4e-3, "tangent_periods": 30}})
+        "classifier": {"error_floor": 4e-3, "tangent_periods": 30}}, "li2013_calibrated", (0.416, 0.835))
     cb = sweep.run_chunk(model, spec, 0)
     used = cb["transient_used"].values
     assert used.shape == (1, 1, 5) and np.all((used >= 20) & (used <= 300))

@@ -241,7 +241,7 @@ def load_design_dict(path: str | Path) -> dict[str, Any]:
     if not isinstance(data, dict):
         raise ConfigError(f"{where}: expected a mapping with a 'kind' key at the top level")
     kind = data.get("kind")
-    if kind not in DESIGN_SCHEMAS:
+    if not isinstance(kind, str) or kind not in DESIGN_SCHEMAS:
         raise ConfigError(f"{where}: kind = {kind!r} is not allowed: one of "
                           + ", ".join(repr(k) for k in DESIGN_SCHEMAS))
     return validate(data, DESIGN_SCHEMAS[kind], where)

@@ -148,7 +148,7 @@ class _Periods(list):
 def _strict_periods(results, cs: classify.ClassifierSettings) -> _Periods:
     """Rule 3 (:func:`geardyn.classify.strict_period`) for every result at once (compiled); 0 for a
     diverged run or fewer than 3 points.  ``.tol``: the tolerance of each."""
-    from geardyn.solve import _batch
+    from geardyn.solve.simulate import strict_periods
 
     L = len(results)
     m = max([r.poincare.shape[0] for r in results] + [0])
@@ -159,8 +159,7 @@ def _strict_periods(results, cs: classify.ClassifierSettings) -> _Periods:
         if not r.diverged and p.shape[0] and not np.isnan(p).any():
             pts[i, :p.shape[0]] = p
             npts[i] = p.shape[0]
-    out = np.zeros((L, 2))
-    _batch.strict_periods(pts, npts, cs.max_n, cs.atol, cs.rtol, cs.error_margin * cs.error_floor, cs.separation, out)
+    out = strict_periods(pts, npts, cs.max_n, cs.atol, cs.rtol, cs.error_margin * cs.error_floor, cs.separation)
     per = _Periods(int(v) for v in out[:, 0])
     per.tol = out[:, 1]
     return per

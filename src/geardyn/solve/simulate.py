@@ -317,3 +317,13 @@ def largest_lyapunov(
         z = y + (z - y) * (d0 / dist)
         est[k] = acc / ((k + 1) * coeffs.period)
     return float(est[-1]), est
+
+
+def strict_periods(poincare: np.ndarray, npts: np.ndarray, max_n: int, atol: float, rtol: float, floor_tol: float,
+                   separation: float) -> np.ndarray:
+    """Rule 3 of :func:`geardyn.classify.strict_period`, compiled, for many point sets at once:
+    ``poincare`` (L, m, 6) with the first ``npts[l]`` rows of set l used.  Returns (L, 2): the period n
+    (0 if none) and the tolerance of each set (the same operations as the classifier's, so the same n)."""
+    out = np.zeros((poincare.shape[0], 2))
+    _batch.strict_periods(poincare, npts, max_n, atol, rtol, floor_tol, separation, out)
+    return out
