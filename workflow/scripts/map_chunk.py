@@ -1,11 +1,14 @@
 """Adapter: classify one chunk of a two-parameter regime map -> partial map (netCDF, with checksums)."""
 
+import numba
+
 from geardyn import io, logs
 from geardyn.khv import design, point
 from geardyn.runs import maps
 from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
+numba.set_num_threads(snakemake.threads)  # the chunk's points run in parallel on the job's cores
 drive = design.load(snakemake.input.design)
 spec = maps.MapSpec.from_config(snakemake.wildcards.map, snakemake.params.spec, drive.name, drive.segment)
 chunk = int(snakemake.wildcards.chunk)

@@ -1,5 +1,7 @@
 """Adapter: integrate one chunk of a bifurcation sweep -> partial cube (netCDF, with checksums)."""
 
+import numba
+
 from geardyn import io, logs
 from geardyn.khv import design, point
 from geardyn.runs import sweep
@@ -7,6 +9,7 @@ from geardyn.solve import warm_up
 from geardyn.testing import fault_point
 
 log = logs.to_file(snakemake.log[0])
+numba.set_num_threads(snakemake.threads)  # the chunk's points run in parallel on the job's cores
 fault_point("sweep_chunk")  # no-op unless a fault test asks for an interruption here
 drive = design.load(snakemake.input.design)
 spec = sweep.SweepSpec.from_config(snakemake.wildcards.sweep, snakemake.params.spec, drive.name, drive.segment)
