@@ -1,4 +1,4 @@
-"""Speed against error of the KHV integrators (issue 3).  Run: ``python -m geardyn.bench [--out DIR]``.
+"""Speed against error of the KHV integrators.  Run: ``python -m geardyn.bench [--out DIR]``.
 
 Single-threaded by construction (thread pools pinned to 1 before numpy/numba load).
 
@@ -214,7 +214,7 @@ def to_dataset(out: dict):
     )
     s = out["summary"]
     ds.attrs.update({
-        "title": "Work-precision of the KHV integrators (geardyn issue 3)",
+        "title": "Work-precision of the KHV integrators",
         "source": "geardyn.bench",
         "history": f"{time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())} python -m geardyn.bench",
         "model_variant": "corrected Eq. (9), time-varying stiffness, backlash and TE on",
