@@ -29,126 +29,24 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from geardyn.solve._kernel import locate_switches, region, rk4_step, tangent_step
+from geardyn.solve._kernel import locate_switches, region, rk4_step, run, tangent_step
 from geardyn.solve.base import B, BACKLASH_ON, T
-
-
-@njit(cache=True)
-def run_lane(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event, limits,
-             W, n_tan, renorm, growth, strobe, poinc, yfinal, es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep):
-    """One lane: :func:`geardyn.solve._kernel.run` (no dense output) with the early stop.
-
-    Returns (status, last_period, n_events, transient_used, stop_period): status 0 ok, 1 diverged;
-    stop_period: the n of the early stop (0: the transient ran to its end)."""
-    c = (c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9], c[10], c[11], c[12], c[13],
-         c[14], c[15], c[16], c[17], c[18])
-    nsteps = tab_h.shape[0]
-    period = c[T]
-    b = c[B]
-    m = W.shape[1]
-    use_events = event and c[BACKLASH_ON] != 0.0 and b > 0.0
-    y = y0.copy()
-    ynew = np.empty(6)
-    ytmp = np.empty(6)
-    Wnew = np.empty((6, m))
-    Wtmp = np.empty((6, m))
-    n_events = 0
-    tan_start = n_trans + n_rec - n_tan
-    # early stop: ring of the last max_n + 1 Poincaré points, consecutive counts per n
-    ring = np.empty((es_max_n + 1, 6))
-    count = np.zeros(es_max_n + 1, dtype=np.int64)
-    dcur = np.full(es_max_n + 1, np.inf)
-    n_seen = 0
-    stopped = False
-    stop_n = 0
-    n_tr = n_trans
-    reg = region(y[1], b)
-    per = 0
-    while per < n_tr + n_rec:
-        mt = m if (per >= tan_start and not stopped) else 0
-        for j in range(nsteps):
-            h = tab_h[j]
-            if mt > 0:
-                tangent_step(c, y, W, mt, h, tab_k[j, 0], tab_k[j, 1], tab_k[j, 2],
-                             tab_p[j, 0], tab_p[j, 1], tab_p[j, 2], Wnew, -1.0)
-            rk4_step(c, y, h, tab_k[j, 0], tab_k[j, 1], tab_k[j, 2], tab_p[j, 0], tab_p[j, 1], tab_p[j, 2], ynew)
-            if use_events:
-                rnew = region(ynew[1], b)
-                if rnew != reg:
-                    reg, nev = locate_switches(c, poly, y, ynew, W, Wnew, mt, ytmp, Wtmp, h, tab_s[j], tab_seg[j],
-                                               reg, rnew, b, period)
-                    n_events += nev
-            for i in range(6):
-                y[i] = ynew[i]
-            for col in range(mt):
-                for i in range(6):
-                    W[i, col] = Wnew[i, col]
-        bad = False
-        for i in range(6):
-            if not (abs(y[i]) <= limits[i]):
-                bad = True
-        if bad:
-            for i in range(6):
-                yfinal[i] = y[i]
-            return 1, per, n_events, min(per + 1, n_tr), stop_n
-        if mt > 0 and renorm:
-            nrm = 0.0
-            for i in range(6):
-                nrm += W[i, 0] * W[i, 0]
-            nrm = math.sqrt(nrm)
-            growth[per - tan_start] = math.log(nrm) if nrm > 0.0 else -np.inf
-            strobe[per - tan_start] = y[1]
-            for i in range(6):
-                W[i, 0] /= nrm
-        if per >= n_tr:
-            for i in range(6):
-                poinc[per - n_tr, i] = y[i]
-        elif es_confirm > 0:
-            slot = n_seen % (es_max_n + 1)
-            scale = 1.0
-            for i in range(6):
-                ring[slot, i] = y[i]
-                scale = max(scale, abs(y[i]))
-            tol = max(es_atol * scale, es_floor)
-            n_seen += 1
-            for n in range(1, es_max_n + 1):
-                dcur[n] = np.inf
-                if n < n_seen:
-                    old = (n_seen - 1 - n) % (es_max_n + 1)
-                    d = 0.0
-                    for i in range(6):
-                        d = max(d, abs(y[i] - ring[old, i]))
-                    dcur[n] = d
-                    count[n] = count[n] + 1 if d <= tol else 0
-            if per + 1 >= es_min and per + 1 < n_tr:
-                # as rule 3: the smallest confirmed n whose cycle points are distinct (d_m > es_sep tol, m < n)
-                dmin = np.inf
-                for n in range(1, es_max_n + 1):
-                    if count[n] >= es_confirm and dmin > es_sep * tol:
-                        stopped = True
-                        stop_n = n
-                        n_tr = per + 1
-                        break
-                    dmin = min(dmin, dcur[n])
-        per += 1
-    for i in range(6):
-        yfinal[i] = y[i]
-    return 0, n_tr + n_rec, n_events, n_tr, stop_n
 
 
 @njit(cache=True, parallel=True)
 def run_batch(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, event, LIMITS, W, NTAN, renorm,
               GROWTH, STROBE, POINC, YFINAL, es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep, OUT):
-    """:func:`run_lane` for every lane l (arrays indexed by l first), in parallel over lanes.
+    """:func:`geardyn.solve._kernel.run` (no dense output) for every lane l (arrays indexed by l first),
+    in parallel over lanes.
 
     W (L, 6, m) is updated in place; OUT (L, 5) int64 gets (status, last_period, n_events,
     transient_used, stop_period)."""
     n_lanes = C.shape[0]
     for lane in prange(n_lanes):
-        st, per, nev, used, stop_n = run_lane(
+        st, per, nev, _, used, stop_n = run(
             C[lane], H[lane], S[lane], SEG[lane], K[lane], P[lane], POLY[lane], Y0[lane], NTRANS[lane],
-            NREC[lane], event, LIMITS[lane], W[lane], NTAN[lane], renorm, GROWTH[lane], STROBE[lane], POINC[lane],
-            YFINAL[lane], es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep)
+            NREC[lane], event, LIMITS[lane], 1, POINC[lane], np.empty(0), np.empty((0, 6)), W[lane], NTAN[lane], renorm,
+            GROWTH[lane], STROBE[lane], YFINAL[lane], es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep)
         OUT[lane, 0] = st
         OUT[lane, 1] = per
         OUT[lane, 2] = nev
@@ -404,7 +302,8 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, LIMITS, POI
     the plain RK4 step of every lane is one loop over the lanes that the compiler vectorises (the dead
     zone as selects, no branch); a lane whose step changed contact region is then corrected alone by
     :func:`geardyn.solve._kernel.locate_switches`.  Each lane's arithmetic is that of
-    :func:`run_lane` with no tangent (same expressions, same order), so its result is bit-identical."""
+    :func:`geardyn.solve._kernel.run` with no tangent (same expressions, same order), so its result is
+    bit-identical."""
     nl = lanes.shape[0]
     nsteps = H.shape[1]
     Wd = WIDTH
@@ -587,7 +486,7 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, LIMITS, POI
 @njit(cache=True, parallel=True)
 def run_blocks(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, event, LIMITS, POINC, YFINAL,
                es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep, OUT, W, NTAN, GROWTH, STROBE):
-    """:func:`run_lane` (no tangent, or one renormalised tangent column: W (L, 6, 0 or 1)) for every lane,
+    """:func:`geardyn.solve._kernel.run` (no tangent, or one renormalised tangent column: W (L, 6, 0 or 1)) for every lane,
     WIDTH lanes in lockstep per block
     (:func:`_block`), blocks in parallel.  Blocks are consecutive lanes; results do not depend on it."""
     n_lanes = C.shape[0]

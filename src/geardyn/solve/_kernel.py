@@ -270,17 +270,26 @@ def locate_switches(c, poly, y, ynew, W, Wnew, mt, ytmp, Wtmp, h, s0, seg, reg, 
 
 @njit(cache=True)
 def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event, limits,
-        stride, poinc, dense_t, dense_y, W, n_tan, renorm, growth, strobe, yfinal):
-    """Integrate n_trans + n_rec mesh periods from y0 (phase 0).
+        stride, poinc, dense_t, dense_y, W, n_tan, renorm, growth, strobe, yfinal,
+        es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep):
+    """Integrate n_trans + n_rec mesh periods from y0 (phase 0): the one loop of the solver.
 
     poinc (n_rec, 6) gets the state at the end of each recorded period; dense_t/dense_y (if their
     length > 0) get every ``stride``-th step of the recorded periods.  W (6, m): tangent columns
     carried over the last n_tan periods (m = 0: none).  With ``renorm`` (m = 1) the column is
     renormalised at the end of every tangent period, growth[k] = log of its norm before that and
     strobe[k] = x2 at that time; without it W ends as the derivative of the final state with respect
-    to the state n_tan periods before the end.
+    to the state n_tan periods before the end.  limits (6,): a run whose |y_i| exceeds limits[i] (or
+    is not finite) at a period end has diverged.
 
-    Returns (status, last_period, n_events, n_dense): status 0 ok, 1 diverged.
+    Early stop (``es_confirm > 0``): from period ``es_min`` on, the transient ends once the return
+    distance of the stroboscopic points after some n <= es_max_n stays within
+    max(es_atol max(|p|, 1), es_floor) for es_confirm consecutive periods, for the smallest such n
+    whose cycle points are distinct (d_m > es_sep tol for m < n, as rule 3 of the classifier); the
+    recorded periods follow at once and the tangent columns are not carried further.
+
+    Returns (status, last_period, n_events, n_dense, transient_used, stop_period): status 0 ok,
+    1 diverged; stop_period: the n of the early stop (0: the transient ran to its end).
     """
     # coefficients as a tuple: numba keeps them in registers instead of reloading the array
     c = (c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9], c[10], c[11], c[12], c[13],
@@ -298,11 +307,19 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
     n_events = 0
     n_dense = 0
     ndmax = dense_t.shape[0]
-    n_total = n_trans + n_rec
-    tan_start = n_total - n_tan
+    tan_start = n_trans + n_rec - n_tan
+    # early stop: ring of the last max_n + 1 Poincaré points, consecutive counts per n
+    ring = np.empty((es_max_n + 1, 6))
+    count = np.zeros(es_max_n + 1, dtype=np.int64)
+    dcur = np.full(es_max_n + 1, np.inf)
+    n_seen = 0
+    stopped = False
+    stop_n = 0
+    n_tr = n_trans
     reg = region(y[1], b)
-    for per in range(n_total):
-        mt = m if per >= tan_start else 0
+    per = 0
+    while per < n_tr + n_rec:
+        mt = m if (per >= tan_start and not stopped) else 0
         for j in range(nsteps):
             h = tab_h[j]
             if mt > 0:
@@ -320,7 +337,7 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
             for col in range(mt):
                 for i in range(6):
                     W[i, col] = Wnew[i, col]
-            if per >= n_trans and ndmax > 0 and (j % stride) == stride - 1 and n_dense < ndmax:
+            if per >= n_tr and ndmax > 0 and (j % stride) == stride - 1 and n_dense < ndmax:
                 dense_t[n_dense] = (per + tab_s[j]) * period + h
                 for i in range(6):
                     dense_y[n_dense, i] = y[i]
@@ -332,7 +349,7 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
         if bad:
             for i in range(6):
                 yfinal[i] = y[i]
-            return 1, per, n_events, n_dense
+            return 1, per, n_events, n_dense, min(per + 1, n_tr), stop_n
         if mt > 0 and renorm:
             nrm = 0.0
             for i in range(6):
@@ -342,9 +359,37 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
             strobe[per - tan_start] = y[1]
             for i in range(6):
                 W[i, 0] /= nrm
-        if per >= n_trans:
+        if per >= n_tr:
             for i in range(6):
-                poinc[per - n_trans, i] = y[i]
+                poinc[per - n_tr, i] = y[i]
+        elif es_confirm > 0:
+            slot = n_seen % (es_max_n + 1)
+            scale = 1.0
+            for i in range(6):
+                ring[slot, i] = y[i]
+                scale = max(scale, abs(y[i]))
+            tol = max(es_atol * scale, es_floor)
+            n_seen += 1
+            for n in range(1, es_max_n + 1):
+                dcur[n] = np.inf
+                if n < n_seen:
+                    old = (n_seen - 1 - n) % (es_max_n + 1)
+                    d = 0.0
+                    for i in range(6):
+                        d = max(d, abs(y[i] - ring[old, i]))
+                    dcur[n] = d
+                    count[n] = count[n] + 1 if d <= tol else 0
+            if per + 1 >= es_min and per + 1 < n_tr:
+                # as rule 3: the smallest confirmed n whose cycle points are distinct (d_m > es_sep tol, m < n)
+                dmin = np.inf
+                for n in range(1, es_max_n + 1):
+                    if count[n] >= es_confirm and dmin > es_sep * tol:
+                        stopped = True
+                        stop_n = n
+                        n_tr = per + 1
+                        break
+                    dmin = min(dmin, dcur[n])
+        per += 1
     for i in range(6):
         yfinal[i] = y[i]
-    return 0, n_total, n_events, n_dense
+    return 0, n_tr + n_rec, n_events, n_dense, n_tr, stop_n

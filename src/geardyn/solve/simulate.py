@@ -117,10 +117,10 @@ def simulate(
         W = np.empty((6, 0))
     growth = np.full(n_var if tangent_periods else 0, np.nan)
     strobe = np.full(n_var if tangent_periods else 0, np.nan)
-    status, per, nev, ndense = _kernel.run(
+    status, per, nev, ndense, _, _ = _kernel.run(
         c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec,
         settings.integrator == "rk4_event", divergence_limits(system, settings), stride, poinc, dt, dy,
-        W, n_var, bool(tangent_periods), growth, strobe, final,
+        W, n_var, bool(tangent_periods), growth, strobe, final, 0, 0, 1, 0.0, 0.0, 0.0,  # no early stop
     )
     diverged = status == 1
     npts = max(0, per - n_trans) if diverged else n_rec
