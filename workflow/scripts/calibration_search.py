@@ -20,7 +20,7 @@ cache = Path(snakemake.output.scores).with_name(f"{snakemake.wildcards.calibrati
 t0, c0 = time.time(), time.process_time()
 best, ev = calibrate.search(problem, cache, init=start, workers=snakemake.threads, **budget)
 wall = time.time() - t0
-records = list(ev.cache.values())
+records = [ev.cache[k] for k in ev.seen]  # this search's candidates (the cache may hold others)
 # the best few again at the design's own integration settings and the default classifier
 full = calibrate.Problem(problem.design, problem.paper, problem.space, problem.grids,
                          calibrate.point.integration_settings(drive), calibrate.classify.ClassifierSettings(),

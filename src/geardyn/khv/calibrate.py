@@ -405,6 +405,7 @@ class Evaluator:
         self.pool = None
         self.new = 0
         self.reused = 0
+        self.seen: dict[str, None] = {}
 
     def __enter__(self):
         if self.workers > 1:
@@ -422,6 +423,7 @@ class Evaluator:
 
     def records(self, units: Sequence[Sequence[float]]) -> list[dict]:
         keys = [cache_key(u) for u in units]
+        self.seen.update(dict.fromkeys(keys))
         todo = [(k, list(u)) for k, u in zip(keys, units, strict=True) if k not in self.cache]
         todo = list(dict(todo).items())
         self.reused += len(units) - len(todo)
@@ -445,9 +447,37 @@ class Evaluator:
         return -np.array([r["score"] for r in recs])
 
 
+def refine(space: SearchSpace, evaluator: Evaluator, start: dict, steps: Sequence[float] = (0.1, 0.02),
+           rounds: int = 2) -> dict:
+    """Deterministic local refinement after the global search: in each round every unknown is moved by
+    +-step (:func:`perturbed`, all moves of a round evaluated together); the best move is taken if it
+    raises the score, else the next smaller step is tried; stops after ``rounds`` improvements or when
+    no move improves."""
+    best = start
+    k, done = 0, 0
+    steps = sorted(steps, reverse=True)
+    while k < len(steps) and done < rounds:
+        units = []
+        for u in space.unknowns:
+            for sign in (-1.0, 1.0):
+                v = dict(best["values"])
+                v[u.name] = perturbed(v[u.name], u, sign * steps[k])
+                units.append(list(space.unit(v)))
+        recs = evaluator.records(units)
+        cand = max(recs, key=lambda r: r["score"])
+        if cand["score"] > best["score"]:
+            best, done = cand, done + 1
+        else:
+            k += 1
+    return best
+
+
 def search(problem: Problem, cache: str | Path, seed: int = 1, popsize: int = 6, maxiter: int = 4,
-           workers: int = 1, init: Sequence[Mapping[str, float]] = ()) -> tuple[dict, Evaluator]:
-    """Differential evolution over the unit cube of ``problem.space``; returns (best record, evaluator).
+           workers: int = 1, init: Sequence[Mapping[str, float]] = (), refine_steps: Sequence[float] = (0.1, 0.02),
+           refine_rounds: int = 2) -> tuple[dict, Evaluator]:
+    """Differential evolution over the unit cube of ``problem.space``, then :func:`refine` from its best;
+    returns (best record, evaluator).  Only the candidates this run asked for count (the cache may hold
+    others, e.g. of a sensitivity study).
 
     ``init``: candidates (values) placed in the initial population (e.g. the design's current
     values), the rest Latin-hypercube from ``seed``.  Deterministic: same seed, same candidates, so
@@ -464,8 +494,10 @@ def search(problem: Problem, cache: str | Path, seed: int = 1, popsize: int = 6,
     with Evaluator(problem, cache, workers) as ev:
         differential_evolution(ev, [(0.0, 1.0)] * dim, init=pop, maxiter=maxiter, seed=seed, polish=False,
                                vectorized=True, updating="deferred", tol=0.0, atol=0.0)
-        recs = list(ev.cache.values())
-    best_rec = max(recs, key=lambda r: (r["score"], -sum((np.asarray(r["unit"]) - 0.5) ** 2)))
+        recs = [ev.cache[k] for k in ev.seen]
+        best_rec = max(recs, key=lambda r: (r["score"], interior(r["unit"])))
+        if refine_rounds > 0 and refine_steps:
+            best_rec = refine(problem.space, ev, best_rec, refine_steps, refine_rounds)
     return best_rec, ev
 
 
@@ -784,6 +816,9 @@ def problem_from_config(design: KHVDesign, spec: Mapping[str, Any]) -> tuple[Pro
     classifier = classify.ClassifierSettings.from_mapping(spec.get("classifier"))
     budget = dict(s["thorough_budget"] if s.get("thorough") else s["budget"])
     budget.setdefault("seed", int(s.get("seed", 1)))
+    ref = s.get("refine", {})
+    budget["refine_steps"] = tuple(ref.get("steps", (0.1, 0.02)))
+    budget["refine_rounds"] = int(ref.get("rounds", 2))
     return Problem(design, design.paper, space, grids, settings, classifier, dict(spec.get("fixed", {}))), budget
 
 
