@@ -157,3 +157,11 @@ def test_committed_calibrated_design_is_the_search_output():
     produced = ROOT / "results" / "li2013" / "calibration" / f"{result['search']}_design.yaml"
     if produced.exists():
         assert produced.read_text() == committed
+
+
+def test_relabel_track_changes_only_slow_transients(li2013):
+    d = li2013
+    track = C.Track(np.array([0.83, 2.0]), np.array([classify.LABELS["quasi_periodic"], 1], np.int16))
+    out = K.relabel_track(d, track, "b", {"x1": 0.761, "e": 5.0, "w": 0.7}, FULL)
+    np.testing.assert_array_equal(out.labels, [1, 1])
+    np.testing.assert_array_equal(track.labels, [classify.LABELS["quasi_periodic"], 1])  # input untouched

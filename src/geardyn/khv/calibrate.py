@@ -909,3 +909,17 @@ def sensitivity(problem: Problem, evaluator: Evaluator, best_values: Mapping[str
     lines += ["", f"2-D map over {a.name} and {b.name} (the two with the largest score change): best score on the map "
               f"{float(mp['score'].max()):.3f}, at the centre {base['score']:.3f}."]
     return oat, mp, "\n".join(lines) + "\n"
+
+
+def relabel_track(design: KHVDesign, track: claims_mod.Track, parameter: str, fixed: Mapping[str, float],
+                  settings: SimulationSettings,
+                  classifier: classify.ClassifierSettings = classify.ClassifierSettings()) -> claims_mod.Track:
+    """A stored sweep's labels with :func:`relabel` applied: each point labelled quasi-periodic or
+    undetermined is run again (:func:`label_point`, from the static deflection) and checked for a stable
+    periodic orbit the run approaches.  For ``claims.md`` to score the same labels as the calibration
+    (``claims.evaluate(paper, relabel_track(...), ...)``)."""
+    labels = np.array(track.labels, copy=True)
+    for j, v in enumerate(track.values):
+        if int(labels[j]) in (QP, UNDET):
+            labels[j] = label_point(design, {**fixed, parameter: float(v)}, settings, classifier)[0]
+    return claims_mod.Track(track.values, labels, track.lyapunov, track.sigma)
