@@ -13,7 +13,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @cache
 def calibrated_branch():
-    d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    d = design.load(ROOT / "tests" / "data" / "li2013_w07.yaml")
     fam = C.KHVFamily(d, "x1", {"b": 2.0, "e": 5.0}, 0.70, 0.78, nodes=17)
     c = fam.coefficients(0.71)
     r = simulate(c, SimulationSettings(transient_periods=2000, recorded_periods=1))

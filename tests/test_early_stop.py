@@ -42,15 +42,15 @@ def test_chaotic_point_runs_the_full_transient():
 
 def _spec(chunks):
     return maps.MapSpec.from_config("t", {
-        "designs": ["li2013_calibrated"], "x": {"parameter": "x1", "start": 0.5, "stop": 0.8, "num": 3},
+        "designs": ["li2013_w07"], "x": {"parameter": "x1", "start": 0.5, "stop": 0.8, "num": 3},
         "y": {"parameter": "b", "start": 0.5, "stop": 2.0, "num": 4}, "fixed": {"e": 5.0}, "chunks": chunks,
         "integration": {"steps_per_period": 32, "transient_periods": 300, "recorded_periods": 20,
                         "early_stop_min_periods": 20},
-        "classifier": {"error_floor": 4e-3, "tangent_periods": 30}}, "li2013_calibrated", (0.416, 0.835))
+        "classifier": {"error_floor": 4e-3, "tangent_periods": 30}}, "li2013_w07", (0.416, 0.835))
 
 
 def test_map_with_early_stop_independent_of_chunking(tmp_path):
-    model = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    model = design.load(ROOT / "tests" / "data" / "li2013_w07.yaml")
     merged = []
     for chunks in (1, 5):
         spec = _spec(chunks)
@@ -67,13 +67,13 @@ def test_map_with_early_stop_independent_of_chunking(tmp_path):
 
 
 def test_sweep_cube_records_transient_used():
-    model = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    model = design.load(ROOT / "tests" / "data" / "li2013_w07.yaml")
     spec = sweep.SweepSpec.from_config("t", {
-        "designs": ["li2013_calibrated"], "parameter": "b", "start": 0.5, "stop": 2.0, "num": 5,
+        "designs": ["li2013_w07"], "parameter": "b", "start": 0.5, "stop": 2.0, "num": 5,
         "fixed": {"e": 5.0, "x1": 0.6}, "chunks": 1,
         "integration": {"steps_per_period": 32, "transient_periods": 300, "recorded_periods": 20,
                         "early_stop_min_periods": 20},
-        "classifier": {"error_floor": 4e-3, "tangent_periods": 30}}, "li2013_calibrated", (0.416, 0.835))
+        "classifier": {"error_floor": 4e-3, "tangent_periods": 30}}, "li2013_w07", (0.416, 0.835))
     cb = sweep.run_chunk(model, spec, 0)
     used = cb["transient_used"].values
     assert used.shape == (1, 1, 5) and np.all((used >= 20) & (used <= 300))

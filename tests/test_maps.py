@@ -16,15 +16,15 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @pytest.fixture(scope="module")
 def model():
-    return design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    return design.load(ROOT / "tests" / "data" / "li2013_w07.yaml")
 
 
 def _spec(y="b", chunks=1):
     return maps.MapSpec.from_config("t", {
-        "designs": ["li2013_calibrated"], "x": {"parameter": "x1", "start": 0.5, "stop": 0.8, "num": 3},
+        "designs": ["li2013_w07"], "x": {"parameter": "x1", "start": 0.5, "stop": 0.8, "num": 3},
         "y": {"parameter": y, "start": 0.5, "stop": 2.0, "num": 4}, "fixed": {"e": 5.0} if y != "e" else {"b": 2.0},
         "chunks": chunks, "integration": {"steps_per_period": 64, "transient_periods": 40, "recorded_periods": 20},
-        "classifier": {"error_floor": 3e-4, "tangent_periods": 30}}, "li2013_calibrated", (0.416, 0.835))
+        "classifier": {"error_floor": 3e-4, "tangent_periods": 30}}, "li2013_w07", (0.416, 0.835))
 
 
 def test_map_independent_of_chunking(model, tmp_path):

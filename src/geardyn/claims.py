@@ -15,6 +15,10 @@ Verdict rules (stated once, applied everywhere):
   paper's;
 * numbers agree within the paper's printed precision (M, N: 0.001) or the stated tolerance;
 * "not comparable" when our result cannot answer (point diverged or undetermined, data missing).
+
+One function, :func:`evaluate`, applies the rules to labelled 1-D sweeps (:class:`Track`); the
+pipeline's ``claims.md`` (:func:`claims`, from the cubes) and the calibration objective
+(:mod:`geardyn.khv.calibrate`, from a candidate's in-memory labels) both call it.
 """
 
 from __future__ import annotations
@@ -56,13 +60,35 @@ class Claim:
     reason: str
 
 
+@dataclass(frozen=True)
+class Track:
+    """One labelled 1-D sweep: parameter values, motion labels and (optionally) the exponent per point.
+
+    What a claim reads of a sweep, whether it comes from a stored cube (:func:`track_of_cube`) or
+    from a calibration candidate's in-memory labels (:mod:`geardyn.khv.calibrate`).
+    """
+
+    values: np.ndarray
+    labels: np.ndarray
+    lyapunov: np.ndarray | None = None
+    sigma: np.ndarray | None = None
+
+
+def track_of_cube(cube: xr.Dataset, case: int = 0) -> Track:
+    """The labelled sweep of case ``case`` of a sweep cube."""
+    par = cube.attrs["control_parameter"]
+    lam = cube["lyapunov"].values[case, 0] if "lyapunov" in cube else None
+    sig = cube["lyapunov_sigma"].values[case, 0] if "lyapunov_sigma" in cube else None
+    return Track(cube[par].values, labels_of_cube(cube)[case, 0], lam, sig)
+
+
+def tracks_of_cube(cube: xr.Dataset, x1_values) -> dict[float, Track]:
+    """{x1: Track} for the cases ``x1=...`` of a cube (Figs. 9 and 11)."""
+    return {float(x1): track_of_cube(cube, _case_index(cube, x1)) for x1 in x1_values}
+
+
 def _name(code: int) -> str:
     return classify.short_name(code)
-
-
-def _labels_1d(cube: xr.Dataset, case: int = 0) -> tuple[np.ndarray, np.ndarray]:
-    par = cube.attrs["control_parameter"]
-    return cube[par].values, labels_of_cube(cube)[case, 0]
 
 
 def _case_index(cube: xr.Dataset, x1: float) -> int:
@@ -88,15 +114,15 @@ def range_claim(cid: str, fig: str, statement: str, values: np.ndarray, labels: 
 
 
 def point_claim(cid: str, fig: str, statement: str, values: np.ndarray, labels: np.ndarray, at: float,
-                want: int | tuple[int, ...], cube: xr.Dataset | None = None, case: int = 0) -> Claim:
+                want: int | tuple[int, ...], track: Track | None = None) -> Claim:
     j = int(np.argmin(np.abs(values - at)))
     got = int(labels[j])
     wants = want if isinstance(want, tuple) else (want,)
     paper = " or ".join(_NAMES.get(w, str(w)) for w in wants)
     extra = ""
-    if cube is not None and "lyapunov" in cube:
-        lam = float(cube["lyapunov"].values[case, 0, j])
-        sig = float(cube["lyapunov_sigma"].values[case, 0, j])
+    if track is not None and track.lyapunov is not None and track.sigma is not None:
+        lam = float(track.lyapunov[j])
+        sig = float(track.sigma[j])
         extra = f", lambda = {lam:.2e} +- {sig:.1e}"
     ours = f"{_name(got)} at {values[j]:.4g}{extra}"
     if got in (classify.LABELS["undetermined"], classify.LABELS["diverged"]):
@@ -134,32 +160,58 @@ def first_non(values: np.ndarray, labels: np.ndarray, want: int) -> float:
 def claims(paper: ModuleType, closed_graph: xr.Dataset, stiffness: xr.Dataset, fig07: xr.Dataset, fig09: xr.Dataset,
            fig11: xr.Dataset, fig08_points: xr.Dataset | None = None,
            p1_amplitude: Mapping[str, np.ndarray] | None = None) -> list[Claim]:
-    """The list of claims of ``paper`` (:mod:`geardyn.papers.li2013`); ``p1_amplitude`` = {"x1": ...,
-    "ptp": ...} peak-to-peak X_VH of dense runs in the paper's P1 range (optional)."""
+    """The list of claims of ``paper`` (:mod:`geardyn.papers.li2013`) from the pipeline's cubes;
+    ``p1_amplitude`` = {"x1": ..., "ptp": ...} peak-to-peak X_VH of dense runs in the paper's P1 range
+    (optional).  The verdicts are those of :func:`evaluate` on the cubes' labelled sweeps."""
+    return evaluate(paper, track_of_cube(fig07), tracks_of_cube(fig09, paper.CASE_X1),
+                    tracks_of_cube(fig11, paper.CASE_X1), closed_graph, stiffness, fig08_points, p1_amplitude)
+
+
+def _missing(cid: str, fig: str, statement: str, paper_value: str) -> Claim:
+    return Claim(cid, fig, statement, paper_value, "not evaluated", "not comparable", "input not given")
+
+
+def evaluate(paper: ModuleType, fig07: Track, fig09: Mapping[float, Track], fig11: Mapping[float, Track],
+             closed_graph: xr.Dataset | None = None, stiffness: xr.Dataset | None = None,
+             fig08_points: xr.Dataset | None = None,
+             p1_amplitude: Mapping[str, np.ndarray] | None = None) -> list[Claim]:
+    """The claims of ``paper`` from labelled 1-D sweeps: the one function behind ``claims.md`` and the
+    calibration objective.  ``fig07``: the x1 sweep at the paper's b and e; ``fig09`` / ``fig11``:
+    {x1: Track} of the b and e sweeps at the paper's three x1.  Inputs that are not given make
+    their claims "not comparable" (the list always has the same ids in the same order)."""
     out: list[Claim] = []
     tol = paper.POINT_TOLERANCE
     # --- Fig. 3: M and N --------------------------------------------------------------------
-    for k, pt in enumerate(closed_graph["point"].values):
-        px1 = float(closed_graph["paper_x1"].values[k])
-        px2 = float(closed_graph["paper_x2"].values[k])
-        cx2 = float(closed_graph["computed_x2"].values[k])
-        res = cx2 - px2
-        out.append(Claim(f"fig03_{pt}", "Fig. 3", f"limit point {pt} = ({px1}, {px2}) lies on line 4",
-                         f"x2 = {px2:.3f}", f"x2 = {cx2:.5f} on G_s = 0 at x1 = {px1}",
-                         "agree" if abs(res) <= tol else "disagree",
-                         f"residual {res:+.5f} (paper prints 3 decimals: agree within {tol:g})"))
+    if closed_graph is None:
+        for pt, (px1, px2) in paper.POINTS.items():
+            out.append(_missing(f"fig03_{pt}", "Fig. 3", f"limit point {pt} = ({px1}, {px2}) lies on line 4",
+                                f"x2 = {px2:.3f}"))
+    else:
+        for k, pt in enumerate(closed_graph["point"].values):
+            px1 = float(closed_graph["paper_x1"].values[k])
+            px2 = float(closed_graph["paper_x2"].values[k])
+            cx2 = float(closed_graph["computed_x2"].values[k])
+            res = cx2 - px2
+            out.append(Claim(f"fig03_{pt}", "Fig. 3", f"limit point {pt} = ({px1}, {px2}) lies on line 4",
+                             f"x2 = {px2:.3f}", f"x2 = {cx2:.5f} on G_s = 0 at x1 = {px1}",
+                             "agree" if abs(res) <= tol else "disagree",
+                             f"residual {res:+.5f} (paper prints 3 decimals: agree within {tol:g})"))
     # --- stiffness falling with x1 --------------------------------------------------------------
-    km = stiffness["k_mean"].values
-    kc = stiffness["k_c"].values
-    x1s = stiffness["x1"].values
-    frac_down = float(np.mean(np.diff(km) < 0))
-    out.append(Claim("stiffness_falls", "Sec. 4.1", "meshing stiffness becomes small as x1 increases",
-                     "falls", f"k_mean {km[0]:.4g} -> {km[-1]:.4g} N/m ({100 * (km[-1] / km[0] - 1):+.1f} %), "
-                     f"k_C {100 * (kc[-1] / kc[0] - 1):+.1f} %, x1 {x1s[0]:.3f} -> {x1s[-1]:.3f}",
-                     "agree" if frac_down == 1.0 else "disagree",
-                     f"k_mean falls at {100 * frac_down:.0f} % of the {len(km) - 1} steps along M-N"))
+    if stiffness is None:
+        out.append(_missing("stiffness_falls", "Sec. 4.1", "meshing stiffness becomes small as x1 increases",
+                            "falls"))
+    else:
+        km = stiffness["k_mean"].values
+        kc = stiffness["k_c"].values
+        x1s = stiffness["x1"].values
+        frac_down = float(np.mean(np.diff(km) < 0))
+        out.append(Claim("stiffness_falls", "Sec. 4.1", "meshing stiffness becomes small as x1 increases",
+                         "falls", f"k_mean {km[0]:.4g} -> {km[-1]:.4g} N/m ({100 * (km[-1] / km[0] - 1):+.1f} %), "
+                         f"k_C {100 * (kc[-1] / kc[0] - 1):+.1f} %, x1 {x1s[0]:.3f} -> {x1s[-1]:.3f}",
+                         "agree" if frac_down == 1.0 else "disagree",
+                         f"k_mean falls at {100 * frac_down:.0f} % of the {len(km) - 1} steps along M-N"))
     # --- Fig. 7: the regime sequence along x1 -------------------------------------------------
-    v, lab = _labels_1d(fig07)
+    v, lab = fig07.values, fig07.labels
     seen: dict[int, int] = {}
     for i, ((lo, hi, label), text) in enumerate(zip(paper.SEQUENCE, paper.SEQUENCE_TEXT, strict=True)):
         want = code(label)
@@ -169,13 +221,17 @@ def claims(paper: ModuleType, closed_graph: xr.Dataset, stiffness: xr.Dataset, f
         out.append(range_claim(cid, "Fig. 7", text, v, lab, lo, hi, want, open_lo=open_lo))
         if want == 5:
             out.append(peaks_claim(fig08_points, paper.PEAKS_0585))
-        if i == 0 and p1_amplitude is not None and len(p1_amplitude["x1"]) > 2:
-            xa, ptp = np.asarray(p1_amplitude["x1"]), np.asarray(p1_amplitude["ptp"])
-            down = float(np.mean(np.diff(ptp) < 0))
-            out.append(Claim("fig07_amplitude", "Fig. 7", "in the P1 range the amplitude decreases as x1 increases",
-                             "decreasing", f"peak-to-peak X_VH {ptp[0]:.3g} -> {ptp[-1]:.3g} over x1 {xa[0]:.3f}-"
-                             f"{xa[-1]:.3f}", "agree" if down >= RANGE_AGREE else "disagree",
-                             f"falls at {100 * down:.0f} % of {len(ptp) - 1} steps (dense runs, recorded periods)"))
+        if i == 0:
+            statement = "in the P1 range the amplitude decreases as x1 increases"
+            if p1_amplitude is not None and len(p1_amplitude["x1"]) > 2:
+                xa, ptp = np.asarray(p1_amplitude["x1"]), np.asarray(p1_amplitude["ptp"])
+                down = float(np.mean(np.diff(ptp) < 0))
+                out.append(Claim("fig07_amplitude", "Fig. 7", statement,
+                                 "decreasing", f"peak-to-peak X_VH {ptp[0]:.3g} -> {ptp[-1]:.3g} over x1 {xa[0]:.3f}-"
+                                 f"{xa[-1]:.3f}", "agree" if down >= RANGE_AGREE else "disagree",
+                                 f"falls at {100 * down:.0f} % of {len(ptp) - 1} steps (dense runs, recorded periods)"))
+            else:
+                out.append(_missing("fig07_amplitude", "Fig. 7", statement, "decreasing"))
     for fig, x1, label in paper.FIG08_POINTS:
         want = code(label)
         out.append(point_claim(f"fig{fig}", f"Fig. {fig}", f"x1 = {x1}: {_NAMES[want]}", v, lab, x1, want, fig07))
@@ -183,14 +239,13 @@ def claims(paper: ModuleType, closed_graph: xr.Dataset, stiffness: xr.Dataset, f
     b_at = paper.FIG10_B
     for fig, x1, label in paper.FIG10_LABELS:
         want = code(label)
-        i = _case_index(fig09, x1)
-        vb, lb = _labels_1d(fig09, i)
+        t = fig09[float(x1)]
         out.append(point_claim(f"fig09_b{b_at:g}_x1_{x1}", f"Fig. {fig}", f"b = {b_at:g}, x1 = {x1}: {_NAMES[want]}",
-                               vb, lb, b_at, want, fig09, i))
+                               t.values, t.labels, b_at, want, t))
     ok, parts = [], []
     for x1 in paper.CASE_X1:
-        i = _case_index(fig09, x1)
-        vb, lb = _labels_1d(fig09, i)
+        t = fig09[float(x1)]
+        vb, lb = t.values, t.labels
         first_chaos = vb[lb == CHAOS].min() if (lb == CHAOS).any() else np.inf
         last_p1 = vb[lb == P1].max() if (lb == P1).any() else -np.inf
         starts_p1 = lb[0] == P1
@@ -204,15 +259,14 @@ def claims(paper: ModuleType, closed_graph: xr.Dataset, stiffness: xr.Dataset, f
     e_at = paper.FIG12_E
     for fig, x1, label in paper.FIG12_LABELS:
         want = code(label)
-        i = _case_index(fig11, x1)
-        ve, le = _labels_1d(fig11, i)
+        t = fig11[float(x1)]
         text = _NAMES[want] if want == P1 else "quasi-periodic or chaotic"
         out.append(point_claim(f"fig11_e{e_at:g}_x1_{x1}", f"Fig. {fig}", f"e = {e_at:g}, x1 = {x1}: {text}",
-                               ve, le, e_at, want, fig11, i))
+                               t.values, t.labels, e_at, want, t))
     ok, parts, sync = [], [], []
     for x1 in paper.CASE_X1:
-        i = _case_index(fig11, x1)
-        ve, le = _labels_1d(fig11, i)
+        t = fig11[float(x1)]
+        ve, le = t.values, t.labels
         end_p1 = first_non(ve, le, P1)
         sync.append(end_p1)
         first_qp = ve[le == QP].min() if (le == QP).any() else np.inf

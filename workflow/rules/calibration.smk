@@ -1,4 +1,62 @@
-# Search a paper design's unknowns for the best agreement with the paper's regime sequence along x1.
+# Calibration of a paper design's unknowns (docs/calibration.md).
+#
+# A ``search`` entry: one job runs a seeded differential evolution scored by the paper's claims on a
+# worker pool (the job's threads); every evaluated candidate is appended to
+# results/{design}/calibration/{calibration}_cache.jsonl (not an output: it survives a failed or
+# interrupted job, and a rerun replays it and resumes).  A second job measures the robustness and
+# sensitivity of the best candidate (tornado chart, 2-D map) from the same cache.
+# A ``grid`` entry (legacy): every grid combination scored by the Poincare period, in chunks.
+
+SEARCH_CALIBRATIONS = [n for n, s in config["calibration"].items() if "search" in s]
+GRID_CALIBRATIONS = [
+    n for n, s in config["calibration"].items() if s.get("grid") and "search" not in s
+]
+
+
+rule calibration_search:
+    input:
+        design=design_file,
+    output:
+        scores="results/{design}/calibration/{calibration}.nc",
+        best="results/{design}/calibration/{calibration}_best.json",
+        design="results/{design}/calibration/{calibration}_design.yaml",
+        table="results/{design}/calibration/{calibration}.md",
+    log:
+        "results/{design}/logs/calibration_{calibration}_search.log",
+    wildcard_constraints:
+        calibration=either(SEARCH_CALIBRATIONS, "no-search"),
+    threads:
+        lambda wildcards: config["calibration"][wildcards.calibration]["search"].get(
+            "workers", 1
+        )
+    params:
+        spec=config_slice("calibration"),
+    script:
+        "../scripts/calibration_search.py"
+
+
+rule calibration_sensitivity:
+    input:
+        design=design_file,
+        best="results/{design}/calibration/{calibration}_best.json",
+    output:
+        oat="results/{design}/calibration/{calibration}_sensitivity.nc",
+        map="results/{design}/calibration/{calibration}_map.nc",
+        tornado="results/{design}/calibration/{calibration}_tornado.png",
+        map_figure="results/{design}/calibration/{calibration}_map.png",
+        table="results/{design}/calibration/{calibration}_sensitivity.md",
+    log:
+        "results/{design}/logs/calibration_{calibration}_sensitivity.log",
+    wildcard_constraints:
+        calibration=either(SEARCH_CALIBRATIONS, "no-search"),
+    threads:
+        lambda wildcards: config["calibration"][wildcards.calibration]["search"].get(
+            "workers", 1
+        )
+    params:
+        spec=config_slice("calibration"),
+    script:
+        "../scripts/calibration_sensitivity.py"
 
 
 rule calibration_chunk:
@@ -8,6 +66,8 @@ rule calibration_chunk:
         "results/{design}/calibration/{calibration}/chunk_{chunk}.nc",
     log:
         "results/{design}/logs/calibration_{calibration}_{chunk}.log",
+    wildcard_constraints:
+        calibration=either(GRID_CALIBRATIONS, "no-grid"),
     threads: 1
     params:
         spec=config_slice("calibration"),
@@ -29,6 +89,8 @@ rule calibration_merge:
         table="results/{design}/calibration/{calibration}.md",
     log:
         "results/{design}/logs/calibration_{calibration}_merge.log",
+    wildcard_constraints:
+        calibration=either(GRID_CALIBRATIONS, "no-grid"),
     threads: 1
     params:
         spec=config_slice("calibration"),
@@ -39,4 +101,8 @@ rule calibration_merge:
 CALIBRATION_TARGETS = [
     f"results/{spec['design']}/calibration/{name}.nc"
     for name, spec in config["calibration"].items()
+] + [
+    f"results/{config['calibration'][name]['design']}/calibration/{name}_{kind}"
+    for name in SEARCH_CALIBRATIONS
+    for kind in ("sensitivity.md", "tornado.png", "map.png")
 ]

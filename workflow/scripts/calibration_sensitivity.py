@@ -1,0 +1,27 @@
+"""Adapter: robustness and sensitivity of the best candidate of a calibration search (tornado, 2-D map)."""
+
+import json
+from pathlib import Path
+
+from geardyn import io, logs
+from geardyn.khv import calibrate, design
+from geardyn.plots import calibration as plots
+
+log = logs.to_file(snakemake.log[0])
+spec = snakemake.params.spec
+drive = design.load(snakemake.input.design)
+problem, _ = calibrate.problem_from_config(drive, spec)
+best = json.loads(Path(snakemake.input.best).read_text())["record"]
+cache = Path(snakemake.input.best).with_name(f"{snakemake.wildcards.calibration}_cache.jsonl")
+sens = spec.get("sensitivity", {})
+with calibrate.Evaluator(problem, cache, spec["search"].get("workers", 1)) as ev:
+    oat, mp, text = calibrate.sensitivity(problem, ev, best["values"], sens.get("steps", [0.02, 0.1, 0.5]),
+                                          sens.get("map_points", 7))
+attrs = io.provenance(title=f"Calibration sensitivity {snakemake.wildcards.calibration}", paper=drive.paper,
+                      config={"design": drive.raw, "calibration": spec}, model_variant=drive.stiffness.label)
+io.write_netcdf(oat, snakemake.output.oat, attrs)
+io.write_netcdf(mp, snakemake.output.map, attrs)
+io.save_figure(plots.plot_tornado(oat), snakemake.output.tornado, plots.caption_tornado(oat))
+io.save_figure(plots.plot_score_map(mp), snakemake.output.map_figure, plots.caption_map(mp))
+io.write_text(text, snakemake.output.table)
+log.info("sensitivity: %d new evaluations, %d from the cache", ev.new, ev.reused)
