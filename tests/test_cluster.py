@@ -61,7 +61,7 @@ def _config():
     del cfg["sweeps"]["fig07_small"]["integration"]
     cfg["designs"]["li2013_calibrated"] = "config/designs/li2013_calibrated.yaml"
     cfg["maps"] = {"map_small": {
-        "designs": ["li2013_w07"], "title": "small map",
+        "designs": ["li2013_calibrated"], "title": "small map",
         "x": {"parameter": "x1", "start": 0.416, "stop": 0.835, "num": 6},
         "y": {"parameter": "b", "start": 0.0, "stop": 2.2, "num": 4}, "fixed": {"e": 5.0}, "chunks": MAP_CHUNKS,
         "integration": {"steps_per_period": 128, "transient_periods": 400, "recorded_periods": 50},
