@@ -183,7 +183,8 @@ def test_rule_resources_reach_sbatch(study):
         res = RESOURCES[job["rule"]]
         assert job["TimeLimit"] == _time_limit(res["runtime"]), job["Comment"]
         assert job["MinMemoryNode"] == f"{res['mem_mb']}M", job["Comment"]
-        assert job["NumCPUs"] == "1" and job["Partition"] == default_partition, job["Comment"]
+        # the chunk rules take both cores of a node (threads: 2): SLURM must reserve them
+        assert job["NumCPUs"] == "2" and job["Partition"] == default_partition, job["Comment"]
 
 
 def test_cancelled_jobs_are_resubmitted_then_fail_and_a_rerun_loses_nothing(cluster, local, tmp_path):
