@@ -596,15 +596,6 @@ def compile_c_rk4(tmp: Path):
     return run_c
 
 
-def _best(fn, repeats=3):
-    best, out = np.inf, None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
-
-
 def kernel_costs(lanes: int = 64, periods: int = 100, steps: int = 512, log=print) -> dict:
     """Cost per point-step: scalar C RK4 (gcc, this run), the scalar numba kernel (previous method) and
     the batch kernel (lockstep lanes; one thread and all threads), plain RK4 and event RK4."""
@@ -626,19 +617,19 @@ def kernel_costs(lanes: int = 64, periods: int = 100, steps: int = 512, log=prin
         def c_all():
             return [run_c(t[0], t[1], t[4], t[5], periods, y) for t, y in zip(tabs, y0s, strict=True)]
 
-        t_c, yc = _best(c_all)
+        t_c, yc = _timed(c_all, 3)
     out["c_ns"] = t_c / n_steps * 1e9
     for integ in ("rk4", "rk4_event"):
         s = SimulationSettings(integrator=integ, steps_per_period=steps, transient_periods=periods - 1,
                                recorded_periods=1)
         simulate(systems[0], s)
         simulate_batch(systems[:9], s)
-        t_s, rs = _best(lambda: [simulate(c, s) for c in systems])
+        t_s, rs = _timed(lambda: [simulate(c, s) for c in systems], 3)
         nthreads = numba.get_num_threads()
         numba.set_num_threads(1)
-        t_b1, _ = _best(lambda: simulate_batch(systems, s))
+        t_b1, _ = _timed(lambda: simulate_batch(systems, s), 3)
         numba.set_num_threads(nthreads)
-        t_b, rb = _best(lambda: simulate_batch(systems, s))
+        t_b, rb = _timed(lambda: simulate_batch(systems, s), 3)
         same = all(np.array_equal(a.final_state, b.final_state) for a, b in zip(rs, rb, strict=True))
         out[integ] = {"scalar_ns": t_s / n_steps * 1e9, "batch1_ns": t_b1 / n_steps * 1e9,
                       "batch_ns": t_b / n_steps * 1e9, "bit_identical": same}
@@ -667,8 +658,8 @@ def dop853_ratios(quick: bool = False, log=print) -> dict:
     for n in steps:
         s = SimulationSettings(steps_per_period=n, transient_periods=ntr, recorded_periods=nrec)
         simulate_batch([c] * 9, s)
-        to, r = _best(lambda: simulate(c, s, y0), 3)
-        tn, rb = _best(lambda: simulate_batch([c] * lanes, s, [y0] * lanes), 2)
+        to, r = _timed(lambda: simulate(c, s, y0), 3)
+        tn, rb = _timed(lambda: simulate_batch([c] * lanes, s, [y0] * lanes), 2)
         assert np.array_equal(rb[0].poincare, r.poincare)
         err.append(float(np.abs(r.poincare - ref.poincare).max()))
         t_old.append(to)
@@ -677,7 +668,7 @@ def dop853_ratios(quick: bool = False, log=print) -> dict:
     dt, de = [], []
     for rt in (1e-6, 1e-8, 1e-10):
         s = SimulationSettings(integrator="dop853", transient_periods=ntr, recorded_periods=nrec, rtol=rt)
-        t, r = _best(lambda: simulate_reference(c, s, y0, max_step_fraction=np.inf), 1)
+        t, r = _timed(lambda: simulate_reference(c, s, y0, max_step_fraction=np.inf), 1)
         dt.append(t)
         de.append(float(np.abs(r.poincare - ref.poincare).max()))
         log(f"[dop853] rtol {rt:.0e}: {t:.2f} s, error {de[-1]:.2e}")
