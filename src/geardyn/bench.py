@@ -385,15 +385,15 @@ def _map_points(design, spec, stride: int = 1):
 
 
 def _old_worker(args):
-    systems, settings, cls, cheap = args
+    systems, settings, classifier, cheap = args
     from geardyn.runs.points import analyse_point
 
     t0 = time.process_time()
-    out = [analyse_point(c, settings, cls, cheap=cheap) for c in systems]
+    out = [analyse_point(c, settings, classifier, cheap=cheap) for c in systems]
     return [(lab.label, lab.lyapunov, lab.reason, r.transient_used) for r, lab in out], time.process_time() - t0
 
 
-def compare_methods(systems, settings, cls, cheap: bool, workers: int = 2, log=print) -> dict:
+def compare_methods(systems, settings, classifier, cheap: bool, workers: int = 2, log=print) -> dict:
     """Labels and costs of the previous method (``analyse_point`` point by point, full transient,
     tangent exponent; ``workers`` processes) and of the batch method (``analyse_points`` with the
     settings' early stop and exponent; numba threads) on the same points."""
@@ -406,14 +406,14 @@ def compare_methods(systems, settings, cls, cheap: bool, workers: int = 2, log=p
     parts = np.array_split(np.arange(len(systems)), workers)
     t0 = time.perf_counter()
     with ProcessPoolExecutor(workers) as ex:
-        res = list(ex.map(_old_worker, [([systems[i] for i in p], old_settings, cls, cheap) for p in parts]))
+        res = list(ex.map(_old_worker, [([systems[i] for i in p], old_settings, classifier, cheap) for p in parts]))
     old_wall = time.perf_counter() - t0
     old = [x for r, _ in res for x in r]
     old_cpu = sum(c for _, c in res)
-    analyse_points(systems[:16], settings, cls, cheap=cheap)  # compile / load the kernels
+    analyse_points(systems[:16], settings, classifier, cheap=cheap)  # compile / load the kernels
     t0 = time.perf_counter()
     c0 = time.process_time()
-    new_pairs = analyse_points(systems, settings, cls, cheap=cheap)
+    new_pairs = analyse_points(systems, settings, classifier, cheap=cheap)
     new_wall = time.perf_counter() - t0
     new_cpu = time.process_time() - c0
     new = [(lab.label, lab.lyapunov, lab.reason, r.transient_used) for r, lab in new_pairs]
@@ -458,25 +458,25 @@ def agreement(config_path: Path = Path("config/config.yaml"), designs=("li2013",
     for dname in designs:
         design = _design(dname, config, root)
         for sname in PAPER1_SWEEPS:
-            spec = SweepSpec.from_config(sname, config["sweeps"][sname], dname)
+            spec = SweepSpec.from_config(sname, config["sweeps"][sname], dname, design.segment)
             settings = point.integration_settings(design, **dict(spec.integration))
-            cls = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
+            classifier = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
             pts = _sweep_points(design, spec)[::sweep_stride]
             log(f"[{dname} {sname}] {settings.steps_per_period} steps/period, "
                 f"{settings.transient_periods}+{settings.recorded_periods} periods")
-            r = compare_methods([c for _, c in pts], settings, cls, cheap=False, log=log)
+            r = compare_methods([c for _, c in pts], settings, classifier, cheap=False, log=log)
             r["where"] = [w for w, _ in pts]
             runs[f"{dname}/{sname}"] = r
     if map_name:
         mspec_raw = config["maps"][map_name]
         dname = mspec_raw["designs"][0]
         design = _design(dname, config, root)
-        spec = MapSpec.from_config(map_name, mspec_raw, dname)
+        spec = MapSpec.from_config(map_name, mspec_raw, dname, design.segment)
         settings = point.integration_settings(design, **dict(spec.integration))
-        cls = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
+        classifier = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
         pts = _map_points(design, spec, map_stride)
         log(f"[{dname} {map_name}] {len(pts)} points (every {map_stride}. x and y)")
-        r = compare_methods([c for _, c in pts], settings, cls, cheap=True, log=log)
+        r = compare_methods([c for _, c in pts], settings, classifier, cheap=True, log=log)
         r["where"] = [w for w, _ in pts]
         runs[f"{dname}/{map_name}"] = r
     return runs
@@ -701,18 +701,18 @@ def map_throughput(config_path: Path, map_name: str = "map_x1_b", subset_stride:
     raw["chunks"] = 1
     dname = raw["designs"][0]
     design = _design(dname, config, root)
-    spec = maps.MapSpec.from_config(map_name, raw, dname)
+    spec = maps.MapSpec.from_config(map_name, raw, dname, design.segment)
     settings = point.integration_settings(design, **dict(spec.integration))
-    cls = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
+    classifier = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
     pts = _map_points(design, spec, 1)
     sub = [c for k, (_, c) in enumerate(pts) if (k // spec.y.num) % subset_stride == 0]
-    analyse_points(sub[:16], settings, cls, cheap=True)
+    analyse_points(sub[:16], settings, classifier, cheap=True)
     old_s = dataclasses.replace(settings, batch=False)
     t0, c0 = time.perf_counter(), time.process_time()
-    old = [analyse_point(c, old_s, cls, cheap=True) for c in sub]
+    old = [analyse_point(c, old_s, classifier, cheap=True) for c in sub]
     t_old_sub, c_old_sub = time.perf_counter() - t0, time.process_time() - c0
     t0, c0 = time.perf_counter(), time.process_time()
-    new_sub = analyse_points(sub, settings, cls, cheap=True)
+    new_sub = analyse_points(sub, settings, classifier, cheap=True)
     t_new_sub, c_new_sub = time.perf_counter() - t0, time.process_time() - c0
     t0, c0 = time.perf_counter(), time.process_time()
     ds = maps.run_chunk(design, spec, 0)
