@@ -14,9 +14,11 @@ the decision rules; :func:`geardyn.runs.points.analyse_point` integrates one poi
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
+
+from geardyn.config import settings_from
 
 #: Label codes stored in cubes (``flag_values``/``flag_meanings``); n >= 1 is period-n.
 #: ``not_periodic`` is what the Poincaré test alone says (QP or chaos, unresolved).
@@ -178,12 +180,7 @@ class ClassifierSettings:
 
     @classmethod
     def from_mapping(cls, spec: dict | None) -> ClassifierSettings:
-        spec = dict(spec or {})
-        names = {f.name for f in fields(cls)}
-        unknown = set(spec) - names
-        if unknown:
-            raise ValueError(f"unknown classifier settings {sorted(unknown)}; allowed: {sorted(names)}")
-        return cls(**spec)
+        return settings_from(cls, spec, "classifier settings")
 
 
 @dataclass(frozen=True)

@@ -11,6 +11,7 @@ Defaults declared in the schema are filled in, so downstream code sees every key
 from __future__ import annotations
 
 import copy
+import dataclasses
 import difflib
 import json
 import math
@@ -210,6 +211,17 @@ def validate(data: Any, schema_name: str, where: str) -> dict[str, Any]:
         best = jsonschema.exceptions.best_match(errors)
         raise ConfigError(_format(best, where))
     return filled
+
+
+def settings_from(cls: type, spec: Mapping[str, Any] | None, what: str) -> Any:
+    """A settings dataclass ``cls`` from a mapping of its field values; an unknown key is refused with
+    one line naming it and the allowed keys (``what``: e.g. "classifier settings")."""
+    spec = dict(spec or {})
+    names = {f.name for f in dataclasses.fields(cls)}
+    unknown = set(spec) - names
+    if unknown:
+        raise ValueError(f"unknown {what} {sorted(unknown)}; allowed: {sorted(names)}")
+    return cls(**spec)
 
 
 def _kind_of(value: Any) -> str:

@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from geardyn import classify
+from geardyn.config import settings_from
 from geardyn.runs.points import analyse_point
 from geardyn.solve.base import SimulationSettings, System
 
@@ -51,12 +52,7 @@ class AttractorSettings:
 
     @classmethod
     def from_mapping(cls, spec: Mapping[str, Any] | None) -> AttractorSettings:
-        spec = dict(spec or {})
-        names = {f.name for f in dataclasses.fields(cls)}
-        unknown = set(spec) - names
-        if unknown:
-            raise ValueError(f"unknown attractor settings {sorted(unknown)}; allowed: {sorted(names)}")
-        return cls(**spec)
+        return settings_from(cls, spec, "attractor settings")
 
 
 @dataclass

@@ -47,6 +47,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
 
+from geardyn.config import settings_from
 from geardyn.khv import point
 from geardyn.khv.model import Coefficients
 from geardyn.solve.base import SimulationSettings
@@ -248,12 +249,7 @@ class ContinuationSettings:
 
     @classmethod
     def from_mapping(cls, spec: Mapping[str, Any] | None) -> ContinuationSettings:
-        spec = dict(spec or {})
-        names = set(cls.__dataclass_fields__)
-        unknown = set(spec) - names
-        if unknown:
-            raise ValueError(f"unknown continuation settings {sorted(unknown)}; allowed: {sorted(names)}")
-        return cls(**spec)
+        return settings_from(cls, spec, "continuation settings")
 
 
 # ----------------------------------------------------------------------------------------------

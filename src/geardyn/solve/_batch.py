@@ -29,7 +29,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from geardyn.solve._kernel import locate_switches, region, rk4_step, run, tangent_step
+from geardyn.solve._kernel import locate_switches, region, run
 from geardyn.solve.base import B, BACKLASH_ON, T
 
 
