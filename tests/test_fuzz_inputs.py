@@ -5,9 +5,10 @@ unicode, empty containers, and duplicate keys in the YAML text; 150 designs and 
 import copy
 
 import yaml
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
+from _examples import EXAMPLE_SCALE
 import _workflow as wf
 from geardyn.config import ConfigError, load_design_dict
 from geardyn.validate import check_design, read_config_file, validate_workflow
@@ -54,9 +55,10 @@ def _one_line_or_ok(call):
         assert text and "\n" not in text and "Traceback" not in text, text
 
 
-@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=150 * EXAMPLE_SCALE, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(design=st.sampled_from(sorted(DESIGNS)), mutations=st.lists(MUTATION, min_size=1, max_size=3),
        duplicate=st.booleans())
+@example(design="li2013", mutations=[(838, 1, 1000000)], duplicate=False)  # x1 = -1: G_s > 0 where it is defined
 def test_mutated_design_validates_or_gives_one_line(tmp_path_factory, design, mutations, duplicate):
     raw = DESIGNS[design]
     for m in mutations:
@@ -71,7 +73,7 @@ def test_mutated_design_validates_or_gives_one_line(tmp_path_factory, design, mu
     _one_line_or_ok(lambda: check_design(load_design_dict(path), str(path)))
 
 
-@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=150 * EXAMPLE_SCALE, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(mutations=st.lists(MUTATION, min_size=1, max_size=3))
 def test_mutated_config_validates_or_gives_one_line(tmp_path_factory, mutations):
     cfg = CONFIG

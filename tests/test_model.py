@@ -13,6 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
+from _examples import EXAMPLE_SCALE
 from geardyn.khv import model
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.khv.model import Options, dimensionless
@@ -90,7 +91,7 @@ def test_static_deflection_is_equilibrium():
         assert abs(y[1]) > c.b  # teeth in contact under the Table 2 load
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=60 * EXAMPLE_SCALE, deadline=None)
 @given(
     z=st.lists(st.floats(-30, 30), min_size=8, max_size=8),
     tau=st.floats(0, 50),

@@ -6,6 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate, optimize
 
+from _examples import EXAMPLE_SCALE
 from geardyn.gears import stiffness as s
 
 EPS_GRID = [1.05, 1.17, 1.24, 1.30, 1.6, 1.95]
@@ -97,7 +98,7 @@ def test_printed_form_goes_negative_below_eps_1p193():
     assert s.ParabolicStiffness(1.30, 1.0, "printed").minimum() > 0
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=60 * EXAMPLE_SCALE, deadline=None)
 @given(eps=st.floats(1.0, 1.999), kp=st.floats(1e6, 1e10), t=st.floats(-5, 5))
 def test_corrected_stiffness_bounded_by_single_and_double_pair(eps, kp, t):
     k = float(s.ParabolicStiffness(eps, kp)(t))

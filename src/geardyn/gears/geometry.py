@@ -695,6 +695,8 @@ def x2_on_overlap_boundary(x1: float, base: GearPair, *, xtol: float = 1e-12) ->
 
     G_s increases with x2 at fixed x1 (larger a' and a larger annulus tip circle pull the tips
     apart), so the root is bracketed by stepping x2 upwards from x1 - 0.5 and solved with brentq.
+    Raises ``ValueError`` when no root exists: G_s is already positive where the pair first meshes
+    (strongly negative x1), or never changes sign.
     """
     if not base.internal:
         raise ValueError("the G_s = 0 boundary applies to internal pairs only")
@@ -708,10 +710,11 @@ def x2_on_overlap_boundary(x1: float, base: GearPair, *, xtol: float = 1e-12) ->
         if np.isfinite(g_hi) and g_hi > 0:
             break
         lo, g_lo = hi, g_hi
-    else:  # pragma: no cover - defensive
-        raise RuntimeError(f"no sign change of G_s found for x1={x1}")
+    else:
+        raise ValueError(f"G_s has no sign change for x1 = {x1} between x2 = {x1 - 0.5} and {hi}")
     if not (np.isfinite(g_lo) and g_lo < 0):
-        raise RuntimeError(f"G_s not negative at the lower bracket for x1={x1}")
+        raise ValueError(f"G_s = {g_hi:.4g} > 0 already at x2 = {hi:.4g}, the first x2 at which it is defined "
+                         f"for x1 = {x1}")
     return float(brentq(lambda x2: _gs_scalar(base, x1, x2), lo, hi, xtol=xtol, rtol=4 * np.finfo(float).eps))
 
 
