@@ -1,4 +1,4 @@
-"""Calibration search: relabelling of slow transients, the claims objective, the cached resumable
+"""Calibration search: the slow-transient check of the one classification path, the claims objective, the cached resumable
 search, and the provenance of the committed calibrated design."""
 
 from __future__ import annotations
@@ -14,7 +14,8 @@ from geardyn import classify
 from geardyn.khv import calibrate as K
 from geardyn.khv import design, point
 from geardyn.papers import li2013 as paper
-from geardyn.runs.points import analyse_point
+from geardyn.runs import settle as S
+from geardyn.runs.points import analyse_point, analyse_points
 from geardyn.solve import SimulationSettings
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -38,7 +39,7 @@ def test_slow_transient_is_relabelled_p1(li2013, over, before, rho):
     cs = classify.ClassifierSettings()
     res, cl = analyse_point(c, FULL, cs)
     assert cl.label == before and -1e-3 < cl.lyapunov < 0.0  # inside the zero band: the classifier's QP
-    r = K.relabel(c, res, cl.label, cl.lyapunov, FULL, cs)
+    r = S.settle(c, res, cl.label, cl.lyapunov, FULL, cs)
     assert r.after == 1 and r.n == 1
     assert r.spectral_radius == pytest.approx(rho, abs=2e-4)
     assert "approached" in r.reason
@@ -48,11 +49,12 @@ def test_torus_is_not_relabelled(li2013):
     c = point.point_coefficients(li2013, {"x1": 0.761, "b": 2.0, "e": 5.0, "w": 0.7})
     cs = classify.ClassifierSettings()
     res, cl = analyse_point(c, FULL, cs)
-    r = K.relabel(c, res, cl.label, cl.lyapunov, FULL, cs)
+    r = S.settle(c, res, cl.label, cl.lyapunov, FULL, cs)
     assert cl.label == r.after == classify.LABELS["quasi_periodic"]
+    assert r.reason == "no stable orbit of period <= 12"
     # chaos and periodic labels are never touched
-    assert K.relabel(c, res, classify.LABELS["chaotic"], 0.03, FULL, cs).after == classify.LABELS["chaotic"]
-    assert K.relabel(c, res, 5, float("nan"), FULL, cs).after == 5
+    assert S.settle(c, res, classify.LABELS["chaotic"], 0.03, FULL, cs).after == classify.LABELS["chaotic"]
+    assert S.settle(c, res, 5, float("nan"), FULL, cs).after == 5
 
 
 def test_search_space_units_and_log_scale():
@@ -159,9 +161,18 @@ def test_committed_calibrated_design_is_the_search_output():
         assert produced.read_text() == committed
 
 
-def test_relabel_track_changes_only_slow_transients(li2013):
-    d = li2013
-    track = C.Track(np.array([0.83, 2.0]), np.array([classify.LABELS["quasi_periodic"], 1], np.int16))
-    out = K.relabel_track(d, track, "b", {"x1": 0.761, "e": 5.0, "w": 0.7}, FULL)
-    np.testing.assert_array_equal(out.labels, [1, 1])
-    np.testing.assert_array_equal(track.labels, [classify.LABELS["quasi_periodic"], 1])  # input untouched
+def test_the_one_classification_path_settles_slow_transients(li2013):
+    """analyse_points (sweeps, maps, claims, calibration) applies the check: b = 0.83 and 1.68 at x1 =
+    0.761 are slow transients onto P1 and P7 (|mu|max 0.990, 0.969), b = 2.0 is a torus; with the check
+    off (settle_max_n = 0) the rules' quasi-periodic labels stay."""
+    cs = classify.ClassifierSettings()
+    systems = [point.point_coefficients(li2013, {"x1": 0.761, "e": 5.0, "b": b, "w": 0.7}) for b in (0.83, 1.68, 2.0)]
+    out = analyse_points(systems, FULL, cs)
+    qp = classify.LABELS["quasi_periodic"]
+    assert [lab.label for _, lab in out] == [1, 7, qp]
+    assert [lab.settled for _, lab in out] == [True, True, False]
+    rho = np.exp(np.array([lab.lyapunov for _, lab in out[:2]]) * np.array([1, 7]) * out[0][0].period)
+    np.testing.assert_allclose(rho, [0.9902, 0.9694], atol=2e-4)
+    off = analyse_points(systems, FULL, classify.ClassifierSettings(settle_max_n=0))
+    assert [lab.label for _, lab in off] == [qp, qp, qp]
+    assert not any(lab.settled for _, lab in off)

@@ -386,10 +386,10 @@ def _map_points(design, spec, stride: int = 1):
 
 def _old_worker(args):
     systems, settings, classifier, cheap = args
-    from geardyn.runs.points import analyse_point
+    from geardyn.runs.points import analyse_points
 
     t0 = time.process_time()
-    out = [analyse_point(c, settings, classifier, cheap=cheap) for c in systems]
+    out = analyse_points(systems, settings, classifier, cheap=cheap)  # settings.batch is False: point by point
     return [(lab.label, lab.lyapunov, lab.reason, r.transient_used) for r, lab in out], time.process_time() - t0
 
 
@@ -690,7 +690,7 @@ def map_throughput(config_path: Path, map_name: str = "map_x1_b", subset_stride:
     from geardyn import classify
     from geardyn.khv import point
     from geardyn.runs import maps
-    from geardyn.runs.points import analyse_point, analyse_points
+    from geardyn.runs.points import analyse_points
 
     root = config_path.resolve().parent.parent
     config = _config(config_path)
@@ -709,7 +709,7 @@ def map_throughput(config_path: Path, map_name: str = "map_x1_b", subset_stride:
     analyse_points(sub[:16], settings, classifier, cheap=True)
     old_s = dataclasses.replace(settings, batch=False)
     t0, c0 = time.perf_counter(), time.process_time()
-    old = [analyse_point(c, old_s, classifier, cheap=True) for c in sub]
+    old = analyse_points(sub, old_s, classifier, cheap=True)  # point by point
     t_old_sub, c_old_sub = time.perf_counter() - t0, time.process_time() - c0
     t0, c0 = time.perf_counter(), time.process_time()
     new_sub = analyse_points(sub, settings, classifier, cheap=True)

@@ -164,7 +164,9 @@ class ClassifierSettings:
     k_chaos: 0-1 statistic above which the series looks chaotic.  flat_broadband: spectral
     flatness above which the samples look broadband.  tangent_periods: mesh periods the tangent
     vector is carried (the last ones of the run).  separation: the points of a period-n cycle must
-    differ by more than separation * tol (return distances for m < n).
+    differ by more than separation * tol (return distances for m < n).  settle_max_n,
+    settle_max_periods: the slow-transient check applied after these rules by
+    :func:`geardyn.runs.points.analyse_points` (:mod:`geardyn.runs.settle`; 0: off).
     """
 
     max_n: int = 12
@@ -177,6 +179,8 @@ class ClassifierSettings:
     flat_broadband: float = 0.05
     tangent_periods: int = 400
     separation: float = 10.0
+    settle_max_n: int = 12
+    settle_max_periods: int = 4000
 
     @classmethod
     def from_mapping(cls, spec: dict | None) -> ClassifierSettings:
@@ -192,7 +196,9 @@ class Classification:
     k01: 0-1 statistic; flatness: spectral flatness of the stroboscopic X_VH.
     crosscheck: 1 when the 0-1 test and the spectrum both agree with the label, 0 when only one
     does, -1 when not applicable (periodic by the return test, diverged).
-    reason: short text.
+    reason: short text.  settled: the label is period-n because the run was found to approach a
+    stable period-n orbit (:mod:`geardyn.runs.settle`) after the rules called it quasi-periodic or
+    undetermined.
     """
 
     label: int
@@ -203,6 +209,7 @@ class Classification:
     flatness: float
     crosscheck: int
     reason: str
+    settled: bool = False
 
 
 def _tolerance(p: np.ndarray, cs: ClassifierSettings) -> float:

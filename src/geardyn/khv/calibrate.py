@@ -12,10 +12,12 @@ with partial credit for where the motion leaves P1 and where chaos starts along 
 0.593) and for the order of the regimes along x1 (longest common subsequence with the paper's
 P1 -> QP -> Pn -> chaos -> Pn -> chaos).  The partial credit never outweighs one claim.
 
-Labels are corrected before they are scored (:func:`relabel`): a point the classifier calls
-quasi-periodic or undetermined with an exponent that is not positive is tried by Newton shooting
-from its final state; a stable periodic orbit found there makes it period-n (a slowly decaying
-transient has an exponent of about -1e-3 per unit time, inside the classifier's zero band).
+Labels come from the one classification path, :func:`geardyn.runs.points.analyse_points`, with
+its slow-transient check (:mod:`geardyn.runs.settle`): a point the rules call quasi-periodic or
+undetermined with an exponent that is not positive is tried by Newton shooting from its final
+state; a stable periodic orbit that the run approaches makes it period-n (a slowly decaying
+transient has an exponent of about -1e-3 per unit time, inside the classifier's zero band).  The
+sweep cubes behind the figures and ``claims.md`` carry the same check, so all three agree.
 
 The optimiser is :func:`scipy.optimize.differential_evolution` (seeded, ``vectorized``, deferred
 updating); every evaluated candidate is appended to a cache file keyed by its vector, so a rerun
@@ -135,96 +137,25 @@ class Grids:
         return self.x1.size + len(self.case_x1) * (self.b.size + self.e.size)
 
 
-@dataclass(frozen=True)
-class Relabel:
-    """What :func:`relabel` did at one point: the label before and after, the shooting outcome."""
-
-    before: int
-    after: int
-    n: int = 0
-    spectral_radius: float = float("nan")
-    reason: str = ""
-
-
-def relabel(coeffs, result, label: int, lyapunov: float, settings: SimulationSettings,
-            classifier: classify.ClassifierSettings, max_n: int = 6, max_periods: int = 4000) -> Relabel:
-    """Correct a label before it is scored.
-
-    A point labelled quasi-periodic or undetermined whose exponent is not clearly positive
-    (lambda <= lam_tol, or not finite) may be a slow transient onto a periodic orbit: Newton
-    shooting (:func:`geardyn.solve.shooting.newton_shooting` on the n-period map, n = 1..max_n) is
-    started from the final state of the run; the first n that converges to an orbit with all Floquet
-    multipliers inside the unit circle, and that the run continued from its final state (a longer
-    transient, as long as the leading multiplier needs to shrink a distance 100-fold, at most
-    ``max_periods``) approaches 10-fold, makes the point period-n.  Nothing else is changed: a true
-    torus has no stable periodic orbit to converge to (its multipliers of the unstable cycle inside
-    it lie outside), and chaos (positive exponent) is not touched.
-    """
-    from geardyn.solve.shooting import khv_flow, newton_shooting
-
-    if label not in (QP, UNDET) or (np.isfinite(lyapunov) and lyapunov > classifier.lam_tol):
-        return Relabel(label, label)
-    if result is None or result.diverged or not np.all(np.isfinite(result.final_state)):
-        return Relabel(label, label, reason="no final state")
-    x0 = np.asarray(result.final_state, dtype=float)
-    one = khv_flow(coeffs, 1, settings)
-    for n in range(1, max_n + 1):
-        r = newton_shooting(khv_flow(coeffs, n, settings), x0, n, tol=1e-9, max_iter=15)
-        if not (r.converged and r.spectral_radius < 1.0):
-            continue
-        # the run must be approaching this orbit (not a coexisting one beside a torus): continue the run
-        # from its final state for as many periods as the leading multiplier needs to shrink a distance
-        # 100-fold (at most max_periods); the distance to the nearest cycle point must fall 10-fold
-        cycle = [r.state]
-        for _ in range(n - 1):
-            nxt, _ = one(cycle[-1], False)
-            if nxt is None:
-                break
-            cycle.append(nxt)
-        rho = min(r.spectral_radius, 1.0 - 1e-6)
-        k = int(min(max_periods, max(n, math.ceil(math.log(0.01) / math.log(rho)))))
-        k = n * math.ceil(k / n)
-        more = dataclasses.replace(settings, transient_periods=k - 1 if k > 1 else 0, recorded_periods=1)
-        scale = 1e-7 * max(1.0, float(np.max(np.abs(r.state))))
-        d0 = min(float(np.max(np.abs(x0 - c))) for c in cycle)
-        x, d1, done = x0, d0, 0
-        while done < max_periods and not (d1 <= 0.1 * d0 or d1 <= scale):
-            run = simulate(coeffs, more, x0=x)
-            if run.diverged:
-                d1 = float("inf")
-                break
-            x = run.final_state
-            done += k
-            d1 = min(float(np.max(np.abs(x - c))) for c in cycle)
-        if not (d1 <= 0.1 * d0 or d1 <= scale):
-            return Relabel(label, label, n, r.spectral_radius,
-                           f"stable period-{n} orbit found, but the run does not approach it "
-                           f"(distance {d0:.2g} -> {d1:.2g} in {done} periods)")
-        return Relabel(label, n, n, r.spectral_radius, f"stable period-{n} orbit by shooting "
-                       f"(|mu|max = {r.spectral_radius:.4f}), approached by the run")
-    return Relabel(label, label, reason="no stable orbit of period <= %d" % max_n)
-
-
 def label_point(design: KHVDesign, overrides: Mapping[str, float], settings: SimulationSettings,
                 classifier: classify.ClassifierSettings, x0: np.ndarray | None = None,
-                shoot: bool = True) -> tuple[int, float, float, Relabel | None, np.ndarray | None]:
-    """Label of one point: the classifier (:func:`geardyn.runs.points.analyse_point`, cheap path),
-    then :func:`relabel`.  Returns (label, lambda, sigma, relabel record, final state)."""
-    from geardyn.runs.points import analyse_point
+                shoot: bool = True) -> tuple[int, float, float, np.ndarray | None]:
+    """Label of one point by the one classification path (:func:`geardyn.runs.points.analyse_points`,
+    cheap path, point by point), with the slow-transient check (:mod:`geardyn.runs.settle`) unless
+    ``shoot`` is false.  Returns (label, lambda, sigma, final state)."""
+    from geardyn.runs.points import analyse_points
 
     coeffs = point.point_coefficients(design, overrides)
-    res, cl = analyse_point(coeffs, settings, classifier, x0=x0, cheap=True)
+    cs = classifier if shoot else dataclasses.replace(classifier, settle_max_n=0)
+    res, cl = analyse_points([coeffs], dataclasses.replace(settings, batch=False), cs, cheap=True, x0=[x0])[0]
     final = None if res.diverged else np.asarray(res.final_state, dtype=float).copy()
-    if not shoot:
-        return int(cl.label), float(cl.lyapunov), float(cl.lyapunov_sigma), None, final
-    rl = relabel(coeffs, res, int(cl.label), float(cl.lyapunov), settings, classifier)
-    return int(rl.after), float(cl.lyapunov), float(cl.lyapunov_sigma), rl, final
+    return int(cl.label), float(cl.lyapunov), float(cl.lyapunov_sigma), final
 
 
 def _track(design, overrides, parameter, values, settings, classifier, shoot=True) -> claims_mod.Track:
     labs, lam, sig = [], [], []
     for v in values:
-        lab, l_, s_, _, _ = label_point(design, {**overrides, parameter: float(v)}, settings, classifier,
+        lab, l_, s_, _ = label_point(design, {**overrides, parameter: float(v)}, settings, classifier,
                                         shoot=shoot)
         labs.append(lab)
         lam.append(l_)
@@ -535,7 +466,7 @@ def records_dataset(records: Sequence[dict], space: SearchSpace, grids: Grids) -
         "first_chaos": ("candidate", np.array([r["transitions"]["first_chaos"] for r in records]),
                         {"units": "1", "long_name": "first chaotic x1"}),
         "label": (("candidate", "x1"), np.array([r["fig07"] for r in records], np.int16).reshape(n, grids.x1.size),
-                  {"units": "1", "long_name": "motion label along x1 after relabelling (geardyn.classify codes)"}),
+                  {"units": "1", "long_name": "motion label along x1 after the slow-transient check (geardyn.classify codes)"}),
     }
     for k, u in enumerate(space.unknowns):
         data[u.name] = ("candidate", np.array([r["values"][u.name] for r in records]),
@@ -778,7 +709,7 @@ def search_table(records: Sequence[dict], space: SearchSpace, paper: ModuleType,
                      f"{r['transitions']['first_chaos']:.4g} | {r['order']} | {r['score']:.3f} |")
     if pairs:
         lines += ["", "Verification of the best at the design's own settings (512 steps, 500 + 100 periods, default "
-                  "classifier, relabelled); the chosen one has the highest verified score (ties: search score, then "
+                  "classifier with the slow-transient check); the chosen one has the highest verified score (ties: search score, then "
                   "distance from the bounds):", "",
                   "| " + " | ".join(names) + " | search score | verified score | verified agree | distance from bounds |",
                   "|" + "---|" * (len(names) + 4)]
@@ -910,17 +841,3 @@ def sensitivity(problem: Problem, evaluator: Evaluator, best_values: Mapping[str
     lines += ["", f"2-D map over {a.name} and {b.name} (the two with the largest score change): best score on the map "
               f"{float(mp['score'].max()):.3f}, at the centre {base['score']:.3f}."]
     return oat, mp, "\n".join(lines) + "\n"
-
-
-def relabel_track(design: KHVDesign, track: claims_mod.Track, parameter: str, fixed: Mapping[str, float],
-                  settings: SimulationSettings,
-                  classifier: classify.ClassifierSettings = classify.ClassifierSettings()) -> claims_mod.Track:
-    """A stored sweep's labels with :func:`relabel` applied: each point labelled quasi-periodic or
-    undetermined is run again (:func:`label_point`, from the static deflection) and checked for a stable
-    periodic orbit the run approaches.  For ``claims.md`` to score the same labels as the calibration
-    (``claims.evaluate(paper, relabel_track(...), ...)``)."""
-    labels = np.array(track.labels, copy=True)
-    for j, v in enumerate(track.values):
-        if int(labels[j]) in (QP, UNDET):
-            labels[j] = label_point(design, {**fixed, parameter: float(v)}, settings, classifier)[0]
-    return claims_mod.Track(track.values, labels, track.lyapunov, track.sigma)

@@ -45,6 +45,10 @@ def label_variables(dims: tuple[str, ...], shape: tuple[int, ...],
         "crosscheck": (dims, np.full(shape, -1, np.int8), {
             "long_name": "0-1 test and spectrum agree with the label",
             "flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "not_applicable one_agrees both_agree"}),
+        "settled": (dims, np.zeros(shape, np.int8), {
+            "long_name": "label decided by the slow-transient check (geardyn.runs.settle): the rules said "
+                         "quasi-periodic or undetermined, the run approaches a stable period-n orbit",
+            "flag_values": np.array([0, 1], np.int8), "flag_meanings": "by_the_rules settled_by_shooting"}),
     }
 
 
@@ -56,6 +60,7 @@ def store_label(ds: xr.Dataset, idx: tuple, lab: classify.Classification) -> Non
     ds["zero_one_k"].values[idx] = lab.k01
     ds["spectral_flatness"].values[idx] = lab.flatness
     ds["crosscheck"].values[idx] = lab.crosscheck
+    ds["settled"].values[idx] = int(lab.settled)
 
 
 def classifier_attrs(classifier: classify.ClassifierSettings) -> dict[str, Any]:

@@ -225,14 +225,41 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
     Without early stop and with ``periodic_exponent="tangent"`` the labels are those of
     :func:`analyse_point`, bit for bit (the same orbit arithmetic).  ``settings.batch = False``:
     :func:`analyse_point` point by point (the previous method; early_stop and periodic_exponent ignored).
+
+    Last, on either path, the slow-transient check (:mod:`geardyn.runs.settle`, ``classifier.settle_max_n``):
+    a point labelled quasi-periodic or undetermined with a non-positive exponent whose run is found to
+    approach a stable period-n orbit becomes period-n (``Classification.settled``).
     """
+    systems = list(systems)
+    x0s = [None] * len(systems) if x0 is None else list(x0)
+    if not settings.batch:
+        out = [analyse_point(c, settings, classifier, x0=x, cheap=cheap) for c, x in zip(systems, x0s, strict=True)]
+    else:
+        out = _analyse_batch(systems, x0s, settings, classifier, cheap)
+    return _settle_all(systems, out, settings, classifier)
+
+
+def _settle_all(systems, out: list, settings, classifier: classify.ClassifierSettings) -> list:
+    """The slow-transient check (:func:`geardyn.runs.settle.settle`) of every point that needs it."""
+    from geardyn.runs.settle import needs_check, settle, settled_classification
+
+    changed = 0
+    for i, (res, lab) in enumerate(out):
+        if needs_check(lab.label, lab.lyapunov, classifier):
+            s = settle(systems[i], res, lab.label, lab.lyapunov, settings, classifier)
+            out[i] = (res, settled_classification(lab, s, res.period))
+            changed += s.after != s.before
+    if changed:
+        log.info("%d of %d points: a slow transient onto a stable periodic orbit (settled by shooting)",
+                 changed, len(out))
+    return out
+
+
+def _analyse_batch(systems, x0s, settings, classifier: classify.ClassifierSettings, cheap: bool) -> list:
+    """The batch path of :func:`analyse_points` (before the slow-transient check)."""
     from geardyn.solve.simulate import simulate_batch
 
-    systems = list(systems)
     L = len(systems)
-    x0s = [None] * L if x0 is None else list(x0)
-    if not settings.batch:
-        return [analyse_point(c, settings, classifier, x0=x, cheap=cheap) for c, x in zip(systems, x0s, strict=True)]
     es = early_stop_of(settings, classifier)
     floquet = settings.periodic_exponent == "floquet"
     out: list = [None] * L
@@ -299,7 +326,7 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
              sum(1 for i, _ in todo_mono if i not in redone), len(redo), len(todo_tan))
     if redo:
         old = dataclasses.replace(settings, early_stop=False, periodic_exponent="tangent")
-        again = analyse_points([systems[i] for i in redo], old, classifier, cheap=cheap, x0=[x0s[i] for i in redo])
+        again = _analyse_batch([systems[i] for i in redo], [x0s[i] for i in redo], old, classifier, cheap)
         for i, pair in zip(redo, again, strict=True):
             out[i] = pair
     return out

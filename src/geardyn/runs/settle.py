@@ -1,0 +1,108 @@
+"""Slow transients: is a point the classifier calls quasi-periodic really on a torus?
+
+With the light shaft damping of the KHV designs the least-damped mode decays by about 0.98-0.99 per
+mesh period, so a run can still be converging onto a periodic orbit when its recorded periods
+start.  Its exponent is then about -1e-3 per unit time, inside the classifier's "zero" band
+(``lam_tol``), and the rules of :func:`geardyn.classify.classify_point` call it quasi-periodic or
+undetermined.  :func:`settle` decides such a point by shooting instead of by a longer guess:
+
+1. only a point labelled quasi-periodic or undetermined whose exponent is not clearly positive
+   (lambda <= lam_tol, or not finite) is tried; chaos and periodic labels are never touched;
+2. Newton shooting (:func:`geardyn.solve.shooting.newton_shooting`) on the n-period map, for
+   n = 1 .. ``settle_max_n``, starts from the final state of the run; the first n that converges to
+   an orbit whose Floquet multipliers all lie inside the unit circle is the candidate;
+3. the run itself is continued from its final state for as many periods as the leading multiplier
+   needs to shrink a distance 100-fold (at most ``settle_max_periods``), and its distance to the
+   nearest cycle point must fall 10-fold.  This rules out a stable orbit that coexists beside a
+   torus the run stays on.
+
+A true torus has no stable periodic orbit near it to converge to, so its label stays.  The check
+runs inside :func:`geardyn.runs.points.analyse_points`, so sweep cubes, maps, the claims table and
+the calibration all score the same labels.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from geardyn import classify
+from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.shooting import khv_flow, newton_shooting
+
+QP = classify.LABELS["quasi_periodic"]
+UNDET = classify.LABELS["undetermined"]
+
+
+@dataclass(frozen=True)
+class Settled:
+    """What :func:`settle` did at one point: the label before and after, the shooting outcome."""
+
+    before: int
+    after: int
+    n: int = 0
+    spectral_radius: float = float("nan")
+    reason: str = ""
+
+
+def needs_check(label: int, lyapunov: float, classifier: classify.ClassifierSettings) -> bool:
+    """Whether :func:`settle` tries the point: quasi-periodic or undetermined with an exponent that is
+    not clearly positive, and the check switched on (``settle_max_n > 0``)."""
+    return (classifier.settle_max_n > 0 and label in (QP, UNDET)
+            and not (np.isfinite(lyapunov) and lyapunov > classifier.lam_tol))
+
+
+def settle(system, result, label: int, lyapunov: float, settings: SimulationSettings,
+           classifier: classify.ClassifierSettings) -> Settled:
+    """The slow-transient check of one point (module docstring): its label after the check."""
+    if not needs_check(label, lyapunov, classifier):
+        return Settled(label, label)
+    if result is None or result.diverged or not np.all(np.isfinite(result.final_state)):
+        return Settled(label, label, reason="no final state")
+    x0 = np.asarray(result.final_state, dtype=float)
+    one = khv_flow(system, 1, settings)
+    max_periods = classifier.settle_max_periods
+    for n in range(1, classifier.settle_max_n + 1):
+        r = newton_shooting(khv_flow(system, n, settings), x0, n, tol=1e-9, max_iter=15)
+        if not (r.converged and r.spectral_radius < 1.0):
+            continue
+        cycle = [r.state]
+        for _ in range(n - 1):
+            nxt, _ = one(cycle[-1], False)
+            if nxt is None:
+                break
+            cycle.append(nxt)
+        rho = min(r.spectral_radius, 1.0 - 1e-6)
+        k = int(min(max(max_periods, n), max(n, math.ceil(math.log(0.01) / math.log(rho)))))
+        k = n * math.ceil(k / n)
+        more = dataclasses.replace(settings, transient_periods=k - 1 if k > 1 else 0, recorded_periods=1)
+        scale = 1e-7 * max(1.0, float(np.max(np.abs(r.state))))
+        d0 = min(float(np.max(np.abs(x0 - c))) for c in cycle)
+        x, d1, done = x0, d0, 0
+        while done < max_periods and not (d1 <= 0.1 * d0 or d1 <= scale):
+            run = simulate(system, more, x0=x)
+            if run.diverged:
+                d1 = float("inf")
+                break
+            x = run.final_state
+            done += k
+            d1 = min(float(np.max(np.abs(x - c))) for c in cycle)
+        if not (d1 <= 0.1 * d0 or d1 <= scale):
+            return Settled(label, label, n, r.spectral_radius,
+                           f"stable period-{n} orbit found, but the run does not approach it "
+                           f"(distance {d0:.2g} -> {d1:.2g} in {done} periods)")
+        return Settled(label, n, n, r.spectral_radius, f"slow transient: stable period-{n} orbit by shooting "
+                       f"(|mu|max = {r.spectral_radius:.4f}), approached by the run")
+    return Settled(label, label, reason=f"no stable orbit of period <= {classifier.settle_max_n}")
+
+
+def settled_classification(before: classify.Classification, s: Settled, period: float) -> classify.Classification:
+    """The classification of a point after :func:`settle`: unchanged, or period-n with the exponent of the
+    orbit's leading Floquet multiplier (lambda = log |mu|max / (n T), sigma 0) and ``settled=True``."""
+    if s.after == s.before:
+        return before
+    lam = math.log(s.spectral_radius) / (s.n * period)
+    return classify.Classification(s.n, s.n, lam, 0.0, before.k01, before.flatness, -1, s.reason, settled=True)
