@@ -240,18 +240,35 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
 
 
 def _settle_all(systems, out: list, settings, classifier: classify.ClassifierSettings) -> list:
-    """The slow-transient check (:func:`geardyn.runs.settle.settle`) of every point that needs it."""
+    """The slow-transient check (:func:`geardyn.runs.settle.settle`) of every point that needs it, in a
+    thread pool as wide as the numba thread count (the solver loop releases the GIL; each point's check
+    is independent of the others, so the results do not depend on the threads)."""
+    import numba
+
     from geardyn.runs.settle import needs_check, settle, settled_classification
 
+    todo = [i for i, (_, lab) in enumerate(out) if needs_check(lab.label, lab.lyapunov, classifier)]
+
+    def one(i):
+        res, lab = out[i]
+        s = settle(systems[i], res, lab.label, lab.lyapunov, settings, classifier)
+        return i, s, (res, settled_classification(lab, s, res.period))
+
+    workers = numba.get_num_threads()
+    if workers <= 1 or len(todo) < 2:
+        done = list(map(one, todo))
+    else:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(workers) as ex:
+            done = list(ex.map(one, todo))
     changed = 0
-    for i, (res, lab) in enumerate(out):
-        if needs_check(lab.label, lab.lyapunov, classifier):
-            s = settle(systems[i], res, lab.label, lab.lyapunov, settings, classifier)
-            out[i] = (res, settled_classification(lab, s, res.period))
-            changed += s.after != s.before
-    if changed:
-        log.info("%d of %d points: a slow transient onto a stable periodic orbit (settled by shooting)",
-                 changed, len(out))
+    for i, s, pair in done:
+        out[i] = pair
+        changed += s.after != s.before
+    if todo:
+        log.info("%d of %d points checked for a slow transient: %d settle on a stable periodic orbit", len(todo),
+                 len(out), changed)
     return out
 
 

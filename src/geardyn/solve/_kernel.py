@@ -268,7 +268,7 @@ def locate_switches(c, poly, y, ynew, W, Wnew, mt, ytmp, Wtmp, h, s0, seg, reg, 
     return rnew, n_events
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event, limits,
         stride, poinc, dense_t, dense_y, W, n_tan, renorm, growth, strobe, yfinal,
         es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep):
