@@ -14,10 +14,13 @@ undetermined.  :func:`settle` decides such a point by shooting instead of by a l
    whose return distance is falling over the run's recorded Poincare points are tried
    (:func:`return_distance_falls`): a run converging onto a period-n orbit shows it, a torus does
    not, and this spares the shooting on tori, where it costs most;
-3. the run itself is continued from its final state for as many periods as the leading multiplier
-   needs to shrink a distance 100-fold (at most ``settle_max_periods``), and its distance to the
-   nearest cycle point must fall 10-fold.  This rules out a stable orbit that coexists beside a
-   torus the run stays on.
+3. the run must approach that orbit.  First its recorded Poincare points are read
+   (:func:`approached_in_record`): if their distance to the nearest cycle point shrinks at least at
+   half the rate the leading multiplier predicts, and at least 2-fold over the record, the run is
+   approaching.  Otherwise the run is continued from its final state for as many periods as the
+   leading multiplier needs to shrink a distance 100-fold (at most ``settle_max_periods``), and its
+   distance to the nearest cycle point must fall 10-fold.  This rules out a stable orbit that
+   coexists beside a torus the run stays on.
 
 A true torus has no stable periodic orbit near it to converge to, so its label stays.  The check
 runs inside :func:`geardyn.runs.points.analyse_points`, so sweep cubes, maps, the claims table and
@@ -74,6 +77,20 @@ def return_distance_falls(poincare: np.ndarray, n: int, factor: float = 0.95) ->
     return bool(d[-q:].mean() < factor * d[:q].mean())
 
 
+def approached_in_record(poincare: np.ndarray, cycle: np.ndarray, rho: float, n: int) -> bool:
+    """Whether the recorded Poincare points approach the period-n ``cycle`` (n x 6) with leading
+    multiplier ``rho`` < 1: the least-squares slope of log(distance to the nearest cycle point) per
+    period is at most half of log(rho) / n, and the fitted distance falls at least 2-fold over the
+    record (at least 20 points)."""
+    p = np.asarray(poincare, dtype=float)
+    p = p[np.all(np.isfinite(p), axis=1)]
+    if p.shape[0] < 20 or not 0.0 < rho < 1.0:
+        return False
+    d = np.min(np.max(np.abs(p[:, None, :] - np.asarray(cycle)[None, :, :]), axis=2), axis=1)
+    slope = float(np.polyfit(np.arange(d.size), np.log(np.maximum(d, 1e-300)), 1)[0])
+    return slope <= 0.5 * math.log(rho) / n and math.exp(slope * (d.size - 1)) <= 0.5
+
+
 def settle(system, result, label: int, lyapunov: float, settings: SimulationSettings,
            classifier: classify.ClassifierSettings) -> Settled:
     """The slow-transient check of one point (module docstring): its label after the check."""
@@ -97,6 +114,9 @@ def settle(system, result, label: int, lyapunov: float, settings: SimulationSett
                 break
             cycle.append(nxt)
         rho = min(r.spectral_radius, 1.0 - 1e-6)
+        if approached_in_record(result.poincare, np.array(cycle), rho, n):
+            return Settled(label, n, n, r.spectral_radius, f"slow transient: stable period-{n} orbit by shooting "
+                           f"(|mu|max = {r.spectral_radius:.4f}), approached over the recorded periods")
         k = int(min(max(max_periods, n), max(n, math.ceil(math.log(0.01) / math.log(rho)))))
         k = n * math.ceil(k / n)
         more = dataclasses.replace(settings, transient_periods=k - 1 if k > 1 else 0, recorded_periods=1)
