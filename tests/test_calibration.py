@@ -176,3 +176,20 @@ def test_the_one_classification_path_settles_slow_transients(li2013):
     off = analyse_points(systems, FULL, classify.ClassifierSettings(settle_max_n=0))
     assert [lab.label for _, lab in off] == [qp, qp, qp]
     assert not any(lab.settled for _, lab in off)
+
+
+def test_return_distance_and_record_approach_tell_a_transient_from_a_torus():
+    """A period-2 cycle approached at rate 0.99 per period (the record shows it); a quasi-periodic
+    circle (rotation 0.1234 per period) does not fall for any n, and does not approach a point."""
+    k = np.arange(100)[:, None]
+    cyc = np.array([[1.0, 2, 0, 0, 0, 0], [-1.0, 0.5, 0, 0, 0, 0]])
+    transient = cyc[k[:, 0] % 2] + 0.3 * 0.99 ** k * np.array([[1.0, -0.5, 0.2, 0, 0, 0]]) * (-1) ** k
+    torus = np.hstack([np.cos(2 * np.pi * 0.1234 * k), np.sin(2 * np.pi * 0.1234 * k), np.zeros((100, 4))])
+    assert S.return_distance_falls(transient, 2) and S.return_distance_falls(transient, 4)
+    assert not any(S.return_distance_falls(torus, n) for n in range(1, 13))
+    assert S.approached_in_record(transient, cyc, 0.99 ** 2, 2)
+    # the fitted rate must be at least half the multiplier's: a cycle said to attract at 0.9 per period
+    # (log rate -0.105) is not what a run falling at 0.99 per period (-0.010) approaches
+    assert not S.approached_in_record(transient, cyc, 0.9 ** 2, 2)
+    assert not S.approached_in_record(torus, np.array([[1.0, 0, 0, 0, 0, 0]]), 0.99, 1)
+    assert not S.approached_in_record(transient[:10], cyc, 0.99 ** 2, 2)  # too short to tell
