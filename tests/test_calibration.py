@@ -193,3 +193,14 @@ def test_return_distance_and_record_approach_tell_a_transient_from_a_torus():
     assert not S.approached_in_record(transient, cyc, 0.9 ** 2, 2)
     assert not S.approached_in_record(torus, np.array([[1.0, 0, 0, 0, 0, 0]]), 0.99, 1)
     assert not S.approached_in_record(transient[:10], cyc, 0.99 ** 2, 2)  # too short to tell
+
+
+def test_an_orbit_found_by_n_period_shooting_gets_its_least_period():
+    """A period-2 orbit is also fixed by the 8-period map: the label is its least period (seen at
+    li2013_calibrated, x1 = 0.5, e = 3.88, where 8-period shooting found the P2 orbit)."""
+    a, b, c = np.eye(6)[0], np.eye(6)[1], np.eye(6)[2]
+    assert S.minimal_period([a, b] * 4, a) == 2
+    assert S.minimal_period([a] * 4, a) == 1
+    assert S.minimal_period([a, b, c], a) == 3
+    assert S.minimal_period([a], a) == 1
+    assert S.minimal_period([a, b, a + 1e-3, b], a) == 4  # not closed after 2 within 1e-6

@@ -45,7 +45,8 @@ UNDET = classify.LABELS["undetermined"]
 
 @dataclass(frozen=True)
 class Settled:
-    """What :func:`settle` did at one point: the label before and after, the shooting outcome."""
+    """What :func:`settle` did at one point: the label before and after (the orbit's least period), the
+    mesh periods n of the shooting map that found it, and max |mu| of that n-period map."""
 
     before: int
     after: int
@@ -59,6 +60,16 @@ def needs_check(label: int, lyapunov: float, classifier: classify.ClassifierSett
     not clearly positive, and the check switched on (``settle_max_n > 0``)."""
     return (classifier.settle_max_n > 0 and label in (QP, UNDET)
             and not (np.isfinite(lyapunov) and lyapunov > classifier.lam_tol))
+
+
+def minimal_period(cycle: list[np.ndarray], state: np.ndarray, rtol: float = 1e-6) -> int:
+    """The least m with cycle[m] = cycle[0] (within rtol x max(1, max |x|)) among the points of a
+    closed n-period orbit (cycle[0] = ``state``): n when no shorter period repeats it."""
+    tol = rtol * max(1.0, float(np.max(np.abs(state))))
+    for m in range(1, len(cycle)):
+        if len(cycle) % m == 0 and float(np.max(np.abs(cycle[m] - cycle[0]))) <= tol:
+            return m
+    return len(cycle)
 
 
 def return_distance_falls(poincare: np.ndarray, n: int, factor: float = 0.95) -> bool:
@@ -113,10 +124,15 @@ def settle(system, result, label: int, lyapunov: float, settings: SimulationSett
             if nxt is None:
                 break
             cycle.append(nxt)
+        m = minimal_period(cycle, r.state)
+        if m < n:
+            # a shorter orbit, also fixed by the n-period map (its multipliers are those of the m-map to the
+            # power n/m): the m-period shooting did not reach it from here, so it is judged as found
+            cycle = cycle[:m]
         rho = min(r.spectral_radius, 1.0 - 1e-6)
         if approached_in_record(result.poincare, np.array(cycle), rho, n):
-            return Settled(label, n, n, r.spectral_radius, f"slow transient: stable period-{n} orbit by shooting "
-                           f"(|mu|max = {r.spectral_radius:.4f}), approached over the recorded periods")
+            return Settled(label, m, n, r.spectral_radius, f"slow transient: stable period-{m} orbit by shooting "
+                           f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached over the recorded periods")
         k = int(min(max(max_periods, n), max(n, math.ceil(math.log(0.01) / math.log(rho)))))
         k = n * math.ceil(k / n)
         more = dataclasses.replace(settings, transient_periods=k - 1 if k > 1 else 0, recorded_periods=1)
@@ -135,8 +151,8 @@ def settle(system, result, label: int, lyapunov: float, settings: SimulationSett
             return Settled(label, label, n, r.spectral_radius,
                            f"stable period-{n} orbit found, but the run does not approach it "
                            f"(distance {d0:.2g} -> {d1:.2g} in {done} periods)")
-        return Settled(label, n, n, r.spectral_radius, f"slow transient: stable period-{n} orbit by shooting "
-                       f"(|mu|max = {r.spectral_radius:.4f}), approached by the run")
+        return Settled(label, m, n, r.spectral_radius, f"slow transient: stable period-{m} orbit by shooting "
+                       f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached by the run")
     return Settled(label, label, reason=f"no stable orbit of period <= {classifier.settle_max_n} "
                                         "(tried where the return distance falls)")
 
@@ -147,4 +163,5 @@ def settled_classification(before: classify.Classification, s: Settled, period: 
     if s.after == s.before:
         return before
     lam = math.log(s.spectral_radius) / (s.n * period)
-    return classify.Classification(s.n, s.n, lam, 0.0, before.k01, before.flatness, -1, s.reason, settled=True)
+    return classify.Classification(s.after, s.after, lam, 0.0, before.k01, before.flatness, -1, s.reason,
+                                   settled=True)
