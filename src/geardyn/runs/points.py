@@ -21,6 +21,8 @@ from geardyn.runs.cube import STATE_NAMES, STATES
 
 log = logging.getLogger("geardyn.points")
 
+UNDETERMINED = classify.LABELS["undetermined"]
+
 
 def amplitude_spectrum(x: np.ndarray, samples_per_period: int) -> tuple[np.ndarray, np.ndarray]:
     """One-sided amplitude spectrum of a uniformly sampled signal (mean removed, Hann window).
@@ -228,7 +230,9 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
 
     Last, on either path, the slow-transient check (:mod:`geardyn.runs.settle`, ``classifier.settle_max_n``):
     a point labelled quasi-periodic or undetermined with a non-positive exponent whose run is found to
-    approach a stable period-n orbit becomes period-n (``Classification.settled``).
+    approach a stable period-n orbit becomes period-n (``Classification.settled``).  On the cheap batch
+    path the check comes first for a point that is not periodic on its record: a point that settles
+    there skips the tangent continuation and the 0-1 test (its exponent is the Floquet one).
     """
     systems = list(systems)
     x0s = [None] * len(systems) if x0 is None else list(x0)
@@ -239,32 +243,36 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
     return _settle_all(systems, out, settings, classifier)
 
 
-def _settle_all(systems, out: list, settings, classifier: classify.ClassifierSettings) -> list:
-    """The slow-transient check (:func:`geardyn.runs.settle.settle`) of every point that needs it, in a
-    thread pool as wide as the numba thread count (the solver loop releases the GIL; each point's check
-    is independent of the others, so the results do not depend on the threads)."""
+def _settle_many(systems, items, settings, classifier: classify.ClassifierSettings) -> list:
+    """:func:`geardyn.runs.settle.settle` of every (index, result, classification) in ``items``, in a thread
+    pool as wide as the numba thread count (the solver loop releases the GIL; each point's check is
+    independent of the others, so the results do not depend on the threads): a list of (index, Settled)."""
     import numba
 
-    from geardyn.runs.settle import needs_check, settle, settled_classification
+    from geardyn.runs.settle import settle
 
-    todo = [i for i, (_, lab) in enumerate(out) if needs_check(lab.label, lab.lyapunov, classifier)]
-
-    def one(i):
-        res, lab = out[i]
-        s = settle(systems[i], res, lab.label, lab.lyapunov, settings, classifier)
-        return i, s, (res, settled_classification(lab, s, res.period))
+    def one(item):
+        i, res, lab = item
+        return i, settle(systems[i], res, lab.label, lab.lyapunov, settings, classifier)
 
     workers = numba.get_num_threads()
-    if workers <= 1 or len(todo) < 2:
-        done = list(map(one, todo))
-    else:
-        from concurrent.futures import ThreadPoolExecutor
+    if workers <= 1 or len(items) < 2:
+        return list(map(one, items))
+    from concurrent.futures import ThreadPoolExecutor
 
-        with ThreadPoolExecutor(workers) as ex:
-            done = list(ex.map(one, todo))
+    with ThreadPoolExecutor(workers) as ex:
+        return list(ex.map(one, items))
+
+
+def _settle_all(systems, out: list, settings, classifier: classify.ClassifierSettings) -> list:
+    """The slow-transient check (:mod:`geardyn.runs.settle`) of every point of ``out`` that needs it."""
+    from geardyn.runs.settle import needs_check, settled_classification
+
+    todo = [(i, res, lab) for i, (res, lab) in enumerate(out) if needs_check(lab.label, lab.lyapunov, classifier)]
     changed = 0
-    for i, s, pair in done:
-        out[i] = pair
+    for i, s in _settle_many(systems, todo, settings, classifier):
+        res, lab = out[i]
+        out[i] = (res, settled_classification(lab, s, res.period))
         changed += s.after != s.before
     if todo:
         log.info("%d of %d points checked for a slow transient: %d settle on a stable periodic orbit", len(todo),
@@ -328,6 +336,18 @@ def _analyse_batch(systems, x0s, settings, classifier: classify.ClassifierSettin
                 redo.append(i)    # an unstable (or neutral) cycle the orbit only lingered near
                 continue
             out[i] = (res, lab)
+    if todo_tan and classifier.settle_max_n > 0:
+        # cheap path: a point not periodic on its record is first checked for a slow transient (shooting,
+        # approach); only the points that do not settle continue with the tangent vector
+        from geardyn.runs.settle import settled_classification
+
+        undecided = classify.Classification(UNDETERMINED, 0, float("nan"), float("nan"), float("nan"), float("nan"),
+                                            -1, "not periodic on the record")
+        early = {i: s for i, s in _settle_many(systems, [(i, res1[i], undecided) for i in todo_tan], settings,
+                                               classifier) if s.after != s.before}
+        for i, s in early.items():
+            out[i] = (res1[i], settled_classification(undecided, s, res1[i].period))
+        todo_tan = [i for i in todo_tan if i not in early]
     if todo_tan:
         more = dataclasses.replace(settings, transient_periods=0,
                                    recorded_periods=max(settings.recorded_periods, classifier.tangent_periods))
