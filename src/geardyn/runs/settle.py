@@ -17,9 +17,11 @@ undetermined.  :func:`settle` decides such a point by shooting instead of by a l
 3. the run must approach that orbit.  First its recorded Poincare points are read
    (:func:`approached_in_record`): if their distance to the nearest cycle point shrinks at least at
    half the rate the leading multiplier predicts, and at least 2-fold over the record, the run is
-   approaching.  Otherwise the run is continued from its final state for as many periods as the
-   leading multiplier needs to shrink a distance 100-fold (at most ``settle_max_periods``), and its
-   distance to the nearest cycle point must fall 10-fold.  This rules out a stable orbit that
+   approaching.  If the record is too short to tell, the run is continued from its final state for
+   as many periods as the multiplier needs to shrink a distance 4-fold, and that new record is read
+   the same way.  Last, the run is continued for as many periods as the leading multiplier needs to
+   shrink a distance 100-fold (at most ``settle_max_periods`` in all), and its distance to the
+   nearest cycle point must fall 10-fold.  This rules out a stable orbit that
    coexists beside a torus the run stays on.
 
 A true torus has no stable periodic orbit near it to converge to, so its label stays.  The check
@@ -133,12 +135,21 @@ def settle(system, result, label: int, lyapunov: float, settings: SimulationSett
         if approached_in_record(result.poincare, np.array(cycle), rho, n):
             return Settled(label, m, n, r.spectral_radius, f"slow transient: stable period-{m} orbit by shooting "
                            f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached over the recorded periods")
+        # a continued record as long as the multiplier needs to shrink a distance 4-fold, read the same way
+        k4 = n * math.ceil(min(max_periods, max(20, math.ceil(math.log(0.25) / math.log(rho)))) / n)
+        ext = simulate(system, dataclasses.replace(settings, transient_periods=0, recorded_periods=k4), x0=x0)
+        if not ext.diverged and approached_in_record(ext.poincare, np.array(cycle), rho, n):
+            return Settled(label, m, n, r.spectral_radius, f"slow transient: stable period-{m} orbit by shooting "
+                           f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached over {k4} more periods")
         k = int(min(max(max_periods, n), max(n, math.ceil(math.log(0.01) / math.log(rho)))))
         k = n * math.ceil(k / n)
         more = dataclasses.replace(settings, transient_periods=k - 1 if k > 1 else 0, recorded_periods=1)
         scale = 1e-7 * max(1.0, float(np.max(np.abs(r.state))))
         d0 = min(float(np.max(np.abs(x0 - c))) for c in cycle)
         x, d1, done = x0, d0, 0
+        if not ext.diverged:
+            x, done = ext.final_state, k4
+            d1 = min(float(np.max(np.abs(x - c))) for c in cycle)
         while done < max_periods and not (d1 <= 0.1 * d0 or d1 <= scale):
             run = simulate(system, more, x0=x)
             if run.diverged:
