@@ -204,3 +204,17 @@ def test_an_orbit_found_by_n_period_shooting_gets_its_least_period():
     assert S.minimal_period([a, b, c], a) == 3
     assert S.minimal_period([a], a) == 1
     assert S.minimal_period([a, b, a + 1e-3, b], a) == 4  # not closed after 2 within 1e-6
+
+
+def test_point_figures_carry_the_sweeps_label(li2013):
+    """Figs. 8, 10, 12 label their points as the sweeps do (a Fig. 8 caption once said "not periodic" at a
+    point the Fig. 7 colours and claims.md called P1)."""
+    from geardyn.plots import captions
+    from geardyn.runs.points import dense_points
+
+    ds = dense_points(li2013, {"x1": 0.761, "e": 5.0, "w": 0.7}, [{"b": 0.83}, {"b": 2.0}], FULL)
+    assert ds["label"].values.tolist() == [1, classify.LABELS["quasi_periodic"]]
+    assert ds["settled"].values.tolist() == [1, 0]
+    text = captions.points("fig10_points_b", ds)
+    assert "Ours, b=0.83: P1 (a slow transient onto it: settled by shooting)" in text
+    assert "Ours, b=2: quasi-periodic" in text

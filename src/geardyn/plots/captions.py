@@ -16,7 +16,9 @@ _METHOD = (
     "Model: the corrected KHV equations of docs/model.md with the parameters of the design file. Motion labels "
     "(geardyn.classify.classify_point): period-n (n <= 12) from the Poincare return distance; otherwise "
     "quasi-periodic or chaotic from the largest Lyapunov exponent, cross-checked by the 0-1 test and the "
-    "spectral flatness of the stroboscopic samples."
+    "spectral flatness of the stroboscopic samples; a point these rules call quasi-periodic or undetermined is "
+    "period-n when Newton shooting finds a stable period-n orbit that its run approaches (a slow transient, "
+    "geardyn.runs.settle)."
 )
 _PAPER_ASSUMPTIONS = (
     "Assumptions where the paper is silent (see the design file and docs/model.md): shaft stiffnesses, planet "
@@ -68,7 +70,11 @@ def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
         d = ds.sel(case=case)
         pts = d[[f"poincare_{s}" for s in STATES]].to_array().values.T
         pts = pts[~np.isnan(pts).any(axis=1)]
-        if int(d["diverged"]) == 1:
+        how = ""
+        if "label" in d:  # the sweeps' label of this point (slow-transient check included)
+            n = int(d["label"])
+            how = " (a slow transient onto it: settled by shooting)" if int(d["settled"]) else ""
+        elif int(d["diverged"]) == 1:
             n = classify.LABELS["diverged"]
         elif pts.shape[0] < 3:
             n = classify.LABELS["undetermined"]
@@ -76,7 +82,7 @@ def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
             n = classify.strict_period(pts) or classify.LABELS["not_periodic"]
         peaks = spectral_peaks(d["frequency"].values, d["amplitude"].values)
         peaks = (", peaks at " + ", ".join(f"{v:.3g}" for v in peaks) + " x f_mesh") if peaks else ""
-        lines.append(f"Ours, {case}: {classify.label_name(n)}{peaks}.")
+        lines.append(f"Ours, {case}: {classify.label_name(n)}{how}{peaks}.")
     lines += _tail(name, paper)
     return "\n".join(lines)
 

@@ -77,8 +77,13 @@ def dense_point(design: KHVDesign, overrides: Mapping[str, float], settings: Sim
 
 
 def dense_points(design: KHVDesign, fixed: Mapping[str, float], cases: list[Mapping[str, float]],
-                 settings: SimulationSettings, samples_per_period: int = 64) -> xr.Dataset:
-    """:func:`dense_point` for each case, concatenated along ``case`` (labels like ``x1=0.5``)."""
+                 settings: SimulationSettings, samples_per_period: int = 64,
+                 classifier: classify.ClassifierSettings = classify.ClassifierSettings()) -> xr.Dataset:
+    """:func:`dense_point` for each case, concatenated along ``case`` (labels like ``x1=0.5``), with each
+    case's motion label from the one classification path (:func:`analyse_points`, the sweeps' labels:
+    variables ``label``, ``period``, ``lyapunov``, ``settled``)."""
+    labels = analyse_points([point.point_coefficients(design, {**fixed, **case}) for case in cases], settings,
+                            classifier)
     parts = []
     for case in cases:
         ds = dense_point(design, {**fixed, **case}, settings, samples_per_period)
@@ -93,6 +98,16 @@ def dense_points(design: KHVDesign, fixed: Mapping[str, float], cases: list[Mapp
                     combine_attrs="override")
     out.attrs = {}
     out["case"].attrs["long_name"] = "operating point (overrides)"
+    out["label"] = ("case", np.array([lab.label for _, lab in labels], np.int16), {
+        "long_name": "motion label (the sweeps' classification, slow-transient check included)",
+        **classify.flag_attrs(classifier.max_n)})
+    out["period"] = ("case", np.array([lab.period for _, lab in labels], np.int16),
+                     {"units": "1", "long_name": "period n in mesh periods (0: not periodic)"})
+    out["lyapunov"] = ("case", np.array([lab.lyapunov for _, lab in labels]),
+                       {"units": "1", "long_name": "largest Lyapunov exponent per unit dimensionless time tau"})
+    out["settled"] = ("case", np.array([int(lab.settled) for _, lab in labels], np.int8), {
+        "long_name": "label decided by the slow-transient check (geardyn.runs.settle)",
+        "flag_values": np.array([0, 1], np.int8), "flag_meanings": "by_the_rules settled_by_shooting"})
     out.attrs.update({"integrator": settings.integrator, "steps_per_period": settings.steps_per_period,
                       "transient_periods": settings.transient_periods,
                       "recorded_periods": settings.recorded_periods,
