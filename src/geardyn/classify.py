@@ -22,6 +22,9 @@ from geardyn.config import settings_from
 
 #: Label codes stored in cubes (``flag_values``/``flag_meanings``); n >= 1 is period-n.
 #: ``not_periodic`` is what the Poincaré test alone says (QP or chaos, unresolved).
+#: values of ``Classification.settled`` (cube variable ``settled``)
+SETTLED, POSSIBLE_TRANSIENT = 1, 2
+
 LABELS = {"chaotic": -4, "quasi_periodic": -3, "diverged": -2, "undetermined": -1, "not_periodic": 0}
 
 
@@ -196,9 +199,10 @@ class Classification:
     k01: 0-1 statistic; flatness: spectral flatness of the stroboscopic X_VH.
     crosscheck: 1 when the 0-1 test and the spectrum both agree with the label, 0 when only one
     does, -1 when not applicable (periodic by the return test, diverged).
-    reason: short text.  settled: the label is period-n because the run was found to approach a
-    stable period-n orbit (:mod:`geardyn.runs.settle`) after the rules called it quasi-periodic or
-    undetermined.
+    reason: short text.  settled: 0 the rules decided; :data:`SETTLED` the label is period-n because
+    the run was found to approach a stable period-n orbit (:mod:`geardyn.runs.settle`) after the rules
+    called it quasi-periodic or undetermined; :data:`POSSIBLE_TRANSIENT` a stable orbit was found whose
+    multiplier is too close to 1 to see the run approach it, so the label is undetermined.
     """
 
     label: int
@@ -209,7 +213,7 @@ class Classification:
     flatness: float
     crosscheck: int
     reason: str
-    settled: bool = False
+    settled: int = 0
 
 
 def _tolerance(p: np.ndarray, cs: ClassifierSettings) -> float:

@@ -73,7 +73,9 @@ def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
         how = ""
         if "label" in d:  # the sweeps' label of this point (slow-transient check included)
             n = int(d["label"])
-            how = " (a slow transient onto it: settled by shooting)" if int(d["settled"]) else ""
+            how = {classify.SETTLED: " (a slow transient onto it: settled by shooting)",
+                   classify.POSSIBLE_TRANSIENT: " (possibly a slow transient onto a stable orbit whose multiplier "
+                                                "is too close to 1 to tell)"}.get(int(d["settled"]), "")
         elif int(d["diverged"]) == 1:
             n = classify.LABELS["diverged"]
         elif pts.shape[0] < 3:

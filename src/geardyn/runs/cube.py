@@ -25,6 +25,15 @@ STATE_NAMES = {
     "v_vh": "dimensionless velocity dX_VH/dtau / b_c",
     "v_vl": "dimensionless velocity dX_VL/dtau / b_c",
 }
+#: CF attributes of the per-point ``settled`` flag (geardyn.runs.settle)
+SETTLED_ATTRS = {
+    "long_name": "label decided by the slow-transient check (geardyn.runs.settle): the rules said quasi-periodic "
+                 "or undetermined; 1: the run approaches a stable period-n orbit; 2: a stable orbit exists whose "
+                 "multiplier is too close to 1 to see the run approach it (label undetermined)",
+    "flag_values": np.array([0, 1, 2], np.int8),
+    "flag_meanings": "by_the_rules settled_by_shooting possible_slow_transient"}
+
+
 def label_variables(dims: tuple[str, ...], shape: tuple[int, ...],
                     classifier: classify.ClassifierSettings) -> dict[str, Any]:
     """Empty per-point classification variables (see :func:`geardyn.classify.classify_point`)."""
@@ -45,10 +54,7 @@ def label_variables(dims: tuple[str, ...], shape: tuple[int, ...],
         "crosscheck": (dims, np.full(shape, -1, np.int8), {
             "long_name": "0-1 test and spectrum agree with the label",
             "flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "not_applicable one_agrees both_agree"}),
-        "settled": (dims, np.zeros(shape, np.int8), {
-            "long_name": "label decided by the slow-transient check (geardyn.runs.settle): the rules said "
-                         "quasi-periodic or undetermined, the run approaches a stable period-n orbit",
-            "flag_values": np.array([0, 1], np.int8), "flag_meanings": "by_the_rules settled_by_shooting"}),
+        "settled": (dims, np.zeros(shape, np.int8), SETTLED_ATTRS),
     }
 
 

@@ -17,7 +17,7 @@ from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.solve import SimulationSettings, simulate
 from geardyn import classify
-from geardyn.runs.cube import STATE_NAMES, STATES
+from geardyn.runs.cube import SETTLED_ATTRS, STATE_NAMES, STATES
 
 log = logging.getLogger("geardyn.points")
 
@@ -105,9 +105,7 @@ def dense_points(design: KHVDesign, fixed: Mapping[str, float], cases: list[Mapp
                      {"units": "1", "long_name": "period n in mesh periods (0: not periodic)"})
     out["lyapunov"] = ("case", np.array([lab.lyapunov for _, lab in labels]),
                        {"units": "1", "long_name": "largest Lyapunov exponent per unit dimensionless time tau"})
-    out["settled"] = ("case", np.array([int(lab.settled) for _, lab in labels], np.int8), {
-        "long_name": "label decided by the slow-transient check (geardyn.runs.settle)",
-        "flag_values": np.array([0, 1], np.int8), "flag_meanings": "by_the_rules settled_by_shooting"})
+    out["settled"] = ("case", np.array([int(lab.settled) for _, lab in labels], np.int8), SETTLED_ATTRS)
     out.attrs.update({"integrator": settings.integrator, "steps_per_period": settings.steps_per_period,
                       "transient_periods": settings.transient_periods,
                       "recorded_periods": settings.recorded_periods,
@@ -359,7 +357,7 @@ def _analyse_batch(systems, x0s, settings, classifier: classify.ClassifierSettin
         undecided = classify.Classification(UNDETERMINED, 0, float("nan"), float("nan"), float("nan"), float("nan"),
                                             -1, "not periodic on the record")
         early = {i: s for i, s in _settle_many(systems, [(i, res1[i], undecided) for i in todo_tan], settings,
-                                               classifier) if s.after != s.before}
+                                               classifier) if s.after != s.before and not s.possible}
         for i, s in early.items():
             out[i] = (res1[i], settled_classification(undecided, s, res1[i].period))
         todo_tan = [i for i in todo_tan if i not in early]

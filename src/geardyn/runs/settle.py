@@ -10,11 +10,12 @@ undetermined.  :func:`settle` decides such a point by shooting instead of by a l
    (lambda <= lam_tol, or not finite) is tried; chaos and periodic labels are never touched;
 2. Newton shooting (:func:`geardyn.solve.shooting.newton_shooting`) on the n-period map, for
    n = 1 .. ``settle_max_n``, starts from the final state of the run; the first n that converges to
-   an orbit whose Floquet multipliers all lie inside the unit circle is the candidate.  Only the n
-   whose return distance is falling over the run's recorded Poincare points are tried
-   (:func:`return_distance_falls`): a run converging onto a period-n orbit shows it, a torus does
-   not, and this spares the shooting on tori, where it costs most;
-3. the run must approach that orbit.  First its recorded Poincare points are read
+   an orbit whose Floquet multipliers all lie inside the unit circle is the candidate.  n = 1 is
+   always tried; a larger n only when its return distance is falling over the run's recorded
+   Poincare points (:func:`return_distance_falls`): a run converging onto a period-n orbit shows it,
+   a torus does not, and this spares the shooting on tori, where it costs most;
+3. the run must approach that orbit (else, when the multiplier is so close to 1 that the horizon
+   could not show it, the point is ``undetermined``: a possible slow transient, flag 2).  First its recorded Poincare points are read
    (:func:`approached_in_record`): if their distance to the nearest cycle point shrinks at least at
    half the rate the leading multiplier predicts, and at least 2-fold over the record, the run is
    approaching.  If the record is too short to tell, the run is continued from its final state for
@@ -48,13 +49,16 @@ UNDET = classify.LABELS["undetermined"]
 @dataclass(frozen=True)
 class Settled:
     """What :func:`settle` did at one point: the label before and after (the orbit's least period), the
-    mesh periods n of the shooting map that found it, and max |mu| of that n-period map."""
+    mesh periods n of the shooting map that found it, and max |mu| of that n-period map.  ``possible``:
+    a stable orbit was found, but its multiplier is so close to 1 that the run could not be seen to
+    approach it within ``settle_max_periods``; the label is then ``undetermined``, not quasi-periodic."""
 
     before: int
     after: int
     n: int = 0
     spectral_radius: float = float("nan")
     reason: str = ""
+    possible: bool = False
 
 
 def needs_check(label: int, lyapunov: float, classifier: classify.ClassifierSettings) -> bool:
@@ -115,8 +119,8 @@ def settle(system, result, label: int, lyapunov: float, settings: SimulationSett
     one = khv_flow(system, 1, settings)
     max_periods = classifier.settle_max_periods
     for n in range(1, classifier.settle_max_n + 1):
-        if not return_distance_falls(result.poincare, n):
-            continue
+        if n > 1 and not return_distance_falls(result.poincare, n):
+            continue  # period 1 is always tried: it is cheap, and the slowest transients are onto P1
         r = newton_shooting(khv_flow(system, n, settings), x0, n, tol=1e-9, max_iter=15)
         if not (r.converged and r.spectral_radius < 1.0):
             continue
@@ -159,6 +163,13 @@ def settle(system, result, label: int, lyapunov: float, settings: SimulationSett
             done += k
             d1 = min(float(np.max(np.abs(x - c))) for c in cycle)
         if not (d1 <= 0.1 * d0 or d1 <= scale):
+            if rho ** (done / n) > 0.1:
+                # the multiplier is so close to 1 that the horizon could not show a 10-fold fall: the run may
+                # be a transient onto this orbit; say so instead of calling it quasi-periodic
+                return Settled(label, UNDET, n, r.spectral_radius,
+                               f"possible slow transient: stable period-{m} orbit (|mu|max = {r.spectral_radius:.5f} "
+                               f"over {n} periods) too slow to confirm in {done} periods "
+                               f"(distance {d0:.2g} -> {d1:.2g})", possible=True)
             return Settled(label, label, n, r.spectral_radius,
                            f"stable period-{n} orbit found, but the run does not approach it "
                            f"(distance {d0:.2g} -> {d1:.2g} in {done} periods)")
@@ -171,8 +182,11 @@ def settle(system, result, label: int, lyapunov: float, settings: SimulationSett
 def settled_classification(before: classify.Classification, s: Settled, period: float) -> classify.Classification:
     """The classification of a point after :func:`settle`: unchanged, or period-n with the exponent of the
     orbit's leading Floquet multiplier (lambda = log |mu|max / (n T), sigma 0) and ``settled=True``."""
+    if s.possible:
+        return classify.Classification(UNDET, 0, before.lyapunov, before.lyapunov_sigma, before.k01, before.flatness,
+                                       before.crosscheck, s.reason, settled=classify.POSSIBLE_TRANSIENT)
     if s.after == s.before:
         return before
     lam = math.log(s.spectral_radius) / (s.n * period)
     return classify.Classification(s.after, s.after, lam, 0.0, before.k01, before.flatness, -1, s.reason,
-                                   settled=True)
+                                   settled=classify.SETTLED)
