@@ -222,11 +222,11 @@ def test_point_figures_carry_the_sweeps_label(li2013):
 
 def test_labels_near_the_neimark_sacker_point_agree_with_continuation():
     """li2013_calibrated along x1 (b = 2, e = 5): continuation puts the Neimark-Sacker point of the P1
-    branch at x1 = 0.5752 (docs/orbits.md). Below it the P1 orbit is stable but its multiplier nears 1,
-    so the runs are slow transients: P1 by the check at 0.570, a possible slow transient (undetermined,
-    flag 2, |mu| = 0.99996) at 0.5745, a torus (QP) past it at 0.58."""
+    branch at x1 = 0.5420 (the pipeline's fig07 bifurcations table). Below it the P1 orbit is stable but
+    its multiplier nears 1, so the runs are slow transients: P1 by the check at 0.538 (|mu| 0.9998), a
+    possible slow transient (undetermined, flag 2, |mu| 0.99995) at 0.541, a torus (QP) past it at 0.545."""
     d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
-    xs = (0.570, 0.5745, 0.58)
+    xs = (0.538, 0.541, 0.545)
     out = analyse_points([point.point_coefficients(d, {"x1": x, "b": 2.0, "e": 5.0}) for x in xs],
                          point.integration_settings(d), classify.ClassifierSettings())
     assert [lab.label for _, lab in out] == [1, classify.LABELS["undetermined"], classify.LABELS["quasi_periodic"]]
