@@ -351,7 +351,8 @@ def _analyse_batch(systems, x0s, settings, classifier: classify.ClassifierSettin
             out[i] = (res, lab)
     if todo_tan and classifier.settle_max_n > 0:
         # cheap path: a point not periodic on its record is first checked for a slow transient (shooting,
-        # approach); only the points that do not settle continue with the tangent vector
+        # approach); only the points that do not settle continue with the tangent vector.  Those may be
+        # checked once more after the rules (_settle_all): from a state 200 periods later, on a longer record
         from geardyn.runs.settle import settled_classification
 
         undecided = classify.Classification(UNDETERMINED, 0, float("nan"), float("nan"), float("nan"), float("nan"),

@@ -94,6 +94,11 @@ def return_distance_falls(poincare: np.ndarray, n: int, factor: float = 0.95) ->
     return bool(d[-q:].mean() < factor * d[:q].mean())
 
 
+def _distance(x: np.ndarray, cycle: np.ndarray) -> np.ndarray:
+    """Max-norm distance of each state in ``x`` (k x 6, or one state) to the nearest point of ``cycle`` (n x 6)."""
+    return np.min(np.max(np.abs(np.atleast_2d(x)[:, None, :] - cycle[None, :, :]), axis=2), axis=1)
+
+
 def approached_in_record(poincare: np.ndarray, cycle: np.ndarray, rho: float, n: int) -> bool:
     """Whether the recorded Poincare points approach the period-n ``cycle`` (n x 6) with leading
     multiplier ``rho`` < 1: the least-squares slope of log(distance to the nearest cycle point) per
@@ -103,7 +108,7 @@ def approached_in_record(poincare: np.ndarray, cycle: np.ndarray, rho: float, n:
     p = p[np.all(np.isfinite(p), axis=1)]
     if p.shape[0] < 20 or not 0.0 < rho < 1.0:
         return False
-    d = np.min(np.max(np.abs(p[:, None, :] - np.asarray(cycle)[None, :, :]), axis=2), axis=1)
+    d = _distance(p, np.asarray(cycle))
     slope = float(np.polyfit(np.arange(d.size), np.log(np.maximum(d, 1e-300)), 1)[0])
     return slope <= 0.5 * math.log(rho) / n and math.exp(slope * (d.size - 1)) <= 0.5
 
@@ -131,29 +136,32 @@ def settle(system, result, label: int, lyapunov: float, settings: SimulationSett
                 break
             cycle.append(nxt)
         m = minimal_period(cycle, r.state)
-        if m < n:
-            # a shorter orbit, also fixed by the n-period map (its multipliers are those of the m-map to the
-            # power n/m): the m-period shooting did not reach it from here, so it is judged as found
-            cycle = cycle[:m]
+        # a shorter orbit is also fixed by the n-period map (its multipliers are those of the m-map to the
+        # power n/m): the m-period shooting did not reach it from here, so it is judged as found
+        cyc = np.array(cycle[:m])
         rho = min(r.spectral_radius, 1.0 - 1e-6)
-        if approached_in_record(result.poincare, np.array(cycle), rho, n):
+
+        def found(how: str) -> Settled:
             return Settled(label, m, n, r.spectral_radius, f"slow transient: stable period-{m} orbit by shooting "
-                           f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached over the recorded periods")
+                           f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached {how}")
+
+        if approached_in_record(result.poincare, cyc, rho, n):
+            return found("over the recorded periods")
         # a continued record as long as the multiplier needs to shrink a distance 4-fold, read the same way
         k4 = n * math.ceil(min(max_periods, max(20, math.ceil(math.log(0.25) / math.log(rho)))) / n)
         ext = simulate(system, dataclasses.replace(settings, transient_periods=0, recorded_periods=k4), x0=x0)
-        if not ext.diverged and approached_in_record(ext.poincare, np.array(cycle), rho, n):
-            return Settled(label, m, n, r.spectral_radius, f"slow transient: stable period-{m} orbit by shooting "
-                           f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached over {k4} more periods")
+        if not ext.diverged and approached_in_record(ext.poincare, cyc, rho, n):
+            return found(f"over {k4} more periods")
+        # last, the run continued (from the end of that record) until a 10-fold fall, within max_periods
         k = int(min(max(max_periods, n), max(n, math.ceil(math.log(0.01) / math.log(rho)))))
         k = n * math.ceil(k / n)
         more = dataclasses.replace(settings, transient_periods=k - 1 if k > 1 else 0, recorded_periods=1)
         scale = 1e-7 * max(1.0, float(np.max(np.abs(r.state))))
-        d0 = min(float(np.max(np.abs(x0 - c))) for c in cycle)
+        d0 = float(_distance(x0, cyc)[0])
         x, d1, done = x0, d0, 0
         if not ext.diverged:
             x, done = ext.final_state, k4
-            d1 = min(float(np.max(np.abs(x - c))) for c in cycle)
+            d1 = float(_distance(x, cyc)[0])
         while done < max_periods and not (d1 <= 0.1 * d0 or d1 <= scale):
             run = simulate(system, more, x0=x)
             if run.diverged:
@@ -161,27 +169,27 @@ def settle(system, result, label: int, lyapunov: float, settings: SimulationSett
                 break
             x = run.final_state
             done += k
-            d1 = min(float(np.max(np.abs(x - c))) for c in cycle)
-        if not (d1 <= 0.1 * d0 or d1 <= scale):
-            if rho ** (done / n) > 0.1:
-                # the multiplier is so close to 1 that the horizon could not show a 10-fold fall: the run may
-                # be a transient onto this orbit; say so instead of calling it quasi-periodic
-                return Settled(label, UNDET, n, r.spectral_radius,
-                               f"possible slow transient: stable period-{m} orbit (|mu|max = {r.spectral_radius:.5f} "
-                               f"over {n} periods) too slow to confirm in {done} periods "
-                               f"(distance {d0:.2g} -> {d1:.2g})", possible=True)
-            return Settled(label, label, n, r.spectral_radius,
-                           f"stable period-{n} orbit found, but the run does not approach it "
-                           f"(distance {d0:.2g} -> {d1:.2g} in {done} periods)")
-        return Settled(label, m, n, r.spectral_radius, f"slow transient: stable period-{m} orbit by shooting "
-                       f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached by the run")
+            d1 = float(_distance(x, cyc)[0])
+        if d1 <= 0.1 * d0 or d1 <= scale:
+            return found("by the run")
+        if rho ** (done / n) > 0.1:
+            # the multiplier is so close to 1 that the horizon could not show a 10-fold fall: the run may be a
+            # transient onto this orbit; say so instead of calling it quasi-periodic
+            return Settled(label, UNDET, n, r.spectral_radius,
+                           f"possible slow transient: stable period-{m} orbit (|mu|max = {r.spectral_radius:.5f} "
+                           f"over {n} periods) too slow to confirm in {done} periods "
+                           f"(distance {d0:.2g} -> {d1:.2g})", possible=True)
+        return Settled(label, label, n, r.spectral_radius,
+                       f"stable period-{n} orbit found, but the run does not approach it "
+                       f"(distance {d0:.2g} -> {d1:.2g} in {done} periods)")
     return Settled(label, label, reason=f"no stable orbit of period <= {classifier.settle_max_n} "
                                         "(tried where the return distance falls)")
 
 
 def settled_classification(before: classify.Classification, s: Settled, period: float) -> classify.Classification:
     """The classification of a point after :func:`settle`: unchanged, or period-n with the exponent of the
-    orbit's leading Floquet multiplier (lambda = log |mu|max / (n T), sigma 0) and ``settled=True``."""
+    orbit's leading Floquet multiplier (lambda = log |mu|max / (n T), sigma 0) and ``settled = SETTLED``; a
+    possible slow transient is undetermined with ``settled = POSSIBLE_TRANSIENT``."""
     if s.possible:
         return classify.Classification(UNDET, 0, before.lyapunov, before.lyapunov_sigma, before.k01, before.flatness,
                                        before.crosscheck, s.reason, settled=classify.POSSIBLE_TRANSIENT)
