@@ -57,6 +57,23 @@ def test_torus_is_not_relabelled(li2013):
     assert S.settle(c, res, 5, float("nan"), FULL, cs).after == 5
 
 
+def test_settle_of_many_points_is_settle_of_each(li2013):
+    """settle_points integrates every stage of many points together; each point's verdict must be the one
+    it gets alone: two slow transients onto P1, a torus, a chaos label (never tried) and a periodic one."""
+    cs = classify.ClassifierSettings()
+    overs = [{"x1": 0.761, "e": 5.0, "b": 0.83}, {"x1": 0.761, "b": 2.0, "e": 5.0}, {"x1": 0.5, "b": 2.0, "e": 3.6}]
+    systems = [point.point_coefficients(li2013, {**o, "w": 0.7}) for o in overs]
+    runs = [analyse_point(c, FULL, cs) for c in systems]
+    systems += systems[:2]
+    runs += runs[:2]
+    labels = [cl.label for _, cl in runs[:3]] + [classify.LABELS["chaotic"], 1]
+    lams = [cl.lyapunov for _, cl in runs[:3]] + [0.03, float("nan")]
+    together = S.settle_points(systems, [r for r, _ in runs], labels, lams, FULL, cs)
+    alone = [S.settle(c, r, lab, lam, FULL, cs) for c, (r, _), lab, lam in zip(systems, runs, labels, lams)]
+    assert together == alone
+    assert [s.after for s in together] == [1, classify.LABELS["quasi_periodic"], 1, classify.LABELS["chaotic"], 1]
+
+
 def test_search_space_units_and_log_scale():
     sp = K.SearchSpace.from_config({"w": {"low": 0.5, "high": 1.5}, "K_DH": {"low": 1e3, "high": 1e5, "scale": "log"}})
     v = sp.values([0.5, 0.5])

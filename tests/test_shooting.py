@@ -20,7 +20,7 @@ from geardyn.khv import design, point
 from geardyn.runs.continuation import CallableFamily, ContinuationSettings, continue_branch
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve import floquet
-from geardyn.solve.shooting import fd_monodromy, khv_flow, newton_shooting, rk4_flow, shoot
+from geardyn.solve.shooting import fd_monodromy, khv_flow, newton_shooting, newton_shooting_batch, rk4_flow, shoot
 
 ROOT = Path(__file__).resolve().parents[1]
 GAMMA_PD = 0.265581786  # see the module docstring
@@ -95,6 +95,29 @@ def test_non_convergence_is_flagged(contact_loss_orbit):
 
     r = newton_shooting(diverging, np.zeros(2))
     assert not r.converged and r.status == "diverged"
+
+
+def test_batch_shooting_is_point_shooting_bit_for_bit(li2013, contact_loss_orbit):
+    """newton_shooting_batch integrates the unfinished points together; each point's iterates, status and
+    multipliers must be those of shoot() alone, whatever its neighbours (converged in a few iterations,
+    stopped at max_iter, period 2, another design point)."""
+    c, orbit = contact_loss_orbit
+    c2 = point.point_coefficients(li2013, {"x1": 0.761, "b": 2.0, "e": 5.0, "w": 0.7})
+    settings = SimulationSettings(steps_per_period=128)
+    cases = [(c, orbit.state + 1e-3, 1), (c, orbit.state + 5.0, 1), (c2, c2.static_state(), 1),
+             (c, orbit.state, 2)]
+    for n in (1, 2):
+        todo = [(s, x) for s, x, m in cases if m == n]
+        for max_iter in (2, 15):
+            batch = newton_shooting_batch([s for s, _ in todo], [x for _, x in todo], n, settings, max_iter=max_iter)
+            for (s, x), b in zip(todo, batch, strict=True):
+                a = shoot(s, x, n, settings, max_iter=max_iter)
+                assert (a.status, a.iterations, a.converged) == (b.status, b.iterations, b.converged)
+                np.testing.assert_array_equal(a.state, b.state)
+                np.testing.assert_array_equal(a.multipliers, b.multipliers)
+    statuses = {b.status for b in newton_shooting_batch([s for s, _, _ in cases[:3]], [x for _, x, _ in cases[:3]],
+                                                         1, settings, max_iter=2)}
+    assert statuses == {"converged", "max_iterations"}  # the test covers both endings
 
 
 def duffing_family(steps=200):

@@ -257,24 +257,15 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
 
 
 def _settle_many(systems, items, settings, classifier: classify.ClassifierSettings) -> list:
-    """:func:`geardyn.runs.settle.settle` of every (index, result, classification) in ``items``, in a thread
-    pool as wide as the numba thread count (the solver loop releases the GIL; each point's check is
-    independent of the others, so the results do not depend on the threads): a list of (index, Settled)."""
-    import numba
+    """:func:`geardyn.runs.settle.settle_points` of every (index, result, classification) in ``items``
+    (integrated together; each point's check is independent of the others): a list of (index, Settled)."""
+    from geardyn.runs.settle import settle_points
 
-    from geardyn.runs.settle import settle
-
-    def one(item):
-        i, res, lab = item
-        return i, settle(systems[i], res, lab.label, lab.lyapunov, settings, classifier)
-
-    workers = numba.get_num_threads()
-    if workers <= 1 or len(items) < 2:
-        return list(map(one, items))
-    from concurrent.futures import ThreadPoolExecutor
-
-    with ThreadPoolExecutor(workers) as ex:
-        return list(ex.map(one, items))
+    idx = [i for i, _, _ in items]
+    settled = settle_points([systems[i] for i in idx], [res for _, res, _ in items],
+                            [lab.label for _, _, lab in items], [lab.lyapunov for _, _, lab in items],
+                            settings, classifier)
+    return list(zip(idx, settled, strict=True))
 
 
 def _settle_all(systems, out: list, settings, classifier: classify.ClassifierSettings) -> list:

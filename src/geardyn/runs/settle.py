@@ -40,7 +40,8 @@ import numpy as np
 
 from geardyn import classify
 from geardyn.solve import SimulationSettings, simulate
-from geardyn.solve.shooting import khv_flow, newton_shooting
+from geardyn.solve.shooting import newton_shooting_batch, period_settings
+from geardyn.solve.simulate import LaneTables, lane_tables, simulate_batch
 
 QP = classify.LABELS["quasi_periodic"]
 UNDET = classify.LABELS["undetermined"]
@@ -85,13 +86,19 @@ def return_distance_falls(poincare: np.ndarray, n: int, factor: float = 0.95) ->
     period-n orbit with leading multiplier rho shrinks d_n by rho^(3K/4) over K points (0.47 for
     rho = 0.99 and K = 100); ``factor`` 0.95 skips only transients slower than about rho = 0.9993
     per period on a 100-point record."""
+    return bool(falling_periods(poincare, n, factor)[n - 1])
+
+
+def falling_periods(poincare: np.ndarray, max_n: int, factor: float = 0.95) -> np.ndarray:
+    """:func:`return_distance_falls` for n = 1 .. ``max_n`` at once (boolean array, entry n - 1)."""
     p = np.asarray(poincare, dtype=float)
     p = p[np.all(np.isfinite(p), axis=1)]
-    if p.shape[0] < n + 8:
-        return True
-    d = np.max(np.abs(p[n:] - p[:-n]), axis=1)
-    q = max(2, d.size // 4)
-    return bool(d[-q:].mean() < factor * d[:q].mean())
+    out = np.ones(max_n, dtype=bool)
+    for n in range(1, min(max_n, p.shape[0] - 8) + 1):
+        d = np.max(np.abs(p[n:] - p[:-n]), axis=1)
+        q = max(2, d.size // 4)
+        out[n - 1] = d[-q:].mean() < factor * d[:q].mean()
+    return out
 
 
 def _distance(x: np.ndarray, cycle: np.ndarray) -> np.ndarray:
@@ -116,54 +123,107 @@ def approached_in_record(poincare: np.ndarray, cycle: np.ndarray, rho: float, n:
 def settle(system, result, label: int, lyapunov: float, settings: SimulationSettings,
            classifier: classify.ClassifierSettings) -> Settled:
     """The slow-transient check of one point (module docstring): its label after the check."""
-    if not needs_check(label, lyapunov, classifier):
-        return Settled(label, label)
-    if result is None or result.diverged or not np.all(np.isfinite(result.final_state)):
-        return Settled(label, label, reason="no final state")
-    x0 = np.asarray(result.final_state, dtype=float)
-    one = khv_flow(system, 1, settings)
-    max_periods = classifier.settle_max_periods
+    return settle_points([system], [result], [label], [lyapunov], settings, classifier)[0]
+
+
+def settle_points(systems, results, labels, lyapunovs, settings: SimulationSettings,
+                  classifier: classify.ClassifierSettings) -> list[Settled]:
+    """:func:`settle` of many points at once, stage by stage: the shooting of every point for one n,
+    and the continued records of a stage, are integrated together
+    (:func:`geardyn.solve.shooting.newton_shooting_batch`, :func:`geardyn.solve.simulate.simulate_batch`,
+    both cores); the last stage (the run continued until its distance falls 10-fold), which few points
+    reach, runs point by point in threads.  Each point's numbers are those of the point alone."""
+    out: list[Settled | None] = [None] * len(systems)
+    active = []
+    for i, (res, label, lam) in enumerate(zip(results, labels, lyapunovs, strict=True)):
+        if not needs_check(label, lam, classifier):
+            out[i] = Settled(label, label)
+        elif res is None or res.diverged or not np.all(np.isfinite(res.final_state)):
+            out[i] = Settled(label, label, reason="no final state")
+        else:
+            active.append(i)
+    x0 = {i: np.asarray(results[i].final_state, dtype=float) for i in active}
+    tables = lane_tables(systems, settings)  # the per-point step tables, built once for every stage
+    falls = {i: falling_periods(results[i].poincare, classifier.settle_max_n) for i in active}
     for n in range(1, classifier.settle_max_n + 1):
-        if n > 1 and not return_distance_falls(result.poincare, n):
-            continue  # period 1 is always tried: it is cheap, and the slowest transients are onto P1
-        r = newton_shooting(khv_flow(system, n, settings), x0, n, tol=1e-9, max_iter=15)
-        if not (r.converged and r.spectral_radius < 1.0):
+        # period 1 is always tried: it is cheap, and the slowest transients are onto P1
+        tried = [i for i in active if n == 1 or falls[i][n - 1]]
+        if not tried:
             continue
-        cycle = [r.state]
-        for _ in range(n - 1):
-            nxt, _ = one(cycle[-1], False)
-            if nxt is None:
-                break
-            cycle.append(nxt)
-        m = minimal_period(cycle, r.state)
+        shots = newton_shooting_batch([systems[i] for i in tried], [x0[i] for i in tried], n, settings,
+                                      tol=1e-9, max_iter=15, tables=tables.take(tried))
+        stable = {i: r for i, r in zip(tried, shots, strict=True) if r.converged and r.spectral_radius < 1.0}
+        if stable:
+            for i, s in _judge(systems, tables, results, labels, x0, stable, n, settings, classifier).items():
+                out[i] = s
+            active = [i for i in active if i not in stable]
+    for i in active:
+        out[i] = Settled(labels[i], labels[i], reason=f"no stable orbit of period <= {classifier.settle_max_n} "
+                                                      "(tried where the return distance falls)")
+    return out  # type: ignore[return-value]
+
+
+def _cycles(systems, tables: LaneTables, shots: dict, n: int, settings: SimulationSettings) -> dict[int, np.ndarray]:
+    """The least-period cycle (m x 6) of every stable n-period orbit found: its n points, one mesh period
+    apart (all points advanced together), cut to the least period m (:func:`minimal_period`)."""
+    one = period_settings(settings, 1)
+    cycles = {i: [r.state] for i, r in shots.items()}
+    alive = list(shots)
+    for _ in range(n - 1):
+        runs = simulate_batch([systems[i] for i in alive], one, [cycles[i][-1] for i in alive],
+                              tables=tables.take(alive))
+        alive = [i for i, r in zip(alive, runs, strict=True) if not r.diverged]
+        for i, r in zip(alive, [r for r in runs if not r.diverged], strict=True):
+            cycles[i].append(r.final_state.copy())
+    return {i: np.array(c[:minimal_period(c, shots[i].state)]) for i, c in cycles.items()}
+
+
+def _judge(systems, tables: LaneTables, results, labels, x0: dict, shots: dict, n: int, settings: SimulationSettings,
+           classifier: classify.ClassifierSettings) -> dict[int, Settled]:
+    """Whether each run approaches the stable n-period orbit found for it (module docstring, step 3)."""
+    cycles = _cycles(systems, tables, shots, n, settings)
+    rho = {i: min(r.spectral_radius, 1.0 - 1e-6) for i, r in shots.items()}
+    max_periods = classifier.settle_max_periods
+
+    def found(i: int, how: str) -> Settled:
+        r = shots[i]
+        m = len(cycles[i])
         # a shorter orbit is also fixed by the n-period map (its multipliers are those of the m-map to the
         # power n/m): the m-period shooting did not reach it from here, so it is judged as found
-        cyc = np.array(cycle[:m])
-        rho = min(r.spectral_radius, 1.0 - 1e-6)
+        return Settled(labels[i], m, n, r.spectral_radius, f"slow transient: stable period-{m} orbit by shooting "
+                       f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached {how}")
 
-        def found(how: str) -> Settled:
-            return Settled(label, m, n, r.spectral_radius, f"slow transient: stable period-{m} orbit by shooting "
-                           f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached {how}")
+    out = {i: found(i, "over the recorded periods") for i in shots
+           if approached_in_record(results[i].poincare, cycles[i], rho[i], n)}
+    # a continued record as long as the multiplier needs to shrink a distance 4-fold, read the same way
+    k4 = {i: n * math.ceil(min(max_periods, max(20, math.ceil(math.log(0.25) / math.log(rho[i])))) / n)
+          for i in shots if i not in out}
+    ext = {}
+    for group in _length_classes(k4):
+        runs = simulate_batch([systems[i] for i in group], dataclasses.replace(settings, transient_periods=0),
+                              [x0[i] for i in group], recorded_periods=[k4[i] for i in group],
+                              tables=tables.take(group))
+        ext.update(zip(group, runs, strict=True))
+    for i, e in ext.items():
+        if not e.diverged and approached_in_record(e.poincare, cycles[i], rho[i], n):
+            out[i] = found(i, f"over {k4[i]} more periods")
+    last = [i for i in shots if i not in out]
 
-        if approached_in_record(result.poincare, cyc, rho, n):
-            return found("over the recorded periods")
-        # a continued record as long as the multiplier needs to shrink a distance 4-fold, read the same way
-        k4 = n * math.ceil(min(max_periods, max(20, math.ceil(math.log(0.25) / math.log(rho)))) / n)
-        ext = simulate(system, dataclasses.replace(settings, transient_periods=0, recorded_periods=k4), x0=x0)
-        if not ext.diverged and approached_in_record(ext.poincare, cyc, rho, n):
-            return found(f"over {k4} more periods")
+    def by_run(i: int) -> Settled:
+        r = shots[i]
+        cyc, m = cycles[i], len(cycles[i])
         # last, the run continued (from the end of that record) until a 10-fold fall, within max_periods
-        k = int(min(max(max_periods, n), max(n, math.ceil(math.log(0.01) / math.log(rho)))))
+        k = int(min(max(max_periods, n), max(n, math.ceil(math.log(0.01) / math.log(rho[i])))))
         k = n * math.ceil(k / n)
         more = dataclasses.replace(settings, transient_periods=k - 1 if k > 1 else 0, recorded_periods=1)
         scale = 1e-7 * max(1.0, float(np.max(np.abs(r.state))))
-        d0 = float(_distance(x0, cyc)[0])
-        x, d1, done = x0, d0, 0
-        if not ext.diverged:
-            x, done = ext.final_state, k4
+        d0 = float(_distance(x0[i], cyc)[0])
+        x, d1, done = x0[i], d0, 0
+        if not ext[i].diverged:
+            x, done = ext[i].final_state, k4[i]
             d1 = float(_distance(x, cyc)[0])
         while done < max_periods and not (d1 <= 0.1 * d0 or d1 <= scale):
-            run = simulate(system, more, x0=x)
+            run = simulate(systems[i], more, x0=x)
             if run.diverged:
                 d1 = float("inf")
                 break
@@ -171,19 +231,48 @@ def settle(system, result, label: int, lyapunov: float, settings: SimulationSett
             done += k
             d1 = float(_distance(x, cyc)[0])
         if d1 <= 0.1 * d0 or d1 <= scale:
-            return found("by the run")
-        if rho ** (done / n) > 0.1:
+            return found(i, "by the run")
+        if rho[i] ** (done / n) > 0.1:
             # the multiplier is so close to 1 that the horizon could not show a 10-fold fall: the run may be a
             # transient onto this orbit; say so instead of calling it quasi-periodic
-            return Settled(label, UNDET, n, r.spectral_radius,
+            return Settled(labels[i], UNDET, n, r.spectral_radius,
                            f"possible slow transient: stable period-{m} orbit (|mu|max = {r.spectral_radius:.5f} "
                            f"over {n} periods) too slow to confirm in {done} periods "
                            f"(distance {d0:.2g} -> {d1:.2g})", possible=True)
-        return Settled(label, label, n, r.spectral_radius,
+        return Settled(labels[i], labels[i], n, r.spectral_radius,
                        f"stable period-{n} orbit found, but the run does not approach it "
                        f"(distance {d0:.2g} -> {d1:.2g} in {done} periods)")
-    return Settled(label, label, reason=f"no stable orbit of period <= {classifier.settle_max_n} "
-                                        "(tried where the return distance falls)")
+
+    out.update(zip(last, _threads(by_run, last), strict=True))
+    return out
+
+
+def _length_classes(lengths: dict[int, int]) -> list[list[int]]:
+    """The keys of ``lengths`` by increasing length, cut into runs whose longest is at most twice the
+    shortest: one batch per run keeps the lockstep blocks and the record arrays from idling on a few
+    long runs."""
+    order = sorted(lengths, key=lambda i: (lengths[i], i))
+    out: list[list[int]] = []
+    for i in order:
+        if out and lengths[i] <= 2 * lengths[out[-1][0]]:
+            out[-1].append(i)
+        else:
+            out.append([i])
+    return out
+
+
+def _threads(fn, items: list) -> list:
+    """``[fn(x) for x in items]`` in a thread pool as wide as the numba thread count (the solver loop
+    releases the GIL; the items are independent, so the results do not depend on the threads)."""
+    import numba
+
+    workers = numba.get_num_threads()
+    if workers <= 1 or len(items) < 2:
+        return [fn(x) for x in items]
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(workers) as ex:
+        return list(ex.map(fn, items))
 
 
 def settled_classification(before: classify.Classification, s: Settled, period: float) -> classify.Classification:

@@ -75,6 +75,34 @@ def sorted_multipliers(monodromy: np.ndarray) -> np.ndarray:
     return mu[np.lexsort((-mu.imag, -np.round(np.abs(mu), 12)))]
 
 
+def _newton_step(x: np.ndarray, phi: np.ndarray | None, M: np.ndarray | None, n: int, tol: float, cap: float,
+                 it: int, max_iter: int) -> ShootingResult | np.ndarray:
+    """One Newton iteration at the iterate ``x`` given phi(x) and M(x) (None: diverged): the final
+    :class:`ShootingResult` when the iteration ends here, else the next iterate."""
+    if phi is None or M is None:
+        return ShootingResult(x, n, False, "diverged", it, float("inf"))
+    F = phi - x
+    res = float(np.max(np.abs(F)))
+    if not (np.all(np.isfinite(F)) and np.all(np.isfinite(M))):
+        return ShootingResult(x, n, False, "not_finite", it, res)
+    if res <= tol * max(1.0, float(np.max(np.abs(x)))):
+        return ShootingResult(x, n, True, "converged", it, res, M, sorted_multipliers(M))
+    if it == max_iter:
+        return ShootingResult(x, n, False, "max_iterations", max_iter, res, M, sorted_multipliers(M))
+    try:
+        dx = np.linalg.solve(M - np.eye(x.size), -F)
+    except np.linalg.LinAlgError:
+        return ShootingResult(x, n, False, "singular", it, res, M, sorted_multipliers(M))
+    step = float(np.max(np.abs(dx)))
+    if step > cap:
+        dx *= cap / step
+    return x + dx
+
+
+def _step_cap(x0: np.ndarray, max_step: float | None) -> float:
+    return max_step if max_step is not None else 10.0 * max(1.0, float(np.max(np.abs(x0))))
+
+
 def newton_shooting(flow: FlowMap, x0: np.ndarray, n: int = 1, tol: float = 1e-9, max_iter: int = 30,
                     max_step: float | None = None) -> ShootingResult:
     """Newton on F(x) = phi(x) - x from x0.
@@ -84,29 +112,47 @@ def newton_shooting(flow: FlowMap, x0: np.ndarray, n: int = 1, tol: float = 1e-9
     evaluated at the returned state.
     """
     x = np.asarray(x0, dtype=float).copy()
-    cap = max_step if max_step is not None else 10.0 * max(1.0, float(np.max(np.abs(x))))
-    res = float("inf")
+    cap = _step_cap(x, max_step)
     for it in range(max_iter + 1):
-        phi, M = flow(x, True)
-        if phi is None or M is None:
-            return ShootingResult(x, n, False, "diverged", it, float("inf"))
-        F = phi - x
-        res = float(np.max(np.abs(F)))
-        if not (np.all(np.isfinite(F)) and np.all(np.isfinite(M))):
-            return ShootingResult(x, n, False, "not_finite", it, res)
-        if res <= tol * max(1.0, float(np.max(np.abs(x)))):
-            return ShootingResult(x, n, True, "converged", it, res, M, sorted_multipliers(M))
-        if it == max_iter:
+        nxt = _newton_step(x, *flow(x, True), n, tol, cap, it, max_iter)
+        if isinstance(nxt, ShootingResult):
+            return nxt
+        x = nxt
+    raise AssertionError("unreachable: the last iteration returns")  # pragma: no cover
+
+
+def newton_shooting_batch(systems: list[System], x0s: list[np.ndarray], n: int = 1,
+                          settings: SimulationSettings | None = None, tol: float = 1e-9,
+                          max_iter: int = 30, tables=None) -> list[ShootingResult]:
+    """:func:`newton_shooting` on the n-period map (:func:`khv_flow`) of many systems at once: every
+    iteration integrates all unfinished points together (:func:`geardyn.solve.simulate.simulate_batch`,
+    both cores), whose lanes have the arithmetic of :func:`simulate`; each point's iterates, and so its
+    result, are those of ``shoot(system, x0, n, settings, tol, max_iter)`` bit for bit.  ``tables``: the
+    :func:`geardyn.solve.simulate.lane_tables` of ``systems`` when the caller has them."""
+    from geardyn.solve.simulate import lane_tables, simulate_batch
+
+    s = period_settings(settings, n)
+    tables = lane_tables(systems, s) if tables is None else tables
+    xs = [np.asarray(x, dtype=float).copy() for x in x0s]
+    caps = [_step_cap(x, None) for x in xs]
+    out: list[ShootingResult | None] = [None] * len(xs)
+    todo = list(range(len(xs)))
+    for it in range(max_iter + 1):
+        if not todo:
             break
-        try:
-            dx = np.linalg.solve(M - np.eye(x.size), -F)
-        except np.linalg.LinAlgError:
-            return ShootingResult(x, n, False, "singular", it, res, M, sorted_multipliers(M))
-        step = float(np.max(np.abs(dx)))
-        if step > cap:
-            dx *= cap / step
-        x = x + dx
-    return ShootingResult(x, n, False, "max_iterations", max_iter, res, M, sorted_multipliers(M))
+        runs = simulate_batch([systems[i] for i in todo], s, [xs[i] for i in todo], monodromy_periods=n,
+                              tables=tables.take(todo))
+        left = []
+        for i, r in zip(todo, runs, strict=True):
+            phi, M = (None, None) if r.diverged else (r.final_state.copy(), r.monodromy.copy())
+            nxt = _newton_step(xs[i], phi, M, n, tol, caps[i], it, max_iter)
+            if isinstance(nxt, ShootingResult):
+                out[i] = nxt
+            else:
+                xs[i] = nxt
+                left.append(i)
+        todo = left
+    return out  # type: ignore[return-value]
 
 
 # ----------------------------------------------------------------------------------------------

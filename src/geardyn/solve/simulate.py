@@ -156,6 +156,51 @@ class EarlyStop:
     separation: float = 10.0
 
 
+@dataclass(frozen=True)
+class LaneTables:
+    """The per-point inputs of the batch loops (:func:`simulate_batch`): kernel coefficients C (L, 19), the
+    step tables H, S, SEG (L, n), kappa and TE at the RK4 stages K, P (L, n, 3), the stiffness
+    polynomials POLY (L, 2, 3) and the divergence limits (L, 6).  :meth:`take` selects points."""
+
+    C: np.ndarray
+    H: np.ndarray
+    S: np.ndarray
+    SEG: np.ndarray
+    K: np.ndarray
+    P: np.ndarray
+    POLY: np.ndarray
+    limits: np.ndarray
+
+    def take(self, idx: Sequence[int] | np.ndarray) -> LaneTables:
+        idx = np.asarray(idx, dtype=np.int64)
+        return LaneTables(*(np.ascontiguousarray(getattr(self, f)[idx]) for f in
+                            ("C", "H", "S", "SEG", "K", "P", "POLY", "limits")))
+
+
+def lane_tables(systems: Sequence[System], settings: SimulationSettings) -> LaneTables:
+    """The :class:`LaneTables` of ``systems`` at ``settings`` (steps per period, alignment, divergence
+    threshold): the arrays :func:`simulate_batch` builds on every call, built once."""
+    L, n = len(systems), settings.steps_per_period
+    C = np.empty((L, 19))
+    H = np.empty((L, n))
+    S = np.empty((L, n))
+    SEG = np.empty((L, n), np.int64)
+    K = np.empty((L, n, 3))
+    P = np.empty((L, n, 3))
+    POLY = np.empty((L, 2, 3))
+    for lane, system in enumerate(systems):
+        if settings.aligned:
+            C[lane] = system.kernel_array()
+            POLY[lane] = system.stiffness_polys()
+            _batch.fill_tables(lane, float(system.eps), float(system.period), float(system.te_forcing),
+                               float(system.phi), POLY[lane], n, H, S, SEG, K, P)
+        else:
+            c, h, st, sg, tk, tp, poly = step_tables(system, n, settings.aligned)
+            C[lane], H[lane], S[lane], SEG[lane], K[lane], P[lane], POLY[lane] = c, h, st, sg, tk, tp, poly
+    limits = np.stack([divergence_limits(system, settings) for system in systems]) if L else np.empty((0, 6))
+    return LaneTables(C, H, S, SEG, K, P, POLY, limits)
+
+
 def simulate_batch(
     systems: Sequence[System],
     settings: SimulationSettings = SimulationSettings(),
@@ -165,6 +210,8 @@ def simulate_batch(
     early_stop: EarlyStop | None = None,
     transient_periods: Sequence[int] | None = None,
     lockstep: bool = True,
+    recorded_periods: Sequence[int] | None = None,
+    tables: LaneTables | None = None,
 ) -> list[SimulationResult]:
     """:func:`simulate` for many systems at once (``rk4``/``rk4_event``, no dense output), in parallel
     over the points (numba threads), with an optional early stop of the transient.
@@ -174,7 +221,10 @@ def simulate_batch(
     whatever the batch, its order and the number of threads.  ``monodromy_periods`` may differ per
     point (then the run of point l is ``transient_periods[l]`` (default: the settings') + its own
     recorded count ``settings.recorded_periods``; use ``recorded_periods = 0`` settings with
-    ``transient_periods = n`` to get the monodromy of n periods only).
+    ``transient_periods = n`` to get the monodromy of n periods only).  ``transient_periods`` and
+    ``recorded_periods`` may be given per point; they default to the settings'.  ``tables``: the
+    :func:`lane_tables` of ``systems`` and ``settings`` when the caller already has them (repeated runs
+    of the same points, as in Newton shooting).
     With ``early_stop``, a point whose stroboscopic map has converged ends its transient early
     (``transient_used``, ``stop_period``) and drops its tangent vector (``growth`` empty).
     ``lockstep``: without monodromy, step 8 points together (vectorised, with their tangent vectors,
@@ -191,24 +241,14 @@ def simulate_batch(
     n = settings.steps_per_period
     ntr = np.full(L, settings.transient_periods, np.int64) if transient_periods is None else \
         np.asarray(transient_periods, dtype=np.int64)
-    nrec = np.full(L, settings.recorded_periods, np.int64)
-    C = np.empty((L, 19))
-    H = np.empty((L, n))
-    S = np.empty((L, n))
-    SEG = np.empty((L, n), np.int64)
-    K = np.empty((L, n, 3))
-    P = np.empty((L, n, 3))
-    POLY = np.empty((L, 2, 3))
+    nrec = np.full(L, settings.recorded_periods, np.int64) if recorded_periods is None else \
+        np.asarray(recorded_periods, dtype=np.int64)
+    lt = lane_tables(systems, settings) if tables is None else tables
+    if lt.H.shape != (L, n):
+        raise ValueError(f"lane tables for {lt.H.shape[0]} points of {lt.H.shape[1]} steps, not {L} of {n}")
+    C, H, S, SEG, K, P, POLY, limits = lt.C, lt.H, lt.S, lt.SEG, lt.K, lt.P, lt.POLY, lt.limits
     Y0 = np.empty((L, 6))
     for lane, system in enumerate(systems):
-        if settings.aligned:
-            C[lane] = system.kernel_array()
-            POLY[lane] = system.stiffness_polys()
-            _batch.fill_tables(lane, float(system.eps), float(system.period), float(system.te_forcing),
-                               float(system.phi), POLY[lane], n, H, S, SEG, K, P)
-        else:
-            c, h, st, sg, tk, tp, poly = step_tables(system, n, settings.aligned)
-            C[lane], H[lane], S[lane], SEG[lane], K[lane], P[lane], POLY[lane] = c, h, st, sg, tk, tp, poly
         x = None if x0 is None else x0[lane]
         Y0[lane] = system.static_state() if x is None else np.asarray(x, dtype=float)
     m = 1 if tangent_periods else (6 if np.any(mono) else 0)
@@ -229,7 +269,6 @@ def simulate_batch(
     final = np.empty((L, 6))
     out = np.zeros((L, 5), np.int64)
     es = early_stop
-    limits = np.stack([divergence_limits(system, settings) for system in systems])
     if m <= 1 and lockstep:
         _batch.run_blocks(C, H, S, SEG, K, P, POLY, Y0, ntr, nrec, settings.integrator == "rk4_event",
                           limits, poinc, final,
