@@ -183,7 +183,7 @@ def test_rule_resources_reach_sbatch(study):
         res = RESOURCES[job["rule"]]
         assert job["TimeLimit"] == _time_limit(res["runtime"]), job["Comment"]
         assert job["MinMemoryNode"] == f"{res['mem_mb']}M", job["Comment"]
-        # the chunk rules take both cores of a node (threads: 2): SLURM must reserve them
+        # the chunk rules take both cores of a node (the profile's set-threads: 2): SLURM must reserve them
         assert job["NumCPUs"] == "2" and job["Partition"] == default_partition, job["Comment"]
 
 

@@ -8,7 +8,7 @@ rule map_chunk:
         "results/{design}/maps/{map}/chunk_{chunk}.nc",
     log:
         "results/{design}/logs/map_{map}_{chunk}.log",
-    threads: 2
+    threads: 1
     params:
         spec=config_slice("maps"),
     script:

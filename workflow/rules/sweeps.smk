@@ -9,7 +9,7 @@ rule sweep_chunk:
         "results/{design}/sweeps/{sweep}/chunk_{chunk}.nc",
     log:
         "results/{design}/logs/sweep_{sweep}_{chunk}.log",
-    threads: 2
+    threads: 1
     params:
         spec=config_slice("sweeps"),
     script:
