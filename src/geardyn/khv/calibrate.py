@@ -137,30 +137,26 @@ class Grids:
         return self.x1.size + len(self.case_x1) * (self.b.size + self.e.size)
 
 
-def label_point(design: KHVDesign, overrides: Mapping[str, float], settings: SimulationSettings,
-                classifier: classify.ClassifierSettings, x0: np.ndarray | None = None,
-                shoot: bool = True) -> tuple[int, float, float, np.ndarray | None]:
-    """Label of one point by the one classification path (:func:`geardyn.runs.points.analyse_points`,
-    cheap path, point by point), with the slow-transient check (:mod:`geardyn.runs.settle`) unless
-    ``shoot`` is false.  Returns (label, lambda, sigma, final state)."""
+def label_tracks(design: KHVDesign, tracks: Sequence[tuple[Mapping[str, float], str, Sequence[float]]],
+                 settings: SimulationSettings, classifier: classify.ClassifierSettings,
+                 shoot: bool = True) -> list[claims_mod.Track]:
+    """Labels along each track (overrides, swept parameter, values) by the one classification path
+    (:func:`geardyn.runs.points.analyse_points`, cheap path, each point integrated on its own from its
+    static deflection), with the slow-transient check (:mod:`geardyn.runs.settle`) unless ``shoot`` is
+    false.  All points go to one call, so the check's stages run on all of them together; every point's
+    label is the one it gets alone."""
     from geardyn.runs.points import analyse_points
 
-    coeffs = point.point_coefficients(design, overrides)
+    systems = [point.point_coefficients(design, {**over, par: float(v)}) for over, par, values in tracks
+               for v in values]
     cs = classifier if shoot else dataclasses.replace(classifier, settle_max_n=0)
-    res, cl = analyse_points([coeffs], dataclasses.replace(settings, batch=False), cs, cheap=True, x0=[x0])[0]
-    final = None if res.diverged else np.asarray(res.final_state, dtype=float).copy()
-    return int(cl.label), float(cl.lyapunov), float(cl.lyapunov_sigma), final
-
-
-def _track(design, overrides, parameter, values, settings, classifier, shoot=True) -> claims_mod.Track:
-    labs, lam, sig = [], [], []
-    for v in values:
-        lab, l_, s_, _ = label_point(design, {**overrides, parameter: float(v)}, settings, classifier,
-                                        shoot=shoot)
-        labs.append(lab)
-        lam.append(l_)
-        sig.append(s_)
-    return claims_mod.Track(np.asarray(values, float), np.array(labs, np.int16), np.array(lam), np.array(sig))
+    out = analyse_points(systems, dataclasses.replace(settings, batch=False), cs, cheap=True)
+    labs = np.array([cl.label for _, cl in out], np.int16)
+    lam = np.array([cl.lyapunov for _, cl in out], float)
+    sig = np.array([cl.lyapunov_sigma for _, cl in out], float)
+    ends = np.cumsum([len(values) for _, _, values in tracks])
+    return [claims_mod.Track(np.asarray(values, float), labs[e - len(values):e], lam[e - len(values):e],
+                             sig[e - len(values):e]) for (_, _, values), e in zip(tracks, ends, strict=True)]
 
 
 @dataclass
@@ -174,11 +170,14 @@ def candidate_labels(design: KHVDesign, values: Mapping[str, float], grids: Grid
                      classifier: classify.ClassifierSettings, shoot: bool = True) -> CandidateLabels:
     """The labelled sweeps of one candidate (overrides ``values``)."""
     base = dict(values)
-    f07 = _track(design, {**base, **grids.fixed07}, "x1", grids.x1, settings, classifier, shoot)
-    f09 = {x1: _track(design, {**base, **grids.fixed09, "x1": x1}, "b", grids.b, settings, classifier, shoot)
-           for x1 in grids.case_x1}
-    f11 = {x1: _track(design, {**base, **grids.fixed11, "x1": x1}, "e", grids.e, settings, classifier, shoot)
-           for x1 in grids.case_x1}
+    x1s = list(grids.case_x1)
+    tracks = ([({**base, **grids.fixed07}, "x1", grids.x1)]
+              + [({**base, **grids.fixed09, "x1": x1}, "b", grids.b) for x1 in x1s]
+              + [({**base, **grids.fixed11, "x1": x1}, "e", grids.e) for x1 in x1s])
+    got = label_tracks(design, tracks, settings, classifier, shoot)
+    f07 = got[0]
+    f09 = dict(zip(x1s, got[1:1 + len(x1s)], strict=True))
+    f11 = dict(zip(x1s, got[1 + len(x1s):], strict=True))
     return CandidateLabels(f07, f09, f11)
 
 

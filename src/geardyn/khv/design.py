@@ -8,6 +8,7 @@ and k(t).  Everything downstream (tables, dynamics, sweeps) asks this module for
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -105,18 +106,26 @@ def pair_at(design: KHVDesign, x1: float) -> geometry.GearPair:
 
 def mesh_properties(design: KHVDesign, x1: float) -> MeshProperties:
     """Contact ratio and ISO 6336 stiffness of ``design`` at ``x1`` (paper 1 Eqs. 7-10)."""
-    pair = pair_at(design, x1)
-    opts = design.stiffness
+    return _mesh_properties(design.name, design.base, design.x2_on_line4, design.stiffness, float(x1))
+
+
+@functools.lru_cache(maxsize=4096)
+def _mesh_properties(name: str, base: geometry.GearPair, on_line4: bool, opts: StiffnessOptions,
+                     x1: float) -> MeshProperties:
+    """:func:`mesh_properties` of the design with these fields (a pure function of them, so kept: the
+    b and e sweeps and the calibration's tracks ask for the same x1 many times)."""
+    x2 = float(geometry.x2_on_overlap_boundary(x1, base)) if on_line4 else base.x2
+    pair = dataclasses.replace(base, x1=x1, x2=x2)
     q = float(stiffness.flexibility_q(pair.z1, pair.z2, pair.x1, pair.x2, internal=True,
                                       variant=opts.q_variant, constants=opts.c_constants))
     k_c = float(stiffness.pitch_point_stiffness(q, pair.facewidth))
     k_prime = float(stiffness.tip_stiffness(k_c))
     eps = float(geometry.contact_ratio(pair))
     if not eps >= 1.0:  # also NaN: no working pressure angle
-        raise ConfigError(f"{design.name}: contact ratio eps = {eps:.4f} at x1 = {x1:.4f} is not allowed: >= 1 "
+        raise ConfigError(f"{name}: contact ratio eps = {eps:.4f} at x1 = {x1:.4f} is not allowed: >= 1 "
                           "(below 1 the gears do not mesh continuously)")
     if opts.form == "printed" and not eps < 2.0:
-        raise ConfigError(f"{design.name}: contact ratio eps = {eps:.4f} at x1 = {x1:.4f} is not allowed with "
+        raise ConfigError(f"{name}: contact ratio eps = {eps:.4f} at x1 = {x1:.4f} is not allowed with "
                           "stiffness.form = 'printed': < 2 (the printed Eq. (9) is stated for 1 <= eps < 2)")
     k_t = stiffness.ParabolicStiffness(eps, k_prime, opts.form)
     return MeshProperties(
