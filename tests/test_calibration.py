@@ -160,15 +160,20 @@ def test_search_resumes_from_its_cache(tmp_path, monkeypatch):
     assert resumed["key"] == full["key"] and resumed["score"] == full["score"]
 
 
-def test_committed_calibrated_design_is_the_search_output():
+@pytest.mark.parametrize("name, require", [("li2013_calibrated", None), ("li2013_route", "route")])
+def test_committed_calibrated_design_is_the_search_output(name, require):
     """The committed design file is regenerated exactly from its own search-result line and li2013.yaml;
-    when the pipeline's output exists, the committed file equals it."""
-    committed = (ROOT / "config" / "designs" / "li2013_calibrated.yaml").read_text()
+    when the pipeline's output exists, the committed file equals it.  The route design states its
+    requirement, and its best record met it."""
+    committed = (ROOT / "config" / "designs" / f"{name}.yaml").read_text()
     source = (ROOT / "config" / "designs" / "li2013.yaml").read_text()
     assert K.design_text_from_file(committed, source) == committed
     assert "CALIBRATED" in committed and "Fitted to paper 1's claims" in committed
     result = json.loads(next(ln for ln in committed.splitlines() if ln.startswith(K.RESULT_PREFIX))[len(K.RESULT_PREFIX):])
-    d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    assert result.get("require") == require
+    if require:
+        assert result["meets_requirement"] and "# Required: Fig. 7" in committed
+    d = design.load(ROOT / "config" / "designs" / f"{name}.yaml")
     phys, _, _ = point.point_model(d, {})
     assert phys.omega_bar == pytest.approx(result["values"]["w"])
     for k in ("r_bH", "K_DH", "K_VL", "zeta", "eta", "te_phase", "m_V"):
@@ -176,6 +181,22 @@ def test_committed_calibrated_design_is_the_search_output():
     produced = ROOT / "results" / "li2013" / "calibration" / f"{result['search']}_design.yaml"
     if produced.exists():
         assert produced.read_text() == committed
+
+
+def test_route_requirement_and_its_ranking():
+    """'route': P1, then quasi-periodic or period-n motion, then chaos along x1; a candidate that fails it
+    ranks below every one that meets it, and among those the claims score decides."""
+    P1, QP, CH, UND = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"], classify.LABELS["undetermined"]
+    assert K.shows_route([P1, P1, QP, 5, CH, 6, CH])
+    assert K.shows_route([P1, UND, 2, 2, 4, CH])          # undetermined points are left out
+    assert not K.shows_route([P1, CH, QP])                 # no non-period-1 motion before the chaos
+    assert not K.shows_route([P1, QP, P1, CH])             # back to P1 before the chaos
+    assert not K.shows_route([QP, P1, 2, CH])              # does not start on P1
+    assert not K.shows_route([P1, QP, 5])                  # no chaos
+    route = {"score": 6.6, "fig07": [P1, QP, CH]}
+    better = {"score": 8.4, "fig07": [P1, QP, QP]}
+    assert K.ranked_score(better) > K.ranked_score(route)  # without the requirement: the claims alone
+    assert K.ranked_score(route, "route") == 6.6 and K.ranked_score(better, "route") < 0 < K.ranked_score(route, "route")
 
 
 def test_the_one_classification_path_settles_slow_transients(li2013):

@@ -28,10 +28,12 @@ scoring (Poincare period only) is kept below for configs that still declare a ``
 from __future__ import annotations
 
 import dataclasses
+import functools
 import itertools
 import json
 import math
 import os
+import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -199,6 +201,34 @@ def regime_string(labels: np.ndarray) -> str:
     return "".join(out)
 
 
+#: Requirements a search can place on a candidate besides its score (``search.require``): a name ->
+#: (test of a record's labels, the sentence the calibrated design's header states).
+REQUIREMENTS: dict[str, tuple[Callable[[Mapping[str, Any]], bool], str]] = {}
+
+
+def shows_route(labels: np.ndarray) -> bool:
+    """Whether labels along x1 go from period-1 through non-period-1 motion (quasi-periodic or period
+    n > 1) into chaos: the regime string (:func:`regime_string`) begins ``1``, then ``Q`` / ``n`` and then
+    ``C`` (a return to P1 before the first chaos does not count)."""
+    return re.match(r"1[Qn]+C", regime_string(np.asarray(labels))) is not None
+
+
+REQUIREMENTS["route"] = (lambda rec: shows_route(np.asarray(rec["fig07"])),
+                         "Fig. 7 (x1 sweep, b = 2, e = 5) goes from period-1 through non-period-1 motion into chaos")
+
+#: what a candidate that fails the requirement loses from its score (more than any score can be)
+_UNMET = 100.0
+
+
+def ranked_score(record: Mapping[str, Any], require: str | None = None) -> float:
+    """The score the search ranks by: the claims score, less 100 when the record fails ``require``
+    (:data:`REQUIREMENTS`), so a candidate that meets it beats every one that does not, and among
+    those that meet it the claims decide."""
+    if require is None:
+        return float(record["score"])
+    return float(record["score"]) - (0.0 if REQUIREMENTS[require][0](record) else _UNMET)
+
+
 def paper_regime_string(paper: ModuleType) -> str:
     return regime_string(np.array([claims_mod.code(lab) if not isinstance(claims_mod.code(lab), tuple)
                                    else claims_mod.code(lab)[0] for _, _, lab in paper.SEQUENCE]))
@@ -288,6 +318,7 @@ class Problem:
     settings: SimulationSettings
     classifier: classify.ClassifierSettings
     fixed: Mapping[str, float] = field(default_factory=dict)
+    require: str | None = None  # a key of REQUIREMENTS: ranks by ranked_score
 
 
 def evaluate_candidate(problem: Problem, unit: Sequence[float]) -> dict:
@@ -374,18 +405,19 @@ class Evaluator:
         """The vectorised objective of differential_evolution: x (N, S) -> -score (S,)."""
         units = np.atleast_2d(x.T) if x.ndim == 2 else x[None, :]
         recs = self.records([list(u) for u in units])
-        return -np.array([r["score"] for r in recs])
+        return -np.array([ranked_score(r, self.problem.require) for r in recs])
 
 
 def refine(space: SearchSpace, evaluator: Evaluator, start: dict, steps: Sequence[float] = (0.1, 0.02),
            rounds: int = 2) -> dict:
     """Deterministic local refinement after the global search: in each round every unknown is moved by
     +-step (:func:`perturbed`, all moves of a round evaluated together); the best move is taken if it
-    raises the score, else the next smaller step is tried; stops after ``rounds`` improvements or when
+    raises the score (:func:`ranked_score`), else the next smaller step is tried; stops after ``rounds`` improvements or when
     no move improves."""
     best = start
     k, done = 0, 0
     steps = sorted(steps, reverse=True)
+    rank = functools.partial(ranked_score, require=evaluator.problem.require)
     while k < len(steps) and done < rounds:
         units = []
         for u in space.unknowns:
@@ -394,8 +426,8 @@ def refine(space: SearchSpace, evaluator: Evaluator, start: dict, steps: Sequenc
                 v[u.name] = perturbed(v[u.name], u, sign * steps[k])
                 units.append(list(space.unit(v)))
         recs = evaluator.records(units)
-        cand = max(recs, key=lambda r: r["score"])
-        if cand["score"] > best["score"]:
+        cand = max(recs, key=rank)
+        if rank(cand) > rank(best):
             best, done = cand, done + 1
         else:
             k += 1
@@ -425,7 +457,7 @@ def search(problem: Problem, cache: str | Path, seed: int = 1, popsize: int = 6,
         differential_evolution(ev, [(0.0, 1.0)] * dim, init=pop, maxiter=maxiter, seed=seed, polish=False,
                                vectorized=True, updating="deferred", tol=0.0, atol=0.0)
         recs = [ev.cache[k] for k in ev.seen]
-        best_rec = max(recs, key=lambda r: (r["score"], interior(r["unit"])))
+        best_rec = max(recs, key=lambda r: (ranked_score(r, problem.require), interior(r["unit"])))
         if refine_rounds > 0 and refine_steps:
             best_rec = refine(problem.space, ev, best_rec, refine_steps, refine_rounds)
     return best_rec, ev
@@ -438,15 +470,17 @@ def interior(unit: Sequence[float]) -> float:
 
 
 def verified_choice(search_records: Sequence[dict], verify: Callable[[list[list[float]]], list[dict]],
-                    top: int) -> tuple[dict, dict, list[tuple[dict, dict]]]:
+                    top: int, require: str | None = None) -> tuple[dict, dict, list[tuple[dict, dict]]]:
     """Re-score the ``top`` best candidates of the search with ``verify`` (the design's own integration
     settings and the default classifier) and choose by (verified score, search score, distance from
-    the bounds): an optimum inside the region beats an equal one on its edge.
+    the bounds): an optimum inside the region beats an equal one on its edge.  Scores are ranked by
+    :func:`ranked_score`: with ``require``, a candidate must meet it at the design's settings too.
     Returns (search record, verified record, all pairs)."""
-    order = sorted(search_records, key=lambda r: (-r["score"], -interior(r["unit"])))[:max(1, top)]
+    order = sorted(search_records, key=lambda r: (-ranked_score(r, require), -interior(r["unit"])))[:max(1, top)]
     checked = verify([r["unit"] for r in order])
     pairs = list(zip(order, checked, strict=True))
-    best_pair = max(pairs, key=lambda p: (p[1]["score"], p[0]["score"], interior(p[0]["unit"])))
+    best_pair = max(pairs, key=lambda p: (ranked_score(p[1], require), ranked_score(p[0], require),
+                                          interior(p[0]["unit"])))
     return best_pair[0], best_pair[1], pairs
 
 
@@ -566,7 +600,8 @@ def n_chunks(n_candidates: int, chunks: int) -> int:
     return min(chunks, max(n_candidates, 1))
 
 
-def _with_values(source: str, name: str, values: Mapping[str, float]) -> tuple[dict[str, Any], str | None]:
+def _with_values(source: str, name: str, values: Mapping[str, float],
+                 note: str = "calibrated") -> tuple[dict[str, Any], str | None]:
     """The source design (YAML text) renamed, titled "(calibrated)", with ``values`` written into its
     ``dynamics.parameters`` (w and speed as omega_bar and input_speed_rpm; b, e and x1 stay run values).
     Returns the design dict and the source design's name."""
@@ -575,7 +610,7 @@ def _with_values(source: str, name: str, values: Mapping[str, float]) -> tuple[d
     data = yaml.safe_load(source)
     source_name = data.get("name")
     data["name"] = name
-    data["title"] = f"{data.get('title', '')} (calibrated)"
+    data["title"] = f"{data.get('title', '')} ({note})"
     params = data.setdefault("dynamics", {}).setdefault("parameters", {})
     renames = {"w": "omega_bar", "speed": "input_speed_rpm"}
     for key, value in values.items():
@@ -635,13 +670,16 @@ RESULT_PREFIX = "# search-result: "
 
 
 def search_result(record: Mapping[str, Any], spec_name: str, n_evaluations: int,
-                  verified: Mapping[str, Any] | None = None) -> dict:
+                  verified: Mapping[str, Any] | None = None, require: str | None = None) -> dict:
     """The part of a best record a calibrated design file stores (enough to regenerate it); ``verified``:
     the same candidate re-scored at the design's own settings."""
     out = {"search": spec_name, "evaluations": int(n_evaluations), "score": round(float(record["score"]), 6),
            "agree": int(record["agree"]),
            "agreeing": sorted(k for k, v in record["verdicts"].items() if v == "agree"),
            "values": {k: float(f"{v:.6g}") for k, v in record["values"].items()}}
+    if require is not None:
+        out["require"] = require
+        out["meets_requirement"] = bool(REQUIREMENTS[require][0](record))
     if verified is not None:
         out["verified_score"] = round(float(verified["score"]), 6)
         out["verified_agreeing"] = sorted(k for k, v in verified["verdicts"].items() if v == "agree")
@@ -654,13 +692,17 @@ def search_design_text(source: str, name: str, result: Mapping[str, Any]) -> str
     from which this text is regenerated: :func:`design_text_from_file`)."""
     import yaml
 
-    data, source_name = _with_values(source, name, result["values"])
+    note = "calibrated" + (f", {result['require']} required" if result.get("require") else "")
+    data, source_name = _with_values(source, name, result["values"], note)
     header = (
         f"# GENERATED by the calibration search '{result['search']}' from design '{source_name}'; do not edit.\n"
         "# CALIBRATED: the values in the search result below are fitted to the paper, not taken from it.\n"
         "# Fitted to paper 1's claims (geardyn.claims.evaluate on the labels along x1 at b = 2, e = 5 and\n"
         "# along b and e at x1 = 0.5, 0.761, 0.83; reduced integration settings, docs/calibration.md).\n"
-        f"# Best of {result['evaluations']} evaluated candidates: score {result['score']:.3f}, "
+        + (f"# Required: {REQUIREMENTS[result['require']][1]}; among the candidates that meet it the claims\n"
+           "# decide, so it may agree on fewer claims than a search without the requirement.\n"
+           if result.get("require") else "")
+        + f"# Best of {result['evaluations']} evaluated candidates: score {result['score']:.3f}, "
         f"{result['agree']} claims agree during the search: {', '.join(result['agreeing'])}.\n"
         + (f"# Verified at the design's own settings: score {result['verified_score']:.3f}, "
            f"{len(result['verified_agreeing'])} agree: {', '.join(result['verified_agreeing'])}.\n"
@@ -750,7 +792,8 @@ def problem_from_config(design: KHVDesign, spec: Mapping[str, Any]) -> tuple[Pro
     ref = s.get("refine", {})
     budget["refine_steps"] = tuple(ref.get("steps", (0.1, 0.02)))
     budget["refine_rounds"] = int(ref.get("rounds", 2))
-    return Problem(design, design.paper, space, grids, settings, classifier, dict(spec.get("fixed", {}))), budget
+    return Problem(design, design.paper, space, grids, settings, classifier, dict(spec.get("fixed", {})),
+                   s.get("require")), budget
 
 
 def sensitivity(problem: Problem, evaluator: Evaluator, best_values: Mapping[str, float], steps: Sequence[float],
