@@ -251,30 +251,34 @@ def analyse_points(systems, settings, classifier: classify.ClassifierSettings = 
     x0s = [None] * len(systems) if x0 is None else list(x0)
     if not settings.batch:
         out = [analyse_point(c, settings, classifier, x0=x, cheap=cheap) for c, x in zip(systems, x0s, strict=True)]
-    else:
-        out = _analyse_batch(systems, x0s, settings, classifier, cheap)
-    return _settle_all(systems, out, settings, classifier)
+        return _settle_all(systems, out, settings, classifier)
+    from geardyn.solve.simulate import lane_tables
+
+    tables = lane_tables(systems, settings)  # every batch run below, and the check, share them
+    out = _analyse_batch(systems, x0s, settings, classifier, cheap, tables)
+    return _settle_all(systems, out, settings, classifier, tables)
 
 
-def _settle_many(systems, items, settings, classifier: classify.ClassifierSettings) -> list:
+def _settle_many(systems, items, settings, classifier: classify.ClassifierSettings, tables=None) -> list:
     """:func:`geardyn.runs.settle.settle_points` of every (index, result, classification) in ``items``
-    (integrated together; each point's check is independent of the others): a list of (index, Settled)."""
+    (integrated together; each point's check is independent of the others): a list of (index, Settled).
+    ``tables``: the lane tables of all ``systems``, when the caller has them."""
     from geardyn.runs.settle import settle_points
 
     idx = [i for i, _, _ in items]
     settled = settle_points([systems[i] for i in idx], [res for _, res, _ in items],
                             [lab.label for _, _, lab in items], [lab.lyapunov for _, _, lab in items],
-                            settings, classifier)
+                            settings, classifier, None if tables is None else tables.take(idx))
     return list(zip(idx, settled, strict=True))
 
 
-def _settle_all(systems, out: list, settings, classifier: classify.ClassifierSettings) -> list:
+def _settle_all(systems, out: list, settings, classifier: classify.ClassifierSettings, tables=None) -> list:
     """The slow-transient check (:mod:`geardyn.runs.settle`) of every point of ``out`` that needs it."""
     from geardyn.runs.settle import needs_check, settled_classification
 
     todo = [(i, res, lab) for i, (res, lab) in enumerate(out) if needs_check(lab.label, lab.lyapunov, classifier)]
     changed = 0
-    for i, s in _settle_many(systems, todo, settings, classifier):
+    for i, s in _settle_many(systems, todo, settings, classifier, tables):
         res, lab = out[i]
         out[i] = (res, settled_classification(lab, s, res.period))
         changed += s.after != s.before
@@ -284,8 +288,9 @@ def _settle_all(systems, out: list, settings, classifier: classify.ClassifierSet
     return out
 
 
-def _analyse_batch(systems, x0s, settings, classifier: classify.ClassifierSettings, cheap: bool) -> list:
-    """The batch path of :func:`analyse_points` (before the slow-transient check)."""
+def _analyse_batch(systems, x0s, settings, classifier: classify.ClassifierSettings, cheap: bool, tables) -> list:
+    """The batch path of :func:`analyse_points` (before the slow-transient check); ``tables``: the lane
+    tables of ``systems`` at ``settings``."""
     from geardyn.solve.simulate import simulate_batch
 
     L = len(systems)
@@ -297,7 +302,7 @@ def _analyse_batch(systems, x0s, settings, classifier: classify.ClassifierSettin
     # stops early drops it: its exponent comes from the monodromy of its cycle)
     carry = not cheap
     res1 = simulate_batch(systems, settings, x0s, tangent_periods=classifier.tangent_periods if carry else 0,
-                          early_stop=es)
+                          early_stop=es, tables=tables)
     todo_tan: list[int] = []      # cheap path: continue with the tangent vector
     todo_mono: list[tuple[int, int]] = []
     redo: list[int] = []          # redo by the previous method (full transient, tangent vector)
@@ -325,7 +330,7 @@ def _analyse_batch(systems, x0s, settings, classifier: classify.ClassifierSettin
         ns = [n for _, n in todo_mono]
         mono_settings = dataclasses.replace(settings, recorded_periods=0)
         rm = simulate_batch([systems[i] for i in idx], mono_settings, [res1[i].final_state for i in idx],
-                            monodromy_periods=ns, transient_periods=ns)
+                            monodromy_periods=ns, transient_periods=ns, tables=tables.take(idx))
         ok = [r.monodromy is not None and not r.diverged and np.all(np.isfinite(r.monodromy)) for r in rm]
         mu = np.ones((len(rm), 6))
         if any(ok):
@@ -349,7 +354,7 @@ def _analyse_batch(systems, x0s, settings, classifier: classify.ClassifierSettin
         undecided = classify.Classification(UNDETERMINED, 0, float("nan"), float("nan"), float("nan"), float("nan"),
                                             -1, "not periodic on the record")
         early = {i: s for i, s in _settle_many(systems, [(i, res1[i], undecided) for i in todo_tan], settings,
-                                               classifier) if s.after != s.before and not s.possible}
+                                               classifier, tables) if s.after != s.before and not s.possible}
         for i, s in early.items():
             out[i] = (res1[i], settled_classification(undecided, s, res1[i].period))
         todo_tan = [i for i in todo_tan if i not in early]
@@ -357,7 +362,7 @@ def _analyse_batch(systems, x0s, settings, classifier: classify.ClassifierSettin
         more = dataclasses.replace(settings, transient_periods=0,
                                    recorded_periods=max(settings.recorded_periods, classifier.tangent_periods))
         r2 = simulate_batch([systems[i] for i in todo_tan], more, [res1[i].final_state for i in todo_tan],
-                            tangent_periods=classifier.tangent_periods)
+                            tangent_periods=classifier.tangent_periods, tables=tables.take(todo_tan))
         for i, res2 in zip(todo_tan, r2, strict=True):
             res2.transient_used = res1[i].transient_used
             to_classify.append((i, res2))
@@ -368,7 +373,8 @@ def _analyse_batch(systems, x0s, settings, classifier: classify.ClassifierSettin
              sum(1 for i, _ in todo_mono if i not in redone), len(redo), len(todo_tan))
     if redo:
         old = dataclasses.replace(settings, early_stop=False, periodic_exponent="tangent")
-        again = _analyse_batch([systems[i] for i in redo], [x0s[i] for i in redo], old, classifier, cheap)
+        again = _analyse_batch([systems[i] for i in redo], [x0s[i] for i in redo], old, classifier, cheap,
+                               tables.take(redo))
         for i, pair in zip(redo, again, strict=True):
             out[i] = pair
     return out

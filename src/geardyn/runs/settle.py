@@ -127,12 +127,14 @@ def settle(system, result, label: int, lyapunov: float, settings: SimulationSett
 
 
 def settle_points(systems, results, labels, lyapunovs, settings: SimulationSettings,
-                  classifier: classify.ClassifierSettings) -> list[Settled]:
+                  classifier: classify.ClassifierSettings, tables: LaneTables | None = None) -> list[Settled]:
     """:func:`settle` of many points at once, stage by stage: the shooting of every point for one n,
     and the continued records of a stage, are integrated together
     (:func:`geardyn.solve.shooting.newton_shooting_batch`, :func:`geardyn.solve.simulate.simulate_batch`,
     both cores); the last stage (the run continued until its distance falls 10-fold), which few points
-    reach, runs point by point in threads.  Each point's numbers are those of the point alone."""
+    reach, runs point by point in threads.  Each point's numbers are those of the point alone.
+    ``tables``: the :func:`geardyn.solve.simulate.lane_tables` of ``systems`` at ``settings``, when the
+    caller has them."""
     out: list[Settled | None] = [None] * len(systems)
     active = []
     for i, (res, label, lam) in enumerate(zip(results, labels, lyapunovs, strict=True)):
@@ -143,10 +145,13 @@ def settle_points(systems, results, labels, lyapunovs, settings: SimulationSetti
         else:
             active.append(i)
     x0 = {i: np.asarray(results[i].final_state, dtype=float) for i in active}
-    tables = lane_tables(systems, settings)  # the per-point step tables, built once for every stage
-    falls = {i: falling_periods(results[i].poincare, classifier.settle_max_n) for i in active}
+    if tables is None:
+        tables = lane_tables(systems, settings)  # the per-point step tables, built once for every stage
+    falls: dict[int, np.ndarray] = {}
     for n in range(1, classifier.settle_max_n + 1):
         # period 1 is always tried: it is cheap, and the slowest transients are onto P1
+        if n == 2:
+            falls = {i: falling_periods(results[i].poincare, classifier.settle_max_n) for i in active}
         tried = [i for i in active if n == 1 or falls[i][n - 1]]
         if not tried:
             continue
