@@ -201,11 +201,6 @@ def regime_string(labels: np.ndarray) -> str:
     return "".join(out)
 
 
-#: Requirements a search can place on a candidate besides its score (``search.require``): a name ->
-#: (test of a record's labels, the sentence the calibrated design's header states).
-REQUIREMENTS: dict[str, tuple[Callable[[Mapping[str, Any]], bool], str]] = {}
-
-
 def shows_route(labels: np.ndarray) -> bool:
     """Whether labels along x1 go from period-1 through non-period-1 motion (quasi-periodic or period
     n > 1) into chaos: the regime string (:func:`regime_string`) begins ``1``, then ``Q`` / ``n`` and then
@@ -213,8 +208,12 @@ def shows_route(labels: np.ndarray) -> bool:
     return re.match(r"1[Qn]+C", regime_string(np.asarray(labels))) is not None
 
 
-REQUIREMENTS["route"] = (lambda rec: shows_route(np.asarray(rec["fig07"])),
-                         "Fig. 7 (x1 sweep, b = 2, e = 5) goes from period-1 through non-period-1 motion into chaos")
+#: Requirements a search can place on a candidate besides its score (``search.require``): a name ->
+#: (test of a record's labels, the sentence the calibrated design's header states).
+REQUIREMENTS: dict[str, tuple[Callable[[Mapping[str, Any]], bool], str]] = {
+    "route": (lambda rec: shows_route(np.asarray(rec["fig07"])),
+              "Fig. 7 (x1 sweep, b = 2, e = 5) goes from period-1 through non-period-1 motion into chaos"),
+}
 
 #: what a candidate that fails the requirement loses from its score (more than any score can be)
 _UNMET = 100.0
@@ -412,8 +411,8 @@ def refine(space: SearchSpace, evaluator: Evaluator, start: dict, steps: Sequenc
            rounds: int = 2) -> dict:
     """Deterministic local refinement after the global search: in each round every unknown is moved by
     +-step (:func:`perturbed`, all moves of a round evaluated together); the best move is taken if it
-    raises the score (:func:`ranked_score`), else the next smaller step is tried; stops after ``rounds`` improvements or when
-    no move improves."""
+    raises the score (:func:`ranked_score`), else the next smaller step is tried; stops after ``rounds``
+    improvements or when no move improves."""
     best = start
     k, done = 0, 0
     steps = sorted(steps, reverse=True)

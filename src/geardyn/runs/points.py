@@ -189,25 +189,16 @@ def _floquet_label(n: int, mu: np.ndarray, period: float, tol: float) -> classif
 
 
 def _classify_all(items, classifier: classify.ClassifierSettings, out: list) -> None:
-    """``classify_point`` of every (index, result) into ``out[index]``, in a thread pool as wide as the
-    numba thread count (numpy releases the GIL in the 0-1 test's array work; each call is independent,
-    so the results do not depend on the threads)."""
-    import numba
+    """``classify_point`` of every (index, result) into ``out[index]``, in threads (numpy releases the GIL
+    in the 0-1 test's array work; each call is independent, so the results do not depend on the threads)."""
+    from geardyn.runs._threads import threaded_map
 
     def one(item):
         i, r = item
         return i, (r, classify.classify_point(r.poincare, r.growth, r.period, r.diverged, classifier,
                                               samples=r.strobe))
 
-    workers = numba.get_num_threads()
-    if workers <= 1 or len(items) < 16:
-        done = map(one, items)
-    else:
-        from concurrent.futures import ThreadPoolExecutor
-
-        with ThreadPoolExecutor(workers) as ex:
-            done = list(ex.map(one, items, chunksize=8))
-    for i, pair in done:
+    for i, pair in threaded_map(one, items, min_items=16, chunksize=8):
         out[i] = pair
 
 

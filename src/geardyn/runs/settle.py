@@ -42,6 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from geardyn import classify
+from geardyn.runs._threads import threaded_map
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.shooting import newton_shooting_batch, period_settings
 from geardyn.solve.simulate import LaneTables, lane_tables, simulate_batch
@@ -251,7 +252,7 @@ def _judge(systems, tables: LaneTables, results, labels, x0: dict, shots: dict, 
                        f"stable period-{n} orbit found, but the run does not approach it "
                        f"(distance {d0:.2g} -> {d1:.2g} in {done} periods)")
 
-    out.update(zip(last, _threads(by_run, last), strict=True))
+    out.update(zip(last, threaded_map(by_run, last), strict=True))
     return out
 
 
@@ -267,20 +268,6 @@ def _length_classes(lengths: dict[int, int]) -> list[list[int]]:
         else:
             out.append([i])
     return out
-
-
-def _threads(fn, items: list) -> list:
-    """``[fn(x) for x in items]`` in a thread pool as wide as the numba thread count (the solver loop
-    releases the GIL; the items are independent, so the results do not depend on the threads)."""
-    import numba
-
-    workers = numba.get_num_threads()
-    if workers <= 1 or len(items) < 2:
-        return [fn(x) for x in items]
-    from concurrent.futures import ThreadPoolExecutor
-
-    with ThreadPoolExecutor(workers) as ex:
-        return list(ex.map(fn, items))
 
 
 def settled_classification(before: classify.Classification, s: Settled, period: float) -> classify.Classification:

@@ -136,22 +136,24 @@ def newton_shooting_batch(systems: list[System], x0s: list[np.ndarray], n: int =
     xs = [np.asarray(x, dtype=float).copy() for x in x0s]
     caps = [_step_cap(x, None) for x in xs]
     out: list[ShootingResult | None] = [None] * len(xs)
-    todo = list(range(len(xs)))
+    todo = list(range(len(xs)))  # the unfinished points; ``tables`` holds their rows, in this order
     for it in range(max_iter + 1):
         if not todo:
             break
         runs = simulate_batch([systems[i] for i in todo], s, [xs[i] for i in todo], monodromy_periods=n,
-                              tables=tables.take(todo))
+                              tables=tables)
         left = []
-        for i, r in zip(todo, runs, strict=True):
+        for k, (i, r) in enumerate(zip(todo, runs, strict=True)):
             phi, M = (None, None) if r.diverged else (r.final_state.copy(), r.monodromy.copy())
             nxt = _newton_step(xs[i], phi, M, n, tol, caps[i], it, max_iter)
             if isinstance(nxt, ShootingResult):
                 out[i] = nxt
             else:
                 xs[i] = nxt
-                left.append(i)
-        todo = left
+                left.append(k)
+        if len(left) < len(todo):
+            tables = tables.take(left)  # copied only when a point has finished
+        todo = [todo[k] for k in left]
     return out  # type: ignore[return-value]
 
 
