@@ -22,10 +22,10 @@ from geardyn.config import settings_from
 
 #: Label codes stored in cubes (``flag_values``/``flag_meanings``); n >= 1 is period-n.
 #: ``not_periodic`` is what the Poincaré test alone says (QP or chaos, unresolved).
+LABELS = {"chaotic": -4, "quasi_periodic": -3, "diverged": -2, "undetermined": -1, "not_periodic": 0}
+
 #: values of ``Classification.settled`` (cube variable ``settled``)
 SETTLED, POSSIBLE_TRANSIENT = 1, 2
-
-LABELS = {"chaotic": -4, "quasi_periodic": -3, "diverged": -2, "undetermined": -1, "not_periodic": 0}
 
 
 def _return_distances(p: np.ndarray, n: int) -> np.ndarray:

@@ -94,9 +94,11 @@ def _pair_from(raw: dict[str, Any], x2: float) -> geometry.GearPair:
 
 def x2_for(design: KHVDesign, x1: float) -> float:
     """x2 at ``x1``: on line 4 (G_s = 0) when the design says 'line4', else the fixed x2."""
-    if not design.x2_on_line4:
-        return design.base.x2
-    return float(geometry.x2_on_overlap_boundary(x1, design.base))
+    return _x2(design.base, design.x2_on_line4, float(x1))
+
+
+def _x2(base: geometry.GearPair, on_line4: bool, x1: float) -> float:
+    return float(geometry.x2_on_overlap_boundary(x1, base)) if on_line4 else base.x2
 
 
 def pair_at(design: KHVDesign, x1: float) -> geometry.GearPair:
@@ -114,8 +116,7 @@ def _mesh_properties(name: str, base: geometry.GearPair, on_line4: bool, opts: S
                      x1: float) -> MeshProperties:
     """:func:`mesh_properties` of the design with these fields (a pure function of them, so kept: the
     b and e sweeps and the calibration's tracks ask for the same x1 many times)."""
-    x2 = float(geometry.x2_on_overlap_boundary(x1, base)) if on_line4 else base.x2
-    pair = dataclasses.replace(base, x1=x1, x2=x2)
+    pair = dataclasses.replace(base, x1=x1, x2=_x2(base, on_line4, x1))
     q = float(stiffness.flexibility_q(pair.z1, pair.z2, pair.x1, pair.x2, internal=True,
                                       variant=opts.q_variant, constants=opts.c_constants))
     k_c = float(stiffness.pitch_point_stiffness(q, pair.facewidth))
