@@ -99,6 +99,36 @@ def _newton_step(x: np.ndarray, phi: np.ndarray | None, M: np.ndarray | None, n:
     return x + dx
 
 
+def _newton_steps(xs: list[np.ndarray], runs, tol: float, caps: list[float], it: int,
+                  max_iter: int) -> list[np.ndarray | None]:
+    """:func:`_newton_step` of many points at once where it gives the next iterate (one batched solve,
+    the same LAPACK call per point, so the same numbers); None where the iteration ends (diverged, not
+    finite, converged, the last iteration, a singular matrix), which the one-point step then returns."""
+    out: list[np.ndarray | None] = [None] * len(xs)
+    go = [k for k, r in enumerate(runs) if not r.diverged]
+    if not go or it == max_iter:
+        return out
+    X = np.stack([xs[k] for k in go])
+    F = np.stack([runs[k].final_state for k in go]) - X
+    M = np.stack([runs[k].monodromy for k in go])
+    fin = np.all(np.isfinite(F), axis=1) & np.all(np.isfinite(M), axis=(1, 2))
+    conv = np.max(np.abs(F), axis=1) <= tol * np.maximum(1.0, np.max(np.abs(X), axis=1))
+    sel = np.flatnonzero(fin & ~conv)
+    if sel.size == 0:
+        return out
+    try:
+        dx = np.linalg.solve(M[sel] - np.eye(X.shape[1]), -F[sel][:, :, None])[:, :, 0]
+    except np.linalg.LinAlgError:
+        return out  # a singular matrix among them: each point's own step decides
+    for j, row in zip(sel, dx, strict=True):
+        k = go[j]
+        step = float(np.max(np.abs(row)))
+        if step > caps[k]:
+            row *= caps[k] / step
+        out[k] = xs[k] + row
+    return out
+
+
 def _step_cap(x0: np.ndarray, max_step: float | None) -> float:
     return max_step if max_step is not None else 10.0 * max(1.0, float(np.max(np.abs(x0))))
 
@@ -142,10 +172,13 @@ def newton_shooting_batch(systems: list[System], x0s: list[np.ndarray], n: int =
             break
         runs = simulate_batch([systems[i] for i in todo], s, [xs[i] for i in todo], monodromy_periods=n,
                               tables=tables)
+        steps = _newton_steps([xs[i] for i in todo], runs, tol, [caps[i] for i in todo], it, max_iter)
         left = []
         for k, (i, r) in enumerate(zip(todo, runs, strict=True)):
-            phi, M = (None, None) if r.diverged else (r.final_state.copy(), r.monodromy.copy())
-            nxt = _newton_step(xs[i], phi, M, n, tol, caps[i], it, max_iter)
+            nxt = steps[k]
+            if nxt is None:  # the iteration ends here: the one-point step says how
+                phi, M = (None, None) if r.diverged else (r.final_state.copy(), r.monodromy.copy())
+                nxt = _newton_step(xs[i], phi, M, n, tol, caps[i], it, max_iter)
             if isinstance(nxt, ShootingResult):
                 out[i] = nxt
             else:
