@@ -270,3 +270,21 @@ def test_labels_near_the_neimark_sacker_point_agree_with_continuation():
     assert [lab.label for _, lab in out] == [1, classify.LABELS["undetermined"], classify.LABELS["quasi_periodic"]]
     assert [lab.settled for _, lab in out] == [classify.SETTLED, classify.POSSIBLE_TRANSIENT, 0]
     assert "0.9999" in out[1][1].reason
+
+
+def test_falling_return_distances_is_the_quarter_means_of_the_return_distances():
+    """The compiled return-distance trend against the definition written out in numpy, on random walks,
+    a decaying period-3 transient and short records (fewer than n + 9 points: True)."""
+    rng = np.random.default_rng(5)
+    k = np.arange(60)[:, None]
+    cases = [np.cumsum(rng.normal(size=(m, 6)), axis=0) for m in (9, 12, 40, 120)]
+    cases.append(np.cos(2 * np.pi * k / 3) + 0.5 * 0.97 ** k * rng.normal(size=(1, 6)))
+    for p in cases:
+        want = np.ones(12, dtype=bool)
+        for n in range(1, min(12, p.shape[0] - 8) + 1):
+            d = np.max(np.abs(p[n:] - p[:-n]), axis=1)
+            q = max(2, d.size // 4)
+            want[n - 1] = d[-q:].mean() < 0.95 * d[:q].mean()
+        np.testing.assert_array_equal(classify.falling_return_distances(p, 12), want)
+    period3 = classify.falling_return_distances(cases[-1], 12)
+    assert not period3[0] and period3[2]

@@ -143,6 +143,39 @@ def test_zero_one_test_needs_about_400_samples_for_quasi_periodic_series():
     assert classify.zero_one_test(x[100:]) > 0.95  # logistic map at r = 3.9 is chaotic
 
 
+def _k01_numpy(x: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
+    """The 0-1 test's K written out in numpy (Gottwald & Melbourne 2009, correlation method): an
+    independent statement of what the compiled loop computes."""
+    x = x - x.mean()
+    n_pts = x.size
+    ncut = max(3, n_pts // 10)
+    cs = np.random.default_rng(seed).uniform(np.pi / 5, 4 * np.pi / 5, n_c)
+    arg = np.outer(cs, np.arange(1, n_pts + 1))
+    p, q = np.cumsum(x * np.cos(arg), axis=1), np.cumsum(x * np.sin(arg), axis=1)
+    ns = np.arange(1, ncut + 1)
+    d = np.stack([np.mean((p[:, n:] - p[:, :-n]) ** 2 + (q[:, n:] - q[:, :-n]) ** 2, axis=1) for n in ns], axis=1)
+    ks = [np.corrcoef(row, ns)[0, 1] if np.ptp(row) > 0 else 0.0 for row in d]
+    return float(np.median(ks))
+
+
+@pytest.mark.parametrize("kind", ["noise", "two_tones", "logistic", "period_2_noisy"])
+def test_compiled_zero_one_test_is_the_numpy_formula(kind):
+    rng = np.random.default_rng(7)
+    j = np.arange(300)
+    if kind == "noise":
+        x = rng.normal(size=300)
+    elif kind == "two_tones":
+        x = np.sin(0.7 * j) + 0.3 * np.sin(2.1 * math.sqrt(2) * j)
+    elif kind == "logistic":
+        x = np.empty(300)
+        x[0] = 0.3
+        for i in range(299):
+            x[i + 1] = 3.9 * x[i] * (1 - x[i])
+    else:
+        x = np.cos(np.pi * j) + 1e-3 * rng.normal(size=300)
+    assert classify.zero_one_test(x) == pytest.approx(_k01_numpy(x), abs=1e-12)
+
+
 def test_linear_gear_model_p1_with_least_damped_floquet_exponent():
     model = design.load(ROOT / "config" / "designs" / "li2013.yaml")
     coeffs = floquet.linear_part(point.point_coefficients(model, {"x1": 0.5, "e": 5.0}))

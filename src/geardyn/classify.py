@@ -33,6 +33,17 @@ def _return_distances(p: np.ndarray, n: int) -> np.ndarray:
     return np.max(np.abs(p[n:] - p[:-n]), axis=1)
 
 
+def falling_return_distances(poincare: np.ndarray, max_n: int, factor: float = 0.95) -> np.ndarray:
+    """For n = 1 .. ``max_n`` (boolean array, entry n - 1): whether the return distance
+    d_n(k) = max_i |p_k+n,i - p_k,i| of the Poincare points (rows with NaN left out) falls over the
+    record: mean of its last quarter < ``factor`` x mean of its first quarter (a quarter: max(2, len // 4)
+    values).  True when there are fewer than n + 9 points (too short to tell).  Compiled."""
+    from geardyn._indicators import falling
+
+    p = np.asarray(poincare, dtype=float)
+    return falling(np.ascontiguousarray(p[np.all(np.isfinite(p), axis=1)]), max_n, factor)
+
+
 def bands(values: np.ndarray, labels: np.ndarray) -> list[tuple[float, float, int]]:
     """Runs of equal labels along a sweep as (first value, last value, label)."""
     out: list[tuple[float, float, int]] = []
@@ -119,19 +130,11 @@ def zero_one_test(phi: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
     x = x - x.mean()
     if float(np.max(np.abs(x))) <= 1e-12 * max(1.0, float(np.max(np.abs(phi)))):
         return 0.0
+    from geardyn._indicators import correlations  # compiled; releases the GIL
+
     ncut = max(3, n_pts // 10)
     cs = np.random.default_rng(seed).uniform(np.pi / 5, 4 * np.pi / 5, n_c)
-    j = np.arange(1, n_pts + 1)
-    ns = np.arange(1, ncut + 1)
-    arg = np.outer(cs, j)
-    p = np.cumsum(x * np.cos(arg), axis=1)
-    q = np.cumsum(x * np.sin(arg), axis=1)
-    d = np.stack([np.mean((p[:, n:] - p[:, :-n]) ** 2 + (q[:, n:] - q[:, :-n]) ** 2, axis=1) for n in ns], axis=1)
-    dn = d - d.mean(axis=1, keepdims=True)
-    nn = ns - ns.mean()
-    den = np.sqrt((dn**2).sum(axis=1) * (nn**2).sum())
-    ks = np.where(den > 0, (dn @ nn) / np.where(den > 0, den, 1.0), 0.0)
-    return float(np.median(ks))
+    return float(np.median(correlations(np.ascontiguousarray(x), cs, ncut)))
 
 
 def spectral_flatness(phi: np.ndarray) -> float:

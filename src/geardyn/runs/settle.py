@@ -90,19 +90,7 @@ def return_distance_falls(poincare: np.ndarray, n: int, factor: float = 0.95) ->
     period-n orbit with leading multiplier rho shrinks d_n by rho^(3K/4) over K points (0.47 for
     rho = 0.99 and K = 100); ``factor`` 0.95 skips only transients slower than about rho = 0.9993
     per period on a 100-point record."""
-    return bool(falling_periods(poincare, n, factor)[n - 1])
-
-
-def falling_periods(poincare: np.ndarray, max_n: int, factor: float = 0.95) -> np.ndarray:
-    """:func:`return_distance_falls` for n = 1 .. ``max_n`` at once (boolean array, entry n - 1)."""
-    p = np.asarray(poincare, dtype=float)
-    p = p[np.all(np.isfinite(p), axis=1)]
-    out = np.ones(max_n, dtype=bool)
-    for n in range(1, min(max_n, p.shape[0] - 8) + 1):
-        d = np.max(np.abs(p[n:] - p[:-n]), axis=1)
-        q = max(2, d.size // 4)
-        out[n - 1] = d[-q:].mean() < factor * d[:q].mean()
-    return out
+    return bool(classify.falling_return_distances(poincare, n, factor)[n - 1])
 
 
 def _distance(x: np.ndarray, cycle: np.ndarray) -> np.ndarray:
@@ -155,7 +143,8 @@ def settle_points(systems, results, labels, lyapunovs, settings: SimulationSetti
     for n in range(1, classifier.settle_max_n + 1):
         # period 1 is always tried: it is cheap, and the slowest transients are onto P1
         if n == 2:
-            falls = {i: falling_periods(results[i].poincare, classifier.settle_max_n) for i in active}
+            falls = {i: classify.falling_return_distances(results[i].poincare, classifier.settle_max_n)
+                     for i in active}
         tried = [i for i in active if n == 1 or falls[i][n - 1]]
         if not tried:
             continue
