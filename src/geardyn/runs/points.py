@@ -189,8 +189,9 @@ def _floquet_label(n: int, mu: np.ndarray, period: float, tol: float) -> classif
 
 
 def _classify_all(items, classifier: classify.ClassifierSettings, out: list) -> None:
-    """``classify_point`` of every (index, result) into ``out[index]``, in threads (numpy releases the GIL
-    in the 0-1 test's array work; each call is independent, so the results do not depend on the threads)."""
+    """``classify_point`` of every (index, result) into ``out[index]``, in threads (the 0-1 test's compiled
+    loop and numpy's array work release the GIL; each call is independent, so the results do not depend on
+    the threads)."""
     from geardyn.runs._threads import threaded_map
 
     def one(item):
