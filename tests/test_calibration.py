@@ -274,7 +274,7 @@ def test_labels_near_the_neimark_sacker_point_agree_with_continuation():
 
 def test_falling_return_distances_is_the_quarter_means_of_the_return_distances():
     """The compiled return-distance trend against the definition written out in numpy, on random walks,
-    a decaying period-3 transient and short records (fewer than n + 9 points: True)."""
+    a decaying period-3 transient and short records (fewer than n + 8 points: True)."""
     rng = np.random.default_rng(5)
     k = np.arange(60)[:, None]
     cases = [np.cumsum(rng.normal(size=(m, 6)), axis=0) for m in (9, 12, 40, 120)]

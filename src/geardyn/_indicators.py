@@ -62,7 +62,7 @@ def correlations(x: np.ndarray, cs: np.ndarray, ncut: int) -> np.ndarray:
 def falling(p: np.ndarray, max_n: int, factor: float) -> np.ndarray:
     """For n = 1 .. ``max_n`` (entry n - 1): whether the return distance d_n(k) = max_i |p_k+n,i - p_k,i|
     of the rows of ``p`` (finite) falls: mean of its last quarter < ``factor`` x mean of its first
-    quarter (quarter: max(2, len // 4) values); True when there are fewer than n + 9 rows."""
+    quarter (quarter: max(2, len // 4) values); True when there are fewer than n + 8 rows."""
     m = p.shape[0]
     out = np.ones(max_n, dtype=np.bool_)
     for n in range(1, min(max_n, m - 8) + 1):

@@ -37,7 +37,7 @@ def falling_return_distances(poincare: np.ndarray, max_n: int, factor: float = 0
     """For n = 1 .. ``max_n`` (boolean array, entry n - 1): whether the return distance
     d_n(k) = max_i |p_k+n,i - p_k,i| of the Poincare points (rows with NaN left out) falls over the
     record: mean of its last quarter < ``factor`` x mean of its first quarter (a quarter: max(2, len // 4)
-    values).  True when there are fewer than n + 9 points (too short to tell).  Compiled."""
+    values).  True when there are fewer than n + 8 points (too short to tell).  Compiled."""
     from geardyn._indicators import falling
 
     p = np.asarray(poincare, dtype=float)
