@@ -233,3 +233,14 @@ def test_duffing_cascade_by_branch_switching():
     pd2 = [b for b in p2.bifurcations if b.kind == "period_doubling"]
     assert len(pd2) == 1 and pd2[0].n == 2
     assert abs(pd2[0].p - 0.286693158) < 1e-3  # measured 2.4e-9
+
+
+def test_singular_newton_matrix_is_reported_not_raised():
+    """phi(x) = x + (1, 2) with M = I: M - I is singular, so Newton stops at once with status
+    'singular', the residual 2 and the multipliers of M (1, 1); a map with a regular M converges."""
+    r = newton_shooting(lambda x, jac: (x + np.array([1.0, 2.0]), np.eye(2)), np.zeros(2))
+    assert (r.status, r.converged, r.iterations, r.residual) == ("singular", False, 0, 2.0)
+    np.testing.assert_array_equal(np.abs(r.multipliers), [1.0, 1.0])
+    half = newton_shooting(lambda x, jac: (0.5 * x + 1.0, 0.5 * np.eye(2)), np.zeros(2))
+    assert half.converged and half.iterations == 1
+    np.testing.assert_allclose(half.state, [2.0, 2.0], rtol=0, atol=1e-15)

@@ -75,10 +75,10 @@ def sorted_multipliers(monodromy: np.ndarray) -> np.ndarray:
     return mu[np.lexsort((-mu.imag, -np.round(np.abs(mu), 12)))]
 
 
-def _newton_step(x: np.ndarray, phi: np.ndarray | None, M: np.ndarray | None, n: int, tol: float, cap: float,
-                 it: int, max_iter: int) -> ShootingResult | np.ndarray:
-    """One Newton iteration at the iterate ``x`` given phi(x) and M(x) (None: diverged): the final
-    :class:`ShootingResult` when the iteration ends here, else the next iterate."""
+def _newton_end(x: np.ndarray, phi: np.ndarray | None, M: np.ndarray | None, n: int, tol: float, it: int,
+                max_iter: int) -> ShootingResult | None:
+    """The :class:`ShootingResult` when the Newton iteration ends at the iterate ``x`` given phi(x) and
+    M(x) (None: diverged): diverged, not finite, converged or the last iteration; else None."""
     if phi is None or M is None:
         return ShootingResult(x, n, False, "diverged", it, float("inf"))
     F = phi - x
@@ -89,43 +89,35 @@ def _newton_step(x: np.ndarray, phi: np.ndarray | None, M: np.ndarray | None, n:
         return ShootingResult(x, n, True, "converged", it, res, M, sorted_multipliers(M))
     if it == max_iter:
         return ShootingResult(x, n, False, "max_iterations", max_iter, res, M, sorted_multipliers(M))
-    try:
-        dx = np.linalg.solve(M - np.eye(x.size), -F)
-    except np.linalg.LinAlgError:
-        return ShootingResult(x, n, False, "singular", it, res, M, sorted_multipliers(M))
-    step = float(np.max(np.abs(dx)))
-    if step > cap:
-        dx *= cap / step
-    return x + dx
+    return None
 
 
-def _newton_steps(xs: list[np.ndarray], runs, tol: float, caps: list[float], it: int,
-                  max_iter: int) -> list[np.ndarray | None]:
-    """:func:`_newton_step` of many points at once where it gives the next iterate (one batched solve,
-    the same LAPACK call per point, so the same numbers); None where the iteration ends (diverged, not
-    finite, converged, the last iteration, a singular matrix), which the one-point step then returns."""
-    out: list[np.ndarray | None] = [None] * len(xs)
-    go = [k for k, r in enumerate(runs) if not r.diverged]
-    if not go or it == max_iter:
-        return out
-    X = np.stack([xs[k] for k in go])
-    F = np.stack([runs[k].final_state for k in go]) - X
-    M = np.stack([runs[k].monodromy for k in go])
-    fin = np.all(np.isfinite(F), axis=1) & np.all(np.isfinite(M), axis=(1, 2))
-    conv = np.max(np.abs(F), axis=1) <= tol * np.maximum(1.0, np.max(np.abs(X), axis=1))
-    sel = np.flatnonzero(fin & ~conv)
-    if sel.size == 0:
-        return out
+def _newton_next(xs: list[np.ndarray], phis: list[np.ndarray], Ms: list[np.ndarray], caps: list[float], n: int,
+                 it: int) -> list[np.ndarray | ShootingResult]:
+    """The next Newton iterates x - (M - I)^-1 (phi - x), each step capped at its ``cap`` (max norm), of
+    points whose iteration goes on, by one stacked solve (the same LAPACK call per point as alone); a
+    point whose M - I is singular gets its ``singular`` :class:`ShootingResult` instead."""
+    X = np.stack(xs)
+    F = np.stack(phis) - X
+    A = np.stack(Ms) - np.eye(X.shape[1])
     try:
-        dx = np.linalg.solve(M[sel] - np.eye(X.shape[1]), -F[sel][:, :, None])[:, :, 0]
-    except np.linalg.LinAlgError:
-        return out  # a singular matrix among them: each point's own step decides
-    for j, row in zip(sel, dx, strict=True):
-        k = go[j]
-        step = float(np.max(np.abs(row)))
-        if step > caps[k]:
-            row *= caps[k] / step
-        out[k] = xs[k] + row
+        dx = list(np.linalg.solve(A, -F[:, :, None])[:, :, 0])
+    except np.linalg.LinAlgError:  # a singular matrix among them: find it, point by point
+        dx = []
+        for a, f in zip(A, F, strict=True):
+            try:
+                dx.append(np.linalg.solve(a[None], -f[None, :, None])[0, :, 0])
+            except np.linalg.LinAlgError:
+                dx.append(None)
+    out: list[np.ndarray | ShootingResult] = []
+    for x, f, M, d, cap in zip(xs, F, Ms, dx, caps, strict=True):
+        if d is None:
+            out.append(ShootingResult(x, n, False, "singular", it, float(np.max(np.abs(f))), M, sorted_multipliers(M)))
+            continue
+        step = float(np.max(np.abs(d)))
+        if step > cap:
+            d *= cap / step
+        out.append(x + d)
     return out
 
 
@@ -144,7 +136,11 @@ def newton_shooting(flow: FlowMap, x0: np.ndarray, n: int = 1, tol: float = 1e-9
     x = np.asarray(x0, dtype=float).copy()
     cap = _step_cap(x, max_step)
     for it in range(max_iter + 1):
-        nxt = _newton_step(x, *flow(x, True), n, tol, cap, it, max_iter)
+        phi, M = flow(x, True)
+        end = _newton_end(x, phi, M, n, tol, it, max_iter)
+        if end is not None:
+            return end
+        nxt = _newton_next([x], [phi], [M], [cap], n, it)[0]
         if isinstance(nxt, ShootingResult):
             return nxt
         x = nxt
@@ -172,18 +168,24 @@ def newton_shooting_batch(systems: list[System], x0s: list[np.ndarray], n: int =
             break
         runs = simulate_batch([systems[i] for i in todo], s, [xs[i] for i in todo], monodromy_periods=n,
                               tables=tables)
-        steps = _newton_steps([xs[i] for i in todo], runs, tol, [caps[i] for i in todo], it, max_iter)
-        left = []
+        go = []  # (position in todo, phi, M) of the points whose iteration goes on
         for k, (i, r) in enumerate(zip(todo, runs, strict=True)):
-            nxt = steps[k]
-            if nxt is None:  # the iteration ends here: the one-point step says how
-                phi, M = (None, None) if r.diverged else (r.final_state.copy(), r.monodromy.copy())
-                nxt = _newton_step(xs[i], phi, M, n, tol, caps[i], it, max_iter)
-            if isinstance(nxt, ShootingResult):
-                out[i] = nxt
+            phi, M = (None, None) if r.diverged else (r.final_state.copy(), r.monodromy.copy())
+            end = _newton_end(xs[i], phi, M, n, tol, it, max_iter)
+            if end is None:
+                go.append((k, phi, M))
             else:
-                xs[i] = nxt
-                left.append(k)
+                out[todo[k]] = end
+        left = []
+        if go:
+            nxt = _newton_next([xs[todo[k]] for k, _, _ in go], [phi for _, phi, _ in go], [M for _, _, M in go],
+                               [caps[todo[k]] for k, _, _ in go], n, it)
+            for (k, _, _), x in zip(go, nxt, strict=True):
+                if isinstance(x, ShootingResult):
+                    out[todo[k]] = x
+                else:
+                    xs[todo[k]] = x
+                    left.append(k)
         if len(left) < len(todo):
             tables = tables.take(left)  # copied only when a point has finished
         todo = [todo[k] for k in left]
