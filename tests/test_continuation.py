@@ -17,7 +17,7 @@ from geardyn import classify, io
 from geardyn.khv import design, point
 from geardyn.papers import li2013 as paper
 from geardyn.runs import continuation as C
-from geardyn.runs.points import analyse_point
+from _oracle import rules_label
 from geardyn.solve import SimulationSettings, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -78,7 +78,7 @@ def test_branch_agrees_with_simulated_labels_where_stable(calibrated_branch):
     checked = 0
     for x1 in np.linspace(0.70, 0.78, 9):
         coeffs = point.point_coefficients(d, {"x1": x1, "b": 2.0, "e": 5.0})
-        res, lab = analyse_point(coeffs, settings, cls)
+        res, lab = rules_label(coeffs, settings, cls)
         # branch points at this x1 (one per crossing of the branch), stable or not
         hits = []
         for i in range(len(br) - 1):
@@ -184,7 +184,7 @@ def test_period_doubling_bubble_of_the_khv_model_under_light_load():
     assert p2 is not None and p2.n == 2 and p2.stable.all()
     assert p2.end_status["up"] == "merged_into_period_1"
     assert p2.p.max() == pytest.approx(pds[1].p, abs=1e-3)
-    res, lab = analyse_point(fam.coefficients(0.805), point.integration_settings(d), classify.ClassifierSettings())
+    res, lab = rules_label(fam.coefficients(0.805), point.integration_settings(d), classify.ClassifierSettings())
     assert lab.label == 2
     checked, agree, _ = C.label_agreement(_one_point_cube(0.805, res.poincare[-1], 2), 0, [p2], 6)
     assert (checked, agree) == (1, 1)

@@ -1,4 +1,4 @@
-"""Batch integration (simulate_batch, analyse_points): the same numbers as the point-by-point path,
+"""Batch integration (simulate_batch): the same numbers as the point-by-point path,
 whatever the batch, its order, its chunking and the number of threads."""
 
 import dataclasses
@@ -9,7 +9,6 @@ import pytest
 
 from geardyn import classify
 from geardyn.bench import cases
-from geardyn.runs.points import analyse_point, analyse_points
 from geardyn.solve import SimulationSettings, _batch, simulate
 from geardyn.solve.simulate import EarlyStop, simulate_batch, step_tables
 
@@ -92,33 +91,24 @@ def test_compiled_rule3_equals_strict_period():
     assert [int(v) for v in out[:, 0]] == [classify.strict_period(p, cs) for p in seqs] == [1, 2, 3, 5, 12, 0, 0]
 
 
-@pytest.mark.parametrize("cheap", [False, True])
-def test_previous_method_through_the_batch_is_bit_identical(systems, cheap):
-    """early_stop off and the tangent exponent: analyse_points == analyse_point, label and numbers (the
-    rules' labels: the slow-transient check after them is off here, and tested in test_calibration.py)."""
-    s = SimulationSettings(steps_per_period=32, transient_periods=40, recorded_periods=25, early_stop=False,
-                           periodic_exponent="tangent")
-    cls = classify.ClassifierSettings(error_floor=4e-3, tangent_periods=30, settle_max_n=0)
-    new = analyse_points(systems, s, cls, cheap=cheap)
-    for c, (r, lab) in zip(systems, new, strict=True):
-        r0, lab0 = analyse_point(c, s, cls, cheap=cheap)
-        assert lab.label == lab0.label and lab.reason == lab0.reason
-        np.testing.assert_array_equal([lab.lyapunov, lab.k01, lab.flatness], [lab0.lyapunov, lab0.k01, lab0.flatness])
-        assert np.array_equal(r.poincare, r0.poincare)
-
-
 def test_floquet_exponent_of_periodic_points():
-    """Periodic points (the periodic benchmark case, slow shaft mode): the early stop ends the transient
-    well before its end, the label is the previous method's, and the Floquet exponent is the least-damped
-    multiplier's (log 0.9812 per period) inside the tangent estimate's error bar."""
+    """Periodic points (the periodic benchmark case, slow shaft mode), labelled from the static deflection:
+    the early stop ends the transient well before its end, the orbit is certified by shooting, and the
+    Floquet exponent is the least-damped multiplier's (log 0.9812 per period) inside the error bar of the
+    tangent estimate of a plain run of the whole transient (the test oracle)."""
+    from _oracle import rules_label
+
+    from geardyn.label import Policy, label_points
+
     periodic = [cases()["periodic"].replace(b=b) for b in (0.0, 1.0, 2.5)]
     base = SimulationSettings(steps_per_period=32, transient_periods=900, recorded_periods=50)
     cls = classify.ClassifierSettings(error_floor=4e-3, tangent_periods=200)
-    old = analyse_points(periodic, dataclasses.replace(base, early_stop=False, periodic_exponent="tangent"), cls)
-    new = analyse_points(periodic, base, cls)
-    for (r0, lo), (r, ln) in zip(old, new, strict=True):
-        assert lo.label == ln.label == 1
-        assert r0.transient_used == 900 and 250 < r.transient_used < 400
-        assert ln.lyapunov_sigma == 0.0
-        assert ln.lyapunov == pytest.approx(-0.002717, abs=2e-6)
-        assert abs(ln.lyapunov - lo.lyapunov) <= 2 * lo.lyapunov_sigma
+    new = label_points(periodic, Policy(base, cls, start="fixed"))
+    for c, v in zip(periodic, new, strict=True):
+        _, lo = rules_label(c, base, cls)
+        assert lo.label == v.label == 1 and v.stage == "period_test" and v.exponent_method == "floquet"
+        assert 250 < v.transient_used < 400
+        assert v.exponent_sigma == 0.0
+        assert v.exponent == pytest.approx(-0.002717, abs=2e-6)
+        assert abs(v.exponent - lo.lyapunov) <= 2 * lo.lyapunov_sigma
+

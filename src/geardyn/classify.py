@@ -172,7 +172,7 @@ class ClassifierSettings:
     vector is carried (the last ones of the run).  separation: the points of a period-n cycle must
     differ by more than separation * tol (return distances for m < n).  settle_max_n,
     settle_max_periods: the slow-transient check applied after these rules by
-    :func:`geardyn.runs.points.analyse_points` (:mod:`geardyn.runs.settle`; 0: off).
+    :func:`geardyn.runs.points.analyse_points` (:mod:`geardyn.label.settle`; 0: off).
     """
 
     max_n: int = 12
@@ -187,6 +187,9 @@ class ClassifierSettings:
     separation: float = 10.0
     settle_max_n: int = 12
     settle_max_periods: int = 4000
+    torus_digits: float = 3.5
+    chaos_digits: float = 3.0
+    torus_extend: int = 3
 
     @classmethod
     def from_mapping(cls, spec: dict | None) -> ClassifierSettings:
@@ -203,7 +206,7 @@ class Classification:
     crosscheck: 1 when the 0-1 test and the spectrum both agree with the label, 0 when only one
     does, -1 when not applicable (periodic by the return test, diverged).
     reason: short text.  settled: 0 the rules decided; :data:`SETTLED` the label is period-n because
-    the run was found to approach a stable period-n orbit (:mod:`geardyn.runs.settle`) after the rules
+    the run was found to approach a stable period-n orbit (:mod:`geardyn.label.settle`) after the rules
     called it quasi-periodic or undetermined; :data:`POSSIBLE_TRANSIENT` a stable orbit was found whose
     multiplier is too close to 1 to see the run approach it, so the label is undetermined.
     """

@@ -5,12 +5,8 @@
 # results/{design}/calibration/{calibration}_cache.jsonl (not an output: it survives a failed or
 # interrupted job, and a rerun replays it and resumes).  A second job measures the robustness and
 # sensitivity of the best candidate (tornado chart, 2-D map) from the same cache.
-# A ``grid`` entry (legacy): every grid combination scored by the Poincare period, in chunks.
 
-SEARCH_CALIBRATIONS = [n for n, s in config["calibration"].items() if "search" in s]
-GRID_CALIBRATIONS = [
-    n for n, s in config["calibration"].items() if s.get("grid") and "search" not in s
-]
+SEARCH_CALIBRATIONS = list(config["calibration"])
 
 
 rule calibration_search:
@@ -57,45 +53,6 @@ rule calibration_sensitivity:
         spec=config_slice("calibration"),
     script:
         "../scripts/calibration_sensitivity.py"
-
-
-rule calibration_chunk:
-    input:
-        design=design_file,
-    output:
-        "results/{design}/calibration/{calibration}/chunk_{chunk}.nc",
-    log:
-        "results/{design}/logs/calibration_{calibration}_{chunk}.log",
-    wildcard_constraints:
-        calibration=either(GRID_CALIBRATIONS, "no-grid"),
-    threads: 1
-    params:
-        spec=config_slice("calibration"),
-    script:
-        "../scripts/calibration_chunk.py"
-
-
-rule calibration_merge:
-    input:
-        design=design_file,
-        chunks=chunk_files(
-            "calibration",
-            "results/{design}/calibration/{name}/chunk_{chunk}.nc",
-            calibration_chunks,
-        ),
-    output:
-        scores="results/{design}/calibration/{calibration}.nc",
-        design="results/{design}/calibration/{calibration}_design.yaml",
-        table="results/{design}/calibration/{calibration}.md",
-    log:
-        "results/{design}/logs/calibration_{calibration}_merge.log",
-    wildcard_constraints:
-        calibration=either(GRID_CALIBRATIONS, "no-grid"),
-    threads: 1
-    params:
-        spec=config_slice("calibration"),
-    script:
-        "../scripts/calibration_merge.py"
 
 
 CALIBRATION_TARGETS = [

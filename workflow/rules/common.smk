@@ -97,12 +97,6 @@ def map_chunks(name, spec, design):
     return MapSpec.from_config(name, spec, design, segment_of(design)).n_chunks
 
 
-def calibration_chunks(name, spec, design):
-    from geardyn.khv.calibrate import candidate_grid, n_chunks
-
-    return n_chunks(len(candidate_grid(spec["grid"])), spec["chunks"])
-
-
 def archive_cubes(wildcards):
     """The netCDF cubes of ``rule all`` under results/<design>/ (chunk files are not final cubes)."""
     prefix = f"results/{wildcards.design}/"

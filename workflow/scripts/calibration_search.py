@@ -23,8 +23,8 @@ wall = time.time() - t0
 records = [ev.cache[k] for k in ev.seen]  # this search's candidates (the cache may hold others)
 # the best few again at the design's own integration settings and the default classifier
 full = calibrate.Problem(problem.design, problem.paper, problem.space, problem.grids,
-                         calibrate.point.integration_settings(drive), calibrate.classify.ClassifierSettings(),
-                         problem.fixed, problem.require)
+                         calibrate.Policy(calibrate.point.integration_settings(drive)), problem.fixed,
+                         problem.require)
 with calibrate.Evaluator(full, cache.with_name(f"{snakemake.wildcards.calibration}_verify_cache.jsonl"),
                          snakemake.threads) as vev:
     best, verified, pairs = calibrate.verified_choice(records, vev.records, spec["search"].get("verify_top", 5),

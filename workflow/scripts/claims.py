@@ -20,7 +20,7 @@ ptp = []
 for v in x1:
     res = simulate(point.point_coefficients(drive, {"x1": float(v), **paper.FIG07_FIXED}), settings, dense=True)
     ptp.append(float(np.ptp(res.states[:, 1])) if not res.diverged else float("nan"))
-# the cubes' labels, slow-transient check included (geardyn.runs.settle): the labels the figures show
+# the cubes' labels, slow-transient check included (geardyn.label.settle): the labels the figures show
 # and the calibration scores
 rows = claims.claims(paper, io.read_dataset(inp.closed_graph), io.read_dataset(inp.stiffness),
                      *(io.read_dataset(p) for p in (inp.fig07, inp.fig09, inp.fig11)),

@@ -12,24 +12,19 @@ with partial credit for where the motion leaves P1 and where chaos starts along 
 0.593) and for the order of the regimes along x1 (longest common subsequence with the paper's
 P1 -> QP -> Pn -> chaos -> Pn -> chaos).  The partial credit never outweighs one claim.
 
-Labels come from the one classification path, :func:`geardyn.runs.points.analyse_points`, with
-its slow-transient check (:mod:`geardyn.runs.settle`): a point the rules call quasi-periodic or
-undetermined with an exponent that is not positive is tried by Newton shooting from its final
-state; a stable periodic orbit that the run approaches makes it period-n (a slowly decaying
-transient has an exponent of about -1e-3 per unit time, inside the classifier's zero band).  The
-sweep cubes behind the figures and ``claims.md`` carry the same check, so all three agree.
+Labels come from the one labeller, :func:`geardyn.label.label_lines`, along the candidate's own x1, b
+and e lines (each point follows the attractor of the previous one, as in the sweeps), so the figures,
+``claims.md`` and the calibration score the same labels.
 
 The optimiser is :func:`scipy.optimize.differential_evolution` (seeded, ``vectorized``, deferred
 updating); every evaluated candidate is appended to a cache file keyed by its vector, so a rerun
-with the same seed replays the cached evaluations and resumes where it stopped.  The legacy grid
-scoring (Poincare period only) is kept below for configs that still declare a ``grid``.
+with the same seed replays the cached evaluations and resumes where it stopped.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import functools
-import itertools
 import json
 import math
 import os
@@ -47,7 +42,7 @@ from geardyn import classify
 from geardyn import claims as claims_mod
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
-from geardyn.solve import SimulationSettings, simulate
+from geardyn.label import Policy, label_lines
 
 P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
 UNDET = classify.LABELS["undetermined"]
@@ -140,25 +135,16 @@ class Grids:
 
 
 def label_tracks(design: KHVDesign, tracks: Sequence[tuple[Mapping[str, float], str, Sequence[float]]],
-                 settings: SimulationSettings, classifier: classify.ClassifierSettings,
-                 shoot: bool = True) -> list[claims_mod.Track]:
-    """Labels along each track (overrides, swept parameter, values) by the one classification path
-    (:func:`geardyn.runs.points.analyse_points`, cheap path, each point integrated on its own from its
-    static deflection), with the slow-transient check (:mod:`geardyn.runs.settle`) unless ``shoot`` is
-    false.  All points go to one call, so the check's stages run on all of them together; every point's
-    label is the one it gets alone."""
-    from geardyn.runs.points import analyse_points
-
-    systems = [point.point_coefficients(design, {**over, par: float(v)}) for over, par, values in tracks
-               for v in values]
-    cs = classifier if shoot else dataclasses.replace(classifier, settle_max_n=0)
-    out = analyse_points(systems, dataclasses.replace(settings, batch=False), cs, cheap=True)
-    labs = np.array([cl.label for _, cl in out], np.int16)
-    lam = np.array([cl.lyapunov for _, cl in out], float)
-    sig = np.array([cl.lyapunov_sigma for _, cl in out], float)
-    ends = np.cumsum([len(values) for _, _, values in tracks])
-    return [claims_mod.Track(np.asarray(values, float), labs[e - len(values):e], lam[e - len(values):e],
-                             sig[e - len(values):e]) for (_, _, values), e in zip(tracks, ends, strict=True)]
+                 policy: Policy) -> list[claims_mod.Track]:
+    """Labels along each track (overrides, swept parameter, values): every track is a line of the one
+    labeller (:func:`geardyn.label.label_lines`), all tracks advancing together; each point's label
+    depends only on its own track."""
+    lines = [[point.point_coefficients(design, {**over, par: float(v)}) for v in values]
+             for over, par, values in tracks]
+    out = label_lines(lines, policy)
+    return [claims_mod.Track(np.asarray(values, float), np.array([v.label for v in vs], np.int16),
+                             np.array([v.exponent for v in vs], float), np.array([v.exponent_sigma for v in vs], float))
+            for (_, _, values), vs in zip(tracks, out, strict=True)]
 
 
 @dataclass
@@ -168,15 +154,14 @@ class CandidateLabels:
     fig11: dict[float, claims_mod.Track]
 
 
-def candidate_labels(design: KHVDesign, values: Mapping[str, float], grids: Grids, settings: SimulationSettings,
-                     classifier: classify.ClassifierSettings, shoot: bool = True) -> CandidateLabels:
+def candidate_labels(design: KHVDesign, values: Mapping[str, float], grids: Grids, policy: Policy) -> CandidateLabels:
     """The labelled sweeps of one candidate (overrides ``values``)."""
     base = dict(values)
     x1s = list(grids.case_x1)
     tracks = ([({**base, **grids.fixed07}, "x1", grids.x1)]
               + [({**base, **grids.fixed09, "x1": x1}, "b", grids.b) for x1 in x1s]
               + [({**base, **grids.fixed11, "x1": x1}, "e", grids.e) for x1 in x1s])
-    got = label_tracks(design, tracks, settings, classifier, shoot)
+    got = label_tracks(design, tracks, policy)
     f07 = got[0]
     f09 = dict(zip(x1s, got[1:1 + len(x1s)], strict=True))
     f11 = dict(zip(x1s, got[1 + len(x1s):], strict=True))
@@ -314,8 +299,7 @@ class Problem:
     paper: ModuleType | str
     space: SearchSpace
     grids: Grids
-    settings: SimulationSettings
-    classifier: classify.ClassifierSettings
+    policy: Policy
     fixed: Mapping[str, float] = field(default_factory=dict)
     require: str | None = None  # a key of REQUIREMENTS: ranks by ranked_score
 
@@ -326,8 +310,7 @@ def evaluate_candidate(problem: Problem, unit: Sequence[float]) -> dict:
 
     paper = paper_of(problem.paper) if isinstance(problem.paper, str) else problem.paper
     values = problem.space.values(unit)
-    lab = candidate_labels(problem.design, {**problem.fixed, **values}, problem.grids, problem.settings,
-                           problem.classifier)
+    lab = candidate_labels(problem.design, {**problem.fixed, **values}, problem.grids, problem.policy)
     sc = score_labels(paper, lab)
     return {"key": cache_key(unit), "unit": [float(x) for x in unit], "values": values, "score": sc.score,
             "agree": sc.agree, "partial": sc.partial, "transitions": sc.transitions, "order": sc.order,
@@ -512,93 +495,6 @@ def records_dataset(records: Sequence[dict], space: SearchSpace, grids: Grids) -
 RegimeSequence = Sequence[tuple[float, float, "int | str"]]
 
 
-def paper_label(x1: np.ndarray, sequence: RegimeSequence) -> np.ndarray:
-    """The paper's label at each x1 from its regime ``sequence`` ((from, to, label) with label n >= 1
-    for period-n, "QP" or "chaos"): period n, or 0 for quasi-periodic or chaotic, -1 outside."""
-    x1 = np.asarray(x1, dtype=float)
-    out = np.full(x1.shape, -1, dtype=np.int16)
-    for lo, hi, lab in sequence:
-        out[(x1 >= lo) & (x1 <= hi)] = lab if isinstance(lab, int) else 0
-    return out
-
-
-def score(x1: np.ndarray, labels: np.ndarray, sequence: RegimeSequence) -> float:
-    """Balanced agreement with the paper: for each regime type the paper names along ``x1`` (P1, P5, P6,
-    not periodic), the fraction of its points we label the same; then the mean over the types.
-
-    Balanced so that a candidate cannot score by getting only the commonest regime right (plain
-    accuracy gives 0.56 to 'not periodic everywhere').  Diverged and undetermined never match.
-    """
-    want = paper_label(x1, sequence)
-    got = np.asarray(labels)
-    types = [t for t in np.unique(want) if t >= 0]
-    return float(np.mean([np.mean(got[want == t] == t) for t in types])) if types else 0.0
-
-
-def candidate_grid(grid: Mapping[str, Sequence[float]]) -> list[dict[str, float]]:
-    """Every combination of the grid values, in a fixed order (last key fastest)."""
-    keys = list(grid)
-    return [dict(zip(keys, map(float, combo), strict=True)) for combo in itertools.product(*(grid[k] for k in keys))]
-
-
-def labels_along_x1(design: KHVDesign, overrides: Mapping[str, float], x1: np.ndarray,
-                    settings: SimulationSettings) -> np.ndarray:
-    """Poincaré period at each x1 (:func:`geardyn.classify.strict_period`; independent points from the
-    static deflection)."""
-    cs = classify.ClassifierSettings()
-    out = np.empty(x1.size, dtype=np.int16)
-    for i, value in enumerate(x1):
-        coeffs = point.point_coefficients(design, {**overrides, "x1": float(value)})
-        res = simulate(coeffs, settings)
-        out[i] = classify.LABELS["diverged"] if res.diverged else classify.strict_period(res.poincare, cs)
-    return out
-
-
-def run_candidates(design: KHVDesign, candidates: Sequence[Mapping[str, float]], fixed: Mapping[str, float],
-                   x1: np.ndarray, settings: SimulationSettings, sequence: RegimeSequence,
-                   first_index: int = 0) -> xr.Dataset:
-    """Labels and score of each candidate; ``first_index`` numbers the candidates globally."""
-    keys = sorted({k for c in candidates for k in c})
-    labels = np.stack([labels_along_x1(design, {**fixed, **c}, x1, settings) for c in candidates]) \
-        if candidates else np.zeros((0, x1.size), np.int16)
-    scores = np.array([score(x1, row, sequence) for row in labels])
-    data = {
-        "label": (("candidate", "x1"), labels, {"units": "1", "long_name": "Poincare period (0 not periodic, -2 diverged)"}),
-        "score": ("candidate", scores, {"units": "1", "long_name": "balanced agreement with the paper's regimes along x1"}),
-        "paper_label": ("x1", paper_label(x1, sequence), {"units": "1", "long_name": "the paper's label at x1"}),
-    }
-    for k in keys:
-        data[k] = ("candidate", np.array([c.get(k, np.nan) for c in candidates], float),
-                   {"units": point.units_of(k),
-                    "long_name": f"candidate value of {k}"})
-    coords = {
-        "candidate": ("candidate", np.arange(first_index, first_index + len(candidates)),
-                      {"units": "1", "long_name": "candidate index"}),
-        "x1": ("x1", x1, {"units": "1", "long_name": "planet profile-shift coefficient x1"}),
-    }
-    return xr.Dataset(data, coords=coords)
-
-
-def best(scores: xr.Dataset) -> tuple[int, dict[str, float], float]:
-    """Index, values and score of the best candidate (the first one on ties: deterministic)."""
-    i = int(np.argmax(scores["score"].values))
-    names = [v for v in scores.data_vars if v not in ("label", "score", "paper_label")]
-    values = {k: float(scores[k].values[i]) for k in names}
-    return int(scores["candidate"].values[i]), values, float(scores["score"].values[i])
-
-
-def chunk_slice(n_candidates: int, chunks: int, chunk: int) -> slice:
-    """Contiguous candidates of chunk ``chunk`` (deterministic; every candidate in exactly one chunk)."""
-    edges = np.linspace(0, n_candidates, min(chunks, max(n_candidates, 1)) + 1).round().astype(int)
-    if not 0 <= chunk < len(edges) - 1:
-        raise ValueError(f"chunk {chunk} outside 0..{len(edges) - 2}")
-    return slice(int(edges[chunk]), int(edges[chunk + 1]))
-
-
-def n_chunks(n_candidates: int, chunks: int) -> int:
-    return min(chunks, max(n_candidates, 1))
-
-
 def _with_values(source: str, name: str, values: Mapping[str, float],
                  note: str = "calibrated") -> tuple[dict[str, Any], str | None]:
     """The source design (YAML text) renamed, titled "(calibrated)", with ``values`` written into its
@@ -617,47 +513,6 @@ def _with_values(source: str, name: str, values: Mapping[str, float],
             continue
         params[renames.get(key, key)] = float(value)
     return data, source_name
-
-
-def calibrated_design_text(source: str, name: str, values: Mapping[str, float], value_score: float,
-                           n_candidates: int) -> str:
-    """A design file: the source design with the best candidate's values written into it.
-
-    ``values`` are overrides (x1, b, e, w, speed, or SI model parameters); w and speed become
-    ``dynamics.parameters.omega_bar`` / ``input_speed_rpm``; b and e stay sweep-level (not design) values.
-    """
-    import yaml
-
-    data, source_name = _with_values(source, name, values)
-    header = (
-        f"# GENERATED by the calibration target from design '{source_name}'; do not edit by hand.\n"
-        f"# Best of {n_candidates} candidates: score {value_score:.3f} (balanced agreement of the Poincare\n"
-        f"# period along a coarse x1 sweep with paper 1's stated sequence). Values chosen: "
-        + ", ".join(f"{k} = {v:g}" for k, v in values.items()) + "\n"
-        "# These values are fitted to the paper's regime sequence, not taken from it.\n"
-    )
-    return header + yaml.safe_dump(data, sort_keys=False)
-
-
-def score_table(scores: xr.Dataset, top: int = 10) -> str:
-    """Markdown: the best candidates, then the best one's regime bands beside the paper's."""
-    names = [v for v in scores.data_vars if v not in ("label", "score", "paper_label")]
-    order = np.argsort(-scores["score"].values, kind="stable")[:top]
-    lines = [f"# Calibration: {scores.sizes['candidate']} candidates scored against paper 1's sequence", "",
-             "| rank | candidate | " + " | ".join(names) + " | score |",
-             "|---|---|" + "---|" * len(names) + "---|"]
-    for rank, i in enumerate(order, 1):
-        vals = " | ".join(f"{float(scores[n].values[i]):.4g}" for n in names)
-        lines.append(f"| {rank} | {int(scores['candidate'].values[i])} | {vals} | {float(scores['score'].values[i]):.3f} |")
-    x1 = scores["x1"].values
-    best_i = int(order[0])
-    lines += ["", "Best candidate, regime bands along x1 (label: period n, 0 = not periodic, -2 diverged):", "",
-              "| source | bands |", "|---|---|"]
-    for source, labels in (("paper", scores["paper_label"].values), ("best candidate", scores["label"].values[best_i])):
-        text = "; ".join(f"{classify.label_name(lab)} [{a:.3f}, {b:.3f}]" for a, b, lab in classify.bands(x1, labels))
-        lines.append(f"| {source} | {text} |")
-    lines += ["", "Scores are measured, not tuned by hand: every candidate's labels are in the netCDF file."]
-    return "\n".join(lines) + "\n"
 
 
 # ----------------------------------------------------------------------------------------------
@@ -784,15 +639,13 @@ def problem_from_config(design: KHVDesign, spec: Mapping[str, Any]) -> tuple[Pro
     s = spec["search"]
     space = SearchSpace.from_config(s["bounds"])
     grids = Grids.from_config(spec, paper)
-    settings = point.integration_settings(design, **spec.get("integration", {}))
-    classifier = classify.ClassifierSettings.from_mapping(spec.get("classifier"))
+    policy = Policy.from_spec(point.integration_settings(design, **spec.get("integration", {})), spec)
     budget = dict(s["thorough_budget"] if s.get("thorough") else s["budget"])
     budget.setdefault("seed", int(s.get("seed", 1)))
     ref = s.get("refine", {})
     budget["refine_steps"] = tuple(ref.get("steps", (0.1, 0.02)))
     budget["refine_rounds"] = int(ref.get("rounds", 2))
-    return Problem(design, design.paper, space, grids, settings, classifier, dict(spec.get("fixed", {})),
-                   s.get("require")), budget
+    return Problem(design, design.paper, space, grids, policy, dict(spec.get("fixed", {})), s.get("require")), budget
 
 
 def sensitivity(problem: Problem, evaluator: Evaluator, best_values: Mapping[str, float], steps: Sequence[float],

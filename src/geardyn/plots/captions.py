@@ -10,15 +10,16 @@ import xarray as xr
 from types import ModuleType
 
 from geardyn import classify
+from geardyn.label import STAGE_NAMES
 from geardyn.runs.cube import STATES, labels_of_cube
 
 _METHOD = (
     "Model: the corrected KHV equations of docs/model.md with the parameters of the design file. Motion labels "
-    "(geardyn.classify.classify_point): period-n (n <= 12) from the Poincare return distance; otherwise "
-    "quasi-periodic or chaotic from the largest Lyapunov exponent, cross-checked by the 0-1 test and the "
-    "spectral flatness of the stroboscopic samples; a point these rules call quasi-periodic or undetermined is "
-    "period-n when Newton shooting finds a stable period-n orbit that its run approaches (a slow transient, "
-    "geardyn.runs.settle)."
+    "(geardyn.label, docs/classify.md): along each line the attractor of the previous point is followed; a "
+    "period-n label is a stable orbit found by Newton shooting and certified by its Floquet multipliers; "
+    "quasi-periodic needs weighted Birkhoff averages that converge (a torus); chaotic needs a positive "
+    "Lyapunov exponent that the same test confirms; undetermined where the indicators disagree. The points "
+    "drawn lie on the attractor found, never on a transient."
 )
 _PAPER_ASSUMPTIONS = (
     "Assumptions where the paper is silent (see the design file and docs/model.md): shaft stiffnesses, planet "
@@ -71,17 +72,12 @@ def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
         pts = d[[f"poincare_{s}" for s in STATES]].to_array().values.T
         pts = pts[~np.isnan(pts).any(axis=1)]
         how = ""
-        if "label" in d:  # the sweeps' label of this point (slow-transient check included)
+        if "label" in d:  # the labeller's verdict of this point (as in the sweeps)
             n = int(d["label"])
-            how = {classify.SETTLED: " (a slow transient onto it: settled by shooting)",
-                   classify.POSSIBLE_TRANSIENT: " (possibly a slow transient onto a stable orbit whose multiplier "
-                                                "is too close to 1 to tell)"}.get(int(d["settled"]), "")
-        elif int(d["diverged"]) == 1:
-            n = classify.LABELS["diverged"]
-        elif pts.shape[0] < 3:
-            n = classify.LABELS["undetermined"]
+            stage = STAGE_NAMES.get(int(d["stage"]), "")
+            how = f" ({stage.replace('_', ' ')})" if stage else ""
         else:
-            n = classify.strict_period(pts) or classify.LABELS["not_periodic"]
+            n = classify.LABELS["diverged"] if int(d["diverged"]) == 1 else classify.LABELS["undetermined"]
         peaks = spectral_peaks(d["frequency"].values, d["amplitude"].values)
         peaks = (", peaks at " + ", ".join(f"{v:.3g}" for v in peaks) + " x f_mesh") if peaks else ""
         lines.append(f"Ours, {case}: {classify.label_name(n)}{how}{peaks}.")
@@ -97,6 +93,6 @@ def regime_map(name: str, ds: xr.Dataset) -> str:
     return (f"{name}: motion label over ({ds.attrs['x_parameter']}, {ds.attrs['y_parameter']}), "
             f"{ds.sizes['x']} x {ds.sizes['y']} points, fixed {ds.attrs['fixed_overrides']}; "
             f"{ds.attrs['steps_per_period']} steps per period, {ds.attrs['transient_periods']} transient + "
-            f"{ds.attrs['recorded_periods']} recorded periods, classifier cheap path (periodic points get no exponent; "
-            f"the others {ds.attrs['classifier_tangent_periods']} more periods with the tangent vector). "
+            f"{ds.attrs['recorded_periods']} recorded periods; each row a line along x whose points follow the "
+            f"attractor of their left neighbour (initial: {ds.attrs.get('start', 'follow')}; geardyn.label). "
             f"Label shares: {shares}. Lines: the configured 1-D cuts (the sweeps of the same design).")

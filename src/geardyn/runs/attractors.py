@@ -10,12 +10,13 @@ At one point (design + overrides) the motion is integrated from
   static state +- (``box_x`` for the three displacements, ``box_v`` for the three velocities),
   in units of b_c.
 
-Each run is labelled by :func:`geardyn.runs.points.analyse_point` (cheap path).  Two runs reached
-the same attractor when their labels agree and
+Every start is labelled by the one labeller (:func:`geardyn.label.label_points`, all starts of a point
+together).  Two runs reached the same attractor when :func:`geardyn.label.compare.same_attractor` says
+so: their labels agree and
 
-* periodic: their cycles (the last n Poincaré points) lie within ``distance_tol`` of each other
-  (symmetric Hausdorff distance, max norm) relative to max(1, size), size the largest extent of the
-  two sets (two phases of one orbit agree to 1e-8; two distinct P1 orbits do not);
+* periodic: their cycles lie within ``distance_tol`` of each other (symmetric Hausdorff distance, max
+  norm) relative to max(1, size), size the largest extent of the two sets (two phases of one orbit agree
+  to 1e-8; two distinct P1 orbits do not);
 * otherwise (quasi-periodic, chaotic, undetermined): centroids and bounding boxes of the Poincaré
   sets agree within ``chaotic_distance_tol`` * max(1, size) (two finite samples of one cloud).  The basin fraction of an attractor is the share of the *random* starts that
 reach it (a Monte-Carlo estimate over the box; with ``n_random`` starts its standard error is about
@@ -33,7 +34,7 @@ import numpy as np
 
 from geardyn import classify
 from geardyn.config import settings_from
-from geardyn.runs.points import analyse_point
+from geardyn.label import Policy, compare, label_points
 from geardyn.solve.base import SimulationSettings, System
 
 
@@ -86,51 +87,33 @@ def random_starts(system: System, settings: AttractorSettings) -> dict[str, np.n
     return {f"random_{k}": centre + rng.uniform(-1.0, 1.0, 6) * half for k in range(settings.n_random)}
 
 
-def hausdorff(a: np.ndarray, b: np.ndarray) -> float:
-    """Symmetric Hausdorff distance of two point sets (max norm over the states)."""
-    d = np.max(np.abs(a[:, None, :] - b[None, :, :]), axis=2)
-    return float(max(d.min(axis=1).max(), d.min(axis=0).max()))
-
-
 def same_attractor(label_a: int, pa: np.ndarray, label_b: int, pb: np.ndarray, settings: AttractorSettings) -> bool:
-    """Same label and Poincaré sets within the tolerance (see the module doc)."""
-    if label_a != label_b:
-        return False
-    if label_a == classify.LABELS["diverged"]:
-        return True
-    if pa.shape[0] == 0 or pb.shape[0] == 0:
-        return False
-    size = max(float(np.max(np.ptp(pa, axis=0))), float(np.max(np.ptp(pb, axis=0))))
-    if label_a >= 1:
-        return hausdorff(pa, pb) <= settings.distance_tol * max(1.0, size)
-    # quasi-periodic / chaotic / undetermined: a finite sample of the same set; compare the centroids
-    # and the bounding boxes (a Hausdorff distance of two samples of a cloud is sampling noise)
-    tol = settings.chaotic_distance_tol * max(1.0, size)
-    box = max(float(np.max(np.abs(pa.min(0) - pb.min(0)))), float(np.max(np.abs(pa.max(0) - pb.max(0)))))
-    return float(np.max(np.abs(pa.mean(0) - pb.mean(0)))) <= tol and box <= tol
+    """Same label and Poincaré sets within the settings' tolerances (:func:`geardyn.label.compare.same_attractor`)."""
+    return compare.same_attractor(label_a, pa, label_b, pb, settings.distance_tol, settings.chaotic_distance_tol)
 
 
 def find_attractors(system: System, starts: Mapping[str, np.ndarray], settings: AttractorSettings,
                     integration: SimulationSettings,
                     classifier: classify.ClassifierSettings = classify.ClassifierSettings()
                     ) -> tuple[list[Attractor], dict[str, int]]:
-    """Integrate from every start, label, deduplicate.  Returns (attractors, start -> attractor index)."""
+    """Label the run from every start (the labeller, fixed starts), deduplicate.  Returns (attractors,
+    start -> attractor index)."""
     sim = dataclasses.replace(integration, transient_periods=settings.transient_periods,
                               recorded_periods=settings.recorded_periods)
+    names = list(starts)
+    verdicts = label_points([system] * len(names), Policy(sim, classifier, start="fixed"),
+                            [np.asarray(starts[k], dtype=float) for k in names])
     found: list[Attractor] = []
     where: dict[str, int] = {}
-    for name, x0 in starts.items():
-        res, lab = analyse_point(system, sim, classifier, x0=np.asarray(x0, dtype=float), cheap=True)
-        p = res.poincare[~np.isnan(res.poincare).any(axis=1)]
-        if lab.label >= 1:
-            p = p[-lab.label:]  # one cycle is the whole periodic attractor
+    for name, v in zip(names, verdicts, strict=True):
+        p = compare.attractor_points(v)
         for k, att in enumerate(found):
-            if same_attractor(att.label, att.poincare, lab.label, p, settings):
+            if same_attractor(att.label, att.poincare, v.label, p, settings):
                 att.starts.append(name)
                 where[name] = k
                 break
         else:
-            found.append(Attractor(int(lab.label), p, float(lab.lyapunov), [name]))
+            found.append(Attractor(int(v.label), p, float(v.exponent), [name]))
             where[name] = len(found) - 1
     return found, where
 

@@ -15,6 +15,7 @@ import numpy as np
 import xarray as xr
 
 from geardyn import classify
+from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES, Policy, Verdict
 
 STATES = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
 STATE_NAMES = {
@@ -25,52 +26,102 @@ STATE_NAMES = {
     "v_vh": "dimensionless velocity dX_VH/dtau / b_c",
     "v_vl": "dimensionless velocity dX_VL/dtau / b_c",
 }
-#: CF attributes of the per-point ``settled`` flag (geardyn.runs.settle)
-SETTLED_ATTRS = {
-    "long_name": "label decided by the slow-transient check (geardyn.runs.settle): the rules said quasi-periodic "
-                 "or undetermined; 1: the run approaches a stable period-n orbit; 2: a stable orbit exists whose "
-                 "multiplier is too close to 1 to see the run approach it (label undetermined)",
-    "flag_values": np.array([0, 1, 2], np.int8),
-    "flag_meanings": "by_the_rules settled_by_shooting possible_slow_transient"}
+def _flags(codes: dict[str, int], long_name: str) -> dict[str, Any]:
+    return {"long_name": long_name, "flag_values": np.array(list(codes.values()), np.int8),
+            "flag_meanings": " ".join(codes)}
+
+
+#: CF attributes of the per-point ``stage``, ``bifurcation`` and ``exponent_method`` flags (geardyn.label).
+STAGE_ATTRS = _flags({"not_computed": 0, **STAGES}, "labeller stage that decided the label (geardyn.label)")
+BIFURCATION_ATTRS = _flags(BIFURCATIONS, "how the orbit followed from the previous point of the line lost "
+                                         "stability here (leading Floquet multiplier)")
+EXPONENT_METHOD_ATTRS = _flags(EXPONENT_METHODS, "how the exponent was obtained: Floquet multipliers of the "
+                                                 "certified orbit, or a tangent vector over the record")
 
 
 def label_variables(dims: tuple[str, ...], shape: tuple[int, ...],
                     classifier: classify.ClassifierSettings) -> dict[str, Any]:
-    """Empty per-point classification variables (see :func:`geardyn.classify.classify_point`)."""
+    """Empty per-point verdict variables (see :class:`geardyn.label.Verdict`)."""
     return {
         "label": (dims, np.full(shape, classify.LABELS["undetermined"], np.int16), {
-            "long_name": "motion label (classify.classify_point)", **classify.flag_attrs(classifier.max_n)}),
+            "long_name": "motion label (geardyn.label)", **classify.flag_attrs(classifier.max_n)}),
         "period": (dims, np.zeros(shape, np.int16), {
-            "units": "1", "long_name": "period n in mesh periods (0: not periodic)"}),
+            "units": "1", "long_name": "least period n in mesh periods (0: not periodic)"}),
         "lyapunov": (dims, np.full(shape, np.nan), {
-            "units": "1", "long_name": "largest Lyapunov exponent per unit dimensionless time tau = w_n t "
-                                       "(tangent vector over the last tangent_periods)"}),
+            "units": "1", "long_name": "largest exponent per unit dimensionless time tau = w_n t (Floquet: "
+                                       "log max|mu| / (n T) of the certified orbit; else a tangent vector)"}),
         "lyapunov_sigma": (dims, np.full(shape, np.nan), {
-            "units": "1", "long_name": "uncertainty of the largest Lyapunov exponent (batch means / half-run drift)"}),
+            "units": "1", "long_name": "uncertainty of the largest exponent (0 for Floquet exponents)"}),
+        "exponent_method": (dims, np.zeros(shape, np.int8), EXPONENT_METHOD_ATTRS),
+        "multiplier": (dims, np.full(shape, np.nan), {
+            "units": "1", "long_name": "largest Floquet multiplier modulus of the orbit over its least period"}),
         "zero_one_k": (dims, np.full(shape, np.nan), {
             "units": "1", "long_name": "0-1 test statistic K on stroboscopic X_VH (Gottwald-Melbourne; NaN if periodic)"}),
         "spectral_flatness": (dims, np.full(shape, np.nan), {
             "units": "1", "long_name": "spectral flatness of stroboscopic X_VH (0 lines, ~0.56 white; NaN if periodic)"}),
+        "torus_digits": (dims, np.full(shape, np.nan), {
+            "units": "1", "long_name": "digits of agreement of the weighted Birkhoff averages of the two halves "
+                                       "of the record (large: a torus; NaN if periodic)"}),
         "crosscheck": (dims, np.full(shape, -1, np.int8), {
             "long_name": "0-1 test and spectrum agree with the label",
             "flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "not_applicable one_agrees both_agree"}),
-        "settled": (dims, np.zeros(shape, np.int8), SETTLED_ATTRS),
+        "stage": (dims, np.zeros(shape, np.int8), STAGE_ATTRS),
+        "bifurcation": (dims, np.zeros(shape, np.int8), BIFURCATION_ATTRS),
     }
 
 
-def store_label(ds: xr.Dataset, idx: tuple, lab: classify.Classification) -> None:
-    ds["label"].values[idx] = lab.label
-    ds["period"].values[idx] = lab.period
-    ds["lyapunov"].values[idx] = lab.lyapunov
-    ds["lyapunov_sigma"].values[idx] = lab.lyapunov_sigma
-    ds["zero_one_k"].values[idx] = lab.k01
-    ds["spectral_flatness"].values[idx] = lab.flatness
-    ds["crosscheck"].values[idx] = lab.crosscheck
-    ds["settled"].values[idx] = int(lab.settled)
+def store_verdict(ds: Any, idx: tuple, v: Verdict) -> None:
+    """Write one verdict into the label variables of ``ds`` (an xarray Dataset or a mapping of arrays)."""
+    ds["label"].values[idx] = v.label
+    ds["period"].values[idx] = v.period
+    ds["lyapunov"].values[idx] = v.exponent
+    ds["lyapunov_sigma"].values[idx] = v.exponent_sigma
+    ds["exponent_method"].values[idx] = EXPONENT_METHODS[v.exponent_method]
+    ds["multiplier"].values[idx] = v.multiplier
+    ds["zero_one_k"].values[idx] = v.k01
+    ds["spectral_flatness"].values[idx] = v.flatness
+    ds["torus_digits"].values[idx] = v.torus_digits
+    ds["crosscheck"].values[idx] = v.crosscheck
+    ds["stage"].values[idx] = STAGES[v.stage]
+    ds["bifurcation"].values[idx] = BIFURCATIONS[v.bifurcation]
+
+
+#: CF attributes of the ``coexisting`` flag (policy ``coexistence``).
+COEXISTING_ATTRS = {"long_name": "the follow and the fixed start end on different attractors at this point",
+                    "flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "not_checked same coexisting"}
 
 
 def classifier_attrs(classifier: classify.ClassifierSettings) -> dict[str, Any]:
     return {f"classifier_{k}": v for k, v in dataclasses.asdict(classifier).items()}
+
+
+def policy_attrs(policy: Policy) -> dict[str, Any]:
+    """Attributes recording how the points were labelled: start, coexistence, transients, early stop and
+    the classifier settings."""
+    s = policy.integration
+    return {"start": policy.start, "coexistence": int(policy.coexistence),
+            "follow_transient_periods": policy.follow_transient_periods, "newton_tol": policy.newton_tol,
+            "stability_margin": policy.stability_margin, "early_stop": int(s.early_stop),
+            "early_stop_min_periods": s.early_stop_min_periods, "early_stop_confirm": s.early_stop_confirm,
+            "early_stop_tol_factor": s.early_stop_tol_factor, **classifier_attrs(policy.classifier)}
+
+
+#: CF attributes of the per-point ``transient_used`` of sweep cubes and maps.
+TRANSIENT_USED_ATTRS = {
+    "units": "1",
+    "long_name": "transient mesh periods integrated before the recorded ones (0: followed from the previous "
+                 "point's orbit; less than the configured transient after an early stop)"}
+
+
+def coexistence_variables(dims: tuple[str, ...], shape: tuple[int, ...],
+                          classifier: classify.ClassifierSettings) -> dict[str, Any]:
+    """The fixed start's label and the ``coexisting`` flag (policy ``coexistence``)."""
+    return {
+        "label_fixed": (dims, np.full(shape, classify.LABELS["undetermined"], np.int16), {
+            "long_name": "motion label from the fixed start (the static deflection)",
+            **classify.flag_attrs(classifier.max_n)}),
+        "coexisting": (dims, np.full(shape, -1, np.int8), COEXISTING_ATTRS),
+    }
 
 
 COMPUTED_ATTRS = {"long_name": "1 where this file holds the point", "flag_values": np.array([0, 1], np.int8),

@@ -1,14 +1,11 @@
 """Two-parameter regime maps: the motion label over a grid of (x, y) control parameters.
 
-A map is like a sweep with two swept parameters and no stored Poincaré sections: each point keeps
-its label, period, largest Lyapunov exponent (with uncertainty), 0-1 statistic, spectral flatness
-and the mean and spread of its Poincaré X_VH.  Points are numbered x-major (all y values of the
-first x, then the next x, ...) and split into contiguous chunks; every point is computed from its
-own parameters from the static deflection, so the result does not depend on the chunking.
-
-A chunk's points are integrated together (:func:`geardyn.runs.points.analyse_points`, see
-docs/performance.md); ``transient_used`` records the transient periods each point needed, and
-periodic points get their exponent from the monodromy of their cycle.
+A map is like a sweep with two swept parameters and no stored Poincaré sections: each point keeps its
+verdict (label, period, exponent and how it was obtained, the stage that decided it, the bifurcation the
+followed orbit met) and the mean and spread of its Poincaré X_VH.  Each row (one y value, x increasing) is
+a *line* of :func:`geardyn.label.label_lines`: with ``initial: follow`` (the default) each point starts from
+the attractor of its left neighbour; with ``initial: fixed`` every point starts from the static deflection.
+A chunk holds whole rows, so the result does not depend on the chunking.
 
 Coefficients are built once per x value (:func:`point.point_coefficients`, ~3-7 ms: geometry and
 stiffness) and the y parameter is then set directly on the dimensionless coefficients when it is
@@ -32,8 +29,10 @@ from geardyn import classify
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.khv.model import Coefficients
-from geardyn.runs.cube import COMPUTED_ATTRS, classifier_attrs, label_variables, store_label
-from geardyn.runs.points import TRANSIENT_USED_ATTRS, analyse_points, speed_attrs
+from geardyn.label import Policy, label_lines
+from geardyn.label.compare import same
+from geardyn.runs.cube import (COMPUTED_ATTRS, TRANSIENT_USED_ATTRS, coexistence_variables, label_variables,
+                               policy_attrs, store_verdict)
 
 log = logging.getLogger("geardyn.maps")
 
@@ -65,6 +64,8 @@ class MapSpec:
     chunks: int = 1
     integration: tuple[tuple[str, Any], ...] = ()
     classifier: tuple[tuple[str, Any], ...] = ()
+    initial: str = "follow"
+    coexistence: bool = False
 
     @classmethod
     def from_config(cls, name: str, spec: Mapping[str, Any], design: str,
@@ -79,7 +80,8 @@ class MapSpec:
         return cls(name=name, design=design, x=axis(spec["x"]), y=axis(spec["y"]),
                    fixed=tuple(sorted(spec.get("fixed", {}).items())), chunks=int(spec.get("chunks", 1)),
                    integration=tuple(sorted(spec.get("integration", {}).items())),
-                   classifier=tuple(sorted(spec.get("classifier", {}).items())))
+                   classifier=tuple(sorted(spec.get("classifier", {}).items())),
+                   initial=spec.get("initial", "follow"), coexistence=bool(spec.get("coexistence", False)))
 
     @property
     def n_points(self) -> int:
@@ -87,14 +89,14 @@ class MapSpec:
 
     @property
     def n_chunks(self) -> int:
-        return max(1, min(self.chunks, self.n_points))
+        return max(1, min(self.chunks, self.y.num))
 
 
-def chunk_points(spec: MapSpec, chunk: int) -> np.ndarray:
-    """Flat point indices (x-major) of chunk ``chunk``; the chunks tile the map."""
+def chunk_rows(spec: MapSpec, chunk: int) -> np.ndarray:
+    """The rows (y indices) of chunk ``chunk``; the chunks tile the map by whole rows (lines)."""
     if not 0 <= chunk < spec.n_chunks:
         raise ValueError(f"chunk {chunk} outside 0..{spec.n_chunks - 1} for map {spec.name}")
-    return np.array_split(np.arange(spec.n_points), spec.n_chunks)[chunk]
+    return np.array_split(np.arange(spec.y.num), spec.n_chunks)[chunk]
 
 
 def _direct_ok(design: KHVDesign, par: str) -> bool:
@@ -116,10 +118,20 @@ def point_coefficients(design: KHVDesign, spec: MapSpec, xv: float, yv: float,
                                            spec.y.parameter: float(yv)})
 
 
-def empty_map(spec: MapSpec, classifier: classify.ClassifierSettings, settings) -> xr.Dataset:
+def map_policy(design: KHVDesign, spec: MapSpec) -> Policy:
+    """The labelling policy of a map: integration, classifier, initial state and coexistence."""
+    return Policy.from_spec(point.integration_settings(design, **dict(spec.integration)),
+                            {"classifier": dict(spec.classifier), "initial": spec.initial,
+                             "coexistence": spec.coexistence})
+
+
+def empty_map(spec: MapSpec, policy: Policy) -> xr.Dataset:
     dims = ("y", "x")
     shape = (spec.y.num, spec.x.num)
-    data: dict[str, Any] = label_variables(dims, shape, classifier)
+    settings = policy.integration
+    data: dict[str, Any] = label_variables(dims, shape, policy.classifier)
+    if policy.coexistence:
+        data.update(coexistence_variables(dims, shape, policy.classifier))
     data["diverged"] = (dims, np.full(shape, -1, np.int8), {
         "long_name": "unbounded growth detected", "flag_values": np.array([-1, 0, 1], np.int8),
         "flag_meanings": "not_computed bounded diverged"})
@@ -137,7 +149,7 @@ def empty_map(spec: MapSpec, classifier: classify.ClassifierSettings, settings) 
              "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
              "integrator": settings.integrator, "steps_per_period": settings.steps_per_period,
              "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
-             **speed_attrs(settings), **classifier_attrs(classifier)}
+             "lines": "rows: x increasing at fixed y", **policy_attrs(policy)}
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
@@ -147,38 +159,36 @@ def _arrays(ds: xr.Dataset) -> dict[str, SimpleNamespace]:
 
 
 def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
-    """Classify the points of one chunk; a partial map (``computed`` marks them)."""
-    settings = point.integration_settings(design, **dict(spec.integration))
-    classifier = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
-    ds = empty_map(spec, classifier, settings)
+    """Label the rows of one chunk; a partial map (``computed`` marks them)."""
+    policy = map_policy(design, spec)
+    ds = empty_map(spec, policy)
     xs, ys = spec.x.values, spec.y.values
-    idx = chunk_points(spec, chunk)
-    base_cache: dict[int, Coefficients | None] = {}
+    rows = chunk_rows(spec, chunk)
     t0 = time.perf_counter()
-    where, systems = [], []
-    for flat in idx:
-        i, j = divmod(int(flat), spec.y.num)  # x index, y index
-        if i not in base_cache:
-            base_cache.clear()
-            base_cache[i] = (point.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(xs[i])})
-                             if _direct_ok(design, spec.y.parameter) else None)
-        where.append((j, i))
-        systems.append(point_coefficients(design, spec, xs[i], ys[j], base_cache[i]))
-    # the whole chunk at once (simulate_batch: both cores, 8 lanes in lockstep); point by point when
-    # settings.batch is False (the previous method)
+    direct = _direct_ok(design, spec.y.parameter)
+    bases = [point.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(x)}) if direct else None
+             for x in xs]
+    lines = [[point_coefficients(design, spec, xs[i], ys[j], bases[i]) for i in range(spec.x.num)] for j in rows]
+    verdicts = label_lines(lines, policy, progress=f"{spec.name} chunk {chunk}")
+    fixed = label_lines(lines, policy.with_start("fixed")) if policy.coexistence else None
     arrays = _arrays(ds)  # numpy views: no xarray lookup per point
-    for (j, i), (res, lab) in zip(where, analyse_points(systems, settings, classifier, cheap=True), strict=True):
-        store_label(arrays, (j, i), lab)
-        arrays["diverged"].values[j, i] = int(res.diverged)
-        if res.poincare.shape[0]:
-            arrays["x_vh_mean"].values[j, i] = float(np.mean(res.poincare[:, 1]))
-            arrays["x_vh_spread"].values[j, i] = float(np.ptp(res.poincare[:, 1]))
-        arrays["transient_used"].values[j, i] = res.transient_used
-        arrays["computed"].values[j, i] = 1
+    for k, j in enumerate(rows):
+        for i, v in enumerate(verdicts[k]):
+            store_verdict(arrays, (j, i), v)
+            arrays["diverged"].values[j, i] = int(v.diverged)
+            p = v.poincare[np.all(np.isfinite(v.poincare), axis=1)]
+            if p.shape[0]:
+                arrays["x_vh_mean"].values[j, i] = float(np.mean(p[:, 1]))
+                arrays["x_vh_spread"].values[j, i] = float(np.ptp(p[:, 1]))
+            arrays["transient_used"].values[j, i] = v.transient_used
+            arrays["computed"].values[j, i] = 1
+            if fixed is not None:
+                arrays["label_fixed"].values[j, i] = fixed[k][i].label
+                arrays["coexisting"].values[j, i] = int(not same(v, fixed[k][i]))
     el = time.perf_counter() - t0
-    log.info("%s chunk %d: %d points, %.1f s (%.2f ms/point)", spec.name, chunk, len(idx), el,
-             1e3 * el / max(1, len(idx)))
-    ds.attrs["wall_time_s"] = time.perf_counter() - t0
+    n = len(rows) * spec.x.num
+    log.info("%s chunk %d: %d points, %.1f s (%.2f ms/point)", spec.name, chunk, n, el, 1e3 * el / max(1, n))
+    ds.attrs["wall_time_s"] = el
     return ds
 
 

@@ -5,14 +5,16 @@ over a range, for one or more *cases* (fixed overrides, e.g. three x1 values for
 The points are numbered case-major and split into contiguous chunks; every point is computed
 from its own parameters only, so a chunk's numbers do not depend on how the sweep was cut.
 
-The points of a chunk are integrated together (:func:`geardyn.runs.points.analyse_points`: lanes in
-lockstep on all cores, early stop of the transient, Floquet exponent for periodic points; each
-point's numbers are independent of the others, docs/performance.md); ``transient_used`` records
-the transient periods each point needed.
-
-With ``continuation`` each point starts from the previous point's final state (up and/or down
-the sweep), which shows hysteresis and coexisting attractors. That makes the points of one
-(case, direction) sequential, so a continued sweep is chunked by (case, direction) only.
+Every point is labelled by the one labeller, :func:`geardyn.label.label_lines`.  With ``initial: follow``
+(the default) a case in one direction is a *line*: its first point starts from the static deflection and
+each next point from the attractor of the previous one (Newton shooting from its orbit, or a run from its
+final state), so the figure draws attractors, never transients.  ``continuation`` says the directions: up
+(``none`` and ``up``: from the first value to the last), ``down``, or ``both`` (hysteresis).  A chunk holds
+whole lines; the lines of a chunk advance together, one point each, in lockstep.  With ``initial: fixed``
+every point starts from the static deflection (a line of its own) and a chunk holds any points.  Either way
+a point's verdict depends only on its line, never on the chunking or the threads.  With ``coexistence``
+every point is also labelled from the fixed start, and ``coexisting`` flags where the two end on different
+attractors.
 """
 
 from __future__ import annotations
@@ -27,10 +29,11 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn import classify
 from geardyn.khv.model import COEFFICIENT_ATTRS
-from geardyn.runs.cube import COMPUTED_ATTRS, STATE_NAMES, STATES, classifier_attrs, label_variables, store_label
-from geardyn.runs.points import TRANSIENT_USED_ATTRS, analyse_points, speed_attrs
+from geardyn.label import Policy, Verdict, label_lines
+from geardyn.label.compare import same
+from geardyn.runs.cube import (COMPUTED_ATTRS, STATE_NAMES, STATES, TRANSIENT_USED_ATTRS, coexistence_variables,
+                               label_variables, policy_attrs, store_verdict)
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.solve import SimulationSettings
@@ -55,6 +58,8 @@ class SweepSpec:
     continuation: str = "none"
     integration: tuple[tuple[str, Any], ...] = ()
     classifier: tuple[tuple[str, Any], ...] = ()
+    initial: str = "follow"
+    coexistence: bool = False
 
     @classmethod
     def from_config(cls, name: str, spec: Mapping[str, Any], design: str,
@@ -70,6 +75,7 @@ class SweepSpec:
             chunks=int(spec.get("chunks", 1)), continuation=spec.get("continuation", "none"),
             integration=tuple(sorted(spec.get("integration", {}).items())),
             classifier=tuple(sorted(spec.get("classifier", {}).items())),
+            initial=spec.get("initial", "follow"), coexistence=bool(spec.get("coexistence", False)),
         )
 
     @property
@@ -81,11 +87,14 @@ class SweepSpec:
         return ("up", "down") if self.continuation == "both" else (self.continuation,)
 
     @property
+    def n_lines(self) -> int:
+        return len(self.cases) * len(self.directions)
+
+    @property
     def n_chunks(self) -> int:
-        """Number of chunk jobs: the configured count, or one per (case, direction) when continued."""
-        if self.continuation != "none":
-            return len(self.cases) * len(self.directions)
-        return max(1, min(self.chunks, len(self.cases) * self.num))
+        """Number of chunk jobs: the configured count, at most one per line (``follow``) or per point."""
+        units = self.n_lines if self.initial == "follow" else len(self.cases) * len(self.directions) * self.num
+        return max(1, min(self.chunks, units))
 
     def case_label(self, i: int) -> str:
         return ",".join(f"{k}={v:g}" for k, v in self.cases[i]) or "base"
@@ -99,22 +108,27 @@ class ChunkWork:
 
 
 def chunk_work(spec: SweepSpec, chunk: int) -> ChunkWork:
-    """Which points chunk ``chunk`` (0-based) computes; deterministic and covering each point once."""
+    """Which points chunk ``chunk`` (0-based) computes; deterministic and covering each point once.  With
+    ``initial: follow`` a chunk holds whole lines (case, direction), each in its direction's order."""
     if not 0 <= chunk < spec.n_chunks:
         raise ValueError(f"chunk {chunk} outside 0..{spec.n_chunks - 1} for sweep {spec.name}")
-    if spec.continuation != "none":
-        case, d = divmod(chunk, len(spec.directions))
-        order = list(range(spec.num))
-        if spec.directions[d] == "down":
-            order.reverse()
-        return ChunkWork([(case, d, order)])
-    flat = np.arange(len(spec.cases) * spec.num)
+    nd = len(spec.directions)
+    if spec.initial == "follow":
+        work = ChunkWork()
+        for line in np.array_split(np.arange(spec.n_lines), spec.n_chunks)[chunk]:
+            case, d = divmod(int(line), nd)
+            order = list(range(spec.num))
+            if spec.directions[d] == "down":
+                order.reverse()
+            work.items.append((case, d, order))
+        return work
+    flat = np.arange(len(spec.cases) * nd * spec.num)
     mine = np.array_split(flat, spec.n_chunks)[chunk]
     work = ChunkWork()
-    for case in range(len(spec.cases)):
-        idx = [int(i) - case * spec.num for i in mine if case * spec.num <= i < (case + 1) * spec.num]
+    for line in range(len(spec.cases) * nd):
+        idx = [int(i) - line * spec.num for i in mine if line * spec.num <= i < (line + 1) * spec.num]
         if idx:
-            work.items.append((case, 0, idx))
+            work.items.append((*divmod(line, nd), idx))
     return work
 
 
@@ -123,60 +137,44 @@ def point_overrides(spec: SweepSpec, case: int, value: float) -> dict[str, float
     return {**dict(spec.fixed), **dict(spec.cases[case]), spec.parameter: float(value)}
 
 
+def sweep_policy(design: KHVDesign, spec: SweepSpec, settings: SimulationSettings | None = None) -> Policy:
+    """The labelling policy of a sweep: the design's integration with the sweep's changes, its classifier
+    settings, start and coexistence."""
+    settings = settings or point.integration_settings(design, **dict(spec.integration))
+    return Policy.from_spec(settings, {"classifier": dict(spec.classifier), "initial": spec.initial,
+                                       "coexistence": spec.coexistence})
+
+
 def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
               settings: SimulationSettings | None = None) -> xr.Dataset:
-    """Integrate the points of one chunk and return them as a partial cube (see :func:`empty_cube`)."""
-    settings = settings or point.integration_settings(design, **dict(spec.integration))
-    classifier = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
+    """Label the points of one chunk and return them as a partial cube (see :func:`empty_cube`)."""
+    policy = sweep_policy(design, spec, settings)
     work = chunk_work(spec, chunk)
     values = spec.values
-    cube = empty_cube(spec, settings, classifier)
-    done = 0
-    total = sum(len(idx) for _, _, idx in work.items)
+    cube = empty_cube(spec, policy)
     t0 = time.perf_counter()
+    lines = [[point.point_coefficients(design, point_overrides(spec, case, values[j])) for j in order]
+             for case, _, order in work.items]
+    verdicts = label_lines(lines, policy, progress=f"{spec.name} chunk {chunk}")
+    fixed = label_lines(lines, policy.with_start("fixed")) if policy.coexistence else None
+    arrays = {name: SimpleNamespace(values=cube[name].values) for name in cube.data_vars}  # numpy views
     keep = np.zeros((len(spec.cases), len(spec.directions), spec.num), dtype=bool)
-    if spec.continuation == "none":
-        # independent points: the whole chunk at once (simulate_batch: both cores, 8 lanes in lockstep)
-        where = [(case, d, j) for case, d, indices in work.items for j in indices]
-        systems = [point.point_coefficients(design, point_overrides(spec, case, values[j])) for case, d, j in where]
-        arrays = {name: SimpleNamespace(values=cube[name].values) for name in cube.data_vars}  # numpy views
-        # in ten slices, for the progress log (every lane's result is independent of its batch)
-        for part in np.array_split(np.arange(len(where)), min(10, max(1, len(where)))):
-            batch = [systems[k] for k in part]
-            for k, (res, lab) in zip(part, analyse_points(batch, settings, classifier), strict=True):
-                case, d, j = where[k]
-                _store(arrays, case, d, j, systems[k], res, settings)
-                store_label(arrays, (case, d, j), lab)
-                keep[case, d, j] = True
-            done += len(part)
-            elapsed = time.perf_counter() - t0
-            log.info("%s chunk %d: %d/%d points, %.1f s elapsed, %.1f s remaining", spec.name, chunk, done, total,
-                     elapsed, elapsed / done * (total - done))
-        work = ChunkWork()
-    for case, d, indices in work.items:
-        state = None
-        for j in indices:
-            coeffs = point.point_coefficients(design, point_overrides(spec, case, values[j]))
-            x0 = state if (spec.continuation != "none" and state is not None) else None
-            res, lab = analyse_points([coeffs], settings, classifier, x0=[x0])[0]
-            _store(cube, case, d, j, coeffs, res, settings)
-            store_label(cube, (case, d, j), lab)
+    for k, (case, d, order) in enumerate(work.items):
+        for m, (j, system, v) in enumerate(zip(order, lines[k], verdicts[k], strict=True)):
+            _store(arrays, (case, d, j), system, v)
+            if fixed is not None:
+                arrays["label_fixed"].values[case, d, j] = fixed[k][m].label
+                arrays["coexisting"].values[case, d, j] = int(not same(v, fixed[k][m]))
             keep[case, d, j] = True
-            state = None if res.diverged else res.final_state
-            done += 1
-            if done % max(1, total // 10) == 0 or done == total:
-                elapsed = time.perf_counter() - t0
-                log.info("%s chunk %d: %d/%d points, %.1f s elapsed, %.1f s remaining", spec.name, chunk,
-                         done, total, elapsed, elapsed / done * (total - done))
+    log.info("%s chunk %d: %d points in %.1f s", spec.name, chunk, int(keep.sum()), time.perf_counter() - t0)
     # keep only this chunk's points along the parameter axis (a chunk may cover several cases)
     cube["computed"] = (("case", "direction", spec.parameter), keep.astype(np.int8), COMPUTED_ATTRS)
     return cube
 
 
-def empty_cube(spec: SweepSpec, settings: SimulationSettings,
-               classifier: classify.ClassifierSettings | None = None) -> xr.Dataset:
+def empty_cube(spec: SweepSpec, policy: Policy) -> xr.Dataset:
     """A cube of NaN (float) / -1 (int) for every point of the sweep, with CF attributes."""
-    classifier = classifier or classify.ClassifierSettings()
+    settings, classifier = policy.integration, policy.classifier
     nc, nd, npar, ns = len(spec.cases), len(spec.directions), spec.num, settings.recorded_periods
     shape = (nc, nd, npar, ns)
     dims = ("case", "direction", spec.parameter, "section")
@@ -193,6 +191,8 @@ def empty_cube(spec: SweepSpec, settings: SimulationSettings,
         "units": "1", "long_name": "number of contact-switch events located (rk4_event)"})
     data["transient_used"] = (pdims, np.full(shape[:3], -1, np.int32), TRANSIENT_USED_ATTRS)
     data.update(label_variables(pdims, shape[:3], classifier))
+    if policy.coexistence:
+        data.update(coexistence_variables(pdims, shape[:3], classifier))
     for cname, (units, long_name) in COEFFICIENT_ATTRS.items():
         data[f"coef_{cname}"] = (pdims, np.full(shape[:3], np.nan), {"units": units, "long_name": long_name})
     coords = {
@@ -209,23 +209,23 @@ def empty_cube(spec: SweepSpec, settings: SimulationSettings,
         "integrator": settings.integrator, "steps_per_period": settings.steps_per_period,
         "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
         "divergence_threshold": settings.divergence_threshold, "continuation": spec.continuation,
-        **speed_attrs(settings),
+        **policy_attrs(policy),
         "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
         **classifier_attrs(classifier),
     }
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def _store(cube: xr.Dataset, case: int, d: int, j: int, coeffs: Any, res: Any, settings: SimulationSettings) -> None:
-    n = res.poincare.shape[0]
+def _store(cube: Any, idx: tuple[int, int, int], coeffs: Any, v: Verdict) -> None:
+    case, d, j = idx
+    n = v.poincare.shape[0]
     for k, name in enumerate(STATES):
-        cube[name].values[case, d, j, :n] = res.poincare[:, k]
-    cube["diverged"].values[case, d, j] = 1 if res.diverged else 0
-    cube["diverged_period"].values[case, d, j] = res.diverged_period
-    cube["n_events"].values[case, d, j] = res.n_events
-    cube["transient_used"].values[case, d, j] = res.transient_used
+        cube[name].values[case, d, j, :n] = v.poincare[:, k]
+    cube["diverged"].values[idx] = 1 if v.diverged else 0
+    cube["diverged_period"].values[idx] = v.diverged_period
+    cube["n_events"].values[idx] = v.n_events
+    cube["transient_used"].values[idx] = v.transient_used
+    store_verdict(cube, idx, v)
     values = coeffs.as_dict()
     for cname in COEFFICIENT_ATTRS:
-        cube[f"coef_{cname}"].values[case, d, j] = float(values[cname])
-
-
+        cube[f"coef_{cname}"].values[idx] = float(values[cname])

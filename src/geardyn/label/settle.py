@@ -42,7 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from geardyn import classify
-from geardyn.runs._threads import threaded_map
+from geardyn.label._threads import threaded_map
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.shooting import newton_shooting_batch, period_settings
 from geardyn.solve.simulate import LaneTables, lane_tables, simulate_batch
@@ -64,6 +64,8 @@ class Settled:
     spectral_radius: float = float("nan")
     reason: str = ""
     possible: bool = False
+    state: np.ndarray | None = None              # a point of the orbit found (None: none found)
+    multipliers: np.ndarray | None = None        # its Floquet multipliers (over n periods)
 
 
 def needs_check(label: int, lyapunov: float, classifier: classify.ClassifierSettings) -> bool:
@@ -119,14 +121,16 @@ def settle(system, result, label: int, lyapunov: float, settings: SimulationSett
 
 
 def settle_points(systems, results, labels, lyapunovs, settings: SimulationSettings,
-                  classifier: classify.ClassifierSettings, tables: LaneTables | None = None) -> list[Settled]:
+                  classifier: classify.ClassifierSettings, tables: LaneTables | None = None,
+                  always_one: list[bool] | None = None) -> list[Settled]:
     """:func:`settle` of many points at once, stage by stage: the shooting of every point for one n,
     and the continued records of a stage, are integrated together
     (:func:`geardyn.solve.shooting.newton_shooting_batch`, :func:`geardyn.solve.simulate.simulate_batch`,
     both cores); the last stage (the run continued until its distance falls 10-fold), which few points
     reach, runs point by point in threads.  Each point's numbers are those of the point alone.
     ``tables``: the :func:`geardyn.solve.simulate.lane_tables` of ``systems`` at ``settings``, when the
-    caller has them."""
+    caller has them.  ``always_one[i]`` False: period 1 is tried only when its return distance falls, as
+    every other period (for a run that started on the attractor of a neighbouring point)."""
     out: list[Settled | None] = [None] * len(systems)
     active = []
     for i, (res, label, lam) in enumerate(zip(results, labels, lyapunovs, strict=True)):
@@ -139,13 +143,12 @@ def settle_points(systems, results, labels, lyapunovs, settings: SimulationSetti
     x0 = {i: np.asarray(results[i].final_state, dtype=float) for i in active}
     if tables is None:
         tables = lane_tables(systems, settings)  # the per-point step tables, built once for every stage
-    falls: dict[int, np.ndarray] = {}
+    falls = {i: classify.falling_return_distances(results[i].poincare, classifier.settle_max_n) for i in active}
+    one = [True] * len(systems) if always_one is None else always_one
     for n in range(1, classifier.settle_max_n + 1):
-        # period 1 is always tried: it is cheap, and the slowest transients are onto P1
-        if n == 2:
-            falls = {i: classify.falling_return_distances(results[i].poincare, classifier.settle_max_n)
-                     for i in active}
-        tried = [i for i in active if n == 1 or falls[i][n - 1]]
+        # period 1 is tried from a fixed start even when its distance does not fall: the slowest transients
+        # are onto P1
+        tried = [i for i in active if (n == 1 and one[i]) or falls[i][n - 1]]
         if not tried:
             continue
         shots = newton_shooting_batch([systems[i] for i in tried], [x0[i] for i in tried], n, settings,
@@ -189,7 +192,8 @@ def _judge(systems, tables: LaneTables, results, labels, x0: dict, shots: dict, 
         # a shorter orbit is also fixed by the n-period map (its multipliers are those of the m-map to the
         # power n/m): the m-period shooting did not reach it from here, so it is judged as found
         return Settled(labels[i], m, n, r.spectral_radius, f"slow transient: stable period-{m} orbit by shooting "
-                       f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached {how}")
+                       f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached {how}",
+                       state=r.state.copy(), multipliers=r.multipliers)
 
     out = {i: found(i, "over the recorded periods") for i in shots
            if approached_in_record(results[i].poincare, cycles[i], rho[i], n)}

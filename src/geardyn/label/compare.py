@@ -1,0 +1,55 @@
+"""Whether two verdicts (or two runs) describe the same attractor.
+
+Periodic: the same least period and cycles within ``distance_tol`` of each other (symmetric Hausdorff
+distance, max norm) relative to max(1, size), size the largest extent of the two sets (two phases of one
+orbit agree to 1e-8; two distinct P1 orbits do not).  Otherwise (quasi-periodic, chaotic, undetermined):
+centroids and bounding boxes of the Poincare sets agree within ``chaotic_distance_tol`` * max(1, size)
+(two finite samples of one cloud).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from geardyn import classify
+from geardyn.label.verdict import Verdict
+
+#: Default tolerances (relative to max(1, attractor size)).
+DISTANCE_TOL = 1e-3
+CHAOTIC_DISTANCE_TOL = 0.2
+
+
+def hausdorff(a: np.ndarray, b: np.ndarray) -> float:
+    """Symmetric Hausdorff distance of two point sets (max norm over the states)."""
+    d = np.max(np.abs(a[:, None, :] - b[None, :, :]), axis=2)
+    return float(max(d.min(axis=1).max(), d.min(axis=0).max()))
+
+
+def same_attractor(label_a: int, pa: np.ndarray, label_b: int, pb: np.ndarray, distance_tol: float = DISTANCE_TOL,
+                   chaotic_distance_tol: float = CHAOTIC_DISTANCE_TOL) -> bool:
+    """Same label and Poincare sets within the tolerance (module docstring).  ``pa``, ``pb``: for a periodic
+    label, one cycle (its n points)."""
+    if label_a != label_b:
+        return False
+    if label_a == classify.LABELS["diverged"]:
+        return True
+    if pa.shape[0] == 0 or pb.shape[0] == 0:
+        return False
+    size = max(float(np.max(np.ptp(pa, axis=0))), float(np.max(np.ptp(pb, axis=0))))
+    if label_a >= 1:
+        return hausdorff(pa, pb) <= distance_tol * max(1.0, size)
+    # a Hausdorff distance of two samples of a cloud is sampling noise: compare centroids and bounding boxes
+    tol = chaotic_distance_tol * max(1.0, size)
+    box = max(float(np.max(np.abs(pa.min(0) - pb.min(0)))), float(np.max(np.abs(pa.max(0) - pb.max(0)))))
+    return float(np.max(np.abs(pa.mean(0) - pb.mean(0)))) <= tol and box <= tol
+
+
+def attractor_points(v: Verdict) -> np.ndarray:
+    """The points that stand for a verdict's attractor: one cycle of a periodic one, else its record."""
+    p = v.poincare[np.all(np.isfinite(v.poincare), axis=1)]
+    return p[:v.period] if v.period > 0 else p
+
+
+def same(a: Verdict, b: Verdict) -> bool:
+    """Whether two verdicts at one point describe the same attractor."""
+    return same_attractor(a.label, attractor_points(a), b.label, attractor_points(b))
