@@ -36,7 +36,7 @@ import numpy as np
 DIGITS_MAX = -math.log10(np.finfo(float).eps)
 
 #: default thresholds of :func:`torus_test` (measured; ``docs/classify.md``)
-TORUS_DIGITS = 7.0
+TORUS_DIGITS = 6.0
 CHAOS_DIGITS = 4.0
 #: default smallest half-length N of :func:`torus_test`: with fewer points the verdict is "inconclusive"
 MIN_N = 500
@@ -136,7 +136,7 @@ def torus_test(
     """Torus or chaos from the weighted Birkhoff digits of the last 2N Poincaré points.
 
     "torus" when digits >= ``torus_digits``, "chaotic" when digits < ``chaos_digits``, otherwise (or
-    with N < ``min_n``) "inconclusive".  The defaults (7, 4, N >= 500) are measured in
+    with N < ``min_n``) "inconclusive".  The defaults (6, 4, N >= 500) are measured in
     ``docs/classify.md``: a chaotic orbit scores about log10 sqrt(N), 1.5-3 digits for N = 500-20 000,
     a smooth torus 8-15 digits from N = 500 on (a torus near a low-order resonance needs more).
     Periodic points are not told from tori (both converge fast): label them first.
