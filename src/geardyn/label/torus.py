@@ -41,7 +41,7 @@ DIGITS_MAX = -math.log10(np.finfo(float).eps)
 #: default thresholds of :func:`torus_test` (measured; ``docs/classify.md``): torus when digits >= TORUS_DIGITS,
 #: chaotic when digits < log10 sqrt(N) + CHAOS_DIGITS
 TORUS_DIGITS = 6.0
-CHAOS_DIGITS = 2.0
+CHAOS_DIGITS = 1.5
 #: default smallest half-length N of :func:`torus_test`: with fewer points the verdict is "inconclusive"
 MIN_N = 2000
 
@@ -157,14 +157,15 @@ def torus_test(
 
     "torus" when digits >= ``torus_digits``; "chaotic" when digits < log10 sqrt(N) + ``chaos_digits``
     (a chaotic average converges like N^(-1/2), i.e. to log10 sqrt(N) digits); otherwise, or with
-    N < ``min_n``, "inconclusive".  The defaults (6, 2, N >= 2000) are measured in ``docs/classify.md``:
-    a chaotic series scores log10 sqrt(N) + 0.0 +- 0.5 (at most + 1.55 in 350 Henon and logistic
-    series, N = 250-16 000), a torus of the KHV model 7.5-9.5 digits at N = 2000 once its transient
-    has died out (5-7.5 at N = 500), the golden rotation 14.  The chaos threshold stays below 6 up to
-    N = 10^8.  With N < 2000 slowly converging tori of the model (near a resonance) scored below the
-    chaos threshold.  Periodic points are not told from tori (both converge fast): label them first.
-    A run still approaching its attractor drifts and scores like chaos: pass points after the
-    transient, and read "chaotic" together with a positive Lyapunov exponent.
+    N < ``min_n``, "inconclusive".  The defaults (6, 1.5, N >= 2000) are measured in ``docs/classify.md``:
+    a chaotic series scores log10 sqrt(N) + 0.0 +- 0.5 (99th percentile + 1.0, at most + 1.55 in 350
+    Henon and logistic series, N = 250-16 000), a torus of the KHV model 7.5-9.5 digits at N = 2000
+    once its transient has died out (5-7.5 at N = 500), the golden rotation 14.  The chaos threshold
+    stays below 6 up to N = 10^9.  With N < 2000 slowly converging tori of the model scored below the
+    chaos threshold; a torus within 1e-6 of a resonance p/q scores less as N grows until N passes the
+    beat period 1 / |q rho - p|.  Periodic points are not told from tori (both converge fast): label
+    them first.  A run still approaching its attractor drifts and scores like chaos: pass points after
+    the transient, and read "chaotic" together with a positive Lyapunov exponent.
     """
     dg = birkhoff_digits(points, observable)
     n = _as_points(points).shape[0] // 2
