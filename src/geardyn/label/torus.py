@@ -16,8 +16,8 @@ over the components f_j of the observable, s_j the standard deviation of f_j ove
 (dimensionless; components that do not vary are skipped).  The default observable is
 :func:`moments`: z, z^2, z^3 of every standardised coordinate z (smooth; three moments instead of
 one make a chance agreement of the two halves of a chaotic series rarer: the 99th percentile of
-digits - log10 sqrt(N) on the Henon and logistic maps falls from 1.7 to 1.0).  :func:`torus_test` turns it into a
-verdict with thresholds measured on cases whose answer is known (``docs/classify.md``, "Torus or
+digits - log10 sqrt(N) on the Henon and logistic maps falls from 1.7 to 1.0).  :func:`torus_test`
+turns it into a verdict with thresholds measured on cases whose answer is known (``docs/classify.md``, "Torus or
 chaos: weighted Birkhoff averages").  :func:`rotation_number` gives the rotation number of the
 points about a centre (e.g. the unstable period-1 point inside a torus) by a weighted Birkhoff
 average of the angle increments.
@@ -38,8 +38,8 @@ import numpy as np
 #: cap of :func:`birkhoff_digits`: agreement to the last bits of float64 (about 15.65 digits) is "exact".
 DIGITS_MAX = -math.log10(np.finfo(float).eps)
 
-#: default thresholds of :func:`torus_test` (measured; ``docs/classify.md``): torus when digits >= TORUS_DIGITS,
-#: chaotic when digits < log10 sqrt(N) + CHAOS_DIGITS
+#: default thresholds of :func:`torus_test` (measured; ``docs/classify.md``): torus when
+#: digits >= TORUS_DIGITS, chaotic when digits < log10 sqrt(N) + CHAOS_DIGITS
 TORUS_DIGITS = 6.0
 CHAOS_DIGITS = 1.5
 #: default smallest half-length N of :func:`torus_test`: with fewer points the verdict is "inconclusive"
@@ -61,7 +61,7 @@ def weighted_birkhoff(values: np.ndarray) -> np.ndarray:
     """Weighted Birkhoff average of ``values`` along axis 0 (bump weight over its length N).
 
     values: (N,) or (N, ...) samples f(x_0) .. f(x_N-1) in orbit order; returns the shape without
-    axis 0 (a 0-d array for (N,)).  For N <= 2 the weights are those of the bump at t = 1/3, 2/3.
+    axis 0 (a 0-d array for (N,)).  Any N >= 1 (N = 1: the sample itself).
     """
     v = np.asarray(values, dtype=float)
     if v.ndim == 0:
@@ -103,10 +103,9 @@ def birkhoff_digits(points: np.ndarray, observable: Observable | None = None) ->
     points: (m,) or (m, d) in orbit order, m >= 4; the last 2N points are used, N = m // 2.
     observable: maps the (2N, d) points to (2N,) or (2N, k) values; default :func:`moments`.
     Returns -log10 of the largest difference between the averages of the first and the second N
-    points, each component scaled by its standard deviation over the 2N
-    points, capped at ``DIGITS_MAX``.  Components whose spread is below 1e-9 of the largest are
-    skipped; when the points do not vary (a fixed point, to 1e-12 of their magnitude) the result is
-    ``DIGITS_MAX``.
+    points, each component scaled by its standard deviation over the 2N points, capped at
+    ``DIGITS_MAX``.  Components whose spread is below 1e-9 of the largest are skipped; when the
+    points do not vary (a fixed point, to 1e-12 of their magnitude) the result is ``DIGITS_MAX``.
     Raises ValueError on rows with NaN or inf, or on fewer than 4 points.
     """
     p = _as_points(points)
@@ -183,7 +182,8 @@ def torus_test(
     return TorusTest(digits=float(dg), n=int(n), verdict=verdict)
 
 
-def rotation_number(points: np.ndarray, center: np.ndarray | tuple[float, float], plane: tuple[int, int] = (0, 1)) -> float:
+def rotation_number(points: np.ndarray, center: np.ndarray | tuple[float, float],
+                    plane: tuple[int, int] = (0, 1)) -> float:
     """Rotation number (turns per iterate, in [0, 1)) of the points about ``center`` in a coordinate plane.
 
     The angle of each point about ``center`` (coordinates ``plane`` of the points) is taken in
@@ -199,6 +199,7 @@ def rotation_number(points: np.ndarray, center: np.ndarray | tuple[float, float]
     c = np.asarray(center, dtype=float)
     theta = np.arctan2(p[:, j] - c[1], p[:, i] - c[0]) / (2.0 * math.pi)
     inc = np.diff(theta)
-    mean_dir = math.atan2(float(np.sin(2 * math.pi * inc).mean()), float(np.cos(2 * math.pi * inc).mean())) / (2 * math.pi)
+    ang = 2.0 * math.pi * inc
+    mean_dir = math.atan2(float(np.sin(ang).mean()), float(np.cos(ang).mean())) / (2.0 * math.pi)
     inc = mean_dir + (inc - mean_dir + 0.5) % 1.0 - 0.5
     return float(weighted_birkhoff(inc)) % 1.0
