@@ -174,3 +174,23 @@ def test_khv_chaos_on_route_design():
     assert lam > 0.03 and lam > 10 * sigma
     res = T.torus_test(r.poincare)
     assert res.verdict == "chaotic" and res.digits < 0.5 * math.log10(2000) + 0.5
+
+
+def test_khv_long_cycle_scores_like_a_torus():
+    """li2013_calibrated, b = 2, e = 1.658 (row 60 of the (x1, e) map), x1 = 0.4286: undetermined in the
+    map, but after 2000 periods the run is on a period-48 cycle (return distance 6e-14 of the attractor
+    size at 48 periods, above 2 at 12, 24, 47 and 49; exponent -0.0060) about the stable P1 orbit
+    (|mu| = 0.9933).  The test scores it like a torus (9.8 digits at N = 2000), which is why periodic
+    points must be labelled first; its rotation number about the P1 point is 17/48 to rounding."""
+    d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    c = point.point_coefficients(d, {"x1": 0.4286, "b": 2.0, "e": float(np.linspace(0.0, 5.5, 200)[60])})
+    st = SimulationSettings(steps_per_period=128, transient_periods=2000, recorded_periods=4000)
+    p = simulate(c, st).poincare
+    size = p.std(axis=0).max()
+    ret = {n: float(np.max(np.abs(p[n:] - p[:-n]))) / size for n in (12, 24, 47, 48, 49)}
+    assert ret[48] < 1e-12 and min(ret[n] for n in (12, 24, 47, 49)) > 1.0
+    res = T.torus_test(p)
+    assert res.verdict == "torus" and res.digits > 9.0
+    orbit = shooting.shoot(c, T.weighted_birkhoff(p), 1, st)
+    assert orbit.converged and 0.99 < abs(orbit.multipliers[0]) < 0.995
+    assert T.rotation_number(p, orbit.state[[1, 4]], plane=(1, 4)) == pytest.approx(17 / 48, abs=1e-12)
