@@ -158,7 +158,7 @@ def torus_test(
     (a chaotic average converges like N^(-1/2), i.e. to log10 sqrt(N) digits); otherwise, or with
     N < ``min_n``, "inconclusive".  The defaults (6, 1.5, N >= 2000) are measured in ``docs/classify.md``:
     a chaotic series scores log10 sqrt(N) + 0.0 +- 0.5 (99th percentile + 1.0, at most + 1.55 in 350
-    Henon and logistic series, N = 250-16 000), the tori of the KHV model 6.7-9.8 digits at N = 2000
+    Henon and logistic series, N = 250-16 000), the tori of the KHV model 6.7-8.8 digits at N = 2000
     once the transient has died out (5-7.5 at N = 500), the golden rotation 14.  The chaos threshold
     stays below 6 up to N = 10^9.  With N < 2000 slowly converging tori of the model scored below the
     chaos threshold; a torus within 1e-6 of a resonance p/q scores less as N grows until N passes the
