@@ -1,0 +1,196 @@
+"""Torus or chaos by weighted Birkhoff averages (docs/classify.md, "Torus or chaos: weighted Birkhoff
+averages") on cases whose answer is known:
+
+* the bump-weighted average of a smooth function sampled on (0, 1) is its weighted integral (scipy quad);
+* the golden-mean rotation of the circle (a torus; rotation number (sqrt 5 - 1) / 2 exactly);
+* the stroboscopic map of a weakly forced van der Pol oscillator off resonance (a smooth invariant
+  circle), integrated by scipy's LSODA at 1e-12;
+* the Henon map (a = 1.4, b = 0.3) and the logistic map at r = 4 (chaotic);
+* the KHV model: ``li2013_calibrated`` past its Neimark-Sacker point (x1 = 0.5420) at x1 = 0.56 is on a
+  torus whose rotation number is near the argument of the unstable P1 orbit's complex Floquet
+  multipliers (Newton shooting); ``li2013_route`` at x1 = 0.80 is chaotic (exponent +0.038).
+"""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.integrate import odeint, quad
+
+from geardyn import classify
+from geardyn.khv import design, point
+from geardyn.label import torus as T
+from geardyn.solve import SimulationSettings, shooting, simulate
+
+ROOT = Path(__file__).resolve().parents[1]
+GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
+
+
+def _circle(m: int, rho: float = GOLDEN) -> np.ndarray:
+    th = 2.0 * math.pi * ((0.1 + rho * np.arange(m)) % 1.0)
+    return np.c_[np.cos(th), np.sin(th)]
+
+
+def _henon(m: int, skip: int = 1000) -> np.ndarray:
+    x, y = 0.1, 0.1
+    out = np.empty((m, 2))
+    for k in range(skip + m):
+        x, y = 1.0 - 1.4 * x * x + y, 0.3 * x
+        if k >= skip:
+            out[k - skip] = x, y
+    return out
+
+
+def _logistic(m: int, skip: int = 1000) -> np.ndarray:
+    x = 0.3141
+    out = np.empty(m)
+    for k in range(skip + m):
+        x = 4.0 * x * (1.0 - x)
+        if k >= skip:
+            out[k - skip] = x
+    return out
+
+
+def test_weighted_average_is_the_weighted_integral():
+    """A smooth function sampled at t_n = (n + 1) / (N + 1): the bump-weighted average converges to
+    int f w / int w faster than any power (error 5e-6, 8e-9, 1e-12 at N = 10, 20, 50); the plain
+    mean stays 0.017 off."""
+    w = lambda t: math.exp(-1.0 / (t * (1.0 - t)))  # noqa: E731
+    ref = quad(lambda t: math.cos(3 * t) * w(t), 0, 1, epsabs=1e-15, epsrel=1e-14)[0] / quad(
+        w, 0, 1, epsabs=1e-15, epsrel=1e-14)[0]
+    errs = {}
+    for n in (10, 20, 50, 100):
+        t = np.arange(1, n + 1) / (n + 1)
+        errs[n] = abs(float(T.weighted_birkhoff(np.cos(3 * t))) - ref)
+    assert 1e-6 < errs[10] < 1e-5 and errs[20] < 1e-7 and errs[50] < 1e-11 and errs[100] < 1e-14
+    t = np.arange(1, 101) / 101
+    assert abs(np.cos(3 * t).mean() - ref) > 0.01
+    # along axis 0, column by column
+    v = np.c_[np.cos(3 * t), 2.0 * np.cos(3 * t)]
+    first = float(T.weighted_birkhoff(v[:, 0]))
+    assert T.weighted_birkhoff(v) == pytest.approx([first, 2.0 * first])
+
+
+def test_golden_rotation_converges_super_fast():
+    """Digits (default observable: three moments of each coordinate) 3.4, 5.2, 9.7, 13.8 at N = 50,
+    100, 250, 500, then about 14 (rounding) up to N = 20 000: far beyond the log10 sqrt(N) = 0.8-2.2 of
+    a 1/sqrt(N) convergence."""
+    d = {n: T.birkhoff_digits(_circle(2 * n)) for n in (50, 100, 250, 2000)}
+    assert 3.0 < d[50] < 4.0 and 5.0 < d[100] < 6.0 and d[250] > 9.0 and d[2000] > 13.5
+    # a smooth non-linear observable of the angle: 4.4, 6.8 at N = 50, 100; 15 at N = 2000
+    obs = lambda p: np.exp(p[:, 1]) + 0.3 * (2 * p[:, 0] ** 2 - 1)  # noqa: E731
+    assert T.birkhoff_digits(_circle(100), obs) < 5.0 < T.birkhoff_digits(_circle(200), obs)
+    assert T.birkhoff_digits(_circle(4000), obs) > 13.5
+    res = T.torus_test(_circle(4000))
+    assert res.verdict == "torus" and res.n == 2000
+
+
+@pytest.mark.parametrize("rho", [GOLDEN, 0.01, 0.99, 1.0 - GOLDEN])
+def test_rotation_number_of_circle_rotations(rho):
+    assert T.rotation_number(_circle(4000, rho), (0.0, 0.0)) == pytest.approx(rho, abs=1e-13)
+    # any centre inside the circle gives the same number (the average of the increments converges)
+    assert T.rotation_number(_circle(4000, rho), (0.3, -0.2)) == pytest.approx(rho, abs=1e-9)
+
+
+def test_forced_van_der_pol_circle_is_a_torus():
+    """x'' - 0.2 (1 - x^2) x' + x = 0.5 cos(2.2 t), strobed every 2 pi / 2.2: an invariant circle off
+    resonance (rotation number 0.5466; LSODA rtol = atol = 1e-12).  Digits 4.0 / 5.4 / 6.7 / 8.4 / 11.0
+    at N = 100 / 250 / 500 / 1000 / 2000; the rotation number of 2000 and 4000 points agrees to 1e-9."""
+    mu, a, w = 0.2, 0.5, 2.2
+    period = 2 * math.pi / w
+
+    def f(y, t):
+        return [y[1], mu * (1.0 - y[0] ** 2) * y[1] - y[0] + a * math.cos(w * t)]
+
+    p = odeint(f, [2.0, 0.0], period * np.arange(4100), rtol=1e-12, atol=1e-12, mxstep=100000)[100:]
+    assert np.ptp(p[:, 0]) > 3.0  # the circle, not a fixed point
+    res = T.torus_test(p)
+    assert res.verdict == "torus" and res.n == 2000 and res.digits > 10.0
+    assert T.birkhoff_digits(p[:200]) < 5.0 and T.birkhoff_digits(p[:2000]) > 7.5
+    rho = T.rotation_number(p, T.weighted_birkhoff(p))
+    assert rho == pytest.approx(T.rotation_number(p[:2000], T.weighted_birkhoff(p)), abs=1e-9)
+    assert rho == pytest.approx(0.5466, abs=1e-4)
+
+
+@pytest.mark.parametrize("n", [2000, 8000, 32000])
+def test_chaotic_maps_converge_like_one_over_sqrt_n(n):
+    """Henon (a = 1.4, b = 0.3) and logistic (r = 4): digits within 1.2 of log10 sqrt(N) = 1.65 /
+    1.95 / 2.25 (measured +0.11 / -0.18 / +0.27 and -0.13 / -0.78 / -0.26), verdict chaotic."""
+    for pts in (_henon(2 * n), _logistic(2 * n)):
+        res = T.torus_test(pts)
+        assert abs(res.digits - 0.5 * math.log10(n)) < 1.2
+        assert res.verdict == "chaotic" and res.n == n
+
+
+def test_periodic_points_and_bad_input():
+    # a period-5 cycle converges as fast as a torus: the caller labels periodic points first
+    res = T.torus_test(_circle(4000, 0.2))
+    assert res.digits > 12.0 and res.verdict == "torus"  # 12.6
+    # a fixed point (no spread): the cap
+    assert T.birkhoff_digits(np.full((100, 3), 5.0)) == T.DIGITS_MAX
+    assert T.torus_test(np.full((4000, 3), 5.0)).verdict == "torus"
+    assert T.birkhoff_digits(np.full((100, 3), 5.0) + 1e-15 * np.arange(100)[:, None]) == T.DIGITS_MAX  # rounding
+    # too few points for a verdict (N < 2000), however good the convergence
+    assert T.torus_test(_circle(3998)).verdict == "inconclusive"
+    assert T.torus_test(_circle(3998), min_n=1999).verdict == "torus"
+    p = _circle(100)
+    p[37, 1] = np.nan
+    with pytest.raises(ValueError, match="1 row.*NaN.*row 37"):
+        T.birkhoff_digits(p)
+    with pytest.raises(ValueError, match="at least 4"):
+        T.birkhoff_digits(np.zeros((3, 2)))
+    with pytest.raises(ValueError, match="chaos threshold .* exceeds torus_digits"):
+        T.torus_test(_circle(4000), torus_digits=3.0, chaos_digits=4.0)
+
+
+def test_khv_torus_past_neimark_sacker():
+    """li2013_calibrated, b = 2, e = 5, x1 = 0.56 (NS of the P1 orbit at 0.5420): after 8000 periods
+    the Poincaré points lie on a torus (digits 5.8 / 7.6 / 7.2 / 8.4 at N = 250 / 500 / 1000 / 2000).
+    Its rotation number about the unstable P1 point, in the (x_VH, v_VH) plane, is 0.360342, near
+    arg(mu) / 2 pi = 0.360542 of the orbit's complex multipliers (|mu| = 1.0009)."""
+    d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    c = point.point_coefficients(d, {"x1": 0.56, "b": 2.0, "e": 5.0})
+    st = SimulationSettings(steps_per_period=128, transient_periods=8000, recorded_periods=4000)
+    r = simulate(c, st)
+    res = T.torus_test(r.poincare)
+    assert res.verdict == "torus" and res.n == 2000 and res.digits > 7.5
+    orbit = shooting.shoot(c, T.weighted_birkhoff(r.poincare), 1, st)
+    mu = orbit.multipliers[0]
+    assert orbit.converged and abs(mu.imag) > 0.5 and 1.0 < abs(mu) < 1.002
+    rho = T.rotation_number(r.poincare, orbit.state[[1, 4]], plane=(1, 4))
+    assert rho == pytest.approx(T.rotation_number(r.poincare[:1000], orbit.state[[1, 4]], plane=(1, 4)), abs=1e-7)
+    assert abs(rho - shooting.rotation_number(mu)) < 5e-4
+
+
+def test_khv_chaos_on_route_design():
+    """li2013_route, b = 2, e = 5, x1 = 0.80: largest exponent +0.038 per unit tau; the Birkhoff
+    averages do not converge (0.5 digits at N = 2000, below log10 sqrt(N) = 1.65)."""
+    d = design.load(ROOT / "config" / "designs" / "li2013_route.yaml")
+    c = point.point_coefficients(d, {"x1": 0.80, "b": 2.0, "e": 5.0})
+    r = simulate(c, SimulationSettings(steps_per_period=128, transient_periods=500, recorded_periods=4000),
+                 tangent_periods=4000)
+    lam, sigma = classify.lyapunov_estimate(r.growth, r.period)
+    assert lam > 0.03 and lam > 10 * sigma
+    res = T.torus_test(r.poincare)
+    assert res.verdict == "chaotic" and res.digits < 0.5 * math.log10(2000) + 0.5
+
+
+def test_khv_long_cycle_scores_like_a_torus():
+    """li2013_calibrated, b = 2, e = 1.658 (row 60 of the (x1, e) map), x1 = 0.4286: undetermined in the
+    map, but after 2000 periods the run is on a period-48 cycle (return distance 6e-14 of the attractor
+    size at 48 periods, above 2 at 12, 24, 47 and 49; exponent -0.0060) about the stable P1 orbit
+    (|mu| = 0.9933).  The test scores it like a torus (9.8 digits at N = 2000), which is why periodic
+    points must be labelled first; its rotation number about the P1 point is 17/48 to rounding."""
+    d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    c = point.point_coefficients(d, {"x1": 0.4286, "b": 2.0, "e": float(np.linspace(0.0, 5.5, 200)[60])})
+    st = SimulationSettings(steps_per_period=128, transient_periods=2000, recorded_periods=4000)
+    p = simulate(c, st).poincare
+    size = p.std(axis=0).max()
+    ret = {n: float(np.max(np.abs(p[n:] - p[:-n]))) / size for n in (12, 24, 47, 48, 49)}
+    assert ret[48] < 1e-12 and min(ret[n] for n in (12, 24, 47, 49)) > 1.0
+    res = T.torus_test(p)
+    assert res.verdict == "torus" and res.digits > 9.0
+    orbit = shooting.shoot(c, T.weighted_birkhoff(p), 1, st)
+    assert orbit.converged and 0.99 < abs(orbit.multipliers[0]) < 0.995
+    assert T.rotation_number(p, orbit.state[[1, 4]], plane=(1, 4)) == pytest.approx(17 / 48, abs=1e-12)
