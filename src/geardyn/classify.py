@@ -22,7 +22,7 @@ from geardyn.config import settings_from
 
 #: Label codes stored in cubes (``flag_values``/``flag_meanings``); n >= 1 is period-n.
 #: ``not_periodic`` is what the Poincaré test alone says (QP or chaos, unresolved).
-LABELS = {"chaotic": -4, "quasi_periodic": -3, "diverged": -2, "undetermined": -1, "not_periodic": 0}
+LABELS = {"long_period": -5, "chaotic": -4, "quasi_periodic": -3, "diverged": -2, "undetermined": -1, "not_periodic": 0}
 
 #: values of ``Classification.settled`` (cube variable ``settled``)
 SETTLED, POSSIBLE_TRANSIENT = 1, 2
@@ -64,6 +64,8 @@ def label_name(n: int) -> str:
         return "chaotic"
     if n == LABELS["quasi_periodic"]:
         return "quasi-periodic"
+    if n == LABELS["long_period"]:
+        return "long period (a phase-locked torus)"
     if n == 0:
         return "not periodic (QP or chaos)"
     return f"P{n}"
@@ -72,13 +74,16 @@ def label_name(n: int) -> str:
 def short_name(n: int) -> str:
     """Compact label: P1, P5, QP, chaos, div, undet."""
     return {LABELS["diverged"]: "div", LABELS["undetermined"]: "undet", LABELS["chaotic"]: "chaos",
+            LABELS["long_period"]: "Plong",
             LABELS["quasi_periodic"]: "QP", 0: "NP"}.get(int(n), f"P{int(n)}")
 
 
 def flag_attrs(max_n: int = 12) -> dict:
-    """CF ``flag_values``/``flag_meanings`` of the label codes (period-n for n = 1..max_n)."""
-    values = [LABELS[k] for k in ("chaotic", "quasi_periodic", "diverged", "undetermined", "not_periodic")]
-    meanings = ["chaotic", "quasi_periodic", "diverged", "undetermined", "not_periodic"]
+    """CF ``flag_values``/``flag_meanings`` of the label codes (period-n for n = 1..max_n; ``long_period``: a
+    certified periodic orbit of a period above max_n, stored in the variable ``period``)."""
+    names = ("long_period", "chaotic", "quasi_periodic", "diverged", "undetermined", "not_periodic")
+    values = [LABELS[k] for k in names]
+    meanings = list(names)
     values += list(range(1, max_n + 1))
     meanings += [f"period_{n}" for n in range(1, max_n + 1)]
     return {"flag_values": np.array(values, np.int16), "flag_meanings": " ".join(meanings)}
@@ -187,9 +192,12 @@ class ClassifierSettings:
     separation: float = 10.0
     settle_max_n: int = 12
     settle_max_periods: int = 4000
-    torus_digits: float = 3.5
-    chaos_digits: float = 3.0
+    torus_margin: float = 2.5
+    chaos_margin: float = 1.5
+    torus_min_n: int = 50
     torus_extend: int = 3
+    torus_max_periods: int = 4000
+    long_max_n: int = 240
 
     @classmethod
     def from_mapping(cls, spec: dict | None) -> ClassifierSettings:

@@ -29,7 +29,7 @@ import numpy as np
 from geardyn import classify
 from geardyn.label.policy import Policy
 from geardyn.label.settle import settle_points
-from geardyn.label.torus import torus_test
+from geardyn.label.torus import moments, torus_test
 from geardyn.label.verdict import Verdict
 from geardyn.label._threads import threaded_map
 from geardyn.solve.base import SimulationResult, System
@@ -431,33 +431,73 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
 
 
 def _longer_record(points: list[Point], policy: Policy) -> None:
-    """Points left undetermined with an exponent that is not positive and a torus test short of a verdict:
-    the run goes on for ``torus_extend`` times its record (no tangent vector), and the torus test is applied
-    to the whole, longer record (it converges on a torus, stays low on a chaotic set)."""
+    """Points left undetermined: the run goes on with the tangent vector, its record growing by the factor
+    ``1 + torus_extend`` each round up to ``torus_max_periods``, and the same decision
+    (:func:`_nonperiodic_verdict`) reads the whole, longer record each time (the torus test converges on a
+    torus and stays low on a chaotic set; the exponent's error bar shrinks).  Last, periods up to
+    ``long_max_n`` are looked for on the longest record (:func:`_long_periods`)."""
     cs = policy.classifier
-    retry = [p for p in points if p.verdict.stage == "undecided" and not p.verdict.exponent > cs.lam_tol
-             and p.verdict.torus_digits < cs.torus_digits]
-    if not retry or cs.torus_extend <= 0:
+    retry = [p for p in points if p.verdict.stage == "undecided"]
+    while retry and cs.torus_extend > 0:
+        length = retry[0].run.poincare.shape[0]
+        n = min(cs.torus_extend * length, cs.torus_max_periods - length)
+        if n <= 0:
+            break
+        s = dataclasses.replace(policy.integration, transient_periods=0, recorded_periods=n)
+        runs = simulate_batch([p.system for p in retry], s, [p.run.final_state for p in retry],
+                              tables=tables_of(retry), tangent_periods=n)
+        for p, r in zip(retry, runs, strict=True):
+            if r.diverged:
+                p.verdict = diverged_verdict(p, r)
+                continue
+            old = p.run
+            p.run = dataclasses.replace(r, poincare=np.vstack([old.poincare, r.poincare]),
+                                        growth=np.concatenate([old.growth, r.growth]),
+                                        strobe=np.concatenate([old.strobe, r.strobe]))
+            p.verdict = _nonperiodic_verdict(p, policy)
+        retry = [p for p in retry if p.verdict.stage == "undecided"]
+    _long_periods(retry, policy)
+
+
+def _long_periods(points: list[Point], policy: Policy) -> None:
+    """Undecided points whose longer record returns after n periods, max_n < n <= long_max_n (rule 3 with
+    the larger bound, on the newest half of the record): a torus locked to a long cycle.  Shooting for period
+    n certifies the orbit; the label is then ``long_period`` with the least period in ``period``."""
+    cs = policy.classifier
+    if not points or cs.long_max_n <= cs.max_n:
         return
-    n = cs.torus_extend * retry[0].run.poincare.shape[0]
-    s = dataclasses.replace(policy.integration, transient_periods=0, recorded_periods=n)
-    runs = simulate_batch([p.system for p in retry], s, [p.run.final_state for p in retry], tables=tables_of(retry))
-    for p, r in zip(retry, runs, strict=True):
-        if r.diverged:
-            p.verdict = diverged_verdict(p, r)
-            continue
-        record = np.vstack([p.run.poincare, r.poincare])
-        tt = torus_test(record, cs.torus_digits, cs.chaos_digits)
+    half = [dataclasses.replace(p.run, poincare=p.run.poincare[p.run.poincare.shape[0] // 2:]) for p in points]
+    big = dataclasses.replace(cs, max_n=cs.long_max_n)
+    ns = [n if n > cs.max_n and 3 * n <= r.poincare.shape[0] else 0 for n, r in zip(rule3(half, big), half, strict=True)]
+    todo = [(p, n) for p, n in zip(points, ns, strict=True) if n > 0]
+    if not todo:
+        return
+    undecided = {id(p): p.verdict for p, _ in todo}
+    for p, _ in todo:
+        p.verdict = None
+    left = certify([p for p, _ in todo], [n for _, n in todo], policy, "period_test",
+                   "the longer record returns after a long period")
+    for p in left:
+        p.verdict = undecided[id(p)]
+    for p, _ in todo:
         v = p.verdict
-        if tt.verdict == "torus":
-            p.verdict = dataclasses.replace(
-                v, label=QP, stage="torus", final_state=r.final_state.copy(), torus_digits=tt.digits,
-                poincare=r.poincare[-_record_length(policy):], n_events=int(r.n_events),
-                reason=(f"Birkhoff averages converge over {record.shape[0]} periods (digits {tt.digits:.1f}); "
-                        f"exponent {v.exponent:.2g}"))
-        else:
-            p.verdict = dataclasses.replace(v, torus_digits=tt.digits, final_state=r.final_state.copy(),
-                                            reason=v.reason + f"; over {record.shape[0]} periods: digits {tt.digits:.1f}")
+        if v.stage == "period_test" and v.period > cs.max_n:
+            p.verdict = dataclasses.replace(v, label=classify.LABELS["long_period"])
+
+
+def standardised(points: np.ndarray) -> np.ndarray:
+    """The torus test's observable: each coordinate of the Poincare points, standardised (the first
+    moments of :func:`geardyn.label.torus.moments`; the higher ones converge too slowly on the model's
+    slowly attracting tori to decide within a few hundred periods, docs/classify.md)."""
+    return moments(points)[:, :points.shape[1]]
+
+
+def _torus(points: np.ndarray, cs: classify.ClassifierSettings):
+    """The torus test on the record (2N Poincare points): a torus at log10 sqrt(N) + torus_margin digits,
+    chaos below log10 sqrt(N) + chaos_margin."""
+    n = max(1, points.shape[0] // 2)
+    return torus_test(points[-2 * n:], 0.5 * math.log10(n) + cs.torus_margin, cs.chaos_margin, cs.torus_min_n,
+                      observable=standardised)
 
 
 def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
@@ -466,7 +506,7 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
     undetermined, with the reason.  The 0-1 test and the spectral flatness cross-check a chaos label."""
     r, cs = p.run, policy.classifier
     lam, sig = classify.lyapunov_estimate(r.growth, r.period)
-    tt = torus_test(r.poincare, cs.torus_digits, cs.chaos_digits)
+    tt = _torus(r.poincare, cs)
     digits = tt.digits
     positive = bool(np.isfinite(lam) and lam > cs.lam_tol + 2 * sig)
     k01 = flat = NAN
@@ -487,6 +527,7 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
     else:
         label, stage, why = UNDET, "undecided", (f"exponent {lam:.2g} +- {sig:.1g} not positive and the Birkhoff "
                                                  f"averages do not converge (digits {digits:.1f})")
+    why += f" ({r.poincare.shape[0]} recorded periods)"
     if p.notes:
         why += "; " + "; ".join(p.notes)
     return Verdict(label, 0, lam, sig, "tangent", stage, why, final_state=r.final_state.copy(),

@@ -18,7 +18,7 @@ def label_colour(code: int) -> str:
     from geardyn.classify import LABELS
 
     fixed = {LABELS["chaotic"]: "#d62728", LABELS["quasi_periodic"]: "#ff7f0e", LABELS["diverged"]: "#000000",
-             LABELS["undetermined"]: "#9e9e9e", LABELS["not_periodic"]: "#8c564b"}
+             LABELS["undetermined"]: "#9e9e9e", LABELS["not_periodic"]: "#8c564b", LABELS["long_period"]: "#bcbd22"}
     periods = ["#1f77b4", "#2ca02c", "#17becf", "#9467bd", "#bcbd22", "#e377c2", "#00441b", "#393b79",
                "#637939", "#8c6d31", "#843c39", "#7b4173"]
     code = int(code)
