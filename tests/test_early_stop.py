@@ -2,11 +2,10 @@
 depend on the chunking with it (transient_used stored per point)."""
 
 import numpy as np
-import pytest
 import xarray as xr
 from pathlib import Path
 
-from geardyn import classify, io
+from geardyn import io
 from geardyn.bench import cases
 from geardyn.khv import design
 from geardyn.runs import cube, maps, sweep

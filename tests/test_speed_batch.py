@@ -1,7 +1,6 @@
 """Batch integration (simulate_batch): the same numbers as the point-by-point path,
 whatever the batch, its order, its chunking and the number of threads."""
 
-import dataclasses
 
 import numba
 import numpy as np

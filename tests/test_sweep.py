@@ -37,12 +37,17 @@ def test_chunks_tile_each_point_once(chunks):
     assert len(seen) == 2 * 7 and set(seen.values()) == {1}
 
 
-def test_result_independent_of_chunking(li2013, tmp_path):
+@pytest.mark.parametrize("start_from", ["follow", "fixed"])
+def test_result_independent_of_chunking(li2013, tmp_path, start_from):
+    """Three lines (cases); a chunk holds whole lines (follow) or any points (fixed): the merged cube is
+    the same bit for bit whatever the chunking."""
     merged = []
     for chunks in (1, 3):
-        spec = _spec(chunks=chunks)
+        spec = _spec(chunks=chunks, cases=[{"b": 1.0}, {"b": 2.0}, {"b": 3.0}], start_from=start_from)
+        assert spec.n_chunks == chunks
         # through netCDF and the merge rules' loader, as in the pipeline
-        paths = [io.write_netcdf(sweep.run_chunk(li2013, spec, c), tmp_path / f"{chunks}_{c}.nc") for c in range(spec.n_chunks)]
+        paths = [io.write_netcdf(sweep.run_chunk(li2013, spec, c), tmp_path / f"{start_from}{chunks}_{c}.nc")
+                 for c in range(spec.n_chunks)]
         parts = io.read_chunks(paths)
         merged.append(cube.merge_chunks(parts))
     xr.testing.assert_equal(merged[0], merged[1])  # bit-identical values, coordinates and dims
@@ -51,7 +56,7 @@ def test_result_independent_of_chunking(li2013, tmp_path):
 
 
 def test_merge_refuses_missing_or_duplicate_chunks(li2013):
-    spec = _spec(chunks=2, num=4)
+    spec = _spec(chunks=2, num=2, cases=[{"b": 1.0}, {"b": 2.0}])
     a = sweep.run_chunk(li2013, spec, 0)
     with pytest.raises(ValueError, match="2 points missing"):
         cube.merge_chunks([a])

@@ -23,7 +23,6 @@ with the same seed replays the cached evaluations and resumes where it stopped.
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import json
 import math

@@ -49,8 +49,9 @@ class Policy:
     @property
     def stability_margin(self) -> float:
         """A periodic orbit is certified stable when max|mu| < 1 - margin: the margin is the classifier's
-        tolerance floor (``error_margin`` x ``error_floor``), above the integration error of the multipliers."""
-        return self.classifier.error_margin * self.classifier.error_floor
+        ``error_floor``, the integration error of the Poincare points at these steps per period (the
+        multipliers of the discrete map differ from the flow's by errors of that order)."""
+        return self.classifier.error_floor
 
     def with_start(self, start: Start) -> Policy:
         return dataclasses.replace(self, start=start)
@@ -58,9 +59,9 @@ class Policy:
     @classmethod
     def from_spec(cls, integration: SimulationSettings, spec: Mapping[str, Any] | None = None) -> Policy:
         """The policy of a study entry of the config (a sweep, map, points run or calibration): its
-        ``classifier`` block, ``initial`` (follow or fixed; not ``start``, which a sweep uses for its range)
+        ``classifier`` block, ``start_from`` (follow or fixed; not ``start``, which a sweep uses for its range)
         and ``coexistence`` keys (presets already resolved by the validator)."""
         spec = dict(spec or {})
         return cls(integration=integration,
                    classifier=ClassifierSettings.from_mapping(dict(spec.get("classifier") or {})),
-                   start=spec.get("initial", "follow"), coexistence=bool(spec.get("coexistence", False)))
+                   start=spec.get("start_from", "follow"), coexistence=bool(spec.get("coexistence", False)))

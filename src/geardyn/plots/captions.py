@@ -94,5 +94,5 @@ def regime_map(name: str, ds: xr.Dataset) -> str:
             f"{ds.sizes['x']} x {ds.sizes['y']} points, fixed {ds.attrs['fixed_overrides']}; "
             f"{ds.attrs['steps_per_period']} steps per period, {ds.attrs['transient_periods']} transient + "
             f"{ds.attrs['recorded_periods']} recorded periods; each row a line along x whose points follow the "
-            f"attractor of their left neighbour (initial: {ds.attrs.get('start', 'follow')}; geardyn.label). "
+            f"attractor of their left neighbour (start_from: {ds.attrs.get('start', 'follow')}; geardyn.label). "
             f"Label shares: {shares}. Lines: the configured 1-D cuts (the sweeps of the same design).")

@@ -3,8 +3,8 @@
 A map is like a sweep with two swept parameters and no stored Poincaré sections: each point keeps its
 verdict (label, period, exponent and how it was obtained, the stage that decided it, the bifurcation the
 followed orbit met) and the mean and spread of its Poincaré X_VH.  Each row (one y value, x increasing) is
-a *line* of :func:`geardyn.label.label_lines`: with ``initial: follow`` (the default) each point starts from
-the attractor of its left neighbour; with ``initial: fixed`` every point starts from the static deflection.
+a *line* of :func:`geardyn.label.label_lines`: with ``start_from: follow`` (the default) each point starts from
+the attractor of its left neighbour; with ``start_from: fixed`` every point starts from the static deflection.
 A chunk holds whole rows, so the result does not depend on the chunking.
 
 Coefficients are built once per x value (:func:`point.point_coefficients`, ~3-7 ms: geometry and
@@ -64,7 +64,7 @@ class MapSpec:
     chunks: int = 1
     integration: tuple[tuple[str, Any], ...] = ()
     classifier: tuple[tuple[str, Any], ...] = ()
-    initial: str = "follow"
+    start_from: str = "follow"
     coexistence: bool = False
 
     @classmethod
@@ -81,7 +81,7 @@ class MapSpec:
                    fixed=tuple(sorted(spec.get("fixed", {}).items())), chunks=int(spec.get("chunks", 1)),
                    integration=tuple(sorted(spec.get("integration", {}).items())),
                    classifier=tuple(sorted(spec.get("classifier", {}).items())),
-                   initial=spec.get("initial", "follow"), coexistence=bool(spec.get("coexistence", False)))
+                   start_from=spec.get("start_from", "follow"), coexistence=bool(spec.get("coexistence", False)))
 
     @property
     def n_points(self) -> int:
@@ -121,7 +121,7 @@ def point_coefficients(design: KHVDesign, spec: MapSpec, xv: float, yv: float,
 def map_policy(design: KHVDesign, spec: MapSpec) -> Policy:
     """The labelling policy of a map: integration, classifier, initial state and coexistence."""
     return Policy.from_spec(point.integration_settings(design, **dict(spec.integration)),
-                            {"classifier": dict(spec.classifier), "initial": spec.initial,
+                            {"classifier": dict(spec.classifier), "start_from": spec.start_from,
                              "coexistence": spec.coexistence})
 
 

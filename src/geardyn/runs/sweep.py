@@ -5,12 +5,12 @@ over a range, for one or more *cases* (fixed overrides, e.g. three x1 values for
 The points are numbered case-major and split into contiguous chunks; every point is computed
 from its own parameters only, so a chunk's numbers do not depend on how the sweep was cut.
 
-Every point is labelled by the one labeller, :func:`geardyn.label.label_lines`.  With ``initial: follow``
+Every point is labelled by the one labeller, :func:`geardyn.label.label_lines`.  With ``start_from: follow``
 (the default) a case in one direction is a *line*: its first point starts from the static deflection and
 each next point from the attractor of the previous one (Newton shooting from its orbit, or a run from its
 final state), so the figure draws attractors, never transients.  ``continuation`` says the directions: up
 (``none`` and ``up``: from the first value to the last), ``down``, or ``both`` (hysteresis).  A chunk holds
-whole lines; the lines of a chunk advance together, one point each, in lockstep.  With ``initial: fixed``
+whole lines; the lines of a chunk advance together, one point each, in lockstep.  With ``start_from: fixed``
 every point starts from the static deflection (a line of its own) and a chunk holds any points.  Either way
 a point's verdict depends only on its line, never on the chunking or the threads.  With ``coexistence``
 every point is also labelled from the fixed start, and ``coexisting`` flags where the two end on different
@@ -58,7 +58,7 @@ class SweepSpec:
     continuation: str = "none"
     integration: tuple[tuple[str, Any], ...] = ()
     classifier: tuple[tuple[str, Any], ...] = ()
-    initial: str = "follow"
+    start_from: str = "follow"
     coexistence: bool = False
 
     @classmethod
@@ -75,7 +75,7 @@ class SweepSpec:
             chunks=int(spec.get("chunks", 1)), continuation=spec.get("continuation", "none"),
             integration=tuple(sorted(spec.get("integration", {}).items())),
             classifier=tuple(sorted(spec.get("classifier", {}).items())),
-            initial=spec.get("initial", "follow"), coexistence=bool(spec.get("coexistence", False)),
+            start_from=spec.get("start_from", "follow"), coexistence=bool(spec.get("coexistence", False)),
         )
 
     @property
@@ -93,7 +93,7 @@ class SweepSpec:
     @property
     def n_chunks(self) -> int:
         """Number of chunk jobs: the configured count, at most one per line (``follow``) or per point."""
-        units = self.n_lines if self.initial == "follow" else len(self.cases) * len(self.directions) * self.num
+        units = self.n_lines if self.start_from == "follow" else len(self.cases) * len(self.directions) * self.num
         return max(1, min(self.chunks, units))
 
     def case_label(self, i: int) -> str:
@@ -109,11 +109,11 @@ class ChunkWork:
 
 def chunk_work(spec: SweepSpec, chunk: int) -> ChunkWork:
     """Which points chunk ``chunk`` (0-based) computes; deterministic and covering each point once.  With
-    ``initial: follow`` a chunk holds whole lines (case, direction), each in its direction's order."""
+    ``start_from: follow`` a chunk holds whole lines (case, direction), each in its direction's order."""
     if not 0 <= chunk < spec.n_chunks:
         raise ValueError(f"chunk {chunk} outside 0..{spec.n_chunks - 1} for sweep {spec.name}")
     nd = len(spec.directions)
-    if spec.initial == "follow":
+    if spec.start_from == "follow":
         work = ChunkWork()
         for line in np.array_split(np.arange(spec.n_lines), spec.n_chunks)[chunk]:
             case, d = divmod(int(line), nd)
@@ -141,7 +141,7 @@ def sweep_policy(design: KHVDesign, spec: SweepSpec, settings: SimulationSetting
     """The labelling policy of a sweep: the design's integration with the sweep's changes, its classifier
     settings, start and coexistence."""
     settings = settings or point.integration_settings(design, **dict(spec.integration))
-    return Policy.from_spec(settings, {"classifier": dict(spec.classifier), "initial": spec.initial,
+    return Policy.from_spec(settings, {"classifier": dict(spec.classifier), "start_from": spec.start_from,
                                        "coexistence": spec.coexistence})
 
 
@@ -211,7 +211,6 @@ def empty_cube(spec: SweepSpec, policy: Policy) -> xr.Dataset:
         "divergence_threshold": settings.divergence_threshold, "continuation": spec.continuation,
         **policy_attrs(policy),
         "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
-        **classifier_attrs(classifier),
     }
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
