@@ -99,7 +99,7 @@ def read_yaml(path: str | Path) -> Any:
     except OSError as err:
         raise ConfigError(f"{path}: cannot read ({err.strerror})") from None
     try:
-        return yaml.load(text, Loader=_Loader)  # noqa: S506 - a SafeLoader subclass
+        data = yaml.load(text, Loader=_Loader)  # noqa: S506 - a SafeLoader subclass
     except ConfigError as err:
         raise ConfigError(f"{path}: {err}") from None
     except yaml.YAMLError as err:
@@ -107,6 +107,55 @@ def read_yaml(path: str | Path) -> Any:
         where = f" line {mark.line + 1}, column {mark.column + 1}" if mark else ""
         problem = getattr(err, "problem", None) or str(err).splitlines()[0]
         raise ConfigError(f"{path}: YAML syntax error at{where}: {problem}") from None
+    check_expanded_size(data, str(path))
+    return data
+
+
+#: The most values (mappings, lists and scalars, counted with every alias expanded) a config or design
+#: file may hold. The shipped config.yaml holds about 1,500. YAML anchors and aliases let a few lines
+#: stand for an exponentially large structure (a "billion laughs"); such a file is refused before
+#: anything walks it.
+MAX_EXPANDED_VALUES = 100_000
+
+
+def expanded_size(data: Any, where: str = "input") -> int:
+    """The number of values in ``data`` with every alias expanded, computed on the object graph the
+    YAML loader built (an alias is the same Python object as its anchor), memoised by object id: the
+    cost is linear in the number of distinct objects, however large the expansion. A structure that
+    contains itself is refused (:class:`ConfigError`)."""
+    sizes: dict[int, int] = {}
+    open_ids: set[int] = set()
+
+    def size(node: Any) -> int:
+        if not isinstance(node, (dict, list)):
+            return 1
+        key = id(node)
+        if key in sizes:
+            return sizes[key]
+        if key in open_ids:
+            raise ConfigError(f"{where}: an alias refers to a mapping or list that contains it: a structure "
+                              "may not contain itself")
+        open_ids.add(key)
+        children = list(node.values()) if isinstance(node, dict) else node
+        total = 1 + sum(size(child) for child in children)
+        open_ids.discard(key)
+        sizes[key] = total
+        return total
+
+    try:
+        return size(data)
+    except RecursionError:
+        raise ConfigError(f"{where}: the structure is nested too deeply") from None
+
+
+def check_expanded_size(data: Any, where: str) -> None:
+    """Refuse ``data`` (one line) when its aliases expand to more than :data:`MAX_EXPANDED_VALUES`
+    values, before anything walks the expanded structure."""
+    n = expanded_size(data, where)
+    if n > MAX_EXPANDED_VALUES:
+        raise ConfigError(f"{where}: expanded size = {n} values (YAML aliases counted in full) is not "
+                          f"allowed: at most {MAX_EXPANDED_VALUES} values (use presets for settings "
+                          "that several runs share)")
 
 
 #: How each JSON Schema bound reads in an error message, in the order it is printed.
@@ -202,6 +251,7 @@ def validate(data: Any, schema_name: str, where: str) -> dict[str, Any]:
     if not isinstance(data, dict):
         raise ConfigError(f"{where}: expected a mapping of keys to values at the top level, got "
                           f"{_kind_of(data)}")
+    check_expanded_size(data, where)
     _refuse_non_finite(data, where)
     sch = schema(schema_name)
     filled = _fill_defaults(sch, copy.deepcopy(data))
@@ -242,8 +292,14 @@ def _refuse_non_finite(node: Any, where: str, path: tuple[Any, ...] = ()) -> Non
 
 
 def load_config(path: str | Path) -> dict[str, Any]:
-    """Read and validate the workflow configuration (``config/config.yaml``)."""
-    return validate(read_yaml(path), "config.schema.json", str(path))
+    """Read and validate the workflow configuration (``config/config.yaml``): presets resolved and
+    defaults filled (:func:`geardyn.validate.fill_config`); the designs it lists are not read."""
+    from geardyn.validate import fill_config
+
+    data = read_yaml(path)
+    if not isinstance(data, dict):
+        return validate(data, "config.schema.json", str(path))
+    return fill_config(data, str(path))
 
 
 def load_design_dict(path: str | Path) -> dict[str, Any]:
