@@ -118,12 +118,12 @@ def read_yaml(path: str | Path) -> Any:
 MAX_EXPANDED_VALUES = 100_000
 
 
-def expanded_size(data: Any, where: str = "input") -> int:
+def expanded_size(data: Any, where: str = "input", sizes: dict[int, int] | None = None) -> int:
     """The number of values in ``data`` with every alias expanded, computed on the object graph the
-    YAML loader built (an alias is the same Python object as its anchor), memoised by object id: the
-    cost is linear in the number of distinct objects, however large the expansion. A structure that
-    contains itself is refused (:class:`ConfigError`)."""
-    sizes: dict[int, int] = {}
+    YAML loader built (an alias is the same Python object as its anchor), memoised by object id in
+    ``sizes``: the cost is linear in the number of distinct objects, however large the expansion. A
+    structure that contains itself is refused (:class:`ConfigError`)."""
+    sizes = {} if sizes is None else sizes
     open_ids: set[int] = set()
 
     def size(node: Any) -> int:
@@ -151,11 +151,19 @@ def expanded_size(data: Any, where: str = "input") -> int:
 def check_expanded_size(data: Any, where: str) -> None:
     """Refuse ``data`` (one line) when its aliases expand to more than :data:`MAX_EXPANDED_VALUES`
     values, before anything walks the expanded structure."""
-    n = expanded_size(data, where)
+    sizes: dict[int, int] = {}
+    n = expanded_size(data, where, sizes)
     if n > MAX_EXPANDED_VALUES:
-        raise ConfigError(f"{where}: expanded size = {n} values (YAML aliases counted in full) is not "
-                          f"allowed: at most {MAX_EXPANDED_VALUES} values (use presets for settings "
-                          "that several runs share)")
+        # name the top-level key whose value expands most, the last one of equals: an anchor is
+        # defined before the key that uses it (the sizes are memoised: no new walk)
+        path: list[Any] = []
+        if isinstance(data, dict):
+            sized = [(sizes.get(id(v), 1), k) for k, v in reversed(data.items())]
+            top, key = max(sized, key=lambda item: item[0])
+            if top > MAX_EXPANDED_VALUES:
+                path, n = [key], top
+        raise ConfigError(f"{where}: expanded size of {_key(path)} = {n} values (YAML aliases counted in full) is not "
+                          f"allowed: at most {MAX_EXPANDED_VALUES} values")
 
 
 #: How each JSON Schema bound reads in an error message, in the order it is printed.
