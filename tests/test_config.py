@@ -317,3 +317,27 @@ def test_check_config_refuses_an_alias_bomb_in_one_line(tmp_path):
     assert run.returncode != 0 and run.stdout == ""
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and "expanded size of designs = " in lines[0] and "Traceback" not in run.stderr, run.stderr
+
+
+def test_error_table_is_the_one_of_the_work_precision_study():
+    """POINCARE_ERROR is stated once in src/; docs/model.md Sec. 6 shows where it comes from."""
+    rows = {line.split("|")[1].strip(): line for line in (ROOT / "docs" / "model.md").read_text().splitlines()
+            if line.startswith("| ")}
+    steps = [int(v) for v in rows["steps/period"].split("|")[2:-1]]
+    errors = [float(v) for v in rows["rk4_event error"].split("|")[2:-1]]
+    assert dict(zip(steps, errors)) == validate.POINCARE_ERROR
+
+
+def test_run_integration_block_is_defined_once_and_matches_the_design_block():
+    """Sweeps, maps, calibrations and presets share one $defs/integration; its keys are keys of a
+    design's dynamics.integration, of the same kind (a run overrides the design key by key)."""
+    import json
+
+    raw = json.loads((ROOT / "src" / "geardyn" / "schemas" / "config.schema.json").read_text())
+    text = json.dumps(raw)
+    assert text.count('"early_stop_tol_factor"') == 1 and text.count('"#/$defs/integration"') == 4
+    design = config.schema("dynamics.schema.json")["properties"]["integration"]["properties"]
+    for key, node in raw["$defs"]["integration"]["properties"].items():
+        assert key in design
+        assert (node.get("type"), node.get("enum")) == (design[key].get("type"), design[key].get("enum")), key
+        assert "default" not in node, key  # a default here would override the design's value

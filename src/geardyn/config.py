@@ -112,7 +112,7 @@ def read_yaml(path: str | Path) -> Any:
 
 
 #: The most values (mappings, lists and scalars, counted with every alias expanded) a config or design
-#: file may hold. The shipped config.yaml holds about 1,500. YAML anchors and aliases let a few lines
+#: file may hold. The shipped config.yaml holds about 500. YAML anchors and aliases let a few lines
 #: stand for an exponentially large structure (a "billion laughs"); such a file is refused before
 #: anything walks it.
 MAX_EXPANDED_VALUES = 100_000
