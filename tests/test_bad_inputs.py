@@ -129,7 +129,7 @@ CASES = [
     ("design-name-300", _config(lambda c: c.update(designs={"d" * 300: LI2013})),
      "(300 characters) is not allowed: at most 64 characters"),
     ("unknown-preset", _sweep(lambda s: s.update(preset="cheap")),
-     "sweeps.fig07_small.preset = 'cheap' is not allowed: one of none"),
+     "sweeps.fig07_small.preset = 'cheap' is not allowed: the name of an entry of presets, and the config has none"),
     ("map-one-parameter", _config(lambda c: c.update(maps={"m": {
         "designs": ["li2013"], "x": {"parameter": "b", "start": 0, "stop": 1, "num": 3},
         "y": {"parameter": "b", "start": 0, "stop": 2, "num": 3}}})),

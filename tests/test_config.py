@@ -214,7 +214,7 @@ def test_unknown_preset_is_one_line():
     cfg = _config(presets={"map": {"integration": {"steps_per_period": 128}}}, maps={"m": _map(preset="mpa")})
     assert "config: maps.m.preset = 'mpa' is not allowed: one of 'map'" in _refused(cfg)
     cfg = _config(sweeps={"s": _sweep(preset="cheap")})
-    assert "sweeps.s.preset = 'cheap' is not allowed: one of none" in _refused(cfg)
+    assert "sweeps.s.preset = 'cheap' is not allowed: the name of an entry of presets, and the config has none" in _refused(cfg)
     cfg = _config(presets={"p": {"integration": {"steps": 128}}})
     assert "config: unknown key 'presets.p.integration.steps' (allowed keys: batch," in _refused(cfg)
 

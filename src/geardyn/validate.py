@@ -163,8 +163,9 @@ def _resolve_presets(config: dict[str, Any], presets: Mapping[str, Any], where: 
                 continue
             chosen = spec.pop("preset")
             if chosen not in presets:
-                raise ConfigError(f"{where}: {section}.{name}.preset = {chosen!r} is not allowed: one of "
-                                  + (", ".join(repr(p) for p in presets) or "none (the config has no presets)"))
+                allowed = ("one of " + ", ".join(repr(p) for p in presets) if presets
+                           else "the name of an entry of presets, and the config has none")
+                raise ConfigError(f"{where}: {section}.{name}.preset = {chosen!r} is not allowed: {allowed}")
             raw_preset = (config.get("presets") or {})[chosen]
             for key in keys:
                 if key not in raw_preset:
