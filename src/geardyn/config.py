@@ -299,17 +299,6 @@ def _refuse_non_finite(node: Any, where: str, path: tuple[Any, ...] = ()) -> Non
         raise ConfigError(f"{where}: {_key(path)} = {node} is not allowed: a finite number")
 
 
-def load_config(path: str | Path) -> dict[str, Any]:
-    """Read and validate the workflow configuration (``config/config.yaml``): presets resolved and
-    defaults filled (:func:`geardyn.validate.fill_config`); the designs it lists are not read."""
-    from geardyn.validate import fill_config
-
-    data = read_yaml(path)
-    if not isinstance(data, dict):
-        return validate(data, "config.schema.json", str(path))
-    return fill_config(data, str(path))
-
-
 def load_design_dict(path: str | Path) -> dict[str, Any]:
     """Read and schema-validate one design file; the schema is chosen by its ``kind`` key."""
     data = read_yaml(path)
