@@ -96,7 +96,7 @@ CASES = [
      "sweeps.fig07_small.start: b = -1.0 is not allowed: number >= 0"),
     ("sweep-reversed", _sweep(lambda s: s.update(start=0.8, stop=0.5)), "stop = 0.5 must be above start = 0.8"),
     ("steps-too-few", _sweep(lambda s: s["integration"].update(steps_per_period=2)),
-     "sweeps.fig07_small.integration.steps_per_period = 2 is not allowed: integer >= 4"),
+     "sweeps.fig07_small.integration.steps_per_period = 2 is not allowed: integer >= 8"),
     # config: unknown names, typos, wrong types
     ("unknown-parameter", _sweep(lambda s: s.update(parameter="x3")),
      "sweeps.fig07_small.parameter: unknown control parameter 'x3' (allowed: b, e, speed, w, x1, I_D"),

@@ -328,16 +328,20 @@ def test_error_table_is_the_one_of_the_work_precision_study():
     assert dict(zip(steps, errors)) == validate.POINCARE_ERROR
 
 
-def test_run_integration_block_is_defined_once_and_matches_the_design_block():
-    """Sweeps, maps, calibrations and presets share one $defs/integration; its keys are keys of a
-    design's dynamics.integration, of the same kind (a run overrides the design key by key)."""
+def test_run_integration_block_is_defined_once_and_is_the_design_block_without_defaults():
+    """Sweeps, maps, calibrations and presets share one $defs/integration, whose keys refer to the
+    design's dynamics.integration (one statement of each key), without the defaults: a key a run
+    does not set keeps the design's value."""
     import json
 
     raw = json.loads((ROOT / "src" / "geardyn" / "schemas" / "config.schema.json").read_text())
-    text = json.dumps(raw)
-    assert text.count('"early_stop_tol_factor"') == 1 and text.count('"#/$defs/integration"') == 4
+    assert json.dumps(raw).count('"#/$defs/integration"') == 4
+    assert all(set(node) == {"$ref"} for node in raw["$defs"]["integration"]["properties"].values())
     design = config.schema("dynamics.schema.json")["properties"]["integration"]["properties"]
-    for key, node in raw["$defs"]["integration"]["properties"].items():
-        assert key in design
-        assert (node.get("type"), node.get("enum")) == (design[key].get("type"), design[key].get("enum")), key
-        assert "default" not in node, key  # a default here would override the design's value
+    run = config.schema("config.schema.json")["$defs"]["integration"]["properties"]
+    for key, node in run.items():
+        assert node == {k: v for k, v in design[key].items() if k != "default"}, key
+    filled, _ = validate.validate_workflow(_config(sweeps={"s": _sweep(integration={"steps_per_period": 128})}), ROOT)
+    assert filled["sweeps"]["s"]["integration"] == {"steps_per_period": 128}
+    text = _refused(_config(sweeps={"s": _sweep(integration={"steps_per_period": 70000})}))
+    assert "sweeps.s.integration.steps_per_period = 70000 is not allowed: integer >= 8 and <= 65536 (RK4 steps" in text

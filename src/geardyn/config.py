@@ -40,18 +40,28 @@ def _raw_schema(name: str) -> dict[str, Any]:
 
 
 def schema(name: str) -> dict[str, Any]:
-    """The named schema with references to other schema files inlined (local ``#/$defs`` kept)."""
+    """The named schema with references to other schema files inlined (local ``#/$defs`` kept).
+
+    ``"$ref": "other.schema.json"`` inlines that whole schema (its defaults included);
+    ``"$ref": "other.schema.json#/json/pointer"`` inlines the node at the pointer without its
+    ``default``: a run's integration block takes the type, limits and meaning of each key from the
+    design's block, but a key the run does not set must stay unset (the design's value applies).
+    Keys beside ``$ref`` are kept and win."""
     return _inline(copy.deepcopy(_raw_schema(name)))
 
 
 def _inline(node: Any) -> Any:
     if isinstance(node, dict):
         ref = node.get("$ref")
-        if isinstance(ref, str) and ref.endswith(".schema.json"):
-            target = schema(ref)
-            target.pop("$schema", None)
-            target.pop("$id", None)
-            rest = {k: v for k, v in node.items() if k != "$ref"}
+        if isinstance(ref, str) and not ref.startswith("#") and ".schema.json" in ref:
+            file, _, pointer = ref.partition("#")
+            target: Any = schema(file)
+            for part in [p for p in pointer.split("/") if p]:
+                target = target[part]
+            target = {k: v for k, v in target.items() if k not in ("$schema", "$id")}
+            if pointer:
+                target.pop("default", None)
+            rest = {k: _inline(v) for k, v in node.items() if k != "$ref"}
             return {**target, **rest}
         return {k: _inline(v) for k, v in node.items()}
     if isinstance(node, list):
