@@ -96,7 +96,7 @@ CASES = [
      "sweeps.fig07_small.start: b = -1.0 is not allowed: number >= 0"),
     ("sweep-reversed", _sweep(lambda s: s.update(start=0.8, stop=0.5)), "stop = 0.5 must be above start = 0.8"),
     ("steps-too-few", _sweep(lambda s: s["integration"].update(steps_per_period=2)),
-     "sweeps.fig07_small.integration.steps_per_period = 2 is not allowed: integer >= 4"),
+     "sweeps.fig07_small.integration.steps_per_period = 2 is not allowed: integer >= 8"),
     # config: unknown names, typos, wrong types
     ("unknown-parameter", _sweep(lambda s: s.update(parameter="x3")),
      "sweeps.fig07_small.parameter: unknown control parameter 'x3' (allowed: b, e, speed, w, x1, I_D"),
@@ -121,6 +121,19 @@ CASES = [
     ("config-duplicate-key", _raw_file("config/config.yaml", b"designs: {li2013: config/designs/li2013.yaml}\n"
                                                              b"sweeps: {}\nsweeps: {}\n"),
      "config/config.yaml: duplicate key 'sweeps' at line 3 (first at line 2)"),
+    ("config-alias-bomb", _raw_file("config/config.yaml", b"a0: &a0 [lol]\n" + b"".join(
+        f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 9)}]\n".encode() for i in range(1, 10)) + b"designs: *a9\n"),
+     "config/config.yaml: expanded size of designs = "),
+    # config: names that are selector words, too long or unusable in paths; presets; degenerate maps
+    ("design-named-all", _config(lambda c: c.update(designs={"all": LI2013})), "config: designs name 'all' is not allowed"),
+    ("design-name-300", _config(lambda c: c.update(designs={"d" * 300: LI2013})),
+     "(300 characters) is not allowed: at most 64 characters"),
+    ("unknown-preset", _sweep(lambda s: s.update(preset="cheap")),
+     "sweeps.fig07_small.preset = 'cheap' is not allowed: the name of an entry of presets, and the config has none"),
+    ("map-one-parameter", _config(lambda c: c.update(maps={"m": {
+        "designs": ["li2013"], "x": {"parameter": "b", "start": 0, "stop": 1, "num": 3},
+        "y": {"parameter": "b", "start": 0, "stop": 2, "num": 3}}})),
+     "maps.m.y.parameter = 'b' is not allowed: a parameter other than x.parameter ('b')"),
     # NaN, infinity and numbers YAML 1.1 reads as strings
     ("module-nan", _design(lambda d: d["pair"].update(module=float("nan"))),
      "pair.module = nan is not allowed: a finite number"),
@@ -138,7 +151,8 @@ CASES = [
 ]
 
 #: Cases that also run the real workflow end to end (Snakemake's start-up costs seconds each).
-END_TO_END = ("design-empty", "config-a-list", "sweep-b-nan", "segment-leaves-feasible-region", "module-nan")
+END_TO_END = ("design-empty", "config-a-list", "sweep-b-nan", "segment-leaves-feasible-region", "module-nan",
+              "config-alias-bomb", "design-name-300")
 
 
 def _inputs(tmp_path, make):

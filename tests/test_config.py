@@ -28,7 +28,7 @@ def _write(tmp_path, data, name="d.yaml"):
 
 
 def test_shipped_config_and_designs_validate():
-    cfg = config.load_config(ROOT / "config" / "config.yaml")
+    cfg = validate.load_config(ROOT / "config" / "config.yaml")
     filled, designs = validate.validate_workflow(cfg, ROOT)
     assert "li2013" in designs
     spec = design.load(LI2013)
@@ -48,12 +48,17 @@ def test_defaults_are_filled(tmp_path):
         config.load_design_dict(_write(tmp_path, data))
 
 
+#: Optional keys whose default is computed by the validator, not stated in the schema: a classifier's
+#: error_floor follows the run's steps_per_period (geardyn.validate.POINCARE_ERROR).
+COMPUTED_DEFAULTS = {"error_floor"}
+
+
 def test_every_schema_key_has_description_and_defaults_where_optional():
     def walk(node, path):
         if isinstance(node, dict):
             for name, sub in node.get("properties", {}).items():
                 assert "description" in sub, f"{path}.{name} lacks a description"
-                if name not in node.get("required", []) and "$ref" not in sub:
+                if name not in node.get("required", []) and "$ref" not in sub and name not in COMPUTED_DEFAULTS:
                     assert "default" in sub, f"{path}.{name} is optional but has no default"
                 walk(sub, f"{path}.{name}")
 
@@ -137,3 +142,206 @@ def test_snakemake_refuses_bad_design_before_any_job(tmp_path):
     assert lines[0].startswith("geardyn config error:") and "pair.module = -1 is not allowed" in lines[0]
     assert "Traceback" not in run.stderr + run.stdout
     assert not (work / "results").exists()
+
+
+# --- presets, the error floor table, names, degenerate maps, alias bombs -----------------------------
+
+BEFORE = ROOT / "tests" / "data" / "config_filled_before_presets.json"
+NEW_RUN_KEYS = {"start_from": "follow", "coexistence": False}
+
+
+def _config(**sections):
+    """A config of design li2013 (the shipped file) with the given sections."""
+    return {"designs": {"li2013": "config/designs/li2013.yaml"}, **sections}
+
+
+def _sweep(**extra):
+    return {"designs": ["li2013"], "parameter": "b", "start": 0.0, "stop": 2.0, "num": 5, "fixed": {"e": 5.0},
+            **extra}
+
+
+def _map(**extra):
+    return {"designs": ["li2013"], "x": {"parameter": "x1", "start": 0.45, "stop": 0.8, "num": 4},
+            "y": {"parameter": "b", "start": 0.0, "stop": 2.0, "num": 4}, **extra}
+
+
+def _refused(cfg):
+    with pytest.raises(config.ConfigError) as info:
+        validate.validate_workflow(cfg, ROOT)
+    text = str(info.value)
+    assert "\n" not in text and "Traceback" not in text
+    return text
+
+
+def test_shipped_config_with_presets_resolves_to_the_values_it_had_before():
+    import json
+
+    before = json.loads(BEFORE.read_text())
+    raw = validate.read_config_file(ROOT / "config" / "config.yaml")
+    assert all("preset" in spec for spec in raw["maps"].values())  # the maps do use presets
+    filled, _ = validate.validate_workflow(raw, ROOT)
+    for section in ("sweeps", "maps"):
+        assert set(filled[section]) == set(before[section])
+        for name, old in before[section].items():
+            assert filled[section][name] == {**old, **NEW_RUN_KEYS}, (section, name)
+    assert filled["points"] == before["points"]
+    for name, old in before["calibration"].items():
+        new = filled["calibration"][name]
+        assert "preset" not in new and set(new) == set(old)
+        assert {k: v for k, v in new.items() if k != "classifier"} == {k: v for k, v in old.items() if k != "classifier"}
+        assert old["classifier"].items() <= new["classifier"].items()  # now complete; the set values unchanged
+
+
+def test_preset_blocks_are_overridden_key_by_key():
+    presets = {"cheap": {"integration": {"steps_per_period": 128, "transient_periods": 400},
+                         "classifier": {"tangent_periods": 200, "k_chaos": 0.4}, "start_from": "fixed"}}
+    cfg = _config(presets=presets, sweeps={"s": _sweep(preset="cheap", integration={"transient_periods": 100},
+                                                       classifier={"k_chaos": 0.6}, coexistence=True)},
+                  maps={"m": _map(preset="cheap", start_from="follow")},
+                  calibration={"c": {"design": "li2013", "grid": {"w": [0.9]}, "preset": "cheap"}})
+    filled, _ = validate.validate_workflow(cfg, ROOT)
+    s, m, c = filled["sweeps"]["s"], filled["maps"]["m"], filled["calibration"]["c"]
+    assert s["integration"] == {"steps_per_period": 128, "transient_periods": 100}
+    assert (s["classifier"]["k_chaos"], s["classifier"]["tangent_periods"]) == (0.6, 200)
+    assert (s["start_from"], s["coexistence"]) == ("fixed", True)
+    assert (m["start_from"], m["coexistence"], m["classifier"]["k_chaos"]) == ("follow", False, 0.4)
+    assert c["integration"] == presets["cheap"]["integration"] and "start_from" not in c
+    assert all("preset" not in spec for spec in (s, m, c))
+    assert s["classifier"]["error_floor"] == m["classifier"]["error_floor"] == 1.9e-5  # 128 steps
+
+
+def test_unknown_preset_is_one_line():
+    cfg = _config(presets={"map": {"integration": {"steps_per_period": 128}}}, maps={"m": _map(preset="mpa")})
+    assert "config: maps.m.preset = 'mpa' is not allowed: one of 'map'" in _refused(cfg)
+    cfg = _config(sweeps={"s": _sweep(preset="cheap")})
+    assert "sweeps.s.preset = 'cheap' is not allowed: the name of an entry of presets, and the config has none" in _refused(cfg)
+    cfg = _config(presets={"p": {"integration": {"steps": 128}}})
+    assert "config: unknown key 'presets.p.integration.steps' (allowed keys: batch," in _refused(cfg)
+
+
+def test_error_floor_follows_steps_per_period():
+    assert validate.POINCARE_ERROR[128] == 1.9e-5 and validate.POINCARE_ERROR[512] == 7.5e-8
+    runs = {f"s{n}": _sweep(integration={"steps_per_period": n}) for n in (64, 128, 181, 512, 1024)}
+    runs["design_steps"] = _sweep()  # li2013.yaml: 512 steps per period
+    runs["own_floor"] = _sweep(integration={"steps_per_period": 16}, classifier={"error_floor": 1e-3})
+    filled, _ = validate.validate_workflow(_config(sweeps=runs), ROOT)
+    floor = {name: spec["classifier"]["error_floor"] for name, spec in filled["sweeps"].items()}
+    assert (floor["s64"], floor["s128"], floor["s512"], floor["s1024"]) == (3.0e-4, 1.9e-5, 7.5e-8, 4.7e-9)
+    assert floor["design_steps"] == 7.5e-8 and floor["own_floor"] == 1e-3
+    # log-log interpolation: 181 steps is about half way (in log) between 128 and 256
+    assert floor["s181"] == pytest.approx((1.9e-5 * 1.2e-6) ** 0.5, rel=0.01)
+    errors = [validate.poincare_error(n, "x") for n in range(32, 1025)]
+    assert all(a > b for a, b in zip(errors, errors[1:]))
+    text = _refused(_config(sweeps={"s": _sweep(integration={"steps_per_period": 16})}))
+    assert "sweeps.s.integration.steps_per_period = 16 is not allowed without classifier.error_floor" in text
+
+
+@pytest.mark.parametrize(("designs", "message"), [
+    ({"all": "config/designs/li2013.yaml"}, "designs name 'all' is not allowed: a name other than the selector words"),
+    ({"own": "config/designs/li2013.yaml"}, "designs name 'own' is not allowed"),
+    ({"paper:li2013": "config/designs/li2013.yaml"}, "designs name 'paper:li2013' is not allowed"),
+    ({"d" * 300: "config/designs/li2013.yaml"}, "(300 characters) is not allowed: at most 64 characters"),
+    ({"a/b": "config/designs/li2013.yaml"}, "designs name 'a/b' is not allowed: letters, digits, _ and -"),
+    ({"{x}": "config/designs/li2013.yaml"}, "designs name '{x}' is not allowed"),
+])
+def test_unusable_design_names_are_one_line(designs, message):
+    assert message in _refused({"designs": designs})
+
+
+def test_unusable_run_and_preset_names_are_one_line():
+    assert "sweeps name 'fig 7' is not allowed" in _refused(_config(sweeps={"fig 7": _sweep()}))
+    assert "presets name " in _refused(_config(presets={"p" * 65: {}}))
+    assert "maps name '-m' is not allowed" in _refused(_config(maps={"-m": _map()}))
+    filled, _ = validate.validate_workflow(_config(sweeps={"s" * 64: _sweep()}), ROOT)  # the limit itself is fine
+    assert "s" * 64 in filled["sweeps"]
+
+
+@pytest.mark.parametrize(("change", "message"), [
+    (lambda m: m["y"].update(parameter="x1", start=0.5, stop=0.7), "maps.m.y.parameter = 'x1' is not allowed: a "
+     "parameter other than x.parameter ('x1')"),
+    (lambda m: m["x"].update(num=1), "maps.m.x.num = 1 is not allowed: integer >= 2"),
+    (lambda m: m["y"].update(start=1.0, stop=1.0), "maps.m.y.stop = 1.0 is not allowed: a value other than y.start"),
+    (lambda m: m["x"].update(start="50%", stop="50%"), "maps.m.x.stop = '50%' is not allowed"),
+])
+def test_degenerate_maps_are_one_line_whatever_they_select(change, message):
+    for selector in (["li2013"], "own"):  # 'own' selects no design here: still refused
+        spec = _map(designs=selector)
+        change(spec)
+        assert message in _refused(_config(maps={"m": spec}))
+
+
+def _bomb(depth=9, width=9, key="designs"):
+    """A "billion laughs" YAML text: ``width ** depth`` values from ``depth + 1`` lines."""
+    lines = ["a0: &a0 [lol]"] + [f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * width)}]" for i in range(1, depth + 1)]
+    return "\n".join(lines) + f"\n{key}: *a{depth}\n"
+
+
+def test_alias_bomb_is_refused_before_anything_walks_it(tmp_path):
+    path = tmp_path / "config.yaml"
+    path.write_text(_bomb())
+    with pytest.raises(config.ConfigError) as info:
+        validate.read_config_file(path)
+    text = str(info.value)
+    # the size is computed on the alias graph (linear in the file), not by walking 9 ** 9 values
+    assert text.startswith(f"{path}: expanded size of designs = ") and "\n" not in text
+    assert int(text.split("= ")[1].split()[0]) > 9 ** 9
+    assert f"at most {config.MAX_EXPANDED_VALUES} values" in text
+    design = tmp_path / "design.yaml"
+    design.write_text("kind: khv\n" + _bomb(key="pair"))
+    with pytest.raises(config.ConfigError, match="design.yaml: expanded size of pair = "):
+        config.load_design_dict(design)
+    loop = tmp_path / "loop.yaml"
+    loop.write_text("designs: &a {x: *a}\n")
+    with pytest.raises(config.ConfigError, match="a structure may not contain itself"):
+        validate.read_config_file(loop)
+    # the same check guards data handed over in memory (the Snakefile's merged config)
+    shared = [1] * 100
+    for _ in range(5):
+        shared = [shared] * 100
+    with pytest.raises(config.ConfigError, match=r"config: expanded size of sweeps = \d+ values"):
+        validate.validate_workflow({"designs": {}, "sweeps": {"s": {"cases": shared}}}, ROOT)
+
+
+def test_a_config_of_normal_size_is_far_below_the_limit():
+    raw = validate.read_config_file(ROOT / "config" / "config.yaml")
+    assert 100 < config.expanded_size(raw) < config.MAX_EXPANDED_VALUES / 10
+
+
+def test_check_config_refuses_an_alias_bomb_in_one_line(tmp_path):
+    path = tmp_path / "config" / "config.yaml"
+    path.parent.mkdir()
+    path.write_text(_bomb())
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    run = subprocess.run([sys.executable, "-m", "geardyn.cli", "check-config", str(path)], env=env,
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode != 0 and run.stdout == ""
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and "expanded size of designs = " in lines[0] and "Traceback" not in run.stderr, run.stderr
+
+
+def test_error_table_is_the_one_of_the_work_precision_study():
+    """POINCARE_ERROR is stated once in src/; docs/model.md Sec. 6 shows where it comes from."""
+    rows = {line.split("|")[1].strip(): line for line in (ROOT / "docs" / "model.md").read_text().splitlines()
+            if line.startswith("| ")}
+    steps = [int(v) for v in rows["steps/period"].split("|")[2:-1]]
+    errors = [float(v) for v in rows["rk4_event error"].split("|")[2:-1]]
+    assert dict(zip(steps, errors)) == validate.POINCARE_ERROR
+
+
+def test_run_integration_block_is_defined_once_and_is_the_design_block_without_defaults():
+    """Sweeps, maps, calibrations and presets share one $defs/integration, whose keys refer to the
+    design's dynamics.integration (one statement of each key), without the defaults: a key a run
+    does not set keeps the design's value."""
+    import json
+
+    raw = json.loads((ROOT / "src" / "geardyn" / "schemas" / "config.schema.json").read_text())
+    assert json.dumps(raw).count('"#/$defs/integration"') == 4
+    assert all(set(node) == {"$ref"} for node in raw["$defs"]["integration"]["properties"].values())
+    design = config.schema("dynamics.schema.json")["properties"]["integration"]["properties"]
+    run = config.schema("config.schema.json")["$defs"]["integration"]["properties"]
+    for key, node in run.items():
+        assert node == {k: v for k, v in design[key].items() if k != "default"}, key
+    filled, _ = validate.validate_workflow(_config(sweeps={"s": _sweep(integration={"steps_per_period": 128})}), ROOT)
+    assert filled["sweeps"]["s"]["integration"] == {"steps_per_period": 128}
+    text = _refused(_config(sweeps={"s": _sweep(integration={"steps_per_period": 70000})}))
+    assert "sweeps.s.integration.steps_per_period = 70000 is not allowed: integer >= 8 and <= 65536 (RK4 steps" in text

@@ -18,7 +18,7 @@ PAPER_WORDS = re.compile(r"Li et al|Yue et al|paper 1|paper 2|Paper \(|li2013|yu
 
 
 def _own_config(shipped):
-    cfg = {k: v for k, v in shipped.items() if k in ("closed_graph", "stiffness_table")}
+    cfg = {k: v for k, v in shipped.items() if k in ("closed_graph", "stiffness_table", "presets")}
     cfg["closed_graph"] = {"x1": {"start": -0.2, "stop": 1.6, "num": 19}, "x2": {"start": 0.0, "stop": 2.4, "num": 25}}
     cfg["stiffness_table"] = {"points": 11, "phase_points": 32}
     cfg["designs"] = {"mydrive": "config/designs/mydrive.yaml", "myplus": "config/designs/myplus.yaml"}

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from geardyn import __version__
-from geardyn.config import ConfigError, load_config, load_design_dict
+from geardyn.config import ConfigError, load_design_dict
 
 
 def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
@@ -123,9 +123,9 @@ def check_design(path: str, as_json: bool) -> int:
 
 
 def check_config(path: str) -> int:
-    from geardyn.validate import validate_workflow
+    from geardyn.validate import read_config_file, validate_workflow
 
-    cfg = load_config(path)
+    cfg = read_config_file(path)
     root = Path(path).resolve().parent.parent
     _, designs = validate_workflow(cfg, root)
     print(f"{path}: valid; designs: {', '.join(designs)}")

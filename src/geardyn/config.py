@@ -40,18 +40,28 @@ def _raw_schema(name: str) -> dict[str, Any]:
 
 
 def schema(name: str) -> dict[str, Any]:
-    """The named schema with references to other schema files inlined (local ``#/$defs`` kept)."""
+    """The named schema with references to other schema files inlined (local ``#/$defs`` kept).
+
+    ``"$ref": "other.schema.json"`` inlines that whole schema (its defaults included);
+    ``"$ref": "other.schema.json#/json/pointer"`` inlines the node at the pointer without its
+    ``default``: a run's integration block takes the type, limits and meaning of each key from the
+    design's block, but a key the run does not set must stay unset (the design's value applies).
+    Keys beside ``$ref`` are kept and win."""
     return _inline(copy.deepcopy(_raw_schema(name)))
 
 
 def _inline(node: Any) -> Any:
     if isinstance(node, dict):
         ref = node.get("$ref")
-        if isinstance(ref, str) and ref.endswith(".schema.json"):
-            target = schema(ref)
-            target.pop("$schema", None)
-            target.pop("$id", None)
-            rest = {k: v for k, v in node.items() if k != "$ref"}
+        if isinstance(ref, str) and not ref.startswith("#") and ".schema.json" in ref:
+            file, _, pointer = ref.partition("#")
+            target: Any = schema(file)
+            for part in [p for p in pointer.split("/") if p]:
+                target = target[part]
+            target = {k: v for k, v in target.items() if k not in ("$schema", "$id")}
+            if pointer:
+                target.pop("default", None)
+            rest = {k: _inline(v) for k, v in node.items() if k != "$ref"}
             return {**target, **rest}
         return {k: _inline(v) for k, v in node.items()}
     if isinstance(node, list):
@@ -99,7 +109,7 @@ def read_yaml(path: str | Path) -> Any:
     except OSError as err:
         raise ConfigError(f"{path}: cannot read ({err.strerror})") from None
     try:
-        return yaml.load(text, Loader=_Loader)  # noqa: S506 - a SafeLoader subclass
+        data = yaml.load(text, Loader=_Loader)  # noqa: S506 - a SafeLoader subclass
     except ConfigError as err:
         raise ConfigError(f"{path}: {err}") from None
     except yaml.YAMLError as err:
@@ -107,6 +117,63 @@ def read_yaml(path: str | Path) -> Any:
         where = f" line {mark.line + 1}, column {mark.column + 1}" if mark else ""
         problem = getattr(err, "problem", None) or str(err).splitlines()[0]
         raise ConfigError(f"{path}: YAML syntax error at{where}: {problem}") from None
+    check_expanded_size(data, str(path))
+    return data
+
+
+#: The most values (mappings, lists and scalars, counted with every alias expanded) a config or design
+#: file may hold. The shipped config.yaml holds about 500. YAML anchors and aliases let a few lines
+#: stand for an exponentially large structure (a "billion laughs"); such a file is refused before
+#: anything walks it.
+MAX_EXPANDED_VALUES = 100_000
+
+
+def expanded_size(data: Any, where: str = "input", sizes: dict[int, int] | None = None) -> int:
+    """The number of values in ``data`` with every alias expanded, computed on the object graph the
+    YAML loader built (an alias is the same Python object as its anchor), memoised by object id in
+    ``sizes``: the cost is linear in the number of distinct objects, however large the expansion. A
+    structure that contains itself is refused (:class:`ConfigError`)."""
+    sizes = {} if sizes is None else sizes
+    open_ids: set[int] = set()
+
+    def size(node: Any) -> int:
+        if not isinstance(node, (dict, list)):
+            return 1
+        key = id(node)
+        if key in sizes:
+            return sizes[key]
+        if key in open_ids:
+            raise ConfigError(f"{where}: an alias refers to a mapping or list that contains it: a structure "
+                              "may not contain itself")
+        open_ids.add(key)
+        children = list(node.values()) if isinstance(node, dict) else node
+        total = 1 + sum(size(child) for child in children)
+        open_ids.discard(key)
+        sizes[key] = total
+        return total
+
+    try:
+        return size(data)
+    except RecursionError:
+        raise ConfigError(f"{where}: the structure is nested too deeply") from None
+
+
+def check_expanded_size(data: Any, where: str) -> None:
+    """Refuse ``data`` (one line) when its aliases expand to more than :data:`MAX_EXPANDED_VALUES`
+    values, before anything walks the expanded structure."""
+    sizes: dict[int, int] = {}
+    n = expanded_size(data, where, sizes)
+    if n > MAX_EXPANDED_VALUES:
+        # name the top-level key whose value expands most, the last one of equals: an anchor is
+        # defined before the key that uses it (the sizes are memoised: no new walk)
+        path: list[Any] = []
+        if isinstance(data, dict):
+            sized = [(sizes.get(id(v), 1), k) for k, v in reversed(data.items())]
+            top, key = max(sized, key=lambda item: item[0])
+            if top > MAX_EXPANDED_VALUES:
+                path, n = [key], top
+        raise ConfigError(f"{where}: expanded size of {_key(path)} = {n} values (YAML aliases counted in full) is not "
+                          f"allowed: at most {MAX_EXPANDED_VALUES} values")
 
 
 #: How each JSON Schema bound reads in an error message, in the order it is printed.
@@ -202,6 +269,7 @@ def validate(data: Any, schema_name: str, where: str) -> dict[str, Any]:
     if not isinstance(data, dict):
         raise ConfigError(f"{where}: expected a mapping of keys to values at the top level, got "
                           f"{_kind_of(data)}")
+    check_expanded_size(data, where)
     _refuse_non_finite(data, where)
     sch = schema(schema_name)
     filled = _fill_defaults(sch, copy.deepcopy(data))
@@ -239,11 +307,6 @@ def _refuse_non_finite(node: Any, where: str, path: tuple[Any, ...] = ()) -> Non
             _refuse_non_finite(v, where, (*path, i))
     elif isinstance(node, float) and not math.isfinite(node):
         raise ConfigError(f"{where}: {_key(path)} = {node} is not allowed: a finite number")
-
-
-def load_config(path: str | Path) -> dict[str, Any]:
-    """Read and validate the workflow configuration (``config/config.yaml``)."""
-    return validate(read_yaml(path), "config.schema.json", str(path))
 
 
 def load_design_dict(path: str | Path) -> dict[str, Any]:

@@ -8,14 +8,18 @@ the designs it names.  Every problem is one :class:`~geardyn.config.ConfigError`
 
 from __future__ import annotations
 
+import copy
 import difflib
+import math
+import re
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 import jsonschema
 
-from geardyn.config import ConfigError, allowed_text, load_design_dict, read_yaml, schema, validate
+from geardyn.config import (ConfigError, allowed_text, check_expanded_size, load_design_dict, read_yaml, schema,
+                            validate)
 from geardyn.khv import design as khv_design
 
 
@@ -31,6 +35,13 @@ def read_config_file(path: str | Path) -> dict[str, Any]:
     return data
 
 
+def load_config(path: str | Path) -> dict[str, Any]:
+    """Read and validate the workflow configuration (``config/config.yaml``): presets resolved and
+    defaults filled (:func:`fill_config`); the designs it lists are not read (see
+    :func:`validate_workflow`)."""
+    return fill_config(read_config_file(path), str(path))
+
+
 def check_design(raw: dict[str, Any], where: str) -> None:
     """The semantic checks of one schema-validated design (after :func:`geardyn.config.load_design_dict`)."""
     if raw["kind"] == "khv":
@@ -44,11 +55,13 @@ def check_design(raw: dict[str, Any], where: str) -> None:
 def validate_workflow(config: dict[str, Any], root: str | Path = ".") -> tuple[dict[str, Any], dict[str, dict[str, Any]]]:
     """Validate the workflow config and every design it lists, before any job runs.
 
-    Returns the config with defaults filled and ``{design name: validated design dict}``.
-    Each design is also checked semantically (:func:`check_design`; for a KHV design z2 - z1, the design
-    point and the admissible segment the runs stay inside), then every run against its designs.
+    Returns the config with presets resolved and defaults filled (:func:`fill_config`; every
+    ``error_floor`` a run does not set taken from :data:`POINCARE_ERROR` at the run's steps per period)
+    and ``{design name: validated design dict}``. Each design is also checked semantically
+    (:func:`check_design`; for a KHV design z2 - z1, the design point and the admissible segment the
+    runs stay inside), then every run against its designs.
     """
-    filled = validate(config, "config.schema.json", "config")
+    filled = fill_config(config, "config")
     designs: dict[str, dict[str, Any]] = {}
     for name, rel in filled["designs"].items():
         path = Path(root) / rel
@@ -58,7 +71,147 @@ def validate_workflow(config: dict[str, Any], root: str | Path = ".") -> tuple[d
         check_design(raw, str(path))
         designs[name] = raw
     _check_runs(filled, designs)
+    _fill_error_floors(filled, designs)
     return filled, designs
+
+
+#: Words of a run's ``designs`` selector; a design may not be named like one.
+SELECTOR_WORDS = ("all", "own")
+#: The longest name of a design, preset, sweep, points set, calibration or map (characters): the
+#: names become file names and Snakemake wildcards.
+MAX_NAME_LENGTH = 64
+#: What such a name may hold: letters, digits, _ and - (not first), nothing that breaks a path or a
+#: wildcard.
+NAME_PATTERN = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_-]*")
+#: Sections whose keys are names.
+NAMED_SECTIONS = ("designs", "presets", "sweeps", "points", "calibration", "maps")
+#: Blocks a preset may hold, per section that may name one.
+PRESET_KEYS = {"sweeps": ("integration", "classifier", "start_from", "coexistence"),
+               "maps": ("integration", "classifier", "start_from", "coexistence"),
+               "calibration": ("integration", "classifier")}
+
+#: Measured Poincare error of the event RK4 integrator (units of b_c) per steps_per_period: the
+#: work-precision study (``python -m geardyn.bench``; docs/model.md Sec. 6). A classifier's
+#: ``error_floor`` that a run does not set is taken from here at the run's steps per period,
+#: interpolated log-log between the entries; step counts outside the table need an explicit one.
+POINCARE_ERROR: dict[int, float] = {32: 4.1e-3, 64: 3.0e-4, 128: 1.9e-5, 256: 1.2e-6, 512: 7.5e-8, 1024: 4.7e-9}
+
+
+def poincare_error(steps: int, where: str) -> float:
+    """The measured Poincare error at ``steps`` steps per period (:data:`POINCARE_ERROR`): the table's
+    value at an entry, log-log interpolation between entries; outside the table a :class:`ConfigError`
+    line (``where`` names the key that gave ``steps``)."""
+    if steps in POINCARE_ERROR:
+        return POINCARE_ERROR[steps]
+    known = sorted(POINCARE_ERROR)
+    if not known[0] < steps < known[-1]:
+        raise ConfigError(f"{where} = {steps} is not allowed without classifier.error_floor: integer >= "
+                          f"{known[0]} and <= {known[-1]} (the step counts of the measured Poincare error, "
+                          "docs/model.md Sec. 6); set classifier.error_floor for other step counts")
+    hi = next(k for k in known if k > steps)
+    lo = known[known.index(hi) - 1]
+    t = (math.log(steps) - math.log(lo)) / (math.log(hi) - math.log(lo))
+    return math.exp((1 - t) * math.log(POINCARE_ERROR[lo]) + t * math.log(POINCARE_ERROR[hi]))
+
+
+def fill_config(config: dict[str, Any], where: str = "config") -> dict[str, Any]:
+    """The workflow config with presets resolved and defaults filled, the names and maps checked.
+
+    In order: the size of the structure with its YAML aliases expanded (refused past
+    :data:`geardyn.config.MAX_EXPANDED_VALUES` before anything walks it), the schema, the names
+    (:data:`NAME_PATTERN`, :data:`MAX_NAME_LENGTH`, no design named like a selector word), the
+    presets (each entry's ``preset`` replaced by the preset's blocks, the entry's own keys winning key by
+    key within each block), the schema again with defaults filled, then the maps' axes. Every
+    ``error_floor`` an entry does not set is taken from :data:`POINCARE_ERROR` when the entry sets
+    ``integration.steps_per_period`` (otherwise :func:`validate_workflow` takes it from the designs).
+    """
+    check_expanded_size(config, where)
+    checked = validate(config, "config.schema.json", where)
+    _check_names(checked, where)
+    resolved = _resolve_presets(copy.deepcopy(config), checked["presets"], where)
+    filled = validate(resolved, "config.schema.json", where)
+    _check_maps(filled, where)
+    for section in PRESET_KEYS:
+        for name, spec in filled[section].items():
+            steps = spec["integration"].get("steps_per_period")
+            if "error_floor" not in spec["classifier"] and steps is not None:
+                spec["classifier"]["error_floor"] = poincare_error(
+                    steps, f"{where}: {section}.{name}.integration.steps_per_period")
+    return filled
+
+
+def _check_names(config: Mapping[str, Any], where: str) -> None:
+    """Names of designs, presets and runs: not a selector word (designs), at most
+    :data:`MAX_NAME_LENGTH` characters, only the characters of :data:`NAME_PATTERN`."""
+    for section in NAMED_SECTIONS:
+        for name in config.get(section, {}):
+            text = str(name)
+            shown = repr(text if len(text) <= 80 else text[:40] + "..." + text[-20:])
+            prefix = f"{where}: {section} name {shown}"
+            if section == "designs" and (text in SELECTOR_WORDS or text.startswith("paper:")):
+                raise ConfigError(f"{prefix} is not allowed: a name other than the selector words "
+                                  + ", ".join(repr(w) for w in SELECTOR_WORDS) + " and 'paper:<key>'")
+            if len(text) > MAX_NAME_LENGTH:
+                raise ConfigError(f"{prefix} ({len(text)} characters) is not allowed: at most "
+                                  f"{MAX_NAME_LENGTH} characters")
+            if not NAME_PATTERN.fullmatch(text):
+                raise ConfigError(f"{prefix} is not allowed: letters, digits, _ and - (not first) only; the "
+                                  "name becomes part of file paths")
+
+
+def _resolve_presets(config: dict[str, Any], presets: Mapping[str, Any], where: str) -> dict[str, Any]:
+    """Replace each entry's ``preset: <name>`` by the preset's blocks (in place; returns ``config``).
+
+    ``config`` is the raw config (no defaults filled yet), so a key the entry sets is one its author
+    wrote; it overrides the preset's, key by key within integration and classifier."""
+    for section, keys in PRESET_KEYS.items():
+        for name, spec in (config.get(section) or {}).items():
+            if "preset" not in spec:
+                continue
+            chosen = spec.pop("preset")
+            if chosen not in presets:
+                allowed = ("one of " + ", ".join(repr(p) for p in presets) if presets
+                           else "the name of an entry of presets, and the config has none")
+                raise ConfigError(f"{where}: {section}.{name}.preset = {chosen!r} is not allowed: {allowed}")
+            raw_preset = (config.get("presets") or {})[chosen]
+            for key in keys:
+                if key not in raw_preset:
+                    continue
+                if isinstance(raw_preset[key], dict):
+                    spec[key] = {**copy.deepcopy(raw_preset[key]), **spec.get(key, {})}
+                elif key not in spec:
+                    spec[key] = raw_preset[key]
+    return config
+
+
+def _check_maps(config: Mapping[str, Any], where: str) -> None:
+    """Degenerate maps, whatever designs they select: both axes the same parameter, an axis whose ends
+    are the same value (the schema refuses num < 2)."""
+    for name, spec in config["maps"].items():
+        x, y = spec["x"], spec["y"]
+        if x["parameter"] == y["parameter"]:
+            raise ConfigError(f"{where}: maps.{name}.y.parameter = {y['parameter']!r} is not allowed: a parameter "
+                              f"other than x.parameter ({x['parameter']!r}); a map spans two parameters")
+        for ax, a in (("x", x), ("y", y)):
+            if a["start"] == a["stop"]:
+                raise ConfigError(f"{where}: maps.{name}.{ax}.stop = {a['stop']!r} is not allowed: a value "
+                                  f"other than {ax}.start ({a['start']!r}); an axis spans a range")
+
+
+def _fill_error_floors(filled: dict[str, Any], designs: Mapping[str, Mapping[str, Any]]) -> None:
+    """Every classifier ``error_floor`` still unset: the measured Poincare error (:func:`poincare_error`)
+    at the steps per period of the designs the run selects (the largest error when they differ)."""
+    default_steps = schema("dynamics.schema.json")["properties"]["integration"]["properties"]["steps_per_period"]["default"]
+    for section in PRESET_KEYS:
+        for name, spec in filled[section].items():
+            if "error_floor" in spec["classifier"]:
+                continue
+            selector = spec["designs"] if "designs" in spec else [spec["design"]]
+            floors = [poincare_error(designs[d]["dynamics"]["integration"]["steps_per_period"],
+                                     f"config: {section}.{name}: design {d}'s dynamics.integration.steps_per_period")
+                      for d in selected_designs(selector, designs) if d in designs]
+            spec["classifier"]["error_floor"] = max(floors) if floors else poincare_error(
+                default_steps, f"config: {section}.{name}: dynamics.integration.steps_per_period")
 
 
 #: The control parameters of :mod:`geardyn.khv` (``khv.CONTROLS``) with the values a run may give them,
