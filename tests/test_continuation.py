@@ -197,3 +197,33 @@ def _one_point_cube(p, x, label):
             for k, v in enumerate(C.STATE_VARS)}
     data["label"] = (("case", "direction", "x1"), np.array([[[label, 0]]]))
     return xr.Dataset(data, coords={"x1": [p, p + 1.0]}, attrs={"control_parameter": "x1"})
+
+
+def test_branch_interpolated_at_a_parameter_value_on_every_step_that_holds_it():
+    # a branch that folds: p goes 0 -> 2 -> 1, so p = 1.5 lies on two steps
+    br = C.Branch(n=1, p=np.array([0.0, 2.0, 1.0]), states=np.array([[0.0, 0.0], [4.0, 2.0], [6.0, 8.0]]),
+                  multipliers=np.full((3, 2), 0.5 + 0j), arclength=np.zeros(3), grazing=np.zeros(3),
+                  iterations=np.zeros(3, np.int32))
+    hits = list(br.states_at(1.5))
+    assert [i for i, _ in hits] == [0, 1]
+    np.testing.assert_allclose(hits[0][1], [3.0, 1.5])
+    np.testing.assert_allclose(hits[1][1], [5.0, 5.0])
+    assert list(br.states_at(2.0 + 1e-9)) == [] and [i for i, _ in br.states_at(2.0 + 1e-9, 1e-8)] == [0, 1]
+    assert C.on_branch(br, 1.5, np.array([[9.0, 9.0], [5.0, 5.0 + 1e-4]]), 1e-3)
+    assert not C.on_branch(br, 1.5, np.array([[5.0, 5.1]]), 1e-3)
+
+
+def test_seeds_are_the_middles_of_the_longest_periodic_runs():
+    import xarray as xr
+
+    labels = np.array([1, 1, 1, -3, 2, 2, 2, 2, 2, 7, 1, 1, 1, 1])
+    values = np.linspace(0.0, 1.3, labels.size)
+    data = {v: (("case", "direction", "x1", "section"), np.full((1, 1, labels.size, 1), float(k)))
+            for k, v in enumerate(C.STATE_VARS)}
+    data["label"] = (("case", "direction", "x1"), labels.reshape(1, 1, -1))
+    cube = xr.Dataset(data, coords={"x1": values}, attrs={"control_parameter": "x1"})
+    seeds = C.seeds_from_cube(cube, 0, 6, 2)
+    # runs: P2 of 5 points (4..8), P1 of 4 (10..13), P1 of 3 (0..2); P7 is above max_period
+    assert [(round(p, 6), n) for p, _, n in seeds] == [(0.6, 2), (1.2, 1)]
+    np.testing.assert_array_equal(seeds[0][1], np.arange(6.0))
+    assert [n for _, _, n in C.seeds_from_cube(cube, 0, 7, 10)] == [2, 1, 1, 7]

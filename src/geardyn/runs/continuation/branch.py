@@ -1,0 +1,105 @@
+"""The records of continuation: its settings, a continued :class:`Branch` and its typed
+:class:`Bifurcation` points, and the one interpolation of a branch at a parameter value
+(:meth:`Branch.states_at`, used by :func:`on_branch` and the label cross-check)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from geardyn.config import settings_from
+
+BIFURCATION_TYPES = ("period_doubling", "neimark_sacker", "fold", "branch_point", "grazing")
+
+#: Integer codes of the bifurcation types in netCDF files (``flag_values``).
+TYPE_CODES = {kind: k for k, kind in enumerate(BIFURCATION_TYPES)}
+
+
+@dataclass
+class Bifurcation:
+    """A typed bifurcation point of a branch (multipliers of the n-period map at the point)."""
+
+    kind: str
+    p: float
+    state: np.ndarray
+    multipliers: np.ndarray
+    critical: complex  # the multiplier that crosses (nan for grazing)
+    rotation_number: float  # arg(mu) / (2 pi) for neimark_sacker, else nan
+    index: int  # the branch point just before it
+    located: bool  # refined (Brent / parabola) rather than only bracketed
+    n: int = 1
+
+
+@dataclass
+class Branch:
+    """One continued branch of period-n orbits, ordered along the arclength.
+
+    p (m,), states (m, d) at phase 0, multipliers (m, d) by decreasing modulus, arclength (m,),
+    grazing (m,) margin g = min |x_VH| - b over the cycle (NaN when not computed), iterations (m,)
+    corrector evaluations.  end_status: why each end stopped (``down``, ``up``).
+    """
+
+    n: int
+    p: np.ndarray
+    states: np.ndarray
+    multipliers: np.ndarray
+    arclength: np.ndarray
+    grazing: np.ndarray
+    iterations: np.ndarray
+    end_status: dict[str, str] = field(default_factory=dict)
+    bifurcations: list[Bifurcation] = field(default_factory=list)
+    seed_p: float = float("nan")
+    tangents: np.ndarray | None = None  # (m, d + 1) unit tangents in the scaled variables
+
+    @property
+    def stable(self) -> np.ndarray:
+        return np.max(np.abs(self.multipliers), axis=1) < 1.0
+
+    def __len__(self) -> int:
+        return int(self.p.size)
+
+    def states_at(self, p: float, pad: float = 0.0) -> Iterator[tuple[int, np.ndarray]]:
+        """(i, x) for every step i -> i + 1 whose parameter interval, widened by ``pad`` on both
+        sides, holds p: x is the state interpolated linearly in p over the step (the state of point i
+        on a step of constant p).  A branch that folds holds p on several steps."""
+        for i in range(len(self) - 1):
+            a, b = self.p[i], self.p[i + 1]
+            if min(a, b) - pad <= p <= max(a, b) + pad:
+                w = 0.0 if a == b else (p - a) / (b - a)
+                yield i, self.states[i] + w * (self.states[i + 1] - self.states[i])
+
+
+def on_branch(br: Branch, p: float, points: np.ndarray, tol: float) -> bool:
+    """True when one of ``points`` (phase-0 points of an orbit at p) lies on the branch (max-norm
+    distance within tol * max(1, max |x|) of the branch interpolated at p)."""
+    scale = max(1.0, float(np.max(np.abs(br.states))))
+    return any(float(np.min(np.max(np.abs(points - x), axis=1))) <= tol * scale for _, x in br.states_at(p, 1e-12))
+
+
+@dataclass(frozen=True)
+class ContinuationSettings:
+    """Numbers of :func:`~geardyn.runs.continuation.continue_branch` (ds in units of the parameter
+    range; see the package doc).
+
+    tol: shooting residual max |phi(x) - x| <= tol * max(1, max |x|).  dp_rel: forward-difference
+    step of dF/dp relative to the range.  max_points: per direction.  grazing: compute the grazing
+    margin at every point (one dense run of the cycle each).  locate: refine bifurcation points.
+    """
+
+    ds: float = 1e-3
+    ds_min: float = 1e-7
+    ds_max: float = 1e-3
+    tol: float = 1e-9
+    max_corrector: int = 8
+    dp_rel: float = 1e-6
+    max_points: int = 5000
+    grazing: bool = True
+    locate: bool = True
+    locate_xtol: float = 1e-9
+
+    @classmethod
+    def from_mapping(cls, spec: Mapping[str, Any] | None) -> ContinuationSettings:
+        return settings_from(cls, spec, "continuation settings")

@@ -1,0 +1,124 @@
+"""The corrector: Newton on the pseudo-arclength system in scaled variables u = (x / sx, p / sp),
+the unit tangent of the branch, and the test for a period-n orbit that is already a fixed point of
+a shorter map.  Its results are named records (:class:`Evaluation`, :class:`Corrected`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from geardyn.runs.continuation.branch import ContinuationSettings
+from geardyn.runs.continuation.family import Family
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """F = phi_nT(x) - x, A = dF/dx = M - I, Fp = dF/dp and the monodromy M at one (x, p)."""
+
+    F: np.ndarray
+    A: np.ndarray
+    Fp: np.ndarray
+    M: np.ndarray
+
+
+@dataclass(frozen=True)
+class Corrected:
+    """A converged corrector: the point (x, p), its monodromy M, A = M - I and Fp = dF/dp there (the
+    ingredients of the tangent), and the number of evaluations it took."""
+
+    x: np.ndarray
+    p: float
+    M: np.ndarray
+    A: np.ndarray
+    Fp: np.ndarray
+    iterations: int
+
+
+class Corrector:
+    """Newton on the augmented system in scaled variables u = (x / sx, p / sp) for the period-n
+    orbits of ``family``; ``evals`` counts the flow-map evaluations with monodromy."""
+
+    def __init__(self, family: Family, n: int, sx: float, sp: float, cs: ContinuationSettings):
+        self.family, self.n, self.sx, self.sp, self.cs = family, n, sx, sp, cs
+        self.evals = 0
+
+    def evaluate(self, x: np.ndarray, p: float, Fp: np.ndarray | None = None) -> Evaluation | None:
+        """F, dF/dx (= M - I), dF/dp, M at (x, p); None when the orbit diverged.  dF/dp by a forward
+        difference unless ``Fp`` is given (the corrector reuses the one of its first iterate: a chord
+        step in the parameter column, which saves one new system per iteration)."""
+        phi, M = self.family.flow(p, self.n)(x, True)
+        self.evals += 1
+        if phi is None:
+            return None
+        if Fp is None:
+            dp = self.cs.dp_rel * self.sp
+            phi2, _ = self.family.flow(p + dp, self.n)(x, False)
+            if phi2 is None:
+                return None
+            Fp = (phi2 - phi) / dp
+        F = phi - x
+        return Evaluation(F, M - np.eye(x.size), Fp, M)
+
+    def jacobian(self, A: np.ndarray, Fp: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """[[A sx, Fp sp], [t]]: the Jacobian of (F, t . u) in the scaled variables."""
+        d = A.shape[0]
+        J = np.zeros((d + 1, d + 1))
+        J[:d, :d] = A * self.sx
+        J[:d, d] = Fp * self.sp
+        J[d] = t
+        return J
+
+    def tangent(self, A: np.ndarray, Fp: np.ndarray, t_prev: np.ndarray) -> np.ndarray:
+        """Unit null vector of [A sx, Fp sp] oriented like t_prev."""
+        d = A.shape[0]
+        rhs = np.zeros(d + 1)
+        rhs[d] = 1.0
+        t = np.linalg.solve(self.jacobian(A, Fp, t_prev), rhs)
+        t /= np.linalg.norm(t)
+        return t if float(t @ t_prev) >= 0 else -t
+
+    def correct(self, x: np.ndarray, p: float, t: np.ndarray) -> Corrected | None:
+        """Newton from the predicted point (x, p) on (F = 0, t . (u - u_pred) = 0); None when it
+        diverges, leaves the prediction by more than 0.5 (scaled) in one step, or does not converge
+        within ``max_corrector`` evaluations."""
+        d = x.size
+        u_pred = np.append(x / self.sx, p / self.sp)
+        last = np.inf
+        Fp = None
+        for it in range(self.cs.max_corrector):
+            ev = self.evaluate(x, p, Fp)
+            if ev is None:
+                return None
+            Fp = ev.Fp
+            res = float(np.max(np.abs(ev.F)))
+            if not np.isfinite(res):
+                return None
+            if res <= self.cs.tol * max(1.0, float(np.max(np.abs(x)))) and last < 1e-6:
+                return Corrected(x, p, ev.M, ev.A, Fp, it + 1)
+            g = np.append(ev.F, float(t @ (np.append(x / self.sx, p / self.sp) - u_pred)))
+            try:
+                du = np.linalg.solve(self.jacobian(ev.A, Fp, t), -g)
+            except np.linalg.LinAlgError:
+                return None
+            last = float(np.max(np.abs(du)))
+            if last > 0.5:  # far off the predicted point: let the step control shorten ds
+                return None
+            x = x + du[:d] * self.sx
+            p = p + du[d] * self.sp
+        return None
+
+
+def merged_period(corr: Corrector, x: np.ndarray, p: float, rtol: float = 1e-6) -> int:
+    """For a period-n branch (n > 1): the proper divisor m of n for which x is already a fixed point of
+    the m-period map (within rtol * x_scale), else 0.  A period-2n branch that reaches a second
+    period doubling merges there into the period-n orbit (traversed twice) and would otherwise
+    continue along it."""
+    n = corr.n
+    for m in range(1, n):
+        if n % m:
+            continue
+        y, _ = corr.family.flow(p, m)(x, False)
+        if y is not None and float(np.max(np.abs(y - x))) <= rtol * corr.sx:
+            return m
+    return 0

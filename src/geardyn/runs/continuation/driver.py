@@ -1,0 +1,156 @@
+"""The driver of a sweep's continuation: branches seeded by the cube's periodic points (with branch
+switching at their period doublings), the CF dataset and the table of bifurcation points, and the
+cross-check of the sweep's labels against the branches (:func:`label_check`, the one place the
+driver reads the sweep's labels after seeding)."""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+from geardyn.khv import point
+from geardyn.runs.continuation.branch import Branch, on_branch
+from geardyn.runs.continuation.family import KHVFamily, cycle_states
+from geardyn.runs.continuation.output import bifurcation_rows, branch_dataset
+from geardyn.runs.continuation.spec import OrbitSpec, final_state, seeds_from_cube
+from geardyn.runs.continuation.stepping import continue_branch
+from geardyn.runs.continuation.switching import switch_at_period_doubling
+from geardyn.solve.base import SimulationSettings
+from geardyn.solve.shooting import newton_shooting
+
+log = logging.getLogger("geardyn.continuation")
+
+
+def sweep_branches(family_of: Callable[[int], KHVFamily], cube: Any, n_cases: int, spec: OrbitSpec
+                   ) -> list[tuple[int, Branch]]:
+    """Continue every distinct branch seeded by the cube's periodic points, case by case."""
+    out: list[tuple[int, Branch]] = []
+    for case in range(n_cases):
+        family = family_of(case)
+        mine: list[Branch] = []
+        for p, x, n in seeds_from_cube(cube, case, spec.max_period, spec.max_seeds):
+            r = newton_shooting(family.flow(p, n), x, n, spec.continuation.tol)
+            if not r.converged:
+                log.info("case %d: seed P%d at %g not converged (%s)", case, n, p, r.status)
+                continue
+            cyc = cycle_states(family, p, r.state, n)
+            if any(b.n == n and on_branch(b, p, cyc, 1e-3) for b in mine):
+                continue
+            br = continue_branch(family, p, r.state, n, family.lo, family.hi, spec.continuation)
+            if br is not None:
+                log.info("case %d: P%d branch from %g: %d points, %d bifurcations, ends %s", case, n, p, len(br),
+                         len(br.bifurcations), br.end_status)
+                mine.append(br)
+                if spec.switch_period_doubling:
+                    mine.extend(_doubled(family, br, mine, spec, case))
+        out.extend((case, b) for b in mine)
+    return out
+
+
+def _doubled(family: KHVFamily, br: Branch, known: list[Branch], spec: OrbitSpec, case: int,
+             depth: int = 0) -> list[Branch]:
+    """Branches born at the located period doublings of ``br`` (recursively, up to max_period)."""
+    out: list[Branch] = []
+    for bf in br.bifurcations:
+        if bf.kind != "period_doubling" or not bf.located or 2 * br.n > spec.max_period:
+            continue
+        pts = cycle_states(family, bf.p, bf.state, br.n)
+        if any(b.n == 2 * br.n and on_branch(b, bf.p, pts, 1e-2) for b in known + out):
+            continue
+        new = switch_at_period_doubling(family, bf, family.lo, family.hi, spec.continuation)
+        if new is None:
+            log.info("case %d: no period-%d branch found at the period doubling at %g", case, 2 * br.n, bf.p)
+            continue
+        log.info("case %d: P%d branch switched at %g: %d points, %d bifurcations", case, new.n, bf.p, len(new),
+                 len(new.bifurcations))
+        out.append(new)
+        if depth < 4:
+            out.extend(_doubled(family, new, known + out, spec, case, depth + 1))
+    return out
+
+
+def label_agreement(cube: Any, case: int, branches: Sequence[Branch], max_period: int,
+                    tol: float = 1e-4) -> tuple[int, int, list[float]]:
+    """Consistency of the simulated labels with the branches: of the sweep points labelled P1..P<max_period>,
+    how many have their last Poincare point on a *stable* part of a branch of that period (within
+    tol * max(1, max|x|)).  Returns (checked, agreeing, parameter values that disagree)."""
+    par = cube.attrs["control_parameter"]
+    values = np.asarray(cube[par].values, dtype=float)
+    labels = np.asarray(cube["label"].values[case, 0], dtype=int)
+    checked, agree, bad = 0, 0, []
+    for j, lab in enumerate(labels):
+        if not 1 <= lab <= max_period:
+            continue
+        x = final_state(cube, case, j)
+        if not np.all(np.isfinite(x)):
+            continue
+        checked += 1
+        ok = any(_on_stable_part(br, values[j], x, tol) for br in branches if br.n == lab)
+        agree += int(ok)
+        if not ok:
+            bad.append(float(values[j]))
+    return checked, agree, bad
+
+
+def _on_stable_part(br: Branch, p: float, x: np.ndarray, tol: float) -> bool:
+    """x within tol * max(1, max |x|) of the branch interpolated at p on a step between two stable
+    points (steps of constant p left out)."""
+    scale = max(1.0, float(np.max(np.abs(br.states))))
+    st = br.stable
+    return any(st[i] and st[i + 1] and br.p[i] != br.p[i + 1] and float(np.max(np.abs(y - x))) <= tol * scale
+               for i, y in br.states_at(p))
+
+
+def label_check(cube: Any, branches: Sequence[tuple[int, Branch]], n_cases: int, max_period: int) -> dict[str, str]:
+    """The cross-check of the sweep's simulated labels against the branches, as dataset attributes
+    ``case_<k>_label_agreement`` (see :func:`label_agreement`): how many simulated P-n points lie on
+    a stable branch, and which do not (at most 20 listed).  The one place where the driver compares
+    with the sweep's labels."""
+    attrs: dict[str, str] = {}
+    for c in range(n_cases):
+        n_chk, n_ok, bad = label_agreement(cube, c, [b for cc, b in branches if cc == c], max_period)
+        attrs[f"case_{c}_label_agreement"] = (f"{n_ok} of {n_chk} simulated P-n points lie on a stable branch"
+                                              + (f"; not: {', '.join(f'{v:g}' for v in bad[:20])}" if bad else ""))
+        log.info("case %d: %s", c, attrs[f"case_{c}_label_agreement"])
+    return attrs
+
+
+def sweep_orbits(drive: Any, spec: Any, cube: Any, orbit_spec: OrbitSpec,
+                 settings: SimulationSettings | None = None) -> tuple[Any, list[dict[str, Any]]]:
+    """Branches of one sweep (a :class:`geardyn.runs.sweep.SweepSpec` and its merged cube): the CF
+    dataset and the bifurcation table rows.  The paper's transitions are named only for a design
+    that names its paper and only along x1 (the paper's Fig. 7 sequence)."""
+    import time
+
+    from geardyn.papers import paper_of
+
+    settings = settings or point.integration_settings(drive, **dict(spec.integration))
+    fams: dict[int, KHVFamily] = {}
+
+    def family_of(case: int) -> KHVFamily:
+        if case not in fams:
+            fixed = {**dict(spec.fixed), **dict(spec.cases[case])}
+            fams[case] = KHVFamily(drive, spec.parameter, fixed, spec.start, spec.stop, settings, orbit_spec.nodes)
+            log.info("case %d: coefficient interpolation error %.2e", case, fams[case].interpolation_error)
+        return fams[case]
+
+    t0 = time.perf_counter()
+    branches = sweep_branches(family_of, cube, len(spec.cases), orbit_spec)
+    log.info("%d branches in %.1f s", len(branches), time.perf_counter() - t0)
+    labels = [spec.case_label(i) for i in range(len(spec.cases))]
+    for c in range(len(spec.cases)):
+        family_of(c)
+    ds = branch_dataset(branches, fams, spec.parameter, labels)
+    ds.attrs.update({"sweep": spec.name, "design": spec.design,
+                     "interpolation_error": max((f.interpolation_error for f in fams.values()), default=0.0),
+                     "continuation_ds_max": orbit_spec.continuation.ds_max,
+                     "shooting_tol": orbit_spec.continuation.tol, "steps_per_period": settings.steps_per_period,
+                     "integrator": "rk4_event"})
+    ds.attrs.update(label_check(cube, branches, len(spec.cases), orbit_spec.max_period))
+    mod = paper_of(getattr(drive, "paper", None))
+    transitions = getattr(mod, "TRANSITIONS", None) if (mod is not None and spec.parameter == "x1") else None
+    rows = bifurcation_rows(branches, spec.parameter, labels, transitions)
+    return ds, rows

@@ -1,0 +1,217 @@
+"""Typed bifurcation points of a continued branch: the test functions between consecutive points
+(period doubling, Neimark-Sacker, fold, branch point, grazing) and their location on the branch
+(Brent on the arclength fraction, the fold by its cubic Hermite extremum), every trial point a
+pseudo-arclength correction so that it stays on this branch."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from geardyn.runs.continuation.branch import Bifurcation, Branch, ContinuationSettings
+from geardyn.runs.continuation.corrector import Corrector
+from geardyn.runs.continuation.family import Family
+from geardyn.solve.shooting import rotation_number, sorted_multipliers
+
+
+def _is_complex(mu: np.ndarray) -> np.ndarray:
+    return np.abs(mu.imag) > 1e-8 * np.maximum(np.abs(mu), 1e-300)
+
+
+def _counts(mu: np.ndarray) -> tuple[int, int]:
+    out = np.abs(mu) > 1.0
+    return int(out.sum()), int((out & _is_complex(mu)).sum())
+
+
+def pd_test(mu: np.ndarray) -> float:
+    """det(M + I) = prod(mu + 1): changes sign when a real multiplier crosses -1."""
+    return float(np.prod(mu + 1.0).real)
+
+
+def fold_test(mu: np.ndarray) -> float:
+    """det(M - I) = prod(mu - 1): changes sign when a real multiplier crosses +1."""
+    return float(np.prod(mu - 1.0).real)
+
+
+def ns_pair(mu: np.ndarray) -> complex | None:
+    """The complex multiplier (upper half plane) nearest the unit circle, if any."""
+    c = mu[_is_complex(mu) & (mu.imag > 0)]
+    if c.size == 0:
+        return None
+    return complex(c[np.argmin(np.abs(np.abs(c) - 1.0))])
+
+
+def ns_product(mu: np.ndarray) -> float:
+    """prod over the complex multipliers in the upper half plane of (|mu| - 1): changes sign when one
+    pair crosses the unit circle, whatever the other pairs do (NaN without complex multipliers)."""
+    c = mu[_is_complex(mu) & (mu.imag > 0)]
+    return float(np.prod(np.abs(c) - 1.0)) if c.size else float("nan")
+
+
+def _near_m1(mu: np.ndarray) -> complex:
+    return complex(mu[np.argmin(np.abs(mu + 1.0))])
+
+
+def _near_p1(mu: np.ndarray) -> complex:
+    return complex(mu[np.argmin(np.abs(mu - 1.0))])
+
+
+def _lin_zero(a: float, b: float) -> float:
+    return a / (a - b) if a != b else 0.5
+
+
+@dataclass(frozen=True)
+class _Onb:
+    """A point on the branch between two stored points (u: fraction of the arclength step)."""
+
+    u: float
+    state: np.ndarray
+    p: float
+    multipliers: np.ndarray
+    tangent: np.ndarray
+
+
+def _stored(br: Branch, i: int, u: float) -> _Onb:
+    return _Onb(u, br.states[i], float(br.p[i]), br.multipliers[i], br.tangents[i])
+
+
+def _on_branch(corr: Corrector, br: Branch, i: int, u: float) -> _Onb | None:
+    """Predict u * (s_{i+1} - s_i) along the tangent at point i and correct (pseudo-arclength), so
+    the point stays on this branch even next to a fold or another branch."""
+    d = br.states.shape[1]
+    t = br.tangents[i]
+    h = float(br.arclength[i + 1] - br.arclength[i])
+    up = np.append(br.states[i] / corr.sx, br.p[i] / corr.sp) + u * h * t
+    out = corr.correct(up[:d] * corr.sx, float(up[d] * corr.sp), t)
+    if out is None:
+        return None
+    try:
+        tn = corr.tangent(out.A, out.Fp, t)
+    except np.linalg.LinAlgError:
+        tn = t
+    return _Onb(u, out.x, float(out.p), sorted_multipliers(out.M), tn)
+
+
+def _interpolated(br: Branch, i: int, w: float) -> _Onb:
+    """Linear interpolation of state and parameter at the fraction w of step i; the multipliers of
+    the nearer end point (the sorted multiplier lists of two points need not correspond element by
+    element)."""
+    return _Onb(w, br.states[i] + w * (br.states[i + 1] - br.states[i]), float(br.p[i] + w * (br.p[i + 1] - br.p[i])),
+                br.multipliers[i if w < 0.5 else i + 1], br.tangents[i])
+
+
+def _bifurcation(kind: str, q: _Onb, i: int, located: bool, br: Branch,
+                 critical_of: Callable[[np.ndarray], complex | None]) -> Bifurcation:
+    crit = critical_of(q.multipliers)
+    rot = rotation_number(crit) if kind == "neimark_sacker" and crit is not None else float("nan")
+    return Bifurcation(kind, float(q.p), np.asarray(q.state), np.asarray(q.multipliers),
+                       complex(crit) if crit is not None else complex("nan"), rot, i, located, br.n)
+
+
+def _locate(br: Branch, i: int, test: Callable[[_Onb], float], corr: Corrector | None,
+            cs: ContinuationSettings, w0: float) -> tuple[_Onb, bool]:
+    """Brent on the arclength fraction u in [0, 1] between points i and i+1 (corrected points); the
+    point interpolated at w0 (not located) when that fails or is not asked for."""
+    if corr is None or not cs.locate:
+        return _interpolated(br, i, w0), False
+    cache: dict[float, _Onb] = {0.0: _stored(br, i, 0.0), 1.0: _stored(br, i + 1, 1.0)}
+
+    def at(u: float) -> _Onb:
+        if u not in cache:
+            q = _on_branch(corr, br, i, u)
+            if q is None:
+                raise RuntimeError("correction failed while locating")
+            cache[u] = q
+        return cache[u]
+
+    def f(u: float) -> float:
+        v = test(at(u))
+        if not np.isfinite(v):
+            raise RuntimeError("test function undefined")
+        return v
+
+    try:
+        if (f(0.0) > 0) == (f(1.0) > 0):
+            return _interpolated(br, i, w0), False
+        u = brentq(f, 0.0, 1.0, xtol=cs.locate_xtol, rtol=1e-15, maxiter=60)
+        return at(u), True
+    except (RuntimeError, ValueError):
+        return _interpolated(br, i, w0), False
+
+
+def _fold(br: Branch, i: int, corr: Corrector | None, iterations: int = 12) -> tuple[_Onb, bool]:
+    """Fold between points i and i+1: the extremum of the cubic Hermite interpolant of p(s) (values
+    and dp/ds at the bracket ends), corrected onto the branch there; the bracket shrinks to the
+    corrected point and its tangent until dp/ds = 0 (then one multiplier is +1)."""
+    d = br.states.shape[1]
+    lo, hi = _stored(br, i, 0.0), _stored(br, i + 1, 1.0)
+    if corr is None:
+        return _interpolated(br, i, 0.5), False
+    h = float(br.arclength[i + 1] - br.arclength[i])
+    best, ok = None, False
+    for _ in range(iterations):
+        span = (hi.u - lo.u) * h
+        p0, p1 = lo.p, hi.p
+        m0, m1 = float(lo.tangent[d]) * corr.sp * span, float(hi.tangent[d]) * corr.sp * span
+        c2 = 3 * (p1 - p0) - 2 * m0 - m1
+        c3 = 2 * (p0 - p1) + m0 + m1
+        roots = np.atleast_1d(np.roots([3 * c3, 2 * c2, m0])) if (c3 != 0 or c2 != 0) else np.array([])
+        cand = [float(r.real) for r in roots if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0]
+        v = min(cand, key=lambda r: abs(r - 0.5)) if cand else 0.5
+        q = _on_branch(corr, br, i, lo.u + v * (hi.u - lo.u))
+        if q is None:
+            break
+        best, ok = q, True
+        if abs(float(q.tangent[d])) < 1e-10 or (hi.u - lo.u) < 1e-12:
+            break
+        if (q.tangent[d] > 0) == (lo.tangent[d] > 0):
+            lo = q
+        else:
+            hi = q
+    return (best, ok) if best is not None else (_interpolated(br, i, 0.5), False)
+
+
+def _ns_test(q: _Onb) -> float:
+    return ns_product(q.multipliers)
+
+
+def _step_events(family: Family, br: Branch, i: int, cs: ContinuationSettings,
+                 corr: Corrector | None) -> list[Bifurcation]:
+    """The typed bifurcation points between points i and i + 1, in the order of the package table."""
+    found: list[Bifurcation] = []
+    m0, m1 = br.multipliers[i], br.multipliers[i + 1]
+    a, b = pd_test(m0), pd_test(m1)
+    if (a > 0) != (b > 0):
+        q, ok = _locate(br, i, lambda q: pd_test(q.multipliers), corr, cs, _lin_zero(a, b))
+        found.append(_bifurcation("period_doubling", q, i, ok, br, _near_m1))
+    dpds = br.tangents[:, -1]
+    fa, fb = fold_test(m0), fold_test(m1)
+    if (dpds[i] > 0) != (dpds[i + 1] > 0):
+        q, ok = _fold(br, i, corr)
+        found.append(_bifurcation("fold", q, i, ok, br, _near_p1))
+    elif (fa > 0) != (fb > 0):
+        q, ok = _locate(br, i, lambda q: fold_test(q.multipliers), corr, cs, _lin_zero(fa, fb))
+        found.append(_bifurcation("branch_point", q, i, ok, br, _near_p1))
+    (o0, c0), (o1, c1) = _counts(m0), _counts(m1)
+    if abs(o1 - o0) == 2 and abs(c1 - c0) == 2 and (o1 - o0) == (c1 - c0):
+        n0, n1 = ns_product(m0), ns_product(m1)
+        w = _lin_zero(n0, n1) if np.isfinite(n0) and np.isfinite(n1) else 0.5
+        q, ok = _locate(br, i, _ns_test, corr, cs, w)
+        found.append(_bifurcation("neimark_sacker", q, i, ok, br, ns_pair))
+    g0, g1 = br.grazing[i], br.grazing[i + 1]
+    if np.isfinite(g0) and np.isfinite(g1) and (g0 > 0) != (g1 > 0):
+        q, ok = _locate(br, i, lambda q: family.grazing(q.p, q.state, br.n), corr, cs, _lin_zero(g0, g1))
+        found.append(_bifurcation("grazing", q, i, ok, br, lambda m: None))
+    return found
+
+
+def detect_bifurcations(family: Family, br: Branch, tangents: np.ndarray, cs: ContinuationSettings,
+                        corr: Corrector | None = None) -> list[Bifurcation]:
+    """Typed bifurcation points between consecutive branch points (see the package table); stores
+    ``tangents`` on the branch.  Without ``corr`` (or with ``cs.locate`` off) the points are only
+    bracketed (interpolated, ``located`` False)."""
+    br.tangents = tangents
+    return [bf for i in range(len(br) - 1) for bf in _step_events(family, br, i, cs, corr)]

@@ -1,0 +1,73 @@
+"""Configuration of a sweep's orbits (:class:`OrbitSpec`, one ``orbits:`` entry) and the seeds
+of its branches, read from the sweep's cube."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from geardyn import classify
+from geardyn.runs.continuation.branch import ContinuationSettings
+
+#: The state variables of a cube, in the order of the model's state vector.
+STATE_VARS = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
+
+
+@dataclass(frozen=True)
+class OrbitSpec:
+    """One ``orbits:`` entry of the configuration (keyed by the sweep it continues).
+
+    max_period: sweep points labelled P1..P<max_period> are seeds.  max_seeds: per case.
+    nodes: coefficient interpolation nodes of :class:`~geardyn.runs.continuation.KHVFamily`.
+    continuation: the :class:`ContinuationSettings`.  attractors: the mapping for
+    :mod:`geardyn.runs.attractors`.  switch_period_doubling: continue the period-2n branch born at
+    each located period doubling (when 2n <= max_period), see
+    :func:`~geardyn.runs.continuation.switch_at_period_doubling`.
+    """
+
+    max_period: int = 6
+    max_seeds: int = 6
+    nodes: int = 101
+    continuation: ContinuationSettings = ContinuationSettings()
+    attractors: tuple[tuple[str, Any], ...] = ()
+    switch_period_doubling: bool = True
+
+    @classmethod
+    def from_config(cls, spec: Mapping[str, Any] | None) -> OrbitSpec:
+        spec = dict(spec or {})
+        spec.pop("designs", None)
+        known = {"max_period", "max_seeds", "nodes", "continuation", "attractors", "switch_period_doubling"}
+        unknown = set(spec) - known
+        if unknown:
+            raise ValueError(f"unknown orbits settings {sorted(unknown)}; allowed: {sorted(known)}")
+        return cls(max_period=int(spec.get("max_period", 6)), max_seeds=int(spec.get("max_seeds", 6)),
+                   nodes=int(spec.get("nodes", 101)),
+                   continuation=ContinuationSettings.from_mapping(spec.get("continuation")),
+                   attractors=tuple(sorted((spec.get("attractors") or {}).items())),
+                   switch_period_doubling=bool(spec.get("switch_period_doubling", True)))
+
+
+def final_state(cube: Any, case: int, j: int) -> np.ndarray:
+    """The last Poincare point of sweep point j of ``case`` (first direction of the cube)."""
+    return np.array([float(cube[v].values[case, 0, j, -1]) for v in STATE_VARS])
+
+
+def seeds_from_cube(cube: Any, case: int, max_period: int, max_seeds: int) -> list[tuple[float, np.ndarray, int]]:
+    """(p, final state, n) at the middle of each run of equal label P1..P<max_period> along the sweep
+    (first direction of the cube), longest runs first, at most ``max_seeds``."""
+    par = cube.attrs["control_parameter"]
+    values = np.asarray(cube[par].values, dtype=float)
+    labels = np.asarray(cube["label"].values[case, 0], dtype=int)
+    runs = [(int(last) - int(first) + 1, int(first), n)
+            for first, last, n in classify.bands(np.arange(labels.size), labels) if 1 <= n <= max_period]
+    runs.sort(key=lambda r: (-r[0], r[1]))
+    seeds = []
+    for length, first, n in runs[:max_seeds]:
+        j = first + length // 2
+        x = final_state(cube, case, j)
+        if np.all(np.isfinite(x)):
+            seeds.append((float(values[j]), x, n))
+    return seeds

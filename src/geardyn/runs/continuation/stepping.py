@@ -1,0 +1,195 @@
+"""Stepping along a branch: predictor, corrector call, step-size control and the end tests of one
+direction (:func:`march`), and :func:`continue_branch`, which shoots the seed, marches both ways
+and assembles the :class:`~geardyn.runs.continuation.branch.Branch` with its bifurcation points.
+
+The march carries its state in :class:`ContState` (frozen; a new one per accepted or refused
+step) and stores :class:`BranchPoint` records."""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from geardyn.runs.continuation.branch import Branch, ContinuationSettings
+from geardyn.runs.continuation.corrector import Corrector, merged_period
+from geardyn.runs.continuation.events import detect_bifurcations
+from geardyn.runs.continuation.family import Family
+from geardyn.solve.shooting import newton_shooting, sorted_multipliers
+
+log = logging.getLogger("geardyn.continuation")
+
+
+@dataclass(frozen=True)
+class BranchPoint:
+    """A point of a branch: the orbit's state x at phase 0, the parameter p, the monodromy M, the
+    unit tangent in the scaled variables (oriented along the march), the corrector evaluations."""
+
+    x: np.ndarray
+    p: float
+    M: np.ndarray
+    tangent: np.ndarray
+    iterations: int
+
+
+@dataclass(frozen=True)
+class ContState:
+    """Where a march stands: the last accepted point (x, p), its unit tangent (scaled variables) and
+    the step ds for the next predictor, in units of the scaled arclength."""
+
+    x: np.ndarray
+    p: float
+    tangent: np.ndarray
+    ds: float
+
+    def u(self, sx: float, sp: float) -> np.ndarray:
+        """The scaled point (x / sx, p / sp)."""
+        return np.append(self.x / sx, self.p / sp)
+
+    def predicted(self, sx: float, sp: float) -> np.ndarray:
+        """The predictor z_pred = u + ds t (scaled)."""
+        return self.u(sx, sp) + self.ds * self.tangent
+
+
+def _at_bound(corr: Corrector, st: ContState, xp: np.ndarray, pp: float, lo: float, hi: float,
+              cs: ContinuationSettings) -> list[BranchPoint]:
+    """The prediction (xp, pp) left [lo, hi]: the last point exactly on the bound, by fixed-p Newton
+    from the prediction shortened to the bound (none when the branch runs along the bound, is
+    already on it, or the shooting fails)."""
+    d = st.x.size
+    bound = hi if pp > hi else lo
+    if abs(st.tangent[d]) < 1e-12:
+        return []
+    frac = (bound - st.p) / (pp - st.p)
+    if frac <= 1e-9:
+        return []
+    xs = st.x + frac * (xp - st.x)
+    r = newton_shooting(corr.family.flow(bound, corr.n), xs, corr.n, cs.tol)
+    if r.converged:
+        ev = corr.evaluate(r.state, bound)
+        if ev is not None:
+            t = corr.tangent(ev.A, ev.Fp, st.tangent)
+            return [BranchPoint(r.state, bound, ev.M, t, r.iterations + 1)]
+    return []
+
+
+def march(corr: Corrector, start: ContState, lo: float, hi: float,
+          cs: ContinuationSettings) -> tuple[list[BranchPoint], str]:
+    """Points along one direction from ``start`` (excluded) within [lo, hi]; returns (points, end
+    status).  ds grows by 1.3 after a corrector of at most 3 evaluations, halves after a failure,
+    never exceeds ``cs.ds_max``."""
+    pts: list[BranchPoint] = []
+    sx, sp = corr.sx, corr.sp
+    d = start.x.size
+    st = start
+    u_start, t_start = start.u(sx, sp), start.tangent.copy()
+    while len(pts) < cs.max_points:
+        u = st.predicted(sx, sp)
+        xp, pp = u[:d] * sx, u[d] * sp
+        if pp > hi or pp < lo:
+            return pts + _at_bound(corr, st, xp, pp, lo, hi, cs), "range"
+        out = corr.correct(xp, pp, st.tangent)
+        if out is None:
+            st = replace(st, ds=st.ds * 0.5)
+            if st.ds < cs.ds_min:
+                return pts, "step_too_small"
+            continue
+        merged = merged_period(corr, out.x, out.p)
+        if merged:
+            return pts, f"merged_into_period_{merged}"
+        try:
+            t = corr.tangent(out.A, out.Fp, st.tangent)
+        except np.linalg.LinAlgError:
+            return pts, "singular_tangent"
+        pts.append(BranchPoint(out.x, out.p, out.M, t, out.iterations))
+        st = ContState(out.x, out.p, t, st.ds)
+        if len(pts) > 10 and float(np.linalg.norm(st.u(sx, sp) - u_start)) < st.ds and float(t @ t_start) > 0:
+            return pts, "closed_loop"  # an isola: back at the seed
+        if out.iterations <= 3:
+            st = replace(st, ds=min(st.ds * 1.3, cs.ds_max))
+        if float(np.max(np.abs(sorted_multipliers(out.M)))) > 1e8:
+            return pts, "multipliers_too_large"
+    return pts, "max_points"
+
+
+def _seed_tangent(A: np.ndarray, Fp: np.ndarray, sx: float, sp: float) -> np.ndarray:
+    """Unit tangent at the seed: (dx/dp, 1) from A dx = -Fp in scaled variables ((0, 1) when A is
+    singular), pointing towards increasing p."""
+    d = A.shape[0]
+    try:
+        dxdp = np.linalg.solve(A, -Fp)
+        t0 = np.append(dxdp * sp / sx, 1.0)
+    except np.linalg.LinAlgError:
+        t0 = np.zeros(d + 1)
+        t0[d] = 1.0
+    return t0 / np.linalg.norm(t0)
+
+
+def continue_branch(family: Family, p0: float, x0: np.ndarray, n: int, lo: float, hi: float,
+                    cs: ContinuationSettings = ContinuationSettings(),
+                    directions: tuple[str, ...] = ("down", "up")) -> Branch | None:
+    """Shoot the period-n orbit at p0 from x0, then continue it within [lo, hi] in ``directions``
+    (``up``: the direction of increasing p at the seed).
+
+    Returns None when the shooting at p0 does not converge.  Bifurcations are detected (and located
+    when ``cs.locate``) on the returned branch.
+    """
+    r = newton_shooting(family.flow(p0, n), x0, n, cs.tol)
+    if not r.converged:
+        log.info("seed at p = %g (period %d) not converged: %s", p0, n, r.status)
+        return None
+    sx = max(1.0, float(np.max(np.abs(r.state))))
+    sp = (hi - lo) if hi > lo else 1.0
+    corr = Corrector(family, n, sx, sp, cs)
+    ev = corr.evaluate(r.state, p0)
+    if ev is None:
+        return None
+    t0 = _seed_tangent(ev.A, ev.Fp, sx, sp)
+    up, st_up = (march(corr, ContState(r.state, p0, t0, cs.ds), lo, hi, cs) if "up" in directions
+                 else ([], "not_followed"))
+    if st_up == "closed_loop":
+        down, st_down = [], "closed_loop"  # the up march went round the whole isola
+    else:
+        down, st_down = (march(corr, ContState(r.state, p0, -t0, cs.ds), lo, hi, cs) if "down" in directions
+                         else ([], "not_followed"))
+    # the down march's tangents point down the branch: flip them to the branch order
+    down = [replace(q, tangent=-q.tangent) for q in reversed(down)]
+    pts = down + [BranchPoint(r.state, p0, ev.M, t0, r.iterations)] + up
+    ends = {"down": st_down, "up": st_up}
+    br = _assemble(family, pts, n, sx, sp, ends, p0, cs, corr)
+    return _cut_at_merge(family, br, pts, len(down), ends, p0, cs, corr) if n > 1 else br
+
+
+def _cut_at_merge(family: Family, br: Branch, pts: list[BranchPoint], seed: int, ends: dict[str, str], p0: float,
+                  cs: ContinuationSettings, corr: Corrector) -> Branch:
+    """A fold of a period-n branch on a period-m orbit (m | n) is where the branch was born at (or
+    merges back into) a period doubling of the period-m orbit: beyond it lies the same orbit shifted
+    by m periods.  Cut the branch there (the period doubling is a point of the period-m branch);
+    ``seed``: the index of the seed point in ``pts``."""
+    for bf in br.bifurcations:
+        m = merged_period(corr, bf.state, bf.p, 1e-4) if bf.kind == "fold" else 0
+        if m:
+            if bf.index >= seed:
+                pts, ends["up"] = pts[:bf.index + 1], f"merged_into_period_{m}"
+            else:
+                pts, ends["down"] = pts[bf.index + 1:], f"merged_into_period_{m}"
+            return _assemble(family, pts, corr.n, corr.sx, corr.sp, ends, p0, cs, corr)
+    return br
+
+
+def _assemble(family: Family, pts: list[BranchPoint], n: int, sx: float, sp: float, ends: dict[str, str],
+              p0: float, cs: ContinuationSettings, corr: Corrector) -> Branch:
+    """The branch of the points in order: multipliers, arclength, grazing margins, bifurcations."""
+    states = np.array([q.x for q in pts])
+    ps = np.array([q.p for q in pts])
+    mult = np.array([sorted_multipliers(q.M) for q in pts])
+    tang = np.array([q.tangent for q in pts])
+    u = np.column_stack([states / sx, ps / sp])
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(u, axis=0), axis=1))])
+    graz = np.array([family.grazing(q.p, q.x, n) for q in pts]) if cs.grazing else np.full(len(pts), np.nan)
+    br = Branch(n=n, p=ps, states=states, multipliers=mult, arclength=arc, grazing=graz,
+                iterations=np.array([q.iterations for q in pts], dtype=np.int32), end_status=dict(ends),
+                seed_p=float(p0))
+    br.bifurcations = detect_bifurcations(family, br, tang, cs, corr)
+    return br
