@@ -108,8 +108,8 @@ CASES = [
     ("unknown-design", _sweep(lambda s: s.update(designs=["li2031"])), "design 'li2031' is not allowed: one of 'li2013'"),
     ("design-file-missing", _config(lambda c: c["designs"].update(li2013="config/designs/none.yaml")),
      "config/designs/none.yaml: file not found"),
-    ("calibration-empty-grid", _config(lambda c: c["calibration"].update(cal={"design": "li2013", "grid": {"w": []}})),
-     "calibration.cal.grid.w = [] is not allowed: list with at least 1 items"),
+    ("calibration-without-search", _config(lambda c: c["calibration"].update(cal={"design": "li2013"})),
+     "missing required key 'calibration.cal.search'"),
     # config file: unreadable
     ("config-not-utf8", _raw_file("config/config.yaml", "designs:\n  li2013: caf\xe9.yaml\n".encode("latin-1")),
      "config/config.yaml: not UTF-8 text"),

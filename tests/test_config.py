@@ -198,7 +198,8 @@ def test_preset_blocks_are_overridden_key_by_key():
     cfg = _config(presets=presets, sweeps={"s": _sweep(preset="cheap", integration={"transient_periods": 100},
                                                        classifier={"k_chaos": 0.6}, coexistence=True)},
                   maps={"m": _map(preset="cheap", start_from="follow")},
-                  calibration={"c": {"design": "li2013", "grid": {"w": [0.9]}, "preset": "cheap"}})
+                  calibration={"c": {"design": "li2013", "search": {"bounds": {"w": {"low": 0.5, "high": 1.5}}},
+                                     "preset": "cheap"}})
     filled, _ = validate.validate_workflow(cfg, ROOT)
     s, m, c = filled["sweeps"]["s"], filled["maps"]["m"], filled["calibration"]["c"]
     assert s["integration"] == {"steps_per_period": 128, "transient_periods": 100}

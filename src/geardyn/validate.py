@@ -368,8 +368,6 @@ def _check_overrides(section: str, spec: dict[str, Any], raw: dict[str, Any], wh
         _check_range(spec["x1"], f"{where}.x1")
         overrides.append(("x1.start", {"x1": spec["x1"]["start"]}))
         overrides.append(("x1.stop", {"x1": spec["x1"]["stop"]}))
-        for key, values in spec.get("grid", {}).items():
-            overrides += [(f"grid.{key}[{i}]", {key: v}) for i, v in enumerate(values)]
     for label, values in overrides:
         for key, value in values.items():
             if key == "x1" and raw["kind"] == "khv":
