@@ -14,9 +14,10 @@ from geardyn import classify
 from geardyn.khv import calibrate as K
 from geardyn.khv import design, point
 from geardyn.papers import li2013 as paper
-from geardyn.runs import settle as S
-from geardyn.runs.points import analyse_point, analyse_points
+from geardyn.label import Policy, label_lines, label_points
+from geardyn.label import settle as S
 from geardyn.solve import SimulationSettings
+from _oracle import rules_label
 
 ROOT = Path(__file__).resolve().parents[1]
 FULL = SimulationSettings(steps_per_period=512, transient_periods=500, recorded_periods=100)
@@ -37,7 +38,7 @@ def li2013():
 def test_slow_transient_is_relabelled_p1(li2013, over, before, rho):
     c = point.point_coefficients(li2013, {**over, "w": 0.7})
     cs = classify.ClassifierSettings()
-    res, cl = analyse_point(c, FULL, cs)
+    res, cl = rules_label(c, FULL, cs)
     assert cl.label == before and -1e-3 < cl.lyapunov < 0.0  # inside the zero band: the classifier's QP
     r = S.settle(c, res, cl.label, cl.lyapunov, FULL, cs)
     assert r.after == 1 and r.n == 1
@@ -48,7 +49,7 @@ def test_slow_transient_is_relabelled_p1(li2013, over, before, rho):
 def test_torus_is_not_relabelled(li2013):
     c = point.point_coefficients(li2013, {"x1": 0.761, "b": 2.0, "e": 5.0, "w": 0.7})
     cs = classify.ClassifierSettings()
-    res, cl = analyse_point(c, FULL, cs)
+    res, cl = rules_label(c, FULL, cs)
     r = S.settle(c, res, cl.label, cl.lyapunov, FULL, cs)
     assert cl.label == r.after == classify.LABELS["quasi_periodic"]
     assert r.reason.startswith("no stable orbit of period <= 12")
@@ -63,7 +64,7 @@ def test_settle_of_many_points_is_settle_of_each(li2013):
     cs = classify.ClassifierSettings()
     overs = [{"x1": 0.761, "e": 5.0, "b": 0.83}, {"x1": 0.761, "b": 2.0, "e": 5.0}, {"x1": 0.5, "b": 2.0, "e": 3.6}]
     systems = [point.point_coefficients(li2013, {**o, "w": 0.7}) for o in overs]
-    runs = [analyse_point(c, FULL, cs) for c in systems]
+    runs = [rules_label(c, FULL, cs) for c in systems]
     systems += systems[:2]
     runs += runs[:2]
     labels = [cl.label for _, cl in runs[:3]] + [classify.LABELS["chaotic"], 1]
@@ -71,6 +72,8 @@ def test_settle_of_many_points_is_settle_of_each(li2013):
     together = S.settle_points(systems, [r for r, _ in runs], labels, lams, FULL, cs)
     alone = [S.settle(c, r, lab, lam, FULL, cs) for c, (r, _), lab, lam in zip(systems, runs, labels, lams)]
     assert together == alone
+    assert all((t.state is None and a.state is None) or np.array_equal(t.state, a.state)
+               for t, a in zip(together, alone, strict=True))
     assert [s.after for s in together] == [1, classify.LABELS["quasi_periodic"], 1, classify.LABELS["chaotic"], 1]
 
 
@@ -135,7 +138,7 @@ def test_search_resumes_from_its_cache(tmp_path, monkeypatch):
 
     monkeypatch.setattr(K, "evaluate_candidate", fake)
     space = K.SearchSpace.from_config({"w": {"low": 0.0, "high": 1.0}, "eta": {"low": 0.0, "high": 1.0}})
-    prob = K.Problem(None, paper, space, None, SimulationSettings(), classify.ClassifierSettings())
+    prob = K.Problem(None, paper, space, None, Policy(SimulationSettings()))
     monkeypatch.setattr(K, "_init_worker", lambda problem: setattr(K, "_PROBLEM", problem))
     full, ev_full = K.search(prob, tmp_path / "a.jsonl", seed=3, popsize=4, maxiter=5)
     n_full = len(ev_full.cache)
@@ -199,21 +202,17 @@ def test_route_requirement_and_its_ranking():
     assert K.ranked_score(route, "route") == 6.6 and K.ranked_score(better, "route") < 0 < K.ranked_score(route, "route")
 
 
-def test_the_one_classification_path_settles_slow_transients(li2013):
-    """analyse_points (sweeps, maps, claims, calibration) applies the check: b = 0.83 and 1.68 at x1 =
-    0.761 are slow transients onto P1 and P7 (|mu|max 0.990, 0.969), b = 2.0 is a torus; with the check
-    off (settle_max_n = 0) the rules' quasi-periodic labels stay."""
+def test_the_labeller_settles_slow_transients(li2013):
+    """The labeller (sweeps, maps, claims, calibration) from the static deflection: b = 0.83 and 1.68 at
+    x1 = 0.761 are slow transients onto P1 and P7 (|mu|max 0.990, 0.969 over their periods), found by
+    shooting and certified by their multipliers; b = 2.0 is a torus (the Birkhoff averages converge)."""
     cs = classify.ClassifierSettings()
     systems = [point.point_coefficients(li2013, {"x1": 0.761, "e": 5.0, "b": b, "w": 0.7}) for b in (0.83, 1.68, 2.0)]
-    out = analyse_points(systems, FULL, cs)
-    qp = classify.LABELS["quasi_periodic"]
-    assert [lab.label for _, lab in out] == [1, 7, qp]
-    assert [lab.settled for _, lab in out] == [True, True, False]
-    rho = np.exp(np.array([lab.lyapunov for _, lab in out[:2]]) * np.array([1, 7]) * out[0][0].period)
-    np.testing.assert_allclose(rho, [0.9902, 0.9694], atol=2e-4)
-    off = analyse_points(systems, FULL, classify.ClassifierSettings(settle_max_n=0))
-    assert [lab.label for _, lab in off] == [qp, qp, qp]
-    assert not any(lab.settled for _, lab in off)
+    out = label_points(systems, Policy(FULL, cs, start="fixed"))
+    assert [v.label for v in out] == [1, 7, classify.LABELS["quasi_periodic"]]
+    assert [v.stage for v in out] == ["shooting", "shooting", "torus"]
+    assert [v.exponent_method for v in out] == ["floquet", "floquet", "tangent"]
+    np.testing.assert_allclose([out[0].multiplier, out[1].multiplier], [0.9902, 0.9694], atol=2e-4)
 
 
 def test_return_distance_and_record_approach_tell_a_transient_from_a_torus():
@@ -245,31 +244,35 @@ def test_an_orbit_found_by_n_period_shooting_gets_its_least_period():
 
 
 def test_point_figures_carry_the_sweeps_label(li2013):
-    """Figs. 8, 10, 12 label their points as the sweeps do (a Fig. 8 caption once said "not periodic" at a
-    point the Fig. 7 colours and claims.md called P1)."""
+    """Figs. 8, 10, 12 label their points by the labeller, as the sweeps do, and draw the attractor it found
+    (a Fig. 8 caption once said "not periodic" at a point the Fig. 7 colours and claims.md called P1)."""
     from geardyn.plots import captions
     from geardyn.runs.points import dense_points
 
-    ds = dense_points(li2013, {"x1": 0.761, "e": 5.0, "w": 0.7}, [{"b": 0.83}, {"b": 2.0}], FULL)
+    ds = dense_points(li2013, {"x1": 0.761, "e": 5.0, "w": 0.7}, [{"b": 0.83}, {"b": 2.0}], Policy(FULL))
     assert ds["label"].values.tolist() == [1, classify.LABELS["quasi_periodic"]]
-    assert ds["settled"].values.tolist() == [1, 0]
+    # the drawn record starts on the orbit: its Poincare points return within 1e-7 (no transient drawn)
+    p = np.stack([ds[f"poincare_{v}"].values[0] for v in ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")], axis=1)
+    assert np.max(np.abs(p - p[0])) < 1e-7
     text = captions.points("fig10_points_b", ds)
-    assert "Ours, b=0.83: P1 (a slow transient onto it: settled by shooting)" in text
-    assert "Ours, b=2: quasi-periodic" in text
+    assert "Ours, b=0.83: P1 (shooting)" in text
+    assert "Ours, b=2: quasi-periodic (torus)" in text
 
 
-def test_labels_near_the_neimark_sacker_point_agree_with_continuation():
-    """li2013_calibrated along x1 (b = 2, e = 5): continuation puts the Neimark-Sacker point of the P1
-    branch at x1 = 0.5420 (the pipeline's fig07 bifurcations table). Below it the P1 orbit is stable but
-    its multiplier nears 1, so the runs are slow transients: P1 by the check at 0.538 (|mu| 0.9998), a
-    possible slow transient (undetermined, flag 2, |mu| 0.99995) at 0.541, a torus (QP) past it at 0.545."""
+def test_a_line_across_the_neimark_sacker_point_types_it():
+    """li2013_calibrated along x1 (b = 2, e = 5): continuation puts the Neimark-Sacker point of the P1 branch
+    at x1 = 0.5420 (the pipeline's fig07 bifurcations table).  Following the line, every point below it is
+    the stable P1 orbit, certified by its multipliers (|mu| up to 0.99995: no "possible slow transient"),
+    and the first point past it records a Neimark-Sacker bifurcation (a complex pair left the unit circle)
+    and is a torus."""
     d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
-    xs = (0.538, 0.541, 0.545)
-    out = analyse_points([point.point_coefficients(d, {"x1": x, "b": 2.0, "e": 5.0}) for x in xs],
-                         point.integration_settings(d), classify.ClassifierSettings())
-    assert [lab.label for _, lab in out] == [1, classify.LABELS["undetermined"], classify.LABELS["quasi_periodic"]]
-    assert [lab.settled for _, lab in out] == [classify.SETTLED, classify.POSSIBLE_TRANSIENT, 0]
-    assert "0.9999" in out[1][1].reason
+    xs = (0.530, 0.535, 0.538, 0.541, 0.545)
+    out = label_lines([[point.point_coefficients(d, {"x1": x, "b": 2.0, "e": 5.0}) for x in xs]],
+                      Policy(point.integration_settings(d)))[0]
+    assert [v.label for v in out] == [1, 1, 1, 1, classify.LABELS["quasi_periodic"]]
+    assert [v.stage for v in out[1:4]] == ["follow"] * 3
+    assert 0.9999 < out[3].multiplier < 1.0
+    assert [v.bifurcation for v in out] == ["none"] * 4 + ["neimark_sacker"]
 
 
 def test_falling_return_distances_is_the_quarter_means_of_the_return_distances():

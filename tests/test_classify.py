@@ -4,8 +4,6 @@ import numpy as np
 import pytest
 
 from geardyn import classify
-from geardyn.khv import calibrate
-from geardyn.papers import li2013
 from geardyn.runs.points import amplitude_spectrum
 
 
@@ -24,16 +22,9 @@ def test_quasi_periodic_circle_is_not_periodic():
     assert classify.strict_period(pts) == 0
 
 
-def test_bands_and_paper_sequence():
+def test_bands():
     x = np.array([0.1, 0.2, 0.3, 0.4])
     assert classify.bands(x, np.array([1, 1, 0, 5])) == [(0.1, 0.2, 1), (0.3, 0.3, 0), (0.4, 0.4, 5)]
-    x1 = np.array([0.5, 0.566, 0.58, 0.7, 0.761, 0.8])
-    seq = li2013.SEQUENCE
-    np.testing.assert_array_equal(calibrate.paper_label(x1, seq), [1, 0, 5, 0, 6, 0])
-    assert calibrate.score(x1, np.array([1, 0, 5, 0, 6, 0]), seq) == 1.0
-    # balanced over the regime types P1, P5, P6, not periodic: all-P1 gets only P1 right
-    assert calibrate.score(x1, np.array([1, 1, 1, 1, 1, 1]), seq) == pytest.approx(1 / 4)
-    assert calibrate.score(x1, np.array([0, 0, 0, 0, 0, 0]), seq) == pytest.approx(1 / 4)
 
 
 def test_spectrum_of_a_sine_shows_its_amplitude_and_frequency():

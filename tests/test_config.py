@@ -148,6 +148,13 @@ def test_snakemake_refuses_bad_design_before_any_job(tmp_path):
 
 BEFORE = ROOT / "tests" / "data" / "config_filled_before_presets.json"
 NEW_RUN_KEYS = {"start_from": "follow", "coexistence": False}
+#: classifier keys added with the labeller's torus test and long periods (their defaults)
+NEW_CLASSIFIER_KEYS = {"torus_margin": 2.5, "chaos_margin": 1.5, "torus_min_n": 50, "torus_extend": 3,
+                       "torus_max_periods": 4000, "long_max_n": 240}
+
+
+def _with_new_keys(old: dict) -> dict:
+    return {**old, **NEW_RUN_KEYS, "classifier": {**old["classifier"], **NEW_CLASSIFIER_KEYS}}
 
 
 def _config(**sections):
@@ -183,10 +190,11 @@ def test_shipped_config_with_presets_resolves_to_the_values_it_had_before():
     for section in ("sweeps", "maps"):
         assert set(filled[section]) == set(before[section])
         for name, old in before[section].items():
-            assert filled[section][name] == {**old, **NEW_RUN_KEYS}, (section, name)
+            assert filled[section][name] == _with_new_keys(old), (section, name)
     assert filled["points"] == before["points"]
     for name, old in before["calibration"].items():
         new = filled["calibration"][name]
+        old = {k: v for k, v in old.items() if k not in ("grid", "chunks")}  # the grid calibration is gone
         assert "preset" not in new and set(new) == set(old)
         assert {k: v for k, v in new.items() if k != "classifier"} == {k: v for k, v in old.items() if k != "classifier"}
         assert old["classifier"].items() <= new["classifier"].items()  # now complete; the set values unchanged
@@ -198,7 +206,8 @@ def test_preset_blocks_are_overridden_key_by_key():
     cfg = _config(presets=presets, sweeps={"s": _sweep(preset="cheap", integration={"transient_periods": 100},
                                                        classifier={"k_chaos": 0.6}, coexistence=True)},
                   maps={"m": _map(preset="cheap", start_from="follow")},
-                  calibration={"c": {"design": "li2013", "search": {"bounds": {"w": {"low": 0.5, "high": 1.5}}},
+                  calibration={"c": {"design": "li2013", "search": {"bounds": {"w": {"low": 0.5, "high": 1.5}},
+                                                                "budget": {"popsize": 1, "maxiter": 1}},
                                      "preset": "cheap"}})
     filled, _ = validate.validate_workflow(cfg, ROOT)
     s, m, c = filled["sweeps"]["s"], filled["maps"]["m"], filled["calibration"]["c"]

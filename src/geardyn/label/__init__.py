@@ -5,7 +5,7 @@ One entry point, :func:`label_lines` (and :func:`label_points` for independent p
 through it.  The stages are in :mod:`geardyn.label._stages`; the torus test in :mod:`geardyn.label.torus`.
 """
 
-from geardyn.label._lines import label_lines, label_points
+from geardyn.label.lines import label_lines, label_points
 from geardyn.label.policy import Policy
 from geardyn.label.verdict import BIFURCATIONS, EXPONENT_METHODS, STAGE_NAMES, STAGES, Verdict
 

@@ -64,8 +64,10 @@ class Settled:
     spectral_radius: float = float("nan")
     reason: str = ""
     possible: bool = False
-    state: np.ndarray | None = None              # a point of the orbit found (None: none found)
-    multipliers: np.ndarray | None = None        # its Floquet multipliers (over n periods)
+    # a point of the orbit found (None: none found) and its multipliers over n periods (arrays: compared
+    # separately)
+    state: np.ndarray | None = dataclasses.field(default=None, compare=False)
+    multipliers: np.ndarray | None = dataclasses.field(default=None, compare=False)
 
 
 def needs_check(label: int, lyapunov: float, classifier: classify.ClassifierSettings) -> bool:

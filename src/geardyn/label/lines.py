@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from geardyn.label import _stages as st
+import geardyn.label._stages as st
 from geardyn.label.policy import Policy
 from geardyn.label.verdict import Verdict
 from geardyn.solve.base import System
