@@ -1,5 +1,6 @@
 # Plus planetary sets (paper 2 kind): modal analysis (natural frequencies, modal energy, key elements),
-# transmission error of the p-d pair and tip relief, for every plus design in the config.
+# transmission error of the p-d pair and tip relief, and the forced response to that TE against speed, for every
+# plus design in the config.
 
 
 rule plus_modal:
@@ -142,6 +143,27 @@ rule plus_te_figures:
         "../scripts/plus_te_figures.py"
 
 
+rule plus_forced_response:
+    input:
+        design=design_file,
+        te=rules.plus_relief.output.te,
+    output:
+        data="results/{design}/data/forced_response.nc",
+        figure=report(
+            "results/{design}/figures/forced_response.png",
+            caption="../report/plus_forced_response.rst",
+            category=category,
+            subcategory="Forced response across speed",
+            labels={"design": "{design}"},
+        ),
+        caption="results/{design}/figures/forced_response.png.txt",
+    log:
+        "results/{design}/logs/forced_response.log",
+    threads: 1
+    script:
+        "../scripts/plus_forced_response.py"
+
+
 PLUS_TARGETS = per_design(
     [
         *rules.plus_modal.output,
@@ -149,6 +171,7 @@ PLUS_TARGETS = per_design(
         *rules.plus_relief.output,
         *rules.plus_landscape.output,
         *rules.plus_te_figures.output,
+        *rules.plus_forced_response.output,
     ],
     PLUS_DESIGNS,
 )
