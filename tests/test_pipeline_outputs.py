@@ -39,7 +39,7 @@ KINDS = [
     "li2013/data/closed_graph.nc", "li2013/data/stiffness_table.nc", "li2013/sweeps/fig07_small.nc",
     "li2013/sweeps/fig07_small/chunk_0.nc", "li2013/points/fig08_small.nc", "li2013/calibration/small_sequence.nc",
     "li2013/calibration/small_sequence/chunk_0.nc", "benchmarks/work_precision.nc", "yue2014/data/modal.nc",
-    "yue2014/data/te.nc", "yue2014/data/relief_landscape.nc",
+    "yue2014/data/te.nc", "yue2014/data/relief_landscape.nc", "yue2014/data/forced_response.nc",
 ]
 
 

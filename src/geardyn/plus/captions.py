@@ -181,8 +181,9 @@ def load_study_header(design: PlusDesign, paper: ModuleType | None) -> str:
     return text
 
 
-def forced_response(design: PlusDesign, ds: xr.Dataset) -> str:
-    """Caption of the forced-response figure, with the largest forces measured."""
+def forced_response(design: PlusDesign, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
+    """Caption of the forced-response figure, with the largest forces measured (``paper``: the study goes
+    beyond that paper, which is said)."""
     best = ds.attrs.get("best_relief_case") or ""
     lines = [
         "Forced response of the linear model (mass and stiffness of the modal model, working condition "
@@ -193,7 +194,8 @@ def forced_response(design: PlusDesign, ds: xr.Dataset) -> str:
         "bottom: largest mesh force over a mesh period / static mesh force "
         f"({ds.attrs['static_force_N']:.1f} N, the same in every mesh). Solid: unmodified teeth; dashed: the optimal "
         "tip relief with the smallest TE. Grey lines: natural frequencies divided by the harmonic "
-        "(h = 1 solid, 2 dashed, 3 dotted). Method: docs/paper2.md, 'Forced response across speed'.",
+        "(h = 1 solid, 2 dashed, 3 dotted). Method: docs/paper2.md, 'Forced response across speed'."
+        + (f" Beyond {paper.SHORT}, which computes no forced response." if paper is not None else ""),
         "Natural frequencies (Hz): " + ", ".join(f"{f:.1f}" for f in np.unique(np.round(ds.natural_frequency.values, 1))) + ".",
     ]
     lost = ds.min_force_factor.sel(case="unmodified") < 0
