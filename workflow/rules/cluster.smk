@@ -12,6 +12,7 @@ localrules:
     calibration_merge,
     plus_modal_figures,
     plus_te_figures,
+    plus_forced_response,
     regime_bands,
     claims,
     map_merge,

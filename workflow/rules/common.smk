@@ -103,6 +103,12 @@ def calibration_chunks(name, spec, design):
     return n_chunks(len(candidate_grid(spec["grid"])), spec["chunks"])
 
 
+def design_targets(design, targets):
+    """The files of ``targets`` (e.g. ``rules.all.input``) under results/<design>/: one design's studies."""
+    prefix = f"results/{design}/"
+    return sorted({str(f) for f in targets if str(f).startswith(prefix)})
+
+
 def archive_cubes(wildcards):
     """The netCDF cubes of ``rule all`` under results/<design>/ (chunk files are not final cubes)."""
     prefix = f"results/{wildcards.design}/"
