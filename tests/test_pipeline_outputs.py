@@ -164,8 +164,9 @@ def test_slurm_profile_keeps_cheap_rules_local(tmp_path):
     block = (wf.ROOT / "workflow/rules/cluster.smk").read_text().split("localrules:")[1]
     local = set(re.findall(r"^\s+(\w+),", block, re.M))
     assert {"sweep_merge", "calibration_merge", "bifurcation_figure", "point_figure", "fig03_closed_graph",
-            "stiffness_figures", "plus_modal_figures", "plus_te_figures", "regime_bands", "claims",
-            "map_merge", "map_figure"} == local
+            "closed_graph_figure", "stiffness_figures", "stiffness_figures_own", "plus_modal_figures",
+            "plus_modal_figures_own", "plus_te_figures", "plus_te_figures_own", "plus_forced_response",
+            "regime_bands", "claims", "map_merge", "map_figure"} == local
     assert "localrule: True" in (wf.ROOT / "workflow/rules/archive.smk").read_text()
     heavy = {"sweep_chunk", "calibration_chunk", "map_chunk", "point_runs", "work_precision", "plus_relief",
              "plus_landscape"}

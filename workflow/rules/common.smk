@@ -12,6 +12,31 @@ def designs_of_paper(paper):
 KHV_DESIGNS = designs_of_kind("khv")
 PLUS_DESIGNS = designs_of_kind("plus_planetary")
 
+
+def naming_schemes(kind):
+    """(scheme, designs) pairs of one kind: "paper" for the designs that name a paper (their outputs keep
+    the paper's figure and table numbers), "own" for the others (descriptive names only).
+    """
+    names = designs_of_kind(kind)
+    return (
+        ("paper", [d for d in names if DESIGNS[d].get("paper")]),
+        ("own", [d for d in names if not DESIGNS[d].get("paper")]),
+    )
+
+
+def name_of(scheme, paper_name, own_name):
+    """A file stem, rule name or report label: the paper's (numbered) one under scheme "paper", the
+    descriptive one otherwise."""
+    return paper_name if scheme == "paper" else own_name
+
+
+def scheme_path(scheme, folder, paper_name, own_name, suffix=""):
+    """``results/{design}/<folder>/<stem><suffix>`` with the stem of the naming scheme."""
+    return (
+        f"results/{{design}}/{folder}/{name_of(scheme, paper_name, own_name)}{suffix}"
+    )
+
+
 #: The wildcard that names an entry of each config section.
 SECTION_KEYS = {
     "sweeps": "sweep",
