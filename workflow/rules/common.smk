@@ -25,7 +25,7 @@ def naming_schemes(kind):
 
 
 def name_of(scheme, paper_name, own_name):
-    """A file stem, rule name or report label: the paper's (numbered) one under scheme "paper", the
+    """A file stem, a rule's name or a report label: the paper's (numbered) one under scheme "paper", the
     descriptive one otherwise."""
     return paper_name if scheme == "paper" else own_name
 

@@ -38,9 +38,9 @@ for _scheme, _designs in naming_schemes("khv"):
                 subcategory=name_of(_scheme, "Fig. 03: closed graph", "Closed graph"),
                 labels={"design": "{design}"},
             ),
-            caption=_figure + ".txt",
+            caption=f"{_figure}.txt",
         log:
-            "results/{design}/logs/" + _rule + ".log",
+            f"results/{{design}}/logs/{_rule}.log",
         wildcard_constraints:
             design=either(_designs, "no-design"),
         threads: 1

@@ -70,13 +70,13 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
 
     rule:
         name:
-            "plus_modal" + _suffix
+            f"plus_modal{_suffix}"
         input:
             design=design_file,
         output:
             modal="results/{design}/data/modal.nc",
             table02_csv=report(
-                _t02 + ".csv",
+                f"{_t02}.csv",
                 caption="../report/plus_table.rst",
                 category=category,
                 subcategory=name_of(
@@ -84,17 +84,17 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
                 ),
                 labels={"design": "{design}", "table": "natural frequencies"},
             ),
-            table02_md=_t02 + ".md",
-            scaling_csv=_t02b + ".csv",
-            scaling_md=_t02b + ".md",
+            table02_md=f"{_t02}.md",
+            scaling_csv=f"{_t02b}.csv",
+            scaling_md=f"{_t02b}.md",
             table05_csv=report(
-                _t05 + ".csv",
+                f"{_t05}.csv",
                 caption="../report/plus_table.rst",
                 category=category,
                 subcategory=name_of(_scheme, "Table 05: key elements", "Key elements"),
                 labels={"design": "{design}", "table": "key elements"},
             ),
-            table05_md=_t05 + ".md",
+            table05_md=f"{_t05}.md",
         log:
             "results/{design}/logs/modal.log",
         wildcard_constraints:
@@ -105,7 +105,7 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
 
     rule:
         name:
-            "plus_modal_figures" + _suffix
+            f"plus_modal_figures{_suffix}"
         input:
             design=design_file,
             modal="results/{design}/data/modal.nc",
@@ -119,7 +119,7 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
                 ),
                 labels={"design": "{design}"},
             ),
-            fig06_caption=_f06 + ".txt",
+            fig06_caption=f"{_f06}.txt",
             fig07=report(
                 _f07,
                 caption="../report/plus_fig07_modal_kinetic_energy.rst",
@@ -129,7 +129,7 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
                 ),
                 labels={"design": "{design}"},
             ),
-            fig07_caption=_f07 + ".txt",
+            fig07_caption=f"{_f07}.txt",
             fig07b=report(
                 _f07b,
                 caption="../report/plus_fig07b_mode_shapes.rst",
@@ -137,7 +137,7 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
                 subcategory=name_of(_scheme, "Fig. 07b: mode shapes", "Mode shapes"),
                 labels={"design": "{design}"},
             ),
-            fig07b_caption=_f07b + ".txt",
+            fig07b_caption=f"{_f07b}.txt",
         log:
             "results/{design}/logs/modal_figures.log",
         wildcard_constraints:
@@ -148,23 +148,23 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
 
     rule:
         name:
-            "plus_relief" + _suffix
+            f"plus_relief{_suffix}"
         input:
             design=design_file,
         output:
             te="results/{design}/data/te.nc",
             optima_csv=report(
-                _optima + ".csv",
+                f"{_optima}.csv",
                 caption="../report/plus_table.rst",
                 category=category,
                 subcategory="Tip-relief optima",
                 labels={"design": "{design}", "table": "relief optima"},
             ),
-            optima_md=_optima + ".md",
-            stiffness_csv=_stiff + ".csv",
-            stiffness_md=_stiff + ".md",
-            load_csv=_load + ".csv",
-            load_md=_load + ".md",
+            optima_md=f"{_optima}.md",
+            stiffness_csv=f"{_stiff}.csv",
+            stiffness_md=f"{_stiff}.md",
+            load_csv=f"{_load}.csv",
+            load_md=f"{_load}.md",
         log:
             "results/{design}/logs/relief.log",
         wildcard_constraints:
@@ -175,12 +175,12 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
 
     rule:
         name:
-            "plus_te_figures" + _suffix
+            f"plus_te_figures{_suffix}"
         input:
             design=design_file,
             te="results/{design}/data/te.nc",
             landscape=rules.plus_landscape.output.landscape,
-            optima_csv=_optima + ".csv",
+            optima_csv=f"{_optima}.csv",
         output:
             fig04=report(
                 _f04,
@@ -191,7 +191,7 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
                 ),
                 labels={"design": "{design}"},
             ),
-            fig04_caption=_f04 + ".txt",
+            fig04_caption=f"{_f04}.txt",
             fig09=report(
                 _f09,
                 caption="../report/plus_fig09_te_relief.rst",
@@ -199,7 +199,7 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
                 subcategory=name_of(_scheme, "Fig. 09: tip relief", "Tip relief"),
                 labels={"design": "{design}"},
             ),
-            fig09_caption=_f09 + ".txt",
+            fig09_caption=f"{_f09}.txt",
             fig09b=report(
                 _f09b,
                 caption="../report/plus_fig09b_relief_landscape.rst",
@@ -209,7 +209,7 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
                 ),
                 labels={"design": "{design}"},
             ),
-            fig09b_caption=_f09b + ".txt",
+            fig09b_caption=f"{_f09b}.txt",
         log:
             "results/{design}/logs/te_figures.log",
         wildcard_constraints:
@@ -220,10 +220,10 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
 
     PLUS_TARGETS += per_design(
         [
-            *getattr(rules, "plus_modal" + _suffix).output,
-            *getattr(rules, "plus_modal_figures" + _suffix).output,
-            *getattr(rules, "plus_relief" + _suffix).output,
-            *getattr(rules, "plus_te_figures" + _suffix).output,
+            *getattr(rules, f"plus_modal{_suffix}").output,
+            *getattr(rules, f"plus_modal_figures{_suffix}").output,
+            *getattr(rules, f"plus_relief{_suffix}").output,
+            *getattr(rules, f"plus_te_figures{_suffix}").output,
         ],
         _designs,
     )
