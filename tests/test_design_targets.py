@@ -55,3 +55,22 @@ def test_a_design_named_like_a_rule_is_refused(tmp_path):
     errors = [line for line in run.stderr.splitlines() if "geardyn config error" in line]
     assert len(errors) == 1 and "'archive' is the name of a rule" in errors[0], run.stderr[-2000:]
     assert not (work / "results").exists()
+
+
+def test_a_design_of_your_own_plans_names_without_paper_numbers(tmp_path):
+    # the same plus set under a name of its own and with no paper: descriptive names only, its own outputs only
+    cfg = wf.shipped("config/config.yaml")
+    cfg["designs"] = {"yue2014": "config/designs/yue2014.yaml", "myplus": "config/designs/myplus.yaml"}
+    for section in ("sweeps", "points", "maps", "orbits", "calibration"):
+        cfg[section] = {}
+    cfg["claims"] = {"designs": []}
+    raw = wf.shipped("config/designs/yue2014.yaml")
+    raw.update(name="myplus", paper=None)
+    work = wf.workflow_copy(tmp_path / "w", config=cfg, designs={"myplus": raw})
+    outputs = _planned_outputs(wf.snakemake(work, "-n", "myplus"))
+    names = [f.rsplit("/", 1)[1] for f in outputs]
+    assert all(f.startswith("results/myplus/") for f in outputs) and len(outputs) >= 25
+    assert [n for n in names if re.match(r"(fig|table|sec)\d", n)] == []
+    assert {"natural_frequencies.csv", "te_relief.png", "relief_optima.md", "forced_response.png"} <= set(names)
+    paper = [f.rsplit("/", 1)[1] for f in _planned_outputs(wf.snakemake(work, "-n", "yue2014"))]
+    assert {"table02_natural_frequencies.csv", "fig09_te_relief.png", "sec4_relief_optima.md"} <= set(paper)
