@@ -23,6 +23,7 @@ in rpm of the sun (the input member).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -30,6 +31,9 @@ from numpy.typing import ArrayLike, NDArray
 from . import modal
 from .design import PlusDesign
 from .ishikawa import pd_mesh_load
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 MESH_KINDS = ("sp", "pd", "dr")
 #: Samples per mesh period used to find the largest force of a periodic response.
@@ -204,7 +208,7 @@ def best_relief_case(cases: tuple[str, ...], te_ptp: ArrayLike) -> str:
     return cases[min(relieved, key=lambda i: ptp[i])]
 
 
-def to_dataset(res: ForcedResponse, design: PlusDesign):
+def to_dataset(res: ForcedResponse, design: PlusDesign) -> "xr.Dataset":
     """CF dataset of a :class:`ForcedResponse` (forces in N, TE in um, speeds in rpm)."""
     import xarray as xr
 
