@@ -1,6 +1,7 @@
 """geardyn: every study of every design listed in config/config.yaml, under results/<design>/.
 
     snakemake --cores 2            # build everything under results/
+    snakemake --cores 2 <design>   # build one design's studies under results/<design>/ and nothing else
 
 The configuration and every design file are validated here, before any job runs, by the same code
 as `geardyn check-config` (geardyn.validate): a bad value stops the run with one line naming the
@@ -62,3 +63,22 @@ rule all:
         CLASSIFY_TARGETS,
         MAP_TARGETS,
         ORBIT_TARGETS,
+
+
+# One target rule per design, named after it: `snakemake --cores 2 <design>` builds the studies of `rule all`
+# under results/<design>/ and nothing else. A design may not take the name of a rule.
+_RULE_NAMES = {r.name for r in workflow.rules}
+for _design in DESIGNS:
+    if _design in _RULE_NAMES:
+        sys.stderr.write(
+            f"geardyn config error: design name {_design!r} is the name of a rule of the workflow; "
+            "rename the design (its key under designs: in the config)\n"
+        )
+        sys.exit(1)
+
+    rule:
+        name:
+            _design
+        input:
+            design_targets(_design, rules.all.input),
+        localrule: True

@@ -60,15 +60,29 @@ def own(tmp_path_factory):
 
 def test_every_standard_study_is_built_under_the_designs_own_names(own):
     res = own / "results"
-    for rel in ("data/closed_graph.nc", "data/stiffness_table.nc", "figures/fig03_closed_graph.png",
-                "figures/fig05_mesh_stiffness.png", "sweeps/bifurcation_x1.nc", "sweeps/bifurcation_b.nc",
+    for rel in ("data/closed_graph.nc", "data/stiffness_table.nc", "figures/closed_graph.png",
+                "figures/single_tooth_stiffness.png", "figures/mesh_stiffness.png", "figures/backlash.png",
+                "sweeps/bifurcation_x1.nc", "sweeps/bifurcation_b.nc",
                 "sweeps/bifurcation_e.nc", "points/points_x1.nc", "maps/map_own_x1_b.nc",
                 "tables/bifurcation_x1_bands.md", "figures/bifurcation_b.png", "figures/map_own_x1_b.png"):
         assert (res / "mydrive" / rel).exists(), rel
-    for rel in ("data/modal.nc", "data/te.nc", "tables/table02_natural_frequencies.csv", "figures/fig09_te_relief.png"):
+    for rel in ("data/modal.nc", "data/te.nc", "data/forced_response.nc", "tables/natural_frequencies.csv",
+                "tables/stiffness_scaling.md", "tables/key_elements.csv", "tables/relief_optima.csv",
+                "tables/mesh_stiffness.csv", "tables/relief_vs_load.csv", "figures/te_unmodified.png",
+                "figures/modal_strain_energy.png", "figures/modal_kinetic_energy.png", "figures/mode_shapes.png",
+                "figures/te_relief.png", "figures/relief_landscape.png", "figures/forced_response.png"):
         assert (res / "myplus" / rel).exists(), rel
     assert not (res / "li2013").exists() and not (res / "yue2014").exists()  # only listed designs are built
     assert not (res / "mydrive" / "claims.md").exists()  # claims are a paper's
+
+
+def test_no_paper_figure_or_table_numbers_in_the_file_names(own):
+    # a design of your own has no paper: no fig03_, table02_, sec4_ ... in the names of its outputs
+    numbered = re.compile(r"^(fig|table|sec)\d")
+    for design in ("mydrive", "myplus"):
+        names = [p.name for p in (own / "results" / design).rglob("*") if p.is_file()]
+        assert len(names) >= 20
+        assert [n for n in names if numbered.match(n)] == [], design
 
 
 def test_the_studies_run_on_the_designs_own_segment(own):

@@ -39,7 +39,7 @@ KINDS = [
     "li2013/data/closed_graph.nc", "li2013/data/stiffness_table.nc", "li2013/sweeps/fig07_small.nc",
     "li2013/sweeps/fig07_small/chunk_0.nc", "li2013/points/fig08_small.nc", "li2013/calibration/small_sequence.nc",
     "li2013/calibration/small_sequence/chunk_0.nc", "benchmarks/work_precision.nc", "yue2014/data/modal.nc",
-    "yue2014/data/te.nc", "yue2014/data/relief_landscape.nc",
+    "yue2014/data/te.nc", "yue2014/data/relief_landscape.nc", "yue2014/data/forced_response.nc",
 ]
 
 
@@ -164,8 +164,9 @@ def test_slurm_profile_keeps_cheap_rules_local(tmp_path):
     block = (wf.ROOT / "workflow/rules/cluster.smk").read_text().split("localrules:")[1]
     local = set(re.findall(r"^\s+(\w+),", block, re.M))
     assert {"sweep_merge", "calibration_merge", "bifurcation_figure", "point_figure", "fig03_closed_graph",
-            "stiffness_figures", "plus_modal_figures", "plus_te_figures", "regime_bands", "claims",
-            "map_merge", "map_figure"} == local
+            "closed_graph_figure", "stiffness_figures", "stiffness_figures_own", "plus_modal_figures",
+            "plus_modal_figures_own", "plus_te_figures", "plus_te_figures_own", "plus_forced_response",
+            "regime_bands", "claims", "map_merge", "map_figure"} == local
     assert "localrule: True" in (wf.ROOT / "workflow/rules/archive.smk").read_text()
     heavy = {"sweep_chunk", "calibration_chunk", "map_chunk", "point_runs", "work_precision", "plus_relief",
              "plus_landscape"}

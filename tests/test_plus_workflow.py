@@ -34,7 +34,8 @@ def run(tmp_path_factory):
     p = {k: tmp / v for k, v in dict(
         modal="modal.nc", t2c="t2.csv", t2m="t2.md", scc="sc.csv", scm="sc.md", t5c="t5.csv", t5m="t5.md",
         f6="f6.png", f7="f7.png", f7b="f7b.png", te="te.nc", oc="opt.csv", om="opt.md", sc2="st.csv", sm2="st.md",
-        lc="load.csv", lm="load.md", land="land.nc", f4="f4.png", f9="f9.png", f9b="f9b.png").items()}
+        lc="load.csv", lm="load.md", land="land.nc", f4="f4.png", f9="f9.png", f9b="f9b.png", fr="forced.nc",
+        frf="forced.png").items()}
     _script("plus_modal", input={"design": design}, log=[tmp / "m.log"], output=dict(
         modal=p["modal"], table02_csv=p["t2c"], table02_md=p["t2m"], scaling_csv=p["scc"], scaling_md=p["scm"],
         table05_csv=p["t5c"], table05_md=p["t5m"]))
@@ -47,6 +48,8 @@ def run(tmp_path_factory):
     _script("plus_te_figures", input={"design": design, "te": p["te"], "landscape": p["land"],
                                       "optima_csv": p["oc"]},
             output=dict(fig04=p["f4"], fig09=p["f9"], fig09b=p["f9b"]), log=[tmp / "tf.log"])
+    _script("plus_forced_response", input={"design": design, "te": p["te"]}, log=[tmp / "fr.log"],
+            output=dict(data=p["fr"], figure=p["frf"]))
     return p
 
 
@@ -68,7 +71,7 @@ def test_every_output_holds_what_it_should(run):
                 assert ds.sizes and all(ds[v].size for v in ds.data_vars), key
 
 
-@pytest.mark.parametrize("key", ["modal", "te", "land"])
+@pytest.mark.parametrize("key", ["modal", "te", "land", "fr"])
 def test_netcdf_self_describing(run, key):
     with xr.open_dataset(run[key]) as ds:
         for name, var in {**ds.data_vars, **ds.coords}.items():
@@ -92,3 +95,12 @@ def test_table2_csv_matches_library(run):
     assert len(t) == 18
     assert list(t.paper_theoretical_hz[:6]) == [1295, 4519, 6456, 6559, 8293, 9316]  # Table 2, condition I
     pd.testing.assert_series_equal(t.freq_hz, tables.frequency_table(default_design()).freq_hz, rtol=1e-5)
+
+
+def test_forced_response_file_holds_each_relief_case_and_the_resonances(run):
+    with xr.open_dataset(run["fr"]) as ds, xr.open_dataset(run["te"]) as te:
+        assert list(ds.case.values) == list(te.case.values)
+        assert ds.attrs["best_relief_case"] != "unmodified"
+        # the speed range holds h = 1 meeting the highest natural frequency
+        assert float(ds.speed.max()) > float(ds.resonance_speed.sel(harmonic=1).max())
+        assert float(ds.dynamic_factor.min()) >= 1.0

@@ -5,13 +5,18 @@
 
 localrules:
     fig03_closed_graph,
+    closed_graph_figure,
     stiffness_figures,
+    stiffness_figures_own,
     sweep_merge,
     bifurcation_figure,
     point_figure,
     calibration_merge,
     plus_modal_figures,
+    plus_modal_figures_own,
     plus_te_figures,
+    plus_te_figures_own,
+    plus_forced_response,
     regime_bands,
     claims,
     map_merge,

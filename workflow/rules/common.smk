@@ -12,6 +12,31 @@ def designs_of_paper(paper):
 KHV_DESIGNS = designs_of_kind("khv")
 PLUS_DESIGNS = designs_of_kind("plus_planetary")
 
+
+def naming_schemes(kind):
+    """(scheme, designs) pairs of one kind: "paper" for the designs that name a paper (their outputs keep
+    the paper's figure and table numbers), "own" for the others (descriptive names only).
+    """
+    names = designs_of_kind(kind)
+    return (
+        ("paper", [d for d in names if DESIGNS[d].get("paper")]),
+        ("own", [d for d in names if not DESIGNS[d].get("paper")]),
+    )
+
+
+def name_of(scheme, paper_name, own_name):
+    """A file stem, a rule's name or a report label: the paper's (numbered) one under scheme "paper", the
+    descriptive one otherwise."""
+    return paper_name if scheme == "paper" else own_name
+
+
+def scheme_path(scheme, folder, paper_name, own_name, suffix=""):
+    """``results/{design}/<folder>/<stem><suffix>`` with the stem of the naming scheme."""
+    return (
+        f"results/{{design}}/{folder}/{name_of(scheme, paper_name, own_name)}{suffix}"
+    )
+
+
 #: The wildcard that names an entry of each config section.
 SECTION_KEYS = {
     "sweeps": "sweep",
@@ -95,6 +120,12 @@ def map_chunks(name, spec, design):
     from geardyn.runs.maps import MapSpec
 
     return MapSpec.from_config(name, spec, design, segment_of(design)).n_chunks
+
+
+def design_targets(design, targets):
+    """The files of ``targets`` (e.g. ``rules.all.input``) under results/<design>/: one design's studies."""
+    prefix = f"results/{design}/"
+    return sorted({str(f) for f in targets if str(f).startswith(prefix)})
 
 
 def archive_cubes(wildcards):

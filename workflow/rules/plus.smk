@@ -1,95 +1,7 @@
 # Plus planetary sets (paper 2 kind): modal analysis (natural frequencies, modal energy, key elements),
-# transmission error of the p-d pair and tip relief, for every plus design in the config.
-
-
-rule plus_modal:
-    input:
-        design=design_file,
-    output:
-        modal="results/{design}/data/modal.nc",
-        table02_csv=report(
-            "results/{design}/tables/table02_natural_frequencies.csv",
-            caption="../report/plus_table.rst",
-            category=category,
-            subcategory="Table 02: natural frequencies",
-            labels={"design": "{design}", "table": "natural frequencies"},
-        ),
-        table02_md="results/{design}/tables/table02_natural_frequencies.md",
-        scaling_csv="results/{design}/tables/table02b_stiffness_scaling.csv",
-        scaling_md="results/{design}/tables/table02b_stiffness_scaling.md",
-        table05_csv=report(
-            "results/{design}/tables/table05_key_elements.csv",
-            caption="../report/plus_table.rst",
-            category=category,
-            subcategory="Table 05: key elements",
-            labels={"design": "{design}", "table": "key elements"},
-        ),
-        table05_md="results/{design}/tables/table05_key_elements.md",
-    log:
-        "results/{design}/logs/modal.log",
-    threads: 1
-    script:
-        "../scripts/plus_modal.py"
-
-
-rule plus_modal_figures:
-    input:
-        design=design_file,
-        modal=rules.plus_modal.output.modal,
-    output:
-        fig06=report(
-            "results/{design}/figures/fig06_modal_strain_energy.png",
-            caption="../report/plus_fig06_modal_strain_energy.rst",
-            category=category,
-            subcategory="Fig. 06: modal strain energy",
-            labels={"design": "{design}"},
-        ),
-        fig06_caption="results/{design}/figures/fig06_modal_strain_energy.png.txt",
-        fig07=report(
-            "results/{design}/figures/fig07_modal_kinetic_energy.png",
-            caption="../report/plus_fig07_modal_kinetic_energy.rst",
-            category=category,
-            subcategory="Fig. 07: modal kinetic energy",
-            labels={"design": "{design}"},
-        ),
-        fig07_caption="results/{design}/figures/fig07_modal_kinetic_energy.png.txt",
-        fig07b=report(
-            "results/{design}/figures/fig07b_mode_shapes.png",
-            caption="../report/plus_fig07b_mode_shapes.rst",
-            category=category,
-            subcategory="Fig. 07b: mode shapes",
-            labels={"design": "{design}"},
-        ),
-        fig07b_caption="results/{design}/figures/fig07b_mode_shapes.png.txt",
-    log:
-        "results/{design}/logs/modal_figures.log",
-    threads: 1
-    script:
-        "../scripts/plus_modal_figures.py"
-
-
-rule plus_relief:
-    input:
-        design=design_file,
-    output:
-        te="results/{design}/data/te.nc",
-        optima_csv=report(
-            "results/{design}/tables/sec4_relief_optima.csv",
-            caption="../report/plus_table.rst",
-            category=category,
-            subcategory="Tip-relief optima",
-            labels={"design": "{design}", "table": "relief optima"},
-        ),
-        optima_md="results/{design}/tables/sec4_relief_optima.md",
-        stiffness_csv="results/{design}/tables/sec22_mesh_stiffness.csv",
-        stiffness_md="results/{design}/tables/sec22_mesh_stiffness.md",
-        load_csv="results/{design}/tables/sec4_relief_vs_load.csv",
-        load_md="results/{design}/tables/sec4_relief_vs_load.md",
-    log:
-        "results/{design}/logs/relief.log",
-    threads: 1
-    script:
-        "../scripts/plus_relief.py"
+# transmission error of the p-d pair and tip relief, and the forced response to that TE against speed, for every
+# plus design in the config. Tables and figures carry the paper's numbers (table02_, fig04_, sec4_ ...) for a
+# design that names a paper and descriptive names for one of your own; each rule of a pair serves one of them.
 
 
 rule plus_landscape:
@@ -104,51 +16,214 @@ rule plus_landscape:
         "../scripts/plus_landscape.py"
 
 
-rule plus_te_figures:
+rule plus_forced_response:
     input:
         design=design_file,
-        te=rules.plus_relief.output.te,
-        landscape=rules.plus_landscape.output.landscape,
-        optima_csv=rules.plus_relief.output.optima_csv,
+        te="results/{design}/data/te.nc",
     output:
-        fig04=report(
-            "results/{design}/figures/fig04_te_unmodified.png",
-            caption="../report/plus_fig04_te_unmodified.rst",
+        data="results/{design}/data/forced_response.nc",
+        figure=report(
+            "results/{design}/figures/forced_response.png",
+            caption="../report/plus_forced_response.rst",
             category=category,
-            subcategory="Fig. 04: transmission error",
+            subcategory="Forced response across speed",
             labels={"design": "{design}"},
         ),
-        fig04_caption="results/{design}/figures/fig04_te_unmodified.png.txt",
-        fig09=report(
-            "results/{design}/figures/fig09_te_relief.png",
-            caption="../report/plus_fig09_te_relief.rst",
-            category=category,
-            subcategory="Fig. 09: tip relief",
-            labels={"design": "{design}"},
-        ),
-        fig09_caption="results/{design}/figures/fig09_te_relief.png.txt",
-        fig09b=report(
-            "results/{design}/figures/fig09b_relief_landscape.png",
-            caption="../report/plus_fig09b_relief_landscape.rst",
-            category=category,
-            subcategory="Fig. 09b: relief landscape",
-            labels={"design": "{design}"},
-        ),
-        fig09b_caption="results/{design}/figures/fig09b_relief_landscape.png.txt",
+        caption="results/{design}/figures/forced_response.png.txt",
     log:
-        "results/{design}/logs/te_figures.log",
+        "results/{design}/logs/forced_response.log",
     threads: 1
     script:
-        "../scripts/plus_te_figures.py"
+        "../scripts/plus_forced_response.py"
 
 
 PLUS_TARGETS = per_design(
-    [
-        *rules.plus_modal.output,
-        *rules.plus_modal_figures.output,
-        *rules.plus_relief.output,
-        *rules.plus_landscape.output,
-        *rules.plus_te_figures.output,
-    ],
-    PLUS_DESIGNS,
+    [*rules.plus_landscape.output, *rules.plus_forced_response.output], PLUS_DESIGNS
 )
+
+for _scheme, _designs in naming_schemes("plus_planetary"):
+    _t02 = scheme_path(
+        _scheme, "tables", "table02_natural_frequencies", "natural_frequencies"
+    )
+    _t02b = scheme_path(
+        _scheme, "tables", "table02b_stiffness_scaling", "stiffness_scaling"
+    )
+    _t05 = scheme_path(_scheme, "tables", "table05_key_elements", "key_elements")
+    _optima = scheme_path(_scheme, "tables", "sec4_relief_optima", "relief_optima")
+    _stiff = scheme_path(_scheme, "tables", "sec22_mesh_stiffness", "mesh_stiffness")
+    _load = scheme_path(_scheme, "tables", "sec4_relief_vs_load", "relief_vs_load")
+    _f04 = scheme_path(
+        _scheme, "figures", "fig04_te_unmodified", "te_unmodified", ".png"
+    )
+    _f06 = scheme_path(
+        _scheme, "figures", "fig06_modal_strain_energy", "modal_strain_energy", ".png"
+    )
+    _f07 = scheme_path(
+        _scheme, "figures", "fig07_modal_kinetic_energy", "modal_kinetic_energy", ".png"
+    )
+    _f07b = scheme_path(_scheme, "figures", "fig07b_mode_shapes", "mode_shapes", ".png")
+    _f09 = scheme_path(_scheme, "figures", "fig09_te_relief", "te_relief", ".png")
+    _f09b = scheme_path(
+        _scheme, "figures", "fig09b_relief_landscape", "relief_landscape", ".png"
+    )
+    _suffix = name_of(_scheme, "", "_own")
+
+    rule:
+        name:
+            f"plus_modal{_suffix}"
+        input:
+            design=design_file,
+        output:
+            modal="results/{design}/data/modal.nc",
+            table02_csv=report(
+                f"{_t02}.csv",
+                caption="../report/plus_table.rst",
+                category=category,
+                subcategory=name_of(
+                    _scheme, "Table 02: natural frequencies", "Natural frequencies"
+                ),
+                labels={"design": "{design}", "table": "natural frequencies"},
+            ),
+            table02_md=f"{_t02}.md",
+            scaling_csv=f"{_t02b}.csv",
+            scaling_md=f"{_t02b}.md",
+            table05_csv=report(
+                f"{_t05}.csv",
+                caption="../report/plus_table.rst",
+                category=category,
+                subcategory=name_of(_scheme, "Table 05: key elements", "Key elements"),
+                labels={"design": "{design}", "table": "key elements"},
+            ),
+            table05_md=f"{_t05}.md",
+        log:
+            "results/{design}/logs/modal.log",
+        wildcard_constraints:
+            design=either(_designs, "no-design"),
+        threads: 1
+        script:
+            "../scripts/plus_modal.py"
+
+    rule:
+        name:
+            f"plus_modal_figures{_suffix}"
+        input:
+            design=design_file,
+            modal="results/{design}/data/modal.nc",
+        output:
+            fig06=report(
+                _f06,
+                caption="../report/plus_fig06_modal_strain_energy.rst",
+                category=category,
+                subcategory=name_of(
+                    _scheme, "Fig. 06: modal strain energy", "Modal strain energy"
+                ),
+                labels={"design": "{design}"},
+            ),
+            fig06_caption=f"{_f06}.txt",
+            fig07=report(
+                _f07,
+                caption="../report/plus_fig07_modal_kinetic_energy.rst",
+                category=category,
+                subcategory=name_of(
+                    _scheme, "Fig. 07: modal kinetic energy", "Modal kinetic energy"
+                ),
+                labels={"design": "{design}"},
+            ),
+            fig07_caption=f"{_f07}.txt",
+            fig07b=report(
+                _f07b,
+                caption="../report/plus_fig07b_mode_shapes.rst",
+                category=category,
+                subcategory=name_of(_scheme, "Fig. 07b: mode shapes", "Mode shapes"),
+                labels={"design": "{design}"},
+            ),
+            fig07b_caption=f"{_f07b}.txt",
+        log:
+            "results/{design}/logs/modal_figures.log",
+        wildcard_constraints:
+            design=either(_designs, "no-design"),
+        threads: 1
+        script:
+            "../scripts/plus_modal_figures.py"
+
+    rule:
+        name:
+            f"plus_relief{_suffix}"
+        input:
+            design=design_file,
+        output:
+            te="results/{design}/data/te.nc",
+            optima_csv=report(
+                f"{_optima}.csv",
+                caption="../report/plus_table.rst",
+                category=category,
+                subcategory="Tip-relief optima",
+                labels={"design": "{design}", "table": "relief optima"},
+            ),
+            optima_md=f"{_optima}.md",
+            stiffness_csv=f"{_stiff}.csv",
+            stiffness_md=f"{_stiff}.md",
+            load_csv=f"{_load}.csv",
+            load_md=f"{_load}.md",
+        log:
+            "results/{design}/logs/relief.log",
+        wildcard_constraints:
+            design=either(_designs, "no-design"),
+        threads: 1
+        script:
+            "../scripts/plus_relief.py"
+
+    rule:
+        name:
+            f"plus_te_figures{_suffix}"
+        input:
+            design=design_file,
+            te="results/{design}/data/te.nc",
+            landscape=rules.plus_landscape.output.landscape,
+            optima_csv=f"{_optima}.csv",
+        output:
+            fig04=report(
+                _f04,
+                caption="../report/plus_fig04_te_unmodified.rst",
+                category=category,
+                subcategory=name_of(
+                    _scheme, "Fig. 04: transmission error", "Transmission error"
+                ),
+                labels={"design": "{design}"},
+            ),
+            fig04_caption=f"{_f04}.txt",
+            fig09=report(
+                _f09,
+                caption="../report/plus_fig09_te_relief.rst",
+                category=category,
+                subcategory=name_of(_scheme, "Fig. 09: tip relief", "Tip relief"),
+                labels={"design": "{design}"},
+            ),
+            fig09_caption=f"{_f09}.txt",
+            fig09b=report(
+                _f09b,
+                caption="../report/plus_fig09b_relief_landscape.rst",
+                category=category,
+                subcategory=name_of(
+                    _scheme, "Fig. 09b: relief landscape", "Relief landscape"
+                ),
+                labels={"design": "{design}"},
+            ),
+            fig09b_caption=f"{_f09b}.txt",
+        log:
+            "results/{design}/logs/te_figures.log",
+        wildcard_constraints:
+            design=either(_designs, "no-design"),
+        threads: 1
+        script:
+            "../scripts/plus_te_figures.py"
+
+    PLUS_TARGETS += per_design(
+        [
+            *getattr(rules, f"plus_modal{_suffix}").output,
+            *getattr(rules, f"plus_modal_figures{_suffix}").output,
+            *getattr(rules, f"plus_relief{_suffix}").output,
+            *getattr(rules, f"plus_te_figures{_suffix}").output,
+        ],
+        _designs,
+    )

@@ -190,3 +190,48 @@ def mode_shape_figure(ds: xr.Dataset, n_orders: int = 6) -> Figure:
         axes[r, 0].set_ylabel("normalised\ndisplacement (-)", fontsize=8)
     fig.suptitle("Mode shapes (displacement along the lever arms; planets relative to the carrier)", fontsize=10)
     return fig
+
+
+MESH_COLOURS = {"sp": "tab:blue", "pd": "tab:red", "dr": "tab:green"}
+
+
+def forced_response_figure(ds: xr.Dataset, planet: int = 1, max_harmonic_marks: int = 3) -> Figure:
+    """Forced response against input speed: RMS of the fluctuating mesh force (top) and the dynamic
+    factor (bottom) of the three meshes of one planet, without relief (solid) and with the best relief
+    (dashed).  Vertical lines: the natural frequencies divided by harmonic h = 1, 2, 3 of the mesh
+    frequency (solid, dashed, dotted)."""
+    fig = Figure(figsize=(9, 6.5), constrained_layout=True)
+    ax1, ax2 = fig.subplots(2, 1, sharex=True)
+    speed = ds.speed.values
+    best = ds.attrs.get("best_relief_case") or None
+    cases = [("unmodified", "-")] + ([(best, "--")] if best else [])
+    for kind in ("sp", "pd", "dr"):
+        mesh = f"{kind}{planet}"
+        for case, ls in cases:
+            lab = f"{mesh}, {case} (TE ptp {float(ds.te_ptp.sel(case=case)):.2f} um)"
+            ax1.plot(speed, ds.rms_force.sel(case=case, mesh=mesh), ls=ls, color=MESH_COLOURS[kind], lw=1.2, label=lab)
+            ax2.plot(speed, ds.dynamic_factor.sel(case=case, mesh=mesh), ls=ls, color=MESH_COLOURS[kind], lw=1.2)
+    styles = ["-", "--", ":", "-."]
+    top = speed[-1]
+    for hi, h in enumerate(ds.harmonic.values[:max_harmonic_marks]):
+        for n in np.unique(np.round(ds.resonance_speed.sel(harmonic=h).values, 6)):
+            if n <= top:
+                for ax in (ax1, ax2):
+                    ax.axvline(n, color="0.5", lw=0.7, ls=styles[hi % len(styles)], alpha=0.7)
+    for f in np.unique(np.round(ds.natural_frequency.values, 3)):
+        n = f / float(ds.mesh_frequency[0] / ds.speed[0])
+        if n <= top:
+            ax1.text(n, 1.0, f"{f:.0f} Hz", rotation=90, fontsize=6, va="top", ha="right",
+                     transform=ax1.get_xaxis_transform())
+    ax1.set_yscale("log")
+    ax1.set_ylabel("RMS fluctuating mesh force (N)")
+    ax1.legend(fontsize=7, loc="lower right")
+    ax1.grid(alpha=0.3, which="both")
+    ax2.axhline(1.0, color="k", lw=0.6)
+    ax2.set_ylabel("dynamic factor F_max / F_static (-)")
+    ax2.set_xlabel("input (sun) speed (rpm)")
+    ax2.grid(alpha=0.3)
+    ax1.set_title(f"Forced response to the static TE, condition {ds.attrs['condition']}, modal damping "
+                  f"zeta = {ds.attrs['damping_ratio']:g}, static mesh force {ds.attrs['static_force_N']:.0f} N; "
+                  "grey: natural frequencies / h (h = 1 solid, 2 dashed, 3 dotted)", fontsize=8)
+    return fig

@@ -179,3 +179,38 @@ def load_study_header(design: PlusDesign, paper: ModuleType | None) -> str:
         text += (f" Paper: {pr['amount_mm'] * 1e3:.1f} um, {pr['length_mm']:.3f} mm, {pr['reduction_pct']:+.2f} % at "
                  f"T = {design.torque:g} N m.")
     return text
+
+
+def forced_response(design: PlusDesign, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
+    """Caption of the forced-response figure, with the largest forces measured (``paper``: the study goes
+    beyond that paper, which is said)."""
+    best = ds.attrs.get("best_relief_case") or ""
+    lines = [
+        "Forced response of the linear model (mass and stiffness of the modal model, working condition "
+        f"{ds.attrs['condition']}, modal damping zeta = {ds.attrs['damping_ratio']:g} in every elastic mode) to the "
+        f"static TE of the p-d meshes: harmonics 1-{int(ds.harmonic.max())} of its Fourier series excite each p-d mesh "
+        f"spring as a displacement ({ds.attrs['phasing']} mesh phasing of the planets; the s-p and d-r meshes carry "
+        "no TE), solved in the frequency domain by modal superposition. Top: RMS of the fluctuating mesh force; "
+        "bottom: largest mesh force over a mesh period / static mesh force "
+        f"({ds.attrs['static_force_N']:.1f} N, the same in every mesh). Solid: unmodified teeth; dashed: the optimal "
+        "tip relief with the smallest TE. Grey lines: natural frequencies divided by the harmonic "
+        "(h = 1 solid, 2 dashed, 3 dotted). Method: docs/paper2.md, 'Forced response across speed'."
+        + (f" Beyond {paper.SHORT}, which computes no forced response." if paper is not None else ""),
+        "Natural frequencies (Hz): " + ", ".join(f"{f:.1f}" for f in np.unique(np.round(ds.natural_frequency.values, 1))) + ".",
+    ]
+    lost = ds.min_force_factor.sel(case="unmodified") < 0
+    if bool(lost.any()):
+        speeds = ds.speed.where(lost.any("mesh"), drop=True).values
+        lines.append(f"Where the smallest force falls below zero (without relief, at speeds between {speeds.min():.0f} and "
+                     f"{speeds.max():.0f} rpm) "
+                     "the linear model would pull the teeth together: there the teeth separate and the linear result "
+                     "only marks a severe resonance.")
+    for case in [c for c in ("unmodified", best) if c]:
+        for kind in ("sp", "pd", "dr"):
+            sub = ds.sel(case=case, mesh=f"{kind}1")
+            i = int(np.argmax(sub.rms_force.values))
+            j = int(np.argmax(sub.dynamic_factor.values))
+            lines.append(f"  {case}, {kind}1 (TE ptp {float(ds.te_ptp.sel(case=case)):.2f} um): largest RMS "
+                         f"{float(sub.rms_force[i]):.1f} N at {float(ds.speed[i]):.0f} rpm, largest dynamic factor "
+                         f"{float(sub.dynamic_factor[j]):.2f} at {float(ds.speed[j]):.0f} rpm")
+    return "\n".join(lines)

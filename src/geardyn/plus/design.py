@@ -68,6 +68,19 @@ class ReliefSpec:
 
 
 @dataclass(frozen=True)
+class ForcedSpec:
+    """Forced-response settings (:mod:`geardyn.plus.forced`): modal damping ratio, working condition,
+    number of TE harmonics, planet mesh phasing and the input-speed grid."""
+
+    damping_ratio: float = 0.05
+    condition: str = "I"
+    harmonics: int = 5
+    phasing: str = "sequential"
+    speed_points: int = 1500
+    speed_max_factor: float = 1.2
+
+
+@dataclass(frozen=True)
 class PlusDesign:
     """Plus (double-planet) planetary gear set.  Lengths in m, angles in rad, SI otherwise."""
 
@@ -94,6 +107,7 @@ class PlusDesign:
     torque_member: str
     te: TESpec
     relief: ReliefSpec
+    forced: ForcedSpec = field(default_factory=ForcedSpec)
     planet_angles_in_sun_terms: bool = True
     plus_set_sign: bool = True
     raw: Mapping[str, Any] = field(default_factory=dict, compare=False, repr=False)
@@ -125,6 +139,17 @@ def _body(d: Mapping[str, Any]) -> Body:
 
 def _springs(d: Mapping[str, Any]) -> Springs:
     return Springs(float(d["sun_planet"]), float(d["planet_planet"]), float(d["planet_ring"]), float(d["sun_bearing"]))
+
+
+def _forced(d: Mapping[str, Any]) -> ForcedSpec:
+    return ForcedSpec(
+        damping_ratio=float(d["damping_ratio"]),
+        condition=str(d["condition"]),
+        harmonics=int(d["harmonics"]),
+        phasing=str(d["phasing"]),
+        speed_points=int(d["speed_points"]),
+        speed_max_factor=float(d["speed_max_factor"]),
+    )
 
 
 def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
@@ -182,6 +207,7 @@ def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
             landscape_points=rl["landscape_points"],
             load_study_torques=tuple(float(t) for t in rl["load_study_torques_Nm"]),
         ),
+        forced=_forced(d["forced_response"]),
         planet_angles_in_sun_terms=d["fixes"]["planet_angles_in_sun_terms"],
         plus_set_sign=d["fixes"]["plus_set_sign"],
         raw=d,

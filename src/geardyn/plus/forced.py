@@ -1,0 +1,249 @@
+"""Linear forced response of the plus set to the static transmission error, against input speed.
+
+Model (``docs/paper2.md``, "Forced response across speed"): the linear model of :mod:`.modal`
+(M, K over the coordinates of one working condition) with *modal* damping, the same ratio zeta in
+every elastic mode, excited by the static TE of the p-d meshes as a displacement ("wedge") in the
+mesh spring.  With e_j(t) the TE fluctuation (mean removed, m) of the p-d mesh of planet j, the
+compression of mesh element e is ``delta_e = v_e . q + e_e`` and
+
+    M q'' + C q' + K q = -sum_j k_pd e_j(t) v_pdj,      F_e = k_e (v_e . q + e_e)   (fluctuation, N).
+
+The TE is periodic in the mesh phase: e_j(t) = sum_h Re(c_h exp(i h (W t + 2 pi g_j))), with c_h its
+Fourier coefficients and g_j the mesh phase of planet j (mesh periods).  For each speed and harmonic the
+response solves (K - w^2 M + i w C) X = F with w = h W, here by modal superposition over the elastic modes
+(the rigid-body mode of the condition strains no spring, so the mesh excitation does not reach it):
+
+    X = sum_r phi_r (phi_r . F) / (w_r^2 - w^2 + 2 i zeta w_r w)      (phi_r M-normalised).
+
+Limits (tested): w -> 0 gives the static solution K^+ F; w -> infinity gives X -> 0 and F_e -> k e_e
+(the whole TE taken up by the mesh spring); zero TE gives zero force.  Units: SI (m, N, rad/s); speeds
+in rpm of the sun (the input member).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import modal
+from .design import PlusDesign
+from .ishikawa import pd_mesh_load
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+MESH_KINDS = ("sp", "pd", "dr")
+#: Samples per mesh period used to find the largest force of a periodic response.
+PHASE_SAMPLES = 128
+
+
+def modal_frf(omega2: ArrayLike, shapes: ArrayLike, zeta: float, force: ArrayLike, omega: ArrayLike) -> NDArray:
+    """Complex response X (m or rad) of a modally damped system to the harmonic force ``force``.
+
+    ``omega2`` (m,) squared natural circular frequencies (rad^2/s^2) of the elastic modes, ``shapes``
+    (n, m) their M-normalised shapes, ``force`` (..., n) complex force amplitudes, ``omega`` circular
+    frequencies (rad/s) broadcast against ``force[..., 0]``.  Returns X with shape
+    ``broadcast(omega, force[..., 0]).shape + (n,)``.
+    """
+    omega2 = np.asarray(omega2, dtype=float)
+    shapes = np.asarray(shapes, dtype=float)
+    f = np.asarray(force)
+    w = np.asarray(omega, dtype=float)[..., None]
+    wr = np.sqrt(omega2)
+    modal_force = f @ shapes  # (..., m)
+    q = modal_force / (omega2 - w**2 + 2j * zeta * wr * w)
+    return q @ shapes.T
+
+
+def modal_damping_matrix(mass: ArrayLike, omega2: ArrayLike, shapes: ArrayLike, zeta: float) -> NDArray:
+    """Physical damping matrix C = M Phi diag(2 zeta w_r) Phi^T M of modal damping (N s/m, ...).
+
+    With it, the direct solve (K - w^2 M + i w C) X = F equals :func:`modal_frf`.
+    """
+    m = np.asarray(mass, dtype=float)
+    phi = np.asarray(shapes, dtype=float)
+    mp = m @ phi
+    return mp @ np.diag(2 * zeta * np.sqrt(np.asarray(omega2, dtype=float))) @ mp.T
+
+
+def te_harmonics(te: ArrayLike, n: int) -> NDArray:
+    """Complex Fourier coefficients c_1..c_n (units of ``te``) of a periodic signal sampled uniformly over
+    one period along its last axis: te(s) = mean + sum_h Re(c_h exp(2 pi i h s)), s in mesh periods."""
+    x = np.asarray(te, dtype=float)
+    npts = x.shape[-1]
+    if n > npts // 2 - 1:
+        raise ValueError(f"{n} harmonics need more than {2 * n + 1} samples per period, got {npts}")
+    return 2.0 * np.fft.rfft(x, axis=-1)[..., 1:n + 1] / npts
+
+
+def mesh_phases(design: PlusDesign) -> NDArray:
+    """Mesh phase g_j (mesh periods, in [0, 1)) of the p-d mesh of each planet (``forced.phasing``)."""
+    psi = np.asarray(design.planet_angles)
+    if design.forced.phasing == "in_phase":
+        return np.zeros_like(psi)
+    return np.mod(design.sun.teeth * psi / (2 * np.pi), 1.0)
+
+
+def mesh_frequency_per_rpm(design: PlusDesign, condition: str) -> float:
+    """Mesh frequency (Hz) per rpm of the sun: z_s |1 - theta_c/theta_s| / 60 (the carrier ratio of the
+    condition's rigid-body motion)."""
+    md = modal.modes(design, condition)  # type: ignore[arg-type]
+    if md.n_rigid != 1:
+        raise ValueError(f"condition {condition} has {md.n_rigid} rigid-body modes; the forced response needs one")
+    rigid = md.full_shape(0)
+    ts, tc = rigid[modal.COORDS.index("theta_s")], rigid[modal.COORDS.index("theta_c")]
+    if ts == 0:
+        raise ValueError(f"the sun does not turn in the rigid-body motion of condition {condition}")
+    return design.sun.teeth * abs(1.0 - tc / ts) / 60.0
+
+
+@dataclass(frozen=True)
+class ForcedResponse:
+    """Mesh forces of the forced response.  Forces in N, speeds in rpm, frequencies in Hz.
+
+    ``amplitude`` (case, speed, harmonic, mesh) complex force amplitude of each harmonic;
+    ``rms`` (case, speed, mesh) RMS of the fluctuating mesh force; ``dynamic_factor`` (case, speed,
+    mesh) largest total force over a mesh period / static force; ``min_factor`` the smallest total force /
+    static force (below 0 the linear model would pull the teeth: contact is lost there); ``natural_hz`` the elastic natural
+    frequencies of the condition.
+    """
+
+    condition: str
+    zeta: float
+    cases: tuple[str, ...]
+    meshes: tuple[str, ...]
+    harmonics: NDArray
+    speed_rpm: NDArray
+    mesh_hz_per_rpm: float
+    static_force: float
+    te_ptp: NDArray
+    amplitude: NDArray
+    rms: NDArray
+    dynamic_factor: NDArray
+    min_factor: NDArray
+    natural_hz: NDArray
+
+    @property
+    def mesh_frequency_hz(self) -> NDArray:
+        return self.speed_rpm * self.mesh_hz_per_rpm
+
+    def resonance_speeds(self) -> NDArray:
+        """Speeds (rpm), shape (harmonic, mode), at which harmonic h of the mesh frequency meets a mode."""
+        return self.natural_hz[None, :] / (self.harmonics[:, None] * self.mesh_hz_per_rpm)
+
+
+def speed_grid(design: PlusDesign, natural_hz: NDArray, mesh_hz_per_rpm: float) -> NDArray:
+    """``speed_points`` speeds (rpm) from top/points to top = factor x the speed where h = 1 meets the highest mode."""
+    top = design.forced.speed_max_factor * float(np.max(natural_hz)) / mesh_hz_per_rpm
+    n = design.forced.speed_points
+    return np.linspace(top / n, top, n)
+
+
+def forced_response(
+    design: PlusDesign,
+    te: ArrayLike,
+    cases: tuple[str, ...] = ("unmodified",),
+    *,
+    speeds: ArrayLike | None = None,
+    zeta: float | None = None,
+) -> ForcedResponse:
+    """Mesh forces against sun speed for each TE case.
+
+    ``te`` (case, phase) is the static TE (m) of the p-d pair over one mesh period, sampled uniformly
+    (e.g. ``TEResult.te`` or the ``transmission_error`` of ``te.nc`` times 1e-6); every p-d mesh gets
+    the same TE shifted by its mesh phase (:func:`mesh_phases`).  ``speeds`` (rpm) default to
+    :func:`speed_grid`; ``zeta`` to ``design.forced.damping_ratio``.
+    """
+    spec = design.forced
+    zeta = spec.damping_ratio if zeta is None else float(zeta)
+    te = np.atleast_2d(np.asarray(te, dtype=float))
+    if te.shape[0] != len(cases):
+        raise ValueError(f"{te.shape[0]} TE curves for {len(cases)} cases")
+    cond = spec.condition
+    md = modal.modes(design, cond)  # type: ignore[arg-type]
+    keep = [modal.COORDS.index(c) for c in md.coords]
+    omega2 = md.omega2[md.n_rigid:]
+    shapes = md.shapes[:, md.n_rigid:]
+    natural_hz = np.sqrt(omega2) / (2 * np.pi)
+    per_rpm = mesh_frequency_per_rpm(design, cond)
+    speed = speed_grid(design, natural_hz, per_rpm) if speeds is None else np.asarray(speeds, dtype=float)
+    meshes = [el for el in modal.elements(design) if el.kind in MESH_KINDS]
+    V = np.array([el.v[keep] for el in meshes])  # (9, n)
+    k = np.array([el.k for el in meshes])
+    pd = np.array([el.kind == "pd" for el in meshes])
+    phase = np.zeros(len(meshes))
+    phase[pd] = mesh_phases(design)[[el.j for el in meshes if el.kind == "pd"]]
+    h = np.arange(1, spec.harmonics + 1)
+    c = te_harmonics(te, spec.harmonics)  # (case, H)
+    # TE amplitude of every mesh element and harmonic: (case, H, 9); zero on s-p and d-r meshes
+    e = c[:, :, None] * np.exp(2j * np.pi * h[None, :, None] * phase[None, None, :]) * pd[None, None, :]
+    force = -np.einsum("chm,m,mn->chn", e, k, V)  # (case, H, n)
+    omega = 2 * np.pi * per_rpm * speed[:, None] * h[None, :]  # (speed, H)
+    X = modal_frf(omega2, shapes, zeta, force[:, None, :, :], omega[None, :, :])  # (case, speed, H, n)
+    amp = k * (X @ V.T + e[:, None, :, :])  # (case, speed, H, 9)
+    rms = np.sqrt(0.5 * np.sum(np.abs(amp) ** 2, axis=2))
+    theta = 2 * np.pi * np.arange(PHASE_SAMPLES) / PHASE_SAMPLES
+    basis = np.exp(1j * h[:, None] * theta[None, :])  # (H, T)
+    static = pd_mesh_load(design)
+    # largest and smallest force over a mesh period, one case at a time (keeps the (speed, mesh, phase) block small)
+    fluct = [np.einsum("shm,ht->smt", a, basis).real for a in amp]
+    factor = np.stack([(static + f.max(axis=-1)) / static for f in fluct])
+    min_factor = np.stack([(static + f.min(axis=-1)) / static for f in fluct])
+    return ForcedResponse(
+        condition=cond, zeta=zeta, cases=tuple(cases), meshes=tuple(el.name for el in meshes), harmonics=h,
+        speed_rpm=speed, mesh_hz_per_rpm=per_rpm, static_force=static, te_ptp=np.ptp(te, axis=-1),
+        amplitude=amp, rms=rms, dynamic_factor=factor, min_factor=min_factor, natural_hz=natural_hz,
+    )
+
+
+def best_relief_case(cases: tuple[str, ...], te_ptp: ArrayLike) -> str:
+    """The relief case with the smallest peak-to-peak TE (any case but 'unmodified')."""
+    ptp = np.asarray(te_ptp, dtype=float)
+    relieved = [i for i, c in enumerate(cases) if c != "unmodified"]
+    if not relieved:
+        raise ValueError("no relief case")
+    return cases[min(relieved, key=lambda i: ptp[i])]
+
+
+def to_dataset(res: ForcedResponse, design: PlusDesign) -> "xr.Dataset":
+    """CF dataset of a :class:`ForcedResponse` (forces in N, TE in um, speeds in rpm)."""
+    import xarray as xr
+
+    dims3 = ("case", "speed", "mesh")
+    return xr.Dataset(
+        {
+            "rms_force": (dims3, res.rms, {"units": "N", "long_name": "RMS of the fluctuating mesh force"}),
+            "dynamic_factor": (dims3, res.dynamic_factor, {
+                "units": "1", "long_name": "largest mesh force over a mesh period / static mesh force"}),
+            "min_force_factor": (dims3, res.min_factor, {
+                "units": "1", "long_name": "smallest mesh force over a mesh period / static mesh force (< 0: contact lost)"}),
+            "force_amplitude": (("case", "speed", "harmonic", "mesh"), np.abs(res.amplitude), {
+                "units": "N", "long_name": "amplitude of the mesh force at each harmonic of the mesh frequency"}),
+            "mesh_frequency": (("speed",), res.mesh_frequency_hz, {
+                "units": "Hz", "long_name": "mesh frequency at the input (sun) speed"}),
+            "te_ptp": (("case",), res.te_ptp * 1e6, {
+                "units": "um", "long_name": "peak-to-peak static TE of the p-d pair (excitation)"}),
+            "natural_frequency": (("mode",), res.natural_hz, {
+                "units": "Hz", "long_name": f"undamped natural frequency of elastic mode, condition {res.condition}"}),
+            "resonance_speed": (("harmonic", "mode"), res.resonance_speeds(), {
+                "units": "rpm", "long_name": "sun speed at which the harmonic of the mesh frequency meets the mode"}),
+        },
+        coords={
+            "case": ("case", list(res.cases), {"units": "1", "long_name": "tip-relief case of the p-d pair"}),
+            "speed": ("speed", res.speed_rpm, {"units": "rpm", "long_name": "input (sun) speed"}),
+            "mesh": ("mesh", list(res.meshes), {"units": "1", "long_name": "mesh (s-p, p-d, d-r of planet 1-3)"}),
+            "harmonic": ("harmonic", res.harmonics, {"units": "1", "long_name": "harmonic of the mesh frequency"}),
+            "mode": ("mode", np.arange(1, len(res.natural_hz) + 1), {"units": "1", "long_name": "elastic mode"}),
+        },
+        attrs={
+            "title": f"Forced response to the static TE against speed, design {design.name}",
+            "condition": res.condition,
+            "damping_ratio": res.zeta,
+            "phasing": design.forced.phasing,
+            "static_force_N": res.static_force,
+            "best_relief_case": best_relief_case(res.cases, res.te_ptp) if len(res.cases) > 1 else "",
+        },
+    )
