@@ -80,9 +80,13 @@ def small_config() -> dict[str, Any]:
     cfg["points"] = {"fig08_small": {"designs": ["li2013"], "title": "small points", "fixed": {"b": 2.0, "e": 5.0},
                                      "cases": [{"x1": 0.5}, {"x1": 0.761}], "samples_per_period": 16}}
     cfg["benchmarks"] = {"work_precision": True, "quick": True}
-    cfg["calibration"] = {"small_sequence": {
-        "design": "li2013", "fixed": {"b": 2.0, "e": 5.0}, "x1": {"start": 0.416, "stop": 0.835, "num": 5},
-        "grid": {"w": [0.9, 1.0]}, "chunks": 2, "integration": dict(FAST)}}
+    cfg["calibration"] = {"small_search": {
+        "design": "li2013", "x1": {"start": 0.416, "stop": 0.835, "num": 5},
+        "b": {"start": 0.0, "stop": 2.25, "num": 2}, "e": {"start": 4.0, "stop": 5.0, "num": 2},
+        "search": {"bounds": {"w": {"low": 0.85, "high": 0.95}, "zeta": {"low": 0.08, "high": 0.12}},
+                   "budget": {"popsize": 1, "maxiter": 1},
+                   "workers": 1, "verify_top": 1, "refine": {"steps": [0.1], "rounds": 0}},
+        "sensitivity": {"steps": [0.1], "map_points": 2}, "integration": dict(FAST)}}
     return cfg
 
 

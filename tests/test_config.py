@@ -226,7 +226,7 @@ def test_unknown_preset_is_one_line():
     cfg = _config(sweeps={"s": _sweep(preset="cheap")})
     assert "sweeps.s.preset = 'cheap' is not allowed: the name of an entry of presets, and the config has none" in _refused(cfg)
     cfg = _config(presets={"p": {"integration": {"steps": 128}}})
-    assert "config: unknown key 'presets.p.integration.steps' (allowed keys: batch," in _refused(cfg)
+    assert "config: unknown key 'presets.p.integration.steps' (allowed keys: early_stop," in _refused(cfg)
 
 
 def test_error_floor_follows_steps_per_period():

@@ -37,8 +37,8 @@ def _netcdf_files(work):
 #: Every kind of netCDF file the pipeline writes (paths below results/).
 KINDS = [
     "li2013/data/closed_graph.nc", "li2013/data/stiffness_table.nc", "li2013/sweeps/fig07_small.nc",
-    "li2013/sweeps/fig07_small/chunk_0.nc", "li2013/points/fig08_small.nc", "li2013/calibration/small_sequence.nc",
-    "li2013/calibration/small_sequence/chunk_0.nc", "benchmarks/work_precision.nc", "yue2014/data/modal.nc",
+    "li2013/sweeps/fig07_small/chunk_0.nc", "li2013/points/fig08_small.nc", "li2013/calibration/small_search.nc",
+    "benchmarks/work_precision.nc", "yue2014/data/modal.nc",
     "yue2014/data/te.nc", "yue2014/data/relief_landscape.nc", "yue2014/data/forced_response.nc",
 ]
 
@@ -163,14 +163,14 @@ def test_slurm_profile_keeps_cheap_rules_local(tmp_path):
     # `localrules` name that is no rule, so the dry run above also checked that every name exists)
     block = (wf.ROOT / "workflow/rules/cluster.smk").read_text().split("localrules:")[1]
     local = set(re.findall(r"^\s+(\w+),", block, re.M))
-    assert {"sweep_merge", "calibration_merge", "bifurcation_figure", "point_figure", "fig03_closed_graph",
+    assert {"sweep_merge", "bifurcation_figure", "point_figure", "fig03_closed_graph",
             "closed_graph_figure", "stiffness_figures", "stiffness_figures_own", "plus_modal_figures",
             "plus_modal_figures_own", "plus_te_figures", "plus_te_figures_own", "plus_forced_response",
             "regime_bands", "claims", "map_merge", "map_figure"} == local
     assert "localrule: True" in (wf.ROOT / "workflow/rules/archive.smk").read_text()
-    heavy = {"sweep_chunk", "calibration_chunk", "map_chunk", "point_runs", "work_precision", "plus_relief",
+    heavy = {"sweep_chunk", "calibration_search", "map_chunk", "point_runs", "work_precision", "plus_relief",
              "plus_landscape"}
     assert heavy <= set(profile["set-resources"]) and not local & set(profile["set-resources"])
     planned = set(re.findall(r"^rule (\w+):", text, re.M))
     remote = planned - local - {"all"}
-    assert heavy & planned <= remote and {"sweep_chunk", "calibration_chunk"} <= remote  # the small run has no maps
+    assert heavy & planned <= remote and {"sweep_chunk", "calibration_search"} <= remote  # the small run has no maps

@@ -11,7 +11,6 @@ localrules:
     sweep_merge,
     bifurcation_figure,
     point_figure,
-    calibration_merge,
     plus_modal_figures,
     plus_modal_figures_own,
     plus_te_figures,

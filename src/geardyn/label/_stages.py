@@ -352,6 +352,13 @@ def certify(points: list[Point], ns: list[int], policy: Policy, stage: str, why:
         return points
     tp = [p for p, _ in todo]
     shots = _shoot(tp, [p.run.final_state for p in tp], [n for _, n in todo], policy)
+    # Newton may converge onto a nearby unstable orbit (past a period doubling the old period-n orbit is
+    # also a fixed point of the 2n-period map, close to the new one): deflate it and shoot again
+    again = [k for k, s in enumerate(shots) if s.converged and s.spectral_radius >= 1.0 - policy.stability_margin]
+    if again:
+        for k, r in zip(again, _deflated([tp[k] for k in again], [shots[k] for k in again], policy), strict=True):
+            if r.converged:
+                shots[k] = r
     verdicts = periodic_verdicts(tp, shots, policy, stage, why)
     for k, (p, s, v) in enumerate(zip(tp, shots, verdicts, strict=True)):
         if v is None:
@@ -362,6 +369,54 @@ def certify(points: list[Point], ns: list[int], policy: Policy, stage: str, why:
                                               n_events=int(p.run.n_events))
     decide(tp, verdicts)
     return [p for p in points if p.verdict is None]
+
+
+def _deflated(points: list[Point], found: list[ShootingResult], policy: Policy, max_iter: int = 20
+              ) -> list[ShootingResult]:
+    """Newton shooting for period n from each point's final state on the deflated residual
+    G(x) = m(x) (phi(x) - x), m(x) = 1 / |x - r|^2 + 1, r the unstable orbit point already found (Farrell,
+    Birkisson & Funke, SIAM J. Sci. Comput. 37 (2015) A2026): the deflated Newton iteration cannot
+    converge to r again.  All points together; convergence on the plain residual, as in Newton shooting."""
+    n_of = [f.n for f in found]
+    xs = [np.asarray(p.run.final_state, float).copy() for p in points]
+    out: list[ShootingResult] = [ShootingResult(x, n, False, "max_iterations", max_iter, float("inf"))
+                                 for x, n in zip(xs, n_of, strict=True)]
+    todo = list(range(len(points)))
+    for it in range(max_iter + 1):
+        if not todo:
+            break
+        left = []
+        for n in sorted({n_of[k] for k in todo}):
+            ks = [k for k in todo if n_of[k] == n]
+            runs = simulate_batch([points[k].system for k in ks], period_settings(policy.integration, n),
+                                  [xs[k] for k in ks], monodromy_periods=n, tables=tables_of([points[k] for k in ks]))
+            for k, r in zip(ks, runs, strict=True):
+                if r.diverged or r.monodromy is None:
+                    out[k] = ShootingResult(xs[k], n, False, "diverged", it, float("inf"))
+                    continue
+                F = r.final_state - xs[k]
+                res = float(np.max(np.abs(F)))
+                if res <= policy.newton_tol * max(1.0, float(np.max(np.abs(xs[k])))):
+                    out[k] = ShootingResult(xs[k].copy(), n, True, "converged", it, res, r.monodromy.copy(),
+                                            sorted_multipliers(r.monodromy))
+                    continue
+                d = xs[k] - found[k].state
+                d2 = float(d @ d)
+                if d2 == 0.0 or it == max_iter:
+                    continue
+                m = 1.0 / d2 + 1.0
+                grad = -2.0 * d / d2 ** 2
+                A = m * (r.monodromy - np.eye(6)) + np.outer(F, grad)
+                try:
+                    step = np.linalg.solve(A, -m * F)
+                except np.linalg.LinAlgError:
+                    continue
+                cap = 10.0 * max(1.0, float(np.max(np.abs(xs[k]))))
+                size = float(np.max(np.abs(step)))
+                xs[k] = xs[k] + (step * (cap / size) if size > cap else step)
+                left.append(k)
+        todo = left
+    return out
 
 
 # ------------------------------------------------------------------------------------------------
@@ -509,6 +564,7 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
     tt = _torus(r.poincare, cs)
     digits = tt.digits
     positive = bool(np.isfinite(lam) and lam > cs.lam_tol + 2 * sig)
+    negative = bool(np.isfinite(lam) and lam < -(cs.lam_tol + 2 * sig))
     k01 = flat = NAN
     cross = -1
     if positive and tt.verdict == "chaotic":
@@ -517,8 +573,11 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
         cross = int(k01 > cs.k_chaos) + int(flat > cs.flat_broadband) - 1
         label, stage, why = CHAOS, "exponent", (f"positive exponent {lam:.2g} +- {sig:.1g}; the Birkhoff averages do "
                                                 f"not converge (digits {digits:.1f})")
-    elif tt.verdict == "torus" and not positive:
+    elif tt.verdict == "torus" and not positive and not negative:
         label, stage, why = QP, "torus", f"Birkhoff averages converge (digits {digits:.1f}); exponent {lam:.2g}"
+    elif negative:
+        label, stage, why = UNDET, "undecided", (f"negative exponent {lam:.2g} +- {sig:.1g}: attracted to a periodic "
+                                                 f"orbit that shooting did not find (digits {digits:.1f})")
     elif tt.verdict == "torus":
         label, stage, why = UNDET, "undecided", (f"positive exponent {lam:.2g} but the Birkhoff averages converge "
                                                  f"(digits {digits:.1f})")

@@ -10,6 +10,7 @@ verdict of the previous one.  With ``policy.start == "fixed"`` every point is a 
 from __future__ import annotations
 
 import logging
+import time
 from collections.abc import Sequence
 
 import numpy as np
@@ -55,6 +56,7 @@ def label_lines(lines: Sequence[Sequence[System]], policy: Policy,
     prev: list[Verdict | None] = [None] * len(lines)
     prev2: list[Verdict | None] = [None] * len(lines)
     length = max((len(line) for line in lines), default=0)
+    total, t0 = sum(len(line) for line in lines), time.perf_counter()
     for k in range(length):
         idx = [i for i, line in enumerate(lines) if k < len(line)]
         systems = [lines[i][k] for i in idx]
@@ -66,8 +68,11 @@ def label_lines(lines: Sequence[Sequence[System]], policy: Policy,
             out[i][k] = v
             prev2[i] = prev[i]
             prev[i] = v
-        if progress and length > 1 and ((k + 1) % max(1, length // 10) == 0 or k + 1 == length):
-            log.info("%s: point %d/%d of %d lines", progress, k + 1, length, len(lines))
+        if progress and ((k + 1) % max(1, length // 10) == 0 or k + 1 == length):
+            done = sum(min(k + 1, len(line)) for line in lines)
+            elapsed = time.perf_counter() - t0
+            log.info("%s: %d/%d points, %.1f s elapsed, %.1f s remaining", progress, done, total, elapsed,
+                     elapsed / done * (total - done))
     return out
 
 

@@ -111,8 +111,9 @@ def plot_points(ds: xr.Dataset, title: str, fmax: float = 3.0) -> Figure:
 
 
 def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=()) -> Figure:
-    """Regime map: label image (left) and largest Lyapunov exponent (right; blank where the cheap
-    path gave none), with the paper's 1-D cuts as dashed lines."""
+    """Regime map: label image (left) and largest exponent (right: Floquet for periodic points, the tangent
+    vector otherwise), with the paper's 1-D cuts as dashed lines; where the map was also labelled from the
+    fixed start (``coexisting``), the points whose two starts end on different attractors are hatched."""
     from matplotlib.colors import BoundaryNorm, ListedColormap, TwoSlopeNorm
 
     from geardyn import classify
@@ -127,6 +128,12 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=()) -> Figure:
     im = ax.pcolormesh(x, y, index, cmap=cmap, norm=norm, shading="nearest", rasterized=True)
     cb = fig.colorbar(im, ax=ax, ticks=np.arange(len(codes)))
     cb.ax.set_yticklabels([classify.short_name(c) for c in codes], fontsize=7)
+    if "coexisting" in ds:
+        both = (ds["coexisting"].values == 1).astype(float)
+        if both.any():
+            ax.contourf(x, y, both, levels=[0.5, 1.5], colors="none", hatches=["////"])
+            ax.plot([], [], ls="", marker="s", mfc="none", mec="k", label="coexisting attractors (hatched)")
+            ax.legend(loc="upper right", fontsize=7)
     lam = ds["lyapunov"].values
     finite = np.isfinite(lam)
     vmax = float(np.nanmax(np.abs(lam))) if finite.any() else 1.0
@@ -142,7 +149,7 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=()) -> Figure:
         a.set_xlabel(ds["x"].attrs.get("long_name", "x"))
         a.set_ylabel(ds["y"].attrs.get("long_name", "y"))
     ax.set_title("motion label", fontsize=9, loc="left")
-    axl.set_title("largest Lyapunov exponent", fontsize=9, loc="left")
+    axl.set_title("largest exponent (Floquet or tangent)", fontsize=9, loc="left")
     fig.suptitle(title)
     fig.tight_layout()
     return fig

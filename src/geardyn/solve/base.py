@@ -67,18 +67,13 @@ class SimulationSettings:
     divergence_threshold: a run has diverged when any |state_i| exceeds this many times the larger of 1
     and the same component of the static deflection (:func:`divergence_limits`), or is not finite.
 
-    Used by sweeps and maps (:mod:`geardyn.runs`, :func:`geardyn.solve.simulate_batch`), never by
-    :func:`geardyn.solve.simulate` itself (docs/performance.md):
+    Used by the labeller (:mod:`geardyn.label`, through :func:`geardyn.solve.simulate_batch`), never by
+    :func:`geardyn.solve.simulate` itself:
 
     early_stop: end the transient once the stroboscopic map has converged to a period-n cycle
     (return distance <= early_stop_tol_factor x the classifier's tolerance floor for
     early_stop_confirm consecutive periods, not before early_stop_min_periods); False: always the
-    full ``transient_periods`` (the previous method).
-    periodic_exponent: ``"floquet"``: the exponent of a periodic point is log max|mu| / (n T) from the
-    monodromy of its converged period-n cycle (the tangent run is kept for the others);
-    ``"tangent"``: the tangent vector for every point (the previous method).
-    batch: integrate the points of a chunk together, in parallel over both cores (numba prange);
-    False: one point after the other (bit-identical results).
+    full ``transient_periods``.
     """
 
     integrator: IntegratorName = "rk4_event"
@@ -93,16 +88,12 @@ class SimulationSettings:
     early_stop_min_periods: int = 50
     early_stop_confirm: int = 10
     early_stop_tol_factor: float = 0.1
-    periodic_exponent: Literal["floquet", "tangent"] = "floquet"
-    batch: bool = True
 
     def __post_init__(self) -> None:
         if self.integrator not in ("rk4", "rk4_event", "dop853"):
             raise ValueError(f"integrator {self.integrator!r}; allowed: 'rk4', 'rk4_event', 'dop853'")
         if self.steps_per_period < 2:
             raise ValueError("steps_per_period must be >= 2")
-        if self.periodic_exponent not in ("floquet", "tangent"):
-            raise ValueError(f"periodic_exponent {self.periodic_exponent!r}; allowed: 'floquet', 'tangent'")
         if self.early_stop_confirm < 1 or self.early_stop_min_periods < 0 or not self.early_stop_tol_factor > 0:
             raise ValueError("early_stop_confirm >= 1, early_stop_min_periods >= 0, early_stop_tol_factor > 0")
 

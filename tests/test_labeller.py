@@ -1,0 +1,91 @@
+"""The labeller (geardyn.label): lines followed point by point, typed bifurcations, certified labels, and
+verdicts that depend only on their own line."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from geardyn import classify
+from geardyn.khv import design, point
+from geardyn.label import Policy, label_lines, label_points
+from geardyn.label.compare import hausdorff
+from geardyn.solve import SimulationSettings, simulate
+
+ROOT = Path(__file__).resolve().parents[1]
+# the regime maps' settings: 128 steps per period (Poincare error 1.9e-5), 400 + 50 periods
+MAP = SimulationSettings(steps_per_period=128, transient_periods=400, recorded_periods=50)
+CS = classify.ClassifierSettings(error_floor=1.9e-5, tangent_periods=200)
+ROUTE_X1 = np.linspace(0.575, 0.60, 11)   # li2013_route, b = 2, e = 5: P1 -> P2 at x1 = 0.59
+
+
+def _line(name: str, x1s, **fixed) -> list:
+    d = design.load(ROOT / "config" / "designs" / f"{name}.yaml")
+    return [point.point_coefficients(d, {"x1": float(x), "b": 2.0, "e": 5.0, **fixed}) for x in x1s]
+
+
+@pytest.fixture(scope="module")
+def route():
+    line = _line("li2013_route", ROUTE_X1)
+    return line, label_lines([line], Policy(MAP, CS))[0]
+
+
+def test_period_doubling_is_typed_and_the_new_orbit_followed(route):
+    """The P1 orbit's real multiplier leaves through -1 between x1 = 0.5875 (|mu| 0.998) and 0.59: the
+    verdict at 0.59 says period_doubling and finds the P2 orbit by shooting (the unstable P1 orbit, also a
+    fixed point of the 2-period map, deflated); the points after it follow that P2 orbit."""
+    _, out = route
+    labels = [v.label for v in out]
+    assert labels == [1] * 6 + [2] * 5
+    assert [v.bifurcation for v in out] == ["none"] * 6 + ["period_doubling"] + ["none"] * 4
+    assert [v.stage for v in out[1:6]] == ["follow"] * 5 and [v.stage for v in out[7:]] == ["follow"] * 4
+    assert out[5].multiplier == pytest.approx(0.99816, abs=1e-4)
+    assert all(v.exponent_method == "floquet" and v.exponent < 0 for v in out)
+    assert all(v.transient_used == 0 for v in out[7:])
+
+
+def test_a_long_run_from_the_follow_start_ends_on_the_labelled_orbit(route):
+    """Independent check: 6000 periods of a plain run from the state the labeller started the point from
+    (the previous point's orbit) end on the orbit the verdict certified, within 1e-6."""
+    line, out = route
+    for k in (3, 8):
+        r = simulate(line[k], SimulationSettings(steps_per_period=128, transient_periods=6000,
+                                                 recorded_periods=out[k].period), x0=out[k - 1].final_state)
+        cycle = out[k].poincare[:out[k].period]
+        assert hausdorff(r.poincare, cycle) < 1e-6
+
+
+def test_a_batch_of_lines_is_each_line_alone(route):
+    """Lines advance together in lockstep; each verdict is the one its line gets alone, bit for bit."""
+    a, alone_a = route
+    b = _line("li2013_calibrated", (0.53, 0.54, 0.545, 0.55))
+    together = label_lines([a, b], Policy(MAP, CS))
+    alone_b = label_lines([b], Policy(MAP, CS))[0]
+    for got, want in ((together[0], alone_a), (together[1], alone_b)):
+        for g, w in zip(got, want, strict=True):
+            assert (g.label, g.stage, g.bifurcation, g.reason) == (w.label, w.stage, w.bifurcation, w.reason)
+            assert np.array_equal(g.final_state, w.final_state) and np.array_equal(g.poincare, w.poincare)
+            assert g.exponent == w.exponent or (np.isnan(g.exponent) and np.isnan(w.exponent))
+
+
+def test_chaos_needs_a_positive_exponent_that_the_torus_test_confirms():
+    """li2013_route at x1 = 0.80 (b = 2, e = 5): exponent +0.037 per unit tau (tangent vector), the weighted
+    Birkhoff averages of the two halves agree to less than log10 sqrt(N) + 1.5 digits."""
+    v = label_points(_line("li2013_route", [0.80]), Policy(MAP, CS, start="fixed"))[0]
+    assert v.label == classify.LABELS["chaotic"] and v.stage == "exponent" and v.exponent_method == "tangent"
+    assert 0.025 < v.exponent < 0.05 and v.exponent > 5 * v.exponent_sigma
+    assert v.torus_digits < 0.5 * np.log10(100) + 1.5
+
+
+def test_follow_and_fixed_agree_where_one_attractor_exists():
+    """li2013 (P1 everywhere at b = 2, e = 5): both starts give P1 and the same orbit within 1e-8; the
+    followed points need no transient, the fixed ones hundreds of periods."""
+    line = _line("li2013", np.linspace(0.45, 0.55, 4))
+    fol = label_lines([line], Policy(MAP, CS))[0]
+    fix = label_lines([line], Policy(MAP, CS, start="fixed"))[0]
+    assert [v.label for v in fol] == [v.label for v in fix] == [1] * 4
+    for a, b in zip(fol, fix, strict=True):
+        assert np.max(np.abs(a.final_state - b.final_state)) < 1e-8 * max(1.0, np.max(np.abs(b.final_state)))
+    assert all(v.transient_used == 0 for v in fol[1:]) and all(v.transient_used > 50 for v in fix)
