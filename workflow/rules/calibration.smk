@@ -63,7 +63,7 @@ rule calibration_chunk:
     input:
         design=design_file,
     output:
-        "results/{design}/calibration/{calibration}/chunk_{chunk}.nc",
+        temp("results/{design}/calibration/{calibration}/chunk_{chunk}.nc"),
     log:
         "results/{design}/logs/calibration_{calibration}_{chunk}.log",
     wildcard_constraints:
