@@ -77,6 +77,8 @@ def _numpy_cpu() -> dict[str, str]:
     dispatch = [f for f in getattr(mu, "__cpu_dispatch__", []) if found.get(f)]
     out = {"numpy_cpu_baseline": " ".join(getattr(mu, "__cpu_baseline__", [])),
            "numpy_cpu_dispatch": " ".join(dispatch) or "none"}
+    out["numpy_blas_core"] = _openblas_core("numpy", "scipy_openblas_get_corename64_")
+    out["scipy_blas_core"] = _openblas_core("scipy", "scipy_openblas_get_corename")
     try:
         cfg = np.show_config(mode="dicts")["Build Dependencies"]
         out["numpy_blas"] = " ".join(str(cfg["blas"].get(k, "")) for k in ("name", "version")).strip()
@@ -84,6 +86,26 @@ def _numpy_cpu() -> dict[str, str]:
     except Exception:  # noqa: BLE001 - numpy without build information: say so
         out["numpy_blas"] = out["numpy_lapack"] = "unknown"
     return out
+
+
+def _openblas_core(package: str, symbol: str) -> str:
+    """The kernel set ("core") the OpenBLAS bundled with ``package`` uses, e.g. ``Nehalem``, or ``unknown``."""
+    import ctypes
+    import glob
+    import importlib.util
+
+    spec = importlib.util.find_spec(package)
+    if spec is None or not spec.submodule_search_locations:
+        return "unknown"
+    libs = glob.glob(os.path.join(next(iter(spec.submodule_search_locations)), "..", f"{package}.libs",
+                                  "libscipy_openblas*.so"))
+    try:
+        lib = ctypes.CDLL(libs[0])  # already loaded by the package: the same handle
+        fn = getattr(lib, symbol)
+        fn.restype = ctypes.c_char_p
+        return fn().decode()
+    except (IndexError, OSError, AttributeError):
+        return "unknown"
 
 
 def _numba_cpu() -> dict[str, str]:
@@ -108,7 +130,7 @@ def _numba_cpu() -> dict[str, str]:
 #: The keys of :func:`runtime_provenance` (besides ``env_<VARIABLE>`` for the overrides that are set).
 RUNTIME_KEYS = ("python_version", "python_implementation", *(f"{p.lower()}_version" for p in PROVENANCE_PACKAGES),
                 "platform", "cpu_model", "cpu_simd_flags", "numpy_cpu_baseline", "numpy_cpu_dispatch", "numpy_blas",
-                "numpy_lapack", "numba_cpu_name", "numba_cpu_features")
+                "numpy_lapack", "numpy_blas_core", "scipy_blas_core", "numba_cpu_name", "numba_cpu_features")
 
 
 def runtime_of(attrs: Mapping[str, Any]) -> dict[str, str]:
@@ -123,7 +145,8 @@ def runtime_provenance() -> dict[str, str]:
     Keys: ``python_version``, ``<package>_version`` for :data:`PROVENANCE_PACKAGES`, ``platform``,
     ``cpu_model``, ``cpu_simd_flags`` (SIMD flags of /proc/cpuinfo), ``numpy_cpu_baseline`` /
     ``numpy_cpu_dispatch`` (numpy's compiled-in and run-time-dispatched instruction sets, after
-    ``NPY_DISABLE_CPU_FEATURES``), ``numpy_blas`` / ``numpy_lapack``, ``numba_cpu_name`` /
+    ``NPY_DISABLE_CPU_FEATURES``), ``numpy_blas`` / ``numpy_lapack``, ``numpy_blas_core`` /
+    ``scipy_blas_core`` (the OpenBLAS kernels in use, :data:`geardyn.BLAS_CORETYPE`), ``numba_cpu_name`` /
     ``numba_cpu_features`` (the target numba compiles for) and the numba environment overrides.
     Computed once per process (the values cannot change while it runs).
     """

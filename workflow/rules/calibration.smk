@@ -59,6 +59,31 @@ rule calibration_sensitivity:
         "../scripts/calibration_sensitivity.py"
 
 
+def committed_design(wildcards):
+    """The committed design file a search reproduces (its ``design_name``, else ``<design>_calibrated``)."""
+    search = config["calibration"][wildcards.calibration]["search"]
+    name = search.get("design_name") or f"{wildcards.design}_calibrated"
+    return config["designs"].get(name, f"config/designs/{name}.yaml")
+
+
+rule calibration_compare:
+    input:
+        design=design_file,
+        best="results/{design}/calibration/{calibration}_best.json",
+        committed=committed_design,
+    output:
+        "results/{design}/calibration/{calibration}_vs_committed.md",
+    log:
+        "results/{design}/logs/calibration_{calibration}_compare.log",
+    wildcard_constraints:
+        calibration=either(SEARCH_CALIBRATIONS, "no-search"),
+    threads: 1
+    params:
+        spec=config_slice("calibration"),
+    script:
+        "../scripts/calibration_compare.py"
+
+
 rule calibration_chunk:
     input:
         design=design_file,
@@ -104,5 +129,5 @@ CALIBRATION_TARGETS = [
 ] + [
     f"results/{config['calibration'][name]['design']}/calibration/{name}_{kind}"
     for name in SEARCH_CALIBRATIONS
-    for kind in ("sensitivity.md", "tornado.png", "map.png")
+    for kind in ("sensitivity.md", "tornado.png", "map.png", "vs_committed.md")
 ]
