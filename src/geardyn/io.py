@@ -33,7 +33,7 @@ from geardyn import __version__
 
 CONVENTIONS = "CF-1.10"
 #: zlib level of every netCDF variable (with the shuffle filter); measured in docs/operations.md.
-ZLIB_LEVEL = 4
+ZLIB_LEVEL = 1
 #: The packages whose versions every output records (distribution names).
 PROVENANCE_PACKAGES = ("numpy", "scipy", "numba", "llvmlite", "xarray", "netCDF4", "snakemake")
 #: /proc/cpuinfo flags that name SIMD instruction sets (the ones that can change floating-point results).

@@ -24,9 +24,9 @@ from typing import Any
 
 from geardyn.khv.calibrate import RESULT_PREFIX, SearchSpace
 
-#: Largest distance of one unknown, as a fraction of its search range, for "the same optimum".  The
-#: search's refinement moves an unknown in steps of 1-2 % of its range, and a one-point change of a
-#: label near a threshold moves the optimum along the ridge by a few steps (docs/calibration.md).
+#: Largest distance of one unknown, as a fraction of its search range, for "the same optimum": well
+#: below the 15-76 % that separate the two committed optima (li2013_search, li2013_route), wider than
+#: the +-2 % moves that change a verdict (docs/calibration.md, "Reproducing a calibration").
 UNIT_TOLERANCE = 0.05
 #: Largest score difference for "the same optimum": less than one claim.
 SCORE_TOLERANCE = 0.99
