@@ -59,13 +59,6 @@ rule calibration_sensitivity:
         "../scripts/calibration_sensitivity.py"
 
 
-def committed_design(wildcards):
-    """The committed design file a search reproduces (its ``design_name``, else ``<design>_calibrated``)."""
-    search = config["calibration"][wildcards.calibration]["search"]
-    name = search.get("design_name") or f"{wildcards.design}_calibrated"
-    return config["designs"].get(name, f"config/designs/{name}.yaml")
-
-
 rule calibration_compare:
     input:
         design=design_file,

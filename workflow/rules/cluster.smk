@@ -10,6 +10,7 @@ localrules:
     bifurcation_figure,
     point_figure,
     calibration_merge,
+    calibration_compare,
     plus_modal_figures,
     plus_te_figures,
     regime_bands,
