@@ -323,3 +323,26 @@ def test_falling_return_distances_is_the_quarter_means_of_the_return_distances()
         np.testing.assert_array_equal(classify.falling_return_distances(p, 12), want)
     period3 = classify.falling_return_distances(cases[-1], 12)
     assert not period3[0] and period3[2]
+
+
+def test_compare_script_reports_the_distance_to_the_committed_design(tmp_path):
+    """workflow/scripts/calibration_compare.py: a search whose optimum moved w by 1 % of its range and
+    scored 0.5 less is the same optimum as the committed li2013_route.yaml."""
+    from geardyn.testing import Job, run_script
+
+    committed = (ROOT / "config" / "designs" / "li2013_route.yaml").read_text()
+    result = committed_mod.result_of(committed)
+    spec = _config_calibration(result["search"])
+    lo, hi = float(spec["search"]["bounds"]["w"]["low"]), float(spec["search"]["bounds"]["w"]["high"])
+    moved = {**result, "score": result["score"] - 0.5,
+             "values": {**result["values"], "w": result["values"]["w"] + 0.01 * (hi - lo)}}
+    best = tmp_path / "best.json"
+    best.write_text(json.dumps({"result": moved}))
+    out = tmp_path / "vs.md"
+    run_script(ROOT / "workflow" / "scripts" / "calibration_compare.py",
+               Job(input={"design": ROOT / "config" / "designs" / "li2013.yaml", "best": best,
+                          "committed": ROOT / "config" / "designs" / "li2013_route.yaml"},
+                   output=[out], params={"spec": spec}, log=[tmp_path / "log"]))
+    text = out.read_text()
+    assert "**the same optimum**: largest distance 1.0 % of a search range" in text
+    assert f"score {result['score'] - 0.5:.3f} found against {result['score']:.3f} committed (-0.500" in text
