@@ -12,6 +12,7 @@ import pytest
 from geardyn import claims as C
 from geardyn import classify
 from geardyn.khv import calibrate as K
+from geardyn.khv import committed as committed_mod
 from geardyn.khv import design, point
 from geardyn.papers import li2013 as paper
 from geardyn.label import Policy, label_lines, label_points
@@ -166,8 +167,10 @@ def test_search_resumes_from_its_cache(tmp_path, monkeypatch):
 @pytest.mark.parametrize("name, require", [("li2013_calibrated", None), ("li2013_route", "route")])
 def test_committed_calibrated_design_is_the_search_output(name, require):
     """The committed design file is regenerated exactly from its own search-result line and li2013.yaml;
-    when the pipeline's output exists, the committed file equals it.  The route design states its
-    requirement, and its best record met it."""
+    when the pipeline's own search has run, its optimum lies within the documented tolerance of the
+    committed one (geardyn.khv.committed, docs/calibration.md), not byte for byte: a search over chaotic
+    labels is not bit-reproducible across CPUs.  The route design states its requirement, and its best
+    record met it."""
     committed = (ROOT / "config" / "designs" / f"{name}.yaml").read_text()
     source = (ROOT / "config" / "designs" / "li2013.yaml").read_text()
     assert K.design_text_from_file(committed, source) == committed
@@ -181,9 +184,41 @@ def test_committed_calibrated_design_is_the_search_output(name, require):
     assert phys.omega_bar == pytest.approx(result["values"]["w"])
     for k in ("r_bH", "K_DH", "K_VL", "zeta", "eta", "te_phase", "m_V"):
         assert getattr(phys, k) == pytest.approx(result["values"][k])
+    assert committed_mod.result_of(committed) == result
     produced = ROOT / "results" / "li2013" / "calibration" / f"{result['search']}_design.yaml"
     if produced.exists():
-        assert produced.read_text() == committed
+        space = K.problem_from_config(design.load(ROOT / "config" / "designs" / "li2013.yaml"),
+                                      _config_calibration(result["search"]))[0].space
+        cmp = committed_mod.compare(result, committed_mod.result_of(produced.read_text()), space)
+        assert cmp.same_optimum, cmp.markdown()
+
+
+def _config_calibration(name):
+    import yaml
+
+    return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["calibration"][name]
+
+
+def test_comparison_with_the_committed_design_in_unit_distances():
+    """Distances in the search's unit cube, worked by hand: w on [0.5, 1.5] linear, K_DH on [1e4, 1e6] log."""
+    space = K.SearchSpace.from_config({"w": {"low": 0.5, "high": 1.5},
+                                       "K_DH": {"low": 1e4, "high": 1e6, "scale": "log"}})
+    base = {"search": "s", "score": 9.5, "agreeing": ["a", "b"], "values": {"w": 1.0, "K_DH": 1e5}}
+    near = {"search": "s", "score": 9.0, "agreeing": ["a", "c"], "values": {"w": 1.04, "K_DH": 1e5 * 10 ** 0.08}}
+    c = committed_mod.compare(base, near, space)
+    # w: 0.04 / 1.0 = 0.04; K_DH: 0.08 decades of 2 = 0.04
+    assert [round(d, 12) for *_, d in c.unknowns] == [0.04, 0.04]
+    assert c.same_optimum and c.score_difference == pytest.approx(-0.5)
+    assert c.only_committed == ("b",) and c.only_found == ("c",)
+    far = {**near, "values": {"w": 1.06, "K_DH": 1e5}}  # 6 % of w's range
+    assert not committed_mod.compare(base, far, space).same_optimum
+    worse = {**near, "score": 8.4}  # one claim and more below
+    assert not committed_mod.compare(base, worse, space).same_optimum
+    assert "**a different optimum**" in committed_mod.compare(base, worse, space).markdown()
+    with pytest.raises(ValueError, match="different unknowns"):
+        committed_mod.compare(base, {**near, "values": {"w": 1.0}}, space)
+    with pytest.raises(ValueError, match="not a calibrated design"):
+        committed_mod.result_of("kind: khv\n")
 
 
 def test_route_requirement_and_its_ranking():
@@ -291,3 +326,26 @@ def test_falling_return_distances_is_the_quarter_means_of_the_return_distances()
         np.testing.assert_array_equal(classify.falling_return_distances(p, 12), want)
     period3 = classify.falling_return_distances(cases[-1], 12)
     assert not period3[0] and period3[2]
+
+
+def test_compare_script_reports_the_distance_to_the_committed_design(tmp_path):
+    """workflow/scripts/calibration_compare.py: a search whose optimum moved w by 1 % of its range and
+    scored 0.5 less is the same optimum as the committed li2013_route.yaml."""
+    from geardyn.testing import Job, run_script
+
+    committed = (ROOT / "config" / "designs" / "li2013_route.yaml").read_text()
+    result = committed_mod.result_of(committed)
+    spec = _config_calibration(result["search"])
+    lo, hi = float(spec["search"]["bounds"]["w"]["low"]), float(spec["search"]["bounds"]["w"]["high"])
+    moved = {**result, "score": result["score"] - 0.5,
+             "values": {**result["values"], "w": result["values"]["w"] + 0.01 * (hi - lo)}}
+    best = tmp_path / "best.json"
+    best.write_text(json.dumps({"result": moved}))
+    out = tmp_path / "vs.md"
+    run_script(ROOT / "workflow" / "scripts" / "calibration_compare.py",
+               Job(input={"design": ROOT / "config" / "designs" / "li2013.yaml", "best": best,
+                          "committed": ROOT / "config" / "designs" / "li2013_route.yaml"},
+                   output=[out], params={"spec": spec}, log=[tmp_path / "log"]))
+    text = out.read_text()
+    assert "**the same optimum**: largest distance 1.0 % of a search range" in text
+    assert f"score {result['score'] - 0.5:.3f} found against {result['score']:.3f} committed (-0.500" in text

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import xarray as xr
 
 from geardyn import claims as C
@@ -51,16 +52,47 @@ def test_the_paper_own_labels_agree_on_every_fig07_claim():
 def test_range_rule_needs_80_percent():
     x = np.linspace(0.0, 1.0, 10)
     lab = np.full(10, P1)
-    lab[:2] = QP  # 8/10 = 80 % P1: agree
-    assert C.range_claim("r", "f", "s", x, lab, 0.0, 1.0, P1).verdict == "agree"
-    lab[2] = QP   # 70 %: disagree
+    assert C.range_claim("r", "f", "s", x, lab, 0.0, 1.0, P1).verdict == "agree"  # 10/10
+    lab[:2] = QP  # 8/10 = 80 % P1: the threshold itself, within 2 standard errors (0.25): borderline
+    assert C.range_claim("r", "f", "s", x, lab, 0.0, 1.0, P1).verdict == "borderline"
+    lab[:] = QP
+    lab[:2] = P1  # 20 %: 2 se = 0.25, 0.2 + 0.25 < 0.8: disagree
     c = C.range_claim("r", "f", "s", x, lab, 0.0, 1.0, P1)
-    assert c.verdict == "disagree" and "70 %" in c.reason
+    assert c.verdict == "disagree" and "20 % (2/10)" in c.reason
     assert C.range_claim("r", "f", "s", x, lab, 0.31, 0.32, P1).verdict == "not comparable"
     # open lower end: the point at lo itself is excluded
     lab2 = np.full(10, CH)
     lab2[3] = P1
     assert C.range_claim("r", "f", "s", x, lab2, x[3], 1.0, CH, open_lo=True).verdict == "agree"
+
+
+def test_fraction_verdict_band_is_two_binomial_standard_errors():
+    # the second machine's fig07_chaos2: 127 of 160 chaotic against 80 %, p = 0.79375,
+    # se = sqrt(p (1 - p) / 160) = 0.03199, 2 se = 0.0640 > 0.00625: borderline, and so is 128/160
+    assert C.fraction_verdict(127, 160) == C.fraction_verdict(128, 160) == "borderline"
+    # the band's edges for n = 160, worked by hand: 138/160 = 0.8625, 2 se = 0.05449 -> lower 0.8080 > 0.8;
+    # 137/160 = 0.85625, 2 se = 0.05547 -> lower 0.80078 > 0.8; 136/160 = 0.85, 2 se = 0.05646 -> 0.7935
+    assert C.fraction_verdict(138, 160) == C.fraction_verdict(137, 160) == "agree"
+    assert C.fraction_verdict(136, 160) == "borderline"
+    # 117/160 = 0.73125, 2 se = 0.07009 -> upper 0.80134 (borderline); 116/160 = 0.725, 2 se = 0.07060 -> 0.7956
+    assert C.fraction_verdict(117, 160) == "borderline" and C.fraction_verdict(116, 160) == "disagree"
+    # unanimous fractions have no spread: 1/1 agrees, 0/1 disagrees
+    assert C.fraction_verdict(1, 1) == "agree" and C.fraction_verdict(0, 1) == "disagree"
+    # no single point turns agree into disagree anywhere on n = 20..200
+    for n in range(20, 201):
+        v = [C.fraction_verdict(k, n) for k in range(n + 1)]
+        assert all({a, b} != {"agree", "disagree"} for a, b in zip(v, v[1:]))
+    for bad in ((1, 0), (-1, 5), (6, 5)):
+        with pytest.raises(ValueError, match="fraction_verdict"):
+            C.fraction_verdict(*bad)
+
+
+def test_headline_counts_borderline_and_calibration_gives_it_half_credit():
+    rows = [C.Claim(str(i), "f", "s", "p", "o", v, "r")
+            for i, v in enumerate(["agree"] * 11 + ["borderline"] + ["disagree"] * 14)]
+    assert C.headline(rows) == "11 agree, 1 borderline, 14 disagree, 0 not comparable"
+    assert "**11 agree, 1 borderline, 14 disagree, 0 not comparable**" in C.to_markdown(rows, "d")
+    assert sum(C.credit(r.verdict) for r in rows) == 11.5
 
 
 def test_point_rule_nearest_point_alternatives_and_not_comparable():
@@ -132,5 +164,5 @@ def test_cube_path_gives_the_same_verdicts_as_the_arrays(monkeypatch):
     assert v["fig03_M"] == "agree" and v["fig03_N"] == "disagree"  # residual 0.0002 vs 0.002
     assert v["stiffness_falls"] == "agree"
     # 2 static + 6 Fig. 7 ranges + 5 Fig. 8 points + b = 0.5 at x1 = 0.5 + both routes + 2 e = 4.55 points + sync
-    assert C.counts(rows) == {"agree": 19, "disagree": 5, "not comparable": 2}
+    assert C.counts(rows) == {"agree": 19, "borderline": 0, "disagree": 5, "not comparable": 2}
     assert "| fig07_p1 |" in C.to_markdown(rows, "d")

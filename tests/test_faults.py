@@ -1,6 +1,7 @@
 """Faults, measured: a run killed mid-sweep resumes without recomputing finished chunks and gives the
 same cube; damaged chunks are recomputed, never merged; cubes do not depend on the number of cores or
-chunks; sweep jobs log their progress.
+chunks; sweep jobs log their progress.  Chunk files are ``temp()``: removed once their merge succeeded,
+kept while it has not (a failed merge, an interrupted run).
 
 All runs use a copy of the workflow in a temporary directory (see _workflow.py).
 """
@@ -10,13 +11,13 @@ import os
 import re
 import shutil
 import subprocess
+import zlib
 
 import numpy as np
 import pytest
 import xarray as xr
 
 import _workflow as wf
-from geardyn import io
 
 CUBE = "results/li2013/sweeps/fig07_small.nc"
 CHUNKS = 4
@@ -66,11 +67,33 @@ def _reference_run(work):
     assert _jobs(run, "sweep_chunk") == CHUNKS
 
 
+def _premerge_run(work):
+    """Every chunk computed, the merge not yet run: the chunks asked for as targets (so kept, temp or not)."""
+    wf.workflow_copy(work, _config())
+    targets = [f"results/li2013/sweeps/fig07_small/chunk_{i}.nc" for i in range(CHUNKS)]
+    run = wf.snakemake(work, "--cores", "2", *targets, timeout=300)
+    assert _jobs(run, "sweep_chunk") == CHUNKS and len(_chunk_paths(work)) == CHUNKS
+
+
 @pytest.fixture(scope="module")
 def reference(tmp_path_factory):
     """An uninterrupted `snakemake --cores 2` run (once per session): its directory and merged cube."""
     work = wf.shared(tmp_path_factory, "reference", _reference_run)
     return work, _open(work / CUBE)
+
+
+@pytest.fixture(scope="module")
+def premerge(tmp_path_factory):
+    """A workflow copy with every chunk of the reference's sweep computed and not merged (once per session)."""
+    return wf.shared(tmp_path_factory, "premerge", _premerge_run)
+
+
+def test_chunks_are_removed_after_their_merge(reference):
+    """temp(): the reference run merged its chunks and left none (the logs stay)."""
+    assert _chunk_paths(reference[0]) == []
+    assert not (reference[0] / "results/li2013/sweeps/fig07_small").exists() or not any(
+        (reference[0] / "results/li2013/sweeps/fig07_small").iterdir())
+    assert (reference[0] / "results/li2013/logs/sweep_fig07_small_0.log").exists()
 
 
 def _recorded_chunks(work):
@@ -98,18 +121,17 @@ def test_killed_run_resumes_without_recomputing_and_gives_the_same_cube(tmp_path
     if sig == "SIGKILL":  # README: after a hard kill, `--unlock` first (Snakemake's lock is left)
         wf.snakemake(work, "--unlock")
     rerun = _run(work, "--cores", "2", "--rerun-incomplete")  # README: the command with --rerun-incomplete
+    # the finished chunks were kept (temp files are removed only after their merge) and not recomputed
     assert _jobs(rerun, "sweep_chunk") == CHUNKS - len(done)
-    for path in _chunk_paths(work):
-        if path.name in done:
-            assert path.stat().st_mtime_ns == done[path.name], f"{path.name} was recomputed"
+    assert _chunk_paths(work) == []  # merged, so removed
     assert_same_cube(_open(work / CUBE), reference[1])
 
 
-def _copy_of(reference, tmp_path):
-    """The reference run with every chunk done but the merge not yet run (as after a run stopped then)."""
+def _copy_of(premerge, tmp_path):
+    """The reference sweep with every chunk done but the merge not yet run (as after a run stopped then)."""
     work = tmp_path / "w"
-    shutil.copytree(reference[0], work, symlinks=True)  # copy2: mtimes kept, so Snakemake sees no change
-    (work / CUBE).unlink()
+    shutil.copytree(premerge, work, symlinks=True)  # copy2: mtimes kept, so Snakemake sees no change
+    assert not (work / CUBE).exists()
     dry = wf.snakemake(work, "-n", "--cores", "2", CUBE)
     assert _jobs(dry, "sweep_chunk") == 0 and _jobs(dry, "sweep_merge") == 1
     return work
@@ -124,15 +146,17 @@ def _damaged_then_recomputed(work, victim, reference, problem):
     assert f"{victim.name} ({problem}" in first.stderr and "run the same command again" in first.stderr
     assert not (work / CUBE).exists() and not victim.exists()
     assert (victim.parent / f"{victim.name}.damaged").exists()  # kept for inspection
+    # the failed merge removed no temp chunk: the good ones wait, unchanged, for the next run
+    assert {p.name: p.stat().st_mtime_ns for p in _chunk_paths(work)} == others
     rerun = _run(work, "--cores", "2")
     assert _jobs(rerun, "sweep_chunk") == 1 and _jobs(rerun, "sweep_merge") == 1
-    assert io.netcdf_problem(victim) is None
-    assert {p.name: p.stat().st_mtime_ns for p in _chunk_paths(work) if p != victim} == others
+    assert _chunk_paths(work) == []  # merged, so removed (temp); the damaged copy stays
+    assert (victim.parent / f"{victim.name}.damaged").exists()
     assert_same_cube(_open(work / CUBE), reference[1])
 
 
-def test_truncated_chunk_is_recomputed_not_merged(tmp_path, reference):
-    work = _copy_of(reference, tmp_path)
+def test_truncated_chunk_is_recomputed_not_merged(tmp_path, reference, premerge):
+    work = _copy_of(premerge, tmp_path)
     victim = work / "results/li2013/sweeps/fig07_small/chunk_2.nc"
     data = victim.read_bytes()
     victim.write_bytes(data[: len(data) // 3])  # a copy cut short, a disk that filled up
@@ -140,15 +164,37 @@ def test_truncated_chunk_is_recomputed_not_merged(tmp_path, reference):
     assert (victim.parent / "chunk_2.nc.damaged").stat().st_size == len(data) // 3
 
 
-def test_silently_flipped_byte_in_a_chunk_is_found_by_its_checksum(tmp_path, reference):
-    work = _copy_of(reference, tmp_path)
+def _stored_offset(data: bytes, value: np.float64) -> int:
+    """An offset inside the compressed HDF5 chunk (zlib after byte shuffle) that holds ``value``: the zlib
+    streams of the file are tried until one decompresses, unshuffled, to data containing it."""
+    want = np.float64(value).tobytes()
+    for at in range(len(data) - 2):
+        if data[at] != 0x78 or data[at + 1] not in (0x01, 0x5E, 0x9C, 0xDA):
+            continue
+        d = zlib.decompressobj()
+        try:
+            raw = d.decompress(data[at:])
+        except zlib.error:
+            continue
+        if not d.eof:
+            continue
+        n = len(raw) // 8  # HDF5 shuffles whole 8-byte values; a rest (the Fletcher-32 sum) is left as it is
+        plain = np.frombuffer(raw[:8 * n], np.uint8).reshape(8, n).T.tobytes()  # undo the shuffle
+        if want in plain:
+            used = len(data) - at - len(d.unused_data)
+            return at + used // 2  # the middle of that stream
+    return -1
+
+
+def test_silently_flipped_byte_in_a_chunk_is_found_by_its_checksum(tmp_path, reference, premerge):
+    work = _copy_of(premerge, tmp_path)
     victim = work / "results/li2013/sweeps/fig07_small/chunk_3.nc"
     stat = victim.stat()
     with xr.open_dataset(victim) as ds:  # flip a byte inside the stored x_vh data, not in the metadata
         values = ds["x_vh"].values
         finite = values[np.isfinite(values)]
     data = bytearray(victim.read_bytes())
-    at = data.find(finite[len(finite) // 2].tobytes())
+    at = _stored_offset(bytes(data), finite[len(finite) // 2])
     assert at > 0
     data[at] ^= 0x01
     victim.write_bytes(bytes(data))
@@ -156,9 +202,9 @@ def test_silently_flipped_byte_in_a_chunk_is_found_by_its_checksum(tmp_path, ref
     _damaged_then_recomputed(work, victim, reference, "does not read back")
 
 
-def test_planning_never_touches_chunk_files(tmp_path, reference):
+def test_planning_never_touches_chunk_files(tmp_path, premerge):
     """A dry run (Snakemake planning) leaves a damaged chunk where it is: only a job sets it aside."""
-    work = _copy_of(reference, tmp_path)
+    work = _copy_of(premerge, tmp_path)
     victim = work / "results/li2013/sweeps/fig07_small/chunk_1.nc"
     victim.write_bytes(victim.read_bytes()[:5000])
     wf.snakemake(work, "-n", "--cores", "2", CUBE)

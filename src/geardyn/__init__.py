@@ -3,6 +3,23 @@
 The library is pure: functions take numbers, arrays and frozen dataclasses and
 return arrays or xarray Datasets.  File I/O lives in :mod:`geardyn.io` and the
 Snakemake adapters in ``workflow/scripts``.
+
+Importing geardyn sets one process setting, before numpy loads OpenBLAS if it has not yet:
+``OPENBLAS_CORETYPE`` = :data:`BLAS_CORETYPE` (unless already set).  OpenBLAS otherwise picks its
+kernels by CPU (SkylakeX with AVX-512, Haswell/Zen with AVX2, ...), and those round differently,
+so eigenvalues and solves of the small matrices here (Floquet multipliers, Newton steps, the static
+state) differed in the last bit between machines.  The Nehalem kernels (SSE4.2, no FMA) run on every
+CPU numpy itself runs on (numpy's baseline is x86-64-v2) and give the same bits everywhere; they are
+as fast as the native ones for 6 x 6 matrices (docs/reproducibility.md).  The Snakefile imports
+geardyn first, so every job inherits the setting; :func:`geardyn.io.runtime_provenance` records the
+kernels actually in use.
 """
 
+import os as _os
+
 __version__ = "0.1.0"
+
+#: OpenBLAS kernels used on x86-64 (the same bits on every CPU); see the module docstring.
+BLAS_CORETYPE = "Nehalem"
+
+_os.environ.setdefault("OPENBLAS_CORETYPE", BLAS_CORETYPE)

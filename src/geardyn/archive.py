@@ -24,7 +24,7 @@ import tarfile
 import tempfile
 import zlib
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -62,7 +62,10 @@ Open a cube (Python, xarray + netCDF4):
 or from a shell: ncdump -h {design}_archive/{example}
 
 Every cube carries CF-1.10 global attributes (title, source, history, references) and its
-provenance (geardyn_version, git_commit, config_hash, model_variant).
+provenance (geardyn_version, git_commit, config_hash, model_variant) and where it was computed
+(python_version, numpy/scipy/numba/llvmlite/xarray/netcdf4/snakemake versions, cpu_model,
+cpu_simd_flags, numpy_cpu_dispatch, numba_cpu_name, numba_cpu_features); `geardyn verify-archive`
+prints them.  Every variable is stored compressed (zlib after the shuffle filter, lossless).
 """
 
 
@@ -80,10 +83,22 @@ class Summary:
     cubes: int
     geardyn_version: str
     git_commit: str
+    #: the distinct runtime provenances (:func:`geardyn.io.runtime_of`) of the cubes, and how many cubes each
+    runtimes: tuple[tuple[dict[str, str], int], ...] = field(default_factory=tuple)
 
     def line(self) -> str:
         return (f"{self.path}: OK, design {self.design}: {self.files} files match their sha256, "
                 f"{self.cubes} netCDF cubes open (geardyn {self.geardyn_version}, commit {self.git_commit})")
+
+    def text(self) -> str:
+        """:meth:`line`, then where the cubes were computed: versions, CPU model, SIMD features in use."""
+        lines = [self.line()]
+        if not self.runtimes:
+            lines.append("  no runtime provenance in the cubes (written before geardyn recorded it)")
+        for k, (rt, n) in enumerate(self.runtimes, 1):
+            lines.append(f"  computed with ({n} of {self.cubes} cubes{'' if len(self.runtimes) == 1 else f', set {k}'}):")
+            lines += [f"    {key}: {value}" for key, value in rt.items()]
+        return "\n".join(lines)
 
 
 def sha256_bytes(data: bytes) -> str:
@@ -94,7 +109,8 @@ def _cube_provenance(path: Path) -> dict[str, str]:
     import xarray as xr
 
     with xr.open_dataset(path) as ds:
-        return {k: str(ds.attrs.get(k, "unknown")) for k in ("geardyn_version", "git_commit", "config_hash")}
+        return {**{k: str(ds.attrs.get(k, "unknown")) for k in ("geardyn_version", "git_commit", "config_hash")},
+                **gio.runtime_of(ds.attrs)}
 
 
 def build(out: str | Path, design: str, cubes: Mapping[str, str | Path], configs: Mapping[str, str | Path],
@@ -211,6 +227,7 @@ def verify(path: str | Path) -> Summary:
     cubes = [name for name, e in entries.items() if e["kind"] == "netcdf"]
     if not cubes:
         raise ArchiveError(f"{where}: the archive holds no netCDF cube")
+    runtimes: list[tuple[dict[str, str], int]] = []
     with tempfile.TemporaryDirectory(prefix="geardyn-verify-") as tmp:
         for name in cubes:
             local = Path(tmp) / Path(name).name
@@ -218,10 +235,17 @@ def verify(path: str | Path) -> Summary:
             try:
                 with xr.open_dataset(local) as ds:
                     ds.load()
+                    rt = gio.runtime_of(ds.attrs)
             except Exception as err:  # noqa: BLE001 - any failure to open is the answer
                 text = str(err).replace(str(local), name).splitlines()
                 raise ArchiveError(f"{where}: {top}/{name} does not open as netCDF ({type(err).__name__}: "
                                    f"{text[0] if text else ''})") from None
             local.unlink()
+            if rt:
+                known = [k for k, (r, _) in enumerate(runtimes) if r == rt]
+                if known:
+                    runtimes[known[0]] = (rt, runtimes[known[0]][1] + 1)
+                else:
+                    runtimes.append((rt, 1))
     return Summary(where, str(manifest.get("design", "?")), len(entries), len(cubes),
-                   str(manifest.get("geardyn_version", "?")), str(manifest.get("git_commit", "?")))
+                   str(manifest.get("geardyn_version", "?")), str(manifest.get("git_commit", "?")), tuple(runtimes))

@@ -3,7 +3,8 @@
 The statements and the numbers in them are data, :mod:`geardyn.papers.li2013`; this module holds the
 verdict rules and applies them.
 
-Each claim gives the paper's value, ours, a verdict (``agree`` / ``disagree`` / ``not comparable``)
+Each claim gives the paper's value, ours, a verdict (``agree`` / ``borderline`` / ``disagree`` /
+``not comparable``)
 and the reason.  Inputs are the pipeline's products: the closed graph (M, N), the stiffness table
 (k along M-N), the sweep cubes of Figs. 7, 9, 11 with their motion labels
 (:func:`geardyn.classify.classify_point`) and the dense point runs of Fig. 8 (spectra).
@@ -13,6 +14,12 @@ Verdict rules (stated once, applied everywhere):
 * a regime on an x1 interval agrees when at least ``RANGE_AGREE`` (80 %) of the sweep points inside
   it carry the paper's label; a single point agrees when the label at the nearest sweep point is the
   paper's;
+* every verdict on a fraction (k of n points) is three-valued, :func:`fraction_verdict`: when the
+  threshold lies within ``BORDERLINE_Z`` (2) binomial standard errors of the fraction,
+  ``|k/n - t| <= 2 sqrt(p (1 - p) / n)`` with ``p = k/n``, the verdict is ``borderline``: neither agree
+  nor disagree, because another sample of the same interval (a finer grid, another CPU's rounding of a
+  chaotic orbit) could fall on either side.  The calibration objective counts a borderline claim as
+  half an agreeing one (:func:`credit`), so one point near the threshold moves the score by a half;
 * numbers agree within the paper's printed precision (M, N: 0.001) or the stated tolerance;
 * "not comparable" when our result cannot answer (point diverged or undetermined, data missing).
 
@@ -23,6 +30,7 @@ pipeline's ``claims.md`` (:func:`claims`, from the cubes) and the calibration ob
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -35,9 +43,35 @@ from geardyn import classify
 from geardyn.runs.cube import labels_of_cube
 
 RANGE_AGREE = 0.8
+#: A fraction within this many binomial standard errors of its threshold is "borderline".
+BORDERLINE_Z = 2.0
+VERDICTS = ("agree", "borderline", "disagree", "not comparable")
 P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
 _NAMES = {P1: "P1", QP: "QP", CHAOS: "chaos", 5: "P5", 6: "P6"}
 _CODES = {"QP": QP, "chaos": CHAOS}
+
+
+def fraction_verdict(k: int, n: int, threshold: float = RANGE_AGREE, z: float = BORDERLINE_Z) -> str:
+    """``agree`` (k/n clearly >= threshold), ``disagree`` (clearly below) or ``borderline``.
+
+    The one rule for every verdict on a fraction, in ``claims.md`` and in the calibration objective:
+    with ``p = k/n`` and the binomial standard error ``se = sqrt(p (1 - p) / n)``, the verdict is
+    ``borderline`` when ``|p - threshold| <= z * se`` (the threshold lies inside the normal-approximation
+    interval ``p +- z se``, about 95 % for z = 2).  Unanimous fractions (p = 0 or 1) have se = 0 and are
+    never borderline.  ``n`` must be positive (an empty interval is "not comparable" for the caller).
+    """
+    if n <= 0 or not 0 <= k <= n:
+        raise ValueError(f"fraction_verdict needs 0 <= k <= n and n > 0, got k={k}, n={n}")
+    p = k / n
+    se = math.sqrt(p * (1.0 - p) / n)
+    if abs(p - threshold) <= z * se:
+        return "borderline"
+    return "agree" if p >= threshold else "disagree"
+
+
+def credit(verdict: str) -> float:
+    """What a verdict is worth in the calibration score: agree 1, borderline 1/2, otherwise 0."""
+    return {"agree": 1.0, "borderline": 0.5}.get(verdict, 0.0)
 
 
 def code(label: int | str) -> int | tuple[int, ...]:
@@ -104,13 +138,20 @@ def range_claim(cid: str, fig: str, statement: str, values: np.ndarray, labels: 
         return Claim(cid, fig, statement, f"{_NAMES.get(want, want)} on [{lo}, {hi}]", "no sweep point in range",
                      "not comparable", "the sweep grid has no point inside the interval")
     lab = labels[m]
-    frac = float(np.mean(lab == want))
+    hits, n = int(np.sum(lab == want)), int(m.sum())
+    frac = hits / n
     counts = {int(k): int(v) for k, v in zip(*np.unique(lab, return_counts=True), strict=True)}
-    ours = ", ".join(f"{_name(k)} {v}/{m.sum()}" for k, v in sorted(counts.items(), key=lambda kv: -kv[1]))
-    verdict = "agree" if frac >= RANGE_AGREE else "disagree"
-    reason = f"{100 * frac:.0f} % of the {m.sum()} sweep points in the interval are {_NAMES.get(want, want)}" \
-             f" (agree needs >= {100 * RANGE_AGREE:.0f} %)"
+    ours = ", ".join(f"{_name(k)} {v}/{n}" for k, v in sorted(counts.items(), key=lambda kv: -kv[1]))
+    verdict = fraction_verdict(hits, n)
+    reason = f"{100 * frac:.0f} % ({hits}/{n}) of the sweep points in the interval are {_NAMES.get(want, want)}" \
+             f" (agree needs >= {100 * RANGE_AGREE:.0f} %; {_band(hits, n)})"
     return Claim(cid, fig, statement, f"{_NAMES.get(want, want)} on [{lo}, {hi}]", ours, verdict, reason)
+
+
+def _band(k: int, n: int) -> str:
+    p = k / n
+    half = BORDERLINE_Z * math.sqrt(p * (1.0 - p) / n)
+    return f"borderline if {100 * RANGE_AGREE:.0f} % lies in {100 * max(p - half, 0):.1f}-{100 * min(p + half, 1):.1f} %"
 
 
 def point_claim(cid: str, fig: str, statement: str, values: np.ndarray, labels: np.ndarray, at: float,
@@ -225,11 +266,12 @@ def evaluate(paper: ModuleType, fig07: Track, fig09: Mapping[float, Track], fig1
             statement = "in the P1 range the amplitude decreases as x1 increases"
             if p1_amplitude is not None and len(p1_amplitude["x1"]) > 2:
                 xa, ptp = np.asarray(p1_amplitude["x1"]), np.asarray(p1_amplitude["ptp"])
-                down = float(np.mean(np.diff(ptp) < 0))
+                falls, steps = int(np.sum(np.diff(ptp) < 0)), len(ptp) - 1
                 out.append(Claim("fig07_amplitude", "Fig. 7", statement,
                                  "decreasing", f"peak-to-peak X_VH {ptp[0]:.3g} -> {ptp[-1]:.3g} over x1 {xa[0]:.3f}-"
-                                 f"{xa[-1]:.3f}", "agree" if down >= RANGE_AGREE else "disagree",
-                                 f"falls at {100 * down:.0f} % of {len(ptp) - 1} steps (dense runs, recorded periods)"))
+                                 f"{xa[-1]:.3f}", fraction_verdict(falls, steps),
+                                 f"falls at {100 * falls / steps:.0f} % of {steps} steps (dense runs, recorded periods;"
+                                 f" {_band(falls, steps)})"))
             else:
                 out.append(_missing("fig07_amplitude", "Fig. 7", statement, "decreasing"))
     for fig, x1, label in paper.FIG08_POINTS:
@@ -293,10 +335,16 @@ def note(design: str, title: str) -> str:
 
 
 def counts(rows: list[Claim]) -> dict[str, int]:
-    c = {"agree": 0, "disagree": 0, "not comparable": 0}
+    c = dict.fromkeys(VERDICTS, 0)
     for r in rows:
         c[r.verdict] += 1
     return c
+
+
+def headline(rows: list[Claim]) -> str:
+    """``11 agree, 1 borderline, 14 disagree, 0 not comparable``."""
+    c = counts(rows)
+    return ", ".join(f"{c[v]} {v}" for v in VERDICTS)
 
 
 def to_csv(rows: list[Claim]) -> str:
@@ -312,10 +360,9 @@ def to_csv(rows: list[Claim]) -> str:
 
 
 def to_markdown(rows: list[Claim], design: str, note: str = "") -> str:
-    c = counts(rows)
     lines = [f"# Paper 1 claims checked: design `{design}`", "",
-             f"**{c['agree']} agree, {c['disagree']} disagree, {c['not comparable']} not comparable** "
-             f"(of {len(rows)} claims).", ""]
+             f"**{headline(rows)}** (of {len(rows)} claims; borderline: a fraction within "
+             f"{BORDERLINE_Z:g} binomial standard errors of its threshold).", ""]
     if note:
         lines += [note, ""]
     lines += ["| id | figure | statement | paper | ours | verdict | reason |", "|---|---|---|---|---|---|---|"]

@@ -5,7 +5,8 @@
 the file (one clear line on any problem, exit code 2) and prints the derived geometry and
 stiffness, and whether the design point is feasible and why. ``verify-archive`` checks a results
 archive (``results/<design>_archive.tar.gz``): sha256 sums, nothing missing or added, every cube
-opens (exit code 1 with one line naming the member otherwise).
+opens (exit code 1 with one line naming the member otherwise), and prints where the cubes were
+computed (Python and library versions, CPU model, SIMD features numpy and numba used).
 """
 
 from __future__ import annotations
@@ -153,7 +154,7 @@ def verify_archive(path: str) -> int:
     from geardyn.archive import ArchiveError, verify
 
     try:
-        print(verify(path).line())
+        print(verify(path).text())
     except ArchiveError as err:
         print(f"error: {err}", file=sys.stderr)
         return 1

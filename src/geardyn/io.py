@@ -1,17 +1,26 @@
 """Self-describing netCDF output: CF-style global attributes, provenance, atomic writes.
 
 Every dataset written by the pipeline goes through :func:`write_netcdf`, so every file
-says where it came from (package version, git commit, config hash, model variant) and no
-reader ever sees a half-written file (write to a temporary name, then rename).
+says where it came from (package version, git commit, config hash, model variant) and on what
+(:func:`runtime_provenance`: Python and library versions, CPU model and its SIMD features, the
+instruction sets numpy dispatches to and the CPU numba compiles for), and no reader ever sees a
+half-written file (write to a temporary name, then rename).  Every variable is stored compressed,
+losslessly (zlib with the shuffle filter, level :data:`ZLIB_LEVEL`, chosen by measurement in
+``docs/operations.md``).  Tables written by :func:`write_text` carry the same runtime provenance:
+Markdown as a closing HTML comment, CSV and JSON in a ``<name>.provenance.json`` beside them.
 """
 
 from __future__ import annotations
 
 import datetime as _dt
+import functools
 import hashlib
 import json
 import os
+import platform
+import re
 import subprocess
+import sys
 import tempfile
 from collections.abc import Mapping
 from pathlib import Path
@@ -23,6 +32,143 @@ import xarray as xr
 from geardyn import __version__
 
 CONVENTIONS = "CF-1.10"
+#: zlib level of every netCDF variable (with the shuffle filter); measured in docs/operations.md.
+ZLIB_LEVEL = 1
+#: The packages whose versions every output records (distribution names).
+PROVENANCE_PACKAGES = ("numpy", "scipy", "numba", "llvmlite", "xarray", "netCDF4", "snakemake")
+#: /proc/cpuinfo flags that name SIMD instruction sets (the ones that can change floating-point results).
+_SIMD_FLAG = re.compile(r"^(mmx|sse\w*|ssse3|avx\w*|fma\w*|f16c|amx\w*|\w*vnni\w*|vaes|vpclmulqdq|gfni|neon|asimd\w*|sve\w*)$")
+
+
+def _package_version(name: str) -> str:
+    from importlib import metadata
+
+    try:
+        return metadata.version(name)
+    except metadata.PackageNotFoundError:
+        return "not installed"
+
+
+def _cpuinfo() -> tuple[str, list[str]]:
+    """CPU model name and its SIMD flags from /proc/cpuinfo (Linux), else from :mod:`platform`."""
+    model, flags = platform.processor() or platform.machine() or "unknown", []
+    try:
+        text = Path("/proc/cpuinfo").read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return model, flags
+    for line in text.splitlines():
+        key, _, value = line.partition(":")
+        key = key.strip()
+        if key in ("model name", "Model", "cpu model") and model in ("unknown", platform.machine(), platform.processor()):
+            model = value.strip()
+        elif key in ("flags", "Features") and not flags:
+            flags = sorted(f for f in value.split() if _SIMD_FLAG.match(f))
+    return model, flags
+
+
+def _numpy_cpu() -> dict[str, str]:
+    """The instruction sets numpy was built for (baseline) and dispatches to at run time on this CPU
+    (after ``NPY_DISABLE_CPU_FEATURES``), and its BLAS/LAPACK."""
+    try:
+        from numpy._core import _multiarray_umath as mu
+    except ImportError:  # numpy < 2
+        from numpy.core import _multiarray_umath as mu  # type: ignore[no-redef]
+    found = getattr(mu, "__cpu_features__", {})
+    dispatch = [f for f in getattr(mu, "__cpu_dispatch__", []) if found.get(f)]
+    out = {"numpy_cpu_baseline": " ".join(getattr(mu, "__cpu_baseline__", [])),
+           "numpy_cpu_dispatch": " ".join(dispatch) or "none"}
+    out["numpy_blas_core"] = _openblas_core("numpy", "scipy_openblas_get_corename64_")
+    out["scipy_blas_core"] = _openblas_core("scipy", "scipy_openblas_get_corename")
+    try:
+        cfg = np.show_config(mode="dicts")["Build Dependencies"]
+        out["numpy_blas"] = " ".join(str(cfg["blas"].get(k, "")) for k in ("name", "version")).strip()
+        out["numpy_lapack"] = " ".join(str(cfg["lapack"].get(k, "")) for k in ("name", "version")).strip()
+    except Exception:  # noqa: BLE001 - numpy without build information: say so
+        out["numpy_blas"] = out["numpy_lapack"] = "unknown"
+    return out
+
+
+def _openblas_core(package: str, symbol: str) -> str:
+    """The kernel set ("core") the OpenBLAS bundled with ``package`` uses, e.g. ``Nehalem``, or ``unknown``."""
+    import ctypes
+    import glob
+    import importlib.util
+
+    spec = importlib.util.find_spec(package)
+    if spec is None or not spec.submodule_search_locations:
+        return "unknown"
+    libs = glob.glob(os.path.join(next(iter(spec.submodule_search_locations)), "..", f"{package}.libs",
+                                  "libscipy_openblas*.so"))
+    try:
+        lib = ctypes.CDLL(libs[0])  # already loaded by the package: the same handle
+        fn = getattr(lib, symbol)
+        fn.restype = ctypes.c_char_p
+        return fn().decode()
+    except (IndexError, OSError, AttributeError):
+        return "unknown"
+
+
+def _numba_cpu() -> dict[str, str]:
+    """The CPU name and features numba compiles for: ``NUMBA_CPU_NAME`` / ``NUMBA_CPU_FEATURES`` when set,
+    else the host's (llvmlite)."""
+    try:
+        import llvmlite.binding as llvm
+        import numba
+    except ImportError:
+        return {"numba_cpu_name": "not installed", "numba_cpu_features": ""}
+    name = numba.config.CPU_NAME or llvm.get_host_cpu_name()
+    if numba.config.CPU_FEATURES is not None:
+        feats = numba.config.CPU_FEATURES
+    elif numba.config.CPU_NAME:
+        feats = "(those of the named CPU)"
+    else:
+        feats = llvm.get_host_cpu_features().flatten()
+    simd = sorted(f[1:] for f in feats.split(",") if f.startswith("+") and _SIMD_FLAG.match(f[1:].replace(".", "_")))
+    return {"numba_cpu_name": name, "numba_cpu_features": " ".join(simd) if simd else feats}
+
+
+#: The keys of :func:`runtime_provenance` (besides ``env_<VARIABLE>`` for the overrides that are set).
+RUNTIME_KEYS = ("python_version", "python_implementation", *(f"{p.lower()}_version" for p in PROVENANCE_PACKAGES),
+                "platform", "cpu_model", "cpu_simd_flags", "numpy_cpu_baseline", "numpy_cpu_dispatch", "numpy_blas",
+                "numpy_lapack", "numpy_blas_core", "scipy_blas_core", "numba_cpu_name", "numba_cpu_features")
+
+
+def runtime_of(attrs: Mapping[str, Any]) -> dict[str, str]:
+    """The runtime provenance recorded in a file's global attributes (:data:`RUNTIME_KEYS`, ``env_*``)."""
+    return {k: str(v) for k, v in attrs.items() if k in RUNTIME_KEYS or k.startswith("env_")}
+
+
+@functools.lru_cache(maxsize=1)
+def runtime_provenance() -> dict[str, str]:
+    """Where an output was computed: Python and library versions, CPU and the instruction sets in use.
+
+    Keys: ``python_version``, ``<package>_version`` for :data:`PROVENANCE_PACKAGES`, ``platform``,
+    ``cpu_model``, ``cpu_simd_flags`` (SIMD flags of /proc/cpuinfo), ``numpy_cpu_baseline`` /
+    ``numpy_cpu_dispatch`` (numpy's compiled-in and run-time-dispatched instruction sets, after
+    ``NPY_DISABLE_CPU_FEATURES``), ``numpy_blas`` / ``numpy_lapack``, ``numpy_blas_core`` /
+    ``scipy_blas_core`` (the OpenBLAS kernels in use, :data:`geardyn.BLAS_CORETYPE`), ``numba_cpu_name`` /
+    ``numba_cpu_features`` (the target numba compiles for) and the numba environment overrides.
+    Computed once per process (the values cannot change while it runs).
+    """
+    out = {"python_version": platform.python_version(), "python_implementation": sys.implementation.name}
+    for pkg in PROVENANCE_PACKAGES:
+        out[f"{pkg.lower()}_version"] = _package_version(pkg)
+    model, flags = _cpuinfo()
+    out.update({"platform": platform.platform(), "cpu_model": model, "cpu_simd_flags": " ".join(flags) or "unknown"})
+    out.update(_numpy_cpu())
+    out.update(_numba_cpu())
+    for var in ("NPY_DISABLE_CPU_FEATURES", "NUMBA_CPU_NAME", "NUMBA_CPU_FEATURES", "NUMBA_FASTMATH",
+                "OPENBLAS_CORETYPE"):
+        if os.environ.get(var):
+            out[f"env_{var}"] = os.environ[var]
+    assert set(out) - {k for k in out if k.startswith("env_")} == set(RUNTIME_KEYS)
+    return out
+
+
+def provenance_text(prefix: str = "") -> str:
+    """:func:`runtime_provenance` (with geardyn version and git commit) as ``key: value`` lines."""
+    info = {"geardyn_version": __version__, "git_commit": git_commit(), **runtime_provenance()}
+    return "".join(f"{prefix}{k}: {v}\n" for k, v in info.items())
 def config_hash(config: Mapping[str, Any]) -> str:
     """Short sha256 of a configuration mapping, independent of key order."""
     text = json.dumps(config, sort_keys=True, default=_json_default)
@@ -69,6 +215,7 @@ def provenance(
         "references": _reference(paper),
         "geardyn_version": __version__,
         "git_commit": git_commit(),
+        **runtime_provenance(),
     }
     if paper:
         attrs["paper"] = paper
@@ -108,6 +255,7 @@ def write_netcdf(
     *,
     require_cf: bool = True,
     checksum: bool = False,
+    zlib_level: int = ZLIB_LEVEL,
 ) -> Path:
     """Write ``ds`` to ``path`` atomically (temporary file + rename) with global ``attrs`` merged in.
 
@@ -115,10 +263,15 @@ def write_netcdf(
     no undocumented file is ever produced. Coordinate variables get no ``_FillValue`` (CF 2.5.1).
     With ``checksum`` every non-empty numeric variable is stored with HDF5's Fletcher-32 checksum,
     so that reading it back (:func:`netcdf_problem`) detects any damaged byte, not only truncation.
+    Every non-scalar numeric variable is compressed losslessly: zlib at ``zlib_level`` (1-9, 0 = off)
+    after HDF5's byte shuffle (which groups the bytes of equal significance of neighbouring values,
+    so slowly varying floats compress).  The global attributes include :func:`runtime_provenance`.
     """
+    if not 0 <= zlib_level <= 9:
+        raise ValueError(f"zlib_level must be 0 (off) to 9, got {zlib_level}")
     path = Path(path)
     out = ds.copy()
-    out.attrs = {**ds.attrs, **(attrs or {})}
+    out.attrs = {**ds.attrs, **(attrs or {}), **runtime_provenance()}
     if require_cf:
         missing = missing_cf_attributes(out)
         if missing:
@@ -126,10 +279,16 @@ def write_netcdf(
     for name in out.coords:
         if name in out.dims and out[name].dtype.kind == "f":
             out[name].encoding = {**out[name].encoding, "_FillValue": None}
-    if checksum:
-        for name, var in out.variables.items():
-            if var.ndim > 0 and var.size > 0 and var.dtype.kind in "biuf":
-                var.encoding = {**var.encoding, "fletcher32": True}
+    for name, var in out.variables.items():
+        if var.ndim > 0 and var.size > 0 and var.dtype.kind in "biuf":
+            enc = {**var.encoding, "zlib": zlib_level > 0, "shuffle": zlib_level > 0}
+            if zlib_level > 0:
+                enc["complevel"] = zlib_level
+            else:
+                enc.pop("complevel", None)
+            if checksum:
+                enc["fletcher32"] = True
+            var.encoding = enc
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     os.close(fd)
@@ -199,14 +358,51 @@ def _umask() -> int:
     return mask
 
 
-def write_text(text: str, path: str | os.PathLike[str]) -> Path:
-    """Write a text file atomically (captions, Markdown tables)."""
+#: Suffixes of generated tables that :func:`write_text` gives their provenance.
+TABLE_SUFFIXES = (".md", ".csv", ".json")
+PROVENANCE_SIDECAR = ".provenance.json"
+
+
+def provenance_sidecar(path: str | os.PathLike[str]) -> Path:
+    """The file that holds the provenance of a CSV or JSON table: ``<name>.provenance.json``."""
     path = Path(path)
+    return path.with_name(path.name + PROVENANCE_SIDECAR)
+
+
+def write_text(text: str, path: str | os.PathLike[str], *, provenance: bool | None = None) -> Path:
+    """Write a text file atomically (captions, Markdown and CSV tables).
+
+    A table (``provenance`` None and a suffix in :data:`TABLE_SUFFIXES`, or ``provenance=True``) records
+    where it was made (:func:`provenance_text`): a Markdown file ends with it as an HTML comment (not
+    shown when rendered); a CSV or JSON file, which has no comment syntax every reader accepts, gets it
+    in ``<name>.provenance.json`` beside it (:func:`provenance_sidecar`).
+    """
+    path = Path(path)
+    if provenance is None:
+        provenance = path.suffix.lower() in TABLE_SUFFIXES and not path.name.endswith(PROVENANCE_SIDECAR)
+    if provenance and path.suffix.lower() == ".md":
+        text = text.rstrip("\n") + "\n\n<!-- provenance\n" + provenance_text() + "-->\n"
+    elif provenance:
+        info = {"file": path.name, "geardyn_version": __version__, "git_commit": git_commit(), **runtime_provenance()}
+        _write_atomic(json.dumps(info, indent=1) + "\n", provenance_sidecar(path))
+    return _write_atomic(text, path)
+
+
+def _write_atomic(text: str, path: Path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.tmp")
     tmp.write_text(text, encoding="utf-8")
     os.replace(tmp, path)
     return path
+
+
+def read_provenance_text(text: str) -> dict[str, str]:
+    """The ``key: value`` pairs of the provenance comment that :func:`write_text` put in a Markdown table."""
+    start = text.rfind("<!-- provenance\n")
+    if start < 0:
+        return {}
+    body = text[start + len("<!-- provenance\n"):text.find("-->", start)]
+    return dict(line.split(": ", 1) for line in body.splitlines() if ": " in line)
 
 
 def save_figure(fig: Any, path: str | os.PathLike[str], caption: str | None = None, dpi: int = 150) -> Path:

@@ -3,7 +3,7 @@
 # profile (workflow/profiles/slurm) without a real cluster.
 #
 #   tests/cluster/local_slurm.sh install   # once, as root: apt-get install slurm-wlm munge (Debian 12: SLURM 22.05)
-#   tests/cluster/local_slurm.sh start     # munged, slurmctld, slurmd; returns when the node is idle (seconds)
+#   tests/cluster/local_slurm.sh start     # munged, slurmctld, slurmd; returns once the node is idle with all its CPUs (<= 60 s)
 #   eval "$(tests/cluster/local_slurm.sh env)"   # SLURM_CONF for sbatch, squeue, scontrol, snakemake
 #   tests/cluster/local_slurm.sh status    # daemons, node and queue; exit 0 only if the cluster is up
 #   tests/cluster/local_slurm.sh stop      # cancel jobs, stop the daemons, remove the state directory
@@ -129,8 +129,21 @@ wait_for() {  # seconds, description, command...
     die "$what did not happen within ${secs}s (logs: $STATE/log/)"
 }
 
-node_idle() {
-    [[ $(sinfo -h -n "$NODE" -o %T 2>/dev/null) =~ ^(idle|mixed|allocated)$ ]]
+node_ready() {  # the node is idle and has registered all $CPUS CPUs (sinfo and scontrol agree)
+    local state cpus
+    read -r state cpus < <(sinfo -N -h -n "$NODE" -o "%T %c" 2>/dev/null) || return 1
+    [[ $state == idle && $cpus == "$CPUS" ]] || return 1
+    scontrol show node "$NODE" 2>/dev/null | grep -Eq "(^|[[:space:]])CPUTot=$CPUS([[:space:]]|$)"
+}
+
+wait_node_ready() {  # seconds: poll node_ready; on timeout one line with what sinfo shows
+    local secs=$1 i
+    for ((i = 0; i < secs * 10; i++)); do
+        node_ready && return 0
+        sleep 0.1
+    done
+    die "node $NODE not idle with $CPUS CPUs within ${secs}s (sinfo: '$(sinfo -N -h -n "$NODE" \
+        -o "%T %c" 2>/dev/null || echo unreachable)'; logs: $STATE/log/)"
 }
 
 cmd_start() {
@@ -150,7 +163,7 @@ cmd_start() {
     if ! pid_alive "$STATE/slurmd.pid"; then
         slurmd -f "$CONF" -N "$NODE"
     fi
-    wait_for 30 "node $NODE becoming idle" node_idle
+    wait_node_ready 60
     echo "local_slurm: up ($STATE; export SLURM_CONF=$CONF)"
 }
 

@@ -55,11 +55,29 @@ rule calibration_sensitivity:
         "../scripts/calibration_sensitivity.py"
 
 
+rule calibration_compare:
+    input:
+        design=design_file,
+        best="results/{design}/calibration/{calibration}_best.json",
+        committed=committed_design,
+    output:
+        "results/{design}/calibration/{calibration}_vs_committed.md",
+    log:
+        "results/{design}/logs/calibration_{calibration}_compare.log",
+    wildcard_constraints:
+        calibration=either(SEARCH_CALIBRATIONS, "no-search"),
+    threads: 1
+    params:
+        spec=config_slice("calibration"),
+    script:
+        "../scripts/calibration_compare.py"
+
+
 CALIBRATION_TARGETS = [
     f"results/{spec['design']}/calibration/{name}.nc"
     for name, spec in config["calibration"].items()
 ] + [
     f"results/{config['calibration'][name]['design']}/calibration/{name}_{kind}"
     for name in SEARCH_CALIBRATIONS
-    for kind in ("sensitivity.md", "tornado.png", "map.png")
+    for kind in ("sensitivity.md", "tornado.png", "map.png", "vs_committed.md")
 ]

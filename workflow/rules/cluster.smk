@@ -11,6 +11,7 @@ localrules:
     sweep_merge,
     bifurcation_figure,
     point_figure,
+    calibration_compare,
     plus_modal_figures,
     plus_modal_figures_own,
     plus_te_figures,

@@ -64,6 +64,13 @@ def design_file(wildcards):
     return config["designs"][wildcards.design]
 
 
+def committed_design(wildcards):
+    """The committed design file a search reproduces (its ``design_name``, else ``<design>_calibrated``)."""
+    search = config["calibration"][wildcards.calibration]["search"]
+    name = search.get("design_name") or f"{wildcards.design}_calibrated"
+    return config["designs"].get(name, f"config/designs/{name}.yaml")
+
+
 def either(names, none):
     return "|".join(sorted(names, key=len, reverse=True)) or none
 

@@ -5,7 +5,7 @@ rule map_chunk:
     input:
         design=design_file,
     output:
-        "results/{design}/maps/{map}/chunk_{chunk}.nc",
+        temp("results/{design}/maps/{map}/chunk_{chunk}.nc"),
     log:
         "results/{design}/logs/map_{map}_{chunk}.log",
     threads: 1

@@ -6,7 +6,7 @@ rule sweep_chunk:
     input:
         design=design_file,
     output:
-        "results/{design}/sweeps/{sweep}/chunk_{chunk}.nc",
+        temp("results/{design}/sweeps/{sweep}/chunk_{chunk}.nc"),
     log:
         "results/{design}/logs/sweep_{sweep}_{chunk}.log",
     threads: 1

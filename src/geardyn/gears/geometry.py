@@ -45,6 +45,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
+from geardyn import libm
+
 FloatArray = NDArray[np.float64]
 
 __all__ = [
@@ -161,7 +163,7 @@ class ShaperCutter:
 def involute(alpha: ArrayLike) -> FloatArray:
     """inv a = tan a - a (a in rad)."""
     a = np.asarray(alpha, dtype=float)
-    return cast(FloatArray, np.tan(a) - a)
+    return cast(FloatArray, libm.tan(a) - a)
 
 
 def inverse_involute(value: ArrayLike, *, tol: float = 1e-15, max_iter: int = 60) -> FloatArray:
@@ -175,10 +177,10 @@ def inverse_involute(value: ArrayLike, *, tol: float = 1e-15, max_iter: int = 60
     v = np.asarray(value, dtype=float)
     s = np.sign(v)
     y = np.abs(v)
-    a = np.minimum(np.cbrt(3.0 * y), np.arctan(y + np.pi / 2))
+    a = np.minimum(libm.cbrt(3.0 * y), libm.arctan(y + np.pi / 2))
     with np.errstate(divide="ignore", invalid="ignore"):
         for _ in range(max_iter):
-            t = np.tan(a)
+            t = libm.tan(a)
             step = np.where(a > 0, (t - a - y) / (t * t), 0.0)
             a = a - step
             if np.all(np.abs(step) <= tol * np.maximum(a, 1e-300)) or np.all(~np.isfinite(step)):
@@ -305,7 +307,7 @@ def _acos_ratio(db: float, da: ArrayLike) -> FloatArray:
     """arccos(db / da); NaN where the circle lies inside the base circle."""
     with np.errstate(invalid="ignore", divide="ignore"):
         r = db / np.asarray(da, dtype=float)
-        return cast(FloatArray, np.where(r <= 1.0, np.arccos(np.minimum(r, 1.0)), np.nan))
+        return cast(FloatArray, np.where(r <= 1.0, libm.arccos(np.minimum(r, 1.0)), np.nan))
 
 
 def tip_pressure_angles(pair: GearPair) -> tuple[FloatArray, FloatArray]:
@@ -327,10 +329,10 @@ def contact_ratio(pair: GearPair) -> FloatArray:
     """
     aw = working_pressure_angle(pair)
     aa1, aa2 = tip_pressure_angles(pair)
-    tw = np.tan(aw)
+    tw = libm.tan(aw)
     return cast(
         FloatArray,
-        (pair.z1 * (np.tan(aa1) - tw) + pair.sigma * pair.z2 * (np.tan(aa2) - tw)) / (2.0 * np.pi),
+        (pair.z1 * (libm.tan(aa1) - tw) + pair.sigma * pair.z2 * (libm.tan(aa2) - tw)) / (2.0 * np.pi),
     )
 
 
@@ -351,7 +353,7 @@ def overlap_interference(pair: GearPair) -> FloatArray:
     aa1, aa2 = tip_pressure_angles(pair)
     c1 = np.clip((ra2**2 - ra1**2 - a_w**2) / (2.0 * ra1 * a_w), -1.0, 1.0)
     c2 = np.clip((ra2**2 - ra1**2 + a_w**2) / (2.0 * ra2 * a_w), -1.0, 1.0)
-    d1, d2 = np.arccos(c1), np.arccos(c2)
+    d1, d2 = libm.arccos(c1), libm.arccos(c2)
     return cast(
         FloatArray,
         pair.z1 * (involute(aa1) + d1) - pair.z2 * (involute(aa2) + d2) + (pair.z2 - pair.z1) * involute(aw),
@@ -368,9 +370,9 @@ def _lowest_contact_roll(pair: GearPair) -> tuple[FloatArray, FloatArray]:
     db1, db2 = base_diameters(pair)
     aw = working_pressure_angle(pair)
     aa1, aa2 = tip_pressure_angles(pair)
-    tw = np.tan(aw)
-    rho1 = db1 / 2.0 * (tw - pair.sigma * pair.z2 / pair.z1 * (np.tan(aa2) - tw))
-    rho2 = db2 / 2.0 * (tw - pair.z1 / pair.z2 * (np.tan(aa1) - tw))
+    tw = libm.tan(aw)
+    rho1 = db1 / 2.0 * (tw - pair.sigma * pair.z2 / pair.z1 * (libm.tan(aa2) - tw))
+    rho2 = db2 / 2.0 * (tw - pair.z1 / pair.z2 * (libm.tan(aa1) - tw))
     return cast(FloatArray, rho1), cast(FloatArray, rho2)
 
 
@@ -458,12 +460,12 @@ def root_interference(pair: GearPair, cutter: ShaperCutter | None = None) -> tup
     rb0 = cut.teeth * pair.module * c / 2.0
     db1, db2 = base_diameters(pair)
     rb1, rb2 = db1 / 2.0, db2 / 2.0
-    t_w0 = np.tan(inverse_involute(inv_w0))
+    t_w0 = libm.tan(inverse_involute(inv_w0))
     t_a0 = math.tan(math.acos(rb0 / (da0 / 2.0)))
-    t_w = np.tan(working_pressure_angle(pair))
+    t_w = libm.tan(working_pressure_angle(pair))
     aa1, _ = tip_pressure_angles(pair)
     form2 = rb2 * t_w0 + rb0 * (t_a0 - t_w0)
-    contact2 = rb2 * t_w + rb1 * (np.tan(aa1) - t_w)
+    contact2 = rb2 * t_w + rb1 * (libm.tan(aa1) - t_w)
     return cast(FloatArray, m1), cast(FloatArray, form2 - contact2)
 
 
@@ -511,8 +513,8 @@ def _trimming(
     aa2 = _acos_ratio(db_big, da_big)
     q = (np.cos(aa1) / np.cos(aa2)) ** 2
     with np.errstate(invalid="ignore"):
-        t1 = np.arcsin(np.sqrt(np.clip((1.0 - q) / (1.0 - (z_small / z_big) ** 2), 0.0, 1.0)))
-        t2 = np.arcsin(np.sqrt(np.clip((1.0 / q - 1.0) / ((z_big / z_small) ** 2 - 1.0), 0.0, 1.0)))
+        t1 = libm.arcsin(np.sqrt(np.clip((1.0 - q) / (1.0 - (z_small / z_big) ** 2), 0.0, 1.0)))
+        t2 = libm.arcsin(np.sqrt(np.clip((1.0 / q - 1.0) / ((z_big / z_small) ** 2 - 1.0), 0.0, 1.0)))
     return cast(
         FloatArray,
         z_small * (t1 + involute(aa1) - inv_w) - z_big * (t2 + involute(aa2) - inv_w),

@@ -6,7 +6,10 @@ phase, planet mass; ``docs/calibration.md``) span a search space with bounds giv
 :func:`geardyn.claims.evaluate`, the function that writes ``claims.md``, applied to the labels the
 candidate produces along x1 (Fig. 7) and along b and e at the paper's three x1 (Figs. 9, 11):
 
-    score = (claims that agree) + 0.99 * partial,   partial in [0, 1]
+    score = (claims that agree) + 0.5 * (borderline claims) + 0.99 * partial,   partial in [0, 1]
+
+(a borderline claim is a fraction within its statistical uncertainty of its threshold,
+:func:`geardyn.claims.fraction_verdict`, the rule ``claims.md`` uses)
 
 with partial credit for where the motion leaves P1 and where chaos starts along x1 (paper: 0.565,
 0.593) and for the order of the regimes along x1 (longest common subsequence with the paper's
@@ -257,13 +260,16 @@ def score_labels(paper: ModuleType, lab: CandidateLabels) -> Score:
     partial credit (module docstring)."""
     rows = claims_mod.evaluate(paper, lab.fig07, lab.fig09, lab.fig11)
     agree = sum(r.verdict == "agree" for r in rows)
+    # a borderline claim (a fraction within its statistical uncertainty of the threshold,
+    # geardyn.claims.fraction_verdict) is worth half an agreeing one: one point cannot flip the search
+    half = sum(claims_mod.credit(r.verdict) for r in rows if r.verdict == "borderline")
     tr = transitions(lab.fig07.values, lab.fig07.labels)
     credit = [max(0.0, 1.0 - abs(tr[k] - PAPER_TRANSITIONS[k]) / TRANSITION_SCALE) if np.isfinite(tr[k]) else 0.0
               for k in PAPER_TRANSITIONS]
     ours, want = regime_string(lab.fig07.labels), paper_regime_string(paper)
     credit.append(lcs(ours, want) / len(want))
     partial = float(np.mean(credit))
-    return Score(agree + 0.99 * partial, agree, partial, tr, ours, rows)
+    return Score(agree + half + 0.99 * partial, agree, partial, tr, ours, rows)
 
 
 # ----------------------------------------------------------------------------------------------

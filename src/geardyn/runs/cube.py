@@ -8,6 +8,7 @@ refuses chunks that do not tile the grid exactly once.
 from __future__ import annotations
 
 import dataclasses
+import json
 from collections.abc import Sequence
 from typing import Any
 
@@ -156,6 +157,18 @@ def merge_chunks(chunks: Sequence[xr.Dataset]) -> xr.Dataset:
             out[name].values[mask] = c[name].values[mask]
     for key in CHUNK_ATTRS:
         out.attrs.pop(key, None)
+    # where the chunks were computed (a cluster may run them on different CPUs); the merged file's own
+    # runtime attributes are those of the merge job (geardyn.io.write_netcdf)
+    from geardyn.io import runtime_provenance
+
+    keys = tuple(runtime_provenance())
+    seen = []
+    for c in chunks:
+        rt = {k: str(c.attrs[k]) for k in keys if k in c.attrs}
+        if rt and rt not in seen:
+            seen.append(rt)
+    if seen:
+        out.attrs["chunks_runtime"] = json.dumps(seen, sort_keys=True)
     if any("wall_time_s" in c.attrs for c in chunks):
         out.attrs["chunk_wall_time_s"] = ",".join(f"{float(c.attrs.get('wall_time_s', np.nan)):.1f}" for c in chunks)
     return out

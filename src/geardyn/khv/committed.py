@@ -1,0 +1,98 @@
+"""How far a calibration search's optimum lies from the committed calibrated design.
+
+The committed design files (``config/designs/li2013_calibrated.yaml``, ``li2013_route.yaml``) are the
+source of the calibrated values: every build uses them.  The pipeline's own search writes its optimum
+under ``results/<design>/calibration/`` and this module compares the two as conclusions, not as bytes
+(``docs/calibration.md``, "Reproducing a calibration"):
+
+* the distance of each searched unknown, in the search's unit cube (0 = low bound, 1 = high bound,
+  log scale where the search is logarithmic), so unknowns of different units compare;
+* the difference of the search scores (claims that agree + half the borderline ones + 0.99 x partial)
+  and of the sets of agreeing claims.
+
+The search is the same optimum when every unknown lies within :data:`UNIT_TOLERANCE` of the committed
+value and the scores differ by at most :data:`SCORE_TOLERANCE`.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from geardyn.khv.calibrate import RESULT_PREFIX, SearchSpace
+
+#: Largest distance of one unknown, as a fraction of its search range, for "the same optimum": well
+#: below the 15-76 % that separate the two committed optima (li2013_search, li2013_route), wider than
+#: the +-2 % moves that change a verdict (docs/calibration.md, "Reproducing a calibration").
+UNIT_TOLERANCE = 0.05
+#: Largest score difference for "the same optimum": less than one claim.
+SCORE_TOLERANCE = 0.99
+
+
+def result_of(design_text: str) -> dict[str, Any]:
+    """The search-result JSON line of a calibrated design file (``# search-result: {...}``)."""
+    for line in design_text.splitlines():
+        if line.startswith(RESULT_PREFIX):
+            return dict(json.loads(line[len(RESULT_PREFIX):]))
+    raise ValueError(f"not a calibrated design file: no line starting with {RESULT_PREFIX.strip()!r}")
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """A search's optimum against the committed one."""
+
+    search: str
+    unknowns: tuple[tuple[str, float, float, float], ...]  # name, committed, found, |unit distance|
+    committed_score: float
+    found_score: float
+    only_committed: tuple[str, ...]  # claims agreeing at the committed optimum only
+    only_found: tuple[str, ...]
+
+    @property
+    def max_unit_distance(self) -> float:
+        return max((d for *_, d in self.unknowns), default=0.0)
+
+    @property
+    def score_difference(self) -> float:
+        return self.found_score - self.committed_score
+
+    @property
+    def same_optimum(self) -> bool:
+        return self.max_unit_distance <= UNIT_TOLERANCE and abs(self.score_difference) <= SCORE_TOLERANCE
+
+    def markdown(self) -> str:
+        verdict = ("the same optimum" if self.same_optimum else "a different optimum")
+        lines = [f"# Search `{self.search}` against the committed design", "",
+                 f"**{verdict}**: largest distance {100 * self.max_unit_distance:.1f} % of a search range "
+                 f"(tolerance {100 * UNIT_TOLERANCE:.0f} %), score {self.found_score:.3f} found against "
+                 f"{self.committed_score:.3f} committed ({self.score_difference:+.3f}; tolerance "
+                 f"{SCORE_TOLERANCE:g}).", "",
+                 "The committed design file is what every build uses; this search is the pipeline's own rerun of "
+                 "it (docs/calibration.md, \"Reproducing a calibration\").", "",
+                 "| unknown | committed | found | distance (fraction of search range) |", "|---|---|---|---|"]
+        lines += [f"| {n} | {c:.6g} | {f:.6g} | {d:.3f} |" for n, c, f, d in self.unknowns]
+        lines += ["", f"Claims agreeing only at the committed optimum: {', '.join(self.only_committed) or 'none'}.",
+                  f"Claims agreeing only at the found optimum: {', '.join(self.only_found) or 'none'}."]
+        return "\n".join(lines) + "\n"
+
+
+def compare(committed: Mapping[str, Any], found: Mapping[str, Any], space: SearchSpace) -> Comparison:
+    """Compare two search results (:func:`result_of`, or ``calibrate.search_result``) over ``space``.
+
+    Raises ``ValueError`` when they searched different unknowns (not comparable)."""
+    cv, fv = committed["values"], found["values"]
+    if set(cv) != set(fv) or set(cv) != set(space.names):
+        raise ValueError(f"the results searched different unknowns: committed {sorted(cv)}, found {sorted(fv)}, "
+                         f"search space {sorted(space.names)}")
+    rows = []
+    for u in space.unknowns:
+        c, f = float(cv[u.name]), float(fv[u.name])
+        rows.append((u.name, c, f, abs(u.to_unit(f) - u.to_unit(c))))
+    if not all(math.isfinite(d) for *_, d in rows):
+        raise ValueError("a searched value lies outside its (log) search range")
+    a, b = set(committed.get("agreeing", ())), set(found.get("agreeing", ()))
+    return Comparison(str(found.get("search", committed.get("search", "?"))), tuple(rows),
+                      float(committed["score"]), float(found["score"]), tuple(sorted(a - b)), tuple(sorted(b - a)))

@@ -1,0 +1,47 @@
+"""A small, non-chaotic study whose every number must be the same on every CPU (tests/test_cpu_features.py).
+
+Run as a script (``python tests/_cpu_study.py OUT.npz``) it writes the arrays to ``OUT.npz``; geardyn is
+imported first, as in the pipeline, so its OpenBLAS setting holds.
+"""
+
+import geardyn  # noqa: F401 - first, as in every pipeline job
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from geardyn.khv import design, mesh_table, point
+from geardyn.runs import sweep
+from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.shooting import shoot
+
+ROOT = Path(__file__).resolve().parents[1]
+#: The sweep: x1 from 0.45 to 0.8 at the paper's b = 2, e = 5 (period-1 motion; one point, x1 = 0.8,
+#: may be labelled otherwise, and is then compared by its label only).
+SWEEP = dict(designs=["li2013"], parameter="x1", start=0.45, stop=0.80, num=4, fixed={"b": 2.0, "e": 5.0},
+             cases=[{}], chunks=1, integration={"transient_periods": 200, "recorded_periods": 30, "steps_per_period": 128})
+
+
+def study() -> dict[str, np.ndarray]:
+    """Stiffness table, geometry and coefficients along x1, a sweep with labels and exponents, a Newton
+    shooting orbit with its Floquet multipliers."""
+    d = design.load(ROOT / "config" / "designs" / "li2013.yaml")
+    out: dict[str, np.ndarray] = {}
+    for k, v in mesh_table.stiffness_table(d, np.linspace(0.45, 0.8, 5), 400).data_vars.items():
+        out[f"stiffness/{k}"] = v.values
+    spec = sweep.SweepSpec.from_config("t", SWEEP, "li2013", (0.416, 0.835))
+    for k, v in sweep.run_chunk(d, spec, 0).data_vars.items():
+        out[f"sweep/{k}"] = v.values
+    c = point.point_coefficients(d, {"x1": 0.5, "b": 2.0, "e": 5.0, "w": 0.9})
+    out["static_state"] = c.static_state()
+    r = simulate(c, SimulationSettings(transient_periods=600, recorded_periods=1))
+    orbit = shoot(c, r.final_state)
+    out["orbit/state"] = orbit.state
+    out["orbit/multipliers"] = np.asarray(orbit.multipliers)
+    out["orbit/converged"] = np.asarray(orbit.converged)
+    return out
+
+
+if __name__ == "__main__":
+    np.savez(sys.argv[1], **study())

@@ -1,0 +1,79 @@
+"""Results do not depend on the CPU's SIMD features (docs/reproducibility.md).
+
+The small study of ``_cpu_study.py`` runs once in this process (the machine's own features: AVX-512
+where it has them) and once in a subprocess with every instruction set that numpy dispatches to at run
+time disabled (``NPY_DISABLE_CPU_FEATURES``: numpy's baseline paths only, as on a machine without
+AVX2 or AVX-512) and numba compiling for a generic x86-64 CPU (``NUMBA_CPU_NAME=generic``).  Every
+number must be the same bit for bit, but the labels of chaotic points, which are compared by class (a
+chaotic orbit amplifies any last-bit difference; this study has none unless the model changes).
+"""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import _cpu_study
+from geardyn import classify, io
+
+HERE = Path(__file__).resolve().parent
+CHAOS = classify.LABELS["chaotic"]
+
+
+def _reduced_env() -> dict[str, str]:
+    from numpy._core import _multiarray_umath as mu
+
+    dispatched = [f for f in mu.__cpu_dispatch__ if mu.__cpu_features__.get(f)]
+    env = {**os.environ, "NUMBA_CPU_NAME": "generic", "PYTHONPATH": os.pathsep.join([str(HERE), *sys.path])}
+    env.pop("NUMBA_CPU_FEATURES", None)
+    if dispatched:
+        env["NPY_DISABLE_CPU_FEATURES"] = " ".join(dispatched)
+    return env
+
+
+@pytest.fixture(scope="module")
+def both(tmp_path_factory):
+    out = tmp_path_factory.mktemp("cpu") / "reduced.npz"
+    env = _reduced_env()
+    run = subprocess.run([sys.executable, str(HERE / "_cpu_study.py"), str(out)], env=env, capture_output=True,
+                         text=True, timeout=600)
+    assert run.returncode == 0, run.stderr[-3000:]
+    check = subprocess.run([sys.executable, "-c", "import geardyn.io as g, json; print(json.dumps(g.runtime_provenance()))"],
+                           env=env, capture_output=True, text=True, timeout=120)
+    with np.load(out) as z:
+        reduced = {k: z[k] for k in z.files}
+    return _cpu_study.study(), reduced, check.stdout
+
+
+def test_the_subprocess_really_ran_with_fewer_features(both):
+    import json
+
+    here, _, there = both
+    rt = json.loads(there)
+    assert rt["numba_cpu_name"] == "generic" and rt["env_NUMBA_CPU_NAME"] == "generic"
+    from numpy._core import _multiarray_umath as mu
+
+    if any(mu.__cpu_features__.get(f) for f in mu.__cpu_dispatch__):
+        assert rt["numpy_cpu_dispatch"] == "none" != io.runtime_provenance()["numpy_cpu_dispatch"]
+    assert rt["numpy_blas_core"] == io.runtime_provenance()["numpy_blas_core"]  # geardyn's pinned kernels
+
+
+def test_same_numbers_bit_for_bit_on_fewer_cpu_features(both):
+    here, there, _ = both
+    assert set(here) == set(there)
+    assert bool(here["orbit/converged"]) and np.max(np.abs(here["orbit/multipliers"])) < 1.0  # a stable orbit
+    labels = here["sweep/label"]
+    chaotic = labels == CHAOS
+    np.testing.assert_array_equal(labels, there["sweep/label"])  # labels always equal, chaotic ones by class
+    differ = []
+    for key, a in here.items():
+        b = there[key]
+        if key.startswith("sweep/") and a.shape[:labels.ndim] == labels.shape and chaotic.any():
+            a, b = a[~chaotic], b[~chaotic]  # a chaotic point's numbers: compared by its label only
+        if not np.array_equal(a, b, equal_nan=a.dtype.kind in "fc"):
+            differ.append(key)
+    assert differ == [], f"differ with fewer CPU features: {differ}"
+    assert int(np.sum(~chaotic)) >= 3  # the sweep has non-chaotic points to compare

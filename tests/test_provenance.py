@@ -1,0 +1,127 @@
+"""Where an output was computed: library versions and CPU features in every netCDF file and table,
+printed by ``geardyn verify-archive``; every variable compressed losslessly; the pinned environment."""
+
+import json
+import re
+import subprocess
+import sys
+from importlib import metadata
+from pathlib import Path
+
+import netCDF4
+import numpy as np
+import pytest
+import xarray as xr
+
+from geardyn import archive, io
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _cube(n=300):
+    rng = np.random.default_rng(1)
+    x = np.linspace(0.4, 0.8, n)
+    return xr.Dataset(
+        {"x_vh": (("case", "x1"), np.cumsum(rng.normal(size=(2, n)), axis=1), {"units": "1", "long_name": "x"}),
+         "label": (("case", "x1"), rng.integers(-2, 9, size=(2, n)).astype(np.int16),
+                   {"long_name": "motion label", "flag_values": np.arange(-2, 9, dtype=np.int16)})},
+        coords={"x1": ("x1", x, {"units": "1", "long_name": "profile shift"}),
+                "case": ("case", ["a", "b"], {"long_name": "case"})})
+
+
+def _cpuinfo_field(name):
+    for line in Path("/proc/cpuinfo").read_text().splitlines():
+        if line.split(":")[0].strip() == name:
+            return line.split(":", 1)[1].strip()
+    return None
+
+
+def test_runtime_provenance_names_versions_and_cpu():
+    rt = io.runtime_provenance()
+    assert set(rt) >= set(io.RUNTIME_KEYS)
+    # versions as the package metadata has them (an independent source)
+    for pkg in ("numpy", "scipy", "numba", "llvmlite", "xarray", "netCDF4", "snakemake"):
+        assert rt[f"{pkg.lower()}_version"] == metadata.version(pkg)
+    assert rt["python_version"] == ".".join(map(str, sys.version_info[:3]))
+    if Path("/proc/cpuinfo").exists():
+        assert rt["cpu_model"] == _cpuinfo_field("model name")
+        flags = set(_cpuinfo_field("flags").split())
+        assert set(rt["cpu_simd_flags"].split()) <= flags and "sse2" in rt["cpu_simd_flags"].split()
+        assert ("avx2" in flags) == ("avx2" in rt["cpu_simd_flags"].split())
+    from numpy._core import _multiarray_umath as mu
+
+    assert rt["numpy_cpu_baseline"].split() == list(mu.__cpu_baseline__)
+    assert set(rt["numpy_cpu_dispatch"].split()) <= set(mu.__cpu_dispatch__) | {"none"}
+    import llvmlite.binding as llvm
+
+    assert rt["numba_cpu_name"] == (__import__("numba").config.CPU_NAME or llvm.get_host_cpu_name())
+
+
+def test_every_variable_is_compressed_losslessly_with_provenance(tmp_path):
+    ds = _cube(20000)
+    ds["x_vh"][:, ::2] = np.nan  # as in a chunk file: NaN where another chunk computes
+    plain = io.write_netcdf(ds, tmp_path / "plain.nc", zlib_level=0)
+    packed = io.write_netcdf(ds, tmp_path / "packed.nc", checksum=True)
+    with netCDF4.Dataset(packed) as nc:
+        for name in ("x_vh", "label", "x1"):
+            f = nc[name].filters()
+            assert f["zlib"] and f["shuffle"] and f["complevel"] == io.ZLIB_LEVEL and f["fletcher32"], name
+    with netCDF4.Dataset(plain) as nc:
+        assert not nc["x_vh"].filters()["zlib"]
+    a, b = io.read_dataset(plain), io.read_dataset(packed)
+    xr.testing.assert_identical(a, b)  # lossless, bit for bit
+    np.testing.assert_array_equal(b["x_vh"].values, ds["x_vh"].values)
+    assert packed.stat().st_size < 0.8 * plain.stat().st_size
+    for key, value in io.runtime_provenance().items():
+        assert b.attrs[key] == value
+    with pytest.raises(ValueError, match="zlib_level"):
+        io.write_netcdf(ds, tmp_path / "bad.nc", zlib_level=10)
+
+
+def test_tables_carry_provenance(tmp_path):
+    md = io.write_text("# t\n\n| a |\n|---|\n| 1 |\n", tmp_path / "t.md")
+    text = md.read_text()
+    assert text.startswith("# t\n\n| a |") and text.rstrip().endswith("-->")
+    found = io.read_provenance_text(text)
+    assert found["numpy_version"] == metadata.version("numpy") and found["cpu_model"] == io.runtime_provenance()["cpu_model"]
+    csv = io.write_text("a,b\n1,2\n", tmp_path / "t.csv")
+    assert csv.read_text() == "a,b\n1,2\n"  # a CSV stays plain: its provenance is beside it
+    side = json.loads(io.provenance_sidecar(csv).read_text())
+    assert side["file"] == "t.csv" and side["numba_version"] == metadata.version("numba")
+    cap = io.write_text("caption\n", tmp_path / "fig.png.txt")  # captions are not tables
+    assert cap.read_text() == "caption\n" and not io.provenance_sidecar(cap).exists()
+
+
+def test_verify_archive_prints_where_the_cubes_were_computed(tmp_path):
+    cube = io.write_netcdf(_cube(), tmp_path / "a.nc", io.provenance(title="a", paper="li2013"))
+    cfg = tmp_path / "config.yaml"
+    cfg.write_text("designs: {d: config/designs/d.yaml}\n")
+    out = tmp_path / "d_archive.tar.gz"
+    manifest = archive.build(out, "d", {"results/d/a.nc": cube}, {"config.yaml": cfg})
+    entry = next(e for e in manifest["files"] if e["kind"] == "netcdf")
+    assert entry["cpu_model"] == io.runtime_provenance()["cpu_model"]
+    run = subprocess.run([sys.executable, "-m", "geardyn.cli", "verify-archive", str(out)], capture_output=True,
+                         text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    rt = io.runtime_provenance()
+    for key in ("numpy_version", "scipy_version", "numba_version", "llvmlite_version", "xarray_version",
+                "netcdf4_version", "snakemake_version", "python_version", "cpu_model", "cpu_simd_flags",
+                "numpy_cpu_dispatch", "numba_cpu_name", "numba_cpu_features"):
+        assert f"    {key}: {rt[key]}\n" in run.stdout + "\n", key
+    assert re.search(r"computed with \(1 of 1 cubes\)", run.stdout)
+
+
+def test_readme_and_ci_install_from_the_pins_and_the_pins_are_this_environment():
+    readme = (ROOT / "README.md").read_text()
+    commands = re.findall(r"^python3\.11 -m venv .*$", readme, re.M)
+    assert len(commands) == 2 and all("-c requirements/constraints.txt" in c for c in commands)
+    assert commands[1] in (ROOT / ".ci" / "run").read_text().splitlines()  # verbatim
+    pins = {}
+    for line in (ROOT / "requirements" / "constraints.txt").read_text().splitlines():
+        if line and not line.startswith("#"):
+            name, _, version = line.partition("==")
+            assert version and "<" not in version and ">" not in version, line
+            pins[name.lower().replace("_", "-")] = version
+    for pkg in ("numpy", "scipy", "numba", "llvmlite", "xarray", "netcdf4", "snakemake", "pytest", "hypothesis"):
+        assert pkg in pins, pkg
+        assert metadata.version(pkg) == pins[pkg], f"{pkg}: installed {metadata.version(pkg)}, pinned {pins[pkg]}"

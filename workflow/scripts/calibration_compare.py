@@ -1,0 +1,17 @@
+"""Adapter: how far the pipeline's calibration search lies from the committed calibrated design."""
+
+import json
+from pathlib import Path
+
+from geardyn import io, logs
+from geardyn.khv import calibrate, committed, design
+
+log = logs.to_file(snakemake.log[0])
+drive = design.load(snakemake.input.design)
+problem, _ = calibrate.problem_from_config(drive, snakemake.params.spec)
+found = json.loads(Path(snakemake.input.best).read_text())["result"]
+result = committed.compare(committed.result_of(Path(snakemake.input.committed).read_text()), found, problem.space)
+io.write_text(result.markdown(), snakemake.output[0])
+log.info("search %s against %s: largest distance %.3f of a range, score %+.3f: %s", result.search,
+         snakemake.input.committed, result.max_unit_distance, result.score_difference,
+         "same optimum" if result.same_optimum else "different optimum")
