@@ -74,6 +74,7 @@ def sweep_config(chunks: int = 4, num: int = 12, integration: dict[str, Any] | N
 def small_config() -> dict[str, Any]:
     """Every kind of job of the pipeline on small grids (seconds each)."""
     cfg = sweep_config(chunks=2, num=6)
+    cfg["sweeps"]["fig07_small"]["cases"] = [{"e": 5.0}, {"e": 4.5}]  # two lines: two chunks
     cfg["designs"]["yue2014"] = "config/designs/yue2014.yaml"
     cfg["closed_graph"] = {"x1": {"start": 0.2, "stop": 1.1, "num": 19}, "x2": {"start": 0.3, "stop": 1.4, "num": 23}}
     cfg["stiffness_table"] = {"points": 11, "phase_points": 32, "fig05_x1": [0.416, 0.626, 0.835]}
