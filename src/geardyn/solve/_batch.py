@@ -61,18 +61,19 @@ def run_batch(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, event, LIMITS, W, NTAN
 WIDTH = 8
 
 
-@njit(cache=True, inline="never")
-def _vstep(A, tan):
+@njit(cache=True, inline="always")
+def _lanes(A, tan):
     """One RK4 step of the WIDTH lanes packed in A (rows of WIDTH: 0-12 coefficients K11 .. CM, 13 b
     (0 without backlash), 14 h, 15-17 kappa and 18-20 TE at the three stage times, 21-26 the state,
     27-32 the new state), :func:`geardyn.solve._model.rk4`; with ``tan`` also one tangent column per
     lane (rows 33-38 -> 39-44; row 45: 1 when the dead zone is on), slopes kappa f'(x2) at the orbit's
     four stage states as in :func:`geardyn.solve._kernel.step`.
 
-    One buffer with constant offsets and the array accessed only here (the inlined model functions
-    take numbers): the compiler proves the lanes independent and vectorises the loop, the dead zone a
-    min / max and ``tan`` the same branch for every lane.  (Separate arrays defeat its alias checks;
-    an inlined helper that takes A keeps the array's reference counting in the loop and does too.)"""
+    One buffer with constant offsets, accessed only in this loop (the inlined model functions take
+    numbers): the compiler proves the lanes independent and vectorises the loop, the dead zone a
+    min / max.  (Separate arrays defeat its alias checks, and so does an inlined helper that takes A
+    called inside the loop.)  Inlined into :func:`_vstep` and :func:`_vstep_tan` with ``tan`` a
+    constant: with a run-time flag the compiler computes the tangent for every step and masks it."""
     for q in range(WIDTH):
         k = (A[q], A[WIDTH + q], A[2 * WIDTH + q], A[3 * WIDTH + q], A[4 * WIDTH + q], A[5 * WIDTH + q],
              A[6 * WIDTH + q], A[7 * WIDTH + q], A[8 * WIDTH + q], A[9 * WIDTH + q], A[10 * WIDTH + q],
@@ -103,6 +104,18 @@ def _vstep(A, tan):
             A[44 * WIDTH + q] = w[5]
 
 
+@njit(cache=True, inline="never")
+def _vstep(A):
+    """:func:`_lanes` without tangent."""
+    _lanes(A, False)
+
+
+@njit(cache=True, inline="never")
+def _vstep_tan(A):
+    """:func:`_lanes` with one tangent column per lane."""
+    _lanes(A, True)
+
+
 @njit(cache=True)
 def _pack(C, H, K, P, Y0, W, lanes, A, tab):
     """Fill the lane buffer A (rows of :func:`_vstep`, 33-38 the tangent column, 45 backlash on) and
@@ -126,7 +139,7 @@ def _pack(C, H, K, P, Y0, W, lanes, A, tab):
         A[45 * WIDTH + q] = C[ln, BACKLASH_ON]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _switch(C, POLY, H, S, SEG, A, q, ln, j, reg, rnew, tan, y1, y2, ytmp, Wa, Wb, Wt):
     """Lane q (point ln), whose plain step j left contact region ``reg`` for ``rnew``: the contact switches
     of :func:`geardyn.solve._kernel.locate_switches` (and of its tangent column when ``tan``), written
@@ -138,8 +151,9 @@ def _switch(C, POLY, H, S, SEG, A, q, ln, j, reg, rnew, tan, y1, y2, ytmp, Wa, W
     for i in range(6):
         y1[i] = A[(21 + i) * WIDTH + q]
         y2[i] = A[(27 + i) * WIDTH + q]
-        Wa[i, 0] = A[(33 + i) * WIDTH + q]
-        Wb[i, 0] = A[(39 + i) * WIDTH + q]
+        if tan:
+            Wa[i, 0] = A[(33 + i) * WIDTH + q]
+            Wb[i, 0] = A[(39 + i) * WIDTH + q]
     r, nv = locate_switches(c, POLY[ln], y1, y2, Wa, Wb, mt, ytmp, Wt, H[ln, j], S[ln, j], SEG[ln, j],
                             reg, rnew, c[B], c[T])
     for i in range(6):
@@ -167,6 +181,7 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, LIMITS, POI
     tab = np.empty((nsteps, 7 * Wd))
     _pack(C, H, K, P, Y0, W, lanes, A, tab)
     use_ev = np.zeros(Wd, dtype=np.bool_)
+    bl = np.zeros(Wd)  # half backlash per lane
     reg = np.zeros(Wd, dtype=np.int64)
     n_tr = np.empty(Wd, dtype=np.int64)
     n_end = np.empty(Wd, dtype=np.int64)
@@ -182,6 +197,7 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, LIMITS, POI
     for q in range(nl):
         ln = lanes[q]
         use_ev[q] = event and C[ln, BACKLASH_ON] != 0.0 and C[ln, B] > 0.0
+        bl[q] = C[ln, B]
         reg[q] = region(Y0[ln, 1], C[ln, B])
         n_tr[q] = NTRANS[ln]
         n_end[q] = NTRANS[ln] + NREC[ln]
@@ -200,20 +216,26 @@ def _block(C, H, S, SEG, K, P, POLY, Y0, NTRANS, NREC, lanes, event, LIMITS, POI
             tan_on[q] = m > 0 and (not done[q]) and per >= tan_start[q] and stop_n[q] == 0
             any_tan = any_tan or tan_on[q]
         for j in range(nsteps):
-            A[14 * Wd:21 * Wd] = tab[j]
-            _vstep(A, any_tan)
+            for i in range(7 * Wd):
+                A[14 * Wd + i] = tab[j, i]
+            if any_tan:
+                _vstep_tan(A)
+            else:
+                _vstep(A)
             for q in range(nl):  # contact switches, lane by lane
                 if use_ev[q] and not done[q]:
-                    rnew = region(A[28 * Wd + q], C[lanes[q], B])
+                    rnew = region(A[28 * Wd + q], bl[q])
                     if rnew != reg[q]:
                         reg[q], nv = _switch(C, POLY, H, S, SEG, A, q, lanes[q], j, reg[q], rnew, tan_on[q],
                                              y, y2, ytmp, Wl, Wb, Wt)
                         nev[q] += nv
-            A[21 * Wd:27 * Wd] = A[27 * Wd:33 * Wd]
-            for q in range(Wd):
-                if tan_on[q]:
-                    for i in range(6):
-                        A[(33 + i) * Wd + q] = A[(39 + i) * Wd + q]
+            for i in range(6 * Wd):
+                A[21 * Wd + i] = A[27 * Wd + i]
+            if any_tan:
+                for q in range(Wd):
+                    if tan_on[q]:
+                        for i in range(6):
+                            A[(33 + i) * Wd + q] = A[(39 + i) * Wd + q]
         for q in range(nl):  # end of mesh period `per`, lane by lane
             if done[q]:
                 continue

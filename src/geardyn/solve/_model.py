@@ -25,7 +25,7 @@ from geardyn.solve.base import C11, C21, C23, C33, CM, G1, G3, K11, K21, K23, K3
 @njit(cache=True, inline="always")
 def accel(k, b, x1, x2, x3, v1, v2, v3, kap, pe):
     """Accelerations (a1, a2, a3) at stiffness kap and TE forcing pe."""
-    fm = kap * (x2 - min(max(x2, -b), b)) + k[CM] * v2
+    fm = kap * (x2 - b if x2 > b else (x2 + b if x2 < -b else 0.0)) + k[CM] * v2
     a1 = k[P1] - k[K11] * x1 - k[C11] * v1 - k[G1] * fm
     a2 = pe - k[K21] * x1 - k[C21] * v1 - k[K23] * x3 - k[C23] * v3 - fm
     a3 = k[P3] - k[K33] * x3 - k[C33] * v3 - k[G3] * fm
