@@ -7,7 +7,10 @@ Private to :mod:`geardyn.solve`; use :func:`geardyn.solve.simulate_batch`.
   may differ) and is integrated by the same arithmetic as :func:`geardyn.solve._kernel.run` (the same
   inlined RK4 step, the same contact-switch location, the same tangent step).  No lane reads another
   lane's numbers, so a lane's result is bit-identical to the scalar loop and independent of the batch
-  it is in, of its position there, and of the number of threads.
+  it is in, of its position there, and of the number of threads.  The step is the inlined statement of
+  :mod:`geardyn.solve._model`; the end of a mesh period uses the scalar loop's helpers
+  (:func:`geardyn.solve._kernel.diverged`, :func:`geardyn.solve._kernel.record`,
+  :func:`geardyn.solve._period.early_stop`).
 * Early stop: after every mesh period of the transient (from ``es_min`` periods on), the return
   distance d_n = max_i |p_k,i - p_k-n,i| of the stroboscopic (Poincaré) points is updated for
   n = 1 .. max_n; once d_n <= tol for ``es_confirm`` consecutive periods for some n, the transient

@@ -7,6 +7,8 @@ Method:
   into the zone [0, f] with one pair more and the zone [f, 1] (f = eps - floor(eps)), so no RK4 stage
   ever sees a jump.  Stiffness kappa and TE forcing are tabulated per step at the three stage
   times (start+, middle, end-): a step costs four right-hand sides and no transcendental function.
+  The right-hand side, its linearisation and the RK4 step are those of :mod:`geardyn.solve._model`
+  (inlined; the batch lanes of :mod:`geardyn.solve._batch` run the same statement).
 * With ``event``: after each step, a change of contact region (x2 < -b, |x2| <= b, x2 > b) means
   a crossing of x2 = +-b inside the step; it is located as the root of the cubic Hermite
   interpolant of x2 (values and x2' = v2 at both ends), the step is redone up to the crossing and
@@ -189,8 +191,9 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
     Early stop (``es_confirm > 0``): from period ``es_min`` on, the transient ends once the return
     distance of the stroboscopic points after some n <= es_max_n stays within
     max(es_atol max(|p|, 1), es_floor) for es_confirm consecutive periods, for the smallest such n
-    whose cycle points are distinct (d_m > es_sep tol for m < n, as rule 3 of the classifier); the
-    recorded periods follow at once and the tangent columns are not carried further.
+    whose cycle points are distinct (d_m > es_sep tol for m < n: rule 3 of the classifier,
+    :func:`geardyn.solve._period.early_stop`); the recorded periods follow at once and the tangent
+    columns are not carried further.
 
     Returns (status, last_period, n_events, n_dense, transient_used, stop_period): status 0 ok,
     1 diverged; stop_period: the n of the early stop (0: the transient ran to its end).
