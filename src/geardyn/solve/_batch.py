@@ -73,8 +73,8 @@ def _lanes(A, tan):
     four stage states as in :func:`geardyn.solve._kernel.step`.
 
     One buffer with constant offsets, accessed only in this loop (the inlined model functions take
-    numbers): the compiler proves the lanes independent and vectorises the loop, the dead zone a
-    min / max.  (Separate arrays defeat its alias checks, and so does an inlined helper that takes A
+    numbers): the compiler proves the lanes independent and vectorises the loop, the dead zone as
+    selects.  (Separate arrays defeat its alias checks, and so does an inlined helper that takes A
     called inside the loop.)  Inlined into :func:`_vstep` and :func:`_vstep_tan` with ``tan`` a
     constant: with a run-time flag the compiler computes the tangent for every step and masks it."""
     for q in range(WIDTH):
@@ -121,7 +121,7 @@ def _vstep_tan(A):
 
 @njit(cache=True)
 def _pack(C, H, K, P, Y0, W, lanes, A, tab):
-    """Fill the lane buffer A (rows of :func:`_vstep`, 33-38 the tangent column, 45 backlash on) and
+    """Fill the lane buffer A (rows of :func:`_lanes`, 33-38 the tangent column, 45 backlash on) and
     the per-step rows 14-20 ``tab`` (nsteps, 7 WIDTH) for ``lanes``; padding lanes repeat the first."""
     nl = lanes.shape[0]
     m = W.shape[2]

@@ -8,8 +8,9 @@ so the compiler keeps the lanes of a batch independent and vectorises them.
 
 ``k``: the coefficients K11 .. CM in the order of :data:`geardyn.solve.base.LAYOUT` (a tuple of at
 least 13 numbers: the first 13 entries of the kernel array).  ``b``: the half backlash of the dead
-zone, 0 without backlash (then f(x) = x).  The dead zone is f(x) = x - min(max(x, -b), b): x - b
-above b, x + b below -b, 0 between, the same bits as the three branches.
+zone, 0 without backlash (then f(x) = x).  The dead zone f(x) (x - b above b, x + b below -b, 0
+between) is one conditional expression, which the compiler turns into selects in the vectorised
+lanes and which a test compares with the benchmark's branches.
 
 The benchmark's C loop (``geardyn.bench.C_RK4``) spells the same expressions; a test evaluates both
 on random inputs (tests/test_model_equations.py).
