@@ -52,6 +52,7 @@ def step(c, y, W, m, h, k0, k1, k2, p0, p1, p2, ynew, Wnew, fixed):
     b = c[B] if on != 0.0 else 0.0
     x2 = y[1]
     n1, n2, n3, n4, n5, n6, X2, Z2, Q2 = rk4(c, b, h, k0, k1, k2, p0, p1, p2, y[0], x2, y[2], y[3], y[4], y[5])
+    ynew[0], ynew[1], ynew[2], ynew[3], ynew[4], ynew[5] = n1, n2, n3, n4, n5, n6
     if m > 0:
         if fixed >= 0.0:
             s1, s2, s3, s4 = k0 * fixed, k1 * fixed, k1 * fixed, k2 * fixed
@@ -61,7 +62,6 @@ def step(c, y, W, m, h, k0, k1, k2, p0, p1, p2, ynew, Wnew, fixed):
         for col in range(m):
             w = rk4_tangent(c, h, s1, s2, s3, s4, W[0, col], W[1, col], W[2, col], W[3, col], W[4, col], W[5, col])
             Wnew[0, col], Wnew[1, col], Wnew[2, col], Wnew[3, col], Wnew[4, col], Wnew[5, col] = w
-    ynew[0], ynew[1], ynew[2], ynew[3], ynew[4], ynew[5] = n1, n2, n3, n4, n5, n6
 
 
 @njit(cache=True, inline="always")
