@@ -73,8 +73,8 @@ def _lanes(A, tan):
     four stage states as in :func:`geardyn.solve._kernel.step`.
 
     One buffer with constant offsets, accessed only in this loop (the inlined model functions take
-    numbers): the compiler proves the lanes independent and vectorises the loop, the dead zone as
-    selects.  (Separate arrays defeat its alias checks, and so does an inlined helper that takes A
+    numbers): the compiler proves the lanes independent and vectorises the loop, the dead zone a
+    min / max.  (Separate arrays defeat its alias checks, and so does an inlined helper that takes A
     called inside the loop.)  Inlined into :func:`_vstep` and :func:`_vstep_tan` with ``tan`` a
     constant: with a run-time flag the compiler computes the tangent for every step and masks it."""
     for q in range(WIDTH):

@@ -8,9 +8,9 @@ so the compiler keeps the lanes of a batch independent and vectorises them.
 
 ``k``: the coefficients K11 .. CM in the order of :data:`geardyn.solve.base.LAYOUT` (a tuple of at
 least 13 numbers: the first 13 entries of the kernel array).  ``b``: the half backlash of the dead
-zone, 0 without backlash (then f(x) = x).  The dead zone f(x) (x - b above b, x + b below -b, 0
-between) is one conditional expression, which the compiler turns into selects in the vectorised
-lanes and which a test compares with the benchmark's branches.
+zone, 0 without backlash (then f(x) = x).  The dead zone is f(x) = x - min(max(x, -b), b): x - b
+above b, x + b below -b, 0 between, the same bits as the three branches of the benchmark's C loop
+(a test compares them); a vmaxpd / vminpd pair in the vectorised lanes, no branch.
 
 The benchmark's C loop (``geardyn.bench.C_RK4``) spells the same expressions; a test evaluates both
 on random inputs (tests/test_model_equations.py).
@@ -26,7 +26,7 @@ from geardyn.solve.base import C11, C21, C23, C33, CM, G1, G3, K11, K21, K23, K3
 @njit(cache=True, inline="always")
 def accel(k, b, x1, x2, x3, v1, v2, v3, kap, pe):
     """Accelerations (a1, a2, a3) at stiffness kap and TE forcing pe."""
-    fm = kap * (x2 - b if x2 > b else (x2 + b if x2 < -b else 0.0)) + k[CM] * v2
+    fm = kap * (x2 - min(max(x2, -b), b)) + k[CM] * v2
     a1 = k[P1] - k[K11] * x1 - k[C11] * v1 - k[G1] * fm
     a2 = pe - k[K21] * x1 - k[C21] * v1 - k[K23] * x3 - k[C23] * v3 - fm
     a3 = k[P3] - k[K33] * x3 - k[C33] * v3 - k[G3] * fm
