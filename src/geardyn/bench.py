@@ -1,6 +1,7 @@
 """Speed against error of the KHV integrators.  Run: ``python -m geardyn.bench [--out DIR]``.
 
-Single-threaded by construction (thread pools pinned to 1 before numpy/numba load).
+Single-threaded by construction when run as a program (thread pools pinned to 1 before numpy/numba
+load); importing the module (e.g. for :func:`cases`) sets nothing.
 
 * periodic case: x1 = 0.416 numbers (eps 1.30, k_C 3.1e8 N/m), Table 2, b = 2, e = 5, w = 0.9
   (period-1 with contact loss four times a period).  Error = max |Poincare point - reference|
@@ -18,8 +19,9 @@ from __future__ import annotations
 
 import os
 
-for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ.setdefault(_v, "1")
+if __name__ == "__main__":  # run as a program only: importing this module changes nothing
+    for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(_v, "1")
 # numba threads: one for the work-precision study (set in run()), all cores for ``throughput``
 
 import argparse  # noqa: E402
@@ -526,7 +528,8 @@ def agreement_markdown(runs: dict) -> str:
 C_RK4 = r"""
 #include <math.h>
 /* Plain RK4 of the 3-DOF backlash model on the aligned step grid, the expressions of
-   geardyn.solve._kernel.rk4_step (kappa and TE tabulated per step at the 3 stage times). */
+   geardyn.solve._model.rk4 (kappa and TE tabulated per step at the 3 stage times); a test runs this
+   text as Python against that function, bit for bit (tests/test_model_equations.py). */
 static inline double fdead(double x, double b, double on) {
     if (on == 0.0) return x;
     if (x > b) return x - b;

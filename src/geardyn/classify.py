@@ -239,17 +239,16 @@ def _tolerance(p: np.ndarray, cs: ClassifierSettings) -> float:
 def strict_period(p: np.ndarray, settings: ClassifierSettings = ClassifierSettings()) -> int:
     """Rule 3 of :func:`classify_point`: the smallest n <= max_n with every return distance after n
     periods within the tolerance and the n cycle points distinct (> separation * tol); 0 if none.
-    ``p``: (n_points, n_states) without NaN rows."""
-    tol = _tolerance(p, settings)
-    dmax: list[float] = []
-    for n in range(1, min(settings.max_n, p.shape[0] - 1) + 1):
-        dn = float(np.max(_return_distances(p, n)))
-        # the n points of a period-n cycle must be distinct well above the tolerance: a decaying
-        # transient rotating by about 1/n per period returns closely after n periods too
-        if dn <= tol and min(dmax, default=np.inf) > settings.separation * tol:
-            return n
-        dmax.append(dn)
-    return 0
+    ``p``: (n_points, n_states) without NaN rows.  Compiled (:func:`geardyn.solve.simulate.strict_period`:
+    the one statement of the rule, also used by the batch classifier and the early stop)."""
+    from geardyn.solve.simulate import strict_period as rule3
+
+    q = np.ascontiguousarray(p, dtype=float)
+    if q.shape[0] == 0:
+        raise ValueError("strict_period needs at least one Poincaré point")
+    n, _ = rule3(q, settings.max_n, settings.atol, settings.rtol, settings.error_margin * settings.error_floor,
+                 settings.separation)
+    return n
 
 
 def _converging_period(p: np.ndarray, rate: float, max_n: int, tol: float) -> int:

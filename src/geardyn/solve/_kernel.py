@@ -7,6 +7,8 @@ Method:
   into the zone [0, f] with one pair more and the zone [f, 1] (f = eps - floor(eps)), so no RK4 stage
   ever sees a jump.  Stiffness kappa and TE forcing are tabulated per step at the three stage
   times (start+, middle, end-): a step costs four right-hand sides and no transcendental function.
+  The right-hand side, its linearisation and the RK4 step are those of :mod:`geardyn.solve._model`
+  (inlined; the batch lanes of :mod:`geardyn.solve._batch` run the same statement).
 * With ``event``: after each step, a change of contact region (x2 < -b, |x2| <= b, x2 > b) means
   a crossing of x2 = +-b inside the step; it is located as the root of the cubic Hermite
   interpolant of x2 (values and x2' = v2 at both ends), the step is redone up to the crossing and
@@ -30,130 +32,36 @@ import math
 import numpy as np
 from numba import njit
 
-from geardyn.solve.base import B, BACKLASH_ON, C11, C21, C23, C33, CM, EPS, G1, G3, K11, K21, K23, K33, P1, P3, PHI, T, TE
+from geardyn.solve._model import rk4, rk4_tangent, slope
+from geardyn.solve._period import early_stop
+from geardyn.solve.base import B, BACKLASH_ON, EPS, PHI, T, TE
 
 
 @njit(cache=True, inline="always")
-def fdead(x, b, on):
-    """Dead zone of half width b (identity when the backlash is off)."""
-    if on == 0.0:
-        return x
-    if x > b:
-        return x - b
-    if x < -b:
-        return x + b
-    return 0.0
-
-
-@njit(cache=True, inline="always")
-def slope(c, x2):
-    """f'(x2): 1 in contact (or no backlash), 0 inside the backlash."""
-    if c[BACKLASH_ON] == 0.0:
-        return 1.0
-    b = c[B]
-    return 1.0 if (x2 > b or x2 < -b) else 0.0
-
-
-@njit(cache=True, inline="always")
-def rhs(c, x1, x2, x3, v1, v2, v3, kap, pe):
-    """Accelerations of the 3-DOF system at stiffness kap and TE forcing pe."""
-    fm = kap * fdead(x2, c[B], c[BACKLASH_ON]) + c[CM] * v2
-    a1 = c[P1] - c[K11] * x1 - c[C11] * v1 - c[G1] * fm
-    a2 = pe - c[K21] * x1 - c[C21] * v1 - c[K23] * x3 - c[C23] * v3 - fm
-    a3 = c[P3] - c[K33] * x3 - c[C33] * v3 - c[G3] * fm
-    return a1, a2, a3
-
-
-@njit(cache=True, inline="always")
-def lin(c, w0, w1, w2, w3, w4, w5, ks):
-    """Tangent accelerations for the stiffness slope ks = kappa f'(x2)."""
-    fm = ks * w1 + c[CM] * w4
-    a1 = -c[K11] * w0 - c[C11] * w3 - c[G1] * fm
-    a2 = -c[K21] * w0 - c[C21] * w3 - c[K23] * w2 - c[C23] * w5 - fm
-    a3 = -c[K33] * w2 - c[C33] * w5 - c[G3] * fm
-    return a1, a2, a3
-
-
-@njit(cache=True, inline="always")
-def rk4_step(c, y, h, k0, k1, k2, p0, p1, p2, out):
-    """One RK4 step of size h from y (6,) into out (6,), with stage values of kappa and TE."""
-    x1, x2, x3, v1, v2, v3 = y[0], y[1], y[2], y[3], y[4], y[5]
-    hh = 0.5 * h
-    a1, a2, a3 = rhs(c, x1, x2, x3, v1, v2, v3, k0, p0)
-    X1 = x1 + hh * v1
-    X2 = x2 + hh * v2
-    X3 = x3 + hh * v3
-    V1 = v1 + hh * a1
-    V2 = v2 + hh * a2
-    V3 = v3 + hh * a3
-    b1, b2, b3 = rhs(c, X1, X2, X3, V1, V2, V3, k1, p1)
-    sx1, sx2, sx3 = v1 + 2.0 * V1, v2 + 2.0 * V2, v3 + 2.0 * V3
-    sv1, sv2, sv3 = a1 + 2.0 * b1, a2 + 2.0 * b2, a3 + 2.0 * b3
-    W1 = v1 + hh * b1
-    W2 = v2 + hh * b2
-    W3 = v3 + hh * b3
-    c1, c2, c3 = rhs(c, x1 + hh * V1, x2 + hh * V2, x3 + hh * V3, W1, W2, W3, k1, p1)
-    sx1 += 2.0 * W1
-    sx2 += 2.0 * W2
-    sx3 += 2.0 * W3
-    sv1 += 2.0 * c1
-    sv2 += 2.0 * c2
-    sv3 += 2.0 * c3
-    U1 = v1 + h * c1
-    U2 = v2 + h * c2
-    U3 = v3 + h * c3
-    d1, d2, d3 = rhs(c, x1 + h * W1, x2 + h * W2, x3 + h * W3, U1, U2, U3, k2, p2)
-    h6 = h / 6.0
-    out[0] = x1 + h6 * (sx1 + U1)
-    out[1] = x2 + h6 * (sx2 + U2)
-    out[2] = x3 + h6 * (sx3 + U3)
-    out[3] = v1 + h6 * (sv1 + d1)
-    out[4] = v2 + h6 * (sv2 + d2)
-    out[5] = v3 + h6 * (sv3 + d3)
-
-
-@njit(cache=True, inline="always")
-def tangent_step(c, y, W, m, h, k0, k1, k2, p0, p1, p2, Wout, fixed):
-    """Advance the m tangent columns W (6, m) over the RK4 step from the orbit state y.
+def step(c, y, W, m, h, k0, k1, k2, p0, p1, p2, ynew, Wnew, fixed):
+    """One RK4 step of size h from y (6,) into ynew (6,) (:func:`geardyn.solve._model.rk4`), kappa and TE
+    at the three stage times; with m > 0 the m tangent columns W (6, m) into Wnew
+    (:func:`geardyn.solve._model.rk4_tangent`).
 
     The slopes f'(x2) are those of the orbit's four stage states (the derivative of the discrete
-    flow of :func:`rk4_step`), or ``fixed`` (0 or 1) for all four when ``fixed >= 0``: a sub-step
-    that ends or starts on a located switch lies in one contact region, and a stage state on the
-    switch itself must not pick the other region's slope (the crossing time moves with the state,
-    which cancels that stage's dependence; see :func:`locate_switches`)."""
-    hh = 0.5 * h
-    a1, a2, a3 = rhs(c, y[0], y[1], y[2], y[3], y[4], y[5], k0, p0)
-    x2_2 = y[1] + hh * y[4]
-    b1, b2, b3 = rhs(c, y[0] + hh * y[3], x2_2, y[2] + hh * y[5],
-                     y[3] + hh * a1, y[4] + hh * a2, y[5] + hh * a3, k1, p1)
-    x2_3 = y[1] + hh * (y[4] + hh * a2)
-    x2_4 = y[1] + h * (y[4] + hh * b2)
-    if fixed >= 0.0:
-        s1, s2, s3, s4 = k0 * fixed, k1 * fixed, k1 * fixed, k2 * fixed
-    else:
-        s1 = k0 * slope(c, y[1])
-        s2 = k1 * slope(c, x2_2)
-        s3 = k1 * slope(c, x2_3)
-        s4 = k2 * slope(c, x2_4)
-    h6 = h / 6.0
-    for col in range(m):
-        w0, w1, w2, w3, w4, w5 = W[0, col], W[1, col], W[2, col], W[3, col], W[4, col], W[5, col]
-        A1, A2, A3 = lin(c, w0, w1, w2, w3, w4, w5, s1)
-        B0, B1, B2 = w0 + hh * w3, w1 + hh * w4, w2 + hh * w5
-        B3, B4, B5 = w3 + hh * A1, w4 + hh * A2, w5 + hh * A3
-        Q1, Q2, Q3 = lin(c, B0, B1, B2, B3, B4, B5, s2)
-        C0, C1, C2 = w0 + hh * B3, w1 + hh * B4, w2 + hh * B5
-        C3, C4, C5 = w3 + hh * Q1, w4 + hh * Q2, w5 + hh * Q3
-        R1, R2, R3 = lin(c, C0, C1, C2, C3, C4, C5, s3)
-        D0, D1, D2 = w0 + h * C3, w1 + h * C4, w2 + h * C5
-        D3, D4, D5 = w3 + h * R1, w4 + h * R2, w5 + h * R3
-        S1, S2, S3 = lin(c, D0, D1, D2, D3, D4, D5, s4)
-        Wout[0, col] = w0 + h6 * (w3 + 2.0 * B3 + 2.0 * C3 + D3)
-        Wout[1, col] = w1 + h6 * (w4 + 2.0 * B4 + 2.0 * C4 + D4)
-        Wout[2, col] = w2 + h6 * (w5 + 2.0 * B5 + 2.0 * C5 + D5)
-        Wout[3, col] = w3 + h6 * (A1 + 2.0 * Q1 + 2.0 * R1 + S1)
-        Wout[4, col] = w4 + h6 * (A2 + 2.0 * Q2 + 2.0 * R2 + S2)
-        Wout[5, col] = w5 + h6 * (A3 + 2.0 * Q3 + 2.0 * R3 + S3)
+    flow), or ``fixed`` (0 or 1) for all four when ``fixed >= 0``: a sub-step that ends or starts on a
+    located switch lies in one contact region, and a stage state on the switch itself must not pick
+    the other region's slope (the crossing time moves with the state, which cancels that stage's
+    dependence; see :func:`locate_switches`)."""
+    on = c[BACKLASH_ON]
+    b = c[B] if on != 0.0 else 0.0
+    x2 = y[1]
+    n1, n2, n3, n4, n5, n6, X2, Z2, Q2 = rk4(c, b, h, k0, k1, k2, p0, p1, p2, y[0], x2, y[2], y[3], y[4], y[5])
+    ynew[0], ynew[1], ynew[2], ynew[3], ynew[4], ynew[5] = n1, n2, n3, n4, n5, n6
+    if m > 0:
+        if fixed >= 0.0:
+            s1, s2, s3, s4 = k0 * fixed, k1 * fixed, k1 * fixed, k2 * fixed
+        else:
+            s1, s2 = k0 * slope(on, b, x2), k1 * slope(on, b, X2)
+            s3, s4 = k1 * slope(on, b, Z2), k2 * slope(on, b, Q2)
+        for col in range(m):
+            w = rk4_tangent(c, h, s1, s2, s3, s4, W[0, col], W[1, col], W[2, col], W[3, col], W[4, col], W[5, col])
+            Wnew[0, col], Wnew[1, col], Wnew[2, col], Wnew[3, col], Wnew[4, col], Wnew[5, col] = w
 
 
 @njit(cache=True, inline="always")
@@ -189,9 +97,7 @@ def sub_step(c, poly, seg, y, W, m, s0, dt, yout, Wout, fixed):
     se = s0 + dt / period
     k0, k1, k2 = kappa_at(poly, seg, eps1, s0), kappa_at(poly, seg, eps1, sm), kappa_at(poly, seg, eps1, se)
     p0, p1, p2 = te_at(c, s0), te_at(c, sm), te_at(c, se)
-    if m > 0:
-        tangent_step(c, y, W, m, dt, k0, k1, k2, p0, p1, p2, Wout, fixed)
-    rk4_step(c, y, dt, k0, k1, k2, p0, p1, p2, yout)
+    step(c, y, W, m, dt, k0, k1, k2, p0, p1, p2, yout, Wout, fixed)
 
 
 @njit(cache=True)
@@ -285,8 +191,9 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
     Early stop (``es_confirm > 0``): from period ``es_min`` on, the transient ends once the return
     distance of the stroboscopic points after some n <= es_max_n stays within
     max(es_atol max(|p|, 1), es_floor) for es_confirm consecutive periods, for the smallest such n
-    whose cycle points are distinct (d_m > es_sep tol for m < n, as rule 3 of the classifier); the
-    recorded periods follow at once and the tangent columns are not carried further.
+    whose cycle points are distinct (d_m > es_sep tol for m < n: rule 3 of the classifier,
+    :func:`geardyn.solve._period.early_stop`); the recorded periods follow at once and the tangent
+    columns are not carried further.
 
     Returns (status, last_period, n_events, n_dense, transient_used, stop_period): status 0 ok,
     1 diverged; stop_period: the n of the early stop (0: the transient ran to its end).
@@ -313,19 +220,16 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
     count = np.zeros(es_max_n + 1, dtype=np.int64)
     dcur = np.full(es_max_n + 1, np.inf)
     n_seen = 0
-    stopped = False
     stop_n = 0
     n_tr = n_trans
     reg = region(y[1], b)
     per = 0
     while per < n_tr + n_rec:
-        mt = m if (per >= tan_start and not stopped) else 0
+        mt = m if (per >= tan_start and stop_n == 0) else 0
         for j in range(nsteps):
             h = tab_h[j]
-            if mt > 0:
-                tangent_step(c, y, W, mt, h, tab_k[j, 0], tab_k[j, 1], tab_k[j, 2],
-                             tab_p[j, 0], tab_p[j, 1], tab_p[j, 2], Wnew, -1.0)
-            rk4_step(c, y, h, tab_k[j, 0], tab_k[j, 1], tab_k[j, 2], tab_p[j, 0], tab_p[j, 1], tab_p[j, 2], ynew)
+            step(c, y, W, mt, h, tab_k[j, 0], tab_k[j, 1], tab_k[j, 2], tab_p[j, 0], tab_p[j, 1], tab_p[j, 2],
+                 ynew, Wnew, -1.0)
             if use_events:
                 rnew = region(ynew[1], b)
                 if rnew != reg:
@@ -342,54 +246,46 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
                 for i in range(6):
                     dense_y[n_dense, i] = y[i]
                 n_dense += 1
-        bad = False
-        for i in range(6):
-            if not (abs(y[i]) <= limits[i]):
-                bad = True
-        if bad:
+        if diverged(y, limits):
             for i in range(6):
                 yfinal[i] = y[i]
             return 1, per, n_events, n_dense, min(per + 1, n_tr), stop_n
-        if mt > 0 and renorm:
-            nrm = 0.0
-            for i in range(6):
-                nrm += W[i, 0] * W[i, 0]
-            nrm = math.sqrt(nrm)
-            growth[per - tan_start] = math.log(nrm) if nrm > 0.0 else -np.inf
-            strobe[per - tan_start] = y[1]
-            for i in range(6):
-                W[i, 0] /= nrm
-        if per >= n_tr:
-            for i in range(6):
-                poinc[per - n_tr, i] = y[i]
-        elif es_confirm > 0:
-            slot = n_seen % (es_max_n + 1)
-            scale = 1.0
-            for i in range(6):
-                ring[slot, i] = y[i]
-                scale = max(scale, abs(y[i]))
-            tol = max(es_atol * scale, es_floor)
-            n_seen += 1
-            for n in range(1, es_max_n + 1):
-                dcur[n] = np.inf
-                if n < n_seen:
-                    old = (n_seen - 1 - n) % (es_max_n + 1)
-                    d = 0.0
-                    for i in range(6):
-                        d = max(d, abs(y[i] - ring[old, i]))
-                    dcur[n] = d
-                    count[n] = count[n] + 1 if d <= tol else 0
-            if per + 1 >= es_min and per + 1 < n_tr:
-                # as rule 3: the smallest confirmed n whose cycle points are distinct (d_m > es_sep tol, m < n)
-                dmin = np.inf
-                for n in range(1, es_max_n + 1):
-                    if count[n] >= es_confirm and dmin > es_sep * tol:
-                        stopped = True
-                        stop_n = n
-                        n_tr = per + 1
-                        break
-                    dmin = min(dmin, dcur[n])
+        record(y, W, per - tan_start if (mt > 0 and renorm) else -1, growth, strobe, poinc,
+               per - n_tr if per >= n_tr else -1)
+        if per < n_tr and es_confirm > 0:
+            n_seen, stop_n = early_stop(ring, count, dcur, n_seen, y, es_max_n, es_floor, es_atol, es_sep, es_confirm,
+                                        per + 1 >= es_min and per + 1 < n_tr)
+            if stop_n > 0:
+                n_tr = per + 1
         per += 1
     for i in range(6):
         yfinal[i] = y[i]
     return 0, n_tr + n_rec, n_events, n_dense, n_tr, stop_n
+
+
+@njit(cache=True)
+def diverged(y, limits):
+    """Whether any |y_i| exceeds limits[i] or is not finite (checked at the end of every mesh period)."""
+    for i in range(6):
+        if not (abs(y[i]) <= limits[i]):
+            return True
+    return False
+
+
+@njit(cache=True)
+def record(y, W, k_tan, growth, strobe, poinc, k_rec):
+    """The records of a mesh period's end (state y, tangent columns W): with ``k_tan >= 0`` the column
+    W[:, 0] is renormalised, growth[k_tan] = log of its norm before that and strobe[k_tan] = x2; with
+    ``k_rec >= 0`` poinc[k_rec] = y (a recorded period)."""
+    if k_tan >= 0:
+        nrm = 0.0
+        for i in range(6):
+            nrm += W[i, 0] * W[i, 0]
+        nrm = math.sqrt(nrm)
+        growth[k_tan] = math.log(nrm) if nrm > 0.0 else -np.inf
+        strobe[k_tan] = y[1]
+        for i in range(6):
+            W[i, 0] /= nrm
+    if k_rec >= 0:
+        for i in range(6):
+            poinc[k_rec, i] = y[i]

@@ -25,6 +25,7 @@ import numpy as np
 
 import geardyn.solve._batch as _batch
 import geardyn.solve._kernel as _kernel
+import geardyn.solve._period as _period
 from geardyn.solve.base import SimulationResult, SimulationSettings, System, divergence_limits
 
 
@@ -32,44 +33,49 @@ def step_grid(eps: float, n: int, aligned: bool = True) -> tuple[np.ndarray, np.
     """Step start phases s_j (n,) and segment ids (n,) of one mesh period.
 
     Aligned: N1 = max(1, round(n f)) equal steps on [0, f], n - N1 on [f, 1], f = eps - floor(eps) (the
-    zone with one pair more); for an integer eps (f = 0) n equal steps on the second zone.
+    zone with one pair more); for an integer eps (f = 0) n equal steps on the second zone
+    (:func:`geardyn.solve._batch.fill_tables`, the one statement of the aligned grid).
     Not aligned: n equal steps, segment id -1 (kappa evaluated by its global definition).
     """
-    e1 = eps - math.floor(eps)
     if not aligned:
         return np.arange(n) / n, np.full(n, -1, dtype=np.int64)
-    if e1 == 0.0:
-        return np.arange(n) / n, np.ones(n, dtype=np.int64)
-    n1 = min(max(1, int(round(n * e1))), n - 1)
-    s = np.concatenate([np.arange(n1) * (e1 / n1), e1 + np.arange(n - n1) * ((1.0 - e1) / (n - n1))])
-    seg = np.concatenate([np.zeros(n1, dtype=np.int64), np.ones(n - n1, dtype=np.int64)])
+    _, s, seg, _, _ = _aligned_tables(float(eps), 1.0, 0.0, 0.0, np.zeros((2, 3)), n)
     return s, seg
+
+
+def _aligned_tables(eps: float, period: float, te: float, phi: float, poly: np.ndarray, n: int):
+    """h, s, seg, kappa and TE at the stage times of the aligned grid (one lane of
+    :func:`geardyn.solve._batch.fill_tables`)."""
+    H, S, K, P = np.empty((1, n)), np.empty((1, n)), np.empty((1, n, 3)), np.empty((1, n, 3))
+    SEG = np.empty((1, n), np.int64)
+    _batch.fill_tables(0, eps, period, te, phi, poly, n, H, S, SEG, K, P)
+    return H[0], S[0], SEG[0], K[0], P[0]
 
 
 @lru_cache(maxsize=64)
 def step_tables(system: System, n: int, aligned: bool = True):
     """Per-step tables of one mesh period: (c, h, s, seg, kappa at the 3 stage times, TE at them, polys).
 
-    Vectorised; kappa by Horner as ``np.polyval`` evaluates it. Cached per (system, n, aligned)
+    Aligned: :func:`geardyn.solve._batch.fill_tables` (the tables of :func:`simulate_batch` too); not
+    aligned: vectorised here.  kappa by Horner as ``np.polyval`` evaluates it.  Cached per (system, n, aligned)
     (systems are frozen and hashable); the arrays are read-only.
     """
     c = system.kernel_array()
     poly = system.stiffness_polys()
-    s, seg = step_grid(system.eps, n, aligned)
-    ds = np.diff(np.append(s, 1.0))
-    e1 = system.eps - math.floor(system.eps)
-    sv = s[:, None] + np.array([0.0, 0.5, 1.0])[None, :] * ds[:, None]
-    sg = np.broadcast_to(seg[:, None], sv.shape)
-    if not aligned:
+    if aligned:
+        h, s, seg, tab_k, tab_p = _aligned_tables(float(system.eps), float(system.period), float(system.te_forcing),
+                                                  float(system.phi), poly, n)
+    else:
+        s, seg = step_grid(system.eps, n, aligned)
+        ds = np.diff(np.append(s, 1.0))
+        e1 = system.eps - math.floor(system.eps)
+        sv = s[:, None] + np.array([0.0, 0.5, 1.0])[None, :] * ds[:, None]
         sv_k = sv % 1.0
         sg = np.where(sv_k < e1, 0, 1)
-    else:
-        sv_k = sv
-    pa, pb, pc = poly[sg, 0], poly[sg, 1], poly[sg, 2]
-    tab_k = (pa * sv_k + pb) * sv_k + pc
-    te = system.te_forcing
-    tab_p = np.array([te * math.sin(2 * math.pi * v + system.phi) for v in sv.ravel()]).reshape(sv.shape)
-    h = ds * system.period
+        tab_k = (poly[sg, 0] * sv_k + poly[sg, 1]) * sv_k + poly[sg, 2]
+        te = system.te_forcing
+        tab_p = np.array([te * math.sin(2 * math.pi * v + system.phi) for v in sv.ravel()]).reshape(sv.shape)
+        h = ds * system.period
     for a in (c, poly, tab_k, tab_p, h, s, seg):
         a.setflags(write=False)
     return c, h, s, seg, tab_k, tab_p, poly
@@ -364,5 +370,15 @@ def strict_periods(poincare: np.ndarray, npts: np.ndarray, max_n: int, atol: flo
     ``poincare`` (L, m, 6) with the first ``npts[l]`` rows of set l used.  Returns (L, 2): the period n
     (0 if none) and the tolerance of each set (the same operations as the classifier's, so the same n)."""
     out = np.zeros((poincare.shape[0], 2))
-    _batch.strict_periods(poincare, npts, max_n, atol, rtol, floor_tol, separation, out)
+    _period.strict_periods(poincare, npts, max_n, atol, rtol, floor_tol, separation, out)
     return out
+
+
+def strict_period(poincare: np.ndarray, max_n: int, atol: float, rtol: float, floor_tol: float,
+                  separation: float) -> tuple[int, float]:
+    """Rule 3 of :func:`geardyn.classify.strict_period`, compiled, on one record ``poincare`` (m, n_states)
+    without NaN rows (m >= 1): (the period n, 0 if none; the tolerance).  The one statement of the rule
+    (:mod:`geardyn.solve._period`), shared with :func:`strict_periods` and the early stop."""
+    p = np.ascontiguousarray(poincare, dtype=float)
+    n, tol = _period.strict_period(p, p.shape[0], max_n, atol, rtol, floor_tol, separation)
+    return int(n), float(tol)

@@ -1,0 +1,111 @@
+"""Rule 3 of the classifier, stated once, compiled: the strict period test of a sequence of Poincaré
+points, and the early stop of the transient that applies the same rule while the run goes on.
+Private to :mod:`geardyn.solve`.
+
+Rule 3 (:func:`first_period`): the period is the smallest n <= max_n whose return distance
+d_n = max_k,i |p_k+n,i - p_k,i| passes (within the tolerance) and whose n cycle points are distinct:
+d_m > separation * tol for every m < n (a decaying transient rotating by about 1/n per period
+returns closely after n periods too).  Its users:
+
+* :func:`strict_period` / :func:`strict_periods`: a finished record, the tolerance scaled to the
+  attractor (:func:`geardyn.classify.strict_period` calls it on one record,
+  :func:`geardyn.solve.simulate.strict_periods` on many);
+* :func:`early_stop`: the running record of the transient in the loops of
+  :func:`geardyn.solve._kernel.run` and :func:`geardyn.solve._batch.run_blocks`, where d_n "passes"
+  once it has stayed within the tolerance for ``confirm`` consecutive periods.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def first_period(d, hits, need, max_n, distinct):
+    """Rule 3: the smallest n in 1 .. max_n with hits[n] >= need whose return distances d[m], m < n,
+    all exceed ``distinct`` (= separation * tol); 0 if none.  d, hits: (max_n + 1,), entry 0 unused."""
+    dmin = np.inf
+    for n in range(1, max_n + 1):
+        if hits[n] >= need and dmin > distinct:
+            return n
+        dmin = min(dmin, d[n])
+    return 0
+
+
+@njit(cache=True)
+def tolerance(p, m, atol, rtol, floor_tol):
+    """Return-distance tolerance of the points p[:m] (m >= 1): max(atol max(|p|, 1) + rtol size,
+    floor_tol) with size the largest peak-to-peak range of a state (:func:`geardyn.classify._tolerance`)."""
+    size = 0.0
+    scale = 0.0
+    for i in range(p.shape[1]):
+        lo = p[0, i]
+        hi = lo
+        for k in range(m):
+            v = p[k, i]
+            lo = min(lo, v)
+            hi = max(hi, v)
+            scale = max(scale, abs(v))
+        size = max(size, hi - lo)
+    scale = max(scale, 1.0)
+    return max(atol * scale + rtol * size, floor_tol)
+
+
+@njit(cache=True)
+def strict_period(p, m, max_n, atol, rtol, floor_tol, separation):
+    """Rule 3 on the points p[:m] (no NaN): (period n or 0, tolerance); (0, nan) for m = 0."""
+    if m == 0:
+        return 0, np.nan
+    tol = tolerance(p, m, atol, rtol, floor_tol)
+    d = np.full(max_n + 1, np.inf)
+    hits = np.zeros(max_n + 1, dtype=np.int64)
+    for n in range(1, min(max_n, m - 1) + 1):
+        dn = 0.0
+        for k in range(m - n):
+            for i in range(p.shape[1]):
+                dn = max(dn, abs(p[k + n, i] - p[k, i]))
+        d[n] = dn
+        hits[n] = 1 if dn <= tol else 0
+    return first_period(d, hits, 1, max_n, separation * tol), tol
+
+
+@njit(cache=True)
+def strict_periods(POINC, npts, max_n, atol, rtol, floor_tol, separation, OUT):
+    """:func:`strict_period` for every lane l on POINC[l, :npts[l]] (rows without NaN assumed);
+    OUT[l] = (n, tol), (0, nan) for fewer than 3 points (rule 2 of the classifier)."""
+    for lane in range(POINC.shape[0]):
+        OUT[lane, 0] = 0.0
+        OUT[lane, 1] = np.nan
+        if npts[lane] >= 3:
+            n, tol = strict_period(POINC[lane], npts[lane], max_n, atol, rtol, floor_tol, separation)
+            OUT[lane, 0] = n
+            OUT[lane, 1] = tol
+
+
+@njit(cache=True)
+def early_stop(ring, count, dcur, n_seen, y, max_n, floor_tol, atol, separation, confirm, check):
+    """Feed the Poincaré point y (6,) of a transient period to the running record: ring (max_n + 1, 6)
+    of the last points, count (max_n + 1,) of consecutive periods with d_n <= tol, dcur (max_n + 1,)
+    the current d_n (inf while fewer than n + 1 points), tol = max(atol max(|y|, 1), floor_tol).
+    With ``check``, rule 3 on the counts (``confirm`` consecutive periods).  Returns (n_seen + 1, n):
+    n the period at which the transient may stop, 0 if none."""
+    slot = n_seen % (max_n + 1)
+    scale = 1.0
+    for i in range(6):
+        ring[slot, i] = y[i]
+        scale = max(scale, abs(y[i]))
+    tol = max(atol * scale, floor_tol)
+    n_seen += 1
+    for n in range(1, max_n + 1):
+        dcur[n] = np.inf
+        if n < n_seen:
+            old = (n_seen - 1 - n) % (max_n + 1)
+            d = 0.0
+            for i in range(6):
+                d = max(d, abs(y[i] - ring[old, i]))
+            dcur[n] = d
+            count[n] = count[n] + 1 if d <= tol else 0
+    if not check:
+        return n_seen, 0
+    return n_seen, first_period(dcur, count, confirm, max_n, separation * tol)
