@@ -79,5 +79,12 @@ CALIBRATION_TARGETS = [
 ] + [
     f"results/{config['calibration'][name]['design']}/calibration/{name}_{kind}"
     for name in SEARCH_CALIBRATIONS
-    for kind in ("sensitivity.md", "tornado.png", "map.png", "vs_committed.md")
+    for kind in (
+        "sensitivity.md",
+        "sensitivity.nc",
+        "map.nc",
+        "tornado.png",
+        "map.png",
+        "vs_committed.md",
+    )
 ]
