@@ -2,7 +2,7 @@
 :func:`geardyn.classify.zero_one_test` and :func:`geardyn.classify.falling_return_distances`.
 
 They release the GIL, so the classification of many points in threads
-(:func:`geardyn.runs.points.analyse_points`) runs on both cores.
+(the labeller's last stage, :mod:`geardyn.label`) runs on both cores.
 """
 
 from __future__ import annotations

@@ -284,42 +284,45 @@ def figure(out: dict, path: Path) -> None:
 
 
 def main_speed(argv: list[str]) -> int:
-    """``throughput`` and ``agreement`` modes (previous vs batch method)."""
+    """``throughput`` (follow against fixed starts, kernel, DOP853), ``labels`` (the labels of two builds'
+    cubes compared) and ``check`` (random map points run long from their follow start) modes."""
     ap = argparse.ArgumentParser(prog=f"python -m geardyn.bench {argv[0]}")
-    ap.add_argument("--out", type=Path, default=None, help="directory for throughput.* / agreement.*")
+    ap.add_argument("--out", type=Path, default=None, help="directory for the .md (and .nc) written")
     ap.add_argument("--config", type=Path, default=Path("config/config.yaml"))
     ap.add_argument("--quick", action="store_true", help="short runs (smoke test)")
-    ap.add_argument("--map-stride", type=int, default=1, help="agreement: every n-th x and y of the map")
+    ap.add_argument("--old", type=Path, help="labels: the results/ directory of the earlier build")
+    ap.add_argument("--new", type=Path, default=Path("results"), help="labels: the results/ directory to compare")
+    ap.add_argument("--points", type=int, default=200, help="check: random map points")
+    ap.add_argument("--periods", type=int, default=20000, help="check: mesh periods of each long run")
     a = ap.parse_args(argv[1:])
     log = lambda m: print(m, flush=True)  # noqa: E731
+    ds = None
     if argv[0] == "throughput":
         out = throughput(a.config, quick=a.quick, log=log)
-        md = "# Throughput: batch method vs previous method\n\n" + throughput_markdown(out)
-        md += "\n## Label agreement on the paper 1 sweeps\n\n" + agreement_markdown(out["figures"]["runs"])
+        md = "# Throughput: the follow start against the fixed start (the same labeller, one run)\n\n"
+        md += throughput_markdown(out)
         ds = throughput_dataset(out)
-        stem = "throughput"
+    elif argv[0] == "labels":
+        md = "# Labels of two builds compared, cube by cube\n\n" + compare_builds(a.old, a.new)
     else:
-        runs = agreement(a.config, map_stride=a.map_stride * (8 if a.quick else 1), sweep_stride=20 if a.quick else 1,
-                         log=log)
-        md = "# Labels: previous method vs batch method\n\n" + agreement_markdown(runs)
-        ds = None
-        stem = "agreement"
+        md = "# Independent check: long runs from the follow start\n\n" + long_run_check(
+            a.config, n_points=a.points, periods=a.periods, log=log)
     print(md)
     if a.out is not None:
         from geardyn import io
 
         a.out.mkdir(parents=True, exist_ok=True)
-        io.write_text(md, a.out / f"{stem}.md")
+        io.write_text(md, a.out / f"{argv[0]}.md")
         if ds is not None:
-            io.write_netcdf(ds, a.out / f"{stem}.nc", io.provenance(title=ds.attrs["title"], paper="li2013",
-                                                                   model_variant="benchmark"))
-        print(f"wrote {a.out}/{stem}.*")
+            io.write_netcdf(ds, a.out / f"{argv[0]}.nc", io.provenance(title=ds.attrs["title"], paper="li2013",
+                                                                       model_variant="benchmark"))
+        print(f"wrote {a.out}/{argv[0]}.*")
     return 0
 
 
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
-    if argv and argv[0] in ("throughput", "agreement"):
+    if argv and argv[0] in ("throughput", "labels", "check"):
         return main_speed(argv)
     ap = argparse.ArgumentParser(prog="python -m geardyn.bench", description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=None, help="directory for work_precision.nc/.md/.png")
@@ -343,17 +346,17 @@ def main(argv: list[str] | None = None) -> int:
 
 
 # ----------------------------------------------------------------------------------------------
-# throughput and agreement: the batch method (early stop, Floquet exponents, lockstep lanes on all
-# cores) against the previous method (point by point, full transient, tangent vector), one run
+# the labeller's starts compared (one run), two builds' labels compared, long-run check
 # ----------------------------------------------------------------------------------------------
 
 PAPER1_SWEEPS = ("fig07_bifurcation_x1", "fig09_bifurcation_b", "fig11_bifurcation_e")
 
 
 def _config(path: Path) -> dict:
-    from geardyn import config as cfg_mod
+    from geardyn import validate
 
-    return cfg_mod.read_yaml(path)
+    filled, _ = validate.validate_workflow(validate.read_config_file(path), path.resolve().parent.parent)
+    return filled
 
 
 def _design(name: str, config: dict, root: Path):
@@ -362,71 +365,27 @@ def _design(name: str, config: dict, root: Path):
     return design_mod.load(root / config["designs"][name])
 
 
-def _sweep_points(design, spec):
-    from geardyn.khv import point
-    from geardyn.runs.sweep import point_overrides
-
-    out = []
-    for case in range(len(spec.cases)):
-        for j, v in enumerate(spec.values):
-            out.append(((spec.case_label(case), float(v)), point.point_coefficients(design, point_overrides(spec, case, v))))
-    return out
-
-
-def _map_points(design, spec, stride: int = 1):
+def _map_lines(design, spec, rows=None):
+    """The rows of a map (or ``rows`` of them) as lines of systems, as maps.run_chunk builds them."""
     from geardyn.khv import point
     from geardyn.runs import maps
 
-    out = []
     xs, ys = spec.x.values, spec.y.values
-    for i in range(0, len(xs), stride):
-        base = point.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(xs[i])})
-        for j in range(0, len(ys), stride):
-            out.append(((float(xs[i]), float(ys[j])), maps.point_coefficients(design, spec, xs[i], ys[j], base)))
-    return out
+    bases = [point.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(x)}) for x in xs]
+    rows = range(len(ys)) if rows is None else rows
+    return [[maps.point_coefficients(design, spec, xs[i], ys[j], bases[i]) for i in range(len(xs))] for j in rows]
 
 
-def _old_worker(args):
-    systems, settings, classifier, cheap = args
-    from geardyn.runs.points import analyse_points
+def _timed_labels(lines, policy):
+    from geardyn.label import label_lines
 
-    t0 = time.process_time()
-    out = analyse_points(systems, settings, classifier, cheap=cheap)  # settings.batch is False: point by point
-    return [(lab.label, lab.lyapunov, lab.reason, r.transient_used) for r, lab in out], time.process_time() - t0
-
-
-def compare_methods(systems, settings, classifier, cheap: bool, workers: int = 2, log=print) -> dict:
-    """Labels and costs of the previous method (``analyse_point`` point by point, full transient,
-    tangent exponent; ``workers`` processes) and of the batch method (``analyse_points`` with the
-    settings' early stop and exponent; numba threads) on the same points."""
-    import dataclasses
-    from concurrent.futures import ProcessPoolExecutor
-
-    from geardyn.runs.points import analyse_points
-
-    old_settings = dataclasses.replace(settings, batch=False)
-    parts = np.array_split(np.arange(len(systems)), workers)
-    t0 = time.perf_counter()
-    with ProcessPoolExecutor(workers) as ex:
-        res = list(ex.map(_old_worker, [([systems[i] for i in p], old_settings, classifier, cheap) for p in parts]))
-    old_wall = time.perf_counter() - t0
-    old = [x for r, _ in res for x in r]
-    old_cpu = sum(c for _, c in res)
-    analyse_points(systems[:16], settings, classifier, cheap=cheap)  # compile / load the kernels
-    t0 = time.perf_counter()
-    c0 = time.process_time()
-    new_pairs = analyse_points(systems, settings, classifier, cheap=cheap)
-    new_wall = time.perf_counter() - t0
-    new_cpu = time.process_time() - c0
-    new = [(lab.label, lab.lyapunov, lab.reason, r.transient_used) for r, lab in new_pairs]
-    log(f"  {len(systems)} points: previous {old_cpu:.1f} CPU-s ({old_wall:.1f} s wall on {workers} processes), "
-        f"batch {new_wall:.1f} s wall ({new_cpu:.1f} CPU-s)")
-    return {"old": old, "new": new, "old_cpu": old_cpu, "old_wall": old_wall, "new_wall": new_wall,
-            "new_cpu": new_cpu}
+    t0, c0 = time.perf_counter(), time.process_time()
+    out = label_lines(lines, policy)
+    return out, time.perf_counter() - t0, time.process_time() - c0
 
 
 def confusion(old_labels, new_labels) -> tuple[list[int], np.ndarray]:
-    """Confusion matrix (rows: previous label, columns: new label) over the codes present."""
+    """Confusion matrix (rows: the first labels, columns: the second) over the codes present."""
     codes = sorted(set(old_labels) | set(new_labels))
     m = np.zeros((len(codes), len(codes)), np.int64)
     pos = {c: k for k, c in enumerate(codes)}
@@ -435,90 +394,183 @@ def confusion(old_labels, new_labels) -> tuple[list[int], np.ndarray]:
     return codes, m
 
 
-def confusion_markdown(codes, m) -> str:
+def confusion_markdown(codes, m, first: str = "previous", second: str = "new") -> str:
     from geardyn.classify import short_name
 
-    head = "| previous \\ new | " + " | ".join(short_name(c) for c in codes) + " |"
+    head = f"| {first} \\ {second} | " + " | ".join(short_name(c) for c in codes) + " |"
     lines = [head, "|---|" + "---:|" * len(codes)]
     for k, c in enumerate(codes):
         lines.append(f"| {short_name(c)} | " + " | ".join(str(int(v)) for v in m[k]) + " |")
     return "\n".join(lines)
 
 
-def agreement(config_path: Path = Path("config/config.yaml"), designs=("li2013", "li2013_calibrated"),
-              map_name: str = "map_x1_b", map_stride: int = 1, sweep_stride: int = 1, log=print) -> dict:
-    """Previous vs batch method on paper 1's sweeps (Figs. 7, 9, 11) for ``designs`` and on one map:
-    labels (confusion matrices, every disagreement listed) and costs."""
-    from geardyn import classify
+def compare_builds(old: Path, new: Path) -> str:
+    """The labels of every sweep cube and map that two builds' ``results/`` share, compared point by point
+    (by data content): a confusion matrix per cube, the share of the earlier build's decided labels the
+    new one repeats (points flagged ``coexisting`` left out), the new build's undetermined share and the
+    stages that decided it."""
+    import xarray as xr
+
+    from geardyn.classify import LABELS
+    from geardyn.label import STAGE_NAMES
+
+    lines = ["| cube | points | same label | decided before, same now (no coexistence) | undetermined before | "
+             "undetermined now |", "|---|---:|---:|---:|---:|---:|"]
+    parts = []
+    for path in sorted(list(new.glob("*/sweeps/*.nc")) + list(new.glob("*/maps/*.nc"))):
+        rel = path.relative_to(new)
+        if path.name.startswith("chunk_") or not (old / rel).exists():
+            continue
+        with xr.open_dataset(old / rel) as a, xr.open_dataset(path) as b:
+            lo, ln = a["label"].values.ravel(), b["label"].values.ravel()
+            coex = b["coexisting"].values.ravel() == 1 if "coexisting" in b else np.zeros(ln.size, bool)
+            stage = b["stage"].values.ravel() if "stage" in b else None
+        und = LABELS["undetermined"]
+        decided = (lo != und) & ~coex
+        same_dec = int(np.sum((lo == ln) & decided))
+        lines.append(f"| {rel} | {lo.size} | {int(np.sum(lo == ln))} ({np.mean(lo == ln):.1%}) | {same_dec} of "
+                     f"{int(decided.sum())} ({same_dec / max(1, int(decided.sum())):.2%}) | "
+                     f"{np.mean(lo == und):.1%} | {np.mean(ln == und):.1%} |")
+        codes, m = confusion(lo.tolist(), ln.tolist())
+        parts += ["", f"### {rel}", "", confusion_markdown(codes, m)]
+        if stage is not None:
+            u, c = np.unique(stage, return_counts=True)
+            parts.append("\nstages now: " + ", ".join(f"{STAGE_NAMES.get(int(k), 'not computed')} {int(n)}"
+                                                         for k, n in zip(u, c, strict=True)))
+    return "\n".join(lines + parts) + "\n"
+
+
+def map_throughput(config_path: Path, map_name: str = "map_x1_b", fixed_stride: int = 10, quick: bool = False,
+                   log=print) -> dict:
+    """A whole regime map with the follow start (every row a line, all rows in one call, wall time) against
+    the fixed start on every ``fixed_stride``-th row, scaled to the whole map; labels of those rows compared."""
     from geardyn.khv import point
-    from geardyn.runs.maps import MapSpec
-    from geardyn.runs.sweep import SweepSpec
+    from geardyn.runs import maps
 
     root = config_path.resolve().parent.parent
     config = _config(config_path)
-    runs = {}
-    for dname in designs:
-        design = _design(dname, config, root)
-        for sname in PAPER1_SWEEPS:
-            spec = SweepSpec.from_config(sname, config["sweeps"][sname], dname, design.segment)
-            settings = point.integration_settings(design, **dict(spec.integration))
-            classifier = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
-            pts = _sweep_points(design, spec)[::sweep_stride]
-            log(f"[{dname} {sname}] {settings.steps_per_period} steps/period, "
-                f"{settings.transient_periods}+{settings.recorded_periods} periods")
-            r = compare_methods([c for _, c in pts], settings, classifier, cheap=False, log=log)
-            r["where"] = [w for w, _ in pts]
-            runs[f"{dname}/{sname}"] = r
-    if map_name:
-        mspec_raw = config["maps"][map_name]
-        dname = mspec_raw["designs"][0]
-        design = _design(dname, config, root)
-        spec = MapSpec.from_config(map_name, mspec_raw, dname, design.segment)
-        settings = point.integration_settings(design, **dict(spec.integration))
-        classifier = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
-        pts = _map_points(design, spec, map_stride)
-        log(f"[{dname} {map_name}] {len(pts)} points (every {map_stride}. x and y)")
-        r = compare_methods([c for _, c in pts], settings, classifier, cheap=True, log=log)
-        r["where"] = [w for w, _ in pts]
-        runs[f"{dname}/{map_name}"] = r
-    return runs
+    raw = dict(config["maps"][map_name])
+    if quick:
+        raw["x"] = {**raw["x"], "num": 20}
+        raw["y"] = {**raw["y"], "num": 20}
+    dname = raw["designs"][0]
+    design = _design(dname, config, root)
+    spec = maps.MapSpec.from_config(map_name, raw, dname, design.segment)
+    policy = maps.map_policy(design, spec)
+    lines = _map_lines(design, spec)
+    sub = list(range(0, spec.y.num, fixed_stride))
+    from geardyn.solve import warm_up
+
+    warm_up(point.point_coefficients(design))
+    fol, t_fol, c_fol = _timed_labels(lines, policy.with_start("follow"))
+    fix, t_fix, c_fix = _timed_labels([lines[j] for j in sub], policy.with_start("fixed"))
+    scale = spec.y.num / len(sub)
+    lf = [v.label for j in sub for v in fol[j]]
+    lx = [v.label for row in fix for v in row]
+    und = sum(v.label == -1 for row in fol for v in row)
+    out = {"map": map_name, "design": dname, "points": spec.n_points, "follow_wall_s": t_fol, "follow_cpu_s": c_fol,
+           "fixed_wall_s_estimate": t_fix * scale, "fixed_cpu_s_estimate": c_fix * scale, "fixed_rows": len(sub),
+           "rows_agree": int(sum(a == b for a, b in zip(lf, lx, strict=True))), "rows_points": len(lf),
+           "undetermined": und, "load_average": os.getloadavg()[0]}
+    log(f"[map] {map_name} {spec.n_points} points: follow {t_fol:.1f} s wall ({c_fol:.0f} CPU-s); fixed "
+        f"{out['fixed_wall_s_estimate']:.0f} s wall (from {len(sub)} rows); ratio {out['fixed_wall_s_estimate'] / t_fol:.1f}x;"
+        f" labels of those rows agree {out['rows_agree']}/{len(lf)}; undetermined {und}")
+    return out
 
 
-def agreement_markdown(runs: dict) -> str:
-    from geardyn.classify import short_name
+def figures_throughput(config_path: Path, design: str = "li2013", quick: bool = False, log=print) -> dict:
+    """Paper 1's sweeps (Figs. 7, 9, 11) for ``design``, follow against fixed start: wall, CPU, labels."""
+    from geardyn.khv import point
+    from geardyn.runs import sweep
 
-    lines = ["| run | points | agree | share | previous CPU-s | batch wall s | batch CPU-s | mean transient used |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|"]
-    allo, alln = [], []
-    for name, r in runs.items():
-        lo = [o[0] for o in r["old"]]
-        ln = [n[0] for n in r["new"]]
-        agree = sum(a == b for a, b in zip(lo, ln, strict=True))
-        used = np.mean([n[3] for n in r["new"]])
-        lines.append(f"| {name} | {len(lo)} | {agree} | {agree / len(lo):.4f} | {r['old_cpu']:.1f} | "
-                     f"{r['new_wall']:.1f} | {r['new_cpu']:.1f} | {used:.0f} |")
-        if "map" not in name:
-            allo += lo
-            alln += ln
-    if allo:
-        agree = sum(a == b for a, b in zip(allo, alln, strict=True))
-        lines.append(f"| all sweeps | {len(allo)} | {agree} | {agree / len(allo):.4f} | | | | |")
-    for name, r in runs.items():
-        lo = [o[0] for o in r["old"]]
-        ln = [n[0] for n in r["new"]]
-        codes, m = confusion(lo, ln)
-        lines += ["", f"### {name}", "", confusion_markdown(codes, m), ""]
-        bad = [k for k in range(len(lo)) if lo[k] != ln[k]]
-        if bad:
-            lines += ["| point | previous | new | previous reason | new reason | transient used |", "|---|---|---|---|---|---:|"]
-            for k in bad:
-                o, n = r["old"][k], r["new"][k]
-                lines.append(f"| {r['where'][k]} | {short_name(o[0])} (lambda {o[1]:.2e}) | {short_name(n[0])} "
-                             f"(lambda {n[1]:.2e}) | {o[2]} | {n[2]} | {n[3]} |")
-        used = np.array([n[3] for n in r["new"]])
-        lines.append(f"\ntransient periods used: min {used.min()}, median {np.median(used):.0f}, max {used.max()}; "
-                     f"stopped early: {int(np.sum(used < max(used.max(), 1)))} of {used.size}")
-    return "\n".join(lines) + "\n"
+    root = config_path.resolve().parent.parent
+    config = _config(config_path)
+    d = _design(design, config, root)
+    out = {"design": design, "points": 0, "follow_wall_s": 0.0, "fixed_wall_s": 0.0, "follow_cpu_s": 0.0,
+           "fixed_cpu_s": 0.0, "agree": 0}
+    for name in PAPER1_SWEEPS:
+        raw = dict(config["sweeps"][name])
+        if quick:
+            raw["num"] = 20
+        spec = sweep.SweepSpec.from_config(name, raw, design, d.segment)
+        policy = sweep.sweep_policy(d, spec)
+        lines = [[point.point_coefficients(d, sweep.point_overrides(spec, c, v)) for v in spec.values]
+                 for c in range(len(spec.cases))]
+        fol, tf, cf = _timed_labels(lines, policy.with_start("follow"))
+        fix, tx, cx = _timed_labels(lines, policy.with_start("fixed"))
+        n = sum(len(line) for line in lines)
+        agree = sum(a.label == b.label for la, lb in zip(fol, fix, strict=True) for a, b in zip(la, lb, strict=True))
+        log(f"[{design} {name}] {n} points: follow {tf:.1f} s, fixed {tx:.1f} s wall; labels agree {agree}/{n}")
+        out["points"] += n
+        out["agree"] += agree
+        out["follow_wall_s"] += tf
+        out["fixed_wall_s"] += tx
+        out["follow_cpu_s"] += cf
+        out["fixed_cpu_s"] += cx
+    return out
+
+
+def long_run_check(config_path: Path, map_name: str = "map_x1_b", n_points: int = 200, periods: int = 20000,
+                   seed: int = 0, log=print) -> str:
+    """Independent check of the labeller: ``n_points`` random points of a regime map, each run ``periods``
+    mesh periods (plain RK4, no labeller) from the state its follow start used (the previous point's
+    final state on its row, the static deflection for a row's first point).  A periodic verdict must be
+    met by the long run's end: the same least period (rule 3 on its last periods) and the same orbit within
+    1e-6; other verdicts are reported with the long run's rule-3 period and its exponent."""
+    from geardyn import classify
+    from geardyn.label.compare import hausdorff
+    from geardyn.runs import maps
+    from geardyn.solve import simulate_batch
+
+    root = config_path.resolve().parent.parent
+    config = _config(config_path)
+    raw = dict(config["maps"][map_name])
+    dname = raw["designs"][0]
+    design = _design(dname, config, root)
+    spec = maps.MapSpec.from_config(map_name, raw, dname, design.segment)
+    policy = maps.map_policy(design, spec)
+    rng = np.random.default_rng(seed)
+    picks = sorted({(int(rng.integers(spec.y.num)), int(rng.integers(spec.x.num))) for _ in range(n_points)})
+    rows = sorted({j for j, _ in picks})
+    t0 = time.perf_counter()
+    lines = _map_lines(design, spec, rows)
+    from geardyn.label import label_lines
+
+    verdicts = dict(zip(rows, label_lines(lines, policy), strict=True))
+    systems, starts, want = [], [], []
+    for j, i in picks:
+        row, line = verdicts[j], lines[rows.index(j)]
+        systems.append(line[i])
+        starts.append(row[i - 1].final_state if i > 0 and not row[i - 1].diverged else None)
+        want.append(row[i])
+    s = SimulationSettings(steps_per_period=policy.integration.steps_per_period, transient_periods=periods - 64,
+                           recorded_periods=64, early_stop=False)
+    runs = simulate_batch(systems, s, starts)
+    cs = policy.classifier
+    rows_md = ["| x | y | verdict | stage | long run: rule-3 period | orbit distance | agrees |",
+               "|---:|---:|---|---|---:|---:|---|"]
+    counts = {"periodic": [0, 0], "other": [0, 0]}
+    for (j, i), v, r in zip(picks, want, runs, strict=True):
+        n = 0 if r.diverged else classify.strict_period(r.poincare, cs)
+        if v.period > 0:
+            dist = hausdorff(r.poincare[-v.period:], v.poincare[:v.period]) if not r.diverged else float("inf")
+            ok = n == v.period and dist < 1e-6
+            counts["periodic"][0] += ok
+            counts["periodic"][1] += 1
+        else:
+            dist = float("nan")
+            ok = n == 0 if v.label != classify.LABELS["diverged"] else r.diverged
+            counts["other"][0] += ok
+            counts["other"][1] += 1
+        if not ok or v.period == 0:
+            rows_md.append(f"| {spec.x.values[i]:.4g} | {spec.y.values[j]:.4g} | {classify.short_name(v.label)} | "
+                           f"{v.stage} | {n} | {dist:.2g} | {ok} |")
+    head = (f"{map_name} of {dname}: {len(picks)} random points, {periods} periods each "
+            f"({time.perf_counter() - t0:.0f} s). Periodic verdicts met by the long run (same least period, orbit "
+            f"within 1e-6): {counts['periodic'][0]} of {counts['periodic'][1]}. Non-periodic verdicts whose long "
+            f"run is still not periodic: {counts['other'][0]} of {counts['other'][1]}.\n\n")
+    log(head)
+    return head + "\n".join(rows_md) + "\n"
 
 
 # ----------------------------------------------------------------------------------------------
@@ -684,72 +736,6 @@ def dop853_ratios(quick: bool = False, log=print) -> dict:
     return out
 
 
-def map_throughput(config_path: Path, map_name: str = "map_x1_b", subset_stride: int = 10, quick: bool = False,
-                   log=print) -> dict:
-    """A whole regime map by the batch method (maps.run_chunk, one chunk, wall time) and the previous
-    method on every ``subset_stride``-th x value of it (one process), scaled to the whole map."""
-    import dataclasses
-
-    from geardyn import classify
-    from geardyn.khv import point
-    from geardyn.runs import maps
-    from geardyn.runs.points import analyse_points
-
-    root = config_path.resolve().parent.parent
-    config = _config(config_path)
-    raw = dict(config["maps"][map_name])
-    if quick:
-        raw["x"] = {**raw["x"], "num": 20}
-        raw["y"] = {**raw["y"], "num": 20}
-    raw["chunks"] = 1
-    dname = raw["designs"][0]
-    design = _design(dname, config, root)
-    spec = maps.MapSpec.from_config(map_name, raw, dname, design.segment)
-    settings = point.integration_settings(design, **dict(spec.integration))
-    classifier = classify.ClassifierSettings.from_mapping(dict(spec.classifier))
-    pts = _map_points(design, spec, 1)
-    sub = [c for k, (_, c) in enumerate(pts) if (k // spec.y.num) % subset_stride == 0]
-    analyse_points(sub[:16], settings, classifier, cheap=True)
-    old_s = dataclasses.replace(settings, batch=False)
-    t0, c0 = time.perf_counter(), time.process_time()
-    old = analyse_points(sub, old_s, classifier, cheap=True)  # point by point
-    t_old_sub, c_old_sub = time.perf_counter() - t0, time.process_time() - c0
-    t0, c0 = time.perf_counter(), time.process_time()
-    new_sub = analyse_points(sub, settings, classifier, cheap=True)
-    t_new_sub, c_new_sub = time.perf_counter() - t0, time.process_time() - c0
-    t0, c0 = time.perf_counter(), time.process_time()
-    ds = maps.run_chunk(design, spec, 0)
-    t_map, c_map = time.perf_counter() - t0, time.process_time() - c0
-    agree = sum(a[1].label == b[1].label for a, b in zip(old, new_sub, strict=True))
-    out = {"map": map_name, "design": dname, "points": spec.n_points, "subset_points": len(sub),
-           "old_ms_per_point": 1e3 * t_old_sub / len(sub), "new_ms_per_point_subset": 1e3 * t_new_sub / len(sub),
-           "map_wall_s": t_map, "old_map_s_estimate": t_old_sub / len(sub) * spec.n_points,
-           "map_cpu_s": c_map, "old_map_cpu_estimate": c_old_sub / len(sub) * spec.n_points,
-           "subset_cpu_ratio": c_old_sub / c_new_sub, "load_average": os.getloadavg()[0],
-           "subset_agree": agree, "transient_used_mean": float(ds["transient_used"].mean()),
-           "transient_used_min": int(ds["transient_used"].min())}
-    log(f"[map] {map_name} {spec.n_points} points: batch {t_map:.1f} s wall "
-        f"({1e3 * t_map / spec.n_points:.2f} ms/point); previous {out['old_ms_per_point']:.2f} ms/point "
-        f"(subset of {len(sub)}), i.e. {out['old_map_s_estimate']:.0f} s for the map; subset labels agree "
-        f"{agree}/{len(sub)}; CPU: batch {c_map:.1f} CPU-s for the map, previous {out['old_map_cpu_estimate']:.0f} "
-        f"CPU-s (estimate); load average {out['load_average']:.1f}")
-    return out
-
-
-def figures_throughput(config_path: Path, design: str = "li2013", quick: bool = False, log=print) -> dict:
-    """Paper 1's sweeps (Figs. 7, 9, 11) for ``design``: previous method (CPU-s, 2 processes) and the
-    batch method (wall), with label agreement."""
-    runs = agreement(config_path, designs=(design,), map_name="", sweep_stride=20 if quick else 1, log=log)
-    old_cpu = sum(r["old_cpu"] for r in runs.values())
-    new_wall = sum(r["new_wall"] for r in runs.values())
-    n = sum(len(r["old"]) for r in runs.values())
-    agree = sum(sum(a[0] == b[0] for a, b in zip(r["old"], r["new"], strict=True)) for r in runs.values())
-    new_cpu = sum(r["new_cpu"] for r in runs.values())
-    return {"design": design, "points": n, "old_cpu_s": old_cpu, "new_wall_s": new_wall, "agree": agree,
-            "new_cpu_s": new_cpu,
-            "runs": runs}
-
-
 def throughput(config_path: Path = Path("config/config.yaml"), quick: bool = False, log=print) -> dict:
     out = {"kernel": kernel_costs(periods=20 if quick else 100, log=log)}
     out["dop853"] = dop853_ratios(quick=quick, log=log)
@@ -763,78 +749,59 @@ def throughput_markdown(out: dict) -> str:
 
     k, d, m, f = out["kernel"], out["dop853"], out["map"], out["figures"]
     lines = [f"Machine: {platform.node()} {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-             f"{numba.get_num_threads()} numba threads; previous and batch method measured in the same run; "
-             f"load average {os.getloadavg()[0]:.1f} at the end (shared machine: wall times are upper bounds, "
-             f"CPU times are the steadier comparison).", "",
-             "| what | previous method | batch method | ratio (previous / batch) |", "|---|---:|---:|---:|"]
-    lines.append(f"| map {m['map']} ({m['points']} points, 128 steps/period, 400+50 periods, cheap classifier), wall | "
-                 f"{m['old_map_s_estimate']:.0f} s (1 core, {m['old_ms_per_point']:.2f} ms/point on a subset of "
-                 f"{m['subset_points']}) | {m['map_wall_s']:.1f} s | {m['old_map_s_estimate'] / m['map_wall_s']:.1f}x |")
-    lines.append(f"| same map, CPU time (both threads counted) | {m['old_map_cpu_estimate']:.0f} CPU-s | "
-                 f"{m['map_cpu_s']:.1f} CPU-s | {m['old_map_cpu_estimate'] / m['map_cpu_s']:.1f}x |")
-    lines.append(f"| paper 1 sweeps for {f['design']} ({f['points']} points, 512 steps/period, 500+100 periods, "
-                 f"full classifier) | {f['old_cpu_s']:.0f} CPU-s | {f['new_wall_s']:.1f} s wall | "
-                 f"{f['old_cpu_s'] / f['new_wall_s']:.1f}x |")
-    lines.append(f"| same sweeps, CPU time | {f['old_cpu_s']:.0f} CPU-s | {f['new_cpu_s']:.1f} CPU-s | "
-                 f"{f['old_cpu_s'] / f['new_cpu_s']:.1f}x |")
+             f"{numba.get_num_threads()} numba threads; both starts measured in the same run; load average "
+             f"{os.getloadavg()[0]:.1f} at the end (shared machine: wall times are upper bounds).", "",
+             "| what | fixed start | follow start | ratio (fixed / follow) |", "|---|---:|---:|---:|"]
+    lines.append(f"| map {m['map']} of {m['design']} ({m['points']} points), wall | {m['fixed_wall_s_estimate']:.0f} s "
+                 f"(from {m['fixed_rows']} rows) | {m['follow_wall_s']:.1f} s | "
+                 f"{m['fixed_wall_s_estimate'] / m['follow_wall_s']:.1f}x |")
+    lines.append(f"| same map, CPU time | {m['fixed_cpu_s_estimate']:.0f} CPU-s | {m['follow_cpu_s']:.0f} CPU-s | "
+                 f"{m['fixed_cpu_s_estimate'] / m['follow_cpu_s']:.1f}x |")
+    lines.append(f"| paper 1 sweeps for {f['design']} ({f['points']} points), wall | {f['fixed_wall_s']:.1f} s | "
+                 f"{f['follow_wall_s']:.1f} s | {f['fixed_wall_s'] / f['follow_wall_s']:.1f}x |")
     for integ in ("rk4", "rk4_event"):
         r = k[integ]
-        lines.append(f"| cost per point-step, {integ}, vs scalar C RK4 ({k['c_ns']:.1f} ns) | "
-                     f"{r['scalar_ns'] / k['c_ns']:.2f}x | {r['batch_ns'] / k['c_ns']:.2f}x ({k['threads']} threads), "
-                     f"{r['batch1_ns'] / k['c_ns']:.2f}x (1 thread) | {r['scalar_ns'] / r['batch_ns']:.1f}x |")
+        lines.append(f"| cost per point-step, {integ}, vs scalar C RK4 ({k['c_ns']:.1f} ns): scalar loop / batch "
+                     f"| {r['scalar_ns'] / k['c_ns']:.2f}x | {r['batch_ns'] / k['c_ns']:.2f}x ({k['threads']} threads), "
+                     f"{r['batch1_ns'] / k['c_ns']:.2f}x (1 thread) | |")
     for target in ("1e-06", "1e-08"):
-        lines.append(f"| speed vs scipy DOP853 at equal Poincare error {target} | {d[f'ratio_old_{target}']:.0f}x | "
+        lines.append(f"| speed vs scipy DOP853 at equal Poincare error {target} (batch) | | "
                      f"{d[f'ratio_new_{target}']:.0f}x | |")
-    lines += ["", f"- kernel: {k['lanes']} points x {k['periods']} periods x {k['steps']} steps; C: gcc "
+    lines += ["", f"- map: labels of the {m['fixed_rows']} rows compared agree {m['rows_agree']}/{m['rows_points']}; "
+              f"undetermined with the follow start: {m['undetermined']} of {m['points']}.",
+              f"- paper 1 sweeps: labels agree {f['agree']}/{f['points']} between the two starts.",
+              f"- kernel: {k['lanes']} points x {k['periods']} periods x {k['steps']} steps; C: gcc "
               f"{' '.join(C_FLAGS)}, same expressions (final states equal to the numba kernel's: "
               f"{k['c_equals_numba']}); batch results bit-identical to the scalar kernel: "
-              f"{k['rk4']['bit_identical'] and k['rk4_event']['bit_identical']}.",
-              f"- map: transient periods used, mean {m['transient_used_mean']:.0f} (min {m['transient_used_min']}) of "
-              f"400; labels of the subset agree {m['subset_agree']}/{m['subset_points']}.",
-              f"- paper 1 sweeps: labels agree {f['agree']}/{f['points']}.",
-              "- DOP853 (no step limit) at rtol 1e-6, 1e-8, 1e-10: " + ", ".join(
-                  f"{t:.2f} s (error {e:.1e})" for t, e in zip(d["dop_time"], d["dop_error"], strict=True)),
-              "- RK4 event, steps " + ", ".join(str(s) for s in d["steps"]) + ": errors " + ", ".join(
-                  f"{e:.1e}" for e in d["error"]) + "; ms per point previous " + ", ".join(
-                  f"{t * 1e3:.1f}" for t in d["t_old"]) + "; batch " + ", ".join(f"{t * 1e3:.2f}" for t in d["t_new"])]
+              f"{k['rk4']['bit_identical'] and k['rk4_event']['bit_identical']}."]
     return "\n".join(lines) + "\n"
 
 
 def throughput_dataset(out: dict):
     import xarray as xr
 
-    k, d, m, f = out["kernel"], out["dop853"], out["map"], out["figures"]
-    method = ["previous", "batch"]
+    k, m, f = out["kernel"], out["map"], out["figures"]
+    start = ["fixed", "follow"]
     ds = xr.Dataset(
         {
-            "ns_per_point_step": (("integrator", "method"), [[k[i]["scalar_ns"], k[i]["batch_ns"]] for i in ("rk4", "rk4_event")],
-                                  {"units": "ns", "long_name": "wall time per point and RK4 step (batch: all threads)"}),
-            "ns_per_point_step_one_thread": (("integrator",), [k[i]["batch1_ns"] for i in ("rk4", "rk4_event")],
-                                             {"units": "ns", "long_name": "batch kernel, one thread"}),
+            "ns_per_point_step": (("integrator",), [k[i]["batch_ns"] for i in ("rk4", "rk4_event")],
+                                  {"units": "ns", "long_name": "batch kernel per point and RK4 step (all threads)"}),
+            "ns_per_point_step_scalar": (("integrator",), [k[i]["scalar_ns"] for i in ("rk4", "rk4_event")],
+                                         {"units": "ns", "long_name": "scalar loop per RK4 step"}),
             "c_ns_per_step": ((), k["c_ns"], {"units": "ns", "long_name": "scalar C RK4 (gcc) per step"}),
-            "wall_time_per_point": (("steps_per_period", "method"), np.array([d["t_old"], d["t_new"]]).T,
-                                    {"units": "s", "long_name": "periodic case, 500+100 periods, per point"}),
-            "poincare_error": (("steps_per_period",), d["error"], {"units": "1", "long_name": "max |Poincare - DOP853 rtol 1e-12|"}),
-            "dop853_wall_time": (("rtol",), d["dop_time"], {"units": "s", "long_name": "DOP853 wall time (no step limit)"}),
-            "dop853_error": (("rtol",), d["dop_error"], {"units": "1", "long_name": "DOP853 Poincare error"}),
-            "speed_vs_dop853": (("target_error", "method"), [[d[f"ratio_{mm}_{t}"] for mm in ("old", "new")] for t in ("1e-06", "1e-08")],
-                                {"units": "1", "long_name": "DOP853 time / RK4 time at equal Poincare error"}),
-            "map_points_per_second": (("method",), [1e3 / m["old_ms_per_point"], m["points"] / m["map_wall_s"]],
-                                      {"units": "s-1", "long_name": f"regime map {m['map']}: points per second (wall)"}),
-            "figures_time": (("method",), [f["old_cpu_s"], f["new_wall_s"]],
-                             {"units": "s", "long_name": f"paper 1 sweeps for {f['design']}: previous CPU-s, batch wall s"}),
+            "map_wall_time": (("start",), [m["fixed_wall_s_estimate"], m["follow_wall_s"]],
+                              {"units": "s", "long_name": f"regime map {m['map']}: wall time (fixed: estimate from "
+                                                          f"{m['fixed_rows']} rows)"}),
+            "figures_wall_time": (("start",), [f["fixed_wall_s"], f["follow_wall_s"]],
+                                  {"units": "s", "long_name": f"paper 1 sweeps for {f['design']}: wall time"}),
         },
         coords={"integrator": ("integrator", ["rk4", "rk4_event"], {"long_name": "fixed-step integrator"}),
-                "method": ("method", method, {"long_name": "previous (point by point) or batch method"}),
-                "steps_per_period": ("steps_per_period", list(d["steps"]),
-                                     {"units": "1", "long_name": "RK4 steps per mesh period"}),
-                "rtol": ("rtol", [1e-6, 1e-8, 1e-10], {"units": "1", "long_name": "DOP853 relative tolerance"}),
-                "target_error": ("target_error", [1e-6, 1e-8], {"units": "1", "long_name": "Poincare error"})},
+                "start": ("start", start, {"long_name": "start of each point: fixed state or the previous attractor"})},
     )
-    ds.attrs.update({"title": "Throughput of the batch method against the previous method", "source": "geardyn.bench",
-                     "machine": f"{platform.node()} {os.cpu_count()} cores", "map_transient_used_mean": m["transient_used_mean"],
-                     "figures_labels_agree": f"{f['agree']}/{f['points']}", "map_subset_labels_agree":
-                     f"{m['subset_agree']}/{m['subset_points']}"})
+    ds.attrs.update({"title": "Throughput of the labeller: follow against fixed starts", "source": "geardyn.bench",
+                     "machine": f"{platform.node()} {os.cpu_count()} cores",
+                     "map_rows_labels_agree": f"{m['rows_agree']}/{m['rows_points']}",
+                     "figures_labels_agree": f"{f['agree']}/{f['points']}"})
     return ds
 
 

@@ -8,7 +8,7 @@ Points that are not periodic are told apart by the largest Lyapunov exponent (ta
 integrated alongside the orbit by :func:`geardyn.solve.simulate`), cross-checked by the 0-1 test for chaos
 (Gottwald & Melbourne 2009, correlation method, on the stroboscopic samples) and by the spectral
 flatness of the stroboscopic samples (discrete lines vs broadband).  :func:`classify_point` gives
-the decision rules; :func:`geardyn.runs.points.analyse_point` integrates one point and classifies it.
+the indicators; the labeller (:mod:`geardyn.label`) integrates the points and decides their labels.
 """
 
 from __future__ import annotations
@@ -177,7 +177,7 @@ class ClassifierSettings:
     vector is carried (the last ones of the run).  separation: the points of a period-n cycle must
     differ by more than separation * tol (return distances for m < n).  settle_max_n,
     settle_max_periods: the slow-transient check applied after these rules by
-    :func:`geardyn.runs.points.analyse_points` (:mod:`geardyn.label.settle`; 0: off).
+    the labeller (:mod:`geardyn.label.settle`; 0: off).
     """
 
     max_n: int = 12

@@ -26,7 +26,7 @@ undetermined.  :func:`settle` decides such a point by shooting instead of by a l
    coexists beside a torus the run stays on.
 
 A true torus has no stable periodic orbit near it to converge to, so its label stays.  The check
-runs inside :func:`geardyn.runs.points.analyse_points`, so sweep cubes, maps, the claims table and
+runs inside the labeller (:mod:`geardyn.label`), so sweep cubes, maps, the claims table and
 the calibration all score the same labels.  :func:`settle_points` runs it for many points at once:
 each stage (the shooting for one n, with :func:`geardyn.solve.shooting.newton_shooting_batch`; the
 continued records) integrates all points that reach it together, and every point's verdict is the
