@@ -153,8 +153,9 @@ NEW_CLASSIFIER_KEYS = {"torus_margin": 2.5, "chaos_margin": 1.5, "torus_min_n": 
                        "torus_max_periods": 4000, "long_max_n": 240}
 
 
-def _with_new_keys(old: dict) -> dict:
-    return {**old, **NEW_RUN_KEYS, "classifier": {**old["classifier"], **NEW_CLASSIFIER_KEYS}}
+def _with_new_keys(old: dict, section: str) -> dict:
+    new = {**NEW_CLASSIFIER_KEYS, **({"torus_max_periods": 800} if section == "maps" else {})}  # preset map
+    return {**old, **NEW_RUN_KEYS, "classifier": {**old["classifier"], **new}}
 
 
 def _config(**sections):
@@ -190,7 +191,7 @@ def test_shipped_config_with_presets_resolves_to_the_values_it_had_before():
     for section in ("sweeps", "maps"):
         assert set(filled[section]) == set(before[section])
         for name, old in before[section].items():
-            assert filled[section][name] == _with_new_keys(old), (section, name)
+            assert filled[section][name] == _with_new_keys(old, section), (section, name)
     assert filled["points"] == before["points"]
     for name, old in before["calibration"].items():
         new = filled["calibration"][name]

@@ -89,3 +89,21 @@ def test_follow_and_fixed_agree_where_one_attractor_exists():
     for a, b in zip(fol, fix, strict=True):
         assert np.max(np.abs(a.final_state - b.final_state)) < 1e-8 * max(1.0, np.max(np.abs(b.final_state)))
     assert all(v.transient_used == 0 for v in fol[1:]) and all(v.transient_used > 50 for v in fix)
+
+
+def test_coexistence_stores_both_starts_and_flags_where_they_differ():
+    """With ``coexistence`` every point is also labelled from the fixed start: ``label_fixed`` and the
+    ``coexisting`` flag are stored, and the flag is 1 exactly where the two verdicts differ in label (here,
+    li2013 at b = 2, e = 5, both starts find the one P1 orbit: never)."""
+    from geardyn.runs import sweep
+
+    d = design.load(ROOT / "config" / "designs" / "li2013.yaml")
+    spec = sweep.SweepSpec.from_config("t", {
+        "designs": ["li2013"], "parameter": "x1", "start": 0.45, "stop": 0.55, "num": 4, "fixed": {"b": 2.0, "e": 5.0},
+        "integration": {"steps_per_period": 128, "transient_periods": 400, "recorded_periods": 20},
+        "classifier": {"error_floor": 1.9e-5, "tangent_periods": 100}, "coexistence": True}, "li2013", d.segment)
+    cube = sweep.run_chunk(d, spec, 0)
+    assert cube.attrs["coexistence"] == 1
+    assert np.array_equal(cube["label_fixed"].values, cube["label"].values)
+    assert np.all(cube["coexisting"].values == 0)
+    assert cube["coexisting"].attrs["flag_meanings"] == "not_checked same coexisting"

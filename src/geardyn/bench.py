@@ -652,7 +652,7 @@ def compile_c_rk4(tmp: Path):
 
 
 def kernel_costs(lanes: int = 64, periods: int = 100, steps: int = 512, log=print) -> dict:
-    """Cost per point-step: scalar C RK4 (gcc, this run), the scalar numba kernel (previous method) and
+    """Cost per point-step: scalar C RK4 (gcc, this run), the scalar numba kernel (one point) and
     the batch kernel (lockstep lanes; one thread and all threads), plain RK4 and event RK4."""
     import tempfile
 

@@ -244,7 +244,7 @@ def attractors_dataset(points: Sequence[PointStarts], settings: AttractorSetting
                      {**one, "long_name": "centroid of the attractor's Poincare points (x / b_c, dx/dtau / b_c)"}),
         "attractor_size": (("point", "attractor"), size, {**one, "long_name": "largest extent of the Poincare points"}),
         "attractor_lyapunov": (("point", "attractor"), lyap,
-                               {**one, "long_name": "largest Lyapunov exponent per unit tau (NaN: periodic, cheap path)"}),
+                               {**one, "long_name": "largest exponent per unit tau (Floquet for periodic attractors, tangent vector otherwise)"}),
         "basin_fraction": (("point", "attractor"), frac,
                            {**one, "long_name": "share of the random starts in the box that reach the attractor"}),
         "starts_reaching": (("point", "attractor"), nst, {**one, "long_name": "number of starts (all kinds) reaching it"}),

@@ -93,10 +93,11 @@ class MapSpec:
 
 
 def chunk_rows(spec: MapSpec, chunk: int) -> np.ndarray:
-    """The rows (y indices) of chunk ``chunk``; the chunks tile the map by whole rows (lines)."""
+    """The rows (y indices) of chunk ``chunk``: every n-th row from row ``chunk`` (n chunks), so the chunks
+    tile the map by whole rows (lines) and share its costly regions evenly."""
     if not 0 <= chunk < spec.n_chunks:
         raise ValueError(f"chunk {chunk} outside 0..{spec.n_chunks - 1} for map {spec.name}")
-    return np.array_split(np.arange(spec.y.num), spec.n_chunks)[chunk]
+    return np.arange(chunk, spec.y.num, spec.n_chunks)
 
 
 def _direct_ok(design: KHVDesign, par: str) -> bool:
