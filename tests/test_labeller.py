@@ -107,3 +107,20 @@ def test_coexistence_stores_both_starts_and_flags_where_they_differ():
     assert np.array_equal(cube["label_fixed"].values, cube["label"].values)
     assert np.all(cube["coexisting"].values == 0)
     assert cube["coexisting"].attrs["flag_meanings"] == "not_checked same coexisting"
+
+
+def test_a_long_cycle_is_labelled_long_period_with_its_period():
+    """A periodic orbit longer than max_n (a torus locked to a long cycle) gets the label long_period and its
+    least period in ``period``; a followed one keeps that label (the CF flags list 1..max_n only)."""
+    from geardyn.label import _stages as st
+
+    line = _line("li2013_route", [0.80])
+    point_ = st.Point(line[0], None, None)
+    cycle_state = np.zeros(6)
+    shot = st.ShootingResult(cycle_state, 1, True, "converged", 0, 0.0, np.eye(6) * 0.5,
+                             np.full(6, 0.5 + 0j))
+    small = Policy(MAP, classify.ClassifierSettings(error_floor=1.9e-5, max_n=0))
+    v = st.periodic_verdicts([point_], [shot], small, "follow", "test")[0]
+    assert v.label == classify.LABELS["long_period"] and v.period == 1
+    v = st.periodic_verdicts([point_], [shot], Policy(MAP, CS), "follow", "test")[0]
+    assert v.label == 1 and v.period == 1

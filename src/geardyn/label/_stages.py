@@ -125,7 +125,8 @@ def periodic_verdicts(points: list[Point], shots: list[ShootingResult], policy: 
         shot, m = shots[k], cycle.shape[0]
         n, rho = shot.n, shot.spectral_radius
         out[k] = Verdict(
-            label=m, period=m, exponent=math.log(rho) / (n * points[k].system.period), exponent_sigma=0.0,
+            label=m if m <= policy.classifier.max_n else classify.LABELS["long_period"], period=m,
+            exponent=math.log(rho) / (n * points[k].system.period), exponent_sigma=0.0,
             exponent_method="floquet", stage=stage,
             reason=f"{why}: stable period-{m} orbit, |mu|max = {rho ** (m / n):.6f}",
             final_state=shot.state.copy(), poincare=tile(cycle, _record_length(policy)),
@@ -534,10 +535,6 @@ def _long_periods(points: list[Point], policy: Policy) -> None:
                    "the longer record returns after a long period")
     for p in left:
         p.verdict = undecided[id(p)]
-    for p, _ in todo:
-        v = p.verdict
-        if v.stage == "period_test" and v.period > cs.max_n:
-            p.verdict = dataclasses.replace(v, label=classify.LABELS["long_period"])
 
 
 def standardised(points: np.ndarray) -> np.ndarray:
