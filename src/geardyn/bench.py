@@ -292,6 +292,8 @@ def main_speed(argv: list[str]) -> int:
     ap.add_argument("--quick", action="store_true", help="short runs (smoke test)")
     ap.add_argument("--old", type=Path, help="labels: the results/ directory of the earlier build")
     ap.add_argument("--new", type=Path, default=Path("results"), help="labels: the results/ directory to compare")
+    ap.add_argument("--explain", nargs="*", help="labels: cubes (design/sweeps|maps/name) whose differing points "
+                    "are labelled again from the fixed start")
     ap.add_argument("--points", type=int, default=200, help="check: random map points")
     ap.add_argument("--periods", type=int, default=20000, help="check: mesh periods of each long run")
     a = ap.parse_args(argv[1:])
@@ -304,6 +306,9 @@ def main_speed(argv: list[str]) -> int:
         ds = throughput_dataset(out)
     elif argv[0] == "labels":
         md = "# Labels of two builds compared, cube by cube\n\n" + compare_builds(a.old, a.new)
+        for item in a.explain or ():
+            design, kind, name = item.split("/")
+            md += "\n" + explain_differences(a.config, a.old, a.new, design, kind, name, log=log)
     else:
         md = "# Independent check: long runs from the follow start\n\n" + long_run_check(
             a.config, n_points=a.points, periods=a.periods, log=log)
@@ -438,6 +443,59 @@ def compare_builds(old: Path, new: Path) -> str:
             parts.append("\nstages now: " + ", ".join(f"{STAGE_NAMES.get(int(k), 'not computed')} {int(n)}"
                                                          for k, n in zip(u, c, strict=True)))
     return "\n".join(lines + parts) + "\n"
+
+
+def explain_differences(config_path: Path, old: Path, new: Path, design: str, kind: str, name: str,
+                        log=print) -> str:
+    """Every point of one cube (``kind`` sweeps or maps) whose earlier label was decided and differs from the
+    new one, labelled again from the fixed start (the static deflection) by the new labeller: where that
+    gives the earlier label, the follow start found another attractor at the same point (coexistence, as
+    a run with ``coexistence: true`` would flag it); else the class of the change (the earlier label was a
+    slow transient or undetermined, a boundary point, ...)."""
+    import xarray as xr
+
+    from geardyn.classify import LABELS, short_name
+    from geardyn.khv import point
+    from geardyn.label import label_points
+    from geardyn.runs import maps, sweep
+
+    root = config_path.resolve().parent.parent
+    config = _config(config_path)
+    d = _design(design, config, root)
+    rel = Path(design) / kind / f"{name}.nc"
+    with xr.open_dataset(old / rel) as a, xr.open_dataset(new / rel) as b:
+        lo, ln = a["label"].values, b["label"].values
+    where = np.argwhere((lo != ln) & (lo != LABELS["undetermined"]))
+    if kind == "maps":
+        spec = maps.MapSpec.from_config(name, config["maps"][name], design, d.segment)
+        policy = maps.map_policy(d, spec)
+        systems = [maps.point_coefficients(d, spec, spec.x.values[i], spec.y.values[j]) for j, i in where]
+    else:
+        spec = sweep.SweepSpec.from_config(name, config["sweeps"][name], design, d.segment)
+        policy = sweep.sweep_policy(d, spec)
+        systems = [point.point_coefficients(d, sweep.point_overrides(spec, c, spec.values[j])) for c, _, j in where]
+    t0 = time.perf_counter()
+    fixed = label_points(systems, policy.with_start("fixed"))
+    classes: dict[str, int] = {}
+    examples: dict[str, str] = {}
+    for idx, v in zip(where, fixed, strict=True):
+        before, now = int(lo[tuple(idx)]), int(ln[tuple(idx)])
+        if v.label == before:
+            key = "coexistence: the fixed start ends on the earlier label, the follow start on another attractor"
+        elif now == LABELS["undetermined"]:
+            key = "now undetermined: the indicators disagree on the follow start"
+        elif v.label == now:
+            key = "both starts now agree on the new label (the earlier path decided otherwise)"
+        else:
+            key = "three different labels (a boundary point or a third attractor)"
+        classes[key] = classes.get(key, 0) + 1
+        examples.setdefault(key, f"{tuple(int(k) for k in idx)}: before {short_name(before)}, follow {short_name(now)}, "
+                                 f"fixed {short_name(v.label)} ({v.stage})")
+    log(f"[{rel}] {len(where)} differing points relabelled from the fixed start in {time.perf_counter() - t0:.0f} s")
+    lines = [f"### {rel}: {len(where)} points decided before and labelled otherwise now", "",
+             "| class | points | example (index: labels) |", "|---|---:|---|"]
+    lines += [f"| {k} | {n} | {examples[k]} |" for k, n in sorted(classes.items(), key=lambda kv: -kv[1])]
+    return "\n".join(lines) + "\n"
 
 
 def map_throughput(config_path: Path, map_name: str = "map_x1_b", fixed_stride: int = 10, quick: bool = False,
