@@ -154,8 +154,7 @@ NEW_CLASSIFIER_KEYS = {"torus_margin": 2.5, "chaos_margin": 1.5, "torus_min_n": 
 
 
 def _with_new_keys(old: dict, section: str) -> dict:
-    new = {**NEW_CLASSIFIER_KEYS, **({"torus_max_periods": 800} if section == "maps" else {})}  # preset map
-    return {**old, **NEW_RUN_KEYS, "classifier": {**old["classifier"], **new}}
+    return {**old, **NEW_RUN_KEYS, "classifier": {**old["classifier"], **NEW_CLASSIFIER_KEYS}}
 
 
 def _config(**sections):
