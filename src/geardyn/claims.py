@@ -7,7 +7,7 @@ Each claim gives the paper's value, ours, a verdict (``agree`` / ``borderline`` 
 ``not comparable``)
 and the reason.  Inputs are the pipeline's products: the closed graph (M, N), the stiffness table
 (k along M-N), the sweep cubes of Figs. 7, 9, 11 with their motion labels
-(:func:`geardyn.classify.classify_point`) and the dense point runs of Fig. 8 (spectra).
+(the labeller, :mod:`geardyn.label`) and the dense point runs of Fig. 8 (spectra).
 
 Verdict rules (stated once, applied everywhere):
 
@@ -329,9 +329,10 @@ def evaluate(paper: ModuleType, fig07: Track, fig09: Mapping[float, Track], fig1
 
 def note(design: str, title: str) -> str:
     """The paragraph under the claims table's title: which design, how the labels were obtained."""
-    return (f"Design `{design}` ({title}). Labels: geardyn.classify.classify_point on the sweep cubes "
-            "(period-n by return distance; QP / chaos by the largest Lyapunov exponent, cross-checked by the 0-1 test "
-            "and the spectral flatness). Paper labels compared: P1 = synchronous, QP, P5, P6, chaos.")
+    return (f"Design `{design}` ({title}). Labels: the labeller's verdicts stored in the sweep cubes (geardyn.label: "
+            "each point follows the attractor of the previous one; period-n certified by shooting and its Floquet "
+            "multipliers, QP by the torus test, chaos by a positive exponent the torus test confirms). Paper labels "
+            "compared: P1 = synchronous, QP, P5, P6, chaos.")
 
 
 def counts(rows: list[Claim]) -> dict[str, int]:

@@ -1,16 +1,19 @@
 """The stages of the labeller.  Each takes the still-undecided points of a batch and decides what it can.
 
-1. :func:`follow`: Newton shooting for period n from the orbit of the previous point of the line.  A stable
-   orbit (max|mu| below 1 by the policy's margin) of least period n decides the point at once; an orbit that
-   has become unstable types the bifurcation by the multiplier that left the unit circle.
+1. :func:`follow`: the previous point's period-n orbit continued to this point (secant prediction, chord
+   iteration with the previous monodromy, Newton shooting where the chord stalls).  A stable orbit (max|mu|
+   below 1 by the policy's margin) decides the point at once; an orbit that is no longer stable types the
+   bifurcation by the multiplier that left the unit circle.
 2. :func:`integrate`: a run from the previous point's final state (or the line's start) with the early
    stop of the transient, then rule 3 on the recorded points; a point that returns within tolerance is
-   certified by Newton shooting and its multipliers (:func:`certify`).
+   certified by Newton shooting and its multipliers (:func:`certify`; an unstable orbit Newton converged
+   to is deflated and the shooting repeated, :func:`_deflated`).
 3. :func:`slow_transients`: a point not periodic on its record is checked for a slow transient onto a stable
    orbit (:mod:`geardyn.label.settle`): shooting where the return distance falls, and the run must approach it.
-4. :func:`exponents`: the rest are continued with a tangent vector: exponent, 0-1 test and spectrum
-   (:func:`geardyn.classify.classify_point`), and the torus test (weighted Birkhoff averages,
-   :mod:`geardyn.label.torus`) decides between a torus and chaos.
+4. :func:`exponents`: the rest carry a tangent vector; the exponent (:func:`geardyn.classify.lyapunov_estimate`)
+   and the torus test (weighted Birkhoff averages, :mod:`geardyn.label.torus`) decide between a torus and
+   chaos (:func:`_nonperiodic_verdict`); undecided points run on with longer records
+   (:func:`_longer_record`) and are searched for long cycles (:func:`_long_periods`).
 
 Every stage integrates all points that reach it together (:func:`geardyn.solve.simulate.simulate_batch`,
 :func:`geardyn.solve.shooting.newton_shooting_batch`, both cores); each point's numbers are those it gets

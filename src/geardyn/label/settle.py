@@ -3,7 +3,7 @@
 With the light shaft damping of the KHV designs the least-damped mode decays by about 0.98-0.99 per
 mesh period, so a run can still be converging onto a periodic orbit when its recorded periods
 start.  Its exponent is then about -1e-3 per unit time, inside the classifier's "zero" band
-(``lam_tol``), and the rules of :func:`geardyn.classify.classify_point` call it quasi-periodic or
+(``lam_tol``), and the exponent alone would call it quasi-periodic or
 undetermined.  :func:`settle` decides such a point by shooting instead of by a longer guess:
 
 1. only a point labelled quasi-periodic or undetermined whose exponent is not clearly positive

@@ -45,7 +45,7 @@ def bands_csv(rows: list[dict]) -> str:
 
 def bands_markdown(rows: list[dict], title: str, par: str) -> str:
     lines = [f"# Regime bands: {title}", "",
-             f"Runs of equal motion labels along {par} (geardyn.classify.classify_point); transition = midway "
+             f"Runs of equal motion labels along {par} (geardyn.label); transition = midway "
              "between the last point of a band and the first of the next (half a grid step uncertainty).", "",
              "| case | direction | label | from | to | points | median lambda_max | transition to next |",
              "|---|---|---|---:|---:|---:|---:|---:|"]
