@@ -578,7 +578,7 @@ def long_run_check(config_path: Path, map_name: str = "map_x1_b", n_points: int 
     from geardyn import classify
     from geardyn.label.compare import hausdorff
     from geardyn.runs import maps
-    from geardyn.solve import simulate_batch
+    from geardyn.solve.simulate import simulate_batch
 
     root = config_path.resolve().parent.parent
     config = _config(config_path)
