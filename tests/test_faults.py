@@ -9,6 +9,7 @@ All runs use a copy of the workflow in a temporary directory (see _workflow.py).
 import base64
 import os
 import re
+import signal
 import shutil
 import subprocess
 import zlib
@@ -111,8 +112,11 @@ def _recorded_chunks(work):
 def test_killed_run_resumes_without_recomputing_and_gives_the_same_cube(tmp_path, reference, sig):
     work = wf.workflow_copy(tmp_path / "w", _config())
     env = {**wf.env(), "GEARDYN_FAULT": f"sweep_chunk:3:{sig}", "GEARDYN_FAULT_COUNTER": str(tmp_path / "count")}
+    # SIGINT back to its default in the child: a test runner started in the background by a shell without job
+    # control inherits SIGINT ignored, and Snakemake would then never see the Ctrl-C this test sends
     proc = subprocess.run(wf.snakemake_cmd("--cores", "1", CUBE), cwd=work, env=env, capture_output=True,
-                          start_new_session=True, timeout=300)
+                          start_new_session=True, timeout=300,
+                          preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     assert proc.returncode != 0
     recorded = _recorded_chunks(work)
     done = {p.name: p.stat().st_mtime_ns for p in _chunk_paths(work) if p.name in recorded}
