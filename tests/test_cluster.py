@@ -55,10 +55,11 @@ PROVENANCE = ("history", "git_commit", "chunk_wall_time_s")
 
 
 def _config():
-    """One x1 sweep (3 chunks of 40 points, the design's own integrator settings: about 3 s of compute
-    per chunk) and one 6 x 4 regime map (2 chunks) with the shipped map settings."""
-    cfg = wf.sweep_config(chunks=SWEEP_CHUNKS, num=120)
+    """One x1 sweep of three cases (three lines, so 3 chunks of 40 points, the design's own integrator
+    settings) and one 6 x 4 regime map (2 chunks) with the shipped map settings."""
+    cfg = wf.sweep_config(chunks=SWEEP_CHUNKS, num=40)
     del cfg["sweeps"]["fig07_small"]["integration"]
+    cfg["sweeps"]["fig07_small"]["cases"] = [{"b": 2.0}, {"b": 1.5}, {"b": 1.0}]
     cfg["designs"]["li2013_calibrated"] = "config/designs/li2013_calibrated.yaml"
     cfg["maps"] = {"map_small": {
         "designs": ["li2013_calibrated"], "title": "small map",
