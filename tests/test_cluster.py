@@ -276,6 +276,7 @@ def test_per_job_overhead_against_local_execution(cluster, tmp_path):
     overhead per job in core-seconds; asserts only that the chunks are the same."""
     n = 6
     cfg = wf.sweep_config(chunks=n, num=n)
+    cfg["sweeps"]["fig07_small"]["start_from"] = "fixed"  # every point its own line: six one-point chunks
     targets = [f"results/li2013/sweeps/fig07_small/chunk_{i}.nc" for i in range(n)]
     walls, jobs = {}, {}
     for mode in ("local", "slurm", "slurm_fast_polling"):
