@@ -193,6 +193,11 @@ def _predict(p: Point) -> np.ndarray:
     return a.final_state
 
 
+def _small(residual: float, x: np.ndarray, tol: float) -> bool:
+    """The shooting convergence test: max|phi(x) - x| <= tol max(1, max|x|) (as Newton shooting's)."""
+    return residual <= tol * max(1.0, float(np.max(np.abs(x))))
+
+
 def _chord(points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy, max_iter: int = 8
            ) -> list[np.ndarray | None]:
     """Chord iteration x <- x - (M_prev - I)^-1 (phi(x) - x) on the n-period map, with the monodromy
@@ -218,7 +223,7 @@ def _chord(points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy, m
             res = float(np.max(np.abs(F)))
             if not np.isfinite(res) or res > 0.5 * last[k]:
                 continue
-            if res <= policy.newton_tol * max(1.0, float(np.max(np.abs(xs[k])))):
+            if _small(res, xs[k], policy.newton_tol):
                 out[k] = xs[k]
                 continue
             last[k] = res
@@ -238,7 +243,7 @@ def _certify_states(points: list[Point], xs: list[np.ndarray], n: int, policy: P
             out.append(ShootingResult(x, n, False, "diverged", 0, float("inf")))
             continue
         res = float(np.max(np.abs(r.final_state - x)))
-        ok = res <= 2.0 * policy.newton_tol * max(1.0, float(np.max(np.abs(x))))
+        ok = _small(res, x, 2.0 * policy.newton_tol)
         out.append(ShootingResult(x, n, ok, "converged" if ok else "max_iterations", 0, res, r.monodromy.copy(),
                                   sorted_multipliers(r.monodromy)))
     return out
@@ -257,9 +262,9 @@ def follow(points: list[Point], policy: Policy) -> list[Point]:
     for k, p in enumerate(todo):
         by_n[p.prev.period].append(k)
     for n, ks in sorted(by_n.items()):
-        x0 = [_predict(todo[k]) for k in ks]
+        x0 = {k: _predict(todo[k]) for k in ks}
         chord = [k for k in ks if todo[k].prev.monodromy is not None]
-        got = dict(zip(chord, _chord([todo[k] for k in chord], [x0[ks.index(k)] for k in chord], n, policy),
+        got = dict(zip(chord, _chord([todo[k] for k in chord], [x0[k] for k in chord], n, policy),
                        strict=True))
         done = [k for k in chord if got[k] is not None]
         for k, r in zip(done, _certify_states([todo[k] for k in done], [got[k] for k in done], n, policy),
@@ -267,7 +272,7 @@ def follow(points: list[Point], policy: Policy) -> list[Point]:
             shots[k] = r if r.converged else None
         newton = [k for k in ks if shots[k] is None]
         if newton:
-            for k, r in zip(newton, _shoot([todo[k] for k in newton], [x0[ks.index(k)] for k in newton],
+            for k, r in zip(newton, _shoot([todo[k] for k in newton], [x0[k] for k in newton],
                                            [n] * len(newton), policy), strict=True):
                 shots[k] = r
     for p, s in zip(todo, shots, strict=True):
@@ -400,7 +405,7 @@ def _deflated(points: list[Point], found: list[ShootingResult], policy: Policy, 
                     continue
                 F = r.final_state - xs[k]
                 res = float(np.max(np.abs(F)))
-                if res <= policy.newton_tol * max(1.0, float(np.max(np.abs(xs[k])))):
+                if _small(res, xs[k], policy.newton_tol):
                     out[k] = ShootingResult(xs[k].copy(), n, True, "converged", it, res, r.monodromy.copy(),
                                             sorted_multipliers(r.monodromy))
                     continue
