@@ -17,6 +17,7 @@ import xarray as xr
 
 from geardyn import classify
 from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES, Policy, Verdict
+from geardyn.label.compare import same
 
 STATES = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
 STATE_NAMES = {
@@ -71,8 +72,12 @@ def label_variables(dims: tuple[str, ...], shape: tuple[int, ...],
     }
 
 
-def store_verdict(ds: Any, idx: tuple, v: Verdict) -> None:
-    """Write one verdict into the label variables of ``ds`` (an xarray Dataset or a mapping of arrays)."""
+def store_verdict(ds: Any, idx: tuple, v: Verdict, fixed: Verdict | None = None) -> None:
+    """Write one verdict into the label variables of ``ds`` (an xarray Dataset or a mapping of arrays);
+    with ``fixed`` (policy ``coexistence``) also the fixed start's label and whether the two differ."""
+    if fixed is not None:
+        ds["label_fixed"].values[idx] = fixed.label
+        ds["coexisting"].values[idx] = int(not same(v, fixed))
     ds["label"].values[idx] = v.label
     ds["period"].values[idx] = v.period
     ds["lyapunov"].values[idx] = v.exponent

@@ -30,7 +30,6 @@ from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.khv.model import Coefficients
 from geardyn.label import Policy, label_lines
-from geardyn.label.compare import same
 from geardyn.runs.cube import (COMPUTED_ATTRS, TRANSIENT_USED_ATTRS, coexistence_variables, label_variables,
                                policy_attrs, store_verdict)
 
@@ -175,7 +174,7 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
     arrays = _arrays(ds)  # numpy views: no xarray lookup per point
     for k, j in enumerate(rows):
         for i, v in enumerate(verdicts[k]):
-            store_verdict(arrays, (j, i), v)
+            store_verdict(arrays, (j, i), v, None if fixed is None else fixed[k][i])
             arrays["diverged"].values[j, i] = int(v.diverged)
             p = v.poincare[np.all(np.isfinite(v.poincare), axis=1)]
             if p.shape[0]:
@@ -183,9 +182,6 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
                 arrays["x_vh_spread"].values[j, i] = float(np.ptp(p[:, 1]))
             arrays["transient_used"].values[j, i] = v.transient_used
             arrays["computed"].values[j, i] = 1
-            if fixed is not None:
-                arrays["label_fixed"].values[j, i] = fixed[k][i].label
-                arrays["coexisting"].values[j, i] = int(not same(v, fixed[k][i]))
     el = time.perf_counter() - t0
     n = len(rows) * spec.x.num
     log.info("%s chunk %d: %d points, %.1f s (%.2f ms/point)", spec.name, chunk, n, el, 1e3 * el / max(1, n))

@@ -31,7 +31,6 @@ import xarray as xr
 
 from geardyn.khv.model import COEFFICIENT_ATTRS
 from geardyn.label import Policy, Verdict, label_lines
-from geardyn.label.compare import same
 from geardyn.runs.cube import (COMPUTED_ATTRS, STATE_NAMES, STATES, TRANSIENT_USED_ATTRS, coexistence_variables,
                                label_variables, policy_attrs, store_verdict)
 from geardyn.khv import point
@@ -161,10 +160,7 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
     keep = np.zeros((len(spec.cases), len(spec.directions), spec.num), dtype=bool)
     for k, (case, d, order) in enumerate(work.items):
         for m, (j, system, v) in enumerate(zip(order, lines[k], verdicts[k], strict=True)):
-            _store(arrays, (case, d, j), system, v)
-            if fixed is not None:
-                arrays["label_fixed"].values[case, d, j] = fixed[k][m].label
-                arrays["coexisting"].values[case, d, j] = int(not same(v, fixed[k][m]))
+            _store(arrays, (case, d, j), system, v, None if fixed is None else fixed[k][m])
             keep[case, d, j] = True
     log.info("%s chunk %d: %d points in %.1f s", spec.name, chunk, int(keep.sum()), time.perf_counter() - t0)
     # keep only this chunk's points along the parameter axis (a chunk may cover several cases)
@@ -215,7 +211,7 @@ def empty_cube(spec: SweepSpec, policy: Policy) -> xr.Dataset:
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def _store(cube: Any, idx: tuple[int, int, int], coeffs: Any, v: Verdict) -> None:
+def _store(cube: Any, idx: tuple[int, int, int], coeffs: Any, v: Verdict, fixed: Verdict | None) -> None:
     case, d, j = idx
     n = v.poincare.shape[0]
     for k, name in enumerate(STATES):
@@ -224,7 +220,7 @@ def _store(cube: Any, idx: tuple[int, int, int], coeffs: Any, v: Verdict) -> Non
     cube["diverged_period"].values[idx] = v.diverged_period
     cube["n_events"].values[idx] = v.n_events
     cube["transient_used"].values[idx] = v.transient_used
-    store_verdict(cube, idx, v)
+    store_verdict(cube, idx, v, fixed)
     values = coeffs.as_dict()
     for cname in COEFFICIENT_ATTRS:
         cube[f"coef_{cname}"].values[idx] = float(values[cname])
