@@ -4,13 +4,12 @@ Run as a script (``python tests/_cpu_study.py OUT.npz``) it writes the arrays to
 imported first, as in the pipeline, so its OpenBLAS setting holds.
 """
 
-import geardyn  # noqa: F401 - first, as in every pipeline job
-
 import sys
 from pathlib import Path
 
 import numpy as np
 
+import geardyn  # noqa: F401 - first, as in every pipeline job
 from geardyn.khv import design, mesh_table, point
 from geardyn.runs import sweep
 from geardyn.solve import SimulationSettings, simulate
@@ -19,8 +18,17 @@ from geardyn.solve.shooting import shoot
 ROOT = Path(__file__).resolve().parents[1]
 #: The sweep: x1 from 0.45 to 0.8 at the paper's b = 2, e = 5 (period-1 motion; one point, x1 = 0.8,
 #: may be labelled otherwise, and is then compared by its label only).
-SWEEP = dict(designs=["li2013"], parameter="x1", start=0.45, stop=0.80, num=4, fixed={"b": 2.0, "e": 5.0},
-             cases=[{}], chunks=1, integration={"transient_periods": 200, "recorded_periods": 30, "steps_per_period": 128})
+SWEEP = dict(
+    designs=["li2013"],
+    parameter="x1",
+    start=0.45,
+    stop=0.80,
+    num=4,
+    fixed={"b": 2.0, "e": 5.0},
+    cases=[{}],
+    chunks=1,
+    integration={"transient_periods": 200, "recorded_periods": 30, "steps_per_period": 128},
+)
 
 
 def study() -> dict[str, np.ndarray]:

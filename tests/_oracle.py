@@ -13,8 +13,12 @@ from geardyn import classify
 from geardyn.solve import SimulationSettings, simulate
 
 
-def rules_label(system, settings: SimulationSettings, cs: classify.ClassifierSettings = classify.ClassifierSettings(),
-                x0: np.ndarray | None = None):
+def rules_label(
+    system,
+    settings: SimulationSettings,
+    cs: classify.ClassifierSettings = classify.ClassifierSettings(),
+    x0: np.ndarray | None = None,
+):
     """(SimulationResult, Classification) of one plain run."""
     res = simulate(system, settings, x0=x0, tangent_periods=cs.tangent_periods)
     return res, classify.classify_point(res.poincare, res.growth, res.period, res.diverged, cs, samples=res.strobe)

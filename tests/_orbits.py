@@ -17,6 +17,7 @@ def calibrated_branch():
     fam = C.KHVFamily(d, "x1", {"b": 2.0, "e": 5.0}, 0.70, 0.78, nodes=17)
     c = fam.coefficients(0.71)
     r = simulate(c, SimulationSettings(transient_periods=2000, recorded_periods=1))
-    br = C.continue_branch(fam, 0.71, r.final_state, 1, 0.70, 0.78,
-                           C.ContinuationSettings(ds=5e-3, ds_max=5e-3, grazing=False))
+    br = C.continue_branch(
+        fam, 0.71, r.final_state, 1, 0.70, 0.78, C.ContinuationSettings(ds=5e-3, ds_max=5e-3, grazing=False)
+    )
     return d, fam, br

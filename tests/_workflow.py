@@ -27,8 +27,9 @@ def shipped(rel: str) -> dict[str, Any]:
     return yaml.safe_load((ROOT / rel).read_text(encoding="utf-8"))
 
 
-def workflow_copy(dest: Path, config: dict[str, Any] | None = None,
-                  designs: dict[str, dict[str, Any]] | None = None) -> Path:
+def workflow_copy(
+    dest: Path, config: dict[str, Any] | None = None, designs: dict[str, dict[str, Any]] | None = None
+) -> Path:
     """Copy the workflow to ``dest``; replace config.yaml and design files by the given mappings."""
     dest.mkdir(parents=True, exist_ok=True)
     for item in ("Snakefile", "workflow", "config"):
@@ -37,8 +38,9 @@ def workflow_copy(dest: Path, config: dict[str, Any] | None = None,
     if config is not None:
         (dest / "config" / "config.yaml").write_text(yaml.safe_dump(config, sort_keys=False), encoding="utf-8")
     for name, raw in (designs or {}).items():
-        (dest / "config" / "designs" / f"{name}.yaml").write_text(yaml.safe_dump(raw, sort_keys=False),
-                                                                  encoding="utf-8")
+        (dest / "config" / "designs" / f"{name}.yaml").write_text(
+            yaml.safe_dump(raw, sort_keys=False), encoding="utf-8"
+        )
     return dest
 
 
@@ -52,8 +54,7 @@ def snakemake_cmd(*args: str) -> list[str]:
 
 def snakemake(work: Path, *args: str, timeout: float = 600, check: bool = True) -> subprocess.CompletedProcess:
     """Run Snakemake in ``work``; with ``check`` a failure shows its stderr."""
-    run = subprocess.run(snakemake_cmd(*args), cwd=work, env=env(), capture_output=True, text=True,
-                         timeout=timeout)
+    run = subprocess.run(snakemake_cmd(*args), cwd=work, env=env(), capture_output=True, text=True, timeout=timeout)
     if check and run.returncode != 0:
         raise AssertionError(f"snakemake {' '.join(args)} failed ({run.returncode}):\n{run.stderr[-4000:]}")
     return run
@@ -63,11 +64,22 @@ def sweep_config(chunks: int = 4, num: int = 12, integration: dict[str, Any] | N
     """A config with design li2013 and one x1 sweep, nothing else."""
     return {
         "designs": {"li2013": "config/designs/li2013.yaml"},
-        "sweeps": {"fig07_small": {
-            "designs": ["li2013"], "title": "small x1 sweep", "parameter": "x1", "start": 0.45, "stop": 0.80,
-            "num": num, "fixed": {"b": 2.0, "e": 5.0}, "chunks": chunks,
-            "integration": dict(FAST if integration is None else integration)}},
-        "points": {}, "calibration": {}, "benchmarks": {"work_precision": False},
+        "sweeps": {
+            "fig07_small": {
+                "designs": ["li2013"],
+                "title": "small x1 sweep",
+                "parameter": "x1",
+                "start": 0.45,
+                "stop": 0.80,
+                "num": num,
+                "fixed": {"b": 2.0, "e": 5.0},
+                "chunks": chunks,
+                "integration": dict(FAST if integration is None else integration),
+            }
+        },
+        "points": {},
+        "calibration": {},
+        "benchmarks": {"work_precision": False},
     }
 
 
@@ -78,16 +90,33 @@ def small_config() -> dict[str, Any]:
     cfg["designs"]["yue2014"] = "config/designs/yue2014.yaml"
     cfg["closed_graph"] = {"x1": {"start": 0.2, "stop": 1.1, "num": 19}, "x2": {"start": 0.3, "stop": 1.4, "num": 23}}
     cfg["stiffness_table"] = {"points": 11, "phase_points": 32, "fig05_x1": [0.416, 0.626, 0.835]}
-    cfg["points"] = {"fig08_small": {"designs": ["li2013"], "title": "small points", "fixed": {"b": 2.0, "e": 5.0},
-                                     "cases": [{"x1": 0.5}, {"x1": 0.761}], "samples_per_period": 16}}
+    cfg["points"] = {
+        "fig08_small": {
+            "designs": ["li2013"],
+            "title": "small points",
+            "fixed": {"b": 2.0, "e": 5.0},
+            "cases": [{"x1": 0.5}, {"x1": 0.761}],
+            "samples_per_period": 16,
+        }
+    }
     cfg["benchmarks"] = {"work_precision": True, "quick": True}
-    cfg["calibration"] = {"small_search": {
-        "design": "li2013", "x1": {"start": 0.416, "stop": 0.835, "num": 5},
-        "b": {"start": 0.0, "stop": 2.25, "num": 2}, "e": {"start": 4.0, "stop": 5.0, "num": 2},
-        "search": {"bounds": {"w": {"low": 0.85, "high": 0.95}, "zeta": {"low": 0.08, "high": 0.12}},
-                   "budget": {"popsize": 1, "maxiter": 1},
-                   "workers": 1, "verify_top": 1, "refine": {"steps": [0.1], "rounds": 0}},
-        "sensitivity": {"steps": [0.1], "map_points": 2}, "integration": dict(FAST)}}
+    cfg["calibration"] = {
+        "small_search": {
+            "design": "li2013",
+            "x1": {"start": 0.416, "stop": 0.835, "num": 5},
+            "b": {"start": 0.0, "stop": 2.25, "num": 2},
+            "e": {"start": 4.0, "stop": 5.0, "num": 2},
+            "search": {
+                "bounds": {"w": {"low": 0.85, "high": 0.95}, "zeta": {"low": 0.08, "high": 0.12}},
+                "budget": {"popsize": 1, "maxiter": 1},
+                "workers": 1,
+                "verify_top": 1,
+                "refine": {"steps": [0.1], "rounds": 0},
+            },
+            "sensitivity": {"steps": [0.1], "map_points": 2},
+            "integration": dict(FAST),
+        }
+    }
     return cfg
 
 

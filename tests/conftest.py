@@ -7,9 +7,9 @@ in the test process as in the pipeline's jobs."""
 
 import os
 
-import geardyn  # noqa: F401 - first: pins OpenBLAS's kernels before any test module loads numpy
-
 from hypothesis import settings
+
+import geardyn  # noqa: F401 - first: pins OpenBLAS's kernels before any test module loads numpy
 
 settings.register_profile("ci", derandomize=True, deadline=None, print_blob=True)
 settings.register_profile("explore", derandomize=False, deadline=None, print_blob=True)

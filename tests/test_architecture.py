@@ -44,8 +44,9 @@ def _imports(name: str, path: pathlib.Path) -> list[tuple[str, list[str]]]:
     return [(m, n) for m, n in found if m.startswith("geardyn")]
 
 
-GRAPH = {name: sorted({m for m, _ in _imports(name, path) if m in MODULES and m != name})
-         for name, path in MODULES.items()}
+GRAPH = {
+    name: sorted({m for m, _ in _imports(name, path) if m in MODULES and m != name}) for name, path in MODULES.items()
+}
 
 
 def _cycle() -> list[str] | None:
@@ -57,7 +58,7 @@ def _cycle() -> list[str] | None:
         stack.append(node)
         for nxt in GRAPH[node]:
             if state.get(nxt) == 1:
-                return stack[stack.index(nxt):] + [nxt]
+                return stack[stack.index(nxt) :] + [nxt]
             if nxt not in state and (found := visit(nxt)):
                 return found
         stack.pop()
@@ -71,7 +72,9 @@ def _cycle() -> list[str] | None:
 
 
 def test_the_walk_sees_the_package():
-    assert {"geardyn.solve.simulate", "geardyn.khv.point", "geardyn.runs.sweep", "geardyn.papers.li2013"} <= set(MODULES)
+    assert {"geardyn.solve.simulate", "geardyn.khv.point", "geardyn.runs.sweep", "geardyn.papers.li2013"} <= set(
+        MODULES
+    )
     assert "geardyn.khv.model" in GRAPH["geardyn.khv.point"]
 
 
@@ -93,8 +96,11 @@ def test_no_private_name_imported_from_another_module(name):
         package = name.rpartition(".")[0]
         own_package = module == package or module.rpartition(".")[0] == package
         # a package may use its own private modules (geardyn.solve._kernel), never another's private names
-        private = [n for n in names if n.startswith("_") and n != "__version__"
-                   and not (own_package and f"{module}.{n}" in MODULES)]
+        private = [
+            n
+            for n in names
+            if n.startswith("_") and n != "__version__" and not (own_package and f"{module}.{n}" in MODULES)
+        ]
         assert not private, f"{name} imports {private} from {module}"
         if module.rpartition(".")[2].startswith("_"):
             assert own_package, f"{name} imports the private module {module}"

@@ -15,8 +15,10 @@ from geardyn import __version__, archive, cli, io
 
 def _cube(n=5):
     x = np.linspace(0, 1, n)
-    return xr.Dataset({"k": ("x1", x**2, {"units": "N m-1", "long_name": "stiffness"})},
-                      coords={"x1": ("x1", x, {"units": "1", "long_name": "profile shift"})})
+    return xr.Dataset(
+        {"k": ("x1", x**2, {"units": "N m-1", "long_name": "stiffness"})},
+        coords={"x1": ("x1", x, {"units": "1", "long_name": "profile shift"})},
+    )
 
 
 @pytest.fixture
@@ -29,8 +31,13 @@ def built(tmp_path):
     des = data / "d.yaml"
     des.write_text("kind: khv\nname: d\n")
     out = tmp_path / "d_archive.tar.gz"
-    manifest = archive.build(out, "d", {"results/d/a.nc": a, "results/d/sweeps/b.nc": b}, {"config.yaml": cfg, "designs/d.yaml": des},
-                             effective_config={"designs": {"d": "config/designs/d.yaml"}})
+    manifest = archive.build(
+        out,
+        "d",
+        {"results/d/a.nc": a, "results/d/sweeps/b.nc": b},
+        {"config.yaml": cfg, "designs/d.yaml": des},
+        effective_config={"designs": {"d": "config/designs/d.yaml"}},
+    )
     return out, manifest
 
 
@@ -51,9 +58,19 @@ def _repack(members, path):
 def test_archive_holds_cubes_configs_manifest_and_readme(built):
     out, manifest = built
     members = _members(out)
-    assert set(members) == {f"d_archive/{n}" for n in (
-        "MANIFEST.json", "SHA256SUMS", "README.txt", "config/config.yaml", "config/designs/d.yaml",
-        "config/effective_config.yaml", "results/d/a.nc", "results/d/sweeps/b.nc")}
+    assert set(members) == {
+        f"d_archive/{n}"
+        for n in (
+            "MANIFEST.json",
+            "SHA256SUMS",
+            "README.txt",
+            "config/config.yaml",
+            "config/designs/d.yaml",
+            "config/effective_config.yaml",
+            "results/d/a.nc",
+            "results/d/sweeps/b.nc",
+        )
+    }
     listed = json.loads(members["d_archive/MANIFEST.json"])
     assert listed == manifest
     assert listed["geardyn_version"] == __version__ and listed["git_commit"] == io.git_commit()
@@ -108,6 +125,7 @@ def _without(name):
         members = _members(out)
         del members[f"d_archive/{name}"]
         return _repack(members, tmp_path / "bad.tar.gz")
+
     return make
 
 

@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 import _orbits
-
 from geardyn import classify, io
 from geardyn.khv import design, point
 from geardyn.runs import attractors as A
@@ -52,8 +51,15 @@ def coexistence():
     d, fam, br = _orbits.calibrated_branch()
     values = np.array([0.74, 0.76])
     pts = A.sweep_points(fam.coefficients, values, [0, 1], 0, lambda j: None, [br])
-    ds = A.attractors_dataset(pts, A.AttractorSettings(n_random=4), point.integration_settings(d),
-                              classify.ClassifierSettings(), "x1", "1", "planet profile shift x1")
+    ds = A.attractors_dataset(
+        pts,
+        A.AttractorSettings(n_random=4),
+        point.integration_settings(d),
+        classify.ClassifierSettings(),
+        "x1",
+        "1",
+        "planet profile shift x1",
+    )
     return ds
 
 

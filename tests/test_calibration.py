@@ -9,16 +9,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from _oracle import rules_label
 from geardyn import claims as C
 from geardyn import classify
 from geardyn.khv import calibrate as K
 from geardyn.khv import committed as committed_mod
 from geardyn.khv import design, point
-from geardyn.papers import li2013 as paper
 from geardyn.label import Policy, label_lines, label_points
 from geardyn.label import settle as S
+from geardyn.papers import li2013 as paper
 from geardyn.solve import SimulationSettings
-from _oracle import rules_label
 
 ROOT = Path(__file__).resolve().parents[1]
 FULL = SimulationSettings(steps_per_period=512, transient_periods=500, recorded_periods=100)
@@ -32,10 +32,13 @@ def li2013():
 # The previous calibrated design (li2013 with w = 0.7): the pipeline's classifier calls these points
 # quasi-periodic or undetermined; a 6000-period run from the static deflection ends on P1 (strict
 # period test), and shooting finds the stable P1 orbit with |mu|max = 0.988-0.996 (docs/calibration.md).
-@pytest.mark.parametrize("over, before, rho", [
-    ({"x1": 0.761, "e": 5.0, "b": 0.83}, classify.LABELS["quasi_periodic"], 0.9902),
-    ({"x1": 0.5, "b": 2.0, "e": 3.6}, classify.LABELS["quasi_periodic"], 0.9942),
-])
+@pytest.mark.parametrize(
+    "over, before, rho",
+    [
+        ({"x1": 0.761, "e": 5.0, "b": 0.83}, classify.LABELS["quasi_periodic"], 0.9902),
+        ({"x1": 0.5, "b": 2.0, "e": 3.6}, classify.LABELS["quasi_periodic"], 0.9942),
+    ],
+)
 def test_slow_transient_is_relabelled_p1(li2013, over, before, rho):
     c = point.point_coefficients(li2013, {**over, "w": 0.7})
     cs = classify.ClassifierSettings()
@@ -73,8 +76,10 @@ def test_settle_of_many_points_is_settle_of_each(li2013):
     together = S.settle_points(systems, [r for r, _ in runs], labels, lams, FULL, cs)
     alone = [S.settle(c, r, lab, lam, FULL, cs) for c, (r, _), lab, lam in zip(systems, runs, labels, lams)]
     assert together == alone
-    assert all((t.state is None and a.state is None) or np.array_equal(t.state, a.state)
-               for t, a in zip(together, alone, strict=True))
+    assert all(
+        (t.state is None and a.state is None) or np.array_equal(t.state, a.state)
+        for t, a in zip(together, alone, strict=True)
+    )
     assert [s.after for s in together] == [1, classify.LABELS["quasi_periodic"], 1, classify.LABELS["chaotic"], 1]
 
 
@@ -111,8 +116,14 @@ def _labels_paper(grids):
 
 
 def test_score_counts_the_claims_and_partial_credit():
-    g = K.Grids.from_config({"x1": {"start": 0.416, "stop": 0.835, "num": 120}, "b": {"start": 0, "stop": 2.25, "num": 10},
-                             "e": {"start": 0, "stop": 6.3, "num": 19}}, paper)
+    g = K.Grids.from_config(
+        {
+            "x1": {"start": 0.416, "stop": 0.835, "num": 120},
+            "b": {"start": 0, "stop": 2.25, "num": 10},
+            "e": {"start": 0, "stop": 6.3, "num": 19},
+        },
+        paper,
+    )
     lab = _labels_paper(g)
     sc = K.score_labels(paper, lab)
     v = {r.id: r.verdict for r in sc.rows}
@@ -131,11 +142,22 @@ def test_score_counts_the_claims_and_partial_credit():
 
 def test_search_resumes_from_its_cache(tmp_path, monkeypatch):
     """An interrupted search, rerun with the same seed, replays the cache and ends with the same best."""
+
     def fake(problem, unit):
         u = np.asarray(unit)
         s = float(10.0 - np.sum((u - 0.3) ** 2))
-        return {"key": K.cache_key(unit), "unit": list(map(float, unit)), "values": problem.space.values(unit),
-                "score": s, "agree": 0, "partial": 0.0, "transitions": {}, "order": "", "verdicts": {}, "fig07": []}
+        return {
+            "key": K.cache_key(unit),
+            "unit": list(map(float, unit)),
+            "values": problem.space.values(unit),
+            "score": s,
+            "agree": 0,
+            "partial": 0.0,
+            "transitions": {},
+            "order": "",
+            "verdicts": {},
+            "fig07": [],
+        }
 
     monkeypatch.setattr(K, "evaluate_candidate", fake)
     space = K.SearchSpace.from_config({"w": {"low": 0.0, "high": 1.0}, "eta": {"low": 0.0, "high": 1.0}})
@@ -175,7 +197,9 @@ def test_committed_calibrated_design_is_the_search_output(name, require):
     source = (ROOT / "config" / "designs" / "li2013.yaml").read_text()
     assert K.design_text_from_file(committed, source) == committed
     assert "CALIBRATED" in committed and "Fitted to paper 1's claims" in committed
-    result = json.loads(next(ln for ln in committed.splitlines() if ln.startswith(K.RESULT_PREFIX))[len(K.RESULT_PREFIX):])
+    result = json.loads(
+        next(ln for ln in committed.splitlines() if ln.startswith(K.RESULT_PREFIX))[len(K.RESULT_PREFIX) :]
+    )
     assert result.get("require") == require
     if require:
         assert result["meets_requirement"] and "# Required: Fig. 7" in committed
@@ -187,8 +211,9 @@ def test_committed_calibrated_design_is_the_search_output(name, require):
     assert committed_mod.result_of(committed) == result
     produced = ROOT / "results" / "li2013" / "calibration" / f"{result['search']}_design.yaml"
     if produced.exists():
-        space = K.problem_from_config(design.load(ROOT / "config" / "designs" / "li2013.yaml"),
-                                      _config_calibration(result["search"]))[0].space
+        space = K.problem_from_config(
+            design.load(ROOT / "config" / "designs" / "li2013.yaml"), _config_calibration(result["search"])
+        )[0].space
         cmp = committed_mod.compare(result, committed_mod.result_of(produced.read_text()), space)
         assert cmp.same_optimum, cmp.markdown()
 
@@ -201,10 +226,11 @@ def _config_calibration(name):
 
 def test_comparison_with_the_committed_design_in_unit_distances():
     """Distances in the search's unit cube, worked by hand: w on [0.5, 1.5] linear, K_DH on [1e4, 1e6] log."""
-    space = K.SearchSpace.from_config({"w": {"low": 0.5, "high": 1.5},
-                                       "K_DH": {"low": 1e4, "high": 1e6, "scale": "log"}})
+    space = K.SearchSpace.from_config(
+        {"w": {"low": 0.5, "high": 1.5}, "K_DH": {"low": 1e4, "high": 1e6, "scale": "log"}}
+    )
     base = {"search": "s", "score": 9.5, "agreeing": ["a", "b"], "values": {"w": 1.0, "K_DH": 1e5}}
-    near = {"search": "s", "score": 9.0, "agreeing": ["a", "c"], "values": {"w": 1.04, "K_DH": 1e5 * 10 ** 0.08}}
+    near = {"search": "s", "score": 9.0, "agreeing": ["a", "c"], "values": {"w": 1.04, "K_DH": 1e5 * 10**0.08}}
     c = committed_mod.compare(base, near, space)
     # w: 0.04 / 1.0 = 0.04; K_DH: 0.08 decades of 2 = 0.04
     assert [round(d, 12) for *_, d in c.unknowns] == [0.04, 0.04]
@@ -226,15 +252,17 @@ def test_route_requirement_and_its_ranking():
     ranks below every one that meets it, and among those the claims score decides."""
     P1, QP, CH, UND = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"], classify.LABELS["undetermined"]
     assert K.shows_route([P1, P1, QP, 5, CH, 6, CH])
-    assert K.shows_route([P1, UND, 2, 2, 4, CH])          # undetermined points are left out
-    assert not K.shows_route([P1, CH, QP])                 # no non-period-1 motion before the chaos
-    assert not K.shows_route([P1, QP, P1, CH])             # back to P1 before the chaos
-    assert not K.shows_route([QP, P1, 2, CH])              # does not start on P1
-    assert not K.shows_route([P1, QP, 5])                  # no chaos
+    assert K.shows_route([P1, UND, 2, 2, 4, CH])  # undetermined points are left out
+    assert not K.shows_route([P1, CH, QP])  # no non-period-1 motion before the chaos
+    assert not K.shows_route([P1, QP, P1, CH])  # back to P1 before the chaos
+    assert not K.shows_route([QP, P1, 2, CH])  # does not start on P1
+    assert not K.shows_route([P1, QP, 5])  # no chaos
     route = {"score": 6.6, "fig07": [P1, QP, CH]}
     better = {"score": 8.4, "fig07": [P1, QP, QP]}
     assert K.ranked_score(better) > K.ranked_score(route)  # without the requirement: the claims alone
-    assert K.ranked_score(route, "route") == 6.6 and K.ranked_score(better, "route") < 0 < K.ranked_score(route, "route")
+    assert K.ranked_score(route, "route") == 6.6 and K.ranked_score(better, "route") < 0 < K.ranked_score(
+        route, "route"
+    )
 
 
 def test_the_labeller_settles_slow_transients(li2013):
@@ -255,16 +283,16 @@ def test_return_distance_and_record_approach_tell_a_transient_from_a_torus():
     circle (rotation 0.1234 per period) does not fall for any n, and does not approach a point."""
     k = np.arange(100)[:, None]
     cyc = np.array([[1.0, 2, 0, 0, 0, 0], [-1.0, 0.5, 0, 0, 0, 0]])
-    transient = cyc[k[:, 0] % 2] + 0.3 * 0.99 ** k * np.array([[1.0, -0.5, 0.2, 0, 0, 0]]) * (-1) ** k
+    transient = cyc[k[:, 0] % 2] + 0.3 * 0.99**k * np.array([[1.0, -0.5, 0.2, 0, 0, 0]]) * (-1) ** k
     torus = np.hstack([np.cos(2 * np.pi * 0.1234 * k), np.sin(2 * np.pi * 0.1234 * k), np.zeros((100, 4))])
     assert S.return_distance_falls(transient, 2) and S.return_distance_falls(transient, 4)
     assert not any(S.return_distance_falls(torus, n) for n in range(1, 13))
-    assert S.approached_in_record(transient, cyc, 0.99 ** 2, 2)
+    assert S.approached_in_record(transient, cyc, 0.99**2, 2)
     # the fitted rate must be at least half the multiplier's: a cycle said to attract at 0.9 per period
     # (log rate -0.105) is not what a run falling at 0.99 per period (-0.010) approaches
-    assert not S.approached_in_record(transient, cyc, 0.9 ** 2, 2)
+    assert not S.approached_in_record(transient, cyc, 0.9**2, 2)
     assert not S.approached_in_record(torus, np.array([[1.0, 0, 0, 0, 0, 0]]), 0.99, 1)
-    assert not S.approached_in_record(transient[:10], cyc, 0.99 ** 2, 2)  # too short to tell
+    assert not S.approached_in_record(transient[:10], cyc, 0.99**2, 2)  # too short to tell
 
 
 def test_an_orbit_found_by_n_period_shooting_gets_its_least_period():
@@ -302,8 +330,10 @@ def test_a_line_across_the_neimark_sacker_point_types_it():
     and is a torus."""
     d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
     xs = (0.530, 0.535, 0.538, 0.541, 0.545)
-    out = label_lines([[point.point_coefficients(d, {"x1": x, "b": 2.0, "e": 5.0}) for x in xs]],
-                      Policy(point.integration_settings(d)))[0]
+    out = label_lines(
+        [[point.point_coefficients(d, {"x1": x, "b": 2.0, "e": 5.0}) for x in xs]],
+        Policy(point.integration_settings(d)),
+    )[0]
     assert [v.label for v in out] == [1, 1, 1, 1, classify.LABELS["quasi_periodic"]]
     assert [v.stage for v in out[1:4]] == ["follow"] * 3
     assert 0.9999 < out[3].multiplier < 1.0
@@ -316,7 +346,7 @@ def test_falling_return_distances_is_the_quarter_means_of_the_return_distances()
     rng = np.random.default_rng(5)
     k = np.arange(60)[:, None]
     cases = [np.cumsum(rng.normal(size=(m, 6)), axis=0) for m in (9, 12, 40, 120)]
-    cases.append(np.cos(2 * np.pi * k / 3) + 0.5 * 0.97 ** k * rng.normal(size=(1, 6)))
+    cases.append(np.cos(2 * np.pi * k / 3) + 0.5 * 0.97**k * rng.normal(size=(1, 6)))
     for p in cases:
         want = np.ones(12, dtype=bool)
         for n in range(1, min(12, p.shape[0] - 8) + 1):
@@ -337,15 +367,27 @@ def test_compare_script_reports_the_distance_to_the_committed_design(tmp_path):
     result = committed_mod.result_of(committed)
     spec = _config_calibration(result["search"])
     lo, hi = float(spec["search"]["bounds"]["w"]["low"]), float(spec["search"]["bounds"]["w"]["high"])
-    moved = {**result, "score": result["score"] - 0.5,
-             "values": {**result["values"], "w": result["values"]["w"] + 0.01 * (hi - lo)}}
+    moved = {
+        **result,
+        "score": result["score"] - 0.5,
+        "values": {**result["values"], "w": result["values"]["w"] + 0.01 * (hi - lo)},
+    }
     best = tmp_path / "best.json"
     best.write_text(json.dumps({"result": moved}))
     out = tmp_path / "vs.md"
-    run_script(ROOT / "workflow" / "scripts" / "calibration_compare.py",
-               Job(input={"design": ROOT / "config" / "designs" / "li2013.yaml", "best": best,
-                          "committed": ROOT / "config" / "designs" / "li2013_route.yaml"},
-                   output=[out], params={"spec": spec}, log=[tmp_path / "log"]))
+    run_script(
+        ROOT / "workflow" / "scripts" / "calibration_compare.py",
+        Job(
+            input={
+                "design": ROOT / "config" / "designs" / "li2013.yaml",
+                "best": best,
+                "committed": ROOT / "config" / "designs" / "li2013_route.yaml",
+            },
+            output=[out],
+            params={"spec": spec},
+            log=[tmp_path / "log"],
+        ),
+    )
     text = out.read_text()
     assert "**the same optimum**: largest distance 1.0 % of a search range" in text
     assert f"score {result['score'] - 0.5:.3f} found against {result['score']:.3f} committed (-0.500" in text

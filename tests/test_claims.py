@@ -38,8 +38,19 @@ def verdicts(rows):
 
 def test_the_paper_own_labels_agree_on_every_fig07_claim():
     v = verdicts(C.evaluate(paper, *tracks(paper_labels(X1))))
-    for cid in ("fig07_p1", "fig07_qp", "fig07_p5", "fig07_chaos1", "fig07_p6", "fig07_chaos2",
-                "fig8a", "fig8c", "fig8d", "fig8e", "fig8f"):
+    for cid in (
+        "fig07_p1",
+        "fig07_qp",
+        "fig07_p5",
+        "fig07_chaos1",
+        "fig07_p6",
+        "fig07_chaos2",
+        "fig8a",
+        "fig8c",
+        "fig8d",
+        "fig8e",
+        "fig8f",
+    ):
         assert v[cid] == "agree", cid
     # x1 = 0.565 (Fig. 8b, QP) is also the end of the paper's own P1 range; the sweep point nearest
     # to it (0.5638) lies inside that P1 range, so even the paper's labels fail the nearest-point rule
@@ -88,8 +99,10 @@ def test_fraction_verdict_band_is_two_binomial_standard_errors():
 
 
 def test_headline_counts_borderline_and_calibration_gives_it_half_credit():
-    rows = [C.Claim(str(i), "f", "s", "p", "o", v, "r")
-            for i, v in enumerate(["agree"] * 11 + ["borderline"] + ["disagree"] * 14)]
+    rows = [
+        C.Claim(str(i), "f", "s", "p", "o", v, "r")
+        for i, v in enumerate(["agree"] * 11 + ["borderline"] + ["disagree"] * 14)
+    ]
     assert C.headline(rows) == "11 agree, 1 borderline, 14 disagree, 0 not comparable"
     assert "**11 agree, 1 borderline, 14 disagree, 0 not comparable**" in C.to_markdown(rows, "d")
     assert sum(C.credit(r.verdict) for r in rows) == 11.5
@@ -116,8 +129,11 @@ def test_fig09_route_needs_p1_start_and_chaos_in_every_case():
     bad[0.83] = np.where(B < 1.0, QP, CH)  # does not start P1
     assert verdicts(C.evaluate(paper, *tracks(f07, bad)))["fig09_route"] == "disagree"
     # b = 0.5 points: P1, QP, chaos expected at the three x1
-    pts = {0.5: np.where(B < 1.0, P1, CH), 0.761: np.where(B < 0.3, P1, np.where(B < 1.0, QP, CH)),
-           0.83: np.where(B < 0.3, P1, CH)}
+    pts = {
+        0.5: np.where(B < 1.0, P1, CH),
+        0.761: np.where(B < 0.3, P1, np.where(B < 1.0, QP, CH)),
+        0.83: np.where(B < 0.3, P1, CH),
+    }
     v = verdicts(C.evaluate(paper, *tracks(f07, pts)))
     assert v["fig09_b0.5_x1_0.5"] == v["fig09_b0.5_x1_0.761"] == v["fig09_b0.5_x1_0.83"] == "agree"
 
@@ -139,8 +155,9 @@ def test_fig11_route_order_and_sync_range():
 
 def _cube(par: str, values: np.ndarray, labels: np.ndarray, cases: list[str]) -> xr.Dataset:
     lab = np.asarray(labels, dtype=np.int16).reshape(len(cases), 1, values.size)
-    ds = xr.Dataset({"label": (("case", "direction", par), lab)},
-                    coords={"case": cases, "direction": ["up"], par: values})
+    ds = xr.Dataset(
+        {"label": (("case", "direction", par), lab)}, coords={"case": cases, "direction": ["up"], par: values}
+    )
     ds.attrs["control_parameter"] = par
     return ds
 
@@ -152,12 +169,23 @@ def test_cube_path_gives_the_same_verdicts_as_the_arrays(monkeypatch):
     b_lab = {x: np.where(B < 1.0, P1, CH) for x in paper.CASE_X1}
     e_lab = {x: np.where(E < s, P1, np.where(E < s + 1.0, QP, CH)) for x, s in zip(paper.CASE_X1, (3.5, 2.8, 2.1))}
     cases = [f"x1={x:g}" for x in paper.CASE_X1]
-    cg = xr.Dataset({"paper_x1": ("point", [0.416, 0.835]), "paper_x2": ("point", [0.601, 0.995]),
-                     "computed_x2": ("point", [0.6012, 0.9930])}, coords={"point": ["M", "N"]})
+    cg = xr.Dataset(
+        {
+            "paper_x1": ("point", [0.416, 0.835]),
+            "paper_x2": ("point", [0.601, 0.995]),
+            "computed_x2": ("point", [0.6012, 0.9930]),
+        },
+        coords={"point": ["M", "N"]},
+    )
     st = xr.Dataset({"k_mean": ("x1", [3.0, 2.9, 2.8]), "k_c": ("x1", [1.0, 1.0, 0.99]), "x1": ("x1", [0.4, 0.6, 0.8])})
-    rows = C.claims(paper, cg, st, _cube("x1", X1, f07, ["base"]),
-                    _cube("b", B, np.stack([b_lab[x] for x in paper.CASE_X1]), cases),
-                    _cube("e", E, np.stack([e_lab[x] for x in paper.CASE_X1]), cases))
+    rows = C.claims(
+        paper,
+        cg,
+        st,
+        _cube("x1", X1, f07, ["base"]),
+        _cube("b", B, np.stack([b_lab[x] for x in paper.CASE_X1]), cases),
+        _cube("e", E, np.stack([e_lab[x] for x in paper.CASE_X1]), cases),
+    )
     arrays = C.evaluate(paper, *tracks(f07, b_lab, e_lab), cg, st)
     assert [(r.id, r.verdict) for r in rows] == [(r.id, r.verdict) for r in arrays]
     v = verdicts(rows)

@@ -17,11 +17,10 @@ import numpy as np
 import pytest
 from numba import njit
 
+from _oracle import rules_label
 from geardyn import classify
 from geardyn.khv import design, point
-from geardyn.solve import floquet
-from geardyn.solve import SimulationSettings
-from _oracle import rules_label
+from geardyn.solve import SimulationSettings, floquet
 
 ROOT = Path(__file__).resolve().parents[1]
 

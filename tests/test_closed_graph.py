@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from geardyn.khv import closed_graph as cg
 from geardyn.gears import geometry as geo
+from geardyn.khv import closed_graph as cg
 from geardyn.papers import li2013
 from geardyn.plots.closed_graph import caption_closed_graph, plot_closed_graph
 

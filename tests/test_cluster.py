@@ -32,8 +32,10 @@ import _workflow as wf
 
 pytestmark = [
     pytest.mark.cluster,
-    pytest.mark.skipif(os.environ.get("GEARDYN_CLUSTER_TEST") != "1",
-                       reason="needs a live SLURM cluster: set GEARDYN_CLUSTER_TEST=1 (root, see docs/operations.md)"),
+    pytest.mark.skipif(
+        os.environ.get("GEARDYN_CLUSTER_TEST") != "1",
+        reason="needs a live SLURM cluster: set GEARDYN_CLUSTER_TEST=1 (root, see docs/operations.md)",
+    ),
 ]
 
 SCRIPT = wf.ROOT / "tests" / "cluster" / "local_slurm.sh"
@@ -61,12 +63,18 @@ def _config():
     del cfg["sweeps"]["fig07_small"]["integration"]
     cfg["sweeps"]["fig07_small"]["cases"] = [{"b": 2.0}, {"b": 1.5}, {"b": 1.0}]
     cfg["designs"]["li2013_calibrated"] = "config/designs/li2013_calibrated.yaml"
-    cfg["maps"] = {"map_small": {
-        "designs": ["li2013_calibrated"], "title": "small map",
-        "x": {"parameter": "x1", "start": 0.416, "stop": 0.835, "num": 6},
-        "y": {"parameter": "b", "start": 0.0, "stop": 2.2, "num": 4}, "fixed": {"e": 5.0}, "chunks": MAP_CHUNKS,
-        "integration": {"steps_per_period": 128, "transient_periods": 400, "recorded_periods": 50},
-        "classifier": {"error_floor": 1.9e-5, "tangent_periods": 200}}}
+    cfg["maps"] = {
+        "map_small": {
+            "designs": ["li2013_calibrated"],
+            "title": "small map",
+            "x": {"parameter": "x1", "start": 0.416, "stop": 0.835, "num": 6},
+            "y": {"parameter": "b", "start": 0.0, "stop": 2.2, "num": 4},
+            "fixed": {"e": 5.0},
+            "chunks": MAP_CHUNKS,
+            "integration": {"steps_per_period": 128, "transient_periods": 400, "recorded_periods": 50},
+            "classifier": {"error_floor": 1.9e-5, "tangent_periods": 200},
+        }
+    }
     return cfg
 
 
@@ -83,8 +91,9 @@ def _profile(work: Path, resources=None, **settings) -> None:
 def slurm_jobs(work: Path) -> list[dict[str, str]]:
     """Every job slurmctld knows of (finished ones too, for MinJobAge) that ran in ``work``, by job id,
     with ``rule`` and ``wildcards`` from the comment the executor plugin gives each job."""
-    out = subprocess.run(["scontrol", "show", "job", "-o"], capture_output=True, text=True, check=True,
-                         timeout=60).stdout
+    out = subprocess.run(
+        ["scontrol", "show", "job", "-o"], capture_output=True, text=True, check=True, timeout=60
+    ).stdout
     jobs = []
     for line in out.splitlines():
         fields = dict(re.findall(r"(\S+?)=(\S*)", line))
@@ -151,8 +160,10 @@ def study(cluster, local, tmp_path_factory):
     work = wf.workflow_copy(tmp_path_factory.mktemp("slurm") / "w", _config())
     _profile(work, RESOURCES)
     run, wall = _timed(work, "--profile", PROFILE, *FIGURES)
-    print(f"\n[cluster] small study ({SWEEP_CHUNKS} sweep + {MAP_CHUNKS} map chunk jobs, merges, 2 figures): "
-          f"local --cores 2 {local[1]:.1f} s, SLURM profile {wall:.1f} s (load average {os.getloadavg()[0]:.1f})")
+    print(
+        f"\n[cluster] small study ({SWEEP_CHUNKS} sweep + {MAP_CHUNKS} map chunk jobs, merges, 2 figures): "
+        f"local --cores 2 {local[1]:.1f} s, SLURM profile {wall:.1f} s (load average {os.getloadavg()[0]:.1f})"
+    )
     return work, run, slurm_jobs(work)
 
 
@@ -174,7 +185,10 @@ def test_study_through_slurm_equals_local_run(local, study):
 def test_rule_resources_reach_sbatch(study):
     shipped = yaml.safe_load((wf.ROOT / PROFILE / "config.yaml").read_text(encoding="utf-8"))
     for rule, res in RESOURCES.items():  # the check below cannot pass on shipped or default values
-        assert res["runtime"] not in (shipped["default-resources"]["runtime"], shipped["set-resources"][rule]["runtime"])
+        assert res["runtime"] not in (
+            shipped["default-resources"]["runtime"],
+            shipped["set-resources"][rule]["runtime"],
+        )
         assert res["mem_mb"] not in (shipped["default-resources"]["mem_mb"], shipped["set-resources"][rule]["mem_mb"])
     partition = subprocess.run(["sinfo", "-h", "-o", "%P"], capture_output=True, text=True, check=True).stdout
     default_partition = next(p.rstrip("*") for p in partition.split() if p.endswith("*"))
@@ -197,8 +211,14 @@ def test_cancelled_jobs_are_resubmitted_then_fail_and_a_rerun_loses_nothing(clus
     cube = CUBES["sweep"]
     log = tmp_path / "run1.log"
     with open(log, "w") as out:
-        proc = subprocess.Popen(wf.snakemake_cmd("--profile", PROFILE, cube), cwd=work, env=wf.env(),
-                                stdout=out, stderr=subprocess.STDOUT, start_new_session=True)
+        proc = subprocess.Popen(
+            wf.snakemake_cmd("--profile", PROFILE, cube),
+            cwd=work,
+            env=wf.env(),
+            stdout=out,
+            stderr=subprocess.STDOUT,
+            start_new_session=True,
+        )
     once = twice = None  # wildcards of the chunk cancelled once / on both attempts
     cancelled: dict[str, list[str]] = {}
     deadline = time.monotonic() + 600
@@ -252,8 +272,14 @@ def test_interrupted_run_cancels_its_jobs_and_the_same_command_resumes(cluster, 
     work = wf.workflow_copy(tmp_path / "w", _config())
     _profile(work, **FAST_POLLING)
     cube = CUBES["sweep"]
-    proc = subprocess.Popen(wf.snakemake_cmd("--profile", PROFILE, cube), cwd=work, env=wf.env(),
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    proc = subprocess.Popen(
+        wf.snakemake_cmd("--profile", PROFILE, cube),
+        cwd=work,
+        env=wf.env(),
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
     deadline = time.monotonic() + 300
     while proc.poll() is None and time.monotonic() < deadline:
         if any(job["JobState"] == "RUNNING" for job in slurm_jobs(work)):
@@ -296,13 +322,19 @@ def test_per_job_overhead_against_local_execution(cluster, tmp_path):
     both = jobs["slurm"] + jobs["slurm_fast_polling"]
     run_time = [_seconds(job, "StartTime", "EndTime") for job in both]
     wait = [_seconds(job, "SubmitTime", "StartTime") for job in both]
-    print(f"\n[cluster] {n} one-point chunk jobs, wall time: local --cores 2 {walls['local']:.1f} s, "
-          f"SLURM profile {walls['slurm']:.1f} s, SLURM with 2 s polling {walls['slurm_fast_polling']:.1f} s "
-          f"(load average {os.getloadavg()[0]:.1f})")
-    print(f"[cluster] core-seconds per job: local {per_job['local']:.1f}, SLURM {per_job['slurm']:.1f} "
-          f"(+{per_job['slurm'] - per_job['local']:.1f}), SLURM with 2 s polling {per_job['slurm_fast_polling']:.1f} "
-          f"(+{per_job['slurm_fast_polling'] - per_job['local']:.1f})")
-    print(f"[cluster] per SLURM job (scontrol, 1 s resolution): {min(run_time):.0f}-{max(run_time):.0f} s "
-          f"(mean {sum(run_time) / len(run_time):.1f} s) in its allocation for Snakemake and Python start-up "
-          f"and one point; sbatch to start {min(wait):.0f} s on a free node, mean {sum(wait) / len(wait):.1f} s "
-          f"with waiting for a free CPU")
+    print(
+        f"\n[cluster] {n} one-point chunk jobs, wall time: local --cores 2 {walls['local']:.1f} s, "
+        f"SLURM profile {walls['slurm']:.1f} s, SLURM with 2 s polling {walls['slurm_fast_polling']:.1f} s "
+        f"(load average {os.getloadavg()[0]:.1f})"
+    )
+    print(
+        f"[cluster] core-seconds per job: local {per_job['local']:.1f}, SLURM {per_job['slurm']:.1f} "
+        f"(+{per_job['slurm'] - per_job['local']:.1f}), SLURM with 2 s polling {per_job['slurm_fast_polling']:.1f} "
+        f"(+{per_job['slurm_fast_polling'] - per_job['local']:.1f})"
+    )
+    print(
+        f"[cluster] per SLURM job (scontrol, 1 s resolution): {min(run_time):.0f}-{max(run_time):.0f} s "
+        f"(mean {sum(run_time) / len(run_time):.1f} s) in its allocation for Snakemake and Python start-up "
+        f"and one point; sbatch to start {min(wait):.0f} s on a free node, mean {sum(wait) / len(wait):.1f} s "
+        f"with waiting for a free CPU"
+    )

@@ -9,9 +9,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from geardyn import config
+from geardyn import config, validate
 from geardyn.khv import design
-from geardyn import validate
 
 ROOT = Path(__file__).resolve().parents[1]
 LI2013 = ROOT / "config" / "designs" / "li2013.yaml"
@@ -37,8 +36,12 @@ def test_shipped_config_and_designs_validate():
 
 
 def test_defaults_are_filled(tmp_path):
-    data = {"kind": "khv", "name": "minimal", "pair": {"z1": 30, "z2": 33, "module": 3.5, "addendum": 0.8},
-            "admissible": {"x1_min": 0.5, "x1_max": 0.7}}
+    data = {
+        "kind": "khv",
+        "name": "minimal",
+        "pair": {"z1": 30, "z2": 33, "module": 3.5, "addendum": 0.8},
+        "admissible": {"x1_min": 0.5, "x1_max": 0.7},
+    }
     raw = config.load_design_dict(_write(tmp_path, data))
     assert raw["pair"]["pressure_angle_deg"] == 20.0 and raw["paper"] is None
     assert raw["admissible"]["min_tip_thickness"] == 0.25 and raw["stiffness"]["form"] == "corrected"
@@ -93,13 +96,16 @@ def test_bad_design_values_give_one_clear_line(tmp_path, change, message):
     assert text.startswith(str(tmp_path / "d.yaml"))
 
 
-@pytest.mark.parametrize(("mutate", "message"), [
-    (lambda d: d.update(stifness={}), "unknown key 'stifness' (did you mean 'stiffness'?)"),
-    (lambda d: d["stiffness"].update(form="swapped"), "stiffness.form = 'swapped' is not allowed: one of"),
-    (lambda d: d.pop("pair"), "missing required key 'pair'"),
-    (lambda d: d.update(kind="kvh"), "kind = 'kvh' is not allowed: one of 'khv'"),
-    (lambda d: d["admissible"].update(x1_min=0.9), "admissible.x1_min = 0.9 must be below admissible.x1_max"),
-])
+@pytest.mark.parametrize(
+    ("mutate", "message"),
+    [
+        (lambda d: d.update(stifness={}), "unknown key 'stifness' (did you mean 'stiffness'?)"),
+        (lambda d: d["stiffness"].update(form="swapped"), "stiffness.form = 'swapped' is not allowed: one of"),
+        (lambda d: d.pop("pair"), "missing required key 'pair'"),
+        (lambda d: d.update(kind="kvh"), "kind = 'kvh' is not allowed: one of 'khv'"),
+        (lambda d: d["admissible"].update(x1_min=0.9), "admissible.x1_min = 0.9 must be below admissible.x1_max"),
+    ],
+)
 def test_bad_design_structure(tmp_path, mutate, message):
     data = _li2013()
     mutate(data)
@@ -134,8 +140,14 @@ def test_snakemake_refuses_bad_design_before_any_job(tmp_path):
     data["pair"]["module"] = -1
     (work / "config" / "designs" / "li2013.yaml").write_text(yaml.safe_dump(data))
     env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
-    run = subprocess.run([sys.executable, "-m", "snakemake", "--cores", "1"], cwd=work, env=env,
-                         capture_output=True, text=True, timeout=120)
+    run = subprocess.run(
+        [sys.executable, "-m", "snakemake", "--cores", "1"],
+        cwd=work,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert run.returncode != 0
     lines = [line for line in run.stderr.splitlines() if line.strip()]
     assert len(lines) == 1, run.stderr
@@ -149,8 +161,14 @@ def test_snakemake_refuses_bad_design_before_any_job(tmp_path):
 BEFORE = ROOT / "tests" / "data" / "config_filled_before_presets.json"
 NEW_RUN_KEYS = {"start_from": "follow", "coexistence": False}
 #: classifier keys added with the labeller's torus test and long periods (their defaults)
-NEW_CLASSIFIER_KEYS = {"torus_margin": 2.5, "chaos_margin": 1.5, "torus_min_n": 50, "torus_extend": 3,
-                       "torus_max_periods": 4000, "long_max_n": 240}
+NEW_CLASSIFIER_KEYS = {
+    "torus_margin": 2.5,
+    "chaos_margin": 1.5,
+    "torus_min_n": 50,
+    "torus_extend": 3,
+    "torus_max_periods": 4000,
+    "long_max_n": 240,
+}
 
 
 def _with_new_keys(old: dict, section: str) -> dict:
@@ -163,13 +181,16 @@ def _config(**sections):
 
 
 def _sweep(**extra):
-    return {"designs": ["li2013"], "parameter": "b", "start": 0.0, "stop": 2.0, "num": 5, "fixed": {"e": 5.0},
-            **extra}
+    return {"designs": ["li2013"], "parameter": "b", "start": 0.0, "stop": 2.0, "num": 5, "fixed": {"e": 5.0}, **extra}
 
 
 def _map(**extra):
-    return {"designs": ["li2013"], "x": {"parameter": "x1", "start": 0.45, "stop": 0.8, "num": 4},
-            "y": {"parameter": "b", "start": 0.0, "stop": 2.0, "num": 4}, **extra}
+    return {
+        "designs": ["li2013"],
+        "x": {"parameter": "x1", "start": 0.45, "stop": 0.8, "num": 4},
+        "y": {"parameter": "b", "start": 0.0, "stop": 2.0, "num": 4},
+        **extra,
+    }
 
 
 def _refused(cfg):
@@ -196,19 +217,36 @@ def test_shipped_config_with_presets_resolves_to_the_values_it_had_before():
         new = filled["calibration"][name]
         old = {k: v for k, v in old.items() if k not in ("grid", "chunks")}  # the grid calibration is gone
         assert "preset" not in new and set(new) == set(old)
-        assert {k: v for k, v in new.items() if k != "classifier"} == {k: v for k, v in old.items() if k != "classifier"}
+        assert {k: v for k, v in new.items() if k != "classifier"} == {
+            k: v for k, v in old.items() if k != "classifier"
+        }
         assert old["classifier"].items() <= new["classifier"].items()  # now complete; the set values unchanged
 
 
 def test_preset_blocks_are_overridden_key_by_key():
-    presets = {"cheap": {"integration": {"steps_per_period": 128, "transient_periods": 400},
-                         "classifier": {"tangent_periods": 200, "k_chaos": 0.4}, "start_from": "fixed"}}
-    cfg = _config(presets=presets, sweeps={"s": _sweep(preset="cheap", integration={"transient_periods": 100},
-                                                       classifier={"k_chaos": 0.6}, coexistence=True)},
-                  maps={"m": _map(preset="cheap", start_from="follow")},
-                  calibration={"c": {"design": "li2013", "search": {"bounds": {"w": {"low": 0.5, "high": 1.5}},
-                                                                "budget": {"popsize": 1, "maxiter": 1}},
-                                     "preset": "cheap"}})
+    presets = {
+        "cheap": {
+            "integration": {"steps_per_period": 128, "transient_periods": 400},
+            "classifier": {"tangent_periods": 200, "k_chaos": 0.4},
+            "start_from": "fixed",
+        }
+    }
+    cfg = _config(
+        presets=presets,
+        sweeps={
+            "s": _sweep(
+                preset="cheap", integration={"transient_periods": 100}, classifier={"k_chaos": 0.6}, coexistence=True
+            )
+        },
+        maps={"m": _map(preset="cheap", start_from="follow")},
+        calibration={
+            "c": {
+                "design": "li2013",
+                "search": {"bounds": {"w": {"low": 0.5, "high": 1.5}}, "budget": {"popsize": 1, "maxiter": 1}},
+                "preset": "cheap",
+            }
+        },
+    )
     filled, _ = validate.validate_workflow(cfg, ROOT)
     s, m, c = filled["sweeps"]["s"], filled["maps"]["m"], filled["calibration"]["c"]
     assert s["integration"] == {"steps_per_period": 128, "transient_periods": 100}
@@ -224,7 +262,10 @@ def test_unknown_preset_is_one_line():
     cfg = _config(presets={"map": {"integration": {"steps_per_period": 128}}}, maps={"m": _map(preset="mpa")})
     assert "config: maps.m.preset = 'mpa' is not allowed: one of 'map'" in _refused(cfg)
     cfg = _config(sweeps={"s": _sweep(preset="cheap")})
-    assert "sweeps.s.preset = 'cheap' is not allowed: the name of an entry of presets, and the config has none" in _refused(cfg)
+    assert (
+        "sweeps.s.preset = 'cheap' is not allowed: the name of an entry of presets, and the config has none"
+        in _refused(cfg)
+    )
     cfg = _config(presets={"p": {"integration": {"steps": 128}}})
     assert "config: unknown key 'presets.p.integration.steps' (allowed keys: early_stop," in _refused(cfg)
 
@@ -246,14 +287,20 @@ def test_error_floor_follows_steps_per_period():
     assert "sweeps.s.integration.steps_per_period = 16 is not allowed without classifier.error_floor" in text
 
 
-@pytest.mark.parametrize(("designs", "message"), [
-    ({"all": "config/designs/li2013.yaml"}, "designs name 'all' is not allowed: a name other than the selector words"),
-    ({"own": "config/designs/li2013.yaml"}, "designs name 'own' is not allowed"),
-    ({"paper:li2013": "config/designs/li2013.yaml"}, "designs name 'paper:li2013' is not allowed"),
-    ({"d" * 300: "config/designs/li2013.yaml"}, "(300 characters) is not allowed: at most 64 characters"),
-    ({"a/b": "config/designs/li2013.yaml"}, "designs name 'a/b' is not allowed: letters, digits, _ and -"),
-    ({"{x}": "config/designs/li2013.yaml"}, "designs name '{x}' is not allowed"),
-])
+@pytest.mark.parametrize(
+    ("designs", "message"),
+    [
+        (
+            {"all": "config/designs/li2013.yaml"},
+            "designs name 'all' is not allowed: a name other than the selector words",
+        ),
+        ({"own": "config/designs/li2013.yaml"}, "designs name 'own' is not allowed"),
+        ({"paper:li2013": "config/designs/li2013.yaml"}, "designs name 'paper:li2013' is not allowed"),
+        ({"d" * 300: "config/designs/li2013.yaml"}, "(300 characters) is not allowed: at most 64 characters"),
+        ({"a/b": "config/designs/li2013.yaml"}, "designs name 'a/b' is not allowed: letters, digits, _ and -"),
+        ({"{x}": "config/designs/li2013.yaml"}, "designs name '{x}' is not allowed"),
+    ],
+)
 def test_unusable_design_names_are_one_line(designs, message):
     assert message in _refused({"designs": designs})
 
@@ -266,13 +313,21 @@ def test_unusable_run_and_preset_names_are_one_line():
     assert "s" * 64 in filled["sweeps"]
 
 
-@pytest.mark.parametrize(("change", "message"), [
-    (lambda m: m["y"].update(parameter="x1", start=0.5, stop=0.7), "maps.m.y.parameter = 'x1' is not allowed: a "
-     "parameter other than x.parameter ('x1')"),
-    (lambda m: m["x"].update(num=1), "maps.m.x.num = 1 is not allowed: integer >= 2"),
-    (lambda m: m["y"].update(start=1.0, stop=1.0), "maps.m.y.stop = 1.0 is not allowed: a value other than y.start"),
-    (lambda m: m["x"].update(start="50%", stop="50%"), "maps.m.x.stop = '50%' is not allowed"),
-])
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (
+            lambda m: m["y"].update(parameter="x1", start=0.5, stop=0.7),
+            "maps.m.y.parameter = 'x1' is not allowed: a parameter other than x.parameter ('x1')",
+        ),
+        (lambda m: m["x"].update(num=1), "maps.m.x.num = 1 is not allowed: integer >= 2"),
+        (
+            lambda m: m["y"].update(start=1.0, stop=1.0),
+            "maps.m.y.stop = 1.0 is not allowed: a value other than y.start",
+        ),
+        (lambda m: m["x"].update(start="50%", stop="50%"), "maps.m.x.stop = '50%' is not allowed"),
+    ],
+)
 def test_degenerate_maps_are_one_line_whatever_they_select(change, message):
     for selector in (["li2013"], "own"):  # 'own' selects no design here: still refused
         spec = _map(designs=selector)
@@ -294,7 +349,7 @@ def test_alias_bomb_is_refused_before_anything_walks_it(tmp_path):
     text = str(info.value)
     # the size is computed on the alias graph (linear in the file), not by walking 9 ** 9 values
     assert text.startswith(f"{path}: expanded size of designs = ") and "\n" not in text
-    assert int(text.split("= ")[1].split()[0]) > 9 ** 9
+    assert int(text.split("= ")[1].split()[0]) > 9**9
     assert f"at most {config.MAX_EXPANDED_VALUES} values" in text
     design = tmp_path / "design.yaml"
     design.write_text("kind: khv\n" + _bomb(key="pair"))
@@ -322,8 +377,13 @@ def test_check_config_refuses_an_alias_bomb_in_one_line(tmp_path):
     path.parent.mkdir()
     path.write_text(_bomb())
     env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
-    run = subprocess.run([sys.executable, "-m", "geardyn.cli", "check-config", str(path)], env=env,
-                         capture_output=True, text=True, timeout=120)
+    run = subprocess.run(
+        [sys.executable, "-m", "geardyn.cli", "check-config", str(path)],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert run.returncode != 0 and run.stdout == ""
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and "expanded size of designs = " in lines[0] and "Traceback" not in run.stderr, run.stderr
@@ -331,8 +391,11 @@ def test_check_config_refuses_an_alias_bomb_in_one_line(tmp_path):
 
 def test_error_table_is_the_one_of_the_work_precision_study():
     """POINCARE_ERROR is stated once in src/; docs/model.md Sec. 6 shows where it comes from."""
-    rows = {line.split("|")[1].strip(): line for line in (ROOT / "docs" / "model.md").read_text().splitlines()
-            if line.startswith("| ")}
+    rows = {
+        line.split("|")[1].strip(): line
+        for line in (ROOT / "docs" / "model.md").read_text().splitlines()
+        if line.startswith("| ")
+    }
     steps = [int(v) for v in rows["steps/period"].split("|")[2:-1]]
     errors = [float(v) for v in rows["rk4_event error"].split("|")[2:-1]]
     assert dict(zip(steps, errors)) == validate.POINCARE_ERROR

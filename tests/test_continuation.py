@@ -12,12 +12,11 @@ import numpy as np
 import pytest
 
 import _orbits
-
+from _oracle import rules_label
 from geardyn import classify, io
 from geardyn.khv import design, point
 from geardyn.papers import li2013 as paper
 from geardyn.runs import continuation as C
-from _oracle import rules_label
 from geardyn.solve import SimulationSettings, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -64,7 +63,7 @@ def test_neimark_sacker_rotation_number_matches_torus_spectrum(calibrated_branch
     amp = np.abs(np.fft.rfft((x - x.mean()) * np.hanning(x.size)))
     f = np.fft.rfftfreq(x.size)
     k = int(np.argmax(amp[1:])) + 1
-    a, b, c2 = np.log(amp[k - 1:k + 2])
+    a, b, c2 = np.log(amp[k - 1 : k + 2])
     peak = f[k] + 0.5 * (a - c2) / (a - 2 * b + c2) * (f[1] - f[0])
     assert np.ptp(x) > 1e-3  # a torus, not the fixed point
     assert abs(peak - ns.rotation_number) < 1e-3  # measured 6e-5
@@ -85,7 +84,9 @@ def test_branch_agrees_with_simulated_labels_where_stable(calibrated_branch):
             lo, hi = sorted((br.p[i], br.p[i + 1]))
             if lo <= x1 <= hi:
                 w = 0.0 if hi == lo else (x1 - br.p[i]) / (br.p[i + 1] - br.p[i])
-                hits.append((br.states[i] + w * (br.states[i + 1] - br.states[i]), bool(br.stable[i] and br.stable[i + 1])))
+                hits.append(
+                    (br.states[i] + w * (br.states[i + 1] - br.states[i]), bool(br.stable[i] and br.stable[i + 1]))
+                )
         if lab.label == 1:
             # a simulated P1 point lies on a stable part of the branch
             d_min = min(np.max(np.abs(res.poincare[-1] - x)) for x, st in hits if st)
@@ -158,8 +159,10 @@ def test_label_agreement_counts_points_on_stable_branch(calibrated_branch):
     # a two-point "cube": one P1 point on the stable lower branch, one P1 point off it
     j = int(np.argmin(np.abs(br.p - 0.71)))
     on, off = br.states[j], br.states[j] + 1.0
-    data = {v: (("case", "direction", "x1", "section"), np.array([on[k], off[k]]).reshape(1, 1, 2, 1))
-            for k, v in enumerate(C.STATE_VARS)}
+    data = {
+        v: (("case", "direction", "x1", "section"), np.array([on[k], off[k]]).reshape(1, 1, 2, 1))
+        for k, v in enumerate(C.STATE_VARS)
+    }
     data["label"] = (("case", "direction", "x1"), np.array([[[1, 1]]]))
     cube = xr.Dataset(data, coords={"x1": [br.p[j], br.p[j]]}, attrs={"control_parameter": "x1"})
     checked, agree, bad = C.label_agreement(cube, 0, [br], 6)
@@ -193,17 +196,24 @@ def test_period_doubling_bubble_of_the_khv_model_under_light_load():
 def _one_point_cube(p, x, label):
     import xarray as xr
 
-    data = {v: (("case", "direction", "x1", "section"), np.array([[[[x[k]], [x[k]]]]]))
-            for k, v in enumerate(C.STATE_VARS)}
+    data = {
+        v: (("case", "direction", "x1", "section"), np.array([[[[x[k]], [x[k]]]]])) for k, v in enumerate(C.STATE_VARS)
+    }
     data["label"] = (("case", "direction", "x1"), np.array([[[label, 0]]]))
     return xr.Dataset(data, coords={"x1": [p, p + 1.0]}, attrs={"control_parameter": "x1"})
 
 
 def test_branch_interpolated_at_a_parameter_value_on_every_step_that_holds_it():
     # a branch that folds: p goes 0 -> 2 -> 1, so p = 1.5 lies on two steps
-    br = C.Branch(n=1, p=np.array([0.0, 2.0, 1.0]), states=np.array([[0.0, 0.0], [4.0, 2.0], [6.0, 8.0]]),
-                  multipliers=np.full((3, 2), 0.5 + 0j), arclength=np.zeros(3), grazing=np.zeros(3),
-                  iterations=np.zeros(3, np.int32))
+    br = C.Branch(
+        n=1,
+        p=np.array([0.0, 2.0, 1.0]),
+        states=np.array([[0.0, 0.0], [4.0, 2.0], [6.0, 8.0]]),
+        multipliers=np.full((3, 2), 0.5 + 0j),
+        arclength=np.zeros(3),
+        grazing=np.zeros(3),
+        iterations=np.zeros(3, np.int32),
+    )
     hits = list(br.states_at(1.5))
     assert [i for i, _ in hits] == [0, 1]
     np.testing.assert_allclose(hits[0][1], [3.0, 1.5])
@@ -218,8 +228,10 @@ def test_seeds_are_the_middles_of_the_longest_periodic_runs():
 
     labels = np.array([1, 1, 1, -3, 2, 2, 2, 2, 2, 7, 1, 1, 1, 1])
     values = np.linspace(0.0, 1.3, labels.size)
-    data = {v: (("case", "direction", "x1", "section"), np.full((1, 1, labels.size, 1), float(k)))
-            for k, v in enumerate(C.STATE_VARS)}
+    data = {
+        v: (("case", "direction", "x1", "section"), np.full((1, 1, labels.size, 1), float(k)))
+        for k, v in enumerate(C.STATE_VARS)
+    }
     data["label"] = (("case", "direction", "x1"), labels.reshape(1, 1, -1))
     cube = xr.Dataset(data, coords={"x1": values}, attrs={"control_parameter": "x1"})
     seeds = C.seeds_from_cube(cube, 0, 6, 2)

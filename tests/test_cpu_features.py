@@ -38,11 +38,17 @@ def _reduced_env() -> dict[str, str]:
 def both(tmp_path_factory):
     out = tmp_path_factory.mktemp("cpu") / "reduced.npz"
     env = _reduced_env()
-    run = subprocess.run([sys.executable, str(HERE / "_cpu_study.py"), str(out)], env=env, capture_output=True,
-                         text=True, timeout=600)
+    run = subprocess.run(
+        [sys.executable, str(HERE / "_cpu_study.py"), str(out)], env=env, capture_output=True, text=True, timeout=600
+    )
     assert run.returncode == 0, run.stderr[-3000:]
-    check = subprocess.run([sys.executable, "-c", "import geardyn.io as g, json; print(json.dumps(g.runtime_provenance()))"],
-                           env=env, capture_output=True, text=True, timeout=120)
+    check = subprocess.run(
+        [sys.executable, "-c", "import geardyn.io as g, json; print(json.dumps(g.runtime_provenance()))"],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     with np.load(out) as z:
         reduced = {k: z[k] for k in z.files}
     return _cpu_study.study(), reduced, check.stdout
@@ -71,7 +77,7 @@ def test_same_numbers_bit_for_bit_on_fewer_cpu_features(both):
     differ = []
     for key, a in here.items():
         b = there[key]
-        if key.startswith("sweep/") and a.shape[:labels.ndim] == labels.shape and chaotic.any():
+        if key.startswith("sweep/") and a.shape[: labels.ndim] == labels.shape and chaotic.any():
             a, b = a[~chaotic], b[~chaotic]  # a chaotic point's numbers: compared by its label only
         if not np.array_equal(a, b, equal_nan=a.dtype.kind in "fc"):
             differ.append(key)

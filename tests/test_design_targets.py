@@ -4,7 +4,6 @@ design named like a rule is refused before anything runs."""
 import re
 
 import pytest
-import yaml
 
 import _workflow as wf
 

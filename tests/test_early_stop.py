@@ -1,9 +1,10 @@
 """Early stop of the transient: when it fires, what it records, and that a map or sweep chunk does not
 depend on the chunking with it (transient_used stored per point)."""
 
+from pathlib import Path
+
 import numpy as np
 import xarray as xr
-from pathlib import Path
 
 from geardyn import io
 from geardyn.bench import cases
@@ -40,12 +41,25 @@ def test_chaotic_point_runs_the_full_transient():
 
 
 def _spec(chunks):
-    return maps.MapSpec.from_config("t", {
-        "designs": ["li2013_w07"], "x": {"parameter": "x1", "start": 0.5, "stop": 0.8, "num": 3},
-        "y": {"parameter": "b", "start": 0.5, "stop": 2.0, "num": 4}, "fixed": {"e": 5.0}, "chunks": chunks,
-        "integration": {"steps_per_period": 32, "transient_periods": 300, "recorded_periods": 20,
-                        "early_stop_min_periods": 20},
-        "classifier": {"error_floor": 4e-3, "tangent_periods": 30}}, "li2013_w07", (0.416, 0.835))
+    return maps.MapSpec.from_config(
+        "t",
+        {
+            "designs": ["li2013_w07"],
+            "x": {"parameter": "x1", "start": 0.5, "stop": 0.8, "num": 3},
+            "y": {"parameter": "b", "start": 0.5, "stop": 2.0, "num": 4},
+            "fixed": {"e": 5.0},
+            "chunks": chunks,
+            "integration": {
+                "steps_per_period": 32,
+                "transient_periods": 300,
+                "recorded_periods": 20,
+                "early_stop_min_periods": 20,
+            },
+            "classifier": {"error_floor": 4e-3, "tangent_periods": 30},
+        },
+        "li2013_w07",
+        (0.416, 0.835),
+    )
 
 
 def test_map_with_early_stop_independent_of_chunking(tmp_path):
@@ -53,8 +67,9 @@ def test_map_with_early_stop_independent_of_chunking(tmp_path):
     merged = []
     for chunks in (1, 5):
         spec = _spec(chunks)
-        paths = [io.write_netcdf(maps.run_chunk(model, spec, k), tmp_path / f"{chunks}_{k}.nc")
-                 for k in range(spec.n_chunks)]
+        paths = [
+            io.write_netcdf(maps.run_chunk(model, spec, k), tmp_path / f"{chunks}_{k}.nc") for k in range(spec.n_chunks)
+        ]
         out = cube.merge_chunks(io.read_chunks(paths))
         out.attrs.pop("chunk_wall_time_s", None)
         merged.append(out)
@@ -71,12 +86,27 @@ def test_map_with_early_stop_independent_of_chunking(tmp_path):
 
 def test_sweep_cube_records_transient_used():
     model = design.load(ROOT / "tests" / "data" / "li2013_w07.yaml")
-    spec = sweep.SweepSpec.from_config("t", {
-        "designs": ["li2013_w07"], "parameter": "b", "start": 0.5, "stop": 2.0, "num": 5,
-        "fixed": {"e": 5.0, "x1": 0.6}, "chunks": 1,
-        "integration": {"steps_per_period": 32, "transient_periods": 300, "recorded_periods": 20,
-                        "early_stop_min_periods": 20},
-        "classifier": {"error_floor": 4e-3, "tangent_periods": 30}}, "li2013_w07", (0.416, 0.835))
+    spec = sweep.SweepSpec.from_config(
+        "t",
+        {
+            "designs": ["li2013_w07"],
+            "parameter": "b",
+            "start": 0.5,
+            "stop": 2.0,
+            "num": 5,
+            "fixed": {"e": 5.0, "x1": 0.6},
+            "chunks": 1,
+            "integration": {
+                "steps_per_period": 32,
+                "transient_periods": 300,
+                "recorded_periods": 20,
+                "early_stop_min_periods": 20,
+            },
+            "classifier": {"error_floor": 4e-3, "tangent_periods": 30},
+        },
+        "li2013_w07",
+        (0.416, 0.835),
+    )
     cb = sweep.run_chunk(model, spec, 0)
     used = cb["transient_used"].values[0, 0]
     # the first point stops its transient early; the others follow its orbit (no transient at all)

@@ -9,8 +9,8 @@ All runs use a copy of the workflow in a temporary directory (see _workflow.py).
 import base64
 import os
 import re
-import signal
 import shutil
+import signal
 import subprocess
 import zlib
 
@@ -93,14 +93,22 @@ def test_chunks_are_removed_after_their_merge(reference):
     """temp(): the reference run merged its chunks and left none (the logs stay)."""
     assert _chunk_paths(reference[0]) == []
     assert not (reference[0] / "results/li2013/sweeps/fig07_small").exists() or not any(
-        (reference[0] / "results/li2013/sweeps/fig07_small").iterdir())
+        (reference[0] / "results/li2013/sweeps/fig07_small").iterdir()
+    )
     assert (reference[0] / "results/li2013/logs/sweep_fig07_small_0.log").exists()
 
 
 def _recorded_chunks(work):
     """Chunk files that exist and whose job Snakemake recorded as finished (no 'incomplete' marker)."""
-    marked = {base64.b64decode(p.name).decode() for p in (work / ".snakemake" / "incomplete").glob("*")
-              if p.name != "migration_underway"} if (work / ".snakemake" / "incomplete").exists() else set()
+    marked = (
+        {
+            base64.b64decode(p.name).decode()
+            for p in (work / ".snakemake" / "incomplete").glob("*")
+            if p.name != "migration_underway"
+        }
+        if (work / ".snakemake" / "incomplete").exists()
+        else set()
+    )
     return {p.name for p in _chunk_paths(work) if str(p.relative_to(work)) not in marked}
 
 
@@ -114,9 +122,15 @@ def test_killed_run_resumes_without_recomputing_and_gives_the_same_cube(tmp_path
     env = {**wf.env(), "GEARDYN_FAULT": f"sweep_chunk:3:{sig}", "GEARDYN_FAULT_COUNTER": str(tmp_path / "count")}
     # SIGINT back to its default in the child: a test runner started in the background by a shell without job
     # control inherits SIGINT ignored, and Snakemake would then never see the Ctrl-C this test sends
-    proc = subprocess.run(wf.snakemake_cmd("--cores", "1", CUBE), cwd=work, env=env, capture_output=True,
-                          start_new_session=True, timeout=300,
-                          preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    proc = subprocess.run(
+        wf.snakemake_cmd("--cores", "1", CUBE),
+        cwd=work,
+        env=env,
+        capture_output=True,
+        start_new_session=True,
+        timeout=300,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     assert proc.returncode != 0
     recorded = _recorded_chunks(work)
     done = {p.name: p.stat().st_mtime_ns for p in _chunk_paths(work) if p.name in recorded}
@@ -183,7 +197,7 @@ def _stored_offset(data: bytes, value: np.float64) -> int:
         if not d.eof:
             continue
         n = len(raw) // 8  # HDF5 shuffles whole 8-byte values; a rest (the Fletcher-32 sum) is left as it is
-        plain = np.frombuffer(raw[:8 * n], np.uint8).reshape(8, n).T.tobytes()  # undo the shuffle
+        plain = np.frombuffer(raw[: 8 * n], np.uint8).reshape(8, n).T.tobytes()  # undo the shuffle
         if want in plain:
             used = len(data) - at - len(d.unused_data)
             return at + used // 2  # the middle of that stream

@@ -8,13 +8,36 @@ import yaml
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from _examples import EXAMPLE_SCALE
 import _workflow as wf
+from _examples import EXAMPLE_SCALE
 from geardyn.config import ConfigError, load_design_dict
 from geardyn.validate import check_design, read_config_file, validate_workflow
 
-VALUES = [float("nan"), float("inf"), -float("inf"), 1e308, -1e308, 1e30, -1.0, 0, 0.0, -7, "", "ünïcødé ✓ 試験",
-          [], {}, None, True, "1e6", 10**30, [1, 2], {"x": 1}, "line4", "50%", 2.5]
+VALUES = [
+    float("nan"),
+    float("inf"),
+    -float("inf"),
+    1e308,
+    -1e308,
+    1e30,
+    -1.0,
+    0,
+    0.0,
+    -7,
+    "",
+    "ünïcødé ✓ 試験",
+    [],
+    {},
+    None,
+    True,
+    "1e6",
+    10**30,
+    [1, 2],
+    {"x": 1},
+    "line4",
+    "50%",
+    2.5,
+]
 DESIGNS = {"li2013": wf.shipped("config/designs/li2013.yaml"), "yue2014": wf.shipped("config/designs/yue2014.yaml")}
 CONFIG = wf.sweep_config(num=3, chunks=1)
 
@@ -56,8 +79,11 @@ def _one_line_or_ok(call):
 
 
 @settings(max_examples=150 * EXAMPLE_SCALE, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
-@given(design=st.sampled_from(sorted(DESIGNS)), mutations=st.lists(MUTATION, min_size=1, max_size=3),
-       duplicate=st.booleans())
+@given(
+    design=st.sampled_from(sorted(DESIGNS)),
+    mutations=st.lists(MUTATION, min_size=1, max_size=3),
+    duplicate=st.booleans(),
+)
 @example(design="li2013", mutations=[(838, 1, 1000000)], duplicate=False)  # x1 = -1: G_s > 0 where it is defined
 def test_mutated_design_validates_or_gives_one_line(tmp_path_factory, design, mutations, duplicate):
     raw = DESIGNS[design]
@@ -90,21 +116,26 @@ def test_mutated_config_validates_or_gives_one_line(tmp_path_factory, mutations)
 # names, degenerate maps, unknown presets. Each gives exactly one line naming the key, in-process and
 # from `geardyn check-config` (exit code non-zero, nothing on stdout, no traceback).
 
+
 def _bomb_text(depth, width, where):
     """YAML text whose alias ``*a<depth>`` stands for ``width ** depth`` values, placed at ``where``."""
     lines = ["a0: &a0 [lol]"] + [f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * width)}]" for i in range(1, depth + 1)]
-    tail = {"designs": f"designs: *a{depth}",
-            "sweeps": f"sweeps: {{s: {{parameter: b, start: 0, stop: 1, num: 2, cases: *a{depth}}}}}",
-            "presets": f"presets: {{p: *a{depth}}}"}[where]
+    tail = {
+        "designs": f"designs: *a{depth}",
+        "sweeps": f"sweeps: {{s: {{parameter: b, start: 0, stop: 1, num: 2, cases: *a{depth}}}}}",
+        "presets": f"presets: {{p: *a{depth}}}",
+    }[where]
     return "\n".join(lines) + "\n" + tail + "\n"
 
 
 BOMB = st.tuples(st.integers(6, 14), st.integers(7, 12), st.sampled_from(["designs", "sweeps", "presets"])).filter(
-    lambda t: t[1] ** t[0] > 10 * 100_000)
+    lambda t: t[1] ** t[0] > 10 * 100_000
+)
 SELECTOR_NAME = st.one_of(st.sampled_from(["all", "own"]), st.from_regex(r"\Apaper:[a-z0-9_]{0,12}\Z"))
 LONG_NAME = st.integers(65, 400).map(lambda n: ("x" * n)[:n])
 BAD_CHAR_NAME = st.tuples(st.sampled_from(list("/ {}*?:\\\"'$")), st.integers(0, 3)).map(
-    lambda t: "ab"[:t[1]] + t[0] + "cd")
+    lambda t: "ab"[: t[1]] + t[0] + "cd"
+)
 MAP_BREAK = st.sampled_from(["same-parameter", "num-1", "num-0", "start-is-stop", "percent-start-is-stop"])
 PRESET_NAME = st.from_regex(r"\A[a-z][a-z0-9_]{0,20}\Z").filter(lambda n: n not in ("map", "sweep"))
 
@@ -113,8 +144,12 @@ def _case(kind, draw_value):
     """(config mapping or YAML text, the text the one line must contain) for one generated input."""
     cfg = copy.deepcopy(CONFIG)
     cfg["presets"] = {"map": {"integration": {"steps_per_period": 128}}, "sweep": {"start_from": "fixed"}}
-    mp = {"designs": ["li2013"], "x": {"parameter": "x1", "start": 0.45, "stop": 0.8, "num": 3},
-          "y": {"parameter": "b", "start": 0.0, "stop": 2.0, "num": 3}, "preset": "map"}
+    mp = {
+        "designs": ["li2013"],
+        "x": {"parameter": "x1", "start": 0.45, "stop": 0.8, "num": 3},
+        "y": {"parameter": "b", "start": 0.0, "stop": 2.0, "num": 3},
+        "preset": "map",
+    }
     if kind == "bomb":
         depth, width, where = draw_value
         return _bomb_text(depth, width, where), f"expanded size of {where} = "
@@ -123,8 +158,12 @@ def _case(kind, draw_value):
         return cfg, f"designs name {draw_value!r} is not allowed"
     if kind in ("long", "bad-char"):
         section, name = draw_value
-        target = {"designs": "config/designs/li2013.yaml", "sweeps": cfg["sweeps"]["fig07_small"], "maps": mp,
-                  "presets": {}}[section]
+        target = {
+            "designs": "config/designs/li2013.yaml",
+            "sweeps": cfg["sweeps"]["fig07_small"],
+            "maps": mp,
+            "presets": {},
+        }[section]
         cfg.setdefault(section, {})
         cfg[section] = {name: target}
         return cfg, f"{section} name "
@@ -147,7 +186,10 @@ def _case(kind, draw_value):
     entry = {"sweeps": cfg["sweeps"]["fig07_small"], "maps": mp}[section]
     entry["preset"] = name
     cfg[section] = {"s": entry} if section == "sweeps" else {"m": mp}
-    return cfg, f"{section}.{'s' if section == 'sweeps' else 'm'}.preset = {name!r} is not allowed: one of 'map', 'sweep'"
+    return (
+        cfg,
+        f"{section}.{'s' if section == 'sweeps' else 'm'}.preset = {name!r} is not allowed: one of 'map', 'sweep'",
+    )
 
 
 BAD_CLASS = st.one_of(

@@ -82,8 +82,16 @@ def test_paper_points_feasible_with_a_trimming_cutter_and_boundary_violations_na
 
 def test_describe_has_check_design_fields() -> None:
     d = geo.describe(at(0.416, 0.601))
-    for key in ("working_pressure_angle_deg", "working_centre_distance_mm", "contact_ratio",
-                "overlap_interference_Gs", "da1_mm", "da2_mm", "sa1_mm", "sa2_mm"):
+    for key in (
+        "working_pressure_angle_deg",
+        "working_centre_distance_mm",
+        "contact_ratio",
+        "overlap_interference_Gs",
+        "da1_mm",
+        "da2_mm",
+        "sa1_mm",
+        "sa2_mm",
+    ):
         assert math.isfinite(d[key])
     assert all(isinstance(v, float) for v in d.values())
 
@@ -149,10 +157,37 @@ def test_khk_trochoid_equation_equals_gs_over_z2() -> None:
 #: annulus tooth count z2 that a z_c-tooth pinion cutter cuts without trimming interference,
 #: alpha = 20 deg, x_c = x2 = 0 (standard cutter, addendum 1.25 m).
 KHK_TABLE_5_3A = [
-    (15, 34), (16, 34), (17, 35), (18, 36), (19, 37), (20, 38), (21, 39), (22, 40), (24, 42),
-    (25, 43), (27, 45), (28, 46), (30, 48), (31, 49), (32, 50), (33, 51), (34, 52), (35, 53),
-    (38, 56), (40, 58), (42, 60), (44, 62), (48, 66), (50, 68), (56, 74), (60, 78), (64, 82),
-    (66, 84), (80, 98), (96, 114), (100, 118),
+    (15, 34),
+    (16, 34),
+    (17, 35),
+    (18, 36),
+    (19, 37),
+    (20, 38),
+    (21, 39),
+    (22, 40),
+    (24, 42),
+    (25, 43),
+    (27, 45),
+    (28, 46),
+    (30, 48),
+    (31, 49),
+    (32, 50),
+    (33, 51),
+    (34, 52),
+    (35, 53),
+    (38, 56),
+    (40, 58),
+    (42, 60),
+    (44, 62),
+    (48, 66),
+    (50, 68),
+    (56, 74),
+    (60, 78),
+    (64, 82),
+    (66, 84),
+    (80, 98),
+    (96, 114),
+    (100, 118),
 ]
 
 
@@ -191,13 +226,19 @@ def test_external_profile_shifted_example() -> None:
     da1, da2 = geo.tip_diameters(pair)
     df1, df2 = geo.root_diameters(pair)
     printed = {  # value: (ours, printed, half a unit in the last printed digit)
-        "d1": (d1, 36.000, 5e-4), "d2": (d2, 72.000, 5e-4),
-        "db1": (db1, 33.8289, 5e-5), "db2": (db2, 67.6579, 5e-5),
-        "dw1": (dw1, 37.667, 5e-4), "dw2": (dw2, 75.333, 5e-4),
-        "ha1": ((da1 - d1) / 2, 4.420, 5e-4), "ha2": ((da2 - d2) / 2, 3.700, 5e-4),
+        "d1": (d1, 36.000, 5e-4),
+        "d2": (d2, 72.000, 5e-4),
+        "db1": (db1, 33.8289, 5e-5),
+        "db2": (db2, 67.6579, 5e-5),
+        "dw1": (dw1, 37.667, 5e-4),
+        "dw2": (dw2, 75.333, 5e-4),
+        "ha1": ((da1 - d1) / 2, 4.420, 5e-4),
+        "ha2": ((da2 - d2) / 2, 3.700, 5e-4),
         "h": ((da1 - df1) / 2, 6.370, 5e-4),
-        "da1": (da1, 44.840, 5e-4), "da2": (da2, 79.400, 5e-4),
-        "df1": (df1, 32.100, 5e-4), "df2": (df2, 66.660, 5e-4),
+        "da1": (da1, 44.840, 5e-4),
+        "da2": (da2, 79.400, 5e-4),
+        "df1": (df1, 32.100, 5e-4),
+        "df2": (df2, 66.660, 5e-4),
         "eps": (geo.contact_ratio(pair), 1.202, 5e-4),
     }
     for name, (ours, value, tol) in printed.items():
@@ -247,8 +288,9 @@ def test_grid_evaluation_equals_scalar_evaluation() -> None:
 
 def test_x2_boundary_vectorised() -> None:
     x1 = np.array([0.416, 0.835])
-    np.testing.assert_allclose(geo.x2_on_overlap_boundary_many(x1, KHV),
-                               [geo.x2_on_overlap_boundary(v, KHV) for v in x1], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(
+        geo.x2_on_overlap_boundary_many(x1, KHV), [geo.x2_on_overlap_boundary(v, KHV) for v in x1], rtol=0, atol=1e-12
+    )
 
 
 def test_invalid_pairs_rejected() -> None:
@@ -315,13 +357,22 @@ def test_equal_shifts_internal_keep_reference_angle(z1: int, dz: int, x: float) 
 
 
 @settings(max_examples=60, deadline=None)
-@given(st.integers(10, 80), st.integers(10, 80), st.floats(-0.4, 0.8), st.floats(-0.4, 0.8),
-       st.sampled_from([20.0, 25.0]), st.booleans())
+@given(
+    st.integers(10, 80),
+    st.integers(10, 80),
+    st.floats(-0.4, 0.8),
+    st.floats(-0.4, 0.8),
+    st.sampled_from([20.0, 25.0]),
+    st.booleans(),
+)
 def test_external_swap_symmetry(z1: int, z2: int, x1: float, x2: float, alpha: float, shorten: bool) -> None:
-    p = geo.GearPair(z1=z1, z2=z2, module=4.0, x1=x1, x2=x2, pressure_angle_deg=alpha,
-                     internal=False, tip_shortening=shorten)
-    q = geo.GearPair(z1=z2, z2=z1, module=4.0, x1=x2, x2=x1, pressure_angle_deg=alpha,
-                     internal=False, tip_shortening=shorten)
+    p = geo.GearPair(
+        z1=z1, z2=z2, module=4.0, x1=x1, x2=x2, pressure_angle_deg=alpha, internal=False, tip_shortening=shorten
+    )
+    q = geo.GearPair(
+        z1=z2, z2=z1, module=4.0, x1=x2, x2=x1, pressure_angle_deg=alpha, internal=False, tip_shortening=shorten
+    )
+
     # Rounding-level tolerances; NaN (no working angle for strongly negative shifts) on both sides.
     def same(u: object, v: object, tol: float) -> None:
         assert float(u) == pytest.approx(float(v), rel=tol, abs=tol, nan_ok=True)  # type: ignore[arg-type]

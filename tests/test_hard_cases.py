@@ -5,18 +5,19 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from geardyn.khv import model
-from geardyn.solve.floquet import floquet
-from geardyn.solve import SimulationSettings, simulate, warm_up
-from geardyn.khv.model import Options, dimensionless
 from _paper import li2013_parameters
+from geardyn.khv import model
+from geardyn.khv.model import Options, dimensionless
+from geardyn.solve import SimulationSettings, simulate, warm_up
+from geardyn.solve.floquet import floquet
 
 BASE = dimensionless(li2013_parameters(eps=1.30, k_c=3.1e8, omega_bar=0.9))
 
 
 def run(c, n=512, trans=0, rec=20, integ="rk4_event", **kw):
-    return simulate(c, SimulationSettings(integrator=integ, steps_per_period=n, transient_periods=trans,
-                                          recorded_periods=rec), **kw)
+    return simulate(
+        c, SimulationSettings(integrator=integ, steps_per_period=n, transient_periods=trans, recorded_periods=rec), **kw
+    )
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -34,8 +35,7 @@ def test_b0_linear_event_equals_plain_and_floquet_orbit():
     np.testing.assert_allclose(ev.poincare, pl.poincare, rtol=0, atol=1e-10)
     # started on the Floquet periodic orbit it stays there; RK4 error at 512 steps/period
     # (~1e-8 per period relative to O(50) states, not accumulating on a stable orbit)
-    np.testing.assert_allclose(ev.poincare, np.broadcast_to(fl.periodic_state, ev.poincare.shape),
-                               rtol=0, atol=1e-7)
+    np.testing.assert_allclose(ev.poincare, np.broadcast_to(fl.periodic_state, ev.poincare.shape), rtol=0, atol=1e-7)
 
 
 def test_e0_parametric_only():

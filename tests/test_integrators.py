@@ -7,9 +7,9 @@ import json
 import numpy as np
 import pytest
 
-from geardyn.solve import SimulationSettings, simulate, step_grid, warm_up
-from geardyn.khv.model import Coefficients, dimensionless
 from _paper import li2013_parameters
+from geardyn.khv.model import Coefficients, dimensionless
+from geardyn.solve import SimulationSettings, simulate, step_grid, warm_up
 
 # Periodic case with contact loss every period (4 switches per period): x1 = 0.416 numbers
 PERIODIC = dimensionless(li2013_parameters(eps=1.30, k_c=3.1e8, omega_bar=0.9))
@@ -17,8 +17,9 @@ N_PER, N_REC = 20, 10
 
 
 def _settings(integrator, n, **kw):
-    return SimulationSettings(integrator=integrator, steps_per_period=n,
-                              transient_periods=N_PER - N_REC, recorded_periods=N_REC, **kw)
+    return SimulationSettings(
+        integrator=integrator, steps_per_period=n, transient_periods=N_PER - N_REC, recorded_periods=N_REC, **kw
+    )
 
 
 @pytest.fixture(scope="module")
@@ -86,16 +87,18 @@ def test_continuation_from_final_state():
     s1 = SimulationSettings(steps_per_period=128, transient_periods=20, recorded_periods=10)
     full = simulate(PERIODIC, s1)
     a = simulate(PERIODIC, SimulationSettings(steps_per_period=128, transient_periods=10, recorded_periods=10))
-    b = simulate(PERIODIC, SimulationSettings(steps_per_period=128, transient_periods=0, recorded_periods=10),
-                 x0=a.final_state)
+    b = simulate(
+        PERIODIC, SimulationSettings(steps_per_period=128, transient_periods=0, recorded_periods=10), x0=a.final_state
+    )
     # same grid, same arithmetic: bitwise up to the contact-region bookkeeping at the restart
     np.testing.assert_allclose(b.poincare, full.poincare, rtol=0, atol=1e-12)
 
 
 def test_dense_output_consistent_with_poincare():
     n, rec = 64, 5
-    r = simulate(PERIODIC, SimulationSettings(steps_per_period=n, transient_periods=3, recorded_periods=rec),
-                 dense=True)
+    r = simulate(
+        PERIODIC, SimulationSettings(steps_per_period=n, transient_periods=3, recorded_periods=rec), dense=True
+    )
     assert r.states.shape == (n * rec, 6) and r.tau.shape == (n * rec,)
     assert np.all(np.diff(r.tau) > 0)
     np.testing.assert_array_equal(r.states[n - 1 :: n], r.poincare)
@@ -115,10 +118,20 @@ def test_bench_dataset_is_self_describing_and_roundtrips(tmp_path):
     from geardyn import bench
 
     steps, rtols = np.array([64, 128]), np.array([1e-6])
-    arr = {"time": np.array([1e-3, 2e-3]), "error": np.array([1e-4, 1e-5]),
-           "lyapunov": np.array([np.nan, np.nan]), "ns_per_step": np.array([40.0, 39.0])}
-    case = {"rk4": arr, "rk4_event": arr, "dop853": {"time": np.array([1.0]), "error": np.array([1e-5])},
-            "ref_time": 5.0, "coeffs": PERIODIC, "n_periods": 600}
+    arr = {
+        "time": np.array([1e-3, 2e-3]),
+        "error": np.array([1e-4, 1e-5]),
+        "lyapunov": np.array([np.nan, np.nan]),
+        "ns_per_step": np.array([40.0, 39.0]),
+    }
+    case = {
+        "rk4": arr,
+        "rk4_event": arr,
+        "dop853": {"time": np.array([1.0]), "error": np.array([1e-5])},
+        "ref_time": 5.0,
+        "coeffs": PERIODIC,
+        "n_periods": 600,
+    }
     out = {"steps": steps, "rtols": rtols, "cases": {"periodic": case}}
     out["summary"] = bench.summarize(out)
     ds = bench.to_dataset(out)
@@ -132,4 +145,3 @@ def test_bench_dataset_is_self_describing_and_roundtrips(tmp_path):
         xr.testing.assert_identical(back.load(), ds)
         assert Coefficients.from_dict(json.loads(back.attrs["coefficients_periodic"])) == PERIODIC
     assert "| periodic | rk4_event | 128 |" in bench.markdown(out)
-

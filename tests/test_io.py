@@ -23,8 +23,17 @@ def test_round_trip_is_identical_and_carries_provenance(tmp_path):
         back.load()
     expected = ds.assign_attrs(attrs)
     xr.testing.assert_identical(back, expected)
-    for key in ("Conventions", "title", "source", "history", "references", "geardyn_version", "git_commit",
-                "config_hash", "model_variant"):
+    for key in (
+        "Conventions",
+        "title",
+        "source",
+        "history",
+        "references",
+        "geardyn_version",
+        "git_commit",
+        "config_hash",
+        "model_variant",
+    ):
         assert back.attrs[key]
     assert back.attrs["geardyn_version"] == __version__
     assert [p.name for p in tmp_path.iterdir()] == ["a.nc"]  # no temporary file left behind

@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parents[1]
 # the regime maps' settings: 128 steps per period (Poincare error 1.9e-5), 400 + 50 periods
 MAP = SimulationSettings(steps_per_period=128, transient_periods=400, recorded_periods=50)
 CS = classify.ClassifierSettings(error_floor=1.9e-5, tangent_periods=200)
-ROUTE_X1 = np.linspace(0.575, 0.60, 11)   # li2013_route, b = 2, e = 5: P1 -> P2 at x1 = 0.59
+ROUTE_X1 = np.linspace(0.575, 0.60, 11)  # li2013_route, b = 2, e = 5: P1 -> P2 at x1 = 0.59
 
 
 def _line(name: str, x1s, **fixed) -> list:
@@ -51,9 +51,12 @@ def test_a_long_run_from_the_follow_start_ends_on_the_labelled_orbit(route):
     (the previous point's orbit) end on the orbit the verdict certified, within 1e-6."""
     line, out = route
     for k in (3, 8):
-        r = simulate(line[k], SimulationSettings(steps_per_period=128, transient_periods=6000,
-                                                 recorded_periods=out[k].period), x0=out[k - 1].final_state)
-        cycle = out[k].poincare[:out[k].period]
+        r = simulate(
+            line[k],
+            SimulationSettings(steps_per_period=128, transient_periods=6000, recorded_periods=out[k].period),
+            x0=out[k - 1].final_state,
+        )
+        cycle = out[k].poincare[: out[k].period]
         assert hausdorff(r.poincare, cycle) < 1e-6
 
 
@@ -98,10 +101,22 @@ def test_coexistence_stores_both_starts_and_flags_where_they_differ():
     from geardyn.runs import sweep
 
     d = design.load(ROOT / "config" / "designs" / "li2013.yaml")
-    spec = sweep.SweepSpec.from_config("t", {
-        "designs": ["li2013"], "parameter": "x1", "start": 0.45, "stop": 0.55, "num": 4, "fixed": {"b": 2.0, "e": 5.0},
-        "integration": {"steps_per_period": 128, "transient_periods": 400, "recorded_periods": 20},
-        "classifier": {"error_floor": 1.9e-5, "tangent_periods": 100}, "coexistence": True}, "li2013", d.segment)
+    spec = sweep.SweepSpec.from_config(
+        "t",
+        {
+            "designs": ["li2013"],
+            "parameter": "x1",
+            "start": 0.45,
+            "stop": 0.55,
+            "num": 4,
+            "fixed": {"b": 2.0, "e": 5.0},
+            "integration": {"steps_per_period": 128, "transient_periods": 400, "recorded_periods": 20},
+            "classifier": {"error_floor": 1.9e-5, "tangent_periods": 100},
+            "coexistence": True,
+        },
+        "li2013",
+        d.segment,
+    )
     cube = sweep.run_chunk(d, spec, 0)
     assert cube.attrs["coexistence"] == 1
     assert np.array_equal(cube["label_fixed"].values, cube["label"].values)
@@ -117,8 +132,7 @@ def test_a_long_cycle_is_labelled_long_period_with_its_period():
     line = _line("li2013_route", [0.80])
     point_ = st.Point(line[0], None, None)
     cycle_state = np.zeros(6)
-    shot = st.ShootingResult(cycle_state, 1, True, "converged", 0, 0.0, np.eye(6) * 0.5,
-                             np.full(6, 0.5 + 0j))
+    shot = st.ShootingResult(cycle_state, 1, True, "converged", 0, 0.0, np.eye(6) * 0.5, np.full(6, 0.5 + 0j))
     small = Policy(MAP, classify.ClassifierSettings(error_floor=1.9e-5, max_n=0))
     v = st.periodic_verdicts([point_], [shot], small, "follow", "test")[0]
     assert v.label == classify.LABELS["long_period"] and v.period == 1

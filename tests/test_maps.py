@@ -20,11 +20,20 @@ def model():
 
 
 def _spec(y="b", chunks=1):
-    return maps.MapSpec.from_config("t", {
-        "designs": ["li2013_w07"], "x": {"parameter": "x1", "start": 0.5, "stop": 0.8, "num": 3},
-        "y": {"parameter": y, "start": 0.5, "stop": 2.0, "num": 4}, "fixed": {"e": 5.0} if y != "e" else {"b": 2.0},
-        "chunks": chunks, "integration": {"steps_per_period": 64, "transient_periods": 40, "recorded_periods": 20},
-        "classifier": {"error_floor": 3e-4, "tangent_periods": 30}}, "li2013_w07", (0.416, 0.835))
+    return maps.MapSpec.from_config(
+        "t",
+        {
+            "designs": ["li2013_w07"],
+            "x": {"parameter": "x1", "start": 0.5, "stop": 0.8, "num": 3},
+            "y": {"parameter": y, "start": 0.5, "stop": 2.0, "num": 4},
+            "fixed": {"e": 5.0} if y != "e" else {"b": 2.0},
+            "chunks": chunks,
+            "integration": {"steps_per_period": 64, "transient_periods": 40, "recorded_periods": 20},
+            "classifier": {"error_floor": 3e-4, "tangent_periods": 30},
+        },
+        "li2013_w07",
+        (0.416, 0.835),
+    )
 
 
 def test_map_independent_of_chunking(model, tmp_path):
@@ -32,7 +41,9 @@ def test_map_independent_of_chunking(model, tmp_path):
     for chunks in (1, 5):
         spec = _spec(chunks=chunks)
         # through netCDF and the merge rules' loader, as in the pipeline
-        paths = [io.write_netcdf(maps.run_chunk(model, spec, c), tmp_path / f"{chunks}_{c}.nc") for c in range(spec.n_chunks)]
+        paths = [
+            io.write_netcdf(maps.run_chunk(model, spec, c), tmp_path / f"{chunks}_{c}.nc") for c in range(spec.n_chunks)
+        ]
         parts = io.read_chunks(paths)
         out = cube.merge_chunks(parts)
         out.attrs.pop("chunk_wall_time_s")
@@ -49,8 +60,9 @@ def test_direct_coefficients_equal_point_model(model, y):
     fixed = dict(spec.fixed)
     base = point.point_coefficients(model, {**fixed, "x1": 0.6})
     for value in (0.5, 1.37, 2.0):
-        assert maps.point_coefficients(model, spec, 0.6, value, base) == \
-            point.point_coefficients(model, {**fixed, "x1": 0.6, y: value})
+        assert maps.point_coefficients(model, spec, 0.6, value, base) == point.point_coefficients(
+            model, {**fixed, "x1": 0.6, y: value}
+        )
 
 
 def test_map_has_cf_attributes(model):

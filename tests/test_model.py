@@ -14,10 +14,10 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 from _examples import EXAMPLE_SCALE
-from geardyn.khv import model
-from geardyn.solve import SimulationSettings, simulate
-from geardyn.khv.model import Options, dimensionless
 from _paper import li2013_parameters
+from geardyn.khv import model
+from geardyn.khv.model import Options, dimensionless
+from geardyn.solve import SimulationSettings, simulate
 
 # Paper design at M and N: eps and the ISO k_C rounded (docs/findings.md, "M and N lie on G_s = 0" and
 # "Paper 1 mesh stiffness"); not computed here
@@ -109,8 +109,14 @@ def test_relative_form_is_exact_reduction_of_4dof(z, tau, form):
     w = c.omega
     e2 = -c.e * w**2 * math.sin(w * tau + c.phi)  # e''
     dy_from_4 = np.array(
-        [dz[0] - dz[1], dz[2] - dz[1] - c.e * w * math.cos(w * tau + c.phi), dz[2] - dz[3],
-         dz[4] - dz[5], dz[6] - dz[5] - e2, dz[6] - dz[7]]
+        [
+            dz[0] - dz[1],
+            dz[2] - dz[1] - c.e * w * math.cos(w * tau + c.phi),
+            dz[2] - dz[3],
+            dz[4] - dz[5],
+            dz[6] - dz[5] - e2,
+            dz[6] - dz[7],
+        ]
     )
     # relative tolerance: round-off on O(1e3) terms
     np.testing.assert_allclose(model.rhs3(c, tau, y), dy_from_4, rtol=1e-11, atol=1e-9)
@@ -125,8 +131,9 @@ def test_4dof_and_3dof_trajectories_agree():
     r3 = simulate(c, s, y0)
     z0 = model.from_relative(c, 0.0, y0)
     t_eval = np.arange(1, n + 1) * c.period
-    sol = solve_ivp(lambda t, z: model.rhs4(c, t, z), (0, t_eval[-1]), z0, method="DOP853",
-                    rtol=1e-11, atol=1e-9, t_eval=t_eval)
+    sol = solve_ivp(
+        lambda t, z: model.rhs4(c, t, z), (0, t_eval[-1]), z0, method="DOP853", rtol=1e-11, atol=1e-9, t_eval=t_eval
+    )
     y4 = model.to_relative(c, sol.t, sol.y.T)
     assert r3.n_events > 0  # the case has contact loss
     # tolerance: DOP853 stepping over the kinks without events (~1e-7 here) and the growing
@@ -139,8 +146,11 @@ def test_schema_defaults_match_dataclasses():
     schema = json.loads(resources.files("geardyn").joinpath("schemas/dynamics.schema.json").read_text())
     jsonschema.Draft202012Validator.check_schema(schema)
     jsonschema.validate({}, schema)
-    sections = {"parameters": li2013_parameters(eps=1.3, k_c=3e8), "options": Options(),
-                "integration": SimulationSettings()}
+    sections = {
+        "parameters": li2013_parameters(eps=1.3, k_c=3e8),
+        "options": Options(),
+        "integration": SimulationSettings(),
+    }
     # set from the design, not from the dynamics section: the mesh inputs and the pressure angle come
     # from the pair, the stiffness form from the design's stiffness section (one source each)
     derived = {"eps", "k_c", "pressure_angle_deg", "stiffness_form"}
@@ -170,7 +180,9 @@ def test_pair_derived_parameters_equal_the_paper_constants():
 
     spec = design.load(Path(__file__).resolve().parents[1] / "config" / "designs" / "li2013.yaml")
     phys, opts, _ = point.point_model(spec, {"x1": 0.5})
-    assert phys.r_bV == pytest.approx(3.5e-3 * 30 / 2 * math.cos(math.radians(20)), rel=1e-12)  # m z1 cos(a) / 2 = 49.33 mm
+    assert phys.r_bV == pytest.approx(
+        3.5e-3 * 30 / 2 * math.cos(math.radians(20)), rel=1e-12
+    )  # m z1 cos(a) / 2 = 49.33 mm
     assert phys.r_bH == pytest.approx(3.5e-3 * 3 / 2 * math.cos(math.radians(20)), rel=1e-12)  # a cos(a) = 4.933 mm
     assert phys.z_annulus == 33 and phys.pressure_angle_deg == 20.0
     assert opts.stiffness_form == spec.stiffness.form

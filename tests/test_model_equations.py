@@ -14,7 +14,7 @@ import pytest
 
 from geardyn import bench
 from geardyn.solve import _model
-from geardyn.solve.base import B, BACKLASH_ON, LAYOUT
+from geardyn.solve.base import BACKLASH_ON, LAYOUT, B
 
 
 def _statements(block: str, macro=None) -> list[str]:
@@ -35,21 +35,21 @@ def _statements(block: str, macro=None) -> list[str]:
 def _c_as_python():
     """The RK4 step of ``bench.C_RK4`` as a Python function step(c, th, tk, tp, y) -> new y."""
     src = bench.C_RK4
-    fdead = src[src.index("static inline double fdead"):src.index("#define RHS")]
+    fdead = src[src.index("static inline double fdead") : src.index("#define RHS")]
     py = ["def fdead(x, b, on):"]
     py += [f"    if {m[1]}: return {m[2]}" for m in re.finditer(r"if \((.*?)\) return (.*?);", fdead)]
     py.append("    return " + re.search(r"\n\s*return (.*?);\n}", fdead)[1])
-    text = src[src.index("#define RHS"):src.index("void run")].replace("\\\n", " ")
-    macro = (re.match(r"#define RHS\((.*?)\)", text)[1].split(", "), _statements(text[text.index("{"):]))
-    loop = src[src.index("void run"):]
-    consts = loop[loop.index("const double"):loop.index("for (int per")]
-    step = loop[loop.index("double h = th[j]"):loop.index("x1 = n1;")]
+    text = src[src.index("#define RHS") : src.index("void run")].replace("\\\n", " ")
+    macro = (re.match(r"#define RHS\((.*?)\)", text)[1].split(", "), _statements(text[text.index("{") :]))
+    loop = src[src.index("void run") :]
+    consts = loop[loop.index("const double") : loop.index("for (int per")]
+    step = loop[loop.index("double h = th[j]") : loop.index("x1 = n1;")]
     py.append("def step(c, th, tk, tp, y):")
     py.append("    j = 0")
     py += [f"    {line}" for line in _statements(consts) + _statements(step, macro)]
     py.append("    return n1, n2, n3, m1, m2, m3")
     namespace: dict = {}
-    exec("\n".join(py), namespace)  # noqa: S102 - the benchmark's own C text, translated above
+    exec("\n".join(py), namespace)
     return namespace, py
 
 
@@ -77,14 +77,22 @@ def test_c_loop_equals_the_model_statement(on):
         k3 = rng.uniform(0.5, 1.5, 3)
         p3 = rng.normal(0.0, 0.5, 3)
         y_c = step([float(v) for v in c], [h], [float(v) for v in k3], [float(v) for v in p3], [float(v) for v in y])
-        y_nb = _model.rk4(tuple(float(v) for v in c), float(b) if on else 0.0, h, *(float(v) for v in k3),
-                          *(float(v) for v in p3), *(float(v) for v in y))[:6]
+        y_nb = _model.rk4(
+            tuple(float(v) for v in c),
+            float(b) if on else 0.0,
+            h,
+            *(float(v) for v in k3),
+            *(float(v) for v in p3),
+            *(float(v) for v in y),
+        )[:6]
         assert np.array_equal(np.array(y_c), np.array(y_nb)), (c, y, h)
     assert n_in_zone > 30  # both sides of the dead zone were exercised
 
 
 def test_importing_bench_changes_no_environment_variable():
-    code = ("import os; before = dict(os.environ); import geardyn.bench; "
-            "assert dict(os.environ) == before, set(os.environ.items()) ^ set(before.items())")
+    code = (
+        "import os; before = dict(os.environ); import geardyn.bench; "
+        "assert dict(os.environ) == before, set(os.environ.items()) ^ set(before.items())"
+    )
     env = {k: v for k, v in __import__("os").environ.items() if not k.endswith("_NUM_THREADS")}
     subprocess.run([sys.executable, "-c", code], check=True, env=env)

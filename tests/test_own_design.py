@@ -26,7 +26,9 @@ def _own_config(shipped):
     for spec in own.values():
         spec.update(num=4, chunks=2, integration=dict(wf.FAST))
     cfg["sweeps"] = own
-    cfg["points"] = {n: {**s, "samples_per_period": 16} for n, s in shipped["points"].items() if s.get("designs") == "own"}
+    cfg["points"] = {
+        n: {**s, "samples_per_period": 16} for n, s in shipped["points"].items() if s.get("designs") == "own"
+    }
     cfg["maps"] = {n: s for n, s in shipped["maps"].items() if s.get("designs") == "own"}
     for spec in cfg["maps"].values():
         spec["x"]["num"], spec["y"]["num"], spec["chunks"] = 3, 3, 1
@@ -60,17 +62,41 @@ def own(tmp_path_factory):
 
 def test_every_standard_study_is_built_under_the_designs_own_names(own):
     res = own / "results"
-    for rel in ("data/closed_graph.nc", "data/stiffness_table.nc", "figures/closed_graph.png",
-                "figures/single_tooth_stiffness.png", "figures/mesh_stiffness.png", "figures/backlash.png",
-                "sweeps/bifurcation_x1.nc", "sweeps/bifurcation_b.nc",
-                "sweeps/bifurcation_e.nc", "points/points_x1.nc", "maps/map_own_x1_b.nc",
-                "tables/bifurcation_x1_bands.md", "figures/bifurcation_b.png", "figures/map_own_x1_b.png"):
+    for rel in (
+        "data/closed_graph.nc",
+        "data/stiffness_table.nc",
+        "figures/closed_graph.png",
+        "figures/single_tooth_stiffness.png",
+        "figures/mesh_stiffness.png",
+        "figures/backlash.png",
+        "sweeps/bifurcation_x1.nc",
+        "sweeps/bifurcation_b.nc",
+        "sweeps/bifurcation_e.nc",
+        "points/points_x1.nc",
+        "maps/map_own_x1_b.nc",
+        "tables/bifurcation_x1_bands.md",
+        "figures/bifurcation_b.png",
+        "figures/map_own_x1_b.png",
+    ):
         assert (res / "mydrive" / rel).exists(), rel
-    for rel in ("data/modal.nc", "data/te.nc", "data/forced_response.nc", "tables/natural_frequencies.csv",
-                "tables/stiffness_scaling.md", "tables/key_elements.csv", "tables/relief_optima.csv",
-                "tables/mesh_stiffness.csv", "tables/relief_vs_load.csv", "figures/te_unmodified.png",
-                "figures/modal_strain_energy.png", "figures/modal_kinetic_energy.png", "figures/mode_shapes.png",
-                "figures/te_relief.png", "figures/relief_landscape.png", "figures/forced_response.png"):
+    for rel in (
+        "data/modal.nc",
+        "data/te.nc",
+        "data/forced_response.nc",
+        "tables/natural_frequencies.csv",
+        "tables/stiffness_scaling.md",
+        "tables/key_elements.csv",
+        "tables/relief_optima.csv",
+        "tables/mesh_stiffness.csv",
+        "tables/relief_vs_load.csv",
+        "figures/te_unmodified.png",
+        "figures/modal_strain_energy.png",
+        "figures/modal_kinetic_energy.png",
+        "figures/mode_shapes.png",
+        "figures/te_relief.png",
+        "figures/relief_landscape.png",
+        "figures/forced_response.png",
+    ):
         assert (res / "myplus" / rel).exists(), rel
     assert not (res / "li2013").exists() and not (res / "yue2014").exists()  # only listed designs are built
     assert not (res / "mydrive" / "claims.md").exists()  # claims are a paper's

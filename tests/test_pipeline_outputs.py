@@ -17,6 +17,7 @@ import yaml
 import _workflow as wf
 from geardyn import archive, io
 
+
 def _small_pipeline(work):
     wf.workflow_copy(work, wf.small_config(), wf.small_designs())  # the benchmark at its smoke-test size
     wf.snakemake(work, "--cores", "2", "all", "calibration", timeout=900)
@@ -36,9 +37,16 @@ def _netcdf_files(work):
 
 #: Every kind of netCDF file the pipeline writes (paths below results/).
 KINDS = [
-    "li2013/data/closed_graph.nc", "li2013/data/stiffness_table.nc", "li2013/sweeps/fig07_small.nc",
-    "li2013/points/fig08_small.nc", "li2013/calibration/small_search.nc", "benchmarks/work_precision.nc",
-    "yue2014/data/modal.nc", "yue2014/data/te.nc", "yue2014/data/relief_landscape.nc", "yue2014/data/forced_response.nc",
+    "li2013/data/closed_graph.nc",
+    "li2013/data/stiffness_table.nc",
+    "li2013/sweeps/fig07_small.nc",
+    "li2013/points/fig08_small.nc",
+    "li2013/calibration/small_search.nc",
+    "benchmarks/work_precision.nc",
+    "yue2014/data/modal.nc",
+    "yue2014/data/te.nc",
+    "yue2014/data/relief_landscape.nc",
+    "yue2014/data/forced_response.nc",
 ]
 
 
@@ -89,8 +97,12 @@ def test_ioos_cf_checker_finds_no_errors(small_run, tmp_path):
         pytest.skip("compliance-checker is not installed (pip install -e '.[test]')")
     files = [str(p) for p in _netcdf_files(small_run)]
     out = tmp_path / "cf.json"
-    run = subprocess.run([str(checker), "--test", "cf:1.10", "--format", "json_new", "--output", str(out), *files],
-                         capture_output=True, text=True, timeout=600)
+    run = subprocess.run(
+        [str(checker), "--test", "cf:1.10", "--format", "json_new", "--output", str(out), *files],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert out.exists(), run.stderr[-2000:]
     report = json.loads(out.read_text())
     assert set(report) == set(files)
@@ -99,8 +111,11 @@ def test_ioos_cf_checker_finds_no_errors(small_run, tmp_path):
         for item in result["cf:1.10"]["high_priorities"]:
             if item["value"][0] >= item["value"][1]:
                 continue
-            msgs = [m for m in item["msgs"]
-                    if not any(item["name"].startswith(sec) and text in m for sec, text in NOT_APPLICABLE)]
+            msgs = [
+                m
+                for m in item["msgs"]
+                if not any(item["name"].startswith(sec) and text in m for sec, text in NOT_APPLICABLE)
+            ]
             errors += [f"{path}: {item['name']}: {m}" for m in msgs]
     assert errors == []
 
@@ -109,9 +124,18 @@ def test_report_groups_figures_by_paper_and_figure_with_captions(small_run):
     report = small_run / "results" / "report.html"
     html = report.read_text(encoding="utf-8", errors="replace")
     assert report.stat().st_size > 100_000
-    for text in ("Paper 1: Li et al. (2013), KHV drive", "Paper 2: Yue et al. (2014), plus planetary set",
-                 "Benchmarks", "Fig. 03: closed graph", "Fig. 05: mesh stiffness", "Fig. 07: fig07_small",
-                 "Fig. 08: fig08_small", "Fig. 09: tip relief", "fig07_small.png", "fig09_te_relief.png"):
+    for text in (
+        "Paper 1: Li et al. (2013), KHV drive",
+        "Paper 2: Yue et al. (2014), plus planetary set",
+        "Benchmarks",
+        "Fig. 03: closed graph",
+        "Fig. 05: mesh stiffness",
+        "Fig. 07: fig07_small",
+        "Fig. 08: fig08_small",
+        "Fig. 09: tip relief",
+        "fig07_small.png",
+        "fig09_te_relief.png",
+    ):
         assert text in html, text
     # a caption: the family's .rst, with the caption text the figure's job wrote included
     caption = (small_run / "results/li2013/figures/fig07_small.png.txt").read_text().splitlines()[0]
@@ -122,8 +146,11 @@ def test_report_groups_figures_by_paper_and_figure_with_captions(small_run):
 def _cubes_on_disk(work, design):
     base = work / "results" / design
     # the archive holds the default build's cubes; the calibration searches are a target of their own
-    return {str(p.relative_to(base)) for p in base.rglob("*.nc")
-            if not p.name.startswith("chunk_") and p.parent.name != "calibration"}
+    return {
+        str(p.relative_to(base))
+        for p in base.rglob("*.nc")
+        if not p.name.startswith("chunk_") and p.parent.name != "calibration"
+    }
 
 
 @pytest.mark.parametrize("design", ["li2013", "yue2014"])
@@ -135,8 +162,13 @@ def test_archive_holds_every_cube_and_verifies(small_run, design):
     assert cubes == _cubes_on_disk(small_run, design) and summary.cubes == len(cubes) > 0
     configs = {e["path"] for e in manifest["files"] if e["kind"] == "config"}
     assert configs == {"config/config.yaml", f"config/designs/{design}.yaml", "config/effective_config.yaml"}
-    run = subprocess.run([sys.executable, "-m", "geardyn.cli", "verify-archive", str(path)], env=wf.env(),
-                         capture_output=True, text=True, timeout=120)
+    run = subprocess.run(
+        [sys.executable, "-m", "geardyn.cli", "verify-archive", str(path)],
+        env=wf.env(),
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert run.returncode == 0 and "OK" in run.stdout
 
 
@@ -153,8 +185,13 @@ def test_corrupted_archive_is_refused_with_a_clear_line(small_run, tmp_path):
     data[len(data) // 2] ^= 0xFF
     bad = tmp_path / "li2013_archive.tar.gz"
     bad.write_bytes(bytes(data))
-    run = subprocess.run([sys.executable, "-m", "geardyn.cli", "verify-archive", str(bad)], env=wf.env(),
-                         capture_output=True, text=True, timeout=120)
+    run = subprocess.run(
+        [sys.executable, "-m", "geardyn.cli", "verify-archive", str(bad)],
+        env=wf.env(),
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert run.returncode == 1
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"error: {bad}: ")
@@ -172,20 +209,42 @@ def test_slurm_profile_keeps_cheap_rules_local(tmp_path):
     text = run.stdout + run.stderr
     # the same jobs as a local dry run
     plain = wf.snakemake(work, "-n", "--cores", "2", timeout=300)
-    stats = lambda t: sorted(re.findall(r"^(\w+)\s+(\d+)$", t[t.index("Job stats"):], re.M))  # noqa: E731
+    stats = lambda t: sorted(re.findall(r"^(\w+)\s+(\d+)$", t[t.index("Job stats") :], re.M))  # noqa: E731
     assert stats(text) == stats(plain.stdout + plain.stderr)
     assert re.search(r"^sweep_chunk\s+2$", text, re.M)
     # cheap rules stay on the submitting host (a dry run does not print which; Snakemake refuses a
     # `localrules` name that is no rule, so the dry run above also checked that every name exists)
     block = (wf.ROOT / "workflow/rules/cluster.smk").read_text().split("localrules:")[1]
     local = set(re.findall(r"^\s+(\w+),", block, re.M))
-    assert {"sweep_merge", "bifurcation_figure", "point_figure", "fig03_closed_graph",
-            "closed_graph_figure", "stiffness_figures", "stiffness_figures_own", "plus_modal_figures",
-            "plus_modal_figures_own", "plus_te_figures", "plus_te_figures_own", "plus_forced_response",
-            "regime_bands", "claims", "map_merge", "map_figure", "calibration_compare"} == local
+    assert {
+        "sweep_merge",
+        "bifurcation_figure",
+        "point_figure",
+        "fig03_closed_graph",
+        "closed_graph_figure",
+        "stiffness_figures",
+        "stiffness_figures_own",
+        "plus_modal_figures",
+        "plus_modal_figures_own",
+        "plus_te_figures",
+        "plus_te_figures_own",
+        "plus_forced_response",
+        "regime_bands",
+        "claims",
+        "map_merge",
+        "map_figure",
+        "calibration_compare",
+    } == local
     assert "localrule: True" in (wf.ROOT / "workflow/rules/archive.smk").read_text()
-    heavy = {"sweep_chunk", "calibration_search", "map_chunk", "point_runs", "work_precision", "plus_relief",
-             "plus_landscape"}
+    heavy = {
+        "sweep_chunk",
+        "calibration_search",
+        "map_chunk",
+        "point_runs",
+        "work_precision",
+        "plus_relief",
+        "plus_landscape",
+    }
     assert heavy <= set(profile["set-resources"]) and not local & set(profile["set-resources"])
     planned = set(re.findall(r"^rule (\w+):", text, re.M))
     remote = planned - local - {"all"}

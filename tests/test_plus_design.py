@@ -1,8 +1,7 @@
 """Design file and JSON Schema of paper 2 (plus planetary set)."""
 
-from pathlib import Path
-
 from dataclasses import replace
+from pathlib import Path
 
 import jsonschema
 import pytest
@@ -14,6 +13,7 @@ from geardyn.plus.design import default_design, design_from_dict, load
 
 def schema():
     return config.schema("plus_planetary.schema.json")
+
 
 ROOT = Path(__file__).resolve().parents[1]
 YAML = ROOT / "config" / "designs" / "yue2014.yaml"
@@ -53,8 +53,17 @@ def test_yaml_validates_and_has_table1_values():
     assert d.paper == "yue2014"
 
 
-@pytest.mark.parametrize("patch", [{"unknown_key": 1}, {"module_mm": -4}, {"sun": {"teeth": 32, "inertia_kgm2": 0.1, "colour": "red"}},
-                                   {"kind": "khv"}, {"outer_planet_side": 0}, {"stiffness": {"sun_planet": "2.1e7"}}])
+@pytest.mark.parametrize(
+    "patch",
+    [
+        {"unknown_key": 1},
+        {"module_mm": -4},
+        {"sun": {"teeth": 32, "inertia_kgm2": 0.1, "colour": "red"}},
+        {"kind": "khv"},
+        {"outer_planet_side": 0},
+        {"stiffness": {"sun_planet": "2.1e7"}},
+    ],
+)
 def test_invalid_designs_rejected(patch):
     raw = {"kind": "plus_planetary", **patch}
     with pytest.raises(ConfigError, match="is not allowed|unknown key|kind"):
@@ -62,8 +71,11 @@ def test_invalid_designs_rejected(patch):
 
 
 def test_reversed_bounds_rejected():
-    raw = config.validate({"kind": "plus_planetary", "relief": {"physical_amount_mm": [0.03, 0.0]}},
-                          "plus_planetary.schema.json", "design")
+    raw = config.validate(
+        {"kind": "plus_planetary", "relief": {"physical_amount_mm": [0.03, 0.0]}},
+        "plus_planetary.schema.json",
+        "design",
+    )
     with pytest.raises(ConfigError, match="lower bound"):
         design_from_dict(raw)
 

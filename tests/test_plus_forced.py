@@ -41,15 +41,16 @@ def test_single_dof_receptance():
 def test_modal_superposition_equals_the_direct_complex_solve():
     md = modal.modes(D, "I")
     mat = modal.matrices(D, "I")
-    om2, phi = md.omega2[md.n_rigid:], md.shapes[:, md.n_rigid:]
+    om2, phi = md.omega2[md.n_rigid :], md.shapes[:, md.n_rigid :]
     C = forced.modal_damping_matrix(mat.M, om2, phi, 0.05)
     rng = np.random.default_rng(0)
     v = [el.v[[modal.COORDS.index(c) for c in mat.coords]] for el in modal.elements(D) if el.kind == "pd"]
     f = sum(rng.normal() * vj for vj in v) * 1e2  # mesh forces are orthogonal to the rigid mode
     for w in (300.0, 2 * np.pi * 339.76, 5000.0, 2 * np.pi * 1314.0):
         direct = np.linalg.solve(mat.K - w**2 * mat.M + 1j * w * C, f)
-        np.testing.assert_allclose(forced.modal_frf(om2, phi, 0.05, f, w), direct, rtol=1e-8,
-                                   atol=1e-10 * np.abs(direct).max())
+        np.testing.assert_allclose(
+            forced.modal_frf(om2, phi, 0.05, f, w), direct, rtol=1e-8, atol=1e-10 * np.abs(direct).max()
+        )
 
 
 def test_constant_te_gives_no_dynamic_force():
@@ -106,7 +107,7 @@ def test_resonance_peaks_sit_at_the_natural_frequencies(phasing, kind):
     d = _design(harmonics=1, phasing=phasing, damping_ratio=0.005, speed_points=3000)
     res = forced.forced_response(d, _sine_te())
     md = modal.modes(d, "I")
-    types = np.array(modal.classify(md))[md.n_rigid:]
+    types = np.array(modal.classify(md))[md.n_rigid :]
     expected = np.unique(np.round(res.natural_hz[types == kind], 6)) / res.mesh_hz_per_rpm
     step = res.speed_rpm[1] - res.speed_rpm[0]
     total = res.rms[0].sum(axis=1)

@@ -2,7 +2,8 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.integrate import quad
 
 from geardyn.plus import ishikawa as ik
@@ -94,8 +95,13 @@ def test_perfect_gears_stiffness_steps_between_single_and_double_contact():
 
 
 @settings(max_examples=30, deadline=None)
-@given(load=st.floats(1.0, 5000.0), es=st.floats(0.0, 30e-6), amount=st.floats(0.0, 40e-6), length=st.floats(0.0, 4e-3),
-       shape=st.sampled_from(["linear", "parabolic"]))
+@given(
+    load=st.floats(1.0, 5000.0),
+    es=st.floats(0.0, 30e-6),
+    amount=st.floats(0.0, 40e-6),
+    length=st.floats(0.0, 4e-3),
+    shape=st.sampled_from(["linear", "parabolic"]),
+)
 def test_load_sharing_conserves_the_load(load, es, amount, length, shape):
     r = ik.static_te(PAIR, MAT, load, es=es, relief_amount=amount, relief_length=length, relief_shape=shape, points=64)
     np.testing.assert_allclose(r.loads.sum(axis=0), load, rtol=1e-9)
@@ -121,8 +127,12 @@ def test_pair_geometry_agrees_with_shared_geometry_module():
     """geardyn.geometry (written independently for paper 1, external pairs supported) gives the same pair."""
     from geardyn.gears import geometry
 
-    g = geometry.GearPair(z1=19, z2=20, module=4.0, x1=0.0, x2=0.0, pressure_angle_deg=25.0, internal=False, facewidth=10.0)
+    g = geometry.GearPair(
+        z1=19, z2=20, module=4.0, x1=0.0, x2=0.0, pressure_angle_deg=25.0, internal=False, facewidth=10.0
+    )
     assert float(geometry.contact_ratio(g)) == pytest.approx(PAIR.contact_ratio, rel=1e-12)
-    assert float(np.degrees(geometry.working_pressure_angle(g))) == pytest.approx(np.degrees(PAIR.working_alpha), abs=1e-9)
+    assert float(np.degrees(geometry.working_pressure_angle(g))) == pytest.approx(
+        np.degrees(PAIR.working_alpha), abs=1e-9
+    )
     da1, da2 = geometry.tip_diameters(g)
     assert (float(da1) / 2e3, float(da2) / 2e3) == pytest.approx((PAIR.driver.ra, PAIR.driven.ra), rel=1e-12)

@@ -1,9 +1,11 @@
 """Modal model of the plus planetary set (paper 2, Eqs. 1-8)."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
-from dataclasses import replace
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from geardyn.plus import modal
 from geardyn.plus.design import default_design
@@ -58,9 +60,11 @@ def test_rotational_stiffness_matches_hand_derivation():
     idx = {c: i for i, c in enumerate(modal.COORDS)}
     K = np.zeros((11, 11))
     for j in (1, 2, 3):
-        for v in ({"theta_s": rs, "theta_c": -rs, f"theta_p{j}": rp},          # r_s (th_s - th_c) + r_p th_p
-                  {f"theta_p{j}": rp, f"theta_d{j}": rd},                       # r_p th_p + r_d th_d (plus set)
-                  {"theta_r": rr, "theta_c": -rr, f"theta_d{j}": -rd}):         # r_r (th_r - th_c) - r_d th_d
+        for v in (
+            {"theta_s": rs, "theta_c": -rs, f"theta_p{j}": rp},  # r_s (th_s - th_c) + r_p th_p
+            {f"theta_p{j}": rp, f"theta_d{j}": rd},  # r_p th_p + r_d th_d (plus set)
+            {"theta_r": rr, "theta_c": -rr, f"theta_d{j}": -rd},
+        ):  # r_r (th_r - th_c) - r_d th_d
             vec = np.zeros(11)
             for c, val in v.items():
                 vec[idx[c]] = val
@@ -70,7 +74,9 @@ def test_rotational_stiffness_matches_hand_derivation():
     np.testing.assert_allclose(ours[np.ix_(rot, rot)], K[np.ix_(rot, rot)], rtol=1e-12, atol=1e-9)
     xy = [idx["x_s"], idx["y_s"]]
     # sum_j n_j n_j^T = 3/2 I for three equally spaced planets, plus the bearing
-    np.testing.assert_allclose(ours[np.ix_(xy, xy)], (1.5 * k + D.stiffness.sun_bearing) * np.eye(2), rtol=1e-12, atol=1e-6)
+    np.testing.assert_allclose(
+        ours[np.ix_(xy, xy)], (1.5 * k + D.stiffness.sun_bearing) * np.eye(2), rtol=1e-12, atol=1e-6
+    )
 
 
 def _doubled(md):

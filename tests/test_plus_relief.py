@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from geardyn.plus import ishikawa as ik, relief
+from geardyn.plus import ishikawa as ik
+from geardyn.plus import relief
 from geardyn.plus.design import default_design
 
 D = default_design()

@@ -31,25 +31,81 @@ def run(tmp_path_factory):
     raw["transmission_error"]["points_per_period"] = 100
     design = tmp / "design.yaml"
     design.write_text(yaml.safe_dump(raw))
-    p = {k: tmp / v for k, v in dict(
-        modal="modal.nc", t2c="t2.csv", t2m="t2.md", scc="sc.csv", scm="sc.md", t5c="t5.csv", t5m="t5.md",
-        f6="f6.png", f7="f7.png", f7b="f7b.png", te="te.nc", oc="opt.csv", om="opt.md", sc2="st.csv", sm2="st.md",
-        lc="load.csv", lm="load.md", land="land.nc", f4="f4.png", f9="f9.png", f9b="f9b.png", fr="forced.nc",
-        frf="forced.png").items()}
-    _script("plus_modal", input={"design": design}, log=[tmp / "m.log"], output=dict(
-        modal=p["modal"], table02_csv=p["t2c"], table02_md=p["t2m"], scaling_csv=p["scc"], scaling_md=p["scm"],
-        table05_csv=p["t5c"], table05_md=p["t5m"]))
-    _script("plus_modal_figures", input={"design": design, "modal": p["modal"]}, log=[tmp / "mf.log"],
-            output=dict(fig06=p["f6"], fig07=p["f7"], fig07b=p["f7b"]))
-    _script("plus_relief", input={"design": design}, log=[tmp / "r.log"], output=dict(
-        te=p["te"], optima_csv=p["oc"], optima_md=p["om"], stiffness_csv=p["sc2"], stiffness_md=p["sm2"],
-        load_csv=p["lc"], load_md=p["lm"]))
+    p = {
+        k: tmp / v
+        for k, v in dict(
+            modal="modal.nc",
+            t2c="t2.csv",
+            t2m="t2.md",
+            scc="sc.csv",
+            scm="sc.md",
+            t5c="t5.csv",
+            t5m="t5.md",
+            f6="f6.png",
+            f7="f7.png",
+            f7b="f7b.png",
+            te="te.nc",
+            oc="opt.csv",
+            om="opt.md",
+            sc2="st.csv",
+            sm2="st.md",
+            lc="load.csv",
+            lm="load.md",
+            land="land.nc",
+            f4="f4.png",
+            f9="f9.png",
+            f9b="f9b.png",
+            fr="forced.nc",
+            frf="forced.png",
+        ).items()
+    }
+    _script(
+        "plus_modal",
+        input={"design": design},
+        log=[tmp / "m.log"],
+        output=dict(
+            modal=p["modal"],
+            table02_csv=p["t2c"],
+            table02_md=p["t2m"],
+            scaling_csv=p["scc"],
+            scaling_md=p["scm"],
+            table05_csv=p["t5c"],
+            table05_md=p["t5m"],
+        ),
+    )
+    _script(
+        "plus_modal_figures",
+        input={"design": design, "modal": p["modal"]},
+        log=[tmp / "mf.log"],
+        output=dict(fig06=p["f6"], fig07=p["f7"], fig07b=p["f7b"]),
+    )
+    _script(
+        "plus_relief",
+        input={"design": design},
+        log=[tmp / "r.log"],
+        output=dict(
+            te=p["te"],
+            optima_csv=p["oc"],
+            optima_md=p["om"],
+            stiffness_csv=p["sc2"],
+            stiffness_md=p["sm2"],
+            load_csv=p["lc"],
+            load_md=p["lm"],
+        ),
+    )
     _script("plus_landscape", input={"design": design}, output={"landscape": p["land"]}, log=[tmp / "l.log"])
-    _script("plus_te_figures", input={"design": design, "te": p["te"], "landscape": p["land"],
-                                      "optima_csv": p["oc"]},
-            output=dict(fig04=p["f4"], fig09=p["f9"], fig09b=p["f9b"]), log=[tmp / "tf.log"])
-    _script("plus_forced_response", input={"design": design, "te": p["te"]}, log=[tmp / "fr.log"],
-            output=dict(data=p["fr"], figure=p["frf"]))
+    _script(
+        "plus_te_figures",
+        input={"design": design, "te": p["te"], "landscape": p["land"], "optima_csv": p["oc"]},
+        output=dict(fig04=p["f4"], fig09=p["f9"], fig09b=p["f9b"]),
+        log=[tmp / "tf.log"],
+    )
+    _script(
+        "plus_forced_response",
+        input={"design": design, "te": p["te"]},
+        log=[tmp / "fr.log"],
+        output=dict(data=p["fr"], figure=p["frf"]),
+    )
     return p
 
 

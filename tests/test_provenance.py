@@ -22,11 +22,19 @@ def _cube(n=300):
     rng = np.random.default_rng(1)
     x = np.linspace(0.4, 0.8, n)
     return xr.Dataset(
-        {"x_vh": (("case", "x1"), np.cumsum(rng.normal(size=(2, n)), axis=1), {"units": "1", "long_name": "x"}),
-         "label": (("case", "x1"), rng.integers(-2, 9, size=(2, n)).astype(np.int16),
-                   {"long_name": "motion label", "flag_values": np.arange(-2, 9, dtype=np.int16)})},
-        coords={"x1": ("x1", x, {"units": "1", "long_name": "profile shift"}),
-                "case": ("case", ["a", "b"], {"long_name": "case"})})
+        {
+            "x_vh": (("case", "x1"), np.cumsum(rng.normal(size=(2, n)), axis=1), {"units": "1", "long_name": "x"}),
+            "label": (
+                ("case", "x1"),
+                rng.integers(-2, 9, size=(2, n)).astype(np.int16),
+                {"long_name": "motion label", "flag_values": np.arange(-2, 9, dtype=np.int16)},
+            ),
+        },
+        coords={
+            "x1": ("x1", x, {"units": "1", "long_name": "profile shift"}),
+            "case": ("case", ["a", "b"], {"long_name": "case"}),
+        },
+    )
 
 
 def _cpuinfo_field(name):
@@ -83,7 +91,10 @@ def test_tables_carry_provenance(tmp_path):
     text = md.read_text()
     assert text.startswith("# t\n\n| a |") and text.rstrip().endswith("-->")
     found = io.read_provenance_text(text)
-    assert found["numpy_version"] == metadata.version("numpy") and found["cpu_model"] == io.runtime_provenance()["cpu_model"]
+    assert (
+        found["numpy_version"] == metadata.version("numpy")
+        and found["cpu_model"] == io.runtime_provenance()["cpu_model"]
+    )
     csv = io.write_text("a,b\n1,2\n", tmp_path / "t.csv")
     assert csv.read_text() == "a,b\n1,2\n"  # a CSV stays plain: its provenance is beside it
     side = json.loads(io.provenance_sidecar(csv).read_text())
@@ -100,13 +111,26 @@ def test_verify_archive_prints_where_the_cubes_were_computed(tmp_path):
     manifest = archive.build(out, "d", {"results/d/a.nc": cube}, {"config.yaml": cfg})
     entry = next(e for e in manifest["files"] if e["kind"] == "netcdf")
     assert entry["cpu_model"] == io.runtime_provenance()["cpu_model"]
-    run = subprocess.run([sys.executable, "-m", "geardyn.cli", "verify-archive", str(out)], capture_output=True,
-                         text=True, timeout=120)
+    run = subprocess.run(
+        [sys.executable, "-m", "geardyn.cli", "verify-archive", str(out)], capture_output=True, text=True, timeout=120
+    )
     assert run.returncode == 0, run.stderr
     rt = io.runtime_provenance()
-    for key in ("numpy_version", "scipy_version", "numba_version", "llvmlite_version", "xarray_version",
-                "netcdf4_version", "snakemake_version", "python_version", "cpu_model", "cpu_simd_flags",
-                "numpy_cpu_dispatch", "numba_cpu_name", "numba_cpu_features"):
+    for key in (
+        "numpy_version",
+        "scipy_version",
+        "numba_version",
+        "llvmlite_version",
+        "xarray_version",
+        "netcdf4_version",
+        "snakemake_version",
+        "python_version",
+        "cpu_model",
+        "cpu_simd_flags",
+        "numpy_cpu_dispatch",
+        "numba_cpu_name",
+        "numba_cpu_features",
+    ):
         assert f"    {key}: {rt[key]}\n" in run.stdout + "\n", key
     assert re.search(r"computed with \(1 of 1 cubes\)", run.stdout)
 

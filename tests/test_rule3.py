@@ -30,7 +30,7 @@ def _records(rng: np.random.Generator) -> list[np.ndarray]:
             cyc = rng.normal(size=(n, 6))
             out.append(np.tile(cyc, (40 // n + 1, 1))[:40] + noise * rng.normal(size=(40, 6)))
     k = np.arange(40)[:, None]
-    decay = 0.9 ** k * np.hstack([np.cos(2.1 * k), np.sin(2.1 * k), np.zeros((40, 4))])  # rotating transient
+    decay = 0.9**k * np.hstack([np.cos(2.1 * k), np.sin(2.1 * k), np.zeros((40, 4))])  # rotating transient
     out += [decay, decay[20:], rng.normal(size=(40, 6)), np.zeros((40, 6)), rng.normal(size=(2, 6))]
     return out
 
@@ -48,7 +48,7 @@ def test_compiled_rule_equals_the_numpy_statement():
     m = max(len(p) for p in records)
     P = np.zeros((len(records), m, 6))
     for k, p in enumerate(records):
-        P[k, :len(p)] = p
+        P[k, : len(p)] = p
     out = strict_periods(P, np.array([len(p) for p in records]), *args)
     assert [int(v) for v in out[:, 0]] == [e if len(p) >= 3 else 0 for e, p in zip(expected, records, strict=True)]
 
@@ -71,12 +71,12 @@ def test_early_stop_finds_the_cycle_after_confirm_periods(n):
     for k in range(n + confirm + 3):
         seen, stop = _period.early_stop(ring, count, dcur, seen, cyc[k % n], max_n, 1e-5, 1e-7, 10.0, confirm, True)
         found.append(stop)
-    assert found.index(n) == n + confirm - 1 and set(found[:n + confirm - 1]) == {0}
+    assert found.index(n) == n + confirm - 1 and set(found[: n + confirm - 1]) == {0}
     ring, count, dcur = np.empty((max_n + 1, 6)), np.zeros(max_n + 1, np.int64), np.full(max_n + 1, np.inf)
     seen, stops = 0, set()
     for k in range(60):
         y = np.zeros(6)
-        y[:2] = 2e-5 * 0.999 ** k * np.array([np.cos(2 * np.pi * k / 3), np.sin(2 * np.pi * k / 3)])
+        y[:2] = 2e-5 * 0.999**k * np.array([np.cos(2 * np.pi * k / 3), np.sin(2 * np.pi * k / 3)])
         seen, stop = _period.early_stop(ring, count, dcur, seen, y, max_n, 1e-5, 1e-7, 10.0, confirm, True)
         stops.add(stop)
     assert stops == {0} and count[3] > confirm and 1e-5 < dcur[1] < 1e-4

@@ -18,8 +18,7 @@ from numba import njit
 
 from geardyn.khv import design, point
 from geardyn.runs.continuation import CallableFamily, ContinuationSettings, continue_branch
-from geardyn.solve import SimulationSettings, simulate
-from geardyn.solve import floquet
+from geardyn.solve import SimulationSettings, floquet, simulate
 from geardyn.solve.shooting import fd_monodromy, khv_flow, newton_shooting, newton_shooting_batch, rk4_flow, shoot
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -104,8 +103,7 @@ def test_batch_shooting_is_point_shooting_bit_for_bit(li2013, contact_loss_orbit
     c, orbit = contact_loss_orbit
     c2 = point.point_coefficients(li2013, {"x1": 0.761, "b": 2.0, "e": 5.0, "w": 0.7})
     settings = SimulationSettings(steps_per_period=128)
-    cases = [(c, orbit.state + 1e-3, 1), (c, orbit.state + 5.0, 1), (c2, c2.static_state(), 1),
-             (c, orbit.state, 2)]
+    cases = [(c, orbit.state + 1e-3, 1), (c, orbit.state + 5.0, 1), (c2, c2.static_state(), 1), (c, orbit.state, 2)]
     for n in (1, 2):
         todo = [(s, x) for s, x, m in cases if m == n]
         for max_iter in (2, 15):
@@ -115,8 +113,12 @@ def test_batch_shooting_is_point_shooting_bit_for_bit(li2013, contact_loss_orbit
                 assert (a.status, a.iterations, a.converged) == (b.status, b.iterations, b.converged)
                 np.testing.assert_array_equal(a.state, b.state)
                 np.testing.assert_array_equal(a.multipliers, b.multipliers)
-    statuses = {b.status for b in newton_shooting_batch([s for s, _, _ in cases[:3]], [x for _, x, _ in cases[:3]],
-                                                         1, settings, max_iter=2)}
+    statuses = {
+        b.status
+        for b in newton_shooting_batch(
+            [s for s, _, _ in cases[:3]], [x for _, x, _ in cases[:3]], 1, settings, max_iter=2
+        )
+    }
     assert statuses == {"converged", "max_iterations"}  # the test covers both endings
 
 
@@ -181,11 +183,11 @@ def _duffing_map(gamma, y0, n, steps, want_jac):
     Y = np.eye(2)
     for k in range(n * steps):
         t = k * h
-        a1 = gamma * math.cos(w * t) - d * v + x - x ** 3
+        a1 = gamma * math.cos(w * t) - d * v + x - x**3
         x2, v2 = x + 0.5 * h * v, v + 0.5 * h * a1
-        a2 = gamma * math.cos(w * (t + 0.5 * h)) - d * v2 + x2 - x2 ** 3
+        a2 = gamma * math.cos(w * (t + 0.5 * h)) - d * v2 + x2 - x2**3
         x3, v3 = x + 0.5 * h * v2, v + 0.5 * h * a2
-        a3 = gamma * math.cos(w * (t + 0.5 * h)) - d * v3 + x3 - x3 ** 3
+        a3 = gamma * math.cos(w * (t + 0.5 * h)) - d * v3 + x3 - x3**3
         x4, v4 = x + h * v3, v + h * a3
         if want_jac:
             J1 = np.array([[0.0, 1.0], [1.0 - 3 * x * x, -d]])
@@ -197,7 +199,7 @@ def _duffing_map(gamma, y0, n, steps, want_jac):
             K3 = J3 @ (Y + 0.5 * h * K2)
             K4 = J4 @ (Y + h * K3)
             Y = Y + h / 6 * (K1 + 2 * K2 + 2 * K3 + K4)
-        a4 = gamma * math.cos(w * (t + h)) - d * v4 + x4 - x4 ** 3
+        a4 = gamma * math.cos(w * (t + h)) - d * v4 + x4 - x4**3
         x += h / 6 * (v + 2 * v2 + 2 * v3 + v4)
         v += h / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
     return np.array([x, v]), Y

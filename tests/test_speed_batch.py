@@ -1,7 +1,6 @@
 """Batch integration (simulate_batch): the same numbers as the point-by-point path,
 whatever the batch, its order, its chunking and the number of threads."""
 
-
 import numba
 import numpy as np
 import pytest
@@ -50,8 +49,9 @@ def test_independent_of_threads_order_and_chunking(systems):
     finally:
         numba.set_num_threads(n0)
     rev = simulate_batch(systems[::-1], s, tangent_periods=15, early_stop=es)[::-1]
-    parts = simulate_batch(systems[:3], s, tangent_periods=15, early_stop=es) + \
-        simulate_batch(systems[3:], s, tangent_periods=15, early_stop=es)
+    parts = simulate_batch(systems[:3], s, tangent_periods=15, early_stop=es) + simulate_batch(
+        systems[3:], s, tangent_periods=15, early_stop=es
+    )
     lanes = simulate_batch(systems, s, tangent_periods=15, early_stop=es, lockstep=False)
     assert any(r.stop_period for r in ref) and not all(r.stop_period for r in ref)
     for other in (one, rev, parts, lanes):
@@ -66,8 +66,20 @@ def test_compiled_tables_equal_step_tables(systems):
     H, S, K, P = np.empty((L, n)), np.empty((L, n)), np.empty((L, n, 3)), np.empty((L, n, 3))
     SEG = np.empty((L, n), np.int64)
     for lane, c in enumerate(systems):
-        _batch.fill_tables(lane, float(c.eps), float(c.period), float(c.te_forcing), float(c.phi),
-                           c.stiffness_polys(), n, H, S, SEG, K, P)
+        _batch.fill_tables(
+            lane,
+            float(c.eps),
+            float(c.period),
+            float(c.te_forcing),
+            float(c.phi),
+            c.stiffness_polys(),
+            n,
+            H,
+            S,
+            SEG,
+            K,
+            P,
+        )
         _, h, st, sg, tk, tp, _ = step_tables(c, n, True)
         for a, b in ((h, H[lane]), (st, S[lane]), (sg, SEG[lane]), (tk, K[lane]), (tp, P[lane])):
             assert np.array_equal(a, b)
@@ -85,8 +97,9 @@ def test_compiled_rule3_equals_strict_period():
     seqs.append(rng.normal(size=(60, 6)))
     pts = np.stack(seqs)
     out = np.zeros((len(seqs), 2))
-    _batch.strict_periods(pts, np.full(len(seqs), 60), cs.max_n, cs.atol, cs.rtol, cs.error_margin * cs.error_floor,
-                          cs.separation, out)
+    _batch.strict_periods(
+        pts, np.full(len(seqs), 60), cs.max_n, cs.atol, cs.rtol, cs.error_margin * cs.error_floor, cs.separation, out
+    )
     assert [int(v) for v in out[:, 0]] == [classify.strict_period(p, cs) for p in seqs] == [1, 2, 3, 5, 12, 0, 0]
 
 
@@ -96,7 +109,6 @@ def test_floquet_exponent_of_periodic_points():
     Floquet exponent is the least-damped multiplier's (log 0.9812 per period) inside the error bar of the
     tangent estimate of a plain run of the whole transient (the test oracle)."""
     from _oracle import rules_label
-
     from geardyn.label import Policy, label_points
 
     periodic = [cases()["periodic"].replace(b=b) for b in (0.0, 1.0, 2.5)]
@@ -110,4 +122,3 @@ def test_floquet_exponent_of_periodic_points():
         assert v.exponent_sigma == 0.0
         assert v.exponent == pytest.approx(-0.002717, abs=2e-6)
         assert abs(v.exponent - lo.lyapunov) <= 2 * lo.lyapunov_sigma
-

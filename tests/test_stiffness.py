@@ -25,8 +25,17 @@ def test_external_pair_matches_iso_formula_written_out():
     # ISO 6336-1 method B, external pair z = 19/20, x = 0.1/0.2, written out term by term
     z1, z2, x1, x2 = 19, 20, 0.1, 0.2
     c = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
-    q = (c[0] + c[1] / z1 + c[2] / z2 + c[3] * x1 + c[4] * x1 / z1 + c[5] * x2 + c[6] * x2 / z2
-         + c[7] * x1**2 + c[8] * x2**2)
+    q = (
+        c[0]
+        + c[1] / z1
+        + c[2] / z2
+        + c[3] * x1
+        + c[4] * x1 / z1
+        + c[5] * x2
+        + c[6] * x2 / z2
+        + c[7] * x1**2
+        + c[8] * x2**2
+    )
     for variant in ("iso", "paper"):  # variants differ only for internal pairs
         assert s.flexibility_q(z1, z2, x1, x2, internal=False, variant=variant) == pytest.approx(q, rel=1e-14)
 
@@ -70,7 +79,8 @@ def test_corrected_form_is_sum_of_single_tooth_parabolas(eps):
     kp = 1.7e8
     t = np.linspace(0.0, 1.0, 1001, endpoint=False)
     direct = s.single_tooth_stiffness(t, eps, kp) + np.where(
-        t + 1.0 < eps, s.single_tooth_stiffness(t + 1.0, eps, kp), 0.0)
+        t + 1.0 < eps, s.single_tooth_stiffness(t + 1.0, eps, kp), 0.0
+    )
     assert s.ParabolicStiffness(eps, kp)(t) == pytest.approx(direct, rel=1e-12)
 
 

@@ -19,9 +19,17 @@ def li2013():
 
 
 def _spec(**changes):
-    base = dict(designs=["li2013"], parameter="x1", start=0.45, stop=0.80, num=7, fixed={"b": 2.0, "e": 5.0},
-                cases=[{}], chunks=1, integration={"transient_periods": 30, "recorded_periods": 8,
-                                                   "steps_per_period": 64})
+    base = dict(
+        designs=["li2013"],
+        parameter="x1",
+        start=0.45,
+        stop=0.80,
+        num=7,
+        fixed={"b": 2.0, "e": 5.0},
+        cases=[{}],
+        chunks=1,
+        integration={"transient_periods": 30, "recorded_periods": 8, "steps_per_period": 64},
+    )
     base.update(changes)
     return sweep.SweepSpec.from_config("t", base, "li2013", (0.416, 0.835))
 
@@ -46,8 +54,10 @@ def test_result_independent_of_chunking(li2013, tmp_path, start_from):
         spec = _spec(chunks=chunks, cases=[{"b": 1.0}, {"b": 2.0}, {"b": 3.0}], start_from=start_from)
         assert spec.n_chunks == chunks
         # through netCDF and the merge rules' loader, as in the pipeline
-        paths = [io.write_netcdf(sweep.run_chunk(li2013, spec, c), tmp_path / f"{start_from}{chunks}_{c}.nc")
-                 for c in range(spec.n_chunks)]
+        paths = [
+            io.write_netcdf(sweep.run_chunk(li2013, spec, c), tmp_path / f"{start_from}{chunks}_{c}.nc")
+            for c in range(spec.n_chunks)
+        ]
         parts = io.read_chunks(paths)
         merged.append(cube.merge_chunks(parts))
     xr.testing.assert_equal(merged[0], merged[1])  # bit-identical values, coordinates and dims
@@ -72,5 +82,6 @@ def test_continuation_both_directions_has_direction_coordinate(li2013):
     assert np.isfinite(merged["x_vh"].values).all()
     # the first point of the upward sweep starts from the static deflection, like an unchained run
     plain = sweep.run_chunk(li2013, _spec(num=4), 0)
-    np.testing.assert_array_equal(merged["x_vh"].sel(direction="up").values[:, 0],
-                                  plain["x_vh"].sel(direction="none").values[:, 0])
+    np.testing.assert_array_equal(
+        merged["x_vh"].sel(direction="up").values[:, 0], plain["x_vh"].sel(direction="none").values[:, 0]
+    )

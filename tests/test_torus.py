@@ -57,8 +57,10 @@ def test_weighted_average_is_the_weighted_integral():
     int f w / int w faster than any power (error 5e-6, 8e-9, 1e-12 at N = 10, 20, 50); the plain
     mean stays 0.017 off."""
     w = lambda t: math.exp(-1.0 / (t * (1.0 - t)))  # noqa: E731
-    ref = quad(lambda t: math.cos(3 * t) * w(t), 0, 1, epsabs=1e-15, epsrel=1e-14)[0] / quad(
-        w, 0, 1, epsabs=1e-15, epsrel=1e-14)[0]
+    ref = (
+        quad(lambda t: math.cos(3 * t) * w(t), 0, 1, epsabs=1e-15, epsrel=1e-14)[0]
+        / quad(w, 0, 1, epsabs=1e-15, epsrel=1e-14)[0]
+    )
     errs = {}
     for n in (10, 20, 50, 100):
         t = np.arange(1, n + 1) / (n + 1)
@@ -168,8 +170,9 @@ def test_khv_chaos_on_route_design():
     averages do not converge (0.5 digits at N = 2000, below log10 sqrt(N) = 1.65)."""
     d = design.load(ROOT / "config" / "designs" / "li2013_route.yaml")
     c = point.point_coefficients(d, {"x1": 0.80, "b": 2.0, "e": 5.0})
-    r = simulate(c, SimulationSettings(steps_per_period=128, transient_periods=500, recorded_periods=4000),
-                 tangent_periods=4000)
+    r = simulate(
+        c, SimulationSettings(steps_per_period=128, transient_periods=500, recorded_periods=4000), tangent_periods=4000
+    )
     lam, sigma = classify.lyapunov_estimate(r.growth, r.period)
     assert lam > 0.03 and lam > 10 * sigma
     res = T.torus_test(r.poincare)

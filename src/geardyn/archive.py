@@ -87,8 +87,10 @@ class Summary:
     runtimes: tuple[tuple[dict[str, str], int], ...] = field(default_factory=tuple)
 
     def line(self) -> str:
-        return (f"{self.path}: OK, design {self.design}: {self.files} files match their sha256, "
-                f"{self.cubes} netCDF cubes open (geardyn {self.geardyn_version}, commit {self.git_commit})")
+        return (
+            f"{self.path}: OK, design {self.design}: {self.files} files match their sha256, "
+            f"{self.cubes} netCDF cubes open (geardyn {self.geardyn_version}, commit {self.git_commit})"
+        )
 
     def text(self) -> str:
         """:meth:`line`, then where the cubes were computed: versions, CPU model, SIMD features in use."""
@@ -96,7 +98,9 @@ class Summary:
         if not self.runtimes:
             lines.append("  no runtime provenance in the cubes (written before geardyn recorded it)")
         for k, (rt, n) in enumerate(self.runtimes, 1):
-            lines.append(f"  computed with ({n} of {self.cubes} cubes{'' if len(self.runtimes) == 1 else f', set {k}'}):")
+            lines.append(
+                f"  computed with ({n} of {self.cubes} cubes{'' if len(self.runtimes) == 1 else f', set {k}'}):"
+            )
             lines += [f"    {key}: {value}" for key, value in rt.items()]
         return "\n".join(lines)
 
@@ -109,12 +113,19 @@ def _cube_provenance(path: Path) -> dict[str, str]:
     import xarray as xr
 
     with xr.open_dataset(path) as ds:
-        return {**{k: str(ds.attrs.get(k, "unknown")) for k in ("geardyn_version", "git_commit", "config_hash")},
-                **gio.runtime_of(ds.attrs)}
+        return {
+            **{k: str(ds.attrs.get(k, "unknown")) for k in ("geardyn_version", "git_commit", "config_hash")},
+            **gio.runtime_of(ds.attrs),
+        }
 
 
-def build(out: str | Path, design: str, cubes: Mapping[str, str | Path], configs: Mapping[str, str | Path],
-          effective_config: Mapping[str, Any] | None = None) -> dict[str, Any]:
+def build(
+    out: str | Path,
+    design: str,
+    cubes: Mapping[str, str | Path],
+    configs: Mapping[str, str | Path],
+    effective_config: Mapping[str, Any] | None = None,
+) -> dict[str, Any]:
     """Write the archive ``out`` (``.tar.gz``) and return its manifest.
 
     ``cubes`` maps a path inside the archive (the pipeline's own, ``results/<design>/...``) to a file on
@@ -128,7 +139,7 @@ def build(out: str | Path, design: str, cubes: Mapping[str, str | Path], configs
         raise ArchiveError(f"{out}: no netCDF cube of design {design!r} to archive (its rules built none)")
     out = Path(out)
     top = f"{design}_archive"
-    created = _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
+    created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     commit = gio.git_commit()
     members: dict[str, bytes] = {}
     entries: list[dict[str, Any]] = []
@@ -141,16 +152,24 @@ def build(out: str | Path, design: str, cubes: Mapping[str, str | Path], configs
         add(f"config/{rel}", Path(src).read_bytes(), "config")
     if effective_config is not None:
         text = "# The workflow config as the run used it: validated, defaults filled in.\n" + yaml.safe_dump(
-            json.loads(json.dumps(effective_config, default=str)), sort_keys=True)
+            json.loads(json.dumps(effective_config, default=str)), sort_keys=True
+        )
         add("config/effective_config.yaml", text.encode(), "config")
     for rel, src in sorted(cubes.items()):
         add(rel, Path(src).read_bytes(), "netcdf", _cube_provenance(Path(src)))
     example = sorted(cubes)[0] if cubes else "results/<cube>.nc"
-    readme = _README.format(design=design, version=__version__, commit=commit, created=created,
-                            n_cubes=len(cubes), example=example)
+    readme = _README.format(
+        design=design, version=__version__, commit=commit, created=created, n_cubes=len(cubes), example=example
+    )
     add("README.txt", readme.encode(), "readme")
-    manifest = {"format": FORMAT, "design": design, "geardyn_version": __version__, "git_commit": commit,
-                "created": created, "files": entries}
+    manifest = {
+        "format": FORMAT,
+        "design": design,
+        "geardyn_version": __version__,
+        "git_commit": commit,
+        "created": created,
+        "files": entries,
+    }
     sums = "".join(f"{e['sha256']}  {e['path']}\n" for e in entries)
     add(SUMS, sums.encode(), "sums")
     manifest_bytes = (json.dumps(manifest, indent=1) + "\n").encode()
@@ -219,8 +238,9 @@ def verify(path: str | Path) -> Summary:
             raise ArchiveError(f"{where}: {top}/{name} has {len(data)} bytes, the manifest says {entry['bytes']}")
         digest = sha256_bytes(data)
         if digest != entry["sha256"]:
-            raise ArchiveError(f"{where}: {top}/{name} sha256 mismatch: manifest {entry['sha256'][:16]}..., "
-                               f"archive {digest[:16]}...")
+            raise ArchiveError(
+                f"{where}: {top}/{name} sha256 mismatch: manifest {entry['sha256'][:16]}..., archive {digest[:16]}..."
+            )
     extra = sorted(set(members) - set(entries))
     if extra:
         raise ArchiveError(f"{where}: {top}/{extra[0]} is in the archive but not in the manifest")
@@ -236,10 +256,11 @@ def verify(path: str | Path) -> Summary:
                 with xr.open_dataset(local) as ds:
                     ds.load()
                     rt = gio.runtime_of(ds.attrs)
-            except Exception as err:  # noqa: BLE001 - any failure to open is the answer
+            except Exception as err:
                 text = str(err).replace(str(local), name).splitlines()
-                raise ArchiveError(f"{where}: {top}/{name} does not open as netCDF ({type(err).__name__}: "
-                                   f"{text[0] if text else ''})") from None
+                raise ArchiveError(
+                    f"{where}: {top}/{name} does not open as netCDF ({type(err).__name__}: {text[0] if text else ''})"
+                ) from None
             local.unlink()
             if rt:
                 known = [k for k, (r, _) in enumerate(runtimes) if r == rt]
@@ -247,5 +268,12 @@ def verify(path: str | Path) -> Summary:
                     runtimes[known[0]] = (rt, runtimes[known[0]][1] + 1)
                 else:
                     runtimes.append((rt, 1))
-    return Summary(where, str(manifest.get("design", "?")), len(entries), len(cubes),
-                   str(manifest.get("geardyn_version", "?")), str(manifest.get("git_commit", "?")), tuple(runtimes))
+    return Summary(
+        where,
+        str(manifest.get("design", "?")),
+        len(entries),
+        len(cubes),
+        str(manifest.get("geardyn_version", "?")),
+        str(manifest.get("git_commit", "?")),
+        tuple(runtimes),
+    )

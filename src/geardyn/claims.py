@@ -33,11 +33,10 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from types import ModuleType
 
 import numpy as np
 import xarray as xr
-
-from types import ModuleType
 
 from geardyn import classify
 from geardyn.runs.cube import labels_of_cube
@@ -80,6 +79,8 @@ def code(label: int | str) -> int | tuple[int, ...]:
         return label
     parts = tuple(_CODES[p] for p in label.split("|"))
     return parts if len(parts) > 1 else parts[0]
+
+
 CSV_COLUMNS = ("id", "figure", "statement", "paper", "ours", "verdict", "reason")
 
 
@@ -131,31 +132,59 @@ def _case_index(cube: xr.Dataset, x1: float) -> int:
     return labels.index(want)
 
 
-def range_claim(cid: str, fig: str, statement: str, values: np.ndarray, labels: np.ndarray, lo: float, hi: float,
-                want: int, open_lo: bool = False) -> Claim:
+def range_claim(
+    cid: str,
+    fig: str,
+    statement: str,
+    values: np.ndarray,
+    labels: np.ndarray,
+    lo: float,
+    hi: float,
+    want: int,
+    open_lo: bool = False,
+) -> Claim:
     m = (values > lo if open_lo else values >= lo) & (values <= hi)
     if not m.any():
-        return Claim(cid, fig, statement, f"{_NAMES.get(want, want)} on [{lo}, {hi}]", "no sweep point in range",
-                     "not comparable", "the sweep grid has no point inside the interval")
+        return Claim(
+            cid,
+            fig,
+            statement,
+            f"{_NAMES.get(want, want)} on [{lo}, {hi}]",
+            "no sweep point in range",
+            "not comparable",
+            "the sweep grid has no point inside the interval",
+        )
     lab = labels[m]
     hits, n = int(np.sum(lab == want)), int(m.sum())
     frac = hits / n
     counts = {int(k): int(v) for k, v in zip(*np.unique(lab, return_counts=True), strict=True)}
     ours = ", ".join(f"{_name(k)} {v}/{n}" for k, v in sorted(counts.items(), key=lambda kv: -kv[1]))
     verdict = fraction_verdict(hits, n)
-    reason = f"{100 * frac:.0f} % ({hits}/{n}) of the sweep points in the interval are {_NAMES.get(want, want)}" \
-             f" (agree needs >= {100 * RANGE_AGREE:.0f} %; {_band(hits, n)})"
+    reason = (
+        f"{100 * frac:.0f} % ({hits}/{n}) of the sweep points in the interval are {_NAMES.get(want, want)}"
+        f" (agree needs >= {100 * RANGE_AGREE:.0f} %; {_band(hits, n)})"
+    )
     return Claim(cid, fig, statement, f"{_NAMES.get(want, want)} on [{lo}, {hi}]", ours, verdict, reason)
 
 
 def _band(k: int, n: int) -> str:
     p = k / n
     half = BORDERLINE_Z * math.sqrt(p * (1.0 - p) / n)
-    return f"borderline if {100 * RANGE_AGREE:.0f} % lies in {100 * max(p - half, 0):.1f}-{100 * min(p + half, 1):.1f} %"
+    return (
+        f"borderline if {100 * RANGE_AGREE:.0f} % lies in {100 * max(p - half, 0):.1f}-{100 * min(p + half, 1):.1f} %"
+    )
 
 
-def point_claim(cid: str, fig: str, statement: str, values: np.ndarray, labels: np.ndarray, at: float,
-                want: int | tuple[int, ...], track: Track | None = None) -> Claim:
+def point_claim(
+    cid: str,
+    fig: str,
+    statement: str,
+    values: np.ndarray,
+    labels: np.ndarray,
+    at: float,
+    want: int | tuple[int, ...],
+    track: Track | None = None,
+) -> Claim:
     j = int(np.argmin(np.abs(values - at)))
     got = int(labels[j])
     wants = want if isinstance(want, tuple) else (want,)
@@ -185,11 +214,14 @@ def peaks_claim(points: xr.Dataset | None, peaks: tuple[float, ...], x1: float =
     ours = sorted(spectral_peaks(d["frequency"].values, d["amplitude"].values, n=8))
     matched = [any(abs(p - o) <= tol for o in ours) for p in peaks]
     verdict = "agree" if all(matched) else "disagree"
-    reason = (f"{sum(matched)}/5 of the paper's peaks have one of our 8 highest peaks within {tol} "
-              "(frequency resolution 0.01). Note: a period-5 motion has lines only at k/5 = 0.2, 0.4, 0.6, 0.8, "
-              "1.0, 1.2; the paper's 0.48 and 0.57 are not of that form, so its own spectrum does not fit its P5 label")
-    return Claim("fig08_peaks", "Fig. 8c", statement, paper, ", ".join(f"{v:.3g}" for v in ours) or "none",
-                 verdict, reason)
+    reason = (
+        f"{sum(matched)}/5 of the paper's peaks have one of our 8 highest peaks within {tol} "
+        "(frequency resolution 0.01). Note: a period-5 motion has lines only at k/5 = 0.2, 0.4, 0.6, 0.8, "
+        "1.0, 1.2; the paper's 0.48 and 0.57 are not of that form, so its own spectrum does not fit its P5 label"
+    )
+    return Claim(
+        "fig08_peaks", "Fig. 8c", statement, paper, ", ".join(f"{v:.3g}" for v in ours) or "none", verdict, reason
+    )
 
 
 def first_non(values: np.ndarray, labels: np.ndarray, want: int) -> float:
@@ -198,24 +230,45 @@ def first_non(values: np.ndarray, labels: np.ndarray, want: int) -> float:
     return float(values[bad[0]]) if bad.size else float("inf")
 
 
-def claims(paper: ModuleType, closed_graph: xr.Dataset, stiffness: xr.Dataset, fig07: xr.Dataset, fig09: xr.Dataset,
-           fig11: xr.Dataset, fig08_points: xr.Dataset | None = None,
-           p1_amplitude: Mapping[str, np.ndarray] | None = None) -> list[Claim]:
+def claims(
+    paper: ModuleType,
+    closed_graph: xr.Dataset,
+    stiffness: xr.Dataset,
+    fig07: xr.Dataset,
+    fig09: xr.Dataset,
+    fig11: xr.Dataset,
+    fig08_points: xr.Dataset | None = None,
+    p1_amplitude: Mapping[str, np.ndarray] | None = None,
+) -> list[Claim]:
     """The list of claims of ``paper`` (:mod:`geardyn.papers.li2013`) from the pipeline's cubes;
     ``p1_amplitude`` = {"x1": ..., "ptp": ...} peak-to-peak X_VH of dense runs in the paper's P1 range
     (optional).  The verdicts are those of :func:`evaluate` on the cubes' labelled sweeps."""
-    return evaluate(paper, track_of_cube(fig07), tracks_of_cube(fig09, paper.CASE_X1),
-                    tracks_of_cube(fig11, paper.CASE_X1), closed_graph, stiffness, fig08_points, p1_amplitude)
+    return evaluate(
+        paper,
+        track_of_cube(fig07),
+        tracks_of_cube(fig09, paper.CASE_X1),
+        tracks_of_cube(fig11, paper.CASE_X1),
+        closed_graph,
+        stiffness,
+        fig08_points,
+        p1_amplitude,
+    )
 
 
 def _missing(cid: str, fig: str, statement: str, paper_value: str) -> Claim:
     return Claim(cid, fig, statement, paper_value, "not evaluated", "not comparable", "input not given")
 
 
-def evaluate(paper: ModuleType, fig07: Track, fig09: Mapping[float, Track], fig11: Mapping[float, Track],
-             closed_graph: xr.Dataset | None = None, stiffness: xr.Dataset | None = None,
-             fig08_points: xr.Dataset | None = None,
-             p1_amplitude: Mapping[str, np.ndarray] | None = None) -> list[Claim]:
+def evaluate(
+    paper: ModuleType,
+    fig07: Track,
+    fig09: Mapping[float, Track],
+    fig11: Mapping[float, Track],
+    closed_graph: xr.Dataset | None = None,
+    stiffness: xr.Dataset | None = None,
+    fig08_points: xr.Dataset | None = None,
+    p1_amplitude: Mapping[str, np.ndarray] | None = None,
+) -> list[Claim]:
     """The claims of ``paper`` from labelled 1-D sweeps: the one function behind ``claims.md`` and the
     calibration objective.  ``fig07``: the x1 sweep at the paper's b and e; ``fig09`` / ``fig11``:
     {x1: Track} of the b and e sweeps at the paper's three x1.  Inputs that are not given make
@@ -225,32 +278,48 @@ def evaluate(paper: ModuleType, fig07: Track, fig09: Mapping[float, Track], fig1
     # --- Fig. 3: M and N --------------------------------------------------------------------
     if closed_graph is None:
         for pt, (px1, px2) in paper.POINTS.items():
-            out.append(_missing(f"fig03_{pt}", "Fig. 3", f"limit point {pt} = ({px1}, {px2}) lies on line 4",
-                                f"x2 = {px2:.3f}"))
+            out.append(
+                _missing(
+                    f"fig03_{pt}", "Fig. 3", f"limit point {pt} = ({px1}, {px2}) lies on line 4", f"x2 = {px2:.3f}"
+                )
+            )
     else:
         for k, pt in enumerate(closed_graph["point"].values):
             px1 = float(closed_graph["paper_x1"].values[k])
             px2 = float(closed_graph["paper_x2"].values[k])
             cx2 = float(closed_graph["computed_x2"].values[k])
             res = cx2 - px2
-            out.append(Claim(f"fig03_{pt}", "Fig. 3", f"limit point {pt} = ({px1}, {px2}) lies on line 4",
-                             f"x2 = {px2:.3f}", f"x2 = {cx2:.5f} on G_s = 0 at x1 = {px1}",
-                             "agree" if abs(res) <= tol else "disagree",
-                             f"residual {res:+.5f} (paper prints 3 decimals: agree within {tol:g})"))
+            out.append(
+                Claim(
+                    f"fig03_{pt}",
+                    "Fig. 3",
+                    f"limit point {pt} = ({px1}, {px2}) lies on line 4",
+                    f"x2 = {px2:.3f}",
+                    f"x2 = {cx2:.5f} on G_s = 0 at x1 = {px1}",
+                    "agree" if abs(res) <= tol else "disagree",
+                    f"residual {res:+.5f} (paper prints 3 decimals: agree within {tol:g})",
+                )
+            )
     # --- stiffness falling with x1 --------------------------------------------------------------
     if stiffness is None:
-        out.append(_missing("stiffness_falls", "Sec. 4.1", "meshing stiffness becomes small as x1 increases",
-                            "falls"))
+        out.append(_missing("stiffness_falls", "Sec. 4.1", "meshing stiffness becomes small as x1 increases", "falls"))
     else:
         km = stiffness["k_mean"].values
         kc = stiffness["k_c"].values
         x1s = stiffness["x1"].values
         frac_down = float(np.mean(np.diff(km) < 0))
-        out.append(Claim("stiffness_falls", "Sec. 4.1", "meshing stiffness becomes small as x1 increases",
-                         "falls", f"k_mean {km[0]:.4g} -> {km[-1]:.4g} N/m ({100 * (km[-1] / km[0] - 1):+.1f} %), "
-                         f"k_C {100 * (kc[-1] / kc[0] - 1):+.1f} %, x1 {x1s[0]:.3f} -> {x1s[-1]:.3f}",
-                         "agree" if frac_down == 1.0 else "disagree",
-                         f"k_mean falls at {100 * frac_down:.0f} % of the {len(km) - 1} steps along M-N"))
+        out.append(
+            Claim(
+                "stiffness_falls",
+                "Sec. 4.1",
+                "meshing stiffness becomes small as x1 increases",
+                "falls",
+                f"k_mean {km[0]:.4g} -> {km[-1]:.4g} N/m ({100 * (km[-1] / km[0] - 1):+.1f} %), "
+                f"k_C {100 * (kc[-1] / kc[0] - 1):+.1f} %, x1 {x1s[0]:.3f} -> {x1s[-1]:.3f}",
+                "agree" if frac_down == 1.0 else "disagree",
+                f"k_mean falls at {100 * frac_down:.0f} % of the {len(km) - 1} steps along M-N",
+            )
+        )
     # --- Fig. 7: the regime sequence along x1 -------------------------------------------------
     v, lab = fig07.values, fig07.labels
     seen: dict[int, int] = {}
@@ -267,11 +336,18 @@ def evaluate(paper: ModuleType, fig07: Track, fig09: Mapping[float, Track], fig1
             if p1_amplitude is not None and len(p1_amplitude["x1"]) > 2:
                 xa, ptp = np.asarray(p1_amplitude["x1"]), np.asarray(p1_amplitude["ptp"])
                 falls, steps = int(np.sum(np.diff(ptp) < 0)), len(ptp) - 1
-                out.append(Claim("fig07_amplitude", "Fig. 7", statement,
-                                 "decreasing", f"peak-to-peak X_VH {ptp[0]:.3g} -> {ptp[-1]:.3g} over x1 {xa[0]:.3f}-"
-                                 f"{xa[-1]:.3f}", fraction_verdict(falls, steps),
-                                 f"falls at {100 * falls / steps:.0f} % of {steps} steps (dense runs, recorded periods;"
-                                 f" {_band(falls, steps)})"))
+                out.append(
+                    Claim(
+                        "fig07_amplitude",
+                        "Fig. 7",
+                        statement,
+                        "decreasing",
+                        f"peak-to-peak X_VH {ptp[0]:.3g} -> {ptp[-1]:.3g} over x1 {xa[0]:.3f}-{xa[-1]:.3f}",
+                        fraction_verdict(falls, steps),
+                        f"falls at {100 * falls / steps:.0f} % of {steps} steps (dense runs, recorded periods;"
+                        f" {_band(falls, steps)})",
+                    )
+                )
             else:
                 out.append(_missing("fig07_amplitude", "Fig. 7", statement, "decreasing"))
     for fig, x1, label in paper.FIG08_POINTS:
@@ -282,8 +358,18 @@ def evaluate(paper: ModuleType, fig07: Track, fig09: Mapping[float, Track], fig1
     for fig, x1, label in paper.FIG10_LABELS:
         want = code(label)
         t = fig09[float(x1)]
-        out.append(point_claim(f"fig09_b{b_at:g}_x1_{x1}", f"Fig. {fig}", f"b = {b_at:g}, x1 = {x1}: {_NAMES[want]}",
-                               t.values, t.labels, b_at, want, t))
+        out.append(
+            point_claim(
+                f"fig09_b{b_at:g}_x1_{x1}",
+                f"Fig. {fig}",
+                f"b = {b_at:g}, x1 = {x1}: {_NAMES[want]}",
+                t.values,
+                t.labels,
+                b_at,
+                want,
+                t,
+            )
+        )
     ok, parts = [], []
     for x1 in paper.CASE_X1:
         t = fig09[float(x1)]
@@ -293,18 +379,35 @@ def evaluate(paper: ModuleType, fig07: Track, fig09: Mapping[float, Track], fig1
         starts_p1 = lb[0] == P1
         ok.append(bool(starts_p1 and np.isfinite(first_chaos)))
         parts.append(f"x1={x1}: starts {_name(lb[0])}, first chaos at b = {first_chaos:.3g}, last P1 at {last_p1:.3g}")
-    out.append(Claim("fig09_route", "Fig. 9", "the response turns from P1 into chaos as b increases (each x1)",
-                     "P1 at small b, chaos at larger b", "; ".join(parts),
-                     "agree" if all(ok) else "disagree",
-                     f"{sum(ok)}/{len(ok)} cases start P1 (b = 0) and reach chaos somewhere in the sweep"))
+    out.append(
+        Claim(
+            "fig09_route",
+            "Fig. 9",
+            "the response turns from P1 into chaos as b increases (each x1)",
+            "P1 at small b, chaos at larger b",
+            "; ".join(parts),
+            "agree" if all(ok) else "disagree",
+            f"{sum(ok)}/{len(ok)} cases start P1 (b = 0) and reach chaos somewhere in the sweep",
+        )
+    )
     # --- Fig. 11 (TE amplitude) ------------------------------------------------------------------
     e_at = paper.FIG12_E
     for fig, x1, label in paper.FIG12_LABELS:
         want = code(label)
         t = fig11[float(x1)]
         text = _NAMES[want] if want == P1 else "quasi-periodic or chaotic"
-        out.append(point_claim(f"fig11_e{e_at:g}_x1_{x1}", f"Fig. {fig}", f"e = {e_at:g}, x1 = {x1}: {text}",
-                               t.values, t.labels, e_at, want, t))
+        out.append(
+            point_claim(
+                f"fig11_e{e_at:g}_x1_{x1}",
+                f"Fig. {fig}",
+                f"e = {e_at:g}, x1 = {x1}: {text}",
+                t.values,
+                t.labels,
+                e_at,
+                want,
+                t,
+            )
+        )
     ok, parts, sync = [], [], []
     for x1 in paper.CASE_X1:
         t = fig11[float(x1)]
@@ -315,24 +418,41 @@ def evaluate(paper: ModuleType, fig07: Track, fig09: Mapping[float, Track], fig1
         first_ch = ve[le == CHAOS].min() if (le == CHAOS).any() else np.inf
         ok.append(bool(le[0] == P1 and np.isfinite(first_ch) and first_qp <= first_ch))
         parts.append(f"x1={x1}: leaves P1 at e = {end_p1:.3g}, first QP {first_qp:.3g}, first chaos {first_ch:.3g}")
-    out.append(Claim("fig11_route", "Fig. 11", "as e grows the response goes P1 -> quasi-periodic -> chaos",
-                     "P1, then QP, then chaos", "; ".join(parts), "agree" if all(ok) else "disagree",
-                     f"{sum(ok)}/{len(ok)} cases show P1 first, then QP no later than the first chaos"))
+    out.append(
+        Claim(
+            "fig11_route",
+            "Fig. 11",
+            "as e grows the response goes P1 -> quasi-periodic -> chaos",
+            "P1, then QP, then chaos",
+            "; ".join(parts),
+            "agree" if all(ok) else "disagree",
+            f"{sum(ok)}/{len(ok)} cases show P1 first, then QP no later than the first chaos",
+        )
+    )
     narrower = all(a > b for a, b in zip(sync, sync[1:], strict=False))
-    out.append(Claim("fig11_sync_range", "Fig. 11", "the range of synchronous motion narrows as x1 increases",
-                     "narrower for larger x1", "leaves P1 (from e = 0) at e = " + ", ".join(
-                         f"{s:.3g} (x1={x})" for s, x in zip(sync, paper.CASE_X1, strict=True)),
-                     "agree" if narrower else "disagree",
-                     "first e where the label leaves P1, compared across the paper's three x1 (inf: P1 throughout)"))
+    out.append(
+        Claim(
+            "fig11_sync_range",
+            "Fig. 11",
+            "the range of synchronous motion narrows as x1 increases",
+            "narrower for larger x1",
+            "leaves P1 (from e = 0) at e = "
+            + ", ".join(f"{s:.3g} (x1={x})" for s, x in zip(sync, paper.CASE_X1, strict=True)),
+            "agree" if narrower else "disagree",
+            "first e where the label leaves P1, compared across the paper's three x1 (inf: P1 throughout)",
+        )
+    )
     return out
 
 
 def note(design: str, title: str) -> str:
     """The paragraph under the claims table's title: which design, how the labels were obtained."""
-    return (f"Design `{design}` ({title}). Labels: the labeller's verdicts stored in the sweep cubes (geardyn.label: "
-            "each point follows the attractor of the previous one; period-n certified by shooting and its Floquet "
-            "multipliers, QP by the torus test, chaos by a positive exponent the torus test confirms). Paper labels "
-            "compared: P1 = synchronous, QP, P5, P6, chaos.")
+    return (
+        f"Design `{design}` ({title}). Labels: the labeller's verdicts stored in the sweep cubes (geardyn.label: "
+        "each point follows the attractor of the previous one; period-n certified by shooting and its Floquet "
+        "multipliers, QP by the torus test, chaos by a positive exponent the torus test confirms). Paper labels "
+        "compared: P1 = synchronous, QP, P5, P6, chaos."
+    )
 
 
 def counts(rows: list[Claim]) -> dict[str, int]:
@@ -361,9 +481,13 @@ def to_csv(rows: list[Claim]) -> str:
 
 
 def to_markdown(rows: list[Claim], design: str, note: str = "") -> str:
-    lines = [f"# Paper 1 claims checked: design `{design}`", "",
-             f"**{headline(rows)}** (of {len(rows)} claims; borderline: a fraction within "
-             f"{BORDERLINE_Z:g} binomial standard errors of its threshold).", ""]
+    lines = [
+        f"# Paper 1 claims checked: design `{design}`",
+        "",
+        f"**{headline(rows)}** (of {len(rows)} claims; borderline: a fraction within "
+        f"{BORDERLINE_Z:g} binomial standard errors of its threshold).",
+        "",
+    ]
     if note:
         lines += [note, ""]
     lines += ["| id | figure | statement | paper | ours | verdict | reason |", "|---|---|---|---|---|---|---|"]

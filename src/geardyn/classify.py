@@ -73,9 +73,14 @@ def label_name(n: int) -> str:
 
 def short_name(n: int) -> str:
     """Compact label: P1, P5, QP, chaos, div, undet."""
-    return {LABELS["diverged"]: "div", LABELS["undetermined"]: "undet", LABELS["chaotic"]: "chaos",
-            LABELS["long_period"]: "Plong",
-            LABELS["quasi_periodic"]: "QP", 0: "NP"}.get(int(n), f"P{int(n)}")
+    return {
+        LABELS["diverged"]: "div",
+        LABELS["undetermined"]: "undet",
+        LABELS["chaotic"]: "chaos",
+        LABELS["long_period"]: "Plong",
+        LABELS["quasi_periodic"]: "QP",
+        0: "NP",
+    }.get(int(n), f"P{int(n)}")
 
 
 def flag_attrs(max_n: int = 12) -> dict:
@@ -94,8 +99,9 @@ def flag_attrs(max_n: int = 12) -> dict:
 # ----------------------------------------------------------------------------------------
 
 
-def lyapunov_estimate(growth: np.ndarray, period: float, skip: int | None = None,
-                      blocks: int = 8) -> tuple[float, float]:
+def lyapunov_estimate(
+    growth: np.ndarray, period: float, skip: int | None = None, blocks: int = 8
+) -> tuple[float, float]:
     """Largest Lyapunov exponent (per unit dimensionless time) and its uncertainty.
 
     ``growth[k]``: log growth of the renormalised tangent vector over mesh period k.  The first
@@ -246,8 +252,14 @@ def strict_period(p: np.ndarray, settings: ClassifierSettings = ClassifierSettin
     q = np.ascontiguousarray(p, dtype=float)
     if q.shape[0] == 0:
         raise ValueError("strict_period needs at least one Poincaré point")
-    n, _ = rule3(q, settings.max_n, settings.atol, settings.rtol, settings.error_margin * settings.error_floor,
-                 settings.separation)
+    n, _ = rule3(
+        q,
+        settings.max_n,
+        settings.atol,
+        settings.rtol,
+        settings.error_margin * settings.error_floor,
+        settings.separation,
+    )
     return n
 
 
@@ -268,9 +280,14 @@ def _converging_period(p: np.ndarray, rate: float, max_n: int, tol: float) -> in
     return 0
 
 
-def classify_point(poincare: np.ndarray, growth: np.ndarray, period: float, diverged: bool = False,
-                   settings: ClassifierSettings = ClassifierSettings(),
-                   samples: np.ndarray | None = None) -> Classification:
+def classify_point(
+    poincare: np.ndarray,
+    growth: np.ndarray,
+    period: float,
+    diverged: bool = False,
+    settings: ClassifierSettings = ClassifierSettings(),
+    samples: np.ndarray | None = None,
+) -> Classification:
     """Label one point from its Poincaré points (n, 6) and its tangent growth per period.
 
     ``samples``: a longer stroboscopic series of X_VH for the 0-1 test and the spectrum (default:
@@ -321,19 +338,35 @@ def classify_point(poincare: np.ndarray, growth: np.ndarray, period: float, dive
         agree = int(k_chaos) + int(broad)
         if agree:
             return Classification(LABELS["chaotic"], 0, lam, sig, k01, flat, int(agree == 2), "positive exponent")
-        return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, 0,
-                              "positive exponent, but 0-1 test and spectrum say regular")
+        return Classification(
+            LABELS["undetermined"],
+            0,
+            lam,
+            sig,
+            k01,
+            flat,
+            0,
+            "positive exponent, but 0-1 test and spectrum say regular",
+        )
     if lam < -(settings.lam_tol + 2 * sig):
         n = _converging_period(p, lam * period, settings.max_n, tol)
         if n > 0:
             return Classification(n, n, lam, sig, k01, flat, -1, f"negative exponent, converging to period {n}")
-        return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, -1,
-                              "negative exponent, transient not settled (or period > max_n)")
+        return Classification(
+            LABELS["undetermined"],
+            0,
+            lam,
+            sig,
+            k01,
+            flat,
+            -1,
+            "negative exponent, transient not settled (or period > max_n)",
+        )
     if abs(lam) <= settings.lam_tol and sig <= settings.lam_tol:
         agree = int(not k_chaos) + int(not broad)
         if agree:
-            return Classification(LABELS["quasi_periodic"], 0, lam, sig, k01, flat, int(agree == 2),
-                                  "zero exponent")
-        return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, 0,
-                              "zero exponent, but 0-1 test and spectrum say chaotic")
+            return Classification(LABELS["quasi_periodic"], 0, lam, sig, k01, flat, int(agree == 2), "zero exponent")
+        return Classification(
+            LABELS["undetermined"], 0, lam, sig, k01, flat, 0, "zero exponent, but 0-1 test and spectrum say chaotic"
+        )
     return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, -1, "exponent not resolved")

@@ -23,15 +23,14 @@ from geardyn.config import ConfigError, load_design_dict
 
 
 def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
-    from geardyn.khv import design
     from geardyn.gears import geometry
+    from geardyn.khv import design
 
     spec = design.from_dict(raw, path, check=False)
     pair = spec.base
     derived = geometry.describe(pair, cutter=spec.cutter)
     values = geometry.constraints(pair, min_tip_thickness=spec.min_tip_thickness, cutter=spec.cutter)
-    failed = design.violated_constraints(pair, spec.min_tip_thickness, spec.enforce_cutter_constraints,
-                                         spec.cutter)
+    failed = design.violated_constraints(pair, spec.min_tip_thickness, spec.enforce_cutter_constraints, spec.cutter)
     problem = design.meshing_problem(pair)
     try:
         mesh = None if problem else design.mesh_properties(spec, pair.x1)
@@ -47,17 +46,33 @@ def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
     return {
         "design": spec.name,
         "kind": "khv",
-        "pair": {"z1": pair.z1, "z2": pair.z2, "module_mm": pair.module, "x1": pair.x1, "x2": pair.x2,
-                 "pressure_angle_deg": pair.pressure_angle_deg, "addendum": pair.addendum,
-                 "clearance": pair.clearance, "facewidth_mm": pair.facewidth},
+        "pair": {
+            "z1": pair.z1,
+            "z2": pair.z2,
+            "module_mm": pair.module,
+            "x1": pair.x1,
+            "x2": pair.x2,
+            "pressure_angle_deg": pair.pressure_angle_deg,
+            "addendum": pair.addendum,
+            "clearance": pair.clearance,
+            "facewidth_mm": pair.facewidth,
+        },
         "x2_source": "line 4 (G_s = 0)" if spec.x2_on_line4 else "fixed in design",
         "geometry": {k: v for k, v in derived.items() if not k.startswith("margin_")},
         "constraints (>= 0 is satisfied)": values,
-        "stiffness": ({"options": spec.stiffness.label, "q_mm_um_per_N": mesh.q,
-                       "k_C_N_per_um": mesh.k_c / 1e6, "k_prime_N_per_um": mesh.k_prime / 1e6,
-                       "k_mean_N_per_um": mesh.k_mean / 1e6, "k_min_N_per_um": mesh.k_min / 1e6,
-                       "contact_ratio": mesh.contact_ratio} if mesh is not None
-                      else {"not computed": problem}),
+        "stiffness": (
+            {
+                "options": spec.stiffness.label,
+                "q_mm_um_per_N": mesh.q,
+                "k_C_N_per_um": mesh.k_c / 1e6,
+                "k_prime_N_per_um": mesh.k_prime / 1e6,
+                "k_mean_N_per_um": mesh.k_mean / 1e6,
+                "k_min_N_per_um": mesh.k_min / 1e6,
+                "contact_ratio": mesh.contact_ratio,
+            }
+            if mesh is not None
+            else {"not computed": problem}
+        ),
         "admissible_segment": segment,
         "violated": failed,
     }
@@ -91,13 +106,18 @@ def _plus_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
     freqs = {}
     for cond in ("I", "II", "III"):
         md = modal.modes(plus, cond)
-        f = [float(v) for v in md.freq_hz[md.n_rigid:]]
+        f = [float(v) for v in md.freq_hz[md.n_rigid :]]
         freqs[cond] = ", ".join(f"{v:.1f}" for v in f[:6])
-    return {"design": plus.name, "kind": "plus_planetary", "paper": plus.paper or "none",
-            "teeth (sun, inner planet, outer planet, ring)": f"{plus.sun.teeth}, {plus.planet_p.teeth}, "
-                                                              f"{plus.planet_d.teeth}, {plus.ring.teeth}",
-            "planets": plus.n_planets, "module_mm": plus.module * 1e3,
-            "first natural frequencies (Hz)": freqs}
+    return {
+        "design": plus.name,
+        "kind": "plus_planetary",
+        "paper": plus.paper or "none",
+        "teeth (sun, inner planet, outer planet, ring)": f"{plus.sun.teeth}, {plus.planet_p.teeth}, "
+        f"{plus.planet_d.teeth}, {plus.ring.teeth}",
+        "planets": plus.n_planets,
+        "module_mm": plus.module * 1e3,
+        "first natural frequencies (Hz)": freqs,
+    }
 
 
 def check_design(path: str, as_json: bool) -> int:

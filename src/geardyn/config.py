@@ -79,8 +79,9 @@ class _Loader(yaml.SafeLoader):
             key = self.construct_object(key_node, deep=deep)
             line = key_node.start_mark.line + 1
             if key in seen:
-                raise ConfigError(f"duplicate key {key!r} at line {line} (first at line {seen[key]}): each key may "
-                                  "appear once")
+                raise ConfigError(
+                    f"duplicate key {key!r} at line {line} (first at line {seen[key]}): each key may appear once"
+                )
             seen[key] = line
         return super().construct_mapping(node, deep=deep)
 
@@ -88,11 +89,14 @@ class _Loader(yaml.SafeLoader):
 _Loader.yaml_implicit_resolvers = {k: list(v) for k, v in yaml.SafeLoader.yaml_implicit_resolvers.items()}
 _Loader.add_implicit_resolver(
     "tag:yaml.org,2002:float",
-    re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?(?:[eE][-+]?[0-9]+)
+    re.compile(
+        r"""^(?:[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?(?:[eE][-+]?[0-9]+)
                    |[-+]?\.[0-9_]+(?:[eE][-+]?[0-9]+)?
                    |[-+]?(?:[0-9][0-9_]*)\.[0-9_]*
                    |[-+]?\.(?:inf|Inf|INF)
-                   |\.(?:nan|NaN|NAN))$""", re.X),
+                   |\.(?:nan|NaN|NAN))$""",
+        re.X,
+    ),
     list("-+0123456789."),
 )
 
@@ -109,7 +113,7 @@ def read_yaml(path: str | Path) -> Any:
     except OSError as err:
         raise ConfigError(f"{path}: cannot read ({err.strerror})") from None
     try:
-        data = yaml.load(text, Loader=_Loader)  # noqa: S506 - a SafeLoader subclass
+        data = yaml.load(text, Loader=_Loader)
     except ConfigError as err:
         raise ConfigError(f"{path}: {err}") from None
     except yaml.YAMLError as err:
@@ -143,8 +147,9 @@ def expanded_size(data: Any, where: str = "input", sizes: dict[int, int] | None 
         if key in sizes:
             return sizes[key]
         if key in open_ids:
-            raise ConfigError(f"{where}: an alias refers to a mapping or list that contains it: a structure "
-                              "may not contain itself")
+            raise ConfigError(
+                f"{where}: an alias refers to a mapping or list that contains it: a structure may not contain itself"
+            )
         open_ids.add(key)
         children = list(node.values()) if isinstance(node, dict) else node
         total = 1 + sum(size(child) for child in children)
@@ -172,14 +177,21 @@ def check_expanded_size(data: Any, where: str) -> None:
             top, key = max(sized, key=lambda item: item[0])
             if top > MAX_EXPANDED_VALUES:
                 path, n = [key], top
-        raise ConfigError(f"{where}: expanded size of {_key(path)} = {n} values (YAML aliases counted in full) is not "
-                          f"allowed: at most {MAX_EXPANDED_VALUES} values")
+        raise ConfigError(
+            f"{where}: expanded size of {_key(path)} = {n} values (YAML aliases counted in full) is not "
+            f"allowed: at most {MAX_EXPANDED_VALUES} values"
+        )
 
 
 #: How each JSON Schema bound reads in an error message, in the order it is printed.
 _BOUND_TEXT = (
-    ("minimum", ">= {}"), ("exclusiveMinimum", "> {}"), ("maximum", "<= {}"), ("exclusiveMaximum", "< {}"),
-    ("minItems", "with at least {} items"), ("maxItems", "with at most {} items"), ("pattern", "matching {}"),
+    ("minimum", ">= {}"),
+    ("exclusiveMinimum", "> {}"),
+    ("maximum", "<= {}"),
+    ("exclusiveMaximum", "< {}"),
+    ("minItems", "with at least {} items"),
+    ("maxItems", "with at most {} items"),
+    ("pattern", "matching {}"),
 )
 
 
@@ -193,8 +205,14 @@ def allowed_text(node: Mapping[str, Any]) -> str:
         if key in node:
             return " or ".join(allowed_text(sub) for sub in node[key])
     kind = node.get("type", "value")
-    kind = {"integer": "integer", "number": "number", "string": "string", "boolean": "true/false",
-            "array": "list", "object": "mapping"}.get(kind, str(kind))
+    kind = {
+        "integer": "integer",
+        "number": "number",
+        "string": "string",
+        "boolean": "true/false",
+        "array": "list",
+        "object": "mapping",
+    }.get(kind, str(kind))
     bounds = [text.format(node[key]) for key, text in _BOUND_TEXT if key in node]
     return kind + (" " + " and ".join(bounds) if bounds else "")
 
@@ -222,8 +240,9 @@ def _format(error: jsonschema.ValidationError, where: str) -> str:
     # point at the schema node of the offending value (the property, not the sub-branch of anyOf)
     value_node = _node_for(error)
     desc = value_node.get("description", "")
-    return (f"{where}: {key} = {error.instance!r} is not allowed: {allowed_text(value_node)}"
-            + (f" ({desc})" if desc else ""))
+    return f"{where}: {key} = {error.instance!r} is not allowed: {allowed_text(value_node)}" + (
+        f" ({desc})" if desc else ""
+    )
 
 
 def _node_for(error: jsonschema.ValidationError) -> Mapping[str, Any]:
@@ -267,8 +286,7 @@ def validate(data: Any, schema_name: str, where: str) -> dict[str, Any]:
     if data is None:
         raise ConfigError(f"{where}: the file is empty; expected a mapping of keys to values")
     if not isinstance(data, dict):
-        raise ConfigError(f"{where}: expected a mapping of keys to values at the top level, got "
-                          f"{_kind_of(data)}")
+        raise ConfigError(f"{where}: expected a mapping of keys to values at the top level, got {_kind_of(data)}")
     check_expanded_size(data, where)
     _refuse_non_finite(data, where)
     sch = schema(schema_name)
@@ -294,7 +312,8 @@ def settings_from(cls: type, spec: Mapping[str, Any] | None, what: str) -> Any:
 
 def _kind_of(value: Any) -> str:
     return {list: "a list", str: "a string", int: "a number", float: "a number", bool: "true/false"}.get(
-        type(value), type(value).__name__)
+        type(value), type(value).__name__
+    )
 
 
 def _refuse_non_finite(node: Any, where: str, path: tuple[Any, ...] = ()) -> None:
@@ -317,6 +336,7 @@ def load_design_dict(path: str | Path) -> dict[str, Any]:
         raise ConfigError(f"{where}: expected a mapping with a 'kind' key at the top level")
     kind = data.get("kind")
     if not isinstance(kind, str) or kind not in DESIGN_SCHEMAS:
-        raise ConfigError(f"{where}: kind = {kind!r} is not allowed: one of "
-                          + ", ".join(repr(k) for k in DESIGN_SCHEMAS))
+        raise ConfigError(
+            f"{where}: kind = {kind!r} is not allowed: one of " + ", ".join(repr(k) for k in DESIGN_SCHEMAS)
+        )
     return validate(data, DESIGN_SCHEMAS[kind], where)

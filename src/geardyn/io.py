@@ -37,7 +37,9 @@ ZLIB_LEVEL = 1
 #: The packages whose versions every output records (distribution names).
 PROVENANCE_PACKAGES = ("numpy", "scipy", "numba", "llvmlite", "xarray", "netCDF4", "snakemake")
 #: /proc/cpuinfo flags that name SIMD instruction sets (the ones that can change floating-point results).
-_SIMD_FLAG = re.compile(r"^(mmx|sse\w*|ssse3|avx\w*|fma\w*|f16c|amx\w*|\w*vnni\w*|vaes|vpclmulqdq|gfni|neon|asimd\w*|sve\w*)$")
+_SIMD_FLAG = re.compile(
+    r"^(mmx|sse\w*|ssse3|avx\w*|fma\w*|f16c|amx\w*|\w*vnni\w*|vaes|vpclmulqdq|gfni|neon|asimd\w*|sve\w*)$"
+)
 
 
 def _package_version(name: str) -> str:
@@ -59,7 +61,11 @@ def _cpuinfo() -> tuple[str, list[str]]:
     for line in text.splitlines():
         key, _, value = line.partition(":")
         key = key.strip()
-        if key in ("model name", "Model", "cpu model") and model in ("unknown", platform.machine(), platform.processor()):
+        if key in ("model name", "Model", "cpu model") and model in (
+            "unknown",
+            platform.machine(),
+            platform.processor(),
+        ):
             model = value.strip()
         elif key in ("flags", "Features") and not flags:
             flags = sorted(f for f in value.split() if _SIMD_FLAG.match(f))
@@ -75,15 +81,17 @@ def _numpy_cpu() -> dict[str, str]:
         from numpy.core import _multiarray_umath as mu  # type: ignore[no-redef]
     found = getattr(mu, "__cpu_features__", {})
     dispatch = [f for f in getattr(mu, "__cpu_dispatch__", []) if found.get(f)]
-    out = {"numpy_cpu_baseline": " ".join(getattr(mu, "__cpu_baseline__", [])),
-           "numpy_cpu_dispatch": " ".join(dispatch) or "none"}
+    out = {
+        "numpy_cpu_baseline": " ".join(getattr(mu, "__cpu_baseline__", [])),
+        "numpy_cpu_dispatch": " ".join(dispatch) or "none",
+    }
     out["numpy_blas_core"] = _openblas_core("numpy", "scipy_openblas_get_corename64_")
     out["scipy_blas_core"] = _openblas_core("scipy", "scipy_openblas_get_corename")
     try:
         cfg = np.show_config(mode="dicts")["Build Dependencies"]
         out["numpy_blas"] = " ".join(str(cfg["blas"].get(k, "")) for k in ("name", "version")).strip()
         out["numpy_lapack"] = " ".join(str(cfg["lapack"].get(k, "")) for k in ("name", "version")).strip()
-    except Exception:  # noqa: BLE001 - numpy without build information: say so
+    except Exception:
         out["numpy_blas"] = out["numpy_lapack"] = "unknown"
     return out
 
@@ -97,8 +105,9 @@ def _openblas_core(package: str, symbol: str) -> str:
     spec = importlib.util.find_spec(package)
     if spec is None or not spec.submodule_search_locations:
         return "unknown"
-    libs = glob.glob(os.path.join(next(iter(spec.submodule_search_locations)), "..", f"{package}.libs",
-                                  "libscipy_openblas*.so"))
+    libs = glob.glob(
+        os.path.join(next(iter(spec.submodule_search_locations)), "..", f"{package}.libs", "libscipy_openblas*.so")
+    )
     try:
         lib = ctypes.CDLL(libs[0])  # already loaded by the package: the same handle
         fn = getattr(lib, symbol)
@@ -128,9 +137,22 @@ def _numba_cpu() -> dict[str, str]:
 
 
 #: The keys of :func:`runtime_provenance` (besides ``env_<VARIABLE>`` for the overrides that are set).
-RUNTIME_KEYS = ("python_version", "python_implementation", *(f"{p.lower()}_version" for p in PROVENANCE_PACKAGES),
-                "platform", "cpu_model", "cpu_simd_flags", "numpy_cpu_baseline", "numpy_cpu_dispatch", "numpy_blas",
-                "numpy_lapack", "numpy_blas_core", "scipy_blas_core", "numba_cpu_name", "numba_cpu_features")
+RUNTIME_KEYS = (
+    "python_version",
+    "python_implementation",
+    *(f"{p.lower()}_version" for p in PROVENANCE_PACKAGES),
+    "platform",
+    "cpu_model",
+    "cpu_simd_flags",
+    "numpy_cpu_baseline",
+    "numpy_cpu_dispatch",
+    "numpy_blas",
+    "numpy_lapack",
+    "numpy_blas_core",
+    "scipy_blas_core",
+    "numba_cpu_name",
+    "numba_cpu_features",
+)
 
 
 def runtime_of(attrs: Mapping[str, Any]) -> dict[str, str]:
@@ -157,8 +179,13 @@ def runtime_provenance() -> dict[str, str]:
     out.update({"platform": platform.platform(), "cpu_model": model, "cpu_simd_flags": " ".join(flags) or "unknown"})
     out.update(_numpy_cpu())
     out.update(_numba_cpu())
-    for var in ("NPY_DISABLE_CPU_FEATURES", "NUMBA_CPU_NAME", "NUMBA_CPU_FEATURES", "NUMBA_FASTMATH",
-                "OPENBLAS_CORETYPE"):
+    for var in (
+        "NPY_DISABLE_CPU_FEATURES",
+        "NUMBA_CPU_NAME",
+        "NUMBA_CPU_FEATURES",
+        "NUMBA_FASTMATH",
+        "OPENBLAS_CORETYPE",
+    ):
         if os.environ.get(var):
             out[f"env_{var}"] = os.environ[var]
     assert set(out) - {k for k in out if k.startswith("env_")} == set(RUNTIME_KEYS)
@@ -169,6 +196,8 @@ def provenance_text(prefix: str = "") -> str:
     """:func:`runtime_provenance` (with geardyn version and git commit) as ``key: value`` lines."""
     info = {"geardyn_version": __version__, "git_commit": git_commit(), **runtime_provenance()}
     return "".join(f"{prefix}{k}: {v}\n" for k, v in info.items())
+
+
 def config_hash(config: Mapping[str, Any]) -> str:
     """Short sha256 of a configuration mapping, independent of key order."""
     text = json.dumps(config, sort_keys=True, default=_json_default)
@@ -189,7 +218,11 @@ def git_commit(repo: str | os.PathLike[str] | None = None) -> str:
     try:
         out = subprocess.run(
             ["git", "describe", "--always", "--dirty", "--abbrev=12"],
-            cwd=where, capture_output=True, text=True, timeout=10, check=True,
+            cwd=where,
+            capture_output=True,
+            text=True,
+            timeout=10,
+            check=True,
         )
         return out.stdout.strip() or "unknown"
     except (OSError, subprocess.SubprocessError):
@@ -205,7 +238,7 @@ def provenance(
     extra: Mapping[str, Any] | None = None,
 ) -> dict[str, str]:
     """Global attributes for a dataset: CF basics plus where and how it was made."""
-    now = _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
+    now = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     attrs: dict[str, str] = {
         "Conventions": CONVENTIONS,
         "title": title,
@@ -328,7 +361,7 @@ def netcdf_problem(path: str | os.PathLike[str]) -> str | None:
             nc.set_auto_mask(False)
             for var in nc.variables.values():
                 var[...]
-    except Exception as err:  # noqa: BLE001 - any failure to read back is the answer
+    except Exception as err:
         text = str(err).splitlines()[0] if str(err) else ""
         return f"does not read back ({type(err).__name__}: {text})"
     return None
@@ -401,7 +434,7 @@ def read_provenance_text(text: str) -> dict[str, str]:
     start = text.rfind("<!-- provenance\n")
     if start < 0:
         return {}
-    body = text[start + len("<!-- provenance\n"):text.find("-->", start)]
+    body = text[start + len("<!-- provenance\n") : text.find("-->", start)]
     return dict(line.split(": ", 1) for line in body.splitlines() if ": " in line)
 
 
@@ -436,8 +469,9 @@ def read_chunks(paths: list[str] | tuple[str, ...]) -> list[xr.Dataset]:
     moved = set_aside_damaged(list(paths))
     if moved:
         problems = ", ".join(moved)
-        raise ValueError(f"damaged chunk(s) {problems} set aside as .damaged; run the same command again to "
-                         "recompute them")
+        raise ValueError(
+            f"damaged chunk(s) {problems} set aside as .damaged; run the same command again to recompute them"
+        )
     parts = []
     for path in paths:
         with xr.open_dataset(path) as ds:

@@ -97,4 +97,6 @@ cbrt = _lift1(math.cbrt)
 power = _lift2(_safe(math.pow))
 
 for _name, _np in (("arcsin", "asin"), ("arccos", "acos"), ("arctan", "atan"), ("arctan2", "atan2"), ("power", "pow")):
-    globals()[_name].__doc__ = f"``math.{_np}`` element by element (C library, the same on every CPU); NaN outside the domain."
+    globals()[
+        _name
+    ].__doc__ = f"``math.{_np}`` element by element (C library, the same on every CPU); NaN outside the domain."

@@ -19,15 +19,30 @@ from geardyn.config import ConfigError, schema, validate
 KINDS = {"khv": "khv.schema.json", "plus": "plus_planetary.schema.json"}
 
 
-def admissible_segment(z1: int, z2: int, module: float, pressure_angle_deg: float = 20.0, addendum: float = 1.0,
-                       clearance: float = 0.25, min_tip_thickness: float = 0.25) -> tuple[float, float]:
+def admissible_segment(
+    z1: int,
+    z2: int,
+    module: float,
+    pressure_angle_deg: float = 20.0,
+    addendum: float = 1.0,
+    clearance: float = 0.25,
+    min_tip_thickness: float = 0.25,
+) -> tuple[float, float]:
     """The longest x1 interval on line 4 (G_s = 0) where every cutter-independent constraint holds,
     trimmed by 2 % of its length at each end (x1 on a 0.002 grid from -1 to 2)."""
     from geardyn.gears import geometry as geo
     from geardyn.khv.closed_graph import CUTTER_DEPENDENT
 
-    base = geo.GearPair(z1=z1, z2=z2, module=module, x1=0.0, x2=0.0, pressure_angle_deg=pressure_angle_deg,
-                        addendum=addendum, clearance=clearance)
+    base = geo.GearPair(
+        z1=z1,
+        z2=z2,
+        module=module,
+        x1=0.0,
+        x2=0.0,
+        pressure_angle_deg=pressure_angle_deg,
+        addendum=addendum,
+        clearance=clearance,
+    )
     x1 = np.round(np.arange(-1.0, 2.0005, 0.002), 6)
 
     def on_line4(v: float) -> float:
@@ -53,8 +68,9 @@ def admissible_segment(z1: int, z2: int, module: float, pressure_angle_deg: floa
                 best = (start, i - 1)
             start = None
     if best[1] <= best[0]:
-        raise ConfigError(f"z1 = {z1}, z2 = {z2}, m = {module}: no part of line 4 satisfies every constraint; "
-                          "choose another pair")
+        raise ConfigError(
+            f"z1 = {z1}, z2 = {z2}, m = {module}: no part of line 4 satisfies every constraint; choose another pair"
+        )
     lo, hi = float(x1[best[0]]), float(x1[best[1]])
     trim = 0.02 * (hi - lo)
     return round(lo + trim, 4), round(hi - trim, 4)
@@ -63,16 +79,24 @@ def admissible_segment(z1: int, z2: int, module: float, pressure_angle_deg: floa
 def khv_design(name: str, z1: int = 40, z2: int = 43, module: float = 2.0) -> dict[str, Any]:
     """The validated dict of a new KHV design (see the module docstring)."""
     lo, hi = admissible_segment(z1, z2, module)
-    raw = {"kind": "khv", "name": name, "title": f"KHV drive z1 = {z1}, z2 = {z2}, m = {module} mm", "paper": None,
-           "pair": {"z1": z1, "z2": z2, "module": module, "x1": round(0.5 * (lo + hi), 4), "x2": "line4"},
-           "admissible": {"x1_min": lo, "x1_max": hi, "enforce_cutter_constraints": False}}
+    raw = {
+        "kind": "khv",
+        "name": name,
+        "title": f"KHV drive z1 = {z1}, z2 = {z2}, m = {module} mm",
+        "paper": None,
+        "pair": {"z1": z1, "z2": z2, "module": module, "x1": round(0.5 * (lo + hi), 4), "x2": "line4"},
+        "admissible": {"x1_min": lo, "x1_max": hi, "enforce_cutter_constraints": False},
+    }
     return validate(raw, KINDS["khv"], name)
 
 
 def plus_design(name: str) -> dict[str, Any]:
     """The validated dict of a new plus-set design: the schema's defaults under a name of your own."""
-    return validate({"kind": "plus_planetary", "name": name, "title": f"Plus planetary set {name}", "paper": None},
-                    KINDS["plus"], name)
+    return validate(
+        {"kind": "plus_planetary", "name": name, "title": f"Plus planetary set {name}", "paper": None},
+        KINDS["plus"],
+        name,
+    )
 
 
 def _scalar(value: Any) -> str:
@@ -95,12 +119,16 @@ def _emit(data: dict[str, Any], node: dict[str, Any], indent: int, lines: list[s
 
 def render(raw: dict[str, Any], kind: str) -> str:
     """YAML text of a design dict, every key followed by its schema description as a comment."""
-    header = [f"# Design {raw['name']}: written by `geardyn new-design --kind {kind}`.",
-              "# Every value below is an example or a default: replace it with your drive's. It names no paper,",
-              "# so its results are compared with none. Check it with `geardyn check-design <this file>`."]
+    header = [
+        f"# Design {raw['name']}: written by `geardyn new-design --kind {kind}`.",
+        "# Every value below is an example or a default: replace it with your drive's. It names no paper,",
+        "# so its results are compared with none. Check it with `geardyn check-design <this file>`.",
+    ]
     if kind == "khv":
-        header.append("# admissible: computed from the geometry (line 4, every cutter-independent constraint, "
-                      "2 % inside its ends).")
+        header.append(
+            "# admissible: computed from the geometry (line 4, every cutter-independent constraint, "
+            "2 % inside its ends)."
+        )
     lines: list[str] = []
     _emit(raw, schema(KINDS[kind]), 0, lines)
     return "\n".join(header + lines) + "\n"

@@ -48,10 +48,14 @@ class Files(list):
 class Job:
     """What a script reads from ``snakemake``: input, output, params, wildcards and log."""
 
-    def __init__(self, input: Mapping[str, Any] | Sequence[Any] | None = None,  # noqa: A002 - Snakemake's name
-                 output: Mapping[str, Any] | Sequence[Any] | None = None,
-                 params: Mapping[str, Any] | None = None, wildcards: Mapping[str, Any] | None = None,
-                 log: Sequence[Any] | None = None) -> None:
+    def __init__(
+        self,
+        input: Mapping[str, Any] | Sequence[Any] | None = None,
+        output: Mapping[str, Any] | Sequence[Any] | None = None,
+        params: Mapping[str, Any] | None = None,
+        wildcards: Mapping[str, Any] | None = None,
+        log: Sequence[Any] | None = None,
+    ) -> None:
         self.input = Files(_strings(input))
         self.output = Files(_strings(output))
         self.params = Files(params or {})

@@ -18,8 +18,7 @@ from typing import Any
 
 import jsonschema
 
-from geardyn.config import (ConfigError, allowed_text, check_expanded_size, load_design_dict, read_yaml, schema,
-                            validate)
+from geardyn.config import ConfigError, allowed_text, check_expanded_size, load_design_dict, read_yaml, schema, validate
 from geardyn.khv import design as khv_design
 
 
@@ -30,8 +29,9 @@ def read_config_file(path: str | Path) -> dict[str, Any]:
     if data is None:
         raise ConfigError(f"{path}: the file is empty; expected a mapping with a 'designs' key")
     if not isinstance(data, dict):
-        raise ConfigError(f"{path}: expected a mapping with a 'designs' key at the top level, got "
-                          f"{type(data).__name__}")
+        raise ConfigError(
+            f"{path}: expected a mapping with a 'designs' key at the top level, got {type(data).__name__}"
+        )
     return data
 
 
@@ -52,7 +52,9 @@ def check_design(raw: dict[str, Any], where: str) -> None:
         plus_design.design_from_dict(raw, where)
 
 
-def validate_workflow(config: dict[str, Any], root: str | Path = ".") -> tuple[dict[str, Any], dict[str, dict[str, Any]]]:
+def validate_workflow(
+    config: dict[str, Any], root: str | Path = "."
+) -> tuple[dict[str, Any], dict[str, dict[str, Any]]]:
     """Validate the workflow config and every design it lists, before any job runs.
 
     Returns the config with presets resolved and defaults filled (:func:`fill_config`; every
@@ -86,9 +88,11 @@ NAME_PATTERN = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_-]*")
 #: Sections whose keys are names.
 NAMED_SECTIONS = ("designs", "presets", "sweeps", "points", "calibration", "maps")
 #: Blocks a preset may hold, per section that may name one.
-PRESET_KEYS = {"sweeps": ("integration", "classifier", "start_from", "coexistence"),
-               "maps": ("integration", "classifier", "start_from", "coexistence"),
-               "calibration": ("integration", "classifier")}
+PRESET_KEYS = {
+    "sweeps": ("integration", "classifier", "start_from", "coexistence"),
+    "maps": ("integration", "classifier", "start_from", "coexistence"),
+    "calibration": ("integration", "classifier"),
+}
 
 #: Measured Poincare error of the event RK4 integrator (units of b_c) per steps_per_period: the
 #: work-precision study (``python -m geardyn.bench``; docs/model.md Sec. 6). A classifier's
@@ -105,9 +109,11 @@ def poincare_error(steps: int, where: str) -> float:
         return POINCARE_ERROR[steps]
     known = sorted(POINCARE_ERROR)
     if not known[0] < steps < known[-1]:
-        raise ConfigError(f"{where} = {steps} is not allowed without classifier.error_floor: integer >= "
-                          f"{known[0]} and <= {known[-1]} (the step counts of the measured Poincare error, "
-                          "docs/model.md Sec. 6); set classifier.error_floor for other step counts")
+        raise ConfigError(
+            f"{where} = {steps} is not allowed without classifier.error_floor: integer >= "
+            f"{known[0]} and <= {known[-1]} (the step counts of the measured Poincare error, "
+            "docs/model.md Sec. 6); set classifier.error_floor for other step counts"
+        )
     hi = next(k for k in known if k > steps)
     lo = known[known.index(hi) - 1]
     t = (math.log(steps) - math.log(lo)) / (math.log(hi) - math.log(lo))
@@ -136,7 +142,8 @@ def fill_config(config: dict[str, Any], where: str = "config") -> dict[str, Any]
             steps = spec["integration"].get("steps_per_period")
             if "error_floor" not in spec["classifier"] and steps is not None:
                 spec["classifier"]["error_floor"] = poincare_error(
-                    steps, f"{where}: {section}.{name}.integration.steps_per_period")
+                    steps, f"{where}: {section}.{name}.integration.steps_per_period"
+                )
     return filled
 
 
@@ -149,14 +156,20 @@ def _check_names(config: Mapping[str, Any], where: str) -> None:
             shown = repr(text if len(text) <= 80 else text[:40] + "..." + text[-20:])
             prefix = f"{where}: {section} name {shown}"
             if section == "designs" and (text in SELECTOR_WORDS or text.startswith("paper:")):
-                raise ConfigError(f"{prefix} is not allowed: a name other than the selector words "
-                                  + ", ".join(repr(w) for w in SELECTOR_WORDS) + " and 'paper:<key>'")
+                raise ConfigError(
+                    f"{prefix} is not allowed: a name other than the selector words "
+                    + ", ".join(repr(w) for w in SELECTOR_WORDS)
+                    + " and 'paper:<key>'"
+                )
             if len(text) > MAX_NAME_LENGTH:
-                raise ConfigError(f"{prefix} ({len(text)} characters) is not allowed: at most "
-                                  f"{MAX_NAME_LENGTH} characters")
+                raise ConfigError(
+                    f"{prefix} ({len(text)} characters) is not allowed: at most {MAX_NAME_LENGTH} characters"
+                )
             if not NAME_PATTERN.fullmatch(text):
-                raise ConfigError(f"{prefix} is not allowed: letters, digits, _ and - (not first) only; the "
-                                  "name becomes part of file paths")
+                raise ConfigError(
+                    f"{prefix} is not allowed: letters, digits, _ and - (not first) only; the "
+                    "name becomes part of file paths"
+                )
 
 
 def _resolve_presets(config: dict[str, Any], presets: Mapping[str, Any], where: str) -> dict[str, Any]:
@@ -170,8 +183,11 @@ def _resolve_presets(config: dict[str, Any], presets: Mapping[str, Any], where: 
                 continue
             chosen = spec.pop("preset")
             if chosen not in presets:
-                allowed = ("one of " + ", ".join(repr(p) for p in presets) if presets
-                           else "the name of an entry of presets, and the config has none")
+                allowed = (
+                    "one of " + ", ".join(repr(p) for p in presets)
+                    if presets
+                    else "the name of an entry of presets, and the config has none"
+                )
                 raise ConfigError(f"{where}: {section}.{name}.preset = {chosen!r} is not allowed: {allowed}")
             raw_preset = (config.get("presets") or {})[chosen]
             for key in keys:
@@ -190,28 +206,42 @@ def _check_maps(config: Mapping[str, Any], where: str) -> None:
     for name, spec in config["maps"].items():
         x, y = spec["x"], spec["y"]
         if x["parameter"] == y["parameter"]:
-            raise ConfigError(f"{where}: maps.{name}.y.parameter = {y['parameter']!r} is not allowed: a parameter "
-                              f"other than x.parameter ({x['parameter']!r}); a map spans two parameters")
+            raise ConfigError(
+                f"{where}: maps.{name}.y.parameter = {y['parameter']!r} is not allowed: a parameter "
+                f"other than x.parameter ({x['parameter']!r}); a map spans two parameters"
+            )
         for ax, a in (("x", x), ("y", y)):
             if a["start"] == a["stop"]:
-                raise ConfigError(f"{where}: maps.{name}.{ax}.stop = {a['stop']!r} is not allowed: a value "
-                                  f"other than {ax}.start ({a['start']!r}); an axis spans a range")
+                raise ConfigError(
+                    f"{where}: maps.{name}.{ax}.stop = {a['stop']!r} is not allowed: a value "
+                    f"other than {ax}.start ({a['start']!r}); an axis spans a range"
+                )
 
 
 def _fill_error_floors(filled: dict[str, Any], designs: Mapping[str, Mapping[str, Any]]) -> None:
     """Every classifier ``error_floor`` still unset: the measured Poincare error (:func:`poincare_error`)
     at the steps per period of the designs the run selects (the largest error when they differ)."""
-    default_steps = schema("dynamics.schema.json")["properties"]["integration"]["properties"]["steps_per_period"]["default"]
+    default_steps = schema("dynamics.schema.json")["properties"]["integration"]["properties"]["steps_per_period"][
+        "default"
+    ]
     for section in PRESET_KEYS:
         for name, spec in filled[section].items():
             if "error_floor" in spec["classifier"]:
                 continue
             selector = spec["designs"] if "designs" in spec else [spec["design"]]
-            floors = [poincare_error(designs[d]["dynamics"]["integration"]["steps_per_period"],
-                                     f"config: {section}.{name}: design {d}'s dynamics.integration.steps_per_period")
-                      for d in selected_designs(selector, designs) if d in designs]
-            spec["classifier"]["error_floor"] = max(floors) if floors else poincare_error(
-                default_steps, f"config: {section}.{name}: dynamics.integration.steps_per_period")
+            floors = [
+                poincare_error(
+                    designs[d]["dynamics"]["integration"]["steps_per_period"],
+                    f"config: {section}.{name}: design {d}'s dynamics.integration.steps_per_period",
+                )
+                for d in selected_designs(selector, designs)
+                if d in designs
+            ]
+            spec["classifier"]["error_floor"] = (
+                max(floors)
+                if floors
+                else poincare_error(default_steps, f"config: {section}.{name}: dynamics.integration.steps_per_period")
+            )
 
 
 #: The control parameters of :mod:`geardyn.khv` (``khv.CONTROLS``) with the values a run may give them,
@@ -221,8 +251,12 @@ CONTROL_LIMITS: dict[str, dict[str, Any]] = {
     "x1": {"type": "number", "minimum": -1.0, "maximum": 2.0, "description": "planet profile-shift coefficient x1 (-)"},
     "b": {"type": "number", "minimum": 0, "maximum": 1000, "description": "half backlash b (um)"},
     "e": {"type": "number", "minimum": 0, "maximum": 1000, "description": "transmission-error amplitude e (um)"},
-    "w": {"type": "number", "exclusiveMinimum": 0, "maximum": 100,
-          "description": "dimensionless mesh frequency w_m / w_n (-)"},
+    "w": {
+        "type": "number",
+        "exclusiveMinimum": 0,
+        "maximum": 100,
+        "description": "dimensionless mesh frequency w_m / w_n (-)",
+    },
     "speed": {"type": "number", "exclusiveMinimum": 0, "maximum": 1000000, "description": "input speed (rpm)"},
 }
 
@@ -244,7 +278,9 @@ def _check_value(key: str, value: Any, where: str) -> None:
     node = _override_node(key, where)
     if not jsonschema.Draft202012Validator(node).is_valid(value):
         desc = node.get("description", "")
-        raise ConfigError(f"{where}: {key} = {value!r} is not allowed: {allowed_text(node)}" + (f" ({desc})" if desc else ""))
+        raise ConfigError(
+            f"{where}: {key} = {value!r} is not allowed: {allowed_text(node)}" + (f" ({desc})" if desc else "")
+        )
 
 
 def _check_range(rng: Mapping[str, Any], where: str) -> None:
@@ -281,8 +317,9 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
         _check_range(filled["closed_graph"][axis], f"config: closed_graph.{axis}")
     for i, x1 in enumerate(filled["stiffness_table"]["fig05_x1"]):
         for name in khv:
-            _check_x1(resolve_fractions(x1, _segment(designs[name])), designs[name],
-                      f"config: stiffness_table.fig05_x1[{i}]")
+            _check_x1(
+                resolve_fractions(x1, _segment(designs[name])), designs[name], f"config: stiffness_table.fig05_x1[{i}]"
+            )
     for section in ("sweeps", "points", "calibration", "maps"):
         for name, spec in filled.get(section, {}).items():
             where = f"config: {section}.{name}"
@@ -290,35 +327,51 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
             _no_fraction_but_x1(spec, where)
             for design_name in selected_designs(selector, designs):
                 if design_name not in designs or designs[design_name]["kind"] != "khv":
-                    raise ConfigError(f"{where}: design {design_name!r} is not allowed: one of "
-                                      + ", ".join(repr(d) for d in khv))
+                    raise ConfigError(
+                        f"{where}: design {design_name!r} is not allowed: one of " + ", ".join(repr(d) for d in khv)
+                    )
                 raw = designs[design_name]
                 if section == "calibration" and not raw.get("paper"):
-                    raise ConfigError(f"{where}: design {design_name!r} names no paper: a calibration fits a "
-                                      "design's unknowns to its paper's results (set 'paper:' in the design file)")
+                    raise ConfigError(
+                        f"{where}: design {design_name!r} names no paper: a calibration fits a "
+                        "design's unknowns to its paper's results (set 'paper:' in the design file)"
+                    )
                 _check_overrides(section, resolve_fractions(spec, _segment(raw)), raw, where)
     for name, spec in filled.get("orbits", {}).items():
         where = f"config: orbits.{name}"
         if name not in filled["sweeps"]:
-            raise ConfigError(f"{where}: {name!r} is not allowed: the name of a sweep, one of "
-                              + (", ".join(repr(s) for s in filled["sweeps"]) or "none"))
+            raise ConfigError(
+                f"{where}: {name!r} is not allowed: the name of a sweep, one of "
+                + (", ".join(repr(s) for s in filled["sweeps"]) or "none")
+            )
         swept = selected_designs(filled["sweeps"][name]["designs"], designs)
         for design_name in selected_designs(spec["designs"], designs):
             if design_name not in swept:
-                raise ConfigError(f"{where}: design {design_name!r} is not allowed: one of "
-                                  + ", ".join(repr(d) for d in swept) + f" (the designs of sweep {name})")
+                raise ConfigError(
+                    f"{where}: design {design_name!r} is not allowed: one of "
+                    + ", ".join(repr(d) for d in swept)
+                    + f" (the designs of sweep {name})"
+                )
     for design_name in filled["claims"]["designs"]:
         where = "config: claims.designs"
         if design_name not in designs or designs[design_name].get("paper") != "li2013":
-            raise ConfigError(f"{where}: design {design_name!r} is not allowed: one of "
-                              + (", ".join(repr(d) for d in khv if designs[d].get("paper") == "li2013") or "none")
-                              + " (the claims are paper 1's: the design must name paper: li2013)")
-        for needed, section in (("fig07_bifurcation_x1", "sweeps"), ("fig09_bifurcation_b", "sweeps"),
-                                ("fig11_bifurcation_e", "sweeps"), ("fig08_points_x1", "points")):
+            raise ConfigError(
+                f"{where}: design {design_name!r} is not allowed: one of "
+                + (", ".join(repr(d) for d in khv if designs[d].get("paper") == "li2013") or "none")
+                + " (the claims are paper 1's: the design must name paper: li2013)"
+            )
+        for needed, section in (
+            ("fig07_bifurcation_x1", "sweeps"),
+            ("fig09_bifurcation_b", "sweeps"),
+            ("fig11_bifurcation_e", "sweeps"),
+            ("fig08_points_x1", "points"),
+        ):
             spec = filled[section].get(needed)
             if spec is None or design_name not in selected_designs(spec["designs"], designs):
-                raise ConfigError(f"{where}: design {design_name!r} needs {section}.{needed} to run for it "
-                                  "(the claims are checked on that run)")
+                raise ConfigError(
+                    f"{where}: design {design_name!r} needs {section}.{needed} to run for it "
+                    "(the claims are checked on that run)"
+                )
 
 
 def _no_fraction_but_x1(spec: Mapping[str, Any], where: str) -> None:
@@ -335,8 +388,9 @@ def _no_fraction_but_x1(spec: Mapping[str, Any], where: str) -> None:
             for i, v in enumerate(node):
                 walk(v, key, f"{path}[{i}]")
         elif is_fraction(node) and key != "x1":
-            raise ConfigError(f"{path} = {node!r} is not allowed: a number (percentages of the admissible "
-                              "segment are for x1 only)")
+            raise ConfigError(
+                f"{path} = {node!r} is not allowed: a number (percentages of the admissible segment are for x1 only)"
+            )
 
     walk(spec, None, where)
 
@@ -344,14 +398,17 @@ def _no_fraction_but_x1(spec: Mapping[str, Any], where: str) -> None:
 def _check_x1(value: float, raw: dict[str, Any], where: str) -> None:
     lo, hi = raw["admissible"]["x1_min"], raw["admissible"]["x1_max"]
     if not lo - 1e-12 <= value <= hi + 1e-12:
-        raise ConfigError(f"{where}: x1 = {value} is not allowed: number >= {lo} and "
-                          f"<= {hi} (the admissible segment of design {raw['name']})")
+        raise ConfigError(
+            f"{where}: x1 = {value} is not allowed: number >= {lo} and "
+            f"<= {hi} (the admissible segment of design {raw['name']})"
+        )
 
 
 def _check_overrides(section: str, spec: dict[str, Any], raw: dict[str, Any], where: str) -> None:
     """Overrides of one run against one design: known keys, values in range, x1 inside the segment M-N."""
     overrides = [("fixed", spec.get("fixed", {}))] + [
-        (f"cases[{i}]", case) for i, case in enumerate(spec.get("cases", []))]
+        (f"cases[{i}]", case) for i, case in enumerate(spec.get("cases", []))
+    ]
     if section == "sweeps":
         _override_node(spec["parameter"], f"{where}.parameter")
         _check_range(spec, where)

@@ -10,5 +10,8 @@ log = logs.to_file(snakemake.log[0])
 drive = design.load(snakemake.input.design)
 cube = io.read_dataset(snakemake.input.cube)
 title = snakemake.params.spec.get("title") or snakemake.wildcards.sweep
-io.save_figure(plot_bifurcation(cube, title), snakemake.output.figure,
-               captions.bifurcation(snakemake.wildcards.sweep, cube, paper_of(drive.paper)))
+io.save_figure(
+    plot_bifurcation(cube, title),
+    snakemake.output.figure,
+    captions.bifurcation(snakemake.wildcards.sweep, cube, paper_of(drive.paper)),
+)

@@ -22,32 +22,75 @@ best, ev = calibrate.search(problem, cache, init=start, workers=snakemake.thread
 wall = time.time() - t0
 records = [ev.cache[k] for k in ev.seen]  # this search's candidates (the cache may hold others)
 # the best few again at the design's own integration settings and the default classifier
-full = calibrate.Problem(problem.design, problem.paper, problem.space, problem.grids,
-                         calibrate.Policy(calibrate.point.integration_settings(drive)), problem.fixed,
-                         problem.require)
-with calibrate.Evaluator(full, cache.with_name(f"{snakemake.wildcards.calibration}_verify_cache.jsonl"),
-                         snakemake.threads) as vev:
-    best, verified, pairs = calibrate.verified_choice(records, vev.records, spec["search"].get("verify_top", 5),
-                                                      problem.require)
-cost = {"candidates": len(records), "new evaluations": ev.new, "reused from cache": ev.reused,
-        "wall s": wall, "wall s per new candidate (all workers)": wall / max(ev.new, 1),
-        "points per candidate": problem.grids.n_points}
+full = calibrate.Problem(
+    problem.design,
+    problem.paper,
+    problem.space,
+    problem.grids,
+    calibrate.Policy(calibrate.point.integration_settings(drive)),
+    problem.fixed,
+    problem.require,
+)
+with calibrate.Evaluator(
+    full, cache.with_name(f"{snakemake.wildcards.calibration}_verify_cache.jsonl"), snakemake.threads
+) as vev:
+    best, verified, pairs = calibrate.verified_choice(
+        records, vev.records, spec["search"].get("verify_top", 5), problem.require
+    )
+cost = {
+    "candidates": len(records),
+    "new evaluations": ev.new,
+    "reused from cache": ev.reused,
+    "wall s": wall,
+    "wall s per new candidate (all workers)": wall / max(ev.new, 1),
+    "points per candidate": problem.grids.n_points,
+}
 ds = calibrate.records_dataset(records, problem.space, problem.grids)
-attrs = io.provenance(title=f"Calibration search {snakemake.wildcards.calibration}", paper=drive.paper,
-                      config={"design": drive.raw, "calibration": spec}, model_variant=drive.stiffness.label)
+attrs = io.provenance(
+    title=f"Calibration search {snakemake.wildcards.calibration}",
+    paper=drive.paper,
+    config={"design": drive.raw, "calibration": spec},
+    model_variant=drive.stiffness.label,
+)
 io.write_netcdf(ds, snakemake.output.scores, attrs)
 cost["wall s with verification"] = time.time() - t0
 result = calibrate.search_result(best, snakemake.wildcards.calibration, len(records), verified, problem.require)
-io.write_text(json.dumps({"result": result, "record": best, "verified": verified, "cost": cost,
-                          "verified_top": [{"values": a["values"], "search_score": a["score"],
-                                            "verified_score": b["score"], "verified_agree": b["agree"],
-                                            "interior": calibrate.interior(a["unit"])} for a, b in pairs]},
-                         indent=1, sort_keys=True),
-              snakemake.output.best)
+io.write_text(
+    json.dumps(
+        {
+            "result": result,
+            "record": best,
+            "verified": verified,
+            "cost": cost,
+            "verified_top": [
+                {
+                    "values": a["values"],
+                    "search_score": a["score"],
+                    "verified_score": b["score"],
+                    "verified_agree": b["agree"],
+                    "interior": calibrate.interior(a["unit"]),
+                }
+                for a, b in pairs
+            ],
+        },
+        indent=1,
+        sort_keys=True,
+    ),
+    snakemake.output.best,
+)
 name = spec["search"].get("design_name") or f"{drive.name}_calibrated"
-io.write_text(calibrate.search_design_text(Path(snakemake.input.design).read_text(), name, result),
-              snakemake.output.design)
-io.write_text(calibrate.search_table(records, problem.space, paper, best, cost, verified=verified, pairs=pairs),
-              snakemake.output.table)
-log.info("search: %d candidates (%d new), best score %.3f (%d agree), %.1f s", len(records), ev.new,
-         best["score"], best["agree"], wall)
+io.write_text(
+    calibrate.search_design_text(Path(snakemake.input.design).read_text(), name, result), snakemake.output.design
+)
+io.write_text(
+    calibrate.search_table(records, problem.space, paper, best, cost, verified=verified, pairs=pairs),
+    snakemake.output.table,
+)
+log.info(
+    "search: %d candidates (%d new), best score %.3f (%d agree), %.1f s",
+    len(records),
+    ev.new,
+    best["score"],
+    best["agree"],
+    wall,
+)

@@ -15,10 +15,15 @@ best = json.loads(Path(snakemake.input.best).read_text())["record"]
 cache = Path(snakemake.input.best).with_name(f"{snakemake.wildcards.calibration}_cache.jsonl")
 sens = spec.get("sensitivity", {})
 with calibrate.Evaluator(problem, cache, spec["search"].get("workers", 1)) as ev:
-    oat, mp, text = calibrate.sensitivity(problem, ev, best["values"], sens.get("steps", [0.02, 0.1, 0.5]),
-                                          sens.get("map_points", 7))
-attrs = io.provenance(title=f"Calibration sensitivity {snakemake.wildcards.calibration}", paper=drive.paper,
-                      config={"design": drive.raw, "calibration": spec}, model_variant=drive.stiffness.label)
+    oat, mp, text = calibrate.sensitivity(
+        problem, ev, best["values"], sens.get("steps", [0.02, 0.1, 0.5]), sens.get("map_points", 7)
+    )
+attrs = io.provenance(
+    title=f"Calibration sensitivity {snakemake.wildcards.calibration}",
+    paper=drive.paper,
+    config={"design": drive.raw, "calibration": spec},
+    model_variant=drive.stiffness.label,
+)
 io.write_netcdf(oat, snakemake.output.oat, attrs)
 io.write_netcdf(mp, snakemake.output.map, attrs)
 io.save_figure(plots.plot_tornado(oat), snakemake.output.tornado, plots.caption_tornado(oat))

@@ -22,9 +22,14 @@ for v in x1:
     ptp.append(float(np.ptp(res.states[:, 1])) if not res.diverged else float("nan"))
 # the cubes' labels, slow-transient check included (geardyn.label.settle): the labels the figures show
 # and the calibration scores
-rows = claims.claims(paper, io.read_dataset(inp.closed_graph), io.read_dataset(inp.stiffness),
-                     *(io.read_dataset(p) for p in (inp.fig07, inp.fig09, inp.fig11)),
-                     io.read_dataset(inp.fig08_points), {"x1": x1, "ptp": np.array(ptp)})
+rows = claims.claims(
+    paper,
+    io.read_dataset(inp.closed_graph),
+    io.read_dataset(inp.stiffness),
+    *(io.read_dataset(p) for p in (inp.fig07, inp.fig09, inp.fig11)),
+    io.read_dataset(inp.fig08_points),
+    {"x1": x1, "ptp": np.array(ptp)},
+)
 io.write_text(claims.to_markdown(rows, drive.name, claims.note(drive.name, drive.title)), snakemake.output.md)
 io.write_text(claims.to_csv(rows), snakemake.output.csv)
 log.info("claims: %s", claims.counts(rows))

@@ -15,7 +15,11 @@ chunk = int(snakemake.wildcards.chunk)
 warm_up(point.point_coefficients(drive))
 ds = maps.run_chunk(drive, spec, chunk)
 log.info("chunk %d: %d points in %.1f s", chunk, int(ds["computed"].sum()), ds.attrs["wall_time_s"])
-attrs = io.provenance(title=f"{spec.name} chunk {chunk}", paper=drive.paper,
-                      config={"design": drive.raw, "map": snakemake.params.spec},
-                      model_variant=drive.stiffness.label, extra={"chunk": chunk, "n_chunks": spec.n_chunks})
+attrs = io.provenance(
+    title=f"{spec.name} chunk {chunk}",
+    paper=drive.paper,
+    config={"design": drive.raw, "map": snakemake.params.spec},
+    model_variant=drive.stiffness.label,
+    extra={"chunk": chunk, "n_chunks": spec.n_chunks},
+)
 io.write_netcdf(ds, snakemake.output[0], {**ds.attrs, **attrs}, checksum=True)

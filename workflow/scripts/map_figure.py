@@ -8,5 +8,8 @@ log = logs.to_file(snakemake.log[0])
 ds = io.read_dataset(snakemake.input.cube)
 spec = snakemake.params.spec
 title = spec.get("title") or snakemake.wildcards.map
-io.save_figure(plot_map(ds, title, spec.get("cuts_x", []), spec.get("cuts_y", [])), snakemake.output.figure,
-               captions.regime_map(snakemake.wildcards.map, ds))
+io.save_figure(
+    plot_map(ds, title, spec.get("cuts_x", []), spec.get("cuts_y", [])),
+    snakemake.output.figure,
+    captions.regime_map(snakemake.wildcards.map, ds),
+)

@@ -8,7 +8,11 @@ log = logs.to_file(snakemake.log[0])
 drive = design.load(snakemake.input.design)
 parts = io.read_chunks(snakemake.input.chunks)  # a damaged chunk is refused by name, never merged
 merged = cube.merge_chunks(parts)
-attrs = io.provenance(title=f"Regime map {snakemake.wildcards.map}, {drive.title}", paper=drive.paper,
-                      config={"design": drive.raw, "map": snakemake.params.spec}, model_variant=drive.stiffness.label)
+attrs = io.provenance(
+    title=f"Regime map {snakemake.wildcards.map}, {drive.title}",
+    paper=drive.paper,
+    config={"design": drive.raw, "map": snakemake.params.spec},
+    model_variant=drive.stiffness.label,
+)
 io.write_netcdf(merged, snakemake.output[0], {**merged.attrs, **attrs})
 log.info("merged %d chunks; label shares %s", len(parts), maps.fractions(merged))

@@ -14,7 +14,10 @@ cube = io.read_dataset(snakemake.input.cube)
 branches = io.read_dataset(snakemake.input.branches)
 warm_up(point.point_coefficients(drive))
 ds = attractors.sweep_attractors(drive, spec, cube, branches, entry.get("attractors") or {})
-attrs = io.provenance(title=f"{name}: coexisting attractors", paper=drive.paper,
-                      config={"design": drive.raw, "sweep": snakemake.params.sweep, "orbits": entry},
-                      model_variant=drive.stiffness.label)
+attrs = io.provenance(
+    title=f"{name}: coexisting attractors",
+    paper=drive.paper,
+    config={"design": drive.raw, "sweep": snakemake.params.sweep, "orbits": entry},
+    model_variant=drive.stiffness.label,
+)
 io.write_netcdf(ds, snakemake.output.data, attrs)

@@ -14,8 +14,11 @@ orbits = continuation.OrbitSpec.from_config(entry)
 cube = io.read_dataset(snakemake.input.cube)
 warm_up(point.point_coefficients(drive))  # compiled kernels from numba's cache before timing starts
 ds, rows = continuation.sweep_orbits(drive, spec, cube, orbits)
-attrs = io.provenance(title=f"{name}: continued periodic orbits", paper=drive.paper,
-                      config={"design": drive.raw, "sweep": snakemake.params.sweep, "orbits": entry},
-                      model_variant=drive.stiffness.label)
+attrs = io.provenance(
+    title=f"{name}: continued periodic orbits",
+    paper=drive.paper,
+    config={"design": drive.raw, "sweep": snakemake.params.sweep, "orbits": entry},
+    model_variant=drive.stiffness.label,
+)
 io.write_netcdf(ds, snakemake.output.data, attrs)
 io.write_text(continuation.rows_to_csv(rows), snakemake.output.table)

@@ -10,8 +10,10 @@ cube = io.read_dataset(snakemake.input.cube)
 branches = io.read_dataset(snakemake.input.branches)
 title = snakemake.params.sweep.get("title") or snakemake.wildcards.sweep
 n_bif = int(branches.sizes.get("bifurcation", 0))
-caption = (f"Continued periodic orbits of sweep {snakemake.wildcards.sweep} (design {drive.name}) over its "
-           f"Poincare points (grey): solid stable, dashed unstable (Floquet multipliers from the variational "
-           f"equations); {n_bif} typed bifurcation points marked (table: "
-           f"orbits/{snakemake.wildcards.sweep}_bifurcations.csv).")
+caption = (
+    f"Continued periodic orbits of sweep {snakemake.wildcards.sweep} (design {drive.name}) over its "
+    f"Poincare points (grey): solid stable, dashed unstable (Floquet multipliers from the variational "
+    f"equations); {n_bif} typed bifurcation points marked (table: "
+    f"orbits/{snakemake.wildcards.sweep}_bifurcations.csv)."
+)
 io.save_figure(plot_branches(cube, branches, title), snakemake.output.figure, caption)

@@ -12,7 +12,17 @@ te = io.read_dataset(snakemake.input.te)
 cases = tuple(str(c) for c in te.case.values)
 res = forced.forced_response(plus, te.transmission_error.values * 1e-6, cases)
 ds = forced.to_dataset(res, plus)
-io.write_netcdf(ds, snakemake.output.data, io.provenance(title=ds.attrs["title"], paper=plus.paper, config=dict(plus.raw),
-                                                         model_variant="linear modal, modal damping, static TE excitation"))
-io.save_figure(plots.forced_response_figure(ds), snakemake.output.figure, captions.forced_response(plus, ds, paper_of(plus.paper)))
+io.write_netcdf(
+    ds,
+    snakemake.output.data,
+    io.provenance(
+        title=ds.attrs["title"],
+        paper=plus.paper,
+        config=dict(plus.raw),
+        model_variant="linear modal, modal damping, static TE excitation",
+    ),
+)
+io.save_figure(
+    plots.forced_response_figure(ds), snakemake.output.figure, captions.forced_response(plus, ds, paper_of(plus.paper))
+)
 log.info("forced response: %d speeds, %d harmonics, cases %s", ds.sizes["speed"], ds.sizes["harmonic"], cases)

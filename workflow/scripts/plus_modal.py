@@ -12,8 +12,13 @@ out = snakemake.output
 plus = design.load(snakemake.input.design)
 paper = paper_of(plus.paper)
 ds = tables.modal_dataset(plus)
-io.write_netcdf(ds, out.modal, io.provenance(title=ds.attrs["title"], paper=plus.paper, config=dict(plus.raw),
-                                             model_variant=ds.attrs["model_variant"]))
+io.write_netcdf(
+    ds,
+    out.modal,
+    io.provenance(
+        title=ds.attrs["title"], paper=plus.paper, config=dict(plus.raw), model_variant=ds.attrs["model_variant"]
+    ),
+)
 t2 = tables.frequency_table(plus)
 t5 = tables.key_element_table(plus)
 if paper is None:
@@ -27,15 +32,33 @@ else:
     sc = tables.scaling_table(plus)
     best = float(sc.uniform_factor.iloc[0])
     factors = [1.0] + [float(v) for v in tables.stiffness_comparison(plus)["ratio_to_table1"].iloc[[2, 3, 4]]] + [best]
-    fixed = pd.DataFrame([{**tables.fixed_factor_residual(plus, f), "why": why}
-                          for f, why in zip(factors, captions.FIXED_FACTOR_WHY, strict=True)])
-    scaled = tables.scaled_frequency_table(plus, best)[["condition", "order", "stiffness_factor", "freq_hz", "mode_type",
-                                                        "paper_theoretical_hz", "err_theoretical_pct",
-                                                        "err_experimental_pct"]]
+    fixed = pd.DataFrame(
+        [
+            {**tables.fixed_factor_residual(plus, f), "why": why}
+            for f, why in zip(factors, captions.FIXED_FACTOR_WHY, strict=True)
+        ]
+    )
+    scaled = tables.scaled_frequency_table(plus, best)[
+        [
+            "condition",
+            "order",
+            "stiffness_factor",
+            "freq_hz",
+            "mode_type",
+            "paper_theoretical_hz",
+            "err_theoretical_pct",
+            "err_experimental_pct",
+        ]
+    ]
     tables.write_table(sc, out.scaling_csv, None)
-    io.write_text(captions.SCALING_INTRO + tables.to_markdown(sc)
-                  + "\n## Residual against the theoretical column for given stiffness factors\n\n"
-                  + tables.to_markdown(fixed) + f"\n## Table 2 with every stiffness x {best:.3g}\n\n"
-                  + tables.to_markdown(scaled), out.scaling_md)
+    io.write_text(
+        captions.SCALING_INTRO
+        + tables.to_markdown(sc)
+        + "\n## Residual against the theoretical column for given stiffness factors\n\n"
+        + tables.to_markdown(fixed)
+        + f"\n## Table 2 with every stiffness x {best:.3g}\n\n"
+        + tables.to_markdown(scaled),
+        out.scaling_md,
+    )
     log.info("uniform stiffness factor %.3g, residual rms %.1f %%", best, float(sc.uniform_rms_pct.iloc[0]))
 log.info("first elastic frequencies (Hz): %s", t2.groupby("condition").freq_hz.first().round(1).to_dict())

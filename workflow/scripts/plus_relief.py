@@ -12,19 +12,33 @@ paper = paper_of(plus.paper)
 grid = ishikawa.design_grid(plus)
 optima = [relief.optimise(plus, shape, bounds, grid=grid) for shape in relief.SHAPES for bounds in relief.BOUND_SETS]
 for o in optima:
-    log.info("%s/%s: amount %.3f um, length %.4f mm, ptp %.3f um (%.1f %%), %d evaluations",
-             o.shape, o.bounds, o.amount * 1e6, o.length * 1e3, o.ptp * 1e6, 100 * o.reduction, o.nfev)
+    log.info(
+        "%s/%s: amount %.3f um, length %.4f mm, ptp %.3f um (%.1f %%), %d evaluations",
+        o.shape,
+        o.bounds,
+        o.amount * 1e6,
+        o.length * 1e3,
+        o.ptp * 1e6,
+        100 * o.reduction,
+        o.nfev,
+    )
 rt = tables.relief_table(optima)
 pr = tables.PAPER_RELIEF
-paper_at_ours = ishikawa.design_te(plus, relief_amount=pr["amount_mm"] * 1e-3, relief_length=pr["length_mm"] * 1e-3,
-                                   relief_shape="linear").ptp
+paper_at_ours = ishikawa.design_te(
+    plus, relief_amount=pr["amount_mm"] * 1e-3, relief_length=pr["length_mm"] * 1e-3, relief_shape="linear"
+).ptp
 rt["ours_at_this_relief_um"] = [o.ptp * 1e6 for o in optima] + [paper_at_ours * 1e6]
 if paper is None:
     rt = tables.without_paper(rt)
 tables.write_table(rt, out.optima_csv, out.optima_md, captions.relief_header(ishikawa.pd_mesh_load(plus), plus, paper))
 ds = tables.te_dataset(plus, optima)
-io.write_netcdf(ds, out.te, io.provenance(title=ds.attrs["title"], paper=plus.paper, config=dict(plus.raw),
-                                          model_variant=ds.attrs["model_variant"]))
+io.write_netcdf(
+    ds,
+    out.te,
+    io.provenance(
+        title=ds.attrs["title"], paper=plus.paper, config=dict(plus.raw), model_variant=ds.attrs["model_variant"]
+    ),
+)
 tables.write_table(tables.stiffness_comparison(plus), out.stiffness_csv, out.stiffness_md, captions.STIFFNESS_HEADER)
 lt = tables.relief_load_table(relief.load_study(plus, tuple(plus.relief.load_study_torques)))
 tables.write_table(lt, out.load_csv, out.load_md, captions.load_study_header(plus, paper))

@@ -15,6 +15,9 @@ land = io.read_dataset(snakemake.input.landscape)
 optima = pd.read_csv(snakemake.input.optima_csv)
 io.save_figure(plots.te_unmodified_figure(te), snakemake.output.fig04, captions.te_unmodified(plus, te, paper))
 io.save_figure(plots.te_relief_figure(te, paper), snakemake.output.fig09, captions.te_relief(plus, te, optima, paper))
-io.save_figure(plots.relief_landscape_figure(land, plots.landscape_markers(optima), plots.bound_boxes(plus)),
-               snakemake.output.fig09b, captions.relief_landscape(te, land, plus, optima, paper))
+io.save_figure(
+    plots.relief_landscape_figure(land, plots.landscape_markers(optima), plots.bound_boxes(plus)),
+    snakemake.output.fig09b,
+    captions.relief_landscape(te, land, plus, optima, paper),
+)
 log.info("figures written")

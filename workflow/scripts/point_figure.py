@@ -10,5 +10,8 @@ log = logs.to_file(snakemake.log[0])
 drive = design.load(snakemake.input.design)
 ds = io.read_dataset(snakemake.input.data)
 title = snakemake.params.spec.get("title") or snakemake.wildcards.points
-io.save_figure(plot_points(ds, title), snakemake.output.figure,
-               captions.points(snakemake.wildcards.points, ds, paper_of(drive.paper)))
+io.save_figure(
+    plot_points(ds, title),
+    snakemake.output.figure,
+    captions.points(snakemake.wildcards.points, ds, paper_of(drive.paper)),
+)

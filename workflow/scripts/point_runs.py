@@ -12,6 +12,10 @@ spec = design.resolve_fractions(snakemake.params.spec, drive.segment)
 warm_up(point.point_coefficients(drive))
 policy = Policy.from_spec(point.integration_settings(drive), spec)
 ds = points.dense_points(drive, spec.get("fixed", {}), spec["cases"], policy, spec["samples_per_period"])
-attrs = io.provenance(title=f"Dense runs {snakemake.wildcards.points}, {drive.title}", paper=drive.paper,
-                      config={"design": drive.raw, "points": spec}, model_variant=drive.stiffness.label)
+attrs = io.provenance(
+    title=f"Dense runs {snakemake.wildcards.points}, {drive.title}",
+    paper=drive.paper,
+    config={"design": drive.raw, "points": spec},
+    model_variant=drive.stiffness.label,
+)
 io.write_netcdf(ds, snakemake.output.data, {**ds.attrs, **attrs})

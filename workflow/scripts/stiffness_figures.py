@@ -15,7 +15,6 @@ middle = props[len(props) // 2]
 curve = mesh_table.single_tooth_curve(middle.contact_ratio, middle.k_prime)
 io.save_figure(plots.plot_single_tooth(curve), snakemake.output.fig04, plots.caption_fig04(middle, paper))
 curves = mesh_table.stiffness_table(drive, x1_values, spec["phase_points"])
-io.save_figure(plots.plot_mesh_stiffness(curves), snakemake.output.fig05,
-               plots.caption_fig05(curves, drive, paper))
+io.save_figure(plots.plot_mesh_stiffness(curves), snakemake.output.fig05, plots.caption_fig05(curves, drive, paper))
 io.save_figure(plots.plot_backlash(), snakemake.output.fig06, plots.caption_fig06(paper))
 log.info("Figs. 4-6 written for x1 = %s", x1_values)

@@ -16,7 +16,11 @@ spec = sweep.SweepSpec.from_config(snakemake.wildcards.sweep, snakemake.params.s
 chunk = int(snakemake.wildcards.chunk)
 warm_up(point.point_coefficients(drive))  # load the compiled kernels from numba's cache before timing starts
 cube = sweep.run_chunk(drive, spec, chunk)
-attrs = io.provenance(title=f"{spec.name} chunk {chunk}", paper=drive.paper,
-                      config={"design": drive.raw, "sweep": snakemake.params.spec},
-                      model_variant=drive.stiffness.label, extra={"chunk": chunk, "n_chunks": spec.n_chunks})
+attrs = io.provenance(
+    title=f"{spec.name} chunk {chunk}",
+    paper=drive.paper,
+    config={"design": drive.raw, "sweep": snakemake.params.spec},
+    model_variant=drive.stiffness.label,
+    extra={"chunk": chunk, "n_chunks": spec.n_chunks},
+)
 io.write_netcdf(cube, snakemake.output[0], attrs, checksum=True)  # Fletcher-32: damage is found before a merge

@@ -8,8 +8,11 @@ log = logs.to_file(snakemake.log[0])
 drive = design.load(snakemake.input.design)
 parts = io.read_chunks(snakemake.input.chunks)  # a damaged chunk is refused by name, never merged
 merged = cube.merge_chunks(parts)
-attrs = io.provenance(title=f"Bifurcation cube {snakemake.wildcards.sweep}, {drive.title}", paper=drive.paper,
-                      config={"design": drive.raw, "sweep": snakemake.params.spec},
-                      model_variant=drive.stiffness.label)
+attrs = io.provenance(
+    title=f"Bifurcation cube {snakemake.wildcards.sweep}, {drive.title}",
+    paper=drive.paper,
+    config={"design": drive.raw, "sweep": snakemake.params.spec},
+    model_variant=drive.stiffness.label,
+)
 io.write_netcdf(merged, snakemake.output[0], {**merged.attrs, **attrs})
 log.info("merged %d chunks into %s", len(parts), snakemake.output[0])

@@ -52,33 +52,33 @@ FloatArray = NDArray[np.float64]
 __all__ = [
     "GearPair",
     "ShaperCutter",
-    "involute",
-    "inverse_involute",
-    "with_shifts",
-    "reference_centre_distance",
-    "working_pressure_angle",
-    "working_centre_distance",
-    "centre_distance_modification",
-    "pitch_diameters",
     "base_diameters",
-    "tip_diameters",
-    "root_diameters",
-    "working_pitch_diameters",
-    "tip_pressure_angles",
-    "contact_ratio",
-    "overlap_interference",
-    "involute_interference",
-    "root_interference",
-    "undercut_margin",
-    "tip_thickness",
-    "default_cutter",
-    "trimming_interference",
-    "radial_interference",
-    "constraints",
+    "centre_distance_modification",
     "constraint_grid",
     "constraint_info",
-    "violations",
+    "constraints",
+    "contact_ratio",
+    "default_cutter",
     "describe",
+    "inverse_involute",
+    "involute",
+    "involute_interference",
+    "overlap_interference",
+    "pitch_diameters",
+    "radial_interference",
+    "reference_centre_distance",
+    "root_diameters",
+    "root_interference",
+    "tip_diameters",
+    "tip_pressure_angles",
+    "tip_thickness",
+    "trimming_interference",
+    "undercut_margin",
+    "violations",
+    "with_shifts",
+    "working_centre_distance",
+    "working_pitch_diameters",
+    "working_pressure_angle",
     "x2_on_overlap_boundary",
     "x2_on_overlap_boundary_many",
 ]
@@ -715,8 +715,9 @@ def x2_on_overlap_boundary(x1: float, base: GearPair, *, xtol: float = 1e-12) ->
     else:
         raise ValueError(f"G_s has no sign change for x1 = {x1} between x2 = {x1 - 0.5} and {hi}")
     if not (np.isfinite(g_lo) and g_lo < 0):
-        raise ValueError(f"G_s = {g_hi:.4g} > 0 already at x2 = {hi:.4g}, the first x2 at which it is defined "
-                         f"for x1 = {x1}")
+        raise ValueError(
+            f"G_s = {g_hi:.4g} > 0 already at x2 = {hi:.4g}, the first x2 at which it is defined for x1 = {x1}"
+        )
     return float(brentq(lambda x2: _gs_scalar(base, x1, x2), lo, hi, xtol=xtol, rtol=4 * np.finfo(float).eps))
 
 

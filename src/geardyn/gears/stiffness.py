@@ -17,7 +17,6 @@ Two misprints in the paper are handled here (see ``docs/paper1_choices.md``):
 from __future__ import annotations
 
 import math
-
 from dataclasses import dataclass
 from typing import Literal
 
@@ -26,7 +25,15 @@ from numpy.typing import ArrayLike, NDArray
 
 #: ISO 6336-1:2006 Table 8 (method B), coefficients of q' in mm um / N.
 ISO_C: tuple[float, ...] = (
-    0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182,
+    0.04723,
+    0.15551,
+    0.25791,
+    -0.00635,
+    -0.11654,
+    -0.00193,
+    -0.24188,
+    0.00529,
+    0.00182,
 )
 #: The same as printed in paper 1, Eq. (8): C1 = 0.04732 (a transposition).
 PRINTED_C: tuple[float, ...] = (0.04732,) + ISO_C[1:]

@@ -40,8 +40,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn import classify
 from geardyn import claims as claims_mod
+from geardyn import classify
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.label import Policy, label_lines
@@ -127,26 +127,40 @@ class Grids:
         def lin(r):
             return np.linspace(float(r["start"]), float(r["stop"]), int(r["num"]))
 
-        return cls(lin(spec["x1"]), lin(spec["b"]), lin(spec["e"]), dict(paper.FIG07_FIXED),
-                   {"e": float(paper.FIG07_FIXED["e"])}, {"b": float(paper.FIG07_FIXED["b"])},
-                   tuple(float(v) for v in paper.CASE_X1))
+        return cls(
+            lin(spec["x1"]),
+            lin(spec["b"]),
+            lin(spec["e"]),
+            dict(paper.FIG07_FIXED),
+            {"e": float(paper.FIG07_FIXED["e"])},
+            {"b": float(paper.FIG07_FIXED["b"])},
+            tuple(float(v) for v in paper.CASE_X1),
+        )
 
     @property
     def n_points(self) -> int:
         return self.x1.size + len(self.case_x1) * (self.b.size + self.e.size)
 
 
-def label_tracks(design: KHVDesign, tracks: Sequence[tuple[Mapping[str, float], str, Sequence[float]]],
-                 policy: Policy) -> list[claims_mod.Track]:
+def label_tracks(
+    design: KHVDesign, tracks: Sequence[tuple[Mapping[str, float], str, Sequence[float]]], policy: Policy
+) -> list[claims_mod.Track]:
     """Labels along each track (overrides, swept parameter, values): every track is a line of the one
     labeller (:func:`geardyn.label.label_lines`), all tracks advancing together; each point's label
     depends only on its own track."""
-    lines = [[point.point_coefficients(design, {**over, par: float(v)}) for v in values]
-             for over, par, values in tracks]
+    lines = [
+        [point.point_coefficients(design, {**over, par: float(v)}) for v in values] for over, par, values in tracks
+    ]
     out = label_lines(lines, policy)
-    return [claims_mod.Track(np.asarray(values, float), np.array([v.label for v in vs], np.int16),
-                             np.array([v.exponent for v in vs], float), np.array([v.exponent_sigma for v in vs], float))
-            for (_, _, values), vs in zip(tracks, out, strict=True)]
+    return [
+        claims_mod.Track(
+            np.asarray(values, float),
+            np.array([v.label for v in vs], np.int16),
+            np.array([v.exponent for v in vs], float),
+            np.array([v.exponent_sigma for v in vs], float),
+        )
+        for (_, _, values), vs in zip(tracks, out, strict=True)
+    ]
 
 
 @dataclass
@@ -160,13 +174,15 @@ def candidate_labels(design: KHVDesign, values: Mapping[str, float], grids: Grid
     """The labelled sweeps of one candidate (overrides ``values``)."""
     base = dict(values)
     x1s = list(grids.case_x1)
-    tracks = ([({**base, **grids.fixed07}, "x1", grids.x1)]
-              + [({**base, **grids.fixed09, "x1": x1}, "b", grids.b) for x1 in x1s]
-              + [({**base, **grids.fixed11, "x1": x1}, "e", grids.e) for x1 in x1s])
+    tracks = (
+        [({**base, **grids.fixed07}, "x1", grids.x1)]
+        + [({**base, **grids.fixed09, "x1": x1}, "b", grids.b) for x1 in x1s]
+        + [({**base, **grids.fixed11, "x1": x1}, "e", grids.e) for x1 in x1s]
+    )
     got = label_tracks(design, tracks, policy)
     f07 = got[0]
-    f09 = dict(zip(x1s, got[1:1 + len(x1s)], strict=True))
-    f11 = dict(zip(x1s, got[1 + len(x1s):], strict=True))
+    f09 = dict(zip(x1s, got[1 : 1 + len(x1s)], strict=True))
+    f11 = dict(zip(x1s, got[1 + len(x1s) :], strict=True))
     return CandidateLabels(f07, f09, f11)
 
 
@@ -198,8 +214,10 @@ def shows_route(labels: np.ndarray) -> bool:
 #: Requirements a search can place on a candidate besides its score (``search.require``): a name ->
 #: (test of a record's labels, the sentence the calibrated design's header states).
 REQUIREMENTS: dict[str, tuple[Callable[[Mapping[str, Any]], bool], str]] = {
-    "route": (lambda rec: shows_route(np.asarray(rec["fig07"])),
-              "Fig. 7 (x1 sweep, b = 2, e = 5) goes from period-1 through non-period-1 motion into chaos"),
+    "route": (
+        lambda rec: shows_route(np.asarray(rec["fig07"])),
+        "Fig. 7 (x1 sweep, b = 2, e = 5) goes from period-1 through non-period-1 motion into chaos",
+    ),
 }
 
 #: what a candidate that fails the requirement loses from its score (more than any score can be)
@@ -216,8 +234,14 @@ def ranked_score(record: Mapping[str, Any], require: str | None = None) -> float
 
 
 def paper_regime_string(paper: ModuleType) -> str:
-    return regime_string(np.array([claims_mod.code(lab) if not isinstance(claims_mod.code(lab), tuple)
-                                   else claims_mod.code(lab)[0] for _, _, lab in paper.SEQUENCE]))
+    return regime_string(
+        np.array(
+            [
+                claims_mod.code(lab) if not isinstance(claims_mod.code(lab), tuple) else claims_mod.code(lab)[0]
+                for _, _, lab in paper.SEQUENCE
+            ]
+        )
+    )
 
 
 def lcs(a: str, b: str) -> int:
@@ -236,8 +260,10 @@ def transitions(values: np.ndarray, labels: np.ndarray) -> dict[str, float]:
     lab = np.asarray(labels)
     leave = np.nonzero(lab != P1)[0]
     chaos = np.nonzero(lab == CHAOS)[0]
-    return {"leave_p1": float(values[leave[0]]) if leave.size else float("inf"),
-            "first_chaos": float(values[chaos[0]]) if chaos.size else float("inf")}
+    return {
+        "leave_p1": float(values[leave[0]]) if leave.size else float("inf"),
+        "first_chaos": float(values[chaos[0]]) if chaos.size else float("inf"),
+    }
 
 
 #: the paper's positions of the two transitions above (Sec. 4.1), and the distance that earns nothing
@@ -264,8 +290,10 @@ def score_labels(paper: ModuleType, lab: CandidateLabels) -> Score:
     # geardyn.claims.fraction_verdict) is worth half an agreeing one: one point cannot flip the search
     half = sum(claims_mod.credit(r.verdict) for r in rows if r.verdict == "borderline")
     tr = transitions(lab.fig07.values, lab.fig07.labels)
-    credit = [max(0.0, 1.0 - abs(tr[k] - PAPER_TRANSITIONS[k]) / TRANSITION_SCALE) if np.isfinite(tr[k]) else 0.0
-              for k in PAPER_TRANSITIONS]
+    credit = [
+        max(0.0, 1.0 - abs(tr[k] - PAPER_TRANSITIONS[k]) / TRANSITION_SCALE) if np.isfinite(tr[k]) else 0.0
+        for k in PAPER_TRANSITIONS
+    ]
     ours, want = regime_string(lab.fig07.labels), paper_regime_string(paper)
     credit.append(lcs(ours, want) / len(want))
     partial = float(np.mean(credit))
@@ -317,12 +345,20 @@ def evaluate_candidate(problem: Problem, unit: Sequence[float]) -> dict:
     values = problem.space.values(unit)
     lab = candidate_labels(problem.design, {**problem.fixed, **values}, problem.grids, problem.policy)
     sc = score_labels(paper, lab)
-    return {"key": cache_key(unit), "unit": [float(x) for x in unit], "values": values, "score": sc.score,
-            "agree": sc.agree, "partial": sc.partial, "transitions": sc.transitions, "order": sc.order,
-            "verdicts": {r.id: r.verdict for r in sc.rows},
-            "fig07": [int(x) for x in lab.fig07.labels],
-            "fig09": {f"{k:g}": [int(x) for x in t.labels] for k, t in lab.fig09.items()},
-            "fig11": {f"{k:g}": [int(x) for x in t.labels] for k, t in lab.fig11.items()}}
+    return {
+        "key": cache_key(unit),
+        "unit": [float(x) for x in unit],
+        "values": values,
+        "score": sc.score,
+        "agree": sc.agree,
+        "partial": sc.partial,
+        "transitions": sc.transitions,
+        "order": sc.order,
+        "verdicts": {r.id: r.verdict for r in sc.rows},
+        "fig07": [int(x) for x in lab.fig07.labels],
+        "fig09": {f"{k:g}": [int(x) for x in t.labels] for k, t in lab.fig09.items()},
+        "fig11": {f"{k:g}": [int(x) for x in t.labels] for k, t in lab.fig11.items()},
+    }
 
 
 _PROBLEM: Problem | None = None
@@ -376,8 +412,11 @@ class Evaluator:
         todo = list(dict(todo).items())
         self.reused += len(units) - len(todo)
         if todo:
-            it = (self.pool.imap(_worker, [u for _, u in todo]) if self.pool is not None
-                  else map(_worker, [u for _, u in todo]))
+            it = (
+                self.pool.imap(_worker, [u for _, u in todo])
+                if self.pool is not None
+                else map(_worker, [u for _, u in todo])
+            )
             self.cache_path.parent.mkdir(parents=True, exist_ok=True)
             with open(self.cache_path, "a") as fh:
                 for rec in it:
@@ -395,8 +434,9 @@ class Evaluator:
         return -np.array([ranked_score(r, self.problem.require) for r in recs])
 
 
-def refine(space: SearchSpace, evaluator: Evaluator, start: dict, steps: Sequence[float] = (0.1, 0.02),
-           rounds: int = 2) -> dict:
+def refine(
+    space: SearchSpace, evaluator: Evaluator, start: dict, steps: Sequence[float] = (0.1, 0.02), rounds: int = 2
+) -> dict:
     """Deterministic local refinement after the global search: in each round every unknown is moved by
     +-step (:func:`perturbed`, all moves of a round evaluated together); the best move is taken if it
     raises the score (:func:`ranked_score`), else the next smaller step is tried; stops after ``rounds``
@@ -421,9 +461,17 @@ def refine(space: SearchSpace, evaluator: Evaluator, start: dict, steps: Sequenc
     return best
 
 
-def search(problem: Problem, cache: str | Path, seed: int = 1, popsize: int = 6, maxiter: int = 4,
-           workers: int = 1, init: Sequence[Mapping[str, float]] = (), refine_steps: Sequence[float] = (0.1, 0.02),
-           refine_rounds: int = 2) -> tuple[dict, Evaluator]:
+def search(
+    problem: Problem,
+    cache: str | Path,
+    seed: int = 1,
+    popsize: int = 6,
+    maxiter: int = 4,
+    workers: int = 1,
+    init: Sequence[Mapping[str, float]] = (),
+    refine_steps: Sequence[float] = (0.1, 0.02),
+    refine_rounds: int = 2,
+) -> tuple[dict, Evaluator]:
     """Differential evolution over the unit cube of ``problem.space``, then :func:`refine` from its best;
     returns (best record, evaluator).  Only the candidates this run asked for count (the cache may hold
     others, e.g. of a sensitivity study).
@@ -441,8 +489,18 @@ def search(problem: Problem, cache: str | Path, seed: int = 1, popsize: int = 6,
     for i, v in enumerate(init):
         pop[i] = np.clip(problem.space.unit(v), 0.0, 1.0)
     with Evaluator(problem, cache, workers) as ev:
-        differential_evolution(ev, [(0.0, 1.0)] * dim, init=pop, maxiter=maxiter, seed=seed, polish=False,
-                               vectorized=True, updating="deferred", tol=0.0, atol=0.0)
+        differential_evolution(
+            ev,
+            [(0.0, 1.0)] * dim,
+            init=pop,
+            maxiter=maxiter,
+            seed=seed,
+            polish=False,
+            vectorized=True,
+            updating="deferred",
+            tol=0.0,
+            atol=0.0,
+        )
         recs = [ev.cache[k] for k in ev.seen]
         best_rec = max(recs, key=lambda r: (ranked_score(r, problem.require), interior(r["unit"])))
         if refine_rounds > 0 and refine_steps:
@@ -456,18 +514,23 @@ def interior(unit: Sequence[float]) -> float:
     return float(np.min(np.minimum(u, 1.0 - u)))
 
 
-def verified_choice(search_records: Sequence[dict], verify: Callable[[list[list[float]]], list[dict]],
-                    top: int, require: str | None = None) -> tuple[dict, dict, list[tuple[dict, dict]]]:
+def verified_choice(
+    search_records: Sequence[dict],
+    verify: Callable[[list[list[float]]], list[dict]],
+    top: int,
+    require: str | None = None,
+) -> tuple[dict, dict, list[tuple[dict, dict]]]:
     """Re-score the ``top`` best candidates of the search with ``verify`` (the design's own integration
     settings and the default classifier) and choose by (verified score, search score, distance from
     the bounds): an optimum inside the region beats an equal one on its edge.  Scores are ranked by
     :func:`ranked_score`: with ``require``, a candidate must meet it at the design's settings too.
     Returns (search record, verified record, all pairs)."""
-    order = sorted(search_records, key=lambda r: (-ranked_score(r, require), -interior(r["unit"])))[:max(1, top)]
+    order = sorted(search_records, key=lambda r: (-ranked_score(r, require), -interior(r["unit"])))[: max(1, top)]
     checked = verify([r["unit"] for r in order])
     pairs = list(zip(order, checked, strict=True))
-    best_pair = max(pairs, key=lambda p: (ranked_score(p[1], require), ranked_score(p[0], require),
-                                          interior(p[0]["unit"])))
+    best_pair = max(
+        pairs, key=lambda p: (ranked_score(p[1], require), ranked_score(p[0], require), interior(p[0]["unit"]))
+    )
     return best_pair[0], best_pair[1], pairs
 
 
@@ -475,33 +538,65 @@ def records_dataset(records: Sequence[dict], space: SearchSpace, grids: Grids) -
     """All evaluated candidates as a dataset (candidate order: order of evaluation)."""
     n = len(records)
     data: dict = {
-        "score": ("candidate", np.array([r["score"] for r in records]),
-                  {"units": "1", "long_name": "claims that agree + 0.99 * partial credit"}),
-        "agree": ("candidate", np.array([r["agree"] for r in records], np.int16),
-                  {"units": "1", "long_name": "claims that agree (of those the labels decide)"}),
-        "partial": ("candidate", np.array([r["partial"] for r in records]),
-                    {"units": "1", "long_name": "partial credit: transition positions and regime order"}),
-        "leave_p1": ("candidate", np.array([r["transitions"]["leave_p1"] for r in records]),
-                     {"units": "1", "long_name": "first x1 not P1"}),
-        "first_chaos": ("candidate", np.array([r["transitions"]["first_chaos"] for r in records]),
-                        {"units": "1", "long_name": "first chaotic x1"}),
-        "label": (("candidate", "x1"), np.array([r["fig07"] for r in records], np.int16).reshape(n, grids.x1.size),
-                  {"units": "1", "long_name": "motion label along x1 after the slow-transient check (geardyn.classify codes)"}),
+        "score": (
+            "candidate",
+            np.array([r["score"] for r in records]),
+            {"units": "1", "long_name": "claims that agree + 0.99 * partial credit"},
+        ),
+        "agree": (
+            "candidate",
+            np.array([r["agree"] for r in records], np.int16),
+            {"units": "1", "long_name": "claims that agree (of those the labels decide)"},
+        ),
+        "partial": (
+            "candidate",
+            np.array([r["partial"] for r in records]),
+            {"units": "1", "long_name": "partial credit: transition positions and regime order"},
+        ),
+        "leave_p1": (
+            "candidate",
+            np.array([r["transitions"]["leave_p1"] for r in records]),
+            {"units": "1", "long_name": "first x1 not P1"},
+        ),
+        "first_chaos": (
+            "candidate",
+            np.array([r["transitions"]["first_chaos"] for r in records]),
+            {"units": "1", "long_name": "first chaotic x1"},
+        ),
+        "label": (
+            ("candidate", "x1"),
+            np.array([r["fig07"] for r in records], np.int16).reshape(n, grids.x1.size),
+            {
+                "units": "1",
+                "long_name": "motion label along x1 after the slow-transient check (geardyn.classify codes)",
+            },
+        ),
     }
     for k, u in enumerate(space.unknowns):
-        data[u.name] = ("candidate", np.array([r["values"][u.name] for r in records]),
-                        {"units": point.units_of(u.name), "long_name": f"candidate value of {u.name}",
-                         "search_low": u.low, "search_high": u.high, "search_scale": "log" if u.log else "linear"})
-    coords = {"candidate": ("candidate", np.arange(n), {"units": "1", "long_name": "candidate (evaluation order)"}),
-              "x1": ("x1", grids.x1, {"units": "1", "long_name": "planet profile-shift coefficient x1"})}
+        data[u.name] = (
+            "candidate",
+            np.array([r["values"][u.name] for r in records]),
+            {
+                "units": point.units_of(u.name),
+                "long_name": f"candidate value of {u.name}",
+                "search_low": u.low,
+                "search_high": u.high,
+                "search_scale": "log" if u.log else "linear",
+            },
+        )
+    coords = {
+        "candidate": ("candidate", np.arange(n), {"units": "1", "long_name": "candidate (evaluation order)"}),
+        "x1": ("x1", grids.x1, {"units": "1", "long_name": "planet profile-shift coefficient x1"}),
+    }
     return xr.Dataset(data, coords=coords)
 
 
 RegimeSequence = Sequence[tuple[float, float, "int | str"]]
 
 
-def _with_values(source: str, name: str, values: Mapping[str, float],
-                 note: str = "calibrated") -> tuple[dict[str, Any], str | None]:
+def _with_values(
+    source: str, name: str, values: Mapping[str, float], note: str = "calibrated"
+) -> tuple[dict[str, Any], str | None]:
     """The source design (YAML text) renamed, titled "(calibrated)", with ``values`` written into its
     ``dynamics.parameters`` (w and speed as omega_bar and input_speed_rpm; b, e and x1 stay run values).
     Returns the design dict and the source design's name."""
@@ -528,14 +623,23 @@ def _with_values(source: str, name: str, values: Mapping[str, float],
 RESULT_PREFIX = "# search-result: "
 
 
-def search_result(record: Mapping[str, Any], spec_name: str, n_evaluations: int,
-                  verified: Mapping[str, Any] | None = None, require: str | None = None) -> dict:
+def search_result(
+    record: Mapping[str, Any],
+    spec_name: str,
+    n_evaluations: int,
+    verified: Mapping[str, Any] | None = None,
+    require: str | None = None,
+) -> dict:
     """The part of a best record a calibrated design file stores (enough to regenerate it); ``verified``:
     the same candidate re-scored at the design's own settings."""
-    out = {"search": spec_name, "evaluations": int(n_evaluations), "score": round(float(record["score"]), 6),
-           "agree": int(record["agree"]),
-           "agreeing": sorted(k for k, v in record["verdicts"].items() if v == "agree"),
-           "values": {k: float(f"{v:.6g}") for k, v in record["values"].items()}}
+    out = {
+        "search": spec_name,
+        "evaluations": int(n_evaluations),
+        "score": round(float(record["score"]), 6),
+        "agree": int(record["agree"]),
+        "agreeing": sorted(k for k, v in record["verdicts"].items() if v == "agree"),
+        "values": {k: float(f"{v:.6g}") for k, v in record["values"].items()},
+    }
     if require is not None:
         out["require"] = require
         out["meets_requirement"] = bool(REQUIREMENTS[require][0](record))
@@ -558,15 +662,23 @@ def search_design_text(source: str, name: str, result: Mapping[str, Any]) -> str
         "# CALIBRATED: the values in the search result below are fitted to the paper, not taken from it.\n"
         "# Fitted to paper 1's claims (geardyn.claims.evaluate on the labels along x1 at b = 2, e = 5 and\n"
         "# along b and e at x1 = 0.5, 0.761, 0.83; reduced integration settings, docs/calibration.md).\n"
-        + (f"# Required: {REQUIREMENTS[result['require']][1]}; among the candidates that meet it the claims\n"
-           "# decide, so it may agree on fewer claims than a search without the requirement.\n"
-           if result.get("require") else "")
+        + (
+            f"# Required: {REQUIREMENTS[result['require']][1]}; among the candidates that meet it the claims\n"
+            "# decide, so it may agree on fewer claims than a search without the requirement.\n"
+            if result.get("require")
+            else ""
+        )
         + f"# Best of {result['evaluations']} evaluated candidates: score {result['score']:.3f}, "
         f"{result['agree']} claims agree during the search: {', '.join(result['agreeing'])}.\n"
-        + (f"# Verified at the design's own settings: score {result['verified_score']:.3f}, "
-           f"{len(result['verified_agreeing'])} agree: {', '.join(result['verified_agreeing'])}.\n"
-           if "verified_score" in result else "")
-        + RESULT_PREFIX + json.dumps(result, sort_keys=True) + "\n"
+        + (
+            f"# Verified at the design's own settings: score {result['verified_score']:.3f}, "
+            f"{len(result['verified_agreeing'])} agree: {', '.join(result['verified_agreeing'])}.\n"
+            if "verified_score" in result
+            else ""
+        )
+        + RESULT_PREFIX
+        + json.dumps(result, sort_keys=True)
+        + "\n"
     )
     return header + yaml.safe_dump(data, sort_keys=False)
 
@@ -576,7 +688,7 @@ def design_text_from_file(text: str, source: str) -> str:
     import yaml
 
     line = next(ln for ln in text.splitlines() if ln.startswith(RESULT_PREFIX))
-    result = json.loads(line[len(RESULT_PREFIX):])
+    result = json.loads(line[len(RESULT_PREFIX) :])
     name = yaml.safe_load(text)["name"]
     return search_design_text(source, name, result)
 
@@ -590,41 +702,70 @@ def design_values(design: KHVDesign, space: SearchSpace) -> dict[str, float]:
     return out
 
 
-def search_table(records: Sequence[dict], space: SearchSpace, paper: ModuleType, best_rec: dict,
-                 cost: Mapping[str, float], top: int = 10, verified: dict | None = None,
-                 pairs: Sequence[tuple[dict, dict]] = ()) -> str:
+def search_table(
+    records: Sequence[dict],
+    space: SearchSpace,
+    paper: ModuleType,
+    best_rec: dict,
+    cost: Mapping[str, float],
+    top: int = 10,
+    verified: dict | None = None,
+    pairs: Sequence[tuple[dict, dict]] = (),
+) -> str:
     """Markdown: the best candidates, the best one's bands along x1 beside the paper's, its claims."""
     order = sorted(range(len(records)), key=lambda i: -records[i]["score"])[:top]
     names = space.names
-    lines = [f"# Calibration search: {len(records)} candidates scored by paper 1's claims", "",
-             "Score = claims that agree + 0.99 x partial credit (transition positions, regime order); "
-             "docs/calibration.md.", "",
-             "Cost: " + ", ".join(f"{k} {v:.3g}" for k, v in cost.items()), "",
-             "| rank | " + " | ".join(names) + " | agree | partial | leave P1 | first chaos | order | score |",
-             "|---|" + "---|" * len(names) + "---|---|---|---|---|---|"]
+    lines = [
+        f"# Calibration search: {len(records)} candidates scored by paper 1's claims",
+        "",
+        "Score = claims that agree + 0.99 x partial credit (transition positions, regime order); docs/calibration.md.",
+        "",
+        "Cost: " + ", ".join(f"{k} {v:.3g}" for k, v in cost.items()),
+        "",
+        "| rank | " + " | ".join(names) + " | agree | partial | leave P1 | first chaos | order | score |",
+        "|---|" + "---|" * len(names) + "---|---|---|---|---|---|",
+    ]
     for rank, i in enumerate(order, 1):
         r = records[i]
         vals = " | ".join(f"{r['values'][n]:.4g}" for n in names)
-        lines.append(f"| {rank} | {vals} | {r['agree']} | {r['partial']:.3f} | {r['transitions']['leave_p1']:.4g} | "
-                     f"{r['transitions']['first_chaos']:.4g} | {r['order']} | {r['score']:.3f} |")
+        lines.append(
+            f"| {rank} | {vals} | {r['agree']} | {r['partial']:.3f} | {r['transitions']['leave_p1']:.4g} | "
+            f"{r['transitions']['first_chaos']:.4g} | {r['order']} | {r['score']:.3f} |"
+        )
     if pairs:
-        lines += ["", "Verification of the best at the design's own settings (512 steps, 500 + 100 periods, default "
-                  "classifier with the slow-transient check); the chosen one has the highest verified score (ties: search score, then "
-                  "distance from the bounds):", "",
-                  "| " + " | ".join(names) + " | search score | verified score | verified agree | distance from bounds |",
-                  "|" + "---|" * (len(names) + 4)]
+        lines += [
+            "",
+            "Verification of the best at the design's own settings (512 steps, 500 + 100 periods, default "
+            "classifier with the slow-transient check); the chosen one has the highest verified score (ties: search score, then "
+            "distance from the bounds):",
+            "",
+            "| " + " | ".join(names) + " | search score | verified score | verified agree | distance from bounds |",
+            "|" + "---|" * (len(names) + 4),
+        ]
         for a, b in pairs:
-            lines.append("| " + " | ".join(f"{a['values'][n]:.4g}" for n in names) +
-                         f" | {a['score']:.3f} | {b['score']:.3f} | {b['agree']} | {interior(a['unit']):.3f} |")
+            lines.append(
+                "| "
+                + " | ".join(f"{a['values'][n]:.4g}" for n in names)
+                + f" | {a['score']:.3f} | {b['score']:.3f} | {b['agree']} | {interior(a['unit']):.3f} |"
+            )
     rec = verified if verified is not None else best_rec
-    lines += ["", f"Paper's transitions along x1: {', '.join(f'{t:g}' for t in paper.TRANSITIONS)}; "
-              f"paper's regime order {paper_regime_string(paper)} (1 = P1, Q = QP, n = period > 1, C = chaos).", "",
-              f"Chosen candidate: leaves P1 at x1 = {rec['transitions']['leave_p1']:.4g}, first chaos at "
-              f"{rec['transitions']['first_chaos']:.4g}, regime order {rec['order']}.", "",
-              "Chosen candidate's claims verdicts (search settings; verified settings; static claims and those that "
-              "need dense runs are not evaluated here):", "",
-              "| claim | search | verified |", "|---|---|---|"]
-    lines += [f"| {k} | {v} | {(verified or {}).get('verdicts', {}).get(k, '-')} |" for k, v in best_rec["verdicts"].items()]
+    lines += [
+        "",
+        f"Paper's transitions along x1: {', '.join(f'{t:g}' for t in paper.TRANSITIONS)}; "
+        f"paper's regime order {paper_regime_string(paper)} (1 = P1, Q = QP, n = period > 1, C = chaos).",
+        "",
+        f"Chosen candidate: leaves P1 at x1 = {rec['transitions']['leave_p1']:.4g}, first chaos at "
+        f"{rec['transitions']['first_chaos']:.4g}, regime order {rec['order']}.",
+        "",
+        "Chosen candidate's claims verdicts (search settings; verified settings; static claims and those that "
+        "need dense runs are not evaluated here):",
+        "",
+        "| claim | search | verified |",
+        "|---|---|---|",
+    ]
+    lines += [
+        f"| {k} | {v} | {(verified or {}).get('verdicts', {}).get(k, '-')} |" for k, v in best_rec["verdicts"].items()
+    ]
     return "\n".join(lines) + "\n"
 
 
@@ -653,8 +794,13 @@ def problem_from_config(design: KHVDesign, spec: Mapping[str, Any]) -> tuple[Pro
     return Problem(design, design.paper, space, grids, policy, dict(spec.get("fixed", {})), s.get("require")), budget
 
 
-def sensitivity(problem: Problem, evaluator: Evaluator, best_values: Mapping[str, float], steps: Sequence[float],
-                map_points: int = 7) -> tuple[xr.Dataset, xr.Dataset, str]:
+def sensitivity(
+    problem: Problem,
+    evaluator: Evaluator,
+    best_values: Mapping[str, float],
+    steps: Sequence[float],
+    map_points: int = 7,
+) -> tuple[xr.Dataset, xr.Dataset, str]:
     """Robustness and sensitivity of the best candidate.
 
     One-at-a-time moves of each unknown by +-step (:func:`perturbed`) give the score, the number of
@@ -683,20 +829,45 @@ def sensitivity(problem: Problem, evaluator: Evaluator, best_values: Mapping[str
         return np.array([fn(r) for r in recs], float).reshape(shape)
 
     oat = xr.Dataset(
-        {"score": (("unknown", "step"), grid("score", lambda r: r["score"]), {"units": "1", "long_name": "score"}),
-         "agree": (("unknown", "step"), grid("agree", lambda r: r["agree"]), {"units": "1", "long_name": "claims that agree"}),
-         "leave_p1": (("unknown", "step"), grid("l", lambda r: r["transitions"]["leave_p1"]),
-                      {"units": "1", "long_name": "first x1 not P1"}),
-         "first_chaos": (("unknown", "step"), grid("c", lambda r: r["transitions"]["first_chaos"]),
-                         {"units": "1", "long_name": "first chaotic x1"}),
-         "verdicts_changed": (("unknown", "step"), grid("v", lambda r: float(r["verdicts"] != base["verdicts"])),
-                              {"units": "1", "long_name": "1 when any claim verdict differs from the best's"}),
-         "labels_changed": (("unknown", "step"), grid("x", lambda r: float(r["fig07"] != base["fig07"])),
-                            {"units": "1", "long_name": "1 when any label along x1 differs from the best's"})},
-        coords={"unknown": ("unknown", names, {"units": "1", "long_name": "searched unknown"}),
-                "step": ("step", np.array(signed), {"units": "1", "long_name": "relative move of the unknown"})},
-        attrs={"base_score": base["score"], "base_agree": base["agree"],
-               "base_leave_p1": base["transitions"]["leave_p1"], "base_first_chaos": base["transitions"]["first_chaos"]})
+        {
+            "score": (("unknown", "step"), grid("score", lambda r: r["score"]), {"units": "1", "long_name": "score"}),
+            "agree": (
+                ("unknown", "step"),
+                grid("agree", lambda r: r["agree"]),
+                {"units": "1", "long_name": "claims that agree"},
+            ),
+            "leave_p1": (
+                ("unknown", "step"),
+                grid("l", lambda r: r["transitions"]["leave_p1"]),
+                {"units": "1", "long_name": "first x1 not P1"},
+            ),
+            "first_chaos": (
+                ("unknown", "step"),
+                grid("c", lambda r: r["transitions"]["first_chaos"]),
+                {"units": "1", "long_name": "first chaotic x1"},
+            ),
+            "verdicts_changed": (
+                ("unknown", "step"),
+                grid("v", lambda r: float(r["verdicts"] != base["verdicts"])),
+                {"units": "1", "long_name": "1 when any claim verdict differs from the best's"},
+            ),
+            "labels_changed": (
+                ("unknown", "step"),
+                grid("x", lambda r: float(r["fig07"] != base["fig07"])),
+                {"units": "1", "long_name": "1 when any label along x1 differs from the best's"},
+            ),
+        },
+        coords={
+            "unknown": ("unknown", names, {"units": "1", "long_name": "searched unknown"}),
+            "step": ("step", np.array(signed), {"units": "1", "long_name": "relative move of the unknown"}),
+        },
+        attrs={
+            "base_score": base["score"],
+            "base_agree": base["agree"],
+            "base_leave_p1": base["transitions"]["leave_p1"],
+            "base_first_chaos": base["transitions"]["first_chaos"],
+        },
+    )
     # the two unknowns that matter most
     impact = np.nanmax(np.abs(oat["score"].values - base["score"]), axis=1)
     order = np.argsort(-impact, kind="stable")
@@ -713,30 +884,63 @@ def sensitivity(problem: Problem, evaluator: Evaluator, best_values: Mapping[str
     mrecs = evaluator.records(units)
     mshape = (map_points, map_points)
     mp = xr.Dataset(
-        {"score": ((b.name, a.name), np.array([r["score"] for r in mrecs]).reshape(mshape), {"units": "1", "long_name": "score"}),
-         "agree": ((b.name, a.name), np.array([r["agree"] for r in mrecs]).reshape(mshape),
-                   {"units": "1", "long_name": "claims that agree"}),
-         "leave_p1": ((b.name, a.name), np.array([r["transitions"]["leave_p1"] for r in mrecs]).reshape(mshape),
-                      {"units": "1", "long_name": "first x1 not P1"})},
-        coords={a.name: (a.name, np.array(va), {"units": point.units_of(a.name), "long_name": f"{a.name} (searched unknown)"}),
-                b.name: (b.name, np.array(vb), {"units": point.units_of(b.name), "long_name": f"{b.name} (searched unknown)"})},
-        attrs={"x": a.name, "y": b.name, "best_x": best_values[a.name], "best_y": best_values[b.name]})
+        {
+            "score": (
+                (b.name, a.name),
+                np.array([r["score"] for r in mrecs]).reshape(mshape),
+                {"units": "1", "long_name": "score"},
+            ),
+            "agree": (
+                (b.name, a.name),
+                np.array([r["agree"] for r in mrecs]).reshape(mshape),
+                {"units": "1", "long_name": "claims that agree"},
+            ),
+            "leave_p1": (
+                (b.name, a.name),
+                np.array([r["transitions"]["leave_p1"] for r in mrecs]).reshape(mshape),
+                {"units": "1", "long_name": "first x1 not P1"},
+            ),
+        },
+        coords={
+            a.name: (
+                a.name,
+                np.array(va),
+                {"units": point.units_of(a.name), "long_name": f"{a.name} (searched unknown)"},
+            ),
+            b.name: (
+                b.name,
+                np.array(vb),
+                {"units": point.units_of(b.name), "long_name": f"{b.name} (searched unknown)"},
+            ),
+        },
+        attrs={"x": a.name, "y": b.name, "best_x": best_values[a.name], "best_y": best_values[b.name]},
+    )
     # summary
-    lines = ["# Calibration: robustness and sensitivity of the best candidate", "",
-             f"Best: score {base['score']:.3f}, {base['agree']} claims agree, leaves P1 at x1 = "
-             f"{base['transitions']['leave_p1']:.4g}, first chaos at {base['transitions']['first_chaos']:.4g}.", "",
-             "| unknown | value | bounds | position in bounds | smallest move changing a verdict | smallest move "
-             "changing a label along x1 | max score change |", "|---|---|---|---|---|---|---|"]
+    lines = [
+        "# Calibration: robustness and sensitivity of the best candidate",
+        "",
+        f"Best: score {base['score']:.3f}, {base['agree']} claims agree, leaves P1 at x1 = "
+        f"{base['transitions']['leave_p1']:.4g}, first chaos at {base['transitions']['first_chaos']:.4g}.",
+        "",
+        "| unknown | value | bounds | position in bounds | smallest move changing a verdict | smallest move "
+        "changing a label along x1 | max score change |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for k, u in enumerate(space.unknowns):
         vc = oat["verdicts_changed"].values[k]
         lc = oat["labels_changed"].values[k]
         dv = min((abs(s) for s, c in zip(signed, vc, strict=True) if c), default=None)
         dl = min((abs(s) for s, c in zip(signed, lc, strict=True) if c), default=None)
         pos = u.to_unit(best_values[u.name])
-        lines.append(f"| {u.name} | {best_values[u.name]:.4g} | [{u.low:g}, {u.high:g}]{' log' if u.log else ''} | "
-                     f"{pos:.2f}{' (edge)' if min(pos, 1 - pos) < 0.05 else ''} | "
-                     f"{'> ' + format(max(steps), 'g') if dv is None else '+-' + format(dv, 'g')} | "
-                     f"{'> ' + format(max(steps), 'g') if dl is None else '+-' + format(dl, 'g')} | {impact[k]:.3f} |")
-    lines += ["", f"2-D map over {a.name} and {b.name} (the two with the largest score change): best score on the map "
-              f"{float(mp['score'].max()):.3f}, at the centre {base['score']:.3f}."]
+        lines.append(
+            f"| {u.name} | {best_values[u.name]:.4g} | [{u.low:g}, {u.high:g}]{' log' if u.log else ''} | "
+            f"{pos:.2f}{' (edge)' if min(pos, 1 - pos) < 0.05 else ''} | "
+            f"{'> ' + format(max(steps), 'g') if dv is None else '+-' + format(dv, 'g')} | "
+            f"{'> ' + format(max(steps), 'g') if dl is None else '+-' + format(dl, 'g')} | {impact[k]:.3f} |"
+        )
+    lines += [
+        "",
+        f"2-D map over {a.name} and {b.name} (the two with the largest score change): best score on the map "
+        f"{float(mp['score'].max()):.3f}, at the centre {base['score']:.3f}.",
+    ]
     return oat, mp, "\n".join(lines) + "\n"

@@ -22,7 +22,6 @@ from collections.abc import Mapping
 import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
-
 from scipy.optimize import brentq
 
 from geardyn.gears import geometry as geo
@@ -102,25 +101,41 @@ def closed_graph(
     ds = xr.Dataset(coords=coords)
     for name, value in margins.items():
         units, long_name = geo.constraint_info(name)
-        ds[name] = (("x2", "x1"), np.asarray(value, dtype=float), {
-            "units": units,
-            "long_name": long_name,
-            "closed_graph_line": LINE_OF.get(name, 0),
-            "cutter_dependent": int(name in CUTTER_DEPENDENT),
-            "sign_convention": ">= 0 satisfied",
-        })
-    ds["contact_ratio"] = (("x2", "x1"), geo.contact_ratio(grid_pair), {
-        "units": "1", "long_name": "transverse contact ratio"})
-    ds["working_pressure_angle"] = (("x2", "x1"), np.degrees(geo.working_pressure_angle(grid_pair)), {
-        "units": "degree", "long_name": "working pressure angle a'"})
+        ds[name] = (
+            ("x2", "x1"),
+            np.asarray(value, dtype=float),
+            {
+                "units": units,
+                "long_name": long_name,
+                "closed_graph_line": LINE_OF.get(name, 0),
+                "cutter_dependent": int(name in CUTTER_DEPENDENT),
+                "sign_convention": ">= 0 satisfied",
+            },
+        )
+    ds["contact_ratio"] = (
+        ("x2", "x1"),
+        geo.contact_ratio(grid_pair),
+        {"units": "1", "long_name": "transverse contact ratio"},
+    )
+    ds["working_pressure_angle"] = (
+        ("x2", "x1"),
+        np.degrees(geo.working_pressure_angle(grid_pair)),
+        {"units": "degree", "long_name": "working pressure angle a'"},
+    )
 
     stack = np.stack([ds[n].values for n in margins])
     free = np.stack([ds[n].values for n in margins if n not in CUTTER_DEPENDENT])
     flag = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "infeasible feasible"}
-    ds["feasible"] = (("x2", "x1"), np.all(stack >= 0.0, axis=0).astype(np.int8), {
-        "units": "1", "long_name": "all constraints satisfied", **flag})
-    ds["feasible_cutter_free"] = (("x2", "x1"), np.all(free >= 0.0, axis=0).astype(np.int8), {
-        "units": "1", "long_name": "all constraints satisfied except the cutter-dependent ones", **flag})
+    ds["feasible"] = (
+        ("x2", "x1"),
+        np.all(stack >= 0.0, axis=0).astype(np.int8),
+        {"units": "1", "long_name": "all constraints satisfied", **flag},
+    )
+    ds["feasible_cutter_free"] = (
+        ("x2", "x1"),
+        np.all(free >= 0.0, axis=0).astype(np.int8),
+        {"units": "1", "long_name": "all constraints satisfied except the cutter-dependent ones", **flag},
+    )
 
     # Line 4 along the x1 grid, with the other constraints evaluated on it.
     x2_l4 = geo.x2_on_overlap_boundary_many(x1a, base)
@@ -131,32 +146,50 @@ def closed_graph(
     others_free = np.stack([v for k, v in on_line.items() if k not in (*CUTTER_DEPENDENT, "overlap_interference")])
     ok_line_free = np.all(others_free >= 0.0, axis=0)
     ds["x2_line4"] = ("x1", x2_l4, {"units": "1", "long_name": "annulus shift x2 on line 4 (G_s = 0)"})
-    ds["contact_ratio_line4"] = ("x1", geo.contact_ratio(line_pair), {
-        "units": "1", "long_name": "transverse contact ratio on line 4"})
-    ds["working_pressure_angle_line4"] = ("x1", np.degrees(geo.working_pressure_angle(line_pair)), {
-        "units": "degree", "long_name": "working pressure angle a' on line 4"})
-    ds["feasible_line4"] = ("x1", ok_line.astype(np.int8), {
-        "units": "1", "long_name": "line-4 point satisfying every other constraint", **flag})
-    ds["feasible_line4_cutter_free"] = ("x1", ok_line_free.astype(np.int8), {
-        "units": "1", "long_name": "line-4 point satisfying every cutter-independent constraint", **flag})
+    ds["contact_ratio_line4"] = (
+        "x1",
+        geo.contact_ratio(line_pair),
+        {"units": "1", "long_name": "transverse contact ratio on line 4"},
+    )
+    ds["working_pressure_angle_line4"] = (
+        "x1",
+        np.degrees(geo.working_pressure_angle(line_pair)),
+        {"units": "degree", "long_name": "working pressure angle a' on line 4"},
+    )
+    ds["feasible_line4"] = (
+        "x1",
+        ok_line.astype(np.int8),
+        {"units": "1", "long_name": "line-4 point satisfying every other constraint", **flag},
+    )
+    ds["feasible_line4_cutter_free"] = (
+        "x1",
+        ok_line_free.astype(np.int8),
+        {"units": "1", "long_name": "line-4 point satisfying every cutter-independent constraint", **flag},
+    )
 
     if reference_points:
         _reference_points(ds, base, reference_points)
     feas_x1 = x1a[ok_line]
-    ds.attrs.update({
-        "title": "Closed graph of profile-shift coefficients, computed",
-        "source": "geardyn.khv.closed_graph.closed_graph",
-        "conventions_note": "every constraint is a signed margin, >= 0 satisfied; x2 in the Chinese convention",
-        "line4_definition": "G_s = 0 (tooth-profile overlap interference); the working pressure angle a' varies "
-        "along it",
-        "z1": base.z1, "z2": base.z2, "module_mm": base.module,
-        "pressure_angle_deg": base.pressure_angle_deg, "addendum_coefficient": base.addendum,
-        "clearance_coefficient": base.clearance,
-        "min_tip_thickness_modules": min_tip_thickness, "min_contact_ratio": min_contact_ratio,
-        **_cutter_attrs(base, cutter),
-        "line4_feasible_x1_min": float(feas_x1.min()) if feas_x1.size else math.nan,
-        "line4_feasible_x1_max": float(feas_x1.max()) if feas_x1.size else math.nan,
-    })
+    ds.attrs.update(
+        {
+            "title": "Closed graph of profile-shift coefficients, computed",
+            "source": "geardyn.khv.closed_graph.closed_graph",
+            "conventions_note": "every constraint is a signed margin, >= 0 satisfied; x2 in the Chinese convention",
+            "line4_definition": "G_s = 0 (tooth-profile overlap interference); the working pressure angle a' varies "
+            "along it",
+            "z1": base.z1,
+            "z2": base.z2,
+            "module_mm": base.module,
+            "pressure_angle_deg": base.pressure_angle_deg,
+            "addendum_coefficient": base.addendum,
+            "clearance_coefficient": base.clearance,
+            "min_tip_thickness_modules": min_tip_thickness,
+            "min_contact_ratio": min_contact_ratio,
+            **_cutter_attrs(base, cutter),
+            "line4_feasible_x1_min": float(feas_x1.min()) if feas_x1.size else math.nan,
+            "line4_feasible_x1_max": float(feas_x1.max()) if feas_x1.size else math.nan,
+        }
+    )
     return ds
 
 
@@ -170,12 +203,21 @@ def _reference_points(ds: xr.Dataset, base: geo.GearPair, points: Mapping[str, t
     ds["paper_x2"] = ("point", px2, {"units": "1", "long_name": "x2 of the printed limit point"})
     ds["computed_x2"] = ("point", cx2, {"units": "1", "long_name": "computed x2 on G_s = 0 at the paper's x1"})
     ds["residual_x2"] = ("point", cx2 - px2, {"units": "1", "long_name": "computed minus paper x2"})
-    ds["contact_ratio_point"] = ("point", geo.contact_ratio(pt_pair), {
-        "units": "1", "long_name": "transverse contact ratio at the computed point"})
-    ds["working_pressure_angle_point"] = ("point", np.degrees(geo.working_pressure_angle(pt_pair)), {
-        "units": "degree", "long_name": "working pressure angle a' at the computed point"})
-    ds["working_centre_distance_point"] = ("point", geo.working_centre_distance(pt_pair), {
-        "units": "mm", "long_name": "working centre distance a' at the computed point"})
+    ds["contact_ratio_point"] = (
+        "point",
+        geo.contact_ratio(pt_pair),
+        {"units": "1", "long_name": "transverse contact ratio at the computed point"},
+    )
+    ds["working_pressure_angle_point"] = (
+        "point",
+        np.degrees(geo.working_pressure_angle(pt_pair)),
+        {"units": "degree", "long_name": "working pressure angle a' at the computed point"},
+    )
+    ds["working_centre_distance_point"] = (
+        "point",
+        geo.working_centre_distance(pt_pair),
+        {"units": "mm", "long_name": "working centre distance a' at the computed point"},
+    )
 
 
 def line4_crossings(ds: xr.Dataset, name: str) -> list[float]:
@@ -184,16 +226,26 @@ def line4_crossings(ds: xr.Dataset, name: str) -> list[float]:
     Re-evaluates the constraint along ``x2_line4`` from the dataset attributes.
     """
     base = geo.GearPair(
-        z1=int(ds.attrs["z1"]), z2=int(ds.attrs["z2"]), module=float(ds.attrs["module_mm"]), x1=0.0, x2=0.0,
-        pressure_angle_deg=float(ds.attrs["pressure_angle_deg"]), addendum=float(ds.attrs["addendum_coefficient"]),
+        z1=int(ds.attrs["z1"]),
+        z2=int(ds.attrs["z2"]),
+        module=float(ds.attrs["module_mm"]),
+        x1=0.0,
+        x2=0.0,
+        pressure_angle_deg=float(ds.attrs["pressure_angle_deg"]),
+        addendum=float(ds.attrs["addendum_coefficient"]),
         clearance=float(ds.attrs["clearance_coefficient"]),
     )
-    cutter = geo.ShaperCutter(int(ds.attrs["cutter_teeth"]), float(ds.attrs["cutter_shift"]),
-                              float(ds.attrs["cutter_addendum"]))
+    cutter = geo.ShaperCutter(
+        int(ds.attrs["cutter_teeth"]), float(ds.attrs["cutter_shift"]), float(ds.attrs["cutter_addendum"])
+    )
     x1 = ds["x1"].values
     pair = geo.with_shifts(base, x1, ds["x2_line4"].values)
-    v = geo.constraint_grid(pair, min_tip_thickness=float(ds.attrs["min_tip_thickness_modules"]),
-                            min_contact_ratio=float(ds.attrs["min_contact_ratio"]), cutter=cutter)[name]
+    v = geo.constraint_grid(
+        pair,
+        min_tip_thickness=float(ds.attrs["min_tip_thickness_modules"]),
+        min_contact_ratio=float(ds.attrs["min_contact_ratio"]),
+        cutter=cutter,
+    )[name]
     out = []
     for i in range(len(x1) - 1):
         if np.sign(v[i]) != np.sign(v[i + 1]) and np.isfinite(v[i]) and np.isfinite(v[i + 1]):

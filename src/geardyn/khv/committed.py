@@ -36,7 +36,7 @@ def result_of(design_text: str) -> dict[str, Any]:
     """The search-result JSON line of a calibrated design file (``# search-result: {...}``)."""
     for line in design_text.splitlines():
         if line.startswith(RESULT_PREFIX):
-            return dict(json.loads(line[len(RESULT_PREFIX):]))
+            return dict(json.loads(line[len(RESULT_PREFIX) :]))
     raise ValueError(f"not a calibrated design file: no line starting with {RESULT_PREFIX.strip()!r}")
 
 
@@ -64,18 +64,27 @@ class Comparison:
         return self.max_unit_distance <= UNIT_TOLERANCE and abs(self.score_difference) <= SCORE_TOLERANCE
 
     def markdown(self) -> str:
-        verdict = ("the same optimum" if self.same_optimum else "a different optimum")
-        lines = [f"# Search `{self.search}` against the committed design", "",
-                 f"**{verdict}**: largest distance {100 * self.max_unit_distance:.1f} % of a search range "
-                 f"(tolerance {100 * UNIT_TOLERANCE:.0f} %), score {self.found_score:.3f} found against "
-                 f"{self.committed_score:.3f} committed ({self.score_difference:+.3f}; tolerance "
-                 f"{SCORE_TOLERANCE:g}).", "",
-                 "The committed design file is what every build uses; this search is the pipeline's own rerun of "
-                 "it (docs/calibration.md, \"Reproducing a calibration\").", "",
-                 "| unknown | committed | found | distance (fraction of search range) |", "|---|---|---|---|"]
+        verdict = "the same optimum" if self.same_optimum else "a different optimum"
+        lines = [
+            f"# Search `{self.search}` against the committed design",
+            "",
+            f"**{verdict}**: largest distance {100 * self.max_unit_distance:.1f} % of a search range "
+            f"(tolerance {100 * UNIT_TOLERANCE:.0f} %), score {self.found_score:.3f} found against "
+            f"{self.committed_score:.3f} committed ({self.score_difference:+.3f}; tolerance "
+            f"{SCORE_TOLERANCE:g}).",
+            "",
+            "The committed design file is what every build uses; this search is the pipeline's own rerun of "
+            'it (docs/calibration.md, "Reproducing a calibration").',
+            "",
+            "| unknown | committed | found | distance (fraction of search range) |",
+            "|---|---|---|---|",
+        ]
         lines += [f"| {n} | {c:.6g} | {f:.6g} | {d:.3f} |" for n, c, f, d in self.unknowns]
-        lines += ["", f"Claims agreeing only at the committed optimum: {', '.join(self.only_committed) or 'none'}.",
-                  f"Claims agreeing only at the found optimum: {', '.join(self.only_found) or 'none'}."]
+        lines += [
+            "",
+            f"Claims agreeing only at the committed optimum: {', '.join(self.only_committed) or 'none'}.",
+            f"Claims agreeing only at the found optimum: {', '.join(self.only_found) or 'none'}.",
+        ]
         return "\n".join(lines) + "\n"
 
 
@@ -85,8 +94,10 @@ def compare(committed: Mapping[str, Any], found: Mapping[str, Any], space: Searc
     Raises ``ValueError`` when they searched different unknowns (not comparable)."""
     cv, fv = committed["values"], found["values"]
     if set(cv) != set(fv) or set(cv) != set(space.names):
-        raise ValueError(f"the results searched different unknowns: committed {sorted(cv)}, found {sorted(fv)}, "
-                         f"search space {sorted(space.names)}")
+        raise ValueError(
+            f"the results searched different unknowns: committed {sorted(cv)}, found {sorted(fv)}, "
+            f"search space {sorted(space.names)}"
+        )
     rows = []
     for u in space.unknowns:
         c, f = float(cv[u.name]), float(fv[u.name])
@@ -94,5 +105,11 @@ def compare(committed: Mapping[str, Any], found: Mapping[str, Any], space: Searc
     if not all(math.isfinite(d) for *_, d in rows):
         raise ValueError("a searched value lies outside its (log) search range")
     a, b = set(committed.get("agreeing", ())), set(found.get("agreeing", ()))
-    return Comparison(str(found.get("search", committed.get("search", "?"))), tuple(rows),
-                      float(committed["score"]), float(found["score"]), tuple(sorted(a - b)), tuple(sorted(b - a)))
+    return Comparison(
+        str(found.get("search", committed.get("search", "?"))),
+        tuple(rows),
+        float(committed["score"]),
+        float(found["score"]),
+        tuple(sorted(a - b)),
+        tuple(sorted(b - a)),
+    )

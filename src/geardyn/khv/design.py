@@ -10,15 +10,15 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
-from geardyn.gears import geometry, stiffness
 from geardyn.config import ConfigError, load_design_dict
+from geardyn.gears import geometry, stiffness
 
 
 @dataclass(frozen=True)
@@ -86,9 +86,16 @@ class MeshProperties:
 def _pair_from(raw: dict[str, Any], x2: float) -> geometry.GearPair:
     p = raw["pair"]
     return geometry.GearPair(
-        z1=p["z1"], z2=p["z2"], module=p["module"], x1=p["x1"], x2=x2,
-        pressure_angle_deg=p["pressure_angle_deg"], addendum=p["addendum"],
-        clearance=p["clearance"], internal=True, facewidth=p["facewidth"],
+        z1=p["z1"],
+        z2=p["z2"],
+        module=p["module"],
+        x1=p["x1"],
+        x2=x2,
+        pressure_angle_deg=p["pressure_angle_deg"],
+        addendum=p["addendum"],
+        clearance=p["clearance"],
+        internal=True,
+        facewidth=p["facewidth"],
     )
 
 
@@ -112,39 +119,56 @@ def mesh_properties(design: KHVDesign, x1: float) -> MeshProperties:
 
 
 @functools.lru_cache(maxsize=4096)
-def _mesh_properties(name: str, base: geometry.GearPair, on_line4: bool, opts: StiffnessOptions,
-                     x1: float) -> MeshProperties:
+def _mesh_properties(
+    name: str, base: geometry.GearPair, on_line4: bool, opts: StiffnessOptions, x1: float
+) -> MeshProperties:
     """:func:`mesh_properties` of the design with these fields (a pure function of them, so kept: the
     b and e sweeps and the calibration's tracks ask for the same x1 many times)."""
     pair = dataclasses.replace(base, x1=x1, x2=_x2(base, on_line4, x1))
-    q = float(stiffness.flexibility_q(pair.z1, pair.z2, pair.x1, pair.x2, internal=True,
-                                      variant=opts.q_variant, constants=opts.c_constants))
+    q = float(
+        stiffness.flexibility_q(
+            pair.z1, pair.z2, pair.x1, pair.x2, internal=True, variant=opts.q_variant, constants=opts.c_constants
+        )
+    )
     k_c = float(stiffness.pitch_point_stiffness(q, pair.facewidth))
     k_prime = float(stiffness.tip_stiffness(k_c))
     eps = float(geometry.contact_ratio(pair))
     if not eps >= 1.0:  # also NaN: no working pressure angle
-        raise ConfigError(f"{name}: contact ratio eps = {eps:.4f} at x1 = {x1:.4f} is not allowed: >= 1 "
-                          "(below 1 the gears do not mesh continuously)")
+        raise ConfigError(
+            f"{name}: contact ratio eps = {eps:.4f} at x1 = {x1:.4f} is not allowed: >= 1 "
+            "(below 1 the gears do not mesh continuously)"
+        )
     if opts.form == "printed" and not eps < 2.0:
-        raise ConfigError(f"{name}: contact ratio eps = {eps:.4f} at x1 = {x1:.4f} is not allowed with "
-                          "stiffness.form = 'printed': < 2 (the printed Eq. (9) is stated for 1 <= eps < 2)")
+        raise ConfigError(
+            f"{name}: contact ratio eps = {eps:.4f} at x1 = {x1:.4f} is not allowed with "
+            "stiffness.form = 'printed': < 2 (the printed Eq. (9) is stated for 1 <= eps < 2)"
+        )
     k_t = stiffness.ParabolicStiffness(eps, k_prime, opts.form)
     return MeshProperties(
-        x1=pair.x1, x2=pair.x2,
+        x1=pair.x1,
+        x2=pair.x2,
         working_pressure_angle_deg=math.degrees(float(geometry.working_pressure_angle(pair))),
-        contact_ratio=eps, q=q, k_c=k_c, k_prime=k_prime, k_mean=k_t.mean(), k_min=k_t.minimum(),
+        contact_ratio=eps,
+        q=q,
+        k_c=k_c,
+        k_prime=k_prime,
+        k_mean=k_t.mean(),
+        k_min=k_t.minimum(),
     )
 
 
 def _check(design_raw: dict[str, Any], where: str) -> None:
     p = design_raw["pair"]
     if p["z2"] - p["z1"] < 1:
-        raise ConfigError(f"{where}: pair.z2 - pair.z1 = {p['z2'] - p['z1']} is not allowed: "
-                          "the annulus needs at least one tooth more than the planet (z2 - z1 >= 1)")
+        raise ConfigError(
+            f"{where}: pair.z2 - pair.z1 = {p['z2'] - p['z1']} is not allowed: "
+            "the annulus needs at least one tooth more than the planet (z2 - z1 >= 1)"
+        )
     adm = design_raw["admissible"]
     if not adm["x1_min"] < adm["x1_max"]:
-        raise ConfigError(f"{where}: admissible.x1_min = {adm['x1_min']} must be below "
-                          f"admissible.x1_max = {adm['x1_max']}")
+        raise ConfigError(
+            f"{where}: admissible.x1_min = {adm['x1_min']} must be below admissible.x1_max = {adm['x1_max']}"
+        )
 
 
 #: Constraints that need the shaper cutter (teeth, shift), which paper 1 does not give: reported
@@ -154,13 +178,17 @@ CUTTER_CONSTRAINTS = ("root_interference_annulus", "trimming_interference_annulu
 FEASIBILITY_TOLERANCE = 1e-6
 
 
-def violated_constraints(pair: geometry.GearPair, min_tip_thickness: float, enforce_cutter: bool,
-                         cutter: geometry.ShaperCutter | None = None) -> list[str]:
+def violated_constraints(
+    pair: geometry.GearPair, min_tip_thickness: float, enforce_cutter: bool, cutter: geometry.ShaperCutter | None = None
+) -> list[str]:
     """Names of the closed-graph constraints that ``pair`` violates (margin < -1e-6 mm or rad, or no margin
     at all: NaN where the pair has no working pressure angle)."""
     values = geometry.constraints(pair, min_tip_thickness=min_tip_thickness, cutter=cutter)
-    return [name for name, v in values.items()
-            if not float(v) >= -FEASIBILITY_TOLERANCE and (enforce_cutter or name not in CUTTER_CONSTRAINTS)]
+    return [
+        name
+        for name, v in values.items()
+        if not float(v) >= -FEASIBILITY_TOLERANCE and (enforce_cutter or name not in CUTTER_CONSTRAINTS)
+    ]
 
 
 def meshing_problem(pair: geometry.GearPair) -> str | None:
@@ -169,14 +197,20 @@ def meshing_problem(pair: geometry.GearPair) -> str | None:
     inv_w = 2.0 * (pair.x2 - pair.x1) * math.tan(alpha) / (pair.z2 - pair.z1) + geometry.involute(alpha)
     if inv_w > 0.0:
         return None
-    return (f"(x1, x2) = ({pair.x1:.4f}, {pair.x2:.4f}) has no working pressure angle: inv a' = 2 (x2 - x1) tan a "
-            f"/ (z2 - z1) + inv a = {inv_w:.4g} <= 0, so x2 - x1 = {pair.x2 - pair.x1:.4f} is too small for "
-            f"z2 - z1 = {pair.z2 - pair.z1}")
+    return (
+        f"(x1, x2) = ({pair.x1:.4f}, {pair.x2:.4f}) has no working pressure angle: inv a' = 2 (x2 - x1) tan a "
+        f"/ (z2 - z1) + inv a = {inv_w:.4g} <= 0, so x2 - x1 = {pair.x2 - pair.x1:.4f} is too small for "
+        f"z2 - z1 = {pair.z2 - pair.z1}"
+    )
 
 
 def _violations(values: dict[str, Any], bad: list[str]) -> str:
-    return ", ".join(f"{name} = {float(values[name]):.4g} (needs >= 0)" if math.isfinite(float(values[name]))
-                     else f"{name} undefined" for name in bad)
+    return ", ".join(
+        f"{name} = {float(values[name]):.4g} (needs >= 0)"
+        if math.isfinite(float(values[name]))
+        else f"{name} undefined"
+        for name in bad
+    )
 
 
 def cutter_of(raw: dict[str, Any], pair: geometry.GearPair) -> geometry.ShaperCutter:
@@ -211,15 +245,23 @@ def from_dict(raw: dict[str, Any], where: str = "design", check: bool = True) ->
         if bad:
             values = geometry.constraints(base, min_tip_thickness=adm["min_tip_thickness"], cutter=cutter)
             detail = _violations(values, bad)
-            raise ConfigError(f"{where}: design point (x1, x2) = ({base.x1:.4f}, {base.x2:.4f}) is outside the "
-                              f"feasible region: {detail}")
+            raise ConfigError(
+                f"{where}: design point (x1, x2) = ({base.x1:.4f}, {base.x2:.4f}) is outside the "
+                f"feasible region: {detail}"
+            )
     return KHVDesign(
-        name=raw["name"], title=raw.get("title", ""), base=base,
-        x1_min=adm["x1_min"], x1_max=adm["x1_max"], min_tip_thickness=adm["min_tip_thickness"],
-        cutter=cutter, enforce_cutter_constraints=adm["enforce_cutter_constraints"],
+        name=raw["name"],
+        title=raw.get("title", ""),
+        base=base,
+        x1_min=adm["x1_min"],
+        x1_max=adm["x1_max"],
+        min_tip_thickness=adm["min_tip_thickness"],
+        cutter=cutter,
+        enforce_cutter_constraints=adm["enforce_cutter_constraints"],
         stiffness=StiffnessOptions(**raw["stiffness"]),
         paper=raw.get("paper"),
-        dynamics=raw.get("dynamics", {}), raw=raw,
+        dynamics=raw.get("dynamics", {}),
+        raw=raw,
     )
 
 
@@ -236,26 +278,33 @@ def check_segment(design: KHVDesign, where: str = "design", points: int = 11) ->
         try:
             pair = pair_at(design, x1)
         except (ValueError, RuntimeError) as err:
-            raise ConfigError(f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
-                              f"region the model covers at x1 = {x1:.4f}: no x2 on line 4 (G_s = 0): {err}") from None
+            raise ConfigError(
+                f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
+                f"region the model covers at x1 = {x1:.4f}: no x2 on line 4 (G_s = 0): {err}"
+            ) from None
         problem = meshing_problem(pair)
         if problem:
-            raise ConfigError(f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
-                              f"region the model covers at x1 = {x1:.4f}: {problem}")
+            raise ConfigError(
+                f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
+                f"region the model covers at x1 = {x1:.4f}: {problem}"
+            )
         try:
             mesh_properties(design, x1)
         except (ValueError, RuntimeError) as err:  # ConfigError is a ValueError
             reason = str(err).split(": ", 1)[-1] if isinstance(err, ConfigError) else str(err)
-            raise ConfigError(f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
-                              f"region the model covers at x1 = {x1:.4f}: {reason}") from None
+            raise ConfigError(
+                f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
+                f"region the model covers at x1 = {x1:.4f}: {reason}"
+            ) from None
         if adm["check_feasibility"]:
-            bad = violated_constraints(pair, design.min_tip_thickness, design.enforce_cutter_constraints,
-                                       design.cutter)
+            bad = violated_constraints(pair, design.min_tip_thickness, design.enforce_cutter_constraints, design.cutter)
             if bad:
                 values = geometry.constraints(pair, min_tip_thickness=design.min_tip_thickness, cutter=design.cutter)
                 detail = _violations(values, bad)
-                raise ConfigError(f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
-                                  f"feasible region at x1 = {x1:.4f}: {detail}")
+                raise ConfigError(
+                    f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
+                    f"feasible region at x1 = {x1:.4f}: {detail}"
+                )
 
 
 def load(path: str | Path) -> KHVDesign:
@@ -266,8 +315,9 @@ def load(path: str | Path) -> KHVDesign:
     return from_dict(raw, str(path))
 
 
-def figure_x1(design: KHVDesign, configured: list[float | str], paper_values: tuple[float, ...] | None = None
-              ) -> list[float]:
+def figure_x1(
+    design: KHVDesign, configured: list[float | str], paper_values: tuple[float, ...] | None = None
+) -> list[float]:
     """The x1 values of the k(t) figure: the paper's for a design that names a paper (``paper_values``),
     else the configured ones (numbers or percentages of the admissible segment)."""
     values = paper_values if paper_values is not None else configured

@@ -32,12 +32,16 @@ def stiffness_table(design: KHVDesign, x1: np.ndarray, phase_points: int = 400) 
     phase = np.arange(phase_points) / phase_points
     data = {}
     for name, (attr, units, long_name, scale) in _FIELDS.items():
-        data[name] = ("x1", np.array([getattr(p, attr) * scale for p in props]),
-                      {"units": units, "long_name": long_name})
+        data[name] = (
+            "x1",
+            np.array([getattr(p, attr) * scale for p in props]),
+            {"units": units, "long_name": long_name},
+        )
     k_t = np.stack([p.k_of_t(design.stiffness.form)(phase) for p in props])
     data["k_t"] = (("x1", "phase"), k_t, {"units": "N m-1", "long_name": "time-varying mesh stiffness k(t)"})
     data["k_mean_closed_form_ratio"] = (
-        "x1", np.array([p.k_mean / (p.contact_ratio * p.k_c) for p in props]),
+        "x1",
+        np.array([p.k_mean / (p.contact_ratio * p.k_c) for p in props]),
         {"units": "1", "long_name": "k_mean / (eps k_C): 8/9 for the corrected form; the paper prints 0.866268"},
     )
     ds = xr.Dataset(

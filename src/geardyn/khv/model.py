@@ -109,14 +109,23 @@ class Options:
 
 #: Units and long names of the :class:`Coefficients` fields stored per point in sweep cubes.
 COEFFICIENT_ATTRS = {
-    "mu_D": ("1", "drive mass M_D / M_VH"), "mu_H": ("1", "carrier mass M_H / M_VH"),
-    "mu_V": ("1", "planet mass M_V / M_VH"), "mu_L": ("1", "load mass M_L / M_VH"),
-    "k_DH": ("1", "input shaft stiffness / k_mean"), "k_VL": ("1", "output shaft stiffness / k_mean"),
-    "c_DH": ("1", "input shaft damping / (M_VH w_n)"), "c_VL": ("1", "output shaft damping / (M_VH w_n)"),
-    "c_m": ("1", "mesh damping / (M_VH w_n)"), "P_D": ("1", "drive force / (k_mean b_c)"),
-    "P_L": ("1", "load force / (k_mean b_c)"), "b": ("1", "half backlash / b_c"),
-    "e": ("1", "TE amplitude / b_c"), "phi": ("rad", "TE phase"), "omega": ("1", "mesh frequency w_m / w_n"),
-    "eps": ("1", "contact ratio"), "omega_n": ("rad s-1", "natural-frequency scale w_n"),
+    "mu_D": ("1", "drive mass M_D / M_VH"),
+    "mu_H": ("1", "carrier mass M_H / M_VH"),
+    "mu_V": ("1", "planet mass M_V / M_VH"),
+    "mu_L": ("1", "load mass M_L / M_VH"),
+    "k_DH": ("1", "input shaft stiffness / k_mean"),
+    "k_VL": ("1", "output shaft stiffness / k_mean"),
+    "c_DH": ("1", "input shaft damping / (M_VH w_n)"),
+    "c_VL": ("1", "output shaft damping / (M_VH w_n)"),
+    "c_m": ("1", "mesh damping / (M_VH w_n)"),
+    "P_D": ("1", "drive force / (k_mean b_c)"),
+    "P_L": ("1", "load force / (k_mean b_c)"),
+    "b": ("1", "half backlash / b_c"),
+    "e": ("1", "TE amplitude / b_c"),
+    "phi": ("rad", "TE phase"),
+    "omega": ("1", "mesh frequency w_m / w_n"),
+    "eps": ("1", "contact ratio"),
+    "omega_n": ("rad s-1", "natural-frequency scale w_n"),
     "k_mean": ("N m-1", "mean mesh stiffness"),
 }
 
@@ -163,7 +172,7 @@ class Coefficients:
         return d
 
     @classmethod
-    def from_dict(cls, d: dict) -> "Coefficients":
+    def from_dict(cls, d: dict) -> Coefficients:
         names = {f.name for f in fields(cls)}
         kw = {k: d[k] for k in names if k in d}
         for k, v in kw.items():
@@ -172,7 +181,7 @@ class Coefficients:
         kw["backlash_on"] = bool(kw.get("backlash_on", True))
         return cls(**kw)
 
-    def replace(self, **changes) -> "Coefficients":
+    def replace(self, **changes) -> Coefficients:
         return replace(self, **changes)
 
     # --- derived -------------------------------------------------------------------------
@@ -233,11 +242,25 @@ class Coefficients:
         m = self.matrices()
         K, C, g, p = m["K"], m["C"], m["g"], m["p"]
         values = {
-            "K11": K[0, 0], "C11": C[0, 0], "G1": g[0], "P1": p[0],
-            "K21": K[1, 0], "C21": C[1, 0], "K23": K[1, 2], "C23": C[1, 2],
-            "K33": K[2, 2], "C33": C[2, 2], "G3": g[2], "P3": p[2],
-            "CM": self.c_m, "B": self.b, "TE": self.te_forcing, "PHI": self.phi, "T": self.period,
-            "BACKLASH_ON": 1.0 if self.backlash_on else 0.0, "EPS": self.eps,
+            "K11": K[0, 0],
+            "C11": C[0, 0],
+            "G1": g[0],
+            "P1": p[0],
+            "K21": K[1, 0],
+            "C21": C[1, 0],
+            "K23": K[1, 2],
+            "C23": C[1, 2],
+            "K33": K[2, 2],
+            "C33": C[2, 2],
+            "G3": g[2],
+            "P3": p[2],
+            "CM": self.c_m,
+            "B": self.b,
+            "TE": self.te_forcing,
+            "PHI": self.phi,
+            "T": self.period,
+            "BACKLASH_ON": 1.0 if self.backlash_on else 0.0,
+            "EPS": self.eps,
         }
         return np.array([values[name] for name in layout.LAYOUT], dtype=np.float64)
 

@@ -20,8 +20,8 @@ from collections.abc import Mapping
 from typing import Any
 
 from geardyn.khv import design as design_mod
-from geardyn.solve import SimulationSettings
 from geardyn.khv.model import B_C, Coefficients, KHVParameters, Options, dimensionless
+from geardyn.solve import SimulationSettings
 
 #: Control parameters with their units and long names (for cube coordinates).
 CONTROLS: dict[str, tuple[str, str]] = {
@@ -34,9 +34,24 @@ CONTROLS: dict[str, tuple[str, str]] = {
 
 #: UDUNITS units of the model parameters (fields of :class:`KHVParameters`) when used as overrides.
 PARAMETER_UNITS: dict[str, str] = {
-    "r_bV": "m", "r_bH": "m", "I_D": "kg m2", "I_H": "kg m2", "I_V": "kg m2", "I_L": "kg m2", "m_V": "kg",
-    "K_DH": "N m rad-1", "K_VL": "N m rad-1", "zeta": "1", "eta": "1", "T_D": "N m", "T_L": "N m",
-    "backlash": "m", "te_amplitude": "m", "te_phase": "rad", "z_annulus": "1", "input_speed_rpm": "rpm",
+    "r_bV": "m",
+    "r_bH": "m",
+    "I_D": "kg m2",
+    "I_H": "kg m2",
+    "I_V": "kg m2",
+    "I_L": "kg m2",
+    "m_V": "kg",
+    "K_DH": "N m rad-1",
+    "K_VL": "N m rad-1",
+    "zeta": "1",
+    "eta": "1",
+    "T_D": "N m",
+    "T_L": "N m",
+    "backlash": "m",
+    "te_amplitude": "m",
+    "te_phase": "rad",
+    "z_annulus": "1",
+    "input_speed_rpm": "rpm",
     "omega_bar": "1",
 }
 
@@ -114,4 +129,3 @@ def integration_settings(design: design_mod.KHVDesign, **changes: Any) -> Simula
     _, _, settings = _split(dynamics_section(design))
     settings.update({k: v for k, v in changes.items() if v is not None})
     return SimulationSettings(**settings)
-

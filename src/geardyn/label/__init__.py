@@ -9,5 +9,13 @@ from geardyn.label.lines import label_lines, label_points
 from geardyn.label.policy import Policy
 from geardyn.label.verdict import BIFURCATIONS, EXPONENT_METHODS, STAGE_NAMES, STAGES, Verdict
 
-__all__ = ["BIFURCATIONS", "EXPONENT_METHODS", "STAGES", "STAGE_NAMES", "Policy", "Verdict", "label_lines",
-           "label_points"]
+__all__ = [
+    "BIFURCATIONS",
+    "EXPONENT_METHODS",
+    "STAGES",
+    "STAGE_NAMES",
+    "Policy",
+    "Verdict",
+    "label_lines",
+    "label_points",
+]

@@ -30,11 +30,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from geardyn import classify
+from geardyn.label._threads import threaded_map
 from geardyn.label.policy import Policy
 from geardyn.label.settle import settle_points
 from geardyn.label.torus import moments, torus_test
 from geardyn.label.verdict import Verdict
-from geardyn.label._threads import threaded_map
 from geardyn.solve.base import SimulationResult, System
 from geardyn.solve.shooting import ShootingResult, newton_shooting_batch, period_settings, sorted_multipliers
 from geardyn.solve.simulate import EarlyStop, LaneTables, simulate_batch, strict_periods
@@ -58,8 +58,8 @@ class Point:
     prev: Verdict | None
     start: np.ndarray | None
     prev2: Verdict | None = None
-    tables: LaneTables | None = None     # the step tables of the whole step's batch (built once per step)
-    row: int = 0                         # this point's row in them
+    tables: LaneTables | None = None  # the step tables of the whole step's batch (built once per step)
+    row: int = 0  # this point's row in them
     verdict: Verdict | None = None
     tangent: bool = False
     bifurcation: str = "none"
@@ -102,8 +102,9 @@ def tile(points: np.ndarray, length: int) -> np.ndarray:
     return np.tile(points, (reps, 1))[:length]
 
 
-def periodic_verdicts(points: list[Point], shots: list[ShootingResult], policy: Policy, stage: str,
-                      why: str) -> list[Verdict | None]:
+def periodic_verdicts(
+    points: list[Point], shots: list[ShootingResult], policy: Policy, stage: str, why: str
+) -> list[Verdict | None]:
     """Verdicts for converged Newton orbits: period-m (m the least period) when max|mu| < 1 - margin, else
     None.  The cycle points of an n > 1 orbit come from one run of n periods from its orbit point (all
     together); a period-1 orbit is its point."""
@@ -117,24 +118,33 @@ def periodic_verdicts(points: list[Point], shots: list[ShootingResult], policy: 
             by_n[shots[k].n].append(k)
     for n, ks in by_n.items():
         s = dataclasses.replace(period_settings(policy.integration, n), recorded_periods=n)
-        runs = simulate_batch([points[k].system for k in ks], s, [shots[k].state for k in ks],
-                              tables=tables_of([points[k] for k in ks]))
+        runs = simulate_batch(
+            [points[k].system for k in ks], s, [shots[k].state for k in ks], tables=tables_of([points[k] for k in ks])
+        )
         for k, r in zip(ks, runs, strict=True):
             if not r.diverged:
                 cyc = np.vstack([shots[k].state[None, :], r.poincare])
                 tol = 1e3 * policy.newton_tol * max(1.0, float(np.max(np.abs(shots[k].state))))
-                cycles[k] = (cyc[:least_period(cyc, tol)], int(r.n_events))
+                cycles[k] = (cyc[: least_period(cyc, tol)], int(r.n_events))
     for k, (cycle, events) in cycles.items():
         shot, m = shots[k], cycle.shape[0]
         n, rho = shot.n, shot.spectral_radius
         out[k] = Verdict(
-            label=m if m <= policy.classifier.max_n else classify.LABELS["long_period"], period=m,
-            exponent=math.log(rho) / (n * points[k].system.period), exponent_sigma=0.0,
-            exponent_method="floquet", stage=stage,
+            label=m if m <= policy.classifier.max_n else classify.LABELS["long_period"],
+            period=m,
+            exponent=math.log(rho) / (n * points[k].system.period),
+            exponent_sigma=0.0,
+            exponent_method="floquet",
+            stage=stage,
             reason=f"{why}: stable period-{m} orbit, |mu|max = {rho ** (m / n):.6f}",
-            final_state=shot.state.copy(), poincare=tile(cycle, _record_length(policy)),
-            multiplier=rho ** (m / n), bifurcation=points[k].bifurcation, transient_used=points[k].transient_used,
-            n_events=events, monodromy=shot.monodromy if m == n else None)
+            final_state=shot.state.copy(),
+            poincare=tile(cycle, _record_length(policy)),
+            multiplier=rho ** (m / n),
+            bifurcation=points[k].bifurcation,
+            transient_used=points[k].transient_used,
+            n_events=events,
+            monodromy=shot.monodromy if m == n else None,
+        )
     return out
 
 
@@ -145,9 +155,15 @@ def _shoot(points: list[Point], starts: list[np.ndarray], ns: list[int], policy:
     for k, n in enumerate(ns):
         by_n[n].append(k)
     for n, ks in sorted(by_n.items()):
-        shots = newton_shooting_batch([points[k].system for k in ks], [starts[k] for k in ks], n,
-                                      policy.integration, tol=policy.newton_tol, max_iter=policy.newton_max_iter,
-                                      tables=tables_of([points[k] for k in ks]))
+        shots = newton_shooting_batch(
+            [points[k].system for k in ks],
+            [starts[k] for k in ks],
+            n,
+            policy.integration,
+            tol=policy.newton_tol,
+            max_iter=policy.newton_max_iter,
+            tables=tables_of([points[k] for k in ks]),
+        )
         for k, s in zip(ks, shots, strict=True):
             out[k] = s
     return out  # type: ignore[return-value]
@@ -173,10 +189,21 @@ def decide(points: list[Point], verdicts: list[Verdict | None]) -> list[Point]:
 
 def diverged_verdict(p: Point, r: SimulationResult) -> Verdict:
     lam = float("inf")
-    return Verdict(DIVERGED, 0, lam, 0.0, "none", "diverged", f"diverged in mesh period {r.diverged_period}",
-                   final_state=np.asarray(r.final_state, float).copy(), poincare=r.poincare,
-                   bifurcation=p.bifurcation, transient_used=r.transient_used, n_events=int(r.n_events),
-                   diverged_period=int(r.diverged_period))
+    return Verdict(
+        DIVERGED,
+        0,
+        lam,
+        0.0,
+        "none",
+        "diverged",
+        f"diverged in mesh period {r.diverged_period}",
+        final_state=np.asarray(r.final_state, float).copy(),
+        poincare=r.poincare,
+        bifurcation=p.bifurcation,
+        transient_used=r.transient_used,
+        n_events=int(r.n_events),
+        diverged_period=int(r.diverged_period),
+    )
 
 
 # ------------------------------------------------------------------------------------------------
@@ -198,8 +225,9 @@ def _small(residual: float, x: np.ndarray, tol: float) -> bool:
     return residual <= tol * max(1.0, float(np.max(np.abs(x))))
 
 
-def _chord(points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy, max_iter: int = 8
-           ) -> list[np.ndarray | None]:
+def _chord(
+    points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy, max_iter: int = 8
+) -> list[np.ndarray | None]:
     """Chord iteration x <- x - (M_prev - I)^-1 (phi(x) - x) on the n-period map, with the monodromy
     M_prev of each point's previous orbit: plain runs (no variational part), all points together.  The
     converged iterate (max|F| <= tol max(1, |x|)), or None when the residual does not fall by half at
@@ -213,8 +241,9 @@ def _chord(points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy, m
     for _ in range(max_iter):
         if not todo:
             break
-        runs = simulate_batch([points[k].system for k in todo], s, [xs[k] for k in todo],
-                              tables=tables_of([points[k] for k in todo]))
+        runs = simulate_batch(
+            [points[k].system for k in todo], s, [xs[k] for k in todo], tables=tables_of([points[k] for k in todo])
+        )
         left = []
         for k, r in zip(todo, runs, strict=True):
             if r.diverged:
@@ -244,8 +273,18 @@ def _certify_states(points: list[Point], xs: list[np.ndarray], n: int, policy: P
             continue
         res = float(np.max(np.abs(r.final_state - x)))
         ok = _small(res, x, 2.0 * policy.newton_tol)
-        out.append(ShootingResult(x, n, ok, "converged" if ok else "max_iterations", 0, res, r.monodromy.copy(),
-                                  sorted_multipliers(r.monodromy)))
+        out.append(
+            ShootingResult(
+                x,
+                n,
+                ok,
+                "converged" if ok else "max_iterations",
+                0,
+                res,
+                r.monodromy.copy(),
+                sorted_multipliers(r.monodromy),
+            )
+        )
     return out
 
 
@@ -264,16 +303,17 @@ def follow(points: list[Point], policy: Policy) -> list[Point]:
     for n, ks in sorted(by_n.items()):
         x0 = {k: _predict(todo[k]) for k in ks}
         chord = [k for k in ks if todo[k].prev.monodromy is not None]
-        got = dict(zip(chord, _chord([todo[k] for k in chord], [x0[k] for k in chord], n, policy),
-                       strict=True))
+        got = dict(zip(chord, _chord([todo[k] for k in chord], [x0[k] for k in chord], n, policy), strict=True))
         done = [k for k in chord if got[k] is not None]
-        for k, r in zip(done, _certify_states([todo[k] for k in done], [got[k] for k in done], n, policy),
-                        strict=True):
+        for k, r in zip(done, _certify_states([todo[k] for k in done], [got[k] for k in done], n, policy), strict=True):
             shots[k] = r if r.converged else None
         newton = [k for k in ks if shots[k] is None]
         if newton:
-            for k, r in zip(newton, _shoot([todo[k] for k in newton], [x0[k] for k in newton],
-                                           [n] * len(newton), policy), strict=True):
+            for k, r in zip(
+                newton,
+                _shoot([todo[k] for k in newton], [x0[k] for k in newton], [n] * len(newton), policy),
+                strict=True,
+            ):
                 shots[k] = r
     for p, s in zip(todo, shots, strict=True):
         if not s.converged:
@@ -281,8 +321,10 @@ def follow(points: list[Point], policy: Policy) -> list[Point]:
             p.notes.append(f"the period-{s.n} orbit of the previous point is lost ({s.status})")
         elif s.spectral_radius >= 1.0 - policy.stability_margin:  # not certified stable: it is losing stability
             p.bifurcation = bifurcation_type(s.multipliers)
-            p.notes.append(f"the followed period-{s.n} orbit is not stable here (|mu|max = {s.spectral_radius:.5f}, "
-                           f"{p.bifurcation.replace('_', '-')})")
+            p.notes.append(
+                f"the followed period-{s.n} orbit is not stable here (|mu|max = {s.spectral_radius:.5f}, "
+                f"{p.bifurcation.replace('_', '-')})"
+            )
     return rest + decide(todo, periodic_verdicts(todo, shots, policy, "follow", "followed from the previous point"))
 
 
@@ -297,8 +339,14 @@ def early_stop(policy: Policy) -> EarlyStop | None:
     if not s.early_stop:
         return None
     f = s.early_stop_tol_factor
-    return EarlyStop(min_periods=s.early_stop_min_periods, confirm=s.early_stop_confirm, max_n=c.max_n,
-                     floor=f * c.error_margin * c.error_floor, atol=f * c.atol, separation=c.separation)
+    return EarlyStop(
+        min_periods=s.early_stop_min_periods,
+        confirm=s.early_stop_confirm,
+        max_n=c.max_n,
+        floor=f * c.error_margin * c.error_floor,
+        atol=f * c.atol,
+        separation=c.separation,
+    )
 
 
 def rule3(results: list[SimulationResult], cs: classify.ClassifierSettings) -> list[int]:
@@ -311,7 +359,7 @@ def rule3(results: list[SimulationResult], cs: classify.ClassifierSettings) -> l
     for i, r in enumerate(results):
         p = r.poincare
         if not r.diverged and p.shape[0] and not np.isnan(p).any():
-            pts[i, :p.shape[0]] = p
+            pts[i, : p.shape[0]] = p
             npts[i] = p.shape[0]
     out = strict_periods(pts, npts, cs.max_n, cs.atol, cs.rtol, cs.error_margin * cs.error_floor, cs.separation)
     return [int(v) for v in out[:, 0]]
@@ -335,12 +383,20 @@ def integrate(points: list[Point], policy: Policy) -> list[Point]:
         if not group:
             continue
         x0s = [p.start if p.prev is None or p.prev.diverged else p.prev.final_state for p in group]
-        trans = [s.transient_periods if p.prev is None or p.prev.diverged else policy.follow_transient_periods
-                 for p in group]
+        trans = [
+            s.transient_periods if p.prev is None or p.prev.diverged else policy.follow_transient_periods for p in group
+        ]
         rec = [max(s.recorded_periods, cs.tangent_periods) if tangent else s.recorded_periods] * len(group)
-        runs = simulate_batch([p.system for p in group], s, x0s, early_stop=early_stop(policy), tables=tables_of(group),
-                              transient_periods=trans, recorded_periods=rec,
-                              tangent_periods=cs.tangent_periods if tangent else 0)
+        runs = simulate_batch(
+            [p.system for p in group],
+            s,
+            x0s,
+            early_stop=early_stop(policy),
+            tables=tables_of(group),
+            transient_periods=trans,
+            recorded_periods=rec,
+            tangent_periods=cs.tangent_periods if tangent else 0,
+        )
         for p, r in zip(group, runs, strict=True):
             p.run, p.transient_used = r, r.transient_used
             p.tangent = bool(tangent) and r.growth is not None and r.growth.size >= cs.tangent_periods
@@ -371,25 +427,30 @@ def certify(points: list[Point], ns: list[int], policy: Policy, stage: str, why:
     verdicts = periodic_verdicts(tp, shots, policy, stage, why)
     for k, (p, s, v) in enumerate(zip(tp, shots, verdicts, strict=True)):
         if v is None:
-            p.notes.append(f"looks period-{s.n} on its record, but shooting finds no stable orbit "
-                           f"({s.status}, |mu|max = {s.spectral_radius:.5f})")
+            p.notes.append(
+                f"looks period-{s.n} on its record, but shooting finds no stable orbit "
+                f"({s.status}, |mu|max = {s.spectral_radius:.5f})"
+            )
         elif p.run.poincare.shape[0]:  # the record is on the orbit within tolerance: draw what was integrated
-            verdicts[k] = dataclasses.replace(v, poincare=p.run.poincare[-_record_length(policy):],
-                                              n_events=int(p.run.n_events))
+            verdicts[k] = dataclasses.replace(
+                v, poincare=p.run.poincare[-_record_length(policy) :], n_events=int(p.run.n_events)
+            )
     decide(tp, verdicts)
     return [p for p in points if p.verdict is None]
 
 
-def _deflated(points: list[Point], found: list[ShootingResult], policy: Policy, max_iter: int = 20
-              ) -> list[ShootingResult]:
+def _deflated(
+    points: list[Point], found: list[ShootingResult], policy: Policy, max_iter: int = 20
+) -> list[ShootingResult]:
     """Newton shooting for period n from each point's final state on the deflated residual
     G(x) = m(x) (phi(x) - x), m(x) = 1 / |x - r|^2 + 1, r the unstable orbit point already found (Farrell,
     Birkisson & Funke, SIAM J. Sci. Comput. 37 (2015) A2026): the deflated Newton iteration cannot
     converge to r again.  All points together; convergence on the plain residual, as in Newton shooting."""
     n_of = [f.n for f in found]
     xs = [np.asarray(p.run.final_state, float).copy() for p in points]
-    out: list[ShootingResult] = [ShootingResult(x, n, False, "max_iterations", max_iter, float("inf"))
-                                 for x, n in zip(xs, n_of, strict=True)]
+    out: list[ShootingResult] = [
+        ShootingResult(x, n, False, "max_iterations", max_iter, float("inf")) for x, n in zip(xs, n_of, strict=True)
+    ]
     todo = list(range(len(points)))
     for it in range(max_iter + 1):
         if not todo:
@@ -397,8 +458,13 @@ def _deflated(points: list[Point], found: list[ShootingResult], policy: Policy, 
         left = []
         for n in sorted({n_of[k] for k in todo}):
             ks = [k for k in todo if n_of[k] == n]
-            runs = simulate_batch([points[k].system for k in ks], period_settings(policy.integration, n),
-                                  [xs[k] for k in ks], monodromy_periods=n, tables=tables_of([points[k] for k in ks]))
+            runs = simulate_batch(
+                [points[k].system for k in ks],
+                period_settings(policy.integration, n),
+                [xs[k] for k in ks],
+                monodromy_periods=n,
+                tables=tables_of([points[k] for k in ks]),
+            )
             for k, r in zip(ks, runs, strict=True):
                 if r.diverged or r.monodromy is None:
                     out[k] = ShootingResult(xs[k], n, False, "diverged", it, float("inf"))
@@ -406,15 +472,16 @@ def _deflated(points: list[Point], found: list[ShootingResult], policy: Policy, 
                 F = r.final_state - xs[k]
                 res = float(np.max(np.abs(F)))
                 if _small(res, xs[k], policy.newton_tol):
-                    out[k] = ShootingResult(xs[k].copy(), n, True, "converged", it, res, r.monodromy.copy(),
-                                            sorted_multipliers(r.monodromy))
+                    out[k] = ShootingResult(
+                        xs[k].copy(), n, True, "converged", it, res, r.monodromy.copy(), sorted_multipliers(r.monodromy)
+                    )
                     continue
                 d = xs[k] - found[k].state
                 d2 = float(d @ d)
                 if d2 == 0.0 or it == max_iter:
                     continue
                 m = 1.0 / d2 + 1.0
-                grad = -2.0 * d / d2 ** 2
+                grad = -2.0 * d / d2**2
                 A = m * (r.monodromy - np.eye(6)) + np.outer(F, grad)
                 try:
                     step = np.linalg.solve(A, -m * F)
@@ -438,9 +505,16 @@ def slow_transients(points: list[Point], policy: Policy) -> list[Point]:
     record: a stable orbit the run is seen to approach decides it (the cycle is what is drawn)."""
     if not points or policy.classifier.settle_max_n <= 0:
         return points
-    settled = settle_points([p.system for p in points], [p.run for p in points], [UNDET] * len(points),
-                            [NAN] * len(points), policy.integration, policy.classifier,
-                            tables=tables_of(points), always_one=[not _follows_motion(p) for p in points])
+    settled = settle_points(
+        [p.system for p in points],
+        [p.run for p in points],
+        [UNDET] * len(points),
+        [NAN] * len(points),
+        policy.integration,
+        policy.classifier,
+        tables=tables_of(points),
+        always_one=[not _follows_motion(p) for p in points],
+    )
     found = [(p, s) for p, s in zip(points, settled, strict=True) if s.state is not None and not s.possible]
     for p, s in zip(points, settled, strict=True):
         if s.possible or (s.state is None and s.reason):
@@ -450,8 +524,13 @@ def slow_transients(points: list[Point], policy: Policy) -> list[Point]:
     fp = [p for p, _ in found]
     shots = [ShootingResult(s.state, s.n, True, "converged", 0, 0.0, None, s.multipliers) for _, s in found]
     verdicts = periodic_verdicts(fp, shots, policy, "shooting", "a slow transient")
-    decide(fp, [None if v is None else dataclasses.replace(v, reason=s.reason)
-                for v, (_, s) in zip(verdicts, found, strict=True)])
+    decide(
+        fp,
+        [
+            None if v is None else dataclasses.replace(v, reason=s.reason)
+            for v, (_, s) in zip(verdicts, found, strict=True)
+        ],
+    )
     return [p for p in points if p.verdict is None]
 
 
@@ -469,9 +548,19 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
     s, cs = policy.integration, policy.classifier
     more = dataclasses.replace(s, transient_periods=0, recorded_periods=max(s.recorded_periods, cs.tangent_periods))
     again = [p for p in points if not p.tangent]
-    cont = dict(zip(map(id, again), simulate_batch([p.system for p in again], more, [p.run.final_state for p in again],
-                                                   tangent_periods=cs.tangent_periods, tables=tables_of(again)),
-                    strict=True))
+    cont = dict(
+        zip(
+            map(id, again),
+            simulate_batch(
+                [p.system for p in again],
+                more,
+                [p.run.final_state for p in again],
+                tangent_periods=cs.tangent_periods,
+                tables=tables_of(again),
+            ),
+            strict=True,
+        )
+    )
     for p in points:
         p.run = cont.get(id(p), p.run)
     bounded = []
@@ -483,8 +572,13 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
     periods = rule3([p.run for p in bounded], cs)
     periodic = [(p, n) for p, n in zip(bounded, periods, strict=True) if n > 0]
     if periodic:
-        left = certify([p for p, _ in periodic], [n for _, n in periodic], policy, "period_test",
-                       "periodic on the continued record")
+        left = certify(
+            [p for p, _ in periodic],
+            [n for _, n in periodic],
+            policy,
+            "period_test",
+            "periodic on the continued record",
+        )
         for p in left:
             p.verdict = _undecided(p, p.run, "looks periodic but no stable orbit is found", policy)
     rest = [p for p, n in zip(bounded, periods, strict=True) if n == 0]
@@ -508,16 +602,20 @@ def _longer_record(points: list[Point], policy: Policy) -> None:
         if n <= 0:
             break
         s = dataclasses.replace(policy.integration, transient_periods=0, recorded_periods=n)
-        runs = simulate_batch([p.system for p in retry], s, [p.run.final_state for p in retry],
-                              tables=tables_of(retry), tangent_periods=n)
+        runs = simulate_batch(
+            [p.system for p in retry], s, [p.run.final_state for p in retry], tables=tables_of(retry), tangent_periods=n
+        )
         for p, r in zip(retry, runs, strict=True):
             if r.diverged:
                 p.verdict = diverged_verdict(p, r)
                 continue
             old = p.run
-            p.run = dataclasses.replace(r, poincare=np.vstack([old.poincare, r.poincare]),
-                                        growth=np.concatenate([old.growth, r.growth]),
-                                        strobe=np.concatenate([old.strobe, r.strobe]))
+            p.run = dataclasses.replace(
+                r,
+                poincare=np.vstack([old.poincare, r.poincare]),
+                growth=np.concatenate([old.growth, r.growth]),
+                strobe=np.concatenate([old.strobe, r.strobe]),
+            )
             p.verdict = _nonperiodic_verdict(p, policy)
         retry = [p for p in retry if p.verdict.stage == "undecided"]
     _long_periods(retry, policy)
@@ -530,17 +628,24 @@ def _long_periods(points: list[Point], policy: Policy) -> None:
     cs = policy.classifier
     if not points or cs.long_max_n <= cs.max_n:
         return
-    half = [dataclasses.replace(p.run, poincare=p.run.poincare[p.run.poincare.shape[0] // 2:]) for p in points]
+    half = [dataclasses.replace(p.run, poincare=p.run.poincare[p.run.poincare.shape[0] // 2 :]) for p in points]
     big = dataclasses.replace(cs, max_n=cs.long_max_n)
-    ns = [n if n > cs.max_n and 3 * n <= r.poincare.shape[0] else 0 for n, r in zip(rule3(half, big), half, strict=True)]
+    ns = [
+        n if n > cs.max_n and 3 * n <= r.poincare.shape[0] else 0 for n, r in zip(rule3(half, big), half, strict=True)
+    ]
     todo = [(p, n) for p, n in zip(points, ns, strict=True) if n > 0]
     if not todo:
         return
     undecided = {id(p): p.verdict for p, _ in todo}
     for p, _ in todo:
         p.verdict = None
-    left = certify([p for p, _ in todo], [n for _, n in todo], policy, "period_test",
-                   "the longer record returns after a long period")
+    left = certify(
+        [p for p, _ in todo],
+        [n for _, n in todo],
+        policy,
+        "period_test",
+        "the longer record returns after a long period",
+    )
     for p in left:
         p.verdict = undecided[id(p)]
 
@@ -549,15 +654,20 @@ def standardised(points: np.ndarray) -> np.ndarray:
     """The torus test's observable: each coordinate of the Poincare points, standardised (the first
     moments of :func:`geardyn.label.torus.moments`; the higher ones converge too slowly on the model's
     slowly attracting tori to decide within a few hundred periods, docs/classify.md)."""
-    return moments(points)[:, :points.shape[1]]
+    return moments(points)[:, : points.shape[1]]
 
 
 def _torus(points: np.ndarray, cs: classify.ClassifierSettings):
     """The torus test on the record (2N Poincare points): a torus at log10 sqrt(N) + torus_margin digits,
     chaos below log10 sqrt(N) + chaos_margin."""
     n = max(1, points.shape[0] // 2)
-    return torus_test(points[-2 * n:], 0.5 * math.log10(n) + cs.torus_margin, cs.chaos_margin, cs.torus_min_n,
-                      observable=standardised)
+    return torus_test(
+        points[-2 * n :],
+        0.5 * math.log10(n) + cs.torus_margin,
+        cs.chaos_margin,
+        cs.torus_min_n,
+        observable=standardised,
+    )
 
 
 def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
@@ -576,32 +686,76 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
         phi = r.strobe if r.strobe is not None and r.strobe.size else r.poincare[:, 1]
         k01, flat = classify.zero_one_test(phi), classify.spectral_flatness(phi)
         cross = int(k01 > cs.k_chaos) + int(flat > cs.flat_broadband) - 1
-        label, stage, why = CHAOS, "exponent", (f"positive exponent {lam:.2g} +- {sig:.1g}; the Birkhoff averages do "
-                                                f"not converge (digits {digits:.1f})")
+        label, stage, why = (
+            CHAOS,
+            "exponent",
+            (f"positive exponent {lam:.2g} +- {sig:.1g}; the Birkhoff averages do not converge (digits {digits:.1f})"),
+        )
     elif tt.verdict == "torus" and not positive and not negative:
         label, stage, why = QP, "torus", f"Birkhoff averages converge (digits {digits:.1f}); exponent {lam:.2g}"
     elif negative:
-        label, stage, why = UNDET, "undecided", (f"negative exponent {lam:.2g} +- {sig:.1g}: attracted to a periodic "
-                                                 f"orbit that shooting did not find (digits {digits:.1f})")
+        label, stage, why = (
+            UNDET,
+            "undecided",
+            (
+                f"negative exponent {lam:.2g} +- {sig:.1g}: attracted to a periodic "
+                f"orbit that shooting did not find (digits {digits:.1f})"
+            ),
+        )
     elif tt.verdict == "torus":
-        label, stage, why = UNDET, "undecided", (f"positive exponent {lam:.2g} but the Birkhoff averages converge "
-                                                 f"(digits {digits:.1f})")
+        label, stage, why = (
+            UNDET,
+            "undecided",
+            (f"positive exponent {lam:.2g} but the Birkhoff averages converge (digits {digits:.1f})"),
+        )
     elif positive:
         label, stage, why = UNDET, "undecided", f"positive exponent {lam:.2g}, torus test inconclusive ({digits:.1f})"
     else:
-        label, stage, why = UNDET, "undecided", (f"exponent {lam:.2g} +- {sig:.1g} not positive and the Birkhoff "
-                                                 f"averages do not converge (digits {digits:.1f})")
+        label, stage, why = (
+            UNDET,
+            "undecided",
+            (
+                f"exponent {lam:.2g} +- {sig:.1g} not positive and the Birkhoff "
+                f"averages do not converge (digits {digits:.1f})"
+            ),
+        )
     why += f" ({r.poincare.shape[0]} recorded periods)"
     if p.notes:
         why += "; " + "; ".join(p.notes)
-    return Verdict(label, 0, lam, sig, "tangent", stage, why, final_state=r.final_state.copy(),
-                   poincare=r.poincare[-_record_length(policy):], bifurcation=p.bifurcation, k01=k01, flatness=flat,
-                   torus_digits=digits, crosscheck=cross, transient_used=p.transient_used, n_events=int(r.n_events))
+    return Verdict(
+        label,
+        0,
+        lam,
+        sig,
+        "tangent",
+        stage,
+        why,
+        final_state=r.final_state.copy(),
+        poincare=r.poincare[-_record_length(policy) :],
+        bifurcation=p.bifurcation,
+        k01=k01,
+        flatness=flat,
+        torus_digits=digits,
+        crosscheck=cross,
+        transient_used=p.transient_used,
+        n_events=int(r.n_events),
+    )
 
 
 def _undecided(p: Point, r: SimulationResult, why: str, policy: Policy) -> Verdict:
     if p.notes:
         why += "; " + "; ".join(p.notes)
-    return Verdict(UNDET, 0, NAN, NAN, "none", "undecided", why, final_state=r.final_state.copy(),
-                   poincare=r.poincare[-_record_length(policy):], bifurcation=p.bifurcation,
-                   transient_used=p.transient_used, n_events=int(r.n_events))
+    return Verdict(
+        UNDET,
+        0,
+        NAN,
+        NAN,
+        "none",
+        "undecided",
+        why,
+        final_state=r.final_state.copy(),
+        poincare=r.poincare[-_record_length(policy) :],
+        bifurcation=p.bifurcation,
+        transient_used=p.transient_used,
+        n_events=int(r.n_events),
+    )

@@ -25,8 +25,14 @@ def hausdorff(a: np.ndarray, b: np.ndarray) -> float:
     return float(max(d.min(axis=1).max(), d.min(axis=0).max()))
 
 
-def same_attractor(label_a: int, pa: np.ndarray, label_b: int, pb: np.ndarray, distance_tol: float = DISTANCE_TOL,
-                   chaotic_distance_tol: float = CHAOTIC_DISTANCE_TOL) -> bool:
+def same_attractor(
+    label_a: int,
+    pa: np.ndarray,
+    label_b: int,
+    pb: np.ndarray,
+    distance_tol: float = DISTANCE_TOL,
+    chaotic_distance_tol: float = CHAOTIC_DISTANCE_TOL,
+) -> bool:
     """Same label and Poincare sets within the tolerance (module docstring).  ``pa``, ``pb``: for a periodic
     label, one cycle (its n points)."""
     if label_a != label_b:
@@ -47,7 +53,7 @@ def same_attractor(label_a: int, pa: np.ndarray, label_b: int, pb: np.ndarray, d
 def attractor_points(v: Verdict) -> np.ndarray:
     """The points that stand for a verdict's attractor: one cycle of a periodic one, else its record."""
     p = v.poincare[np.all(np.isfinite(v.poincare), axis=1)]
-    return p[:v.period] if v.period > 0 else p
+    return p[: v.period] if v.period > 0 else p
 
 
 def same(a: Verdict, b: Verdict) -> bool:

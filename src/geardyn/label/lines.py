@@ -33,8 +33,12 @@ def _step(points: list[st.Point], policy: Policy) -> list[Verdict]:
     return [p.verdict for p in points]  # type: ignore[misc]
 
 
-def label_lines(lines: Sequence[Sequence[System]], policy: Policy,
-                starts: Sequence[np.ndarray | None] | None = None, progress: str = "") -> list[list[Verdict]]:
+def label_lines(
+    lines: Sequence[Sequence[System]],
+    policy: Policy,
+    starts: Sequence[np.ndarray | None] | None = None,
+    progress: str = "",
+) -> list[list[Verdict]]:
     """Label every point of every line: ``out[i][k]`` is the :class:`~geardyn.label.verdict.Verdict` of point
     k of line i.
 
@@ -46,8 +50,9 @@ def label_lines(lines: Sequence[Sequence[System]], policy: Policy,
     starts = [None] * len(lines) if starts is None else list(starts)
     if policy.start == "fixed":
         flat = [(i, k) for i, line in enumerate(lines) for k in range(len(line))]
-        single = label_lines([[lines[i][k]] for i, k in flat], policy.with_start("follow"),
-                             [starts[i] for i, _ in flat], progress)
+        single = label_lines(
+            [[lines[i][k]] for i, k in flat], policy.with_start("follow"), [starts[i] for i, _ in flat], progress
+        )
         out: list[list[Verdict]] = [[None] * len(line) for line in lines]  # type: ignore[list-item]
         for (i, k), (v,) in zip(flat, single, strict=True):
             out[i][k] = v
@@ -61,9 +66,17 @@ def label_lines(lines: Sequence[Sequence[System]], policy: Policy,
         idx = [i for i, line in enumerate(lines) if k < len(line)]
         systems = [lines[i][k] for i in idx]
         tables = lane_tables(systems, policy.integration)  # every stage's runs of this step share them
-        points = [st.Point(systems[r], None if prev[i] is None or prev[i].diverged else prev[i],
-                           None if starts[i] is None else np.asarray(starts[i], float), prev2[i], tables, r)
-                  for r, i in enumerate(idx)]
+        points = [
+            st.Point(
+                systems[r],
+                None if prev[i] is None or prev[i].diverged else prev[i],
+                None if starts[i] is None else np.asarray(starts[i], float),
+                prev2[i],
+                tables,
+                r,
+            )
+            for r, i in enumerate(idx)
+        ]
         for i, v in zip(idx, _step(points, policy), strict=True):
             out[i][k] = v
             prev2[i] = prev[i]
@@ -71,12 +84,19 @@ def label_lines(lines: Sequence[Sequence[System]], policy: Policy,
         if progress and ((k + 1) % max(1, length // 10) == 0 or k + 1 == length):
             done = sum(min(k + 1, len(line)) for line in lines)
             elapsed = time.perf_counter() - t0
-            log.info("%s: %d/%d points, %.1f s elapsed, %.1f s remaining", progress, done, total, elapsed,
-                     elapsed / done * (total - done))
+            log.info(
+                "%s: %d/%d points, %.1f s elapsed, %.1f s remaining",
+                progress,
+                done,
+                total,
+                elapsed,
+                elapsed / done * (total - done),
+            )
     return out
 
 
-def label_points(systems: Sequence[System], policy: Policy,
-                 starts: Sequence[np.ndarray | None] | None = None) -> list[Verdict]:
+def label_points(
+    systems: Sequence[System], policy: Policy, starts: Sequence[np.ndarray | None] | None = None
+) -> list[Verdict]:
     """Label independent points, each from its fixed start (a line of one point each)."""
     return [v for (v,) in label_lines([[s] for s in systems], policy, starts)]

@@ -62,6 +62,9 @@ class Policy:
         ``classifier`` block, ``start_from`` (follow or fixed; not ``start``, which a sweep uses for its range)
         and ``coexistence`` keys (presets already resolved by the validator)."""
         spec = dict(spec or {})
-        return cls(integration=integration,
-                   classifier=ClassifierSettings.from_mapping(dict(spec.get("classifier") or {})),
-                   start=spec.get("start_from", "follow"), coexistence=bool(spec.get("coexistence", False)))
+        return cls(
+            integration=integration,
+            classifier=ClassifierSettings.from_mapping(dict(spec.get("classifier") or {})),
+            start=spec.get("start_from", "follow"),
+            coexistence=bool(spec.get("coexistence", False)),
+        )

@@ -73,8 +73,11 @@ class Settled:
 def needs_check(label: int, lyapunov: float, classifier: classify.ClassifierSettings) -> bool:
     """Whether :func:`settle` tries the point: quasi-periodic or undetermined with an exponent that is
     not clearly positive, and the check switched on (``settle_max_n > 0``)."""
-    return (classifier.settle_max_n > 0 and label in (QP, UNDET)
-            and not (np.isfinite(lyapunov) and lyapunov > classifier.lam_tol))
+    return (
+        classifier.settle_max_n > 0
+        and label in (QP, UNDET)
+        and not (np.isfinite(lyapunov) and lyapunov > classifier.lam_tol)
+    )
 
 
 def minimal_period(cycle: list[np.ndarray], state: np.ndarray, rtol: float = 1e-6) -> int:
@@ -116,15 +119,23 @@ def approached_in_record(poincare: np.ndarray, cycle: np.ndarray, rho: float, n:
     return slope <= 0.5 * math.log(rho) / n and math.exp(slope * (d.size - 1)) <= 0.5
 
 
-def settle(system, result, label: int, lyapunov: float, settings: SimulationSettings,
-           classifier: classify.ClassifierSettings) -> Settled:
+def settle(
+    system, result, label: int, lyapunov: float, settings: SimulationSettings, classifier: classify.ClassifierSettings
+) -> Settled:
     """The slow-transient check of one point (module docstring): its label after the check."""
     return settle_points([system], [result], [label], [lyapunov], settings, classifier)[0]
 
 
-def settle_points(systems, results, labels, lyapunovs, settings: SimulationSettings,
-                  classifier: classify.ClassifierSettings, tables: LaneTables | None = None,
-                  always_one: list[bool] | None = None) -> list[Settled]:
+def settle_points(
+    systems,
+    results,
+    labels,
+    lyapunovs,
+    settings: SimulationSettings,
+    classifier: classify.ClassifierSettings,
+    tables: LaneTables | None = None,
+    always_one: list[bool] | None = None,
+) -> list[Settled]:
     """:func:`settle` of many points at once, stage by stage: the shooting of every point for one n,
     and the continued records of a stage, are integrated together
     (:func:`geardyn.solve.shooting.newton_shooting_batch`, :func:`geardyn.solve.simulate.simulate_batch`,
@@ -153,16 +164,26 @@ def settle_points(systems, results, labels, lyapunovs, settings: SimulationSetti
         tried = [i for i in active if (n == 1 and one[i]) or falls[i][n - 1]]
         if not tried:
             continue
-        shots = newton_shooting_batch([systems[i] for i in tried], [x0[i] for i in tried], n, settings,
-                                      tol=1e-9, max_iter=15, tables=tables.take(tried))
+        shots = newton_shooting_batch(
+            [systems[i] for i in tried],
+            [x0[i] for i in tried],
+            n,
+            settings,
+            tol=1e-9,
+            max_iter=15,
+            tables=tables.take(tried),
+        )
         stable = {i: r for i, r in zip(tried, shots, strict=True) if r.converged and r.spectral_radius < 1.0}
         if stable:
             for i, s in _judge(systems, tables, results, labels, x0, stable, n, settings, classifier).items():
                 out[i] = s
             active = [i for i in active if i not in stable]
     for i in active:
-        out[i] = Settled(labels[i], labels[i], reason=f"no stable orbit of period <= {classifier.settle_max_n} "
-                                                      "(tried where the return distance falls)")
+        out[i] = Settled(
+            labels[i],
+            labels[i],
+            reason=f"no stable orbit of period <= {classifier.settle_max_n} (tried where the return distance falls)",
+        )
     return out  # type: ignore[return-value]
 
 
@@ -173,16 +194,26 @@ def _cycles(systems, tables: LaneTables, shots: dict, n: int, settings: Simulati
     cycles = {i: [r.state] for i, r in shots.items()}
     alive = list(shots)
     for _ in range(n - 1):
-        runs = simulate_batch([systems[i] for i in alive], one, [cycles[i][-1] for i in alive],
-                              tables=tables.take(alive))
+        runs = simulate_batch(
+            [systems[i] for i in alive], one, [cycles[i][-1] for i in alive], tables=tables.take(alive)
+        )
         alive = [i for i, r in zip(alive, runs, strict=True) if not r.diverged]
         for i, r in zip(alive, [r for r in runs if not r.diverged], strict=True):
             cycles[i].append(r.final_state.copy())
-    return {i: np.array(c[:minimal_period(c, shots[i].state)]) for i, c in cycles.items()}
+    return {i: np.array(c[: minimal_period(c, shots[i].state)]) for i, c in cycles.items()}
 
 
-def _judge(systems, tables: LaneTables, results, labels, x0: dict, shots: dict, n: int, settings: SimulationSettings,
-           classifier: classify.ClassifierSettings) -> dict[int, Settled]:
+def _judge(
+    systems,
+    tables: LaneTables,
+    results,
+    labels,
+    x0: dict,
+    shots: dict,
+    n: int,
+    settings: SimulationSettings,
+    classifier: classify.ClassifierSettings,
+) -> dict[int, Settled]:
     """Whether each run approaches the stable n-period orbit found for it (module docstring, step 3)."""
     cycles = _cycles(systems, tables, shots, n, settings)
     rho = {i: min(r.spectral_radius, 1.0 - 1e-6) for i, r in shots.items()}
@@ -193,20 +224,37 @@ def _judge(systems, tables: LaneTables, results, labels, x0: dict, shots: dict, 
         m = len(cycles[i])
         # a shorter orbit is also fixed by the n-period map (its multipliers are those of the m-map to the
         # power n/m): the m-period shooting did not reach it from here, so it is judged as found
-        return Settled(labels[i], m, n, r.spectral_radius, f"slow transient: stable period-{m} orbit by shooting "
-                       f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached {how}",
-                       state=r.state.copy(), multipliers=r.multipliers)
+        return Settled(
+            labels[i],
+            m,
+            n,
+            r.spectral_radius,
+            f"slow transient: stable period-{m} orbit by shooting "
+            f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached {how}",
+            state=r.state.copy(),
+            multipliers=r.multipliers,
+        )
 
-    out = {i: found(i, "over the recorded periods") for i in shots
-           if approached_in_record(results[i].poincare, cycles[i], rho[i], n)}
+    out = {
+        i: found(i, "over the recorded periods")
+        for i in shots
+        if approached_in_record(results[i].poincare, cycles[i], rho[i], n)
+    }
     # a continued record as long as the multiplier needs to shrink a distance 4-fold, read the same way
-    k4 = {i: n * math.ceil(min(max_periods, max(20, math.ceil(math.log(0.25) / math.log(rho[i])))) / n)
-          for i in shots if i not in out}
+    k4 = {
+        i: n * math.ceil(min(max_periods, max(20, math.ceil(math.log(0.25) / math.log(rho[i])))) / n)
+        for i in shots
+        if i not in out
+    }
     ext = {}
     for group in _length_classes(k4):
-        runs = simulate_batch([systems[i] for i in group], dataclasses.replace(settings, transient_periods=0),
-                              [x0[i] for i in group], recorded_periods=[k4[i] for i in group],
-                              tables=tables.take(group))
+        runs = simulate_batch(
+            [systems[i] for i in group],
+            dataclasses.replace(settings, transient_periods=0),
+            [x0[i] for i in group],
+            recorded_periods=[k4[i] for i in group],
+            tables=tables.take(group),
+        )
         ext.update(zip(group, runs, strict=True))
     for i, e in ext.items():
         if not e.diverged and approached_in_record(e.poincare, cycles[i], rho[i], n):
@@ -239,13 +287,24 @@ def _judge(systems, tables: LaneTables, results, labels, x0: dict, shots: dict, 
         if rho[i] ** (done / n) > 0.1:
             # the multiplier is so close to 1 that the horizon could not show a 10-fold fall: the run may be a
             # transient onto this orbit; say so instead of calling it quasi-periodic
-            return Settled(labels[i], UNDET, n, r.spectral_radius,
-                           f"possible slow transient: stable period-{m} orbit (|mu|max = {r.spectral_radius:.5f} "
-                           f"over {n} periods) too slow to confirm in {done} periods "
-                           f"(distance {d0:.2g} -> {d1:.2g})", possible=True)
-        return Settled(labels[i], labels[i], n, r.spectral_radius,
-                       f"stable period-{n} orbit found, but the run does not approach it "
-                       f"(distance {d0:.2g} -> {d1:.2g} in {done} periods)")
+            return Settled(
+                labels[i],
+                UNDET,
+                n,
+                r.spectral_radius,
+                f"possible slow transient: stable period-{m} orbit (|mu|max = {r.spectral_radius:.5f} "
+                f"over {n} periods) too slow to confirm in {done} periods "
+                f"(distance {d0:.2g} -> {d1:.2g})",
+                possible=True,
+            )
+        return Settled(
+            labels[i],
+            labels[i],
+            n,
+            r.spectral_radius,
+            f"stable period-{n} orbit found, but the run does not approach it "
+            f"(distance {d0:.2g} -> {d1:.2g} in {done} periods)",
+        )
 
     out.update(zip(last, threaded_map(by_run, last), strict=True))
     return out
@@ -270,10 +329,20 @@ def settled_classification(before: classify.Classification, s: Settled, period: 
     orbit's leading Floquet multiplier (lambda = log |mu|max / (n T), sigma 0) and ``settled = SETTLED``; a
     possible slow transient is undetermined with ``settled = POSSIBLE_TRANSIENT``."""
     if s.possible:
-        return classify.Classification(UNDET, 0, before.lyapunov, before.lyapunov_sigma, before.k01, before.flatness,
-                                       before.crosscheck, s.reason, settled=classify.POSSIBLE_TRANSIENT)
+        return classify.Classification(
+            UNDET,
+            0,
+            before.lyapunov,
+            before.lyapunov_sigma,
+            before.k01,
+            before.flatness,
+            before.crosscheck,
+            s.reason,
+            settled=classify.POSSIBLE_TRANSIENT,
+        )
     if s.after == s.before:
         return before
     lam = math.log(s.spectral_radius) / (s.n * period)
-    return classify.Classification(s.after, s.after, lam, 0.0, before.k01, before.flatness, -1, s.reason,
-                                   settled=classify.SETTLED)
+    return classify.Classification(
+        s.after, s.after, lam, 0.0, before.k01, before.flatness, -1, s.reason, settled=classify.SETTLED
+    )

@@ -93,7 +93,8 @@ def _as_points(points: np.ndarray) -> np.ndarray:
     if bad.any():
         raise ValueError(
             f"points hold {int(bad.sum())} row(s) with NaN or inf (first at row {int(np.argmax(bad))}); "
-            "pass only the finite Poincaré points of a run (a diverged run has no torus to test)")
+            "pass only the finite Poincaré points of a run (a diverged run has no torus to test)"
+        )
     return p
 
 
@@ -113,7 +114,7 @@ def birkhoff_digits(points: np.ndarray, observable: Observable | None = None) ->
     if m < 4:
         raise ValueError(f"birkhoff_digits needs at least 4 points (two halves of 2), got {m}")
     n = m // 2
-    p = p[m - 2 * n:]
+    p = p[m - 2 * n :]
     f = np.asarray((moments if observable is None else observable)(p), dtype=float)
     if f.ndim == 1:
         f = f[:, None]
@@ -169,8 +170,9 @@ def torus_test(
     dg = birkhoff_digits(points, observable)
     n = _as_points(points).shape[0] // 2
     if n >= min_n and not 0.5 * math.log10(n) + chaos_digits <= torus_digits:
-        raise ValueError(f"the chaos threshold log10 sqrt(N) + {chaos_digits} exceeds torus_digits = {torus_digits} "
-                         f"at N = {n}")
+        raise ValueError(
+            f"the chaos threshold log10 sqrt(N) + {chaos_digits} exceeds torus_digits = {torus_digits} at N = {n}"
+        )
     if n < min_n:
         verdict = "inconclusive"
     elif dg >= torus_digits:
@@ -182,8 +184,9 @@ def torus_test(
     return TorusTest(digits=float(dg), n=int(n), verdict=verdict)
 
 
-def rotation_number(points: np.ndarray, center: np.ndarray | tuple[float, float],
-                    plane: tuple[int, int] = (0, 1)) -> float:
+def rotation_number(
+    points: np.ndarray, center: np.ndarray | tuple[float, float], plane: tuple[int, int] = (0, 1)
+) -> float:
     """Rotation number (turns per iterate, in [0, 1)) of the points about ``center`` in a coordinate plane.
 
     The angle of each point about ``center`` (coordinates ``plane`` of the points) is taken in

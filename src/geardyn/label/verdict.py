@@ -17,23 +17,23 @@ from geardyn import classify
 
 #: Which stage decided a verdict (cube variable ``stage``; codes and meanings).
 STAGES = {
-    "follow": 1,        # Newton shooting from the previous point's orbit: a stable orbit, certified by its multipliers
-    "period_test": 2,   # the run returns within tolerance (rule 3); Newton shooting certifies the orbit
-    "shooting": 3,      # a slow transient: a stable orbit found by shooting that the run approaches
-    "exponent": 4,      # the tangent exponent with the 0-1 test, the spectrum and the torus test (chaos)
-    "torus": 5,         # weighted Birkhoff averages converge: a torus (quasi-periodic)
-    "undecided": 6,     # the indicators disagree (the reason says how)
-    "diverged": 7,      # unbounded growth
+    "follow": 1,  # Newton shooting from the previous point's orbit: a stable orbit, certified by its multipliers
+    "period_test": 2,  # the run returns within tolerance (rule 3); Newton shooting certifies the orbit
+    "shooting": 3,  # a slow transient: a stable orbit found by shooting that the run approaches
+    "exponent": 4,  # the tangent exponent with the 0-1 test, the spectrum and the torus test (chaos)
+    "torus": 5,  # weighted Birkhoff averages converge: a torus (quasi-periodic)
+    "undecided": 6,  # the indicators disagree (the reason says how)
+    "diverged": 7,  # unbounded growth
 }
 STAGE_NAMES = {v: k for k, v in STAGES.items()}
 
 #: How the followed orbit lost stability at this point (cube variable ``bifurcation``).
 BIFURCATIONS = {
     "none": 0,
-    "fold": 1,              # a real multiplier left the unit circle through +1
-    "period_doubling": 2,   # a real multiplier left through -1
-    "neimark_sacker": 3,    # a complex pair left the unit circle
-    "orbit_lost": 4,        # Newton shooting found no orbit near the previous one (a fold or a jump)
+    "fold": 1,  # a real multiplier left the unit circle through +1
+    "period_doubling": 2,  # a real multiplier left through -1
+    "neimark_sacker": 3,  # a complex pair left the unit circle
+    "orbit_lost": 4,  # Newton shooting found no orbit near the previous one (a fold or a jump)
 }
 
 #: How the exponent was obtained (cube variable ``exponent_method``).

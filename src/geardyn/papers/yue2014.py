@@ -17,15 +17,21 @@ CATEGORY = "Paper 2: Yue et al. (2014), plus planetary set"
 
 #: Table 2 of paper 2: (theoretical, simulated, experimental) natural frequencies in Hz, orders 1-6.
 PAPER_TABLE2: dict[str, dict[str, tuple[float, ...]]] = {
-    "I": {"theoretical": (1295, 4519, 6456, 6559, 8293, 9316),
-          "simulated": (1204, 4850, 6395, 6637, 8288, 9413),
-          "experimental": (1217, 4622, 6272, 6510, 8515, 9278)},
-    "II": {"theoretical": (1295, 4211, 6456, 6559, 6718, 8471),
-           "simulated": (1204, 4187, 6395, 6600, 6637, 8516),
-           "experimental": (1155, 4039, 6293, 6685, 6790, 8527)},
-    "III": {"theoretical": (1295, 2298, 6456, 6559, 6682, 9123),
-            "simulated": (1204, 2155, 6395, 6544, 6636, 9280),
-            "experimental": (1178, 2092, 6421, 6714, 6754, 9216)},
+    "I": {
+        "theoretical": (1295, 4519, 6456, 6559, 8293, 9316),
+        "simulated": (1204, 4850, 6395, 6637, 8288, 9413),
+        "experimental": (1217, 4622, 6272, 6510, 8515, 9278),
+    },
+    "II": {
+        "theoretical": (1295, 4211, 6456, 6559, 6718, 8471),
+        "simulated": (1204, 4187, 6395, 6600, 6637, 8516),
+        "experimental": (1155, 4039, 6293, 6685, 6790, 8527),
+    },
+    "III": {
+        "theoretical": (1295, 2298, 6456, 6559, 6682, 9123),
+        "simulated": (1204, 2155, 6395, 6544, 6636, 9280),
+        "experimental": (1178, 2092, 6421, 6714, 6754, 9216),
+    },
 }
 #: Table 5 of paper 2: key element (mesh type) per condition and order.
 PAPER_TABLE5_ELEMENT: dict[str, tuple[str, ...]] = {
@@ -34,16 +40,39 @@ PAPER_TABLE5_ELEMENT: dict[str, tuple[str, ...]] = {
     "III": ("sp", "sp", "dr", "pd", "pd", "dr"),
 }
 PAPER_TABLE5_COMPONENTS: dict[str, tuple[str, ...]] = {
-    "I": ("planet gear p", "planet gear d, sun gear", "planet gear p", "planet gear d", "sun gear, gear ring",
-          "planet gear d, sun gear"),
-    "II": ("planet gear p, planet gear d", "sun gear, planet gear p, planet carrier", "planet gear p, planet carrier",
-           "planet gear d, sun gear", "planet gear d", "planet gear p, sun gear"),
-    "III": ("planet gear p, planet gear d, planet carrier", "planet gear p, planet gear d, gear ring",
-            "planet gear p, planet gear d, planet carrier", "planet gear p, planet gear d, planet carrier",
-            "planet gear p, planet gear d", "planet gear d, planet carrier, gear ring"),
+    "I": (
+        "planet gear p",
+        "planet gear d, sun gear",
+        "planet gear p",
+        "planet gear d",
+        "sun gear, gear ring",
+        "planet gear d, sun gear",
+    ),
+    "II": (
+        "planet gear p, planet gear d",
+        "sun gear, planet gear p, planet carrier",
+        "planet gear p, planet carrier",
+        "planet gear d, sun gear",
+        "planet gear d",
+        "planet gear p, sun gear",
+    ),
+    "III": (
+        "planet gear p, planet gear d, planet carrier",
+        "planet gear p, planet gear d, gear ring",
+        "planet gear p, planet gear d, planet carrier",
+        "planet gear p, planet gear d, planet carrier",
+        "planet gear p, planet gear d",
+        "planet gear d, planet carrier, gear ring",
+    ),
 }
 #: Relief result of paper 2, Sec. 4.
-PAPER_RELIEF = {"amount_mm": 0.032534, "length_mm": 2.4983, "te_before_um": 9.0, "te_after_um": 6.5, "reduction_pct": -27.78}
+PAPER_RELIEF = {
+    "amount_mm": 0.032534,
+    "length_mm": 2.4983,
+    "te_before_um": 9.0,
+    "te_after_um": 6.5,
+    "reduction_pct": -27.78,
+}
 #: The three frequencies of Table 2 shared by conditions I-III (doubled planet modes), Hz.
 PAPER_SHARED = (1295.0, 6456.0, 6559.0)
 #: Fig. 4 / Fig. 9: static TE peak-to-peak before and after relief, um.

@@ -21,9 +21,10 @@ def plot_tornado(oat: xr.Dataset) -> Figure:
             if abs(steps[j] - sign * st) > 1e-12:
                 continue
             d = oat["score"].values[:, j] - base
-            ax1.barh(y, d, height=h, color=colour, alpha=alpha,
-                     label=f"{'+' if sign > 0 else '-'}{100 * st:.0f} %")
-            ax2.scatter(oat["leave_p1"].values[:, j], y, color=colour, alpha=alpha, marker="o" if sign > 0 else "s", s=18)
+            ax1.barh(y, d, height=h, color=colour, alpha=alpha, label=f"{'+' if sign > 0 else '-'}{100 * st:.0f} %")
+            ax2.scatter(
+                oat["leave_p1"].values[:, j], y, color=colour, alpha=alpha, marker="o" if sign > 0 else "s", s=18
+            )
     ax1.axvline(0.0, color="k", lw=0.8)
     ax1.set_yticks(y, names)
     ax1.set_xlabel("score change from the best")
@@ -54,14 +55,18 @@ def plot_score_map(mp: xr.Dataset) -> Figure:
 
 
 def caption_tornado(oat: xr.Dataset) -> str:
-    return ("One-at-a-time sensitivity of the best calibration candidate: left, the change of the score (claims "
-            "that agree + 0.99 x partial credit, docs/calibration.md) when each searched unknown moves by +-10 % "
-            "(blue) and +-50 % (red; lighter bars: downward moves; a phase moves by that fraction of 2 pi); "
-            "right, where the motion first leaves P1 along x1 at b = 2, e = 5 (paper: 0.565). "
-            f"Best score {float(oat.attrs['base_score']):.3f}.")
+    return (
+        "One-at-a-time sensitivity of the best calibration candidate: left, the change of the score (claims "
+        "that agree + 0.99 x partial credit, docs/calibration.md) when each searched unknown moves by +-10 % "
+        "(blue) and +-50 % (red; lighter bars: downward moves; a phase moves by that fraction of 2 pi); "
+        "right, where the motion first leaves P1 along x1 at b = 2, e = 5 (paper: 0.565). "
+        f"Best score {float(oat.attrs['base_score']):.3f}."
+    )
 
 
 def caption_map(mp: xr.Dataset) -> str:
-    return (f"Score of the calibration over {mp.attrs['x']} and {mp.attrs['y']} (each +-50 % around the best, "
-            "the other unknowns at the best), the two unknowns whose moves change the score most in the "
-            f"tornado chart. Highest score on the map {float(mp['score'].max()):.3f}; star: the best candidate.")
+    return (
+        f"Score of the calibration over {mp.attrs['x']} and {mp.attrs['y']} (each +-50 % around the best, "
+        "the other unknowns at the best), the two unknowns whose moves change the score most in the "
+        f"tornado chart. Highest score on the map {float(mp['score'].max()):.3f}; star: the best candidate."
+    )

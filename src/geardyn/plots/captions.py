@@ -4,10 +4,10 @@ figure is set beside ours; a user's own design gets no paper text."""
 
 from __future__ import annotations
 
+from types import ModuleType
+
 import numpy as np
 import xarray as xr
-
-from types import ModuleType
 
 from geardyn import classify
 from geardyn.label import STAGE_NAMES
@@ -39,9 +39,11 @@ def _tail(name: str, paper: ModuleType | None) -> list[str]:
 def bifurcation(name: str, cube: xr.Dataset, paper: ModuleType | None = None) -> str:
     par = cube.attrs["control_parameter"]
     periods = labels_of_cube(cube)
-    lines = [f"{name}: Poincare points of X_VH / b_c over {par} ({cube.sizes[par]} values, "
-             f"{cube.sizes['section']} sections after {cube.attrs['transient_periods']} transient mesh periods, "
-             f"{cube.attrs['integrator']} with {cube.attrs['steps_per_period']} steps per period)."]
+    lines = [
+        f"{name}: Poincare points of X_VH / b_c over {par} ({cube.sizes[par]} values, "
+        f"{cube.sizes['section']} sections after {cube.attrs['transient_periods']} transient mesh periods, "
+        f"{cube.attrs['integrator']} with {cube.attrs['steps_per_period']} steps per period)."
+    ]
     for i, case in enumerate(cube["case"].values):
         for j, direction in enumerate(cube["direction"].values):
             runs = classify.bands(cube[par].values, periods[i, j])
@@ -65,8 +67,10 @@ def spectral_peaks(freq, amp, n: int = 5, fmax: float = 3.0) -> list[float]:
 
 
 def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
-    lines = [f"{name}: phase trajectory (X_VH, dX_VH/dtau), Poincare map and amplitude spectrum of X_VH over the "
-             f"{ds.attrs.get('recorded_periods')} recorded mesh periods ({ds.attrs.get('fixed_overrides')})."]
+    lines = [
+        f"{name}: phase trajectory (X_VH, dX_VH/dtau), Poincare map and amplitude spectrum of X_VH over the "
+        f"{ds.attrs.get('recorded_periods')} recorded mesh periods ({ds.attrs.get('fixed_overrides')})."
+    ]
     for case in ds["case"].values:
         d = ds.sel(case=case)
         pts = d[[f"poincare_{s}" for s in STATES]].to_array().values.T
@@ -90,9 +94,11 @@ def regime_map(name: str, ds: xr.Dataset) -> str:
     from geardyn.runs.maps import fractions
 
     shares = ", ".join(f"{k} {100 * v:.1f} %" for k, v in sorted(fractions(ds).items(), key=lambda kv: -kv[1]))
-    return (f"{name}: motion label over ({ds.attrs['x_parameter']}, {ds.attrs['y_parameter']}), "
-            f"{ds.sizes['x']} x {ds.sizes['y']} points, fixed {ds.attrs['fixed_overrides']}; "
-            f"{ds.attrs['steps_per_period']} steps per period, {ds.attrs['transient_periods']} transient + "
-            f"{ds.attrs['recorded_periods']} recorded periods; each row a line along x whose points follow the "
-            f"attractor of their left neighbour (start_from: {ds.attrs.get('start', 'follow')}; geardyn.label). "
-            f"Label shares: {shares}. Lines: the configured 1-D cuts (the sweeps of the same design).")
+    return (
+        f"{name}: motion label over ({ds.attrs['x_parameter']}, {ds.attrs['y_parameter']}), "
+        f"{ds.sizes['x']} x {ds.sizes['y']} points, fixed {ds.attrs['fixed_overrides']}; "
+        f"{ds.attrs['steps_per_period']} steps per period, {ds.attrs['transient_periods']} transient + "
+        f"{ds.attrs['recorded_periods']} recorded periods; each row a line along x whose points follow the "
+        f"attractor of their left neighbour (start_from: {ds.attrs.get('start', 'follow')}; geardyn.label). "
+        f"Label shares: {shares}. Lines: the configured 1-D cuts (the sweeps of the same design)."
+    )

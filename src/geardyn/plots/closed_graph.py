@@ -53,8 +53,7 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
             continue
         line = int(ds[name].attrs.get("closed_graph_line", 0))
         style = "--" if name in CUTTER_DEPENDENT else "-"
-        cs = ax.contour(x1, x2, values, levels=[0.0], colors=[_LINE_COLOURS[line]], linewidths=1.1,
-                        linestyles=style)
+        cs = ax.contour(x1, x2, values, levels=[0.0], colors=[_LINE_COLOURS[line]], linewidths=1.1, linestyles=style)
         ax.clabel(cs, fmt={0.0: f"{line}: {_SHORT[name]}"}, fontsize=7, inline=True)
     ax.plot(x1, ds["x2_line4"].values, color="black", lw=2.0)
     l4 = ds["feasible_line4"].values.astype(bool)
@@ -69,11 +68,23 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
         ax.plot(ds["paper_x1"].values, ds["paper_x2"].values, "o", mfc="none", mec="crimson", ms=9)
         ax.plot(ds["paper_x1"].values, ds["computed_x2"].values, "x", color="k", ms=7)
         for p in ds["point"].values:
-            ax.annotate(str(p), (float(ds["paper_x1"].sel(point=p)), float(ds["paper_x2"].sel(point=p))),
-                        xytext=(6, -12), textcoords="offset points", color="crimson")
+            ax.annotate(
+                str(p),
+                (float(ds["paper_x1"].sel(point=p)), float(ds["paper_x2"].sel(point=p))),
+                xytext=(6, -12),
+                textcoords="offset points",
+                color="crimson",
+            )
         handles += [
-            Line2D([], [], ls="", marker="o", mfc="none", mec="crimson",
-                   label="printed " + ", ".join(str(p) for p in ds["point"].values)),
+            Line2D(
+                [],
+                [],
+                ls="",
+                marker="o",
+                mfc="none",
+                mec="crimson",
+                label="printed " + ", ".join(str(p) for p in ds["point"].values),
+            ),
             Line2D([], [], ls="", marker="x", color="k", label="computed (G_s = 0)"),
         ]
     ax.set_xlim(x1.min(), x1.max())
@@ -85,8 +96,9 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
     return fig
 
 
-def caption_closed_graph(ds: xr.Dataset, paper: ModuleType | None = None,
-                         segment: tuple[float, float] | None = None) -> str:
+def caption_closed_graph(
+    ds: xr.Dataset, paper: ModuleType | None = None, segment: tuple[float, float] | None = None
+) -> str:
     """Caption: what the figure shows and, for a design that names a paper, how it compares, with numbers.
 
     ``segment``: the design's configured admissible segment (x1_min, x1_max).
@@ -95,7 +107,8 @@ def caption_closed_graph(ds: xr.Dataset, paper: ModuleType | None = None,
     lo, hi = a["line4_feasible_x1_min"], a["line4_feasible_x1_max"]
     found = (
         f"the admissible part of line 4 on the grid is x1 in [{lo:.3f}, {hi:.3f}]"
-        if np.isfinite(lo) else "no grid point of line 4 is admissible"
+        if np.isfinite(lo)
+        else "no grid point of line 4 is admissible"
     )
     if segment is not None:
         found += f" (design segment [{segment[0]:.3f}, {segment[1]:.3f}])"
@@ -127,7 +140,7 @@ def caption_closed_graph(ds: xr.Dataset, paper: ModuleType | None = None,
             f"{float(s.contact_ratio_point):.4f}, a' = {float(s.working_pressure_angle_point):.3f} deg"
         )
     worst = float(np.max(np.abs(ds["residual_x2"].values)))
-    verdict = ("within" if worst <= paper.POINT_TOLERANCE else "NOT within")
+    verdict = "within" if worst <= paper.POINT_TOLERANCE else "NOT within"
     return (
         f"Fig. 3 of {paper.SHORT}. " + text + " The paper calls line 4 'equal meshing angle', but its limit "
         "points lie on G_s = 0 where a' varies. " + "; ".join(pts) + ". "

@@ -5,10 +5,10 @@ from __future__ import annotations
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
 
 _LABELS = {"x_vh": "X_VH / b_c", "v_vh": "dX_VH/dtau / b_c", "x_dh": "X_DH / b_c", "x_vl": "X_VL / b_c"}
 
@@ -17,10 +17,28 @@ def label_colour(code: int) -> str:
     """Colour of a motion label: periods in blues/greens/purples, QP orange, chaos red, others grey/black."""
     from geardyn.classify import LABELS
 
-    fixed = {LABELS["chaotic"]: "#d62728", LABELS["quasi_periodic"]: "#ff7f0e", LABELS["diverged"]: "#000000",
-             LABELS["undetermined"]: "#9e9e9e", LABELS["not_periodic"]: "#8c564b", LABELS["long_period"]: "#bcbd22"}
-    periods = ["#1f77b4", "#2ca02c", "#17becf", "#9467bd", "#bcbd22", "#e377c2", "#00441b", "#393b79",
-               "#637939", "#8c6d31", "#843c39", "#7b4173"]
+    fixed = {
+        LABELS["chaotic"]: "#d62728",
+        LABELS["quasi_periodic"]: "#ff7f0e",
+        LABELS["diverged"]: "#000000",
+        LABELS["undetermined"]: "#9e9e9e",
+        LABELS["not_periodic"]: "#8c564b",
+        LABELS["long_period"]: "#bcbd22",
+    }
+    periods = [
+        "#1f77b4",
+        "#2ca02c",
+        "#17becf",
+        "#9467bd",
+        "#bcbd22",
+        "#e377c2",
+        "#00441b",
+        "#393b79",
+        "#637939",
+        "#8c6d31",
+        "#843c39",
+        "#7b4173",
+    ]
     code = int(code)
     return fixed.get(code, periods[(code - 1) % len(periods)] if code >= 1 else "#9e9e9e")
 
@@ -39,8 +57,14 @@ def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figur
     has_lyap = "lyapunov" in cube
     rows = 2 * n if has_lyap else n
     ratios = [3, 1.3] * n if has_lyap else [1] * n
-    fig, axes = plt.subplots(rows, 1, figsize=(7.5, (3.4 if has_lyap else 2.6) * n + 0.9), squeeze=False,
-                             sharex=True, gridspec_kw={"height_ratios": ratios})
+    fig, axes = plt.subplots(
+        rows,
+        1,
+        figsize=(7.5, (3.4 if has_lyap else 2.6) * n + 0.9),
+        squeeze=False,
+        sharex=True,
+        gridspec_kw={"height_ratios": ratios},
+    )
     for i, case in enumerate(cases):
         for j, direction in enumerate(directions):
             k = i * len(directions) + j
@@ -54,8 +78,10 @@ def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figur
                 x = np.broadcast_to(xv[m][:, None], sel.values[m].shape)
                 ax.plot(x.ravel(), sel.values[m].ravel(), ",", color=label_colour(code), alpha=0.7, rasterized=True)
                 present.append(code)
-            handles = [plt.Line2D([], [], ls="", marker="s", color=label_colour(c), label=classify.short_name(c))
-                       for c in sorted(present)]
+            handles = [
+                plt.Line2D([], [], ls="", marker="s", color=label_colour(c), label=classify.short_name(c))
+                for c in sorted(present)
+            ]
             ax.legend(handles=handles, loc="upper right", fontsize=6, ncol=min(6, len(handles)), framealpha=0.7)
             div = cube["diverged"].sel(case=case, direction=direction).values == 1
             if div.any():
@@ -137,9 +163,15 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=()) -> Figure:
     lam = ds["lyapunov"].values
     finite = np.isfinite(lam)
     vmax = float(np.nanmax(np.abs(lam))) if finite.any() else 1.0
-    iml = axl.pcolormesh(x, y, np.where(finite, lam, np.nan), cmap="coolwarm",
-                         norm=TwoSlopeNorm(0.0, -max(vmax, 1e-6), max(vmax, 1e-6)), shading="nearest",
-                         rasterized=True)
+    iml = axl.pcolormesh(
+        x,
+        y,
+        np.where(finite, lam, np.nan),
+        cmap="coolwarm",
+        norm=TwoSlopeNorm(0.0, -max(vmax, 1e-6), max(vmax, 1e-6)),
+        shading="nearest",
+        rasterized=True,
+    )
     fig.colorbar(iml, ax=axl, label="lambda_max (per unit tau)")
     for a in (ax, axl):
         for cx in cuts_x:

@@ -12,8 +12,34 @@ from matplotlib.figure import Figure
 
 ELEMENT_ORDER = ["sp1", "sp2", "sp3", "pd1", "pd2", "pd3", "dr1", "dr2", "dr3"]
 ELEMENT_TICKS = ["1\ns-p1", "2\ns-p2", "3\ns-p3", "4\np1-d1", "5\np2-d2", "6\np3-d3", "7\nd1-r", "8\nd2-r", "9\nd3-r"]
-COMPONENT_ORDER = ["revolution1", "revolution2", "revolution3", "p1", "p2", "p3", "d1", "d2", "d3", "sun", "ring", "carrier"]
-COMPONENT_TICKS = ["1\nrev 1", "2\nrev 2", "3\nrev 3", "4\np1", "5\np2", "6\np3", "7\nd1", "8\nd2", "9\nd3", "10\nsun", "11\nring", "12\ncarrier"]
+COMPONENT_ORDER = [
+    "revolution1",
+    "revolution2",
+    "revolution3",
+    "p1",
+    "p2",
+    "p3",
+    "d1",
+    "d2",
+    "d3",
+    "sun",
+    "ring",
+    "carrier",
+]
+COMPONENT_TICKS = [
+    "1\nrev 1",
+    "2\nrev 2",
+    "3\nrev 3",
+    "4\np1",
+    "5\np2",
+    "6\np3",
+    "7\nd1",
+    "8\nd2",
+    "9\nd3",
+    "10\nsun",
+    "11\nring",
+    "12\ncarrier",
+]
 
 
 def distinct_groups(freq: np.ndarray, rtol: float = 1e-6) -> list[list[int]]:
@@ -28,7 +54,9 @@ def distinct_groups(freq: np.ndarray, rtol: float = 1e-6) -> list[list[int]]:
     return groups
 
 
-def _energy_bars(ds: xr.Dataset, var: str, dim: str, order: list[str], ticks: list[str], title: str, n_orders: int = 6) -> Figure:
+def _energy_bars(
+    ds: xr.Dataset, var: str, dim: str, order: list[str], ticks: list[str], title: str, n_orders: int = 6
+) -> Figure:
     conds = list(ds.condition.values)
     fig = Figure(figsize=(11, 2.9 * len(conds)), constrained_layout=True)
     axes = fig.subplots(len(conds), 1, squeeze=False)[:, 0]
@@ -42,8 +70,12 @@ def _energy_bars(ds: xr.Dataset, var: str, dim: str, order: list[str], ticks: li
             # mean over a doubled pair: basis-independent (trace over the eigenspace)
             vals = sub[var].isel(mode=grp).sel({dim: order}).mean("mode").values
             tag = "x2" if len(grp) == 2 else ""
-            ax.bar(x + (g_i - (len(groups) - 1) / 2) * width, vals, width,
-                   label=f"{g_i+1}: {freq[grp[0]]:.0f} Hz {tag}".strip())
+            ax.bar(
+                x + (g_i - (len(groups) - 1) / 2) * width,
+                vals,
+                width,
+                label=f"{g_i + 1}: {freq[grp[0]]:.0f} Hz {tag}".strip(),
+            )
         ax.set_xticks(x, ticks, fontsize=7)
         ax.set_ylabel("share of energy (-)")
         ax.set_title(f"working condition {cond}", fontsize=9)
@@ -55,14 +87,26 @@ def _energy_bars(ds: xr.Dataset, var: str, dim: str, order: list[str], ticks: li
 
 def modal_strain_energy_figure(ds: xr.Dataset) -> Figure:
     """Fig. 6 analogue: share of the modal strain energy in each mesh of Table 3 (orders 1-6)."""
-    return _energy_bars(ds, "strain_energy_share", "element", ELEMENT_ORDER, ELEMENT_TICKS,
-                        "Modal strain energy per mesh (Table 3 numbering; doubled modes averaged over the pair)")
+    return _energy_bars(
+        ds,
+        "strain_energy_share",
+        "element",
+        ELEMENT_ORDER,
+        ELEMENT_TICKS,
+        "Modal strain energy per mesh (Table 3 numbering; doubled modes averaged over the pair)",
+    )
 
 
 def modal_kinetic_energy_figure(ds: xr.Dataset) -> Figure:
     """Fig. 7 analogue: share of the modal kinetic energy in each component of Table 4 (orders 1-6)."""
-    return _energy_bars(ds, "kinetic_energy_share", "component", COMPONENT_ORDER, COMPONENT_TICKS,
-                        "Modal kinetic energy per component (Table 4 numbering; doubled modes averaged over the pair)")
+    return _energy_bars(
+        ds,
+        "kinetic_energy_share",
+        "component",
+        COMPONENT_ORDER,
+        COMPONENT_TICKS,
+        "Modal kinetic energy per component (Table 4 numbering; doubled modes averaged over the pair)",
+    )
 
 
 def te_unmodified_figure(te: xr.Dataset) -> Figure:
@@ -74,7 +118,10 @@ def te_unmodified_figure(te: xr.Dataset) -> Figure:
     tr = te.transmission_error.sel(case="unmodified").values
     ax1.plot(s2, np.tile(tr, 2), color="k")
     ax1.set_ylabel("TE = E - delta (um)")
-    ax1.set_title(f"p-d pair, W = {te.attrs['load_N']:.0f} N, eps = {te.attrs['contact_ratio']:.3f}; peak-to-peak {np.ptp(tr):.2f} um", fontsize=9)
+    ax1.set_title(
+        f"p-d pair, W = {te.attrs['load_N']:.0f} N, eps = {te.attrs['contact_ratio']:.3f}; peak-to-peak {np.ptp(tr):.2f} um",
+        fontsize=9,
+    )
     ax1.grid(alpha=0.3)
     loads = te.load_per_pair.values
     for k in range(loads.shape[0]):
@@ -124,15 +171,37 @@ def relief_landscape_figure(land: xr.Dataset, optima: list[dict] | None = None, 
         cs = ax.contourf(L, a, z, levels=np.linspace(vmin, vmax, 25), cmap="viridis")
         ax.contour(L, a, z, levels=np.arange(np.floor(vmin), np.ceil(vmax) + 0.01, 1.0), colors="w", linewidths=0.5)
         for name, (a0, a1, l0, l1) in (boxes or {}).items():
-            ax.plot([l0, l1, l1, l0, l0], [a0, a0, a1, a1, a0], ls="--", color="r" if name in ("paper", "stated") else "orange", lw=1.2, label=f"{name} bounds")
+            ax.plot(
+                [l0, l1, l1, l0, l0],
+                [a0, a0, a1, a1, a0],
+                ls="--",
+                color="r" if name in ("paper", "stated") else "orange",
+                lw=1.2,
+                label=f"{name} bounds",
+            )
         for o in optima or []:
             if o["shape"] == sh:
-                ax.plot(o["length_mm"], o["amount_um"], marker="*" if o["bounds"] == "physical" else "o", ms=11,
-                        mec="k", color="orange" if o["bounds"] == "physical" else "r", ls="none",
-                        label=f"{o['bounds']} optimum: {o['te_ptp_after_um']:.2f} um")
+                ax.plot(
+                    o["length_mm"],
+                    o["amount_um"],
+                    marker="*" if o["bounds"] == "physical" else "o",
+                    ms=11,
+                    mec="k",
+                    color="orange" if o["bounds"] == "physical" else "r",
+                    ls="none",
+                    label=f"{o['bounds']} optimum: {o['te_ptp_after_um']:.2f} um",
+                )
             if o["shape"].startswith("linear (paper)") and sh == "linear":
-                ax.plot(o["length_mm"], o["amount_um"], marker="X", ms=10, mec="k", color="w", ls="none",
-                        label=f"paper optimum (ours: {o.get('ours_um', float('nan')):.2f} um)")
+                ax.plot(
+                    o["length_mm"],
+                    o["amount_um"],
+                    marker="X",
+                    ms=10,
+                    mec="k",
+                    color="w",
+                    ls="none",
+                    label=f"paper optimum (ours: {o.get('ours_um', float('nan')):.2f} um)",
+                )
         ax.set_xlabel("relief length along the path of contact (mm)")
         ax.set_ylabel("relief amount (um)")
         ax.set_title(f"{sh} tip relief", fontsize=9)
@@ -154,9 +223,20 @@ def landscape_markers(optima) -> list[dict]:
 def bound_boxes(design) -> dict[str, tuple[float, float, float, float]]:
     """The stated and the physical relief bounds of a design as boxes (amount um, amount um, length mm, length mm)."""
     r = design.relief
-    return {("paper" if design.paper else "stated"): (r.paper_amount[0] * 1e6, r.paper_amount[1] * 1e6, r.paper_length[0] * 1e3, r.paper_length[1] * 1e3),
-            "physical": (r.physical_amount[0] * 1e6, r.physical_amount[1] * 1e6, r.physical_length[0] * 1e3,
-                         r.physical_length[1] * 1e3)}
+    return {
+        ("paper" if design.paper else "stated"): (
+            r.paper_amount[0] * 1e6,
+            r.paper_amount[1] * 1e6,
+            r.paper_length[0] * 1e3,
+            r.paper_length[1] * 1e3,
+        ),
+        "physical": (
+            r.physical_amount[0] * 1e6,
+            r.physical_amount[1] * 1e6,
+            r.physical_length[0] * 1e3,
+            r.physical_length[1] * 1e3,
+        ),
+    }
 
 
 COORD_TICKS = ["s", "r", "c", "p1", "p2", "p3", "d1", "d2", "d3", "x_s", "y_s"]
@@ -184,7 +264,7 @@ def mode_shape_figure(ds: xr.Dataset, n_orders: int = 6) -> Figure:
             ax.axhline(0, color="k", lw=0.5)
             ax.set_xticks(x, COORD_TICKS, fontsize=6, rotation=90)
             kind = sub.mode_type.values[grp[0]]
-            ax.set_title(f"{cond}-{c+1}: {freq[grp[0]]:.0f} Hz\n{kind}{' x2' if len(grp) == 2 else ''}", fontsize=8)
+            ax.set_title(f"{cond}-{c + 1}: {freq[grp[0]]:.0f} Hz\n{kind}{' x2' if len(grp) == 2 else ''}", fontsize=8)
             ax.set_ylim(-1.1, 1.1)
             ax.tick_params(axis="y", labelsize=7)
         axes[r, 0].set_ylabel("normalised\ndisplacement (-)", fontsize=8)
@@ -221,8 +301,16 @@ def forced_response_figure(ds: xr.Dataset, planet: int = 1, max_harmonic_marks: 
     for f in np.unique(np.round(ds.natural_frequency.values, 3)):
         n = f / float(ds.mesh_frequency[0] / ds.speed[0])
         if n <= top:
-            ax1.text(n, 1.0, f"{f:.0f} Hz", rotation=90, fontsize=6, va="top", ha="right",
-                     transform=ax1.get_xaxis_transform())
+            ax1.text(
+                n,
+                1.0,
+                f"{f:.0f} Hz",
+                rotation=90,
+                fontsize=6,
+                va="top",
+                ha="right",
+                transform=ax1.get_xaxis_transform(),
+            )
     ax1.set_yscale("log")
     ax1.set_ylabel("RMS fluctuating mesh force (N)")
     ax1.legend(fontsize=7, loc="lower right")
@@ -231,7 +319,10 @@ def forced_response_figure(ds: xr.Dataset, planet: int = 1, max_harmonic_marks: 
     ax2.set_ylabel("dynamic factor F_max / F_static (-)")
     ax2.set_xlabel("input (sun) speed (rpm)")
     ax2.grid(alpha=0.3)
-    ax1.set_title(f"Forced response to the static TE, condition {ds.attrs['condition']}, modal damping "
-                  f"zeta = {ds.attrs['damping_ratio']:g}, static mesh force {ds.attrs['static_force_N']:.0f} N; "
-                  "grey: natural frequencies / h (h = 1 solid, 2 dashed, 3 dotted)", fontsize=8)
+    ax1.set_title(
+        f"Forced response to the static TE, condition {ds.attrs['condition']}, modal damping "
+        f"zeta = {ds.attrs['damping_ratio']:g}, static mesh force {ds.attrs['static_force_N']:.0f} N; "
+        "grey: natural frequencies / h (h = 1 solid, 2 dashed, 3 dotted)",
+        fontsize=8,
+    )
     return fig

@@ -5,12 +5,12 @@ from __future__ import annotations
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
 
-from geardyn.gears.backlash import backlash  # noqa: E402
+from geardyn.gears.backlash import backlash
 
 _STYLES = ("-.", ":", "--", "-")
 
@@ -39,8 +39,13 @@ def plot_mesh_stiffness(table: xr.Dataset) -> Figure:
     t = np.concatenate([table["phase"].values, table["phase"].values + 1.0])
     for i, x1 in enumerate(table["x1"].values):
         k = np.tile(table["k_t"].sel(x1=x1).values, 2) / 1e6
-        ax.step(t, k, where="post", linestyle=_STYLES[i % len(_STYLES)],
-                label=f"x1 = {x1:.3f}, eps = {float(table['contact_ratio'].sel(x1=x1)):.3f}")
+        ax.step(
+            t,
+            k,
+            where="post",
+            linestyle=_STYLES[i % len(_STYLES)],
+            label=f"x1 = {x1:.3f}, eps = {float(table['contact_ratio'].sel(x1=x1)):.3f}",
+        )
     ax.set_xlabel("t (mesh periods)")
     ax.set_ylabel("k(t) (N/um)")
     ax.set_title("Fig. 5  time-varying mesh stiffness")
@@ -67,14 +72,18 @@ def plot_backlash(b: float = 1.0) -> Figure:
 
 def caption_fig04(props, paper=None) -> str:  # props: geardyn.khv.design.MeshProperties
     """Caption of the single-pair stiffness; the paper's wording only for a design that names one."""
-    text = (f"Stiffness of one tooth pair over its engagement, the parabola "
-            f"k'(1 + 2u(1 - u)), u = s/eps, drawn at x1 = {props.x1:.3f} (eps = {props.contact_ratio:.4f}, "
-            f"k' = {props.k_prime / 1e6:.1f} N/um, k_C = 1.5 k' = {props.k_c / 1e6:.1f} N/um, ISO 6336-1 method B); "
-            "k_A = k_B = k' at the ends of the engagement and k_C = 1.5 k' at the pitch point.")
+    text = (
+        f"Stiffness of one tooth pair over its engagement, the parabola "
+        f"k'(1 + 2u(1 - u)), u = s/eps, drawn at x1 = {props.x1:.3f} (eps = {props.contact_ratio:.4f}, "
+        f"k' = {props.k_prime / 1e6:.1f} N/um, k_C = 1.5 k' = {props.k_c / 1e6:.1f} N/um, ISO 6336-1 method B); "
+        "k_A = k_B = k' at the ends of the engagement and k_C = 1.5 k' at the pitch point."
+    )
     if paper is None:
         return text
-    return (f"Fig. 4 of {paper.SHORT}. " + text + " The paper's sentence that the meshing point is "
-            "'1.67 times' the engaging-in point does not match its own k_C = 1.5 k'; we follow k_C = 1.5 k'.")
+    return (
+        f"Fig. 4 of {paper.SHORT}. " + text + " The paper's sentence that the meshing point is "
+        "'1.67 times' the engaging-in point does not match its own k_C = 1.5 k'; we follow k_C = 1.5 k'."
+    )
 
 
 def caption_fig05(table: xr.Dataset, design, paper=None) -> str:
@@ -85,10 +94,12 @@ def caption_fig05(table: xr.Dataset, design, paper=None) -> str:
         for x1 in table["x1"].values
     )
     x2_text = "x2 on line 4 (G_s = 0)" if design.x2_on_line4 else f"x2 fixed at {design.base.x2:g}"
-    text = (f"Time-varying mesh stiffness k(t) over two mesh periods at x1 = "
-            f"{', '.join(f'{v:g}' for v in table['x1'].values)}, {x2_text}. Stiffness options: "
-            f"{design.stiffness.label}. {rows}. The double-pair zone is on [0, eps - 1] (sum of the single-pair "
-            "parabolas), so k(t) jumps by k' where a pair enters or leaves; the exact mean is (8/9) eps k_C.")
+    text = (
+        f"Time-varying mesh stiffness k(t) over two mesh periods at x1 = "
+        f"{', '.join(f'{v:g}' for v in table['x1'].values)}, {x2_text}. Stiffness options: "
+        f"{design.stiffness.label}. {rows}. The double-pair zone is on [0, eps - 1] (sum of the single-pair "
+        "parabolas), so k(t) jumps by k' where a pair enters or leaves; the exact mean is (8/9) eps k_C."
+    )
     if paper is None:
         return text
     return (
@@ -102,9 +113,13 @@ def caption_fig05(table: xr.Dataset, design, paper=None) -> str:
 
 def caption_fig06(paper=None) -> str:
     """Caption of the backlash function; the paper's misprint only for a design that names it."""
-    text = ("The backlash (dead-zone) function f(X): X - b above b, 0 inside |X| <= b, X + b below -b, with b half "
-            "the backlash.")
+    text = (
+        "The backlash (dead-zone) function f(X): X - b above b, 0 inside |X| <= b, X + b below -b, with b half "
+        "the backlash."
+    )
     if paper is None:
         return text
-    return (f"Fig. 6 of {paper.SHORT} (Eq. (11)). " + text + " Identical to the paper's figure; Eq. (14)'s last "
-            "case is misprinted ('-b' should read 'X < -b').")
+    return (
+        f"Fig. 6 of {paper.SHORT} (Eq. (11)). " + text + " Identical to the paper's figure; Eq. (14)'s last "
+        "case is misprinted ('-b' should read 'X < -b')."
+    )

@@ -8,11 +8,13 @@ Units: lengths in mm in the design (as printed), converted to SI by the numerica
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from geardyn.config import ConfigError, load_design_dict, validate
+
 
 @dataclass(frozen=True)
 class Body:
@@ -33,7 +35,7 @@ class Springs:
     planet_ring: float
     sun_bearing: float
 
-    def scaled(self, factor: float) -> "Springs":
+    def scaled(self, factor: float) -> Springs:
         return Springs(*(factor * v for v in (self.sun_planet, self.planet_planet, self.planet_ring, self.sun_bearing)))
 
 
@@ -116,13 +118,13 @@ class PlusDesign:
     def n_planets(self) -> int:
         return len(self.planet_angles)
 
-    def with_stiffness_scale(self, factor: float) -> "PlusDesign":
+    def with_stiffness_scale(self, factor: float) -> PlusDesign:
         """Copy with every spring (meshes and bearing) multiplied by ``factor``."""
         from dataclasses import replace
 
         return replace(self, stiffness=self.stiffness.scaled(factor))
 
-    def with_damping_scale(self, factor: float) -> "PlusDesign":
+    def with_damping_scale(self, factor: float) -> PlusDesign:
         from dataclasses import replace
 
         return replace(self, damping=self.damping.scaled(factor))
@@ -161,8 +163,9 @@ def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
     for lo_hi in ("paper_amount_mm", "paper_length_mm", "physical_amount_mm", "physical_length_mm"):
         lo, hi = rl[lo_hi]
         if not lo < hi:
-            raise ConfigError(f"{where}: relief.{lo_hi} = {rl[lo_hi]} is not allowed: the lower bound must be below "
-                              "the upper bound")
+            raise ConfigError(
+                f"{where}: relief.{lo_hi} = {rl[lo_hi]} is not allowed: the lower bound must be below the upper bound"
+            )
     return PlusDesign(
         name=d["name"],
         paper=d.get("paper"),

@@ -76,7 +76,7 @@ def te_harmonics(te: ArrayLike, n: int) -> NDArray:
     npts = x.shape[-1]
     if n > npts // 2 - 1:
         raise ValueError(f"{n} harmonics need more than {2 * n + 1} samples per period, got {npts}")
-    return 2.0 * np.fft.rfft(x, axis=-1)[..., 1:n + 1] / npts
+    return 2.0 * np.fft.rfft(x, axis=-1)[..., 1 : n + 1] / npts
 
 
 def mesh_phases(design: PlusDesign) -> NDArray:
@@ -165,8 +165,8 @@ def forced_response(
     cond = spec.condition
     md = modal.modes(design, cond)  # type: ignore[arg-type]
     keep = [modal.COORDS.index(c) for c in md.coords]
-    omega2 = md.omega2[md.n_rigid:]
-    shapes = md.shapes[:, md.n_rigid:]
+    omega2 = md.omega2[md.n_rigid :]
+    shapes = md.shapes[:, md.n_rigid :]
     natural_hz = np.sqrt(omega2) / (2 * np.pi)
     per_rpm = mesh_frequency_per_rpm(design, cond)
     speed = speed_grid(design, natural_hz, per_rpm) if speeds is None else np.asarray(speeds, dtype=float)
@@ -193,9 +193,20 @@ def forced_response(
     factor = np.stack([(static + f.max(axis=-1)) / static for f in fluct])
     min_factor = np.stack([(static + f.min(axis=-1)) / static for f in fluct])
     return ForcedResponse(
-        condition=cond, zeta=zeta, cases=tuple(cases), meshes=tuple(el.name for el in meshes), harmonics=h,
-        speed_rpm=speed, mesh_hz_per_rpm=per_rpm, static_force=static, te_ptp=np.ptp(te, axis=-1),
-        amplitude=amp, rms=rms, dynamic_factor=factor, min_factor=min_factor, natural_hz=natural_hz,
+        condition=cond,
+        zeta=zeta,
+        cases=tuple(cases),
+        meshes=tuple(el.name for el in meshes),
+        harmonics=h,
+        speed_rpm=speed,
+        mesh_hz_per_rpm=per_rpm,
+        static_force=static,
+        te_ptp=np.ptp(te, axis=-1),
+        amplitude=amp,
+        rms=rms,
+        dynamic_factor=factor,
+        min_factor=min_factor,
+        natural_hz=natural_hz,
     )
 
 
@@ -208,7 +219,7 @@ def best_relief_case(cases: tuple[str, ...], te_ptp: ArrayLike) -> str:
     return cases[min(relieved, key=lambda i: ptp[i])]
 
 
-def to_dataset(res: ForcedResponse, design: PlusDesign) -> "xr.Dataset":
+def to_dataset(res: ForcedResponse, design: PlusDesign) -> xr.Dataset:
     """CF dataset of a :class:`ForcedResponse` (forces in N, TE in um, speeds in rpm)."""
     import xarray as xr
 
@@ -216,20 +227,44 @@ def to_dataset(res: ForcedResponse, design: PlusDesign) -> "xr.Dataset":
     return xr.Dataset(
         {
             "rms_force": (dims3, res.rms, {"units": "N", "long_name": "RMS of the fluctuating mesh force"}),
-            "dynamic_factor": (dims3, res.dynamic_factor, {
-                "units": "1", "long_name": "largest mesh force over a mesh period / static mesh force"}),
-            "min_force_factor": (dims3, res.min_factor, {
-                "units": "1", "long_name": "smallest mesh force over a mesh period / static mesh force (< 0: contact lost)"}),
-            "force_amplitude": (("case", "speed", "harmonic", "mesh"), np.abs(res.amplitude), {
-                "units": "N", "long_name": "amplitude of the mesh force at each harmonic of the mesh frequency"}),
-            "mesh_frequency": (("speed",), res.mesh_frequency_hz, {
-                "units": "Hz", "long_name": "mesh frequency at the input (sun) speed"}),
-            "te_ptp": (("case",), res.te_ptp * 1e6, {
-                "units": "um", "long_name": "peak-to-peak static TE of the p-d pair (excitation)"}),
-            "natural_frequency": (("mode",), res.natural_hz, {
-                "units": "Hz", "long_name": f"undamped natural frequency of elastic mode, condition {res.condition}"}),
-            "resonance_speed": (("harmonic", "mode"), res.resonance_speeds(), {
-                "units": "rpm", "long_name": "sun speed at which the harmonic of the mesh frequency meets the mode"}),
+            "dynamic_factor": (
+                dims3,
+                res.dynamic_factor,
+                {"units": "1", "long_name": "largest mesh force over a mesh period / static mesh force"},
+            ),
+            "min_force_factor": (
+                dims3,
+                res.min_factor,
+                {
+                    "units": "1",
+                    "long_name": "smallest mesh force over a mesh period / static mesh force (< 0: contact lost)",
+                },
+            ),
+            "force_amplitude": (
+                ("case", "speed", "harmonic", "mesh"),
+                np.abs(res.amplitude),
+                {"units": "N", "long_name": "amplitude of the mesh force at each harmonic of the mesh frequency"},
+            ),
+            "mesh_frequency": (
+                ("speed",),
+                res.mesh_frequency_hz,
+                {"units": "Hz", "long_name": "mesh frequency at the input (sun) speed"},
+            ),
+            "te_ptp": (
+                ("case",),
+                res.te_ptp * 1e6,
+                {"units": "um", "long_name": "peak-to-peak static TE of the p-d pair (excitation)"},
+            ),
+            "natural_frequency": (
+                ("mode",),
+                res.natural_hz,
+                {"units": "Hz", "long_name": f"undamped natural frequency of elastic mode, condition {res.condition}"},
+            ),
+            "resonance_speed": (
+                ("harmonic", "mode"),
+                res.resonance_speeds(),
+                {"units": "rpm", "long_name": "sun speed at which the harmonic of the mesh frequency meets the mode"},
+            ),
         },
         coords={
             "case": ("case", list(res.cases), {"units": "1", "long_name": "tip-relief case of the p-d pair"}),

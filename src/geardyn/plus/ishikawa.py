@@ -77,7 +77,7 @@ class SpurPair:
 
     @property
     def centre_distance(self) -> float:
-        return (self.driver.r + self.driven.r)
+        return self.driver.r + self.driven.r
 
     @property
     def working_alpha(self) -> float:
@@ -91,7 +91,11 @@ class SpurPair:
     def path_length(self) -> float:
         """Length of the path of contact g_a (m)."""
         g1, g2 = self.driver, self.driven
-        return float(np.sqrt(g1.ra**2 - g1.rb**2) + np.sqrt(g2.ra**2 - g2.rb**2) - self.centre_distance * np.sin(self.working_alpha))
+        return float(
+            np.sqrt(g1.ra**2 - g1.rb**2)
+            + np.sqrt(g2.ra**2 - g2.rb**2)
+            - self.centre_distance * np.sin(self.working_alpha)
+        )
 
     @property
     def contact_ratio(self) -> float:
@@ -170,7 +174,11 @@ def contact_compliance(mat: Material) -> float:
 def pair_compliance(pair: SpurPair, u: ArrayLike, mat: Material) -> NDArray:
     """Compliance (m/N) of one tooth pair in contact at ``u`` (m along the path of contact)."""
     rho1, rho2 = pair.roll_distances(u)
-    return tooth_compliance(pair.driver, rho1, mat)["total"] + tooth_compliance(pair.driven, rho2, mat)["total"] + contact_compliance(mat)
+    return (
+        tooth_compliance(pair.driver, rho1, mat)["total"]
+        + tooth_compliance(pair.driven, rho2, mat)["total"]
+        + contact_compliance(mat)
+    )
 
 
 def pitch_point_u(pair: SpurPair) -> float:
@@ -206,7 +214,9 @@ def iso_single_stiffness(pair: SpurPair, facewidth_mm: float) -> dict[str, float
 # ---------------------------------------------------------------------------------------------
 
 
-def relief_profile(u: ArrayLike, path_length: float, amount: float, length: float, shape: str, apply_to: str = "both") -> NDArray:
+def relief_profile(
+    u: ArrayLike, path_length: float, amount: float, length: float, shape: str, apply_to: str = "both"
+) -> NDArray:
     """Tip relief (m of material removed, along the line of action) at positions ``u`` (m).
 
     Linear: ``C (1 - d/L)``; parabolic: ``C (1 - d/L)^2``, for a distance ``d < L`` from the start
@@ -265,7 +275,7 @@ class MeshGrid:
     lam: NDArray
 
     @classmethod
-    def build(cls, pair: SpurPair, mat: Material, points: int) -> "MeshGrid":
+    def build(cls, pair: SpurPair, mat: Material, points: int) -> MeshGrid:
         pb, ga = pair.base_pitch, pair.path_length
         n_slots = int(np.ceil(ga / pb)) + 1
         s = np.arange(points) / points
@@ -275,14 +285,23 @@ class MeshGrid:
         lam = np.where(inside, pair_compliance(pair, u, mat), np.inf)
         return cls(pair, s, u, inside, lam)
 
-    def separation(self, *, es: float, pitch_error_sign: int, relief_amount: float, relief_length: float,
-                   relief_shape: str, relief_apply_to: str) -> NDArray:
+    def separation(
+        self,
+        *,
+        es: float,
+        pitch_error_sign: int,
+        relief_amount: float,
+        relief_length: float,
+        relief_shape: str,
+        relief_apply_to: str,
+    ) -> NDArray:
         """Separation e_k (m, material missing) of each slot; +inf out of mesh."""
         e = pitch_error_sign * es * self.u / self.pair.base_pitch + relief_profile(
-            self.u, self.pair.path_length, relief_amount, relief_length, relief_shape, relief_apply_to)
+            self.u, self.pair.path_length, relief_amount, relief_length, relief_shape, relief_apply_to
+        )
         return np.where(self.inside, e, np.inf)
 
-    def solve(self, load: float, e: NDArray, ef: float = 0.0) -> "TEResult":
+    def solve(self, load: float, e: NDArray, ef: float = 0.0) -> TEResult:
         x = _solve_approach(e, self.lam, load)
         loads = np.where(self.inside, np.clip(x[None, :] - np.where(self.inside, e, 0.0), 0.0, None) / self.lam, 0.0)
         stiff = np.sum(np.where(loads > 0, 1.0 / self.lam, 0.0), axis=0)
@@ -315,8 +334,14 @@ def static_te(
     and TE = Ef1 + Ef2 - x.  Constant profile deviations Ef1, Ef2 shift TE but not its peak-to-peak.
     """
     grid = grid or MeshGrid.build(pair, mat, points)
-    e = grid.separation(es=es, pitch_error_sign=pitch_error_sign, relief_amount=relief_amount,
-                        relief_length=relief_length, relief_shape=relief_shape, relief_apply_to=relief_apply_to)
+    e = grid.separation(
+        es=es,
+        pitch_error_sign=pitch_error_sign,
+        relief_amount=relief_amount,
+        relief_length=relief_length,
+        relief_shape=relief_shape,
+        relief_apply_to=relief_apply_to,
+    )
     return grid.solve(load, e, ef1 + ef2)
 
 
@@ -363,14 +388,29 @@ def design_grid(design: PlusDesign, points: int | None = None) -> MeshGrid:
     return MeshGrid.build(spur_pair(design), material(design), points or design.te.points_per_period)
 
 
-def design_te(design: PlusDesign, *, relief_amount: float = 0.0, relief_length: float = 0.0, relief_shape: str = "linear",
-              points: int | None = None, grid: MeshGrid | None = None) -> TEResult:
+def design_te(
+    design: PlusDesign,
+    *,
+    relief_amount: float = 0.0,
+    relief_length: float = 0.0,
+    relief_shape: str = "linear",
+    points: int | None = None,
+    grid: MeshGrid | None = None,
+) -> TEResult:
     """:func:`static_te` with the design's pair, material, load, deviations and relief placement."""
     t = design.te
     return static_te(
-        spur_pair(design), material(design), pd_mesh_load(design),
-        ef1=t.ef1, ef2=t.ef2, es=t.es, pitch_error_sign=t.pitch_error_sign,
-        relief_amount=relief_amount, relief_length=relief_length, relief_shape=relief_shape,
-        relief_apply_to=design.relief.apply_to, points=points or t.points_per_period,
+        spur_pair(design),
+        material(design),
+        pd_mesh_load(design),
+        ef1=t.ef1,
+        ef2=t.ef2,
+        es=t.es,
+        pitch_error_sign=t.pitch_error_sign,
+        relief_amount=relief_amount,
+        relief_length=relief_length,
+        relief_shape=relief_shape,
+        relief_apply_to=design.relief.apply_to,
+        points=points or t.points_per_period,
         grid=grid or design_grid(design, points),
     )

@@ -32,10 +32,17 @@ from numpy.typing import NDArray
 from .design import PlusDesign
 
 COORDS: tuple[str, ...] = (
-    "theta_s", "theta_r", "theta_c",
-    "theta_p1", "theta_p2", "theta_p3",
-    "theta_d1", "theta_d2", "theta_d3",
-    "x_s", "y_s",
+    "theta_s",
+    "theta_r",
+    "theta_c",
+    "theta_p1",
+    "theta_p2",
+    "theta_p3",
+    "theta_d1",
+    "theta_d2",
+    "theta_d3",
+    "x_s",
+    "y_s",
 )
 #: Working conditions of the paper (Sec. 2.1): the static member's rotation is removed.
 CONDITIONS: dict[str, str] = {"I": "theta_c", "II": "theta_r", "III": "theta_s", "free": ""}
@@ -77,7 +84,9 @@ def geometry(design: PlusDesign) -> Geometry:
     a_sp, a_pd, a_dr = m * (zs + zp) / 2, m * (zp + zd) / 2, m * (zr - zd) / 2
     cos_beta = (a_sp**2 + a_dr**2 - a_pd**2) / (2 * a_sp * a_dr)
     if not -1.0 < cos_beta < 1.0:
-        raise ValueError(f"planets p (a={a_sp*1e3:.1f} mm) and d (a={a_dr*1e3:.1f} mm) cannot mesh: a_pd={a_pd*1e3:.1f} mm")
+        raise ValueError(
+            f"planets p (a={a_sp * 1e3:.1f} mm) and d (a={a_dr * 1e3:.1f} mm) cannot mesh: a_pd={a_pd * 1e3:.1f} mm"
+        )
     beta = design.outer_planet_side * float(np.arccos(cos_beta))
     psi = np.asarray(design.planet_angles)
     p_c = a_sp * np.column_stack([np.cos(psi), np.sin(psi)])
@@ -149,7 +158,7 @@ def elements(design: PlusDesign) -> list[Element]:
     out: list[Element] = []
     # kinematic senses with the carrier fixed and the sun turning ccw: p cw, d ccw (plus set)
     for j in range(3):
-        e_p, e_d = _unit(f"theta_p{j+1}"), _unit(f"theta_d{j+1}")
+        e_p, e_d = _unit(f"theta_p{j + 1}"), _unit(f"theta_d{j + 1}")
         pc, dc = geo.p_centres[j], geo.d_centres[j]
         planet_p = _Gear(pc, design.planet_p.base_radius, e_c + e_p, np.outer([-pc[1], pc[0]], e_c))
         planet_d = _Gear(dc, design.planet_d.base_radius, e_c + e_d, np.outer([-dc[1], dc[0]], e_c))
@@ -161,7 +170,7 @@ def elements(design: PlusDesign) -> list[Element]:
             nvec, point = _line_of_action(g1, g2, internal, drive)
             v = nvec @ (g1.point_map(point) - g2.point_map(point))
             v[np.abs(v) < 1e-15] = 0.0
-            out.append(Element(f"{kind}{j+1}", kind, j, k, c, v, nvec))
+            out.append(Element(f"{kind}{j + 1}", kind, j, k, c, v, nvec))
     # printed variants (for the documentation of the fixes)
     if not design.planet_angles_in_sun_terms:
         first = out[0].v
@@ -172,7 +181,7 @@ def elements(design: PlusDesign) -> list[Element]:
     if not design.plus_set_sign:
         for el in out:
             if el.kind == "pd":
-                el.v[COORDS.index(f"theta_d{el.j+1}")] *= -1.0
+                el.v[COORDS.index(f"theta_d{el.j + 1}")] *= -1.0
     out.append(Element("bearing_x", "bearing", -1, ks.sun_bearing, cs.sun_bearing, ex, np.array([1.0, 0.0])))
     out.append(Element("bearing_y", "bearing", -1, ks.sun_bearing, cs.sun_bearing, ey, np.array([0.0, 1.0])))
     return out
@@ -190,13 +199,13 @@ def mass_components(design: PlusDesign) -> dict[str, NDArray]:
     comps: dict[str, NDArray] = {}
     for j in range(3):
         rev = design.planet_p.mass * geo.a_sp**2 + design.planet_d.mass * geo.a_dr**2
-        comps[f"revolution{j+1}"] = rev * np.outer(e_c, e_c)
+        comps[f"revolution{j + 1}"] = rev * np.outer(e_c, e_c)
     for j in range(3):
-        w = e_c + _unit(f"theta_p{j+1}")
-        comps[f"p{j+1}"] = design.planet_p.inertia * np.outer(w, w)
+        w = e_c + _unit(f"theta_p{j + 1}")
+        comps[f"p{j + 1}"] = design.planet_p.inertia * np.outer(w, w)
     for j in range(3):
-        w = e_c + _unit(f"theta_d{j+1}")
-        comps[f"d{j+1}"] = design.planet_d.inertia * np.outer(w, w)
+        w = e_c + _unit(f"theta_d{j + 1}")
+        comps[f"d{j + 1}"] = design.planet_d.inertia * np.outer(w, w)
     comps["sun"] = design.sun.inertia * np.outer(e_s, e_s) + design.sun.mass * (np.outer(ex, ex) + np.outer(ey, ey))
     comps["ring"] = design.ring.inertia * np.outer(e_r, e_r)
     comps["carrier"] = design.carrier.inertia * np.outer(e_c, e_c)
@@ -333,8 +342,8 @@ def damped_frequencies(mat: Matrices, n_rigid: int, omega_min: float) -> tuple[N
         raise RuntimeError(f"{len(osc)} oscillatory eigenvalues for {n_el} elastic modes")
     # overdamped modes (none for Table 1) have no damped frequency: they keep NaN at the top of the list
     m = len(osc)
-    damped[n_rigid:n_rigid + m] = osc.imag / (2 * np.pi)
-    zeta[n_rigid:n_rigid + m] = -osc.real / np.abs(osc)
+    damped[n_rigid : n_rigid + m] = osc.imag / (2 * np.pi)
+    zeta[n_rigid : n_rigid + m] = -osc.real / np.abs(osc)
     return damped, zeta
 
 
@@ -358,12 +367,14 @@ def kinetic_energy_fractions(design: PlusDesign, md: Modes) -> dict[str, NDArray
     phis = np.column_stack([md.full_shape(i) for i in range(md.shapes.shape[1])])
     energy = {k: np.einsum("im,ij,jm->m", phis, Mc, phis) for k, Mc in comps.items()}
     total = sum(energy.values())
-    return {k: np.where(np.abs(v / total) < 1e-12, 0.0, v / total) for k, v in energy.items()}  # round-off of exact zeros
+    return {
+        k: np.where(np.abs(v / total) < 1e-12, 0.0, v / total) for k, v in energy.items()
+    }  # round-off of exact zeros
 
 
 def group_strain(fr: dict[str, NDArray]) -> dict[str, NDArray]:
     """Strain-energy shares summed per mesh type (Table 3 groups 1-3, 4-6, 7-9) and the bearing."""
-    out = {t: sum(v for k, v in fr.items() if k.startswith(t) and k[len(t):].isdigit()) for t in MESH_TYPES}
+    out = {t: sum(v for k, v in fr.items() if k.startswith(t) and k[len(t) :].isdigit()) for t in MESH_TYPES}
     out["bearing"] = fr["bearing_x"] + fr["bearing_y"]
     return out
 
@@ -397,7 +408,9 @@ def classify(md: Modes, *, rtol: float = 1e-6, atol: float = 1e-9) -> list[str]:
         phi = md.full_shape(i)
         scale = np.max(np.abs(phi))
         central = np.abs(phi[[COORDS.index(c) for c in ("theta_s", "theta_r", "theta_c")]]).max() / scale
-        degenerate = (i > 0 and abs(f[i] - f[i - 1]) <= rtol * f[i]) or (i + 1 < len(f) and abs(f[i + 1] - f[i]) <= rtol * f[i])
+        degenerate = (i > 0 and abs(f[i] - f[i - 1]) <= rtol * f[i]) or (
+            i + 1 < len(f) and abs(f[i + 1] - f[i]) <= rtol * f[i]
+        )
         p = phi[[COORDS.index(f"theta_p{j}") for j in (1, 2, 3)]]
         d = phi[[COORDS.index(f"theta_d{j}") for j in (1, 2, 3)]]
         xy = np.abs(phi[[COORDS.index("x_s"), COORDS.index("y_s")]]).max() / scale

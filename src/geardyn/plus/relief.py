@@ -48,8 +48,14 @@ def objective(design: PlusDesign, grid: MeshGrid, shape: str):
     t, apply_to = design.te, design.relief.apply_to
 
     def f(p: NDArray) -> float:
-        e = grid.separation(es=t.es, pitch_error_sign=t.pitch_error_sign, relief_amount=float(p[0]),
-                            relief_length=float(p[1]), relief_shape=shape, relief_apply_to=apply_to)
+        e = grid.separation(
+            es=t.es,
+            pitch_error_sign=t.pitch_error_sign,
+            relief_amount=float(p[0]),
+            relief_length=float(p[1]),
+            relief_shape=shape,
+            relief_apply_to=apply_to,
+        )
         return float(np.ptp(grid.solve(load, e).approach))
 
     return f
@@ -64,7 +70,9 @@ def bounds_of(design: PlusDesign, which: str) -> tuple[tuple[float, float], tupl
     raise ValueError(f"unknown bound set {which!r}; allowed: {BOUND_SETS}")
 
 
-def optimise(design: PlusDesign, shape: str, which: str, *, points: int | None = None, grid: MeshGrid | None = None) -> ReliefOptimum:
+def optimise(
+    design: PlusDesign, shape: str, which: str, *, points: int | None = None, grid: MeshGrid | None = None
+) -> ReliefOptimum:
     """Differential-evolution optimum of ``shape`` relief within the ``which`` bounds."""
     if shape not in SHAPES:
         raise ValueError(f"unknown relief shape {shape!r}; allowed: {SHAPES}")
@@ -72,13 +80,33 @@ def optimise(design: PlusDesign, shape: str, which: str, *, points: int | None =
     f = objective(design, grid, shape)
     ab, lb = bounds_of(design, which)
     r = design.relief
-    res = differential_evolution(f, [ab, lb], seed=r.seed, popsize=r.popsize, maxiter=r.maxiter, tol=r.tol,
-                                 polish=False, workers=1, updating="immediate")
-    return ReliefOptimum(shape, which, float(res.x[0]), float(res.x[1]), float(res.fun), f(np.zeros(2)),
-                         int(res.nfev), tuple(ab), tuple(lb))
+    res = differential_evolution(
+        f,
+        [ab, lb],
+        seed=r.seed,
+        popsize=r.popsize,
+        maxiter=r.maxiter,
+        tol=r.tol,
+        polish=False,
+        workers=1,
+        updating="immediate",
+    )
+    return ReliefOptimum(
+        shape,
+        which,
+        float(res.x[0]),
+        float(res.x[1]),
+        float(res.fun),
+        f(np.zeros(2)),
+        int(res.nfev),
+        tuple(ab),
+        tuple(lb),
+    )
 
 
-def landscape(design: PlusDesign, shape: str, amounts: NDArray, lengths: NDArray, *, grid: MeshGrid | None = None) -> NDArray:
+def landscape(
+    design: PlusDesign, shape: str, amounts: NDArray, lengths: NDArray, *, grid: MeshGrid | None = None
+) -> NDArray:
     """Peak-to-peak TE (m) on the grid ``amounts x lengths`` (m), shape (len(amounts), len(lengths))."""
     grid = grid or design_grid(design)
     f = objective(design, grid, shape)
@@ -106,12 +134,28 @@ def load_study(design: PlusDesign, torques: tuple[float, ...], shape: str = "lin
     rows = []
     for t in torques:
         d = replace(design, torque=float(t), torque_member="sun")
-        d_wide = replace(d, relief=replace(d.relief, physical_amount=(0.0, d.relief.paper_amount[1]),
-                                           physical_length=(0.0, d.relief.physical_length[1])))
+        d_wide = replace(
+            d,
+            relief=replace(
+                d.relief,
+                physical_amount=(0.0, d.relief.paper_amount[1]),
+                physical_length=(0.0, d.relief.physical_length[1]),
+            ),
+        )
         grid = design_grid(d, points)
         paper = optimise(d, shape, "paper", grid=grid)
         wide = optimise(d_wide, shape, "physical", grid=grid)
-        rows.append({"torque": float(t), "load": pd_mesh_load(d), "ptp_unmodified": paper.ptp_unmodified,
-                     "paper_amount": paper.amount, "paper_length": paper.length, "paper_ptp": paper.ptp,
-                     "wide_amount": wide.amount, "wide_length": wide.length, "wide_ptp": wide.ptp})
+        rows.append(
+            {
+                "torque": float(t),
+                "load": pd_mesh_load(d),
+                "ptp_unmodified": paper.ptp_unmodified,
+                "paper_amount": paper.amount,
+                "paper_length": paper.length,
+                "paper_ptp": paper.ptp,
+                "wide_amount": wide.amount,
+                "wide_length": wide.length,
+                "wide_ptp": wide.ptp,
+            }
+        )
     return rows

@@ -13,19 +13,34 @@ import pandas as pd
 import xarray as xr
 from scipy.optimize import minimize_scalar
 
+from geardyn.papers.yue2014 import (
+    PAPER_RELIEF,
+    PAPER_SHARED,
+    PAPER_TABLE2,
+    PAPER_TABLE5_COMPONENTS,
+    PAPER_TABLE5_ELEMENT,
+)
+
 from . import modal
 from .design import PlusDesign
 from .ishikawa import (
-    design_te, iso_single_stiffness, material, pd_mesh_load, single_pair_stiffness_pitch, spur_pair,
+    design_te,
+    iso_single_stiffness,
+    material,
+    pd_mesh_load,
+    single_pair_stiffness_pitch,
+    spur_pair,
 )
 from .relief import ReliefOptimum
 
-from geardyn.papers.yue2014 import (
-    PAPER_RELIEF, PAPER_SHARED, PAPER_TABLE2, PAPER_TABLE5_COMPONENTS, PAPER_TABLE5_ELEMENT,
-)
-
-COMPONENT_LABELS = {"revolution": "planet revolution", "planet_p": "planet gear p", "planet_d": "planet gear d",
-                    "sun": "sun gear", "ring": "gear ring", "carrier": "planet carrier"}
+COMPONENT_LABELS = {
+    "revolution": "planet revolution",
+    "planet_p": "planet gear p",
+    "planet_d": "planet gear d",
+    "sun": "sun gear",
+    "ring": "gear ring",
+    "carrier": "planet carrier",
+}
 WORKING = ("I", "II", "III")
 
 
@@ -38,9 +53,13 @@ def distinct_frequencies(design: PlusDesign, condition: str) -> list[dict]:
     out = []
     for order, grp in enumerate(modal.distinct_elastic(md), start=1):
         rec = {
-            "condition": condition, "order": order, "freq_hz": float(md.freq_hz[grp[0]]),
-            "damped_hz": float(md.damped_hz[grp[0]]), "zeta": float(md.zeta[grp[0]]),
-            "multiplicity": len(grp), "mode_type": types[grp[0]],
+            "condition": condition,
+            "order": order,
+            "freq_hz": float(md.freq_hz[grp[0]]),
+            "damped_hz": float(md.damped_hz[grp[0]]),
+            "zeta": float(md.zeta[grp[0]]),
+            "multiplicity": len(grp),
+            "mode_type": types[grp[0]],
         }
         rec.update({f"strain_{k}": float(np.mean(v[grp])) for k, v in se.items()})
         rec.update({f"kinetic_{k}": float(np.mean(v[grp])) for k, v in ke.items()})
@@ -57,7 +76,9 @@ def frequency_table(design: PlusDesign) -> pd.DataFrame:
     for cond in WORKING:
         recs = distinct_frequencies(design, cond)
         for rec in recs[:6]:
-            row = {k: rec[k] for k in ("condition", "order", "freq_hz", "damped_hz", "zeta", "multiplicity", "mode_type")}
+            row = {
+                k: rec[k] for k in ("condition", "order", "freq_hz", "damped_hz", "zeta", "multiplicity", "mode_type")
+            }
             for src in ("theoretical", "simulated", "experimental"):
                 pv = PAPER_TABLE2[cond][src][rec["order"] - 1]
                 row[f"paper_{src}_hz"] = pv
@@ -122,8 +143,15 @@ def stiffness_scaling(design: PlusDesign, reference: str = "theoretical", matchi
 
     def mesh_only(log_s: float) -> float:
         k = design.stiffness
-        d2 = replace(design, stiffness=type(k)(k.sun_planet * np.exp(log_s), k.planet_planet * np.exp(log_s),
-                                               k.planet_ring * np.exp(log_s), k.sun_bearing))
+        d2 = replace(
+            design,
+            stiffness=type(k)(
+                k.sun_planet * np.exp(log_s),
+                k.planet_planet * np.exp(log_s),
+                k.planet_ring * np.exp(log_s),
+                k.sun_bearing,
+            ),
+        )
         return float(np.mean(_matched_log_residual(d2, reference, matching) ** 2))
 
     opt = minimize_scalar(mesh_only, bounds=(0.0, 8.0), method="bounded", options={"xatol": 1e-6})
@@ -135,14 +163,23 @@ def stiffness_scaling(design: PlusDesign, reference: str = "theoretical", matchi
 def fixed_factor_residual(design: PlusDesign, factor: float, reference: str = "theoretical") -> dict[str, float]:
     """RMS and worst log-residual (in %) against the paper with every stiffness times ``factor``."""
     r = _matched_log_residual(design.with_stiffness_scale(factor), reference, "rank")
-    return {"factor": factor, "rms_pct": _pct(np.sqrt(np.mean(r**2))), "max_pct": _pct(np.max(np.abs(r))),
-            "mean_log_ratio_pct": _pct(np.mean(r))}
+    return {
+        "factor": factor,
+        "rms_pct": _pct(np.sqrt(np.mean(r**2))),
+        "max_pct": _pct(np.max(np.abs(r))),
+        "mean_log_ratio_pct": _pct(np.mean(r)),
+    }
 
 
 def scaling_table(design: PlusDesign) -> pd.DataFrame:
     """:func:`stiffness_scaling` against the paper's theoretical, simulated and experimental values."""
-    return pd.DataFrame([stiffness_scaling(design, ref, m) for m in ("rank", "type")
-                         for ref in ("theoretical", "simulated", "experimental")])
+    return pd.DataFrame(
+        [
+            stiffness_scaling(design, ref, m)
+            for m in ("rank", "type")
+            for ref in ("theoretical", "simulated", "experimental")
+        ]
+    )
 
 
 def scaled_frequency_table(design: PlusDesign, factor: float) -> pd.DataFrame:
@@ -163,17 +200,23 @@ def key_element_table(design: PlusDesign, threshold: float = 0.25) -> pd.DataFra
             kin = {c: rec[f"kinetic_{c}"] for c in modal.COMPONENT_GROUPS}
             comps = [c for c in sorted(kin, key=kin.get, reverse=True) if kin[c] >= threshold]
             i = rec["order"] - 1
-            rows.append({
-                "condition": cond, "order": rec["order"], "freq_hz": rec["freq_hz"], "mode_type": rec["mode_type"],
-                "key_element": modal.MESH_LABELS[key], "key_element_share": strain[key],
-                "key_elements_no": {"sp": "1, 2, 3", "pd": "4, 5, 6", "dr": "7, 8, 9"}[key],
-                "key_components": ", ".join(COMPONENT_LABELS[c] for c in comps),
-                "paper_key_element": modal.MESH_LABELS[PAPER_TABLE5_ELEMENT[cond][i]],
-                "paper_key_components": PAPER_TABLE5_COMPONENTS[cond][i],
-                "element_agrees": key == PAPER_TABLE5_ELEMENT[cond][i],
-                **{f"strain_{t}": strain[t] for t in strain},
-                **{f"kinetic_{c}": kin[c] for c in kin},
-            })
+            rows.append(
+                {
+                    "condition": cond,
+                    "order": rec["order"],
+                    "freq_hz": rec["freq_hz"],
+                    "mode_type": rec["mode_type"],
+                    "key_element": modal.MESH_LABELS[key],
+                    "key_element_share": strain[key],
+                    "key_elements_no": {"sp": "1, 2, 3", "pd": "4, 5, 6", "dr": "7, 8, 9"}[key],
+                    "key_components": ", ".join(COMPONENT_LABELS[c] for c in comps),
+                    "paper_key_element": modal.MESH_LABELS[PAPER_TABLE5_ELEMENT[cond][i]],
+                    "paper_key_components": PAPER_TABLE5_COMPONENTS[cond][i],
+                    "element_agrees": key == PAPER_TABLE5_ELEMENT[cond][i],
+                    **{f"strain_{t}": strain[t] for t in strain},
+                    **{f"kinetic_{c}": kin[c] for c in kin},
+                }
+            )
     return pd.DataFrame(rows)
 
 
@@ -204,18 +247,50 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
             "natural_frequency": (("condition", "mode"), f, {"units": "Hz", "long_name": "undamped natural frequency"}),
             "damped_frequency": (("condition", "mode"), fd, {"units": "Hz", "long_name": "damped natural frequency"}),
             "damping_ratio": (("condition", "mode"), z, {"units": "1", "long_name": "modal damping ratio"}),
-            "mode_shape": (("condition", "mode", "coordinate"), shapes,
-                           {"units": "kg-1/2", "long_name": "mass-normalised mode shape (0 on the fixed coordinate)",
-                            "comment": "translations in kg-1/2; rotations in rad kg-1/2 m-1"}),
-            "strain_energy_share": (("condition", "mode", "element"), se, {"units": "1", "long_name": "share of the modal strain energy per spring"}),
-            "kinetic_energy_share": (("condition", "mode", "component"), ke, {"units": "1", "long_name": "share of the modal kinetic energy per component"}),
-            "mode_type": (("condition", "mode"), mtype.astype(str), {"units": "1", "long_name": "mode class: rigid, planet (doubled) or overall (axisymmetric)"}),
-            "lever_arm": (("coordinate",), _lever_arms(design),
-                          {"units": "m", "long_name": "radius turning a rotation into a displacement (base radius; carrier: a_sp; 1 for x_s, y_s)"}),
+            "mode_shape": (
+                ("condition", "mode", "coordinate"),
+                shapes,
+                {
+                    "units": "kg-1/2",
+                    "long_name": "mass-normalised mode shape (0 on the fixed coordinate)",
+                    "comment": "translations in kg-1/2; rotations in rad kg-1/2 m-1",
+                },
+            ),
+            "strain_energy_share": (
+                ("condition", "mode", "element"),
+                se,
+                {"units": "1", "long_name": "share of the modal strain energy per spring"},
+            ),
+            "kinetic_energy_share": (
+                ("condition", "mode", "component"),
+                ke,
+                {"units": "1", "long_name": "share of the modal kinetic energy per component"},
+            ),
+            "mode_type": (
+                ("condition", "mode"),
+                mtype.astype(str),
+                {"units": "1", "long_name": "mode class: rigid, planet (doubled) or overall (axisymmetric)"},
+            ),
+            "lever_arm": (
+                ("coordinate",),
+                _lever_arms(design),
+                {
+                    "units": "m",
+                    "long_name": "radius turning a rotation into a displacement (base radius; carrier: a_sp; 1 for x_s, y_s)",
+                },
+            ),
         },
         coords={
-            "condition": ("condition", conds, {"long_name": "working condition (I carrier, II ring, III sun fixed)", "units": "1"}),
-            "mode": ("mode", np.arange(1, n + 1), {"long_name": "mode number including the rigid-body mode", "units": "1"}),
+            "condition": (
+                "condition",
+                conds,
+                {"long_name": "working condition (I carrier, II ring, III sun fixed)", "units": "1"},
+            ),
+            "mode": (
+                "mode",
+                np.arange(1, n + 1),
+                {"long_name": "mode number including the rigid-body mode", "units": "1"},
+            ),
             "coordinate": ("coordinate", list(modal.COORDS), {"long_name": "generalised coordinate", "units": "1"}),
             "element": ("element", el_names, {"long_name": "spring (Table 3 meshes, sun bearing)", "units": "1"}),
             "component": ("component", comp_names, {"long_name": "kinetic-energy component (Table 4)", "units": "1"}),
@@ -227,8 +302,13 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
 
 def _lever_arms(design: PlusDesign) -> np.ndarray:
     geo = modal.geometry(design)
-    arms = {"theta_s": design.sun.base_radius, "theta_r": design.ring.base_radius, "theta_c": geo.a_sp,
-            "x_s": 1.0, "y_s": 1.0}
+    arms = {
+        "theta_s": design.sun.base_radius,
+        "theta_r": design.ring.base_radius,
+        "theta_c": geo.a_sp,
+        "x_s": 1.0,
+        "y_s": 1.0,
+    }
     for j in (1, 2, 3):
         arms[f"theta_p{j}"] = design.planet_p.base_radius
         arms[f"theta_d{j}"] = design.planet_d.base_radius
@@ -236,8 +316,10 @@ def _lever_arms(design: PlusDesign) -> np.ndarray:
 
 
 def _variant(design: PlusDesign) -> str:
-    return (f"11-DOF Lagrangian; planet angles in sun terms={design.planet_angles_in_sun_terms}; "
-            f"plus-set sign={design.plus_set_sign}")
+    return (
+        f"11-DOF Lagrangian; planet angles in sun terms={design.planet_angles_in_sun_terms}; "
+        f"plus-set sign={design.plus_set_sign}"
+    )
 
 
 def stiffness_comparison(design: PlusDesign) -> pd.DataFrame:
@@ -249,10 +331,19 @@ def stiffness_comparison(design: PlusDesign) -> pd.DataFrame:
     eps = pair.contact_ratio
     rows = [
         {"quantity": "single-pair stiffness at the pitch point, Ishikawa", "value_N_per_m": k_ish},
-        {"quantity": "ISO 6336-1 c' b with C_M C_R C_B cos(beta) = 0.8 (20 deg rack)", "value_N_per_m": iso["k_iso_0.8"]},
+        {
+            "quantity": "ISO 6336-1 c' b with C_M C_R C_B cos(beta) = 0.8 (20 deg rack)",
+            "value_N_per_m": iso["k_iso_0.8"],
+        },
         {"quantity": "ISO 6336-1 c' b with C_B(25 deg, h_fP = 1.25 m) = 1.0725", "value_N_per_m": iso["k_iso_CB"]},
-        {"quantity": "mean mesh stiffness, Ishikawa (no errors, static load sharing)", "value_N_per_m": float(np.mean(te0.stiffness))},
-        {"quantity": "ISO 6336-1 c_gamma b = c' b (0.75 eps + 0.25)", "value_N_per_m": iso["k_iso_CB"] * (0.75 * eps + 0.25)},
+        {
+            "quantity": "mean mesh stiffness, Ishikawa (no errors, static load sharing)",
+            "value_N_per_m": float(np.mean(te0.stiffness)),
+        },
+        {
+            "quantity": "ISO 6336-1 c_gamma b = c' b (0.75 eps + 0.25)",
+            "value_N_per_m": iso["k_iso_CB"] * (0.75 * eps + 0.25),
+        },
         {"quantity": "Table 1 mesh stiffness k_pd", "value_N_per_m": design.stiffness.planet_planet},
     ]
     t = pd.DataFrame(rows)
@@ -272,31 +363,73 @@ def te_dataset(design: PlusDesign, optima: list[ReliefOptimum]) -> xr.Dataset:
         labels.append(f"{o.shape}_{o.bounds}")
     pair = spur_pair(design)
     ds = xr.Dataset(
-        {"transmission_error": (("case", "mesh_phase"), np.array(curves),
-                                {"units": "um", "long_name": "static transmission error TE = E - delta (Eq. 9) of the p-d pair"}),
-         "mesh_stiffness": (("mesh_phase",), base.stiffness, {"units": "N m-1", "long_name": "quasi-static mesh stiffness of the unmodified pair"}),
-         "load_per_pair": (("slot", "mesh_phase"), base.loads, {"units": "N", "long_name": "normal load on each tooth pair slot (unmodified)"})},
-        coords={"case": ("case", labels, {"units": "1", "long_name": "relief case"}),
-                "mesh_phase": ("mesh_phase", base.s, {"units": "1", "long_name": "mesh phase in base pitches"}),
-                "slot": ("slot", np.arange(base.loads.shape[0]), {"units": "1", "long_name": "tooth pair slot (0 = newest)"})},
-        attrs={"title": f"Static TE of the p-d pair, design {design.name}", "contact_ratio": pair.contact_ratio,
-               "load_N": pd_mesh_load(design), "model_variant": "Ishikawa rectangle+trapezoid, base-pitch error model"},
+        {
+            "transmission_error": (
+                ("case", "mesh_phase"),
+                np.array(curves),
+                {"units": "um", "long_name": "static transmission error TE = E - delta (Eq. 9) of the p-d pair"},
+            ),
+            "mesh_stiffness": (
+                ("mesh_phase",),
+                base.stiffness,
+                {"units": "N m-1", "long_name": "quasi-static mesh stiffness of the unmodified pair"},
+            ),
+            "load_per_pair": (
+                ("slot", "mesh_phase"),
+                base.loads,
+                {"units": "N", "long_name": "normal load on each tooth pair slot (unmodified)"},
+            ),
+        },
+        coords={
+            "case": ("case", labels, {"units": "1", "long_name": "relief case"}),
+            "mesh_phase": ("mesh_phase", base.s, {"units": "1", "long_name": "mesh phase in base pitches"}),
+            "slot": (
+                "slot",
+                np.arange(base.loads.shape[0]),
+                {"units": "1", "long_name": "tooth pair slot (0 = newest)"},
+            ),
+        },
+        attrs={
+            "title": f"Static TE of the p-d pair, design {design.name}",
+            "contact_ratio": pair.contact_ratio,
+            "load_N": pd_mesh_load(design),
+            "model_variant": "Ishikawa rectangle+trapezoid, base-pitch error model",
+        },
     )
     return ds
 
 
 def relief_table(optima: list[ReliefOptimum]) -> pd.DataFrame:
     """Optima beside the paper's Sec. 4 result."""
-    rows = [{"shape": o.shape, "bounds": o.bounds,
-             "amount_bounds_um": f"{o.amount_bounds[0]*1e6:g}-{o.amount_bounds[1]*1e6:g}",
-             "length_bounds_mm": f"{o.length_bounds[0]*1e3:g}-{o.length_bounds[1]*1e3:g}",
-             "amount_um": o.amount * 1e6, "length_mm": o.length * 1e3,
-             "te_ptp_before_um": o.ptp_unmodified * 1e6, "te_ptp_after_um": o.ptp * 1e6,
-             "reduction_pct": 100 * o.reduction, "evaluations": o.nfev} for o in optima]
-    rows.append({"shape": "linear (paper)", "bounds": "paper", "amount_bounds_um": "20-80", "length_bounds_mm": "0.0001-2.6",
-                 "amount_um": PAPER_RELIEF["amount_mm"] * 1e3, "length_mm": PAPER_RELIEF["length_mm"],
-                 "te_ptp_before_um": PAPER_RELIEF["te_before_um"], "te_ptp_after_um": PAPER_RELIEF["te_after_um"],
-                 "reduction_pct": PAPER_RELIEF["reduction_pct"], "evaluations": np.nan})
+    rows = [
+        {
+            "shape": o.shape,
+            "bounds": o.bounds,
+            "amount_bounds_um": f"{o.amount_bounds[0] * 1e6:g}-{o.amount_bounds[1] * 1e6:g}",
+            "length_bounds_mm": f"{o.length_bounds[0] * 1e3:g}-{o.length_bounds[1] * 1e3:g}",
+            "amount_um": o.amount * 1e6,
+            "length_mm": o.length * 1e3,
+            "te_ptp_before_um": o.ptp_unmodified * 1e6,
+            "te_ptp_after_um": o.ptp * 1e6,
+            "reduction_pct": 100 * o.reduction,
+            "evaluations": o.nfev,
+        }
+        for o in optima
+    ]
+    rows.append(
+        {
+            "shape": "linear (paper)",
+            "bounds": "paper",
+            "amount_bounds_um": "20-80",
+            "length_bounds_mm": "0.0001-2.6",
+            "amount_um": PAPER_RELIEF["amount_mm"] * 1e3,
+            "length_mm": PAPER_RELIEF["length_mm"],
+            "te_ptp_before_um": PAPER_RELIEF["te_before_um"],
+            "te_ptp_after_um": PAPER_RELIEF["te_after_um"],
+            "reduction_pct": PAPER_RELIEF["reduction_pct"],
+            "evaluations": np.nan,
+        }
+    )
     return pd.DataFrame(rows)
 
 
@@ -323,13 +456,31 @@ def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
     grid = design_grid(design)
     z = np.array([landscape(design, sh, amounts, lengths, grid=grid) for sh in SHAPES]) * 1e6
     return xr.Dataset(
-        {"te_ptp": (("shape", "amount", "length"), z,
-                    {"units": "um", "long_name": "peak-to-peak static transmission error of the p-d pair"})},
-        coords={"shape": ("shape", list(SHAPES), {"units": "1", "long_name": "tip relief shape"}),
-                "amount": ("amount", amounts * 1e6, {"units": "um", "long_name": "tip relief amount along the line of action"}),
-                "length": ("length", lengths * 1e3, {"units": "mm", "long_name": "tip relief length along the path of contact"})},
-        attrs={"title": f"Objective landscape of the tip-relief optimisation, design {design.name}",
-               "relief_applied_to": design.relief.apply_to, "load_N": pd_mesh_load(design)},
+        {
+            "te_ptp": (
+                ("shape", "amount", "length"),
+                z,
+                {"units": "um", "long_name": "peak-to-peak static transmission error of the p-d pair"},
+            )
+        },
+        coords={
+            "shape": ("shape", list(SHAPES), {"units": "1", "long_name": "tip relief shape"}),
+            "amount": (
+                "amount",
+                amounts * 1e6,
+                {"units": "um", "long_name": "tip relief amount along the line of action"},
+            ),
+            "length": (
+                "length",
+                lengths * 1e3,
+                {"units": "mm", "long_name": "tip relief length along the path of contact"},
+            ),
+        },
+        attrs={
+            "title": f"Objective landscape of the tip-relief optimisation, design {design.name}",
+            "relief_applied_to": design.relief.apply_to,
+            "load_N": pd_mesh_load(design),
+        },
     )
 
 
@@ -337,11 +488,19 @@ def relief_load_table(rows: list[dict]) -> pd.DataFrame:
     """:func:`geardyn.plus.relief.load_study` in display units (N m, N, um, mm, %)."""
     out = []
     for r in rows:
-        out.append({"sun_torque_Nm": r["torque"], "pd_load_N": r["load"], "te_ptp_unmodified_um": r["ptp_unmodified"] * 1e6,
-                    "paper_bounds_amount_um": r["paper_amount"] * 1e6, "paper_bounds_length_mm": r["paper_length"] * 1e3,
-                    "paper_bounds_change_pct": 100 * (r["paper_ptp"] / r["ptp_unmodified"] - 1),
-                    "wide_bounds_amount_um": r["wide_amount"] * 1e6, "wide_bounds_length_mm": r["wide_length"] * 1e3,
-                    "wide_bounds_change_pct": 100 * (r["wide_ptp"] / r["ptp_unmodified"] - 1)})
+        out.append(
+            {
+                "sun_torque_Nm": r["torque"],
+                "pd_load_N": r["load"],
+                "te_ptp_unmodified_um": r["ptp_unmodified"] * 1e6,
+                "paper_bounds_amount_um": r["paper_amount"] * 1e6,
+                "paper_bounds_length_mm": r["paper_length"] * 1e3,
+                "paper_bounds_change_pct": 100 * (r["paper_ptp"] / r["ptp_unmodified"] - 1),
+                "wide_bounds_amount_um": r["wide_amount"] * 1e6,
+                "wide_bounds_length_mm": r["wide_length"] * 1e3,
+                "wide_bounds_change_pct": 100 * (r["wide_ptp"] / r["ptp_unmodified"] - 1),
+            }
+        )
     return pd.DataFrame(out)
 
 

@@ -92,17 +92,24 @@ def same_attractor(label_a: int, pa: np.ndarray, label_b: int, pb: np.ndarray, s
     return compare.same_attractor(label_a, pa, label_b, pb, settings.distance_tol, settings.chaotic_distance_tol)
 
 
-def find_attractors(system: System, starts: Mapping[str, np.ndarray], settings: AttractorSettings,
-                    integration: SimulationSettings,
-                    classifier: classify.ClassifierSettings = classify.ClassifierSettings()
-                    ) -> tuple[list[Attractor], dict[str, int]]:
+def find_attractors(
+    system: System,
+    starts: Mapping[str, np.ndarray],
+    settings: AttractorSettings,
+    integration: SimulationSettings,
+    classifier: classify.ClassifierSettings = classify.ClassifierSettings(),
+) -> tuple[list[Attractor], dict[str, int]]:
     """Label the run from every start (the labeller, fixed starts), deduplicate.  Returns (attractors,
     start -> attractor index)."""
-    sim = dataclasses.replace(integration, transient_periods=settings.transient_periods,
-                              recorded_periods=settings.recorded_periods)
+    sim = dataclasses.replace(
+        integration, transient_periods=settings.transient_periods, recorded_periods=settings.recorded_periods
+    )
     names = list(starts)
-    verdicts = label_points([system] * len(names), Policy(sim, classifier, start="fixed"),
-                            [np.asarray(starts[k], dtype=float) for k in names])
+    verdicts = label_points(
+        [system] * len(names),
+        Policy(sim, classifier, start="fixed"),
+        [np.asarray(starts[k], dtype=float) for k in names],
+    )
     found: list[Attractor] = []
     where: dict[str, int] = {}
     for name, v in zip(names, verdicts, strict=True):
@@ -175,8 +182,9 @@ class PointStarts:
     extra: dict[str, np.ndarray] = field(default_factory=dict)
 
 
-def sweep_points(system_of: Any, values: np.ndarray, indices: Sequence[int], case: int,
-                 neighbour_state: Any, branches: Sequence[Any]) -> list[PointStarts]:
+def sweep_points(
+    system_of: Any, values: np.ndarray, indices: Sequence[int], case: int, neighbour_state: Any, branches: Sequence[Any]
+) -> list[PointStarts]:
     """The :class:`PointStarts` of one case: ``up`` / ``down`` are the final states of the sweep
     points below / above (a sweep continued upwards / downwards arrives from there), then the branch
     starts of :func:`branch_starts`.  system_of(p): coefficients; neighbour_state(j): state or None."""
@@ -194,9 +202,16 @@ def sweep_points(system_of: Any, values: np.ndarray, indices: Sequence[int], cas
     return out
 
 
-def attractors_dataset(points: Sequence[PointStarts], settings: AttractorSettings, integration: SimulationSettings,
-                       classifier: classify.ClassifierSettings, parameter: str, units: str, long_name: str,
-                       case_labels: Sequence[str] = ("base",)):
+def attractors_dataset(
+    points: Sequence[PointStarts],
+    settings: AttractorSettings,
+    integration: SimulationSettings,
+    classifier: classify.ClassifierSettings,
+    parameter: str,
+    units: str,
+    long_name: str,
+    case_labels: Sequence[str] = ("base",),
+):
     """Attractors at each of ``points`` as one CF dataset (dimension ``point``)."""
     import xarray as xr
 
@@ -221,35 +236,81 @@ def attractors_dataset(points: Sequence[PointStarts], settings: AttractorSetting
         fr = basin_fractions(atts, settings.n_random)
         for k, a in enumerate(atts):
             label[r, k], valid[r, k] = a.label, 1
-            cen[r, k], size[r, k], lyap[r, k], frac[r, k], nst[r, k] = a.centroid, a.size, a.lyapunov, fr[k], len(a.starts)
+            cen[r, k], size[r, k], lyap[r, k], frac[r, k], nst[r, k] = (
+                a.centroid,
+                a.size,
+                a.lyapunov,
+                fr[k],
+                len(a.starts),
+            )
         for s_, name in enumerate(fixed_names):
             reach[r, s_] = where.get(name, -1)
     one = {"units": "1"}
     data = {
         "parameter": ("point", np.array([q.p for q, *_ in per_point]), {"units": units, "long_name": long_name}),
-        "case_index": ("point", np.array([q.case for q, *_ in per_point], np.int32),
-                       {**one, "long_name": "index of the sweep case (fixed overrides)"}),
-        "sweep_index": ("point", np.array([q.index for q, *_ in per_point], np.int32),
-                        {**one, "long_name": "index of the point in the sweep"}),
-        "n_attractors": ("point", np.array([len(a) for _, a, _, _ in per_point], np.int16),
-                         {**one, "long_name": "number of distinct attractors found"}),
-        "n_starts": ("point", np.array([n for *_, n in per_point], np.int16),
-                     {**one, "long_name": "number of initial conditions integrated"}),
-        "attractor_label": (("point", "attractor"), label, {"long_name": "motion label of the attractor (classify)",
-                                                            **classify.flag_attrs(classifier.max_n)}),
-        "attractor_found": (("point", "attractor"), valid, {"long_name": "attractor slot used",
-                                                            "flag_values": np.array([0, 1], np.int8),
-                                                            "flag_meanings": "empty found"}),
-        "centroid": (("point", "attractor", "state"), cen,
-                     {**one, "long_name": "centroid of the attractor's Poincare points (x / b_c, dx/dtau / b_c)"}),
+        "case_index": (
+            "point",
+            np.array([q.case for q, *_ in per_point], np.int32),
+            {**one, "long_name": "index of the sweep case (fixed overrides)"},
+        ),
+        "sweep_index": (
+            "point",
+            np.array([q.index for q, *_ in per_point], np.int32),
+            {**one, "long_name": "index of the point in the sweep"},
+        ),
+        "n_attractors": (
+            "point",
+            np.array([len(a) for _, a, _, _ in per_point], np.int16),
+            {**one, "long_name": "number of distinct attractors found"},
+        ),
+        "n_starts": (
+            "point",
+            np.array([n for *_, n in per_point], np.int16),
+            {**one, "long_name": "number of initial conditions integrated"},
+        ),
+        "attractor_label": (
+            ("point", "attractor"),
+            label,
+            {"long_name": "motion label of the attractor (classify)", **classify.flag_attrs(classifier.max_n)},
+        ),
+        "attractor_found": (
+            ("point", "attractor"),
+            valid,
+            {
+                "long_name": "attractor slot used",
+                "flag_values": np.array([0, 1], np.int8),
+                "flag_meanings": "empty found",
+            },
+        ),
+        "centroid": (
+            ("point", "attractor", "state"),
+            cen,
+            {**one, "long_name": "centroid of the attractor's Poincare points (x / b_c, dx/dtau / b_c)"},
+        ),
         "attractor_size": (("point", "attractor"), size, {**one, "long_name": "largest extent of the Poincare points"}),
-        "attractor_lyapunov": (("point", "attractor"), lyap,
-                               {**one, "long_name": "largest exponent per unit tau (Floquet for periodic attractors, tangent vector otherwise)"}),
-        "basin_fraction": (("point", "attractor"), frac,
-                           {**one, "long_name": "share of the random starts in the box that reach the attractor"}),
-        "starts_reaching": (("point", "attractor"), nst, {**one, "long_name": "number of starts (all kinds) reaching it"}),
-        "reached_from": (("point", "start"), reach,
-                         {**one, "long_name": "attractor index reached from the named start (-1: start not used)"}),
+        "attractor_lyapunov": (
+            ("point", "attractor"),
+            lyap,
+            {
+                **one,
+                "long_name": "largest exponent per unit tau (Floquet for periodic attractors, tangent vector otherwise)",
+            },
+        ),
+        "basin_fraction": (
+            ("point", "attractor"),
+            frac,
+            {**one, "long_name": "share of the random starts in the box that reach the attractor"},
+        ),
+        "starts_reaching": (
+            ("point", "attractor"),
+            nst,
+            {**one, "long_name": "number of starts (all kinds) reaching it"},
+        ),
+        "reached_from": (
+            ("point", "start"),
+            reach,
+            {**one, "long_name": "attractor index reached from the named start (-1: start not used)"},
+        ),
     }
     coords = {
         "state": ("state", list(STATE_VARS), {"long_name": "state component"}),
@@ -257,16 +318,28 @@ def attractors_dataset(points: Sequence[PointStarts], settings: AttractorSetting
         "attractor": ("attractor", np.arange(na, dtype=np.int32), {**one, "long_name": "attractor slot"}),
         "case": ("case", list(case_labels), {"long_name": "case (fixed overrides)"}),
     }
-    attrs = {"control_parameter": parameter, "n_random": settings.n_random, "random_seed": settings.seed,
-             "box": f"static state +- {settings.box_x:g} (displacements), +- {settings.box_v:g} (velocities), units b_c",
-             "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
-             "distance_tol": settings.distance_tol, "chaotic_distance_tol": settings.chaotic_distance_tol}
+    attrs = {
+        "control_parameter": parameter,
+        "n_random": settings.n_random,
+        "random_seed": settings.seed,
+        "box": f"static state +- {settings.box_x:g} (displacements), +- {settings.box_v:g} (velocities), units b_c",
+        "transient_periods": settings.transient_periods,
+        "recorded_periods": settings.recorded_periods,
+        "distance_tol": settings.distance_tol,
+        "chaotic_distance_tol": settings.chaotic_distance_tol,
+    }
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def sweep_attractors(drive: Any, spec: Any, cube: Any, branches_ds: Any, attractor_spec: Mapping[str, Any],
-                     settings: SimulationSettings | None = None,
-                     classifier: classify.ClassifierSettings | None = None):
+def sweep_attractors(
+    drive: Any,
+    spec: Any,
+    cube: Any,
+    branches_ds: Any,
+    attractor_spec: Mapping[str, Any],
+    settings: SimulationSettings | None = None,
+    classifier: classify.ClassifierSettings | None = None,
+):
     """Attractors at a subset of a sweep's points (``every`` / ``at`` in ``attractor_spec``, the rest
     are :class:`AttractorSettings`), every case; the branches come from the orbits dataset."""
     from geardyn.khv import point
@@ -297,7 +370,8 @@ def sweep_attractors(drive: Any, spec: Any, cube: Any, branches_ds: Any, attract
 
         pts += sweep_points(system_of, values, idx, case, neighbour, [b for c, b in allb if c == case])
     units, long_name = point.CONTROLS.get(par, (point.units_of(par), par))
-    ds = attractors_dataset(pts, aset, settings, classifier, par, units, long_name,
-                            [spec.case_label(i) for i in range(len(spec.cases))])
+    ds = attractors_dataset(
+        pts, aset, settings, classifier, par, units, long_name, [spec.case_label(i) for i in range(len(spec.cases))]
+    )
     ds.attrs.update({"sweep": spec.name, "design": spec.design})
     return ds

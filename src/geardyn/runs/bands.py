@@ -9,8 +9,17 @@ import xarray as xr
 from geardyn import classify
 from geardyn.runs.cube import labels_of_cube
 
-BAND_COLUMNS = ("case", "direction", "label", "name", "start", "stop", "n_points", "lyapunov_median",
-                "transition_to_next")
+BAND_COLUMNS = (
+    "case",
+    "direction",
+    "label",
+    "name",
+    "start",
+    "stop",
+    "n_points",
+    "lyapunov_median",
+    "transition_to_next",
+)
 
 
 def band_rows(cube: xr.Dataset) -> list[dict]:
@@ -29,10 +38,19 @@ def band_rows(cube: xr.Dataset) -> list[dict]:
                 m = (values >= a) & (values <= b)
                 nxt = 0.5 * (b + runs[r + 1][0]) if r + 1 < len(runs) else float("nan")
                 lm = lam[i, j][m]
-                rows.append({"case": str(case), "direction": str(direction), "label": int(lab),
-                             "name": classify.short_name(lab), "start": a, "stop": b, "n_points": int(m.sum()),
-                             "lyapunov_median": float(np.nanmedian(lm)) if np.isfinite(lm).any() else float("nan"),
-                             "transition_to_next": nxt})
+                rows.append(
+                    {
+                        "case": str(case),
+                        "direction": str(direction),
+                        "label": int(lab),
+                        "name": classify.short_name(lab),
+                        "start": a,
+                        "stop": b,
+                        "n_points": int(m.sum()),
+                        "lyapunov_median": float(np.nanmedian(lm)) if np.isfinite(lm).any() else float("nan"),
+                        "transition_to_next": nxt,
+                    }
+                )
     return rows
 
 
@@ -44,12 +62,18 @@ def bands_csv(rows: list[dict]) -> str:
 
 
 def bands_markdown(rows: list[dict], title: str, par: str) -> str:
-    lines = [f"# Regime bands: {title}", "",
-             f"Runs of equal motion labels along {par} (geardyn.label); transition = midway "
-             "between the last point of a band and the first of the next (half a grid step uncertainty).", "",
-             "| case | direction | label | from | to | points | median lambda_max | transition to next |",
-             "|---|---|---|---:|---:|---:|---:|---:|"]
+    lines = [
+        f"# Regime bands: {title}",
+        "",
+        f"Runs of equal motion labels along {par} (geardyn.label); transition = midway "
+        "between the last point of a band and the first of the next (half a grid step uncertainty).",
+        "",
+        "| case | direction | label | from | to | points | median lambda_max | transition to next |",
+        "|---|---|---|---:|---:|---:|---:|---:|",
+    ]
     for r in rows:
-        lines.append(f"| {r['case']} | {r['direction']} | {r['name']} | {r['start']:.4g} | {r['stop']:.4g} | "
-                     f"{r['n_points']} | {r['lyapunov_median']:.2e} | {r['transition_to_next']:.4g} |")
+        lines.append(
+            f"| {r['case']} | {r['direction']} | {r['name']} | {r['start']:.4g} | {r['stop']:.4g} | "
+            f"{r['n_points']} | {r['lyapunov_median']:.2e} | {r['transition_to_next']:.4g} |"
+        )
     return "\n".join(lines) + "\n"

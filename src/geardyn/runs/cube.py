@@ -28,45 +28,97 @@ STATE_NAMES = {
     "v_vh": "dimensionless velocity dX_VH/dtau / b_c",
     "v_vl": "dimensionless velocity dX_VL/dtau / b_c",
 }
+
+
 def _flags(codes: dict[str, int], long_name: str) -> dict[str, Any]:
-    return {"long_name": long_name, "flag_values": np.array(list(codes.values()), np.int8),
-            "flag_meanings": " ".join(codes)}
+    return {
+        "long_name": long_name,
+        "flag_values": np.array(list(codes.values()), np.int8),
+        "flag_meanings": " ".join(codes),
+    }
 
 
 #: CF attributes of the per-point ``stage``, ``bifurcation`` and ``exponent_method`` flags (geardyn.label).
 STAGE_ATTRS = _flags({"not_computed": 0, **STAGES}, "labeller stage that decided the label (geardyn.label)")
-BIFURCATION_ATTRS = _flags(BIFURCATIONS, "how the orbit followed from the previous point of the line lost "
-                                         "stability here (leading Floquet multiplier)")
-EXPONENT_METHOD_ATTRS = _flags(EXPONENT_METHODS, "how the exponent was obtained: Floquet multipliers of the "
-                                                 "certified orbit, or a tangent vector over the record")
+BIFURCATION_ATTRS = _flags(
+    BIFURCATIONS,
+    "how the orbit followed from the previous point of the line lost stability here (leading Floquet multiplier)",
+)
+EXPONENT_METHOD_ATTRS = _flags(
+    EXPONENT_METHODS,
+    "how the exponent was obtained: Floquet multipliers of the certified orbit, or a tangent vector over the record",
+)
 
 
-def label_variables(dims: tuple[str, ...], shape: tuple[int, ...],
-                    classifier: classify.ClassifierSettings) -> dict[str, Any]:
+def label_variables(
+    dims: tuple[str, ...], shape: tuple[int, ...], classifier: classify.ClassifierSettings
+) -> dict[str, Any]:
     """Empty per-point verdict variables (see :class:`geardyn.label.Verdict`)."""
     return {
-        "label": (dims, np.full(shape, classify.LABELS["undetermined"], np.int16), {
-            "long_name": "motion label (geardyn.label)", **classify.flag_attrs(classifier.max_n)}),
-        "period": (dims, np.zeros(shape, np.int16), {
-            "units": "1", "long_name": "least period n in mesh periods (0: not periodic)"}),
-        "lyapunov": (dims, np.full(shape, np.nan), {
-            "units": "1", "long_name": "largest exponent per unit dimensionless time tau = w_n t (Floquet: "
-                                       "log max|mu| / (n T) of the certified orbit; else a tangent vector)"}),
-        "lyapunov_sigma": (dims, np.full(shape, np.nan), {
-            "units": "1", "long_name": "uncertainty of the largest exponent (0 for Floquet exponents)"}),
+        "label": (
+            dims,
+            np.full(shape, classify.LABELS["undetermined"], np.int16),
+            {"long_name": "motion label (geardyn.label)", **classify.flag_attrs(classifier.max_n)},
+        ),
+        "period": (
+            dims,
+            np.zeros(shape, np.int16),
+            {"units": "1", "long_name": "least period n in mesh periods (0: not periodic)"},
+        ),
+        "lyapunov": (
+            dims,
+            np.full(shape, np.nan),
+            {
+                "units": "1",
+                "long_name": "largest exponent per unit dimensionless time tau = w_n t (Floquet: "
+                "log max|mu| / (n T) of the certified orbit; else a tangent vector)",
+            },
+        ),
+        "lyapunov_sigma": (
+            dims,
+            np.full(shape, np.nan),
+            {"units": "1", "long_name": "uncertainty of the largest exponent (0 for Floquet exponents)"},
+        ),
         "exponent_method": (dims, np.zeros(shape, np.int8), EXPONENT_METHOD_ATTRS),
-        "multiplier": (dims, np.full(shape, np.nan), {
-            "units": "1", "long_name": "largest Floquet multiplier modulus of the orbit over its least period"}),
-        "zero_one_k": (dims, np.full(shape, np.nan), {
-            "units": "1", "long_name": "0-1 test statistic K on stroboscopic X_VH (Gottwald-Melbourne; NaN if periodic)"}),
-        "spectral_flatness": (dims, np.full(shape, np.nan), {
-            "units": "1", "long_name": "spectral flatness of stroboscopic X_VH (0 lines, ~0.56 white; NaN if periodic)"}),
-        "torus_digits": (dims, np.full(shape, np.nan), {
-            "units": "1", "long_name": "digits of agreement of the weighted Birkhoff averages of the two halves "
-                                       "of the record (large: a torus; NaN if periodic)"}),
-        "crosscheck": (dims, np.full(shape, -1, np.int8), {
-            "long_name": "0-1 test and spectrum agree with the label",
-            "flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "not_applicable one_agrees both_agree"}),
+        "multiplier": (
+            dims,
+            np.full(shape, np.nan),
+            {"units": "1", "long_name": "largest Floquet multiplier modulus of the orbit over its least period"},
+        ),
+        "zero_one_k": (
+            dims,
+            np.full(shape, np.nan),
+            {
+                "units": "1",
+                "long_name": "0-1 test statistic K on stroboscopic X_VH (Gottwald-Melbourne; NaN if periodic)",
+            },
+        ),
+        "spectral_flatness": (
+            dims,
+            np.full(shape, np.nan),
+            {
+                "units": "1",
+                "long_name": "spectral flatness of stroboscopic X_VH (0 lines, ~0.56 white; NaN if periodic)",
+            },
+        ),
+        "torus_digits": (
+            dims,
+            np.full(shape, np.nan),
+            {
+                "units": "1",
+                "long_name": "digits of agreement of the weighted Birkhoff averages of the two halves "
+                "of the record (large: a torus; NaN if periodic)",
+            },
+        ),
+        "crosscheck": (
+            dims,
+            np.full(shape, -1, np.int8),
+            {
+                "long_name": "0-1 test and spectrum agree with the label",
+                "flag_values": np.array([-1, 0, 1], np.int8),
+                "flag_meanings": "not_applicable one_agrees both_agree",
+            },
+        ),
         "stage": (dims, np.zeros(shape, np.int8), STAGE_ATTRS),
         "bifurcation": (dims, np.zeros(shape, np.int8), BIFURCATION_ATTRS),
     }
@@ -93,8 +145,11 @@ def store_verdict(ds: Any, idx: tuple, v: Verdict, fixed: Verdict | None = None)
 
 
 #: CF attributes of the ``coexisting`` flag (policy ``coexistence``).
-COEXISTING_ATTRS = {"long_name": "the follow and the fixed start end on different attractors at this point",
-                    "flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "not_checked same coexisting"}
+COEXISTING_ATTRS = {
+    "long_name": "the follow and the fixed start end on different attractors at this point",
+    "flag_values": np.array([-1, 0, 1], np.int8),
+    "flag_meanings": "not_checked same coexisting",
+}
 
 
 def classifier_attrs(classifier: classify.ClassifierSettings) -> dict[str, Any]:
@@ -105,33 +160,50 @@ def policy_attrs(policy: Policy) -> dict[str, Any]:
     """Attributes recording how the points were labelled: start, coexistence, transients, early stop and
     the classifier settings."""
     s = policy.integration
-    return {"start": policy.start, "coexistence": int(policy.coexistence),
-            "follow_transient_periods": policy.follow_transient_periods, "newton_tol": policy.newton_tol,
-            "stability_margin": policy.stability_margin, "early_stop": int(s.early_stop),
-            "early_stop_min_periods": s.early_stop_min_periods, "early_stop_confirm": s.early_stop_confirm,
-            "early_stop_tol_factor": s.early_stop_tol_factor, **classifier_attrs(policy.classifier)}
+    return {
+        "start": policy.start,
+        "coexistence": int(policy.coexistence),
+        "follow_transient_periods": policy.follow_transient_periods,
+        "newton_tol": policy.newton_tol,
+        "stability_margin": policy.stability_margin,
+        "early_stop": int(s.early_stop),
+        "early_stop_min_periods": s.early_stop_min_periods,
+        "early_stop_confirm": s.early_stop_confirm,
+        "early_stop_tol_factor": s.early_stop_tol_factor,
+        **classifier_attrs(policy.classifier),
+    }
 
 
 #: CF attributes of the per-point ``transient_used`` of sweep cubes and maps.
 TRANSIENT_USED_ATTRS = {
     "units": "1",
     "long_name": "transient mesh periods integrated before the recorded ones (0: followed from the previous "
-                 "point's orbit; less than the configured transient after an early stop)"}
+    "point's orbit; less than the configured transient after an early stop)",
+}
 
 
-def coexistence_variables(dims: tuple[str, ...], shape: tuple[int, ...],
-                          classifier: classify.ClassifierSettings) -> dict[str, Any]:
+def coexistence_variables(
+    dims: tuple[str, ...], shape: tuple[int, ...], classifier: classify.ClassifierSettings
+) -> dict[str, Any]:
     """The fixed start's label and the ``coexisting`` flag (policy ``coexistence``)."""
     return {
-        "label_fixed": (dims, np.full(shape, classify.LABELS["undetermined"], np.int16), {
-            "long_name": "motion label from the fixed start (the static deflection)",
-            **classify.flag_attrs(classifier.max_n)}),
+        "label_fixed": (
+            dims,
+            np.full(shape, classify.LABELS["undetermined"], np.int16),
+            {
+                "long_name": "motion label from the fixed start (the static deflection)",
+                **classify.flag_attrs(classifier.max_n),
+            },
+        ),
         "coexisting": (dims, np.full(shape, -1, np.int8), COEXISTING_ATTRS),
     }
 
 
-COMPUTED_ATTRS = {"long_name": "1 where this file holds the point", "flag_values": np.array([0, 1], np.int8),
-                  "flag_meanings": "absent present"}
+COMPUTED_ATTRS = {
+    "long_name": "1 where this file holds the point",
+    "flag_values": np.array([0, 1], np.int8),
+    "flag_meanings": "absent present",
+}
 
 #: Attributes that describe one chunk (its number, its wall time), not the merged result.
 CHUNK_ATTRS = ("chunk", "n_chunks", "wall_time_s")

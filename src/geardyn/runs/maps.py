@@ -30,8 +30,14 @@ from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.khv.model import Coefficients
 from geardyn.label import Policy, label_lines
-from geardyn.runs.cube import (COMPUTED_ATTRS, TRANSIENT_USED_ATTRS, coexistence_variables, label_variables,
-                               policy_attrs, store_verdict)
+from geardyn.runs.cube import (
+    COMPUTED_ATTRS,
+    TRANSIENT_USED_ATTRS,
+    coexistence_variables,
+    label_variables,
+    policy_attrs,
+    store_verdict,
+)
 
 log = logging.getLogger("geardyn.maps")
 
@@ -67,8 +73,7 @@ class MapSpec:
     coexistence: bool = False
 
     @classmethod
-    def from_config(cls, name: str, spec: Mapping[str, Any], design: str,
-                    segment: tuple[float, float]) -> MapSpec:
+    def from_config(cls, name: str, spec: Mapping[str, Any], design: str, segment: tuple[float, float]) -> MapSpec:
         """The map ``name`` of ``config["maps"]`` for ``design``, whose admissible segment (x1_min,
         x1_max) resolves percentages of x1 (:func:`geardyn.khv.design.resolve_fractions`)."""
         spec = resolve_fractions(spec, segment)
@@ -76,11 +81,18 @@ class MapSpec:
         def axis(a: Mapping[str, Any]) -> Axis:
             return Axis(a["parameter"], float(a["start"]), float(a["stop"]), int(a["num"]))
 
-        return cls(name=name, design=design, x=axis(spec["x"]), y=axis(spec["y"]),
-                   fixed=tuple(sorted(spec.get("fixed", {}).items())), chunks=int(spec.get("chunks", 1)),
-                   integration=tuple(sorted(spec.get("integration", {}).items())),
-                   classifier=tuple(sorted(spec.get("classifier", {}).items())),
-                   start_from=spec.get("start_from", "follow"), coexistence=bool(spec.get("coexistence", False)))
+        return cls(
+            name=name,
+            design=design,
+            x=axis(spec["x"]),
+            y=axis(spec["y"]),
+            fixed=tuple(sorted(spec.get("fixed", {}).items())),
+            chunks=int(spec.get("chunks", 1)),
+            integration=tuple(sorted(spec.get("integration", {}).items())),
+            classifier=tuple(sorted(spec.get("classifier", {}).items())),
+            start_from=spec.get("start_from", "follow"),
+            coexistence=bool(spec.get("coexistence", False)),
+        )
 
     @property
     def n_points(self) -> int:
@@ -108,21 +120,24 @@ def _direct_ok(design: KHVDesign, par: str) -> bool:
     return True
 
 
-def point_coefficients(design: KHVDesign, spec: MapSpec, xv: float, yv: float,
-                       base: Coefficients | None = None) -> Coefficients:
+def point_coefficients(
+    design: KHVDesign, spec: MapSpec, xv: float, yv: float, base: Coefficients | None = None
+) -> Coefficients:
     """Coefficients at (xv, yv); ``base`` = coefficients at xv with the fixed values (reused)."""
     if base is not None and _direct_ok(design, spec.y.parameter):
         field = _DIRECT[spec.y.parameter]
         return base.replace(**{field: float(yv)})
-    return point.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(xv),
-                                           spec.y.parameter: float(yv)})
+    return point.point_coefficients(
+        design, {**dict(spec.fixed), spec.x.parameter: float(xv), spec.y.parameter: float(yv)}
+    )
 
 
 def map_policy(design: KHVDesign, spec: MapSpec) -> Policy:
     """The labelling policy of a map: integration, classifier, initial state and coexistence."""
-    return Policy.from_spec(point.integration_settings(design, **dict(spec.integration)),
-                            {"classifier": dict(spec.classifier), "start_from": spec.start_from,
-                             "coexistence": spec.coexistence})
+    return Policy.from_spec(
+        point.integration_settings(design, **dict(spec.integration)),
+        {"classifier": dict(spec.classifier), "start_from": spec.start_from, "coexistence": spec.coexistence},
+    )
 
 
 def empty_map(spec: MapSpec, policy: Policy) -> xr.Dataset:
@@ -132,24 +147,40 @@ def empty_map(spec: MapSpec, policy: Policy) -> xr.Dataset:
     data: dict[str, Any] = label_variables(dims, shape, policy.classifier)
     if policy.coexistence:
         data.update(coexistence_variables(dims, shape, policy.classifier))
-    data["diverged"] = (dims, np.full(shape, -1, np.int8), {
-        "long_name": "unbounded growth detected", "flag_values": np.array([-1, 0, 1], np.int8),
-        "flag_meanings": "not_computed bounded diverged"})
+    data["diverged"] = (
+        dims,
+        np.full(shape, -1, np.int8),
+        {
+            "long_name": "unbounded growth detected",
+            "flag_values": np.array([-1, 0, 1], np.int8),
+            "flag_meanings": "not_computed bounded diverged",
+        },
+    )
     data["x_vh_mean"] = (dims, np.full(shape, np.nan), {"units": "1", "long_name": "mean Poincare X_VH / b_c"})
-    data["x_vh_spread"] = (dims, np.full(shape, np.nan), {"units": "1",
-                                                           "long_name": "peak-to-peak of Poincare X_VH / b_c"})
+    data["x_vh_spread"] = (
+        dims,
+        np.full(shape, np.nan),
+        {"units": "1", "long_name": "peak-to-peak of Poincare X_VH / b_c"},
+    )
     data["transient_used"] = (dims, np.full(shape, -1, np.int32), TRANSIENT_USED_ATTRS)
     data["computed"] = (dims, np.zeros(shape, np.int8), COMPUTED_ATTRS)
     coords = {}
     for dim, ax in (("x", spec.x), ("y", spec.y)):
         units, long_name = point.CONTROLS.get(ax.parameter, ("1", ax.parameter))
         coords[dim] = (dim, ax.values, {"units": units, "long_name": long_name, "parameter": ax.parameter})
-    attrs = {"map": spec.name, "design": spec.design, "x_parameter": spec.x.parameter,
-             "y_parameter": spec.y.parameter,
-             "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
-             "integrator": settings.integrator, "steps_per_period": settings.steps_per_period,
-             "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
-             "lines": "rows: x increasing at fixed y", **policy_attrs(policy)}
+    attrs = {
+        "map": spec.name,
+        "design": spec.design,
+        "x_parameter": spec.x.parameter,
+        "y_parameter": spec.y.parameter,
+        "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
+        "integrator": settings.integrator,
+        "steps_per_period": settings.steps_per_period,
+        "transient_periods": settings.transient_periods,
+        "recorded_periods": settings.recorded_periods,
+        "lines": "rows: x increasing at fixed y",
+        **policy_attrs(policy),
+    }
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
@@ -166,8 +197,10 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
     rows = chunk_rows(spec, chunk)
     t0 = time.perf_counter()
     direct = _direct_ok(design, spec.y.parameter)
-    bases = [point.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(x)}) if direct else None
-             for x in xs]
+    bases = [
+        point.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(x)}) if direct else None
+        for x in xs
+    ]
     lines = [[point_coefficients(design, spec, xs[i], ys[j], bases[i]) for i in range(spec.x.num)] for j in rows]
     verdicts = label_lines(lines, policy, progress=f"{spec.name} chunk {chunk}")
     fixed = label_lines(lines, policy.with_start("fixed")) if policy.coexistence else None

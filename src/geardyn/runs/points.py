@@ -39,8 +39,13 @@ def amplitude_spectrum(x: np.ndarray, samples_per_period: int) -> tuple[np.ndarr
     return freq, amp
 
 
-def dense_point(design: KHVDesign, overrides: Mapping[str, float], settings: SimulationSettings,
-                samples_per_period: int = 64, x0: np.ndarray | None = None) -> xr.Dataset:
+def dense_point(
+    design: KHVDesign,
+    overrides: Mapping[str, float],
+    settings: SimulationSettings,
+    samples_per_period: int = 64,
+    x0: np.ndarray | None = None,
+) -> xr.Dataset:
     """Trajectory over the recorded periods (uniform, ``samples_per_period``), Poincaré points, spectrum.
     ``x0``: the start (default: the static deflection, after the settings' transient); with a state on
     the attractor (a verdict's final state) no transient is integrated."""
@@ -56,18 +61,27 @@ def dense_point(design: KHVDesign, overrides: Mapping[str, float], settings: Sim
         tau, states = res.uniform(samples_per_period)
     for k, name in enumerate(STATES):
         data[name] = ("time", states[:, k], {"units": "1", "long_name": STATE_NAMES[name]})
-        data[f"poincare_{name}"] = ("section", res.poincare[:, k],
-                                    {"units": "1", "long_name": f"Poincare section: {STATE_NAMES[name]}"})
+        data[f"poincare_{name}"] = (
+            "section",
+            res.poincare[:, k],
+            {"units": "1", "long_name": f"Poincare section: {STATE_NAMES[name]}"},
+        )
     if states.shape[0] > 8:
         freq, amp = amplitude_spectrum(states[:, 1], samples_per_period)
     else:
         freq, amp = np.zeros(0), np.zeros(0)
     data["amplitude"] = ("frequency", amp, {"units": "1", "long_name": "amplitude spectrum of X_VH / b_c (Hann)"})
     coords = {
-        "time": ("time", (tau - (tau[0] if tau.size else 0.0)) / coeffs.period, {
-            "units": "1", "long_name": "time since the start of the record, in mesh periods"}),
-        "section": ("section", np.arange(res.poincare.shape[0], dtype=np.int32),
-                    {"units": "1", "long_name": "index of the recorded mesh period"}),
+        "time": (
+            "time",
+            (tau - (tau[0] if tau.size else 0.0)) / coeffs.period,
+            {"units": "1", "long_name": "time since the start of the record, in mesh periods"},
+        ),
+        "section": (
+            "section",
+            np.arange(res.poincare.shape[0], dtype=np.int32),
+            {"units": "1", "long_name": "index of the recorded mesh period"},
+        ),
         "frequency": ("frequency", freq, {"units": "1", "long_name": "frequency / mesh frequency"}),
     }
     attrs = {f"coef_{k}": (float(v) if not isinstance(v, str) else v) for k, v in coeffs.as_dict().items()}
@@ -80,8 +94,13 @@ def dense_point(design: KHVDesign, overrides: Mapping[str, float], settings: Sim
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def dense_points(design: KHVDesign, fixed: Mapping[str, float], cases: list[Mapping[str, float]],
-                 policy: Policy, samples_per_period: int = 64) -> xr.Dataset:
+def dense_points(
+    design: KHVDesign,
+    fixed: Mapping[str, float],
+    cases: list[Mapping[str, float]],
+    policy: Policy,
+    samples_per_period: int = 64,
+) -> xr.Dataset:
     """:func:`dense_point` for each case, concatenated along ``case`` (labels like ``x1=0.5``), each case
     labelled by the labeller from the static deflection (the sweeps' labels: variables ``label``,
     ``period``, ``lyapunov``, ``stage``, ...) and its dense run started on the attractor it found."""
@@ -98,19 +117,27 @@ def dense_points(design: KHVDesign, fixed: Mapping[str, float], cases: list[Mapp
             if key.startswith(("coef_", "override_", "diverged")):
                 ds[key] = ("case", [value], {"units": "1", "long_name": f"point parameter {key}"})
         parts.append(ds)
-    out = xr.concat(parts, dim="case", join="outer", data_vars="all", coords="different", compat="equals",
-                    combine_attrs="override")
+    out = xr.concat(
+        parts, dim="case", join="outer", data_vars="all", coords="different", compat="equals", combine_attrs="override"
+    )
     out.attrs = {}
     out["case"].attrs["long_name"] = "operating point (overrides)"
     n = len(cases)
-    out = out.assign({name: (("case",), *spec[1:]) for name, spec in
-                      label_variables(("case",), (n,), policy.classifier).items()})
+    out = out.assign(
+        {name: (("case",), *spec[1:]) for name, spec in label_variables(("case",), (n,), policy.classifier).items()}
+    )
     arrays = {name: out[name] for name in out.data_vars}
     for k, v in enumerate(verdicts):
         store_verdict(arrays, (k,), v)
     s = policy.integration
-    out.attrs.update({"integrator": s.integrator, "steps_per_period": s.steps_per_period,
-                      "transient_periods": s.transient_periods, "recorded_periods": s.recorded_periods,
-                      "record_starts": "on the attractor found by the labeller (its final state)",
-                      "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in fixed.items())})
+    out.attrs.update(
+        {
+            "integrator": s.integrator,
+            "steps_per_period": s.steps_per_period,
+            "transient_periods": s.transient_periods,
+            "recorded_periods": s.recorded_periods,
+            "record_starts": "on the attractor found by the labeller (its final state)",
+            "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in fixed.items()),
+        }
+    )
     return out

@@ -29,16 +29,23 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn.khv.model import COEFFICIENT_ATTRS
-from geardyn.label import Policy, Verdict, label_lines
-from geardyn.runs.cube import (COMPUTED_ATTRS, STATE_NAMES, STATES, TRANSIENT_USED_ATTRS, coexistence_variables,
-                               label_variables, policy_attrs, store_verdict)
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
+from geardyn.khv.model import COEFFICIENT_ATTRS
+from geardyn.label import Policy, Verdict, label_lines
+from geardyn.runs.cube import (
+    COMPUTED_ATTRS,
+    STATE_NAMES,
+    STATES,
+    TRANSIENT_USED_ATTRS,
+    coexistence_variables,
+    label_variables,
+    policy_attrs,
+    store_verdict,
+)
 from geardyn.solve import SimulationSettings
 
 log = logging.getLogger("geardyn.sweep")
-
 
 
 @dataclass(frozen=True)
@@ -61,20 +68,26 @@ class SweepSpec:
     coexistence: bool = False
 
     @classmethod
-    def from_config(cls, name: str, spec: Mapping[str, Any], design: str,
-                    segment: tuple[float, float]) -> SweepSpec:
+    def from_config(cls, name: str, spec: Mapping[str, Any], design: str, segment: tuple[float, float]) -> SweepSpec:
         """The sweep ``name`` of ``config["sweeps"]`` for ``design``, whose admissible segment
         (x1_min, x1_max) resolves percentages of x1 (:func:`geardyn.khv.design.resolve_fractions`)."""
         spec = resolve_fractions(spec, segment)
         cases = tuple(tuple(sorted(c.items())) for c in spec.get("cases") or [{}])
         return cls(
-            name=name, design=design, parameter=spec["parameter"],
-            start=float(spec["start"]), stop=float(spec["stop"]), num=int(spec["num"]),
-            cases=cases, fixed=tuple(sorted(spec.get("fixed", {}).items())),
-            chunks=int(spec.get("chunks", 1)), continuation=spec.get("continuation", "none"),
+            name=name,
+            design=design,
+            parameter=spec["parameter"],
+            start=float(spec["start"]),
+            stop=float(spec["stop"]),
+            num=int(spec["num"]),
+            cases=cases,
+            fixed=tuple(sorted(spec.get("fixed", {}).items())),
+            chunks=int(spec.get("chunks", 1)),
+            continuation=spec.get("continuation", "none"),
             integration=tuple(sorted(spec.get("integration", {}).items())),
             classifier=tuple(sorted(spec.get("classifier", {}).items())),
-            start_from=spec.get("start_from", "follow"), coexistence=bool(spec.get("coexistence", False)),
+            start_from=spec.get("start_from", "follow"),
+            coexistence=bool(spec.get("coexistence", False)),
         )
 
     @property
@@ -140,20 +153,22 @@ def sweep_policy(design: KHVDesign, spec: SweepSpec, settings: SimulationSetting
     """The labelling policy of a sweep: the design's integration with the sweep's changes, its classifier
     settings, start and coexistence."""
     settings = settings or point.integration_settings(design, **dict(spec.integration))
-    return Policy.from_spec(settings, {"classifier": dict(spec.classifier), "start_from": spec.start_from,
-                                       "coexistence": spec.coexistence})
+    return Policy.from_spec(
+        settings, {"classifier": dict(spec.classifier), "start_from": spec.start_from, "coexistence": spec.coexistence}
+    )
 
 
-def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int,
-              settings: SimulationSettings | None = None) -> xr.Dataset:
+def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int, settings: SimulationSettings | None = None) -> xr.Dataset:
     """Label the points of one chunk and return them as a partial cube (see :func:`empty_cube`)."""
     policy = sweep_policy(design, spec, settings)
     work = chunk_work(spec, chunk)
     values = spec.values
     cube = empty_cube(spec, policy)
     t0 = time.perf_counter()
-    lines = [[point.point_coefficients(design, point_overrides(spec, case, values[j])) for j in order]
-             for case, _, order in work.items]
+    lines = [
+        [point.point_coefficients(design, point_overrides(spec, case, values[j])) for j in order]
+        for case, _, order in work.items
+    ]
     verdicts = label_lines(lines, policy, progress=f"{spec.name} chunk {chunk}")
     fixed = label_lines(lines, policy.with_start("fixed")) if policy.coexistence else None
     arrays = {name: SimpleNamespace(values=cube[name].values) for name in cube.data_vars}  # numpy views
@@ -176,15 +191,31 @@ def empty_cube(spec: SweepSpec, policy: Policy) -> xr.Dataset:
     dims = ("case", "direction", spec.parameter, "section")
     data: dict[str, Any] = {}
     for name in STATES:
-        data[name] = (dims, np.full(shape, np.nan), {"units": "1", "long_name": f"Poincare section: {STATE_NAMES[name]}"})
+        data[name] = (
+            dims,
+            np.full(shape, np.nan),
+            {"units": "1", "long_name": f"Poincare section: {STATE_NAMES[name]}"},
+        )
     pdims = dims[:3]
-    data["diverged"] = (pdims, np.full(shape[:3], -1, np.int8), {
-        "long_name": "unbounded growth detected (parametric instability)",
-        "flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "not_computed bounded diverged"})
-    data["diverged_period"] = (pdims, np.full(shape[:3], -1, np.int32), {
-        "units": "1", "long_name": "mesh period at which the state exceeded the threshold (-1: never)"})
-    data["n_events"] = (pdims, np.full(shape[:3], -1, np.int64), {
-        "units": "1", "long_name": "number of contact-switch events located (rk4_event)"})
+    data["diverged"] = (
+        pdims,
+        np.full(shape[:3], -1, np.int8),
+        {
+            "long_name": "unbounded growth detected (parametric instability)",
+            "flag_values": np.array([-1, 0, 1], np.int8),
+            "flag_meanings": "not_computed bounded diverged",
+        },
+    )
+    data["diverged_period"] = (
+        pdims,
+        np.full(shape[:3], -1, np.int32),
+        {"units": "1", "long_name": "mesh period at which the state exceeded the threshold (-1: never)"},
+    )
+    data["n_events"] = (
+        pdims,
+        np.full(shape[:3], -1, np.int64),
+        {"units": "1", "long_name": "number of contact-switch events located (rk4_event)"},
+    )
     data["transient_used"] = (pdims, np.full(shape[:3], -1, np.int32), TRANSIENT_USED_ATTRS)
     data.update(label_variables(pdims, shape[:3], classifier))
     if policy.coexistence:
@@ -194,17 +225,30 @@ def empty_cube(spec: SweepSpec, policy: Policy) -> xr.Dataset:
     coords = {
         "case": ("case", [spec.case_label(i) for i in range(nc)], {"long_name": "case (fixed overrides)"}),
         "direction": ("direction", list(spec.directions), {"long_name": "continuation direction of the sweep"}),
-        spec.parameter: (spec.parameter, spec.values, {
-            "units": point.CONTROLS.get(spec.parameter, ("1", spec.parameter))[0],
-            "long_name": point.CONTROLS.get(spec.parameter, ("1", spec.parameter))[1]}),
-        "section": ("section", np.arange(ns, dtype=np.int32), {
-            "units": "1", "long_name": "index of the recorded mesh period (Poincare section at phase 0)"}),
+        spec.parameter: (
+            spec.parameter,
+            spec.values,
+            {
+                "units": point.CONTROLS.get(spec.parameter, ("1", spec.parameter))[0],
+                "long_name": point.CONTROLS.get(spec.parameter, ("1", spec.parameter))[1],
+            },
+        ),
+        "section": (
+            "section",
+            np.arange(ns, dtype=np.int32),
+            {"units": "1", "long_name": "index of the recorded mesh period (Poincare section at phase 0)"},
+        ),
     }
     attrs = {
-        "sweep": spec.name, "design": spec.design, "control_parameter": spec.parameter,
-        "integrator": settings.integrator, "steps_per_period": settings.steps_per_period,
-        "transient_periods": settings.transient_periods, "recorded_periods": settings.recorded_periods,
-        "divergence_threshold": settings.divergence_threshold, "continuation": spec.continuation,
+        "sweep": spec.name,
+        "design": spec.design,
+        "control_parameter": spec.parameter,
+        "integrator": settings.integrator,
+        "steps_per_period": settings.steps_per_period,
+        "transient_periods": settings.transient_periods,
+        "recorded_periods": settings.recorded_periods,
+        "divergence_threshold": settings.divergence_threshold,
+        "continuation": spec.continuation,
         **policy_attrs(policy),
         "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
     }

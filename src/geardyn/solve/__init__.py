@@ -15,5 +15,14 @@ floquet       monodromy and multipliers of the linear (b = 0) system
 from geardyn.solve.base import LAYOUT, SimulationResult, SimulationSettings, System
 from geardyn.solve.simulate import largest_lyapunov, simulate, step_grid, step_tables, warm_up
 
-__all__ = ["LAYOUT", "SimulationResult", "SimulationSettings", "System", "largest_lyapunov", "simulate",
-           "step_grid", "step_tables", "warm_up"]
+__all__ = [
+    "LAYOUT",
+    "SimulationResult",
+    "SimulationSettings",
+    "System",
+    "largest_lyapunov",
+    "simulate",
+    "step_grid",
+    "step_tables",
+    "warm_up",
+]

@@ -34,7 +34,7 @@ from numba import njit
 
 from geardyn.solve._model import rk4, rk4_tangent, slope
 from geardyn.solve._period import early_stop
-from geardyn.solve.base import B, BACKLASH_ON, EPS, PHI, T, TE
+from geardyn.solve.base import BACKLASH_ON, EPS, PHI, TE, B, T
 
 
 @njit(cache=True, inline="always")
@@ -175,9 +175,36 @@ def locate_switches(c, poly, y, ynew, W, Wnew, mt, ytmp, Wtmp, h, s0, seg, reg, 
 
 
 @njit(cache=True, nogil=True)
-def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event, limits,
-        stride, poinc, dense_t, dense_y, W, n_tan, renorm, growth, strobe, yfinal,
-        es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep):
+def run(
+    c,
+    tab_h,
+    tab_s,
+    tab_seg,
+    tab_k,
+    tab_p,
+    poly,
+    y0,
+    n_trans,
+    n_rec,
+    event,
+    limits,
+    stride,
+    poinc,
+    dense_t,
+    dense_y,
+    W,
+    n_tan,
+    renorm,
+    growth,
+    strobe,
+    yfinal,
+    es_min,
+    es_confirm,
+    es_max_n,
+    es_floor,
+    es_atol,
+    es_sep,
+):
     """Integrate n_trans + n_rec mesh periods from y0 (phase 0): the one loop of the solver.
 
     poinc (n_rec, 6) gets the state at the end of each recorded period; dense_t/dense_y (if their
@@ -199,8 +226,27 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
     1 diverged; stop_period: the n of the early stop (0: the transient ran to its end).
     """
     # coefficients as a tuple: numba keeps them in registers instead of reloading the array
-    c = (c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9], c[10], c[11], c[12], c[13],
-         c[14], c[15], c[16], c[17], c[18])
+    c = (
+        c[0],
+        c[1],
+        c[2],
+        c[3],
+        c[4],
+        c[5],
+        c[6],
+        c[7],
+        c[8],
+        c[9],
+        c[10],
+        c[11],
+        c[12],
+        c[13],
+        c[14],
+        c[15],
+        c[16],
+        c[17],
+        c[18],
+    )
     nsteps = tab_h.shape[0]
     period = c[T]
     b = c[B]
@@ -228,13 +274,28 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
         mt = m if (per >= tan_start and stop_n == 0) else 0
         for j in range(nsteps):
             h = tab_h[j]
-            step(c, y, W, mt, h, tab_k[j, 0], tab_k[j, 1], tab_k[j, 2], tab_p[j, 0], tab_p[j, 1], tab_p[j, 2],
-                 ynew, Wnew, -1.0)
+            step(
+                c,
+                y,
+                W,
+                mt,
+                h,
+                tab_k[j, 0],
+                tab_k[j, 1],
+                tab_k[j, 2],
+                tab_p[j, 0],
+                tab_p[j, 1],
+                tab_p[j, 2],
+                ynew,
+                Wnew,
+                -1.0,
+            )
             if use_events:
                 rnew = region(ynew[1], b)
                 if rnew != reg:
-                    reg, nev = locate_switches(c, poly, y, ynew, W, Wnew, mt, ytmp, Wtmp, h, tab_s[j], tab_seg[j],
-                                               reg, rnew, b, period)
+                    reg, nev = locate_switches(
+                        c, poly, y, ynew, W, Wnew, mt, ytmp, Wtmp, h, tab_s[j], tab_seg[j], reg, rnew, b, period
+                    )
                     n_events += nev
             for i in range(6):
                 y[i] = ynew[i]
@@ -250,11 +311,29 @@ def run(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec, event,
             for i in range(6):
                 yfinal[i] = y[i]
             return 1, per, n_events, n_dense, min(per + 1, n_tr), stop_n
-        record(y, W, per - tan_start if (mt > 0 and renorm) else -1, growth, strobe, poinc,
-               per - n_tr if per >= n_tr else -1)
+        record(
+            y,
+            W,
+            per - tan_start if (mt > 0 and renorm) else -1,
+            growth,
+            strobe,
+            poinc,
+            per - n_tr if per >= n_tr else -1,
+        )
         if per < n_tr and es_confirm > 0:
-            n_seen, stop_n = early_stop(ring, count, dcur, n_seen, y, es_max_n, es_floor, es_atol, es_sep, es_confirm,
-                                        per + 1 >= es_min and per + 1 < n_tr)
+            n_seen, stop_n = early_stop(
+                ring,
+                count,
+                dcur,
+                n_seen,
+                y,
+                es_max_n,
+                es_floor,
+                es_atol,
+                es_sep,
+                es_confirm,
+                per + 1 >= es_min and per + 1 < n_tr,
+            )
             if stop_n > 0:
                 n_tr = per + 1
         per += 1

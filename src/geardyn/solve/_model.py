@@ -80,8 +80,17 @@ def rk4(k, b, h, k0, k1, k2, p0, p1, p2, x1, x2, x3, v1, v2, v3):
     Q2 = x2 + h * W2
     d1, d2, d3 = accel(k, b, x1 + h * W1, Q2, x3 + h * W3, U1, U2, U3, k2, p2)
     h6 = h / 6.0
-    return (x1 + h6 * (sx1 + U1), x2 + h6 * (sx2 + U2), x3 + h6 * (sx3 + U3),
-            v1 + h6 * (sv1 + d1), v2 + h6 * (sv2 + d2), v3 + h6 * (sv3 + d3), X2, Z2, Q2)
+    return (
+        x1 + h6 * (sx1 + U1),
+        x2 + h6 * (sx2 + U2),
+        x3 + h6 * (sx3 + U3),
+        v1 + h6 * (sv1 + d1),
+        v2 + h6 * (sv2 + d2),
+        v3 + h6 * (sv3 + d3),
+        X2,
+        Z2,
+        Q2,
+    )
 
 
 @njit(cache=True, inline="always")
@@ -100,6 +109,11 @@ def rk4_tangent(k, h, s1, s2, s3, s4, w0, w1, w2, w3, w4, w5):
     D3, D4, D5 = w3 + h * R1, w4 + h * R2, w5 + h * R3
     S1, S2, S3 = lin(k, D0, D1, D2, D3, D4, D5, s4)
     h6 = h / 6.0
-    return (w0 + h6 * (w3 + 2.0 * B3 + 2.0 * C3 + D3), w1 + h6 * (w4 + 2.0 * B4 + 2.0 * C4 + D4),
-            w2 + h6 * (w5 + 2.0 * B5 + 2.0 * C5 + D5), w3 + h6 * (A1 + 2.0 * Q1 + 2.0 * R1 + S1),
-            w4 + h6 * (A2 + 2.0 * Q2 + 2.0 * R2 + S2), w5 + h6 * (A3 + 2.0 * Q3 + 2.0 * R3 + S3))
+    return (
+        w0 + h6 * (w3 + 2.0 * B3 + 2.0 * C3 + D3),
+        w1 + h6 * (w4 + 2.0 * B4 + 2.0 * C4 + D4),
+        w2 + h6 * (w5 + 2.0 * B5 + 2.0 * C5 + D5),
+        w3 + h6 * (A1 + 2.0 * Q1 + 2.0 * R1 + S1),
+        w4 + h6 * (A2 + 2.0 * Q2 + 2.0 * R2 + S2),
+        w5 + h6 * (A3 + 2.0 * Q3 + 2.0 * R3 + S3),
+    )

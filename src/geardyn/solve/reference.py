@@ -19,8 +19,27 @@ from numba import njit
 from scipy.integrate import solve_ivp
 
 from geardyn.solve.base import (
-    B, C11, C21, C23, C33, CM, G1, G3, K11, K21, K23, K33, P1, P3, PHI, T, TE, SimulationResult, SimulationSettings,
-    System, divergence_limits,
+    C11,
+    C21,
+    C23,
+    C33,
+    CM,
+    G1,
+    G3,
+    K11,
+    K21,
+    K23,
+    K33,
+    P1,
+    P3,
+    PHI,
+    TE,
+    B,
+    SimulationResult,
+    SimulationSettings,
+    System,
+    T,
+    divergence_limits,
 )
 
 
@@ -79,9 +98,16 @@ def _initial_region(y: np.ndarray, b: float) -> int:
     return 0
 
 
-def integrate_period(coeffs: System, y: np.ndarray, per: int = 0, rtol: float = 1e-12,
-                     atol: float | None = None, reg: int | None = None, collect: list | None = None,
-                     max_step_fraction: float = 1.0 / 128):
+def integrate_period(
+    coeffs: System,
+    y: np.ndarray,
+    per: int = 0,
+    rtol: float = 1e-12,
+    atol: float | None = None,
+    reg: int | None = None,
+    collect: list | None = None,
+    max_step_fraction: float = 1.0 / 128,
+):
     """Integrate one mesh period (phase 0 -> 1) from y; returns (y_end, region, n_events).
 
     max_step_fraction: largest DOP853 step in mesh periods (``inf``: unlimited).
@@ -105,8 +131,15 @@ def integrate_period(coeffs: System, y: np.ndarray, per: int = 0, rtol: float = 
         while True:
             evs, nxt = _events(b, reg) if reg != 2 else ([], [])
             sol = solve_ivp(
-                _rhs_region, (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, max_step=T * max_step_fraction,
-                events=evs or None, args=(c, poly, seg, reg, float(per)),
+                _rhs_region,
+                (t, t_end),
+                y,
+                method="DOP853",
+                rtol=rtol,
+                atol=atol,
+                max_step=T * max_step_fraction,
+                events=evs or None,
+                args=(c, poly, seg, reg, float(per)),
             )
             if collect is not None:
                 collect.append((sol.t, sol.y.T))
@@ -127,8 +160,13 @@ def integrate_period(coeffs: System, y: np.ndarray, per: int = 0, rtol: float = 
     return y, reg, nev
 
 
-def simulate_reference(coeffs: System, settings: SimulationSettings, y0: np.ndarray, dense: bool = False,
-                       max_step_fraction: float = 1.0 / 128) -> SimulationResult:
+def simulate_reference(
+    coeffs: System,
+    settings: SimulationSettings,
+    y0: np.ndarray,
+    dense: bool = False,
+    max_step_fraction: float = 1.0 / 128,
+) -> SimulationResult:
     """DOP853 counterpart of :func:`geardyn.solve.simulate` (same result type)."""
     y = np.asarray(y0, dtype=float).copy()
     reg = None
@@ -139,12 +177,14 @@ def simulate_reference(coeffs: System, settings: SimulationSettings, y0: np.ndar
     chunks: list | None = [] if dense else None
     for per in range(ntr + nrec):
         collect = chunks if (dense and per >= ntr) else None
-        y, reg, k = integrate_period(coeffs, y, per, settings.rtol, reg=reg, collect=collect,
-                                     max_step_fraction=max_step_fraction)
+        y, reg, k = integrate_period(
+            coeffs, y, per, settings.rtol, reg=reg, collect=collect, max_step_fraction=max_step_fraction
+        )
         nev += k
         if not np.all(np.abs(y) <= limit):
-            return SimulationResult(poinc[: max(0, per - ntr)], np.full(6, np.nan), True, per, nev,
-                                    period=coeffs.period, settings=settings)
+            return SimulationResult(
+                poinc[: max(0, per - ntr)], np.full(6, np.nan), True, per, nev, period=coeffs.period, settings=settings
+            )
         if per >= ntr:
             poinc[per - ntr] = y
     tau = states = None

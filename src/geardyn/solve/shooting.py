@@ -75,8 +75,9 @@ def sorted_multipliers(monodromy: np.ndarray) -> np.ndarray:
     return mu[np.lexsort((-mu.imag, -np.round(np.abs(mu), 12)))]
 
 
-def _newton_end(x: np.ndarray, phi: np.ndarray | None, M: np.ndarray | None, n: int, tol: float, it: int,
-                max_iter: int) -> ShootingResult | None:
+def _newton_end(
+    x: np.ndarray, phi: np.ndarray | None, M: np.ndarray | None, n: int, tol: float, it: int, max_iter: int
+) -> ShootingResult | None:
     """The :class:`ShootingResult` when the Newton iteration ends at the iterate ``x`` given phi(x) and
     M(x) (None: diverged): diverged, not finite, converged or the last iteration; else None."""
     if phi is None or M is None:
@@ -92,8 +93,9 @@ def _newton_end(x: np.ndarray, phi: np.ndarray | None, M: np.ndarray | None, n: 
     return None
 
 
-def _newton_next(xs: list[np.ndarray], phis: list[np.ndarray], Ms: list[np.ndarray], caps: list[float], n: int,
-                 it: int) -> list[np.ndarray | ShootingResult]:
+def _newton_next(
+    xs: list[np.ndarray], phis: list[np.ndarray], Ms: list[np.ndarray], caps: list[float], n: int, it: int
+) -> list[np.ndarray | ShootingResult]:
     """The next Newton iterates x - (M - I)^-1 (phi - x), each step capped at its ``cap`` (max norm), of
     points whose iteration goes on, by one stacked solve (the same LAPACK call per point as alone); a
     point whose M - I is singular gets its ``singular`` :class:`ShootingResult` instead."""
@@ -125,8 +127,9 @@ def _step_cap(x0: np.ndarray, max_step: float | None) -> float:
     return max_step if max_step is not None else 10.0 * max(1.0, float(np.max(np.abs(x0))))
 
 
-def newton_shooting(flow: FlowMap, x0: np.ndarray, n: int = 1, tol: float = 1e-9, max_iter: int = 30,
-                    max_step: float | None = None) -> ShootingResult:
+def newton_shooting(
+    flow: FlowMap, x0: np.ndarray, n: int = 1, tol: float = 1e-9, max_iter: int = 30, max_step: float | None = None
+) -> ShootingResult:
     """Newton on F(x) = phi(x) - x from x0.
 
     Convergence: max |F| <= tol * max(1, max |x|).  The Newton step is capped at ``max_step``
@@ -147,9 +150,15 @@ def newton_shooting(flow: FlowMap, x0: np.ndarray, n: int = 1, tol: float = 1e-9
     raise AssertionError("unreachable: the last iteration returns")  # pragma: no cover
 
 
-def newton_shooting_batch(systems: list[System], x0s: list[np.ndarray], n: int = 1,
-                          settings: SimulationSettings | None = None, tol: float = 1e-9,
-                          max_iter: int = 30, tables=None) -> list[ShootingResult]:
+def newton_shooting_batch(
+    systems: list[System],
+    x0s: list[np.ndarray],
+    n: int = 1,
+    settings: SimulationSettings | None = None,
+    tol: float = 1e-9,
+    max_iter: int = 30,
+    tables=None,
+) -> list[ShootingResult]:
     """:func:`newton_shooting` on the n-period map (:func:`khv_flow`) of many systems at once: every
     iteration integrates all unfinished points together (:func:`geardyn.solve.simulate.simulate_batch`,
     both cores), whose lanes have the arithmetic of :func:`simulate`; each point's iterates, and so its
@@ -166,8 +175,7 @@ def newton_shooting_batch(systems: list[System], x0s: list[np.ndarray], n: int =
     for it in range(max_iter + 1):
         if not todo:
             break
-        runs = simulate_batch([systems[i] for i in todo], s, [xs[i] for i in todo], monodromy_periods=n,
-                              tables=tables)
+        runs = simulate_batch([systems[i] for i in todo], s, [xs[i] for i in todo], monodromy_periods=n, tables=tables)
         go = []  # (position in todo, phi, M) of the points whose iteration goes on
         for k, (i, r) in enumerate(zip(todo, runs, strict=True)):
             phi, M = (None, None) if r.diverged else (r.final_state.copy(), r.monodromy.copy())
@@ -178,8 +186,14 @@ def newton_shooting_batch(systems: list[System], x0s: list[np.ndarray], n: int =
                 out[todo[k]] = end
         left = []
         if go:
-            nxt = _newton_next([xs[todo[k]] for k, _, _ in go], [phi for _, phi, _ in go], [M for _, _, M in go],
-                               [caps[todo[k]] for k, _, _ in go], n, it)
+            nxt = _newton_next(
+                [xs[todo[k]] for k, _, _ in go],
+                [phi for _, phi, _ in go],
+                [M for _, _, M in go],
+                [caps[todo[k]] for k, _, _ in go],
+                n,
+                it,
+            )
             for (k, _, _), x in zip(go, nxt, strict=True):
                 if isinstance(x, ShootingResult):
                     out[todo[k]] = x
@@ -202,8 +216,14 @@ def period_settings(settings: SimulationSettings | None, n: int) -> SimulationSe
     (``rk4_event``) unless plain ``rk4`` was asked for (DOP853 carries no variational part)."""
     s = settings or SimulationSettings()
     integ = s.integrator if s.integrator in ("rk4", "rk4_event") else "rk4_event"
-    return SimulationSettings(integrator=integ, steps_per_period=s.steps_per_period, transient_periods=0,
-                              recorded_periods=n, divergence_threshold=s.divergence_threshold, aligned=s.aligned)
+    return SimulationSettings(
+        integrator=integ,
+        steps_per_period=s.steps_per_period,
+        transient_periods=0,
+        recorded_periods=n,
+        divergence_threshold=s.divergence_threshold,
+        aligned=s.aligned,
+    )
 
 
 def khv_flow(system: System, n: int = 1, settings: SimulationSettings | None = None) -> FlowMap:
@@ -233,15 +253,27 @@ def fd_monodromy(flow: FlowMap, x: np.ndarray, h: float = 1e-5) -> np.ndarray:
     return M
 
 
-def shoot(system: System, x0: np.ndarray | None = None, n: int = 1, settings: SimulationSettings | None = None,
-          tol: float = 1e-9, max_iter: int = 30) -> ShootingResult:
+def shoot(
+    system: System,
+    x0: np.ndarray | None = None,
+    n: int = 1,
+    settings: SimulationSettings | None = None,
+    tol: float = 1e-9,
+    max_iter: int = 30,
+) -> ShootingResult:
     """Period-n orbit of a KHV system from x0 (default: the static deflection)."""
     x0 = system.static_state() if x0 is None else x0
     return newton_shooting(khv_flow(system, n, settings), x0, n, tol, max_iter)
 
 
-def rk4_flow(rhs: Callable[[float, np.ndarray], np.ndarray], jac: Callable[[float, np.ndarray], np.ndarray],
-             period: float, steps_per_period: int = 400, n: int = 1, threshold: float = 1e6) -> FlowMap:
+def rk4_flow(
+    rhs: Callable[[float, np.ndarray], np.ndarray],
+    jac: Callable[[float, np.ndarray], np.ndarray],
+    period: float,
+    steps_per_period: int = 400,
+    n: int = 1,
+    threshold: float = 1e6,
+) -> FlowMap:
     """n-period map of a smooth T-periodic ODE y' = rhs(t, y) by classical RK4, with the variational
     equations Y' = jac(t, y) Y advanced by the same stages (the derivative of the discrete map)."""
     h = period / steps_per_period

@@ -63,8 +63,9 @@ def step_tables(system: System, n: int, aligned: bool = True):
     c = system.kernel_array()
     poly = system.stiffness_polys()
     if aligned:
-        h, s, seg, tab_k, tab_p = _aligned_tables(float(system.eps), float(system.period), float(system.te_forcing),
-                                                  float(system.phi), poly, n)
+        h, s, seg, tab_k, tab_p = _aligned_tables(
+            float(system.eps), float(system.period), float(system.te_forcing), float(system.phi), poly, n
+        )
     else:
         s, seg = step_grid(system.eps, n, aligned)
         ds = np.diff(np.append(s, 1.0))
@@ -124,9 +125,34 @@ def simulate(
     growth = np.full(n_var if tangent_periods else 0, np.nan)
     strobe = np.full(n_var if tangent_periods else 0, np.nan)
     status, per, nev, ndense, _, _ = _kernel.run(
-        c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_trans, n_rec,
-        settings.integrator == "rk4_event", divergence_limits(system, settings), stride, poinc, dt, dy,
-        W, n_var, bool(tangent_periods), growth, strobe, final, 0, 0, 1, 0.0, 0.0, 0.0,  # no early stop
+        c,
+        tab_h,
+        tab_s,
+        tab_seg,
+        tab_k,
+        tab_p,
+        poly,
+        y0,
+        n_trans,
+        n_rec,
+        settings.integrator == "rk4_event",
+        divergence_limits(system, settings),
+        stride,
+        poinc,
+        dt,
+        dy,
+        W,
+        n_var,
+        bool(tangent_periods),
+        growth,
+        strobe,
+        final,
+        0,
+        0,
+        1,
+        0.0,
+        0.0,
+        0.0,  # no early stop
     )
     diverged = status == 1
     npts = max(0, per - n_trans) if diverged else n_rec
@@ -179,8 +205,9 @@ class LaneTables:
 
     def take(self, idx: Sequence[int] | np.ndarray) -> LaneTables:
         idx = np.asarray(idx, dtype=np.int64)
-        return LaneTables(*(np.ascontiguousarray(getattr(self, f)[idx]) for f in
-                            ("C", "H", "S", "SEG", "K", "P", "POLY", "limits")))
+        return LaneTables(
+            *(np.ascontiguousarray(getattr(self, f)[idx]) for f in ("C", "H", "S", "SEG", "K", "P", "POLY", "limits"))
+        )
 
 
 def lane_tables(systems: Sequence[System], settings: SimulationSettings) -> LaneTables:
@@ -198,8 +225,20 @@ def lane_tables(systems: Sequence[System], settings: SimulationSettings) -> Lane
         if settings.aligned:
             C[lane] = system.kernel_array()
             POLY[lane] = system.stiffness_polys()
-            _batch.fill_tables(lane, float(system.eps), float(system.period), float(system.te_forcing),
-                               float(system.phi), POLY[lane], n, H, S, SEG, K, P)
+            _batch.fill_tables(
+                lane,
+                float(system.eps),
+                float(system.period),
+                float(system.te_forcing),
+                float(system.phi),
+                POLY[lane],
+                n,
+                H,
+                S,
+                SEG,
+                K,
+                P,
+            )
         else:
             c, h, st, sg, tk, tp, poly = step_tables(system, n, settings.aligned)
             C[lane], H[lane], S[lane], SEG[lane], K[lane], P[lane], POLY[lane] = c, h, st, sg, tk, tp, poly
@@ -245,10 +284,16 @@ def simulate_batch(
     if tangent_periods and np.any(mono):
         raise ValueError("carry either a tangent vector (tangent_periods) or the monodromy matrix, not both")
     n = settings.steps_per_period
-    ntr = np.full(L, settings.transient_periods, np.int64) if transient_periods is None else \
-        np.asarray(transient_periods, dtype=np.int64)
-    nrec = np.full(L, settings.recorded_periods, np.int64) if recorded_periods is None else \
-        np.asarray(recorded_periods, dtype=np.int64)
+    ntr = (
+        np.full(L, settings.transient_periods, np.int64)
+        if transient_periods is None
+        else np.asarray(transient_periods, dtype=np.int64)
+    )
+    nrec = (
+        np.full(L, settings.recorded_periods, np.int64)
+        if recorded_periods is None
+        else np.asarray(recorded_periods, dtype=np.int64)
+    )
     lt = lane_tables(systems, settings) if tables is None else tables
     if lt.H.shape != (L, n):
         raise ValueError(f"lane tables for {lt.H.shape[0]} points of {lt.H.shape[1]} steps, not {L} of {n}")
@@ -276,16 +321,62 @@ def simulate_batch(
     out = np.zeros((L, 5), np.int64)
     es = early_stop
     if m <= 1 and lockstep:
-        _batch.run_blocks(C, H, S, SEG, K, P, POLY, Y0, ntr, nrec, settings.integrator == "rk4_event",
-                          limits, poinc, final,
-                          es.min_periods if es else 0, es.confirm if es else 0, es.max_n if es else 1,
-                          es.floor if es else 0.0, es.atol if es else 0.0, es.separation if es else 0.0,
-                          out, W, ntan, growth, strobe)
+        _batch.run_blocks(
+            C,
+            H,
+            S,
+            SEG,
+            K,
+            P,
+            POLY,
+            Y0,
+            ntr,
+            nrec,
+            settings.integrator == "rk4_event",
+            limits,
+            poinc,
+            final,
+            es.min_periods if es else 0,
+            es.confirm if es else 0,
+            es.max_n if es else 1,
+            es.floor if es else 0.0,
+            es.atol if es else 0.0,
+            es.separation if es else 0.0,
+            out,
+            W,
+            ntan,
+            growth,
+            strobe,
+        )
     else:
-        _batch.run_batch(C, H, S, SEG, K, P, POLY, Y0, ntr, nrec, settings.integrator == "rk4_event",
-                       limits, W, ntan, bool(tangent_periods), growth, strobe, poinc,
-                       final, es.min_periods if es else 0, es.confirm if es else 0, es.max_n if es else 1,
-                       es.floor if es else 0.0, es.atol if es else 0.0, es.separation if es else 0.0, out)
+        _batch.run_batch(
+            C,
+            H,
+            S,
+            SEG,
+            K,
+            P,
+            POLY,
+            Y0,
+            ntr,
+            nrec,
+            settings.integrator == "rk4_event",
+            limits,
+            W,
+            ntan,
+            bool(tangent_periods),
+            growth,
+            strobe,
+            poinc,
+            final,
+            es.min_periods if es else 0,
+            es.confirm if es else 0,
+            es.max_n if es else 1,
+            es.floor if es else 0.0,
+            es.atol if es else 0.0,
+            es.separation if es else 0.0,
+            out,
+        )
     results = []
     for lane in range(L):
         status, per, nev, used, stop_n = (int(v) for v in out[lane])
@@ -296,14 +387,22 @@ def simulate_batch(
             ngrowth = 0
         else:
             ngrowth = max(0, per - tan_start) if diverged else int(ntan[lane])
-        results.append(SimulationResult(
-            poincare=poinc[lane, :npts], final_state=final[lane], diverged=diverged,
-            diverged_period=per if diverged else -1, n_events=nev, period=systems[lane].period, settings=settings,
-            growth=growth[lane, :ngrowth] if tangent_periods else np.zeros(0),
-            strobe=strobe[lane, :ngrowth] if tangent_periods else np.zeros(0),
-            monodromy=W[lane] if (m == 6 and mono[lane] and not diverged) else None,
-            transient_used=used, stop_period=stop_n,
-        ))
+        results.append(
+            SimulationResult(
+                poincare=poinc[lane, :npts],
+                final_state=final[lane],
+                diverged=diverged,
+                diverged_period=per if diverged else -1,
+                n_events=nev,
+                period=systems[lane].period,
+                settings=settings,
+                growth=growth[lane, :ngrowth] if tangent_periods else np.zeros(0),
+                strobe=strobe[lane, :ngrowth] if tangent_periods else np.zeros(0),
+                monodromy=W[lane] if (m == 6 and mono[lane] and not diverged) else None,
+                transient_used=used,
+                stop_period=stop_n,
+            )
+        )
     return results
 
 
@@ -334,14 +433,24 @@ def largest_lyapunov(
     ``settings.transient_periods``.  Returns (lambda, running estimate per period).
     Positive: chaos (or parametric instability); ~0: quasi-periodic; negative: periodic.
     """
-    one = SimulationSettings(integrator=settings.integrator, steps_per_period=settings.steps_per_period,
-                             transient_periods=0, recorded_periods=1,
-                             divergence_threshold=settings.divergence_threshold, aligned=settings.aligned)
+    one = SimulationSettings(
+        integrator=settings.integrator,
+        steps_per_period=settings.steps_per_period,
+        transient_periods=0,
+        recorded_periods=1,
+        divergence_threshold=settings.divergence_threshold,
+        aligned=settings.aligned,
+    )
     y = coeffs.static_state() if x0 is None else np.asarray(x0, dtype=float)
     if settings.transient_periods > 0:
-        tr = SimulationSettings(integrator=settings.integrator, steps_per_period=settings.steps_per_period,
-                                transient_periods=settings.transient_periods - 1, recorded_periods=1,
-                                divergence_threshold=settings.divergence_threshold, aligned=settings.aligned)
+        tr = SimulationSettings(
+            integrator=settings.integrator,
+            steps_per_period=settings.steps_per_period,
+            transient_periods=settings.transient_periods - 1,
+            recorded_periods=1,
+            divergence_threshold=settings.divergence_threshold,
+            aligned=settings.aligned,
+        )
         r = simulate(coeffs, tr, y)
         if r.diverged:
             return float("inf"), np.array([np.inf])
@@ -364,8 +473,9 @@ def largest_lyapunov(
     return float(est[-1]), est
 
 
-def strict_periods(poincare: np.ndarray, npts: np.ndarray, max_n: int, atol: float, rtol: float, floor_tol: float,
-                   separation: float) -> np.ndarray:
+def strict_periods(
+    poincare: np.ndarray, npts: np.ndarray, max_n: int, atol: float, rtol: float, floor_tol: float, separation: float
+) -> np.ndarray:
     """Rule 3 of :func:`geardyn.classify.strict_period`, compiled, for many point sets at once:
     ``poincare`` (L, m, 6) with the first ``npts[l]`` rows of set l used.  Returns (L, 2): the period n
     (0 if none) and the tolerance of each set (the same operations as the classifier's, so the same n)."""
@@ -374,8 +484,9 @@ def strict_periods(poincare: np.ndarray, npts: np.ndarray, max_n: int, atol: flo
     return out
 
 
-def strict_period(poincare: np.ndarray, max_n: int, atol: float, rtol: float, floor_tol: float,
-                  separation: float) -> tuple[int, float]:
+def strict_period(
+    poincare: np.ndarray, max_n: int, atol: float, rtol: float, floor_tol: float, separation: float
+) -> tuple[int, float]:
     """Rule 3 of :func:`geardyn.classify.strict_period`, compiled, on one record ``poincare`` (m, n_states)
     without NaN rows (m >= 1): (the period n, 0 if none; the tolerance).  The one statement of the rule
     (:mod:`geardyn.solve._period`), shared with :func:`strict_periods` and the early stop."""

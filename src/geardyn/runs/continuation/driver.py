@@ -24,8 +24,9 @@ from geardyn.solve.shooting import newton_shooting
 log = logging.getLogger("geardyn.continuation")
 
 
-def sweep_branches(family_of: Callable[[int], KHVFamily], cube: Any, n_cases: int, spec: OrbitSpec
-                   ) -> list[tuple[int, Branch]]:
+def sweep_branches(
+    family_of: Callable[[int], KHVFamily], cube: Any, n_cases: int, spec: OrbitSpec
+) -> list[tuple[int, Branch]]:
     """Continue every distinct branch seeded by the cube's periodic points, case by case."""
     out: list[tuple[int, Branch]] = []
     for case in range(n_cases):
@@ -41,8 +42,15 @@ def sweep_branches(family_of: Callable[[int], KHVFamily], cube: Any, n_cases: in
                 continue
             br = continue_branch(family, p, r.state, n, family.lo, family.hi, spec.continuation)
             if br is not None:
-                log.info("case %d: P%d branch from %g: %d points, %d bifurcations, ends %s", case, n, p, len(br),
-                         len(br.bifurcations), br.end_status)
+                log.info(
+                    "case %d: P%d branch from %g: %d points, %d bifurcations, ends %s",
+                    case,
+                    n,
+                    p,
+                    len(br),
+                    len(br.bifurcations),
+                    br.end_status,
+                )
                 mine.append(br)
                 if spec.switch_period_doubling:
                     mine.extend(_doubled(family, br, mine, spec, case))
@@ -50,8 +58,9 @@ def sweep_branches(family_of: Callable[[int], KHVFamily], cube: Any, n_cases: in
     return out
 
 
-def _doubled(family: KHVFamily, br: Branch, known: list[Branch], spec: OrbitSpec, case: int,
-             depth: int = 0) -> list[Branch]:
+def _doubled(
+    family: KHVFamily, br: Branch, known: list[Branch], spec: OrbitSpec, case: int, depth: int = 0
+) -> list[Branch]:
     """Branches born at the located period doublings of ``br`` (recursively, up to max_period)."""
     out: list[Branch] = []
     for bf in br.bifurcations:
@@ -64,16 +73,23 @@ def _doubled(family: KHVFamily, br: Branch, known: list[Branch], spec: OrbitSpec
         if new is None:
             log.info("case %d: no period-%d branch found at the period doubling at %g", case, 2 * br.n, bf.p)
             continue
-        log.info("case %d: P%d branch switched at %g: %d points, %d bifurcations", case, new.n, bf.p, len(new),
-                 len(new.bifurcations))
+        log.info(
+            "case %d: P%d branch switched at %g: %d points, %d bifurcations",
+            case,
+            new.n,
+            bf.p,
+            len(new),
+            len(new.bifurcations),
+        )
         out.append(new)
         if depth < 4:
             out.extend(_doubled(family, new, known + out, spec, case, depth + 1))
     return out
 
 
-def label_agreement(cube: Any, case: int, branches: Sequence[Branch], max_period: int,
-                    tol: float = 1e-4) -> tuple[int, int, list[float]]:
+def label_agreement(
+    cube: Any, case: int, branches: Sequence[Branch], max_period: int, tol: float = 1e-4
+) -> tuple[int, int, list[float]]:
     """Consistency of the simulated labels with the branches: of the sweep points labelled P1..P<max_period>,
     how many have their last Poincare point on a *stable* part of a branch of that period (within
     tol * max(1, max|x|)).  Returns (checked, agreeing, parameter values that disagree)."""
@@ -100,8 +116,10 @@ def _on_stable_part(br: Branch, p: float, x: np.ndarray, tol: float) -> bool:
     points (steps of constant p left out)."""
     scale = max(1.0, float(np.max(np.abs(br.states))))
     st = br.stable
-    return any(st[i] and st[i + 1] and br.p[i] != br.p[i + 1] and float(np.max(np.abs(y - x))) <= tol * scale
-               for i, y in br.states_at(p))
+    return any(
+        st[i] and st[i + 1] and br.p[i] != br.p[i + 1] and float(np.max(np.abs(y - x))) <= tol * scale
+        for i, y in br.states_at(p)
+    )
 
 
 def label_check(cube: Any, branches: Sequence[tuple[int, Branch]], n_cases: int, max_period: int) -> dict[str, str]:
@@ -112,14 +130,16 @@ def label_check(cube: Any, branches: Sequence[tuple[int, Branch]], n_cases: int,
     attrs: dict[str, str] = {}
     for c in range(n_cases):
         n_chk, n_ok, bad = label_agreement(cube, c, [b for cc, b in branches if cc == c], max_period)
-        attrs[f"case_{c}_label_agreement"] = (f"{n_ok} of {n_chk} simulated P-n points lie on a stable branch"
-                                              + (f"; not: {', '.join(f'{v:g}' for v in bad[:20])}" if bad else ""))
+        attrs[f"case_{c}_label_agreement"] = f"{n_ok} of {n_chk} simulated P-n points lie on a stable branch" + (
+            f"; not: {', '.join(f'{v:g}' for v in bad[:20])}" if bad else ""
+        )
         log.info("case %d: %s", c, attrs[f"case_{c}_label_agreement"])
     return attrs
 
 
-def sweep_orbits(drive: Any, spec: Any, cube: Any, orbit_spec: OrbitSpec,
-                 settings: SimulationSettings | None = None) -> tuple[Any, list[dict[str, Any]]]:
+def sweep_orbits(
+    drive: Any, spec: Any, cube: Any, orbit_spec: OrbitSpec, settings: SimulationSettings | None = None
+) -> tuple[Any, list[dict[str, Any]]]:
     """Branches of one sweep (a :class:`geardyn.runs.sweep.SweepSpec` and its merged cube): the CF
     dataset and the bifurcation table rows.  The paper's transitions are named only for a design
     that names its paper and only along x1 (the paper's Fig. 7 sequence)."""
@@ -144,11 +164,17 @@ def sweep_orbits(drive: Any, spec: Any, cube: Any, orbit_spec: OrbitSpec,
     for c in range(len(spec.cases)):
         family_of(c)
     ds = branch_dataset(branches, fams, spec.parameter, labels)
-    ds.attrs.update({"sweep": spec.name, "design": spec.design,
-                     "interpolation_error": max((f.interpolation_error for f in fams.values()), default=0.0),
-                     "continuation_ds_max": orbit_spec.continuation.ds_max,
-                     "shooting_tol": orbit_spec.continuation.tol, "steps_per_period": settings.steps_per_period,
-                     "integrator": "rk4_event"})
+    ds.attrs.update(
+        {
+            "sweep": spec.name,
+            "design": spec.design,
+            "interpolation_error": max((f.interpolation_error for f in fams.values()), default=0.0),
+            "continuation_ds_max": orbit_spec.continuation.ds_max,
+            "shooting_tol": orbit_spec.continuation.tol,
+            "steps_per_period": settings.steps_per_period,
+            "integrator": "rk4_event",
+        }
+    )
     ds.attrs.update(label_check(cube, branches, len(spec.cases), orbit_spec.max_period))
     mod = paper_of(getattr(drive, "paper", None))
     transitions = getattr(mod, "TRANSITIONS", None) if (mod is not None and spec.parameter == "x1") else None

@@ -99,20 +99,36 @@ def _interpolated(br: Branch, i: int, w: float) -> _Onb:
     """Linear interpolation of state and parameter at the fraction w of step i; the multipliers of
     the nearer end point (the sorted multiplier lists of two points need not correspond element by
     element)."""
-    return _Onb(w, br.states[i] + w * (br.states[i + 1] - br.states[i]), float(br.p[i] + w * (br.p[i + 1] - br.p[i])),
-                br.multipliers[i if w < 0.5 else i + 1], br.tangents[i])
+    return _Onb(
+        w,
+        br.states[i] + w * (br.states[i + 1] - br.states[i]),
+        float(br.p[i] + w * (br.p[i + 1] - br.p[i])),
+        br.multipliers[i if w < 0.5 else i + 1],
+        br.tangents[i],
+    )
 
 
-def _bifurcation(kind: str, q: _Onb, i: int, located: bool, br: Branch,
-                 critical_of: Callable[[np.ndarray], complex | None]) -> Bifurcation:
+def _bifurcation(
+    kind: str, q: _Onb, i: int, located: bool, br: Branch, critical_of: Callable[[np.ndarray], complex | None]
+) -> Bifurcation:
     crit = critical_of(q.multipliers)
     rot = rotation_number(crit) if kind == "neimark_sacker" and crit is not None else float("nan")
-    return Bifurcation(kind, float(q.p), np.asarray(q.state), np.asarray(q.multipliers),
-                       complex(crit) if crit is not None else complex("nan"), rot, i, located, br.n)
+    return Bifurcation(
+        kind,
+        float(q.p),
+        np.asarray(q.state),
+        np.asarray(q.multipliers),
+        complex(crit) if crit is not None else complex("nan"),
+        rot,
+        i,
+        located,
+        br.n,
+    )
 
 
-def _locate(br: Branch, i: int, test: Callable[[_Onb], float], corr: Corrector | None,
-            cs: ContinuationSettings, w0: float) -> tuple[_Onb, bool]:
+def _locate(
+    br: Branch, i: int, test: Callable[[_Onb], float], corr: Corrector | None, cs: ContinuationSettings, w0: float
+) -> tuple[_Onb, bool]:
     """Brent on the arclength fraction u in [0, 1] between points i and i+1 (corrected points); the
     point interpolated at w0 (not located) when that fails or is not asked for."""
     if corr is None or not cs.locate:
@@ -178,8 +194,9 @@ def _ns_test(q: _Onb) -> float:
     return ns_product(q.multipliers)
 
 
-def _step_events(family: Family, br: Branch, i: int, cs: ContinuationSettings,
-                 corr: Corrector | None) -> list[Bifurcation]:
+def _step_events(
+    family: Family, br: Branch, i: int, cs: ContinuationSettings, corr: Corrector | None
+) -> list[Bifurcation]:
     """The typed bifurcation points between points i and i + 1, in the order of the package table."""
     found: list[Bifurcation] = []
     m0, m1 = br.multipliers[i], br.multipliers[i + 1]
@@ -208,8 +225,9 @@ def _step_events(family: Family, br: Branch, i: int, cs: ContinuationSettings,
     return found
 
 
-def detect_bifurcations(family: Family, br: Branch, tangents: np.ndarray, cs: ContinuationSettings,
-                        corr: Corrector | None = None) -> list[Bifurcation]:
+def detect_bifurcations(
+    family: Family, br: Branch, tangents: np.ndarray, cs: ContinuationSettings, corr: Corrector | None = None
+) -> list[Bifurcation]:
     """Typed bifurcation points between consecutive branch points (see the package table); stores
     ``tangents`` on the branch.  Without ``corr`` (or with ``cs.locate`` off) the points are only
     bracketed (interpolated, ``located`` False)."""

@@ -37,8 +37,16 @@ class KHVFamily:
     at every p instead.  Coefficient sets are cached by p (the cache is emptied past 256 entries).
     """
 
-    def __init__(self, design: Any, parameter: str, fixed: Mapping[str, float], lo: float, hi: float,
-                 settings: SimulationSettings | None = None, nodes: int = 101):
+    def __init__(
+        self,
+        design: Any,
+        parameter: str,
+        fixed: Mapping[str, float],
+        lo: float,
+        hi: float,
+        settings: SimulationSettings | None = None,
+        nodes: int = 101,
+    ):
         self.design, self.parameter, self.fixed = design, parameter, dict(fixed)
         self.lo, self.hi = float(lo), float(hi)
         self.settings = settings or point.integration_settings(design)
@@ -104,8 +112,13 @@ def grazing_margin(system: Coefficients, x: np.ndarray, n: int, settings: Simula
     """
     if not system.backlash_on or system.b <= 0.0:
         return float("nan")
-    s = SimulationSettings(integrator="rk4_event", steps_per_period=settings.steps_per_period, transient_periods=0,
-                           recorded_periods=n, divergence_threshold=settings.divergence_threshold)
+    s = SimulationSettings(
+        integrator="rk4_event",
+        steps_per_period=settings.steps_per_period,
+        transient_periods=0,
+        recorded_periods=n,
+        divergence_threshold=settings.divergence_threshold,
+    )
     r = simulate(system, s, x, dense=True)
     if r.diverged or r.states is None or r.states.shape[0] < 3:
         return float("nan")

@@ -43,11 +43,14 @@ class OrbitSpec:
         unknown = set(spec) - known
         if unknown:
             raise ValueError(f"unknown orbits settings {sorted(unknown)}; allowed: {sorted(known)}")
-        return cls(max_period=int(spec.get("max_period", 6)), max_seeds=int(spec.get("max_seeds", 6)),
-                   nodes=int(spec.get("nodes", 101)),
-                   continuation=ContinuationSettings.from_mapping(spec.get("continuation")),
-                   attractors=tuple(sorted((spec.get("attractors") or {}).items())),
-                   switch_period_doubling=bool(spec.get("switch_period_doubling", True)))
+        return cls(
+            max_period=int(spec.get("max_period", 6)),
+            max_seeds=int(spec.get("max_seeds", 6)),
+            nodes=int(spec.get("nodes", 101)),
+            continuation=ContinuationSettings.from_mapping(spec.get("continuation")),
+            attractors=tuple(sorted((spec.get("attractors") or {}).items())),
+            switch_period_doubling=bool(spec.get("switch_period_doubling", True)),
+        )
 
 
 def final_state(cube: Any, case: int, j: int) -> np.ndarray:
@@ -61,8 +64,11 @@ def seeds_from_cube(cube: Any, case: int, max_period: int, max_seeds: int) -> li
     par = cube.attrs["control_parameter"]
     values = np.asarray(cube[par].values, dtype=float)
     labels = np.asarray(cube["label"].values[case, 0], dtype=int)
-    runs = [(int(last) - int(first) + 1, int(first), n)
-            for first, last, n in classify.bands(np.arange(labels.size), labels) if 1 <= n <= max_period]
+    runs = [
+        (int(last) - int(first) + 1, int(first), n)
+        for first, last, n in classify.bands(np.arange(labels.size), labels)
+        if 1 <= n <= max_period
+    ]
     runs.sort(key=lambda r: (-r[0], r[1]))
     seeds = []
     for length, first, n in runs[:max_seeds]:

@@ -52,8 +52,9 @@ class ContState:
         return self.u(sx, sp) + self.ds * self.tangent
 
 
-def _at_bound(corr: Corrector, st: ContState, xp: np.ndarray, pp: float, lo: float, hi: float,
-              cs: ContinuationSettings) -> list[BranchPoint]:
+def _at_bound(
+    corr: Corrector, st: ContState, xp: np.ndarray, pp: float, lo: float, hi: float, cs: ContinuationSettings
+) -> list[BranchPoint]:
     """The prediction (xp, pp) left [lo, hi]: the last point exactly on the bound, by fixed-p Newton
     from the prediction shortened to the bound (none when the branch runs along the bound, is
     already on it, or the shooting fails)."""
@@ -74,8 +75,9 @@ def _at_bound(corr: Corrector, st: ContState, xp: np.ndarray, pp: float, lo: flo
     return []
 
 
-def march(corr: Corrector, start: ContState, lo: float, hi: float,
-          cs: ContinuationSettings) -> tuple[list[BranchPoint], str]:
+def march(
+    corr: Corrector, start: ContState, lo: float, hi: float, cs: ContinuationSettings
+) -> tuple[list[BranchPoint], str]:
     """Points along one direction from ``start`` (excluded) within [lo, hi]; returns (points, end
     status).  ds grows by 1.3 after a corrector of at most 3 evaluations, halves after a failure,
     never exceeds ``cs.ds_max``."""
@@ -126,9 +128,16 @@ def _seed_tangent(A: np.ndarray, Fp: np.ndarray, sx: float, sp: float) -> np.nda
     return t0 / np.linalg.norm(t0)
 
 
-def continue_branch(family: Family, p0: float, x0: np.ndarray, n: int, lo: float, hi: float,
-                    cs: ContinuationSettings = ContinuationSettings(),
-                    directions: tuple[str, ...] = ("down", "up")) -> Branch | None:
+def continue_branch(
+    family: Family,
+    p0: float,
+    x0: np.ndarray,
+    n: int,
+    lo: float,
+    hi: float,
+    cs: ContinuationSettings = ContinuationSettings(),
+    directions: tuple[str, ...] = ("down", "up"),
+) -> Branch | None:
     """Shoot the period-n orbit at p0 from x0, then continue it within [lo, hi] in ``directions``
     (``up``: the direction of increasing p at the seed).
 
@@ -146,13 +155,17 @@ def continue_branch(family: Family, p0: float, x0: np.ndarray, n: int, lo: float
     if ev is None:
         return None
     t0 = _seed_tangent(ev.A, ev.Fp, sx, sp)
-    up, st_up = (march(corr, ContState(r.state, p0, t0, cs.ds), lo, hi, cs) if "up" in directions
-                 else ([], "not_followed"))
+    up, st_up = (
+        march(corr, ContState(r.state, p0, t0, cs.ds), lo, hi, cs) if "up" in directions else ([], "not_followed")
+    )
     if st_up == "closed_loop":
         down, st_down = [], "closed_loop"  # the up march went round the whole isola
     else:
-        down, st_down = (march(corr, ContState(r.state, p0, -t0, cs.ds), lo, hi, cs) if "down" in directions
-                         else ([], "not_followed"))
+        down, st_down = (
+            march(corr, ContState(r.state, p0, -t0, cs.ds), lo, hi, cs)
+            if "down" in directions
+            else ([], "not_followed")
+        )
     # the down march's tangents point down the branch: flip them to the branch order
     down = [replace(q, tangent=-q.tangent) for q in reversed(down)]
     pts = down + [BranchPoint(r.state, p0, ev.M, t0, r.iterations)] + up
@@ -161,8 +174,16 @@ def continue_branch(family: Family, p0: float, x0: np.ndarray, n: int, lo: float
     return _cut_at_merge(family, br, pts, len(down), ends, p0, cs, corr) if n > 1 else br
 
 
-def _cut_at_merge(family: Family, br: Branch, pts: list[BranchPoint], seed: int, ends: dict[str, str], p0: float,
-                  cs: ContinuationSettings, corr: Corrector) -> Branch:
+def _cut_at_merge(
+    family: Family,
+    br: Branch,
+    pts: list[BranchPoint],
+    seed: int,
+    ends: dict[str, str],
+    p0: float,
+    cs: ContinuationSettings,
+    corr: Corrector,
+) -> Branch:
     """A fold of a period-n branch on a period-m orbit (m | n) is where the branch was born at (or
     merges back into) a period doubling of the period-m orbit: beyond it lies the same orbit shifted
     by m periods.  Cut the branch there (the period doubling is a point of the period-m branch);
@@ -171,15 +192,24 @@ def _cut_at_merge(family: Family, br: Branch, pts: list[BranchPoint], seed: int,
         m = merged_period(corr, bf.state, bf.p, 1e-4) if bf.kind == "fold" else 0
         if m:
             if bf.index >= seed:
-                pts, ends["up"] = pts[:bf.index + 1], f"merged_into_period_{m}"
+                pts, ends["up"] = pts[: bf.index + 1], f"merged_into_period_{m}"
             else:
-                pts, ends["down"] = pts[bf.index + 1:], f"merged_into_period_{m}"
+                pts, ends["down"] = pts[bf.index + 1 :], f"merged_into_period_{m}"
             return _assemble(family, pts, corr.n, corr.sx, corr.sp, ends, p0, cs, corr)
     return br
 
 
-def _assemble(family: Family, pts: list[BranchPoint], n: int, sx: float, sp: float, ends: dict[str, str],
-              p0: float, cs: ContinuationSettings, corr: Corrector) -> Branch:
+def _assemble(
+    family: Family,
+    pts: list[BranchPoint],
+    n: int,
+    sx: float,
+    sp: float,
+    ends: dict[str, str],
+    p0: float,
+    cs: ContinuationSettings,
+    corr: Corrector,
+) -> Branch:
     """The branch of the points in order: multipliers, arclength, grazing margins, bifurcations."""
     states = np.array([q.x for q in pts])
     ps = np.array([q.p for q in pts])
@@ -188,8 +218,16 @@ def _assemble(family: Family, pts: list[BranchPoint], n: int, sx: float, sp: flo
     u = np.column_stack([states / sx, ps / sp])
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(u, axis=0), axis=1))])
     graz = np.array([family.grazing(q.p, q.x, n) for q in pts]) if cs.grazing else np.full(len(pts), np.nan)
-    br = Branch(n=n, p=ps, states=states, multipliers=mult, arclength=arc, grazing=graz,
-                iterations=np.array([q.iterations for q in pts], dtype=np.int32), end_status=dict(ends),
-                seed_p=float(p0))
+    br = Branch(
+        n=n,
+        p=ps,
+        states=states,
+        multipliers=mult,
+        arclength=arc,
+        grazing=graz,
+        iterations=np.array([q.iterations for q in pts], dtype=np.int32),
+        end_status=dict(ends),
+        seed_p=float(p0),
+    )
     br.bifurcations = detect_bifurcations(family, br, tang, cs, corr)
     return br

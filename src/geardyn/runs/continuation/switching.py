@@ -13,8 +13,9 @@ from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.solve.shooting import newton_shooting
 
 
-def switch_at_period_doubling(family: Family, bf: Bifurcation, lo: float, hi: float,
-                              cs: ContinuationSettings = ContinuationSettings()) -> Branch | None:
+def switch_at_period_doubling(
+    family: Family, bf: Bifurcation, lo: float, hi: float, cs: ContinuationSettings = ContinuationSettings()
+) -> Branch | None:
     """The period-2n branch born at a period-doubling point of a period-n branch.
 
     Shooting for period 2n from the bifurcating orbit moved along the eigenvector of the multiplier
