@@ -354,6 +354,18 @@ def static_deflection(coeffs: Coefficients) -> np.ndarray:
     return np.array([x1, x2, x3, 0.0, 0.0, 0.0])
 
 
+def natural_frequencies(coeffs: Coefficients) -> np.ndarray:
+    """Undamped natural frequencies of the linearised 3-DOF system in contact (mean stiffness kappa = 1,
+    no backlash), ascending, in units of w_n (dimensionless, comparable with the mesh frequency w).
+
+    The square roots of the eigenvalues of K + g e2^T (:meth:`Coefficients.matrices`, mass-normalised);
+    the rigid-body mode of the 4-DOF drive is not among them (relative coordinates)."""
+    m = coeffs.matrices()
+    k_full = m["K"] + np.outer(m["g"], [0.0, 1.0, 0.0])
+    lam = np.linalg.eigvals(k_full)
+    return np.sort(np.sqrt(np.abs(lam.real)))
+
+
 def rhs3(coeffs: Coefficients, tau: float, y: np.ndarray) -> np.ndarray:
     """Right-hand side of the dimensionless 3-DOF system (NumPy, for checks and plots)."""
     m = coeffs.matrices()

@@ -18,6 +18,8 @@ import xarray as xr
 from geardyn import classify
 from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES, Policy, Verdict
 from geardyn.label.compare import same
+from geardyn.solve import SimulationSettings, System
+from geardyn.solve.response import IMPACT_CLASSES, ResponseMeasures, response_measures
 
 STATES = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
 STATE_NAMES = {
@@ -142,6 +144,55 @@ def store_verdict(ds: Any, idx: tuple, v: Verdict, fixed: Verdict | None = None)
     ds["crosscheck"].values[idx] = v.crosscheck
     ds["stage"].values[idx] = STAGES[v.stage]
     ds["bifurcation"].values[idx] = BIFURCATIONS[v.bifurcation]
+
+
+#: Units and long names of the per-point response measures (:class:`geardyn.solve.response.ResponseMeasures`).
+RESPONSE_ATTRS = {
+    "static_force": ("1", "static mesh force F_s / (k_mean b_c) (mean stiffness, no TE)"),
+    "force_mean": ("1", "mean dynamic mesh force on the drive side / (k_mean b_c)"),
+    "force_rms": ("1", "RMS of the dynamic mesh force's fluctuation / (k_mean b_c)"),
+    "force_max": ("1", "largest dynamic mesh force on the drive side / (k_mean b_c)"),
+    "dynamic_factor": ("1", "dynamic factor K_v = largest dynamic mesh force / static mesh force"),
+    "dte_mean": ("1", "mean dynamic transmission error X_VH / b_c (b_c = 1 um)"),
+    "dte_rms": ("1", "RMS of the dynamic transmission error's fluctuation, X_VH / b_c (b_c = 1 um)"),
+    "dte_pp": ("1", "peak-to-peak dynamic transmission error X_VH / b_c (b_c = 1 um)"),
+    "drive_fraction": ("1", "fraction of time in drive-side contact"),
+    "separation_fraction": ("1", "fraction of time with the teeth separated (inside the backlash)"),
+    "back_fraction": ("1", "fraction of time in back-side contact"),
+}
+
+#: CF attributes of the per-point ``impact_class`` flag.
+IMPACT_CLASS_ATTRS = _flags(
+    {"not_computed_or_diverged": -1, **IMPACT_CLASSES},
+    "impact class: no impact, single-sided (separation, never back-side contact), double-sided (back-side contact)",
+)
+
+
+def response_variables(dims: tuple[str, ...], shape: tuple[int, ...]) -> dict[str, Any]:
+    """Empty per-point response variables (see :class:`geardyn.solve.response.ResponseMeasures`)."""
+    data: dict[str, Any] = {
+        name: (dims, np.full(shape, np.nan), {"units": units, "long_name": long_name})
+        for name, (units, long_name) in RESPONSE_ATTRS.items()
+    }
+    data["impact_class"] = (dims, np.full(shape, -1, np.int8), IMPACT_CLASS_ATTRS)
+    return data
+
+
+def verdict_response(system: System, v: Verdict, settings: SimulationSettings) -> ResponseMeasures:
+    """The response measures of a labelled point, from its verdict's final state (on the attractor): over one
+    cycle of a periodic verdict (its least period: the recorded periods repeat it), else over the settings'
+    recorded periods."""
+    if v.diverged:
+        return ResponseMeasures.not_computed()
+    periods = v.period if v.period > 0 else settings.recorded_periods
+    return response_measures(system, v.final_state, settings, periods)
+
+
+def store_response(ds: Any, idx: tuple, r: ResponseMeasures) -> None:
+    """Write one point's response measures into the variables of :func:`response_variables`."""
+    for name in RESPONSE_ATTRS:
+        ds[name].values[idx] = getattr(r, name)
+    ds["impact_class"].values[idx] = IMPACT_CLASSES.get(r.impact_class, -1)
 
 
 #: CF attributes of the ``coexisting`` flag (policy ``coexistence``).

@@ -36,7 +36,10 @@ from geardyn.runs.cube import (
     coexistence_variables,
     label_variables,
     policy_attrs,
+    response_variables,
+    store_response,
     store_verdict,
+    verdict_response,
 )
 
 log = logging.getLogger("geardyn.maps")
@@ -145,6 +148,7 @@ def empty_map(spec: MapSpec, policy: Policy) -> xr.Dataset:
     shape = (spec.y.num, spec.x.num)
     settings = policy.integration
     data: dict[str, Any] = label_variables(dims, shape, policy.classifier)
+    data.update(response_variables(dims, shape))
     if policy.coexistence:
         data.update(coexistence_variables(dims, shape, policy.classifier))
     data["diverged"] = (
@@ -208,6 +212,7 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
     for k, j in enumerate(rows):
         for i, v in enumerate(verdicts[k]):
             store_verdict(arrays, (j, i), v, None if fixed is None else fixed[k][i])
+            store_response(arrays, (j, i), verdict_response(lines[k][i], v, policy.integration))
             arrays["diverged"].values[j, i] = int(v.diverged)
             p = v.poincare[np.all(np.isfinite(v.poincare), axis=1)]
             if p.shape[0]:

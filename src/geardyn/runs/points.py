@@ -18,7 +18,15 @@ import xarray as xr
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.label import Policy, label_points
-from geardyn.runs.cube import STATE_NAMES, STATES, label_variables, store_verdict
+from geardyn.runs.cube import (
+    STATE_NAMES,
+    STATES,
+    label_variables,
+    response_variables,
+    store_response,
+    store_verdict,
+    verdict_response,
+)
 from geardyn.solve import SimulationSettings, simulate
 
 log = logging.getLogger("geardyn.points")
@@ -123,12 +131,12 @@ def dense_points(
     out.attrs = {}
     out["case"].attrs["long_name"] = "operating point (overrides)"
     n = len(cases)
-    out = out.assign(
-        {name: (("case",), *spec[1:]) for name, spec in label_variables(("case",), (n,), policy.classifier).items()}
-    )
+    per_case = {**label_variables(("case",), (n,), policy.classifier), **response_variables(("case",), (n,))}
+    out = out.assign({name: (("case",), *spec[1:]) for name, spec in per_case.items()})
     arrays = {name: out[name] for name in out.data_vars}
     for k, v in enumerate(verdicts):
         store_verdict(arrays, (k,), v)
+        store_response(arrays, (k,), verdict_response(systems[k], v, policy.integration))
     s = policy.integration
     out.attrs.update(
         {

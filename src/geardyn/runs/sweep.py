@@ -41,7 +41,10 @@ from geardyn.runs.cube import (
     coexistence_variables,
     label_variables,
     policy_attrs,
+    response_variables,
+    store_response,
     store_verdict,
+    verdict_response,
 )
 from geardyn.solve import SimulationSettings
 
@@ -176,6 +179,7 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int, settings: Simulati
     for k, (case, d, order) in enumerate(work.items):
         for m, (j, system, v) in enumerate(zip(order, lines[k], verdicts[k], strict=True)):
             _store(arrays, (case, d, j), system, v, None if fixed is None else fixed[k][m])
+            store_response(arrays, (case, d, j), verdict_response(system, v, policy.integration))
             keep[case, d, j] = True
     log.info("%s chunk %d: %d points in %.1f s", spec.name, chunk, int(keep.sum()), time.perf_counter() - t0)
     # keep only this chunk's points along the parameter axis (a chunk may cover several cases)
@@ -218,6 +222,7 @@ def empty_cube(spec: SweepSpec, policy: Policy) -> xr.Dataset:
     )
     data["transient_used"] = (pdims, np.full(shape[:3], -1, np.int32), TRANSIENT_USED_ATTRS)
     data.update(label_variables(pdims, shape[:3], classifier))
+    data.update(response_variables(pdims, shape[:3]))
     if policy.coexistence:
         data.update(coexistence_variables(pdims, shape[:3], classifier))
     for cname, (units, long_name) in COEFFICIENT_ATTRS.items():

@@ -1,0 +1,165 @@
+"""The engineer's response measures of one operating point: dynamic mesh force, dynamic factor, dynamic
+transmission error, contact fractions and the impact class (definitions: ``docs/response.md``).
+
+:func:`response_measures` integrates whole mesh periods from a state on the attractor (a labeller
+verdict's final state) with the solver's own step (:mod:`geardyn.solve._response`) and reduces the sums.
+All quantities are dimensionless like the solver's: forces in units of k_mean b_c, displacements in
+units of b_c (= 1 um for the KHV family), so a DTE of 1 is 1 um.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+import geardyn.solve._response as _acc
+from geardyn.solve.base import SimulationSettings, System, divergence_limits
+from geardyn.solve.simulate import step_tables
+
+#: Impact classes (cube variable ``impact_class``; -1: not computed or diverged).
+IMPACT_CLASSES = {"no_impact": 0, "single_sided": 1, "double_sided": 2}
+
+#: Fraction of the record below which a contact region counts as not visited: a trajectory that touches
+#: x2 = +-b within the integration's resolution (a crossing time of order 1e-12 of the period) is not an
+#: impact.
+CONTACT_LOSS_MIN = 1.0e-9
+
+
+@dataclass(frozen=True)
+class ResponseMeasures:
+    """The response of one point over ``periods`` mesh periods (forces / (k_mean b_c), lengths / b_c).
+
+    static_force: the static mesh force F_s (mean stiffness, no TE; its sign is the drive side).
+    force_mean, force_rms, force_max: the mean of the dynamic mesh force F = k f(X_VH) + c_m X_VH' on the
+    drive side (s F, s = sign F_s), the RMS of its fluctuation about that mean, and its largest value.
+    dynamic_factor: K_v = force_max / |F_s| (NaN when F_s = 0).
+    dte_rms, dte_pp: RMS of the fluctuation and peak-to-peak of the dynamic transmission error X_VH / b_c.
+    dte_mean: its mean.
+    drive_fraction, separation_fraction, back_fraction: fractions of time in drive-side contact, inside
+    the backlash and in back-side contact.  impact_class: key of :data:`IMPACT_CLASSES`.
+    n_switches: contact switches in the record.  diverged: unbounded growth during the record (then the
+    measures are NaN and the class is ``"diverged"``).
+    """
+
+    static_force: float
+    force_mean: float
+    force_rms: float
+    force_max: float
+    dynamic_factor: float
+    dte_mean: float
+    dte_rms: float
+    dte_pp: float
+    drive_fraction: float
+    separation_fraction: float
+    back_fraction: float
+    impact_class: str
+    n_switches: int
+    periods: int
+    diverged: bool = False
+
+    @classmethod
+    def not_computed(cls, static_force: float = math.nan, diverged: bool = True) -> ResponseMeasures:
+        """The measures of a point whose run diverged: NaN, class ``"diverged"``."""
+        nan = math.nan
+        return cls(static_force, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, "diverged", 0, 0, diverged)
+
+
+FLOAT_FIELDS = tuple(f.name for f in fields(ResponseMeasures) if f.type == "float")
+
+
+def impact_class(separation_fraction: float, back_fraction: float) -> str:
+    """The impact class from the contact fractions: ``"double_sided"`` when the teeth strike on the back
+    side, else ``"single_sided"`` when they separate, else ``"no_impact"`` (fractions above
+    :data:`CONTACT_LOSS_MIN` count)."""
+    if not (math.isfinite(separation_fraction) and math.isfinite(back_fraction)):
+        raise ValueError(f"contact fractions must be finite, got {separation_fraction}, {back_fraction}")
+    if back_fraction > CONTACT_LOSS_MIN:
+        return "double_sided"
+    if separation_fraction > CONTACT_LOSS_MIN:
+        return "single_sided"
+    return "no_impact"
+
+
+def contact_fractions(
+    x: np.ndarray, v: np.ndarray, h: float, b: float, side: float = 1.0
+) -> tuple[float, float, float]:
+    """Fractions of time (drive, separation, back) of a trajectory sampled every h (x2 and its slope x2' at
+    the samples), the crossings of x2 = +-b located on the cubic Hermite interpolant between samples as the
+    accumulator does; ``side``: the sign of the drive-side contact."""
+    x, v = np.asarray(x, dtype=float), np.asarray(v, dtype=float)
+    if x.shape != v.shape or x.ndim != 1 or x.size < 2 or not h > 0.0 or not b >= 0.0:
+        raise ValueError("contact_fractions: x and v of equal length >= 2, h > 0, b >= 0")
+    times = np.zeros(3)
+    for i in range(x.size - 1):
+        _acc.region_times(x[i], x[i + 1], v[i], v[i + 1], h, b, times)
+    pos, zero, neg = times / times.sum()
+    return (float(pos), float(zero), float(neg)) if side > 0 else (float(neg), float(zero), float(pos))
+
+
+def static_mesh_force(system: System) -> float:
+    """F_s: the mesh force of the static deflection (mean stiffness, no TE), k_mean b_c units."""
+    x2 = float(system.static_state()[1])
+    b = system.b if system.backlash_on else 0.0
+    return x2 - min(max(x2, -b), b)
+
+
+def response_measures(
+    system: System,
+    y0: np.ndarray,
+    settings: SimulationSettings | None = None,
+    periods: int | None = None,
+) -> ResponseMeasures:
+    """The response measures over ``periods`` mesh periods (default: ``settings.recorded_periods``) from the
+    state y0 (6,) at phase 0, at the settings' (default: :class:`SimulationSettings`) steps per period and
+    integrator (``rk4_event`` locates the contact switches).  Start on the attractor (a verdict's final
+    state): no transient is integrated here.  A run that diverges gives :meth:`ResponseMeasures.not_computed`."""
+    settings = SimulationSettings() if settings is None else settings
+    if settings.integrator == "dop853":
+        raise ValueError("the response measures integrate with 'rk4' or 'rk4_event'")
+    n_per = settings.recorded_periods if periods is None else int(periods)
+    if n_per < 1:
+        raise ValueError(f"periods must be >= 1, got {n_per}")
+    y0 = np.asarray(y0, dtype=float)
+    f_s = static_mesh_force(system)
+    if y0.shape != (6,) or not np.all(np.isfinite(y0)):
+        return ResponseMeasures.not_computed(f_s)
+    c, h, s, seg, tk, tp, poly = step_tables(system, settings.steps_per_period, settings.aligned)
+    sgn = -1.0 if f_s < 0.0 else 1.0
+    out = np.empty(_acc.N_OUT)
+    _acc.accumulate(
+        c, h, s, seg, tk, tp, poly, y0, n_per, settings.integrator == "rk4_event",
+        divergence_limits(system, settings), sgn, out,
+    )  # fmt: skip
+    if out[_acc.STATUS] != 0.0:
+        return ResponseMeasures.not_computed(f_s)
+    return _reduce(out, f_s, sgn, n_per)
+
+
+def _reduce(out: np.ndarray | list[float], f_s: float, sgn: float, n_per: int) -> ResponseMeasures:
+    """The measures from the accumulator's sums."""
+    out = [float(v) for v in out]
+    t = out[_acc.TIME]
+    mf, mx = out[_acc.SUM_F] / t, out[_acc.SUM_X] / t
+    f_var = max(out[_acc.SUM_F2] / t - mf * mf, 0.0)
+    x_var = max(out[_acc.SUM_X2] / t - mx * mx, 0.0)
+    f_max = out[_acc.MAX_SF]
+    pos, zero, neg = out[_acc.T_POS] / t, out[_acc.T_ZERO] / t, out[_acc.T_NEG] / t
+    drive, back = (pos, neg) if sgn > 0 else (neg, pos)
+    return ResponseMeasures(
+        static_force=f_s,
+        force_mean=sgn * (out[_acc.F_REF] + mf),
+        force_rms=math.sqrt(f_var),
+        force_max=f_max,
+        dynamic_factor=f_max / abs(f_s) if f_s != 0.0 else math.nan,
+        dte_mean=out[_acc.X_REF] + mx,
+        dte_rms=math.sqrt(x_var),
+        dte_pp=out[_acc.MAX_X] - out[_acc.MIN_X],
+        drive_fraction=drive,
+        separation_fraction=zero,
+        back_fraction=back,
+        impact_class=impact_class(zero, back),
+        n_switches=int(out[_acc.N_SWITCH]),
+        periods=n_per,
+    )

@@ -1,0 +1,113 @@
+"""Response measures (geardyn.solve.response): linear limit, zero excitation, impact classes on constructed
+trajectories, bad input."""
+
+import math
+
+import numpy as np
+import pytest
+
+from geardyn.khv.model import Coefficients
+from geardyn.label import Policy
+from geardyn.runs.response import frequency_response
+from geardyn.solve import SimulationSettings
+from geardyn.solve.response import (
+    IMPACT_CLASSES,
+    contact_fractions,
+    impact_class,
+    response_measures,
+    static_mesh_force,
+)
+
+
+def _system(**changes):
+    """A 3-DOF system of round numbers (mass ratios 2, shafts 0.3 and 0.5 of the mesh stiffness)."""
+    base = dict(
+        mu_D=2.0, mu_H=2.0, mu_V=2.0, mu_L=3.0, k_DH=0.3, k_VL=0.5, c_DH=0.05, c_VL=0.06, c_m=0.2,
+        P_D=3.0, P_L=1.0, b=1.0, e=0.05, phi=0.3, omega=0.8, eps=1.4, stiffness_mode="mean",
+        omega_n=1.0, k_mean=1.0,
+    )  # fmt: skip
+    base.update(changes)
+    return Coefficients(**base)
+
+
+def _linear_rms(c: Coefficients, w: float) -> tuple[float, float]:
+    """Analytic steady state of the linear 3-DOF model in contact (kappa = 1): RMS of X_VH and of the mesh
+    force F = X_VH + c_m X_VH' (complex amplitudes of (-w^2 + i w C + K) X = (0, e w^2, 0))."""
+    m = c.matrices()
+    e2 = np.array([0.0, 1.0, 0.0])
+    K = m["K"] + np.outer(m["g"], e2)
+    C = m["C"] + c.c_m * np.outer(m["g"], e2)
+    X = np.linalg.solve(-(w**2) * np.eye(3) + 1j * w * C + K, np.array([0.0, c.e * w**2, 0.0]))
+    return abs(X[1]) / math.sqrt(2.0), abs(X[1] * (1.0 + 1j * w * c.c_m)) / math.sqrt(2.0)
+
+
+def test_linear_limit_matches_the_analytic_frequency_response():
+    """Backlash 1 with a preload that keeps the teeth in contact, constant stiffness: the RMS DTE and RMS mesh
+    force of the labelled up/down sweep equal the linear model's frequency response within 1e-3 (the RK4
+    error at 256 steps per period is ~1e-8; the trapezoidal mean of a periodic signal is spectrally exact)."""
+    c = _system()
+    w = np.array([0.3, 0.45, 0.7, 0.9, 1.0, 1.1, 1.4, 1.8])
+    policy = Policy(SimulationSettings(steps_per_period=256, transient_periods=400, recorded_periods=20))
+    ds = frequency_response(c, w, policy, 0.25, 0.05)
+    for d in range(2):
+        for j, wj in enumerate(w):
+            dte, force = _linear_rms(c, wj)
+            assert ds.dte_rms.values[d, j] == pytest.approx(dte, rel=1e-3)
+            assert ds.force_rms.values[d, j] == pytest.approx(force, rel=1e-3)
+    assert np.all(ds.impact_class.values == IMPACT_CLASSES["no_impact"])
+    assert np.all(ds.drive_fraction.values == 1.0)
+    assert not ds.jump.values.any() and not ds.hysteresis.values.any()
+    # the mean force is the static one: the linear response oscillates about the static deflection
+    np.testing.assert_allclose(ds.force_mean.values, abs(static_mesh_force(c)), rtol=1e-6)
+
+
+@pytest.mark.parametrize("mode_kw", [{"stiffness_mode": "mean"}, {"stiffness_mode": "mean", "b": 0.0}])
+def test_zero_excitation_gives_dynamic_factor_one(mode_kw):
+    """No TE and constant stiffness: the static deflection is an equilibrium, so K_v = 1 and the DTE does not
+    move, to the integration error."""
+    c = _system(e=0.0, **mode_kw)
+    r = response_measures(c, c.static_state(), SimulationSettings(steps_per_period=128), periods=5)
+    assert r.dynamic_factor == pytest.approx(1.0, abs=1e-12)
+    assert r.force_mean == pytest.approx(abs(r.static_force), rel=1e-12)
+    assert r.dte_rms == pytest.approx(0.0, abs=1e-12) and r.dte_pp == pytest.approx(0.0, abs=1e-12)
+    assert r.impact_class == "no_impact" and r.drive_fraction == 1.0
+
+
+def _sine(mean: float, amp: float, n: int = 200, periods: int = 3):
+    t = np.linspace(0.0, 2.0 * np.pi * periods, n * periods + 1)
+    return mean + amp * np.sin(t), amp * np.cos(t), t[1] - t[0]
+
+
+def _below(level: float) -> float:
+    """Fraction of time a unit sine spends below ``level`` (analytic)."""
+    return (math.pi - 2.0 * math.asin(-level)) / (2.0 * math.pi) if abs(level) < 1 else float(level > 1)
+
+
+@pytest.mark.parametrize(
+    ("amp", "expected"), [(1.5, "no_impact"), (3.0, "single_sided"), (5.0, "double_sided")]
+)  # fmt: skip
+def test_impact_classes_of_constructed_trajectories(amp, expected):
+    """x2 = 3 + A sin t with half backlash 1: A = 1.5 stays in drive contact, A = 3 enters the backlash
+    (x2 >= 0 > -1), A = 5 strikes the back side.  The fractions equal the analytic times below +1 and -1."""
+    x, v, h = _sine(3.0, amp)
+    drive, sep, back = contact_fractions(x, v, h, 1.0)
+    below_plus, below_minus = _below((1.0 - 3.0) / amp), _below((-1.0 - 3.0) / amp)
+    assert back == pytest.approx(below_minus, abs=1e-8)
+    assert sep == pytest.approx(below_plus - below_minus, abs=1e-8)
+    assert drive == pytest.approx(1.0 - below_plus, abs=1e-8)
+    assert impact_class(sep, back) == expected
+    # the mirror image (drive side negative) has the same class
+    d2, s2, b2 = contact_fractions(-x, -v, h, 1.0, side=-1.0)
+    assert (d2, s2, b2) == pytest.approx((drive, sep, back), abs=1e-12)
+
+
+def test_bad_input_is_flagged_not_nan():
+    c = _system()
+    r = response_measures(c, np.full(6, np.nan), SimulationSettings(steps_per_period=64), periods=2)
+    assert r.impact_class == "diverged" and r.diverged
+    with pytest.raises(ValueError, match="periods"):
+        response_measures(c, c.static_state(), SimulationSettings(steps_per_period=64), periods=0)
+    with pytest.raises(ValueError, match="finite"):
+        impact_class(math.nan, 0.0)
+    with pytest.raises(ValueError, match="contact_fractions"):
+        contact_fractions(np.zeros(3), np.zeros(2), 0.1, 1.0)
