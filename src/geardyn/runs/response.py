@@ -27,6 +27,7 @@ from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.khv.model import COEFFICIENT_ATTRS, Coefficients, natural_frequencies
 from geardyn.label import Policy, label_lines
 from geardyn.runs.cube import (
+    STATES,
     TRANSIENT_USED_ATTRS,
     label_variables,
     policy_attrs,
@@ -122,6 +123,11 @@ def frequency_response(base: Coefficients, w: np.ndarray, policy: Policy, thresh
     verdicts = label_lines(lines, policy, progress="frequency response")
     data: dict[str, Any] = {**label_variables(dims, shape, policy.classifier), **response_variables(dims, shape)}
     data["transient_used"] = (dims, np.full(shape, -1, np.int32), TRANSIENT_USED_ATTRS)
+    data["final_state"] = (
+        (*dims, "state"),
+        np.full((*shape, len(STATES)), np.nan),
+        {"units": "1", "long_name": "state at phase 0 on the attractor at the end of the record (a restart)"},
+    )
     arrays = {name: _View(spec[1]) for name, spec in data.items()}
     for d, (line, vs) in enumerate(zip(lines, verdicts, strict=True)):
         for k, (system, v) in enumerate(zip(line, vs, strict=True)):
@@ -129,6 +135,7 @@ def frequency_response(base: Coefficients, w: np.ndarray, policy: Policy, thresh
             store_verdict(arrays, (d, j), v)
             store_response(arrays, (d, j), verdict_response(system, v, policy.integration))
             arrays["transient_used"].values[d, j] = v.transient_used
+            arrays["final_state"].values[d, j] = v.final_state
     rms = data["dte_rms"][1]
     jumps, split = find_jumps(rms, threshold, floor)
     data["jump"] = (
@@ -160,6 +167,7 @@ def frequency_response(base: Coefficients, w: np.ndarray, policy: Policy, thresh
     coords = {
         "direction": ("direction", list(DIRECTIONS), {"long_name": "sweep direction (line of the labeller)"}),
         "w": ("w", w, {"units": "1", "long_name": "dimensionless mesh frequency w_m / w_n"}),
+        "state": ("state", list(STATES), {"long_name": "state component (geardyn.runs.cube.STATE_NAMES)"}),
         "mode": ("mode", np.arange(nat.size, dtype=np.int32), {"units": "1", "long_name": "mode number"}),
         "mesh_frequency_hz": (
             "w",
