@@ -47,6 +47,7 @@ include: "workflow/rules/plus.smk"
 include: "workflow/rules/benchmarks.smk"
 include: "workflow/rules/classify.smk"
 include: "workflow/rules/maps.smk"
+include: "workflow/rules/response.smk"
 include: "workflow/rules/archive.smk"
 include: "workflow/rules/cluster.smk"
 
@@ -61,6 +62,7 @@ rule all:
         BENCHMARK_TARGETS,
         CLASSIFY_TARGETS,
         MAP_TARGETS,
+        RESPONSE_TARGETS,
         ORBIT_TARGETS,
 
 

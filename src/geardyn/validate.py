@@ -86,12 +86,13 @@ MAX_NAME_LENGTH = 64
 #: wildcard.
 NAME_PATTERN = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_-]*")
 #: Sections whose keys are names.
-NAMED_SECTIONS = ("designs", "presets", "sweeps", "points", "calibration", "maps")
+NAMED_SECTIONS = ("designs", "presets", "sweeps", "points", "calibration", "maps", "responses")
 #: Blocks a preset may hold, per section that may name one.
 PRESET_KEYS = {
     "sweeps": ("integration", "classifier", "start_from", "coexistence"),
     "maps": ("integration", "classifier", "start_from", "coexistence"),
     "calibration": ("integration", "classifier"),
+    "responses": ("integration", "classifier"),
 }
 
 #: Measured Poincare error of the event RK4 integrator (units of b_c) per steps_per_period: the
@@ -320,7 +321,7 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
             _check_x1(
                 resolve_fractions(x1, _segment(designs[name])), designs[name], f"config: stiffness_table.fig05_x1[{i}]"
             )
-    for section in ("sweeps", "points", "calibration", "maps"):
+    for section in ("sweeps", "points", "calibration", "maps", "responses"):
         for name, spec in filled.get(section, {}).items():
             where = f"config: {section}.{name}"
             selector = spec["designs"] if "designs" in spec else [spec["design"]]
@@ -421,6 +422,13 @@ def _check_overrides(section: str, spec: dict[str, Any], raw: dict[str, Any], wh
             _check_range(a, f"{where}.{ax}")
             overrides.append((f"{ax}.start", {a["parameter"]: a["start"]}))
             overrides.append((f"{ax}.stop", {a["parameter"]: a["stop"]}))
+    if section == "responses":
+        _check_range(spec, where)
+        for key in ("w", "speed"):
+            if key in spec.get("fixed", {}):
+                raise ConfigError(
+                    f"{where}.fixed.{key} is not allowed: the frequency response sweeps the mesh frequency"
+                )
     if section == "calibration":
         _check_range(spec["x1"], f"{where}.x1")
         overrides.append(("x1.start", {"x1": spec["x1"]["start"]}))

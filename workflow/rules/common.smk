@@ -44,6 +44,7 @@ SECTION_KEYS = {
     "maps": "map",
     "calibration": "calibration",
     "orbits": "sweep",
+    "responses": "response",
 }
 
 
@@ -81,6 +82,7 @@ wildcard_constraints:
     points=either(config["points"], "no-points"),
     map=either(config["maps"], "no-map"),
     calibration=either(config["calibration"], "no-calibration"),
+    response=either(config["responses"], "no-response"),
     chunk=r"\d+",
 
 

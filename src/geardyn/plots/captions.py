@@ -101,4 +101,31 @@ def regime_map(name: str, ds: xr.Dataset) -> str:
         f"{ds.attrs['recorded_periods']} recorded periods; each row a line along x whose points follow the "
         f"attractor of their left neighbour (start_from: {ds.attrs.get('start', 'follow')}; geardyn.label). "
         f"Label shares: {shares}. Lines: the configured 1-D cuts (the sweeps of the same design)."
+        + (
+            " Lower panels: the dynamic factor K_v = largest dynamic mesh force / static mesh force and the impact "
+            "class (no impact, single-sided: the teeth separate, double-sided: they strike on the back side), "
+            "over the recorded periods of each point's attractor (docs/response.md)."
+            if "dynamic_factor" in ds
+            else ""
+        )
+    )
+
+
+def frequency_response(name: str, ds: xr.Dataset) -> str:
+    """Caption of a frequency response: grid, settings, jumps, impact classes, natural frequencies."""
+    w = ds.w.values
+    nat = ", ".join(f"{f:.3f}" for f in ds.natural_frequency.values)
+    kv = float(np.nanmax(ds.dynamic_factor.values)) if np.isfinite(ds.dynamic_factor.values).any() else float("nan")
+    j = np.unravel_index(np.nanargmax(ds.dte_rms.values), ds.dte_rms.shape) if kv == kv else (0, 0)
+    return (
+        f"{name}: RMS dynamic transmission error (X_VH / b_c, um) and dynamic factor K_v against the mesh frequency "
+        f"w = w_m / w_n from {w[0]:g} to {w[-1]:g} ({w.size} frequencies), swept up and down, each direction a "
+        f"line along which every point starts from its neighbour's attractor (geardyn.label); "
+        f"{ds.attrs['steps_per_period']} steps per period, measures over each attractor's recorded periods "
+        f"(one cycle of a periodic one). Fixed overrides: {ds.attrs.get('fixed_overrides', 'none')}. "
+        f"Jumps (RMS DTE steps by more than {ds.attrs['jump_threshold']:g} x the larger value where the up and "
+        f"down curves differ as much): up at w = {ds.attrs['jumps_up']}, down at w = {ds.attrs['jumps_down']}; "
+        f"up and down differ at {int(ds.hysteresis.sum())} frequencies. Largest RMS DTE "
+        f"{float(ds.dte_rms.values[j]):.3g} at w = {float(w[j[1]]):.3g}; largest K_v {kv:.3g}. "
+        f"Linear natural frequencies (in contact, mean stiffness): {nat}. Shading: impact classes."
     )

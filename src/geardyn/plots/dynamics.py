@@ -10,6 +10,8 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
+from geardyn.plots.response import draw_map_layers
+
 _LABELS = {"x_vh": "X_VH / b_c", "v_vh": "dX_VH/dtau / b_c", "x_dh": "X_DH / b_c", "x_vl": "X_VL / b_c"}
 
 
@@ -139,7 +141,9 @@ def plot_points(ds: xr.Dataset, title: str, fmax: float = 3.0) -> Figure:
 def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=()) -> Figure:
     """Regime map: label image (left) and largest exponent (right: Floquet for periodic points, the tangent
     vector otherwise), with the paper's 1-D cuts as dashed lines; where the map was also labelled from the
-    fixed start (``coexisting``), the points whose two starts end on different attractors are hatched."""
+    fixed start (``coexisting``), the points whose two starts end on different attractors are hatched.  A map
+    with response measures gains the K_v and impact-class layers below
+    (:func:`geardyn.plots.response.draw_map_layers`)."""
     from matplotlib.colors import BoundaryNorm, ListedColormap, TwoSlopeNorm
 
     from geardyn import classify
@@ -150,7 +154,13 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=()) -> Figure:
     index = np.searchsorted(codes, lab)
     norm = BoundaryNorm(np.arange(len(codes) + 1) - 0.5, len(codes))
     x, y = ds["x"].values, ds["y"].values
-    fig, (ax, axl) = plt.subplots(1, 2, figsize=(12.0, 5.0))
+    layers = "dynamic_factor" in ds and "impact_class" in ds
+    if layers:
+        fig, axes = plt.subplots(2, 2, figsize=(12.0, 9.5))
+        (ax, axl), (ax_kv, ax_impact) = axes
+        draw_map_layers(ax_kv, ax_impact, ds)
+    else:
+        fig, (ax, axl) = plt.subplots(1, 2, figsize=(12.0, 5.0))
     im = ax.pcolormesh(x, y, index, cmap=cmap, norm=norm, shading="nearest", rasterized=True)
     cb = fig.colorbar(im, ax=ax, ticks=np.arange(len(codes)))
     cb.ax.set_yticklabels([classify.short_name(c) for c in codes], fontsize=7)
@@ -173,7 +183,7 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=()) -> Figure:
         rasterized=True,
     )
     fig.colorbar(iml, ax=axl, label="lambda_max (per unit tau)")
-    for a in (ax, axl):
+    for a in (ax, axl, ax_kv, ax_impact) if layers else (ax, axl):
         for cx in cuts_x:
             a.axvline(cx, color="k", ls="--", lw=0.8)
         for cy in cuts_y:

@@ -44,8 +44,9 @@ DIRECTIONS = ("up", "down")
 
 @dataclass(frozen=True)
 class ResponseSpec:
-    """The frequency-response study as declared in ``config.yaml`` under ``frequency_response:``."""
+    """One frequency response as declared in ``config.yaml`` under ``responses:``."""
 
+    name: str
     design: str
     start: float
     stop: float
@@ -63,9 +64,12 @@ class ResponseSpec:
             raise ValueError("frequency response: jump_threshold > 0 and jump_floor >= 0")
 
     @classmethod
-    def from_config(cls, spec: Mapping[str, Any], design: str, segment: tuple[float, float]) -> ResponseSpec:
+    def from_config(cls, name: str, spec: Mapping[str, Any], design: str, segment: tuple[float, float]) -> ResponseSpec:
+        """The response ``name`` of ``config["responses"]`` for ``design`` (x1 overrides may be percentages of
+        its admissible segment, :func:`geardyn.khv.design.resolve_fractions`)."""
         spec = resolve_fractions(spec, segment)
         return cls(
+            name=name,
             design=design,
             start=float(spec["start"]),
             stop=float(spec["stop"]),
@@ -211,6 +215,7 @@ def run(design: KHVDesign, spec: ResponseSpec) -> xr.Dataset:
     ds = frequency_response(base, spec.values, response_policy(design, spec), spec.jump_threshold, spec.jump_floor)
     ds.attrs.update(
         {
+            "response": spec.name,
             "design": spec.design,
             "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
             "speed_per_w_rpm": float(base.omega_n) * 60.0 / (2.0 * math.pi * _annulus_teeth(design)),
