@@ -2,16 +2,19 @@
 checked against an independent DOP853 integration of that oscillator; jump detection."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from geardyn import config, validate
 from geardyn.khv.model import Coefficients
 from geardyn.label import Policy
 from geardyn.runs.response import find_jumps, frequency_response, jump_frequencies
 from geardyn.solve import SimulationSettings
 
+ROOT = Path(__file__).resolve().parents[1]
 K_SHAFT = 2000.0  # shaft stiffness / k_mean: shaft modes at 44.7 w_n, the limit is reached to ~(0.7/44.7)^2
 MU = 2.0  # every mass / M_VH
 W = np.linspace(0.4, 0.9, 26)  # sweep step 0.02
@@ -125,3 +128,32 @@ def test_find_jumps_needs_both_a_step_and_a_split():
     assert not jump.any()
     with pytest.raises(ValueError, match="rms must be"):
         find_jumps(up, 0.25, 0.05)
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"fixed": {"w": 0.5}}, "responses.fr.fixed.w is not allowed"),
+        ({"start": 1.0, "stop": 0.5}, "stop = 0.5 must be above start = 1.0"),
+        ({"num": 2}, "num = 2 is not allowed"),
+        ({"start": 0.0}, "start = 0.0 is not allowed"),
+        ({"fixed": {"b": -1.0}}, "responses.fr.fixed: b = -1.0 is not allowed"),
+    ],
+)
+def test_bad_frequency_response_config_is_one_line(change, message):
+    spec = {"designs": ["li2013"], "start": 0.3, "stop": 1.5, "num": 11, **change}
+    cfg = {"designs": {"li2013": "config/designs/li2013.yaml"}, "responses": {"fr": spec}}
+    with pytest.raises(config.ConfigError) as info:
+        validate.validate_workflow(cfg, ROOT)
+    assert message in str(info.value) and "\n" not in str(info.value)
+
+
+def test_shipped_config_sweeps_every_khv_design_over_primary_and_superharmonic_resonances():
+    """The shipped study runs for every KHV design with at least 200 frequencies, from below the third
+    super-harmonic (1/4 of the mesh mode near w = 1) to above the primary resonance."""
+    root = ROOT
+    cfg = validate.load_config(root / "config" / "config.yaml")
+    spec = cfg["responses"]["frequency_response"]
+    assert spec["designs"] == "all" and spec["num"] >= 200
+    assert spec["start"] <= 0.25 and spec["stop"] >= 1.5
+    assert spec["classifier"]["error_floor"] == pytest.approx(1.9e-5)  # preset map: 128 steps per period

@@ -34,6 +34,10 @@ def _own_config(shipped):
         spec["x"]["num"], spec["y"]["num"], spec["chunks"] = 3, 3, 1
         spec["integration"] = dict(wf.FAST)
         spec["classifier"] = {"error_floor": 3e-4, "tangent_periods": 30}
+    cfg["responses"] = {n: dict(s) for n, s in shipped["responses"].items() if s.get("designs") in ("all", "own")}
+    for spec in cfg["responses"].values():
+        spec.update(num=5, integration=dict(wf.FAST), classifier={"error_floor": 3e-4, "tangent_periods": 30})
+        spec.pop("preset", None)
     cfg["calibration"], cfg["claims"], cfg["benchmarks"] = {}, {"designs": []}, {"work_precision": False}
     return cfg
 
@@ -77,6 +81,8 @@ def test_every_standard_study_is_built_under_the_designs_own_names(own):
         "tables/bifurcation_x1_bands.md",
         "figures/bifurcation_b.png",
         "figures/map_own_x1_b.png",
+        "response/frequency_response.nc",
+        "figures/frequency_response.png",
     ):
         assert (res / "mydrive" / rel).exists(), rel
     for rel in (
