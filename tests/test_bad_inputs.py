@@ -275,6 +275,12 @@ CASES = [
         "claims.designs: design 'li2031' is not allowed: one of 'li2013'",
     ),
     (
+        # the runs paper 1's claims read (papers.li2013.CLAIM_RUNS) are not in this config
+        "claims-without-their-runs",
+        _config(lambda c: c.update(claims={"designs": ["li2013"]})),
+        "claims.designs: design 'li2013' needs sweeps.fig07_bifurcation_x1 to run for it",
+    ),
+    (
         "percent-for-b",
         _sweep(lambda s: s["fixed"].update(b="50%")),
         "sweeps.fig07_small.fixed.b = '50%' is not allowed: a number (percentages of the admissible segment are for x1",

@@ -28,11 +28,12 @@ def full_plan(shipped):
     return _planned_outputs(wf.snakemake(shipped, "-n"))
 
 
-@pytest.mark.parametrize("design", ["yue2014", "li2013"])
+@pytest.mark.parametrize("design", list(wf.shipped("config/config.yaml")["designs"]))
 def test_one_design_plans_only_its_own_outputs(shipped, full_plan, design):
     run = wf.snakemake(shipped, "-n", design)
     outputs = _planned_outputs(run)
-    assert len(outputs) >= 20, run.stdout[-2000:]
+    # every KHV design has at least its closed graph and stiffness table with their figures (7 files)
+    assert len(outputs) >= 7, run.stdout[-2000:]
     strays = [f for f in outputs if not f.startswith(f"results/{design}/")]
     assert strays == []
     # and it plans every study of rule all under that design: the same files as the full plan

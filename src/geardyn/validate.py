@@ -20,6 +20,7 @@ import jsonschema
 
 from geardyn.config import ConfigError, allowed_text, check_expanded_size, load_design_dict, read_yaml, schema, validate
 from geardyn.khv import design as khv_design
+from geardyn.papers import paper_of
 
 
 def read_config_file(path: str | Path) -> dict[str, Any]:
@@ -361,12 +362,7 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
                 + (", ".join(repr(d) for d in khv if designs[d].get("paper") == "li2013") or "none")
                 + " (the claims are paper 1's: the design must name paper: li2013)"
             )
-        for needed, section in (
-            ("fig07_bifurcation_x1", "sweeps"),
-            ("fig09_bifurcation_b", "sweeps"),
-            ("fig11_bifurcation_e", "sweeps"),
-            ("fig08_points_x1", "points"),
-        ):
+        for section, needed in paper_of(designs[design_name]["paper"]).CLAIM_RUNS.values():
             spec = filled[section].get(needed)
             if spec is None or design_name not in selected_designs(spec["designs"], designs):
                 raise ConfigError(

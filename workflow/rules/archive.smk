@@ -9,9 +9,9 @@ rule design_archive:
         design=design_file,
         config="config/config.yaml",
     output:
-        "results/{design}_archive.tar.gz",
+        results("{design}_archive.tar.gz", design=None),
     log:
-        "results/{design}/logs/archive.log",
+        logs("archive.log"),
     localrule: True
     threads: 1
     params:
@@ -22,5 +22,5 @@ rule design_archive:
 
 rule archive:
     input:
-        expand("results/{design}_archive.tar.gz", design=DESIGNS),
+        per_design(rules.design_archive.output, DESIGNS),
     localrule: True

@@ -4,16 +4,16 @@
 
 rule work_precision:
     output:
-        data="results/benchmarks/work_precision.nc",
-        table="results/benchmarks/work_precision.md",
+        data=benchmarks("work_precision.nc"),
+        table=benchmarks("work_precision.md"),
         figure=report(
-            "results/benchmarks/work_precision.png",
+            benchmarks("work_precision.png"),
             caption="../report/work_precision.rst",
             category=BENCHMARKS,
             subcategory="Work-precision of the integrators",
         ),
     log:
-        "results/benchmarks/logs/work_precision.log",
+        benchmarks("logs", "work_precision.log"),
     threads: 1
     params:
         spec=config_slice("benchmarks"),

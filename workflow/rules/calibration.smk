@@ -1,30 +1,24 @@
 # Calibration of a paper design's unknowns (docs/calibration.md).
 #
-# A ``search`` entry: one job runs a seeded differential evolution scored by the paper's claims on a
-# worker pool (the job's threads); every evaluated candidate is appended to
+# Each entry of `calibration:` is a search: one job runs a seeded differential evolution scored by the
+# paper's claims on a worker pool (the job's threads); every evaluated candidate is appended to
 # results/{design}/calibration/{calibration}_cache.jsonl (not an output: it survives a failed or
 # interrupted job, and a rerun replays it and resumes).  A second job measures the robustness and
-# sensitivity of the best candidate (tornado chart, 2-D map) from the same cache.
-
-SEARCH_CALIBRATIONS = list(config["calibration"])
+# sensitivity of the best candidate (tornado chart, 2-D map) from the same cache; a third compares the
+# best candidate with the committed design the search once produced.
 
 
 rule calibration_search:
     input:
         design=design_file,
     output:
-        scores="results/{design}/calibration/{calibration}.nc",
-        best="results/{design}/calibration/{calibration}_best.json",
-        design="results/{design}/calibration/{calibration}_design.yaml",
-        table="results/{design}/calibration/{calibration}.md",
+        scores=results("calibration", "{calibration}.nc"),
+        best=results("calibration", "{calibration}_best.json"),
+        design=results("calibration", "{calibration}_design.yaml"),
+        table=results("calibration", "{calibration}.md"),
     log:
-        "results/{design}/logs/calibration_{calibration}_search.log",
-    wildcard_constraints:
-        calibration=either(SEARCH_CALIBRATIONS, "no-search"),
-    threads:
-        lambda wildcards: config["calibration"][wildcards.calibration]["search"].get(
-            "workers", 1
-        )
+        logs("calibration_{calibration}_search.log"),
+    threads: search_workers
     params:
         spec=config_slice("calibration"),
     script:
@@ -34,21 +28,16 @@ rule calibration_search:
 rule calibration_sensitivity:
     input:
         design=design_file,
-        best="results/{design}/calibration/{calibration}_best.json",
+        best=rules.calibration_search.output.best,
     output:
-        oat="results/{design}/calibration/{calibration}_sensitivity.nc",
-        map="results/{design}/calibration/{calibration}_map.nc",
-        tornado="results/{design}/calibration/{calibration}_tornado.png",
-        map_figure="results/{design}/calibration/{calibration}_map.png",
-        table="results/{design}/calibration/{calibration}_sensitivity.md",
+        oat=results("calibration", "{calibration}_sensitivity.nc"),
+        map=results("calibration", "{calibration}_map.nc"),
+        tornado=results("calibration", "{calibration}_tornado.png"),
+        map_figure=results("calibration", "{calibration}_map.png"),
+        table=results("calibration", "{calibration}_sensitivity.md"),
     log:
-        "results/{design}/logs/calibration_{calibration}_sensitivity.log",
-    wildcard_constraints:
-        calibration=either(SEARCH_CALIBRATIONS, "no-search"),
-    threads:
-        lambda wildcards: config["calibration"][wildcards.calibration]["search"].get(
-            "workers", 1
-        )
+        logs("calibration_{calibration}_sensitivity.log"),
+    threads: search_workers
     params:
         spec=config_slice("calibration"),
     script:
@@ -58,14 +47,12 @@ rule calibration_sensitivity:
 rule calibration_compare:
     input:
         design=design_file,
-        best="results/{design}/calibration/{calibration}_best.json",
+        best=rules.calibration_search.output.best,
         committed=committed_design,
     output:
-        "results/{design}/calibration/{calibration}_vs_committed.md",
+        results("calibration", "{calibration}_vs_committed.md"),
     log:
-        "results/{design}/logs/calibration_{calibration}_compare.log",
-    wildcard_constraints:
-        calibration=either(SEARCH_CALIBRATIONS, "no-search"),
+        logs("calibration_{calibration}_compare.log"),
     threads: 1
     params:
         spec=config_slice("calibration"),
@@ -73,18 +60,9 @@ rule calibration_compare:
         "../scripts/calibration_compare.py"
 
 
-CALIBRATION_TARGETS = [
-    f"results/{spec['design']}/calibration/{name}.nc"
-    for name, spec in config["calibration"].items()
-] + [
-    f"results/{config['calibration'][name]['design']}/calibration/{name}_{kind}"
-    for name in SEARCH_CALIBRATIONS
-    for kind in (
-        "sensitivity.md",
-        "sensitivity.nc",
-        "map.nc",
-        "tornado.png",
-        "map.png",
-        "vs_committed.md",
-    )
-]
+CALIBRATION_TARGETS = runs_for(
+    "calibration",
+    rules.calibration_search.output.scores,
+    *rules.calibration_sensitivity.output,
+    *rules.calibration_compare.output,
+)

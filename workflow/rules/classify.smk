@@ -7,15 +7,15 @@ rule regime_bands:
         cube=rules.sweep_merge.output[0],
     output:
         csv=report(
-            "results/{design}/tables/{sweep}_bands.csv",
+            results("tables", "{sweep}_bands.csv"),
             caption="../report/bands.rst",
             category=category,
             subcategory=subcategory("sweep"),
             labels={"design": "{design}", "table": "regime bands"},
         ),
-        md="results/{design}/tables/{sweep}_bands.md",
+        md=results("tables", "{sweep}_bands.md"),
     log:
-        "results/{design}/logs/bands_{sweep}.log",
+        logs("bands_{sweep}.log"),
     threads: 1
     params:
         spec=config_slice("sweeps"),
@@ -25,24 +25,21 @@ rule regime_bands:
 
 rule claims:
     input:
+        unpack(claims_runs),
         design=design_file,
         closed_graph=rules.closed_graph.output[0],
         stiffness=rules.stiffness_table.output[0],
-        fig07="results/{design}/sweeps/fig07_bifurcation_x1.nc",
-        fig09="results/{design}/sweeps/fig09_bifurcation_b.nc",
-        fig11="results/{design}/sweeps/fig11_bifurcation_e.nc",
-        fig08_points="results/{design}/points/fig08_points_x1.nc",
     output:
-        md="results/{design}/claims.md",
+        md=results("claims.md"),
         csv=report(
-            "results/{design}/claims.csv",
+            results("claims.csv"),
             caption="../report/claims.rst",
             category=category,
             subcategory="Claims of the paper",
             labels={"design": "{design}", "table": "claims"},
         ),
     log:
-        "results/{design}/logs/claims.log",
+        logs("claims.log"),
     threads: 1
     params:
         spec=config_slice("claims"),
@@ -50,6 +47,6 @@ rule claims:
         "../scripts/claims.py"
 
 
-CLASSIFY_TARGETS = runs_for(
-    "sweeps", "results/{design}/tables/{name}_bands.md"
-) + expand("results/{design}/claims.md", design=config["claims"]["designs"])
+CLASSIFY_TARGETS = runs_for("sweeps", rules.regime_bands.output.md) + per_design(
+    rules.claims.output.md, config["claims"]["designs"]
+)

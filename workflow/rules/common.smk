@@ -1,12 +1,30 @@
-# Helpers shared by the rules: which designs exist, the one config accessor, the design file of a job.
+# Helpers shared by the rules: where files go (the one path helper), which designs exist, the one config
+# accessor, the design file of a job.
+
+#: The root of every file the workflow writes. A rule writes its paths through results() and logs(),
+#: never as literals, so a rename touches one line.
+RESULTS = "results"
+
+
+def results(*parts, design="{design}"):
+    """A path under the results root: ``results("sweeps", "{sweep}.nc")`` is
+    ``results/{design}/sweeps/{sweep}.nc`` (``design``: the job's wildcard, a design's name, or ``None``
+    for a file of no design such as the benchmarks or an archive)."""
+    return "/".join([RESULTS, *([design] if design else []), *parts])
+
+
+def logs(name, design="{design}"):
+    """The log of a job: ``results/<design>/logs/<name>``."""
+    return results("logs", name, design=design)
+
+
+def benchmarks(*parts):
+    """``results/benchmarks/<parts>``: the solver's own studies, which belong to no design."""
+    return results("benchmarks", *parts, design=None)
 
 
 def designs_of_kind(kind):
     return [name for name, raw in DESIGNS.items() if raw["kind"] == kind]
-
-
-def designs_of_paper(paper):
-    return [name for name, raw in DESIGNS.items() if raw.get("paper") == paper]
 
 
 KHV_DESIGNS = designs_of_kind("khv")
@@ -32,9 +50,7 @@ def name_of(scheme, paper_name, own_name):
 
 def scheme_path(scheme, folder, paper_name, own_name, suffix=""):
     """``results/{design}/<folder>/<stem><suffix>`` with the stem of the naming scheme."""
-    return (
-        f"results/{{design}}/{folder}/{name_of(scheme, paper_name, own_name)}{suffix}"
-    )
+    return results(folder, f"{name_of(scheme, paper_name, own_name)}{suffix}")
 
 
 #: The wildcard that names an entry of each config section.
@@ -65,6 +81,11 @@ def design_file(wildcards):
     return config["designs"][wildcards.design]
 
 
+def search_workers(wildcards):
+    """The threads of a calibration job: the worker pool of its search (``workers``, default 1)."""
+    return config["calibration"][wildcards.calibration]["search"].get("workers", 1)
+
+
 def committed_design(wildcards):
     """The committed design file a search reproduces (its ``design_name``, else ``<design>_calibrated``)."""
     search = config["calibration"][wildcards.calibration]["search"]
@@ -90,25 +111,38 @@ def per_design(pattern, designs):
     return expand(pattern, design=designs)
 
 
-def runs_for(section, pattern):
-    """``pattern`` for every (design, name) of a config section: the designs each entry selects."""
+def entry_path(pattern, section, name, design):
+    """``pattern`` (a rule's output) for entry ``name`` of a config section and one design."""
+    return str(pattern).format(design=design, **{SECTION_KEYS[section]: name})
+
+
+def runs_for(section, *patterns):
+    """Each of ``patterns`` (a rule's outputs) for every (design, entry) of a config section: the designs
+    each entry selects (``designs:``, or a calibration's one ``design:``), the entry's name in the
+    section's wildcard (``SECTION_KEYS``)."""
     from geardyn.validate import selected_designs
 
     return [
-        pattern.format(design=design, name=name)
+        entry_path(pattern, section, name, design)
+        for pattern in patterns
         for name, spec in config[section].items()
-        for design in selected_designs(spec["designs"], DESIGNS)
+        for design in selected_designs(
+            spec["designs"] if "designs" in spec else [spec["design"]], DESIGNS
+        )
     ]
 
 
 def chunk_files(section, pattern, n_chunks):
-    """Input function: the chunk files of one run; ``n_chunks(name, spec, design)`` counts them."""
+    """Input function: the chunk files of one run (``pattern``: the chunk rule's output);
+    ``n_chunks(name, spec, design)`` counts them."""
 
     def get(wildcards):
         key = SECTION_KEYS[section]
         name = wildcards[key]
         count = n_chunks(name, config[section][name], wildcards.design)
-        return expand(pattern, design=wildcards.design, name=name, chunk=range(count))
+        return expand(
+            str(pattern), design=wildcards.design, chunk=range(count), **{key: name}
+        )
 
     return get
 
@@ -133,20 +167,34 @@ def map_chunks(name, spec, design):
 
 def design_targets(design, targets):
     """The files of ``targets`` (e.g. ``rules.all.input``) under results/<design>/: one design's studies."""
-    prefix = f"results/{design}/"
+    prefix = results(design=design) + "/"
     return sorted({str(f) for f in targets if str(f).startswith(prefix)})
 
 
 def archive_cubes(wildcards):
     """The netCDF cubes of ``rule all`` under results/<design>/ (chunk files are not final cubes)."""
-    prefix = f"results/{wildcards.design}/"
-    return sorted(
-        {
-            str(f)
-            for f in rules.all.input
-            if str(f).startswith(prefix) and str(f).endswith(".nc")
-        }
-    )
+    return [
+        f
+        for f in design_targets(wildcards.design, rules.all.input)
+        if f.endswith(".nc")
+    ]
+
+
+def claims_runs(wildcards):
+    """Input function (``unpack``) of the claims of the job's design: the runs its paper's claims read
+    (``CLAIM_RUNS`` of the paper's module in geardyn.papers), by role (``fig07``, ``fig08_points``, ...).
+    """
+    from geardyn.papers import paper_of
+
+    paper = paper_of(DESIGNS[wildcards.design].get("paper"))
+    produced = {
+        "sweeps": rules.sweep_merge.output[0],
+        "points": rules.point_runs.output.data,
+    }
+    return {
+        role: entry_path(produced[section], section, name, wildcards.design)
+        for role, (section, name) in paper.CLAIM_RUNS.items()
+    }
 
 
 def effective_config(wildcards):

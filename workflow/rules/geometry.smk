@@ -6,9 +6,9 @@ rule closed_graph:
     input:
         design=design_file,
     output:
-        "results/{design}/data/closed_graph.nc",
+        results("data", "closed_graph.nc"),
     log:
-        "results/{design}/logs/closed_graph.log",
+        logs("closed_graph.log"),
     threads: 1
     params:
         spec=config_slice("closed_graph"),
@@ -16,7 +16,7 @@ rule closed_graph:
         "../scripts/closed_graph.py"
 
 
-GEOMETRY_TARGETS = per_design(["results/{design}/data/closed_graph.nc"], KHV_DESIGNS)
+GEOMETRY_TARGETS = per_design(rules.closed_graph.output, KHV_DESIGNS)
 
 for _scheme, _designs in naming_schemes("khv"):
     _rule = name_of(_scheme, "fig03_closed_graph", "closed_graph_figure")
@@ -40,7 +40,7 @@ for _scheme, _designs in naming_schemes("khv"):
             ),
             caption=f"{_figure}.txt",
         log:
-            f"results/{{design}}/logs/{_rule}.log",
+            logs(f"{_rule}.log"),
         wildcard_constraints:
             design=either(_designs, "no-design"),
         threads: 1

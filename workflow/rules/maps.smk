@@ -5,9 +5,9 @@ rule map_chunk:
     input:
         design=design_file,
     output:
-        temp("results/{design}/maps/{map}/chunk_{chunk}.nc"),
+        temp(results("maps", "{map}", "chunk_{chunk}.nc")),
     log:
-        "results/{design}/logs/map_{map}_{chunk}.log",
+        logs("map_{map}_{chunk}.log"),
     threads: 1
     params:
         spec=config_slice("maps"),
@@ -18,13 +18,11 @@ rule map_chunk:
 rule map_merge:
     input:
         design=design_file,
-        chunks=chunk_files(
-            "maps", "results/{design}/maps/{name}/chunk_{chunk}.nc", map_chunks
-        ),
+        chunks=chunk_files("maps", rules.map_chunk.output[0], map_chunks),
     output:
-        "results/{design}/maps/{map}.nc",
+        results("maps", "{map}.nc"),
     log:
-        "results/{design}/logs/map_{map}_merge.log",
+        logs("map_{map}_merge.log"),
     threads: 1
     params:
         spec=config_slice("maps"),
@@ -37,15 +35,15 @@ rule map_figure:
         cube=rules.map_merge.output[0],
     output:
         figure=report(
-            "results/{design}/figures/{map}.png",
+            results("figures", "{map}.png"),
             caption="../report/map.rst",
             category=category,
             subcategory=subcategory("map"),
             labels={"design": "{design}"},
         ),
-        caption="results/{design}/figures/{map}.png.txt",
+        caption=results("figures", "{map}.png.txt"),
     log:
-        "results/{design}/logs/figure_{map}.log",
+        logs("figure_{map}.log"),
     threads: 1
     params:
         spec=config_slice("maps"),
@@ -53,6 +51,6 @@ rule map_figure:
         "../scripts/map_figure.py"
 
 
-MAP_TARGETS = runs_for("maps", "results/{design}/maps/{name}.nc") + runs_for(
-    "maps", "results/{design}/figures/{name}.png"
+MAP_TARGETS = runs_for(
+    "maps", rules.map_merge.output[0], rules.map_figure.output.figure
 )

@@ -9,10 +9,10 @@ rule orbit_branches:
         design=design_file,
         cube=rules.sweep_merge.output[0],
     output:
-        data="results/{design}/orbits/{sweep}_branches.nc",
-        table="results/{design}/orbits/{sweep}_bifurcations.csv",
+        data=results("orbits", "{sweep}_branches.nc"),
+        table=results("orbits", "{sweep}_bifurcations.csv"),
     log:
-        "results/{design}/logs/orbits_{sweep}.log",
+        logs("orbits_{sweep}.log"),
     threads: 1
     params:
         spec=config_slice("orbits"),
@@ -28,15 +28,15 @@ rule orbit_figure:
         branches=rules.orbit_branches.output.data,
     output:
         figure=report(
-            "results/{design}/figures/{sweep}_orbits.png",
+            results("figures", "{sweep}_orbits.png"),
             caption="../report/orbits.rst",
             category=category,
             subcategory=subcategory("sweep"),
             labels={"design": "{design}"},
         ),
-        caption="results/{design}/figures/{sweep}_orbits.png.txt",
+        caption=results("figures", "{sweep}_orbits.png.txt"),
     log:
-        "results/{design}/logs/figure_{sweep}_orbits.log",
+        logs("figure_{sweep}_orbits.log"),
     threads: 1
     params:
         sweep=config_slice("sweeps"),
@@ -50,9 +50,9 @@ rule orbit_attractors:
         cube=rules.sweep_merge.output[0],
         branches=rules.orbit_branches.output.data,
     output:
-        data="results/{design}/orbits/{sweep}_attractors.nc",
+        data=results("orbits", "{sweep}_attractors.nc"),
     log:
-        "results/{design}/logs/attractors_{sweep}.log",
+        logs("attractors_{sweep}.log"),
     threads: 1
     params:
         spec=config_slice("orbits"),
@@ -62,10 +62,12 @@ rule orbit_attractors:
 
 
 ORBIT_TARGETS = (
-    runs_for("orbits", "results/{design}/orbits/{name}_branches.nc")
-    + runs_for("orbits", "results/{design}/orbits/{name}_bifurcations.csv")
-    + runs_for("orbits", "results/{design}/figures/{name}_orbits.png")
-    + runs_for("orbits", "results/{design}/orbits/{name}_attractors.nc")
+    runs_for(
+        "orbits",
+        *rules.orbit_branches.output,
+        rules.orbit_figure.output.figure,
+        *rules.orbit_attractors.output,
+    )
     if config.get("orbits")
     else []
 )

@@ -2,15 +2,20 @@
 # transmission error of the p-d pair and tip relief, and the forced response to that TE against speed, for every
 # plus design in the config. Tables and figures carry the paper's numbers (table02_, fig04_, sec4_ ...) for a
 # design that names a paper and descriptive names for one of your own; each rule of a pair serves one of them.
+# A pair is one rule statement, written once in the loop below for disjoint sets of designs, so for every
+# design exactly one rule writes each file. The loop's rules read their own pair's outputs; the forced
+# response, shared by both schemes, reads the TE of either relief rule (TE_DATA, the path both write).
+
+TE_DATA = results("data", "te.nc")
 
 
 rule plus_landscape:
     input:
         design=design_file,
     output:
-        landscape="results/{design}/data/relief_landscape.nc",
+        landscape=results("data", "relief_landscape.nc"),
     log:
-        "results/{design}/logs/landscape.log",
+        logs("landscape.log"),
     threads: 1
     script:
         "../scripts/plus_landscape.py"
@@ -19,19 +24,19 @@ rule plus_landscape:
 rule plus_forced_response:
     input:
         design=design_file,
-        te="results/{design}/data/te.nc",
+        te=TE_DATA,
     output:
-        data="results/{design}/data/forced_response.nc",
+        data=results("data", "forced_response.nc"),
         figure=report(
-            "results/{design}/figures/forced_response.png",
+            results("figures", "forced_response.png"),
             caption="../report/plus_forced_response.rst",
             category=category,
             subcategory="Forced response across speed",
             labels={"design": "{design}"},
         ),
-        caption="results/{design}/figures/forced_response.png.txt",
+        caption=results("figures", "forced_response.png.txt"),
     log:
-        "results/{design}/logs/forced_response.log",
+        logs("forced_response.log"),
     threads: 1
     script:
         "../scripts/plus_forced_response.py"
@@ -74,7 +79,7 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
         input:
             design=design_file,
         output:
-            modal="results/{design}/data/modal.nc",
+            modal=results("data", "modal.nc"),
             table02_csv=report(
                 f"{_t02}.csv",
                 caption="../report/plus_table.rst",
@@ -96,7 +101,7 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
             ),
             table05_md=f"{_t05}.md",
         log:
-            "results/{design}/logs/modal.log",
+            logs("modal.log"),
         wildcard_constraints:
             design=either(_designs, "no-design"),
         threads: 1
@@ -108,7 +113,7 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
             f"plus_modal_figures{_suffix}"
         input:
             design=design_file,
-            modal="results/{design}/data/modal.nc",
+            modal=getattr(rules, f"plus_modal{_suffix}").output.modal,
         output:
             fig06=report(
                 _f06,
@@ -139,7 +144,7 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
             ),
             fig07b_caption=f"{_f07b}.txt",
         log:
-            "results/{design}/logs/modal_figures.log",
+            logs("modal_figures.log"),
         wildcard_constraints:
             design=either(_designs, "no-design"),
         threads: 1
@@ -152,7 +157,7 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
         input:
             design=design_file,
         output:
-            te="results/{design}/data/te.nc",
+            te=TE_DATA,
             optima_csv=report(
                 f"{_optima}.csv",
                 caption="../report/plus_table.rst",
@@ -166,7 +171,7 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
             load_csv=f"{_load}.csv",
             load_md=f"{_load}.md",
         log:
-            "results/{design}/logs/relief.log",
+            logs("relief.log"),
         wildcard_constraints:
             design=either(_designs, "no-design"),
         threads: 1
@@ -178,9 +183,9 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
             f"plus_te_figures{_suffix}"
         input:
             design=design_file,
-            te="results/{design}/data/te.nc",
+            te=getattr(rules, f"plus_relief{_suffix}").output.te,
             landscape=rules.plus_landscape.output.landscape,
-            optima_csv=f"{_optima}.csv",
+            optima_csv=getattr(rules, f"plus_relief{_suffix}").output.optima_csv,
         output:
             fig04=report(
                 _f04,
@@ -211,7 +216,7 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
             ),
             fig09b_caption=f"{_f09b}.txt",
         log:
-            "results/{design}/logs/te_figures.log",
+            logs("te_figures.log"),
         wildcard_constraints:
             design=either(_designs, "no-design"),
         threads: 1

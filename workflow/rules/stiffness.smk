@@ -6,9 +6,9 @@ rule stiffness_table:
     input:
         design=design_file,
     output:
-        "results/{design}/data/stiffness_table.nc",
+        results("data", "stiffness_table.nc"),
     log:
-        "results/{design}/logs/stiffness_table.log",
+        logs("stiffness_table.log"),
     threads: 1
     params:
         spec=config_slice("stiffness_table"),
@@ -16,9 +16,7 @@ rule stiffness_table:
         "../scripts/stiffness_table.py"
 
 
-STIFFNESS_TARGETS = per_design(
-    ["results/{design}/data/stiffness_table.nc"], KHV_DESIGNS
-)
+STIFFNESS_TARGETS = per_design(rules.stiffness_table.output, KHV_DESIGNS)
 
 for _scheme, _designs in naming_schemes("khv"):
     _rule = name_of(_scheme, "stiffness_figures", "stiffness_figures_own")
@@ -65,7 +63,7 @@ for _scheme, _designs in naming_schemes("khv"):
                 labels={"design": "{design}"},
             ),
         log:
-            "results/{design}/logs/stiffness_figures.log",
+            logs("stiffness_figures.log"),
         wildcard_constraints:
             design=either(_designs, "no-design"),
         threads: 1

@@ -6,9 +6,9 @@ rule sweep_chunk:
     input:
         design=design_file,
     output:
-        temp("results/{design}/sweeps/{sweep}/chunk_{chunk}.nc"),
+        temp(results("sweeps", "{sweep}", "chunk_{chunk}.nc")),
     log:
-        "results/{design}/logs/sweep_{sweep}_{chunk}.log",
+        logs("sweep_{sweep}_{chunk}.log"),
     threads: 1
     params:
         spec=config_slice("sweeps"),
@@ -19,13 +19,11 @@ rule sweep_chunk:
 rule sweep_merge:
     input:
         design=design_file,
-        chunks=chunk_files(
-            "sweeps", "results/{design}/sweeps/{name}/chunk_{chunk}.nc", sweep_chunks
-        ),
+        chunks=chunk_files("sweeps", rules.sweep_chunk.output[0], sweep_chunks),
     output:
-        "results/{design}/sweeps/{sweep}.nc",
+        results("sweeps", "{sweep}.nc"),
     log:
-        "results/{design}/logs/sweep_{sweep}_merge.log",
+        logs("sweep_{sweep}_merge.log"),
     threads: 1
     params:
         spec=config_slice("sweeps"),
@@ -39,15 +37,15 @@ rule bifurcation_figure:
         cube=rules.sweep_merge.output[0],
     output:
         figure=report(
-            "results/{design}/figures/{sweep}.png",
+            results("figures", "{sweep}.png"),
             caption="../report/bifurcation.rst",
             category=category,
             subcategory=subcategory("sweep"),
             labels={"design": "{design}"},
         ),
-        caption="results/{design}/figures/{sweep}.png.txt",
+        caption=results("figures", "{sweep}.png.txt"),
     log:
-        "results/{design}/logs/figure_{sweep}.log",
+        logs("figure_{sweep}.log"),
     threads: 1
     params:
         spec=config_slice("sweeps"),
@@ -59,9 +57,9 @@ rule point_runs:
     input:
         design=design_file,
     output:
-        data="results/{design}/points/{points}.nc",
+        data=results("points", "{points}.nc"),
     log:
-        "results/{design}/logs/points_{points}.log",
+        logs("points_{points}.log"),
     threads: 1
     params:
         spec=config_slice("points"),
@@ -75,15 +73,15 @@ rule point_figure:
         data=rules.point_runs.output.data,
     output:
         figure=report(
-            "results/{design}/figures/{points}.png",
+            results("figures", "{points}.png"),
             caption="../report/points.rst",
             category=category,
             subcategory=subcategory("points"),
             labels={"design": "{design}"},
         ),
-        caption="results/{design}/figures/{points}.png.txt",
+        caption=results("figures", "{points}.png.txt"),
     log:
-        "results/{design}/logs/figure_{points}.log",
+        logs("figure_{points}.log"),
     threads: 1
     params:
         spec=config_slice("points"),
@@ -91,9 +89,6 @@ rule point_figure:
         "../scripts/point_figure.py"
 
 
-SWEEP_TARGETS = (
-    runs_for("sweeps", "results/{design}/sweeps/{name}.nc")
-    + runs_for("sweeps", "results/{design}/figures/{name}.png")
-    + runs_for("points", "results/{design}/points/{name}.nc")
-    + runs_for("points", "results/{design}/figures/{name}.png")
-)
+SWEEP_TARGETS = runs_for(
+    "sweeps", rules.sweep_merge.output[0], rules.bifurcation_figure.output.figure
+) + runs_for("points", rules.point_runs.output.data, rules.point_figure.output.figure)

@@ -72,6 +72,14 @@ FIG12_LABELS: tuple[tuple[str, float, int | str], ...] = (
     ("12b", 0.761, "QP|chaos"),
     ("12c", 0.83, "QP|chaos"),
 )
+#: The runs of the workflow's config the claims read, by their argument of geardyn.claims.claims:
+#: (config section, entry name) of the Fig. 7, 9 and 11 sweeps and of the Fig. 8 dense runs.
+CLAIM_RUNS: dict[str, tuple[str, str]] = {
+    "fig07": ("sweeps", "fig07_bifurcation_x1"),
+    "fig09": ("sweeps", "fig09_bifurcation_b"),
+    "fig11": ("sweeps", "fig11_bifurcation_e"),
+    "fig08_points": ("points", "fig08_points_x1"),
+}
 #: Fig. 5: the three x1 values of the k(t) curves.
 FIG05_X1: tuple[float, ...] = (0.416, 0.626, 0.835)
 #: Fig. 8c: the spectral peaks at x1 = 0.585, in multiples of the mesh frequency.
