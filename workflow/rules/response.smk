@@ -6,17 +6,17 @@ rule frequency_response:
     input:
         design=design_file,
     output:
-        cube="results/{design}/response/{response}.nc",
+        cube=results("response", "{response}.nc"),
         figure=report(
-            "results/{design}/figures/{response}.png",
+            results("figures", "{response}.png"),
             caption="../report/frequency_response.rst",
             category=category,
             subcategory="Frequency response",
             labels={"design": "{design}"},
         ),
-        caption="results/{design}/figures/{response}.png.txt",
+        caption=results("figures", "{response}.png.txt"),
     log:
-        "results/{design}/logs/response_{response}.log",
+        logs("response_{response}.log"),
     threads: 2
     params:
         spec=config_slice("responses"),
@@ -25,5 +25,7 @@ rule frequency_response:
 
 
 RESPONSE_TARGETS = runs_for(
-    "responses", "results/{design}/response/{name}.nc"
-) + runs_for("responses", "results/{design}/figures/{name}.png")
+    "responses",
+    rules.frequency_response.output.cube,
+    rules.frequency_response.output.figure,
+)
