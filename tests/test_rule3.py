@@ -69,7 +69,9 @@ def test_early_stop_finds_the_cycle_after_confirm_periods(n):
     ring, count, dcur = np.empty((max_n + 1, 6)), np.zeros(max_n + 1, np.int64), np.full(max_n + 1, np.inf)
     seen, found = 0, []
     for k in range(n + confirm + 3):
-        seen, stop = _period.early_stop(ring, count, dcur, seen, cyc[k % n], max_n, 1e-5, 1e-7, 10.0, confirm, True)
+        seen, stop = _period.early_stop(
+            ring, count, dcur, seen, cyc[k % n], (0, confirm, max_n, 1e-5, 1e-7, 10.0), True
+        )
         found.append(stop)
     assert found.index(n) == n + confirm - 1 and set(found[: n + confirm - 1]) == {0}
     ring, count, dcur = np.empty((max_n + 1, 6)), np.zeros(max_n + 1, np.int64), np.full(max_n + 1, np.inf)
@@ -77,6 +79,6 @@ def test_early_stop_finds_the_cycle_after_confirm_periods(n):
     for k in range(60):
         y = np.zeros(6)
         y[:2] = 2e-5 * 0.999**k * np.array([np.cos(2 * np.pi * k / 3), np.sin(2 * np.pi * k / 3)])
-        seen, stop = _period.early_stop(ring, count, dcur, seen, y, max_n, 1e-5, 1e-7, 10.0, confirm, True)
+        seen, stop = _period.early_stop(ring, count, dcur, seen, y, (0, confirm, max_n, 1e-5, 1e-7, 10.0), True)
         stops.add(stop)
     assert stops == {0} and count[3] > confirm and 1e-5 < dcur[1] < 1e-4

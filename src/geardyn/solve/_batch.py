@@ -42,49 +42,19 @@ from geardyn.solve.base import BACKLASH_ON, B, T
 
 
 @njit(cache=True, parallel=True)
-def run_batch(
-    C,
-    H,
-    S,
-    SEG,
-    K,
-    P,
-    POLY,
-    Y0,
-    NTRANS,
-    NREC,
-    event,
-    LIMITS,
-    W,
-    NTAN,
-    renorm,
-    GROWTH,
-    STROBE,
-    POINC,
-    YFINAL,
-    es_min,
-    es_confirm,
-    es_max_n,
-    es_floor,
-    es_atol,
-    es_sep,
-    OUT,
-):
+def run_batch(C, TABS, Y0, NTRANS, NREC, event, LIMITS, W, NTAN, renorm, GROWTH, STROBE, POINC, YFINAL, ES, OUT):
     """:func:`geardyn.solve._kernel.run` (no dense output) for every lane l (arrays indexed by l first),
     in parallel over lanes.
 
     W (L, 6, m) is updated in place; OUT (L, 5) int64 gets (status, last_period, n_events,
-    transient_used, stop_period)."""
+    transient_used, stop_period).  TABS: the lane tables (H, S, SEG, K, P, POLY); ES: the early stop of
+    :func:`geardyn.solve._kernel.run`."""
+    H, S, SEG, K, P, POLY = TABS
     n_lanes = C.shape[0]
     for lane in prange(n_lanes):
         st, per, nev, _, used, stop_n = run(
             C[lane],
-            H[lane],
-            S[lane],
-            SEG[lane],
-            K[lane],
-            P[lane],
-            POLY[lane],
+            (H[lane], S[lane], SEG[lane], K[lane], P[lane], POLY[lane]),
             Y0[lane],
             NTRANS[lane],
             NREC[lane],
@@ -100,12 +70,7 @@ def run_batch(
             GROWTH[lane],
             STROBE[lane],
             YFINAL[lane],
-            es_min,
-            es_confirm,
-            es_max_n,
-            es_floor,
-            es_atol,
-            es_sep,
+            ES,
         )
         OUT[lane, 0] = st
         OUT[lane, 1] = per
@@ -132,42 +97,20 @@ def _lanes(A, tan):
     called inside the loop.)  Inlined into :func:`_vstep` and :func:`_vstep_tan` with ``tan`` a
     constant: with a run-time flag the compiler computes the tangent for every step and masks it."""
     for q in range(WIDTH):
-        k = (
-            A[q],
-            A[WIDTH + q],
-            A[2 * WIDTH + q],
-            A[3 * WIDTH + q],
-            A[4 * WIDTH + q],
-            A[5 * WIDTH + q],
-            A[6 * WIDTH + q],
-            A[7 * WIDTH + q],
-            A[8 * WIDTH + q],
-            A[9 * WIDTH + q],
-            A[10 * WIDTH + q],
-            A[11 * WIDTH + q],
-            A[12 * WIDTH + q],
-        )
+        # fmt: off
+        k = (A[q], A[WIDTH + q], A[2 * WIDTH + q], A[3 * WIDTH + q], A[4 * WIDTH + q], A[5 * WIDTH + q],
+             A[6 * WIDTH + q], A[7 * WIDTH + q], A[8 * WIDTH + q], A[9 * WIDTH + q], A[10 * WIDTH + q],
+             A[11 * WIDTH + q], A[12 * WIDTH + q])
+        # fmt: on
         b = A[13 * WIDTH + q]
         h = A[14 * WIDTH + q]
         k0, k1, k2 = A[15 * WIDTH + q], A[16 * WIDTH + q], A[17 * WIDTH + q]
         x2 = A[22 * WIDTH + q]
-        n1, n2, n3, n4, n5, n6, X2, Z2, Q2 = rk4(
-            k,
-            b,
-            h,
-            k0,
-            k1,
-            k2,
-            A[18 * WIDTH + q],
-            A[19 * WIDTH + q],
-            A[20 * WIDTH + q],
-            A[21 * WIDTH + q],
-            x2,
-            A[23 * WIDTH + q],
-            A[24 * WIDTH + q],
-            A[25 * WIDTH + q],
-            A[26 * WIDTH + q],
-        )
+        # fmt: off
+        n1, n2, n3, n4, n5, n6, X2, Z2, Q2 = rk4(k, b, h, k0, k1, k2, A[18 * WIDTH + q], A[19 * WIDTH + q],
+                                                 A[20 * WIDTH + q], A[21 * WIDTH + q], x2, A[23 * WIDTH + q],
+                                                 A[24 * WIDTH + q], A[25 * WIDTH + q], A[26 * WIDTH + q])
+        # fmt: on
         A[27 * WIDTH + q] = n1
         A[28 * WIDTH + q] = n2
         A[29 * WIDTH + q] = n3
@@ -176,20 +119,11 @@ def _lanes(A, tan):
         A[32 * WIDTH + q] = n6
         if tan:
             on = A[45 * WIDTH + q]
-            w = rk4_tangent(
-                k,
-                h,
-                k0 * slope(on, b, x2),
-                k1 * slope(on, b, X2),
-                k1 * slope(on, b, Z2),
-                k2 * slope(on, b, Q2),
-                A[33 * WIDTH + q],
-                A[34 * WIDTH + q],
-                A[35 * WIDTH + q],
-                A[36 * WIDTH + q],
-                A[37 * WIDTH + q],
-                A[38 * WIDTH + q],
-            )
+            # fmt: off
+            w = rk4_tangent(k, h, k0 * slope(on, b, x2), k1 * slope(on, b, X2), k1 * slope(on, b, Z2),
+                            k2 * slope(on, b, Q2), A[33 * WIDTH + q], A[34 * WIDTH + q], A[35 * WIDTH + q],
+                            A[36 * WIDTH + q], A[37 * WIDTH + q], A[38 * WIDTH + q])
+            # fmt: on
             A[39 * WIDTH + q] = w[0]
             A[40 * WIDTH + q] = w[1]
             A[41 * WIDTH + q] = w[2]
@@ -238,27 +172,11 @@ def _switch(C, POLY, H, S, SEG, A, q, ln, j, reg, rnew, tan, y1, y2, ytmp, Wa, W
     """Lane q (point ln), whose plain step j left contact region ``reg`` for ``rnew``: the contact switches
     of :func:`geardyn.solve._kernel.locate_switches` (and of its tangent column when ``tan``), written
     back into A.  Returns (region at the end of the step, number of crossings)."""
-    c = (
-        C[ln, 0],
-        C[ln, 1],
-        C[ln, 2],
-        C[ln, 3],
-        C[ln, 4],
-        C[ln, 5],
-        C[ln, 6],
-        C[ln, 7],
-        C[ln, 8],
-        C[ln, 9],
-        C[ln, 10],
-        C[ln, 11],
-        C[ln, 12],
-        C[ln, 13],
-        C[ln, 14],
-        C[ln, 15],
-        C[ln, 16],
-        C[ln, 17],
-        C[ln, 18],
-    )
+    # fmt: off
+    c = (C[ln, 0], C[ln, 1], C[ln, 2], C[ln, 3], C[ln, 4], C[ln, 5], C[ln, 6], C[ln, 7], C[ln, 8],
+         C[ln, 9], C[ln, 10], C[ln, 11], C[ln, 12], C[ln, 13], C[ln, 14], C[ln, 15], C[ln, 16],
+         C[ln, 17], C[ln, 18])
+    # fmt: on
     mt = 1 if tan else 0
     for i in range(6):
         y1[i] = A[(21 + i) * WIDTH + q]
@@ -277,34 +195,7 @@ def _switch(C, POLY, H, S, SEG, A, q, ln, j, reg, rnew, tan, y1, y2, ytmp, Wa, W
 
 
 @njit(cache=True)
-def _block(
-    C,
-    H,
-    S,
-    SEG,
-    K,
-    P,
-    POLY,
-    Y0,
-    NTRANS,
-    NREC,
-    lanes,
-    event,
-    LIMITS,
-    POINC,
-    YFINAL,
-    es_min,
-    es_confirm,
-    es_max_n,
-    es_floor,
-    es_atol,
-    es_sep,
-    OUT,
-    W,
-    NTAN,
-    GROWTH,
-    STROBE,
-):
+def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE):
     """Lanes ``lanes`` (<= WIDTH of them) stepped in lockstep, structure of arrays (state (6, WIDTH)):
     the plain RK4 step of every lane is one loop over the lanes that the compiler vectorises (the dead
     zone as selects, no branch); a lane whose step changed contact region is then corrected alone by
@@ -312,6 +203,8 @@ def _block(
     :func:`geardyn.solve._kernel.run` (:func:`~geardyn.solve._kernel.diverged`,
     :func:`~geardyn.solve._kernel.record`, :func:`geardyn.solve._period.early_stop`), lane by lane, so
     each lane's result is bit-identical to the scalar loop's."""
+    H, S, SEG, K, P, POLY = TABS
+    es_min, es_confirm, es_max_n = ES[0], ES[1], ES[2]
     nl = lanes.shape[0]
     nsteps = H.shape[1]
     Wd = WIDTH
@@ -400,19 +293,8 @@ def _block(
             for i in range(6):
                 A[(33 + i) * Wd + q] = Wl[i, 0]
             if per < n_tr[q] and es_confirm > 0:
-                n_seen[q], stop_n[q] = early_stop(
-                    ring[q],
-                    count[q],
-                    dcur,
-                    n_seen[q],
-                    y,
-                    es_max_n,
-                    es_floor,
-                    es_atol,
-                    es_sep,
-                    es_confirm,
-                    per + 1 >= es_min and per + 1 < n_tr[q],
-                )
+                check = per + 1 >= es_min and per + 1 < n_tr[q]
+                n_seen[q], stop_n[q] = early_stop(ring[q], count[q], dcur, n_seen[q], y, ES, check)
                 if stop_n[q] > 0:
                     n_end[q] = per + 1 + (n_end[q] - n_tr[q])
                     n_tr[q] = per + 1
@@ -435,68 +317,15 @@ def _finish(out, yfinal, y, status, last_period, n_events, used, stop_n):
 
 
 @njit(cache=True, parallel=True)
-def run_blocks(
-    C,
-    H,
-    S,
-    SEG,
-    K,
-    P,
-    POLY,
-    Y0,
-    NTRANS,
-    NREC,
-    event,
-    LIMITS,
-    POINC,
-    YFINAL,
-    es_min,
-    es_confirm,
-    es_max_n,
-    es_floor,
-    es_atol,
-    es_sep,
-    OUT,
-    W,
-    NTAN,
-    GROWTH,
-    STROBE,
-):
-    """:func:`geardyn.solve._kernel.run` (no tangent, or one renormalised tangent column: W (L, 6, 0 or 1)) for every lane,
-    WIDTH lanes in lockstep per block
-    (:func:`_block`), blocks in parallel.  Blocks are consecutive lanes; results do not depend on it."""
+def run_blocks(C, TABS, Y0, NTRANS, NREC, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE):
+    """:func:`geardyn.solve._kernel.run` (no tangent, or one renormalised tangent column: W (L, 6, 0 or 1))
+    for every lane, WIDTH lanes in lockstep per block (:func:`_block`), blocks in parallel.  Blocks are
+    consecutive lanes; results do not depend on it."""
     n_lanes = C.shape[0]
     n_blocks = (n_lanes + WIDTH - 1) // WIDTH
     for blk in prange(n_blocks):
         lanes = np.arange(blk * WIDTH, min(n_lanes, (blk + 1) * WIDTH))
-        _block(
-            C,
-            H,
-            S,
-            SEG,
-            K,
-            P,
-            POLY,
-            Y0,
-            NTRANS,
-            NREC,
-            lanes,
-            event,
-            LIMITS,
-            POINC,
-            YFINAL,
-            es_min,
-            es_confirm,
-            es_max_n,
-            es_floor,
-            es_atol,
-            es_sep,
-            OUT,
-            W,
-            NTAN,
-            GROWTH,
-            STROBE,
-        )
+        _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE)
 
 
 @njit(cache=True)

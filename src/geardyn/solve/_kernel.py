@@ -174,15 +174,14 @@ def locate_switches(c, poly, y, ynew, W, Wnew, mt, ytmp, Wtmp, h, s0, seg, reg, 
     return rnew, n_events
 
 
+#: The early-stop tuple of :func:`run` that stops nothing: (es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep).
+NO_EARLY_STOP = (0, 0, 1, 0.0, 0.0, 0.0)
+
+
 @njit(cache=True, nogil=True)
 def run(
     c,
-    tab_h,
-    tab_s,
-    tab_seg,
-    tab_k,
-    tab_p,
-    poly,
+    tabs,
     y0,
     n_trans,
     n_rec,
@@ -198,12 +197,7 @@ def run(
     growth,
     strobe,
     yfinal,
-    es_min,
-    es_confirm,
-    es_max_n,
-    es_floor,
-    es_atol,
-    es_sep,
+    es,
 ):
     """Integrate n_trans + n_rec mesh periods from y0 (phase 0): the one loop of the solver.
 
@@ -215,7 +209,10 @@ def run(
     to the state n_tan periods before the end.  limits (6,): a run whose |y_i| exceeds limits[i] (or
     is not finite) at a period end has diverged.
 
-    Early stop (``es_confirm > 0``): from period ``es_min`` on, the transient ends once the return
+    tabs: the step tables (h, s, seg, k, p, poly) of :func:`geardyn.solve.simulate.step_tables`.
+
+    Early stop (``es`` = (es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep), on when
+    ``es_confirm > 0``; :data:`NO_EARLY_STOP` is off): from period ``es_min`` on, the transient ends once the return
     distance of the stroboscopic points after some n <= es_max_n stays within
     max(es_atol max(|p|, 1), es_floor) for es_confirm consecutive periods, for the smallest such n
     whose cycle points are distinct (d_m > es_sep tol for m < n: rule 3 of the classifier,
@@ -226,27 +223,12 @@ def run(
     1 diverged; stop_period: the n of the early stop (0: the transient ran to its end).
     """
     # coefficients as a tuple: numba keeps them in registers instead of reloading the array
-    c = (
-        c[0],
-        c[1],
-        c[2],
-        c[3],
-        c[4],
-        c[5],
-        c[6],
-        c[7],
-        c[8],
-        c[9],
-        c[10],
-        c[11],
-        c[12],
-        c[13],
-        c[14],
-        c[15],
-        c[16],
-        c[17],
-        c[18],
-    )
+    # fmt: off
+    c = (c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9], c[10], c[11], c[12], c[13],
+         c[14], c[15], c[16], c[17], c[18])
+    # fmt: on
+    tab_h, tab_s, tab_seg, tab_k, tab_p, poly = tabs
+    es_min, es_confirm, es_max_n = es[0], es[1], es[2]
     nsteps = tab_h.shape[0]
     period = c[T]
     b = c[B]
@@ -321,19 +303,7 @@ def run(
             per - n_tr if per >= n_tr else -1,
         )
         if per < n_tr and es_confirm > 0:
-            n_seen, stop_n = early_stop(
-                ring,
-                count,
-                dcur,
-                n_seen,
-                y,
-                es_max_n,
-                es_floor,
-                es_atol,
-                es_sep,
-                es_confirm,
-                per + 1 >= es_min and per + 1 < n_tr,
-            )
+            n_seen, stop_n = early_stop(ring, count, dcur, n_seen, y, es, per + 1 >= es_min and per + 1 < n_tr)
             if stop_n > 0:
                 n_tr = per + 1
         per += 1

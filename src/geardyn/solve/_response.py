@@ -78,10 +78,12 @@ def region_times(x0, x1, v0, v1, h, b, times):
 
 
 @njit(cache=True, nogil=True)
-def accumulate(c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly, y0, n_periods, event, limits, sgn, out):
+def accumulate(c, tabs, y0, n_periods, event, limits, sgn, out):
     """Integrate ``n_periods`` mesh periods from y0 (phase 0) and fill ``out`` (:data:`N_OUT`,) with the
     sums named by the layout above; ``sgn``: +1 or -1, the side of the static contact.  ``out[STATUS]``:
-    0 bounded, 1 diverged (the sums then cover the periods before)."""
+    0 bounded, 1 diverged (the sums then cover the periods before).  tabs: the step tables of
+    :func:`geardyn.solve._kernel.run`."""
+    tab_h, tab_s, tab_seg, tab_k, tab_p, poly = tabs
     nsteps = tab_h.shape[0]
     on = c[BACKLASH_ON]
     b = c[B] if on != 0.0 else 0.0

@@ -125,13 +125,11 @@ def response_measures(
     f_s = static_mesh_force(system)
     if y0.shape != (6,) or not np.all(np.isfinite(y0)):
         return ResponseMeasures.not_computed(f_s)
-    c, h, s, seg, tk, tp, poly = step_tables(system, settings.steps_per_period, settings.aligned)
+    c, *tabs = step_tables(system, settings.steps_per_period, settings.aligned)
     sgn = -1.0 if f_s < 0.0 else 1.0
     out = np.empty(_acc.N_OUT)
-    _acc.accumulate(
-        c, h, s, seg, tk, tp, poly, y0, n_per, settings.integrator == "rk4_event",
-        divergence_limits(system, settings), sgn, out,
-    )  # fmt: skip
+    event = settings.integrator == "rk4_event"
+    _acc.accumulate(c, tuple(tabs), y0, n_per, event, divergence_limits(system, settings), sgn, out)
     if out[_acc.STATUS] != 0.0:
         return ResponseMeasures.not_computed(f_s)
     return _reduce(out, f_s, sgn, n_per)

@@ -107,7 +107,7 @@ def simulate(
     if tangent_periods and monodromy_periods:
         raise ValueError("carry either a tangent vector (tangent_periods) or the monodromy matrix, not both")
     n = settings.steps_per_period
-    c, tab_h, tab_s, tab_seg, tab_k, tab_p, poly = step_tables(system, n, settings.aligned)
+    c, *tabs = step_tables(system, n, settings.aligned)
     n_trans, n_rec = settings.transient_periods, settings.recorded_periods
     poinc = np.full((n_rec, 6), np.nan)
     stride = max(1, settings.dense_stride)
@@ -126,12 +126,7 @@ def simulate(
     strobe = np.full(n_var if tangent_periods else 0, np.nan)
     status, per, nev, ndense, _, _ = _kernel.run(
         c,
-        tab_h,
-        tab_s,
-        tab_seg,
-        tab_k,
-        tab_p,
-        poly,
+        tuple(tabs),
         y0,
         n_trans,
         n_rec,
@@ -147,12 +142,7 @@ def simulate(
         growth,
         strobe,
         final,
-        0,
-        0,
-        1,
-        0.0,
-        0.0,
-        0.0,  # no early stop
+        _kernel.NO_EARLY_STOP,
     )
     diverged = status == 1
     npts = max(0, per - n_trans) if diverged else n_rec
@@ -186,6 +176,17 @@ class EarlyStop:
     floor: float = 1.9e-5
     atol: float = 1e-7
     separation: float = 10.0
+
+    def as_kernel_args(self) -> tuple[int, int, int, float, float, float]:
+        """The early-stop tuple of the compiled loops (``es`` of :func:`geardyn.solve._kernel.run`)."""
+        return (
+            int(self.min_periods),
+            int(self.confirm),
+            int(self.max_n),
+            float(self.floor),
+            float(self.atol),
+            float(self.separation),
+        )
 
 
 @dataclass(frozen=True)
@@ -297,7 +298,7 @@ def simulate_batch(
     lt = lane_tables(systems, settings) if tables is None else tables
     if lt.H.shape != (L, n):
         raise ValueError(f"lane tables for {lt.H.shape[0]} points of {lt.H.shape[1]} steps, not {L} of {n}")
-    C, H, S, SEG, K, P, POLY, limits = lt.C, lt.H, lt.S, lt.SEG, lt.K, lt.P, lt.POLY, lt.limits
+    C, TABS, limits = lt.C, (lt.H, lt.S, lt.SEG, lt.K, lt.P, lt.POLY), lt.limits
     Y0 = np.empty((L, 6))
     for lane, system in enumerate(systems):
         x = None if x0 is None else x0[lane]
@@ -319,64 +320,13 @@ def simulate_batch(
     poinc = np.full((L, int(nrec.max()), 6), np.nan)
     final = np.empty((L, 6))
     out = np.zeros((L, 5), np.int64)
-    es = early_stop
+    es = _kernel.NO_EARLY_STOP if early_stop is None else early_stop.as_kernel_args()
+    event = settings.integrator == "rk4_event"
     if m <= 1 and lockstep:
-        _batch.run_blocks(
-            C,
-            H,
-            S,
-            SEG,
-            K,
-            P,
-            POLY,
-            Y0,
-            ntr,
-            nrec,
-            settings.integrator == "rk4_event",
-            limits,
-            poinc,
-            final,
-            es.min_periods if es else 0,
-            es.confirm if es else 0,
-            es.max_n if es else 1,
-            es.floor if es else 0.0,
-            es.atol if es else 0.0,
-            es.separation if es else 0.0,
-            out,
-            W,
-            ntan,
-            growth,
-            strobe,
-        )
+        _batch.run_blocks(C, TABS, Y0, ntr, nrec, event, limits, poinc, final, es, out, W, ntan, growth, strobe)
     else:
-        _batch.run_batch(
-            C,
-            H,
-            S,
-            SEG,
-            K,
-            P,
-            POLY,
-            Y0,
-            ntr,
-            nrec,
-            settings.integrator == "rk4_event",
-            limits,
-            W,
-            ntan,
-            bool(tangent_periods),
-            growth,
-            strobe,
-            poinc,
-            final,
-            es.min_periods if es else 0,
-            es.confirm if es else 0,
-            es.max_n if es else 1,
-            es.floor if es else 0.0,
-            es.atol if es else 0.0,
-            es.separation if es else 0.0,
-            out,
-        )
+        tan = bool(tangent_periods)
+        _batch.run_batch(C, TABS, Y0, ntr, nrec, event, limits, W, ntan, tan, growth, strobe, poinc, final, es, out)
     results = []
     for lane in range(L):
         status, per, nev, used, stop_n = (int(v) for v in out[lane])
