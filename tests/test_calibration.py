@@ -1,4 +1,5 @@
-"""Calibration search: the slow-transient check of the one classification path, the claims objective, the cached resumable
+"""Calibration search: the slow-transient check of the one classification path, the claims objective, the cached
+resumable
 search, and the provenance of the committed calibrated design."""
 
 from __future__ import annotations
@@ -8,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from _oracle import rules_label
 from geardyn import claims as C
@@ -18,7 +20,10 @@ from geardyn.khv import design, point
 from geardyn.label import Policy, label_lines, label_points
 from geardyn.label import settle as S
 from geardyn.papers import li2013 as paper
+from geardyn.plots import captions
+from geardyn.runs.points import dense_points
 from geardyn.solve import SimulationSettings
+from geardyn.testing import Job, run_script
 
 ROOT = Path(__file__).resolve().parents[1]
 FULL = SimulationSettings(steps_per_period=512, transient_periods=500, recorded_periods=100)
@@ -74,7 +79,9 @@ def test_settle_of_many_points_is_settle_of_each(li2013):
     labels = [cl.label for _, cl in runs[:3]] + [classify.LABELS["chaotic"], 1]
     lams = [cl.lyapunov for _, cl in runs[:3]] + [0.03, float("nan")]
     together = S.settle_points(systems, [r for r, _ in runs], labels, lams, FULL, cs)
-    alone = [S.settle(c, r, lab, lam, FULL, cs) for c, (r, _), lab, lam in zip(systems, runs, labels, lams)]
+    alone = [
+        S.settle(c, r, lab, lam, FULL, cs) for c, (r, _), lab, lam in zip(systems, runs, labels, lams, strict=True)
+    ]
     assert together == alone
     assert all(
         (t.state is None and a.state is None) or np.array_equal(t.state, a.state)
@@ -219,7 +226,6 @@ def test_committed_calibrated_design_is_the_search_output(name, require):
 
 
 def _config_calibration(name):
-    import yaml
 
     return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["calibration"][name]
 
@@ -309,8 +315,6 @@ def test_an_orbit_found_by_n_period_shooting_gets_its_least_period():
 def test_point_figures_carry_the_sweeps_label(li2013):
     """Figs. 8, 10, 12 label their points by the labeller, as the sweeps do, and draw the attractor it found
     (a Fig. 8 caption once said "not periodic" at a point the Fig. 7 colours and claims.md called P1)."""
-    from geardyn.plots import captions
-    from geardyn.runs.points import dense_points
 
     ds = dense_points(li2013, {"x1": 0.761, "e": 5.0, "w": 0.7}, [{"b": 0.83}, {"b": 2.0}], Policy(FULL))
     assert ds["label"].values.tolist() == [1, classify.LABELS["quasi_periodic"]]
@@ -361,7 +365,6 @@ def test_falling_return_distances_is_the_quarter_means_of_the_return_distances()
 def test_compare_script_reports_the_distance_to_the_committed_design(tmp_path):
     """workflow/scripts/calibration_compare.py: a search whose optimum moved w by 1 % of its range and
     scored 0.5 less is the same optimum as the committed li2013_route.yaml."""
-    from geardyn.testing import Job, run_script
 
     committed = (ROOT / "config" / "designs" / "li2013_route.yaml").read_text()
     result = committed_mod.result_of(committed)

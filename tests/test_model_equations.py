@@ -26,7 +26,7 @@ def _statements(block: str, macro=None) -> list[str]:
         call = re.fullmatch(r"RHS\((.*)\)", stmt)
         if call and macro is not None:
             args = dict(zip(macro[0], (f"({a.strip()})" for a in call[1].split(",")), strict=True))
-            out += [re.sub(r"\b\w+\b", lambda t: args.get(t[0], t[0]), line) for line in macro[1]]
+            out += [re.sub(r"\b\w+\b", lambda t, args=args: args.get(t[0], t[0]), line) for line in macro[1]]
         elif stmt and "=" in stmt:
             out += [part.strip() for part in re.split(r",\s*(?=[A-Za-z_]\w*\s*=)", stmt)]
     return out

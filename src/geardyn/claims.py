@@ -30,6 +30,9 @@ pipeline's ``claims.md`` (:func:`claims`, from the cubes) and the calibration ob
 
 from __future__ import annotations
 
+import csv
+import io
+import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -39,6 +42,7 @@ import numpy as np
 import xarray as xr
 
 from geardyn import classify
+from geardyn.plots.captions import spectral_peaks
 from geardyn.runs.cube import labels_of_cube
 
 RANGE_AGREE = 0.8
@@ -206,7 +210,6 @@ def peaks_claim(points: xr.Dataset | None, peaks: tuple[float, ...], x1: float =
     paper = ", ".join(f"{v:g}" for v in peaks)
     if points is None or f"x1={x1:g}" not in [str(c) for c in points["case"].values]:
         return Claim("fig08_peaks", "Fig. 8c", statement, paper, "no dense run", "not comparable", "point missing")
-    from geardyn.plots.captions import spectral_peaks
 
     d = points.sel(case=f"x1={x1:g}")
     if int(d["diverged"]) == 1:
@@ -429,7 +432,7 @@ def evaluate(
             f"{sum(ok)}/{len(ok)} cases show P1 first, then QP no later than the first chaos",
         )
     )
-    narrower = all(a > b for a, b in zip(sync, sync[1:], strict=False))
+    narrower = all(a > b for a, b in itertools.pairwise(sync))
     out.append(
         Claim(
             "fig11_sync_range",
@@ -469,8 +472,6 @@ def headline(rows: list[Claim]) -> str:
 
 
 def to_csv(rows: list[Claim]) -> str:
-    import csv
-    import io
 
     buf = io.StringIO()
     w = csv.writer(buf)

@@ -15,6 +15,8 @@ import numpy as np
 import yaml
 
 from geardyn.config import ConfigError, schema, validate
+from geardyn.gears import geometry as geo
+from geardyn.khv.closed_graph import CUTTER_DEPENDENT
 
 KINDS = {"khv": "khv.schema.json", "plus": "plus_planetary.schema.json"}
 
@@ -30,8 +32,6 @@ def admissible_segment(
 ) -> tuple[float, float]:
     """The longest x1 interval on line 4 (G_s = 0) where every cutter-independent constraint holds,
     trimmed by 2 % of its length at each end (x1 on a 0.002 grid from -1 to 2)."""
-    from geardyn.gears import geometry as geo
-    from geardyn.khv.closed_graph import CUTTER_DEPENDENT
 
     base = geo.GearPair(
         z1=z1,

@@ -542,7 +542,7 @@ def default_cutter(pair: GearPair) -> ShaperCutter:
     ha* + c*.  Paper 1 does not give the cutter; this is a documented assumption
     (docs/geometry.md), and the trimming and annulus-root margins depend strongly on it.
     """
-    z0 = max(10, int(round(100.0 / pair.module)))
+    z0 = max(10, round(100.0 / pair.module))
     if z0 >= pair.z2:
         z0 = pair.z2 // 2
     return ShaperCutter(teeth=z0, shift=0.0, addendum=None)

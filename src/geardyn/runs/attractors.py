@@ -18,7 +18,8 @@ so: their labels agree and
   norm) relative to max(1, size), size the largest extent of the two sets (two phases of one orbit agree
   to 1e-8; two distinct P1 orbits do not);
 * otherwise (quasi-periodic, chaotic, undetermined): centroids and bounding boxes of the Poincaré
-  sets agree within ``chaotic_distance_tol`` * max(1, size) (two finite samples of one cloud).  The basin fraction of an attractor is the share of the *random* starts that
+  sets agree within ``chaotic_distance_tol`` * max(1, size) (two finite samples of one cloud).  The basin fraction of
+  an attractor is the share of the *random* starts that
 reach it (a Monte-Carlo estimate over the box; with ``n_random`` starts its standard error is about
 sqrt(f (1 - f) / n_random)).
 """
@@ -31,10 +32,13 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import xarray as xr
 
 from geardyn import classify
 from geardyn.config import settings_from
+from geardyn.khv import point
 from geardyn.label import Policy, compare, label_points
+from geardyn.runs.continuation import branches_from_dataset
 from geardyn.solve.base import SimulationSettings, System
 
 
@@ -213,7 +217,6 @@ def attractors_dataset(
     case_labels: Sequence[str] = ("base",),
 ):
     """Attractors at each of ``points`` as one CF dataset (dimension ``point``)."""
-    import xarray as xr
 
     fixed_names = ["static", "up", "down"] + [f"random_{k}" for k in range(settings.n_random)]
     per_point = []
@@ -293,7 +296,9 @@ def attractors_dataset(
             lyap,
             {
                 **one,
-                "long_name": "largest exponent per unit tau (Floquet for periodic attractors, tangent vector otherwise)",
+                "long_name": (
+                    "largest exponent per unit tau (Floquet for periodic attractors, tangent vector otherwise)"
+                ),
             },
         ),
         "basin_fraction": (
@@ -342,8 +347,6 @@ def sweep_attractors(
 ):
     """Attractors at a subset of a sweep's points (``every`` / ``at`` in ``attractor_spec``, the rest
     are :class:`AttractorSettings`), every case; the branches come from the orbits dataset."""
-    from geardyn.khv import point
-    from geardyn.runs.continuation import branches_from_dataset
 
     spec_map = dict(attractor_spec)
     every = spec_map.pop("every", None)

@@ -462,7 +462,8 @@ def run_blocks(
     GROWTH,
     STROBE,
 ):
-    """:func:`geardyn.solve._kernel.run` (no tangent, or one renormalised tangent column: W (L, 6, 0 or 1)) for every lane,
+    """:func:`geardyn.solve._kernel.run` (no tangent, or one renormalised tangent column: W (L, 6, 0 or 1)) for every
+    lane,
     WIDTH lanes in lockstep per block
     (:func:`_block`), blocks in parallel.  Blocks are consecutive lanes; results do not depend on it."""
     n_lanes = C.shape[0]
@@ -509,7 +510,7 @@ def fill_tables(lane, eps, period, te, phi, poly, n, H, S, SEG, K, P):
             S[lane, k] = k / n
             SEG[lane, k] = 1
     else:
-        n1 = min(max(1, int(round(n * e1))), n - 1)
+        n1 = min(max(1, round(n * e1)), n - 1)
         a = e1 / n1
         bb = (1.0 - e1) / (n - n1)
         for k in range(n1):
