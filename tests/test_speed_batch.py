@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from _oracle import rules_label
+from benchmarks.work_precision import cases
 from geardyn import classify
-from geardyn.bench import cases
 from geardyn.label import Policy, label_points
 from geardyn.solve import SimulationSettings, _batch, simulate
 from geardyn.solve.simulate import EarlyStop, simulate_batch, step_tables

@@ -95,7 +95,7 @@ PRESET_KEYS = {
 }
 
 #: Measured Poincare error of the event RK4 integrator (units of b_c) per steps_per_period: the
-#: work-precision study (``python -m geardyn.bench``; docs/model.md Sec. 6). A classifier's
+#: work-precision study (``python -m benchmarks.bench``; docs/model.md Sec. 6). A classifier's
 #: ``error_floor`` that a run does not set is taken from here at the run's steps per period,
 #: interpolated log-log between the entries; step counts outside the table need an explicit one.
 POINCARE_ERROR: dict[int, float] = {32: 4.1e-3, 64: 3.0e-4, 128: 1.9e-5, 256: 1.2e-6, 512: 7.5e-8, 1024: 4.7e-9}

@@ -77,7 +77,7 @@ class System(Protocol):
 class SimulationSettings:
     """How to integrate.  Times in mesh periods; thresholds in units of b_c.
 
-    steps_per_period: N (default 512 from the work-precision study, ``python -m geardyn.bench``).
+    steps_per_period: N (default 512 from the work-precision study, ``python -m benchmarks.bench``).
     aligned: False spreads N equal steps over the period regardless of the stiffness jumps
     (for demonstrations only; rk4 integrators).  rtol: only used by ``"dop853"``.
     divergence_threshold: a run has diverged when any |state_i| exceeds this many times the larger of 1
