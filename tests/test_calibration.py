@@ -17,6 +17,7 @@ from geardyn import classify
 from geardyn.khv import calibrate as K
 from geardyn.khv import committed as committed_mod
 from geardyn.khv import design, point
+from geardyn.khv.calibrate import evaluate as KE
 from geardyn.label import Policy, label_lines, label_points
 from geardyn.label import settle as S
 from geardyn.papers import li2013 as paper
@@ -153,23 +154,12 @@ def test_search_resumes_from_its_cache(tmp_path, monkeypatch):
     def fake(problem, unit):
         u = np.asarray(unit)
         s = float(10.0 - np.sum((u - 0.3) ** 2))
-        return {
-            "key": K.cache_key(unit),
-            "unit": list(map(float, unit)),
-            "values": problem.space.values(unit),
-            "score": s,
-            "agree": 0,
-            "partial": 0.0,
-            "transitions": {},
-            "order": "",
-            "verdicts": {},
-            "fig07": [],
-        }
+        return K.Record(K.cache_key(unit), list(map(float, unit)), problem.space.values(unit), s)
 
-    monkeypatch.setattr(K, "evaluate_candidate", fake)
+    monkeypatch.setattr(KE, "evaluate_candidate", fake)
     space = K.SearchSpace.from_config({"w": {"low": 0.0, "high": 1.0}, "eta": {"low": 0.0, "high": 1.0}})
     prob = K.Problem(None, paper, space, None, Policy(SimulationSettings()))
-    monkeypatch.setattr(K, "_init_worker", lambda problem: setattr(K, "_PROBLEM", problem))
+    monkeypatch.setattr(KE, "warm_worker", lambda design: None)
     full, ev_full = K.search(prob, tmp_path / "a.jsonl", seed=3, popsize=4, maxiter=5)
     n_full = len(ev_full.cache)
     # interrupted: stop after 20 evaluations (torn last line as well)
@@ -181,16 +171,16 @@ def test_search_resumes_from_its_cache(tmp_path, monkeypatch):
             raise KeyboardInterrupt
         return fake(problem, unit)
 
-    monkeypatch.setattr(K, "evaluate_candidate", dying)
+    monkeypatch.setattr(KE, "evaluate_candidate", dying)
     with pytest.raises(KeyboardInterrupt):
         K.search(prob, tmp_path / "b.jsonl", seed=3, popsize=4, maxiter=5)
     with open(tmp_path / "b.jsonl", "a") as fh:
         fh.write('{"key": "torn')
     assert len(K.read_cache(tmp_path / "b.jsonl")) == 20
-    monkeypatch.setattr(K, "evaluate_candidate", fake)
+    monkeypatch.setattr(KE, "evaluate_candidate", fake)
     resumed, ev = K.search(prob, tmp_path / "b.jsonl", seed=3, popsize=4, maxiter=5)
     assert ev.reused >= 20 and ev.new == n_full - 20
-    assert resumed["key"] == full["key"] and resumed["score"] == full["score"]
+    assert resumed.key == full.key and resumed.score == full.score
 
 
 @pytest.mark.parametrize("name, require", [("li2013_calibrated", None), ("li2013_route", "route")])
@@ -263,8 +253,8 @@ def test_route_requirement_and_its_ranking():
     assert not K.shows_route([P1, QP, P1, CH])  # back to P1 before the chaos
     assert not K.shows_route([QP, P1, 2, CH])  # does not start on P1
     assert not K.shows_route([P1, QP, 5])  # no chaos
-    route = {"score": 6.6, "fig07": [P1, QP, CH]}
-    better = {"score": 8.4, "fig07": [P1, QP, QP]}
+    route = K.Record("route", [], {}, 6.6, fig07=[P1, QP, CH])
+    better = K.Record("better", [], {}, 8.4, fig07=[P1, QP, QP])
     assert K.ranked_score(better) > K.ranked_score(route)  # without the requirement: the claims alone
     assert K.ranked_score(route, "route") == 6.6 and K.ranked_score(better, "route") < 0 < K.ranked_score(
         route, "route"
