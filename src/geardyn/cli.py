@@ -23,13 +23,13 @@ from geardyn.config import ConfigError, load_design_dict
 
 
 def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
-    from geardyn.gears import geometry  # noqa: PLC0415 - --help loads no numba or scipy
+    from geardyn.gears import constraints  # noqa: PLC0415 - --help loads no numba or scipy
     from geardyn.khv import design  # noqa: PLC0415 - --help loads no numba or scipy
 
     spec = design.from_dict(raw, path, check=False)
     pair = spec.base
-    derived = geometry.describe(pair, cutter=spec.cutter)
-    values = geometry.constraints(pair, min_tip_thickness=spec.min_tip_thickness, cutter=spec.cutter)
+    derived = constraints.describe(pair, cutter=spec.cutter)
+    values = constraints.constraints(pair, min_tip_thickness=spec.min_tip_thickness, cutter=spec.cutter)
     failed = design.violated_constraints(pair, spec.min_tip_thickness, spec.enforce_cutter_constraints, spec.cutter)
     problem = design.meshing_problem(pair)
     try:

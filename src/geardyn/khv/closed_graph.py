@@ -24,6 +24,7 @@ import xarray as xr
 from numpy.typing import ArrayLike
 from scipy.optimize import brentq
 
+from geardyn.gears import constraints, interference
 from geardyn.gears import geometry as geo
 
 #: Which of the paper's lines each constraint belongs to (0: drawn but not one of lines 1-4).
@@ -48,13 +49,13 @@ _ON_LINE_TOL = 1e-9
 
 
 def _cutter_attrs(base: geo.GearPair, cutter: geo.ShaperCutter | None) -> dict[str, float | int | str]:
-    cut = cutter if cutter is not None else geo.default_cutter(base)
+    cut = cutter if cutter is not None else interference.default_cutter(base)
     ha0 = cut.addendum if cut.addendum is not None else base.addendum + base.clearance
     return {
         "cutter_teeth": int(cut.teeth),
         "cutter_shift": float(cut.shift),
         "cutter_addendum": float(ha0),
-        "cutter_source": "configured" if cutter is not None else "assumed (geometry.default_cutter)",
+        "cutter_source": "configured" if cutter is not None else "assumed (interference.default_cutter)",
     }
 
 
@@ -87,7 +88,7 @@ def closed_graph(
     kw = {"min_tip_thickness": min_tip_thickness, "min_contact_ratio": min_contact_ratio, "cutter": cutter}
 
     grid_pair = geo.with_shifts(base, x1a[np.newaxis, :], x2a[:, np.newaxis])
-    margins = geo.constraint_grid(grid_pair, **kw)  # type: ignore[arg-type]
+    margins = constraints.constraint_grid(grid_pair, **kw)  # type: ignore[arg-type]
     coords = {
         "x1": ("x1", x1a, {"units": "1", "long_name": "planet profile-shift coefficient x1"}),
         "x2": (
@@ -100,7 +101,7 @@ def closed_graph(
         coords["point"] = ("point", np.array(list(reference_points)), {"long_name": "printed limit point"})
     ds = xr.Dataset(coords=coords)
     for name, value in margins.items():
-        units, long_name = geo.constraint_info(name)
+        units, long_name = constraints.constraint_info(name)
         ds[name] = (
             ("x2", "x1"),
             np.asarray(value, dtype=float),
@@ -114,7 +115,7 @@ def closed_graph(
         )
     ds["contact_ratio"] = (
         ("x2", "x1"),
-        geo.contact_ratio(grid_pair),
+        interference.contact_ratio(grid_pair),
         {"units": "1", "long_name": "transverse contact ratio"},
     )
     ds["working_pressure_angle"] = (
@@ -138,9 +139,9 @@ def closed_graph(
     )
 
     # Line 4 along the x1 grid, with the other constraints evaluated on it.
-    x2_l4 = geo.x2_on_overlap_boundary_many(x1a, base)
+    x2_l4 = constraints.x2_on_overlap_boundary_many(x1a, base)
     line_pair = geo.with_shifts(base, x1a, x2_l4)
-    on_line = geo.constraint_grid(line_pair, **kw)  # type: ignore[arg-type]
+    on_line = constraints.constraint_grid(line_pair, **kw)  # type: ignore[arg-type]
     others = np.stack([v for k, v in on_line.items() if k != "overlap_interference"])
     ok_line = np.all(others >= 0.0, axis=0) & (np.abs(on_line["overlap_interference"]) < _ON_LINE_TOL)
     others_free = np.stack([v for k, v in on_line.items() if k not in (*CUTTER_DEPENDENT, "overlap_interference")])
@@ -148,7 +149,7 @@ def closed_graph(
     ds["x2_line4"] = ("x1", x2_l4, {"units": "1", "long_name": "annulus shift x2 on line 4 (G_s = 0)"})
     ds["contact_ratio_line4"] = (
         "x1",
-        geo.contact_ratio(line_pair),
+        interference.contact_ratio(line_pair),
         {"units": "1", "long_name": "transverse contact ratio on line 4"},
     )
     ds["working_pressure_angle_line4"] = (
@@ -197,7 +198,7 @@ def _reference_points(ds: xr.Dataset, base: geo.GearPair, points: Mapping[str, t
     """Printed points (x1, x2) and ours on G_s = 0 at the same x1, with residuals, along ``point``."""
     px1 = np.array([p[0] for p in points.values()])
     px2 = np.array([p[1] for p in points.values()])
-    cx2 = geo.x2_on_overlap_boundary_many(px1, base)
+    cx2 = constraints.x2_on_overlap_boundary_many(px1, base)
     pt_pair = geo.with_shifts(base, px1, cx2)
     ds["paper_x1"] = ("point", px1, {"units": "1", "long_name": "x1 of the printed limit point"})
     ds["paper_x2"] = ("point", px2, {"units": "1", "long_name": "x2 of the printed limit point"})
@@ -205,7 +206,7 @@ def _reference_points(ds: xr.Dataset, base: geo.GearPair, points: Mapping[str, t
     ds["residual_x2"] = ("point", cx2 - px2, {"units": "1", "long_name": "computed minus paper x2"})
     ds["contact_ratio_point"] = (
         "point",
-        geo.contact_ratio(pt_pair),
+        interference.contact_ratio(pt_pair),
         {"units": "1", "long_name": "transverse contact ratio at the computed point"},
     )
     ds["working_pressure_angle_point"] = (
@@ -240,7 +241,7 @@ def line4_crossings(ds: xr.Dataset, name: str) -> list[float]:
     )
     x1 = ds["x1"].values
     pair = geo.with_shifts(base, x1, ds["x2_line4"].values)
-    v = geo.constraint_grid(
+    v = constraints.constraint_grid(
         pair,
         min_tip_thickness=float(ds.attrs["min_tip_thickness_modules"]),
         min_contact_ratio=float(ds.attrs["min_contact_ratio"]),
@@ -262,11 +263,11 @@ def cutter_shift_for_trimming_limit(
     test the hypothesis that the paper's M is a cutter-trimming limit (docs/geometry.md); the
     result is a fit, not a datum of the paper.
     """
-    x2 = geo.x2_on_overlap_boundary(x1_limit, base)
+    x2 = constraints.x2_on_overlap_boundary(x1_limit, base)
     pair = geo.with_shifts(base, x1_limit, x2)
 
     def f(x0: float) -> float:
-        return float(geo.trimming_interference(pair, geo.ShaperCutter(teeth, x0, addendum)))
+        return float(interference.trimming_interference(pair, geo.ShaperCutter(teeth, x0, addendum)))
 
     x0 = float(brentq(f, -1.0, 1.5, xtol=1e-12))
     return geo.ShaperCutter(teeth, x0, addendum)
