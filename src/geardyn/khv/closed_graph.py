@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -100,6 +101,42 @@ def closed_graph(
     if reference_points:
         coords["point"] = ("point", np.array(list(reference_points)), {"long_name": "printed limit point"})
     ds = xr.Dataset(coords=coords)
+    _add_grid(ds, grid_pair, margins)
+    ok_line = _add_line4(ds, base, x1a, kw)
+    if reference_points:
+        _reference_points(ds, base, reference_points)
+    feas_x1 = x1a[ok_line]
+    ds.attrs.update(
+        {
+            "title": "Closed graph of profile-shift coefficients, computed",
+            "source": "geardyn.khv.closed_graph.closed_graph",
+            "conventions_note": "every constraint is a signed margin, >= 0 satisfied; x2 in the Chinese convention",
+            "line4_definition": "G_s = 0 (tooth-profile overlap interference); the working pressure angle a' varies "
+            "along it",
+            "z1": base.z1,
+            "z2": base.z2,
+            "module_mm": base.module,
+            "pressure_angle_deg": base.pressure_angle_deg,
+            "addendum_coefficient": base.addendum,
+            "clearance_coefficient": base.clearance,
+            "min_tip_thickness_modules": min_tip_thickness,
+            "min_contact_ratio": min_contact_ratio,
+            **_cutter_attrs(base, cutter),
+            "line4_feasible_x1_min": float(feas_x1.min()) if feas_x1.size else math.nan,
+            "line4_feasible_x1_max": float(feas_x1.max()) if feas_x1.size else math.nan,
+        }
+    )
+    return ds
+
+
+def _flag_attrs() -> dict[str, Any]:
+    """CF flag attributes of an int8 feasibility variable (a fresh array each time)."""
+    return {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "infeasible feasible"}
+
+
+def _add_grid(ds: xr.Dataset, grid_pair: geo.GearPair, margins: Mapping[str, np.ndarray]) -> None:
+    """Every constraint's margin on the (x2, x1) grid, the contact ratio, the working pressure angle and the
+    feasibility flags (all constraints; the cutter-independent ones)."""
     for name, value in margins.items():
         units, long_name = constraints.constraint_info(name)
         ds[name] = (
@@ -126,19 +163,21 @@ def closed_graph(
 
     stack = np.stack([ds[n].values for n in margins])
     free = np.stack([ds[n].values for n in margins if n not in CUTTER_DEPENDENT])
-    flag = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "infeasible feasible"}
     ds["feasible"] = (
         ("x2", "x1"),
         np.all(stack >= 0.0, axis=0).astype(np.int8),
-        {"units": "1", "long_name": "all constraints satisfied", **flag},
+        {"units": "1", "long_name": "all constraints satisfied", **_flag_attrs()},
     )
     ds["feasible_cutter_free"] = (
         ("x2", "x1"),
         np.all(free >= 0.0, axis=0).astype(np.int8),
-        {"units": "1", "long_name": "all constraints satisfied except the cutter-dependent ones", **flag},
+        {"units": "1", "long_name": "all constraints satisfied except the cutter-dependent ones", **_flag_attrs()},
     )
 
-    # Line 4 along the x1 grid, with the other constraints evaluated on it.
+
+def _add_line4(ds: xr.Dataset, base: geo.GearPair, x1a: np.ndarray, kw: Mapping[str, Any]) -> np.ndarray:
+    """Line 4 (G_s = 0) along the x1 grid, with the other constraints evaluated on it; returns where a
+    line-4 point satisfies every other constraint."""
     x2_l4 = constraints.x2_on_overlap_boundary_many(x1a, base)
     line_pair = geo.with_shifts(base, x1a, x2_l4)
     on_line = constraints.constraint_grid(line_pair, **kw)  # type: ignore[arg-type]
@@ -160,38 +199,14 @@ def closed_graph(
     ds["feasible_line4"] = (
         "x1",
         ok_line.astype(np.int8),
-        {"units": "1", "long_name": "line-4 point satisfying every other constraint", **flag},
+        {"units": "1", "long_name": "line-4 point satisfying every other constraint", **_flag_attrs()},
     )
     ds["feasible_line4_cutter_free"] = (
         "x1",
         ok_line_free.astype(np.int8),
-        {"units": "1", "long_name": "line-4 point satisfying every cutter-independent constraint", **flag},
+        {"units": "1", "long_name": "line-4 point satisfying every cutter-independent constraint", **_flag_attrs()},
     )
-
-    if reference_points:
-        _reference_points(ds, base, reference_points)
-    feas_x1 = x1a[ok_line]
-    ds.attrs.update(
-        {
-            "title": "Closed graph of profile-shift coefficients, computed",
-            "source": "geardyn.khv.closed_graph.closed_graph",
-            "conventions_note": "every constraint is a signed margin, >= 0 satisfied; x2 in the Chinese convention",
-            "line4_definition": "G_s = 0 (tooth-profile overlap interference); the working pressure angle a' varies "
-            "along it",
-            "z1": base.z1,
-            "z2": base.z2,
-            "module_mm": base.module,
-            "pressure_angle_deg": base.pressure_angle_deg,
-            "addendum_coefficient": base.addendum,
-            "clearance_coefficient": base.clearance,
-            "min_tip_thickness_modules": min_tip_thickness,
-            "min_contact_ratio": min_contact_ratio,
-            **_cutter_attrs(base, cutter),
-            "line4_feasible_x1_min": float(feas_x1.min()) if feas_x1.size else math.nan,
-            "line4_feasible_x1_max": float(feas_x1.max()) if feas_x1.size else math.nan,
-        }
-    )
-    return ds
+    return ok_line
 
 
 def _reference_points(ds: xr.Dataset, base: geo.GearPair, points: Mapping[str, tuple[float, float]]) -> None:
