@@ -1,7 +1,8 @@
 """Helpers for tests that run the Snakemake workflow on a copy in a temporary directory.
 
-The copy holds Snakefile, workflow/ and config/; the library comes from this checkout's src/ via
-PYTHONPATH. Nothing is ever written into the repository's own results/.
+The copy holds Snakefile, workflow/, config/ and benchmarks/ (the work-precision target's code, beside the
+package); the library comes from this checkout's src/ via PYTHONPATH. Nothing is ever written into the
+repository's own results/.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ def workflow_copy(
 ) -> Path:
     """Copy the workflow to ``dest``; replace config.yaml and design files by the given mappings."""
     dest.mkdir(parents=True, exist_ok=True)
-    for item in ("Snakefile", "workflow", "config"):
+    for item in ("Snakefile", "workflow", "config", "benchmarks"):
         src = ROOT / item
         (shutil.copytree if src.is_dir() else shutil.copy)(src, dest / item)
     if config is not None:

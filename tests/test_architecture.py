@@ -58,7 +58,7 @@ def _cycle() -> list[str] | None:
         stack.append(node)
         for nxt in GRAPH[node]:
             if state.get(nxt) == 1:
-                return stack[stack.index(nxt) :] + [nxt]
+                return [*stack[stack.index(nxt) :], nxt]
             if nxt not in state and (found := visit(nxt)):
                 return found
         stack.pop()

@@ -9,7 +9,7 @@ import pytest
 
 import _workflow as wf
 from geardyn.config import ConfigError
-from geardyn.validate import read_config_file, validate_workflow
+from geardyn.validate import read_config_file, selected_designs, validate_workflow
 
 LI2013 = "config/designs/li2013.yaml"
 
@@ -323,7 +323,6 @@ def test_a_selector_that_selects_nothing_runs_nothing(tmp_path):
     make = dict((c[0], c[1]) for c in CASES)["unknown-selector-paper"]
     work = _inputs(tmp_path, make)
     filled, designs = validate_workflow(read_config_file(work / "config/config.yaml"), work)
-    from geardyn.validate import selected_designs
 
     assert selected_designs(filled["sweeps"]["fig07_small"]["designs"], designs) == []
 

@@ -1,4 +1,5 @@
-"""Calibration search: the slow-transient check of the one classification path, the claims objective, the cached resumable
+"""Calibration search: the slow-transient check of the one classification path, the claims objective, the cached
+resumable
 search, and the provenance of the committed calibrated design."""
 
 from __future__ import annotations
@@ -8,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from _oracle import rules_label
 from geardyn import claims as C
@@ -15,10 +17,14 @@ from geardyn import classify
 from geardyn.khv import calibrate as K
 from geardyn.khv import committed as committed_mod
 from geardyn.khv import design, point
+from geardyn.khv.calibrate import evaluate as KE
 from geardyn.label import Policy, label_lines, label_points
 from geardyn.label import settle as S
 from geardyn.papers import li2013 as paper
+from geardyn.plots import captions
+from geardyn.runs.points import dense_points
 from geardyn.solve import SimulationSettings
+from geardyn.testing import Job, run_script
 
 ROOT = Path(__file__).resolve().parents[1]
 FULL = SimulationSettings(steps_per_period=512, transient_periods=500, recorded_periods=100)
@@ -74,7 +80,9 @@ def test_settle_of_many_points_is_settle_of_each(li2013):
     labels = [cl.label for _, cl in runs[:3]] + [classify.LABELS["chaotic"], 1]
     lams = [cl.lyapunov for _, cl in runs[:3]] + [0.03, float("nan")]
     together = S.settle_points(systems, [r for r, _ in runs], labels, lams, FULL, cs)
-    alone = [S.settle(c, r, lab, lam, FULL, cs) for c, (r, _), lab, lam in zip(systems, runs, labels, lams)]
+    alone = [
+        S.settle(c, r, lab, lam, FULL, cs) for c, (r, _), lab, lam in zip(systems, runs, labels, lams, strict=True)
+    ]
     assert together == alone
     assert all(
         (t.state is None and a.state is None) or np.array_equal(t.state, a.state)
@@ -146,23 +154,12 @@ def test_search_resumes_from_its_cache(tmp_path, monkeypatch):
     def fake(problem, unit):
         u = np.asarray(unit)
         s = float(10.0 - np.sum((u - 0.3) ** 2))
-        return {
-            "key": K.cache_key(unit),
-            "unit": list(map(float, unit)),
-            "values": problem.space.values(unit),
-            "score": s,
-            "agree": 0,
-            "partial": 0.0,
-            "transitions": {},
-            "order": "",
-            "verdicts": {},
-            "fig07": [],
-        }
+        return K.Record(K.cache_key(unit), list(map(float, unit)), problem.space.values(unit), s)
 
-    monkeypatch.setattr(K, "evaluate_candidate", fake)
+    monkeypatch.setattr(KE, "evaluate_candidate", fake)
     space = K.SearchSpace.from_config({"w": {"low": 0.0, "high": 1.0}, "eta": {"low": 0.0, "high": 1.0}})
     prob = K.Problem(None, paper, space, None, Policy(SimulationSettings()))
-    monkeypatch.setattr(K, "_init_worker", lambda problem: setattr(K, "_PROBLEM", problem))
+    monkeypatch.setattr(KE, "warm_worker", lambda design: None)
     full, ev_full = K.search(prob, tmp_path / "a.jsonl", seed=3, popsize=4, maxiter=5)
     n_full = len(ev_full.cache)
     # interrupted: stop after 20 evaluations (torn last line as well)
@@ -174,16 +171,16 @@ def test_search_resumes_from_its_cache(tmp_path, monkeypatch):
             raise KeyboardInterrupt
         return fake(problem, unit)
 
-    monkeypatch.setattr(K, "evaluate_candidate", dying)
+    monkeypatch.setattr(KE, "evaluate_candidate", dying)
     with pytest.raises(KeyboardInterrupt):
         K.search(prob, tmp_path / "b.jsonl", seed=3, popsize=4, maxiter=5)
     with open(tmp_path / "b.jsonl", "a") as fh:
         fh.write('{"key": "torn')
     assert len(K.read_cache(tmp_path / "b.jsonl")) == 20
-    monkeypatch.setattr(K, "evaluate_candidate", fake)
+    monkeypatch.setattr(KE, "evaluate_candidate", fake)
     resumed, ev = K.search(prob, tmp_path / "b.jsonl", seed=3, popsize=4, maxiter=5)
     assert ev.reused >= 20 and ev.new == n_full - 20
-    assert resumed["key"] == full["key"] and resumed["score"] == full["score"]
+    assert resumed.key == full.key and resumed.score == full.score
 
 
 @pytest.mark.parametrize("name, require", [("li2013_calibrated", None), ("li2013_route", "route")])
@@ -219,7 +216,6 @@ def test_committed_calibrated_design_is_the_search_output(name, require):
 
 
 def _config_calibration(name):
-    import yaml
 
     return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["calibration"][name]
 
@@ -257,8 +253,8 @@ def test_route_requirement_and_its_ranking():
     assert not K.shows_route([P1, QP, P1, CH])  # back to P1 before the chaos
     assert not K.shows_route([QP, P1, 2, CH])  # does not start on P1
     assert not K.shows_route([P1, QP, 5])  # no chaos
-    route = {"score": 6.6, "fig07": [P1, QP, CH]}
-    better = {"score": 8.4, "fig07": [P1, QP, QP]}
+    route = K.Record("route", [], {}, 6.6, fig07=[P1, QP, CH])
+    better = K.Record("better", [], {}, 8.4, fig07=[P1, QP, QP])
     assert K.ranked_score(better) > K.ranked_score(route)  # without the requirement: the claims alone
     assert K.ranked_score(route, "route") == 6.6 and K.ranked_score(better, "route") < 0 < K.ranked_score(
         route, "route"
@@ -309,8 +305,6 @@ def test_an_orbit_found_by_n_period_shooting_gets_its_least_period():
 def test_point_figures_carry_the_sweeps_label(li2013):
     """Figs. 8, 10, 12 label their points by the labeller, as the sweeps do, and draw the attractor it found
     (a Fig. 8 caption once said "not periodic" at a point the Fig. 7 colours and claims.md called P1)."""
-    from geardyn.plots import captions
-    from geardyn.runs.points import dense_points
 
     ds = dense_points(li2013, {"x1": 0.761, "e": 5.0, "w": 0.7}, [{"b": 0.83}, {"b": 2.0}], Policy(FULL))
     assert ds["label"].values.tolist() == [1, classify.LABELS["quasi_periodic"]]
@@ -361,7 +355,6 @@ def test_falling_return_distances_is_the_quarter_means_of_the_return_distances()
 def test_compare_script_reports_the_distance_to_the_committed_design(tmp_path):
     """workflow/scripts/calibration_compare.py: a search whose optimum moved w by 1 % of its range and
     scored 0.5 less is the same optimum as the committed li2013_route.yaml."""
-    from geardyn.testing import Job, run_script
 
     committed = (ROOT / "config" / "designs" / "li2013_route.yaml").read_text()
     result = committed_mod.result_of(committed)

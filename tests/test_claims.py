@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -92,7 +94,7 @@ def test_fraction_verdict_band_is_two_binomial_standard_errors():
     # no single point turns agree into disagree anywhere on n = 20..200
     for n in range(20, 201):
         v = [C.fraction_verdict(k, n) for k in range(n + 1)]
-        assert all({a, b} != {"agree", "disagree"} for a, b in zip(v, v[1:]))
+        assert all({a, b} != {"agree", "disagree"} for a, b in itertools.pairwise(v))
     for bad in ((1, 0), (-1, 5), (6, 5)):
         with pytest.raises(ValueError, match="fraction_verdict"):
             C.fraction_verdict(*bad)
@@ -141,14 +143,20 @@ def test_fig09_route_needs_p1_start_and_chaos_in_every_case():
 def test_fig11_route_order_and_sync_range():
     f07 = paper_labels(X1)
     # leaves P1 at 3.5, 2.8, 2.1: narrowing; QP before chaos everywhere
-    e_lab = {x: np.where(E < s, P1, np.where(E < s + 1.0, QP, CH)) for x, s in zip(paper.CASE_X1, (3.5, 2.8, 2.1))}
+    e_lab = {
+        x: np.where(E < s, P1, np.where(E < s + 1.0, QP, CH))
+        for x, s in zip(paper.CASE_X1, (3.5, 2.8, 2.1), strict=True)
+    }
     v = verdicts(C.evaluate(paper, *tracks(f07, None, e_lab)))
     assert v["fig11_route"] == "agree" and v["fig11_sync_range"] == "agree"
     # chaos before QP at one x1: route disagrees
     e_lab[0.761] = np.where(E < 2.8, P1, np.where(E < 4.0, CH, QP))
     assert verdicts(C.evaluate(paper, *tracks(f07, None, e_lab)))["fig11_route"] == "disagree"
     # a wider synchronous range at the larger x1: sync range disagrees
-    e_lab = {x: np.where(E < s, P1, np.where(E < s + 1.0, QP, CH)) for x, s in zip(paper.CASE_X1, (2.1, 2.8, 3.5))}
+    e_lab = {
+        x: np.where(E < s, P1, np.where(E < s + 1.0, QP, CH))
+        for x, s in zip(paper.CASE_X1, (2.1, 2.8, 3.5), strict=True)
+    }
     assert verdicts(C.evaluate(paper, *tracks(f07, None, e_lab)))["fig11_sync_range"] == "disagree"
     assert C.first_non(E, np.full(E.size, P1), P1) == float("inf")
 
@@ -167,7 +175,10 @@ def test_cube_path_gives_the_same_verdicts_as_the_arrays(monkeypatch):
     monkeypatch.setattr(C, "labels_of_cube", lambda cube: cube["label"].values)
     f07 = paper_labels(X1)
     b_lab = {x: np.where(B < 1.0, P1, CH) for x in paper.CASE_X1}
-    e_lab = {x: np.where(E < s, P1, np.where(E < s + 1.0, QP, CH)) for x, s in zip(paper.CASE_X1, (3.5, 2.8, 2.1))}
+    e_lab = {
+        x: np.where(E < s, P1, np.where(E < s + 1.0, QP, CH))
+        for x, s in zip(paper.CASE_X1, (3.5, 2.8, 2.1), strict=True)
+    }
     cases = [f"x1={x:g}" for x in paper.CASE_X1]
     cg = xr.Dataset(
         {

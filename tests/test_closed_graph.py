@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from geardyn.gears import constraints, interference
 from geardyn.gears import geometry as geo
 from geardyn.khv import closed_graph as cg
 from geardyn.papers import li2013
@@ -39,7 +40,7 @@ def test_every_variable_and_numeric_coordinate_is_described(ds: xr.Dataset) -> N
 
 
 def test_one_variable_per_constraint_and_lines_assigned(ds: xr.Dataset) -> None:
-    names = set(geo.constraints(geo.with_shifts(KHV, 0.5, 0.8)))
+    names = set(constraints.constraints(geo.with_shifts(KHV, 0.5, 0.8)))
     assert names <= set(ds.data_vars)
     lines = {int(ds[n].attrs["closed_graph_line"]) for n in names}
     assert lines == {0, 1, 2, 3, 4}
@@ -47,7 +48,7 @@ def test_one_variable_per_constraint_and_lines_assigned(ds: xr.Dataset) -> None:
 
 
 def test_feasible_mask_is_all_margins_nonnegative(ds: xr.Dataset) -> None:
-    names = list(geo.constraints(geo.with_shifts(KHV, 0.5, 0.8)))
+    names = list(constraints.constraints(geo.with_shifts(KHV, 0.5, 0.8)))
     expected = np.all(np.stack([ds[n].values >= 0 for n in names]), axis=0)
     assert ds["feasible"].dtype == np.int8
     np.testing.assert_array_equal(ds["feasible"].values.astype(bool), expected)
@@ -66,7 +67,7 @@ def test_paper_points_and_residuals(ds: xr.Dataset) -> None:
 def test_line4_is_gs_zero(ds: xr.Dataset) -> None:
     pair = geo.with_shifts(KHV, ds["x1"].values, ds["x2_line4"].values)
     # brentq to 1e-12 in x2, |dG_s/dx2| < 10: 1e-9 rad.
-    np.testing.assert_allclose(geo.overlap_interference(pair), 0.0, atol=1e-9)
+    np.testing.assert_allclose(interference.overlap_interference(pair), 0.0, atol=1e-9)
     # a' is not constant along line 4 (the paper's "equal meshing angle"): > 1 deg change.
     a_w = ds["working_pressure_angle_line4"].sel(x1=slice(0.4, 0.85)).values
     assert a_w.max() - a_w.min() > 1.0

@@ -1,5 +1,7 @@
 """Config and design validation: one clear line per problem, defaults filled, nothing run on error."""
 
+import itertools
+import json
 import os
 import shutil
 import subprocess
@@ -28,7 +30,7 @@ def _write(tmp_path, data, name="d.yaml"):
 
 def test_shipped_config_and_designs_validate():
     cfg = validate.load_config(ROOT / "config" / "config.yaml")
-    filled, designs = validate.validate_workflow(cfg, ROOT)
+    _, designs = validate.validate_workflow(cfg, ROOT)
     assert "li2013" in designs
     spec = design.load(LI2013)
     assert spec.stiffness.q_variant == "iso" and spec.stiffness.form == "corrected"
@@ -202,7 +204,6 @@ def _refused(cfg):
 
 
 def test_shipped_config_with_presets_resolves_to_the_values_it_had_before():
-    import json
 
     before = json.loads(BEFORE.read_text())
     raw = validate.read_config_file(ROOT / "config" / "config.yaml")
@@ -282,7 +283,7 @@ def test_error_floor_follows_steps_per_period():
     # log-log interpolation: 181 steps is about half way (in log) between 128 and 256
     assert floor["s181"] == pytest.approx((1.9e-5 * 1.2e-6) ** 0.5, rel=0.01)
     errors = [validate.poincare_error(n, "x") for n in range(32, 1025)]
-    assert all(a > b for a, b in zip(errors, errors[1:]))
+    assert all(a > b for a, b in itertools.pairwise(errors))
     text = _refused(_config(sweeps={"s": _sweep(integration={"steps_per_period": 16})}))
     assert "sweeps.s.integration.steps_per_period = 16 is not allowed without classifier.error_floor" in text
 
@@ -353,7 +354,7 @@ def test_alias_bomb_is_refused_before_anything_walks_it(tmp_path):
     assert f"at most {config.MAX_EXPANDED_VALUES} values" in text
     design = tmp_path / "design.yaml"
     design.write_text("kind: khv\n" + _bomb(key="pair"))
-    with pytest.raises(config.ConfigError, match="design.yaml: expanded size of pair = "):
+    with pytest.raises(config.ConfigError, match=r"design\.yaml: expanded size of pair = "):
         config.load_design_dict(design)
     loop = tmp_path / "loop.yaml"
     loop.write_text("designs: &a {x: *a}\n")
@@ -398,14 +399,13 @@ def test_error_table_is_the_one_of_the_work_precision_study():
     }
     steps = [int(v) for v in rows["steps/period"].split("|")[2:-1]]
     errors = [float(v) for v in rows["rk4_event error"].split("|")[2:-1]]
-    assert dict(zip(steps, errors)) == validate.POINCARE_ERROR
+    assert dict(zip(steps, errors, strict=True)) == validate.POINCARE_ERROR
 
 
 def test_run_integration_block_is_defined_once_and_is_the_design_block_without_defaults():
     """Sweeps, maps, calibrations, frequency responses and presets share one $defs/integration, whose keys refer to the
     design's dynamics.integration (one statement of each key), without the defaults: a key a run
     does not set keeps the design's value."""
-    import json
 
     raw = json.loads((ROOT / "src" / "geardyn" / "schemas" / "config.schema.json").read_text())
     assert json.dumps(raw).count('"#/$defs/integration"') == 5

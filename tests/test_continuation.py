@@ -10,12 +10,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import _orbits
 from _oracle import rules_label
 from geardyn import classify, io
 from geardyn.khv import design, point
 from geardyn.papers import li2013 as paper
+from geardyn.plots.orbits import plot_branches
 from geardyn.runs import continuation as C
 from geardyn.solve import SimulationSettings, simulate
 
@@ -70,7 +72,7 @@ def test_neimark_sacker_rotation_number_matches_torus_spectrum(calibrated_branch
 
 
 def test_branch_agrees_with_simulated_labels_where_stable(calibrated_branch):
-    d, fam, br = calibrated_branch
+    d, _, br = calibrated_branch
     settings = point.integration_settings(d)
     cls = classify.ClassifierSettings()
     scale = np.max(np.abs(br.states))
@@ -123,13 +125,12 @@ def test_dataset_is_cf_and_table_names_paper_transitions(calibrated_branch, tmp_
     io.write_netcdf(ds, tmp_path / "b.nc", io.provenance(title="test"))
     rows = C.bifurcation_rows([(0, br)], "x1", ["base"], paper.TRANSITIONS)
     assert {r["type"] for r in rows} >= {"fold", "neimark_sacker"}
-    ns = [r for r in rows if r["type"] == "neimark_sacker"][0]
+    ns = next(r for r in rows if r["type"] == "neimark_sacker")
     assert ns["paper_transition"] == "0.761" or float(ns["paper_transition"]) in paper.TRANSITIONS
     assert C.rows_to_csv(rows).splitlines()[0].startswith("case,branch,period,type")
 
 
 def test_overlay_figure_draws_stable_unstable_and_typed_points(calibrated_branch, tmp_path):
-    from geardyn.plots.orbits import plot_branches
 
     _, fam, br = calibrated_branch
     ds = C.branch_dataset([(0, br)], {0: fam}, "x1", ["base"])
@@ -153,9 +154,8 @@ def test_orbit_spec_from_config_checks_keys():
 
 
 def test_label_agreement_counts_points_on_stable_branch(calibrated_branch):
-    import xarray as xr
 
-    _, fam, br = calibrated_branch
+    _, _, br = calibrated_branch
     # a two-point "cube": one P1 point on the stable lower branch, one P1 point off it
     j = int(np.argmin(np.abs(br.p - 0.71)))
     on, off = br.states[j], br.states[j] + 1.0
@@ -194,7 +194,6 @@ def test_period_doubling_bubble_of_the_khv_model_under_light_load():
 
 
 def _one_point_cube(p, x, label):
-    import xarray as xr
 
     data = {
         v: (("case", "direction", "x1", "section"), np.array([[[[x[k]], [x[k]]]]])) for k, v in enumerate(C.STATE_VARS)
@@ -224,7 +223,6 @@ def test_branch_interpolated_at_a_parameter_value_on_every_step_that_holds_it():
 
 
 def test_seeds_are_the_middles_of_the_longest_periodic_runs():
-    import xarray as xr
 
     labels = np.array([1, 1, 1, -3, 2, 2, 2, 2, 2, 7, 1, 1, 1, 1])
     values = np.linspace(0.0, 1.3, labels.size)

@@ -8,6 +8,7 @@ number must be the same bit for bit, but the labels of chaotic points, which are
 chaotic orbit amplifies any last-bit difference; this study has none unless the model changes).
 """
 
+import json
 import os
 import subprocess
 import sys
@@ -15,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from numpy._core import _multiarray_umath as mu
 
 import _cpu_study
 from geardyn import classify, io
@@ -24,7 +26,6 @@ CHAOS = classify.LABELS["chaotic"]
 
 
 def _reduced_env() -> dict[str, str]:
-    from numpy._core import _multiarray_umath as mu
 
     dispatched = [f for f in mu.__cpu_dispatch__ if mu.__cpu_features__.get(f)]
     env = {**os.environ, "NUMBA_CPU_NAME": "generic", "PYTHONPATH": os.pathsep.join([str(HERE), *sys.path])}
@@ -55,12 +56,10 @@ def both(tmp_path_factory):
 
 
 def test_the_subprocess_really_ran_with_fewer_features(both):
-    import json
 
-    here, _, there = both
+    _, _, there = both
     rt = json.loads(there)
     assert rt["numba_cpu_name"] == "generic" and rt["env_NUMBA_CPU_NAME"] == "generic"
-    from numpy._core import _multiarray_umath as mu
 
     if any(mu.__cpu_features__.get(f) for f in mu.__cpu_dispatch__):
         assert rt["numpy_cpu_dispatch"] == "none" != io.runtime_provenance()["numpy_cpu_dispatch"]

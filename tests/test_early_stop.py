@@ -6,8 +6,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from benchmarks.work_precision import cases
 from geardyn import io
-from geardyn.bench import cases
 from geardyn.khv import design
 from geardyn.runs import cube, maps, sweep
 from geardyn.solve import SimulationSettings, simulate

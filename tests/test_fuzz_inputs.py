@@ -2,7 +2,9 @@
 traceback. Mutations: deleted keys, swapped types, NaN, infinities, huge, negative and zero values,
 unicode, empty containers, and duplicate keys in the YAML text; 150 designs and 150 configs a run."""
 
+import contextlib
 import copy
+import io
 
 import yaml
 from hypothesis import HealthCheck, example, given, settings
@@ -10,6 +12,7 @@ from hypothesis import strategies as st
 
 import _workflow as wf
 from _examples import EXAMPLE_SCALE
+from geardyn import cli
 from geardyn.config import ConfigError, load_design_dict
 from geardyn.validate import check_design, read_config_file, validate_workflow
 
@@ -207,10 +210,6 @@ BAD_CLASS = st.one_of(
 @example(case=("bomb", (9, 9, "designs")))  # nine lines, nine aliases each: 9 ** 9 values
 @example(case=("long", ("designs", "d" * 300)))  # a Snakemake PeriodicWildcardError before the limit
 def test_generated_bad_inputs_give_one_line_naming_the_key(tmp_path_factory, case):
-    import contextlib
-    import io
-
-    from geardyn import cli
 
     data, key = _case(*case)
     work = tmp_path_factory.mktemp("badcls")

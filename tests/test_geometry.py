@@ -11,6 +11,7 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from geardyn.gears import constraints, interference
 from geardyn.gears import geometry as geo
 
 #: Paper 1, Table 1: planet V z = 30, annulus K z = 33, m = 3.5 mm, ha* = 0.8, B = 20 mm.
@@ -36,30 +37,30 @@ def test_reference_centre_distance_khv() -> None:
     [(0.416, 0.601, 0.60095), (0.835, 0.995, 0.99443)],  # paper M and N; G_s = 0 to 5 decimals (docs/findings.md)
 )
 def test_paper_points_on_overlap_boundary(x1: float, paper_x2: float, computed_x2: float) -> None:
-    x2 = geo.x2_on_overlap_boundary(x1, KHV)
+    x2 = constraints.x2_on_overlap_boundary(x1, KHV)
     # Requirement: within 0.002 of the paper's 3-decimal values.
     assert abs(x2 - paper_x2) < 0.002
     # The 5-decimal values of docs/findings.md ("M and N lie on G_s = 0"): half a unit in the last digit.
     assert x2 == pytest.approx(computed_x2, abs=5e-6)
     # By construction G_s = 0 there (brentq xtol 1e-12 in x2, dG_s/dx2 ~ 10).
-    assert float(geo.overlap_interference(at(x1, x2))) == pytest.approx(0.0, abs=1e-9)
+    assert float(interference.overlap_interference(at(x1, x2))) == pytest.approx(0.0, abs=1e-9)
 
 
 def test_eq10_constant_is_cos_working_angle_at_n() -> None:
     # The constant 0.866268 of paper Eq. (10) equals cos a' at N (cos 29.9722 deg); printed to 6 digits.
-    x2 = geo.x2_on_overlap_boundary(0.835, KHV)
+    x2 = constraints.x2_on_overlap_boundary(0.835, KHV)
     assert math.cos(float(geo.working_pressure_angle(at(0.835, x2)))) == pytest.approx(0.866268, abs=5e-7)
 
 
 def test_working_angle_along_line4_is_not_constant() -> None:
     # a' falls from 30.996 deg (M) to 29.972 deg (N), so line 4 is not a constant-a' line; eps 1.298 -> 1.171
     # (docs/findings.md, "Line 4 is not a constant-a' line").
-    pm = at(0.416, geo.x2_on_overlap_boundary(0.416, KHV))
-    pn = at(0.835, geo.x2_on_overlap_boundary(0.835, KHV))
+    pm = at(0.416, constraints.x2_on_overlap_boundary(0.416, KHV))
+    pn = at(0.835, constraints.x2_on_overlap_boundary(0.835, KHV))
     assert math.degrees(float(geo.working_pressure_angle(pm))) == pytest.approx(31.0, abs=0.05)
     assert math.degrees(float(geo.working_pressure_angle(pn))) == pytest.approx(29.97, abs=0.005)
-    assert float(geo.contact_ratio(pm)) == pytest.approx(1.30, abs=0.005)
-    assert float(geo.contact_ratio(pn)) == pytest.approx(1.17, abs=0.005)
+    assert float(interference.contact_ratio(pm)) == pytest.approx(1.30, abs=0.005)
+    assert float(interference.contact_ratio(pn)) == pytest.approx(1.17, abs=0.005)
 
 
 def test_internal_tip_diameters_have_no_shortening() -> None:
@@ -74,14 +75,14 @@ def test_paper_points_feasible_with_a_trimming_cutter_and_boundary_violations_na
     # With the cutter fitted to M (docs/geometry.md) both printed points satisfy every constraint
     # (they lie 5e-5 and 6e-4 above G_s = 0).
     cutter = geo.ShaperCutter(teeth=28, shift=-0.1096, addendum=1.25)
-    assert geo.violations(at(0.416, 0.601), cutter=cutter) == []
-    assert geo.violations(at(0.835, 0.995), cutter=cutter) == []
-    assert "overlap_interference" in geo.violations(at(0.416, 0.5), cutter=cutter)
-    assert "contact_ratio_margin" in geo.violations(at(0.0, 1.2), cutter=cutter)
+    assert constraints.violations(at(0.416, 0.601), cutter=cutter) == []
+    assert constraints.violations(at(0.835, 0.995), cutter=cutter) == []
+    assert "overlap_interference" in constraints.violations(at(0.416, 0.5), cutter=cutter)
+    assert "contact_ratio_margin" in constraints.violations(at(0.0, 1.2), cutter=cutter)
 
 
 def test_describe_has_check_design_fields() -> None:
-    d = geo.describe(at(0.416, 0.601))
+    d = constraints.describe(at(0.416, 0.601))
     for key in (
         "working_pressure_angle_deg",
         "working_centre_distance_mm",
@@ -121,7 +122,7 @@ def test_khk_table_5_4_to_printed_digits(z1: int, x2: float, aw_deg: float, a_w:
     # Each tolerance is half a unit in the last printed digit.
     assert math.degrees(float(geo.working_pressure_angle(pair))) == pytest.approx(aw_deg, abs=5e-5)
     assert float(geo.working_centre_distance(pair)) == pytest.approx(a_w, abs=5e-4)
-    assert float(geo.contact_ratio(pair)) == pytest.approx(eps, abs=5e-4)
+    assert float(interference.contact_ratio(pair)) == pytest.approx(eps, abs=5e-4)
 
 
 @pytest.mark.parametrize(("z1", "x2"), [(r[0], r[1]) for r in KHK_TABLE_5_4])
@@ -129,9 +130,9 @@ def test_khk_table_5_4_interference_statements(z1: int, x2: float) -> None:
     # SDP/SI Sec. 5.3: "All combinations above will not cause involute interference or trochoid
     # interference, but trimming interference is still there."
     pair = geo.GearPair(z1=z1, z2=50, module=1.0, x1=0.0, x2=x2)
-    assert float(geo.overlap_interference(pair)) > 0.0  # trochoid, KHK Eq. (5-6) = G_s / z2
-    assert all(float(m) > 0.0 for m in geo.involute_interference(pair))
-    assert float(geo.radial_interference(pair)) < 0.0  # KHK Eq. (5-9)
+    assert float(interference.overlap_interference(pair)) > 0.0  # trochoid, KHK Eq. (5-6) = G_s / z2
+    assert all(float(m) > 0.0 for m in interference.involute_interference(pair))
+    assert float(interference.radial_interference(pair)) < 0.0  # KHK Eq. (5-9)
 
 
 def test_khk_trochoid_equation_equals_gs_over_z2() -> None:
@@ -150,7 +151,7 @@ def test_khk_trochoid_equation_equals_gs_over_z2() -> None:
     th2 = math.acos((a**2 + ra2**2 - ra1**2) / (2 * a * ra2))
     khk = th1 * 45 / 50 + inv(aw) - inv(aa2) - th2
     # Same formula rearranged: agreement to rounding (1e-12 rad).
-    assert float(geo.overlap_interference(pair)) / 50 == pytest.approx(khk, abs=1e-12)
+    assert float(interference.overlap_interference(pair)) / 50 == pytest.approx(khk, abs=1e-12)
 
 
 #: SDP/SI Table 5-3a (page T-45, http://www.sdp-si.com/D785/HTML1/D785T043_3.html): smallest
@@ -196,7 +197,7 @@ def test_khk_trimming_limits_table_5_3a(zc: int, z2: int) -> None:
     cutter = geo.ShaperCutter(teeth=zc, shift=0.0, addendum=1.25)
 
     def margin(z: int) -> float:
-        return float(geo.trimming_interference(geo.GearPair(z1=zc, z2=z, module=1.0, x1=0.0, x2=0.0), cutter))
+        return float(interference.trimming_interference(geo.GearPair(z1=zc, z2=z, module=1.0, x1=0.0, x2=0.0), cutter))
 
     assert margin(z2) >= 0.0  # the printed z2 is free of trimming
     # One tooth fewer trims (margin < 0), or for z2 = 34 the annulus tip falls inside its base
@@ -239,7 +240,7 @@ def test_external_profile_shifted_example() -> None:
         "da2": (da2, 79.400, 5e-4),
         "df1": (df1, 32.100, 5e-4),
         "df2": (df2, 66.660, 5e-4),
-        "eps": (geo.contact_ratio(pair), 1.202, 5e-4),
+        "eps": (interference.contact_ratio(pair), 1.202, 5e-4),
     }
     for name, (ours, value, tol) in printed.items():
         assert float(ours) == pytest.approx(value, abs=tol), name
@@ -255,7 +256,7 @@ def test_paper2_external_pair_standard_geometry() -> None:
     length = math.sqrt(ra1**2 - rb1**2) + math.sqrt(ra2**2 - rb2**2) - 102.0 * math.sin(a)
     eps = length / (math.pi * 4.0 * math.cos(a))
     assert float(geo.working_centre_distance(pair)) == pytest.approx(102.0, abs=1e-12)
-    assert float(geo.contact_ratio(pair)) == pytest.approx(eps, rel=1e-12)  # rounding only
+    assert float(interference.contact_ratio(pair)) == pytest.approx(eps, rel=1e-12)  # rounding only
 
 
 def test_internal_and_iso_signed_external_formula_agree() -> None:
@@ -277,10 +278,10 @@ def test_internal_and_iso_signed_external_formula_agree() -> None:
 def test_grid_evaluation_equals_scalar_evaluation() -> None:
     x1 = np.array([0.2, 0.6, 1.0])
     x2 = np.array([0.5, 0.9])
-    grid = geo.constraint_grid(geo.with_shifts(KHV, x1[None, :], x2[:, None]))
+    grid = constraints.constraint_grid(geo.with_shifts(KHV, x1[None, :], x2[:, None]))
     for i, b in enumerate(x2):
         for j, a in enumerate(x1):
-            scalar = geo.constraints(at(float(a), float(b)))
+            scalar = constraints.constraints(at(float(a), float(b)))
             for k, v in scalar.items():
                 # same arithmetic; NaN where a' does not exist (x2 < x1 - 0.06)
                 assert grid[k][i, j] == pytest.approx(v, rel=1e-13, abs=1e-13, nan_ok=True), k
@@ -289,7 +290,10 @@ def test_grid_evaluation_equals_scalar_evaluation() -> None:
 def test_x2_boundary_vectorised() -> None:
     x1 = np.array([0.416, 0.835])
     np.testing.assert_allclose(
-        geo.x2_on_overlap_boundary_many(x1, KHV), [geo.x2_on_overlap_boundary(v, KHV) for v in x1], rtol=0, atol=1e-12
+        constraints.x2_on_overlap_boundary_many(x1, KHV),
+        [constraints.x2_on_overlap_boundary(v, KHV) for v in x1],
+        rtol=0,
+        atol=1e-12,
     )
 
 
@@ -328,8 +332,8 @@ def test_eps_decreases_along_line4(xa: float, xb: float) -> None:
     lo, hi = sorted((xa, xb))
     if hi - lo < 1e-3:
         return
-    e_lo = float(geo.contact_ratio(at(lo, geo.x2_on_overlap_boundary(lo, KHV))))
-    e_hi = float(geo.contact_ratio(at(hi, geo.x2_on_overlap_boundary(hi, KHV))))
+    e_lo = float(interference.contact_ratio(at(lo, constraints.x2_on_overlap_boundary(lo, KHV))))
+    e_hi = float(interference.contact_ratio(at(hi, constraints.x2_on_overlap_boundary(hi, KHV))))
     assert e_lo > e_hi
 
 
@@ -343,8 +347,8 @@ def test_gs_monotone_in_x2(x1: float, dx: float, step: float) -> None:
     for b in (x2, x2 + step):
         ra1, ra2 = (float(d) / 2 for d in geo.tip_diameters(at(x1, b)))
         assume(abs(ra2 - ra1) < float(geo.working_centre_distance(at(x1, b))))
-    g0 = float(geo.overlap_interference(at(x1, x2)))
-    g1 = float(geo.overlap_interference(at(x1, x2 + step)))
+    g0 = float(interference.overlap_interference(at(x1, x2)))
+    g1 = float(interference.overlap_interference(at(x1, x2 + step)))
     assert g1 >= g0 - 1e-12  # non-decreasing (flat once the tip circles stop intersecting)
 
 
@@ -379,8 +383,8 @@ def test_external_swap_symmetry(z1: int, z2: int, x1: float, x2: float, alpha: f
 
     same(geo.working_pressure_angle(q), geo.working_pressure_angle(p), 1e-13)
     same(geo.working_centre_distance(q), geo.working_centre_distance(p), 1e-13)
-    same(geo.contact_ratio(q), geo.contact_ratio(p), 1e-12)
-    sp, sq = geo.tip_thickness(p), geo.tip_thickness(q)
+    same(interference.contact_ratio(q), interference.contact_ratio(p), 1e-12)
+    sp, sq = interference.tip_thickness(p), interference.tip_thickness(q)
     same(sq[0], sp[1], 1e-12)
 
 
@@ -395,4 +399,4 @@ def test_large_difference_standard_annulus_behaves_like_rack(z1: int) -> None:
     aa1 = math.acos(z1 * math.cos(a) / (z1 + 2.0))
     rack = (z1 * (math.tan(aa1) - math.tan(a)) + 4.0 / math.sin(2 * a)) / (2 * math.pi)
     # O(1/z2) approach to the limit: 1e-3 absolute at z2 - z1 = 20000.
-    assert float(geo.contact_ratio(pair)) == pytest.approx(rack, abs=1e-3)
+    assert float(interference.contact_ratio(pair)) == pytest.approx(rack, abs=1e-3)

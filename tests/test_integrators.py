@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from _paper import li2013_parameters
+from benchmarks import work_precision
 from geardyn.khv.model import Coefficients, dimensionless
 from geardyn.solve import SimulationSettings, simulate, step_grid, warm_up
 
@@ -113,9 +114,8 @@ def test_settings_validation():
 
 
 def test_bench_dataset_is_self_describing_and_roundtrips(tmp_path):
-    """bench.to_dataset on a synthetic study: CF attributes everywhere, netCDF round trip identical."""
+    """work_precision.to_dataset on a synthetic study: CF attributes everywhere, netCDF round trip identical."""
     xr = pytest.importorskip("xarray")
-    from geardyn import bench
 
     steps, rtols = np.array([64, 128]), np.array([1e-6])
     arr = {
@@ -133,8 +133,8 @@ def test_bench_dataset_is_self_describing_and_roundtrips(tmp_path):
         "n_periods": 600,
     }
     out = {"steps": steps, "rtols": rtols, "cases": {"periodic": case}}
-    out["summary"] = bench.summarize(out)
-    ds = bench.to_dataset(out)
+    out["summary"] = work_precision.summarize(out)
+    ds = work_precision.to_dataset(out)
     for name in list(ds.data_vars) + list(ds.coords):
         assert "long_name" in ds[name].attrs, name
     for name in ds.data_vars:
@@ -144,4 +144,4 @@ def test_bench_dataset_is_self_describing_and_roundtrips(tmp_path):
     with xr.open_dataset(path) as back:
         xr.testing.assert_identical(back.load(), ds)
         assert Coefficients.from_dict(json.loads(back.attrs["coefficients_periodic"])) == PERIODIC
-    assert "| periodic | rk4_event | 128 |" in bench.markdown(out)
+    assert "| periodic | rk4_event | 128 |" in work_precision.markdown(out)

@@ -11,7 +11,9 @@ import pytest
 from geardyn import classify
 from geardyn.khv import design, point
 from geardyn.label import Policy, label_lines, label_points
+from geardyn.label import _stages as st
 from geardyn.label.compare import hausdorff
+from geardyn.runs import sweep
 from geardyn.solve import SimulationSettings, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -98,7 +100,6 @@ def test_coexistence_stores_both_starts_and_flags_where_they_differ():
     """With ``coexistence`` every point is also labelled from the fixed start: ``label_fixed`` and the
     ``coexisting`` flag are stored, and the flag is 1 exactly where the two verdicts differ in label (here,
     li2013 at b = 2, e = 5, both starts find the one P1 orbit: never)."""
-    from geardyn.runs import sweep
 
     d = design.load(ROOT / "config" / "designs" / "li2013.yaml")
     spec = sweep.SweepSpec.from_config(
@@ -127,7 +128,6 @@ def test_coexistence_stores_both_starts_and_flags_where_they_differ():
 def test_a_long_cycle_is_labelled_long_period_with_its_period():
     """A periodic orbit longer than max_n (a torus locked to a long cycle) gets the label long_period and its
     least period in ``period``; a followed one keeps that label (the CF flags list 1..max_n only)."""
-    from geardyn.label import _stages as st
 
     line = _line("li2013_route", [0.80])
     point_ = st.Point(line[0], None, None)

@@ -6,6 +6,7 @@ import dataclasses
 import json
 import math
 from importlib import resources
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,7 +16,7 @@ from scipy.integrate import solve_ivp
 
 from _examples import EXAMPLE_SCALE
 from _paper import li2013_parameters
-from geardyn.khv import model
+from geardyn.khv import design, model, point
 from geardyn.khv.model import Options, dimensionless
 from geardyn.solve import SimulationSettings, simulate
 
@@ -174,9 +175,6 @@ def test_schema_defaults_match_dataclasses():
 
 
 def test_pair_derived_parameters_equal_the_paper_constants():
-    from pathlib import Path
-
-    from geardyn.khv import design, point
 
     spec = design.load(Path(__file__).resolve().parents[1] / "config" / "designs" / "li2013.yaml")
     phys, opts, _ = point.point_model(spec, {"x1": 0.5})

@@ -5,16 +5,20 @@ Nothing is compiled with a C compiler."""
 
 from __future__ import annotations
 
+import os
 import re
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from geardyn import bench
+from benchmarks import kernels
 from geardyn.solve import _model
 from geardyn.solve.base import BACKLASH_ON, LAYOUT, B
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def _statements(block: str, macro=None) -> list[str]:
@@ -26,15 +30,15 @@ def _statements(block: str, macro=None) -> list[str]:
         call = re.fullmatch(r"RHS\((.*)\)", stmt)
         if call and macro is not None:
             args = dict(zip(macro[0], (f"({a.strip()})" for a in call[1].split(",")), strict=True))
-            out += [re.sub(r"\b\w+\b", lambda t: args.get(t[0], t[0]), line) for line in macro[1]]
+            out += [re.sub(r"\b\w+\b", lambda t, args=args: args.get(t[0], t[0]), line) for line in macro[1]]
         elif stmt and "=" in stmt:
             out += [part.strip() for part in re.split(r",\s*(?=[A-Za-z_]\w*\s*=)", stmt)]
     return out
 
 
 def _c_as_python():
-    """The RK4 step of ``bench.C_RK4`` as a Python function step(c, th, tk, tp, y) -> new y."""
-    src = bench.C_RK4
+    """The RK4 step of ``kernels.C_RK4`` as a Python function step(c, th, tk, tp, y) -> new y."""
+    src = kernels.C_RK4
     fdead = src[src.index("static inline double fdead") : src.index("#define RHS")]
     py = ["def fdead(x, b, on):"]
     py += [f"    if {m[1]}: return {m[2]}" for m in re.finditer(r"if \((.*?)\) return (.*?);", fdead)]
@@ -57,7 +61,7 @@ def test_the_c_text_is_translated_whole():
     ns, lines = _c_as_python()
     assert {"fdead", "step"} <= set(ns)
     # the 4 stages: each RHS call expanded into the macro's 4 lines (fm_ and the three accelerations)
-    assert bench.C_RK4.count("RHS(") - 1 == 4
+    assert kernels.C_RK4.count("RHS(") - 1 == 4
     assert sum("fm_ =" in line for line in lines) == 4
     assert sum(line.strip().startswith("(d3) =") for line in lines) == 1
 
@@ -89,10 +93,15 @@ def test_c_loop_equals_the_model_statement(on):
     assert n_in_zone > 30  # both sides of the dead zone were exercised
 
 
-def test_importing_bench_changes_no_environment_variable():
+def test_importing_the_benchmarks_changes_no_environment_variable(tmp_path):
+    """Every benchmark module imports without setting an environment variable or compiling the C loop
+    (only ``python -m benchmarks.bench`` pins the thread pools; the C RK4 is built when its mode runs)."""
+    mods = ", ".join(f"benchmarks.{p.stem}" for p in sorted((ROOT / "benchmarks").glob("*.py")) if p.stem != "__init__")
     code = (
-        "import os; before = dict(os.environ); import geardyn.bench; "
+        f"import os; before = dict(os.environ); import {mods}; "
         "assert dict(os.environ) == before, set(os.environ.items()) ^ set(before.items())"
     )
-    env = {k: v for k, v in __import__("os").environ.items() if not k.endswith("_NUM_THREADS")}
-    subprocess.run([sys.executable, "-c", code], check=True, env=env)
+    env = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}
+    env["TMPDIR"] = str(tmp_path)
+    subprocess.run([sys.executable, "-c", code], check=True, env=env, cwd=ROOT)
+    assert not any(tmp_path.rglob("*.so"))

@@ -8,8 +8,10 @@ import json
 import re
 import subprocess
 import sys
+import tarfile
 from pathlib import Path
 
+import netCDF4
 import pytest
 import xarray as xr
 import yaml
@@ -73,7 +75,6 @@ def test_every_netcdf_file_carries_cf_attributes(small_run):
 
 
 def test_every_netcdf_variable_is_compressed(small_run):
-    import netCDF4
 
     for path in _netcdf_files(small_run):
         with netCDF4.Dataset(path) as nc:
@@ -173,7 +174,6 @@ def test_archive_holds_every_cube_and_verifies(small_run, design):
 
 
 def _archive_member(path, name):
-    import tarfile
 
     with tarfile.open(path, "r:gz") as tar:
         member = next(m for m in tar if m.name.endswith("/" + name))

@@ -66,7 +66,7 @@ def test_yaml_validates_and_has_table1_values():
 )
 def test_invalid_designs_rejected(patch):
     raw = {"kind": "plus_planetary", **patch}
-    with pytest.raises(ConfigError, match="is not allowed|unknown key|kind"):
+    with pytest.raises(ConfigError, match=r"is not allowed|unknown key|kind"):
         design_from_dict(config.validate(raw, "plus_planetary.schema.json", "design"))
 
 

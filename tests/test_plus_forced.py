@@ -69,9 +69,9 @@ def test_quasi_static_limit_is_the_static_solution():
     meshes = [el for el in modal.elements(d) if el.kind in forced.MESH_KINDS]
     g = forced.mesh_phases(d)
     e = np.array([a * np.exp(2j * np.pi * g[el.j]) if el.kind == "pd" else 0.0 for el in meshes])
-    f = -sum(el.k * ej * el.v[keep] for el, ej in zip(meshes, e))
+    f = -sum(el.k * ej * el.v[keep] for el, ej in zip(meshes, e, strict=True))
     x = np.linalg.lstsq(mat.K, f, rcond=None)[0]
-    static = np.array([el.k * (el.v[keep] @ x + ej) for el, ej in zip(meshes, e)])
+    static = np.array([el.k * (el.v[keep] @ x + ej) for el, ej in zip(meshes, e, strict=True)])
     np.testing.assert_allclose(res.amplitude[0, 0, 0], static, rtol=1e-6, atol=1e-9 * np.abs(static).max())
 
 

@@ -23,7 +23,7 @@ def test_deterministic():
 
 
 def test_optima_within_bounds_and_better_than_unmodified(optima):
-    for (sh, b), o in optima.items():
+    for (_, b), o in optima.items():
         (a0, a1), (l0, l1) = relief.bounds_of(D, b)
         assert a0 <= o.amount <= a1 and l0 <= o.length <= l1
         assert o.ptp < o.ptp_unmodified

@@ -6,6 +6,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 
+import matplotlib.image as mpimg
 import pandas as pd
 import pytest
 import xarray as xr
@@ -110,7 +111,6 @@ def run(tmp_path_factory):
 
 
 def test_every_output_holds_what_it_should(run):
-    import matplotlib.image as mpimg
 
     for key, path in run.items():
         if path.suffix == ".png":

@@ -8,10 +8,12 @@ import sys
 from importlib import metadata
 from pathlib import Path
 
+import llvmlite.binding as llvm
 import netCDF4
 import numpy as np
 import pytest
 import xarray as xr
+from numpy._core import _multiarray_umath as mu
 
 from geardyn import archive, io
 
@@ -56,11 +58,9 @@ def test_runtime_provenance_names_versions_and_cpu():
         flags = set(_cpuinfo_field("flags").split())
         assert set(rt["cpu_simd_flags"].split()) <= flags and "sse2" in rt["cpu_simd_flags"].split()
         assert ("avx2" in flags) == ("avx2" in rt["cpu_simd_flags"].split())
-    from numpy._core import _multiarray_umath as mu
 
     assert rt["numpy_cpu_baseline"].split() == list(mu.__cpu_baseline__)
     assert set(rt["numpy_cpu_dispatch"].split()) <= set(mu.__cpu_dispatch__) | {"none"}
-    import llvmlite.binding as llvm
 
     assert rt["numba_cpu_name"] == (__import__("numba").config.CPU_NAME or llvm.get_host_cpu_name())
 

@@ -17,7 +17,7 @@ import pytest
 from numba import njit
 
 from geardyn.khv import design, point
-from geardyn.runs.continuation import CallableFamily, ContinuationSettings, continue_branch
+from geardyn.runs.continuation import CallableFamily, ContinuationSettings, continue_branch, switch_at_period_doubling
 from geardyn.solve import SimulationSettings, floquet, simulate
 from geardyn.solve.shooting import fd_monodromy, khv_flow, newton_shooting, newton_shooting_batch, rk4_flow, shoot
 
@@ -219,7 +219,6 @@ def fast_duffing_family(steps=200):
 def test_duffing_cascade_by_branch_switching():
     """P1 -> P2 at 0.2655818, P2 -> P4 at 0.2866932 (scipy DOP853 + fsolve + brentq on the 2-period
     map: 0.286693157824; measured here 0.2866931603)."""
-    from geardyn.runs.continuation import switch_at_period_doubling
 
     fam = fast_duffing_family()
     x = np.array([0.1, 0.0])
@@ -227,7 +226,7 @@ def test_duffing_cascade_by_branch_switching():
         x, _ = fam.flow(0.2, 1)(x, False)
     cs = ContinuationSettings(ds=0.02, ds_max=0.02)
     br = continue_branch(fam, 0.2, x, 1, 0.2, 0.3, cs)
-    pd1 = [b for b in br.bifurcations if b.kind == "period_doubling"][0]
+    pd1 = next(b for b in br.bifurcations if b.kind == "period_doubling")
     assert abs(pd1.p - GAMMA_PD) < 1e-6
     p2 = switch_at_period_doubling(fam, pd1, 0.2, 0.3, cs)
     assert p2 is not None and p2.n == 2

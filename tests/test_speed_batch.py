@@ -5,8 +5,10 @@ import numba
 import numpy as np
 import pytest
 
+from _oracle import rules_label
+from benchmarks.work_precision import cases
 from geardyn import classify
-from geardyn.bench import cases
+from geardyn.label import Policy, label_points
 from geardyn.solve import SimulationSettings, _batch, simulate
 from geardyn.solve.simulate import EarlyStop, simulate_batch, step_tables
 
@@ -108,8 +110,6 @@ def test_floquet_exponent_of_periodic_points():
     the early stop ends the transient well before its end, the orbit is certified by shooting, and the
     Floquet exponent is the least-damped multiplier's (log 0.9812 per period) inside the error bar of the
     tangent estimate of a plain run of the whole transient (the test oracle)."""
-    from _oracle import rules_label
-    from geardyn.label import Policy, label_points
 
     periodic = [cases()["periodic"].replace(b=b) for b in (0.0, 1.0, 2.5)]
     base = SimulationSettings(steps_per_period=32, transient_periods=900, recorded_periods=50)

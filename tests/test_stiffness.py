@@ -119,7 +119,7 @@ def test_corrected_stiffness_bounded_by_single_and_double_pair(eps, kp, t):
 def test_bad_inputs_raise_clear_errors():
     with pytest.raises(ValueError, match="below 1"):
         s.ParabolicStiffness(0.9, 1.0)
-    with pytest.raises(ValueError, match="printed Eq. \\(9\\) is stated for 1 <= eps < 2"):
+    with pytest.raises(ValueError, match=r"printed Eq\. \(9\) is stated for 1 <= eps < 2"):
         s.ParabolicStiffness(2.3, 1.0, "printed")
     with pytest.raises(ValueError, match="unknown stiffness variant"):
         s.flexibility_q(30, 33, 0.5, 0.7, variant="nope")

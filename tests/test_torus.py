@@ -138,11 +138,11 @@ def test_periodic_points_and_bad_input():
     assert T.torus_test(_circle(3998), min_n=1999).verdict == "torus"
     p = _circle(100)
     p[37, 1] = np.nan
-    with pytest.raises(ValueError, match="1 row.*NaN.*row 37"):
+    with pytest.raises(ValueError, match=r"1 row.*NaN.*row 37"):
         T.birkhoff_digits(p)
     with pytest.raises(ValueError, match="at least 4"):
         T.birkhoff_digits(np.zeros((3, 2)))
-    with pytest.raises(ValueError, match="chaos threshold .* exceeds torus_digits"):
+    with pytest.raises(ValueError, match=r"chaos threshold .* exceeds torus_digits"):
         T.torus_test(_circle(4000), torus_digits=3.0, chaos_digits=4.0)
 
 

@@ -28,6 +28,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import xarray as xr
+import yaml
+
 from geardyn import __version__
 from geardyn import io as gio
 
@@ -110,7 +113,6 @@ def sha256_bytes(data: bytes) -> str:
 
 
 def _cube_provenance(path: Path) -> dict[str, str]:
-    import xarray as xr
 
     with xr.open_dataset(path) as ds:
         return {
@@ -133,7 +135,6 @@ def build(
     ``effective_config`` (the validated workflow config) is stored as ``config/effective_config.yaml``.
     The archive is written to a temporary name and renamed, so it is never seen half-written.
     """
-    import yaml
 
     if not cubes:
         raise ArchiveError(f"{out}: no netCDF cube of design {design!r} to archive (its rules built none)")
@@ -218,7 +219,6 @@ def _read_members(path: Path) -> tuple[str, dict[str, bytes]]:
 
 def verify(path: str | Path) -> Summary:
     """Check an archive written by :func:`build`; raise :class:`ArchiveError` on the first problem."""
-    import xarray as xr
 
     path = Path(path)
     where = str(path)

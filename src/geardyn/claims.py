@@ -30,6 +30,9 @@ pipeline's ``claims.md`` (:func:`claims`, from the cubes) and the calibration ob
 
 from __future__ import annotations
 
+import csv
+import io
+import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -39,6 +42,7 @@ import numpy as np
 import xarray as xr
 
 from geardyn import classify
+from geardyn.plots.captions import spectral_peaks
 from geardyn.runs.cube import labels_of_cube
 
 RANGE_AGREE = 0.8
@@ -206,7 +210,6 @@ def peaks_claim(points: xr.Dataset | None, peaks: tuple[float, ...], x1: float =
     paper = ", ".join(f"{v:g}" for v in peaks)
     if points is None or f"x1={x1:g}" not in [str(c) for c in points["case"].values]:
         return Claim("fig08_peaks", "Fig. 8c", statement, paper, "no dense run", "not comparable", "point missing")
-    from geardyn.plots.captions import spectral_peaks
 
     d = points.sel(case=f"x1={x1:g}")
     if int(d["diverged"]) == 1:
@@ -273,9 +276,19 @@ def evaluate(
     calibration objective.  ``fig07``: the x1 sweep at the paper's b and e; ``fig09`` / ``fig11``:
     {x1: Track} of the b and e sweeps at the paper's three x1.  Inputs that are not given make
     their claims "not comparable" (the list always has the same ids in the same order)."""
+    return [
+        *_fig03_claims(paper, closed_graph),
+        _stiffness_claim(stiffness),
+        *_fig07_claims(paper, fig07, fig08_points, p1_amplitude),
+        *_fig09_claims(paper, fig09),
+        *_fig11_claims(paper, fig11),
+    ]
+
+
+def _fig03_claims(paper: ModuleType, closed_graph: xr.Dataset | None) -> list[Claim]:
+    """Fig. 3: the paper's limit points M and N lie on line 4 of the closed graph."""
     out: list[Claim] = []
     tol = paper.POINT_TOLERANCE
-    # --- Fig. 3: M and N --------------------------------------------------------------------
     if closed_graph is None:
         for pt, (px1, px2) in paper.POINTS.items():
             out.append(
@@ -300,27 +313,37 @@ def evaluate(
                     f"residual {res:+.5f} (paper prints 3 decimals: agree within {tol:g})",
                 )
             )
-    # --- stiffness falling with x1 --------------------------------------------------------------
+    return out
+
+
+def _stiffness_claim(stiffness: xr.Dataset | None) -> Claim:
+    """Sec. 4.1: the meshing stiffness becomes small as x1 increases (along M-N)."""
     if stiffness is None:
-        out.append(_missing("stiffness_falls", "Sec. 4.1", "meshing stiffness becomes small as x1 increases", "falls"))
-    else:
-        km = stiffness["k_mean"].values
-        kc = stiffness["k_c"].values
-        x1s = stiffness["x1"].values
-        frac_down = float(np.mean(np.diff(km) < 0))
-        out.append(
-            Claim(
-                "stiffness_falls",
-                "Sec. 4.1",
-                "meshing stiffness becomes small as x1 increases",
-                "falls",
-                f"k_mean {km[0]:.4g} -> {km[-1]:.4g} N/m ({100 * (km[-1] / km[0] - 1):+.1f} %), "
-                f"k_C {100 * (kc[-1] / kc[0] - 1):+.1f} %, x1 {x1s[0]:.3f} -> {x1s[-1]:.3f}",
-                "agree" if frac_down == 1.0 else "disagree",
-                f"k_mean falls at {100 * frac_down:.0f} % of the {len(km) - 1} steps along M-N",
-            )
-        )
-    # --- Fig. 7: the regime sequence along x1 -------------------------------------------------
+        return _missing("stiffness_falls", "Sec. 4.1", "meshing stiffness becomes small as x1 increases", "falls")
+    km = stiffness["k_mean"].values
+    kc = stiffness["k_c"].values
+    x1s = stiffness["x1"].values
+    frac_down = float(np.mean(np.diff(km) < 0))
+    return Claim(
+        "stiffness_falls",
+        "Sec. 4.1",
+        "meshing stiffness becomes small as x1 increases",
+        "falls",
+        f"k_mean {km[0]:.4g} -> {km[-1]:.4g} N/m ({100 * (km[-1] / km[0] - 1):+.1f} %), "
+        f"k_C {100 * (kc[-1] / kc[0] - 1):+.1f} %, x1 {x1s[0]:.3f} -> {x1s[-1]:.3f}",
+        "agree" if frac_down == 1.0 else "disagree",
+        f"k_mean falls at {100 * frac_down:.0f} % of the {len(km) - 1} steps along M-N",
+    )
+
+
+def _fig07_claims(
+    paper: ModuleType,
+    fig07: Track,
+    fig08_points: xr.Dataset | None,
+    p1_amplitude: Mapping[str, np.ndarray] | None,
+) -> list[Claim]:
+    """Fig. 7: the regime sequence along x1 (with the Fig. 8 peaks and the P1 amplitude), then the Fig. 8 points."""
+    out: list[Claim] = []
     v, lab = fig07.values, fig07.labels
     seen: dict[int, int] = {}
     for i, ((lo, hi, label), text) in enumerate(zip(paper.SEQUENCE, paper.SEQUENCE_TEXT, strict=True)):
@@ -332,28 +355,16 @@ def evaluate(
         if want == 5:
             out.append(peaks_claim(fig08_points, paper.PEAKS_0585))
         if i == 0:
-            statement = "in the P1 range the amplitude decreases as x1 increases"
-            if p1_amplitude is not None and len(p1_amplitude["x1"]) > 2:
-                xa, ptp = np.asarray(p1_amplitude["x1"]), np.asarray(p1_amplitude["ptp"])
-                falls, steps = int(np.sum(np.diff(ptp) < 0)), len(ptp) - 1
-                out.append(
-                    Claim(
-                        "fig07_amplitude",
-                        "Fig. 7",
-                        statement,
-                        "decreasing",
-                        f"peak-to-peak X_VH {ptp[0]:.3g} -> {ptp[-1]:.3g} over x1 {xa[0]:.3f}-{xa[-1]:.3f}",
-                        fraction_verdict(falls, steps),
-                        f"falls at {100 * falls / steps:.0f} % of {steps} steps (dense runs, recorded periods;"
-                        f" {_band(falls, steps)})",
-                    )
-                )
-            else:
-                out.append(_missing("fig07_amplitude", "Fig. 7", statement, "decreasing"))
+            out.append(_amplitude_claim(p1_amplitude))
     for fig, x1, label in paper.FIG08_POINTS:
         want = code(label)
         out.append(point_claim(f"fig{fig}", f"Fig. {fig}", f"x1 = {x1}: {_NAMES[want]}", v, lab, x1, want, fig07))
-    # --- Fig. 9 (backlash) -----------------------------------------------------------------------
+    return out
+
+
+def _fig09_claims(paper: ModuleType, fig09: Mapping[float, Track]) -> list[Claim]:
+    """Fig. 9 (backlash b): the Fig. 10 points and the route from P1 into chaos at each x1."""
+    out: list[Claim] = []
     b_at = paper.FIG10_B
     for fig, x1, label in paper.FIG10_LABELS:
         want = code(label)
@@ -390,7 +401,12 @@ def evaluate(
             f"{sum(ok)}/{len(ok)} cases start P1 (b = 0) and reach chaos somewhere in the sweep",
         )
     )
-    # --- Fig. 11 (TE amplitude) ------------------------------------------------------------------
+    return out
+
+
+def _fig11_claims(paper: ModuleType, fig11: Mapping[float, Track]) -> list[Claim]:
+    """Fig. 11 (TE amplitude e): the Fig. 12 points, the route P1 -> QP -> chaos and the narrowing P1 range."""
+    out: list[Claim] = []
     e_at = paper.FIG12_E
     for fig, x1, label in paper.FIG12_LABELS:
         want = code(label)
@@ -429,7 +445,7 @@ def evaluate(
             f"{sum(ok)}/{len(ok)} cases show P1 first, then QP no later than the first chaos",
         )
     )
-    narrower = all(a > b for a, b in zip(sync, sync[1:], strict=False))
+    narrower = all(a > b for a, b in itertools.pairwise(sync))
     out.append(
         Claim(
             "fig11_sync_range",
@@ -443,6 +459,24 @@ def evaluate(
         )
     )
     return out
+
+
+def _amplitude_claim(p1_amplitude: Mapping[str, np.ndarray] | None) -> Claim:
+    """Fig. 7: in the P1 range the amplitude falls as x1 grows (dense runs' peak-to-peak X_VH)."""
+    statement = "in the P1 range the amplitude decreases as x1 increases"
+    if p1_amplitude is None or len(p1_amplitude["x1"]) <= 2:
+        return _missing("fig07_amplitude", "Fig. 7", statement, "decreasing")
+    xa, ptp = np.asarray(p1_amplitude["x1"]), np.asarray(p1_amplitude["ptp"])
+    falls, steps = int(np.sum(np.diff(ptp) < 0)), len(ptp) - 1
+    return Claim(
+        "fig07_amplitude",
+        "Fig. 7",
+        statement,
+        "decreasing",
+        f"peak-to-peak X_VH {ptp[0]:.3g} -> {ptp[-1]:.3g} over x1 {xa[0]:.3f}-{xa[-1]:.3f}",
+        fraction_verdict(falls, steps),
+        f"falls at {100 * falls / steps:.0f} % of {steps} steps (dense runs, recorded periods; {_band(falls, steps)})",
+    )
 
 
 def note(design: str, title: str) -> str:
@@ -469,8 +503,6 @@ def headline(rows: list[Claim]) -> str:
 
 
 def to_csv(rows: list[Claim]) -> str:
-    import csv
-    import io
 
     buf = io.StringIO()
     w = csv.writer(buf)

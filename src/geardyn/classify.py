@@ -18,7 +18,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from geardyn._indicators import (
+    correlations,  # compiled; releases the GIL
+    falling,
+)
 from geardyn.config import settings_from
+from geardyn.solve.simulate import strict_period as rule3
 
 #: Label codes stored in cubes (``flag_values``/``flag_meanings``); n >= 1 is period-n.
 #: ``not_periodic`` is what the Poincaré test alone says (QP or chaos, unresolved).
@@ -38,7 +43,6 @@ def falling_return_distances(poincare: np.ndarray, max_n: int, factor: float = 0
     d_n(k) = max_i |p_k+n,i - p_k,i| of the Poincare points (rows with NaN left out) falls over the
     record: mean of its last quarter < ``factor`` x mean of its first quarter (a quarter: max(2, len // 4)
     values).  True when there are fewer than n + 8 points (too short to tell).  Compiled."""
-    from geardyn._indicators import falling
 
     p = np.asarray(poincare, dtype=float)
     return falling(np.ascontiguousarray(p[np.all(np.isfinite(p), axis=1)]), max_n, factor)
@@ -141,7 +145,6 @@ def zero_one_test(phi: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
     x = x - x.mean()
     if float(np.max(np.abs(x))) <= 1e-12 * max(1.0, float(np.max(np.abs(phi)))):
         return 0.0
-    from geardyn._indicators import correlations  # compiled; releases the GIL
 
     ncut = max(3, n_pts // 10)
     cs = np.random.default_rng(seed).uniform(np.pi / 5, 4 * np.pi / 5, n_c)
@@ -247,7 +250,6 @@ def strict_period(p: np.ndarray, settings: ClassifierSettings = ClassifierSettin
     periods within the tolerance and the n cycle points distinct (> separation * tol); 0 if none.
     ``p``: (n_points, n_states) without NaN rows.  Compiled (:func:`geardyn.solve.simulate.strict_period`:
     the one statement of the rule, also used by the batch classifier and the early stop)."""
-    from geardyn.solve.simulate import strict_period as rule3
 
     q = np.ascontiguousarray(p, dtype=float)
     if q.shape[0] == 0:

@@ -23,13 +23,13 @@ from geardyn.config import ConfigError, load_design_dict
 
 
 def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
-    from geardyn.gears import geometry
-    from geardyn.khv import design
+    from geardyn.gears import constraints  # noqa: PLC0415 - --help loads no numba or scipy
+    from geardyn.khv import design  # noqa: PLC0415 - --help loads no numba or scipy
 
     spec = design.from_dict(raw, path, check=False)
     pair = spec.base
-    derived = geometry.describe(pair, cutter=spec.cutter)
-    values = geometry.constraints(pair, min_tip_thickness=spec.min_tip_thickness, cutter=spec.cutter)
+    derived = constraints.describe(pair, cutter=spec.cutter)
+    values = constraints.constraints(pair, min_tip_thickness=spec.min_tip_thickness, cutter=spec.cutter)
     failed = design.violated_constraints(pair, spec.min_tip_thickness, spec.enforce_cutter_constraints, spec.cutter)
     problem = design.meshing_problem(pair)
     try:
@@ -100,7 +100,7 @@ def _print_tree(data: dict[str, Any], indent: int = 0) -> None:
 
 
 def _plus_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
-    from geardyn.plus import design, modal
+    from geardyn.plus import design, modal  # noqa: PLC0415 - --help loads no numba or scipy
 
     plus = design.design_from_dict(raw, path)
     freqs = {}
@@ -123,7 +123,7 @@ def _plus_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
 def check_design(path: str, as_json: bool) -> int:
     """Print what can be computed of the design, then run the pipeline's own checks of it
     (:func:`geardyn.validate.check_design`): exit 0 when it builds, 1 when not (with the reason)."""
-    from geardyn.validate import check_design as pipeline_check
+    from geardyn.validate import check_design as pipeline_check  # noqa: PLC0415 - --help loads no numba or scipy
 
     raw = load_design_dict(path)
     summary = _defined(_khv_summary(raw, path) if raw["kind"] == "khv" else _plus_summary(raw, path))
@@ -144,7 +144,7 @@ def check_design(path: str, as_json: bool) -> int:
 
 
 def check_config(path: str) -> int:
-    from geardyn.validate import read_config_file, validate_workflow
+    from geardyn.validate import read_config_file, validate_workflow  # noqa: PLC0415 - --help loads no numba or scipy
 
     cfg = read_config_file(path)
     root = Path(path).resolve().parent.parent
@@ -155,7 +155,7 @@ def check_config(path: str) -> int:
 
 def new_design(kind: str, name: str, out: str | None, force: bool, z1: int, z2: int, module: float) -> int:
     """Write a new design file and print the next two commands."""
-    from geardyn import scaffold
+    from geardyn import scaffold  # noqa: PLC0415 - --help loads no numba or scipy
 
     path = Path(out or f"config/designs/{name}.yaml")
     if path.exists() and not force:
@@ -171,7 +171,7 @@ def new_design(kind: str, name: str, out: str | None, force: bool, z1: int, z2: 
 
 
 def verify_archive(path: str) -> int:
-    from geardyn.archive import ArchiveError, verify
+    from geardyn.archive import ArchiveError, verify  # noqa: PLC0415 - --help loads no numba or scipy
 
     try:
         print(verify(path).text())

@@ -12,9 +12,12 @@ Markdown as a closing HTML comment, CSV and JSON in a ``<name>.provenance.json``
 
 from __future__ import annotations
 
+import ctypes
 import datetime as _dt
 import functools
+import glob
 import hashlib
+import importlib.util
 import json
 import os
 import platform
@@ -23,6 +26,7 @@ import subprocess
 import sys
 import tempfile
 from collections.abc import Mapping
+from importlib import metadata
 from pathlib import Path
 from typing import Any
 
@@ -30,6 +34,12 @@ import numpy as np
 import xarray as xr
 
 from geardyn import __version__
+from geardyn.papers import paper_of
+
+try:
+    from numpy._core import _multiarray_umath as mu
+except ImportError:  # numpy < 2
+    from numpy.core import _multiarray_umath as mu  # type: ignore[no-redef]
 
 CONVENTIONS = "CF-1.10"
 #: zlib level of every netCDF variable (with the shuffle filter); measured in docs/operations.md.
@@ -43,8 +53,6 @@ _SIMD_FLAG = re.compile(
 
 
 def _package_version(name: str) -> str:
-    from importlib import metadata
-
     try:
         return metadata.version(name)
     except metadata.PackageNotFoundError:
@@ -75,10 +83,6 @@ def _cpuinfo() -> tuple[str, list[str]]:
 def _numpy_cpu() -> dict[str, str]:
     """The instruction sets numpy was built for (baseline) and dispatches to at run time on this CPU
     (after ``NPY_DISABLE_CPU_FEATURES``), and its BLAS/LAPACK."""
-    try:
-        from numpy._core import _multiarray_umath as mu
-    except ImportError:  # numpy < 2
-        from numpy.core import _multiarray_umath as mu  # type: ignore[no-redef]
     found = getattr(mu, "__cpu_features__", {})
     dispatch = [f for f in getattr(mu, "__cpu_dispatch__", []) if found.get(f)]
     out = {
@@ -98,10 +102,6 @@ def _numpy_cpu() -> dict[str, str]:
 
 def _openblas_core(package: str, symbol: str) -> str:
     """The kernel set ("core") the OpenBLAS bundled with ``package`` uses, e.g. ``Nehalem``, or ``unknown``."""
-    import ctypes
-    import glob
-    import importlib.util
-
     spec = importlib.util.find_spec(package)
     if spec is None or not spec.submodule_search_locations:
         return "unknown"
@@ -121,8 +121,8 @@ def _numba_cpu() -> dict[str, str]:
     """The CPU name and features numba compiles for: ``NUMBA_CPU_NAME`` / ``NUMBA_CPU_FEATURES`` when set,
     else the host's (llvmlite)."""
     try:
-        import llvmlite.binding as llvm
-        import numba
+        import llvmlite.binding as llvm  # noqa: PLC0415 - the JIT only when provenance is asked for
+        import numba  # noqa: PLC0415 - likewise
     except ImportError:
         return {"numba_cpu_name": "not installed", "numba_cpu_features": ""}
     name = numba.config.CPU_NAME or llvm.get_host_cpu_name()
@@ -264,8 +264,6 @@ def provenance(
 
 def _reference(paper: str | None) -> str:
     """The paper's full reference for a design that names one, else the project's documentation."""
-    from geardyn.papers import paper_of
-
     mod = paper_of(paper)
     return mod.REFERENCE if mod is not None else "geardyn documentation (docs/)"
 
@@ -312,7 +310,7 @@ def write_netcdf(
     for name in out.coords:
         if name in out.dims and out[name].dtype.kind == "f":
             out[name].encoding = {**out[name].encoding, "_FillValue": None}
-    for name, var in out.variables.items():
+    for var in out.variables.values():
         if var.ndim > 0 and var.size > 0 and var.dtype.kind in "biuf":
             enc = {**var.encoding, "zlib": zlib_level > 0, "shuffle": zlib_level > 0}
             if zlib_level > 0:
@@ -354,7 +352,7 @@ def netcdf_problem(path: str | os.PathLike[str]) -> str | None:
         return "empty file"
     if head != HDF5_SIGNATURE and not head.startswith(b"CDF"):
         return "not a netCDF file (wrong signature)"
-    import netCDF4
+    import netCDF4  # noqa: PLC0415 - the HDF5 reader only for a file that looks like netCDF
 
     try:
         with netCDF4.Dataset(path) as nc:
@@ -440,7 +438,7 @@ def read_provenance_text(text: str) -> dict[str, str]:
 
 def save_figure(fig: Any, path: str | os.PathLike[str], caption: str | None = None, dpi: int = 150) -> Path:
     """Save a matplotlib figure atomically, and its caption beside it as ``<name>.txt``."""
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # noqa: PLC0415 - matplotlib only when a figure is saved
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

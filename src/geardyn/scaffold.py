@@ -15,6 +15,9 @@ import numpy as np
 import yaml
 
 from geardyn.config import ConfigError, schema, validate
+from geardyn.gears import constraints
+from geardyn.gears import geometry as geo
+from geardyn.khv.closed_graph import CUTTER_DEPENDENT
 
 KINDS = {"khv": "khv.schema.json", "plus": "plus_planetary.schema.json"}
 
@@ -30,8 +33,6 @@ def admissible_segment(
 ) -> tuple[float, float]:
     """The longest x1 interval on line 4 (G_s = 0) where every cutter-independent constraint holds,
     trimmed by 2 % of its length at each end (x1 on a 0.002 grid from -1 to 2)."""
-    from geardyn.gears import geometry as geo
-    from geardyn.khv.closed_graph import CUTTER_DEPENDENT
 
     base = geo.GearPair(
         z1=z1,
@@ -47,14 +48,14 @@ def admissible_segment(
 
     def on_line4(v: float) -> float:
         try:
-            return geo.x2_on_overlap_boundary(float(v), base)
+            return constraints.x2_on_overlap_boundary(float(v), base)
         except (ValueError, RuntimeError):
             return float("nan")
 
     with np.errstate(all="ignore"):
         x2 = np.array([on_line4(v) for v in x1])
         pair = geo.with_shifts(base, x1, np.where(np.isfinite(x2), x2, 0.0))
-        margins = geo.constraint_grid(pair, min_tip_thickness=min_tip_thickness)
+        margins = constraints.constraint_grid(pair, min_tip_thickness=min_tip_thickness)
     ok = np.isfinite(x2)
     for name, value in margins.items():
         if name not in (*CUTTER_DEPENDENT, "overlap_interference"):

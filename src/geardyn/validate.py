@@ -20,7 +20,9 @@ import jsonschema
 
 from geardyn.config import ConfigError, allowed_text, check_expanded_size, load_design_dict, read_yaml, schema, validate
 from geardyn.khv import design as khv_design
+from geardyn.khv.design import is_fraction, resolve_fractions
 from geardyn.papers import paper_of
+from geardyn.plus import design as plus_design
 
 
 def read_config_file(path: str | Path) -> dict[str, Any]:
@@ -48,8 +50,6 @@ def check_design(raw: dict[str, Any], where: str) -> None:
     if raw["kind"] == "khv":
         khv_design.check_segment(khv_design.from_dict(raw, where), where)
     else:
-        from geardyn.plus import design as plus_design
-
         plus_design.design_from_dict(raw, where)
 
 
@@ -97,7 +97,7 @@ PRESET_KEYS = {
 }
 
 #: Measured Poincare error of the event RK4 integrator (units of b_c) per steps_per_period: the
-#: work-precision study (``python -m geardyn.bench``; docs/model.md Sec. 6). A classifier's
+#: work-precision study (``python -m benchmarks.bench``; docs/model.md Sec. 6). A classifier's
 #: ``error_floor`` that a run does not set is taken from here at the run's steps per period,
 #: interpolated log-log between the entries; step counts outside the table need an explicit one.
 POINCARE_ERROR: dict[int, float] = {32: 4.1e-3, 64: 3.0e-4, 128: 1.9e-5, 256: 1.2e-6, 512: 7.5e-8, 1024: 4.7e-9}
@@ -312,7 +312,6 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
     """Semantic checks of every run against every design it selects: known KHV design, known control
     parameters with values in range (NaN and inf refused), ranges that go upwards, x1 inside the design's
     admissible segment, percentages only for x1; claims and calibrations only for paper designs."""
-    from geardyn.khv.design import resolve_fractions
 
     khv = [name for name, raw in designs.items() if raw["kind"] == "khv"]
     for axis in ("x1", "x2"):
@@ -373,7 +372,6 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
 
 def _no_fraction_but_x1(spec: Mapping[str, Any], where: str) -> None:
     """Percentages of the admissible segment are x1 values: refuse them for any other parameter."""
-    from geardyn.khv.design import is_fraction
 
     def walk(node: Any, key: str | None, path: str) -> None:
         if isinstance(node, Mapping):

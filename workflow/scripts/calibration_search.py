@@ -5,7 +5,8 @@ import time
 from pathlib import Path
 
 from geardyn import io, logs
-from geardyn.khv import calibrate, design
+from geardyn.khv import calibrate, design, point
+from geardyn.label import Policy
 from geardyn.papers import paper_of
 
 log = logs.to_file(snakemake.log[0])
@@ -20,14 +21,14 @@ cache = Path(snakemake.output.scores).with_name(f"{snakemake.wildcards.calibrati
 t0, c0 = time.time(), time.process_time()
 best, ev = calibrate.search(problem, cache, init=start, workers=snakemake.threads, **budget)
 wall = time.time() - t0
-records = [ev.cache[k] for k in ev.seen]  # this search's candidates (the cache may hold others)
+records = ev.searched()  # this search's candidates (the cache may hold others)
 # the best few again at the design's own integration settings and the default classifier
 full = calibrate.Problem(
     problem.design,
     problem.paper,
     problem.space,
     problem.grids,
-    calibrate.Policy(calibrate.point.integration_settings(drive)),
+    Policy(point.integration_settings(drive)),
     problem.fixed,
     problem.require,
 )
@@ -59,16 +60,16 @@ io.write_text(
     json.dumps(
         {
             "result": result,
-            "record": best,
-            "verified": verified,
+            "record": best.to_json(),
+            "verified": verified.to_json(),
             "cost": cost,
             "verified_top": [
                 {
-                    "values": a["values"],
-                    "search_score": a["score"],
-                    "verified_score": b["score"],
-                    "verified_agree": b["agree"],
-                    "interior": calibrate.interior(a["unit"]),
+                    "values": a.values,
+                    "search_score": a.score,
+                    "verified_score": b.score,
+                    "verified_agree": b.agree,
+                    "interior": calibrate.interior(a.unit),
                 }
                 for a, b in pairs
             ],
@@ -90,7 +91,7 @@ log.info(
     "search: %d candidates (%d new), best score %.3f (%d agree), %.1f s",
     len(records),
     ev.new,
-    best["score"],
-    best["agree"],
+    best.score,
+    best.agree,
     wall,
 )

@@ -11,12 +11,12 @@ log = logs.to_file(snakemake.log[0])
 spec = snakemake.params.spec
 drive = design.load(snakemake.input.design)
 problem, _ = calibrate.problem_from_config(drive, spec)
-best = json.loads(Path(snakemake.input.best).read_text())["record"]
+best = calibrate.Record.from_json(json.loads(Path(snakemake.input.best).read_text())["record"])
 cache = Path(snakemake.input.best).with_name(f"{snakemake.wildcards.calibration}_cache.jsonl")
 sens = spec.get("sensitivity", {})
 with calibrate.Evaluator(problem, cache, spec["search"].get("workers", 1)) as ev:
     oat, mp, text = calibrate.sensitivity(
-        problem, ev, best["values"], sens.get("steps", [0.02, 0.1, 0.5]), sens.get("map_points", 7)
+        problem, ev, best.values, sens.get("steps", [0.02, 0.1, 0.5]), sens.get("map_points", 7)
     )
 attrs = io.provenance(
     title=f"Calibration sensitivity {snakemake.wildcards.calibration}",

@@ -36,7 +36,7 @@ ISO_C: tuple[float, ...] = (
     0.00182,
 )
 #: The same as printed in paper 1, Eq. (8): C1 = 0.04732 (a transposition).
-PRINTED_C: tuple[float, ...] = (0.04732,) + ISO_C[1:]
+PRINTED_C: tuple[float, ...] = (0.04732, *ISO_C[1:])
 
 QVariant = Literal["iso", "paper"]
 KForm = Literal["corrected", "printed"]
@@ -140,7 +140,7 @@ class ParabolicStiffness:
     @property
     def pairs(self) -> int:
         """n = floor(eps): pairs in contact on the second zone [f, 1) (n + 1 on the first)."""
-        return int(math.floor(self.eps))
+        return math.floor(self.eps)
 
     @property
     def fraction(self) -> float:

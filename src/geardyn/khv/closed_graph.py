@@ -18,12 +18,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 from scipy.optimize import brentq
 
+from geardyn.gears import constraints, interference
 from geardyn.gears import geometry as geo
 
 #: Which of the paper's lines each constraint belongs to (0: drawn but not one of lines 1-4).
@@ -48,13 +50,13 @@ _ON_LINE_TOL = 1e-9
 
 
 def _cutter_attrs(base: geo.GearPair, cutter: geo.ShaperCutter | None) -> dict[str, float | int | str]:
-    cut = cutter if cutter is not None else geo.default_cutter(base)
+    cut = cutter if cutter is not None else interference.default_cutter(base)
     ha0 = cut.addendum if cut.addendum is not None else base.addendum + base.clearance
     return {
         "cutter_teeth": int(cut.teeth),
         "cutter_shift": float(cut.shift),
         "cutter_addendum": float(ha0),
-        "cutter_source": "configured" if cutter is not None else "assumed (geometry.default_cutter)",
+        "cutter_source": "configured" if cutter is not None else "assumed (interference.default_cutter)",
     }
 
 
@@ -87,7 +89,7 @@ def closed_graph(
     kw = {"min_tip_thickness": min_tip_thickness, "min_contact_ratio": min_contact_ratio, "cutter": cutter}
 
     grid_pair = geo.with_shifts(base, x1a[np.newaxis, :], x2a[:, np.newaxis])
-    margins = geo.constraint_grid(grid_pair, **kw)  # type: ignore[arg-type]
+    margins = constraints.constraint_grid(grid_pair, **kw)  # type: ignore[arg-type]
     coords = {
         "x1": ("x1", x1a, {"units": "1", "long_name": "planet profile-shift coefficient x1"}),
         "x2": (
@@ -99,74 +101,8 @@ def closed_graph(
     if reference_points:
         coords["point"] = ("point", np.array(list(reference_points)), {"long_name": "printed limit point"})
     ds = xr.Dataset(coords=coords)
-    for name, value in margins.items():
-        units, long_name = geo.constraint_info(name)
-        ds[name] = (
-            ("x2", "x1"),
-            np.asarray(value, dtype=float),
-            {
-                "units": units,
-                "long_name": long_name,
-                "closed_graph_line": LINE_OF.get(name, 0),
-                "cutter_dependent": int(name in CUTTER_DEPENDENT),
-                "sign_convention": ">= 0 satisfied",
-            },
-        )
-    ds["contact_ratio"] = (
-        ("x2", "x1"),
-        geo.contact_ratio(grid_pair),
-        {"units": "1", "long_name": "transverse contact ratio"},
-    )
-    ds["working_pressure_angle"] = (
-        ("x2", "x1"),
-        np.degrees(geo.working_pressure_angle(grid_pair)),
-        {"units": "degree", "long_name": "working pressure angle a'"},
-    )
-
-    stack = np.stack([ds[n].values for n in margins])
-    free = np.stack([ds[n].values for n in margins if n not in CUTTER_DEPENDENT])
-    flag = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "infeasible feasible"}
-    ds["feasible"] = (
-        ("x2", "x1"),
-        np.all(stack >= 0.0, axis=0).astype(np.int8),
-        {"units": "1", "long_name": "all constraints satisfied", **flag},
-    )
-    ds["feasible_cutter_free"] = (
-        ("x2", "x1"),
-        np.all(free >= 0.0, axis=0).astype(np.int8),
-        {"units": "1", "long_name": "all constraints satisfied except the cutter-dependent ones", **flag},
-    )
-
-    # Line 4 along the x1 grid, with the other constraints evaluated on it.
-    x2_l4 = geo.x2_on_overlap_boundary_many(x1a, base)
-    line_pair = geo.with_shifts(base, x1a, x2_l4)
-    on_line = geo.constraint_grid(line_pair, **kw)  # type: ignore[arg-type]
-    others = np.stack([v for k, v in on_line.items() if k != "overlap_interference"])
-    ok_line = np.all(others >= 0.0, axis=0) & (np.abs(on_line["overlap_interference"]) < _ON_LINE_TOL)
-    others_free = np.stack([v for k, v in on_line.items() if k not in (*CUTTER_DEPENDENT, "overlap_interference")])
-    ok_line_free = np.all(others_free >= 0.0, axis=0)
-    ds["x2_line4"] = ("x1", x2_l4, {"units": "1", "long_name": "annulus shift x2 on line 4 (G_s = 0)"})
-    ds["contact_ratio_line4"] = (
-        "x1",
-        geo.contact_ratio(line_pair),
-        {"units": "1", "long_name": "transverse contact ratio on line 4"},
-    )
-    ds["working_pressure_angle_line4"] = (
-        "x1",
-        np.degrees(geo.working_pressure_angle(line_pair)),
-        {"units": "degree", "long_name": "working pressure angle a' on line 4"},
-    )
-    ds["feasible_line4"] = (
-        "x1",
-        ok_line.astype(np.int8),
-        {"units": "1", "long_name": "line-4 point satisfying every other constraint", **flag},
-    )
-    ds["feasible_line4_cutter_free"] = (
-        "x1",
-        ok_line_free.astype(np.int8),
-        {"units": "1", "long_name": "line-4 point satisfying every cutter-independent constraint", **flag},
-    )
-
+    _add_grid(ds, grid_pair, margins)
+    ok_line = _add_line4(ds, base, x1a, kw)
     if reference_points:
         _reference_points(ds, base, reference_points)
     feas_x1 = x1a[ok_line]
@@ -193,11 +129,91 @@ def closed_graph(
     return ds
 
 
+def _flag_attrs() -> dict[str, Any]:
+    """CF flag attributes of an int8 feasibility variable (a fresh array each time)."""
+    return {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "infeasible feasible"}
+
+
+def _add_grid(ds: xr.Dataset, grid_pair: geo.GearPair, margins: Mapping[str, np.ndarray]) -> None:
+    """Every constraint's margin on the (x2, x1) grid, the contact ratio, the working pressure angle and the
+    feasibility flags (all constraints; the cutter-independent ones)."""
+    for name, value in margins.items():
+        units, long_name = constraints.constraint_info(name)
+        ds[name] = (
+            ("x2", "x1"),
+            np.asarray(value, dtype=float),
+            {
+                "units": units,
+                "long_name": long_name,
+                "closed_graph_line": LINE_OF.get(name, 0),
+                "cutter_dependent": int(name in CUTTER_DEPENDENT),
+                "sign_convention": ">= 0 satisfied",
+            },
+        )
+    ds["contact_ratio"] = (
+        ("x2", "x1"),
+        interference.contact_ratio(grid_pair),
+        {"units": "1", "long_name": "transverse contact ratio"},
+    )
+    ds["working_pressure_angle"] = (
+        ("x2", "x1"),
+        np.degrees(geo.working_pressure_angle(grid_pair)),
+        {"units": "degree", "long_name": "working pressure angle a'"},
+    )
+
+    stack = np.stack([ds[n].values for n in margins])
+    free = np.stack([ds[n].values for n in margins if n not in CUTTER_DEPENDENT])
+    ds["feasible"] = (
+        ("x2", "x1"),
+        np.all(stack >= 0.0, axis=0).astype(np.int8),
+        {"units": "1", "long_name": "all constraints satisfied", **_flag_attrs()},
+    )
+    ds["feasible_cutter_free"] = (
+        ("x2", "x1"),
+        np.all(free >= 0.0, axis=0).astype(np.int8),
+        {"units": "1", "long_name": "all constraints satisfied except the cutter-dependent ones", **_flag_attrs()},
+    )
+
+
+def _add_line4(ds: xr.Dataset, base: geo.GearPair, x1a: np.ndarray, kw: Mapping[str, Any]) -> np.ndarray:
+    """Line 4 (G_s = 0) along the x1 grid, with the other constraints evaluated on it; returns where a
+    line-4 point satisfies every other constraint."""
+    x2_l4 = constraints.x2_on_overlap_boundary_many(x1a, base)
+    line_pair = geo.with_shifts(base, x1a, x2_l4)
+    on_line = constraints.constraint_grid(line_pair, **kw)  # type: ignore[arg-type]
+    others = np.stack([v for k, v in on_line.items() if k != "overlap_interference"])
+    ok_line = np.all(others >= 0.0, axis=0) & (np.abs(on_line["overlap_interference"]) < _ON_LINE_TOL)
+    others_free = np.stack([v for k, v in on_line.items() if k not in (*CUTTER_DEPENDENT, "overlap_interference")])
+    ok_line_free = np.all(others_free >= 0.0, axis=0)
+    ds["x2_line4"] = ("x1", x2_l4, {"units": "1", "long_name": "annulus shift x2 on line 4 (G_s = 0)"})
+    ds["contact_ratio_line4"] = (
+        "x1",
+        interference.contact_ratio(line_pair),
+        {"units": "1", "long_name": "transverse contact ratio on line 4"},
+    )
+    ds["working_pressure_angle_line4"] = (
+        "x1",
+        np.degrees(geo.working_pressure_angle(line_pair)),
+        {"units": "degree", "long_name": "working pressure angle a' on line 4"},
+    )
+    ds["feasible_line4"] = (
+        "x1",
+        ok_line.astype(np.int8),
+        {"units": "1", "long_name": "line-4 point satisfying every other constraint", **_flag_attrs()},
+    )
+    ds["feasible_line4_cutter_free"] = (
+        "x1",
+        ok_line_free.astype(np.int8),
+        {"units": "1", "long_name": "line-4 point satisfying every cutter-independent constraint", **_flag_attrs()},
+    )
+    return ok_line
+
+
 def _reference_points(ds: xr.Dataset, base: geo.GearPair, points: Mapping[str, tuple[float, float]]) -> None:
     """Printed points (x1, x2) and ours on G_s = 0 at the same x1, with residuals, along ``point``."""
     px1 = np.array([p[0] for p in points.values()])
     px2 = np.array([p[1] for p in points.values()])
-    cx2 = geo.x2_on_overlap_boundary_many(px1, base)
+    cx2 = constraints.x2_on_overlap_boundary_many(px1, base)
     pt_pair = geo.with_shifts(base, px1, cx2)
     ds["paper_x1"] = ("point", px1, {"units": "1", "long_name": "x1 of the printed limit point"})
     ds["paper_x2"] = ("point", px2, {"units": "1", "long_name": "x2 of the printed limit point"})
@@ -205,7 +221,7 @@ def _reference_points(ds: xr.Dataset, base: geo.GearPair, points: Mapping[str, t
     ds["residual_x2"] = ("point", cx2 - px2, {"units": "1", "long_name": "computed minus paper x2"})
     ds["contact_ratio_point"] = (
         "point",
-        geo.contact_ratio(pt_pair),
+        interference.contact_ratio(pt_pair),
         {"units": "1", "long_name": "transverse contact ratio at the computed point"},
     )
     ds["working_pressure_angle_point"] = (
@@ -240,7 +256,7 @@ def line4_crossings(ds: xr.Dataset, name: str) -> list[float]:
     )
     x1 = ds["x1"].values
     pair = geo.with_shifts(base, x1, ds["x2_line4"].values)
-    v = geo.constraint_grid(
+    v = constraints.constraint_grid(
         pair,
         min_tip_thickness=float(ds.attrs["min_tip_thickness_modules"]),
         min_contact_ratio=float(ds.attrs["min_contact_ratio"]),
@@ -262,11 +278,11 @@ def cutter_shift_for_trimming_limit(
     test the hypothesis that the paper's M is a cutter-trimming limit (docs/geometry.md); the
     result is a fit, not a datum of the paper.
     """
-    x2 = geo.x2_on_overlap_boundary(x1_limit, base)
+    x2 = constraints.x2_on_overlap_boundary(x1_limit, base)
     pair = geo.with_shifts(base, x1_limit, x2)
 
     def f(x0: float) -> float:
-        return float(geo.trimming_interference(pair, geo.ShaperCutter(teeth, x0, addendum)))
+        return float(interference.trimming_interference(pair, geo.ShaperCutter(teeth, x0, addendum)))
 
     x0 = float(brentq(f, -1.0, 1.5, xtol=1e-12))
     return geo.ShaperCutter(teeth, x0, addendum)

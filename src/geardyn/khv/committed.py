@@ -22,7 +22,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from geardyn.khv.calibrate import RESULT_PREFIX, SearchSpace
+from geardyn.khv.calibrate.products import RESULT_PREFIX
+from geardyn.khv.calibrate.space import SearchSpace
 
 #: Largest distance of one unknown, as a fraction of its search range, for "the same optimum": well
 #: below the 15-76 % that separate the two committed optima (li2013_search, li2013_route), wider than

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from geardyn.config import ConfigError, load_design_dict
-from geardyn.gears import geometry, stiffness
+from geardyn.gears import constraints, geometry, interference, stiffness
 
 
 @dataclass(frozen=True)
@@ -105,7 +105,7 @@ def x2_for(design: KHVDesign, x1: float) -> float:
 
 
 def _x2(base: geometry.GearPair, on_line4: bool, x1: float) -> float:
-    return float(geometry.x2_on_overlap_boundary(x1, base)) if on_line4 else base.x2
+    return float(constraints.x2_on_overlap_boundary(x1, base)) if on_line4 else base.x2
 
 
 def pair_at(design: KHVDesign, x1: float) -> geometry.GearPair:
@@ -132,7 +132,7 @@ def _mesh_properties(
     )
     k_c = float(stiffness.pitch_point_stiffness(q, pair.facewidth))
     k_prime = float(stiffness.tip_stiffness(k_c))
-    eps = float(geometry.contact_ratio(pair))
+    eps = float(interference.contact_ratio(pair))
     if not eps >= 1.0:  # also NaN: no working pressure angle
         raise ConfigError(
             f"{name}: contact ratio eps = {eps:.4f} at x1 = {x1:.4f} is not allowed: >= 1 "
@@ -183,7 +183,7 @@ def violated_constraints(
 ) -> list[str]:
     """Names of the closed-graph constraints that ``pair`` violates (margin < -1e-6 mm or rad, or no margin
     at all: NaN where the pair has no working pressure angle)."""
-    values = geometry.constraints(pair, min_tip_thickness=min_tip_thickness, cutter=cutter)
+    values = constraints.constraints(pair, min_tip_thickness=min_tip_thickness, cutter=cutter)
     return [
         name
         for name, v in values.items()
@@ -217,7 +217,7 @@ def cutter_of(raw: dict[str, Any], pair: geometry.GearPair) -> geometry.ShaperCu
     """The configured shaper cutter, or the geometry module's nominal one when ``teeth`` is null."""
     c = raw.get("cutter", {})
     if c.get("teeth") is None:
-        return geometry.default_cutter(pair)
+        return interference.default_cutter(pair)
     return geometry.ShaperCutter(teeth=c["teeth"], shift=c.get("shift", 0.0), addendum=c.get("addendum"))
 
 
@@ -229,7 +229,7 @@ def from_dict(raw: dict[str, Any], where: str = "design", check: bool = True) ->
     provisional = _pair_from(raw, 0.0)
     if p["x2"] == "line4":
         try:
-            x2 = float(geometry.x2_on_overlap_boundary(p["x1"], provisional))
+            x2 = float(constraints.x2_on_overlap_boundary(p["x1"], provisional))
         except ValueError as err:
             raise ConfigError(f"{where}: pair.x1 = {p['x1']}: no x2 on line 4 (G_s = 0): {err}") from None
     else:
@@ -243,7 +243,7 @@ def from_dict(raw: dict[str, Any], where: str = "design", check: bool = True) ->
     if adm["check_feasibility"] and check:
         bad = violated_constraints(base, adm["min_tip_thickness"], adm["enforce_cutter_constraints"], cutter)
         if bad:
-            values = geometry.constraints(base, min_tip_thickness=adm["min_tip_thickness"], cutter=cutter)
+            values = constraints.constraints(base, min_tip_thickness=adm["min_tip_thickness"], cutter=cutter)
             detail = _violations(values, bad)
             raise ConfigError(
                 f"{where}: design point (x1, x2) = ({base.x1:.4f}, {base.x2:.4f}) is outside the "
@@ -299,7 +299,7 @@ def check_segment(design: KHVDesign, where: str = "design", points: int = 11) ->
         if adm["check_feasibility"]:
             bad = violated_constraints(pair, design.min_tip_thickness, design.enforce_cutter_constraints, design.cutter)
             if bad:
-                values = geometry.constraints(pair, min_tip_thickness=design.min_tip_thickness, cutter=design.cutter)
+                values = constraints.constraints(pair, min_tip_thickness=design.min_tip_thickness, cutter=design.cutter)
                 detail = _violations(values, bad)
                 raise ConfigError(
                     f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "

@@ -15,7 +15,8 @@ undetermined.  :func:`settle` decides such a point by shooting instead of by a l
    Poincare points (:func:`return_distance_falls`): a run converging onto a period-n orbit shows it,
    a torus does not, and this spares the shooting on tori, where it costs most;
 3. the run must approach that orbit (else, when the multiplier is so close to 1 that the horizon
-   could not show it, the point is ``undetermined``: a possible slow transient, flag 2).  First its recorded Poincare points are read
+   could not show it, the point is ``undetermined``: a possible slow transient, flag 2).  First its recorded Poincare
+   points are read
    (:func:`approached_in_record`): if their distance to the nearest cycle point shrinks at least at
    half the rate the leading multiplier predicts, and at least 2-fold over the record, the run is
    approaching.  If the record is too short to tell, the run is continued from its final state for

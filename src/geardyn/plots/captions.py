@@ -8,10 +8,12 @@ from types import ModuleType
 
 import numpy as np
 import xarray as xr
+from scipy.signal import find_peaks
 
 from geardyn import classify
 from geardyn.label import STAGE_NAMES
 from geardyn.runs.cube import STATES, labels_of_cube
+from geardyn.runs.maps import fractions
 
 _METHOD = (
     "Model: the corrected KHV equations of docs/model.md with the parameters of the design file. Motion labels "
@@ -56,7 +58,6 @@ def bifurcation(name: str, cube: xr.Dataset, paper: ModuleType | None = None) ->
 
 def spectral_peaks(freq, amp, n: int = 5, fmax: float = 3.0) -> list[float]:
     """The ``n`` highest local maxima of a spectrum below ``fmax`` (>= 2 % of the largest), by height."""
-    from scipy.signal import find_peaks
 
     keep = (freq > 0.02) & (freq <= fmax)
     if keep.sum() < 3:
@@ -91,7 +92,6 @@ def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
 
 def regime_map(name: str, ds: xr.Dataset) -> str:
     """Caption of a two-parameter regime map: grid, settings, classifier path and the label shares."""
-    from geardyn.runs.maps import fractions
 
     shares = ", ".join(f"{k} {100 * v:.1f} %" for k, v in sorted(fractions(ds).items(), key=lambda kv: -kv[1]))
     return (

@@ -8,16 +8,19 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
+from matplotlib.colors import BoundaryNorm, ListedColormap, TwoSlopeNorm
 from matplotlib.figure import Figure
 
+from geardyn import classify
+from geardyn.classify import LABELS
 from geardyn.plots.response import draw_map_layers
+from geardyn.runs.cube import labels_of_cube
 
 _LABELS = {"x_vh": "X_VH / b_c", "v_vh": "dX_VH/dtau / b_c", "x_dh": "X_DH / b_c", "x_vl": "X_VL / b_c"}
 
 
 def label_colour(code: int) -> str:
     """Colour of a motion label: periods in blues/greens/purples, QP orange, chaos red, others grey/black."""
-    from geardyn.classify import LABELS
 
     fixed = {
         LABELS["chaotic"]: "#d62728",
@@ -48,8 +51,6 @@ def label_colour(code: int) -> str:
 def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figure:
     """Poincaré points of ``state`` against the control parameter, coloured by the motion label, with
     the largest Lyapunov exponent (and its uncertainty) in a panel below; one pair per case and direction."""
-    from geardyn import classify
-    from geardyn.runs.cube import labels_of_cube
 
     par = cube.attrs["control_parameter"]
     cases = list(cube["case"].values)
@@ -144,9 +145,6 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=()) -> Figure:
     fixed start (``coexisting``), the points whose two starts end on different attractors are hatched.  A map
     with response measures gains the K_v and impact-class layers below
     (:func:`geardyn.plots.response.draw_map_layers`)."""
-    from matplotlib.colors import BoundaryNorm, ListedColormap, TwoSlopeNorm
-
-    from geardyn import classify
 
     lab = ds["label"].values
     codes = sorted(int(c) for c in np.unique(lab))

@@ -60,7 +60,7 @@ def _energy_bars(
     conds = list(ds.condition.values)
     fig = Figure(figsize=(11, 2.9 * len(conds)), constrained_layout=True)
     axes = fig.subplots(len(conds), 1, squeeze=False)[:, 0]
-    for ax, cond in zip(axes, conds):
+    for ax, cond in zip(axes, conds, strict=True):
         sub = ds.sel(condition=cond)
         freq = sub.natural_frequency.values
         groups = distinct_groups(freq)[:n_orders]
@@ -119,7 +119,8 @@ def te_unmodified_figure(te: xr.Dataset) -> Figure:
     ax1.plot(s2, np.tile(tr, 2), color="k")
     ax1.set_ylabel("TE = E - delta (um)")
     ax1.set_title(
-        f"p-d pair, W = {te.attrs['load_N']:.0f} N, eps = {te.attrs['contact_ratio']:.3f}; peak-to-peak {np.ptp(tr):.2f} um",
+        f"p-d pair, W = {te.attrs['load_N']:.0f} N, eps = {te.attrs['contact_ratio']:.3f}; "
+        f"peak-to-peak {np.ptp(tr):.2f} um",
         fontsize=9,
     )
     ax1.grid(alpha=0.3)
@@ -166,7 +167,7 @@ def relief_landscape_figure(land: xr.Dataset, optima: list[dict] | None = None, 
     a = land.amount.values
     L = land.length.values
     vmin, vmax = float(land.te_ptp.min()), float(land.te_ptp.max())
-    for ax, sh in zip(axes, shapes):
+    for ax, sh in zip(axes, shapes, strict=True):
         z = land.te_ptp.sel(shape=sh).values
         cs = ax.contourf(L, a, z, levels=np.linspace(vmin, vmax, 25), cmap="viridis")
         ax.contour(L, a, z, levels=np.arange(np.floor(vmin), np.ceil(vmax) + 0.01, 1.0), colors="w", linewidths=0.5)

@@ -9,6 +9,8 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from geardyn.plots.plus import distinct_groups
+
 from .design import PlusDesign
 
 MODEL = (
@@ -29,7 +31,6 @@ def _paper_modal(paper: ModuleType | None) -> str:
 
 def energy_summary(ds: xr.Dataset, var: str, dim: str, n_orders: int = 6) -> str:
     """The three largest shares of each of the first ``n_orders`` distinct modes per condition."""
-    from geardyn.plots.plus import distinct_groups
 
     lines = []
     for cond in ds.condition.values:
@@ -69,7 +70,6 @@ def modal_kinetic(ds: xr.Dataset, paper: ModuleType | None) -> str:
 
 
 def mode_shapes(ds: xr.Dataset, paper: ModuleType | None) -> str:
-    from geardyn.plots.plus import distinct_groups
 
     shared = []
     for grp in distinct_groups(ds.sel(condition=ds.condition.values[0]).natural_frequency.values)[:6]:

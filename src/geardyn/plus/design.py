@@ -8,8 +8,9 @@ Units: lengths in mm in the design (as printed), converted to SI by the numerica
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -120,12 +121,10 @@ class PlusDesign:
 
     def with_stiffness_scale(self, factor: float) -> PlusDesign:
         """Copy with every spring (meshes and bearing) multiplied by ``factor``."""
-        from dataclasses import replace
 
         return replace(self, stiffness=self.stiffness.scaled(factor))
 
     def with_damping_scale(self, factor: float) -> PlusDesign:
-        from dataclasses import replace
 
         return replace(self, damping=self.damping.scaled(factor))
 
@@ -157,7 +156,6 @@ def _forced(d: Mapping[str, Any]) -> ForcedSpec:
 def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
     """Build a :class:`PlusDesign` (SI units) from a schema-validated dict with defaults filled
     (:func:`geardyn.config.load_design_dict`), with the checks the schema cannot state."""
-    import math
 
     te, rl = d["transmission_error"], d["relief"]
     for lo_hi in ("paper_amount_mm", "paper_length_mm", "physical_amount_mm", "physical_length_mm"):

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
+import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 
 from . import modal
@@ -107,7 +108,8 @@ class ForcedResponse:
     ``amplitude`` (case, speed, harmonic, mesh) complex force amplitude of each harmonic;
     ``rms`` (case, speed, mesh) RMS of the fluctuating mesh force; ``dynamic_factor`` (case, speed,
     mesh) largest total force over a mesh period / static force; ``min_factor`` the smallest total force /
-    static force (below 0 the linear model would pull the teeth: contact is lost there); ``natural_hz`` the elastic natural
+    static force (below 0 the linear model would pull the teeth: contact is lost there); ``natural_hz`` the elastic
+    natural
     frequencies of the condition.
     """
 
@@ -221,7 +223,6 @@ def best_relief_case(cases: tuple[str, ...], te_ptp: ArrayLike) -> str:
 
 def to_dataset(res: ForcedResponse, design: PlusDesign) -> xr.Dataset:
     """CF dataset of a :class:`ForcedResponse` (forces in N, TE in um, speeds in rpm)."""
-    import xarray as xr
 
     dims3 = ("case", "speed", "mesh")
     return xr.Dataset(

@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from geardyn.gears.geometry import involute as inv
+from geardyn.gears.stiffness import flexibility_q, pitch_point_stiffness
 
 from .design import PlusDesign
 
@@ -200,7 +201,6 @@ def iso_single_stiffness(pair: SpurPair, facewidth_mm: float) -> dict[str, float
     C_B = [1 + 0.5 (1.2 - h_fP/m)] [1 - 0.02 (20 deg - alpha_Pn)], which for h_fP = 1.25 m and 25 deg
     is 0.975 * 1.10 = 1.0725.  Both the plain value (``k_iso_0.8``) and the C_B-corrected one are returned.
     """
-    from geardyn.gears.stiffness import flexibility_q, pitch_point_stiffness
 
     q = float(flexibility_q(pair.driver.z, pair.driven.z, pair.driver.x, pair.driven.x, internal=False))
     k08 = float(pitch_point_stiffness(q, facewidth_mm))

@@ -243,7 +243,7 @@ def matrices(design: PlusDesign, condition: Condition = "free") -> Matrices:
 def kinematic_ratio_carrier_fixed(design: PlusDesign) -> float:
     """theta_r / theta_s of the rigid-body mode with the carrier fixed (+z_s/z_r for a plus set)."""
     mat = matrices(design, "I")
-    w, vec = scipy.linalg.eigh(mat.K, mat.M)
+    _, vec = scipy.linalg.eigh(mat.K, mat.M)
     rigid = vec[:, 0]
     return float(rigid[mat.coords.index("theta_r")] / rigid[mat.coords.index("theta_s")])
 
@@ -272,7 +272,7 @@ class Modes:
     def full_shape(self, i: int) -> NDArray:
         """Mode ``i`` on all 11 coordinates (0 for the fixed one)."""
         out = np.zeros(len(COORDS))
-        for c, val in zip(self.coords, self.shapes[:, i]):
+        for c, val in zip(self.coords, self.shapes[:, i], strict=True):
             out[COORDS.index(c)] = val
         return out
 
@@ -325,7 +325,8 @@ def modes(design: PlusDesign, condition: Condition, *, rigid_tol: float = 1e-8, 
 def damped_frequencies(mat: Matrices, n_rigid: int, omega_min: float) -> tuple[NDArray, NDArray]:
     """Damped natural frequencies (Hz) and damping ratios from the first-order form of Eq. (8).
 
-    ``omega_min`` (rad/s) is the lowest undamped elastic circular frequency.  Rigid-body modes get NaN.  The oscillatory eigenvalue pairs are sorted by |lambda| and matched to
+    ``omega_min`` (rad/s) is the lowest undamped elastic circular frequency.  Rigid-body modes get NaN.  The
+    oscillatory eigenvalue pairs are sorted by |lambda| and matched to
     the undamped modes in order (valid for light damping; checked against the undamped limit in tests).
     """
     n = mat.M.shape[0]

@@ -9,7 +9,7 @@ deterministic).  Units: m.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -129,7 +129,6 @@ def load_study(design: PlusDesign, torques: tuple[float, ...], shape: str = "lin
     Shows at which load the paper's optimum (32.5 um, 2.498 mm) would be the optimum of this model.
     Returns dicts with torque (N m), load (N), optima (m) and peak-to-peak TE (m).
     """
-    from dataclasses import replace
 
     rows = []
     for t in torques:

@@ -13,6 +13,7 @@ import pandas as pd
 import xarray as xr
 from scipy.optimize import minimize_scalar
 
+from geardyn import io
 from geardyn.papers.yue2014 import (
     PAPER_RELIEF,
     PAPER_SHARED,
@@ -24,6 +25,7 @@ from geardyn.papers.yue2014 import (
 from . import modal
 from .design import PlusDesign
 from .ishikawa import (
+    design_grid,
     design_te,
     iso_single_stiffness,
     material,
@@ -31,7 +33,7 @@ from .ishikawa import (
     single_pair_stiffness_pitch,
     spur_pair,
 )
-from .relief import ReliefOptimum
+from .relief import SHAPES, ReliefOptimum, landscape, landscape_axes
 
 COMPONENT_LABELS = {
     "revolution": "planet revolution",
@@ -276,7 +278,9 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
                 _lever_arms(design),
                 {
                     "units": "m",
-                    "long_name": "radius turning a rotation into a displacement (base radius; carrier: a_sp; 1 for x_s, y_s)",
+                    "long_name": (
+                        "radius turning a rotation into a displacement (base radius; carrier: a_sp; 1 for x_s, y_s)"
+                    ),
                 },
             ),
         },
@@ -449,8 +453,6 @@ def to_markdown(df: pd.DataFrame, floatfmt: str = ".4g") -> str:
 
 def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
     """Peak-to-peak TE over (amount, length) for both relief shapes, CF attrs (um, mm)."""
-    from .ishikawa import design_grid
-    from .relief import SHAPES, landscape, landscape_axes
 
     amounts, lengths = landscape_axes(design, n)
     grid = design_grid(design)
@@ -515,7 +517,6 @@ def without_paper(df: pd.DataFrame) -> pd.DataFrame:
 
 def write_table(df: pd.DataFrame, csv: str, md: str | None = None, header: str = "", floatfmt: str = ".4g") -> None:
     """CSV (full precision) and, if asked, a Markdown version with a header paragraph."""
-    from geardyn import io
 
     io.write_text(df.to_csv(index=False, float_format="%.6g"), csv)
     if md is not None:

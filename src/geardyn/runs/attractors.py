@@ -18,7 +18,8 @@ so: their labels agree and
   norm) relative to max(1, size), size the largest extent of the two sets (two phases of one orbit agree
   to 1e-8; two distinct P1 orbits do not);
 * otherwise (quasi-periodic, chaotic, undetermined): centroids and bounding boxes of the Poincaré
-  sets agree within ``chaotic_distance_tol`` * max(1, size) (two finite samples of one cloud).  The basin fraction of an attractor is the share of the *random* starts that
+  sets agree within ``chaotic_distance_tol`` * max(1, size) (two finite samples of one cloud).  The basin fraction of
+  an attractor is the share of the *random* starts that
 reach it (a Monte-Carlo estimate over the box; with ``n_random`` starts its standard error is about
 sqrt(f (1 - f) / n_random)).
 """
@@ -31,10 +32,13 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import xarray as xr
 
 from geardyn import classify
 from geardyn.config import settings_from
+from geardyn.khv import point
 from geardyn.label import Policy, compare, label_points
+from geardyn.runs.continuation import branches_from_dataset
 from geardyn.solve.base import SimulationSettings, System
 
 
@@ -213,38 +217,11 @@ def attractors_dataset(
     case_labels: Sequence[str] = ("base",),
 ):
     """Attractors at each of ``points`` as one CF dataset (dimension ``point``)."""
-    import xarray as xr
 
     fixed_names = ["static", "up", "down"] + [f"random_{k}" for k in range(settings.n_random)]
-    per_point = []
-    for q in points:
-        starts: dict[str, np.ndarray] = {"static": q.system.static_state(), **q.extra}
-        starts.update(random_starts(q.system, settings))
-        atts, where = find_attractors(q.system, starts, settings, integration, classifier)
-        per_point.append((q, atts, where, len(starts)))
-    na = max([len(a) for _, a, _, _ in per_point], default=1)
-    npnt = len(per_point)
-    label = np.full((npnt, na), classify.LABELS["undetermined"], np.int16)
-    valid = np.zeros((npnt, na), np.int8)
-    cen = np.full((npnt, na, 6), np.nan)
-    size = np.full((npnt, na), np.nan)
-    lyap = np.full((npnt, na), np.nan)
-    frac = np.full((npnt, na), np.nan)
-    nst = np.zeros((npnt, na), np.int32)
-    reach = np.full((npnt, len(fixed_names)), -1, np.int16)
-    for r, (_, atts, where, _) in enumerate(per_point):
-        fr = basin_fractions(atts, settings.n_random)
-        for k, a in enumerate(atts):
-            label[r, k], valid[r, k] = a.label, 1
-            cen[r, k], size[r, k], lyap[r, k], frac[r, k], nst[r, k] = (
-                a.centroid,
-                a.size,
-                a.lyapunov,
-                fr[k],
-                len(a.starts),
-            )
-        for s_, name in enumerate(fixed_names):
-            reach[r, s_] = where.get(name, -1)
+    per_point = [_attractors_of(q, settings, integration, classifier) for q in points]
+    label, valid, cen, size, lyap, frac, nst, reach = _attractor_arrays(per_point, settings.n_random, fixed_names)
+    na = label.shape[1]
     one = {"units": "1"}
     data = {
         "parameter": ("point", np.array([q.p for q, *_ in per_point]), {"units": units, "long_name": long_name}),
@@ -293,7 +270,9 @@ def attractors_dataset(
             lyap,
             {
                 **one,
-                "long_name": "largest exponent per unit tau (Floquet for periodic attractors, tangent vector otherwise)",
+                "long_name": (
+                    "largest exponent per unit tau (Floquet for periodic attractors, tangent vector otherwise)"
+                ),
             },
         ),
         "basin_fraction": (
@@ -318,7 +297,12 @@ def attractors_dataset(
         "attractor": ("attractor", np.arange(na, dtype=np.int32), {**one, "long_name": "attractor slot"}),
         "case": ("case", list(case_labels), {"long_name": "case (fixed overrides)"}),
     }
-    attrs = {
+    return xr.Dataset(data, coords=coords, attrs=_settings_attrs(parameter, settings))
+
+
+def _settings_attrs(parameter: str, settings: AttractorSettings) -> dict[str, Any]:
+    """Global attributes of an attractors dataset: the control parameter and the search settings."""
+    return {
         "control_parameter": parameter,
         "n_random": settings.n_random,
         "random_seed": settings.seed,
@@ -328,7 +312,48 @@ def attractors_dataset(
         "distance_tol": settings.distance_tol,
         "chaotic_distance_tol": settings.chaotic_distance_tol,
     }
-    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def _attractors_of(
+    q: PointStarts,
+    settings: AttractorSettings,
+    integration: SimulationSettings,
+    classifier: classify.ClassifierSettings,
+) -> tuple[PointStarts, list, dict, int]:
+    """The attractors one point's starts reach: (point, attractors, start name -> attractor, starts used)."""
+    starts: dict[str, np.ndarray] = {"static": q.system.static_state(), **q.extra}
+    starts.update(random_starts(q.system, settings))
+    atts, where = find_attractors(q.system, starts, settings, integration, classifier)
+    return q, atts, where, len(starts)
+
+
+def _attractor_arrays(per_point: Sequence[tuple], n_random: int, fixed_names: Sequence[str]) -> tuple[np.ndarray, ...]:
+    """(label, found, centroid, size, exponent, basin fraction, starts reaching, reached from) per point and
+    attractor slot (slots as many as the most attractors at one point)."""
+    na = max([len(a) for _, a, _, _ in per_point], default=1)
+    npnt = len(per_point)
+    label = np.full((npnt, na), classify.LABELS["undetermined"], np.int16)
+    valid = np.zeros((npnt, na), np.int8)
+    cen = np.full((npnt, na, 6), np.nan)
+    size = np.full((npnt, na), np.nan)
+    lyap = np.full((npnt, na), np.nan)
+    frac = np.full((npnt, na), np.nan)
+    nst = np.zeros((npnt, na), np.int32)
+    reach = np.full((npnt, len(fixed_names)), -1, np.int16)
+    for r, (_, atts, where, _) in enumerate(per_point):
+        fr = basin_fractions(atts, n_random)
+        for k, a in enumerate(atts):
+            label[r, k], valid[r, k] = a.label, 1
+            cen[r, k], size[r, k], lyap[r, k], frac[r, k], nst[r, k] = (
+                a.centroid,
+                a.size,
+                a.lyapunov,
+                fr[k],
+                len(a.starts),
+            )
+        for s_, name in enumerate(fixed_names):
+            reach[r, s_] = where.get(name, -1)
+    return label, valid, cen, size, lyap, frac, nst, reach
 
 
 def sweep_attractors(
@@ -342,8 +367,6 @@ def sweep_attractors(
 ):
     """Attractors at a subset of a sweep's points (``every`` / ``at`` in ``attractor_spec``, the rest
     are :class:`AttractorSettings`), every case; the branches come from the orbits dataset."""
-    from geardyn.khv import point
-    from geardyn.runs.continuation import branches_from_dataset
 
     spec_map = dict(attractor_spec)
     every = spec_map.pop("every", None)

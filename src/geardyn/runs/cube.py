@@ -16,6 +16,7 @@ import numpy as np
 import xarray as xr
 
 from geardyn import classify
+from geardyn.io import runtime_provenance
 from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES, Policy, Verdict
 from geardyn.label.compare import same
 from geardyn.solve import SimulationSettings, System
@@ -287,7 +288,6 @@ def merge_chunks(chunks: Sequence[xr.Dataset]) -> xr.Dataset:
         out.attrs.pop(key, None)
     # where the chunks were computed (a cluster may run them on different CPUs); the merged file's own
     # runtime attributes are those of the merge job (geardyn.io.write_netcdf)
-    from geardyn.io import runtime_provenance
 
     keys = tuple(runtime_provenance())
     seen = []

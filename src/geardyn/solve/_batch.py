@@ -338,7 +338,7 @@ def fill_tables(lane, eps, period, te, phi, poly, n, H, S, SEG, K, P):
             S[lane, k] = k / n
             SEG[lane, k] = 1
     else:
-        n1 = min(max(1, int(round(n * e1))), n - 1)
+        n1 = min(max(1, round(n * e1)), n - 1)
         a = e1 / n1
         bb = (1.0 - e1) / (n - n1)
         for k in range(n1):

@@ -12,7 +12,7 @@ zone, 0 without backlash (then f(x) = x).  The dead zone is f(x) = x - min(max(x
 above b, x + b below -b, 0 between, the same bits as the three branches of the benchmark's C loop
 (a test compares them); a vmaxpd / vminpd pair in the vectorised lanes, no branch.
 
-The benchmark's C loop (``geardyn.bench.C_RK4``) spells the same expressions; a test evaluates both
+The benchmark's C loop (``benchmarks/kernels.py``, ``C_RK4``) spells the same expressions; a test evaluates both
 on random inputs (tests/test_model_equations.py).
 """
 

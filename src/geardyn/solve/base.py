@@ -6,7 +6,8 @@ one backlash mesh (paper 1 Eq. 16, corrected)::
     x'' + C x' + K x + g (kappa(s) f(x2) + c_m x2') = p + (0, te sin(2 pi s + phi), 0)
 
 with the mesh phase s = tau / T, a piecewise-quadratic stiffness kappa(s) on the two zones
-[0, f] and [f, 1] of every mesh period (f = eps - floor(eps), one pair more on the first), and the dead zone f of half width b.  Any
+[0, f] and [f, 1] of every mesh period (f = eps - floor(eps), one pair more on the first), and the dead zone f of
+half width b.  Any
 object that satisfies :class:`System` can be integrated; :class:`geardyn.khv.model.Coefficients`
 is the one the KHV model family builds.
 
@@ -21,6 +22,7 @@ from dataclasses import dataclass
 from typing import Literal, Protocol
 
 import numpy as np
+from scipy.interpolate import CubicSpline
 
 IntegratorName = Literal["rk4", "rk4_event", "dop853"]
 
@@ -75,7 +77,7 @@ class System(Protocol):
 class SimulationSettings:
     """How to integrate.  Times in mesh periods; thresholds in units of b_c.
 
-    steps_per_period: N (default 512 from the work-precision study, ``python -m geardyn.bench``).
+    steps_per_period: N (default 512 from the work-precision study, ``python -m benchmarks.bench``).
     aligned: False spreads N equal steps over the period regardless of the stiffness jumps
     (for demonstrations only; rk4 integrators).  rtol: only used by ``"dop853"``.
     divergence_threshold: a run has diverged when any |state_i| exceeds this many times the larger of 1
@@ -153,13 +155,12 @@ class SimulationResult:
 
     def uniform(self, samples_per_period: int) -> tuple[np.ndarray, np.ndarray]:
         """Dense trajectory resampled on a uniform grid (cubic spline) for FFTs."""
-        from scipy.interpolate import CubicSpline
 
         if self.tau is None or self.states is None:
             raise ValueError("run simulate(..., dense=True) first")
         t, idx = np.unique(self.tau, return_index=True)
         cs = CubicSpline(t, self.states[idx], axis=0)
-        n = int(round((t[-1] - t[0]) / self.period * samples_per_period))
+        n = round((t[-1] - t[0]) / self.period * samples_per_period)
         tu = t[0] + np.arange(n + 1) * self.period / samples_per_period
         tu = tu[tu <= t[-1]]
         return tu, cs(tu)

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from geardyn.solve.base import SimulationSettings, System
-from geardyn.solve.simulate import simulate
+from geardyn.solve.simulate import lane_tables, simulate, simulate_batch
 
 #: flow(x, jacobian) -> (state after n periods, monodromy or None); (None, None) when diverged.
 FlowMap = Callable[[np.ndarray, bool], tuple[np.ndarray | None, np.ndarray | None]]
@@ -164,7 +164,6 @@ def newton_shooting_batch(
     both cores), whose lanes have the arithmetic of :func:`simulate`; each point's iterates, and so its
     result, are those of ``shoot(system, x0, n, settings, tol, max_iter)`` bit for bit.  ``tables``: the
     :func:`geardyn.solve.simulate.lane_tables` of ``systems`` when the caller has them."""
-    from geardyn.solve.simulate import lane_tables, simulate_batch
 
     s = period_settings(settings, n)
     tables = lane_tables(systems, s) if tables is None else tables

@@ -6,12 +6,14 @@ driver reads the sweep's labels after seeding)."""
 from __future__ import annotations
 
 import logging
+import time
 from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
 from geardyn.khv import point
+from geardyn.papers import paper_of
 from geardyn.runs.continuation.branch import Branch, on_branch
 from geardyn.runs.continuation.family import KHVFamily, cycle_states
 from geardyn.runs.continuation.output import bifurcation_rows, branch_dataset
@@ -143,9 +145,6 @@ def sweep_orbits(
     """Branches of one sweep (a :class:`geardyn.runs.sweep.SweepSpec` and its merged cube): the CF
     dataset and the bifurcation table rows.  The paper's transitions are named only for a design
     that names its paper and only along x1 (the paper's Fig. 7 sequence)."""
-    import time
-
-    from geardyn.papers import paper_of
 
     settings = settings or point.integration_settings(drive, **dict(spec.integration))
     fams: dict[int, KHVFamily] = {}

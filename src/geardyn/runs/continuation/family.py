@@ -85,7 +85,7 @@ class KHVFamily:
             if self.nodes >= 4:
                 vals = self._spline(p)
                 d = dict(self._const)
-                d.update({k: float(v) for k, v in zip(self._floats, vals)})
+                d.update({k: float(v) for k, v in zip(self._floats, vals, strict=True)})
                 d["backlash_on"] = bool(d.get("backlash_on", True))
                 c = Coefficients(**d)
             else:

@@ -3,10 +3,13 @@ bifurcation points (CSV), and the branches read back from a dataset."""
 
 from __future__ import annotations
 
+import csv
 from collections.abc import Mapping, Sequence
+from io import StringIO
 from typing import Any
 
 import numpy as np
+import xarray as xr
 
 from geardyn.khv import point
 from geardyn.runs.continuation.branch import BIFURCATION_TYPES, TYPE_CODES, Bifurcation, Branch
@@ -152,7 +155,6 @@ def branch_dataset(
     branches: Sequence[tuple[int, Branch]], families: Mapping[int, Family], parameter: str, case_labels: Sequence[str]
 ):
     """All branches of a sweep as one CF dataset (points of all branches along ``point``)."""
-    import xarray as xr
 
     units, long_name = point.CONTROLS.get(parameter, (point.units_of(parameter), parameter))
     nmax = max([b.n for _, b in branches], default=1)
@@ -235,8 +237,6 @@ def bifurcation_rows(
 
 def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
     """The table as CSV text (columns :data:`TABLE_COLUMNS`, a header line, ``\\n`` line ends)."""
-    import csv
-    from io import StringIO
 
     buf = StringIO()
     w = csv.DictWriter(buf, fieldnames=list(TABLE_COLUMNS), lineterminator="\n")

@@ -168,7 +168,7 @@ def continue_branch(
         )
     # the down march's tangents point down the branch: flip them to the branch order
     down = [replace(q, tangent=-q.tangent) for q in reversed(down)]
-    pts = down + [BranchPoint(r.state, p0, ev.M, t0, r.iterations)] + up
+    pts = [*down, BranchPoint(r.state, p0, ev.M, t0, r.iterations), *up]
     ends = {"down": st_down, "up": st_up}
     br = _assemble(family, pts, n, sx, sp, ends, p0, cs, corr)
     return _cut_at_merge(family, br, pts, len(down), ends, p0, cs, corr) if n > 1 else br

@@ -1,0 +1,100 @@
+"""Run the benchmarks: ``python -m benchmarks.bench [--out DIR] [--quick]`` (work precision),
+``python -m benchmarks.bench throughput|labels|check ...`` (see ``--help`` of each).
+
+Single-threaded by construction when run as a program (thread pools pinned to 1 before numpy/numba
+load); importing the module sets nothing.
+"""
+
+from __future__ import annotations
+
+import os
+
+if __name__ == "__main__":  # run as a program only: importing this module changes nothing
+    for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(_v, "1")
+# numba threads: one for the work-precision study (set in run()), all cores for ``throughput``
+
+import argparse
+import sys
+from pathlib import Path
+
+from benchmarks import labels, long_run, throughput, work_precision
+from geardyn import io
+
+
+def main_speed(argv: list[str]) -> int:
+    """``throughput`` (follow against fixed starts, kernel, DOP853), ``labels`` (the labels of two builds'
+    cubes compared) and ``check`` (random map points run long from their follow start) modes."""
+    ap = argparse.ArgumentParser(prog=f"python -m benchmarks.bench {argv[0]}")
+    ap.add_argument("--out", type=Path, default=None, help="directory for the .md (and .nc) written")
+    ap.add_argument("--config", type=Path, default=Path("config/config.yaml"))
+    ap.add_argument("--quick", action="store_true", help="short runs (smoke test)")
+    ap.add_argument("--old", type=Path, help="labels: the results/ directory of the earlier build")
+    ap.add_argument("--new", type=Path, default=Path("results"), help="labels: the results/ directory to compare")
+    ap.add_argument(
+        "--explain",
+        nargs="*",
+        help="labels: cubes (design/sweeps|maps/name) whose differing points are labelled again from the fixed start",
+    )
+    ap.add_argument("--points", type=int, default=200, help="check: random map points")
+    ap.add_argument("--periods", type=int, default=20000, help="check: mesh periods of each long run")
+    a = ap.parse_args(argv[1:])
+    log = lambda m: print(m, flush=True)  # noqa: E731
+    ds = None
+    if argv[0] == "throughput":
+        out = throughput.throughput(a.config, quick=a.quick, log=log)
+        md = "# Throughput: the follow start against the fixed start (the same labeller, one run)\n\n"
+        md += throughput.throughput_markdown(out)
+        ds = throughput.throughput_dataset(out)
+    elif argv[0] == "labels":
+        md = "# Labels of two builds compared, cube by cube\n\n" + labels.compare_builds(a.old, a.new)
+        for item in a.explain or ():
+            design, kind, name = item.split("/")
+            md += "\n" + labels.explain_differences(a.config, a.old, a.new, design, kind, name, log=log)
+    else:
+        md = "# Independent check: long runs from the follow start\n\n" + long_run.long_run_check(
+            a.config, n_points=a.points, periods=a.periods, log=log
+        )
+    print(md)
+    if a.out is not None:
+        a.out.mkdir(parents=True, exist_ok=True)
+        io.write_text(md, a.out / f"{argv[0]}.md")
+        if ds is not None:
+            io.write_netcdf(
+                ds,
+                a.out / f"{argv[0]}.nc",
+                io.provenance(title=ds.attrs["title"], paper="li2013", model_variant="benchmark"),
+            )
+        print(f"wrote {a.out}/{argv[0]}.*")
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0] in ("throughput", "labels", "check"):
+        return main_speed(argv)
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.bench", description=work_precision.__doc__.splitlines()[0])
+    ap.add_argument("--out", type=Path, default=None, help="directory for work_precision.nc/.md/.png")
+    ap.add_argument("--quick", action="store_true", help="short runs (smoke test)")
+    a = ap.parse_args(argv)
+    out = work_precision.run(quick=a.quick, log=lambda m: print(m, flush=True))
+    md = work_precision.markdown(out)
+    print(md)
+    if a.out is not None:
+        a.out.mkdir(parents=True, exist_ok=True)
+
+        io.write_netcdf(
+            work_precision.to_dataset(out),
+            a.out / "work_precision.nc",
+            io.provenance(
+                title="Work-precision study of the KHV integrators", paper="li2013", model_variant="benchmark"
+            ),
+        )
+        io.write_text(md, a.out / "work_precision.md")
+        work_precision.figure(out, a.out / "work_precision.png")
+        print(f"wrote {a.out}/work_precision.nc, .md, .png")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,85 @@
+"""Independent check of the labeller: random map points run long from their follow start."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from benchmarks.common import load_design, map_lines, workflow_config
+from geardyn import classify
+from geardyn.label import label_lines
+from geardyn.label.compare import hausdorff
+from geardyn.runs import maps
+from geardyn.solve import SimulationSettings
+from geardyn.solve.simulate import simulate_batch
+
+
+def long_run_check(
+    config_path: Path, map_name: str = "map_x1_b", n_points: int = 200, periods: int = 20000, seed: int = 0, log=print
+) -> str:
+    """Independent check of the labeller: ``n_points`` random points of a regime map, each run ``periods``
+    mesh periods (plain RK4, no labeller) from the state its follow start used (the previous point's
+    final state on its row, the static deflection for a row's first point).  A periodic verdict must be
+    met by the long run's end: the same least period (rule 3 on its last periods) and the same orbit within
+    1e-6; other verdicts are reported with the long run's rule-3 period and its exponent."""
+
+    root = config_path.resolve().parent.parent
+    config = workflow_config(config_path)
+    raw = dict(config["maps"][map_name])
+    dname = raw["designs"][0]
+    design = load_design(dname, config, root)
+    spec = maps.MapSpec.from_config(map_name, raw, dname, design.segment)
+    policy = maps.map_policy(design, spec)
+    rng = np.random.default_rng(seed)
+    picks = sorted({(int(rng.integers(spec.y.num)), int(rng.integers(spec.x.num))) for _ in range(n_points)})
+    rows = sorted({j for j, _ in picks})
+    t0 = time.perf_counter()
+    lines = map_lines(design, spec, rows)
+
+    verdicts = dict(zip(rows, label_lines(lines, policy), strict=True))
+    systems, starts, want = [], [], []
+    for j, i in picks:
+        row, line = verdicts[j], lines[rows.index(j)]
+        systems.append(line[i])
+        starts.append(row[i - 1].final_state if i > 0 and not row[i - 1].diverged else None)
+        want.append(row[i])
+    s = SimulationSettings(
+        steps_per_period=policy.integration.steps_per_period,
+        transient_periods=periods - 64,
+        recorded_periods=64,
+        early_stop=False,
+    )
+    runs = simulate_batch(systems, s, starts)
+    cs = policy.classifier
+    rows_md = [
+        "| x | y | verdict | stage | long run: rule-3 period | orbit distance | agrees |",
+        "|---:|---:|---|---|---:|---:|---|",
+    ]
+    counts = {"periodic": [0, 0], "other": [0, 0]}
+    for (j, i), v, r in zip(picks, want, runs, strict=True):
+        n = 0 if r.diverged else classify.strict_period(r.poincare, cs)
+        if v.period > 0:
+            dist = hausdorff(r.poincare[-v.period :], v.poincare[: v.period]) if not r.diverged else float("inf")
+            ok = n == v.period and dist < 1e-6
+            counts["periodic"][0] += ok
+            counts["periodic"][1] += 1
+        else:
+            dist = float("nan")
+            ok = n == 0 if v.label != classify.LABELS["diverged"] else r.diverged
+            counts["other"][0] += ok
+            counts["other"][1] += 1
+        if not ok or v.period == 0:
+            rows_md.append(
+                f"| {spec.x.values[i]:.4g} | {spec.y.values[j]:.4g} | {classify.short_name(v.label)} | "
+                f"{v.stage} | {n} | {dist:.2g} | {ok} |"
+            )
+    head = (
+        f"{map_name} of {dname}: {len(picks)} random points, {periods} periods each "
+        f"({time.perf_counter() - t0:.0f} s). Periodic verdicts met by the long run (same least period, orbit "
+        f"within 1e-6): {counts['periodic'][0]} of {counts['periodic'][1]}. Non-periodic verdicts whose long "
+        f"run is still not periodic: {counts['other'][0]} of {counts['other'][1]}.\n\n"
+    )
+    log(head)
+    return head + "\n".join(rows_md) + "\n"

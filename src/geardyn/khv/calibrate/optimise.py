@@ -1,0 +1,129 @@
+"""The search: differential evolution over the unit cube, a local refinement, the verified choice."""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from scipy.optimize import differential_evolution
+from scipy.stats import qmc
+
+from geardyn.khv import point
+from geardyn.khv.calibrate.evaluate import Evaluator, Problem
+from geardyn.khv.calibrate.objective import Grids, ranked_score
+from geardyn.khv.calibrate.records import Record
+from geardyn.khv.calibrate.space import SearchSpace, interior, perturbed
+from geardyn.khv.design import KHVDesign
+from geardyn.label import Policy
+from geardyn.papers import paper_of
+
+
+def refine(
+    space: SearchSpace, evaluator: Evaluator, start: Record, steps: Sequence[float] = (0.1, 0.02), rounds: int = 2
+) -> Record:
+    """Deterministic local refinement after the global search: in each round every unknown is moved by
+    +-step (:func:`perturbed`, all moves of a round evaluated together); the best move is taken if it
+    raises the score (:func:`ranked_score`), else the next smaller step is tried; stops after ``rounds``
+    improvements or when no move improves."""
+    best = start
+    k, done = 0, 0
+    steps = sorted(steps, reverse=True)
+    rank = functools.partial(ranked_score, require=evaluator.problem.require)
+    while k < len(steps) and done < rounds:
+        units = []
+        for u in space.unknowns:
+            for sign in (-1.0, 1.0):
+                v = dict(best.values)
+                v[u.name] = perturbed(v[u.name], u, sign * steps[k])
+                units.append(list(space.unit(v)))
+        recs = evaluator.records(units)
+        cand = max(recs, key=rank)
+        if rank(cand) > rank(best):
+            best, done = cand, done + 1
+        else:
+            k += 1
+    return best
+
+
+def search(
+    problem: Problem,
+    cache: str | Path,
+    seed: int = 1,
+    popsize: int = 6,
+    maxiter: int = 4,
+    workers: int = 1,
+    init: Sequence[Mapping[str, float]] = (),
+    refine_steps: Sequence[float] = (0.1, 0.02),
+    refine_rounds: int = 2,
+) -> tuple[Record, Evaluator]:
+    """Differential evolution over the unit cube of ``problem.space``, then :func:`refine` from its best;
+    returns (best record, evaluator).  Only the candidates this run asked for count (the cache may hold
+    others, e.g. of a sensitivity study).
+
+    ``init``: candidates (values) placed in the initial population (e.g. the design's current
+    values), the rest Latin-hypercube from ``seed``.  Deterministic: same seed, same candidates, so
+    a rerun replays the cache.
+    """
+
+    dim = len(problem.space.unknowns)
+    n_pop = max(5, popsize * dim)
+    pop = qmc.LatinHypercube(d=dim, seed=seed).random(n_pop)
+    for i, v in enumerate(init):
+        pop[i] = np.clip(problem.space.unit(v), 0.0, 1.0)
+    with Evaluator(problem, cache, workers) as ev:
+        differential_evolution(
+            ev,
+            [(0.0, 1.0)] * dim,
+            init=pop,
+            maxiter=maxiter,
+            seed=seed,
+            polish=False,
+            vectorized=True,
+            updating="deferred",
+            tol=0.0,
+            atol=0.0,
+        )
+        recs = ev.searched()
+        best_rec = max(recs, key=lambda r: (ranked_score(r, problem.require), interior(r.unit)))
+        if refine_rounds > 0 and refine_steps:
+            best_rec = refine(problem.space, ev, best_rec, refine_steps, refine_rounds)
+    return best_rec, ev
+
+
+def verified_choice(
+    search_records: Sequence[Record],
+    verify: Callable[[list[list[float]]], list[Record]],
+    top: int,
+    require: str | None = None,
+) -> tuple[Record, Record, list[tuple[Record, Record]]]:
+    """Re-score the ``top`` best candidates of the search with ``verify`` (the design's own integration
+    settings and the default classifier) and choose by (verified score, search score, distance from
+    the bounds): an optimum inside the region beats an equal one on its edge.  Scores are ranked by
+    :func:`ranked_score`: with ``require``, a candidate must meet it at the design's settings too.
+    Returns (search record, verified record, all pairs)."""
+    order = sorted(search_records, key=lambda r: (-ranked_score(r, require), -interior(r.unit)))[: max(1, top)]
+    checked = verify([r.unit for r in order])
+    pairs = list(zip(order, checked, strict=True))
+    best_pair = max(
+        pairs, key=lambda p: (ranked_score(p[1], require), ranked_score(p[0], require), interior(p[0].unit))
+    )
+    return best_pair[0], best_pair[1], pairs
+
+
+def problem_from_config(design: KHVDesign, spec: Mapping[str, Any]) -> tuple[Problem, dict]:
+    """The search problem and its budget (seed, popsize, maxiter) from a ``calibration`` entry."""
+
+    paper = paper_of(design.paper)
+    s = spec["search"]
+    space = SearchSpace.from_config(s["bounds"])
+    grids = Grids.from_config(spec, paper)
+    policy = Policy.from_spec(point.integration_settings(design, **spec.get("integration", {})), spec)
+    budget = dict(s["thorough_budget"] if s.get("thorough") else s["budget"])
+    budget.setdefault("seed", int(s.get("seed", 1)))
+    ref = s.get("refine", {})
+    budget["refine_steps"] = tuple(ref.get("steps", (0.1, 0.02)))
+    budget["refine_rounds"] = int(ref.get("rounds", 2))
+    return Problem(design, design.paper, space, grids, policy, dict(spec.get("fixed", {})), s.get("require")), budget
