@@ -1,5 +1,5 @@
 # Speed against error of the integrators; the default steps per period comes from it. Not a design's
-# result: it runs the solver on fixed benchmark cases (geardyn.bench), under results/benchmarks/.
+# result: it runs the solver on fixed benchmark cases (benchmarks/), under results/benchmarks/.
 
 
 rule work_precision:
