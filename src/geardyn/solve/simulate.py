@@ -247,6 +247,24 @@ def lane_tables(systems: Sequence[System], settings: SimulationSettings) -> Lane
     return LaneTables(C, H, S, SEG, K, P, POLY, limits)
 
 
+def _per_point(values: Sequence[int] | None, default: int, L: int) -> np.ndarray:
+    """A per-point count (L,) int64: ``values``, or ``default`` for every point."""
+    return np.full(L, default, np.int64) if values is None else np.asarray(values, dtype=np.int64)
+
+
+def _tangent_columns(tangent_periods: int, mono: np.ndarray, total: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
+    """(m, ntan, W) of a batch: m tangent columns per point (1: a renormalised vector, 6: the monodromy
+    matrix, 0: none), carried over the last ntan (L,) of the ``total`` periods, starting from W (L, 6, m)."""
+    L = total.shape[0]
+    if tangent_periods:
+        return 1, np.minimum(int(tangent_periods), total), np.full((L, 6, 1), 1.0 / math.sqrt(6.0))
+    if np.any(mono):
+        W = np.zeros((L, 6, 6))
+        W[:, range(6), range(6)] = 1.0
+        return 6, np.minimum(mono, total), W
+    return 0, np.zeros(L, np.int64), np.empty((L, 6, 0))
+
+
 def simulate_batch(
     systems: Sequence[System],
     settings: SimulationSettings = SimulationSettings(),
@@ -285,16 +303,8 @@ def simulate_batch(
     if tangent_periods and np.any(mono):
         raise ValueError("carry either a tangent vector (tangent_periods) or the monodromy matrix, not both")
     n = settings.steps_per_period
-    ntr = (
-        np.full(L, settings.transient_periods, np.int64)
-        if transient_periods is None
-        else np.asarray(transient_periods, dtype=np.int64)
-    )
-    nrec = (
-        np.full(L, settings.recorded_periods, np.int64)
-        if recorded_periods is None
-        else np.asarray(recorded_periods, dtype=np.int64)
-    )
+    ntr = _per_point(transient_periods, settings.transient_periods, L)
+    nrec = _per_point(recorded_periods, settings.recorded_periods, L)
     lt = lane_tables(systems, settings) if tables is None else tables
     if lt.H.shape != (L, n):
         raise ValueError(f"lane tables for {lt.H.shape[0]} points of {lt.H.shape[1]} steps, not {L} of {n}")
@@ -303,17 +313,7 @@ def simulate_batch(
     for lane, system in enumerate(systems):
         x = None if x0 is None else x0[lane]
         Y0[lane] = system.static_state() if x is None else np.asarray(x, dtype=float)
-    m = 1 if tangent_periods else (6 if np.any(mono) else 0)
-    if tangent_periods:
-        ntan = np.minimum(int(tangent_periods), ntr + nrec)
-        W = np.full((L, 6, 1), 1.0 / math.sqrt(6.0))
-    elif m:
-        ntan = np.minimum(mono, ntr + nrec)
-        W = np.zeros((L, 6, 6))
-        W[:, range(6), range(6)] = 1.0
-    else:
-        ntan = np.zeros(L, np.int64)
-        W = np.empty((L, 6, 0))
+    m, ntan, W = _tangent_columns(tangent_periods, mono, ntr + nrec)
     ng = int(ntan.max()) if tangent_periods else 0
     growth = np.full((L, ng), np.nan)
     strobe = np.full((L, ng), np.nan)
