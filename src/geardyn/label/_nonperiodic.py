@@ -26,10 +26,13 @@ from geardyn.label._stages import (
 )
 from geardyn.label._threads import threaded_map
 from geardyn.label.policy import Policy
-from geardyn.label.torus import moments, torus_test
+from geardyn.label.torus import TorusTest, birkhoff_digits, extrapolated_digits, moments, torus_verdict
 from geardyn.label.verdict import Verdict
 from geardyn.solve.base import SimulationResult
 from geardyn.solve.simulate import simulate_batch
+
+#: records shorter than this are tested without the extrapolation (its six windows need a few points each)
+EXTRAPOLATE_MIN = 24
 
 # ------------------------------------------------------------------------------------------------
 # stage 4: exponent, 0-1 test, spectrum and the torus test
@@ -154,17 +157,17 @@ def standardised(points: np.ndarray) -> np.ndarray:
     return moments(points)[:, : points.shape[1]]
 
 
-def _torus(points: np.ndarray, cs: classify.ClassifierSettings):
-    """The torus test on the record (2N Poincare points): a torus at log10 sqrt(N) + torus_margin digits,
-    chaos below log10 sqrt(N) + chaos_margin."""
+def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> TorusTest:
+    """The torus test on the record (2N Poincare points): the better of the plain weighted Birkhoff digits
+    and those with the slow transient extrapolated away (:func:`geardyn.label.torus.extrapolated_digits`);
+    a torus at log10 sqrt(N) + torus_margin digits, chaos below log10 sqrt(N) + chaos_margin (neither
+    measure converges on a chaotic record)."""
     n = max(1, points.shape[0] // 2)
-    return torus_test(
-        points[-2 * n :],
-        0.5 * math.log10(n) + cs.torus_margin,
-        cs.chaos_margin,
-        cs.torus_min_n,
-        observable=standardised,
-    )
+    p = points[-2 * n :]
+    digits = birkhoff_digits(p, standardised)
+    if p.shape[0] >= EXTRAPOLATE_MIN:
+        digits = max(digits, extrapolated_digits(p, standardised))
+    return torus_verdict(digits, n, 0.5 * math.log10(n) + cs.torus_margin, cs.chaos_margin, cs.torus_min_n)
 
 
 def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
