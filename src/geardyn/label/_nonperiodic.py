@@ -85,6 +85,10 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
     for p, v in zip(rest, threaded_map(lambda p: _nonperiodic_verdict(p, policy), rest), strict=True):
         p.verdict = v
     _longer_record(rest, policy)
+    # a long cycle scores like a torus in the Birkhoff averages: look for one on every quasi-periodic record
+    # (its newest half, where a slowly attracting cycle has come closer; then all of it, for longer cycles)
+    for newest_half in (True, False):
+        _long_periods([p for p in rest if p.verdict.label == QP], policy, newest_half=newest_half)
     return []
 
 
@@ -121,14 +125,20 @@ def _longer_record(points: list[Point], policy: Policy) -> None:
     _long_periods(retry, policy)
 
 
-def _long_periods(points: list[Point], policy: Policy) -> None:
-    """Undecided points whose longer record returns after n periods, max_n < n <= long_max_n (rule 3 with
-    the larger bound, on the newest half of the record): a torus locked to a long cycle.  Shooting for period
-    n certifies the orbit; the label is then ``long_period`` with the least period in ``period``."""
+def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True) -> None:
+    """Points whose record returns after n periods, max_n < n <= long_max_n (rule 3 with the larger bound, on
+    the newest half of the record, or on all of it with ``newest_half=False``; at least three cycles): a torus
+    locked to a long cycle.  Shooting for period n certifies the orbit; the label is then ``long_period``
+    with the least period in ``period``.  Where shooting finds no stable orbit the verdict stays."""
     cs = policy.classifier
     if not points or cs.long_max_n <= cs.max_n:
         return
-    half = [dataclasses.replace(p.run, poincare=p.run.poincare[p.run.poincare.shape[0] // 2 :]) for p in points]
+    half = [
+        dataclasses.replace(
+            p.run, poincare=p.run.poincare[p.run.poincare.shape[0] // 2 :] if newest_half else p.run.poincare
+        )
+        for p in points
+    ]
     big = dataclasses.replace(cs, max_n=cs.long_max_n)
     ns = [
         n if n > cs.max_n and 3 * n <= r.poincare.shape[0] else 0 for n, r in zip(rule3(half, big), half, strict=True)
@@ -158,16 +168,21 @@ def standardised(points: np.ndarray) -> np.ndarray:
 
 
 def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> TorusTest:
-    """The torus test on the record (2N Poincare points): the better of the plain weighted Birkhoff digits
-    and those with the slow transient extrapolated away (:func:`geardyn.label.torus.extrapolated_digits`);
-    a torus at log10 sqrt(N) + torus_margin digits, chaos below log10 sqrt(N) + chaos_margin (neither
-    measure converges on a chaotic record)."""
+    """The torus test on the record (2N Poincare points): a torus when the better of the plain weighted
+    Birkhoff digits and those with the slow transient extrapolated away
+    (:func:`geardyn.label.torus.extrapolated_digits`) reaches log10 sqrt(N) + torus_margin; chaos when the
+    plain digits stay below log10 sqrt(N) + chaos_margin and the extrapolated ones find no torus.  The
+    digits reported are the better of the two."""
     n = max(1, points.shape[0] // 2)
     p = points[-2 * n :]
-    digits = birkhoff_digits(p, standardised)
-    if p.shape[0] >= EXTRAPOLATE_MIN:
-        digits = max(digits, extrapolated_digits(p, standardised))
-    return torus_verdict(digits, n, 0.5 * math.log10(n) + cs.torus_margin, cs.chaos_margin, cs.torus_min_n)
+    plain = birkhoff_digits(p, standardised)
+    digits = max(plain, extrapolated_digits(p, standardised)) if p.shape[0] >= EXTRAPOLATE_MIN else plain
+    thresholds = (0.5 * math.log10(n) + cs.torus_margin, cs.chaos_margin, cs.torus_min_n)
+    best = torus_verdict(digits, n, *thresholds)
+    if best.verdict == "torus":
+        return best
+    # chaos is the plain test's verdict, as before: the extrapolation only adds a way to find a torus
+    return dataclasses.replace(torus_verdict(plain, n, *thresholds), digits=digits)
 
 
 def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
