@@ -84,6 +84,22 @@ def test_chaos_needs_a_positive_exponent_that_the_torus_test_confirms():
     assert v.torus_digits < 0.5 * np.log10(100) + 1.5
 
 
+def test_slowly_attracting_tori_are_certified_past_their_transient():
+    """li2013_calibrated, b = 2, e = 5, just past the Neimark-Sacker point of the P1 orbit (x1 = 0.5420): the
+    tori attract at about 2 (|mu| - 1) per period, so a record still carries the slow transverse transient.
+    The extrapolated torus test (the geometric tail of the windowed Birkhoff averages removed) certifies
+    every point as quasi-periodic within 3200 recorded periods; the plain test left x1 = 0.555-0.57
+    undetermined even at 4000 (digits 2.6-3.9 against the threshold log10 sqrt(2000) + 2.5 = 4.15).  That they
+    are tori: at x1 = 0.56 a run of 8000 + 4000 periods scores 8.4 digits (tests/test_torus.py)."""
+    xs = (0.545, 0.55, 0.555, 0.56, 0.565, 0.57)
+    out = label_lines([_line("li2013_calibrated", xs)], Policy(MAP, CS))[0]
+    assert [v.label for v in out] == [classify.LABELS["quasi_periodic"]] * len(xs)
+    assert all(v.stage == "torus" and abs(v.exponent) < CS.lam_tol for v in out)
+    records = [int(v.reason.split(" recorded periods")[0].rsplit("(", 1)[1]) for v in out]
+    assert max(records) <= 3200
+    assert all(v.torus_digits >= 0.5 * np.log10(r // 2) + 2.5 for v, r in zip(out, records, strict=True))
+
+
 def test_follow_and_fixed_agree_where_one_attractor_exists():
     """li2013 (P1 everywhere at b = 2, e = 5): both starts give P1 and the same orbit within 1e-8; the
     followed points need no transient, the fixed ones hundreds of periods."""

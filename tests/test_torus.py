@@ -8,7 +8,11 @@ averages") on cases whose answer is known:
 * the Henon map (a = 1.4, b = 0.3) and the logistic map at r = 4 (chaotic);
 * the KHV model: ``li2013_calibrated`` past its Neimark-Sacker point (x1 = 0.5420) at x1 = 0.56 is on a
   torus whose rotation number is near the argument of the unstable P1 orbit's complex Floquet
-  multipliers (Newton shooting); ``li2013_route`` at x1 = 0.80 is chaotic (exponent +0.038).
+  multipliers (Newton shooting); ``li2013_route`` at x1 = 0.80 is chaotic (exponent +0.038);
+* with a slowly decaying transient (a circle approached at r = 0.999 per iterate; the model's torus at
+  x1 = 0.55 after 500 periods) the plain test is inconclusive and the extrapolated one
+  (:func:`~geardyn.label.torus.extrapolated_digits`) finds the torus; on chaos, weak chaos included, it
+  stays at the chaotic rate.
 """
 
 import math
@@ -197,3 +201,81 @@ def test_khv_long_cycle_scores_like_a_torus():
     orbit = shooting.shoot(c, T.weighted_birkhoff(p), 1, st)
     assert orbit.converged and 0.99 < abs(orbit.multipliers[0]) < 0.995
     assert T.rotation_number(p, orbit.state[[1, 4]], plane=(1, 4)) == pytest.approx(17 / 48, abs=1e-12)
+
+
+def _coordinates(p: np.ndarray) -> np.ndarray:
+    """The labeller's observable: the standardised coordinates (first moments)."""
+    return T.moments(p)[:, : p.shape[1]]
+
+
+def _approached_circle(m: int, r: float = 0.999, d0: float = 0.02) -> np.ndarray:
+    """The golden rotation on the unit circle, approached from off the circle: the deviation d0 r^n has a
+    non-zero mean (the centre drifts) and a part that turns with the angle."""
+    n = np.arange(m)
+    th = 2.0 * math.pi * (0.1 + GOLDEN * n)
+    return np.c_[np.cos(th) + d0 * r**n, np.sin(th) + 0.5 * d0 * r**n * np.cos(th)]
+
+
+@pytest.mark.parametrize("m", [400, 800, 1600, 4000])
+def test_extrapolation_removes_a_slow_transient(m):
+    """The golden rotation approached at r = 0.999 per iterate: the plain digits stay at 1.98-2.33, within
+    the chaotic rate + 1 (log10 sqrt(N) = 1.15-1.65), however long the record; with the geometric tail
+    extrapolated away 12.2-13.4 (rounding of the averages).  Without a transient both measures agree
+    (golden rotation 14.0 / 13.9, period 5 12.6 / 12.4)."""
+    p = _approached_circle(m)
+    assert T.birkhoff_digits(p, _coordinates) < 0.5 * math.log10(m // 2) + 1.2
+    assert T.extrapolated_digits(p, _coordinates) > 12.0
+    assert T.extrapolated_digits(_circle(m)) == pytest.approx(T.birkhoff_digits(_circle(m)), abs=1.0)
+    assert T.extrapolated_digits(_circle(m, 0.2)) > 12.0
+
+
+@pytest.mark.parametrize("n", [200, 800, 2000, 8000])
+def test_extrapolation_does_not_make_chaos_converge(n):
+    """Henon and logistic, 20 series each: the extrapolated digits stay below log10 sqrt(N) + 1.0 (measured
+    at most + 0.87 in 640 series, N = 50-8000, both observables), under the labeller's chaos margin 1.5."""
+    for k in range(20):
+        for pts in (_henon(2 * n, skip=1000 + 37 * k), _logistic(2 * n, skip=1000 + 37 * k)):
+            for obs in (None, _coordinates):
+                assert T.extrapolated_digits(pts, obs) < 0.5 * math.log10(n) + 1.0
+
+
+def test_extrapolation_bad_input():
+    with pytest.raises(ValueError, match="at least 9 points"):
+        T.extrapolated_digits(_circle(8))
+    assert T.extrapolated_digits(_circle(9)) > 0.0
+    with pytest.raises(ValueError, match="at least 3 windows"):
+        T.extrapolated_digits(_circle(100), windows=2)
+    assert T.extrapolated_digits(np.full((100, 3), 5.0)) == T.DIGITS_MAX
+    assert T.torus_verdict(5.0, 2000).verdict == "inconclusive"  # 6 for a torus, < 3.15 for chaos
+    assert T.torus_verdict(3.0, 2000).verdict == "chaotic" and T.torus_verdict(6.0, 2000).verdict == "torus"
+
+
+def test_khv_slowly_approached_torus_is_found_by_extrapolation():
+    """li2013_calibrated, b = 2, e = 5, x1 = 0.55 (0.008 past the Neimark-Sacker point: the torus attracts
+    at about 2 (|mu| - 1) per period), 400 periods after a transient of 500 from the static deflection,
+    128 steps: the plain digits 3.49 are under the labeller's torus threshold log10 sqrt(200) + 2.5 = 3.65,
+    the extrapolated ones 5.33 (after 2000 periods the plain digits reach 3.98 on 400 points)."""
+    d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    c = point.point_coefficients(d, {"x1": 0.55, "b": 2.0, "e": 5.0})
+    p = simulate(c, SimulationSettings(steps_per_period=128, transient_periods=500, recorded_periods=400)).poincare
+    threshold = 0.5 * math.log10(200) + 2.5
+    assert T.birkhoff_digits(p, _coordinates) == pytest.approx(3.49, abs=0.05)
+    assert T.extrapolated_digits(p, _coordinates) == pytest.approx(5.33, abs=0.05)
+    assert 3.49 + 0.05 < threshold < 5.33 - 1.5
+
+
+def test_khv_weak_chaos_stays_chaotic_for_the_extrapolation():
+    """li2013_calibrated, b = 2, e = 1.658, x1 = 0.4518 (weak chaos: exponent +0.00018 +- 0.00002 over
+    64 000 periods): after 20 000 periods, 4000 recorded, the extrapolated digits 2.41 (plain 2.65) are
+    under the chaos threshold log10 sqrt(2000) + 1.5 = 3.15; the exponent over these 4000 periods, +0.00025
+    +- 0.00054, cannot say "positive": the labeller leaves such a point undetermined."""
+    d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    c = point.point_coefficients(d, {"x1": 0.4518, "b": 2.0, "e": 1.658})
+    st = SimulationSettings(steps_per_period=128, transient_periods=20000, recorded_periods=4000)
+    r = simulate(c, st, tangent_periods=4000)
+    chaos = 0.5 * math.log10(2000) + 1.5
+    assert T.extrapolated_digits(r.poincare, _coordinates) == pytest.approx(2.41, abs=0.1)
+    assert T.birkhoff_digits(r.poincare, _coordinates) == pytest.approx(2.65, abs=0.1)
+    assert 2.65 + 0.1 < chaos
+    lam, sigma = classify.lyapunov_estimate(r.growth, r.period)
+    assert 0.0 < lam < 1e-3 and sigma > lam

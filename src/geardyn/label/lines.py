@@ -2,9 +2,10 @@
 
 A *line* is a sequence of systems along which the attractor is followed: a sweep case in one direction,
 or one row of a regime map.  All lines of a batch advance together, point k of every line at once, so the
-stages integrate one point per line in lockstep (:mod:`geardyn.label._stages`).  The first point of a line
-starts from the line's fixed start (the static deflection unless given); each next point starts from the
-verdict of the previous one.  With ``policy.start == "fixed"`` every point is a line of its own.
+stages integrate one point per line in lockstep (:mod:`geardyn.label._stages` and the modules of its
+stages).  The first point of a line starts from the line's fixed start (the static deflection unless
+given); each next point starts from the verdict of the previous one.  With ``policy.start == "fixed"``
+every point is a line of its own.
 """
 
 from __future__ import annotations
@@ -16,6 +17,9 @@ from collections.abc import Sequence
 import numpy as np
 
 import geardyn.label._stages as st
+from geardyn.label._follow import follow
+from geardyn.label._nonperiodic import exponents
+from geardyn.label._record import integrate, slow_transients
 from geardyn.label.policy import Policy
 from geardyn.label.verdict import Verdict
 from geardyn.solve.base import System
@@ -26,10 +30,10 @@ log = logging.getLogger("geardyn.label")
 
 def _step(points: list[st.Point], policy: Policy) -> list[Verdict]:
     """Every stage in turn on the points still undecided."""
-    left = st.follow(points, policy)
-    left = st.integrate(left, policy)
-    left = st.slow_transients(left, policy)
-    st.exponents(left, policy)
+    left = follow(points, policy)
+    left = integrate(left, policy)
+    left = slow_transients(left, policy)
+    exponents(left, policy)
     return [p.verdict for p in points]  # type: ignore[misc]
 
 

@@ -1,0 +1,142 @@
+"""Stage 1 of the labeller: the previous point's period-n orbit continued to this point.
+
+A secant prediction through the two previous orbit points, a chord iteration with the previous orbit's
+monodromy (plain runs, no variational part), full Newton shooting where the chord stalls, then one
+monodromy run for the multipliers.  A stable orbit decides the point; one that is not stable types the
+bifurcation.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+
+import numpy as np
+
+from geardyn.label._stages import (
+    Point,
+    bifurcation_type,
+    decide,
+    periodic_verdicts,
+    shoot,
+    small_residual,
+    tables_of,
+)
+from geardyn.label.policy import Policy
+from geardyn.solve.shooting import ShootingResult, period_settings, sorted_multipliers
+from geardyn.solve.simulate import simulate_batch
+
+# ------------------------------------------------------------------------------------------------
+# stage 1: follow the previous point's orbit
+# ------------------------------------------------------------------------------------------------
+
+
+def _predict(p: Point) -> np.ndarray:
+    """The start of the follow iteration: the previous orbit point, extrapolated along the line (secant
+    through the two previous orbits of the same period; the points of a line are equally spaced)."""
+    a, b = p.prev, p.prev2
+    if b is not None and b.periodic and b.period == a.period and b.stage in ("follow", "period_test", "shooting"):
+        return 2.0 * a.final_state - b.final_state
+    return a.final_state
+
+
+def _chord(
+    points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy, max_iter: int = 8
+) -> list[np.ndarray | None]:
+    """Chord iteration x <- x - (M_prev - I)^-1 (phi(x) - x) on the n-period map, with the monodromy
+    M_prev of each point's previous orbit: plain runs (no variational part), all points together.  The
+    converged iterate (max|F| <= tol max(1, |x|)), or None when the residual does not fall by half at
+    every iteration (then full Newton takes over)."""
+    s = period_settings(policy.integration, n)
+    xs = [np.asarray(x, float).copy() for x in x0s]
+    lu = [np.linalg.inv(p.prev.monodromy - np.eye(6)) for p in points]
+    out: list[np.ndarray | None] = [None] * len(points)
+    todo = list(range(len(points)))
+    last = [np.inf] * len(points)
+    for _ in range(max_iter):
+        if not todo:
+            break
+        runs = simulate_batch(
+            [points[k].system for k in todo], s, [xs[k] for k in todo], tables=tables_of([points[k] for k in todo])
+        )
+        left = []
+        for k, r in zip(todo, runs, strict=True):
+            if r.diverged:
+                continue
+            F = r.final_state - xs[k]
+            res = float(np.max(np.abs(F)))
+            if not np.isfinite(res) or res > 0.5 * last[k]:
+                continue
+            if small_residual(res, xs[k], policy.newton_tol):
+                out[k] = xs[k]
+                continue
+            last[k] = res
+            xs[k] = xs[k] - lu[k] @ F
+            left.append(k)
+        todo = left
+    return out
+
+
+def _certify_states(points: list[Point], xs: list[np.ndarray], n: int, policy: Policy) -> list[ShootingResult]:
+    """One monodromy run of n periods at each converged state: residual and multipliers (a ShootingResult)."""
+    s = period_settings(policy.integration, n)
+    runs = simulate_batch([p.system for p in points], s, xs, monodromy_periods=n, tables=tables_of(points))
+    out = []
+    for x, r in zip(xs, runs, strict=True):
+        if r.diverged or r.monodromy is None:
+            out.append(ShootingResult(x, n, False, "diverged", 0, float("inf")))
+            continue
+        res = float(np.max(np.abs(r.final_state - x)))
+        ok = small_residual(res, x, 2.0 * policy.newton_tol)
+        out.append(
+            ShootingResult(
+                x,
+                n,
+                ok,
+                "converged" if ok else "max_iterations",
+                0,
+                res,
+                r.monodromy.copy(),
+                sorted_multipliers(r.monodromy),
+            )
+        )
+    return out
+
+
+def follow(points: list[Point], policy: Policy) -> list[Point]:
+    """The previous point's period-n orbit continued to this point: a chord iteration from the secant
+    prediction with the previous orbit's monodromy (full Newton shooting where it does not converge), then
+    one monodromy run for the multipliers.  Returns the undecided points."""
+    todo = [p for p in points if p.prev is not None and p.prev.periodic]
+    rest = [p for p in points if not (p.prev is not None and p.prev.periodic)]
+    if not todo:
+        return rest
+    shots: list[ShootingResult | None] = [None] * len(todo)
+    by_n: dict[int, list[int]] = defaultdict(list)
+    for k, p in enumerate(todo):
+        by_n[p.prev.period].append(k)
+    for n, ks in sorted(by_n.items()):
+        x0 = {k: _predict(todo[k]) for k in ks}
+        chord = [k for k in ks if todo[k].prev.monodromy is not None]
+        got = dict(zip(chord, _chord([todo[k] for k in chord], [x0[k] for k in chord], n, policy), strict=True))
+        done = [k for k in chord if got[k] is not None]
+        for k, r in zip(done, _certify_states([todo[k] for k in done], [got[k] for k in done], n, policy), strict=True):
+            shots[k] = r if r.converged else None
+        newton = [k for k in ks if shots[k] is None]
+        if newton:
+            for k, r in zip(
+                newton,
+                shoot([todo[k] for k in newton], [x0[k] for k in newton], [n] * len(newton), policy),
+                strict=True,
+            ):
+                shots[k] = r
+    for p, s in zip(todo, shots, strict=True):
+        if not s.converged:
+            p.bifurcation = "orbit_lost"
+            p.notes.append(f"the period-{s.n} orbit of the previous point is lost ({s.status})")
+        elif s.spectral_radius >= 1.0 - policy.stability_margin:  # not certified stable: it is losing stability
+            p.bifurcation = bifurcation_type(s.multipliers)
+            p.notes.append(
+                f"the followed period-{s.n} orbit is not stable here (|mu|max = {s.spectral_radius:.5f}, "
+                f"{p.bifurcation.replace('_', '-')})"
+            )
+    return rest + decide(todo, periodic_verdicts(todo, shots, policy, "follow", "followed from the previous point"))

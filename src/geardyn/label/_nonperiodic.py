@@ -1,0 +1,276 @@
+"""Stage 4 of the labeller: what is neither periodic nor a slow transient is labelled from the tangent
+exponent and the torus tests (:mod:`geardyn.label.torus`): quasi-periodic, chaotic, or undetermined where
+they disagree (the reason says how).  Undetermined points run on with longer records and are searched for
+long cycles.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from geardyn import classify
+from geardyn.label._stages import (
+    CHAOS,
+    NAN,
+    QP,
+    UNDET,
+    Point,
+    certify,
+    diverged_verdict,
+    record_length,
+    rule3,
+    tables_of,
+)
+from geardyn.label._threads import threaded_map
+from geardyn.label.policy import Policy
+from geardyn.label.torus import TorusTest, birkhoff_digits, extrapolated_digits, moments, torus_verdict
+from geardyn.label.verdict import Verdict
+from geardyn.solve.base import SimulationResult
+from geardyn.solve.simulate import simulate_batch
+
+#: records shorter than this are tested without the extrapolation (its six windows need a few points each)
+EXTRAPOLATE_MIN = 24
+
+# ------------------------------------------------------------------------------------------------
+# stage 4: exponent, 0-1 test, spectrum and the torus test
+# ------------------------------------------------------------------------------------------------
+
+
+def exponents(points: list[Point], policy: Policy) -> list[Point]:
+    """Continue every point with a tangent vector (unless its run carried one); a record that returns
+    within tolerance (rule 3) goes back to :func:`certify`; the rest are labelled from the exponent and the
+    torus test (:func:`_nonperiodic_verdict`), undetermined where they disagree."""
+    if not points:
+        return points
+    s, cs = policy.integration, policy.classifier
+    more = dataclasses.replace(s, transient_periods=0, recorded_periods=max(s.recorded_periods, cs.tangent_periods))
+    again = [p for p in points if not p.tangent]
+    cont = dict(
+        zip(
+            map(id, again),
+            simulate_batch(
+                [p.system for p in again],
+                more,
+                [p.run.final_state for p in again],
+                tangent_periods=cs.tangent_periods,
+                tables=tables_of(again),
+            ),
+            strict=True,
+        )
+    )
+    for p in points:
+        p.run = cont.get(id(p), p.run)
+    bounded = []
+    for p in points:
+        if p.run.diverged:
+            p.verdict = diverged_verdict(p, p.run)
+        else:
+            bounded.append(p)
+    periods = rule3([p.run for p in bounded], cs)
+    periodic = [(p, n) for p, n in zip(bounded, periods, strict=True) if n > 0]
+    if periodic:
+        left = certify(
+            [p for p, _ in periodic],
+            [n for _, n in periodic],
+            policy,
+            "period_test",
+            "periodic on the continued record",
+        )
+        for p in left:
+            p.verdict = _undecided(p, p.run, "looks periodic but no stable orbit is found", policy)
+    rest = [p for p, n in zip(bounded, periods, strict=True) if n == 0]
+    for p, v in zip(rest, threaded_map(lambda p: _nonperiodic_verdict(p, policy), rest), strict=True):
+        p.verdict = v
+    _longer_record(rest, policy)
+    # a long cycle scores like a torus in the Birkhoff averages: look for one on every quasi-periodic record
+    # (its newest half, where a slowly attracting cycle has come closer; then all of it, for longer cycles)
+    for newest_half in (True, False):
+        _long_periods([p for p in rest if p.verdict.label == QP], policy, newest_half=newest_half)
+    return []
+
+
+def _longer_record(points: list[Point], policy: Policy) -> None:
+    """Points left undetermined: the run goes on with the tangent vector, its record growing by the factor
+    ``1 + torus_extend`` each round up to ``torus_max_periods``, and the same decision
+    (:func:`_nonperiodic_verdict`) reads the whole, longer record each time (the torus test converges on a
+    torus and stays low on a chaotic set; the exponent's error bar shrinks).  Last, periods up to
+    ``long_max_n`` are looked for on the longest record (:func:`_long_periods`)."""
+    cs = policy.classifier
+    retry = [p for p in points if p.verdict.stage == "undecided"]
+    while retry and cs.torus_extend > 0:
+        length = retry[0].run.poincare.shape[0]
+        n = min(cs.torus_extend * length, cs.torus_max_periods - length)
+        if n <= 0:
+            break
+        s = dataclasses.replace(policy.integration, transient_periods=0, recorded_periods=n)
+        runs = simulate_batch(
+            [p.system for p in retry], s, [p.run.final_state for p in retry], tables=tables_of(retry), tangent_periods=n
+        )
+        for p, r in zip(retry, runs, strict=True):
+            if r.diverged:
+                p.verdict = diverged_verdict(p, r)
+                continue
+            old = p.run
+            p.run = dataclasses.replace(
+                r,
+                poincare=np.vstack([old.poincare, r.poincare]),
+                growth=np.concatenate([old.growth, r.growth]),
+                strobe=np.concatenate([old.strobe, r.strobe]),
+            )
+            p.verdict = _nonperiodic_verdict(p, policy)
+        retry = [p for p in retry if p.verdict.stage == "undecided"]
+    _long_periods(retry, policy)
+
+
+def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True) -> None:
+    """Points whose record returns after n periods, max_n < n <= long_max_n (rule 3 with the larger bound, on
+    the newest half of the record, or on all of it with ``newest_half=False``; at least three cycles): a torus
+    locked to a long cycle.  Shooting for period n certifies the orbit; the label is then ``long_period``
+    with the least period in ``period``.  Where shooting finds no stable orbit the verdict stays."""
+    cs = policy.classifier
+    if not points or cs.long_max_n <= cs.max_n:
+        return
+    half = [
+        dataclasses.replace(
+            p.run, poincare=p.run.poincare[p.run.poincare.shape[0] // 2 :] if newest_half else p.run.poincare
+        )
+        for p in points
+    ]
+    big = dataclasses.replace(cs, max_n=cs.long_max_n)
+    ns = [
+        n if n > cs.max_n and 3 * n <= r.poincare.shape[0] else 0 for n, r in zip(rule3(half, big), half, strict=True)
+    ]
+    todo = [(p, n) for p, n in zip(points, ns, strict=True) if n > 0]
+    if not todo:
+        return
+    undecided = {id(p): p.verdict for p, _ in todo}
+    for p, _ in todo:
+        p.verdict = None
+    left = certify(
+        [p for p, _ in todo],
+        [n for _, n in todo],
+        policy,
+        "period_test",
+        "the longer record returns after a long period",
+    )
+    for p in left:
+        p.verdict = undecided[id(p)]
+
+
+def standardised(points: np.ndarray) -> np.ndarray:
+    """The torus test's observable: each coordinate of the Poincare points, standardised (the first
+    moments of :func:`geardyn.label.torus.moments`; the higher ones converge too slowly on the model's
+    slowly attracting tori to decide within a few hundred periods, docs/classify.md)."""
+    return moments(points)[:, : points.shape[1]]
+
+
+def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> TorusTest:
+    """The torus test on the record (2N Poincare points): a torus when the better of the plain weighted
+    Birkhoff digits and those with the slow transient extrapolated away
+    (:func:`geardyn.label.torus.extrapolated_digits`) reaches log10 sqrt(N) + torus_margin; chaos when the
+    plain digits stay below log10 sqrt(N) + chaos_margin and the extrapolated ones find no torus.  The
+    digits reported are the better of the two."""
+    n = max(1, points.shape[0] // 2)
+    p = points[-2 * n :]
+    plain = birkhoff_digits(p, standardised)
+    digits = max(plain, extrapolated_digits(p, standardised)) if p.shape[0] >= EXTRAPOLATE_MIN else plain
+    thresholds = (0.5 * math.log10(n) + cs.torus_margin, cs.chaos_margin, cs.torus_min_n)
+    best = torus_verdict(digits, n, *thresholds)
+    if best.verdict == "torus":
+        return best
+    # chaos is the plain test's verdict, as before: the extrapolation only adds a way to find a torus
+    return dataclasses.replace(torus_verdict(plain, n, *thresholds), digits=digits)
+
+
+def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
+    """Chaos needs a positive exponent that the torus test confirms (no torus: the Birkhoff averages do not
+    converge); quasi-periodic needs the torus test and an exponent that is not positive; anything else is
+    undetermined, with the reason.  The 0-1 test and the spectral flatness cross-check a chaos label."""
+    r, cs = p.run, policy.classifier
+    lam, sig = classify.lyapunov_estimate(r.growth, r.period)
+    tt = _torus(r.poincare, cs)
+    digits = tt.digits
+    positive = bool(np.isfinite(lam) and lam > cs.lam_tol + 2 * sig)
+    negative = bool(np.isfinite(lam) and lam < -(cs.lam_tol + 2 * sig))
+    k01 = flat = NAN
+    cross = -1
+    if positive and tt.verdict == "chaotic":
+        phi = r.strobe if r.strobe is not None and r.strobe.size else r.poincare[:, 1]
+        k01, flat = classify.zero_one_test(phi), classify.spectral_flatness(phi)
+        cross = int(k01 > cs.k_chaos) + int(flat > cs.flat_broadband) - 1
+        label, stage, why = (
+            CHAOS,
+            "exponent",
+            (f"positive exponent {lam:.2g} +- {sig:.1g}; the Birkhoff averages do not converge (digits {digits:.1f})"),
+        )
+    elif tt.verdict == "torus" and not positive and not negative:
+        label, stage, why = QP, "torus", f"Birkhoff averages converge (digits {digits:.1f}); exponent {lam:.2g}"
+    elif negative:
+        label, stage, why = (
+            UNDET,
+            "undecided",
+            (
+                f"negative exponent {lam:.2g} +- {sig:.1g}: attracted to a periodic "
+                f"orbit that shooting did not find (digits {digits:.1f})"
+            ),
+        )
+    elif tt.verdict == "torus":
+        label, stage, why = (
+            UNDET,
+            "undecided",
+            (f"positive exponent {lam:.2g} but the Birkhoff averages converge (digits {digits:.1f})"),
+        )
+    elif positive:
+        label, stage, why = UNDET, "undecided", f"positive exponent {lam:.2g}, torus test inconclusive ({digits:.1f})"
+    else:
+        label, stage, why = (
+            UNDET,
+            "undecided",
+            (
+                f"exponent {lam:.2g} +- {sig:.1g} not positive and the Birkhoff "
+                f"averages do not converge (digits {digits:.1f})"
+            ),
+        )
+    why += f" ({r.poincare.shape[0]} recorded periods)"
+    if p.notes:
+        why += "; " + "; ".join(p.notes)
+    return Verdict(
+        label,
+        0,
+        lam,
+        sig,
+        "tangent",
+        stage,
+        why,
+        final_state=r.final_state.copy(),
+        poincare=r.poincare[-record_length(policy) :],
+        bifurcation=p.bifurcation,
+        k01=k01,
+        flatness=flat,
+        torus_digits=digits,
+        crosscheck=cross,
+        transient_used=p.transient_used,
+        n_events=int(r.n_events),
+    )
+
+
+def _undecided(p: Point, r: SimulationResult, why: str, policy: Policy) -> Verdict:
+    if p.notes:
+        why += "; " + "; ".join(p.notes)
+    return Verdict(
+        UNDET,
+        0,
+        NAN,
+        NAN,
+        "none",
+        "undecided",
+        why,
+        final_state=r.final_state.copy(),
+        poincare=r.poincare[-record_length(policy) :],
+        bifurcation=p.bifurcation,
+        transient_used=p.transient_used,
+        n_events=int(r.n_events),
+    )
