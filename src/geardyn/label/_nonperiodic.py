@@ -72,13 +72,7 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
     periods = rule3([p.run for p in bounded], cs)
     periodic = [(p, n) for p, n in zip(bounded, periods, strict=True) if n > 0]
     if periodic:
-        left = certify(
-            [p for p, _ in periodic],
-            [n for _, n in periodic],
-            policy,
-            "period_test",
-            "periodic on the continued record",
-        )
+        left = _certify_periods(periodic, policy, "periodic on the continued record")
         for p in left:
             p.verdict = _undecided(p, p.run, "looks periodic but no stable orbit is found", policy)
     rest = [p for p, n in zip(bounded, periods, strict=True) if n == 0]
@@ -149,15 +143,15 @@ def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True)
     undecided = {id(p): p.verdict for p, _ in todo}
     for p, _ in todo:
         p.verdict = None
-    left = certify(
-        [p for p, _ in todo],
-        [n for _, n in todo],
-        policy,
-        "period_test",
-        "the longer record returns after a long period",
-    )
+    left = _certify_periods(todo, policy, "the longer record returns after a long period")
     for p in left:
         p.verdict = undecided[id(p)]
+
+
+def _certify_periods(pairs: list[tuple[Point, int]], policy: Policy, reason: str) -> list[Point]:
+    """(point, period) pairs whose record returns: :func:`certify` by shooting (stage ``period_test``); returns
+    the points left without a stable orbit."""
+    return certify([p for p, _ in pairs], [n for _, n in pairs], policy, "period_test", reason)
 
 
 def standardised(points: np.ndarray) -> np.ndarray:

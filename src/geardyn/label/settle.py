@@ -45,6 +45,7 @@ import numpy as np
 from geardyn import classify
 from geardyn.label._threads import threaded_map
 from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.base import SimulationResult
 from geardyn.solve.shooting import newton_shooting_batch, period_settings
 from geardyn.solve.simulate import LaneTables, lane_tables, simulate_batch
 
@@ -242,21 +243,7 @@ def _judge(
         if approached_in_record(results[i].poincare, cycles[i], rho[i], n)
     }
     # a continued record as long as the multiplier needs to shrink a distance 4-fold, read the same way
-    k4 = {
-        i: n * math.ceil(min(max_periods, max(20, math.ceil(math.log(0.25) / math.log(rho[i])))) / n)
-        for i in shots
-        if i not in out
-    }
-    ext = {}
-    for group in _length_classes(k4):
-        runs = simulate_batch(
-            [systems[i] for i in group],
-            dataclasses.replace(settings, transient_periods=0),
-            [x0[i] for i in group],
-            recorded_periods=[k4[i] for i in group],
-            tables=tables.take(group),
-        )
-        ext.update(zip(group, runs, strict=True))
+    k4, ext = _continued(systems, tables, settings, x0, {i: rho[i] for i in shots if i not in out}, n, max_periods)
     for i, e in ext.items():
         if not e.diverged and approached_in_record(e.poincare, cycles[i], rho[i], n):
             out[i] = found(i, f"over {k4[i]} more periods")
@@ -309,6 +296,28 @@ def _judge(
 
     out.update(zip(last, threaded_map(by_run, last), strict=True))
     return out
+
+
+def _continued(
+    systems, tables: LaneTables, settings: SimulationSettings, x0: dict, rho: dict, n: int, max_periods: int
+) -> tuple[dict[int, int], dict[int, SimulationResult]]:
+    """The runs of the points ``rho`` (point: its leading multiplier) continued from x0 for as many periods
+    as their multiplier needs to shrink a distance 4-fold (a multiple of n, at least 20, at most
+    ``max_periods``), points of one length in one batch: (lengths, runs)."""
+    k4 = {
+        i: n * math.ceil(min(max_periods, max(20, math.ceil(math.log(0.25) / math.log(r)))) / n) for i, r in rho.items()
+    }
+    ext = {}
+    for group in _length_classes(k4):
+        runs = simulate_batch(
+            [systems[i] for i in group],
+            dataclasses.replace(settings, transient_periods=0),
+            [x0[i] for i in group],
+            recorded_periods=[k4[i] for i in group],
+            tables=tables.take(group),
+        )
+        ext.update(zip(group, runs, strict=True))
+    return k4, ext
 
 
 def _length_classes(lengths: dict[int, int]) -> list[list[int]]:
