@@ -18,6 +18,7 @@ import xarray as xr
 from geardyn import classify
 from geardyn.io import runtime_provenance
 from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES, Policy, Verdict
+from geardyn.label._threads import threaded_map
 from geardyn.label.compare import same
 from geardyn.solve import SimulationSettings, System
 from geardyn.solve.response import IMPACT_CLASSES, ResponseMeasures, response_measures
@@ -187,6 +188,20 @@ def verdict_response(system: System, v: Verdict, settings: SimulationSettings) -
         return ResponseMeasures.not_computed()
     periods = v.period if v.period > 0 else settings.recorded_periods
     return response_measures(system, v.final_state, settings, periods)
+
+
+def line_responses(
+    lines: Sequence[Sequence[System]], verdicts: Sequence[Sequence[Verdict]], settings: SimulationSettings
+) -> list[list[ResponseMeasures]]:
+    """:func:`verdict_response` of every point of labelled lines, points in parallel on the numba threads
+    (each point's measures are its own: the results do not depend on the threads)."""
+    pairs = [(s, v) for line, vs in zip(lines, verdicts, strict=True) for s, v in zip(line, vs, strict=True)]
+    flat = threaded_map(lambda sv: verdict_response(sv[0], sv[1], settings), pairs, chunksize=64)
+    out, k = [], 0
+    for line in lines:
+        out.append(flat[k : k + len(line)])
+        k += len(line)
+    return out
 
 
 def store_response(ds: Any, idx: tuple, r: ResponseMeasures) -> None:

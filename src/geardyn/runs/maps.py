@@ -35,11 +35,11 @@ from geardyn.runs.cube import (
     TRANSIENT_USED_ATTRS,
     coexistence_variables,
     label_variables,
+    line_responses,
     policy_attrs,
     response_variables,
     store_response,
     store_verdict,
-    verdict_response,
 )
 
 log = logging.getLogger("geardyn.maps")
@@ -208,11 +208,12 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
     lines = [[point_coefficients(design, spec, xs[i], ys[j], bases[i]) for i in range(spec.x.num)] for j in rows]
     verdicts = label_lines(lines, policy, progress=f"{spec.name} chunk {chunk}")
     fixed = label_lines(lines, policy.with_start("fixed")) if policy.coexistence else None
+    responses = line_responses(lines, verdicts, policy.integration)
     arrays = _arrays(ds)  # numpy views: no xarray lookup per point
     for k, j in enumerate(rows):
         for i, v in enumerate(verdicts[k]):
             store_verdict(arrays, (j, i), v, None if fixed is None else fixed[k][i])
-            store_response(arrays, (j, i), verdict_response(lines[k][i], v, policy.integration))
+            store_response(arrays, (j, i), responses[k][i])
             arrays["diverged"].values[j, i] = int(v.diverged)
             p = v.poincare[np.all(np.isfinite(v.poincare), axis=1)]
             if p.shape[0]:

@@ -40,11 +40,11 @@ from geardyn.runs.cube import (
     TRANSIENT_USED_ATTRS,
     coexistence_variables,
     label_variables,
+    line_responses,
     policy_attrs,
     response_variables,
     store_response,
     store_verdict,
-    verdict_response,
 )
 from geardyn.solve import SimulationSettings
 
@@ -176,10 +176,11 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int, settings: Simulati
     fixed = label_lines(lines, policy.with_start("fixed")) if policy.coexistence else None
     arrays = {name: SimpleNamespace(values=cube[name].values) for name in cube.data_vars}  # numpy views
     keep = np.zeros((len(spec.cases), len(spec.directions), spec.num), dtype=bool)
+    responses = line_responses(lines, verdicts, policy.integration)
     for k, (case, d, order) in enumerate(work.items):
         for m, (j, system, v) in enumerate(zip(order, lines[k], verdicts[k], strict=True)):
             _store(arrays, (case, d, j), system, v, None if fixed is None else fixed[k][m])
-            store_response(arrays, (case, d, j), verdict_response(system, v, policy.integration))
+            store_response(arrays, (case, d, j), responses[k][m])
             keep[case, d, j] = True
     log.info("%s chunk %d: %d points in %.1f s", spec.name, chunk, int(keep.sum()), time.perf_counter() - t0)
     # keep only this chunk's points along the parameter axis (a chunk may cover several cases)
