@@ -57,7 +57,7 @@ def frequency_response_figure(ds: xr.Dataset, title: str) -> Figure:
         ax1.fill_between([], [], color=IMPACT_COLOURS[name], label=IMPACT_LABELS[name])
     ax1.plot([], [], color="0.45", lw=0.7, label="natural frequency w_i / h (h = 1, 2, 3)")
     ax1.plot([], [], ls="", marker="^", color="k", mfc="none", label="jump (triangle: direction of travel)")
-    ax1.set_ylabel("RMS DTE  X_VH / b_c  (um)")
+    ax1.set_ylabel("RMS DTE  X_VH / b_c  (b_c = 1 um)")
     ax1.legend(fontsize=7, loc="upper left")
     ax2.axhline(1.0, color="k", lw=0.6)
     ax2.set_ylabel("dynamic factor K_v = F_max / F_s (-)")
