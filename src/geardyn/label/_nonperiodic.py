@@ -24,10 +24,10 @@ from geardyn.label._stages import (
     rule3,
     tables_of,
 )
-from geardyn.label._threads import threaded_map
 from geardyn.label.policy import Policy
 from geardyn.label.torus import TorusTest, birkhoff_digits, extrapolated_digits, moments, torus_verdict
 from geardyn.label.verdict import Verdict
+from geardyn.parallel import threaded_map
 from geardyn.solve.base import SimulationResult
 from geardyn.solve.simulate import simulate_batch
 

@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from geardyn import classify
-from geardyn.label._threads import threaded_map
+from geardyn.parallel import threaded_map
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.base import SimulationResult
 from geardyn.solve.shooting import newton_shooting_batch, period_settings

@@ -18,8 +18,8 @@ import xarray as xr
 from geardyn import classify
 from geardyn.io import runtime_provenance
 from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES, Policy, Verdict
-from geardyn.label._threads import threaded_map
 from geardyn.label.compare import same
+from geardyn.parallel import threaded_map
 from geardyn.solve import SimulationSettings, System
 from geardyn.solve.response import IMPACT_CLASSES, ResponseMeasures, response_measures
 
