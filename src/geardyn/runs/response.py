@@ -17,6 +17,7 @@ import math
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -30,11 +31,11 @@ from geardyn.runs.cube import (
     STATES,
     TRANSIENT_USED_ATTRS,
     label_variables,
+    line_responses,
     policy_attrs,
     response_variables,
     store_response,
     store_verdict,
-    verdict_response,
 )
 
 log = logging.getLogger("geardyn.response")
@@ -132,12 +133,13 @@ def frequency_response(base: Coefficients, w: np.ndarray, policy: Policy, thresh
         np.full((*shape, len(STATES)), np.nan),
         {"units": "1", "long_name": "state at phase 0 on the attractor at the end of the record (a restart)"},
     )
-    arrays = {name: _View(spec[1]) for name, spec in data.items()}
-    for d, (line, vs) in enumerate(zip(lines, verdicts, strict=True)):
-        for k, (system, v) in enumerate(zip(line, vs, strict=True)):
+    arrays = {name: SimpleNamespace(values=spec[1]) for name, spec in data.items()}  # numpy views
+    responses = line_responses(lines, verdicts, policy.integration)
+    for d, vs in enumerate(verdicts):
+        for k, v in enumerate(vs):
             j = k if d == 0 else w.size - 1 - k
             store_verdict(arrays, (d, j), v)
-            store_response(arrays, (d, j), verdict_response(system, v, policy.integration))
+            store_response(arrays, (d, j), responses[d][k])
             arrays["transient_used"].values[d, j] = v.transient_used
             arrays["final_state"].values[d, j] = v.final_state
     rms = data["dte_rms"][1]
@@ -193,13 +195,6 @@ def frequency_response(base: Coefficients, w: np.ndarray, policy: Policy, thresh
     }
     log.info("frequency response: %d points in %.1f s", 2 * w.size, time.perf_counter() - t0)
     return xr.Dataset(data, coords=coords, attrs=attrs)
-
-
-class _View:
-    """A writable ``values`` holder (the store functions write ``ds[name].values[idx]``)."""
-
-    def __init__(self, values: np.ndarray) -> None:
-        self.values = values
 
 
 def response_policy(design: KHVDesign, spec: ResponseSpec) -> Policy:
