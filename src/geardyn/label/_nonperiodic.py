@@ -169,8 +169,13 @@ def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> TorusTest:
     digits reported are the better of the two."""
     n = max(1, points.shape[0] // 2)
     p = points[-2 * n :]
-    plain = birkhoff_digits(p, standardised)
-    digits = max(plain, extrapolated_digits(p, standardised)) if p.shape[0] >= EXTRAPOLATE_MIN else plain
+    values = standardised(p)  # the observable once: both measures read all 2N points
+
+    def observed(q: np.ndarray) -> np.ndarray:
+        return values
+
+    plain = birkhoff_digits(p, observed)
+    digits = max(plain, extrapolated_digits(p, observed)) if p.shape[0] >= EXTRAPOLATE_MIN else plain
     thresholds = (0.5 * math.log10(n) + cs.torus_margin, cs.chaos_margin, cs.torus_min_n)
     best = torus_verdict(digits, n, *thresholds)
     if best.verdict == "torus":
