@@ -18,13 +18,14 @@ import argparse
 import sys
 from pathlib import Path
 
-from benchmarks import labels, long_run, throughput, work_precision
+from benchmarks import circles, labels, long_run, throughput, work_precision
 from geardyn import io
 
 
 def main_speed(argv: list[str]) -> int:
     """``throughput`` (follow against fixed starts, kernel, DOP853), ``labels`` (the labels of two builds'
-    cubes compared) and ``check`` (random map points run long from their follow start) modes."""
+    cubes compared), ``check`` (random map points run long from their follow start) and ``circles`` (the
+    invariant circles of the non-periodic labels of random map rows) modes."""
     ap = argparse.ArgumentParser(prog=f"python -m benchmarks.bench {argv[0]}")
     ap.add_argument("--out", type=Path, default=None, help="directory for the .md (and .nc) written")
     ap.add_argument("--config", type=Path, default=Path("config/config.yaml"))
@@ -38,6 +39,8 @@ def main_speed(argv: list[str]) -> int:
     )
     ap.add_argument("--points", type=int, default=200, help="check: random map points")
     ap.add_argument("--periods", type=int, default=20000, help="check: mesh periods of each long run")
+    ap.add_argument("--map", default=None, help="check, circles: the regime map (map_x1_b, map_x1_e)")
+    ap.add_argument("--rows", type=int, default=10, help="circles: random rows of the map labelled")
     a = ap.parse_args(argv[1:])
     log = lambda m: print(m, flush=True)  # noqa: E731
     ds = None
@@ -51,9 +54,13 @@ def main_speed(argv: list[str]) -> int:
         for item in a.explain or ():
             design, kind, name = item.split("/")
             md += "\n" + labels.explain_differences(a.config, a.old, a.new, design, kind, name, log=log)
+    elif argv[0] == "circles":
+        md = "# Invariant circles of the non-periodic labels\n\n" + circles.circle_check(
+            a.config, map_name=a.map or "map_x1_e", n_rows=2 if a.quick else a.rows, per_class=5 if a.quick else 40
+        )
     else:
         md = "# Independent check: long runs from the follow start\n\n" + long_run.long_run_check(
-            a.config, n_points=a.points, periods=a.periods, log=log
+            a.config, map_name=a.map or "map_x1_b", n_points=a.points, periods=a.periods, log=log
         )
     print(md)
     if a.out is not None:
@@ -71,7 +78,7 @@ def main_speed(argv: list[str]) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
-    if argv and argv[0] in ("throughput", "labels", "check"):
+    if argv and argv[0] in ("throughput", "labels", "check", "circles"):
         return main_speed(argv)
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench", description=work_precision.__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=None, help="directory for work_precision.nc/.md/.png")
