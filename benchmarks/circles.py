@@ -16,10 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.common import load_design, map_lines, workflow_config
+from benchmarks.common import map_lines, map_study
 from geardyn import classify
 from geardyn.label import label_lines
-from geardyn.runs import maps
 from geardyn.solve import SimulationSettings
 from geardyn.solve.circle import distance_to_circle, find_circles
 from geardyn.solve.simulate import simulate_batch
@@ -52,13 +51,7 @@ def circle_check(
     log=print,
 ) -> str:
     """The markdown report of the check (see the module's docstring)."""
-    root = config_path.resolve().parent.parent
-    config = workflow_config(config_path)
-    raw = dict(config["maps"][map_name])
-    dname = raw["designs"][0]
-    design = load_design(dname, config, root)
-    spec = maps.MapSpec.from_config(map_name, raw, dname, design.segment)
-    policy = maps.map_policy(design, spec)
+    dname, design, spec, policy = map_study(config_path, map_name)
     rng = np.random.default_rng(seed)
     rows = sorted(int(j) for j in rng.choice(spec.y.num, size=min(n_rows, spec.y.num), replace=False))
     lines = map_lines(design, spec, rows)

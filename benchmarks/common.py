@@ -38,6 +38,17 @@ def load_design(name: str, config: dict, root: Path):
     return design_mod.load(root / config["designs"][name])
 
 
+def map_study(config_path: Path, map_name: str):
+    """(design name, design, map spec, labelling policy) of a map of the workflow config at ``config_path``
+    (its first design)."""
+    config = workflow_config(config_path)
+    raw = dict(config["maps"][map_name])
+    dname = raw["designs"][0]
+    design = load_design(dname, config, config_path.resolve().parent.parent)
+    spec = maps.MapSpec.from_config(map_name, raw, dname, design.segment)
+    return dname, design, spec, maps.map_policy(design, spec)
+
+
 def map_lines(design, spec, rows=None):
     """The rows of a map (or ``rows`` of them) as lines of systems, as maps.run_chunk builds them."""
     xs, ys = spec.x.values, spec.y.values

@@ -7,11 +7,10 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.common import load_design, map_lines, workflow_config
+from benchmarks.common import map_lines, map_study
 from geardyn import classify
 from geardyn.label import label_lines
 from geardyn.label.compare import hausdorff
-from geardyn.runs import maps
 from geardyn.solve import SimulationSettings
 from geardyn.solve.simulate import simulate_batch
 
@@ -25,13 +24,7 @@ def long_run_check(
     met by the long run's end: the same least period (rule 3 on its last periods) and the same orbit within
     1e-6; other verdicts are reported with the long run's rule-3 period and its exponent."""
 
-    root = config_path.resolve().parent.parent
-    config = workflow_config(config_path)
-    raw = dict(config["maps"][map_name])
-    dname = raw["designs"][0]
-    design = load_design(dname, config, root)
-    spec = maps.MapSpec.from_config(map_name, raw, dname, design.segment)
-    policy = maps.map_policy(design, spec)
+    dname, design, spec, policy = map_study(config_path, map_name)
     rng = np.random.default_rng(seed)
     picks = sorted({(int(rng.integers(spec.y.num)), int(rng.integers(spec.x.num))) for _ in range(n_points)})
     rows = sorted({j for j, _ in picks})
