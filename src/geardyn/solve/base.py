@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from typing import Literal, Protocol
 
 import numpy as np
+from scipy.interpolate import CubicSpline
 
 IntegratorName = Literal["rk4", "rk4_event", "dop853"]
 
@@ -157,8 +158,6 @@ class SimulationResult:
 
         if self.tau is None or self.states is None:
             raise ValueError("run simulate(..., dense=True) first")
-        from scipy.interpolate import CubicSpline  # noqa: PLC0415 (0.5 s of import that only dense output needs)
-
         t, idx = np.unique(self.tau, return_index=True)
         cs = CubicSpline(t, self.states[idx], axis=0)
         n = round((t[-1] - t[0]) / self.period * samples_per_period)
