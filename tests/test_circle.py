@@ -86,6 +86,18 @@ def test_interpolation_matrices_match_the_fourier_sums():
     assert np.max(np.abs(C.interpolation_matrix(m, theta, derivative=True) - deriv)) < 1e-12 * np.max(np.abs(deriv))
 
 
+def test_bad_input_gives_no_circle_and_a_clear_error():
+    _, pts = _planar(0.1)
+    assert C.circle_from_points(pts[:20], 15) is None  # fewer than 2M points
+    bad = pts.copy()
+    bad[7, 1] = np.nan
+    assert C.circle_from_points(bad, 15) is None
+    with pytest.raises(ValueError, match="odd number of nodes"):
+        C.interpolation_matrix(16, np.zeros(3))
+    diverging = C.newton_circle(lambda x, jac: None, *C.circle_from_points(pts, 15))
+    assert not diverging.converged and diverging.status == "diverged"
+
+
 def test_distance_to_circle():
     pmap, pts = _planar(0.1)
     c = C.newton_circle(pmap, *C.circle_from_points(pts, 21), tol=1e-12)

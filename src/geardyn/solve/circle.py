@@ -142,11 +142,11 @@ def circle_from_points(points: np.ndarray, m: int) -> tuple[np.ndarray, float] |
     about its centre, the conjugating angle of a point is the share of the orbit at smaller projected angle
     (the invariant measure of a rotation is uniform in that angle), and rho is the median step of that angle.
     K is then the least-squares trigonometric fit of the points against their angles.  None when there are
-    fewer than 2m points or the projection does not wind one way (more than 5 % of the angle steps go
-    against the others)."""
+    fewer than 2m points, a point is not finite, or the projection does not wind one way (more than 5 % of
+    the angle steps go against the others)."""
     x = np.asarray(points, float)
     n = x.shape[0]
-    if n < 2 * m:
+    if n < 2 * m or not np.all(np.isfinite(x)):
         return None
     c = x.mean(axis=0)
     _, _, vt = np.linalg.svd(x - c, full_matrices=False)
