@@ -234,6 +234,41 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
             ),
         )
     why += f" ({r.poincare.shape[0]} recorded periods)"
+    return _record_verdict(
+        p,
+        r,
+        policy,
+        label,
+        lam,
+        sig,
+        "tangent",
+        stage,
+        why,
+        k01=k01,
+        flatness=flat,
+        torus_digits=digits,
+        crosscheck=cross,
+    )
+
+
+def _undecided(p: Point, r: SimulationResult, why: str, policy: Policy) -> Verdict:
+    return _record_verdict(p, r, policy, UNDET, NAN, NAN, "none", "undecided", why)
+
+
+def _record_verdict(
+    p: Point,
+    r: SimulationResult,
+    policy: Policy,
+    label: int,
+    lam: float,
+    sig: float,
+    method: str,
+    stage: str,
+    why: str,
+    **indicators: float | int,
+) -> Verdict:
+    """A verdict of no period read off the record ``r``: its final state, its newest Poincare points, the
+    earlier stages' notes appended to the reason; ``indicators``: the torus and chaos measures, where computed."""
     if p.notes:
         why += "; " + "; ".join(p.notes)
     return Verdict(
@@ -241,35 +276,13 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
         0,
         lam,
         sig,
-        "tangent",
+        method,
         stage,
         why,
         final_state=r.final_state.copy(),
         poincare=r.poincare[-record_length(policy) :],
         bifurcation=p.bifurcation,
-        k01=k01,
-        flatness=flat,
-        torus_digits=digits,
-        crosscheck=cross,
         transient_used=p.transient_used,
         n_events=int(r.n_events),
-    )
-
-
-def _undecided(p: Point, r: SimulationResult, why: str, policy: Policy) -> Verdict:
-    if p.notes:
-        why += "; " + "; ".join(p.notes)
-    return Verdict(
-        UNDET,
-        0,
-        NAN,
-        NAN,
-        "none",
-        "undecided",
-        why,
-        final_state=r.final_state.copy(),
-        poincare=r.poincare[-record_length(policy) :],
-        bifurcation=p.bifurcation,
-        transient_used=p.transient_used,
-        n_events=int(r.n_events),
+        **indicators,
     )
