@@ -12,6 +12,7 @@ chaotic one must have none.  The table also says how long the labeller and the c
 from __future__ import annotations
 
 import time
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -81,9 +82,7 @@ def circle_check(
         circles = find_circles(systems, [run.poincare for run in runs], s, m=nodes)
         t_circle = (time.perf_counter() - t1) / len(pick)
         outcomes = [_outcome(c, run.poincare[periods // 2 :], tol) for c, run in zip(circles, runs, strict=True)]
-        counts = {k: sum(o[0] == k for o in outcomes) for k in ("on circle", "circle, run off it", "unstable circle")}
-        counts["unresolved"] = sum(o[0] == "unresolved" for o in outcomes)
-        counts["no circle"] = sum(o[0] == "no circle" for o in outcomes)
+        counts = Counter(o[0] for o in outcomes)
         inv = [o[1] for o in outcomes if np.isfinite(o[1])]
         md.append(
             f"| {name} | {len(pick)} | {counts['on circle']} | {counts['circle, run off it']} | "
