@@ -265,6 +265,23 @@ def _tangent_columns(tangent_periods: int, mono: np.ndarray, total: np.ndarray) 
     return 0, np.zeros(L, np.int64), np.empty((L, 6, 0))
 
 
+#: lanes left over after the full lockstep blocks that run one per thread instead (measured with the tangent:
+#: a block of 8 lanes costs the time of 2 scalar runs when it holds 1-2 points, and less from 3 points on)
+SCALAR_REMAINDER = 2
+
+
+def _blocked_lanes(L: int) -> int:
+    """How many of L lanes (the first ones) the lockstep blocks take: all, but a remainder of at most
+    :data:`SCALAR_REMAINDER` lanes after the full blocks runs on the scalar loop (the same numbers)."""
+    r = L % _batch.WIDTH
+    return L - r if r <= SCALAR_REMAINDER else L
+
+
+def _lanes(arrays: tuple, part: slice) -> tuple:
+    """The lanes ``part`` of every array (and of the tables' tuple): views, written in place."""
+    return tuple(_lanes(a, part) if isinstance(a, tuple) else a[part] for a in arrays)
+
+
 def simulate_batch(
     systems: Sequence[System],
     settings: SimulationSettings = SimulationSettings(),
@@ -322,11 +339,15 @@ def simulate_batch(
     out = np.zeros((L, 5), np.int64)
     es = _kernel.NO_EARLY_STOP if early_stop is None else early_stop.as_kernel_args()
     event = settings.integrator == "rk4_event"
-    if m <= 1 and lockstep:
-        _batch.run_blocks(C, TABS, Y0, ntr, nrec, event, limits, poinc, final, es, out, W, ntan, growth, strobe)
-    else:
-        tan = bool(tangent_periods)
-        _batch.run_batch(C, TABS, Y0, ntr, nrec, event, limits, W, ntan, tan, growth, strobe, poinc, final, es, out)
+    tan = bool(tangent_periods)
+    k = _blocked_lanes(L) if m <= 1 and lockstep else 0
+    arrays = (C, TABS, Y0, ntr, nrec, limits, poinc, final, out, W, ntan, growth, strobe)
+    if k:
+        c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb = _lanes(arrays, slice(0, k))
+        _batch.run_blocks(c, tabs, y0, nt, nr, event, lim, po, fi, es, ou, w, na, gr, sb)
+    if k < L:
+        c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb = _lanes(arrays, slice(k, L))
+        _batch.run_batch(c, tabs, y0, nt, nr, event, lim, w, na, tan, gr, sb, po, fi, es, ou)
     results = []
     for lane in range(L):
         status, per, nev, used, stop_n = (int(v) for v in out[lane])
@@ -364,8 +385,8 @@ def warm_up(system: System) -> None:
         simulate(system, tiny, tangent_periods=1)
         simulate(system, tiny, monodromy_periods=1)
         # the batch loops of simulate_batch (lockstep, with tangent, lanes with monodromy)
-        simulate_batch([system] * 2, tiny, early_stop=EarlyStop(min_periods=0, confirm=1))
-        simulate_batch([system] * 2, tiny, tangent_periods=1)
+        simulate_batch([system] * 9, tiny, early_stop=EarlyStop(min_periods=0, confirm=1))
+        simulate_batch([system] * 9, tiny, tangent_periods=1)
         simulate_batch([system] * 2, tiny, monodromy_periods=1)
 
 
