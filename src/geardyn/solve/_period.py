@@ -58,6 +58,9 @@ def strict_period(p, m, max_n, atol, rtol, floor_tol, separation):
     if m == 0:
         return 0, np.nan
     tol = tolerance(p, m, atol, rtol, floor_tol)
+    distinct = separation * tol
+    # d_n is wanted only as far as rule 3 compares it (with tol and with distinct): its sum stops beyond both
+    cap = max(tol, distinct)
     d = np.full(max_n + 1, np.inf)
     hits = np.zeros(max_n + 1, dtype=np.int64)
     for n in range(1, min(max_n, m - 1) + 1):
@@ -65,9 +68,13 @@ def strict_period(p, m, max_n, atol, rtol, floor_tol, separation):
         for k in range(m - n):
             for i in range(p.shape[1]):
                 dn = max(dn, abs(p[k + n, i] - p[k, i]))
+            if dn > cap:
+                break
         d[n] = dn
         hits[n] = 1 if dn <= tol else 0
-    return first_period(d, hits, 1, max_n, separation * tol), tol
+        if dn <= distinct:  # no larger n has distinct cycle points: rule 3 is decided
+            break
+    return first_period(d, hits, 1, max_n, distinct), tol
 
 
 @njit(cache=True)
