@@ -122,3 +122,36 @@ def test_floquet_exponent_of_periodic_points():
         assert v.exponent_sigma == 0.0
         assert v.exponent == pytest.approx(-0.002717, abs=2e-6)
         assert abs(v.exponent - lo.lyapunov) <= 2 * lo.lyapunov_sigma
+
+
+def _rule3_by_hand(p: np.ndarray, cs: classify.ClassifierSettings) -> int:
+    """Rule 3 with every return distance summed in full (the statement of docs/classify.md)."""
+    size = float(np.max(np.ptp(p, axis=0)))
+    tol = max(cs.atol * max(float(np.max(np.abs(p))), 1.0) + cs.rtol * size, cs.error_margin * cs.error_floor)
+    d = [float(np.max(np.abs(p[n:] - p[:-n]))) for n in range(1, min(cs.max_n, len(p) - 1) + 1)]
+    for n, dn in enumerate(d, start=1):
+        if dn <= tol and all(dm > cs.separation * tol for dm in d[: n - 1]):
+            return n
+    return 0
+
+
+def test_rule3_cut_short_gives_the_full_sums_answer():
+    """The compiled rule 3 stops summing a return distance once it exceeds both thresholds and stops testing
+    once no larger period can have distinct cycle points: the same periods as the full sums, on cycles whose
+    points are barely distinct, barely not, and returns just inside and outside the tolerance."""
+    rng = np.random.default_rng(11)
+    cs = classify.ClassifierSettings()
+    seqs, found = [], set()
+    for n in (1, 2, 3, 4, 7):
+        for spread in (1e-6, 1e-5, 3e-5, 1e-4, 1e-2):  # cycle points apart by about spread (tol is about 1e-5)
+            for noise in (0.0, 2e-6, 1e-5, 3e-5):
+                cyc = 0.5 + spread * rng.normal(size=(n, 6))
+                seqs.append(np.tile(cyc, (40 // n + 1, 1))[:40] + noise * rng.normal(size=(40, 6)))
+    # a period-3 cycle (tol about 1e-6) whose first step is short (3 tol) and its others long (20 tol): only
+    # the whole sum shows the cycle points distinct (> 10 tol)
+    seqs.append(np.tile(0.5 + np.array([[0.0], [3e-6], [23e-6]]) * np.ones(6), (14, 1))[:40])
+    for p in seqs:
+        want = _rule3_by_hand(p, cs)
+        assert classify.strict_period(p, cs) == want
+        found.add(want)
+    assert {0, 1, 2, 3, 4, 7} <= found  # the cases reach every branch: periods found and none
