@@ -124,48 +124,25 @@ def classify_point(
     flat = classify.spectral_flatness(phi)
     k_chaos = bool(k01 > settings.k_chaos)
     broad = bool(flat > settings.flat_broadband)
+
+    def undetermined(cross: int, why: str) -> Classification:
+        return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, cross, why)
+
     if not np.isfinite(lam):
-        return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, -1, "no exponent")
+        return undetermined(-1, "no exponent")
     if lam > settings.lam_tol + 2 * sig:
         agree = int(k_chaos) + int(broad)
         if agree:
             return Classification(LABELS["chaotic"], 0, lam, sig, k01, flat, int(agree == 2), "positive exponent")
-        return Classification(
-            LABELS["undetermined"],
-            0,
-            lam,
-            sig,
-            k01,
-            flat,
-            0,
-            "positive exponent, but 0-1 test and spectrum say regular",
-        )
+        return undetermined(0, "positive exponent, but 0-1 test and spectrum say regular")
     if lam < -(settings.lam_tol + 2 * sig):
         n = _converging_period(p, lam * period, settings.max_n, tol)
         if n > 0:
             return Classification(n, n, lam, sig, k01, flat, -1, f"negative exponent, converging to period {n}")
-        return Classification(
-            LABELS["undetermined"],
-            0,
-            lam,
-            sig,
-            k01,
-            flat,
-            -1,
-            "negative exponent, transient not settled (or period > max_n)",
-        )
+        return undetermined(-1, "negative exponent, transient not settled (or period > max_n)")
     if abs(lam) <= settings.lam_tol and sig <= settings.lam_tol:
         agree = int(not k_chaos) + int(not broad)
         if agree:
             return Classification(LABELS["quasi_periodic"], 0, lam, sig, k01, flat, int(agree == 2), "zero exponent")
-        return Classification(
-            LABELS["undetermined"],
-            0,
-            lam,
-            sig,
-            k01,
-            flat,
-            0,
-            "zero exponent, but 0-1 test and spectrum say chaotic",
-        )
-    return Classification(LABELS["undetermined"], 0, lam, sig, k01, flat, -1, "exponent not resolved")
+        return undetermined(0, "zero exponent, but 0-1 test and spectrum say chaotic")
+    return undetermined(-1, "exponent not resolved")
