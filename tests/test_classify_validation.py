@@ -143,8 +143,8 @@ def test_zero_one_test_needs_about_400_samples_for_quasi_periodic_series():
 
 
 def _k01_numpy(x: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
-    """The 0-1 test's K written out in numpy (Gottwald & Melbourne 2009, correlation method): an
-    independent statement of what the compiled loop computes."""
+    """The 0-1 test's K written out in numpy (Gottwald & Melbourne 2009, correlation method), with the
+    mean-square displacement as the direct sums: an independent statement of what the FFT form computes."""
     x = x - x.mean()
     n_pts = x.size
     ncut = max(3, n_pts // 10)
@@ -157,11 +157,17 @@ def _k01_numpy(x: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
     return float(np.median(ks))
 
 
-@pytest.mark.parametrize("kind", ["noise", "two_tones", "logistic", "period_2_noisy"])
-def test_compiled_zero_one_test_is_the_numpy_formula(kind):
+@pytest.mark.parametrize("kind", ["noise", "two_tones", "logistic", "period_2_noisy", "long_noise", "long_tones"])
+def test_zero_one_test_by_fft_is_the_numpy_formula(kind):
+    """K by the FFT autocorrelation of the translation variables equals the direct sums of
+    Gottwald & Melbourne (300 samples, and 4000 where the direct sums take 400 lags)."""
     rng = np.random.default_rng(7)
-    j = np.arange(300)
-    if kind == "noise":
+    j = np.arange(4000 if kind.startswith("long") else 300)
+    if kind == "long_noise":
+        x = rng.normal(size=j.size)
+    elif kind == "long_tones":
+        x = np.sin(0.7 * j) + 0.3 * np.sin(2.1 * math.sqrt(2) * j) + 1e-3 * rng.normal(size=j.size)
+    elif kind == "noise":
         x = rng.normal(size=300)
     elif kind == "two_tones":
         x = np.sin(0.7 * j) + 0.3 * np.sin(2.1 * math.sqrt(2) * j)

@@ -1,61 +1,14 @@
-"""Compiled inner loops of two indicators (private; use the public functions):
-:func:`geardyn.classify.zero_one_test` and :func:`geardyn.classify.falling_return_distances`.
+"""The compiled inner loop of one indicator (private; use the public function):
+:func:`geardyn.classify.falling_return_distances`.
 
-They release the GIL, so the classification of many points in threads
+It releases the GIL, so the classification of many points in threads
 (the labeller's last stage, :mod:`geardyn.label`) runs on both cores.
 """
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
-
-
-@njit(cache=True, nogil=True)
-def correlations(x: np.ndarray, cs: np.ndarray, ncut: int) -> np.ndarray:
-    """K_c for each frequency c of ``cs``: the correlation of the mean-square displacement D_c(n),
-    n = 1 .. ``ncut``, with n, for the (mean-removed) series ``x`` (translation variables
-    p_c(j) = sum_{i <= j} x_i cos(c i), q_c likewise with sin; 0 when D_c is constant)."""
-    n_pts = x.size
-    ns_mean = 0.5 * (ncut + 1)
-    nn2 = 0.0
-    for n in range(1, ncut + 1):
-        nn2 += (n - ns_mean) ** 2
-    p = np.empty(n_pts)
-    q = np.empty(n_pts)
-    d = np.empty(ncut)
-    out = np.empty(cs.size)
-    for ic in range(cs.size):
-        c = cs[ic]
-        sp = 0.0
-        sq = 0.0
-        for j in range(n_pts):
-            a = c * (j + 1)
-            sp += x[j] * math.cos(a)
-            sq += x[j] * math.sin(a)
-            p[j] = sp
-            q[j] = sq
-        dmean = 0.0
-        for n in range(1, ncut + 1):
-            s = 0.0
-            for k in range(n_pts - n):
-                dp = p[k + n] - p[k]
-                dq = q[k + n] - q[k]
-                s += dp * dp + dq * dq
-            d[n - 1] = s / (n_pts - n)
-            dmean += d[n - 1]
-        dmean /= ncut
-        sdd = 0.0
-        sdn = 0.0
-        for n in range(1, ncut + 1):
-            dn = d[n - 1] - dmean
-            sdd += dn * dn
-            sdn += dn * (n - ns_mean)
-        den = math.sqrt(sdd * nn2)
-        out[ic] = sdn / den if den > 0.0 else 0.0
-    return out
 
 
 @njit(cache=True, nogil=True)

@@ -17,11 +17,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.fft
 
-from geardyn._indicators import (
-    correlations,  # compiled; releases the GIL
-    falling,
-)
+from geardyn._indicators import falling  # compiled; releases the GIL
 from geardyn.config import settings_from
 from geardyn.solve.simulate import strict_period as rule3
 
@@ -131,8 +129,8 @@ def zero_one_test(phi: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
 
     ``phi``: one observable at stroboscopic times (e.g. X_VH at the Poincaré section).  K is the
     median over ``n_c`` fixed frequencies c in (pi/5, 4 pi/5) (fixed seed: reproducible) of the
-    correlation of the mean-square displacement D_c(n), n <= N/10, with n.  A constant series
-    (period-1) gives 0.
+    correlation of the mean-square displacement D_c(n), n <= N/10, with n (:func:`_msd_correlations`).
+    A constant series (period-1) gives 0.
     """
     x = np.asarray(phi, dtype=float)
     x = x[np.isfinite(x)]
@@ -145,7 +143,31 @@ def zero_one_test(phi: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
 
     ncut = max(3, n_pts // 10)
     cs = np.random.default_rng(seed).uniform(np.pi / 5, 4 * np.pi / 5, n_c)
-    return float(np.median(correlations(np.ascontiguousarray(x), cs, ncut)))
+    return float(np.median(_msd_correlations(x, cs, ncut)))
+
+
+def _msd_correlations(x: np.ndarray, cs: np.ndarray, ncut: int) -> np.ndarray:
+    """K_c for each frequency c of ``cs``: the correlation with n of the mean-square displacement
+
+        D_c(n) = 1/(N - n) sum_{k < N - n} |P_{k+n} - P_k|^2,   n = 1 .. ``ncut``,
+
+    of the translation variables P_j = sum_{i <= j} x_i exp(i c (i + 1)) of the (mean-removed) series
+    ``x`` (0 where D_c is constant).  The sum is expanded as sum |P_{k+n}|^2 + sum |P_k|^2
+    - 2 Re sum P_{k+n} conj(P_k): the first two are differences of a cumulative sum, the third the
+    autocorrelation of P by FFT (zero-padded past N + ncut, so no lag wraps).  O(N log N) per frequency
+    instead of O(N ncut); the same numbers to round-off (tests/test_classify_validation.py)."""
+    n_pts = x.size
+    P = np.cumsum(x[None, :] * np.exp(1j * np.outer(cs, np.arange(1, n_pts + 1))), axis=1)
+    a2 = np.concatenate([np.zeros((cs.size, 1)), np.cumsum(P.real**2 + P.imag**2, axis=1)], axis=1)
+    ns = np.arange(1, ncut + 1)
+    nfft = scipy.fft.next_fast_len(n_pts + ncut + 1)
+    F = scipy.fft.fft(P, nfft, axis=1)
+    auto = scipy.fft.ifft(F.real**2 + F.imag**2, axis=1)[:, 1 : ncut + 1].real
+    d = ((a2[:, n_pts : n_pts + 1] - a2[:, ns]) + a2[:, n_pts - ns] - 2.0 * auto) / (n_pts - ns)
+    dn = d - d.mean(axis=1, keepdims=True)
+    nn = ns - 0.5 * (ncut + 1)
+    den = np.sqrt(np.sum(dn * dn, axis=1) * float(nn @ nn))
+    return np.where(den > 0.0, (dn @ nn) / np.where(den > 0.0, den, 1.0), 0.0)
 
 
 def spectral_flatness(phi: np.ndarray) -> float:
