@@ -40,6 +40,32 @@ def test_batch_is_bit_identical_to_simulate(systems, integrator, kw):
                 assert np.array_equal(r0.monodromy, r.monodromy)
 
 
+@pytest.mark.parametrize("lockstep", [True, False])
+def test_a_run_in_pieces_is_one_run(systems, lockstep):
+    """A run of 40 periods with the tangent vector equals, bit for bit, a run of 15 and one of 25 that starts
+    from its final state and tangent (the pieces the labeller's growing records are made of), on the
+    lockstep blocks and on the scalar loop; without the carried tangent the second piece's exponents differ."""
+    s = SimulationSettings(integrator="rk4_event", **SHORT)
+    x0 = [r.final_state for r in simulate_batch(systems, s)]
+    rec = [
+        SimulationSettings(integrator="rk4_event", steps_per_period=32, transient_periods=0, recorded_periods=n)
+        for n in (40, 15, 25)
+    ]
+    one = simulate_batch(systems, rec[0], x0, tangent_periods=40, lockstep=lockstep)
+    a = simulate_batch(systems, rec[1], x0, tangent_periods=15, lockstep=lockstep)
+    b = simulate_batch(
+        systems, rec[2], [r.final_state for r in a], 25, tangent_start=[r.tangent for r in a], lockstep=lockstep
+    )
+    fresh = simulate_batch(systems, rec[2], [r.final_state for r in a], 25, lockstep=lockstep)
+    for o, u, v, f in zip(one, a, b, fresh, strict=True):
+        assert np.array_equal(o.poincare, np.vstack([u.poincare, v.poincare]))
+        assert np.array_equal(o.growth, np.concatenate([u.growth, v.growth]))
+        assert np.array_equal(o.strobe, np.concatenate([u.strobe, v.strobe]))
+        assert np.array_equal(o.final_state, v.final_state) and np.array_equal(o.tangent, v.tangent)
+        assert o.n_events == u.n_events + v.n_events
+        assert np.array_equal(f.poincare, v.poincare) and not np.array_equal(f.growth, v.growth)
+
+
 def test_independent_of_threads_order_and_chunking(systems):
     s = SimulationSettings(steps_per_period=32, transient_periods=400, recorded_periods=12)
     es = EarlyStop(min_periods=50, confirm=5, floor=4e-3)

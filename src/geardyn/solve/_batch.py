@@ -279,6 +279,8 @@ def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, O
             if diverged(y, LIMITS[ln]):
                 A[21 * Wd + q : 27 * Wd + q : Wd] = 0.0  # keep the idle lane finite
                 _finish(OUT[ln], YFINAL[ln], y, 1, per, nev[q], min(per + 1, n_tr[q]), stop_n[q])
+                for i in range(6 * m):
+                    W[ln, i, 0] = Wl[i, 0]
                 done[q] = True
                 continue
             record(
@@ -300,6 +302,8 @@ def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, O
                     n_tr[q] = per + 1
             if per + 1 >= n_end[q]:
                 _finish(OUT[ln], YFINAL[ln], y, 0, n_end[q], nev[q], n_tr[q], stop_n[q])
+                for i in range(6 * m):  # the tangent column at the end, as the scalar loop leaves it
+                    W[ln, i, 0] = Wl[i, 0]
                 done[q] = True
         per += 1
 

@@ -134,7 +134,9 @@ class SimulationResult:
     periods with respect to the state n periods before the end (the monodromy matrix of a period-n
     orbit, when the run ends on it).
     transient_used: transient periods actually integrated (less than ``transient_periods`` after an
-    early stop, :func:`geardyn.solve.simulate_batch`); stop_period: the n of the period-n cycle the
+    early stop, :func:`geardyn.solve.simulate_batch`); tangent: the (renormalised) tangent vector at the end
+    of a batch run that carried one (:func:`geardyn.solve.simulate_batch` continues it from there, the same
+    numbers as one longer run); stop_period: the n of the period-n cycle the
     early stop saw (0: no early stop).
     """
 
@@ -152,6 +154,7 @@ class SimulationResult:
     monodromy: np.ndarray | None = None
     transient_used: int = -1
     stop_period: int = 0
+    tangent: np.ndarray | None = None
 
     def uniform(self, samples_per_period: int) -> tuple[np.ndarray, np.ndarray]:
         """Dense trajectory resampled on a uniform grid (cubic spline) for FFTs."""

@@ -21,6 +21,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 
+import numba
 import numpy as np
 
 import geardyn.solve._batch as _batch
@@ -206,9 +207,15 @@ class LaneTables:
 
     def take(self, idx: Sequence[int] | np.ndarray) -> LaneTables:
         idx = np.asarray(idx, dtype=np.int64)
-        return LaneTables(
-            *(np.ascontiguousarray(getattr(self, f)[idx]) for f in ("C", "H", "S", "SEG", "K", "P", "POLY", "limits"))
-        )
+        return LaneTables(*(np.ascontiguousarray(getattr(self, f)[idx]) for f in _TABLE_FIELDS))
+
+    @staticmethod
+    def gather(rows: Sequence[tuple[LaneTables, int]]) -> LaneTables:
+        """The tables of points drawn from several tables: (tables, row) per point, in order."""
+        return LaneTables(*(np.stack([getattr(t, f)[r] for t, r in rows]) for f in _TABLE_FIELDS))
+
+
+_TABLE_FIELDS = ("C", "H", "S", "SEG", "K", "P", "POLY", "limits")
 
 
 def lane_tables(systems: Sequence[System], settings: SimulationSettings) -> LaneTables:
@@ -265,6 +272,12 @@ def _tangent_columns(tangent_periods: int, mono: np.ndarray, total: np.ndarray) 
     return 0, np.zeros(L, np.int64), np.empty((L, 6, 0))
 
 
+def full_batch() -> int:
+    """The fewest points that keep every lane of every thread busy in :func:`simulate_batch`: the lockstep
+    width times the number of numba threads."""
+    return _batch.WIDTH * numba.get_num_threads()
+
+
 #: lanes left over after the full lockstep blocks that run one per thread instead (measured with the tangent:
 #: a block of 8 lanes costs the time of 2 scalar runs when it holds 1-2 points, and less from 3 points on)
 SCALAR_REMAINDER = 2
@@ -293,6 +306,7 @@ def simulate_batch(
     lockstep: bool = True,
     recorded_periods: Sequence[int] | None = None,
     tables: LaneTables | None = None,
+    tangent_start: Sequence[np.ndarray | None] | None = None,
 ) -> list[SimulationResult]:
     """:func:`simulate` for many systems at once (``rk4``/``rk4_event``, no dense output), in parallel
     over the points (numba threads), with an optional early stop of the transient.
@@ -305,7 +319,9 @@ def simulate_batch(
     ``transient_periods = n`` to get the monodromy of n periods only).  ``transient_periods`` and
     ``recorded_periods`` may be given per point; they default to the settings'.  ``tables``: the
     :func:`lane_tables` of ``systems`` and ``settings`` when the caller already has them (repeated runs
-    of the same points, as in Newton shooting).
+    of the same points, as in Newton shooting).  ``tangent_start``: each point's initial tangent vector (6,)
+    (None: the default, all components 1/sqrt(6)); a run that starts from an earlier run's final state and
+    ``tangent`` continues it bit for bit (the run is split where the records join).
     With ``early_stop``, a point whose stroboscopic map has converged ends its transient early
     (``transient_used``, ``stop_period``) and drops its tangent vector (``growth`` empty).
     ``lockstep``: without monodromy, step 8 points together (vectorised, with their tangent vectors,
@@ -331,6 +347,12 @@ def simulate_batch(
         x = None if x0 is None else x0[lane]
         Y0[lane] = system.static_state() if x is None else np.asarray(x, dtype=float)
     m, ntan, W = _tangent_columns(tangent_periods, mono, ntr + nrec)
+    if tangent_start is not None:
+        if m != 1:
+            raise ValueError("tangent_start needs tangent_periods")
+        for lane, w in enumerate(tangent_start):
+            if w is not None:
+                W[lane, :, 0] = w
     ng = int(ntan.max()) if tangent_periods else 0
     growth = np.full((L, ng), np.nan)
     strobe = np.full((L, ng), np.nan)
@@ -372,6 +394,7 @@ def simulate_batch(
                 monodromy=W[lane] if (m == 6 and mono[lane] and not diverged) else None,
                 transient_used=used,
                 stop_period=stop_n,
+                tangent=W[lane, :, 0].copy() if tan else None,
             )
         )
     return results
