@@ -63,11 +63,15 @@ def test_a_long_run_from_the_follow_start_ends_on_the_labelled_orbit(route):
 
 
 def test_a_batch_of_lines_is_each_line_alone(route):
-    """Lines advance together in lockstep; each verdict is the one its line gets alone, bit for bit."""
+    """Lines advance on their own, the tori's records growing in pieces while the other line goes on; each
+    verdict is the one its line gets alone, bit for bit.  (li2013_calibrated past its Neimark-Sacker point:
+    records of 800 and 3200 periods.)"""
     a, alone_a = route
-    b = _line("li2013_calibrated", (0.53, 0.54, 0.545, 0.55))
+    b = _line("li2013_calibrated", (0.545, 0.55, 0.555, 0.56, 0.565, 0.57))
     together = label_lines([a, b], Policy(MAP, CS))
     alone_b = label_lines([b], Policy(MAP, CS))[0]
+    records = {int(v.reason.split(" recorded periods")[0].rsplit("(", 1)[1]) for v in alone_b if v.stage == "torus"}
+    assert {800, 3200} <= records
     for got, want in ((together[0], alone_a), (together[1], alone_b)):
         for g, w in zip(got, want, strict=True):
             assert (g.label, g.stage, g.bifurcation, g.reason) == (w.label, w.stage, w.bifurcation, w.reason)

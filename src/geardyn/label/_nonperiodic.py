@@ -1,7 +1,8 @@
 """Stage 4 of the labeller: what is neither periodic nor a slow transient is labelled from the tangent
 exponent and the torus tests (:mod:`geardyn.label.torus`): quasi-periodic, chaotic, or undetermined where
-they disagree (the reason says how).  Undetermined points run on with longer records and are searched for
-long cycles.
+they disagree (the reason says how).  Undetermined points run on with longer records, one round at a time
+(:func:`longer_record`, scheduled by :mod:`geardyn.label.lines` together with other lines' points), and
+are searched for long cycles when they are done (:func:`finish`).
 """
 
 from __future__ import annotations
@@ -42,7 +43,8 @@ EXTRAPOLATE_MIN = 24
 def exponents(points: list[Point], policy: Policy) -> list[Point]:
     """Continue every point with a tangent vector (unless its run carried one); a record that returns
     within tolerance (rule 3) goes back to :func:`certify`; the rest are labelled from the exponent and the
-    torus test (:func:`_nonperiodic_verdict`), undetermined where they disagree."""
+    torus test (:func:`_nonperiodic_verdict`), undetermined where they disagree.  Returns the points left
+    undetermined whose record is to grow (:func:`longer_record`); the others are finished (:func:`finish`)."""
     if not points:
         return points
     s, cs = policy.integration, policy.classifier
@@ -78,45 +80,88 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
     rest = [p for p, n in zip(bounded, periods, strict=True) if n == 0]
     for p, v in zip(rest, threaded_map(lambda p: _nonperiodic_verdict(p, policy), rest), strict=True):
         p.verdict = v
-    _longer_record(rest, policy)
-    # a long cycle scores like a torus in the Birkhoff averages: look for one on every quasi-periodic record
-    # (its newest half, where a slowly attracting cycle has come closer; then all of it, for longer cycles)
-    for newest_half in (True, False):
-        _long_periods([p for p in rest if p.verdict.label == QP], policy, newest_half=newest_half)
-    return []
+    grow = {id(p) for p in rest if grows(p, policy)}
+    finish([p for p in rest if id(p) not in grow], policy)
+    return [p for p in rest if id(p) in grow]
 
 
-def _longer_record(points: list[Point], policy: Policy) -> None:
-    """Points left undetermined: the run goes on with the tangent vector, its record growing by the factor
-    ``1 + torus_extend`` each round up to ``torus_max_periods``, and the same decision
-    (:func:`_nonperiodic_verdict`) reads the whole, longer record each time (the torus test converges on a
-    torus and stays low on a chaotic set; the exponent's error bar shrinks).  Last, periods up to
-    ``long_max_n`` are looked for on the longest record (:func:`_long_periods`)."""
+def grows(p: Point, policy: Policy) -> bool:
+    """Whether the point's record runs on: it is left undetermined, ``torus_extend`` > 0 and the record is
+    shorter than ``torus_max_periods``.  Then the next round's length is set (``p.left``)."""
     cs = policy.classifier
-    retry = [p for p in points if p.verdict.stage == "undecided"]
-    while retry and cs.torus_extend > 0:
-        length = retry[0].run.poincare.shape[0]
-        n = min(cs.torus_extend * length, cs.torus_max_periods - length)
-        if n <= 0:
-            break
-        s = dataclasses.replace(policy.integration, transient_periods=0, recorded_periods=n)
-        runs = simulate_batch(
-            [p.system for p in retry], s, [p.run.final_state for p in retry], tables=tables_of(retry), tangent_periods=n
-        )
-        for p, r in zip(retry, runs, strict=True):
-            if r.diverged:
-                p.verdict = diverged_verdict(p, r)
-                continue
+    length = p.run.poincare.shape[0]
+    if p.verdict.stage != "undecided" or cs.torus_extend <= 0 or length >= cs.torus_max_periods:
+        return False
+    p.left, p.piece = min(cs.torus_extend * length, cs.torus_max_periods - length), None
+    return True
+
+
+def longer_record(points: list[Point], periods: int, policy: Policy) -> list[Point]:
+    """The records of points left undetermined grow by ``periods`` (at most each point's ``left``), the
+    run going on with its tangent vector.  A round of a point's record grows it from N to
+    N + min(``torus_extend`` N, ``torus_max_periods`` - N) periods, in as many pieces as the scheduler
+    (:mod:`geardyn.label.lines`) takes (the tangent vector carried over, so the pieces are one run, bit for
+    bit); at the end of a round the same decision (:func:`_nonperiodic_verdict`) reads the whole, longer
+    record (the torus test converges on a torus and stays low on a chaotic set; the exponent's error bar
+    shrinks).  Returns the points whose record grows on; the others are finished (:func:`finish`)."""
+    if not points:
+        return points
+    if periods < 1 or any(p.left < periods for p in points):
+        raise ValueError(f"{periods} periods: more than a point's round has left, or fewer than 1")
+    s = dataclasses.replace(policy.integration, transient_periods=0, recorded_periods=periods)
+    runs = simulate_batch(
+        [p.system for p in points],
+        s,
+        [(p.run if p.piece is None else p.piece).final_state for p in points],
+        tables=tables_of(points),
+        tangent_periods=periods,
+        tangent_start=[None if p.piece is None else p.piece.tangent for p in points],
+    )
+    done: list[Point] = []
+    for p, r in zip(points, runs, strict=True):
+        p.piece = r if p.piece is None else _joined(p.piece, r)
+        p.left -= periods
+        if r.diverged:
+            p.verdict = diverged_verdict(p, p.piece)
+            done.append(p)
+        elif p.left == 0:
             old = p.run
             p.run = dataclasses.replace(
-                r,
-                poincare=np.vstack([old.poincare, r.poincare]),
-                growth=np.concatenate([old.growth, r.growth]),
-                strobe=np.concatenate([old.strobe, r.strobe]),
+                p.piece,
+                poincare=np.vstack([old.poincare, p.piece.poincare]),
+                growth=np.concatenate([old.growth, p.piece.growth]),
+                strobe=np.concatenate([old.strobe, p.piece.strobe]),
             )
             p.verdict = _nonperiodic_verdict(p, policy)
-        retry = [p for p in retry if p.verdict.stage == "undecided"]
-    _long_periods(retry, policy)
+            if not grows(p, policy):
+                done.append(p)
+    finish(done, policy)
+    ended = set(map(id, done))
+    return [p for p in points if id(p) not in ended]
+
+
+def _joined(a: SimulationResult, b: SimulationResult) -> SimulationResult:
+    """Two pieces of one run with a tangent vector (``b`` from ``a``'s final state and tangent): the run."""
+    n = a.poincare.shape[0]
+    return dataclasses.replace(
+        b,
+        poincare=np.vstack([a.poincare, b.poincare]),
+        growth=np.concatenate([a.growth, b.growth]),
+        strobe=np.concatenate([a.strobe, b.strobe]),
+        n_events=a.n_events + b.n_events,
+        diverged_period=n + b.diverged_period if b.diverged else -1,
+        settings=dataclasses.replace(b.settings, recorded_periods=n + b.settings.recorded_periods),
+    )
+
+
+def finish(points: list[Point], policy: Policy) -> None:
+    """The last step for points whose record is done: periods up to ``long_max_n`` are looked for where
+    the point is still undetermined, and on every quasi-periodic record (a long cycle scores like a torus
+    in the Birkhoff averages: the record's newest half, where a slowly attracting cycle has come closer,
+    then all of it, for longer cycles) (:func:`_long_periods`)."""
+    _long_periods([p for p in points if p.verdict.stage == "undecided"], policy)
+    for newest_half in (True, False):
+        _long_periods([p for p in points if p.verdict.label == QP], policy, newest_half=newest_half)
 
 
 def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True) -> None:

@@ -59,12 +59,14 @@ class Point:
     prev: Verdict | None
     start: np.ndarray | None
     prev2: Verdict | None = None
-    tables: LaneTables | None = None  # the step tables of the whole step's batch (built once per step)
+    tables: LaneTables | None = None  # the step tables of the batch the point came in (built once per batch)
     row: int = 0  # this point's row in them
     verdict: Verdict | None = None
     tangent: bool = False
     bifurcation: str = "none"
     run: SimulationResult | None = None
+    left: int = 0  # periods left in the round of a growing record (stage 4)
+    piece: SimulationResult | None = None  # that round's run so far
     transient_used: int = 0
     notes: list[str] = dataclasses.field(default_factory=list)
 
@@ -171,10 +173,13 @@ def shoot(points: list[Point], starts: list[np.ndarray], ns: list[int], policy: 
 
 
 def tables_of(points: list[Point]) -> LaneTables | None:
-    """The lane tables of ``points`` (rows of their step's tables), or None to build them."""
-    if not points or points[0].tables is None:
+    """The lane tables of ``points`` (rows of the tables of the batches they came in), or None to build them."""
+    if not points or any(p.tables is None for p in points):
         return None
-    return points[0].tables.take([p.row for p in points])
+    first = points[0].tables
+    if all(p.tables is first for p in points):
+        return first.take([p.row for p in points])
+    return LaneTables.gather([(p.tables, p.row) for p in points])  # type: ignore[misc]
 
 
 def decide(points: list[Point], verdicts: list[Verdict | None]) -> list[Point]:

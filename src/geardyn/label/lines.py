@@ -1,11 +1,17 @@
 """The labeller's one entry point: :func:`label_lines`.
 
 A *line* is a sequence of systems along which the attractor is followed: a sweep case in one direction,
-or one row of a regime map.  All lines of a batch advance together, point k of every line at once, so the
-stages integrate one point per line in lockstep (:mod:`geardyn.label._stages` and the modules of its
-stages).  The first point of a line starts from the line's fixed start (the static deflection unless
-given); each next point starts from the verdict of the previous one.  With ``policy.start == "fixed"``
-every point is a line of its own.
+or one row of a regime map.  The first point of a line starts from the line's fixed start (the static
+deflection unless given); each next point starts from the verdict of the previous one.  With
+``policy.start == "fixed"`` every point is a line of its own.
+
+Lines advance on their own.  Every line that is free (its last point decided) puts its next point into
+the next batch, and the stages integrate a batch's points together (:mod:`geardyn.label._stages` and the
+modules of its stages).  A point left undetermined waits in a pool while its record grows, one round at
+a time (:func:`geardyn.label._nonperiodic.longer_record`), and its line waits with it; the other lines go
+on.  Rounds of the pool take the points of all lines whose records have one length, so the compiled
+loops' lanes stay full (:func:`_schedule`).  Each point's numbers are those it gets alone, so the order of
+the batches changes no verdict.
 """
 
 from __future__ import annotations
@@ -13,28 +19,97 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
 import geardyn.label._stages as st
 from geardyn.label._follow import follow
-from geardyn.label._nonperiodic import exponents
+from geardyn.label._nonperiodic import exponents, longer_record
 from geardyn.label._record import integrate, slow_transients
 from geardyn.label.policy import Policy
 from geardyn.label.verdict import Verdict
 from geardyn.solve.base import System
-from geardyn.solve.simulate import lane_tables
+from geardyn.solve.simulate import full_batch, lane_tables
 
 log = logging.getLogger("geardyn.label")
 
 
-def _step(points: list[st.Point], policy: Policy) -> list[Verdict]:
-    """Every stage in turn on the points still undecided."""
+def _first_pass(points: list[st.Point], policy: Policy) -> list[st.Point]:
+    """Every stage in turn on the points still undecided; returns the points whose record is to grow."""
     left = follow(points, policy)
     left = integrate(left, policy)
     left = slow_transients(left, policy)
-    exponents(left, policy)
-    return [p.verdict for p in points]  # type: ignore[misc]
+    return exponents(left, policy)
+
+
+@dataclass
+class _Line:
+    """A line on its way: its systems, fixed start, the index of its next point, the verdicts so far and
+    the point that waits in the pool (None: the line is free)."""
+
+    systems: Sequence[System]
+    start: np.ndarray | None
+    out: list[Verdict]
+    waiting: st.Point | None = None
+
+    @property
+    def free(self) -> bool:
+        return self.waiting is None and len(self.out) < len(self.systems)
+
+    def point(self, tables, row: int) -> st.Point:
+        prev = self.out[-1] if self.out else None
+        return st.Point(
+            self.systems[len(self.out)],
+            None if prev is None or prev.diverged else prev,
+            self.start,
+            self.out[-2] if len(self.out) > 1 else None,
+            tables,
+            row,
+        )
+
+
+def _schedule(lines: list[_Line], policy: Policy, progress: str) -> None:
+    """Advance every line to its end.  Each batch is either the next points of all free lines (when there
+    are enough to fill the lanes, :func:`geardyn.solve.simulate.full_batch`, or no point waits), or the
+    next piece of every waiting point's growing record, as long as the shortest round has left: all
+    waiting points in one batch, whatever the lengths of their records."""
+    pool: dict[int, _Line] = {}  # id of the waiting point -> its line
+    total, done, t0, shown = sum(len(ln.systems) for ln in lines), 0, time.perf_counter(), 0
+    while True:
+        free = [ln for ln in lines if ln.free]
+        if free and (len(free) >= full_batch() or not pool):
+            tables = lane_tables([ln.systems[len(ln.out)] for ln in free], policy.integration)
+            points = [ln.point(tables, r) for r, ln in enumerate(free)]
+            grow = {id(p) for p in _first_pass(points, policy)}
+            for ln, p in zip(free, points, strict=True):
+                if id(p) in grow:
+                    ln.waiting = p
+                    pool[id(p)] = ln
+                else:
+                    ln.out.append(p.verdict)  # type: ignore[arg-type]
+                    done += 1
+        elif pool:
+            waiting = [ln.waiting for ln in pool.values()]
+            again = {id(p) for p in longer_record(waiting, min(p.left for p in waiting), policy)}  # type: ignore[union-attr]
+            for p in waiting:
+                if id(p) not in again:
+                    ln = pool.pop(id(p))
+                    ln.waiting = None
+                    ln.out.append(p.verdict)  # type: ignore[arg-type]
+                    done += 1
+        else:
+            return
+        if progress and (done - shown >= max(1, total // 10) or done == total):
+            shown, elapsed = done, time.perf_counter() - t0
+            log.info(
+                "%s: %d/%d points, %.1f s elapsed, %.1f s remaining",
+                progress,
+                done,
+                total,
+                elapsed,
+                elapsed / max(done, 1) * (total - done),
+            )
 
 
 def label_lines(
@@ -61,42 +136,11 @@ def label_lines(
         for (i, k), (v,) in zip(flat, single, strict=True):
             out[i][k] = v
         return out
-    out = [[None] * len(line) for line in lines]  # type: ignore[list-item]
-    prev: list[Verdict | None] = [None] * len(lines)
-    prev2: list[Verdict | None] = [None] * len(lines)
-    length = max((len(line) for line in lines), default=0)
-    total, t0 = sum(len(line) for line in lines), time.perf_counter()
-    for k in range(length):
-        idx = [i for i, line in enumerate(lines) if k < len(line)]
-        systems = [lines[i][k] for i in idx]
-        tables = lane_tables(systems, policy.integration)  # every stage's runs of this step share them
-        points = [
-            st.Point(
-                systems[r],
-                None if prev[i] is None or prev[i].diverged else prev[i],
-                None if starts[i] is None else np.asarray(starts[i], float),
-                prev2[i],
-                tables,
-                r,
-            )
-            for r, i in enumerate(idx)
-        ]
-        for i, v in zip(idx, _step(points, policy), strict=True):
-            out[i][k] = v
-            prev2[i] = prev[i]
-            prev[i] = v
-        if progress and ((k + 1) % max(1, length // 10) == 0 or k + 1 == length):
-            done = sum(min(k + 1, len(line)) for line in lines)
-            elapsed = time.perf_counter() - t0
-            log.info(
-                "%s: %d/%d points, %.1f s elapsed, %.1f s remaining",
-                progress,
-                done,
-                total,
-                elapsed,
-                elapsed / done * (total - done),
-            )
-    return out
+    state = [
+        _Line(line, None if x0 is None else np.asarray(x0, float), []) for line, x0 in zip(lines, starts, strict=True)
+    ]
+    _schedule(state, policy, progress)
+    return [ln.out for ln in state]
 
 
 def label_points(

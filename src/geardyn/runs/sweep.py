@@ -10,7 +10,7 @@ Every point is labelled by the one labeller, :func:`geardyn.label.label_lines`. 
 each next point from the attractor of the previous one (Newton shooting from its orbit, or a run from its
 final state), so the figure draws attractors, never transients.  ``continuation`` says the directions: up
 (``none`` and ``up``: from the first value to the last), ``down``, or ``both`` (hysteresis).  A chunk holds
-whole lines; the lines of a chunk advance together, one point each, in lockstep.  With ``start_from: fixed``
+whole lines; the lines of a chunk advance on their own, their points batched together.  With ``start_from: fixed``
 every point starts from the static deflection (a line of its own) and a chunk holds any points.  Either way
 a point's verdict depends only on its line, never on the chunking or the threads.  With ``coexistence``
 every point is also labelled from the fixed start, and ``coexisting`` flags where the two end on different
