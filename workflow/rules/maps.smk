@@ -8,6 +8,9 @@ rule map_chunk:
         temp(results("maps", "{map}", "chunk_{chunk}.nc")),
     log:
         logs("map_{map}_{chunk}.log"),
+    # the longest jobs of a build first (map chunks, then sweep chunks), so that no long job runs alone
+    # at the end while the other core idles
+    priority: 2
     threads: 1
     params:
         spec=config_slice("maps"),

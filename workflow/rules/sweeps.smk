@@ -9,6 +9,7 @@ rule sweep_chunk:
         temp(results("sweeps", "{sweep}", "chunk_{chunk}.nc")),
     log:
         logs("sweep_{sweep}_{chunk}.log"),
+    priority: 1
     threads: 1
     params:
         spec=config_slice("sweeps"),
