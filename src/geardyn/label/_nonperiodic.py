@@ -1,8 +1,8 @@
 """Stage 4 of the labeller: what is neither periodic nor a slow transient is labelled from the tangent
 exponent and the torus tests (:mod:`geardyn.label.torus`): quasi-periodic, chaotic, or undetermined where
-they disagree (the reason says how).  Undetermined points run on with longer records, one round at a time
-(:func:`longer_record`, scheduled by :mod:`geardyn.label.lines` together with other lines' points), and
-are searched for long cycles when they are done (:func:`finish`).
+they disagree (the reason says how).  Undetermined points run on with longer records, round by round and
+piece by piece (:func:`longer_record`, scheduled by :mod:`geardyn.label.lines` together with other lines'
+points), and are searched for long cycles when they are done (:func:`finish`).
 """
 
 from __future__ import annotations
@@ -80,14 +80,15 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
     rest = [p for p, n in zip(bounded, periods, strict=True) if n == 0]
     for p, v in zip(rest, threaded_map(lambda p: _nonperiodic_verdict(p, policy), rest), strict=True):
         p.verdict = v
-    grow = {id(p) for p in rest if grows(p, policy)}
+    grow = {id(p) for p in rest if start_round(p, policy)}
     finish([p for p in rest if id(p) not in grow], policy)
     return [p for p in rest if id(p) in grow]
 
 
-def grows(p: Point, policy: Policy) -> bool:
-    """Whether the point's record runs on: it is left undetermined, ``torus_extend`` > 0 and the record is
-    shorter than ``torus_max_periods``.  Then the next round's length is set (``p.left``)."""
+def start_round(p: Point, policy: Policy) -> bool:
+    """Start the next round of the point's record where it runs on (left undetermined, ``torus_extend`` > 0
+    and the record shorter than ``torus_max_periods``): the round's length goes to ``p.left``.  Returns
+    whether it runs on."""
     cs = policy.classifier
     length = p.run.poincare.shape[0]
     if p.verdict.stage != "undecided" or cs.torus_extend <= 0 or length >= cs.torus_max_periods:
@@ -133,7 +134,7 @@ def longer_record(points: list[Point], periods: int, policy: Policy) -> list[Poi
                 strobe=np.concatenate([old.strobe, p.piece.strobe]),
             )
             p.verdict = _nonperiodic_verdict(p, policy)
-            if not grows(p, policy):
+            if not start_round(p, policy):
                 done.append(p)
     finish(done, policy)
     ended = set(map(id, done))

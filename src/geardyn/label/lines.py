@@ -7,11 +7,11 @@ deflection unless given); each next point starts from the verdict of the previou
 
 Lines advance on their own.  Every line that is free (its last point decided) puts its next point into
 the next batch, and the stages integrate a batch's points together (:mod:`geardyn.label._stages` and the
-modules of its stages).  A point left undetermined waits in a pool while its record grows, one round at
-a time (:func:`geardyn.label._nonperiodic.longer_record`), and its line waits with it; the other lines go
-on.  Rounds of the pool take the points of all lines whose records have one length, so the compiled
-loops' lanes stay full (:func:`_schedule`).  Each point's numbers are those it gets alone, so the order of
-the batches changes no verdict.
+modules of its stages).  A point left undetermined waits in a pool while its record grows
+(:func:`geardyn.label._nonperiodic.longer_record`), and its line waits with it; the other lines go on.
+The records of all waiting points grow together, piece by piece, whatever their lengths, so the compiled
+loops' lanes stay full (:func:`_schedule`).  Each point's numbers are those it gets alone (a record grown
+in pieces is one run, bit for bit), so the order of the batches changes no verdict.
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from geardyn.label._record import integrate, slow_transients
 from geardyn.label.policy import Policy
 from geardyn.label.verdict import Verdict
 from geardyn.solve.base import System
-from geardyn.solve.simulate import full_batch, lane_tables
+from geardyn.solve.simulate import LaneTables, full_batch, lane_tables
 
 log = logging.getLogger("geardyn.label")
 
@@ -45,8 +45,8 @@ def _first_pass(points: list[st.Point], policy: Policy) -> list[st.Point]:
 
 @dataclass
 class _Line:
-    """A line on its way: its systems, fixed start, the index of its next point, the verdicts so far and
-    the point that waits in the pool (None: the line is free)."""
+    """A line on its way: its systems, fixed start, the verdicts so far (the next point is the one after
+    them) and the point that waits in the pool (None: the line is free)."""
 
     systems: Sequence[System]
     start: np.ndarray | None
@@ -57,7 +57,8 @@ class _Line:
     def free(self) -> bool:
         return self.waiting is None and len(self.out) < len(self.systems)
 
-    def point(self, tables, row: int) -> st.Point:
+    def point(self, tables: LaneTables, row: int) -> st.Point:
+        """The line's next point, row ``row`` of its batch's ``tables``."""
         prev = self.out[-1] if self.out else None
         return st.Point(
             self.systems[len(self.out)],
