@@ -126,13 +126,7 @@ def longer_record(points: list[Point], periods: int, policy: Policy) -> list[Poi
             p.verdict = diverged_verdict(p, p.piece)
             done.append(p)
         elif p.left == 0:
-            old = p.run
-            p.run = dataclasses.replace(
-                p.piece,
-                poincare=np.vstack([old.poincare, p.piece.poincare]),
-                growth=np.concatenate([old.growth, p.piece.growth]),
-                strobe=np.concatenate([old.strobe, p.piece.strobe]),
-            )
+            p.run = _appended(p.run, p.piece)  # the round's run, reading the whole record
             p.verdict = _nonperiodic_verdict(p, policy)
             if not start_round(p, policy):
                 done.append(p)
@@ -141,14 +135,21 @@ def longer_record(points: list[Point], periods: int, policy: Policy) -> list[Poi
     return [p for p in points if id(p) not in ended]
 
 
-def _joined(a: SimulationResult, b: SimulationResult) -> SimulationResult:
-    """Two pieces of one run with a tangent vector (``b`` from ``a``'s final state and tangent): the run."""
-    n = a.poincare.shape[0]
+def _appended(a: SimulationResult, b: SimulationResult) -> SimulationResult:
+    """The run ``b`` with the records of ``a`` (which it continues) in front: Poincare points, growth, strobe."""
     return dataclasses.replace(
         b,
         poincare=np.vstack([a.poincare, b.poincare]),
         growth=np.concatenate([a.growth, b.growth]),
         strobe=np.concatenate([a.strobe, b.strobe]),
+    )
+
+
+def _joined(a: SimulationResult, b: SimulationResult) -> SimulationResult:
+    """Two pieces of one run with a tangent vector (``b`` from ``a``'s final state and tangent): the run."""
+    n = a.poincare.shape[0]
+    return dataclasses.replace(
+        _appended(a, b),
         n_events=a.n_events + b.n_events,
         diverged_period=n + b.diverged_period if b.diverged else -1,
         settings=dataclasses.replace(b.settings, recorded_periods=n + b.settings.recorded_periods),

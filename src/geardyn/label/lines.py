@@ -57,6 +57,12 @@ class _Line:
     def free(self) -> bool:
         return self.waiting is None and len(self.out) < len(self.systems)
 
+    def place(self, p: st.Point, waits: bool) -> None:
+        """The line's current point either waits in the pool (its record grows) or is decided."""
+        self.waiting = p if waits else None
+        if not waits:
+            self.out.append(p.verdict)  # type: ignore[arg-type]
+
     def point(self, tables: LaneTables, row: int) -> st.Point:
         """The line's next point, row ``row`` of its batch's ``tables``."""
         prev = self.out[-1] if self.out else None
@@ -75,32 +81,22 @@ def _schedule(lines: list[_Line], policy: Policy, progress: str) -> None:
     are enough to fill the lanes, :func:`geardyn.solve.simulate.full_batch`, or no point waits), or the
     next piece of every waiting point's growing record, as long as the shortest round has left: all
     waiting points in one batch, whatever the lengths of their records."""
-    pool: dict[int, _Line] = {}  # id of the waiting point -> its line
-    total, done, t0, shown = sum(len(ln.systems) for ln in lines), 0, time.perf_counter(), 0
+    total, t0, shown = sum(len(ln.systems) for ln in lines), time.perf_counter(), 0
     while True:
         free = [ln for ln in lines if ln.free]
-        if free and (len(free) >= full_batch() or not pool):
+        busy = [ln for ln in lines if ln.waiting is not None]
+        if free and (len(free) >= full_batch() or not busy):
             tables = lane_tables([ln.systems[len(ln.out)] for ln in free], policy.integration)
-            points = [ln.point(tables, r) for r, ln in enumerate(free)]
+            batch, points = free, [ln.point(tables, r) for r, ln in enumerate(free)]
             grow = {id(p) for p in _first_pass(points, policy)}
-            for ln, p in zip(free, points, strict=True):
-                if id(p) in grow:
-                    ln.waiting = p
-                    pool[id(p)] = ln
-                else:
-                    ln.out.append(p.verdict)  # type: ignore[arg-type]
-                    done += 1
-        elif pool:
-            waiting = [ln.waiting for ln in pool.values()]
-            again = {id(p) for p in longer_record(waiting, min(p.left for p in waiting), policy)}  # type: ignore[union-attr]
-            for p in waiting:
-                if id(p) not in again:
-                    ln = pool.pop(id(p))
-                    ln.waiting = None
-                    ln.out.append(p.verdict)  # type: ignore[arg-type]
-                    done += 1
+        elif busy:
+            batch, points = busy, [ln.waiting for ln in busy]
+            grow = {id(p) for p in longer_record(points, min(p.left for p in points), policy)}  # type: ignore[union-attr]
         else:
             return
+        for ln, p in zip(batch, points, strict=True):
+            ln.place(p, id(p) in grow)  # type: ignore[arg-type]
+        done = sum(len(ln.out) for ln in lines)
         if progress and (done - shown >= max(1, total // 10) or done == total):
             shown, elapsed = done, time.perf_counter() - t0
             log.info(
