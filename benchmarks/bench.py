@@ -19,7 +19,7 @@ import sys
 from pathlib import Path
 
 from benchmarks import circles, labels, long_run, throughput, work_precision
-from geardyn import io
+from geardyn import io, libm
 
 
 def main_speed(argv: list[str]) -> int:
@@ -77,6 +77,8 @@ def main_speed(argv: list[str]) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    if argv is None:  # as a program: the C library's plain math, as in the pipeline's jobs
+        libm.restart_canonical()
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv and argv[0] in ("throughput", "labels", "check", "circles"):
         return main_speed(argv)

@@ -29,6 +29,11 @@ SWEEP = dict(
     chunks=1,
     integration={"transient_periods": 200, "recorded_periods": 30, "steps_per_period": 128},
 )
+#: A point of ``li2013_calibrated``'s map over (x1, e) whose run converges to a stable orbit (exponent
+#: -0.013 per unit time, no chaos to amplify anything).  Its states differ by up to 3e-13 within 300
+#: periods when glibc's sin is its FMA build (a few of its TE forcing values round the other way;
+#: docs/reproducibility.md): with it the study sees which build of the C library ran.
+LIBM_SENSITIVE = {"x1": 0.5739145728643216, "b": 2.0, "e": 0.5527638190954774}
 
 
 def study() -> dict[str, np.ndarray]:
@@ -48,6 +53,11 @@ def study() -> dict[str, np.ndarray]:
     out["orbit/state"] = orbit.state
     out["orbit/multipliers"] = np.asarray(orbit.multipliers)
     out["orbit/converged"] = np.asarray(orbit.converged)
+    t = point.point_coefficients(design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml"), LIBM_SENSITIVE)
+    settings = SimulationSettings(steps_per_period=128, transient_periods=0, recorded_periods=300)
+    r = simulate(t, settings, tangent_periods=300)
+    out["libm_sensitive/poincare"] = r.poincare
+    out["libm_sensitive/growth"] = r.growth
     return out
 
 

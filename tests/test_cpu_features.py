@@ -3,7 +3,8 @@
 The small study of ``_cpu_study.py`` runs once in this process (the machine's own features: AVX-512
 where it has them) and once in a subprocess with every instruction set that numpy dispatches to at run
 time disabled (``NPY_DISABLE_CPU_FEATURES``: numpy's baseline paths only, as on a machine without
-AVX2 or AVX-512) and numba compiling for a generic x86-64 CPU (``NUMBA_CPU_NAME=generic``).  Every
+AVX2 or AVX-512), numba compiling for a generic x86-64 CPU (``NUMBA_CPU_NAME=generic``) and the C
+library's math functions dispatched as on a CPU without AVX and FMA (``GLIBC_TUNABLES``).  Every
 number must be the same bit for bit, but the labels of chaotic points, which are compared by class (a
 chaotic orbit amplifies any last-bit difference; this study has none unless the model changes).
 """
@@ -19,7 +20,7 @@ import pytest
 from numpy._core import _multiarray_umath as mu
 
 import _cpu_study
-from geardyn import classify, io
+from geardyn import classify, io, libm
 
 HERE = Path(__file__).resolve().parent
 CHAOS = classify.LABELS["chaotic"]
@@ -30,6 +31,7 @@ def _reduced_env() -> dict[str, str]:
     dispatched = [f for f in mu.__cpu_dispatch__ if mu.__cpu_features__.get(f)]
     env = {**os.environ, "NUMBA_CPU_NAME": "generic", "PYTHONPATH": os.pathsep.join([str(HERE), *sys.path])}
     env.pop("NUMBA_CPU_FEATURES", None)
+    env["GLIBC_TUNABLES"] = "glibc.cpu.hwcaps=-AVX512F,-AVX2,-AVX,-FMA,-FMA4"  # glibc's SSE2 builds only
     if dispatched:
         env["NPY_DISABLE_CPU_FEATURES"] = " ".join(dispatched)
     return env
@@ -64,6 +66,7 @@ def test_the_subprocess_really_ran_with_fewer_features(both):
     if any(mu.__cpu_features__.get(f) for f in mu.__cpu_dispatch__):
         assert rt["numpy_cpu_dispatch"] == "none" != io.runtime_provenance()["numpy_cpu_dispatch"]
     assert rt["numpy_blas_core"] == io.runtime_provenance()["numpy_blas_core"]  # geardyn's pinned kernels
+    assert rt["libm_variant"] == io.runtime_provenance()["libm_variant"]
 
 
 def test_same_numbers_bit_for_bit_on_fewer_cpu_features(both):
@@ -82,3 +85,43 @@ def test_same_numbers_bit_for_bit_on_fewer_cpu_features(both):
             differ.append(key)
     assert differ == [], f"differ with fewer CPU features: {differ}"
     assert int(np.sum(~chaotic)) >= 3  # the sweep has non-chaotic points to compare
+
+
+def _variant_in(env: dict[str, str], code: str = "") -> str:
+    run = subprocess.run(
+        [sys.executable, "-c", f"from geardyn import libm; {code}print(libm.variant())"],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert run.returncode == 0, run.stderr
+    return run.stdout.strip()
+
+
+needs_glibc = pytest.mark.skipif(libm.variant() == "other", reason="not glibc on x86-64: no claim (docs)")
+
+
+@needs_glibc
+def test_the_tests_run_the_plain_c_library():
+    assert libm.variant() == libm.CANONICAL
+    assert io.runtime_provenance()["libm_variant"] == libm.CANONICAL
+    assert "glibc.cpu.hwcaps=" in os.environ["GLIBC_TUNABLES"]  # set by importing geardyn, for subprocesses
+
+
+@needs_glibc
+def test_a_process_started_without_the_setting_is_seen_and_restarts():
+    env = {k: v for k, v in os.environ.items() if k not in ("GLIBC_TUNABLES", "GEARDYN_LIBM_RESTARTED")}
+    cpu_fma = {"fma", "avx2"} <= set(io.runtime_provenance()["cpu_simd_flags"].split())
+    assert _variant_in(env) == ("glibc-fma" if cpu_fma else libm.CANONICAL)  # the probe tells the builds apart
+    assert _variant_in(env, "libm.restart_canonical(); ") == libm.CANONICAL
+
+
+def test_the_setting_joins_other_tunables():
+    env = libm.canonical_environ({"GLIBC_TUNABLES": "glibc.malloc.arena_max=2:glibc.cpu.hwcaps=-AVX512F", "X": "1"})
+    assert env["X"] == "1"
+    assert env["GLIBC_TUNABLES"] == (
+        "glibc.malloc.arena_max=2:glibc.cpu.hwcaps=-AVX512F,-FMA,-FMA4,-FMA_Usable,-FMA4_Usable"
+    )
+    assert libm.canonical_environ(env) == env  # idempotent
+    assert libm.canonical_environ({})["GLIBC_TUNABLES"] == "glibc.cpu.hwcaps=-FMA,-FMA4,-FMA_Usable,-FMA4_Usable"

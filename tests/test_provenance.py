@@ -130,6 +130,7 @@ def test_verify_archive_prints_where_the_cubes_were_computed(tmp_path):
         "numpy_cpu_dispatch",
         "numba_cpu_name",
         "numba_cpu_features",
+        "libm_variant",
     ):
         assert f"    {key}: {rt[key]}\n" in run.stdout + "\n", key
     assert re.search(r"computed with \(1 of 1 cubes\)", run.stdout)

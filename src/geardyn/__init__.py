@@ -4,7 +4,7 @@ The library is pure: functions take numbers, arrays and frozen dataclasses and
 return arrays or xarray Datasets.  File I/O lives in :mod:`geardyn.io` and the
 Snakemake adapters in ``workflow/scripts``.
 
-Importing geardyn sets one process setting, before numpy loads OpenBLAS if it has not yet:
+Importing geardyn sets two process settings.  First, before numpy loads OpenBLAS if it has not yet:
 ``OPENBLAS_CORETYPE`` = :data:`BLAS_CORETYPE` (unless already set).  OpenBLAS otherwise picks its
 kernels by CPU (SkylakeX with AVX-512, Haswell/Zen with AVX2, ...), and those round differently,
 so eigenvalues and solves of the small matrices here (Floquet multipliers, Newton steps, the static
@@ -13,6 +13,12 @@ CPU numpy itself runs on (numpy's baseline is x86-64-v2) and give the same bits 
 as fast as the native ones for 6 x 6 matrices (docs/reproducibility.md).  The Snakefile imports
 geardyn first, so every job inherits the setting; :func:`geardyn.io.runtime_provenance` records the
 kernels actually in use.
+
+Second, ``GLIBC_TUNABLES`` (:mod:`geardyn.libm`): the processes started after the import (the
+Snakemake jobs, the test workers) run the C library's plain math functions instead of the builds with
+fused multiply-adds that glibc picks on CPUs with FMA, so ``sin``, ``exp``, ``atan`` ... give the same
+bits on every x86-64 CPU.  The running process keeps the build it started with; the entry points restart
+themselves with the setting, and the provenance records the build in use (``libm_variant``).
 """
 
 import os as _os
@@ -23,3 +29,7 @@ __version__ = "0.1.0"
 BLAS_CORETYPE = "Nehalem"
 
 _os.environ.setdefault("OPENBLAS_CORETYPE", BLAS_CORETYPE)
+
+from geardyn import libm as _libm  # noqa: E402  (after the setting above: it loads numpy)
+
+_os.environ["GLIBC_TUNABLES"] = _libm.canonical_environ(_os.environ)["GLIBC_TUNABLES"]

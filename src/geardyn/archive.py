@@ -67,7 +67,7 @@ or from a shell: ncdump -h {design}_archive/{example}
 Every cube carries CF-1.10 global attributes (title, source, history, references) and its
 provenance (geardyn_version, git_commit, config_hash, model_variant) and where it was computed
 (python_version, numpy/scipy/numba/llvmlite/xarray/netcdf4/snakemake versions, cpu_model,
-cpu_simd_flags, numpy_cpu_dispatch, numba_cpu_name, numba_cpu_features); `geardyn verify-archive`
+cpu_simd_flags, numpy_cpu_dispatch, numba_cpu_name, numba_cpu_features, libm_variant); `geardyn verify-archive`
 prints them.  Every variable is stored compressed (zlib after the shuffle filter, lossless).
 """
 

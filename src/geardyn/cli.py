@@ -18,7 +18,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from geardyn import __version__
+from geardyn import __version__, libm
 from geardyn.config import ConfigError, load_design_dict
 
 
@@ -182,6 +182,8 @@ def verify_archive(path: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    if argv is None:  # the command itself (not a call from Python): the C library's plain math, as in the jobs
+        libm.restart_canonical()
     parser = argparse.ArgumentParser(prog="geardyn", description="geardyn gear-dynamics tools")
     parser.add_argument("--version", action="version", version=f"geardyn {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)

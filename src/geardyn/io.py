@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn import __version__
+from geardyn import __version__, libm
 from geardyn.papers import paper_of
 
 try:
@@ -152,6 +152,7 @@ RUNTIME_KEYS = (
     "scipy_blas_core",
     "numba_cpu_name",
     "numba_cpu_features",
+    "libm_variant",
 )
 
 
@@ -164,13 +165,14 @@ def runtime_of(attrs: Mapping[str, Any]) -> dict[str, str]:
 def runtime_provenance() -> dict[str, str]:
     """Where an output was computed: Python and library versions, CPU and the instruction sets in use.
 
-    Keys: ``python_version``, ``<package>_version`` for :data:`PROVENANCE_PACKAGES`, ``platform``,
-    ``cpu_model``, ``cpu_simd_flags`` (SIMD flags of /proc/cpuinfo), ``numpy_cpu_baseline`` /
-    ``numpy_cpu_dispatch`` (numpy's compiled-in and run-time-dispatched instruction sets, after
-    ``NPY_DISABLE_CPU_FEATURES``), ``numpy_blas`` / ``numpy_lapack``, ``numpy_blas_core`` /
-    ``scipy_blas_core`` (the OpenBLAS kernels in use, :data:`geardyn.BLAS_CORETYPE`), ``numba_cpu_name`` /
-    ``numba_cpu_features`` (the target numba compiles for) and the numba environment overrides.
-    Computed once per process (the values cannot change while it runs).
+        Keys: ``python_version``, ``<package>_version`` for :data:`PROVENANCE_PACKAGES`, ``platform``,
+        ``cpu_model``, ``cpu_simd_flags`` (SIMD flags of /proc/cpuinfo), ``numpy_cpu_baseline`` /
+        ``numpy_cpu_dispatch`` (numpy's compiled-in and run-time-dispatched instruction sets, after
+        ``NPY_DISABLE_CPU_FEATURES``), ``numpy_blas`` / ``numpy_lapack``, ``numpy_blas_core`` /
+        ``scipy_blas_core`` (the OpenBLAS kernels in use, :data:`geardyn.BLAS_CORETYPE`), ``numba_cpu_name`` /
+        ``numba_cpu_features`` (the target numba compiles for), ``libm_variant`` (the C library's math build in
+    use, :func:`geardyn.libm.variant`) and the numba environment overrides.
+        Computed once per process (the values cannot change while it runs).
     """
     out = {"python_version": platform.python_version(), "python_implementation": sys.implementation.name}
     for pkg in PROVENANCE_PACKAGES:
@@ -179,6 +181,7 @@ def runtime_provenance() -> dict[str, str]:
     out.update({"platform": platform.platform(), "cpu_model": model, "cpu_simd_flags": " ".join(flags) or "unknown"})
     out.update(_numpy_cpu())
     out.update(_numba_cpu())
+    out["libm_variant"] = libm.variant()
     for var in (
         "NPY_DISABLE_CPU_FEATURES",
         "NUMBA_CPU_NAME",

@@ -15,12 +15,36 @@ x86-64 CPU) but are here too, so one module serves a whole formula.
 Every function takes a float, a numpy scalar or an array (any shape) and returns a float for a scalar
 argument and a float64 array otherwise.  They are slower than numpy's (about 0.1 microseconds per
 element), which is nothing on these paths (at most thousands of elements per call).
+
+Which build of the C library runs.  glibc picks one of several builds of ``sin``, ``cos``, ``exp``,
+``log``, ``pow``, ``atan``, ``asin`` ... when a process starts (its ``ifunc`` dispatch): on a CPU with FMA
+and AVX2 (or AMD's FMA4) it runs code compiled with fused multiply-adds, elsewhere the plain SSE2 or AVX
+code.  The two round differently in
+the last bit for 0.01-0.09 % of arguments (measured for 18 functions, ``docs/reproducibility.md``), and
+every number of the model passes through them: the geometry (the functions above call :mod:`math`),
+the TE forcing in the compiled kernels (``math.sin`` in numba calls the C library), numpy's ``sin`` and
+``cos``.  So a CPU without FMA (older or low-power x86-64 CPUs, virtual machines that hide AVX) would
+compute other bits.
+
+The fused builds cannot run everywhere; the plain ones can.  glibc's tunable ``glibc.cpu.hwcaps`` hides
+FMA from its dispatch (:data:`HWCAPS`), so every process that starts with it set computes what a CPU
+without FMA computes.  glibc reads tunables only at process start, so:
+
+* importing geardyn sets ``GLIBC_TUNABLES`` in ``os.environ`` (:func:`canonical_environ`): every
+  process started after that (the Snakemake jobs, pytest-xdist's workers, the tests' subprocesses)
+  inherits it;
+* the entry points that compute (the ``geardyn`` command, the benchmarks, pytest) restart themselves once
+  with it when they started without it (:func:`restart_canonical`);
+* :func:`variant` tells which build the running process uses, by one probe value, and every output's
+  provenance records it (``libm_variant``).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+import os
+import sys
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
@@ -100,3 +124,64 @@ for _name, _np in (("arcsin", "asin"), ("arccos", "acos"), ("arctan", "atan"), (
     globals()[
         _name
     ].__doc__ = f"``math.{_np}`` element by element (C library, the same on every CPU); NaN outside the domain."
+
+
+#: The features hidden from glibc's dispatch of its math functions (names of glibc >= 2.33, and of older
+#: glibc; unknown names are ignored).  Hiding FMA changes nothing else: glibc's string functions do not
+#: dispatch on it.
+HWCAPS = ("-FMA", "-FMA4", "-FMA_Usable", "-FMA4_Usable")
+
+#: The variant every x86-64 CPU can run: glibc's math functions without fused multiply-adds.
+CANONICAL = "glibc-plain"
+
+#: sin(x) at this x rounds differently in glibc's FMA and plain builds (found among 100 001 random arguments).
+_PROBE = 0.1277399286858092
+_PROBE_VALUES = {
+    float.fromhex("0x1.04e685e7a7fb5p-3"): CANONICAL,
+    float.fromhex("0x1.04e685e7a7fb4p-3"): "glibc-fma",
+}
+
+#: Set in the environment of a process that :func:`restart_canonical` restarted (no second restart).
+_RESTARTED = "GEARDYN_LIBM_RESTARTED"
+
+
+def variant() -> str:
+    """The build of the C library's math functions that this process runs: :data:`CANONICAL` (plain, the
+    same on every x86-64 CPU), ``"glibc-fma"`` (fused multiply-adds: other last bits), or ``"other"`` (a
+    C library or CPU whose ``sin`` gives neither value, e.g. musl, macOS or ARM; not claimed to agree)."""
+    return _PROBE_VALUES.get(math.sin(_PROBE), "other")
+
+
+def canonical_environ(environ: Mapping[str, str]) -> dict[str, str]:
+    """``environ`` with :data:`HWCAPS` added to ``GLIBC_TUNABLES`` (other tunables and hwcaps entries kept)."""
+    env = dict(environ)
+    parts = [p for p in env.get("GLIBC_TUNABLES", "").split(":") if p]
+    for i, part in enumerate(parts):
+        if part.startswith("glibc.cpu.hwcaps="):
+            have = part.split("=", 1)[1].split(",")
+            parts[i] = "glibc.cpu.hwcaps=" + ",".join([h for h in have if h] + [h for h in HWCAPS if h not in have])
+            break
+    else:
+        parts.append("glibc.cpu.hwcaps=" + ",".join(HWCAPS))
+    env["GLIBC_TUNABLES"] = ":".join(parts)
+    return env
+
+
+def needs_restart() -> bool:
+    """Whether :func:`restart_canonical` would restart this process: it runs glibc's FMA build and was not
+    restarted already."""
+    return variant() == "glibc-fma" and not os.environ.get(_RESTARTED)
+
+
+def restart_canonical() -> None:
+    """Restart this process (same interpreter, same command line) with :func:`canonical_environ` when
+    :func:`needs_restart`; otherwise return.  For entry points only: a library function never replaces its
+    caller's process.  Flush and restore what must survive first (open files stay open; output buffered
+    in Python is lost)."""
+    if not needs_restart():
+        return
+    env = canonical_environ(os.environ)
+    env[_RESTARTED] = "1"
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os.execve(sys.executable, list(sys.orig_argv), env)
