@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.fft
 
+from geardyn import libm
 from geardyn._indicators import falling  # compiled; releases the GIL
 from geardyn.config import settings_from
 from geardyn.solve.simulate import strict_period as rule3
@@ -181,9 +182,9 @@ def spectral_flatness(phi: np.ndarray) -> float:
     x = x - x.mean()
     if float(np.max(np.abs(x))) == 0.0:
         return 0.0
-    pw = np.abs(np.fft.rfft(x * np.hanning(x.size)))[1:] ** 2
+    pw = libm.cabs(np.fft.rfft(x * np.hanning(x.size)))[1:] ** 2
     pw = pw + 1e-30 * pw.max()
-    return float(np.exp(np.mean(np.log(pw))) / np.mean(pw))
+    return float(libm.exp(float(np.mean(libm.log(pw)))) / np.mean(pw))
 
 
 # ----------------------------------------------------------------------------------------

@@ -32,11 +32,14 @@ test cannot tell a cycle from a torus; the caller labels periodic points first.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+
+from geardyn import libm
 
 #: cap of :func:`birkhoff_digits`: agreement to the last bits of float64 (about 15.65 digits) is "exact".
 DIGITS_MAX = -math.log10(np.finfo(float).eps)
@@ -52,12 +55,22 @@ Observable = Callable[[np.ndarray], np.ndarray]
 
 
 def bump_weights(n: int) -> np.ndarray:
-    """The n normalised weights w(t_k) / sum w, w(t) = exp(-1 / (t (1 - t))), t_k = (k + 1) / (n + 1)."""
+    """The n normalised weights w(t_k) / sum w, w(t) = exp(-1 / (t (1 - t))), t_k = (k + 1) / (n + 1).
+
+    ``exp`` is the C library's (:mod:`geardyn.libm`: numpy's differs with AVX-512), computed once per n
+    (read-only, shared)."""
     if n < 1:
         raise ValueError(f"need at least one sample for a weighted average, got n = {n}")
+    return _bump_weights(int(n))
+
+
+@functools.lru_cache(maxsize=256)
+def _bump_weights(n: int) -> np.ndarray:
     t = np.arange(1, n + 1, dtype=float) / (n + 1)
-    w = np.exp(-1.0 / (t * (1.0 - t)))
-    return w / w.sum()
+    w = libm.exp(-1.0 / (t * (1.0 - t)))
+    out = w / w.sum()
+    out.setflags(write=False)
+    return out
 
 
 def weighted_birkhoff(values: np.ndarray) -> np.ndarray:

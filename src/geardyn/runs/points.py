@@ -15,6 +15,7 @@ from collections.abc import Mapping
 import numpy as np
 import xarray as xr
 
+from geardyn import libm
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.label import Policy, label_points
@@ -42,7 +43,7 @@ def amplitude_spectrum(x: np.ndarray, samples_per_period: int) -> tuple[np.ndarr
     n = x.size
     window = np.hanning(n)
     spec = np.fft.rfft((x - x.mean()) * window)
-    amp = 2.0 * np.abs(spec) / window.sum()
+    amp = 2.0 * libm.cabs(spec) / window.sum()
     freq = np.fft.rfftfreq(n, d=1.0 / samples_per_period)
     return freq, amp
 

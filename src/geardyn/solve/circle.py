@@ -235,7 +235,7 @@ def normal_radius(u: np.ndarray, rho: float, dp: np.ndarray) -> float:
     lam, vec = np.linalg.eig(op)
     share = tail_share(vec.reshape(m, d, -1)).max(axis=0) if m >= 5 else np.zeros(lam.size)
     keep = share <= UNRESOLVED
-    return float(np.max(np.abs(lam[keep]))) if np.any(keep) else math.nan
+    return float(np.max(libm.cabs(lam[keep]))) if np.any(keep) else math.nan
 
 
 def _midpoints(m: int) -> np.ndarray:

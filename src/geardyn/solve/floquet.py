@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from geardyn import libm
 from geardyn.solve.reference import integrate_period
 
 
@@ -26,7 +27,7 @@ class FloquetResult:
 
     @property
     def spectral_radius(self) -> float:
-        return float(np.max(np.abs(self.multipliers)))
+        return float(np.max(libm.cabs(self.multipliers)))
 
     @property
     def stable(self) -> bool:

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from geardyn import libm
 from geardyn.solve.base import SimulationSettings, System
 from geardyn.solve.simulate import lane_tables, simulate, simulate_batch
 
@@ -62,7 +63,7 @@ class ShootingResult:
 
     @property
     def spectral_radius(self) -> float:
-        return float(np.max(np.abs(self.multipliers))) if self.multipliers.size else float("nan")
+        return float(np.max(libm.cabs(self.multipliers))) if self.multipliers.size else float("nan")
 
     @property
     def stable(self) -> bool:
@@ -72,7 +73,7 @@ class ShootingResult:
 def sorted_multipliers(monodromy: np.ndarray) -> np.ndarray:
     """Eigenvalues of the monodromy, by decreasing modulus (conjugate pairs adjacent)."""
     mu = np.linalg.eigvals(monodromy)
-    return mu[np.lexsort((-mu.imag, -np.round(np.abs(mu), 12)))]
+    return mu[np.lexsort((-mu.imag, -np.round(libm.cabs(mu), 12)))]
 
 
 def _newton_end(

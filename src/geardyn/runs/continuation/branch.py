@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from geardyn import libm
 from geardyn.config import settings_from
 
 BIFURCATION_TYPES = ("period_doubling", "neimark_sacker", "fold", "branch_point", "grazing")
@@ -56,7 +57,7 @@ class Branch:
 
     @property
     def stable(self) -> np.ndarray:
-        return np.max(np.abs(self.multipliers), axis=1) < 1.0
+        return np.max(libm.cabs(self.multipliers), axis=1) < 1.0
 
     def __len__(self) -> int:
         return int(self.p.size)

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from geardyn import libm
 from geardyn.runs.continuation.branch import Bifurcation, Branch, ContinuationSettings
 from geardyn.runs.continuation.corrector import Corrector
 from geardyn.runs.continuation.family import Family
@@ -18,11 +19,11 @@ from geardyn.solve.shooting import rotation_number, sorted_multipliers
 
 
 def _is_complex(mu: np.ndarray) -> np.ndarray:
-    return np.abs(mu.imag) > 1e-8 * np.maximum(np.abs(mu), 1e-300)
+    return np.abs(mu.imag) > 1e-8 * np.maximum(libm.cabs(mu), 1e-300)
 
 
 def _counts(mu: np.ndarray) -> tuple[int, int]:
-    out = np.abs(mu) > 1.0
+    out = libm.cabs(mu) > 1.0
     return int(out.sum()), int((out & _is_complex(mu)).sum())
 
 
@@ -52,11 +53,11 @@ def ns_product(mu: np.ndarray) -> float:
 
 
 def _near_m1(mu: np.ndarray) -> complex:
-    return complex(mu[np.argmin(np.abs(mu + 1.0))])
+    return complex(mu[np.argmin(libm.cabs(mu + 1.0))])
 
 
 def _near_p1(mu: np.ndarray) -> complex:
-    return complex(mu[np.argmin(np.abs(mu - 1.0))])
+    return complex(mu[np.argmin(libm.cabs(mu - 1.0))])
 
 
 def _lin_zero(a: float, b: float) -> float:

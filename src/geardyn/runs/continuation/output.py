@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from geardyn import libm
 from geardyn.khv import point
 from geardyn.runs.continuation.branch import BIFURCATION_TYPES, TYPE_CODES, Bifurcation, Branch
 from geardyn.runs.continuation.family import Family, cycle_states
@@ -64,12 +65,12 @@ def _point_vars(
         ),
         "spectral_radius": (
             "point",
-            np.max(np.abs(mu), axis=1) if rows else np.zeros(0),
+            np.max(libm.cabs(mu), axis=1) if rows else np.zeros(0),
             {**one, "long_name": "largest Floquet multiplier modulus (< 1: stable)"},
         ),
         "stable": (
             "point",
-            (np.max(np.abs(mu), axis=1) < 1.0).astype(np.int8) if rows else np.zeros(0, np.int8),
+            (np.max(libm.cabs(mu), axis=1) < 1.0).astype(np.int8) if rows else np.zeros(0, np.int8),
             {
                 "long_name": "orbit asymptotically stable",
                 "flag_values": np.array([0, 1], np.int8),

@@ -12,6 +12,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from geardyn import libm
 from geardyn.runs.continuation.branch import Branch, ContinuationSettings
 from geardyn.runs.continuation.corrector import Corrector, merged_period
 from geardyn.runs.continuation.events import detect_bifurcations
@@ -110,7 +111,7 @@ def march(
             return pts, "closed_loop"  # an isola: back at the seed
         if out.iterations <= 3:
             st = replace(st, ds=min(st.ds * 1.3, cs.ds_max))
-        if float(np.max(np.abs(sorted_multipliers(out.M)))) > 1e8:
+        if float(np.max(libm.cabs(sorted_multipliers(out.M)))) > 1e8:
             return pts, "multipliers_too_large"
     return pts, "max_points"
 

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from geardyn import libm
 from geardyn.runs.continuation.branch import Bifurcation, Branch, ContinuationSettings
 from geardyn.runs.continuation.family import Family
 from geardyn.runs.continuation.stepping import continue_branch
@@ -32,7 +33,7 @@ def switch_at_period_doubling(
     if phi is None:
         return None
     mu, vecs = np.linalg.eig(M)
-    k = int(np.argmin(np.abs(mu + 1.0)))
+    k = int(np.argmin(libm.cabs(mu + 1.0)))
     v = np.real(vecs[:, k])
     v /= float(np.max(np.abs(v)))
     scale = max(1.0, float(np.max(np.abs(bf.state))))
