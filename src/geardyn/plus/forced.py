@@ -29,6 +29,8 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 
+from geardyn import libm
+
 from . import modal
 from .design import PlusDesign
 from .ishikawa import pd_mesh_load
@@ -181,12 +183,12 @@ def forced_response(
     h = np.arange(1, spec.harmonics + 1)
     c = te_harmonics(te, spec.harmonics)  # (case, H)
     # TE amplitude of every mesh element and harmonic: (case, H, 9); zero on s-p and d-r meshes
-    e = c[:, :, None] * np.exp(2j * np.pi * h[None, :, None] * phase[None, None, :]) * pd[None, None, :]
+    e = libm.cmul(c[:, :, None], np.exp(2j * np.pi * h[None, :, None] * phase[None, None, :])) * pd[None, None, :]
     force = -np.einsum("chm,m,mn->chn", e, k, V)  # (case, H, n)
     omega = 2 * np.pi * per_rpm * speed[:, None] * h[None, :]  # (speed, H)
     X = modal_frf(omega2, shapes, zeta, force[:, None, :, :], omega[None, :, :])  # (case, speed, H, n)
     amp = k * (X @ V.T + e[:, None, :, :])  # (case, speed, H, 9)
-    rms = np.sqrt(0.5 * np.sum(np.abs(amp) ** 2, axis=2))
+    rms = np.sqrt(0.5 * np.sum(libm.cabs(amp) ** 2, axis=2))
     theta = 2 * np.pi * np.arange(PHASE_SAMPLES) / PHASE_SAMPLES
     basis = np.exp(1j * h[:, None] * theta[None, :])  # (H, T)
     static = pd_mesh_load(design)
@@ -243,7 +245,7 @@ def to_dataset(res: ForcedResponse, design: PlusDesign) -> xr.Dataset:
             ),
             "force_amplitude": (
                 ("case", "speed", "harmonic", "mesh"),
-                np.abs(res.amplitude),
+                libm.cabs(res.amplitude),
                 {"units": "N", "long_name": "amplitude of the mesh force at each harmonic of the mesh frequency"},
             ),
             "mesh_frequency": (

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from geardyn import libm
 from geardyn.gears.geometry import involute as inv
 from geardyn.gears.stiffness import flexibility_q, pitch_point_stiffness
 
@@ -65,8 +66,8 @@ class ToothGeom:
 def half_tooth_angle(g: ToothGeom, radius: ArrayLike) -> NDArray:
     """Half angular tooth thickness (rad) at ``radius`` >= r_b: pi/(2z) + 2x tan(a)/z + inv a - inv a_r."""
     radius = np.asarray(radius, dtype=float)
-    a_r = np.arccos(np.clip(g.rb / radius, -1.0, 1.0))
-    return np.pi / (2 * g.z) + 2 * g.x * np.tan(g.alpha) / g.z + inv(g.alpha) - inv(a_r)
+    a_r = libm.arccos(np.clip(g.rb / radius, -1.0, 1.0))
+    return np.pi / (2 * g.z) + 2 * g.x * libm.tan(g.alpha) / g.z + inv(g.alpha) - inv(a_r)
 
 
 @dataclass(frozen=True)
@@ -82,7 +83,7 @@ class SpurPair:
 
     @property
     def working_alpha(self) -> float:
-        return float(np.arccos((self.driver.rb + self.driven.rb) / self.centre_distance))
+        return float(libm.arccos((self.driver.rb + self.driven.rb) / self.centre_distance))
 
     @property
     def base_pitch(self) -> float:
@@ -140,10 +141,10 @@ def tooth_compliance(g: ToothGeom, rho: ArrayLike, mat: Material) -> dict[str, N
     rho = np.asarray(rho, dtype=float)
     rx = np.sqrt(g.rb**2 + rho**2)
     psi_x = half_tooth_angle(g, rx)
-    alpha_x = np.arctan(rho / g.rb)
+    alpha_x = libm.arctan(rho / g.rb)
     gamma = alpha_x - psi_x  # load angle against the normal to the tooth centre line
     # load-line / centre-line intersection, measured from the root circle along the centre line
-    hx = rx * np.cos(psi_x) - rx * np.sin(psi_x) * np.tan(gamma) - g.rf
+    hx = rx * np.cos(psi_x) - rx * np.sin(psi_x) * libm.tan(gamma) - g.rf
     psi_b = half_tooth_angle(g, g.rb)
     psi_a = half_tooth_angle(g, g.ra)
     sf = 2 * g.rb * np.sin(psi_b)  # rectangle width
@@ -159,9 +160,9 @@ def tooth_compliance(g: ToothGeom, rho: ArrayLike, mat: Material) -> dict[str, N
     top = np.minimum(hx, hr)
     rect = 12.0 / (E * b * sf**3) * (hx**2 * top - hx * top**2 + top**3 / 3)
     t = np.where(in_trap, (hi - hx) / H, 1.0)
-    trap = np.where(in_trap, 6.0 * H**3 / (E * b * sf**3) * (t * (4 - t) - 2 * np.log(t) - 3), 0.0)
+    trap = np.where(in_trap, 6.0 * H**3 / (E * b * sf**3) * (t * (4 - t) - 2 * libm.log(t) - 3), 0.0)
     bending = c2 * (rect + trap)
-    shear = mat.kappa * 2 * (1 + nu) * c2 / (E * b * sf) * (top + np.where(in_trap, H * np.log(1 / t), 0.0))
+    shear = mat.kappa * 2 * (1 + nu) * c2 / (E * b * sf) * (top + np.where(in_trap, H * libm.log(1 / t), 0.0))
     root = 24.0 * hx**2 * c2 / (np.pi * E * b * sf**2)
     total = bending + shear + root
     return {"bending": bending, "shear": shear, "root": root, "total": total, "hx": hx, "gamma": gamma}
@@ -184,7 +185,7 @@ def pair_compliance(pair: SpurPair, u: ArrayLike, mat: Material) -> NDArray:
 
 def pitch_point_u(pair: SpurPair) -> float:
     """Position (m) of the pitch point on the path of contact."""
-    rho1_pitch = pair.driver.rb * np.tan(pair.working_alpha)
+    rho1_pitch = pair.driver.rb * libm.tan(pair.working_alpha)
     return float(rho1_pitch - pair.roll_distances(0.0)[0])
 
 

@@ -22,12 +22,15 @@ The printed forms can be switched back on with ``PlusDesign.planet_angles_in_sun
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
 import scipy.linalg
 from numpy.typing import NDArray
+
+from geardyn import libm
 
 from .design import PlusDesign
 
@@ -87,7 +90,7 @@ def geometry(design: PlusDesign) -> Geometry:
         raise ValueError(
             f"planets p (a={a_sp * 1e3:.1f} mm) and d (a={a_dr * 1e3:.1f} mm) cannot mesh: a_pd={a_pd * 1e3:.1f} mm"
         )
-    beta = design.outer_planet_side * float(np.arccos(cos_beta))
+    beta = design.outer_planet_side * float(libm.arccos(cos_beta))
     psi = np.asarray(design.planet_angles)
     p_c = a_sp * np.column_stack([np.cos(psi), np.sin(psi)])
     d_c = a_dr * np.column_stack([np.cos(psi + beta), np.sin(psi + beta)])
@@ -115,15 +118,15 @@ def _line_of_action(g1: _Gear, g2: _Gear, internal: bool, drive: int) -> tuple[N
     {p : m.p = const} and e the unit vector from c1 to c2.
     """
     e = g2.centre - g1.centre
-    a = float(np.hypot(*e))
+    a = float(math.hypot(*e))
     e = e / a
     if internal:
         cos_aw = (g2.base_radius - g1.base_radius) / a
-        alpha = np.arccos(cos_aw)
+        alpha = libm.arccos(cos_aw)
         m = _rot(e, -drive * alpha)
     else:
         cos_aw = (g1.base_radius + g2.base_radius) / a
-        alpha = np.arccos(cos_aw)
+        alpha = libm.arccos(cos_aw)
         m = _rot(e, np.pi - drive * alpha)
     n = _rot(m, np.pi / 2)
     point = g1.centre - g1.base_radius * m  # tangent point on gear 1's base circle
@@ -288,7 +291,7 @@ def _canonical_pairs(omega2: NDArray, shapes: NDArray, coords: tuple[str, ...], 
             a, b = shapes[:, i].copy(), shapes[:, i + 1].copy()
             if iy is not None and np.hypot(a[iy], b[iy]) > 0:
                 # first = cos*a + sin*b has y = 0 when tan(ang) = -a_y / b_y
-                ang = np.arctan2(-a[iy], b[iy])
+                ang = libm.arctan2(-a[iy], b[iy])
                 u = np.cos(ang) * a + np.sin(ang) * b
                 w = -np.sin(ang) * a + np.cos(ang) * b
                 shapes[:, i], shapes[:, i + 1] = u, w
@@ -334,8 +337,8 @@ def damped_frequencies(mat: Matrices, n_rigid: int, omega_min: float) -> tuple[N
     A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ mat.K, -Minv @ mat.C]])
     lam = np.linalg.eigvals(A)
     # rigid-body modes give a (numerically split) double eigenvalue at 0: drop |lambda| << omega_min
-    osc = lam[(lam.imag > 0) & (np.abs(lam) > 1e-3 * omega_min)]
-    osc = osc[np.argsort(np.abs(osc))]
+    osc = lam[(lam.imag > 0) & (libm.cabs(lam) > 1e-3 * omega_min)]
+    osc = osc[np.argsort(libm.cabs(osc))]
     n_el = n - n_rigid
     damped = np.full(n, np.nan)
     zeta = np.full(n, np.nan)
@@ -344,7 +347,7 @@ def damped_frequencies(mat: Matrices, n_rigid: int, omega_min: float) -> tuple[N
     # overdamped modes (none for Table 1) have no damped frequency: they keep NaN at the top of the list
     m = len(osc)
     damped[n_rigid : n_rigid + m] = osc.imag / (2 * np.pi)
-    zeta[n_rigid : n_rigid + m] = -osc.real / np.abs(osc)
+    zeta[n_rigid : n_rigid + m] = -osc.real / libm.cabs(osc)
     return damped, zeta
 
 

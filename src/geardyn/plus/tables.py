@@ -13,7 +13,7 @@ import pandas as pd
 import xarray as xr
 from scipy.optimize import minimize_scalar
 
-from geardyn import io
+from geardyn import io, libm
 from geardyn.papers.yue2014 import (
     PAPER_RELIEF,
     PAPER_SHARED,
@@ -117,11 +117,11 @@ def _matched_pairs(design: PlusDesign, reference: str, matching: str) -> tuple[n
 
 def _matched_log_residual(design: PlusDesign, reference: str, matching: str = "rank") -> np.ndarray:
     paper, ours = _matched_pairs(design, reference, matching)
-    return np.log(paper) - np.log(ours)
+    return libm.log(paper) - libm.log(ours)
 
 
 def _pct(log_value: float) -> float:
-    return float(100 * (np.exp(log_value) - 1))
+    return float(100 * (libm.exp(log_value) - 1))
 
 
 def stiffness_scaling(design: PlusDesign, reference: str = "theoretical", matching: str = "rank") -> dict[str, float]:
@@ -137,7 +137,7 @@ def stiffness_scaling(design: PlusDesign, reference: str = "theoretical", matchi
     out = {
         "reference": reference,
         "matching": matching,
-        "uniform_factor": float(np.exp(2 * shift)),
+        "uniform_factor": float(libm.exp(2 * shift)),
         "uniform_rms_pct": _pct(np.sqrt(np.mean(res_u**2))),
         "uniform_max_pct": _pct(np.max(np.abs(res_u))),
         "unscaled_rms_pct": _pct(np.sqrt(np.mean(r**2))),
@@ -148,16 +148,16 @@ def stiffness_scaling(design: PlusDesign, reference: str = "theoretical", matchi
         d2 = replace(
             design,
             stiffness=type(k)(
-                k.sun_planet * np.exp(log_s),
-                k.planet_planet * np.exp(log_s),
-                k.planet_ring * np.exp(log_s),
+                k.sun_planet * libm.exp(log_s),
+                k.planet_planet * libm.exp(log_s),
+                k.planet_ring * libm.exp(log_s),
                 k.sun_bearing,
             ),
         )
         return float(np.mean(_matched_log_residual(d2, reference, matching) ** 2))
 
     opt = minimize_scalar(mesh_only, bounds=(0.0, 8.0), method="bounded", options={"xatol": 1e-6})
-    out["mesh_only_factor"] = float(np.exp(opt.x))
+    out["mesh_only_factor"] = float(libm.exp(opt.x))
     out["mesh_only_rms_pct"] = _pct(np.sqrt(opt.fun))
     return out
 

@@ -42,14 +42,14 @@ def ns_pair(mu: np.ndarray) -> complex | None:
     c = mu[_is_complex(mu) & (mu.imag > 0)]
     if c.size == 0:
         return None
-    return complex(c[np.argmin(np.abs(np.abs(c) - 1.0))])
+    return complex(c[np.argmin(np.abs(libm.cabs(c) - 1.0))])
 
 
 def ns_product(mu: np.ndarray) -> float:
     """prod over the complex multipliers in the upper half plane of (|mu| - 1): changes sign when one
     pair crosses the unit circle, whatever the other pairs do (NaN without complex multipliers)."""
     c = mu[_is_complex(mu) & (mu.imag > 0)]
-    return float(np.prod(np.abs(c) - 1.0)) if c.size else float("nan")
+    return float(np.prod(libm.cabs(c) - 1.0)) if c.size else float("nan")
 
 
 def _near_m1(mu: np.ndarray) -> complex:
