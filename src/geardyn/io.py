@@ -165,14 +165,14 @@ def runtime_of(attrs: Mapping[str, Any]) -> dict[str, str]:
 def runtime_provenance() -> dict[str, str]:
     """Where an output was computed: Python and library versions, CPU and the instruction sets in use.
 
-        Keys: ``python_version``, ``<package>_version`` for :data:`PROVENANCE_PACKAGES`, ``platform``,
-        ``cpu_model``, ``cpu_simd_flags`` (SIMD flags of /proc/cpuinfo), ``numpy_cpu_baseline`` /
-        ``numpy_cpu_dispatch`` (numpy's compiled-in and run-time-dispatched instruction sets, after
-        ``NPY_DISABLE_CPU_FEATURES``), ``numpy_blas`` / ``numpy_lapack``, ``numpy_blas_core`` /
-        ``scipy_blas_core`` (the OpenBLAS kernels in use, :data:`geardyn.BLAS_CORETYPE`), ``numba_cpu_name`` /
-        ``numba_cpu_features`` (the target numba compiles for), ``libm_variant`` (the C library's math build in
-    use, :func:`geardyn.libm.variant`) and the numba environment overrides.
-        Computed once per process (the values cannot change while it runs).
+    Keys: ``python_version``, ``<package>_version`` for :data:`PROVENANCE_PACKAGES`, ``platform``,
+    ``cpu_model``, ``cpu_simd_flags`` (SIMD flags of /proc/cpuinfo), ``numpy_cpu_baseline`` /
+    ``numpy_cpu_dispatch`` (numpy's compiled-in and run-time-dispatched instruction sets, after
+    ``NPY_DISABLE_CPU_FEATURES``), ``numpy_blas`` / ``numpy_lapack``, ``numpy_blas_core`` /
+    ``scipy_blas_core`` (the OpenBLAS kernels in use, :data:`geardyn.BLAS_CORETYPE`), ``numba_cpu_name`` /
+    ``numba_cpu_features`` (the target numba compiles for), ``libm_variant`` (the C library's math build
+    in use, :func:`geardyn.libm.variant`) and the numba environment overrides.
+    Computed once per process (the values cannot change while it runs).
     """
     out = {"python_version": platform.python_version(), "python_implementation": sys.implementation.name}
     for pkg in PROVENANCE_PACKAGES:

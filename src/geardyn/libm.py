@@ -19,12 +19,11 @@ element), which is nothing on these paths (at most thousands of elements per cal
 Which build of the C library runs.  glibc picks one of several builds of ``sin``, ``cos``, ``exp``,
 ``log``, ``pow``, ``atan``, ``asin`` ... when a process starts (its ``ifunc`` dispatch): on a CPU with FMA
 and AVX2 (or AMD's FMA4) it runs code compiled with fused multiply-adds, elsewhere the plain SSE2 or AVX
-code.  The two round differently in
-the last bit for 0.01-0.09 % of arguments (measured for 18 functions, ``docs/reproducibility.md``), and
-every number of the model passes through them: the geometry (the functions above call :mod:`math`),
-the TE forcing in the compiled kernels (``math.sin`` in numba calls the C library), numpy's ``sin`` and
-``cos``.  So a CPU without FMA (older or low-power x86-64 CPUs, virtual machines that hide AVX) would
-compute other bits.
+code.  The two round differently in the last bit for 0.01-0.09 % of arguments (measured for 18
+functions, ``docs/reproducibility.md``), and every number of the model passes through them: the geometry
+(the functions above call :mod:`math`), the TE forcing in the compiled kernels (``math.sin`` in numba
+calls the C library), numpy's ``sin`` and ``cos``.  So a CPU without FMA (older or low-power x86-64
+CPUs, virtual machines that hide AVX) would compute other bits.
 
 The fused builds cannot run everywhere; the plain ones can.  glibc's tunable ``glibc.cpu.hwcaps`` hides
 FMA from its dispatch (:data:`HWCAPS`), so every process that starts with it set computes what a CPU
@@ -108,7 +107,7 @@ def cabs(z: Any) -> Any:
     baseline path in the last bit for a few per cent of values.)  For the moduli of multipliers and
     spectra, far from overflow; a float for a scalar argument."""
     zz = np.asarray(z)
-    re, im = zz.real.astype(np.float64), zz.imag.astype(np.float64)
+    re, im = np.asarray(zz.real, dtype=np.float64), np.asarray(zz.imag, dtype=np.float64)
     out = np.sqrt(re * re + im * im)
     return float(out) if np.ndim(z) == 0 else out
 

@@ -47,6 +47,7 @@ def _point_vars(
                 cycle_states(families[c], float(b.p[i]), b.states[i], b.n)[:, 1] if b.n > 1 else b.states[i, 1]
             )
         k += m
+    radius = np.max(libm.cabs(mu), axis=1)  # (rows,), also for no rows
     return {
         "branch": ("point", bid, {**one, "long_name": "index of the continued branch"}),
         "case_index": ("point", case, {**one, "long_name": "index of the sweep case (fixed overrides)"}),
@@ -65,12 +66,12 @@ def _point_vars(
         ),
         "spectral_radius": (
             "point",
-            np.max(libm.cabs(mu), axis=1) if rows else np.zeros(0),
+            radius,
             {**one, "long_name": "largest Floquet multiplier modulus (< 1: stable)"},
         ),
         "stable": (
             "point",
-            (np.max(libm.cabs(mu), axis=1) < 1.0).astype(np.int8) if rows else np.zeros(0, np.int8),
+            (radius < 1.0).astype(np.int8),
             {
                 "long_name": "orbit asymptotically stable",
                 "flag_values": np.array([0, 1], np.int8),
