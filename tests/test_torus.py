@@ -279,3 +279,87 @@ def test_khv_weak_chaos_stays_chaotic_for_the_extrapolation():
     assert 2.65 + 0.1 < chaos
     lam, sigma = classify.lyapunov_estimate(r.growth, r.period)
     assert 0.0 < lam < 1e-3 and sigma > lam
+
+
+# ------------------------------------------------------------------------------------------------
+# the three-gap order test: tori with corners, no smoothness needed
+# ------------------------------------------------------------------------------------------------
+
+
+def _square(m: int, rho: float = GOLDEN) -> np.ndarray:
+    """The golden rotation carried onto the boundary of the unit square by a piecewise-linear homeomorphism
+    (slope 5/3 on [0, 0.3), 5/7 after): an invariant closed curve with corners, conjugate to the rotation
+    only by a map with jumps in its derivative."""
+    t = (0.1 + rho * np.arange(m)) % 1.0
+    s = 4.0 * np.where(t < 0.3, t * 0.5 / 0.3, 0.5 + (t - 0.3) * 0.5 / 0.7)
+    x = np.select([s < 1, s < 2, s < 3], [s, np.ones_like(s), 3.0 - s], np.zeros_like(s))
+    y = np.select([s < 1, s < 2, s < 3], [np.zeros_like(s), s - 1.0, np.ones_like(s)], 4.0 - s)
+    return np.c_[x, y]
+
+
+def _three_loops(m: int, rho: float = GOLDEN) -> np.ndarray:
+    """A torus of three loops: the points visit three unit circles in turn, turning by rho each iterate."""
+    n = np.arange(m)
+    th = 2.0 * math.pi * (0.1 + rho * n)
+    return np.c_[np.cos(th) + 4.0 * (n % 3), np.sin(th)]
+
+
+@pytest.mark.parametrize("m", [800, 3200])
+def test_order_test_passes_rotations_on_closed_curves_smooth_or_not(m):
+    """The golden rotation: the nearest neighbours are two consecutive Fibonacci numbers of iterates away
+    (377, 610 on 800 points; 1597, 2584 on 3200).  On the square with corners the three gaps of the
+    three-distance theorem (233, 377, 610 / 987, 1597, 2584), where the weighted Birkhoff averages reach
+    only 4.2 / 5.0 digits (a smooth circle: 14).  Three loops: three times the gaps of the rotation by
+    3 rho on each loop.  The circle approached at r = 0.999 per iterate passes on 800 points."""
+    fib = {800: (377, 610), 3200: (1597, 2584)}[m]
+    circle = T.order_test(_circle(m))
+    assert circle.passed and circle.gaps == fib and circle.n == m
+    square = T.order_test(_square(m))
+    assert square.passed and square.gaps == (fib[1] - fib[0], *fib)
+    assert T.birkhoff_digits(_square(m)) < 5.1 < 13.0 < T.birkhoff_digits(_circle(m))
+    loops = T.order_test(_three_loops(m + 1))
+    assert loops.passed and all(g % 3 == 0 for g in loops.gaps)
+    assert T.order_test(_approached_circle(800)).passed
+
+
+@pytest.mark.parametrize("n", [200, 800, 3200])
+def test_order_test_fails_on_chaos(n):
+    """Henon (a = 1.4, b = 0.3) and logistic (r = 4), 50 series each: the nearest neighbours come from
+    unrelated times (dozens of distinct index differences); none passes, even with no fewest points
+    (measured: 0 of 200 series of each map at N = 200 - 3200)."""
+    for k in range(50):
+        for pts in (_henon(n, skip=1000 + 37 * k), _logistic(n, skip=1000 + 37 * k)):
+            res = T.order_test(pts, min_n=0)
+            assert not res.passed and len(res.gaps) > 3
+
+
+def test_order_test_fewest_points_and_bad_input():
+    """Below ``min_n`` points (default 800) a rotation does not pass, although its gaps are those of a
+    rotation; NaN rows and fewer than 3 points raise."""
+    short = T.order_test(_circle(200))
+    assert not short.passed and short.gaps == (89, 144)
+    assert T.order_test(_circle(200), min_n=0).passed
+    with pytest.raises(ValueError, match="NaN or inf"):
+        T.order_test(np.r_[_circle(10), [[np.nan, 0.0]]])
+    with pytest.raises(ValueError, match="at least 3 points"):
+        T.order_test(_circle(2))
+
+
+def test_khv_order_test_decides_a_slowly_approached_torus_and_not_chaos():
+    """li2013_calibrated, b = 2, e = 5, x1 = 0.56, 800 periods after a transient of 500 from the static
+    deflection: the run is still approaching its torus, the plain Birkhoff digits are 0.62 (a chaotic score),
+    but the points already visit the torus in the order of a rotation (nearest neighbours 86 and 111 periods
+    away; its rotation number 0.3603 has the convergents 31/86 and 40/111).  li2013_route at x1 = 0.80
+    (chaos, exponent +0.038): 283 distinct index differences on 800 points."""
+    st = SimulationSettings(steps_per_period=128, transient_periods=500, recorded_periods=800)
+
+    def record(name: str, x1: float) -> np.ndarray:
+        d = design.load(ROOT / "config" / "designs" / f"{name}.yaml")
+        return simulate(point.point_coefficients(d, {"x1": x1, "b": 2.0, "e": 5.0}), st).poincare
+
+    torus = record("li2013_calibrated", 0.56)
+    res = T.order_test(torus)
+    assert res.passed and res.gaps == (86, 111)
+    assert T.birkhoff_digits(torus) < 1.0
+    res = T.order_test(record("li2013_route", 0.80))
+    assert not res.passed and len(res.gaps) > 100

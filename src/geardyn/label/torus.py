@@ -38,6 +38,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from geardyn import libm
 
@@ -50,6 +51,9 @@ TORUS_DIGITS = 6.0
 CHAOS_DIGITS = 1.5
 #: default smallest half-length N of :func:`torus_test`: with fewer points the verdict is "inconclusive"
 MIN_N = 2000
+#: default fewest points of :func:`order_test` (measured, ``docs/classify.md``: from 800 points on no chaotic
+#: series of the Henon and logistic maps nor of the model passes)
+ORDER_MIN_N = 800
 
 Observable = Callable[[np.ndarray], np.ndarray]
 
@@ -282,3 +286,50 @@ def rotation_number(
     mean_dir = math.atan2(float(np.sin(ang).mean()), float(np.cos(ang).mean())) / (2.0 * math.pi)
     inc = mean_dir + (inc - mean_dir + 0.5) % 1.0 - 0.5
     return float(weighted_birkhoff(inc)) % 1.0
+
+
+@dataclass(frozen=True)
+class OrderTest:
+    """Verdict of :func:`order_test`: ``passed`` when the points are visited in the order of a circle
+    rotation; ``gaps`` the distinct index differences between each point and its nearest neighbour
+    (ascending); ``n`` the number of points."""
+
+    passed: bool
+    gaps: tuple[int, ...]
+    n: int
+
+
+def order_test(points: np.ndarray, min_n: int = ORDER_MIN_N) -> OrderTest:
+    """Torus or not from the order in which a series of Poincaré points visits its set: the three-gap test.
+
+    The N points n rho mod 1 of a rotation of the circle (rho irrational) split it into gaps, and the index
+    differences between neighbours on the circle take at most three values, the largest the sum of the
+    other two (the three-distance theorem: Sós 1958, Świerczkowski 1959).  A circle homeomorphism with
+    an irrational rotation number keeps the cyclic order of its orbit as the rotation does (Poincaré), so
+    the same holds for the orbit of any map on an invariant closed curve, smooth or not: the corners
+    where the gears lose contact change nothing, while they slow the weighted Birkhoff averages
+    (:func:`birkhoff_digits`) from super-polynomial to a low power of N.  On a torus of k loops (about a
+    period-k orbit) every difference is k times those of one loop.
+
+    The test: each point's nearest neighbour (Euclidean, in coordinates standardised by their standard
+    deviations) is one of its two neighbours along the curve once the points are dense on it, so the index
+    differences to the nearest neighbours take at most three values a < b < c with c = a + b (or two, or
+    one).  It passes when they do and there are at least ``min_n`` points.  On a chaotic set the nearest
+    neighbour comes from unrelated times and the differences take many values: no series of the Henon or
+    logistic map nor a chaotic point of the model passes from 800 points on (``docs/classify.md``).  A
+    periodic orbit or a torus locked to a long cycle may pass too: label periodic points first.  A curve
+    that comes closer to itself than the spacing of the points fails (the test never passes a set that is
+    not a curve; it may miss a curve).  Raises ValueError as :func:`birkhoff_digits` (NaN, inf, shape) or
+    on fewer than 3 points.
+    """
+    p = _as_points(points)
+    m = p.shape[0]
+    if m < 3:
+        raise ValueError(f"order_test needs at least 3 points, got {m}")
+    s = p.std(axis=0)
+    z = (p - p.mean(axis=0)) / np.where(s > 0.0, s, 1.0)
+    _, nearest = cKDTree(z).query(z, k=2)
+    gaps = np.unique(np.abs(nearest[:, 1] - np.arange(m)))
+    a = gaps.tolist()
+    rotation = len(a) <= 2 or (len(a) == 3 and a[2] == a[0] + a[1])
+    return OrderTest(passed=bool(rotation and m >= min_n), gaps=tuple(a), n=m)
