@@ -167,8 +167,9 @@ NEW_CLASSIFIER_KEYS = {
     "torus_margin": 2.5,
     "chaos_margin": 1.5,
     "torus_min_n": 50,
-    "torus_extend": 3,
+    "torus_extend": 1,
     "torus_max_periods": 4000,
+    "order_min_n": 800,
     "long_max_n": 240,
 }
 

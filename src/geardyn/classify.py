@@ -206,7 +206,10 @@ class ClassifierSettings:
     vector is carried (the last ones of the run).  separation: the points of a period-n cycle must
     differ by more than separation * tol (return distances for m < n).  settle_max_n,
     settle_max_periods: the slow-transient check applied after these rules by
-    the labeller (:mod:`geardyn.label.settle`; 0: off).
+    the labeller (:mod:`geardyn.label.settle`; 0: off).  torus_margin, chaos_margin, torus_min_n: the
+    weighted Birkhoff test; order_min_n: the fewest points for the three-gap order test (0: off); both in
+    :mod:`geardyn.label.torus`.  torus_extend, torus_max_periods: how far an undecided record grows.
+    long_max_n: the longest cycle looked for on a quasi-periodic or undecided record.
     """
 
     max_n: int = 12
@@ -224,8 +227,9 @@ class ClassifierSettings:
     torus_margin: float = 2.5
     chaos_margin: float = 1.5
     torus_min_n: int = 50
-    torus_extend: int = 3
+    torus_extend: int = 1
     torus_max_periods: int = 4000
+    order_min_n: int = 800
     long_max_n: int = 240
 
     @classmethod

@@ -26,7 +26,7 @@ from geardyn.label._stages import (
     tables_of,
 )
 from geardyn.label.policy import Policy
-from geardyn.label.torus import TorusTest, birkhoff_digits, extrapolated_digits, moments, torus_verdict
+from geardyn.label.torus import TorusTest, birkhoff_digits, extrapolated_digits, moments, order_test, torus_verdict
 from geardyn.label.verdict import Verdict
 from geardyn.parallel import threaded_map
 from geardyn.solve.base import SimulationResult
@@ -159,18 +159,19 @@ def _joined(a: SimulationResult, b: SimulationResult) -> SimulationResult:
 def finish(points: list[Point], policy: Policy) -> None:
     """The last step for points whose record is done: periods up to ``long_max_n`` are looked for where
     the point is still undetermined, and on every quasi-periodic record (a long cycle scores like a torus
-    in the Birkhoff averages: the record's newest half, where a slowly attracting cycle has come closer,
-    then all of it, for longer cycles) (:func:`_long_periods`)."""
+    in both torus measures): the record's newest half, where a slowly attracting cycle has come closer,
+    then all of it, for longer cycles (:func:`_long_periods`); then where the nearest neighbours of the
+    record all return after multiples of one long period (:func:`_locked`)."""
     _long_periods([p for p in points if p.verdict.stage == "undecided"], policy)
     for newest_half in (True, False):
         _long_periods([p for p in points if p.verdict.label == QP], policy, newest_half=newest_half)
+    _locked([p for p in points if p.verdict.label == QP], policy)
 
 
 def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True) -> None:
     """Points whose record returns after n periods, max_n < n <= long_max_n (rule 3 with the larger bound, on
     the newest half of the record, or on all of it with ``newest_half=False``; at least three cycles): a torus
-    locked to a long cycle.  Shooting for period n certifies the orbit; the label is then ``long_period``
-    with the least period in ``period``.  Where shooting finds no stable orbit the verdict stays."""
+    locked to a long cycle, certified by shooting (:func:`_try_periods`)."""
     cs = policy.classifier
     if not points or cs.long_max_n <= cs.max_n:
         return
@@ -184,15 +185,53 @@ def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True)
     ns = [
         n if n > cs.max_n and 3 * n <= r.poincare.shape[0] else 0 for n, r in zip(rule3(half, big), half, strict=True)
     ]
+    _try_periods(points, ns, policy, "the longer record returns after a long period")
+
+
+def _locked(points: list[Point], policy: Policy) -> None:
+    """Quasi-periodic records whose every point has its nearest neighbour n, 2n or 3n periods away
+    (:func:`geardyn.label.torus.order_test`), max_n < n <= long_max_n, and that approach a cycle of period n
+    (:func:`_approaches`): the points gather about the n points of a cycle that the run approaches too
+    slowly for rule 3 (a torus locked to it), certified by shooting for period n (:func:`_try_periods`)."""
+    cs = policy.classifier
+    if not points or cs.long_max_n <= cs.max_n:
+        return
+    ns = []
+    for p in points:
+        gaps = order_test(p.run.poincare, 0).gaps
+        n = gaps[0]
+        multiples = cs.max_n < n <= cs.long_max_n and len(gaps) <= 3 and all(g % n == 0 for g in gaps)
+        ns.append(n if multiples and _approaches(p.run.poincare, n) else 0)
+    _try_periods(points, ns, policy, "the record gathers about the points of a long cycle")
+
+
+#: :func:`_locked`: the largest return distance after n periods, relative to the attractor's size, of a run
+#: that gathers about a period-n cycle (measured on map_x1_e: the certified cycles 5e-4 median, 6e-3 at most)
+LOCKED_RETURN = 1e-2
+
+
+def _approaches(p: np.ndarray, n: int) -> bool:
+    """Whether the record ``p`` comes back closer and closer after ``n`` periods (the median return distance
+    over its newest quarter below half that over its oldest and below ``LOCKED_RETURN`` of its size)."""
+    if p.shape[0] < 4 * (n + 1):
+        return False
+    d = np.max(np.abs(p[n:] - p[:-n]), axis=1)
+    k = d.shape[0] // 4
+    newest = float(np.median(d[-k:]))
+    return newest < 0.5 * float(np.median(d[:k])) and newest < LOCKED_RETURN * float(np.max(p.std(axis=0)))
+
+
+def _try_periods(points: list[Point], ns: list[int], policy: Policy, reason: str) -> None:
+    """Shooting for period n at each point with n > 0 (:func:`_certify_periods`): where it certifies a stable
+    orbit the label is ``long_period`` with the least period in ``period``; elsewhere the verdict stays."""
     todo = [(p, n) for p, n in zip(points, ns, strict=True) if n > 0]
     if not todo:
         return
-    undecided = {id(p): p.verdict for p, _ in todo}
+    kept = {id(p): p.verdict for p, _ in todo}
     for p, _ in todo:
         p.verdict = None
-    left = _certify_periods(todo, policy, "the longer record returns after a long period")
-    for p in left:
-        p.verdict = undecided[id(p)]
+    for p in _certify_periods(todo, policy, reason):
+        p.verdict = kept[id(p)]
 
 
 def _certify_periods(pairs: list[tuple[Point, int]], policy: Policy, reason: str) -> list[Point]:
@@ -208,12 +247,17 @@ def standardised(points: np.ndarray) -> np.ndarray:
     return moments(points)[:, : points.shape[1]]
 
 
-def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> TorusTest:
-    """The torus test on the record (2N Poincare points): a torus when the better of the plain weighted
-    Birkhoff digits and those with the slow transient extrapolated away
-    (:func:`geardyn.label.torus.extrapolated_digits`) reaches log10 sqrt(N) + torus_margin; chaos when the
-    plain digits stay below log10 sqrt(N) + chaos_margin and the extrapolated ones find no torus.  The
-    digits reported are the better of the two."""
+def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> tuple[TorusTest, str]:
+    """The torus test on the record (2N Poincare points) and how it found a torus ("" when it did not).
+
+    A torus when the better of the plain weighted Birkhoff digits and those with the slow transient
+    extrapolated away (:func:`geardyn.label.torus.extrapolated_digits`) reaches log10 sqrt(N) +
+    torus_margin, or when the record's newest half (at least ``order_min_n`` points) visits its set in the
+    three-gap order of a circle rotation (:func:`geardyn.label.torus.order_test`: no smoothness needed, so
+    it decides the tori with corners where the gears lose contact, on which the averages converge slowly);
+    chaos when
+    the plain digits stay below log10 sqrt(N) + chaos_margin and neither measure finds a torus.  The digits
+    reported are the better of the two."""
     n = max(1, points.shape[0] // 2)
     p = points[-2 * n :]
     values = standardised(p)  # the observable once: both measures read all 2N points
@@ -226,9 +270,17 @@ def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> TorusTest:
     thresholds = (0.5 * math.log10(n) + cs.torus_margin, cs.chaos_margin, cs.torus_min_n)
     best = torus_verdict(digits, n, *thresholds)
     if best.verdict == "torus":
-        return best
+        return best, f"Birkhoff averages converge (digits {digits:.1f})"
+    if cs.order_min_n > 0 and p.shape[0] >= cs.order_min_n:
+        order = order_test(p[-max(cs.order_min_n, n) :], cs.order_min_n)  # the newest half, if long enough
+        if order.passed:
+            gaps = ", ".join(map(str, order.gaps))
+            return dataclasses.replace(best, verdict="torus"), (
+                f"the points follow a circle rotation (nearest-neighbour index differences {gaps} on {order.n} "
+                f"points; Birkhoff digits {digits:.1f})"
+            )
     # chaos is the plain test's verdict, as before: the extrapolation only adds a way to find a torus
-    return dataclasses.replace(torus_verdict(plain, n, *thresholds), digits=digits)
+    return dataclasses.replace(torus_verdict(plain, n, *thresholds), digits=digits), ""
 
 
 def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
@@ -237,7 +289,7 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
     undetermined, with the reason.  The 0-1 test and the spectral flatness cross-check a chaos label."""
     r, cs = p.run, policy.classifier
     lam, sig = classify.lyapunov_estimate(r.growth, r.period)
-    tt = _torus(r.poincare, cs)
+    tt, how = _torus(r.poincare, cs)
     digits = tt.digits
     positive = bool(np.isfinite(lam) and lam > cs.lam_tol + 2 * sig)
     negative = bool(np.isfinite(lam) and lam < -(cs.lam_tol + 2 * sig))
@@ -253,7 +305,7 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
             (f"positive exponent {lam:.2g} +- {sig:.1g}; the Birkhoff averages do not converge (digits {digits:.1f})"),
         )
     elif tt.verdict == "torus" and not positive and not negative:
-        label, stage, why = QP, "torus", f"Birkhoff averages converge (digits {digits:.1f}); exponent {lam:.2g}"
+        label, stage, why = QP, "torus", f"{how}; exponent {lam:.2g}"
     elif negative:
         label, stage, why = (
             UNDET,
@@ -267,7 +319,7 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
         label, stage, why = (
             UNDET,
             "undecided",
-            (f"positive exponent {lam:.2g} but the Birkhoff averages converge (digits {digits:.1f})"),
+            (f"positive exponent {lam:.2g} but {how}"),
         )
     elif positive:
         label, stage, why = UNDET, "undecided", f"positive exponent {lam:.2g}, torus test inconclusive ({digits:.1f})"
