@@ -202,7 +202,7 @@ def _locked(points: list[Point], policy: Policy) -> None:
         n = gaps[0]
         multiples = cs.max_n < n <= cs.long_max_n and len(gaps) <= 3 and all(g % n == 0 for g in gaps)
         ns.append(n if multiples and _approaches(p.run.poincare, n) else 0)
-    _try_periods(points, ns, policy, "the record gathers about the points of a long cycle")
+    _try_periods(points, ns, policy, "the record gathers about the points of a long cycle", record_on_orbit=False)
 
 
 #: :func:`_locked`: the largest return distance after n periods, relative to the attractor's size, of a run
@@ -221,23 +221,26 @@ def _approaches(p: np.ndarray, n: int) -> bool:
     return newest < 0.5 * float(np.median(d[:k])) and newest < LOCKED_RETURN * float(np.max(p.std(axis=0)))
 
 
-def _try_periods(points: list[Point], ns: list[int], policy: Policy, reason: str) -> None:
+def _try_periods(points: list[Point], ns: list[int], policy: Policy, reason: str, record_on_orbit: bool = True) -> None:
     """Shooting for period n at each point with n > 0 (:func:`_certify_periods`): where it certifies a stable
-    orbit the label is ``long_period`` with the least period in ``period``; elsewhere the verdict stays."""
+    orbit the label is ``long_period`` with the least period in ``period``; elsewhere the verdict stays.
+    ``record_on_orbit``: the record returns within tolerance, and its points are drawn (else the orbit's)."""
     todo = [(p, n) for p, n in zip(points, ns, strict=True) if n > 0]
     if not todo:
         return
     kept = {id(p): p.verdict for p, _ in todo}
     for p, _ in todo:
         p.verdict = None
-    for p in _certify_periods(todo, policy, reason):
+    for p in _certify_periods(todo, policy, reason, record_on_orbit):
         p.verdict = kept[id(p)]
 
 
-def _certify_periods(pairs: list[tuple[Point, int]], policy: Policy, reason: str) -> list[Point]:
-    """(point, period) pairs whose record returns: :func:`certify` by shooting (stage ``period_test``); returns
-    the points left without a stable orbit."""
-    return certify([p for p, _ in pairs], [n for _, n in pairs], policy, "period_test", reason)
+def _certify_periods(
+    pairs: list[tuple[Point, int]], policy: Policy, reason: str, record_on_orbit: bool = True
+) -> list[Point]:
+    """(point, period) pairs whose record returns (``record_on_orbit``; else it gathers about the cycle):
+    :func:`certify` by shooting (stage ``period_test``); returns the points left without a stable orbit."""
+    return certify([p for p, _ in pairs], [n for _, n in pairs], policy, "period_test", reason, record_on_orbit)
 
 
 def standardised(points: np.ndarray) -> np.ndarray:

@@ -233,9 +233,12 @@ def rule3(results: list[SimulationResult], cs: classify.ClassifierSettings) -> l
     return [int(v) for v in out[:, 0]]
 
 
-def certify(points: list[Point], ns: list[int], policy: Policy, stage: str, why: str) -> list[Point]:
+def certify(
+    points: list[Point], ns: list[int], policy: Policy, stage: str, why: str, record_on_orbit: bool = True
+) -> list[Point]:
     """Newton shooting for period n (n > 0) from each point's final state: a stable orbit decides the point
-    (period-m with its Floquet exponent; its record is kept as the points drawn); returns the undecided."""
+    (period-m with its Floquet exponent); returns the undecided.  The points drawn are the run's record when
+    it returns within tolerance (``record_on_orbit``: rule 3 found the period on it), else the orbit's."""
     todo = [(p, n) for p, n in zip(points, ns, strict=True) if n > 0]
     if not todo:
         return points
@@ -255,7 +258,7 @@ def certify(points: list[Point], ns: list[int], policy: Policy, stage: str, why:
                 f"looks period-{s.n} on its record, but shooting finds no stable orbit "
                 f"({s.status}, |mu|max = {s.spectral_radius:.5f})"
             )
-        elif p.run.poincare.shape[0]:  # the record is on the orbit within tolerance: draw what was integrated
+        elif record_on_orbit and p.run.poincare.shape[0]:  # the record is on the orbit: draw what was integrated
             verdicts[k] = dataclasses.replace(
                 v, poincare=p.run.poincare[-record_length(policy) :], n_events=int(p.run.n_events)
             )
