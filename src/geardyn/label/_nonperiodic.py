@@ -189,34 +189,35 @@ def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True)
 
 
 def _locked(points: list[Point], policy: Policy) -> None:
-    """Quasi-periodic records whose every point has its nearest neighbour n, 2n or 3n periods away
-    (:func:`geardyn.label.torus.order_test`), max_n < n <= long_max_n, and that approach a cycle of period n
-    (:func:`_approaches`): the points gather about the n points of a cycle that the run approaches too
-    slowly for rule 3 (a torus locked to it), certified by shooting for period n (:func:`_try_periods`)."""
+    """Quasi-periodic records that approach a cycle too slowly for rule 3 (a torus locked to the cycle),
+    certified by shooting for its period (:func:`_try_periods`).  The candidate period n is the least index
+    difference between a point of the record and its nearest neighbour
+    (:func:`geardyn.label.torus.order_test`: on a locked torus the points gather about the n points of the
+    cycle), max_n < n <= long_max_n; it is tried where the record approaches a cycle of period n
+    (:func:`_approaches`).  The verdict draws the cycle's points, not the record's."""
     cs = policy.classifier
     if not points or cs.long_max_n <= cs.max_n:
         return
     ns = []
     for p in points:
-        gaps = order_test(p.run.poincare, 0).gaps
-        n = gaps[0]
-        multiples = cs.max_n < n <= cs.long_max_n and len(gaps) <= 3 and all(g % n == 0 for g in gaps)
-        ns.append(n if multiples and _approaches(p.run.poincare, n) else 0)
+        n = order_test(p.run.poincare, 0).gaps[0]
+        ns.append(n if cs.max_n < n <= cs.long_max_n and _approaches(p.run.poincare, n) else 0)
     _try_periods(points, ns, policy, "the record gathers about the points of a long cycle", record_on_orbit=False)
 
 
-#: :func:`_locked`: the largest return distance after n periods, relative to the attractor's size, of a run
-#: that gathers about a period-n cycle (measured on map_x1_e: the certified cycles 5e-4 median, 6e-3 at most)
+#: :func:`_approaches`: the largest return distance after n periods, relative to the attractor's size, of a
+#: run that gathers about a period-n cycle (measured on map_x1_e: the certified cycles 5e-4 median, 6e-3 at most)
 LOCKED_RETURN = 1e-2
 
 
 def _approaches(p: np.ndarray, n: int) -> bool:
-    """Whether the record ``p`` comes back closer and closer after ``n`` periods (the median return distance
-    over its newest quarter below half that over its oldest and below ``LOCKED_RETURN`` of its size)."""
-    if p.shape[0] < 4 * (n + 1):
+    """Whether the record ``p`` (three cycles at least) comes back closer and closer after ``n`` periods: the
+    median return distance over its newest third below ``LOCKED_RETURN`` of its size and below half that
+    over its oldest third (a torus near a resonance but not locked returns as close all along)."""
+    if p.shape[0] < 3 * n:
         return False
     d = np.max(np.abs(p[n:] - p[:-n]), axis=1)
-    k = d.shape[0] // 4
+    k = max(1, d.shape[0] // 3)
     newest = float(np.median(d[-k:]))
     return newest < 0.5 * float(np.median(d[:k])) and newest < LOCKED_RETURN * float(np.max(p.std(axis=0)))
 
