@@ -23,8 +23,8 @@ def long_run_check(
     mesh periods (plain RK4, no labeller) from the state its follow start used (the previous point's
     final state on its row, the static deflection for a row's first point).  A periodic verdict must be
     met by the long run's end: the same least period (rule 3 on its last periods, at least three cycles;
-    up to ``long_max_n`` for a long cycle) and the same orbit within 1e-6; other verdicts are reported
-    with the long run's rule-3 period and its exponent."""
+    up to ``long_max_n`` for a long cycle) and the same orbit within 1e-6.  A non-periodic verdict must
+    not end on a cycle (rule 3 up to ``long_max_n`` on three of its longest periods)."""
 
     dname, design, spec, policy = map_study(config_path, map_name)
     rng = np.random.default_rng(seed)
@@ -46,17 +46,19 @@ def long_run_check(
         recorded_periods=64,
         early_stop=False,
     )
-    # a long cycle needs three of its periods on the record, and rule 3 up to the longest cycle looked for
-    runs = simulate_batch(systems, s, starts, recorded_periods=[max(64, 3 * v.period) for v in want])
+    # rule 3 up to the longest cycle the labeller looks for, on three of its periods (a periodic verdict: its
+    # own period), so that a non-periodic verdict whose run ends on a long cycle is seen too
     cs = policy.classifier
     long_cs = dataclasses.replace(cs, max_n=cs.long_max_n)
+    records = [max(64, 3 * (v.period if v.period > 0 else cs.long_max_n)) for v in want]
+    runs = simulate_batch(systems, s, starts, recorded_periods=records)
     rows_md = [
         "| x | y | verdict | stage | long run: rule-3 period | orbit distance | agrees |",
         "|---:|---:|---|---|---:|---:|---|",
     ]
     counts = {"periodic": [0, 0], "other": [0, 0]}
     for (j, i), v, r in zip(picks, want, runs, strict=True):
-        n = 0 if r.diverged else classify.strict_period(r.poincare, long_cs if v.period > cs.max_n else cs)
+        n = 0 if r.diverged else classify.strict_period(r.poincare, cs if 0 < v.period <= cs.max_n else long_cs)
         if v.period > 0:
             dist = hausdorff(r.poincare[-v.period :], v.poincare[: v.period]) if not r.diverged else float("inf")
             ok = n == v.period and dist < 1e-6
