@@ -234,7 +234,7 @@ def _returns(p: np.ndarray, n: int) -> tuple[float, float]:
 
 def _try_periods(points: list[Point], ns: list[int], policy: Policy, reason: str, record_on_orbit: bool = True) -> None:
     """Shooting for period n at each point with n > 0 (:func:`_certify_periods`): where it certifies a stable
-    orbit the label is ``long_period`` with the least period in ``period``; elsewhere the verdict stays.
+    orbit of least period n the label is ``long_period`` with n in ``period``; elsewhere the verdict stays.
     ``record_on_orbit``: the record returns within tolerance, and its points are drawn (else the orbit's)."""
     todo = [(p, n) for p, n in zip(points, ns, strict=True) if n > 0]
     if not todo:
@@ -242,8 +242,11 @@ def _try_periods(points: list[Point], ns: list[int], policy: Policy, reason: str
     kept = {id(p): p.verdict for p, _ in todo}
     for p, _ in todo:
         p.verdict = None
-    for p in _certify_periods(todo, policy, reason, record_on_orbit):
-        p.verdict = kept[id(p)]
+    _certify_periods(todo, policy, reason, record_on_orbit)
+    for p, n in todo:
+        # shooting must find the cycle the record shows (from far off, Newton can reach another attractor)
+        if p.verdict is None or p.verdict.period != n:
+            p.verdict = kept[id(p)]
 
 
 def _certify_periods(
