@@ -160,8 +160,8 @@ def finish(points: list[Point], policy: Policy) -> None:
     """The last step for points whose record is done: periods up to ``long_max_n`` are looked for where
     the point is still undetermined, and on every quasi-periodic record (a long cycle scores like a torus
     in both torus measures): the record's newest half, where a slowly attracting cycle has come closer,
-    then all of it, for longer cycles (:func:`_long_periods`); then where the nearest neighbours of the
-    record all return after multiples of one long period (:func:`_locked`)."""
+    then all of it, for longer cycles (:func:`_long_periods`); then where the record gathers about a cycle
+    too slowly for rule 3 (:func:`_locked`)."""
     _long_periods([p for p in points if p.verdict.stage == "undecided"], policy)
     for newest_half in (True, False):
         _long_periods([p for p in points if p.verdict.label == QP], policy, newest_half=newest_half)
@@ -272,9 +272,8 @@ def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> tuple[TorusTe
     torus_margin, or when the record's newest half (at least ``order_min_n`` points) visits its set in the
     three-gap order of a circle rotation (:func:`geardyn.label.torus.order_test`: no smoothness needed, so
     it decides the tori with corners where the gears lose contact, on which the averages converge slowly);
-    chaos when
-    the plain digits stay below log10 sqrt(N) + chaos_margin and neither measure finds a torus.  The digits
-    reported are the better of the two."""
+    chaos when the plain digits stay below log10 sqrt(N) + chaos_margin and neither measure finds a torus.
+    The digits reported are the better of the two."""
     n = max(1, points.shape[0] // 2)
     p = points[-2 * n :]
     values = standardised(p)  # the observable once: both measures read all 2N points
