@@ -326,6 +326,21 @@ def test_inverse_involute_solves(v: float) -> None:
     assert float(geo.involute(a)) == pytest.approx(v, rel=1e-12, abs=1e-15)
 
 
+def test_inverse_involute_of_an_array_is_each_value_alone_bit_for_bit() -> None:
+    # Each value of an array stops on its own step, so the array path (numpy) and the one-value path (Python
+    # floats, used by the root solvers) give the same bits; a NaN among the values leaves the rest alone.
+    rng = np.random.default_rng(7)
+    v = np.concatenate([rng.uniform(-0.3, 0.3, 3000), 10 ** rng.uniform(-12, 1, 1000)])
+    v = np.concatenate([v, [0.0, -0.0, 5e-324, np.inf, -np.inf, np.nan, 0.01, -0.01]])
+    rng.shuffle(v)
+    arr = geo.inverse_involute(v.reshape(-1, 8))
+    one = np.array([geo.inverse_involute(x) for x in v]).reshape(-1, 8)
+    assert arr.shape == (v.size // 8, 8)
+    assert np.array_equal(arr.view(np.int64), one.view(np.int64))
+    assert np.isnan(geo.inverse_involute(np.array([np.nan, 0.01]))[0])
+    assert float(geo.involute(geo.inverse_involute(np.array([np.nan, 0.01]))[1])) == pytest.approx(0.01, rel=1e-14)
+
+
 @settings(max_examples=25, deadline=None)
 @given(st.floats(0.416, 0.835), st.floats(0.416, 0.835))
 def test_eps_decreases_along_line4(xa: float, xb: float) -> None:

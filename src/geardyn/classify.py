@@ -17,12 +17,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.fft
 
 from geardyn import libm
-from geardyn._indicators import falling  # compiled; releases the GIL
 from geardyn.config import settings_from
-from geardyn.solve.simulate import strict_period as rule3
 
 #: Label codes stored in cubes (``flag_values``/``flag_meanings``); n >= 1 is period-n.
 #: ``not_periodic`` is what the Poincaré test alone says (QP or chaos, unresolved).
@@ -39,6 +36,8 @@ def falling_return_distances(poincare: np.ndarray, max_n: int, factor: float = 0
     d_n(k) = max_i |p_k+n,i - p_k,i| of the Poincare points (rows with NaN left out) falls over the
     record: mean of its last quarter < ``factor`` x mean of its first quarter (a quarter: max(2, len // 4)
     values).  True when there are fewer than n + 8 points (too short to tell).  Compiled."""
+
+    from geardyn._indicators import falling  # noqa: PLC0415 - numba: only the jobs that label import it
 
     p = np.asarray(poincare, dtype=float)
     return falling(np.ascontiguousarray(p[np.all(np.isfinite(p), axis=1)]), max_n, factor)
@@ -161,6 +160,8 @@ def _msd_correlations(x: np.ndarray, cs: np.ndarray, ncut: int) -> np.ndarray:
     P = np.cumsum(x[None, :] * np.exp(1j * np.outer(cs, np.arange(1, n_pts + 1))), axis=1)
     a2 = np.concatenate([np.zeros((cs.size, 1)), np.cumsum(P.real**2 + P.imag**2, axis=1)], axis=1)
     ns = np.arange(1, ncut + 1)
+    import scipy.fft  # noqa: PLC0415 - 0.1 s to import: only the jobs that label need it
+
     nfft = scipy.fft.next_fast_len(n_pts + ncut + 1)
     F = scipy.fft.fft(P, nfft, axis=1)
     auto = scipy.fft.ifft(F.real**2 + F.imag**2, axis=1)[:, 1 : ncut + 1].real
@@ -248,6 +249,8 @@ def strict_period(p: np.ndarray, settings: ClassifierSettings = ClassifierSettin
     periods within the tolerance and the n cycle points distinct (> separation * tol); 0 if none.
     ``p``: (n_points, n_states) without NaN rows.  Compiled (:func:`geardyn.solve.simulate.strict_period`:
     the one statement of the rule, also used by the batch classifier and the early stop)."""
+
+    from geardyn.solve.simulate import strict_period as rule3  # noqa: PLC0415 - numba: only labelling jobs
 
     q = np.ascontiguousarray(p, dtype=float)
     if q.shape[0] == 0:

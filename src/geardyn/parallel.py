@@ -7,13 +7,13 @@ from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
-import numba
-
 
 def threaded_map(fn: Callable[[Any], Any], items: Sequence[Any], min_items: int = 2, chunksize: int = 1) -> list:
     """``[fn(x) for x in items]``, in a thread pool as wide as the numba thread count when there are at
     least ``min_items`` items.  The items must be independent, so the results do not depend on the
     threads."""
+    import numba  # noqa: PLC0415 - loaded by every job that computes; not by those that read results
+
     workers = numba.get_num_threads()
     if workers <= 1 or len(items) < min_items:
         return [fn(x) for x in items]

@@ -2,7 +2,7 @@
 
 from geardyn import io, logs
 from geardyn.khv import design
-from geardyn.runs import cube, maps
+from geardyn.runs import cube
 
 log = logs.to_file(snakemake.log[0])
 drive = design.load(snakemake.input.design)
@@ -15,4 +15,4 @@ attrs = io.provenance(
     model_variant=drive.stiffness.label,
 )
 io.write_netcdf(merged, snakemake.output[0], {**merged.attrs, **attrs})
-log.info("merged %d chunks; label shares %s", len(parts), maps.fractions(merged))
+log.info("merged %d chunks; label shares %s", len(parts), cube.fractions(merged))

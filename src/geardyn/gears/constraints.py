@@ -10,7 +10,6 @@ from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.optimize import brentq
 
 from geardyn.gears.geometry import (
     FloatArray,
@@ -197,6 +196,8 @@ def x2_on_overlap_boundary(x1: float, base: GearPair, *, xtol: float = 1e-12) ->
         raise ValueError(
             f"G_s = {g_hi:.4g} > 0 already at x2 = {hi:.4g}, the first x2 at which it is defined for x1 = {x1}"
         )
+    from scipy.optimize import brentq  # noqa: PLC0415 - 0.35 s to import: only the jobs that solve for x2
+
     return float(brentq(lambda x2: _gs_scalar(base, x1, x2), lo, hi, xtol=xtol, rtol=4 * np.finfo(float).eps))
 
 

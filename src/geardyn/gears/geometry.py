@@ -158,20 +158,46 @@ def inverse_involute(value: ArrayLike, *, tol: float = 1e-15, max_iter: int = 60
     Newton's method on the convex increasing f(a) = tan a - a - v, started at an upper bound
     of the root, converges monotonically: tan a - a >= a^3 / 3 gives a* <= (3 v)^(1/3), and
     tan(atan(v + pi/2)) - atan(v + pi/2) >= v gives a* <= atan(v + pi/2).  inv is odd, so
-    negative values map to negative angles.
+    negative values map to negative angles.  Each value stops when its own step is below ``tol``
+    relative (or not finite): an array gives, value for value, the bits of one value alone.  One value
+    takes the same steps in Python floats (20 times faster than numpy on one value; the root solvers of
+    the profile shifts call it one value at a time).
     """
+    if np.ndim(value) == 0:
+        return cast(FloatArray, np.float64(_inverse_involute_scalar(float(value), tol, max_iter)))
     v = np.asarray(value, dtype=float)
-    s = np.sign(v)
     y = np.abs(v)
-    a = np.minimum(libm.cbrt(3.0 * y), libm.arctan(y + np.pi / 2))
+    a = np.minimum(libm.cbrt(3.0 * y), libm.arctan(y + np.pi / 2)).ravel()
+    yf = y.ravel()
+    todo = np.flatnonzero(~np.isnan(yf))  # NaN stays NaN
     with np.errstate(divide="ignore", invalid="ignore"):
         for _ in range(max_iter):
-            t = libm.tan(a)
-            step = np.where(a > 0, (t - a - y) / (t * t), 0.0)
-            a = a - step
-            if np.all(np.abs(step) <= tol * np.maximum(a, 1e-300)) or np.all(~np.isfinite(step)):
+            if todo.size == 0:
                 break
-    return cast(FloatArray, s * a)
+            at, yt = a[todo], yf[todo]
+            t = libm.tan(at)
+            step = np.where(at > 0, (t - at - yt) / (t * t), 0.0)
+            at = at - step
+            a[todo] = at
+            todo = todo[~((np.abs(step) <= tol * np.maximum(at, 1e-300)) | ~np.isfinite(step))]
+    return cast(FloatArray, np.sign(v) * a.reshape(v.shape))
+
+
+def _inverse_involute_scalar(v: float, tol: float, max_iter: int) -> float:
+    """:func:`inverse_involute` of one value, step for step as the array path does for each of its values."""
+    if math.isnan(v):
+        return math.nan
+    y = abs(v)
+    a = math.cbrt(3.0 * y)
+    b = math.atan(y + np.pi / 2)
+    a = b if b < a else a  # np.minimum (no NaN here)
+    for _ in range(max_iter):
+        t = math.tan(a)
+        step = (t - a - y) / (t * t) if a > 0 else 0.0
+        a = a - step
+        if abs(step) <= tol * max(a, 1e-300) or not math.isfinite(step):
+            break
+    return math.copysign(1.0, v) * a if v != 0.0 else 0.0 * a
 
 
 def with_shifts(base: GearPair, x1: ArrayLike, x2: ArrayLike) -> GearPair:

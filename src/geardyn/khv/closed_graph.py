@@ -23,7 +23,6 @@ from typing import Any
 import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
-from scipy.optimize import brentq
 
 from geardyn.gears import constraints, interference
 from geardyn.gears import geometry as geo
@@ -283,6 +282,8 @@ def cutter_shift_for_trimming_limit(
 
     def f(x0: float) -> float:
         return float(interference.trimming_interference(pair, geo.ShaperCutter(teeth, x0, addendum)))
+
+    from scipy.optimize import brentq  # noqa: PLC0415 - 0.35 s to import: not for the figure jobs
 
     x0 = float(brentq(f, -1.0, 1.5, xtol=1e-12))
     return geo.ShaperCutter(teeth, x0, addendum)

@@ -5,11 +5,36 @@ One entry point, :func:`label_lines` (and :func:`label_points` for independent p
 through it.  The stages are in :mod:`geardyn.label._follow`, :mod:`~geardyn.label._record` and
 :mod:`~geardyn.label._nonperiodic` (what they share in :mod:`geardyn.label._stages`); the torus test
 in :mod:`geardyn.label.torus`.
+
+The names below are loaded on first use (PEP 562): a job that only reads verdicts (figures, captions,
+tables) imports :mod:`~geardyn.label.verdict` and not the compiled loops.
 """
 
-from geardyn.label.lines import label_lines, label_points
-from geardyn.label.policy import Policy
-from geardyn.label.verdict import BIFURCATIONS, EXPONENT_METHODS, STAGE_NAMES, STAGES, Verdict
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from geardyn.label.lines import label_lines, label_points
+    from geardyn.label.policy import Policy
+    from geardyn.label.verdict import BIFURCATIONS, EXPONENT_METHODS, STAGE_NAMES, STAGES, Verdict
+
+_HOME = {
+    "BIFURCATIONS": "verdict",
+    "EXPONENT_METHODS": "verdict",
+    "STAGES": "verdict",
+    "STAGE_NAMES": "verdict",
+    "Verdict": "verdict",
+    "Policy": "policy",
+    "label_lines": "lines",
+    "label_points": "lines",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _HOME:
+        return getattr(importlib.import_module(f"{__name__}.{_HOME[name]}"), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = [
     "BIFURCATIONS",

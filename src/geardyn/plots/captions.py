@@ -8,12 +8,10 @@ from types import ModuleType
 
 import numpy as np
 import xarray as xr
-from scipy.signal import find_peaks
 
 from geardyn import classify
 from geardyn.label import STAGE_NAMES
-from geardyn.runs.cube import STATES, labels_of_cube
-from geardyn.runs.maps import fractions
+from geardyn.runs.cube import STATES, fractions, labels_of_cube
 
 _METHOD = (
     "Model: the corrected KHV equations of docs/model.md with the parameters of the design file. Motion labels "
@@ -63,6 +61,8 @@ def spectral_peaks(freq, amp, n: int = 5, fmax: float = 3.0) -> list[float]:
     if keep.sum() < 3:
         return []
     f, a = freq[keep], amp[keep]
+    from scipy.signal import find_peaks  # noqa: PLC0415 - 0.3 s to import: only the captions with spectra
+
     idx, _ = find_peaks(a, height=0.02 * a.max())
     return [float(f[i]) for i in idx[a[idx].argsort()[::-1][:n]]]
 

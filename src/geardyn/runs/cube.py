@@ -315,3 +315,10 @@ def merge_chunks(chunks: Sequence[xr.Dataset]) -> xr.Dataset:
     if any("wall_time_s" in c.attrs for c in chunks):
         out.attrs["chunk_wall_time_s"] = ",".join(f"{float(c.attrs.get('wall_time_s', np.nan)):.1f}" for c in chunks)
     return out
+
+
+def fractions(ds: xr.Dataset) -> dict[str, float]:
+    """Share of each label over a cube (a map or a sweep)."""
+    lab = ds["label"].values.ravel()
+    codes, n = np.unique(lab, return_counts=True)
+    return {classify.short_name(int(c)): float(k) / lab.size for c, k in zip(codes, n, strict=True)}

@@ -25,11 +25,11 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn import classify
+from geardyn import label  # label.label_lines on first use: the workflow's DAG reads MapSpec without the solver
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.khv.model import Coefficients
-from geardyn.label import Policy, label_lines
+from geardyn.label import Policy
 from geardyn.runs.cube import (
     COMPUTED_ATTRS,
     TRANSIENT_USED_ATTRS,
@@ -206,8 +206,8 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
         for x in xs
     ]
     lines = [[point_coefficients(design, spec, xs[i], ys[j], bases[i]) for i in range(spec.x.num)] for j in rows]
-    verdicts = label_lines(lines, policy, progress=f"{spec.name} chunk {chunk}")
-    fixed = label_lines(lines, policy.with_start("fixed")) if policy.coexistence else None
+    verdicts = label.label_lines(lines, policy, progress=f"{spec.name} chunk {chunk}")
+    fixed = label.label_lines(lines, policy.with_start("fixed")) if policy.coexistence else None
     responses = line_responses(lines, verdicts, policy.integration)
     arrays = _arrays(ds)  # numpy views: no xarray lookup per point
     for k, j in enumerate(rows):
@@ -226,10 +226,3 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
     log.info("%s chunk %d: %d points, %.1f s (%.2f ms/point)", spec.name, chunk, n, el, 1e3 * el / max(1, n))
     ds.attrs["wall_time_s"] = el
     return ds
-
-
-def fractions(ds: xr.Dataset) -> dict[str, float]:
-    """Share of each label over the map."""
-    lab = ds["label"].values.ravel()
-    codes, n = np.unique(lab, return_counts=True)
-    return {classify.short_name(int(c)): float(k) / lab.size for c, k in zip(codes, n, strict=True)}

@@ -29,10 +29,11 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from geardyn import label  # label.label_lines on first use: the workflow's DAG reads SweepSpec without the solver
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.khv.model import COEFFICIENT_ATTRS
-from geardyn.label import Policy, Verdict, label_lines
+from geardyn.label import Policy, Verdict
 from geardyn.runs.cube import (
     COMPUTED_ATTRS,
     STATE_NAMES,
@@ -172,8 +173,8 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int, settings: Simulati
         [point.point_coefficients(design, point_overrides(spec, case, values[j])) for j in order]
         for case, _, order in work.items
     ]
-    verdicts = label_lines(lines, policy, progress=f"{spec.name} chunk {chunk}")
-    fixed = label_lines(lines, policy.with_start("fixed")) if policy.coexistence else None
+    verdicts = label.label_lines(lines, policy, progress=f"{spec.name} chunk {chunk}")
+    fixed = label.label_lines(lines, policy.with_start("fixed")) if policy.coexistence else None
     arrays = {name: SimpleNamespace(values=cube[name].values) for name in cube.data_vars}  # numpy views
     keep = np.zeros((len(spec.cases), len(spec.directions), spec.num), dtype=bool)
     responses = line_responses(lines, verdicts, policy.integration)

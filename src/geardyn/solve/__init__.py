@@ -10,10 +10,46 @@ simulate      :func:`simulate` (orbit, dense output, tangent vector or monodromy
 reference     DOP853 with switching events (independent check)
 floquet       monodromy and multipliers of the linear (b = 0) system
 ============  ==========================================================================================
+
+The contract (:mod:`~geardyn.solve.base`) is imported with the package; :func:`simulate` and its companions
+are loaded on first use (PEP 562), so a job that only reads results does not import numba and the
+compiled loops (about 0.45 s of each such job's start-up).
 """
 
+import importlib
+import sys
+import types
+from typing import TYPE_CHECKING, Any
+
 from geardyn.solve.base import LAYOUT, SimulationResult, SimulationSettings, System
-from geardyn.solve.simulate import largest_lyapunov, simulate, step_grid, step_tables, warm_up
+
+if TYPE_CHECKING:
+    from geardyn.solve.simulate import largest_lyapunov, simulate, step_grid, step_tables, warm_up
+
+_LAZY = ("largest_lyapunov", "step_grid", "step_tables", "warm_up")
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        return getattr(importlib.import_module("geardyn.solve.simulate"), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+class _Package(types.ModuleType):
+    """``geardyn.solve.simulate`` names both a module and the function it defines; the package's attribute is
+    the function, as with an eager ``from .simulate import simulate``, whichever is imported first (the
+    import system's record of the submodule goes to ``sys.modules`` only)."""
+
+    @property
+    def simulate(self) -> Any:
+        return importlib.import_module("geardyn.solve.simulate").simulate
+
+    @simulate.setter
+    def simulate(self, module: types.ModuleType) -> None:
+        pass
+
+
+sys.modules[__name__].__class__ = _Package
 
 __all__ = [
     "LAYOUT",

@@ -22,7 +22,6 @@ from dataclasses import dataclass
 from typing import Literal, Protocol
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 IntegratorName = Literal["rk4", "rk4_event", "dop853"]
 
@@ -162,6 +161,8 @@ class SimulationResult:
         if self.tau is None or self.states is None:
             raise ValueError("run simulate(..., dense=True) first")
         t, idx = np.unique(self.tau, return_index=True)
+        from scipy.interpolate import CubicSpline  # noqa: PLC0415 - 0.1 s to import: only dense output needs it
+
         cs = CubicSpline(t, self.states[idx], axis=0)
         n = round((t[-1] - t[0]) / self.period * samples_per_period)
         tu = t[0] + np.arange(n + 1) * self.period / samples_per_period

@@ -14,9 +14,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-import geardyn.solve._response as _acc
 from geardyn.solve.base import SimulationSettings, System, divergence_limits
-from geardyn.solve.simulate import step_tables
 
 #: Impact classes (cube variable ``impact_class``; -1: not computed or diverged).
 IMPACT_CLASSES = {"no_impact": 0, "single_sided": 1, "double_sided": 2}
@@ -91,6 +89,8 @@ def contact_fractions(
     x, v = np.asarray(x, dtype=float), np.asarray(v, dtype=float)
     if x.shape != v.shape or x.ndim != 1 or x.size < 2 or not h > 0.0 or not b >= 0.0:
         raise ValueError("contact_fractions: x and v of equal length >= 2, h > 0, b >= 0")
+    import geardyn.solve._response as _acc  # noqa: PLC0415 - compiled: not imported by jobs that read results
+
     times = np.zeros(3)
     for i in range(x.size - 1):
         _acc.region_times(x[i], x[i + 1], v[i], v[i + 1], h, b, times)
@@ -115,6 +115,9 @@ def response_measures(
     state y0 (6,) at phase 0, at the settings' (default: :class:`SimulationSettings`) steps per period and
     integrator (``rk4_event`` locates the contact switches).  Start on the attractor (a verdict's final
     state): no transient is integrated here.  A run that diverges gives :meth:`ResponseMeasures.not_computed`."""
+    import geardyn.solve._response as _acc  # noqa: PLC0415 - compiled: not imported by jobs that read results
+    from geardyn.solve.simulate import step_tables  # noqa: PLC0415 - likewise
+
     settings = SimulationSettings() if settings is None else settings
     if settings.integrator == "dop853":
         raise ValueError("the response measures integrate with 'rk4' or 'rk4_event'")
@@ -137,6 +140,8 @@ def response_measures(
 
 def _reduce(out: np.ndarray | list[float], f_s: float, sgn: float, n_per: int) -> ResponseMeasures:
     """The measures from the accumulator's sums."""
+    import geardyn.solve._response as _acc  # noqa: PLC0415 - compiled: not imported by jobs that read results
+
     out = [float(v) for v in out]
     t = out[_acc.TIME]
     mf, mx = out[_acc.SUM_F] / t, out[_acc.SUM_X] / t

@@ -1,0 +1,58 @@
+"""Jobs that only read results start without the solver: their modules do not import numba, the compiled
+loops or scipy's heavier packages (each workflow job is a new process, so its imports are its start-up)."""
+
+import subprocess
+import sys
+
+import pytest
+
+HEAVY = ("numba", "scipy.optimize", "scipy.signal", "scipy.integrate", "scipy.interpolate", "geardyn.solve.simulate")
+
+#: Modules of the jobs that merge chunks, draw figures and write tables, and what the DAG reads.
+READERS = (
+    "geardyn.runs.cube",
+    "geardyn.runs.bands",
+    "geardyn.plots.captions",
+    "geardyn.plots.dynamics",
+    "geardyn.label.verdict",
+    "geardyn.label.policy",
+    "geardyn.solve.base",
+)
+
+
+@pytest.mark.parametrize("module", READERS)
+def test_a_reader_module_does_not_import_the_solver(module: str) -> None:
+    code = f"import sys, {module}; print(' '.join(m for m in {HEAVY!r} if m in sys.modules))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == []
+
+
+def test_the_dag_reads_run_specs_without_the_solver() -> None:
+    code = (
+        "import sys; from geardyn.runs.sweep import SweepSpec; from geardyn.runs.maps import MapSpec; "
+        f"print(' '.join(m for m in {HEAVY!r} if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == []
+
+
+def test_lazy_names_resolve_to_what_they_name() -> None:
+    # geardyn.solve.simulate names a module and the function it defines: the package's attribute is the
+    # function, even when the submodule is imported first (a new process, so the order is this one)
+    code = """
+import geardyn.solve.simulate as first
+import geardyn.label, geardyn.solve
+from geardyn.label.lines import label_lines
+from geardyn.solve import simulate
+from geardyn.solve.simulate import warm_up
+import sys
+mod = sys.modules["geardyn.solve.simulate"]
+assert simulate is mod.simulate and first is mod.simulate and callable(simulate)
+assert geardyn.solve.warm_up is warm_up and geardyn.label.label_lines is label_lines
+try:
+    geardyn.solve.no_such_name
+except AttributeError:
+    print("ok")
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "ok"
