@@ -120,6 +120,40 @@ def test_batch_shooting_is_point_shooting_bit_for_bit(li2013, contact_loss_orbit
         )
     }
     assert statuses == {"converged", "max_iterations"}  # the test covers both endings
+    # the growth stop: on the torus of li2013_calibrated at x1 = 0.56 no period-25 cycle exists and the residual
+    # grows at the first iteration (without the stop: 15 iterations, max_iterations); the P1 orbit converges
+    cal = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    ct = point.point_coefficients(cal, {"x1": 0.56, "b": 2.0, "e": 5.0})
+    on_torus = simulate(ct, SimulationSettings(transient_periods=500, recorded_periods=1)).final_state
+    for n, todo, ends in ((25, [(ct, on_torus), (c, orbit.state + 5.0)], ["residual_grows", "converged"]),):
+        batch = newton_shooting_batch(
+            [s for s, _ in todo], [x for _, x in todo], n, settings, max_iter=15, max_growth=2.0
+        )
+        for (s, x), b in zip(todo, batch, strict=True):
+            a = shoot(s, x, n, settings, max_iter=15, max_growth=2.0)
+            assert (a.status, a.iterations, a.converged) == (b.status, b.iterations, b.converged)
+            np.testing.assert_array_equal(a.state, b.state)
+        assert [b.status for b in batch] == ends
+        assert batch[0].iterations == 1
+
+
+def test_newton_gives_up_when_its_residual_grows() -> None:
+    """F(x) = x^2 + 1 has no real root: from x0 = 0.1 Newton's first step goes to -4.95 and the residual grows
+    from 1.01 to 25.5; with max_growth = 2 the search stops there, without it runs to max_iter."""
+
+    def flow(x, jacobian=True):
+        return x + x**2 + 1.0, (np.eye(1) + np.diag(2.0 * x) if jacobian else None)
+
+    stop = newton_shooting(flow, np.array([0.1]), max_iter=20, max_growth=2.0)
+    assert (stop.status, stop.iterations, stop.converged) == ("residual_grows", 1, False)
+    assert stop.state[0] == pytest.approx(0.1 - 1.01 / 0.2, rel=1e-15)
+    assert stop.residual == pytest.approx(stop.state[0] ** 2 + 1.0, rel=1e-15)
+    assert newton_shooting(flow, np.array([0.1]), max_iter=20).status == "max_iterations"
+    # a root is found as before: F(x) = x^2 - 1 from 3 falls every iteration
+    ok = newton_shooting(
+        lambda x, j=True: (x + x**2 - 1.0, np.eye(1) + np.diag(2.0 * x)), np.array([3.0]), max_growth=2.0
+    )
+    assert ok.converged and ok.state[0] == pytest.approx(1.0, abs=1e-9)
 
 
 def duffing_family(steps=200):

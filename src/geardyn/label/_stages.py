@@ -166,6 +166,7 @@ def shoot(points: list[Point], starts: list[np.ndarray], ns: list[int], policy: 
             tol=policy.newton_tol,
             max_iter=policy.newton_max_iter,
             tables=tables_of([points[k] for k in ks]),
+            max_growth=policy.newton_max_growth,
         )
         for k, s in zip(ks, shots, strict=True):
             out[k] = s

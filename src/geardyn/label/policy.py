@@ -5,6 +5,7 @@ calibration), never a row of switches on a function.
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, Literal
@@ -27,7 +28,9 @@ class Policy:
     from the fixed start and report where the two end on different attractors.
     follow_transient_periods: the transient of a run that starts from the previous point's (non-periodic)
     attractor; a line's first point and every ``fixed`` start use ``integration.transient_periods``.
-    newton_tol, newton_max_iter: Newton shooting (residual relative to max(1, |x|)).
+    newton_tol, newton_max_iter: Newton shooting (residual relative to max(1, |x|)).  newton_max_growth: the
+    shooting gives up when its residual grows more than this many times in one iteration (inf: never; the
+    labeller's searches for cycles that may not exist set it, :mod:`geardyn.label._nonperiodic`).
     """
 
     integration: SimulationSettings
@@ -37,6 +40,7 @@ class Policy:
     follow_transient_periods: int = 100
     newton_tol: float = 1e-9
     newton_max_iter: int = 12
+    newton_max_growth: float = math.inf
 
     def __post_init__(self) -> None:
         if self.start not in ("follow", "fixed"):

@@ -39,7 +39,7 @@ from geardyn.solve.simulate import lane_tables, simulate, simulate_batch
 FlowMap = Callable[[np.ndarray, bool], tuple[np.ndarray | None, np.ndarray | None]]
 
 #: Status words of :class:`ShootingResult`.
-STATUSES = ("converged", "max_iterations", "diverged", "singular", "not_finite")
+STATUSES = ("converged", "max_iterations", "diverged", "singular", "not_finite", "residual_grows")
 
 
 @dataclass
@@ -77,10 +77,19 @@ def sorted_multipliers(monodromy: np.ndarray) -> np.ndarray:
 
 
 def _newton_end(
-    x: np.ndarray, phi: np.ndarray | None, M: np.ndarray | None, n: int, tol: float, it: int, max_iter: int
+    x: np.ndarray,
+    phi: np.ndarray | None,
+    M: np.ndarray | None,
+    n: int,
+    tol: float,
+    it: int,
+    max_iter: int,
+    max_growth: float = math.inf,
+    previous: float = math.inf,
 ) -> ShootingResult | None:
     """The :class:`ShootingResult` when the Newton iteration ends at the iterate ``x`` given phi(x) and
-    M(x) (None: diverged): diverged, not finite, converged or the last iteration; else None."""
+    M(x) (None: diverged): diverged, not finite, converged, the residual grown more than ``max_growth``
+    times over the ``previous`` iterate's, or the last iteration; else None."""
     if phi is None or M is None:
         return ShootingResult(x, n, False, "diverged", it, float("inf"))
     F = phi - x
@@ -89,6 +98,8 @@ def _newton_end(
         return ShootingResult(x, n, False, "not_finite", it, res)
     if res <= tol * max(1.0, float(np.max(np.abs(x)))):
         return ShootingResult(x, n, True, "converged", it, res, M, sorted_multipliers(M))
+    if res > max_growth * previous:
+        return ShootingResult(x, n, False, "residual_grows", it, res, M, sorted_multipliers(M))
     if it == max_iter:
         return ShootingResult(x, n, False, "max_iterations", max_iter, res, M, sorted_multipliers(M))
     return None
@@ -129,21 +140,31 @@ def _step_cap(x0: np.ndarray, max_step: float | None) -> float:
 
 
 def newton_shooting(
-    flow: FlowMap, x0: np.ndarray, n: int = 1, tol: float = 1e-9, max_iter: int = 30, max_step: float | None = None
+    flow: FlowMap,
+    x0: np.ndarray,
+    n: int = 1,
+    tol: float = 1e-9,
+    max_iter: int = 30,
+    max_step: float | None = None,
+    max_growth: float = math.inf,
 ) -> ShootingResult:
     """Newton on F(x) = phi(x) - x from x0.
 
     Convergence: max |F| <= tol * max(1, max |x|).  The Newton step is capped at ``max_step``
-    (default 10 * max(1, max |x0|)) in the max norm.  The monodromy and multipliers returned are
-    evaluated at the returned state.
+    (default 10 * max(1, max |x0|)) in the max norm.  The iteration stops (``residual_grows``) when max |F|
+    grows more than ``max_growth`` times in one iteration: near a root Newton's residual falls, so a
+    search that may start outside every basin can give up early.  The monodromy and multipliers returned
+    are evaluated at the returned state.
     """
     x = np.asarray(x0, dtype=float).copy()
     cap = _step_cap(x, max_step)
+    previous = math.inf
     for it in range(max_iter + 1):
         phi, M = flow(x, True)
-        end = _newton_end(x, phi, M, n, tol, it, max_iter)
+        end = _newton_end(x, phi, M, n, tol, it, max_iter, max_growth, previous)
         if end is not None:
             return end
+        previous = float(np.max(np.abs(phi - x)))
         nxt = _newton_next([x], [phi], [M], [cap], n, it)[0]
         if isinstance(nxt, ShootingResult):
             return nxt
@@ -159,6 +180,7 @@ def newton_shooting_batch(
     tol: float = 1e-9,
     max_iter: int = 30,
     tables=None,
+    max_growth: float = math.inf,
 ) -> list[ShootingResult]:
     """:func:`newton_shooting` on the n-period map (:func:`khv_flow`) of many systems at once: every
     iteration integrates all unfinished points together (:func:`geardyn.solve.simulate.simulate_batch`,
@@ -170,6 +192,7 @@ def newton_shooting_batch(
     tables = lane_tables(systems, s) if tables is None else tables
     xs = [np.asarray(x, dtype=float).copy() for x in x0s]
     caps = [_step_cap(x, None) for x in xs]
+    previous = [math.inf] * len(xs)
     out: list[ShootingResult | None] = [None] * len(xs)
     todo = list(range(len(xs)))  # the unfinished points; ``tables`` holds their rows, in this order
     for it in range(max_iter + 1):
@@ -179,9 +202,10 @@ def newton_shooting_batch(
         go = []  # (position in todo, phi, M) of the points whose iteration goes on
         for k, (i, r) in enumerate(zip(todo, runs, strict=True)):
             phi, M = (None, None) if r.diverged else (r.final_state.copy(), r.monodromy.copy())
-            end = _newton_end(xs[i], phi, M, n, tol, it, max_iter)
+            end = _newton_end(xs[i], phi, M, n, tol, it, max_iter, max_growth, previous[i])
             if end is None:
                 go.append((k, phi, M))
+                previous[i] = float(np.max(np.abs(phi - xs[i])))
             else:
                 out[todo[k]] = end
         left = []
@@ -260,10 +284,12 @@ def shoot(
     settings: SimulationSettings | None = None,
     tol: float = 1e-9,
     max_iter: int = 30,
+    max_growth: float = math.inf,
 ) -> ShootingResult:
-    """Period-n orbit of a KHV system from x0 (default: the static deflection)."""
+    """Period-n orbit of a KHV system from x0 (default: the static deflection); ``max_growth`` as in
+    :func:`newton_shooting`."""
     x0 = system.static_state() if x0 is None else x0
-    return newton_shooting(khv_flow(system, n, settings), x0, n, tol, max_iter)
+    return newton_shooting(khv_flow(system, n, settings), x0, n, tol, max_iter, max_growth=max_growth)
 
 
 def rk4_flow(
