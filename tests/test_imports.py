@@ -3,10 +3,21 @@ loops or scipy's heavier packages (each workflow job is a new process, so its im
 
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
-HEAVY = ("numba", "scipy.optimize", "scipy.signal", "scipy.integrate", "scipy.interpolate", "geardyn.solve.simulate")
+from geardyn.khv import design
+
+HEAVY = (
+    "numba",
+    "scipy.optimize",
+    "scipy.signal",
+    "scipy.integrate",
+    "scipy.interpolate",
+    "geardyn.solve.simulate",
+    "matplotlib.pyplot",
+)
 
 #: Modules of the jobs that merge chunks, draw figures and write tables, and what the DAG reads.
 READERS = (
@@ -14,6 +25,8 @@ READERS = (
     "geardyn.runs.bands",
     "geardyn.plots.captions",
     "geardyn.plots.dynamics",
+    "geardyn.plots.orbits",
+    "geardyn.plots.stiffness",
     "geardyn.label.verdict",
     "geardyn.label.policy",
     "geardyn.solve.base",
@@ -56,3 +69,25 @@ except AttributeError:
 """
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "ok"
+
+
+def test_a_design_header_is_what_the_full_design_says() -> None:
+    # the jobs that only read results take the header (no geometry, no scipy.optimize): the same name, title,
+    # paper, model variant and provenance record as the full design, for every KHV design shipped
+    files = sorted((Path(__file__).parents[1] / "config" / "designs").glob("li2013*.yaml"))
+    assert len(files) >= 4
+    for path in files:
+        full, head = design.load(path), design.header(path)
+        assert (head.name, head.title, head.paper, head.stiffness, head.raw) == (
+            full.name,
+            full.title,
+            full.paper,
+            full.stiffness,
+            full.raw,
+        )
+    code = (
+        "import sys; from geardyn.khv import design; "
+        f"design.header({str(files[0])!r}); print('scipy.optimize' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"

@@ -440,14 +440,17 @@ def read_provenance_text(text: str) -> dict[str, str]:
 
 
 def save_figure(fig: Any, path: str | os.PathLike[str], caption: str | None = None, dpi: int = 150) -> Path:
-    """Save a matplotlib figure atomically, and its caption beside it as ``<name>.txt``."""
-    import matplotlib.pyplot as plt  # noqa: PLC0415 - matplotlib only when a figure is saved
+    """Save a matplotlib figure atomically, and its caption beside it as ``<name>.txt``.  The plots build
+    :class:`matplotlib.figure.Figure` objects without pyplot (0.2-0.3 s of a figure job's start-up); a figure
+    made with pyplot is closed after saving."""
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")
     fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
-    plt.close(fig)
+    pyplot = sys.modules.get("matplotlib.pyplot")
+    if pyplot is not None:
+        pyplot.close(fig)
     os.replace(tmp, path)
     if caption is not None:
         write_text(caption.strip() + "\n", path.with_name(path.name + ".txt"))

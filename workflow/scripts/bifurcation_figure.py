@@ -7,7 +7,7 @@ from geardyn.plots import captions
 from geardyn.plots.dynamics import plot_bifurcation
 
 log = logs.to_file(snakemake.log[0])
-drive = design.load(snakemake.input.design)
+drive = design.header(snakemake.input.design)  # results only: no geometry
 cube = io.read_dataset(snakemake.input.cube)
 title = snakemake.params.spec.get("title") or snakemake.wildcards.sweep
 io.save_figure(

@@ -5,7 +5,7 @@ from geardyn.khv import design
 from geardyn.plots.orbits import plot_branches
 
 log = logs.to_file(snakemake.log[0])
-drive = design.load(snakemake.input.design)
+drive = design.header(snakemake.input.design)  # results only: no geometry
 cube = io.read_dataset(snakemake.input.cube)
 branches = io.read_dataset(snakemake.input.branches)
 title = snakemake.params.sweep.get("title") or snakemake.wildcards.sweep

@@ -7,7 +7,7 @@ from geardyn.plots import captions
 from geardyn.plots.dynamics import plot_points
 
 log = logs.to_file(snakemake.log[0])
-drive = design.load(snakemake.input.design)
+drive = design.header(snakemake.input.design)  # results only: no geometry
 ds = io.read_dataset(snakemake.input.data)
 title = snakemake.params.spec.get("title") or snakemake.wildcards.points
 io.save_figure(

@@ -5,7 +5,7 @@ from geardyn.khv import design
 from geardyn.runs import cube
 
 log = logs.to_file(snakemake.log[0])
-drive = design.load(snakemake.input.design)
+drive = design.header(snakemake.input.design)  # results only: no geometry
 parts = io.read_chunks(snakemake.input.chunks)  # a damaged chunk is refused by name, never merged
 merged = cube.merge_chunks(parts)
 attrs = io.provenance(

@@ -315,6 +315,35 @@ def load(path: str | Path) -> KHVDesign:
     return from_dict(raw, str(path))
 
 
+@dataclass(frozen=True)
+class DesignHeader:
+    """What a job that only reads results needs of a KHV design: its name, title, paper, stiffness options
+    (the model variant) and the validated file (provenance), as :class:`KHVDesign` has them."""
+
+    name: str
+    title: str
+    paper: str | None
+    stiffness: StiffnessOptions
+    raw: dict[str, Any]
+
+
+def header(path: str | Path) -> DesignHeader:
+    """The :class:`DesignHeader` of a KHV design file: schema-validated, without the geometry (no profile
+    shift is solved, so the jobs that merge, draw and tabulate start without scipy's root finders).  The
+    workflow checks every design in full (:func:`load`) before any job runs."""
+    raw = load_design_dict(path)
+    if raw["kind"] != "khv":
+        raise ConfigError(f"{path}: kind = {raw['kind']!r} is not a KHV design")
+    _check(raw, str(path))
+    return DesignHeader(
+        name=raw["name"],
+        title=raw.get("title", ""),
+        paper=raw.get("paper"),
+        stiffness=StiffnessOptions(**raw["stiffness"]),
+        raw=raw,
+    )
+
+
 def figure_x1(
     design: KHVDesign, configured: list[float | str], paper_values: tuple[float, ...] | None = None
 ) -> list[float]:

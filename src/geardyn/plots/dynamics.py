@@ -5,11 +5,11 @@ from __future__ import annotations
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 from matplotlib.colors import BoundaryNorm, ListedColormap, TwoSlopeNorm
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 
 from geardyn import classify
 from geardyn.classify import LABELS
@@ -60,10 +60,10 @@ def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figur
     has_lyap = "lyapunov" in cube
     rows = 2 * n if has_lyap else n
     ratios = [3, 1.3] * n if has_lyap else [1] * n
-    fig, axes = plt.subplots(
+    fig = Figure(figsize=(7.5, (3.4 if has_lyap else 2.6) * n + 0.9))
+    axes = fig.subplots(
         rows,
         1,
-        figsize=(7.5, (3.4 if has_lyap else 2.6) * n + 0.9),
         squeeze=False,
         sharex=True,
         gridspec_kw={"height_ratios": ratios},
@@ -82,7 +82,7 @@ def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figur
                 ax.plot(x.ravel(), sel.values[m].ravel(), ",", color=label_colour(code), alpha=0.7, rasterized=True)
                 present.append(code)
             handles = [
-                plt.Line2D([], [], ls="", marker="s", color=label_colour(c), label=classify.short_name(c))
+                Line2D([], [], ls="", marker="s", color=label_colour(c), label=classify.short_name(c))
                 for c in sorted(present)
             ]
             ax.legend(handles=handles, loc="upper right", fontsize=6, ncol=min(6, len(handles)), framealpha=0.7)
@@ -111,7 +111,8 @@ def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figur
 def plot_points(ds: xr.Dataset, title: str, fmax: float = 3.0) -> Figure:
     """Per case: phase trajectory (X_VH, V_VH), Poincaré map, amplitude spectrum (f / f_mesh)."""
     cases = list(ds["case"].values)
-    fig, axes = plt.subplots(len(cases), 3, figsize=(10.0, 2.6 * len(cases) + 0.6), squeeze=False)
+    fig = Figure(figsize=(10.0, 2.6 * len(cases) + 0.6))
+    axes = fig.subplots(len(cases), 3, squeeze=False)
     for i, case in enumerate(cases):
         d = ds.sel(case=case)
         ax_t, ax_p, ax_s = axes[i]
@@ -154,11 +155,13 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=()) -> Figure:
     x, y = ds["x"].values, ds["y"].values
     layers = "dynamic_factor" in ds and "impact_class" in ds
     if layers:
-        fig, axes = plt.subplots(2, 2, figsize=(12.0, 9.5))
+        fig = Figure(figsize=(12.0, 9.5))
+        axes = fig.subplots(2, 2)
         (ax, axl), (ax_kv, ax_impact) = axes
         draw_map_layers(ax_kv, ax_impact, ds)
     else:
-        fig, (ax, axl) = plt.subplots(1, 2, figsize=(12.0, 5.0))
+        fig = Figure(figsize=(12.0, 5.0))
+        ax, axl = fig.subplots(1, 2)
     im = ax.pcolormesh(x, y, index, cmap=cmap, norm=norm, shading="nearest", rasterized=True)
     cb = fig.colorbar(im, ax=ax, ticks=np.arange(len(codes)))
     cb.ax.set_yticklabels([classify.short_name(c) for c in codes], fontsize=7)

@@ -10,7 +10,6 @@ from __future__ import annotations
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
@@ -37,7 +36,8 @@ def plot_branches(cube: xr.Dataset | None, branches: xr.Dataset, title: str) -> 
     """One panel per case: sweep dots (if ``cube``), branches, bifurcation points."""
     par = branches.attrs["control_parameter"]
     cases = [str(c) for c in branches["case"].values]
-    fig, axes = plt.subplots(len(cases), 1, figsize=(9, 3.6 * len(cases)), squeeze=False)
+    fig = Figure(figsize=(9, 3.6 * len(cases)))
+    axes = fig.subplots(len(cases), 1, squeeze=False)
     types = [t for t in branches["bifurcation_type"].attrs["flag_meanings"].split()]
     for k, case in enumerate(cases):
         ax = axes[k, 0]

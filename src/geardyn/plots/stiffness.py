@@ -5,7 +5,6 @@ from __future__ import annotations
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
@@ -17,7 +16,8 @@ _STYLES = ("-.", ":", "--", "-")
 
 def plot_single_tooth(curve: xr.Dataset) -> Figure:
     """Fig. 4: stiffness of one tooth pair from engaging-in point A through pitch C to exit B."""
-    fig, ax = plt.subplots(figsize=(5.5, 3.5))
+    fig = Figure(figsize=(5.5, 3.5))
+    ax = fig.subplots()
     k = curve["k_single"] / 1e6
     ax.plot(curve["s"], k, color="k")
     eps = float(curve.attrs["contact_ratio"])
@@ -35,7 +35,8 @@ def plot_single_tooth(curve: xr.Dataset) -> Figure:
 
 def plot_mesh_stiffness(table: xr.Dataset) -> Figure:
     """Fig. 5: k(t) over two mesh periods at the x1 values of ``table`` (already selected)."""
-    fig, ax = plt.subplots(figsize=(6.5, 3.8))
+    fig = Figure(figsize=(6.5, 3.8))
+    ax = fig.subplots()
     t = np.concatenate([table["phase"].values, table["phase"].values + 1.0])
     for i, x1 in enumerate(table["x1"].values):
         k = np.tile(table["k_t"].sel(x1=x1).values, 2) / 1e6
@@ -57,7 +58,8 @@ def plot_mesh_stiffness(table: xr.Dataset) -> Figure:
 def plot_backlash(b: float = 1.0) -> Figure:
     """Fig. 6: the dead-zone backlash function f(X) of Eq. (11), in units of b."""
     x = np.linspace(-3 * b, 3 * b, 601)
-    fig, ax = plt.subplots(figsize=(4.5, 3.5))
+    fig = Figure(figsize=(4.5, 3.5))
+    ax = fig.subplots()
     ax.plot(x / b, backlash(x, b) / b, color="k")
     ax.axhline(0, color="0.7", lw=0.5)
     ax.axvline(0, color="0.7", lw=0.5)
