@@ -156,12 +156,12 @@ def _msd_correlations(x: np.ndarray, cs: np.ndarray, ncut: int) -> np.ndarray:
     - 2 Re sum P_{k+n} conj(P_k): the first two are differences of a cumulative sum, the third the
     autocorrelation of P by FFT (zero-padded past N + ncut, so no lag wraps).  O(N log N) per frequency
     instead of O(N ncut); the same numbers to round-off (tests/test_classify_validation.py)."""
+    import scipy.fft  # noqa: PLC0415 - 0.1 s to import: only the jobs that label need it
+
     n_pts = x.size
     P = np.cumsum(x[None, :] * np.exp(1j * np.outer(cs, np.arange(1, n_pts + 1))), axis=1)
     a2 = np.concatenate([np.zeros((cs.size, 1)), np.cumsum(P.real**2 + P.imag**2, axis=1)], axis=1)
     ns = np.arange(1, ncut + 1)
-    import scipy.fft  # noqa: PLC0415 - 0.1 s to import: only the jobs that label need it
-
     nfft = scipy.fft.next_fast_len(n_pts + ncut + 1)
     F = scipy.fft.fft(P, nfft, axis=1)
     auto = scipy.fft.ifft(F.real**2 + F.imag**2, axis=1)[:, 1 : ncut + 1].real

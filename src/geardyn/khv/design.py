@@ -307,12 +307,17 @@ def check_segment(design: KHVDesign, where: str = "design", points: int = 11) ->
                 )
 
 
-def load(path: str | Path) -> KHVDesign:
-    """Read, validate and check a KHV design file (one-line :class:`ConfigError` on any problem)."""
+def _read(path: str | Path) -> dict[str, Any]:
+    """A KHV design file, read and schema-validated."""
     raw = load_design_dict(path)
     if raw["kind"] != "khv":
         raise ConfigError(f"{path}: kind = {raw['kind']!r} is not a KHV design")
-    return from_dict(raw, str(path))
+    return raw
+
+
+def load(path: str | Path) -> KHVDesign:
+    """Read, validate and check a KHV design file (one-line :class:`ConfigError` on any problem)."""
+    return from_dict(_read(path), str(path))
 
 
 @dataclass(frozen=True)
@@ -331,9 +336,7 @@ def header(path: str | Path) -> DesignHeader:
     """The :class:`DesignHeader` of a KHV design file: schema-validated, without the geometry (no profile
     shift is solved, so the jobs that merge, draw and tabulate start without scipy's root finders).  The
     workflow checks every design in full (:func:`load`) before any job runs."""
-    raw = load_design_dict(path)
-    if raw["kind"] != "khv":
-        raise ConfigError(f"{path}: kind = {raw['kind']!r} is not a KHV design")
+    raw = _read(path)
     _check(raw, str(path))
     return DesignHeader(
         name=raw["name"],

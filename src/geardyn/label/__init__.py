@@ -10,8 +10,9 @@ The names below are loaded on first use (PEP 562): a job that only reads verdict
 tables) imports :mod:`~geardyn.label.verdict` and not the compiled loops.
 """
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from geardyn._lazy import lazy_attributes
 
 if TYPE_CHECKING:
     from geardyn.label.lines import label_lines, label_points
@@ -29,11 +30,7 @@ _HOME = {
     "label_points": "lines",
 }
 
-
-def __getattr__(name: str) -> Any:
-    if name in _HOME:
-        return getattr(importlib.import_module(f"{__name__}.{_HOME[name]}"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__ = lazy_attributes(__name__, _HOME)
 
 
 __all__ = [

@@ -21,18 +21,15 @@ import sys
 import types
 from typing import TYPE_CHECKING, Any
 
+from geardyn._lazy import lazy_attributes
 from geardyn.solve.base import LAYOUT, SimulationResult, SimulationSettings, System
 
 if TYPE_CHECKING:
     from geardyn.solve.simulate import largest_lyapunov, simulate, step_grid, step_tables, warm_up
 
-_LAZY = ("largest_lyapunov", "step_grid", "step_tables", "warm_up")
-
-
-def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        return getattr(importlib.import_module("geardyn.solve.simulate"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__ = lazy_attributes(
+    __name__, dict.fromkeys(("largest_lyapunov", "step_grid", "step_tables", "warm_up"), "simulate")
+)
 
 
 class _Package(types.ModuleType):

@@ -86,23 +86,24 @@ def _newton_end(
     max_iter: int,
     max_growth: float = math.inf,
     previous: float = math.inf,
-) -> ShootingResult | None:
+) -> tuple[ShootingResult | None, float]:
     """The :class:`ShootingResult` when the Newton iteration ends at the iterate ``x`` given phi(x) and
     M(x) (None: diverged): diverged, not finite, converged, the residual grown more than ``max_growth``
-    times over the ``previous`` iterate's, or the last iteration; else None."""
+    times over the ``previous`` iterate's, or the last iteration; else None.  With it, the residual
+    max |phi(x) - x| (the next iteration's ``previous``)."""
     if phi is None or M is None:
-        return ShootingResult(x, n, False, "diverged", it, float("inf"))
+        return ShootingResult(x, n, False, "diverged", it, float("inf")), float("inf")
     F = phi - x
     res = float(np.max(np.abs(F)))
     if not (np.all(np.isfinite(F)) and np.all(np.isfinite(M))):
-        return ShootingResult(x, n, False, "not_finite", it, res)
+        return ShootingResult(x, n, False, "not_finite", it, res), res
     if res <= tol * max(1.0, float(np.max(np.abs(x)))):
-        return ShootingResult(x, n, True, "converged", it, res, M, sorted_multipliers(M))
+        return ShootingResult(x, n, True, "converged", it, res, M, sorted_multipliers(M)), res
     if res > max_growth * previous:
-        return ShootingResult(x, n, False, "residual_grows", it, res, M, sorted_multipliers(M))
+        return ShootingResult(x, n, False, "residual_grows", it, res, M, sorted_multipliers(M)), res
     if it == max_iter:
-        return ShootingResult(x, n, False, "max_iterations", max_iter, res, M, sorted_multipliers(M))
-    return None
+        return ShootingResult(x, n, False, "max_iterations", max_iter, res, M, sorted_multipliers(M)), res
+    return None, res
 
 
 def _newton_next(
@@ -161,10 +162,9 @@ def newton_shooting(
     previous = math.inf
     for it in range(max_iter + 1):
         phi, M = flow(x, True)
-        end = _newton_end(x, phi, M, n, tol, it, max_iter, max_growth, previous)
+        end, previous = _newton_end(x, phi, M, n, tol, it, max_iter, max_growth, previous)
         if end is not None:
             return end
-        previous = float(np.max(np.abs(phi - x)))
         nxt = _newton_next([x], [phi], [M], [cap], n, it)[0]
         if isinstance(nxt, ShootingResult):
             return nxt
@@ -202,10 +202,9 @@ def newton_shooting_batch(
         go = []  # (position in todo, phi, M) of the points whose iteration goes on
         for k, (i, r) in enumerate(zip(todo, runs, strict=True)):
             phi, M = (None, None) if r.diverged else (r.final_state.copy(), r.monodromy.copy())
-            end = _newton_end(xs[i], phi, M, n, tol, it, max_iter, max_growth, previous[i])
+            end, previous[i] = _newton_end(xs[i], phi, M, n, tol, it, max_iter, max_growth, previous[i])
             if end is None:
                 go.append((k, phi, M))
-                previous[i] = float(np.max(np.abs(phi - xs[i])))
             else:
                 out[todo[k]] = end
         left = []
