@@ -65,6 +65,32 @@ def test_variational_monodromy_matches_finite_differences(contact_loss_orbit):
     assert np.max(np.abs(mu - mu_fd)) < 1e-6
 
 
+def test_monodromy_columns_are_the_single_column_runs_bit_for_bit(contact_loss_orbit):
+    """The 6 columns of the monodromy matrix are stepped together in one buffer (vectorised); each is the
+    same arithmetic as one tangent column carried alone: the same bits, contact switches included."""
+    from geardyn.solve import _kernel  # noqa: PLC0415
+    from geardyn.solve.simulate import simulate_batch, step_tables  # noqa: PLC0415
+
+    c, orbit = contact_loss_orbit
+    s = SimulationSettings(transient_periods=0, recorded_periods=3)
+    full = simulate(c, s, orbit.state, monodromy_periods=3)
+    assert full.n_events >= 6  # the run crosses the backlash zone
+    (lane,) = simulate_batch([c], s, [orbit.state], monodromy_periods=3)
+    assert np.array_equal(lane.monodromy, full.monodromy)
+    cols = np.empty((6, 6))
+    for i in range(6):
+        W = np.zeros((6, 1))
+        W[i, 0] = 1.0
+        k, *tabs = (np.array(a) for a in step_tables(c, s.steps_per_period))
+        # fmt: off
+        _kernel.run(k, tuple(tabs), orbit.state.copy(), 0, 3, True, np.full(6, np.inf), 1, np.empty((3, 6)),
+                    np.empty(0), np.empty((0, 6)), W, 3, False, np.empty(0), np.empty(0), np.empty(6),
+                    _kernel.NO_EARLY_STOP)
+        # fmt: on
+        cols[:, i] = W[:, 0]
+    assert np.array_equal(cols, full.monodromy)
+
+
 def test_period2_monodromy_is_square_of_period1(contact_loss_orbit):
     c, orbit = contact_loss_orbit
     two = shoot(c, orbit.state, n=2)

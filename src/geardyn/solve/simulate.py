@@ -108,7 +108,9 @@ def simulate(
     if tangent_periods and monodromy_periods:
         raise ValueError("carry either a tangent vector (tangent_periods) or the monodromy matrix, not both")
     n = settings.steps_per_period
-    c, *tabs = step_tables(system, n, settings.aligned)
+    # writable copies of the cached tables: the loop then has the argument types it has in the batch's
+    # lanes, and one compiled version serves both (the copies cost nothing next to a run)
+    c, *tabs = (np.array(a) for a in step_tables(system, n, settings.aligned))
     n_trans, n_rec = settings.transient_periods, settings.recorded_periods
     poinc = np.full((n_rec, 6), np.nan)
     stride = max(1, settings.dense_stride)
