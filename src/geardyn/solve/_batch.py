@@ -168,7 +168,7 @@ def _pack(C, H, K, P, Y0, W, lanes, A, tab):
 
 
 @njit(cache=True, inline="always")
-def _switch(C, POLY, H, S, SEG, A, q, ln, j, reg, rnew, tan, y1, y2, ytmp, Wa, Wb, Wt):
+def _switch(C, POLY, H, S, SEG, A, q, ln, j, reg, rnew, tan, y1, y2, Wa, Wb):
     """Lane q (point ln), whose plain step j left contact region ``reg`` for ``rnew``: the contact switches
     of :func:`geardyn.solve._kernel.locate_switches` (and of its tangent column when ``tan``), written
     back into A.  Returns (region at the end of the step, number of crossings)."""
@@ -184,9 +184,7 @@ def _switch(C, POLY, H, S, SEG, A, q, ln, j, reg, rnew, tan, y1, y2, ytmp, Wa, W
         if tan:
             Wa[i, 0] = A[(33 + i) * WIDTH + q]
             Wb[i, 0] = A[(39 + i) * WIDTH + q]
-    r, nv = locate_switches(
-        c, POLY[ln], y1, y2, Wa, Wb, mt, ytmp, Wt, H[ln, j], S[ln, j], SEG[ln, j], reg, rnew, c[B], c[T]
-    )
+    r, nv = locate_switches(c, POLY[ln], y1, y2, Wa, Wb, mt, H[ln, j], S[ln, j], SEG[ln, j], reg, rnew, c[B], c[T])
     for i in range(6):
         A[(27 + i) * WIDTH + q] = y2[i]
         if tan:
@@ -237,10 +235,8 @@ def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, O
         done[q] = False
     y = np.empty(6)
     y2 = np.empty(6)
-    ytmp = np.empty(6)
     Wl = np.empty((6, 1))
     Wb = np.empty((6, 1))
-    Wt = np.empty((6, 1))
     per = 0
     while not np.all(done):
         any_tan = False
@@ -259,7 +255,7 @@ def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, O
                     rnew = region(A[28 * Wd + q], bl[q])
                     if rnew != reg[q]:
                         reg[q], nv = _switch(
-                            C, POLY, H, S, SEG, A, q, lanes[q], j, reg[q], rnew, tan_on[q], y, y2, ytmp, Wl, Wb, Wt
+                            C, POLY, H, S, SEG, A, q, lanes[q], j, reg[q], rnew, tan_on[q], y, y2, Wl, Wb
                         )
                         nev[q] += nv
             for i in range(6 * Wd):

@@ -183,11 +183,14 @@ def hermite_root(x0, x1, d0, d1, h, target):
 
 
 @njit(cache=True)
-def locate_switches(c, poly, y, ynew, W, Wnew, mt, ytmp, Wtmp, h, s0, seg, reg, rnew, b, period):
+def locate_switches(c, poly, y, ynew, W, Wnew, mt, h, s0, seg, reg, rnew, b, period):
     """Contact switches inside the step of size h from y (phase s0) whose plain RK4 result ynew left
     region ``reg`` for ``rnew``: locate each crossing (cubic Hermite root), restart there and redo
     the rest of the step.  Updates y (to the last crossing), ynew (end of the step) and the m tangent
-    columns W / Wnew alike; returns (region at the end of the step, number of crossings located)."""
+    columns W / Wnew alike; returns (region at the end of the step, number of crossings located).
+
+    The two sub-steps of a crossing (to it, then from it to the end of the step) are one call of
+    :func:`sub_step` in a loop: the inlined step is compiled once."""
     s_cur = s0
     left = h
     n_events = 0
@@ -201,21 +204,26 @@ def locate_switches(c, poly, y, ynew, W, Wnew, mt, ytmp, Wtmp, h, s0, seg, reg, 
             # crossing at an end point: accept the step as it is
             reg = rnew
             break
-        sub_step(c, poly, seg, y, W, mt, s_cur, th, ytmp, Wtmp, 0.0 if reg == 0 else 1.0)
-        n_events += 1
-        for i in range(6):
-            y[i] = ytmp[i]
-        for col in range(mt):
+        dt = th
+        for part in range(2):
+            sub_step(c, poly, seg, y, W, mt, s_cur, dt, ynew, Wnew, 0.0 if reg == 0 else 1.0)
+            if part == 1:
+                break
+            # at the crossing: restart there, in the new region (entering from the dead zone or leaving a
+            # contact side), for the rest of the step
+            n_events += 1
             for i in range(6):
-                W[i, col] = Wtmp[i, col]
-        # new region: entering from the dead zone or leaving a contact side
-        if reg == 0:
-            reg = 1 if target > 0 else -1
-        else:
-            reg = 0
-        s_cur += th / period
-        left -= th
-        sub_step(c, poly, seg, y, W, mt, s_cur, left, ynew, Wnew, 0.0 if reg == 0 else 1.0)
+                y[i] = ynew[i]
+            for col in range(mt):
+                for i in range(6):
+                    W[i, col] = Wnew[i, col]
+            if reg == 0:
+                reg = 1 if target > 0 else -1
+            else:
+                reg = 0
+            s_cur += th / period
+            left -= th
+            dt = left
         rnew = region(ynew[1], b)
         if rnew == reg:
             break
@@ -284,9 +292,7 @@ def run(
     use_events = event and c[BACKLASH_ON] != 0.0 and b > 0.0
     y = y0.copy()
     ynew = np.empty(6)
-    ytmp = np.empty(6)
     Wnew = np.empty((6, m))
-    Wtmp = np.empty((6, m))
     n_events = 0
     n_dense = 0
     ndmax = dense_t.shape[0]
@@ -320,7 +326,7 @@ def run(
                     if packed and mt > 0:
                         _columns(A, W, Wnew, False)
                     reg, nev = locate_switches(
-                        c, poly, y, ynew, W, Wnew, mt, ytmp, Wtmp, h, tab_s[j], tab_seg[j], reg, rnew, b, period
+                        c, poly, y, ynew, W, Wnew, mt, h, tab_s[j], tab_seg[j], reg, rnew, b, period
                     )
                     if packed and mt > 0:
                         _columns(A, W, Wnew, True)

@@ -91,10 +91,8 @@ def accumulate(c, tabs, y0, n_periods, event, limits, sgn, out):
     use_events = event and on != 0.0 and b > 0.0
     y = y0.copy()
     ynew = np.empty(6)
-    ytmp = np.empty(6)
     W = np.empty((6, 0))
     Wnew = np.empty((6, 0))
-    Wtmp = np.empty((6, 0))
     times = np.zeros(3)
     for i in range(N_OUT):
         out[i] = 0.0
@@ -116,7 +114,7 @@ def accumulate(c, tabs, y0, n_periods, event, limits, sgn, out):
                 rnew = region(ynew[1], b)
                 if rnew != reg:
                     reg, _nev = locate_switches(
-                        c, poly, y, ynew, W, Wnew, 0, ytmp, Wtmp, h, tab_s[j], tab_seg[j], reg, rnew, b, c[T]
+                        c, poly, y, ynew, W, Wnew, 0, h, tab_s[j], tab_seg[j], reg, rnew, b, c[T]
                     )
             for i in range(6):
                 y[i] = ynew[i]
