@@ -20,7 +20,8 @@ Method:
   state of the orbit: W is the derivative of the discrete flow.  The vector field is continuous
   across x2 = +-b (only its derivative jumps), so the saltation matrix of a contact switch is the
   identity and W needs no jump there.  The orbit arithmetic is the same with or without W, so the
-  orbit is bit-identical either way.
+  orbit is bit-identical either way.  The 6 columns of the monodromy matrix are stepped together in one
+  buffer (:func:`step_columns`, vectorised), each column by the same expressions as a column alone.
 * Divergence: checked once per mesh period; any |state_i| > limits[i] or non-finite value stops the
   run with status 1.
 """
