@@ -100,16 +100,15 @@ def step_columns(c, y, h, k0, k1, k2, p0, p1, p2, ynew, A):
 
 
 @njit(cache=True, inline="always")
-def _columns(A, W, Wnew, to_buffer):
-    """Copy the 6 columns W, Wnew (6, 6) into the buffer of :func:`step_columns` (``to_buffer``) or back."""
+def _columns(A, W, half, to_buffer):
+    """Copy the 6 columns W (6, 6) into half ``half`` of the buffer of :func:`step_columns` (0: the
+    columns, 1: their new values) when ``to_buffer``, or back into W."""
     for i in range(6):
         for col in range(6):
             if to_buffer:
-                A[COLUMNS * i + col] = W[i, col]
-                A[COLUMNS * (6 + i) + col] = Wnew[i, col]
+                A[COLUMNS * (6 * half + i) + col] = W[i, col]
             else:
-                W[i, col] = A[COLUMNS * i + col]
-                Wnew[i, col] = A[COLUMNS * (6 + i) + col]
+                W[i, col] = A[COLUMNS * (6 * half + i) + col]
 
 
 @njit(cache=True, inline="always")
@@ -311,30 +310,32 @@ def run(
     packed = m == 6 and not renorm
     A = np.zeros(12 * COLUMNS if packed else 0)
     if packed:
-        _columns(A, W, W, True)
+        _columns(A, W, 0, True)
     while per < n_tr + n_rec:
         mt = m if (per >= tan_start and stop_n == 0) else 0
+        cols = packed and mt > 0  # this period's columns step in the buffer
         for j in range(nsteps):
             h = tab_h[j]
             k0, k1, k2, p0, p1, p2 = tab_k[j, 0], tab_k[j, 1], tab_k[j, 2], tab_p[j, 0], tab_p[j, 1], tab_p[j, 2]
-            if packed and mt > 0:
+            if cols:
                 step_columns(c, y, h, k0, k1, k2, p0, p1, p2, ynew, A)
             else:
                 step(c, y, W, mt, h, k0, k1, k2, p0, p1, p2, ynew, Wnew, -1.0)
             if use_events:
                 rnew = region(ynew[1], b)
                 if rnew != reg:
-                    if packed and mt > 0:
-                        _columns(A, W, Wnew, False)
+                    if cols:
+                        _columns(A, W, 0, False)
+                        _columns(A, Wnew, 1, False)
                     reg, nev = locate_switches(
                         c, poly, y, ynew, W, Wnew, mt, h, tab_s[j], tab_seg[j], reg, rnew, b, period
                     )
-                    if packed and mt > 0:
-                        _columns(A, W, Wnew, True)
+                    if cols:  # the new values only: they replace the columns below
+                        _columns(A, Wnew, 1, True)
                     n_events += nev
             for i in range(6):
                 y[i] = ynew[i]
-            if packed and mt > 0:
+            if cols:
                 for i in range(6 * COLUMNS):
                     A[i] = A[6 * COLUMNS + i]
             else:
@@ -350,7 +351,7 @@ def run(
             for i in range(6):
                 yfinal[i] = y[i]
             if packed:
-                _columns(A, W, Wnew, False)
+                _columns(A, W, 0, False)
             return 1, per, n_events, n_dense, min(per + 1, n_tr), stop_n
         record(
             y,
@@ -369,7 +370,7 @@ def run(
     for i in range(6):
         yfinal[i] = y[i]
     if packed:
-        _columns(A, W, Wnew, False)
+        _columns(A, W, 0, False)
     return 0, n_tr + n_rec, n_events, n_dense, n_tr, stop_n
 
 
