@@ -203,9 +203,26 @@ def test_khv_long_cycle_scores_like_a_torus():
     assert T.rotation_number(p, orbit.state[[1, 4]], plane=(1, 4)) == pytest.approx(17 / 48, abs=1e-12)
 
 
-def _coordinates(p: np.ndarray) -> np.ndarray:
-    """The labeller's observable: the standardised coordinates (first moments)."""
-    return T.moments(p)[:, : p.shape[1]]
+_coordinates = T.coordinates  # the labeller's observable
+
+
+def test_torus_digits_are_the_two_measures_bit_for_bit() -> None:
+    """One evaluation of the observable serves both measures: on 2N points each value is the measure's own,
+    to the bit; on an odd count both read the newest 2N; the coordinates are the first moments."""
+    p = _approached_circle(401)
+    assert np.array_equal(T.coordinates(p), T.moments(p)[:, :2])
+    for obs in (None, _coordinates):
+        plain, extrapolated = T.torus_digits(p[1:], obs)
+        assert plain == T.birkhoff_digits(p[1:], obs) and extrapolated == T.extrapolated_digits(p[1:], obs)
+        assert T.torus_digits(p, obs) == (plain, extrapolated)
+        assert T.torus_digits(p, obs, extrapolate=False)[0] == plain
+        assert math.isnan(T.torus_digits(p, obs, extrapolate=False)[1])
+    assert T.extrapolated_digits(p, _coordinates) != T.torus_digits(p, _coordinates)[1]  # all 401 points
+    assert T.torus_digits(np.full((100, 3), 5.0)) == (T.DIGITS_MAX, T.DIGITS_MAX)
+    with pytest.raises(ValueError, match="at least 4 points"):
+        T.torus_digits(np.zeros((3, 2)))
+    with pytest.raises(ValueError, match="at least 9 points"):
+        T.torus_digits(_circle(8))
 
 
 def _approached_circle(m: int, r: float = 0.999, d0: float = 0.02) -> np.ndarray:

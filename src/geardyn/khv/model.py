@@ -21,6 +21,7 @@ M_VH w_n^2 b_c = k_mean b_c, energy k_mean b_c^2.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Literal
@@ -197,11 +198,7 @@ class Coefficients:
 
     def stiffness_polys(self) -> np.ndarray:
         """kappa(s) on the two zones [0, f] and [f, 1] (f = eps - floor(eps)) as rows (a, b, c): a s^2 + b s + c."""
-        if self.stiffness_mode == "mean":
-            return np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
-        ps = ParabolicStiffness(self.eps, 1.0, self.stiffness_form)  # type: ignore[arg-type]
-        m = ps.mean()
-        return np.vstack([np.array(p) / m for p in ps.zone_polys()])
+        return _stiffness_polys(float(self.eps), self.stiffness_form, self.stiffness_mode).copy()
 
     def kappa(self, s: np.ndarray) -> np.ndarray:
         """Normalised mesh stiffness at mesh phase s (periods), right-continuous at the jumps."""
@@ -456,3 +453,17 @@ def lti_response(coeffs: Coefficients, tau: np.ndarray) -> np.ndarray:
     x = xs + np.imag(X * ph)
     v = np.imag(1j * w * X * ph)
     return np.concatenate([x, v], axis=-1)
+
+
+@functools.lru_cache(maxsize=64)
+def _stiffness_polys(eps: float, form: str, mode: str) -> np.ndarray:
+    """:meth:`Coefficients.stiffness_polys`, computed once per (eps, form, mode): a line of a map or sweep
+    shares them (read-only; the method returns a copy)."""
+    if mode == "mean":
+        out = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
+    else:
+        ps = ParabolicStiffness(eps, 1.0, form)  # type: ignore[arg-type]
+        m = ps.mean()
+        out = np.vstack([np.array(p) / m for p in ps.zone_polys()])
+    out.setflags(write=False)
+    return out

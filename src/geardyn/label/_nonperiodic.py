@@ -26,7 +26,7 @@ from geardyn.label._stages import (
     tables_of,
 )
 from geardyn.label.policy import Policy
-from geardyn.label.torus import TorusTest, birkhoff_digits, extrapolated_digits, moments, order_test, torus_verdict
+from geardyn.label.torus import OrderTest, TorusTest, coordinates, order_test, torus_digits, torus_verdict
 from geardyn.label.verdict import Verdict
 from geardyn.parallel import threaded_map
 from geardyn.solve.base import SimulationResult
@@ -202,7 +202,9 @@ def _locked(points: list[Point], policy: Policy) -> None:
         return
     ns = []
     for p in points:
-        gaps = order_test(p.run.poincare, 0).gaps
+        record = p.run.poincare
+        known = p.order[1] if p.order is not None and p.order[0] is record else None  # the torus test's, if whole
+        gaps = (known or order_test(record, 0)).gaps
         n = gaps[0]
         oldest, newest = _returns(p.run.poincare, n) if cs.max_n < n <= cs.long_max_n else (0.0, math.inf)
         ns.append(n if newest < LOCKED_RETURN and (newest < 0.5 * oldest or len(gaps) == 1) else 0)
@@ -264,18 +266,13 @@ def _certify_periods(
     return certify([p for p, _ in pairs], [n for _, n in pairs], policy, "period_test", reason, record_on_orbit)
 
 
-def standardised(points: np.ndarray) -> np.ndarray:
-    """The torus test's observable: each coordinate of the Poincare points, standardised (the first
-    moments of :func:`geardyn.label.torus.moments`; the higher ones converge too slowly on the model's
-    slowly attracting tori to decide within a few hundred periods, docs/classify.md)."""
-    return moments(points)[:, : points.shape[1]]
-
-
-def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> tuple[TorusTest, str]:
-    """The torus test on the record (2N Poincare points) and how it found a torus ("" when it did not).
+def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> tuple[TorusTest, str, OrderTest | None]:
+    """The torus test on the record (2N Poincare points), how it found a torus ("" when it did not) and the
+    order test, where it ran one.
 
     A torus when the better of the plain weighted Birkhoff digits and those with the slow transient
-    extrapolated away (:func:`geardyn.label.torus.extrapolated_digits`) reaches log10 sqrt(N) +
+    extrapolated away (:func:`geardyn.label.torus.extrapolated_digits`; both from one evaluation of the
+    observable, :func:`geardyn.label.torus.torus_digits`) reaches log10 sqrt(N) +
     torus_margin, or when the record's newest half (at least ``order_min_n`` points) visits its set in the
     three-gap order of a circle rotation (:func:`geardyn.label.torus.order_test`: no smoothness needed, so
     it decides the tori with corners where the gears lose contact, on which the averages converge slowly);
@@ -283,27 +280,27 @@ def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> tuple[TorusTe
     The digits reported are the better of the two."""
     n = max(1, points.shape[0] // 2)
     p = points[-2 * n :]
-    values = standardised(p)  # the observable once: both measures read all 2N points
-
-    def observed(q: np.ndarray) -> np.ndarray:
-        return values
-
-    plain = birkhoff_digits(p, observed)
-    digits = max(plain, extrapolated_digits(p, observed)) if p.shape[0] >= EXTRAPOLATE_MIN else plain
+    plain, extrapolated = torus_digits(p, coordinates, extrapolate=p.shape[0] >= EXTRAPOLATE_MIN)
+    digits = plain if math.isnan(extrapolated) else max(plain, extrapolated)
     thresholds = (0.5 * math.log10(n) + cs.torus_margin, cs.chaos_margin, cs.torus_min_n)
     best = torus_verdict(digits, n, *thresholds)
     if best.verdict == "torus":
-        return best, f"Birkhoff averages converge (digits {digits:.1f})"
+        return best, f"Birkhoff averages converge (digits {digits:.1f})", None
+    order = None
     if cs.order_min_n > 0 and p.shape[0] >= cs.order_min_n:
         order = order_test(p[-max(cs.order_min_n, n) :], cs.order_min_n)  # the newest half, if long enough
         if order.passed:
             gaps = ", ".join(map(str, order.gaps))
-            return dataclasses.replace(best, verdict="torus"), (
-                f"the points follow a circle rotation (nearest-neighbour index differences {gaps} on {order.n} "
-                f"points; Birkhoff digits {digits:.1f})"
+            return (
+                dataclasses.replace(best, verdict="torus"),
+                (
+                    f"the points follow a circle rotation (nearest-neighbour index differences {gaps} on {order.n} "
+                    f"points; Birkhoff digits {digits:.1f})"
+                ),
+                order,
             )
     # chaos is the plain test's verdict, as before: the extrapolation only adds a way to find a torus
-    return dataclasses.replace(torus_verdict(plain, n, *thresholds), digits=digits), ""
+    return dataclasses.replace(torus_verdict(plain, n, *thresholds), digits=digits), "", order
 
 
 def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
@@ -312,7 +309,9 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
     undetermined, with the reason.  The 0-1 test and the spectral flatness cross-check a chaos label."""
     r, cs = p.run, policy.classifier
     lam, sig = classify.lyapunov_estimate(r.growth, r.period)
-    tt, how = _torus(r.poincare, cs)
+    tt, how, order = _torus(r.poincare, cs)
+    # kept for :func:`_locked` where it read the whole record (the same points, the same gaps)
+    p.order = (r.poincare, order) if order is not None and order.n == r.poincare.shape[0] else None
     digits = tt.digits
     positive = bool(np.isfinite(lam) and lam > cs.lam_tol + 2 * sig)
     negative = bool(np.isfinite(lam) and lam < -(cs.lam_tol + 2 * sig))

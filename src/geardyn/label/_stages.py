@@ -35,6 +35,7 @@ import numpy as np
 
 from geardyn import classify
 from geardyn.label.policy import Policy
+from geardyn.label.torus import OrderTest
 from geardyn.label.verdict import Verdict
 from geardyn.solve.base import SimulationResult, System
 from geardyn.solve.shooting import ShootingResult, newton_shooting_batch, period_settings, sorted_multipliers
@@ -67,6 +68,7 @@ class Point:
     run: SimulationResult | None = None
     left: int = 0  # periods left in the round of a growing record (stage 4)
     piece: SimulationResult | None = None  # that round's run so far
+    order: tuple[np.ndarray, OrderTest] | None = None  # the torus test's order test of a whole record: (record, test)
     transient_used: int = 0
     notes: list[str] = dataclasses.field(default_factory=list)
 

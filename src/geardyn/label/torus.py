@@ -93,13 +93,20 @@ def moments(points: np.ndarray) -> np.ndarray:
     """The default observable: (m, 3 d) values z, z^2, z^3 of the standardised coordinates
     z = (x - mean) / std of the (m, d) points (a coordinate whose spread is below 1e-12 of its
     magnitude, i.e. rounding, gives z = 0)."""
+    z = coordinates(points)
+    return np.concatenate([z, z * z, z * z * z], axis=1)
+
+
+def coordinates(points: np.ndarray) -> np.ndarray:
+    """The first moments of :func:`moments`: the (m, d) standardised coordinates z, the labeller's
+    observable (the higher moments converge too slowly on the model's slowly attracting tori to decide
+    within a few hundred periods, ``docs/classify.md``)."""
     p = np.asarray(points, dtype=float)
     if p.ndim == 1:
         p = p[:, None]
     s = p.std(axis=0)
     varies = s > 1e-12 * np.maximum(1.0, np.max(np.abs(p), axis=0, initial=0.0))
-    z = np.where(varies, (p - p.mean(axis=0)) / np.where(varies, s, 1.0), 0.0)
-    return np.concatenate([z, z * z, z * z * z], axis=1)
+    return np.where(varies, (p - p.mean(axis=0)) / np.where(varies, s, 1.0), 0.0)
 
 
 def _as_points(points: np.ndarray) -> np.ndarray:
@@ -158,8 +165,12 @@ def birkhoff_digits(points: np.ndarray, observable: Observable | None = None) ->
         raise ValueError(f"birkhoff_digits needs at least 4 points (two halves of 2), got {m}")
     n = m // 2
     f = _observed(p[m - 2 * n :], observable)
-    if f is None:
-        return DIGITS_MAX
+    return DIGITS_MAX if f is None else _plain_digits(f)
+
+
+def _plain_digits(f: np.ndarray) -> float:
+    """The digits of :func:`birkhoff_digits` from the observed values ``f`` of 2N points."""
+    n = f.shape[0] // 2
     return _digits(float(np.max(np.abs(weighted_birkhoff(f[:n]) - weighted_birkhoff(f[n:])))))
 
 
@@ -184,16 +195,43 @@ def extrapolated_digits(points: np.ndarray, observable: Observable | None = None
     :func:`birkhoff_digits`, or when the windows cannot be spaced by at least one point.
     """
     p = _as_points(points)
+    _check_windows(p.shape[0], windows)
+    f = _observed(p, observable)
+    return DIGITS_MAX if f is None else _extrapolated(f, windows)
+
+
+def torus_digits(
+    points: np.ndarray, observable: Observable | None = None, windows: int = 6, extrapolate: bool = True
+) -> tuple[float, float]:
+    """:func:`birkhoff_digits` and :func:`extrapolated_digits` of the last 2N points (N = m // 2), the
+    observable evaluated once for both (NaN for the second with ``extrapolate=False``).  On an even number
+    of points each equals the function's own value, bit for bit; on an odd number the extrapolation reads
+    the same 2N points as the plain test, not all m.  Raises ValueError as the two functions do."""
+    p = _as_points(points)
     m = p.shape[0]
-    if windows < 3:
-        raise ValueError(f"extrapolated_digits needs at least 3 windows, got {windows}")
-    n = m // 2
-    step = (m - n) // (windows - 1)
-    if n < 2 or step < 1:
-        raise ValueError(f"extrapolated_digits needs at least {max(4, 2 * windows - 3)} points, got {m}")
+    if m < 4:
+        raise ValueError(f"birkhoff_digits needs at least 4 points (two halves of 2), got {m}")
+    p = p[m - 2 * (m // 2) :]
+    if extrapolate:
+        _check_windows(p.shape[0], windows)
     f = _observed(p, observable)
     if f is None:
-        return DIGITS_MAX
+        return DIGITS_MAX, DIGITS_MAX if extrapolate else math.nan
+    return _plain_digits(f), _extrapolated(f, windows) if extrapolate else math.nan
+
+
+def _check_windows(m: int, windows: int) -> None:
+    if windows < 3:
+        raise ValueError(f"extrapolated_digits needs at least 3 windows, got {windows}")
+    if m // 2 < 2 or (m - m // 2) // (windows - 1) < 1:
+        raise ValueError(f"extrapolated_digits needs at least {max(4, 2 * windows - 3)} points, got {m}")
+
+
+def _extrapolated(f: np.ndarray, windows: int) -> float:
+    """The digits of :func:`extrapolated_digits` from the observed values ``f`` of the m points."""
+    m = f.shape[0]
+    n = m // 2
+    step = (m - n) // (windows - 1)
     w = bump_weights(n)
     d = np.diff(np.stack([w @ f[k * step : k * step + n] for k in range(windows)]), axis=0)
     den = float(np.sum(d[:-1] * d[:-1]))
