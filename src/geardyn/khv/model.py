@@ -235,7 +235,21 @@ class Coefficients:
         return {"K": K, "C": C, "g": g, "p": p, "te": self.te_forcing}
 
     def kernel_array(self) -> np.ndarray:
-        """Flat float64 array read by the solver, in the named order of :data:`geardyn.solve.base.LAYOUT`."""
+        """Flat float64 array read by the solver, in the named order of :data:`geardyn.solve.base.LAYOUT`
+        (computed once per instance: the labeller and the response measures both read it; a copy)."""
+        return self._kernel_array.copy()
+
+    def static_state(self) -> np.ndarray:
+        """The static deflection at rest (:func:`static_deflection`): the solver's default start (computed
+        once per instance, like :meth:`kernel_array`; a copy)."""
+        return self._static_state.copy()
+
+    @functools.cached_property
+    def _static_state(self) -> np.ndarray:
+        return static_deflection(self)
+
+    @functools.cached_property
+    def _kernel_array(self) -> np.ndarray:
         m = self.matrices()
         K, C, g, p = m["K"], m["C"], m["g"], m["p"]
         values = {
@@ -260,10 +274,6 @@ class Coefficients:
             "EPS": self.eps,
         }
         return np.array([values[name] for name in layout.LAYOUT], dtype=np.float64)
-
-    def static_state(self) -> np.ndarray:
-        """The static deflection at rest (:func:`static_deflection`): the solver's default start."""
-        return static_deflection(self)
 
 
 def mesh_omega(params: KHVParameters) -> float:
@@ -455,10 +465,10 @@ def lti_response(coeffs: Coefficients, tau: np.ndarray) -> np.ndarray:
     return np.concatenate([x, v], axis=-1)
 
 
-@functools.lru_cache(maxsize=64)
+@functools.lru_cache(maxsize=4096)
 def _stiffness_polys(eps: float, form: str, mode: str) -> np.ndarray:
     """:meth:`Coefficients.stiffness_polys`, computed once per (eps, form, mode): a line of a map or sweep
-    shares them (read-only; the method returns a copy)."""
+    shares them, and a map's rows share its columns' (read-only; the method returns a copy)."""
     if mode == "mean":
         out = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
     else:
