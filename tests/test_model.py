@@ -92,6 +92,19 @@ def test_static_deflection_is_equilibrium():
         assert abs(y[1]) > c.b  # teeth in contact under the Table 2 load
 
 
+def test_kept_kernel_array_and_static_state_are_copies_of_their_instance():
+    """The coefficients keep their kernel array and static deflection once computed: each call returns the
+    value of that instance (a changed copy changes neither the next call nor another instance's value)."""
+    c = dimensionless(P416)
+    y, k = c.static_state(), c.kernel_array()
+    assert np.array_equal(y, model.static_deflection(c)) and k.shape == (len(k),)
+    y[:], k[:] = 99.0, 99.0
+    assert np.array_equal(c.static_state(), model.static_deflection(c)) and np.all(c.kernel_array() != 99.0)
+    wider = c.replace(b=2.0 * c.b)
+    assert wider.static_state()[1] == pytest.approx(c.static_state()[1] + math.copysign(c.b, c.static_state()[1]))
+    assert wider.kernel_array().tolist() != c.kernel_array().tolist() and wider == dataclasses.replace(c, b=2.0 * c.b)
+
+
 @settings(max_examples=60 * EXAMPLE_SCALE, deadline=None)
 @given(
     z=st.lists(st.floats(-30, 30), min_size=8, max_size=8),
