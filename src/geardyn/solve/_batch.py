@@ -32,6 +32,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+import geardyn.solve._cache  # noqa: F401 - renews numba's cache when any kernel source changed
 from geardyn.solve._kernel import diverged, locate_switches, record, region, run
 from geardyn.solve._model import rk4, rk4_tangent, slope
 from geardyn.solve._period import (

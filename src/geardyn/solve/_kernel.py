@@ -33,6 +33,7 @@ import math
 import numpy as np
 from numba import njit
 
+import geardyn.solve._cache  # noqa: F401 - renews numba's cache when any kernel source changed
 from geardyn.solve._model import rk4, rk4_tangent, slope
 from geardyn.solve._period import early_stop
 from geardyn.solve.base import BACKLASH_ON, EPS, PHI, TE, B, T

@@ -20,6 +20,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+import geardyn.solve._cache  # noqa: F401 - renews numba's cache when any kernel source changed
+
 
 @njit(cache=True)
 def first_period(d, hits, need, max_n, distinct):

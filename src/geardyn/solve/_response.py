@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+import geardyn.solve._cache  # noqa: F401 - renews numba's cache when any kernel source changed
 from geardyn.solve._kernel import diverged, hermite_root, locate_switches, region, step
 from geardyn.solve.base import BACKLASH_ON, CM, B, T
 

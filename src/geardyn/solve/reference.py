@@ -18,6 +18,7 @@ import numpy as np
 from numba import njit
 from scipy.integrate import solve_ivp
 
+import geardyn.solve._cache  # noqa: F401 - renews numba's cache when any kernel source changed
 from geardyn.solve.base import (
     C11,
     C21,
