@@ -49,6 +49,21 @@ def test_the_dag_reads_run_specs_without_the_solver() -> None:
     assert out.split() == []
 
 
+def test_a_labelling_job_loads_the_reference_solver_only_for_dop853() -> None:
+    """The map and sweep chunks label with the RK4 loops: scipy.integrate (0.5 s) is not imported until a
+    run asks for the DOP853 reference."""
+    drive = Path(__file__).parents[1] / "config" / "designs" / "li2013.yaml"
+    code = (
+        "import sys; from geardyn.runs import maps, sweep; import geardyn.label; from geardyn.solve import simulate, "
+        "warm_up, SimulationSettings; from geardyn.khv import design, point; print('scipy.integrate' in sys.modules); "
+        f"c = point.point_coefficients(design.load({str(drive)!r})); "
+        "r = simulate(c, SimulationSettings(integrator='dop853', transient_periods=0, recorded_periods=1)); "
+        "print('scipy.integrate' in sys.modules, r.poincare.shape)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["False", "True", "(1,", "6)"]
+
+
 def test_lazy_names_resolve_to_what_they_name() -> None:
     # geardyn.solve.simulate names a module and the function it defines: the package's attribute is the
     # function, even when the submodule is imported first (a new process, so the order is this one)

@@ -28,7 +28,6 @@ import geardyn.solve._batch as _batch
 import geardyn.solve._kernel as _kernel
 import geardyn.solve._period as _period
 from geardyn.solve.base import SimulationResult, SimulationSettings, System, divergence_limits
-from geardyn.solve.reference import simulate_reference
 
 
 def step_grid(eps: float, n: int, aligned: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -103,6 +102,7 @@ def simulate(
     if settings.integrator == "dop853":
         if tangent_periods or monodromy_periods:
             raise ValueError("the variational part needs a fixed-step integrator ('rk4' or 'rk4_event')")
+        from geardyn.solve.reference import simulate_reference  # noqa: PLC0415 - scipy.integrate: 0.5 s to import
 
         return simulate_reference(system, settings, y0, dense=dense)
     if tangent_periods and monodromy_periods:
