@@ -11,6 +11,7 @@ key, the value and what is allowed.
 import sys
 
 from geardyn.config import ConfigError
+from geardyn.solve import kernel_sources
 from geardyn.validate import read_config_file, validate_workflow
 
 CONFIG_FILES = workflow.overwrite_configfiles or ["config/config.yaml"]
@@ -37,6 +38,7 @@ config.update(_filled)
 
 
 include: "workflow/rules/common.smk"
+include: "workflow/rules/kernels.smk"
 include: "workflow/rules/report.smk"
 include: "workflow/rules/geometry.smk"
 include: "workflow/rules/stiffness.smk"

@@ -3,6 +3,8 @@
 
 
 rule work_precision:
+    input:
+        kernels=KERNELS,
     output:
         data=benchmarks("work_precision.nc"),
         table=benchmarks("work_precision.md"),

@@ -11,6 +11,7 @@
 rule calibration_search:
     input:
         design=design_file,
+        kernels=KERNELS,
     output:
         scores=results("calibration", "{calibration}.nc"),
         best=results("calibration", "{calibration}_best.json"),
@@ -28,6 +29,7 @@ rule calibration_search:
 rule calibration_sensitivity:
     input:
         design=design_file,
+        kernels=KERNELS,
         best=rules.calibration_search.output.best,
     output:
         oat=results("calibration", "{calibration}_sensitivity.nc"),

@@ -4,6 +4,7 @@
 rule map_chunk:
     input:
         design=design_file,
+        kernels=KERNELS,
     output:
         temp(results("maps", "{map}", "chunk_{chunk}.nc")),
     log:

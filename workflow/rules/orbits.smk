@@ -7,6 +7,7 @@
 rule orbit_branches:
     input:
         design=design_file,
+        kernels=KERNELS,
         cube=rules.sweep_merge.output[0],
     output:
         data=results("orbits", "{sweep}_branches.nc"),
@@ -47,6 +48,7 @@ rule orbit_figure:
 rule orbit_attractors:
     input:
         design=design_file,
+        kernels=KERNELS,
         cube=rules.sweep_merge.output[0],
         branches=rules.orbit_branches.output.data,
     output:

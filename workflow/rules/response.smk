@@ -5,6 +5,7 @@
 rule frequency_response:
     input:
         design=design_file,
+        kernels=KERNELS,
     output:
         cube=results("response", "{response}.nc"),
         figure=report(

@@ -5,6 +5,7 @@
 rule sweep_chunk:
     input:
         design=design_file,
+        kernels=KERNELS,
     output:
         temp(results("sweeps", "{sweep}", "chunk_{chunk}.nc")),
     log:
@@ -57,6 +58,7 @@ rule bifurcation_figure:
 rule point_runs:
     input:
         design=design_file,
+        kernels=KERNELS,
     output:
         data=results("points", "{points}.nc"),
     log:

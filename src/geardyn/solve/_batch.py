@@ -32,7 +32,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-import geardyn.solve._cache  # noqa: F401 - renews numba's cache when any kernel source changed
+import geardyn.solve._cache as _cache
 from geardyn.solve._kernel import diverged, locate_switches, record, region, run
 from geardyn.solve._model import rk4, rk4_tangent, slope
 from geardyn.solve._period import (
@@ -40,6 +40,8 @@ from geardyn.solve._period import (
     strict_periods,  # noqa: F401  (rule 3 for many records, compiled)
 )
 from geardyn.solve.base import BACKLASH_ON, B, T
+
+_cache.renew()  # before the loops: numba's cache renewed when any kernel source changed
 
 
 @njit(cache=True, parallel=True)

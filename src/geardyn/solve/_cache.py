@@ -1,12 +1,13 @@
 """numba's on-disk cache of the compiled loops, renewed as a whole when any of their sources changes.
-Private to :mod:`geardyn.solve`; every module with ``cache=True`` loops imports it first.
+Private to :mod:`geardyn.solve`; every module with ``cache=True`` loops calls :func:`renew` before
+defining them.
 
-numba keys the cache of a function on its own source file (modification time and size) and its own
-bytecode, not on the functions it calls in other files nor on the constants it reads from them.  After a
-change to ``_model.py`` alone (an edit, or a ``git pull`` into a checkout installed with ``-e``), the cached
+numba keys the cache of a function on its own source file (a stamp of it) and its own bytecode, not on
+the functions it calls in other files nor on the constants it reads from them.  After a change to
+``_model.py`` alone (an edit, or a ``git pull`` into a checkout installed with ``-e``), the cached
 loops of ``_batch.py`` would still run the old equations, and nothing would say so.  This module keys the
 cache of all the compiled modules of :mod:`geardyn.solve` on one hash of all their sources
-(:data:`SOURCES`): on import, before any loop is compiled or loaded, it compares the hash with the one
+(:data:`SOURCES`): :func:`renew`, called before any loop is defined, compares the hash with the one
 stored beside the cache, and where they differ it deletes the cache files of this package, so numba
 compiles afresh and stores the new hash.
 
@@ -28,6 +29,11 @@ SOURCES = ("base.py", "_model.py", "_kernel.py", "_period.py", "_batch.py", "_re
 STAMP = "geardyn-kernels.sha256"
 
 _HERE = Path(os.path.abspath(__file__)).parent  # as numba names the sources (not resolved)
+
+
+def source_paths(folder: Path = _HERE) -> list[str]:
+    """The :data:`SOURCES` in ``folder``, as paths."""
+    return [str(folder / name) for name in SOURCES]
 
 
 def sources_hash(folder: Path = _HERE) -> str:
@@ -72,6 +78,3 @@ def renew(folder: Path = _HERE) -> bool:
     except OSError:
         pass  # an unwritable cache: numba does not write there either
     return bool(stale)
-
-
-renew()

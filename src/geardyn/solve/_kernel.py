@@ -33,10 +33,12 @@ import math
 import numpy as np
 from numba import njit
 
-import geardyn.solve._cache  # noqa: F401 - renews numba's cache when any kernel source changed
+import geardyn.solve._cache as _cache
 from geardyn.solve._model import rk4, rk4_tangent, slope
 from geardyn.solve._period import early_stop
 from geardyn.solve.base import BACKLASH_ON, EPS, PHI, TE, B, T
+
+_cache.renew()  # before the loops: numba's cache renewed when any kernel source changed
 
 
 @njit(cache=True, inline="always")

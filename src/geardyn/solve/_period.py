@@ -20,7 +20,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-import geardyn.solve._cache  # noqa: F401 - renews numba's cache when any kernel source changed
+import geardyn.solve._cache as _cache
+
+_cache.renew()  # before the loops: numba's cache renewed when any kernel source changed
 
 
 @njit(cache=True)

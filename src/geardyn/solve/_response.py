@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-import geardyn.solve._cache  # noqa: F401 - renews numba's cache when any kernel source changed
+import geardyn.solve._cache as _cache
 from geardyn.solve._kernel import diverged, hermite_root, locate_switches, region, step
 from geardyn.solve.base import BACKLASH_ON, CM, B, T
 
@@ -44,6 +44,9 @@ from geardyn.solve.base import BACKLASH_ON, CM, B, T
     N_SWITCH,
 ) = range(15)
 N_OUT = 15
+
+
+_cache.renew()  # before the loops: numba's cache renewed when any kernel source changed
 
 
 @njit(cache=True, inline="always")

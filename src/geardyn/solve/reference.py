@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit
 from scipy.integrate import solve_ivp
 
-import geardyn.solve._cache  # noqa: F401 - renews numba's cache when any kernel source changed
+import geardyn.solve._cache as _cache
 from geardyn.solve.base import (
     C11,
     C21,
@@ -42,6 +42,8 @@ from geardyn.solve.base import (
     T,
     divergence_limits,
 )
+
+_cache.renew()  # before the loops: numba's cache renewed when any kernel source changed
 
 
 @njit(cache=True)
