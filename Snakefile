@@ -11,7 +11,6 @@ key, the value and what is allowed.
 import sys
 
 from geardyn.config import ConfigError
-from geardyn.solve import kernel_sources
 from geardyn.validate import read_config_file, validate_workflow
 
 CONFIG_FILES = workflow.overwrite_configfiles or ["config/config.yaml"]
@@ -38,7 +37,6 @@ config.update(_filled)
 
 
 include: "workflow/rules/common.smk"
-include: "workflow/rules/kernels.smk"
 include: "workflow/rules/report.smk"
 include: "workflow/rules/geometry.smk"
 include: "workflow/rules/stiffness.smk"

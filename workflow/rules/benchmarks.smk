@@ -3,8 +3,6 @@
 
 
 rule work_precision:
-    input:
-        kernels=KERNELS,
     output:
         data=benchmarks("work_precision.nc"),
         table=benchmarks("work_precision.md"),

@@ -11,7 +11,6 @@
 rule calibration_search:
     input:
         design=design_file,
-        kernels=KERNELS,
     output:
         scores=results("calibration", "{calibration}.nc"),
         best=results("calibration", "{calibration}_best.json"),
@@ -29,7 +28,6 @@ rule calibration_search:
 rule calibration_sensitivity:
     input:
         design=design_file,
-        kernels=KERNELS,
         best=rules.calibration_search.output.best,
     output:
         oat=results("calibration", "{calibration}_sensitivity.nc"),

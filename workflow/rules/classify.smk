@@ -27,7 +27,6 @@ rule claims:
     input:
         unpack(claims_runs),
         design=design_file,
-        kernels=KERNELS,
         closed_graph=rules.closed_graph.output[0],
         stiffness=rules.stiffness_table.output[0],
     output:

@@ -4,7 +4,6 @@
 rule map_chunk:
     input:
         design=design_file,
-        kernels=KERNELS,
     output:
         temp(results("maps", "{map}", "chunk_{chunk}.nc")),
     log:

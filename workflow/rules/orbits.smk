@@ -7,7 +7,6 @@
 rule orbit_branches:
     input:
         design=design_file,
-        kernels=KERNELS,
         cube=rules.sweep_merge.output[0],
     output:
         data=results("orbits", "{sweep}_branches.nc"),
@@ -48,7 +47,6 @@ rule orbit_figure:
 rule orbit_attractors:
     input:
         design=design_file,
-        kernels=KERNELS,
         cube=rules.sweep_merge.output[0],
         branches=rules.orbit_branches.output.data,
     output:

@@ -5,7 +5,6 @@
 rule frequency_response:
     input:
         design=design_file,
-        kernels=KERNELS,
     output:
         cube=results("response", "{response}.nc"),
         figure=report(

@@ -5,7 +5,6 @@
 rule sweep_chunk:
     input:
         design=design_file,
-        kernels=KERNELS,
     output:
         temp(results("sweeps", "{sweep}", "chunk_{chunk}.nc")),
     log:
@@ -58,7 +57,6 @@ rule bifurcation_figure:
 rule point_runs:
     input:
         design=design_file,
-        kernels=KERNELS,
     output:
         data=results("points", "{points}.nc"),
     log:

@@ -32,15 +32,6 @@ __getattr__ = lazy_attributes(
 )
 
 
-def kernel_sources() -> list[str]:
-    """The source files of the compiled loops, whose one hash keys numba's cache of them
-    (:mod:`geardyn.solve._cache`): the inputs of a workflow step that compiles the loops once, before the
-    jobs that use them (without loading numba here)."""
-    from geardyn.solve import _cache  # noqa: PLC0415 - hashlib and paths only
-
-    return _cache.source_paths()
-
-
 class _Package(types.ModuleType):
     """``geardyn.solve.simulate`` names both a module and the function it defines; the package's attribute is
     the function, as with an eager ``from .simulate import simulate``, whichever is imported first (the
@@ -62,7 +53,6 @@ __all__ = [
     "SimulationResult",
     "SimulationSettings",
     "System",
-    "kernel_sources",
     "largest_lyapunov",
     "simulate",
     "step_grid",

@@ -31,11 +31,6 @@ STAMP = "geardyn-kernels.sha256"
 _HERE = Path(os.path.abspath(__file__)).parent  # as numba names the sources (not resolved)
 
 
-def source_paths(folder: Path = _HERE) -> list[str]:
-    """The :data:`SOURCES` in ``folder``, as paths."""
-    return [str(folder / name) for name in SOURCES]
-
-
 def sources_hash(folder: Path = _HERE) -> str:
     """SHA-256 of the :data:`SOURCES` in ``folder``, in that order (their bytes and names)."""
     h = hashlib.sha256()
