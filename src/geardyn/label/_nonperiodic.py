@@ -206,7 +206,7 @@ def _locked(points: list[Point], policy: Policy) -> None:
         known = p.order[1] if p.order is not None and p.order[0] is record else None  # the torus test's, if whole
         gaps = (known or order_test(record, 0)).gaps
         n = gaps[0]
-        oldest, newest = _returns(p.run.poincare, n) if cs.max_n < n <= cs.long_max_n else (0.0, math.inf)
+        oldest, newest = _returns(record, n) if cs.max_n < n <= cs.long_max_n else (0.0, math.inf)
         ns.append(n if newest < LOCKED_RETURN and (newest < 0.5 * oldest or len(gaps) == 1) else 0)
     _try_periods(
         points,

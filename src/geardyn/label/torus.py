@@ -159,13 +159,18 @@ def birkhoff_digits(points: np.ndarray, observable: Observable | None = None) ->
     points do not vary (a fixed point, to 1e-12 of their magnitude) the result is ``DIGITS_MAX``.
     Raises ValueError on rows with NaN or inf, or on fewer than 4 points.
     """
+    p = _newest_pairs(points)
+    f = _observed(p, observable)
+    return DIGITS_MAX if f is None else _plain_digits(f)
+
+
+def _newest_pairs(points: np.ndarray) -> np.ndarray:
+    """The last 2N of the m points (N = m // 2) that the plain measure reads; at least 4 (two halves of 2)."""
     p = _as_points(points)
     m = p.shape[0]
     if m < 4:
         raise ValueError(f"birkhoff_digits needs at least 4 points (two halves of 2), got {m}")
-    n = m // 2
-    f = _observed(p[m - 2 * n :], observable)
-    return DIGITS_MAX if f is None else _plain_digits(f)
+    return p[m - 2 * (m // 2) :]
 
 
 def _plain_digits(f: np.ndarray) -> float:
@@ -207,11 +212,7 @@ def torus_digits(
     observable evaluated once for both (NaN for the second with ``extrapolate=False``).  On an even number
     of points each equals the function's own value, bit for bit; on an odd number the extrapolation reads
     the same 2N points as the plain test, not all m.  Raises ValueError as the two functions do."""
-    p = _as_points(points)
-    m = p.shape[0]
-    if m < 4:
-        raise ValueError(f"birkhoff_digits needs at least 4 points (two halves of 2), got {m}")
-    p = p[m - 2 * (m // 2) :]
+    p = _newest_pairs(points)
     if extrapolate:
         _check_windows(p.shape[0], windows)
     f = _observed(p, observable)

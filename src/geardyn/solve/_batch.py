@@ -41,7 +41,7 @@ from geardyn.solve._period import (
 )
 from geardyn.solve.base import BACKLASH_ON, B, T
 
-_cache.renew()  # before the loops: numba's cache renewed when any kernel source changed
+_cache.renew_once()  # before the loops: numba's cache renewed when any kernel source changed
 
 
 @njit(cache=True, parallel=True)

@@ -1,6 +1,6 @@
 """numba's on-disk cache of the compiled loops, renewed as a whole when any of their sources changes.
-Private to :mod:`geardyn.solve`; every module with ``cache=True`` loops calls :func:`renew` before
-defining them.
+Private to :mod:`geardyn.solve`; every module with ``cache=True`` loops calls :func:`renew_once`
+before defining them.
 
 numba keys the cache of a function on its own source file (a stamp of it) and its own bytecode, not on
 the functions it calls in other files nor on the constants it reads from them.  After a change to
@@ -19,6 +19,7 @@ files only compiles again.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 from pathlib import Path
@@ -73,3 +74,10 @@ def renew(folder: Path = _HERE) -> bool:
     except OSError:
         pass  # an unwritable cache: numba does not write there either
     return bool(stale)
+
+
+@functools.cache
+def renew_once() -> bool:
+    """:func:`renew` of this package's cache, once per process: the first of its compiled modules to be
+    imported hashes the sources, the others reuse the answer."""
+    return renew()

@@ -38,7 +38,7 @@ from geardyn.solve._model import rk4, rk4_tangent, slope
 from geardyn.solve._period import early_stop
 from geardyn.solve.base import BACKLASH_ON, EPS, PHI, TE, B, T
 
-_cache.renew()  # before the loops: numba's cache renewed when any kernel source changed
+_cache.renew_once()  # before the loops: numba's cache renewed when any kernel source changed
 
 
 @njit(cache=True, inline="always")

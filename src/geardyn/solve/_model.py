@@ -23,7 +23,7 @@ from numba import njit
 import geardyn.solve._cache as _cache
 from geardyn.solve.base import C11, C21, C23, C33, CM, G1, G3, K11, K21, K23, K33, P1, P3
 
-_cache.renew()  # before the loops: numba's cache renewed when any kernel source changed
+_cache.renew_once()  # before the loops: numba's cache renewed when any kernel source changed
 
 
 @njit(cache=True, inline="always")

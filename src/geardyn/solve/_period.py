@@ -22,7 +22,7 @@ from numba import njit
 
 import geardyn.solve._cache as _cache
 
-_cache.renew()  # before the loops: numba's cache renewed when any kernel source changed
+_cache.renew_once()  # before the loops: numba's cache renewed when any kernel source changed
 
 
 @njit(cache=True)

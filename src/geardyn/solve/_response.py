@@ -46,7 +46,7 @@ from geardyn.solve.base import BACKLASH_ON, CM, B, T
 N_OUT = 15
 
 
-_cache.renew()  # before the loops: numba's cache renewed when any kernel source changed
+_cache.renew_once()  # before the loops: numba's cache renewed when any kernel source changed
 
 
 @njit(cache=True, inline="always")

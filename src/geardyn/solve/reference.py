@@ -43,7 +43,7 @@ from geardyn.solve.base import (
     divergence_limits,
 )
 
-_cache.renew()  # before the loops: numba's cache renewed when any kernel source changed
+_cache.renew_once()  # before the loops: numba's cache renewed when any kernel source changed
 
 
 @njit(cache=True)
