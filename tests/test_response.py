@@ -1,6 +1,7 @@
 """Response measures (geardyn.solve.response): linear limit, zero excitation, impact classes on constructed
 trajectories, bad input."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -9,12 +10,13 @@ import pytest
 from geardyn.khv.model import Coefficients
 from geardyn.label import Policy
 from geardyn.runs.response import frequency_response
-from geardyn.solve import SimulationSettings
+from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.response import (
     IMPACT_CLASSES,
     contact_fractions,
     impact_class,
     response_measures,
+    response_measures_many,
     static_mesh_force,
 )
 
@@ -111,3 +113,58 @@ def test_bad_input_is_flagged_not_nan():
         impact_class(math.nan, 0.0)
     with pytest.raises(ValueError, match="contact_fractions"):
         contact_fractions(np.zeros(3), np.zeros(2), 0.1, 1.0)
+
+
+def _same(a, b) -> bool:
+    """Two measures equal field by field, bit for bit (NaN equal to NaN)."""
+    return all(
+        u == v or (u != u and v != v) for u, v in zip(dataclasses.astuple(a), dataclasses.astuple(b), strict=True)
+    )
+
+
+def test_a_batch_gives_each_point_its_own_measures_bit_for_bit():
+    """The lanes step 8 points together, those of equal length side by side: each point's measures are those
+    of the point alone, whatever its neighbours (other TE, periods 1 to 40, a start that diverges, one that
+    is not finite, more points than a lockstep block)."""
+    settings = SimulationSettings(integrator="rk4_event", steps_per_period=64)
+    systems = [_system(e=e, b=0.5) for e in (0.05, 0.8, 1.5, 2.5, 0.3, 1.1, 3.0, 0.6, 2.0, 0.9, 1.8)]
+    starts = [s.static_state() for s in systems]
+    starts[3] = np.full(6, 1e9)  # beyond the divergence limits: diverges in its first period
+    starts[5] = np.full(6, np.nan)
+    periods = [1, 40, 3, 2, 40, 1, 17, 40, 5, 2, 40]
+    many = response_measures_many(systems, starts, settings, periods)
+    alone = [response_measures(s, y, settings, n) for s, y, n in zip(systems, starts, periods, strict=True)]
+    assert all(_same(a, b) for a, b in zip(many, alone, strict=True))
+    assert many[3].diverged and many[5].diverged and not any(m.diverged for k, m in enumerate(many) if k not in (3, 5))
+    assert {m.impact_class for m in many} >= {"no_impact", "double_sided"}
+
+
+def test_measures_equal_the_dense_trajectory_reduced_in_numpy():
+    """The sums added in the lanes equal the same record of :func:`simulate`'s dense output reduced in numpy:
+    trapezoidal means and RMS of the DTE and of the drive-side mesh force s (f(x2) + c_m x2') (constant
+    stiffness), the extremes on the step grid, and the contact fractions (uniform steps: the grid not
+    aligned)."""
+    c = _system(e=1.5, b=0.5, omega=1.2)  # double-sided impacts: 4 contact switches per period
+    settings = SimulationSettings(
+        integrator="rk4_event", steps_per_period=128, aligned=False, transient_periods=0, recorded_periods=30
+    )
+    y0 = simulate(c, dataclasses.replace(settings, transient_periods=5)).final_state  # still a transient
+    run = simulate(c, settings, x0=y0, dense=True)
+    r = response_measures(c, y0, settings, 30)
+    assert r.impact_class == "double_sided" and r.n_switches > 30
+    x = np.concatenate([[y0[1]], run.states[:, 1]])
+    v = np.concatenate([[y0[4]], run.states[:, 4]])
+    h = c.period / 128
+    side = math.copysign(1.0, static_mesh_force(c))  # the drive side: negative for this preload
+    force = side * (x - np.clip(x, -c.b, c.b) + c.c_m * v)
+
+    def mean_rms(f):
+        d = f - f[0]
+        m = np.trapezoid(d, dx=h) / (h * (f.size - 1))
+        return f[0] + m, math.sqrt(np.trapezoid(d * d, dx=h) / (h * (f.size - 1)) - m * m)
+
+    assert (r.dte_mean, r.dte_rms) == pytest.approx(mean_rms(x), rel=1e-12, abs=1e-13)
+    assert (r.force_mean, r.force_rms) == pytest.approx(mean_rms(force), rel=1e-12, abs=1e-13)
+    assert r.dte_pp == np.ptp(x) and r.force_max == np.max(force)
+    fractions = (r.drive_fraction, r.separation_fraction, r.back_fraction)
+    assert fractions == pytest.approx(contact_fractions(x, v, h, c.b, side), abs=1e-13)

@@ -19,9 +19,8 @@ from geardyn import classify
 from geardyn.io import runtime_provenance
 from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES, Policy, Verdict
 from geardyn.label.compare import same
-from geardyn.parallel import threaded_map
 from geardyn.solve import SimulationSettings, System
-from geardyn.solve.response import IMPACT_CLASSES, ResponseMeasures, response_measures
+from geardyn.solve.response import IMPACT_CLASSES, ResponseMeasures, response_measures_many
 
 STATES = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
 STATE_NAMES = {
@@ -180,23 +179,29 @@ def response_variables(dims: tuple[str, ...], shape: tuple[int, ...]) -> dict[st
     return data
 
 
-def verdict_response(system: System, v: Verdict, settings: SimulationSettings) -> ResponseMeasures:
-    """The response measures of a labelled point, from its verdict's final state (on the attractor): over one
-    cycle of a periodic verdict (its least period: the recorded periods repeat it), else over the settings'
-    recorded periods."""
-    if v.diverged:
-        return ResponseMeasures.not_computed()
-    periods = v.period if v.period > 0 else settings.recorded_periods
-    return response_measures(system, v.final_state, settings, periods)
+def verdict_responses(
+    systems: Sequence[System], verdicts: Sequence[Verdict], settings: SimulationSettings
+) -> list[ResponseMeasures]:
+    """The response measures of labelled points, from each verdict's final state (on the attractor): over
+    one cycle of a periodic verdict (its least period: the recorded periods repeat it), else over the
+    settings' recorded periods; :meth:`ResponseMeasures.not_computed` where the labeller saw divergence.
+    All points in one call of :func:`response_measures_many` (the batch's lanes)."""
+    run = [k for k, v in enumerate(verdicts) if not v.diverged]
+    measured = response_measures_many(
+        [systems[k] for k in run],
+        [verdicts[k].final_state for k in run],
+        settings,
+        [verdicts[k].period if verdicts[k].period > 0 else settings.recorded_periods for k in run],
+    )
+    out = dict(zip(run, measured, strict=True))
+    return [out[k] if k in out else ResponseMeasures.not_computed() for k in range(len(verdicts))]
 
 
 def line_responses(
     lines: Sequence[Sequence[System]], verdicts: Sequence[Sequence[Verdict]], settings: SimulationSettings
 ) -> list[list[ResponseMeasures]]:
-    """:func:`verdict_response` of every point of labelled lines, points in parallel on the numba threads
-    (each point's measures are its own: the results do not depend on the threads)."""
-    pairs = [(s, v) for line, vs in zip(lines, verdicts, strict=True) for s, v in zip(line, vs, strict=True)]
-    flat = threaded_map(lambda sv: verdict_response(sv[0], sv[1], settings), pairs, chunksize=64)
+    """:func:`verdict_responses` of every point of labelled lines."""
+    flat = verdict_responses([s for line in lines for s in line], [v for vs in verdicts for v in vs], settings)
     out, k = [], 0
     for line in lines:
         out.append(flat[k : k + len(line)])

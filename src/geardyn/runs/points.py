@@ -26,7 +26,7 @@ from geardyn.runs.cube import (
     response_variables,
     store_response,
     store_verdict,
-    verdict_response,
+    verdict_responses,
 )
 from geardyn.solve import SimulationSettings, simulate
 
@@ -135,9 +135,9 @@ def dense_points(
     per_case = {**label_variables(("case",), (n,), policy.classifier), **response_variables(("case",), (n,))}
     out = out.assign({name: (("case",), *spec[1:]) for name, spec in per_case.items()})
     arrays = {name: out[name] for name in out.data_vars}
-    for k, v in enumerate(verdicts):
+    for k, (v, r) in enumerate(zip(verdicts, verdict_responses(systems, verdicts, policy.integration), strict=True)):
         store_verdict(arrays, (k,), v)
-        store_response(arrays, (k,), verdict_response(systems[k], v, policy.integration))
+        store_response(arrays, (k,), r)
     s = policy.integration
     out.attrs.update(
         {

@@ -39,7 +39,8 @@ from geardyn.solve._period import (
     early_stop,
     strict_periods,  # noqa: F401  (rule 3 for many records, compiled)
 )
-from geardyn.solve.base import BACKLASH_ON, B, T
+from geardyn.solve._response import STATUS, add_step, start_sums
+from geardyn.solve.base import BACKLASH_ON, CM, B, T
 
 _cache.renew_once()  # before the loops: numba's cache renewed when any kernel source changed
 
@@ -196,14 +197,16 @@ def _switch(C, POLY, H, S, SEG, A, q, ln, j, reg, rnew, tan, y1, y2, Wa, Wb):
 
 
 @njit(cache=True)
-def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE):
+def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE, ACC, SGN):
     """Lanes ``lanes`` (<= WIDTH of them) stepped in lockstep, structure of arrays (state (6, WIDTH)):
     the plain RK4 step of every lane is one loop over the lanes that the compiler vectorises (the dead
     zone as selects, no branch); a lane whose step changed contact region is then corrected alone by
     :func:`geardyn.solve._kernel.locate_switches`.  The end of a mesh period is that of
     :func:`geardyn.solve._kernel.run` (:func:`~geardyn.solve._kernel.diverged`,
     :func:`~geardyn.solve._kernel.record`, :func:`geardyn.solve._period.early_stop`), lane by lane, so
-    each lane's result is bit-identical to the scalar loop's."""
+    each lane's result is bit-identical to the scalar loop's.  With ACC (L, N_OUT) (not (L, 0)) every
+    step is also added to the response measures' sums of :mod:`geardyn.solve._response` (drive side
+    SGN (L,))."""
     H, S, SEG, K, P, POLY = TABS
     es_min, es_confirm, es_max_n = ES[0], ES[1], ES[2]
     nl = lanes.shape[0]
@@ -227,8 +230,11 @@ def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, O
     dcur = np.full(es_max_n + 1, np.inf)
     tan_start = np.zeros(Wd, dtype=np.int64)
     tan_on = np.zeros(Wd, dtype=np.bool_)
+    acc = ACC.shape[1] > 0
     for q in range(nl):
         ln = lanes[q]
+        if acc:  # b of the sums: A's row 13, 0 without backlash
+            start_sums(ACC[ln], K[ln, 0, 0], C[ln, CM], A[13 * Wd + q], Y0[ln, 1], Y0[ln, 4], SGN[ln])
         use_ev[q] = event and C[ln, BACKLASH_ON] != 0.0 and C[ln, B] > 0.0
         bl[q] = C[ln, B]
         reg[q] = region(Y0[ln, 1], C[ln, B])
@@ -261,6 +267,14 @@ def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, O
                             C, POLY, H, S, SEG, A, q, lanes[q], j, reg[q], rnew, tan_on[q], y, y2, Wl, Wb
                         )
                         nev[q] += nv
+            if acc:  # the step's share of the response measures (start state rows 21-26, end 27-32)
+                for q in range(nl):
+                    if not done[q]:
+                        # fmt: off
+                        add_step(ACC[lanes[q]], A[14 * Wd + q], A[15 * Wd + q], A[17 * Wd + q],
+                                 C[lanes[q], CM], A[13 * Wd + q], SGN[lanes[q]], A[22 * Wd + q],
+                                 A[25 * Wd + q], A[28 * Wd + q], A[31 * Wd + q])
+                        # fmt: on
             for i in range(6 * Wd):
                 A[21 * Wd + i] = A[27 * Wd + i]
             if any_tan:
@@ -277,6 +291,8 @@ def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, O
                 Wl[i, 0] = A[(33 + i) * Wd + q]
             if diverged(y, LIMITS[ln]):
                 A[21 * Wd + q : 27 * Wd + q : Wd] = 0.0  # keep the idle lane finite
+                if acc:
+                    ACC[ln, STATUS] = 1.0
                 _finish(OUT[ln], YFINAL[ln], y, 1, per, nev[q], min(per + 1, n_tr[q]), stop_n[q])
                 for i in range(6 * m):
                     W[ln, i, 0] = Wl[i, 0]
@@ -320,15 +336,18 @@ def _finish(out, yfinal, y, status, last_period, n_events, used, stop_n):
 
 
 @njit(cache=True, parallel=True)
-def run_blocks(C, TABS, Y0, NTRANS, NREC, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE):
+def run_blocks(C, TABS, Y0, NTRANS, NREC, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE, ACC, SGN):
     """:func:`geardyn.solve._kernel.run` (no tangent, or one renormalised tangent column: W (L, 6, 0 or 1))
     for every lane, WIDTH lanes in lockstep per block (:func:`_block`), blocks in parallel.  Blocks are
-    consecutive lanes; results do not depend on it."""
+    consecutive lanes; results do not depend on it.  ACC, SGN: the response measures' sums (ACC (L, 0):
+    none)."""
     n_lanes = C.shape[0]
     n_blocks = (n_lanes + WIDTH - 1) // WIDTH
     for blk in prange(n_blocks):
         lanes = np.arange(blk * WIDTH, min(n_lanes, (blk + 1) * WIDTH))
-        _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE)
+        _block(
+            C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE, ACC, SGN
+        )
 
 
 @njit(cache=True)

@@ -390,7 +390,7 @@ def diverged(y, limits):
 def record(y, W, k_tan, growth, strobe, poinc, k_rec):
     """The records of a mesh period's end (state y, tangent columns W): with ``k_tan >= 0`` the column
     W[:, 0] is renormalised, growth[k_tan] = log of its norm before that and strobe[k_tan] = x2; with
-    ``k_rec >= 0`` poinc[k_rec] = y (a recorded period)."""
+    ``0 <= k_rec < len(poinc)`` poinc[k_rec] = y (a recorded period; a poinc of length 0 records none)."""
     if k_tan >= 0:
         nrm = 0.0
         for i in range(6):
@@ -400,6 +400,6 @@ def record(y, W, k_tan, growth, strobe, poinc, k_rec):
         strobe[k_tan] = y[1]
         for i in range(6):
             W[i, 0] /= nrm
-    if k_rec >= 0:
+    if k_rec >= 0 and k_rec < poinc.shape[0]:
         for i in range(6):
             poinc[k_rec, i] = y[i]

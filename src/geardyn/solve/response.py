@@ -10,11 +10,12 @@ units of b_c (= 1 um for the KHV family), so a DTE of 1 is 1 um.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, fields
 
 import numpy as np
 
-from geardyn.solve.base import SimulationSettings, System, divergence_limits
+from geardyn.solve.base import SimulationSettings, System
 
 #: Impact classes (cube variable ``impact_class``; -1: not computed or diverged).
 IMPACT_CLASSES = {"no_impact": 0, "single_sided": 1, "double_sided": 2}
@@ -93,7 +94,7 @@ def contact_fractions(
 
     times = np.zeros(3)
     for i in range(x.size - 1):
-        _acc.region_times(x[i], x[i + 1], v[i], v[i + 1], h, b, times)
+        _acc.region_times(x[i], x[i + 1], v[i], v[i + 1], h, b, times, 0)
     pos, zero, neg = times / times.sum()
     return (float(pos), float(zero), float(neg)) if side > 0 else (float(neg), float(zero), float(pos))
 
@@ -115,27 +116,72 @@ def response_measures(
     state y0 (6,) at phase 0, at the settings' (default: :class:`SimulationSettings`) steps per period and
     integrator (``rk4_event`` locates the contact switches).  Start on the attractor (a verdict's final
     state): no transient is integrated here.  A run that diverges gives :meth:`ResponseMeasures.not_computed`."""
-    import geardyn.solve._response as _acc  # noqa: PLC0415 - compiled: not imported by jobs that read results
-    from geardyn.solve.simulate import step_tables  # noqa: PLC0415 - likewise
+    return response_measures_many([system], [y0], settings, None if periods is None else [periods])[0]
+
+
+def response_measures_many(
+    systems: Sequence[System],
+    y0s: Sequence[np.ndarray],
+    settings: SimulationSettings | None = None,
+    periods: Sequence[int] | None = None,
+) -> list[ResponseMeasures]:
+    """:func:`response_measures` of many points: system i from the state ``y0s[i]`` over ``periods[i]`` mesh
+    periods, integrated in the batch's lanes (:func:`geardyn.solve._batch.run_blocks`, 8 points in lockstep,
+    blocks in parallel on the numba threads) with the sums of :mod:`geardyn.solve._response` added at every
+    step.  Each point's measures are its own: they do not depend on the other points or on the threads."""
+    import geardyn.solve._batch as _batch  # noqa: PLC0415 - compiled: not imported by jobs that read results
+    import geardyn.solve._response as _acc  # noqa: PLC0415 - likewise
+    from geardyn.solve._kernel import NO_EARLY_STOP  # noqa: PLC0415 - likewise
+    from geardyn.solve.simulate import lane_tables  # noqa: PLC0415 - likewise
 
     settings = SimulationSettings() if settings is None else settings
     if settings.integrator == "dop853":
         raise ValueError("the response measures integrate with 'rk4' or 'rk4_event'")
-    n_per = settings.recorded_periods if periods is None else int(periods)
-    if n_per < 1:
-        raise ValueError(f"periods must be >= 1, got {n_per}")
-    y0 = np.asarray(y0, dtype=float)
-    f_s = static_mesh_force(system)
-    if y0.shape != (6,) or not np.all(np.isfinite(y0)):
-        return ResponseMeasures.not_computed(f_s)
-    c, *tabs = step_tables(system, settings.steps_per_period, settings.aligned)
-    sgn = -1.0 if f_s < 0.0 else 1.0
-    out = np.empty(_acc.N_OUT)
-    event = settings.integrator == "rk4_event"
-    _acc.accumulate(c, tuple(tabs), y0, n_per, event, divergence_limits(system, settings), sgn, out)
-    if out[_acc.STATUS] != 0.0:
-        return ResponseMeasures.not_computed(f_s)
-    return _reduce(out, f_s, sgn, n_per)
+    if len(y0s) != len(systems) or (periods is not None and len(periods) != len(systems)):
+        raise ValueError("response measures: one start state (and one period count) per system")
+    n_per = [settings.recorded_periods] * len(systems) if periods is None else [int(n) for n in periods]
+    if any(n < 1 for n in n_per):
+        raise ValueError(f"periods must be >= 1, got {min(n_per)}")
+    f_s = [static_mesh_force(system) for system in systems]
+    starts = [np.asarray(y0, dtype=float) for y0 in y0s]
+    measures: list[ResponseMeasures | None] = [None] * len(systems)
+    # the points that can run, those of equal length side by side (a block runs as long as its longest lane)
+    order = sorted(
+        (i for i, y0 in enumerate(starts) if y0.shape == (6,) and np.all(np.isfinite(y0))), key=n_per.__getitem__
+    )
+    for g in range(0, len(order), GROUP):  # groups of points: step tables that stay in the caches
+        group = order[g : g + GROUP]
+        L = len(group)
+        tabs = lane_tables([systems[i] for i in group], settings)
+        sgn = np.array([-1.0 if f_s[i] < 0.0 else 1.0 for i in group])
+        sums = np.zeros((L, _acc.N_OUT))
+        _batch.run_blocks(
+            tabs.C,
+            (tabs.H, tabs.S, tabs.SEG, tabs.K, tabs.P, tabs.POLY),
+            np.stack([starts[i] for i in group]),
+            np.zeros(L, np.int64),
+            np.array([n_per[i] for i in group], np.int64),
+            settings.integrator == "rk4_event",
+            tabs.limits,
+            np.empty((L, 0, 6)),  # no Poincare points
+            np.empty((L, 6)),
+            NO_EARLY_STOP,
+            np.zeros((L, 5), np.int64),
+            np.empty((L, 6, 0)),  # no tangent
+            np.zeros(L, np.int64),
+            np.empty((L, 0)),
+            np.empty((L, 0)),
+            sums,
+            sgn,
+        )
+        for k, i in enumerate(group):
+            if sums[k, _acc.STATUS] == 0.0:
+                measures[i] = _reduce(sums[k], f_s[i], float(sgn[k]), n_per[i])
+    return [ResponseMeasures.not_computed(f) if m is None else m for m, f in zip(measures, f_s, strict=True)]
+
+
+#: points per call of the lanes in :func:`response_measures_many` (a multiple of the lockstep width)
+GROUP = 512
 
 
 def _reduce(out: np.ndarray | list[float], f_s: float, sgn: float, n_per: int) -> ResponseMeasures:

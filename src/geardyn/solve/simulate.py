@@ -368,7 +368,7 @@ def simulate_batch(
     arrays = (C, TABS, Y0, ntr, nrec, limits, poinc, final, out, W, ntan, growth, strobe)
     if k:
         c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb = _lanes(arrays, slice(0, k))
-        _batch.run_blocks(c, tabs, y0, nt, nr, event, lim, po, fi, es, ou, w, na, gr, sb)
+        _batch.run_blocks(c, tabs, y0, nt, nr, event, lim, po, fi, es, ou, w, na, gr, sb, np.empty((k, 0)), np.empty(k))
     if k < L:
         c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb = _lanes(arrays, slice(k, L))
         _batch.run_batch(c, tabs, y0, nt, nr, event, lim, w, na, tan, gr, sb, po, fi, es, ou)
