@@ -104,7 +104,10 @@ def x2_for(design: KHVDesign, x1: float) -> float:
     return _x2(design.base, design.x2_on_line4, float(x1))
 
 
+@functools.lru_cache(maxsize=4096)
 def _x2(base: geometry.GearPair, on_line4: bool, x1: float) -> float:
+    """x2 of :func:`x2_for` (a pure function of its arguments, so kept: a design's checks, its mesh
+    properties and its pairs ask for the same x1, each a root solve)."""
     return float(constraints.x2_on_overlap_boundary(x1, base)) if on_line4 else base.x2
 
 
