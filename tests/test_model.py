@@ -105,6 +105,23 @@ def test_kept_kernel_array_and_static_state_are_copies_of_their_instance():
     assert wider.kernel_array().tolist() != c.kernel_array().tolist() and wider == dataclasses.replace(c, b=2.0 * c.b)
 
 
+def test_copies_share_the_static_balance_only_where_it_cannot_change():
+    """A copy that changes b, e, w or the stiffness shares its parent's static force balance and has the
+    static deflection of a fresh instance, bit for bit; a copy with another load, mass or shaft stiffness
+    solves its own."""
+    c = dimensionless(P416)
+    for changes in ({"b": 1.5}, {"e": 0.0, "omega": 0.7}, {"eps": 1.3, "stiffness_mode": "mean"}):
+        copy = c.replace(**changes)
+        fresh = dataclasses.replace(c, **changes)
+        assert copy.__dict__["_static_balance"] is c.__dict__["_static_balance"]
+        assert copy.static_state().tobytes() == model.static_deflection(fresh).tobytes()
+    for changes in ({"P_L": 2.0 * c.P_L}, {"mu_V": 1.1 * c.mu_V}, {"k_VL": 0.5 * c.k_VL}):
+        copy = c.replace(**changes)
+        assert "_static_balance" not in copy.__dict__
+        assert copy.static_state().tobytes() == model.static_deflection(dataclasses.replace(c, **changes)).tobytes()
+        assert not np.array_equal(copy.static_state(), c.static_state())
+
+
 @settings(max_examples=60 * EXAMPLE_SCALE, deadline=None)
 @given(
     z=st.lists(st.floats(-30, 30), min_size=8, max_size=8),

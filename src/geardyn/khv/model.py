@@ -183,7 +183,13 @@ class Coefficients:
         return cls(**kw)
 
     def replace(self, **changes) -> Coefficients:
-        return replace(self, **changes)
+        """A copy with ``changes``.  A copy that changes none of the masses, shaft stiffnesses and loads
+        shares this instance's static force balance (:func:`static_deflection`: the same linear solve, so
+        the same bits): the rows of a map over b, e or w solve it once per column."""
+        new = replace(self, **changes)
+        if _BALANCE_FIELDS.isdisjoint(changes):
+            new.__dict__["_static_balance"] = self._static_balance
+        return new
 
     # --- derived -------------------------------------------------------------------------
     @property
@@ -247,6 +253,21 @@ class Coefficients:
     @functools.cached_property
     def _static_state(self) -> np.ndarray:
         return static_deflection(self)
+
+    @functools.cached_property
+    def _static_balance(self) -> tuple[float, float, float]:
+        """(x1, x3, F) of :func:`static_deflection`, a function of :data:`_BALANCE_FIELDS` only."""
+        m = self.matrices()
+        K, g, p = m["K"], m["g"], m["p"]
+        A = np.array(
+            [
+                [K[0, 0], 0.0, g[0]],
+                [K[1, 0], K[1, 2], g[1]],
+                [0.0, K[2, 2], g[2]],
+            ]
+        )
+        x1, x3, F = np.linalg.solve(A, p)
+        return float(x1), float(x3), float(F)
 
     @functools.cached_property
     def _kernel_array(self) -> np.ndarray:
@@ -346,19 +367,15 @@ def static_deflection(coeffs: Coefficients) -> np.ndarray:
 
     Solves K x + g F = p with F = f(x2) (kappa = 1) for (x1, x3, F), then x2 = F + b sign(F).
     """
-    m = coeffs.matrices()
-    K, g, p = m["K"], m["g"], m["p"]
-    A = np.array(
-        [
-            [K[0, 0], 0.0, g[0]],
-            [K[1, 0], K[1, 2], g[1]],
-            [0.0, K[2, 2], g[2]],
-        ]
-    )
-    x1, x3, F = np.linalg.solve(A, p)
+    x1, x3, F = coeffs._static_balance
     b = coeffs.b if coeffs.backlash_on else 0.0
     x2 = F + math.copysign(b, F) if F != 0.0 else 0.0
     return np.array([x1, x2, x3, 0.0, 0.0, 0.0])
+
+
+#: The fields of :class:`Coefficients` that the static force balance reads (the K, g and p of
+#: :meth:`Coefficients.matrices`).
+_BALANCE_FIELDS = frozenset({"mu_D", "mu_H", "mu_V", "mu_L", "k_DH", "k_VL", "P_D", "P_L"})
 
 
 def natural_frequencies(coeffs: Coefficients) -> np.ndarray:
