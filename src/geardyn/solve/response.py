@@ -1,8 +1,9 @@
 """The engineer's response measures of one operating point: dynamic mesh force, dynamic factor, dynamic
 transmission error, contact fractions and the impact class (definitions: ``docs/response.md``).
 
-:func:`response_measures` integrates whole mesh periods from a state on the attractor (a labeller
-verdict's final state) with the solver's own step (:mod:`geardyn.solve._response`) and reduces the sums.
+:func:`response_measures_many` integrates whole mesh periods from states on the attractor (labeller
+verdicts' final states) in the batch's lanes, with the solver's own step, adds every step to the sums of
+:mod:`geardyn.solve._response` and reduces them; :func:`response_measures` does it for one point.
 All quantities are dimensionless like the solver's: forces in units of k_mean b_c, displacements in
 units of b_c (= 1 um for the KHV family), so a DTE of 1 is 1 um.
 """
