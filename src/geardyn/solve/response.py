@@ -107,6 +107,15 @@ def static_mesh_force(system: System) -> float:
     return x2 - min(max(x2, -b), b)
 
 
+#: points per call of the lanes in :func:`response_measures_many` (a multiple of the lockstep width)
+GROUP = 512
+
+
+def drive_side(static_force: float) -> float:
+    """+1 or -1: the sign of the drive-side contact, that of the static mesh force (+1 for zero)."""
+    return -1.0 if static_force < 0.0 else 1.0
+
+
 def response_measures(
     system: System,
     y0: np.ndarray,
@@ -154,7 +163,7 @@ def response_measures_many(
         group = order[g : g + GROUP]
         L = len(group)
         tabs = lane_tables([systems[i] for i in group], settings)
-        sgn = np.array([-1.0 if f_s[i] < 0.0 else 1.0 for i in group])
+        sgn = np.array([drive_side(f_s[i]) for i in group])
         sums = np.zeros((L, _acc.N_OUT))
         _batch.run_blocks(
             tabs.C,
@@ -177,18 +186,15 @@ def response_measures_many(
         )
         for k, i in enumerate(group):
             if sums[k, _acc.STATUS] == 0.0:
-                measures[i] = _reduce(sums[k], f_s[i], float(sgn[k]), n_per[i])
+                measures[i] = _reduce(sums[k], f_s[i], n_per[i])
     return [ResponseMeasures.not_computed(f) if m is None else m for m, f in zip(measures, f_s, strict=True)]
 
 
-#: points per call of the lanes in :func:`response_measures_many` (a multiple of the lockstep width)
-GROUP = 512
-
-
-def _reduce(out: np.ndarray | list[float], f_s: float, sgn: float, n_per: int) -> ResponseMeasures:
-    """The measures from the accumulator's sums."""
+def _reduce(out: np.ndarray | list[float], f_s: float, n_per: int) -> ResponseMeasures:
+    """The measures from the accumulator's sums (static force f_s: its sign is the drive side)."""
     import geardyn.solve._response as _acc  # noqa: PLC0415 - compiled: not imported by jobs that read results
 
+    sgn = drive_side(f_s)
     out = [float(v) for v in out]
     t = out[_acc.TIME]
     mf, mx = out[_acc.SUM_F] / t, out[_acc.SUM_X] / t
