@@ -12,6 +12,7 @@ import pytest
 from geardyn import classify
 from geardyn.khv import design, point
 from geardyn.label import Policy, label_lines, label_points
+from geardyn.label import _nonperiodic as nonperiodic
 from geardyn.label import _stages as st
 from geardyn.label.compare import hausdorff
 from geardyn.runs import sweep
@@ -193,3 +194,34 @@ def test_a_torus_locked_to_a_long_cycle_is_certified_from_the_order_of_its_point
     ret = [float(np.max(np.abs(p[n:] - p[:-n]))) / size for n in range(1, 49)]
     assert ret[47] < 1e-9 and min(ret[:47]) > 1e-3
     assert hausdorff(v.poincare[:48], p[-48:]) < 1e-9  # the figure draws the cycle, not the slow approach
+
+
+def test_a_record_that_returns_after_a_long_period_is_decided_when_the_cycle_shows(monkeypatch):
+    """li2013_calibrated, b = 2, e = 1.6583 (row 60 of the (x1, e) map), x1 = 0.4286 (column 6), from the static
+    deflection: no test decides the 200-period record; the record of the next round (400 periods) returns
+    after 48 periods within rule 3's tolerance, and shooting certifies a stable period-48 cycle.  The record
+    ends there, not at ``torus_max_periods`` (16 000), where the search for long cycles ran before.
+    Independent check: a plain run of 20 000 periods from the verdict's final state returns after 48 periods
+    to 1e-9 and not after 1-47."""
+    d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    x1, e = float(np.linspace(0.416, 0.835, 200)[6]), float(np.linspace(0.0, 5.5, 200)[60])
+    c = point.point_coefficients(d, {"x1": x1, "b": 2.0, "e": e})
+    lengths: list[int] = []
+    finish = nonperiodic.finish
+
+    def recorded(points, policy):
+        finish(points, policy)
+        lengths.extend(p.run.poincare.shape[0] for p in points)
+
+    monkeypatch.setattr(nonperiodic, "finish", recorded)
+    cs = dataclasses.replace(CS, torus_max_periods=16000)
+    v = label_points([c], Policy(MAP, cs, start="fixed"))[0]
+    assert v.label == classify.LABELS["long_period"] and v.period == 48 and v.stage == "period_test"
+    assert v.reason.startswith("the longer record returns after a long period")
+    assert lengths == [400]
+    p = simulate(
+        c, SimulationSettings(steps_per_period=128, transient_periods=20000, recorded_periods=200), x0=v.final_state
+    ).poincare
+    size = float(np.max(p.std(axis=0)))
+    ret = [float(np.max(np.abs(p[n:] - p[:-n]))) / size for n in range(1, 49)]
+    assert ret[47] < 1e-9 and min(ret[:47]) > 1e-3

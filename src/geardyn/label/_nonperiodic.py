@@ -2,7 +2,9 @@
 exponent and the torus tests (:mod:`geardyn.label.torus`): quasi-periodic, chaotic, or undetermined where
 they disagree (the reason says how).  Undetermined points run on with longer records, round by round and
 piece by piece (:func:`longer_record`, scheduled by :mod:`geardyn.label.lines` together with other lines'
-points), and are searched for long cycles when they are done (:func:`finish`).
+points).  At the end of every round a record left undetermined is searched for a long cycle
+(:func:`end_round`), and every record is searched once more for long cycles when it is done
+(:func:`finish`).
 """
 
 from __future__ import annotations
@@ -80,9 +82,19 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
     rest = [p for p, n in zip(bounded, periods, strict=True) if n == 0]
     for p, v in zip(rest, threaded_map(lambda p: _nonperiodic_verdict(p, policy), rest), strict=True):
         p.verdict = v
-    grow = {id(p) for p in rest if start_round(p, policy)}
-    finish([p for p in rest if id(p) not in grow], policy)
-    return [p for p in rest if id(p) in grow]
+    return end_round(rest, policy)
+
+
+def end_round(points: list[Point], policy: Policy) -> list[Point]:
+    """The end of a round of the records of ``points`` (their verdicts read the round's whole record): a
+    record left undetermined that returns after n periods, max_n < n <= long_max_n, is certified by
+    shooting (:func:`_long_periods`), so a point is decided in the round where its cycle shows, not when
+    its record stops growing; the points still undetermined start their next round (:func:`start_round`)
+    and are returned; the others are finished (:func:`finish`)."""
+    _long_periods([p for p in points if p.verdict.stage == "undecided"], policy)
+    grow = {id(p) for p in points if start_round(p, policy)}
+    finish([p for p in points if id(p) not in grow], policy)
+    return [p for p in points if id(p) in grow]
 
 
 def start_round(p: Point, policy: Policy) -> bool:
@@ -104,7 +116,8 @@ def longer_record(points: list[Point], periods: int, policy: Policy) -> list[Poi
     (:mod:`geardyn.label.lines`) takes (the tangent vector carried over, so the pieces are one run, bit for
     bit); at the end of a round the same decision (:func:`_nonperiodic_verdict`) reads the whole, longer
     record (the torus test converges on a torus and stays low on a chaotic set; the exponent's error bar
-    shrinks).  Returns the points whose record grows on; the others are finished (:func:`finish`)."""
+    shrinks), and :func:`end_round` searches a record it leaves undetermined for a long cycle.  Returns the
+    points whose record grows on; the others are finished (:func:`finish`)."""
     if not points:
         return points
     if periods < 1 or any(p.left < periods for p in points):
@@ -118,21 +131,21 @@ def longer_record(points: list[Point], periods: int, policy: Policy) -> list[Poi
         tangent_periods=periods,
         tangent_start=[None if p.piece is None else p.piece.tangent for p in points],
     )
-    done: list[Point] = []
+    done: set[int] = set()
+    ended: list[Point] = []
     for p, r in zip(points, runs, strict=True):
         p.piece = r if p.piece is None else _joined(p.piece, r)
         p.left -= periods
         if r.diverged:
             p.verdict = diverged_verdict(p, p.piece)
-            done.append(p)
+            done.add(id(p))
         elif p.left == 0:
             p.run = _appended(p.run, p.piece)  # the round's run, reading the whole record
             p.verdict = _nonperiodic_verdict(p, policy)
-            if not start_round(p, policy):
-                done.append(p)
-    finish(done, policy)
-    ended = set(map(id, done))
-    return [p for p in points if id(p) not in ended]
+            ended.append(p)
+    grow = set(map(id, end_round(ended, policy)))
+    done |= {id(p) for p in ended if id(p) not in grow}
+    return [p for p in points if id(p) not in done]
 
 
 def _appended(a: SimulationResult, b: SimulationResult) -> SimulationResult:
@@ -157,12 +170,12 @@ def _joined(a: SimulationResult, b: SimulationResult) -> SimulationResult:
 
 
 def finish(points: list[Point], policy: Policy) -> None:
-    """The last step for points whose record is done: periods up to ``long_max_n`` are looked for where
-    the point is still undetermined, and on every quasi-periodic record (a long cycle scores like a torus
-    in both torus measures): the record's newest half, where a slowly attracting cycle has come closer,
-    then all of it, for longer cycles (:func:`_long_periods`); then where the record gathers about a cycle
-    too slowly for rule 3 (:func:`_locked`)."""
-    _long_periods([p for p in points if p.verdict.stage == "undecided"], policy)
+    """The last step for points whose record is done (an undetermined record was searched for long cycles at
+    the end of its round, :func:`end_round`): periods up to ``long_max_n`` are looked for on every
+    quasi-periodic record (a long cycle scores like a torus in both torus measures): the record's newest
+    half, where a slowly attracting cycle has come closer, then all of it, for longer cycles
+    (:func:`_long_periods`); then where the record gathers about a cycle too slowly for rule 3
+    (:func:`_locked`)."""
     for newest_half in (True, False):
         _long_periods([p for p in points if p.verdict.label == QP], policy, newest_half=newest_half)
     _locked([p for p in points if p.verdict.label == QP], policy)
