@@ -225,6 +225,53 @@ def test_torus_digits_are_the_two_measures_bit_for_bit() -> None:
         T.torus_digits(_circle(8))
 
 
+def _numpy_digits(points: np.ndarray, windows: int = 6) -> tuple[np.ndarray, float, float]:
+    """The coordinates and both measures of the labeller's torus test (on an even number of points), stated
+    in numpy array operations: the oracle of the compiled loops (:mod:`geardyn.label._birkhoff`)."""
+    p = np.asarray(points, dtype=float)
+    s = p.std(axis=0)
+    varies = s > 1e-12 * np.maximum(1.0, np.max(np.abs(p), axis=0))
+    z = np.where(varies, (p - p.mean(axis=0)) / np.where(varies, s, 1.0), 0.0)
+    f = z - z.mean(axis=0)
+    sf = f.std(axis=0)
+    f = f[:, sf > 1e-9 * sf.max()] / sf[sf > 1e-9 * sf.max()]
+    m = f.shape[0]
+    n = m // 2
+    w = T.bump_weights(n)
+    plain = float(np.max(np.abs(w @ f[:n] - w @ f[n:])))
+    step = (m - n) // (windows - 1)
+    d = np.diff(np.stack([w @ f[k * step : k * step + n] for k in range(windows)]), axis=0)
+    q = float(np.sum(d[1:] * d[:-1])) / float(np.sum(d[:-1] * d[:-1]))
+    q = q if 0.0 < q < 1.0 else 0.0
+    return z, -math.log10(plain), -math.log10(float(np.max(np.abs(d[1:] - q * d[:-1]))) / (1.0 - q))
+
+
+@pytest.mark.parametrize(
+    "case",
+    ["approached circle", "golden circle with an offset", "henon", "logistic, delay coordinates", "constant column"],
+)
+def test_compiled_torus_test_equals_its_numpy_statement(case: str) -> None:
+    """The compiled loops sum in index order, numpy pairwise: the coordinates agree to 1e-13, the differences
+    of averages that the digits measure to 1e-9 of themselves or to 1e-15 (rounding)."""
+    if case == "approached circle":
+        p = _approached_circle(800)
+    elif case == "golden circle with an offset":
+        p = _circle(2000) * 1e-3 + np.array([50.0, -7.0])
+    elif case == "henon":
+        p = _henon(4000)
+    elif case == "logistic, delay coordinates":
+        x = _logistic(1201)
+        p = np.c_[x[:-1], x[1:]]
+    else:
+        p = np.c_[_henon(1000), np.full(1000, 3.0)]
+    z, plain, extrapolated = _numpy_digits(p)
+    assert np.max(np.abs(T.coordinates(p) - z)) < 1e-13
+    # the measures' differences of averages (10^-digits) agree to 1e-9 of themselves or to 1e-15 (rounding)
+    for got, want in zip(T.torus_digits(p, _coordinates), (plain, extrapolated), strict=True):
+        assert 10.0**-got == pytest.approx(10.0**-want, rel=1e-9, abs=1e-15)
+    assert T.weighted_birkhoff(p) == pytest.approx(T.bump_weights(p.shape[0]) @ p, rel=1e-14, abs=1e-15)
+
+
 def _approached_circle(m: int, r: float = 0.999, d0: float = 0.02) -> np.ndarray:
     """The golden rotation on the unit circle, approached from off the circle: the deviation d0 r^n has a
     non-zero mean (the centre drifts) and a part that turns with the angle."""

@@ -28,6 +28,10 @@ has died out.
 Periodic orbits: the weighted average of a periodic sequence also converges faster than any power
 of N, so a period-n cycle scores as many digits as a torus (``DIGITS_MAX`` for a fixed point).  The
 test cannot tell a cycle from a torus; the caller labels periodic points first.
+
+The sums (coordinates, scaling, the weighted averages) run in compiled loops
+(:mod:`geardyn.label._birkhoff`), in index order; ``tests/test_torus.py`` holds their statement in numpy
+array operations as the oracle.
 """
 
 from __future__ import annotations
@@ -40,6 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from geardyn import libm
+from geardyn.label._birkhoff import averages, scaled, standardised
 
 #: cap of :func:`birkhoff_digits`: agreement to the last bits of float64 (about 15.65 digits) is "exact".
 DIGITS_MAX = -math.log10(np.finfo(float).eps)
@@ -86,7 +91,8 @@ def weighted_birkhoff(values: np.ndarray) -> np.ndarray:
     if v.ndim == 0:
         raise ValueError("weighted_birkhoff needs a series (axis 0 = time), got a scalar")
     w = bump_weights(v.shape[0])
-    return np.tensordot(w, v, axes=(0, 0))
+    flat = np.ascontiguousarray(v.reshape(v.shape[0], -1))
+    return averages(flat, w, np.zeros(1, np.int64))[0].reshape(v.shape[1:])
 
 
 def moments(points: np.ndarray) -> np.ndarray:
@@ -104,9 +110,7 @@ def coordinates(points: np.ndarray) -> np.ndarray:
     p = np.asarray(points, dtype=float)
     if p.ndim == 1:
         p = p[:, None]
-    s = p.std(axis=0)
-    varies = s > 1e-12 * np.maximum(1.0, np.max(np.abs(p), axis=0, initial=0.0))
-    return np.where(varies, (p - p.mean(axis=0)) / np.where(varies, s, 1.0), 0.0)
+    return standardised(np.ascontiguousarray(p))
 
 
 def _as_points(points: np.ndarray) -> np.ndarray:
@@ -133,15 +137,9 @@ def _observed(points: np.ndarray, observable: Observable | None) -> np.ndarray |
         f = f[:, None]
     if f.shape[0] != points.shape[0] or f.ndim != 2:
         raise ValueError(f"the observable must map (m, d) points to (m,) or (m, k) values, got {f.shape}")
-    mag = max(1.0, float(np.max(np.abs(points))))
-    if float(points.std(axis=0).max()) <= 1e-12 * mag:  # one point, to rounding
-        return None
-    f = f - f.mean(axis=0)  # centred: the averages then carry no rounding of a large mean
-    s = f.std(axis=0)
-    if float(s.max()) == 0.0:
-        return None
-    keep = s > 1e-9 * float(s.max())
-    return f[:, keep] / s[keep]
+    # centred: the averages then carry no rounding of a large mean
+    g = scaled(np.ascontiguousarray(f), np.ascontiguousarray(points))
+    return g if g.shape[1] else None
 
 
 def _digits(diff: float) -> float:
@@ -176,7 +174,8 @@ def _newest_pairs(points: np.ndarray) -> np.ndarray:
 def _plain_digits(f: np.ndarray) -> float:
     """The digits of :func:`birkhoff_digits` from the observed values ``f`` of 2N points."""
     n = f.shape[0] // 2
-    return _digits(float(np.max(np.abs(weighted_birkhoff(f[:n]) - weighted_birkhoff(f[n:])))))
+    a = averages(f, bump_weights(n), np.array([0, n], np.int64))
+    return _digits(float(np.max(np.abs(a[0] - a[1]))))
 
 
 def extrapolated_digits(points: np.ndarray, observable: Observable | None = None, windows: int = 6) -> float:
@@ -233,8 +232,7 @@ def _extrapolated(f: np.ndarray, windows: int) -> float:
     m = f.shape[0]
     n = m // 2
     step = (m - n) // (windows - 1)
-    w = bump_weights(n)
-    d = np.diff(np.stack([w @ f[k * step : k * step + n] for k in range(windows)]), axis=0)
+    d = np.diff(averages(f, bump_weights(n), step * np.arange(windows, dtype=np.int64)), axis=0)
     den = float(np.sum(d[:-1] * d[:-1]))
     q = float(np.sum(d[1:] * d[:-1])) / den if den > 0.0 else 0.0
     q = q if 0.0 < q < 1.0 else 0.0
