@@ -207,17 +207,19 @@ def _locked(points: list[Point], policy: Policy) -> None:
     when the residual grows more than ``LOCKED_MAX_GROWTH`` times in one). The candidate period n is the least
     index difference between a point of the record and its nearest neighbour
     (:func:`geardyn.label.torus.order_test`: on a locked torus the points gather about the n points of the
-    cycle), max_n < n <= long_max_n. It is tried where the record's return distance after n periods is small
-    (:func:`_returns`) and falls along the record, or where every point's nearest neighbour is n periods away.
-    The verdict draws the cycle's points, not the record's."""
+    cycle), max_n < n <= long_max_n, over the part of the record the torus test's order test reads
+    (:func:`_order_part`: the newest half of a long record, where a slow approach has come closest). It is
+    tried where the record's return distance after n periods is small (:func:`_returns`) and falls along the
+    record, or where every point's nearest neighbour is n periods away.  The verdict draws the cycle's
+    points, not the record's."""
     cs = policy.classifier
     if not points or cs.long_max_n <= cs.max_n:
         return
     ns = []
     for p in points:
         record = p.run.poincare
-        known = p.order[1] if p.order is not None and p.order[0] is record else None  # the torus test's, if whole
-        gaps = (known or order_test(record, 0)).gaps
+        known = p.order[1] if p.order is not None and p.order[0] is record else None  # the torus test's
+        gaps = (known or order_test(_order_part(record, cs), 0)).gaps
         n = gaps[0]
         oldest, newest = _returns(record, n) if cs.max_n < n <= cs.long_max_n else (0.0, math.inf)
         ns.append(n if newest < LOCKED_RETURN and (newest < 0.5 * oldest or len(gaps) == 1) else 0)
@@ -256,7 +258,9 @@ def _returns(p: np.ndarray, n: int) -> tuple[float, float]:
 
 def _try_periods(points: list[Point], ns: list[int], policy: Policy, reason: str, record_on_orbit: bool = True) -> None:
     """Shooting for period n at each point with n > 0 (:func:`_certify_periods`): where it certifies a stable
-    orbit of least period n the label is ``long_period`` with n in ``period``; elsewhere the verdict stays.
+    orbit whose least period m divides n (the record's points return, or gather, after n periods: a cycle
+    of period m does both) the label is ``long_period`` (or period-m) with m in ``period``; elsewhere the
+    verdict stays.
     ``record_on_orbit``: the record returns within tolerance, and its points are drawn (else the orbit's)."""
     todo = [(p, n) for p, n in zip(points, ns, strict=True) if n > 0]
     if not todo:
@@ -267,7 +271,7 @@ def _try_periods(points: list[Point], ns: list[int], policy: Policy, reason: str
     _certify_periods(todo, policy, reason, record_on_orbit)
     for p, n in todo:
         # shooting must find the cycle the record shows (from far off, Newton can reach another attractor)
-        if p.verdict is None or p.verdict.period != n:
+        if p.verdict is None or p.verdict.period < 1 or n % p.verdict.period:
             p.verdict = kept[id(p)]
 
 
@@ -277,6 +281,13 @@ def _certify_periods(
     """(point, period) pairs whose record returns (``record_on_orbit``; else it gathers about the cycle):
     :func:`certify` by shooting (stage ``period_test``); returns the points left without a stable orbit."""
     return certify([p for p, _ in pairs], [n for _, n in pairs], policy, "period_test", reason, record_on_orbit)
+
+
+def _order_part(points: np.ndarray, cs: classify.ClassifierSettings) -> np.ndarray:
+    """The part of a record that the order tests read: its newest half (of the last 2N points), or its
+    newest ``order_min_n`` points where that half is shorter (all of a shorter record)."""
+    n = max(1, points.shape[0] // 2)
+    return points[-2 * n :][-max(cs.order_min_n, n) :]
 
 
 def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> tuple[TorusTest, str, OrderTest | None]:
@@ -301,7 +312,7 @@ def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> tuple[TorusTe
         return best, f"Birkhoff averages converge (digits {digits:.1f})", None
     order = None
     if cs.order_min_n > 0 and p.shape[0] >= cs.order_min_n:
-        order = order_test(p[-max(cs.order_min_n, n) :], cs.order_min_n)  # the newest half, if long enough
+        order = order_test(_order_part(points, cs), cs.order_min_n)
         if order.passed:
             gaps = ", ".join(map(str, order.gaps))
             return (
@@ -323,8 +334,8 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
     r, cs = p.run, policy.classifier
     lam, sig = classify.lyapunov_estimate(r.growth, r.period)
     tt, how, order = _torus(r.poincare, cs)
-    # kept for :func:`_locked` where it read the whole record (the same points, the same gaps)
-    p.order = (r.poincare, order) if order is not None and order.n == r.poincare.shape[0] else None
+    # kept for :func:`_locked`, which reads the same part of the record (the same points, the same gaps)
+    p.order = None if order is None else (r.poincare, order)
     digits = tt.digits
     positive = bool(np.isfinite(lam) and lam > cs.lam_tol + 2 * sig)
     negative = bool(np.isfinite(lam) and lam < -(cs.lam_tol + 2 * sig))

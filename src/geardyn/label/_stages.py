@@ -68,7 +68,7 @@ class Point:
     run: SimulationResult | None = None
     left: int = 0  # periods left in the round of a growing record (stage 4)
     piece: SimulationResult | None = None  # that round's run so far
-    order: tuple[np.ndarray, OrderTest] | None = None  # the torus test's order test of a whole record: (record, test)
+    order: tuple[np.ndarray, OrderTest] | None = None  # the torus test's order test of a record: (record, test)
     transient_used: int = 0
     notes: list[str] = dataclasses.field(default_factory=list)
 
