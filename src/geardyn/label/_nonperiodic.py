@@ -227,7 +227,7 @@ def _locked(points: list[Point], policy: Policy) -> None:
         points,
         ns,
         dataclasses.replace(policy, newton_max_iter=LOCKED_NEWTON_ITER, newton_max_growth=LOCKED_MAX_GROWTH),
-        "the record gathers about the points of a long cycle",
+        "the record gathers about the points of a cycle",
         record_on_orbit=False,
     )
 

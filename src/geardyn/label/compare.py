@@ -21,8 +21,13 @@ CHAOTIC_DISTANCE_TOL = 0.2
 
 def hausdorff(a: np.ndarray, b: np.ndarray) -> float:
     """Symmetric Hausdorff distance of two point sets (max norm over the states)."""
-    d = np.max(np.abs(a[:, None, :] - b[None, :, :]), axis=2)
-    return float(max(d.min(axis=1).max(), d.min(axis=0).max()))
+    return max(directed_distance(a, b), directed_distance(b, a))
+
+
+def directed_distance(a: np.ndarray, b: np.ndarray) -> float:
+    """The largest distance (max norm over the states) from a point of ``a`` to the nearest point of ``b``:
+    0 when every point of ``a`` lies on ``b``."""
+    return float(np.max(np.abs(a[:, None, :] - b[None, :, :]), axis=2).min(axis=1).max())
 
 
 def same_attractor(
