@@ -61,6 +61,9 @@ def study() -> dict[str, np.ndarray]:
     out["libm_sensitive/poincare"] = r.poincare
     out["libm_sensitive/growth"] = r.growth
     out["libm_sensitive/order_gaps"] = np.asarray(torus.order_test(r.poincare, 0).gaps)  # cKDTree's neighbours
+    # the torus test's compiled sums (label._birkhoff): coordinates and both measures
+    out["torus/coordinates"] = torus.coordinates(r.poincare)
+    out["torus/digits"] = np.asarray(torus.torus_digits(r.poincare, torus.coordinates))
     # the moduli and products of complex numbers (multipliers, spectra, the plus set's forced response) and
     # the torus test's weights: numpy's own np.abs (complex), complex multiply and np.exp differ from their
     # baseline paths with AVX-512
