@@ -30,6 +30,17 @@ def _line(name: str, x1s, **fixed) -> list:
     return [point.point_coefficients(d, {"x1": float(x), "b": 2.0, "e": 5.0, **fixed}) for x in x1s]
 
 
+def _returns_after_a_long_run(system, x0, longest: int, recorded: int) -> tuple[list[float], np.ndarray]:
+    """The independent check of a cycle: a plain run of 20 000 periods from ``x0``, then ``recorded`` periods;
+    the largest return distance after n = 1 .. ``longest`` periods over them, relative to the attractor's
+    size, and the recorded Poincare points."""
+    p = simulate(
+        system, SimulationSettings(steps_per_period=128, transient_periods=20000, recorded_periods=recorded), x0=x0
+    ).poincare
+    size = float(np.max(p.std(axis=0)))
+    return [float(np.max(np.abs(p[n:] - p[:-n]))) / size for n in range(1, longest + 1)], p
+
+
 @pytest.fixture(scope="module")
 def route():
     line = _line("li2013_route", ROUTE_X1)
@@ -187,11 +198,7 @@ def test_a_torus_locked_to_a_long_cycle_is_certified_from_the_order_of_its_point
     assert v.label == classify.LABELS["long_period"] and v.period == 48 and v.stage == "period_test"
     assert v.reason.startswith("the record gathers about the points of a cycle")
     assert v.multiplier == pytest.approx(0.665156, abs=1e-5)
-    p = simulate(
-        c, SimulationSettings(steps_per_period=128, transient_periods=20000, recorded_periods=200), x0=v.final_state
-    ).poincare
-    size = float(np.max(p.std(axis=0)))
-    ret = [float(np.max(np.abs(p[n:] - p[:-n]))) / size for n in range(1, 49)]
+    ret, p = _returns_after_a_long_run(c, v.final_state, 48, 200)
     assert ret[47] < 1e-9 and min(ret[:47]) > 1e-3
     assert hausdorff(v.poincare[:48], p[-48:]) < 1e-9  # the figure draws the cycle, not the slow approach
 
@@ -219,11 +226,7 @@ def test_a_record_that_returns_after_a_long_period_is_decided_when_the_cycle_sho
     assert v.label == classify.LABELS["long_period"] and v.period == 48 and v.stage == "period_test"
     assert v.reason.startswith("the longer record returns after a long period")
     assert lengths == [400]
-    p = simulate(
-        c, SimulationSettings(steps_per_period=128, transient_periods=20000, recorded_periods=200), x0=v.final_state
-    ).poincare
-    size = float(np.max(p.std(axis=0)))
-    ret = [float(np.max(np.abs(p[n:] - p[:-n]))) / size for n in range(1, 49)]
+    ret, _ = _returns_after_a_long_run(c, v.final_state, 48, 200)
     assert ret[47] < 1e-9 and min(ret[:47]) > 1e-3
 
 
@@ -256,13 +259,7 @@ def test_a_torus_locked_to_a_long_cycle_is_found_from_the_newest_part_of_its_rec
     assert v.label == classify.LABELS["long_period"] and v.period == period and v.stage == "period_test"
     assert v.reason.startswith("the record gathers about the points of a cycle") and candidate in tried
     assert v.multiplier == pytest.approx(multiplier, abs=1e-5)
-    p = simulate(
-        line[-1],
-        SimulationSettings(steps_per_period=128, transient_periods=20000, recorded_periods=3 * period),
-        x0=v.final_state,
-    ).poincare
-    size = float(np.max(p.std(axis=0)))
-    ret = [float(np.max(np.abs(p[n:] - p[:-n]))) / size for n in range(1, period + 1)]
+    ret, _ = _returns_after_a_long_run(line[-1], v.final_state, period, 3 * period)
     assert ret[-1] < 1e-9 and min(ret[:-1]) > 1e-4
 
 
