@@ -77,6 +77,10 @@ def compare_builds(old: Path, new: Path) -> str:
     return "\n".join(lines + parts) + "\n"
 
 
+#: the class of a point whose fixed start gives the earlier label and whose follow start another attractor
+COEXISTENCE = "coexistence: the fixed start ends on the earlier label, the follow start on another attractor"
+
+
 def explain_differences(config_path: Path, old: Path, new: Path, design: str, kind: str, name: str, log=print) -> str:
     """Every point of one cube (``kind`` sweeps or maps) whose earlier label was decided and differs from the
     new one, labelled again from the fixed start (the static deflection) by the new labeller: where that
@@ -106,7 +110,7 @@ def explain_differences(config_path: Path, old: Path, new: Path, design: str, ki
     for idx, v in zip(where, fixed, strict=True):
         before, now = int(lo[tuple(idx)]), int(ln[tuple(idx)])
         if v.label == before:
-            key = "coexistence: the fixed start ends on the earlier label, the follow start on another attractor"
+            key = COEXISTENCE
         elif now == LABELS["undetermined"]:
             key = "now undetermined: the indicators disagree on the follow start"
         elif v.label == now:
@@ -120,8 +124,17 @@ def explain_differences(config_path: Path, old: Path, new: Path, design: str, ki
             f"fixed {short_name(v.label)} ({v.stage})",
         )
     log(f"[{rel}] {len(where)} differing points relabelled from the fixed start in {time.perf_counter() - t0:.0f} s")
+    decided = int(np.sum(lo != LABELS["undetermined"]))
+    same = int(np.sum((lo == ln) & (lo != LABELS["undetermined"])))
+    coexisting = classes.get(COEXISTENCE, 0)
     lines = [
         f"### {rel}: {len(where)} points decided before and labelled otherwise now",
+        "",
+        f"Decided before and the same now: {same} of {decided} ({same / max(1, decided):.2%}); with the "
+        f"{coexisting} coexisting points left out: {same} of {decided - coexisting} "
+        f"({same / max(1, decided - coexisting):.2%}). A run with `coexistence: true` flags these and may flag "
+        "more, among points whose label is the same; leaving k such points out gives (same - k) / (decided - "
+        f"{coexisting} - k), at least 99 % while k <= {max(0, int((same - 0.99 * (decided - coexisting)) / 0.01))}.",
         "",
         "| class | points | example (index: labels) |",
         "|---|---:|---|",

@@ -168,6 +168,35 @@ def test_coexistence_stores_both_starts_and_flags_where_they_differ():
     assert cube["coexisting"].attrs["flag_meanings"] == "not_checked same coexisting"
 
 
+def test_coexistence_adds_the_fixed_start_and_leaves_the_followed_labels_bit_for_bit():
+    """``coexistence: true`` labels every point from the fixed start as well and changes nothing of the
+    followed verdicts (the agreement with earlier builds leaves the flagged points out, docs/classify.md).
+    li2013_calibrated at b = 2, e = 1.63 (a row of map_x1_e), x1 0.416-0.4244: the followed line is on a
+    torus at x1 = 0.4244, where the fixed start ends on a stable P1 orbit beside it."""
+
+    d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    cubes = []
+    for coexistence in (False, True):
+        entry = {
+            "designs": ["li2013_calibrated"],
+            "parameter": "x1",
+            "start": 0.416,
+            "stop": 0.4244,
+            "num": 5,
+            "fixed": {"b": 2.0, "e": 5.5 * 59 / 199},
+            "integration": {"steps_per_period": 128, "transient_periods": 400, "recorded_periods": 50},
+            "classifier": {"error_floor": 1.9e-5, "tangent_periods": 200},
+            "coexistence": coexistence,
+        }
+        cubes.append(sweep.run_chunk(d, sweep.SweepSpec.from_config("t", entry, "li2013_calibrated", d.segment), 0))
+    plain, both = cubes
+    for name in plain.data_vars:
+        np.testing.assert_array_equal(plain[name].values, both[name].values, err_msg=name)
+    label, fixed, flag = (both[k].values.ravel() for k in ("label", "label_fixed", "coexisting"))
+    assert np.all(flag[label != fixed] == 1)
+    assert (label[-1], fixed[-1], flag[-1]) == (classify.LABELS["quasi_periodic"], 1, 1)
+
+
 def test_a_long_cycle_is_labelled_long_period_with_its_period():
     """A periodic orbit longer than max_n (a torus locked to a long cycle) gets the label long_period and its
     least period in ``period``; a followed one keeps that label (the CF flags list 1..max_n only)."""
