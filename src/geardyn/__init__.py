@@ -5,8 +5,9 @@ return arrays or xarray Datasets.  File I/O lives in :mod:`geardyn.io` and the
 Snakemake adapters in ``workflow/scripts``.
 
 Importing geardyn sets two process settings.  First, before numpy loads OpenBLAS if it has not yet:
-``OPENBLAS_CORETYPE`` = :data:`BLAS_CORETYPE` (unless already set).  OpenBLAS otherwise picks its
-kernels by CPU (SkylakeX with AVX-512, Haswell/Zen with AVX2, ...), and those round differently,
+``OPENBLAS_CORETYPE`` = :data:`BLAS_CORETYPE`, whatever the environment says, and one OpenBLAS thread.
+OpenBLAS otherwise picks its kernels by CPU (SkylakeX with AVX-512, Haswell/Zen with AVX2, ...), or
+takes the environment's, and those round differently,
 so eigenvalues and solves of the small matrices here (Floquet multipliers, Newton steps, the static
 state) differed in the last bit between machines.  The Nehalem kernels (SSE4.2, no FMA) run on every
 CPU numpy itself runs on (numpy's baseline is x86-64-v2) and give the same bits everywhere; they are
@@ -28,8 +29,10 @@ __version__ = "0.1.0"
 #: OpenBLAS kernels used on x86-64 (the same bits on every CPU); see the module docstring.
 BLAS_CORETYPE = "Nehalem"
 
-_os.environ.setdefault("OPENBLAS_CORETYPE", BLAS_CORETYPE)
+# Before numpy loads OpenBLAS (geardyn.libm imports numpy): the kernels whatever the environment says.
+_os.environ.update({"OPENBLAS_CORETYPE": BLAS_CORETYPE, "OPENBLAS_NUM_THREADS": "1"})
 
 from geardyn import libm as _libm  # noqa: E402  (after the setting above: it loads numpy)
 
-_os.environ["GLIBC_TUNABLES"] = _libm.canonical_environ(_os.environ)["GLIBC_TUNABLES"]
+assert _libm.BLAS_CORETYPE == BLAS_CORETYPE
+_os.environ.update(_libm.canonical_environ(_os.environ))

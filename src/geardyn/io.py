@@ -12,12 +12,9 @@ Markdown as a closing HTML comment, CSV and JSON in a ``<name>.provenance.json``
 
 from __future__ import annotations
 
-import ctypes
 import datetime as _dt
 import functools
-import glob
 import hashlib
-import importlib.util
 import json
 import os
 import platform
@@ -89,8 +86,8 @@ def _numpy_cpu() -> dict[str, str]:
         "numpy_cpu_baseline": " ".join(getattr(mu, "__cpu_baseline__", [])),
         "numpy_cpu_dispatch": " ".join(dispatch) or "none",
     }
-    out["numpy_blas_core"] = _openblas_core("numpy", "scipy_openblas_get_corename64_")
-    out["scipy_blas_core"] = _openblas_core("scipy", "scipy_openblas_get_corename")
+    out["numpy_blas_core"] = libm.blas_core("numpy")
+    out["scipy_blas_core"] = libm.blas_core("scipy")
     try:
         cfg = np.show_config(mode="dicts")["Build Dependencies"]
         out["numpy_blas"] = " ".join(str(cfg["blas"].get(k, "")) for k in ("name", "version")).strip()
@@ -98,23 +95,6 @@ def _numpy_cpu() -> dict[str, str]:
     except Exception:
         out["numpy_blas"] = out["numpy_lapack"] = "unknown"
     return out
-
-
-def _openblas_core(package: str, symbol: str) -> str:
-    """The kernel set ("core") the OpenBLAS bundled with ``package`` uses, e.g. ``Nehalem``, or ``unknown``."""
-    spec = importlib.util.find_spec(package)
-    if spec is None or not spec.submodule_search_locations:
-        return "unknown"
-    libs = glob.glob(
-        os.path.join(next(iter(spec.submodule_search_locations)), "..", f"{package}.libs", "libscipy_openblas*.so")
-    )
-    try:
-        lib = ctypes.CDLL(libs[0])  # already loaded by the package: the same handle
-        fn = getattr(lib, symbol)
-        fn.restype = ctypes.c_char_p
-        return fn().decode()
-    except (IndexError, OSError, AttributeError):
-        return "unknown"
 
 
 def _numba_cpu() -> dict[str, str]:
@@ -188,6 +168,7 @@ def runtime_provenance() -> dict[str, str]:
         "NUMBA_CPU_FEATURES",
         "NUMBA_FASTMATH",
         "OPENBLAS_CORETYPE",
+        "OPENBLAS_L2_SIZE",
     ):
         if os.environ.get(var):
             out[f"env_{var}"] = os.environ[var]

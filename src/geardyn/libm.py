@@ -40,6 +40,9 @@ without FMA computes.  glibc reads tunables only at process start, so:
 
 from __future__ import annotations
 
+import ctypes
+import glob
+import importlib.util
 import math
 import os
 import sys
@@ -153,6 +156,20 @@ HWCAPS = ("-FMA", "-FMA4", "-FMA_Usable", "-FMA4_Usable")
 #: The variant every x86-64 CPU can run: glibc's math functions without fused multiply-adds.
 CANONICAL = "glibc-plain"
 
+#: The OpenBLAS kernels (bundled with numpy and scipy) that every process computes with: SSE4.2 without
+#: fused multiply-adds, so they run on every CPU that numpy's baseline (x86-64-v2) runs on and round the
+#: same everywhere.  Set whatever the environment says: OpenBLAS otherwise picks kernels per CPU
+#: (SkylakeX, Haswell, Zen ...), and a machine's environment may name others (``OPENBLAS_CORETYPE=Haswell``
+#: on one of this project's machines): the Newton steps, inverses and eigenvalues of the 6 x 6 matrices
+#: round differently, and a followed torus or a slow approach to a long cycle ends elsewhere
+#: (``docs/reproducibility.md``).
+BLAS_CORETYPE = "Nehalem"
+
+#: The process environment that makes results the same on every x86-64 CPU (:func:`canonical_environ`):
+#: OpenBLAS's kernels, and one OpenBLAS thread (a sum that OpenBLAS splits between threads would depend
+#: on the number of cores; the jobs are parallel already).
+BLAS_ENVIRON = {"OPENBLAS_CORETYPE": BLAS_CORETYPE, "OPENBLAS_NUM_THREADS": "1"}
+
 #: sin(x) at this x rounds differently in glibc's FMA and plain builds (found among 100 001 random arguments).
 _PROBE = 0.1277399286858092
 _PROBE_VALUES = {
@@ -172,8 +189,10 @@ def variant() -> str:
 
 
 def canonical_environ(environ: Mapping[str, str]) -> dict[str, str]:
-    """``environ`` with :data:`HWCAPS` added to ``GLIBC_TUNABLES`` (other tunables and hwcaps entries kept)."""
+    """``environ`` with :data:`HWCAPS` added to ``GLIBC_TUNABLES`` (other tunables and hwcaps entries kept)
+    and :data:`BLAS_ENVIRON` set (replacing what the environment said)."""
     env = dict(environ)
+    env.update(BLAS_ENVIRON)
     parts = [p for p in env.get("GLIBC_TUNABLES", "").split(":") if p]
     for i, part in enumerate(parts):
         if part.startswith("glibc.cpu.hwcaps="):
@@ -186,10 +205,36 @@ def canonical_environ(environ: Mapping[str, str]) -> dict[str, str]:
     return env
 
 
+def blas_core(package: str = "numpy") -> str:
+    """The kernel set ("core") that the OpenBLAS bundled with ``package`` (``numpy`` or ``scipy``) uses, e.g.
+    ``Nehalem``, or ``unknown`` (another BLAS, or the package not installed).  Loads the package."""
+    spec = importlib.util.find_spec(package)
+    if spec is None or not spec.submodule_search_locations:
+        return "unknown"
+    __import__(package + (".linalg" if package == "scipy" else ""))  # loads its OpenBLAS
+    where = next(iter(spec.submodule_search_locations))
+    libs = glob.glob(os.path.join(where, "..", f"{package}.libs", "libscipy_openblas*.so"))
+    symbol = "scipy_openblas_get_corename64_" if package == "numpy" else "scipy_openblas_get_corename"
+    try:
+        lib = ctypes.CDLL(libs[0])  # already loaded by the package: the same handle
+        fn = getattr(lib, symbol)
+        fn.restype = ctypes.c_char_p
+        return fn().decode()
+    except (IndexError, OSError, AttributeError):
+        return "unknown"
+
+
+def canonical_process() -> bool:
+    """Whether this process computes the canonical bits: glibc's plain math functions (or a C library that is
+    not glibc on x86-64, about which nothing is claimed) and OpenBLAS's :data:`BLAS_CORETYPE` kernels in
+    numpy (or another BLAS)."""
+    return variant() != "glibc-fma" and blas_core("numpy") in (BLAS_CORETYPE, "unknown")
+
+
 def needs_restart() -> bool:
-    """Whether :func:`restart_canonical` would restart this process: it runs glibc's FMA build and was not
-    restarted already."""
-    return variant() == "glibc-fma" and not os.environ.get(_RESTARTED)
+    """Whether :func:`restart_canonical` would restart this process: it is not :func:`canonical_process` and
+    was not restarted already."""
+    return not canonical_process() and not os.environ.get(_RESTARTED)
 
 
 def restart_canonical() -> None:
