@@ -1,5 +1,7 @@
 """Run the benchmarks: ``python -m benchmarks.bench [--out DIR] [--quick]`` (work precision),
-``python -m benchmarks.bench throughput|labels|check ...`` (see ``--help`` of each).
+``python -m benchmarks.bench throughput|labels|check ...`` (see ``--help`` of each),
+``python -m benchmarks.bench fingerprint [--write]`` (a hash per stage of a small fixed study, to compare
+machines; ``--write`` replaces the committed reference).
 
 Single-threaded by construction when run as a program (thread pools pinned to 1 before numpy/numba
 load); importing the module sets nothing.
@@ -18,7 +20,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from benchmarks import circles, labels, long_run, throughput, work_precision
+from benchmarks import circles, fingerprint, labels, long_run, throughput, work_precision
 from geardyn import io, libm
 
 
@@ -76,10 +78,32 @@ def main_speed(argv: list[str]) -> int:
     return 0
 
 
+def main_fingerprint(argv: list[str]) -> int:
+    """Print the fingerprint (:mod:`benchmarks.fingerprint`) and the machine; with ``--write``, replace the
+    committed reference (only when a change of the code means to change those bits)."""
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.bench fingerprint")
+    ap.add_argument("--write", action="store_true", help="write benchmarks/fingerprint.txt")
+    a = ap.parse_args(argv)
+    stages = fingerprint.study()
+    text = fingerprint.format_lines(stages)
+    where = "".join(f"# {k}: {v}\n" for k, v in fingerprint.machine().items())
+    print(where + text, end="")
+    differs = fingerprint.first_difference(stages, fingerprint.read_reference())
+    print(f"reference: {'the same' if differs is None else 'differs from ' + differs + ' on'}")
+    if a.write:
+        fingerprint.REFERENCE.write_text(
+            "# python -m benchmarks.bench fingerprint --write, on the machine below\n" + where + text
+        )
+        print(f"wrote {fingerprint.REFERENCE}")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     if argv is None:  # as a program: the C library's plain math, as in the pipeline's jobs
         libm.restart_canonical()
     argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0] == "fingerprint":
+        return main_fingerprint(argv[1:])
     if argv and argv[0] in ("throughput", "labels", "check", "circles"):
         return main_speed(argv)
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench", description=work_precision.__doc__.splitlines()[0])

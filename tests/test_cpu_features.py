@@ -125,3 +125,24 @@ def test_the_setting_joins_other_tunables():
     )
     assert libm.canonical_environ(env) == env  # idempotent
     assert libm.canonical_environ({})["GLIBC_TUNABLES"] == "glibc.cpu.hwcaps=-FMA,-FMA4,-FMA_Usable,-FMA4_Usable"
+
+
+def _blas_in(env: dict[str, str], code: str) -> str:
+    run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    return run.stdout.strip()
+
+
+@pytest.mark.skipif(libm.blas_core() == "unknown", reason="numpy without its bundled OpenBLAS: no claim (docs)")
+def test_openblas_runs_geardyns_kernels_whatever_the_environment_says():
+    """A machine's environment may name other OpenBLAS kernels (OPENBLAS_CORETYPE=Haswell on one of this
+    project's machines): importing geardyn before numpy replaces the setting, and a process that loaded
+    numpy first with other kernels is seen (needs_restart) and restarted onto geardyn's."""
+    env = {k: v for k, v in os.environ.items() if k != "GEARDYN_LIBM_RESTARTED"}
+    env["OPENBLAS_CORETYPE"] = "Haswell"
+    show = "from geardyn import libm; print(libm.blas_core('numpy'), libm.blas_core('scipy'), libm.needs_restart())"
+    assert _blas_in(env, f"import geardyn; {show}") == f"{libm.BLAS_CORETYPE} {libm.BLAS_CORETYPE} False"
+    assert _blas_in(env, f"import numpy; {show}") == f"Haswell {libm.BLAS_CORETYPE} True"
+    assert _blas_in(env, f"import scipy.linalg; {show}") == "Haswell Haswell True"
+    restarted = _blas_in(env, f"import numpy; from geardyn import libm; libm.restart_canonical(); {show}")
+    assert restarted == f"{libm.BLAS_CORETYPE} {libm.BLAS_CORETYPE} False"

@@ -95,10 +95,11 @@ def test_c_loop_equals_the_model_statement(on):
 
 def test_importing_the_benchmarks_changes_no_environment_variable(tmp_path):
     """Every benchmark module imports without setting an environment variable or compiling the C loop
-    (only ``python -m benchmarks.bench`` pins the thread pools; the C RK4 is built when its mode runs)."""
+    (only ``python -m benchmarks.bench`` pins the thread pools; the C RK4 is built when its mode runs).
+    geardyn's own process settings (its import sets them: geardyn.libm) are in place before."""
     mods = ", ".join(f"benchmarks.{p.stem}" for p in sorted((ROOT / "benchmarks").glob("*.py")) if p.stem != "__init__")
     code = (
-        f"import os; before = dict(os.environ); import {mods}; "
+        f"import geardyn, os; before = dict(os.environ); import {mods}; "
         "assert dict(os.environ) == before, set(os.environ.items()) ^ set(before.items())"
     )
     env = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}

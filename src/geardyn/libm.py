@@ -227,8 +227,9 @@ def blas_core(package: str = "numpy") -> str:
 def canonical_process() -> bool:
     """Whether this process computes the canonical bits: glibc's plain math functions (or a C library that is
     not glibc on x86-64, about which nothing is claimed) and OpenBLAS's :data:`BLAS_CORETYPE` kernels in
-    numpy (or another BLAS)."""
-    return variant() != "glibc-fma" and blas_core("numpy") in (BLAS_CORETYPE, "unknown")
+    numpy and, if it was imported (it loads its own OpenBLAS), scipy (or another BLAS)."""
+    blas = [blas_core("numpy")] + ([blas_core("scipy")] if "scipy" in sys.modules else [])
+    return variant() != "glibc-fma" and all(core in (BLAS_CORETYPE, "unknown") for core in blas)
 
 
 def needs_restart() -> bool:
