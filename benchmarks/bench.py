@@ -43,6 +43,12 @@ def main_speed(argv: list[str]) -> int:
     ap.add_argument("--periods", type=int, default=20000, help="check: mesh periods of each long run")
     ap.add_argument("--map", default=None, help="check, circles: the regime map (map_x1_b, map_x1_e)")
     ap.add_argument("--rows", type=int, default=10, help="circles: random rows of the map labelled")
+    ap.add_argument(
+        "--sweeps",
+        nargs="*",
+        help="check: the built sweeps' points with these labels (quasi_periodic, chaotic, long_period, "
+        "periodic, all) instead of a map's, read from --new",
+    )
     a = ap.parse_args(argv[1:])
     log = lambda m: print(m, flush=True)  # noqa: E731
     ds = None
@@ -59,6 +65,10 @@ def main_speed(argv: list[str]) -> int:
     elif argv[0] == "circles":
         md = "# Invariant circles of the non-periodic labels\n\n" + circles.circle_check(
             a.config, map_name=a.map or "map_x1_e", n_rows=2 if a.quick else a.rows, per_class=5 if a.quick else 40
+        )
+    elif a.sweeps is not None:
+        md = "# Independent check: long runs from the sweeps' stored points\n\n" + long_run.sweep_check(
+            a.config, a.new, tuple(a.sweeps) or ("quasi_periodic",), n_points=a.points, periods=a.periods, log=log
         )
     else:
         md = "# Independent check: long runs from the follow start\n\n" + long_run.long_run_check(

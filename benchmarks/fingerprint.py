@@ -83,13 +83,18 @@ def _text_hash(items: list[str]) -> str:
 
 
 @contextmanager
-def _recording(module: Any, name: str, into: list[Any], keep: Callable[[tuple, Any], Any]) -> Iterator[None]:
-    """Record ``keep(args, result)`` of every call of ``module.name`` while the block runs."""
+def _recording(module: Any, name: str, into: list[bytes], keep: Callable[[tuple, Any], Any]) -> Iterator[None]:
+    """Record every call of ``module.name`` while the block runs: its first argument's bytes (an array) and
+    ``keep(args, result)`` as float64 or int64 bytes.  The calls may come from several threads in any order
+    (the labeller tests the points of a round in a thread pool), so the stage hashes them sorted."""
     original = getattr(module, name)
 
     def wrapped(*args: Any, **kwargs: Any) -> Any:
         out = original(*args, **kwargs)
-        into.append(keep(args, out))
+        given = np.ascontiguousarray(args[0]).tobytes() if isinstance(args[0], np.ndarray) else b""
+        kept = np.asarray(keep(args, out))
+        kept = kept.astype(np.int64 if kept.dtype.kind in "iub" else np.float64)
+        into.append(hashlib.sha256(given).digest() + kept.tobytes())
         return out
 
     setattr(module, name, wrapped)
@@ -97,6 +102,10 @@ def _recording(module: Any, name: str, into: list[Any], keep: Callable[[tuple, A
         yield
     finally:
         setattr(module, name, original)
+
+
+def _calls_hash(calls: list[bytes]) -> str:
+    return hashlib.sha256(b"".join(sorted(calls))).hexdigest()[:16] if calls else "none"
 
 
 def _design_hashes() -> list[str]:
@@ -158,20 +167,20 @@ def study() -> dict[str, str]:
         classify.ClassifierSettings(error_floor=1.9e-5, tangent_periods=200), torus_max_periods=16000
     )
     lines = [_line(PERIODIC_LINE), _line(TORUS_ROW), _line(CHAOTIC_LINE)]
-    digits: list[Any] = []
-    gaps: list[Any] = []
-    tried: list[Any] = []
+    digits: list[bytes] = []
+    gaps: list[bytes] = []
+    tried: list[bytes] = []
     with (
         _recording(nonperiodic, "torus_digits", digits, lambda a, r: np.asarray(r, dtype=float)),
-        _recording(nonperiodic, "order_test", gaps, lambda a, r: np.asarray(r.gaps, dtype=float)),
-        _recording(nonperiodic, "_try_periods", tried, lambda a, r: np.asarray(a[1], dtype=np.int64)),
+        _recording(nonperiodic, "order_test", gaps, lambda a, r: np.asarray(r.gaps, dtype=np.int64)),
+        _recording(nonperiodic, "_try_periods", tried, lambda a, r: [n for n in a[1] if n > 0]),
     ):
         periodic, torus, chaotic = label_lines(lines, Policy(settings, cs))
     regular = periodic + torus
     out["records"] = _h(*[v.poincare for v in regular], *[v.final_state for v in regular])
-    out["torus_digits"] = _h(*digits) if digits else "none"
-    out["order_gaps"] = _h(*gaps) if gaps else "none"
-    out["candidate_periods"] = _h(*[t[t > 0] for t in tried]) if tried else "none"
+    out["torus_digits"] = _calls_hash(digits)
+    out["order_gaps"] = _calls_hash(gaps)
+    out["candidate_periods"] = _calls_hash(tried)
     out["verdicts"] = (
         _h(
             [v.label for v in regular],
@@ -201,7 +210,7 @@ def study() -> dict[str, str]:
     br = C.continue_branch(fam, 0.05, r.final_state, 1, 0.0, 1.0, C.ContinuationSettings(ds=0.02, ds_max=0.02))
     events = [(b.kind, b.p, b.located) for b in br.bifurcations] if br is not None else []
     out["continuation"] = (
-        _h(br.p, br.states, np.abs(br.multipliers), [p for _, p, _ in events])
+        _h(br.p, br.states, br.multipliers.real, br.multipliers.imag, [p for _, p, _ in events])
         + ":"
         + _text_hash([f"{k}/{loc}" for k, _, loc in events])
         if br is not None

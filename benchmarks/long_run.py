@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -90,3 +91,135 @@ def long_run_check(
     )
     log(head)
     return head + "\n".join(rows_md) + "\n"
+
+
+#: What a long run from a verdict's state ends on (:func:`ending`).
+ENDINGS = ("torus", "short cycle", "long cycle", "chaos", "diverged")
+
+
+def ending(poincare: np.ndarray, growth: np.ndarray, period: float, cs: classify.ClassifierSettings) -> tuple[str, int]:
+    """What a long run ends on, from its newest Poincare points and its tangent vector's growth, without
+    the labeller: a cycle when its newest points return after n periods (rule 3 up to ``long_max_n``, at
+    least three cycles; "short" for n <= ``max_n``), chaos when the exponent over the run's newest half
+    exceeds the zero tolerance ``lam_tol`` and three standard errors, else a torus."""
+    if poincare.shape[0] == 0 or not np.all(np.isfinite(poincare)) or not np.all(np.isfinite(growth)):
+        return "diverged", 0
+    n = classify.strict_period(poincare, dataclasses.replace(cs, max_n=min(cs.long_max_n, poincare.shape[0] // 3)))
+    if n > 0:
+        return ("short cycle" if n <= cs.max_n else "long cycle"), n
+    lam, sigma = classify.lyapunov_estimate(growth[growth.size // 2 :], period, skip=0)
+    return ("chaos" if lam > max(cs.lam_tol, 3.0 * sigma) else "torus"), 0
+
+
+def _expected(label: int, period: int) -> str:
+    """The ending a verdict promises."""
+    if period > 0:
+        return "short cycle" if label > 0 else "long cycle"
+    return {classify.LABELS["chaotic"]: "chaos", classify.LABELS["quasi_periodic"]: "torus"}.get(label, "")
+
+
+def sweep_check(
+    config_path: Path,
+    results: Path,
+    labels: tuple[str, ...] = ("quasi_periodic",),
+    n_points: int = 500,
+    periods: int = 20000,
+    seed: int = 0,
+    log=print,
+) -> str:
+    """Independent check of the labels of the built sweeps: ``n_points`` random points with one of
+    ``labels`` (names of :data:`geardyn.classify.LABELS`; ``periodic`` for P1 ... P12, ``all``) drawn from
+    every sweep cube of every design the config lists under ``results``, each run ``periods`` mesh periods
+    (plain RK4 with a tangent vector, no labeller) from its newest stored Poincare point.  The run's newest
+    points and exponent say what it ends on (:func:`ending`); a verdict holds when that is what it promises
+    (a periodic verdict: its own least period, and the stored points on the run's cycle within 1e-6)."""
+    import xarray as xr  # noqa: PLC0415
+
+    from benchmarks.common import load_design, workflow_config  # noqa: PLC0415
+    from geardyn.khv import point  # noqa: PLC0415
+    from geardyn.runs import sweep  # noqa: PLC0415
+
+    config = workflow_config(config_path)
+    root = config_path.resolve().parent.parent
+    wanted = set(labels)
+    pool: list[tuple[str, str, Any, int, int, int]] = []  # (design, sweep, spec, case, direction, index)
+    cubes: dict[tuple[str, str], Any] = {}
+    for name, raw in sorted(config["sweeps"].items()):
+        for dname in raw["designs"]:
+            path = results / dname / "sweeps" / f"{name}.nc"
+            if not path.exists():
+                continue
+            d = load_design(dname, config, root)
+            spec = sweep.SweepSpec.from_config(name, dict(raw), dname, d.segment)
+            cube = xr.open_dataset(path).load()
+            cubes[dname, name] = (d, spec, cube)
+            for idx in zip(*np.nonzero(np.isin(cube["label"].values, _label_codes(wanted))), strict=True):
+                pool.append((dname, name, spec, *map(int, idx)))
+    rng = np.random.default_rng(seed)
+    picks = [pool[k] for k in sorted(rng.choice(len(pool), size=min(n_points, len(pool)), replace=False))]
+    log(f"{len(picks)} of {len(pool)} points with labels {sorted(wanted)} in {len(cubes)} sweep cubes")
+    t0 = time.perf_counter()
+    systems, starts, verdicts = [], [], []
+    for dname, name, spec, case, direction, j in picks:
+        d, _, cube = cubes[dname, name]
+        value = float(cube[spec.parameter].values[j])
+        systems.append(point.point_coefficients(d, sweep.point_overrides(spec, case, value)))
+        stored = np.stack([cube[v].values[case, direction, j] for v in sweep.STATES], axis=1)
+        stored = stored[np.all(np.isfinite(stored), axis=1)]
+        starts.append(stored[-1])
+        verdicts.append(
+            (int(cube["label"].values[case, direction, j]), int(cube["period"].values[case, direction, j]), stored)
+        )
+    cs = classify.ClassifierSettings()
+    keep = 3 * cs.long_max_n
+    s = SimulationSettings(
+        steps_per_period=128, transient_periods=periods - keep, recorded_periods=keep, early_stop=False
+    )
+    runs = simulate_batch(systems, s, starts, tangent_periods=periods)
+    table: dict[str, dict[str, int]] = {}
+    failed = []
+    for pick, system, (lab, per, stored), r in zip(picks, systems, verdicts, runs, strict=True):
+        end, n = ending(r.poincare, r.growth, system.period, cs)
+        want = _expected(lab, per)
+        ok = end == want
+        if ok and per > 0:
+            ok = n == per and directed_distance(stored[-min(per, stored.shape[0]) :], r.poincare[-3 * per :]) < 1e-6
+        row = table.setdefault(
+            classify.short_name(lab) if per <= 0 or lab > 0 else "long cycle", dict.fromkeys(("held", *ENDINGS), 0)
+        )
+        row["held" if ok else end] += 1
+        if not ok:
+            dname, name, spec, case, direction, j = pick
+            value = float(cubes[dname, name][2][spec.parameter].values[j])
+            failed.append(
+                f"| {dname} | {name} | {spec.case_label(case)} | {value:.5g} | {classify.short_name(lab)} "
+                f"| {end} {n or ''} |"
+            )
+    head = (
+        f"{len(picks)} points of the sweeps under {results} ({', '.join(sorted(wanted))}), {periods} periods "
+        f"each from the newest stored point ({time.perf_counter() - t0:.0f} s).\n\n"
+        f"| verdict | points | held | {' | '.join(ENDINGS)} |\n|---|---:|---:|{'---:|' * len(ENDINGS)}\n"
+    )
+    body = "".join(
+        f"| {k} | {sum(v.values())} | {v['held']} | {' | '.join(str(v[e]) for e in ENDINGS)} |\n"
+        for k, v in table.items()
+    )
+    fails = ""
+    if failed:
+        fails = "\n| design | sweep | case | parameter | verdict | long run ends on |\n|---|---|---|---:|---|---|\n"
+        fails += "\n".join(failed) + "\n"
+    log(head + body)
+    return head + body + fails
+
+
+def _label_codes(names: set[str]) -> list[int]:
+    codes = dict(classify.LABELS)
+    out: list[int] = []
+    for name in names:
+        if name == "all":
+            out += [codes[k] for k in ("long_period", "chaotic", "quasi_periodic")] + list(range(1, 13))
+        elif name == "periodic":
+            out += list(range(1, 13))
+        else:
+            out.append(codes[name])
+    return out

@@ -182,11 +182,12 @@ def finish(points: list[Point], policy: Policy) -> None:
 
 
 def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True) -> None:
-    """Points whose record returns after n periods, max_n < n <= long_max_n (rule 3 with the larger bound, on
-    the newest half of the record, or on all of it with ``newest_half=False``; at least three cycles): a torus
-    locked to a long cycle, certified by shooting (:func:`_try_periods`)."""
+    """Points whose record returns after n periods, n <= long_max_n (rule 3 with the larger bound, on the
+    newest half of the record, or on all of it with ``newest_half=False``; at least three cycles): a torus
+    locked to a long cycle (n > max_n), or a record whose older part was still approaching a short cycle
+    (n <= max_n: rule 3 reads the whole record and missed it), certified by shooting (:func:`_try_periods`)."""
     cs = policy.classifier
-    if not points or cs.long_max_n <= cs.max_n:
+    if not points or cs.long_max_n <= 0:
         return
     half = [
         dataclasses.replace(
@@ -194,26 +195,31 @@ def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True)
         )
         for p in points
     ]
-    big = dataclasses.replace(cs, max_n=cs.long_max_n)
-    ns = [
-        n if n > cs.max_n and 3 * n <= r.poincare.shape[0] else 0 for n, r in zip(rule3(half, big), half, strict=True)
-    ]
-    _try_periods(points, ns, policy, "the longer record returns after a long period")
+    big = dataclasses.replace(cs, max_n=max(cs.long_max_n, cs.max_n))
+    ns = [n if 0 < n and 3 * n <= r.poincare.shape[0] else 0 for n, r in zip(rule3(half, big), half, strict=True)]
+    short = [n if n <= cs.max_n else 0 for n in ns]
+    _try_periods(points, short, policy, "the newest part of the record returns after a few periods")
+    _try_periods(
+        points, [n if n > cs.max_n else 0 for n in ns], policy, "the longer record returns after a long period"
+    )
 
 
 def _locked(points: list[Point], policy: Policy) -> None:
-    """Quasi-periodic records that approach a cycle too slowly for rule 3 (a torus locked to the cycle), certified by
-    shooting for its period (:func:`_try_periods`, at most ``LOCKED_NEWTON_ITER`` Newton iterations, given up
-    when the residual grows more than ``LOCKED_MAX_GROWTH`` times in one). The candidate period n is the least
-    index difference between a point of the record and its nearest neighbour
-    (:func:`geardyn.label.torus.order_test`: on a locked torus the points gather about the n points of the
-    cycle), max_n < n <= long_max_n, over the part of the record the torus test's order test reads
-    (:func:`_order_part`: the newest half of a long record, where a slow approach has come closest). It is
-    tried where the record's return distance after n periods is small (:func:`_returns`) and falls along the
-    record, or where every point's nearest neighbour is n periods away.  The verdict draws the cycle's
-    points, not the record's."""
+    """Quasi-periodic records that approach a cycle too slowly for rule 3 (a torus locked to the cycle, or a
+    slow approach to a short cycle), certified by shooting for its period (:func:`_try_periods`, at most
+    ``LOCKED_NEWTON_ITER`` Newton iterations, given up when the residual grows more than
+    ``LOCKED_MAX_GROWTH`` times in one).  The candidate period n, 1 <= n <= long_max_n, is the least index
+    difference between a point of the record and its nearest neighbour (:func:`geardyn.label.torus.order_test`:
+    on a locked torus the points gather about the n points of the cycle) over the part of the record the
+    torus test's order test reads (:func:`_order_part`: the newest half of a long record, where a slow
+    approach has come closest).  It is tried where the record's return distance after n periods is small
+    (:func:`_returns`) and, for a long cycle (n > max_n), falls along the record or every point's nearest
+    neighbour is n periods away; a short cycle is tried on the small distance alone (the multipliers decide:
+    a torus about a short cycle has it unstable).  Where n is not tried, the least n <= max_n about whose
+    cycle the record gathers (:func:`_gathers`; a record still approaching a short cycle need not have its
+    nearest neighbours n apart yet).  The verdict draws the cycle's points, not the record's."""
     cs = policy.classifier
-    if not points or cs.long_max_n <= cs.max_n:
+    if not points or cs.long_max_n <= 0:
         return
     ns = []
     for p in points:
@@ -221,8 +227,11 @@ def _locked(points: list[Point], policy: Policy) -> None:
         known = p.order[1] if p.order is not None and p.order[0] is record else None  # the torus test's
         gaps = (known or order_test(_order_part(record, cs), 0)).gaps
         n = gaps[0]
-        oldest, newest = _returns(record, n) if cs.max_n < n <= cs.long_max_n else (0.0, math.inf)
-        ns.append(n if newest < LOCKED_RETURN and (newest < 0.5 * oldest or len(gaps) == 1) else 0)
+        oldest, newest = _returns(record, n) if 0 < n <= max(cs.long_max_n, cs.max_n) else (0.0, math.inf)
+        if newest < LOCKED_RETURN and (n <= cs.max_n or newest < 0.5 * oldest or len(gaps) == 1):
+            ns.append(n)
+        else:  # a short cycle whose approach the newest half still shows (nearest neighbours not yet n apart)
+            ns.append(next((m for m in range(1, cs.max_n + 1) if _gathers(record, m)), 0))
     _try_periods(
         points,
         ns,
@@ -244,6 +253,13 @@ LOCKED_NEWTON_ITER = 4
 #: found none, most grew 15-90 times at the first iteration.  With 20 no cycle of that map is lost and the
 #: attempts cost 0.76 of their integrations (with 2: 0.59, but 5 cycles lost).
 LOCKED_MAX_GROWTH = 20.0
+
+
+def _gathers(p: np.ndarray, n: int) -> bool:
+    """Whether the record ``p`` gathers about a period-n cycle: its return distance after n periods over the
+    newest third is below :data:`LOCKED_RETURN` and less than half that over the oldest third."""
+    oldest, newest = _returns(p, n)
+    return newest < LOCKED_RETURN and newest < 0.5 * oldest
 
 
 def _returns(p: np.ndarray, n: int) -> tuple[float, float]:

@@ -64,7 +64,7 @@ def spectral_peaks(freq, amp, n: int = 5, fmax: float = 3.0) -> list[float]:
     from scipy.signal import find_peaks  # noqa: PLC0415 - 0.3 s to import: only the captions with spectra
 
     idx, _ = find_peaks(a, height=0.02 * a.max())
-    return [float(f[i]) for i in idx[a[idx].argsort()[::-1][:n]]]
+    return [float(f[i]) for i in idx[np.argsort(-a[idx], kind="stable")[:n]]]  # ties: the lower frequency first
 
 
 def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
