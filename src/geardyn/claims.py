@@ -1,31 +1,41 @@
-"""Every checkable statement of paper 1 against our results (only for designs that name it).
+"""Every checkable statement of a paper against our results (only for designs that name the paper).
 
-The statements and the numbers in them are data, :mod:`geardyn.papers.li2013`; this module holds the
-verdict rules and applies them.
+The statements and the numbers in them are data, in the paper's module of :mod:`geardyn.papers`; this
+module holds the verdict rules and applies them.  A paper states its claims in one of two forms:
+
+* about the regimes of a KHV drive (the module's ``SEQUENCE``, ``FIG08_POINTS``, ... and ``CLAIM_RUNS``),
+  evaluated on labelled sweeps by :func:`evaluate` (below);
+* as a tuple of plain mappings, the module's ``CLAIMS``, each naming one of our quantities, the paper's
+  value, a rule (``DATA_RULES``) and a tolerance, evaluated by :func:`data_claims` on a model family's
+  products (a plus planetary set's: :mod:`geardyn.plus.claims`).
 
 Each claim gives the paper's value, ours, a verdict (``agree`` / ``borderline`` / ``disagree`` /
 ``not comparable``)
-and the reason.  Inputs are the pipeline's products: the closed graph (M, N), the stiffness table
-(k along M-N), the sweep cubes of Figs. 7, 9, 11 with their motion labels
-(the labeller, :mod:`geardyn.label`) and the dense point runs of Fig. 8 (spectra).
+and the reason.  Inputs are the pipeline's products: for a KHV drive the closed graph (M, N), the stiffness
+table (k along M-N), the sweep cubes with their motion labels (the labeller, :mod:`geardyn.label`) and the
+dense point runs (spectra); for a plus set its tables of natural frequencies, stiffness scaling and key
+elements, modal.nc, te.nc, the relief optima and the forced response.
 
 Verdict rules (stated once, applied everywhere):
 
 * a regime on an x1 interval agrees when at least ``RANGE_AGREE`` (80 %) of the sweep points inside
   it carry the paper's label; a single point agrees when the label at the nearest sweep point is the
   paper's;
-* every verdict on a fraction (k of n points) is three-valued, :func:`fraction_verdict`: when the
-  threshold lies within ``BORDERLINE_Z`` (2) binomial standard errors of the fraction,
+* every verdict on a fraction (k of n points or table cells) is three-valued, :func:`fraction_verdict`: when
+  the threshold lies within ``BORDERLINE_Z`` (2) binomial standard errors of the fraction,
   ``|k/n - t| <= 2 sqrt(p (1 - p) / n)`` with ``p = k/n``, the verdict is ``borderline``: neither agree
   nor disagree, because another sample of the same interval (a finer grid, another CPU's rounding of a
   chaotic orbit) could fall on either side.  The calibration objective counts a borderline claim as
   half an agreeing one (:func:`credit`), so one point near the threshold moves the score by a half;
-* numbers agree within the paper's printed precision (M, N: 0.001) or the stated tolerance;
-* "not comparable" when our result cannot answer (point diverged or undetermined, data missing).
+* numbers agree within the paper's printed precision (M, N: 0.001) or the stated tolerance
+  (:func:`within_verdict`: absolute, or relative to the paper's value; every cell of a table must agree);
+* "not comparable" when our result cannot answer (point diverged or undetermined, data missing, or the
+  statement concerns an input of our model).
 
 One function, :func:`evaluate`, applies the rules to labelled 1-D sweeps (:class:`Track`); the
 pipeline's ``claims.md`` (:func:`claims`, from the cubes) and the calibration objective
-(:mod:`geardyn.khv.calibrate`, from a candidate's in-memory labels) both call it.
+(:mod:`geardyn.khv.calibrate`, from a candidate's in-memory labels) both call it.  Claims stated as data
+go through :func:`data_claim`, one claim at a time.
 """
 
 from __future__ import annotations
@@ -34,9 +44,11 @@ import csv
 import io
 import itertools
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from numbers import Real
 from types import ModuleType
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -97,6 +109,8 @@ class Claim:
     ours: str
     verdict: str
     reason: str
+    #: The tolerance the verdict applied, when the claim states one apart from its reason.
+    tolerance: str = ""
 
 
 @dataclass(frozen=True)
@@ -479,6 +493,239 @@ def _amplitude_claim(p1_amplitude: Mapping[str, np.ndarray] | None) -> Claim:
     )
 
 
+# --- Claims stated as data ---------------------------------------------------------------------------------
+# A paper module may state its claims as plain data, ``CLAIMS``: a tuple of mappings, one per statement, with
+#   id, figure, statement   the claim's name, where the paper makes it, the statement in the paper's words;
+#   quantity, args          which of our numbers answers it (a name of a quantity table such as
+#                           PLUS_QUANTITIES, and its keyword arguments);
+#   rule                    how the two are compared (DATA_RULES);
+#   paper                   the paper's value (number, sequence, or mapping of sequences), or
+#   paper_of                a table in the paper's form from which the quantity's own function derives the
+#                           paper's value, so that both sides are read the same way;
+#   tolerance, relative     for rule "within": absolute (in ``unit``) or relative (fraction of the paper's value);
+#   bound                   for rule "at_most": the paper's statement as an upper bound on our number;
+#   unit, paper_text        display: the unit, and the paper's value as the paper words it (optional);
+#   why, note               why we disagree (shown unless the verdict is agree), and a remark shown always.
+
+#: The comparison rules of claims stated as data:
+#: within   every number within ``tolerance`` of the paper's (absolute or relative);
+#: at_most  our number at most ``bound`` (a direction or a threshold the paper states);
+#: equal    the same value (counts, orders, labels), derived from the paper's table the same way as ours;
+#: matches  cell by cell (a cell agrees when the two share a name), verdict on the fraction
+#:          (:func:`fraction_verdict`, threshold ``RANGE_AGREE``);
+#: all      every one of our cases has the property the paper states (an exact, structural property);
+#: unchecked the statement concerns something our model takes as an input or does not model.
+DATA_RULES = ("within", "at_most", "equal", "matches", "all", "unchecked")
+#: Keys a claim stated as data may have.
+DATA_KEYS = frozenset(
+    {
+        "id",
+        "figure",
+        "statement",
+        "quantity",
+        "args",
+        "rule",
+        "paper",
+        "paper_of",
+        "tolerance",
+        "relative",
+        "bound",
+        "unit",
+        "paper_text",
+        "why",
+        "note",
+    }
+)
+
+
+@dataclass(frozen=True)
+class Measured:
+    """One of our numbers: ``value`` (a number, a sequence, a mapping of sequences, or ``None`` when our
+    products cannot give it) and ``text``, what it is and where it comes from, shown beside it."""
+
+    value: Any
+    text: str = ""
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """How a quantity is read: ``measure(products, **args)`` from our products; ``derive(table, **args)``
+    the same quantity from a table in the paper's form (for claims that give ``paper_of``)."""
+
+    measure: Callable[..., Measured]
+    derive: Callable[..., Any] | None = None
+
+
+def format_value(v: Any, unit: str = "") -> str:
+    """A value for the claims table: numbers to 4 significant digits, sequences joined, mappings by key."""
+    u = f" {unit}" if unit else ""
+    if v is None:
+        return "none"
+    if isinstance(v, Mapping):
+        return "; ".join(f"{k}: {format_value(x)}" for k, x in v.items()) + u
+    if isinstance(v, str):
+        return v + u
+    if isinstance(v, bool | np.bool_):
+        return "yes" if v else "no"
+    if isinstance(v, Sequence | np.ndarray):
+        if len(v) and all(isinstance(x, bool | np.bool_) for x in v):
+            return f"{sum(bool(x) for x in v)}/{len(v)}"
+        return ", ".join(format_value(x) for x in v) + u
+    if isinstance(v, Real):
+        return f"{float(v):.4g}{u}"
+    return str(v) + u
+
+
+def _cells(v: Any, keys: Sequence | None = None) -> list[tuple[str, Any]]:
+    """(label, cell) pairs of a value: a mapping of sequences in ``keys`` order (``I #2``), a sequence
+    (``#2``) or one cell."""
+    if isinstance(v, Mapping):
+        out = []
+        for k in keys if keys is not None else list(v):
+            out += [(f"{k} {label}".strip(), x) for label, x in _cells(v[k])]
+        return out
+    if isinstance(v, Sequence | np.ndarray) and not isinstance(v, str):
+        return [(f"#{i}", x) for i, x in enumerate(v, start=1)]
+    return [("", v)]
+
+
+def _missing_value(v: Any) -> bool:
+    if v is None:
+        return True
+    if isinstance(v, Real) and not isinstance(v, bool | np.bool_):
+        return not math.isfinite(float(v))
+    if isinstance(v, Mapping):
+        return any(_missing_value(x) for x in v.values())
+    if isinstance(v, Sequence | np.ndarray) and not isinstance(v, str):
+        return any(_missing_value(x) for x in v)
+    return False
+
+
+def _names(cell: Any) -> set[str]:
+    """A cell of a "matches" rule as a set of names: "a, b" and ("a", "b") are {"a", "b"}."""
+    parts = cell.split(",") if isinstance(cell, str) else list(cell)
+    return {str(p).strip() for p in parts if str(p).strip()}
+
+
+def _normal(v: Any) -> Any:
+    """Sequences as tuples, numbers as Python numbers, mappings recursively: for the "equal" rule."""
+    if isinstance(v, Mapping):
+        return {k: _normal(x) for k, x in v.items()}
+    if isinstance(v, Sequence | np.ndarray) and not isinstance(v, str):
+        return tuple(_normal(x) for x in v)
+    if isinstance(v, np.generic):
+        return v.item()
+    return v
+
+
+def tolerance_text(spec: Mapping[str, Any]) -> str:
+    """The tolerance of a claim stated as data, as the claims table shows it."""
+    rule, unit = spec["rule"], spec.get("unit", "")
+    if rule == "within":
+        tol = spec["tolerance"]
+        return f"+-{100 * tol:.3g} %" if spec.get("relative") else f"+-{tol:.3g} {unit}".rstrip()
+    if rule == "at_most":
+        return f"<= {spec['bound']:g} {unit}".rstrip()
+    if rule == "matches":
+        return f">= {100 * RANGE_AGREE:.0f} % of the cells (borderline: {BORDERLINE_Z:g} binomial standard errors)"
+    return {"equal": "exact", "all": "every case", "unchecked": "none"}[rule]
+
+
+def within_verdict(ours: Any, paper: Any, tolerance: float, relative: bool = False, unit: str = "") -> tuple[str, str]:
+    """Rule "within": (verdict, reason).  Every cell of ``ours`` within ``tolerance`` of the paper's cell
+    (relative: ``|ours - paper| <= tolerance |paper|``); the reason names the worst cell and, for relative
+    tolerances on several cells, the range of ours/paper."""
+    keys = list(paper) if isinstance(paper, Mapping) else None
+    o, p = _cells(ours, keys), _cells(paper, keys)
+    if len(o) != len(p):
+        return "not comparable", f"we have {len(o)} values, the paper {len(p)}"
+    if relative:
+        err = [(float(a) - float(b)) / abs(float(b)) for (_, a), (_, b) in zip(o, p, strict=True)]
+    else:
+        err = [float(a) - float(b) for (_, a), (_, b) in zip(o, p, strict=True)]
+    worst = int(np.argmax(np.abs(err)))
+    label = f" at {o[worst][0]}" if len(o) > 1 else ""
+    shown = f"{100 * err[worst]:+.1f} %" if relative else f"{err[worst]:+.3g} {unit}".rstrip()
+    reason = f"{'worst ' if len(o) > 1 else ''}difference {shown}{label}"
+    if relative and len(o) > 1:
+        ratio = [float(a) / float(b) for (_, a), (_, b) in zip(o, p, strict=True)]
+        reason += f"; ours/paper {min(ratio):.3g}-{max(ratio):.3g}"
+    ok = all(abs(e) <= tolerance for e in err)
+    return ("agree" if ok else "disagree"), reason
+
+
+def matches_verdict(ours: Any, paper: Any) -> tuple[str, str]:
+    """Rule "matches": cell by cell, a cell agrees when our names and the paper's share one; the verdict on
+    the fraction of agreeing cells is :func:`fraction_verdict`."""
+    keys = list(paper) if isinstance(paper, Mapping) else None
+    o, p = _cells(ours, keys), _cells(paper, keys)
+    if len(o) != len(p) or not p:
+        return "not comparable", f"we have {len(o)} cells, the paper {len(p)}"
+    hits = [bool(_names(a) & _names(b)) for (_, a), (_, b) in zip(o, p, strict=True)]
+    k, n = sum(hits), len(hits)
+    miss = ", ".join(label for (label, _), h in zip(o, hits, strict=True) if not h)
+    reason = f"{k}/{n} cells agree ({100 * k / n:.0f} %; agree needs >= {100 * RANGE_AGREE:.0f} %; {_band(k, n)})" + (
+        f"; differ at {miss}" if miss else ""
+    )
+    return fraction_verdict(k, n), reason
+
+
+def data_claim(spec: Mapping[str, Any], products: Any, quantities: Mapping[str, Quantity]) -> Claim:
+    """One claim stated as data (see DATA_RULES and the keys above) evaluated on our ``products``."""
+    unknown = set(spec) - DATA_KEYS
+    if unknown or spec.get("rule") not in DATA_RULES or spec.get("quantity") not in quantities:
+        raise ValueError(
+            f"claim {spec.get('id')!r}: unknown keys {sorted(unknown)}, rule {spec.get('rule')!r} "
+            f"(allowed: {DATA_RULES}) or quantity {spec.get('quantity')!r} (known: {sorted(quantities)})"
+        )
+    rule, unit, args = spec["rule"], spec.get("unit", ""), dict(spec.get("args", {}))
+    q = quantities[spec["quantity"]]
+    if "paper_of" in spec:
+        if q.derive is None:
+            raise ValueError(f"claim {spec['id']!r}: quantity {spec['quantity']!r} cannot be derived from a table")
+        paper = q.derive(spec["paper_of"], **args)
+    else:
+        paper = spec.get("paper", spec.get("bound"))
+    measured = q.measure(products, **args)
+    ours = format_value(measured.value, unit) + (f" ({measured.text})" if measured.text else "")
+    paper_shown = spec.get("paper_text") or format_value(paper, unit)
+    if rule == "unchecked":
+        verdict, reason = "not comparable", "the statement is not a result of our model"
+    elif _missing_value(measured.value):
+        verdict, reason = "not comparable", "our products do not give this number"
+    elif rule == "within":
+        verdict, reason = within_verdict(measured.value, paper, spec["tolerance"], spec.get("relative", False), unit)
+    elif rule == "at_most":
+        ok = float(measured.value) <= float(spec["bound"])
+        verdict = "agree" if ok else "disagree"
+        reason = f"ours {format_value(measured.value, unit)} {'<=' if ok else '>'} {spec['bound']:g} {unit}".rstrip()
+    elif rule == "equal":
+        same = _normal(measured.value) == _normal(paper)
+        verdict, reason = ("agree", "the same") if same else ("disagree", "they differ")
+    elif rule == "matches":
+        verdict, reason = matches_verdict(measured.value, paper)
+    else:  # all
+        flags = [bool(x) for _, x in _cells(measured.value)]
+        k, n = sum(flags), len(flags)
+        verdict = "agree" if n and k == n else "disagree"
+        reason = f"{k}/{n} of our cases"
+    if verdict != "agree" and spec.get("why"):
+        reason += f". {spec['why']}"
+    if spec.get("note"):
+        reason += f". {spec['note']}"
+    return Claim(
+        spec["id"], spec["figure"], spec["statement"], paper_shown, ours, verdict, reason, tolerance_text(spec)
+    )
+
+
+def data_claims(specs: Sequence[Mapping[str, Any]], products: Any, quantities: Mapping[str, Quantity]) -> list[Claim]:
+    """Every claim of a paper stated as data (its ``CLAIMS``), in the paper module's order."""
+    ids = [s.get("id") for s in specs]
+    if len(set(ids)) != len(ids):
+        raise ValueError(f"claim ids repeat: {sorted({i for i in ids if ids.count(i) > 1})}")
+    return [data_claim(s, products, quantities) for s in specs]
+
+
 def note(design: str, title: str) -> str:
     """The paragraph under the claims table's title: which design, how the labels were obtained."""
     return (
@@ -502,19 +749,29 @@ def headline(rows: list[Claim]) -> str:
     return ", ".join(f"{c[v]} {v}" for v in VERDICTS)
 
 
-def to_csv(rows: list[Claim]) -> str:
+def columns(rows: list[Claim]) -> tuple[str, ...]:
+    """The table's columns: :data:`CSV_COLUMNS`, with ``tolerance`` after ``ours`` when a row states one."""
+    if not any(r.tolerance for r in rows):
+        return CSV_COLUMNS
+    i = CSV_COLUMNS.index("ours") + 1
+    return (*CSV_COLUMNS[:i], "tolerance", *CSV_COLUMNS[i:])
 
+
+def to_csv(rows: list[Claim]) -> str:
     buf = io.StringIO()
     w = csv.writer(buf)
-    w.writerow(CSV_COLUMNS)
+    cols = columns(rows)
+    w.writerow(cols)
     for r in rows:
-        w.writerow([getattr(r, c) for c in CSV_COLUMNS])
+        w.writerow([getattr(r, c) for c in cols])
     return buf.getvalue()
 
 
-def to_markdown(rows: list[Claim], design: str, note: str = "") -> str:
+def to_markdown(rows: list[Claim], design: str, note: str = "", paper: str = "the paper") -> str:
+    """The claims table in Markdown: title (``paper``: the paper's short name), headline, ``note``, one row each."""
+    cols = columns(rows)
     lines = [
-        f"# Paper 1 claims checked: design `{design}`",
+        f"# Claims of {paper} checked: design `{design}`",
         "",
         f"**{headline(rows)}** (of {len(rows)} claims; borderline: a fraction within "
         f"{BORDERLINE_Z:g} binomial standard errors of its threshold).",
@@ -522,8 +779,8 @@ def to_markdown(rows: list[Claim], design: str, note: str = "") -> str:
     ]
     if note:
         lines += [note, ""]
-    lines += ["| id | figure | statement | paper | ours | verdict | reason |", "|---|---|---|---|---|---|---|"]
+    lines += ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     for r in rows:
-        cells = [r.id, r.figure, r.statement, r.paper, r.ours, f"**{r.verdict}**", r.reason]
+        cells = [f"**{r.verdict}**" if c == "verdict" else getattr(r, c) for c in cols]
         lines.append("| " + " | ".join(str(x).replace("|", "/") for x in cells) + " |")
     return "\n".join(lines) + "\n"

@@ -40,6 +40,8 @@ rule claims:
         ),
     log:
         logs("claims.log"),
+    wildcard_constraints:
+        design=either(KHV_DESIGNS, "no-design"),
     threads: 1
     params:
         spec=config_slice("claims"),

@@ -232,3 +232,47 @@ for _scheme, _designs in naming_schemes("plus_planetary"):
         ],
         _designs,
     )
+
+
+# The paper's claims checked (its CLAIMS in geardyn.papers, read by geardyn.claims) for every plus design that
+# names a paper stating them; a design of your own gets none. In the report beside the paper's tables, as
+# paper 1's claims are.
+from geardyn.papers import paper_of
+
+PLUS_CLAIM_DESIGNS = [
+    d
+    for d in PLUS_DESIGNS
+    if getattr(paper_of(DESIGNS[d].get("paper")), "CLAIMS", None)
+]
+
+
+rule plus_claims:
+    input:
+        design=design_file,
+        frequencies=rules.plus_modal.output.table02_csv,
+        scaling=rules.plus_modal.output.scaling_csv,
+        key_elements=rules.plus_modal.output.table05_csv,
+        modal=rules.plus_modal.output.modal,
+        te=rules.plus_relief.output.te,
+        optima=rules.plus_relief.output.optima_csv,
+        forced=rules.plus_forced_response.output.data,
+    output:
+        md=results("claims.md"),
+        csv=report(
+            results("claims.csv"),
+            caption="../report/claims.rst",
+            category=category,
+            subcategory="Claims of the paper",
+            labels={"design": "{design}", "table": "claims"},
+        ),
+    log:
+        logs("claims.log"),
+    wildcard_constraints:
+        design=either(PLUS_CLAIM_DESIGNS, "no-design"),
+    localrule: True
+    threads: 1
+    script:
+        "../scripts/plus_claims.py"
+
+
+PLUS_TARGETS += per_design(rules.plus_claims.output, PLUS_CLAIM_DESIGNS)

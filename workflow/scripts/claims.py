@@ -30,6 +30,8 @@ rows = claims.claims(
     io.read_dataset(inp.fig08_points),
     {"x1": x1, "ptp": np.array(ptp)},
 )
-io.write_text(claims.to_markdown(rows, drive.name, claims.note(drive.name, drive.title)), snakemake.output.md)
+io.write_text(
+    claims.to_markdown(rows, drive.name, claims.note(drive.name, drive.title), paper.SHORT), snakemake.output.md
+)
 io.write_text(claims.to_csv(rows), snakemake.output.csv)
 log.info("claims: %s", claims.counts(rows))
