@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 from pathlib import Path
 from typing import Any
@@ -97,18 +98,48 @@ def long_run_check(
 ENDINGS = ("torus", "short cycle", "long cycle", "chaos", "diverged")
 
 
-def ending(poincare: np.ndarray, growth: np.ndarray, period: float, cs: classify.ClassifierSettings) -> tuple[str, int]:
+def ending(
+    poincare: np.ndarray, growth: np.ndarray, period: float, cs: classify.ClassifierSettings
+) -> tuple[str, int, float]:
     """What a long run ends on, from its newest Poincare points and its tangent vector's growth, without
     the labeller: a cycle when its newest points return after n periods (rule 3 up to ``long_max_n``, at
     least three cycles; "short" for n <= ``max_n``), chaos when the exponent over the run's newest half
-    exceeds the zero tolerance ``lam_tol`` and three standard errors, else a torus."""
+    exceeds the zero tolerance ``lam_tol`` and three standard errors, else a torus.  Also the largest return
+    distance after n periods over the newest points, relative to their size (:data:`CYCLE_RETURN`: below it
+    the run has converged onto its cycle; above it rule 3's tolerance also admits a thin torus about an
+    unstable cycle, which :func:`sweep_check` tells apart by shooting)."""
     if poincare.shape[0] == 0 or not np.all(np.isfinite(poincare)) or not np.all(np.isfinite(growth)):
-        return "diverged", 0
+        return "diverged", 0, math.nan
     n = classify.strict_period(poincare, dataclasses.replace(cs, max_n=min(cs.long_max_n, poincare.shape[0] // 3)))
     if n > 0:
-        return ("short cycle" if n <= cs.max_n else "long cycle"), n
+        size = float(np.max(poincare.std(axis=0))) or 1.0
+        d = float(np.max(np.abs(poincare[n:] - poincare[:-n]))) / size
+        return ("short cycle" if n <= cs.max_n else "long cycle"), n, d
     lam, sigma = classify.lyapunov_estimate(growth[growth.size // 2 :], period, skip=0)
-    return ("chaos" if lam > max(cs.lam_tol, 3.0 * sigma) else "torus"), 0
+    return ("chaos" if lam > max(cs.lam_tol, 3.0 * sigma) else "torus"), 0, math.nan
+
+
+#: :func:`ending`: a run whose newest points return after n periods closer than this (relative to their
+#: size) has converged onto its period-n cycle
+CYCLE_RETURN = 1e-8
+
+
+def _unconverged_cycles(systems, runs, ends, settings) -> dict[int, float]:
+    """The spectral radius of the period-n orbit that Newton shooting finds from the final state of every run
+    that ends within rule 3's tolerance of a cycle but has not converged onto it (``ends[i]``: (ending, n,
+    return distance)); NaN where shooting does not converge."""
+    from geardyn.solve.shooting import newton_shooting_batch  # noqa: PLC0415
+
+    todo: dict[int, list[int]] = {}
+    for i, (_, n, d) in enumerate(ends):
+        if n > 0 and not d < CYCLE_RETURN:
+            todo.setdefault(n, []).append(i)
+    out: dict[int, float] = {}
+    for n, idx in sorted(todo.items()):
+        shots = newton_shooting_batch([systems[i] for i in idx], [runs[i].final_state for i in idx], n, settings)
+        for i, r in zip(idx, shots, strict=True):
+            out[i] = r.spectral_radius if r.converged else math.nan
+    return out
 
 
 def _expected(label: int, period: int) -> str:
@@ -145,7 +176,7 @@ def sweep_check(
     pool: list[tuple[str, str, Any, int, int, int]] = []  # (design, sweep, spec, case, direction, index)
     cubes: dict[tuple[str, str], Any] = {}
     for name, raw in sorted(config["sweeps"].items()):
-        for dname in raw["designs"]:
+        for dname in config["designs"]:  # the designs the sweep ran for are those with its cube
             path = results / dname / "sweeps" / f"{name}.nc"
             if not path.exists():
                 continue
@@ -172,14 +203,22 @@ def sweep_check(
         )
     cs = classify.ClassifierSettings()
     keep = 3 * cs.long_max_n
-    s = SimulationSettings(
-        steps_per_period=128, transient_periods=periods - keep, recorded_periods=keep, early_stop=False
+    # the sweeps' own integration (steps per period, contact switches located), without the early stop
+    s = dataclasses.replace(
+        sweep.sweep_policy(*cubes[picks[0][:2]][:2]).integration,
+        transient_periods=periods - keep,
+        recorded_periods=keep,
+        early_stop=False,
     )
     runs = simulate_batch(systems, s, starts, tangent_periods=periods)
+    ends = [ending(r.poincare, r.growth, system.period, cs) for system, r in zip(systems, runs, strict=True)]
+    radius = _unconverged_cycles(systems, runs, ends, s)
     table: dict[str, dict[str, int]] = {}
     failed = []
-    for pick, system, (lab, per, stored), r in zip(picks, systems, verdicts, runs, strict=True):
-        end, n = ending(r.poincare, r.growth, system.period, cs)
+    for k, (pick, (lab, per, stored), r) in enumerate(zip(picks, verdicts, runs, strict=True)):
+        end, n, _ = ends[k]
+        if k in radius and not radius[k] < 1.0:  # a thin torus about an unstable (or no) cycle
+            end = "torus"
         want = _expected(lab, per)
         ok = end == want
         if ok and per > 0:
@@ -193,7 +232,7 @@ def sweep_check(
             value = float(cubes[dname, name][2][spec.parameter].values[j])
             failed.append(
                 f"| {dname} | {name} | {spec.case_label(case)} | {value:.5g} | {classify.short_name(lab)} "
-                f"| {end} {n or ''} |"
+                f"| {end} {n or ''} | {radius.get(k, math.nan):.6g} |"
             )
     head = (
         f"{len(picks)} points of the sweeps under {results} ({', '.join(sorted(wanted))}), {periods} periods "
@@ -206,7 +245,10 @@ def sweep_check(
     )
     fails = ""
     if failed:
-        fails = "\n| design | sweep | case | parameter | verdict | long run ends on |\n|---|---|---|---:|---|---|\n"
+        fails = (
+            "\n| design | sweep | case | parameter | verdict | long run ends on | shooting: spectral radius |\n"
+            "|---|---|---|---:|---|---|---:|\n"
+        )
         fails += "\n".join(failed) + "\n"
     log(head + body)
     return head + body + fails
