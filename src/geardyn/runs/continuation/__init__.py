@@ -62,6 +62,20 @@ from geardyn.runs.continuation.branch import (
     ContinuationSettings,
     on_branch,
 )
+from geardyn.runs.continuation.curves import (
+    CODIM2_TYPES,
+    CURVE_KINDS,
+    Codim2,
+    Curve,
+    CurvePoint,
+    CurveSettings,
+    KHVPlane,
+    PlaneFamily,
+    continue_curve,
+    curve_crossings,
+    curve_dataset,
+    curves_from_branch,
+)
 from geardyn.runs.continuation.driver import label_agreement, label_check, sweep_branches, sweep_orbits
 from geardyn.runs.continuation.events import detect_bifurcations, fold_test, ns_pair, ns_product, pd_test
 from geardyn.runs.continuation.family import CallableFamily, Family, KHVFamily, cycle_states, grazing_margin
@@ -78,20 +92,32 @@ from geardyn.runs.continuation.switching import switch_at_period_doubling
 
 __all__ = [
     "BIFURCATION_TYPES",
+    "CODIM2_TYPES",
+    "CURVE_KINDS",
     "STATE_VARS",
     "TABLE_COLUMNS",
     "TYPE_CODES",
     "Bifurcation",
     "Branch",
     "CallableFamily",
+    "Codim2",
     "ContinuationSettings",
+    "Curve",
+    "CurvePoint",
+    "CurveSettings",
     "Family",
     "KHVFamily",
+    "KHVPlane",
     "OrbitSpec",
+    "PlaneFamily",
     "bifurcation_rows",
     "branch_dataset",
     "branches_from_dataset",
     "continue_branch",
+    "continue_curve",
+    "curve_crossings",
+    "curve_dataset",
+    "curves_from_branch",
     "cycle_states",
     "detect_bifurcations",
     "fold_test",

@@ -1,0 +1,287 @@
+"""Regime boundaries as curves (two-parameter continuation), against numbers computed outside the code.
+
+* Linear limit: li2013 with the mean mesh stiffness (``stiffness_mode: mean``) is linear and time-invariant
+  while the teeth stay in contact, so its grazing curve in (w, e) is e_g(w) = (|x_s| - b) / |H(w)|
+  (docs/orbits.md, "Regime boundaries as curves"); measured relative error 5.0e-8 at 20 frequencies and
+  5.7e-8 at the 79 points of the curve (limit 1e-6).
+* Smooth oscillator: the period-doubling curve of the double-well Duffing oscillator
+  x'' + 0.3 x' - x + x^3 = gamma cos(omega t) in (gamma, omega) against scipy's DOP853 (rtol 1e-12)
+  multipliers, det(M + I) = 0 located by brentq over gamma at three omega; the cusp of the fold curve of
+  a hardening Duffing oscillator against one-parameter sweeps on either side of it.
+* Crossing with a sweep: the Neimark-Sacker curve of li2013_calibrated in (x1, e) through the point of the
+  Fig. 7 sweep (b = 2, e = 5, x1 = 0.54203) against one-parameter continuations along x1 at other e.
+"""
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numba import njit
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from geardyn import io
+from geardyn.khv import design, model, point
+from geardyn.runs import continuation as C
+from geardyn.solve import SimulationSettings, simulate
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+# --- a smooth oscillator as a two-parameter family ------------------------------------------------------
+
+
+@njit(cache=True)
+def _duffing_map(delta, alpha, beta, gamma, omega, y0, n, steps, want_jac):
+    """n-period map of x'' + delta x' + alpha x + beta x^3 = gamma cos(omega t) and its 2 x 2 derivative
+    (classical RK4 with the variational equations by the same stages)."""
+    h = 2 * math.pi / omega / steps
+    x, v = y0[0], y0[1]
+    Y = np.eye(2)
+    for k in range(n * steps):
+        t = k * h
+        a1 = gamma * math.cos(omega * t) - delta * v - alpha * x - beta * x**3
+        x2, v2 = x + 0.5 * h * v, v + 0.5 * h * a1
+        a2 = gamma * math.cos(omega * (t + 0.5 * h)) - delta * v2 - alpha * x2 - beta * x2**3
+        x3, v3 = x + 0.5 * h * v2, v + 0.5 * h * a2
+        a3 = gamma * math.cos(omega * (t + 0.5 * h)) - delta * v3 - alpha * x3 - beta * x3**3
+        x4, v4 = x + h * v3, v + h * a3
+        if want_jac:
+            K1 = np.array([[0.0, 1.0], [-alpha - 3 * beta * x * x, -delta]]) @ Y
+            K2 = np.array([[0.0, 1.0], [-alpha - 3 * beta * x2 * x2, -delta]]) @ (Y + 0.5 * h * K1)
+            K3 = np.array([[0.0, 1.0], [-alpha - 3 * beta * x3 * x3, -delta]]) @ (Y + 0.5 * h * K2)
+            K4 = np.array([[0.0, 1.0], [-alpha - 3 * beta * x4 * x4, -delta]]) @ (Y + h * K3)
+            Y = Y + h / 6 * (K1 + 2 * K2 + 2 * K3 + K4)
+        a4 = gamma * math.cos(omega * (t + h)) - delta * v4 - alpha * x4 - beta * x4**3
+        x += h / 6 * (v + 2 * v2 + 2 * v3 + v4)
+        v += h / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
+    return np.array([x, v]), Y
+
+
+class DuffingPlane:
+    """The Duffing oscillator over (p, q) = (gamma, omega) or (omega, gamma): what curve continuation
+    needs of a family (box, flow(p, q, n), grazing)."""
+
+    def __init__(self, delta, alpha, beta, box, names=("gamma", "omega"), steps=400):
+        self.coef, self.box, self.names, self.steps = (delta, alpha, beta), box, names, steps
+
+    def flow(self, p, q, n):
+        gamma, omega = (p, q) if self.names == ("gamma", "omega") else (q, p)
+
+        def f(x, jacobian=True):
+            y, Y = _duffing_map(*self.coef, gamma, omega, np.asarray(x, dtype=float), n, self.steps, jacobian)
+            if not np.all(np.isfinite(y)) or np.max(np.abs(y)) > 1e6:
+                return None, None
+            return y, (Y if jacobian else None)
+
+        return f
+
+    def grazing(self, p, q, x, n):
+        return float("nan")
+
+    def along_p(self, q):
+        """The one-parameter family along p at q (for :func:`continue_branch`)."""
+        return C.CallableFamily(lambda p, n: self.flow(p, q, n))
+
+
+def _attractor(flow, x, periods):
+    for _ in range(periods):
+        x, _ = flow(x, False)
+    return x
+
+
+def _scipy_period_doubling(omega, lo, hi, x_guess, delta=0.3):
+    """gamma in [lo, hi] where det(M + I) = 0 for the P1 orbit of the double-well Duffing oscillator:
+    scipy DOP853 (rtol 1e-12, atol 1e-13) with the variational equations, the orbit by Newton on the
+    period map, brentq (xtol 1e-13) on det(M + I).  Independent of geardyn."""
+    T = 2 * math.pi / omega
+    x = np.array(x_guess, dtype=float)
+
+    def period_map(gamma, x0):
+        def rhs(t, y):
+            J = np.array([[0.0, 1.0], [1.0 - 3.0 * y[0] ** 2, -delta]])
+            f = [y[1], gamma * math.cos(omega * t) - delta * y[1] + y[0] - y[0] ** 3]
+            return np.concatenate([f, (J @ y[2:].reshape(2, 2)).ravel()])
+
+        y0 = np.concatenate([x0, np.eye(2).ravel()])
+        y = solve_ivp(rhs, (0.0, T), y0, method="DOP853", rtol=1e-12, atol=1e-13).y[:, -1]
+        return y[:2], y[2:].reshape(2, 2)
+
+    def det_plus(gamma):
+        nonlocal x
+        for _ in range(20):
+            phi, M = period_map(gamma, x)
+            dx = np.linalg.solve(M - np.eye(2), x - phi)
+            x = x + dx
+            if np.max(np.abs(dx)) < 1e-12:
+                break
+        return float(np.linalg.det(period_map(gamma, x)[1] + np.eye(2)))
+
+    return brentq(det_plus, lo, hi, xtol=1e-13, rtol=1e-15), x
+
+
+def test_period_doubling_curve_of_duffing_matches_scipy_floquet():
+    plane = DuffingPlane(0.3, -1.0, 1.0, (0.2, 0.4, 1.1, 1.3))
+    fam = plane.along_p(1.2)
+    x = _attractor(fam.flow(0.2, 1), np.array([0.1, 0.0]), 200)
+    br = C.continue_branch(fam, 0.2, x, 1, 0.2, 0.3, C.ContinuationSettings(ds=0.02, ds_max=0.02))
+    curves = C.curves_from_branch(plane, br, "p", 1.2, C.CurveSettings(ds=0.02, ds_max=0.05))
+    assert [c.kind for c in curves] == ["period_doubling"]
+    pd = curves[0]
+    assert pd.end_status == {"down": "box", "up": "box"} and np.max(np.abs(pd.residual)) < 1e-10
+    for omega in (1.12, 1.2, 1.28):
+        (cross,) = C.curve_crossings(plane, pd, "q", omega)
+        gamma = float(cross.z[-2])
+        ref, orbit = _scipy_period_doubling(omega, gamma - 2e-3, gamma + 2e-3, cross.z[:2])
+        assert abs(gamma - ref) < 1e-6  # measured 2.2e-11 to 3.9e-10
+        assert np.max(np.abs(orbit - cross.z[:2])) < 1e-6  # measured 2.8e-11
+        assert abs(cross.crit[0] + 1.0) < 1e-9
+
+
+def test_cusp_of_a_hardening_duffing_fold_curve_where_the_hysteresis_begins():
+    """x'' + 0.2 x' + x + x^3 = gamma cos(omega t): the two folds of the resonance curve are one curve in
+    (omega, gamma) through a cusp; one-parameter sweeps along omega find two folds just above the cusp's
+    gamma, where the curve crosses that line, and none just below (where the curve does not cross)."""
+    plane = DuffingPlane(0.2, 1.0, 1.0, (0.8, 2.0, 0.0, 0.6), names=("omega", "gamma"))
+    cs = C.ContinuationSettings(ds=0.005, ds_max=0.005, grazing=False)
+
+    def folds(gamma):
+        fam = plane.along_p(gamma)
+        x = _attractor(fam.flow(0.8, 1), np.zeros(2), 300)
+        br = C.continue_branch(fam, 0.8, x, 1, 0.8, 2.0, cs)
+        return br, sorted(b.p for b in br.bifurcations if b.kind == "fold")
+
+    br, _ = folds(0.3)
+    curves = C.curves_from_branch(plane, br, "p", 0.3, C.CurveSettings(ds=0.02, ds_max=0.05))
+    assert [c.kind for c in curves] == ["fold"]  # the second fold lies on the curve of the first
+    cusps = [b for b in curves[0].codim2 if b.kind == "cusp"]
+    assert len(cusps) == 1 and cusps[0].located
+    g_c = cusps[0].q  # measured (omega, gamma) = (1.187300, 0.164702)
+    above = folds(g_c * 1.03)[1]
+    cross = sorted(pt.z[-2] for pt in C.curve_crossings(plane, curves[0], "q", g_c * 1.03))
+    assert len(above) == 2 and np.max(np.abs(np.subtract(above, cross))) < 1e-6  # measured 5e-15
+    assert folds(g_c * 0.97)[1] == [] and C.curve_crossings(plane, curves[0], "q", g_c * 0.97) == []
+
+
+# --- the KHV model ------------------------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def linear_limit():
+    """li2013 with the mean mesh stiffness, x1 = 0.5, b = 2: the P1 branch along e at w = 0.9 and the
+    curves seeded from its grazing point and folds, in (w, e)."""
+    d = design.load(ROOT / "config" / "designs" / "li2013.yaml")
+    dyn = {**d.dynamics, "options": {**d.dynamics["options"], "stiffness_mode": "mean"}}
+    d = dataclasses.replace(d, dynamics=dyn)
+    fixed = {"x1": 0.5, "b": 2.0}
+    fam = C.KHVFamily(d, "e", {**fixed, "w": 0.9}, 0.0, 3.0, nodes=5)
+    x = simulate(fam.coefficients(0.5), SimulationSettings(transient_periods=2000, recorded_periods=1)).final_state
+    br = C.continue_branch(fam, 0.5, x, 1, 0.0, 3.0, C.ContinuationSettings(ds=0.05, ds_max=0.05))
+    plane = C.KHVPlane(d, ("w", "e"), fixed, (0.8, 1.6, 0.0, 3.0), nodes=5)
+    curves = C.curves_from_branch(plane, br, "q", 0.9, C.CurveSettings(ds=0.02, ds_max=0.02))
+    return d, fixed, plane, br, curves
+
+
+def _closed_form_grazing(d, fixed, w):
+    """e_g(w) = (|x_s| - b) / |H(w)|: x_s the static mesh deflection, H the response of x_VH to a TE of
+    unit amplitude, (-w^2 I + i w C + K) X = (0, w^2, 0) with the mesh terms in K and C."""
+    c = point.point_coefficients(d, {**fixed, "w": w, "e": 1.0})
+    m = c.matrices()
+    mesh = np.outer(m["g"], [0.0, 1.0, 0.0])
+    X = np.linalg.solve(-(w**2) * np.eye(3) + 1j * w * (m["C"] + c.c_m * mesh) + m["K"] + mesh, [0.0, w**2, 0.0])
+    return (abs(model.static_deflection(c)[1]) - c.b) / abs(X[1])
+
+
+def test_grazing_curve_of_the_linear_limit_is_the_closed_form(linear_limit):
+    d, fixed, plane, _, curves = linear_limit
+    graz = [c for c in curves if c.kind == "grazing"]
+    assert len(graz) == 1 and graz[0].end_status == {"down": "box", "up": "box"}
+    errs = []
+    for w in np.linspace(0.8, 1.6, 20):
+        (cross,) = C.curve_crossings(plane, graz[0], "p", w)
+        errs.append(abs(cross.z[-1] / _closed_form_grazing(d, fixed, w) - 1.0))
+    assert max(errs) < 1e-6  # measured 5.0e-8 (median 2.0e-8)
+    # every point of the curve, too
+    assert all(abs(pt.z[-1] / _closed_form_grazing(d, fixed, pt.z[-2]) - 1.0) < 1e-6 for pt in graz[0].points)
+
+
+def test_fold_curve_of_the_linear_limit_has_a_cusp_beyond_grazing(linear_limit):
+    """Both folds of the e sweep at w = 0.9 lie on one fold curve through a cusp; an e sweep at w just below
+    the cusp finds two folds where the curve crosses that line, one just above none."""
+    d, fixed, plane, _, curves = linear_limit
+    assert sorted(c.kind for c in curves) == ["fold", "grazing"]
+    fold = next(c for c in curves if c.kind == "fold")
+    (cusp,) = [b for b in fold.codim2 if b.kind == "cusp"]
+    assert cusp.located and abs(cusp.multipliers[np.argmin(np.abs(cusp.multipliers - 1))] - 1) < 1e-9
+    w_c, e_c = cusp.p, cusp.q  # measured (0.917465, 1.204323)
+    assert e_c > _closed_form_grazing(d, fixed, w_c)  # contact is lost there
+
+    def folds(w):
+        fam = C.KHVFamily(d, "e", {**fixed, "w": w}, 1.0, 1.5, nodes=5)
+        x = simulate(fam.coefficients(1.0), SimulationSettings(transient_periods=2000, recorded_periods=1))
+        cs = C.ContinuationSettings(ds=0.01, ds_max=0.01, grazing=False)
+        b = C.continue_branch(fam, 1.0, x.final_state, 1, 1.0, 1.5, cs)
+        return sorted(f.p for f in b.bifurcations if f.kind == "fold")
+
+    below = folds(w_c - 3e-3)
+    cross = sorted(pt.z[-1] for pt in C.curve_crossings(plane, fold, "p", w_c - 3e-3))
+    assert len(below) == 2 and np.max(np.abs(np.subtract(below, cross))) < 1e-6  # measured 2.8e-11
+    assert folds(w_c + 3e-3) == [] and C.curve_crossings(plane, fold, "p", w_c + 3e-3) == []
+
+
+@pytest.fixture(scope="module")
+def calibrated_ns():
+    d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    br = _x1_branch(d, 5.0, 0.53, 0.555)
+    plane = C.KHVPlane(d, ("x1", "e"), {"b": 2.0}, (0.50, 0.60, 4.0, 6.0), nodes=5)
+    curves = C.curves_from_branch(plane, br, "p", 5.0, C.CurveSettings(ds=0.02, ds_max=0.05))
+    return d, br, plane, curves
+
+
+def _x1_branch(d, e, lo, hi):
+    fam = C.KHVFamily(d, "x1", {"b": 2.0, "e": e}, lo, hi, nodes=5)
+    x = simulate(fam.coefficients(lo), SimulationSettings(transient_periods=2000, recorded_periods=1)).final_state
+    return C.continue_branch(fam, lo, x, 1, lo, hi, C.ContinuationSettings(ds=0.1, ds_max=0.1))
+
+
+def test_neimark_sacker_curve_crosses_the_sweeps_where_they_bifurcate(calibrated_ns):
+    d, br, plane, curves = calibrated_ns
+    (ns,) = [b for b in br.bifurcations if b.kind == "neimark_sacker"]
+    assert ns.p == pytest.approx(0.54203, abs=1e-5)
+    assert [c.kind for c in curves] == ["neimark_sacker"]
+    curve = curves[0]
+    assert np.max(np.abs(curve.residual)) < 1e-10
+    (at5,) = C.curve_crossings(plane, curve, "q", 5.0)
+    assert abs(at5.z[-2] - ns.p) < 1e-5  # measured 6.4e-9
+    for e in (4.5, 5.5):
+        (cross,) = C.curve_crossings(plane, curve, "q", e)
+        x1 = float(cross.z[-2])
+        other = _x1_branch(d, e, x1 - 0.01, x1 + 0.01)
+        (hit,) = [b for b in other.bifurcations if b.kind == "neimark_sacker"]
+        assert abs(hit.p - x1) < 1e-5  # measured 5.1e-10 (e = 4.5), 2.0e-9 (e = 5.5)
+        assert abs(abs(cross.crit[0]) - 1.0) < 1e-10
+
+
+def test_flip_neimark_sacker_point_is_where_the_sweep_doubles_its_period(calibrated_ns):
+    """The NS curve meets a period-doubling curve: a sweep along x1 at that e has its period doubling there."""
+    d, _, _, curves = calibrated_ns
+    (fns,) = [b for b in curves[0].codim2 if b.kind == "flip_neimark_sacker"]
+    assert fns.located  # measured (0.5865787, 4.3362427)
+    br = _x1_branch(d, fns.q, fns.p - 0.01, fns.p + 0.01)
+    (pd,) = [b for b in br.bifurcations if b.kind == "period_doubling"]
+    assert abs(pd.p - fns.p) < 1e-5  # measured 5.2e-8
+    assert np.min(np.abs(fns.multipliers + 1.0)) < 1e-6
+
+
+def test_curve_dataset_is_cf_complete(calibrated_ns, linear_limit, tmp_path):
+    _, _, _, curves = calibrated_ns
+    ds = C.curve_dataset(curves, ("x1", "e"))
+    assert io.missing_cf_attributes(ds) == []
+    assert ds.sizes["point"] == len(curves[0]) and ds.sizes["codim2"] == len(curves[0].codim2)
+    assert ds["e"].attrs["units"] == "1" and "transmission-error" in ds["e"].attrs["long_name"]
+    assert ds["codim2_type"].attrs["flag_meanings"].split()[int(ds["codim2_type"][0])] == "flip_neimark_sacker"
+    io.write_netcdf(ds, tmp_path / "curves.nc", io.provenance(title="test"))
+    lin = C.curve_dataset(linear_limit[4], ("w", "e"))
+    assert io.missing_cf_attributes(lin) == [] and set(lin["curve_kind"].values) == {0, 3}
