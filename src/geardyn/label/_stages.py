@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from geardyn import classify
+from geardyn.label.compare import least_period
 from geardyn.label.policy import Policy
 from geardyn.label.torus import OrderTest
 from geardyn.label.verdict import Verdict
@@ -87,16 +88,6 @@ def bifurcation_type(multipliers: np.ndarray) -> str:
     return "period_doubling" if mu.real < 0 else "fold"
 
 
-def least_period(cycle: np.ndarray, tol: float) -> int:
-    """The least m such that the cycle's point m returns to its point 0 within ``tol`` (len(cycle) if none);
-    ``cycle``: (n + 1, 6) points one mesh period apart, the last one back at the first."""
-    n = cycle.shape[0] - 1
-    for m in range(1, n):
-        if n % m == 0 and float(np.max(np.abs(cycle[m] - cycle[0]))) <= tol:
-            return m
-    return n
-
-
 def record_length(policy: Policy) -> int:
     return policy.integration.recorded_periods
 
@@ -130,7 +121,7 @@ def periodic_verdicts(
             if not r.diverged:
                 cyc = np.vstack([shots[k].state[None, :], r.poincare])
                 tol = 1e3 * policy.newton_tol * max(1.0, float(np.max(np.abs(shots[k].state))))
-                cycles[k] = (cyc[: least_period(cyc, tol)], int(r.n_events))
+                cycles[k] = (cyc[: least_period(cyc[:-1], tol)], int(r.n_events))
     for k, (cycle, events) in cycles.items():
         shot, m = shots[k], cycle.shape[0]
         n, rho = shot.n, shot.spectral_radius

@@ -24,10 +24,26 @@ def hausdorff(a: np.ndarray, b: np.ndarray) -> float:
     return max(directed_distance(a, b), directed_distance(b, a))
 
 
+def nearest_distances(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The distance (max norm over the states) from each point of ``a`` (k x d, or one point) to the nearest
+    point of ``b`` (n x d)."""
+    return np.max(np.abs(np.atleast_2d(a)[:, None, :] - b[None, :, :]), axis=2).min(axis=1)
+
+
 def directed_distance(a: np.ndarray, b: np.ndarray) -> float:
     """The largest distance (max norm over the states) from a point of ``a`` to the nearest point of ``b``:
     0 when every point of ``a`` lies on ``b``."""
-    return float(np.max(np.abs(a[:, None, :] - b[None, :, :]), axis=2).min(axis=1).max())
+    return float(nearest_distances(a, b).max())
+
+
+def least_period(cycle: np.ndarray, tol: float) -> int:
+    """The least m dividing n such that point m of the n points of a closed cycle (n x d, one mesh period
+    apart) returns to its point 0 within ``tol`` in the max norm; n if none."""
+    n = cycle.shape[0]
+    for m in range(1, n):
+        if n % m == 0 and float(np.max(np.abs(cycle[m] - cycle[0]))) <= tol:
+            return m
+    return n
 
 
 def same_attractor(

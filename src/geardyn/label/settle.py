@@ -43,6 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from geardyn import classify
+from geardyn.label.compare import least_period, nearest_distances
 from geardyn.parallel import threaded_map
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.base import SimulationResult
@@ -82,14 +83,9 @@ def needs_check(label: int, lyapunov: float, classifier: classify.ClassifierSett
     )
 
 
-def minimal_period(cycle: list[np.ndarray], state: np.ndarray, rtol: float = 1e-6) -> int:
-    """The least m with cycle[m] = cycle[0] (within rtol x max(1, max |x|)) among the points of a
-    closed n-period orbit (cycle[0] = ``state``): n when no shorter period repeats it."""
-    tol = rtol * max(1.0, float(np.max(np.abs(state))))
-    for m in range(1, len(cycle)):
-        if len(cycle) % m == 0 and float(np.max(np.abs(cycle[m] - cycle[0]))) <= tol:
-            return m
-    return len(cycle)
+def _cycle_tol(state: np.ndarray) -> float:
+    """How close point m of a shot cycle must come back to its state to make m its period (1e-6 of its size)."""
+    return 1e-6 * max(1.0, float(np.max(np.abs(state))))
 
 
 def return_distance_falls(poincare: np.ndarray, n: int, factor: float = 0.95) -> bool:
@@ -102,11 +98,6 @@ def return_distance_falls(poincare: np.ndarray, n: int, factor: float = 0.95) ->
     return bool(classify.falling_return_distances(poincare, n, factor)[n - 1])
 
 
-def _distance(x: np.ndarray, cycle: np.ndarray) -> np.ndarray:
-    """Max-norm distance of each state in ``x`` (k x 6, or one state) to the nearest point of ``cycle`` (n x 6)."""
-    return np.min(np.max(np.abs(np.atleast_2d(x)[:, None, :] - cycle[None, :, :]), axis=2), axis=1)
-
-
 def approached_in_record(poincare: np.ndarray, cycle: np.ndarray, rho: float, n: int) -> bool:
     """Whether the recorded Poincare points approach the period-n ``cycle`` (n x 6) with leading
     multiplier ``rho`` < 1: the least-squares slope of log(distance to the nearest cycle point) per
@@ -116,7 +107,7 @@ def approached_in_record(poincare: np.ndarray, cycle: np.ndarray, rho: float, n:
     p = p[np.all(np.isfinite(p), axis=1)]
     if p.shape[0] < 20 or not 0.0 < rho < 1.0:
         return False
-    d = _distance(p, np.asarray(cycle))
+    d = nearest_distances(p, np.asarray(cycle))
     slope = float(np.polyfit(np.arange(d.size), np.log(np.maximum(d, 1e-300)), 1)[0])
     return slope <= 0.5 * math.log(rho) / n and math.exp(slope * (d.size - 1)) <= 0.5
 
@@ -191,7 +182,8 @@ def settle_points(
 
 def _cycles(systems, tables: LaneTables, shots: dict, n: int, settings: SimulationSettings) -> dict[int, np.ndarray]:
     """The least-period cycle (m x 6) of every stable n-period orbit found: its n points, one mesh period
-    apart (all points advanced together), cut to the least period m (:func:`minimal_period`)."""
+    apart (all points advanced together), cut to the least period m
+    (:func:`geardyn.label.compare.least_period`, within 1e-6 of the state's size)."""
     one = period_settings(settings, 1)
     cycles = {i: [r.state] for i, r in shots.items()}
     alive = list(shots)
@@ -202,7 +194,7 @@ def _cycles(systems, tables: LaneTables, shots: dict, n: int, settings: Simulati
         alive = [i for i, r in zip(alive, runs, strict=True) if not r.diverged]
         for i, r in zip(alive, [r for r in runs if not r.diverged], strict=True):
             cycles[i].append(r.final_state.copy())
-    return {i: np.array(c[: minimal_period(c, shots[i].state)]) for i, c in cycles.items()}
+    return {i: np.array(c[: least_period(np.array(c), _cycle_tol(shots[i].state))]) for i, c in cycles.items()}
 
 
 def _judge(
@@ -257,11 +249,11 @@ def _judge(
         k = n * math.ceil(k / n)
         more = dataclasses.replace(settings, transient_periods=k - 1 if k > 1 else 0, recorded_periods=1)
         scale = 1e-7 * max(1.0, float(np.max(np.abs(r.state))))
-        d0 = float(_distance(x0[i], cyc)[0])
+        d0 = float(nearest_distances(x0[i], cyc)[0])
         x, d1, done = x0[i], d0, 0
         if not ext[i].diverged:
             x, done = ext[i].final_state, k4[i]
-            d1 = float(_distance(x, cyc)[0])
+            d1 = float(nearest_distances(x, cyc)[0])
         while done < max_periods and not (d1 <= 0.1 * d0 or d1 <= scale):
             run = simulate(systems[i], more, x0=x)
             if run.diverged:
@@ -269,7 +261,7 @@ def _judge(
                 break
             x = run.final_state
             done += k
-            d1 = float(_distance(x, cyc)[0])
+            d1 = float(nearest_distances(x, cyc)[0])
         if d1 <= 0.1 * d0 or d1 <= scale:
             return found(i, "by the run")
         if rho[i] ** (done / n) > 0.1:
