@@ -62,7 +62,7 @@ TORUS_ROW = {"design": "li2013_calibrated", "x1": np.linspace(0.416, 0.835, 200)
 #: ``li2013`` at the paper's b = 2, e = 5: period-1 motion.
 PERIODIC_LINE = {"design": "li2013", "x1": np.linspace(0.45, 0.8, 4), "e": 5.0}
 #: ``li2013_route`` past its P12 window: chaotic motion.
-CHAOTIC_LINE = {"design": "li2013_route", "x1": np.array([0.80, 0.81, 0.82]), "e": 5.0}
+CHAOTIC_LINE = {"design": "li2013_route", "x1": np.array([0.80, 0.805, 0.81]), "e": 5.0}
 #: frequency-response points of ``li2013`` (x1 = 0.5, b = 2, e = 5) over the mesh frequency
 RESPONSE_W = np.array([0.7, 0.9, 1.1, 1.3])
 

@@ -20,6 +20,7 @@ from geardyn.khv import design, point
 from geardyn.khv.calibrate import evaluate as KE
 from geardyn.label import Policy, label_lines, label_points
 from geardyn.label import settle as S
+from geardyn.label.compare import least_period
 from geardyn.papers import li2013 as paper
 from geardyn.plots import captions
 from geardyn.runs.points import dense_points
@@ -295,11 +296,11 @@ def test_an_orbit_found_by_n_period_shooting_gets_its_least_period():
     """A period-2 orbit is also fixed by the 8-period map: the label is its least period (seen at
     li2013_calibrated, x1 = 0.5, e = 3.88, where 8-period shooting found the P2 orbit)."""
     a, b, c = np.eye(6)[0], np.eye(6)[1], np.eye(6)[2]
-    assert S.minimal_period([a, b] * 4, a) == 2
-    assert S.minimal_period([a] * 4, a) == 1
-    assert S.minimal_period([a, b, c], a) == 3
-    assert S.minimal_period([a], a) == 1
-    assert S.minimal_period([a, b, a + 1e-3, b], a) == 4  # not closed after 2 within 1e-6
+    assert least_period(np.array([a, b] * 4), 1e-6) == 2
+    assert least_period(np.array([a] * 4), 1e-6) == 1
+    assert least_period(np.array([a, b, c]), 1e-6) == 3
+    assert least_period(np.array([a]), 1e-6) == 1
+    assert least_period(np.array([a, b, a + 1e-3, b]), 1e-6) == 4  # not closed after 2 within 1e-6
 
 
 def test_point_figures_carry_the_sweeps_label(li2013):
