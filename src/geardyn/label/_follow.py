@@ -39,9 +39,7 @@ def _predict(p: Point) -> np.ndarray:
     return a.final_state
 
 
-def _chord(
-    points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy, max_iter: int = 8
-) -> list[np.ndarray | None]:
+def _chord(points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy) -> list[np.ndarray | None]:
     """Chord iteration x <- x - (M_prev - I)^-1 (phi(x) - x) on the n-period map, with the monodromy
     M_prev of each point's previous orbit: plain runs (no variational part), all points together.  The
     converged iterate (max|F| <= tol max(1, |x|)), or None when the residual does not fall by half at
@@ -52,7 +50,7 @@ def _chord(
     out: list[np.ndarray | None] = [None] * len(points)
     todo = list(range(len(points)))
     last = [np.inf] * len(points)
-    for _ in range(max_iter):
+    for _ in range(policy.chord_max_iter):
         if not todo:
             break
         runs = simulate_batch(

@@ -34,9 +34,6 @@ from geardyn.parallel import threaded_map
 from geardyn.solve.base import SimulationResult
 from geardyn.solve.simulate import simulate_batch
 
-#: records shorter than this are tested without the extrapolation (its six windows need a few points each)
-EXTRAPOLATE_MIN = 24
-
 # ------------------------------------------------------------------------------------------------
 # stage 4: exponent, 0-1 test, spectrum and the torus test
 # ------------------------------------------------------------------------------------------------
@@ -207,8 +204,8 @@ def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True)
 def _locked(points: list[Point], policy: Policy) -> None:
     """Quasi-periodic records that approach a cycle too slowly for rule 3 (a torus locked to the cycle, or a
     slow approach to a short cycle), certified by shooting for its period (:func:`_try_periods`, at most
-    ``LOCKED_NEWTON_ITER`` Newton iterations, given up when the residual grows more than
-    ``LOCKED_MAX_GROWTH`` times in one).  The candidate period n, 1 <= n <= long_max_n, is the least index
+    ``policy.locked_newton_max_iter`` Newton iterations, given up when the residual grows more than
+    ``policy.locked_max_growth`` times in one).  The candidate period n, 1 <= n <= long_max_n, is the least index
     difference between a point of the record and its nearest neighbour (:func:`geardyn.label.torus.order_test`:
     on a locked torus the points gather about the n points of the cycle) over the part of the record the
     torus test's order test reads (:func:`_order_part`: the newest half of a long record, where a slow
@@ -228,38 +225,26 @@ def _locked(points: list[Point], policy: Policy) -> None:
         gaps = (known or order_test(_order_part(record, cs), 0)).gaps
         n = gaps[0]
         oldest, newest = _returns(record, n) if 0 < n <= max(cs.long_max_n, cs.max_n) else (0.0, math.inf)
-        if newest < LOCKED_RETURN and (n <= cs.max_n or newest < 0.5 * oldest or len(gaps) == 1):
+        if newest < policy.locked_return and (n <= cs.max_n or newest < 0.5 * oldest or len(gaps) == 1):
             ns.append(n)
         else:  # a short cycle whose approach the newest half still shows (nearest neighbours not yet n apart)
-            ns.append(next((m for m in range(1, cs.max_n + 1) if _gathers(record, m)), 0))
+            ns.append(next((m for m in range(1, cs.max_n + 1) if _gathers(record, m, policy.locked_return)), 0))
     _try_periods(
         points,
         ns,
-        dataclasses.replace(policy, newton_max_iter=LOCKED_NEWTON_ITER, newton_max_growth=LOCKED_MAX_GROWTH),
+        dataclasses.replace(
+            policy, newton_max_iter=policy.locked_newton_max_iter, newton_max_growth=policy.locked_max_growth
+        ),
         "the record gathers about the points of a cycle",
         record_on_orbit=False,
     )
 
 
-#: :func:`_locked`: the largest return distance after n periods, relative to the attractor's size, of a run
-#: that gathers about a period-n cycle (measured on map_x1_e: the certified cycles 5e-4 median, 6e-3 at most)
-LOCKED_RETURN = 1e-2
-#: :func:`_locked`: Newton iterations for a cycle the record gathers about (within ``LOCKED_RETURN``: where the
-#: cycle exists Newton finds it in a few; 89 of the 94 cycles found with 12 on 20 rows of map_x1_e)
-LOCKED_NEWTON_ITER = 4
-#: :func:`_locked`: the search gives up when Newton's residual grows more than this many times in one iteration.
-#: Measured on all of map_x1_e without the stop: of the 933 cycles found in 3556 attempts, 928 had a residual
-#: that never grew more than 1.6 times in one iteration, 5 grew 2-19 times and converged; of the attempts that
-#: found none, most grew 15-90 times at the first iteration.  With 20 no cycle of that map is lost and the
-#: attempts cost 0.76 of their integrations (with 2: 0.59, but 5 cycles lost).
-LOCKED_MAX_GROWTH = 20.0
-
-
-def _gathers(p: np.ndarray, n: int) -> bool:
+def _gathers(p: np.ndarray, n: int, tol: float) -> bool:
     """Whether the record ``p`` gathers about a period-n cycle: its return distance after n periods over the
-    newest third is below :data:`LOCKED_RETURN` and less than half that over the oldest third."""
+    newest third is below ``tol`` (relative) and less than half that over the oldest third."""
     oldest, newest = _returns(p, n)
-    return newest < LOCKED_RETURN and newest < 0.5 * oldest
+    return newest < tol and newest < 0.5 * oldest
 
 
 def _returns(p: np.ndarray, n: int) -> tuple[float, float]:
@@ -306,7 +291,7 @@ def _order_part(points: np.ndarray, cs: classify.ClassifierSettings) -> np.ndarr
     return points[-2 * n :][-max(cs.order_min_n, n) :]
 
 
-def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> tuple[TorusTest, str, OrderTest | None]:
+def _torus(points: np.ndarray, policy: Policy) -> tuple[TorusTest, str, OrderTest | None]:
     """The torus test on the record (2N Poincare points), how it found a torus ("" when it did not) and the
     order test, where it ran one.
 
@@ -318,9 +303,10 @@ def _torus(points: np.ndarray, cs: classify.ClassifierSettings) -> tuple[TorusTe
     it decides the tori with corners where the gears lose contact, on which the averages converge slowly);
     chaos when the plain digits stay below log10 sqrt(N) + chaos_margin and neither measure finds a torus.
     The digits reported are the better of the two."""
+    cs = policy.classifier
     n = max(1, points.shape[0] // 2)
     p = points[-2 * n :]
-    plain, extrapolated = torus_digits(p, coordinates, extrapolate=p.shape[0] >= EXTRAPOLATE_MIN)
+    plain, extrapolated = torus_digits(p, coordinates, extrapolate=p.shape[0] >= policy.extrapolate_min)
     digits = plain if math.isnan(extrapolated) else max(plain, extrapolated)
     thresholds = (0.5 * math.log10(n) + cs.torus_margin, cs.chaos_margin, cs.torus_min_n)
     best = torus_verdict(digits, n, *thresholds)
@@ -349,7 +335,7 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
     undetermined, with the reason.  The 0-1 test and the spectral flatness cross-check a chaos label."""
     r, cs = p.run, policy.classifier
     lam, sig = classify.lyapunov_estimate(r.growth, r.period)
-    tt, how, order = _torus(r.poincare, cs)
+    tt, how, order = _torus(r.poincare, policy)
     # kept for :func:`_locked`, which reads the same part of the record (the same points, the same gaps)
     p.order = None if order is None else (r.poincare, order)
     digits = tt.digits

@@ -260,13 +260,12 @@ def certify(
     return [p for p in points if p.verdict is None]
 
 
-def _deflated(
-    points: list[Point], found: list[ShootingResult], policy: Policy, max_iter: int = 20
-) -> list[ShootingResult]:
+def _deflated(points: list[Point], found: list[ShootingResult], policy: Policy) -> list[ShootingResult]:
     """Newton shooting for period n from each point's final state on the deflated residual
     G(x) = m(x) (phi(x) - x), m(x) = 1 / |x - r|^2 + 1, r the unstable orbit point already found (Farrell,
     Birkisson & Funke, SIAM J. Sci. Comput. 37 (2015) A2026): the deflated Newton iteration cannot
     converge to r again.  All points together; convergence on the plain residual, as in Newton shooting."""
+    max_iter = policy.deflation_max_iter
     n_of = [f.n for f in found]
     xs = [np.asarray(p.run.final_state, float).copy() for p in points]
     out: list[ShootingResult] = [

@@ -44,6 +44,7 @@ import numpy as np
 
 from geardyn import classify
 from geardyn.label.compare import least_period, nearest_distances
+from geardyn.label.policy import Policy
 from geardyn.parallel import threaded_map
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.base import SimulationResult
@@ -128,6 +129,7 @@ def settle_points(
     classifier: classify.ClassifierSettings,
     tables: LaneTables | None = None,
     always_one: list[bool] | None = None,
+    newton: tuple[float, int] = (Policy.newton_tol, Policy.settle_newton_max_iter),
 ) -> list[Settled]:
     """:func:`settle` of many points at once, stage by stage: the shooting of every point for one n,
     and the continued records of a stage, are integrated together
@@ -136,7 +138,9 @@ def settle_points(
     reach, runs point by point in threads.  Each point's numbers are those of the point alone.
     ``tables``: the :func:`geardyn.solve.simulate.lane_tables` of ``systems`` at ``settings``, when the
     caller has them.  ``always_one[i]`` False: period 1 is tried only when its return distance falls, as
-    every other period (for a run that started on the attractor of a neighbouring point)."""
+    every other period (for a run that started on the attractor of a neighbouring point).  ``newton``: the
+    shooting's tolerance and iterations (a :class:`geardyn.label.policy.Policy`'s ``newton_tol`` and
+    ``settle_newton_max_iter``)."""
     out: list[Settled | None] = [None] * len(systems)
     active = []
     for i, (res, label, lam) in enumerate(zip(results, labels, lyapunovs, strict=True)):
@@ -162,8 +166,8 @@ def settle_points(
             [x0[i] for i in tried],
             n,
             settings,
-            tol=1e-9,
-            max_iter=15,
+            tol=newton[0],
+            max_iter=newton[1],
             tables=tables.take(tried),
         )
         stable = {i: r for i, r in zip(tried, shots, strict=True) if r.converged and r.spectral_radius < 1.0}
