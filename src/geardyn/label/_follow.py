@@ -14,7 +14,6 @@ import numpy as np
 
 from geardyn.label._stages import (
     Point,
-    bifurcation_type,
     decide,
     periodic_verdicts,
     shoot,
@@ -22,6 +21,7 @@ from geardyn.label._stages import (
     tables_of,
 )
 from geardyn.label.policy import Policy
+from geardyn.solve.floquet import bifurcation_type
 from geardyn.solve.shooting import ShootingResult, period_settings, sorted_multipliers
 from geardyn.solve.simulate import simulate_batch
 

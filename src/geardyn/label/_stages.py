@@ -79,15 +79,6 @@ class Point:
 # ------------------------------------------------------------------------------------------------
 
 
-def bifurcation_type(multipliers: np.ndarray) -> str:
-    """How the leading multiplier of an unstable orbit left the unit circle: ``neimark_sacker`` (a complex
-    pair), ``period_doubling`` (real, through -1) or ``fold`` (real, through +1)."""
-    mu = complex(multipliers[0])
-    if abs(mu.imag) > 1e-9 * abs(mu):
-        return "neimark_sacker"
-    return "period_doubling" if mu.real < 0 else "fold"
-
-
 def record_length(policy: Policy) -> int:
     return policy.integration.recorded_periods
 

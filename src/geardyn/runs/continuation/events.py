@@ -15,16 +15,13 @@ from geardyn import libm
 from geardyn.runs.continuation.branch import Bifurcation, Branch, ContinuationSettings
 from geardyn.runs.continuation.corrector import Corrector
 from geardyn.runs.continuation.family import Family
+from geardyn.solve.floquet import is_complex
 from geardyn.solve.shooting import rotation_number, sorted_multipliers
-
-
-def _is_complex(mu: np.ndarray) -> np.ndarray:
-    return np.abs(mu.imag) > 1e-8 * np.maximum(libm.cabs(mu), 1e-300)
 
 
 def _counts(mu: np.ndarray) -> tuple[int, int]:
     out = libm.cabs(mu) > 1.0
-    return int(out.sum()), int((out & _is_complex(mu)).sum())
+    return int(out.sum()), int((out & is_complex(mu)).sum())
 
 
 def pd_test(mu: np.ndarray) -> float:
@@ -39,7 +36,7 @@ def fold_test(mu: np.ndarray) -> float:
 
 def ns_pair(mu: np.ndarray) -> complex | None:
     """The complex multiplier (upper half plane) nearest the unit circle, if any."""
-    c = mu[_is_complex(mu) & (mu.imag > 0)]
+    c = mu[is_complex(mu) & (mu.imag > 0)]
     if c.size == 0:
         return None
     return complex(c[np.argmin(np.abs(libm.cabs(c) - 1.0))])
@@ -48,7 +45,7 @@ def ns_pair(mu: np.ndarray) -> complex | None:
 def ns_product(mu: np.ndarray) -> float:
     """prod over the complex multipliers in the upper half plane of (|mu| - 1): changes sign when one
     pair crosses the unit circle, whatever the other pairs do (NaN without complex multipliers)."""
-    c = mu[_is_complex(mu) & (mu.imag > 0)]
+    c = mu[is_complex(mu) & (mu.imag > 0)]
     return float(np.prod(libm.cabs(c) - 1.0)) if c.size else float("nan")
 
 
