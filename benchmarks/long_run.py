@@ -163,7 +163,8 @@ def sweep_check(
     every sweep cube of every design the config lists under ``results``, each run ``periods`` mesh periods
     (plain RK4 with a tangent vector, no labeller) from its newest stored Poincare point.  The run's newest
     points and exponent say what it ends on (:func:`ending`); a verdict holds when that is what it promises
-    (a periodic verdict: its own least period, and the stored points on the run's cycle within 1e-6)."""
+    (a periodic verdict: its own least period, and the stored points on the run's cycle within 1e-6 of the
+    state's size)."""
     import xarray as xr  # noqa: PLC0415
 
     from benchmarks.common import load_design, workflow_config  # noqa: PLC0415
@@ -221,8 +222,12 @@ def sweep_check(
             end = "torus"
         want = _expected(lab, per)
         ok = end == want
-        if ok and per > 0:
-            ok = n == per and directed_distance(stored[-min(per, stored.shape[0]) :], r.poincare[-3 * per :]) < 1e-6
+        if ok and per > 0:  # the stored points on the run's cycle, within 1e-6 of the state's size
+            scale = max(1.0, float(np.max(np.abs(stored))))
+            ok = (
+                n == per
+                and directed_distance(stored[-min(per, stored.shape[0]) :], r.poincare[-3 * per :]) < 1e-6 * scale
+            )
         row = table.setdefault(
             classify.short_name(lab) if per <= 0 or lab > 0 else "long cycle", dict.fromkeys(("held", *ENDINGS), 0)
         )
