@@ -225,10 +225,13 @@ def _locked(points: list[Point], policy: Policy) -> None:
         gaps = (known or order_test(_order_part(record, cs), 0)).gaps
         n = gaps[0]
         oldest, newest = _returns(record, n) if 0 < n <= max(cs.long_max_n, cs.max_n) else (0.0, math.inf)
-        if newest < policy.locked_return and (n <= cs.max_n or newest < 0.5 * oldest or len(gaps) == 1):
+        falls = newest < (0.95 if n <= cs.max_n else 0.5) * oldest  # a short cycle: any fall along the record
+        if newest < policy.locked_return and (falls or len(gaps) == 1):
             ns.append(n)
         else:  # a short cycle whose approach the newest half still shows (nearest neighbours not yet n apart)
-            ns.append(next((m for m in range(1, cs.max_n + 1) if _gathers(record, m, policy.locked_return)), 0))
+            falling = classify.falling_return_distances(record, cs.max_n)  # compiled: a cheap first look
+            short = (m for m in range(1, cs.max_n + 1) if falling[m - 1] and _gathers(record, m, policy.locked_return))
+            ns.append(next(short, 0))
     _try_periods(
         points,
         ns,
