@@ -91,6 +91,11 @@ CASES = [
         "admissible.x1_min = 0.9 must be below admissible.x1_max",
     ),
     # design file: missing keys, typos in keys, wrong kind or name
+    (
+        "closed-graph-percentage",
+        _config(lambda c: c.setdefault("closed_graph", {}).update(x1={"start": "10%", "stop": 1.1, "num": 5})),
+        "closed_graph.x1.start = '10%' is not allowed: number",
+    ),
     ("missing-pair", _design(lambda d: d.pop("pair")), "missing required key 'pair'"),
     ("missing-module", _design(lambda d: _pop(d, "pair", "module")), "missing required key 'pair.module'"),
     (
