@@ -1,5 +1,5 @@
 """Response measures (geardyn.solve.response): linear limit, zero excitation, impact classes on constructed
-trajectories, bad input."""
+trajectories, bad input; the standard error of the RMS values (batch means) on known answers."""
 
 import dataclasses
 import math
@@ -13,10 +13,12 @@ from geardyn.runs.response import frequency_response
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.response import (
     IMPACT_CLASSES,
+    batch_means_rms_error,
     contact_fractions,
     impact_class,
     response_measures,
     response_measures_many,
+    rms_errors_many,
     static_mesh_force,
 )
 
@@ -168,3 +170,89 @@ def test_measures_equal_the_dense_trajectory_reduced_in_numpy():
     assert r.dte_pp == np.ptp(x) and r.force_max == np.max(force)
     fractions = (r.drive_fraction, r.separation_fraction, r.back_fraction)
     assert fractions == pytest.approx(contact_fractions(x, v, h, c.b, side), abs=1e-13)
+
+
+def _blocks(x: np.ndarray, nb: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Equal blocks of the samples x: durations, means and RMS about each block's own mean."""
+    parts = np.array_split(x, nb)
+    return (
+        np.array([p.size for p in parts], float),
+        np.array([p.mean() for p in parts]),
+        np.array([p.std() for p in parts]),
+    )
+
+
+def test_rms_error_of_white_noise_is_sigma_over_sqrt_2n():
+    """Independent Gaussian samples of standard deviation s: the RMS of N of them has the standard error
+    s / sqrt(2 N) (the chi distribution).  Batch means over 100 blocks agree within 25 % (the estimate's own
+    scatter is 1 / sqrt(2 x 99) = 7 %)."""
+    rng = np.random.default_rng(7)
+    n, s = 100_000, 2.5
+    x = 3.0 + s * rng.standard_normal(n)
+    se = batch_means_rms_error(*_blocks(x, 100))
+    assert se == pytest.approx(s / math.sqrt(2 * n), rel=0.25)
+
+
+def test_rms_error_of_a_quasi_periodic_signal_covers_its_known_mean_square():
+    """x(t) = 3 cos t + 2 cos(g t), g the golden mean: its RMS over infinite time is sqrt((9 + 4) / 2).  Over
+    records of 500 and 5000 time units the RMS lies within 3 standard errors of it, and the error falls as
+    the record grows (a quasi-periodic average converges like 1 / T: ten times the record, a tenth of the
+    error, within a factor 3)."""
+    g = (1.0 + math.sqrt(5.0)) / 2.0
+    exact = math.sqrt((9.0 + 4.0) / 2.0)
+    errors = []
+    for length in (500.0, 5000.0):
+        t = np.arange(0.0, length, 0.05)
+        x = 3.0 * np.cos(t) + 2.0 * np.cos(g * t)
+        se = batch_means_rms_error(*_blocks(x, 10))
+        assert 0.0 < se < 0.05 * exact
+        assert abs(x.std() - exact) <= 3.0 * se
+        errors.append(se)
+    assert errors[1] < errors[0] / 3.0
+
+
+def test_rms_error_of_a_periodic_orbit_is_zero():
+    """On a periodic orbit every block of whole periods is the same record: the error is 0 to rounding (the
+    linear model's orbit, reached after 400 periods)."""
+    c = _system()
+    settings = SimulationSettings(steps_per_period=128, transient_periods=400, recorded_periods=40)
+    y0 = simulate(c, settings).final_state
+    (e,) = rms_errors_many([c], [y0], settings)
+    r = response_measures(c, y0, settings)
+    assert e.blocks == 10 and r.dte_rms > 0.01
+    assert e.dte_rms_error <= 1e-12 * r.dte_rms and e.force_rms_error <= 1e-12 * r.force_rms
+
+
+def test_rms_error_equals_batch_means_of_the_dense_trajectory():
+    """The blocks measured in the lanes are the record's own: the error equals batch means of
+    :func:`simulate`'s dense output over the same blocks (3 periods each of a 30-period transient with
+    impacts), reduced in numpy with the trapezoidal rule (constant stiffness, uniform steps)."""
+    c = _system(e=1.5, b=0.5, omega=1.2)
+    settings = SimulationSettings(
+        integrator="rk4_event", steps_per_period=128, aligned=False, transient_periods=0, recorded_periods=30
+    )
+    y0 = simulate(c, dataclasses.replace(settings, transient_periods=5)).final_state
+    run = simulate(c, settings, x0=y0, dense=True)
+    x = np.concatenate([[y0[1]], run.states[:, 1]])
+    means, rms = [], []
+    for k in range(10):
+        seg = x[k * 3 * 128 : (k + 1) * 3 * 128 + 1]
+        m = np.trapezoid(seg) / (seg.size - 1)
+        means.append(m)
+        rms.append(math.sqrt(np.trapezoid((seg - m) ** 2) / (seg.size - 1)))
+    expected = batch_means_rms_error(np.full(10, 3.0), np.array(means), np.array(rms))
+    (e,) = rms_errors_many([c], [y0], settings)
+    assert expected > 1e-4  # a transient: the blocks differ
+    assert e.dte_rms_error == pytest.approx(expected, rel=1e-9)
+
+
+def test_rms_error_bad_input():
+    c = _system()
+    settings = SimulationSettings(steps_per_period=64)
+    one, bad = rms_errors_many([c, c], [c.static_state(), np.full(6, np.nan)], settings, [1, 20])
+    assert one.blocks == 1 and math.isnan(one.dte_rms_error)  # one period: no batch means
+    assert math.isnan(bad.dte_rms_error) and math.isnan(bad.force_rms_error)
+    with pytest.raises(ValueError, match="at least 2 blocks"):
+        rms_errors_many([c], [c.static_state()], settings, blocks=1)
+    with pytest.raises(ValueError, match="batch means"):
+        batch_means_rms_error(np.ones(1), np.ones(1), np.ones(1))

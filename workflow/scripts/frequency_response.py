@@ -28,4 +28,11 @@ io.save_figure(
     snakemake.output.figure,
     captions.frequency_response(name, ds),
 )
-log.info("%s: jumps up %s, down %s", name, ds.attrs["jumps_up"], ds.attrs["jumps_down"])
+hysteresis = ds.w.values[ds.hysteresis.values == 1]
+log.info(
+    "%s: jumps up %s, down %s; hysteresis (up and down on different attractors) at w = %s",
+    name,
+    ds.attrs["jumps_up"],
+    ds.attrs["jumps_down"],
+    ",".join(f"{v:.4g}" for v in hysteresis) or "none",
+)

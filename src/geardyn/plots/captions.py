@@ -123,9 +123,10 @@ def frequency_response(name: str, ds: xr.Dataset) -> str:
         f"line along which every point starts from its neighbour's attractor (geardyn.label); "
         f"{ds.attrs['steps_per_period']} steps per period, measures over each attractor's recorded periods "
         f"(one cycle of a periodic one). Fixed overrides: {ds.attrs.get('fixed_overrides', 'none')}. "
-        f"Jumps (RMS DTE steps by more than {ds.attrs['jump_threshold']:g} x the larger value where the up and "
-        f"down curves differ as much): up at w = {ds.attrs['jumps_up']}, down at w = {ds.attrs['jumps_down']}; "
-        f"up and down differ at {int(ds.hysteresis.sum())} frequencies. Largest RMS DTE "
+        f"Hysteresis (hatched): the up and down sweeps end on different attractors (other labels, or Poincare sets "
+        f"apart by more than the labeller's tolerance) at {int(ds.hysteresis.sum())} frequencies. Jumps (RMS DTE "
+        f"steps by more than {ds.attrs['jump_threshold']:g} x the larger value at a hysteresis frequency): up at "
+        f"w = {ds.attrs['jumps_up']}, down at w = {ds.attrs['jumps_down']}. Largest RMS DTE "
         f"{float(ds.dte_rms.values[j]):.3g} at w = {float(w[j[1]]):.3g}; largest K_v {kv:.3g}. "
         f"Linear natural frequencies (in contact, mean stiffness): {nat}. Shading: impact classes."
     )

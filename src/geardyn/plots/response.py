@@ -1,6 +1,6 @@
 """Figures of the response measures (``docs/response.md``): the frequency response (RMS DTE and K_v against
-the mesh frequency, up and down, jumps, impact classes, natural frequencies) and the K_v and impact-class
-layers of a regime map."""
+the mesh frequency, up and down, jumps, hysteresis, impact classes, natural frequencies) and the K_v and
+impact-class layers of a regime map."""
 
 from __future__ import annotations
 
@@ -19,6 +19,8 @@ from geardyn.solve.response import IMPACT_CLASSES
 IMPACT_COLOURS = {"no_impact": "#ffffff", "single_sided": "#fde0a6", "double_sided": "#f4a6a6"}
 IMPACT_LABELS = {"no_impact": "no impact", "single_sided": "single-sided impact", "double_sided": "double-sided impact"}
 DIRECTION_STYLE = {"up": ("tab:blue", "-", "^"), "down": ("tab:red", "--", "v")}
+#: Hatching of the frequencies with hysteresis (the up and down sweeps on different attractors).
+HYSTERESIS_STYLE = {"facecolor": "none", "edgecolor": "0.3", "hatch": "////", "lw": 0.0}
 
 
 def _shade_classes(ax: Axes, w: np.ndarray, classes: np.ndarray, band: tuple[float, float]) -> None:
@@ -31,17 +33,29 @@ def _shade_classes(ax: Axes, w: np.ndarray, classes: np.ndarray, band: tuple[flo
             ax.axvspan(edges[j], edges[j + 1], *band, color=IMPACT_COLOURS[name], lw=0)
 
 
+def _hatch_runs(ax: Axes, w: np.ndarray, flags: np.ndarray) -> None:
+    """Hatch the frequencies where ``flags`` is set, each run of neighbours as one span (to the mid-points)."""
+    edges = np.concatenate([[w[0]], 0.5 * (w[1:] + w[:-1]), [w[-1]]])
+    on = np.concatenate([[False], np.asarray(flags, dtype=bool), [False]])
+    starts, stops = np.flatnonzero(on[1:] & ~on[:-1]), np.flatnonzero(~on[1:] & on[:-1])
+    for a, b in zip(starts, stops, strict=True):
+        ax.axvspan(edges[a], edges[b], **HYSTERESIS_STYLE)
+
+
 def frequency_response_figure(ds: xr.Dataset, title: str) -> Figure:
     """RMS DTE (top) and dynamic factor K_v (bottom) against w, up (solid) and down (dashed) with the jumps
-    marked (triangles in the direction of travel); the impact classes shaded (lower half of each panel: up,
-    upper half: down); the linear natural frequencies and their halves and thirds (super-harmonic resonances)
-    as grey lines."""
+    marked (triangles in the direction of travel) and the frequencies with hysteresis hatched (the up and
+    down sweeps on different attractors, whatever their RMS); the impact classes shaded (lower half of each
+    panel: up, upper half: down); the linear natural frequencies and their halves and thirds (super-harmonic
+    resonances) as grey lines."""
     fig = Figure(figsize=(9.0, 6.5), constrained_layout=True)
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
     w = ds.w.values
+    hysteresis = ds["hysteresis"].values.astype(bool) if "hysteresis" in ds else np.zeros(w.size, bool)
     for ax, var in ((ax1, "dte_rms"), (ax2, "dynamic_factor")):
         for d, direction in enumerate(ds.direction.values):
             _shade_classes(ax, w, ds.impact_class.values[d], (0.0, 0.5) if direction == "up" else (0.5, 1.0))
+        _hatch_runs(ax, w, hysteresis)
         for d, direction in enumerate(ds.direction.values):
             colour, ls, marker = DIRECTION_STYLE[str(direction)]
             y = ds[var].values[d]
@@ -56,6 +70,7 @@ def frequency_response_figure(ds: xr.Dataset, title: str) -> Figure:
     for name in ("single_sided", "double_sided"):
         ax1.fill_between([], [], color=IMPACT_COLOURS[name], label=IMPACT_LABELS[name])
     ax1.plot([], [], color="0.45", lw=0.7, label="natural frequency w_i / h (h = 1, 2, 3)")
+    ax1.fill_between([], [], label="hysteresis: up and down on different attractors", **HYSTERESIS_STYLE)
     ax1.plot([], [], ls="", marker="^", color="k", mfc="none", label="jump (triangle: direction of travel)")
     ax1.set_ylabel("RMS DTE  X_VH / b_c  (b_c = 1 um)")
     ax1.legend(fontsize=7, loc="upper left")
@@ -63,7 +78,9 @@ def frequency_response_figure(ds: xr.Dataset, title: str) -> Figure:
     ax2.set_ylabel("dynamic factor K_v = F_max / F_s (-)")
     ax2.set_xlabel(ds.w.attrs.get("long_name", "w"))
     ax1.set_title(
-        f"{title}\nshading: impact class (lower half: up sweep, upper half: down sweep)", fontsize=9, loc="left"
+        f"{title}\nshading: impact class (lower half: up sweep, upper half: down sweep); hatched: hysteresis",
+        fontsize=9,
+        loc="left",
     )
     return fig
 

@@ -5,13 +5,18 @@ The sweep holds the design's point (its own x1, b, e unless ``fixed`` overrides 
 dimensionless mesh frequency w = w_m / w_n on its coefficients (whatever the design's ``frequency_mode``: the
 input speed that gives w is stored beside it).  The up and the down sweep are two *lines* of
 :func:`geardyn.label.label_lines` with ``start_from: follow``: each point starts from the attractor of its
-neighbour, so the two curves part where two attractors coexist (hysteresis).  A *jump* is a step of the RMS
-DTE between neighbours of a line larger than ``jump_threshold`` times the larger of the two (and of the
-``jump_floor``) where the up and down curves disagree by as much (:func:`find_jumps`).
+neighbour, so the two curves part where two attractors coexist.  *Hysteresis* marks the frequencies where
+the up and down sweeps end on different attractors by the labeller's own comparison
+(:func:`geardyn.label.compare.same`); two non-periodic verdicts it separates are integrated on and compared
+again, so a slow transient is not taken for a second attractor (:func:`different_attractors`).  A *jump* is a
+step of the RMS DTE between neighbours of a line larger than ``jump_threshold`` times the larger of the two
+(and of the ``jump_floor``) next to a frequency with hysteresis (:func:`find_jumps`).  The RMS values of a
+non-periodic point carry their standard error (batch means, :func:`geardyn.solve.response.rms_errors_many`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import time
@@ -26,7 +31,8 @@ import xarray as xr
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.khv.model import COEFFICIENT_ATTRS, Coefficients, natural_frequencies
-from geardyn.label import Policy, label_lines
+from geardyn.label import Policy, Verdict, label_lines
+from geardyn.label.compare import same, same_attractor
 from geardyn.runs.cube import (
     STATES,
     TRANSIENT_USED_ATTRS,
@@ -37,10 +43,22 @@ from geardyn.runs.cube import (
     store_response,
     store_verdict,
 )
+from geardyn.solve.base import System
+from geardyn.solve.response import RMS_BLOCKS, rms_errors_many
+from geardyn.solve.simulate import simulate_batch
 
 log = logging.getLogger("geardyn.response")
 
 DIRECTIONS = ("up", "down")
+
+#: Mesh periods two non-periodic verdicts that the labeller's comparison separates are integrated on, at
+#: most, before they count as two attractors (:func:`different_attractors`), in pieces of
+#: :data:`CONTINUE_PIECE`.  Measured on ``li2013_calibrated`` below the Neimark-Sacker bifurcation of its P1
+#: orbit near w = 1.53: the down sweep's records there leave the unstable orbit slowly and reach the up
+#: sweep's torus within 1000 (w = 1.5118), 3000 (1.5186) and 17000 (1.5254) periods; closer to the
+#: bifurcation the escape takes longer still.
+CONTINUE_PERIODS = 40000
+CONTINUE_PIECE = 1000
 
 
 @dataclass(frozen=True)
@@ -87,14 +105,17 @@ class ResponseSpec:
         return np.linspace(self.start, self.stop, self.num)
 
 
-def find_jumps(rms: np.ndarray, threshold: float, floor: float) -> tuple[np.ndarray, np.ndarray]:
+def find_jumps(
+    rms: np.ndarray, threshold: float, floor: float, split: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Jumps of the up and down RMS-DTE curves ``rms`` (2, n) on one ascending frequency grid.
 
-    Two values differ *by a jump* when |a - b| > threshold max(a, b, floor).  Returns ``(jump, split)``:
-    ``split`` (n,) where the up and down curves differ so (two attractors: hysteresis), and ``jump`` (2, n)
-    where a curve differs so from its lower neighbour and the curves are split at one of the two points (a
-    step of a single curve on a coarse grid, e.g. across a narrow resonance, is not a jump).  The flag
-    sits on the higher-frequency point of the pair, whatever the direction of travel."""
+    Two values differ *by a jump* when |a - b| > threshold max(a, b, floor).  ``split`` (n,): where the up
+    and down sweeps end on different attractors (:func:`different_attractors`); without it, where their RMS
+    values differ by a jump.  Returns ``(jump, split)``: ``jump`` (2, n) where a curve differs so from its
+    lower neighbour and the sweeps are split at one of the two points (a step of a single curve on a coarse
+    grid, e.g. across a narrow resonance, is not a jump).  The flag sits on the higher-frequency point of the
+    pair, whatever the direction of travel."""
     rms = np.asarray(rms, dtype=float)
     if rms.ndim != 2 or rms.shape[0] != 2:
         raise ValueError("find_jumps: rms must be (2, n): the up and the down curve")
@@ -103,10 +124,64 @@ def find_jumps(rms: np.ndarray, threshold: float, floor: float) -> tuple[np.ndar
     def differ(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         return np.abs(a - b) > threshold * np.maximum(np.maximum(a, b), floor)
 
-    split = differ(rms[0], rms[1])
+    if split is None:
+        split = differ(rms[0], rms[1])
+    else:
+        split = np.asarray(split, dtype=bool)
+        if split.shape != rms.shape[1:]:
+            raise ValueError("find_jumps: split must be (n,): one flag per frequency")
     jump = np.zeros(rms.shape, dtype=bool)
     jump[:, 1:] = differ(rms[:, 1:], rms[:, :-1]) & (split[1:] | split[:-1])
     return jump, split
+
+
+def different_attractors(
+    systems: list[System],
+    up: list[Verdict],
+    down: list[Verdict],
+    policy: Policy,
+    continue_periods: int = CONTINUE_PERIODS,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Where the up and down sweeps end on different attractors, at each frequency (``systems``, and the
+    verdicts of both sweeps in ascending order).
+
+    Different means different to the labeller (:func:`geardyn.label.compare.same`: other labels, or Poincare
+    sets apart by more than its tolerance).  A verdict that is not periodic may be a record of a slow
+    transient (a run that leaves an unstable orbit slowly looks quasi-periodic over the record), so two
+    non-periodic verdicts of one label that differ are both integrated on from their final states, in pieces
+    of :data:`CONTINUE_PIECE` periods, and their last ``recorded_periods`` Poincare points compared again
+    after every piece (:func:`geardyn.label.compare.same_attractor`), up to ``continue_periods``.  Returns
+    ``(differ, continued)`` (n,): the flags, and the periods integrated on before the records agreed (or all
+    of them where they never did; 0 where not integrated on)."""
+    n = len(systems)
+    differ = np.array([not same(a, b) for a, b in zip(up, down, strict=True)])
+    continued = np.zeros(n, np.int64)
+    todo = [
+        j
+        for j in np.flatnonzero(differ)
+        if up[j].label == down[j].label and not up[j].periodic and not up[j].diverged and not down[j].periodic
+    ]
+    keep = max(1, policy.integration.recorded_periods)
+    piece = max(CONTINUE_PIECE, keep)
+    settings = dataclasses.replace(policy.integration, transient_periods=piece - keep, recorded_periods=keep)
+    states = {j: (up[j].final_state, down[j].final_state) for j in todo}
+    while todo and continue_periods > 0 and continued[todo[0]] < continue_periods:
+        runs = simulate_batch(
+            [systems[j] for j in todo for _ in range(2)], settings, [y for j in todo for y in states[j]]
+        )
+        left = []
+        for k, j in enumerate(todo):
+            ra, rb = runs[2 * k], runs[2 * k + 1]
+            continued[j] += piece
+            if ra.diverged or rb.diverged:
+                continue  # one of them leaves the bounded region: two different ends
+            if same_attractor(up[j].label, ra.poincare, down[j].label, rb.poincare):
+                differ[j] = False
+            else:
+                states[j] = (ra.final_state, rb.final_state)
+                left.append(j)
+        todo = left
+    return differ, continued
 
 
 def jump_frequencies(w: np.ndarray, flags: np.ndarray, direction: str) -> np.ndarray:
@@ -116,8 +191,47 @@ def jump_frequencies(w: np.ndarray, flags: np.ndarray, direction: str) -> np.nda
     return mids if direction == "up" else mids[::-1]
 
 
-def frequency_response(base: Coefficients, w: np.ndarray, policy: Policy, threshold: float, floor: float) -> xr.Dataset:
-    """Label and measure ``base`` at every mesh frequency of ``w`` (ascending), swept up and down."""
+def rms_error_variables(systems: list[System], verdicts: list[list[Verdict]], policy: Policy) -> dict[str, Any]:
+    """The standard errors of ``dte_rms`` and ``force_rms`` (dims direction x w; ``verdicts`` of both
+    sweeps in ascending order, at ``systems``).  A periodic verdict's measures are averages over one whole
+    cycle: error 0.  A non-periodic one's are averages over the ``recorded_periods`` from its final state:
+    the batch-means error over :data:`geardyn.solve.response.RMS_BLOCKS` blocks of whole mesh periods of that
+    record (:func:`geardyn.solve.response.rms_errors_many`).  NaN where diverged."""
+    shape = (len(verdicts), len(systems))
+    dte, force = np.full(shape, np.nan), np.full(shape, np.nan)
+    todo = []
+    for d, vs in enumerate(verdicts):
+        for j, v in enumerate(vs):
+            if v.periodic:
+                dte[d, j] = force[d, j] = 0.0
+            elif not v.diverged:
+                todo.append((d, j))
+    errors = rms_errors_many(
+        [systems[j] for _, j in todo], [verdicts[d][j].final_state for d, j in todo], policy.integration
+    )
+    for (d, j), e in zip(todo, errors, strict=True):
+        dte[d, j], force[d, j] = e.dte_rms_error, e.force_rms_error
+    how = (
+        f"batch means over {RMS_BLOCKS} blocks of whole mesh periods of the record of a non-periodic point; "
+        "0 for a periodic one, averaged over one whole cycle"
+    )
+    dims = ("direction", "w")
+    return {
+        "dte_rms_error": (dims, dte, {"units": "1", "long_name": f"standard error of dte_rms ({how})"}),
+        "force_rms_error": (dims, force, {"units": "1", "long_name": f"standard error of force_rms ({how})"}),
+    }
+
+
+def frequency_response(
+    base: Coefficients,
+    w: np.ndarray,
+    policy: Policy,
+    threshold: float,
+    floor: float,
+    continue_periods: int = CONTINUE_PERIODS,
+) -> xr.Dataset:
+    """Label and measure ``base`` at every mesh frequency of ``w`` (ascending), swept up and down;
+    ``continue_periods``: of :func:`different_attractors`."""
     w = np.asarray(w, dtype=float)
     if w.ndim != 1 or w.size < 3 or not np.all(np.diff(w) > 0.0):
         raise ValueError("frequency response: w must be an ascending grid of at least 3 frequencies")
@@ -135,21 +249,26 @@ def frequency_response(base: Coefficients, w: np.ndarray, policy: Policy, thresh
     )
     arrays = {name: SimpleNamespace(values=spec[1]) for name, spec in data.items()}  # numpy views
     responses = line_responses(lines, verdicts, policy.integration)
-    for d, vs in enumerate(verdicts):
-        for k, v in enumerate(vs):
-            j = k if d == 0 else w.size - 1 - k
+    ordered = [verdicts[0], verdicts[1][::-1]]  # both sweeps in ascending w
+    for d, vs in enumerate(ordered):
+        for j, v in enumerate(vs):
             store_verdict(arrays, (d, j), v)
-            store_response(arrays, (d, j), responses[d][k])
+            store_response(arrays, (d, j), responses[d][j if d == 0 else w.size - 1 - j])
             arrays["transient_used"].values[d, j] = v.transient_used
             arrays["final_state"].values[d, j] = v.final_state
+    data.update(rms_error_variables(up, ordered, policy))
+    data["dte_rms"][2]["ancillary_variables"] = "dte_rms_error"
+    data["force_rms"][2]["ancillary_variables"] = "force_rms_error"
+    differ, continued = different_attractors(up, ordered[0], ordered[1], policy, continue_periods)
     rms = data["dte_rms"][1]
-    jumps, split = find_jumps(rms, threshold, floor)
+    jumps, split = find_jumps(rms, threshold, floor, differ)
     data["jump"] = (
         dims,
         jumps.astype(np.int8),
         {
             "long_name": f"a jump: the RMS DTE steps by more than {threshold:g} x max(its two values, {floor:g}) "
-            "from the next lower frequency of the same line, where the up and down curves differ as much",
+            "from the next lower frequency of the same line, where the up and down sweeps end on different "
+            "attractors at one of the two frequencies",
             "flag_values": np.array([0, 1], np.int8),
             "flag_meanings": "smooth jump",
         },
@@ -158,9 +277,21 @@ def frequency_response(base: Coefficients, w: np.ndarray, policy: Policy, thresh
         ("w",),
         split.astype(np.int8),
         {
-            "long_name": "the up and down sweeps end on different attractors (RMS DTE differs as a jump does)",
+            "long_name": "the up and down sweeps end on different attractors: other labels, or Poincare sets "
+            "apart by more than the labeller's tolerance (geardyn.label.compare), two non-periodic ones "
+            "still after integrating both on (hysteresis_continued_periods)",
             "flag_values": np.array([0, 1], np.int8),
             "flag_meanings": "same different",
+        },
+    )
+    data["hysteresis_continued_periods"] = (
+        ("w",),
+        continued.astype(np.int32),
+        {
+            "units": "1",
+            "long_name": "mesh periods two non-periodic verdicts the labeller's comparison separates were "
+            f"integrated on before their Poincare sets agreed (at most {continue_periods}: still different); "
+            "0: not integrated on",
         },
     )
     nat = natural_frequencies(base)
@@ -184,6 +315,8 @@ def frequency_response(base: Coefficients, w: np.ndarray, policy: Policy, thresh
     attrs = {
         "jump_threshold": threshold,
         "jump_floor": floor,
+        "hysteresis_continue_periods": continue_periods,
+        "rms_error_blocks": RMS_BLOCKS,
         "jumps_up": ",".join(f"{v:.4g}" for v in jump_frequencies(w, jumps[0], "up")) or "none",
         "jumps_down": ",".join(f"{v:.4g}" for v in jump_frequencies(w, jumps[1], "down")) or "none",
         "integrator": policy.integration.integrator,

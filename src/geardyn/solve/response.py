@@ -4,12 +4,15 @@ transmission error, contact fractions and the impact class (definitions: ``docs/
 :func:`response_measures_many` integrates whole mesh periods from states on the attractor (labeller
 verdicts' final states) in the batch's lanes, with the solver's own step, adds every step to the sums of
 :mod:`geardyn.solve._response` and reduces them; :func:`response_measures` does it for one point.
+:func:`rms_errors_many` gives the standard errors of the RMS values of such a record (batch means over
+blocks of whole mesh periods, each block a record of its own in the same lanes).
 All quantities are dimensionless like the solver's: forces in units of k_mean b_c, displacements in
 units of b_c (= 1 um for the KHV family), so a DTE of 1 is 1 um.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, fields
@@ -105,6 +108,29 @@ def static_mesh_force(system: System) -> float:
     x2 = float(system.static_state()[1])
     b = system.b if system.backlash_on else 0.0
     return x2 - min(max(x2, -b), b)
+
+
+#: Blocks of the batch-means error of an RMS value (:func:`rms_errors_many`): 10 blocks of 5 mesh periods
+#: for the 50 recorded periods of the regime maps' preset.
+RMS_BLOCKS = 10
+
+
+@dataclass(frozen=True)
+class RMSErrors:
+    """Standard errors of the RMS values of a record (:func:`rms_errors_many`), in their units.
+
+    dte_rms_error: of :attr:`ResponseMeasures.dte_rms`; force_rms_error: of
+    :attr:`ResponseMeasures.force_rms`; blocks: the number of blocks (of whole mesh periods) they come from.
+    NaN with fewer than 2 blocks or where the record diverged.
+    """
+
+    dte_rms_error: float
+    force_rms_error: float
+    blocks: int
+
+    @classmethod
+    def not_computed(cls, blocks: int = 0) -> RMSErrors:
+        return cls(math.nan, math.nan, blocks)
 
 
 #: points per call of the lanes in :func:`response_measures_many` (a multiple of the lockstep width)
@@ -219,3 +245,95 @@ def _reduce(out: np.ndarray | list[float], f_s: float, n_per: int) -> ResponseMe
         n_switches=int(out[_acc.N_SWITCH]),
         periods=n_per,
     )
+
+
+def batch_means_rms_error(weights: np.ndarray, means: np.ndarray, rms: np.ndarray) -> float:
+    """The batch-means standard error of the RMS of a record cut into B >= 2 blocks: ``weights`` (B,) the
+    blocks' durations, ``means`` and ``rms`` (B,) each block's mean and RMS about its own mean.
+
+    The record's RMS R = sqrt(Q) with Q = sum_b w_b (r_b^2 + (m_b - A)^2), A = sum_b w_b m_b (w_b the
+    blocks' shares of the time: the variance of the whole record, exactly).  R is a smooth function of the
+    two time averages of x and x^2, so its error is that of the average of the linearised block values
+    u_b = (r_b^2 + (m_b - A)^2 - Q) / (2 R) (the delta method; sum_b w_b u_b = 0):
+    SE^2 = B / (B - 1) sum_b w_b^2 u_b^2, for equal blocks the sample variance of u_b over B.  A
+    periodic record whose blocks hold whole cycles has equal blocks: SE = 0 (to rounding).  0 when R = 0."""
+    w = np.asarray(weights, dtype=float)
+    m, r = np.asarray(means, dtype=float), np.asarray(rms, dtype=float)
+    if w.ndim != 1 or w.size < 2 or m.shape != w.shape or r.shape != w.shape or np.any(w <= 0.0):
+        raise ValueError("batch means: at least 2 blocks of positive duration, one mean and one RMS each")
+    w = w / w.sum()
+    a = float(w @ m)
+    spread = r * r + (m - a) ** 2
+    q = float(w @ spread)
+    if not math.isfinite(q):
+        return math.nan
+    if q <= 0.0:
+        return 0.0
+    u = (spread - q) / (2.0 * math.sqrt(q))
+    return math.sqrt(w.size / (w.size - 1) * float(np.sum((w * u) ** 2)))
+
+
+def rms_errors_many(
+    systems: Sequence[System],
+    y0s: Sequence[np.ndarray],
+    settings: SimulationSettings | None = None,
+    periods: Sequence[int] | None = None,
+    blocks: int = RMS_BLOCKS,
+) -> list[RMSErrors]:
+    """The standard errors of ``dte_rms`` and ``force_rms`` of the records of :func:`response_measures_many`
+    (same arguments): each record is cut into min(``blocks``, its periods) blocks of whole mesh periods (as
+    equal as the count allows), every block is measured in the batch's lanes as a record of its own (its
+    start: the record's state at phase 0 where the block begins, from :func:`geardyn.solve.simulate_batch`,
+    bit-identical to the record's), and :func:`batch_means_rms_error` combines them.
+
+    The error is that of the time average over the record: it says whether two RMS values differ by more
+    than their records can resolve.  It does not see a slow drift of the record as a whole (a transient
+    longer than the record)."""
+    from geardyn.solve.simulate import simulate_batch  # noqa: PLC0415 - compiled: not imported by readers
+
+    settings = SimulationSettings() if settings is None else settings
+    if blocks < 2:
+        raise ValueError(f"batch means need at least 2 blocks, got {blocks}")
+    if settings.integrator == "dop853":
+        raise ValueError("the response measures integrate with 'rk4' or 'rk4_event'")
+    if len(y0s) != len(systems) or (periods is not None and len(periods) != len(systems)):
+        raise ValueError("response measures: one start state (and one period count) per system")
+    n_per = [settings.recorded_periods] * len(systems) if periods is None else [int(n) for n in periods]
+    if any(n < 1 for n in n_per):
+        raise ValueError(f"periods must be >= 1, got {min(n_per)}")
+    starts = [np.asarray(y0, dtype=float) for y0 in y0s]
+    out = [RMSErrors.not_computed(min(blocks, n)) for n in n_per]
+    run = [i for i, y0 in enumerate(starts) if n_per[i] >= 2 and y0.shape == (6,) and np.all(np.isfinite(y0))]
+    if not run:
+        return out
+    records = simulate_batch(
+        [systems[i] for i in run],
+        dataclasses.replace(settings, transient_periods=0, early_stop=False),
+        [starts[i] for i in run],
+        recorded_periods=[n_per[i] for i in run],
+    )
+    cuts: dict[int, np.ndarray] = {}
+    b_sys, b_y0, b_n = [], [], []
+    for i, rec in zip(run, records, strict=True):
+        if rec.diverged:
+            continue
+        nb = min(blocks, n_per[i])
+        cuts[i] = edges = np.array([n_per[i] * k // nb for k in range(nb + 1)])
+        for k in range(nb):
+            b_sys.append(systems[i])
+            b_y0.append(starts[i] if edges[k] == 0 else rec.poincare[edges[k] - 1])
+            b_n.append(int(edges[k + 1] - edges[k]))
+    measured = iter(response_measures_many(b_sys, b_y0, settings, b_n))
+    for i, edges in cuts.items():
+        parts = [next(measured) for _ in range(edges.size - 1)]
+        if any(p.diverged for p in parts):
+            continue
+        weights = np.diff(edges).astype(float)
+        out[i] = RMSErrors(
+            batch_means_rms_error(weights, np.array([p.dte_mean for p in parts]), np.array([p.dte_rms for p in parts])),
+            batch_means_rms_error(
+                weights, np.array([p.force_mean for p in parts]), np.array([p.force_rms for p in parts])
+            ),
+            edges.size - 1,
+        )
+    return out
