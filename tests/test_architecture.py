@@ -132,3 +132,66 @@ def test_papers_are_data():
         tree = ast.parse(MODULES[name].read_text(encoding="utf-8"))
         assert not [n for n in tree.body if isinstance(n, ast.FunctionDef | ast.ClassDef)], name
         assert GRAPH[name] == [], name
+
+
+PAPER_MODULES = sorted(m for m in MODULES if m.startswith("geardyn.papers."))
+#: The design keys of the papers (``paper: li2013``): the names of their modules.
+PAPER_KEYS = [m.rpartition(".")[2] for m in PAPER_MODULES]
+
+
+def _code_strings(tree: ast.AST) -> list[ast.Constant]:
+    """The string constants of a module's code: f-string parts included, docstrings left out."""
+    docstrings = set()
+    for node in ast.walk(tree):
+        body = getattr(node, "body", None)
+        if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef | ast.AsyncFunctionDef) and body:
+            first = body[0]
+            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant):
+                docstrings.add(id(first.value))
+    return [
+        n
+        for n in ast.walk(tree)
+        if isinstance(n, ast.Constant) and isinstance(n.value, str) and id(n) not in docstrings
+    ]
+
+
+def test_the_paper_keys_are_the_papers_modules():
+    assert {"li2013", "yue2014"} <= set(PAPER_KEYS)
+
+
+@pytest.mark.parametrize(
+    "name",
+    [
+        pytest.param(
+            m,
+            marks=pytest.mark.xfail(
+                strict=True, reason="geardyn.plus.tables imports geardyn.papers.yue2014 by name (plus/: its owner's)"
+            ),
+        )
+        if m == "geardyn.plus.tables"
+        else m
+        for m in sorted(MODULES)
+        if not m.startswith("geardyn.papers")
+    ],
+)
+def test_no_generic_module_names_a_paper(name):
+    """Outside geardyn.papers no module imports one paper's module (a design names its paper, and
+    ``geardyn.papers.paper_of`` finds it) and no string of the code names a paper's design key (the papers'
+    values and claims are data in their modules; docstrings may cite a design as an example)."""
+    imported = {m for m, _ in _imports(name, MODULES[name])}
+    assert not imported & set(PAPER_MODULES), f"{name} imports {sorted(imported & set(PAPER_MODULES))}"
+    tree = ast.parse(MODULES[name].read_text(encoding="utf-8"))
+    named = [f"line {n.lineno}: {n.value!r}" for n in _code_strings(tree) if any(key in n.value for key in PAPER_KEYS)]
+    assert not named, f"{name} names a paper's design in its code: {named}"
+
+
+def test_the_paper_check_sees_a_string_and_an_import(tmp_path):
+    """The check above finds a paper's key in a string of code (not in a docstring) and a paper imported."""
+    path = tmp_path / "fake.py"
+    path.write_text(
+        '"""Docstring about li2013."""\n\nfrom geardyn.papers import li2013, paper_of\n\n'
+        'X = f"results/{paper_of}/li2013.nc"\n\n\ndef f():\n    """yue2014"""\n'
+    )
+    tree = ast.parse(path.read_text())
+    assert [n.value for n in _code_strings(tree) if any(k in n.value for k in PAPER_KEYS)] == ["/li2013.nc"]
+    assert set(PAPER_MODULES) & {m for m, _ in _imports("geardyn.fake", path)} == {"geardyn.papers.li2013"}

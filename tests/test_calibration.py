@@ -113,19 +113,12 @@ def test_regime_order_and_transitions():
     t = K.transitions(x, np.array([1, 1, -3, -4]))
     assert t == {"leave_p1": 0.57, "first_chaos": 0.6}
     assert K.transitions(x, np.ones(4))["first_chaos"] == float("inf")
+    # the paper's, where its regime sequence places them (Sec. 4.1: P1 up to 0.565, chaos from 0.593)
+    assert K.paper_transitions(paper) == {"leave_p1": 0.565, "first_chaos": 0.593}
 
 
-def _labels_paper(grids):
-    f07 = np.full(grids.x1.size, C.CHAOS, np.int16)
-    for lo, hi, lab in paper.SEQUENCE:
-        f07[(grids.x1 >= lo) & (grids.x1 <= hi)] = C.code(lab)
-    b = {x: C.Track(grids.b, np.where(grids.b < 0.3, 1, C.CHAOS)) for x in grids.case_x1}
-    e = {x: C.Track(grids.e, np.ones(grids.e.size, np.int16)) for x in grids.case_x1}
-    return K.CandidateLabels(C.Track(grids.x1, f07), b, e)
-
-
-def test_score_counts_the_claims_and_partial_credit():
-    g = K.Grids.from_config(
+def _grids():
+    return K.Grids.from_config(
         {
             "x1": {"start": 0.416, "stop": 0.835, "num": 120},
             "b": {"start": 0, "stop": 2.25, "num": 10},
@@ -133,6 +126,41 @@ def test_score_counts_the_claims_and_partial_credit():
         },
         paper,
     )
+
+
+def test_grids_are_the_paper_lines_on_the_config_grids():
+    """The lines a candidate is labelled along are the paper's (CLAIM_LINES), each on the config's grid of its
+    parameter: x1 at b = 2, e = 5; b at e = 5 and e at b = 2, one line per x1 of the paper."""
+    g = _grids()
+    assert list(g.lines) == ["fig07", "fig09", "fig11"] and g.main == "fig07"
+    f07, f09, f11 = g.lines.values()
+    assert (f07.parameter, dict(f07.fixed), f07.cases) == ("x1", {"b": 2.0, "e": 5.0}, ())
+    assert (f09.parameter, dict(f09.fixed), f09.case_parameter, f09.cases) == (
+        "b",
+        {"e": 5.0},
+        "x1",
+        (0.5, 0.761, 0.83),
+    )
+    assert (f11.parameter, dict(f11.fixed), f11.cases) == ("e", {"b": 2.0}, (0.5, 0.761, 0.83))
+    np.testing.assert_array_equal(f09.values, np.linspace(0, 2.25, 10))
+    assert g.n_points == 120 + 3 * (10 + 19)
+
+
+def _labels_paper(grids):
+    x1 = grids.lines["fig07"].values
+    f07 = np.full(x1.size, C.CHAOS, np.int16)
+    for lo, hi, lab in paper.SEQUENCE:
+        f07[(x1 >= lo) & (x1 <= hi)] = C.code(lab)
+    b, e, cases = grids.lines["fig09"].values, grids.lines["fig11"].values, grids.lines["fig09"].cases
+    return {
+        "fig07": C.Track(x1, f07),
+        "fig09": {x: C.Track(b, np.where(b < 0.3, 1, C.CHAOS)) for x in cases},
+        "fig11": {x: C.Track(e, np.ones(e.size, np.int16)) for x in cases},
+    }
+
+
+def test_score_counts_the_claims_and_partial_credit():
+    g = _grids()
     lab = _labels_paper(g)
     sc = K.score_labels(paper, lab)
     v = {r.id: r.verdict for r in sc.rows}
@@ -141,12 +169,44 @@ def test_score_counts_the_claims_and_partial_credit():
     assert sc.agree == sum(x == "agree" for x in v.values()) == 14
     assert v["fig8b"] == "disagree" and v["fig09_b0.5_x1_0.5"] == "disagree"
     assert sc.order == "1QnCnC"
-    assert sc.transitions["leave_p1"] == pytest.approx(g.x1[g.x1 > 0.565][0])
+    x1 = g.lines["fig07"].values
+    assert sc.transitions["leave_p1"] == pytest.approx(x1[x1 > 0.565][0])
     assert sc.partial > 0.97 and sc.score == pytest.approx(14 + 0.99 * sc.partial)
     # all P1: P1 range claims only; leave_p1 = inf earns nothing
-    flat = K.CandidateLabels(C.Track(g.x1, np.ones(g.x1.size, np.int16)), lab.fig09, lab.fig11)
+    flat = {**lab, "fig07": C.Track(x1, np.ones(x1.size, np.int16))}
     s2 = K.score_labels(paper, flat)
     assert s2.transitions["leave_p1"] == float("inf") and s2.partial == pytest.approx(1 / 6 / 3)
+
+
+def test_a_record_is_one_json_line_with_the_labels_of_each_line_under_its_role():
+    """The cache line keeps its layout: the record's fields, then each line's labels under its role."""
+    rec = K.Record(
+        "k",
+        [0.5],
+        {"w": 1.0},
+        3.0,
+        2,
+        0.5,
+        {"leave_p1": 0.6},
+        "1C",
+        {"a": "agree"},
+        labels={"fig07": [1, -4], "fig09": {"0.5": [1, 1]}},
+    )
+    data = rec.to_json()
+    assert list(data) == [
+        "key",
+        "unit",
+        "values",
+        "score",
+        "agree",
+        "partial",
+        "transitions",
+        "order",
+        "verdicts",
+        "fig07",
+        "fig09",
+    ]
+    assert data["fig09"] == {"0.5": [1, 1]} and K.Record.from_json(json.loads(json.dumps(data))) == rec
 
 
 def test_search_resumes_from_its_cache(tmp_path, monkeypatch):
@@ -254,8 +314,12 @@ def test_route_requirement_and_its_ranking():
     assert not K.shows_route([P1, QP, P1, CH])  # back to P1 before the chaos
     assert not K.shows_route([QP, P1, 2, CH])  # does not start on P1
     assert not K.shows_route([P1, QP, 5])  # no chaos
-    route = K.Record("route", [], {}, 6.6, fig07=[P1, QP, CH])
-    better = K.Record("better", [], {}, 8.4, fig07=[P1, QP, QP])
+    route = K.Record("route", [], {}, 6.6, order=K.regime_string(np.array([P1, QP, CH])))
+    better = K.Record("better", [], {}, 8.4, order=K.regime_string(np.array([P1, QP, QP])))
+    assert K.route_in(route.order) and not K.route_in(better.order)
+    assert K.requirement_text("route", paper) == (
+        "Fig. 7 (x1 sweep, b = 2, e = 5) goes from period-1 through non-period-1 motion into chaos"
+    )
     assert K.ranked_score(better) > K.ranked_score(route)  # without the requirement: the claims alone
     assert K.ranked_score(route, "route") == 6.6 and K.ranked_score(better, "route") < 0 < K.ranked_score(
         route, "route"

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from geardyn import __version__, io
+from geardyn import __version__, io, provenance
 
 
 def _dataset():
@@ -40,8 +40,13 @@ def test_round_trip_is_identical_and_carries_provenance(tmp_path):
 
 
 def test_config_hash_ignores_key_order_and_sees_values():
-    assert io.config_hash({"a": 1, "b": 2}) == io.config_hash({"b": 2, "a": 1})
-    assert io.config_hash({"a": 1}) != io.config_hash({"a": 1.0001})
+    assert provenance.config_hash({"a": 1, "b": 2}) == provenance.config_hash({"b": 2, "a": 1})
+    assert provenance.config_hash({"a": 1}) != provenance.config_hash({"a": 1.0001})
+
+
+def test_references_name_the_paper_of_the_design_or_the_docs():
+    assert provenance.provenance(title="t", paper="li2013")["references"].startswith("Li H., Niu W.")
+    assert provenance.provenance(title="t")["references"] == "geardyn documentation (docs/)"
 
 
 def test_missing_units_refused(tmp_path):

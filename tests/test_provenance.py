@@ -1,5 +1,5 @@
-"""Where an output was computed: library versions and CPU features in every netCDF file and table,
-printed by ``geardyn verify-archive``; every variable compressed losslessly; the pinned environment."""
+"""Where an output was computed (geardyn.provenance): library versions and CPU features in every netCDF file
+and table, printed by ``geardyn verify-archive``; every variable compressed losslessly; the pinned environment."""
 
 import json
 import re
@@ -15,7 +15,7 @@ import pytest
 import xarray as xr
 from numpy._core import _multiarray_umath as mu
 
-from geardyn import archive, io
+from geardyn import archive, io, provenance
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -47,8 +47,8 @@ def _cpuinfo_field(name):
 
 
 def test_runtime_provenance_names_versions_and_cpu():
-    rt = io.runtime_provenance()
-    assert set(rt) >= set(io.RUNTIME_KEYS)
+    rt = provenance.runtime_provenance()
+    assert set(rt) >= set(provenance.RUNTIME_KEYS)
     # versions as the package metadata has them (an independent source)
     for pkg in ("numpy", "scipy", "numba", "llvmlite", "xarray", "netCDF4", "snakemake"):
         assert rt[f"{pkg.lower()}_version"] == metadata.version(pkg)
@@ -63,6 +63,32 @@ def test_runtime_provenance_names_versions_and_cpu():
     assert set(rt["numpy_cpu_dispatch"].split()) <= set(mu.__cpu_dispatch__) | {"none"}
 
     assert rt["numba_cpu_name"] == (__import__("numba").config.CPU_NAME or llvm.get_host_cpu_name())
+
+
+def test_provenance_has_its_module_and_the_writer_still_offers_it():
+    """The provenance functions live in geardyn.provenance; geardyn.io, which writes them into every file,
+    re-exports the names its callers use (the same objects)."""
+    for name in (
+        "CONVENTIONS",
+        "PROVENANCE_PACKAGES",
+        "RUNTIME_KEYS",
+        "config_hash",
+        "git_commit",
+        "provenance",
+        "provenance_text",
+        "runtime_of",
+        "runtime_provenance",
+    ):
+        assert getattr(io, name) is getattr(provenance, name), name
+    assert provenance.runtime_of({"cpu_model": "x", "env_NUMBA_CPU_NAME": "y", "title": "t"}) == {
+        "cpu_model": "x",
+        "env_NUMBA_CPU_NAME": "y",
+    }
+    text = provenance.provenance_text("# ")
+    assert (
+        text.startswith("# geardyn_version: ")
+        and f"# cpu_model: {provenance.runtime_provenance()['cpu_model']}\n" in text
+    )
 
 
 def test_every_variable_is_compressed_losslessly_with_provenance(tmp_path):

@@ -1,24 +1,24 @@
 """Every checkable statement of a paper against our results (only for designs that name the paper).
 
-The statements and the numbers in them are data, in the paper's module of :mod:`geardyn.papers`; this
-module holds the verdict rules and applies them.  A paper states its claims in one of two forms:
+The statements and the numbers in them are data, in the paper's module of :mod:`geardyn.papers` (its
+``CLAIMS``, one mapping per statement: id, figure, statement, the paper's value and the rule that checks
+it); this module holds the verdict rules and applies them, in the order the paper module lists the claims.
+Two families of rules:
 
-* about the regimes of a KHV drive (the module's ``SEQUENCE``, ``FIG08_POINTS``, ... and ``CLAIM_RUNS``),
-  evaluated on labelled sweeps by :func:`evaluate` (below);
-* as a tuple of plain mappings, the module's ``CLAIMS``, each naming one of our quantities, the paper's
-  value, a rule (``DATA_RULES``) and a tolerance, evaluated by :func:`data_claims` on a model family's
-  products (a plus planetary set's: :mod:`geardyn.plus.claims`).
+* about the regimes of a KHV drive (:data:`SWEEP_RULES`), evaluated by :func:`evaluate` on labelled
+  sweeps (:class:`Track`) and the drive's products, each read by the name the claim gives;
+* comparisons of one of our numbers with the paper's (:data:`DATA_RULES`), evaluated by
+  :func:`data_claims` on a model family's products (a plus planetary set's: :mod:`geardyn.plus.claims`).
 
 Each claim gives the paper's value, ours, a verdict (``agree`` / ``borderline`` / ``disagree`` /
-``not comparable``)
-and the reason.  Inputs are the pipeline's products: for a KHV drive the closed graph (M, N), the stiffness
-table (k along M-N), the sweep cubes with their motion labels (the labeller, :mod:`geardyn.label`) and the
+``not comparable``) and the reason.  Inputs are the pipeline's products: for a KHV drive the closed graph,
+the stiffness table, the sweep cubes with their motion labels (the labeller, :mod:`geardyn.label`) and the
 dense point runs (spectra); for a plus set its tables of natural frequencies, stiffness scaling and key
 elements, modal.nc, te.nc, the relief optima and the forced response.
 
 Verdict rules (stated once, applied everywhere):
 
-* a regime on an x1 interval agrees when at least ``RANGE_AGREE`` (80 %) of the sweep points inside
+* a regime on an interval of a line agrees when at least ``RANGE_AGREE`` (80 %) of the sweep points inside
   it carry the paper's label; a single point agrees when the label at the nearest sweep point is the
   paper's;
 * every verdict on a fraction (k of n points or table cells) is three-valued, :func:`fraction_verdict`: when
@@ -27,21 +27,21 @@ Verdict rules (stated once, applied everywhere):
   nor disagree, because another sample of the same interval (a finer grid, another CPU's rounding of a
   chaotic orbit) could fall on either side.  The calibration objective counts a borderline claim as
   half an agreeing one (:func:`credit`), so one point near the threshold moves the score by a half;
-* numbers agree within the paper's printed precision (M, N: 0.001) or the stated tolerance
-  (:func:`within_verdict`: absolute, or relative to the paper's value; every cell of a table must agree);
+* numbers agree within the paper's printed precision or the stated tolerance (:func:`within_verdict`:
+  absolute, or relative to the paper's value; every cell of a table must agree);
 * "not comparable" when our result cannot answer (point diverged or undetermined, data missing, or the
   statement concerns an input of our model).
 
-One function, :func:`evaluate`, applies the rules to labelled 1-D sweeps (:class:`Track`); the
-pipeline's ``claims.md`` (:func:`claims`, from the cubes) and the calibration objective
-(:mod:`geardyn.khv.calibrate`, from a candidate's in-memory labels) both call it.  Claims stated as data
-go through :func:`data_claim`, one claim at a time.
+One function, :func:`evaluate`, applies the sweep rules; the pipeline's ``claims.md`` (:func:`claims`, from
+the cubes) and the calibration objective (:mod:`geardyn.khv.calibrate`, from a candidate's in-memory
+labels) both call it.  The lines a paper's sweep claims read are its ``CLAIM_LINES`` (parameter, values
+held fixed, the cases of a family of lines), of the runs its ``CLAIM_RUNS`` name.  Claims stated with a
+data rule go through :func:`data_claim`, one claim at a time.  The claim record, the fraction rule and the
+claims table are :mod:`geardyn.verdicts` (their names are importable from here too).
 """
 
 from __future__ import annotations
 
-import csv
-import io
 import itertools
 import math
 from collections.abc import Callable, Mapping, Sequence
@@ -56,61 +56,29 @@ import xarray as xr
 from geardyn import classify
 from geardyn.plots.captions import spectral_peaks
 from geardyn.runs.cube import labels_of_cube
+from geardyn.verdicts import BORDERLINE_Z, RANGE_AGREE, Claim, band, fraction_verdict
 
-RANGE_AGREE = 0.8
-#: A fraction within this many binomial standard errors of its threshold is "borderline".
-BORDERLINE_Z = 2.0
-VERDICTS = ("agree", "borderline", "disagree", "not comparable")
+# the claims table and the verdict scale, with the rules that fill them (one import for the callers)
+from geardyn.verdicts import CSV_COLUMNS as CSV_COLUMNS
+from geardyn.verdicts import VERDICTS as VERDICTS
+from geardyn.verdicts import columns as columns
+from geardyn.verdicts import counts as counts
+from geardyn.verdicts import credit as credit
+from geardyn.verdicts import headline as headline
+from geardyn.verdicts import to_csv as to_csv
+from geardyn.verdicts import to_markdown as to_markdown
+
 P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
-_NAMES = {P1: "P1", QP: "QP", CHAOS: "chaos", 5: "P5", 6: "P6"}
-_CODES = {"QP": QP, "chaos": CHAOS}
-
-
-def fraction_verdict(k: int, n: int, threshold: float = RANGE_AGREE, z: float = BORDERLINE_Z) -> str:
-    """``agree`` (k/n clearly >= threshold), ``disagree`` (clearly below) or ``borderline``.
-
-    The one rule for every verdict on a fraction, in ``claims.md`` and in the calibration objective:
-    with ``p = k/n`` and the binomial standard error ``se = sqrt(p (1 - p) / n)``, the verdict is
-    ``borderline`` when ``|p - threshold| <= z * se`` (the threshold lies inside the normal-approximation
-    interval ``p +- z se``, about 95 % for z = 2).  Unanimous fractions (p = 0 or 1) have se = 0 and are
-    never borderline.  ``n`` must be positive (an empty interval is "not comparable" for the caller).
-    """
-    if n <= 0 or not 0 <= k <= n:
-        raise ValueError(f"fraction_verdict needs 0 <= k <= n and n > 0, got k={k}, n={n}")
-    p = k / n
-    se = math.sqrt(p * (1.0 - p) / n)
-    if abs(p - threshold) <= z * se:
-        return "borderline"
-    return "agree" if p >= threshold else "disagree"
-
-
-def credit(verdict: str) -> float:
-    """What a verdict is worth in the calibration score: agree 1, borderline 1/2, otherwise 0."""
-    return {"agree": 1.0, "borderline": 0.5}.get(verdict, 0.0)
+#: The words for labels that are not period-n (:func:`geardyn.classify.short_name`: "QP", "chaos", ...).
+_WORDS = {classify.short_name(c): c for c in classify.LABELS.values()}
 
 
 def code(label: int | str) -> int | tuple[int, ...]:
     """A paper's label (n >= 1, "QP", "chaos" or alternatives "QP|chaos") as label code(s)."""
     if isinstance(label, int):
         return label
-    parts = tuple(_CODES[p] for p in label.split("|"))
+    parts = tuple(_WORDS[p] for p in label.split("|"))
     return parts if len(parts) > 1 else parts[0]
-
-
-CSV_COLUMNS = ("id", "figure", "statement", "paper", "ours", "verdict", "reason")
-
-
-@dataclass(frozen=True)
-class Claim:
-    id: str
-    figure: str
-    statement: str
-    paper: str
-    ours: str
-    verdict: str
-    reason: str
-    #: The tolerance the verdict applied, when the claim states one apart from its reason.
-    tolerance: str = ""
 
 
 @dataclass(frozen=True)
@@ -135,110 +103,31 @@ def track_of_cube(cube: xr.Dataset, case: int = 0) -> Track:
     return Track(cube[par].values, labels_of_cube(cube)[case, 0], lam, sig)
 
 
-def tracks_of_cube(cube: xr.Dataset, x1_values) -> dict[float, Track]:
-    """{x1: Track} for the cases ``x1=...`` of a cube (Figs. 9 and 11)."""
-    return {float(x1): track_of_cube(cube, _case_index(cube, x1)) for x1 in x1_values}
+def case_label(values: Mapping[str, float]) -> str:
+    """The name of a run's case that sets ``values``: ``x1=0.5``."""
+    return ",".join(f"{k}={v:g}" for k, v in values.items())
+
+
+def tracks_of_cube(cube: xr.Dataset, cases: Sequence[float], parameter: str = "x1") -> dict[float, Track]:
+    """{value: Track} for the cases ``<parameter>=<value>`` of a cube (a family of lines)."""
+    names = [str(c) for c in cube["case"].values]
+    return {float(v): track_of_cube(cube, names.index(case_label({parameter: v}))) for v in cases}
+
+
+def lines_of_runs(lines: Mapping[str, Mapping[str, Any]], runs: Mapping[str, Any]) -> dict[str, Any]:
+    """The labelled lines (``lines``: a paper's ``CLAIM_LINES``) of the sweep cubes ``runs`` (by role): a
+    :class:`Track`, or {case value: Track} for a family of lines; the roles ``runs`` lacks are left out."""
+    out: dict[str, Any] = {}
+    for role, spec in lines.items():
+        if runs.get(role) is not None:
+            cube = runs[role]
+            cases = spec.get("cases")
+            out[role] = track_of_cube(cube) if cases is None else tracks_of_cube(cube, cases, spec["case_parameter"])
+    return out
 
 
 def _name(code: int) -> str:
     return classify.short_name(code)
-
-
-def _case_index(cube: xr.Dataset, x1: float) -> int:
-    labels = [str(c) for c in cube["case"].values]
-    want = f"x1={x1:g}"
-    return labels.index(want)
-
-
-def range_claim(
-    cid: str,
-    fig: str,
-    statement: str,
-    values: np.ndarray,
-    labels: np.ndarray,
-    lo: float,
-    hi: float,
-    want: int,
-    open_lo: bool = False,
-) -> Claim:
-    m = (values > lo if open_lo else values >= lo) & (values <= hi)
-    if not m.any():
-        return Claim(
-            cid,
-            fig,
-            statement,
-            f"{_NAMES.get(want, want)} on [{lo}, {hi}]",
-            "no sweep point in range",
-            "not comparable",
-            "the sweep grid has no point inside the interval",
-        )
-    lab = labels[m]
-    hits, n = int(np.sum(lab == want)), int(m.sum())
-    frac = hits / n
-    counts = {int(k): int(v) for k, v in zip(*np.unique(lab, return_counts=True), strict=True)}
-    ours = ", ".join(f"{_name(k)} {v}/{n}" for k, v in sorted(counts.items(), key=lambda kv: -kv[1]))
-    verdict = fraction_verdict(hits, n)
-    reason = (
-        f"{100 * frac:.0f} % ({hits}/{n}) of the sweep points in the interval are {_NAMES.get(want, want)}"
-        f" (agree needs >= {100 * RANGE_AGREE:.0f} %; {_band(hits, n)})"
-    )
-    return Claim(cid, fig, statement, f"{_NAMES.get(want, want)} on [{lo}, {hi}]", ours, verdict, reason)
-
-
-def _band(k: int, n: int) -> str:
-    p = k / n
-    half = BORDERLINE_Z * math.sqrt(p * (1.0 - p) / n)
-    return (
-        f"borderline if {100 * RANGE_AGREE:.0f} % lies in {100 * max(p - half, 0):.1f}-{100 * min(p + half, 1):.1f} %"
-    )
-
-
-def point_claim(
-    cid: str,
-    fig: str,
-    statement: str,
-    values: np.ndarray,
-    labels: np.ndarray,
-    at: float,
-    want: int | tuple[int, ...],
-    track: Track | None = None,
-) -> Claim:
-    j = int(np.argmin(np.abs(values - at)))
-    got = int(labels[j])
-    wants = want if isinstance(want, tuple) else (want,)
-    paper = " or ".join(_NAMES.get(w, str(w)) for w in wants)
-    extra = ""
-    if track is not None and track.lyapunov is not None and track.sigma is not None:
-        lam = float(track.lyapunov[j])
-        sig = float(track.sigma[j])
-        extra = f", lambda = {lam:.2e} +- {sig:.1e}"
-    ours = f"{_name(got)} at {values[j]:.4g}{extra}"
-    if got in (classify.LABELS["undetermined"], classify.LABELS["diverged"]):
-        return Claim(cid, fig, statement, paper, ours, "not comparable", f"our point is {_name(got)}")
-    verdict = "agree" if got in wants else "disagree"
-    return Claim(cid, fig, statement, paper, ours, verdict, f"label at the nearest sweep point ({values[j]:.4g})")
-
-
-def peaks_claim(points: xr.Dataset | None, peaks: tuple[float, ...], x1: float = 0.585, tol: float = 0.02) -> Claim:
-    statement = f"Fig. 8c: five spectral peaks at {', '.join(f'{v:g}' for v in peaks)} x f_mesh for x1 = {x1}"
-    paper = ", ".join(f"{v:g}" for v in peaks)
-    if points is None or f"x1={x1:g}" not in [str(c) for c in points["case"].values]:
-        return Claim("fig08_peaks", "Fig. 8c", statement, paper, "no dense run", "not comparable", "point missing")
-
-    d = points.sel(case=f"x1={x1:g}")
-    if int(d["diverged"]) == 1:
-        return Claim("fig08_peaks", "Fig. 8c", statement, paper, "diverged", "not comparable", "our run diverged")
-    ours = sorted(spectral_peaks(d["frequency"].values, d["amplitude"].values, n=8))
-    matched = [any(abs(p - o) <= tol for o in ours) for p in peaks]
-    verdict = "agree" if all(matched) else "disagree"
-    reason = (
-        f"{sum(matched)}/5 of the paper's peaks have one of our 8 highest peaks within {tol} "
-        "(frequency resolution 0.01). Note: a period-5 motion has lines only at k/5 = 0.2, 0.4, 0.6, 0.8, "
-        "1.0, 1.2; the paper's 0.48 and 0.57 are not of that form, so its own spectrum does not fit its P5 label"
-    )
-    return Claim(
-        "fig08_peaks", "Fig. 8c", statement, paper, ", ".join(f"{v:.3g}" for v in ours) or "none", verdict, reason
-    )
 
 
 def first_non(values: np.ndarray, labels: np.ndarray, want: int) -> float:
@@ -247,250 +136,227 @@ def first_non(values: np.ndarray, labels: np.ndarray, want: int) -> float:
     return float(values[bad[0]]) if bad.size else float("inf")
 
 
-def claims(
-    paper: ModuleType,
-    closed_graph: xr.Dataset,
-    stiffness: xr.Dataset,
-    fig07: xr.Dataset,
-    fig09: xr.Dataset,
-    fig11: xr.Dataset,
-    fig08_points: xr.Dataset | None = None,
-    p1_amplitude: Mapping[str, np.ndarray] | None = None,
-) -> list[Claim]:
-    """The list of claims of ``paper`` (:mod:`geardyn.papers.li2013`) from the pipeline's cubes;
-    ``p1_amplitude`` = {"x1": ..., "ptp": ...} peak-to-peak X_VH of dense runs in the paper's P1 range
-    (optional).  The verdicts are those of :func:`evaluate` on the cubes' labelled sweeps."""
-    return evaluate(
-        paper,
-        track_of_cube(fig07),
-        tracks_of_cube(fig09, paper.CASE_X1),
-        tracks_of_cube(fig11, paper.CASE_X1),
-        closed_graph,
-        stiffness,
-        fig08_points,
-        p1_amplitude,
+def _first(values: np.ndarray, labels: np.ndarray, want: int) -> float:
+    """The smallest parameter value whose label is ``want`` (inf if none)."""
+    return float(values[labels == want].min()) if (labels == want).any() else float("inf")
+
+
+def claims(paper: ModuleType, products: Mapping[str, Any]) -> list[Claim]:
+    """The claims of ``paper`` from the pipeline's products (by the names the claims read: ``closed_graph``,
+    ``stiffness``, ``amplitude`` = {"x1": ..., "ptp": ...} of dense runs, and the roles of the paper's
+    ``CLAIM_RUNS``, sweep cubes and point runs).  The verdicts are those of :func:`evaluate` on the cubes'
+    labelled sweeps."""
+    return evaluate(paper, {**products, **lines_of_runs(paper.CLAIM_LINES, products)})
+
+
+def evaluate(paper: ModuleType, inputs: Mapping[str, Any]) -> list[Claim]:
+    """The claims of ``paper`` (its ``CLAIMS``, in order) from ``inputs``: the one function behind
+    ``claims.md`` and the calibration objective.  A claim's ``line`` is a labelled sweep, a :class:`Track`
+    (or {case value: Track} for a family of lines, ``CLAIM_LINES``); its ``input`` is a product.  A claim
+    whose input is not given is "not comparable" (the list always has the same ids in the same order)."""
+    ids = [s["id"] for s in paper.CLAIMS]
+    if len(set(ids)) != len(ids):
+        raise ValueError(f"claim ids repeat: {sorted({i for i in ids if ids.count(i) > 1})}")
+    return [sweep_claim(spec, inputs, paper.CLAIM_LINES) for spec in paper.CLAIMS]
+
+
+def sweep_claim(spec: Mapping[str, Any], inputs: Mapping[str, Any], lines: Mapping[str, Mapping[str, Any]]) -> Claim:
+    """One claim about a KHV drive's regimes (:data:`SWEEP_RULES`) from ``inputs``."""
+    if spec.get("rule") not in SWEEP_RULES:
+        raise ValueError(f"claim {spec.get('id')!r}: rule {spec.get('rule')!r} (allowed: {sorted(SWEEP_RULES)})")
+    rule, needs_line = SWEEP_RULES[spec["rule"]]
+    role = spec["line"] if needs_line else spec["input"]
+    got = inputs.get(role)
+    if got is not None and needs_line and "case" in spec:
+        got = got.get(float(spec["case"]))
+    if got is None and spec["rule"] != "peaks":  # a dense run missing is the peaks rule's own answer
+        return _missing(spec, "input not given")
+    return rule(spec, got, lines.get(role, {})) if needs_line else rule(spec, got)
+
+
+def _missing(spec: Mapping[str, Any], reason: str, ours: str = "not evaluated") -> Claim:
+    return Claim(spec["id"], spec["figure"], spec["statement"], _paper_text(spec), ours, "not comparable", reason)
+
+
+def _paper_text(spec: Mapping[str, Any]) -> str:
+    """The paper's value as the claims table shows it: stated, or derived from the claim's label and interval."""
+    if "paper" in spec:
+        return spec["paper"]
+    if spec["rule"] == "peaks":
+        return ", ".join(f"{v:g}" for v in spec["peaks"])
+    want = code(spec["label"])
+    if spec["rule"] == "range":
+        return f"{_name(want)} on [{spec['interval'][0]}, {spec['interval'][1]}]"
+    return " or ".join(_name(w) for w in (want if isinstance(want, tuple) else (want,)))
+
+
+def _claim(spec: Mapping[str, Any], ours: str, verdict: str, reason: str) -> Claim:
+    return Claim(spec["id"], spec["figure"], spec["statement"], _paper_text(spec), ours, verdict, reason)
+
+
+def _on_line(spec: Mapping[str, Any], closed_graph: xr.Dataset) -> Claim:
+    """A limit point (x1, x2) of the paper lies on the closed graph's line: our x2 at its x1 within tolerance."""
+    names = [str(p) for p in closed_graph["point"].values]
+    if spec["point"] not in names:
+        return _missing(spec, f"the closed graph has no point {spec['point']}")
+    (x1, x2), tol = spec["at"], spec["tolerance"]
+    cx2 = float(closed_graph["computed_x2"].values[names.index(spec["point"])])
+    res = cx2 - x2
+    return _claim(
+        spec,
+        f"x2 = {cx2:.5f} on G_s = 0 at x1 = {x1}",
+        "agree" if abs(res) <= tol else "disagree",
+        f"residual {res:+.5f} ({spec['precision']}: agree within {tol:g})",
     )
 
 
-def _missing(cid: str, fig: str, statement: str, paper_value: str) -> Claim:
-    return Claim(cid, fig, statement, paper_value, "not evaluated", "not comparable", "input not given")
-
-
-def evaluate(
-    paper: ModuleType,
-    fig07: Track,
-    fig09: Mapping[float, Track],
-    fig11: Mapping[float, Track],
-    closed_graph: xr.Dataset | None = None,
-    stiffness: xr.Dataset | None = None,
-    fig08_points: xr.Dataset | None = None,
-    p1_amplitude: Mapping[str, np.ndarray] | None = None,
-) -> list[Claim]:
-    """The claims of ``paper`` from labelled 1-D sweeps: the one function behind ``claims.md`` and the
-    calibration objective.  ``fig07``: the x1 sweep at the paper's b and e; ``fig09`` / ``fig11``:
-    {x1: Track} of the b and e sweeps at the paper's three x1.  Inputs that are not given make
-    their claims "not comparable" (the list always has the same ids in the same order)."""
-    return [
-        *_fig03_claims(paper, closed_graph),
-        _stiffness_claim(stiffness),
-        *_fig07_claims(paper, fig07, fig08_points, p1_amplitude),
-        *_fig09_claims(paper, fig09),
-        *_fig11_claims(paper, fig11),
-    ]
-
-
-def _fig03_claims(paper: ModuleType, closed_graph: xr.Dataset | None) -> list[Claim]:
-    """Fig. 3: the paper's limit points M and N lie on line 4 of the closed graph."""
-    out: list[Claim] = []
-    tol = paper.POINT_TOLERANCE
-    if closed_graph is None:
-        for pt, (px1, px2) in paper.POINTS.items():
-            out.append(
-                _missing(
-                    f"fig03_{pt}", "Fig. 3", f"limit point {pt} = ({px1}, {px2}) lies on line 4", f"x2 = {px2:.3f}"
-                )
-            )
-    else:
-        for k, pt in enumerate(closed_graph["point"].values):
-            px1 = float(closed_graph["paper_x1"].values[k])
-            px2 = float(closed_graph["paper_x2"].values[k])
-            cx2 = float(closed_graph["computed_x2"].values[k])
-            res = cx2 - px2
-            out.append(
-                Claim(
-                    f"fig03_{pt}",
-                    "Fig. 3",
-                    f"limit point {pt} = ({px1}, {px2}) lies on line 4",
-                    f"x2 = {px2:.3f}",
-                    f"x2 = {cx2:.5f} on G_s = 0 at x1 = {px1}",
-                    "agree" if abs(res) <= tol else "disagree",
-                    f"residual {res:+.5f} (paper prints 3 decimals: agree within {tol:g})",
-                )
-            )
-    return out
-
-
-def _stiffness_claim(stiffness: xr.Dataset | None) -> Claim:
-    """Sec. 4.1: the meshing stiffness becomes small as x1 increases (along M-N)."""
-    if stiffness is None:
-        return _missing("stiffness_falls", "Sec. 4.1", "meshing stiffness becomes small as x1 increases", "falls")
-    km = stiffness["k_mean"].values
-    kc = stiffness["k_c"].values
-    x1s = stiffness["x1"].values
+def _stiffness_falls(spec: Mapping[str, Any], stiffness: xr.Dataset) -> Claim:
+    """The mean mesh stiffness falls at every step of the stiffness table (along the segment)."""
+    km, kc, x1s = stiffness["k_mean"].values, stiffness["k_c"].values, stiffness["x1"].values
     frac_down = float(np.mean(np.diff(km) < 0))
-    return Claim(
-        "stiffness_falls",
-        "Sec. 4.1",
-        "meshing stiffness becomes small as x1 increases",
-        "falls",
+    return _claim(
+        spec,
         f"k_mean {km[0]:.4g} -> {km[-1]:.4g} N/m ({100 * (km[-1] / km[0] - 1):+.1f} %), "
         f"k_C {100 * (kc[-1] / kc[0] - 1):+.1f} %, x1 {x1s[0]:.3f} -> {x1s[-1]:.3f}",
         "agree" if frac_down == 1.0 else "disagree",
-        f"k_mean falls at {100 * frac_down:.0f} % of the {len(km) - 1} steps along M-N",
+        f"k_mean falls at {100 * frac_down:.0f} % of the {len(km) - 1} steps along {spec['along']}",
     )
 
 
-def _fig07_claims(
-    paper: ModuleType,
-    fig07: Track,
-    fig08_points: xr.Dataset | None,
-    p1_amplitude: Mapping[str, np.ndarray] | None,
-) -> list[Claim]:
-    """Fig. 7: the regime sequence along x1 (with the Fig. 8 peaks and the P1 amplitude), then the Fig. 8 points."""
-    out: list[Claim] = []
-    v, lab = fig07.values, fig07.labels
-    seen: dict[int, int] = {}
-    for i, ((lo, hi, label), text) in enumerate(zip(paper.SEQUENCE, paper.SEQUENCE_TEXT, strict=True)):
-        want = code(label)
-        seen[want] = seen.get(want, 0) + 1
-        cid = {1: "fig07_p1", QP: "fig07_qp", 5: "fig07_p5", 6: "fig07_p6"}.get(want, f"fig07_chaos{seen[want]}")
-        open_lo = i > 0 and want == CHAOS
-        out.append(range_claim(cid, "Fig. 7", text, v, lab, lo, hi, want, open_lo=open_lo))
-        if want == 5:
-            out.append(peaks_claim(fig08_points, paper.PEAKS_0585))
-        if i == 0:
-            out.append(_amplitude_claim(p1_amplitude))
-    for fig, x1, label in paper.FIG08_POINTS:
-        want = code(label)
-        out.append(point_claim(f"fig{fig}", f"Fig. {fig}", f"x1 = {x1}: {_NAMES[want]}", v, lab, x1, want, fig07))
-    return out
-
-
-def _fig09_claims(paper: ModuleType, fig09: Mapping[float, Track]) -> list[Claim]:
-    """Fig. 9 (backlash b): the Fig. 10 points and the route from P1 into chaos at each x1."""
-    out: list[Claim] = []
-    b_at = paper.FIG10_B
-    for fig, x1, label in paper.FIG10_LABELS:
-        want = code(label)
-        t = fig09[float(x1)]
-        out.append(
-            point_claim(
-                f"fig09_b{b_at:g}_x1_{x1}",
-                f"Fig. {fig}",
-                f"b = {b_at:g}, x1 = {x1}: {_NAMES[want]}",
-                t.values,
-                t.labels,
-                b_at,
-                want,
-                t,
-            )
-        )
-    ok, parts = [], []
-    for x1 in paper.CASE_X1:
-        t = fig09[float(x1)]
-        vb, lb = t.values, t.labels
-        first_chaos = vb[lb == CHAOS].min() if (lb == CHAOS).any() else np.inf
-        last_p1 = vb[lb == P1].max() if (lb == P1).any() else -np.inf
-        starts_p1 = lb[0] == P1
-        ok.append(bool(starts_p1 and np.isfinite(first_chaos)))
-        parts.append(f"x1={x1}: starts {_name(lb[0])}, first chaos at b = {first_chaos:.3g}, last P1 at {last_p1:.3g}")
-    out.append(
-        Claim(
-            "fig09_route",
-            "Fig. 9",
-            "the response turns from P1 into chaos as b increases (each x1)",
-            "P1 at small b, chaos at larger b",
-            "; ".join(parts),
-            "agree" if all(ok) else "disagree",
-            f"{sum(ok)}/{len(ok)} cases start P1 (b = 0) and reach chaos somewhere in the sweep",
-        )
-    )
-    return out
-
-
-def _fig11_claims(paper: ModuleType, fig11: Mapping[float, Track]) -> list[Claim]:
-    """Fig. 11 (TE amplitude e): the Fig. 12 points, the route P1 -> QP -> chaos and the narrowing P1 range."""
-    out: list[Claim] = []
-    e_at = paper.FIG12_E
-    for fig, x1, label in paper.FIG12_LABELS:
-        want = code(label)
-        t = fig11[float(x1)]
-        text = _NAMES[want] if want == P1 else "quasi-periodic or chaotic"
-        out.append(
-            point_claim(
-                f"fig11_e{e_at:g}_x1_{x1}",
-                f"Fig. {fig}",
-                f"e = {e_at:g}, x1 = {x1}: {text}",
-                t.values,
-                t.labels,
-                e_at,
-                want,
-                t,
-            )
-        )
-    ok, parts, sync = [], [], []
-    for x1 in paper.CASE_X1:
-        t = fig11[float(x1)]
-        ve, le = t.values, t.labels
-        end_p1 = first_non(ve, le, P1)
-        sync.append(end_p1)
-        first_qp = ve[le == QP].min() if (le == QP).any() else np.inf
-        first_ch = ve[le == CHAOS].min() if (le == CHAOS).any() else np.inf
-        ok.append(bool(le[0] == P1 and np.isfinite(first_ch) and first_qp <= first_ch))
-        parts.append(f"x1={x1}: leaves P1 at e = {end_p1:.3g}, first QP {first_qp:.3g}, first chaos {first_ch:.3g}")
-    out.append(
-        Claim(
-            "fig11_route",
-            "Fig. 11",
-            "as e grows the response goes P1 -> quasi-periodic -> chaos",
-            "P1, then QP, then chaos",
-            "; ".join(parts),
-            "agree" if all(ok) else "disagree",
-            f"{sum(ok)}/{len(ok)} cases show P1 first, then QP no later than the first chaos",
-        )
-    )
-    narrower = all(a > b for a, b in itertools.pairwise(sync))
-    out.append(
-        Claim(
-            "fig11_sync_range",
-            "Fig. 11",
-            "the range of synchronous motion narrows as x1 increases",
-            "narrower for larger x1",
-            "leaves P1 (from e = 0) at e = "
-            + ", ".join(f"{s:.3g} (x1={x})" for s, x in zip(sync, paper.CASE_X1, strict=True)),
-            "agree" if narrower else "disagree",
-            "first e where the label leaves P1, compared across the paper's three x1 (inf: P1 throughout)",
-        )
-    )
-    return out
-
-
-def _amplitude_claim(p1_amplitude: Mapping[str, np.ndarray] | None) -> Claim:
-    """Fig. 7: in the P1 range the amplitude falls as x1 grows (dense runs' peak-to-peak X_VH)."""
-    statement = "in the P1 range the amplitude decreases as x1 increases"
-    if p1_amplitude is None or len(p1_amplitude["x1"]) <= 2:
-        return _missing("fig07_amplitude", "Fig. 7", statement, "decreasing")
-    xa, ptp = np.asarray(p1_amplitude["x1"]), np.asarray(p1_amplitude["ptp"])
+def _amplitude_falls(spec: Mapping[str, Any], amplitude: Mapping[str, np.ndarray]) -> Claim:
+    """The peak-to-peak amplitude of dense runs falls as x1 grows (verdict on the fraction of falling steps)."""
+    if len(amplitude["x1"]) <= 2:
+        return _missing(spec, "input not given")
+    xa, ptp = np.asarray(amplitude["x1"]), np.asarray(amplitude["ptp"])
     falls, steps = int(np.sum(np.diff(ptp) < 0)), len(ptp) - 1
-    return Claim(
-        "fig07_amplitude",
-        "Fig. 7",
-        statement,
-        "decreasing",
+    return _claim(
+        spec,
         f"peak-to-peak X_VH {ptp[0]:.3g} -> {ptp[-1]:.3g} over x1 {xa[0]:.3f}-{xa[-1]:.3f}",
         fraction_verdict(falls, steps),
-        f"falls at {100 * falls / steps:.0f} % of {steps} steps (dense runs, recorded periods; {_band(falls, steps)})",
+        f"falls at {100 * falls / steps:.0f} % of {steps} steps (dense runs, recorded periods; {band(falls, steps)})",
     )
+
+
+def _peaks(spec: Mapping[str, Any], points: xr.Dataset | None) -> Claim:
+    """Each of the paper's spectral peaks has one of our ``highest`` peaks within ``tolerance`` (dense run ``case``)."""
+    case = case_label(spec["case"])
+    if points is None or case not in [str(c) for c in points["case"].values]:
+        return _missing(spec, "point missing", "no dense run")
+    d = points.sel(case=case)
+    if int(d["diverged"]) == 1:
+        return _missing(spec, "our run diverged", "diverged")
+    peaks, tol = spec["peaks"], spec["tolerance"]
+    ours = sorted(spectral_peaks(d["frequency"].values, d["amplitude"].values, n=spec["highest"]))
+    matched = [any(abs(p - o) <= tol for o in ours) for p in peaks]
+    reason = (
+        f"{sum(matched)}/{len(peaks)} of the paper's peaks have one of our {spec['highest']} highest peaks "
+        f"within {tol} {spec.get('note', '')}".rstrip()
+    )
+    return _claim(spec, ", ".join(f"{v:.3g}" for v in ours) or "none", "agree" if all(matched) else "disagree", reason)
+
+
+def _range(spec: Mapping[str, Any], t: Track, line: Mapping[str, Any]) -> Claim:
+    """At least RANGE_AGREE of the line's points on ``interval`` carry ``label`` (lower end open: ``open_below``)."""
+    (lo, hi), want = spec["interval"], code(spec["label"])
+    m = (t.values > lo if spec.get("open_below") else t.values >= lo) & (t.values <= hi)
+    if not m.any():
+        return _missing(spec, "the sweep grid has no point inside the interval", "no sweep point in range")
+    lab = t.labels[m]
+    hits, n = int(np.sum(lab == want)), int(m.sum())
+    found = {int(k): int(v) for k, v in zip(*np.unique(lab, return_counts=True), strict=True)}
+    ours = ", ".join(f"{_name(k)} {v}/{n}" for k, v in sorted(found.items(), key=lambda kv: -kv[1]))
+    reason = (
+        f"{100 * hits / n:.0f} % ({hits}/{n}) of the sweep points in the interval are {_name(want)}"
+        f" (agree needs >= {100 * RANGE_AGREE:.0f} %; {band(hits, n)})"
+    )
+    return _claim(spec, ours, fraction_verdict(hits, n), reason)
+
+
+def _label_at(spec: Mapping[str, Any], t: Track, line: Mapping[str, Any]) -> Claim:
+    """The label at the line's point nearest ``at`` is ``label`` (or one of its alternatives, "QP|chaos")."""
+    j = int(np.argmin(np.abs(t.values - spec["at"])))
+    got, want = int(t.labels[j]), code(spec["label"])
+    extra = ""
+    if t.lyapunov is not None and t.sigma is not None:
+        extra = f", lambda = {float(t.lyapunov[j]):.2e} +- {float(t.sigma[j]):.1e}"
+    ours = f"{_name(got)} at {t.values[j]:.4g}{extra}"
+    if got in (classify.LABELS["undetermined"], classify.LABELS["diverged"]):
+        return _claim(spec, ours, "not comparable", f"our point is {_name(got)}")
+    verdict = "agree" if got in (want if isinstance(want, tuple) else (want,)) else "disagree"
+    return _claim(spec, ours, verdict, f"label at the nearest sweep point ({t.values[j]:.4g})")
+
+
+def _route(spec: Mapping[str, Any], family: Mapping[float, Track], line: Mapping[str, Any]) -> Claim:
+    """Along every line of a family the label starts as ``start`` and reaches ``end``; with ``via``, that label
+    comes no later than the first ``end``."""
+    par, cpar = line["parameter"], line["case_parameter"]
+    start, end = code(spec["start"]), code(spec["end"])
+    via = code(spec["via"]) if "via" in spec else None
+    ok, parts = [], []
+    for x in line["cases"]:
+        t = family[float(x)]
+        first_end = _first(t.values, t.labels, end)
+        if via is None:
+            last = t.values[t.labels == start].max() if (t.labels == start).any() else -np.inf
+            ok.append(bool(t.labels[0] == start and np.isfinite(first_end)))
+            parts.append(
+                f"{cpar}={x}: starts {_name(t.labels[0])}, first {_name(end)} at {par} = {first_end:.3g}, "
+                f"last {_name(start)} at {last:.3g}"
+            )
+        else:
+            leave, first_via = first_non(t.values, t.labels, start), _first(t.values, t.labels, via)
+            ok.append(bool(t.labels[0] == start and np.isfinite(first_end) and first_via <= first_end))
+            parts.append(
+                f"{cpar}={x}: leaves {_name(start)} at {par} = {leave:.3g}, first {_name(via)} {first_via:.3g}, "
+                f"first {_name(end)} {first_end:.3g}"
+            )
+    if via is None:
+        v0 = family[float(line["cases"][0])].values[0]
+        reason = f"cases start {_name(start)} ({par} = {v0:g}) and reach {_name(end)} somewhere in the sweep"
+    else:
+        reason = f"cases show {_name(start)} first, then {_name(via)} no later than the first {_name(end)}"
+    return _claim(spec, "; ".join(parts), "agree" if all(ok) else "disagree", f"{sum(ok)}/{len(ok)} {reason}")
+
+
+_COUNT = {2: "two", 3: "three", 4: "four", 5: "five"}
+
+
+def _narrows(spec: Mapping[str, Any], family: Mapping[float, Track], line: Mapping[str, Any]) -> Claim:
+    """The first value where the label leaves ``label`` falls strictly from each line of a family to the next."""
+    par, cpar, cases, want = line["parameter"], line["case_parameter"], line["cases"], code(spec["label"])
+    ends = [first_non(family[float(x)].values, family[float(x)].labels, want) for x in cases]
+    v0 = family[float(cases[0])].values[0]
+    return _claim(
+        spec,
+        f"leaves {_name(want)} (from {par} = {v0:g}) at {par} = "
+        + ", ".join(f"{s:.3g} ({cpar}={x})" for s, x in zip(ends, cases, strict=True)),
+        "agree" if all(a > b for a, b in itertools.pairwise(ends)) else "disagree",
+        f"first {par} where the label leaves {_name(want)}, compared across the paper's "
+        f"{_COUNT.get(len(cases), len(cases))} {cpar} (inf: {_name(want)} throughout)",
+    )
+
+
+#: The rules of claims about a KHV drive's regimes: name -> (function, whether the claim reads a ``line``
+#: (a labelled sweep, with ``case`` for one of a family) rather than an ``input`` product).  Keys of a claim
+#: besides id, figure, statement and (displayed as is) paper:
+#: on_line          point, at = (x1, x2), tolerance, precision: the closed graph's x2 at the point's x1;
+#: stiffness_falls  along: k_mean of the stiffness table falls at every step;
+#: amplitude_falls  (input {"x1", "ptp"}): peak-to-peak amplitude falls, verdict on the fraction of steps;
+#: peaks            case, peaks, tolerance, highest, note: spectral peaks of a dense point run;
+#: range            interval, label, open_below: RANGE_AGREE of the points on the interval carry the label;
+#: label_at         at, label: the label at the nearest point;
+#: route            start, end, via: every line of a family starts ``start``, reaches ``end`` (via ``via``);
+#: narrows          label: where each line of a family leaves ``label`` comes earlier from case to case.
+SWEEP_RULES: dict[str, tuple[Callable[..., Claim], bool]] = {
+    "on_line": (_on_line, False),
+    "stiffness_falls": (_stiffness_falls, False),
+    "amplitude_falls": (_amplitude_falls, False),
+    "peaks": (_peaks, False),
+    "range": (_range, True),
+    "label_at": (_label_at, True),
+    "route": (_route, True),
+    "narrows": (_narrows, True),
+}
 
 
 # --- Claims stated as data ---------------------------------------------------------------------------------
@@ -518,23 +384,7 @@ def _amplitude_claim(p1_amplitude: Mapping[str, np.ndarray] | None) -> Claim:
 DATA_RULES = ("within", "at_most", "equal", "matches", "all", "unchecked")
 #: Keys a claim stated as data may have.
 DATA_KEYS = frozenset(
-    {
-        "id",
-        "figure",
-        "statement",
-        "quantity",
-        "args",
-        "rule",
-        "paper",
-        "paper_of",
-        "tolerance",
-        "relative",
-        "bound",
-        "unit",
-        "paper_text",
-        "why",
-        "note",
-    }
+    "id figure statement quantity args rule paper paper_of tolerance relative bound unit paper_text why note".split()
 )
 
 
@@ -664,7 +514,7 @@ def matches_verdict(ours: Any, paper: Any) -> tuple[str, str]:
     hits = [bool(_names(a) & _names(b)) for (_, a), (_, b) in zip(o, p, strict=True)]
     k, n = sum(hits), len(hits)
     miss = ", ".join(label for (label, _), h in zip(o, hits, strict=True) if not h)
-    reason = f"{k}/{n} cells agree ({100 * k / n:.0f} %; agree needs >= {100 * RANGE_AGREE:.0f} %; {_band(k, n)})" + (
+    reason = f"{k}/{n} cells agree ({100 * k / n:.0f} %; agree needs >= {100 * RANGE_AGREE:.0f} %; {band(k, n)})" + (
         f"; differ at {miss}" if miss else ""
     )
     return fraction_verdict(k, n), reason
@@ -726,61 +576,12 @@ def data_claims(specs: Sequence[Mapping[str, Any]], products: Any, quantities: M
     return [data_claim(s, products, quantities) for s in specs]
 
 
-def note(design: str, title: str) -> str:
-    """The paragraph under the claims table's title: which design, how the labels were obtained."""
+def note(design: str, title: str, paper: ModuleType) -> str:
+    """The paragraph under the claims table's title: which design, how the labels were obtained, and the
+    paper's labels compared (its ``CLAIM_LABELS``)."""
     return (
         f"Design `{design}` ({title}). Labels: the labeller's verdicts stored in the sweep cubes (geardyn.label: "
         "each point follows the attractor of the previous one; period-n certified by shooting and its Floquet "
-        "multipliers, QP by the torus test, chaos by a positive exponent the torus test confirms). Paper labels "
-        "compared: P1 = synchronous, QP, P5, P6, chaos."
+        f"multipliers, QP by the torus test, chaos by a positive exponent the torus test confirms). Paper labels "
+        f"compared: {paper.CLAIM_LABELS}."
     )
-
-
-def counts(rows: list[Claim]) -> dict[str, int]:
-    c = dict.fromkeys(VERDICTS, 0)
-    for r in rows:
-        c[r.verdict] += 1
-    return c
-
-
-def headline(rows: list[Claim]) -> str:
-    """``11 agree, 1 borderline, 14 disagree, 0 not comparable``."""
-    c = counts(rows)
-    return ", ".join(f"{c[v]} {v}" for v in VERDICTS)
-
-
-def columns(rows: list[Claim]) -> tuple[str, ...]:
-    """The table's columns: :data:`CSV_COLUMNS`, with ``tolerance`` after ``ours`` when a row states one."""
-    if not any(r.tolerance for r in rows):
-        return CSV_COLUMNS
-    i = CSV_COLUMNS.index("ours") + 1
-    return (*CSV_COLUMNS[:i], "tolerance", *CSV_COLUMNS[i:])
-
-
-def to_csv(rows: list[Claim]) -> str:
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    cols = columns(rows)
-    w.writerow(cols)
-    for r in rows:
-        w.writerow([getattr(r, c) for c in cols])
-    return buf.getvalue()
-
-
-def to_markdown(rows: list[Claim], design: str, note: str = "", paper: str = "the paper") -> str:
-    """The claims table in Markdown: title (``paper``: the paper's short name), headline, ``note``, one row each."""
-    cols = columns(rows)
-    lines = [
-        f"# Claims of {paper} checked: design `{design}`",
-        "",
-        f"**{headline(rows)}** (of {len(rows)} claims; borderline: a fraction within "
-        f"{BORDERLINE_Z:g} binomial standard errors of its threshold).",
-        "",
-    ]
-    if note:
-        lines += [note, ""]
-    lines += ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
-    for r in rows:
-        cells = [f"**{r.verdict}**" if c == "verdict" else getattr(r, c) for c in cols]
-        lines.append("| " + " | ".join(str(x).replace("|", "/") for x in cells) + " |")
-    return "\n".join(lines) + "\n"

@@ -3,253 +3,40 @@
 Every dataset written by the pipeline goes through :func:`write_netcdf`, so every file
 says where it came from (package version, git commit, config hash, model variant) and on what
 (:func:`runtime_provenance`: Python and library versions, CPU model and its SIMD features, the
-instruction sets numpy dispatches to and the CPU numba compiles for), and no reader ever sees a
-half-written file (write to a temporary name, then rename).  Every variable is stored compressed,
-losslessly (zlib with the shuffle filter, level :data:`ZLIB_LEVEL`, chosen by measurement in
-``docs/operations.md``).  Tables written by :func:`write_text` carry the same runtime provenance:
-Markdown as a closing HTML comment, CSV and JSON in a ``<name>.provenance.json`` beside them.
+instruction sets numpy dispatches to and the CPU numba compiles for; both from :mod:`geardyn.provenance`,
+re-exported here), and no reader ever sees a half-written file (write to a temporary name, then rename).
+Every variable is stored compressed, losslessly (zlib with the shuffle filter, level :data:`ZLIB_LEVEL`,
+chosen by measurement in ``docs/operations.md``).  Tables written by :func:`write_text` carry the same
+runtime provenance: Markdown as a closing HTML comment, CSV and JSON in a ``<name>.provenance.json`` beside
+them.
 """
 
 from __future__ import annotations
 
-import datetime as _dt
-import functools
-import hashlib
 import json
 import os
-import platform
-import re
-import subprocess
 import sys
 import tempfile
 from collections.abc import Mapping
-from importlib import metadata
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import xarray as xr
 
-from geardyn import __version__, libm
-from geardyn.papers import paper_of
+from geardyn import __version__
 
-try:
-    from numpy._core import _multiarray_umath as mu
-except ImportError:  # numpy < 2
-    from numpy.core import _multiarray_umath as mu  # type: ignore[no-redef]
+# where and how an output was made (geardyn.provenance); the names "as" themselves are re-exported for the
+# writers' callers
+from geardyn.provenance import CONVENTIONS as CONVENTIONS
+from geardyn.provenance import PROVENANCE_PACKAGES as PROVENANCE_PACKAGES
+from geardyn.provenance import RUNTIME_KEYS as RUNTIME_KEYS
+from geardyn.provenance import config_hash as config_hash
+from geardyn.provenance import git_commit, provenance_text, runtime_provenance
+from geardyn.provenance import provenance as provenance
+from geardyn.provenance import runtime_of as runtime_of
 
-CONVENTIONS = "CF-1.10"
 #: zlib level of every netCDF variable (with the shuffle filter); measured in docs/operations.md.
 ZLIB_LEVEL = 1
-#: The packages whose versions every output records (distribution names).
-PROVENANCE_PACKAGES = ("numpy", "scipy", "numba", "llvmlite", "xarray", "netCDF4", "snakemake")
-#: /proc/cpuinfo flags that name SIMD instruction sets (the ones that can change floating-point results).
-_SIMD_FLAG = re.compile(
-    r"^(mmx|sse\w*|ssse3|avx\w*|fma\w*|f16c|amx\w*|\w*vnni\w*|vaes|vpclmulqdq|gfni|neon|asimd\w*|sve\w*)$"
-)
-
-
-def _package_version(name: str) -> str:
-    try:
-        return metadata.version(name)
-    except metadata.PackageNotFoundError:
-        return "not installed"
-
-
-def _cpuinfo() -> tuple[str, list[str]]:
-    """CPU model name and its SIMD flags from /proc/cpuinfo (Linux), else from :mod:`platform`."""
-    model, flags = platform.processor() or platform.machine() or "unknown", []
-    try:
-        text = Path("/proc/cpuinfo").read_text(encoding="utf-8", errors="replace")
-    except OSError:
-        return model, flags
-    for line in text.splitlines():
-        key, _, value = line.partition(":")
-        key = key.strip()
-        if key in ("model name", "Model", "cpu model") and model in (
-            "unknown",
-            platform.machine(),
-            platform.processor(),
-        ):
-            model = value.strip()
-        elif key in ("flags", "Features") and not flags:
-            flags = sorted(f for f in value.split() if _SIMD_FLAG.match(f))
-    return model, flags
-
-
-def _numpy_cpu() -> dict[str, str]:
-    """The instruction sets numpy was built for (baseline) and dispatches to at run time on this CPU
-    (after ``NPY_DISABLE_CPU_FEATURES``), and its BLAS/LAPACK."""
-    found = getattr(mu, "__cpu_features__", {})
-    dispatch = [f for f in getattr(mu, "__cpu_dispatch__", []) if found.get(f)]
-    out = {
-        "numpy_cpu_baseline": " ".join(getattr(mu, "__cpu_baseline__", [])),
-        "numpy_cpu_dispatch": " ".join(dispatch) or "none",
-    }
-    out["numpy_blas_core"] = libm.blas_core("numpy")
-    out["scipy_blas_core"] = libm.blas_core("scipy")
-    try:
-        cfg = np.show_config(mode="dicts")["Build Dependencies"]
-        out["numpy_blas"] = " ".join(str(cfg["blas"].get(k, "")) for k in ("name", "version")).strip()
-        out["numpy_lapack"] = " ".join(str(cfg["lapack"].get(k, "")) for k in ("name", "version")).strip()
-    except Exception:
-        out["numpy_blas"] = out["numpy_lapack"] = "unknown"
-    return out
-
-
-def _numba_cpu() -> dict[str, str]:
-    """The CPU name and features numba compiles for: ``NUMBA_CPU_NAME`` / ``NUMBA_CPU_FEATURES`` when set,
-    else the host's (llvmlite)."""
-    try:
-        import llvmlite.binding as llvm  # noqa: PLC0415 - the JIT only when provenance is asked for
-        import numba  # noqa: PLC0415 - likewise
-    except ImportError:
-        return {"numba_cpu_name": "not installed", "numba_cpu_features": ""}
-    name = numba.config.CPU_NAME or llvm.get_host_cpu_name()
-    if numba.config.CPU_FEATURES is not None:
-        feats = numba.config.CPU_FEATURES
-    elif numba.config.CPU_NAME:
-        feats = "(those of the named CPU)"
-    else:
-        feats = llvm.get_host_cpu_features().flatten()
-    simd = sorted(f[1:] for f in feats.split(",") if f.startswith("+") and _SIMD_FLAG.match(f[1:].replace(".", "_")))
-    return {"numba_cpu_name": name, "numba_cpu_features": " ".join(simd) if simd else feats}
-
-
-#: The keys of :func:`runtime_provenance` (besides ``env_<VARIABLE>`` for the overrides that are set).
-RUNTIME_KEYS = (
-    "python_version",
-    "python_implementation",
-    *(f"{p.lower()}_version" for p in PROVENANCE_PACKAGES),
-    "platform",
-    "cpu_model",
-    "cpu_simd_flags",
-    "numpy_cpu_baseline",
-    "numpy_cpu_dispatch",
-    "numpy_blas",
-    "numpy_lapack",
-    "numpy_blas_core",
-    "scipy_blas_core",
-    "numba_cpu_name",
-    "numba_cpu_features",
-    "libm_variant",
-)
-
-
-def runtime_of(attrs: Mapping[str, Any]) -> dict[str, str]:
-    """The runtime provenance recorded in a file's global attributes (:data:`RUNTIME_KEYS`, ``env_*``)."""
-    return {k: str(v) for k, v in attrs.items() if k in RUNTIME_KEYS or k.startswith("env_")}
-
-
-@functools.lru_cache(maxsize=1)
-def runtime_provenance() -> dict[str, str]:
-    """Where an output was computed: Python and library versions, CPU and the instruction sets in use.
-
-    Keys: ``python_version``, ``<package>_version`` for :data:`PROVENANCE_PACKAGES`, ``platform``,
-    ``cpu_model``, ``cpu_simd_flags`` (SIMD flags of /proc/cpuinfo), ``numpy_cpu_baseline`` /
-    ``numpy_cpu_dispatch`` (numpy's compiled-in and run-time-dispatched instruction sets, after
-    ``NPY_DISABLE_CPU_FEATURES``), ``numpy_blas`` / ``numpy_lapack``, ``numpy_blas_core`` /
-    ``scipy_blas_core`` (the OpenBLAS kernels in use, :data:`geardyn.BLAS_CORETYPE`), ``numba_cpu_name`` /
-    ``numba_cpu_features`` (the target numba compiles for), ``libm_variant`` (the C library's math build
-    in use, :func:`geardyn.libm.variant`) and the numba environment overrides.
-    Computed once per process (the values cannot change while it runs).
-    """
-    out = {"python_version": platform.python_version(), "python_implementation": sys.implementation.name}
-    for pkg in PROVENANCE_PACKAGES:
-        out[f"{pkg.lower()}_version"] = _package_version(pkg)
-    model, flags = _cpuinfo()
-    out.update({"platform": platform.platform(), "cpu_model": model, "cpu_simd_flags": " ".join(flags) or "unknown"})
-    out.update(_numpy_cpu())
-    out.update(_numba_cpu())
-    out["libm_variant"] = libm.variant()
-    for var in (
-        "NPY_DISABLE_CPU_FEATURES",
-        "NUMBA_CPU_NAME",
-        "NUMBA_CPU_FEATURES",
-        "NUMBA_FASTMATH",
-        "OPENBLAS_CORETYPE",
-        "OPENBLAS_L2_SIZE",
-    ):
-        if os.environ.get(var):
-            out[f"env_{var}"] = os.environ[var]
-    assert set(out) - {k for k in out if k.startswith("env_")} == set(RUNTIME_KEYS)
-    return out
-
-
-def provenance_text(prefix: str = "") -> str:
-    """:func:`runtime_provenance` (with geardyn version and git commit) as ``key: value`` lines."""
-    info = {"geardyn_version": __version__, "git_commit": git_commit(), **runtime_provenance()}
-    return "".join(f"{prefix}{k}: {v}\n" for k, v in info.items())
-
-
-def config_hash(config: Mapping[str, Any]) -> str:
-    """Short sha256 of a configuration mapping, independent of key order."""
-    text = json.dumps(config, sort_keys=True, default=_json_default)
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
-
-
-def _json_default(obj: Any) -> Any:
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    return str(obj)
-
-
-def git_commit(repo: str | os.PathLike[str] | None = None) -> str:
-    """The current git commit of the source tree (with ``-dirty``), or ``unknown`` outside git."""
-    where = Path(repo) if repo is not None else Path(__file__).resolve().parent
-    try:
-        out = subprocess.run(
-            ["git", "describe", "--always", "--dirty", "--abbrev=12"],
-            cwd=where,
-            capture_output=True,
-            text=True,
-            timeout=10,
-            check=True,
-        )
-        return out.stdout.strip() or "unknown"
-    except (OSError, subprocess.SubprocessError):
-        return "unknown"
-
-
-def provenance(
-    *,
-    title: str,
-    paper: str | None = None,
-    config: Mapping[str, Any] | None = None,
-    model_variant: str | None = None,
-    extra: Mapping[str, Any] | None = None,
-) -> dict[str, str]:
-    """Global attributes for a dataset: CF basics plus where and how it was made."""
-    now = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
-    attrs: dict[str, str] = {
-        "Conventions": CONVENTIONS,
-        "title": title,
-        "institution": "geardyn project",
-        "source": f"geardyn {__version__}",
-        "history": f"{now} created by geardyn {__version__}",
-        "references": _reference(paper),
-        "geardyn_version": __version__,
-        "git_commit": git_commit(),
-        **runtime_provenance(),
-    }
-    if paper:
-        attrs["paper"] = paper
-    if config is not None:
-        attrs["config_hash"] = config_hash(config)
-        attrs["config_json"] = json.dumps(config, sort_keys=True, default=_json_default)
-    if model_variant is not None:
-        attrs["model_variant"] = model_variant
-    for key, value in (extra or {}).items():
-        attrs[key] = value if isinstance(value, str) else json.dumps(value, default=_json_default)
-    return attrs
-
-
-def _reference(paper: str | None) -> str:
-    """The paper's full reference for a design that names one, else the project's documentation."""
-    mod = paper_of(paper)
-    return mod.REFERENCE if mod is not None else "geardyn documentation (docs/)"
 
 
 def missing_cf_attributes(ds: xr.Dataset) -> list[str]:

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import copy
 import difflib
-import math
 import re
 from collections.abc import Mapping
 from pathlib import Path
@@ -23,6 +22,7 @@ from geardyn.khv import design as khv_design
 from geardyn.khv.design import is_fraction, resolve_fractions
 from geardyn.papers import paper_of
 from geardyn.plus import design as plus_design
+from geardyn.solve.precision import POINCARE_ERROR, measured_poincare_error
 
 
 def read_config_file(path: str | Path) -> dict[str, Any]:
@@ -87,7 +87,7 @@ MAX_NAME_LENGTH = 64
 #: wildcard.
 NAME_PATTERN = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_-]*")
 #: Sections whose keys are names.
-NAMED_SECTIONS = ("designs", "presets", "sweeps", "points", "calibration", "maps", "responses")
+NAMED_SECTIONS = ("designs", "presets", "sweeps", "points", "calibration", "maps", "responses", "curves")
 #: Blocks a preset may hold, per section that may name one.
 PRESET_KEYS = {
     "sweeps": ("integration", "classifier", "start_from", "coexistence"),
@@ -96,30 +96,20 @@ PRESET_KEYS = {
     "responses": ("integration", "classifier"),
 }
 
-#: Measured Poincare error of the event RK4 integrator (units of b_c) per steps_per_period: the
-#: work-precision study (``python -m benchmarks.bench``; docs/model.md Sec. 6). A classifier's
-#: ``error_floor`` that a run does not set is taken from here at the run's steps per period,
-#: interpolated log-log between the entries; step counts outside the table need an explicit one.
-POINCARE_ERROR: dict[int, float] = {32: 4.1e-3, 64: 3.0e-4, 128: 1.9e-5, 256: 1.2e-6, 512: 7.5e-8, 1024: 4.7e-9}
-
 
 def poincare_error(steps: int, where: str) -> float:
-    """The measured Poincare error at ``steps`` steps per period (:data:`POINCARE_ERROR`): the table's
-    value at an entry, log-log interpolation between entries; outside the table a :class:`ConfigError`
-    line (``where`` names the key that gave ``steps``)."""
-    if steps in POINCARE_ERROR:
-        return POINCARE_ERROR[steps]
-    known = sorted(POINCARE_ERROR)
-    if not known[0] < steps < known[-1]:
+    """The measured Poincare error at ``steps`` steps per period (:data:`POINCARE_ERROR`, a fact of the
+    solver: :mod:`geardyn.solve.precision`): the table's value at an entry, log-log interpolation between
+    entries; outside the table a :class:`ConfigError` line (``where`` names the key that gave ``steps``)."""
+    error = measured_poincare_error(steps)
+    if error is None:
+        known = sorted(POINCARE_ERROR)
         raise ConfigError(
             f"{where} = {steps} is not allowed without classifier.error_floor: integer >= "
             f"{known[0]} and <= {known[-1]} (the step counts of the measured Poincare error, "
             "docs/model.md Sec. 6); set classifier.error_floor for other step counts"
         )
-    hi = next(k for k in known if k > steps)
-    lo = known[known.index(hi) - 1]
-    t = (math.log(steps) - math.log(lo)) / (math.log(hi) - math.log(lo))
-    return math.exp((1 - t) * math.log(POINCARE_ERROR[lo]) + t * math.log(POINCARE_ERROR[hi]))
+    return error
 
 
 def fill_config(config: dict[str, Any], where: str = "config") -> dict[str, Any]:
@@ -203,21 +193,23 @@ def _resolve_presets(config: dict[str, Any], presets: Mapping[str, Any], where: 
 
 
 def _check_maps(config: Mapping[str, Any], where: str) -> None:
-    """Degenerate maps, whatever designs they select: both axes the same parameter, an axis whose ends
-    are the same value (the schema refuses num < 2)."""
-    for name, spec in config["maps"].items():
+    """Degenerate maps and curves studies, whatever designs they select: both axes the same parameter, an axis
+    whose ends are the same value (the schema refuses num < 2); a curves study named like a map."""
+    for section, name, spec in [(s, n, e) for s in ("maps", "curves") for n, e in config.get(s, {}).items()]:
         x, y = spec["x"], spec["y"]
         if x["parameter"] == y["parameter"]:
             raise ConfigError(
-                f"{where}: maps.{name}.y.parameter = {y['parameter']!r} is not allowed: a parameter "
+                f"{where}: {section}.{name}.y.parameter = {y['parameter']!r} is not allowed: a parameter "
                 f"other than x.parameter ({x['parameter']!r}); a map spans two parameters"
             )
         for ax, a in (("x", x), ("y", y)):
             if a["start"] == a["stop"]:
                 raise ConfigError(
-                    f"{where}: maps.{name}.{ax}.stop = {a['stop']!r} is not allowed: a value "
+                    f"{where}: {section}.{name}.{ax}.stop = {a['stop']!r} is not allowed: a value "
                     f"other than {ax}.start ({a['start']!r}); an axis spans a range"
                 )
+        if section == "curves" and name in config["maps"]:
+            raise ConfigError(f"{where}: curves name {name!r} is not allowed: a name other than the maps' (figures)")
 
 
 def _fill_error_floors(filled: dict[str, Any], designs: Mapping[str, Mapping[str, Any]]) -> None:
@@ -321,7 +313,7 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
             _check_x1(
                 resolve_fractions(x1, _segment(designs[name])), designs[name], f"config: stiffness_table.fig05_x1[{i}]"
             )
-    for section in ("sweeps", "points", "calibration", "maps", "responses"):
+    for section in ("sweeps", "points", "calibration", "maps", "responses", "curves"):
         for name, spec in filled.get(section, {}).items():
             where = f"config: {section}.{name}"
             selector = spec["designs"] if "designs" in spec else [spec["design"]]
@@ -353,13 +345,15 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
                     + ", ".join(repr(d) for d in swept)
                     + f" (the designs of sweep {name})"
                 )
+    # the claims of a paper checked on a KHV drive's runs: designs whose paper names the runs (CLAIM_RUNS)
+    checked = [d for d in khv if getattr(paper_of(designs[d].get("paper")), "CLAIM_RUNS", None)]
     for design_name in filled["claims"]["designs"]:
         where = "config: claims.designs"
-        if design_name not in designs or designs[design_name].get("paper") != "li2013":
+        if design_name not in checked:
             raise ConfigError(
                 f"{where}: design {design_name!r} is not allowed: one of "
-                + (", ".join(repr(d) for d in khv if designs[d].get("paper") == "li2013") or "none")
-                + " (the claims are paper 1's: the design must name paper: li2013)"
+                + (", ".join(repr(d) for d in checked) or "none")
+                + " (the claims are checked on a KHV design that names a paper whose claims read its runs)"
             )
         for section, needed in paper_of(designs[design_name]["paper"]).CLAIM_RUNS.values():
             spec = filled[section].get(needed)
@@ -409,11 +403,11 @@ def _check_overrides(section: str, spec: dict[str, Any], raw: dict[str, Any], wh
         _check_range(spec, where)
         overrides.append(("start", {spec["parameter"]: spec["start"]}))
         overrides.append(("stop", {spec["parameter"]: spec["stop"]}))
-    if section == "maps":
+    if section in ("maps", "curves"):
         for ax in ("x", "y"):
             a = spec[ax]
             _override_node(a["parameter"], f"{where}.{ax}.parameter")
-            _check_range(a, f"{where}.{ax}")
+            _check_range({"num": 2, **a}, f"{where}.{ax}")
             overrides.append((f"{ax}.start", {a["parameter"]: a["start"]}))
             overrides.append((f"{ax}.stop", {a["parameter"]: a["stop"]}))
     if section == "responses":

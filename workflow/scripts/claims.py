@@ -24,14 +24,15 @@ for v in x1:
 # and the calibration scores
 rows = claims.claims(
     paper,
-    io.read_dataset(inp.closed_graph),
-    io.read_dataset(inp.stiffness),
-    *(io.read_dataset(p) for p in (inp.fig07, inp.fig09, inp.fig11)),
-    io.read_dataset(inp.fig08_points),
-    {"x1": x1, "ptp": np.array(ptp)},
+    {
+        "closed_graph": io.read_dataset(inp.closed_graph),
+        "stiffness": io.read_dataset(inp.stiffness),
+        **{role: io.read_dataset(getattr(inp, role)) for role in paper.CLAIM_RUNS},
+        "amplitude": {"x1": x1, "ptp": np.array(ptp)},
+    },
 )
 io.write_text(
-    claims.to_markdown(rows, drive.name, claims.note(drive.name, drive.title), paper.SHORT), snakemake.output.md
+    claims.to_markdown(rows, drive.name, claims.note(drive.name, drive.title, paper), paper.SHORT), snakemake.output.md
 )
 io.write_text(claims.to_csv(rows), snakemake.output.csv)
 log.info("claims: %s", claims.counts(rows))

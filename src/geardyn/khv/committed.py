@@ -1,6 +1,6 @@
 """How far a calibration search's optimum lies from the committed calibrated design.
 
-The committed design files (``config/designs/li2013_calibrated.yaml``, ``li2013_route.yaml``) are the
+The committed calibrated design files (``config/designs/<name>.yaml``, written by a search) are the
 source of the calibrated values: every build uses them.  The pipeline's own search writes its optimum
 under ``results/<design>/calibration/`` and this module compares the two as conclusions, not as bytes
 (``docs/calibration.md``, "Reproducing a calibration"):
@@ -26,8 +26,8 @@ from geardyn.khv.calibrate.products import RESULT_PREFIX
 from geardyn.khv.calibrate.space import SearchSpace
 
 #: Largest distance of one unknown, as a fraction of its search range, for "the same optimum": well
-#: below the 15-76 % that separate the two committed optima (li2013_search, li2013_route), wider than
-#: the +-2 % moves that change a verdict (docs/calibration.md, "Reproducing a calibration").
+#: below the 15-76 % that separate paper 1's two committed optima (its search and its route search),
+#: wider than the +-2 % moves that change a verdict (docs/calibration.md, "Reproducing a calibration").
 UNIT_TOLERANCE = 0.05
 #: Largest score difference for "the same optimum": less than one claim.
 SCORE_TOLERANCE = 0.99

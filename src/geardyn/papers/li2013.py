@@ -23,69 +23,257 @@ POINTS: dict[str, tuple[float, float]] = {"M": (0.416, 0.601), "N": (0.835, 0.99
 #: The paper prints M and N to three decimals: a computed x2 agrees within this.
 POINT_TOLERANCE = 0.0011
 
-#: Sec. 4.1 (b = 2, e = 5): the regime sequence along x1 as (from, to, label); label n >= 1 is
-#: period-n, "QP" quasi-periodic, "chaos" chaotic.  The P6 window "near 0.761" is taken as
-#: [0.755, 0.768] (the paper names 0.768 as the start of the second chaotic range).
-SEQUENCE: tuple[tuple[float, float, int | str], ...] = (
-    (0.416, 0.565, 1),
-    (0.565, 0.568, "QP"),
-    (0.568, 0.593, 5),
-    (0.593, 0.755, "chaos"),
-    (0.755, 0.768, 6),
-    (0.768, 0.835, "chaos"),
-)
-#: How the paper words each entry of :data:`SEQUENCE` (Sec. 4.1), for the claims table.
-SEQUENCE_TEXT: tuple[str, ...] = (
-    "synchronous (period-1) motion for x1 in [0.416, 0.565]",
-    "quasi-periodic motion for x1 in [0.565, 0.568]",
-    "period-5 motion for x1 in [0.568, 0.593]",
-    "chaos for x1 above 0.593 (until the period-6 window)",
-    "period-6 motion near x1 = 0.761 (window taken as [0.755, 0.768])",
-    "chaos again for x1 above 0.768",
-)
 #: The transition points along x1 the paper names (Sec. 4.1).
 TRANSITIONS: tuple[float, ...] = (0.565, 0.568, 0.593, 0.761, 0.768)
 #: Fixed values of the x1 sweep of Fig. 7 (um).
 FIG07_FIXED = {"b": 2.0, "e": 5.0}
 #: The three x1 values of Figs. 9-12.
 CASE_X1: tuple[float, ...] = (0.5, 0.761, 0.83)
-#: Fig. 8: the label the paper gives at each x1 (b = 2, e = 5).
-FIG08_POINTS: tuple[tuple[str, float, int | str], ...] = (
-    ("8a", 0.5, 1),
-    ("8b", 0.565, "QP"),
-    ("8c", 0.585, 5),
-    ("8d", 0.63, "chaos"),
-    ("8e", 0.761, 6),
-    ("8f", 0.8, "chaos"),
-)
-#: Figs. 9/10 at b = 0.5 (e = 5): the label at each of the three x1.
-FIG10_B = 0.5
-FIG10_LABELS: tuple[tuple[str, float, int | str], ...] = (
-    ("9a/10a", 0.5, 1),
-    ("9b/10b", 0.761, "QP"),
-    ("9c/10c", 0.83, "chaos"),
-)
-#: Figs. 11/12 at e = 4.55 (b = 2): the label at each of the three x1 ("QP|chaos": either).
-FIG12_E = 4.55
-FIG12_LABELS: tuple[tuple[str, float, int | str], ...] = (
-    ("11a/12a", 0.5, 1),
-    ("12b", 0.761, "QP|chaos"),
-    ("12c", 0.83, "QP|chaos"),
-)
-#: The runs of the workflow's config the claims read, by their argument of geardyn.claims.claims:
-#: (config section, entry name) of the Fig. 7, 9 and 11 sweeps and of the Fig. 8 dense runs.
+#: The runs of the workflow's config the claims read, by role: (config section, entry name) of the
+#: Fig. 7, 9 and 11 sweeps and of the Fig. 8 dense runs.  A claim names the role it reads.
 CLAIM_RUNS: dict[str, tuple[str, str]] = {
     "fig07": ("sweeps", "fig07_bifurcation_x1"),
     "fig09": ("sweeps", "fig09_bifurcation_b"),
     "fig11": ("sweeps", "fig11_bifurcation_e"),
     "fig08_points": ("points", "fig08_points_x1"),
 }
+#: The labelled lines among those runs, by role: the parameter swept, the values held fixed and, for a
+#: family of lines (one per case of the sweep, ``x1=0.5``, ...), the parameter that tells them apart and
+#: its values.  The claims read the sweeps' labels along them; the calibration labels a candidate along
+#: the same lines (its grids come from the config, by parameter).
+CLAIM_LINES: dict[str, dict] = {
+    "fig07": {"parameter": "x1", "fixed": FIG07_FIXED, "text": "Fig. 7 (x1 sweep, b = 2, e = 5)"},
+    "fig09": {"parameter": "b", "fixed": {"e": FIG07_FIXED["e"]}, "case_parameter": "x1", "cases": CASE_X1},
+    "fig11": {"parameter": "e", "fixed": {"b": FIG07_FIXED["b"]}, "case_parameter": "x1", "cases": CASE_X1},
+}
 #: Fig. 5: the three x1 values of the k(t) curves.
 FIG05_X1: tuple[float, ...] = (0.416, 0.626, 0.835)
 #: Fig. 8c: the spectral peaks at x1 = 0.585, in multiples of the mesh frequency.
 PEAKS_0585: tuple[float, ...] = (0.48, 0.57, 0.8099, 1.0, 1.2)
-#: Upper end of the P1 range in which the paper says the amplitude falls as x1 grows.
+#: Upper end of the P1 range in which the paper says the amplitude falls as x1 grows (the claims'
+#: ``amplitude`` input: dense runs at the Fig. 7 values of b and e along this range).
 P1_AMPLITUDE_RANGE = (0.416, 0.56)
+
+#: Every checkable statement of the paper, in the order of the claims table, as data for
+#: geardyn.claims.evaluate (the rules and their keys: geardyn.claims.SWEEP_RULES).  Each names its
+#: rule and what it reads: ``input`` (a product: closed_graph, stiffness, amplitude, or a role of
+#: CLAIM_RUNS) or ``line`` (a role of CLAIM_LINES, with ``case`` the x1 of one line of a family).
+#: Labels: n >= 1 period-n, "QP" quasi-periodic, "chaos" chaotic, "QP|chaos" either.
+CLAIMS: tuple[dict, ...] = (
+    # Sec. 3.2 / Fig. 3: the limit points of the admissible segment on line 4 of the closed graph
+    *(
+        {
+            "id": f"fig03_{pt}",
+            "figure": "Fig. 3",
+            "statement": f"limit point {pt} = ({x1}, {x2}) lies on line 4",
+            "paper": f"x2 = {x2:.3f}",
+            "rule": "on_line",
+            "input": "closed_graph",
+            "point": pt,
+            "at": (x1, x2),
+            "tolerance": POINT_TOLERANCE,
+            "precision": "paper prints 3 decimals",
+        }
+        for pt, (x1, x2) in POINTS.items()
+    ),
+    {
+        "id": "stiffness_falls",
+        "figure": "Sec. 4.1",
+        "statement": "meshing stiffness becomes small as x1 increases",
+        "paper": "falls",
+        "rule": "stiffness_falls",
+        "input": "stiffness",
+        "along": "M-N",
+    },
+    # Sec. 4.1 / Fig. 7 (b = 2, e = 5): the regime sequence along x1, with the P1 amplitude and the Fig. 8c
+    # spectrum.  The P6 window "near 0.761" is taken as [0.755, 0.768] (the paper names 0.768 as the start
+    # of the second chaotic range); a chaotic range after the first entry is open at its lower end.
+    {
+        "id": "fig07_p1",
+        "figure": "Fig. 7",
+        "statement": "synchronous (period-1) motion for x1 in [0.416, 0.565]",
+        "rule": "range",
+        "line": "fig07",
+        "interval": (0.416, 0.565),
+        "label": 1,
+    },
+    {
+        "id": "fig07_amplitude",
+        "figure": "Fig. 7",
+        "statement": "in the P1 range the amplitude decreases as x1 increases",
+        "paper": "decreasing",
+        "rule": "amplitude_falls",
+        "input": "amplitude",
+    },
+    {
+        "id": "fig07_qp",
+        "figure": "Fig. 7",
+        "statement": "quasi-periodic motion for x1 in [0.565, 0.568]",
+        "rule": "range",
+        "line": "fig07",
+        "interval": (0.565, 0.568),
+        "label": "QP",
+    },
+    {
+        "id": "fig07_p5",
+        "figure": "Fig. 7",
+        "statement": "period-5 motion for x1 in [0.568, 0.593]",
+        "rule": "range",
+        "line": "fig07",
+        "interval": (0.568, 0.593),
+        "label": 5,
+    },
+    {
+        "id": "fig08_peaks",
+        "figure": "Fig. 8c",
+        "statement": "Fig. 8c: five spectral peaks at "
+        + ", ".join(f"{v:g}" for v in PEAKS_0585)
+        + " x f_mesh for x1 = 0.585",
+        "rule": "peaks",
+        "input": "fig08_points",
+        "case": {"x1": 0.585},
+        "peaks": PEAKS_0585,
+        "tolerance": 0.02,
+        "highest": 8,
+        "note": "(frequency resolution 0.01). Note: a period-5 motion has lines only at k/5 = 0.2, 0.4, 0.6, 0.8, "
+        "1.0, 1.2; the paper's 0.48 and 0.57 are not of that form, so its own spectrum does not fit its P5 label",
+    },
+    {
+        "id": "fig07_chaos1",
+        "figure": "Fig. 7",
+        "statement": "chaos for x1 above 0.593 (until the period-6 window)",
+        "rule": "range",
+        "line": "fig07",
+        "interval": (0.593, 0.755),
+        "label": "chaos",
+        "open_below": True,
+    },
+    {
+        "id": "fig07_p6",
+        "figure": "Fig. 7",
+        "statement": "period-6 motion near x1 = 0.761 (window taken as [0.755, 0.768])",
+        "rule": "range",
+        "line": "fig07",
+        "interval": (0.755, 0.768),
+        "label": 6,
+    },
+    {
+        "id": "fig07_chaos2",
+        "figure": "Fig. 7",
+        "statement": "chaos again for x1 above 0.768",
+        "rule": "range",
+        "line": "fig07",
+        "interval": (0.768, 0.835),
+        "label": "chaos",
+        "open_below": True,
+    },
+    # Fig. 8 (b = 2, e = 5): the label the paper gives at each x1, read on the Fig. 7 line
+    *(
+        {
+            "id": f"fig{fig}",
+            "figure": f"Fig. {fig}",
+            "statement": f"x1 = {x1}: {name}",
+            "rule": "label_at",
+            "line": "fig07",
+            "at": x1,
+            "label": label,
+        }
+        for fig, x1, label, name in (
+            ("8a", 0.5, 1, "P1"),
+            ("8b", 0.565, "QP", "QP"),
+            ("8c", 0.585, 5, "P5"),
+            ("8d", 0.63, "chaos", "chaos"),
+            ("8e", 0.761, 6, "P6"),
+            ("8f", 0.8, "chaos", "chaos"),
+        )
+    ),
+    # Figs. 9/10 at b = 0.5 (e = 5): the label at each of the three x1, then the route along b
+    *(
+        {
+            "id": f"fig09_b0.5_x1_{x1}",
+            "figure": f"Fig. {fig}",
+            "statement": f"b = 0.5, x1 = {x1}: {name}",
+            "rule": "label_at",
+            "line": "fig09",
+            "case": x1,
+            "at": 0.5,
+            "label": label,
+        }
+        for fig, x1, label, name in (
+            ("9a/10a", 0.5, 1, "P1"),
+            ("9b/10b", 0.761, "QP", "QP"),
+            ("9c/10c", 0.83, "chaos", "chaos"),
+        )
+    ),
+    {
+        "id": "fig09_route",
+        "figure": "Fig. 9",
+        "statement": "the response turns from P1 into chaos as b increases (each x1)",
+        "paper": "P1 at small b, chaos at larger b",
+        "rule": "route",
+        "line": "fig09",
+        "start": 1,
+        "end": "chaos",
+    },
+    # Figs. 11/12 at e = 4.55 (b = 2): the label at each of the three x1 ("QP|chaos": either), the route
+    # along e and the synchronous range
+    *(
+        {
+            "id": f"fig11_e4.55_x1_{x1}",
+            "figure": f"Fig. {fig}",
+            "statement": f"e = 4.55, x1 = {x1}: {name}",
+            "rule": "label_at",
+            "line": "fig11",
+            "case": x1,
+            "at": 4.55,
+            "label": label,
+        }
+        for fig, x1, label, name in (
+            ("11a/12a", 0.5, 1, "P1"),
+            ("12b", 0.761, "QP|chaos", "quasi-periodic or chaotic"),
+            ("12c", 0.83, "QP|chaos", "quasi-periodic or chaotic"),
+        )
+    ),
+    {
+        "id": "fig11_route",
+        "figure": "Fig. 11",
+        "statement": "as e grows the response goes P1 -> quasi-periodic -> chaos",
+        "paper": "P1, then QP, then chaos",
+        "rule": "route",
+        "line": "fig11",
+        "start": 1,
+        "via": "QP",
+        "end": "chaos",
+    },
+    {
+        "id": "fig11_sync_range",
+        "figure": "Fig. 11",
+        "statement": "the range of synchronous motion narrows as x1 increases",
+        "paper": "narrower for larger x1",
+        "rule": "narrows",
+        "line": "fig11",
+        "label": 1,
+    },
+)
+#: The paper's names of the motions its claims compare, as the claims table's note lists them.
+CLAIM_LABELS = "P1 = synchronous, QP, P5, P6, chaos"
+#: Sec. 4.1 (b = 2, e = 5): the regime sequence along x1 as (from, to, label), the ranges of :data:`CLAIMS`.
+SEQUENCE: tuple[tuple[float, float, int | str], ...] = tuple(
+    (*c["interval"], c["label"]) for c in CLAIMS if c["rule"] == "range"
+)
+#: The calibration of the paper's unknowns (geardyn.khv.calibrate) scores a candidate by :data:`CLAIMS` on
+#: its own labels along :data:`CLAIM_LINES`; ``line``: the line along which the transitions (where P1 is
+#: left and where chaos starts, as :data:`SEQUENCE` places them) and the regime order earn partial credit
+#: and a requirement is tested; ``claims`` and ``fitted_to``: what a calibrated design file and the search
+#: table say the candidates were scored by.
+CALIBRATION: dict = {
+    "line": "fig07",
+    "claims": "paper 1's claims",
+    "fitted_to": (
+        "Fitted to paper 1's claims (geardyn.claims.evaluate on the labels along x1 at b = 2, e = 5 and",
+        "along b and e at x1 = 0.5, 0.761, 0.83; reduced integration settings, docs/calibration.md).",
+    ),
+}
 
 #: What the paper states about each dynamic figure (Sec. 4), quoted as closely as the text allows.
 FIGURE_CLAIMS: dict[str, str] = {

@@ -9,6 +9,7 @@ _period       rule 3 of the classifier and the early stop of the transient (priv
 simulate      :func:`simulate` (orbit, dense output, tangent vector or monodromy), step tables
 reference     DOP853 with switching events (independent check)
 floquet       monodromy and multipliers of the linear (b = 0) system
+precision     the measured Poincare error of the integrator per step count (:data:`POINCARE_ERROR`)
 ============  ==========================================================================================
 
 The contract (:mod:`~geardyn.solve.base`) is imported with the package; :func:`simulate` and its companions
@@ -23,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 
 from geardyn._lazy import lazy_attributes
 from geardyn.solve.base import LAYOUT, SimulationResult, SimulationSettings, System
+from geardyn.solve.precision import POINCARE_ERROR
 
 if TYPE_CHECKING:
     from geardyn.solve.simulate import largest_lyapunov, simulate, step_grid, step_tables, warm_up
@@ -50,6 +52,7 @@ sys.modules[__name__].__class__ = _Package
 
 __all__ = [
     "LAYOUT",
+    "POINCARE_ERROR",
     "SimulationResult",
     "SimulationSettings",
     "System",

@@ -1,23 +1,26 @@
 """Calibration of a paper design's unknowns: a global search scored by the paper's own claims.
 
-The unknowns of paper 1 (mesh frequency, carrier radius, shaft stiffnesses, damping ratios, TE
-phase, planet mass; ``docs/calibration.md``) span a search space with bounds given in the config
+The unknowns of a paper's design (for paper 1: mesh frequency, carrier radius, shaft stiffnesses, damping
+ratios, TE phase, planet mass; ``docs/calibration.md``) span a search space with bounds given in the config
 (``calibration.<name>.search``).  A candidate is one vector of them; it is scored by
 :func:`geardyn.claims.evaluate`, the function that writes ``claims.md``, applied to the labels the
-candidate produces along x1 (Fig. 7) and along b and e at the paper's three x1 (Figs. 9, 11):
+candidate produces along the paper's lines (its ``CLAIM_LINES``: for paper 1 along x1 at the Fig. 7
+values of b and e, and along b and e at the paper's three x1), each on the grid the config gives for its
+parameter:
 
     score = (claims that agree) + 0.5 * (borderline claims) + 0.99 * partial,   partial in [0, 1]
 
 (a borderline claim is a fraction within its statistical uncertainty of its threshold,
 :func:`geardyn.claims.fraction_verdict`, the rule ``claims.md`` uses)
 
-with partial credit for where the motion leaves P1 and where chaos starts along x1 (paper: 0.565,
-0.593) and for the order of the regimes along x1 (longest common subsequence with the paper's
-P1 -> QP -> Pn -> chaos -> Pn -> chaos).  The partial credit never outweighs one claim.
+with partial credit, along the paper's main line (``CALIBRATION["line"]``), for where the motion leaves P1
+and where chaos starts (where the paper's ``SEQUENCE`` places them, :func:`paper_transitions`) and for the
+order of the regimes (longest common subsequence with the paper's, e.g. P1 -> QP -> Pn -> chaos -> Pn ->
+chaos).  The partial credit never outweighs one claim.
 
-Labels come from the one labeller, :func:`geardyn.label.label_lines`, along the candidate's own x1, b
-and e lines (each point follows the attractor of the previous one, as in the sweeps), so the figures,
-``claims.md`` and the calibration score the same labels.
+Labels come from the one labeller, :func:`geardyn.label.label_lines`, along the candidate's own lines
+(each point follows the attractor of the previous one, as in the sweeps), so the figures, ``claims.md``
+and the calibration score the same labels.
 
 The optimiser is :func:`scipy.optimize.differential_evolution` (seeded, ``vectorized``, deferred
 updating); every evaluated candidate is appended to a cache file keyed by its vector, so a rerun
@@ -31,18 +34,21 @@ and the robustness study of the best candidate (:mod:`.robustness`).
 
 from geardyn.khv.calibrate.evaluate import Evaluator, Problem, evaluate_candidate, warm_worker
 from geardyn.khv.calibrate.objective import (
-    PAPER_TRANSITIONS,
     REQUIREMENTS,
     TRANSITION_SCALE,
     CandidateLabels,
     Grids,
+    Line,
     Score,
     candidate_labels,
     label_tracks,
     lcs,
     paper_regime_string,
+    paper_transitions,
     ranked_score,
     regime_string,
+    requirement_text,
+    route_in,
     score_labels,
     shows_route,
     transitions,
@@ -62,13 +68,13 @@ from geardyn.khv.calibrate.robustness import sensitivity
 from geardyn.khv.calibrate.space import SearchSpace, Unknown, interior, perturbed
 
 __all__ = [
-    "PAPER_TRANSITIONS",
     "REQUIREMENTS",
     "RESULT_PREFIX",
     "TRANSITION_SCALE",
     "CandidateLabels",
     "Evaluator",
     "Grids",
+    "Line",
     "Problem",
     "Record",
     "Score",
@@ -83,6 +89,7 @@ __all__ = [
     "label_tracks",
     "lcs",
     "paper_regime_string",
+    "paper_transitions",
     "perturbed",
     "problem_from_config",
     "ranked_score",
@@ -90,6 +97,8 @@ __all__ = [
     "records_dataset",
     "refine",
     "regime_string",
+    "requirement_text",
+    "route_in",
     "score_labels",
     "search",
     "search_design_text",

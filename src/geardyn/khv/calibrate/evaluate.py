@@ -10,6 +10,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import ModuleType
+from typing import Any
 
 import numpy as np
 
@@ -52,10 +53,15 @@ def evaluate_candidate(problem: Problem, unit: Sequence[float]) -> Record:
         transitions=sc.transitions,
         order=sc.order,
         verdicts={r.id: r.verdict for r in sc.rows},
-        fig07=[int(x) for x in lab.fig07.labels],
-        fig09={f"{k:g}": [int(x) for x in t.labels] for k, t in lab.fig09.items()},
-        fig11={f"{k:g}": [int(x) for x in t.labels] for k, t in lab.fig11.items()},
+        labels={role: _label_lists(lines) for role, lines in lab.items()},
     )
+
+
+def _label_lists(lines: Any) -> list[int] | dict[str, list[int]]:
+    """The labels of a line as a list, of a family of lines as {f"{case:g}": list}."""
+    if isinstance(lines, Mapping):
+        return {f"{k:g}": [int(x) for x in t.labels] for k, t in lines.items()}
+    return [int(x) for x in lines.labels]
 
 
 def warm_worker(design: KHVDesign) -> None:

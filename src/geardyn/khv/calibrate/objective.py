@@ -1,4 +1,4 @@
-"""A candidate's labels along the paper's sweeps and its score: the claims that agree plus the partial credit."""
+"""A candidate's labels along the paper's lines and its score: the claims that agree plus the partial credit."""
 
 from __future__ import annotations
 
@@ -21,36 +21,49 @@ P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
 
 
 @dataclass(frozen=True)
-class Grids:
-    """Where a candidate is labelled: x1 at the Fig. 7 values of b and e; b (at the Fig. 9 e) and e
-    (at the Fig. 11 b) at each of the paper's three x1."""
+class Line:
+    """One labelled line of a candidate (a role of the paper's ``CLAIM_LINES``): ``parameter`` swept over
+    ``values`` with ``fixed`` held; a family of lines (``cases``) has one line per value of
+    ``case_parameter``."""
 
-    x1: np.ndarray
-    b: np.ndarray
-    e: np.ndarray
-    fixed07: Mapping[str, float]
-    fixed09: Mapping[str, float]
-    fixed11: Mapping[str, float]
-    case_x1: tuple[float, ...]
+    parameter: str
+    values: np.ndarray
+    fixed: Mapping[str, float]
+    case_parameter: str | None = None
+    cases: tuple[float, ...] = ()
+
+
+@dataclass(frozen=True)
+class Grids:
+    """Where a candidate is labelled: the paper's lines (``CLAIM_LINES``, by role) on the config's grids,
+    and ``main``, the role of the line whose transitions and regime order earn partial credit (the paper's
+    ``CALIBRATION["line"]``)."""
+
+    lines: Mapping[str, Line]
+    main: str
 
     @classmethod
     def from_config(cls, spec: Mapping[str, Any], paper: ModuleType) -> Grids:
+        """The paper's lines, each on the grid ``spec[<its parameter>]`` ({start, stop, num})."""
+
         def lin(r):
             return np.linspace(float(r["start"]), float(r["stop"]), int(r["num"]))
 
-        return cls(
-            lin(spec["x1"]),
-            lin(spec["b"]),
-            lin(spec["e"]),
-            dict(paper.FIG07_FIXED),
-            {"e": float(paper.FIG07_FIXED["e"])},
-            {"b": float(paper.FIG07_FIXED["b"])},
-            tuple(float(v) for v in paper.CASE_X1),
-        )
+        lines = {
+            role: Line(
+                line["parameter"],
+                lin(spec[line["parameter"]]),
+                {k: float(v) for k, v in line["fixed"].items()},
+                line.get("case_parameter"),
+                tuple(float(v) for v in line.get("cases", ())),
+            )
+            for role, line in paper.CLAIM_LINES.items()
+        }
+        return cls(lines, paper.CALIBRATION["line"])
 
     @property
     def n_points(self) -> int:
-        return self.x1.size + len(self.case_x1) * (self.b.size + self.e.size)
+        return sum(line.values.size * max(1, len(line.cases)) for line in self.lines.values())
 
 
 def label_tracks(
@@ -74,27 +87,27 @@ def label_tracks(
     ]
 
 
-@dataclass
-class CandidateLabels:
-    fig07: claims_mod.Track
-    fig09: dict[float, claims_mod.Track]
-    fig11: dict[float, claims_mod.Track]
+#: A candidate's labelled lines, by role: a :class:`~geardyn.claims.Track`, or {case value: Track} for a
+#: family of lines (what :func:`geardyn.claims.evaluate` reads).
+CandidateLabels = dict
 
 
 def candidate_labels(design: KHVDesign, values: Mapping[str, float], grids: Grids, policy: Policy) -> CandidateLabels:
-    """The labelled sweeps of one candidate (overrides ``values``)."""
+    """The labelled lines of one candidate (overrides ``values``), all labelled together."""
     base = dict(values)
-    x1s = list(grids.case_x1)
-    tracks = (
-        [({**base, **grids.fixed07}, "x1", grids.x1)]
-        + [({**base, **grids.fixed09, "x1": x1}, "b", grids.b) for x1 in x1s]
-        + [({**base, **grids.fixed11, "x1": x1}, "e", grids.e) for x1 in x1s]
-    )
-    got = label_tracks(design, tracks, policy)
-    f07 = got[0]
-    f09 = dict(zip(x1s, got[1 : 1 + len(x1s)], strict=True))
-    f11 = dict(zip(x1s, got[1 + len(x1s) :], strict=True))
-    return CandidateLabels(f07, f09, f11)
+    tracks, where = [], []
+    for role, line in grids.lines.items():
+        for case in line.cases or (None,):
+            over = {**base, **line.fixed, **({line.case_parameter: case} if case is not None else {})}
+            tracks.append((over, line.parameter, line.values))
+            where.append((role, case))
+    out: CandidateLabels = {}
+    for (role, case), track in zip(where, label_tracks(design, tracks, policy), strict=True):
+        if case is None:
+            out[role] = track
+        else:
+            out.setdefault(role, {})[case] = track
+    return out
 
 
 #: regime classes for the order credit: P1, QP, chaos, and "periodic n > 1"
@@ -111,21 +124,31 @@ def regime_string(labels: np.ndarray) -> str:
     return "".join(out)
 
 
+def route_in(order: str) -> bool:
+    """Whether a regime string (:func:`regime_string`) goes from period-1 through non-period-1 motion
+    (quasi-periodic or period n > 1) into chaos: it begins ``1``, then ``Q`` / ``n`` and then ``C`` (a
+    return to P1 before the first chaos does not count)."""
+    return re.match(r"1[Qn]+C", order) is not None
+
+
 def shows_route(labels: np.ndarray) -> bool:
-    """Whether labels along x1 go from period-1 through non-period-1 motion (quasi-periodic or period
-    n > 1) into chaos: the regime string (:func:`regime_string`) begins ``1``, then ``Q`` / ``n`` and then
-    ``C`` (a return to P1 before the first chaos does not count)."""
-    return re.match(r"1[Qn]+C", regime_string(np.asarray(labels))) is not None
+    """Whether labels along a line go from period-1 through non-period-1 motion into chaos (:func:`route_in`)."""
+    return route_in(regime_string(np.asarray(labels)))
 
 
 #: Requirements a search can place on a candidate besides its score (``search.require``): a name ->
-#: (test of a record's labels, the sentence the calibrated design's header states).
+#: (test of a record, the sentence the calibrated design's header states, ``{line}`` being the text of the
+#: paper's main line, its ``CLAIM_LINES[...]["text"]``).  A record's ``order`` is the regime string along
+#: the main line.
 REQUIREMENTS: dict[str, tuple[Callable[[Record], bool], str]] = {
-    "route": (
-        lambda rec: shows_route(np.asarray(rec.fig07)),
-        "Fig. 7 (x1 sweep, b = 2, e = 5) goes from period-1 through non-period-1 motion into chaos",
-    ),
+    "route": (lambda rec: route_in(rec.order), "{line} goes from period-1 through non-period-1 motion into chaos"),
 }
+
+
+def requirement_text(require: str, paper: ModuleType) -> str:
+    """The sentence of requirement ``require`` for ``paper`` (its main line named as the paper names it)."""
+    return REQUIREMENTS[require][1].format(line=paper.CLAIM_LINES[paper.CALIBRATION["line"]]["text"])
+
 
 #: what a candidate that fails the requirement loses from its score (more than any score can be)
 _UNMET = 100.0
@@ -163,7 +186,7 @@ def lcs(a: str, b: str) -> int:
 
 
 def transitions(values: np.ndarray, labels: np.ndarray) -> dict[str, float]:
-    """Where the motion along x1 first leaves P1 and where chaos first appears (inf if never)."""
+    """Where the motion along a line first leaves P1 and where chaos first appears (inf if never)."""
     lab = np.asarray(labels)
     leave = np.nonzero(lab != P1)[0]
     chaos = np.nonzero(lab == CHAOS)[0]
@@ -173,8 +196,17 @@ def transitions(values: np.ndarray, labels: np.ndarray) -> dict[str, float]:
     }
 
 
-#: the paper's positions of the two transitions above (Sec. 4.1), and the distance that earns nothing
-PAPER_TRANSITIONS = {"leave_p1": 0.565, "first_chaos": 0.593}
+def paper_transitions(paper: ModuleType) -> dict[str, float]:
+    """Where the paper's regime sequence (its ``SEQUENCE`` along the main line) first leaves P1 and where
+    its chaos starts: the lower ends of the first entries that are not P1 and that are chaotic."""
+    lows = [(lo, claims_mod.code(lab)) for lo, _, lab in paper.SEQUENCE]
+    return {
+        "leave_p1": next((lo for lo, c in lows if c != P1), float("inf")),
+        "first_chaos": next((lo for lo, c in lows if c == CHAOS), float("inf")),
+    }
+
+
+#: The distance from the paper's transition that earns no partial credit.
 TRANSITION_SCALE = 0.1
 
 
@@ -190,18 +222,18 @@ class Score:
 
 def score_labels(paper: ModuleType, lab: CandidateLabels) -> Score:
     """Score of a candidate's labels: claims that agree (:func:`geardyn.claims.evaluate`) plus the
-    partial credit (module docstring)."""
-    rows = claims_mod.evaluate(paper, lab.fig07, lab.fig09, lab.fig11)
+    partial credit (module docstring) along the paper's main line (``CALIBRATION["line"]``)."""
+    rows = claims_mod.evaluate(paper, lab)
     agree = sum(r.verdict == "agree" for r in rows)
     # a borderline claim (a fraction within its statistical uncertainty of the threshold,
     # geardyn.claims.fraction_verdict) is worth half an agreeing one: one point cannot flip the search
     half = sum(claims_mod.credit(r.verdict) for r in rows if r.verdict == "borderline")
-    tr = transitions(lab.fig07.values, lab.fig07.labels)
+    main = lab[paper.CALIBRATION["line"]]
+    tr, want_tr = transitions(main.values, main.labels), paper_transitions(paper)
     credit = [
-        max(0.0, 1.0 - abs(tr[k] - PAPER_TRANSITIONS[k]) / TRANSITION_SCALE) if np.isfinite(tr[k]) else 0.0
-        for k in PAPER_TRANSITIONS
+        max(0.0, 1.0 - abs(tr[k] - want_tr[k]) / TRANSITION_SCALE) if np.isfinite(tr[k]) else 0.0 for k in want_tr
     ]
-    ours, want = regime_string(lab.fig07.labels), paper_regime_string(paper)
+    ours, want = regime_string(main.labels), paper_regime_string(paper)
     credit.append(lcs(ours, want) / len(want))
     partial = float(np.mean(credit))
     return Score(agree + half + 0.99 * partial, agree, partial, tr, ours, rows)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import json
 from collections.abc import Sequence
@@ -13,8 +14,8 @@ from typing import Any
 @dataclass(frozen=True)
 class Record:
     """One evaluated candidate: its unit-cube vector (``key`` = :func:`cache_key`), its values, score
-    (:func:`geardyn.khv.calibrate.objective.score_labels`), the claims verdicts and its labels along x1
-    (``fig07``) and along b and e at each case x1 (``fig09``, ``fig11``, keyed ``f"{x1:g}"``)."""
+    (:func:`geardyn.khv.calibrate.objective.score_labels`), the claims verdicts and its labels along each of
+    the paper's lines (``labels``, by role: a list, or {``f"{case:g}"``: list} for a family of lines)."""
 
     key: str
     unit: list[float]
@@ -25,17 +26,21 @@ class Record:
     transitions: dict[str, float] = field(default_factory=dict)
     order: str = ""
     verdicts: dict[str, str] = field(default_factory=dict)
-    fig07: list[int] = field(default_factory=list)
-    fig09: dict[str, list[int]] = field(default_factory=dict)
-    fig11: dict[str, list[int]] = field(default_factory=dict)
+    labels: dict[str, Any] = field(default_factory=dict)
 
     def to_json(self) -> dict[str, Any]:
-        """The record as the JSON object of a cache line (keys in field order)."""
-        return dataclasses.asdict(self)
+        """The record as the JSON object of a cache line: the fields in order, the labels of each line
+        under its role."""
+        out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "labels"}
+        return copy.deepcopy({**out, **self.labels})
 
     @classmethod
     def from_json(cls, data: dict[str, Any]) -> Record:
-        return cls(**data)
+        """A record from its JSON object: every key that is not a field holds the labels of one line."""
+        names = {f.name for f in dataclasses.fields(cls)} - {"labels"}
+        return cls(
+            **{k: v for k, v in data.items() if k in names}, labels={k: v for k, v in data.items() if k not in names}
+        )
 
 
 def cache_key(unit: Sequence[float]) -> str:

@@ -57,6 +57,7 @@ def one_at_a_time(
             v[u.name] = perturbed(best_values[u.name], u, st)
             units.append(list(space.unit(v)))
     recs = evaluator.records(units)
+    main = evaluator.problem.grids.main
     shape = (len(space.unknowns), len(signed))
     dims = ("unknown", "step")
 
@@ -84,7 +85,7 @@ def one_at_a_time(
             ),
             "labels_changed": (
                 dims,
-                grid(lambda r: float(r.fig07 != base.fig07)),
+                grid(lambda r: float(r.labels[main] != base.labels[main])),
                 {"units": "1", "long_name": "1 when any label along x1 differs from the best's"},
             ),
         },

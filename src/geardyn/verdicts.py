@@ -1,0 +1,113 @@
+"""A claim's verdict and the claims table: the record of one checked claim (:class:`Claim`), the three-valued
+rule for every verdict on a fraction (:func:`fraction_verdict`), what a verdict is worth to the calibration
+(:func:`credit`) and the table of a design's claims in CSV and Markdown.  The rules that decide the verdicts
+and the claims of each paper: :mod:`geardyn.claims`."""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from dataclasses import dataclass
+
+RANGE_AGREE = 0.8
+#: A fraction within this many binomial standard errors of its threshold is "borderline".
+BORDERLINE_Z = 2.0
+VERDICTS = ("agree", "borderline", "disagree", "not comparable")
+
+
+def fraction_verdict(k: int, n: int, threshold: float = RANGE_AGREE, z: float = BORDERLINE_Z) -> str:
+    """``agree`` (k/n clearly >= threshold), ``disagree`` (clearly below) or ``borderline``.
+
+    The one rule for every verdict on a fraction, in ``claims.md`` and in the calibration objective:
+    with ``p = k/n`` and the binomial standard error ``se = sqrt(p (1 - p) / n)``, the verdict is
+    ``borderline`` when ``|p - threshold| <= z * se`` (the threshold lies inside the normal-approximation
+    interval ``p +- z se``, about 95 % for z = 2).  Unanimous fractions (p = 0 or 1) have se = 0 and are
+    never borderline.  ``n`` must be positive (an empty interval is "not comparable" for the caller).
+    """
+    if n <= 0 or not 0 <= k <= n:
+        raise ValueError(f"fraction_verdict needs 0 <= k <= n and n > 0, got k={k}, n={n}")
+    p = k / n
+    se = math.sqrt(p * (1.0 - p) / n)
+    if abs(p - threshold) <= z * se:
+        return "borderline"
+    return "agree" if p >= threshold else "disagree"
+
+
+def credit(verdict: str) -> float:
+    """What a verdict is worth in the calibration score: agree 1, borderline 1/2, otherwise 0."""
+    return {"agree": 1.0, "borderline": 0.5}.get(verdict, 0.0)
+
+
+CSV_COLUMNS = ("id", "figure", "statement", "paper", "ours", "verdict", "reason")
+
+
+@dataclass(frozen=True)
+class Claim:
+    id: str
+    figure: str
+    statement: str
+    paper: str
+    ours: str
+    verdict: str
+    reason: str
+    #: The tolerance the verdict applied, when the claim states one apart from its reason.
+    tolerance: str = ""
+
+
+def band(k: int, n: int) -> str:
+    p = k / n
+    half = BORDERLINE_Z * math.sqrt(p * (1.0 - p) / n)
+    return (
+        f"borderline if {100 * RANGE_AGREE:.0f} % lies in {100 * max(p - half, 0):.1f}-{100 * min(p + half, 1):.1f} %"
+    )
+
+
+def counts(rows: list[Claim]) -> dict[str, int]:
+    c = dict.fromkeys(VERDICTS, 0)
+    for r in rows:
+        c[r.verdict] += 1
+    return c
+
+
+def headline(rows: list[Claim]) -> str:
+    """``11 agree, 1 borderline, 14 disagree, 0 not comparable``."""
+    c = counts(rows)
+    return ", ".join(f"{c[v]} {v}" for v in VERDICTS)
+
+
+def columns(rows: list[Claim]) -> tuple[str, ...]:
+    """The table's columns: :data:`CSV_COLUMNS`, with ``tolerance`` after ``ours`` when a row states one."""
+    if not any(r.tolerance for r in rows):
+        return CSV_COLUMNS
+    i = CSV_COLUMNS.index("ours") + 1
+    return (*CSV_COLUMNS[:i], "tolerance", *CSV_COLUMNS[i:])
+
+
+def to_csv(rows: list[Claim]) -> str:
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    cols = columns(rows)
+    w.writerow(cols)
+    for r in rows:
+        w.writerow([getattr(r, c) for c in cols])
+    return buf.getvalue()
+
+
+def to_markdown(rows: list[Claim], design: str, note: str = "", paper: str = "the paper") -> str:
+    """The claims table in Markdown: title (``paper``: the paper's short name), headline, ``note``, one row each."""
+    cols = columns(rows)
+    lines = [
+        f"# Claims of {paper} checked: design `{design}`",
+        "",
+        f"**{headline(rows)}** (of {len(rows)} claims; borderline: a fraction within "
+        f"{BORDERLINE_Z:g} binomial standard errors of its threshold).",
+        "",
+    ]
+    if note:
+        lines += [note, ""]
+    lines += ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    for r in rows:
+        cells = [f"**{r.verdict}**" if c == "verdict" else getattr(r, c) for c in cols]
+        lines.append("| " + " | ".join(str(x).replace("|", "/") for x in cells) + " |")
+    return "\n".join(lines) + "\n"
