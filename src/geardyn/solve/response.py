@@ -155,6 +155,21 @@ def response_measures(
     return response_measures_many([system], [y0], settings, None if periods is None else [periods])[0]
 
 
+def _periods_of(
+    systems: Sequence[System], y0s: Sequence[np.ndarray], settings: SimulationSettings, periods: Sequence[int] | None
+) -> list[int]:
+    """Each point's period count (``settings.recorded_periods`` by default), after checking the arguments of
+    the response measures: an RK4 integrator, one start state (and one period count) per system."""
+    if settings.integrator == "dop853":
+        raise ValueError("the response measures integrate with 'rk4' or 'rk4_event'")
+    if len(y0s) != len(systems) or (periods is not None and len(periods) != len(systems)):
+        raise ValueError("response measures: one start state (and one period count) per system")
+    n_per = [settings.recorded_periods] * len(systems) if periods is None else [int(n) for n in periods]
+    if any(n < 1 for n in n_per):
+        raise ValueError(f"periods must be >= 1, got {min(n_per)}")
+    return n_per
+
+
 def response_measures_many(
     systems: Sequence[System],
     y0s: Sequence[np.ndarray],
@@ -171,13 +186,7 @@ def response_measures_many(
     from geardyn.solve.simulate import lane_tables  # noqa: PLC0415 - likewise
 
     settings = SimulationSettings() if settings is None else settings
-    if settings.integrator == "dop853":
-        raise ValueError("the response measures integrate with 'rk4' or 'rk4_event'")
-    if len(y0s) != len(systems) or (periods is not None and len(periods) != len(systems)):
-        raise ValueError("response measures: one start state (and one period count) per system")
-    n_per = [settings.recorded_periods] * len(systems) if periods is None else [int(n) for n in periods]
-    if any(n < 1 for n in n_per):
-        raise ValueError(f"periods must be >= 1, got {min(n_per)}")
+    n_per = _periods_of(systems, y0s, settings, periods)
     f_s = [static_mesh_force(system) for system in systems]
     starts = [np.asarray(y0, dtype=float) for y0 in y0s]
     measures: list[ResponseMeasures | None] = [None] * len(systems)
@@ -294,13 +303,7 @@ def rms_errors_many(
     settings = SimulationSettings() if settings is None else settings
     if blocks < 2:
         raise ValueError(f"batch means need at least 2 blocks, got {blocks}")
-    if settings.integrator == "dop853":
-        raise ValueError("the response measures integrate with 'rk4' or 'rk4_event'")
-    if len(y0s) != len(systems) or (periods is not None and len(periods) != len(systems)):
-        raise ValueError("response measures: one start state (and one period count) per system")
-    n_per = [settings.recorded_periods] * len(systems) if periods is None else [int(n) for n in periods]
-    if any(n < 1 for n in n_per):
-        raise ValueError(f"periods must be >= 1, got {min(n_per)}")
+    n_per = _periods_of(systems, y0s, settings, periods)
     starts = [np.asarray(y0, dtype=float) for y0 in y0s]
     out = [RMSErrors.not_computed(min(blocks, n)) for n in n_per]
     run = [i for i, y0 in enumerate(starts) if n_per[i] >= 2 and y0.shape == (6,) and np.all(np.isfinite(y0))]
