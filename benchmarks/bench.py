@@ -1,5 +1,6 @@
 """Run the benchmarks: ``python -m benchmarks.bench [--out DIR] [--quick]`` (work precision),
 ``python -m benchmarks.bench throughput|labels|check ...`` (see ``--help`` of each),
+``python -m benchmarks.bench curves [--map map_x1_b] [--rows 10]`` (a map's regime boundaries against the map),
 ``python -m benchmarks.bench fingerprint [--write]`` (a hash per stage of a small fixed study, to compare
 machines; ``--write`` replaces the committed reference).
 
@@ -20,14 +21,15 @@ import argparse
 import sys
 from pathlib import Path
 
-from benchmarks import circles, fingerprint, labels, long_run, throughput, work_precision
+from benchmarks import circles, curves, fingerprint, labels, long_run, throughput, work_precision
 from geardyn import io, libm
 
 
 def main_speed(argv: list[str]) -> int:
     """``throughput`` (follow against fixed starts, kernel, DOP853), ``labels`` (the labels of two builds'
-    cubes compared), ``check`` (random map points run long from their follow start) and ``circles`` (the
-    invariant circles of the non-periodic labels of random map rows) modes."""
+    cubes compared), ``check`` (random map points run long from their follow start), ``circles`` (the
+    invariant circles of the non-periodic labels of random map rows) and ``curves`` (a map's regime
+    boundaries against the map itself) modes."""
     ap = argparse.ArgumentParser(prog=f"python -m benchmarks.bench {argv[0]}")
     ap.add_argument("--out", type=Path, default=None, help="directory for the .md (and .nc) written")
     ap.add_argument("--config", type=Path, default=Path("config/config.yaml"))
@@ -42,7 +44,9 @@ def main_speed(argv: list[str]) -> int:
     ap.add_argument("--points", type=int, default=200, help="check: random map points")
     ap.add_argument("--periods", type=int, default=20000, help="check: mesh periods of each long run")
     ap.add_argument("--map", default=None, help="check, circles: the regime map (map_x1_b, map_x1_e)")
-    ap.add_argument("--rows", type=int, default=10, help="circles: random rows of the map labelled")
+    ap.add_argument(
+        "--rows", type=int, default=10, help="circles: random rows of the map labelled; curves: every n-th row labelled"
+    )
     ap.add_argument(
         "--sweeps",
         nargs="*",
@@ -62,6 +66,10 @@ def main_speed(argv: list[str]) -> int:
         for item in a.explain or ():
             design, kind, name = item.split("/")
             md += "\n" + labels.explain_differences(a.config, a.old, a.new, design, kind, name, log=log)
+    elif argv[0] == "curves":
+        md = "# Regime boundaries against the map\n\n" + curves.curves_benchmark(
+            a.config, a.new, a.map or "map_x1_b", every=a.rows, log=log
+        )
     elif argv[0] == "circles":
         md = "# Invariant circles of the non-periodic labels\n\n" + circles.circle_check(
             a.config, map_name=a.map or "map_x1_e", n_rows=2 if a.quick else a.rows, per_class=5 if a.quick else 40
@@ -114,7 +122,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv and argv[0] == "fingerprint":
         return main_fingerprint(argv[1:])
-    if argv and argv[0] in ("throughput", "labels", "check", "circles"):
+    if argv and argv[0] in ("throughput", "labels", "check", "circles", "curves"):
         return main_speed(argv)
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench", description=work_precision.__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=None, help="directory for work_precision.nc/.md/.png")

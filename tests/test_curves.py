@@ -22,9 +22,12 @@ from numba import njit
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from geardyn import io
+from geardyn import classify, io
+from geardyn.config import schema as io_schema
 from geardyn.khv import design, model, point
 from geardyn.runs import continuation as C
+from geardyn.runs import maps
+from geardyn.runs.continuation import curve_check, curve_maps, curve_records
 from geardyn.solve import SimulationSettings, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -285,3 +288,116 @@ def test_curve_dataset_is_cf_complete(calibrated_ns, linear_limit, tmp_path):
     io.write_netcdf(ds, tmp_path / "curves.nc", io.provenance(title="test"))
     lin = C.curve_dataset(linear_limit[4], ("w", "e"))
     assert io.missing_cf_attributes(lin) == [] and set(lin["curve_kind"].values) == {0, 3}
+
+
+# --- regime boundaries of a map (geardyn.runs.continuation.curve_maps, curve_records, curve_check) -------------
+
+
+def _small_map(d, x, y, fixed, n=20):
+    """A map of n x n points at the map preset's settings (128 steps, 400 + 50 periods), labelled in one chunk."""
+    entry = {
+        "designs": [d.name],
+        "x": {**x, "num": n},
+        "y": {**y, "num": n},
+        "fixed": fixed,
+        "integration": {"steps_per_period": 128, "transient_periods": 400, "recorded_periods": 50},
+        "classifier": {"tangent_periods": 200, "error_floor": 1.9e-5},
+    }
+    spec = maps.MapSpec.from_config("small", entry, d.name, d.segment)
+    return spec, maps.run_chunk(d, spec, 0), point.integration_settings(d, **entry["integration"])
+
+
+def _map_curves(d, spec, cube, settings, lines, **changes):
+    region = curve_maps.Region.of_map(spec)
+    bs = dataclasses.replace(curve_maps.BoundarySpec(), **changes)
+    bd, plane = curve_records.boundary_curves(d, region, bs, settings, cube, curve_maps.lines_of(region, *lines))
+    return bd, curve_check.pixel_check(plane, bd, cube, every=1)
+
+
+@pytest.fixture(scope="module")
+def map_x1_b_small():
+    """li2013_calibrated over (x1, b) at e = 5, 20 x 20 (about 1.5 s): the Neimark-Sacker curve of the P1 orbit
+    bounds the quasi-periodic region (the shipped map_x1_b at 200 x 200, docs/orbits.md)."""
+    d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    spec, cube, settings = _small_map(
+        d, {"parameter": "x1", "start": 0.416, "stop": 0.835}, {"parameter": "b", "start": 0.0, "stop": 2.2}, {"e": 5.0}
+    )
+    return cube, *_map_curves(d, spec, cube, settings, ([0.5], [2.0]))
+
+
+def test_pixel_check_of_the_neimark_sacker_boundary(map_x1_b_small):
+    """Both pixels beside every crossing of the curve with a row or column: P1 on the orbit's stable side,
+    quasi-periodic beyond, wherever the row reaches the stable pixel without crossing the curve (17 of 17);
+    the crossings the rows reach from the quasi-periodic side keep the torus (subcritical part, hysteresis)."""
+    _, bd, check = map_x1_b_small
+    assert [(bd.file_kind(k), c.n) for k, c in enumerate(bd.curves)] == [("neimark_sacker", 1)]
+    # every record of the rows (after a periodic pixel) lies on the curve
+    assert {r[4] for r in bd.records if r[1] >= 1} == {"on_curve"}
+    forward = [s for s in check.samples if s.forward]
+    assert len(forward) >= 12 and check.forward_fraction >= 0.95  # measured 1.0 (17 of 17)
+    assert check.fraction >= 0.7  # measured 0.8125 (26 of 32)
+    assert all(s.reason in ("hysteresis", "slow_approach") for s in check.samples if not s.ok and not s.forward)
+    for s in forward:  # the predicted change: P1 on the stable side, a torus beyond
+        assert s.labels == (1, classify.LABELS["quasi_periodic"]), s
+
+
+@pytest.fixture(scope="module")
+def linear_limit_map():
+    """li2013 with the mean mesh stiffness over (w, e) at x1 = 0.5, b = 2, 20 x 20: the grazing curve (contact
+    loss) of the linear limit, the fold curve and the curves beyond contact loss."""
+    d = design.load(ROOT / "config" / "designs" / "li2013.yaml")
+    d = dataclasses.replace(d, dynamics={**d.dynamics, "options": {**d.dynamics["options"], "stiffness_mode": "mean"}})
+    spec, cube, settings = _small_map(
+        d,
+        {"parameter": "w", "start": 0.8, "stop": 1.6},
+        {"parameter": "e", "start": 0.0, "stop": 3.0},
+        {"x1": 0.5, "b": 2.0},
+    )
+    return d, cube, *_map_curves(d, spec, cube, settings, ([0.9], [1.5]), max_points=150)
+
+
+def test_pixel_check_of_the_grazing_curve_no_impact_to_single_sided(linear_limit_map):
+    """Across the grazing curve the impact class changes from no impact to single-sided impact as the shot
+    orbit predicts, at every row and column that crosses it; every checked crossing of every curve passes."""
+    _, cube, bd, check = linear_limit_map
+    kinds = {bd.file_kind(k) for k in range(len(bd.curves))}
+    assert {"grazing", "fold", "neimark_sacker"} <= kinds
+    grazing = [s for s in check.samples if s.kind == "grazing"]
+    assert len(grazing) >= 15  # measured 23
+    impact = cube["impact_class"].values
+    for s in grazing:
+        (j0, i0), (j1, i1) = s.pixels
+        assert {int(impact[j0, i0]), int(impact[j1, i1])} == {0, 1}, s  # no impact | single-sided
+    assert check.fraction >= 0.95 and len(check.samples) >= 30  # measured 1.0 (42 of 42)
+
+
+def test_boundary_settings_agree_with_the_config_schema():
+    node = io_schema("config.schema.json")["$defs"]["curve_settings"]["properties"]
+    defaults = dataclasses.asdict(curve_maps.BoundarySpec())
+    assert set(node) == set(defaults) - {"probes"}
+    for key, sub in node.items():
+        assert sub["default"] == (list(defaults[key]) if isinstance(defaults[key], tuple) else defaults[key]), key
+
+
+def test_curves_file_is_cf_complete_and_keeps_the_check(map_x1_b_small, tmp_path):
+    _, bd, check = map_x1_b_small
+    ds = curve_records.boundary_dataset(bd, check)
+    assert io.missing_cf_attributes(ds) == []
+    assert ds.attrs["pixel_check_samples"] == len(check.samples) and ds.sizes["check"] == len(check.samples)
+    assert ds["curve_kind"].attrs["flag_meanings"].split()[-1] == "back_grazing"
+    assert ds.sizes["record"] == len(bd.records) and ds.attrs["records_on_curve"] >= 1
+    io.write_netcdf(ds, tmp_path / "curves.nc", io.provenance(title="test"))
+    empty = curve_records.boundary_dataset(type(bd)(bd.region))  # no curve at all: still a valid file
+    assert io.missing_cf_attributes(empty) == []
+    io.write_netcdf(empty, tmp_path / "empty.nc", io.provenance(title="test"))
+
+
+def test_a_period_two_curve_is_cut_where_it_becomes_the_doubled_period_one_orbit(calibrated_ns):
+    """The period-2 curve through a period doubling of the P1 orbit runs on along the P1 orbit traversed twice:
+    cut there (``merged_into_shorter_period``)."""
+    _, _, plane, curves = calibrated_ns
+    ns = curves[0]
+    doubled = C.Curve("neimark_sacker", 2, ns.points, ns.scales, dict(ns.end_status))
+    assert curve_maps.shorter_period(plane, ns.p[0], ns.q[0], ns.points[0].z[:-2], 2)
+    assert len(curve_maps.cut_merged(plane, doubled)) == 0
+    assert curve_maps.cut_merged(plane, ns) is ns

@@ -61,17 +61,20 @@ SECTION_KEYS = {
     "calibration": "calibration",
     "orbits": "sweep",
     "responses": "response",
+    "curves": "study",
 }
 
 
-def config_slice(section):
+def config_slice(section, omit=()):
     """The one accessor of config slices (for ``params:``): the entry of ``section`` named by the
-    job's wildcard (``SECTION_KEYS``), or the whole section when it has no such wildcard.
+    job's wildcard (``SECTION_KEYS``), or the whole section when it has no such wildcard; without the
+    entry's keys ``omit`` (settings of other rules, so that changing them does not rerun this one).
     """
 
     def get(wildcards):
         key = SECTION_KEYS.get(section)
-        return config[section][wildcards[key]] if key else config[section]
+        entry = config[section][wildcards[key]] if key else config[section]
+        return {k: v for k, v in entry.items() if k not in omit} if omit else entry
 
     return get
 
@@ -104,6 +107,7 @@ wildcard_constraints:
     map=either(config["maps"], "no-map"),
     calibration=either(config["calibration"], "no-calibration"),
     response=either(config["responses"], "no-response"),
+    study=either(config["curves"], "no-study"),
     chunk=r"\d+",
 
 

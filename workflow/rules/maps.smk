@@ -13,7 +13,7 @@ rule map_chunk:
     priority: 2
     threads: 1
     params:
-        spec=config_slice("maps"),
+        spec=config_slice("maps", omit=("curves",)),
     script:
         "../scripts/map_chunk.py"
 
@@ -28,7 +28,7 @@ rule map_merge:
         logs("map_{map}_merge.log"),
     threads: 1
     params:
-        spec=config_slice("maps"),
+        spec=config_slice("maps", omit=("curves",)),
     script:
         "../scripts/map_merge.py"
 
@@ -36,6 +36,12 @@ rule map_merge:
 rule map_figure:
     input:
         cube=rules.map_merge.output[0],
+        # the map's curves (rule map_curves, workflow/rules/curves.smk) when its curves.enabled
+        curves=lambda wc: (
+            entry_path(rules.map_curves.output[0], "maps", wc.map, wc.design)
+            if config["maps"][wc.map]["curves"]["enabled"]
+            else []
+        ),
     output:
         figure=report(
             results("figures", "{map}.png"),

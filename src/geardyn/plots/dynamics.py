@@ -7,12 +7,13 @@ import matplotlib
 matplotlib.use("Agg")
 import numpy as np
 import xarray as xr
-from matplotlib.colors import BoundaryNorm, ListedColormap, TwoSlopeNorm
+from matplotlib.colors import BoundaryNorm, ListedColormap, TwoSlopeNorm, to_rgb
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from geardyn import classify
 from geardyn.classify import LABELS
+from geardyn.plots.curves import draw_curves
 from geardyn.plots.response import draw_map_layers
 from geardyn.runs.cube import labels_of_cube
 
@@ -140,12 +141,22 @@ def plot_points(ds: xr.Dataset, title: str, fmax: float = 3.0) -> Figure:
     return fig
 
 
-def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=()) -> Figure:
+def label_image(ds: xr.Dataset) -> tuple[np.ndarray, tuple[float, float, float, float]]:
+    """The label image of a map as RGB (the colours of :func:`label_colour`) and its extent, for ``imshow``."""
+    lab = ds["label"].values
+    codes = sorted(int(c) for c in np.unique(lab))
+    rgb = np.array([to_rgb(label_colour(c)) for c in codes])[np.searchsorted(codes, lab)]
+    x, y = ds["x"].values, ds["y"].values
+    return rgb, (float(x[0]), float(x[-1]), float(y[0]), float(y[-1]))
+
+
+def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=(), curves: xr.Dataset | None = None) -> Figure:
     """Regime map: label image (left) and largest exponent (right: Floquet for periodic points, the tangent
     vector otherwise), with the paper's 1-D cuts as dashed lines; where the map was also labelled from the
     fixed start (``coexisting``), the points whose two starts end on different attractors are hatched.  A map
     with response measures gains the K_v and impact-class layers below
-    (:func:`geardyn.plots.response.draw_map_layers`)."""
+    (:func:`geardyn.plots.response.draw_map_layers`).  ``curves``: a curves file
+    (:mod:`geardyn.plots.curves`) drawn over the label and impact-class panels, coloured by kind."""
 
     lab = ds["label"].values
     codes = sorted(int(c) for c in np.unique(lab))
@@ -191,7 +202,12 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=()) -> Figure:
             a.axhline(cy, color="k", ls="--", lw=0.8)
         a.set_xlabel(ds["x"].attrs.get("long_name", "x"))
         a.set_ylabel(ds["y"].attrs.get("long_name", "y"))
-    ax.set_title("motion label", fontsize=9, loc="left")
+    if curves is not None:
+        for a in (ax, ax_impact) if layers else (ax,):
+            draw_curves(a, curves, legend=a is ax, lw=1.1, loc="lower right")
+            a.set_xlim(x[0], x[-1])
+            a.set_ylim(y[0], y[-1])
+    ax.set_title("motion label" + (" and regime boundaries" if curves is not None else ""), fontsize=9, loc="left")
     axl.set_title("largest exponent (Floquet or tangent)", fontsize=9, loc="left")
     fig.suptitle(title)
     fig.tight_layout()

@@ -1,0 +1,230 @@
+"""Regime boundaries as curves (docs/orbits.md, "Regime boundaries as curves"): the curves of a curves file
+drawn over a map's panels or on their own with the codimension-2 points, the figure's caption and the table
+of codimension-2 points.  Reads the file only (no solver)."""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Iterator
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import numpy as np
+import xarray as xr
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+
+#: Colour and name of each curve kind (the file's ``curve_kind`` flag meanings).
+KIND_STYLE = {
+    "fold": ("#000000", "fold"),
+    "period_doubling": ("#1f3fbf", "period doubling"),
+    "neimark_sacker": ("#d0006f", "Neimark-Sacker"),
+    "grazing": ("#1b9e3b", "grazing (contact loss)"),
+    "back_grazing": ("#e66100", "back-flank grazing (double-sided impact)"),
+}
+#: Marker of each codimension-2 type.
+CODIM2_MARKERS = {
+    "cusp": "^",
+    "resonance_1_1": "s",
+    "resonance_1_2": "D",
+    "fold_flip": "P",
+    "fold_neimark_sacker": "X",
+    "flip_neimark_sacker": "*",
+    "double_neimark_sacker": "h",
+    "grazing_fold": "v",
+    "grazing_flip": "<",
+    "grazing_neimark_sacker": ">",
+}
+
+
+def _meanings(ds: xr.Dataset, name: str) -> list[str]:
+    return str(ds[name].attrs.get("flag_meanings", "")).split()
+
+
+def names_of(ds: xr.Dataset) -> tuple[str, str]:
+    """The two parameters of a curves file (x, y)."""
+    x, y = str(ds.attrs["curve_parameters"]).split()
+    return x, y
+
+
+def curves_of(ds: xr.Dataset) -> Iterator[dict[str, Any]]:
+    """Each curve of the file: kind, period, x, y, bounds (the curve bounds a stable orbit at that point)."""
+    xn, yn = names_of(ds)
+    kinds = _meanings(ds, "curve_kind")
+    for k in range(ds.sizes.get("curve", 0)):
+        a, n = int(ds["curve_start"][k]), int(ds["curve_length"][k])
+        sl = slice(a, a + n)
+        bounds = ds["bounds_stable"].values[sl] == 1 if "bounds_stable" in ds else np.ones(n, bool)
+        yield {
+            "kind": kinds[int(ds["curve_kind"][k])],
+            "n": int(ds["curve_period"][k]),
+            "x": ds[xn].values[sl],
+            "y": ds[yn].values[sl],
+            "bounds": bounds,
+        }
+
+
+def codim2_of(ds: xr.Dataset) -> list[dict[str, Any]]:
+    """The codimension-2 points: type, curve kind and period, x, y, located."""
+    if not ds.sizes.get("codim2", 0):
+        return []
+    xn, yn = names_of(ds)
+    types, kinds = _meanings(ds, "codim2_type"), _meanings(ds, "curve_kind")
+    out = []
+    for i in range(ds.sizes["codim2"]):
+        k = int(ds["codim2_curve"][i])
+        mu = ds["codim2_multiplier_real"].values[i] + 1j * ds["codim2_multiplier_imag"].values[i]
+        out.append(
+            {
+                "type": types[int(ds["codim2_type"][i])],
+                "curve": k,
+                "kind": kinds[int(ds["curve_kind"][k])],
+                "n": int(ds["curve_period"][k]),
+                "x": float(ds[f"codim2_{xn}"][i]),
+                "y": float(ds[f"codim2_{yn}"][i]),
+                "located": bool(ds["codim2_located"][i]),
+                "multipliers": mu,
+            }
+        )
+    return out
+
+
+def _unique_codim2(points: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """One entry per codimension-2 point found on several curves (same type, within 1e-6)."""
+    out: list[dict[str, Any]] = []
+    for p in points:
+        if not any(q["type"] == p["type"] and abs(q["x"] - p["x"]) + abs(q["y"] - p["y"]) < 1e-6 for q in out):
+            out.append(p)
+    return out
+
+
+def draw_curves(ax: Axes, ds: xr.Dataset, legend: bool = True, lw: float = 1.4, loc: str = "upper right") -> None:
+    """The curves on ``ax``: solid where they bound a stable orbit, dotted elsewhere, coloured by kind, with
+    a legend of the kinds present (and their periods) at ``loc`` (an earlier legend of ``ax`` is kept)."""
+    periods: dict[str, set[int]] = {}
+    for c in curves_of(ds):
+        colour = KIND_STYLE.get(c["kind"], ("0.3", c["kind"]))[0]
+        ax.plot(c["x"], c["y"], ":", color=colour, lw=0.7 * lw)
+        ax.plot(c["x"], np.where(c["bounds"], c["y"], np.nan), "-", color=colour, lw=lw)
+        periods.setdefault(c["kind"], set()).add(c["n"])
+    if legend and periods:
+        earlier = ax.get_legend()
+        if earlier is not None:
+            ax.add_artist(earlier)
+        handles = [
+            Line2D(
+                [],
+                [],
+                color=KIND_STYLE[k][0],
+                lw=lw,
+                label=f"{KIND_STYLE[k][1]}: " + ", ".join(f"P{n}" for n in sorted(v)),
+            )
+            for k, v in periods.items()
+        ]
+        handles.append(Line2D([], [], color="0.3", lw=0.7 * lw, ls=":", label="dotted: orbit already unstable"))
+        ax.legend(handles=handles, loc=loc, fontsize=6, framealpha=0.8)
+
+
+def plot_curves(ds: xr.Dataset, title: str, background: tuple[np.ndarray, tuple] | None = None) -> Figure:
+    """The curves in their plane with the codimension-2 points marked; ``background``: an RGB image and its
+    extent (a map's labels, :func:`geardyn.plots.dynamics.label_image`) drawn faintly behind them, with the
+    pixel check's samples (circles pass, crosses fail)."""
+    fig = Figure(figsize=(8.5, 6.5))
+    ax = fig.subplots()
+    xn, yn = names_of(ds)
+    box = [float(v) for v in str(ds.attrs.get("box", "")).split(",")] if ds.attrs.get("box") else None
+    if background is not None:
+        rgb, extent = background
+        ax.imshow(0.35 * rgb + 0.65, origin="lower", aspect="auto", extent=extent, interpolation="nearest")
+    draw_curves(ax, ds, legend=True)
+    kinds_legend = ax.get_legend()
+    if "check_reason" in ds and ds.sizes.get("check", 0):
+        ok = ds["check_reason"].values == 0
+        cx, cy = ds[f"check_{xn}"].values, ds[f"check_{yn}"].values
+        ax.plot(cx[ok], cy[ok], "o", ms=2.5, mfc="none", mec="#2ca02c", mew=0.6)
+        ax.plot(cx[~ok], cy[~ok], "x", ms=3, color="k", mew=0.6)
+    handles = []
+    for p in _unique_codim2(codim2_of(ds)):
+        ax.plot(p["x"], p["y"], CODIM2_MARKERS.get(p["type"], "o"), ms=9, mfc="#ffd700", mec="k", mew=0.8)
+    for t in sorted({p["type"] for p in codim2_of(ds)}):
+        handles.append(Line2D([], [], ls="", marker=CODIM2_MARKERS.get(t, "o"), mfc="#ffd700", mec="k", label=t))
+    if handles:
+        if kinds_legend is not None:
+            ax.add_artist(kinds_legend)
+        ax.legend(handles=handles, loc="lower right", fontsize=6, title="codimension 2", title_fontsize=6)
+    if box:
+        ax.set_xlim(box[0], box[1])
+        ax.set_ylim(box[2], box[3])
+    ax.set_xlabel(ds[xn].attrs.get("long_name", xn))
+    ax.set_ylabel(ds[yn].attrs.get("long_name", yn))
+    ax.set_title(title, fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def summary(ds: xr.Dataset) -> dict[str, Any]:
+    """Counts by kind (with periods), the codimension-2 points, the records' fates, the pixel check."""
+    kinds = Counter(f"{c['kind']} P{c['n']}" for c in curves_of(ds))
+    return {
+        "curves": dict(sorted(kinds.items())),
+        "codim2": _unique_codim2(codim2_of(ds)),
+        "records": {k.removeprefix("records_"): int(v) for k, v in ds.attrs.items() if k.startswith("records_")},
+        "check": {k.removeprefix("pixel_check_"): v for k, v in ds.attrs.items() if k.startswith("pixel_check_")},
+    }
+
+
+def caption(name: str, ds: xr.Dataset, over_map: bool) -> str:
+    """The caption of a curves figure: what is drawn, how it was computed, what was found and measured."""
+    s = summary(ds)
+    xn, yn = names_of(ds)
+    lines = [
+        f"{name}: regime boundaries in the plane ({xn}, {yn}) over [{ds.attrs.get('box', '')}] "
+        f"(fixed {ds.attrs.get('fixed_overrides', 'none')}), continued in two parameters (geardyn.runs.continuation, "
+        "docs/orbits.md 'Regime boundaries as curves'): solid where the curve bounds a stable orbit, dotted where the "
+        "orbit is already unstable.",
+        f"Seeds: the orbits along the lines {ds.attrs.get('lines', '')} continued in one parameter"
+        + (", and the map's records of lost stability" if over_map else "")
+        + ".",
+        "Curves: " + ("; ".join(f"{v} {k}" for k, v in s["curves"].items()) or "none") + ".",
+        "Codimension-2 points: "
+        + ("; ".join(f"{p['type']} at ({p['x']:.5g}, {p['y']:.5g})" for p in s["codim2"]) or "none")
+        + ".",
+    ]
+    if over_map and s["records"]:
+        lines.append("Map records as seeds: " + ", ".join(f"{k} {v}" for k, v in s["records"].items()) + ".")
+    if s["check"] and int(s["check"].get("samples", 0)) > 0:
+        c = s["check"]
+        lines.append(
+            "Pixel check (the two pixels on either side of a curve where it crosses a row or column of the map, "
+            f"every {c.get('every', '?')} rows and columns): {c['fraction']:.1%} of {c['samples']} crossings as "
+            f"predicted, {c['forward_fraction']:.1%} of the {c['forward_samples']} that the rows reach from the "
+            f"stable side; failures: {c['failures']} "
+            "(circles pass, crosses fail)."
+        )
+    return "\n".join(lines)
+
+
+def codim2_table(name: str, ds: xr.Dataset) -> str:
+    """The codimension-2 points as a Markdown table (one row per point and curve it lies on)."""
+    xn, yn = names_of(ds)
+    rows = [
+        f"# Codimension-2 points: {name}",
+        "",
+        f"Plane ({xn}, {yn}), fixed {ds.attrs.get('fixed_overrides', 'none')}; located: refined by Brent on the "
+        "curve (else bracketed between two curve points). Multipliers of the n-period map.",
+        "",
+        f"| type | on curve | period | {xn} | {yn} | located | multipliers |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for p in codim2_of(ds):
+        mu = ", ".join(
+            f"{z.real:.5f}{z.imag:+.5f}i" if abs(z.imag) > 1e-9 else f"{z.real:.5f}" for z in p["multipliers"]
+        )
+        located = "yes" if p["located"] else "no"
+        rows.append(f"| {p['type']} | {p['kind']} | {p['n']} | {p['x']:.6f} | {p['y']:.6f} | {located} | {mu} |")
+    if len(rows) == 6:
+        rows.append("| none | | | | | | |")
+    return "\n".join(rows) + "\n"

@@ -1,0 +1,26 @@
+"""Adapter: the regime boundaries of one `curves:` study (a plane of two parameters, no map) -> curves file."""
+
+from geardyn import io, logs
+from geardyn.khv import design, point
+from geardyn.runs.continuation import curve_maps, curve_records
+from geardyn.solve import warm_up
+
+log = logs.to_file(snakemake.log[0])
+drive = design.load(snakemake.input.design)
+entry = snakemake.params.spec
+name = snakemake.wildcards.study
+region = curve_maps.Region.from_config(entry, drive.segment)
+settings_of = curve_maps.BoundarySpec.from_config(entry)
+warm_up(point.point_coefficients(drive))
+integration = point.integration_settings(drive, **dict(entry.get("integration", {})))
+bd, _ = curve_records.boundary_curves(drive, region, settings_of, integration)
+ds = curve_records.boundary_dataset(bd)
+log.info("%d curves in %.1f s", len(bd.curves), bd.timing["total"])
+attrs = io.provenance(
+    title=f"Regime boundaries {name}, {drive.title}",
+    paper=drive.paper,
+    config={"design": drive.raw, "curves": entry},
+    model_variant=drive.stiffness.label,
+    extra={"study": name, "design": drive.name, "steps_per_period": integration.steps_per_period},
+)
+io.write_netcdf(ds, snakemake.output[0], {**ds.attrs, **attrs})
