@@ -207,11 +207,12 @@ def canonical_environ(environ: Mapping[str, str]) -> dict[str, str]:
 
 def blas_core(package: str = "numpy") -> str:
     """The kernel set ("core") that the OpenBLAS bundled with ``package`` (``numpy`` or ``scipy``) uses, e.g.
-    ``Nehalem``, or ``unknown`` (another BLAS, or the package not installed).  Loads the package."""
+    ``Nehalem``, or ``unknown`` (another BLAS, or the package not installed).  Opens the package's OpenBLAS
+    library, not the package (the same handle where the package loaded it; with the environment's kernel
+    setting where it did not, as the package will then find it)."""
     spec = importlib.util.find_spec(package)
     if spec is None or not spec.submodule_search_locations:
         return "unknown"
-    __import__(package + (".linalg" if package == "scipy" else ""))  # loads its OpenBLAS
     where = next(iter(spec.submodule_search_locations))
     libs = glob.glob(os.path.join(where, "..", f"{package}.libs", "libscipy_openblas*.so"))
     symbol = "scipy_openblas_get_corename64_" if package == "numpy" else "scipy_openblas_get_corename"
