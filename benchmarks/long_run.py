@@ -204,16 +204,27 @@ def sweep_check(
         )
     cs = classify.ClassifierSettings()
     keep = 3 * cs.long_max_n
-    # the sweeps' own integration (steps per period, contact switches located), without the early stop
-    s = dataclasses.replace(
-        sweep.sweep_policy(*cubes[picks[0][:2]][:2]).integration,
-        transient_periods=periods - keep,
-        recorded_periods=keep,
-        early_stop=False,
-    )
-    runs = simulate_batch(systems, s, starts, tangent_periods=periods)
-    ends = [ending(r.poincare, r.growth, system.period, cs) for system, r in zip(systems, runs, strict=True)]
-    radius = _unconverged_cycles(systems, runs, ends, s)
+    # each point with its sweep's own integration (steps per period, contact switches located), no early stop
+    settings = [
+        dataclasses.replace(
+            sweep.sweep_policy(*cubes[p[:2]][:2]).integration,
+            transient_periods=periods - keep,
+            recorded_periods=keep,
+            early_stop=False,
+        )
+        for p in picks
+    ]
+    runs: list[Any] = [None] * len(picks)
+    ends: list[Any] = [None] * len(picks)
+    radius: dict[int, float] = {}
+    for s in dict.fromkeys(settings):  # one batch per integration setting
+        idx = [k for k, sk in enumerate(settings) if sk == s]
+        group = simulate_batch([systems[k] for k in idx], s, [starts[k] for k in idx], tangent_periods=periods)
+        group_ends = [ending(r.poincare, r.growth, systems[k].period, cs) for k, r in zip(idx, group, strict=True)]
+        for k, r, e in zip(idx, group, group_ends, strict=True):
+            runs[k], ends[k] = r, e
+        group_radius = _unconverged_cycles([systems[k] for k in idx], group, group_ends, s)
+        radius.update({idx[i]: v for i, v in group_radius.items()})
     table: dict[str, dict[str, int]] = {}
     failed = []
     for k, (pick, (lab, per, stored), r) in enumerate(zip(picks, verdicts, runs, strict=True)):
