@@ -210,9 +210,9 @@ def _locked(points: list[Point], policy: Policy) -> None:
     on a locked torus the points gather about the n points of the cycle) over the part of the record the
     torus test's order test reads (:func:`_order_part`: the newest half of a long record, where a slow
     approach has come closest).  It is tried where the record's return distance after n periods is small
-    (:func:`_returns`) and, for a long cycle (n > max_n), falls along the record or every point's nearest
-    neighbour is n periods away; a short cycle is tried on the small distance alone (the multipliers decide:
-    a torus about a short cycle has it unstable).  Where n is not tried, the least n <= max_n about whose
+    (:func:`_returns`) and falls along the record (by half for a long cycle, n > max_n; at all for a short
+    one, where the multipliers then decide: a torus about a short cycle has it unstable), or where every
+    point's nearest neighbour is n periods away.  Where n is not tried, the least n <= max_n about whose
     cycle the record gathers (:func:`_gathers`; a record still approaching a short cycle need not have its
     nearest neighbours n apart yet).  The verdict draws the cycle's points, not the record's."""
     cs = policy.classifier
