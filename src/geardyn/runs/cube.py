@@ -53,77 +53,52 @@ EXPONENT_METHOD_ATTRS = _flags(
 )
 
 
+def _verdict_var(field: str, long_name: str, fill: Any = np.nan) -> tuple:
+    return field, None, {"units": "1", "long_name": long_name}, fill
+
+
+#: The per-point variables of a verdict (:class:`geardyn.label.Verdict`) besides its label: name -> (the
+#: verdict's field, the codes of a flag or None, CF attributes, fill value: NaN, or an integer of its dtype).
+VERDICT_VARIABLES = {
+    "period": _verdict_var("period", "least period n in mesh periods (0: not periodic)", fill=np.int16(0)),
+    "lyapunov": _verdict_var(
+        "exponent",
+        "largest exponent per unit dimensionless time tau = w_n t (Floquet: log max|mu| / (n T) of the certified "
+        "orbit; else a tangent vector)",
+    ),
+    "lyapunov_sigma": _verdict_var("exponent_sigma", "uncertainty of the largest exponent (0 for Floquet exponents)"),
+    "exponent_method": ("exponent_method", EXPONENT_METHODS, EXPONENT_METHOD_ATTRS, np.int8(0)),
+    "multiplier": _verdict_var("multiplier", "largest Floquet multiplier modulus of the orbit over its least period"),
+    "zero_one_k": _verdict_var(
+        "k01", "0-1 test statistic K on stroboscopic X_VH (Gottwald-Melbourne; NaN if periodic)"
+    ),
+    "spectral_flatness": _verdict_var(
+        "flatness", "spectral flatness of stroboscopic X_VH (0 lines, ~0.56 white; NaN if periodic)"
+    ),
+    "torus_digits": _verdict_var(
+        "torus_digits",
+        "digits of agreement of the weighted Birkhoff averages of the two halves of the record (large: a torus; "
+        "NaN if periodic)",
+    ),
+    "crosscheck": (
+        "crosscheck",
+        None,
+        _flags({"not_applicable": -1, "one_agrees": 0, "both_agree": 1}, "0-1 test and spectrum agree with the label"),
+        np.int8(-1),
+    ),
+    "stage": ("stage", STAGES, STAGE_ATTRS, np.int8(0)),
+    "bifurcation": ("bifurcation", BIFURCATIONS, BIFURCATION_ATTRS, np.int8(0)),
+}
+
+
 def label_variables(
     dims: tuple[str, ...], shape: tuple[int, ...], classifier: classify.ClassifierSettings
 ) -> dict[str, Any]:
-    """Empty per-point verdict variables (see :class:`geardyn.label.Verdict`)."""
+    """Empty per-point verdict variables: the motion label and :data:`VERDICT_VARIABLES`."""
+    label = {"long_name": "motion label (geardyn.label)", **classify.flag_attrs(classifier.max_n)}
     return {
-        "label": (
-            dims,
-            np.full(shape, classify.LABELS["undetermined"], np.int16),
-            {"long_name": "motion label (geardyn.label)", **classify.flag_attrs(classifier.max_n)},
-        ),
-        "period": (
-            dims,
-            np.zeros(shape, np.int16),
-            {"units": "1", "long_name": "least period n in mesh periods (0: not periodic)"},
-        ),
-        "lyapunov": (
-            dims,
-            np.full(shape, np.nan),
-            {
-                "units": "1",
-                "long_name": "largest exponent per unit dimensionless time tau = w_n t (Floquet: "
-                "log max|mu| / (n T) of the certified orbit; else a tangent vector)",
-            },
-        ),
-        "lyapunov_sigma": (
-            dims,
-            np.full(shape, np.nan),
-            {"units": "1", "long_name": "uncertainty of the largest exponent (0 for Floquet exponents)"},
-        ),
-        "exponent_method": (dims, np.zeros(shape, np.int8), EXPONENT_METHOD_ATTRS),
-        "multiplier": (
-            dims,
-            np.full(shape, np.nan),
-            {"units": "1", "long_name": "largest Floquet multiplier modulus of the orbit over its least period"},
-        ),
-        "zero_one_k": (
-            dims,
-            np.full(shape, np.nan),
-            {
-                "units": "1",
-                "long_name": "0-1 test statistic K on stroboscopic X_VH (Gottwald-Melbourne; NaN if periodic)",
-            },
-        ),
-        "spectral_flatness": (
-            dims,
-            np.full(shape, np.nan),
-            {
-                "units": "1",
-                "long_name": "spectral flatness of stroboscopic X_VH (0 lines, ~0.56 white; NaN if periodic)",
-            },
-        ),
-        "torus_digits": (
-            dims,
-            np.full(shape, np.nan),
-            {
-                "units": "1",
-                "long_name": "digits of agreement of the weighted Birkhoff averages of the two halves "
-                "of the record (large: a torus; NaN if periodic)",
-            },
-        ),
-        "crosscheck": (
-            dims,
-            np.full(shape, -1, np.int8),
-            {
-                "long_name": "0-1 test and spectrum agree with the label",
-                "flag_values": np.array([-1, 0, 1], np.int8),
-                "flag_meanings": "not_applicable one_agrees both_agree",
-            },
-        ),
-        "stage": (dims, np.zeros(shape, np.int8), STAGE_ATTRS),
-        "bifurcation": (dims, np.zeros(shape, np.int8), BIFURCATION_ATTRS),
+        "label": (dims, np.full(shape, classify.LABELS["undetermined"], np.int16), label),
+        **{name: (dims, np.full(shape, fill), attrs) for name, (_, _, attrs, fill) in VERDICT_VARIABLES.items()},
     }
 
 
@@ -134,17 +109,8 @@ def store_verdict(ds: Any, idx: tuple, v: Verdict, fixed: Verdict | None = None)
         ds["label_fixed"].values[idx] = fixed.label
         ds["coexisting"].values[idx] = int(not same(v, fixed))
     ds["label"].values[idx] = v.label
-    ds["period"].values[idx] = v.period
-    ds["lyapunov"].values[idx] = v.exponent
-    ds["lyapunov_sigma"].values[idx] = v.exponent_sigma
-    ds["exponent_method"].values[idx] = EXPONENT_METHODS[v.exponent_method]
-    ds["multiplier"].values[idx] = v.multiplier
-    ds["zero_one_k"].values[idx] = v.k01
-    ds["spectral_flatness"].values[idx] = v.flatness
-    ds["torus_digits"].values[idx] = v.torus_digits
-    ds["crosscheck"].values[idx] = v.crosscheck
-    ds["stage"].values[idx] = STAGES[v.stage]
-    ds["bifurcation"].values[idx] = BIFURCATIONS[v.bifurcation]
+    for name, (field, codes, _, _) in VERDICT_VARIABLES.items():
+        ds[name].values[idx] = getattr(v, field) if codes is None else codes[getattr(v, field)]
 
 
 #: Units and long names of the per-point response measures (:class:`geardyn.solve.response.ResponseMeasures`).
