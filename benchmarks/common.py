@@ -46,7 +46,7 @@ def map_study(config_path: Path, map_name: str):
     dname = raw["designs"][0]
     design = load_design(dname, config, config_path.resolve().parent.parent)
     spec = maps.MapSpec.from_config(map_name, raw, dname, design.segment)
-    return dname, design, spec, maps.map_policy(design, spec)
+    return dname, design, spec, spec.policy(design)
 
 
 def map_lines(design, spec, rows=None):

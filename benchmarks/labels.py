@@ -97,11 +97,11 @@ def explain_differences(config_path: Path, old: Path, new: Path, design: str, ki
     where = np.argwhere((lo != ln) & (lo != LABELS["undetermined"]))
     if kind == "maps":
         spec = maps.MapSpec.from_config(name, config["maps"][name], design, d.segment)
-        policy = maps.map_policy(d, spec)
+        policy = spec.policy(d)
         systems = [maps.point_coefficients(d, spec, spec.x.values[i], spec.y.values[j]) for j, i in where]
     else:
         spec = sweep.SweepSpec.from_config(name, config["sweeps"][name], design, d.segment)
-        policy = sweep.sweep_policy(d, spec)
+        policy = spec.policy(d)
         systems = [point.point_coefficients(d, sweep.point_overrides(spec, c, spec.values[j])) for c, _, j in where]
     t0 = time.perf_counter()
     fixed = label_points(systems, policy.with_start("fixed"))

@@ -207,7 +207,7 @@ def sweep_check(
     # each point with its sweep's own integration (steps per period, contact switches located), no early stop
     settings = [
         dataclasses.replace(
-            sweep.sweep_policy(*cubes[p[:2]][:2]).integration,
+            p[2].policy(cubes[p[:2]][0]).integration,
             transient_periods=periods - keep,
             recorded_periods=keep,
             early_stop=False,

@@ -32,7 +32,7 @@ def map_throughput(
     dname = raw["designs"][0]
     design = load_design(dname, config, root)
     spec = maps.MapSpec.from_config(map_name, raw, dname, design.segment)
-    policy = maps.map_policy(design, spec)
+    policy = spec.policy(design)
     lines = map_lines(design, spec)
     sub = list(range(0, spec.y.num, fixed_stride))
 
@@ -86,7 +86,7 @@ def figures_throughput(config_path: Path, design: str = "li2013", quick: bool = 
         if quick:
             raw["num"] = 20
         spec = sweep.SweepSpec.from_config(name, raw, design, d.segment)
-        policy = sweep.sweep_policy(d, spec)
+        policy = spec.policy(d)
         lines = [
             [point.point_coefficients(d, sweep.point_overrides(spec, c, v)) for v in spec.values]
             for c in range(len(spec.cases))

@@ -39,7 +39,7 @@ def test_chunks_tile_each_point_once(chunks):
     spec = _spec(chunks=chunks, cases=[{"b": 1.0}, {"b": 2.0}])
     seen = {}
     for c in range(spec.n_chunks):
-        for case, d, idx in sweep.chunk_work(spec, c).items:
+        for case, d, idx in sweep.chunk_work(spec, c):
             for j in idx:
                 seen[(case, d, j)] = seen.get((case, d, j), 0) + 1
     assert len(seen) == 2 * 7 and set(seen.values()) == {1}

@@ -1,0 +1,237 @@
+"""The one study runner: sweeps, maps, frequency responses and point runs are layouts of it.
+
+A study labels *lines* of systems with :func:`geardyn.label.label_lines` (with ``start_from: follow`` each
+point of a line starts from the attractor of the one before, with ``fixed`` from the static deflection) and
+keeps every point's verdict and the response measures on its attractor.  A :class:`Layout` says what one run
+computes: its lines (a chunk of a sweep or a map, the up and down sweeps of a frequency response, the
+independent points of a point run), where each point's verdict goes (its index in the run's arrays), and the
+variables of its own it keeps per point.  :func:`run` does the rest the same way for every layout: it labels
+the lines, again from the fixed start where the policy asks for ``coexistence``, measures the responses
+(:func:`line_responses`) and writes each point through :func:`store` into the arrays built by
+:func:`variables`.  A point's numbers depend only on its line, never on the other lines, the chunking or the
+threads.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import time
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any, NamedTuple, Self
+
+import numpy as np
+
+from geardyn import label  # label.label_lines on first use: the workflow's DAG reads the specs without the solver
+from geardyn.khv import point
+from geardyn.khv.design import KHVDesign, resolve_fractions
+from geardyn.label import Policy, Verdict
+from geardyn.label.compare import same
+from geardyn.runs.cube import (
+    COMPUTED_ATTRS,
+    RESPONSE_ATTRS,
+    TRANSIENT_USED_ATTRS,
+    VERDICT_VARIABLES,
+    coexistence_variables,
+    label_variables,
+    response_variables,
+)
+from geardyn.solve import SimulationSettings, System
+from geardyn.solve.response import IMPACT_CLASSES, ResponseMeasures, response_measures_many
+
+log = logging.getLogger("geardyn.study")
+
+#: A point's place in the arrays of its study.
+Index = tuple[int, ...]
+#: Variables as :class:`xarray.Dataset` takes them: name -> (dims, array, attributes).
+Variables = dict[str, tuple[Any, ...]]
+
+
+def _pairs(spec: Mapping[str, Any], key: str) -> tuple[tuple[str, Any], ...]:
+    return tuple(sorted((spec.get(key) or {}).items()))
+
+
+@dataclass(frozen=True, kw_only=True)
+class StudySpec:
+    """What every study of ``config.yaml`` declares (a sweep, a map, a frequency response); a study's own spec
+    adds its grid (:meth:`own_fields`).  ``fixed``: overrides held at every point; ``chunks``: the jobs asked
+    for; ``integration``: changes to the design's integration settings; ``classifier``, ``start_from`` and
+    ``coexistence``: the labelling policy's (:meth:`geardyn.label.Policy.from_spec`)."""
+
+    name: str
+    design: str
+    fixed: tuple[tuple[str, float], ...] = ()
+    chunks: int = 1
+    integration: tuple[tuple[str, Any], ...] = ()
+    classifier: tuple[tuple[str, Any], ...] = ()
+    start_from: str = "follow"
+    coexistence: bool = False
+
+    @classmethod
+    def from_config(cls, name: str, spec: Mapping[str, Any], design: str, segment: tuple[float, float]) -> Self:
+        """The study ``name`` of the config for ``design``, whose admissible segment (x1_min, x1_max)
+        resolves percentages of x1 (:func:`geardyn.khv.design.resolve_fractions`)."""
+        spec = resolve_fractions(spec, segment)
+        return cls(
+            name=name,
+            design=design,
+            fixed=_pairs(spec, "fixed"),
+            chunks=int(spec.get("chunks", 1)),
+            integration=_pairs(spec, "integration"),
+            classifier=_pairs(spec, "classifier"),
+            start_from=spec.get("start_from", "follow"),
+            coexistence=bool(spec.get("coexistence", False)),
+            **cls.own_fields(spec),
+        )
+
+    @classmethod
+    def own_fields(cls, spec: Mapping[str, Any]) -> dict[str, Any]:
+        """The fields of a study's own spec, from its config entry (percentages resolved)."""
+        return {}
+
+    def policy(self, design: KHVDesign) -> Policy:
+        """The labelling policy: the design's integration with the study's changes, its classifier settings,
+        start and coexistence."""
+        return Policy.from_spec(
+            point.integration_settings(design, **dict(self.integration)),
+            {"classifier": dict(self.classifier), "start_from": self.start_from, "coexistence": self.coexistence},
+        )
+
+    @property
+    def fixed_overrides(self) -> str:
+        return ",".join(f"{k}={v:g}" for k, v in self.fixed) or "none"
+
+
+@dataclass
+class Layout:
+    """What one run of a study computes.
+
+    ``lines``: the lines of points, each point its index in the arrays and its system; consumed once, by
+    :func:`run` (which times building them).  ``dims`` and ``shape``: of the per-point arrays.  Which common
+    variables the study keeps: ``diverged`` (the flag's long name; empty: none), ``transient`` (``transient_used``)
+    and ``computed`` (a chunk's flag of the points it holds).  ``own``: the study's own per-point variables,
+    written by ``store_own(arrays, index, system, verdict)``."""
+
+    dims: tuple[str, ...]
+    shape: tuple[int, ...]
+    lines: Iterable[list[tuple[Index, System]]]
+    diverged: str = ""
+    transient: bool = True
+    computed: bool = False
+    own: Variables = field(default_factory=dict)
+    store_own: Callable[[dict[str, np.ndarray], Index, System, Verdict], None] | None = None
+
+
+class Result(NamedTuple):
+    """A run's variables (filled), its verdicts (line by line, in the order of travel) and its wall time."""
+
+    data: Variables
+    verdicts: list[list[Verdict]]
+    wall_time_s: float
+
+
+def variables(layout: Layout, policy: Policy) -> Variables:
+    """The empty per-point variables of a study: the verdict's (:func:`geardyn.runs.cube.label_variables`), the
+    response measures, the fixed start's label and the ``coexisting`` flag with the policy's ``coexistence``,
+    ``diverged``, the layout's own, ``transient_used`` and ``computed``, as the layout keeps them."""
+    dims, shape, cs = layout.dims, layout.shape, policy.classifier
+    data = {**label_variables(dims, shape, cs), **response_variables(dims, shape)}
+    if policy.coexistence:
+        data.update(coexistence_variables(dims, shape, cs))
+    if layout.diverged:
+        flags = {"flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "not_computed bounded diverged"}
+        data["diverged"] = (dims, np.full(shape, -1, np.int8), {"long_name": layout.diverged, **flags})
+    data.update(layout.own)
+    if layout.transient:
+        data["transient_used"] = (dims, np.full(shape, -1, np.int32), TRANSIENT_USED_ATTRS)
+    if layout.computed:
+        data["computed"] = (dims, np.zeros(shape, np.int8), COMPUTED_ATTRS)
+    return data
+
+
+def store(arrays: dict[str, np.ndarray], idx: Index, v: Verdict, r: ResponseMeasures, fixed: Verdict | None) -> None:
+    """Write one point into the arrays of :func:`variables`: its verdict, its response measures, with ``fixed``
+    (policy ``coexistence``) the fixed start's label and whether the two differ, and the divergence, transient
+    and computed flag where the study keeps them."""
+    a = arrays
+    a["label"][idx] = v.label
+    for name, (attr, codes, _, _) in VERDICT_VARIABLES.items():
+        a[name][idx] = getattr(v, attr) if codes is None else codes[getattr(v, attr)]
+    for name in RESPONSE_ATTRS:
+        a[name][idx] = getattr(r, name)
+    a["impact_class"][idx] = IMPACT_CLASSES.get(r.impact_class, -1)
+    if fixed is not None:
+        a["label_fixed"][idx], a["coexisting"][idx] = fixed.label, int(not same(v, fixed))
+    for name, value in (("diverged", int(v.diverged)), ("transient_used", v.transient_used), ("computed", 1)):
+        if name in a:
+            a[name][idx] = value
+
+
+def line_responses(
+    lines: Sequence[Sequence[System]], verdicts: Sequence[Sequence[Verdict]], settings: SimulationSettings
+) -> list[list[ResponseMeasures]]:
+    """The response measures of every point of labelled lines, from each verdict's final state (on the
+    attractor): over one cycle of a periodic verdict (its least period: the recorded periods repeat it), else
+    over the settings' recorded periods; :meth:`ResponseMeasures.not_computed` where the labeller saw
+    divergence.  All points in one call of :func:`response_measures_many` (the batch's lanes)."""
+    flat = [(s, v) for line, vs in zip(lines, verdicts, strict=True) for s, v in zip(line, vs, strict=True)]
+    run = [(s, v) for s, v in flat if not v.diverged]
+    measured = iter(
+        response_measures_many(
+            [s for s, _ in run],
+            [v.final_state for _, v in run],
+            settings,
+            [v.period if v.period > 0 else settings.recorded_periods for _, v in run],
+        )
+    )
+    out = iter([ResponseMeasures.not_computed() if v.diverged else next(measured) for _, v in flat])
+    return [[next(out) for _ in line] for line in lines]
+
+
+def run(layout: Layout, policy: Policy, progress: str = "") -> Result:
+    """Label the layout's lines by ``policy`` (and from the fixed start too with its ``coexistence``), measure
+    the responses and store every point (:func:`store`, then the layout's ``store_own``).  ``progress``: a name
+    for the log."""
+    t0 = time.perf_counter()
+    points = list(layout.lines)
+    lines = [[system for _, system in line] for line in points]
+    data = variables(layout, policy)
+    verdicts = label.label_lines(lines, policy, progress=progress)
+    fixed = label.label_lines(lines, policy.with_start("fixed")) if policy.coexistence else None
+    responses = line_responses(lines, verdicts, policy.integration)
+    arrays = {name: var[1] for name, var in data.items()}
+    for k, line in enumerate(points):
+        for m, (idx, system) in enumerate(line):
+            store(arrays, idx, verdicts[k][m], responses[k][m], None if fixed is None else fixed[k][m])
+            if layout.store_own is not None:
+                layout.store_own(arrays, idx, system, verdicts[k][m])
+    el, n = time.perf_counter() - t0, sum(map(len, lines))
+    log.info("%s: %d points in %.1f s (%.2f ms/point)", progress, n, el, 1e3 * el / max(1, n))
+    return Result(data, verdicts, el)
+
+
+def integration_attrs(settings: SimulationSettings) -> dict[str, Any]:
+    """Attributes recording the integration of a study's runs."""
+    return {
+        k: getattr(settings, k) for k in ("integrator", "steps_per_period", "transient_periods", "recorded_periods")
+    }
+
+
+def study_attrs(policy: Policy) -> dict[str, Any]:
+    """Attributes recording how the points were labelled: the integration, start, coexistence, transients,
+    early stop and the classifier settings."""
+    s = policy.integration
+    return {
+        **integration_attrs(s),
+        "start": policy.start,
+        "coexistence": int(policy.coexistence),
+        "follow_transient_periods": policy.follow_transient_periods,
+        "newton_tol": policy.newton_tol,
+        "stability_margin": policy.stability_margin,
+        "early_stop": int(s.early_stop),
+        "early_stop_min_periods": s.early_stop_min_periods,
+        "early_stop_confirm": s.early_stop_confirm,
+        "early_stop_tol_factor": s.early_stop_tol_factor,
+        **{f"classifier_{k}": v for k, v in dataclasses.asdict(policy.classifier).items()},
+    }
