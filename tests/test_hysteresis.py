@@ -28,7 +28,7 @@ def study():
     spec = response.ResponseSpec.from_config(
         "frequency_response", cfg["responses"]["frequency_response"], d.name, d.segment
     )
-    return point.point_coefficients(d, dict(spec.fixed)), response.response_policy(d, spec), spec
+    return point.point_coefficients(d, dict(spec.fixed)), spec.policy(d), spec
 
 
 @pytest.fixture(scope="module")

@@ -1,13 +1,13 @@
-"""What sweeps and maps store: state names, per-point label variables, and the ONE chunk merge.
+"""What the studies store: state names, the per-point variables (verdict, response measures, coexistence)
+with their CF attributes, and the ONE chunk merge of sweeps and maps.
 
-A chunk file holds every variable of its run's full grid, NaN or -1 where it did not compute, and
-a ``computed`` flag (1 where it did).  :func:`merge_chunks` combines them, whatever the run, and
-refuses chunks that do not tile the grid exactly once.
+The studies fill these variables through one runner (:mod:`geardyn.runs.study`).  A chunk file holds every
+variable of its run's full grid, NaN or -1 where it did not compute, and a ``computed`` flag (1 where it did).
+:func:`merge_chunks` combines them, whatever the run, and refuses chunks that do not tile the grid exactly once.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import json
 from collections.abc import Sequence
 from typing import Any
@@ -17,10 +17,8 @@ import xarray as xr
 
 from geardyn import classify
 from geardyn.io import runtime_provenance
-from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES, Policy, Verdict
-from geardyn.label.compare import same
-from geardyn.solve import SimulationSettings, System
-from geardyn.solve.response import IMPACT_CLASSES, ResponseMeasures, response_measures_many
+from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES
+from geardyn.solve.response import IMPACT_CLASSES
 
 STATES = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
 STATE_NAMES = {
@@ -102,17 +100,6 @@ def label_variables(
     }
 
 
-def store_verdict(ds: Any, idx: tuple, v: Verdict, fixed: Verdict | None = None) -> None:
-    """Write one verdict into the label variables of ``ds`` (an xarray Dataset or a mapping of arrays);
-    with ``fixed`` (policy ``coexistence``) also the fixed start's label and whether the two differ."""
-    if fixed is not None:
-        ds["label_fixed"].values[idx] = fixed.label
-        ds["coexisting"].values[idx] = int(not same(v, fixed))
-    ds["label"].values[idx] = v.label
-    for name, (field, codes, _, _) in VERDICT_VARIABLES.items():
-        ds[name].values[idx] = getattr(v, field) if codes is None else codes[getattr(v, field)]
-
-
 #: Units and long names of the per-point response measures (:class:`geardyn.solve.response.ResponseMeasures`).
 RESPONSE_ATTRS = {
     "static_force": ("1", "static mesh force F_s / (k_mean b_c) (mean stiffness, no TE)"),
@@ -145,43 +132,6 @@ def response_variables(dims: tuple[str, ...], shape: tuple[int, ...]) -> dict[st
     return data
 
 
-def verdict_responses(
-    systems: Sequence[System], verdicts: Sequence[Verdict], settings: SimulationSettings
-) -> list[ResponseMeasures]:
-    """The response measures of labelled points, from each verdict's final state (on the attractor): over
-    one cycle of a periodic verdict (its least period: the recorded periods repeat it), else over the
-    settings' recorded periods; :meth:`ResponseMeasures.not_computed` where the labeller saw divergence.
-    All points in one call of :func:`response_measures_many` (the batch's lanes)."""
-    run = [k for k, v in enumerate(verdicts) if not v.diverged]
-    measured = response_measures_many(
-        [systems[k] for k in run],
-        [verdicts[k].final_state for k in run],
-        settings,
-        [verdicts[k].period if verdicts[k].period > 0 else settings.recorded_periods for k in run],
-    )
-    out = dict(zip(run, measured, strict=True))
-    return [out[k] if k in out else ResponseMeasures.not_computed() for k in range(len(verdicts))]
-
-
-def line_responses(
-    lines: Sequence[Sequence[System]], verdicts: Sequence[Sequence[Verdict]], settings: SimulationSettings
-) -> list[list[ResponseMeasures]]:
-    """:func:`verdict_responses` of every point of labelled lines."""
-    flat = verdict_responses([s for line in lines for s in line], [v for vs in verdicts for v in vs], settings)
-    out, k = [], 0
-    for line in lines:
-        out.append(flat[k : k + len(line)])
-        k += len(line)
-    return out
-
-
-def store_response(ds: Any, idx: tuple, r: ResponseMeasures) -> None:
-    """Write one point's response measures into the variables of :func:`response_variables`."""
-    for name in RESPONSE_ATTRS:
-        ds[name].values[idx] = getattr(r, name)
-    ds["impact_class"].values[idx] = IMPACT_CLASSES.get(r.impact_class, -1)
-
-
 #: CF attributes of the ``coexisting`` flag (policy ``coexistence``).
 COEXISTING_ATTRS = {
     "long_name": "the follow and the fixed start end on different attractors at this point",
@@ -190,29 +140,7 @@ COEXISTING_ATTRS = {
 }
 
 
-def classifier_attrs(classifier: classify.ClassifierSettings) -> dict[str, Any]:
-    return {f"classifier_{k}": v for k, v in dataclasses.asdict(classifier).items()}
-
-
-def policy_attrs(policy: Policy) -> dict[str, Any]:
-    """Attributes recording how the points were labelled: start, coexistence, transients, early stop and
-    the classifier settings."""
-    s = policy.integration
-    return {
-        "start": policy.start,
-        "coexistence": int(policy.coexistence),
-        "follow_transient_periods": policy.follow_transient_periods,
-        "newton_tol": policy.newton_tol,
-        "stability_margin": policy.stability_margin,
-        "early_stop": int(s.early_stop),
-        "early_stop_min_periods": s.early_stop_min_periods,
-        "early_stop_confirm": s.early_stop_confirm,
-        "early_stop_tol_factor": s.early_stop_tol_factor,
-        **classifier_attrs(policy.classifier),
-    }
-
-
-#: CF attributes of the per-point ``transient_used`` of sweep cubes and maps.
+#: CF attributes of the per-point ``transient_used`` of the studies that follow attractors.
 TRANSIENT_USED_ATTRS = {
     "units": "1",
     "long_name": "transient mesh periods integrated before the recorded ones (0: followed from the previous "

@@ -1,9 +1,10 @@
 """Dense runs at single operating points: phase trajectory, Poincaré map and amplitude spectrum.
 
 Only the points drawn in Figs. 8, 10 and 12 of paper 1 need the dense trajectory, so it is computed
-here, for those points only, and never inside a sweep.  Each point is labelled first
-(:func:`geardyn.label.label_points`, from the static deflection); its dense run then starts from the
-verdict's final state, on the attractor, so the figure draws the attractor, never a transient.
+here, for those points only, and never inside a sweep.  Each point is labelled first, from the static
+deflection, by the one study runner (:mod:`geardyn.runs.study`: a layout of independent points, each a line
+of its own); its dense run then starts from the verdict's final state, on the attractor, so the figure draws
+the attractor, never a transient.
 """
 
 from __future__ import annotations
@@ -18,16 +19,9 @@ import xarray as xr
 from geardyn import libm
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
-from geardyn.label import Policy, label_points
-from geardyn.runs.cube import (
-    STATE_NAMES,
-    STATES,
-    label_variables,
-    response_variables,
-    store_response,
-    store_verdict,
-    verdict_responses,
-)
+from geardyn.label import Policy
+from geardyn.runs import study
+from geardyn.runs.cube import STATE_NAMES, STATES
 from geardyn.solve import SimulationSettings, simulate
 
 log = logging.getLogger("geardyn.points")
@@ -96,10 +90,7 @@ def dense_point(
     attrs = {f"coef_{k}": (float(v) if not isinstance(v, str) else v) for k, v in coeffs.as_dict().items()}
     attrs.update({f"override_{k}": float(v) for k, v in overrides.items()})
     attrs["diverged"] = int(res.diverged)
-    attrs["integrator"] = settings.integrator
-    attrs["steps_per_period"] = settings.steps_per_period
-    attrs["transient_periods"] = settings.transient_periods
-    attrs["recorded_periods"] = settings.recorded_periods
+    attrs.update(study.integration_attrs(settings))
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
@@ -114,7 +105,9 @@ def dense_points(
     labelled by the labeller from the static deflection (the sweeps' labels: variables ``label``,
     ``period``, ``lyapunov``, ``stage``, ...) and its dense run started on the attractor it found."""
     systems = [point.point_coefficients(design, {**fixed, **case}) for case in cases]
-    verdicts = label_points(systems, policy)
+    layout = study.Layout(("case",), (len(cases),), [[((k,), s)] for k, s in enumerate(systems)], transient=False)
+    labelled, lines, _ = study.run(layout, policy, "points")  # each point a line of its own
+    verdicts = [v for (v,) in lines]
     parts = []
     for case, v in zip(cases, verdicts, strict=True):
         x0 = None if v.diverged else v.final_state
@@ -131,20 +124,10 @@ def dense_points(
     )
     out.attrs = {}
     out["case"].attrs["long_name"] = "operating point (overrides)"
-    n = len(cases)
-    per_case = {**label_variables(("case",), (n,), policy.classifier), **response_variables(("case",), (n,))}
-    out = out.assign({name: (("case",), *spec[1:]) for name, spec in per_case.items()})
-    arrays = {name: out[name] for name in out.data_vars}
-    for k, (v, r) in enumerate(zip(verdicts, verdict_responses(systems, verdicts, policy.integration), strict=True)):
-        store_verdict(arrays, (k,), v)
-        store_response(arrays, (k,), r)
-    s = policy.integration
+    out = out.assign(labelled)
     out.attrs.update(
         {
-            "integrator": s.integrator,
-            "steps_per_period": s.steps_per_period,
-            "transient_periods": s.transient_periods,
-            "recorded_periods": s.recorded_periods,
+            **study.integration_attrs(policy.integration),
             "record_starts": "on the attractor found by the labeller (its final state)",
             "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in fixed.items()),
         }

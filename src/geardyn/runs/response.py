@@ -17,37 +17,24 @@ non-periodic point carry their standard error (batch means, :func:`geardyn.solve
 from __future__ import annotations
 
 import dataclasses
-import logging
 import math
-import time
 from collections.abc import Mapping
 from dataclasses import dataclass
-from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from geardyn.khv import point
-from geardyn.khv.design import KHVDesign, resolve_fractions
+from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import COEFFICIENT_ATTRS, Coefficients, natural_frequencies
-from geardyn.label import Policy, Verdict, label_lines
+from geardyn.label import Policy, Verdict
 from geardyn.label.compare import same, same_attractor
-from geardyn.runs.cube import (
-    STATES,
-    TRANSIENT_USED_ATTRS,
-    label_variables,
-    line_responses,
-    policy_attrs,
-    response_variables,
-    store_response,
-    store_verdict,
-)
+from geardyn.runs import study
+from geardyn.runs.cube import STATES
 from geardyn.solve.base import System
 from geardyn.solve.response import RMS_BLOCKS, rms_errors_many
 from geardyn.solve.simulate import simulate_batch
-
-log = logging.getLogger("geardyn.response")
 
 DIRECTIONS = ("up", "down")
 
@@ -62,19 +49,15 @@ CONTINUE_PIECE = 1000
 
 
 @dataclass(frozen=True)
-class ResponseSpec:
-    """One frequency response as declared in ``config.yaml`` under ``responses:``."""
+class ResponseSpec(study.StudySpec):
+    """One frequency response as declared in ``config.yaml`` under ``responses:`` (the shared fields:
+    :class:`StudySpec`; a response follows the attractor, ``start_from: follow``, in one job)."""
 
-    name: str
-    design: str
     start: float
     stop: float
     num: int
     jump_threshold: float = 0.25
     jump_floor: float = 0.05
-    fixed: tuple[tuple[str, float], ...] = ()
-    integration: tuple[tuple[str, Any], ...] = ()
-    classifier: tuple[tuple[str, Any], ...] = ()
 
     def __post_init__(self) -> None:
         if not (0.0 < self.start < self.stop) or self.num < 3:
@@ -83,22 +66,14 @@ class ResponseSpec:
             raise ValueError("frequency response: jump_threshold > 0 and jump_floor >= 0")
 
     @classmethod
-    def from_config(cls, name: str, spec: Mapping[str, Any], design: str, segment: tuple[float, float]) -> ResponseSpec:
-        """The response ``name`` of ``config["responses"]`` for ``design`` (x1 overrides may be percentages of
-        its admissible segment, :func:`geardyn.khv.design.resolve_fractions`)."""
-        spec = resolve_fractions(spec, segment)
-        return cls(
-            name=name,
-            design=design,
-            start=float(spec["start"]),
-            stop=float(spec["stop"]),
-            num=int(spec["num"]),
-            jump_threshold=float(spec.get("jump_threshold", 0.25)),
-            jump_floor=float(spec.get("jump_floor", 0.05)),
-            fixed=tuple(sorted((spec.get("fixed") or {}).items())),
-            integration=tuple(sorted((spec.get("integration") or {}).items())),
-            classifier=tuple(sorted((spec.get("classifier") or {}).items())),
-        )
+    def own_fields(cls, spec: Mapping[str, Any]) -> dict[str, Any]:
+        return {
+            "start": float(spec["start"]),
+            "stop": float(spec["stop"]),
+            "num": int(spec["num"]),
+            "jump_threshold": float(spec.get("jump_threshold", 0.25)),
+            "jump_floor": float(spec.get("jump_floor", 0.05)),
+        }
 
     @property
     def values(self) -> np.ndarray:
@@ -235,27 +210,16 @@ def frequency_response(
     w = np.asarray(w, dtype=float)
     if w.ndim != 1 or w.size < 3 or not np.all(np.diff(w) > 0.0):
         raise ValueError("frequency response: w must be an ascending grid of at least 3 frequencies")
-    dims, shape = ("direction", "w"), (2, w.size)
+    dims, n = ("direction", "w"), w.size
     up = [base.replace(omega=float(v)) for v in w]
-    lines = [up, up[::-1]]
-    t0 = time.perf_counter()
-    verdicts = label_lines(lines, policy, progress="frequency response")
-    data: dict[str, Any] = {**label_variables(dims, shape, policy.classifier), **response_variables(dims, shape)}
-    data["transient_used"] = (dims, np.full(shape, -1, np.int32), TRANSIENT_USED_ATTRS)
+    lines = [[((0, j), s) for j, s in enumerate(up)], [((1, j), up[j]) for j in reversed(range(n))]]
+    data, verdicts, _ = study.run(study.Layout(dims, (2, n), lines), policy, "frequency response")
+    ordered = [verdicts[0], verdicts[1][::-1]]  # both sweeps in ascending w
     data["final_state"] = (
         (*dims, "state"),
-        np.full((*shape, len(STATES)), np.nan),
+        np.array([[v.final_state for v in vs] for vs in ordered], dtype=float),
         {"units": "1", "long_name": "state at phase 0 on the attractor at the end of the record (a restart)"},
     )
-    arrays = {name: SimpleNamespace(values=spec[1]) for name, spec in data.items()}  # numpy views
-    responses = line_responses(lines, verdicts, policy.integration)
-    ordered = [verdicts[0], verdicts[1][::-1]]  # both sweeps in ascending w
-    for d, vs in enumerate(ordered):
-        for j, v in enumerate(vs):
-            store_verdict(arrays, (d, j), v)
-            store_response(arrays, (d, j), responses[d][j if d == 0 else w.size - 1 - j])
-            arrays["transient_used"].values[d, j] = v.transient_used
-            arrays["final_state"].values[d, j] = v.final_state
     data.update(rms_error_variables(up, ordered, policy))
     data["dte_rms"][2]["ancillary_variables"] = "dte_rms_error"
     data["force_rms"][2]["ancillary_variables"] = "force_rms_error"
@@ -319,33 +283,21 @@ def frequency_response(
         "rms_error_blocks": RMS_BLOCKS,
         "jumps_up": ",".join(f"{v:.4g}" for v in jump_frequencies(w, jumps[0], "up")) or "none",
         "jumps_down": ",".join(f"{v:.4g}" for v in jump_frequencies(w, jumps[1], "down")) or "none",
-        "integrator": policy.integration.integrator,
-        "steps_per_period": policy.integration.steps_per_period,
-        "transient_periods": policy.integration.transient_periods,
-        "recorded_periods": policy.integration.recorded_periods,
-        **policy_attrs(policy),
+        **study.study_attrs(policy),
         **{f"coef_{k}": v for k, v in base.as_dict().items() if k in COEFFICIENT_ATTRS and k != "omega"},
     }
-    log.info("frequency response: %d points in %.1f s", 2 * w.size, time.perf_counter() - t0)
     return xr.Dataset(data, coords=coords, attrs=attrs)
-
-
-def response_policy(design: KHVDesign, spec: ResponseSpec) -> Policy:
-    """The labelling policy: the design's integration with the study's changes, start ``follow``."""
-    return Policy.from_spec(
-        point.integration_settings(design, **dict(spec.integration)), {"classifier": dict(spec.classifier)}
-    )
 
 
 def run(design: KHVDesign, spec: ResponseSpec) -> xr.Dataset:
     """The frequency response of ``design`` at its point (with the study's fixed overrides)."""
     base = point.point_coefficients(design, dict(spec.fixed))
-    ds = frequency_response(base, spec.values, response_policy(design, spec), spec.jump_threshold, spec.jump_floor)
+    ds = frequency_response(base, spec.values, spec.policy(design), spec.jump_threshold, spec.jump_floor)
     ds.attrs.update(
         {
             "response": spec.name,
             "design": spec.design,
-            "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in spec.fixed) or "none",
+            "fixed_overrides": spec.fixed_overrides,
             "speed_per_w_rpm": float(base.omega_n) * 60.0 / (2.0 * math.pi * _annulus_teeth(design)),
         }
     )
