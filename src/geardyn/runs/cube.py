@@ -31,7 +31,8 @@ STATE_NAMES = {
 }
 
 
-def _flags(codes: dict[str, int], long_name: str) -> dict[str, Any]:
+def flags(codes: dict[str, int], long_name: str) -> dict[str, Any]:
+    """CF attributes of a flag variable (int8) with ``codes`` (meaning -> value)."""
     return {
         "long_name": long_name,
         "flag_values": np.array(list(codes.values()), np.int8),
@@ -40,15 +41,19 @@ def _flags(codes: dict[str, int], long_name: str) -> dict[str, Any]:
 
 
 #: CF attributes of the per-point ``stage``, ``bifurcation`` and ``exponent_method`` flags (geardyn.label).
-STAGE_ATTRS = _flags({"not_computed": 0, **STAGES}, "labeller stage that decided the label (geardyn.label)")
-BIFURCATION_ATTRS = _flags(
+STAGE_ATTRS = flags({"not_computed": 0, **STAGES}, "labeller stage that decided the label (geardyn.label)")
+BIFURCATION_ATTRS = flags(
     BIFURCATIONS,
     "how the orbit followed from the previous point of the line lost stability here (leading Floquet multiplier)",
 )
-EXPONENT_METHOD_ATTRS = _flags(
+EXPONENT_METHOD_ATTRS = flags(
     EXPONENT_METHODS,
     "how the exponent was obtained: Floquet multipliers of the certified orbit, or a tangent vector over the record",
 )
+
+
+#: The fill value (dtype int16) of a motion label where no point was labelled.
+LABEL_FILL = np.int16(classify.LABELS["undetermined"])
 
 
 def _verdict_var(field: str, long_name: str, fill: Any = np.nan) -> tuple:
@@ -81,7 +86,7 @@ VERDICT_VARIABLES = {
     "crosscheck": (
         "crosscheck",
         None,
-        _flags({"not_applicable": -1, "one_agrees": 0, "both_agree": 1}, "0-1 test and spectrum agree with the label"),
+        flags({"not_applicable": -1, "one_agrees": 0, "both_agree": 1}, "0-1 test and spectrum agree with the label"),
         np.int8(-1),
     ),
     "stage": ("stage", STAGES, STAGE_ATTRS, np.int8(0)),
@@ -95,7 +100,7 @@ def label_variables(
     """Empty per-point verdict variables: the motion label and :data:`VERDICT_VARIABLES`."""
     label = {"long_name": "motion label (geardyn.label)", **classify.flag_attrs(classifier.max_n)}
     return {
-        "label": (dims, np.full(shape, classify.LABELS["undetermined"], np.int16), label),
+        "label": (dims, np.full(shape, LABEL_FILL), label),
         **{name: (dims, np.full(shape, fill), attrs) for name, (_, _, attrs, fill) in VERDICT_VARIABLES.items()},
     }
 
@@ -116,7 +121,7 @@ RESPONSE_ATTRS = {
 }
 
 #: CF attributes of the per-point ``impact_class`` flag.
-IMPACT_CLASS_ATTRS = _flags(
+IMPACT_CLASS_ATTRS = flags(
     {"not_computed_or_diverged": -1, **IMPACT_CLASSES},
     "impact class: no impact, single-sided (separation, never back-side contact), double-sided (back-side contact)",
 )
@@ -133,11 +138,10 @@ def response_variables(dims: tuple[str, ...], shape: tuple[int, ...]) -> dict[st
 
 
 #: CF attributes of the ``coexisting`` flag (policy ``coexistence``).
-COEXISTING_ATTRS = {
-    "long_name": "the follow and the fixed start end on different attractors at this point",
-    "flag_values": np.array([-1, 0, 1], np.int8),
-    "flag_meanings": "not_checked same coexisting",
-}
+COEXISTING_ATTRS = flags(
+    {"not_checked": -1, "same": 0, "coexisting": 1},
+    "the follow and the fixed start end on different attractors at this point",
+)
 
 
 #: CF attributes of the per-point ``transient_used`` of the studies that follow attractors.
@@ -152,24 +156,14 @@ def coexistence_variables(
     dims: tuple[str, ...], shape: tuple[int, ...], classifier: classify.ClassifierSettings
 ) -> dict[str, Any]:
     """The fixed start's label and the ``coexisting`` flag (policy ``coexistence``)."""
+    label = {"long_name": "motion label from the fixed start (the static deflection)"}
     return {
-        "label_fixed": (
-            dims,
-            np.full(shape, classify.LABELS["undetermined"], np.int16),
-            {
-                "long_name": "motion label from the fixed start (the static deflection)",
-                **classify.flag_attrs(classifier.max_n),
-            },
-        ),
+        "label_fixed": (dims, np.full(shape, LABEL_FILL), {**label, **classify.flag_attrs(classifier.max_n)}),
         "coexisting": (dims, np.full(shape, -1, np.int8), COEXISTING_ATTRS),
     }
 
 
-COMPUTED_ATTRS = {
-    "long_name": "1 where this file holds the point",
-    "flag_values": np.array([0, 1], np.int8),
-    "flag_meanings": "absent present",
-}
+COMPUTED_ATTRS = flags({"absent": 0, "present": 1}, "1 where this file holds the point")
 
 #: Attributes that describe one chunk (its number, its wall time), not the merged result.
 CHUNK_ATTRS = ("chunk", "n_chunks", "wall_time_s")

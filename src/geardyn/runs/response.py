@@ -31,7 +31,7 @@ from geardyn.khv.model import COEFFICIENT_ATTRS, Coefficients, natural_frequenci
 from geardyn.label import Policy, Verdict
 from geardyn.label.compare import same, same_attractor
 from geardyn.runs import study
-from geardyn.runs.cube import STATES
+from geardyn.runs.cube import STATES, flags
 from geardyn.solve.base import System
 from geardyn.solve.response import RMS_BLOCKS, rms_errors_many
 from geardyn.solve.simulate import simulate_batch
@@ -229,24 +229,22 @@ def frequency_response(
     data["jump"] = (
         dims,
         jumps.astype(np.int8),
-        {
-            "long_name": f"a jump: the RMS DTE steps by more than {threshold:g} x max(its two values, {floor:g}) "
-            "from the next lower frequency of the same line, where the up and down sweeps end on different "
-            "attractors at one of the two frequencies",
-            "flag_values": np.array([0, 1], np.int8),
-            "flag_meanings": "smooth jump",
-        },
+        flags(
+            {"smooth": 0, "jump": 1},
+            f"a jump: the RMS DTE steps by more than {threshold:g} x max(its two values, {floor:g}) from the next "
+            "lower frequency of the same line, where the up and down sweeps end on different attractors at one of "
+            "the two frequencies",
+        ),
     )
     data["hysteresis"] = (
         ("w",),
         split.astype(np.int8),
-        {
-            "long_name": "the up and down sweeps end on different attractors: other labels, or Poincare sets "
-            "apart by more than the labeller's tolerance (geardyn.label.compare), two non-periodic ones "
-            "still after integrating both on (hysteresis_continued_periods)",
-            "flag_values": np.array([0, 1], np.int8),
-            "flag_meanings": "same different",
-        },
+        flags(
+            {"same": 0, "different": 1},
+            "the up and down sweeps end on different attractors: other labels, or Poincare sets apart by more than "
+            "the labeller's tolerance (geardyn.label.compare), two non-periodic ones still after integrating both on "
+            "(hysteresis_continued_periods)",
+        ),
     )
     data["hysteresis_continued_periods"] = (
         ("w",),

@@ -34,6 +34,7 @@ from geardyn.runs.cube import (
     TRANSIENT_USED_ATTRS,
     VERDICT_VARIABLES,
     coexistence_variables,
+    flags,
     label_variables,
     response_variables,
 )
@@ -140,8 +141,8 @@ def variables(layout: Layout, policy: Policy) -> Variables:
     if policy.coexistence:
         data.update(coexistence_variables(dims, shape, cs))
     if layout.diverged:
-        flags = {"flag_values": np.array([-1, 0, 1], np.int8), "flag_meanings": "not_computed bounded diverged"}
-        data["diverged"] = (dims, np.full(shape, -1, np.int8), {"long_name": layout.diverged, **flags})
+        codes = {"not_computed": -1, "bounded": 0, "diverged": 1}
+        data["diverged"] = (dims, np.full(shape, -1, np.int8), flags(codes, layout.diverged))
     data.update(layout.own)
     if layout.transient:
         data["transient_used"] = (dims, np.full(shape, -1, np.int32), TRANSIENT_USED_ATTRS)
@@ -221,17 +222,11 @@ def integration_attrs(settings: SimulationSettings) -> dict[str, Any]:
 def study_attrs(policy: Policy) -> dict[str, Any]:
     """Attributes recording how the points were labelled: the integration, start, coexistence, transients,
     early stop and the classifier settings."""
-    s = policy.integration
+    s, p = policy.integration, policy
     return {
         **integration_attrs(s),
-        "start": policy.start,
-        "coexistence": int(policy.coexistence),
-        "follow_transient_periods": policy.follow_transient_periods,
-        "newton_tol": policy.newton_tol,
-        "stability_margin": policy.stability_margin,
-        "early_stop": int(s.early_stop),
-        "early_stop_min_periods": s.early_stop_min_periods,
-        "early_stop_confirm": s.early_stop_confirm,
-        "early_stop_tol_factor": s.early_stop_tol_factor,
-        **{f"classifier_{k}": v for k, v in dataclasses.asdict(policy.classifier).items()},
+        **{"start": p.start, "coexistence": int(p.coexistence), "follow_transient_periods": p.follow_transient_periods},
+        **{"newton_tol": p.newton_tol, "stability_margin": p.stability_margin, "early_stop": int(s.early_stop)},
+        **{k: getattr(s, k) for k in ("early_stop_min_periods", "early_stop_confirm", "early_stop_tol_factor")},
+        **{f"classifier_{k}": v for k, v in dataclasses.asdict(p.classifier).items()},
     }
