@@ -28,6 +28,7 @@ from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import Coefficients
 from geardyn.label import Verdict
 from geardyn.runs import study
+from geardyn.solve import System
 
 #: y parameters that can be set on the dimensionless coefficients directly (design option permitting).
 _DIRECT = {"b": "b", "e": "e", "w": "omega"}
@@ -77,12 +78,10 @@ def chunk_rows(spec: MapSpec, chunk: int) -> np.ndarray:
 
 
 def _direct_ok(design: KHVDesign, par: str) -> bool:
-    if par not in _DIRECT:
-        return False
-    if par == "w":
-        opts = dict(design.dynamics).get("options", {})
-        return opts.get("frequency_mode", "dimensionless") == "dimensionless"
-    return True
+    """Whether ``par`` is set on the coefficients directly: b and e, and w where the design's mesh frequency is
+    dimensionless."""
+    opts = dict(design.dynamics).get("options", {})
+    return par in _DIRECT and (par != "w" or opts.get("frequency_mode", "dimensionless") == "dimensionless")
 
 
 def point_coefficients(
@@ -101,14 +100,8 @@ def layout(design: KHVDesign, spec: MapSpec, chunk: int) -> study.Layout:
     """The rows of chunk ``chunk`` on the (y, x) grid, x increasing, and the map's own per-point variables:
     the mean and spread of the Poincare X_VH.  The coefficients are built as the runner takes the lines."""
     dims, shape = ("y", "x"), (spec.y.num, spec.x.num)
-    own: study.Variables = {
-        "x_vh_mean": (dims, np.full(shape, np.nan), {"units": "1", "long_name": "mean Poincare X_VH / b_c"}),
-        "x_vh_spread": (
-            dims,
-            np.full(shape, np.nan),
-            {"units": "1", "long_name": "peak-to-peak of Poincare X_VH / b_c"},
-        ),
-    }
+    names = {"x_vh_mean": "mean Poincare X_VH / b_c", "x_vh_spread": "peak-to-peak of Poincare X_VH / b_c"}
+    own = {k: (dims, np.full(shape, np.nan), {"units": "1", "long_name": n}) for k, n in names.items()}
     xs, ys = spec.x.values, spec.y.values
 
     def lines():
@@ -124,7 +117,7 @@ def layout(design: KHVDesign, spec: MapSpec, chunk: int) -> study.Layout:
     return study.Layout(dims, shape, lines(), diverged=diverged, computed=True, own=own, store_own=_store)
 
 
-def _store(arrays: dict[str, np.ndarray], idx: study.Index, system: Any, v: Verdict) -> None:
+def _store(arrays: dict[str, np.ndarray], idx: study.Index, system: System, v: Verdict) -> None:
     p = v.poincare[np.all(np.isfinite(v.poincare), axis=1)]
     if p.shape[0]:
         arrays["x_vh_mean"][idx] = float(np.mean(p[:, 1]))

@@ -1,22 +1,15 @@
 """Parameter sweeps: bifurcation cubes built in chunks that can run in any order, anywhere.
 
-A sweep varies one control parameter (``x1``, ``b``, ``e``, ``w``, ... see :mod:`geardyn.khv`)
-over a range, for one or more *cases* (fixed overrides, e.g. three x1 values for Figs. 9 and 11).
-The points are numbered case-major and split into contiguous chunks; every point is computed
-from its own parameters only, so a chunk's numbers do not depend on how the sweep was cut.
-
-A chunk is a layout of the one study runner (:mod:`geardyn.runs.study`), which labels its lines with
-:func:`geardyn.label.label_lines` and stores the verdicts; the sweep keeps its Poincare sections and each
-point's coefficients besides.  With ``start_from: follow``
-(the default) a case in one direction is a *line*: its first point starts from the static deflection and
-each next point from the attractor of the previous one (Newton shooting from its orbit, or a run from its
-final state), so the figure draws attractors, never transients.  ``continuation`` says the directions: up
-(``none`` and ``up``: from the first value to the last), ``down``, or ``both`` (hysteresis).  A chunk holds
-whole lines; the lines of a chunk advance on their own, their points batched together.  With ``start_from: fixed``
-every point starts from the static deflection (a line of its own) and a chunk holds any points.  Either way
-a point's verdict depends only on its line, never on the chunking or the threads.  With ``coexistence``
-every point is also labelled from the fixed start, and ``coexisting`` flags where the two end on different
-attractors.
+A sweep varies one control parameter (``x1``, ``b``, ``e``, ``w``, ... see :mod:`geardyn.khv`) over a range, for
+one or more *cases* (fixed overrides, e.g. three x1 values for Figs. 9 and 11).  A chunk is a layout of the
+study runner (:mod:`geardyn.runs.study`), which labels its lines and stores the verdicts; the sweep keeps the
+Poincare sections and the coefficients of each point besides.  With ``start_from: follow`` (the default) a case
+in one direction is a *line*: its first point starts from the static deflection and each next point from the
+attractor of the previous one, so the figure draws attractors, never transients.  ``continuation`` says the
+directions: up (``none`` and ``up``: from the first value to the last), ``down``, or ``both`` (hysteresis).  A
+chunk holds whole lines.  With ``start_from: fixed`` every point starts from the static deflection (a line of
+its own) and the points, numbered case-major, are split into contiguous chunks.  Either way a point's verdict
+depends only on its line, never on the chunking or the threads.
 """
 
 from __future__ import annotations
@@ -99,13 +92,10 @@ def chunk_work(spec: SweepSpec, chunk: int) -> Work:
                 order.reverse()
             work.append((case, d, order))
         return work
-    mine = np.array_split(np.arange(spec.n_lines * spec.num), spec.n_chunks)[chunk]
-    work = []
-    for line in range(spec.n_lines):
-        idx = [int(i) - line * spec.num for i in mine if line * spec.num <= i < (line + 1) * spec.num]
-        if idx:
-            work.append((*divmod(line, nd), idx))
-    return work
+    lines: dict[int, list[int]] = {}  # the chunk's points of each line, in order
+    for i in np.array_split(np.arange(spec.n_lines * spec.num), spec.n_chunks)[chunk]:
+        lines.setdefault(int(i) // spec.num, []).append(int(i) % spec.num)
+    return [(*divmod(line, nd), idx) for line, idx in lines.items()]
 
 
 def point_overrides(spec: SweepSpec, case: int, value: float) -> dict[str, float]:
@@ -127,16 +117,11 @@ def layout(design: KHVDesign, spec: SweepSpec, chunk: int, policy: Policy) -> st
         )
         for name in STATES
     }
-    own["diverged_period"] = (
-        dims,
-        np.full(shape, -1, np.int32),
-        {"units": "1", "long_name": "mesh period at which the state exceeded the threshold (-1: never)"},
-    )
-    own["n_events"] = (
-        dims,
-        np.full(shape, -1, np.int64),
-        {"units": "1", "long_name": "number of contact-switch events located (rk4_event)"},
-    )
+    counts = {
+        "diverged_period": (np.int32, "mesh period at which the state exceeded the threshold (-1: never)"),
+        "n_events": (np.int64, "number of contact-switch events located (rk4_event)"),
+    }
+    own.update({k: (dims, np.full(shape, -1, t), {"units": "1", "long_name": n}) for k, (t, n) in counts.items()})
     for cname, (units, long_name) in COEFFICIENT_ATTRS.items():
         own[f"coef_{cname}"] = (dims, np.full(shape, np.nan), {"units": units, "long_name": long_name})
     values = spec.values
