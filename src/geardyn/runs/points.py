@@ -10,7 +10,6 @@ the attractor, never a transient.
 from __future__ import annotations
 
 import dataclasses
-import logging
 from collections.abc import Mapping
 
 import numpy as np
@@ -23,8 +22,6 @@ from geardyn.label import Policy
 from geardyn.runs import study
 from geardyn.runs.cube import STATE_NAMES, STATES
 from geardyn.solve import SimulationSettings, simulate
-
-log = logging.getLogger("geardyn.points")
 
 
 def amplitude_spectrum(x: np.ndarray, samples_per_period: int) -> tuple[np.ndarray, np.ndarray]:

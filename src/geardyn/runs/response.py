@@ -30,8 +30,7 @@ from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import COEFFICIENT_ATTRS, Coefficients, natural_frequencies
 from geardyn.label import Policy, Verdict
 from geardyn.label.compare import same, same_attractor
-from geardyn.runs import study
-from geardyn.runs.cube import STATES, flags
+from geardyn.runs import cube, study
 from geardyn.solve.base import System
 from geardyn.solve.response import RMS_BLOCKS, rms_errors_many
 from geardyn.solve.simulate import simulate_batch
@@ -229,7 +228,7 @@ def frequency_response(
     data["jump"] = (
         dims,
         jumps.astype(np.int8),
-        flags(
+        cube.flags(
             {"smooth": 0, "jump": 1},
             f"a jump: the RMS DTE steps by more than {threshold:g} x max(its two values, {floor:g}) from the next "
             "lower frequency of the same line, where the up and down sweeps end on different attractors at one of "
@@ -239,7 +238,7 @@ def frequency_response(
     data["hysteresis"] = (
         ("w",),
         split.astype(np.int8),
-        flags(
+        cube.flags(
             {"same": 0, "different": 1},
             "the up and down sweeps end on different attractors: other labels, or Poincare sets apart by more than "
             "the labeller's tolerance (geardyn.label.compare), two non-periodic ones still after integrating both on "
@@ -266,7 +265,7 @@ def frequency_response(
     coords = {
         "direction": ("direction", list(DIRECTIONS), {"long_name": "sweep direction (line of the labeller)"}),
         "w": ("w", w, {"units": "1", "long_name": "dimensionless mesh frequency w_m / w_n"}),
-        "state": ("state", list(STATES), {"long_name": "state component (geardyn.runs.cube.STATE_NAMES)"}),
+        "state": ("state", list(cube.STATES), {"long_name": "state component (geardyn.runs.cube.STATE_NAMES)"}),
         "mode": ("mode", np.arange(nat.size, dtype=np.int32), {"units": "1", "long_name": "mode number"}),
         "mesh_frequency_hz": (
             "w",
