@@ -178,14 +178,8 @@ def line_responses(
     divergence.  All points in one call of :func:`response_measures_many` (the batch's lanes)."""
     flat = [(s, v) for line, vs in zip(lines, verdicts, strict=True) for s, v in zip(line, vs, strict=True)]
     run = [(s, v) for s, v in flat if not v.diverged]
-    measured = iter(
-        response_measures_many(
-            [s for s, _ in run],
-            [v.final_state for _, v in run],
-            settings,
-            [v.period if v.period > 0 else settings.recorded_periods for _, v in run],
-        )
-    )
+    periods = [v.period if v.period > 0 else settings.recorded_periods for _, v in run]
+    measured = iter(response_measures_many([s for s, _ in run], [v.final_state for _, v in run], settings, periods))
     out = iter([ResponseMeasures.not_computed() if v.diverged else next(measured) for _, v in flat])
     return [[next(out) for _ in line] for line in lines]
 
