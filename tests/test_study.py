@@ -1,0 +1,86 @@
+"""The one study runner (geardyn.runs.study): the specs share their fields and policy, the variables follow
+the layout, and a run stores every verdict at its point's index."""
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from geardyn.khv import design, point
+from geardyn.label import Policy, label_lines
+from geardyn.runs import maps, response, study, sweep
+from geardyn.runs.cube import label_variables, response_variables
+
+ROOT = Path(__file__).resolve().parents[1]
+SEGMENT = (0.416, 0.835)
+SHARED = {
+    "fixed": {"e": 5.0, "b": 2.0},
+    "integration": {"steps_per_period": 64, "transient_periods": 40, "recorded_periods": 12},
+    "classifier": {"tangent_periods": 30},
+}
+
+
+@pytest.fixture(scope="module")
+def li2013():
+    return design.load(ROOT / "config" / "designs" / "li2013.yaml")
+
+
+def test_the_specs_share_their_fields_and_their_policy(li2013):
+    entry = {**SHARED, "chunks": 3, "start_from": "fixed", "coexistence": True}
+    a = sweep.SweepSpec.from_config(
+        "s", {**entry, "parameter": "x1", "start": "0%", "stop": "100%", "num": 5}, "d", SEGMENT
+    )
+    axis = {"parameter": "x1", "start": 0.5, "stop": 0.8, "num": 3}
+    b = maps.MapSpec.from_config("m", {**entry, "x": axis, "y": {**axis, "parameter": "w"}}, "d", SEGMENT)
+    r = response.ResponseSpec.from_config("r", {**SHARED, "start": 0.5, "stop": 1.5, "num": 5}, "d", SEGMENT)
+    for spec in (a, b, r):
+        assert spec.fixed == (("b", 2.0), ("e", 5.0)) and spec.fixed_overrides == "b=2,e=5"
+        assert dict(spec.integration) == SHARED["integration"] and dict(spec.classifier) == SHARED["classifier"]
+    assert (a.start, a.stop) == SEGMENT  # percentages of x1 resolved on the segment
+    assert (a.chunks, a.start_from, a.coexistence) == (b.chunks, b.start_from, b.coexistence) == (3, "fixed", True)
+    assert (r.chunks, r.start_from, r.coexistence) == (1, "follow", False)
+    policy = a.policy(li2013)
+    assert policy == b.policy(li2013) and policy.start == "fixed" and policy.coexistence
+    assert r.policy(li2013) == dataclasses.replace(policy, start="follow", coexistence=False)
+    assert policy.integration == point.integration_settings(li2013, **SHARED["integration"])
+
+
+def test_the_variables_follow_the_layout_and_the_policy(li2013):
+    policy = Policy(point.integration_settings(li2013), coexistence=True)
+    own = {"mine": (("p",), np.zeros(3), {})}
+    full = study.Layout(("p",), (3,), [], diverged="unbounded", computed=True, own=own)
+    names = list(study.variables(full, policy))
+    assert names[-5:] == ["coexisting", "diverged", "mine", "transient_used", "computed"]
+    bare = study.variables(
+        study.Layout(("p",), (3,), [], transient=False), dataclasses.replace(policy, coexistence=False)
+    )
+    common = {**label_variables(("p",), (3,), policy.classifier), **response_variables(("p",), (3,))}
+    assert list(bare) == list(common)
+
+
+def test_a_run_stores_each_verdict_at_its_index(li2013):
+    """Two lines given in any order of indices: each verdict lands where its point says, as label_lines
+    gives it; the fixed start's labels and the computed flags where the layout keeps them."""
+    spec = sweep.SweepSpec.from_config(
+        "s", {**SHARED, "parameter": "x1", "start": 0.5, "stop": 0.8, "num": 3}, "d", SEGMENT
+    )
+    policy = dataclasses.replace(spec.policy(li2013), coexistence=True)
+    systems = [point.point_coefficients(li2013, sweep.point_overrides(spec, 0, x)) for x in spec.values]
+    lines = [[((1, 2), systems[2]), ((1, 1), systems[1])], [((0, 0), systems[0])]]
+    result = study.run(study.Layout(("a", "b"), (2, 3), lines, computed=True), policy)
+    data = {name: var[1] for name, var in result.data.items()}
+    verdicts = label_lines([systems[2:0:-1], systems[:1]], policy)
+    fixed = label_lines([systems[2:0:-1], systems[:1]], policy.with_start("fixed"))
+    assert [[v.label for v in line] for line in result.verdicts] == [[v.label for v in line] for line in verdicts]
+    for (i, j), v, f in zip(
+        [(1, 2), (1, 1), (0, 0)], [*verdicts[0], *verdicts[1]], [*fixed[0], *fixed[1]], strict=True
+    ):
+        assert data["label"][i, j] == v.label and data["period"][i, j] == v.period
+        assert data["label_fixed"][i, j] == f.label and data["transient_used"][i, j] == v.transient_used
+    assert data["computed"].tolist() == [[1, 0, 0], [0, 1, 1]]
+    assert (
+        data["label_fixed"][0, 1]
+        == data["label"][0, 1]
+        == label_variables(("a",), (1,), policy.classifier)["label"][1][0]
+    )
