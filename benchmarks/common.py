@@ -50,7 +50,7 @@ def map_study(config_path: Path, map_name: str):
 
 
 def map_lines(design, spec, rows=None):
-    """The rows of a map (or ``rows`` of them) as lines of systems, as maps.run_chunk builds them."""
+    """The rows of a map (or ``rows`` of them) as lines of systems, as maps.layout builds them."""
     xs, ys = spec.x.values, spec.y.values
     bases = [point.point_coefficients(design, {**dict(spec.fixed), spec.x.parameter: float(x)}) for x in xs]
     rows = range(len(ys)) if rows is None else rows
