@@ -384,13 +384,13 @@ def linear_limit_map():
         {"parameter": "e", "start": 0.0, "stop": 3.0},
         {"x1": 0.5, "b": 2.0},
     )
-    return d, cube, *_map_curves(d, spec, cube, settings, ([0.9], [1.5]), max_points=150)[:2]
+    return d, cube, *_map_curves(d, spec, cube, settings, ([0.9], [1.5]), max_points=150)  # bd, check, plane
 
 
 def test_pixel_check_of_the_grazing_curve_no_impact_to_single_sided(linear_limit_map):
     """Across the grazing curve the impact class changes from no impact to single-sided impact as the shot
     orbit predicts, at every row and column that crosses it; every checked crossing of every curve passes."""
-    _, cube, bd, check = linear_limit_map
+    _, cube, bd, check, _ = linear_limit_map
     kinds = {bd.file_kind(k) for k in range(len(bd.curves))}
     assert {"grazing", "fold", "neimark_sacker"} <= kinds
     grazing = [s for s in check.checked if s.kind == "grazing"]
@@ -401,6 +401,35 @@ def test_pixel_check_of_the_grazing_curve_no_impact_to_single_sided(linear_limit
         assert {int(impact[j0, i0]), int(impact[j1, i1])} == {0, 1}, s  # no impact | single-sided
     assert check.fraction >= 0.95 and len(check.checked) >= 25  # measured 1.0 (28 of 28)
     assert {s.reason for s in check.samples if not s.checked} == {"codim2"}
+
+
+def test_grazing_meets_a_fold_a_period_doubling_and_a_neimark_sacker_on_the_back_flank(linear_limit_map):
+    """The back-flank grazing curve of the linear limit's P1 orbit carries a grazing-fold, two grazing-flip and a
+    grazing-Neimark-Sacker point, each located: there the back-flank margin of the orbit vanishes and the
+    monodromy matrix, recomputed from the stored state, has a multiplier +1, -1 or a complex pair on the unit
+    circle."""
+    _, _, bd, _, plane = linear_limit_map
+    found = {}
+    for k, c in enumerate(bd.curves):
+        for b in c.codim2:
+            if bd.file_kind(k) == "back_grazing":
+                found.setdefault(b.kind, []).append(b)
+    assert {k: len(v) for k, v in found.items()} == {"grazing_fold": 1, "grazing_flip": 2, "grazing_neimark_sacker": 1}
+    for kind, points in found.items():
+        for b in points:
+            assert b.located
+            h = curve_maps.back_margin(plane.coefficients(b.p, b.q), b.state, b.n, plane.settings)
+            assert abs(h) < 1e-7, (kind, h)  # measured 4.7e-9 (fold), 3.9e-12, 7.5e-14 (flip), 1.1e-13 (NS)
+            y, M = plane.flow(b.p, b.q, b.n)(b.state, True)
+            assert np.max(np.abs(y - b.state)) < 1e-7  # on the orbit
+            mu = np.linalg.eigvals(M)
+            if kind == "grazing_fold":
+                assert np.min(np.abs(mu - 1.0)) < 1e-8, mu  # measured 2.5e-13
+            elif kind == "grazing_flip":
+                assert np.min(np.abs(mu + 1.0)) < 1e-8, mu  # measured 5.6e-13, 2.4e-15
+            else:
+                pair = mu[np.abs(mu.imag) > 1e-6]
+                assert pair.size >= 2 and np.min(np.abs(np.abs(pair) - 1.0)) < 1e-8, mu  # measured 1.9e-14
 
 
 def test_boundary_settings_agree_with_the_config_schema():
