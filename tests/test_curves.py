@@ -353,7 +353,7 @@ def test_pixel_check_of_the_neimark_sacker_boundary(map_x1_b_small):
 
 def test_pixel_check_fails_a_misplaced_curve_and_a_mislabelled_map(map_x1_b_small):
     """The check can fail: the curve moved by 3 pixels to larger x1 and lower b (its crossings straddle no change of the
-    orbit's stability: ``misplaced``), and the map with its P1 pixels relabelled quasi-periodic (the stable
+    orbit's stability: ``not_straddled``), and the map with its P1 pixels relabelled quasi-periodic (the stable
     side on the orbit, certified, labelled otherwise: ``stable_side``)."""
     cube, bd, _, plane = map_x1_b_small
     (curve,) = bd.curves
@@ -363,7 +363,7 @@ def test_pixel_check_fails_a_misplaced_curve_and_a_mislabelled_map(map_x1_b_smal
         bd.region, curves=[C.Curve(curve.kind, curve.n, moved, curve.scales, {})], flank=["working"], origin=["x"]
     )
     wrong = curve_check.pixel_check(plane, shifted, cube, every=1)
-    assert wrong.fraction <= 0.3 and wrong.tally(("misplaced",))  # measured 0.0: 19 of 19 misplaced
+    assert wrong.fraction <= 0.3 and wrong.tally(("not_straddled",))  # measured 0.0: 19 of 19 not straddled
     relabelled = cube.copy()
     lab = relabelled["label"].values.copy()
     lab[lab == 1] = classify.LABELS["quasi_periodic"]

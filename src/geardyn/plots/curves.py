@@ -19,7 +19,7 @@ from matplotlib.lines import Line2D
 
 #: The pixel check's failures (``check_reason``; as geardyn.runs.continuation.curve_check.FAILURES, without
 #: importing the solvers into a figure job); the other reasons but "ok" are exclusions.
-FAILURES = ("misplaced", "stable_side", "other_side", "impact_class")
+FAILURES = ("not_straddled", "stable_side", "other_side", "impact_class")
 #: Colour and name of each curve kind (the file's ``curve_kind`` flag meanings).
 KIND_STYLE = {
     "fold": ("#000000", "fold"),

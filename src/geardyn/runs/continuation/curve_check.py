@@ -9,7 +9,7 @@ label-changing curve -- fold, period doubling, Neimark-Sacker -- near a crossing
 near a grazing crossing), or at the map's edge (``edge``).  Then the curve's orbit is shot at the two
 pixels of the row or column beside the crossing (and the pairs one pixel either way): the curve is where the
 map's pixels say it is when the orbit is stable at exactly one of them (fold, period doubling,
-Neimark-Sacker) or stable at both with grazing margins of opposite sign (grazing); else ``misplaced``, a
+Neimark-Sacker) or stable at both with grazing margins of opposite sign (grazing); else ``not_straddled``, a
 failure.  The map must show, for a curve of period n:
 
 =================  ============================  =========================================================
@@ -56,7 +56,7 @@ from geardyn.solve.response import IMPACT_CLASSES, response_measures
 from geardyn.solve.shooting import newton_shooting
 
 #: Failures of a checked sample.
-FAILURES = ("misplaced", "stable_side", "other_side", "impact_class")
+FAILURES = ("not_straddled", "stable_side", "other_side", "impact_class")
 #: Samples left out of the fraction, each with its reason (module doc).
 EXCLUDED = ("codim2", "crowded", "edge", "slow", "hysteresis", "coexistence")
 #: Outcomes of a sample (``check_reason`` flags); the first is a pass.
@@ -221,7 +221,8 @@ class _Probe:
 
     def at(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: tuple) -> tuple:
         """The orbit at (p, q) (cached until :meth:`clear`): Newton from each guess (kept within 0.1 max(1, |x|)
-        of ``near``, the curve's orbit at the crossing ``origin``), else followed from the crossing in 4 steps."""
+        of ``near``, the curve's orbit at the crossing ``origin``; the stable one nearest it), else followed from
+        the crossing in 8 steps."""
         if (p, q) not in self.cache:
             self.cache[(p, q)] = self._solve(p, q, guesses, near, origin)
         return self.cache[(p, q)]
@@ -233,14 +234,12 @@ class _Probe:
             r = newton_shooting(self.plane.flow(p, q, self.n), g, self.n, 1e-9, max_iter=12)
             if r.converged and float(np.max(np.abs(r.state - near))) < 0.1 * scale:
                 found.append(r)
-                if r.stable:
-                    break
         if not found and (r := self._march(p, q, near, origin, scale)) is not None:
             found.append(r)
         found = [r for r in found if not shorter_period(self.plane, p, q, r.state, self.n)]
         if not found:
             return ("absent", None, np.nan, np.nan, -1, np.nan, np.nan)
-        r = next((f for f in found if f.stable), found[0])
+        r = min(found, key=lambda f: (not f.stable, float(np.max(np.abs(f.state - near)))))  # stable, nearest
         if not r.stable:
             return ("unstable", r.state, np.nan, np.nan, -1, np.nan, r.spectral_radius)
         cyc = cycle_states(_Along(self.plane, q), p, r.state, self.n)
@@ -253,7 +252,7 @@ class _Probe:
         mean, spread = float(np.mean(cyc[:, 1])), float(np.ptp(cyc[:, 1]))
         return ("stable", r.state, mean, margin, impact, spread, r.spectral_radius)
 
-    def _march(self, p: float, q: float, x: np.ndarray, origin: tuple, scale: float, steps: int = 4):
+    def _march(self, p: float, q: float, x: np.ndarray, origin: tuple, scale: float, steps: int = 8):
         """The orbit followed from ``origin`` (state x) to (p, q) in ``steps`` Newton steps, each within 0.1
         max(1, |x|) of the last; None when lost."""
         r = None
@@ -418,7 +417,7 @@ def _probe_sample(base: Sample, curve: Any, cross: tuple, xs, ys, probe: _Probe,
     guesses = [state] + ([state + a * scale * v for a in (0.02, -0.02, 0.1, -0.1)] if v is not None else [])
     probe.cache.clear()
     pair = _pair(base.kind, line, idx, (base.x, base.y), xs, ys, probe, guesses, state)
-    if pair in ("edge", "misplaced"):
+    if pair in ("edge", "not_straddled"):
         return replace(base, reason=pair)
     (ps, sts), (pu, stu) = pair
     graze = base.kind in ("grazing", "back_grazing")
@@ -435,7 +434,7 @@ def _probe_sample(base: Sample, curve: Any, cross: tuple, xs, ys, probe: _Probe,
 def _pair(kind, line, idx, origin, xs, ys, probe: _Probe, guesses, state):
     """((stable pixel, its orbit), (other pixel, its orbit)) across the crossing at coordinate c of the row or
     column idx, from the pair of pixels around it or the pairs one pixel either way; "edge" when the map
-    has no pixel on either side, "misplaced" when no pair straddles a change of the orbit's stability
+    has no pixel on either side, "not_straddled" when no pair straddles a change of the orbit's stability
     (grazing: of the margin's sign on a stable orbit)."""
     grid, c = (xs, origin[0]) if line == "row" else (ys, origin[1])
     i0 = int(np.searchsorted(grid, c) - 1)
@@ -453,7 +452,7 @@ def _pair(kind, line, idx, origin, xs, ys, probe: _Probe, guesses, state):
         elif status.count("stable") == 1:
             s = status.index("stable")
             return (pix[s], st[s]), (pix[1 - s], st[1 - s])
-    return "misplaced"
+    return "not_straddled"
 
 
 def _forward(curve, stable_px, other_px, xs, ys, same_row: bool) -> bool:
