@@ -30,6 +30,7 @@ from geardyn.runs import continuation as C
 from geardyn.runs import maps
 from geardyn.runs.continuation import curve_check, curve_maps, curve_records
 from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.shooting import newton_shooting
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -142,6 +143,25 @@ def test_period_doubling_curve_of_duffing_matches_scipy_floquet():
         assert abs(gamma - ref) < 1e-6  # measured 2.2e-11 to 3.9e-10
         assert np.max(np.abs(orbit - cross.z[:2])) < 1e-6  # measured 2.8e-11
         assert abs(cross.crit[0] + 1.0) < 1e-9
+
+
+def test_pixel_check_types_the_duffing_period_doubling_supercritical():
+    """The pixel check's criticality of a period doubling (a stable period-2 orbit near the P1 orbit on its
+    unstable side: supercritical): found just past the Duffing period doubling, where a run from the P1 orbit
+    pushed off settles on a period-2 cycle next to it (independent of the check), and not before it."""
+    plane = DuffingPlane(0.3, -1.0, 1.0, (0.2, 0.4, 1.1, 1.3))
+    fam = plane.along_p(1.2)
+    x = _attractor(fam.flow(0.2, 1), np.array([0.1, 0.0]), 200)
+    br = C.continue_branch(fam, 0.2, x, 1, 0.2, 0.3, C.ContinuationSettings(ds=0.02, ds_max=0.02))
+    (bf,) = [b for b in br.bifurcations if b.kind == "period_doubling"]
+    probe = curve_check._Probe(plane, "period_doubling", 1, "working")
+    for d, past in ((-2e-3, False), (2e-3, True), (1e-2, True)):
+        orbit = newton_shooting(plane.flow(bf.p + d, 1.2, 1), bf.state, 1, 1e-10).state
+        assert probe.doubled(bf.p + d, 1.2, orbit) == past, d
+        y = _attractor(plane.flow(bf.p + d, 1.2, 1), orbit + 1e-3, 3000)
+        back2 = np.max(np.abs(plane.flow(bf.p + d, 1.2, 2)(y, False)[0] - y))
+        back1 = np.max(np.abs(plane.flow(bf.p + d, 1.2, 1)(y, False)[0] - y))
+        assert (back2 < 1e-8 < back1) == past and np.max(np.abs(y - orbit)) < 0.2, (d, back1, back2)
 
 
 def test_cusp_of_a_hardening_duffing_fold_curve_where_the_hysteresis_begins():
