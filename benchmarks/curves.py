@@ -1,5 +1,6 @@
 """The cost of a map's regime boundaries against the cost of the map: ``python -m benchmarks.bench curves
-[--map map_x1_b] [--rows 10] [--new results]``.
+[--map map_x1_b] [--rows 10] [--new results]``; ``--rows 0``: no labelling, the curves of the built map and
+their pixel check with its table (every sample not passed).
 
 In one process, one core (numba's threads set to 1, as a map chunk job runs): every ``rows``-th row of the
 map labelled as a chunk job labels it (:func:`geardyn.runs.maps.run_chunk`: the labeller, the response
@@ -20,6 +21,7 @@ import numba
 from benchmarks.common import map_study, workflow_config
 from geardyn import io
 from geardyn.khv import point
+from geardyn.plots.curves import check_table
 from geardyn.runs import maps
 from geardyn.runs.continuation import curve_check, curve_maps, curve_records
 from geardyn.solve import warm_up
@@ -35,6 +37,8 @@ def curves_benchmark(config: Path, results: Path, map_name: str = "map_x1_b", ev
         raise SystemExit(f"{cube_path} is missing: build the map first (snakemake --cores 2 {cube_path})")
     cube = io.read_dataset(cube_path)
     warm_up(point.point_coefficients(design))
+    if every == 0:
+        return _check_only(cube, design, spec, entry, map_name, dname, log)
 
     part = dataclasses.replace(spec, chunks=every)
     t0 = time.perf_counter()
@@ -76,3 +80,17 @@ def curves_benchmark(config: Path, results: Path, map_name: str = "map_x1_b", ev
         + f"\n\nratio curves / map: {t_curves / t_map:.3f} (target <= 0.10); with the pixel check "
         f"{(t_curves + check.seconds) / t_map:.3f}\n"
     )
+
+
+def _check_only(cube, design, spec, entry, map_name: str, dname: str, log) -> str:
+    """The curves of the built map and their pixel check: its attributes and table."""
+    bs = curve_maps.BoundarySpec.from_config(entry["curves"])
+    region = curve_maps.Region.of_map(spec)
+    lines = curve_maps.lines_of(region, bs.lines_x or entry.get("cuts_x", []), bs.lines_y or entry.get("cuts_y", []))
+    settings = point.integration_settings(design, **dict(spec.integration))
+    bd, plane = curve_records.boundary_curves(design, region, bs, settings, cube, lines)
+    check = curve_check.pixel_check(plane, bd, cube, bs.check_every)
+    log(f"{len(bd.curves)} curves in {bd.timing['total']:.2f} s, pixel check {check.seconds:.2f} s")
+    ds = curve_records.boundary_dataset(bd, check)
+    head = f"{map_name} ({dname}): {len(bd.curves)} curves, pixel check in {check.seconds:.2f} s\n\n"
+    return head + "\n".join(f"- {k}: {v}" for k, v in check.attrs().items()) + "\n" + check_table(map_name, ds)

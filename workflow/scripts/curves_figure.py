@@ -1,5 +1,5 @@
 """Adapter: the regime boundaries of a map or a curves study drawn with their codimension-2 points (and the
-map's labels behind them) -> figure, caption, table of the codimension-2 points."""
+map's labels behind them) -> figure, caption, table of the codimension-2 points and of the pixel check."""
 
 from geardyn import io, logs
 from geardyn.plots import curves
@@ -15,5 +15,5 @@ title += "" if "boundar" in title.lower() else ": regime boundaries"
 io.save_figure(
     curves.plot_curves(ds, title, background), snakemake.output.figure, curves.caption(name, ds, cube is not None)
 )
-io.write_text(curves.codim2_table(name, ds), snakemake.output.table)
+io.write_text(curves.codim2_table(name, ds) + curves.check_table(name, ds), snakemake.output.table)
 log.info("%s: %s", name, curves.summary(ds)["curves"])

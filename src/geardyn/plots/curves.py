@@ -17,6 +17,9 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
+#: The pixel check's failures (``check_reason``; as geardyn.runs.continuation.curve_check.FAILURES, without
+#: importing the solvers into a figure job); the other reasons but "ok" are exclusions.
+FAILURES = ("not_straddled", "stable_side", "other_side", "impact_class")
 #: Colour and name of each curve kind (the file's ``curve_kind`` flag meanings).
 KIND_STYLE = {
     "fold": ("#000000", "fold"),
@@ -131,7 +134,7 @@ def draw_curves(ax: Axes, ds: xr.Dataset, legend: bool = True, lw: float = 1.4, 
 def plot_curves(ds: xr.Dataset, title: str, background: tuple[np.ndarray, tuple] | None = None) -> Figure:
     """The curves in their plane with the codimension-2 points marked; ``background``: an RGB image and its
     extent (a map's labels, :func:`geardyn.plots.dynamics.label_image`) drawn faintly behind them, with the
-    pixel check's samples (circles pass, crosses fail)."""
+    pixel check's samples (circles pass, crosses fail, grey dots excluded)."""
     fig = Figure(figsize=(8.5, 6.5))
     ax = fig.subplots()
     xn, yn = names_of(ds)
@@ -142,10 +145,12 @@ def plot_curves(ds: xr.Dataset, title: str, background: tuple[np.ndarray, tuple]
     draw_curves(ax, ds, legend=True)
     kinds_legend = ax.get_legend()
     if "check_reason" in ds and ds.sizes.get("check", 0):
-        ok = ds["check_reason"].values == 0
+        reasons = np.array(ds["check_reason"].attrs["flag_meanings"].split())[ds["check_reason"].values]
+        ok, failed = reasons == "ok", np.isin(reasons, FAILURES)
         cx, cy = ds[f"check_{xn}"].values, ds[f"check_{yn}"].values
+        ax.plot(cx[~ok & ~failed], cy[~ok & ~failed], ".", ms=1.5, color="0.6")
         ax.plot(cx[ok], cy[ok], "o", ms=2.5, mfc="none", mec="#2ca02c", mew=0.6)
-        ax.plot(cx[~ok], cy[~ok], "x", ms=3, color="k", mew=0.6)
+        ax.plot(cx[failed], cy[failed], "x", ms=3, color="k", mew=0.6)
     handles = []
     for p in _unique_codim2(codim2_of(ds)):
         ax.plot(p["x"], p["y"], CODIM2_MARKERS.get(p["type"], "o"), ms=9, mfc="#ffd700", mec="k", mew=0.8)
@@ -199,10 +204,9 @@ def caption(name: str, ds: xr.Dataset, over_map: bool) -> str:
         c = s["check"]
         lines.append(
             "Pixel check (the two pixels on either side of a curve where it crosses a row or column of the map, "
-            f"every {c.get('every', '?')} rows and columns): {c['fraction']:.1%} of {c['samples']} crossings as "
-            f"predicted, {c['forward_fraction']:.1%} of the {c['forward_samples']} that the rows reach from the "
-            f"stable side; failures: {c['failures']} "
-            "(circles pass, crosses fail)."
+            f"every {c.get('every', '?')} rows and columns; tables/<map>_codim2.md lists every sample not passed): "
+            f"{c['fraction']:.1%} of {c['samples']} checked crossings as predicted; failures: {c['failures']}; "
+            f"excluded: {c['excluded']} (circles pass, crosses fail, grey dots excluded)."
         )
     return "\n".join(lines)
 
@@ -227,4 +231,41 @@ def codim2_table(name: str, ds: xr.Dataset) -> str:
         rows.append(f"| {p['type']} | {p['kind']} | {p['n']} | {p['x']:.6f} | {p['y']:.6f} | {located} | {mu} |")
     if len(rows) == 6:
         rows.append("| none | | | | | | |")
+    return "\n".join(rows) + "\n"
+
+
+def check_table(name: str, ds: xr.Dataset) -> str:
+    """The pixel check of a curves file as Markdown: the figures, then every sample that failed or was
+    excluded, with its reason (geardyn.runs.continuation.curve_check), pixels, labels and the orbit's modulus."""
+    if "check_reason" not in ds or not ds.sizes.get("check", 0):
+        return f"\n## Pixel check: {name}\n\nno samples\n"
+    a = ds.attrs
+    xn, yn = (str(v) for v in a.get("curve_parameters", "x y").split())
+    kinds = ds["check_kind"].attrs["flag_meanings"].split()
+    rows = [
+        f"\n## Pixel check: {name}\n",
+        f"{a['pixel_check_passed']} of {a['pixel_check_samples']} checked crossings as predicted "
+        f"({a['pixel_check_fraction']:.1%}; every {a['pixel_check_every']} rows and columns). By kind: "
+        f"{a['pixel_check_by_kind']}. Failures: {a['pixel_check_failures']}. Excluded: "
+        f"{a['pixel_check_excluded']}. Crossings where the curve bounds no stable orbit: "
+        f"{a['pixel_check_interior']}. Slow: the orbit's modulus above 1 - {a['pixel_check_slow_margin']:.3g}.",
+        "",
+        f"| reason | kind | curve | {xn} | {yn} | stable pixel | other pixel | labels | modulus | criticality | row |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    reasons = ds["check_reason"].attrs["flag_meanings"].split()
+    crit = ds["check_criticality"].attrs["flag_meanings"].split()
+    for k in range(ds.sizes["check"]):
+        r = reasons[int(ds["check_reason"][k])]
+        if r == "ok":
+            continue
+        j0, i0, j1, i1 = (int(v) for v in ds["check_pixels"][k].values)
+        l0, l1 = (int(v) for v in ds["check_labels"][k].values)
+        pix = (f"({j0}, {i0})", f"({j1}, {i1})", f"{l0}, {l1}") if j0 >= 0 else ("", "", "")
+        fwd = "forward" if int(ds["check_forward"][k]) else "return"
+        rows.append(
+            f"| {r} | {kinds[int(ds['check_kind'][k])]} | {int(ds['check_curve'][k])} | "
+            f"{float(ds[f'check_{xn}'][k]):.5f} | {float(ds[f'check_{yn}'][k]):.5f} | {pix[0]} | {pix[1]} | "
+            f"{pix[2]} | {float(ds['check_modulus'][k]):.6f} | {crit[int(ds['check_criticality'][k])]} | {fwd} |"
+        )
     return "\n".join(rows) + "\n"

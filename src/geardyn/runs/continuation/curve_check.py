@@ -1,30 +1,39 @@
 """The pixel check of regime-boundary curves against their map (docs/orbits.md, "Regime boundaries as curves").
 
-Every curve is crossed with every ``every``-th row and column of the map; at a crossing (at least ``margin``
-pixels from every codimension-2 point) the two neighbouring pixels of that row or column on either side of
-the curve are compared with what the curve predicts there.  The curve's orbit is shot at each pixel's own
-parameter values (Newton from the curve's orbit at the crossing); the sample counts when it is a boundary of
-a stable orbit there: the orbit is stable at exactly one of the two pixels (fold, period doubling,
-Neimark-Sacker), or stable at both with margins of opposite sign (grazing).  Then the map must show, for a
-curve of period n:
+Every curve is crossed with every ``every``-th row and column of the map (at most ``max_samples`` crossings
+per curve).  A crossing where the curve bounds no stable orbit (its points' other multipliers not all inside
+the unit circle) is no regime boundary (``interior``: counted, not sampled).  Every other crossing is a
+sample; before anything is computed it is excluded when it lies within ``margin`` pixels of a codimension-2
+point (``codim2``), within ``crowd`` pixels of another curve that changes the same quantity (``crowded``: a
+label-changing curve -- fold, period doubling, Neimark-Sacker -- near a crossing of one of them; any curve
+near a grazing crossing), or at the map's edge (``edge``).  Then the curve's orbit is shot at the two
+pixels of the row or column beside the crossing (and the pairs one pixel either way): the curve is where the
+map's pixels say it is when the orbit is stable at exactly one of them (fold, period doubling,
+Neimark-Sacker) or stable at both with grazing margins of opposite sign (grazing); else ``not_straddled``, a
+failure.  The map must show, for a curve of period n:
 
-=================  ==============================  ===================================================
-kind               stable side                     other side
-=================  ==============================  ===================================================
-period_doubling    P-n, on the orbit               P-2n
-neimark_sacker     P-n, on the orbit               a torus: QP, a long period, or P-m, m not n or 2n
-fold               P-n, on the orbit               another attractor: another label or a jump of the
-                                                   mean Poincare X_VH (the orbit is gone)
-grazing            P-n, on the orbit, both sides;  the impact class of the orbit (response measures of
-back_grazing       the impact class of the orbit   the shot orbit): no impact | single-sided for grazing,
-                                                   single-sided | double-sided for the back flank
-=================  ==============================  ===================================================
+=================  ============================  =========================================================
+kind               stable side                   other side
+=================  ============================  =========================================================
+period_doubling    P-n on the orbit              supercritical (a stable P-2n orbit near the orbit at that
+                                                 pixel): P-2n; subcritical (none): a jump, anything but
+                                                 P-n on the orbit
+neimark_sacker     P-n on the orbit              a torus born on the orbit (QP, long period, P-m with m not
+                                                 n or 2n) or, subcritical, a jump (criticality not typed)
+fold               P-n on the orbit              a jump (the orbit is gone): another label or mean
+grazing,           P-n on the orbit, both        the impact class of the shot orbit on either side: no
+back_grazing       sides                         impact | single-sided (back: single- | double-sided)
+=================  ============================  =========================================================
 
-"On the orbit": the pixel's mean Poincare X_VH within 1e-3 max(1, |x|) + 0.1 of the orbit's spread of the
-orbit's mean.  A failure is typed (:data:`REASONS`): the stable side holds another attractor that its row
-carried across the curve from the unstable side (``hysteresis``) or that the row started on
-(``coexistence``), the other side's label is not the predicted one (``other_side``), or the impact class
-differs (``impact_class``).
+"On the orbit": mean Poincare X_VH within 1e-3 max(1, |x|) + 0.1 spread of the orbit's, spread at most the
+orbit's + 1e-2 max(1, |x|).  A stable side that is not P-n on the orbit is excluded, with its reason
+(:data:`EXCLUDED`), when the map cannot show it: ``slow`` (the pixel is on the orbit but the orbit's largest
+multiplier modulus is within :func:`slow_margin` of 1: the labeller certifies no orbit there, or its run is
+shorter than the orbit's approach), ``hysteresis`` or ``coexistence`` (the pixel holds another
+attractor, off the orbit, where the orbit is stable: two attractors coexist; ``hysteresis`` when the pixel's
+row crossed the curve before reaching it and carried that attractor across, ``coexistence`` when the row came
+from the stable side).  Otherwise the failure is ``stable_side``, ``other_side`` or ``impact_class``.  The
+fraction is that of ``ok`` among the checked samples (``ok`` and :data:`FAILURES`).
 """
 
 from __future__ import annotations
@@ -32,7 +41,7 @@ from __future__ import annotations
 import time
 from collections import Counter
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -46,80 +55,94 @@ from geardyn.runs.continuation.family import cycle_states
 from geardyn.solve.response import IMPACT_CLASSES, response_measures
 from geardyn.solve.shooting import newton_shooting
 
+#: Failures of a checked sample.
+FAILURES = ("not_straddled", "stable_side", "other_side", "impact_class")
+#: Samples left out of the fraction, each with its reason (module doc).
+EXCLUDED = ("codim2", "crowded", "edge", "slow", "hysteresis", "coexistence")
 #: Outcomes of a sample (``check_reason`` flags); the first is a pass.
-REASONS = ("ok", "slow_approach", "hysteresis", "coexistence", "other_side", "impact_class")
+REASONS = ("ok", *FAILURES, *EXCLUDED)
 FORWARD = "the stable pixel's row reaches it without crossing the curve"
+#: Criticality of a period doubling (``check_criticality`` flags; "untyped" for the other kinds).
+CRITICALITY = ("untyped", "supercritical", "subcritical")
 _TORUS = (LABELS["quasi_periodic"], LABELS["long_period"])
+_LABEL_KINDS = ("fold", "period_doubling", "neimark_sacker")
 
 
 @dataclass(frozen=True)
 class Sample:
-    """One checked crossing: the curve, its kind and period, the crossing (x, y), the two pixels
-    ((row, column) of the stable side first), their labels, the outcome (:data:`REASONS`); forward: the stable
-    pixel's row reaches it without crossing the curve."""
+    """One crossing: the curve, its kind and period, the crossing (x, y), the two pixels ((row, column) of the
+    stable side first; none when excluded before shooting), their labels, the outcome (:data:`REASONS`),
+    forward (:data:`FORWARD`), the largest multiplier modulus of the orbit at the stable pixel and the
+    criticality (:data:`CRITICALITY`)."""
 
     curve: int
     kind: str
     n: int
     x: float
     y: float
-    pixels: tuple[tuple[int, int], tuple[int, int]]
-    labels: tuple[int, int]
-    reason: str
+    pixels: tuple = ()
+    labels: tuple[int, int] = (0, 0)
+    reason: str = "ok"
     forward: bool = True
+    modulus: float = float("nan")
+    criticality: str = "untyped"
 
     @property
     def ok(self) -> bool:
         return self.reason == "ok"
 
+    @property
+    def checked(self) -> bool:
+        return self.reason not in EXCLUDED
+
 
 @dataclass
 class PixelCheck:
-    """The samples, and how many crossings were not boundaries of a stable orbit (``interior``), had no pair
-    of pixels on either side (``unresolved``) or another curve within reach (``crowded``)."""
+    """The samples, and how many crossings lay where the curve bounds no stable orbit (``interior``)."""
 
     samples: list[Sample] = field(default_factory=list)
     every: int = 1
     seconds: float = 0.0
     interior: int = 0
-    unresolved: int = 0
-    crowded: int = 0
+    slow_margin: float = 0.0
+
+    @property
+    def checked(self) -> list[Sample]:
+        return [s for s in self.samples if s.checked]
 
     @property
     def fraction(self) -> float:
-        """The share of samples that pass."""
-        return _share(self.samples)
-
-    @property
-    def forward_fraction(self) -> float:
-        """The share among the forward samples (the stable pixel's row reaches it without crossing the curve)."""
-        return _share([s for s in self.samples if s.forward])
+        """The share of the checked samples that pass."""
+        c = self.checked
+        return sum(s.ok for s in c) / len(c) if c else float("nan")
 
     def by_kind(self) -> dict[str, tuple[int, int]]:
         out: dict[str, tuple[int, int]] = {}
-        for s in self.samples:
+        for s in self.checked:
             ok, n = out.get(s.kind, (0, 0))
             out[s.kind] = (ok + s.ok, n + 1)
         return out
 
-    def failures(self) -> Counter:
-        return Counter(f"{s.kind}: {s.reason}{'' if s.forward else ' (return)'}" for s in self.samples if not s.ok)
+    def tally(self, reasons: Sequence[str]) -> Counter:
+        return Counter(f"{s.kind}: {s.reason}" for s in self.samples if s.reason in reasons)
 
     def attrs(self) -> dict[str, Any]:
         """Global attributes of the curves file."""
+
+        def text(c: Counter) -> str:
+            return "; ".join(f"{k} {v}" for k, v in sorted(c.items())) or "none"
+
         kinds = "; ".join(f"{k} {ok}/{n}" for k, (ok, n) in sorted(self.by_kind().items()))
-        fails = "; ".join(f"{k} {v}" for k, v in sorted(self.failures().items())) or "none"
         return {
-            "pixel_check_fraction": round(self.fraction, 4) if self.samples else -1.0,
-            "pixel_check_samples": len(self.samples),
+            "pixel_check_fraction": round(self.fraction, 4) if self.checked else -1.0,
+            "pixel_check_samples": len(self.checked),
+            "pixel_check_passed": sum(s.ok for s in self.samples),
             "pixel_check_every": self.every,
-            "pixel_check_forward_fraction": round(self.forward_fraction, 4) if self.samples else -1.0,
-            "pixel_check_forward_samples": sum(s.forward for s in self.samples),
             "pixel_check_by_kind": kinds or "none",
-            "pixel_check_failures": fails,
+            "pixel_check_failures": text(self.tally(FAILURES)),
+            "pixel_check_excluded": text(self.tally(EXCLUDED)),
             "pixel_check_interior": self.interior,
-            "pixel_check_unresolved": self.unresolved,
-            "pixel_check_crowded": self.crowded,
+            "pixel_check_slow_margin": self.slow_margin,
         }
 
     def variables(self, names: tuple[str, str], kinds: Sequence[str]) -> dict[str, Any]:
@@ -127,32 +150,37 @@ class PixelCheck:
         s = self.samples
         units = [point.units_of(n) if n in point.CONTROLS or n in point.PARAMETER_UNITS else "1" for n in names]
 
-        def flags(values: Sequence[str], long_name: str) -> dict[str, Any]:
-            return {
-                "long_name": long_name,
-                "flag_values": np.arange(len(values), dtype=np.int8),
-                "flag_meanings": " ".join(values),
-            }
-
-        def var(values: list, dtype: Any, attrs: dict[str, Any]) -> tuple:
+        def var(values: list, dtype: Any, long_name: str, units: str = "1", flags: Sequence[str] = ()) -> tuple:
+            attrs: dict[str, Any] = {"long_name": long_name}
+            if flags:
+                attrs.update(flag_values=np.arange(len(flags), dtype=np.int8), flag_meanings=" ".join(flags))
+            else:
+                attrs["units"] = units
             return (("check",), np.array(values, dtype), attrs)
 
+        pix = [list(v.pixels[0]) + list(v.pixels[1]) if v.pixels else [-1] * 4 for v in s]
         return {
-            f"check_{names[0]}": var(
-                [v.x for v in s], float, {"units": units[0], "long_name": f"{names[0]} at the crossing"}
+            f"check_{names[0]}": var([v.x for v in s], float, f"{names[0]} at the crossing", units[0]),
+            f"check_{names[1]}": var([v.y for v in s], float, f"{names[1]} at the crossing", units[1]),
+            "check_curve": var([v.curve for v in s], np.int32, "index of the curve"),
+            "check_kind": var([list(kinds).index(v.kind) for v in s], np.int8, "curve kind", flags=kinds),
+            "check_forward": var([v.forward for v in s], np.int8, FORWARD, flags=("return", "forward")),
+            "check_reason": var([REASONS.index(v.reason) for v in s], np.int8, "outcome of the check", flags=REASONS),
+            "check_pixels": (
+                ("check", "pixel_index"),
+                np.array(pix, np.int32).reshape(len(s), 4),
+                {"units": "1", "long_name": "row, column of the stable-side pixel, then the other (-1: none)"},
             ),
-            f"check_{names[1]}": var(
-                [v.y for v in s], float, {"units": units[1], "long_name": f"{names[1]} at the crossing"}
+            "check_labels": (
+                ("check", "side"),
+                np.array([v.labels for v in s], np.int16).reshape(len(s), 2),
+                {"units": "1", "long_name": "map label at the stable-side pixel and the other"},
             ),
-            "check_curve": var([v.curve for v in s], np.int32, {"units": "1", "long_name": "index of the curve"}),
-            "check_kind": var([list(kinds).index(v.kind) for v in s], np.int8, flags(kinds, "curve kind")),
-            "check_forward": var([v.forward for v in s], np.int8, flags(("return", "forward"), FORWARD)),
-            "check_reason": var([REASONS.index(v.reason) for v in s], np.int8, flags(REASONS, "outcome of the check")),
+            "check_modulus": var([v.modulus for v in s], float, "largest multiplier modulus, stable-side orbit"),
+            "check_criticality": var(
+                [CRITICALITY.index(v.criticality) for v in s], np.int8, "criticality", flags=CRITICALITY
+            ),
         }
-
-
-def _share(samples: Sequence[Sample]) -> float:
-    return sum(s.ok for s in samples) / len(samples) if samples else float("nan")
 
 
 def _boundary_segments(curve: Any, px: float, py: float) -> tuple[np.ndarray, np.ndarray]:
@@ -184,48 +212,76 @@ def _crossings(values: np.ndarray, line: float) -> list[tuple[int, float]]:
 
 
 class _Probe:
-    """The curve's orbit at pixels: status (stable, unstable, absent), state, mean X_VH, margin, impact class."""
+    """The curve's orbit at pixels: status (stable, unstable, absent), state, mean X_VH, margin, impact class,
+    spread of X_VH, largest multiplier modulus; and the period-2n orbit born at a period doubling."""
 
     def __init__(self, plane: Any, kind: str, n: int, flank: str):
         self.plane, self.kind, self.n, self.flank = plane, kind, n, flank
         self.cache: dict[tuple[float, float], tuple] = {}
 
-    def at(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray) -> tuple:
-        key = (p, q)
-        if key not in self.cache:
-            self.cache[key] = self._solve(p, q, guesses, near)
-        return self.cache[key]
+    def at(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: tuple) -> tuple:
+        """The orbit at (p, q) (cached until :meth:`clear`): Newton from each guess (kept within 0.1 max(1, |x|)
+        of ``near``, the curve's orbit at the crossing ``origin``; the stable one nearest it), else followed from
+        the crossing in 8 steps."""
+        if (p, q) not in self.cache:
+            self.cache[(p, q)] = self._solve(p, q, guesses, near, origin)
+        return self.cache[(p, q)]
 
-    def _shorter(self, p: float, q: float, x: np.ndarray) -> bool:
-        """True when the period-n orbit through x is one of a proper divisor of n (a shorter orbit repeated)."""
-        return shorter_period(self.plane, p, q, x, self.n)
-
-    def _solve(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray) -> tuple:
+    def _solve(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: tuple) -> tuple:
         scale = max(1.0, float(np.max(np.abs(near))))
         found = []
         for g in guesses:
             r = newton_shooting(self.plane.flow(p, q, self.n), g, self.n, 1e-9, max_iter=12)
-            if r.converged and float(np.max(np.abs(r.state - near))) < 0.1 * scale and not self._shorter(p, q, r.state):
+            if r.converged and float(np.max(np.abs(r.state - near))) < 0.1 * scale:
                 found.append(r)
-                if r.stable:
-                    break
+        if not found and (r := self._march(p, q, near, origin, scale)) is not None:
+            found.append(r)
+        found = [r for r in found if not shorter_period(self.plane, p, q, r.state, self.n)]
         if not found:
-            return ("absent", None, np.nan, np.nan, -1, np.nan)
-        r = next((f for f in found if f.stable), found[0])
+            return ("absent", None, np.nan, np.nan, -1, np.nan, np.nan)
+        r = min(found, key=lambda f: (not f.stable, float(np.max(np.abs(f.state - near)))))  # stable, nearest
         if not r.stable:
-            return ("unstable", r.state, np.nan, np.nan, -1, np.nan)
+            return ("unstable", r.state, np.nan, np.nan, -1, np.nan, r.spectral_radius)
         cyc = cycle_states(_Along(self.plane, q), p, r.state, self.n)
-        system = self.plane.coefficients(p, q)
-        s = self.plane.settings
+        system, s = self.plane.coefficients(p, q), self.plane.settings
         margin = np.nan
         if self.kind == "grazing":
-            margin = (
-                back_margin(system, r.state, self.n, s)
-                if self.flank == "back"
-                else self.plane.grazing(p, q, r.state, self.n)
-            )
+            back = self.flank == "back"
+            margin = back_margin(system, r.state, self.n, s) if back else self.plane.grazing(p, q, r.state, self.n)
         impact = IMPACT_CLASSES[response_measures(system, r.state, s, periods=self.n).impact_class]
-        return ("stable", r.state, float(np.mean(cyc[:, 1])), margin, impact, float(np.ptp(cyc[:, 1])))
+        mean, spread = float(np.mean(cyc[:, 1])), float(np.ptp(cyc[:, 1]))
+        return ("stable", r.state, mean, margin, impact, spread, r.spectral_radius)
+
+    def _march(self, p: float, q: float, x: np.ndarray, origin: tuple, scale: float, steps: int = 8):
+        """The orbit followed from ``origin`` (state x) to (p, q) in ``steps`` Newton steps, each within 0.1
+        max(1, |x|) of the last; None when lost."""
+        r = None
+        for t in np.linspace(0.0, 1.0, steps + 1)[1:]:
+            pt, qt = origin[0] + t * (p - origin[0]), origin[1] + t * (q - origin[1])
+            r = newton_shooting(self.plane.flow(pt, qt, self.n), x, self.n, 1e-9, max_iter=12)
+            if not r.converged or float(np.max(np.abs(r.state - x))) >= 0.1 * scale:
+                return None
+            x = r.state
+        return r
+
+    def doubled(self, p: float, q: float, x: np.ndarray) -> bool:
+        """True when a stable orbit of period 2n (not the period-n one) lies near x at (p, q): Newton from x
+        pushed along each real eigenvector of the n-period map, amplitudes 1e-3 to 0.1 of max(1, |x|)."""
+        scale = max(1.0, float(np.max(np.abs(x))))
+        _, M = self.plane.flow(p, q, self.n)(x, True)
+        lam, V = np.linalg.eig(M)
+        v = V[:, int(np.argmin(np.abs(lam + 1.0)))].real
+        v /= max(float(np.linalg.norm(v)), 1e-300)
+        for a in (1e-3, 1e-2, 3e-2, 0.1, -1e-3, -1e-2, -3e-2, -0.1):
+            r = newton_shooting(self.plane.flow(p, q, 2 * self.n), x + a * scale * v, 2 * self.n, 1e-9, max_iter=12)
+            d = float(np.max(np.abs(r.state - x)))
+            if (
+                r.stable
+                and 1e-6 * scale < d < 0.2 * scale
+                and not shorter_period(self.plane, p, q, r.state, 2 * self.n)
+            ):
+                return True
+        return False
 
 
 class _Along:
@@ -238,32 +294,58 @@ class _Along:
         return self.plane.flow(p, self.q, n)
 
 
-def _on_orbit(map_mean: float, st: tuple) -> bool:
-    return bool(np.isfinite(map_mean) and abs(map_mean - st[2]) <= 1e-3 * max(1.0, abs(st[2])) + 0.1 * st[5])
+def slow_margin(map_ds: xr.Dataset) -> float:
+    """1 - |mu| below which the map cannot show a stable orbit that its record does not start on: the larger of
+    the labeller's ``stability_margin`` (it certifies no orbit with |mu| above 1 - margin) and 1 / T, T the
+    longest run of the labeller on a record (``classifier_torus_max_periods``): a slower approach does not
+    shrink by 1/e in the run, and looks like a torus."""
+    a = map_ds.attrs
+    return max(float(a.get("stability_margin", 0.0)), 1.0 / float(a.get("classifier_torus_max_periods", np.inf)))
 
 
-def _other_ok(kind: str, n: int, lab: int, mean_u: float, mean_s: float, scale: float) -> bool:
-    if kind == "period_doubling":
+def _on_orbit(mean: float, spread: float, st: tuple) -> bool:
+    scale = max(1.0, abs(st[2]))
+    near = np.isfinite(mean) and abs(mean - st[2]) <= 1e-3 * scale + 0.1 * st[5]
+    return bool(near and np.isfinite(spread) and spread <= st[5] + 1e-2 * scale)
+
+
+def _other_ok(kind: str, n: int, lab: int, moved: bool, supercritical: bool) -> bool:
+    """The other side's label as predicted (module doc); moved: its attractor is not the orbit."""
+    if kind == "period_doubling" and supercritical:
         return lab == 2 * n
     if kind == "neimark_sacker":
-        return lab in _TORUS or (lab >= 1 and lab not in (n, 2 * n))
-    return lab != n or not np.isfinite(mean_u) or abs(mean_u - mean_s) > 0.05 * scale  # fold: the orbit is gone
+        return lab in _TORUS or (lab >= 1 and lab not in (n, 2 * n)) or (moved and lab != 2 * n)
+    return lab != n or moved  # a jump
 
 
-def _judge(kind: str, n: int, stable: tuple, other: tuple, maps: tuple, scale: float, forward: bool) -> str:
-    """The outcome of one sample (:data:`REASONS`): the stable side (grazing: both sides) on the orbit with
-    label P-n, the other side as predicted (module doc)."""
-    lab, mean, spread, impact = maps
-    sides = (stable, other) if kind in ("grazing", "back_grazing") else (stable,)
-    for (j, i), st in sides:
-        on = _on_orbit(mean[j, i], st)
-        if not (int(lab[j, i]) == n and on):
-            return _why(on, spread[j, i], scale, forward)
-    (js, is_), (ju, iu) = stable[0], other[0]
-    if kind in ("grazing", "back_grazing"):
-        ok = impact is None or (int(impact[js, is_]) == stable[1][4] and int(impact[ju, iu]) == other[1][4])
-        return "ok" if ok else "impact_class"
-    return "ok" if _other_ok(kind, n, int(lab[ju, iu]), mean[ju, iu], mean[js, is_], scale) else "other_side"
+class _Judge:
+    """The outcome of one sample against the map (module doc)."""
+
+    def __init__(self, map_ds: xr.Dataset, slow: float):
+        self.lab, self.mean, self.spread = (map_ds[v].values for v in ("label", "x_vh_mean", "x_vh_spread"))
+        self.impact = map_ds["impact_class"].values if "impact_class" in map_ds else None
+        self.slow = slow
+
+    def stable_side(self, px: tuple[int, int], st: tuple, n: int, forward: bool) -> str:
+        lab, on = int(self.lab[px]), _on_orbit(self.mean[px], self.spread[px], st)
+        if lab == n and on:
+            return "ok"
+        if on:
+            return "slow" if st[6] >= 1.0 - self.slow else "stable_side"
+        return "coexistence" if forward else "hysteresis"
+
+    def __call__(self, kind: str, n: int, stable: tuple, other: tuple, forward: bool, supercritical: bool) -> str:
+        (ps, sts), (pu, stu) = stable, other
+        graze = kind in ("grazing", "back_grazing")
+        for px, st in (stable, other) if graze else (stable,):
+            why = self.stable_side(px, st, n, forward)
+            if why != "ok":
+                return why
+        if graze:
+            ok = self.impact is None or (int(self.impact[ps]) == sts[4] and int(self.impact[pu]) == stu[4])
+            return "ok" if ok else "impact_class"
+        moved = not _on_orbit(self.mean[pu], self.spread[pu], sts)
+        return "ok" if _other_ok(kind, n, int(self.lab[pu]), moved, supercritical) else "other_side"
 
 
 def pixel_check(
@@ -275,83 +357,102 @@ def pixel_check(
     crowd: float = 1.5,
     max_samples: int = 80,
 ) -> PixelCheck:
-    """The pixel check (module doc) of the curves ``bd`` against their map; ``plane`` the curves' plane.
-    Crossings within ``margin`` pixels of a codimension-2 point or ``crowd`` pixels of another curve are left
-    out (the two pixels would not straddle this curve alone), at most ``max_samples`` per curve."""
+    """The pixel check (module doc) of the curves ``bd`` against their map; ``plane`` the curves' plane."""
     xs, ys = map_ds["x"].values, map_ds["y"].values
-    lab, mean, spread = (map_ds[v].values for v in ("label", "x_vh_mean", "x_vh_spread"))
-    impact = map_ds["impact_class"].values if "impact_class" in map_ds else None
     px, py = float(xs[1] - xs[0]), float(ys[1] - ys[0])
     c2 = [(b.p, b.q) for c in bd.curves for b in c.codim2]
     segs = [_boundary_segments(c, px, py) for c in bd.curves]
     t0 = time.perf_counter()
-    out = PixelCheck(every=every)
+    out = PixelCheck(every=every, slow_margin=slow_margin(map_ds))
+    judge = _Judge(map_ds, out.slow_margin)
     for k, curve in enumerate(bd.curves):
         kind = bd.file_kind(k)
         probe = _Probe(plane, curve.kind, curve.n, bd.flank[k])
-        P, Q = curve.p, curve.q
-        X = np.array([pt.z[:-2] for pt in curve.points])
-        V = [pt.v for pt in curve.points]
-        cands = [("row", j, seg, w) for j in range(0, ys.size, every) for seg, w in _crossings(Q, ys[j])]
-        cands += [("column", i, seg, w) for i in range(0, xs.size, every) for seg, w in _crossings(P, xs[i])]
+        flags = np.array([bounds_stable(curve.kind, pt.multipliers, pt.crit) for pt in curve.points])
+        own = np.column_stack([curve.p / px, curve.q / py])
+        others = [m for m, c in enumerate(bd.curves) if m != k and (kind not in _LABEL_KINDS or c.kind != "grazing")]
+        steep = np.abs(np.diff(curve.q)) / py >= np.abs(np.diff(curve.p)) / px  # rows cross it, else columns
+        cands = [("row", j, g, w) for j in range(0, ys.size, every) for g, w in _crossings(curve.q, ys[j]) if steep[g]]
+        cands += [("column", i, g, w) for i in range(0, xs.size, every) for g, w in _crossings(curve.p, xs[i])]
+        cands = [c for c in cands if c[0] == "row" or not steep[min(c[2], steep.size - 1)]]
+        bound = [c for c in cands if flags[c[2]] and flags[min(c[2] + 1, flags.size - 1)]]
+        out.interior += len(cands) - len(bound)
+        cands = bound
         if len(cands) > max_samples:
             cands = [cands[i] for i in np.linspace(0, len(cands) - 1, max_samples).round().astype(int)]
         for line, idx, seg, w in cands:
-            x = P[seg] + w * (P[seg + 1] - P[seg]) if seg + 1 < P.size else P[seg]
-            y = Q[seg] + w * (Q[seg + 1] - Q[seg]) if seg + 1 < Q.size else Q[seg]
+            x, y = _at(curve, seg, w)
+            base = Sample(k, kind, curve.n, float(x), float(y))
             if any(np.hypot((x - a) / px, (y - b) / py) < margin for a, b in c2):
-                continue
-            if any(_distance(seg_m, x / px, y / py) < crowd for m, seg_m in enumerate(segs) if m != k):
-                out.crowded += 1
-                continue
-            state = X[seg] + w * (X[min(seg + 1, len(X) - 1)] - X[seg])
-            scale = max(1.0, float(np.max(np.abs(state))))
-            guesses = [state]
-            v = V[seg] if V[seg] is not None else None
-            if v is not None:
-                guesses += [state + a * scale * v for a in (0.02, -0.02, 0.1, -0.1)]
-            sample = _sample(k, kind, curve.n, line, idx, x, y, xs, ys, probe, guesses, state)
-            if sample is None:
-                out.unresolved += 1
-                continue
-            if sample == "interior":
-                out.interior += 1
-                continue
-            (js, is_), (ju, iu), sts, stu = sample
-            fwd = kind in ("grazing", "back_grazing") or _forward(curve, (js, is_), (ju, iu), xs, ys, js == ju)
-            maps = (lab, mean, spread, impact)
-            reason = _judge(kind, curve.n, ((js, is_), sts), ((ju, iu), stu), maps, scale, fwd)
-            labels = (int(lab[js, is_]), int(lab[ju, iu]))
-            out.samples.append(Sample(k, kind, curve.n, float(x), float(y), ((js, is_), (ju, iu)), labels, reason, fwd))
+                out.samples.append(replace(base, reason="codim2"))
+            elif any(_distance(segs[m], x / px, y / py) < crowd for m in others) or _self_crowded(
+                own, seg, x / px, y / py, crowd
+            ):
+                out.samples.append(replace(base, reason="crowded"))
+            else:
+                out.samples.append(_probe_sample(base, curve, (line, idx, seg, w), xs, ys, probe, judge))
     out.seconds = time.perf_counter() - t0
     return out
 
 
-def _sample(k, kind, n, line, idx, x, y, xs, ys, probe: _Probe, guesses, state):
-    """The pixel pair across the crossing (stable side first) with the orbit there, "interior" when the curve
-    bounds no stable orbit there, None when no pair of pixels straddles it."""
-    grid, c = (xs, x) if line == "row" else (ys, y)
+def _self_crowded(pts: np.ndarray, seg: int, x: float, y: float, crowd: float, skip: int = 3) -> bool:
+    """True when the curve itself, more than ``skip`` segments away along it from segment ``seg``, passes within
+    ``crowd`` pixels of (x, y): a curve folded back on itself (the two folds near a cusp) narrower than that."""
+    far = np.r_[0 : max(0, seg - skip), seg + skip + 1 : len(pts) - 1]
+    return _distance((pts[far], pts[far + 1]), x, y) < crowd if far.size else False
+
+
+def _at(curve: Any, seg: int, w: float) -> tuple[float, float]:
+    nxt = min(seg + 1, len(curve.p) - 1)
+    return curve.p[seg] + w * (curve.p[nxt] - curve.p[seg]), curve.q[seg] + w * (curve.q[nxt] - curve.q[seg])
+
+
+def _probe_sample(base: Sample, curve: Any, cross: tuple, xs, ys, probe: _Probe, judge: _Judge) -> Sample:
+    """The sample at one crossing: the orbit shot at the pixels beside it, the map judged (module doc)."""
+    line, idx, seg, w = cross
+    X = np.array([pt.z[:-2] for pt in curve.points])
+    state = X[seg] + w * (X[min(seg + 1, len(X) - 1)] - X[seg])
+    scale = max(1.0, float(np.max(np.abs(state))))
+    v = curve.points[seg].v
+    guesses = [state] + ([state + a * scale * v for a in (0.02, -0.02, 0.1, -0.1)] if v is not None else [])
+    probe.cache.clear()
+    pair = _pair(base.kind, line, idx, (base.x, base.y), xs, ys, probe, guesses, state)
+    if pair in ("edge", "not_straddled"):
+        return replace(base, reason=pair)
+    (ps, sts), (pu, stu) = pair
+    graze = base.kind in ("grazing", "back_grazing")
+    fwd = graze or _forward(curve, ps, pu, xs, ys, line == "row")
+    crit = "untyped"
+    if base.kind == "period_doubling" and stu[1] is not None:
+        sup = probe.doubled(float(xs[pu[1]]), float(ys[pu[0]]), stu[1])
+        crit = "supercritical" if sup else "subcritical"
+    reason = judge(base.kind, curve.n, (ps, sts), (pu, stu), fwd, crit == "supercritical")
+    labels = (int(judge.lab[ps]), int(judge.lab[pu]))
+    return replace(base, pixels=(ps, pu), labels=labels, reason=reason, forward=fwd, modulus=sts[6], criticality=crit)
+
+
+def _pair(kind, line, idx, origin, xs, ys, probe: _Probe, guesses, state):
+    """((stable pixel, its orbit), (other pixel, its orbit)) across the crossing at coordinate c of the row or
+    column idx, from the pair of pixels around it or the pairs one pixel either way; "edge" when the map
+    has no pixel on either side, "not_straddled" when no pair straddles a change of the orbit's stability
+    (grazing: of the margin's sign on a stable orbit)."""
+    grid, c = (xs, origin[0]) if line == "row" else (ys, origin[1])
     i0 = int(np.searchsorted(grid, c) - 1)
+    if i0 < 0 or i0 + 1 >= grid.size:
+        return "edge"
     for a in (i0, i0 - 1, i0 + 1):
         if a < 0 or a + 1 >= grid.size:
             continue
         pix = [(idx, a), (idx, a + 1)] if line == "row" else [(a, idx), (a + 1, idx)]
-        st = [probe.at(float(xs[i]), float(ys[j]), guesses, state) for j, i in pix]
+        st = [probe.at(float(xs[i]), float(ys[j]), guesses, state, origin) for j, i in pix]
         status = [s[0] for s in st]
         if kind in ("grazing", "back_grazing"):
-            if status != ["stable", "stable"]:
-                if status.count("stable") == 1:
-                    continue  # another bifurcation between them
-                return "interior"
-            if not np.sign(st[0][3]) != np.sign(st[1][3]):
-                continue
-            return pix[0], pix[1], st[0], st[1]
-        if status.count("stable") == 1:
+            if status == ["stable", "stable"] and np.sign(st[0][3]) != np.sign(st[1][3]):
+                return (pix[0], st[0]), (pix[1], st[1])
+        elif status.count("stable") == 1:
             s = status.index("stable")
-            return pix[s], pix[1 - s], st[s], st[1 - s]
-        if "stable" not in status and a == i0:
-            return "interior"
-    return None
+            return (pix[s], st[s]), (pix[1 - s], st[1 - s])
+    return "not_straddled"
 
 
 def _forward(curve, stable_px, other_px, xs, ys, same_row: bool) -> bool:
@@ -364,11 +465,3 @@ def _forward(curve, stable_px, other_px, xs, ys, same_row: bool) -> bool:
     return not any(
         p[seg] + w * (p[min(seg + 1, p.size - 1)] - p[seg]) < xs[is_] for seg, w in _crossings(curve.q, ys[js])
     )
-
-
-def _why(on_orbit: bool, spread: float, scale: float, forward: bool) -> str:
-    """Why the stable side shows another label: still spiralling onto the orbit (on it, a spread below 1e-3 of
-    its size), another attractor carried across the curve by the row (hysteresis) or started on (coexistence)."""
-    if on_orbit and np.isfinite(spread) and spread < 1e-3 * scale:
-        return "slow_approach"
-    return "coexistence" if forward else "hysteresis"
