@@ -22,7 +22,7 @@ from geardyn import classify
 from geardyn.label import label_lines
 from geardyn.solve import SimulationSettings
 from geardyn.solve.circle import distance_to_circle, find_circles
-from geardyn.solve.simulate import simulate_batch
+from geardyn.solve.run import simulate_batch
 
 #: the labels whose points are checked
 CLASSES = ("quasi_periodic", "long_period", "chaotic", "undetermined")

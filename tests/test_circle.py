@@ -13,8 +13,8 @@ import pytest
 
 from geardyn.khv import design, point
 from geardyn.solve import circle as C
+from geardyn.solve.run import simulate_batch
 from geardyn.solve.shooting import period_settings, shoot
-from geardyn.solve.simulate import simulate_batch
 
 LAM, OMEGA = 0.9, (math.sqrt(5.0) - 1.0) / 2.0
 

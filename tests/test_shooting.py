@@ -69,7 +69,7 @@ def test_monodromy_columns_are_the_single_column_runs_bit_for_bit(contact_loss_o
     """The 6 columns of the monodromy matrix are stepped together in one buffer (vectorised); each is the
     same arithmetic as one tangent column carried alone: the same bits, contact switches included."""
     from geardyn.solve import _kernel  # noqa: PLC0415
-    from geardyn.solve.simulate import simulate_batch, step_tables  # noqa: PLC0415
+    from geardyn.solve.run import simulate_batch, step_tables  # noqa: PLC0415
 
     c, orbit = contact_loss_orbit
     s = SimulationSettings(transient_periods=0, recorded_periods=3)

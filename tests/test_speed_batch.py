@@ -10,7 +10,7 @@ from benchmarks.work_precision import cases
 from geardyn import classify
 from geardyn.label import Policy, label_points
 from geardyn.solve import SimulationSettings, _batch, simulate
-from geardyn.solve.simulate import EarlyStop, simulate_batch, step_tables
+from geardyn.solve.run import EarlyStop, simulate_batch, step_tables
 
 
 @pytest.fixture(scope="module")

@@ -22,8 +22,8 @@ from geardyn.label._stages import (
 )
 from geardyn.label.policy import Policy
 from geardyn.solve.floquet import bifurcation_type
+from geardyn.solve.run import simulate_batch
 from geardyn.solve.shooting import ShootingResult, period_settings, sorted_multipliers
-from geardyn.solve.simulate import simulate_batch
 
 # ------------------------------------------------------------------------------------------------
 # stage 1: follow the previous point's orbit

@@ -32,7 +32,7 @@ from geardyn.label.torus import OrderTest, TorusTest, coordinates, order_test, t
 from geardyn.label.verdict import Verdict
 from geardyn.parallel import threaded_map
 from geardyn.solve.base import SimulationResult
-from geardyn.solve.simulate import simulate_batch
+from geardyn.solve.run import simulate_batch
 
 # ------------------------------------------------------------------------------------------------
 # stage 4: exponent, 0-1 test, spectrum and the torus test

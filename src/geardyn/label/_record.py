@@ -20,8 +20,8 @@ from geardyn.label._stages import (
 )
 from geardyn.label.policy import Policy
 from geardyn.label.settle import settle_points
+from geardyn.solve.run import EarlyStop, simulate_batch
 from geardyn.solve.shooting import ShootingResult
-from geardyn.solve.simulate import EarlyStop, simulate_batch
 
 # ------------------------------------------------------------------------------------------------
 # stage 2: a run from the previous attractor (or the start), rule 3, certified by shooting

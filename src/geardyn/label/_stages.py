@@ -19,7 +19,7 @@ Each stage takes the still-undecided points of a batch (:class:`Point`) and deci
 
 This module holds the point record, the verdicts of certified orbits, Newton shooting grouped by period,
 rule 3 on many records and the certification by shooting, which several stages use.  Every stage
-integrates all points that reach it together (:func:`geardyn.solve.simulate.simulate_batch`,
+integrates all points that reach it together (:func:`geardyn.solve.run.simulate_batch`,
 :func:`geardyn.solve.shooting.newton_shooting_batch`, both cores); each point's numbers are those it gets
 alone, so a verdict does not depend on the batch, the chunking or the number of threads.
 """
@@ -39,8 +39,8 @@ from geardyn.label.policy import Policy
 from geardyn.label.torus import OrderTest
 from geardyn.label.verdict import Verdict
 from geardyn.solve.base import SimulationResult, System
+from geardyn.solve.run import LaneTables, simulate_batch, strict_periods
 from geardyn.solve.shooting import ShootingResult, newton_shooting_batch, period_settings, sorted_multipliers
-from geardyn.solve.simulate import LaneTables, simulate_batch, strict_periods
 
 UNDET = classify.LABELS["undetermined"]
 QP = classify.LABELS["quasi_periodic"]

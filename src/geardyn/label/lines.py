@@ -30,7 +30,7 @@ from geardyn.label._record import integrate, slow_transients
 from geardyn.label.policy import Policy
 from geardyn.label.verdict import Verdict
 from geardyn.solve.base import System
-from geardyn.solve.simulate import LaneTables, full_batch, lane_tables
+from geardyn.solve.run import LaneTables, full_batch, lane_tables
 
 log = logging.getLogger("geardyn.label")
 
@@ -78,7 +78,7 @@ class _Line:
 
 def _schedule(lines: list[_Line], policy: Policy, progress: str) -> None:
     """Advance every line to its end.  Each batch is either the next points of all free lines (when there
-    are enough to fill the lanes, :func:`geardyn.solve.simulate.full_batch`, or no point waits), or the
+    are enough to fill the lanes, :func:`geardyn.solve.run.full_batch`, or no point waits), or the
     next piece of every waiting point's growing record, as long as the shortest round has left: all
     waiting points in one batch, whatever the lengths of their records."""
     total, t0, shown = sum(len(ln.systems) for ln in lines), time.perf_counter(), 0

@@ -48,8 +48,8 @@ from geardyn.label.policy import Policy
 from geardyn.parallel import threaded_map
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.base import SimulationResult
+from geardyn.solve.run import LaneTables, lane_tables, simulate_batch
 from geardyn.solve.shooting import newton_shooting_batch, period_settings
-from geardyn.solve.simulate import LaneTables, lane_tables, simulate_batch
 
 QP = classify.LABELS["quasi_periodic"]
 UNDET = classify.LABELS["undetermined"]
@@ -133,10 +133,10 @@ def settle_points(
 ) -> list[Settled]:
     """:func:`settle` of many points at once, stage by stage: the shooting of every point for one n,
     and the continued records of a stage, are integrated together
-    (:func:`geardyn.solve.shooting.newton_shooting_batch`, :func:`geardyn.solve.simulate.simulate_batch`,
+    (:func:`geardyn.solve.shooting.newton_shooting_batch`, :func:`geardyn.solve.run.simulate_batch`,
     both cores); the last stage (the run continued until its distance falls 10-fold), which few points
     reach, runs point by point in threads.  Each point's numbers are those of the point alone.
-    ``tables``: the :func:`geardyn.solve.simulate.lane_tables` of ``systems`` at ``settings``, when the
+    ``tables``: the :func:`geardyn.solve.run.lane_tables` of ``systems`` at ``settings``, when the
     caller has them.  ``always_one[i]`` False: period 1 is tried only when its return distance falls, as
     every other period (for a run that started on the attractor of a neighbouring point).  ``newton``: the
     shooting's tolerance and iterations (a :class:`geardyn.label.policy.Policy`'s ``newton_tol`` and

@@ -45,7 +45,7 @@ from geardyn.runs.cube import (
 )
 from geardyn.solve.base import System
 from geardyn.solve.response import RMS_BLOCKS, rms_errors_many
-from geardyn.solve.simulate import simulate_batch
+from geardyn.solve.run import simulate_batch
 
 log = logging.getLogger("geardyn.response")
 

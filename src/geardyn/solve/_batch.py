@@ -352,7 +352,7 @@ def run_blocks(C, TABS, Y0, NTRANS, NREC, event, LIMITS, POINC, YFINAL, ES, OUT,
 
 @njit(cache=True)
 def fill_tables(lane, eps, period, te, phi, poly, n, H, S, SEG, K, P):
-    """The aligned step tables of :func:`geardyn.solve.simulate.step_tables` for one lane, written
+    """The aligned step tables of :func:`geardyn.solve.run.step_tables` for one lane, written
     into row ``lane`` of H, S, SEG, K, P (the same operations in the same order: the same bits)."""
     e1 = eps - math.floor(eps)
     if e1 == 0.0:  # integer contact ratio: one zone

@@ -268,7 +268,7 @@ def run(
     to the state n_tan periods before the end.  limits (6,): a run whose |y_i| exceeds limits[i] (or
     is not finite) at a period end has diverged.
 
-    tabs: the step tables (h, s, seg, k, p, poly) of :func:`geardyn.solve.simulate.step_tables`.
+    tabs: the step tables (h, s, seg, k, p, poly) of :func:`geardyn.solve.run.step_tables`.
 
     Early stop (``es`` = (es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep), on when
     ``es_confirm > 0``; :data:`NO_EARLY_STOP` is off): from period ``es_min`` on, the transient ends once the return

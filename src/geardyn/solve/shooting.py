@@ -33,7 +33,7 @@ import numpy as np
 
 from geardyn import libm
 from geardyn.solve.base import SimulationSettings, System
-from geardyn.solve.simulate import lane_tables, simulate, simulate_batch
+from geardyn.solve.run import lane_tables, simulate, simulate_batch
 
 #: flow(x, jacobian) -> (state after n periods, monodromy or None); (None, None) when diverged.
 FlowMap = Callable[[np.ndarray, bool], tuple[np.ndarray | None, np.ndarray | None]]
@@ -183,10 +183,10 @@ def newton_shooting_batch(
     max_growth: float = math.inf,
 ) -> list[ShootingResult]:
     """:func:`newton_shooting` on the n-period map (:func:`khv_flow`) of many systems at once: every
-    iteration integrates all unfinished points together (:func:`geardyn.solve.simulate.simulate_batch`,
+    iteration integrates all unfinished points together (:func:`geardyn.solve.run.simulate_batch`,
     both cores), whose lanes have the arithmetic of :func:`simulate`; each point's iterates, and so its
     result, are those of ``shoot(system, x0, n, settings, tol, max_iter)`` bit for bit.  ``tables``: the
-    :func:`geardyn.solve.simulate.lane_tables` of ``systems`` when the caller has them."""
+    :func:`geardyn.solve.run.lane_tables` of ``systems`` when the caller has them."""
 
     s = period_settings(settings, n)
     tables = lane_tables(systems, s) if tables is None else tables
