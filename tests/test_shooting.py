@@ -16,10 +16,11 @@ import numpy as np
 import pytest
 from numba import njit
 
+from _oracle import fd_monodromy, rk4_flow
 from geardyn.khv import design, point
 from geardyn.runs.continuation import CallableFamily, ContinuationSettings, continue_branch, switch_at_period_doubling
 from geardyn.solve import SimulationSettings, floquet, simulate
-from geardyn.solve.shooting import fd_monodromy, khv_flow, newton_shooting, newton_shooting_batch, rk4_flow, shoot
+from geardyn.solve.shooting import khv_flow, newton_shooting, newton_shooting_batch, shoot
 
 ROOT = Path(__file__).resolve().parents[1]
 GAMMA_PD = 0.265581786  # see the module docstring
@@ -236,7 +237,7 @@ def test_duffing_period_doubling_bracketed_by_brute_force_simulation():
 @njit(cache=True)
 def _duffing_map(gamma, y0, n, steps, want_jac):
     """n-period map of the double-well Duffing oscillator and its 2 x 2 derivative (numba RK4 with
-    the variational equations, the same scheme as :func:`geardyn.solve.shooting.rk4_flow`)."""
+    the variational equations, the same scheme as ``tests/_oracle.rk4_flow``)."""
     d, w = 0.3, 1.2
     h = 2 * math.pi / w / steps
     x, v = y0[0], y0[1]

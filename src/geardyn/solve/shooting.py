@@ -18,9 +18,9 @@ stable when all |mu| < 1.
 
 Everything here works on a *flow map*: a callable ``flow(x, jacobian) -> (phi(x), M or None)``
 returning ``(None, None)`` when the orbit diverged.  :func:`khv_flow` builds it for a
-:class:`~geardyn.solve.base.System`; :func:`rk4_flow` for any smooth forced ODE (used to validate
-the method on the Duffing oscillator).  Non-convergence is never silent: :class:`ShootingResult`
-carries ``converged`` and a ``status`` word.
+:class:`~geardyn.solve.base.System` (``tests/_oracle.py`` holds an RK4 flow map of any smooth forced ODE,
+with which the tests validate the method on the Duffing oscillator).  Non-convergence is never silent:
+:class:`ShootingResult` carries ``converged`` and a ``status`` word.
 """
 
 from __future__ import annotations
@@ -262,20 +262,6 @@ def khv_flow(system: System, n: int = 1, settings: SimulationSettings | None = N
     return flow
 
 
-def fd_monodromy(flow: FlowMap, x: np.ndarray, h: float = 1e-5) -> np.ndarray:
-    """Central finite-difference monodromy (relative step h * max(1, |x_i|)), for checks."""
-    x = np.asarray(x, dtype=float)
-    M = np.empty((x.size, x.size))
-    for i in range(x.size):
-        d = h * max(1.0, abs(x[i]))
-        e = np.zeros(x.size)
-        e[i] = d
-        up, _ = flow(x + e, False)
-        dn, _ = flow(x - e, False)
-        M[:, i] = (up - dn) / (2 * d)
-    return M
-
-
 def shoot(
     system: System,
     x0: np.ndarray | None = None,
@@ -289,47 +275,6 @@ def shoot(
     :func:`newton_shooting`."""
     x0 = system.static_state() if x0 is None else x0
     return newton_shooting(khv_flow(system, n, settings), x0, n, tol, max_iter, max_growth=max_growth)
-
-
-def rk4_flow(
-    rhs: Callable[[float, np.ndarray], np.ndarray],
-    jac: Callable[[float, np.ndarray], np.ndarray],
-    period: float,
-    steps_per_period: int = 400,
-    n: int = 1,
-    threshold: float = 1e6,
-) -> FlowMap:
-    """n-period map of a smooth T-periodic ODE y' = rhs(t, y) by classical RK4, with the variational
-    equations Y' = jac(t, y) Y advanced by the same stages (the derivative of the discrete map)."""
-    h = period / steps_per_period
-
-    def flow(x: np.ndarray, jacobian: bool = True):
-        y = np.asarray(x, dtype=float).copy()
-        d = y.size
-        Y = np.eye(d) if jacobian else None
-        t = 0.0
-        for _ in range(n * steps_per_period):
-            k1 = rhs(t, y)
-            y2 = y + 0.5 * h * k1
-            k2 = rhs(t + 0.5 * h, y2)
-            y3 = y + 0.5 * h * k2
-            k3 = rhs(t + 0.5 * h, y3)
-            y4 = y + h * k3
-            k4 = rhs(t + h, y4)
-            if jacobian:
-                J1, J2, J3, J4 = jac(t, y), jac(t + 0.5 * h, y2), jac(t + 0.5 * h, y3), jac(t + h, y4)
-                K1 = J1 @ Y
-                K2 = J2 @ (Y + 0.5 * h * K1)
-                K3 = J3 @ (Y + 0.5 * h * K2)
-                K4 = J4 @ (Y + h * K3)
-                Y = Y + h / 6.0 * (K1 + 2 * K2 + 2 * K3 + K4)
-            y = y + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-            t += h
-        if not (np.all(np.isfinite(y)) and np.max(np.abs(y)) < threshold):
-            return None, None
-        return y, Y
-
-    return flow
 
 
 def rotation_number(mu: complex) -> float:
