@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import logging
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,12 +35,22 @@ from geardyn.solve.run import LaneTables, full_batch, lane_tables
 log = logging.getLogger("geardyn.label")
 
 
+#: The stages of a batch's first pass, in order: each takes the points still undecided and the policy,
+#: decides what it can and returns the rest (the last returns the points whose record is to grow).
+STAGES: tuple[Callable[[list[st.Point], Policy], list[st.Point]], ...] = (
+    follow,
+    integrate,
+    slow_transients,
+    exponents,
+)
+
+
 def _first_pass(points: list[st.Point], policy: Policy) -> list[st.Point]:
-    """Every stage in turn on the points still undecided; returns the points whose record is to grow."""
-    left = follow(points, policy)
-    left = integrate(left, policy)
-    left = slow_transients(left, policy)
-    return exponents(left, policy)
+    """Every stage of :data:`STAGES` in turn on the points still undecided; returns the points whose record
+    is to grow."""
+    for stage in STAGES:
+        points = stage(points, policy)
+    return points
 
 
 @dataclass
