@@ -193,7 +193,8 @@ def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True)
         for p in points
     ]
     big = dataclasses.replace(cs, max_n=max(cs.long_max_n, cs.max_n))
-    ns = [n if 0 < n and 3 * n <= r.poincare.shape[0] else 0 for n, r in zip(rule3(half, big), half, strict=True)]
+    reps = policy.cycle_repeats
+    ns = [n if 0 < n and reps * n <= r.poincare.shape[0] else 0 for n, r in zip(rule3(half, big), half, strict=True)]
     short = [n if n <= cs.max_n else 0 for n in ns]
     _try_periods(points, short, policy, "the newest part of the record returns after a few periods")
     _try_periods(
@@ -224,13 +225,16 @@ def _locked(points: list[Point], policy: Policy) -> None:
         known = p.order[1] if p.order is not None and p.order[0] is record else None  # the torus test's
         gaps = (known or order_test(_order_part(record, cs), 0)).gaps
         n = gaps[0]
-        oldest, newest = _returns(record, n) if 0 < n <= max(cs.long_max_n, cs.max_n) else (0.0, math.inf)
-        falls = newest < (0.95 if n <= cs.max_n else 0.5) * oldest  # a short cycle: any fall along the record
+        oldest, newest = (
+            _returns(record, n, policy.cycle_repeats) if 0 < n <= max(cs.long_max_n, cs.max_n) else (0.0, math.inf)
+        )
+        # a short cycle: any fall along the record
+        falls = newest < (policy.locked_fall_short if n <= cs.max_n else policy.locked_fall_long) * oldest
         if newest < policy.locked_return and (falls or len(gaps) == 1):
             ns.append(n)
         else:  # a short cycle whose approach the newest half still shows (nearest neighbours not yet n apart)
             falling = classify.falling_return_distances(record, cs.max_n)  # compiled: a cheap first look
-            short = (m for m in range(1, cs.max_n + 1) if falling[m - 1] and _gathers(record, m, policy.locked_return))
+            short = (m for m in range(1, cs.max_n + 1) if falling[m - 1] and _gathers(record, m, policy))
             ns.append(next(short, 0))
     _try_periods(
         points,
@@ -243,20 +247,21 @@ def _locked(points: list[Point], policy: Policy) -> None:
     )
 
 
-def _gathers(p: np.ndarray, n: int, tol: float) -> bool:
+def _gathers(p: np.ndarray, n: int, policy: Policy) -> bool:
     """Whether the record ``p`` gathers about a period-n cycle: its return distance after n periods over the
-    newest third is below ``tol`` (relative) and less than half that over the oldest third."""
-    oldest, newest = _returns(p, n)
-    return newest < tol and newest < 0.5 * oldest
+    newest part is below ``policy.locked_return`` (relative) and below ``policy.gather_fall`` of that over the
+    oldest part (:func:`_returns`)."""
+    oldest, newest = _returns(p, n, policy.cycle_repeats)
+    return newest < policy.locked_return and newest < policy.gather_fall * oldest
 
 
-def _returns(p: np.ndarray, n: int) -> tuple[float, float]:
-    """The median return distance after ``n`` periods over the oldest and the newest third of the record
-    ``p``, relative to the attractor's size (inf when the record holds fewer than three cycles)."""
-    if p.shape[0] < 3 * n:
+def _returns(p: np.ndarray, n: int, parts: int) -> tuple[float, float]:
+    """The median return distance after ``n`` periods over the oldest and the newest of ``parts`` parts of the
+    record ``p``, relative to the attractor's size (inf when the record holds fewer than ``parts`` cycles)."""
+    if p.shape[0] < parts * n:
         return math.inf, math.inf
     d = np.max(np.abs(p[n:] - p[:-n]), axis=1) / (float(np.max(p.std(axis=0))) or 1.0)
-    k = max(1, d.shape[0] // 3)
+    k = max(1, d.shape[0] // parts)
     return float(np.median(d[:k])), float(np.median(d[-k:]))
 
 
@@ -309,7 +314,9 @@ def _torus(points: np.ndarray, policy: Policy) -> tuple[TorusTest, str, OrderTes
     cs = policy.classifier
     n = max(1, points.shape[0] // 2)
     p = points[-2 * n :]
-    plain, extrapolated = torus_digits(p, coordinates, extrapolate=p.shape[0] >= policy.extrapolate_min)
+    plain, extrapolated = torus_digits(
+        p, coordinates, windows=policy.torus_windows, extrapolate=p.shape[0] >= policy.extrapolate_min
+    )
     digits = plain if math.isnan(extrapolated) else max(plain, extrapolated)
     thresholds = (0.5 * math.log10(n) + cs.torus_margin, cs.chaos_margin, cs.torus_min_n)
     best = torus_verdict(digits, n, *thresholds)

@@ -103,11 +103,9 @@ def slow_transients(points: list[Point], policy: Policy) -> list[Point]:
         [p.run for p in points],
         [UNDET] * len(points),
         [NAN] * len(points),
-        policy.integration,
-        policy.classifier,
+        policy,
         tables=tables_of(points),
         always_one=[not _follows_motion(p) for p in points],
-        newton=(policy.newton_tol, policy.settle_newton_max_iter),
     )
     found = [(p, s) for p, s in zip(points, settled, strict=True) if s.state is not None and not s.possible]
     for p, s in zip(points, settled, strict=True):

@@ -86,23 +86,29 @@ def _newton_end(
     max_iter: int,
     max_growth: float = math.inf,
     previous: float = math.inf,
+    growth_first: bool = False,
 ) -> tuple[ShootingResult | None, float]:
-    """The :class:`ShootingResult` when the Newton iteration ends at the iterate ``x`` given phi(x) and
-    M(x) (None: diverged): diverged, not finite, converged, the residual grown more than ``max_growth``
-    times over the ``previous`` iterate's, or the last iteration; else None.  With it, the residual
-    max |phi(x) - x| (the next iteration's ``previous``)."""
-    if phi is None or M is None:
+    """The :class:`ShootingResult` when the iteration ends at the iterate ``x`` given phi(x) (None: diverged)
+    and M(x) (None: a chord iteration, which carries none): diverged, not finite, converged, the residual
+    grown more than ``max_growth`` times over the ``previous`` iterate's (checked before convergence with
+    ``growth_first``), or the last iteration; else None.  With it, the residual max |phi(x) - x| (the next
+    iteration's ``previous``)."""
+    if phi is None:
         return ShootingResult(x, n, False, "diverged", it, float("inf")), float("inf")
     F = phi - x
     res = float(np.max(np.abs(F)))
-    if not (np.all(np.isfinite(F)) and np.all(np.isfinite(M))):
+    if not (np.all(np.isfinite(F)) and (M is None or np.all(np.isfinite(M)))):
         return ShootingResult(x, n, False, "not_finite", it, res), res
+    mu = (lambda: (M, sorted_multipliers(M))) if M is not None else (lambda: (None, np.zeros(0, complex)))
+    grows = res > max_growth * previous
+    if growth_first and grows:
+        return ShootingResult(x, n, False, "residual_grows", it, res), res
     if res <= tol * max(1.0, float(np.max(np.abs(x)))):
-        return ShootingResult(x, n, True, "converged", it, res, M, sorted_multipliers(M)), res
-    if res > max_growth * previous:
-        return ShootingResult(x, n, False, "residual_grows", it, res, M, sorted_multipliers(M)), res
+        return ShootingResult(x, n, True, "converged", it, res, *mu()), res
+    if grows:
+        return ShootingResult(x, n, False, "residual_grows", it, res, *mu()), res
     if it == max_iter:
-        return ShootingResult(x, n, False, "max_iterations", max_iter, res, M, sorted_multipliers(M)), res
+        return ShootingResult(x, n, False, "max_iterations", max_iter, res, *mu()), res
     return None, res
 
 
@@ -136,8 +142,8 @@ def _newton_next(
     return out
 
 
-def _step_cap(x0: np.ndarray, max_step: float | None) -> float:
-    return max_step if max_step is not None else 10.0 * max(1.0, float(np.max(np.abs(x0))))
+def _step_cap(x0: np.ndarray, max_step: float | None, factor: float = 10.0) -> float:
+    return max_step if max_step is not None else factor * max(1.0, float(np.max(np.abs(x0))))
 
 
 def newton_shooting(
@@ -181,34 +187,60 @@ def newton_shooting_batch(
     max_iter: int = 30,
     tables=None,
     max_growth: float = math.inf,
+    *,
+    chord: list[np.ndarray] | None = None,
+    deflate: list[np.ndarray] | None = None,
+    deflation_shift: float = 1.0,
+    step_cap: float = 10.0,
 ) -> list[ShootingResult]:
-    """:func:`newton_shooting` on the n-period map (:func:`khv_flow`) of many systems at once: every
-    iteration integrates all unfinished points together (:func:`geardyn.solve.run.simulate_batch`,
-    both cores), whose lanes have the arithmetic of :func:`simulate`; each point's iterates, and so its
-    result, are those of ``shoot(system, x0, n, settings, tol, max_iter)`` bit for bit.  ``tables``: the
-    :func:`geardyn.solve.run.lane_tables` of ``systems`` when the caller has them."""
+    """:func:`newton_shooting` on the n-period map (:func:`khv_flow`) of many systems at once, the batched
+    Newton core: every iteration integrates all unfinished points together
+    (:func:`geardyn.solve.run.simulate_batch`, both cores), whose lanes have the arithmetic of
+    :func:`simulate`; each point's iterates, and so its result, are those of
+    ``shoot(system, x0, n, settings, tol, max_iter)`` bit for bit.  ``tables``: the
+    :func:`geardyn.solve.run.lane_tables` of ``systems`` when the caller has them.  The step is capped at
+    ``step_cap`` max(1, |x0|) (max norm).
 
+    ``chord``: a chord iteration x <- x - C (phi(x) - x) with a fixed matrix C per point (the inverse of
+    M - I of a nearby orbit): plain runs without the variational part, no step cap, and the growth stop
+    checked before convergence (``max_growth`` 0.5: the residual must halve at every iteration); a converged
+    result carries no monodromy.  ``deflate``: a root r per point that the iteration must not converge to
+    again: Newton on the deflated residual G(x) = m(x) (phi(x) - x), m(x) = 1 / |x - r|^2 + ``deflation_shift``
+    (Farrell, Birkisson & Funke, SIAM J. Sci. Comput. 37 (2015) A2026), convergence on the plain residual, the
+    step capped at ``step_cap`` max(1, |x|) of the current iterate."""
     s = period_settings(settings, n)
     tables = lane_tables(systems, s) if tables is None else tables
     xs = [np.asarray(x, dtype=float).copy() for x in x0s]
-    caps = [_step_cap(x, None) for x in xs]
+    caps = [_step_cap(x, None, step_cap) for x in xs]
     previous = [math.inf] * len(xs)
     out: list[ShootingResult | None] = [None] * len(xs)
     todo = list(range(len(xs)))  # the unfinished points; ``tables`` holds their rows, in this order
     for it in range(max_iter + 1):
         if not todo:
             break
-        runs = simulate_batch([systems[i] for i in todo], s, [xs[i] for i in todo], monodromy_periods=n, tables=tables)
+        runs = simulate_batch(
+            [systems[i] for i in todo], s, [xs[i] for i in todo], monodromy_periods=0 if chord else n, tables=tables
+        )
         go = []  # (position in todo, phi, M) of the points whose iteration goes on
         for k, (i, r) in enumerate(zip(todo, runs, strict=True)):
-            phi, M = (None, None) if r.diverged else (r.final_state.copy(), r.monodromy.copy())
-            end, previous[i] = _newton_end(xs[i], phi, M, n, tol, it, max_iter, max_growth, previous[i])
+            phi, M = (None, None) if r.diverged else (r.final_state.copy(), None if chord else r.monodromy.copy())
+            end, previous[i] = _newton_end(
+                xs[i], phi, M, n, tol, it, max_iter, max_growth, previous[i], growth_first=chord is not None
+            )
             if end is None:
                 go.append((k, phi, M))
             else:
-                out[todo[k]] = end
-        left = []
-        if go:
+                out[i] = end
+        if not go:
+            nxt = []
+        elif chord is not None:
+            nxt = [xs[todo[k]] - chord[todo[k]] @ (phi - xs[todo[k]]) for k, phi, _ in go]
+        elif deflate is not None:
+            nxt = [
+                _deflated_step(xs[todo[k]], phi, M, deflate[todo[k]], deflation_shift, step_cap, n, it)
+                for k, phi, M in go
+            ]
+        else:
             nxt = _newton_next(
                 [xs[todo[k]] for k, _, _ in go],
                 [phi for _, phi, _ in go],
@@ -217,16 +249,55 @@ def newton_shooting_batch(
                 n,
                 it,
             )
-            for (k, _, _), x in zip(go, nxt, strict=True):
-                if isinstance(x, ShootingResult):
-                    out[todo[k]] = x
-                else:
-                    xs[todo[k]] = x
-                    left.append(k)
+        left = []
+        for (k, _, _), x in zip(go, nxt, strict=True):
+            if isinstance(x, ShootingResult):
+                out[todo[k]] = x
+            else:
+                xs[todo[k]] = x
+                left.append(k)
         if len(left) < len(todo):
             tables = tables.take(left)  # copied only when a point has finished
         todo = [todo[k] for k in left]
     return out  # type: ignore[return-value]
+
+
+def _deflated_step(
+    x: np.ndarray, phi: np.ndarray, M: np.ndarray, root: np.ndarray, shift: float, cap: float, n: int, it: int
+) -> np.ndarray | ShootingResult:
+    """The next iterate of deflated Newton (:func:`newton_shooting_batch` with ``deflate``), or the result
+    where it stops: at the root itself, or on a singular matrix."""
+    F = phi - x
+    d = x - root
+    d2 = float(d @ d)
+    if d2 == 0.0:
+        return ShootingResult(x, n, False, "singular", it, float(np.max(np.abs(F))))
+    m = 1.0 / d2 + shift
+    grad = -2.0 * d / d2**2
+    A = m * (M - np.eye(x.size)) + np.outer(F, grad)
+    try:
+        step = np.linalg.solve(A, -m * F)
+    except np.linalg.LinAlgError:
+        return ShootingResult(x, n, False, "singular", it, float(np.max(np.abs(F))))
+    limit = _step_cap(x, None, cap)
+    size = float(np.max(np.abs(step)))
+    return x + (step * (limit / size) if size > limit else step)
+
+
+def cycle_points(
+    systems: list[System], states: list[np.ndarray], n: int, settings: SimulationSettings | None, tables=None
+) -> list[tuple[np.ndarray, int, bool]]:
+    """The n phase-0 points (n, 6) of the period-n orbits through ``states`` (the state first), one mesh
+    period apart, from one run of n periods of each (all together; a period-1 orbit is its state, no run):
+    (points, contact switches over the n periods (-1: not run), diverged).  A run that diverged gives the
+    points before it diverged."""
+    if n == 1:
+        return [(np.asarray(x)[None, :], -1, False) for x in states]
+    runs = simulate_batch(systems, period_settings(settings, n), list(states), tables=tables)
+    return [
+        (np.vstack([np.asarray(x)[None, :], r.poincare])[:n], int(r.n_events), bool(r.diverged))
+        for x, r in zip(states, runs, strict=True)
+    ]
 
 
 # ----------------------------------------------------------------------------------------------
