@@ -297,6 +297,59 @@ def _lanes(arrays: tuple, part: slice) -> tuple:
     return tuple(_lanes(a, part) if isinstance(a, tuple) else a[part] for a in arrays)
 
 
+def _start_states(systems: Sequence[System], x0) -> np.ndarray:
+    """The initial states (L, 6) of a batch: ``x0[lane]``, or the static deflection where None."""
+    Y0 = np.empty((len(systems), 6))
+    for lane, system in enumerate(systems):
+        x = None if x0 is None else x0[lane]
+        Y0[lane] = system.static_state() if x is None else np.asarray(x, dtype=float)
+    return Y0
+
+
+def _lane_result(
+    lane: int,
+    system: System,
+    settings: SimulationSettings,
+    out: np.ndarray,
+    ntr,
+    nrec,
+    ntan,
+    poinc,
+    final,
+    growth,
+    strobe,
+    W,
+    m: int,
+    mono,
+) -> SimulationResult:
+    """The :class:`SimulationResult` of lane ``lane`` of a batch from the loops' outputs (``out``: status,
+    period reached, contact switches, transient used, period of the early stop)."""
+    status, per, nev, used, stop_n = (int(v) for v in out)
+    diverged = status == 1
+    npts = max(0, per - used) if diverged else int(nrec[lane])
+    tan_start = int(ntr[lane] + nrec[lane] - ntan[lane])
+    if stop_n:
+        ngrowth = 0
+    else:
+        ngrowth = max(0, per - tan_start) if diverged else int(ntan[lane])
+    tangent = m == 1
+    return SimulationResult(
+        poincare=poinc[lane, :npts],
+        final_state=final[lane],
+        diverged=diverged,
+        diverged_period=per if diverged else -1,
+        n_events=nev,
+        period=system.period,
+        settings=settings,
+        growth=growth[lane, :ngrowth] if tangent else np.zeros(0),
+        strobe=strobe[lane, :ngrowth] if tangent else np.zeros(0),
+        monodromy=W[lane] if (m == 6 and mono[lane] and not diverged) else None,
+        transient_used=used,
+        stop_period=stop_n,
+        tangent=W[lane, :, 0].copy() if tangent else None,
+    )
+
+
 def simulate_batch(
     systems: Sequence[System],
     settings: SimulationSettings = SimulationSettings(),
@@ -344,10 +397,7 @@ def simulate_batch(
     if lt.H.shape != (L, n):
         raise ValueError(f"lane tables for {lt.H.shape[0]} points of {lt.H.shape[1]} steps, not {L} of {n}")
     C, TABS, limits = lt.C, (lt.H, lt.S, lt.SEG, lt.K, lt.P, lt.POLY), lt.limits
-    Y0 = np.empty((L, 6))
-    for lane, system in enumerate(systems):
-        x = None if x0 is None else x0[lane]
-        Y0[lane] = system.static_state() if x is None else np.asarray(x, dtype=float)
+    Y0 = _start_states(systems, x0)
     m, ntan, W = _tangent_columns(tangent_periods, mono, ntr + nrec)
     if tangent_start is not None:
         if m != 1:
@@ -372,34 +422,12 @@ def simulate_batch(
     if k < L:
         c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb = _lanes(arrays, slice(k, L))
         _batch.run_batch(c, tabs, y0, nt, nr, event, lim, w, na, tan, gr, sb, po, fi, es, ou)
-    results = []
-    for lane in range(L):
-        status, per, nev, used, stop_n = (int(v) for v in out[lane])
-        diverged = status == 1
-        npts = max(0, per - used) if diverged else int(nrec[lane])
-        tan_start = int(ntr[lane] + nrec[lane] - ntan[lane])
-        if stop_n:
-            ngrowth = 0
-        else:
-            ngrowth = max(0, per - tan_start) if diverged else int(ntan[lane])
-        results.append(
-            SimulationResult(
-                poincare=poinc[lane, :npts],
-                final_state=final[lane],
-                diverged=diverged,
-                diverged_period=per if diverged else -1,
-                n_events=nev,
-                period=systems[lane].period,
-                settings=settings,
-                growth=growth[lane, :ngrowth] if tangent_periods else np.zeros(0),
-                strobe=strobe[lane, :ngrowth] if tangent_periods else np.zeros(0),
-                monodromy=W[lane] if (m == 6 and mono[lane] and not diverged) else None,
-                transient_used=used,
-                stop_period=stop_n,
-                tangent=W[lane, :, 0].copy() if tan else None,
-            )
+    return [
+        _lane_result(
+            lane, systems[lane], settings, out[lane], ntr, nrec, ntan, poinc, final, growth, strobe, W, m, mono
         )
-    return results
+        for lane in range(L)
+    ]
 
 
 def warm_up(system: System) -> None:
