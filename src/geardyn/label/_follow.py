@@ -34,30 +34,30 @@ def _predict(p: Point) -> np.ndarray:
 def _chord(points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy) -> list[ShootingResult]:
     """Chord iteration x <- x - (M_prev - I)^-1 (phi(x) - x) on the n-period map, with the monodromy
     M_prev of each point's previous orbit: plain runs (no variational part), all points together; it stops
-    where the residual does not fall by ``policy.chord_fall`` at an iteration (then full Newton takes
+    where the residual does not fall by ``policy.chord.fall`` at an iteration (then full Newton takes
     over)."""
     return newton_shooting_batch(
         [p.system for p in points],
         x0s,
         n,
         policy.integration,
-        tol=policy.newton_tol,
-        max_iter=policy.chord_max_iter - 1,
+        tol=policy.newton.tol,
+        max_iter=policy.chord.max_iter - 1,
         tables=tables_of(points),
-        max_growth=policy.chord_fall,
+        max_growth=policy.chord.fall,
         chord=[np.linalg.inv(p.prev.monodromy - np.eye(6)) for p in points],
     )
 
 
 def _certify_states(points: list[Point], xs: list[np.ndarray], n: int, policy: Policy) -> list[ShootingResult]:
     """One monodromy run of n periods at each converged state: residual and multipliers (Newton shooting
-    with no iteration, within ``policy.follow_tol_factor`` times its tolerance)."""
+    with no iteration, within ``policy.chord.tol_factor`` times its tolerance)."""
     return newton_shooting_batch(
         [p.system for p in points],
         xs,
         n,
         policy.integration,
-        tol=policy.follow_tol_factor * policy.newton_tol,
+        tol=policy.chord.tol_factor * policy.newton.tol,
         max_iter=0,
         tables=tables_of(points),
     )

@@ -205,8 +205,8 @@ def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True)
 def _locked(points: list[Point], policy: Policy) -> None:
     """Quasi-periodic records that approach a cycle too slowly for rule 3 (a torus locked to the cycle, or a
     slow approach to a short cycle), certified by shooting for its period (:func:`_try_periods`, at most
-    ``policy.locked_newton_max_iter`` Newton iterations, given up when the residual grows more than
-    ``policy.locked_max_growth`` times in one).  The candidate period n, 1 <= n <= long_max_n, is the least index
+    ``policy.locked.newton_max_iter`` Newton iterations, given up when the residual grows more than
+    ``policy.locked.max_growth`` times in one).  The candidate period n, 1 <= n <= long_max_n, is the least index
     difference between a point of the record and its nearest neighbour (:func:`geardyn.label.torus.order_test`:
     on a locked torus the points gather about the n points of the cycle) over the part of the record the
     torus test's order test reads (:func:`_order_part`: the newest half of a long record, where a slow
@@ -229,8 +229,8 @@ def _locked(points: list[Point], policy: Policy) -> None:
             _returns(record, n, policy.cycle_repeats) if 0 < n <= max(cs.long_max_n, cs.max_n) else (0.0, math.inf)
         )
         # a short cycle: any fall along the record
-        falls = newest < (policy.locked_fall_short if n <= cs.max_n else policy.locked_fall_long) * oldest
-        if newest < policy.locked_return and (falls or len(gaps) == 1):
+        falls = newest < (policy.locked.fall_short if n <= cs.max_n else policy.locked.fall_long) * oldest
+        if newest < policy.locked.return_tol and (falls or len(gaps) == 1):
             ns.append(n)
         else:  # a short cycle whose approach the newest half still shows (nearest neighbours not yet n apart)
             falling = classify.falling_return_distances(record, cs.max_n)  # compiled: a cheap first look
@@ -240,7 +240,10 @@ def _locked(points: list[Point], policy: Policy) -> None:
         points,
         ns,
         dataclasses.replace(
-            policy, newton_max_iter=policy.locked_newton_max_iter, newton_max_growth=policy.locked_max_growth
+            policy,
+            newton=dataclasses.replace(
+                policy.newton, max_iter=policy.locked.newton_max_iter, max_growth=policy.locked.max_growth
+            ),
         ),
         "the record gathers about the points of a cycle",
         record_on_orbit=False,
@@ -249,10 +252,10 @@ def _locked(points: list[Point], policy: Policy) -> None:
 
 def _gathers(p: np.ndarray, n: int, policy: Policy) -> bool:
     """Whether the record ``p`` gathers about a period-n cycle: its return distance after n periods over the
-    newest part is below ``policy.locked_return`` (relative) and below ``policy.gather_fall`` of that over the
+    newest part is below ``policy.locked.return_tol`` (relative) and below ``policy.gather_fall`` of that over the
     oldest part (:func:`_returns`)."""
     oldest, newest = _returns(p, n, policy.cycle_repeats)
-    return newest < policy.locked_return and newest < policy.gather_fall * oldest
+    return newest < policy.locked.return_tol and newest < policy.gather_fall * oldest
 
 
 def _returns(p: np.ndarray, n: int, parts: int) -> tuple[float, float]:

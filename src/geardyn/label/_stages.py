@@ -112,7 +112,9 @@ def periodic_verdicts(
         )
         for k, (cyc, events, diverged) in zip(ks, found, strict=True):
             if not diverged:
-                tol = policy.cycle_tol_factor * policy.newton_tol * max(1.0, float(np.max(np.abs(shots[k].state))))
+                tol = (
+                    policy.newton.cycle_tol_factor * policy.newton.tol * max(1.0, float(np.max(np.abs(shots[k].state))))
+                )
                 cycles[k] = (cyc[: least_period(cyc, tol)], events)
     for k, (cycle, events) in cycles.items():
         shot, m = shots[k], cycle.shape[0]
@@ -148,11 +150,11 @@ def shoot(points: list[Point], starts: list[np.ndarray], ns: list[int], policy: 
             [starts[k] for k in ks],
             n,
             policy.integration,
-            tol=policy.newton_tol,
-            max_iter=policy.newton_max_iter,
+            tol=policy.newton.tol,
+            max_iter=policy.newton.max_iter,
             tables=tables_of([points[k] for k in ks]),
-            max_growth=policy.newton_max_growth,
-            step_cap=policy.newton_step_cap,
+            max_growth=policy.newton.max_growth,
+            step_cap=policy.newton.step_cap,
         )
         for k, s in zip(ks, shots, strict=True):
             out[k] = s
@@ -197,11 +199,6 @@ def diverged_verdict(p: Point, r: SimulationResult) -> Verdict:
         n_events=int(r.n_events),
         diverged_period=int(r.diverged_period),
     )
-
-
-def small_residual(residual: float, x: np.ndarray, tol: float) -> bool:
-    """The shooting convergence test: max|phi(x) - x| <= tol max(1, max|x|) (as Newton shooting's)."""
-    return residual <= tol * max(1.0, float(np.max(np.abs(x))))
 
 
 def rule3(results: list[SimulationResult], cs: classify.ClassifierSettings) -> list[int]:
@@ -267,12 +264,12 @@ def _deflated(points: list[Point], found: list[ShootingResult], policy: Policy) 
             [np.asarray(points[k].run.final_state, float) for k in ks],
             n,
             policy.integration,
-            tol=policy.newton_tol,
-            max_iter=policy.deflation_max_iter,
+            tol=policy.newton.tol,
+            max_iter=policy.deflation.max_iter,
             tables=tables_of([points[k] for k in ks]),
             deflate=[found[k].state for k in ks],
-            deflation_shift=policy.deflation_shift,
-            step_cap=policy.newton_step_cap,
+            deflation_shift=policy.deflation.shift,
+            step_cap=policy.newton.step_cap,
         )
         for k, r in zip(ks, shots, strict=True):
             out[k] = r

@@ -12,7 +12,7 @@ undetermined.  :func:`settle_points` decides such a point by shooting instead of
    n = 1 .. ``settle_max_n``, starts from the final state of the run; the first n that converges to
    an orbit whose Floquet multipliers all lie inside the unit circle is the candidate.  n = 1 is
    always tried; a larger n only when its return distance is falling over the run's recorded
-   Poincare points (:func:`return_distance_falls`): a run converging onto a period-n orbit shows it,
+   Poincare points (:func:`geardyn.classify.falling_return_distances`): a run converging onto a period-n orbit shows it,
    a torus does not, and this spares the shooting on tori, where it costs most;
 3. the run must approach that orbit (else, when the multiplier is so close to 1 that the horizon
    could not show it, the point is ``undetermined``: a possible slow transient, flag 2).  First its recorded Poincare
@@ -31,8 +31,8 @@ runs inside the labeller (:mod:`geardyn.label`), so sweep cubes, maps, the claim
 the calibration all score the same labels.  :func:`settle_points` runs it for many points at once:
 each stage (the shooting for one n, with :func:`geardyn.solve.shooting.newton_shooting_batch`; the
 continued records) integrates all points that reach it together, and every point's verdict is the
-one it gets alone.  Its settings (tolerances, falls, horizons) are the policy's ``settle_*`` fields
-(:class:`geardyn.label.policy.Policy`).
+one it gets alone.  Its settings (tolerances, falls, horizons) are the policy's ``settle`` group
+(:class:`geardyn.label.policy.Settle`).
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ import numpy as np
 
 from geardyn import classify
 from geardyn.label.compare import least_period, nearest_distances
-from geardyn.label.policy import Policy
+from geardyn.label.policy import Policy, Settle
 from geardyn.parallel import threaded_map
 from geardyn.solve import simulate
 from geardyn.solve.base import SimulationResult
@@ -85,24 +85,14 @@ def needs_check(label: int, lyapunov: float, classifier: classify.ClassifierSett
     )
 
 
-def return_distance_falls(poincare: np.ndarray, n: int, factor: float = 0.95) -> bool:
-    """Whether the return distance d_n(k) = max_i |p_k+n,i - p_k,i| of the recorded Poincare points
-    falls over the record: mean of its last quarter < ``factor`` x mean of its first quarter.  True
-    when the record is too short to tell (fewer than n + 8 points).  A transient onto a stable
-    period-n orbit with leading multiplier rho shrinks d_n by rho^(3K/4) over K points (0.47 for
-    rho = 0.99 and K = 100); ``factor`` 0.95 skips only transients slower than about rho = 0.9993
-    per period on a 100-point record."""
-    return bool(classify.falling_return_distances(poincare, n, factor)[n - 1])
-
-
 def approached_in_record(
     poincare: np.ndarray,
     cycle: np.ndarray,
     rho: float,
     n: int,
-    min_points: int = Policy.settle_min_points,
-    rate_share: float = Policy.settle_rate_share,
-    fall: float = Policy.settle_record_fall,
+    min_points: int = Settle.min_points,
+    rate_share: float = Settle.rate_share,
+    fall: float = Settle.record_fall,
 ) -> bool:
     """Whether the recorded Poincare points approach the period-n ``cycle`` (n x 6) with leading
     multiplier ``rho`` < 1: the least-squares slope of log(distance to the nearest cycle point) per
@@ -161,10 +151,10 @@ def settle_points(
             [x0[i] for i in tried],
             n,
             settings,
-            tol=policy.newton_tol,
-            max_iter=policy.settle_newton_max_iter,
+            tol=policy.newton.tol,
+            max_iter=policy.settle.newton_max_iter,
             tables=tables.take(tried),
-            step_cap=policy.newton_step_cap,
+            step_cap=policy.newton.step_cap,
         )
         stable = {i: r for i, r in zip(tried, shots, strict=True) if r.converged and r.spectral_radius < 1.0}
         if stable:
@@ -183,7 +173,7 @@ def settle_points(
 def _cycles(systems, tables: LaneTables, shots: dict, n: int, policy: Policy) -> dict[int, np.ndarray]:
     """The least-period cycle (m x 6) of every stable n-period orbit found
     (:func:`geardyn.solve.shooting.cycle_points`), cut to the least period m
-    (:func:`geardyn.label.compare.least_period`, within ``policy.settle_cycle_rtol`` of the state's size)."""
+    (:func:`geardyn.label.compare.least_period`, within ``policy.settle.cycle_rtol`` of the state's size)."""
     ids = list(shots)
     found = cycle_points(
         [systems[i] for i in ids],
@@ -194,7 +184,7 @@ def _cycles(systems, tables: LaneTables, shots: dict, n: int, policy: Policy) ->
     )
     out = {}
     for i, (c, _, _) in zip(ids, found, strict=True):
-        tol = policy.settle_cycle_rtol * max(1.0, float(np.max(np.abs(shots[i].state))))
+        tol = policy.settle.cycle_rtol * max(1.0, float(np.max(np.abs(shots[i].state))))
         out[i] = c[: least_period(c, tol)]
     return out
 
@@ -212,9 +202,9 @@ def _judge(
     """Whether each run approaches the stable n-period orbit found for it (module docstring, step 3)."""
     settings = policy.integration
     cycles = _cycles(systems, tables, shots, n, policy)
-    rho = {i: min(r.spectral_radius, policy.settle_rho_max) for i, r in shots.items()}
+    rho = {i: min(r.spectral_radius, policy.settle.rho_max) for i, r in shots.items()}
     max_periods = policy.classifier.settle_max_periods
-    reads = (policy.settle_min_points, policy.settle_rate_share, policy.settle_record_fall)
+    reads = (policy.settle.min_points, policy.settle.rate_share, policy.settle.record_fall)
 
     def found(i: int, how: str) -> Settled:
         r = shots[i]
@@ -248,16 +238,16 @@ def _judge(
         r = shots[i]
         cyc, m = cycles[i], len(cycles[i])
         # last, the run continued (from the end of that record) until a 10-fold fall, within max_periods
-        k = int(min(max(max_periods, n), max(n, math.ceil(math.log(policy.settle_horizon_fall) / math.log(rho[i])))))
+        k = int(min(max(max_periods, n), max(n, math.ceil(math.log(policy.settle.horizon_fall) / math.log(rho[i])))))
         k = n * math.ceil(k / n)
         more = dataclasses.replace(settings, transient_periods=k - 1 if k > 1 else 0, recorded_periods=1)
-        scale = policy.settle_reached_rtol * max(1.0, float(np.max(np.abs(r.state))))
+        scale = policy.settle.reached_rtol * max(1.0, float(np.max(np.abs(r.state))))
         d0 = float(nearest_distances(x0[i], cyc)[0])
         x, d1, done = x0[i], d0, 0
         if not ext[i].diverged:
             x, done = ext[i].final_state, k4[i]
             d1 = float(nearest_distances(x, cyc)[0])
-        fall = policy.settle_run_fall
+        fall = policy.settle.run_fall
         while done < max_periods and not (d1 <= fall * d0 or d1 <= scale):
             run = simulate(systems[i], more, x0=x)
             if run.diverged:
@@ -298,11 +288,11 @@ def _continued(
     systems, tables: LaneTables, policy: Policy, x0: dict, rho: dict, n: int
 ) -> tuple[dict[int, int], dict[int, SimulationResult]]:
     """The runs of the points ``rho`` (point: its leading multiplier) continued from x0 for as many periods
-    as their multiplier needs to shrink a distance by ``policy.settle_probe_fall`` (a multiple of n, at least
+    as their multiplier needs to shrink a distance by ``policy.settle.probe_fall`` (a multiple of n, at least
     ``settle_probe_min_periods``, at most the classifier's ``settle_max_periods``), points of one length in
     one batch: (lengths, runs)."""
     settings, max_periods = policy.integration, policy.classifier.settle_max_periods
-    least, fall = policy.settle_probe_min_periods, policy.settle_probe_fall
+    least, fall = policy.settle.probe_min_periods, policy.settle.probe_fall
     k4 = {
         i: n * math.ceil(min(max_periods, max(least, math.ceil(math.log(fall) / math.log(r)))) / n)
         for i, r in rho.items()
