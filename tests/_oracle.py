@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geardyn import classify
+from geardyn import classify, libm
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.shooting import FlowMap
 
@@ -267,3 +267,47 @@ def fd_monodromy(flow: FlowMap, x: np.ndarray, h: float = 1e-5) -> np.ndarray:
         dn, _ = flow(x - e, False)
         M[:, i] = (up - dn) / (2 * d)
     return M
+
+
+# ------------------------------------------------------------------------------------------------
+# the linear (b = 0) model's Floquet analysis by DOP853: an independent check of the shooting
+# ------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class FloquetResult:
+    monodromy: np.ndarray  # (6, 6)
+    multipliers: np.ndarray  # (6,) complex
+    periodic_state: np.ndarray  # (6,) Poincare point of the T-periodic orbit
+
+    @property
+    def spectral_radius(self) -> float:
+        return float(np.max(libm.cabs(self.multipliers)))
+
+    @property
+    def stable(self) -> bool:
+        return self.spectral_radius < 1.0
+
+
+def linear_part(coeffs):
+    """The linear (b = 0) model of the same coefficients."""
+    return coeffs.replace(b=0.0, backlash_on=False)
+
+
+def linear_floquet(coeffs, rtol: float = 1e-12) -> FloquetResult:
+    """Floquet analysis of the linear case (b = 0: the dead zone vanishes, f(x) = x): the model is then
+    y' = A(tau) y + q(tau) with period T.  The monodromy Phi (one mesh period of the homogeneous system) and
+    the particular solution y_p(T) from y(0) = 0 are integrated with DOP853 (rtol 1e-12, zone by zone,
+    :mod:`geardyn.solve.reference`); the T-periodic orbit is y* = (I - Phi)^-1 y_p(T)."""
+    from geardyn.solve.reference import integrate_period  # noqa: PLC0415 - scipy.integrate
+
+    lin = linear_part(coeffs)
+    hom = lin.replace(P_D=0.0, P_L=0.0, e=0.0)
+    phi = np.empty((6, 6))
+    for i in range(6):
+        e = np.zeros(6)
+        e[i] = 1.0
+        phi[:, i], _, _ = integrate_period(hom, e, 0, rtol, atol=rtol * 1e-2)
+    yp, _, _ = integrate_period(lin, np.zeros(6), 0, rtol)
+    ystar = np.linalg.solve(np.eye(6) - phi, yp)
+    return FloquetResult(phi, np.linalg.eigvals(phi), ystar)

@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 from numba import njit
 
-from _oracle import fd_monodromy, rk4_flow
+from _oracle import fd_monodromy, linear_floquet, linear_part, rk4_flow
 from geardyn.khv import design, point
 from geardyn.runs.continuation import CallableFamily, ContinuationSettings, continue_branch, switch_at_period_doubling
-from geardyn.solve import SimulationSettings, floquet, simulate
+from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.shooting import khv_flow, newton_shooting, newton_shooting_batch, shoot
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -100,8 +100,8 @@ def test_period2_monodromy_is_square_of_period1(contact_loss_orbit):
 
 
 def test_linear_model_matches_dop853_floquet(li2013):
-    c = floquet.linear_part(point.point_coefficients(li2013, {"x1": 0.5, "e": 5.0}))
-    ref = floquet.floquet(c)
+    c = linear_part(point.point_coefficients(li2013, {"x1": 0.5, "e": 5.0}))
+    ref = linear_floquet(c)
     orbit = shoot(c, c.static_state())
     assert orbit.converged
     np.testing.assert_allclose(orbit.state, ref.periodic_state, atol=1e-6 * np.max(np.abs(ref.periodic_state)))

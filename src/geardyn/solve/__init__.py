@@ -9,7 +9,7 @@ _period       rule 3 of the classifier and the early stop of the transient (priv
 run           :func:`simulate` (orbit, dense output, tangent vector or monodromy), :func:`simulate_batch`,
               step tables
 reference     DOP853 with switching events (independent check)
-floquet       monodromy and multipliers of the linear (b = 0) system
+floquet       which multipliers are complex, the bifurcation an orbit meets
 precision     the measured Poincare error of the integrator per step count (:data:`POINCARE_ERROR`)
 ============  ==========================================================================================
 
