@@ -360,55 +360,29 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
         phi = r.strobe if r.strobe is not None and r.strobe.size else r.poincare[:, 1]
         k01, flat = classify.zero_one_test(phi), classify.spectral_flatness(phi)
         cross = int(k01 > cs.k_chaos) + int(flat > cs.flat_broadband) - 1
-        label, stage, why = (
-            CHAOS,
-            "exponent",
-            (f"positive exponent {lam:.2g} +- {sig:.1g}; the Birkhoff averages do not converge (digits {digits:.1f})"),
-        )
+        label, stage = CHAOS, "exponent"
+        why = f"positive exponent {lam:.2g} +- {sig:.1g}; the Birkhoff averages do not converge (digits {digits:.1f})"
     elif tt.verdict == "torus" and not positive and not negative:
         label, stage, why = QP, "torus", f"{how}; exponent {lam:.2g}"
-    elif negative:
-        label, stage, why = (
-            UNDET,
-            "undecided",
-            (
-                f"negative exponent {lam:.2g} +- {sig:.1g}: attracted to a periodic "
-                f"orbit that shooting did not find (digits {digits:.1f})"
-            ),
-        )
-    elif tt.verdict == "torus":
-        label, stage, why = (
-            UNDET,
-            "undecided",
-            (f"positive exponent {lam:.2g} but {how}"),
-        )
-    elif positive:
-        label, stage, why = UNDET, "undecided", f"positive exponent {lam:.2g}, torus test inconclusive ({digits:.1f})"
     else:
-        label, stage, why = (
-            UNDET,
-            "undecided",
-            (
-                f"exponent {lam:.2g} +- {sig:.1g} not positive and the Birkhoff "
-                f"averages do not converge (digits {digits:.1f})"
-            ),
-        )
+        label, stage = UNDET, "undecided"
+        if negative:
+            why = (
+                f"negative exponent {lam:.2g} +- {sig:.1g}: attracted to a periodic orbit that shooting did not "
+                f"find (digits {digits:.1f})"
+            )
+        elif tt.verdict == "torus":
+            why = f"positive exponent {lam:.2g} but {how}"
+        elif positive:
+            why = f"positive exponent {lam:.2g}, torus test inconclusive ({digits:.1f})"
+        else:
+            why = (
+                f"exponent {lam:.2g} +- {sig:.1g} not positive and the Birkhoff averages do not converge "
+                f"(digits {digits:.1f})"
+            )
     why += f" ({r.poincare.shape[0]} recorded periods)"
-    return _record_verdict(
-        p,
-        r,
-        policy,
-        label,
-        lam,
-        sig,
-        "tangent",
-        stage,
-        why,
-        k01=k01,
-        flatness=flat,
-        torus_digits=digits,
-        crosscheck=cross,
-    )
+    indicators = {"k01": k01, "flatness": flat, "torus_digits": digits, "crosscheck": cross}
+    return _record_verdict(p, r, policy, label, lam, sig, "tangent", stage, why, **indicators)
 
 
 def _undecided(p: Point, r: SimulationResult, why: str, policy: Policy) -> Verdict:

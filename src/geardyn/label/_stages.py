@@ -9,7 +9,7 @@ Each stage takes the still-undecided points of a batch (:class:`Point`) and deci
 2. :func:`geardyn.label._record.integrate`: a run from the previous point's final state (or the line's
    start) with the early stop of the transient, then rule 3 on the recorded points; a point that returns
    within tolerance is certified by Newton shooting and its multipliers (:func:`certify` here; an unstable
-   orbit Newton converged to is deflated and the shooting repeated, :func:`_deflated`).
+   orbit Newton converged to is deflated and the shooting repeated, :func:`shoot`).
 3. :func:`geardyn.label._record.slow_transients`: a point not periodic on its record is checked for a slow
    transient onto a stable orbit (:mod:`geardyn.label.settle`): shooting where the return distance falls,
    and the run must approach it.
@@ -138,8 +138,16 @@ def periodic_verdicts(
     return out
 
 
-def shoot(points: list[Point], starts: list[np.ndarray], ns: list[int], policy: Policy) -> list[ShootingResult]:
-    """Newton shooting of every point for its n from its start, grouped by n (each point as alone)."""
+def shoot(
+    points: list[Point],
+    starts: list[np.ndarray],
+    ns: list[int],
+    policy: Policy,
+    deflate: list[np.ndarray] | None = None,
+) -> list[ShootingResult]:
+    """Newton shooting of every point for its n from its start, grouped by n (each point as alone).  With
+    ``deflate``: deflated Newton about each point's unstable orbit point already found (it cannot converge
+    to it again; ``policy.deflation``, no growth stop)."""
     out: list[ShootingResult | None] = [None] * len(points)
     by_n: dict[int, list[int]] = defaultdict(list)
     for k, n in enumerate(ns):
@@ -151,9 +159,11 @@ def shoot(points: list[Point], starts: list[np.ndarray], ns: list[int], policy: 
             n,
             policy.integration,
             tol=policy.newton.tol,
-            max_iter=policy.newton.max_iter,
+            max_iter=policy.newton.max_iter if deflate is None else policy.deflation.max_iter,
             tables=tables_of([points[k] for k in ks]),
-            max_growth=policy.newton.max_growth,
+            max_growth=policy.newton.max_growth if deflate is None else math.inf,
+            deflate=None if deflate is None else [deflate[k] for k in ks],
+            deflation_shift=policy.deflation.shift,
             step_cap=policy.newton.step_cap,
         )
         for k, s in zip(ks, shots, strict=True):
@@ -232,7 +242,14 @@ def certify(
     # also a fixed point of the 2n-period map, close to the new one): deflate it and shoot again
     again = [k for k, s in enumerate(shots) if s.converged and s.spectral_radius >= 1.0 - policy.stability_margin]
     if again:
-        for k, r in zip(again, _deflated([tp[k] for k in again], [shots[k] for k in again], policy), strict=True):
+        deflated = shoot(
+            [tp[k] for k in again],
+            [np.asarray(tp[k].run.final_state, float) for k in again],
+            [shots[k].n for k in again],
+            policy,
+            deflate=[shots[k].state for k in again],
+        )
+        for k, r in zip(again, deflated, strict=True):
             if r.converged:
                 shots[k] = r
     verdicts = periodic_verdicts(tp, shots, policy, stage, why)
@@ -248,29 +265,3 @@ def certify(
             )
     decide(tp, verdicts)
     return [p for p in points if p.verdict is None]
-
-
-def _deflated(points: list[Point], found: list[ShootingResult], policy: Policy) -> list[ShootingResult]:
-    """Newton shooting for period n from each point's final state on the deflated residual about the
-    unstable orbit point already found (:func:`geardyn.solve.shooting.newton_shooting_batch` with
-    ``deflate``: the iteration cannot converge to it again), grouped by n."""
-    out: list[ShootingResult | None] = [None] * len(points)
-    by_n: dict[int, list[int]] = defaultdict(list)
-    for k, f in enumerate(found):
-        by_n[f.n].append(k)
-    for n, ks in sorted(by_n.items()):
-        shots = newton_shooting_batch(
-            [points[k].system for k in ks],
-            [np.asarray(points[k].run.final_state, float) for k in ks],
-            n,
-            policy.integration,
-            tol=policy.newton.tol,
-            max_iter=policy.deflation.max_iter,
-            tables=tables_of([points[k] for k in ks]),
-            deflate=[found[k].state for k in ks],
-            deflation_shift=policy.deflation.shift,
-            step_cap=policy.newton.step_cap,
-        )
-        for k, r in zip(ks, shots, strict=True):
-            out[k] = r
-    return out  # type: ignore[return-value]

@@ -18,38 +18,15 @@ are loaded on first use (PEP 562), so a job that only reads results does not imp
 compiled loops (about 0.45 s of each such job's start-up).
 """
 
-from typing import TYPE_CHECKING
-
 from geardyn._lazy import lazy_attributes
 from geardyn.solve.base import LAYOUT, SimulationResult, SimulationSettings, System
 from geardyn.solve.precision import POINCARE_ERROR
 
-if TYPE_CHECKING:
-    from geardyn.solve.run import (
-        EarlyStop,
-        LaneTables,
-        full_batch,
-        lane_tables,
-        simulate,
-        simulate_batch,
-        step_tables,
-        strict_period,
-        strict_periods,
-        warm_up,
-    )
-
+#: the names loaded from :mod:`geardyn.solve.run` on first use
 _RUN = (
-    "EarlyStop",
-    "LaneTables",
-    "full_batch",
-    "lane_tables",
-    "simulate",
-    "simulate_batch",
-    "step_tables",
-    "strict_period",
-    "strict_periods",
-    "warm_up",
-)
+    "EarlyStop LaneTables full_batch lane_tables simulate simulate_batch step_tables strict_period strict_periods "
+    "warm_up"
+).split()
 __getattr__ = lazy_attributes(__name__, dict.fromkeys(_RUN, "run"))
 
 __all__ = [
