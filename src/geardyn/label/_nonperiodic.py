@@ -73,7 +73,8 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
     periods = rule3([p.run for p in bounded], cs)
     periodic = [(p, n) for p, n in zip(bounded, periods, strict=True) if n > 0]
     if periodic:
-        left = _certify_periods(periodic, policy, "periodic on the continued record")
+        ps, ns = [p for p, _ in periodic], [n for _, n in periodic]
+        left = certify(ps, ns, policy, "period_test", "periodic on the continued record")
         for p in left:
             p.verdict = _undecided(p, p.run, "looks periodic but no stable orbit is found", policy)
     rest = [p for p, n in zip(bounded, periods, strict=True) if n == 0]
@@ -269,30 +270,22 @@ def _returns(p: np.ndarray, n: int, parts: int) -> tuple[float, float]:
 
 
 def _try_periods(points: list[Point], ns: list[int], policy: Policy, reason: str, record_on_orbit: bool = True) -> None:
-    """Shooting for period n at each point with n > 0 (:func:`_certify_periods`): where it certifies a stable
-    orbit whose least period m divides n (the record's points return, or gather, after n periods: a cycle
-    of period m does both) the label is ``long_period`` (or period-m) with m in ``period``; elsewhere the
-    verdict stays.
-    ``record_on_orbit``: the record returns within tolerance, and its points are drawn (else the orbit's)."""
+    """Shooting for period n at each point with n > 0 (:func:`geardyn.label._stages.certify`, stage
+    ``period_test``): where it certifies a stable orbit whose least period m divides n (the record's points
+    return, or gather, after n periods: a cycle of period m does both) the label is ``long_period`` (or
+    period-m) with m in ``period``; elsewhere the verdict stays.  ``record_on_orbit``: the record returns
+    within tolerance, and its points are drawn (else the orbit's)."""
     todo = [(p, n) for p, n in zip(points, ns, strict=True) if n > 0]
     if not todo:
         return
     kept = {id(p): p.verdict for p, _ in todo}
     for p, _ in todo:
         p.verdict = None
-    _certify_periods(todo, policy, reason, record_on_orbit)
+    certify([p for p, _ in todo], [n for _, n in todo], policy, "period_test", reason, record_on_orbit)
     for p, n in todo:
         # shooting must find the cycle the record shows (from far off, Newton can reach another attractor)
         if p.verdict is None or p.verdict.period < 1 or n % p.verdict.period:
             p.verdict = kept[id(p)]
-
-
-def _certify_periods(
-    pairs: list[tuple[Point, int]], policy: Policy, reason: str, record_on_orbit: bool = True
-) -> list[Point]:
-    """(point, period) pairs whose record returns (``record_on_orbit``; else it gathers about the cycle):
-    :func:`certify` by shooting (stage ``period_test``); returns the points left without a stable orbit."""
-    return certify([p for p, _ in pairs], [n for _, n in pairs], policy, "period_test", reason, record_on_orbit)
 
 
 def _order_part(points: np.ndarray, cs: classify.ClassifierSettings) -> np.ndarray:
