@@ -99,17 +99,23 @@ def _newton_end(
     res = float(np.max(np.abs(F)))
     if not (np.all(np.isfinite(F)) and (M is None or np.all(np.isfinite(M)))):
         return ShootingResult(x, n, False, "not_finite", it, res), res
-    mu = (lambda: (M, sorted_multipliers(M))) if M is not None else (lambda: (None, np.zeros(0, complex)))
     grows = res > max_growth * previous
     if growth_first and grows:
         return ShootingResult(x, n, False, "residual_grows", it, res), res
     if res <= tol * max(1.0, float(np.max(np.abs(x)))):
-        return ShootingResult(x, n, True, "converged", it, res, *mu()), res
+        return _result(x, n, True, "converged", it, res, M), res
     if grows:
-        return ShootingResult(x, n, False, "residual_grows", it, res, *mu()), res
+        return _result(x, n, False, "residual_grows", it, res, M), res
     if it == max_iter:
-        return ShootingResult(x, n, False, "max_iterations", max_iter, res, *mu()), res
+        return _result(x, n, False, "max_iterations", max_iter, res, M), res
     return None, res
+
+
+def _result(x: np.ndarray, n: int, ok: bool, status: str, it: int, res: float, M: np.ndarray | None) -> ShootingResult:
+    """A :class:`ShootingResult` with the monodromy M and its multipliers (none for a chord iteration)."""
+    if M is None:
+        return ShootingResult(x, n, ok, status, it, res)
+    return ShootingResult(x, n, ok, status, it, res, M, sorted_multipliers(M))
 
 
 def _newton_next(
