@@ -234,7 +234,7 @@ def _locked(points: list[Point], policy: Policy) -> None:
         if newest < policy.locked.return_tol and (falls or len(gaps) == 1):
             ns.append(n)
         else:  # a short cycle whose approach the newest half still shows (nearest neighbours not yet n apart)
-            falling = classify.falling_return_distances(record, cs.max_n)  # compiled: a cheap first look
+            falling = classify.falling_return_distances(record, cs.max_n, policy.return_fall)  # compiled, cheap
             short = (m for m in range(1, cs.max_n + 1) if falling[m - 1] and _gathers(record, m, policy))
             ns.append(next(short, 0))
     _try_periods(

@@ -116,6 +116,10 @@ class Policy:
     few points each).  cycle_repeats: a record is searched for a period-n cycle only when it holds this many
     cycles (its return distances are read over the oldest and the newest of as many parts); gather_fall: a
     record gathers about a short cycle when its newest return distance is below this share of its oldest.
+    return_fall: a record's return distance after n periods falls when the mean of its last quarter is below
+    this share of the mean of its first (:func:`geardyn.classify.falling_return_distances`): which periods
+    the slow-transient check shoots for, and which short cycles the search for locked cycles tries (0.95
+    skips only transients slower than about 0.9993 per period on a 100-point record).
     """
 
     integration: SimulationSettings
@@ -132,6 +136,7 @@ class Policy:
     torus_windows: int = 6
     cycle_repeats: int = 3
     gather_fall: float = 0.5
+    return_fall: float = 0.95
 
     def __post_init__(self) -> None:
         if self.start not in ("follow", "fixed"):

@@ -12,8 +12,9 @@ undetermined.  :func:`settle_points` decides such a point by shooting instead of
    n = 1 .. ``settle_max_n``, starts from the final state of the run; the first n that converges to
    an orbit whose Floquet multipliers all lie inside the unit circle is the candidate.  n = 1 is
    always tried; a larger n only when its return distance is falling over the run's recorded
-   Poincare points (:func:`geardyn.classify.falling_return_distances`): a run converging onto a period-n orbit shows it,
-   a torus does not, and this spares the shooting on tori, where it costs most;
+   Poincare points (:func:`geardyn.classify.falling_return_distances`, ``policy.return_fall``): a run
+   converging onto a period-n orbit shows it, a torus does not, and this spares the shooting on tori,
+   where it costs most;
 3. the run must approach that orbit (else, when the multiplier is so close to 1 that the horizon
    could not show it, the point is ``undetermined``: a possible slow transient, flag 2).  First its recorded Poincare
    points are read
@@ -138,7 +139,10 @@ def settle_points(
     x0 = {i: np.asarray(results[i].final_state, dtype=float) for i in active}
     if tables is None:
         tables = lane_tables(systems, settings)  # the per-point step tables, built once for every stage
-    falls = {i: classify.falling_return_distances(results[i].poincare, classifier.settle_max_n) for i in active}
+    falls = {
+        i: classify.falling_return_distances(results[i].poincare, classifier.settle_max_n, policy.return_fall)
+        for i in active
+    }
     one = [True] * len(systems) if always_one is None else always_one
     for n in range(1, classifier.settle_max_n + 1):
         # period 1 is tried from a fixed start even when its distance does not fall: the slowest transients
