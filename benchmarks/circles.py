@@ -2,7 +2,7 @@
 
 For random rows of a regime map, every point is labelled (follow start), and up to ``per_class`` points of
 each non-periodic label are run on for ``periods`` mesh periods from their verdict's final state.  Newton's
-method on the invariance equation (:mod:`geardyn.solve.circle`) then looks for the invariant circle near the
+method on the invariance equation (:mod:`benchmarks.invariant_circle`) then looks for the invariant circle near the
 record.  A point *lies on an attracting circle* when Newton converges, the invariance error between the nodes
 is at most ``tol``, the normal radius is below 1 and every point of the newest half of the record is within
 ``tol`` of the circle (relative to max(1, |K|)).  A quasi-periodic verdict is confirmed by such a circle; a
@@ -18,11 +18,11 @@ from pathlib import Path
 import numpy as np
 
 from benchmarks.common import map_lines, map_study
+from benchmarks.invariant_circle import distance_to_circle, find_circles
 from geardyn import classify
 from geardyn.label import label_lines
 from geardyn.solve import SimulationSettings
-from geardyn.solve.circle import distance_to_circle, find_circles
-from geardyn.solve.simulate import simulate_batch
+from geardyn.solve.run import simulate_batch
 
 #: the labels whose points are checked
 CLASSES = ("quasi_periodic", "long_period", "chaotic", "undetermined")

@@ -117,7 +117,7 @@ def _design_hashes() -> list[str]:
     from geardyn.plus import design as plus_design  # noqa: PLC0415
     from geardyn.plus import ishikawa, modal  # noqa: PLC0415
     from geardyn.solve import SimulationSettings  # noqa: PLC0415
-    from geardyn.solve.simulate import lane_tables  # noqa: PLC0415
+    from geardyn.solve.run import lane_tables  # noqa: PLC0415
 
     out = []
     for path in sorted((ROOT / "config" / "designs").glob("*.yaml")):

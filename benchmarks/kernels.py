@@ -17,7 +17,7 @@ from benchmarks.work_precision import cases, interp_time
 from geardyn.khv.model import static_deflection
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.reference import simulate_reference
-from geardyn.solve.simulate import simulate_batch, step_tables
+from geardyn.solve.run import simulate_batch, step_tables
 
 C_RK4 = r"""
 #include <math.h>

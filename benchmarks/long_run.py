@@ -15,7 +15,7 @@ from geardyn import classify
 from geardyn.label import label_lines
 from geardyn.label.compare import directed_distance, hausdorff
 from geardyn.solve import SimulationSettings
-from geardyn.solve.simulate import simulate_batch
+from geardyn.solve.run import simulate_batch
 
 
 def long_run_check(

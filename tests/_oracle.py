@@ -8,12 +8,14 @@ labelled by :func:`classify_point` (the rules, stated here).  The product labels
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
-from geardyn import classify
+from geardyn import classify, libm
 from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.shooting import FlowMap
 
 LABELS = classify.LABELS
 
@@ -146,3 +148,166 @@ def classify_point(
             return Classification(LABELS["quasi_periodic"], 0, lam, sig, k01, flat, int(agree == 2), "zero exponent")
         return undetermined(0, "zero exponent, but 0-1 test and spectrum say chaotic")
     return undetermined(-1, "exponent not resolved")
+
+
+# ------------------------------------------------------------------------------------------------
+# the torus test's single-purpose forms (the labeller uses geardyn.label.torus.torus_digits)
+# ------------------------------------------------------------------------------------------------
+
+
+def moments(points: np.ndarray) -> np.ndarray:
+    """The observable z, z^2, z^3 of the standardised coordinates z of the (m, d) points (three moments
+    make a chance agreement of the two halves of a chaotic series rarer than z alone)."""
+    from geardyn.label.torus import coordinates  # noqa: PLC0415
+
+    z = coordinates(points)
+    return np.concatenate([z, z * z, z * z * z], axis=1)
+
+
+def weighted_birkhoff(values: np.ndarray) -> np.ndarray:
+    """Weighted Birkhoff average of ``values`` (N,) or (N, ...) along axis 0 (bump weight over N)."""
+    from geardyn.label._birkhoff import averages  # noqa: PLC0415
+    from geardyn.label.torus import bump_weights  # noqa: PLC0415
+
+    v = np.asarray(values, dtype=float)
+    if v.ndim == 0:
+        raise ValueError("weighted_birkhoff needs a series (axis 0 = time), got a scalar")
+    flat = np.ascontiguousarray(v.reshape(v.shape[0], -1))
+    return averages(flat, bump_weights(v.shape[0]), np.zeros(1, np.int64))[0].reshape(v.shape[1:])
+
+
+def birkhoff_digits(points: np.ndarray, observable=None) -> float:
+    """The plain digits of the last 2N points (default observable: :func:`moments`)."""
+    from geardyn.label.torus import torus_digits  # noqa: PLC0415
+
+    return torus_digits(points, moments if observable is None else observable, extrapolate=False)[0]
+
+
+def torus_test(
+    points: np.ndarray, torus_digits: float = 6.0, chaos_digits: float = 1.5, min_n: int = 2000, observable=None
+):
+    """The verdict of the plain digits of the last 2N points (:func:`geardyn.label.torus.torus_verdict`)."""
+    from geardyn.label.torus import torus_verdict  # noqa: PLC0415
+
+    n = np.asarray(points).shape[0] // 2
+    return torus_verdict(birkhoff_digits(points, observable), n, torus_digits, chaos_digits, min_n)
+
+
+def rotation_number(points: np.ndarray, center, plane: tuple[int, int] = (0, 1)) -> float:
+    """Rotation number (turns per iterate, in [0, 1)) of the points about ``center`` in a coordinate plane:
+    the angle increments, wrapped about their circular mean, averaged with the bump weight."""
+    p = np.asarray(points, dtype=float)
+    if p.shape[0] < 3:
+        raise ValueError(f"rotation_number needs at least 3 points, got {p.shape[0]}")
+    i, j = plane
+    c = np.asarray(center, dtype=float)
+    theta = np.arctan2(p[:, j] - c[1], p[:, i] - c[0]) / (2.0 * math.pi)
+    inc = np.diff(theta)
+    ang = 2.0 * math.pi * inc
+    mean_dir = math.atan2(float(np.sin(ang).mean()), float(np.cos(ang).mean())) / (2.0 * math.pi)
+    inc = mean_dir + (inc - mean_dir + 0.5) % 1.0 - 0.5
+    return float(weighted_birkhoff(inc)) % 1.0
+
+
+# ------------------------------------------------------------------------------------------------
+# flow maps for the shooting tests: any smooth forced ODE, and a finite-difference monodromy
+# ------------------------------------------------------------------------------------------------
+
+
+def rk4_flow(
+    rhs: Callable[[float, np.ndarray], np.ndarray],
+    jac: Callable[[float, np.ndarray], np.ndarray],
+    period: float,
+    steps_per_period: int = 400,
+    n: int = 1,
+    threshold: float = 1e6,
+) -> FlowMap:
+    """n-period map of a smooth T-periodic ODE y' = rhs(t, y) by classical RK4, with the variational
+    equations Y' = jac(t, y) Y advanced by the same stages (the derivative of the discrete map)."""
+    h = period / steps_per_period
+
+    def flow(x: np.ndarray, jacobian: bool = True):
+        y = np.asarray(x, dtype=float).copy()
+        d = y.size
+        Y = np.eye(d) if jacobian else None
+        t = 0.0
+        for _ in range(n * steps_per_period):
+            k1 = rhs(t, y)
+            y2 = y + 0.5 * h * k1
+            k2 = rhs(t + 0.5 * h, y2)
+            y3 = y + 0.5 * h * k2
+            k3 = rhs(t + 0.5 * h, y3)
+            y4 = y + h * k3
+            k4 = rhs(t + h, y4)
+            if jacobian:
+                J1, J2, J3, J4 = jac(t, y), jac(t + 0.5 * h, y2), jac(t + 0.5 * h, y3), jac(t + h, y4)
+                K1 = J1 @ Y
+                K2 = J2 @ (Y + 0.5 * h * K1)
+                K3 = J3 @ (Y + 0.5 * h * K2)
+                K4 = J4 @ (Y + h * K3)
+                Y = Y + h / 6.0 * (K1 + 2 * K2 + 2 * K3 + K4)
+            y = y + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+            t += h
+        if not (np.all(np.isfinite(y)) and np.max(np.abs(y)) < threshold):
+            return None, None
+        return y, Y
+
+    return flow
+
+
+def fd_monodromy(flow: FlowMap, x: np.ndarray, h: float = 1e-5) -> np.ndarray:
+    """Central finite-difference monodromy (relative step h * max(1, |x_i|)), for checks."""
+    x = np.asarray(x, dtype=float)
+    M = np.empty((x.size, x.size))
+    for i in range(x.size):
+        d = h * max(1.0, abs(x[i]))
+        e = np.zeros(x.size)
+        e[i] = d
+        up, _ = flow(x + e, False)
+        dn, _ = flow(x - e, False)
+        M[:, i] = (up - dn) / (2 * d)
+    return M
+
+
+# ------------------------------------------------------------------------------------------------
+# the linear (b = 0) model's Floquet analysis by DOP853: an independent check of the shooting
+# ------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class FloquetResult:
+    monodromy: np.ndarray  # (6, 6)
+    multipliers: np.ndarray  # (6,) complex
+    periodic_state: np.ndarray  # (6,) Poincare point of the T-periodic orbit
+
+    @property
+    def spectral_radius(self) -> float:
+        return float(np.max(libm.cabs(self.multipliers)))
+
+    @property
+    def stable(self) -> bool:
+        return self.spectral_radius < 1.0
+
+
+def linear_part(coeffs):
+    """The linear (b = 0) model of the same coefficients."""
+    return coeffs.replace(b=0.0, backlash_on=False)
+
+
+def linear_floquet(coeffs, rtol: float = 1e-12) -> FloquetResult:
+    """Floquet analysis of the linear case (b = 0: the dead zone vanishes, f(x) = x): the model is then
+    y' = A(tau) y + q(tau) with period T.  The monodromy Phi (one mesh period of the homogeneous system) and
+    the particular solution y_p(T) from y(0) = 0 are integrated with DOP853 (rtol 1e-12, zone by zone,
+    :mod:`geardyn.solve.reference`); the T-periodic orbit is y* = (I - Phi)^-1 y_p(T)."""
+    from geardyn.solve.reference import integrate_period  # noqa: PLC0415 - scipy.integrate
+
+    lin = linear_part(coeffs)
+    hom = lin.replace(P_D=0.0, P_L=0.0, e=0.0)
+    phi = np.empty((6, 6))
+    for i in range(6):
+        e = np.zeros(6)
+        e[i] = 1.0
+        phi[:, i], _, _ = integrate_period(hom, e, 0, rtol, atol=rtol * 1e-2)
+    yp, _, _ = integrate_period(lin, np.zeros(6), 0, rtol)
+    ystar = np.linalg.solve(np.eye(6) - phi, yp)
+    return FloquetResult(phi, np.linalg.eigvals(phi), ystar)

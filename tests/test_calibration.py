@@ -31,6 +31,17 @@ ROOT = Path(__file__).resolve().parents[1]
 FULL = SimulationSettings(steps_per_period=512, transient_periods=500, recorded_periods=100)
 
 
+def _falls(poincare, n: int) -> bool:
+    """Whether the return distance after n periods falls over the record (the slow-transient check's test of
+    a period n, :func:`geardyn.classify.falling_return_distances`, factor 0.95)."""
+    return bool(classify.falling_return_distances(poincare, n, 0.95)[n - 1])
+
+
+def _settle(system, result, label, lyapunov, settings, classifier):
+    """The slow-transient check of one point alone."""
+    return S.settle_points([system], [result], [label], [lyapunov], Policy(settings, classifier))[0]
+
+
 @pytest.fixture(scope="module")
 def li2013():
     return design.load(ROOT / "config" / "designs" / "li2013.yaml")
@@ -51,7 +62,7 @@ def test_slow_transient_is_relabelled_p1(li2013, over, before, rho):
     cs = classify.ClassifierSettings()
     res, cl = rules_label(c, FULL, cs)
     assert cl.label == before and -1e-3 < cl.lyapunov < 0.0  # inside the zero band: the classifier's QP
-    r = S.settle(c, res, cl.label, cl.lyapunov, FULL, cs)
+    r = _settle(c, res, cl.label, cl.lyapunov, FULL, cs)
     assert r.after == 1 and r.n == 1
     assert r.spectral_radius == pytest.approx(rho, abs=2e-4)
     assert "approached" in r.reason
@@ -61,12 +72,12 @@ def test_torus_is_not_relabelled(li2013):
     c = point.point_coefficients(li2013, {"x1": 0.761, "b": 2.0, "e": 5.0, "w": 0.7})
     cs = classify.ClassifierSettings()
     res, cl = rules_label(c, FULL, cs)
-    r = S.settle(c, res, cl.label, cl.lyapunov, FULL, cs)
+    r = _settle(c, res, cl.label, cl.lyapunov, FULL, cs)
     assert cl.label == r.after == classify.LABELS["quasi_periodic"]
     assert r.reason.startswith("no stable orbit of period <= 12")
     # chaos and periodic labels are never touched
-    assert S.settle(c, res, classify.LABELS["chaotic"], 0.03, FULL, cs).after == classify.LABELS["chaotic"]
-    assert S.settle(c, res, 5, float("nan"), FULL, cs).after == 5
+    assert _settle(c, res, classify.LABELS["chaotic"], 0.03, FULL, cs).after == classify.LABELS["chaotic"]
+    assert _settle(c, res, 5, float("nan"), FULL, cs).after == 5
 
 
 def test_settle_of_many_points_is_settle_of_each(li2013):
@@ -80,10 +91,8 @@ def test_settle_of_many_points_is_settle_of_each(li2013):
     runs += runs[:2]
     labels = [cl.label for _, cl in runs[:3]] + [classify.LABELS["chaotic"], 1]
     lams = [cl.lyapunov for _, cl in runs[:3]] + [0.03, float("nan")]
-    together = S.settle_points(systems, [r for r, _ in runs], labels, lams, FULL, cs)
-    alone = [
-        S.settle(c, r, lab, lam, FULL, cs) for c, (r, _), lab, lam in zip(systems, runs, labels, lams, strict=True)
-    ]
+    together = S.settle_points(systems, [r for r, _ in runs], labels, lams, Policy(FULL, cs))
+    alone = [_settle(c, r, lab, lam, FULL, cs) for c, (r, _), lab, lam in zip(systems, runs, labels, lams, strict=True)]
     assert together == alone
     assert all(
         (t.state is None and a.state is None) or np.array_equal(t.state, a.state)
@@ -346,8 +355,8 @@ def test_return_distance_and_record_approach_tell_a_transient_from_a_torus():
     cyc = np.array([[1.0, 2, 0, 0, 0, 0], [-1.0, 0.5, 0, 0, 0, 0]])
     transient = cyc[k[:, 0] % 2] + 0.3 * 0.99**k * np.array([[1.0, -0.5, 0.2, 0, 0, 0]]) * (-1) ** k
     torus = np.hstack([np.cos(2 * np.pi * 0.1234 * k), np.sin(2 * np.pi * 0.1234 * k), np.zeros((100, 4))])
-    assert S.return_distance_falls(transient, 2) and S.return_distance_falls(transient, 4)
-    assert not any(S.return_distance_falls(torus, n) for n in range(1, 13))
+    assert _falls(transient, 2) and _falls(transient, 4)
+    assert not any(_falls(torus, n) for n in range(1, 13))
     assert S.approached_in_record(transient, cyc, 0.99**2, 2)
     # the fitted rate must be at least half the multiplier's: a cycle said to attract at 0.9 per period
     # (log rate -0.105) is not what a run falling at 0.99 per period (-0.010) approaches

@@ -1,4 +1,4 @@
-"""Invariant circles by Newton's method (geardyn.solve.circle): an analytic map whose circle, rotation number
+"""Invariant circles by Newton's method (benchmarks.invariant_circle): an analytic map whose circle, rotation number
 and normal multiplier are known, spectral convergence in the number of nodes, and the model's torus just past
 the Neimark-Sacker point of li2013_calibrated, checked against the multipliers of the unstable period-1 orbit
 inside it and against a long run."""
@@ -11,10 +11,10 @@ import math
 import numpy as np
 import pytest
 
+from benchmarks import invariant_circle as C
 from geardyn.khv import design, point
-from geardyn.solve import circle as C
+from geardyn.solve.run import simulate_batch
 from geardyn.solve.shooting import period_settings, shoot
-from geardyn.solve.simulate import simulate_batch
 
 LAM, OMEGA = 0.9, (math.sqrt(5.0) - 1.0) / 2.0
 

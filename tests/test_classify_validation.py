@@ -7,7 +7,7 @@
   in the Wikipedia article "Duffing equation");
 * a quasi-periodic signal of two incommensurate frequencies (1 and sqrt 2): quasi-periodic;
 * the KHV gear model with b = 0 (linear, T-periodic): period-1, exponent = the least-damped Floquet
-  exponent from :func:`geardyn.floquet.floquet`.
+  exponent from :func:`_oracle.linear_floquet`.
 """
 
 import math
@@ -17,10 +17,10 @@ import numpy as np
 import pytest
 from numba import njit
 
-from _oracle import classify_point, rules_label
+from _oracle import classify_point, linear_floquet, linear_part, rules_label
 from geardyn import classify
 from geardyn.khv import design, point
-from geardyn.solve import SimulationSettings, floquet
+from geardyn.solve import SimulationSettings
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -183,8 +183,8 @@ def test_zero_one_test_by_fft_is_the_numpy_formula(kind):
 
 def test_linear_gear_model_p1_with_least_damped_floquet_exponent():
     model = design.load(ROOT / "config" / "designs" / "li2013.yaml")
-    coeffs = floquet.linear_part(point.point_coefficients(model, {"x1": 0.5, "e": 5.0}))
-    fl = floquet.floquet(coeffs)
+    coeffs = linear_part(point.point_coefficients(model, {"x1": 0.5, "e": 5.0}))
+    fl = linear_floquet(coeffs)
     least = float(np.max(np.log(np.abs(fl.multipliers)))) / coeffs.period
     settings = SimulationSettings(steps_per_period=128, transient_periods=500, recorded_periods=100)
     cs = classify.ClassifierSettings(error_floor=1.9e-5, tangent_periods=600)

@@ -11,7 +11,7 @@ from geardyn import io
 from geardyn.khv import design
 from geardyn.runs import cube, maps, sweep
 from geardyn.solve import SimulationSettings, simulate
-from geardyn.solve.simulate import EarlyStop, simulate_batch
+from geardyn.solve.run import EarlyStop, simulate_batch
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -15,7 +15,7 @@ HEAVY = (
     "scipy.signal",
     "scipy.integrate",
     "scipy.interpolate",
-    "geardyn.solve.simulate",
+    "geardyn.solve.run",
     "matplotlib.pyplot",
 )
 
@@ -65,17 +65,15 @@ def test_a_labelling_job_loads_the_reference_solver_only_for_dop853() -> None:
 
 
 def test_lazy_names_resolve_to_what_they_name() -> None:
-    # geardyn.solve.simulate names a module and the function it defines: the package's attribute is the
-    # function, even when the submodule is imported first (a new process, so the order is this one)
+    # the package's names are loaded from their modules on first use and are those modules' objects
     code = """
-import geardyn.solve.simulate as first
 import geardyn.label, geardyn.solve
 from geardyn.label.lines import label_lines
-from geardyn.solve import simulate
-from geardyn.solve.simulate import warm_up
+from geardyn.solve import simulate, simulate_batch
+from geardyn.solve.run import warm_up
 import sys
-mod = sys.modules["geardyn.solve.simulate"]
-assert simulate is mod.simulate and first is mod.simulate and callable(simulate)
+mod = sys.modules["geardyn.solve.run"]
+assert simulate is mod.simulate and simulate_batch is mod.simulate_batch and callable(simulate)
 assert geardyn.solve.warm_up is warm_up and geardyn.label.label_lines is label_lines
 try:
     geardyn.solve.no_such_name

@@ -10,7 +10,8 @@ import pytest
 from _paper import li2013_parameters
 from benchmarks import work_precision
 from geardyn.khv.model import Coefficients, dimensionless
-from geardyn.solve import SimulationSettings, simulate, step_grid, warm_up
+from geardyn.solve import SimulationSettings, simulate, warm_up
+from geardyn.solve.run import step_grid
 
 # Periodic case with contact loss every period (4 switches per period): x1 = 0.416 numbers
 PERIODIC = dimensionless(li2013_parameters(eps=1.30, k_c=3.1e8, omega_bar=0.9))

@@ -9,7 +9,7 @@ import pytest
 
 from geardyn import classify
 from geardyn.solve import _period
-from geardyn.solve.simulate import strict_period, strict_periods
+from geardyn.solve.run import strict_period, strict_periods
 
 
 def _rule3_numpy(p: np.ndarray, max_n: int, atol: float, rtol: float, floor_tol: float, sep: float) -> int:

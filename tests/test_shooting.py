@@ -16,10 +16,11 @@ import numpy as np
 import pytest
 from numba import njit
 
+from _oracle import fd_monodromy, linear_floquet, linear_part, rk4_flow
 from geardyn.khv import design, point
 from geardyn.runs.continuation import CallableFamily, ContinuationSettings, continue_branch, switch_at_period_doubling
-from geardyn.solve import SimulationSettings, floquet, simulate
-from geardyn.solve.shooting import fd_monodromy, khv_flow, newton_shooting, newton_shooting_batch, rk4_flow, shoot
+from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.shooting import khv_flow, newton_shooting, newton_shooting_batch, shoot
 
 ROOT = Path(__file__).resolve().parents[1]
 GAMMA_PD = 0.265581786  # see the module docstring
@@ -69,7 +70,7 @@ def test_monodromy_columns_are_the_single_column_runs_bit_for_bit(contact_loss_o
     """The 6 columns of the monodromy matrix are stepped together in one buffer (vectorised); each is the
     same arithmetic as one tangent column carried alone: the same bits, contact switches included."""
     from geardyn.solve import _kernel  # noqa: PLC0415
-    from geardyn.solve.simulate import simulate_batch, step_tables  # noqa: PLC0415
+    from geardyn.solve.run import simulate_batch, step_tables  # noqa: PLC0415
 
     c, orbit = contact_loss_orbit
     s = SimulationSettings(transient_periods=0, recorded_periods=3)
@@ -99,8 +100,8 @@ def test_period2_monodromy_is_square_of_period1(contact_loss_orbit):
 
 
 def test_linear_model_matches_dop853_floquet(li2013):
-    c = floquet.linear_part(point.point_coefficients(li2013, {"x1": 0.5, "e": 5.0}))
-    ref = floquet.floquet(c)
+    c = linear_part(point.point_coefficients(li2013, {"x1": 0.5, "e": 5.0}))
+    ref = linear_floquet(c)
     orbit = shoot(c, c.static_state())
     assert orbit.converged
     np.testing.assert_allclose(orbit.state, ref.periodic_state, atol=1e-6 * np.max(np.abs(ref.periodic_state)))
@@ -236,7 +237,7 @@ def test_duffing_period_doubling_bracketed_by_brute_force_simulation():
 @njit(cache=True)
 def _duffing_map(gamma, y0, n, steps, want_jac):
     """n-period map of the double-well Duffing oscillator and its 2 x 2 derivative (numba RK4 with
-    the variational equations, the same scheme as :func:`geardyn.solve.shooting.rk4_flow`)."""
+    the variational equations, the same scheme as ``tests/_oracle.rk4_flow``)."""
     d, w = 0.3, 1.2
     h = 2 * math.pi / w / steps
     x, v = y0[0], y0[1]

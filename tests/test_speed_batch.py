@@ -10,7 +10,7 @@ from benchmarks.work_precision import cases
 from geardyn import classify
 from geardyn.label import Policy, label_points
 from geardyn.solve import SimulationSettings, _batch, simulate
-from geardyn.solve.simulate import EarlyStop, simulate_batch, step_tables
+from geardyn.solve.run import EarlyStop, simulate_batch, step_tables
 
 
 @pytest.fixture(scope="module")
@@ -26,37 +26,35 @@ SHORT = dict(steps_per_period=32, transient_periods=30, recorded_periods=12)
 @pytest.mark.parametrize("integrator", ["rk4", "rk4_event"])
 @pytest.mark.parametrize("kw", [{}, {"tangent_periods": 20}, {"monodromy_periods": 3}])
 def test_batch_is_bit_identical_to_simulate(systems, integrator, kw):
+    """Nine points: eight on a lockstep block and one on the scalar loop (all of them with the monodromy)."""
     s = SimulationSettings(integrator=integrator, **SHORT)
-    for lockstep in (True, False):
-        batch = simulate_batch(systems, s, lockstep=lockstep, **kw)
-        for c, r in zip(systems, batch, strict=True):
-            r0 = simulate(c, s, **kw)
-            assert np.array_equal(r0.poincare, r.poincare)
-            assert np.array_equal(r0.final_state, r.final_state)
-            assert r0.n_events == r.n_events and r0.diverged == r.diverged
-            if "tangent_periods" in kw:
-                assert np.array_equal(r0.growth, r.growth) and np.array_equal(r0.strobe, r.strobe)
-            if "monodromy_periods" in kw:
-                assert np.array_equal(r0.monodromy, r.monodromy)
+    batch = simulate_batch(systems, s, **kw)
+    for c, r in zip(systems, batch, strict=True):
+        r0 = simulate(c, s, **kw)
+        assert np.array_equal(r0.poincare, r.poincare)
+        assert np.array_equal(r0.final_state, r.final_state)
+        assert r0.n_events == r.n_events and r0.diverged == r.diverged
+        if "tangent_periods" in kw:
+            assert np.array_equal(r0.growth, r.growth) and np.array_equal(r0.strobe, r.strobe)
+        if "monodromy_periods" in kw:
+            assert np.array_equal(r0.monodromy, r.monodromy)
 
 
-@pytest.mark.parametrize("lockstep", [True, False])
-def test_a_run_in_pieces_is_one_run(systems, lockstep):
+def test_a_run_in_pieces_is_one_run(systems):
     """A run of 40 periods with the tangent vector equals, bit for bit, a run of 15 and one of 25 that starts
     from its final state and tangent (the pieces the labeller's growing records are made of), on the
-    lockstep blocks and on the scalar loop; without the carried tangent the second piece's exponents differ."""
+    lockstep block (eight points) and on the scalar loop (the ninth); without the carried tangent the second
+    piece's exponents differ."""
     s = SimulationSettings(integrator="rk4_event", **SHORT)
     x0 = [r.final_state for r in simulate_batch(systems, s)]
     rec = [
         SimulationSettings(integrator="rk4_event", steps_per_period=32, transient_periods=0, recorded_periods=n)
         for n in (40, 15, 25)
     ]
-    one = simulate_batch(systems, rec[0], x0, tangent_periods=40, lockstep=lockstep)
-    a = simulate_batch(systems, rec[1], x0, tangent_periods=15, lockstep=lockstep)
-    b = simulate_batch(
-        systems, rec[2], [r.final_state for r in a], 25, tangent_start=[r.tangent for r in a], lockstep=lockstep
-    )
-    fresh = simulate_batch(systems, rec[2], [r.final_state for r in a], 25, lockstep=lockstep)
+    one = simulate_batch(systems, rec[0], x0, tangent_periods=40)
+    a = simulate_batch(systems, rec[1], x0, tangent_periods=15)
+    b = simulate_batch(systems, rec[2], [r.final_state for r in a], 25, tangent_start=[r.tangent for r in a])
+    fresh = simulate_batch(systems, rec[2], [r.final_state for r in a], 25)
     for o, u, v, f in zip(one, a, b, fresh, strict=True):
         assert np.array_equal(o.poincare, np.vstack([u.poincare, v.poincare]))
         assert np.array_equal(o.growth, np.concatenate([u.growth, v.growth]))
@@ -80,7 +78,8 @@ def test_independent_of_threads_order_and_chunking(systems):
     parts = simulate_batch(systems[:3], s, tangent_periods=15, early_stop=es) + simulate_batch(
         systems[3:], s, tangent_periods=15, early_stop=es
     )
-    lanes = simulate_batch(systems, s, tangent_periods=15, early_stop=es, lockstep=False)
+    # each point alone: a batch of one runs on the scalar loop
+    lanes = [r for c in systems for r in simulate_batch([c], s, tangent_periods=15, early_stop=es)]
     assert any(r.stop_period for r in ref) and not all(r.stop_period for r in ref)
     for other in (one, rev, parts, lanes):
         for a, b in zip(ref, other, strict=True):

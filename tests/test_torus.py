@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 from scipy.integrate import odeint, quad
 
+import _oracle as O
 from geardyn import classify
 from geardyn.khv import design, point
 from geardyn.label import torus as T
@@ -68,35 +69,35 @@ def test_weighted_average_is_the_weighted_integral():
     errs = {}
     for n in (10, 20, 50, 100):
         t = np.arange(1, n + 1) / (n + 1)
-        errs[n] = abs(float(T.weighted_birkhoff(np.cos(3 * t))) - ref)
+        errs[n] = abs(float(O.weighted_birkhoff(np.cos(3 * t))) - ref)
     assert 1e-6 < errs[10] < 1e-5 and errs[20] < 1e-7 and errs[50] < 1e-11 and errs[100] < 1e-14
     t = np.arange(1, 101) / 101
     assert abs(np.cos(3 * t).mean() - ref) > 0.01
     # along axis 0, column by column
     v = np.c_[np.cos(3 * t), 2.0 * np.cos(3 * t)]
-    first = float(T.weighted_birkhoff(v[:, 0]))
-    assert T.weighted_birkhoff(v) == pytest.approx([first, 2.0 * first])
+    first = float(O.weighted_birkhoff(v[:, 0]))
+    assert O.weighted_birkhoff(v) == pytest.approx([first, 2.0 * first])
 
 
 def test_golden_rotation_converges_super_fast():
     """Digits (default observable: three moments of each coordinate) 3.4, 5.2, 9.7, 13.8 at N = 50,
     100, 250, 500, then about 14 (rounding) up to N = 20 000: far beyond the log10 sqrt(N) = 0.8-2.2 of
     a 1/sqrt(N) convergence."""
-    d = {n: T.birkhoff_digits(_circle(2 * n)) for n in (50, 100, 250, 2000)}
+    d = {n: O.birkhoff_digits(_circle(2 * n)) for n in (50, 100, 250, 2000)}
     assert 3.0 < d[50] < 4.0 and 5.0 < d[100] < 6.0 and d[250] > 9.0 and d[2000] > 13.5
     # a smooth non-linear observable of the angle: 4.4, 6.8 at N = 50, 100; 15 at N = 2000
     obs = lambda p: np.exp(p[:, 1]) + 0.3 * (2 * p[:, 0] ** 2 - 1)  # noqa: E731
-    assert T.birkhoff_digits(_circle(100), obs) < 5.0 < T.birkhoff_digits(_circle(200), obs)
-    assert T.birkhoff_digits(_circle(4000), obs) > 13.5
-    res = T.torus_test(_circle(4000))
+    assert O.birkhoff_digits(_circle(100), obs) < 5.0 < O.birkhoff_digits(_circle(200), obs)
+    assert O.birkhoff_digits(_circle(4000), obs) > 13.5
+    res = O.torus_test(_circle(4000))
     assert res.verdict == "torus" and res.n == 2000
 
 
 @pytest.mark.parametrize("rho", [GOLDEN, 0.01, 0.99, 1.0 - GOLDEN])
 def test_rotation_number_of_circle_rotations(rho):
-    assert T.rotation_number(_circle(4000, rho), (0.0, 0.0)) == pytest.approx(rho, abs=1e-13)
+    assert O.rotation_number(_circle(4000, rho), (0.0, 0.0)) == pytest.approx(rho, abs=1e-13)
     # any centre inside the circle gives the same number (the average of the increments converges)
-    assert T.rotation_number(_circle(4000, rho), (0.3, -0.2)) == pytest.approx(rho, abs=1e-9)
+    assert O.rotation_number(_circle(4000, rho), (0.3, -0.2)) == pytest.approx(rho, abs=1e-9)
 
 
 def test_forced_van_der_pol_circle_is_a_torus():
@@ -111,11 +112,11 @@ def test_forced_van_der_pol_circle_is_a_torus():
 
     p = odeint(f, [2.0, 0.0], period * np.arange(4100), rtol=1e-12, atol=1e-12, mxstep=100000)[100:]
     assert np.ptp(p[:, 0]) > 3.0  # the circle, not a fixed point
-    res = T.torus_test(p)
+    res = O.torus_test(p)
     assert res.verdict == "torus" and res.n == 2000 and res.digits > 10.0
-    assert T.birkhoff_digits(p[:200]) < 5.0 and T.birkhoff_digits(p[:2000]) > 7.5
-    rho = T.rotation_number(p, T.weighted_birkhoff(p))
-    assert rho == pytest.approx(T.rotation_number(p[:2000], T.weighted_birkhoff(p)), abs=1e-9)
+    assert O.birkhoff_digits(p[:200]) < 5.0 and O.birkhoff_digits(p[:2000]) > 7.5
+    rho = O.rotation_number(p, O.weighted_birkhoff(p))
+    assert rho == pytest.approx(O.rotation_number(p[:2000], O.weighted_birkhoff(p)), abs=1e-9)
     assert rho == pytest.approx(0.5466, abs=1e-4)
 
 
@@ -124,30 +125,30 @@ def test_chaotic_maps_converge_like_one_over_sqrt_n(n):
     """Henon (a = 1.4, b = 0.3) and logistic (r = 4): digits within 1.2 of log10 sqrt(N) = 1.65 /
     1.95 / 2.25 (measured +0.11 / -0.18 / +0.27 and -0.13 / -0.78 / -0.26), verdict chaotic."""
     for pts in (_henon(2 * n), _logistic(2 * n)):
-        res = T.torus_test(pts)
+        res = O.torus_test(pts)
         assert abs(res.digits - 0.5 * math.log10(n)) < 1.2
         assert res.verdict == "chaotic" and res.n == n
 
 
 def test_periodic_points_and_bad_input():
     # a period-5 cycle converges as fast as a torus: the caller labels periodic points first
-    res = T.torus_test(_circle(4000, 0.2))
+    res = O.torus_test(_circle(4000, 0.2))
     assert res.digits > 12.0 and res.verdict == "torus"  # 12.6
     # a fixed point (no spread): the cap
-    assert T.birkhoff_digits(np.full((100, 3), 5.0)) == T.DIGITS_MAX
-    assert T.torus_test(np.full((4000, 3), 5.0)).verdict == "torus"
-    assert T.birkhoff_digits(np.full((100, 3), 5.0) + 1e-15 * np.arange(100)[:, None]) == T.DIGITS_MAX  # rounding
+    assert O.birkhoff_digits(np.full((100, 3), 5.0)) == T.DIGITS_MAX
+    assert O.torus_test(np.full((4000, 3), 5.0)).verdict == "torus"
+    assert O.birkhoff_digits(np.full((100, 3), 5.0) + 1e-15 * np.arange(100)[:, None]) == T.DIGITS_MAX  # rounding
     # too few points for a verdict (N < 2000), however good the convergence
-    assert T.torus_test(_circle(3998)).verdict == "inconclusive"
-    assert T.torus_test(_circle(3998), min_n=1999).verdict == "torus"
+    assert O.torus_test(_circle(3998)).verdict == "inconclusive"
+    assert O.torus_test(_circle(3998), min_n=1999).verdict == "torus"
     p = _circle(100)
     p[37, 1] = np.nan
     with pytest.raises(ValueError, match=r"1 row.*NaN.*row 37"):
-        T.birkhoff_digits(p)
+        O.birkhoff_digits(p)
     with pytest.raises(ValueError, match="at least 4"):
-        T.birkhoff_digits(np.zeros((3, 2)))
+        O.birkhoff_digits(np.zeros((3, 2)))
     with pytest.raises(ValueError, match=r"chaos threshold .* exceeds torus_digits"):
-        T.torus_test(_circle(4000), torus_digits=3.0, chaos_digits=4.0)
+        O.torus_test(_circle(4000), torus_digits=3.0, chaos_digits=4.0)
 
 
 def test_khv_torus_past_neimark_sacker():
@@ -159,13 +160,13 @@ def test_khv_torus_past_neimark_sacker():
     c = point.point_coefficients(d, {"x1": 0.56, "b": 2.0, "e": 5.0})
     st = SimulationSettings(steps_per_period=128, transient_periods=8000, recorded_periods=4000)
     r = simulate(c, st)
-    res = T.torus_test(r.poincare)
+    res = O.torus_test(r.poincare)
     assert res.verdict == "torus" and res.n == 2000 and res.digits > 7.5
-    orbit = shooting.shoot(c, T.weighted_birkhoff(r.poincare), 1, st)
+    orbit = shooting.shoot(c, O.weighted_birkhoff(r.poincare), 1, st)
     mu = orbit.multipliers[0]
     assert orbit.converged and abs(mu.imag) > 0.5 and 1.0 < abs(mu) < 1.002
-    rho = T.rotation_number(r.poincare, orbit.state[[1, 4]], plane=(1, 4))
-    assert rho == pytest.approx(T.rotation_number(r.poincare[:1000], orbit.state[[1, 4]], plane=(1, 4)), abs=1e-7)
+    rho = O.rotation_number(r.poincare, orbit.state[[1, 4]], plane=(1, 4))
+    assert rho == pytest.approx(O.rotation_number(r.poincare[:1000], orbit.state[[1, 4]], plane=(1, 4)), abs=1e-7)
     assert abs(rho - shooting.rotation_number(mu)) < 5e-4
 
 
@@ -179,7 +180,7 @@ def test_khv_chaos_on_route_design():
     )
     lam, sigma = classify.lyapunov_estimate(r.growth, r.period)
     assert lam > 0.03 and lam > 10 * sigma
-    res = T.torus_test(r.poincare)
+    res = O.torus_test(r.poincare)
     assert res.verdict == "chaotic" and res.digits < 0.5 * math.log10(2000) + 0.5
 
 
@@ -196,11 +197,11 @@ def test_khv_long_cycle_scores_like_a_torus():
     size = p.std(axis=0).max()
     ret = {n: float(np.max(np.abs(p[n:] - p[:-n]))) / size for n in (12, 24, 47, 48, 49)}
     assert ret[48] < 1e-12 and min(ret[n] for n in (12, 24, 47, 49)) > 1.0
-    res = T.torus_test(p)
+    res = O.torus_test(p)
     assert res.verdict == "torus" and res.digits > 9.0
-    orbit = shooting.shoot(c, T.weighted_birkhoff(p), 1, st)
+    orbit = shooting.shoot(c, O.weighted_birkhoff(p), 1, st)
     assert orbit.converged and 0.99 < abs(orbit.multipliers[0]) < 0.995
-    assert T.rotation_number(p, orbit.state[[1, 4]], plane=(1, 4)) == pytest.approx(17 / 48, abs=1e-12)
+    assert O.rotation_number(p, orbit.state[[1, 4]], plane=(1, 4)) == pytest.approx(17 / 48, abs=1e-12)
 
 
 _coordinates = T.coordinates  # the labeller's observable
@@ -210,15 +211,15 @@ def test_torus_digits_are_the_two_measures_bit_for_bit() -> None:
     """One evaluation of the observable serves both measures: on 2N points each value is the measure's own,
     to the bit; on an odd count both read the newest 2N; the coordinates are the first moments."""
     p = _approached_circle(401)
-    assert np.array_equal(T.coordinates(p), T.moments(p)[:, :2])
-    for obs in (None, _coordinates):
+    assert np.array_equal(T.coordinates(p), O.moments(p)[:, :2])
+    for obs in (O.moments, _coordinates):
         plain, extrapolated = T.torus_digits(p[1:], obs)
-        assert plain == T.birkhoff_digits(p[1:], obs) and extrapolated == T.extrapolated_digits(p[1:], obs)
+        assert plain == O.birkhoff_digits(p[1:], obs) and extrapolated == T.extrapolated_digits(p[1:], obs)
         assert T.torus_digits(p, obs) == (plain, extrapolated)
         assert T.torus_digits(p, obs, extrapolate=False)[0] == plain
         assert math.isnan(T.torus_digits(p, obs, extrapolate=False)[1])
     assert T.extrapolated_digits(p, _coordinates) != T.torus_digits(p, _coordinates)[1]  # all 401 points
-    assert T.torus_digits(np.full((100, 3), 5.0)) == (T.DIGITS_MAX, T.DIGITS_MAX)
+    assert T.torus_digits(np.full((100, 3), 5.0), O.moments) == (T.DIGITS_MAX, T.DIGITS_MAX)
     with pytest.raises(ValueError, match="at least 4 points"):
         T.torus_digits(np.zeros((3, 2)))
     with pytest.raises(ValueError, match="at least 9 points"):
@@ -269,7 +270,7 @@ def test_compiled_torus_test_equals_its_numpy_statement(case: str) -> None:
     # the measures' differences of averages (10^-digits) agree to 1e-9 of themselves or to 1e-15 (rounding)
     for got, want in zip(T.torus_digits(p, _coordinates), (plain, extrapolated), strict=True):
         assert 10.0**-got == pytest.approx(10.0**-want, rel=1e-9, abs=1e-15)
-    assert T.weighted_birkhoff(p) == pytest.approx(T.bump_weights(p.shape[0]) @ p, rel=1e-14, abs=1e-15)
+    assert O.weighted_birkhoff(p) == pytest.approx(T.bump_weights(p.shape[0]) @ p, rel=1e-14, abs=1e-15)
 
 
 def _approached_circle(m: int, r: float = 0.999, d0: float = 0.02) -> np.ndarray:
@@ -287,10 +288,10 @@ def test_extrapolation_removes_a_slow_transient(m):
     extrapolated away 12.2-13.4 (rounding of the averages).  Without a transient both measures agree
     (golden rotation 14.0 / 13.9, period 5 12.6 / 12.4)."""
     p = _approached_circle(m)
-    assert T.birkhoff_digits(p, _coordinates) < 0.5 * math.log10(m // 2) + 1.2
+    assert O.birkhoff_digits(p, _coordinates) < 0.5 * math.log10(m // 2) + 1.2
     assert T.extrapolated_digits(p, _coordinates) > 12.0
-    assert T.extrapolated_digits(_circle(m)) == pytest.approx(T.birkhoff_digits(_circle(m)), abs=1.0)
-    assert T.extrapolated_digits(_circle(m, 0.2)) > 12.0
+    assert T.extrapolated_digits(_circle(m), O.moments) == pytest.approx(O.birkhoff_digits(_circle(m)), abs=1.0)
+    assert T.extrapolated_digits(_circle(m, 0.2), O.moments) > 12.0
 
 
 @pytest.mark.parametrize("n", [200, 800, 2000, 8000])
@@ -299,17 +300,17 @@ def test_extrapolation_does_not_make_chaos_converge(n):
     at most + 0.87 in 640 series, N = 50-8000, both observables), under the labeller's chaos margin 1.5."""
     for k in range(20):
         for pts in (_henon(2 * n, skip=1000 + 37 * k), _logistic(2 * n, skip=1000 + 37 * k)):
-            for obs in (None, _coordinates):
+            for obs in (O.moments, _coordinates):
                 assert T.extrapolated_digits(pts, obs) < 0.5 * math.log10(n) + 1.0
 
 
 def test_extrapolation_bad_input():
     with pytest.raises(ValueError, match="at least 9 points"):
-        T.extrapolated_digits(_circle(8))
-    assert T.extrapolated_digits(_circle(9)) > 0.0
+        T.extrapolated_digits(_circle(8), O.moments)
+    assert T.extrapolated_digits(_circle(9), O.moments) > 0.0
     with pytest.raises(ValueError, match="at least 3 windows"):
-        T.extrapolated_digits(_circle(100), windows=2)
-    assert T.extrapolated_digits(np.full((100, 3), 5.0)) == T.DIGITS_MAX
+        T.extrapolated_digits(_circle(100), O.moments, windows=2)
+    assert T.extrapolated_digits(np.full((100, 3), 5.0), O.moments) == T.DIGITS_MAX
     assert T.torus_verdict(5.0, 2000).verdict == "inconclusive"  # 6 for a torus, < 3.15 for chaos
     assert T.torus_verdict(3.0, 2000).verdict == "chaotic" and T.torus_verdict(6.0, 2000).verdict == "torus"
 
@@ -323,7 +324,7 @@ def test_khv_slowly_approached_torus_is_found_by_extrapolation():
     c = point.point_coefficients(d, {"x1": 0.55, "b": 2.0, "e": 5.0})
     p = simulate(c, SimulationSettings(steps_per_period=128, transient_periods=500, recorded_periods=400)).poincare
     threshold = 0.5 * math.log10(200) + 2.5
-    assert T.birkhoff_digits(p, _coordinates) == pytest.approx(3.49, abs=0.05)
+    assert O.birkhoff_digits(p, _coordinates) == pytest.approx(3.49, abs=0.05)
     assert T.extrapolated_digits(p, _coordinates) == pytest.approx(5.33, abs=0.05)
     assert 3.49 + 0.05 < threshold < 5.33 - 1.5
 
@@ -339,7 +340,7 @@ def test_khv_weak_chaos_stays_chaotic_for_the_extrapolation():
     r = simulate(c, st, tangent_periods=4000)
     chaos = 0.5 * math.log10(2000) + 1.5
     assert T.extrapolated_digits(r.poincare, _coordinates) == pytest.approx(2.41, abs=0.1)
-    assert T.birkhoff_digits(r.poincare, _coordinates) == pytest.approx(2.65, abs=0.1)
+    assert O.birkhoff_digits(r.poincare, _coordinates) == pytest.approx(2.65, abs=0.1)
     assert 2.65 + 0.1 < chaos
     lam, sigma = classify.lyapunov_estimate(r.growth, r.period)
     assert 0.0 < lam < 1e-3 and sigma > lam
@@ -380,7 +381,7 @@ def test_order_test_passes_rotations_on_closed_curves_smooth_or_not(m):
     assert circle.passed and circle.gaps == fib and circle.n == m
     square = T.order_test(_square(m))
     assert square.passed and square.gaps == (fib[1] - fib[0], *fib)
-    assert T.birkhoff_digits(_square(m)) < 5.1 < 13.0 < T.birkhoff_digits(_circle(m))
+    assert O.birkhoff_digits(_square(m)) < 5.1 < 13.0 < O.birkhoff_digits(_circle(m))
     loops = T.order_test(_three_loops(m + 1))
     assert loops.passed and all(g % 3 == 0 for g in loops.gaps)
     assert T.order_test(_approached_circle(800)).passed
@@ -424,6 +425,6 @@ def test_khv_order_test_decides_a_slowly_approached_torus_and_not_chaos():
     torus = record("li2013_calibrated", 0.56)
     res = T.order_test(torus)
     assert res.passed and res.gaps == (86, 111)
-    assert T.birkhoff_digits(torus) < 1.0
+    assert O.birkhoff_digits(torus) < 1.0
     res = T.order_test(record("li2013_route", 0.80))
     assert not res.passed and len(res.gaps) > 100

@@ -247,10 +247,10 @@ def _tolerance(p: np.ndarray, cs: ClassifierSettings) -> float:
 def strict_period(p: np.ndarray, settings: ClassifierSettings = ClassifierSettings()) -> int:
     """Rule 3: the smallest n <= max_n with every return distance after n
     periods within the tolerance and the n cycle points distinct (> separation * tol); 0 if none.
-    ``p``: (n_points, n_states) without NaN rows.  Compiled (:func:`geardyn.solve.simulate.strict_period`:
+    ``p``: (n_points, n_states) without NaN rows.  Compiled (:func:`geardyn.solve.run.strict_period`:
     the one statement of the rule, also used by the batch classifier and the early stop)."""
 
-    from geardyn.solve.simulate import strict_period as rule3  # noqa: PLC0415 - numba: only labelling jobs
+    from geardyn.solve.run import strict_period as rule3  # noqa: PLC0415 - numba: only labelling jobs
 
     q = np.ascontiguousarray(p, dtype=float)
     if q.shape[0] == 0:

@@ -12,18 +12,10 @@ from collections import defaultdict
 
 import numpy as np
 
-from geardyn.label._stages import (
-    Point,
-    decide,
-    periodic_verdicts,
-    shoot,
-    small_residual,
-    tables_of,
-)
+from geardyn.label._stages import Point, decide, periodic_verdicts, shoot, tables_of
 from geardyn.label.policy import Policy
 from geardyn.solve.floquet import bifurcation_type
-from geardyn.solve.shooting import ShootingResult, period_settings, sorted_multipliers
-from geardyn.solve.simulate import simulate_batch
+from geardyn.solve.shooting import ShootingResult, newton_shooting_batch
 
 # ------------------------------------------------------------------------------------------------
 # stage 1: follow the previous point's orbit
@@ -39,65 +31,36 @@ def _predict(p: Point) -> np.ndarray:
     return a.final_state
 
 
-def _chord(points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy) -> list[np.ndarray | None]:
+def _chord(points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy) -> list[ShootingResult]:
     """Chord iteration x <- x - (M_prev - I)^-1 (phi(x) - x) on the n-period map, with the monodromy
-    M_prev of each point's previous orbit: plain runs (no variational part), all points together.  The
-    converged iterate (max|F| <= tol max(1, |x|)), or None when the residual does not fall by half at
-    every iteration (then full Newton takes over)."""
-    s = period_settings(policy.integration, n)
-    xs = [np.asarray(x, float).copy() for x in x0s]
-    lu = [np.linalg.inv(p.prev.monodromy - np.eye(6)) for p in points]
-    out: list[np.ndarray | None] = [None] * len(points)
-    todo = list(range(len(points)))
-    last = [np.inf] * len(points)
-    for _ in range(policy.chord_max_iter):
-        if not todo:
-            break
-        runs = simulate_batch(
-            [points[k].system for k in todo], s, [xs[k] for k in todo], tables=tables_of([points[k] for k in todo])
-        )
-        left = []
-        for k, r in zip(todo, runs, strict=True):
-            if r.diverged:
-                continue
-            F = r.final_state - xs[k]
-            res = float(np.max(np.abs(F)))
-            if not np.isfinite(res) or res > 0.5 * last[k]:
-                continue
-            if small_residual(res, xs[k], policy.newton_tol):
-                out[k] = xs[k]
-                continue
-            last[k] = res
-            xs[k] = xs[k] - lu[k] @ F
-            left.append(k)
-        todo = left
-    return out
+    M_prev of each point's previous orbit: plain runs (no variational part), all points together; it stops
+    where the residual does not fall by ``policy.chord.fall`` at an iteration (then full Newton takes
+    over)."""
+    return newton_shooting_batch(
+        [p.system for p in points],
+        x0s,
+        n,
+        policy.integration,
+        tol=policy.newton.tol,
+        max_iter=policy.chord.max_iter - 1,
+        tables=tables_of(points),
+        max_growth=policy.chord.fall,
+        chord=[np.linalg.inv(p.prev.monodromy - np.eye(6)) for p in points],
+    )
 
 
 def _certify_states(points: list[Point], xs: list[np.ndarray], n: int, policy: Policy) -> list[ShootingResult]:
-    """One monodromy run of n periods at each converged state: residual and multipliers (a ShootingResult)."""
-    s = period_settings(policy.integration, n)
-    runs = simulate_batch([p.system for p in points], s, xs, monodromy_periods=n, tables=tables_of(points))
-    out = []
-    for x, r in zip(xs, runs, strict=True):
-        if r.diverged or r.monodromy is None:
-            out.append(ShootingResult(x, n, False, "diverged", 0, float("inf")))
-            continue
-        res = float(np.max(np.abs(r.final_state - x)))
-        ok = small_residual(res, x, 2.0 * policy.newton_tol)
-        out.append(
-            ShootingResult(
-                x,
-                n,
-                ok,
-                "converged" if ok else "max_iterations",
-                0,
-                res,
-                r.monodromy.copy(),
-                sorted_multipliers(r.monodromy),
-            )
-        )
-    return out
+    """One monodromy run of n periods at each converged state: residual and multipliers (Newton shooting
+    with no iteration, within ``policy.chord.tol_factor`` times its tolerance)."""
+    return newton_shooting_batch(
+        [p.system for p in points],
+        xs,
+        n,
+        policy.integration,
+        tol=policy.chord.tol_factor * policy.newton.tol,
+        max_iter=0,
+        tables=tables_of(points),
+    )
 
 
 def follow(points: list[Point], policy: Policy) -> list[Point]:
@@ -116,8 +79,10 @@ def follow(points: list[Point], policy: Policy) -> list[Point]:
         x0 = {k: _predict(todo[k]) for k in ks}
         chord = [k for k in ks if todo[k].prev.monodromy is not None]
         got = dict(zip(chord, _chord([todo[k] for k in chord], [x0[k] for k in chord], n, policy), strict=True))
-        done = [k for k in chord if got[k] is not None]
-        for k, r in zip(done, _certify_states([todo[k] for k in done], [got[k] for k in done], n, policy), strict=True):
+        done = [k for k in chord if got[k] is not None and got[k].converged]
+        for k, r in zip(
+            done, _certify_states([todo[k] for k in done], [got[k].state for k in done], n, policy), strict=True
+        ):
             shots[k] = r if r.converged else None
         newton = [k for k in ks if shots[k] is None]
         if newton:

@@ -32,7 +32,7 @@ from geardyn.label.torus import OrderTest, TorusTest, coordinates, order_test, t
 from geardyn.label.verdict import Verdict
 from geardyn.parallel import threaded_map
 from geardyn.solve.base import SimulationResult
-from geardyn.solve.simulate import simulate_batch
+from geardyn.solve.run import simulate_batch
 
 # ------------------------------------------------------------------------------------------------
 # stage 4: exponent, 0-1 test, spectrum and the torus test
@@ -73,7 +73,8 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
     periods = rule3([p.run for p in bounded], cs)
     periodic = [(p, n) for p, n in zip(bounded, periods, strict=True) if n > 0]
     if periodic:
-        left = _certify_periods(periodic, policy, "periodic on the continued record")
+        ps, ns = [p for p, _ in periodic], [n for _, n in periodic]
+        left = certify(ps, ns, policy, "period_test", "periodic on the continued record")
         for p in left:
             p.verdict = _undecided(p, p.run, "looks periodic but no stable orbit is found", policy)
     rest = [p for p, n in zip(bounded, periods, strict=True) if n == 0]
@@ -193,7 +194,8 @@ def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True)
         for p in points
     ]
     big = dataclasses.replace(cs, max_n=max(cs.long_max_n, cs.max_n))
-    ns = [n if 0 < n and 3 * n <= r.poincare.shape[0] else 0 for n, r in zip(rule3(half, big), half, strict=True)]
+    reps = policy.cycle_repeats
+    ns = [n if 0 < n and reps * n <= r.poincare.shape[0] else 0 for n, r in zip(rule3(half, big), half, strict=True)]
     short = [n if n <= cs.max_n else 0 for n in ns]
     _try_periods(points, short, policy, "the newest part of the record returns after a few periods")
     _try_periods(
@@ -204,8 +206,8 @@ def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True)
 def _locked(points: list[Point], policy: Policy) -> None:
     """Quasi-periodic records that approach a cycle too slowly for rule 3 (a torus locked to the cycle, or a
     slow approach to a short cycle), certified by shooting for its period (:func:`_try_periods`, at most
-    ``policy.locked_newton_max_iter`` Newton iterations, given up when the residual grows more than
-    ``policy.locked_max_growth`` times in one).  The candidate period n, 1 <= n <= long_max_n, is the least index
+    ``policy.locked.newton_max_iter`` Newton iterations, given up when the residual grows more than
+    ``policy.locked.max_growth`` times in one).  The candidate period n, 1 <= n <= long_max_n, is the least index
     difference between a point of the record and its nearest neighbour (:func:`geardyn.label.torus.order_test`:
     on a locked torus the points gather about the n points of the cycle) over the part of the record the
     torus test's order test reads (:func:`_order_part`: the newest half of a long record, where a slow
@@ -224,67 +226,66 @@ def _locked(points: list[Point], policy: Policy) -> None:
         known = p.order[1] if p.order is not None and p.order[0] is record else None  # the torus test's
         gaps = (known or order_test(_order_part(record, cs), 0)).gaps
         n = gaps[0]
-        oldest, newest = _returns(record, n) if 0 < n <= max(cs.long_max_n, cs.max_n) else (0.0, math.inf)
-        falls = newest < (0.95 if n <= cs.max_n else 0.5) * oldest  # a short cycle: any fall along the record
-        if newest < policy.locked_return and (falls or len(gaps) == 1):
+        oldest, newest = (
+            _returns(record, n, policy.cycle_repeats) if 0 < n <= max(cs.long_max_n, cs.max_n) else (0.0, math.inf)
+        )
+        # a short cycle: any fall along the record
+        falls = newest < (policy.locked.fall_short if n <= cs.max_n else policy.locked.fall_long) * oldest
+        if newest < policy.locked.return_tol and (falls or len(gaps) == 1):
             ns.append(n)
         else:  # a short cycle whose approach the newest half still shows (nearest neighbours not yet n apart)
-            falling = classify.falling_return_distances(record, cs.max_n)  # compiled: a cheap first look
-            short = (m for m in range(1, cs.max_n + 1) if falling[m - 1] and _gathers(record, m, policy.locked_return))
+            falling = classify.falling_return_distances(record, cs.max_n, policy.return_fall)  # compiled, cheap
+            short = (m for m in range(1, cs.max_n + 1) if falling[m - 1] and _gathers(record, m, policy))
             ns.append(next(short, 0))
     _try_periods(
         points,
         ns,
         dataclasses.replace(
-            policy, newton_max_iter=policy.locked_newton_max_iter, newton_max_growth=policy.locked_max_growth
+            policy,
+            newton=dataclasses.replace(
+                policy.newton, max_iter=policy.locked.newton_max_iter, max_growth=policy.locked.max_growth
+            ),
         ),
         "the record gathers about the points of a cycle",
         record_on_orbit=False,
     )
 
 
-def _gathers(p: np.ndarray, n: int, tol: float) -> bool:
+def _gathers(p: np.ndarray, n: int, policy: Policy) -> bool:
     """Whether the record ``p`` gathers about a period-n cycle: its return distance after n periods over the
-    newest third is below ``tol`` (relative) and less than half that over the oldest third."""
-    oldest, newest = _returns(p, n)
-    return newest < tol and newest < 0.5 * oldest
+    newest part is below ``policy.locked.return_tol`` (relative) and below ``policy.gather_fall`` of that over the
+    oldest part (:func:`_returns`)."""
+    oldest, newest = _returns(p, n, policy.cycle_repeats)
+    return newest < policy.locked.return_tol and newest < policy.gather_fall * oldest
 
 
-def _returns(p: np.ndarray, n: int) -> tuple[float, float]:
-    """The median return distance after ``n`` periods over the oldest and the newest third of the record
-    ``p``, relative to the attractor's size (inf when the record holds fewer than three cycles)."""
-    if p.shape[0] < 3 * n:
+def _returns(p: np.ndarray, n: int, parts: int) -> tuple[float, float]:
+    """The median return distance after ``n`` periods over the oldest and the newest of ``parts`` parts of the
+    record ``p``, relative to the attractor's size (inf when the record holds fewer than ``parts`` cycles)."""
+    if p.shape[0] < parts * n:
         return math.inf, math.inf
     d = np.max(np.abs(p[n:] - p[:-n]), axis=1) / (float(np.max(p.std(axis=0))) or 1.0)
-    k = max(1, d.shape[0] // 3)
+    k = max(1, d.shape[0] // parts)
     return float(np.median(d[:k])), float(np.median(d[-k:]))
 
 
 def _try_periods(points: list[Point], ns: list[int], policy: Policy, reason: str, record_on_orbit: bool = True) -> None:
-    """Shooting for period n at each point with n > 0 (:func:`_certify_periods`): where it certifies a stable
-    orbit whose least period m divides n (the record's points return, or gather, after n periods: a cycle
-    of period m does both) the label is ``long_period`` (or period-m) with m in ``period``; elsewhere the
-    verdict stays.
-    ``record_on_orbit``: the record returns within tolerance, and its points are drawn (else the orbit's)."""
+    """Shooting for period n at each point with n > 0 (:func:`geardyn.label._stages.certify`, stage
+    ``period_test``): where it certifies a stable orbit whose least period m divides n (the record's points
+    return, or gather, after n periods: a cycle of period m does both) the label is ``long_period`` (or
+    period-m) with m in ``period``; elsewhere the verdict stays.  ``record_on_orbit``: the record returns
+    within tolerance, and its points are drawn (else the orbit's)."""
     todo = [(p, n) for p, n in zip(points, ns, strict=True) if n > 0]
     if not todo:
         return
     kept = {id(p): p.verdict for p, _ in todo}
     for p, _ in todo:
         p.verdict = None
-    _certify_periods(todo, policy, reason, record_on_orbit)
+    certify([p for p, _ in todo], [n for _, n in todo], policy, "period_test", reason, record_on_orbit)
     for p, n in todo:
         # shooting must find the cycle the record shows (from far off, Newton can reach another attractor)
         if p.verdict is None or p.verdict.period < 1 or n % p.verdict.period:
             p.verdict = kept[id(p)]
-
-
-def _certify_periods(
-    pairs: list[tuple[Point, int]], policy: Policy, reason: str, record_on_orbit: bool = True
-) -> list[Point]:
-    """(point, period) pairs whose record returns (``record_on_orbit``; else it gathers about the cycle):
-    :func:`certify` by shooting (stage ``period_test``); returns the points left without a stable orbit."""
-    return certify([p for p, _ in pairs], [n for _, n in pairs], policy, "period_test", reason, record_on_orbit)
 
 
 def _order_part(points: np.ndarray, cs: classify.ClassifierSettings) -> np.ndarray:
@@ -309,7 +310,9 @@ def _torus(points: np.ndarray, policy: Policy) -> tuple[TorusTest, str, OrderTes
     cs = policy.classifier
     n = max(1, points.shape[0] // 2)
     p = points[-2 * n :]
-    plain, extrapolated = torus_digits(p, coordinates, extrapolate=p.shape[0] >= policy.extrapolate_min)
+    plain, extrapolated = torus_digits(
+        p, coordinates, windows=policy.torus_windows, extrapolate=p.shape[0] >= policy.extrapolate_min
+    )
     digits = plain if math.isnan(extrapolated) else max(plain, extrapolated)
     thresholds = (0.5 * math.log10(n) + cs.torus_margin, cs.chaos_margin, cs.torus_min_n)
     best = torus_verdict(digits, n, *thresholds)
@@ -350,55 +353,29 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
         phi = r.strobe if r.strobe is not None and r.strobe.size else r.poincare[:, 1]
         k01, flat = classify.zero_one_test(phi), classify.spectral_flatness(phi)
         cross = int(k01 > cs.k_chaos) + int(flat > cs.flat_broadband) - 1
-        label, stage, why = (
-            CHAOS,
-            "exponent",
-            (f"positive exponent {lam:.2g} +- {sig:.1g}; the Birkhoff averages do not converge (digits {digits:.1f})"),
-        )
+        label, stage = CHAOS, "exponent"
+        why = f"positive exponent {lam:.2g} +- {sig:.1g}; the Birkhoff averages do not converge (digits {digits:.1f})"
     elif tt.verdict == "torus" and not positive and not negative:
         label, stage, why = QP, "torus", f"{how}; exponent {lam:.2g}"
-    elif negative:
-        label, stage, why = (
-            UNDET,
-            "undecided",
-            (
-                f"negative exponent {lam:.2g} +- {sig:.1g}: attracted to a periodic "
-                f"orbit that shooting did not find (digits {digits:.1f})"
-            ),
-        )
-    elif tt.verdict == "torus":
-        label, stage, why = (
-            UNDET,
-            "undecided",
-            (f"positive exponent {lam:.2g} but {how}"),
-        )
-    elif positive:
-        label, stage, why = UNDET, "undecided", f"positive exponent {lam:.2g}, torus test inconclusive ({digits:.1f})"
     else:
-        label, stage, why = (
-            UNDET,
-            "undecided",
-            (
-                f"exponent {lam:.2g} +- {sig:.1g} not positive and the Birkhoff "
-                f"averages do not converge (digits {digits:.1f})"
-            ),
-        )
+        label, stage = UNDET, "undecided"
+        if negative:
+            why = (
+                f"negative exponent {lam:.2g} +- {sig:.1g}: attracted to a periodic orbit that shooting did not "
+                f"find (digits {digits:.1f})"
+            )
+        elif tt.verdict == "torus":
+            why = f"positive exponent {lam:.2g} but {how}"
+        elif positive:
+            why = f"positive exponent {lam:.2g}, torus test inconclusive ({digits:.1f})"
+        else:
+            why = (
+                f"exponent {lam:.2g} +- {sig:.1g} not positive and the Birkhoff averages do not converge "
+                f"(digits {digits:.1f})"
+            )
     why += f" ({r.poincare.shape[0]} recorded periods)"
-    return _record_verdict(
-        p,
-        r,
-        policy,
-        label,
-        lam,
-        sig,
-        "tangent",
-        stage,
-        why,
-        k01=k01,
-        flatness=flat,
-        torus_digits=digits,
-        crosscheck=cross,
-    )
+    indicators = {"k01": k01, "flatness": flat, "torus_digits": digits, "crosscheck": cross}
+    return _record_verdict(p, r, policy, label, lam, sig, "tangent", stage, why, **indicators)
 
 
 def _undecided(p: Point, r: SimulationResult, why: str, policy: Policy) -> Verdict:

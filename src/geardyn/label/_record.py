@@ -20,8 +20,8 @@ from geardyn.label._stages import (
 )
 from geardyn.label.policy import Policy
 from geardyn.label.settle import settle_points
+from geardyn.solve.run import EarlyStop, simulate_batch
 from geardyn.solve.shooting import ShootingResult
-from geardyn.solve.simulate import EarlyStop, simulate_batch
 
 # ------------------------------------------------------------------------------------------------
 # stage 2: a run from the previous attractor (or the start), rule 3, certified by shooting
@@ -103,11 +103,9 @@ def slow_transients(points: list[Point], policy: Policy) -> list[Point]:
         [p.run for p in points],
         [UNDET] * len(points),
         [NAN] * len(points),
-        policy.integration,
-        policy.classifier,
+        policy,
         tables=tables_of(points),
         always_one=[not _follows_motion(p) for p in points],
-        newton=(policy.newton_tol, policy.settle_newton_max_iter),
     )
     found = [(p, s) for p, s in zip(points, settled, strict=True) if s.state is not None and not s.possible]
     for p, s in zip(points, settled, strict=True):

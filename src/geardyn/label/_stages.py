@@ -9,7 +9,7 @@ Each stage takes the still-undecided points of a batch (:class:`Point`) and deci
 2. :func:`geardyn.label._record.integrate`: a run from the previous point's final state (or the line's
    start) with the early stop of the transient, then rule 3 on the recorded points; a point that returns
    within tolerance is certified by Newton shooting and its multipliers (:func:`certify` here; an unstable
-   orbit Newton converged to is deflated and the shooting repeated, :func:`_deflated`).
+   orbit Newton converged to is deflated and the shooting repeated, :func:`shoot`).
 3. :func:`geardyn.label._record.slow_transients`: a point not periodic on its record is checked for a slow
    transient onto a stable orbit (:mod:`geardyn.label.settle`): shooting where the return distance falls,
    and the run must approach it.
@@ -19,7 +19,7 @@ Each stage takes the still-undecided points of a batch (:class:`Point`) and deci
 
 This module holds the point record, the verdicts of certified orbits, Newton shooting grouped by period,
 rule 3 on many records and the certification by shooting, which several stages use.  Every stage
-integrates all points that reach it together (:func:`geardyn.solve.simulate.simulate_batch`,
+integrates all points that reach it together (:func:`geardyn.solve.run.simulate_batch`,
 :func:`geardyn.solve.shooting.newton_shooting_batch`, both cores); each point's numbers are those it gets
 alone, so a verdict does not depend on the batch, the chunking or the number of threads.
 """
@@ -39,8 +39,8 @@ from geardyn.label.policy import Policy
 from geardyn.label.torus import OrderTest
 from geardyn.label.verdict import Verdict
 from geardyn.solve.base import SimulationResult, System
-from geardyn.solve.shooting import ShootingResult, newton_shooting_batch, period_settings, sorted_multipliers
-from geardyn.solve.simulate import LaneTables, simulate_batch, strict_periods
+from geardyn.solve.run import LaneTables, strict_periods
+from geardyn.solve.shooting import ShootingResult, cycle_points, newton_shooting_batch
 
 UNDET = classify.LABELS["undetermined"]
 QP = classify.LABELS["quasi_periodic"]
@@ -98,21 +98,24 @@ def periodic_verdicts(
     margin = policy.stability_margin
     good = [k for k, s in enumerate(shots) if s.converged and s.spectral_radius < 1.0 - margin]
     out: list[Verdict | None] = [None] * len(shots)
-    cycles: dict[int, tuple[np.ndarray, int]] = {k: (shots[k].state[None, :], -1) for k in good if shots[k].n == 1}
+    cycles: dict[int, tuple[np.ndarray, int]] = {}
     by_n: dict[int, list[int]] = defaultdict(list)
     for k in good:
-        if shots[k].n > 1:
-            by_n[shots[k].n].append(k)
+        by_n[shots[k].n].append(k)
     for n, ks in by_n.items():
-        s = dataclasses.replace(period_settings(policy.integration, n), recorded_periods=n)
-        runs = simulate_batch(
-            [points[k].system for k in ks], s, [shots[k].state for k in ks], tables=tables_of([points[k] for k in ks])
+        found = cycle_points(
+            [points[k].system for k in ks],
+            [shots[k].state for k in ks],
+            n,
+            policy.integration,
+            tables=None if n == 1 else tables_of([points[k] for k in ks]),
         )
-        for k, r in zip(ks, runs, strict=True):
-            if not r.diverged:
-                cyc = np.vstack([shots[k].state[None, :], r.poincare])
-                tol = 1e3 * policy.newton_tol * max(1.0, float(np.max(np.abs(shots[k].state))))
-                cycles[k] = (cyc[: least_period(cyc[:-1], tol)], int(r.n_events))
+        for k, (cyc, events, diverged) in zip(ks, found, strict=True):
+            if not diverged:
+                tol = (
+                    policy.newton.cycle_tol_factor * policy.newton.tol * max(1.0, float(np.max(np.abs(shots[k].state))))
+                )
+                cycles[k] = (cyc[: least_period(cyc, tol)], events)
     for k, (cycle, events) in cycles.items():
         shot, m = shots[k], cycle.shape[0]
         n, rho = shot.n, shot.spectral_radius
@@ -135,8 +138,16 @@ def periodic_verdicts(
     return out
 
 
-def shoot(points: list[Point], starts: list[np.ndarray], ns: list[int], policy: Policy) -> list[ShootingResult]:
-    """Newton shooting of every point for its n from its start, grouped by n (each point as alone)."""
+def shoot(
+    points: list[Point],
+    starts: list[np.ndarray],
+    ns: list[int],
+    policy: Policy,
+    deflate: list[np.ndarray] | None = None,
+) -> list[ShootingResult]:
+    """Newton shooting of every point for its n from its start, grouped by n (each point as alone).  With
+    ``deflate``: deflated Newton about each point's unstable orbit point already found (it cannot converge
+    to it again; ``policy.deflation``, no growth stop)."""
     out: list[ShootingResult | None] = [None] * len(points)
     by_n: dict[int, list[int]] = defaultdict(list)
     for k, n in enumerate(ns):
@@ -147,10 +158,13 @@ def shoot(points: list[Point], starts: list[np.ndarray], ns: list[int], policy: 
             [starts[k] for k in ks],
             n,
             policy.integration,
-            tol=policy.newton_tol,
-            max_iter=policy.newton_max_iter,
+            tol=policy.newton.tol,
+            max_iter=policy.newton.max_iter if deflate is None else policy.deflation.max_iter,
             tables=tables_of([points[k] for k in ks]),
-            max_growth=policy.newton_max_growth,
+            max_growth=policy.newton.max_growth if deflate is None else math.inf,
+            deflate=None if deflate is None else [deflate[k] for k in ks],
+            deflation_shift=policy.deflation.shift,
+            step_cap=policy.newton.step_cap,
         )
         for k, s in zip(ks, shots, strict=True):
             out[k] = s
@@ -197,11 +211,6 @@ def diverged_verdict(p: Point, r: SimulationResult) -> Verdict:
     )
 
 
-def small_residual(residual: float, x: np.ndarray, tol: float) -> bool:
-    """The shooting convergence test: max|phi(x) - x| <= tol max(1, max|x|) (as Newton shooting's)."""
-    return residual <= tol * max(1.0, float(np.max(np.abs(x))))
-
-
 def rule3(results: list[SimulationResult], cs: classify.ClassifierSettings) -> list[int]:
     """Rule 3 (:func:`geardyn.classify.strict_period`, compiled) on every record at once; 0 for a diverged
     run or fewer than 3 points."""
@@ -233,7 +242,14 @@ def certify(
     # also a fixed point of the 2n-period map, close to the new one): deflate it and shoot again
     again = [k for k, s in enumerate(shots) if s.converged and s.spectral_radius >= 1.0 - policy.stability_margin]
     if again:
-        for k, r in zip(again, _deflated([tp[k] for k in again], [shots[k] for k in again], policy), strict=True):
+        deflated = shoot(
+            [tp[k] for k in again],
+            [np.asarray(tp[k].run.final_state, float) for k in again],
+            [shots[k].n for k in again],
+            policy,
+            deflate=[shots[k].state for k in again],
+        )
+        for k, r in zip(again, deflated, strict=True):
             if r.converged:
                 shots[k] = r
     verdicts = periodic_verdicts(tp, shots, policy, stage, why)
@@ -249,58 +265,3 @@ def certify(
             )
     decide(tp, verdicts)
     return [p for p in points if p.verdict is None]
-
-
-def _deflated(points: list[Point], found: list[ShootingResult], policy: Policy) -> list[ShootingResult]:
-    """Newton shooting for period n from each point's final state on the deflated residual
-    G(x) = m(x) (phi(x) - x), m(x) = 1 / |x - r|^2 + 1, r the unstable orbit point already found (Farrell,
-    Birkisson & Funke, SIAM J. Sci. Comput. 37 (2015) A2026): the deflated Newton iteration cannot
-    converge to r again.  All points together; convergence on the plain residual, as in Newton shooting."""
-    max_iter = policy.deflation_max_iter
-    n_of = [f.n for f in found]
-    xs = [np.asarray(p.run.final_state, float).copy() for p in points]
-    out: list[ShootingResult] = [
-        ShootingResult(x, n, False, "max_iterations", max_iter, float("inf")) for x, n in zip(xs, n_of, strict=True)
-    ]
-    todo = list(range(len(points)))
-    for it in range(max_iter + 1):
-        if not todo:
-            break
-        left = []
-        for n in sorted({n_of[k] for k in todo}):
-            ks = [k for k in todo if n_of[k] == n]
-            runs = simulate_batch(
-                [points[k].system for k in ks],
-                period_settings(policy.integration, n),
-                [xs[k] for k in ks],
-                monodromy_periods=n,
-                tables=tables_of([points[k] for k in ks]),
-            )
-            for k, r in zip(ks, runs, strict=True):
-                if r.diverged or r.monodromy is None:
-                    out[k] = ShootingResult(xs[k], n, False, "diverged", it, float("inf"))
-                    continue
-                F = r.final_state - xs[k]
-                res = float(np.max(np.abs(F)))
-                if small_residual(res, xs[k], policy.newton_tol):
-                    out[k] = ShootingResult(
-                        xs[k].copy(), n, True, "converged", it, res, r.monodromy.copy(), sorted_multipliers(r.monodromy)
-                    )
-                    continue
-                d = xs[k] - found[k].state
-                d2 = float(d @ d)
-                if d2 == 0.0 or it == max_iter:
-                    continue
-                m = 1.0 / d2 + 1.0
-                grad = -2.0 * d / d2**2
-                A = m * (r.monodromy - np.eye(6)) + np.outer(F, grad)
-                try:
-                    step = np.linalg.solve(A, -m * F)
-                except np.linalg.LinAlgError:
-                    continue
-                cap = 10.0 * max(1.0, float(np.max(np.abs(xs[k]))))
-                size = float(np.max(np.abs(step)))
-                xs[k] = xs[k] + (step * (cap / size) if size > cap else step)
-                left.append(k)
-        todo = left
-    return out

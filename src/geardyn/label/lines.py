@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import logging
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -30,17 +30,27 @@ from geardyn.label._record import integrate, slow_transients
 from geardyn.label.policy import Policy
 from geardyn.label.verdict import Verdict
 from geardyn.solve.base import System
-from geardyn.solve.simulate import LaneTables, full_batch, lane_tables
+from geardyn.solve.run import LaneTables, full_batch, lane_tables
 
 log = logging.getLogger("geardyn.label")
 
 
+#: The stages of a batch's first pass, in order: each takes the points still undecided and the policy,
+#: decides what it can and returns the rest (the last returns the points whose record is to grow).
+STAGES: tuple[Callable[[list[st.Point], Policy], list[st.Point]], ...] = (
+    follow,
+    integrate,
+    slow_transients,
+    exponents,
+)
+
+
 def _first_pass(points: list[st.Point], policy: Policy) -> list[st.Point]:
-    """Every stage in turn on the points still undecided; returns the points whose record is to grow."""
-    left = follow(points, policy)
-    left = integrate(left, policy)
-    left = slow_transients(left, policy)
-    return exponents(left, policy)
+    """Every stage of :data:`STAGES` in turn on the points still undecided; returns the points whose record
+    is to grow."""
+    for stage in STAGES:
+        points = stage(points, policy)
+    return points
 
 
 @dataclass
@@ -78,7 +88,7 @@ class _Line:
 
 def _schedule(lines: list[_Line], policy: Policy, progress: str) -> None:
     """Advance every line to its end.  Each batch is either the next points of all free lines (when there
-    are enough to fill the lanes, :func:`geardyn.solve.simulate.full_batch`, or no point waits), or the
+    are enough to fill the lanes, :func:`geardyn.solve.run.full_batch`, or no point waits), or the
     next piece of every waiting point's growing record, as long as the shortest round has left: all
     waiting points in one batch, whatever the lengths of their records."""
     total, t0, shown = sum(len(ln.systems) for ln in lines), time.perf_counter(), 0

@@ -4,7 +4,7 @@ With the light shaft damping of the KHV designs the least-damped mode decays by 
 mesh period, so a run can still be converging onto a periodic orbit when its recorded periods
 start.  Its exponent is then about -1e-3 per unit time, inside the classifier's "zero" band
 (``lam_tol``), and the exponent alone would call it quasi-periodic or
-undetermined.  :func:`settle` decides such a point by shooting instead of by a longer guess:
+undetermined.  :func:`settle_points` decides such a point by shooting instead of by a longer guess:
 
 1. only a point labelled quasi-periodic or undetermined whose exponent is not clearly positive
    (lambda <= lam_tol, or not finite) is tried; chaos and periodic labels are never touched;
@@ -12,8 +12,9 @@ undetermined.  :func:`settle` decides such a point by shooting instead of by a l
    n = 1 .. ``settle_max_n``, starts from the final state of the run; the first n that converges to
    an orbit whose Floquet multipliers all lie inside the unit circle is the candidate.  n = 1 is
    always tried; a larger n only when its return distance is falling over the run's recorded
-   Poincare points (:func:`return_distance_falls`): a run converging onto a period-n orbit shows it,
-   a torus does not, and this spares the shooting on tori, where it costs most;
+   Poincare points (:func:`geardyn.classify.falling_return_distances`, ``policy.return_fall``): a run
+   converging onto a period-n orbit shows it, a torus does not, and this spares the shooting on tori,
+   where it costs most;
 3. the run must approach that orbit (else, when the multiplier is so close to 1 that the horizon
    could not show it, the point is ``undetermined``: a possible slow transient, flag 2).  First its recorded Poincare
    points are read
@@ -31,7 +32,8 @@ runs inside the labeller (:mod:`geardyn.label`), so sweep cubes, maps, the claim
 the calibration all score the same labels.  :func:`settle_points` runs it for many points at once:
 each stage (the shooting for one n, with :func:`geardyn.solve.shooting.newton_shooting_batch`; the
 continued records) integrates all points that reach it together, and every point's verdict is the
-one it gets alone (:func:`settle`).
+one it gets alone.  Its settings (tolerances, falls, horizons) are the policy's ``settle`` group
+(:class:`geardyn.label.policy.Settle`).
 """
 
 from __future__ import annotations
@@ -44,12 +46,12 @@ import numpy as np
 
 from geardyn import classify
 from geardyn.label.compare import least_period, nearest_distances
-from geardyn.label.policy import Policy
+from geardyn.label.policy import Policy, Settle
 from geardyn.parallel import threaded_map
-from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve import simulate
 from geardyn.solve.base import SimulationResult
-from geardyn.solve.shooting import newton_shooting_batch, period_settings
-from geardyn.solve.simulate import LaneTables, lane_tables, simulate_batch
+from geardyn.solve.run import LaneTables, lane_tables, simulate_batch
+from geardyn.solve.shooting import cycle_points, newton_shooting_batch
 
 QP = classify.LABELS["quasi_periodic"]
 UNDET = classify.LABELS["undetermined"]
@@ -57,7 +59,7 @@ UNDET = classify.LABELS["undetermined"]
 
 @dataclass(frozen=True)
 class Settled:
-    """What :func:`settle` did at one point: the label before and after (the orbit's least period), the
+    """What :func:`settle_points` did at one point: the label before and after (the orbit's least period), the
     mesh periods n of the shooting map that found it, and max |mu| of that n-period map.  ``possible``:
     a stable orbit was found, but its multiplier is so close to 1 that the run could not be seen to
     approach it within ``settle_max_periods``; the label is then ``undetermined``, not quasi-periodic."""
@@ -75,7 +77,7 @@ class Settled:
 
 
 def needs_check(label: int, lyapunov: float, classifier: classify.ClassifierSettings) -> bool:
-    """Whether :func:`settle` tries the point: quasi-periodic or undetermined with an exponent that is
+    """Whether :func:`settle_points` tries the point: quasi-periodic or undetermined with an exponent that is
     not clearly positive, and the check switched on (``settle_max_n > 0``)."""
     return (
         classifier.settle_max_n > 0
@@ -84,40 +86,26 @@ def needs_check(label: int, lyapunov: float, classifier: classify.ClassifierSett
     )
 
 
-def _cycle_tol(state: np.ndarray) -> float:
-    """How close point m of a shot cycle must come back to its state to make m its period (1e-6 of its size)."""
-    return 1e-6 * max(1.0, float(np.max(np.abs(state))))
-
-
-def return_distance_falls(poincare: np.ndarray, n: int, factor: float = 0.95) -> bool:
-    """Whether the return distance d_n(k) = max_i |p_k+n,i - p_k,i| of the recorded Poincare points
-    falls over the record: mean of its last quarter < ``factor`` x mean of its first quarter.  True
-    when the record is too short to tell (fewer than n + 8 points).  A transient onto a stable
-    period-n orbit with leading multiplier rho shrinks d_n by rho^(3K/4) over K points (0.47 for
-    rho = 0.99 and K = 100); ``factor`` 0.95 skips only transients slower than about rho = 0.9993
-    per period on a 100-point record."""
-    return bool(classify.falling_return_distances(poincare, n, factor)[n - 1])
-
-
-def approached_in_record(poincare: np.ndarray, cycle: np.ndarray, rho: float, n: int) -> bool:
+def approached_in_record(
+    poincare: np.ndarray,
+    cycle: np.ndarray,
+    rho: float,
+    n: int,
+    min_points: int = Settle.min_points,
+    rate_share: float = Settle.rate_share,
+    fall: float = Settle.record_fall,
+) -> bool:
     """Whether the recorded Poincare points approach the period-n ``cycle`` (n x 6) with leading
     multiplier ``rho`` < 1: the least-squares slope of log(distance to the nearest cycle point) per
-    period is at most half of log(rho) / n, and the fitted distance falls at least 2-fold over the
-    record (at least 20 points)."""
+    period is at most ``rate_share`` of log(rho) / n, and the fitted distance falls at least by ``fall``
+    over the record (at least ``min_points`` points; the defaults: half the rate, 2-fold, 20 points)."""
     p = np.asarray(poincare, dtype=float)
     p = p[np.all(np.isfinite(p), axis=1)]
-    if p.shape[0] < 20 or not 0.0 < rho < 1.0:
+    if p.shape[0] < min_points or not 0.0 < rho < 1.0:
         return False
     d = nearest_distances(p, np.asarray(cycle))
     slope = float(np.polyfit(np.arange(d.size), np.log(np.maximum(d, 1e-300)), 1)[0])
-    return slope <= 0.5 * math.log(rho) / n and math.exp(slope * (d.size - 1)) <= 0.5
-
-
-def settle(
-    system, result, label: int, lyapunov: float, settings: SimulationSettings, classifier: classify.ClassifierSettings
-) -> Settled:
-    """The slow-transient check of one point (module docstring): its label after the check."""
-    return settle_points([system], [result], [label], [lyapunov], settings, classifier)[0]
+    return slope <= rate_share * math.log(rho) / n and math.exp(slope * (d.size - 1)) <= fall
 
 
 def settle_points(
@@ -125,22 +113,20 @@ def settle_points(
     results,
     labels,
     lyapunovs,
-    settings: SimulationSettings,
-    classifier: classify.ClassifierSettings,
+    policy: Policy,
     tables: LaneTables | None = None,
     always_one: list[bool] | None = None,
-    newton: tuple[float, int] = (Policy.newton_tol, Policy.settle_newton_max_iter),
 ) -> list[Settled]:
-    """:func:`settle` of many points at once, stage by stage: the shooting of every point for one n,
-    and the continued records of a stage, are integrated together
-    (:func:`geardyn.solve.shooting.newton_shooting_batch`, :func:`geardyn.solve.simulate.simulate_batch`,
+    """The slow-transient check (module docstring) of many points at once, stage by stage: the shooting of
+    every point for one n, and the continued records of a stage, are integrated together
+    (:func:`geardyn.solve.shooting.newton_shooting_batch`, :func:`geardyn.solve.run.simulate_batch`,
     both cores); the last stage (the run continued until its distance falls 10-fold), which few points
     reach, runs point by point in threads.  Each point's numbers are those of the point alone.
-    ``tables``: the :func:`geardyn.solve.simulate.lane_tables` of ``systems`` at ``settings``, when the
+    ``tables``: the :func:`geardyn.solve.run.lane_tables` of ``systems`` at ``settings``, when the
     caller has them.  ``always_one[i]`` False: period 1 is tried only when its return distance falls, as
-    every other period (for a run that started on the attractor of a neighbouring point).  ``newton``: the
-    shooting's tolerance and iterations (a :class:`geardyn.label.policy.Policy`'s ``newton_tol`` and
-    ``settle_newton_max_iter``)."""
+    every other period (for a run that started on the attractor of a neighbouring point).  ``policy``: the
+    integration, the classifier's ``settle_max_n`` and ``settle_max_periods`` and the ``settle_*`` settings."""
+    settings, classifier = policy.integration, policy.classifier
     out: list[Settled | None] = [None] * len(systems)
     active = []
     for i, (res, label, lam) in enumerate(zip(results, labels, lyapunovs, strict=True)):
@@ -153,7 +139,10 @@ def settle_points(
     x0 = {i: np.asarray(results[i].final_state, dtype=float) for i in active}
     if tables is None:
         tables = lane_tables(systems, settings)  # the per-point step tables, built once for every stage
-    falls = {i: classify.falling_return_distances(results[i].poincare, classifier.settle_max_n) for i in active}
+    falls = {
+        i: classify.falling_return_distances(results[i].poincare, classifier.settle_max_n, policy.return_fall)
+        for i in active
+    }
     one = [True] * len(systems) if always_one is None else always_one
     for n in range(1, classifier.settle_max_n + 1):
         # period 1 is tried from a fixed start even when its distance does not fall: the slowest transients
@@ -166,13 +155,14 @@ def settle_points(
             [x0[i] for i in tried],
             n,
             settings,
-            tol=newton[0],
-            max_iter=newton[1],
+            tol=policy.newton.tol,
+            max_iter=policy.settle.newton_max_iter,
             tables=tables.take(tried),
+            step_cap=policy.newton.step_cap,
         )
         stable = {i: r for i, r in zip(tried, shots, strict=True) if r.converged and r.spectral_radius < 1.0}
         if stable:
-            for i, s in _judge(systems, tables, results, labels, x0, stable, n, settings, classifier).items():
+            for i, s in _judge(systems, tables, results, labels, x0, stable, n, policy).items():
                 out[i] = s
             active = [i for i in active if i not in stable]
     for i in active:
@@ -184,21 +174,23 @@ def settle_points(
     return out  # type: ignore[return-value]
 
 
-def _cycles(systems, tables: LaneTables, shots: dict, n: int, settings: SimulationSettings) -> dict[int, np.ndarray]:
-    """The least-period cycle (m x 6) of every stable n-period orbit found: its n points, one mesh period
-    apart (all points advanced together), cut to the least period m
-    (:func:`geardyn.label.compare.least_period`, within 1e-6 of the state's size)."""
-    one = period_settings(settings, 1)
-    cycles = {i: [r.state] for i, r in shots.items()}
-    alive = list(shots)
-    for _ in range(n - 1):
-        runs = simulate_batch(
-            [systems[i] for i in alive], one, [cycles[i][-1] for i in alive], tables=tables.take(alive)
-        )
-        alive = [i for i, r in zip(alive, runs, strict=True) if not r.diverged]
-        for i, r in zip(alive, [r for r in runs if not r.diverged], strict=True):
-            cycles[i].append(r.final_state.copy())
-    return {i: np.array(c[: least_period(np.array(c), _cycle_tol(shots[i].state))]) for i, c in cycles.items()}
+def _cycles(systems, tables: LaneTables, shots: dict, n: int, policy: Policy) -> dict[int, np.ndarray]:
+    """The least-period cycle (m x 6) of every stable n-period orbit found
+    (:func:`geardyn.solve.shooting.cycle_points`), cut to the least period m
+    (:func:`geardyn.label.compare.least_period`, within ``policy.settle.cycle_rtol`` of the state's size)."""
+    ids = list(shots)
+    found = cycle_points(
+        [systems[i] for i in ids],
+        [shots[i].state for i in ids],
+        n,
+        policy.integration,
+        tables=tables.take(ids) if n > 1 else None,
+    )
+    out = {}
+    for i, (c, _, _) in zip(ids, found, strict=True):
+        tol = policy.settle.cycle_rtol * max(1.0, float(np.max(np.abs(shots[i].state))))
+        out[i] = c[: least_period(c, tol)]
+    return out
 
 
 def _judge(
@@ -209,13 +201,14 @@ def _judge(
     x0: dict,
     shots: dict,
     n: int,
-    settings: SimulationSettings,
-    classifier: classify.ClassifierSettings,
+    policy: Policy,
 ) -> dict[int, Settled]:
     """Whether each run approaches the stable n-period orbit found for it (module docstring, step 3)."""
-    cycles = _cycles(systems, tables, shots, n, settings)
-    rho = {i: min(r.spectral_radius, 1.0 - 1e-6) for i, r in shots.items()}
-    max_periods = classifier.settle_max_periods
+    settings = policy.integration
+    cycles = _cycles(systems, tables, shots, n, policy)
+    rho = {i: min(r.spectral_radius, policy.settle.rho_max) for i, r in shots.items()}
+    max_periods = policy.classifier.settle_max_periods
+    reads = (policy.settle.min_points, policy.settle.rate_share, policy.settle.record_fall)
 
     def found(i: int, how: str) -> Settled:
         r = shots[i]
@@ -236,12 +229,12 @@ def _judge(
     out = {
         i: found(i, "over the recorded periods")
         for i in shots
-        if approached_in_record(results[i].poincare, cycles[i], rho[i], n)
+        if approached_in_record(results[i].poincare, cycles[i], rho[i], n, *reads)
     }
     # a continued record as long as the multiplier needs to shrink a distance 4-fold, read the same way
-    k4, ext = _continued(systems, tables, settings, x0, {i: rho[i] for i in shots if i not in out}, n, max_periods)
+    k4, ext = _continued(systems, tables, policy, x0, {i: rho[i] for i in shots if i not in out}, n)
     for i, e in ext.items():
-        if not e.diverged and approached_in_record(e.poincare, cycles[i], rho[i], n):
+        if not e.diverged and approached_in_record(e.poincare, cycles[i], rho[i], n, *reads):
             out[i] = found(i, f"over {k4[i]} more periods")
     last = [i for i in shots if i not in out]
 
@@ -249,16 +242,17 @@ def _judge(
         r = shots[i]
         cyc, m = cycles[i], len(cycles[i])
         # last, the run continued (from the end of that record) until a 10-fold fall, within max_periods
-        k = int(min(max(max_periods, n), max(n, math.ceil(math.log(0.01) / math.log(rho[i])))))
+        k = int(min(max(max_periods, n), max(n, math.ceil(math.log(policy.settle.horizon_fall) / math.log(rho[i])))))
         k = n * math.ceil(k / n)
         more = dataclasses.replace(settings, transient_periods=k - 1 if k > 1 else 0, recorded_periods=1)
-        scale = 1e-7 * max(1.0, float(np.max(np.abs(r.state))))
+        scale = policy.settle.reached_rtol * max(1.0, float(np.max(np.abs(r.state))))
         d0 = float(nearest_distances(x0[i], cyc)[0])
         x, d1, done = x0[i], d0, 0
         if not ext[i].diverged:
             x, done = ext[i].final_state, k4[i]
             d1 = float(nearest_distances(x, cyc)[0])
-        while done < max_periods and not (d1 <= 0.1 * d0 or d1 <= scale):
+        fall = policy.settle.run_fall
+        while done < max_periods and not (d1 <= fall * d0 or d1 <= scale):
             run = simulate(systems[i], more, x0=x)
             if run.diverged:
                 d1 = float("inf")
@@ -266,9 +260,9 @@ def _judge(
             x = run.final_state
             done += k
             d1 = float(nearest_distances(x, cyc)[0])
-        if d1 <= 0.1 * d0 or d1 <= scale:
+        if d1 <= fall * d0 or d1 <= scale:
             return found(i, "by the run")
-        if rho[i] ** (done / n) > 0.1:
+        if rho[i] ** (done / n) > fall:
             # the multiplier is so close to 1 that the horizon could not show a 10-fold fall: the run may be a
             # transient onto this orbit; say so instead of calling it quasi-periodic
             return Settled(
@@ -295,13 +289,17 @@ def _judge(
 
 
 def _continued(
-    systems, tables: LaneTables, settings: SimulationSettings, x0: dict, rho: dict, n: int, max_periods: int
+    systems, tables: LaneTables, policy: Policy, x0: dict, rho: dict, n: int
 ) -> tuple[dict[int, int], dict[int, SimulationResult]]:
     """The runs of the points ``rho`` (point: its leading multiplier) continued from x0 for as many periods
-    as their multiplier needs to shrink a distance 4-fold (a multiple of n, at least 20, at most
-    ``max_periods``), points of one length in one batch: (lengths, runs)."""
+    as their multiplier needs to shrink a distance by ``policy.settle.probe_fall`` (a multiple of n, at least
+    ``settle_probe_min_periods``, at most the classifier's ``settle_max_periods``), points of one length in
+    one batch: (lengths, runs)."""
+    settings, max_periods = policy.integration, policy.classifier.settle_max_periods
+    least, fall = policy.settle.probe_min_periods, policy.settle.probe_fall
     k4 = {
-        i: n * math.ceil(min(max_periods, max(20, math.ceil(math.log(0.25) / math.log(r)))) / n) for i, r in rho.items()
+        i: n * math.ceil(min(max_periods, max(least, math.ceil(math.log(fall) / math.log(r)))) / n)
+        for i, r in rho.items()
     }
     ext = {}
     for group in _length_classes(k4):

@@ -33,7 +33,7 @@ from geardyn.label.compare import same, same_attractor
 from geardyn.runs import cube, study
 from geardyn.solve.base import System
 from geardyn.solve.response import RMS_BLOCKS, rms_errors_many
-from geardyn.solve.simulate import simulate_batch
+from geardyn.solve.run import simulate_batch
 
 DIRECTIONS = ("up", "down")
 

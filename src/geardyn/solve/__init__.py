@@ -6,9 +6,10 @@ _model        the accelerations, their linearisation, the RK4 step of orbit and 
 _kernel       the compiled loop (private)
 _batch        the same loop over many points, 8 lanes in lockstep (private)
 _period       rule 3 of the classifier and the early stop of the transient (private)
-simulate      :func:`simulate` (orbit, dense output, tangent vector or monodromy), step tables
+run           :func:`simulate` (orbit, dense output, tangent vector or monodromy), :func:`simulate_batch`,
+              step tables
 reference     DOP853 with switching events (independent check)
-floquet       monodromy and multipliers of the linear (b = 0) system
+floquet       which multipliers are complex, the bifurcation an orbit meets
 precision     the measured Poincare error of the integrator per step count (:data:`POINCARE_ERROR`)
 ============  ==========================================================================================
 
@@ -17,48 +18,31 @@ are loaded on first use (PEP 562), so a job that only reads results does not imp
 compiled loops (about 0.45 s of each such job's start-up).
 """
 
-import importlib
-import sys
-import types
-from typing import TYPE_CHECKING, Any
-
 from geardyn._lazy import lazy_attributes
 from geardyn.solve.base import LAYOUT, SimulationResult, SimulationSettings, System
 from geardyn.solve.precision import POINCARE_ERROR
 
-if TYPE_CHECKING:
-    from geardyn.solve.simulate import largest_lyapunov, simulate, step_grid, step_tables, warm_up
-
-__getattr__ = lazy_attributes(
-    __name__, dict.fromkeys(("largest_lyapunov", "step_grid", "step_tables", "warm_up"), "simulate")
-)
-
-
-class _Package(types.ModuleType):
-    """``geardyn.solve.simulate`` names both a module and the function it defines; the package's attribute is
-    the function, as with an eager ``from .simulate import simulate``, whichever is imported first (the
-    import system's record of the submodule goes to ``sys.modules`` only)."""
-
-    @property
-    def simulate(self) -> Any:
-        return importlib.import_module("geardyn.solve.simulate").simulate
-
-    @simulate.setter
-    def simulate(self, module: types.ModuleType) -> None:
-        pass
-
-
-sys.modules[__name__].__class__ = _Package
+#: the names loaded from :mod:`geardyn.solve.run` on first use
+_RUN = (
+    "EarlyStop LaneTables full_batch lane_tables simulate simulate_batch step_tables strict_period strict_periods "
+    "warm_up"
+).split()
+__getattr__ = lazy_attributes(__name__, dict.fromkeys(_RUN, "run"))
 
 __all__ = [
     "LAYOUT",
     "POINCARE_ERROR",
+    "EarlyStop",
+    "LaneTables",
     "SimulationResult",
     "SimulationSettings",
     "System",
-    "largest_lyapunov",
+    "full_batch",
+    "lane_tables",
     "simulate",
-    "step_grid",
+    "simulate_batch",
     "step_tables",
+    "strict_period",
+    "strict_periods",
     "warm_up",
 ]

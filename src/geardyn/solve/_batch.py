@@ -34,7 +34,7 @@ from numba import njit, prange
 
 import geardyn.solve._cache as _cache
 from geardyn.solve._kernel import diverged, locate_switches, record, region, run
-from geardyn.solve._model import rk4, rk4_tangent, slope
+from geardyn.solve._model import rk4, rk4_tangent_at, slope
 from geardyn.solve._period import (
     early_stop,
     strict_periods,  # noqa: F401  (rule 3 for many records, compiled)
@@ -123,17 +123,8 @@ def _lanes(A, tan):
         A[32 * WIDTH + q] = n6
         if tan:
             on = A[45 * WIDTH + q]
-            # fmt: off
-            w = rk4_tangent(k, h, k0 * slope(on, b, x2), k1 * slope(on, b, X2), k1 * slope(on, b, Z2),
-                            k2 * slope(on, b, Q2), A[33 * WIDTH + q], A[34 * WIDTH + q], A[35 * WIDTH + q],
-                            A[36 * WIDTH + q], A[37 * WIDTH + q], A[38 * WIDTH + q])
-            # fmt: on
-            A[39 * WIDTH + q] = w[0]
-            A[40 * WIDTH + q] = w[1]
-            A[41 * WIDTH + q] = w[2]
-            A[42 * WIDTH + q] = w[3]
-            A[43 * WIDTH + q] = w[4]
-            A[44 * WIDTH + q] = w[5]
+            s1, s2, s3, s4 = k0 * slope(on, b, x2), k1 * slope(on, b, X2), k1 * slope(on, b, Z2), k2 * slope(on, b, Q2)
+            rk4_tangent_at(k, h, s1, s2, s3, s4, A, 33, 39, WIDTH, q)
 
 
 @njit(cache=True, inline="never")
@@ -352,7 +343,7 @@ def run_blocks(C, TABS, Y0, NTRANS, NREC, event, LIMITS, POINC, YFINAL, ES, OUT,
 
 @njit(cache=True)
 def fill_tables(lane, eps, period, te, phi, poly, n, H, S, SEG, K, P):
-    """The aligned step tables of :func:`geardyn.solve.simulate.step_tables` for one lane, written
+    """The aligned step tables of :func:`geardyn.solve.run.step_tables` for one lane, written
     into row ``lane`` of H, S, SEG, K, P (the same operations in the same order: the same bits)."""
     e1 = eps - math.floor(eps)
     if e1 == 0.0:  # integer contact ratio: one zone

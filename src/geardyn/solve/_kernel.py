@@ -34,7 +34,7 @@ import numpy as np
 from numba import njit
 
 import geardyn.solve._cache as _cache
-from geardyn.solve._model import rk4, rk4_tangent, slope
+from geardyn.solve._model import rk4, rk4_tangent, rk4_tangent_at, slope
 from geardyn.solve._period import early_stop
 from geardyn.solve.base import BACKLASH_ON, EPS, PHI, TE, B, T
 
@@ -90,16 +90,7 @@ def step_columns(c, y, h, k0, k1, k2, p0, p1, p2, ynew, A):
     written through two arrays, stay scalar: 95 against 30 ns a step, measured)."""
     s1, s2, s3, s4 = orbit_step(c, y, h, k0, k1, k2, p0, p1, p2, ynew)
     for q in range(COLUMNS):
-        # fmt: off
-        w = rk4_tangent(c, h, s1, s2, s3, s4, A[q], A[COLUMNS + q], A[2 * COLUMNS + q], A[3 * COLUMNS + q],
-                        A[4 * COLUMNS + q], A[5 * COLUMNS + q])
-        # fmt: on
-        A[6 * COLUMNS + q] = w[0]
-        A[7 * COLUMNS + q] = w[1]
-        A[8 * COLUMNS + q] = w[2]
-        A[9 * COLUMNS + q] = w[3]
-        A[10 * COLUMNS + q] = w[4]
-        A[11 * COLUMNS + q] = w[5]
+        rk4_tangent_at(c, h, s1, s2, s3, s4, A, 0, 6, COLUMNS, q)
 
 
 @njit(cache=True, inline="always")
@@ -268,7 +259,7 @@ def run(
     to the state n_tan periods before the end.  limits (6,): a run whose |y_i| exceeds limits[i] (or
     is not finite) at a period end has diverged.
 
-    tabs: the step tables (h, s, seg, k, p, poly) of :func:`geardyn.solve.simulate.step_tables`.
+    tabs: the step tables (h, s, seg, k, p, poly) of :func:`geardyn.solve.run.step_tables`.
 
     Early stop (``es`` = (es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep), on when
     ``es_confirm > 0``; :data:`NO_EARLY_STOP` is off): from period ``es_min`` on, the transient ends once the return

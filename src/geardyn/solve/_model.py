@@ -120,3 +120,21 @@ def rk4_tangent(k, h, s1, s2, s3, s4, w0, w1, w2, w3, w4, w5):
         w4 + h6 * (A2 + 2.0 * Q2 + 2.0 * R2 + S2),
         w5 + h6 * (A3 + 2.0 * Q3 + 2.0 * R3 + S3),
     )
+
+
+@njit(cache=True, inline="always")
+def rk4_tangent_at(k, h, s1, s2, s3, s4, A, read, write, stride, q):
+    """:func:`rk4_tangent` of the column held in the flat buffer ``A`` at ``A[(read + i) stride + q]``,
+    i = 0 .. 5, its new value written at ``A[(write + i) stride + q]`` (the buffers of the compiled loops:
+    one offset per component, ``stride`` columns or lanes apart)."""
+    # fmt: off
+    w = rk4_tangent(k, h, s1, s2, s3, s4, A[read * stride + q], A[(read + 1) * stride + q],
+                    A[(read + 2) * stride + q], A[(read + 3) * stride + q], A[(read + 4) * stride + q],
+                    A[(read + 5) * stride + q])
+    # fmt: on
+    A[write * stride + q] = w[0]
+    A[(write + 1) * stride + q] = w[1]
+    A[(write + 2) * stride + q] = w[2]
+    A[(write + 3) * stride + q] = w[3]
+    A[(write + 4) * stride + q] = w[4]
+    A[(write + 5) * stride + q] = w[5]

@@ -9,7 +9,7 @@ returns closely after n periods too).  Its users:
 
 * :func:`strict_period` / :func:`strict_periods`: a finished record, the tolerance scaled to the
   attractor (:func:`geardyn.classify.strict_period` calls it on one record,
-  :func:`geardyn.solve.simulate.strict_periods` on many);
+  :func:`geardyn.solve.run.strict_periods` on many);
 * :func:`early_stop`: the running record of the transient in the loops of
   :func:`geardyn.solve._kernel.run` and :func:`geardyn.solve._batch.run_blocks`, where d_n "passes"
   once it has stayed within the tolerance for ``confirm`` consecutive periods.

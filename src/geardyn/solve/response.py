@@ -183,7 +183,7 @@ def response_measures_many(
     import geardyn.solve._batch as _batch  # noqa: PLC0415 - compiled: not imported by jobs that read results
     import geardyn.solve._response as _acc  # noqa: PLC0415 - likewise
     from geardyn.solve._kernel import NO_EARLY_STOP  # noqa: PLC0415 - likewise
-    from geardyn.solve.simulate import lane_tables  # noqa: PLC0415 - likewise
+    from geardyn.solve.run import lane_tables  # noqa: PLC0415 - likewise
 
     settings = SimulationSettings() if settings is None else settings
     n_per = _periods_of(systems, y0s, settings, periods)
@@ -298,7 +298,7 @@ def rms_errors_many(
     The error is that of the time average over the record: it says whether two RMS values differ by more
     than their records can resolve.  It does not see a slow drift of the record as a whole (a transient
     longer than the record)."""
-    from geardyn.solve.simulate import simulate_batch  # noqa: PLC0415 - compiled: not imported by readers
+    from geardyn.solve.run import simulate_batch  # noqa: PLC0415 - compiled: not imported by readers
 
     settings = SimulationSettings() if settings is None else settings
     if blocks < 2:

@@ -18,9 +18,9 @@ stable when all |mu| < 1.
 
 Everything here works on a *flow map*: a callable ``flow(x, jacobian) -> (phi(x), M or None)``
 returning ``(None, None)`` when the orbit diverged.  :func:`khv_flow` builds it for a
-:class:`~geardyn.solve.base.System`; :func:`rk4_flow` for any smooth forced ODE (used to validate
-the method on the Duffing oscillator).  Non-convergence is never silent: :class:`ShootingResult`
-carries ``converged`` and a ``status`` word.
+:class:`~geardyn.solve.base.System` (``tests/_oracle.py`` holds an RK4 flow map of any smooth forced ODE,
+with which the tests validate the method on the Duffing oscillator).  Non-convergence is never silent:
+:class:`ShootingResult` carries ``converged`` and a ``status`` word.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ import numpy as np
 
 from geardyn import libm
 from geardyn.solve.base import SimulationSettings, System
-from geardyn.solve.simulate import lane_tables, simulate, simulate_batch
+from geardyn.solve.run import lane_tables, simulate, simulate_batch
 
 #: flow(x, jacobian) -> (state after n periods, monodromy or None); (None, None) when diverged.
 FlowMap = Callable[[np.ndarray, bool], tuple[np.ndarray | None, np.ndarray | None]]
@@ -86,24 +86,36 @@ def _newton_end(
     max_iter: int,
     max_growth: float = math.inf,
     previous: float = math.inf,
+    growth_first: bool = False,
 ) -> tuple[ShootingResult | None, float]:
-    """The :class:`ShootingResult` when the Newton iteration ends at the iterate ``x`` given phi(x) and
-    M(x) (None: diverged): diverged, not finite, converged, the residual grown more than ``max_growth``
-    times over the ``previous`` iterate's, or the last iteration; else None.  With it, the residual
-    max |phi(x) - x| (the next iteration's ``previous``)."""
-    if phi is None or M is None:
+    """The :class:`ShootingResult` when the iteration ends at the iterate ``x`` given phi(x) (None: diverged)
+    and M(x) (None: a chord iteration, which carries none): diverged, not finite, converged, the residual
+    grown more than ``max_growth`` times over the ``previous`` iterate's (checked before convergence with
+    ``growth_first``), or the last iteration; else None.  With it, the residual max |phi(x) - x| (the next
+    iteration's ``previous``)."""
+    if phi is None:
         return ShootingResult(x, n, False, "diverged", it, float("inf")), float("inf")
     F = phi - x
     res = float(np.max(np.abs(F)))
-    if not (np.all(np.isfinite(F)) and np.all(np.isfinite(M))):
+    if not (np.all(np.isfinite(F)) and (M is None or np.all(np.isfinite(M)))):
         return ShootingResult(x, n, False, "not_finite", it, res), res
+    grows = res > max_growth * previous
+    if growth_first and grows:
+        return ShootingResult(x, n, False, "residual_grows", it, res), res
     if res <= tol * max(1.0, float(np.max(np.abs(x)))):
-        return ShootingResult(x, n, True, "converged", it, res, M, sorted_multipliers(M)), res
-    if res > max_growth * previous:
-        return ShootingResult(x, n, False, "residual_grows", it, res, M, sorted_multipliers(M)), res
+        return _result(x, n, True, "converged", it, res, M), res
+    if grows:
+        return _result(x, n, False, "residual_grows", it, res, M), res
     if it == max_iter:
-        return ShootingResult(x, n, False, "max_iterations", max_iter, res, M, sorted_multipliers(M)), res
+        return _result(x, n, False, "max_iterations", max_iter, res, M), res
     return None, res
+
+
+def _result(x: np.ndarray, n: int, ok: bool, status: str, it: int, res: float, M: np.ndarray | None) -> ShootingResult:
+    """A :class:`ShootingResult` with the monodromy M and its multipliers (none for a chord iteration)."""
+    if M is None:
+        return ShootingResult(x, n, ok, status, it, res)
+    return ShootingResult(x, n, ok, status, it, res, M, sorted_multipliers(M))
 
 
 def _newton_next(
@@ -136,8 +148,8 @@ def _newton_next(
     return out
 
 
-def _step_cap(x0: np.ndarray, max_step: float | None) -> float:
-    return max_step if max_step is not None else 10.0 * max(1.0, float(np.max(np.abs(x0))))
+def _step_cap(x0: np.ndarray, max_step: float | None, factor: float = 10.0) -> float:
+    return max_step if max_step is not None else factor * max(1.0, float(np.max(np.abs(x0))))
 
 
 def newton_shooting(
@@ -181,34 +193,60 @@ def newton_shooting_batch(
     max_iter: int = 30,
     tables=None,
     max_growth: float = math.inf,
+    *,
+    chord: list[np.ndarray] | None = None,
+    deflate: list[np.ndarray] | None = None,
+    deflation_shift: float = 1.0,
+    step_cap: float = 10.0,
 ) -> list[ShootingResult]:
-    """:func:`newton_shooting` on the n-period map (:func:`khv_flow`) of many systems at once: every
-    iteration integrates all unfinished points together (:func:`geardyn.solve.simulate.simulate_batch`,
-    both cores), whose lanes have the arithmetic of :func:`simulate`; each point's iterates, and so its
-    result, are those of ``shoot(system, x0, n, settings, tol, max_iter)`` bit for bit.  ``tables``: the
-    :func:`geardyn.solve.simulate.lane_tables` of ``systems`` when the caller has them."""
+    """:func:`newton_shooting` on the n-period map (:func:`khv_flow`) of many systems at once, the batched
+    Newton core: every iteration integrates all unfinished points together
+    (:func:`geardyn.solve.run.simulate_batch`, both cores), whose lanes have the arithmetic of
+    :func:`simulate`; each point's iterates, and so its result, are those of
+    ``shoot(system, x0, n, settings, tol, max_iter)`` bit for bit.  ``tables``: the
+    :func:`geardyn.solve.run.lane_tables` of ``systems`` when the caller has them.  The step is capped at
+    ``step_cap`` max(1, |x0|) (max norm).
 
+    ``chord``: a chord iteration x <- x - C (phi(x) - x) with a fixed matrix C per point (the inverse of
+    M - I of a nearby orbit): plain runs without the variational part, no step cap, and the growth stop
+    checked before convergence (``max_growth`` 0.5: the residual must halve at every iteration); a converged
+    result carries no monodromy.  ``deflate``: a root r per point that the iteration must not converge to
+    again: Newton on the deflated residual G(x) = m(x) (phi(x) - x), m(x) = 1 / |x - r|^2 + ``deflation_shift``
+    (Farrell, Birkisson & Funke, SIAM J. Sci. Comput. 37 (2015) A2026), convergence on the plain residual, the
+    step capped at ``step_cap`` max(1, |x|) of the current iterate."""
     s = period_settings(settings, n)
     tables = lane_tables(systems, s) if tables is None else tables
     xs = [np.asarray(x, dtype=float).copy() for x in x0s]
-    caps = [_step_cap(x, None) for x in xs]
+    caps = [_step_cap(x, None, step_cap) for x in xs]
     previous = [math.inf] * len(xs)
     out: list[ShootingResult | None] = [None] * len(xs)
     todo = list(range(len(xs)))  # the unfinished points; ``tables`` holds their rows, in this order
     for it in range(max_iter + 1):
         if not todo:
             break
-        runs = simulate_batch([systems[i] for i in todo], s, [xs[i] for i in todo], monodromy_periods=n, tables=tables)
+        runs = simulate_batch(
+            [systems[i] for i in todo], s, [xs[i] for i in todo], monodromy_periods=0 if chord else n, tables=tables
+        )
         go = []  # (position in todo, phi, M) of the points whose iteration goes on
         for k, (i, r) in enumerate(zip(todo, runs, strict=True)):
-            phi, M = (None, None) if r.diverged else (r.final_state.copy(), r.monodromy.copy())
-            end, previous[i] = _newton_end(xs[i], phi, M, n, tol, it, max_iter, max_growth, previous[i])
+            phi, M = (None, None) if r.diverged else (r.final_state.copy(), None if chord else r.monodromy.copy())
+            end, previous[i] = _newton_end(
+                xs[i], phi, M, n, tol, it, max_iter, max_growth, previous[i], growth_first=chord is not None
+            )
             if end is None:
                 go.append((k, phi, M))
             else:
-                out[todo[k]] = end
-        left = []
-        if go:
+                out[i] = end
+        if not go:
+            nxt = []
+        elif chord is not None:
+            nxt = [xs[todo[k]] - chord[todo[k]] @ (phi - xs[todo[k]]) for k, phi, _ in go]
+        elif deflate is not None:
+            nxt = [
+                _deflated_step(xs[todo[k]], phi, M, deflate[todo[k]], deflation_shift, step_cap, n, it)
+                for k, phi, M in go
+            ]
+        else:
             nxt = _newton_next(
                 [xs[todo[k]] for k, _, _ in go],
                 [phi for _, phi, _ in go],
@@ -217,16 +255,55 @@ def newton_shooting_batch(
                 n,
                 it,
             )
-            for (k, _, _), x in zip(go, nxt, strict=True):
-                if isinstance(x, ShootingResult):
-                    out[todo[k]] = x
-                else:
-                    xs[todo[k]] = x
-                    left.append(k)
+        left = []
+        for (k, _, _), x in zip(go, nxt, strict=True):
+            if isinstance(x, ShootingResult):
+                out[todo[k]] = x
+            else:
+                xs[todo[k]] = x
+                left.append(k)
         if len(left) < len(todo):
             tables = tables.take(left)  # copied only when a point has finished
         todo = [todo[k] for k in left]
     return out  # type: ignore[return-value]
+
+
+def _deflated_step(
+    x: np.ndarray, phi: np.ndarray, M: np.ndarray, root: np.ndarray, shift: float, cap: float, n: int, it: int
+) -> np.ndarray | ShootingResult:
+    """The next iterate of deflated Newton (:func:`newton_shooting_batch` with ``deflate``), or the result
+    where it stops: at the root itself, or on a singular matrix."""
+    F = phi - x
+    d = x - root
+    d2 = float(d @ d)
+    if d2 == 0.0:
+        return ShootingResult(x, n, False, "singular", it, float(np.max(np.abs(F))))
+    m = 1.0 / d2 + shift
+    grad = -2.0 * d / d2**2
+    A = m * (M - np.eye(x.size)) + np.outer(F, grad)
+    try:
+        step = np.linalg.solve(A, -m * F)
+    except np.linalg.LinAlgError:
+        return ShootingResult(x, n, False, "singular", it, float(np.max(np.abs(F))))
+    limit = _step_cap(x, None, cap)
+    size = float(np.max(np.abs(step)))
+    return x + (step * (limit / size) if size > limit else step)
+
+
+def cycle_points(
+    systems: list[System], states: list[np.ndarray], n: int, settings: SimulationSettings | None, tables=None
+) -> list[tuple[np.ndarray, int, bool]]:
+    """The n phase-0 points (n, 6) of the period-n orbits through ``states`` (the state first), one mesh
+    period apart, from one run of n periods of each (all together; a period-1 orbit is its state, no run):
+    (points, contact switches over the n periods (-1: not run), diverged).  A run that diverged gives the
+    points before it diverged."""
+    if n == 1:
+        return [(np.asarray(x)[None, :], -1, False) for x in states]
+    runs = simulate_batch(systems, period_settings(settings, n), list(states), tables=tables)
+    return [
+        (np.vstack([np.asarray(x)[None, :], r.poincare])[:n], int(r.n_events), bool(r.diverged))
+        for x, r in zip(states, runs, strict=True)
+    ]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -262,20 +339,6 @@ def khv_flow(system: System, n: int = 1, settings: SimulationSettings | None = N
     return flow
 
 
-def fd_monodromy(flow: FlowMap, x: np.ndarray, h: float = 1e-5) -> np.ndarray:
-    """Central finite-difference monodromy (relative step h * max(1, |x_i|)), for checks."""
-    x = np.asarray(x, dtype=float)
-    M = np.empty((x.size, x.size))
-    for i in range(x.size):
-        d = h * max(1.0, abs(x[i]))
-        e = np.zeros(x.size)
-        e[i] = d
-        up, _ = flow(x + e, False)
-        dn, _ = flow(x - e, False)
-        M[:, i] = (up - dn) / (2 * d)
-    return M
-
-
 def shoot(
     system: System,
     x0: np.ndarray | None = None,
@@ -289,47 +352,6 @@ def shoot(
     :func:`newton_shooting`."""
     x0 = system.static_state() if x0 is None else x0
     return newton_shooting(khv_flow(system, n, settings), x0, n, tol, max_iter, max_growth=max_growth)
-
-
-def rk4_flow(
-    rhs: Callable[[float, np.ndarray], np.ndarray],
-    jac: Callable[[float, np.ndarray], np.ndarray],
-    period: float,
-    steps_per_period: int = 400,
-    n: int = 1,
-    threshold: float = 1e6,
-) -> FlowMap:
-    """n-period map of a smooth T-periodic ODE y' = rhs(t, y) by classical RK4, with the variational
-    equations Y' = jac(t, y) Y advanced by the same stages (the derivative of the discrete map)."""
-    h = period / steps_per_period
-
-    def flow(x: np.ndarray, jacobian: bool = True):
-        y = np.asarray(x, dtype=float).copy()
-        d = y.size
-        Y = np.eye(d) if jacobian else None
-        t = 0.0
-        for _ in range(n * steps_per_period):
-            k1 = rhs(t, y)
-            y2 = y + 0.5 * h * k1
-            k2 = rhs(t + 0.5 * h, y2)
-            y3 = y + 0.5 * h * k2
-            k3 = rhs(t + 0.5 * h, y3)
-            y4 = y + h * k3
-            k4 = rhs(t + h, y4)
-            if jacobian:
-                J1, J2, J3, J4 = jac(t, y), jac(t + 0.5 * h, y2), jac(t + 0.5 * h, y3), jac(t + h, y4)
-                K1 = J1 @ Y
-                K2 = J2 @ (Y + 0.5 * h * K1)
-                K3 = J3 @ (Y + 0.5 * h * K2)
-                K4 = J4 @ (Y + h * K3)
-                Y = Y + h / 6.0 * (K1 + 2 * K2 + 2 * K3 + K4)
-            y = y + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-            t += h
-        if not (np.all(np.isfinite(y)) and np.max(np.abs(y)) < threshold):
-            return None, None
-        return y, Y
-
-    return flow
 
 
 def rotation_number(mu: complex) -> float:

@@ -51,8 +51,8 @@ from geardyn.runs.continuation.family import KHVFamily, cycle_states
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.runs.continuation.switching import switch_at_period_doubling
 from geardyn.solve.base import SimulationSettings
+from geardyn.solve.run import simulate
 from geardyn.solve.shooting import newton_shooting
-from geardyn.solve.simulate import simulate
 
 log = logging.getLogger("geardyn.curves")
 

@@ -13,8 +13,8 @@ from scipy.interpolate import CubicSpline
 from geardyn.khv import point
 from geardyn.khv.model import Coefficients
 from geardyn.solve.base import SimulationSettings
+from geardyn.solve.run import simulate
 from geardyn.solve.shooting import FlowMap, khv_flow
-from geardyn.solve.simulate import simulate
 
 
 class Family(Protocol):

@@ -297,6 +297,59 @@ def _lanes(arrays: tuple, part: slice) -> tuple:
     return tuple(_lanes(a, part) if isinstance(a, tuple) else a[part] for a in arrays)
 
 
+def _start_states(systems: Sequence[System], x0) -> np.ndarray:
+    """The initial states (L, 6) of a batch: ``x0[lane]``, or the static deflection where None."""
+    Y0 = np.empty((len(systems), 6))
+    for lane, system in enumerate(systems):
+        x = None if x0 is None else x0[lane]
+        Y0[lane] = system.static_state() if x is None else np.asarray(x, dtype=float)
+    return Y0
+
+
+def _lane_result(
+    lane: int,
+    system: System,
+    settings: SimulationSettings,
+    out: np.ndarray,
+    ntr,
+    nrec,
+    ntan,
+    poinc,
+    final,
+    growth,
+    strobe,
+    W,
+    m: int,
+    mono,
+) -> SimulationResult:
+    """The :class:`SimulationResult` of lane ``lane`` of a batch from the loops' outputs (``out``: status,
+    period reached, contact switches, transient used, period of the early stop)."""
+    status, per, nev, used, stop_n = (int(v) for v in out)
+    diverged = status == 1
+    npts = max(0, per - used) if diverged else int(nrec[lane])
+    tan_start = int(ntr[lane] + nrec[lane] - ntan[lane])
+    if stop_n:
+        ngrowth = 0
+    else:
+        ngrowth = max(0, per - tan_start) if diverged else int(ntan[lane])
+    tangent = m == 1
+    return SimulationResult(
+        poincare=poinc[lane, :npts],
+        final_state=final[lane],
+        diverged=diverged,
+        diverged_period=per if diverged else -1,
+        n_events=nev,
+        period=system.period,
+        settings=settings,
+        growth=growth[lane, :ngrowth] if tangent else np.zeros(0),
+        strobe=strobe[lane, :ngrowth] if tangent else np.zeros(0),
+        monodromy=W[lane] if (m == 6 and mono[lane] and not diverged) else None,
+        transient_used=used,
+        stop_period=stop_n,
+        tangent=W[lane, :, 0].copy() if tangent else None,
+    )
+
+
 def simulate_batch(
     systems: Sequence[System],
     settings: SimulationSettings = SimulationSettings(),
@@ -305,7 +358,6 @@ def simulate_batch(
     monodromy_periods: int | Sequence[int] = 0,
     early_stop: EarlyStop | None = None,
     transient_periods: Sequence[int] | None = None,
-    lockstep: bool = True,
     recorded_periods: Sequence[int] | None = None,
     tables: LaneTables | None = None,
     tangent_start: Sequence[np.ndarray | None] | None = None,
@@ -326,8 +378,9 @@ def simulate_batch(
     ``tangent`` continues it bit for bit (the run is split where the records join).
     With ``early_stop``, a point whose stroboscopic map has converged ends its transient early
     (``transient_used``, ``stop_period``) and drops its tangent vector (``growth`` empty).
-    ``lockstep``: without monodromy, step 8 points together (vectorised, with their tangent vectors,
-    :func:`geardyn.solve._batch.run_blocks`); False: one point per thread at a time (same numbers).
+    Without monodromy, 8 points step together (vectorised, with their tangent vectors,
+    :func:`geardyn.solve._batch.run_blocks`); a remainder of a few points, and points with the monodromy,
+    run one per thread (the same numbers).
     """
     if settings.integrator == "dop853":
         raise ValueError("simulate_batch integrates with 'rk4' or 'rk4_event'")
@@ -344,10 +397,7 @@ def simulate_batch(
     if lt.H.shape != (L, n):
         raise ValueError(f"lane tables for {lt.H.shape[0]} points of {lt.H.shape[1]} steps, not {L} of {n}")
     C, TABS, limits = lt.C, (lt.H, lt.S, lt.SEG, lt.K, lt.P, lt.POLY), lt.limits
-    Y0 = np.empty((L, 6))
-    for lane, system in enumerate(systems):
-        x = None if x0 is None else x0[lane]
-        Y0[lane] = system.static_state() if x is None else np.asarray(x, dtype=float)
+    Y0 = _start_states(systems, x0)
     m, ntan, W = _tangent_columns(tangent_periods, mono, ntr + nrec)
     if tangent_start is not None:
         if m != 1:
@@ -364,7 +414,7 @@ def simulate_batch(
     es = _kernel.NO_EARLY_STOP if early_stop is None else early_stop.as_kernel_args()
     event = settings.integrator == "rk4_event"
     tan = bool(tangent_periods)
-    k = _blocked_lanes(L) if m <= 1 and lockstep else 0
+    k = _blocked_lanes(L) if m <= 1 else 0
     arrays = (C, TABS, Y0, ntr, nrec, limits, poinc, final, out, W, ntan, growth, strobe)
     if k:
         c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb = _lanes(arrays, slice(0, k))
@@ -372,34 +422,12 @@ def simulate_batch(
     if k < L:
         c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb = _lanes(arrays, slice(k, L))
         _batch.run_batch(c, tabs, y0, nt, nr, event, lim, w, na, tan, gr, sb, po, fi, es, ou)
-    results = []
-    for lane in range(L):
-        status, per, nev, used, stop_n = (int(v) for v in out[lane])
-        diverged = status == 1
-        npts = max(0, per - used) if diverged else int(nrec[lane])
-        tan_start = int(ntr[lane] + nrec[lane] - ntan[lane])
-        if stop_n:
-            ngrowth = 0
-        else:
-            ngrowth = max(0, per - tan_start) if diverged else int(ntan[lane])
-        results.append(
-            SimulationResult(
-                poincare=poinc[lane, :npts],
-                final_state=final[lane],
-                diverged=diverged,
-                diverged_period=per if diverged else -1,
-                n_events=nev,
-                period=systems[lane].period,
-                settings=settings,
-                growth=growth[lane, :ngrowth] if tangent_periods else np.zeros(0),
-                strobe=strobe[lane, :ngrowth] if tangent_periods else np.zeros(0),
-                monodromy=W[lane] if (m == 6 and mono[lane] and not diverged) else None,
-                transient_used=used,
-                stop_period=stop_n,
-                tangent=W[lane, :, 0].copy() if tan else None,
-            )
+    return [
+        _lane_result(
+            lane, systems[lane], settings, out[lane], ntr, nrec, ntan, poinc, final, growth, strobe, W, m, mono
         )
-    return results
+        for lane in range(L)
+    ]
 
 
 def warm_up(system: System) -> None:
@@ -413,60 +441,6 @@ def warm_up(system: System) -> None:
         simulate_batch([system] * 9, tiny, early_stop=EarlyStop(min_periods=0, confirm=1))
         simulate_batch([system] * 9, tiny, tangent_periods=1)
         simulate_batch([system] * 2, tiny, monodromy_periods=1)
-
-
-def largest_lyapunov(
-    coeffs: System,
-    settings: SimulationSettings = SimulationSettings(),
-    x0: np.ndarray | None = None,
-    n_periods: int = 500,
-    d0: float = 1e-7,
-) -> tuple[float, np.ndarray]:
-    """Largest Lyapunov exponent (per unit dimensionless time) by two nearby trajectories.
-
-    Benettin's method: a companion started d0 away (all 6 states, Euclidean norm) is
-    renormalised back to distance d0 at the end of every mesh period.  Starts after
-    ``settings.transient_periods``.  Returns (lambda, running estimate per period).
-    Positive: chaos (or parametric instability); ~0: quasi-periodic; negative: periodic.
-    """
-    one = SimulationSettings(
-        integrator=settings.integrator,
-        steps_per_period=settings.steps_per_period,
-        transient_periods=0,
-        recorded_periods=1,
-        divergence_threshold=settings.divergence_threshold,
-        aligned=settings.aligned,
-    )
-    y = coeffs.static_state() if x0 is None else np.asarray(x0, dtype=float)
-    if settings.transient_periods > 0:
-        tr = SimulationSettings(
-            integrator=settings.integrator,
-            steps_per_period=settings.steps_per_period,
-            transient_periods=settings.transient_periods - 1,
-            recorded_periods=1,
-            divergence_threshold=settings.divergence_threshold,
-            aligned=settings.aligned,
-        )
-        r = simulate(coeffs, tr, y)
-        if r.diverged:
-            return float("inf"), np.array([np.inf])
-        y = r.final_state
-    rng = np.random.default_rng(0)
-    d = rng.standard_normal(6)
-    z = y + d0 * d / np.linalg.norm(d)
-    acc = 0.0
-    est = np.empty(n_periods)
-    for k in range(n_periods):
-        ry = simulate(coeffs, one, y)
-        rz = simulate(coeffs, one, z)
-        if ry.diverged or rz.diverged:
-            return float("inf"), est[:k]
-        y, z = ry.final_state, rz.final_state
-        dist = np.linalg.norm(z - y)
-        acc += math.log(dist / d0)
-        z = y + (z - y) * (d0 / dist)
-        est[k] = acc / ((k + 1) * coeffs.period)
-    return float(est[-1]), est
 
 
 def strict_periods(

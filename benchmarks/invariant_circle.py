@@ -41,8 +41,8 @@ import numpy as np
 from geardyn import libm
 from geardyn.parallel import threaded_map
 from geardyn.solve.base import SimulationSettings, System
+from geardyn.solve.run import simulate_batch
 from geardyn.solve.shooting import period_settings
-from geardyn.solve.simulate import simulate_batch
 
 #: P(X) -> (P(X), DP(X)) for nodes X (M, d): images (M, d) and Jacobians (M, d, d); None where diverged.
 CircleMap = Callable[[np.ndarray, bool], tuple[np.ndarray, np.ndarray | None] | None]
@@ -337,7 +337,7 @@ def newton_circle(
 def khv_maps(systems: list[System], settings: SimulationSettings) -> CircleMaps:
     """The one-period stroboscopic maps of KHV systems (:class:`~geardyn.solve.base.System`) with their
     Jacobians, for :func:`newton_circles` (``which`` indexes ``systems``): the nodes of every circle still
-    iterating in one batch run (:func:`geardyn.solve.simulate.simulate_batch`, event-located RK4 with the
+    iterating in one batch run (:func:`geardyn.solve.run.simulate_batch`, event-located RK4 with the
     variational equations, as Newton shooting)."""
     s1 = period_settings(settings, 1)
 
