@@ -152,7 +152,7 @@ def test_shipped_config_sweeps_every_khv_design_over_primary_and_superharmonic_r
     """The shipped study runs for every KHV design with at least 200 frequencies, from below the third
     super-harmonic (1/4 of the mesh mode near w = 1) to above the primary resonance."""
     root = ROOT
-    cfg = validate.load_config(root / "config" / "config.yaml")
+    cfg = validate.fill_config(validate.read_config_file(root / "config" / "config.yaml"))
     spec = cfg["responses"]["frequency_response"]
     assert spec["designs"] == "all" and spec["num"] >= 200
     assert spec["start"] <= 0.25 and spec["stop"] >= 1.5

@@ -198,15 +198,6 @@ def _write_atomic(text: str, path: Path) -> Path:
     return path
 
 
-def read_provenance_text(text: str) -> dict[str, str]:
-    """The ``key: value`` pairs of the provenance comment that :func:`write_text` put in a Markdown table."""
-    start = text.rfind("<!-- provenance\n")
-    if start < 0:
-        return {}
-    body = text[start + len("<!-- provenance\n") : text.find("-->", start)]
-    return dict(line.split(": ", 1) for line in body.splitlines() if ": " in line)
-
-
 def save_figure(fig: Any, path: str | os.PathLike[str], caption: str | None = None, dpi: int = 150) -> Path:
     """Save a matplotlib figure atomically, and its caption beside it as ``<name>.txt``.  The plots build
     :class:`matplotlib.figure.Figure` objects without pyplot (0.2-0.3 s of a figure job's start-up); a figure

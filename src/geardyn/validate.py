@@ -38,13 +38,6 @@ def read_config_file(path: str | Path) -> dict[str, Any]:
     return data
 
 
-def load_config(path: str | Path) -> dict[str, Any]:
-    """Read and validate the workflow configuration (``config/config.yaml``): presets resolved and
-    defaults filled (:func:`fill_config`); the designs it lists are not read (see
-    :func:`validate_workflow`)."""
-    return fill_config(read_config_file(path), str(path))
-
-
 def check_design(raw: dict[str, Any], where: str) -> None:
     """The semantic checks of one schema-validated design (after :func:`geardyn.config.load_design_dict`)."""
     if raw["kind"] == "khv":

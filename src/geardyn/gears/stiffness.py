@@ -201,8 +201,3 @@ class ParabolicStiffness:
         """Smallest value over a period (negative values make the model meaningless)."""
         t = np.concatenate([np.linspace(0.0, 1.0, 4001), [self.fraction]])
         return float(np.min(self(t)))
-
-
-def mean_stiffness_corrected(eps: float, k_c: float) -> float:
-    """Closed form of the corrected mean: (4/3) eps k' = (8/9) eps k_C (paper 1 prints 0.866268 eps k_C)."""
-    return 8.0 / 9.0 * eps * k_c

@@ -266,24 +266,3 @@ def line4_crossings(ds: xr.Dataset, name: str) -> list[float]:
         if np.sign(v[i]) != np.sign(v[i + 1]) and np.isfinite(v[i]) and np.isfinite(v[i + 1]):
             out.append(float(x1[i] - v[i] * (x1[i + 1] - x1[i]) / (v[i + 1] - v[i])))
     return out
-
-
-def cutter_shift_for_trimming_limit(
-    base: geo.GearPair, x1_limit: float, teeth: int, addendum: float | None = None
-) -> geo.ShaperCutter:
-    """Shaper cutter (given z0, ha0*) whose trimming limit on line 4 falls at ``x1_limit``.
-
-    Solves trimming_interference(x1_limit, x2_line4(x1_limit); z0, x0, ha0*) = 0 for x0.  Used to
-    test the hypothesis that the paper's M is a cutter-trimming limit (docs/geometry.md); the
-    result is a fit, not a datum of the paper.
-    """
-    x2 = constraints.x2_on_overlap_boundary(x1_limit, base)
-    pair = geo.with_shifts(base, x1_limit, x2)
-
-    def f(x0: float) -> float:
-        return float(interference.trimming_interference(pair, geo.ShaperCutter(teeth, x0, addendum)))
-
-    from scipy.optimize import brentq  # noqa: PLC0415 - 0.35 s to import: not for the figure jobs
-
-    x0 = float(brentq(f, -1.0, 1.5, xtol=1e-12))
-    return geo.ShaperCutter(teeth, x0, addendum)

@@ -61,17 +61,6 @@ def modal_frf(omega2: ArrayLike, shapes: ArrayLike, zeta: float, force: ArrayLik
     return q @ shapes.T
 
 
-def modal_damping_matrix(mass: ArrayLike, omega2: ArrayLike, shapes: ArrayLike, zeta: float) -> NDArray:
-    """Physical damping matrix C = M Phi diag(2 zeta w_r) Phi^T M of modal damping (N s/m, ...).
-
-    With it, the direct solve (K - w^2 M + i w C) X = F equals :func:`modal_frf`.
-    """
-    m = np.asarray(mass, dtype=float)
-    phi = np.asarray(shapes, dtype=float)
-    mp = m @ phi
-    return mp @ np.diag(2 * zeta * np.sqrt(np.asarray(omega2, dtype=float))) @ mp.T
-
-
 def te_harmonics(te: ArrayLike, n: int) -> NDArray:
     """Complex Fourier coefficients c_1..c_n (units of ``te``) of a periodic signal sampled uniformly over
     one period along its last axis: te(s) = mean + sum_h Re(c_h exp(2 pi i h s)), s in mesh periods."""

@@ -243,14 +243,6 @@ def matrices(design: PlusDesign, condition: Condition = "free") -> Matrices:
     return Matrices(tuple(COORDS[i] for i in keep), M[ix], K[ix], C[ix])
 
 
-def kinematic_ratio_carrier_fixed(design: PlusDesign) -> float:
-    """theta_r / theta_s of the rigid-body mode with the carrier fixed (+z_s/z_r for a plus set)."""
-    mat = matrices(design, "I")
-    _, vec = scipy.linalg.eigh(mat.K, mat.M)
-    rigid = vec[:, 0]
-    return float(rigid[mat.coords.index("theta_r")] / rigid[mat.coords.index("theta_s")])
-
-
 @dataclass(frozen=True)
 class Modes:
     """Modal solution of one working condition.
