@@ -3,7 +3,7 @@
 Every problem is reported as a single :class:`ConfigError` line that names the file, the key,
 the offending value and what is allowed, e.g.::
 
-    config/designs/li2013.yaml: pair.module = -3.5 is not allowed: number > 0 and <= 100 (Module m (mm).)
+    config/designs/my_drive.yaml: pair.module = -3.5 is not allowed: number > 0 and <= 100 (Module m (mm).)
 
 Defaults declared in the schema are filled in, so downstream code sees every key.
 """
