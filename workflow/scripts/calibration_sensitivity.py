@@ -6,6 +6,7 @@ from pathlib import Path
 from geardyn import io, logs
 from geardyn.khv import calibrate, design
 from geardyn.plots import calibration as plots
+from geardyn.plots import save_figure
 
 log = logs.to_file(snakemake.log[0])
 spec = snakemake.params.spec
@@ -26,7 +27,7 @@ attrs = io.provenance(
 )
 io.write_netcdf(oat, snakemake.output.oat, attrs)
 io.write_netcdf(mp, snakemake.output.map, attrs)
-io.save_figure(plots.plot_tornado(oat), snakemake.output.tornado, plots.caption_tornado(oat))
-io.save_figure(plots.plot_score_map(mp), snakemake.output.map_figure, plots.caption_map(mp))
+save_figure(plots.plot_tornado(oat), snakemake.output.tornado, plots.caption_tornado(oat))
+save_figure(plots.plot_score_map(mp), snakemake.output.map_figure, plots.caption_map(mp))
 io.write_text(text, snakemake.output.table)
 log.info("sensitivity: %d new evaluations, %d from the cache", ev.new, ev.reused)
