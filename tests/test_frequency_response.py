@@ -133,7 +133,11 @@ def test_find_jumps_needs_both_a_step_and_a_split():
 @pytest.mark.parametrize(
     ("change", "message"),
     [
-        ({"fixed": {"w": 0.5}}, "responses.fr.fixed.w is not allowed"),
+        (
+            {"fixed": {"w": 0.5}},
+            "responses.fr.fixed name 'w' is not allowed: a parameter other than w and speed: the frequency "
+            "response sweeps the mesh frequency",
+        ),
         ({"start": 1.0, "stop": 0.5}, "stop = 0.5 must be above start = 1.0"),
         ({"num": 2}, "num = 2 is not allowed"),
         ({"start": 0.0}, "start = 0.0 is not allowed"),
