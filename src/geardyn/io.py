@@ -19,6 +19,7 @@ import os
 import tempfile
 from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
 import xarray as xr
 
@@ -31,6 +32,12 @@ from geardyn.provenance import runtime_provenance as runtime_provenance
 
 #: zlib level of every netCDF variable (with the shuffle filter); measured in docs/operations.md.
 ZLIB_LEVEL = 1
+
+
+def cf(dims: str | tuple[str, ...], data: Any, units: str, long_name: str, **attrs: Any) -> tuple[Any, Any, dict]:
+    """A variable of an xarray Dataset with its CF ``units`` and ``long_name`` (and any other attributes):
+    ``(dims, data, attrs)``."""
+    return (dims, data, {"units": units, "long_name": long_name, **attrs})
 
 
 def missing_cf_attributes(ds: xr.Dataset) -> list[str]:

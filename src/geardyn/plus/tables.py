@@ -18,6 +18,7 @@ import xarray as xr
 from scipy.optimize import minimize_scalar
 
 from geardyn import io, libm
+from geardyn.io import cf
 
 from . import modal
 from .design import PlusDesign
@@ -251,60 +252,35 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
         se[ci] = np.column_stack([s_fr[k] for k in el_names])
         ke[ci] = np.column_stack([k_fr[k] for k in comp_names])
         mtype[ci] = modal.classify(md)
+    cm, arm = (
+        ("condition", "mode"),
+        "radius turning a rotation into a displacement (base radius; carrier: a_sp; 1 for x_s, y_s)",
+    )
     ds = xr.Dataset(
         {
-            "natural_frequency": (("condition", "mode"), f, {"units": "Hz", "long_name": "undamped natural frequency"}),
-            "damped_frequency": (("condition", "mode"), fd, {"units": "Hz", "long_name": "damped natural frequency"}),
-            "damping_ratio": (("condition", "mode"), z, {"units": "1", "long_name": "modal damping ratio"}),
-            "mode_shape": (
-                ("condition", "mode", "coordinate"),
+            "natural_frequency": cf(cm, f, "Hz", "undamped natural frequency"),
+            "damped_frequency": cf(cm, fd, "Hz", "damped natural frequency"),
+            "damping_ratio": cf(cm, z, "1", "modal damping ratio"),
+            "mode_shape": cf(
+                (*cm, "coordinate"),
                 shapes,
-                {
-                    "units": "kg-1/2",
-                    "long_name": "mass-normalised mode shape (0 on the fixed coordinate)",
-                    "comment": "translations in kg-1/2; rotations in rad kg-1/2 m-1",
-                },
+                "kg-1/2",
+                "mass-normalised mode shape (0 on the fixed coordinate)",
+                comment="translations in kg-1/2; rotations in rad kg-1/2 m-1",
             ),
-            "strain_energy_share": (
-                ("condition", "mode", "element"),
-                se,
-                {"units": "1", "long_name": "share of the modal strain energy per spring"},
+            "strain_energy_share": cf((*cm, "element"), se, "1", "share of the modal strain energy per spring"),
+            "kinetic_energy_share": cf((*cm, "component"), ke, "1", "share of the modal kinetic energy per component"),
+            "mode_type": cf(
+                cm, mtype.astype(str), "1", "mode class: rigid, planet (doubled) or overall (axisymmetric)"
             ),
-            "kinetic_energy_share": (
-                ("condition", "mode", "component"),
-                ke,
-                {"units": "1", "long_name": "share of the modal kinetic energy per component"},
-            ),
-            "mode_type": (
-                ("condition", "mode"),
-                mtype.astype(str),
-                {"units": "1", "long_name": "mode class: rigid, planet (doubled) or overall (axisymmetric)"},
-            ),
-            "lever_arm": (
-                ("coordinate",),
-                _lever_arms(design),
-                {
-                    "units": "m",
-                    "long_name": (
-                        "radius turning a rotation into a displacement (base radius; carrier: a_sp; 1 for x_s, y_s)"
-                    ),
-                },
-            ),
+            "lever_arm": cf("coordinate", _lever_arms(design), "m", arm),
         },
         coords={
-            "condition": (
-                "condition",
-                conds,
-                {"long_name": "working condition (I carrier, II ring, III sun fixed)", "units": "1"},
-            ),
-            "mode": (
-                "mode",
-                np.arange(1, n + 1),
-                {"long_name": "mode number including the rigid-body mode", "units": "1"},
-            ),
-            "coordinate": ("coordinate", list(modal.COORDS), {"long_name": "generalised coordinate", "units": "1"}),
-            "element": ("element", el_names, {"long_name": "spring (Table 3 meshes, sun bearing)", "units": "1"}),
-            "component": ("component", comp_names, {"long_name": "kinetic-energy component (Table 4)", "units": "1"}),
+            "condition": cf("condition", conds, "1", "working condition (I carrier, II ring, III sun fixed)"),
+            "mode": cf("mode", np.arange(1, n + 1), "1", "mode number including the rigid-body mode"),
+            "coordinate": cf("coordinate", list(modal.COORDS), "1", "generalised coordinate"),
+            "element": cf("element", el_names, "1", "spring (Table 3 meshes, sun bearing)"),
+            "component": cf("component", comp_names, "1", "kinetic-energy component (Table 4)"),
         },
         attrs={"title": f"Modal analysis of the plus planetary set {design.name}", "model_variant": _variant(design)},
     )
@@ -375,30 +351,23 @@ def te_dataset(design: PlusDesign, optima: list[ReliefOptimum]) -> xr.Dataset:
     pair = spur_pair(design)
     ds = xr.Dataset(
         {
-            "transmission_error": (
+            "transmission_error": cf(
                 ("case", "mesh_phase"),
                 np.array(curves),
-                {"units": "um", "long_name": "static transmission error TE = E - delta (Eq. 9) of the p-d pair"},
+                "um",
+                "static transmission error TE = E - delta (Eq. 9) of the p-d pair",
             ),
-            "mesh_stiffness": (
-                ("mesh_phase",),
-                base.stiffness,
-                {"units": "N m-1", "long_name": "quasi-static mesh stiffness of the unmodified pair"},
+            "mesh_stiffness": cf(
+                "mesh_phase", base.stiffness, "N m-1", "quasi-static mesh stiffness of the unmodified pair"
             ),
-            "load_per_pair": (
-                ("slot", "mesh_phase"),
-                base.loads,
-                {"units": "N", "long_name": "normal load on each tooth pair slot (unmodified)"},
+            "load_per_pair": cf(
+                ("slot", "mesh_phase"), base.loads, "N", "normal load on each tooth pair slot (unmodified)"
             ),
         },
         coords={
-            "case": ("case", labels, {"units": "1", "long_name": "relief case"}),
-            "mesh_phase": ("mesh_phase", base.s, {"units": "1", "long_name": "mesh phase in base pitches"}),
-            "slot": (
-                "slot",
-                np.arange(base.loads.shape[0]),
-                {"units": "1", "long_name": "tooth pair slot (0 = newest)"},
-            ),
+            "case": cf("case", labels, "1", "relief case"),
+            "mesh_phase": cf("mesh_phase", base.s, "1", "mesh phase in base pitches"),
+            "slot": cf("slot", np.arange(base.loads.shape[0]), "1", "tooth pair slot (0 = newest)"),
         },
         attrs={
             "title": f"Static TE of the p-d pair, design {design.name}",
@@ -469,24 +438,14 @@ def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
     z = np.array([landscape(design, sh, amounts, lengths, grid=grid) for sh in SHAPES]) * 1e6
     return xr.Dataset(
         {
-            "te_ptp": (
-                ("shape", "amount", "length"),
-                z,
-                {"units": "um", "long_name": "peak-to-peak static transmission error of the p-d pair"},
+            "te_ptp": cf(
+                ("shape", "amount", "length"), z, "um", "peak-to-peak static transmission error of the p-d pair"
             )
         },
         coords={
-            "shape": ("shape", list(SHAPES), {"units": "1", "long_name": "tip relief shape"}),
-            "amount": (
-                "amount",
-                amounts * 1e6,
-                {"units": "um", "long_name": "tip relief amount along the line of action"},
-            ),
-            "length": (
-                "length",
-                lengths * 1e3,
-                {"units": "mm", "long_name": "tip relief length along the path of contact"},
-            ),
+            "shape": cf("shape", list(SHAPES), "1", "tip relief shape"),
+            "amount": cf("amount", amounts * 1e6, "um", "tip relief amount along the line of action"),
+            "length": cf("length", lengths * 1e3, "mm", "tip relief length along the path of contact"),
         },
         attrs={
             "title": f"Objective landscape of the tip-relief optimisation, design {design.name}",
