@@ -175,11 +175,6 @@ class ParabolicStiffness:
     def c(self) -> float:
         return self.k_prime
 
-    @property
-    def jump_phases(self) -> tuple[float, float]:
-        """Phases (mesh periods) where a pair enters (0) or leaves (f = eps - floor(eps)): k(t) jumps there."""
-        return (0.0, self.fraction)
-
     def __call__(self, t: ArrayLike) -> NDArray[np.float64]:
         """k(t) in N/m, periodic with period 1; right-continuous at the jumps."""
         tau = np.mod(np.asarray(t, dtype=float), 1.0)
