@@ -6,9 +6,19 @@ from __future__ import annotations
 import os
 import sys
 from pathlib import Path
+from types import ModuleType
 from typing import Any
 
 from geardyn.io import write_text
+
+
+def paper_caption(text: str, paper: ModuleType | None, figure: str) -> str:
+    """A geometry or stiffness caption, for a design that names a paper with the paper's figure and what it
+    shows otherwise (its ``GEOMETRY_FIGURES[figure]``); ``text`` as it is for one that names none."""
+    if paper is None:
+        return text
+    number, aside, note = paper.GEOMETRY_FIGURES[figure]
+    return f"{number} of {paper.SHORT}{aside}. " + text + " " + note
 
 
 def save_figure(fig: Any, path: str | os.PathLike[str], caption: str | None = None, dpi: int = 150) -> Path:
