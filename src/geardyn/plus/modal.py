@@ -34,19 +34,8 @@ from geardyn import libm
 
 from .design import PlusDesign
 
-COORDS: tuple[str, ...] = (
-    "theta_s",
-    "theta_r",
-    "theta_c",
-    "theta_p1",
-    "theta_p2",
-    "theta_p3",
-    "theta_d1",
-    "theta_d2",
-    "theta_d3",
-    "x_s",
-    "y_s",
-)
+_PLANETS = tuple(f"theta_{g}{j}" for g in "pd" for j in (1, 2, 3))
+COORDS: tuple[str, ...] = ("theta_s", "theta_r", "theta_c", *_PLANETS, "x_s", "y_s")
 #: Working conditions of the paper (Sec. 2.1): the static member's rotation is removed.
 CONDITIONS: dict[str, str] = {"I": "theta_c", "II": "theta_r", "III": "theta_s", "free": ""}
 Condition = Literal["I", "II", "III", "free"]
