@@ -18,7 +18,7 @@ import jsonschema
 
 from geardyn.config import ConfigError, allowed_text, check_expanded_size, load_design_dict, read_yaml, schema, validate
 from geardyn.khv import design as khv_design
-from geardyn.khv.design import is_fraction, resolve_fractions
+from geardyn.khv.design import resolve_fractions
 from geardyn.papers import paper_of
 from geardyn.plus import design as plus_design
 from geardyn.solve.precision import POINCARE_ERROR, measured_poincare_error
@@ -250,7 +250,8 @@ def _segment(raw: Mapping[str, Any]) -> tuple[float, float]:
 def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> None:
     """Semantic checks of every run against every design it selects: known KHV design, known control
     parameters with values in range (NaN and inf refused), ranges that go upwards, x1 inside the design's
-    admissible segment, percentages only for x1; claims and calibrations only for paper designs."""
+    admissible segment; claims and calibrations only for paper designs (percentages only for x1: the
+    schema)."""
 
     khv = [name for name, raw in designs.items() if raw["kind"] == "khv"]
     for axis in ("x1", "x2"):
@@ -264,7 +265,6 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
         for name, spec in filled.get(section, {}).items():
             where = f"config: {section}.{name}"
             selector = spec["designs"] if "designs" in spec else [spec["design"]]
-            _no_fraction_but_x1(spec, where)
             for design_name in selected_designs(selector, designs):
                 if design_name not in designs or designs[design_name]["kind"] != "khv":
                     raise ConfigError(
@@ -309,26 +309,6 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
                     f"{where}: design {design_name!r} needs {section}.{needed} to run for it "
                     "(the claims are checked on that run)"
                 )
-
-
-def _no_fraction_but_x1(spec: Mapping[str, Any], where: str) -> None:
-    """Percentages of the admissible segment are x1 values: refuse them for any other parameter."""
-
-    def walk(node: Any, key: str | None, path: str) -> None:
-        if isinstance(node, Mapping):
-            param = node.get("parameter") if isinstance(node.get("parameter"), str) else None
-            for k, v in node.items():
-                sub = param if k in ("start", "stop") and param else k
-                walk(v, sub, f"{path}.{k}")
-        elif isinstance(node, list):
-            for i, v in enumerate(node):
-                walk(v, key, f"{path}[{i}]")
-        elif is_fraction(node) and key != "x1":
-            raise ConfigError(
-                f"{path} = {node!r} is not allowed: a number (percentages of the admissible segment are for x1 only)"
-            )
-
-    walk(spec, None, where)
 
 
 def _check_x1(value: float, raw: dict[str, Any], where: str) -> None:
