@@ -63,7 +63,7 @@ def _converging_period(p: np.ndarray, rate: float, max_n: int, tol: float) -> in
     log terms that the Lyapunov exponent (``rate`` = lambda T per period, < 0) predicts, or below tol.
     A period that is not a multiple of the true one leaves a constant floor (the cycle's spread)."""
     for n in range(1, max_n + 1):
-        d = classify._return_distances(p, n)
+        d = np.max(np.abs(p[n:] - p[:-n]), axis=1)
         if d.size < 8:
             return 0
         q = np.array_split(d, 4)

@@ -157,21 +157,7 @@ def test_the_paper_keys_are_the_papers_modules():
     assert {"li2013", "yue2014"} <= set(PAPER_KEYS)
 
 
-@pytest.mark.parametrize(
-    "name",
-    [
-        pytest.param(
-            m,
-            marks=pytest.mark.xfail(
-                strict=True, reason="geardyn.plus.tables imports geardyn.papers.yue2014 by name (plus/: its owner's)"
-            ),
-        )
-        if m == "geardyn.plus.tables"
-        else m
-        for m in sorted(MODULES)
-        if not m.startswith("geardyn.papers")
-    ],
-)
+@pytest.mark.parametrize("name", [m for m in sorted(MODULES) if not m.startswith("geardyn.papers")])
 def test_no_generic_module_names_a_paper(name):
     """Outside geardyn.papers no module imports one paper's module (a design names its paper, and
     ``geardyn.papers.paper_of`` finds it) and no string of the code names a paper's design key (the papers'

@@ -288,7 +288,7 @@ CASES = [
     (
         "percent-for-b",
         _sweep(lambda s: s["fixed"].update(b="50%")),
-        "sweeps.fig07_small.fixed.b = '50%' is not allowed: a number (percentages of the admissible segment are for x1",
+        "sweeps.fig07_small.fixed.b = '50%' is not allowed: number (percentages of the admissible segment are for x1",
     ),
     ("unknown-selector-paper", _sweep(lambda s: s.update(designs="paper:li2031")), None),
 ]

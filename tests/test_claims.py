@@ -11,6 +11,7 @@ import pytest
 import xarray as xr
 
 from geardyn import claims as C
+from geardyn import verdicts as V
 from geardyn.papers import li2013 as paper
 
 P1, QP, CH, UND, DIV = 1, C.QP, C.CHAOS, -1, -2
@@ -115,9 +116,9 @@ def test_headline_counts_borderline_and_calibration_gives_it_half_credit():
         C.Claim(str(i), "f", "s", "p", "o", v, "r")
         for i, v in enumerate(["agree"] * 11 + ["borderline"] + ["disagree"] * 14)
     ]
-    assert C.headline(rows) == "11 agree, 1 borderline, 14 disagree, 0 not comparable"
-    assert "**11 agree, 1 borderline, 14 disagree, 0 not comparable**" in C.to_markdown(rows, "d")
-    assert sum(C.credit(r.verdict) for r in rows) == 11.5
+    assert V.headline(rows) == "11 agree, 1 borderline, 14 disagree, 0 not comparable"
+    assert "**11 agree, 1 borderline, 14 disagree, 0 not comparable**" in V.to_markdown(rows, "d")
+    assert sum(V.credit(r.verdict) for r in rows) == 11.5
 
 
 def test_point_rule_nearest_point_alternatives_and_not_comparable():
@@ -216,8 +217,8 @@ def test_cube_path_gives_the_same_verdicts_as_the_arrays(monkeypatch):
     assert v["fig03_M"] == "agree" and v["fig03_N"] == "disagree"  # residual 0.0002 vs 0.002
     assert v["stiffness_falls"] == "agree"
     # 2 static + 6 Fig. 7 ranges + 5 Fig. 8 points + b = 0.5 at x1 = 0.5 + both routes + 2 e = 4.55 points + sync
-    assert C.counts(rows) == {"agree": 19, "borderline": 0, "disagree": 5, "not comparable": 2}
-    assert "| fig07_p1 |" in C.to_markdown(rows, "d")
+    assert V.counts(rows) == {"agree": 19, "borderline": 0, "disagree": 5, "not comparable": 2}
+    assert "| fig07_p1 |" in V.to_markdown(rows, "d")
 
 
 def test_paper_1_claims_are_data_read_by_the_generic_rules():

@@ -14,6 +14,7 @@ import yaml
 
 import _workflow as wf
 from geardyn import claims as C
+from geardyn import verdicts as V
 from geardyn.papers import yue2014 as paper
 from geardyn.plus import claims as PC
 from geardyn.testing import Job, run_script
@@ -217,7 +218,7 @@ def test_every_claim_of_the_paper_gets_a_verdict_in_the_papers_order(shipped_cla
     table, md = shipped_claims
     assert list(table.index) == [c["id"] for c in paper.CLAIMS] and len(table) >= 10
     assert list(table.columns) == ["figure", "statement", "paper", "ours", "tolerance", "verdict", "reason"]
-    assert set(table.verdict) <= set(C.VERDICTS)
+    assert set(table.verdict) <= set(V.VERDICTS)
     assert md.startswith(f"# Claims of {paper.SHORT} checked: design `yue2014`")
     counts = table.verdict.value_counts()
     assert f"**{counts.get('agree', 0)} agree, " in md

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import matplotlib
 
+import _model_oracle as oracle
+
 matplotlib.use("Agg")
 
 import numpy as np
@@ -28,7 +30,7 @@ def ds() -> xr.Dataset:
 
 @pytest.fixture(scope="module")
 def fitted() -> xr.Dataset:
-    cutter = cg.cutter_shift_for_trimming_limit(KHV, 0.416, teeth=28, addendum=1.25)
+    cutter = oracle.cutter_shift_for_trimming_limit(KHV, 0.416, teeth=28, addendum=1.25)
     return cg.closed_graph(KHV, X1, X2, cutter=cutter, reference_points=li2013.POINTS)
 
 

@@ -29,7 +29,7 @@ def _write(tmp_path, data, name="d.yaml"):
 
 
 def test_shipped_config_and_designs_validate():
-    cfg = validate.load_config(ROOT / "config" / "config.yaml")
+    cfg = validate.fill_config(validate.read_config_file(ROOT / "config" / "config.yaml"))
     _, designs = validate.validate_workflow(cfg, ROOT)
     assert "li2013" in designs
     spec = design.load(LI2013)

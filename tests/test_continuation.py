@@ -17,6 +17,7 @@ from _oracle import rules_label
 from geardyn import classify, io
 from geardyn.khv import design, point
 from geardyn.papers import li2013 as paper
+from geardyn.plots import save_figure
 from geardyn.plots.orbits import plot_branches
 from geardyn.runs import continuation as C
 from geardyn.solve import SimulationSettings, simulate
@@ -140,7 +141,7 @@ def test_overlay_figure_draws_stable_unstable_and_typed_points(calibrated_branch
     assert "-" in styles and "--" in styles
     labels = ax.get_legend_handles_labels()[1]
     assert any("fold" in t for t in labels) and any("Neimark-Sacker" in t for t in labels)
-    io.save_figure(fig, tmp_path / "o.png", "caption")
+    save_figure(fig, tmp_path / "o.png", "caption")
     assert (tmp_path / "o.png").stat().st_size > 1000
 
 

@@ -146,6 +146,6 @@ def test_bad_curves_settings_are_one_line(change, message):
 
 
 def test_the_shipped_config_computes_the_curves_of_every_map():
-    cfg = validate.load_config(wf.ROOT / "config" / "config.yaml")
+    cfg = validate.fill_config(validate.read_config_file(wf.ROOT / "config" / "config.yaml"))
     assert all(spec["curves"]["enabled"] for spec in cfg["maps"].values())
     assert cfg["curves"], "an example curves study"

@@ -133,7 +133,11 @@ def test_find_jumps_needs_both_a_step_and_a_split():
 @pytest.mark.parametrize(
     ("change", "message"),
     [
-        ({"fixed": {"w": 0.5}}, "responses.fr.fixed.w is not allowed"),
+        (
+            {"fixed": {"w": 0.5}},
+            "responses.fr.fixed name 'w' is not allowed: a parameter other than w and speed: the frequency "
+            "response sweeps the mesh frequency",
+        ),
         ({"start": 1.0, "stop": 0.5}, "stop = 0.5 must be above start = 1.0"),
         ({"num": 2}, "num = 2 is not allowed"),
         ({"start": 0.0}, "start = 0.0 is not allowed"),
@@ -152,7 +156,7 @@ def test_shipped_config_sweeps_every_khv_design_over_primary_and_superharmonic_r
     """The shipped study runs for every KHV design with at least 200 frequencies, from below the third
     super-harmonic (1/4 of the mesh mode near w = 1) to above the primary resonance."""
     root = ROOT
-    cfg = validate.load_config(root / "config" / "config.yaml")
+    cfg = validate.fill_config(validate.read_config_file(root / "config" / "config.yaml"))
     spec = cfg["responses"]["frequency_response"]
     assert spec["designs"] == "all" and spec["num"] >= 200
     assert spec["start"] <= 0.25 and spec["stop"] >= 1.5

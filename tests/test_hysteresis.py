@@ -23,7 +23,7 @@ QP = classify.LABELS["quasi_periodic"]
 @pytest.fixture(scope="module")
 def study():
     """The shipped frequency response of li2013_calibrated: its point's coefficients, its policy, its grid."""
-    cfg = validate.load_config(ROOT / "config" / "config.yaml")
+    cfg = validate.fill_config(validate.read_config_file(ROOT / "config" / "config.yaml"))
     d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
     spec = response.ResponseSpec.from_config(
         "frequency_response", cfg["responses"]["frequency_response"], d.name, d.segment

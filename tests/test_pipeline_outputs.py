@@ -17,7 +17,7 @@ import xarray as xr
 import yaml
 
 import _workflow as wf
-from geardyn import archive, io
+from geardyn import archive, io, provenance
 
 
 def _small_pipeline(work):
@@ -58,7 +58,7 @@ def test_every_netcdf_file_carries_cf_attributes(small_run):
     assert set(KINDS) <= found
     # chunk files are temp(): removed once merged (sweeps, maps, calibration grids)
     assert not [f for f in found if Path(f).name.startswith("chunk_")]
-    runtime = set(io.RUNTIME_KEYS)
+    runtime = set(provenance.RUNTIME_KEYS)
     for path in files:
         with xr.open_dataset(path) as ds:
             for key in ("Conventions", "title", "source", "history", "references"):

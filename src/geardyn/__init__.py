@@ -1,8 +1,8 @@
 """geardyn: reproducible nonlinear dynamics of planetary gear drives.
 
 The library is pure: functions take numbers, arrays and frozen dataclasses and
-return arrays or xarray Datasets.  File I/O lives in :mod:`geardyn.io` and the
-Snakemake adapters in ``workflow/scripts``.
+return arrays or xarray Datasets.  File I/O lives in :mod:`geardyn.io` (figures: :func:`geardyn.plots.save_figure`;
+damaged chunks: :mod:`geardyn.quarantine`) and the Snakemake adapters in ``workflow/scripts``.
 
 Importing geardyn sets two process settings.  First, before numpy loads OpenBLAS if it has not yet:
 ``OPENBLAS_CORETYPE`` = :data:`BLAS_CORETYPE`, whatever the environment says, and one OpenBLAS thread.

@@ -32,7 +32,7 @@ import xarray as xr
 import yaml
 
 from geardyn import __version__
-from geardyn import io as gio
+from geardyn import provenance as prov
 
 MANIFEST = "MANIFEST.json"
 SUMS = "SHA256SUMS"
@@ -86,7 +86,7 @@ class Summary:
     cubes: int
     geardyn_version: str
     git_commit: str
-    #: the distinct runtime provenances (:func:`geardyn.io.runtime_of`) of the cubes, and how many cubes each
+    #: the distinct runtime provenances (:func:`geardyn.provenance.runtime_of`) of the cubes, and how many cubes each
     runtimes: tuple[tuple[dict[str, str], int], ...] = field(default_factory=tuple)
 
     def line(self) -> str:
@@ -117,7 +117,7 @@ def _cube_provenance(path: Path) -> dict[str, str]:
     with xr.open_dataset(path) as ds:
         return {
             **{k: str(ds.attrs.get(k, "unknown")) for k in ("geardyn_version", "git_commit", "config_hash")},
-            **gio.runtime_of(ds.attrs),
+            **prov.runtime_of(ds.attrs),
         }
 
 
@@ -141,7 +141,7 @@ def build(
     out = Path(out)
     top = f"{design}_archive"
     created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
-    commit = gio.git_commit()
+    commit = prov.git_commit()
     members: dict[str, bytes] = {}
     entries: list[dict[str, Any]] = []
 
@@ -255,7 +255,7 @@ def verify(path: str | Path) -> Summary:
             try:
                 with xr.open_dataset(local) as ds:
                     ds.load()
-                    rt = gio.runtime_of(ds.attrs)
+                    rt = prov.runtime_of(ds.attrs)
             except Exception as err:
                 text = str(err).replace(str(local), name).splitlines()
                 raise ArchiveError(

@@ -37,7 +37,7 @@ the cubes) and the calibration objective (:mod:`geardyn.khv.calibrate`, from a c
 labels) both call it.  The lines a paper's sweep claims read are its ``CLAIM_LINES`` (parameter, values
 held fixed, the cases of a family of lines), of the runs its ``CLAIM_RUNS`` name.  Claims stated with a
 data rule go through :func:`data_claim`, one claim at a time.  The claim record, the fraction rule and the
-claims table are :mod:`geardyn.verdicts` (their names are importable from here too).
+claims table are :mod:`geardyn.verdicts`.
 """
 
 from __future__ import annotations
@@ -57,16 +57,6 @@ from geardyn import classify
 from geardyn.plots.captions import spectral_peaks
 from geardyn.runs.cube import labels_of_cube
 from geardyn.verdicts import BORDERLINE_Z, RANGE_AGREE, Claim, band, fraction_verdict
-
-# the claims table and the verdict scale, with the rules that fill them (one import for the callers)
-from geardyn.verdicts import CSV_COLUMNS as CSV_COLUMNS
-from geardyn.verdicts import VERDICTS as VERDICTS
-from geardyn.verdicts import columns as columns
-from geardyn.verdicts import counts as counts
-from geardyn.verdicts import credit as credit
-from geardyn.verdicts import headline as headline
-from geardyn.verdicts import to_csv as to_csv
-from geardyn.verdicts import to_markdown as to_markdown
 
 P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
 #: The words for labels that are not period-n (:func:`geardyn.classify.short_name`: "QP", "chaos", ...).

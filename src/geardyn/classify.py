@@ -26,11 +26,6 @@ from geardyn.config import settings_from
 LABELS = {"long_period": -5, "chaotic": -4, "quasi_periodic": -3, "diverged": -2, "undetermined": -1, "not_periodic": 0}
 
 
-def _return_distances(p: np.ndarray, n: int) -> np.ndarray:
-    """max over states of |p_{k+n} - p_k| for each k."""
-    return np.max(np.abs(p[n:] - p[:-n]), axis=1)
-
-
 def falling_return_distances(poincare: np.ndarray, max_n: int, factor: float = 0.95) -> np.ndarray:
     """For n = 1 .. ``max_n`` (boolean array, entry n - 1): whether the return distance
     d_n(k) = max_i |p_k+n,i - p_k,i| of the Poincare points (rows with NaN left out) falls over the

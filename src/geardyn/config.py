@@ -3,7 +3,7 @@
 Every problem is reported as a single :class:`ConfigError` line that names the file, the key,
 the offending value and what is allowed, e.g.::
 
-    config/designs/li2013.yaml: pair.module = -3.5 is not allowed: number > 0 and <= 100 (Module m (mm).)
+    config/designs/my_drive.yaml: pair.module = -3.5 is not allowed: number > 0 and <= 100 (Module m (mm).)
 
 Defaults declared in the schema are filled in, so downstream code sees every key.
 """
@@ -225,6 +225,15 @@ def _key(path: Any) -> str:
 def _format(error: jsonschema.ValidationError, where: str) -> str:
     key = _key(error.absolute_path)
     node = error.schema if isinstance(error.schema, Mapping) else {}
+    if "propertyNames" in error.absolute_schema_path:  # a name of a section's entry: the instance is the name
+        text = str(error.instance)
+        shown = repr(text if len(text) <= 80 else text[:40] + "..." + text[-20:])
+        if error.validator == "maxLength":
+            return (
+                f"{where}: {key} name {shown} ({len(text)} characters) is not allowed: "
+                f"at most {error.validator_value} characters"
+            )
+        return f"{where}: {key} name {shown} is not allowed: {node.get('description', allowed_text(node))}"
     if error.validator == "additionalProperties":
         allowed = sorted(node.get("properties", {}))
         extra = sorted(set(error.instance) - set(allowed)) if isinstance(error.instance, Mapping) else []

@@ -1,10 +1,11 @@
-"""Self-describing netCDF output: CF-style global attributes, provenance, atomic writes.
+"""Self-describing outputs: netCDF with CF-style attributes and tables with their provenance, written atomically.
 
 Every dataset written by the pipeline goes through :func:`write_netcdf`, so every file
-says where it came from (package version, git commit, config hash, model variant) and on what
-(:func:`runtime_provenance`: Python and library versions, CPU model and its SIMD features, the
-instruction sets numpy dispatches to and the CPU numba compiles for; both from :mod:`geardyn.provenance`,
-re-exported here), and no reader ever sees a half-written file (write to a temporary name, then rename).
+says where it came from (package version, git commit, config hash, model variant: :func:`provenance`) and
+on what (:func:`runtime_provenance`: Python and library versions, CPU model and its SIMD features, the
+instruction sets numpy dispatches to and the CPU numba compiles for; both made by
+:mod:`geardyn.provenance` and named here for the writers' callers), and no reader ever sees a
+half-written file (write to a temporary name, then rename).
 Every variable is stored compressed, losslessly (zlib with the shuffle filter, level :data:`ZLIB_LEVEL`,
 chosen by measurement in ``docs/operations.md``).  Tables written by :func:`write_text` carry the same
 runtime provenance: Markdown as a closing HTML comment, CSV and JSON in a ``<name>.provenance.json`` beside
@@ -15,7 +16,6 @@ from __future__ import annotations
 
 import json
 import os
-import sys
 import tempfile
 from collections.abc import Mapping
 from pathlib import Path
@@ -25,18 +25,19 @@ import xarray as xr
 
 from geardyn import __version__
 
-# where and how an output was made (geardyn.provenance); the names "as" themselves are re-exported for the
-# writers' callers
-from geardyn.provenance import CONVENTIONS as CONVENTIONS
-from geardyn.provenance import PROVENANCE_PACKAGES as PROVENANCE_PACKAGES
-from geardyn.provenance import RUNTIME_KEYS as RUNTIME_KEYS
-from geardyn.provenance import config_hash as config_hash
-from geardyn.provenance import git_commit, provenance_text, runtime_provenance
+# where and how an output was made (geardyn.provenance): the attributes the writers' callers pass in
+from geardyn.provenance import git_commit, provenance_text
 from geardyn.provenance import provenance as provenance
-from geardyn.provenance import runtime_of as runtime_of
+from geardyn.provenance import runtime_provenance as runtime_provenance
 
 #: zlib level of every netCDF variable (with the shuffle filter); measured in docs/operations.md.
 ZLIB_LEVEL = 1
+
+
+def cf(dims: str | tuple[str, ...], data: Any, units: str, long_name: str, **attrs: Any) -> tuple[Any, Any, dict]:
+    """A variable of an xarray Dataset with its CF ``units`` and ``long_name`` (and any other attributes):
+    ``(dims, data, attrs)``."""
+    return (dims, data, {"units": units, "long_name": long_name, **attrs})
 
 
 def missing_cf_attributes(ds: xr.Dataset) -> list[str]:
@@ -64,7 +65,7 @@ def write_netcdf(
     Raises ``ValueError`` if a variable lacks ``units``/``long_name`` and ``require_cf`` is set, so
     no undocumented file is ever produced. Coordinate variables get no ``_FillValue`` (CF 2.5.1).
     With ``checksum`` every non-empty numeric variable is stored with HDF5's Fletcher-32 checksum,
-    so that reading it back (:func:`netcdf_problem`) detects any damaged byte, not only truncation.
+    so that reading it back (:func:`geardyn.quarantine.netcdf_problem`) detects any damaged byte, not only truncation.
     Every non-scalar numeric variable is compressed losslessly: zlib at ``zlib_level`` (1-9, 0 = off)
     after HDF5's byte shuffle (which groups the bytes of equal significance of neighbouring values,
     so slowly varying floats compress).  The global attributes include :func:`runtime_provenance`.
@@ -102,56 +103,6 @@ def write_netcdf(
         if os.path.exists(tmp):
             os.unlink(tmp)
     return path
-
-
-HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
-
-
-def netcdf_problem(path: str | os.PathLike[str]) -> str | None:
-    """Why the netCDF file ``path`` cannot be trusted (one short line), or ``None`` if it reads back whole.
-
-    Checks the signature, opens the file and reads every variable, which finds truncated and cut files
-    and, for files written with ``checksum=True``, any byte that differs from what was written.
-    """
-    path = Path(path)
-    try:
-        with open(path, "rb") as fh:
-            head = fh.read(8)
-    except OSError as err:
-        return f"cannot read ({err.strerror})"
-    if not head:
-        return "empty file"
-    if head != HDF5_SIGNATURE and not head.startswith(b"CDF"):
-        return "not a netCDF file (wrong signature)"
-    import netCDF4  # noqa: PLC0415 - the HDF5 reader only for a file that looks like netCDF
-
-    try:
-        with netCDF4.Dataset(path) as nc:
-            nc.set_auto_mask(False)
-            for var in nc.variables.values():
-                var[...]
-    except Exception as err:
-        text = str(err).splitlines()[0] if str(err) else ""
-        return f"does not read back ({type(err).__name__}: {text})"
-    return None
-
-
-def set_aside_damaged(paths: list[str]) -> list[str]:
-    """Rename every existing file of ``paths`` that :func:`netcdf_problem` rejects to ``<name>.damaged``.
-
-    A damaged chunk then counts as missing, so Snakemake recomputes it instead of merging it; the
-    damaged copy is kept for inspection.  Returns one line for each file set aside (path and problem).
-    """
-    moved = []
-    for p in paths:
-        if not os.path.exists(p):
-            continue
-        problem = netcdf_problem(p)
-        if problem is None:
-            continue
-        os.replace(p, f"{p}.damaged")
-        moved.append(f"{p} ({problem})")
-    return moved
 
 
 def _umask() -> int:
@@ -198,54 +149,7 @@ def _write_atomic(text: str, path: Path) -> Path:
     return path
 
 
-def read_provenance_text(text: str) -> dict[str, str]:
-    """The ``key: value`` pairs of the provenance comment that :func:`write_text` put in a Markdown table."""
-    start = text.rfind("<!-- provenance\n")
-    if start < 0:
-        return {}
-    body = text[start + len("<!-- provenance\n") : text.find("-->", start)]
-    return dict(line.split(": ", 1) for line in body.splitlines() if ": " in line)
-
-
-def save_figure(fig: Any, path: str | os.PathLike[str], caption: str | None = None, dpi: int = 150) -> Path:
-    """Save a matplotlib figure atomically, and its caption beside it as ``<name>.txt``.  The plots build
-    :class:`matplotlib.figure.Figure` objects without pyplot (0.2-0.3 s of a figure job's start-up); a figure
-    made with pyplot is closed after saving."""
-
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")
-    fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
-    pyplot = sys.modules.get("matplotlib.pyplot")
-    if pyplot is not None:
-        pyplot.close(fig)
-    os.replace(tmp, path)
-    if caption is not None:
-        write_text(caption.strip() + "\n", path.with_name(path.name + ".txt"))
-    return path
-
-
 def read_dataset(path: str | os.PathLike[str]) -> xr.Dataset:
     """Open a netCDF file, load it into memory and close it."""
     with xr.open_dataset(path) as ds:
         return ds.load()
-
-
-def read_chunks(paths: list[str] | tuple[str, ...]) -> list[xr.Dataset]:
-    """Load the chunk files of a merge; refuse any that does not read back whole.
-
-    Runs inside the merge job (never while Snakemake plans): every damaged chunk is first set aside as
-    ``<name>.damaged`` (kept for inspection), then one ``ValueError`` names them.  The chunk is then
-    missing, so running the same command again recomputes exactly those chunks and merges.
-    """
-    moved = set_aside_damaged(list(paths))
-    if moved:
-        problems = ", ".join(moved)
-        raise ValueError(
-            f"damaged chunk(s) {problems} set aside as .damaged; run the same command again to recompute them"
-        )
-    parts = []
-    for path in paths:
-        with xr.open_dataset(path) as ds:
-            parts.append(ds.load())
-    return parts

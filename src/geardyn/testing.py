@@ -7,7 +7,7 @@ notebook::
 
     from geardyn.testing import Job, run_script
     run_script("workflow/scripts/plus_landscape.py",
-               Job(input={"design": "config/designs/yue2014.yaml"},
+               Job(input={"design": "config/designs/my_plus_set.yaml"},
                    output={"landscape": "/tmp/land.nc"}, log=["/tmp/land.log"]))
 """
 

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import copy
 import difflib
-import re
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -19,7 +18,7 @@ import jsonschema
 
 from geardyn.config import ConfigError, allowed_text, check_expanded_size, load_design_dict, read_yaml, schema, validate
 from geardyn.khv import design as khv_design
-from geardyn.khv.design import is_fraction, resolve_fractions
+from geardyn.khv.design import resolve_fractions
 from geardyn.papers import paper_of
 from geardyn.plus import design as plus_design
 from geardyn.solve.precision import POINCARE_ERROR, measured_poincare_error
@@ -36,13 +35,6 @@ def read_config_file(path: str | Path) -> dict[str, Any]:
             f"{path}: expected a mapping with a 'designs' key at the top level, got {type(data).__name__}"
         )
     return data
-
-
-def load_config(path: str | Path) -> dict[str, Any]:
-    """Read and validate the workflow configuration (``config/config.yaml``): presets resolved and
-    defaults filled (:func:`fill_config`); the designs it lists are not read (see
-    :func:`validate_workflow`)."""
-    return fill_config(read_config_file(path), str(path))
 
 
 def check_design(raw: dict[str, Any], where: str) -> None:
@@ -78,16 +70,6 @@ def validate_workflow(
     return filled, designs
 
 
-#: Words of a run's ``designs`` selector; a design may not be named like one.
-SELECTOR_WORDS = ("all", "own")
-#: The longest name of a design, preset, sweep, points set, calibration or map (characters): the
-#: names become file names and Snakemake wildcards.
-MAX_NAME_LENGTH = 64
-#: What such a name may hold: letters, digits, _ and - (not first), nothing that breaks a path or a
-#: wildcard.
-NAME_PATTERN = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_-]*")
-#: Sections whose keys are names.
-NAMED_SECTIONS = ("designs", "presets", "sweeps", "points", "calibration", "maps", "responses", "curves")
 #: Blocks a preset may hold, per section that may name one.
 PRESET_KEYS = {
     "sweeps": ("integration", "classifier", "start_from", "coexistence"),
@@ -116,16 +98,15 @@ def fill_config(config: dict[str, Any], where: str = "config") -> dict[str, Any]
     """The workflow config with presets resolved and defaults filled, the names and maps checked.
 
     In order: the size of the structure with its YAML aliases expanded (refused past
-    :data:`geardyn.config.MAX_EXPANDED_VALUES` before anything walks it), the schema, the names
-    (:data:`NAME_PATTERN`, :data:`MAX_NAME_LENGTH`, no design named like a selector word), the
-    presets (each entry's ``preset`` replaced by the preset's blocks, the entry's own keys winning key by
-    key within each block), the schema again with defaults filled, then the maps' axes. Every
+    :data:`geardyn.config.MAX_EXPANDED_VALUES` before anything walks it), the schema (the names too: its
+    ``$defs/name``, and no design named like a selector word), the presets (each entry's ``preset``
+    replaced by the preset's blocks, the entry's own keys winning key by key within each block), the
+    schema again with defaults filled, then the maps' axes. Every
     ``error_floor`` an entry does not set is taken from :data:`POINCARE_ERROR` when the entry sets
     ``integration.steps_per_period`` (otherwise :func:`validate_workflow` takes it from the designs).
     """
     check_expanded_size(config, where)
     checked = validate(config, "config.schema.json", where)
-    _check_names(checked, where)
     resolved = _resolve_presets(copy.deepcopy(config), checked["presets"], where)
     filled = validate(resolved, "config.schema.json", where)
     _check_maps(filled, where)
@@ -137,31 +118,6 @@ def fill_config(config: dict[str, Any], where: str = "config") -> dict[str, Any]
                     steps, f"{where}: {section}.{name}.integration.steps_per_period"
                 )
     return filled
-
-
-def _check_names(config: Mapping[str, Any], where: str) -> None:
-    """Names of designs, presets and runs: not a selector word (designs), at most
-    :data:`MAX_NAME_LENGTH` characters, only the characters of :data:`NAME_PATTERN`."""
-    for section in NAMED_SECTIONS:
-        for name in config.get(section, {}):
-            text = str(name)
-            shown = repr(text if len(text) <= 80 else text[:40] + "..." + text[-20:])
-            prefix = f"{where}: {section} name {shown}"
-            if section == "designs" and (text in SELECTOR_WORDS or text.startswith("paper:")):
-                raise ConfigError(
-                    f"{prefix} is not allowed: a name other than the selector words "
-                    + ", ".join(repr(w) for w in SELECTOR_WORDS)
-                    + " and 'paper:<key>'"
-                )
-            if len(text) > MAX_NAME_LENGTH:
-                raise ConfigError(
-                    f"{prefix} ({len(text)} characters) is not allowed: at most {MAX_NAME_LENGTH} characters"
-                )
-            if not NAME_PATTERN.fullmatch(text):
-                raise ConfigError(
-                    f"{prefix} is not allowed: letters, digits, _ and - (not first) only; the "
-                    "name becomes part of file paths"
-                )
 
 
 def _resolve_presets(config: dict[str, Any], presets: Mapping[str, Any], where: str) -> dict[str, Any]:
@@ -238,33 +194,24 @@ def _fill_error_floors(filled: dict[str, Any], designs: Mapping[str, Mapping[str
             )
 
 
-#: The control parameters of :mod:`geardyn.khv` (``khv.CONTROLS``) with the values a run may give them,
-#: as schema nodes. b and e are in um; their limits are those of the design file's ``backlash`` and
-#: ``te_amplitude`` (m). Any other override must be a ``dynamics.parameters`` key, with that key's limits.
-CONTROL_LIMITS: dict[str, dict[str, Any]] = {
-    "x1": {"type": "number", "minimum": -1.0, "maximum": 2.0, "description": "planet profile-shift coefficient x1 (-)"},
-    "b": {"type": "number", "minimum": 0, "maximum": 1000, "description": "half backlash b (um)"},
-    "e": {"type": "number", "minimum": 0, "maximum": 1000, "description": "transmission-error amplitude e (um)"},
-    "w": {
-        "type": "number",
-        "exclusiveMinimum": 0,
-        "maximum": 100,
-        "description": "dimensionless mesh frequency w_m / w_n (-)",
-    },
-    "speed": {"type": "number", "exclusiveMinimum": 0, "maximum": 1000000, "description": "input speed (rpm)"},
-}
+def controls() -> dict[str, Mapping[str, Any]]:
+    """The schema nodes of the values a run may give a control parameter: the control parameters of a KHV
+    drive (``$defs/controls`` of the config schema: x1, b and e in um, w, speed), then every
+    ``dynamics.parameters`` key with that key's limits (each group in alphabetical order)."""
+    groups = (
+        schema("config.schema.json")["$defs"]["controls"]["properties"],
+        schema("dynamics.schema.json")["properties"]["parameters"]["properties"],
+    )
+    return {k: group[k] for group in groups for k in sorted(group)}
 
 
 def _override_node(key: str, where: str) -> Mapping[str, Any]:
     """The schema node an override ``key`` is checked against; unknown keys are refused with a hint."""
-    if key in CONTROL_LIMITS:
-        return CONTROL_LIMITS[key]
-    params = schema("dynamics.schema.json")["properties"]["parameters"]["properties"]
-    if key in params:
-        return params[key]
-    allowed = sorted(CONTROL_LIMITS) + sorted(params)
-    close = difflib.get_close_matches(key, allowed, n=1)
-    hint = f" (did you mean '{close[0]}'?)" if close else f" (allowed: {', '.join(allowed)})"
+    known = controls()
+    if key in known:
+        return known[key]
+    close = difflib.get_close_matches(key, list(known), n=1)
+    hint = f" (did you mean '{close[0]}'?)" if close else f" (allowed: {', '.join(known)})"
     raise ConfigError(f"{where}: unknown control parameter '{key}'{hint}")
 
 
@@ -303,7 +250,8 @@ def _segment(raw: Mapping[str, Any]) -> tuple[float, float]:
 def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> None:
     """Semantic checks of every run against every design it selects: known KHV design, known control
     parameters with values in range (NaN and inf refused), ranges that go upwards, x1 inside the design's
-    admissible segment, percentages only for x1; claims and calibrations only for paper designs."""
+    admissible segment; claims and calibrations only for paper designs (percentages only for x1: the
+    schema)."""
 
     khv = [name for name, raw in designs.items() if raw["kind"] == "khv"]
     for axis in ("x1", "x2"):
@@ -317,7 +265,6 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
         for name, spec in filled.get(section, {}).items():
             where = f"config: {section}.{name}"
             selector = spec["designs"] if "designs" in spec else [spec["design"]]
-            _no_fraction_but_x1(spec, where)
             for design_name in selected_designs(selector, designs):
                 if design_name not in designs or designs[design_name]["kind"] != "khv":
                     raise ConfigError(
@@ -364,26 +311,6 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
                 )
 
 
-def _no_fraction_but_x1(spec: Mapping[str, Any], where: str) -> None:
-    """Percentages of the admissible segment are x1 values: refuse them for any other parameter."""
-
-    def walk(node: Any, key: str | None, path: str) -> None:
-        if isinstance(node, Mapping):
-            param = node.get("parameter") if isinstance(node.get("parameter"), str) else None
-            for k, v in node.items():
-                sub = param if k in ("start", "stop") and param else k
-                walk(v, sub, f"{path}.{k}")
-        elif isinstance(node, list):
-            for i, v in enumerate(node):
-                walk(v, key, f"{path}[{i}]")
-        elif is_fraction(node) and key != "x1":
-            raise ConfigError(
-                f"{path} = {node!r} is not allowed: a number (percentages of the admissible segment are for x1 only)"
-            )
-
-    walk(spec, None, where)
-
-
 def _check_x1(value: float, raw: dict[str, Any], where: str) -> None:
     lo, hi = raw["admissible"]["x1_min"], raw["admissible"]["x1_max"]
     if not lo - 1e-12 <= value <= hi + 1e-12:
@@ -393,34 +320,30 @@ def _check_x1(value: float, raw: dict[str, Any], where: str) -> None:
         )
 
 
+#: The ranges of a run, by section: (the key that holds the range, "" for the entry itself; the parameter
+#: it spans, ``None`` when the range names it in its ``parameter``).  Each goes upwards and its ends are
+#: values of its parameter.
+RANGES: dict[str, tuple[tuple[str, str | None], ...]] = {
+    "sweeps": (("", None),),
+    "maps": (("x", None), ("y", None)),
+    "curves": (("x", None), ("y", None)),
+    "calibration": (("x1", "x1"),),
+    "responses": (("", "w"),),
+}
+
+
 def _check_overrides(section: str, spec: dict[str, Any], raw: dict[str, Any], where: str) -> None:
     """Overrides of one run against one design: known keys, values in range, x1 inside the segment M-N."""
     overrides = [("fixed", spec.get("fixed", {}))] + [
         (f"cases[{i}]", case) for i, case in enumerate(spec.get("cases", []))
     ]
-    if section == "sweeps":
-        _override_node(spec["parameter"], f"{where}.parameter")
-        _check_range(spec, where)
-        overrides.append(("start", {spec["parameter"]: spec["start"]}))
-        overrides.append(("stop", {spec["parameter"]: spec["stop"]}))
-    if section in ("maps", "curves"):
-        for ax in ("x", "y"):
-            a = spec[ax]
-            _override_node(a["parameter"], f"{where}.{ax}.parameter")
-            _check_range({"num": 2, **a}, f"{where}.{ax}")
-            overrides.append((f"{ax}.start", {a["parameter"]: a["start"]}))
-            overrides.append((f"{ax}.stop", {a["parameter"]: a["stop"]}))
-    if section == "responses":
-        _check_range(spec, where)
-        for key in ("w", "speed"):
-            if key in spec.get("fixed", {}):
-                raise ConfigError(
-                    f"{where}.fixed.{key} is not allowed: the frequency response sweeps the mesh frequency"
-                )
-    if section == "calibration":
-        _check_range(spec["x1"], f"{where}.x1")
-        overrides.append(("x1.start", {"x1": spec["x1"]["start"]}))
-        overrides.append(("x1.stop", {"x1": spec["x1"]["stop"]}))
+    for key, parameter in RANGES.get(section, ()):
+        rng, at = (spec[key], f"{key}.") if key else (spec, "")
+        if parameter is None:
+            parameter = rng["parameter"]
+            _override_node(parameter, f"{where}.{at}parameter")
+        _check_range({"num": 2, **rng}, f"{where}.{key}" if key else where)
+        overrides += [(f"{at}{end}", {parameter: rng[end]}) for end in ("start", "stop")]
     for label, values in overrides:
         for key, value in values.items():
             if key == "x1" and raw["kind"] == "khv":

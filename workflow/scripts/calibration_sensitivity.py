@@ -5,7 +5,9 @@ from pathlib import Path
 
 from geardyn import io, logs
 from geardyn.khv import calibrate, design
+from geardyn.papers import paper_of
 from geardyn.plots import calibration as plots
+from geardyn.plots import save_figure
 
 log = logs.to_file(snakemake.log[0])
 spec = snakemake.params.spec
@@ -26,7 +28,10 @@ attrs = io.provenance(
 )
 io.write_netcdf(oat, snakemake.output.oat, attrs)
 io.write_netcdf(mp, snakemake.output.map, attrs)
-io.save_figure(plots.plot_tornado(oat), snakemake.output.tornado, plots.caption_tornado(oat))
-io.save_figure(plots.plot_score_map(mp), snakemake.output.map_figure, plots.caption_map(mp))
+paper = paper_of(drive.paper)
+leave = calibrate.paper_transitions(paper)["leave_p1"]
+fixed = paper.CLAIM_LINES[paper.CALIBRATION["line"]]["fixed"]
+save_figure(plots.plot_tornado(oat, leave), snakemake.output.tornado, plots.caption_tornado(oat, fixed, leave))
+save_figure(plots.plot_score_map(mp), snakemake.output.map_figure, plots.caption_map(mp))
 io.write_text(text, snakemake.output.table)
 log.info("sensitivity: %d new evaluations, %d from the cache", ev.new, ev.reused)

@@ -3,7 +3,7 @@ design that names that paper."""
 
 import numpy as np
 
-from geardyn import claims, io, logs
+from geardyn import claims, io, logs, verdicts
 from geardyn.khv import design, point
 from geardyn.papers import paper_of
 from geardyn.solve import simulate, warm_up
@@ -32,7 +32,8 @@ rows = claims.claims(
     },
 )
 io.write_text(
-    claims.to_markdown(rows, drive.name, claims.note(drive.name, drive.title, paper), paper.SHORT), snakemake.output.md
+    verdicts.to_markdown(rows, drive.name, claims.note(drive.name, drive.title, paper), paper.SHORT),
+    snakemake.output.md,
 )
-io.write_text(claims.to_csv(rows), snakemake.output.csv)
-log.info("claims: %s", claims.counts(rows))
+io.write_text(verdicts.to_csv(rows), snakemake.output.csv)
+log.info("claims: %s", verdicts.counts(rows))

@@ -4,7 +4,7 @@ import numba
 
 from geardyn import io, logs
 from geardyn.khv import design, point
-from geardyn.plots import captions
+from geardyn.plots import captions, save_figure
 from geardyn.plots.response import frequency_response_figure
 from geardyn.runs import response
 from geardyn.solve import warm_up
@@ -23,7 +23,7 @@ attrs = io.provenance(
     model_variant=drive.stiffness.label,
 )
 io.write_netcdf(ds, snakemake.output.cube, {**ds.attrs, **attrs})
-io.save_figure(
+save_figure(
     frequency_response_figure(ds, snakemake.params.spec.get("title") or name),
     snakemake.output.figure,
     captions.frequency_response(name, ds),

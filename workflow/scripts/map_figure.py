@@ -2,7 +2,7 @@
 curves, when the map computes them)."""
 
 from geardyn import io, logs
-from geardyn.plots import captions
+from geardyn.plots import captions, save_figure
 from geardyn.plots.curves import summary
 from geardyn.plots.dynamics import plot_map
 
@@ -22,6 +22,4 @@ if curves is not None:
         + ("; ".join(f"{v} {k}" for k, v in found.items()) or "none")
         + "."
     )
-io.save_figure(
-    plot_map(ds, title, spec.get("cuts_x", []), spec.get("cuts_y", []), curves), snakemake.output.figure, text
-)
+save_figure(plot_map(ds, title, spec.get("cuts_x", []), spec.get("cuts_y", []), curves), snakemake.output.figure, text)

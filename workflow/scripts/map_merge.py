@@ -1,12 +1,12 @@
 """Adapter: merge the chunks of one regime map."""
 
-from geardyn import io, logs
+from geardyn import io, logs, quarantine
 from geardyn.khv import design
 from geardyn.runs import cube
 
 log = logs.to_file(snakemake.log[0])
 drive = design.header(snakemake.input.design)  # results only: no geometry
-parts = io.read_chunks(snakemake.input.chunks)  # a damaged chunk is refused by name, never merged
+parts = quarantine.read_chunks(snakemake.input.chunks)  # a damaged chunk is refused by name, never merged
 merged = cube.merge_chunks(parts)
 attrs = io.provenance(
     title=f"Regime map {snakemake.wildcards.map}, {drive.title}",

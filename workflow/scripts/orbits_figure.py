@@ -2,6 +2,7 @@
 
 from geardyn import io, logs
 from geardyn.khv import design
+from geardyn.plots import save_figure
 from geardyn.plots.orbits import plot_branches
 
 log = logs.to_file(snakemake.log[0])
@@ -16,4 +17,4 @@ caption = (
     f"equations); {n_bif} typed bifurcation points marked (table: "
     f"orbits/{snakemake.wildcards.sweep}_bifurcations.csv)."
 )
-io.save_figure(plot_branches(cube, branches, title), snakemake.output.figure, caption)
+save_figure(plot_branches(cube, branches, title), snakemake.output.figure, caption)

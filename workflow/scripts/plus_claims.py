@@ -3,7 +3,7 @@ design that names that paper -> claims.md and claims.csv."""
 
 import pandas as pd
 
-from geardyn import claims, io, logs
+from geardyn import io, logs, verdicts
 from geardyn.papers import paper_of
 from geardyn.plus import claims as plus_claims
 from geardyn.plus import design
@@ -23,6 +23,6 @@ products = plus_claims.PlusProducts(
 )
 rows = plus_claims.plus_claims(paper, products)
 note = plus_claims.products_note(plus.name, plus.title, paper)
-io.write_text(claims.to_markdown(rows, plus.name, note, paper.SHORT), snakemake.output.md)
-io.write_text(claims.to_csv(rows), snakemake.output.csv)
-log.info("claims: %s", claims.counts(rows))
+io.write_text(verdicts.to_markdown(rows, plus.name, note, paper.SHORT), snakemake.output.md)
+io.write_text(verdicts.to_csv(rows), snakemake.output.csv)
+log.info("claims: %s", verdicts.counts(rows))

@@ -4,6 +4,7 @@ optimal tip relief of te.nc) against input speed -> forced_response.nc and its f
 from geardyn import io, logs
 from geardyn.papers import paper_of
 from geardyn.plots import plus as plots
+from geardyn.plots import save_figure
 from geardyn.plus import captions, design, forced
 
 log = logs.to_file(snakemake.log[0])
@@ -22,7 +23,7 @@ io.write_netcdf(
         model_variant="linear modal, modal damping, static TE excitation",
     ),
 )
-io.save_figure(
+save_figure(
     plots.forced_response_figure(ds), snakemake.output.figure, captions.forced_response(plus, ds, paper_of(plus.paper))
 )
 log.info("forced response: %d speeds, %d harmonics, cases %s", ds.sizes["speed"], ds.sizes["harmonic"], cases)

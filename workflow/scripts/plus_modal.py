@@ -19,26 +19,26 @@ io.write_netcdf(
         title=ds.attrs["title"], paper=plus.paper, config=dict(plus.raw), model_variant=ds.attrs["model_variant"]
     ),
 )
-t2 = tables.frequency_table(plus)
-t5 = tables.key_element_table(plus)
+t2 = tables.frequency_table(plus, paper)
+t5 = tables.key_element_table(plus, paper)
 if paper is None:
-    tables.write_table(tables.without_paper(t2), out.table02_csv, out.table02_md, captions.table02_header(None))
-    tables.write_table(tables.without_paper(t5), out.table05_csv, out.table05_md, captions.KEY_ELEMENT_HEADER)
+    tables.write_table(t2, out.table02_csv, out.table02_md, captions.table02_header(None))
+    tables.write_table(t5, out.table05_csv, out.table05_md, captions.KEY_ELEMENT_HEADER)
     note = pd.DataFrame([{"note": "no paper to compare with: the design names none"}])
     tables.write_table(note, out.scaling_csv, out.scaling_md, "# Stiffness scaling against a paper: not applicable")
 else:
     tables.write_table(t2, out.table02_csv, out.table02_md, captions.table02_header(paper))
     tables.write_table(t5, out.table05_csv, out.table05_md, captions.TABLE05_HEADER)
-    sc = tables.scaling_table(plus)
+    sc = tables.scaling_table(plus, paper)
     best = float(sc.uniform_factor.iloc[0])
     factors = [1.0] + [float(v) for v in tables.stiffness_comparison(plus)["ratio_to_table1"].iloc[[2, 3, 4]]] + [best]
     fixed = pd.DataFrame(
         [
-            {**tables.fixed_factor_residual(plus, f), "why": why}
+            {**tables.fixed_factor_residual(plus, paper, f), "why": why}
             for f, why in zip(factors, captions.FIXED_FACTOR_WHY, strict=True)
         ]
     )
-    scaled = tables.scaled_frequency_table(plus, best)[
+    scaled = tables.scaled_frequency_table(plus, paper, best)[
         [
             "condition",
             "order",

@@ -3,13 +3,14 @@
 from geardyn import io, logs
 from geardyn.papers import paper_of
 from geardyn.plots import plus as plots
+from geardyn.plots import save_figure
 from geardyn.plus import captions, design
 
 log = logs.to_file(snakemake.log[0])
 plus = design.load(snakemake.input.design)
 paper = paper_of(plus.paper)
 ds = io.read_dataset(snakemake.input.modal)
-io.save_figure(plots.modal_strain_energy_figure(ds), snakemake.output.fig06, captions.modal_strain(ds, paper))
-io.save_figure(plots.modal_kinetic_energy_figure(ds), snakemake.output.fig07, captions.modal_kinetic(ds, paper))
-io.save_figure(plots.mode_shape_figure(ds), snakemake.output.fig07b, captions.mode_shapes(ds, paper))
+save_figure(plots.modal_strain_energy_figure(ds), snakemake.output.fig06, captions.modal_strain(ds, paper))
+save_figure(plots.modal_kinetic_energy_figure(ds), snakemake.output.fig07, captions.modal_kinetic(ds, paper))
+save_figure(plots.mode_shape_figure(ds), snakemake.output.fig07b, captions.mode_shapes(ds, paper))
 log.info("figures written")

@@ -22,14 +22,17 @@ for o in optima:
         100 * o.reduction,
         o.nfev,
     )
-rt = tables.relief_table(optima)
-pr = tables.PAPER_RELIEF
-paper_at_ours = ishikawa.design_te(
-    plus, relief_amount=pr["amount_mm"] * 1e-3, relief_length=pr["length_mm"] * 1e-3, relief_shape="linear"
-).ptp
-rt["ours_at_this_relief_um"] = [o.ptp * 1e6 for o in optima] + [paper_at_ours * 1e6]
-if paper is None:
-    rt = tables.without_paper(rt)
+rt = tables.relief_table(optima, paper)
+ours = [o.ptp * 1e6 for o in optima]
+if paper is not None:  # our TE at the paper's relief, beside the paper's row
+    pr = paper.PAPER_RELIEF
+    ours.append(
+        ishikawa.design_te(
+            plus, relief_amount=pr["amount_mm"] * 1e-3, relief_length=pr["length_mm"] * 1e-3, relief_shape="linear"
+        ).ptp
+        * 1e6
+    )
+rt["ours_at_this_relief_um"] = ours
 tables.write_table(rt, out.optima_csv, out.optima_md, captions.relief_header(ishikawa.pd_mesh_load(plus), plus, paper))
 ds = tables.te_dataset(plus, optima)
 io.write_netcdf(

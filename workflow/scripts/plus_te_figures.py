@@ -5,6 +5,7 @@ import pandas as pd
 from geardyn import io, logs
 from geardyn.papers import paper_of
 from geardyn.plots import plus as plots
+from geardyn.plots import save_figure
 from geardyn.plus import captions, design
 
 log = logs.to_file(snakemake.log[0])
@@ -13,9 +14,9 @@ paper = paper_of(plus.paper)
 te = io.read_dataset(snakemake.input.te)
 land = io.read_dataset(snakemake.input.landscape)
 optima = pd.read_csv(snakemake.input.optima_csv)
-io.save_figure(plots.te_unmodified_figure(te), snakemake.output.fig04, captions.te_unmodified(plus, te, paper))
-io.save_figure(plots.te_relief_figure(te, paper), snakemake.output.fig09, captions.te_relief(plus, te, optima, paper))
-io.save_figure(
+save_figure(plots.te_unmodified_figure(te), snakemake.output.fig04, captions.te_unmodified(plus, te, paper))
+save_figure(plots.te_relief_figure(te, paper), snakemake.output.fig09, captions.te_relief(plus, te, optima, paper))
+save_figure(
     plots.relief_landscape_figure(land, plots.landscape_markers(optima), plots.bound_boxes(plus)),
     snakemake.output.fig09b,
     captions.relief_landscape(te, land, plus, optima, paper),

@@ -3,14 +3,14 @@
 from geardyn import io, logs
 from geardyn.khv import design
 from geardyn.papers import paper_of
-from geardyn.plots import captions
+from geardyn.plots import captions, save_figure
 from geardyn.plots.dynamics import plot_points
 
 log = logs.to_file(snakemake.log[0])
 drive = design.header(snakemake.input.design)  # results only: no geometry
 ds = io.read_dataset(snakemake.input.data)
 title = snakemake.params.spec.get("title") or snakemake.wildcards.points
-io.save_figure(
+save_figure(
     plot_points(ds, title),
     snakemake.output.figure,
     captions.points(snakemake.wildcards.points, ds, paper_of(drive.paper)),

@@ -1,8 +1,9 @@
 """Adapter: single-tooth stiffness, k(t) at three x1, and the backlash function (paper 1 Figs. 4-6)."""
 
-from geardyn import io, logs
+from geardyn import logs
 from geardyn.khv import design, mesh_table
 from geardyn.papers import paper_of
+from geardyn.plots import save_figure
 from geardyn.plots import stiffness as plots
 
 log = logs.to_file(snakemake.log[0])
@@ -13,8 +14,8 @@ x1_values = design.figure_x1(drive, spec["fig05_x1"], getattr(paper, "FIG05_X1",
 props = [design.mesh_properties(drive, x1) for x1 in x1_values]
 middle = props[len(props) // 2]
 curve = mesh_table.single_tooth_curve(middle.contact_ratio, middle.k_prime)
-io.save_figure(plots.plot_single_tooth(curve), snakemake.output.fig04, plots.caption_fig04(middle, paper))
+save_figure(plots.plot_single_tooth(curve), snakemake.output.fig04, plots.caption_fig04(middle, paper))
 curves = mesh_table.stiffness_table(drive, x1_values, spec["phase_points"])
-io.save_figure(plots.plot_mesh_stiffness(curves), snakemake.output.fig05, plots.caption_fig05(curves, drive, paper))
-io.save_figure(plots.plot_backlash(), snakemake.output.fig06, plots.caption_fig06(paper))
+save_figure(plots.plot_mesh_stiffness(curves), snakemake.output.fig05, plots.caption_fig05(curves, drive, paper))
+save_figure(plots.plot_backlash(), snakemake.output.fig06, plots.caption_fig06(paper))
 log.info("Figs. 4-6 written for x1 = %s", x1_values)

@@ -1,12 +1,12 @@
 """Adapter: merge the chunk cubes of one sweep into a single bifurcation cube."""
 
-from geardyn import io, logs
+from geardyn import io, logs, quarantine
 from geardyn.khv import design
 from geardyn.runs import cube
 
 log = logs.to_file(snakemake.log[0])
 drive = design.header(snakemake.input.design)  # results only: no geometry
-parts = io.read_chunks(snakemake.input.chunks)  # a damaged chunk is refused by name, never merged
+parts = quarantine.read_chunks(snakemake.input.chunks)  # a damaged chunk is refused by name, never merged
 merged = cube.merge_chunks(parts)
 attrs = io.provenance(
     title=f"Bifurcation cube {snakemake.wildcards.sweep}, {drive.title}",

@@ -175,11 +175,6 @@ class ParabolicStiffness:
     def c(self) -> float:
         return self.k_prime
 
-    @property
-    def jump_phases(self) -> tuple[float, float]:
-        """Phases (mesh periods) where a pair enters (0) or leaves (f = eps - floor(eps)): k(t) jumps there."""
-        return (0.0, self.fraction)
-
     def __call__(self, t: ArrayLike) -> NDArray[np.float64]:
         """k(t) in N/m, periodic with period 1; right-continuous at the jumps."""
         tau = np.mod(np.asarray(t, dtype=float), 1.0)
@@ -201,8 +196,3 @@ class ParabolicStiffness:
         """Smallest value over a period (negative values make the model meaningless)."""
         t = np.concatenate([np.linspace(0.0, 1.0, 4001), [self.fraction]])
         return float(np.min(self(t)))
-
-
-def mean_stiffness_corrected(eps: float, k_c: float) -> float:
-    """Closed form of the corrected mean: (4/3) eps k' = (8/9) eps k_C (paper 1 prints 0.866268 eps k_C)."""
-    return 8.0 / 9.0 * eps * k_c

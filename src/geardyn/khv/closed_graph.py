@@ -26,6 +26,7 @@ from numpy.typing import ArrayLike
 
 from geardyn.gears import constraints, interference
 from geardyn.gears import geometry as geo
+from geardyn.io import cf
 
 #: Which of the paper's lines each constraint belongs to (0: drawn but not one of lines 1-4).
 LINE_OF: dict[str, int] = {
@@ -90,12 +91,8 @@ def closed_graph(
     grid_pair = geo.with_shifts(base, x1a[np.newaxis, :], x2a[:, np.newaxis])
     margins = constraints.constraint_grid(grid_pair, **kw)  # type: ignore[arg-type]
     coords = {
-        "x1": ("x1", x1a, {"units": "1", "long_name": "planet profile-shift coefficient x1"}),
-        "x2": (
-            "x2",
-            x2a,
-            {"units": "1", "long_name": "annulus profile-shift coefficient x2 (Chinese sign convention)"},
-        ),
+        "x1": cf("x1", x1a, "1", "planet profile-shift coefficient x1"),
+        "x2": cf("x2", x2a, "1", "annulus profile-shift coefficient x2 (Chinese sign convention)"),
     }
     if reference_points:
         coords["point"] = ("point", np.array(list(reference_points)), {"long_name": "printed limit point"})
@@ -138,39 +135,31 @@ def _add_grid(ds: xr.Dataset, grid_pair: geo.GearPair, margins: Mapping[str, np.
     feasibility flags (all constraints; the cutter-independent ones)."""
     for name, value in margins.items():
         units, long_name = constraints.constraint_info(name)
-        ds[name] = (
+        ds[name] = cf(
             ("x2", "x1"),
             np.asarray(value, dtype=float),
-            {
-                "units": units,
-                "long_name": long_name,
-                "closed_graph_line": LINE_OF.get(name, 0),
-                "cutter_dependent": int(name in CUTTER_DEPENDENT),
-                "sign_convention": ">= 0 satisfied",
-            },
+            units,
+            long_name,
+            closed_graph_line=LINE_OF.get(name, 0),
+            cutter_dependent=int(name in CUTTER_DEPENDENT),
+            sign_convention=">= 0 satisfied",
         )
-    ds["contact_ratio"] = (
-        ("x2", "x1"),
-        interference.contact_ratio(grid_pair),
-        {"units": "1", "long_name": "transverse contact ratio"},
-    )
-    ds["working_pressure_angle"] = (
-        ("x2", "x1"),
-        np.degrees(geo.working_pressure_angle(grid_pair)),
-        {"units": "degree", "long_name": "working pressure angle a'"},
+    ds["contact_ratio"] = cf(("x2", "x1"), interference.contact_ratio(grid_pair), "1", "transverse contact ratio")
+    ds["working_pressure_angle"] = cf(
+        ("x2", "x1"), np.degrees(geo.working_pressure_angle(grid_pair)), "degree", "working pressure angle a'"
     )
 
     stack = np.stack([ds[n].values for n in margins])
     free = np.stack([ds[n].values for n in margins if n not in CUTTER_DEPENDENT])
-    ds["feasible"] = (
-        ("x2", "x1"),
-        np.all(stack >= 0.0, axis=0).astype(np.int8),
-        {"units": "1", "long_name": "all constraints satisfied", **_flag_attrs()},
+    ds["feasible"] = cf(
+        ("x2", "x1"), np.all(stack >= 0.0, axis=0).astype(np.int8), "1", "all constraints satisfied", **_flag_attrs()
     )
-    ds["feasible_cutter_free"] = (
+    ds["feasible_cutter_free"] = cf(
         ("x2", "x1"),
         np.all(free >= 0.0, axis=0).astype(np.int8),
-        {"units": "1", "long_name": "all constraints satisfied except the cutter-dependent ones", **_flag_attrs()},
+        "1",
+        "all constraints satisfied except the cutter-dependent ones",
+        **_flag_attrs(),
     )
 
 
@@ -184,26 +173,22 @@ def _add_line4(ds: xr.Dataset, base: geo.GearPair, x1a: np.ndarray, kw: Mapping[
     ok_line = np.all(others >= 0.0, axis=0) & (np.abs(on_line["overlap_interference"]) < _ON_LINE_TOL)
     others_free = np.stack([v for k, v in on_line.items() if k not in (*CUTTER_DEPENDENT, "overlap_interference")])
     ok_line_free = np.all(others_free >= 0.0, axis=0)
-    ds["x2_line4"] = ("x1", x2_l4, {"units": "1", "long_name": "annulus shift x2 on line 4 (G_s = 0)"})
-    ds["contact_ratio_line4"] = (
-        "x1",
-        interference.contact_ratio(line_pair),
-        {"units": "1", "long_name": "transverse contact ratio on line 4"},
+    ds["x2_line4"] = cf("x1", x2_l4, "1", "annulus shift x2 on line 4 (G_s = 0)")
+    ds["contact_ratio_line4"] = cf(
+        "x1", interference.contact_ratio(line_pair), "1", "transverse contact ratio on line 4"
     )
-    ds["working_pressure_angle_line4"] = (
-        "x1",
-        np.degrees(geo.working_pressure_angle(line_pair)),
-        {"units": "degree", "long_name": "working pressure angle a' on line 4"},
+    ds["working_pressure_angle_line4"] = cf(
+        "x1", np.degrees(geo.working_pressure_angle(line_pair)), "degree", "working pressure angle a' on line 4"
     )
-    ds["feasible_line4"] = (
-        "x1",
-        ok_line.astype(np.int8),
-        {"units": "1", "long_name": "line-4 point satisfying every other constraint", **_flag_attrs()},
+    ds["feasible_line4"] = cf(
+        "x1", ok_line.astype(np.int8), "1", "line-4 point satisfying every other constraint", **_flag_attrs()
     )
-    ds["feasible_line4_cutter_free"] = (
+    ds["feasible_line4_cutter_free"] = cf(
         "x1",
         ok_line_free.astype(np.int8),
-        {"units": "1", "long_name": "line-4 point satisfying every cutter-independent constraint", **_flag_attrs()},
+        "1",
+        "line-4 point satisfying every cutter-independent constraint",
+        **_flag_attrs(),
     )
     return ok_line
 
@@ -214,24 +199,21 @@ def _reference_points(ds: xr.Dataset, base: geo.GearPair, points: Mapping[str, t
     px2 = np.array([p[1] for p in points.values()])
     cx2 = constraints.x2_on_overlap_boundary_many(px1, base)
     pt_pair = geo.with_shifts(base, px1, cx2)
-    ds["paper_x1"] = ("point", px1, {"units": "1", "long_name": "x1 of the printed limit point"})
-    ds["paper_x2"] = ("point", px2, {"units": "1", "long_name": "x2 of the printed limit point"})
-    ds["computed_x2"] = ("point", cx2, {"units": "1", "long_name": "computed x2 on G_s = 0 at the paper's x1"})
-    ds["residual_x2"] = ("point", cx2 - px2, {"units": "1", "long_name": "computed minus paper x2"})
-    ds["contact_ratio_point"] = (
-        "point",
-        interference.contact_ratio(pt_pair),
-        {"units": "1", "long_name": "transverse contact ratio at the computed point"},
+    ds["paper_x1"] = cf("point", px1, "1", "x1 of the printed limit point")
+    ds["paper_x2"] = cf("point", px2, "1", "x2 of the printed limit point")
+    ds["computed_x2"] = cf("point", cx2, "1", "computed x2 on G_s = 0 at the paper's x1")
+    ds["residual_x2"] = cf("point", cx2 - px2, "1", "computed minus paper x2")
+    ds["contact_ratio_point"] = cf(
+        "point", interference.contact_ratio(pt_pair), "1", "transverse contact ratio at the computed point"
     )
-    ds["working_pressure_angle_point"] = (
+    ds["working_pressure_angle_point"] = cf(
         "point",
         np.degrees(geo.working_pressure_angle(pt_pair)),
-        {"units": "degree", "long_name": "working pressure angle a' at the computed point"},
+        "degree",
+        "working pressure angle a' at the computed point",
     )
-    ds["working_centre_distance_point"] = (
-        "point",
-        geo.working_centre_distance(pt_pair),
-        {"units": "mm", "long_name": "working centre distance a' at the computed point"},
+    ds["working_centre_distance_point"] = cf(
+        "point", geo.working_centre_distance(pt_pair), "mm", "working centre distance a' at the computed point"
     )
 
 
@@ -266,24 +248,3 @@ def line4_crossings(ds: xr.Dataset, name: str) -> list[float]:
         if np.sign(v[i]) != np.sign(v[i + 1]) and np.isfinite(v[i]) and np.isfinite(v[i + 1]):
             out.append(float(x1[i] - v[i] * (x1[i + 1] - x1[i]) / (v[i + 1] - v[i])))
     return out
-
-
-def cutter_shift_for_trimming_limit(
-    base: geo.GearPair, x1_limit: float, teeth: int, addendum: float | None = None
-) -> geo.ShaperCutter:
-    """Shaper cutter (given z0, ha0*) whose trimming limit on line 4 falls at ``x1_limit``.
-
-    Solves trimming_interference(x1_limit, x2_line4(x1_limit); z0, x0, ha0*) = 0 for x0.  Used to
-    test the hypothesis that the paper's M is a cutter-trimming limit (docs/geometry.md); the
-    result is a fit, not a datum of the paper.
-    """
-    x2 = constraints.x2_on_overlap_boundary(x1_limit, base)
-    pair = geo.with_shifts(base, x1_limit, x2)
-
-    def f(x0: float) -> float:
-        return float(interference.trimming_interference(pair, geo.ShaperCutter(teeth, x0, addendum)))
-
-    from scipy.optimize import brentq  # noqa: PLC0415 - 0.35 s to import: not for the figure jobs
-
-    x0 = float(brentq(f, -1.0, 1.5, xtol=1e-12))
-    return geo.ShaperCutter(teeth, x0, addendum)

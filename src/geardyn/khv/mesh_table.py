@@ -6,6 +6,7 @@ import numpy as np
 import xarray as xr
 
 from geardyn.gears import stiffness
+from geardyn.io import cf
 from geardyn.khv.design import KHVDesign, mesh_properties
 
 _FIELDS = {
@@ -32,23 +33,20 @@ def stiffness_table(design: KHVDesign, x1: np.ndarray, phase_points: int = 400) 
     phase = np.arange(phase_points) / phase_points
     data = {}
     for name, (attr, units, long_name, scale) in _FIELDS.items():
-        data[name] = (
-            "x1",
-            np.array([getattr(p, attr) * scale for p in props]),
-            {"units": units, "long_name": long_name},
-        )
+        data[name] = cf("x1", np.array([getattr(p, attr) * scale for p in props]), units, long_name)
     k_t = np.stack([p.k_of_t(design.stiffness.form)(phase) for p in props])
-    data["k_t"] = (("x1", "phase"), k_t, {"units": "N m-1", "long_name": "time-varying mesh stiffness k(t)"})
-    data["k_mean_closed_form_ratio"] = (
+    data["k_t"] = cf(("x1", "phase"), k_t, "N m-1", "time-varying mesh stiffness k(t)")
+    data["k_mean_closed_form_ratio"] = cf(
         "x1",
         np.array([p.k_mean / (p.contact_ratio * p.k_c) for p in props]),
-        {"units": "1", "long_name": "k_mean / (eps k_C): 8/9 for the corrected form; the paper prints 0.866268"},
+        "1",
+        "k_mean / (eps k_C): 8/9 for the corrected form; the paper prints 0.866268",
     )
     ds = xr.Dataset(
         data,
         coords={
-            "x1": ("x1", x1, {"units": "1", "long_name": "planet profile-shift coefficient x1"}),
-            "phase": ("phase", phase, {"units": "1", "long_name": "time in mesh periods t"}),
+            "x1": cf("x1", x1, "1", "planet profile-shift coefficient x1"),
+            "phase": cf("phase", phase, "1", "time in mesh periods t"),
         },
         attrs={"stiffness_options": design.stiffness.label},
     )
@@ -60,7 +58,7 @@ def single_tooth_curve(eps: float, k_prime: float, num: int = 401) -> xr.Dataset
     s = np.linspace(0.0, eps, num)
     k = stiffness.single_tooth_stiffness(s, eps, k_prime)
     return xr.Dataset(
-        {"k_single": ("s", k, {"units": "N m-1", "long_name": "single tooth-pair stiffness"})},
-        coords={"s": ("s", s, {"units": "1", "long_name": "time since the pair entered mesh, in mesh periods"})},
+        {"k_single": cf("s", k, "N m-1", "single tooth-pair stiffness")},
+        coords={"s": cf("s", s, "1", "time since the pair entered mesh, in mesh periods")},
         attrs={"contact_ratio": eps, "k_prime": k_prime},
     )

@@ -390,60 +390,6 @@ def natural_frequencies(coeffs: Coefficients) -> np.ndarray:
     return np.sort(np.sqrt(np.abs(lam.real)))
 
 
-def rhs3(coeffs: Coefficients, tau: float, y: np.ndarray) -> np.ndarray:
-    """Right-hand side of the dimensionless 3-DOF system (NumPy, for checks and plots)."""
-    m = coeffs.matrices()
-    s = tau / coeffs.period
-    kap = float(coeffs.kappa(s))
-    x, v = y[:3], y[3:]
-    fm = kap * float(backlash(x[1], coeffs.b)) + coeffs.c_m * v[1]
-    te = m["te"] * math.sin(coeffs.omega * tau + coeffs.phi)
-    a = m["p"] - m["K"] @ x - m["C"] @ v - m["g"] * fm + np.array([0.0, te, 0.0])
-    return np.concatenate([v, a])
-
-
-def rhs4(coeffs: Coefficients, tau: float, z: np.ndarray) -> np.ndarray:
-    """Dimensionless 4-DOF form of Eq. (2): z = (X_D, X_H, X_V, X_L, velocities) / b_c.
-
-    Same scaling as the 3-DOF form (masses / M_VH, forces / k_mean b_c, time * w_n).
-    """
-    c = coeffs
-    XD, XH, XV, XL, VD, VH, VV, VL = z
-    s = tau / c.period
-    kap = float(c.kappa(s))
-    e = c.e * math.sin(c.omega * tau + c.phi)
-    de = c.e * c.omega * math.cos(c.omega * tau + c.phi)
-    xvh = XV - XH - e
-    fm = kap * float(backlash(xvh, c.b)) + c.c_m * (VV - VH - de)
-    fdh = c.k_DH * (XD - XH) + c.c_DH * (VD - VH)
-    fvl = c.k_VL * (XV - XL) + c.c_VL * (VV - VL)
-    aD = (c.P_D - fdh) / c.mu_D
-    aH = (fdh + fm) / c.mu_H
-    aV = (-fvl - fm) / c.mu_V
-    aL = (fvl - c.P_L) / c.mu_L
-    return np.array([VD, VH, VV, VL, aD, aH, aV, aL])
-
-
-def to_relative(coeffs: Coefficients, tau: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """Map 4-DOF states z (..., 8) at times tau to 3-DOF relative states (..., 6), Eq. (3)."""
-    z = np.asarray(z, dtype=float)
-    tau = np.asarray(tau, dtype=float)
-    e = coeffs.e * np.sin(coeffs.omega * tau + coeffs.phi)
-    de = coeffs.e * coeffs.omega * np.cos(coeffs.omega * tau + coeffs.phi)
-    XD, XH, XV, XL, VD, VH, VV, VL = np.moveaxis(z, -1, 0)
-    return np.stack([XD - XH, XV - XH - e, XV - XL, VD - VH, VV - VH - de, VV - VL], axis=-1)
-
-
-def from_relative(coeffs: Coefficients, tau: float, y: np.ndarray) -> np.ndarray:
-    """One 4-DOF state with X_H = 0, X_H' = 0 that maps to the relative state y at time tau."""
-    e = coeffs.e * math.sin(coeffs.omega * tau + coeffs.phi)
-    de = coeffs.e * coeffs.omega * math.cos(coeffs.omega * tau + coeffs.phi)
-    x1, x2, x3, v1, v2, v3 = y
-    XV = x2 + e
-    VV = v2 + de
-    return np.array([x1, 0.0, XV, XV - x3, v1, 0.0, VV, VV - v3])
-
-
 def energy(coeffs: Coefficients, y: np.ndarray, kappa: float = 1.0) -> np.ndarray:
     """Mechanical energy of the relative motion in units of k_mean b_c^2.
 
@@ -462,24 +408,6 @@ def energy(coeffs: Coefficients, y: np.ndarray, kappa: float = 1.0) -> np.ndarra
     pot = 0.5 * coeffs.k_DH * x1**2 + 0.5 * coeffs.k_VL * x3**2
     pot = pot + 0.5 * kappa * backlash(x2, coeffs.b) ** 2
     return kin + pot
-
-
-def lti_response(coeffs: Coefficients, tau: np.ndarray) -> np.ndarray:
-    """Exact steady state of the linear time-invariant case (kappa = 1, b = 0), states (..., 6).
-
-    x(tau) = x_static + Im[X exp(i (omega tau + phi))], (-omega^2 I + i omega (C + c_m g e2^T)
-    + K + g e2^T) X = (0, e_bar omega^2, 0).
-    """
-    m = coeffs.matrices()
-    K = m["K"] + np.outer(m["g"], [0.0, 1.0, 0.0])
-    C = m["C"] + coeffs.c_m * np.outer(m["g"], [0.0, 1.0, 0.0])
-    w = coeffs.omega
-    X = np.linalg.solve(-(w**2) * np.eye(3) + 1j * w * C + K, np.array([0.0, m["te"], 0.0]))
-    xs = np.linalg.solve(K, m["p"])
-    ph = np.exp(1j * (w * np.asarray(tau, dtype=float)[..., None] + coeffs.phi))
-    x = xs + np.imag(X * ph)
-    v = np.imag(1j * w * X * ph)
-    return np.concatenate([x, v], axis=-1)
 
 
 @functools.lru_cache(maxsize=4096)

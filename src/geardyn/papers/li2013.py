@@ -289,6 +289,41 @@ FIGURE_CLAIMS: dict[str, str] = {
     "fig12": "e = 4.55: P1 for x1 = 0.5, quasi-periodic and chaotic as x1 grows (0.761, 0.83).",
 }
 
+#: The assumptions where the paper is silent, as the captions of the dynamic figures state them.
+FIGURE_ASSUMPTIONS = (
+    "Assumptions where the paper is silent (see the design file and docs/model.md): shaft stiffnesses, planet "
+    "mass, carrier radius a cos(alpha), dimensionless mesh frequency, TE phase; corrected Eq. (4) damping and "
+    "Eq. (9) stiffness."
+)
+#: The paper's geometry and stiffness figures, by the name of ours: (its figure, an aside after the paper's
+#: name, what the paper shows or says that we read otherwise), for the captions.
+GEOMETRY_FIGURES: dict[str, tuple[str, str, str]] = {
+    "closed_graph": (
+        "Fig. 3",
+        "",
+        "The paper calls line 4 'equal meshing angle', but its limit points lie on G_s = 0 where a' varies.",
+    ),
+    "single_tooth": (
+        "Fig. 4",
+        "",
+        "The paper's sentence that the meshing point is '1.67 times' the engaging-in point does not match its "
+        "own k_C = 1.5 k'; we follow k_C = 1.5 k'.",
+    ),
+    "mesh_stiffness": (
+        "Fig. 5",
+        " (the paper's three x1 values)",
+        "Differences from the paper: Eq. (9) prints its two intervals swapped; here the double-pair zone is on "
+        "[0, eps - 1] (sum of the single-pair parabolas), so k(t) jumps by k' where a pair enters or leaves. "
+        "The exact mean is (8/9) eps k_C, not the printed 0.866268 eps k_C (that constant equals cos a' at N). "
+        "Stiffness still falls with x1 because eps falls.",
+    ),
+    "backlash": (
+        "Fig. 6",
+        " (Eq. (11))",
+        "Identical to the paper's figure; Eq. (14)'s last case is misprinted ('-b' should read 'X < -b').",
+    ),
+}
+
 #: Table 1 and Table 2 values of the dynamic model (SI), with Table 2's "I_K" read as the carrier
 #: inertia I_H (the annulus is fixed).  For tests and benchmarks that need the paper's magnitudes.
 TABLE2 = {"I_D": 0.03, "I_H": 0.15, "I_V": 0.2175, "I_L": 0.03, "zeta": 0.1, "eta": 0.005, "T_D": 50.0, "T_L": 50.0}

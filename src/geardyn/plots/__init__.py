@@ -1,1 +1,39 @@
-"""Figure functions: each takes datasets and returns a matplotlib Figure (no file I/O)."""
+"""Figure functions: each takes datasets and returns a matplotlib Figure (no file I/O); :func:`save_figure`
+writes one, with its caption beside it."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+from geardyn.io import write_text
+
+
+def paper_caption(text: str, paper: ModuleType | None, figure: str) -> str:
+    """A geometry or stiffness caption, for a design that names a paper with the paper's figure and what it
+    shows otherwise (its ``GEOMETRY_FIGURES[figure]``); ``text`` as it is for one that names none."""
+    if paper is None:
+        return text
+    number, aside, note = paper.GEOMETRY_FIGURES[figure]
+    return f"{number} of {paper.SHORT}{aside}. " + text + " " + note
+
+
+def save_figure(fig: Any, path: str | os.PathLike[str], caption: str | None = None, dpi: int = 150) -> Path:
+    """Save a matplotlib figure atomically, and its caption beside it as ``<name>.txt``.  The plots build
+    :class:`matplotlib.figure.Figure` objects without pyplot (0.2-0.3 s of a figure job's start-up); a figure
+    made with pyplot is closed after saving."""
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")
+    fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
+    pyplot = sys.modules.get("matplotlib.pyplot")
+    if pyplot is not None:
+        pyplot.close(fig)
+    os.replace(tmp, path)
+    if caption is not None:
+        write_text(caption.strip() + "\n", path.with_name(path.name + ".txt"))
+    return path

@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
 
-def plot_tornado(oat: xr.Dataset) -> Figure:
-    """Score change and transition positions when each unknown moves by +-10 % and +-50 %."""
+def plot_tornado(oat: xr.Dataset, paper_leave_p1: float) -> Figure:
+    """Score change and transition positions when each unknown moves by +-10 % and +-50 %; the paper's
+    first x1 not P1 (``paper_leave_p1``) marked."""
     fig = Figure(figsize=(9.0, 4.8))
     ax1, ax2 = fig.subplots(1, 2, sharey=True)
     names = [str(n) for n in oat["unknown"].values]
@@ -30,7 +33,7 @@ def plot_tornado(oat: xr.Dataset) -> Figure:
     ax1.set_xlabel("score change from the best")
     ax1.legend(fontsize=7, loc="lower left")
     ax2.axvline(float(oat.attrs["base_leave_p1"]), color="k", lw=0.8, label="best")
-    ax2.axvline(0.565, color="tab:green", ls="--", lw=1.0, label="paper 0.565")
+    ax2.axvline(paper_leave_p1, color="tab:green", ls="--", lw=1.0, label=f"paper {paper_leave_p1:g}")
     ax2.set_xlabel("first x1 not P1 (inf: P1 throughout, not drawn)")
     ax2.legend(fontsize=7)
     fig.suptitle("Calibration: one-at-a-time sensitivity of the best candidate")
@@ -54,12 +57,14 @@ def plot_score_map(mp: xr.Dataset) -> Figure:
     return fig
 
 
-def caption_tornado(oat: xr.Dataset) -> str:
+def caption_tornado(oat: xr.Dataset, fixed: Mapping[str, float], paper_leave_p1: float) -> str:
+    """The caption of :func:`plot_tornado`; ``fixed``: the values held along the paper's main line."""
+    at = ", ".join(f"{k} = {v:g}" for k, v in fixed.items())
     return (
         "One-at-a-time sensitivity of the best calibration candidate: left, the change of the score (claims "
         "that agree + 0.99 x partial credit, docs/calibration.md) when each searched unknown moves by +-10 % "
         "(blue) and +-50 % (red; lighter bars: downward moves; a phase moves by that fraction of 2 pi); "
-        "right, where the motion first leaves P1 along x1 at b = 2, e = 5 (paper: 0.565). "
+        f"right, where the motion first leaves P1 along x1 at {at} (paper: {paper_leave_p1:g}). "
         f"Best score {float(oat.attrs['base_score']):.3f}."
     )
 

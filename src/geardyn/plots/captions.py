@@ -21,19 +21,15 @@ _METHOD = (
     "Lyapunov exponent that the same test confirms; undetermined where the indicators disagree. The points "
     "drawn lie on the attractor found, never on a transient."
 )
-_PAPER_ASSUMPTIONS = (
-    "Assumptions where the paper is silent (see the design file and docs/model.md): shaft stiffnesses, planet "
-    "mass, carrier radius a cos(alpha), dimensionless mesh frequency, TE phase; corrected Eq. (4) damping and "
-    "Eq. (9) stiffness."
-)
 
 
 def _tail(name: str, paper: ModuleType | None) -> list[str]:
-    """The closing lines: the paper's statement and its assumptions (paper designs), then the method."""
+    """The closing lines: the paper's statement and its assumptions (``FIGURE_ASSUMPTIONS``; paper designs),
+    then the method."""
     if paper is None:
         return [_METHOD]
     claim = paper.FIGURE_CLAIMS.get(name[:5], "no statement in the paper")
-    return [f"Paper ({paper.SHORT}): {claim}", _PAPER_ASSUMPTIONS, _METHOD]
+    return [f"Paper ({paper.SHORT}): {claim}", paper.FIGURE_ASSUMPTIONS, _METHOD]
 
 
 def bifurcation(name: str, cube: xr.Dataset, paper: ModuleType | None = None) -> str:

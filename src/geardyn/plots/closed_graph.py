@@ -11,6 +11,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from geardyn.khv.closed_graph import CUTTER_DEPENDENT, line4_crossings
+from geardyn.plots import paper_caption
 
 _LINE_COLOURS = {0: "0.5", 1: "tab:blue", 2: "tab:orange", 3: "tab:green", 4: "black"}
 _SHORT = {
@@ -142,8 +143,10 @@ def caption_closed_graph(
     worst = float(np.max(np.abs(ds["residual_x2"].values)))
     verdict = "within" if worst <= paper.POINT_TOLERANCE else "NOT within"
     return (
-        f"Fig. 3 of {paper.SHORT}. " + text + " The paper calls line 4 'equal meshing angle', but its limit "
-        "points lie on G_s = 0 where a' varies. " + "; ".join(pts) + ". "
-        f"The printed points are reproduced {verdict} {paper.POINT_TOLERANCE:g} in x2 (largest |residual| "
+        paper_caption(text, paper, "closed_graph")
+        + " "
+        + "; ".join(pts)
+        + ". "
+        + f"The printed points are reproduced {verdict} {paper.POINT_TOLERANCE:g} in x2 (largest |residual| "
         f"{worst:.5f}), the precision the paper prints. The paper gives no cutter."
     )

@@ -31,20 +31,7 @@ def label_colour(code: int) -> str:
         LABELS["not_periodic"]: "#8c564b",
         LABELS["long_period"]: "#bcbd22",
     }
-    periods = [
-        "#1f77b4",
-        "#2ca02c",
-        "#17becf",
-        "#9467bd",
-        "#bcbd22",
-        "#e377c2",
-        "#00441b",
-        "#393b79",
-        "#637939",
-        "#8c6d31",
-        "#843c39",
-        "#7b4173",
-    ]
+    periods = "#1f77b4 #2ca02c #17becf #9467bd #bcbd22 #e377c2 #00441b #393b79 #637939 #8c6d31 #843c39 #7b4173".split()
     code = int(code)
     return fixed.get(code, periods[(code - 1) % len(periods)] if code >= 1 else "#9e9e9e")
 
@@ -62,13 +49,7 @@ def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figur
     rows = 2 * n if has_lyap else n
     ratios = [3, 1.3] * n if has_lyap else [1] * n
     fig = Figure(figsize=(7.5, (3.4 if has_lyap else 2.6) * n + 0.9))
-    axes = fig.subplots(
-        rows,
-        1,
-        squeeze=False,
-        sharex=True,
-        gridspec_kw={"height_ratios": ratios},
-    )
+    axes = fig.subplots(rows, 1, squeeze=False, sharex=True, gridspec_kw={"height_ratios": ratios})
     for i, case in enumerate(cases):
         for j, direction in enumerate(directions):
             k = i * len(directions) + j
@@ -184,15 +165,10 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=(), curves: xr.Datase
             ax.legend(loc="upper right", fontsize=7)
     lam = ds["lyapunov"].values
     finite = np.isfinite(lam)
-    vmax = float(np.nanmax(np.abs(lam))) if finite.any() else 1.0
+    vmax = max(float(np.nanmax(np.abs(lam))) if finite.any() else 1.0, 1e-6)
+    norm = TwoSlopeNorm(0.0, -vmax, vmax)
     iml = axl.pcolormesh(
-        x,
-        y,
-        np.where(finite, lam, np.nan),
-        cmap="coolwarm",
-        norm=TwoSlopeNorm(0.0, -max(vmax, 1e-6), max(vmax, 1e-6)),
-        shading="nearest",
-        rasterized=True,
+        x, y, np.where(finite, lam, np.nan), cmap="coolwarm", norm=norm, shading="nearest", rasterized=True
     )
     fig.colorbar(iml, ax=axl, label="lambda_max (per unit tau)")
     for a in (ax, axl, ax_kv, ax_impact) if layers else (ax, axl):

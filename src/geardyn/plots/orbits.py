@@ -55,39 +55,18 @@ def plot_branches(cube: xr.Dataset | None, branches: xr.Dataset, title: str) -> 
             n = int(branches["orbit_period"].values[m][0])
             colour = _BRANCH_COLOURS[j % len(_BRANCH_COLOURS)]
             for c in range(n):
-                yc = cyc[:, c]
-                ax.plot(
-                    p,
-                    np.where(stable, yc, np.nan),
-                    "-",
-                    color=colour,
-                    lw=1.4,
-                    label=f"P{n} branch {int(b)} stable" if c == 0 else None,
-                )
-                ax.plot(
-                    p,
-                    np.where(_dilate(~stable), yc, np.nan),
-                    "--",
-                    color=colour,
-                    lw=1.0,
-                    label=f"P{n} branch {int(b)} unstable" if c == 0 and (~stable).any() else None,
-                )
+                yc, name = cyc[:, c], f"P{n} branch {int(b)}"
+                label = f"{name} stable" if c == 0 else None
+                ax.plot(p, np.where(stable, yc, np.nan), "-", color=colour, lw=1.4, label=label)
+                label = f"{name} unstable" if c == 0 and (~stable).any() else None
+                ax.plot(p, np.where(_dilate(~stable), yc, np.nan), "--", color=colour, lw=1.0, label=label)
         bsel = np.isin(branches["bifurcation_branch"].values, ids)
         for code, kind in enumerate(types):
             mk = bsel & (branches["bifurcation_type"].values == code)
             if mk.any():
                 marker, colour, text = MARKERS.get(kind, ("s", "k", kind))
-                ax.plot(
-                    branches["bifurcation_parameter"].values[mk],
-                    branches["bifurcation_x_vh"].values[mk],
-                    marker,
-                    color=colour,
-                    ms=7,
-                    mec="k",
-                    mew=0.6,
-                    ls="none",
-                    label=text,
-                )
+                at = (branches["bifurcation_parameter"].values[mk], branches["bifurcation_x_vh"].values[mk])
+                ax.plot(*at, marker, color=colour, ms=7, mec="k", mew=0.6, ls="none", label=text)
         ax.set_xlabel(par)
         ax.set_ylabel("X_VH / b_c (phase 0)")
         ax.set_title(f"{title} ({case})" if len(cases) > 1 or case != "base" else title, fontsize=10)

@@ -12,34 +12,8 @@ from matplotlib.figure import Figure
 
 ELEMENT_ORDER = ["sp1", "sp2", "sp3", "pd1", "pd2", "pd3", "dr1", "dr2", "dr3"]
 ELEMENT_TICKS = ["1\ns-p1", "2\ns-p2", "3\ns-p3", "4\np1-d1", "5\np2-d2", "6\np3-d3", "7\nd1-r", "8\nd2-r", "9\nd3-r"]
-COMPONENT_ORDER = [
-    "revolution1",
-    "revolution2",
-    "revolution3",
-    "p1",
-    "p2",
-    "p3",
-    "d1",
-    "d2",
-    "d3",
-    "sun",
-    "ring",
-    "carrier",
-]
-COMPONENT_TICKS = [
-    "1\nrev 1",
-    "2\nrev 2",
-    "3\nrev 3",
-    "4\np1",
-    "5\np2",
-    "6\np3",
-    "7\nd1",
-    "8\nd2",
-    "9\nd3",
-    "10\nsun",
-    "11\nring",
-    "12\ncarrier",
-]
+COMPONENT_ORDER = [*(f"revolution{k}" for k in (1, 2, 3)), "p1", "p2", "p3", "d1", "d2", "d3", "sun", "ring", "carrier"]
+COMPONENT_TICKS = [f"{k}\n{name}" for k, name in enumerate(["rev 1", "rev 2", "rev 3", *COMPONENT_ORDER[3:]], start=1)]
 
 
 def distinct_groups(freq: np.ndarray, rtol: float = 1e-6) -> list[list[int]]:
@@ -69,13 +43,8 @@ def _energy_bars(
         for g_i, grp in enumerate(groups):
             # mean over a doubled pair: basis-independent (trace over the eigenspace)
             vals = sub[var].isel(mode=grp).sel({dim: order}).mean("mode").values
-            tag = "x2" if len(grp) == 2 else ""
-            ax.bar(
-                x + (g_i - (len(groups) - 1) / 2) * width,
-                vals,
-                width,
-                label=f"{g_i + 1}: {freq[grp[0]]:.0f} Hz {tag}".strip(),
-            )
+            label = f"{g_i + 1}: {freq[grp[0]]:.0f} Hz {'x2' if len(grp) == 2 else ''}".strip()
+            ax.bar(x + (g_i - (len(groups) - 1) / 2) * width, vals, width, label=label)
         ax.set_xticks(x, ticks, fontsize=7)
         ax.set_ylabel("share of energy (-)")
         ax.set_title(f"working condition {cond}", fontsize=9)
@@ -87,26 +56,14 @@ def _energy_bars(
 
 def modal_strain_energy_figure(ds: xr.Dataset) -> Figure:
     """Fig. 6 analogue: share of the modal strain energy in each mesh of Table 3 (orders 1-6)."""
-    return _energy_bars(
-        ds,
-        "strain_energy_share",
-        "element",
-        ELEMENT_ORDER,
-        ELEMENT_TICKS,
-        "Modal strain energy per mesh (Table 3 numbering; doubled modes averaged over the pair)",
-    )
+    title = "Modal strain energy per mesh (Table 3 numbering; doubled modes averaged over the pair)"
+    return _energy_bars(ds, "strain_energy_share", "element", ELEMENT_ORDER, ELEMENT_TICKS, title)
 
 
 def modal_kinetic_energy_figure(ds: xr.Dataset) -> Figure:
     """Fig. 7 analogue: share of the modal kinetic energy in each component of Table 4 (orders 1-6)."""
-    return _energy_bars(
-        ds,
-        "kinetic_energy_share",
-        "component",
-        COMPONENT_ORDER,
-        COMPONENT_TICKS,
-        "Modal kinetic energy per component (Table 4 numbering; doubled modes averaged over the pair)",
-    )
+    title = "Modal kinetic energy per component (Table 4 numbering; doubled modes averaged over the pair)"
+    return _energy_bars(ds, "kinetic_energy_share", "component", COMPONENT_ORDER, COMPONENT_TICKS, title)
 
 
 def te_unmodified_figure(te: xr.Dataset) -> Figure:
@@ -172,37 +129,17 @@ def relief_landscape_figure(land: xr.Dataset, optima: list[dict] | None = None, 
         cs = ax.contourf(L, a, z, levels=np.linspace(vmin, vmax, 25), cmap="viridis")
         ax.contour(L, a, z, levels=np.arange(np.floor(vmin), np.ceil(vmax) + 0.01, 1.0), colors="w", linewidths=0.5)
         for name, (a0, a1, l0, l1) in (boxes or {}).items():
-            ax.plot(
-                [l0, l1, l1, l0, l0],
-                [a0, a0, a1, a1, a0],
-                ls="--",
-                color="r" if name in ("paper", "stated") else "orange",
-                lw=1.2,
-                label=f"{name} bounds",
-            )
+            colour = "r" if name in ("paper", "stated") else "orange"
+            ax.plot([l0, l1, l1, l0, l0], [a0, a0, a1, a1, a0], ls="--", color=colour, lw=1.2, label=f"{name} bounds")
         for o in optima or []:
+            at, physical = (o["length_mm"], o["amount_um"]), o["bounds"] == "physical"
             if o["shape"] == sh:
-                ax.plot(
-                    o["length_mm"],
-                    o["amount_um"],
-                    marker="*" if o["bounds"] == "physical" else "o",
-                    ms=11,
-                    mec="k",
-                    color="orange" if o["bounds"] == "physical" else "r",
-                    ls="none",
-                    label=f"{o['bounds']} optimum: {o['te_ptp_after_um']:.2f} um",
-                )
+                label = f"{o['bounds']} optimum: {o['te_ptp_after_um']:.2f} um"
+                style = {"marker": "*" if physical else "o", "ms": 11, "color": "orange" if physical else "r"}
+                ax.plot(*at, mec="k", ls="none", label=label, **style)
             if o["shape"].startswith("linear (paper)") and sh == "linear":
-                ax.plot(
-                    o["length_mm"],
-                    o["amount_um"],
-                    marker="X",
-                    ms=10,
-                    mec="k",
-                    color="w",
-                    ls="none",
-                    label=f"paper optimum (ours: {o.get('ours_um', float('nan')):.2f} um)",
-                )
+                label = f"paper optimum (ours: {o.get('ours_um', float('nan')):.2f} um)"
+                ax.plot(*at, marker="X", ms=10, mec="k", color="w", ls="none", label=label)
         ax.set_xlabel("relief length along the path of contact (mm)")
         ax.set_ylabel("relief amount (um)")
         ax.set_title(f"{sh} tip relief", fontsize=9)
@@ -224,19 +161,13 @@ def landscape_markers(optima) -> list[dict]:
 def bound_boxes(design) -> dict[str, tuple[float, float, float, float]]:
     """The stated and the physical relief bounds of a design as boxes (amount um, amount um, length mm, length mm)."""
     r = design.relief
+
+    def box(amount: tuple[float, float], length: tuple[float, float]) -> tuple[float, float, float, float]:
+        return (amount[0] * 1e6, amount[1] * 1e6, length[0] * 1e3, length[1] * 1e3)
+
     return {
-        ("paper" if design.paper else "stated"): (
-            r.paper_amount[0] * 1e6,
-            r.paper_amount[1] * 1e6,
-            r.paper_length[0] * 1e3,
-            r.paper_length[1] * 1e3,
-        ),
-        "physical": (
-            r.physical_amount[0] * 1e6,
-            r.physical_amount[1] * 1e6,
-            r.physical_length[0] * 1e3,
-            r.physical_length[1] * 1e3,
-        ),
+        ("paper" if design.paper else "stated"): box(r.paper_amount, r.paper_length),
+        "physical": box(r.physical_amount, r.physical_length),
     }
 
 

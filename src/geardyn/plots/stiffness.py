@@ -10,6 +10,7 @@ import xarray as xr
 from matplotlib.figure import Figure
 
 from geardyn.gears.backlash import backlash
+from geardyn.plots import paper_caption
 
 _STYLES = ("-.", ":", "--", "-")
 
@@ -80,12 +81,7 @@ def caption_fig04(props, paper=None) -> str:  # props: geardyn.khv.design.MeshPr
         f"k' = {props.k_prime / 1e6:.1f} N/um, k_C = 1.5 k' = {props.k_c / 1e6:.1f} N/um, ISO 6336-1 method B); "
         "k_A = k_B = k' at the ends of the engagement and k_C = 1.5 k' at the pitch point."
     )
-    if paper is None:
-        return text
-    return (
-        f"Fig. 4 of {paper.SHORT}. " + text + " The paper's sentence that the meshing point is "
-        "'1.67 times' the engaging-in point does not match its own k_C = 1.5 k'; we follow k_C = 1.5 k'."
-    )
+    return paper_caption(text, paper, "single_tooth")
 
 
 def caption_fig05(table: xr.Dataset, design, paper=None) -> str:
@@ -104,15 +100,7 @@ def caption_fig05(table: xr.Dataset, design, paper=None) -> str:
         f"{design.stiffness.label}. {rows}. The double-pair zone is on [0, eps - 1] (sum of the single-pair "
         "parabolas), so k(t) jumps by k' where a pair enters or leaves; the exact mean is (8/9) eps k_C."
     )
-    if paper is None:
-        return text
-    return (
-        f"Fig. 5 of {paper.SHORT} (the paper's three x1 values). " + text + " "
-        "Differences from the paper: Eq. (9) prints its two intervals swapped; here the double-pair zone is on "
-        "[0, eps - 1] (sum of the single-pair parabolas), so k(t) jumps by k' where a pair enters or leaves. "
-        "The exact mean is (8/9) eps k_C, not the printed 0.866268 eps k_C (that constant equals cos a' at N). "
-        "Stiffness still falls with x1 because eps falls."
-    )
+    return paper_caption(text, paper, "mesh_stiffness")
 
 
 def caption_fig06(paper=None) -> str:
@@ -121,9 +109,4 @@ def caption_fig06(paper=None) -> str:
         "The backlash (dead-zone) function f(X): X - b above b, 0 inside |X| <= b, X + b below -b, with b half "
         "the backlash."
     )
-    if paper is None:
-        return text
-    return (
-        f"Fig. 6 of {paper.SHORT} (Eq. (11)). " + text + " Identical to the paper's figure; Eq. (14)'s last "
-        "case is misprinted ('-b' should read 'X < -b')."
-    )
+    return paper_caption(text, paper, "backlash")

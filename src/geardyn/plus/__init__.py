@@ -1,4 +1,4 @@
-"""Paper 2 (Yue et al. 2014): plus (double-planet) planetary gear set.
+"""The plus (double-planet) planetary gear set, the model family of paper 2 (Yue et al. 2014).
 
 Modules
 -------
@@ -7,8 +7,9 @@ modal     11-DOF Lagrangian model: ``matrices``, ``modes``, energy shares, ``cla
 ishikawa  Ishikawa tooth compliance and the static TE of the p-d pair (Eq. 9) with load sharing
 relief    linear / parabolic tip relief, ``optimise`` (differential evolution), ``landscape``
 forced    linear forced response to the static TE against speed (modal damping, frequency domain)
-tables    Table 2 / Table 5 / scaling / TE tables and datasets (pandas, xarray)
-files     file helpers for the Snakemake adapters (wrap ``geardyn.io`` and ``geardyn.config``)
+tables    frequencies, key elements, scaling, TE and relief tables and datasets (pandas, xarray)
+captions  figure captions and table headers
+claims    the quantities a paper's claims about a plus set read
 
 See ``docs/paper2.md`` for the derivation, the fixes to the printed equations and the comparison.
 """

@@ -124,10 +124,6 @@ class PlusDesign:
 
         return replace(self, stiffness=self.stiffness.scaled(factor))
 
-    def with_damping_scale(self, factor: float) -> PlusDesign:
-
-        return replace(self, damping=self.damping.scaled(factor))
-
 
 def _body(d: Mapping[str, Any]) -> Body:
     return Body(

@@ -30,6 +30,7 @@ import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 
 from geardyn import libm
+from geardyn.io import cf
 
 from . import modal
 from .design import PlusDesign
@@ -59,17 +60,6 @@ def modal_frf(omega2: ArrayLike, shapes: ArrayLike, zeta: float, force: ArrayLik
     modal_force = f @ shapes  # (..., m)
     q = modal_force / (omega2 - w**2 + 2j * zeta * wr * w)
     return q @ shapes.T
-
-
-def modal_damping_matrix(mass: ArrayLike, omega2: ArrayLike, shapes: ArrayLike, zeta: float) -> NDArray:
-    """Physical damping matrix C = M Phi diag(2 zeta w_r) Phi^T M of modal damping (N s/m, ...).
-
-    With it, the direct solve (K - w^2 M + i w C) X = F equals :func:`modal_frf`.
-    """
-    m = np.asarray(mass, dtype=float)
-    phi = np.asarray(shapes, dtype=float)
-    mp = m @ phi
-    return mp @ np.diag(2 * zeta * np.sqrt(np.asarray(omega2, dtype=float))) @ mp.T
 
 
 def te_harmonics(te: ArrayLike, n: int) -> NDArray:
@@ -226,55 +216,38 @@ def best_relief_case(cases: tuple[str, ...], te_ptp: ArrayLike) -> str:
 def to_dataset(res: ForcedResponse, design: PlusDesign) -> xr.Dataset:
     """CF dataset of a :class:`ForcedResponse` (forces in N, TE in um, speeds in rpm)."""
 
-    dims3 = ("case", "speed", "mesh")
+    dims3, rpm = ("case", "speed", "mesh"), "sun speed at which the harmonic of the mesh frequency meets the mode"
     return xr.Dataset(
         {
-            "rms_force": (dims3, res.rms, {"units": "N", "long_name": "RMS of the fluctuating mesh force"}),
-            "dynamic_factor": (
-                dims3,
-                res.dynamic_factor,
-                {"units": "1", "long_name": "largest mesh force over a mesh period / static mesh force"},
+            "rms_force": cf(dims3, res.rms, "N", "RMS of the fluctuating mesh force"),
+            "dynamic_factor": cf(
+                dims3, res.dynamic_factor, "1", "largest mesh force over a mesh period / static mesh force"
             ),
-            "min_force_factor": (
+            "min_force_factor": cf(
                 dims3,
                 res.min_factor,
-                {
-                    "units": "1",
-                    "long_name": "smallest mesh force over a mesh period / static mesh force (< 0: contact lost)",
-                },
+                "1",
+                "smallest mesh force over a mesh period / static mesh force (< 0: contact lost)",
             ),
-            "force_amplitude": (
+            "force_amplitude": cf(
                 ("case", "speed", "harmonic", "mesh"),
                 libm.cabs(res.amplitude),
-                {"units": "N", "long_name": "amplitude of the mesh force at each harmonic of the mesh frequency"},
+                "N",
+                "amplitude of the mesh force at each harmonic of the mesh frequency",
             ),
-            "mesh_frequency": (
-                ("speed",),
-                res.mesh_frequency_hz,
-                {"units": "Hz", "long_name": "mesh frequency at the input (sun) speed"},
+            "mesh_frequency": cf("speed", res.mesh_frequency_hz, "Hz", "mesh frequency at the input (sun) speed"),
+            "te_ptp": cf("case", res.te_ptp * 1e6, "um", "peak-to-peak static TE of the p-d pair (excitation)"),
+            "natural_frequency": cf(
+                "mode", res.natural_hz, "Hz", f"undamped natural frequency of elastic mode, condition {res.condition}"
             ),
-            "te_ptp": (
-                ("case",),
-                res.te_ptp * 1e6,
-                {"units": "um", "long_name": "peak-to-peak static TE of the p-d pair (excitation)"},
-            ),
-            "natural_frequency": (
-                ("mode",),
-                res.natural_hz,
-                {"units": "Hz", "long_name": f"undamped natural frequency of elastic mode, condition {res.condition}"},
-            ),
-            "resonance_speed": (
-                ("harmonic", "mode"),
-                res.resonance_speeds(),
-                {"units": "rpm", "long_name": "sun speed at which the harmonic of the mesh frequency meets the mode"},
-            ),
+            "resonance_speed": cf(("harmonic", "mode"), res.resonance_speeds(), "rpm", rpm),
         },
         coords={
-            "case": ("case", list(res.cases), {"units": "1", "long_name": "tip-relief case of the p-d pair"}),
-            "speed": ("speed", res.speed_rpm, {"units": "rpm", "long_name": "input (sun) speed"}),
-            "mesh": ("mesh", list(res.meshes), {"units": "1", "long_name": "mesh (s-p, p-d, d-r of planet 1-3)"}),
-            "harmonic": ("harmonic", res.harmonics, {"units": "1", "long_name": "harmonic of the mesh frequency"}),
-            "mode": ("mode", np.arange(1, len(res.natural_hz) + 1), {"units": "1", "long_name": "elastic mode"}),
+            "case": cf("case", list(res.cases), "1", "tip-relief case of the p-d pair"),
+            "speed": cf("speed", res.speed_rpm, "rpm", "input (sun) speed"),
+            "mesh": cf("mesh", list(res.meshes), "1", "mesh (s-p, p-d, d-r of planet 1-3)"),
+            "harmonic": cf("harmonic", res.harmonics, "1", "harmonic of the mesh frequency"),
+            "mode": cf("mode", np.arange(1, len(res.natural_hz) + 1), "1", "elastic mode"),
         },
         attrs={
             "title": f"Forced response to the static TE against speed, design {design.name}",

@@ -24,6 +24,7 @@ contact (the driven gear's tip), or ``s = u / p_b`` in base pitches.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -289,12 +290,12 @@ class MeshGrid:
     def separation(
         self,
         *,
-        es: float,
-        pitch_error_sign: int,
-        relief_amount: float,
-        relief_length: float,
-        relief_shape: str,
-        relief_apply_to: str,
+        es: float = 0.0,
+        pitch_error_sign: int = 1,
+        relief_amount: float = 0.0,
+        relief_length: float = 0.0,
+        relief_shape: str = "linear",
+        relief_apply_to: str = "both",
     ) -> NDArray:
         """Separation e_k (m, material missing) of each slot; +inf out of mesh."""
         e = pitch_error_sign * es * self.u / self.pair.base_pitch + relief_profile(
@@ -316,14 +317,9 @@ def static_te(
     *,
     ef1: float = 0.0,
     ef2: float = 0.0,
-    es: float = 0.0,
-    pitch_error_sign: int = 1,
-    relief_amount: float = 0.0,
-    relief_length: float = 0.0,
-    relief_shape: str = "linear",
-    relief_apply_to: str = "both",
     points: int = 400,
     grid: MeshGrid | None = None,
+    **separation: Any,
 ) -> TEResult:
     """Loaded static TE of one pair over one mesh period (paper 2 Eq. 9, Ishikawa compliance).
 
@@ -333,17 +329,10 @@ def static_te(
     ``e(u) = sign * ES * u / p_b`` (sign = +1: the incoming pair has excess material, the paper's
     interference when meshing in).  The approach x solves ``sum_k max(0, x - e_k) / lambda_k = W``
     and TE = Ef1 + Ef2 - x.  Constant profile deviations Ef1, Ef2 shift TE but not its peak-to-peak.
+    ``separation``: ES, its sign and the relief (keywords of :meth:`MeshGrid.separation`).
     """
     grid = grid or MeshGrid.build(pair, mat, points)
-    e = grid.separation(
-        es=es,
-        pitch_error_sign=pitch_error_sign,
-        relief_amount=relief_amount,
-        relief_length=relief_length,
-        relief_shape=relief_shape,
-        relief_apply_to=relief_apply_to,
-    )
-    return grid.solve(load, e, ef1 + ef2)
+    return grid.solve(load, grid.separation(**separation), ef1 + ef2)
 
 
 def _solve_approach(e: NDArray, lam: NDArray, load: float) -> NDArray:
@@ -390,28 +379,13 @@ def design_grid(design: PlusDesign, points: int | None = None) -> MeshGrid:
 
 
 def design_te(
-    design: PlusDesign,
-    *,
-    relief_amount: float = 0.0,
-    relief_length: float = 0.0,
-    relief_shape: str = "linear",
-    points: int | None = None,
-    grid: MeshGrid | None = None,
+    design: PlusDesign, *, points: int | None = None, grid: MeshGrid | None = None, **relief: Any
 ) -> TEResult:
-    """:func:`static_te` with the design's pair, material, load, deviations and relief placement."""
+    """:func:`static_te` with the design's pair, material, load, deviations and relief placement;
+    ``relief``: relief_amount, relief_length, relief_shape (none by default)."""
     t = design.te
-    return static_te(
-        spur_pair(design),
-        material(design),
-        pd_mesh_load(design),
-        ef1=t.ef1,
-        ef2=t.ef2,
-        es=t.es,
-        pitch_error_sign=t.pitch_error_sign,
-        relief_amount=relief_amount,
-        relief_length=relief_length,
-        relief_shape=relief_shape,
-        relief_apply_to=design.relief.apply_to,
-        points=points or t.points_per_period,
-        grid=grid or design_grid(design, points),
-    )
+    deviations = {"ef1": t.ef1, "ef2": t.ef2, "es": t.es, "pitch_error_sign": t.pitch_error_sign}
+    grid = grid or design_grid(design, points)
+    load = pd_mesh_load(design)
+    pair, mat, placed = spur_pair(design), material(design), design.relief.apply_to
+    return static_te(pair, mat, load, grid=grid, relief_apply_to=placed, **deviations, **relief)

@@ -34,19 +34,8 @@ from geardyn import libm
 
 from .design import PlusDesign
 
-COORDS: tuple[str, ...] = (
-    "theta_s",
-    "theta_r",
-    "theta_c",
-    "theta_p1",
-    "theta_p2",
-    "theta_p3",
-    "theta_d1",
-    "theta_d2",
-    "theta_d3",
-    "x_s",
-    "y_s",
-)
+_PLANETS = tuple(f"theta_{g}{j}" for g in "pd" for j in (1, 2, 3))
+COORDS: tuple[str, ...] = ("theta_s", "theta_r", "theta_c", *_PLANETS, "x_s", "y_s")
 #: Working conditions of the paper (Sec. 2.1): the static member's rotation is removed.
 CONDITIONS: dict[str, str] = {"I": "theta_c", "II": "theta_r", "III": "theta_s", "free": ""}
 Condition = Literal["I", "II", "III", "free"]
@@ -241,14 +230,6 @@ def matrices(design: PlusDesign, condition: Condition = "free") -> Matrices:
     keep = _keep(condition)
     ix = np.ix_(keep, keep)
     return Matrices(tuple(COORDS[i] for i in keep), M[ix], K[ix], C[ix])
-
-
-def kinematic_ratio_carrier_fixed(design: PlusDesign) -> float:
-    """theta_r / theta_s of the rigid-body mode with the carrier fixed (+z_s/z_r for a plus set)."""
-    mat = matrices(design, "I")
-    _, vec = scipy.linalg.eigh(mat.K, mat.M)
-    rigid = vec[:, 0]
-    return float(rigid[mat.coords.index("theta_r")] / rigid[mat.coords.index("theta_s")])
 
 
 @dataclass(frozen=True)

@@ -1,12 +1,16 @@
-"""Tables of paper 2: natural frequencies (Table 2), key elements (Table 5), stiffness scaling, TE.
+"""Tables of a plus set: natural frequencies, key elements, stiffness scaling, TE, relief optima.
 
 Pure functions returning pandas DataFrames or xarray Datasets with ``units`` and ``long_name`` on
-every variable.  Paper values are transcribed below from Yue et al. (2014).
+every variable.  A table that compares with a paper takes the paper's module (``paper``, from
+:func:`geardyn.papers.paper_of`: its ``PAPER_TABLE2``, ``PAPER_SHARED``, ``PAPER_TABLE5_ELEMENT``,
+``PAPER_TABLE5_COMPONENTS`` and ``PAPER_RELIEF``); with ``paper=None`` (a design that names no paper)
+the paper's columns and rows are left out.
 """
 
 from __future__ import annotations
 
 from dataclasses import replace
+from types import ModuleType
 
 import numpy as np
 import pandas as pd
@@ -14,13 +18,7 @@ import xarray as xr
 from scipy.optimize import minimize_scalar
 
 from geardyn import io, libm
-from geardyn.papers.yue2014 import (
-    PAPER_RELIEF,
-    PAPER_SHARED,
-    PAPER_TABLE2,
-    PAPER_TABLE5_COMPONENTS,
-    PAPER_TABLE5_ELEMENT,
-)
+from geardyn.io import cf
 
 from . import modal
 from .design import PlusDesign
@@ -69,11 +67,9 @@ def distinct_frequencies(design: PlusDesign, condition: str) -> list[dict]:
     return out
 
 
-def frequency_table(design: PlusDesign) -> pd.DataFrame:
-    """Table 2: our distinct elastic frequencies beside the paper's, matched by order, with % errors.
-
-    ``err_*_pct`` = 100 (ours - paper) / paper.
-    """
+def frequency_table(design: PlusDesign, paper: ModuleType | None) -> pd.DataFrame:
+    """Our distinct elastic frequencies (the first six per condition), beside the paper's Table 2 when
+    ``paper`` is given: matched by order, ``err_*_pct`` = 100 (ours - paper) / paper."""
     rows = []
     for cond in WORKING:
         recs = distinct_frequencies(design, cond)
@@ -81,57 +77,60 @@ def frequency_table(design: PlusDesign) -> pd.DataFrame:
             row = {
                 k: rec[k] for k in ("condition", "order", "freq_hz", "damped_hz", "zeta", "multiplicity", "mode_type")
             }
-            for src in ("theoretical", "simulated", "experimental"):
-                pv = PAPER_TABLE2[cond][src][rec["order"] - 1]
-                row[f"paper_{src}_hz"] = pv
-                row[f"err_{src}_pct"] = 100.0 * (rec["freq_hz"] - pv) / pv
-            row["paper_over_ours"] = row["paper_theoretical_hz"] / rec["freq_hz"]
+            if paper is not None:
+                for src in ("theoretical", "simulated", "experimental"):
+                    pv = paper.PAPER_TABLE2[cond][src][rec["order"] - 1]
+                    row[f"paper_{src}_hz"] = pv
+                    row[f"err_{src}_pct"] = 100.0 * (rec["freq_hz"] - pv) / pv
+                row["paper_over_ours"] = row["paper_theoretical_hz"] / rec["freq_hz"]
             rows.append(row)
     return pd.DataFrame(rows)
 
 
-#: The three frequencies that paper 2 lists under all three working conditions (its planet modes).
-
-
-def _matched_pairs(design: PlusDesign, reference: str, matching: str) -> tuple[np.ndarray, np.ndarray]:
+def _matched_pairs(
+    design: PlusDesign, paper: ModuleType, reference: str, matching: str
+) -> tuple[np.ndarray, np.ndarray]:
     """(paper, ours) frequency pairs.  ``rank``: order k against order k (as the paper's Table 2).
-    ``type``: our three doubled (planet) frequencies against the paper's three shared ones and our
-    three overall frequencies against the paper's remaining three, each in ascending order."""
-    t = frequency_table(design)
+    ``type``: our three doubled (planet) frequencies against the three the paper lists under all three
+    conditions (``PAPER_SHARED``, its planet modes) and our three overall frequencies against the
+    paper's remaining three, each in ascending order."""
+    t = frequency_table(design, paper)
     if matching == "rank":
         return t[f"paper_{reference}_hz"].to_numpy(float), t["freq_hz"].to_numpy(float)
     if matching != "type":
         raise ValueError(f"unknown matching {matching!r}; allowed: 'rank', 'type'")
-    paper, ours = [], []
+    theirs, ours = [], []
     for cond in WORKING:
         sub = t[t.condition == cond]
-        theo = np.array(PAPER_TABLE2[cond]["theoretical"], float)
-        ref = np.array(PAPER_TABLE2[cond][reference], float)
-        shared = np.isin(theo, PAPER_SHARED)
+        theo = np.array(paper.PAPER_TABLE2[cond]["theoretical"], float)
+        ref = np.array(paper.PAPER_TABLE2[cond][reference], float)
+        shared = np.isin(theo, paper.PAPER_SHARED)
         ours_planet = np.sort(sub.loc[sub.mode_type == "planet", "freq_hz"].to_numpy(float))
         ours_overall = np.sort(sub.loc[sub.mode_type == "overall", "freq_hz"].to_numpy(float))
-        paper += list(np.sort(ref[shared])) + list(np.sort(ref[~shared]))
+        theirs += list(np.sort(ref[shared])) + list(np.sort(ref[~shared]))
         ours += list(ours_planet) + list(ours_overall)
-    return np.array(paper), np.array(ours)
+    return np.array(theirs), np.array(ours)
 
 
-def _matched_log_residual(design: PlusDesign, reference: str, matching: str = "rank") -> np.ndarray:
-    paper, ours = _matched_pairs(design, reference, matching)
-    return libm.log(paper) - libm.log(ours)
+def _matched_log_residual(design: PlusDesign, paper: ModuleType, reference: str, matching: str) -> np.ndarray:
+    theirs, ours = _matched_pairs(design, paper, reference, matching)
+    return libm.log(theirs) - libm.log(ours)
 
 
 def _pct(log_value: float) -> float:
     return float(100 * (libm.exp(log_value) - 1))
 
 
-def stiffness_scaling(design: PlusDesign, reference: str = "theoretical", matching: str = "rank") -> dict[str, float]:
+def stiffness_scaling(
+    design: PlusDesign, paper: ModuleType, reference: str = "theoretical", matching: str = "rank"
+) -> dict[str, float]:
     """Uniform stiffness factor s that best matches the paper (least squares in log frequency).
 
     Scaling every spring by s scales every frequency by sqrt(s), so log s = 2 mean(log f_paper - log f_ours)
     exactly.  A mesh-only factor (bearing kept) is fitted numerically.  Returns the factors and the
     remaining RMS and worst log-residuals expressed in percent.
     """
-    r = _matched_log_residual(design, reference, matching)
+    r = _matched_log_residual(design, paper, reference, matching)
     shift = float(np.mean(r))
     res_u = r - shift
     out = {
@@ -154,7 +153,7 @@ def stiffness_scaling(design: PlusDesign, reference: str = "theoretical", matchi
                 k.sun_bearing,
             ),
         )
-        return float(np.mean(_matched_log_residual(d2, reference, matching) ** 2))
+        return float(np.mean(_matched_log_residual(d2, paper, reference, matching) ** 2))
 
     opt = minimize_scalar(mesh_only, bounds=(0.0, 8.0), method="bounded", options={"xatol": 1e-6})
     out["mesh_only_factor"] = float(libm.exp(opt.x))
@@ -162,9 +161,11 @@ def stiffness_scaling(design: PlusDesign, reference: str = "theoretical", matchi
     return out
 
 
-def fixed_factor_residual(design: PlusDesign, factor: float, reference: str = "theoretical") -> dict[str, float]:
+def fixed_factor_residual(
+    design: PlusDesign, paper: ModuleType, factor: float, reference: str = "theoretical"
+) -> dict[str, float]:
     """RMS and worst log-residual (in %) against the paper with every stiffness times ``factor``."""
-    r = _matched_log_residual(design.with_stiffness_scale(factor), reference, "rank")
+    r = _matched_log_residual(design.with_stiffness_scale(factor), paper, reference, "rank")
     return {
         "factor": factor,
         "rms_pct": _pct(np.sqrt(np.mean(r**2))),
@@ -173,27 +174,28 @@ def fixed_factor_residual(design: PlusDesign, factor: float, reference: str = "t
     }
 
 
-def scaling_table(design: PlusDesign) -> pd.DataFrame:
+def scaling_table(design: PlusDesign, paper: ModuleType) -> pd.DataFrame:
     """:func:`stiffness_scaling` against the paper's theoretical, simulated and experimental values."""
     return pd.DataFrame(
         [
-            stiffness_scaling(design, ref, m)
+            stiffness_scaling(design, paper, ref, m)
             for m in ("rank", "type")
             for ref in ("theoretical", "simulated", "experimental")
         ]
     )
 
 
-def scaled_frequency_table(design: PlusDesign, factor: float) -> pd.DataFrame:
-    """Table 2 recomputed with every stiffness multiplied by ``factor``."""
-    t = frequency_table(design.with_stiffness_scale(factor))
+def scaled_frequency_table(design: PlusDesign, paper: ModuleType | None, factor: float) -> pd.DataFrame:
+    """:func:`frequency_table` recomputed with every stiffness multiplied by ``factor``."""
+    t = frequency_table(design.with_stiffness_scale(factor), paper)
     t.insert(2, "stiffness_factor", factor)
     return t
 
 
-def key_element_table(design: PlusDesign, threshold: float = 0.25) -> pd.DataFrame:
-    """Table 5 in the paper's form: the mesh type with the largest strain-energy share and the
-    components with a kinetic-energy share >= ``threshold`` for each condition and order."""
+def key_element_table(design: PlusDesign, paper: ModuleType | None, threshold: float = 0.25) -> pd.DataFrame:
+    """Key elements in the form of the paper's Table 5: the mesh type with the largest strain-energy share
+    and the components with a kinetic-energy share >= ``threshold`` for each condition and order, beside
+    the paper's when ``paper`` is given."""
     rows = []
     for cond in WORKING:
         for rec in distinct_frequencies(design, cond)[:6]:
@@ -212,9 +214,15 @@ def key_element_table(design: PlusDesign, threshold: float = 0.25) -> pd.DataFra
                     "key_element_share": strain[key],
                     "key_elements_no": {"sp": "1, 2, 3", "pd": "4, 5, 6", "dr": "7, 8, 9"}[key],
                     "key_components": ", ".join(COMPONENT_LABELS[c] for c in comps),
-                    "paper_key_element": modal.MESH_LABELS[PAPER_TABLE5_ELEMENT[cond][i]],
-                    "paper_key_components": PAPER_TABLE5_COMPONENTS[cond][i],
-                    "element_agrees": key == PAPER_TABLE5_ELEMENT[cond][i],
+                    **(
+                        {}
+                        if paper is None
+                        else {
+                            "paper_key_element": modal.MESH_LABELS[paper.PAPER_TABLE5_ELEMENT[cond][i]],
+                            "paper_key_components": paper.PAPER_TABLE5_COMPONENTS[cond][i],
+                            "element_agrees": key == paper.PAPER_TABLE5_ELEMENT[cond][i],
+                        }
+                    ),
                     **{f"strain_{t}": strain[t] for t in strain},
                     **{f"kinetic_{c}": kin[c] for c in kin},
                 }
@@ -244,60 +252,35 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
         se[ci] = np.column_stack([s_fr[k] for k in el_names])
         ke[ci] = np.column_stack([k_fr[k] for k in comp_names])
         mtype[ci] = modal.classify(md)
+    cm, arm = (
+        ("condition", "mode"),
+        "radius turning a rotation into a displacement (base radius; carrier: a_sp; 1 for x_s, y_s)",
+    )
     ds = xr.Dataset(
         {
-            "natural_frequency": (("condition", "mode"), f, {"units": "Hz", "long_name": "undamped natural frequency"}),
-            "damped_frequency": (("condition", "mode"), fd, {"units": "Hz", "long_name": "damped natural frequency"}),
-            "damping_ratio": (("condition", "mode"), z, {"units": "1", "long_name": "modal damping ratio"}),
-            "mode_shape": (
-                ("condition", "mode", "coordinate"),
+            "natural_frequency": cf(cm, f, "Hz", "undamped natural frequency"),
+            "damped_frequency": cf(cm, fd, "Hz", "damped natural frequency"),
+            "damping_ratio": cf(cm, z, "1", "modal damping ratio"),
+            "mode_shape": cf(
+                (*cm, "coordinate"),
                 shapes,
-                {
-                    "units": "kg-1/2",
-                    "long_name": "mass-normalised mode shape (0 on the fixed coordinate)",
-                    "comment": "translations in kg-1/2; rotations in rad kg-1/2 m-1",
-                },
+                "kg-1/2",
+                "mass-normalised mode shape (0 on the fixed coordinate)",
+                comment="translations in kg-1/2; rotations in rad kg-1/2 m-1",
             ),
-            "strain_energy_share": (
-                ("condition", "mode", "element"),
-                se,
-                {"units": "1", "long_name": "share of the modal strain energy per spring"},
+            "strain_energy_share": cf((*cm, "element"), se, "1", "share of the modal strain energy per spring"),
+            "kinetic_energy_share": cf((*cm, "component"), ke, "1", "share of the modal kinetic energy per component"),
+            "mode_type": cf(
+                cm, mtype.astype(str), "1", "mode class: rigid, planet (doubled) or overall (axisymmetric)"
             ),
-            "kinetic_energy_share": (
-                ("condition", "mode", "component"),
-                ke,
-                {"units": "1", "long_name": "share of the modal kinetic energy per component"},
-            ),
-            "mode_type": (
-                ("condition", "mode"),
-                mtype.astype(str),
-                {"units": "1", "long_name": "mode class: rigid, planet (doubled) or overall (axisymmetric)"},
-            ),
-            "lever_arm": (
-                ("coordinate",),
-                _lever_arms(design),
-                {
-                    "units": "m",
-                    "long_name": (
-                        "radius turning a rotation into a displacement (base radius; carrier: a_sp; 1 for x_s, y_s)"
-                    ),
-                },
-            ),
+            "lever_arm": cf("coordinate", _lever_arms(design), "m", arm),
         },
         coords={
-            "condition": (
-                "condition",
-                conds,
-                {"long_name": "working condition (I carrier, II ring, III sun fixed)", "units": "1"},
-            ),
-            "mode": (
-                "mode",
-                np.arange(1, n + 1),
-                {"long_name": "mode number including the rigid-body mode", "units": "1"},
-            ),
-            "coordinate": ("coordinate", list(modal.COORDS), {"long_name": "generalised coordinate", "units": "1"}),
-            "element": ("element", el_names, {"long_name": "spring (Table 3 meshes, sun bearing)", "units": "1"}),
-            "component": ("component", comp_names, {"long_name": "kinetic-energy component (Table 4)", "units": "1"}),
+            "condition": cf("condition", conds, "1", "working condition (I carrier, II ring, III sun fixed)"),
+            "mode": cf("mode", np.arange(1, n + 1), "1", "mode number including the rigid-body mode"),
+            "coordinate": cf("coordinate", list(modal.COORDS), "1", "generalised coordinate"),
+            "element": cf("element", el_names, "1", "spring (Table 3 meshes, sun bearing)"),
+            "component": cf("component", comp_names, "1", "kinetic-energy component (Table 4)"),
         },
         attrs={"title": f"Modal analysis of the plus planetary set {design.name}", "model_variant": _variant(design)},
     )
@@ -368,30 +351,23 @@ def te_dataset(design: PlusDesign, optima: list[ReliefOptimum]) -> xr.Dataset:
     pair = spur_pair(design)
     ds = xr.Dataset(
         {
-            "transmission_error": (
+            "transmission_error": cf(
                 ("case", "mesh_phase"),
                 np.array(curves),
-                {"units": "um", "long_name": "static transmission error TE = E - delta (Eq. 9) of the p-d pair"},
+                "um",
+                "static transmission error TE = E - delta (Eq. 9) of the p-d pair",
             ),
-            "mesh_stiffness": (
-                ("mesh_phase",),
-                base.stiffness,
-                {"units": "N m-1", "long_name": "quasi-static mesh stiffness of the unmodified pair"},
+            "mesh_stiffness": cf(
+                "mesh_phase", base.stiffness, "N m-1", "quasi-static mesh stiffness of the unmodified pair"
             ),
-            "load_per_pair": (
-                ("slot", "mesh_phase"),
-                base.loads,
-                {"units": "N", "long_name": "normal load on each tooth pair slot (unmodified)"},
+            "load_per_pair": cf(
+                ("slot", "mesh_phase"), base.loads, "N", "normal load on each tooth pair slot (unmodified)"
             ),
         },
         coords={
-            "case": ("case", labels, {"units": "1", "long_name": "relief case"}),
-            "mesh_phase": ("mesh_phase", base.s, {"units": "1", "long_name": "mesh phase in base pitches"}),
-            "slot": (
-                "slot",
-                np.arange(base.loads.shape[0]),
-                {"units": "1", "long_name": "tooth pair slot (0 = newest)"},
-            ),
+            "case": cf("case", labels, "1", "relief case"),
+            "mesh_phase": cf("mesh_phase", base.s, "1", "mesh phase in base pitches"),
+            "slot": cf("slot", np.arange(base.loads.shape[0]), "1", "tooth pair slot (0 = newest)"),
         },
         attrs={
             "title": f"Static TE of the p-d pair, design {design.name}",
@@ -403,8 +379,8 @@ def te_dataset(design: PlusDesign, optima: list[ReliefOptimum]) -> xr.Dataset:
     return ds
 
 
-def relief_table(optima: list[ReliefOptimum]) -> pd.DataFrame:
-    """Optima beside the paper's Sec. 4 result."""
+def relief_table(optima: list[ReliefOptimum], paper: ModuleType | None) -> pd.DataFrame:
+    """The relief optima, with the paper's Sec. 4 result as the last row when ``paper`` is given."""
     rows = [
         {
             "shape": o.shape,
@@ -420,17 +396,20 @@ def relief_table(optima: list[ReliefOptimum]) -> pd.DataFrame:
         }
         for o in optima
     ]
+    if paper is None:
+        return pd.DataFrame(rows)
+    pr = paper.PAPER_RELIEF
     rows.append(
         {
             "shape": "linear (paper)",
             "bounds": "paper",
             "amount_bounds_um": "20-80",
             "length_bounds_mm": "0.0001-2.6",
-            "amount_um": PAPER_RELIEF["amount_mm"] * 1e3,
-            "length_mm": PAPER_RELIEF["length_mm"],
-            "te_ptp_before_um": PAPER_RELIEF["te_before_um"],
-            "te_ptp_after_um": PAPER_RELIEF["te_after_um"],
-            "reduction_pct": PAPER_RELIEF["reduction_pct"],
+            "amount_um": pr["amount_mm"] * 1e3,
+            "length_mm": pr["length_mm"],
+            "te_ptp_before_um": pr["te_before_um"],
+            "te_ptp_after_um": pr["te_after_um"],
+            "reduction_pct": pr["reduction_pct"],
             "evaluations": np.nan,
         }
     )
@@ -459,24 +438,14 @@ def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
     z = np.array([landscape(design, sh, amounts, lengths, grid=grid) for sh in SHAPES]) * 1e6
     return xr.Dataset(
         {
-            "te_ptp": (
-                ("shape", "amount", "length"),
-                z,
-                {"units": "um", "long_name": "peak-to-peak static transmission error of the p-d pair"},
+            "te_ptp": cf(
+                ("shape", "amount", "length"), z, "um", "peak-to-peak static transmission error of the p-d pair"
             )
         },
         coords={
-            "shape": ("shape", list(SHAPES), {"units": "1", "long_name": "tip relief shape"}),
-            "amount": (
-                "amount",
-                amounts * 1e6,
-                {"units": "um", "long_name": "tip relief amount along the line of action"},
-            ),
-            "length": (
-                "length",
-                lengths * 1e3,
-                {"units": "mm", "long_name": "tip relief length along the path of contact"},
-            ),
+            "shape": cf("shape", list(SHAPES), "1", "tip relief shape"),
+            "amount": cf("amount", amounts * 1e6, "um", "tip relief amount along the line of action"),
+            "length": cf("length", lengths * 1e3, "mm", "tip relief length along the path of contact"),
         },
         attrs={
             "title": f"Objective landscape of the tip-relief optimisation, design {design.name}",
@@ -504,15 +473,6 @@ def relief_load_table(rows: list[dict]) -> pd.DataFrame:
             }
         )
     return pd.DataFrame(out)
-
-
-def without_paper(df: pd.DataFrame) -> pd.DataFrame:
-    """A comparison table with the paper's columns and rows taken out (for a design that names no paper)."""
-    keep = [c for c in df.columns if not c.startswith(("paper_", "err_")) and c != "element_agrees"]
-    out = df[keep]
-    if "shape" in out.columns:
-        out = out[~out["shape"].astype(str).str.startswith("linear (paper)")]
-    return out.reset_index(drop=True)
 
 
 def write_table(df: pd.DataFrame, csv: str, md: str | None = None, header: str = "", floatfmt: str = ".4g") -> None:

@@ -16,6 +16,7 @@ from geardyn.khv import point
 from geardyn.khv.calibrate.records import Record
 from geardyn.khv.design import KHVDesign
 from geardyn.label import Policy, label_lines
+from geardyn.verdicts import credit
 
 P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
 
@@ -227,7 +228,7 @@ def score_labels(paper: ModuleType, lab: CandidateLabels) -> Score:
     agree = sum(r.verdict == "agree" for r in rows)
     # a borderline claim (a fraction within its statistical uncertainty of the threshold,
     # geardyn.claims.fraction_verdict) is worth half an agreeing one: one point cannot flip the search
-    half = sum(claims_mod.credit(r.verdict) for r in rows if r.verdict == "borderline")
+    half = sum(credit(r.verdict) for r in rows if r.verdict == "borderline")
     main = lab[paper.CALIBRATION["line"]]
     tr, want_tr = transitions(main.values, main.labels), paper_transitions(paper)
     credit = [

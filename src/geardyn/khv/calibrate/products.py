@@ -11,6 +11,7 @@ import numpy as np
 import xarray as xr
 import yaml
 
+from geardyn.io import cf
 from geardyn.khv import point
 from geardyn.khv.calibrate.objective import REQUIREMENTS, Grids, paper_regime_string, requirement_text
 from geardyn.khv.calibrate.records import Record
@@ -29,55 +30,53 @@ def records_dataset(records: Sequence[Record], space: SearchSpace, grids: Grids)
     main = grids.lines[grids.main]
     par = main.parameter
     data: dict = {
-        "score": (
-            "candidate",
-            np.array([r.score for r in records]),
-            {"units": "1", "long_name": "claims that agree + 0.99 * partial credit"},
+        "score": cf(
+            "candidate", np.array([r.score for r in records]), "1", "claims that agree + 0.99 * partial credit"
         ),
-        "agree": (
+        "agree": cf(
             "candidate",
             np.array([r.agree for r in records], np.int16),
-            {"units": "1", "long_name": "claims that agree (of those the labels decide)"},
+            "1",
+            "claims that agree (of those the labels decide)",
         ),
-        "partial": (
+        "partial": cf(
             "candidate",
             np.array([r.partial for r in records]),
-            {"units": "1", "long_name": "partial credit: transition positions and regime order"},
+            "1",
+            "partial credit: transition positions and regime order",
         ),
-        "leave_p1": (
+        "leave_p1": cf(
             "candidate",
             np.array([r.transitions["leave_p1"] for r in records]),
-            {"units": point.units_of(par), "long_name": f"first {par} not P1"},
+            point.units_of(par),
+            f"first {par} not P1",
         ),
-        "first_chaos": (
+        "first_chaos": cf(
             "candidate",
             np.array([r.transitions["first_chaos"] for r in records]),
-            {"units": point.units_of(par), "long_name": f"first chaotic {par}"},
+            point.units_of(par),
+            f"first chaotic {par}",
         ),
-        "label": (
+        "label": cf(
             ("candidate", par),
             np.array([r.labels[grids.main] for r in records], np.int16).reshape(n, main.values.size),
-            {
-                "units": "1",
-                "long_name": f"motion label along {par} after the slow-transient check (geardyn.classify codes)",
-            },
+            "1",
+            f"motion label along {par} after the slow-transient check (geardyn.classify codes)",
         ),
     }
     for u in space.unknowns:
-        data[u.name] = (
+        data[u.name] = cf(
             "candidate",
             np.array([r.values[u.name] for r in records]),
-            {
-                "units": point.units_of(u.name),
-                "long_name": f"candidate value of {u.name}",
-                "search_low": u.low,
-                "search_high": u.high,
-                "search_scale": "log" if u.log else "linear",
-            },
+            point.units_of(u.name),
+            f"candidate value of {u.name}",
+            search_low=u.low,
+            search_high=u.high,
+            search_scale="log" if u.log else "linear",
         )
     coords = {
-        "candidate": ("candidate", np.arange(n), {"units": "1", "long_name": "candidate (evaluation order)"}),
-        par: (par, main.values, {"units": point.units_of(par), "long_name": point.CONTROLS[par][1]}),
+        "candidate": cf("candidate", np.arange(n), "1", "candidate (evaluation order)"),
+        par: cf(par, main.values, point.units_of(par), point.CONTROLS[par][1]),
     }
     return xr.Dataset(data, coords=coords)
 

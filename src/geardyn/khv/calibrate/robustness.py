@@ -8,6 +8,7 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 import xarray as xr
 
+from geardyn.io import cf
 from geardyn.khv import point
 from geardyn.khv.calibrate.evaluate import Evaluator, Problem
 from geardyn.khv.calibrate.records import Record
@@ -66,32 +67,26 @@ def one_at_a_time(
 
     return xr.Dataset(
         {
-            "score": (dims, grid(lambda r: r.score), {"units": "1", "long_name": "score"}),
-            "agree": (dims, grid(lambda r: r.agree), {"units": "1", "long_name": "claims that agree"}),
-            "leave_p1": (
-                dims,
-                grid(lambda r: r.transitions["leave_p1"]),
-                {"units": "1", "long_name": "first x1 not P1"},
-            ),
-            "first_chaos": (
-                dims,
-                grid(lambda r: r.transitions["first_chaos"]),
-                {"units": "1", "long_name": "first chaotic x1"},
-            ),
-            "verdicts_changed": (
+            "score": cf(dims, grid(lambda r: r.score), "1", "score"),
+            "agree": cf(dims, grid(lambda r: r.agree), "1", "claims that agree"),
+            "leave_p1": cf(dims, grid(lambda r: r.transitions["leave_p1"]), "1", "first x1 not P1"),
+            "first_chaos": cf(dims, grid(lambda r: r.transitions["first_chaos"]), "1", "first chaotic x1"),
+            "verdicts_changed": cf(
                 dims,
                 grid(lambda r: float(r.verdicts != base.verdicts)),
-                {"units": "1", "long_name": "1 when any claim verdict differs from the best's"},
+                "1",
+                "1 when any claim verdict differs from the best's",
             ),
-            "labels_changed": (
+            "labels_changed": cf(
                 dims,
                 grid(lambda r: float(r.labels[main] != base.labels[main])),
-                {"units": "1", "long_name": "1 when any label along x1 differs from the best's"},
+                "1",
+                "1 when any label along x1 differs from the best's",
             ),
         },
         coords={
-            "unknown": ("unknown", space.names, {"units": "1", "long_name": "searched unknown"}),
-            "step": ("step", np.array(signed), {"units": "1", "long_name": "relative move of the unknown"}),
+            "unknown": cf("unknown", space.names, "1", "searched unknown"),
+            "step": cf("step", np.array(signed), "1", "relative move of the unknown"),
         },
         attrs={
             "base_score": base.score,
@@ -126,29 +121,15 @@ def score_map(
     dims = (b.name, a.name)
     return xr.Dataset(
         {
-            "score": (dims, np.array([r.score for r in recs]).reshape(shape), {"units": "1", "long_name": "score"}),
-            "agree": (
-                dims,
-                np.array([r.agree for r in recs]).reshape(shape),
-                {"units": "1", "long_name": "claims that agree"},
-            ),
-            "leave_p1": (
-                dims,
-                np.array([r.transitions["leave_p1"] for r in recs]).reshape(shape),
-                {"units": "1", "long_name": "first x1 not P1"},
+            "score": cf(dims, np.array([r.score for r in recs]).reshape(shape), "1", "score"),
+            "agree": cf(dims, np.array([r.agree for r in recs]).reshape(shape), "1", "claims that agree"),
+            "leave_p1": cf(
+                dims, np.array([r.transitions["leave_p1"] for r in recs]).reshape(shape), "1", "first x1 not P1"
             ),
         },
         coords={
-            a.name: (
-                a.name,
-                np.array(va),
-                {"units": point.units_of(a.name), "long_name": f"{a.name} (searched unknown)"},
-            ),
-            b.name: (
-                b.name,
-                np.array(vb),
-                {"units": point.units_of(b.name), "long_name": f"{b.name} (searched unknown)"},
-            ),
+            a.name: cf(a.name, np.array(va), point.units_of(a.name), f"{a.name} (searched unknown)"),
+            b.name: cf(b.name, np.array(vb), point.units_of(b.name), f"{b.name} (searched unknown)"),
         },
         attrs={"x": a.name, "y": b.name, "best_x": best_values[a.name], "best_y": best_values[b.name]},
     )
