@@ -39,10 +39,10 @@ DIRECTIONS = ("up", "down")
 
 #: Mesh periods two non-periodic verdicts that the labeller's comparison separates are integrated on, at
 #: most, before they count as two attractors (:func:`different_attractors`), in pieces of
-#: :data:`CONTINUE_PIECE`.  Measured on the shipped calibrated KHV design below the Neimark-Sacker bifurcation of its P1
-#: orbit near w = 1.53: the down sweep's records there leave the unstable orbit slowly and reach the up
-#: sweep's torus within 1000 (w = 1.5118), 3000 (1.5186) and 17000 (1.5254) periods; closer to the
-#: bifurcation the escape takes longer still.
+#: :data:`CONTINUE_PIECE`.  Measured on the shipped calibrated KHV design below the Neimark-Sacker
+#: bifurcation of its P1 orbit near w = 1.53: the down sweep's records there leave the unstable orbit slowly
+#: and reach the up sweep's torus within 1000 (w = 1.5118), 3000 (1.5186) and 17000 (1.5254) periods;
+#: closer to the bifurcation the escape takes longer still.
 CONTINUE_PERIODS = 40000
 CONTINUE_PIECE = 1000
 
