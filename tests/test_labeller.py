@@ -291,3 +291,25 @@ def test_part_of_a_cycle_lies_on_it_at_distance_zero():
     assert hausdorff(cycle[:50], cycle) == pytest.approx(directed_distance(cycle, cycle[:50]))
     assert hausdorff(cycle[:50], cycle) == pytest.approx(1.4219, abs=1e-4)
     assert directed_distance(cycle[:50] + 1e-3, cycle) == pytest.approx(1e-3, rel=1e-3)
+
+
+def test_a_record_circling_an_orbit_at_the_unit_circle_is_undetermined():
+    """li2013_calibrated, e = 5, row 115 of the (x1, b) map (b = 1.2714), its points built as the map builds
+    them, followed from x1 = 0.416 to column 40 (x1 = 0.50022), one pixel past the P1 orbit's Neimark-Sacker
+    curve.  The record circles the P1 orbit within 1 %, and the orbit's largest |mu| is within the stability
+    margin (1.9e-5) of 1: no run of the labeller's length tells a slow approach from a torus born there, so
+    the point is undetermined and says why.  Without the check (``circle_max_n = 0``) the same record passes
+    the torus test and is called quasi-periodic; the pixel before it is a certified P1."""
+    d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
+    b = float(np.linspace(0.0, 2.2, 200)[115])
+    line = [
+        point.point_coefficients(d, {"e": 5.0, "x1": float(x)}).replace(b=b)
+        for x in np.linspace(0.416, 0.835, 200)[:41]
+    ]
+    policy = Policy(MAP, CS)
+    v = label_lines([line], policy)[0]
+    assert v[-2].label == 1 and v[-2].multiplier < 1.0
+    assert v[-1].label == classify.LABELS["undetermined"]
+    assert "circles a period-1 orbit" in v[-1].reason and "within the stability margin" in v[-1].reason
+    off = dataclasses.replace(policy, locked=dataclasses.replace(policy.locked, circle_max_n=0))
+    assert label_lines([line], off)[0][-1].label == classify.LABELS["quasi_periodic"]

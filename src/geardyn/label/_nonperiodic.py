@@ -25,6 +25,7 @@ from geardyn.label._stages import (
     diverged_verdict,
     record_length,
     rule3,
+    shoot,
     tables_of,
 )
 from geardyn.label.policy import Policy
@@ -173,10 +174,41 @@ def finish(points: list[Point], policy: Policy) -> None:
     quasi-periodic record (a long cycle scores like a torus in both torus measures): the record's newest
     half, where a slowly attracting cycle has come closer, then all of it, for longer cycles
     (:func:`_long_periods`); then where the record gathers about a cycle too slowly for rule 3
-    (:func:`_locked`)."""
+    (:func:`_locked`); last, where it circles a period-1 or period-2 orbit at the unit circle (:func:`_at_circle`)."""
     for newest_half in (True, False):
         _long_periods([p for p in points if p.verdict.label == QP], policy, newest_half=newest_half)
     _locked([p for p in points if p.verdict.label == QP], policy)
+    _at_circle([p for p in points if p.verdict.label == QP], policy)
+
+
+def _at_circle(points: list[Point], policy: Policy) -> None:
+    """Quasi-periodic records that circle a period-n orbit (n = 1 .. ``policy.locked.circle_max_n``; Newton
+    from the centroid of every n-th point of the record) closely -- every n-th point within
+    ``policy.locked.return_tol`` max(1, max|x|) of the orbit's point -- where the orbit's max|mu| lies within
+    the stability margin of 1.  There the labeller can neither certify the orbit nor tell a slow approach to
+    it (decay time 1 / (1 - |mu|) beyond the longest record) from a torus born on it, so the point is
+    undetermined, with the orbit and its |mu|max in the reason: a point at a Neimark-Sacker bifurcation, to
+    the labeller's accuracy."""
+    tol = policy.locked.return_tol
+    for n in range(1, policy.locked.circle_max_n + 1):
+        todo, records = [], []
+        for p in points:
+            r = p.run.poincare[(p.run.poincare.shape[0] - 1) % n :: n]
+            c = np.mean(r, axis=0) if p.verdict.label == QP and r.shape[0] >= 3 else None
+            # only a record thin enough to lie within the tolerance of an orbit point is shot for it
+            if c is not None and np.max(np.abs(r - c)) < 2.0 * tol * max(1.0, float(np.max(np.abs(c)))):
+                todo.append(p)
+                records.append(r)
+        shots = shoot(todo, [np.mean(r, axis=0) for r in records], [n] * len(todo), policy) if todo else []
+        for p, r, s in zip(todo, records, shots, strict=True):
+            if not s.converged or abs(s.spectral_radius - 1.0) >= policy.stability_margin:
+                continue
+            if float(np.max(np.abs(r - s.state))) < tol * max(1.0, float(np.max(np.abs(s.state)))):
+                why = (
+                    f"circles a period-{n} orbit with |mu|max = {s.spectral_radius:.6f}, within the stability "
+                    "margin of 1: at its bifurcation, to this accuracy"
+                )
+                p.verdict = _undecided(p, p.run, why, policy)
 
 
 def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True) -> None:

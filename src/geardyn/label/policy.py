@@ -90,13 +90,16 @@ class Locked:
     more than 1.6 times in one iteration, 5 grew 2-19 times and converged; attempts that found none mostly grew
     15-90 times at the first iteration; with 20 no cycle of that map is lost and the attempts cost 0.76 of
     their integrations); ``fall_short``, ``fall_long``: the fall of the return distance along the record that
-    a short (n <= max_n) and a long cycle must show."""
+    a short (n <= max_n) and a long cycle must show; ``circle_max_n``: the periods n = 1 .. circle_max_n of
+    the orbits a quasi-periodic record is checked to circle at the unit circle (the record is then undecided:
+    a point at the orbit's Neimark-Sacker bifurcation, to the labeller's accuracy)."""
 
     return_tol: float = 1e-2
     newton_max_iter: int = 4
     max_growth: float = 20.0
     fall_short: float = 0.95
     fall_long: float = 0.5
+    circle_max_n: int = 2
 
 
 @dataclass(frozen=True)
