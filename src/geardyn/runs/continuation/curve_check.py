@@ -26,14 +26,16 @@ back_grazing       sides                         impact | single-sided (back: si
 =================  ============================  =========================================================
 
 "On the orbit": mean Poincare X_VH within 1e-3 max(1, |x|) + 0.1 spread of the orbit's, spread at most the
-orbit's + 1e-2 max(1, |x|).  A stable side that is not P-n on the orbit is excluded, with its reason
+orbit's + 1e-2 max(1, |x|). A stable side that is not P-n on the orbit is excluded, with its reason
 (:data:`EXCLUDED`), when the map cannot show it: ``slow`` (the pixel is on the orbit but the orbit's largest
 multiplier modulus is within :func:`slow_margin` of 1: the labeller certifies no orbit there, or its run is
-shorter than the orbit's approach), ``hysteresis`` or ``coexistence`` (the pixel holds another
-attractor, off the orbit, where the orbit is stable: two attractors coexist; ``hysteresis`` when the pixel's
-row crossed the curve before reaching it and carried that attractor across, ``coexistence`` when the row came
-from the stable side).  Otherwise the failure is ``stable_side``, ``other_side`` or ``impact_class``.  The
-fraction is that of ``ok`` among the checked samples (``ok`` and :data:`FAILURES`).
+shorter than the orbit's approach; likewise an other side labelled undetermined where the orbit's modulus is
+less than 1 + the margin: the labeller tells neither a slow escape nor a thin torus there), ``hysteresis`` or
+``coexistence`` (the pixel holds another attractor, off the orbit, where the orbit is stable: two attractors
+coexist; ``hysteresis`` when the pixel's row crossed the curve before reaching it and carried that attractor
+across, ``coexistence`` when the row came from the stable side). Otherwise the failure is ``stable_side``,
+``other_side`` or ``impact_class``. The fraction is that of ``ok`` among the checked samples (``ok`` and
+:data:`FAILURES`).
 """
 
 from __future__ import annotations
@@ -56,6 +58,7 @@ from geardyn.solve.response import IMPACT_CLASSES, response_measures
 from geardyn.solve.shooting import newton_shooting
 
 #: Failures of a checked sample.
+_UNDETERMINED = LABELS["undetermined"]
 FAILURES = ("not_straddled", "stable_side", "other_side", "impact_class")
 #: Samples left out of the fraction, each with its reason (module doc).
 EXCLUDED = ("codim2", "crowded", "edge", "slow", "hysteresis", "coexistence")
@@ -344,6 +347,8 @@ class _Judge:
         if graze:
             ok = self.impact is None or (int(self.impact[ps]) == sts[4] and int(self.impact[pu]) == stu[4])
             return "ok" if ok else "impact_class"
+        if int(self.lab[pu]) == _UNDETERMINED and stu[6] <= 1.0 + self.slow:
+            return "slow"  # the labeller resolves no attractor within the margin past the bifurcation either
         moved = not _on_orbit(self.mean[pu], self.spread[pu], sts)
         return "ok" if _other_ok(kind, n, int(self.lab[pu]), moved, supercritical) else "other_side"
 
