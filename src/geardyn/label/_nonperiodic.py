@@ -190,20 +190,22 @@ def _at_circle(points: list[Point], policy: Policy) -> None:
     undetermined, with the orbit and its |mu|max in the reason: a point at a Neimark-Sacker bifurcation, to
     the labeller's accuracy."""
     tol = policy.locked.return_tol
+    circled: set[int] = set()  # points whose record circles an orbit of a shorter period: decided there
     for n in range(1, policy.locked.circle_max_n + 1):
         todo, records = [], []
         for p in points:
             r = p.run.poincare[(p.run.poincare.shape[0] - 1) % n :: n]
-            c = np.mean(r, axis=0) if p.verdict.label == QP and r.shape[0] >= 3 else None
+            c = np.mean(r, axis=0) if p.verdict.label == QP and id(p) not in circled and r.shape[0] >= 3 else None
             # only a record thin enough to lie within the tolerance of an orbit point is shot for it
             if c is not None and np.max(np.abs(r - c)) < 2.0 * tol * max(1.0, float(np.max(np.abs(c)))):
                 todo.append(p)
                 records.append(r)
         shots = shoot(todo, [np.mean(r, axis=0) for r in records], [n] * len(todo), policy) if todo else []
         for p, r, s in zip(todo, records, shots, strict=True):
-            if not s.converged or abs(s.spectral_radius - 1.0) >= policy.stability_margin:
+            if not s.converged or float(np.max(np.abs(r - s.state))) >= tol * max(1.0, float(np.max(np.abs(s.state)))):
                 continue
-            if float(np.max(np.abs(r - s.state))) < tol * max(1.0, float(np.max(np.abs(s.state)))):
+            circled.add(id(p))
+            if abs(s.spectral_radius - 1.0) < policy.stability_margin:
                 why = (
                     f"circles a period-{n} orbit with |mu|max = {s.spectral_radius:.6f}, within the stability "
                     "margin of 1: at its bifurcation, to this accuracy"
