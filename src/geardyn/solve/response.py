@@ -1,9 +1,11 @@
 """The engineer's response measures of one operating point: dynamic mesh force, dynamic factor, dynamic
 transmission error, contact fractions and the impact class (definitions: ``docs/response.md``).
 
-:func:`response_measures_many` integrates whole mesh periods from states on the attractor (labeller
-verdicts' final states) in the batch's lanes, with the solver's own step, adds every step to the sums of
-:mod:`geardyn.solve._response` and reduces them; :func:`response_measures` does it for one point.
+:func:`response_measures_many` integrates whole mesh periods from states on the attractor in the batch's
+lanes, with the solver's own step, adds every step to the sums of :mod:`geardyn.solve._response` and reduces
+them; :func:`response_measures` does it for one point.  The labeller needs no such run: its own runs add the
+steps of their last periods to the same sums (``sums_last`` of :func:`geardyn.solve.simulate_batch`), which
+:func:`measures_of_sums` reduces (:attr:`geardyn.label.Verdict.response`).
 :func:`rms_errors_many` gives the standard errors of the RMS values of such a record (batch means over
 blocks of whole mesh periods, each block a record of its own in the same lanes).
 All quantities are dimensionless like the solver's: forces in units of k_mean b_c, displacements in
