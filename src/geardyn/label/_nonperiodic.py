@@ -33,6 +33,7 @@ from geardyn.label.torus import OrderTest, TorusTest, coordinates, order_test, t
 from geardyn.label.verdict import Verdict
 from geardyn.parallel import threaded_map
 from geardyn.solve.base import SimulationResult
+from geardyn.solve.response import measures_of_sums
 from geardyn.solve.run import simulate_batch
 
 # ------------------------------------------------------------------------------------------------
@@ -59,6 +60,7 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
                 [p.run.final_state for p in again],
                 tangent_periods=cs.tangent_periods,
                 tables=tables_of(again),
+                sums_last=[record_length(policy)] * len(again),
             ),
             strict=True,
         )
@@ -105,6 +107,7 @@ def start_round(p: Point, policy: Policy) -> bool:
     if p.verdict.stage != "undecided" or cs.torus_extend <= 0 or length >= cs.torus_max_periods:
         return False
     p.left, p.piece = min(cs.torus_extend * length, cs.torus_max_periods - length), None
+    p.measured = min(record_length(policy), p.left)  # the round's verdict: the measures of its last periods
     return True
 
 
@@ -129,6 +132,9 @@ def longer_record(points: list[Point], periods: int, policy: Policy) -> list[Poi
         tables=tables_of(points),
         tangent_periods=periods,
         tangent_start=[None if p.piece is None else p.piece.tangent for p in points],
+        # the sums of the round's last ``measured`` periods, over the pieces that hold them
+        sums_last=[p.measured - (p.left - periods) for p in points],
+        sums_start=[None if p.piece is None else p.piece.sums for p in points],
     )
     done: set[int] = set()
     ended: list[Point] = []
@@ -429,7 +435,8 @@ def _record_verdict(
     **indicators: float | int,
 ) -> Verdict:
     """A verdict of no period read off the record ``r``: its final state, its newest Poincare points, the
-    earlier stages' notes appended to the reason; ``indicators``: the torus and chaos measures, where computed."""
+    response measures of its last ``p.measured`` periods (the sums its run added), the earlier stages' notes
+    appended to the reason; ``indicators``: the torus and chaos measures, where computed."""
     if p.notes:
         why += "; " + "; ".join(p.notes)
     return Verdict(
@@ -445,5 +452,6 @@ def _record_verdict(
         bifurcation=p.bifurcation,
         transient_used=p.transient_used,
         n_events=int(r.n_events),
+        response=measures_of_sums(r.sums, p.system, p.measured),
         **indicators,
     )

@@ -15,6 +15,7 @@ from geardyn.label._stages import (
     decide,
     diverged_verdict,
     periodic_verdicts,
+    record_length,
     rule3,
     tables_of,
 )
@@ -51,7 +52,8 @@ def _follows_motion(p: Point) -> bool:
 
 def integrate(points: list[Point], policy: Policy) -> list[Point]:
     """Run every point from the previous point's final state (``follow``) or the line's start, with the early
-    stop; diverged runs and runs that return within tolerance on a certified orbit are decided.  A point that
+    stop; diverged runs and runs that return within tolerance on a certified orbit are decided.  The run sums
+    the response measures over its last ``recorded_periods`` (those of a verdict read off this record).  A point that
     follows a non-periodic attractor carries the tangent vector over its record at once (it is most likely
     non-periodic again: :func:`exponents` then needs no second run)."""
     if not points:
@@ -75,9 +77,10 @@ def integrate(points: list[Point], policy: Policy) -> list[Point]:
             transient_periods=trans,
             recorded_periods=rec,
             tangent_periods=cs.tangent_periods if tangent else 0,
+            sums_last=[record_length(policy)] * len(group),
         )
         for p, r in zip(group, runs, strict=True):
-            p.run, p.transient_used = r, r.transient_used
+            p.run, p.transient_used, p.measured = r, r.transient_used, record_length(policy)
             p.tangent = bool(tangent) and r.growth is not None and r.growth.size >= cs.tangent_periods
             if r.diverged:
                 p.verdict = diverged_verdict(p, r)

@@ -27,6 +27,7 @@ alone, so a verdict does not depend on the batch, the chunking or the number of 
 from __future__ import annotations
 
 import dataclasses
+import logging
 import math
 from collections import defaultdict
 from dataclasses import dataclass
@@ -39,6 +40,7 @@ from geardyn.label.policy import Policy
 from geardyn.label.torus import OrderTest
 from geardyn.label.verdict import Verdict
 from geardyn.solve.base import SimulationResult, System
+from geardyn.solve.response import ResponseMeasures, measures_of_sums, response_measures_many
 from geardyn.solve.run import LaneTables, strict_periods
 from geardyn.solve.shooting import ShootingResult, cycle_points, newton_shooting_batch
 
@@ -48,6 +50,8 @@ CHAOS = classify.LABELS["chaotic"]
 DIVERGED = classify.LABELS["diverged"]
 NAN = float("nan")
 
+log = logging.getLogger("geardyn.label")
+
 
 @dataclass
 class Point:
@@ -55,7 +59,8 @@ class Point:
 
     prev: the verdict of the previous point of the line (None for a line's first point).  start: the fixed
     initial state of the line (None: the static deflection).  run: the run whose record the later stages
-    read.  notes: what earlier stages found, for the verdict's reason."""
+    read (with the response measures' sums over its last ``measured`` periods).  notes: what earlier stages
+    found, for the verdict's reason."""
 
     system: System
     prev: Verdict | None
@@ -71,6 +76,7 @@ class Point:
     piece: SimulationResult | None = None  # that round's run so far
     order: tuple[np.ndarray, OrderTest] | None = None  # the torus test's order test of a record: (record, test)
     transient_used: int = 0
+    measured: int = 0  # the last periods of the record whose response measures' sums the run carries
     notes: list[str] = dataclasses.field(default_factory=list)
 
 
@@ -93,12 +99,12 @@ def periodic_verdicts(
     points: list[Point], shots: list[ShootingResult], policy: Policy, stage: str, why: str
 ) -> list[Verdict | None]:
     """Verdicts for converged Newton orbits: period-m (m the least period) when max|mu| < 1 - margin, else
-    None.  The cycle points of an n > 1 orbit come from one run of n periods from its orbit point (all
-    together); a period-1 orbit is its point."""
+    None.  The cycle points come from one run of n periods from the orbit point (all together; a period-1
+    orbit is its point), which also sums the response measures over the n periods (:func:`_cycle_measures`)."""
     margin = policy.stability_margin
     good = [k for k, s in enumerate(shots) if s.converged and s.spectral_radius < 1.0 - margin]
     out: list[Verdict | None] = [None] * len(shots)
-    cycles: dict[int, tuple[np.ndarray, int]] = {}
+    cycles: dict[int, tuple[np.ndarray, int, np.ndarray | None]] = {}
     by_n: dict[int, list[int]] = defaultdict(list)
     for k in good:
         by_n[shots[k].n].append(k)
@@ -108,15 +114,17 @@ def periodic_verdicts(
             [shots[k].state for k in ks],
             n,
             policy.integration,
-            tables=None if n == 1 else tables_of([points[k] for k in ks]),
+            tables=tables_of([points[k] for k in ks]),
+            measure=True,
         )
-        for k, (cyc, events, diverged) in zip(ks, found, strict=True):
+        for k, (cyc, events, diverged, sums) in zip(ks, found, strict=True):
             if not diverged:
                 tol = (
                     policy.newton.cycle_tol_factor * policy.newton.tol * max(1.0, float(np.max(np.abs(shots[k].state))))
                 )
-                cycles[k] = (cyc[: least_period(cyc, tol)], events)
-    for k, (cycle, events) in cycles.items():
+                cycles[k] = (cyc[: least_period(cyc, tol)], events, sums)
+    measures = _cycle_measures(points, shots, cycles, policy)
+    for k, (cycle, events, _) in cycles.items():
         shot, m = shots[k], cycle.shape[0]
         n, rho = shot.n, shot.spectral_radius
         out[k] = Verdict(
@@ -134,7 +142,33 @@ def periodic_verdicts(
             transient_used=points[k].transient_used,
             n_events=events,
             monodromy=shot.monodromy if m == n else None,
+            response=measures[k],
         )
+    return out
+
+
+def _cycle_measures(
+    points: list[Point], shots: list[ShootingResult], cycles: dict, policy: Policy
+) -> dict[int, ResponseMeasures]:
+    """The response measures of each orbit over its least period m from its orbit point: the sums of its
+    cycle run (:func:`periodic_verdicts`) where m = n, the numbers :func:`response_measures_many` gives; where
+    the least period m is shorter than the n periods run, a run of its own over m periods (rare: the
+    shooting's n is the period rule 3 or the previous point saw)."""
+    out = {
+        k: measures_of_sums(sums, points[k].system, shots[k].n)
+        for k, (cycle, _, sums) in cycles.items()
+        if cycle.shape[0] == shots[k].n
+    }
+    short = [k for k in cycles if k not in out]
+    if short:
+        log.debug("%d orbits of a shorter least period: their measures from a run of their own", len(short))
+        ms = response_measures_many(
+            [points[k].system for k in short],
+            [shots[k].state for k in short],
+            policy.integration,
+            [cycles[k][0].shape[0] for k in short],
+        )
+        out.update(zip(short, ms, strict=True))
     return out
 
 
@@ -193,6 +227,7 @@ def decide(points: list[Point], verdicts: list[Verdict | None]) -> list[Point]:
 
 
 def diverged_verdict(p: Point, r: SimulationResult) -> Verdict:
+    """The verdict of a run that diverged: no measures (:meth:`ResponseMeasures.not_computed`)."""
     lam = float("inf")
     return Verdict(
         DIVERGED,
@@ -208,6 +243,7 @@ def diverged_verdict(p: Point, r: SimulationResult) -> Verdict:
         transient_used=r.transient_used,
         n_events=int(r.n_events),
         diverged_period=int(r.diverged_period),
+        response=ResponseMeasures.not_computed(),
     )
 
 

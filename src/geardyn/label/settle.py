@@ -187,7 +187,7 @@ def _cycles(systems, tables: LaneTables, shots: dict, n: int, policy: Policy) ->
         tables=tables.take(ids) if n > 1 else None,
     )
     out = {}
-    for i, (c, _, _) in zip(ids, found, strict=True):
+    for i, (c, _, _, _) in zip(ids, found, strict=True):
         tol = policy.settle.cycle_rtol * max(1.0, float(np.max(np.abs(shots[i].state))))
         out[i] = c[: least_period(c, tol)]
     return out

@@ -4,7 +4,8 @@ A verdict says what the point's attractor is (``label``, ``period``), how sure t
 stage of the labeller decided it, and ``reason``), its largest exponent and how that was obtained
 (``exponent_method``), where the followed orbit lost stability (``bifurcation``), the points that a figure
 draws (``poincare``: points on the attractor, never a transient) and the state the next point of a line
-starts from (``final_state``).
+starts from (``final_state``) and the response measures on the attractor (``response``), from the
+labeller's own runs.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from geardyn import classify
+from geardyn.solve.response import ResponseMeasures
 
 #: Which stage decided a verdict (cube variable ``stage``; codes and meanings).
 STAGES = {
@@ -62,6 +64,11 @@ class Verdict:
     n_events: contact switches located in the run that recorded ``poincare``.
     diverged_period: mesh period of divergence (-1: bounded).  monodromy: (6, 6) over n periods at
     ``final_state`` for a periodic verdict (the next point's chord iteration reuses it).
+    response: the :class:`~geardyn.solve.response.ResponseMeasures` on the attractor, summed in the
+    labeller's own runs: over one cycle (``period`` mesh periods) from ``final_state`` for a periodic verdict
+    (the run that builds its cycle), over the last ``recorded_periods`` of the record that ends at
+    ``final_state`` for another (fewer where a round of a growing record is shorter), not computed for a
+    diverged one.
     """
 
     label: int
@@ -83,6 +90,7 @@ class Verdict:
     n_events: int = -1
     diverged_period: int = -1
     monodromy: np.ndarray | None = None
+    response: ResponseMeasures | None = None
 
     @property
     def diverged(self) -> bool:

@@ -168,9 +168,10 @@ def jump_frequencies(w: np.ndarray, flags: np.ndarray, direction: str) -> np.nda
 def rms_error_variables(systems: list[System], verdicts: list[list[Verdict]], policy: Policy) -> dict[str, Any]:
     """The standard errors of ``dte_rms`` and ``force_rms`` (dims direction x w; ``verdicts`` of both
     sweeps in ascending order, at ``systems``).  A periodic verdict's measures are averages over one whole
-    cycle: error 0.  A non-periodic one's are averages over the ``recorded_periods`` from its final state:
-    the batch-means error over :data:`geardyn.solve.response.RMS_BLOCKS` blocks of whole mesh periods of that
-    record (:func:`geardyn.solve.response.rms_errors_many`).  NaN where diverged."""
+    cycle: error 0.  A non-periodic one's are averages over the last ``recorded_periods`` of its record: the
+    error is that of a record of that length on its attractor, the batch-means error over
+    :data:`geardyn.solve.response.RMS_BLOCKS` blocks of whole mesh periods of the ``recorded_periods`` from
+    its final state (:func:`geardyn.solve.response.rms_errors_many`).  NaN where diverged."""
     shape = (len(verdicts), len(systems))
     dte, force = np.full(shape, np.nan), np.full(shape, np.nan)
     todo = []

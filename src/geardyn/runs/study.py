@@ -2,14 +2,14 @@
 
 A study labels *lines* of systems with :func:`geardyn.label.label_lines` (with ``start_from: follow`` each
 point of a line starts from the attractor of the one before, with ``fixed`` from the static deflection) and
-keeps every point's verdict and the response measures on its attractor.  A :class:`Layout` says what one run
-computes: its lines (a chunk of a sweep or a map, the up and down sweeps of a frequency response, the
-independent points of a point run), where each point's verdict goes (its index in the run's arrays), and the
-variables of its own it keeps per point.  :func:`run` does the rest the same way for every layout: it labels
-the lines, again from the fixed start where the policy asks for ``coexistence``, measures the responses
-(:func:`line_responses`) and writes each point through :func:`store` into the arrays built by
-:func:`variables`.  A point's numbers depend only on its line, never on the other lines, the chunking or the
-threads.
+keeps every point's verdict and the response measures on its attractor, which the labeller sums in its own
+runs.  A :class:`Layout` says what one run computes: its lines (a chunk of a sweep or a map, the up and down
+sweeps of a frequency response, the independent points of a point run), where each point's verdict goes (its
+index in the run's arrays), and the variables of its own it keeps per point.  :func:`run` does the rest the
+same way for every layout: it labels the lines, again from the fixed start where the policy asks for
+``coexistence``, takes the verdicts' response measures (:func:`line_responses`) and writes each point through
+:func:`store` into the arrays built by :func:`variables`.  A point's numbers depend only on its line, never on
+the other lines, the chunking or the threads.
 """
 
 from __future__ import annotations
@@ -39,7 +39,7 @@ from geardyn.runs.cube import (
     response_variables,
 )
 from geardyn.solve import SimulationSettings, System
-from geardyn.solve.response import IMPACT_CLASSES, ResponseMeasures, response_measures_many
+from geardyn.solve.response import IMPACT_CLASSES, ResponseMeasures
 
 log = logging.getLogger("geardyn.study")
 
@@ -169,32 +169,27 @@ def store(arrays: dict[str, np.ndarray], idx: Index, v: Verdict, r: ResponseMeas
             a[name][idx] = value
 
 
-def line_responses(
-    lines: Sequence[Sequence[System]], verdicts: Sequence[Sequence[Verdict]], settings: SimulationSettings
-) -> list[list[ResponseMeasures]]:
-    """The response measures of every point of labelled lines, from each verdict's final state (on the
-    attractor): over one cycle of a periodic verdict (its least period: the recorded periods repeat it), else
-    over the settings' recorded periods; :meth:`ResponseMeasures.not_computed` where the labeller saw
-    divergence.  All points in one call of :func:`response_measures_many` (the batch's lanes)."""
-    flat = [(s, v) for line, vs in zip(lines, verdicts, strict=True) for s, v in zip(line, vs, strict=True)]
-    run = [(s, v) for s, v in flat if not v.diverged]
-    periods = [v.period if v.period > 0 else settings.recorded_periods for _, v in run]
-    measured = iter(response_measures_many([s for s, _ in run], [v.final_state for _, v in run], settings, periods))
-    out = iter([ResponseMeasures.not_computed() if v.diverged else next(measured) for _, v in flat])
-    return [[next(out) for _ in line] for line in lines]
+def line_responses(verdicts: Sequence[Sequence[Verdict]]) -> list[list[ResponseMeasures]]:
+    """The response measures of every point of labelled lines: those the labeller summed in its own runs
+    (:attr:`geardyn.label.Verdict.response`: over one cycle of a periodic verdict from its final state, over
+    the last recorded periods of the record that ends at it otherwise; not computed where it saw divergence)."""
+    out = [[v.response for v in vs] for vs in verdicts]
+    if any(r is None for rs in out for r in rs):
+        raise ValueError("a verdict without its response measures")
+    return out  # type: ignore[return-value]
 
 
 def run(layout: Layout, policy: Policy, progress: str = "") -> Result:
-    """Label the layout's lines by ``policy`` (and from the fixed start too with its ``coexistence``), measure
-    the responses and store every point (:func:`store`, then the layout's ``store_own``).  ``progress``: a name
-    for the log."""
+    """Label the layout's lines by ``policy`` (and from the fixed start too with its ``coexistence``), with the
+    verdicts' response measures, and store every point (:func:`store`, then the layout's ``store_own``).
+    ``progress``: a name for the log."""
     t0 = time.perf_counter()
     points = list(layout.lines)
     lines = [[system for _, system in line] for line in points]
     data = variables(layout, policy)
     verdicts = label.label_lines(lines, policy, progress=progress)
     fixed = label.label_lines(lines, policy.with_start("fixed")) if policy.coexistence else None
-    responses = line_responses(lines, verdicts, policy.integration)
+    responses = line_responses(verdicts)
     arrays = {name: var[1] for name, var in data.items()}
     for k, line in enumerate(points):
         for m, (idx, system) in enumerate(line):

@@ -188,7 +188,9 @@ def _switch(C, POLY, H, S, SEG, A, q, ln, j, reg, rnew, tan, y1, y2, Wa, Wb):
 
 
 @njit(cache=True)
-def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE, ACC, SGN):
+def _block(
+    C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE, ACC, SGN, ACC_LAST
+):
     """Lanes ``lanes`` (<= WIDTH of them) stepped in lockstep, structure of arrays (state (6, WIDTH)):
     the plain RK4 step of every lane is one loop over the lanes that the compiler vectorises (the dead
     zone as selects, no branch); a lane whose step changed contact region is then corrected alone by
@@ -196,8 +198,11 @@ def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, O
     :func:`geardyn.solve._kernel.run` (:func:`~geardyn.solve._kernel.diverged`,
     :func:`~geardyn.solve._kernel.record`, :func:`geardyn.solve._period.early_stop`), lane by lane, so
     each lane's result is bit-identical to the scalar loop's.  With ACC (L, N_OUT) (not (L, 0)) every
-    step is also added to the response measures' sums of :mod:`geardyn.solve._response` (drive side
-    SGN (L,))."""
+    step of the last ACC_LAST[l] periods of the run is also added to the response measures' sums of
+    :mod:`geardyn.solve._response` (drive side SGN (L,)): the sums start at the state where those periods
+    begin (after an early stop, of the shortened run), or, where ACC_LAST[l] exceeds the run, go on from
+    the sums ACC[l] holds (those of the earlier periods, from a run this one continues); none where
+    ACC_LAST[l] <= 0."""
     H, S, SEG, K, P, POLY = TABS
     es_min, es_confirm, es_max_n = ES[0], ES[1], ES[2]
     nl = lanes.shape[0]
@@ -222,10 +227,9 @@ def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, O
     tan_start = np.zeros(Wd, dtype=np.int64)
     tan_on = np.zeros(Wd, dtype=np.bool_)
     acc = ACC.shape[1] > 0
+    acc_on = np.zeros(Wd, dtype=np.bool_)
     for q in range(nl):
         ln = lanes[q]
-        if acc:  # b of the sums: A's row 13, 0 without backlash
-            start_sums(ACC[ln], K[ln, 0, 0], C[ln, CM], A[13 * Wd + q], Y0[ln, 1], Y0[ln, 4], SGN[ln])
         use_ev[q] = event and C[ln, BACKLASH_ON] != 0.0 and C[ln, B] > 0.0
         bl[q] = C[ln, B]
         reg[q] = region(Y0[ln, 1], C[ln, B])
@@ -243,6 +247,15 @@ def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, O
         for q in range(Wd):
             tan_on[q] = m > 0 and (not done[q]) and per >= tan_start[q] and stop_n[q] == 0
             any_tan = any_tan or tan_on[q]
+        if acc:  # the sums' periods: the last ACC_LAST of the run (n_end: after an early stop, shortened)
+            for q in range(nl):
+                ln = lanes[q]
+                acc_on[q] = (not done[q]) and ACC_LAST[ln] > 0 and per >= n_end[q] - ACC_LAST[ln]
+                if acc_on[q] and per == n_end[q] - ACC_LAST[ln]:  # b of the sums: A's row 13, 0 without backlash
+                    # fmt: off
+                    start_sums(ACC[ln], K[ln, 0, 0], C[ln, CM], A[13 * Wd + q], A[22 * Wd + q], A[25 * Wd + q],
+                               SGN[ln])
+                    # fmt: on
         for j in range(nsteps):
             for i in range(7 * Wd):
                 A[14 * Wd + i] = tab[j, i]
@@ -260,7 +273,7 @@ def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, O
                         nev[q] += nv
             if acc:  # the step's share of the response measures (start state rows 21-26, end 27-32)
                 for q in range(nl):
-                    if not done[q]:
+                    if acc_on[q]:
                         # fmt: off
                         add_step(ACC[lanes[q]], A[14 * Wd + q], A[15 * Wd + q], A[17 * Wd + q],
                                  C[lanes[q], CM], A[13 * Wd + q], SGN[lanes[q]], A[22 * Wd + q],
@@ -282,7 +295,7 @@ def _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, O
                 Wl[i, 0] = A[(33 + i) * Wd + q]
             if diverged(y, LIMITS[ln]):
                 A[21 * Wd + q : 27 * Wd + q : Wd] = 0.0  # keep the idle lane finite
-                if acc:
+                if acc and ACC_LAST[ln] > 0:
                     ACC[ln, STATUS] = 1.0
                 _finish(OUT[ln], YFINAL[ln], y, 1, per, nev[q], min(per + 1, n_tr[q]), stop_n[q])
                 for i in range(6 * m):
@@ -327,18 +340,21 @@ def _finish(out, yfinal, y, status, last_period, n_events, used, stop_n):
 
 
 @njit(cache=True, parallel=True)
-def run_blocks(C, TABS, Y0, NTRANS, NREC, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE, ACC, SGN):
+def run_blocks(
+    C, TABS, Y0, NTRANS, NREC, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE, ACC, SGN, ACC_LAST
+):
     """:func:`geardyn.solve._kernel.run` (no tangent, or one renormalised tangent column: W (L, 6, 0 or 1))
     for every lane, WIDTH lanes in lockstep per block (:func:`_block`), blocks in parallel.  Blocks are
-    consecutive lanes; results do not depend on it.  ACC, SGN: the response measures' sums (ACC (L, 0):
-    none)."""
+    consecutive lanes; results do not depend on it.  ACC, SGN, ACC_LAST: the response measures' sums over
+    each lane's last ACC_LAST periods (ACC (L, 0): none; :func:`_block`)."""
     n_lanes = C.shape[0]
     n_blocks = (n_lanes + WIDTH - 1) // WIDTH
     for blk in prange(n_blocks):
         lanes = np.arange(blk * WIDTH, min(n_lanes, (blk + 1) * WIDTH))
-        _block(
-            C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE, ACC, SGN
-        )
+        # fmt: off
+        _block(C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE,
+               ACC, SGN, ACC_LAST)
+        # fmt: on
 
 
 @njit(cache=True)

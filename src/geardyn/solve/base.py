@@ -136,7 +136,10 @@ class SimulationResult:
     early stop, :func:`geardyn.solve.simulate_batch`); tangent: the (renormalised) tangent vector at the end
     of a batch run that carried one (:func:`geardyn.solve.simulate_batch` continues it from there, the same
     numbers as one longer run); stop_period: the n of the period-n cycle the
-    early stop saw (0: no early stop).
+    early stop saw (0: no early stop).  sums: the response measures' sums
+    (:mod:`geardyn.solve._response`) over the run's last periods, where a batch run was asked for them
+    (``sums_last`` of :func:`geardyn.solve.simulate_batch`; reduced by
+    :func:`geardyn.solve.response.measures_of_sums`).
     """
 
     poincare: np.ndarray
@@ -154,6 +157,7 @@ class SimulationResult:
     transient_used: int = -1
     stop_period: int = 0
     tangent: np.ndarray | None = None
+    sums: np.ndarray | None = None
 
     def uniform(self, samples_per_period: int) -> tuple[np.ndarray, np.ndarray]:
         """Dense trajectory resampled on a uniform grid (cubic spline) for FFTs."""
@@ -181,3 +185,15 @@ def divergence_limits(system: System, settings: SimulationSettings) -> np.ndarra
     scale = np.maximum(1.0, static)
     scale[3:] = max(1.0, float(np.max(static[:3])))
     return settings.divergence_threshold * scale
+
+
+def static_mesh_force(system: System) -> float:
+    """F_s: the mesh force of the static deflection (mean stiffness, no TE), k_mean b_c units."""
+    x2 = float(system.static_state()[1])
+    b = system.b if system.backlash_on else 0.0
+    return x2 - min(max(x2, -b), b)
+
+
+def drive_side(static_force: float) -> float:
+    """+1 or -1: the sign of the drive-side contact, that of the static mesh force (+1 for zero)."""
+    return -1.0 if static_force < 0.0 else 1.0

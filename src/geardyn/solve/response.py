@@ -1,9 +1,11 @@
 """The engineer's response measures of one operating point: dynamic mesh force, dynamic factor, dynamic
 transmission error, contact fractions and the impact class (definitions: ``docs/response.md``).
 
-:func:`response_measures_many` integrates whole mesh periods from states on the attractor (labeller
-verdicts' final states) in the batch's lanes, with the solver's own step, adds every step to the sums of
-:mod:`geardyn.solve._response` and reduces them; :func:`response_measures` does it for one point.
+:func:`response_measures_many` integrates whole mesh periods from states on the attractor in the batch's
+lanes, with the solver's own step, adds every step to the sums of :mod:`geardyn.solve._response` and reduces
+them; :func:`response_measures` does it for one point.  The labeller needs no such run: its own runs add the
+steps of their last periods to the same sums (``sums_last`` of :func:`geardyn.solve.simulate_batch`), which
+:func:`measures_of_sums` reduces (:attr:`geardyn.label.Verdict.response`).
 :func:`rms_errors_many` gives the standard errors of the RMS values of such a record (batch means over
 blocks of whole mesh periods, each block a record of its own in the same lanes).
 All quantities are dimensionless like the solver's: forces in units of k_mean b_c, displacements in
@@ -19,7 +21,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from geardyn.solve.base import SimulationSettings, System
+from geardyn.solve.base import SimulationSettings, System, drive_side, static_mesh_force
 
 #: Impact classes (cube variable ``impact_class``; -1: not computed or diverged).
 IMPACT_CLASSES = {"no_impact": 0, "single_sided": 1, "double_sided": 2}
@@ -103,13 +105,6 @@ def contact_fractions(
     return (float(pos), float(zero), float(neg)) if side > 0 else (float(neg), float(zero), float(pos))
 
 
-def static_mesh_force(system: System) -> float:
-    """F_s: the mesh force of the static deflection (mean stiffness, no TE), k_mean b_c units."""
-    x2 = float(system.static_state()[1])
-    b = system.b if system.backlash_on else 0.0
-    return x2 - min(max(x2, -b), b)
-
-
 #: Blocks of the batch-means error of an RMS value (:func:`rms_errors_many`): 10 blocks of 5 mesh periods
 #: for the 50 recorded periods of the regime maps' preset.
 RMS_BLOCKS = 10
@@ -135,11 +130,6 @@ class RMSErrors:
 
 #: points per call of the lanes in :func:`response_measures_many` (a multiple of the lockstep width)
 GROUP = 512
-
-
-def drive_side(static_force: float) -> float:
-    """+1 or -1: the sign of the drive-side contact, that of the static mesh force (+1 for zero)."""
-    return -1.0 if static_force < 0.0 else 1.0
 
 
 def response_measures(
@@ -218,11 +208,25 @@ def response_measures_many(
             np.empty((L, 0)),
             sums,
             sgn,
+            np.array([n_per[i] for i in group], np.int64),  # the sums over the whole run
         )
         for k, i in enumerate(group):
             if sums[k, _acc.STATUS] == 0.0:
                 measures[i] = _reduce(sums[k], f_s[i], n_per[i])
     return [ResponseMeasures.not_computed(f) if m is None else m for m, f in zip(measures, f_s, strict=True)]
+
+
+def measures_of_sums(sums: np.ndarray | None, system: System, periods: int) -> ResponseMeasures:
+    """The measures of ``system`` from the sums a batch run added over its last ``periods`` mesh periods
+    (:attr:`geardyn.solve.base.SimulationResult.sums`, ``sums_last`` of :func:`geardyn.solve.simulate_batch`):
+    the numbers of :func:`response_measures_many` from the state where those periods begin, bit for bit;
+    :meth:`ResponseMeasures.not_computed` where there are none or the run diverged."""
+    import geardyn.solve._response as _acc  # noqa: PLC0415 - compiled: not imported by jobs that read results
+
+    f_s = static_mesh_force(system)
+    if sums is None or sums[_acc.STATUS] != 0.0:
+        return ResponseMeasures.not_computed(f_s)
+    return _reduce(sums, f_s, periods)
 
 
 def _reduce(out: np.ndarray | list[float], f_s: float, n_per: int) -> ResponseMeasures:

@@ -27,7 +27,15 @@ import numpy as np
 import geardyn.solve._batch as _batch
 import geardyn.solve._kernel as _kernel
 import geardyn.solve._period as _period
-from geardyn.solve.base import SimulationResult, SimulationSettings, System, divergence_limits
+import geardyn.solve._response as _response
+from geardyn.solve.base import (
+    SimulationResult,
+    SimulationSettings,
+    System,
+    divergence_limits,
+    drive_side,
+    static_mesh_force,
+)
 
 
 def step_grid(eps: float, n: int, aligned: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -361,6 +369,8 @@ def simulate_batch(
     recorded_periods: Sequence[int] | None = None,
     tables: LaneTables | None = None,
     tangent_start: Sequence[np.ndarray | None] | None = None,
+    sums_last: Sequence[int] | None = None,
+    sums_start: Sequence[np.ndarray | None] | None = None,
 ) -> list[SimulationResult]:
     """:func:`simulate` for many systems at once (``rk4``/``rk4_event``, no dense output), in parallel
     over the points (numba threads), with an optional early stop of the transient.
@@ -376,6 +386,10 @@ def simulate_batch(
     of the same points, as in Newton shooting).  ``tangent_start``: each point's initial tangent vector (6,)
     (None: the default, all components 1/sqrt(6)); a run that starts from an earlier run's final state and
     ``tangent`` continues it bit for bit (the run is split where the records join).
+    ``sums_last``: each point's response measures' sums (:mod:`geardyn.solve._response`, the result's
+    ``sums``) over its run's last ``sums_last[l]`` mesh periods (none where <= 0); where that is more than
+    the run, the earlier periods' sums are ``sums_start[l]``, those of a run this one continues (the same
+    numbers as one longer run).  Runs with sums step in the lockstep blocks only.
     With ``early_stop``, a point whose stroboscopic map has converged ends its transient early
     (``transient_used``, ``stop_period``) and drops its tangent vector (``growth`` empty).
     Without monodromy, 8 points step together (vectorised, with their tangent vectors,
@@ -414,20 +428,44 @@ def simulate_batch(
     es = _kernel.NO_EARLY_STOP if early_stop is None else early_stop.as_kernel_args()
     event = settings.integrator == "rk4_event"
     tan = bool(tangent_periods)
-    k = _blocked_lanes(L) if m <= 1 else 0
-    arrays = (C, TABS, Y0, ntr, nrec, limits, poinc, final, out, W, ntan, growth, strobe)
+    acc, sgn, last = _sums(systems, sums_last, sums_start, m)
+    k = (L if sums_last is not None else _blocked_lanes(L)) if m <= 1 else 0
+    arrays = (C, TABS, Y0, ntr, nrec, limits, poinc, final, out, W, ntan, growth, strobe, acc, sgn, last)
     if k:
-        c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb = _lanes(arrays, slice(0, k))
-        _batch.run_blocks(c, tabs, y0, nt, nr, event, lim, po, fi, es, ou, w, na, gr, sb, np.empty((k, 0)), np.empty(k))
+        c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb, ac, sg, la = _lanes(arrays, slice(0, k))
+        _batch.run_blocks(c, tabs, y0, nt, nr, event, lim, po, fi, es, ou, w, na, gr, sb, ac, sg, la)
     if k < L:
-        c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb = _lanes(arrays, slice(k, L))
+        c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb, _, _, _ = _lanes(arrays, slice(k, L))
         _batch.run_batch(c, tabs, y0, nt, nr, event, lim, w, na, tan, gr, sb, po, fi, es, ou)
-    return [
+    results = [
         _lane_result(
             lane, systems[lane], settings, out[lane], ntr, nrec, ntan, poinc, final, growth, strobe, W, m, mono
         )
         for lane in range(L)
     ]
+    if sums_last is not None:
+        for r, a, n in zip(results, acc, last, strict=True):
+            r.sums = a.copy() if n > 0 else None
+    return results
+
+
+def _sums(
+    systems: Sequence[System], last: Sequence[int] | None, start: Sequence[np.ndarray | None] | None, m: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The response measures' arrays of a batch (:func:`geardyn.solve._batch.run_blocks`): the sums (L,
+    N_OUT) (from ``start`` where given; (L, 0) without ``last``), the drive sides (L,) and the periods
+    ``last`` (L,) they cover."""
+    L = len(systems)
+    if last is None:
+        return np.empty((L, 0)), np.empty(L), np.zeros(L, np.int64)
+    if m > 1:
+        raise ValueError("the response measures' sums are added in runs without the monodromy")
+    acc = np.zeros((L, _response.N_OUT))
+    for lane, a in enumerate(start or [None] * L):
+        if a is not None:
+            acc[lane] = a
+    sgn = np.array([drive_side(static_mesh_force(s)) for s in systems])
+    return acc, sgn, np.asarray(last, dtype=np.int64)
 
 
 def warm_up(system: System) -> None:

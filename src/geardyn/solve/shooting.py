@@ -291,17 +291,30 @@ def _deflated_step(
 
 
 def cycle_points(
-    systems: list[System], states: list[np.ndarray], n: int, settings: SimulationSettings | None, tables=None
-) -> list[tuple[np.ndarray, int, bool]]:
+    systems: list[System],
+    states: list[np.ndarray],
+    n: int,
+    settings: SimulationSettings | None,
+    tables=None,
+    measure: bool = False,
+) -> list[tuple[np.ndarray, int, bool, np.ndarray | None]]:
     """The n phase-0 points (n, 6) of the period-n orbits through ``states`` (the state first), one mesh
     period apart, from one run of n periods of each (all together; a period-1 orbit is its state, no run):
-    (points, contact switches over the n periods (-1: not run), diverged).  A run that diverged gives the
-    points before it diverged."""
-    if n == 1:
-        return [(np.asarray(x)[None, :], -1, False) for x in states]
-    runs = simulate_batch(systems, period_settings(settings, n), list(states), tables=tables)
+    (points, contact switches over the n periods (-1: not run), diverged, sums).  A run that diverged gives
+    the points before it diverged.  ``measure``: the run also adds the response measures' sums over its n
+    periods (``sums``, :func:`geardyn.solve.response.measures_of_sums`; a period-1 orbit is then run too, its
+    switches still -1), else ``sums`` is None."""
+    if n == 1 and not measure:
+        return [(np.asarray(x)[None, :], -1, False, None) for x in states]
+    last = [n] * len(states) if measure else None
+    runs = simulate_batch(systems, period_settings(settings, n), list(states), tables=tables, sums_last=last)
     return [
-        (np.vstack([np.asarray(x)[None, :], r.poincare])[:n], int(r.n_events), bool(r.diverged))
+        (
+            np.vstack([np.asarray(x)[None, :], r.poincare])[:n],
+            int(r.n_events) if n > 1 else -1,
+            n > 1 and r.diverged,
+            r.sums,
+        )
         for x, r in zip(states, runs, strict=True)
     ]
 
