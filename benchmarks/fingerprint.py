@@ -108,8 +108,12 @@ def _calls_hash(calls: list[bytes]) -> str:
     return hashlib.sha256(b"".join(sorted(calls))).hexdigest()[:16] if calls else "none"
 
 
+#: The designs shipped in ``config/designs/`` (a user's own design files beside them do not enter).
+SHIPPED_DESIGNS = ("li2013", "li2013_calibrated", "li2013_printed", "li2013_route", "yue2014")
+
+
 def _design_hashes() -> list[str]:
-    """One hash per shipped design (``config/designs/*.yaml``), of its coefficients (module docstring)."""
+    """One hash per shipped design (:data:`SHIPPED_DESIGNS`), of its coefficients (module docstring)."""
     import yaml  # noqa: PLC0415
 
     from geardyn.khv import design as khv_design  # noqa: PLC0415
@@ -120,7 +124,7 @@ def _design_hashes() -> list[str]:
     from geardyn.solve.run import lane_tables  # noqa: PLC0415
 
     out = []
-    for path in sorted((ROOT / "config" / "designs").glob("*.yaml")):
+    for path in (ROOT / "config" / "designs" / f"{name}.yaml" for name in SHIPPED_DESIGNS):
         kind = yaml.safe_load(path.read_text()).get("kind", "khv")
         if kind == "khv":
             d = khv_design.load(path)

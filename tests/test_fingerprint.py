@@ -42,3 +42,12 @@ def test_a_difference_is_named_by_its_first_stage(stages):
     far = " ".join([f"{label}/{float(exponent) * 2:.1e}/{spread}", *chaos[1:]])
     assert fingerprint.first_difference(dict(stages, chaos_statistics=near), stages) is None
     assert fingerprint.first_difference(dict(stages, chaos_statistics=far), stages) == "chaos_statistics"
+
+
+def test_the_designs_hashed_are_the_shipped_ones_whatever_lies_beside_them():
+    """The coefficients stage hashes the designs the shipped config names, by name: a user's own design file
+    written into ``config/designs/`` (``geardyn new-design``) changes no stage."""
+    import yaml  # noqa: PLC0415
+
+    config = yaml.safe_load((fingerprint.ROOT / "config" / "config.yaml").read_text())
+    assert set(fingerprint.SHIPPED_DESIGNS) == set(config["designs"])
