@@ -198,7 +198,7 @@ def _at_circle(points: list[Point], policy: Policy) -> None:
     tol = policy.locked.return_tol
     circled: set[int] = set()  # points whose record circles an orbit of a shorter period: decided there
     for n in range(1, policy.locked.circle_max_n + 1):
-        todo, records = [], []
+        todo, records, centroids = [], [], []
         for p in points:
             r = p.run.poincare[(p.run.poincare.shape[0] - 1) % n :: n]
             c = np.mean(r, axis=0) if p.verdict.label == QP and id(p) not in circled and r.shape[0] >= 3 else None
@@ -206,7 +206,8 @@ def _at_circle(points: list[Point], policy: Policy) -> None:
             if c is not None and np.max(np.abs(r - c)) < 2.0 * tol * max(1.0, float(np.max(np.abs(c)))):
                 todo.append(p)
                 records.append(r)
-        shots = shoot(todo, [np.mean(r, axis=0) for r in records], [n] * len(todo), policy) if todo else []
+                centroids.append(c)
+        shots = shoot(todo, centroids, [n] * len(todo), policy) if todo else []
         for p, r, s in zip(todo, records, shots, strict=True):
             if not s.converged or float(np.max(np.abs(r - s.state))) >= tol * max(1.0, float(np.max(np.abs(s.state)))):
                 continue
