@@ -10,7 +10,7 @@ import pytest
 from geardyn.khv import design, point
 from geardyn.label import Policy, label_lines
 from geardyn.runs import maps, response, study, sweep
-from geardyn.runs.cube import label_variables, response_variables
+from geardyn.runs.cube import COMMON, empty
 
 ROOT = Path(__file__).resolve().parents[1]
 SEGMENT = (0.416, 0.835)
@@ -55,8 +55,7 @@ def test_the_variables_follow_the_layout_and_the_policy(li2013):
     bare = study.variables(
         study.Layout(("p",), (3,), [], transient=False), dataclasses.replace(policy, coexistence=False)
     )
-    common = {**label_variables(("p",), (3,), policy.classifier), **response_variables(("p",), (3,))}
-    assert list(bare) == list(common)
+    assert list(bare) == list(COMMON)
 
 
 def test_a_run_stores_each_verdict_at_its_index(li2013):
@@ -79,8 +78,4 @@ def test_a_run_stores_each_verdict_at_its_index(li2013):
         assert data["label"][i, j] == v.label and data["period"][i, j] == v.period
         assert data["label_fixed"][i, j] == f.label and data["transient_used"][i, j] == v.transient_used
     assert data["computed"].tolist() == [[1, 0, 0], [0, 1, 1]]
-    assert (
-        data["label_fixed"][0, 1]
-        == data["label"][0, 1]
-        == label_variables(("a",), (1,), policy.classifier)["label"][1][0]
-    )
+    assert data["label_fixed"][0, 1] == data["label"][0, 1] == empty(["label"], ("a",), (1,))["label"][1][0]

@@ -9,7 +9,7 @@ variable of its run's full grid, NaN or -1 where it did not compute, and a ``com
 from __future__ import annotations
 
 import json
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import Any
 
 import numpy as np
@@ -40,130 +40,127 @@ def flags(codes: dict[str, int], long_name: str) -> dict[str, Any]:
     }
 
 
-#: CF attributes of the per-point ``stage``, ``bifurcation`` and ``exponent_method`` flags (geardyn.label).
-STAGE_ATTRS = flags({"not_computed": 0, **STAGES}, "labeller stage that decided the label (geardyn.label)")
-BIFURCATION_ATTRS = flags(
-    BIFURCATIONS,
-    "how the orbit followed from the previous point of the line lost stability here (leading Floquet multiplier)",
-)
-EXPONENT_METHOD_ATTRS = flags(
-    EXPONENT_METHODS,
-    "how the exponent was obtained: Floquet multipliers of the certified orbit, or a tangent vector over the record",
-)
+def _num(long_name: str, fill: Any = np.nan) -> tuple[Any, dict[str, Any]]:
+    return fill, {"units": "1", "long_name": long_name}
+
+
+def _flag(codes: dict[str, int], long_name: str, fill: int = -1) -> tuple[Any, dict[str, Any]]:
+    return np.int8(fill), flags(codes, long_name)
 
 
 #: The fill value (dtype int16) of a motion label where no point was labelled.
 LABEL_FILL = np.int16(classify.LABELS["undetermined"])
 
-
-def _verdict_var(field: str, long_name: str, fill: Any = np.nan) -> tuple:
-    return field, None, {"units": "1", "long_name": long_name}, fill
-
-
-#: The per-point variables of a verdict (:class:`geardyn.label.Verdict`) besides its label: name -> (the
-#: verdict's field, the codes of a flag or None, CF attributes, fill value: NaN, or an integer of its dtype).
-VERDICT_VARIABLES = {
-    "period": _verdict_var("period", "least period n in mesh periods (0: not periodic)", fill=np.int16(0)),
-    "lyapunov": _verdict_var(
-        "exponent",
+#: The per-point variables of a verdict (:class:`geardyn.label.Verdict`) besides its label: name -> (fill
+#: value, NaN or an integer of the variable's dtype; CF attributes).
+VERDICT: dict[str, tuple[Any, dict[str, Any]]] = {
+    "period": _num("least period n in mesh periods (0: not periodic)", np.int16(0)),
+    "lyapunov": _num(
         "largest exponent per unit dimensionless time tau = w_n t (Floquet: log max|mu| / (n T) of the certified "
-        "orbit; else a tangent vector)",
+        "orbit; else a tangent vector)"
     ),
-    "lyapunov_sigma": _verdict_var("exponent_sigma", "uncertainty of the largest exponent (0 for Floquet exponents)"),
-    "exponent_method": ("exponent_method", EXPONENT_METHODS, EXPONENT_METHOD_ATTRS, np.int8(0)),
-    "multiplier": _verdict_var("multiplier", "largest Floquet multiplier modulus of the orbit over its least period"),
-    "zero_one_k": _verdict_var(
-        "k01", "0-1 test statistic K on stroboscopic X_VH (Gottwald-Melbourne; NaN if periodic)"
+    "lyapunov_sigma": _num("uncertainty of the largest exponent (0 for Floquet exponents)"),
+    "exponent_method": _flag(
+        EXPONENT_METHODS,
+        "how the exponent was obtained: Floquet multipliers of the certified orbit, or a tangent vector over the "
+        "record",
+        0,
     ),
-    "spectral_flatness": _verdict_var(
-        "flatness", "spectral flatness of stroboscopic X_VH (0 lines, ~0.56 white; NaN if periodic)"
-    ),
-    "torus_digits": _verdict_var(
-        "torus_digits",
+    "multiplier": _num("largest Floquet multiplier modulus of the orbit over its least period"),
+    "zero_one_k": _num("0-1 test statistic K on stroboscopic X_VH (Gottwald-Melbourne; NaN if periodic)"),
+    "spectral_flatness": _num("spectral flatness of stroboscopic X_VH (0 lines, ~0.56 white; NaN if periodic)"),
+    "torus_digits": _num(
         "digits of agreement of the weighted Birkhoff averages of the two halves of the record (large: a torus; "
-        "NaN if periodic)",
+        "NaN if periodic)"
     ),
-    "crosscheck": (
-        "crosscheck",
-        None,
-        flags({"not_applicable": -1, "one_agrees": 0, "both_agree": 1}, "0-1 test and spectrum agree with the label"),
-        np.int8(-1),
+    "crosscheck": _flag(
+        {"not_applicable": -1, "one_agrees": 0, "both_agree": 1}, "0-1 test and spectrum agree with the label"
     ),
-    "stage": ("stage", STAGES, STAGE_ATTRS, np.int8(0)),
-    "bifurcation": ("bifurcation", BIFURCATIONS, BIFURCATION_ATTRS, np.int8(0)),
+    "stage": _flag({"not_computed": 0, **STAGES}, "labeller stage that decided the label (geardyn.label)", 0),
+    "bifurcation": _flag(
+        BIFURCATIONS,
+        "how the orbit followed from the previous point of the line lost stability here (leading Floquet multiplier)",
+        0,
+    ),
+}
+#: The response measures of a point (:class:`geardyn.solve.response.ResponseMeasures`), likewise.
+RESPONSE = {
+    "static_force": _num("static mesh force F_s / (k_mean b_c) (mean stiffness, no TE)"),
+    "force_mean": _num("mean dynamic mesh force on the drive side / (k_mean b_c)"),
+    "force_rms": _num("RMS of the dynamic mesh force's fluctuation / (k_mean b_c)"),
+    "force_max": _num("largest dynamic mesh force on the drive side / (k_mean b_c)"),
+    "dynamic_factor": _num("dynamic factor K_v = largest dynamic mesh force / static mesh force"),
+    "dte_mean": _num("mean dynamic transmission error X_VH / b_c (b_c = 1 um)"),
+    "dte_rms": _num("RMS of the dynamic transmission error's fluctuation, X_VH / b_c (b_c = 1 um)"),
+    "dte_pp": _num("peak-to-peak dynamic transmission error X_VH / b_c (b_c = 1 um)"),
+    "drive_fraction": _num("fraction of time in drive-side contact"),
+    "separation_fraction": _num("fraction of time with the teeth separated (inside the backlash)"),
+    "back_fraction": _num("fraction of time in back-side contact"),
+}
+#: Every per-point variable the studies store besides the motion labels, likewise: :func:`empty` makes them.
+VARIABLES = {
+    **VERDICT,
+    **RESPONSE,
+    "impact_class": _flag(
+        {"not_computed_or_diverged": -1, **IMPACT_CLASSES},
+        "impact class: no impact, single-sided (separation, never back-side contact), double-sided (back-side contact)",
+    ),
+    # policy coexistence (label_fixed: a motion label, made by label_variables)
+    "coexisting": _flag(
+        {"not_checked": -1, "same": 0, "coexisting": 1},
+        "the follow and the fixed start end on different attractors at this point",
+    ),
+    "transient_used": _num(
+        "transient mesh periods integrated before the recorded ones (0: followed from the previous "
+        "point's orbit; less than the configured transient after an early stop)",
+        np.int32(-1),
+    ),
+    "diverged": _flag({"not_computed": -1, "bounded": 0, "diverged": 1}, "unbounded growth detected"),
+    "computed": _flag({"absent": 0, "present": 1}, "1 where this file holds the point", 0),
+    # a sweep's own (besides the Poincare sections and the coefficients)
+    "diverged_period": _num("mesh period at which the state exceeded the threshold (-1: never)", np.int32(-1)),
+    "n_events": _num("number of contact-switch events located (rk4_event)", np.int64(-1)),
+    # a map's own
+    "x_vh_mean": _num("mean Poincare X_VH / b_c"),
+    "x_vh_spread": _num("peak-to-peak of Poincare X_VH / b_c"),
 }
 
+#: The verdict's field of each of its variables.
+VERDICT_FIELDS = {name: name for name in VERDICT} | {
+    "lyapunov": "exponent",
+    "lyapunov_sigma": "exponent_sigma",
+    "zero_one_k": "k01",
+    "spectral_flatness": "flatness",
+}
+#: The verdict's fields stored as codes: name -> (field value -> code).
+VERDICT_CODES = {"exponent_method": EXPONENT_METHODS, "stage": STAGES, "bifurcation": BIFURCATIONS}
 
-def label_variables(
-    dims: tuple[str, ...], shape: tuple[int, ...], classifier: classify.ClassifierSettings
+
+#: The motion labels' long names: from the study's own start, and from the fixed start (policy ``coexistence``).
+LABELS = {
+    "label": "motion label (geardyn.label)",
+    "label_fixed": "motion label from the fixed start (the static deflection)",
+}
+#: The per-point variables every study stores: the verdict's and the response measures.
+COMMON = ("label", *VERDICT, *RESPONSE, "impact_class")
+
+
+def empty(
+    names: Iterable[str], dims: tuple[str, ...], shape: tuple[int, ...], max_n: int = 12, **long_names: str
 ) -> dict[str, Any]:
-    """Empty per-point verdict variables: the motion label and :data:`VERDICT_VARIABLES`."""
-    label = {"long_name": "motion label (geardyn.label)", **classify.flag_attrs(classifier.max_n)}
-    return {
-        "label": (dims, np.full(shape, LABEL_FILL), label),
-        **{name: (dims, np.full(shape, fill), attrs) for name, (_, _, attrs, fill) in VERDICT_VARIABLES.items()},
-    }
+    """The one writer of the per-point variables: those of :data:`VARIABLES` and :data:`LABELS` named, as
+    :class:`xarray.Dataset` takes them, filled with their fill values (``max_n``: the labels' largest period;
+    ``long_names`` replace the table's)."""
+    out = {}
+    for name in names:
+        if name in LABELS:
+            fill, attrs = LABEL_FILL, {"long_name": LABELS[name], **classify.flag_attrs(max_n)}
+        else:
+            fill, attrs = VARIABLES[name]
+        attrs = {**attrs, "long_name": long_names[name]} if name in long_names else dict(attrs)
+        out[name] = (dims, np.full(shape, fill), attrs)
+    return out
 
-
-#: Units and long names of the per-point response measures (:class:`geardyn.solve.response.ResponseMeasures`).
-RESPONSE_ATTRS = {
-    "static_force": ("1", "static mesh force F_s / (k_mean b_c) (mean stiffness, no TE)"),
-    "force_mean": ("1", "mean dynamic mesh force on the drive side / (k_mean b_c)"),
-    "force_rms": ("1", "RMS of the dynamic mesh force's fluctuation / (k_mean b_c)"),
-    "force_max": ("1", "largest dynamic mesh force on the drive side / (k_mean b_c)"),
-    "dynamic_factor": ("1", "dynamic factor K_v = largest dynamic mesh force / static mesh force"),
-    "dte_mean": ("1", "mean dynamic transmission error X_VH / b_c (b_c = 1 um)"),
-    "dte_rms": ("1", "RMS of the dynamic transmission error's fluctuation, X_VH / b_c (b_c = 1 um)"),
-    "dte_pp": ("1", "peak-to-peak dynamic transmission error X_VH / b_c (b_c = 1 um)"),
-    "drive_fraction": ("1", "fraction of time in drive-side contact"),
-    "separation_fraction": ("1", "fraction of time with the teeth separated (inside the backlash)"),
-    "back_fraction": ("1", "fraction of time in back-side contact"),
-}
-
-#: CF attributes of the per-point ``impact_class`` flag.
-IMPACT_CLASS_ATTRS = flags(
-    {"not_computed_or_diverged": -1, **IMPACT_CLASSES},
-    "impact class: no impact, single-sided (separation, never back-side contact), double-sided (back-side contact)",
-)
-
-
-def response_variables(dims: tuple[str, ...], shape: tuple[int, ...]) -> dict[str, Any]:
-    """Empty per-point response variables (see :class:`geardyn.solve.response.ResponseMeasures`)."""
-    data: dict[str, Any] = {
-        name: (dims, np.full(shape, np.nan), {"units": units, "long_name": long_name})
-        for name, (units, long_name) in RESPONSE_ATTRS.items()
-    }
-    data["impact_class"] = (dims, np.full(shape, -1, np.int8), IMPACT_CLASS_ATTRS)
-    return data
-
-
-#: CF attributes of the ``coexisting`` flag (policy ``coexistence``).
-COEXISTING_ATTRS = flags(
-    {"not_checked": -1, "same": 0, "coexisting": 1},
-    "the follow and the fixed start end on different attractors at this point",
-)
-
-
-#: CF attributes of the per-point ``transient_used`` of the studies that follow attractors.
-TRANSIENT_USED_ATTRS = {
-    "units": "1",
-    "long_name": "transient mesh periods integrated before the recorded ones (0: followed from the previous "
-    "point's orbit; less than the configured transient after an early stop)",
-}
-
-
-def coexistence_variables(
-    dims: tuple[str, ...], shape: tuple[int, ...], classifier: classify.ClassifierSettings
-) -> dict[str, Any]:
-    """The fixed start's label and the ``coexisting`` flag (policy ``coexistence``)."""
-    label = {"long_name": "motion label from the fixed start (the static deflection)"}
-    return {
-        "label_fixed": (dims, np.full(shape, LABEL_FILL), {**label, **classify.flag_attrs(classifier.max_n)}),
-        "coexisting": (dims, np.full(shape, -1, np.int8), COEXISTING_ATTRS),
-    }
-
-
-COMPUTED_ATTRS = flags({"absent": 0, "present": 1}, "1 where this file holds the point")
 
 #: Attributes that describe one chunk (its number, its wall time), not the merged result.
 CHUNK_ATTRS = ("chunk", "n_chunks", "wall_time_s")

@@ -28,6 +28,7 @@ from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import Coefficients
 from geardyn.label import Verdict
 from geardyn.runs import study
+from geardyn.runs.cube import empty
 from geardyn.solve import System
 
 #: y parameters that can be set on the dimensionless coefficients directly (design option permitting).
@@ -100,8 +101,7 @@ def layout(design: KHVDesign, spec: MapSpec, chunk: int) -> study.Layout:
     """The rows of chunk ``chunk`` on the (y, x) grid, x increasing, and the map's own per-point variables:
     the mean and spread of the Poincare X_VH.  The coefficients are built as the runner takes the lines."""
     dims, shape = ("y", "x"), (spec.y.num, spec.x.num)
-    names = {"x_vh_mean": "mean Poincare X_VH / b_c", "x_vh_spread": "peak-to-peak of Poincare X_VH / b_c"}
-    own = {k: (dims, np.full(shape, np.nan), {"units": "1", "long_name": n}) for k, n in names.items()}
+    own = empty(("x_vh_mean", "x_vh_spread"), dims, shape)
     xs, ys = spec.x.values, spec.y.values
 
     def lines():

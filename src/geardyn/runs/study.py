@@ -28,16 +28,7 @@ from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.label import Policy, Verdict
 from geardyn.label.compare import same
-from geardyn.runs.cube import (
-    COMPUTED_ATTRS,
-    RESPONSE_ATTRS,
-    TRANSIENT_USED_ATTRS,
-    VERDICT_VARIABLES,
-    coexistence_variables,
-    flags,
-    label_variables,
-    response_variables,
-)
+from geardyn.runs.cube import COMMON, RESPONSE, VERDICT_CODES, VERDICT_FIELDS, empty
 from geardyn.solve import SimulationSettings, System
 from geardyn.solve.response import IMPACT_CLASSES, ResponseMeasures
 
@@ -133,22 +124,18 @@ class Result(NamedTuple):
 
 
 def variables(layout: Layout, policy: Policy) -> Variables:
-    """The empty per-point variables of a study: the verdict's (:func:`geardyn.runs.cube.label_variables`), the
-    response measures, the fixed start's label and the ``coexisting`` flag with the policy's ``coexistence``,
+    """The empty per-point variables of a study (:func:`geardyn.runs.cube.empty`): the verdict's and the response
+    measures, the fixed start's label and the ``coexisting`` flag with the policy's ``coexistence``,
     ``diverged``, the layout's own, ``transient_used`` and ``computed``, as the layout keeps them."""
-    dims, shape, cs = layout.dims, layout.shape, policy.classifier
-    data = {**label_variables(dims, shape, cs), **response_variables(dims, shape)}
-    if policy.coexistence:
-        data.update(coexistence_variables(dims, shape, cs))
-    if layout.diverged:
-        codes = {"not_computed": -1, "bounded": 0, "diverged": 1}
-        data["diverged"] = (dims, np.full(shape, -1, np.int8), flags(codes, layout.diverged))
-    data.update(layout.own)
-    if layout.transient:
-        data["transient_used"] = (dims, np.full(shape, -1, np.int32), TRANSIENT_USED_ATTRS)
-    if layout.computed:
-        data["computed"] = (dims, np.zeros(shape, np.int8), COMPUTED_ATTRS)
-    return data
+    dims, shape = layout.dims, layout.shape
+    names = [
+        *COMMON,
+        *(("label_fixed", "coexisting") if policy.coexistence else ()),
+        *(["diverged"] * bool(layout.diverged)),
+    ]
+    data = {**empty(names, dims, shape, policy.classifier.max_n, diverged=layout.diverged), **layout.own}
+    tail = [name for name, keep in (("transient_used", layout.transient), ("computed", layout.computed)) if keep]
+    return data | empty(tail, dims, shape)
 
 
 def store(arrays: dict[str, np.ndarray], idx: Index, v: Verdict, r: ResponseMeasures, fixed: Verdict | None) -> None:
@@ -157,9 +144,9 @@ def store(arrays: dict[str, np.ndarray], idx: Index, v: Verdict, r: ResponseMeas
     and computed flag where the study keeps them."""
     a = arrays
     a["label"][idx] = v.label
-    for name, (attr, codes, _, _) in VERDICT_VARIABLES.items():
-        a[name][idx] = getattr(v, attr) if codes is None else codes[getattr(v, attr)]
-    for name in RESPONSE_ATTRS:
+    for name, attr in VERDICT_FIELDS.items():
+        a[name][idx] = VERDICT_CODES[name][getattr(v, attr)] if name in VERDICT_CODES else getattr(v, attr)
+    for name in RESPONSE:
         a[name][idx] = getattr(r, name)
     a["impact_class"][idx] = IMPACT_CLASSES.get(r.impact_class, -1)
     if fixed is not None:

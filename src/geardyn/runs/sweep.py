@@ -26,7 +26,7 @@ from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import COEFFICIENT_ATTRS
 from geardyn.label import Policy, Verdict
 from geardyn.runs import study
-from geardyn.runs.cube import STATE_NAMES, STATES
+from geardyn.runs.cube import STATE_NAMES, STATES, empty
 from geardyn.solve import System
 
 #: The lines of a sweep: (case index, direction index, parameter indices in the order of travel).
@@ -117,11 +117,7 @@ def layout(design: KHVDesign, spec: SweepSpec, chunk: int, policy: Policy) -> st
         )
         for name in STATES
     }
-    counts = {
-        "diverged_period": (np.int32, "mesh period at which the state exceeded the threshold (-1: never)"),
-        "n_events": (np.int64, "number of contact-switch events located (rk4_event)"),
-    }
-    own.update({k: (dims, np.full(shape, -1, t), {"units": "1", "long_name": n}) for k, (t, n) in counts.items()})
+    own.update(empty(("diverged_period", "n_events"), dims, shape))
     for cname, (units, long_name) in COEFFICIENT_ATTRS.items():
         own[f"coef_{cname}"] = (dims, np.full(shape, np.nan), {"units": units, "long_name": long_name})
     values = spec.values
