@@ -1,41 +1,7 @@
-"""Elementary functions whose results do not depend on the CPU: the C library's, element by element.
+"""Elementary functions whose results do not depend on the CPU: the C library's, element by element, and the
+process environment that makes the C library and OpenBLAS round the same on every x86-64 CPU.
 
-numpy computes ``tan``, ``arcsin``, ``arccos``, ``arctan``, ``arctan2``, ``sinh``, ``cosh``, ``exp``,
-``expm1``, ``log``, ``log1p``, ``log10``, ``log2``, ``cbrt`` and ``power`` with Intel's SVML kernels when
-the CPU has AVX-512 (numpy's ``AVX512_SKX`` / ``X86_V4`` dispatch), and with the C library (glibc libm)
-otherwise; the two differ in the last bit for a few per cent of arguments (``tanh`` has a third,
-AVX2 path).  Measured on this project's machine: ``np.exp`` differs from ``math.exp`` for 4.6 % of
-uniform arguments in [-3, 3] with AVX-512, for none with AVX-512 disabled (``docs/reproducibility.md``).
-A last-bit difference in a gear's geometry or mesh stiffness moves a chaotic orbit to another one, so
-the functions on the paths that decide results (geometry, stiffness, coefficients) come from here:
-Python's :mod:`math`, which calls the C library on every CPU, applied element by element.  ``sin``,
-``cos`` and ``sqrt`` need no replacement (numpy's are the C library's, or correctly rounded, on every
-x86-64 CPU) but are here too, so one module serves a whole formula.
-
-Every function takes a float, a numpy scalar or an array (any shape) and returns a float for a scalar
-argument and a float64 array otherwise.  They are slower than numpy's (about 0.1 microseconds per
-element), which is nothing on these paths (at most thousands of elements per call).
-
-Which build of the C library runs.  glibc picks one of several builds of ``sin``, ``cos``, ``exp``,
-``log``, ``pow``, ``atan``, ``asin`` ... when a process starts (its ``ifunc`` dispatch): on a CPU with FMA
-and AVX2 (or AMD's FMA4) it runs code compiled with fused multiply-adds, elsewhere the plain SSE2 or AVX
-code.  The two round differently in the last bit for 0.01-0.09 % of arguments (measured for 18
-functions, ``docs/reproducibility.md``), and every number of the model passes through them: the geometry
-(the functions above call :mod:`math`), the TE forcing in the compiled kernels (``math.sin`` in numba
-calls the C library), numpy's ``sin`` and ``cos``.  So a CPU without FMA (older or low-power x86-64
-CPUs, virtual machines that hide AVX) would compute other bits.
-
-The fused builds cannot run everywhere; the plain ones can.  glibc's tunable ``glibc.cpu.hwcaps`` hides
-FMA from its dispatch (:data:`HWCAPS`), so every process that starts with it set computes what a CPU
-without FMA computes.  glibc reads tunables only at process start, so:
-
-* importing geardyn sets ``GLIBC_TUNABLES`` in ``os.environ`` (:func:`canonical_environ`): every
-  process started after that (the Snakemake jobs, pytest-xdist's workers, the tests' subprocesses)
-  inherits it;
-* the entry points that compute (the ``geardyn`` command, the benchmarks, pytest) restart themselves once
-  with it when they started without it (:func:`restart_canonical`);
-* :func:`variant` tells which build the running process uses, by one probe value, and every output's
-  provenance records it (``libm_variant``).
+Why and how, with the measurements: ``docs/reproducibility.md`` (sections 1, 2 and 5).
 """
 
 from __future__ import annotations

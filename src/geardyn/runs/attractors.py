@@ -1,27 +1,8 @@
-"""Coexisting attractors at single operating points: several starts, one label each, deduplicated.
+"""Coexisting attractors at single operating points: several starts (static, the sweep's neighbours, the
+continued branches' orbits, random states in a box), one label each by the one labeller, deduplicated by
+:func:`geardyn.label.compare.same_attractor`, with basin fractions over the random starts.
 
-At one point (design + overrides) the motion is integrated from
-
-* ``static``: the static deflection (what a sweep without continuation starts from),
-* ``up`` / ``down``: the final states of the neighbouring sweep points (what a sweep continued
-  upwards or downwards would start from), when given,
-* ``orbit_k``: the stable periodic orbits of the continued branches at that point, when given,
-* ``random_k``: ``n_random`` states drawn uniformly (numpy ``default_rng(seed)``) from the box
-  static state +- (``box_x`` for the three displacements, ``box_v`` for the three velocities),
-  in units of b_c.
-
-Every start is labelled by the one labeller (:func:`geardyn.label.label_points`, all starts of a point
-together).  Two runs reached the same attractor when :func:`geardyn.label.compare.same_attractor` says
-so: their labels agree and
-
-* periodic: their cycles lie within ``distance_tol`` of each other (symmetric Hausdorff distance, max
-  norm) relative to max(1, size), size the largest extent of the two sets (two phases of one orbit agree
-  to 1e-8; two distinct P1 orbits do not);
-* otherwise (quasi-periodic, chaotic, undetermined): centroids and bounding boxes of the Poincaré
-  sets agree within ``chaotic_distance_tol`` * max(1, size) (two finite samples of one cloud).  The basin fraction of
-  an attractor is the share of the *random* starts that
-reach it (a Monte-Carlo estimate over the box; with ``n_random`` starts its standard error is about
-sqrt(f (1 - f) / n_random)).
+The starts, the tolerances and the basin fractions' error: ``docs/orbits.md`` section 4.
 """
 
 from __future__ import annotations
@@ -39,6 +20,7 @@ from geardyn.config import settings_from
 from geardyn.khv import point
 from geardyn.label import Policy, compare, label_points
 from geardyn.runs.continuation import branches_from_dataset
+from geardyn.runs.cube import LABEL_FILL, STATES, flags
 from geardyn.solve.base import SimulationSettings, System
 
 
@@ -140,8 +122,6 @@ def basin_fractions(attractors: Sequence[Attractor], n_random: int) -> np.ndarra
 # along a sweep
 # ----------------------------------------------------------------------------------------------
 
-STATE_VARS = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
-
 
 def subset_indices(values: np.ndarray, every: int | None = None, at: Sequence[float] | None = None) -> list[int]:
     """Sweep indices to examine: every ``every``-th point (first and last included) and/or the points
@@ -206,6 +186,40 @@ def sweep_points(
     return out
 
 
+def _one(long_name: str) -> dict[str, str]:
+    return {"units": "1", "long_name": long_name}
+
+
+#: The variables of each attractor slot at a point: name -> (dims, fill value of the dtype, CF attributes),
+#: filled in this order from an :class:`Attractor` by :func:`attractors_dataset`.
+SLOT_VARIABLES: dict[str, tuple[tuple[str, ...], Any, dict[str, Any]]] = {
+    "attractor_label": (("point", "attractor"), LABEL_FILL, {"long_name": "motion label of the attractor (classify)"}),
+    "attractor_found": (("point", "attractor"), np.int8(0), flags({"empty": 0, "found": 1}, "attractor slot used")),
+    "centroid": (
+        ("point", "attractor", "state"),
+        np.nan,
+        _one("centroid of the attractor's Poincare points (x / b_c, dx/dtau / b_c)"),
+    ),
+    "attractor_size": (("point", "attractor"), np.nan, _one("largest extent of the Poincare points")),
+    "attractor_lyapunov": (
+        ("point", "attractor"),
+        np.nan,
+        _one("largest exponent per unit tau (Floquet for periodic attractors, tangent vector otherwise)"),
+    ),
+    "basin_fraction": (
+        ("point", "attractor"),
+        np.nan,
+        _one("share of the random starts in the box that reach the attractor"),
+    ),
+    "starts_reaching": (("point", "attractor"), np.int32(0), _one("number of starts (all kinds) reaching it")),
+    "reached_from": (
+        ("point", "start"),
+        np.int16(-1),
+        _one("attractor index reached from the named start (-1: start not used)"),
+    ),
+}
+
+
 def attractors_dataset(
     points: Sequence[PointStarts],
     settings: AttractorSettings,
@@ -216,102 +230,41 @@ def attractors_dataset(
     long_name: str,
     case_labels: Sequence[str] = ("base",),
 ):
-    """Attractors at each of ``points`` as one CF dataset (dimension ``point``)."""
-
+    """Attractors at each of ``points`` as one CF dataset (dimension ``point``, the slots of
+    :data:`SLOT_VARIABLES` as many as the most attractors at one point)."""
     fixed_names = ["static", "up", "down"] + [f"random_{k}" for k in range(settings.n_random)]
-    per_point = [_attractors_of(q, settings, integration, classifier) for q in points]
-    label, valid, cen, size, lyap, frac, nst, reach = _attractor_arrays(per_point, settings.n_random, fixed_names)
-    na = label.shape[1]
-    one = {"units": "1"}
-    data = {
-        "parameter": ("point", np.array([q.p for q, *_ in per_point]), {"units": units, "long_name": long_name}),
-        "case_index": (
-            "point",
-            np.array([q.case for q, *_ in per_point], np.int32),
-            {**one, "long_name": "index of the sweep case (fixed overrides)"},
-        ),
-        "sweep_index": (
-            "point",
-            np.array([q.index for q, *_ in per_point], np.int32),
-            {**one, "long_name": "index of the point in the sweep"},
-        ),
-        "n_attractors": (
-            "point",
-            np.array([len(a) for _, a, _, _ in per_point], np.int16),
-            {**one, "long_name": "number of distinct attractors found"},
-        ),
-        "n_starts": (
-            "point",
-            np.array([n for *_, n in per_point], np.int16),
-            {**one, "long_name": "number of initial conditions integrated"},
-        ),
-        "attractor_label": (
-            ("point", "attractor"),
-            label,
-            {"long_name": "motion label of the attractor (classify)", **classify.flag_attrs(classifier.max_n)},
-        ),
-        "attractor_found": (
-            ("point", "attractor"),
-            valid,
-            {
-                "long_name": "attractor slot used",
-                "flag_values": np.array([0, 1], np.int8),
-                "flag_meanings": "empty found",
-            },
-        ),
-        "centroid": (
-            ("point", "attractor", "state"),
-            cen,
-            {**one, "long_name": "centroid of the attractor's Poincare points (x / b_c, dx/dtau / b_c)"},
-        ),
-        "attractor_size": (("point", "attractor"), size, {**one, "long_name": "largest extent of the Poincare points"}),
-        "attractor_lyapunov": (
-            ("point", "attractor"),
-            lyap,
-            {
-                **one,
-                "long_name": (
-                    "largest exponent per unit tau (Floquet for periodic attractors, tangent vector otherwise)"
-                ),
-            },
-        ),
-        "basin_fraction": (
-            ("point", "attractor"),
-            frac,
-            {**one, "long_name": "share of the random starts in the box that reach the attractor"},
-        ),
-        "starts_reaching": (
-            ("point", "attractor"),
-            nst,
-            {**one, "long_name": "number of starts (all kinds) reaching it"},
-        ),
-        "reached_from": (
-            ("point", "start"),
-            reach,
-            {**one, "long_name": "attractor index reached from the named start (-1: start not used)"},
-        ),
+    found = [_attractors_of(q, settings, integration, classifier) for q in points]
+    na = max([len(a) for _, a, _, _ in found], default=1)
+    per_point = {
+        "parameter": ([q.p for q, *_ in found], np.float64, {"units": units, "long_name": long_name}),
+        "case_index": ([q.case for q, *_ in found], np.int32, _one("index of the sweep case (fixed overrides)")),
+        "sweep_index": ([q.index for q, *_ in found], np.int32, _one("index of the point in the sweep")),
+        "n_attractors": ([len(a) for _, a, _, _ in found], np.int16, _one("number of distinct attractors found")),
+        "n_starts": ([n for *_, n in found], np.int16, _one("number of initial conditions integrated")),
     }
+    data = {name: ("point", np.array(v, dtype), attrs) for name, (v, dtype, attrs) in per_point.items()}
+    sizes = {"point": len(found), "attractor": na, "state": len(STATES), "start": len(fixed_names)}
+    for name, (dims, fill, attrs) in SLOT_VARIABLES.items():
+        attrs = {**attrs, **classify.flag_attrs(classifier.max_n)} if name == "attractor_label" else dict(attrs)
+        data[name] = (dims, np.full([sizes[d] for d in dims], fill), attrs)
+    for r, (_, atts, where, _) in enumerate(found):
+        fr = basin_fractions(atts, settings.n_random)
+        for k, a in enumerate(atts):
+            values = (a.label, 1, a.centroid, a.size, a.lyapunov, fr[k], len(a.starts))
+            for name, value in zip(list(SLOT_VARIABLES)[:-1], values, strict=True):  # reached_from: per start
+                data[name][1][r, k] = value
+        data["reached_from"][1][r] = [where.get(name, -1) for name in fixed_names]
     coords = {
-        "state": ("state", list(STATE_VARS), {"long_name": "state component"}),
+        "state": ("state", list(STATES), {"long_name": "state component"}),
         "start": ("start", fixed_names, {"long_name": "named initial condition"}),
-        "attractor": ("attractor", np.arange(na, dtype=np.int32), {**one, "long_name": "attractor slot"}),
+        "attractor": ("attractor", np.arange(na, dtype=np.int32), _one("attractor slot")),
         "case": ("case", list(case_labels), {"long_name": "case (fixed overrides)"}),
     }
-    return xr.Dataset(data, coords=coords, attrs=_settings_attrs(parameter, settings))
-
-
-def _settings_attrs(parameter: str, settings: AttractorSettings) -> dict[str, Any]:
-    """Global attributes of an attractors dataset: the control parameter and the search settings."""
-    return {
-        "control_parameter": parameter,
-        "n_random": settings.n_random,
-        "random_seed": settings.seed,
-        "box": f"static state +- {settings.box_x:g} (displacements), +- {settings.box_v:g} (velocities), units b_c",
-        "transient_periods": settings.transient_periods,
-        "recorded_periods": settings.recorded_periods,
-        "distance_tol": settings.distance_tol,
-        "chaotic_distance_tol": settings.chaotic_distance_tol,
-    }
+    s = settings
+    attrs = {"control_parameter": parameter, "n_random": s.n_random, "random_seed": s.seed}
+    attrs["box"] = f"static state +- {s.box_x:g} (displacements), +- {s.box_v:g} (velocities), units b_c"
+    attrs.update({k: getattr(s, k) for k in ("transient_periods", "recorded_periods", "distance_tol")})
+    return xr.Dataset(data, coords=coords, attrs={**attrs, "chaotic_distance_tol": s.chaotic_distance_tol})
 
 
 def _attractors_of(
@@ -325,35 +278,6 @@ def _attractors_of(
     starts.update(random_starts(q.system, settings))
     atts, where = find_attractors(q.system, starts, settings, integration, classifier)
     return q, atts, where, len(starts)
-
-
-def _attractor_arrays(per_point: Sequence[tuple], n_random: int, fixed_names: Sequence[str]) -> tuple[np.ndarray, ...]:
-    """(label, found, centroid, size, exponent, basin fraction, starts reaching, reached from) per point and
-    attractor slot (slots as many as the most attractors at one point)."""
-    na = max([len(a) for _, a, _, _ in per_point], default=1)
-    npnt = len(per_point)
-    label = np.full((npnt, na), classify.LABELS["undetermined"], np.int16)
-    valid = np.zeros((npnt, na), np.int8)
-    cen = np.full((npnt, na, 6), np.nan)
-    size = np.full((npnt, na), np.nan)
-    lyap = np.full((npnt, na), np.nan)
-    frac = np.full((npnt, na), np.nan)
-    nst = np.zeros((npnt, na), np.int32)
-    reach = np.full((npnt, len(fixed_names)), -1, np.int16)
-    for r, (_, atts, where, _) in enumerate(per_point):
-        fr = basin_fractions(atts, n_random)
-        for k, a in enumerate(atts):
-            label[r, k], valid[r, k] = a.label, 1
-            cen[r, k], size[r, k], lyap[r, k], frac[r, k], nst[r, k] = (
-                a.centroid,
-                a.size,
-                a.lyapunov,
-                fr[k],
-                len(a.starts),
-            )
-        for s_, name in enumerate(fixed_names):
-            reach[r, s_] = where.get(name, -1)
-    return label, valid, cen, size, lyap, frac, nst, reach
 
 
 def sweep_attractors(
@@ -388,7 +312,7 @@ def sweep_attractors(
             return point.point_coefficients(drive, {**fixed, par: float(p)})
 
         def neighbour(j: int, case=case):
-            x = np.array([float(cube[v].values[case, 0, j, -1]) for v in STATE_VARS])
+            x = np.array([float(cube[v].values[case, 0, j, -1]) for v in STATES])
             return x if np.all(np.isfinite(x)) else None
 
         pts += sweep_points(system_of, values, idx, case, neighbour, [b for c, b in allb if c == case])

@@ -1,17 +1,8 @@
-"""The frequency response of a KHV design: the response measures against the mesh frequency w, swept up
-and down (definitions: ``docs/response.md``).
+"""The frequency response of a KHV design: the response measures against the mesh frequency w, swept up and
+down as two lines of the labeller (``start_from: follow``), with hysteresis (the two sweeps end on different
+attractors, :func:`different_attractors`), jumps (:func:`find_jumps`) and the RMS values' standard errors.
 
-The sweep holds the design's point (its own x1, b, e unless ``fixed`` overrides them) and sets the
-dimensionless mesh frequency w = w_m / w_n on its coefficients (whatever the design's ``frequency_mode``: the
-input speed that gives w is stored beside it).  The up and the down sweep are two *lines* of
-:func:`geardyn.label.label_lines` with ``start_from: follow``: each point starts from the attractor of its
-neighbour, so the two curves part where two attractors coexist.  *Hysteresis* marks the frequencies where
-the up and down sweeps end on different attractors by the labeller's own comparison
-(:func:`geardyn.label.compare.same`); two non-periodic verdicts it separates are integrated on and compared
-again, so a slow transient is not taken for a second attractor (:func:`different_attractors`).  A *jump* is a
-step of the RMS DTE between neighbours of a line larger than ``jump_threshold`` times the larger of the two
-(and of the ``jump_floor``) next to a frequency with hysteresis (:func:`find_jumps`).  The RMS values of a
-non-periodic point carry their standard error (batch means, :func:`geardyn.solve.response.rms_errors_many`).
+Definitions and what the shipped designs show: ``docs/response.md``.
 """
 
 from __future__ import annotations
@@ -38,11 +29,8 @@ from geardyn.solve.run import simulate_batch
 DIRECTIONS = ("up", "down")
 
 #: Mesh periods two non-periodic verdicts that the labeller's comparison separates are integrated on, at
-#: most, before they count as two attractors (:func:`different_attractors`), in pieces of
-#: :data:`CONTINUE_PIECE`.  Measured on the shipped calibrated KHV design below the Neimark-Sacker
-#: bifurcation of its P1 orbit near w = 1.53: the down sweep's records there leave the unstable orbit slowly
-#: and reach the up sweep's torus within 1000 (w = 1.5118), 3000 (1.5186) and 17000 (1.5254) periods;
-#: closer to the bifurcation the escape takes longer still.
+#: most, in pieces of :data:`CONTINUE_PIECE`, before they count as two attractors (:func:`different_attractors`;
+#: the slow escapes below the Neimark-Sacker bifurcation that set it: ``docs/response.md``).
 CONTINUE_PERIODS = 40000
 CONTINUE_PIECE = 1000
 
@@ -82,14 +70,9 @@ class ResponseSpec(study.StudySpec):
 def find_jumps(
     rms: np.ndarray, threshold: float, floor: float, split: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Jumps of the up and down RMS-DTE curves ``rms`` (2, n) on one ascending frequency grid.
-
-    Two values differ *by a jump* when |a - b| > threshold max(a, b, floor).  ``split`` (n,): where the up
-    and down sweeps end on different attractors (:func:`different_attractors`); without it, where their RMS
-    values differ by a jump.  Returns ``(jump, split)``: ``jump`` (2, n) where a curve differs so from its
-    lower neighbour and the sweeps are split at one of the two points (a step of a single curve on a coarse
-    grid, e.g. across a narrow resonance, is not a jump).  The flag sits on the higher-frequency point of the
-    pair, whatever the direction of travel."""
+    """Jumps of the up and down RMS-DTE curves ``rms`` (2, n) on one ascending grid: ``(jump, split)``, ``jump``
+    (2, n) on the higher point of a step |a - b| > threshold max(a, b, floor) where the sweeps are ``split`` (n,;
+    default: where the two curves differ so) at one of its two points (``docs/response.md``, Jumps)."""
     rms = np.asarray(rms, dtype=float)
     if rms.ndim != 2 or rms.shape[0] != 2:
         raise ValueError("find_jumps: rms must be (2, n): the up and the down curve")
@@ -116,17 +99,10 @@ def different_attractors(
     policy: Policy,
     continue_periods: int = CONTINUE_PERIODS,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Where the up and down sweeps end on different attractors, at each frequency (``systems``, and the
-    verdicts of both sweeps in ascending order).
-
-    Different means different to the labeller (:func:`geardyn.label.compare.same`: other labels, or Poincare
-    sets apart by more than its tolerance).  A verdict that is not periodic may be a record of a slow
-    transient (a run that leaves an unstable orbit slowly looks quasi-periodic over the record), so two
-    non-periodic verdicts of one label that differ are both integrated on from their final states, in pieces
-    of :data:`CONTINUE_PIECE` periods, and their last ``recorded_periods`` Poincare points compared again
-    after every piece (:func:`geardyn.label.compare.same_attractor`), up to ``continue_periods``.  Returns
-    ``(differ, continued)`` (n,): the flags, and the periods integrated on before the records agreed (or all
-    of them where they never did; 0 where not integrated on)."""
+    """Where the up and down sweeps (verdicts in ascending order at ``systems``) end on different attractors by
+    :func:`geardyn.label.compare.same`, two non-periodic verdicts of one label integrated on and compared again
+    up to ``continue_periods`` (``docs/response.md``, Hysteresis).  Returns ``(differ, continued)`` (n,): the
+    flags, and the periods integrated on before the records agreed (all where they never did; 0: not)."""
     n = len(systems)
     differ = np.array([not same(a, b) for a, b in zip(up, down, strict=True)])
     continued = np.zeros(n, np.int64)
@@ -166,12 +142,9 @@ def jump_frequencies(w: np.ndarray, flags: np.ndarray, direction: str) -> np.nda
 
 
 def rms_error_variables(systems: list[System], verdicts: list[list[Verdict]], policy: Policy) -> dict[str, Any]:
-    """The standard errors of ``dte_rms`` and ``force_rms`` (dims direction x w; ``verdicts`` of both
-    sweeps in ascending order, at ``systems``).  A periodic verdict's measures are averages over one whole
-    cycle: error 0.  A non-periodic one's are averages over the last ``recorded_periods`` of its record: the
-    error is that of a record of that length on its attractor, the batch-means error over
-    :data:`geardyn.solve.response.RMS_BLOCKS` blocks of whole mesh periods of the ``recorded_periods`` from
-    its final state (:func:`geardyn.solve.response.rms_errors_many`).  NaN where diverged."""
+    """The standard errors of ``dte_rms`` and ``force_rms`` (dims direction x w; ``verdicts`` of both sweeps in
+    ascending order, at ``systems``): 0 where periodic, NaN where diverged, else the batch-means error of the
+    ``recorded_periods`` from the final state (:func:`geardyn.solve.response.rms_errors_many`, ``docs/response.md``)."""
     shape = (len(verdicts), len(systems))
     dte, force = np.full(shape, np.nan), np.full(shape, np.nan)
     todo = []
