@@ -1,17 +1,8 @@
 """Archives of one design's results: every netCDF cube, the configs, a sha256 manifest, a README.
 
-:func:`build` writes ``<design>_archive.tar.gz`` with this layout (one top folder)::
-
-    <design>_archive/
-        MANIFEST.json      design, geardyn version, git commit, and every other file with sha256 and size
-        SHA256SUMS         the same sums for ``sha256sum -c`` (no geardyn needed)
-        README.txt         what the files are and how to open them
-        config/...         the workflow config, the effective (validated) config, the design file
-        results/<design>/  the cubes, at the paths where the pipeline writes them
-
-:func:`verify` checks such an archive: every listed file is present with its sum and size, nothing
-unlisted is present, and every cube opens with xarray and its data read back. Any problem is one
-:class:`ArchiveError` line that names the archive and the member.
+:func:`build` writes ``<design>_archive.tar.gz`` (one top folder: ``MANIFEST.json``, ``SHA256SUMS``,
+``README.txt``, ``config/``, ``results/<design>/``); :func:`verify` checks one, any problem one
+:class:`ArchiveError` line naming the archive and the member (``docs/operations.md``, Archive).
 """
 
 from __future__ import annotations

@@ -1,15 +1,6 @@
-"""Self-describing outputs: netCDF with CF-style attributes and tables with their provenance, written atomically.
-
-Every dataset written by the pipeline goes through :func:`write_netcdf`, so every file
-says where it came from (package version, git commit, config hash, model variant: :func:`provenance`) and
-on what (:func:`runtime_provenance`: Python and library versions, CPU model and its SIMD features, the
-instruction sets numpy dispatches to and the CPU numba compiles for; both made by
-:mod:`geardyn.provenance` and named here for the writers' callers), and no reader ever sees a
-half-written file (write to a temporary name, then rename).
-Every variable is stored compressed, losslessly (zlib with the shuffle filter, level :data:`ZLIB_LEVEL`,
-chosen by measurement in ``docs/operations.md``).  Tables written by :func:`write_text` carry the same
-runtime provenance: Markdown as a closing HTML comment, CSV and JSON in a ``<name>.provenance.json`` beside
-them.
+"""Self-describing outputs, written atomically: netCDF with CF attributes, compressed losslessly, and tables,
+each with its provenance (:mod:`geardyn.provenance`, whose writers' names it re-exports): what, where and on
+what it was made (``docs/operations.md``, Compression and provenance of every file).
 """
 
 from __future__ import annotations

@@ -1,14 +1,5 @@
-"""Run a workflow script without Snakemake: a stand-in for the ``snakemake`` object it reads.
-
-Every script under ``workflow/scripts/`` is a module-level adapter that unpacks ``snakemake.input``,
-``.output``, ``.params``, ``.wildcards`` and ``.log``, calls the library and writes its outputs.
-:func:`run_script` runs one of them with a :class:`Job` in place of that object, e.g. from a test or a
-notebook::
-
-    from geardyn.testing import Job, run_script
-    run_script("workflow/scripts/plus_landscape.py",
-               Job(input={"design": "config/designs/my_plus_set.yaml"},
-                   output={"landscape": "/tmp/land.nc"}, log=["/tmp/land.log"]))
+"""Run a workflow script without Snakemake (:func:`run_script` with a :class:`Job` in place of the
+``snakemake`` object it reads, e.g. from a test or a notebook), and the fault points of the kill tests.
 """
 
 from __future__ import annotations

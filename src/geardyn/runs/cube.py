@@ -1,9 +1,6 @@
-"""What the studies store: state names, the per-point variables (verdict, response measures, coexistence)
-with their CF attributes, and the ONE chunk merge of sweeps and maps.
-
-The studies fill these variables through one runner (:mod:`geardyn.runs.study`).  A chunk file holds every
-variable of its run's full grid, NaN or -1 where it did not compute, and a ``computed`` flag (1 where it did).
-:func:`merge_chunks` combines them, whatever the run, and refuses chunks that do not tile the grid exactly once.
+"""What the studies store: the state names, the per-point variables in one table (:data:`VARIABLES`) with
+one writer (:func:`empty`), and the ONE chunk merge of sweeps and maps (:func:`merge_chunks`: a chunk holds
+its run's full grid, a ``computed`` flag where it computed; the chunks must tile the grid exactly once).
 """
 
 from __future__ import annotations

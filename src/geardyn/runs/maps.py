@@ -1,17 +1,6 @@
-"""Two-parameter regime maps: the motion label over a grid of (x, y) control parameters.
-
-A map is like a sweep with two swept parameters and no stored Poincaré sections: each point keeps its
-verdict (label, period, exponent and how it was obtained, the stage that decided it, the bifurcation the
-followed orbit met) and the mean and spread of its Poincaré X_VH.  Each row (one y value, x increasing) is
-a *line* of :func:`geardyn.label.label_lines`: with ``start_from: follow`` (the default) each point starts from
-the attractor of its left neighbour; with ``start_from: fixed`` every point starts from the static deflection.
-A chunk holds whole rows, so the result does not depend on the chunking; it is a layout of the one study
-runner (:mod:`geardyn.runs.study`).
-
-Coefficients are built once per x value (:func:`point.point_coefficients`, ~3-7 ms: geometry and
-stiffness) and the y parameter is then set directly on the dimensionless coefficients when it is
-``b``, ``e`` or ``w`` (b / b_c, e / b_c and w_m / w_n enter them unscaled); any other y parameter
-falls back to :func:`point.point_coefficients` per point.
+"""Two-parameter regime maps: the motion label over a grid of (x, y) control parameters, each row (x
+increasing) a line of the labeller, a chunk whole rows; the points keep their verdicts and the mean and
+spread of their Poincaré X_VH, no sections (``docs/classify.md``, Studies).
 """
 
 from __future__ import annotations
@@ -23,6 +12,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from geardyn.io import cf
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import Coefficients
@@ -132,7 +122,7 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
     coords = {}
     for dim, ax in (("x", spec.x), ("y", spec.y)):
         units, long_name = point.CONTROLS.get(ax.parameter, ("1", ax.parameter))
-        coords[dim] = (dim, ax.values, {"units": units, "long_name": long_name, "parameter": ax.parameter})
+        coords[dim] = cf(dim, ax.values, units, long_name, parameter=ax.parameter)
     attrs = {
         "map": spec.name,
         "design": spec.design,

@@ -1,10 +1,6 @@
-"""Dense runs at single operating points: phase trajectory, Poincaré map and amplitude spectrum.
-
-Only the points drawn in Figs. 8, 10 and 12 of paper 1 need the dense trajectory, so it is computed
-here, for those points only, and never inside a sweep.  Each point is labelled first, from the static
-deflection, by the one study runner (:mod:`geardyn.runs.study`: a layout of independent points, each a line
-of its own); its dense run then starts from the verdict's final state, on the attractor, so the figure draws
-the attractor, never a transient.
+"""Dense runs at single operating points (Figs. 8, 10 and 12 of paper 1 only, never inside a sweep): phase
+trajectory, Poincaré map and amplitude spectrum, started on the attractor the labeller found from the static
+deflection (``docs/classify.md``, Studies).
 """
 
 from __future__ import annotations
@@ -16,6 +12,7 @@ import numpy as np
 import xarray as xr
 
 from geardyn import libm
+from geardyn.io import cf
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.label import Policy
@@ -60,29 +57,20 @@ def dense_point(
     else:
         tau, states = res.uniform(samples_per_period)
     for k, name in enumerate(STATES):
-        data[name] = ("time", states[:, k], {"units": "1", "long_name": STATE_NAMES[name]})
-        data[f"poincare_{name}"] = (
-            "section",
-            res.poincare[:, k],
-            {"units": "1", "long_name": f"Poincare section: {STATE_NAMES[name]}"},
-        )
+        data[name] = cf("time", states[:, k], "1", STATE_NAMES[name])
+        data[f"poincare_{name}"] = cf("section", res.poincare[:, k], "1", f"Poincare section: {STATE_NAMES[name]}")
     if states.shape[0] > 8:
         freq, amp = amplitude_spectrum(states[:, 1], samples_per_period)
     else:
         freq, amp = np.zeros(0), np.zeros(0)
-    data["amplitude"] = ("frequency", amp, {"units": "1", "long_name": "amplitude spectrum of X_VH / b_c (Hann)"})
+    data["amplitude"] = cf("frequency", amp, "1", "amplitude spectrum of X_VH / b_c (Hann)")
+    time = (tau - (tau[0] if tau.size else 0.0)) / coeffs.period
     coords = {
-        "time": (
-            "time",
-            (tau - (tau[0] if tau.size else 0.0)) / coeffs.period,
-            {"units": "1", "long_name": "time since the start of the record, in mesh periods"},
+        "time": cf("time", time, "1", "time since the start of the record, in mesh periods"),
+        "section": cf(
+            "section", np.arange(res.poincare.shape[0], dtype=np.int32), "1", "index of the recorded mesh period"
         ),
-        "section": (
-            "section",
-            np.arange(res.poincare.shape[0], dtype=np.int32),
-            {"units": "1", "long_name": "index of the recorded mesh period"},
-        ),
-        "frequency": ("frequency", freq, {"units": "1", "long_name": "frequency / mesh frequency"}),
+        "frequency": cf("frequency", freq, "1", "frequency / mesh frequency"),
     }
     attrs = {f"coef_{k}": (float(v) if not isinstance(v, str) else v) for k, v in coeffs.as_dict().items()}
     attrs.update({f"override_{k}": float(v) for k, v in overrides.items()})
@@ -114,7 +102,7 @@ def dense_points(
         ds = ds.expand_dims(case=[label])
         for key, value in attrs.items():
             if key.startswith(("coef_", "override_", "diverged")):
-                ds[key] = ("case", [value], {"units": "1", "long_name": f"point parameter {key}"})
+                ds[key] = cf("case", [value], "1", f"point parameter {key}")
         parts.append(ds)
     out = xr.concat(
         parts, dim="case", join="outer", data_vars="all", coords="different", compat="equals", combine_attrs="override"

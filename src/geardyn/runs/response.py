@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from geardyn.io import cf
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import COEFFICIENT_ATTRS, Coefficients, natural_frequencies
@@ -165,8 +166,8 @@ def rms_error_variables(systems: list[System], verdicts: list[list[Verdict]], po
     )
     dims = ("direction", "w")
     return {
-        "dte_rms_error": (dims, dte, {"units": "1", "long_name": f"standard error of dte_rms ({how})"}),
-        "force_rms_error": (dims, force, {"units": "1", "long_name": f"standard error of force_rms ({how})"}),
+        f"{k}_rms_error": cf(dims, e, "1", f"standard error of {k}_rms ({how})")
+        for k, e in (("dte", dte), ("force", force))
     }
 
 
@@ -188,10 +189,9 @@ def frequency_response(
     lines = [[((0, j), s) for j, s in enumerate(up)], [((1, j), up[j]) for j in reversed(range(n))]]
     data, verdicts, _ = study.run(study.Layout(dims, (2, n), lines), policy, "frequency response")
     ordered = [verdicts[0], verdicts[1][::-1]]  # both sweeps in ascending w
-    data["final_state"] = (
-        (*dims, "state"),
-        np.array([[v.final_state for v in vs] for vs in ordered], dtype=float),
-        {"units": "1", "long_name": "state at phase 0 on the attractor at the end of the record (a restart)"},
+    final = np.array([[v.final_state for v in vs] for vs in ordered], dtype=float)
+    data["final_state"] = cf(
+        (*dims, "state"), final, "1", "state at phase 0 on the attractor at the end of the record (a restart)"
     )
     data.update(rms_error_variables(up, ordered, policy))
     data["dte_rms"][2]["ancillary_variables"] = "dte_rms_error"
@@ -219,33 +219,23 @@ def frequency_response(
             "(hysteresis_continued_periods)",
         ),
     )
-    data["hysteresis_continued_periods"] = (
+    data["hysteresis_continued_periods"] = cf(
         ("w",),
         continued.astype(np.int32),
-        {
-            "units": "1",
-            "long_name": "mesh periods two non-periodic verdicts the labeller's comparison separates were "
-            f"integrated on before their Poincare sets agreed (at most {continue_periods}: still different); "
-            "0: not integrated on",
-        },
+        "1",
+        "mesh periods two non-periodic verdicts the labeller's comparison separates were integrated on before their "
+        f"Poincare sets agreed (at most {continue_periods}: still different); 0: not integrated on",
     )
     nat = natural_frequencies(base)
-    data["natural_frequency"] = (
-        ("mode",),
-        nat,
-        {"units": "1", "long_name": "undamped natural frequency of the linearised system in contact / w_n"},
-    )
+    long_name = "undamped natural frequency of the linearised system in contact / w_n"
+    data["natural_frequency"] = cf(("mode",), nat, "1", long_name)
     omega_n = float(base.omega_n)
     coords = {
         "direction": ("direction", list(DIRECTIONS), {"long_name": "sweep direction (line of the labeller)"}),
-        "w": ("w", w, {"units": "1", "long_name": "dimensionless mesh frequency w_m / w_n"}),
+        "w": cf("w", w, "1", "dimensionless mesh frequency w_m / w_n"),
         "state": ("state", list(cube.STATES), {"long_name": "state component (geardyn.runs.cube.STATE_NAMES)"}),
-        "mode": ("mode", np.arange(nat.size, dtype=np.int32), {"units": "1", "long_name": "mode number"}),
-        "mesh_frequency_hz": (
-            "w",
-            w * omega_n / (2.0 * math.pi),
-            {"units": "Hz", "long_name": "mesh frequency w_m / (2 pi)"},
-        ),
+        "mode": cf("mode", np.arange(nat.size, dtype=np.int32), "1", "mode number"),
+        "mesh_frequency_hz": cf("w", w * omega_n / (2.0 * math.pi), "Hz", "mesh frequency w_m / (2 pi)"),
     }
     attrs = {
         "jump_threshold": threshold,

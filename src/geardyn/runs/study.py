@@ -1,15 +1,7 @@
 """The one study runner: sweeps, maps, frequency responses and point runs are layouts of it.
 
-A study labels *lines* of systems with :func:`geardyn.label.label_lines` (with ``start_from: follow`` each
-point of a line starts from the attractor of the one before, with ``fixed`` from the static deflection) and
-keeps every point's verdict and the response measures on its attractor, which the labeller sums in its own
-runs.  A :class:`Layout` says what one run computes: its lines (a chunk of a sweep or a map, the up and down
-sweeps of a frequency response, the independent points of a point run), where each point's verdict goes (its
-index in the run's arrays), and the variables of its own it keeps per point.  :func:`run` does the rest the
-same way for every layout: it labels the lines, again from the fixed start where the policy asks for
-``coexistence``, takes the verdicts' response measures (:func:`line_responses`) and writes each point through
-:func:`store` into the arrays built by :func:`variables`.  A point's numbers depend only on its line, never on
-the other lines, the chunking or the threads.
+A :class:`Layout` says what one run computes (its lines, each point's index, its own variables); :func:`run`
+labels the lines and stores every point's verdict and response measures (``docs/classify.md``, Studies).
 """
 
 from __future__ import annotations

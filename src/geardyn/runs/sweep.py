@@ -1,15 +1,7 @@
-"""Parameter sweeps: bifurcation cubes built in chunks that can run in any order, anywhere.
-
-A sweep varies one control parameter (``x1``, ``b``, ``e``, ``w``, ... see :mod:`geardyn.khv`) over a range, for
-one or more *cases* (fixed overrides, e.g. three x1 values for Figs. 9 and 11).  A chunk is a layout of the
-study runner (:mod:`geardyn.runs.study`), which labels its lines and stores the verdicts; the sweep keeps the
-Poincare sections and the coefficients of each point besides.  With ``start_from: follow`` (the default) a case
-in one direction is a *line*: its first point starts from the static deflection and each next point from the
-attractor of the previous one, so the figure draws attractors, never transients.  ``continuation`` says the
-directions: up (``none`` and ``up``: from the first value to the last), ``down``, or ``both`` (hysteresis).  A
-chunk holds whole lines.  With ``start_from: fixed`` every point starts from the static deflection (a line of
-its own) and the points, numbered case-major, are split into contiguous chunks.  Either way a point's verdict
-depends only on its line, never on the chunking or the threads.
+"""Parameter sweeps: bifurcation cubes of one control parameter, for one or more cases (fixed overrides),
+built in chunks that can run in any order, anywhere: each a layout of :mod:`geardyn.runs.study` holding whole
+lines (``start_from: follow``) or contiguous points (``fixed``), so no result depends on the chunking
+(``docs/classify.md``, Studies).
 """
 
 from __future__ import annotations
@@ -21,6 +13,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from geardyn.io import cf
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import COEFFICIENT_ATTRS
@@ -110,16 +103,12 @@ def layout(design: KHVDesign, spec: SweepSpec, chunk: int, policy: Policy) -> st
     shape = (len(spec.cases), len(spec.directions), spec.num)
     ns = policy.integration.recorded_periods
     own: study.Variables = {
-        name: (
-            (*dims, "section"),
-            np.full((*shape, ns), np.nan),
-            {"units": "1", "long_name": f"Poincare section: {STATE_NAMES[name]}"},
-        )
+        name: cf((*dims, "section"), np.full((*shape, ns), np.nan), "1", f"Poincare section: {STATE_NAMES[name]}")
         for name in STATES
     }
     own.update(empty(("diverged_period", "n_events"), dims, shape))
     for cname, (units, long_name) in COEFFICIENT_ATTRS.items():
-        own[f"coef_{cname}"] = (dims, np.full(shape, np.nan), {"units": units, "long_name": long_name})
+        own[f"coef_{cname}"] = cf(dims, np.full(shape, np.nan), units, long_name)
     values = spec.values
     lines = (
         [((case, d, j), point.point_coefficients(design, point_overrides(spec, case, values[j]))) for j in order]
@@ -151,11 +140,12 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int) -> xr.Dataset:
     coords = {
         "case": ("case", [spec.case_label(i) for i in range(len(spec.cases))], {"long_name": "case (fixed overrides)"}),
         "direction": ("direction", list(spec.directions), {"long_name": "continuation direction of the sweep"}),
-        spec.parameter: (spec.parameter, spec.values, {"units": units, "long_name": long_name}),
-        "section": (
+        spec.parameter: cf(spec.parameter, spec.values, units, long_name),
+        "section": cf(
             "section",
             np.arange(policy.integration.recorded_periods, dtype=np.int32),
-            {"units": "1", "long_name": "index of the recorded mesh period (Poincare section at phase 0)"},
+            "1",
+            "index of the recorded mesh period (Poincare section at phase 0)",
         ),
     }
     attrs = {
