@@ -14,10 +14,8 @@ from typing import Any
 
 import xarray as xr
 
-from geardyn import __version__
-
 # where and how an output was made (geardyn.provenance): the attributes the writers' callers pass in
-from geardyn.provenance import git_commit, provenance_text
+from geardyn.provenance import info, provenance_text
 from geardyn.provenance import provenance as provenance
 from geardyn.provenance import runtime_provenance as runtime_provenance
 
@@ -127,8 +125,7 @@ def write_text(text: str, path: str | os.PathLike[str], *, provenance: bool | No
     if provenance and path.suffix.lower() == ".md":
         text = text.rstrip("\n") + "\n\n<!-- provenance\n" + provenance_text() + "-->\n"
     elif provenance:
-        info = {"file": path.name, "geardyn_version": __version__, "git_commit": git_commit(), **runtime_provenance()}
-        _write_atomic(json.dumps(info, indent=1) + "\n", provenance_sidecar(path))
+        _write_atomic(json.dumps({"file": path.name, **info()}, indent=1) + "\n", provenance_sidecar(path))
     return _write_atomic(text, path)
 
 

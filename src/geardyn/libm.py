@@ -21,31 +21,20 @@ import numpy.typing as npt
 FloatArray = npt.NDArray[np.float64]
 
 
-def _lift1(f: Callable[[float], float]) -> Callable[[Any], Any]:
-    uf = np.frompyfunc(f, 1, 1)
+def _lift(f: Callable[..., float], nin: int = 1, domain: bool = False) -> Callable[..., Any]:
+    """``f`` (of ``nin`` floats) element by element with broadcasting; a float for scalar arguments."""
+    uf = np.frompyfunc(f, nin, 1)
 
-    def g(x: Any) -> Any:
-        if np.ndim(x) == 0:
-            return f(float(x))
+    def g(*args: Any) -> Any:
+        if all(np.ndim(x) == 0 for x in args):
+            return f(*(float(x) for x in args))
         with np.errstate(all="ignore"):  # libm's own status flags: the results above say it (NaN, inf)
-            return np.asarray(uf(np.asarray(x, dtype=np.float64)), dtype=np.float64)
+            return np.asarray(uf(*(np.asarray(x, dtype=np.float64) for x in args)), dtype=np.float64)
 
     g.__name__ = f.__name__
-    g.__doc__ = f"``math.{f.__name__}`` element by element (C library, the same on every CPU)."
-    return g
-
-
-def _lift2(f: Callable[[float, float], float]) -> Callable[[Any, Any], Any]:
-    uf = np.frompyfunc(f, 2, 1)
-
-    def g(x: Any, y: Any) -> Any:
-        if np.ndim(x) == 0 and np.ndim(y) == 0:
-            return f(float(x), float(y))
-        with np.errstate(all="ignore"):
-            return np.asarray(uf(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)), dtype=np.float64)
-
-    g.__name__ = f.__name__
-    g.__doc__ = f"``math.{f.__name__}`` element by element with broadcasting (C library, the same on every CPU)."
+    g.__doc__ = f"``math.{f.__name__}`` element by element (C library, the same on every CPU)" + (
+        "; NaN outside the domain." if domain else "."
+    )
     return g
 
 
@@ -89,29 +78,24 @@ def cmul(a: Any, b: Any) -> Any:
     return (a.real * b.real - a.imag * b.imag) + 1j * (a.real * b.imag + a.imag * b.real)
 
 
-sin = _lift1(math.sin)
-cos = _lift1(math.cos)
-tan = _lift1(math.tan)
-arcsin = _lift1(_safe(math.asin))
-arccos = _lift1(_safe(math.acos))
-arctan = _lift1(math.atan)
-arctan2 = _lift2(math.atan2)
-sinh = _lift1(_safe(math.sinh))
-cosh = _lift1(_safe(math.cosh))
-tanh = _lift1(math.tanh)
-exp = _lift1(_safe(math.exp))
-expm1 = _lift1(_safe(math.expm1))
-log = _lift1(_safe(math.log, 0.0))
-log1p = _lift1(_safe(math.log1p, -1.0))
-log10 = _lift1(_safe(math.log10, 0.0))
-log2 = _lift1(_safe(math.log2, 0.0))
-cbrt = _lift1(math.cbrt)
-power = _lift2(_safe(math.pow))
-
-for _name, _np in (("arcsin", "asin"), ("arccos", "acos"), ("arctan", "atan"), ("arctan2", "atan2"), ("power", "pow")):
-    globals()[
-        _name
-    ].__doc__ = f"``math.{_np}`` element by element (C library, the same on every CPU); NaN outside the domain."
+sin = _lift(math.sin)
+cos = _lift(math.cos)
+tan = _lift(math.tan)
+arcsin = _lift(_safe(math.asin), domain=True)
+arccos = _lift(_safe(math.acos), domain=True)
+arctan = _lift(math.atan, domain=True)
+arctan2 = _lift(math.atan2, 2, domain=True)
+sinh = _lift(_safe(math.sinh))
+cosh = _lift(_safe(math.cosh))
+tanh = _lift(math.tanh)
+exp = _lift(_safe(math.exp))
+expm1 = _lift(_safe(math.expm1))
+log = _lift(_safe(math.log, 0.0))
+log1p = _lift(_safe(math.log1p, -1.0))
+log10 = _lift(_safe(math.log10, 0.0))
+log2 = _lift(_safe(math.log2, 0.0))
+cbrt = _lift(math.cbrt)
+power = _lift(_safe(math.pow), 2, domain=True)
 
 
 #: The features hidden from glibc's dispatch of its math functions (names of glibc >= 2.33, and of older

@@ -137,17 +137,9 @@ def runtime_of(attrs: Mapping[str, Any]) -> dict[str, str]:
 
 @functools.lru_cache(maxsize=1)
 def runtime_provenance() -> dict[str, str]:
-    """Where an output was computed: Python and library versions, CPU and the instruction sets in use.
-
-    Keys: ``python_version``, ``<package>_version`` for :data:`PROVENANCE_PACKAGES`, ``platform``,
-    ``cpu_model``, ``cpu_simd_flags`` (SIMD flags of /proc/cpuinfo), ``numpy_cpu_baseline`` /
-    ``numpy_cpu_dispatch`` (numpy's compiled-in and run-time-dispatched instruction sets, after
-    ``NPY_DISABLE_CPU_FEATURES``), ``numpy_blas`` / ``numpy_lapack``, ``numpy_blas_core`` /
-    ``scipy_blas_core`` (the OpenBLAS kernels in use, :data:`geardyn.BLAS_CORETYPE`), ``numba_cpu_name`` /
-    ``numba_cpu_features`` (the target numba compiles for), ``libm_variant`` (the C library's math build
-    in use, :func:`geardyn.libm.variant`) and the numba environment overrides.
-    Computed once per process (the values cannot change while it runs).
-    """
+    """Where an output was computed (:data:`RUNTIME_KEYS` and ``env_<VARIABLE>`` for the overrides that are set:
+    Python and library versions, CPU, the instruction sets, OpenBLAS kernels and C math build in use; each
+    key: ``docs/operations.md``).  Computed once per process (the values cannot change while it runs)."""
     out = {"python_version": platform.python_version(), "python_implementation": sys.implementation.name}
     for pkg in PROVENANCE_PACKAGES:
         out[f"{pkg.lower()}_version"] = _package_version(pkg)
@@ -170,10 +162,14 @@ def runtime_provenance() -> dict[str, str]:
     return out
 
 
+def info() -> dict[str, str]:
+    """:func:`runtime_provenance` with the geardyn version and git commit first."""
+    return {"geardyn_version": __version__, "git_commit": git_commit(), **runtime_provenance()}
+
+
 def provenance_text(prefix: str = "") -> str:
-    """:func:`runtime_provenance` (with geardyn version and git commit) as ``key: value`` lines."""
-    info = {"geardyn_version": __version__, "git_commit": git_commit(), **runtime_provenance()}
-    return "".join(f"{prefix}{k}: {v}\n" for k, v in info.items())
+    """:func:`info` as ``key: value`` lines."""
+    return "".join(f"{prefix}{k}: {v}\n" for k, v in info().items())
 
 
 def config_hash(config: Mapping[str, Any]) -> str:

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -52,16 +51,6 @@ class ResponseSpec(study.StudySpec):
             raise ValueError(f"frequency response: need 0 < start < stop and num >= 3, got {self}")
         if not (self.jump_threshold > 0.0 and self.jump_floor >= 0.0):
             raise ValueError("frequency response: jump_threshold > 0 and jump_floor >= 0")
-
-    @classmethod
-    def own_fields(cls, spec: Mapping[str, Any]) -> dict[str, Any]:
-        return {
-            "start": float(spec["start"]),
-            "stop": float(spec["stop"]),
-            "num": int(spec["num"]),
-            "jump_threshold": float(spec.get("jump_threshold", 0.25)),
-            "jump_floor": float(spec.get("jump_floor", 0.05)),
-        }
 
     @property
     def values(self) -> np.ndarray:

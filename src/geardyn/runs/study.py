@@ -71,8 +71,12 @@ class StudySpec:
 
     @classmethod
     def own_fields(cls, spec: Mapping[str, Any]) -> dict[str, Any]:
-        """The fields of a study's own spec, from its config entry (percentages resolved)."""
-        return {}
+        """The fields of a study's own spec that its config entry (percentages resolved) sets: those of type
+        ``float``, ``int`` or ``str`` converted to it (a study converts its others itself)."""
+        convert: dict[Any, Callable[[Any], Any]] = {"float": float, "int": int, "str": str}
+        common = {f.name for f in dataclasses.fields(StudySpec)}
+        own = [f for f in dataclasses.fields(cls) if f.name not in common and f.type in convert and f.name in spec]
+        return {f.name: convert[f.type](spec[f.name]) for f in own}
 
     def policy(self, design: KHVDesign) -> Policy:
         """The labelling policy: the design's integration with the study's changes, its classifier settings,

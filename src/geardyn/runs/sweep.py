@@ -39,14 +39,8 @@ class SweepSpec(study.StudySpec):
 
     @classmethod
     def own_fields(cls, spec: Mapping[str, Any]) -> dict[str, Any]:
-        return {
-            "parameter": spec["parameter"],
-            "start": float(spec["start"]),
-            "stop": float(spec["stop"]),
-            "num": int(spec["num"]),
-            "cases": tuple(tuple(sorted(c.items())) for c in spec.get("cases") or [{}]),
-            "continuation": spec.get("continuation", "none"),
-        }
+        """:meth:`StudySpec.own_fields` and the cases (each a tuple of sorted overrides; one without)."""
+        return {**super().own_fields(spec), "cases": tuple(tuple(sorted(c.items())) for c in spec.get("cases") or [{}])}
 
     @property
     def values(self) -> np.ndarray:
