@@ -21,6 +21,9 @@ from typing import Any
 from geardyn import __version__, libm
 from geardyn.config import ConfigError, load_design_dict
 
+#: The pair's values that ``check-design`` prints (lengths in mm).
+PAIR_KEYS = ("z1", "z2", "module", "x1", "x2", "pressure_angle_deg", "addendum", "clearance", "facewidth")
+
 
 def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
     from geardyn.gears import constraints  # noqa: PLC0415 - --help loads no numba or scipy
@@ -46,17 +49,7 @@ def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
     return {
         "design": spec.name,
         "kind": "khv",
-        "pair": {
-            "z1": pair.z1,
-            "z2": pair.z2,
-            "module_mm": pair.module,
-            "x1": pair.x1,
-            "x2": pair.x2,
-            "pressure_angle_deg": pair.pressure_angle_deg,
-            "addendum": pair.addendum,
-            "clearance": pair.clearance,
-            "facewidth_mm": pair.facewidth,
-        },
+        "pair": {f"{k}_mm" if k in ("module", "facewidth") else k: getattr(pair, k) for k in PAIR_KEYS},
         "x2_source": "line 4 (G_s = 0)" if spec.x2_on_line4 else "fixed in design",
         "geometry": {k: v for k, v in derived.items() if not k.startswith("margin_")},
         "constraints (>= 0 is satisfied)": values,

@@ -243,17 +243,13 @@ def run(design: KHVDesign, spec: ResponseSpec) -> xr.Dataset:
     """The frequency response of ``design`` at its point (with the study's fixed overrides)."""
     base = point.point_coefficients(design, dict(spec.fixed))
     ds = frequency_response(base, spec.values, spec.policy(design), spec.jump_threshold, spec.jump_floor)
+    teeth = int(point.point_model(design)[0].z_annulus)
     ds.attrs.update(
         {
             "response": spec.name,
             "design": spec.design,
             "fixed_overrides": spec.fixed_overrides,
-            "speed_per_w_rpm": float(base.omega_n) * 60.0 / (2.0 * math.pi * _annulus_teeth(design)),
+            "speed_per_w_rpm": float(base.omega_n) * 60.0 / (2.0 * math.pi * teeth),
         }
     )
     return ds
-
-
-def _annulus_teeth(design: KHVDesign) -> int:
-    phys, _, _ = point.point_model(design)
-    return int(phys.z_annulus)
