@@ -13,6 +13,8 @@ from pathlib import Path
 
 import xarray as xr
 
+from geardyn.io import read_dataset
+
 HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
 
 
@@ -76,8 +78,4 @@ def read_chunks(paths: list[str] | tuple[str, ...]) -> list[xr.Dataset]:
         raise ValueError(
             f"damaged chunk(s) {problems} set aside as .damaged; run the same command again to recompute them"
         )
-    parts = []
-    for path in paths:
-        with xr.open_dataset(path) as ds:
-            parts.append(ds.load())
-    return parts
+    return [read_dataset(path) for path in paths]
