@@ -40,13 +40,8 @@ def _raw_schema(name: str) -> dict[str, Any]:
 
 
 def schema(name: str) -> dict[str, Any]:
-    """The named schema with references to other schema files inlined (local ``#/$defs`` kept).
-
-    ``"$ref": "other.schema.json"`` inlines that whole schema (its defaults included);
-    ``"$ref": "other.schema.json#/json/pointer"`` inlines the node at the pointer without its
-    ``default``: a run's integration block takes the type, limits and meaning of each key from the
-    design's block, but a key the run does not set must stay unset (the design's value applies).
-    Keys beside ``$ref`` are kept and win."""
+    """The named schema with references to other schema files inlined (local ``#/$defs`` kept; a reference
+    with a JSON pointer inlined without its ``default``; keys beside ``$ref`` win: ``docs/operations.md``)."""
     return _inline(copy.deepcopy(_raw_schema(name)))
 
 

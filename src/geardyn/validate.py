@@ -95,16 +95,10 @@ def poincare_error(steps: int, where: str) -> float:
 
 
 def fill_config(config: dict[str, Any], where: str = "config") -> dict[str, Any]:
-    """The workflow config with presets resolved and defaults filled, the names and maps checked.
-
-    In order: the size of the structure with its YAML aliases expanded (refused past
-    :data:`geardyn.config.MAX_EXPANDED_VALUES` before anything walks it), the schema (the names too: its
-    ``$defs/name``, and no design named like a selector word), the presets (each entry's ``preset``
-    replaced by the preset's blocks, the entry's own keys winning key by key within each block), the
-    schema again with defaults filled, then the maps' axes. Every
-    ``error_floor`` an entry does not set is taken from :data:`POINCARE_ERROR` when the entry sets
-    ``integration.steps_per_period`` (otherwise :func:`validate_workflow` takes it from the designs).
-    """
+    """The workflow config with presets resolved and defaults filled, the names and maps checked (in that
+    order, the size with aliases expanded first: ``docs/operations.md``, Presets and the limits of the config),
+    and the ``error_floor`` of each entry that sets ``integration.steps_per_period`` (otherwise
+    :func:`validate_workflow` takes it from the designs)."""
     check_expanded_size(config, where)
     checked = validate(config, "config.schema.json", where)
     resolved = _resolve_presets(copy.deepcopy(config), checked["presets"], where)
