@@ -102,7 +102,7 @@ VARIABLES = {
         {"not_computed_or_diverged": -1, **IMPACT_CLASSES},
         "impact class: no impact, single-sided (separation, never back-side contact), double-sided (back-side contact)",
     ),
-    # policy coexistence (label_fixed: a motion label, made by label_variables)
+    # policy coexistence (label_fixed, a motion label: LABELS)
     "coexisting": _flag(
         {"not_checked": -1, "same": 0, "coexisting": 1},
         "the follow and the fixed start end on different attractors at this point",
