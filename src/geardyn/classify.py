@@ -1,16 +1,6 @@
-"""Labels for steady motions: period-n, quasi-periodic, chaotic, diverged, undetermined.
-
-A sequence of Poincaré points p_0, p_1, ... (one per mesh period) is period-n when
-p_{k+n} = p_k for all k, to a tolerance scaled to the attractor size and kept above the
-integration error.  The smallest such n (up to ``max_n``) is the period.
-
-Points that are not periodic are told apart by the largest Lyapunov exponent (tangent vector
-integrated alongside the orbit by :func:`geardyn.solve.simulate`), cross-checked by the 0-1 test for chaos
-(Gottwald & Melbourne 2009, correlation method, on the stroboscopic samples) and by the spectral
-flatness of the stroboscopic samples (discrete lines vs broadband).  This module gives the labels'
-codes, rule 3 and the indicators; the labeller (:mod:`geardyn.label`) integrates the points and decides
-their labels.
-"""
+"""Labels for steady motions (period-n, quasi-periodic, chaotic, diverged, undetermined): the label codes,
+rule 3 and the indicators (Lyapunov exponent, 0-1 test, spectral flatness); :mod:`geardyn.label` decides
+the labels (``docs/classify.md``)."""
 
 from __future__ import annotations
 
@@ -142,15 +132,9 @@ def zero_one_test(phi: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
 
 
 def _msd_correlations(x: np.ndarray, cs: np.ndarray, ncut: int) -> np.ndarray:
-    """K_c for each frequency c of ``cs``: the correlation with n of the mean-square displacement
-
-        D_c(n) = 1/(N - n) sum_{k < N - n} |P_{k+n} - P_k|^2,   n = 1 .. ``ncut``,
-
-    of the translation variables P_j = sum_{i <= j} x_i exp(i c (i + 1)) of the (mean-removed) series
-    ``x`` (0 where D_c is constant).  The sum is expanded as sum |P_{k+n}|^2 + sum |P_k|^2
-    - 2 Re sum P_{k+n} conj(P_k): the first two are differences of a cumulative sum, the third the
-    autocorrelation of P by FFT (zero-padded past N + ncut, so no lag wraps).  O(N log N) per frequency
-    instead of O(N ncut); the same numbers to round-off (tests/test_classify_validation.py)."""
+    """K_c for each frequency c of ``cs``: the correlation with n = 1 .. ``ncut`` of the mean-square
+    displacement of the translation variables of ``x``, by cumulative sums and an FFT autocorrelation
+    (the expansion: ``docs/classify.md``)."""
     import scipy.fft  # noqa: PLC0415 - 0.1 s to import: only the jobs that label need it
 
     n_pts = x.size
@@ -190,23 +174,9 @@ def spectral_flatness(phi: np.ndarray) -> float:
 
 @dataclass(frozen=True)
 class ClassifierSettings:
-    """Thresholds of the labeller (exponents per unit dimensionless time tau = w_n t).
-
-    max_n: largest period tested.  rtol, atol: return-distance tolerance rtol * attractor size +
-    atol * max(|p|, 1).  error_floor: the tolerance is never below this (integration error of the
-    Poincaré points, e.g. 7.5e-8 at 512 steps and 1.9e-5 at 128, docs/model.md Sec. 6; 10x margin by
-    default via ``error_margin``).  lam_tol: |lambda| below this is "zero" (quasi-periodic); the
-    least-damped mode of the KHV model decays at about 2.5e-3, chaos in the model shows 3e-2.
-    k_chaos: 0-1 statistic above which the series looks chaotic.  flat_broadband: spectral
-    flatness above which the samples look broadband.  tangent_periods: mesh periods the tangent
-    vector is carried (the last ones of the run).  separation: the points of a period-n cycle must
-    differ by more than separation * tol (return distances for m < n).  settle_max_n,
-    settle_max_periods: the slow-transient check applied after these rules by
-    the labeller (:mod:`geardyn.label.settle`; 0: off).  torus_margin, chaos_margin, torus_min_n: the
-    weighted Birkhoff test; order_min_n: the fewest points for the three-gap order test (0: off); both in
-    :mod:`geardyn.label.torus`.  torus_extend, torus_max_periods: how far an undecided record grows.
-    long_max_n: the longest cycle looked for on a quasi-periodic or undecided record.
-    """
+    """Thresholds of the labeller (exponents per unit dimensionless time tau = w_n t): rule 3's period,
+    tolerances and separation, the exponent's zero band, indicator thresholds, and the slow-transient and torus
+    tests' settings (fields and measured values: ``docs/classify.md``)."""
 
     max_n: int = 12
     rtol: float = 1e-4

@@ -1,19 +1,6 @@
-"""Rule 3 of the classifier, stated once, compiled: the strict period test of a sequence of Poincaré
-points, and the early stop of the transient that applies the same rule while the run goes on.
-Private to :mod:`geardyn.solve`.
-
-Rule 3 (:func:`first_period`): the period is the smallest n <= max_n whose return distance
-d_n = max_k,i |p_k+n,i - p_k,i| passes (within the tolerance) and whose n cycle points are distinct:
-d_m > separation * tol for every m < n (a decaying transient rotating by about 1/n per period
-returns closely after n periods too).  Its users:
-
-* :func:`strict_period` / :func:`strict_periods`: a finished record, the tolerance scaled to the
-  attractor (:func:`geardyn.classify.strict_period` calls it on one record,
-  :func:`geardyn.solve.run.strict_periods` on many);
-* :func:`early_stop`: the running record of the transient in the loops of
-  :func:`geardyn.solve._kernel.run` and :func:`geardyn.solve._batch.run_blocks`, where d_n "passes"
-  once it has stayed within the tolerance for ``confirm`` consecutive periods.
-"""
+"""Rule 3 of the classifier, stated once, compiled: the strict period test of Poincaré points and the
+early stop of the transient that applies it while the run goes on.  Private to :mod:`geardyn.solve`
+(the rule and its users: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 

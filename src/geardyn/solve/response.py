@@ -1,16 +1,6 @@
-"""The engineer's response measures of one operating point: dynamic mesh force, dynamic factor, dynamic
-transmission error, contact fractions and the impact class (definitions: ``docs/response.md``).
-
-:func:`response_measures_many` integrates whole mesh periods from states on the attractor in the batch's
-lanes, with the solver's own step, adds every step to the sums of :mod:`geardyn.solve._response` and reduces
-them; :func:`response_measures` does it for one point.  The labeller needs no such run: its own runs add the
-steps of their last periods to the same sums (``sums_last`` of :func:`geardyn.solve.simulate_batch`), which
-:func:`measures_of_sums` reduces (:attr:`geardyn.label.Verdict.response`).
-:func:`rms_errors_many` gives the standard errors of the RMS values of such a record (batch means over
-blocks of whole mesh periods, each block a record of its own in the same lanes).
-All quantities are dimensionless like the solver's: forces in units of k_mean b_c, displacements in
-units of b_c (= 1 um for the KHV family), so a DTE of 1 is 1 um.
-"""
+"""The engineer's response measures of one operating point: dynamic mesh force, dynamic factor, DTE,
+contact fractions, impact class, and the standard errors of the RMS values (definitions:
+``docs/response.md``; how they are summed: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 
@@ -34,19 +24,8 @@ CONTACT_LOSS_MIN = 1.0e-9
 
 @dataclass(frozen=True)
 class ResponseMeasures:
-    """The response of one point over ``periods`` mesh periods (forces / (k_mean b_c), lengths / b_c).
-
-    static_force: the static mesh force F_s (mean stiffness, no TE; its sign is the drive side).
-    force_mean, force_rms, force_max: the mean of the dynamic mesh force F = k f(X_VH) + c_m X_VH' on the
-    drive side (s F, s = sign F_s), the RMS of its fluctuation about that mean, and its largest value.
-    dynamic_factor: K_v = force_max / |F_s| (NaN when F_s = 0).
-    dte_rms, dte_pp: RMS of the fluctuation and peak-to-peak of the dynamic transmission error X_VH / b_c.
-    dte_mean: its mean.
-    drive_fraction, separation_fraction, back_fraction: fractions of time in drive-side contact, inside
-    the backlash and in back-side contact.  impact_class: key of :data:`IMPACT_CLASSES`.
-    n_switches: contact switches in the record.  diverged: unbounded growth during the record (then the
-    measures are NaN and the class is ``"diverged"``).
-    """
+    """The response of one point over ``periods`` mesh periods (forces / (k_mean b_c), lengths / b_c); NaN
+    and class ``"diverged"`` where the run diverged (fields: ``docs/numerics.md``)."""
 
     static_force: float
     force_mean: float
@@ -112,12 +91,8 @@ RMS_BLOCKS = 10
 
 @dataclass(frozen=True)
 class RMSErrors:
-    """Standard errors of the RMS values of a record (:func:`rms_errors_many`), in their units.
-
-    dte_rms_error: of :attr:`ResponseMeasures.dte_rms`; force_rms_error: of
-    :attr:`ResponseMeasures.force_rms`; blocks: the number of blocks (of whole mesh periods) they come from.
-    NaN with fewer than 2 blocks or where the record diverged.
-    """
+    """Standard errors of the RMS values of a record (:func:`rms_errors_many`) and the number of blocks
+    they come from; NaN with fewer than 2 blocks or where the record diverged."""
 
     dte_rms_error: float
     force_rms_error: float
@@ -261,15 +236,8 @@ def _reduce(out: np.ndarray | list[float], f_s: float, n_per: int) -> ResponseMe
 
 
 def batch_means_rms_error(weights: np.ndarray, means: np.ndarray, rms: np.ndarray) -> float:
-    """The batch-means standard error of the RMS of a record cut into B >= 2 blocks: ``weights`` (B,) the
-    blocks' durations, ``means`` and ``rms`` (B,) each block's mean and RMS about its own mean.
-
-    The record's RMS R = sqrt(Q) with Q = sum_b w_b (r_b^2 + (m_b - A)^2), A = sum_b w_b m_b (w_b the
-    blocks' shares of the time: the variance of the whole record, exactly).  R is a smooth function of the
-    two time averages of x and x^2, so its error is that of the average of the linearised block values
-    u_b = (r_b^2 + (m_b - A)^2 - Q) / (2 R) (the delta method; sum_b w_b u_b = 0):
-    SE^2 = B / (B - 1) sum_b w_b^2 u_b^2, for equal blocks the sample variance of u_b over B.  A
-    periodic record whose blocks hold whole cycles has equal blocks: SE = 0 (to rounding).  0 when R = 0."""
+    """The batch-means standard error of the RMS of a record cut into B >= 2 blocks (``weights``, ``means``,
+    ``rms``: (B,) each); 0 when the RMS is 0 (the delta-method derivation: ``docs/numerics.md``)."""
     w = np.asarray(weights, dtype=float)
     m, r = np.asarray(means, dtype=float), np.asarray(rms, dtype=float)
     if w.ndim != 1 or w.size < 2 or m.shape != w.shape or r.shape != w.shape or np.any(w <= 0.0):
@@ -294,14 +262,7 @@ def rms_errors_many(
     blocks: int = RMS_BLOCKS,
 ) -> list[RMSErrors]:
     """The standard errors of ``dte_rms`` and ``force_rms`` of the records of :func:`response_measures_many`
-    (same arguments): each record is cut into min(``blocks``, its periods) blocks of whole mesh periods (as
-    equal as the count allows), every block is measured in the batch's lanes as a record of its own (its
-    start: the record's state at phase 0 where the block begins, from :func:`geardyn.solve.simulate_batch`,
-    bit-identical to the record's), and :func:`batch_means_rms_error` combines them.
-
-    The error is that of the time average over the record: it says whether two RMS values differ by more
-    than their records can resolve.  It does not see a slow drift of the record as a whole (a transient
-    longer than the record)."""
+    (same arguments), from min(``blocks``, periods) blocks of whole mesh periods (method: ``docs/numerics.md``)."""
     from geardyn.solve.run import simulate_batch  # noqa: PLC0415 - compiled: not imported by readers
 
     settings = SimulationSettings() if settings is None else settings

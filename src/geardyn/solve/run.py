@@ -1,18 +1,5 @@
-"""Integrate the 3-DOF backlash system: :func:`simulate`, with an optional variational part.
-
-``"rk4"`` is plain RK4 on the grid aligned to the stiffness jumps (the dead zone's kinked
-derivative costs it its order when a step straddles a contact switch); ``"rk4_event"`` locates
-every contact switch inside a step and restarts there (4th order); ``"dop853"`` is the independent
-reference of :mod:`geardyn.solve.reference`.  The compiled loop is :mod:`geardyn.solve._kernel`.
-
-One call can also carry the variational equations along the orbit (the orbit is bit-identical
-with or without them):
-
-* ``tangent_periods = n``: one tangent vector over the last n mesh periods, renormalised every
-  period; its log growth per period gives the largest Lyapunov exponent (:mod:`geardyn.classify`);
-* ``monodromy_periods = n``: the full 6 x 6 derivative of the final state with respect to the
-  state n periods before the end: the monodromy matrix of a period-n orbit (Floquet multipliers).
-"""
+"""Integrate the 3-DOF backlash system: :func:`simulate`, with an optional variational part, and
+:func:`simulate_batch` for many points (integrators and variational options: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 
@@ -39,13 +26,8 @@ from geardyn.solve.base import (
 
 
 def step_grid(eps: float, n: int, aligned: bool = True) -> tuple[np.ndarray, np.ndarray]:
-    """Step start phases s_j (n,) and segment ids (n,) of one mesh period.
-
-    Aligned: N1 = max(1, round(n f)) equal steps on [0, f], n - N1 on [f, 1], f = eps - floor(eps) (the
-    zone with one pair more); for an integer eps (f = 0) n equal steps on the second zone
-    (:func:`geardyn.solve._batch.fill_tables`, the one statement of the aligned grid).
-    Not aligned: n equal steps, segment id -1 (kappa evaluated by its global definition).
-    """
+    """Step start phases s_j (n,) and segment ids (n,) of one mesh period, aligned to the stiffness jumps or
+    not (segment -1) (``docs/numerics.md``)."""
     if not aligned:
         return np.arange(n) / n, np.full(n, -1, dtype=np.int64)
     _, s, seg, _, _ = _aligned_tables(float(eps), 1.0, 0.0, 0.0, np.zeros((2, 3)), n)
@@ -63,12 +45,8 @@ def _aligned_tables(eps: float, period: float, te: float, phi: float, poly: np.n
 
 @lru_cache(maxsize=64)
 def step_tables(system: System, n: int, aligned: bool = True):
-    """Per-step tables of one mesh period: (c, h, s, seg, kappa at the 3 stage times, TE at them, polys).
-
-    Aligned: :func:`geardyn.solve._batch.fill_tables` (the tables of :func:`simulate_batch` too); not
-    aligned: vectorised here.  kappa by Horner as ``np.polyval`` evaluates it.  Cached per (system, n, aligned)
-    (systems are frozen and hashable); the arrays are read-only.
-    """
+    """Per-step tables of one mesh period (c, h, s, seg, kappa and TE at the 3 stage times, polys), cached
+    per (system, n, aligned), read-only (``docs/numerics.md``)."""
     c = system.kernel_array()
     poly = system.stiffness_polys()
     if aligned:
@@ -99,13 +77,8 @@ def simulate(
     tangent_periods: int = 0,
     monodromy_periods: int = 0,
 ) -> SimulationResult:
-    """Integrate the dimensionless 3-DOF system; see :class:`~geardyn.solve.base.SimulationResult`.
-
-    x0: initial state (6,) at phase 0 (default: ``system.static_state()``, the static deflection).
-    tangent_periods / monodromy_periods: carry one renormalised tangent vector, or the full 6 x 6
-    variational matrix, over that many final mesh periods (at most the whole run; not both).
-    Never raises on divergence: it returns ``diverged=True``.
-    """
+    """Integrate the dimensionless 3-DOF system from x0 (default: the static deflection), optionally with
+    a tangent vector or the monodromy over the last periods; never raises on divergence (``docs/numerics.md``)."""
     y0 = system.static_state() if x0 is None else np.asarray(x0, dtype=float).copy()
     if settings.integrator == "dop853":
         if tangent_periods or monodromy_periods:
@@ -372,30 +345,10 @@ def simulate_batch(
     sums_last: Sequence[int] | None = None,
     sums_start: Sequence[np.ndarray | None] | None = None,
 ) -> list[SimulationResult]:
-    """:func:`simulate` for many systems at once (``rk4``/``rk4_event``, no dense output), in parallel
-    over the points (numba threads), with an optional early stop of the transient.
-
-    Each point's arithmetic is that of :func:`simulate`: without ``early_stop`` its result is
-    bit-identical to ``simulate(system, settings, x0, tangent_periods=..., monodromy_periods=...)``,
-    whatever the batch, its order and the number of threads.  ``monodromy_periods`` may differ per
-    point (then the run of point l is ``transient_periods[l]`` (default: the settings') + its own
-    recorded count ``settings.recorded_periods``; use ``recorded_periods = 0`` settings with
-    ``transient_periods = n`` to get the monodromy of n periods only).  ``transient_periods`` and
-    ``recorded_periods`` may be given per point; they default to the settings'.  ``tables``: the
-    :func:`lane_tables` of ``systems`` and ``settings`` when the caller already has them (repeated runs
-    of the same points, as in Newton shooting).  ``tangent_start``: each point's initial tangent vector (6,)
-    (None: the default, all components 1/sqrt(6)); a run that starts from an earlier run's final state and
-    ``tangent`` continues it bit for bit (the run is split where the records join).
-    ``sums_last``: each point's response measures' sums (:mod:`geardyn.solve._response`, the result's
-    ``sums``) over its run's last ``sums_last[l]`` mesh periods (none where <= 0); where that is more than
-    the run, the earlier periods' sums are ``sums_start[l]``, those of a run this one continues (the same
-    numbers as one longer run).  Runs with sums step in the lockstep blocks only.
-    With ``early_stop``, a point whose stroboscopic map has converged ends its transient early
-    (``transient_used``, ``stop_period``) and drops its tangent vector (``growth`` empty).
-    Without monodromy, 8 points step together (vectorised, with their tangent vectors,
-    :func:`geardyn.solve._batch.run_blocks`); a remainder of a few points, and points with the monodromy,
-    run one per thread (the same numbers).
-    """
+    """:func:`simulate` for many systems at once (``rk4``/``rk4_event``, no dense output), in parallel, each
+    point bit-identical to :func:`simulate` without ``early_stop``; per-point transient, recorded and monodromy
+    periods, cached ``tables``, ``tangent_start`` and the response sums ``sums_last``/``sums_start``
+    (arguments: ``docs/numerics.md``)."""
     if settings.integrator == "dop853":
         raise ValueError("simulate_batch integrates with 'rk4' or 'rk4_event'")
     L = len(systems)
