@@ -39,42 +39,32 @@ def bands(values: np.ndarray, labels: np.ndarray) -> list[tuple[float, float, in
     return out
 
 
+#: The long and the short name of each code that is not period-n (period n: ``P{n}``).
+NAMES = {
+    LABELS["long_period"]: ("long period (a phase-locked torus)", "Plong"),
+    LABELS["chaotic"]: ("chaotic", "chaos"),
+    LABELS["quasi_periodic"]: ("quasi-periodic", "QP"),
+    LABELS["diverged"]: ("diverged", "div"),
+    LABELS["undetermined"]: ("undetermined", "undet"),
+    LABELS["not_periodic"]: ("not periodic (QP or chaos)", "NP"),
+}
+
+
 def label_name(n: int) -> str:
-    if n == LABELS["diverged"]:
-        return "diverged"
-    if n == LABELS["undetermined"]:
-        return "undetermined"
-    if n == LABELS["chaotic"]:
-        return "chaotic"
-    if n == LABELS["quasi_periodic"]:
-        return "quasi-periodic"
-    if n == LABELS["long_period"]:
-        return "long period (a phase-locked torus)"
-    if n == 0:
-        return "not periodic (QP or chaos)"
-    return f"P{n}"
+    """The label's name in words: ``quasi-periodic``, ``P3``, ..."""
+    return NAMES[n][0] if n in NAMES else f"P{n}"
 
 
 def short_name(n: int) -> str:
     """Compact label: P1, P5, QP, chaos, div, undet."""
-    return {
-        LABELS["diverged"]: "div",
-        LABELS["undetermined"]: "undet",
-        LABELS["chaotic"]: "chaos",
-        LABELS["long_period"]: "Plong",
-        LABELS["quasi_periodic"]: "QP",
-        0: "NP",
-    }.get(int(n), f"P{int(n)}")
+    return NAMES[int(n)][1] if int(n) in NAMES else f"P{int(n)}"
 
 
 def flag_attrs(max_n: int = 12) -> dict:
     """CF ``flag_values``/``flag_meanings`` of the label codes (period-n for n = 1..max_n; ``long_period``: a
     certified periodic orbit of a period above max_n, stored in the variable ``period``)."""
-    names = ("long_period", "chaotic", "quasi_periodic", "diverged", "undetermined", "not_periodic")
-    values = [LABELS[k] for k in names]
-    meanings = list(names)
-    values += list(range(1, max_n + 1))
-    meanings += [f"period_{n}" for n in range(1, max_n + 1)]
+    values = [*LABELS.values(), *range(1, max_n + 1)]
+    meanings = [*LABELS, *(f"period_{n}" for n in range(1, max_n + 1))]
     return {"flag_values": np.array(values, np.int16), "flag_meanings": " ".join(meanings)}
 
 
@@ -201,12 +191,6 @@ class ClassifierSettings:
     @classmethod
     def from_mapping(cls, spec: dict | None) -> ClassifierSettings:
         return settings_from(cls, spec, "classifier settings")
-
-
-def _tolerance(p: np.ndarray, cs: ClassifierSettings) -> float:
-    size = float(np.max(np.ptp(p, axis=0)))
-    scale = max(float(np.max(np.abs(p))), 1.0)
-    return max(cs.atol * scale + cs.rtol * size, cs.error_margin * cs.error_floor)
 
 
 def strict_period(p: np.ndarray, settings: ClassifierSettings = ClassifierSettings()) -> int:

@@ -29,6 +29,7 @@ ORDER_MIN_N = 800
 Observable = Callable[[np.ndarray], np.ndarray]
 
 
+@functools.lru_cache(maxsize=256)
 def bump_weights(n: int) -> np.ndarray:
     """The n normalised weights w(t_k) / sum w, w(t) = exp(-1 / (t (1 - t))), t_k = (k + 1) / (n + 1).
 
@@ -36,11 +37,6 @@ def bump_weights(n: int) -> np.ndarray:
     (read-only, shared)."""
     if n < 1:
         raise ValueError(f"need at least one sample for a weighted average, got n = {n}")
-    return _bump_weights(int(n))
-
-
-@functools.lru_cache(maxsize=256)
-def _bump_weights(n: int) -> np.ndarray:
     t = np.arange(1, n + 1, dtype=float) / (n + 1)
     w = libm.exp(-1.0 / (t * (1.0 - t)))
     out = w / w.sum()

@@ -27,7 +27,7 @@ def first_period(d, hits, need, max_n, distinct):
 @njit(cache=True)
 def tolerance(p, m, atol, rtol, floor_tol):
     """Return-distance tolerance of the points p[:m] (m >= 1): max(atol max(|p|, 1) + rtol size,
-    floor_tol) with size the largest peak-to-peak range of a state (:func:`geardyn.classify._tolerance`)."""
+    floor_tol) with size the largest peak-to-peak range of a state (``tests/_oracle.py``, ``tolerance``)."""
     size = 0.0
     scale = 0.0
     for i in range(p.shape[1]):

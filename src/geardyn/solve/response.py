@@ -66,24 +66,6 @@ def impact_class(separation_fraction: float, back_fraction: float) -> str:
     return "no_impact"
 
 
-def contact_fractions(
-    x: np.ndarray, v: np.ndarray, h: float, b: float, side: float = 1.0
-) -> tuple[float, float, float]:
-    """Fractions of time (drive, separation, back) of a trajectory sampled every h (x2 and its slope x2' at
-    the samples), the crossings of x2 = +-b located on the cubic Hermite interpolant between samples as the
-    accumulator does; ``side``: the sign of the drive-side contact."""
-    x, v = np.asarray(x, dtype=float), np.asarray(v, dtype=float)
-    if x.shape != v.shape or x.ndim != 1 or x.size < 2 or not h > 0.0 or not b >= 0.0:
-        raise ValueError("contact_fractions: x and v of equal length >= 2, h > 0, b >= 0")
-    import geardyn.solve._response as _acc  # noqa: PLC0415 - compiled: not imported by jobs that read results
-
-    times = np.zeros(3)
-    for i in range(x.size - 1):
-        _acc.region_times(x[i], x[i + 1], v[i], v[i + 1], h, b, times, 0)
-    pos, zero, neg = times / times.sum()
-    return (float(pos), float(zero), float(neg)) if side > 0 else (float(neg), float(zero), float(pos))
-
-
 #: Blocks of the batch-means error of an RMS value (:func:`rms_errors_many`): 10 blocks of 5 mesh periods
 #: for the 50 recorded periods of the regime maps' preset.
 RMS_BLOCKS = 10
@@ -142,13 +124,9 @@ def response_measures_many(
     periods: Sequence[int] | None = None,
 ) -> list[ResponseMeasures]:
     """:func:`response_measures` of many points: system i from the state ``y0s[i]`` over ``periods[i]`` mesh
-    periods, integrated in the batch's lanes (:func:`geardyn.solve._batch.run_blocks`, 8 points in lockstep,
-    blocks in parallel on the numba threads) with the sums of :mod:`geardyn.solve._response` added at every
-    step.  Each point's measures are its own: they do not depend on the other points or on the threads."""
-    import geardyn.solve._batch as _batch  # noqa: PLC0415 - compiled: not imported by jobs that read results
-    import geardyn.solve._response as _acc  # noqa: PLC0415 - likewise
-    from geardyn.solve._kernel import NO_EARLY_STOP  # noqa: PLC0415 - likewise
-    from geardyn.solve.run import lane_tables  # noqa: PLC0415 - likewise
+    periods, the sums of :mod:`geardyn.solve._response` added at every step in the batch's lanes
+    (:func:`geardyn.solve.simulate_batch` with ``sums_last``).  Each point's measures are its own."""
+    from geardyn.solve.run import simulate_batch  # noqa: PLC0415 - compiled: not imported by jobs that read results
 
     settings = SimulationSettings() if settings is None else settings
     n_per = _periods_of(systems, y0s, settings, periods)
@@ -161,33 +139,17 @@ def response_measures_many(
     )
     for g in range(0, len(order), GROUP):  # groups of points: step tables that stay in the caches
         group = order[g : g + GROUP]
-        L = len(group)
-        tabs = lane_tables([systems[i] for i in group], settings)
-        sgn = np.array([drive_side(f_s[i]) for i in group])
-        sums = np.zeros((L, _acc.N_OUT))
-        _batch.run_blocks(
-            tabs.C,
-            (tabs.H, tabs.S, tabs.SEG, tabs.K, tabs.P, tabs.POLY),
-            np.stack([starts[i] for i in group]),
-            np.zeros(L, np.int64),
-            np.array([n_per[i] for i in group], np.int64),
-            settings.integrator == "rk4_event",
-            tabs.limits,
-            np.empty((L, 0, 6)),  # no Poincare points
-            np.empty((L, 6)),
-            NO_EARLY_STOP,
-            np.zeros((L, 5), np.int64),
-            np.empty((L, 6, 0)),  # no tangent
-            np.zeros(L, np.int64),
-            np.empty((L, 0)),
-            np.empty((L, 0)),
-            sums,
-            sgn,
-            np.array([n_per[i] for i in group], np.int64),  # the sums over the whole run
+        counts = [n_per[i] for i in group]
+        runs = simulate_batch(
+            [systems[i] for i in group],
+            settings,
+            [starts[i] for i in group],
+            transient_periods=[0] * len(group),
+            recorded_periods=counts,
+            sums_last=counts,  # the sums over the whole run
         )
-        for k, i in enumerate(group):
-            if sums[k, _acc.STATUS] == 0.0:
-                measures[i] = _reduce(sums[k], f_s[i], n_per[i])
+        for i, r in zip(group, runs, strict=True):
+            measures[i] = measures_of_sums(r.sums, systems[i], n_per[i])
     return [ResponseMeasures.not_computed(f) if m is None else m for m, f in zip(measures, f_s, strict=True)]
 
 
@@ -201,15 +163,8 @@ def measures_of_sums(sums: np.ndarray | None, system: System, periods: int) -> R
     f_s = static_mesh_force(system)
     if sums is None or sums[_acc.STATUS] != 0.0:
         return ResponseMeasures.not_computed(f_s)
-    return _reduce(sums, f_s, periods)
-
-
-def _reduce(out: np.ndarray | list[float], f_s: float, n_per: int) -> ResponseMeasures:
-    """The measures from the accumulator's sums (static force f_s: its sign is the drive side)."""
-    import geardyn.solve._response as _acc  # noqa: PLC0415 - compiled: not imported by jobs that read results
-
     sgn = drive_side(f_s)
-    out = [float(v) for v in out]
+    out = [float(v) for v in sums]
     t = out[_acc.TIME]
     mf, mx = out[_acc.SUM_F] / t, out[_acc.SUM_X] / t
     f_var = max(out[_acc.SUM_F2] / t - mf * mf, 0.0)
@@ -231,7 +186,7 @@ def _reduce(out: np.ndarray | list[float], f_s: float, n_per: int) -> ResponseMe
         back_fraction=back,
         impact_class=impact_class(zero, back),
         n_switches=int(out[_acc.N_SWITCH]),
-        periods=n_per,
+        periods=periods,
     )
 
 

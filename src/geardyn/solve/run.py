@@ -25,36 +25,17 @@ from geardyn.solve.base import (
 )
 
 
-def step_grid(eps: float, n: int, aligned: bool = True) -> tuple[np.ndarray, np.ndarray]:
-    """Step start phases s_j (n,) and segment ids (n,) of one mesh period, aligned to the stiffness jumps or
-    not (segment -1) (``docs/numerics.md``)."""
-    if not aligned:
-        return np.arange(n) / n, np.full(n, -1, dtype=np.int64)
-    _, s, seg, _, _ = _aligned_tables(float(eps), 1.0, 0.0, 0.0, np.zeros((2, 3)), n)
-    return s, seg
-
-
-def _aligned_tables(eps: float, period: float, te: float, phi: float, poly: np.ndarray, n: int):
-    """h, s, seg, kappa and TE at the stage times of the aligned grid (one lane of
-    :func:`geardyn.solve._batch.fill_tables`)."""
-    H, S, K, P = np.empty((1, n)), np.empty((1, n)), np.empty((1, n, 3)), np.empty((1, n, 3))
-    SEG = np.empty((1, n), np.int64)
-    _batch.fill_tables(0, eps, period, te, phi, poly, n, H, S, SEG, K, P)
-    return H[0], S[0], SEG[0], K[0], P[0]
-
-
 @lru_cache(maxsize=64)
 def step_tables(system: System, n: int, aligned: bool = True):
     """Per-step tables of one mesh period (c, h, s, seg, kappa and TE at the 3 stage times, polys), cached
     per (system, n, aligned), read-only (``docs/numerics.md``)."""
-    c = system.kernel_array()
-    poly = system.stiffness_polys()
-    if aligned:
-        h, s, seg, tab_k, tab_p = _aligned_tables(
-            float(system.eps), float(system.period), float(system.te_forcing), float(system.phi), poly, n
-        )
+    if aligned:  # the tables of simulate_batch: one lane
+        t = lane_tables([system], SimulationSettings(steps_per_period=n))
+        c, h, s, seg, tab_k, tab_p, poly = t.C[0], t.H[0], t.S[0], t.SEG[0], t.K[0], t.P[0], t.POLY[0]
     else:
-        s, seg = step_grid(system.eps, n, aligned)
+        c = system.kernel_array()
+        poly = system.stiffness_polys()
+        s, seg = np.arange(n) / n, np.full(n, -1, dtype=np.int64)
         ds = np.diff(np.append(s, 1.0))
         e1 = system.eps - math.floor(system.eps)
         sv = s[:, None] + np.array([0.0, 0.5, 1.0])[None, :] * ds[:, None]
@@ -99,13 +80,8 @@ def simulate(
     dt = np.empty(nd)
     dy = np.empty((nd, 6))
     final = np.empty(6)
-    n_var = max(0, min(int(tangent_periods or monodromy_periods), n_trans + n_rec))
-    if tangent_periods:
-        W = np.full((6, 1), 1.0 / math.sqrt(6.0))
-    elif monodromy_periods:
-        W = np.eye(6)
-    else:
-        W = np.empty((6, 0))
+    _, ntan, Ws = _tangent_columns(tangent_periods, np.array([monodromy_periods]), np.array([n_trans + n_rec]))
+    n_var, W = int(ntan[0]), Ws[0]
     growth = np.full(n_var if tangent_periods else 0, np.nan)
     strobe = np.full(n_var if tangent_periods else 0, np.nan)
     status, per, nev, ndense, _, _ = _kernel.run(

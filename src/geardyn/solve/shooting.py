@@ -308,21 +308,6 @@ def khv_flow(system: System, n: int = 1, settings: SimulationSettings | None = N
     return flow
 
 
-def shoot(
-    system: System,
-    x0: np.ndarray | None = None,
-    n: int = 1,
-    settings: SimulationSettings | None = None,
-    tol: float = 1e-9,
-    max_iter: int = 30,
-    max_growth: float = math.inf,
-) -> ShootingResult:
-    """Period-n orbit of a KHV system from x0 (default: the static deflection); ``max_growth`` as in
-    :func:`newton_shooting`."""
-    x0 = system.static_state() if x0 is None else x0
-    return newton_shooting(khv_flow(system, n, settings), x0, n, tol, max_iter, max_growth=max_growth)
-
-
 def rotation_number(mu: complex) -> float:
     """arg(mu) / (2 pi) in [0, 0.5] for a multiplier of a conjugate pair."""
     return abs(math.atan2(mu.imag, mu.real)) / (2.0 * math.pi)
