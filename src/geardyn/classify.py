@@ -76,14 +76,8 @@ def flag_attrs(max_n: int = 12) -> dict:
 def lyapunov_estimate(
     growth: np.ndarray, period: float, skip: int | None = None, blocks: int = 8
 ) -> tuple[float, float]:
-    """Largest Lyapunov exponent (per unit dimensionless time) and its uncertainty.
-
-    ``growth[k]``: log growth of the renormalised tangent vector over mesh period k.  The first
-    ``skip`` periods (default max(5, 10 %)) are left out while the vector aligns with the most
-    unstable direction.  Uncertainty: the larger of the batch-means standard error (``blocks``
-    contiguous blocks) and half the difference between the estimates of the two halves (the
-    convergence of the running estimate).  (inf, 0) when the growth is infinite (divergence).
-    """
+    """Largest Lyapunov exponent (per unit dimensionless time) from the per-period log growths, after
+    ``skip`` aligning periods, and its uncertainty ((inf, 0) on divergence; ``docs/classify.md``)."""
     g = np.asarray(growth, dtype=float)
     if g.size == 0 or not np.all(np.isfinite(g)):
         return (float("nan"), float("nan")) if g.size == 0 else (float("inf"), 0.0)
@@ -99,14 +93,8 @@ def lyapunov_estimate(
 
 
 def zero_one_test(phi: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
-    """K of the 0-1 test for chaos (Gottwald & Melbourne, SIAM J. Appl. Dyn. Syst. 8 (2009) 129,
-    correlation method, mean removed): ~0 for regular motion, ~1 for chaos.
-
-    ``phi``: one observable at stroboscopic times (e.g. X_VH at the Poincaré section).  K is the
-    median over ``n_c`` fixed frequencies c in (pi/5, 4 pi/5) (fixed seed: reproducible) of the
-    correlation of the mean-square displacement D_c(n), n <= N/10, with n (:func:`_msd_correlations`).
-    A constant series (period-1) gives 0.
-    """
+    """K of the 0-1 test for chaos (Gottwald & Melbourne 2009, correlation method) on a stroboscopic
+    series ``phi``: ~0 for regular motion, ~1 for chaos, 0 for a constant series (``docs/classify.md``)."""
     x = np.asarray(phi, dtype=float)
     x = x[np.isfinite(x)]
     n_pts = x.size

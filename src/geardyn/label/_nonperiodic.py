@@ -82,11 +82,9 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
 
 
 def end_round(points: list[Point], policy: Policy) -> list[Point]:
-    """The end of a round of the records of ``points`` (their verdicts read the round's whole record): a
-    record left undetermined that returns after n periods, max_n < n <= long_max_n, is certified by
-    shooting (:func:`_long_periods`), so a point is decided in the round where its cycle shows, not when
-    its record stops growing; the points still undetermined start their next round (:func:`start_round`)
-    and are returned; the others are finished (:func:`finish`)."""
+    """The end of a round of the records of ``points``: undetermined records certified for long cycles
+    (:func:`_long_periods`), the still undetermined points start their next round and are returned, the
+    others are finished (``docs/classify.md``)."""
     _long_periods([p for p in points if p.verdict.stage == "undecided"], policy)
     grow = {id(p) for p in points if start_round(p, policy)}
     finish([p for p in points if id(p) not in grow], policy)

@@ -1,9 +1,5 @@
-"""A labelling policy: a frozen value, built from a named preset of the config (sweep, map, points,
-calibration), never a row of switches on a function.  It holds every setting a stage of the labeller
-reads: the integration and the classifier's thresholds, and the numerics of the stages by group
-(:class:`Newton`, :class:`Deflation`, :class:`Chord`, :class:`Settle`, :class:`Locked`).  The defaults are
-the measured values the labeller has always used.
-"""
+"""A labelling policy: a frozen value built from a named preset of the config, holding every setting a
+stage of the labeller reads (integration, classifier thresholds, the stages' numerics by group)."""
 
 from __future__ import annotations
 

@@ -24,12 +24,8 @@ _cache.renew_once()  # before the loops: numba's cache renewed when any kernel s
 
 @njit(cache=True, parallel=True)
 def run_batch(C, TABS, Y0, NTRANS, NREC, event, LIMITS, W, NTAN, renorm, GROWTH, STROBE, POINC, YFINAL, ES, OUT):
-    """:func:`geardyn.solve._kernel.run` (no dense output) for every lane l (arrays indexed by l first),
-    in parallel over lanes.
-
-    W (L, 6, m) is updated in place; OUT (L, 5) int64 gets (status, last_period, n_events,
-    transient_used, stop_period).  TABS: the lane tables (H, S, SEG, K, P, POLY); ES: the early stop of
-    :func:`geardyn.solve._kernel.run`."""
+    """:func:`geardyn.solve._kernel.run` (no dense output) for every lane, in parallel over lanes; W (L, 6, m)
+    updated in place, OUT (L, 5) the status, last period, switches, transient used and stop period."""
     H, S, SEG, K, P, POLY = TABS
     n_lanes = C.shape[0]
     for lane in prange(n_lanes):

@@ -109,11 +109,8 @@ def sub_step(c, poly, seg, y, W, m, s0, dt, yout, Wout, fixed):
 
 @njit(cache=True, inline="always")
 def hermite_root(x0, x1, d0, d1, h, target):
-    """Root in (0, h) of the cubic Hermite interpolant of x (values x0, x1, slopes d0, d1) = target.
-
-    Safeguarded Newton on the cubic (bisection when a Newton step leaves the bracket);
-    converges in 3-5 iterations to |dt| < 1e-14 h.
-    """
+    """Root in (0, h) of the cubic Hermite interpolant of x (values x0, x1, slopes d0, d1) = target, by
+    safeguarded Newton (``docs/numerics.md``)."""
     dx = x1 - x0
     c1 = h * d0
     c2 = 3.0 * dx - h * (2.0 * d0 + d1)
@@ -143,13 +140,9 @@ def hermite_root(x0, x1, d0, d1, h, target):
 
 @njit(cache=True)
 def locate_switches(c, poly, y, ynew, W, Wnew, mt, h, s0, seg, reg, rnew, b, period):
-    """Contact switches inside the step of size h from y (phase s0) whose plain RK4 result ynew left
-    region ``reg`` for ``rnew``: locate each crossing (cubic Hermite root), restart there and redo
-    the rest of the step.  Updates y (to the last crossing), ynew (end of the step) and the m tangent
-    columns W / Wnew alike; returns (region at the end of the step, number of crossings located).
-
-    The two sub-steps of a crossing (to it, then from it to the end of the step) are one call of
-    :func:`sub_step` in a loop: the inlined step is compiled once."""
+    """Locate the contact switches inside the step from y whose plain result ynew left region ``reg`` for
+    ``rnew``, restart there and redo the rest of the step (y, ynew and the tangent columns updated); returns
+    (region at the end of the step, crossings located) (``docs/numerics.md``)."""
     s_cur = s0
     left = h
     n_events = 0

@@ -83,12 +83,9 @@ def strict_periods(POINC, npts, max_n, atol, rtol, floor_tol, separation, OUT):
 
 @njit(cache=True)
 def early_stop(ring, count, dcur, n_seen, y, es, check):
-    """Feed the Poincaré point y (6,) of a transient period to the running record, with the early-stop
-    settings es = (min_periods, confirm, max_n, floor_tol, atol, separation): ring (max_n + 1, 6)
-    of the last points, count (max_n + 1,) of consecutive periods with d_n <= tol, dcur (max_n + 1,)
-    the current d_n (inf while fewer than n + 1 points), tol = max(atol max(|y|, 1), floor_tol).
-    With ``check``, rule 3 on the counts (``confirm`` consecutive periods).  Returns (n_seen + 1, n):
-    n the period at which the transient may stop, 0 if none."""
+    """Feed the Poincaré point y of a transient period to the running record (ring, counts, current distances)
+    and, with ``check``, apply rule 3 to the counts; returns (n_seen + 1, n), n the period at which the
+    transient may stop, 0 if none (arguments: ``docs/numerics.md``)."""
     confirm, max_n, floor_tol, atol, separation = es[1], es[2], es[3], es[4], es[5]
     slot = n_seen % (max_n + 1)
     scale = 1.0

@@ -254,12 +254,8 @@ def cycle_points(
     tables=None,
     measure: bool = False,
 ) -> list[tuple[np.ndarray, int, bool, np.ndarray | None]]:
-    """The n phase-0 points (n, 6) of the period-n orbits through ``states`` (the state first), one mesh
-    period apart, from one run of n periods of each (all together; a period-1 orbit is its state, no run):
-    (points, contact switches over the n periods (-1: not run), diverged, sums).  A run that diverged gives
-    the points before it diverged.  ``measure``: the run also adds the response measures' sums over its n
-    periods (``sums``, :func:`geardyn.solve.response.measures_of_sums`; a period-1 orbit is then run too, its
-    switches still -1), else ``sums`` is None."""
+    """The n phase-0 points of the period-n orbits through ``states``, from one run of n periods each: (points,
+    contact switches (-1: not run), diverged, sums); ``measure`` adds the response sums (``docs/numerics.md``)."""
     if n == 1 and not measure:
         return [(np.asarray(x)[None, :], -1, False, None) for x in states]
     last = [n] * len(states) if measure else None
