@@ -12,10 +12,7 @@ from numba import njit, prange
 import geardyn.solve._cache as _cache
 from geardyn.solve._kernel import diverged, locate_switches, record, region, run
 from geardyn.solve._model import rk4, rk4_tangent_at, slope
-from geardyn.solve._period import (
-    early_stop,
-    strict_periods,  # noqa: F401  (rule 3 for many records, compiled)
-)
+from geardyn.solve._period import early_stop
 from geardyn.solve._response import STATUS, add_step, start_sums
 from geardyn.solve.base import BACKLASH_ON, CM, B, T
 
