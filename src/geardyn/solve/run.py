@@ -79,12 +79,14 @@ def simulate(
     nd = (n_rec * n) // stride if dense else 0
     dt = np.empty(nd)
     dy = np.empty((nd, 6))
-    final = np.empty(6)
-    _, ntan, Ws = _tangent_columns(tangent_periods, np.array([monodromy_periods]), np.array([n_trans + n_rec]))
-    n_var, W = int(ntan[0]), Ws[0]
-    growth = np.full(n_var if tangent_periods else 0, np.nan)
-    strobe = np.full(n_var if tangent_periods else 0, np.nan)
-    status, per, nev, ndense, _, _ = _kernel.run(
+    final = np.empty((1, 6))
+    ntr = np.array([n_trans])
+    nrec = np.array([n_rec])
+    mono = np.array([monodromy_periods])
+    m, ntan, W = _tangent_columns(tangent_periods, mono, ntr + nrec)
+    growth = np.full((1, ntan[0] if tangent_periods else 0), np.nan)
+    strobe = np.full((1, ntan[0] if tangent_periods else 0), np.nan)
+    status, per, nev, ndense, used, stop_n = _kernel.run(
         c,
         tuple(tabs),
         y0,
@@ -96,32 +98,20 @@ def simulate(
         poinc,
         dt,
         dy,
-        W,
-        n_var,
+        W[0],
+        int(ntan[0]),
         bool(tangent_periods),
-        growth,
-        strobe,
-        final,
+        growth[0],
+        strobe[0],
+        final[0],
         _kernel.NO_EARLY_STOP,
     )
-    diverged = status == 1
-    npts = max(0, per - n_trans) if diverged else n_rec
-    ngrowth = max(0, per - (n_trans + n_rec - n_var)) if diverged else n_var
-    return SimulationResult(
-        poincare=poinc[:npts],
-        final_state=final,
-        diverged=diverged,
-        diverged_period=int(per) if diverged else -1,
-        n_events=int(nev),
-        tau=dt[:ndense] if dense else None,
-        states=dy[:ndense] if dense else None,
-        period=system.period,
-        settings=settings,
-        growth=growth[:ngrowth],
-        strobe=strobe[:ngrowth],
-        monodromy=W if (monodromy_periods and not diverged) else None,
-        transient_used=min(int(per) + 1, n_trans) if diverged else n_trans,
-    )
+    out = (status, per, nev, used, stop_n)
+    r = _lane_result(0, system, settings, out, ntr, nrec, ntan, poinc[None], final, growth, strobe, W, m, mono)
+    r.tangent = None  # only simulate_batch hands a tangent on (its tangent_start)
+    if dense:
+        r.tau, r.states = dt[:ndense], dy[:ndense]
+    return r
 
 
 @dataclass(frozen=True)
