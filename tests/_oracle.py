@@ -15,7 +15,7 @@ import numpy as np
 
 from geardyn import classify, libm
 from geardyn.solve import SimulationSettings, simulate
-from geardyn.solve.shooting import FlowMap
+from geardyn.solve.shooting import FlowMap, khv_flow, newton_shooting
 
 LABELS = classify.LABELS
 
@@ -117,7 +117,7 @@ def classify_point(
     lam, sig = classify.lyapunov_estimate(growth, period)
     if p.shape[0] < 3:
         return Classification(LABELS["undetermined"], 0, lam, sig, nan, nan, -1, "too few points")
-    tol = classify._tolerance(p, settings)
+    tol = tolerance(p, settings)
     n = classify.strict_period(p, settings)
     if n > 0:
         return Classification(n, n, lam, sig, nan, nan, -1, f"returns within {tol:.2g} after {n}")
@@ -311,3 +311,43 @@ def linear_floquet(coeffs, rtol: float = 1e-12) -> FloquetResult:
     yp, _, _ = integrate_period(lin, np.zeros(6), 0, rtol)
     ystar = np.linalg.solve(np.eye(6) - phi, yp)
     return FloquetResult(phi, np.linalg.eigvals(phi), ystar)
+
+
+def tolerance(p: np.ndarray, cs: classify.ClassifierSettings) -> float:
+    """Rule 3's return-distance tolerance of the points ``p`` (the classifier's, stated in numpy)."""
+    size = float(np.max(np.ptp(p, axis=0)))
+    scale = max(float(np.max(np.abs(p))), 1.0)
+    return max(cs.atol * scale + cs.rtol * size, cs.error_margin * cs.error_floor)
+
+
+def shoot(
+    system,
+    x0: np.ndarray | None = None,
+    n: int = 1,
+    settings: SimulationSettings | None = None,
+    tol: float = 1e-9,
+    max_iter: int = 30,
+    max_growth: float = math.inf,
+):
+    """Period-n orbit of a KHV system from x0 (default: the static deflection): :func:`newton_shooting` on
+    :func:`khv_flow`, one point alone (the reference of the batched shooting)."""
+    x0 = system.static_state() if x0 is None else x0
+    return newton_shooting(khv_flow(system, n, settings), x0, n, tol, max_iter, max_growth=max_growth)
+
+
+def contact_fractions(
+    x: np.ndarray, v: np.ndarray, h: float, b: float, side: float = 1.0
+) -> tuple[float, float, float]:
+    """Fractions of time (drive, separation, back) of a trajectory sampled every h (x2 and its slope x2' at
+    the samples), the crossings of x2 = +-b located on the cubic Hermite interpolant between samples as the
+    accumulator does; ``side``: the sign of the drive-side contact."""
+    import geardyn.solve._response as _acc  # noqa: PLC0415 - compiled
+
+    x, v = np.asarray(x, dtype=float), np.asarray(v, dtype=float)
+    if x.shape != v.shape or x.ndim != 1 or x.size < 2 or not h > 0.0 or not b >= 0.0:
+        raise ValueError("contact_fractions: x and v of equal length >= 2, h > 0, b >= 0")
+    times = np.zeros(3)
+    for i in range(x.size - 1):
+        _acc.region_times(x[i], x[i + 1], v[i], v[i + 1], h, b, times, 0)
+    pos, zero, neg = times / times.sum()
+    return (float(pos), float(zero), float(neg)) if side > 0 else (float(neg), float(zero), float(pos))

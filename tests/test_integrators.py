@@ -11,7 +11,7 @@ from _paper import li2013_parameters
 from benchmarks import work_precision
 from geardyn.khv.model import Coefficients, dimensionless
 from geardyn.solve import SimulationSettings, simulate, warm_up
-from geardyn.solve.run import step_grid
+from geardyn.solve.run import step_tables
 
 # Periodic case with contact loss every period (4 switches per period): x1 = 0.416 numbers
 PERIODIC = dimensionless(li2013_parameters(eps=1.30, k_c=3.1e8, omega_bar=0.9))
@@ -78,7 +78,7 @@ def test_event_rk4_matches_dop853_tightly(reference):
 
 def test_step_grid_is_aligned_to_jumps():
     for eps in (1.17, 1.24, 1.30):
-        s, seg = step_grid(eps, 256)
+        s, seg = step_tables(dimensionless(li2013_parameters(eps=eps, k_c=3.1e8, omega_bar=0.9)), 256)[2:4]
         assert s[0] == 0.0
         assert np.any(np.isclose(s, eps - 1.0, rtol=0, atol=1e-15))
         assert np.all(np.diff(s) > 0) and s[-1] < 1.0

@@ -16,11 +16,11 @@ import numpy as np
 import pytest
 from numba import njit
 
-from _oracle import fd_monodromy, linear_floquet, linear_part, rk4_flow
+from _oracle import fd_monodromy, linear_floquet, linear_part, rk4_flow, shoot
 from geardyn.khv import design, point
 from geardyn.runs.continuation import CallableFamily, ContinuationSettings, continue_branch, switch_at_period_doubling
 from geardyn.solve import SimulationSettings, simulate
-from geardyn.solve.shooting import khv_flow, newton_shooting, newton_shooting_batch, shoot
+from geardyn.solve.shooting import khv_flow, newton_shooting, newton_shooting_batch
 
 ROOT = Path(__file__).resolve().parents[1]
 GAMMA_PD = 0.265581786  # see the module docstring

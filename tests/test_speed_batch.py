@@ -9,7 +9,7 @@ from _oracle import rules_label
 from benchmarks.work_precision import cases
 from geardyn import classify
 from geardyn.label import Policy, label_points
-from geardyn.solve import SimulationSettings, _batch, simulate
+from geardyn.solve import SimulationSettings, _batch, _period, simulate
 from geardyn.solve.run import EarlyStop, simulate_batch, step_tables
 
 
@@ -124,7 +124,7 @@ def test_compiled_rule3_equals_strict_period():
     seqs.append(rng.normal(size=(60, 6)))
     pts = np.stack(seqs)
     out = np.zeros((len(seqs), 2))
-    _batch.strict_periods(
+    _period.strict_periods(
         pts, np.full(len(seqs), 60), cs.max_n, cs.atol, cs.rtol, cs.error_margin * cs.error_floor, cs.separation, out
     )
     assert [int(v) for v in out[:, 0]] == [classify.strict_period(p, cs) for p in seqs] == [1, 2, 3, 5, 12, 0, 0]

@@ -162,7 +162,7 @@ def test_khv_torus_past_neimark_sacker():
     r = simulate(c, st)
     res = O.torus_test(r.poincare)
     assert res.verdict == "torus" and res.n == 2000 and res.digits > 7.5
-    orbit = shooting.shoot(c, O.weighted_birkhoff(r.poincare), 1, st)
+    orbit = O.shoot(c, O.weighted_birkhoff(r.poincare), 1, st)
     mu = orbit.multipliers[0]
     assert orbit.converged and abs(mu.imag) > 0.5 and 1.0 < abs(mu) < 1.002
     rho = O.rotation_number(r.poincare, orbit.state[[1, 4]], plane=(1, 4))
@@ -199,7 +199,7 @@ def test_khv_long_cycle_scores_like_a_torus():
     assert ret[48] < 1e-12 and min(ret[n] for n in (12, 24, 47, 49)) > 1.0
     res = O.torus_test(p)
     assert res.verdict == "torus" and res.digits > 9.0
-    orbit = shooting.shoot(c, O.weighted_birkhoff(p), 1, st)
+    orbit = O.shoot(c, O.weighted_birkhoff(p), 1, st)
     assert orbit.converged and 0.99 < abs(orbit.multipliers[0]) < 0.995
     assert O.rotation_number(p, orbit.state[[1, 4]], plane=(1, 4)) == pytest.approx(17 / 48, abs=1e-12)
 

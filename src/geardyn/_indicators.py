@@ -1,9 +1,5 @@
-"""The compiled inner loop of one indicator (private; use the public function):
-:func:`geardyn.classify.falling_return_distances`.
-
-It releases the GIL, so the classification of many points in threads
-(the labeller's last stage, :mod:`geardyn.label`) runs on both cores.
-"""
+"""The compiled inner loop of :func:`geardyn.classify.falling_return_distances` (private); it releases
+the GIL, so the labeller's threads run on both cores."""
 
 from __future__ import annotations
 

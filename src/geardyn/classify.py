@@ -1,16 +1,6 @@
-"""Labels for steady motions: period-n, quasi-periodic, chaotic, diverged, undetermined.
-
-A sequence of Poincaré points p_0, p_1, ... (one per mesh period) is period-n when
-p_{k+n} = p_k for all k, to a tolerance scaled to the attractor size and kept above the
-integration error.  The smallest such n (up to ``max_n``) is the period.
-
-Points that are not periodic are told apart by the largest Lyapunov exponent (tangent vector
-integrated alongside the orbit by :func:`geardyn.solve.simulate`), cross-checked by the 0-1 test for chaos
-(Gottwald & Melbourne 2009, correlation method, on the stroboscopic samples) and by the spectral
-flatness of the stroboscopic samples (discrete lines vs broadband).  This module gives the labels'
-codes, rule 3 and the indicators; the labeller (:mod:`geardyn.label`) integrates the points and decides
-their labels.
-"""
+"""Labels for steady motions (period-n, quasi-periodic, chaotic, diverged, undetermined): the label codes,
+rule 3 and the indicators (Lyapunov exponent, 0-1 test, spectral flatness); :mod:`geardyn.label` decides
+the labels (``docs/classify.md``)."""
 
 from __future__ import annotations
 
@@ -49,42 +39,32 @@ def bands(values: np.ndarray, labels: np.ndarray) -> list[tuple[float, float, in
     return out
 
 
+#: The long and the short name of each code that is not period-n (period n: ``P{n}``).
+NAMES = {
+    LABELS["long_period"]: ("long period (a phase-locked torus)", "Plong"),
+    LABELS["chaotic"]: ("chaotic", "chaos"),
+    LABELS["quasi_periodic"]: ("quasi-periodic", "QP"),
+    LABELS["diverged"]: ("diverged", "div"),
+    LABELS["undetermined"]: ("undetermined", "undet"),
+    LABELS["not_periodic"]: ("not periodic (QP or chaos)", "NP"),
+}
+
+
 def label_name(n: int) -> str:
-    if n == LABELS["diverged"]:
-        return "diverged"
-    if n == LABELS["undetermined"]:
-        return "undetermined"
-    if n == LABELS["chaotic"]:
-        return "chaotic"
-    if n == LABELS["quasi_periodic"]:
-        return "quasi-periodic"
-    if n == LABELS["long_period"]:
-        return "long period (a phase-locked torus)"
-    if n == 0:
-        return "not periodic (QP or chaos)"
-    return f"P{n}"
+    """The label's name in words: ``quasi-periodic``, ``P3``, ..."""
+    return NAMES[n][0] if n in NAMES else f"P{n}"
 
 
 def short_name(n: int) -> str:
     """Compact label: P1, P5, QP, chaos, div, undet."""
-    return {
-        LABELS["diverged"]: "div",
-        LABELS["undetermined"]: "undet",
-        LABELS["chaotic"]: "chaos",
-        LABELS["long_period"]: "Plong",
-        LABELS["quasi_periodic"]: "QP",
-        0: "NP",
-    }.get(int(n), f"P{int(n)}")
+    return NAMES[int(n)][1] if int(n) in NAMES else f"P{int(n)}"
 
 
 def flag_attrs(max_n: int = 12) -> dict:
     """CF ``flag_values``/``flag_meanings`` of the label codes (period-n for n = 1..max_n; ``long_period``: a
     certified periodic orbit of a period above max_n, stored in the variable ``period``)."""
-    names = ("long_period", "chaotic", "quasi_periodic", "diverged", "undetermined", "not_periodic")
-    values = [LABELS[k] for k in names]
-    meanings = list(names)
-    values += list(range(1, max_n + 1))
-    meanings += [f"period_{n}" for n in range(1, max_n + 1)]
+    values = [*LABELS.values(), *range(1, max_n + 1)]
+    meanings = [*LABELS, *(f"period_{n}" for n in range(1, max_n + 1))]
     return {"flag_values": np.array(values, np.int16), "flag_meanings": " ".join(meanings)}
 
 
@@ -96,14 +76,8 @@ def flag_attrs(max_n: int = 12) -> dict:
 def lyapunov_estimate(
     growth: np.ndarray, period: float, skip: int | None = None, blocks: int = 8
 ) -> tuple[float, float]:
-    """Largest Lyapunov exponent (per unit dimensionless time) and its uncertainty.
-
-    ``growth[k]``: log growth of the renormalised tangent vector over mesh period k.  The first
-    ``skip`` periods (default max(5, 10 %)) are left out while the vector aligns with the most
-    unstable direction.  Uncertainty: the larger of the batch-means standard error (``blocks``
-    contiguous blocks) and half the difference between the estimates of the two halves (the
-    convergence of the running estimate).  (inf, 0) when the growth is infinite (divergence).
-    """
+    """Largest Lyapunov exponent (per unit dimensionless time) from the per-period log growths, after
+    ``skip`` aligning periods, and its uncertainty ((inf, 0) on divergence; ``docs/classify.md``)."""
     g = np.asarray(growth, dtype=float)
     if g.size == 0 or not np.all(np.isfinite(g)):
         return (float("nan"), float("nan")) if g.size == 0 else (float("inf"), 0.0)
@@ -119,14 +93,8 @@ def lyapunov_estimate(
 
 
 def zero_one_test(phi: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
-    """K of the 0-1 test for chaos (Gottwald & Melbourne, SIAM J. Appl. Dyn. Syst. 8 (2009) 129,
-    correlation method, mean removed): ~0 for regular motion, ~1 for chaos.
-
-    ``phi``: one observable at stroboscopic times (e.g. X_VH at the Poincaré section).  K is the
-    median over ``n_c`` fixed frequencies c in (pi/5, 4 pi/5) (fixed seed: reproducible) of the
-    correlation of the mean-square displacement D_c(n), n <= N/10, with n (:func:`_msd_correlations`).
-    A constant series (period-1) gives 0.
-    """
+    """K of the 0-1 test for chaos (Gottwald & Melbourne 2009, correlation method) on a stroboscopic
+    series ``phi``: ~0 for regular motion, ~1 for chaos, 0 for a constant series (``docs/classify.md``)."""
     x = np.asarray(phi, dtype=float)
     x = x[np.isfinite(x)]
     n_pts = x.size
@@ -142,15 +110,9 @@ def zero_one_test(phi: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
 
 
 def _msd_correlations(x: np.ndarray, cs: np.ndarray, ncut: int) -> np.ndarray:
-    """K_c for each frequency c of ``cs``: the correlation with n of the mean-square displacement
-
-        D_c(n) = 1/(N - n) sum_{k < N - n} |P_{k+n} - P_k|^2,   n = 1 .. ``ncut``,
-
-    of the translation variables P_j = sum_{i <= j} x_i exp(i c (i + 1)) of the (mean-removed) series
-    ``x`` (0 where D_c is constant).  The sum is expanded as sum |P_{k+n}|^2 + sum |P_k|^2
-    - 2 Re sum P_{k+n} conj(P_k): the first two are differences of a cumulative sum, the third the
-    autocorrelation of P by FFT (zero-padded past N + ncut, so no lag wraps).  O(N log N) per frequency
-    instead of O(N ncut); the same numbers to round-off (tests/test_classify_validation.py)."""
+    """K_c for each frequency c of ``cs``: the correlation with n = 1 .. ``ncut`` of the mean-square
+    displacement of the translation variables of ``x``, by cumulative sums and an FFT autocorrelation
+    (the expansion: ``docs/classify.md``)."""
     import scipy.fft  # noqa: PLC0415 - 0.1 s to import: only the jobs that label need it
 
     n_pts = x.size
@@ -190,23 +152,9 @@ def spectral_flatness(phi: np.ndarray) -> float:
 
 @dataclass(frozen=True)
 class ClassifierSettings:
-    """Thresholds of the labeller (exponents per unit dimensionless time tau = w_n t).
-
-    max_n: largest period tested.  rtol, atol: return-distance tolerance rtol * attractor size +
-    atol * max(|p|, 1).  error_floor: the tolerance is never below this (integration error of the
-    Poincaré points, e.g. 7.5e-8 at 512 steps and 1.9e-5 at 128, docs/model.md Sec. 6; 10x margin by
-    default via ``error_margin``).  lam_tol: |lambda| below this is "zero" (quasi-periodic); the
-    least-damped mode of the KHV model decays at about 2.5e-3, chaos in the model shows 3e-2.
-    k_chaos: 0-1 statistic above which the series looks chaotic.  flat_broadband: spectral
-    flatness above which the samples look broadband.  tangent_periods: mesh periods the tangent
-    vector is carried (the last ones of the run).  separation: the points of a period-n cycle must
-    differ by more than separation * tol (return distances for m < n).  settle_max_n,
-    settle_max_periods: the slow-transient check applied after these rules by
-    the labeller (:mod:`geardyn.label.settle`; 0: off).  torus_margin, chaos_margin, torus_min_n: the
-    weighted Birkhoff test; order_min_n: the fewest points for the three-gap order test (0: off); both in
-    :mod:`geardyn.label.torus`.  torus_extend, torus_max_periods: how far an undecided record grows.
-    long_max_n: the longest cycle looked for on a quasi-periodic or undecided record.
-    """
+    """Thresholds of the labeller (exponents per unit dimensionless time tau = w_n t): rule 3's period,
+    tolerances and separation, the exponent's zero band, indicator thresholds, and the slow-transient and torus
+    tests' settings (fields and measured values: ``docs/classify.md``)."""
 
     max_n: int = 12
     rtol: float = 1e-4
@@ -231,12 +179,6 @@ class ClassifierSettings:
     @classmethod
     def from_mapping(cls, spec: dict | None) -> ClassifierSettings:
         return settings_from(cls, spec, "classifier settings")
-
-
-def _tolerance(p: np.ndarray, cs: ClassifierSettings) -> float:
-    size = float(np.max(np.ptp(p, axis=0)))
-    scale = max(float(np.max(np.abs(p))), 1.0)
-    return max(cs.atol * scale + cs.rtol * size, cs.error_margin * cs.error_floor)
 
 
 def strict_period(p: np.ndarray, settings: ClassifierSettings = ClassifierSettings()) -> int:

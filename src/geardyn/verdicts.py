@@ -17,14 +17,9 @@ VERDICTS = ("agree", "borderline", "disagree", "not comparable")
 
 
 def fraction_verdict(k: int, n: int, threshold: float = RANGE_AGREE, z: float = BORDERLINE_Z) -> str:
-    """``agree`` (k/n clearly >= threshold), ``disagree`` (clearly below) or ``borderline``.
-
-    The one rule for every verdict on a fraction, in ``claims.md`` and in the calibration objective:
-    with ``p = k/n`` and the binomial standard error ``se = sqrt(p (1 - p) / n)``, the verdict is
-    ``borderline`` when ``|p - threshold| <= z * se`` (the threshold lies inside the normal-approximation
-    interval ``p +- z se``, about 95 % for z = 2).  Unanimous fractions (p = 0 or 1) have se = 0 and are
-    never borderline.  ``n`` must be positive (an empty interval is "not comparable" for the caller).
-    """
+    """``agree`` (k/n clearly >= threshold), ``disagree`` (clearly below) or ``borderline`` (the threshold
+    within ``z`` binomial standard errors of k/n): the one rule for every verdict on a fraction
+    (``docs/classify.md``)."""
     if n <= 0 or not 0 <= k <= n:
         raise ValueError(f"fraction_verdict needs 0 <= k <= n and n > 0, got k={k}, n={n}")
     p = k / n

@@ -1,14 +1,6 @@
-"""Motion labelling: systems, starts and a policy in, typed verdicts out.
-
-One entry point, :func:`label_lines` (and :func:`label_points` for independent points): every consumer
-(sweeps, maps, point runs, the attractor search, the calibration, the claims and the captions) labels
-through it.  The stages are in :mod:`geardyn.label._follow`, :mod:`~geardyn.label._record` and
-:mod:`~geardyn.label._nonperiodic` (what they share in :mod:`geardyn.label._stages`); the torus test
-in :mod:`geardyn.label.torus`.
-
-The names below are loaded on first use (PEP 562): a job that only reads verdicts (figures, captions,
-tables) imports :mod:`~geardyn.label.verdict` and not the compiled loops.
-"""
+"""Motion labelling: systems, starts and a policy in, typed verdicts out, through one entry point,
+:func:`label_lines` (and :func:`label_points`); names loaded on first use (PEP 562) so that a job that
+only reads verdicts does not import the compiled loops."""
 
 from typing import TYPE_CHECKING
 

@@ -1,17 +1,6 @@
-"""The compiled loops of the torus test (:mod:`geardyn.label.torus`): standardised coordinates, an
-observable's values centred and scaled, and weighted averages over windows of a series.
-
-The labeller evaluates the torus test at the end of every round of every record that is not periodic,
-tens of thousands of times per regime map, on 200 to 16 000 points; in numpy each evaluation made some
-forty small array operations, so the calls cost more than the arithmetic.  These loops do the same
-arithmetic in one pass each.
-
-Each sum runs in index order (numpy sums pairwise), so a result may differ from numpy's in the last
-bits; ``tests/test_torus.py`` checks them against a numpy statement of the same formulas.  No fast-math:
-LLVM keeps the order of the operations, so the bits are the same on every x86-64 CPU.  The loops call no
-compiled function of another file, so numba's cache, keyed on this file, is renewed when it changes.
-Private to :mod:`geardyn.label.torus`.
-"""
+"""The compiled loops of the torus test (:mod:`geardyn.label.torus`): standardised coordinates, centred
+and scaled observables, weighted averages over windows, in index order, no fast-math (why:
+``docs/classify.md``).  Private to :mod:`geardyn.label.torus`."""
 
 from __future__ import annotations
 

@@ -1,10 +1,5 @@
-"""Stage 1 of the labeller: the previous point's period-n orbit continued to this point.
-
-A secant prediction through the two previous orbit points, a chord iteration with the previous orbit's
-monodromy (plain runs, no variational part), full Newton shooting where the chord stalls, then one
-monodromy run for the multipliers.  A stable orbit decides the point; one that is not stable types the
-bifurcation.
-"""
+"""Stage 1 of the labeller: the previous point's period-n orbit continued to this point (secant
+prediction, chord iteration, Newton shooting, one monodromy run; ``docs/classify.md``)."""
 
 from __future__ import annotations
 

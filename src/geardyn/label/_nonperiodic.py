@@ -1,11 +1,6 @@
 """Stage 4 of the labeller: what is neither periodic nor a slow transient is labelled from the tangent
-exponent and the torus tests (:mod:`geardyn.label.torus`): quasi-periodic, chaotic, or undetermined where
-they disagree (the reason says how).  Undetermined points run on with longer records, round by round and
-piece by piece (:func:`longer_record`, scheduled by :mod:`geardyn.label.lines` together with other lines'
-points).  At the end of every round a record left undetermined is searched for a long cycle
-(:func:`end_round`), and every record is searched once more for long cycles when it is done
-(:func:`finish`).
-"""
+exponent and the torus tests, undetermined records run on and are searched for long cycles
+(``docs/classify.md``)."""
 
 from __future__ import annotations
 
@@ -87,11 +82,9 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
 
 
 def end_round(points: list[Point], policy: Policy) -> list[Point]:
-    """The end of a round of the records of ``points`` (their verdicts read the round's whole record): a
-    record left undetermined that returns after n periods, max_n < n <= long_max_n, is certified by
-    shooting (:func:`_long_periods`), so a point is decided in the round where its cycle shows, not when
-    its record stops growing; the points still undetermined start their next round (:func:`start_round`)
-    and are returned; the others are finished (:func:`finish`)."""
+    """The end of a round of the records of ``points``: undetermined records certified for long cycles
+    (:func:`_long_periods`), the still undetermined points start their next round and are returned, the
+    others are finished (``docs/classify.md``)."""
     _long_periods([p for p in points if p.verdict.stage == "undecided"], policy)
     grow = {id(p) for p in points if start_round(p, policy)}
     finish([p for p in points if id(p) not in grow], policy)
@@ -112,14 +105,9 @@ def start_round(p: Point, policy: Policy) -> bool:
 
 
 def longer_record(points: list[Point], periods: int, policy: Policy) -> list[Point]:
-    """The records of points left undetermined grow by ``periods`` (at most each point's ``left``), the
-    run going on with its tangent vector.  A round of a point's record grows it from N to
-    N + min(``torus_extend`` N, ``torus_max_periods`` - N) periods, in as many pieces as the scheduler
-    (:mod:`geardyn.label.lines`) takes (the tangent vector carried over, so the pieces are one run, bit for
-    bit); at the end of a round the same decision (:func:`_nonperiodic_verdict`) reads the whole, longer
-    record (the torus test converges on a torus and stays low on a chaotic set; the exponent's error bar
-    shrinks), and :func:`end_round` searches a record it leaves undetermined for a long cycle.  Returns the
-    points whose record grows on; the others are finished (:func:`finish`)."""
+    """The records of points left undetermined grow by ``periods`` (at most each point's ``left``), the run
+    going on with its tangent vector; returns the points whose record grows on, the others finished
+    (rounds and pieces: ``docs/classify.md``)."""
     if not points:
         return points
     if periods < 1 or any(p.left < periods for p in points):
@@ -175,12 +163,8 @@ def _joined(a: SimulationResult, b: SimulationResult) -> SimulationResult:
 
 
 def finish(points: list[Point], policy: Policy) -> None:
-    """The last step for points whose record is done (an undetermined record was searched for long cycles at
-    the end of its round, :func:`end_round`): periods up to ``long_max_n`` are looked for on every
-    quasi-periodic record (a long cycle scores like a torus in both torus measures): the record's newest
-    half, where a slowly attracting cycle has come closer, then all of it, for longer cycles
-    (:func:`_long_periods`); then where the record gathers about a cycle too slowly for rule 3
-    (:func:`_locked`); last, where it circles a period-1 or period-2 orbit at the unit circle (:func:`_at_circle`)."""
+    """The last step for points whose record is done: long cycles (:func:`_long_periods`), slowly gathered
+    cycles (:func:`_locked`), orbits circled at the unit circle (:func:`_at_circle`) (``docs/classify.md``)."""
     for newest_half in (True, False):
         _long_periods([p for p in points if p.verdict.label == QP], policy, newest_half=newest_half)
     _locked([p for p in points if p.verdict.label == QP], policy)
@@ -188,13 +172,9 @@ def finish(points: list[Point], policy: Policy) -> None:
 
 
 def _at_circle(points: list[Point], policy: Policy) -> None:
-    """Quasi-periodic records that circle a period-n orbit (n = 1 .. ``policy.locked.circle_max_n``; Newton
-    from the centroid of every n-th point of the record) closely -- every n-th point within
-    ``policy.locked.return_tol`` max(1, max|x|) of the orbit's point -- where the orbit's max|mu| lies within
-    the stability margin of 1.  There the labeller can neither certify the orbit nor tell a slow approach to
-    it (decay time 1 / (1 - |mu|) beyond the longest record) from a torus born on it, so the point is
-    undetermined, with the orbit and its |mu|max in the reason: a point at a Neimark-Sacker bifurcation, to
-    the labeller's accuracy."""
+    """Quasi-periodic records that closely circle a period-n orbit (n <= ``policy.locked.circle_max_n``)
+    whose max|mu| is within the stability margin of 1: undetermined, a Neimark-Sacker point to the
+    labeller's accuracy (``docs/classify.md``)."""
     tol = policy.locked.return_tol
     circled: set[int] = set()  # points whose record circles an orbit of a shorter period: decided there
     for n in range(1, policy.locked.circle_max_n + 1):
@@ -245,19 +225,9 @@ def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True)
 
 
 def _locked(points: list[Point], policy: Policy) -> None:
-    """Quasi-periodic records that approach a cycle too slowly for rule 3 (a torus locked to the cycle, or a
-    slow approach to a short cycle), certified by shooting for its period (:func:`_try_periods`, at most
-    ``policy.locked.newton_max_iter`` Newton iterations, given up when the residual grows more than
-    ``policy.locked.max_growth`` times in one).  The candidate period n, 1 <= n <= long_max_n, is the least index
-    difference between a point of the record and its nearest neighbour (:func:`geardyn.label.torus.order_test`:
-    on a locked torus the points gather about the n points of the cycle) over the part of the record the
-    torus test's order test reads (:func:`_order_part`: the newest half of a long record, where a slow
-    approach has come closest).  It is tried where the record's return distance after n periods is small
-    (:func:`_returns`) and falls along the record (by half for a long cycle, n > max_n; at all for a short
-    one, where the multipliers then decide: a torus about a short cycle has it unstable), or where every
-    point's nearest neighbour is n periods away.  Where n is not tried, the least n <= max_n about whose
-    cycle the record gathers (:func:`_gathers`; a record still approaching a short cycle need not have its
-    nearest neighbours n apart yet).  The verdict draws the cycle's points, not the record's."""
+    """Quasi-periodic records that approach a cycle too slowly for rule 3, certified by shooting for the
+    candidate period from the order test's nearest neighbours or the gathering test; the verdict draws the
+    cycle's points (the choice of n: ``docs/classify.md``)."""
     cs = policy.classifier
     if not points or cs.long_max_n <= 0:
         return
@@ -337,17 +307,9 @@ def _order_part(points: np.ndarray, cs: classify.ClassifierSettings) -> np.ndarr
 
 
 def _torus(points: np.ndarray, policy: Policy) -> tuple[TorusTest, str, OrderTest | None]:
-    """The torus test on the record (2N Poincare points), how it found a torus ("" when it did not) and the
-    order test, where it ran one.
-
-    A torus when the better of the plain weighted Birkhoff digits and those with the slow transient
-    extrapolated away (:func:`geardyn.label.torus.extrapolated_digits`; both from one evaluation of the
-    observable, :func:`geardyn.label.torus.torus_digits`) reaches log10 sqrt(N) +
-    torus_margin, or when the record's newest half (at least ``order_min_n`` points) visits its set in the
-    three-gap order of a circle rotation (:func:`geardyn.label.torus.order_test`: no smoothness needed, so
-    it decides the tori with corners where the gears lose contact, on which the averages converge slowly);
-    chaos when the plain digits stay below log10 sqrt(N) + chaos_margin and neither measure finds a torus.
-    The digits reported are the better of the two."""
+    """The torus test on the record (2N Poincare points): the test, how it found a torus ("" when it did
+    not) and the order test where it ran one (the rule combining plain and extrapolated digits and the
+    order test: ``docs/classify.md``)."""
     cs = policy.classifier
     n = max(1, points.shape[0] // 2)
     p = points[-2 * n :]

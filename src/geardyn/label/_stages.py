@@ -1,28 +1,6 @@
-"""The labeller's stages, and what they share.
-
-Each stage takes the still-undecided points of a batch (:class:`Point`) and decides what it can:
-
-1. :func:`geardyn.label._follow.follow`: the previous point's period-n orbit continued to this point
-   (secant prediction, chord iteration with the previous monodromy, Newton shooting where the chord
-   stalls).  A stable orbit (max|mu| below 1 by the policy's margin) decides the point at once; an orbit
-   that is no longer stable types the bifurcation by the multiplier that left the unit circle.
-2. :func:`geardyn.label._record.integrate`: a run from the previous point's final state (or the line's
-   start) with the early stop of the transient, then rule 3 on the recorded points; a point that returns
-   within tolerance is certified by Newton shooting and its multipliers (:func:`certify` here; an unstable
-   orbit Newton converged to is deflated and the shooting repeated, :func:`shoot`).
-3. :func:`geardyn.label._record.slow_transients`: a point not periodic on its record is checked for a slow
-   transient onto a stable orbit (:mod:`geardyn.label.settle`): shooting where the return distance falls,
-   and the run must approach it.
-4. :func:`geardyn.label._nonperiodic.exponents`: the rest carry a tangent vector; the exponent
-   (:func:`geardyn.classify.lyapunov_estimate`) and the torus tests (:mod:`geardyn.label.torus`) decide
-   between a torus and chaos; undecided points run on with longer records and are searched for long cycles.
-
-This module holds the point record, the verdicts of certified orbits, Newton shooting grouped by period,
-rule 3 on many records and the certification by shooting, which several stages use.  Every stage
-integrates all points that reach it together (:func:`geardyn.solve.run.simulate_batch`,
-:func:`geardyn.solve.shooting.newton_shooting_batch`, both cores); each point's numbers are those it gets
-alone, so a verdict does not depend on the batch, the chunking or the number of threads.
-"""
+"""The labeller's stages, and what they share: the point record, verdicts of certified orbits, Newton
+shooting grouped by period, rule 3 on many records, certification by shooting (the four stages:
+``docs/classify.md``)."""
 
 from __future__ import annotations
 
@@ -55,12 +33,8 @@ log = logging.getLogger("geardyn.label")
 
 @dataclass
 class Point:
-    """A point on its way through the stages (mutable, private to the labeller).
-
-    prev: the verdict of the previous point of the line (None for a line's first point).  start: the fixed
-    initial state of the line (None: the static deflection).  run: the run whose record the later stages
-    read (with the response measures' sums over its last ``measured`` periods).  notes: what earlier stages
-    found, for the verdict's reason."""
+    """A point on its way through the stages (mutable, private to the labeller): the previous verdict, the
+    line's fixed start, the run the later stages read and the notes for the reason."""
 
     system: System
     prev: Verdict | None

@@ -1,11 +1,5 @@
-"""Whether two verdicts (or two runs) describe the same attractor.
-
-Periodic: the same least period and cycles within ``distance_tol`` of each other (symmetric Hausdorff
-distance, max norm) relative to max(1, size), size the largest extent of the two sets (two phases of one
-orbit agree to 1e-8; two distinct P1 orbits do not).  Otherwise (quasi-periodic, chaotic, undetermined):
-centroids and bounding boxes of the Poincare sets agree within ``chaotic_distance_tol`` * max(1, size)
-(two finite samples of one cloud).
-"""
+"""Whether two verdicts (or two runs) describe the same attractor: cycles by Hausdorff distance,
+other attractors by centroids and bounding boxes (tolerances: ``docs/classify.md``)."""
 
 from __future__ import annotations
 
@@ -54,7 +48,7 @@ def same_attractor(
     distance_tol: float = DISTANCE_TOL,
     chaotic_distance_tol: float = CHAOTIC_DISTANCE_TOL,
 ) -> bool:
-    """Same label and Poincare sets within the tolerance (module docstring).  ``pa``, ``pb``: for a periodic
+    """Same label and Poincare sets within the tolerance (``docs/classify.md``).  ``pa``, ``pb``: for a periodic
     label, one cycle (its n points)."""
     if label_a != label_b:
         return False

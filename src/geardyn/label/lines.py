@@ -1,18 +1,5 @@
-"""The labeller's one entry point: :func:`label_lines`.
-
-A *line* is a sequence of systems along which the attractor is followed: a sweep case in one direction,
-or one row of a regime map.  The first point of a line starts from the line's fixed start (the static
-deflection unless given); each next point starts from the verdict of the previous one.  With
-``policy.start == "fixed"`` every point is a line of its own.
-
-Lines advance on their own.  Every line that is free (its last point decided) puts its next point into
-the next batch, and the stages integrate a batch's points together (:mod:`geardyn.label._stages` and the
-modules of its stages).  A point left undetermined waits in a pool while its record grows
-(:func:`geardyn.label._nonperiodic.longer_record`), and its line waits with it; the other lines go on.
-The records of all waiting points grow together, piece by piece, whatever their lengths, so the compiled
-loops' lanes stay full (:func:`_schedule`).  Each point's numbers are those it gets alone (a record grown
-in pieces is one run, bit for bit), so the order of the batches changes no verdict.
-"""
+"""The labeller's one entry point: :func:`label_lines`, which follows the attractor along lines of systems,
+batching the free lines' next points and growing waiting records together (``docs/classify.md``)."""
 
 from __future__ import annotations
 
@@ -125,14 +112,8 @@ def label_lines(
     starts: Sequence[np.ndarray | None] | None = None,
     progress: str = "",
 ) -> list[list[Verdict]]:
-    """Label every point of every line: ``out[i][k]`` is the :class:`~geardyn.label.verdict.Verdict` of point
-    k of line i.
-
-    ``starts[i]``: the fixed initial state (6,) of line i (None: the static deflection of its first
-    system).  With ``policy.start == "fixed"`` every point is a line of its own starting from its line's
-    fixed start.  A verdict depends only on its line (its systems, in order, and its start), not on the other
-    lines of the batch or on the number of threads.  ``progress``: a name for the log.
-    """
+    """Label every point of every line: ``out[i][k]`` is the verdict of point k of line i, from ``starts[i]``
+    (None: the static deflection); a verdict depends only on its line (``docs/classify.md``)."""
     starts = [None] * len(lines) if starts is None else list(starts)
     if policy.start == "fixed":
         flat = [(i, k) for i, line in enumerate(lines) for k in range(len(line))]

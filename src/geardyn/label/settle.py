@@ -1,40 +1,6 @@
-"""Slow transients: is a point the classifier calls quasi-periodic really on a torus?
-
-With the light shaft damping of the KHV designs the least-damped mode decays by about 0.98-0.99 per
-mesh period, so a run can still be converging onto a periodic orbit when its recorded periods
-start.  Its exponent is then about -1e-3 per unit time, inside the classifier's "zero" band
-(``lam_tol``), and the exponent alone would call it quasi-periodic or
-undetermined.  :func:`settle_points` decides such a point by shooting instead of by a longer guess:
-
-1. only a point labelled quasi-periodic or undetermined whose exponent is not clearly positive
-   (lambda <= lam_tol, or not finite) is tried; chaos and periodic labels are never touched;
-2. Newton shooting (:func:`geardyn.solve.shooting.newton_shooting`) on the n-period map, for
-   n = 1 .. ``settle_max_n``, starts from the final state of the run; the first n that converges to
-   an orbit whose Floquet multipliers all lie inside the unit circle is the candidate.  n = 1 is
-   always tried; a larger n only when its return distance is falling over the run's recorded
-   Poincare points (:func:`geardyn.classify.falling_return_distances`, ``policy.return_fall``): a run
-   converging onto a period-n orbit shows it, a torus does not, and this spares the shooting on tori,
-   where it costs most;
-3. the run must approach that orbit (else, when the multiplier is so close to 1 that the horizon
-   could not show it, the point is ``undetermined``: a possible slow transient, flag 2).  First its recorded Poincare
-   points are read
-   (:func:`approached_in_record`): if their distance to the nearest cycle point shrinks at least at
-   half the rate the leading multiplier predicts, and at least 2-fold over the record, the run is
-   approaching.  If the record is too short to tell, the run is continued from its final state for
-   as many periods as the multiplier needs to shrink a distance 4-fold, and that new record is read
-   the same way.  Last, the run is continued for as many periods as the leading multiplier needs to
-   shrink a distance 100-fold (at most ``settle_max_periods`` in all), and its distance to the
-   nearest cycle point must fall 10-fold.  This rules out a stable orbit that
-   coexists beside a torus the run stays on.
-
-A true torus has no stable periodic orbit near it to converge to, so its label stays.  The check
-runs inside the labeller (:mod:`geardyn.label`), so sweep cubes, maps, the claims table and
-the calibration all score the same labels.  :func:`settle_points` runs it for many points at once:
-each stage (the shooting for one n, with :func:`geardyn.solve.shooting.newton_shooting_batch`; the
-continued records) integrates all points that reach it together, and every point's verdict is the
-one it gets alone.  Its settings (tolerances, falls, horizons) are the policy's ``settle`` group
-(:class:`geardyn.label.policy.Settle`).
-"""
+"""Slow transients: is a point the classifier calls quasi-periodic really on a torus?  Decided by shooting
+for a stable period-n orbit and checking that the run approaches it (:func:`settle_points`; the three
+steps and why: ``docs/classify.md``)."""
 
 from __future__ import annotations
 
@@ -117,15 +83,9 @@ def settle_points(
     tables: LaneTables | None = None,
     always_one: list[bool] | None = None,
 ) -> list[Settled]:
-    """The slow-transient check (module docstring) of many points at once, stage by stage: the shooting of
-    every point for one n, and the continued records of a stage, are integrated together
-    (:func:`geardyn.solve.shooting.newton_shooting_batch`, :func:`geardyn.solve.run.simulate_batch`,
-    both cores); the last stage (the run continued until its distance falls 10-fold), which few points
-    reach, runs point by point in threads.  Each point's numbers are those of the point alone.
-    ``tables``: the :func:`geardyn.solve.run.lane_tables` of ``systems`` at ``settings``, when the
-    caller has them.  ``always_one[i]`` False: period 1 is tried only when its return distance falls, as
-    every other period (for a run that started on the attractor of a neighbouring point).  ``policy``: the
-    integration, the classifier's ``settle_max_n`` and ``settle_max_periods`` and the ``settle_*`` settings."""
+    """The slow-transient check of many points at once, stage by stage, each point's numbers those of the
+    point alone; ``tables``: their lane tables, ``always_one[i]`` False: period 1 tried only when its return
+    distance falls (``docs/classify.md``)."""
     settings, classifier = policy.integration, policy.classifier
     out: list[Settled | None] = [None] * len(systems)
     active = []
@@ -203,7 +163,7 @@ def _judge(
     n: int,
     policy: Policy,
 ) -> dict[int, Settled]:
-    """Whether each run approaches the stable n-period orbit found for it (module docstring, step 3)."""
+    """Whether each run approaches the stable n-period orbit found for it (``docs/classify.md``, step 3)."""
     settings = policy.integration
     cycles = _cycles(systems, tables, shots, n, policy)
     rho = {i: min(r.spectral_radius, policy.settle.rho_max) for i, r in shots.items()}

@@ -1,35 +1,5 @@
-"""Torus or chaos: weighted Birkhoff averages of a series of Poincaré points, and the three-gap order test.
-
-On a smooth quasi-periodic orbit (an invariant torus with a Diophantine rotation), the time
-average of a smooth observable f weighted by the bump w(t) = exp(-1 / (t (1 - t))),
-
-    WB_N(f) = sum_n w(t_n) f(x_n) / sum_n w(t_n),   t_n = (n + 1) / (N + 1),  n = 0 .. N - 1,
-
-converges to the space average faster than any power of N; on a chaotic orbit it converges only
-like N^(-1/2), as a plain average does (Das, Saiki, Sander & Yorke, "Quantitative
-quasiperiodicity", Nonlinearity 30 (2017) 4111; Das & Yorke, "Super convergence of ergodic averages
-for quasiperiodic orbits", Nonlinearity 31 (2018) 491).  The plain measure is
-
-    digits = -log10( max_j |WB_N(f_j)(x_0 .. x_N-1) - WB_N(f_j)(x_N .. x_2N-1)| / s_j )
-
-over the components f_j of the observable, s_j the standard deviation of f_j over the 2N points
-(dimensionless; components that do not vary are skipped).  The labeller's observable is
-:func:`coordinates`.  :func:`torus_verdict` turns the digits into a verdict with thresholds measured on
-cases whose answer is known (``docs/classify.md``, "Torus or chaos: weighted Birkhoff averages").
-:func:`extrapolated_digits` is the digits with a slowly decaying transient removed (a geometric tail of
-the averages over successive windows, fitted and extrapolated): a run still approaching its torus at a
-multiplier near 1 is then recognised long before the transient has died out.  :func:`torus_digits`
-gives both from one evaluation of the observable.
-
-Periodic orbits: the weighted average of a periodic sequence also converges faster than any power
-of N, so a period-n cycle scores as many digits as a torus (``DIGITS_MAX`` for a fixed point).  The
-test cannot tell a cycle from a torus; the caller labels periodic points first.
-
-The sums (coordinates, scaling, the weighted averages) run in compiled loops
-(:mod:`geardyn.label._birkhoff`), in index order; ``tests/test_torus.py`` holds their statement in numpy
-array operations as the oracle, and ``tests/_oracle.py`` the single-purpose forms of the measure (weighted
-average, plain digits, verdict, rotation number) that the tests check the method with.
-"""
+"""Torus or chaos: weighted Birkhoff averages of a series of Poincaré points (digits, extrapolated
+digits, verdict) and the three-gap order test (the measure and its thresholds: ``docs/classify.md``)."""
 
 from __future__ import annotations
 
@@ -59,6 +29,7 @@ ORDER_MIN_N = 800
 Observable = Callable[[np.ndarray], np.ndarray]
 
 
+@functools.lru_cache(maxsize=256)
 def bump_weights(n: int) -> np.ndarray:
     """The n normalised weights w(t_k) / sum w, w(t) = exp(-1 / (t (1 - t))), t_k = (k + 1) / (n + 1).
 
@@ -66,11 +37,6 @@ def bump_weights(n: int) -> np.ndarray:
     (read-only, shared)."""
     if n < 1:
         raise ValueError(f"need at least one sample for a weighted average, got n = {n}")
-    return _bump_weights(int(n))
-
-
-@functools.lru_cache(maxsize=256)
-def _bump_weights(n: int) -> np.ndarray:
     t = np.arange(1, n + 1, dtype=float) / (n + 1)
     w = libm.exp(-1.0 / (t * (1.0 - t)))
     out = w / w.sum()
@@ -132,32 +98,16 @@ def _newest_pairs(points: np.ndarray) -> np.ndarray:
 
 
 def _plain_digits(f: np.ndarray) -> float:
-    """The plain digits (module docstring) from the observed values ``f`` of 2N points."""
+    """The plain digits (``docs/classify.md``) from the observed values ``f`` of 2N points."""
     n = f.shape[0] // 2
     a = averages(f, bump_weights(n), np.array([0, n], np.int64))
     return _digits(float(np.max(np.abs(a[0] - a[1]))))
 
 
 def extrapolated_digits(points: np.ndarray, observable: Observable | None = None, windows: int = 6) -> float:
-    """Convergence digits of the weighted Birkhoff averages with a slowly decaying transient removed.
-
-    A run that approaches a torus with a slow real multiplier r (the transverse attraction just past a
-    Neimark-Sacker point, r = 0.998-0.9999 per period) carries a deviation c r^n whose weighted average
-    over a window starting at n = k is A(k) = A + C r^k (the oscillating part of the deviation averages
-    out like the torus itself).  The bump-weighted averages A(k) over ``windows`` windows of N = m // 2
-    points, starting at k = 0, s, 2s, ... (s = (m - N) // (windows - 1)), are fitted with one ratio q for
-    all components and steps (least squares of D_{i+1} = q D_i, D_i = A(k_{i+1}) - A(k_i)); the limit of the
-    geometric tail is A(k_last) + D_last q / (1 - q) from every window triple, and the measure is
-
-        digits = -log10( max_{i, j} |D_{i+1, j} - q D_{i, j}| / (1 - q) ),
-
-    the largest disagreement of the extrapolated limits (components scaled by their standard deviation as
-    in the plain measure; q outside (0, 1): no tail, the digits of consecutive windows).  On a torus
-    without a transient it scores like the plain measure; with a slow transient 2-11 digits more
-    (``docs/classify.md``); on a chaotic series the averages scatter like N^(-1/2) and so do the limits
-    (Henon, logistic: at most log10 sqrt(N) + 0.87 in 640 series, N = 50-8000).  Raises ValueError as
-    the plain measure (:func:`torus_digits`), or when the windows cannot be spaced by at least one point.
-    """
+    """Convergence digits of the weighted Birkhoff averages with a slowly decaying geometric transient
+    fitted over ``windows`` windows and extrapolated away; raises ValueError as :func:`torus_digits` or when
+    the windows cannot be spaced (method and measurements: ``docs/classify.md``)."""
     p = _as_points(points)
     _check_windows(p.shape[0], windows)
     f = _observed(p, observable)
@@ -167,7 +117,7 @@ def extrapolated_digits(points: np.ndarray, observable: Observable | None = None
 def torus_digits(
     points: np.ndarray, observable: Observable | None = None, windows: int = 6, extrapolate: bool = True
 ) -> tuple[float, float]:
-    """The plain digits (module docstring) and :func:`extrapolated_digits` of the last 2N points (N = m // 2), the
+    """The plain digits (``docs/classify.md``) and :func:`extrapolated_digits` of the last 2N points (N = m // 2), the
     observable evaluated once for both (NaN for the second with ``extrapolate=False``).  On an even number
     of points each equals the function's own value, bit for bit; on an odd number the extrapolation reads
     the same 2N points as the plain test, not all m.  Raises ValueError as the two functions do."""
@@ -216,18 +166,9 @@ def torus_verdict(
     chaos_digits: float = CHAOS_DIGITS,
     min_n: int = MIN_N,
 ) -> TorusTest:
-    """Torus or chaos from ``digits`` measured on 2 ``n`` points (the plain measure, or any measure that
-    scores log10 sqrt(N) on chaos, such as :func:`extrapolated_digits`).
-
-    "torus" when digits >= ``torus_digits``; "chaotic" when digits < log10 sqrt(N) + ``chaos_digits``
-    (a chaotic average converges like N^(-1/2), i.e. to log10 sqrt(N) digits); otherwise, or with
-    N < ``min_n``, "inconclusive".  The defaults (6, 1.5, N >= 2000) are measured in ``docs/classify.md``
-    with the observable z, z^2, z^3: a chaotic series scores log10 sqrt(N) + 0.0 +- 0.5 (99th percentile
-    + 1.0, at most + 1.55 in 350 Henon and logistic series, N = 250-16 000), the tori of the KHV model
-    6.7-8.8 digits at N = 2000 once the transient has died out (5-7.5 at N = 500), the golden rotation 14.
-    A torus within 1e-6 of a resonance p/q scores less as N grows until N passes the beat period
-    1 / |q rho - p|.  A run still approaching its attractor drifts and scores like chaos: read "chaotic"
-    together with a positive Lyapunov exponent."""
+    """Torus or chaos from ``digits`` measured on 2 ``n`` points: "torus" at >= ``torus_digits``, "chaotic"
+    below log10 sqrt(N) + ``chaos_digits``, else (or with N < ``min_n``) "inconclusive" (thresholds:
+    ``docs/classify.md``)."""
     if n >= min_n and not 0.5 * math.log10(n) + chaos_digits <= torus_digits:
         raise ValueError(
             f"the chaos threshold log10 sqrt(N) + {chaos_digits} exceeds torus_digits = {torus_digits} at N = {n}"
@@ -255,28 +196,9 @@ class OrderTest:
 
 
 def order_test(points: np.ndarray, min_n: int = ORDER_MIN_N) -> OrderTest:
-    """Torus or not from the order in which a series of Poincaré points visits its set: the three-gap test.
-
-    The N points n rho mod 1 of a rotation of the circle (rho irrational) split it into gaps, and the index
-    differences between neighbours on the circle take at most three values, the largest the sum of the
-    other two (the three-distance theorem: Sós 1958, Świerczkowski 1959).  A circle homeomorphism with
-    an irrational rotation number keeps the cyclic order of its orbit as the rotation does (Poincaré), so
-    the same holds for the orbit of any map on an invariant closed curve, smooth or not: the corners
-    where the gears lose contact change nothing, while they slow the weighted Birkhoff averages
-    (module docstring) from super-polynomial to a low power of N.  On a torus of k loops (about a
-    period-k orbit) every difference is k times those of one loop.
-
-    The test: each point's nearest neighbour (Euclidean, in coordinates standardised by their standard
-    deviations) is one of its two neighbours along the curve once the points are dense on it, so the index
-    differences to the nearest neighbours take at most three values a < b < c with c = a + b (or two, or
-    one).  It passes when they do and there are at least ``min_n`` points.  On a chaotic set the nearest
-    neighbour comes from unrelated times and the differences take many values: no series of the Henon or
-    logistic map nor a chaotic point of the model passes from 800 points on (``docs/classify.md``).  A
-    periodic orbit or a torus locked to a long cycle may pass too: label periodic points first.  A curve
-    that comes closer to itself than the spacing of the points fails (the test never passes a set that is
-    not a curve; it may miss a curve).  Raises ValueError as :func:`torus_digits` (NaN, inf, shape) or
-    on fewer than 3 points.
-    """
+    """Torus or not from the order in which a series of Poincaré points visits its set: the three-gap test
+    (nearest-neighbour index differences take at most three values a < b < c = a + b), with at least
+    ``min_n`` points; raises ValueError as :func:`torus_digits` or on fewer than 3 points (``docs/classify.md``)."""
     p = _as_points(points)
     m = p.shape[0]
     if m < 3:

@@ -1,12 +1,4 @@
-"""The typed record the labeller returns for every point: :class:`Verdict`.
-
-A verdict says what the point's attractor is (``label``, ``period``), how sure that is (``stage``: which
-stage of the labeller decided it, and ``reason``), its largest exponent and how that was obtained
-(``exponent_method``), where the followed orbit lost stability (``bifurcation``), the points that a figure
-draws (``poincare``: points on the attractor, never a transient) and the state the next point of a line
-starts from (``final_state``) and the response measures on the attractor (``response``), from the
-labeller's own runs.
-"""
+"""The typed record the labeller returns for every point: :class:`Verdict`."""
 
 from __future__ import annotations
 
@@ -44,32 +36,9 @@ EXPONENT_METHODS = {"none": 0, "floquet": 1, "tangent": 2}
 
 @dataclass(frozen=True, eq=False)
 class Verdict:
-    """One point's label and how it was obtained.
-
-    label: code of :data:`geardyn.classify.LABELS` or n >= 1 (period-n, n the least period).
-    period: the least period n (0 when not periodic).
-    exponent, exponent_sigma: largest exponent per unit dimensionless time tau and its uncertainty;
-    ``exponent_method`` ``"floquet"`` (log max|mu| / (n T) of the certified orbit, sigma 0), ``"tangent"``
-    (a tangent vector over the record) or ``"none"``.
-    multiplier: max |mu| of the orbit's Floquet multipliers over its least period (NaN: no orbit).
-    stage: key of :data:`STAGES`; bifurcation: key of :data:`BIFURCATIONS` (how the orbit followed from the
-    previous point of the line lost stability here; ``"none"`` otherwise).
-    reason: short text.  k01, flatness, torus_digits: the 0-1 statistic, spectral flatness and the digits of
-    agreement of the weighted Birkhoff averages (NaN where not computed).
-    crosscheck: 1 when the 0-1 test and the spectrum both agree with a QP or chaos label, 0 when one does,
-    -1 when not applicable.
-    final_state: (6,) state at phase 0 the next point of a line starts from (a point of the orbit for
-    periodic verdicts).  poincare: (m, 6) points on the attractor at phase 0 (the cycle repeated for a
-    periodic verdict).  transient_used: transient periods integrated before the record (0 when followed).
-    n_events: contact switches located in the run that recorded ``poincare``.
-    diverged_period: mesh period of divergence (-1: bounded).  monodromy: (6, 6) over n periods at
-    ``final_state`` for a periodic verdict (the next point's chord iteration reuses it).
-    response: the :class:`~geardyn.solve.response.ResponseMeasures` on the attractor, summed in the
-    labeller's own runs: over one cycle (``period`` mesh periods) from ``final_state`` for a periodic verdict
-    (the run that builds its cycle), over the last ``recorded_periods`` of the record that ends at
-    ``final_state`` for another (fewer where a round of a growing record is shorter), not computed for a
-    diverged one.
-    """
+    """One point's label and how it was obtained: label and period, exponent and method, multiplier, stage,
+    bifurcation, reason, indicators, the attractor's points and final state, and the response measures on it
+    (fields: ``docs/classify.md``)."""
 
     label: int
     period: int

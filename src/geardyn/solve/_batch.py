@@ -1,29 +1,6 @@
 """Many points at once: the event RK4 loop of :mod:`geardyn.solve._kernel` with an early stop of the
-transient, run over a batch of parameter points with ``numba.prange`` (both cores for one job).
-
-Private to :mod:`geardyn.solve`; use :func:`geardyn.solve.simulate_batch`.
-
-* Lanes: each point (lane) carries its own coefficients and step tables (eps, period, TE amplitude
-  may differ) and is integrated by the same arithmetic as :func:`geardyn.solve._kernel.run` (the same
-  inlined RK4 step, the same contact-switch location, the same tangent step).  No lane reads another
-  lane's numbers, so a lane's result is bit-identical to the scalar loop and independent of the batch
-  it is in, of its position there, and of the number of threads.  The step is the inlined statement of
-  :mod:`geardyn.solve._model`; the end of a mesh period uses the scalar loop's helpers
-  (:func:`geardyn.solve._kernel.diverged`, :func:`geardyn.solve._kernel.record`,
-  :func:`geardyn.solve._period.early_stop`).
-* Early stop: after every mesh period of the transient (from ``es_min`` periods on), the return
-  distance d_n = max_i |p_k,i - p_k-n,i| of the stroboscopic (Poincaré) points is updated for
-  n = 1 .. max_n; once d_n <= tol for ``es_confirm`` consecutive periods for some n, the transient
-  ends there (the smallest such n, and only if d_m > es_sep * tol for every m < n: distinct cycle
-  points, as rule 3 of the classifier asks); the recorded periods follow at once and
-  ``transient_used`` says how many transient periods the lane integrated.
-  tol = max(es_atol * max(|p_k|, 1), es_floor).  ``es_confirm = 0``
-  switches the stop off (the full transient, bit-identical to the scalar loop).
-* Tangent (m = 1, renormalised) or variational matrix (m = 6) columns are carried over the last
-  ``n_tan`` periods of the *nominal* run (transient + recorded) for lanes that have not stopped
-  early; a lane that stops early drops its tangent (its exponent comes from the monodromy of the
-  converged cycle instead, see :mod:`geardyn.runs.points`).
-"""
+transient, over a batch of points with ``numba.prange``.  Private to :mod:`geardyn.solve`; use
+:func:`geardyn.solve.simulate_batch` (lanes, early stop, tangent: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 
@@ -35,10 +12,7 @@ from numba import njit, prange
 import geardyn.solve._cache as _cache
 from geardyn.solve._kernel import diverged, locate_switches, record, region, run
 from geardyn.solve._model import rk4, rk4_tangent_at, slope
-from geardyn.solve._period import (
-    early_stop,
-    strict_periods,  # noqa: F401  (rule 3 for many records, compiled)
-)
+from geardyn.solve._period import early_stop
 from geardyn.solve._response import STATUS, add_step, start_sums
 from geardyn.solve.base import BACKLASH_ON, CM, B, T
 
@@ -47,12 +21,8 @@ _cache.renew_once()  # before the loops: numba's cache renewed when any kernel s
 
 @njit(cache=True, parallel=True)
 def run_batch(C, TABS, Y0, NTRANS, NREC, event, LIMITS, W, NTAN, renorm, GROWTH, STROBE, POINC, YFINAL, ES, OUT):
-    """:func:`geardyn.solve._kernel.run` (no dense output) for every lane l (arrays indexed by l first),
-    in parallel over lanes.
-
-    W (L, 6, m) is updated in place; OUT (L, 5) int64 gets (status, last_period, n_events,
-    transient_used, stop_period).  TABS: the lane tables (H, S, SEG, K, P, POLY); ES: the early stop of
-    :func:`geardyn.solve._kernel.run`."""
+    """:func:`geardyn.solve._kernel.run` (no dense output) for every lane, in parallel over lanes; W (L, 6, m)
+    updated in place, OUT (L, 5) the status, last period, switches, transient used and stop period."""
     H, S, SEG, K, P, POLY = TABS
     n_lanes = C.shape[0]
     for lane in prange(n_lanes):
@@ -89,17 +59,9 @@ WIDTH = 8
 
 @njit(cache=True, inline="always")
 def _lanes(A, tan):
-    """One RK4 step of the WIDTH lanes packed in A (rows of WIDTH: 0-12 coefficients K11 .. CM, 13 b
-    (0 without backlash), 14 h, 15-17 kappa and 18-20 TE at the three stage times, 21-26 the state,
-    27-32 the new state), :func:`geardyn.solve._model.rk4`; with ``tan`` also one tangent column per
-    lane (rows 33-38 -> 39-44; row 45: 1 when the dead zone is on), slopes kappa f'(x2) at the orbit's
-    four stage states as in :func:`geardyn.solve._kernel.step`.
-
-    One buffer with constant offsets, accessed only in this loop (the inlined model functions take
-    numbers): the compiler proves the lanes independent and vectorises the loop, the dead zone a
-    min / max.  (Separate arrays defeat its alias checks, and so does an inlined helper that takes A
-    called inside the loop.)  Inlined into :func:`_vstep` and :func:`_vstep_tan` with ``tan`` a
-    constant: with a run-time flag the compiler computes the tangent for every step and masks it."""
+    """One RK4 step of the WIDTH lanes packed in A (rows of WIDTH: 0-12 K11 .. CM, 13 b, 14 h, 15-17 kappa,
+    18-20 TE, 21-26 the state, 27-32 the new state; with ``tan`` rows 33-38 -> 39-44 a tangent column,
+    45 backlash on).  One buffer so the compiler vectorises the lanes (why: ``docs/numerics.md``)."""
     for q in range(WIDTH):
         # fmt: off
         k = (A[q], A[WIDTH + q], A[2 * WIDTH + q], A[3 * WIDTH + q], A[4 * WIDTH + q], A[5 * WIDTH + q],
@@ -191,18 +153,9 @@ def _switch(C, POLY, H, S, SEG, A, q, ln, j, reg, rnew, tan, y1, y2, Wa, Wb):
 def _block(
     C, TABS, Y0, NTRANS, NREC, lanes, event, LIMITS, POINC, YFINAL, ES, OUT, W, NTAN, GROWTH, STROBE, ACC, SGN, ACC_LAST
 ):
-    """Lanes ``lanes`` (<= WIDTH of them) stepped in lockstep, structure of arrays (state (6, WIDTH)):
-    the plain RK4 step of every lane is one loop over the lanes that the compiler vectorises (the dead
-    zone as selects, no branch); a lane whose step changed contact region is then corrected alone by
-    :func:`geardyn.solve._kernel.locate_switches`.  The end of a mesh period is that of
-    :func:`geardyn.solve._kernel.run` (:func:`~geardyn.solve._kernel.diverged`,
-    :func:`~geardyn.solve._kernel.record`, :func:`geardyn.solve._period.early_stop`), lane by lane, so
-    each lane's result is bit-identical to the scalar loop's.  With ACC (L, N_OUT) (not (L, 0)) every
-    step of the last ACC_LAST[l] periods of the run is also added to the response measures' sums of
-    :mod:`geardyn.solve._response` (drive side SGN (L,)): the sums start at the state where those periods
-    begin (after an early stop, of the shortened run), or, where ACC_LAST[l] exceeds the run, go on from
-    the sums ACC[l] holds (those of the earlier periods, from a run this one continues); none where
-    ACC_LAST[l] <= 0."""
+    """Lanes ``lanes`` (<= WIDTH) stepped in lockstep, each bit-identical to the scalar loop; with ACC (L, N_OUT)
+    the response measures' sums over each lane's last ACC_LAST[l] periods, going on from ACC[l] where that
+    exceeds the run (``docs/numerics.md``)."""
     H, S, SEG, K, P, POLY = TABS
     es_min, es_confirm, es_max_n = ES[0], ES[1], ES[2]
     nl = lanes.shape[0]

@@ -1,21 +1,6 @@
 """numba's on-disk cache of the compiled loops, renewed as a whole when any of their sources changes.
-Private to :mod:`geardyn.solve`; every module with ``cache=True`` loops calls :func:`renew_once`
-before defining them.
-
-numba keys the cache of a function on its own source file (a stamp of it) and its own bytecode, not on
-the functions it calls in other files nor on the constants it reads from them.  After a change to
-``_model.py`` alone (an edit, or a ``git pull`` into a checkout installed with ``-e``), the cached
-loops of ``_batch.py`` would still run the old equations, and nothing would say so.  This module keys the
-cache of all the compiled modules of :mod:`geardyn.solve` on one hash of all their sources
-(:data:`SOURCES`): :func:`renew`, called before any loop is defined, compares the hash with the one
-stored beside the cache, and where they differ it deletes the cache files of this package, so numba
-compiles afresh and stores the new hash.
-
-The cache is where numba puts it: ``NUMBA_CACHE_DIR`` when set, else ``__pycache__`` beside the sources
-when that is writable.  numba's last resort, a per-user directory for a read-only install, is not renewed
-here (such an install is not edited in place).  A process that loses a race with another deleting the same
-files only compiles again.
-"""
+Private to :mod:`geardyn.solve`; every module with ``cache=True`` loops calls :func:`renew_once` before
+defining them (why: numba keys a cache on its own file only; ``docs/numerics.md``)."""
 
 from __future__ import annotations
 

@@ -1,30 +1,6 @@
-"""The compiled core: one fixed-step RK4 loop with contact-switch location and an optional
-variational (tangent) part.  Private to :mod:`geardyn.solve`; use :func:`geardyn.solve.simulate`.
-
-Method:
-
-* The step grid is aligned to the stiffness jumps: each mesh period [0, 1) (phase s) is split
-  into the zone [0, f] with one pair more and the zone [f, 1] (f = eps - floor(eps)), so no RK4 stage
-  ever sees a jump.  Stiffness kappa and TE forcing are tabulated per step at the three stage
-  times (start+, middle, end-): a step costs four right-hand sides and no transcendental function.
-  The right-hand side, its linearisation and the RK4 step are those of :mod:`geardyn.solve._model`
-  (inlined; the batch lanes of :mod:`geardyn.solve._batch` run the same statement).
-* With ``event``: after each step, a change of contact region (x2 < -b, |x2| <= b, x2 > b) means
-  a crossing of x2 = +-b inside the step; it is located as the root of the cubic Hermite
-  interpolant of x2 (values and x2' = v2 at both ends), the step is redone up to the crossing and
-  continued from there to the grid point.  The error of the crossing time is O(h^4) and enters
-  the solution only at second order (the vector field is continuous there), so 4th order is
-  recovered.
-* Variational part: ``m`` tangent columns W (6, m) advance with the same RK4 stages,
-  w' = J(tau, y) w with f'(x2) = 1 in contact and 0 inside the backlash, evaluated at each stage
-  state of the orbit: W is the derivative of the discrete flow.  The vector field is continuous
-  across x2 = +-b (only its derivative jumps), so the saltation matrix of a contact switch is the
-  identity and W needs no jump there.  The orbit arithmetic is the same with or without W, so the
-  orbit is bit-identical either way.  The 6 columns of the monodromy matrix are stepped together in one
-  buffer (:func:`step_columns`, vectorised), each column by the same expressions as a column alone.
-* Divergence: checked once per mesh period; any |state_i| > limits[i] or non-finite value stops the
-  run with status 1.
-"""
+"""The compiled core: one fixed-step RK4 loop with contact-switch location and an optional variational
+(tangent) part.  Private to :mod:`geardyn.solve`; use :func:`geardyn.solve.simulate` (the method: aligned
+grid, Hermite-located switches, tangent columns, divergence check: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 
@@ -55,15 +31,9 @@ def orbit_step(c, y, h, k0, k1, k2, p0, p1, p2, ynew):
 
 @njit(cache=True, inline="always")
 def step(c, y, W, m, h, k0, k1, k2, p0, p1, p2, ynew, Wnew, fixed):
-    """One RK4 step of size h from y (6,) into ynew (6,) (:func:`geardyn.solve._model.rk4`), kappa and TE
-    at the three stage times; with m > 0 the m tangent columns W (6, m) into Wnew
-    (:func:`geardyn.solve._model.rk4_tangent`).
-
-    The slopes f'(x2) are those of the orbit's four stage states (the derivative of the discrete
-    flow), or ``fixed`` (0 or 1) for all four when ``fixed >= 0``: a sub-step that ends or starts on a
-    located switch lies in one contact region, and a stage state on the switch itself must not pick
-    the other region's slope (the crossing time moves with the state, which cancels that stage's
-    dependence; see :func:`locate_switches`)."""
+    """One RK4 step of size h from y into ynew, with m > 0 the m tangent columns W into Wnew; the slopes
+    f'(x2) are the orbit's four stage states', or ``fixed`` (0 or 1) for all four when ``fixed >= 0`` (a
+    sub-step on a located switch; why: ``docs/numerics.md``)."""
     s1, s2, s3, s4 = orbit_step(c, y, h, k0, k1, k2, p0, p1, p2, ynew)
     if m > 0:
         if fixed >= 0.0:
@@ -80,14 +50,9 @@ COLUMNS = 8
 
 @njit(cache=True, inline="always")
 def step_columns(c, y, h, k0, k1, k2, p0, p1, p2, ynew, A):
-    """:func:`step` with the 6 tangent columns of the monodromy matrix packed in A (96,): column q's
-    component i at ``A[COLUMNS * i + q]`` (q < 6; columns 6 and 7 are padding), its new value at
-    ``A[COLUMNS * (6 + i) + q]``.
-
-    The same expressions as :func:`step` column by column (the slopes of the orbit's four stage states),
-    so the same bits; one buffer with constant offsets lets the compiler vectorise the loop over the
-    columns, as in the lanes of :mod:`geardyn.solve._batch` (the columns of a (6, m) array, read and
-    written through two arrays, stay scalar: 95 against 30 ns a step, measured)."""
+    """:func:`step` with the 6 monodromy columns packed in A (96,) (column q's component i at
+    ``A[COLUMNS * i + q]``, new values at ``A[COLUMNS * (6 + i) + q]``): the same bits, vectorised over the
+    columns (measured: ``docs/numerics.md``)."""
     s1, s2, s3, s4 = orbit_step(c, y, h, k0, k1, k2, p0, p1, p2, ynew)
     for q in range(COLUMNS):
         rk4_tangent_at(c, h, s1, s2, s3, s4, A, 0, 6, COLUMNS, q)
@@ -144,11 +109,8 @@ def sub_step(c, poly, seg, y, W, m, s0, dt, yout, Wout, fixed):
 
 @njit(cache=True, inline="always")
 def hermite_root(x0, x1, d0, d1, h, target):
-    """Root in (0, h) of the cubic Hermite interpolant of x (values x0, x1, slopes d0, d1) = target.
-
-    Safeguarded Newton on the cubic (bisection when a Newton step leaves the bracket);
-    converges in 3-5 iterations to |dt| < 1e-14 h.
-    """
+    """Root in (0, h) of the cubic Hermite interpolant of x (values x0, x1, slopes d0, d1) = target, by
+    safeguarded Newton (``docs/numerics.md``)."""
     dx = x1 - x0
     c1 = h * d0
     c2 = 3.0 * dx - h * (2.0 * d0 + d1)
@@ -178,13 +140,9 @@ def hermite_root(x0, x1, d0, d1, h, target):
 
 @njit(cache=True)
 def locate_switches(c, poly, y, ynew, W, Wnew, mt, h, s0, seg, reg, rnew, b, period):
-    """Contact switches inside the step of size h from y (phase s0) whose plain RK4 result ynew left
-    region ``reg`` for ``rnew``: locate each crossing (cubic Hermite root), restart there and redo
-    the rest of the step.  Updates y (to the last crossing), ynew (end of the step) and the m tangent
-    columns W / Wnew alike; returns (region at the end of the step, number of crossings located).
-
-    The two sub-steps of a crossing (to it, then from it to the end of the step) are one call of
-    :func:`sub_step` in a loop: the inlined step is compiled once."""
+    """Locate the contact switches inside the step from y whose plain result ynew left region ``reg`` for
+    ``rnew``, restart there and redo the rest of the step (y, ynew and the tangent columns updated); returns
+    (region at the end of the step, crossings located) (``docs/numerics.md``)."""
     s_cur = s0
     left = h
     n_events = 0
@@ -249,29 +207,9 @@ def run(
     yfinal,
     es,
 ):
-    """Integrate n_trans + n_rec mesh periods from y0 (phase 0): the one loop of the solver.
-
-    poinc (n_rec, 6) gets the state at the end of each recorded period; dense_t/dense_y (if their
-    length > 0) get every ``stride``-th step of the recorded periods.  W (6, m): tangent columns
-    carried over the last n_tan periods (m = 0: none).  With ``renorm`` (m = 1) the column is
-    renormalised at the end of every tangent period, growth[k] = log of its norm before that and
-    strobe[k] = x2 at that time; without it W ends as the derivative of the final state with respect
-    to the state n_tan periods before the end.  limits (6,): a run whose |y_i| exceeds limits[i] (or
-    is not finite) at a period end has diverged.
-
-    tabs: the step tables (h, s, seg, k, p, poly) of :func:`geardyn.solve.run.step_tables`.
-
-    Early stop (``es`` = (es_min, es_confirm, es_max_n, es_floor, es_atol, es_sep), on when
-    ``es_confirm > 0``; :data:`NO_EARLY_STOP` is off): from period ``es_min`` on, the transient ends once the return
-    distance of the stroboscopic points after some n <= es_max_n stays within
-    max(es_atol max(|p|, 1), es_floor) for es_confirm consecutive periods, for the smallest such n
-    whose cycle points are distinct (d_m > es_sep tol for m < n: rule 3 of the classifier,
-    :func:`geardyn.solve._period.early_stop`); the recorded periods follow at once and the tangent
-    columns are not carried further.
-
-    Returns (status, last_period, n_events, n_dense, transient_used, stop_period): status 0 ok,
-    1 diverged; stop_period: the n of the early stop (0: the transient ran to its end).
-    """
+    """Integrate n_trans + n_rec mesh periods from y0 (phase 0): the one loop of the solver, with Poincare
+    points, dense output, tangent columns and the early stop ``es`` (:data:`NO_EARLY_STOP`: off).  Returns
+    (status, last_period, n_events, n_dense, transient_used, stop_period) (arguments: ``docs/numerics.md``)."""
     # coefficients as a tuple: numba keeps them in registers instead of reloading the array
     # fmt: off
     c = (c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9], c[10], c[11], c[12], c[13],

@@ -1,20 +1,6 @@
-"""The model's equations, stated once: the accelerations of the 3-DOF backlash system, their
-linearisation, and one RK4 step of the orbit and of a tangent column.  Private to :mod:`geardyn.solve`.
-
-Every function here is inlined (``inline="always"``) into its callers: the scalar loop
-:func:`geardyn.solve._kernel.run` and the SIMD lanes of :mod:`geardyn.solve._batch` run these very
-expressions, in this order, so their numbers are the same bits.  Arguments are scalars (no arrays),
-so the compiler keeps the lanes of a batch independent and vectorises them.
-
-``k``: the coefficients K11 .. CM in the order of :data:`geardyn.solve.base.LAYOUT` (a tuple of at
-least 13 numbers: the first 13 entries of the kernel array).  ``b``: the half backlash of the dead
-zone, 0 without backlash (then f(x) = x).  The dead zone is f(x) = x - min(max(x, -b), b): x - b
-above b, x + b below -b, 0 between, the same bits as the three branches of the benchmark's C loop
-(a test compares them); a vmaxpd / vminpd pair in the vectorised lanes, no branch.
-
-The benchmark's C loop (``benchmarks/kernels.py``, ``C_RK4``) spells the same expressions; a test evaluates both
-on random inputs (tests/test_model_equations.py).
-"""
+"""The model's equations, stated once: accelerations, linearisation, one RK4 step of orbit and tangent.
+Private to :mod:`geardyn.solve`; inlined into the scalar loop and the SIMD lanes, so both run the same
+bits (arguments and the dead zone's form: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 

@@ -1,19 +1,6 @@
-"""Rule 3 of the classifier, stated once, compiled: the strict period test of a sequence of Poincaré
-points, and the early stop of the transient that applies the same rule while the run goes on.
-Private to :mod:`geardyn.solve`.
-
-Rule 3 (:func:`first_period`): the period is the smallest n <= max_n whose return distance
-d_n = max_k,i |p_k+n,i - p_k,i| passes (within the tolerance) and whose n cycle points are distinct:
-d_m > separation * tol for every m < n (a decaying transient rotating by about 1/n per period
-returns closely after n periods too).  Its users:
-
-* :func:`strict_period` / :func:`strict_periods`: a finished record, the tolerance scaled to the
-  attractor (:func:`geardyn.classify.strict_period` calls it on one record,
-  :func:`geardyn.solve.run.strict_periods` on many);
-* :func:`early_stop`: the running record of the transient in the loops of
-  :func:`geardyn.solve._kernel.run` and :func:`geardyn.solve._batch.run_blocks`, where d_n "passes"
-  once it has stayed within the tolerance for ``confirm`` consecutive periods.
-"""
+"""Rule 3 of the classifier, stated once, compiled: the strict period test of Poincaré points and the
+early stop of the transient that applies it while the run goes on.  Private to :mod:`geardyn.solve`
+(the rule and its users: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 
@@ -40,7 +27,7 @@ def first_period(d, hits, need, max_n, distinct):
 @njit(cache=True)
 def tolerance(p, m, atol, rtol, floor_tol):
     """Return-distance tolerance of the points p[:m] (m >= 1): max(atol max(|p|, 1) + rtol size,
-    floor_tol) with size the largest peak-to-peak range of a state (:func:`geardyn.classify._tolerance`)."""
+    floor_tol) with size the largest peak-to-peak range of a state (``tests/_oracle.py``, ``tolerance``)."""
     size = 0.0
     scale = 0.0
     for i in range(p.shape[1]):
@@ -96,12 +83,9 @@ def strict_periods(POINC, npts, max_n, atol, rtol, floor_tol, separation, OUT):
 
 @njit(cache=True)
 def early_stop(ring, count, dcur, n_seen, y, es, check):
-    """Feed the Poincaré point y (6,) of a transient period to the running record, with the early-stop
-    settings es = (min_periods, confirm, max_n, floor_tol, atol, separation): ring (max_n + 1, 6)
-    of the last points, count (max_n + 1,) of consecutive periods with d_n <= tol, dcur (max_n + 1,)
-    the current d_n (inf while fewer than n + 1 points), tol = max(atol max(|y|, 1), floor_tol).
-    With ``check``, rule 3 on the counts (``confirm`` consecutive periods).  Returns (n_seen + 1, n):
-    n the period at which the transient may stop, 0 if none."""
+    """Feed the Poincaré point y of a transient period to the running record (ring, counts, current distances)
+    and, with ``check``, apply rule 3 to the counts; returns (n_seen + 1, n), n the period at which the
+    transient may stop, 0 if none (arguments: ``docs/numerics.md``)."""
     confirm, max_n, floor_tol, atol, separation = es[1], es[2], es[3], es[4], es[5]
     slot = n_seen % (max_n + 1)
     scale = 1.0

@@ -1,20 +1,5 @@
 """The response measures' sums, added step by step inside the batch's lanes (private to
-:mod:`geardyn.solve`; use :func:`geardyn.solve.response.response_measures`).
-
-:func:`geardyn.solve._batch.run_blocks` integrates whole mesh periods with the solver's own step (the lanes
-are bit-identical to :func:`geardyn.solve.simulate`), and with a sums array it calls :func:`start_sums` at
-the start state and :func:`add_step` after every step (after the contact switches inside it are located).
-The sums, at the integration's resolution:
-
-* the time integrals of the mesh force F = kappa f(x2) + c_m x2' and of x2 (trapezoidal rule on the step
-  grid, which is aligned to the stiffness jumps: each step uses kappa's one-sided values at its ends), and of
-  their squares, shifted by their values at the start (no cancellation in the variance);
-* the largest drive-side force s F (s = +-1, the side of the static contact) and the extremes of x2 on the
-  grid;
-* the time in each contact region (x2 beyond +b, between -b and +b, beyond -b): a step whose end points lie
-  in different regions is cut at the crossings of x2 = +-b, located on the cubic Hermite interpolant of x2
-  (values and slopes x2' at both ends, :func:`geardyn.solve._kernel.hermite_root`).
-"""
+:mod:`geardyn.solve`; use :func:`geardyn.solve.response.response_measures`; the sums: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 

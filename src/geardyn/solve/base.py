@@ -1,20 +1,7 @@
 """The contract of the solver core: what a system must offer, how to integrate, what comes back.
 
-The solver integrates one family of equations, the dimensionless 3-DOF form of a gear stage with
-one backlash mesh (paper 1 Eq. 16, corrected)::
-
-    x'' + C x' + K x + g (kappa(s) f(x2) + c_m x2') = p + (0, te sin(2 pi s + phi), 0)
-
-with the mesh phase s = tau / T, a piecewise-quadratic stiffness kappa(s) on the two zones
-[0, f] and [f, 1] of every mesh period (f = eps - floor(eps), one pair more on the first), and the dead zone f of
-half width b.  Any
-object that satisfies :class:`System` can be integrated; :class:`geardyn.khv.model.Coefficients`
-is the one the KHV model family builds.
-
-The numbers the compiled kernels read are packed in one flat array in the order of
-:data:`LAYOUT`; every reader (the RK4 kernels, the DOP853 reference) uses the named indices
-below, never a raw position.
-"""
+The dimensionless 3-DOF backlash equations, the :data:`LAYOUT` of the kernels' coefficient array and the
+settings and results (equations and layout: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 
@@ -74,22 +61,8 @@ class System(Protocol):
 
 @dataclass(frozen=True)
 class SimulationSettings:
-    """How to integrate.  Times in mesh periods; thresholds in units of b_c.
-
-    steps_per_period: N (default 512 from the work-precision study, ``python -m benchmarks.bench``).
-    aligned: False spreads N equal steps over the period regardless of the stiffness jumps
-    (for demonstrations only; rk4 integrators).  rtol: only used by ``"dop853"``.
-    divergence_threshold: a run has diverged when any |state_i| exceeds this many times the larger of 1
-    and the same component of the static deflection (:func:`divergence_limits`), or is not finite.
-
-    Used by the labeller (:mod:`geardyn.label`, through :func:`geardyn.solve.simulate_batch`), never by
-    :func:`geardyn.solve.simulate` itself:
-
-    early_stop: end the transient once the stroboscopic map has converged to a period-n cycle
-    (return distance <= early_stop_tol_factor x the classifier's tolerance floor for
-    early_stop_confirm consecutive periods, not before early_stop_min_periods); False: always the
-    full ``transient_periods``.
-    """
+    """How to integrate (times in mesh periods, thresholds in units of b_c); the early-stop fields are
+    read by the labeller only (fields: ``docs/numerics.md``)."""
 
     integrator: IntegratorName = "rk4_event"
     steps_per_period: int = 512
@@ -115,32 +88,9 @@ class SimulationSettings:
 
 @dataclass
 class SimulationResult:
-    """Output of :func:`geardyn.solve.simulate` (dimensionless; states ordered x1, x2, x3, v1, v2, v3
-    with x = (X_DH, X_VH, X_VL) / b_c, v = dx / dtau).
-
-    poincare: (n, 6) state at the end of each recorded mesh period (phase 0).
-    final_state: (6,) state at the end of the run (phase 0): continue a sweep from it
-    (after a divergence: the state at the period end where it was detected).
-    diverged / diverged_period: the period (counted from the start, transient included)
-    at which |state| first exceeded the threshold, else -1; poincare then holds only the
-    points recorded before.
-    tau, states: dense trajectory over the recorded periods (``dense=True``), on the step
-    grid (nearly uniform; use :meth:`uniform` for spectra).
-    growth, strobe: with a tangent vector (``tangent_periods > 0``), log of its growth over each of
-    the last ``tangent_periods`` mesh periods (renormalised after each) and X_VH / b_c at the end of
-    those periods (stroboscopic samples for the 0-1 test).
-    monodromy: with ``monodromy_periods = n``, the (6, 6) derivative of the state after the last n
-    periods with respect to the state n periods before the end (the monodromy matrix of a period-n
-    orbit, when the run ends on it).
-    transient_used: transient periods actually integrated (less than ``transient_periods`` after an
-    early stop, :func:`geardyn.solve.simulate_batch`); tangent: the (renormalised) tangent vector at the end
-    of a batch run that carried one (:func:`geardyn.solve.simulate_batch` continues it from there, the same
-    numbers as one longer run); stop_period: the n of the period-n cycle the
-    early stop saw (0: no early stop).  sums: the response measures' sums
-    (:mod:`geardyn.solve._response`) over the run's last periods, where a batch run was asked for them
-    (``sums_last`` of :func:`geardyn.solve.simulate_batch`; reduced by
-    :func:`geardyn.solve.response.measures_of_sums`).
-    """
+    """Output of :func:`geardyn.solve.simulate` and :func:`geardyn.solve.simulate_batch` (dimensionless;
+    states x1, x2, x3, v1, v2, v3): Poincare points, final state, divergence, dense output, tangent and
+    monodromy records, early-stop and response sums (fields: ``docs/numerics.md``)."""
 
     poincare: np.ndarray
     final_state: np.ndarray
@@ -175,10 +125,8 @@ class SimulationResult:
 
 
 def divergence_limits(system: System, settings: SimulationSettings) -> np.ndarray:
-    """|state_i| above which a run has diverged, per state (6,): ``divergence_threshold`` times the larger
-    of 1 and that displacement's static deflection (velocities: the largest static displacement, the
-    dimensionless frequencies being of order 1).  A heavily loaded design (a large static deflection) is
-    therefore not called diverged; growth by that factor is unbounded growth whatever the load."""
+    """|state_i| above which a run has diverged (6,): ``divergence_threshold`` times the larger of 1 and the
+    static deflection (reasons: ``docs/numerics.md``)."""
     static = np.abs(system.static_state())
     if not np.all(np.isfinite(static)):
         static = np.zeros(6)

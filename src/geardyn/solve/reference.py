@@ -1,14 +1,5 @@
-"""Reference solution: scipy ``solve_ivp`` (DOP853) with the switching events, rtol 1e-12.
-
-Every mesh period is integrated zone by zone ([0, f] and [f, 1], f = eps - floor(eps): no stiffness jump
-inside a call).  Inside a zone the vector field is evaluated with the contact region held
-fixed (f = x2 - b, 0 or x2 + b: each one smooth) and a terminal event on x2 = +-b, with the
-direction that leaves the region, stops the call; the run restarts in the new region.  The
-solver therefore never steps over a kink and keeps its 8th order.  Steps are limited to
-T/128 so that a grazing excursion into another region lasting longer than that is seen
-(a sign change of the event function is only looked for between step ends).  Independent of the RK4
-kernels (only the coefficient array and its named layout are shared).
-"""
+"""Reference solution: scipy ``solve_ivp`` (DOP853) with the switching events, rtol 1e-12, zone by zone
+and region by region, independent of the RK4 kernels (method: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 

@@ -1,16 +1,6 @@
-"""The engineer's response measures of one operating point: dynamic mesh force, dynamic factor, dynamic
-transmission error, contact fractions and the impact class (definitions: ``docs/response.md``).
-
-:func:`response_measures_many` integrates whole mesh periods from states on the attractor in the batch's
-lanes, with the solver's own step, adds every step to the sums of :mod:`geardyn.solve._response` and reduces
-them; :func:`response_measures` does it for one point.  The labeller needs no such run: its own runs add the
-steps of their last periods to the same sums (``sums_last`` of :func:`geardyn.solve.simulate_batch`), which
-:func:`measures_of_sums` reduces (:attr:`geardyn.label.Verdict.response`).
-:func:`rms_errors_many` gives the standard errors of the RMS values of such a record (batch means over
-blocks of whole mesh periods, each block a record of its own in the same lanes).
-All quantities are dimensionless like the solver's: forces in units of k_mean b_c, displacements in
-units of b_c (= 1 um for the KHV family), so a DTE of 1 is 1 um.
-"""
+"""The engineer's response measures of one operating point: dynamic mesh force, dynamic factor, DTE,
+contact fractions, impact class, and the standard errors of the RMS values (definitions:
+``docs/response.md``; how they are summed: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 
@@ -34,19 +24,8 @@ CONTACT_LOSS_MIN = 1.0e-9
 
 @dataclass(frozen=True)
 class ResponseMeasures:
-    """The response of one point over ``periods`` mesh periods (forces / (k_mean b_c), lengths / b_c).
-
-    static_force: the static mesh force F_s (mean stiffness, no TE; its sign is the drive side).
-    force_mean, force_rms, force_max: the mean of the dynamic mesh force F = k f(X_VH) + c_m X_VH' on the
-    drive side (s F, s = sign F_s), the RMS of its fluctuation about that mean, and its largest value.
-    dynamic_factor: K_v = force_max / |F_s| (NaN when F_s = 0).
-    dte_rms, dte_pp: RMS of the fluctuation and peak-to-peak of the dynamic transmission error X_VH / b_c.
-    dte_mean: its mean.
-    drive_fraction, separation_fraction, back_fraction: fractions of time in drive-side contact, inside
-    the backlash and in back-side contact.  impact_class: key of :data:`IMPACT_CLASSES`.
-    n_switches: contact switches in the record.  diverged: unbounded growth during the record (then the
-    measures are NaN and the class is ``"diverged"``).
-    """
+    """The response of one point over ``periods`` mesh periods (forces / (k_mean b_c), lengths / b_c); NaN
+    and class ``"diverged"`` where the run diverged (fields: ``docs/numerics.md``)."""
 
     static_force: float
     force_mean: float
@@ -87,24 +66,6 @@ def impact_class(separation_fraction: float, back_fraction: float) -> str:
     return "no_impact"
 
 
-def contact_fractions(
-    x: np.ndarray, v: np.ndarray, h: float, b: float, side: float = 1.0
-) -> tuple[float, float, float]:
-    """Fractions of time (drive, separation, back) of a trajectory sampled every h (x2 and its slope x2' at
-    the samples), the crossings of x2 = +-b located on the cubic Hermite interpolant between samples as the
-    accumulator does; ``side``: the sign of the drive-side contact."""
-    x, v = np.asarray(x, dtype=float), np.asarray(v, dtype=float)
-    if x.shape != v.shape or x.ndim != 1 or x.size < 2 or not h > 0.0 or not b >= 0.0:
-        raise ValueError("contact_fractions: x and v of equal length >= 2, h > 0, b >= 0")
-    import geardyn.solve._response as _acc  # noqa: PLC0415 - compiled: not imported by jobs that read results
-
-    times = np.zeros(3)
-    for i in range(x.size - 1):
-        _acc.region_times(x[i], x[i + 1], v[i], v[i + 1], h, b, times, 0)
-    pos, zero, neg = times / times.sum()
-    return (float(pos), float(zero), float(neg)) if side > 0 else (float(neg), float(zero), float(pos))
-
-
 #: Blocks of the batch-means error of an RMS value (:func:`rms_errors_many`): 10 blocks of 5 mesh periods
 #: for the 50 recorded periods of the regime maps' preset.
 RMS_BLOCKS = 10
@@ -112,12 +73,8 @@ RMS_BLOCKS = 10
 
 @dataclass(frozen=True)
 class RMSErrors:
-    """Standard errors of the RMS values of a record (:func:`rms_errors_many`), in their units.
-
-    dte_rms_error: of :attr:`ResponseMeasures.dte_rms`; force_rms_error: of
-    :attr:`ResponseMeasures.force_rms`; blocks: the number of blocks (of whole mesh periods) they come from.
-    NaN with fewer than 2 blocks or where the record diverged.
-    """
+    """Standard errors of the RMS values of a record (:func:`rms_errors_many`) and the number of blocks
+    they come from; NaN with fewer than 2 blocks or where the record diverged."""
 
     dte_rms_error: float
     force_rms_error: float
@@ -167,13 +124,9 @@ def response_measures_many(
     periods: Sequence[int] | None = None,
 ) -> list[ResponseMeasures]:
     """:func:`response_measures` of many points: system i from the state ``y0s[i]`` over ``periods[i]`` mesh
-    periods, integrated in the batch's lanes (:func:`geardyn.solve._batch.run_blocks`, 8 points in lockstep,
-    blocks in parallel on the numba threads) with the sums of :mod:`geardyn.solve._response` added at every
-    step.  Each point's measures are its own: they do not depend on the other points or on the threads."""
-    import geardyn.solve._batch as _batch  # noqa: PLC0415 - compiled: not imported by jobs that read results
-    import geardyn.solve._response as _acc  # noqa: PLC0415 - likewise
-    from geardyn.solve._kernel import NO_EARLY_STOP  # noqa: PLC0415 - likewise
-    from geardyn.solve.run import lane_tables  # noqa: PLC0415 - likewise
+    periods, the sums of :mod:`geardyn.solve._response` added at every step in the batch's lanes
+    (:func:`geardyn.solve.simulate_batch` with ``sums_last``).  Each point's measures are its own."""
+    from geardyn.solve.run import simulate_batch  # noqa: PLC0415 - compiled: not imported by jobs that read results
 
     settings = SimulationSettings() if settings is None else settings
     n_per = _periods_of(systems, y0s, settings, periods)
@@ -186,33 +139,17 @@ def response_measures_many(
     )
     for g in range(0, len(order), GROUP):  # groups of points: step tables that stay in the caches
         group = order[g : g + GROUP]
-        L = len(group)
-        tabs = lane_tables([systems[i] for i in group], settings)
-        sgn = np.array([drive_side(f_s[i]) for i in group])
-        sums = np.zeros((L, _acc.N_OUT))
-        _batch.run_blocks(
-            tabs.C,
-            (tabs.H, tabs.S, tabs.SEG, tabs.K, tabs.P, tabs.POLY),
-            np.stack([starts[i] for i in group]),
-            np.zeros(L, np.int64),
-            np.array([n_per[i] for i in group], np.int64),
-            settings.integrator == "rk4_event",
-            tabs.limits,
-            np.empty((L, 0, 6)),  # no Poincare points
-            np.empty((L, 6)),
-            NO_EARLY_STOP,
-            np.zeros((L, 5), np.int64),
-            np.empty((L, 6, 0)),  # no tangent
-            np.zeros(L, np.int64),
-            np.empty((L, 0)),
-            np.empty((L, 0)),
-            sums,
-            sgn,
-            np.array([n_per[i] for i in group], np.int64),  # the sums over the whole run
+        counts = [n_per[i] for i in group]
+        runs = simulate_batch(
+            [systems[i] for i in group],
+            settings,
+            [starts[i] for i in group],
+            transient_periods=[0] * len(group),
+            recorded_periods=counts,
+            sums_last=counts,  # the sums over the whole run
         )
-        for k, i in enumerate(group):
-            if sums[k, _acc.STATUS] == 0.0:
-                measures[i] = _reduce(sums[k], f_s[i], n_per[i])
+        for i, r in zip(group, runs, strict=True):
+            measures[i] = measures_of_sums(r.sums, systems[i], n_per[i])
     return [ResponseMeasures.not_computed(f) if m is None else m for m, f in zip(measures, f_s, strict=True)]
 
 
@@ -226,15 +163,8 @@ def measures_of_sums(sums: np.ndarray | None, system: System, periods: int) -> R
     f_s = static_mesh_force(system)
     if sums is None or sums[_acc.STATUS] != 0.0:
         return ResponseMeasures.not_computed(f_s)
-    return _reduce(sums, f_s, periods)
-
-
-def _reduce(out: np.ndarray | list[float], f_s: float, n_per: int) -> ResponseMeasures:
-    """The measures from the accumulator's sums (static force f_s: its sign is the drive side)."""
-    import geardyn.solve._response as _acc  # noqa: PLC0415 - compiled: not imported by jobs that read results
-
     sgn = drive_side(f_s)
-    out = [float(v) for v in out]
+    out = [float(v) for v in sums]
     t = out[_acc.TIME]
     mf, mx = out[_acc.SUM_F] / t, out[_acc.SUM_X] / t
     f_var = max(out[_acc.SUM_F2] / t - mf * mf, 0.0)
@@ -256,20 +186,13 @@ def _reduce(out: np.ndarray | list[float], f_s: float, n_per: int) -> ResponseMe
         back_fraction=back,
         impact_class=impact_class(zero, back),
         n_switches=int(out[_acc.N_SWITCH]),
-        periods=n_per,
+        periods=periods,
     )
 
 
 def batch_means_rms_error(weights: np.ndarray, means: np.ndarray, rms: np.ndarray) -> float:
-    """The batch-means standard error of the RMS of a record cut into B >= 2 blocks: ``weights`` (B,) the
-    blocks' durations, ``means`` and ``rms`` (B,) each block's mean and RMS about its own mean.
-
-    The record's RMS R = sqrt(Q) with Q = sum_b w_b (r_b^2 + (m_b - A)^2), A = sum_b w_b m_b (w_b the
-    blocks' shares of the time: the variance of the whole record, exactly).  R is a smooth function of the
-    two time averages of x and x^2, so its error is that of the average of the linearised block values
-    u_b = (r_b^2 + (m_b - A)^2 - Q) / (2 R) (the delta method; sum_b w_b u_b = 0):
-    SE^2 = B / (B - 1) sum_b w_b^2 u_b^2, for equal blocks the sample variance of u_b over B.  A
-    periodic record whose blocks hold whole cycles has equal blocks: SE = 0 (to rounding).  0 when R = 0."""
+    """The batch-means standard error of the RMS of a record cut into B >= 2 blocks (``weights``, ``means``,
+    ``rms``: (B,) each); 0 when the RMS is 0 (the delta-method derivation: ``docs/numerics.md``)."""
     w = np.asarray(weights, dtype=float)
     m, r = np.asarray(means, dtype=float), np.asarray(rms, dtype=float)
     if w.ndim != 1 or w.size < 2 or m.shape != w.shape or r.shape != w.shape or np.any(w <= 0.0):
@@ -294,14 +217,7 @@ def rms_errors_many(
     blocks: int = RMS_BLOCKS,
 ) -> list[RMSErrors]:
     """The standard errors of ``dte_rms`` and ``force_rms`` of the records of :func:`response_measures_many`
-    (same arguments): each record is cut into min(``blocks``, its periods) blocks of whole mesh periods (as
-    equal as the count allows), every block is measured in the batch's lanes as a record of its own (its
-    start: the record's state at phase 0 where the block begins, from :func:`geardyn.solve.simulate_batch`,
-    bit-identical to the record's), and :func:`batch_means_rms_error` combines them.
-
-    The error is that of the time average over the record: it says whether two RMS values differ by more
-    than their records can resolve.  It does not see a slow drift of the record as a whole (a transient
-    longer than the record)."""
+    (same arguments), from min(``blocks``, periods) blocks of whole mesh periods (method: ``docs/numerics.md``)."""
     from geardyn.solve.run import simulate_batch  # noqa: PLC0415 - compiled: not imported by readers
 
     settings = SimulationSettings() if settings is None else settings

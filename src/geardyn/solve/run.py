@@ -1,18 +1,5 @@
-"""Integrate the 3-DOF backlash system: :func:`simulate`, with an optional variational part.
-
-``"rk4"`` is plain RK4 on the grid aligned to the stiffness jumps (the dead zone's kinked
-derivative costs it its order when a step straddles a contact switch); ``"rk4_event"`` locates
-every contact switch inside a step and restarts there (4th order); ``"dop853"`` is the independent
-reference of :mod:`geardyn.solve.reference`.  The compiled loop is :mod:`geardyn.solve._kernel`.
-
-One call can also carry the variational equations along the orbit (the orbit is bit-identical
-with or without them):
-
-* ``tangent_periods = n``: one tangent vector over the last n mesh periods, renormalised every
-  period; its log growth per period gives the largest Lyapunov exponent (:mod:`geardyn.classify`);
-* ``monodromy_periods = n``: the full 6 x 6 derivative of the final state with respect to the
-  state n periods before the end: the monodromy matrix of a period-n orbit (Floquet multipliers).
-"""
+"""Integrate the 3-DOF backlash system: :func:`simulate`, with an optional variational part, and
+:func:`simulate_batch` for many points (integrators and variational options: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 
@@ -38,45 +25,17 @@ from geardyn.solve.base import (
 )
 
 
-def step_grid(eps: float, n: int, aligned: bool = True) -> tuple[np.ndarray, np.ndarray]:
-    """Step start phases s_j (n,) and segment ids (n,) of one mesh period.
-
-    Aligned: N1 = max(1, round(n f)) equal steps on [0, f], n - N1 on [f, 1], f = eps - floor(eps) (the
-    zone with one pair more); for an integer eps (f = 0) n equal steps on the second zone
-    (:func:`geardyn.solve._batch.fill_tables`, the one statement of the aligned grid).
-    Not aligned: n equal steps, segment id -1 (kappa evaluated by its global definition).
-    """
-    if not aligned:
-        return np.arange(n) / n, np.full(n, -1, dtype=np.int64)
-    _, s, seg, _, _ = _aligned_tables(float(eps), 1.0, 0.0, 0.0, np.zeros((2, 3)), n)
-    return s, seg
-
-
-def _aligned_tables(eps: float, period: float, te: float, phi: float, poly: np.ndarray, n: int):
-    """h, s, seg, kappa and TE at the stage times of the aligned grid (one lane of
-    :func:`geardyn.solve._batch.fill_tables`)."""
-    H, S, K, P = np.empty((1, n)), np.empty((1, n)), np.empty((1, n, 3)), np.empty((1, n, 3))
-    SEG = np.empty((1, n), np.int64)
-    _batch.fill_tables(0, eps, period, te, phi, poly, n, H, S, SEG, K, P)
-    return H[0], S[0], SEG[0], K[0], P[0]
-
-
 @lru_cache(maxsize=64)
 def step_tables(system: System, n: int, aligned: bool = True):
-    """Per-step tables of one mesh period: (c, h, s, seg, kappa at the 3 stage times, TE at them, polys).
-
-    Aligned: :func:`geardyn.solve._batch.fill_tables` (the tables of :func:`simulate_batch` too); not
-    aligned: vectorised here.  kappa by Horner as ``np.polyval`` evaluates it.  Cached per (system, n, aligned)
-    (systems are frozen and hashable); the arrays are read-only.
-    """
-    c = system.kernel_array()
-    poly = system.stiffness_polys()
-    if aligned:
-        h, s, seg, tab_k, tab_p = _aligned_tables(
-            float(system.eps), float(system.period), float(system.te_forcing), float(system.phi), poly, n
-        )
+    """Per-step tables of one mesh period (c, h, s, seg, kappa and TE at the 3 stage times, polys), cached
+    per (system, n, aligned), read-only (``docs/numerics.md``)."""
+    if aligned:  # the tables of simulate_batch: one lane
+        t = lane_tables([system], SimulationSettings(steps_per_period=n))
+        c, h, s, seg, tab_k, tab_p, poly = t.C[0], t.H[0], t.S[0], t.SEG[0], t.K[0], t.P[0], t.POLY[0]
     else:
-        s, seg = step_grid(system.eps, n, aligned)
+        c = system.kernel_array()
+        poly = system.stiffness_polys()
+        s, seg = np.arange(n) / n, np.full(n, -1, dtype=np.int64)
         ds = np.diff(np.append(s, 1.0))
         e1 = system.eps - math.floor(system.eps)
         sv = s[:, None] + np.array([0.0, 0.5, 1.0])[None, :] * ds[:, None]
@@ -99,13 +58,8 @@ def simulate(
     tangent_periods: int = 0,
     monodromy_periods: int = 0,
 ) -> SimulationResult:
-    """Integrate the dimensionless 3-DOF system; see :class:`~geardyn.solve.base.SimulationResult`.
-
-    x0: initial state (6,) at phase 0 (default: ``system.static_state()``, the static deflection).
-    tangent_periods / monodromy_periods: carry one renormalised tangent vector, or the full 6 x 6
-    variational matrix, over that many final mesh periods (at most the whole run; not both).
-    Never raises on divergence: it returns ``diverged=True``.
-    """
+    """Integrate the dimensionless 3-DOF system from x0 (default: the static deflection), optionally with
+    a tangent vector or the monodromy over the last periods; never raises on divergence (``docs/numerics.md``)."""
     y0 = system.static_state() if x0 is None else np.asarray(x0, dtype=float).copy()
     if settings.integrator == "dop853":
         if tangent_periods or monodromy_periods:
@@ -125,17 +79,14 @@ def simulate(
     nd = (n_rec * n) // stride if dense else 0
     dt = np.empty(nd)
     dy = np.empty((nd, 6))
-    final = np.empty(6)
-    n_var = max(0, min(int(tangent_periods or monodromy_periods), n_trans + n_rec))
-    if tangent_periods:
-        W = np.full((6, 1), 1.0 / math.sqrt(6.0))
-    elif monodromy_periods:
-        W = np.eye(6)
-    else:
-        W = np.empty((6, 0))
-    growth = np.full(n_var if tangent_periods else 0, np.nan)
-    strobe = np.full(n_var if tangent_periods else 0, np.nan)
-    status, per, nev, ndense, _, _ = _kernel.run(
+    final = np.empty((1, 6))
+    ntr = np.array([n_trans])
+    nrec = np.array([n_rec])
+    mono = np.array([monodromy_periods])
+    m, ntan, W = _tangent_columns(tangent_periods, mono, ntr + nrec)
+    growth = np.full((1, ntan[0] if tangent_periods else 0), np.nan)
+    strobe = np.full((1, ntan[0] if tangent_periods else 0), np.nan)
+    status, per, nev, ndense, used, stop_n = _kernel.run(
         c,
         tuple(tabs),
         y0,
@@ -147,32 +98,20 @@ def simulate(
         poinc,
         dt,
         dy,
-        W,
-        n_var,
+        W[0],
+        int(ntan[0]),
         bool(tangent_periods),
-        growth,
-        strobe,
-        final,
+        growth[0],
+        strobe[0],
+        final[0],
         _kernel.NO_EARLY_STOP,
     )
-    diverged = status == 1
-    npts = max(0, per - n_trans) if diverged else n_rec
-    ngrowth = max(0, per - (n_trans + n_rec - n_var)) if diverged else n_var
-    return SimulationResult(
-        poincare=poinc[:npts],
-        final_state=final,
-        diverged=diverged,
-        diverged_period=int(per) if diverged else -1,
-        n_events=int(nev),
-        tau=dt[:ndense] if dense else None,
-        states=dy[:ndense] if dense else None,
-        period=system.period,
-        settings=settings,
-        growth=growth[:ngrowth],
-        strobe=strobe[:ngrowth],
-        monodromy=W if (monodromy_periods and not diverged) else None,
-        transient_used=min(int(per) + 1, n_trans) if diverged else n_trans,
-    )
+    out = (status, per, nev, used, stop_n)
+    r = _lane_result(0, system, settings, out, ntr, nrec, ntan, poinc[None], final, growth, strobe, W, m, mono)
+    r.tangent = None  # only simulate_batch hands a tangent on (its tangent_start)
+    if dense:
+        r.tau, r.states = dt[:ndense], dy[:ndense]
+    return r
 
 
 @dataclass(frozen=True)
@@ -372,30 +311,10 @@ def simulate_batch(
     sums_last: Sequence[int] | None = None,
     sums_start: Sequence[np.ndarray | None] | None = None,
 ) -> list[SimulationResult]:
-    """:func:`simulate` for many systems at once (``rk4``/``rk4_event``, no dense output), in parallel
-    over the points (numba threads), with an optional early stop of the transient.
-
-    Each point's arithmetic is that of :func:`simulate`: without ``early_stop`` its result is
-    bit-identical to ``simulate(system, settings, x0, tangent_periods=..., monodromy_periods=...)``,
-    whatever the batch, its order and the number of threads.  ``monodromy_periods`` may differ per
-    point (then the run of point l is ``transient_periods[l]`` (default: the settings') + its own
-    recorded count ``settings.recorded_periods``; use ``recorded_periods = 0`` settings with
-    ``transient_periods = n`` to get the monodromy of n periods only).  ``transient_periods`` and
-    ``recorded_periods`` may be given per point; they default to the settings'.  ``tables``: the
-    :func:`lane_tables` of ``systems`` and ``settings`` when the caller already has them (repeated runs
-    of the same points, as in Newton shooting).  ``tangent_start``: each point's initial tangent vector (6,)
-    (None: the default, all components 1/sqrt(6)); a run that starts from an earlier run's final state and
-    ``tangent`` continues it bit for bit (the run is split where the records join).
-    ``sums_last``: each point's response measures' sums (:mod:`geardyn.solve._response`, the result's
-    ``sums``) over its run's last ``sums_last[l]`` mesh periods (none where <= 0); where that is more than
-    the run, the earlier periods' sums are ``sums_start[l]``, those of a run this one continues (the same
-    numbers as one longer run).  Runs with sums step in the lockstep blocks only.
-    With ``early_stop``, a point whose stroboscopic map has converged ends its transient early
-    (``transient_used``, ``stop_period``) and drops its tangent vector (``growth`` empty).
-    Without monodromy, 8 points step together (vectorised, with their tangent vectors,
-    :func:`geardyn.solve._batch.run_blocks`); a remainder of a few points, and points with the monodromy,
-    run one per thread (the same numbers).
-    """
+    """:func:`simulate` for many systems at once (``rk4``/``rk4_event``, no dense output), in parallel, each
+    point bit-identical to :func:`simulate` without ``early_stop``; per-point transient, recorded and monodromy
+    periods, cached ``tables``, ``tangent_start`` and the response sums ``sums_last``/``sums_start``
+    (arguments: ``docs/numerics.md``)."""
     if settings.integrator == "dop853":
         raise ValueError("simulate_batch integrates with 'rk4' or 'rk4_event'")
     L = len(systems)

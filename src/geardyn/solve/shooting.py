@@ -1,27 +1,6 @@
 """Periodic orbits by Newton shooting on the stroboscopic (mesh-period) map, with Floquet multipliers.
-
-A period-n orbit of the T-periodic system is a fixed point of the n-fold stroboscopic map
-P^n = phi_nT (state at phase 0 -> state n mesh periods later)::
-
-    F(x) = phi_nT(x) - x = 0,        DF = M - I,     M = D phi_nT (monodromy)
-
-Newton's method needs M, which :func:`geardyn.solve.simulate` carries along the orbit
-(``monodromy_periods=n``): the variational equations advanced with the same event-located RK4
-stages, so M is the derivative of the discrete map itself.  The contact force kappa f(x2) is
-continuous at x2 = +-b (only its slope jumps), so the saltation matrix of a contact switch is the
-identity: the variational equations need no jump at a switch, only the slope f' of the region each
-sub-step lies in (``tests/test_shooting.py`` compares M with a finite-difference monodromy on an
-orbit that leaves contact four times per period).
-
-At convergence the eigenvalues of M are the Floquet multipliers of the orbit: it is asymptotically
-stable when all |mu| < 1.
-
-Everything here works on a *flow map*: a callable ``flow(x, jacobian) -> (phi(x), M or None)``
-returning ``(None, None)`` when the orbit diverged.  :func:`khv_flow` builds it for a
-:class:`~geardyn.solve.base.System` (``tests/_oracle.py`` holds an RK4 flow map of any smooth forced ODE,
-with which the tests validate the method on the Duffing oscillator).  Non-convergence is never silent:
-:class:`ShootingResult` carries ``converged`` and a ``status`` word.
-"""
+Works on a flow map ``flow(x, jacobian) -> (phi(x), M or None)`` ((None, None): diverged); non-convergence
+is never silent (:class:`ShootingResult`; the method: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 
@@ -44,13 +23,8 @@ STATUSES = ("converged", "max_iterations", "diverged", "singular", "not_finite",
 
 @dataclass
 class ShootingResult:
-    """A periodic orbit found (or not) by :func:`newton_shooting`.
-
-    state: (d,) point of the orbit at phase 0 (last Newton iterate when not converged).
-    n: period in mesh periods.  monodromy: (d, d) at ``state``; multipliers: its eigenvalues,
-    sorted by decreasing modulus.  residual: max |phi_nT(state) - state|.  converged: residual
-    within ``tol * max(1, max |state|)``.  status: one of :data:`STATUSES`.
-    """
+    """A periodic orbit found (or not) by :func:`newton_shooting`: state, period n, convergence and
+    :data:`STATUSES` word, iterations, residual, monodromy and multipliers (fields: ``docs/numerics.md``)."""
 
     state: np.ndarray
     n: int
@@ -161,14 +135,8 @@ def newton_shooting(
     max_step: float | None = None,
     max_growth: float = math.inf,
 ) -> ShootingResult:
-    """Newton on F(x) = phi(x) - x from x0.
-
-    Convergence: max |F| <= tol * max(1, max |x|).  The Newton step is capped at ``max_step``
-    (default 10 * max(1, max |x0|)) in the max norm.  The iteration stops (``residual_grows``) when max |F|
-    grows more than ``max_growth`` times in one iteration: near a root Newton's residual falls, so a
-    search that may start outside every basin can give up early.  The monodromy and multipliers returned
-    are evaluated at the returned state.
-    """
+    """Newton on F(x) = phi(x) - x from x0: converged when max |F| <= tol max(1, max |x|), the step capped
+    at ``max_step``, stopped when the residual grows ``max_growth`` times (``docs/numerics.md``)."""
     x = np.asarray(x0, dtype=float).copy()
     cap = _step_cap(x, max_step)
     previous = math.inf
@@ -199,21 +167,9 @@ def newton_shooting_batch(
     deflation_shift: float = 1.0,
     step_cap: float = 10.0,
 ) -> list[ShootingResult]:
-    """:func:`newton_shooting` on the n-period map (:func:`khv_flow`) of many systems at once, the batched
-    Newton core: every iteration integrates all unfinished points together
-    (:func:`geardyn.solve.run.simulate_batch`, both cores), whose lanes have the arithmetic of
-    :func:`simulate`; each point's iterates, and so its result, are those of
-    ``shoot(system, x0, n, settings, tol, max_iter)`` bit for bit.  ``tables``: the
-    :func:`geardyn.solve.run.lane_tables` of ``systems`` when the caller has them.  The step is capped at
-    ``step_cap`` max(1, |x0|) (max norm).
-
-    ``chord``: a chord iteration x <- x - C (phi(x) - x) with a fixed matrix C per point (the inverse of
-    M - I of a nearby orbit): plain runs without the variational part, no step cap, and the growth stop
-    checked before convergence (``max_growth`` 0.5: the residual must halve at every iteration); a converged
-    result carries no monodromy.  ``deflate``: a root r per point that the iteration must not converge to
-    again: Newton on the deflated residual G(x) = m(x) (phi(x) - x), m(x) = 1 / |x - r|^2 + ``deflation_shift``
-    (Farrell, Birkisson & Funke, SIAM J. Sci. Comput. 37 (2015) A2026), convergence on the plain residual, the
-    step capped at ``step_cap`` max(1, |x|) of the current iterate."""
+    """:func:`newton_shooting` on the n-period map of many systems at once, every iteration one
+    :func:`geardyn.solve.run.simulate_batch` (each result bit for bit that of the point alone); ``chord``:
+    a fixed matrix per point, ``deflate``: a root per point to avoid (``docs/numerics.md``)."""
     s = period_settings(settings, n)
     tables = lane_tables(systems, s) if tables is None else tables
     xs = [np.asarray(x, dtype=float).copy() for x in x0s]
@@ -298,12 +254,8 @@ def cycle_points(
     tables=None,
     measure: bool = False,
 ) -> list[tuple[np.ndarray, int, bool, np.ndarray | None]]:
-    """The n phase-0 points (n, 6) of the period-n orbits through ``states`` (the state first), one mesh
-    period apart, from one run of n periods of each (all together; a period-1 orbit is its state, no run):
-    (points, contact switches over the n periods (-1: not run), diverged, sums).  A run that diverged gives
-    the points before it diverged.  ``measure``: the run also adds the response measures' sums over its n
-    periods (``sums``, :func:`geardyn.solve.response.measures_of_sums`; a period-1 orbit is then run too, its
-    switches still -1), else ``sums`` is None."""
+    """The n phase-0 points of the period-n orbits through ``states``, from one run of n periods each: (points,
+    contact switches (-1: not run), diverged, sums); ``measure`` adds the response sums (``docs/numerics.md``)."""
     if n == 1 and not measure:
         return [(np.asarray(x)[None, :], -1, False, None) for x in states]
     last = [n] * len(states) if measure else None
@@ -350,21 +302,6 @@ def khv_flow(system: System, n: int = 1, settings: SimulationSettings | None = N
         return r.final_state.copy(), (r.monodromy.copy() if jacobian else None)
 
     return flow
-
-
-def shoot(
-    system: System,
-    x0: np.ndarray | None = None,
-    n: int = 1,
-    settings: SimulationSettings | None = None,
-    tol: float = 1e-9,
-    max_iter: int = 30,
-    max_growth: float = math.inf,
-) -> ShootingResult:
-    """Period-n orbit of a KHV system from x0 (default: the static deflection); ``max_growth`` as in
-    :func:`newton_shooting`."""
-    x0 = system.static_state() if x0 is None else x0
-    return newton_shooting(khv_flow(system, n, settings), x0, n, tol, max_iter, max_growth=max_growth)
 
 
 def rotation_number(mu: complex) -> float:
