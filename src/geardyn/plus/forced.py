@@ -1,23 +1,8 @@
 """Linear forced response of the plus set to the static transmission error, against input speed.
 
-Model (``docs/paper2.md``, "Forced response across speed"): the linear model of :mod:`.modal`
-(M, K over the coordinates of one working condition) with *modal* damping, the same ratio zeta in
-every elastic mode, excited by the static TE of the p-d meshes as a displacement ("wedge") in the
-mesh spring.  With e_j(t) the TE fluctuation (mean removed, m) of the p-d mesh of planet j, the
-compression of mesh element e is ``delta_e = v_e . q + e_e`` and
-
-    M q'' + C q' + K q = -sum_j k_pd e_j(t) v_pdj,      F_e = k_e (v_e . q + e_e)   (fluctuation, N).
-
-The TE is periodic in the mesh phase: e_j(t) = sum_h Re(c_h exp(i h (W t + 2 pi g_j))), with c_h its
-Fourier coefficients and g_j the mesh phase of planet j (mesh periods).  For each speed and harmonic the
-response solves (K - w^2 M + i w C) X = F with w = h W, here by modal superposition over the elastic modes
-(the rigid-body mode of the condition strains no spring, so the mesh excitation does not reach it):
-
-    X = sum_r phi_r (phi_r . F) / (w_r^2 - w^2 + 2 i zeta w_r w)      (phi_r M-normalised).
-
-Limits (tested): w -> 0 gives the static solution K^+ F; w -> infinity gives X -> 0 and F_e -> k e_e
-(the whole TE taken up by the mesh spring); zero TE gives zero force.  Units: SI (m, N, rad/s); speeds
-in rpm of the sun (the input member).
+The modal model of :mod:`.modal` with modal damping, excited by the static TE of the p-d meshes as a
+displacement in the mesh spring, solved per harmonic by modal superposition (the model, its limits and the
+tests: docs/paper2.md Sec. 5).  Units: SI (m, N, rad/s); speeds in rpm of the sun (the input member).
 """
 
 from __future__ import annotations
@@ -45,13 +30,9 @@ PHASE_SAMPLES = 128
 
 
 def modal_frf(omega2: ArrayLike, shapes: ArrayLike, zeta: float, force: ArrayLike, omega: ArrayLike) -> NDArray:
-    """Complex response X (m or rad) of a modally damped system to the harmonic force ``force``.
-
-    ``omega2`` (m,) squared natural circular frequencies (rad^2/s^2) of the elastic modes, ``shapes``
-    (n, m) their M-normalised shapes, ``force`` (..., n) complex force amplitudes, ``omega`` circular
-    frequencies (rad/s) broadcast against ``force[..., 0]``.  Returns X with shape
-    ``broadcast(omega, force[..., 0]).shape + (n,)``.
-    """
+    """Complex response X (..., n) of a modally damped system to the harmonic ``force`` (..., n): ``omega2``
+    (m,) squared elastic circular frequencies, ``shapes`` (n, m) M-normalised, ``omega`` (rad/s) broadcast
+    against ``force[..., 0]``."""
     omega2 = np.asarray(omega2, dtype=float)
     shapes = np.asarray(shapes, dtype=float)
     f = np.asarray(force)
@@ -95,15 +76,9 @@ def mesh_frequency_per_rpm(design: PlusDesign, condition: str) -> float:
 
 @dataclass(frozen=True)
 class ForcedResponse:
-    """Mesh forces of the forced response.  Forces in N, speeds in rpm, frequencies in Hz.
-
-    ``amplitude`` (case, speed, harmonic, mesh) complex force amplitude of each harmonic;
-    ``rms`` (case, speed, mesh) RMS of the fluctuating mesh force; ``dynamic_factor`` (case, speed,
-    mesh) largest total force over a mesh period / static force; ``min_factor`` the smallest total force /
-    static force (below 0 the linear model would pull the teeth: contact is lost there); ``natural_hz`` the elastic
-    natural
-    frequencies of the condition.
-    """
+    """Mesh forces of the forced response (N; speeds in rpm, frequencies in Hz): complex ``amplitude`` (case,
+    speed, harmonic, mesh); ``rms``, ``dynamic_factor`` and ``min_factor`` (largest and smallest total force /
+    static force; below 0 contact is lost) per (case, speed, mesh); the condition's elastic ``natural_hz``."""
 
     condition: str
     zeta: float
@@ -144,13 +119,9 @@ def forced_response(
     speeds: ArrayLike | None = None,
     zeta: float | None = None,
 ) -> ForcedResponse:
-    """Mesh forces against sun speed for each TE case.
-
-    ``te`` (case, phase) is the static TE (m) of the p-d pair over one mesh period, sampled uniformly
-    (e.g. ``TEResult.te`` or the ``transmission_error`` of ``te.nc`` times 1e-6); every p-d mesh gets
-    the same TE shifted by its mesh phase (:func:`mesh_phases`).  ``speeds`` (rpm) default to
-    :func:`speed_grid`; ``zeta`` to ``design.forced.damping_ratio``.
-    """
+    """Mesh forces against sun speed for each TE case: ``te`` (case, phase), the static TE (m) of the p-d pair
+    sampled uniformly over one mesh period, shifted by each planet's mesh phase (:func:`mesh_phases`);
+    ``speeds`` (rpm) default to :func:`speed_grid`, ``zeta`` to ``design.forced.damping_ratio``."""
     spec = design.forced
     zeta = spec.damping_ratio if zeta is None else float(zeta)
     te = np.atleast_2d(np.asarray(te, dtype=float))

@@ -1,10 +1,7 @@
 """Tables of a plus set: natural frequencies, key elements, stiffness scaling, TE, relief optima.
 
-Pure functions returning pandas DataFrames or xarray Datasets with ``units`` and ``long_name`` on
-every variable.  A table that compares with a paper takes the paper's module (``paper``, from
-:func:`geardyn.papers.paper_of`: its ``PAPER_TABLE2``, ``PAPER_SHARED``, ``PAPER_TABLE5_ELEMENT``,
-``PAPER_TABLE5_COMPONENTS`` and ``PAPER_RELIEF``); with ``paper=None`` (a design that names no paper)
-the paper's columns and rows are left out.
+DataFrames, and Datasets with ``units`` and ``long_name`` on every variable; with ``paper`` (a module of
+:mod:`geardyn.papers`) the paper's columns and rows are set beside ours, with ``None`` left out.
 """
 
 from __future__ import annotations
@@ -124,12 +121,9 @@ def _pct(log_value: float) -> float:
 def stiffness_scaling(
     design: PlusDesign, paper: ModuleType, reference: str = "theoretical", matching: str = "rank"
 ) -> dict[str, float]:
-    """Uniform stiffness factor s that best matches the paper (least squares in log frequency).
-
-    Scaling every spring by s scales every frequency by sqrt(s), so log s = 2 mean(log f_paper - log f_ours)
-    exactly.  A mesh-only factor (bearing kept) is fitted numerically.  Returns the factors and the
-    remaining RMS and worst log-residuals expressed in percent.
-    """
+    """Uniform stiffness factor s that best matches the paper in log frequency (exactly log s = 2 mean(log
+    f_paper - log f_ours), as frequencies scale with sqrt(s)), a mesh-only factor fitted numerically, and the
+    remaining RMS and worst residuals in percent."""
     r = _matched_log_residual(design, paper, reference, matching)
     shift = float(np.mean(r))
     res_u = r - shift
