@@ -130,7 +130,7 @@ def sweep_claim(spec: Mapping[str, Any], inputs: Mapping[str, Any], lines: Mappi
 
 
 def _missing(spec: Mapping[str, Any], reason: str, ours: str = "not evaluated") -> Claim:
-    return Claim(spec["id"], spec["figure"], spec["statement"], _paper_text(spec), ours, "not comparable", reason)
+    return _claim(spec, ours, "not comparable", reason)
 
 
 def _paper_text(spec: Mapping[str, Any]) -> str:

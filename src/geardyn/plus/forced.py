@@ -8,7 +8,6 @@ tests: docs/paper2.md Sec. 5).  Units: SI (m, N, rad/s); speeds in rpm of the su
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 import xarray as xr
@@ -20,9 +19,6 @@ from geardyn.io import cf
 from . import modal
 from .design import PlusDesign
 from .ishikawa import pd_mesh_load
-
-if TYPE_CHECKING:
-    import xarray as xr
 
 MESH_KINDS = ("sp", "pd", "dr")
 #: Samples per mesh period used to find the largest force of a periodic response.

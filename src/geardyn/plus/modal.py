@@ -261,20 +261,13 @@ def _canonical_pairs(omega2: NDArray, shapes: NDArray, coords: tuple[str, ...], 
                 u = np.cos(ang) * a + np.sin(ang) * b
                 w = -np.sin(ang) * a + np.cos(ang) * b
                 shapes[:, i], shapes[:, i + 1] = u, w
-            for k in (i, i + 1):  # sign: largest |entry| positive
-                col = shapes[:, k]
-                if col[np.argmax(np.abs(col))] < 0:
-                    shapes[:, k] = -col
             i += 2
         else:
-            col = shapes[:, i]
-            if col[np.argmax(np.abs(col))] < 0:
-                shapes[:, i] = -col
             i += 1
-    if i == n - 1:
-        col = shapes[:, i]
+    for k in range(n):  # sign: largest |entry| positive
+        col = shapes[:, k]
         if col[np.argmax(np.abs(col))] < 0:
-            shapes[:, i] = -col
+            shapes[:, k] = -col
     return shapes
 
 

@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 from scipy.optimize import differential_evolution
 
 from .design import PlusDesign
-from .ishikawa import MeshGrid, design_grid, pd_mesh_load
+from .ishikawa import MeshGrid, design_grid, design_te, pd_mesh_load
 
 SHAPES = ("linear", "parabolic")
 BOUND_SETS = ("paper", "physical")
@@ -40,20 +40,12 @@ class ReliefOptimum:
 
 
 def objective(design: PlusDesign, grid: MeshGrid, shape: str):
-    """f(amount, length) = peak-to-peak TE in m, for differential evolution."""
-    load = pd_mesh_load(design)
-    t, apply_to = design.te, design.relief.apply_to
+    """f(amount, length) = peak-to-peak TE in m (of the approach, free of the constant deviations), for
+    differential evolution."""
 
     def f(p: NDArray) -> float:
-        e = grid.separation(
-            es=t.es,
-            pitch_error_sign=t.pitch_error_sign,
-            relief_amount=float(p[0]),
-            relief_length=float(p[1]),
-            relief_shape=shape,
-            relief_apply_to=apply_to,
-        )
-        return float(np.ptp(grid.solve(load, e).approach))
+        te = design_te(design, grid=grid, relief_amount=float(p[0]), relief_length=float(p[1]), relief_shape=shape)
+        return float(np.ptp(te.approach))
 
     return f
 
