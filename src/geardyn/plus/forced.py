@@ -14,11 +14,11 @@ import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 
 from geardyn import libm
-from geardyn.io import cf
 
 from . import modal
 from .design import PlusDesign
 from .ishikawa import pd_mesh_load
+from .tables import cf_dataset
 
 MESH_KINDS = ("sp", "pd", "dr")
 #: Samples per mesh period used to find the largest force of a periodic response.
@@ -180,48 +180,48 @@ def best_relief_case(cases: tuple[str, ...], te_ptp: ArrayLike) -> str:
     return cases[min(relieved, key=lambda i: ptp[i])]
 
 
+#: The CF variables of forced_response.nc (:func:`geardyn.plus.tables.cf_dataset`).
+_FORCES = ("case", "speed", "mesh")
+VARIABLES: dict[str, tuple] = {
+    "rms_force": (_FORCES, "N", "RMS of the fluctuating mesh force"),
+    "dynamic_factor": (_FORCES, "1", "largest mesh force over a mesh period / static mesh force"),
+    "min_force_factor": (
+        _FORCES,
+        "1",
+        "smallest mesh force over a mesh period / static mesh force (< 0: contact lost)",
+    ),
+    "force_amplitude": (
+        ("case", "speed", "harmonic", "mesh"),
+        "N",
+        "amplitude of the mesh force at each harmonic of the mesh frequency",
+    ),
+    "mesh_frequency": ("speed", "Hz", "mesh frequency at the input (sun) speed"),
+    "te_ptp": ("case", "um", "peak-to-peak static TE of the p-d pair (excitation)"),
+    "natural_frequency": ("mode", "Hz", "undamped natural frequency of elastic mode, condition {condition}"),
+    "resonance_speed": (
+        ("harmonic", "mode"),
+        "rpm",
+        "sun speed at which the harmonic of the mesh frequency meets the mode",
+    ),
+    "case": ("case", "1", "tip-relief case of the p-d pair"),
+    "speed": ("speed", "rpm", "input (sun) speed"),
+    "mesh": ("mesh", "1", "mesh (s-p, p-d, d-r of planet 1-3)"),
+    "harmonic": ("harmonic", "1", "harmonic of the mesh frequency"),
+    "mode": ("mode", "1", "elastic mode"),
+}
+
+
 def to_dataset(res: ForcedResponse, design: PlusDesign) -> xr.Dataset:
     """CF dataset of a :class:`ForcedResponse` (forces in N, TE in um, speeds in rpm)."""
-
-    dims3, rpm = ("case", "speed", "mesh"), "sun speed at which the harmonic of the mesh frequency meets the mode"
-    return xr.Dataset(
-        {
-            "rms_force": cf(dims3, res.rms, "N", "RMS of the fluctuating mesh force"),
-            "dynamic_factor": cf(
-                dims3, res.dynamic_factor, "1", "largest mesh force over a mesh period / static mesh force"
-            ),
-            "min_force_factor": cf(
-                dims3,
-                res.min_factor,
-                "1",
-                "smallest mesh force over a mesh period / static mesh force (< 0: contact lost)",
-            ),
-            "force_amplitude": cf(
-                ("case", "speed", "harmonic", "mesh"),
-                libm.cabs(res.amplitude),
-                "N",
-                "amplitude of the mesh force at each harmonic of the mesh frequency",
-            ),
-            "mesh_frequency": cf("speed", res.mesh_frequency_hz, "Hz", "mesh frequency at the input (sun) speed"),
-            "te_ptp": cf("case", res.te_ptp * 1e6, "um", "peak-to-peak static TE of the p-d pair (excitation)"),
-            "natural_frequency": cf(
-                "mode", res.natural_hz, "Hz", f"undamped natural frequency of elastic mode, condition {res.condition}"
-            ),
-            "resonance_speed": cf(("harmonic", "mode"), res.resonance_speeds(), "rpm", rpm),
-        },
-        coords={
-            "case": cf("case", list(res.cases), "1", "tip-relief case of the p-d pair"),
-            "speed": cf("speed", res.speed_rpm, "rpm", "input (sun) speed"),
-            "mesh": cf("mesh", list(res.meshes), "1", "mesh (s-p, p-d, d-r of planet 1-3)"),
-            "harmonic": cf("harmonic", res.harmonics, "1", "harmonic of the mesh frequency"),
-            "mode": cf("mode", np.arange(1, len(res.natural_hz) + 1), "1", "elastic mode"),
-        },
-        attrs={
-            "title": f"Forced response to the static TE against speed, design {design.name}",
-            "condition": res.condition,
-            "damping_ratio": res.zeta,
-            "phasing": design.forced.phasing,
-            "static_force_N": res.static_force,
-            "best_relief_case": best_relief_case(res.cases, res.te_ptp) if len(res.cases) > 1 else "",
-        },
+    values = (res.rms, res.dynamic_factor, res.min_factor, libm.cabs(res.amplitude), res.mesh_frequency_hz)
+    coords = (list(res.cases), res.speed_rpm, list(res.meshes), res.harmonics, np.arange(1, len(res.natural_hz) + 1))
+    return cf_dataset(
+        VARIABLES,
+        (*values, res.te_ptp * 1e6, res.natural_hz, res.resonance_speeds(), *coords),
+        title=f"Forced response to the static TE against speed, design {design.name}",
+        condition=res.condition,
+        damping_ratio=res.zeta,
+        phasing=design.forced.phasing,
+        static_force_N=res.static_force,
+        best_relief_case=best_relief_case(res.cases, res.te_ptp) if len(res.cases) > 1 else "",
     )

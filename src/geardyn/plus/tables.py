@@ -6,8 +6,10 @@ DataFrames, and Datasets with ``units`` and ``long_name`` on every variable; wit
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from types import ModuleType
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -39,6 +41,63 @@ COMPONENT_LABELS = {
     "carrier": "planet carrier",
 }
 WORKING = ("I", "II", "III")
+
+
+#: The CF variables of the plus set's datasets, one table per dataset: name -> (dims, units, long_name[, more
+#: attributes]); a variable whose dims are its own name is a coordinate (:func:`cf_dataset`).
+_CM = ("condition", "mode")
+MODAL_VARIABLES: dict[str, tuple] = {
+    "natural_frequency": (_CM, "Hz", "undamped natural frequency"),
+    "damped_frequency": (_CM, "Hz", "damped natural frequency"),
+    "damping_ratio": (_CM, "1", "modal damping ratio"),
+    "mode_shape": (
+        (*_CM, "coordinate"),
+        "kg-1/2",
+        "mass-normalised mode shape (0 on the fixed coordinate)",
+        {"comment": "translations in kg-1/2; rotations in rad kg-1/2 m-1"},
+    ),
+    "strain_energy_share": ((*_CM, "element"), "1", "share of the modal strain energy per spring"),
+    "kinetic_energy_share": ((*_CM, "component"), "1", "share of the modal kinetic energy per component"),
+    "mode_type": (_CM, "1", "mode class: rigid, planet (doubled) or overall (axisymmetric)"),
+    "lever_arm": (
+        "coordinate",
+        "m",
+        "radius turning a rotation into a displacement (base radius; carrier: a_sp; 1 for x_s, y_s)",
+    ),
+    "condition": ("condition", "1", "working condition (I carrier, II ring, III sun fixed)"),
+    "mode": ("mode", "1", "mode number including the rigid-body mode"),
+    "coordinate": ("coordinate", "1", "generalised coordinate"),
+    "element": ("element", "1", "spring (Table 3 meshes, sun bearing)"),
+    "component": ("component", "1", "kinetic-energy component (Table 4)"),
+}
+TE_VARIABLES: dict[str, tuple] = {
+    "transmission_error": (
+        ("case", "mesh_phase"),
+        "um",
+        "static transmission error TE = E - delta (Eq. 9) of the p-d pair",
+    ),
+    "mesh_stiffness": ("mesh_phase", "N m-1", "quasi-static mesh stiffness of the unmodified pair"),
+    "load_per_pair": (("slot", "mesh_phase"), "N", "normal load on each tooth pair slot (unmodified)"),
+    "case": ("case", "1", "relief case"),
+    "mesh_phase": ("mesh_phase", "1", "mesh phase in base pitches"),
+    "slot": ("slot", "1", "tooth pair slot (0 = newest)"),
+}
+LANDSCAPE_VARIABLES: dict[str, tuple] = {
+    "te_ptp": (("shape", "amount", "length"), "um", "peak-to-peak static transmission error of the p-d pair"),
+    "shape": ("shape", "1", "tip relief shape"),
+    "amount": ("amount", "um", "tip relief amount along the line of action"),
+    "length": ("length", "mm", "tip relief length along the path of contact"),
+}
+
+
+def cf_dataset(variables: Mapping[str, tuple], values: Sequence[Any], **attrs: Any) -> xr.Dataset:
+    """A Dataset of the CF ``variables`` (a table above) holding ``values`` in the table's order; a long_name
+    may name one of the dataset's ``attrs`` (``{condition}``)."""
+    data: dict[str, Any] = {}
+    coords: dict[str, Any] = {}
+    for (name, (dims, units, long_name, *more)), v in zip(variables.items(), values, strict=True):
+        (coords if dims == name else data)[name] = cf(dims, v, units, long_name.format(**attrs), **(more or [{}])[0])
+    return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
 def distinct_frequencies(design: PlusDesign, condition: str) -> list[dict]:
@@ -246,39 +305,14 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
         se[ci] = np.column_stack([s_fr[k] for k in el_names])
         ke[ci] = np.column_stack([k_fr[k] for k in comp_names])
         mtype[ci] = modal.classify(md)
-    cm, arm = (
-        ("condition", "mode"),
-        "radius turning a rotation into a displacement (base radius; carrier: a_sp; 1 for x_s, y_s)",
+    values = (f, fd, z, shapes, se, ke, mtype.astype(str), _lever_arms(design), conds, np.arange(1, n + 1))
+    title = f"Modal analysis of the plus planetary set {design.name}"
+    return cf_dataset(
+        MODAL_VARIABLES,
+        (*values, list(modal.COORDS), el_names, comp_names),
+        title=title,
+        model_variant=_variant(design),
     )
-    ds = xr.Dataset(
-        {
-            "natural_frequency": cf(cm, f, "Hz", "undamped natural frequency"),
-            "damped_frequency": cf(cm, fd, "Hz", "damped natural frequency"),
-            "damping_ratio": cf(cm, z, "1", "modal damping ratio"),
-            "mode_shape": cf(
-                (*cm, "coordinate"),
-                shapes,
-                "kg-1/2",
-                "mass-normalised mode shape (0 on the fixed coordinate)",
-                comment="translations in kg-1/2; rotations in rad kg-1/2 m-1",
-            ),
-            "strain_energy_share": cf((*cm, "element"), se, "1", "share of the modal strain energy per spring"),
-            "kinetic_energy_share": cf((*cm, "component"), ke, "1", "share of the modal kinetic energy per component"),
-            "mode_type": cf(
-                cm, mtype.astype(str), "1", "mode class: rigid, planet (doubled) or overall (axisymmetric)"
-            ),
-            "lever_arm": cf("coordinate", _lever_arms(design), "m", arm),
-        },
-        coords={
-            "condition": cf("condition", conds, "1", "working condition (I carrier, II ring, III sun fixed)"),
-            "mode": cf("mode", np.arange(1, n + 1), "1", "mode number including the rigid-body mode"),
-            "coordinate": cf("coordinate", list(modal.COORDS), "1", "generalised coordinate"),
-            "element": cf("element", el_names, "1", "spring (Table 3 meshes, sun bearing)"),
-            "component": cf("component", comp_names, "1", "kinetic-energy component (Table 4)"),
-        },
-        attrs={"title": f"Modal analysis of the plus planetary set {design.name}", "model_variant": _variant(design)},
-    )
-    return ds
 
 
 def _lever_arms(design: PlusDesign) -> np.ndarray:
@@ -342,35 +376,14 @@ def te_dataset(design: PlusDesign, optima: list[ReliefOptimum]) -> xr.Dataset:
         r = design_te(design, relief_amount=o.amount, relief_length=o.length, relief_shape=o.shape)
         curves.append(r.te * 1e6)
         labels.append(f"{o.shape}_{o.bounds}")
-    pair = spur_pair(design)
-    ds = xr.Dataset(
-        {
-            "transmission_error": cf(
-                ("case", "mesh_phase"),
-                np.array(curves),
-                "um",
-                "static transmission error TE = E - delta (Eq. 9) of the p-d pair",
-            ),
-            "mesh_stiffness": cf(
-                "mesh_phase", base.stiffness, "N m-1", "quasi-static mesh stiffness of the unmodified pair"
-            ),
-            "load_per_pair": cf(
-                ("slot", "mesh_phase"), base.loads, "N", "normal load on each tooth pair slot (unmodified)"
-            ),
-        },
-        coords={
-            "case": cf("case", labels, "1", "relief case"),
-            "mesh_phase": cf("mesh_phase", base.s, "1", "mesh phase in base pitches"),
-            "slot": cf("slot", np.arange(base.loads.shape[0]), "1", "tooth pair slot (0 = newest)"),
-        },
-        attrs={
-            "title": f"Static TE of the p-d pair, design {design.name}",
-            "contact_ratio": pair.contact_ratio,
-            "load_N": pd_mesh_load(design),
-            "model_variant": "Ishikawa rectangle+trapezoid, base-pitch error model",
-        },
+    return cf_dataset(
+        TE_VARIABLES,
+        (np.array(curves), base.stiffness, base.loads, labels, base.s, np.arange(base.loads.shape[0])),
+        title=f"Static TE of the p-d pair, design {design.name}",
+        contact_ratio=spur_pair(design).contact_ratio,
+        load_N=pd_mesh_load(design),
+        model_variant="Ishikawa rectangle+trapezoid, base-pitch error model",
     )
-    return ds
 
 
 def relief_table(optima: list[ReliefOptimum], paper: ModuleType | None) -> pd.DataFrame:
@@ -430,22 +443,12 @@ def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
     amounts, lengths = landscape_axes(design, n)
     grid = design_grid(design)
     z = np.array([landscape(design, sh, amounts, lengths, grid=grid) for sh in SHAPES]) * 1e6
-    return xr.Dataset(
-        {
-            "te_ptp": cf(
-                ("shape", "amount", "length"), z, "um", "peak-to-peak static transmission error of the p-d pair"
-            )
-        },
-        coords={
-            "shape": cf("shape", list(SHAPES), "1", "tip relief shape"),
-            "amount": cf("amount", amounts * 1e6, "um", "tip relief amount along the line of action"),
-            "length": cf("length", lengths * 1e3, "mm", "tip relief length along the path of contact"),
-        },
-        attrs={
-            "title": f"Objective landscape of the tip-relief optimisation, design {design.name}",
-            "relief_applied_to": design.relief.apply_to,
-            "load_N": pd_mesh_load(design),
-        },
+    return cf_dataset(
+        LANDSCAPE_VARIABLES,
+        (z, list(SHAPES), amounts * 1e6, lengths * 1e3),
+        title=f"Objective landscape of the tip-relief optimisation, design {design.name}",
+        relief_applied_to=design.relief.apply_to,
+        load_N=pd_mesh_load(design),
     )
 
 
