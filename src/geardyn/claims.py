@@ -109,10 +109,14 @@ def evaluate(paper: ModuleType, inputs: Mapping[str, Any]) -> list[Claim]:
     ``claims.md`` and the calibration objective.  A claim's ``line`` is a labelled sweep, a :class:`Track`
     (or {case value: Track} for a family of lines, ``CLAIM_LINES``); its ``input`` is a product.  A claim
     whose input is not given is "not comparable" (the list always has the same ids in the same order)."""
-    ids = [s["id"] for s in paper.CLAIMS]
+    _unique_ids(paper.CLAIMS)
+    return [sweep_claim(spec, inputs, paper.CLAIM_LINES) for spec in paper.CLAIMS]
+
+
+def _unique_ids(specs: Sequence[Mapping[str, Any]]) -> None:
+    ids = [s.get("id") for s in specs]
     if len(set(ids)) != len(ids):
         raise ValueError(f"claim ids repeat: {sorted({i for i in ids if ids.count(i) > 1})}")
-    return [sweep_claim(spec, inputs, paper.CLAIM_LINES) for spec in paper.CLAIMS]
 
 
 def sweep_claim(spec: Mapping[str, Any], inputs: Mapping[str, Any], lines: Mapping[str, Mapping[str, Any]]) -> Claim:
@@ -497,9 +501,7 @@ def data_claim(spec: Mapping[str, Any], products: Any, quantities: Mapping[str, 
 
 def data_claims(specs: Sequence[Mapping[str, Any]], products: Any, quantities: Mapping[str, Quantity]) -> list[Claim]:
     """Every claim of a paper stated as data (its ``CLAIMS``), in the paper module's order."""
-    ids = [s.get("id") for s in specs]
-    if len(set(ids)) != len(ids):
-        raise ValueError(f"claim ids repeat: {sorted({i for i in ids if ids.count(i) > 1})}")
+    _unique_ids(specs)
     return [data_claim(s, products, quantities) for s in specs]
 
 

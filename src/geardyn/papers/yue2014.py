@@ -115,6 +115,20 @@ _WHY_RELIEF = (
 
 #: The paper's relief amount in um (the captions print it so).
 RELIEF_AMOUNT_UM = PAPER_RELIEF["amount_mm"] * 1e3
+#: The paper's Sec. 4 result as the last row of the relief-optima table (its bounds: amount 0.02-0.08 mm, length
+#: 0.0001-2.6 mm).
+RELIEF_ROW = {
+    "shape": "linear (paper)",
+    "bounds": "paper",
+    "amount_bounds_um": "20-80",
+    "length_bounds_mm": "0.0001-2.6",
+    "amount_um": RELIEF_AMOUNT_UM,
+    "length_mm": PAPER_RELIEF["length_mm"],
+    "te_ptp_before_um": PAPER_RELIEF["te_before_um"],
+    "te_ptp_after_um": PAPER_RELIEF["te_after_um"],
+    "reduction_pct": PAPER_RELIEF["reduction_pct"],
+    "evaluations": float("nan"),
+}
 #: The paper's text in the captions and table headers of a design that names it, by caption (geardyn.plots.
 #: captions.paper_says: formatted with this module's values and the caption's own fields).
 CAPTIONS: dict[str, str] = {

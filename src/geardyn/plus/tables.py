@@ -387,7 +387,7 @@ def te_dataset(design: PlusDesign, optima: list[ReliefOptimum]) -> xr.Dataset:
 
 
 def relief_table(optima: list[ReliefOptimum], paper: ModuleType | None) -> pd.DataFrame:
-    """The relief optima, with the paper's Sec. 4 result as the last row when ``paper`` is given."""
+    """The relief optima, with the paper's result (its ``RELIEF_ROW``) as the last row when ``paper`` is given."""
     rows = [
         {
             "shape": o.shape,
@@ -403,8 +403,7 @@ def relief_table(optima: list[ReliefOptimum], paper: ModuleType | None) -> pd.Da
         }
         for o in optima
     ]
-    if paper is None:
-        return pd.DataFrame(rows)
+    return pd.DataFrame(rows if paper is None else [*rows, paper.RELIEF_ROW])
     pr = paper.PAPER_RELIEF
     rows.append(
         {
