@@ -63,7 +63,7 @@ def mesh_frequency_per_rpm(design: PlusDesign, condition: str) -> float:
     md = modal.modes(design, condition)  # type: ignore[arg-type]
     if md.n_rigid != 1:
         raise ValueError(f"condition {condition} has {md.n_rigid} rigid-body modes; the forced response needs one")
-    rigid = md.full_shape(0)
+    rigid = md.full_shapes[:, 0]
     ts, tc = rigid[modal.COORDS.index("theta_s")], rigid[modal.COORDS.index("theta_c")]
     if ts == 0:
         raise ValueError(f"the sun does not turn in the rigid-body motion of condition {condition}")

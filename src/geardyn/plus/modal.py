@@ -238,11 +238,11 @@ class Modes:
     def freq_hz(self) -> NDArray:
         return np.sqrt(np.clip(self.omega2, 0.0, None)) / (2 * np.pi)
 
-    def full_shape(self, i: int) -> NDArray:
-        """Mode ``i`` on all 11 coordinates (0 for the fixed one)."""
-        out = np.zeros(len(COORDS))
-        for c, val in zip(self.coords, self.shapes[:, i], strict=True):
-            out[COORDS.index(c)] = val
+    @property
+    def full_shapes(self) -> NDArray:
+        """The modes on all 11 coordinates (0 on the fixed one), one column per mode."""
+        out = np.zeros((len(COORDS), self.shapes.shape[1]))
+        out[[COORDS.index(c) for c in self.coords]] = self.shapes
         return out
 
 
@@ -313,7 +313,7 @@ def strain_energy_fractions(design: PlusDesign, md: Modes) -> dict[str, NDArray]
     U_e = k_e (v_e . phi)^2 / 2 and sum_e U_e = w^2 / 2 for an M-normalised phi.  Rigid modes: NaN.
     """
     els = elements(design)
-    phis = np.column_stack([md.full_shape(i) for i in range(md.shapes.shape[1])])
+    phis = md.full_shapes
     energy = {el.name: 0.5 * el.k * (el.v @ phis) ** 2 for el in els}
     total = sum(energy.values())
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -324,7 +324,7 @@ def strain_energy_fractions(design: PlusDesign, md: Modes) -> dict[str, NDArray]
 def kinetic_energy_fractions(design: PlusDesign, md: Modes) -> dict[str, NDArray]:
     """Share of each Table 4 component in the modal kinetic energy, per component, shape (n_modes,)."""
     comps = mass_components(design)
-    phis = np.column_stack([md.full_shape(i) for i in range(md.shapes.shape[1])])
+    phis = md.full_shapes
     energy = {k: np.einsum("im,ij,jm->m", phis, Mc, phis) for k, Mc in comps.items()}
     total = sum(energy.values())
     return {
@@ -355,12 +355,12 @@ def classify(md: Modes, *, rtol: float = 1e-6, atol: float = 1e-9) -> list[str]:
     """'rigid', 'planet' (doubled frequency, central members still), 'overall' (axisymmetric) or 'mixed'
     (none for the symmetric set) for each mode (docs/paper2.md, "Mode classes")."""
     out: list[str] = []
-    f = md.omega2
+    f, phis = md.omega2, md.full_shapes
     for i in range(len(f)):
         if f[i] == 0:
             out.append("rigid")
             continue
-        phi = md.full_shape(i)
+        phi = phis[:, i]
         scale = np.max(np.abs(phi))
         central = np.abs(phi[[COORDS.index(c) for c in ("theta_s", "theta_r", "theta_c")]]).max() / scale
         degenerate = (i > 0 and abs(f[i] - f[i - 1]) <= rtol * f[i]) or (

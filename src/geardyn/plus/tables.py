@@ -298,8 +298,7 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
     for ci, c in enumerate(conds):
         md = modal.modes(design, c)
         f[ci], fd[ci], z[ci] = md.freq_hz, md.damped_hz, md.zeta
-        for i in range(n):
-            shapes[ci, i] = md.full_shape(i)
+        shapes[ci] = md.full_shapes.T
         s_fr = modal.strain_energy_fractions(design, md)
         k_fr = modal.kinetic_energy_fractions(design, md)
         se[ci] = np.column_stack([s_fr[k] for k in el_names])
