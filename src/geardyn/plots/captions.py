@@ -14,7 +14,7 @@ import xarray as xr
 
 from geardyn import classify
 from geardyn.label import STAGE_NAMES
-from geardyn.plots.plus import distinct_groups
+from geardyn.plots.plus import orders
 from geardyn.runs.cube import STATES, fractions, labels_of_cube
 
 if TYPE_CHECKING:
@@ -156,10 +156,8 @@ PLUS_MODEL = (
 def energy_summary(ds: xr.Dataset, var: str, dim: str, n_orders: int = 6) -> str:
     """The three largest shares of each of the first ``n_orders`` distinct modes per condition."""
     lines = []
-    for cond in ds.condition.values:
-        sub = ds.sel(condition=cond)
-        f = sub.natural_frequency.values
-        for k, grp in enumerate(distinct_groups(f)[:n_orders], 1):
+    for cond, sub, f, groups in orders(ds, n_orders):
+        for k, grp in enumerate(groups, 1):
             vals = sub[var].isel(mode=grp).mean("mode")
             top = vals.sortby(vals, ascending=False)[:3]
             desc = ", ".join(f"{n!s} {float(v):.2f}" for n, v in zip(top[dim].values, top.values, strict=True))
@@ -195,8 +193,8 @@ def modal_kinetic(ds: xr.Dataset, paper: ModuleType | None) -> str:
 
 def mode_shapes(ds: xr.Dataset, paper: ModuleType | None) -> str:
     """Caption of the mode shapes, with the doubled planet modes of the first condition."""
-    f = ds.sel(condition=ds.condition.values[0]).natural_frequency.values
-    shared = [float(f[grp[0]]) for grp in distinct_groups(f)[:6] if len(grp) == 2]
+    _, _, f, groups = next(orders(ds))
+    shared = [float(f[grp[0]]) for grp in groups if len(grp) == 2]
     return (
         "Mode shapes: displacement of each coordinate in the first six distinct elastic modes of each condition; "
         "rotations times their lever arm (base radius; carrier: sun-planet centre distance), planets relative to "
