@@ -344,23 +344,14 @@ def stiffness_comparison(design: PlusDesign) -> pd.DataFrame:
     te0 = design_te(replace(design, te=replace(design.te, es=0.0)))
     eps = pair.contact_ratio
     rows = [
-        {"quantity": "single-pair stiffness at the pitch point, Ishikawa", "value_N_per_m": k_ish},
-        {
-            "quantity": "ISO 6336-1 c' b with C_M C_R C_B cos(beta) = 0.8 (20 deg rack)",
-            "value_N_per_m": iso["k_iso_0.8"],
-        },
-        {"quantity": "ISO 6336-1 c' b with C_B(25 deg, h_fP = 1.25 m) = 1.0725", "value_N_per_m": iso["k_iso_CB"]},
-        {
-            "quantity": "mean mesh stiffness, Ishikawa (no errors, static load sharing)",
-            "value_N_per_m": float(np.mean(te0.stiffness)),
-        },
-        {
-            "quantity": "ISO 6336-1 c_gamma b = c' b (0.75 eps + 0.25)",
-            "value_N_per_m": iso["k_iso_CB"] * (0.75 * eps + 0.25),
-        },
-        {"quantity": "Table 1 mesh stiffness k_pd", "value_N_per_m": design.stiffness.planet_planet},
+        ("single-pair stiffness at the pitch point, Ishikawa", k_ish),
+        ("ISO 6336-1 c' b with C_M C_R C_B cos(beta) = 0.8 (20 deg rack)", iso["k_iso_0.8"]),
+        ("ISO 6336-1 c' b with C_B(25 deg, h_fP = 1.25 m) = 1.0725", iso["k_iso_CB"]),
+        ("mean mesh stiffness, Ishikawa (no errors, static load sharing)", float(np.mean(te0.stiffness))),
+        ("ISO 6336-1 c_gamma b = c' b (0.75 eps + 0.25)", iso["k_iso_CB"] * (0.75 * eps + 0.25)),
+        ("Table 1 mesh stiffness k_pd", design.stiffness.planet_planet),
     ]
-    t = pd.DataFrame(rows)
+    t = pd.DataFrame(rows, columns=["quantity", "value_N_per_m"])
     t["value_N_per_mm_um"] = t["value_N_per_m"] * 1e-6 / (design.facewidth * 1e3)
     t["ratio_to_table1"] = t["value_N_per_m"] / design.stiffness.planet_planet
     return t
@@ -452,22 +443,20 @@ def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
 
 def relief_load_table(rows: list[dict]) -> pd.DataFrame:
     """:func:`geardyn.plus.relief.load_study` in display units (N m, N, um, mm, %)."""
-    out = []
-    for r in rows:
-        out.append(
-            {
-                "sun_torque_Nm": r["torque"],
-                "pd_load_N": r["load"],
-                "te_ptp_unmodified_um": r["ptp_unmodified"] * 1e6,
-                "paper_bounds_amount_um": r["paper_amount"] * 1e6,
-                "paper_bounds_length_mm": r["paper_length"] * 1e3,
-                "paper_bounds_change_pct": 100 * (r["paper_ptp"] / r["ptp_unmodified"] - 1),
-                "wide_bounds_amount_um": r["wide_amount"] * 1e6,
-                "wide_bounds_length_mm": r["wide_length"] * 1e3,
-                "wide_bounds_change_pct": 100 * (r["wide_ptp"] / r["ptp_unmodified"] - 1),
-            }
-        )
-    return pd.DataFrame(out)
+    return pd.DataFrame(
+        {
+            "sun_torque_Nm": r["torque"],
+            "pd_load_N": r["load"],
+            "te_ptp_unmodified_um": r["ptp_unmodified"] * 1e6,
+            "paper_bounds_amount_um": r["paper_amount"] * 1e6,
+            "paper_bounds_length_mm": r["paper_length"] * 1e3,
+            "paper_bounds_change_pct": 100 * (r["paper_ptp"] / r["ptp_unmodified"] - 1),
+            "wide_bounds_amount_um": r["wide_amount"] * 1e6,
+            "wide_bounds_length_mm": r["wide_length"] * 1e3,
+            "wide_bounds_change_pct": 100 * (r["wide_ptp"] / r["ptp_unmodified"] - 1),
+        }
+        for r in rows
+    )
 
 
 def write_table(df: pd.DataFrame, csv: str, md: str | None = None, header: str = "", floatfmt: str = ".4g") -> None:
