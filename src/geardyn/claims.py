@@ -1,43 +1,8 @@
 """Every checkable statement of a paper against our results (only for designs that name the paper).
 
-The statements and the numbers in them are data, in the paper's module of :mod:`geardyn.papers` (its
-``CLAIMS``, one mapping per statement: id, figure, statement, the paper's value and the rule that checks
-it); this module holds the verdict rules and applies them, in the order the paper module lists the claims.
-Two families of rules:
-
-* about the regimes of a KHV drive (:data:`SWEEP_RULES`), evaluated by :func:`evaluate` on labelled
-  sweeps (:class:`Track`) and the drive's products, each read by the name the claim gives;
-* comparisons of one of our numbers with the paper's (:data:`DATA_RULES`), evaluated by
-  :func:`data_claims` on a model family's products (a plus planetary set's: :mod:`geardyn.plus.claims`).
-
-Each claim gives the paper's value, ours, a verdict (``agree`` / ``borderline`` / ``disagree`` /
-``not comparable``) and the reason.  Inputs are the pipeline's products: for a KHV drive the closed graph,
-the stiffness table, the sweep cubes with their motion labels (the labeller, :mod:`geardyn.label`) and the
-dense point runs (spectra); for a plus set its tables of natural frequencies, stiffness scaling and key
-elements, modal.nc, te.nc, the relief optima and the forced response.
-
-Verdict rules (stated once, applied everywhere):
-
-* a regime on an interval of a line agrees when at least ``RANGE_AGREE`` (80 %) of the sweep points inside
-  it carry the paper's label; a single point agrees when the label at the nearest sweep point is the
-  paper's;
-* every verdict on a fraction (k of n points or table cells) is three-valued, :func:`fraction_verdict`: when
-  the threshold lies within ``BORDERLINE_Z`` (2) binomial standard errors of the fraction,
-  ``|k/n - t| <= 2 sqrt(p (1 - p) / n)`` with ``p = k/n``, the verdict is ``borderline``: neither agree
-  nor disagree, because another sample of the same interval (a finer grid, another CPU's rounding of a
-  chaotic orbit) could fall on either side.  The calibration objective counts a borderline claim as
-  half an agreeing one (:func:`credit`), so one point near the threshold moves the score by a half;
-* numbers agree within the paper's printed precision or the stated tolerance (:func:`within_verdict`:
-  absolute, or relative to the paper's value; every cell of a table must agree);
-* "not comparable" when our result cannot answer (point diverged or undetermined, data missing, or the
-  statement concerns an input of our model).
-
-One function, :func:`evaluate`, applies the sweep rules; the pipeline's ``claims.md`` (:func:`claims`, from
-the cubes) and the calibration objective (:mod:`geardyn.khv.calibrate`, from a candidate's in-memory
-labels) both call it.  The lines a paper's sweep claims read are its ``CLAIM_LINES`` (parameter, values
-held fixed, the cases of a family of lines), of the runs its ``CLAIM_RUNS`` name.  Claims stated with a
-data rule go through :func:`data_claim`, one claim at a time.  The claim record, the fraction rule and the
-claims table are :mod:`geardyn.verdicts`.
+The statements are data (a paper module's ``CLAIMS``); this module holds the verdict rules of both families
+(:data:`SWEEP_RULES` on a KHV drive's labelled sweeps, :data:`DATA_RULES` on a model family's products) and
+applies them.  The rules, the keys of a claim and the verdict thresholds: docs/claims.md.
 """
 
 from __future__ import annotations
@@ -144,10 +109,14 @@ def evaluate(paper: ModuleType, inputs: Mapping[str, Any]) -> list[Claim]:
     ``claims.md`` and the calibration objective.  A claim's ``line`` is a labelled sweep, a :class:`Track`
     (or {case value: Track} for a family of lines, ``CLAIM_LINES``); its ``input`` is a product.  A claim
     whose input is not given is "not comparable" (the list always has the same ids in the same order)."""
-    ids = [s["id"] for s in paper.CLAIMS]
+    _unique_ids(paper.CLAIMS)
+    return [sweep_claim(spec, inputs, paper.CLAIM_LINES) for spec in paper.CLAIMS]
+
+
+def _unique_ids(specs: Sequence[Mapping[str, Any]]) -> None:
+    ids = [s.get("id") for s in specs]
     if len(set(ids)) != len(ids):
         raise ValueError(f"claim ids repeat: {sorted({i for i in ids if ids.count(i) > 1})}")
-    return [sweep_claim(spec, inputs, paper.CLAIM_LINES) for spec in paper.CLAIMS]
 
 
 def sweep_claim(spec: Mapping[str, Any], inputs: Mapping[str, Any], lines: Mapping[str, Mapping[str, Any]]) -> Claim:
@@ -165,7 +134,7 @@ def sweep_claim(spec: Mapping[str, Any], inputs: Mapping[str, Any], lines: Mappi
 
 
 def _missing(spec: Mapping[str, Any], reason: str, ours: str = "not evaluated") -> Claim:
-    return Claim(spec["id"], spec["figure"], spec["statement"], _paper_text(spec), ours, "not comparable", reason)
+    return _claim(spec, ours, "not comparable", reason)
 
 
 def _paper_text(spec: Mapping[str, Any]) -> str:
@@ -327,16 +296,7 @@ def _narrows(spec: Mapping[str, Any], family: Mapping[float, Track], line: Mappi
 
 
 #: The rules of claims about a KHV drive's regimes: name -> (function, whether the claim reads a ``line``
-#: (a labelled sweep, with ``case`` for one of a family) rather than an ``input`` product).  Keys of a claim
-#: besides id, figure, statement and (displayed as is) paper:
-#: on_line          point, at = (x1, x2), tolerance, precision: the closed graph's x2 at the point's x1;
-#: stiffness_falls  along: k_mean of the stiffness table falls at every step;
-#: amplitude_falls  (input {"x1", "ptp"}): peak-to-peak amplitude falls, verdict on the fraction of steps;
-#: peaks            case, peaks, tolerance, highest, note: spectral peaks of a dense point run;
-#: range            interval, label, open_below: RANGE_AGREE of the points on the interval carry the label;
-#: label_at         at, label: the label at the nearest point;
-#: route            start, end, via: every line of a family starts ``start``, reaches ``end`` (via ``via``);
-#: narrows          label: where each line of a family leaves ``label`` comes earlier from case to case.
+#: (a labelled sweep) rather than an ``input`` product).  Each rule's keys: docs/claims.md, "Sweep rules".
 SWEEP_RULES: dict[str, tuple[Callable[..., Claim], bool]] = {
     "on_line": (_on_line, False),
     "stiffness_falls": (_stiffness_falls, False),
@@ -350,27 +310,8 @@ SWEEP_RULES: dict[str, tuple[Callable[..., Claim], bool]] = {
 
 
 # --- Claims stated as data ---------------------------------------------------------------------------------
-# A paper module may state its claims as plain data, ``CLAIMS``: a tuple of mappings, one per statement, with
-#   id, figure, statement   the claim's name, where the paper makes it, the statement in the paper's words;
-#   quantity, args          which of our numbers answers it (a name of a quantity table such as
-#                           PLUS_QUANTITIES, and its keyword arguments);
-#   rule                    how the two are compared (DATA_RULES);
-#   paper                   the paper's value (number, sequence, or mapping of sequences), or
-#   paper_of                a table in the paper's form from which the quantity's own function derives the
-#                           paper's value, so that both sides are read the same way;
-#   tolerance, relative     for rule "within": absolute (in ``unit``) or relative (fraction of the paper's value);
-#   bound                   for rule "at_most": the paper's statement as an upper bound on our number;
-#   unit, paper_text        display: the unit, and the paper's value as the paper words it (optional);
-#   why, note               why we disagree (shown unless the verdict is agree), and a remark shown always.
-
-#: The comparison rules of claims stated as data:
-#: within   every number within ``tolerance`` of the paper's (absolute or relative);
-#: at_most  our number at most ``bound`` (a direction or a threshold the paper states);
-#: equal    the same value (counts, orders, labels), derived from the paper's table the same way as ours;
-#: matches  cell by cell (a cell agrees when the two share a name), verdict on the fraction
-#:          (:func:`fraction_verdict`, threshold ``RANGE_AGREE``);
-#: all      every one of our cases has the property the paper states (an exact, structural property);
-#: unchecked the statement concerns something our model takes as an input or does not model.
+#: The comparison rules of claims stated as data (a paper module's ``CLAIMS``; the keys of a claim and what
+#: each rule checks: docs/claims.md, "Claims stated as data").
 DATA_RULES = ("within", "at_most", "equal", "matches", "all", "unchecked")
 #: Keys a claim stated as data may have.
 DATA_KEYS = frozenset(
@@ -560,9 +501,7 @@ def data_claim(spec: Mapping[str, Any], products: Any, quantities: Mapping[str, 
 
 def data_claims(specs: Sequence[Mapping[str, Any]], products: Any, quantities: Mapping[str, Quantity]) -> list[Claim]:
     """Every claim of a paper stated as data (its ``CLAIMS``), in the paper module's order."""
-    ids = [s.get("id") for s in specs]
-    if len(set(ids)) != len(ids):
-        raise ValueError(f"claim ids repeat: {sorted({i for i in ids if ids.count(i) > 1})}")
+    _unique_ids(specs)
     return [data_claim(s, products, quantities) for s in specs]
 
 

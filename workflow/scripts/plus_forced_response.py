@@ -3,9 +3,9 @@ optimal tip relief of te.nc) against input speed -> forced_response.nc and its f
 
 from geardyn import io, logs
 from geardyn.papers import paper_of
+from geardyn.plots import captions, save_figure
 from geardyn.plots import plus as plots
-from geardyn.plots import save_figure
-from geardyn.plus import captions, design, forced
+from geardyn.plus import design, forced
 
 log = logs.to_file(snakemake.log[0])
 plus = design.load(snakemake.input.design)

@@ -5,7 +5,8 @@ import pandas as pd
 
 from geardyn import io, logs
 from geardyn.papers import paper_of
-from geardyn.plus import captions, design, tables
+from geardyn.plots import captions
+from geardyn.plus import design, tables
 
 log = logs.to_file(snakemake.log[0])
 out = snakemake.output
@@ -28,7 +29,7 @@ if paper is None:
     tables.write_table(note, out.scaling_csv, out.scaling_md, "# Stiffness scaling against a paper: not applicable")
 else:
     tables.write_table(t2, out.table02_csv, out.table02_md, captions.table02_header(paper))
-    tables.write_table(t5, out.table05_csv, out.table05_md, captions.TABLE05_HEADER)
+    tables.write_table(t5, out.table05_csv, out.table05_md, captions.paper_says(paper, "table05"))
     sc = tables.scaling_table(plus, paper)
     best = float(sc.uniform_factor.iloc[0])
     factors = [1.0] + [float(v) for v in tables.stiffness_comparison(plus)["ratio_to_table1"].iloc[[2, 3, 4]]] + [best]
@@ -52,7 +53,7 @@ else:
     ]
     tables.write_table(sc, out.scaling_csv, None)
     io.write_text(
-        captions.SCALING_INTRO
+        captions.paper_says(paper, "scaling")
         + tables.to_markdown(sc)
         + "\n## Residual against the theoretical column for given stiffness factors\n\n"
         + tables.to_markdown(fixed)

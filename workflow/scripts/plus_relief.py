@@ -3,7 +3,8 @@ the load study -> te.nc and tables (paper 2 Sec. 4 beside ours for a design that
 
 from geardyn import io, logs
 from geardyn.papers import paper_of
-from geardyn.plus import captions, design, ishikawa, relief, tables
+from geardyn.plots import captions
+from geardyn.plus import design, ishikawa, relief, tables
 
 log = logs.to_file(snakemake.log[0])
 out = snakemake.output

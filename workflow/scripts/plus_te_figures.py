@@ -4,9 +4,9 @@ import pandas as pd
 
 from geardyn import io, logs
 from geardyn.papers import paper_of
+from geardyn.plots import captions, save_figure
 from geardyn.plots import plus as plots
-from geardyn.plots import save_figure
-from geardyn.plus import captions, design
+from geardyn.plus import design
 
 log = logs.to_file(snakemake.log[0])
 plus = design.load(snakemake.input.design)

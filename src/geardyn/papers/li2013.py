@@ -54,6 +54,31 @@ PEAKS_0585: tuple[float, ...] = (0.48, 0.57, 0.8099, 1.0, 1.2)
 #: ``amplitude`` input: dense runs at the Fig. 7 values of b and e along this range).
 P1_AMPLITUDE_RANGE = (0.416, 0.56)
 
+#: Sec. 4.1 / Fig. 7 (b = 2, e = 5): the regime sequence along x1 as claims of rule "range", by name (in
+#: :data:`CLAIMS` among the P1 amplitude and the Fig. 8c spectrum).  The P6 window "near 0.761" is taken as
+#: [0.755, 0.768] (the paper names 0.768 as the start of the second chaotic range); a chaotic range after
+#: the first entry is open at its lower end.
+_FIG07_RANGES: dict[str, dict] = {
+    key: {
+        "id": f"fig07_{key}",
+        "figure": "Fig. 7",
+        "statement": statement,
+        "rule": "range",
+        "line": "fig07",
+        "interval": interval,
+        "label": label,
+        **({"open_below": True} if label == "chaos" else {}),
+    }
+    for key, interval, label, statement in (
+        ("p1", (0.416, 0.565), 1, "synchronous (period-1) motion for x1 in [0.416, 0.565]"),
+        ("qp", (0.565, 0.568), "QP", "quasi-periodic motion for x1 in [0.565, 0.568]"),
+        ("p5", (0.568, 0.593), 5, "period-5 motion for x1 in [0.568, 0.593]"),
+        ("chaos1", (0.593, 0.755), "chaos", "chaos for x1 above 0.593 (until the period-6 window)"),
+        ("p6", (0.755, 0.768), 6, "period-6 motion near x1 = 0.761 (window taken as [0.755, 0.768])"),
+        ("chaos2", (0.768, 0.835), "chaos", "chaos again for x1 above 0.768"),
+    )
+}
+
 #: Every checkable statement of the paper, in the order of the claims table, as data for
 #: geardyn.claims.evaluate (the rules and their keys: geardyn.claims.SWEEP_RULES).  Each names its
 #: rule and what it reads: ``input`` (a product: closed_graph, stiffness, amplitude, or a role of
@@ -85,18 +110,9 @@ CLAIMS: tuple[dict, ...] = (
         "input": "stiffness",
         "along": "M-N",
     },
-    # Sec. 4.1 / Fig. 7 (b = 2, e = 5): the regime sequence along x1, with the P1 amplitude and the Fig. 8c
-    # spectrum.  The P6 window "near 0.761" is taken as [0.755, 0.768] (the paper names 0.768 as the start
-    # of the second chaotic range); a chaotic range after the first entry is open at its lower end.
-    {
-        "id": "fig07_p1",
-        "figure": "Fig. 7",
-        "statement": "synchronous (period-1) motion for x1 in [0.416, 0.565]",
-        "rule": "range",
-        "line": "fig07",
-        "interval": (0.416, 0.565),
-        "label": 1,
-    },
+    # Sec. 4.1 / Fig. 7 (b = 2, e = 5): the regime sequence along x1 (_FIG07_RANGES), with the P1 amplitude
+    # and the Fig. 8c spectrum
+    _FIG07_RANGES["p1"],
     {
         "id": "fig07_amplitude",
         "figure": "Fig. 7",
@@ -105,24 +121,8 @@ CLAIMS: tuple[dict, ...] = (
         "rule": "amplitude_falls",
         "input": "amplitude",
     },
-    {
-        "id": "fig07_qp",
-        "figure": "Fig. 7",
-        "statement": "quasi-periodic motion for x1 in [0.565, 0.568]",
-        "rule": "range",
-        "line": "fig07",
-        "interval": (0.565, 0.568),
-        "label": "QP",
-    },
-    {
-        "id": "fig07_p5",
-        "figure": "Fig. 7",
-        "statement": "period-5 motion for x1 in [0.568, 0.593]",
-        "rule": "range",
-        "line": "fig07",
-        "interval": (0.568, 0.593),
-        "label": 5,
-    },
+    _FIG07_RANGES["qp"],
+    _FIG07_RANGES["p5"],
     {
         "id": "fig08_peaks",
         "figure": "Fig. 8c",
@@ -138,35 +138,9 @@ CLAIMS: tuple[dict, ...] = (
         "note": "(frequency resolution 0.01). Note: a period-5 motion has lines only at k/5 = 0.2, 0.4, 0.6, 0.8, "
         "1.0, 1.2; the paper's 0.48 and 0.57 are not of that form, so its own spectrum does not fit its P5 label",
     },
-    {
-        "id": "fig07_chaos1",
-        "figure": "Fig. 7",
-        "statement": "chaos for x1 above 0.593 (until the period-6 window)",
-        "rule": "range",
-        "line": "fig07",
-        "interval": (0.593, 0.755),
-        "label": "chaos",
-        "open_below": True,
-    },
-    {
-        "id": "fig07_p6",
-        "figure": "Fig. 7",
-        "statement": "period-6 motion near x1 = 0.761 (window taken as [0.755, 0.768])",
-        "rule": "range",
-        "line": "fig07",
-        "interval": (0.755, 0.768),
-        "label": 6,
-    },
-    {
-        "id": "fig07_chaos2",
-        "figure": "Fig. 7",
-        "statement": "chaos again for x1 above 0.768",
-        "rule": "range",
-        "line": "fig07",
-        "interval": (0.768, 0.835),
-        "label": "chaos",
-        "open_below": True,
-    },
+    _FIG07_RANGES["chaos1"],
+    _FIG07_RANGES["p6"],
+    _FIG07_RANGES["chaos2"],
     # Fig. 8 (b = 2, e = 5): the label the paper gives at each x1, read on the Fig. 7 line
     *(
         {

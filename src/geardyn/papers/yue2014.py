@@ -113,6 +113,49 @@ _WHY_RELIEF = (
     "(sec4_relief_vs_load)"
 )
 
+#: The paper's relief amount in um (the captions print it so).
+RELIEF_AMOUNT_UM = PAPER_RELIEF["amount_mm"] * 1e3
+#: The paper's Sec. 4 result as the last row of the relief-optima table (its bounds: amount 0.02-0.08 mm, length
+#: 0.0001-2.6 mm).
+RELIEF_ROW = {
+    "shape": "linear (paper)",
+    "bounds": "paper",
+    "amount_bounds_um": "20-80",
+    "length_bounds_mm": "0.0001-2.6",
+    "amount_um": RELIEF_AMOUNT_UM,
+    "length_mm": PAPER_RELIEF["length_mm"],
+    "te_ptp_before_um": PAPER_RELIEF["te_before_um"],
+    "te_ptp_after_um": PAPER_RELIEF["te_after_um"],
+    "reduction_pct": PAPER_RELIEF["reduction_pct"],
+    "evaluations": float("nan"),
+}
+#: The paper's text in the captions and table headers of a design that names it, by caption (geardyn.plots.
+#: captions.paper_says: formatted with this module's values and the caption's own fields).
+CAPTIONS: dict[str, str] = {
+    "modal": " {SHORT}'s Figs. 6-7 come from its SimulationX model (power loss and amplitude) at 4-10x higher "
+    "frequencies; compare the pattern, not the numbers.",
+    "te_unmodified": " {SHORT} (Fig. 9, FE): about {TE_BEFORE_UM:g} um.",
+    "te_relief": "\n{SHORT}: {PAPER_RELIEF[te_before_um]:g} -> {PAPER_RELIEF[te_after_um]:g} um "
+    "({PAPER_RELIEF[reduction_pct]:+.2f} %), linear, amount {RELIEF_AMOUNT_UM:.1f} um, length "
+    "{PAPER_RELIEF[length_mm]:.3f} mm{at_paper}",
+    "relief_landscape": " {SHORT} shows no such landscape. Its lower amount bound ({lower:g} um) lies {where} the "
+    "optimum amounts within physical bounds (at most {best:.1f} um at this load), so the optima within the "
+    "paper's bounds sit on that bound.",
+    "forced_response": " Beyond {SHORT}, which computes no forced response.",
+    "table02": "# Table 2: natural frequencies (Hz), ours (11-DOF Lagrangian from Table 1) vs paper 2\n\n"
+    "err_*_pct = 100 (ours - paper) / paper; orders matched by rank of the distinct elastic frequencies; "
+    "multiplicity 2 = doubled planet mode.",
+    "table05": "# Table 5 analogue: key element (largest modal strain-energy share) and key components "
+    "(kinetic-energy share >= 0.25), beside the paper's Table 5",
+    "scaling": "# Stiffness scaling needed to match paper 2's Table 2\n\n"
+    "Least squares in log frequency. rank: order k vs order k; type: our doubled (planet) modes vs the "
+    "paper's three frequencies shared by I-III, our overall modes vs the rest. Residuals in percent.\n\n",
+    "relief_header": " The last row is the paper's result (Sec. 4); its 'ours_at_this_relief_um' is our TE with the "
+    "paper's optimum relief.",
+    "load_study": " Paper: {RELIEF_AMOUNT_UM:.1f} um, {PAPER_RELIEF[length_mm]:.3f} mm, "
+    "{PAPER_RELIEF[reduction_pct]:+.2f} % at T = {torque:g} N m.",
+}
+
 #: Every checkable statement of the paper, as data for geardyn.claims.data_claims (keys and rules: see
 #: geardyn.claims.DATA_RULES).  Quantities are read from the design's tables and datasets.
 CLAIMS: tuple[dict, ...] = (
@@ -349,7 +392,7 @@ CLAIMS: tuple[dict, ...] = (
         "quantity": "relief_optimum",
         "args": {"shape": "linear", "bounds": "paper", "field": "amount_um"},
         "rule": "within",
-        "paper": PAPER_RELIEF["amount_mm"] * 1e3,
+        "paper": RELIEF_AMOUNT_UM,
         "tolerance": RELIEF_LOCATION_RTOL,
         "relative": True,
         "unit": "um",

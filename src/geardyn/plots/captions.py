@@ -1,17 +1,24 @@
-"""Caption texts for the KHV dynamic figures: what is shown, how it was computed and what we
-measured.  For a design that names a paper (``paper`` given), the paper's statement about the same
-figure is set beside ours; a user's own design gets no paper text."""
+"""Caption and table-header texts of every figure and table: what is shown, how it was computed and what we
+measured.  For a design that names a paper (``paper`` given), the paper's text about the same figure is set
+beside ours (KHV: its ``FIGURE_CLAIMS``; plus set: its ``CAPTIONS``, through :func:`paper_says`); a user's own
+design gets no paper text."""
 
 from __future__ import annotations
 
 from types import ModuleType
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import pandas as pd
 import xarray as xr
 
 from geardyn import classify
 from geardyn.label import STAGE_NAMES
+from geardyn.plots.plus import orders
 from geardyn.runs.cube import STATES, fractions, labels_of_cube
+
+if TYPE_CHECKING:
+    from geardyn.plus.design import PlusDesign
 
 _METHOD = (
     "Model: the corrected KHV equations of docs/model.md with the parameters of the design file. Motion labels "
@@ -126,3 +133,230 @@ def frequency_response(name: str, ds: xr.Dataset) -> str:
         f"{float(ds.dte_rms.values[j]):.3g} at w = {float(w[j[1]]):.3g}; largest K_v {kv:.3g}. "
         f"Linear natural frequencies (in contact, mean stiffness): {nat}. Shading: impact classes."
     )
+
+
+# --- plus planetary set ---------------------------------------------------------------------------------
+
+
+def paper_says(paper: ModuleType | None, key: str, **fields: Any) -> str:
+    """The paper's text for caption or table header ``key`` (its ``CAPTIONS``, formatted with the paper's
+    own values and ``fields``); "" for a design that names no paper."""
+    if paper is None or key not in getattr(paper, "CAPTIONS", {}):
+        return ""
+    return paper.CAPTIONS[key].format_map({**vars(paper), **fields})
+
+
+PLUS_MODEL = (
+    "Model: 11-DOF Lagrangian lumped model built from the design's table of masses, inertias and "
+    "stiffnesses, planet angles in the sun terms and the plus-set sign (docs/paper2.md). Doubled planet modes "
+    "are averaged over the pair, which makes the bars independent of the basis chosen in the eigenspace."
+)
+
+
+def energy_summary(ds: xr.Dataset, var: str, dim: str, n_orders: int = 6) -> str:
+    """The three largest shares of each of the first ``n_orders`` distinct modes per condition."""
+    lines = []
+    for cond, sub, f, groups in orders(ds, n_orders):
+        for k, grp in enumerate(groups, 1):
+            vals = sub[var].isel(mode=grp).mean("mode")
+            top = vals.sortby(vals, ascending=False)[:3]
+            desc = ", ".join(f"{n!s} {float(v):.2f}" for n, v in zip(top[dim].values, top.values, strict=True))
+            lines.append(
+                f"  {cond}-{k} {f[grp[0]]:.0f} Hz ({sub.mode_type.values[grp[0]]}"
+                f"{', x2' if len(grp) == 2 else ''}): {desc}"
+            )
+    return "\n".join(lines)
+
+
+def _energy(ds: xr.Dataset, paper: ModuleType | None, what: str, var: str, dim: str) -> str:
+    summary = energy_summary(ds, var, dim)
+    return f"{what}\n{PLUS_MODEL}{paper_says(paper, 'modal')}\nLargest shares ({dim} share):\n{summary}"
+
+
+def modal_strain(ds: xr.Dataset, paper: ModuleType | None) -> str:
+    """Caption of the modal strain-energy bars."""
+    what = (
+        "Modal strain energy: share stored in each mesh (numbering 1-9 of the element table) for the first "
+        "six distinct elastic frequencies of each working condition."
+    )
+    return _energy(ds, paper, what, "strain_energy_share", "element")
+
+
+def modal_kinetic(ds: xr.Dataset, paper: ModuleType | None) -> str:
+    """Caption of the modal kinetic-energy bars."""
+    what = (
+        "Modal kinetic energy: share in each component (numbering 1-12: planet revolution, planet rotations, sun "
+        "incl. translation, ring, carrier)."
+    )
+    return _energy(ds, paper, what, "kinetic_energy_share", "component")
+
+
+def mode_shapes(ds: xr.Dataset, paper: ModuleType | None) -> str:
+    """Caption of the mode shapes, with the doubled planet modes of the first condition."""
+    _, _, f, groups = next(orders(ds))
+    shared = [float(f[grp[0]]) for grp in groups if len(grp) == 2]
+    return (
+        "Mode shapes: displacement of each coordinate in the first six distinct elastic modes of each condition; "
+        "rotations times their lever arm (base radius; carrier: sun-planet centre distance), planets relative to "
+        "the carrier, sun translation x_s, y_s; normalised to a largest |value| of 1. Doubled (planet) modes: the "
+        f"member with y_s = 0.\n{PLUS_MODEL}{paper_says(paper, 'modal')}\nDoubled planet modes of the first "
+        "condition at " + ", ".join(f"{v:.1f}" for v in shared) + " Hz keep sun, ring and carrier rotations at "
+        "zero and move the sun on its bearing; overall modes move all planet sets alike."
+    )
+
+
+def te_assumptions(design: PlusDesign, te: xr.Dataset) -> str:
+    """The load, tooth model and deviations behind a TE caption."""
+    return (
+        f"Assumptions: T = {design.torque * 1e3:g} N mm on the sun shared by {design.n_planets} planets -> "
+        f"W = {te.attrs['load_N']:.1f} N on the p-d mesh; Ishikawa rectangle (root to base circle) + trapezoid "
+        f"(base circle to tip) teeth, shear factor {design.te.shear_coefficient:g}, Hertz 4(1-nu^2)W/(pi E b); "
+        f"Ef1 = Ef2 = {design.te.ef1 * 1e6:g} um constant (shift TE only); ES = {design.te.es * 1e6:g} um as a "
+        "base-pitch difference (successive pairs differ by ES; the incoming pair has the excess material)."
+    )
+
+
+def te_unmodified(design: PlusDesign, te: xr.Dataset, paper: ModuleType | None) -> str:
+    """Caption of the TE of the unmodified pair."""
+    tr0 = te.transmission_error.sel(case="unmodified").values
+    return (
+        "Static transmission error TE = E - delta of the unmodified p-d pair over two mesh periods and the load "
+        f"on each tooth-pair slot.\n{te_assumptions(design, te)}\nResult: peak-to-peak {np.ptp(tr0):.2f} um. "
+        f"Contact ratio {te.attrs['contact_ratio']:.3f}." + paper_says(paper, "te_unmodified")
+    )
+
+
+def _bounds(amount: tuple[float, float], length: tuple[float, float]) -> str:
+    return f"amount {amount[0] * 1e6:g}-{amount[1] * 1e6:g} um, length {length[0] * 1e3:g}-{length[1] * 1e3:g} mm"
+
+
+def te_relief(design: PlusDesign, te: xr.Dataset, optima: pd.DataFrame, paper: ModuleType | None) -> str:
+    """Caption of the TE before and after the optimal reliefs, with the optima (and the paper's)."""
+    tr0 = te.transmission_error.sel(case="unmodified").values
+    r = design.relief
+    lines = [
+        f"  {o.shape}/{o.bounds}: amount {o.amount_um:.2f} um, length {o.length_mm:.3f} mm, ptp "
+        f"{o.te_ptp_before_um:.2f} -> {o.te_ptp_after_um:.2f} um ({o.reduction_pct:+.1f} %)"
+        for o in optima.itertuples()
+        if not o.shape.startswith("linear (paper)")
+    ]
+    ours = [o for o in optima.itertuples() if o.shape.startswith("linear (paper)")]
+    at_paper = (
+        f"; that relief in our model: {ours[0].ours_at_this_relief_um:.2f} um (unmodified {np.ptp(tr0):.2f} um)."
+        if ours
+        else "."
+    )
+    return (
+        "Static TE of the p-d pair (mean removed) before and after the optimal linear and parabolic tip relief, "
+        f"optimised with differential evolution within the design's stated bounds "
+        f"({_bounds(r.paper_amount, r.paper_length)}) and within physically sensible bounds "
+        f"({_bounds(r.physical_amount, r.physical_length)}).\n{te_assumptions(design, te)}\nResults:\n"
+        + "\n".join(lines)
+        + paper_says(paper, "te_relief", at_paper=at_paper)
+    )
+
+
+def relief_landscape(
+    te: xr.Dataset, land: xr.Dataset, design: PlusDesign, optima: pd.DataFrame, paper: ModuleType | None
+) -> str:
+    """Caption of the objective landscape of the relief optimisation."""
+    tr0 = te.transmission_error.sel(case="unmodified").values
+    z = land.te_ptp
+    physical = optima[optima["bounds"] == "physical"]
+    lower = design.relief.paper_amount[0] * 1e6
+    best = float(physical["amount_um"].max()) if len(physical) else float("nan")
+    return (
+        "Objective landscape of the relief optimisation: peak-to-peak static TE of the p-d pair over relief amount "
+        "and length, for linear and parabolic relief applied to both tips; dashed boxes: the stated and the "
+        f"physical bounds; markers: the optima found.\n{te_assumptions(design, te)}\nGrid {z.sizes['amount']} x "
+        f"{z.sizes['length']}; ptp from {float(z.min()):.2f} to {float(z.max()):.2f} um; unmodified "
+        f"{np.ptp(tr0):.2f} um."
+        + paper_says(paper, "relief_landscape", lower=lower, best=best, where="above" if lower > best else "not above")
+    )
+
+
+def table02_header(paper: ModuleType | None) -> str:
+    """Header of the natural-frequency table."""
+    return paper_says(paper, "table02") or (
+        "# Natural frequencies (Hz) of the 11-DOF Lagrangian model\n\n"
+        "Distinct elastic frequencies per working condition; multiplicity 2 = doubled planet mode."
+    )
+
+
+FIXED_FACTOR_WHY = (
+    "Table 1 as printed",
+    "ISO 6336-1 c' b (single pair, 25 deg C_B)",
+    "Ishikawa mean mesh stiffness",
+    "ISO 6336-1 c_gamma b",
+    "best uniform factor (rank matching, theoretical)",
+)
+KEY_ELEMENT_HEADER = (
+    "# Key element (largest modal strain-energy share) and key components (kinetic-energy share >= 0.25) of each mode"
+)
+STIFFNESS_HEADER = (
+    "# Mesh stiffness of the p-d pair: Ishikawa vs ISO 6336-1 method B vs the design's value\n\n"
+    "ISO's C1..C9 are fitted for 20 deg racks; another rack angle enters through "
+    "C_B (1 - 0.02 (20 - alpha))."
+)
+
+
+def relief_header(load_n: float, design: PlusDesign, paper: ModuleType | None) -> str:
+    """Header of the relief-optima table."""
+    return (
+        "# Tip-relief optima of the p-d pair with differential evolution\n\n"
+        f"Load {load_n:.1f} N per p-d mesh, ES = {design.te.es * 1e6:g} um (base-pitch model), relief on "
+        f"'{design.relief.apply_to}' tip(s)." + paper_says(paper, "relief_header")
+    )
+
+
+def load_study_header(design: PlusDesign, paper: ModuleType | None) -> str:
+    """Header of the relief-against-load table."""
+    r = design.relief
+    return (
+        "# Optimal linear tip relief against the load (sensitivity study)\n\n"
+        f"Sun torque shared by {design.n_planets} planets; ES = {design.te.es * 1e6:g} um. Stated bounds: "
+        f"{_bounds(r.paper_amount, r.paper_length)}; 'wide' bounds: amount 0-{r.paper_amount[1] * 1e6:g} um, "
+        f"length 0-{r.physical_length[1] * 1e3:g} mm. DE on the design's mesh positions per period."
+        + paper_says(paper, "load_study", torque=design.torque)
+    )
+
+
+def forced_response(design: PlusDesign, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
+    """Caption of the forced-response figure, with the largest forces measured (``paper``: the study goes
+    beyond that paper, which is said)."""
+    best = ds.attrs.get("best_relief_case") or ""
+    lines = [
+        "Forced response of the linear model (mass and stiffness of the modal model, working condition "
+        f"{ds.attrs['condition']}, modal damping zeta = {ds.attrs['damping_ratio']:g} in every elastic mode) to the "
+        f"static TE of the p-d meshes: harmonics 1-{int(ds.harmonic.max())} of its Fourier series excite each p-d mesh "
+        f"spring as a displacement ({ds.attrs['phasing']} mesh phasing of the planets; the s-p and d-r meshes carry "
+        "no TE), solved in the frequency domain by modal superposition. Top: RMS of the fluctuating mesh force; "
+        "bottom: largest mesh force over a mesh period / static mesh force "
+        f"({ds.attrs['static_force_N']:.1f} N, the same in every mesh). Solid: unmodified teeth; dashed: the optimal "
+        "tip relief with the smallest TE. Grey lines: natural frequencies divided by the harmonic "
+        "(h = 1 solid, 2 dashed, 3 dotted). Method: docs/paper2.md, 'Forced response across speed'."
+        + paper_says(paper, "forced_response"),
+        "Natural frequencies (Hz): "
+        + ", ".join(f"{f:.1f}" for f in np.unique(np.round(ds.natural_frequency.values, 1)))
+        + ".",
+    ]
+    lost = ds.min_force_factor.sel(case="unmodified") < 0
+    if bool(lost.any()):
+        speeds = ds.speed.where(lost.any("mesh"), drop=True).values
+        lines.append(
+            f"Where the smallest force falls below zero (without relief, at speeds between {speeds.min():.0f} and "
+            f"{speeds.max():.0f} rpm) "
+            "the linear model would pull the teeth together: there the teeth separate and the linear result "
+            "only marks a severe resonance."
+        )
+    for case in [c for c in ("unmodified", best) if c]:
+        for kind in ("sp", "pd", "dr"):
+            sub = ds.sel(case=case, mesh=f"{kind}1")
+            i = int(np.argmax(sub.rms_force.values))
+            j = int(np.argmax(sub.dynamic_factor.values))
+            lines.append(
+                f"  {case}, {kind}1 (TE ptp {float(ds.te_ptp.sel(case=case)):.2f} um): largest RMS "
+                f"{float(sub.rms_force[i]):.1f} N at {float(ds.speed[i]):.0f} rpm, largest dynamic factor "
+                f"{float(sub.dynamic_factor[j]):.2f} at {float(ds.speed[j]):.0f} rpm"
+            )
+    return "\n".join(lines)

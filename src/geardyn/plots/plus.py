@@ -6,6 +6,8 @@ state, safe under the Agg backend); saving is the caller's job.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
@@ -17,6 +19,7 @@ COMPONENT_TICKS = [f"{k}\n{name}" for k, name in enumerate(["rev 1", "rev 2", "r
 
 
 def distinct_groups(freq: np.ndarray, rtol: float = 1e-6) -> list[list[int]]:
+    """Indices of the elastic (positive) frequencies grouped by equal value (within ``rtol``), ascending."""
     groups: list[list[int]] = []
     for i, f in enumerate(freq):
         if not f > 0:
@@ -28,16 +31,22 @@ def distinct_groups(freq: np.ndarray, rtol: float = 1e-6) -> list[list[int]]:
     return groups
 
 
+def orders(ds: xr.Dataset, n_orders: int = 6) -> Iterator[tuple[str, xr.Dataset, np.ndarray, list[list[int]]]]:
+    """Per condition of modal.nc: its name, its modes, their frequencies and the mode groups of its first
+    ``n_orders`` distinct elastic frequencies."""
+    for cond in ds.condition.values:
+        sub = ds.sel(condition=cond)
+        freq = sub.natural_frequency.values
+        yield cond, sub, freq, distinct_groups(freq)[:n_orders]
+
+
 def _energy_bars(
     ds: xr.Dataset, var: str, dim: str, order: list[str], ticks: list[str], title: str, n_orders: int = 6
 ) -> Figure:
     conds = list(ds.condition.values)
     fig = Figure(figsize=(11, 2.9 * len(conds)), constrained_layout=True)
     axes = fig.subplots(len(conds), 1, squeeze=False)[:, 0]
-    for ax, cond in zip(axes, conds, strict=True):
-        sub = ds.sel(condition=cond)
-        freq = sub.natural_frequency.values
-        groups = distinct_groups(freq)[:n_orders]
+    for ax, (cond, sub, freq, groups) in zip(axes, orders(ds, n_orders), strict=True):
         width = 0.8 / len(groups)
         x = np.arange(len(order))
         for g_i, grp in enumerate(groups):
@@ -184,10 +193,7 @@ def mode_shape_figure(ds: xr.Dataset, n_orders: int = 6) -> Figure:
     arm = ds.lever_arm.values
     x = np.arange(len(COORD_TICKS))
     colours = ["tab:blue"] * 3 + ["tab:orange"] * 3 + ["tab:green"] * 3 + ["tab:red"] * 2
-    for r, cond in enumerate(conds):
-        sub = ds.sel(condition=cond)
-        freq = sub.natural_frequency.values
-        groups = distinct_groups(freq)[:n_orders]
+    for r, (cond, sub, freq, groups) in enumerate(orders(ds, n_orders)):
         for c, grp in enumerate(groups):
             ax = axes[r, c]
             shape = sub.mode_shape.isel(mode=grp[0]).values * arm

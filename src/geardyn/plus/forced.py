@@ -1,43 +1,24 @@
 """Linear forced response of the plus set to the static transmission error, against input speed.
 
-Model (``docs/paper2.md``, "Forced response across speed"): the linear model of :mod:`.modal`
-(M, K over the coordinates of one working condition) with *modal* damping, the same ratio zeta in
-every elastic mode, excited by the static TE of the p-d meshes as a displacement ("wedge") in the
-mesh spring.  With e_j(t) the TE fluctuation (mean removed, m) of the p-d mesh of planet j, the
-compression of mesh element e is ``delta_e = v_e . q + e_e`` and
-
-    M q'' + C q' + K q = -sum_j k_pd e_j(t) v_pdj,      F_e = k_e (v_e . q + e_e)   (fluctuation, N).
-
-The TE is periodic in the mesh phase: e_j(t) = sum_h Re(c_h exp(i h (W t + 2 pi g_j))), with c_h its
-Fourier coefficients and g_j the mesh phase of planet j (mesh periods).  For each speed and harmonic the
-response solves (K - w^2 M + i w C) X = F with w = h W, here by modal superposition over the elastic modes
-(the rigid-body mode of the condition strains no spring, so the mesh excitation does not reach it):
-
-    X = sum_r phi_r (phi_r . F) / (w_r^2 - w^2 + 2 i zeta w_r w)      (phi_r M-normalised).
-
-Limits (tested): w -> 0 gives the static solution K^+ F; w -> infinity gives X -> 0 and F_e -> k e_e
-(the whole TE taken up by the mesh spring); zero TE gives zero force.  Units: SI (m, N, rad/s); speeds
-in rpm of the sun (the input member).
+The modal model of :mod:`.modal` with modal damping, excited by the static TE of the p-d meshes as a
+displacement in the mesh spring, solved per harmonic by modal superposition (the model, its limits and the
+tests: docs/paper2.md Sec. 5).  Units: SI (m, N, rad/s); speeds in rpm of the sun (the input member).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 
 from geardyn import libm
-from geardyn.io import cf
 
 from . import modal
 from .design import PlusDesign
 from .ishikawa import pd_mesh_load
-
-if TYPE_CHECKING:
-    import xarray as xr
+from .tables import cf_dataset
 
 MESH_KINDS = ("sp", "pd", "dr")
 #: Samples per mesh period used to find the largest force of a periodic response.
@@ -45,13 +26,9 @@ PHASE_SAMPLES = 128
 
 
 def modal_frf(omega2: ArrayLike, shapes: ArrayLike, zeta: float, force: ArrayLike, omega: ArrayLike) -> NDArray:
-    """Complex response X (m or rad) of a modally damped system to the harmonic force ``force``.
-
-    ``omega2`` (m,) squared natural circular frequencies (rad^2/s^2) of the elastic modes, ``shapes``
-    (n, m) their M-normalised shapes, ``force`` (..., n) complex force amplitudes, ``omega`` circular
-    frequencies (rad/s) broadcast against ``force[..., 0]``.  Returns X with shape
-    ``broadcast(omega, force[..., 0]).shape + (n,)``.
-    """
+    """Complex response X (..., n) of a modally damped system to the harmonic ``force`` (..., n): ``omega2``
+    (m,) squared elastic circular frequencies, ``shapes`` (n, m) M-normalised, ``omega`` (rad/s) broadcast
+    against ``force[..., 0]``."""
     omega2 = np.asarray(omega2, dtype=float)
     shapes = np.asarray(shapes, dtype=float)
     f = np.asarray(force)
@@ -86,7 +63,7 @@ def mesh_frequency_per_rpm(design: PlusDesign, condition: str) -> float:
     md = modal.modes(design, condition)  # type: ignore[arg-type]
     if md.n_rigid != 1:
         raise ValueError(f"condition {condition} has {md.n_rigid} rigid-body modes; the forced response needs one")
-    rigid = md.full_shape(0)
+    rigid = md.full_shapes[:, 0]
     ts, tc = rigid[modal.COORDS.index("theta_s")], rigid[modal.COORDS.index("theta_c")]
     if ts == 0:
         raise ValueError(f"the sun does not turn in the rigid-body motion of condition {condition}")
@@ -95,15 +72,9 @@ def mesh_frequency_per_rpm(design: PlusDesign, condition: str) -> float:
 
 @dataclass(frozen=True)
 class ForcedResponse:
-    """Mesh forces of the forced response.  Forces in N, speeds in rpm, frequencies in Hz.
-
-    ``amplitude`` (case, speed, harmonic, mesh) complex force amplitude of each harmonic;
-    ``rms`` (case, speed, mesh) RMS of the fluctuating mesh force; ``dynamic_factor`` (case, speed,
-    mesh) largest total force over a mesh period / static force; ``min_factor`` the smallest total force /
-    static force (below 0 the linear model would pull the teeth: contact is lost there); ``natural_hz`` the elastic
-    natural
-    frequencies of the condition.
-    """
+    """Mesh forces of the forced response (N; speeds in rpm, frequencies in Hz): complex ``amplitude`` (case,
+    speed, harmonic, mesh); ``rms``, ``dynamic_factor`` and ``min_factor`` (largest and smallest total force /
+    static force; below 0 contact is lost) per (case, speed, mesh); the condition's elastic ``natural_hz``."""
 
     condition: str
     zeta: float
@@ -144,13 +115,9 @@ def forced_response(
     speeds: ArrayLike | None = None,
     zeta: float | None = None,
 ) -> ForcedResponse:
-    """Mesh forces against sun speed for each TE case.
-
-    ``te`` (case, phase) is the static TE (m) of the p-d pair over one mesh period, sampled uniformly
-    (e.g. ``TEResult.te`` or the ``transmission_error`` of ``te.nc`` times 1e-6); every p-d mesh gets
-    the same TE shifted by its mesh phase (:func:`mesh_phases`).  ``speeds`` (rpm) default to
-    :func:`speed_grid`; ``zeta`` to ``design.forced.damping_ratio``.
-    """
+    """Mesh forces against sun speed for each TE case: ``te`` (case, phase), the static TE (m) of the p-d pair
+    sampled uniformly over one mesh period, shifted by each planet's mesh phase (:func:`mesh_phases`);
+    ``speeds`` (rpm) default to :func:`speed_grid`, ``zeta`` to ``design.forced.damping_ratio``."""
     spec = design.forced
     zeta = spec.damping_ratio if zeta is None else float(zeta)
     te = np.atleast_2d(np.asarray(te, dtype=float))
@@ -213,48 +180,48 @@ def best_relief_case(cases: tuple[str, ...], te_ptp: ArrayLike) -> str:
     return cases[min(relieved, key=lambda i: ptp[i])]
 
 
+#: The CF variables of forced_response.nc (:func:`geardyn.plus.tables.cf_dataset`).
+_FORCES = ("case", "speed", "mesh")
+VARIABLES: dict[str, tuple] = {
+    "rms_force": (_FORCES, "N", "RMS of the fluctuating mesh force"),
+    "dynamic_factor": (_FORCES, "1", "largest mesh force over a mesh period / static mesh force"),
+    "min_force_factor": (
+        _FORCES,
+        "1",
+        "smallest mesh force over a mesh period / static mesh force (< 0: contact lost)",
+    ),
+    "force_amplitude": (
+        ("case", "speed", "harmonic", "mesh"),
+        "N",
+        "amplitude of the mesh force at each harmonic of the mesh frequency",
+    ),
+    "mesh_frequency": ("speed", "Hz", "mesh frequency at the input (sun) speed"),
+    "te_ptp": ("case", "um", "peak-to-peak static TE of the p-d pair (excitation)"),
+    "natural_frequency": ("mode", "Hz", "undamped natural frequency of elastic mode, condition {condition}"),
+    "resonance_speed": (
+        ("harmonic", "mode"),
+        "rpm",
+        "sun speed at which the harmonic of the mesh frequency meets the mode",
+    ),
+    "case": ("case", "1", "tip-relief case of the p-d pair"),
+    "speed": ("speed", "rpm", "input (sun) speed"),
+    "mesh": ("mesh", "1", "mesh (s-p, p-d, d-r of planet 1-3)"),
+    "harmonic": ("harmonic", "1", "harmonic of the mesh frequency"),
+    "mode": ("mode", "1", "elastic mode"),
+}
+
+
 def to_dataset(res: ForcedResponse, design: PlusDesign) -> xr.Dataset:
     """CF dataset of a :class:`ForcedResponse` (forces in N, TE in um, speeds in rpm)."""
-
-    dims3, rpm = ("case", "speed", "mesh"), "sun speed at which the harmonic of the mesh frequency meets the mode"
-    return xr.Dataset(
-        {
-            "rms_force": cf(dims3, res.rms, "N", "RMS of the fluctuating mesh force"),
-            "dynamic_factor": cf(
-                dims3, res.dynamic_factor, "1", "largest mesh force over a mesh period / static mesh force"
-            ),
-            "min_force_factor": cf(
-                dims3,
-                res.min_factor,
-                "1",
-                "smallest mesh force over a mesh period / static mesh force (< 0: contact lost)",
-            ),
-            "force_amplitude": cf(
-                ("case", "speed", "harmonic", "mesh"),
-                libm.cabs(res.amplitude),
-                "N",
-                "amplitude of the mesh force at each harmonic of the mesh frequency",
-            ),
-            "mesh_frequency": cf("speed", res.mesh_frequency_hz, "Hz", "mesh frequency at the input (sun) speed"),
-            "te_ptp": cf("case", res.te_ptp * 1e6, "um", "peak-to-peak static TE of the p-d pair (excitation)"),
-            "natural_frequency": cf(
-                "mode", res.natural_hz, "Hz", f"undamped natural frequency of elastic mode, condition {res.condition}"
-            ),
-            "resonance_speed": cf(("harmonic", "mode"), res.resonance_speeds(), "rpm", rpm),
-        },
-        coords={
-            "case": cf("case", list(res.cases), "1", "tip-relief case of the p-d pair"),
-            "speed": cf("speed", res.speed_rpm, "rpm", "input (sun) speed"),
-            "mesh": cf("mesh", list(res.meshes), "1", "mesh (s-p, p-d, d-r of planet 1-3)"),
-            "harmonic": cf("harmonic", res.harmonics, "1", "harmonic of the mesh frequency"),
-            "mode": cf("mode", np.arange(1, len(res.natural_hz) + 1), "1", "elastic mode"),
-        },
-        attrs={
-            "title": f"Forced response to the static TE against speed, design {design.name}",
-            "condition": res.condition,
-            "damping_ratio": res.zeta,
-            "phasing": design.forced.phasing,
-            "static_force_N": res.static_force,
-            "best_relief_case": best_relief_case(res.cases, res.te_ptp) if len(res.cases) > 1 else "",
-        },
+    values = (res.rms, res.dynamic_factor, res.min_factor, libm.cabs(res.amplitude), res.mesh_frequency_hz)
+    coords = (list(res.cases), res.speed_rpm, list(res.meshes), res.harmonics, np.arange(1, len(res.natural_hz) + 1))
+    return cf_dataset(
+        VARIABLES,
+        (*values, res.te_ptp * 1e6, res.natural_hz, res.resonance_speeds(), *coords),
+        title=f"Forced response to the static TE against speed, design {design.name}",
+        condition=res.condition,
+        damping_ratio=res.zeta,
+        phasing=design.forced.phasing,
+        static_force_N=res.static_force,
+        best_relief_case=best_relief_case(res.cases, res.te_ptp) if len(res.cases) > 1 else "",
     )

@@ -1,24 +1,8 @@
 """Ishikawa-type tooth compliance and static transmission error of the p-d pair (paper 2, Eq. 9).
 
-Paper 2 (Sec. 2.2) uses the Ishikawa method: each tooth is a rectangle (root circle to base circle)
-topped by a trapezoid (base circle to tip, sides through the involute at those two circles).  The
-deflection of one tooth at the load point along the line of action is
-
-* bending (beam theory on the rectangle + trapezoid, closed form of Ishikawa),
-* shear (with a shear factor ``kappa``; ``kappa = 1`` is Ishikawa's printed term),
-* root rotation (elastic foundation) ``24 F h_x^2 cos^2(g) / (pi E b S_f^2)``,
-
-and the pair adds the Hertzian approach ``4 F (1 - nu^2) / (pi E b)``.  ``g`` is the angle between
-the load and the normal to the tooth centre line, ``h_x`` the height above the root circle at which
-the load line crosses the centre line, ``S_f`` the rectangle width (chordal thickness at the base
-circle) and ``h_i`` the apex height of the trapezoid.
-
-The external-pair geometry (:class:`SpurPair`) is written here for now; a shared
-``geardyn.geometry`` module could replace :func:`spur_pair`, :meth:`SpurPair.contact_ratio` and
-:func:`half_tooth_angle`.
-
-Units: SI (m, N, rad); positions along the path of contact ``u`` in m from the start of active
-contact (the driven gear's tip), or ``s = u / p_b`` in base pitches.
+Tooth = rectangle (root to base circle) + trapezoid (base circle to tip): bending, shear and root rotation,
+plus the pair's Hertzian approach; load sharing between the pairs in mesh (docs/paper2.md Sec. 3).  Units:
+SI (m, N, rad); ``u`` in m along the path of contact from its start, ``s = u / p_b`` in base pitches.
 """
 
 from __future__ import annotations
@@ -196,13 +180,8 @@ def single_pair_stiffness_pitch(pair: SpurPair, mat: Material) -> float:
 
 
 def iso_single_stiffness(pair: SpurPair, facewidth_mm: float) -> dict[str, float]:
-    """ISO 6336-1 method B single stiffness c' b (N/m) for the pair, with the basic-rack factor C_B.
-
-    ``geardyn.stiffness.pitch_point_stiffness`` uses C_M C_R C_B cos(beta) = 0.8 (paper 1, 20 deg).
-    ISO's q' constants C1..C9 were fitted for 20 deg basic racks; ISO carries other racks through
-    C_B = [1 + 0.5 (1.2 - h_fP/m)] [1 - 0.02 (20 deg - alpha_Pn)], which for h_fP = 1.25 m and 25 deg
-    is 0.975 * 1.10 = 1.0725.  Both the plain value (``k_iso_0.8``) and the C_B-corrected one are returned.
-    """
+    """ISO 6336-1 method B single stiffness c' b (N/m) of the pair: with the fixed 0.8 of paper 1
+    (``k_iso_0.8``) and with the basic-rack factor C_B of a non-20 deg rack (``k_iso_CB``; docs/paper2.md Sec. 3)."""
 
     q = float(flexibility_q(pair.driver.z, pair.driven.z, pair.driver.x, pair.driven.x, internal=False))
     k08 = float(pitch_point_stiffness(q, facewidth_mm))
@@ -219,12 +198,8 @@ def iso_single_stiffness(pair: SpurPair, facewidth_mm: float) -> dict[str, float
 def relief_profile(
     u: ArrayLike, path_length: float, amount: float, length: float, shape: str, apply_to: str = "both"
 ) -> NDArray:
-    """Tip relief (m of material removed, along the line of action) at positions ``u`` (m).
-
-    Linear: ``C (1 - d/L)``; parabolic: ``C (1 - d/L)^2``, for a distance ``d < L`` from the start
-    (driven tip, meshing in) or from the end (driver tip, meshing out) of the path of contact.
-    ``length`` L is measured along the path of contact (= roll length) in m.
-    """
+    """Tip relief (m removed along the line of action) at ``u`` (m): ``C (1 - d/L)`` (linear) or its square
+    (parabolic) for d < L from the start (driven tip) and/or the end (driver tip) of the path of contact."""
     u = np.asarray(u, dtype=float)
     if amount <= 0 or length <= 1e-12:  # below 1 pm a relief has no extent (and d/L would overflow)
         return np.zeros_like(u)
@@ -243,12 +218,8 @@ def relief_profile(
 
 @dataclass(frozen=True)
 class TEResult:
-    """Static TE over mesh periods ``s`` (base pitches).  Lengths in m, forces in N.
-
-    ``te`` follows Eq. (9), TE = E - delta, for the pair(s) carrying load: E = Ef1 + Ef2 + pitch
-    part - relief, delta the composite deformation; ``approach`` is the rigid-body approach of the
-    driven gear (the usual loaded static TE, = -te up to the constant Ef1 + Ef2).
-    """
+    """Static TE (Eq. 9, TE = E - delta) over mesh periods ``s`` (base pitches); ``approach``: the driven
+    gear's rigid-body approach (= -te up to the constant Ef1 + Ef2).  Lengths in m, forces in N."""
 
     s: NDArray
     te: NDArray
@@ -264,11 +235,8 @@ class TEResult:
 
 @dataclass(frozen=True)
 class MeshGrid:
-    """Pair slots over one mesh period: positions ``u`` (m), in-mesh mask and compliances (m/N).
-
-    Built once per pair and material; the relief and the deviations only change the separations,
-    so the optimiser reuses it (:meth:`solve`).
-    """
+    """Pair slots over one mesh period: positions ``u`` (m), in-mesh mask and compliances (m/N); built once,
+    reused by the optimiser (the relief and the deviations only change the separations)."""
 
     pair: SpurPair
     s: NDArray
@@ -321,16 +289,9 @@ def static_te(
     grid: MeshGrid | None = None,
     **separation: Any,
 ) -> TEResult:
-    """Loaded static TE of one pair over one mesh period (paper 2 Eq. 9, Ishikawa compliance).
-
-    Pairs in the mesh sit at ``u_k = (s + k) p_b``, k = 0, 1, ... while ``u_k <= g_a``.  Each pair has
-    a separation ``e_k`` (m, material missing) made of the relief and the pitch part: a base-pitch
-    difference ES between driver and driven means that successive pairs differ by ES, i.e.
-    ``e(u) = sign * ES * u / p_b`` (sign = +1: the incoming pair has excess material, the paper's
-    interference when meshing in).  The approach x solves ``sum_k max(0, x - e_k) / lambda_k = W``
-    and TE = Ef1 + Ef2 - x.  Constant profile deviations Ef1, Ef2 shift TE but not its peak-to-peak.
-    ``separation``: ES, its sign and the relief (keywords of :meth:`MeshGrid.separation`).
-    """
+    """Loaded static TE of one pair over one mesh period (Eq. 9, Ishikawa compliance; load sharing and the
+    pitch-step model: docs/paper2.md, "Load sharing and deviations").  ``separation``: ES, its sign and the
+    relief (keywords of :meth:`MeshGrid.separation`)."""
     grid = grid or MeshGrid.build(pair, mat, points)
     return grid.solve(load, grid.separation(**separation), ef1 + ef2)
 
@@ -361,12 +322,8 @@ def _solve_approach(e: NDArray, lam: NDArray, load: float) -> NDArray:
 
 
 def pd_mesh_load(design: PlusDesign) -> float:
-    """Normal load (N) on one p-d mesh from the design torque.
-
-    ``member = 'sun'``: T acts on the sun and is shared equally by the planets; moment balance of
-    planet p (both of its meshes act on its base circle) gives F_pd = F_sp = T / (N r_bs).
-    ``member = 'pd_pair'``: T is the torque on the driver of the p-d pair, F = T / r_b,driver.
-    """
+    """Normal load (N) on one p-d mesh: T / (N r_bs) for a sun torque shared by N planets (planet p's moment
+    balance gives F_pd = F_sp), T / r_b,driver for a torque on the p-d pair's driver (``torque_member``)."""
     if design.torque_member == "sun":
         return design.torque / (design.n_planets * design.sun.base_radius)
     pair = spur_pair(design)

@@ -1,23 +1,8 @@
 """Lumped-parameter modal model of the plus planetary set (paper 2, Eqs. 1-8, Table 1).
 
-Eleven generalised coordinates (:data:`COORDS`): sun, ring and carrier rotations, the rotations of the
-three inner planets p_j and three outer planets d_j *relative to the carrier* (Eqs. 3-4), and the
-sun translation x_s, y_s on its elastic bearing.  Rotations in rad, translations in m.
-
-The energy expressions are derived geometrically rather than copied from Eq. (6):
-
-* every gear is a rigid body with a centre ``c`` (m), a translation map and an absolute rotation map
-  (rows of linear maps acting on the coordinate vector q);
-* every mesh is a spring along its line of action, tangent to both base circles; its compression is
-  ``delta = v . q`` with ``v = n^T (D_1(P) - D_2(P))``, where ``D_i(P)`` maps q to the displacement
-  of the contact point P on gear i and ``n`` is the unit normal of the loaded flank;
-* ``K = sum_e k_e v_e v_e^T``, ``C = sum_e c_e v_e v_e^T``; ``M`` from the kinetic energy Eq. (2).
-
-For the s-p mesh this gives delta = r_s (th_s - th_c) + r_p th_p - (x_s, y_s) . n_j, with n_j the
-line of action of planet j (angle psi_j enters: fix 1); for the p-d mesh delta = r_p th_p + r_d th_d
-(no carrier term, "+": fix 2, a plus set); for the d-r mesh delta = r_d th_d - r_r (th_r - th_c).
-The printed forms can be switched back on with ``PlusDesign.planet_angles_in_sun_terms = False`` and
-``plus_set_sign = False`` to show their consequences.
+Eleven coordinates (:data:`COORDS`; planet rotations relative to the carrier, rad; sun translation, m).
+The energies are derived geometrically (mesh springs along their lines of action), which fixes the printed
+Eq. (6); the derivation and the fixes (and the switches that restore the printed forms): docs/paper2.md Sec. 1.
 """
 
 from __future__ import annotations
@@ -253,11 +238,11 @@ class Modes:
     def freq_hz(self) -> NDArray:
         return np.sqrt(np.clip(self.omega2, 0.0, None)) / (2 * np.pi)
 
-    def full_shape(self, i: int) -> NDArray:
-        """Mode ``i`` on all 11 coordinates (0 for the fixed one)."""
-        out = np.zeros(len(COORDS))
-        for c, val in zip(self.coords, self.shapes[:, i], strict=True):
-            out[COORDS.index(c)] = val
+    @property
+    def full_shapes(self) -> NDArray:
+        """The modes on all 11 coordinates (0 on the fixed one), one column per mode."""
+        out = np.zeros((len(COORDS), self.shapes.shape[1]))
+        out[[COORDS.index(c) for c in self.coords]] = self.shapes
         return out
 
 
@@ -276,20 +261,13 @@ def _canonical_pairs(omega2: NDArray, shapes: NDArray, coords: tuple[str, ...], 
                 u = np.cos(ang) * a + np.sin(ang) * b
                 w = -np.sin(ang) * a + np.cos(ang) * b
                 shapes[:, i], shapes[:, i + 1] = u, w
-            for k in (i, i + 1):  # sign: largest |entry| positive
-                col = shapes[:, k]
-                if col[np.argmax(np.abs(col))] < 0:
-                    shapes[:, k] = -col
             i += 2
         else:
-            col = shapes[:, i]
-            if col[np.argmax(np.abs(col))] < 0:
-                shapes[:, i] = -col
             i += 1
-    if i == n - 1:
-        col = shapes[:, i]
+    for k in range(n):  # sign: largest |entry| positive
+        col = shapes[:, k]
         if col[np.argmax(np.abs(col))] < 0:
-            shapes[:, i] = -col
+            shapes[:, k] = -col
     return shapes
 
 
@@ -307,12 +285,9 @@ def modes(design: PlusDesign, condition: Condition, *, rigid_tol: float = 1e-8, 
 
 
 def damped_frequencies(mat: Matrices, n_rigid: int, omega_min: float) -> tuple[NDArray, NDArray]:
-    """Damped natural frequencies (Hz) and damping ratios from the first-order form of Eq. (8).
-
-    ``omega_min`` (rad/s) is the lowest undamped elastic circular frequency.  Rigid-body modes get NaN.  The
-    oscillatory eigenvalue pairs are sorted by |lambda| and matched to
-    the undamped modes in order (valid for light damping; checked against the undamped limit in tests).
-    """
+    """Damped natural frequencies (Hz) and damping ratios (NaN for rigid modes) from the first-order form of
+    Eq. (8); the oscillatory eigenvalues, sorted by |lambda|, are matched to the undamped modes in order (light
+    damping).  ``omega_min`` (rad/s): the lowest undamped elastic circular frequency."""
     n = mat.M.shape[0]
     Minv = np.linalg.inv(mat.M)
     A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ mat.K, -Minv @ mat.C]])
@@ -338,7 +313,7 @@ def strain_energy_fractions(design: PlusDesign, md: Modes) -> dict[str, NDArray]
     U_e = k_e (v_e . phi)^2 / 2 and sum_e U_e = w^2 / 2 for an M-normalised phi.  Rigid modes: NaN.
     """
     els = elements(design)
-    phis = np.column_stack([md.full_shape(i) for i in range(md.shapes.shape[1])])
+    phis = md.full_shapes
     energy = {el.name: 0.5 * el.k * (el.v @ phis) ** 2 for el in els}
     total = sum(energy.values())
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -349,7 +324,7 @@ def strain_energy_fractions(design: PlusDesign, md: Modes) -> dict[str, NDArray]
 def kinetic_energy_fractions(design: PlusDesign, md: Modes) -> dict[str, NDArray]:
     """Share of each Table 4 component in the modal kinetic energy, per component, shape (n_modes,)."""
     comps = mass_components(design)
-    phis = np.column_stack([md.full_shape(i) for i in range(md.shapes.shape[1])])
+    phis = md.full_shapes
     energy = {k: np.einsum("im,ij,jm->m", phis, Mc, phis) for k, Mc in comps.items()}
     total = sum(energy.values())
     return {
@@ -377,20 +352,15 @@ def group_kinetic(fr: dict[str, NDArray]) -> dict[str, NDArray]:
 
 
 def classify(md: Modes, *, rtol: float = 1e-6, atol: float = 1e-9) -> list[str]:
-    """'rigid', 'planet' (doubled frequency, central members still) or 'overall' (axisymmetric).
-
-    A planet mode of paper 2 (after Kahraman 2001) has the loaded central members at rest and the
-    planet sets moving differently; with three planets such modes come in degenerate pairs and move
-    the floating sun (x_s, y_s).  An overall mode has every planet set moving alike and x_s = y_s = 0.
-    Anything else is 'mixed' (none occur for the symmetric set).
-    """
+    """'rigid', 'planet' (doubled frequency, central members still), 'overall' (axisymmetric) or 'mixed'
+    (none for the symmetric set) for each mode (docs/paper2.md, "Mode classes")."""
     out: list[str] = []
-    f = md.omega2
+    f, phis = md.omega2, md.full_shapes
     for i in range(len(f)):
         if f[i] == 0:
             out.append("rigid")
             continue
-        phi = md.full_shape(i)
+        phi = phis[:, i]
         scale = np.max(np.abs(phi))
         central = np.abs(phi[[COORDS.index(c) for c in ("theta_s", "theta_r", "theta_c")]]).max() / scale
         degenerate = (i > 0 and abs(f[i] - f[i - 1]) <= rtol * f[i]) or (

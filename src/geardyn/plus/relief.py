@@ -1,10 +1,7 @@
 """Tip-relief optimisation of the p-d pair (paper 2, Sec. 4) with scipy's differential evolution.
 
-The paper maximises 1 / (TE fluctuation) with a genetic algorithm over the relief "width" (the
-amount, 0.02-0.08 mm) and "depth" (the length, 0.0001-2.6 mm), for linear and parabolic relief.
-Here the objective is the peak-to-peak static TE (m) of :func:`geardyn.plus.ishikawa.static_te`,
-minimised by :func:`scipy.optimize.differential_evolution` (seeded, ``workers=1``, no polishing:
-deterministic).  Units: m.
+Objective: the peak-to-peak static TE (m) of :func:`geardyn.plus.ishikawa.static_te`; seeded, one worker, no
+polishing: deterministic (the paper's GA and its swapped names: docs/paper2.md Sec. 4).  Units: m.
 """
 
 from __future__ import annotations
@@ -16,7 +13,7 @@ from numpy.typing import NDArray
 from scipy.optimize import differential_evolution
 
 from .design import PlusDesign
-from .ishikawa import MeshGrid, design_grid, pd_mesh_load
+from .ishikawa import MeshGrid, design_grid, design_te, pd_mesh_load
 
 SHAPES = ("linear", "parabolic")
 BOUND_SETS = ("paper", "physical")
@@ -43,20 +40,12 @@ class ReliefOptimum:
 
 
 def objective(design: PlusDesign, grid: MeshGrid, shape: str):
-    """f(amount, length) = peak-to-peak TE in m, for differential evolution."""
-    load = pd_mesh_load(design)
-    t, apply_to = design.te, design.relief.apply_to
+    """f(amount, length) = peak-to-peak TE in m (of the approach, free of the constant deviations), for
+    differential evolution."""
 
     def f(p: NDArray) -> float:
-        e = grid.separation(
-            es=t.es,
-            pitch_error_sign=t.pitch_error_sign,
-            relief_amount=float(p[0]),
-            relief_length=float(p[1]),
-            relief_shape=shape,
-            relief_apply_to=apply_to,
-        )
-        return float(np.ptp(grid.solve(load, e).approach))
+        te = design_te(design, grid=grid, relief_amount=float(p[0]), relief_length=float(p[1]), relief_shape=shape)
+        return float(np.ptp(te.approach))
 
     return f
 
@@ -123,13 +112,8 @@ def landscape_axes(design: PlusDesign, n: int | None = None) -> tuple[NDArray, N
 
 
 def load_study(design: PlusDesign, torques: tuple[float, ...], shape: str = "linear", points: int = 200) -> list[dict]:
-    """Optimal relief against the load: for each sun torque (N m) the optimum within the paper's bounds and
-    within wide bounds (amount 0 to the paper's upper bound, length 0 to the physical upper bound).
-
-    Shows at which load the paper's optimum (32.5 um, 2.498 mm) would be the optimum of this model.
-    Returns dicts with torque (N m), load (N), optima (m) and peak-to-peak TE (m).
-    """
-
+    """For each sun torque (N m): the optimum within the paper's bounds and within wide bounds (amount from 0
+    to the paper's upper bound, length from 0 to the physical one), as dicts (N m, N, m)."""
     rows = []
     for t in torques:
         d = replace(design, torque=float(t), torque_member="sun")

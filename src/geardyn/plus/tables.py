@@ -1,16 +1,15 @@
 """Tables of a plus set: natural frequencies, key elements, stiffness scaling, TE, relief optima.
 
-Pure functions returning pandas DataFrames or xarray Datasets with ``units`` and ``long_name`` on
-every variable.  A table that compares with a paper takes the paper's module (``paper``, from
-:func:`geardyn.papers.paper_of`: its ``PAPER_TABLE2``, ``PAPER_SHARED``, ``PAPER_TABLE5_ELEMENT``,
-``PAPER_TABLE5_COMPONENTS`` and ``PAPER_RELIEF``); with ``paper=None`` (a design that names no paper)
-the paper's columns and rows are left out.
+DataFrames, and Datasets with ``units`` and ``long_name`` on every variable; with ``paper`` (a module of
+:mod:`geardyn.papers`) the paper's columns and rows are set beside ours, with ``None`` left out.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from types import ModuleType
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -42,6 +41,63 @@ COMPONENT_LABELS = {
     "carrier": "planet carrier",
 }
 WORKING = ("I", "II", "III")
+
+
+#: The CF variables of the plus set's datasets, one table per dataset: name -> (dims, units, long_name[, more
+#: attributes]); a variable whose dims are its own name is a coordinate (:func:`cf_dataset`).
+_CM = ("condition", "mode")
+MODAL_VARIABLES: dict[str, tuple] = {
+    "natural_frequency": (_CM, "Hz", "undamped natural frequency"),
+    "damped_frequency": (_CM, "Hz", "damped natural frequency"),
+    "damping_ratio": (_CM, "1", "modal damping ratio"),
+    "mode_shape": (
+        (*_CM, "coordinate"),
+        "kg-1/2",
+        "mass-normalised mode shape (0 on the fixed coordinate)",
+        {"comment": "translations in kg-1/2; rotations in rad kg-1/2 m-1"},
+    ),
+    "strain_energy_share": ((*_CM, "element"), "1", "share of the modal strain energy per spring"),
+    "kinetic_energy_share": ((*_CM, "component"), "1", "share of the modal kinetic energy per component"),
+    "mode_type": (_CM, "1", "mode class: rigid, planet (doubled) or overall (axisymmetric)"),
+    "lever_arm": (
+        "coordinate",
+        "m",
+        "radius turning a rotation into a displacement (base radius; carrier: a_sp; 1 for x_s, y_s)",
+    ),
+    "condition": ("condition", "1", "working condition (I carrier, II ring, III sun fixed)"),
+    "mode": ("mode", "1", "mode number including the rigid-body mode"),
+    "coordinate": ("coordinate", "1", "generalised coordinate"),
+    "element": ("element", "1", "spring (Table 3 meshes, sun bearing)"),
+    "component": ("component", "1", "kinetic-energy component (Table 4)"),
+}
+TE_VARIABLES: dict[str, tuple] = {
+    "transmission_error": (
+        ("case", "mesh_phase"),
+        "um",
+        "static transmission error TE = E - delta (Eq. 9) of the p-d pair",
+    ),
+    "mesh_stiffness": ("mesh_phase", "N m-1", "quasi-static mesh stiffness of the unmodified pair"),
+    "load_per_pair": (("slot", "mesh_phase"), "N", "normal load on each tooth pair slot (unmodified)"),
+    "case": ("case", "1", "relief case"),
+    "mesh_phase": ("mesh_phase", "1", "mesh phase in base pitches"),
+    "slot": ("slot", "1", "tooth pair slot (0 = newest)"),
+}
+LANDSCAPE_VARIABLES: dict[str, tuple] = {
+    "te_ptp": (("shape", "amount", "length"), "um", "peak-to-peak static transmission error of the p-d pair"),
+    "shape": ("shape", "1", "tip relief shape"),
+    "amount": ("amount", "um", "tip relief amount along the line of action"),
+    "length": ("length", "mm", "tip relief length along the path of contact"),
+}
+
+
+def cf_dataset(variables: Mapping[str, tuple], values: Sequence[Any], **attrs: Any) -> xr.Dataset:
+    """A Dataset of the CF ``variables`` (a table above) holding ``values`` in the table's order; a long_name
+    may name one of the dataset's ``attrs`` (``{condition}``)."""
+    data: dict[str, Any] = {}
+    coords: dict[str, Any] = {}
+    for (name, (dims, units, long_name, *more)), v in zip(variables.items(), values, strict=True):
+        (coords if dims == name else data)[name] = cf(dims, v, units, long_name.format(**attrs), **(more or [{}])[0])
+    return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
 def distinct_frequencies(design: PlusDesign, condition: str) -> list[dict]:
@@ -124,12 +180,9 @@ def _pct(log_value: float) -> float:
 def stiffness_scaling(
     design: PlusDesign, paper: ModuleType, reference: str = "theoretical", matching: str = "rank"
 ) -> dict[str, float]:
-    """Uniform stiffness factor s that best matches the paper (least squares in log frequency).
-
-    Scaling every spring by s scales every frequency by sqrt(s), so log s = 2 mean(log f_paper - log f_ours)
-    exactly.  A mesh-only factor (bearing kept) is fitted numerically.  Returns the factors and the
-    remaining RMS and worst log-residuals expressed in percent.
-    """
+    """Uniform stiffness factor s that best matches the paper in log frequency (exactly log s = 2 mean(log
+    f_paper - log f_ours), as frequencies scale with sqrt(s)), a mesh-only factor fitted numerically, and the
+    remaining RMS and worst residuals in percent."""
     r = _matched_log_residual(design, paper, reference, matching)
     shift = float(np.mean(r))
     res_u = r - shift
@@ -245,46 +298,20 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
     for ci, c in enumerate(conds):
         md = modal.modes(design, c)
         f[ci], fd[ci], z[ci] = md.freq_hz, md.damped_hz, md.zeta
-        for i in range(n):
-            shapes[ci, i] = md.full_shape(i)
+        shapes[ci] = md.full_shapes.T
         s_fr = modal.strain_energy_fractions(design, md)
         k_fr = modal.kinetic_energy_fractions(design, md)
         se[ci] = np.column_stack([s_fr[k] for k in el_names])
         ke[ci] = np.column_stack([k_fr[k] for k in comp_names])
         mtype[ci] = modal.classify(md)
-    cm, arm = (
-        ("condition", "mode"),
-        "radius turning a rotation into a displacement (base radius; carrier: a_sp; 1 for x_s, y_s)",
+    values = (f, fd, z, shapes, se, ke, mtype.astype(str), _lever_arms(design), conds, np.arange(1, n + 1))
+    title = f"Modal analysis of the plus planetary set {design.name}"
+    return cf_dataset(
+        MODAL_VARIABLES,
+        (*values, list(modal.COORDS), el_names, comp_names),
+        title=title,
+        model_variant=_variant(design),
     )
-    ds = xr.Dataset(
-        {
-            "natural_frequency": cf(cm, f, "Hz", "undamped natural frequency"),
-            "damped_frequency": cf(cm, fd, "Hz", "damped natural frequency"),
-            "damping_ratio": cf(cm, z, "1", "modal damping ratio"),
-            "mode_shape": cf(
-                (*cm, "coordinate"),
-                shapes,
-                "kg-1/2",
-                "mass-normalised mode shape (0 on the fixed coordinate)",
-                comment="translations in kg-1/2; rotations in rad kg-1/2 m-1",
-            ),
-            "strain_energy_share": cf((*cm, "element"), se, "1", "share of the modal strain energy per spring"),
-            "kinetic_energy_share": cf((*cm, "component"), ke, "1", "share of the modal kinetic energy per component"),
-            "mode_type": cf(
-                cm, mtype.astype(str), "1", "mode class: rigid, planet (doubled) or overall (axisymmetric)"
-            ),
-            "lever_arm": cf("coordinate", _lever_arms(design), "m", arm),
-        },
-        coords={
-            "condition": cf("condition", conds, "1", "working condition (I carrier, II ring, III sun fixed)"),
-            "mode": cf("mode", np.arange(1, n + 1), "1", "mode number including the rigid-body mode"),
-            "coordinate": cf("coordinate", list(modal.COORDS), "1", "generalised coordinate"),
-            "element": cf("element", el_names, "1", "spring (Table 3 meshes, sun bearing)"),
-            "component": cf("component", comp_names, "1", "kinetic-energy component (Table 4)"),
-        },
-        attrs={"title": f"Modal analysis of the plus planetary set {design.name}", "model_variant": _variant(design)},
-    )
-    return ds
 
 
 def _lever_arms(design: PlusDesign) -> np.ndarray:
@@ -317,23 +344,14 @@ def stiffness_comparison(design: PlusDesign) -> pd.DataFrame:
     te0 = design_te(replace(design, te=replace(design.te, es=0.0)))
     eps = pair.contact_ratio
     rows = [
-        {"quantity": "single-pair stiffness at the pitch point, Ishikawa", "value_N_per_m": k_ish},
-        {
-            "quantity": "ISO 6336-1 c' b with C_M C_R C_B cos(beta) = 0.8 (20 deg rack)",
-            "value_N_per_m": iso["k_iso_0.8"],
-        },
-        {"quantity": "ISO 6336-1 c' b with C_B(25 deg, h_fP = 1.25 m) = 1.0725", "value_N_per_m": iso["k_iso_CB"]},
-        {
-            "quantity": "mean mesh stiffness, Ishikawa (no errors, static load sharing)",
-            "value_N_per_m": float(np.mean(te0.stiffness)),
-        },
-        {
-            "quantity": "ISO 6336-1 c_gamma b = c' b (0.75 eps + 0.25)",
-            "value_N_per_m": iso["k_iso_CB"] * (0.75 * eps + 0.25),
-        },
-        {"quantity": "Table 1 mesh stiffness k_pd", "value_N_per_m": design.stiffness.planet_planet},
+        ("single-pair stiffness at the pitch point, Ishikawa", k_ish),
+        ("ISO 6336-1 c' b with C_M C_R C_B cos(beta) = 0.8 (20 deg rack)", iso["k_iso_0.8"]),
+        ("ISO 6336-1 c' b with C_B(25 deg, h_fP = 1.25 m) = 1.0725", iso["k_iso_CB"]),
+        ("mean mesh stiffness, Ishikawa (no errors, static load sharing)", float(np.mean(te0.stiffness))),
+        ("ISO 6336-1 c_gamma b = c' b (0.75 eps + 0.25)", iso["k_iso_CB"] * (0.75 * eps + 0.25)),
+        ("Table 1 mesh stiffness k_pd", design.stiffness.planet_planet),
     ]
-    t = pd.DataFrame(rows)
+    t = pd.DataFrame(rows, columns=["quantity", "value_N_per_m"])
     t["value_N_per_mm_um"] = t["value_N_per_m"] * 1e-6 / (design.facewidth * 1e3)
     t["ratio_to_table1"] = t["value_N_per_m"] / design.stiffness.planet_planet
     return t
@@ -348,39 +366,18 @@ def te_dataset(design: PlusDesign, optima: list[ReliefOptimum]) -> xr.Dataset:
         r = design_te(design, relief_amount=o.amount, relief_length=o.length, relief_shape=o.shape)
         curves.append(r.te * 1e6)
         labels.append(f"{o.shape}_{o.bounds}")
-    pair = spur_pair(design)
-    ds = xr.Dataset(
-        {
-            "transmission_error": cf(
-                ("case", "mesh_phase"),
-                np.array(curves),
-                "um",
-                "static transmission error TE = E - delta (Eq. 9) of the p-d pair",
-            ),
-            "mesh_stiffness": cf(
-                "mesh_phase", base.stiffness, "N m-1", "quasi-static mesh stiffness of the unmodified pair"
-            ),
-            "load_per_pair": cf(
-                ("slot", "mesh_phase"), base.loads, "N", "normal load on each tooth pair slot (unmodified)"
-            ),
-        },
-        coords={
-            "case": cf("case", labels, "1", "relief case"),
-            "mesh_phase": cf("mesh_phase", base.s, "1", "mesh phase in base pitches"),
-            "slot": cf("slot", np.arange(base.loads.shape[0]), "1", "tooth pair slot (0 = newest)"),
-        },
-        attrs={
-            "title": f"Static TE of the p-d pair, design {design.name}",
-            "contact_ratio": pair.contact_ratio,
-            "load_N": pd_mesh_load(design),
-            "model_variant": "Ishikawa rectangle+trapezoid, base-pitch error model",
-        },
+    return cf_dataset(
+        TE_VARIABLES,
+        (np.array(curves), base.stiffness, base.loads, labels, base.s, np.arange(base.loads.shape[0])),
+        title=f"Static TE of the p-d pair, design {design.name}",
+        contact_ratio=spur_pair(design).contact_ratio,
+        load_N=pd_mesh_load(design),
+        model_variant="Ishikawa rectangle+trapezoid, base-pitch error model",
     )
-    return ds
 
 
 def relief_table(optima: list[ReliefOptimum], paper: ModuleType | None) -> pd.DataFrame:
-    """The relief optima, with the paper's Sec. 4 result as the last row when ``paper`` is given."""
+    """The relief optima, with the paper's result (its ``RELIEF_ROW``) as the last row when ``paper`` is given."""
     rows = [
         {
             "shape": o.shape,
@@ -396,8 +393,7 @@ def relief_table(optima: list[ReliefOptimum], paper: ModuleType | None) -> pd.Da
         }
         for o in optima
     ]
-    if paper is None:
-        return pd.DataFrame(rows)
+    return pd.DataFrame(rows if paper is None else [*rows, paper.RELIEF_ROW])
     pr = paper.PAPER_RELIEF
     rows.append(
         {
@@ -436,43 +432,31 @@ def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
     amounts, lengths = landscape_axes(design, n)
     grid = design_grid(design)
     z = np.array([landscape(design, sh, amounts, lengths, grid=grid) for sh in SHAPES]) * 1e6
-    return xr.Dataset(
-        {
-            "te_ptp": cf(
-                ("shape", "amount", "length"), z, "um", "peak-to-peak static transmission error of the p-d pair"
-            )
-        },
-        coords={
-            "shape": cf("shape", list(SHAPES), "1", "tip relief shape"),
-            "amount": cf("amount", amounts * 1e6, "um", "tip relief amount along the line of action"),
-            "length": cf("length", lengths * 1e3, "mm", "tip relief length along the path of contact"),
-        },
-        attrs={
-            "title": f"Objective landscape of the tip-relief optimisation, design {design.name}",
-            "relief_applied_to": design.relief.apply_to,
-            "load_N": pd_mesh_load(design),
-        },
+    return cf_dataset(
+        LANDSCAPE_VARIABLES,
+        (z, list(SHAPES), amounts * 1e6, lengths * 1e3),
+        title=f"Objective landscape of the tip-relief optimisation, design {design.name}",
+        relief_applied_to=design.relief.apply_to,
+        load_N=pd_mesh_load(design),
     )
 
 
 def relief_load_table(rows: list[dict]) -> pd.DataFrame:
     """:func:`geardyn.plus.relief.load_study` in display units (N m, N, um, mm, %)."""
-    out = []
-    for r in rows:
-        out.append(
-            {
-                "sun_torque_Nm": r["torque"],
-                "pd_load_N": r["load"],
-                "te_ptp_unmodified_um": r["ptp_unmodified"] * 1e6,
-                "paper_bounds_amount_um": r["paper_amount"] * 1e6,
-                "paper_bounds_length_mm": r["paper_length"] * 1e3,
-                "paper_bounds_change_pct": 100 * (r["paper_ptp"] / r["ptp_unmodified"] - 1),
-                "wide_bounds_amount_um": r["wide_amount"] * 1e6,
-                "wide_bounds_length_mm": r["wide_length"] * 1e3,
-                "wide_bounds_change_pct": 100 * (r["wide_ptp"] / r["ptp_unmodified"] - 1),
-            }
-        )
-    return pd.DataFrame(out)
+    return pd.DataFrame(
+        {
+            "sun_torque_Nm": r["torque"],
+            "pd_load_N": r["load"],
+            "te_ptp_unmodified_um": r["ptp_unmodified"] * 1e6,
+            "paper_bounds_amount_um": r["paper_amount"] * 1e6,
+            "paper_bounds_length_mm": r["paper_length"] * 1e3,
+            "paper_bounds_change_pct": 100 * (r["paper_ptp"] / r["ptp_unmodified"] - 1),
+            "wide_bounds_amount_um": r["wide_amount"] * 1e6,
+            "wide_bounds_length_mm": r["wide_length"] * 1e3,
+            "wide_bounds_change_pct": 100 * (r["wide_ptp"] / r["ptp_unmodified"] - 1),
+        }
+        for r in rows
+    )
 
 
 def write_table(df: pd.DataFrame, csv: str, md: str | None = None, header: str = "", floatfmt: str = ".4g") -> None:
