@@ -1,13 +1,5 @@
-"""The map's records as seeds of regime-boundary curves, the driver of both stages and the curves file
-(docs/orbits.md, "Regime boundaries as curves").
-
-A pixel where a map's row lost its followed orbit (the cube's ``bifurcation``: fold, period doubling,
-Neimark-Sacker; the orbit's period that of the pixel before) either lies on a curve of that kind and period
-found from the lines (:func:`geardyn.runs.continuation.curve_maps.line_curves`; within ``record_tol`` pixels)
-or seeds one: the orbit is found at the pixel before (or the middle of its run of equal label), continued
-along the row past the pixel, and the event of the record's kind located there starts a curve.  Each record's
-fate is kept (:data:`RECORD_FATES`).
-"""
+"""The map's records as seeds of regime-boundary curves (each record's fate kept, :data:`RECORD_FATES`), the
+driver of both stages and the curves file (docs/orbits.md, section 9, "In the workflow")."""
 
 from __future__ import annotations
 
@@ -19,7 +11,6 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn import libm
 from geardyn.runs.continuation.curve_maps import (
     FILE_KINDS,
     Boundaries,
@@ -29,10 +20,10 @@ from geardyn.runs.continuation.curve_maps import (
     attractor_orbit,
     branch_curves,
     line_curves,
-    polyline_distance,
 )
-from geardyn.runs.continuation.curves import Curve, KHVPlane, curve_dataset
-from geardyn.runs.continuation.family import KHVFamily
+from geardyn.runs.continuation.curves import Curve, bounds_stable, polyline_distance
+from geardyn.runs.continuation.family import KHVFamily, KHVPlane
+from geardyn.runs.continuation.output import curve_dataset, flags
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.solve.base import SimulationSettings
 
@@ -152,25 +143,6 @@ def boundary_curves(
     return bd, plane
 
 
-def bounds_stable(kind: str, multipliers: np.ndarray, crit: Sequence[complex]) -> bool:
-    """True when every multiplier but the critical ones lies inside the unit circle (for grazing: all): the
-    curve is a boundary of a stable orbit there."""
-    mu = np.asarray(multipliers)
-    keep = np.ones(mu.size, bool)
-    if kind != "grazing":
-        for c in crit:
-            keep[int(np.argmin(np.where(keep, libm.cabs(mu - c), np.inf)))] = False
-    return bool(np.all(libm.cabs(mu[keep]) < 1.0))
-
-
-def _flags(values: Sequence[str], long_name: str) -> dict[str, Any]:
-    return {
-        "long_name": long_name,
-        "flag_values": np.arange(len(values), dtype=np.int8),
-        "flag_meanings": " ".join(values),
-    }
-
-
 def boundary_dataset(bd: Boundaries, check: Any = None) -> xr.Dataset:
     """The curves file: the CF dataset of the curves (:func:`curve_dataset`) with the back-flank grazing
     curves as kind ``back_grazing``, ``bounds_stable`` per point, the seed of every curve (attributes
@@ -181,21 +153,21 @@ def boundary_dataset(bd: Boundaries, check: Any = None) -> xr.Dataset:
     names, rec = bd.region.names, bd.records
     ds = curve_dataset(bd.curves, names)
     kinds = [FILE_KINDS.index(bd.file_kind(k)) for k in range(len(bd.curves))]
-    ds["curve_kind"] = (("curve",), np.array(kinds, np.int8), _flags(FILE_KINDS, "curve kind"))
-    flags = [bounds_stable(c.kind, pt.multipliers, pt.crit) for c in bd.curves for pt in c.points]
-    stable = {**_flags(("interior", "boundary"), "the curve bounds a stable orbit here (the other multipliers inside)")}
-    ds["bounds_stable"] = (("point",), np.array(flags, np.int8), stable)
+    ds["curve_kind"] = (("curve",), np.array(kinds, np.int8), flags(FILE_KINDS, "curve kind"))
+    bounds = [bounds_stable(c.kind, pt.multipliers, pt.crit) for c in bd.curves for pt in c.points]
+    stable = flags(("interior", "boundary"), "the curve bounds a stable orbit here (the other multipliers inside)")
+    ds["bounds_stable"] = (("point",), np.array(bounds, np.int8), stable)
     ds["record_kind"] = (
         ("record",),
         np.array([FILE_KINDS.index(r[0]) for r in rec], np.int8),
-        _flags(FILE_KINDS, "kind of the map's record"),
+        flags(FILE_KINDS, "kind of the map's record"),
     )
     period = {"units": "1", "long_name": "period of the orbit before the record (0: not periodic)"}
     ds["record_period"] = (("record",), np.array([r[1] for r in rec], np.int16), period)
     for k, nm in enumerate(names):
         ds[f"record_{nm}"] = (("record",), np.array([r[2 + k] for r in rec], float), {**ds[nm].attrs})
     fates = np.array([RECORD_FATES.index(r[4]) for r in rec], np.int8)
-    ds["record_fate"] = (("record",), fates, _flags(RECORD_FATES, "fate of the map's record as a seed"))
+    ds["record_fate"] = (("record",), fates, flags(RECORD_FATES, "fate of the map's record as a seed"))
     ds.attrs.update({f"curve_{k}_seed": o for k, o in enumerate(bd.origin)})
     ds.attrs.update({f"records_{f}": int(sum(r[4] == f for r in rec)) for f in RECORD_FATES})
     ds.attrs.update({f"time_{k}_s": round(v, 3) for k, v in bd.timing.items()})

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 
@@ -98,7 +99,7 @@ def march(
             if st.ds < cs.ds_min:
                 return pts, "step_too_small"
             continue
-        merged = merged_period(corr, out.x, out.p)
+        merged = merged_period(partial(corr.family.flow, out.p), out.x, corr.n, 1e-6 * corr.sx)
         if merged:
             return pts, f"merged_into_period_{merged}"
         try:
@@ -190,7 +191,7 @@ def _cut_at_merge(
     by m periods.  Cut the branch there (the period doubling is a point of the period-m branch);
     ``seed``: the index of the seed point in ``pts``."""
     for bf in br.bifurcations:
-        m = merged_period(corr, bf.state, bf.p, 1e-4) if bf.kind == "fold" else 0
+        m = merged_period(partial(family.flow, bf.p), bf.state, corr.n, 1e-4 * corr.sx) if bf.kind == "fold" else 0
         if m:
             if bf.index >= seed:
                 pts, ends["up"] = pts[: bf.index + 1], f"merged_into_period_{m}"
