@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -61,6 +62,10 @@ class Corrector:
             Fp = (phi2 - phi) / dp
         F = phi - x
         return Evaluation(F, M - np.eye(x.size), Fp, M)
+
+    def scaled(self, q: Any) -> np.ndarray:
+        """The scaled point u = (x / sx, p / sp) of a point q with fields x and p."""
+        return np.append(q.x / self.sx, q.p / self.sp)
 
     def jacobian(self, A: np.ndarray, Fp: np.ndarray, t: np.ndarray) -> np.ndarray:
         """[[A sx, Fp sp], [t]]: the Jacobian of (F, t . u) in the scaled variables."""

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 
@@ -13,6 +14,7 @@ from geardyn import libm
 from geardyn.runs.continuation.branch import Branch
 from geardyn.runs.continuation.events import brent_on_step, fold_test, ns_product, pd_test
 from geardyn.runs.continuation.family import PlaneFamily
+from geardyn.runs.continuation.stepping import both_ways, march
 from geardyn.solve.shooting import sorted_multipliers
 
 CURVE_KINDS = ("fold", "period_doubling", "neimark_sacker", "grazing")
@@ -317,41 +319,23 @@ def _inside(z: np.ndarray, box: Sequence[float]) -> bool:
     return box[0] <= z[-2] <= box[1] and box[2] <= z[-1] <= box[3]
 
 
-def _march(ext: Extended, start: CurvePoint, box: Sequence[float]) -> tuple[list[CurvePoint], list[Codim2], str]:
-    """Points along one direction from ``start`` (excluded), the codimension-2 points passed, the end."""
-    cs = ext.cs
-    pts: list[CurvePoint] = []
-    found: list[Codim2] = []
-    cur, ds = start, cs.ds
-    u0 = ext.u(start.z)
-    while len(pts) < cs.max_points:
-        z_pred = (ext.u(cur.z) + ds * cur.tangent) * ext.scale(cur.z.size - 2)
-        if not _inside(z_pred, box):
-            end = _box_end(ext, cur, z_pred, box)
-            if end is not None:
-                found += _events(ext, cur, end)
-                pts.append(end)
-            return pts, found, "box"
-        new = _on_arc(ext, cur, ds)
-        if new is None:
-            ds *= 0.5
-            if ds < cs.ds_min:
-                return pts, found, "step_too_small"
-            continue
-        ev = _events(ext, cur, new)
-        found += ev
-        term = [c.kind for c in ev if c.kind in _TERMINAL]
-        if term:
-            return pts, found, term[0]
-        pts.append(new)
-        cur = new
-        if len(pts) > 10 and float(np.linalg.norm(ext.u(new.z) - u0)) < ds and float(new.tangent @ start.tangent) > 0:
-            return pts, found, "closed_loop"
-        if float(np.max(libm.cabs(new.multipliers))) > 1e8:
-            return pts, found, "multipliers_too_large"
-        if new.iterations <= 4:
-            ds = min(ds * 1.3, cs.ds_max)
-    return pts, found, "max_points"
+def _advance(
+    ext: Extended, box: Sequence[float], found: list[Codim2], cur: CurvePoint, ds: float
+) -> tuple[list[CurvePoint], str] | None:
+    """One step of a curve (:func:`~geardyn.runs.continuation.stepping.march`): ends on the box (the last
+    point solved on its side) or at a 1:1 or 1:2 resonance; the codimension-2 points passed go to ``found``."""
+    z_pred = (ext.u(cur.z) + ds * cur.tangent) * ext.scale(cur.z.size - 2)
+    if not _inside(z_pred, box):
+        end = _box_end(ext, cur, z_pred, box)
+        found += _events(ext, cur, end) if end is not None else []
+        return ([end] if end is not None else []), "box"
+    new = _on_arc(ext, cur, ds)
+    if new is None:
+        return None
+    ev = _events(ext, cur, new)
+    found += ev
+    term = [c.kind for c in ev if c.kind in _TERMINAL]
+    return ([], term[0]) if term else ([new], "")
 
 
 def continue_curve(
@@ -379,12 +363,14 @@ def continue_curve(
     if out is None:
         return None
     z, J, _ = out
-    seed = ext.describe(z, J, ref, None, None, 1)
-    up, ev_up, end_up = _march(ext, seed, box)
-    back = CurvePoint(**{**seed.__dict__, "tangent": -seed.tangent})
-    down, ev_down, end_down = _march(ext, back, box) if end_up != "closed_loop" else ([], [], "closed_loop")
-    down = [CurvePoint(**{**c.__dict__, "tangent": -c.tangent}) for c in reversed(down)]
-    return Curve(kind, n, [*down, seed, *up], ext.scales, {"down": end_down, "up": end_up}, ev_down + ev_up)
+    found: list[list[Codim2]] = []  # per march: up, then down
+
+    def run(start: CurvePoint) -> tuple[list[CurvePoint], str]:
+        found.append([])
+        return march(start, partial(_advance, ext, box, found[-1]), lambda pt: ext.u(pt.z), cs, 4)
+
+    pts, ends = both_ways(run, ext.describe(z, J, ref, None, None, 1))
+    return Curve(kind, n, pts, ext.scales, ends, [c for events in reversed(found) for c in events])
 
 
 def _on_curve(curve: Curve, kind: str, n: int, p: float, q: float, tol: float = 1e-3) -> bool:
