@@ -22,6 +22,7 @@ from numba import njit
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from _orbits import curve_crossings
 from geardyn import classify, io
 from geardyn.config import schema as io_schema
 from geardyn.khv import design, model, point
@@ -137,7 +138,7 @@ def test_period_doubling_curve_of_duffing_matches_scipy_floquet():
     pd = curves[0]
     assert pd.end_status == {"down": "box", "up": "box"} and np.max(np.abs(pd.residual)) < 1e-10
     for omega in (1.12, 1.2, 1.28):
-        (cross,) = C.curve_crossings(plane, pd, "q", omega)
+        (cross,) = curve_crossings(plane, pd, "q", omega)
         gamma = float(cross.z[-2])
         ref, orbit = _scipy_period_doubling(omega, gamma - 2e-3, gamma + 2e-3, cross.z[:2])
         assert abs(gamma - ref) < 1e-6  # measured 2.2e-11 to 3.9e-10
@@ -184,9 +185,9 @@ def test_cusp_of_a_hardening_duffing_fold_curve_where_the_hysteresis_begins():
     assert len(cusps) == 1 and cusps[0].located
     g_c = cusps[0].q  # measured (omega, gamma) = (1.187300, 0.164702)
     above = folds(g_c * 1.03)[1]
-    cross = sorted(pt.z[-2] for pt in C.curve_crossings(plane, curves[0], "q", g_c * 1.03))
+    cross = sorted(pt.z[-2] for pt in curve_crossings(plane, curves[0], "q", g_c * 1.03))
     assert len(above) == 2 and np.max(np.abs(np.subtract(above, cross))) < 1e-6  # measured 5e-15
-    assert folds(g_c * 0.97)[1] == [] and C.curve_crossings(plane, curves[0], "q", g_c * 0.97) == []
+    assert folds(g_c * 0.97)[1] == [] and curve_crossings(plane, curves[0], "q", g_c * 0.97) == []
 
 
 # --- the KHV model ------------------------------------------------------------------------------------------
@@ -224,7 +225,7 @@ def test_grazing_curve_of_the_linear_limit_is_the_closed_form(linear_limit):
     assert len(graz) == 1 and graz[0].end_status == {"down": "box", "up": "box"}
     errs = []
     for w in np.linspace(0.8, 1.6, 20):
-        (cross,) = C.curve_crossings(plane, graz[0], "p", w)
+        (cross,) = curve_crossings(plane, graz[0], "p", w)
         errs.append(abs(cross.z[-1] / _closed_form_grazing(d, fixed, w) - 1.0))
     assert max(errs) < 1e-6  # measured 5.0e-8 (median 2.0e-8)
     # every point of the curve, too
@@ -250,9 +251,9 @@ def test_fold_curve_of_the_linear_limit_has_a_cusp_beyond_grazing(linear_limit):
         return sorted(f.p for f in b.bifurcations if f.kind == "fold")
 
     below = folds(w_c - 3e-3)
-    cross = sorted(pt.z[-1] for pt in C.curve_crossings(plane, fold, "p", w_c - 3e-3))
+    cross = sorted(pt.z[-1] for pt in curve_crossings(plane, fold, "p", w_c - 3e-3))
     assert len(below) == 2 and np.max(np.abs(np.subtract(below, cross))) < 1e-6  # measured 2.8e-11
-    assert folds(w_c + 3e-3) == [] and C.curve_crossings(plane, fold, "p", w_c + 3e-3) == []
+    assert folds(w_c + 3e-3) == [] and curve_crossings(plane, fold, "p", w_c + 3e-3) == []
 
 
 @pytest.fixture(scope="module")
@@ -277,10 +278,10 @@ def test_neimark_sacker_curve_crosses_the_sweeps_where_they_bifurcate(calibrated
     assert [c.kind for c in curves] == ["neimark_sacker"]
     curve = curves[0]
     assert np.max(np.abs(curve.residual)) < 1e-10
-    (at5,) = C.curve_crossings(plane, curve, "q", 5.0)
+    (at5,) = curve_crossings(plane, curve, "q", 5.0)
     assert abs(at5.z[-2] - ns.p) < 1e-5  # measured 6.4e-9
     for e in (4.5, 5.5):
-        (cross,) = C.curve_crossings(plane, curve, "q", e)
+        (cross,) = curve_crossings(plane, curve, "q", e)
         x1 = float(cross.z[-2])
         other = _x1_branch(d, e, x1 - 0.01, x1 + 0.01)
         (hit,) = [b for b in other.bifurcations if b.kind == "neimark_sacker"]

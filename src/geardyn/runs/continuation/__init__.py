@@ -18,7 +18,6 @@ from geardyn.runs.continuation.curves import (
     CurvePoint,
     CurveSettings,
     continue_curve,
-    curve_crossings,
     curves_from_branch,
 )
 from geardyn.runs.continuation.driver import label_agreement, label_check, sweep_branches, sweep_orbits
@@ -69,7 +68,6 @@ __all__ = [
     "branches_from_dataset",
     "continue_branch",
     "continue_curve",
-    "curve_crossings",
     "curve_dataset",
     "curves_from_branch",
     "cycle_states",

@@ -18,6 +18,7 @@ from geardyn.khv import point
 from geardyn.runs.continuation.curve_maps import Boundaries, shorter_period
 from geardyn.runs.continuation.curves import bounds_stable, crossings, segment_distance
 from geardyn.runs.continuation.family import back_margin, cycle_states
+from geardyn.runs.continuation.output import flags, variables
 from geardyn.solve.response import IMPACT_CLASSES, response_measures
 from geardyn.solve.shooting import newton_shooting
 
@@ -114,40 +115,35 @@ class PixelCheck:
 
     def variables(self, names: tuple[str, str], kinds: Sequence[str]) -> dict[str, Any]:
         """The samples as variables of dimension ``check``."""
-        s = self.samples
+        s, C = self.samples, ("check",)
         units = [point.units_of(n) if n in point.CONTROLS or n in point.PARAMETER_UNITS else "1" for n in names]
 
-        def var(values: list, dtype: Any, long_name: str, units: str = "1", flags: Sequence[str] = ()) -> tuple:
-            attrs: dict[str, Any] = {"long_name": long_name}
-            if flags:
-                attrs.update(flag_values=np.arange(len(flags), dtype=np.int8), flag_meanings=" ".join(flags))
-            else:
-                attrs["units"] = units
-            return (("check",), np.array(values, dtype), attrs)
+        def q(long_name: str, u: str = "1") -> dict[str, str]:
+            return {"long_name": long_name, "units": u}
 
-        pix = [list(v.pixels[0]) + list(v.pixels[1]) if v.pixels else [-1] * 4 for v in s]
-        return {
-            f"check_{names[0]}": var([v.x for v in s], float, f"{names[0]} at the crossing", units[0]),
-            f"check_{names[1]}": var([v.y for v in s], float, f"{names[1]} at the crossing", units[1]),
-            "check_curve": var([v.curve for v in s], np.int32, "index of the curve"),
-            "check_kind": var([list(kinds).index(v.kind) for v in s], np.int8, "curve kind", flags=kinds),
-            "check_forward": var([v.forward for v in s], np.int8, FORWARD, flags=("return", "forward")),
-            "check_reason": var([REASONS.index(v.reason) for v in s], np.int8, "outcome of the check", flags=REASONS),
-            "check_pixels": (
-                ("check", "pixel_index"),
-                np.array(pix, np.int32).reshape(len(s), 4),
-                {"units": "1", "long_name": "row, column of the stable-side pixel, then the other (-1: none)"},
-            ),
-            "check_labels": (
-                ("check", "side"),
-                np.array([v.labels for v in s], np.int16).reshape(len(s), 2),
-                {"units": "1", "long_name": "map label at the stable-side pixel and the other"},
-            ),
-            "check_modulus": var([v.modulus for v in s], float, "largest multiplier modulus, stable-side orbit"),
-            "check_criticality": var(
-                [CRITICALITY.index(v.criticality) for v in s], np.int8, "criticality", flags=CRITICALITY
-            ),
-        }
+        pix = np.array([list(v.pixels[0]) + list(v.pixels[1]) if v.pixels else [-1] * 4 for v in s], np.int32)
+        pixels = "row, column of the stable-side pixel, then the other (-1: none)"
+        labels = np.array([v.labels for v in s], np.int16).reshape(len(s), 2)
+        modulus = "largest multiplier modulus, stable-side orbit"
+        return variables(
+            [
+                (f"check_{names[0]}", C, np.array([v.x for v in s], float), q(f"{names[0]} at the crossing", units[0])),
+                (f"check_{names[1]}", C, np.array([v.y for v in s], float), q(f"{names[1]} at the crossing", units[1])),
+                ("check_curve", C, np.array([v.curve for v in s], np.int32), q("index of the curve")),
+                ("check_kind", C, [list(kinds).index(v.kind) for v in s], flags(kinds, "curve kind")),
+                ("check_forward", C, [v.forward for v in s], flags(("return", "forward"), FORWARD)),
+                ("check_reason", C, [REASONS.index(v.reason) for v in s], flags(REASONS, "outcome of the check")),
+                ("check_pixels", ("check", "pixel_index"), pix.reshape(len(s), 4), pixels),
+                ("check_labels", ("check", "side"), labels, "map label at the stable-side pixel and the other"),
+                ("check_modulus", C, np.array([v.modulus for v in s], float), q(modulus)),
+                (
+                    "check_criticality",
+                    C,
+                    [CRITICALITY.index(v.criticality) for v in s],
+                    flags(CRITICALITY, "criticality"),
+                ),
+            ]
+        )
 
 
 def _boundary_segments(flags: np.ndarray, curve: Any, px: float, py: float) -> tuple[np.ndarray, np.ndarray]:
@@ -321,7 +317,7 @@ def pixel_check(
         if len(cands) > max_samples:
             cands = [cands[i] for i in np.linspace(0, len(cands) - 1, max_samples).round().astype(int)]
         for line, idx, seg, w in cands:
-            x, y = _at(curve, seg, w)
+            x, y = _lerp(curve.p, seg, w), _lerp(curve.q, seg, w)
             base = Sample(k, kind, curve.n, float(x), float(y))
             if any(np.hypot((x - a) / px, (y - b) / py) < margin for a, b in c2):
                 out.samples.append(replace(base, reason="codim2"))
@@ -342,16 +338,15 @@ def _self_crowded(pts: np.ndarray, seg: int, x: float, y: float, crowd: float, s
     return segment_distance(pts[far], pts[far + 1], np.array([x, y])) < crowd if far.size else False
 
 
-def _at(curve: Any, seg: int, w: float) -> tuple[float, float]:
-    nxt = min(seg + 1, len(curve.p) - 1)
-    return curve.p[seg] + w * (curve.p[nxt] - curve.p[seg]), curve.q[seg] + w * (curve.q[nxt] - curve.q[seg])
+def _lerp(values: np.ndarray, seg: int, w: float) -> Any:
+    """``values`` at the fraction w of segment seg (of the last point past the end)."""
+    return values[seg] + w * (values[min(seg + 1, len(values) - 1)] - values[seg])
 
 
 def _probe_sample(base: Sample, curve: Any, cross: tuple, xs, ys, probe: _Probe, judge: _Judge) -> Sample:
     """The sample at one crossing: the orbit shot at the pixels beside it, the map judged (module doc)."""
     line, idx, seg, w = cross
-    X = np.array([pt.z[:-2] for pt in curve.points])
-    state = X[seg] + w * (X[min(seg + 1, len(X) - 1)] - X[seg])
+    state = _lerp(np.array([pt.z[:-2] for pt in curve.points]), seg, w)
     scale = max(1.0, float(np.max(np.abs(state))))
     v = curve.points[seg].v
     guesses = [state] + ([state + a * scale * v for a in (0.02, -0.02, 0.1, -0.1)] if v is not None else [])
@@ -401,7 +396,4 @@ def _forward(curve, stable_px, other_px, xs, ys, same_row: bool) -> bool:
     js, is_ = stable_px
     if same_row:
         return is_ < other_px[1]
-    p = curve.p
-    return not any(
-        p[seg] + w * (p[min(seg + 1, p.size - 1)] - p[seg]) < xs[is_] for seg, w in crossings(curve.q, ys[js])
-    )
+    return not any(_lerp(curve.p, seg, w) < xs[is_] for seg, w in crossings(curve.q, ys[js]))

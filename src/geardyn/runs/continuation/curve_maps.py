@@ -41,15 +41,9 @@ FILE_KINDS = (*CURVE_KINDS, "back_grazing")
 
 @dataclass(frozen=True)
 class BoundarySpec:
-    """The ``curves:`` settings of a map or a curves study (config schema ``curve_settings``).
-
-    ds_max: the curves' largest step (scaled arclength, box sides = 1); branch_ds_max: the lines'
-    one-parameter continuation (fraction of the line).  max_period: longest period continued.  max_seeds:
-    orbits seeded per line and label run.  map_seeds, max_map_seeds, record_tol: the map's records as seeds
-    (at most that many tried; on a curve within record_tol pixels).  back_grazing: curves of the back-flank
-    margin.  nodes: coefficient interpolation nodes along x1 (or any costly parameter).  lines_x, lines_y:
-    lines instead of the map's cuts.  probes: seed points per line without a map.  check_every: the pixel
-    check crosses every n-th row and column.  max_points: per direction of a curve."""
+    """The ``curves:`` settings of a map or a curves study: every key with its meaning, default and range in
+    ``$defs/curve_settings`` of the config schema; ``probes`` (seed points per line without a map) is a curves
+    study's own key."""
 
     enabled: bool = True
     ds_max: float = 0.03

@@ -23,7 +23,7 @@ from geardyn.runs.continuation.curve_maps import (
 )
 from geardyn.runs.continuation.curves import Curve, bounds_stable, polyline_distance
 from geardyn.runs.continuation.family import KHVFamily, KHVPlane
-from geardyn.runs.continuation.output import curve_dataset, flags
+from geardyn.runs.continuation.output import curve_dataset, flags, variables
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.solve.base import SimulationSettings
 
@@ -150,24 +150,29 @@ def boundary_dataset(bd: Boundaries, check: Any = None) -> xr.Dataset:
     the seconds per stage (``time_<stage>_s``) and, given a
     :class:`~geardyn.runs.continuation.curve_check.PixelCheck`, its samples (``check_*``) and figures
     (``pixel_check_*``)."""
-    names, rec = bd.region.names, bd.records
+    names, rec, R = bd.region.names, bd.records, ("record",)
     ds = curve_dataset(bd.curves, names)
-    kinds = [FILE_KINDS.index(bd.file_kind(k)) for k in range(len(bd.curves))]
-    ds["curve_kind"] = (("curve",), np.array(kinds, np.int8), flags(FILE_KINDS, "curve kind"))
     bounds = [bounds_stable(c.kind, pt.multipliers, pt.crit) for c in bd.curves for pt in c.points]
     stable = flags(("interior", "boundary"), "the curve bounds a stable orbit here (the other multipliers inside)")
-    ds["bounds_stable"] = (("point",), np.array(bounds, np.int8), stable)
-    ds["record_kind"] = (
-        ("record",),
-        np.array([FILE_KINDS.index(r[0]) for r in rec], np.int8),
-        flags(FILE_KINDS, "kind of the map's record"),
-    )
-    period = {"units": "1", "long_name": "period of the orbit before the record (0: not periodic)"}
-    ds["record_period"] = (("record",), np.array([r[1] for r in rec], np.int16), period)
-    for k, nm in enumerate(names):
-        ds[f"record_{nm}"] = (("record",), np.array([r[2 + k] for r in rec], float), {**ds[nm].attrs})
-    fates = np.array([RECORD_FATES.index(r[4]) for r in rec], np.int8)
-    ds["record_fate"] = (("record",), fates, flags(RECORD_FATES, "fate of the map's record as a seed"))
+    kinds = [FILE_KINDS.index(bd.file_kind(k)) for k in range(len(bd.curves))]
+    fates = [RECORD_FATES.index(r[4]) for r in rec]
+    spec = [
+        ("curve_kind", ("curve",), kinds, flags(FILE_KINDS, "curve kind")),
+        ("bounds_stable", ("point",), bounds, stable),
+        ("record_kind", R, [FILE_KINDS.index(r[0]) for r in rec], flags(FILE_KINDS, "kind of the map's record")),
+        (
+            "record_period",
+            R,
+            np.array([r[1] for r in rec], np.int16),
+            "period of the orbit before the record (0: not periodic)",
+        ),
+        *[
+            (f"record_{nm}", R, np.array([r[2 + k] for r in rec], float), {**ds[nm].attrs})
+            for k, nm in enumerate(names)
+        ],
+        ("record_fate", R, fates, flags(RECORD_FATES, "fate of the map's record as a seed")),
+    ]
+    ds.update(variables(spec))
     ds.attrs.update({f"curve_{k}_seed": o for k, o in enumerate(bd.origin)})
     ds.attrs.update({f"records_{f}": int(sum(r[4] == f for r in rec)) for f in RECORD_FATES})
     ds.attrs.update({f"time_{k}_s": round(v, 3) for k, v in bd.timing.items()})
@@ -175,7 +180,6 @@ def boundary_dataset(bd: Boundaries, check: Any = None) -> xr.Dataset:
     ds.attrs["box"] = ", ".join(f"{v:g}" for v in bd.region.box)
     ds.attrs["fixed_overrides"] = ",".join(f"{k}={v:g}" for k, v in bd.region.fixed) or "none"
     if check is not None:
-        for name, (dims, values, attrs) in check.variables(names, FILE_KINDS).items():
-            ds[name] = (dims, values, attrs)
+        ds.update(check.variables(names, FILE_KINDS))
         ds.attrs.update(check.attrs())
     return ds

@@ -438,20 +438,3 @@ def curves_from_branch(
         if c is not None:
             curves.append(c)
     return curves[len(existing) :]
-
-
-def curve_crossings(
-    plane: PlaneFamily, curve: Curve, axis: str, value: float, cs: CurveSettings | None = None
-) -> list[CurvePoint]:
-    """The points where ``curve`` crosses the line ``axis`` ("p" or "q") = value, each solved on the
-    extended system with the line as the extra equation (from the chord between the bracketing points)."""
-    ext = Extended(plane, curve.kind, curve.n, curve.scales, cs or CurveSettings())
-    k = 0 if axis == "p" else 1
-    d = curve.points[0].z.size - 2
-    along = curve.p if axis == "p" else curve.q
-    out = []
-    for i, w in crossings(np.append(along, along[-1:]), value):  # the last point counts too
-        a, b = curve.points[i], curve.points[min(i + 1, len(curve) - 1)]
-        pt = ext.corrected(a.z + w * (b.z - a.z), a, _row(d, k), value / ext.scales[1 + k])
-        out += [pt] if pt is not None else []
-    return out

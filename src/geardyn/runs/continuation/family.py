@@ -26,16 +26,9 @@ class Family(Protocol):
 
 
 class KHVFamily:
-    """A KHV design along one control parameter, with the other overrides fixed.
-
-    The coefficients come from :func:`geardyn.khv.point.point_coefficients` at ``nodes`` values of
-    the parameter over [lo, hi] and are interpolated in between by cubic splines (field by field):
-    one call of point_coefficients costs about 2 ms (geometry and mesh stiffness), a spline
-    evaluation microseconds.  For b, e and w the coefficients are linear in the parameter (exact);
-    for x1 the largest relative difference to a direct evaluation at the mid-points between nodes is
-    measured on construction (:attr:`interpolation_error`).  ``nodes = 0`` calls point_coefficients
-    at every p instead.  Coefficient sets are cached by p (the cache is emptied past 256 entries).
-    """
+    """A KHV design along one control parameter, the other overrides fixed: the coefficients of
+    :func:`geardyn.khv.point.point_coefficients` at ``nodes`` values over [lo, hi], cubic splines in between
+    (``nodes = 0``: direct), the measured :attr:`interpolation_error`, cached by p (docs/orbits.md, section 2)."""
 
     def __init__(
         self,
@@ -97,13 +90,8 @@ class KHVFamily:
 
 
 def grazing_margin(system: Coefficients, x: np.ndarray, n: int, settings: SimulationSettings) -> float:
-    """g = min over the cycle of |x_VH| - b (NaN without backlash): g < 0 when contact is lost.
-
-    Dense run of the n periods from x (every step).  When x_VH changes sign the orbit crosses the
-    whole backlash zone and g = -b (|x_VH| has a kink at 0, which a parabola would misread as a
-    minimum above 0).  Otherwise the discrete minimum of |x_VH| is refined by the parabola through it
-    and its two neighbours.
-    """
+    """g = min over the cycle of |x_VH| - b (NaN without backlash): g < 0 when contact is lost; -b when x_VH
+    changes sign, else the minimum of |x_VH| over a dense run refined by a parabola (docs/orbits.md, section 3)."""
     x2 = cycle_xvh(system, x, n, settings.steps_per_period, settings.divergence_threshold)
     if x2 is None:
         return float("nan")

@@ -18,15 +18,10 @@ STATE_VARS = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
 
 @dataclass(frozen=True)
 class OrbitSpec:
-    """One ``orbits:`` entry of the configuration (keyed by the sweep it continues).
-
-    max_period: sweep points labelled P1..P<max_period> are seeds.  max_seeds: per case.
-    nodes: coefficient interpolation nodes of :class:`~geardyn.runs.continuation.KHVFamily`.
-    continuation: the :class:`ContinuationSettings`.  attractors: the mapping for
-    :mod:`geardyn.runs.attractors`.  switch_period_doubling: continue the period-2n branch born at
-    each located period doubling (when 2n <= max_period), see
-    :func:`~geardyn.runs.continuation.switch_at_period_doubling`.
-    """
+    """One ``orbits:`` entry of the configuration (keyed by the sweep it continues; its keys in the config
+    schema): ``nodes`` the coefficient interpolation nodes of :class:`~geardyn.runs.continuation.KHVFamily`,
+    ``continuation`` the :class:`ContinuationSettings`, ``attractors`` the mapping for
+    :mod:`geardyn.runs.attractors`."""
 
     max_period: int = 6
     max_seeds: int = 6

@@ -21,16 +21,9 @@ log = logging.getLogger("geardyn.continuation")
 def switch_at_period_doubling(
     family: Family, bf: Bifurcation, lo: float, hi: float, cs: ContinuationSettings = ContinuationSettings()
 ) -> Branch | None:
-    """The period-2n branch born at a period-doubling point of a period-n branch.
-
-    Shooting for period 2n from the bifurcating orbit moved along the eigenvector of the multiplier
-    -1, a little past the point on either side (1e-3 and 1e-2 of the range; amplitudes 1e-2 to 1 of
-    max(1, max|x|) times the square root of the parameter offset, the scaling of a
-    period-doubling normal form); the first orbit that is genuinely of period 2n (not the period-n
-    orbit) is continued away from the bifurcation point only: towards it, the period-2n branch
-    ends in the bifurcating orbit and turns back as the same orbit shifted by n periods.  None when
-    none is found.
-    """
+    """The period-2n branch born at a period-doubling point of a period-n branch: shot from the bifurcating
+    orbit pushed along the eigenvector of the multiplier -1 a little past the point and continued away from it
+    only (docs/orbits.md, section 2, "Branch switching"); None when none is found."""
     n = bf.n
     flow = family.flow(bf.p, n)
     phi, M = flow(bf.state, True)
