@@ -29,7 +29,7 @@ from geardyn.khv import design, model, point
 from geardyn.plots import curves as plots_curves
 from geardyn.runs import continuation as C
 from geardyn.runs import maps
-from geardyn.runs.continuation import curve_check, curve_maps, curve_records
+from geardyn.runs.continuation import curve_check, curve_maps, output
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.shooting import newton_shooting
 
@@ -312,7 +312,7 @@ def test_curve_dataset_is_cf_complete(calibrated_ns, linear_limit, tmp_path):
     assert io.missing_cf_attributes(lin) == [] and set(lin["curve_kind"].values) == {0, 3}
 
 
-# --- regime boundaries of a map (geardyn.runs.continuation.curve_maps, curve_records, curve_check) -------------
+# --- regime boundaries of a map (geardyn.runs.continuation.curve_maps, curve_check, output) -------------
 
 
 def _small_map(d, x, y, fixed, n=20):
@@ -332,7 +332,7 @@ def _small_map(d, x, y, fixed, n=20):
 def _map_curves(d, spec, cube, settings, lines, **changes):
     region = curve_maps.Region.of_map(spec)
     bs = dataclasses.replace(curve_maps.BoundarySpec(), **changes)
-    bd, plane = curve_records.boundary_curves(d, region, bs, settings, cube, curve_maps.lines_of(region, *lines))
+    bd, plane = curve_maps.boundary_curves(d, region, bs, settings, cube, curve_maps.lines_of(region, *lines))
     return bd, curve_check.pixel_check(plane, bd, cube, every=1), plane
 
 
@@ -466,7 +466,7 @@ def test_boundary_settings_agree_with_the_config_schema():
 
 def test_curves_file_is_cf_complete_and_keeps_the_check(map_x1_b_small, tmp_path):
     _, bd, check, _ = map_x1_b_small
-    ds = curve_records.boundary_dataset(bd, check)
+    ds = output.boundary_dataset(bd, check)
     assert io.missing_cf_attributes(ds) == []
     assert ds.attrs["pixel_check_samples"] == len(check.checked) and ds.sizes["check"] == len(check.samples)
     assert "## Pixel check: small" in plots_curves.check_table("small", ds)
@@ -474,7 +474,7 @@ def test_curves_file_is_cf_complete_and_keeps_the_check(map_x1_b_small, tmp_path
     assert ds["curve_kind"].attrs["flag_meanings"].split()[-1] == "back_grazing"
     assert ds.sizes["record"] == len(bd.records) and ds.attrs["records_on_curve"] >= 1
     io.write_netcdf(ds, tmp_path / "curves.nc", io.provenance(title="test"))
-    empty = curve_records.boundary_dataset(type(bd)(bd.region))  # no curve at all: still a valid file
+    empty = output.boundary_dataset(type(bd)(bd.region))  # no curve at all: still a valid file
     assert io.missing_cf_attributes(empty) == []
     io.write_netcdf(empty, tmp_path / "empty.nc", io.provenance(title="test"))
 

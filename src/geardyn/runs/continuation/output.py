@@ -15,11 +15,15 @@ import xarray as xr
 from geardyn import libm
 from geardyn.khv import point
 from geardyn.runs.continuation.branch import BIFURCATION_TYPES, TYPE_CODES, Branch
-from geardyn.runs.continuation.curves import CODIM2_TYPES, CURVE_KINDS, Curve
+from geardyn.runs.continuation.curves import CODIM2_TYPES, CURVE_KINDS, Curve, bounds_stable
 from geardyn.runs.continuation.family import Family, cycle_states
 from geardyn.runs.continuation.spec import STATE_VARS
 
 _D = 6  # state dimension of the KHV model
+#: Kinds of the curves file: the library's four and the grazing of the back flank (onset of back-side contact).
+FILE_KINDS = (*CURVE_KINDS, "back_grazing")
+#: Fates of a map record as a seed of curves (``record_fate``).
+RECORD_FATES = ("on_curve", "started_curve", "not_reproduced", "period_out_of_range")
 
 
 def flags(names: Sequence[str], long_name: str) -> dict[str, Any]:
@@ -289,3 +293,43 @@ def curve_dataset(
     data = variables(spec)
     ends = {f"curve_{k}_end": ", ".join(f"{s}={v}" for s, v in c.end_status.items()) for k, c in enumerate(curves)}
     return xr.Dataset(data, attrs={**ends, "curve_parameters": f"{names[0]} {names[1]}"})
+
+
+def boundary_dataset(bd: Any, check: Any = None) -> xr.Dataset:
+    """The curves file of :class:`~geardyn.runs.continuation.curve_maps.Boundaries` ``bd``: the curves
+    (:func:`curve_dataset`) with the kind ``back_grazing``, ``bounds_stable`` per point, the seeds (``curve_<k>_seed``),
+    the map's records and their fates (``record_*``), the seconds per stage (``time_<stage>_s``) and, given a
+    :class:`~geardyn.runs.continuation.curve_check.PixelCheck`, its samples (``check_*``, ``pixel_check_*``)."""
+    names, rec, R = bd.region.names, bd.records, ("record",)
+    ds = curve_dataset(bd.curves, names)
+    bounds = [bounds_stable(c.kind, pt.multipliers, pt.crit) for c in bd.curves for pt in c.points]
+    stable = flags(("interior", "boundary"), "the curve bounds a stable orbit here (the other multipliers inside)")
+    kinds = [FILE_KINDS.index(bd.file_kind(k)) for k in range(len(bd.curves))]
+    fates = [RECORD_FATES.index(r[4]) for r in rec]
+    spec = [
+        ("curve_kind", ("curve",), kinds, flags(FILE_KINDS, "curve kind")),
+        ("bounds_stable", ("point",), bounds, stable),
+        ("record_kind", R, [FILE_KINDS.index(r[0]) for r in rec], flags(FILE_KINDS, "kind of the map's record")),
+        (
+            "record_period",
+            R,
+            np.array([r[1] for r in rec], np.int16),
+            "period of the orbit before the record (0: not periodic)",
+        ),
+        *[
+            (f"record_{nm}", R, np.array([r[2 + k] for r in rec], float), {**ds[nm].attrs})
+            for k, nm in enumerate(names)
+        ],
+        ("record_fate", R, fates, flags(RECORD_FATES, "fate of the map's record as a seed")),
+    ]
+    ds.update(variables(spec))
+    ds.attrs.update({f"curve_{k}_seed": o for k, o in enumerate(bd.origin)})
+    ds.attrs.update({f"records_{f}": int(sum(r[4] == f for r in rec)) for f in RECORD_FATES})
+    ds.attrs.update({f"time_{k}_s": round(v, 3) for k, v in bd.timing.items()})
+    ds.attrs["lines"] = "; ".join(str(line) for line in bd.lines)
+    ds.attrs["box"] = ", ".join(f"{v:g}" for v in bd.region.box)
+    ds.attrs["fixed_overrides"] = ",".join(f"{k}={v:g}" for k, v in bd.region.fixed) or "none"
+    if check is not None:
+        ds.update(check.variables(names, FILE_KINDS))
+        ds.attrs.update(check.attrs())
+    return ds
