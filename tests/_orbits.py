@@ -1,7 +1,8 @@
 """The continued P1 branch of the calibrated design over x1 in [0.70, 0.78] (b = 2, e = 5), shared by the
 continuation and attractor tests (computed once per test process), and the crossings of a curve with a line
-(the curve tests' measure of where a curve lies)."""
+(the curve tests' measure of where a curve lies), and a family of any model from plain functions."""
 
+from collections.abc import Callable
 from functools import cache
 from pathlib import Path
 
@@ -11,6 +12,7 @@ from geardyn.khv import design
 from geardyn.runs import continuation as C
 from geardyn.runs.continuation.curves import Extended, _row, crossings
 from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.shooting import FlowMap
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -42,3 +44,16 @@ def curve_crossings(
         pt = ext.corrected(a.z + w * (b.z - a.z), a, _row(d, k), value / ext.scales[1 + k])
         out += [pt] if pt is not None else []
     return out
+
+
+class CallableFamily:
+    """A family from plain functions: ``flow_of(p, n) -> FlowMap`` (no grazing)."""
+
+    def __init__(self, flow_of: Callable[[float, int], FlowMap]):
+        self._flow_of = flow_of
+
+    def flow(self, p: float, n: int) -> FlowMap:
+        return self._flow_of(p, n)
+
+    def grazing(self, p: float, x: np.ndarray, n: int) -> float:
+        return float("nan")

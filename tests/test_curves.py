@@ -22,7 +22,7 @@ from numba import njit
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from _orbits import curve_crossings
+from _orbits import CallableFamily, curve_crossings
 from geardyn import classify, io
 from geardyn.config import schema as io_schema
 from geardyn.khv import design, model, point
@@ -89,7 +89,7 @@ class DuffingPlane:
 
     def along_p(self, q):
         """The one-parameter family along p at q (for :func:`continue_branch`)."""
-        return C.CallableFamily(lambda p, n: self.flow(p, q, n))
+        return CallableFamily(lambda p, n: self.flow(p, q, n))
 
 
 def _attractor(flow, x, periods):

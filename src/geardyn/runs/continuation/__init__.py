@@ -23,7 +23,6 @@ from geardyn.runs.continuation.curves import (
 from geardyn.runs.continuation.driver import label_agreement, label_check, sweep_branches, sweep_orbits
 from geardyn.runs.continuation.events import detect_bifurcations, fold_test, ns_pair, ns_product, pd_test
 from geardyn.runs.continuation.family import (
-    CallableFamily,
     Family,
     KHVFamily,
     KHVPlane,
@@ -52,7 +51,6 @@ __all__ = [
     "TYPE_CODES",
     "Bifurcation",
     "Branch",
-    "CallableFamily",
     "Codim2",
     "ContinuationSettings",
     "Curve",

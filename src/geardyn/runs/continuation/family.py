@@ -139,19 +139,6 @@ def refined_min(a: np.ndarray) -> float:
     return m
 
 
-class CallableFamily:
-    """A family from plain functions: ``flow_of(p, n) -> FlowMap`` (no grazing)."""
-
-    def __init__(self, flow_of: Callable[[float, int], FlowMap]):
-        self._flow_of = flow_of
-
-    def flow(self, p: float, n: int) -> FlowMap:
-        return self._flow_of(p, n)
-
-    def grazing(self, p: float, x: np.ndarray, n: int) -> float:
-        return float("nan")
-
-
 def cycle_states(flow: FlowMap, x: np.ndarray, n: int) -> np.ndarray:
     """The n phase-0 points (n, d) of a period-n orbit through x (x first); ``flow`` the one-period map."""
     pts = [np.asarray(x, dtype=float)]
