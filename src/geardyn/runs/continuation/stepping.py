@@ -180,47 +180,31 @@ def continue_branch(
     run = partial(march, advance=partial(_advance, corr, lo, hi), u_of=corr.scaled, cs=cs, grow_at=3)
     pts, ends = both_ways(run, seed, directions)
     down = next(i for i, q in enumerate(pts) if q is seed)
-    br = _assemble(family, pts, n, sx, sp, ends, p0, cs, corr)
-    return _cut_at_merge(family, br, pts, down, ends, p0, cs, corr) if n > 1 else br
+    br = _assemble(corr, pts, ends, p0)
+    return _cut_at_merge(corr, br, pts, down, ends, p0) if n > 1 else br
 
 
 def _cut_at_merge(
-    family: Family,
-    br: Branch,
-    pts: list[BranchPoint],
-    seed: int,
-    ends: dict[str, str],
-    p0: float,
-    cs: ContinuationSettings,
-    corr: Corrector,
+    corr: Corrector, br: Branch, pts: list[BranchPoint], seed: int, ends: dict[str, str], p0: float
 ) -> Branch:
     """A fold of a period-n branch on a period-m orbit (m | n) is where the branch was born at (or
     merges back into) a period doubling of the period-m orbit: beyond it lies the same orbit shifted
     by m periods.  Cut the branch there (the period doubling is a point of the period-m branch);
     ``seed``: the index of the seed point in ``pts``."""
     for bf in br.bifurcations:
-        m = merged_period(partial(family.flow, bf.p), bf.state, corr.n, 1e-4 * corr.sx) if bf.kind == "fold" else 0
+        m = merged_period(partial(corr.family.flow, bf.p), bf.state, corr.n, 1e-4 * corr.sx) if bf.kind == "fold" else 0
         if m:
             if bf.index >= seed:
                 pts, ends["up"] = pts[: bf.index + 1], f"merged_into_period_{m}"
             else:
                 pts, ends["down"] = pts[bf.index + 1 :], f"merged_into_period_{m}"
-            return _assemble(family, pts, corr.n, corr.sx, corr.sp, ends, p0, cs, corr)
+            return _assemble(corr, pts, ends, p0)
     return br
 
 
-def _assemble(
-    family: Family,
-    pts: list[BranchPoint],
-    n: int,
-    sx: float,
-    sp: float,
-    ends: dict[str, str],
-    p0: float,
-    cs: ContinuationSettings,
-    corr: Corrector,
-) -> Branch:
+def _assemble(corr: Corrector, pts: list[BranchPoint], ends: dict[str, str], p0: float) -> Branch:
     """The branch of the points in order: multipliers, arclength, grazing margins, bifurcations."""
+    family, n, sx, sp, cs = corr.family, corr.n, corr.sx, corr.sp, corr.cs
     states = np.array([q.x for q in pts])
     ps = np.array([q.p for q in pts])
     mult = np.array([q.multipliers for q in pts])
