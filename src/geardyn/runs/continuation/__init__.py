@@ -1,6 +1,6 @@
 """Branches of periodic orbits along a sweep parameter (pseudo-arclength continuation, Floquet multipliers,
 typed bifurcation points) and regime boundaries as two-parameter curves (docs/orbits.md, sections 2, 3 and 9,
-with the table of the package's modules)."""
+with the table of the package's modules at the top)."""
 
 from geardyn.runs.continuation.branch import (
     BIFURCATION_TYPES,
