@@ -5,7 +5,7 @@ their pixel check with its table (every sample not passed).
 In one process, one core (numba's threads set to 1, as a map chunk job runs): every ``rows``-th row of the
 map labelled as a chunk job labels it (:func:`geardyn.runs.maps.run_chunk`: the labeller, the response
 measures, the cube), scaled to the whole map; then all its curves (:func:`geardyn.runs.continuation.
-curve_records.boundary_curves`: the branches along the cut lines, their curves, the map's records) from the
+curve_maps.boundary_curves`: the branches along the cut lines, their curves, the map's records) from the
 built map cube under ``--new``, and the pixel check.  Prints the ratio (target: at most 10 %) and the chunk
 jobs' own wall times from the built cube for comparison.
 """
@@ -23,7 +23,7 @@ from geardyn import io
 from geardyn.khv import point
 from geardyn.plots.curves import check_table
 from geardyn.runs import maps
-from geardyn.runs.continuation import curve_check, curve_maps, curve_records
+from geardyn.runs.continuation import curve_check, curve_maps, output
 from geardyn.solve import warm_up
 
 
@@ -53,7 +53,7 @@ def curves_benchmark(config: Path, results: Path, map_name: str = "map_x1_b", ev
     lines = curve_maps.lines_of(region, bs.lines_x or entry.get("cuts_x", []), bs.lines_y or entry.get("cuts_y", []))
     settings = point.integration_settings(design, **dict(spec.integration))
     t0 = time.perf_counter()
-    bd, plane = curve_records.boundary_curves(design, region, bs, settings, cube, lines)
+    bd, plane = curve_maps.boundary_curves(design, region, bs, settings, cube, lines)
     t_curves = time.perf_counter() - t0
     check = curve_check.pixel_check(plane, bd, cube, bs.check_every)
     log(f"{len(bd.curves)} curves in {t_curves:.2f} s, pixel check {check.seconds:.2f} s")
@@ -88,9 +88,9 @@ def _check_only(cube, design, spec, entry, map_name: str, dname: str, log) -> st
     region = curve_maps.Region.of_map(spec)
     lines = curve_maps.lines_of(region, bs.lines_x or entry.get("cuts_x", []), bs.lines_y or entry.get("cuts_y", []))
     settings = point.integration_settings(design, **dict(spec.integration))
-    bd, plane = curve_records.boundary_curves(design, region, bs, settings, cube, lines)
+    bd, plane = curve_maps.boundary_curves(design, region, bs, settings, cube, lines)
     check = curve_check.pixel_check(plane, bd, cube, bs.check_every)
     log(f"{len(bd.curves)} curves in {bd.timing['total']:.2f} s, pixel check {check.seconds:.2f} s")
-    ds = curve_records.boundary_dataset(bd, check)
+    ds = output.boundary_dataset(bd, check)
     head = f"{map_name} ({dname}): {len(bd.curves)} curves, pixel check in {check.seconds:.2f} s\n\n"
     return head + "\n".join(f"- {k}: {v}" for k, v in check.attrs().items()) + "\n" + check_table(map_name, ds)

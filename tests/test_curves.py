@@ -22,13 +22,14 @@ from numba import njit
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from _orbits import CallableFamily, curve_crossings
 from geardyn import classify, io
 from geardyn.config import schema as io_schema
 from geardyn.khv import design, model, point
 from geardyn.plots import curves as plots_curves
 from geardyn.runs import continuation as C
 from geardyn.runs import maps
-from geardyn.runs.continuation import curve_check, curve_maps, curve_records
+from geardyn.runs.continuation import curve_check, curve_maps, output
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.shooting import newton_shooting
 
@@ -88,7 +89,7 @@ class DuffingPlane:
 
     def along_p(self, q):
         """The one-parameter family along p at q (for :func:`continue_branch`)."""
-        return C.CallableFamily(lambda p, n: self.flow(p, q, n))
+        return CallableFamily(lambda p, n: self.flow(p, q, n))
 
 
 def _attractor(flow, x, periods):
@@ -137,7 +138,7 @@ def test_period_doubling_curve_of_duffing_matches_scipy_floquet():
     pd = curves[0]
     assert pd.end_status == {"down": "box", "up": "box"} and np.max(np.abs(pd.residual)) < 1e-10
     for omega in (1.12, 1.2, 1.28):
-        (cross,) = C.curve_crossings(plane, pd, "q", omega)
+        (cross,) = curve_crossings(plane, pd, "q", omega)
         gamma = float(cross.z[-2])
         ref, orbit = _scipy_period_doubling(omega, gamma - 2e-3, gamma + 2e-3, cross.z[:2])
         assert abs(gamma - ref) < 1e-6  # measured 2.2e-11 to 3.9e-10
@@ -184,9 +185,9 @@ def test_cusp_of_a_hardening_duffing_fold_curve_where_the_hysteresis_begins():
     assert len(cusps) == 1 and cusps[0].located
     g_c = cusps[0].q  # measured (omega, gamma) = (1.187300, 0.164702)
     above = folds(g_c * 1.03)[1]
-    cross = sorted(pt.z[-2] for pt in C.curve_crossings(plane, curves[0], "q", g_c * 1.03))
+    cross = sorted(pt.z[-2] for pt in curve_crossings(plane, curves[0], "q", g_c * 1.03))
     assert len(above) == 2 and np.max(np.abs(np.subtract(above, cross))) < 1e-6  # measured 5e-15
-    assert folds(g_c * 0.97)[1] == [] and C.curve_crossings(plane, curves[0], "q", g_c * 0.97) == []
+    assert folds(g_c * 0.97)[1] == [] and curve_crossings(plane, curves[0], "q", g_c * 0.97) == []
 
 
 # --- the KHV model ------------------------------------------------------------------------------------------
@@ -224,7 +225,7 @@ def test_grazing_curve_of_the_linear_limit_is_the_closed_form(linear_limit):
     assert len(graz) == 1 and graz[0].end_status == {"down": "box", "up": "box"}
     errs = []
     for w in np.linspace(0.8, 1.6, 20):
-        (cross,) = C.curve_crossings(plane, graz[0], "p", w)
+        (cross,) = curve_crossings(plane, graz[0], "p", w)
         errs.append(abs(cross.z[-1] / _closed_form_grazing(d, fixed, w) - 1.0))
     assert max(errs) < 1e-6  # measured 5.0e-8 (median 2.0e-8)
     # every point of the curve, too
@@ -250,9 +251,9 @@ def test_fold_curve_of_the_linear_limit_has_a_cusp_beyond_grazing(linear_limit):
         return sorted(f.p for f in b.bifurcations if f.kind == "fold")
 
     below = folds(w_c - 3e-3)
-    cross = sorted(pt.z[-1] for pt in C.curve_crossings(plane, fold, "p", w_c - 3e-3))
+    cross = sorted(pt.z[-1] for pt in curve_crossings(plane, fold, "p", w_c - 3e-3))
     assert len(below) == 2 and np.max(np.abs(np.subtract(below, cross))) < 1e-6  # measured 2.8e-11
-    assert folds(w_c + 3e-3) == [] and C.curve_crossings(plane, fold, "p", w_c + 3e-3) == []
+    assert folds(w_c + 3e-3) == [] and curve_crossings(plane, fold, "p", w_c + 3e-3) == []
 
 
 @pytest.fixture(scope="module")
@@ -277,10 +278,10 @@ def test_neimark_sacker_curve_crosses_the_sweeps_where_they_bifurcate(calibrated
     assert [c.kind for c in curves] == ["neimark_sacker"]
     curve = curves[0]
     assert np.max(np.abs(curve.residual)) < 1e-10
-    (at5,) = C.curve_crossings(plane, curve, "q", 5.0)
+    (at5,) = curve_crossings(plane, curve, "q", 5.0)
     assert abs(at5.z[-2] - ns.p) < 1e-5  # measured 6.4e-9
     for e in (4.5, 5.5):
-        (cross,) = C.curve_crossings(plane, curve, "q", e)
+        (cross,) = curve_crossings(plane, curve, "q", e)
         x1 = float(cross.z[-2])
         other = _x1_branch(d, e, x1 - 0.01, x1 + 0.01)
         (hit,) = [b for b in other.bifurcations if b.kind == "neimark_sacker"]
@@ -311,7 +312,7 @@ def test_curve_dataset_is_cf_complete(calibrated_ns, linear_limit, tmp_path):
     assert io.missing_cf_attributes(lin) == [] and set(lin["curve_kind"].values) == {0, 3}
 
 
-# --- regime boundaries of a map (geardyn.runs.continuation.curve_maps, curve_records, curve_check) -------------
+# --- regime boundaries of a map (geardyn.runs.continuation.curve_maps, curve_check, output) -------------
 
 
 def _small_map(d, x, y, fixed, n=20):
@@ -331,7 +332,7 @@ def _small_map(d, x, y, fixed, n=20):
 def _map_curves(d, spec, cube, settings, lines, **changes):
     region = curve_maps.Region.of_map(spec)
     bs = dataclasses.replace(curve_maps.BoundarySpec(), **changes)
-    bd, plane = curve_records.boundary_curves(d, region, bs, settings, cube, curve_maps.lines_of(region, *lines))
+    bd, plane = curve_maps.boundary_curves(d, region, bs, settings, cube, curve_maps.lines_of(region, *lines))
     return bd, curve_check.pixel_check(plane, bd, cube, every=1), plane
 
 
@@ -465,7 +466,7 @@ def test_boundary_settings_agree_with_the_config_schema():
 
 def test_curves_file_is_cf_complete_and_keeps_the_check(map_x1_b_small, tmp_path):
     _, bd, check, _ = map_x1_b_small
-    ds = curve_records.boundary_dataset(bd, check)
+    ds = output.boundary_dataset(bd, check)
     assert io.missing_cf_attributes(ds) == []
     assert ds.attrs["pixel_check_samples"] == len(check.checked) and ds.sizes["check"] == len(check.samples)
     assert "## Pixel check: small" in plots_curves.check_table("small", ds)
@@ -473,7 +474,7 @@ def test_curves_file_is_cf_complete_and_keeps_the_check(map_x1_b_small, tmp_path
     assert ds["curve_kind"].attrs["flag_meanings"].split()[-1] == "back_grazing"
     assert ds.sizes["record"] == len(bd.records) and ds.attrs["records_on_curve"] >= 1
     io.write_netcdf(ds, tmp_path / "curves.nc", io.provenance(title="test"))
-    empty = curve_records.boundary_dataset(type(bd)(bd.region))  # no curve at all: still a valid file
+    empty = output.boundary_dataset(type(bd)(bd.region))  # no curve at all: still a valid file
     assert io.missing_cf_attributes(empty) == []
     io.write_netcdf(empty, tmp_path / "empty.nc", io.provenance(title="test"))
 

@@ -17,8 +17,9 @@ import pytest
 from numba import njit
 
 from _oracle import fd_monodromy, linear_floquet, linear_part, rk4_flow, shoot
+from _orbits import CallableFamily
 from geardyn.khv import design, point
-from geardyn.runs.continuation import CallableFamily, ContinuationSettings, continue_branch, switch_at_period_doubling
+from geardyn.runs.continuation import ContinuationSettings, continue_branch, switch_at_period_doubling
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.shooting import khv_flow, newton_shooting, newton_shooting_batch
 

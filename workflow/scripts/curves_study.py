@@ -2,7 +2,7 @@
 
 from geardyn import io, logs
 from geardyn.khv import design, point
-from geardyn.runs.continuation import curve_maps, curve_records
+from geardyn.runs.continuation import curve_maps, output
 from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
@@ -13,8 +13,8 @@ region = curve_maps.Region.from_config(entry, drive.segment)
 settings_of = curve_maps.BoundarySpec.from_config(entry)
 warm_up(point.point_coefficients(drive))
 integration = point.integration_settings(drive, **dict(entry.get("integration", {})))
-bd, _ = curve_records.boundary_curves(drive, region, settings_of, integration)
-ds = curve_records.boundary_dataset(bd)
+bd, _ = curve_maps.boundary_curves(drive, region, settings_of, integration)
+ds = output.boundary_dataset(bd)
 log.info("%d curves in %.1f s", len(bd.curves), bd.timing["total"])
 attrs = io.provenance(
     title=f"Regime boundaries {name}, {drive.title}",

@@ -4,7 +4,7 @@ pixel check against the map -> curves file (netCDF)."""
 from geardyn import io, logs
 from geardyn.khv import design, point
 from geardyn.runs import maps
-from geardyn.runs.continuation import curve_check, curve_maps, curve_records
+from geardyn.runs.continuation import curve_check, curve_maps, output
 from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
@@ -19,10 +19,10 @@ lines = curve_maps.lines_of(
 )
 warm_up(point.point_coefficients(drive))  # compiled kernels from numba's cache before timing starts
 integration = point.integration_settings(drive, **dict(spec.integration))
-bd, plane = curve_records.boundary_curves(drive, region, settings_of, integration, cube, lines)
+bd, plane = curve_maps.boundary_curves(drive, region, settings_of, integration, cube, lines)
 check = curve_check.pixel_check(plane, bd, cube, settings_of.check_every)
 bd.timing["check"] = check.seconds
-ds = curve_records.boundary_dataset(bd, check)
+ds = output.boundary_dataset(bd, check)
 log.info("%d curves in %.1f s; pixel check %s", len(bd.curves), bd.timing["total"], check.attrs())
 attrs = io.provenance(
     title=f"Regime boundaries of map {spec.name}, {drive.title}",

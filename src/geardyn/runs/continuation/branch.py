@@ -82,13 +82,9 @@ def on_branch(br: Branch, p: float, points: np.ndarray, tol: float) -> bool:
 
 @dataclass(frozen=True)
 class ContinuationSettings:
-    """Numbers of :func:`~geardyn.runs.continuation.continue_branch` (ds in units of the parameter
-    range; see the package doc).
-
-    tol: shooting residual max |phi(x) - x| <= tol * max(1, max |x|).  dp_rel: forward-difference
-    step of dF/dp relative to the range.  max_points: per direction.  grazing: compute the grazing
-    margin at every point (one dense run of the cycle each).  locate: refine bifurcation points.
-    """
+    """Numbers of :func:`~geardyn.runs.continuation.continue_branch` (ds in units of the parameter range;
+    tol: shooting residual max |phi(x) - x| <= tol * max(1, max |x|); dp_rel: forward-difference step of dF/dp
+    relative to the range; max_points: per direction; docs/orbits.md, section 2)."""
 
     ds: float = 1e-3
     ds_min: float = 1e-7

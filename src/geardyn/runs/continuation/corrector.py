@@ -4,12 +4,15 @@ a shorter map.  Its results are named records (:class:`Evaluation`, :class:`Corr
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from geardyn.runs.continuation.branch import ContinuationSettings
 from geardyn.runs.continuation.family import Family
+from geardyn.solve.shooting import FlowMap
 
 
 @dataclass(frozen=True)
@@ -60,6 +63,10 @@ class Corrector:
         F = phi - x
         return Evaluation(F, M - np.eye(x.size), Fp, M)
 
+    def scaled(self, q: Any) -> np.ndarray:
+        """The scaled point u = (x / sx, p / sp) of a point q with fields x and p."""
+        return np.append(q.x / self.sx, q.p / self.sp)
+
     def jacobian(self, A: np.ndarray, Fp: np.ndarray, t: np.ndarray) -> np.ndarray:
         """[[A sx, Fp sp], [t]]: the Jacobian of (F, t . u) in the scaled variables."""
         d = A.shape[0]
@@ -109,16 +116,16 @@ class Corrector:
         return None
 
 
-def merged_period(corr: Corrector, x: np.ndarray, p: float, rtol: float = 1e-6) -> int:
-    """For a period-n branch (n > 1): the proper divisor m of n for which x is already a fixed point of
-    the m-period map (within rtol * x_scale), else 0.  A period-2n branch that reaches a second
-    period doubling merges there into the period-n orbit (traversed twice) and would otherwise
-    continue along it."""
-    n = corr.n
+def merged_period(flow_of: Callable[[int], FlowMap], x: np.ndarray, n: int, tol: float | None = None) -> int:
+    """The smallest proper divisor m of n for which x is already a fixed point of the m-period map
+    ``flow_of(m)`` within ``tol`` (default 1e-6 max(1, max |x|)), else 0: the period-n orbit is one of
+    period m traversed n / m times (a period-2n branch that reaches a second period doubling merges there
+    into the period-n orbit and would otherwise continue along it)."""
+    tol = 1e-6 * max(1.0, float(np.max(np.abs(x)))) if tol is None else tol
     for m in range(1, n):
         if n % m:
             continue
-        y, _ = corr.family.flow(p, m)(x, False)
-        if y is not None and float(np.max(np.abs(y - x))) <= rtol * corr.sx:
+        y, _ = flow_of(m)(x, False)
+        if y is not None and float(np.max(np.abs(y - x))) <= tol:
             return m
     return 0

@@ -1,42 +1,6 @@
-"""The pixel check of regime-boundary curves against their map (docs/orbits.md, "Regime boundaries as curves").
-
-Every curve is crossed with every ``every``-th row and column of the map (at most ``max_samples`` crossings
-per curve).  A crossing where the curve bounds no stable orbit (its points' other multipliers not all inside
-the unit circle) is no regime boundary (``interior``: counted, not sampled).  Every other crossing is a
-sample; before anything is computed it is excluded when it lies within ``margin`` pixels of a codimension-2
-point (``codim2``), within ``crowd`` pixels of another curve that changes the same quantity (``crowded``: a
-label-changing curve -- fold, period doubling, Neimark-Sacker -- near a crossing of one of them; any curve
-near a grazing crossing), or at the map's edge (``edge``).  Then the curve's orbit is shot at the two
-pixels of the row or column beside the crossing (and the pairs one pixel either way): the curve is where the
-map's pixels say it is when the orbit is stable at exactly one of them (fold, period doubling,
-Neimark-Sacker) or stable at both with grazing margins of opposite sign (grazing); else ``not_straddled``, a
-failure.  The map must show, for a curve of period n:
-
-=================  ============================  =========================================================
-kind               stable side                   other side
-=================  ============================  =========================================================
-period_doubling    P-n on the orbit              supercritical (a stable P-2n orbit near the orbit at that
-                                                 pixel): P-2n; subcritical (none): a jump, anything but
-                                                 P-n on the orbit
-neimark_sacker     P-n on the orbit              a torus born on the orbit (QP, long period, P-m with m not
-                                                 n or 2n) or, subcritical, a jump (criticality not typed)
-fold               P-n on the orbit              a jump (the orbit is gone): another label or mean
-grazing,           P-n on the orbit, both        the impact class of the shot orbit on either side: no
-back_grazing       sides                         impact | single-sided (back: single- | double-sided)
-=================  ============================  =========================================================
-
-"On the orbit": mean Poincare X_VH within 1e-3 max(1, |x|) + 0.1 spread of the orbit's, spread at most the
-orbit's + 1e-2 max(1, |x|). A stable side that is not P-n on the orbit is excluded, with its reason
-(:data:`EXCLUDED`), when the map cannot show it: ``slow`` (the pixel is on the orbit but the orbit's largest
-multiplier modulus is within :func:`slow_margin` of 1: the labeller certifies no orbit there, or its run is
-shorter than the orbit's approach; likewise an other side labelled undetermined where the orbit's modulus is
-less than 1 + the margin: the labeller tells neither a slow escape nor a thin torus there), ``hysteresis`` or
-``coexistence`` (the pixel holds another attractor, off the orbit, where the orbit is stable: two attractors
-coexist; ``hysteresis`` when the pixel's row crossed the curve before reaching it and carried that attractor
-across, ``coexistence`` when the row came from the stable side). Otherwise the failure is ``stable_side``,
-``other_side`` or ``impact_class``. The fraction is that of ``ok`` among the checked samples (``ok`` and
-:data:`FAILURES`).
-"""
+"""The pixel check of regime-boundary curves against their map: every curve crossed with rows and columns of
+the map, the curve's orbit shot at the pixels beside each crossing and the map's labels judged (docs/orbits.md,
+section 9, "The pixel check": the samples left out, the table of what each side must show, the reasons)."""
 
 from __future__ import annotations
 
@@ -51,9 +15,10 @@ import xarray as xr
 
 from geardyn.classify import LABELS
 from geardyn.khv import point
-from geardyn.runs.continuation.curve_maps import Boundaries, back_margin, shorter_period
-from geardyn.runs.continuation.curve_records import bounds_stable
-from geardyn.runs.continuation.family import cycle_states
+from geardyn.runs.continuation.curve_maps import Boundaries, shorter_period
+from geardyn.runs.continuation.curves import bounds_stable, crossings, segment_distance
+from geardyn.runs.continuation.family import back_margin, cycle_states
+from geardyn.runs.continuation.output import flags, variables
 from geardyn.solve.response import IMPACT_CLASSES, response_measures
 from geardyn.solve.shooting import newton_shooting
 
@@ -150,68 +115,43 @@ class PixelCheck:
 
     def variables(self, names: tuple[str, str], kinds: Sequence[str]) -> dict[str, Any]:
         """The samples as variables of dimension ``check``."""
-        s = self.samples
+        s, C = self.samples, ("check",)
         units = [point.units_of(n) if n in point.CONTROLS or n in point.PARAMETER_UNITS else "1" for n in names]
 
-        def var(values: list, dtype: Any, long_name: str, units: str = "1", flags: Sequence[str] = ()) -> tuple:
-            attrs: dict[str, Any] = {"long_name": long_name}
-            if flags:
-                attrs.update(flag_values=np.arange(len(flags), dtype=np.int8), flag_meanings=" ".join(flags))
-            else:
-                attrs["units"] = units
-            return (("check",), np.array(values, dtype), attrs)
+        def q(long_name: str, u: str = "1") -> dict[str, str]:
+            return {"long_name": long_name, "units": u}
 
-        pix = [list(v.pixels[0]) + list(v.pixels[1]) if v.pixels else [-1] * 4 for v in s]
-        return {
-            f"check_{names[0]}": var([v.x for v in s], float, f"{names[0]} at the crossing", units[0]),
-            f"check_{names[1]}": var([v.y for v in s], float, f"{names[1]} at the crossing", units[1]),
-            "check_curve": var([v.curve for v in s], np.int32, "index of the curve"),
-            "check_kind": var([list(kinds).index(v.kind) for v in s], np.int8, "curve kind", flags=kinds),
-            "check_forward": var([v.forward for v in s], np.int8, FORWARD, flags=("return", "forward")),
-            "check_reason": var([REASONS.index(v.reason) for v in s], np.int8, "outcome of the check", flags=REASONS),
-            "check_pixels": (
-                ("check", "pixel_index"),
-                np.array(pix, np.int32).reshape(len(s), 4),
-                {"units": "1", "long_name": "row, column of the stable-side pixel, then the other (-1: none)"},
-            ),
-            "check_labels": (
-                ("check", "side"),
-                np.array([v.labels for v in s], np.int16).reshape(len(s), 2),
-                {"units": "1", "long_name": "map label at the stable-side pixel and the other"},
-            ),
-            "check_modulus": var([v.modulus for v in s], float, "largest multiplier modulus, stable-side orbit"),
-            "check_criticality": var(
-                [CRITICALITY.index(v.criticality) for v in s], np.int8, "criticality", flags=CRITICALITY
-            ),
-        }
+        pix = np.array([list(v.pixels[0]) + list(v.pixels[1]) if v.pixels else [-1] * 4 for v in s], np.int32)
+        pixels = "row, column of the stable-side pixel, then the other (-1: none)"
+        labels = np.array([v.labels for v in s], np.int16).reshape(len(s), 2)
+        modulus = "largest multiplier modulus, stable-side orbit"
+        return variables(
+            [
+                (f"check_{names[0]}", C, np.array([v.x for v in s], float), q(f"{names[0]} at the crossing", units[0])),
+                (f"check_{names[1]}", C, np.array([v.y for v in s], float), q(f"{names[1]} at the crossing", units[1])),
+                ("check_curve", C, np.array([v.curve for v in s], np.int32), q("index of the curve")),
+                ("check_kind", C, [list(kinds).index(v.kind) for v in s], flags(kinds, "curve kind")),
+                ("check_forward", C, [v.forward for v in s], flags(("return", "forward"), FORWARD)),
+                ("check_reason", C, [REASONS.index(v.reason) for v in s], flags(REASONS, "outcome of the check")),
+                ("check_pixels", ("check", "pixel_index"), pix.reshape(len(s), 4), pixels),
+                ("check_labels", ("check", "side"), labels, "map label at the stable-side pixel and the other"),
+                ("check_modulus", C, np.array([v.modulus for v in s], float), q(modulus)),
+                (
+                    "check_criticality",
+                    C,
+                    [CRITICALITY.index(v.criticality) for v in s],
+                    flags(CRITICALITY, "criticality"),
+                ),
+            ]
+        )
 
 
-def _boundary_segments(curve: Any, px: float, py: float) -> tuple[np.ndarray, np.ndarray]:
+def _boundary_segments(flags: np.ndarray, curve: Any, px: float, py: float) -> tuple[np.ndarray, np.ndarray]:
     """The segments (start, end; pixel units) of a curve between consecutive points that both bound a stable
-    orbit: the parts of the curve that can change the map's labels."""
-    flags = np.array([bounds_stable(curve.kind, pt.multipliers, pt.crit) for pt in curve.points])
+    orbit (``flags``): the parts of the curve that can change the map's labels."""
     pts = np.column_stack([curve.p / px, curve.q / py])
     keep = flags[:-1] & flags[1:]
     return pts[:-1][keep], pts[1:][keep]
-
-
-def _distance(segments: tuple[np.ndarray, np.ndarray], x: float, y: float) -> float:
-    a, b = segments
-    if not len(a):
-        return np.inf
-    pt, ab = np.array([x, y]), b - a
-    w = np.clip(np.sum((pt - a) * ab, axis=1) / np.maximum(np.sum(ab * ab, axis=1), 1e-300), 0.0, 1.0)
-    return float(np.min(np.linalg.norm(a + w[:, None] * ab - pt, axis=1)))
-
-
-def _crossings(values: np.ndarray, line: float) -> list[tuple[int, float]]:
-    """(segment i, fraction w) where the polyline coordinate ``values`` crosses ``line``."""
-    d = values - line
-    out = []
-    for i in range(d.size - 1):
-        if d[i] == 0.0 or (d[i + 1] != 0.0 and (d[i] > 0) != (d[i + 1] > 0)):
-            out.append((i, d[i] / (d[i] - d[i + 1]) if d[i] != d[i + 1] else 0.0))
-    return out
 
 
 class _Probe:
@@ -245,7 +185,7 @@ class _Probe:
         r = min(found, key=lambda f: (not f.stable, float(np.max(np.abs(f.state - near)))))  # stable, nearest
         if not r.stable:
             return ("unstable", r.state, np.nan, np.nan, -1, np.nan, r.spectral_radius)
-        cyc = cycle_states(_Along(self.plane, q), p, r.state, self.n)
+        cyc = cycle_states(self.plane.flow(p, q, 1), r.state, self.n)
         system, s = self.plane.coefficients(p, q), self.plane.settings
         margin = np.nan
         if self.kind == "grazing":
@@ -285,16 +225,6 @@ class _Probe:
             ):
                 return True
         return False
-
-
-class _Along:
-    """The plane along p at fixed q (what :func:`cycle_states` needs)."""
-
-    def __init__(self, plane: Any, q: float):
-        self.plane, self.q = plane, q
-
-    def flow(self, p: float, n: int):
-        return self.plane.flow(p, self.q, n)
 
 
 def slow_margin(map_ds: xr.Dataset) -> float:
@@ -366,19 +296,20 @@ def pixel_check(
     xs, ys = map_ds["x"].values, map_ds["y"].values
     px, py = float(xs[1] - xs[0]), float(ys[1] - ys[0])
     c2 = [(b.p, b.q) for c in bd.curves for b in c.codim2]
-    segs = [_boundary_segments(c, px, py) for c in bd.curves]
+    stable = [np.array([bounds_stable(c.kind, pt.multipliers, pt.crit) for pt in c.points]) for c in bd.curves]
+    segs = [_boundary_segments(f, c, px, py) for f, c in zip(stable, bd.curves, strict=True)]
     t0 = time.perf_counter()
     out = PixelCheck(every=every, slow_margin=slow_margin(map_ds))
     judge = _Judge(map_ds, out.slow_margin)
     for k, curve in enumerate(bd.curves):
         kind = bd.file_kind(k)
         probe = _Probe(plane, curve.kind, curve.n, bd.flank[k])
-        flags = np.array([bounds_stable(curve.kind, pt.multipliers, pt.crit) for pt in curve.points])
+        flags = stable[k]
         own = np.column_stack([curve.p / px, curve.q / py])
         others = [m for m, c in enumerate(bd.curves) if m != k and (kind not in _LABEL_KINDS or c.kind != "grazing")]
         steep = np.abs(np.diff(curve.q)) / py >= np.abs(np.diff(curve.p)) / px  # rows cross it, else columns
-        cands = [("row", j, g, w) for j in range(0, ys.size, every) for g, w in _crossings(curve.q, ys[j]) if steep[g]]
-        cands += [("column", i, g, w) for i in range(0, xs.size, every) for g, w in _crossings(curve.p, xs[i])]
+        cands = [("row", j, g, w) for j in range(0, ys.size, every) for g, w in crossings(curve.q, ys[j]) if steep[g]]
+        cands += [("column", i, g, w) for i in range(0, xs.size, every) for g, w in crossings(curve.p, xs[i])]
         cands = [c for c in cands if c[0] == "row" or not steep[min(c[2], steep.size - 1)]]
         bound = [c for c in cands if flags[c[2]] and flags[min(c[2] + 1, flags.size - 1)]]
         out.interior += len(cands) - len(bound)
@@ -386,11 +317,11 @@ def pixel_check(
         if len(cands) > max_samples:
             cands = [cands[i] for i in np.linspace(0, len(cands) - 1, max_samples).round().astype(int)]
         for line, idx, seg, w in cands:
-            x, y = _at(curve, seg, w)
+            x, y = _lerp(curve.p, seg, w), _lerp(curve.q, seg, w)
             base = Sample(k, kind, curve.n, float(x), float(y))
             if any(np.hypot((x - a) / px, (y - b) / py) < margin for a, b in c2):
                 out.samples.append(replace(base, reason="codim2"))
-            elif any(_distance(segs[m], x / px, y / py) < crowd for m in others) or _self_crowded(
+            elif any(segment_distance(*segs[m], np.array([x / px, y / py])) < crowd for m in others) or _self_crowded(
                 own, seg, x / px, y / py, crowd
             ):
                 out.samples.append(replace(base, reason="crowded"))
@@ -404,19 +335,18 @@ def _self_crowded(pts: np.ndarray, seg: int, x: float, y: float, crowd: float, s
     """True when the curve itself, more than ``skip`` segments away along it from segment ``seg``, passes within
     ``crowd`` pixels of (x, y): a curve folded back on itself (the two folds near a cusp) narrower than that."""
     far = np.r_[0 : max(0, seg - skip), seg + skip + 1 : len(pts) - 1]
-    return _distance((pts[far], pts[far + 1]), x, y) < crowd if far.size else False
+    return segment_distance(pts[far], pts[far + 1], np.array([x, y])) < crowd if far.size else False
 
 
-def _at(curve: Any, seg: int, w: float) -> tuple[float, float]:
-    nxt = min(seg + 1, len(curve.p) - 1)
-    return curve.p[seg] + w * (curve.p[nxt] - curve.p[seg]), curve.q[seg] + w * (curve.q[nxt] - curve.q[seg])
+def _lerp(values: np.ndarray, seg: int, w: float) -> Any:
+    """``values`` at the fraction w of segment seg (of the last point past the end)."""
+    return values[seg] + w * (values[min(seg + 1, len(values) - 1)] - values[seg])
 
 
 def _probe_sample(base: Sample, curve: Any, cross: tuple, xs, ys, probe: _Probe, judge: _Judge) -> Sample:
     """The sample at one crossing: the orbit shot at the pixels beside it, the map judged (module doc)."""
     line, idx, seg, w = cross
-    X = np.array([pt.z[:-2] for pt in curve.points])
-    state = X[seg] + w * (X[min(seg + 1, len(X) - 1)] - X[seg])
+    state = _lerp(np.array([pt.z[:-2] for pt in curve.points]), seg, w)
     scale = max(1.0, float(np.max(np.abs(state))))
     v = curve.points[seg].v
     guesses = [state] + ([state + a * scale * v for a in (0.02, -0.02, 0.1, -0.1)] if v is not None else [])
@@ -466,7 +396,4 @@ def _forward(curve, stable_px, other_px, xs, ys, same_row: bool) -> bool:
     js, is_ = stable_px
     if same_row:
         return is_ < other_px[1]
-    p = curve.p
-    return not any(
-        p[seg] + w * (p[min(seg + 1, p.size - 1)] - p[seg]) < xs[is_] for seg, w in _crossings(curve.q, ys[js])
-    )
+    return not any(_lerp(curve.p, seg, w) < xs[is_] for seg, w in crossings(curve.q, ys[js]))

@@ -1,29 +1,7 @@
 """Regime boundaries of a regime map (or of a plane without a map, a ``curves:`` study) as curves: the
-settings, the plane and its lines, the one-parameter branches along the lines and the two-parameter curves
-of their events (:func:`line_curves`, the first stage below); the map's records, the driver of both stages
-and the curves file are in :mod:`~geardyn.runs.continuation.curve_records`, the pixel check against the map
-in :mod:`~geardyn.runs.continuation.curve_check` (docs/orbits.md, "Regime boundaries as curves").
-
-Seeds, in order:
-
-1. *Lines*: the map's cut lines (``cuts_x``: the lines x = c, along y; ``cuts_y``: y = c, along x), or the
-   entry's own ``lines_x`` / ``lines_y``; a direction without any gets the middle line of the plane.
-   On each line the attractors at the map's pixels labelled P1..P<max_period> (the middle pixel of each run
-   of equal label, longest runs first) or, without a map, at ``probes`` points spread over the line, are
-   simulated from the static deflection and shot; each distinct orbit is continued along the line
-   (:func:`~geardyn.runs.continuation.continue_branch`), with the period-2n branch of every located period
-   doubling (2n <= max_period).  Every located event of every branch seeds a curve
-   (:func:`~geardyn.runs.continuation.curves_from_branch`); a sign change of the back-flank margin along a
-   branch seeds a back-flank grazing curve (:class:`BackFlank`).
-2. *The map's records*: a pixel where the row's followed orbit lost stability (the map's ``bifurcation``:
-   fold, period doubling, Neimark-Sacker; the orbit's period that of the pixel before) either lies on a
-   curve of that kind and period (within ``record_tol`` pixels) or seeds one: the orbit is found at the
-   pixel before, continued along the row past the pixel, and the event located there starts a curve.
-
-A curve stops on the box of the plane.  A curve of period n > 1 that reaches an orbit of a shorter period (it
-runs on along that orbit's curve, traversed twice) is cut there (:func:`cut_merged`); a seed within 0.005 of
-the box of a curve of its kind, period and flank starts none (:meth:`Boundaries.known`).
-"""
+settings, the plane and its lines, the one-parameter branches along the lines and the two-parameter curves of
+their events (:func:`line_curves`), then the map's records as seeds (:func:`record_seeds`), both stages in
+:func:`boundary_curves` (docs/orbits.md, section 9, "In the workflow")."""
 
 from __future__ import annotations
 
@@ -31,6 +9,7 @@ import logging
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -38,39 +17,32 @@ import xarray as xr
 
 from geardyn.config import settings_from
 from geardyn.khv.design import resolve_fractions
-from geardyn.runs.continuation.branch import Branch, ContinuationSettings, on_branch
+from geardyn.runs.continuation.branch import Branch, ContinuationSettings
+from geardyn.runs.continuation.corrector import merged_period
 from geardyn.runs.continuation.curves import (
     CURVE_KINDS,
     Curve,
     CurveSettings,
-    KHVPlane,
     continue_curve,
     curves_from_branch,
+    polyline_distance,
 )
-from geardyn.runs.continuation.family import KHVFamily, cycle_states
+from geardyn.runs.continuation.family import BackFlank, KHVFamily, KHVPlane, back_margin
+from geardyn.runs.continuation.spec import label_runs
 from geardyn.runs.continuation.stepping import continue_branch
-from geardyn.runs.continuation.switching import switch_at_period_doubling
+from geardyn.runs.continuation.switching import add_branch
 from geardyn.solve.base import SimulationSettings
 from geardyn.solve.run import simulate
 from geardyn.solve.shooting import newton_shooting
 
 log = logging.getLogger("geardyn.curves")
 
-#: Kinds of the curves file: the library's four and the grazing of the back flank (onset of back-side contact).
-FILE_KINDS = (*CURVE_KINDS, "back_grazing")
-
 
 @dataclass(frozen=True)
 class BoundarySpec:
-    """The ``curves:`` settings of a map or a curves study (config schema ``curve_settings``).
-
-    ds_max: the curves' largest step (scaled arclength, box sides = 1); branch_ds_max: the lines'
-    one-parameter continuation (fraction of the line).  max_period: longest period continued.  max_seeds:
-    orbits seeded per line and label run.  map_seeds, max_map_seeds, record_tol: the map's records as seeds
-    (at most that many tried; on a curve within record_tol pixels).  back_grazing: curves of the back-flank
-    margin.  nodes: coefficient interpolation nodes along x1 (or any costly parameter).  lines_x, lines_y:
-    lines instead of the map's cuts.  probes: seed points per line without a map.  check_every: the pixel
-    check crosses every n-th row and column.  max_points: per direction of a curve."""
+    """The ``curves:`` settings of a map or a curves study: every key with its meaning, default and range in
+    ``$defs/curve_settings`` of the config schema; ``probes`` (seed points per line without a map) is a curves
+    study's own key."""
 
     enabled: bool = True
     ds_max: float = 0.03
@@ -204,44 +176,6 @@ class Boundaries:
         return "back_grazing" if c.kind == "grazing" and self.flank[k] == "back" else c.kind
 
 
-# --- the back flank ---------------------------------------------------------------------------------------
-
-
-def back_margin(system: Any, x: np.ndarray, n: int, settings: SimulationSettings) -> float:
-    """h = min over the cycle of s X_VH + b (s the drive side, the sign of the static mesh deflection beyond
-    the backlash): h < 0 when the teeth strike on the back flank.  NaN without backlash.  Dense run of the n
-    periods from x; the discrete minimum refined by the parabola through it and its neighbours."""
-    if not system.backlash_on or system.b <= 0.0:
-        return float("nan")
-    s = SimulationSettings(steps_per_period=settings.steps_per_period, transient_periods=0, recorded_periods=n)
-    r = simulate(system, s, x, dense=True)
-    if r.diverged or r.states is None or r.states.shape[0] < 3:
-        return float("nan")
-    side = -1.0 if float(system.static_state()[1]) < 0.0 else 1.0
-    a = side * np.concatenate([[x[1]], r.states[:, 1]])
-    i = int(np.argmin(a))
-    m = float(a[i])
-    if 0 < i < a.size - 1:
-        den = a[i - 1] - 2 * a[i] + a[i + 1]
-        if den > 0:
-            m = float(a[i] - 0.125 * (a[i + 1] - a[i - 1]) ** 2 / den)
-    return m + system.b
-
-
-class BackFlank:
-    """A :class:`KHVPlane` whose grazing margin is the back flank's (:func:`back_margin`): its grazing
-    curves are where back-side contact begins."""
-
-    def __init__(self, plane: KHVPlane):
-        self.plane, self.box = plane, plane.box
-
-    def flow(self, p: float, q: float, n: int):
-        return self.plane.flow(p, q, n)
-
-    def grazing(self, p: float, q: float, x: np.ndarray, n: int) -> float:
-        return back_margin(self.plane.coefficients(p, q), x, n, self.plane.settings)
-
-
 # --- orbits and branches along a line ----------------------------------------------------------------------
 
 
@@ -268,19 +202,9 @@ def attractor_orbit(
         return None
     for m in [n] if n else _periods_of(r.poincare, max_period):
         sh = newton_shooting(family.flow(t, m), r.poincare[-1], m, 1e-9)
-        if sh.stable and (m == 1 or not shorter_period(_Fixed(family), t, 0.0, sh.state, m)):
+        if sh.stable and (m == 1 or not merged_period(partial(family.flow, t), sh.state, m)):
             return sh.state, m
     return None
-
-
-class _Fixed:
-    """A one-parameter family seen as a plane (q ignored), for :func:`shorter_period`."""
-
-    def __init__(self, family: KHVFamily):
-        self.family = family
-
-    def flow(self, p: float, q: float, n: int):
-        return self.family.flow(p, n)
 
 
 def line_family(design: Any, region: Region, line: Line, settings: SimulationSettings, nodes: int) -> KHVFamily:
@@ -300,16 +224,9 @@ def map_line_seeds(map_ds: xr.Dataset, line: Line, max_period: int, max_seeds: i
         grid, labels = ys, lab[:, int(np.argmin(np.abs(xs - line.value)))]
     else:
         grid, labels = xs, lab[int(np.argmin(np.abs(ys - line.value))), :]
-    runs, start = [], 0
-    for i in range(1, labels.size + 1):
-        if i == labels.size or labels[i] != labels[start]:
-            if 1 <= labels[start] <= max_period:
-                runs.append((i - start, start, int(labels[start])))
-            start = i
-    runs.sort(key=lambda r: (-r[0], r[1]))
     per: dict[int, int] = {}
     out = []
-    for length, first, n in runs:
+    for length, first, n in label_runs(np.asarray(labels), max_period):
         if per.get(n, 0) < max_seeds:
             per[n] = per.get(n, 0) + 1
             out.append((float(grid[first + length // 2]), n))
@@ -325,48 +242,13 @@ def line_branches(
     """The distinct branches through the seeds' attractors (n = 0: the period the run shows) along the
     family's range, with the period-2n branches of their period doublings."""
     out: list[Branch] = []
-    cs = spec.branch_settings()
     for t, n in seeds:
         found = attractor_orbit(family, t, n, settings, spec.max_period)
         if found is None:
             log.info("line seed at %g (P%d): no stable orbit reached", t, n)
             continue
-        x, n = found
-        cyc = cycle_states(family, t, x, n)
-        if any(b.n == n and on_branch(b, t, cyc, 1e-3) for b in out):
-            continue
-        br = continue_branch(family, t, x, n, family.lo, family.hi, cs)
-        if br is not None:
-            out.append(br)
-            out.extend(_doubled(family, br, out, spec))
+        add_branch(family, t, *found, out, spec.branch_settings(), max_period=spec.max_period, touch=2e-3)
     return out
-
-
-def _doubled(family: KHVFamily, br: Branch, known: list[Branch], spec: BoundarySpec, depth: int = 0) -> list[Branch]:
-    """The period-2n branches born at the located period doublings of ``br`` (recursively, 2n <= max_period)."""
-    out: list[Branch] = []
-    for bf in br.bifurcations:
-        if bf.kind != "period_doubling" or not bf.located or 2 * br.n > spec.max_period:
-            continue
-        pts = cycle_states(family, bf.p, bf.state, br.n)
-        if any(b.n == 2 * br.n and (on_branch(b, bf.p, pts, 1e-2) or _touches(b, bf.p, pts)) for b in known + out):
-            continue
-        new = switch_at_period_doubling(family, bf, family.lo, family.hi, spec.branch_settings())
-        if new is not None:
-            out.append(new)
-            if depth < 4:
-                out.extend(_doubled(family, new, known + out, spec, depth + 1))
-    return out
-
-
-def _touches(br: Branch, p: float, points: np.ndarray, tol: float = 2e-3) -> bool:
-    """True when a point of ``br`` lies within ``tol`` (scaled: the branch's range, max(1, max |x|)) of one of
-    ``points`` at p: a branch that ends at (or was cut just short of) a period doubling it was born at."""
-    span = max(float(np.ptp(br.p)), 1e-12)
-    scale = max(1.0, float(np.max(np.abs(br.states))))
-    dp = np.abs(br.p - p)[:, None] / span
-    dx = np.max(np.abs(br.states[:, None, :] - points[None, :, :]), axis=2) / scale
-    return bool(np.min(np.maximum(dp, dx)) < tol)
 
 
 def back_grazing_seeds(family: KHVFamily, br: Branch, iterations: int = 8) -> list[tuple[float, np.ndarray]]:
@@ -404,12 +286,7 @@ def back_grazing_seeds(family: KHVFamily, br: Branch, iterations: int = 8) -> li
 def shorter_period(plane: Any, p: float, q: float, x: np.ndarray, n: int) -> bool:
     """True when the period-n orbit through x at (p, q) is an orbit of a proper divisor m of n traversed n / m
     times (x a fixed point of the m-period map within 1e-6 max(1, max |x|))."""
-    scale = max(1.0, float(np.max(np.abs(x))))
-    for m in {n // f for f in range(2, n + 1) if n % f == 0}:
-        y, _ = plane.flow(p, q, m)(x, False)
-        if y is not None and float(np.max(np.abs(y - x))) <= 1e-6 * scale:
-            return True
-    return False
+    return merged_period(partial(plane.flow, p, q), x, n) > 0
 
 
 def cut_merged(plane: Any, curve: Curve) -> Curve:
@@ -435,18 +312,6 @@ def cut_merged(plane: Any, curve: Curve) -> Curve:
     if len(cut) > 1:
         cut.codim2 = [c for c in curve.codim2 if polyline_distance(cut, c.p, c.q, *curve.scales[1:]) < 1e-6]
     return cut
-
-
-def polyline_distance(curve: Curve, x: float, y: float, px: float, py: float) -> float:
-    """Distance of (x, y) from the curve's polyline in units of (px, py) (the map's pixel)."""
-    pts = np.column_stack([curve.p / px, curve.q / py])
-    pt = np.array([x / px, y / py])
-    if len(pts) == 1:
-        return float(np.linalg.norm(pts[0] - pt))
-    a, b = pts[:-1], pts[1:]
-    ab = b - a
-    w = np.clip(np.sum((pt - a) * ab, axis=1) / np.maximum(np.sum(ab * ab, axis=1), 1e-300), 0.0, 1.0)
-    return float(np.min(np.linalg.norm(a + w[:, None] * ab - pt, axis=1)))
 
 
 def branch_curves(
@@ -496,4 +361,121 @@ def line_curves(
                         c = continue_curve(back, "grazing", br.n, x, pq, cs=cs, along=line.along)
                         bd.add([c] if c is not None else [], f"line {line}", "back", plane)
     bd.timing["lines"] = time.perf_counter() - t0
+    return bd, plane
+
+
+# --- the map's records as seeds -----------------------------------------------------------------------------
+
+
+#: The map's ``bifurcation`` flags that seed curves, and the curve kind of each.
+RECORD_KINDS = {"fold": "fold", "period_doubling": "period_doubling", "neimark_sacker": "neimark_sacker"}
+
+
+def pixel_size(map_ds: xr.Dataset) -> tuple[float, float]:
+    xs, ys = map_ds["x"].values, map_ds["y"].values
+    return float(abs(xs[1] - xs[0])), float(abs(ys[1] - ys[0]))
+
+
+def map_records(map_ds: xr.Dataset) -> list[tuple[int, int, str, int]]:
+    """(row j, column i, curve kind, period n) of every pixel whose row's followed orbit lost stability by a
+    fold, period doubling or Neimark-Sacker (``bifurcation``), n the period of the pixel before (0: not
+    periodic)."""
+    var = map_ds["bifurcation"]
+    names = dict(zip(np.asarray(var.attrs["flag_values"]).tolist(), var.attrs["flag_meanings"].split(), strict=True))
+    code, period, label = var.values, map_ds["period"].values, map_ds["label"].values
+    out = []
+    for j, i in zip(*np.nonzero(code > 0), strict=True):
+        kind = RECORD_KINDS.get(names.get(int(code[j, i]), ""))
+        if kind is None or i == 0:
+            continue
+        n = int(period[j, i - 1]) if label[j, i - 1] >= 1 else 0
+        out.append((int(j), int(i), kind, n))
+    return out
+
+
+def _record_curves(
+    design: Any,
+    plane: KHVPlane,
+    bd: Boundaries,
+    map_ds: xr.Dataset,
+    rec: tuple[int, int, str, int],
+    spec: BoundarySpec,
+    origin: str,
+) -> list[Curve]:
+    """A curve from one map record (added to ``bd``): the orbit at the pixel before, continued along the row
+    past the pixel, the event of the record's kind nearest the pixel; [] when not reproduced."""
+    j, i, kind, n = rec
+    xs, ys, lab = map_ds["x"].values, map_ds["y"].values, map_ds["label"].values
+    first = i - 1
+    while first > 0 and lab[j, first - 1] == lab[j, i - 1]:
+        first -= 1
+    lo, hi = float(xs[max(first, i - 12)]), float(xs[min(i + 3, xs.size - 1)])
+    (xp, yp), fixed = bd.region.names, dict(bd.region.fixed)
+    fam = KHVFamily(design, xp, {**fixed, yp: float(ys[j])}, lo, hi, plane.settings, 5)
+    for t in dict.fromkeys((float(xs[i - 1]), float(xs[(max(first, i - 12) + i - 1) // 2]))):
+        found = attractor_orbit(fam, t, n, plane.settings, spec.max_period)
+        if found is None:
+            continue
+        cs = replace(spec.branch_settings(), ds=0.05, ds_max=0.05)
+        br = continue_branch(fam, t, found[0], n, lo, hi, cs)
+        if br is None:
+            continue
+        px = pixel_size(map_ds)[0]
+        near = [b for b in br.bifurcations if b.kind == kind and b.located and abs(b.p - xs[i]) <= 2.5 * px]
+        if near:
+            before = len(bd.curves)
+            branch_curves(
+                plane,
+                bd,
+                replace(br, bifurcations=near[:1]),
+                Line("y", float(ys[j])),
+                spec.curve_settings(),
+                origin,
+                (kind,),
+            )
+            return bd.curves[before:]
+    return []
+
+
+def record_seeds(design: Any, plane: KHVPlane, bd: Boundaries, map_ds: xr.Dataset, spec: BoundarySpec) -> None:
+    """The fate of each of the map's records (:data:`RECORD_FATES`): on a curve, or the seed of a new one
+    (at most ``max_map_seeds`` tried), or not reproduced; appended to ``bd.records``, curves to ``bd``."""
+    px, py = pixel_size(map_ds)
+    xs, ys = map_ds["x"].values, map_ds["y"].values
+    tried = 0
+    for rec in sorted(map_records(map_ds), key=lambda r: (r[3], r[2], r[0], r[1])):
+        j, i, kind, n = rec
+        x, y = float(xs[i]) - 0.5 * px, float(ys[j])  # the loss lies between the pixel and the one before
+        if not 1 <= n <= spec.max_period:
+            fate = "period_out_of_range"
+        elif any(
+            c.kind == kind and c.n == n and polyline_distance(c, x, y, px, py) <= spec.record_tol for c in bd.curves
+        ):
+            fate = "on_curve"
+        elif tried < spec.max_map_seeds:
+            tried += 1
+            new = _record_curves(design, plane, bd, map_ds, rec, spec, f"map record ({x:.6g}, {y:.6g})")
+            on = any(c.kind == kind and polyline_distance(c, x, y, px, py) <= spec.record_tol for c in new)
+            fate = "started_curve" if on else "not_reproduced"
+        else:
+            fate = "not_reproduced"
+        bd.records.append((kind, n, x, y, fate))
+
+
+def boundary_curves(
+    design: Any,
+    region: Region,
+    spec: BoundarySpec,
+    settings: SimulationSettings,
+    map_ds: xr.Dataset | None = None,
+    lines: Sequence[Line] | None = None,
+) -> tuple[Boundaries, KHVPlane]:
+    """The regime boundaries of ``region``: the curves from the lines
+    (:func:`~geardyn.runs.continuation.curve_maps.line_curves`), then, with a map, from its records."""
+    bd, plane = line_curves(design, region, spec, settings, map_ds, lines)
+    if map_ds is not None and spec.map_seeds and "bifurcation" in map_ds:
+        t1 = time.perf_counter()
+        record_seeds(design, plane, bd, map_ds, spec)
+        bd.timing["records"] = time.perf_counter() - t1
+    bd.timing["total"] = sum(bd.timing.values())
     return bd, plane

@@ -1,33 +1,21 @@
-"""Regime boundaries as curves: two-parameter continuation of the codimension-1 bifurcations of
-period-n orbits in a plane of two parameters (p, q), with the codimension-2 points on the curves
-(docs/orbits.md, "Regime boundaries as curves": the extended systems, the tests, the measured errors).
-
-Unknowns z = (x, p, q); equations H(z) = (phi_n(x; p, q) - x, G) = 0, G the defining condition of the
-kind (:func:`condition`; the critical multipliers tracked from point to point): fold mu_c - 1, period
-doubling mu_c + 1, Neimark-Sacker mu_a mu_b - 1 (|mu|^2 - 1 of the pair), grazing g = min |x_VH| - b.
-dH/dx has M - I from the variational equations, the other derivatives are forward differences.
-Pseudo-arclength in u = (x / sx, p / sp, q / sq) (sp, sq: the sides of the box); a curve stops on
-the box.  Codimension-2 points (:data:`CODIM2_TYPES`) are sign changes of :func:`tests` between
-consecutive points, located by Brent on the arclength fraction (every trial point corrected).
-"""
+"""Regime boundaries as curves: two-parameter continuation of the codimension-1 bifurcations of period-n
+orbits in a plane (p, q), with the codimension-2 points on them (docs/orbits.md, section 9: the extended
+systems H(z) = (phi_n(x; p, q) - x, G) = 0, the tests, the measured errors)."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from functools import partial
 
 import numpy as np
-import xarray as xr
-from scipy.optimize import brentq
 
 from geardyn import libm
-from geardyn.khv import point
 from geardyn.runs.continuation.branch import Branch
-from geardyn.runs.continuation.events import fold_test, ns_product, pd_test
-from geardyn.runs.continuation.family import KHVFamily, grazing_margin
-from geardyn.solve.base import SimulationSettings
-from geardyn.solve.shooting import FlowMap, khv_flow, sorted_multipliers
+from geardyn.runs.continuation.events import brent_on_step, fold_test, ns_product, pd_test
+from geardyn.runs.continuation.family import PlaneFamily
+from geardyn.runs.continuation.stepping import both_ways, march
+from geardyn.solve.shooting import sorted_multipliers
 
 CURVE_KINDS = ("fold", "period_doubling", "neimark_sacker", "grazing")
 CODIM2_TYPES = tuple(
@@ -43,74 +31,6 @@ _TESTS = {
     "neimark_sacker": (*CODIM2_TYPES[1:3], *CODIM2_TYPES[4:7], "grazing_neimark_sacker"),
     "grazing": CODIM2_TYPES[7:],
 }
-_CHEAP = {"b": "b", "e": "e", "w": "omega"}  # overrides that are one coefficient field each
-
-
-class PlaneFamily(Protocol):
-    """What curve continuation needs of a two-parameter family of periodic systems."""
-
-    box: tuple[float, float, float, float]  # p_lo, p_hi, q_lo, q_hi
-
-    def flow(self, p: float, q: float, n: int) -> FlowMap: ...
-
-    def grazing(self, p: float, q: float, x: np.ndarray, n: int) -> float: ...
-
-
-class KHVPlane:
-    """A KHV design over two control parameters ``names`` = (p, q) in ``box`` = (p_lo, p_hi, q_lo, q_hi),
-    the other overrides ``fixed``.  When one of them is b, e or w (one coefficient field each), the
-    coefficients along the other come from a :class:`KHVFamily` (``nodes`` as there; 0: direct) and
-    that field is replaced, if a direct evaluation at the box corner agrees; otherwise
-    :func:`geardyn.khv.point.point_coefficients` is called at every (p, q).  Cached by (p, q)."""
-
-    def __init__(
-        self,
-        design: Any,
-        names: tuple[str, str],
-        fixed: Mapping[str, float],
-        box: tuple[float, float, float, float],
-        settings: SimulationSettings | None = None,
-        nodes: int = 0,
-    ):
-        self.design, self.names, self.fixed = design, (names[0], names[1]), dict(fixed)
-        self.box = tuple(float(v) for v in box)
-        self.settings = settings or point.integration_settings(design)
-        swap = self.names[0] in _CHEAP and self.names[1] not in _CHEAP
-        self._swap, fast = swap, self.names[0 if swap else 1]
-        self._field = _CHEAP.get(fast)
-        self._cache: dict[tuple[float, float], Any] = {}
-        if self._field is not None:
-            lo, hi = self.box[2:] if swap else self.box[:2]
-            mid = 0.5 * (self.box[0] + self.box[1]) if swap else 0.5 * (self.box[2] + self.box[3])
-            self._line = KHVFamily(design, self.names[1 if swap else 0], {**self.fixed, fast: mid}, lo, hi, None, nodes)
-            corner = self.coefficients(self.box[1], self.box[3]).as_dict()
-            direct = self._direct(self.box[1], self.box[3]).as_dict()
-            if any(abs(corner[k] - v) > 1e-9 * max(1.0, abs(v)) for k, v in direct.items() if isinstance(v, float)):
-                self._field = None
-            self._cache.clear()
-
-    def _direct(self, p: float, q: float) -> Any:
-        return point.point_coefficients(self.design, {**self.fixed, self.names[0]: p, self.names[1]: q})
-
-    def coefficients(self, p: float, q: float) -> Any:
-        key = (float(p), float(q))
-        c = self._cache.get(key)
-        if c is None:
-            if self._field is None:
-                c = self._direct(*key)
-            else:
-                slow, fast = (key[1], key[0]) if self._swap else key
-                c = self._line.coefficients(slow).replace(**{self._field: fast})
-            if len(self._cache) > 256:
-                self._cache.clear()
-            self._cache[key] = c
-        return c
-
-    def flow(self, p: float, q: float, n: int) -> FlowMap:
-        return khv_flow(self.coefficients(p, q), n, self.settings)
-
-    def grazing(self, p: float, q: float, x: np.ndarray, n: int) -> float:
-        return grazing_margin(self.coefficients(p, q), x, n, self.settings)
 
 
 @dataclass(frozen=True)
@@ -368,24 +288,11 @@ def _events(ext: Extended, a: CurvePoint, b: CurvePoint) -> list[Codim2]:
     for name in ta:
         if not _crossed(ext.kind, name, a, b, ta[name], tb[name]):
             continue
-        cache: dict[float, CurvePoint] = {0.0: a, 1.0: b}
-
-        def f(s: float, name: str = name, cache: dict = cache) -> float:
-            if s not in cache:
-                q = _on_arc(ext, a, s * h)
-                if q is None:
-                    raise RuntimeError("correction failed while locating")
-                cache[s] = q
-            v = tests(ext.kind, cache[s])[name]
-            if not np.isfinite(v):
-                raise RuntimeError("test function undefined")
-            return v
-
-        try:
-            s = brentq(f, 0.0, 1.0, xtol=ext.cs.locate_xtol, rtol=1e-15, maxiter=60)
-            found.append(_codim2(ext, name, cache[s], True))
-        except (RuntimeError, ValueError):
-            found.append(_codim2(ext, name, a if abs(ta[name]) < abs(tb[name]) else b, False))
+        q = brent_on_step(
+            lambda s: _on_arc(ext, a, s * h), lambda pt, name=name: tests(ext.kind, pt)[name], a, b, ext.cs.locate_xtol
+        )
+        bracketed = a if abs(ta[name]) < abs(tb[name]) else b
+        found.append(_codim2(ext, name, q, True) if q is not None else _codim2(ext, name, bracketed, False))
     return found
 
 
@@ -412,41 +319,23 @@ def _inside(z: np.ndarray, box: Sequence[float]) -> bool:
     return box[0] <= z[-2] <= box[1] and box[2] <= z[-1] <= box[3]
 
 
-def _march(ext: Extended, start: CurvePoint, box: Sequence[float]) -> tuple[list[CurvePoint], list[Codim2], str]:
-    """Points along one direction from ``start`` (excluded), the codimension-2 points passed, the end."""
-    cs = ext.cs
-    pts: list[CurvePoint] = []
-    found: list[Codim2] = []
-    cur, ds = start, cs.ds
-    u0 = ext.u(start.z)
-    while len(pts) < cs.max_points:
-        z_pred = (ext.u(cur.z) + ds * cur.tangent) * ext.scale(cur.z.size - 2)
-        if not _inside(z_pred, box):
-            end = _box_end(ext, cur, z_pred, box)
-            if end is not None:
-                found += _events(ext, cur, end)
-                pts.append(end)
-            return pts, found, "box"
-        new = _on_arc(ext, cur, ds)
-        if new is None:
-            ds *= 0.5
-            if ds < cs.ds_min:
-                return pts, found, "step_too_small"
-            continue
-        ev = _events(ext, cur, new)
-        found += ev
-        term = [c.kind for c in ev if c.kind in _TERMINAL]
-        if term:
-            return pts, found, term[0]
-        pts.append(new)
-        cur = new
-        if len(pts) > 10 and float(np.linalg.norm(ext.u(new.z) - u0)) < ds and float(new.tangent @ start.tangent) > 0:
-            return pts, found, "closed_loop"
-        if float(np.max(libm.cabs(new.multipliers))) > 1e8:
-            return pts, found, "multipliers_too_large"
-        if new.iterations <= 4:
-            ds = min(ds * 1.3, cs.ds_max)
-    return pts, found, "max_points"
+def _advance(
+    ext: Extended, box: Sequence[float], found: list[Codim2], cur: CurvePoint, ds: float
+) -> tuple[list[CurvePoint], str] | None:
+    """One step of a curve (:func:`~geardyn.runs.continuation.stepping.march`): ends on the box (the last
+    point solved on its side) or at a 1:1 or 1:2 resonance; the codimension-2 points passed go to ``found``."""
+    z_pred = (ext.u(cur.z) + ds * cur.tangent) * ext.scale(cur.z.size - 2)
+    if not _inside(z_pred, box):
+        end = _box_end(ext, cur, z_pred, box)
+        found += _events(ext, cur, end) if end is not None else []
+        return ([end] if end is not None else []), "box"
+    new = _on_arc(ext, cur, ds)
+    if new is None:
+        return None
+    ev = _events(ext, cur, new)
+    found += ev
+    term = [c.kind for c in ev if c.kind in _TERMINAL]
+    return ([], term[0]) if term else ([new], "")
 
 
 def continue_curve(
@@ -474,25 +363,54 @@ def continue_curve(
     if out is None:
         return None
     z, J, _ = out
-    seed = ext.describe(z, J, ref, None, None, 1)
-    up, ev_up, end_up = _march(ext, seed, box)
-    back = CurvePoint(**{**seed.__dict__, "tangent": -seed.tangent})
-    down, ev_down, end_down = _march(ext, back, box) if end_up != "closed_loop" else ([], [], "closed_loop")
-    down = [CurvePoint(**{**c.__dict__, "tangent": -c.tangent}) for c in reversed(down)]
-    return Curve(kind, n, [*down, seed, *up], ext.scales, {"down": end_down, "up": end_up}, ev_down + ev_up)
+    found: list[list[Codim2]] = []  # per march: up, then down
+
+    def run(start: CurvePoint) -> tuple[list[CurvePoint], str]:
+        found.append([])
+        return march(start, partial(_advance, ext, box, found[-1]), lambda pt: ext.u(pt.z), cs, 4)
+
+    pts, ends = both_ways(run, ext.describe(z, J, ref, None, None, 1))
+    return Curve(kind, n, pts, ext.scales, ends, [c for events in reversed(found) for c in events])
 
 
 def _on_curve(curve: Curve, kind: str, n: int, p: float, q: float, tol: float = 1e-3) -> bool:
     """True when (p, q) lies on ``curve`` of the same kind and period (scaled distance to its polyline)."""
     if curve.kind != kind or curve.n != n or len(curve) < 2:
         return False
-    s = np.array(curve.scales[1:])
-    pts = np.column_stack([curve.p, curve.q]) / s
-    y = np.array([p, q]) / s
-    a, b = pts[:-1], pts[1:]
+    return polyline_distance(curve, p, q, *curve.scales[1:]) < tol
+
+
+def polyline_distance(curve: Curve, x: float, y: float, px: float, py: float) -> float:
+    """Distance of (x, y) from the curve's polyline in units of (px, py) (e.g. the map's pixel)."""
+    pts = np.column_stack([curve.p / px, curve.q / py])
+    pt = np.array([x / px, y / py])
+    return float(np.linalg.norm(pts[0] - pt)) if len(pts) == 1 else segment_distance(pts[:-1], pts[1:], pt)
+
+
+def segment_distance(a: np.ndarray, b: np.ndarray, pt: np.ndarray) -> float:
+    """Distance of pt from the nearest of the segments a[i] -> b[i] (inf without segments)."""
+    if not len(a):
+        return np.inf
     ab = b - a
-    w = np.clip(np.sum((y - a) * ab, axis=1) / np.maximum(np.sum(ab * ab, axis=1), 1e-300), 0.0, 1.0)
-    return float(np.min(np.linalg.norm(a + w[:, None] * ab - y, axis=1))) < tol
+    w = np.clip(np.sum((pt - a) * ab, axis=1) / np.maximum(np.sum(ab * ab, axis=1), 1e-300), 0.0, 1.0)
+    return float(np.min(np.linalg.norm(a + w[:, None] * ab - pt, axis=1)))
+
+
+def crossings(values: np.ndarray, line: float) -> list[tuple[int, float]]:
+    """(segment i, fraction w) where the polyline coordinate ``values`` crosses ``line``."""
+    d = values - line
+    out = []
+    for i in range(d.size - 1):
+        if d[i] == 0.0 or (d[i + 1] != 0.0 and (d[i] > 0) != (d[i + 1] > 0)):
+            out.append((i, d[i] / (d[i] - d[i + 1]) if d[i] != d[i + 1] else 0.0))
+    return out
+
+
+def bounds_stable(kind: str, multipliers: np.ndarray, crit: Sequence[complex]) -> bool:
+    """True when every multiplier but the critical ones lies inside the unit circle (for grazing: all): the
+    curve is a boundary of a stable orbit there."""
+    mu = np.asarray(multipliers)
+    return bool(np.all(libm.cabs(mu if kind == "grazing" else _others(mu, tuple(crit))) < 1.0))
 
 
 def curves_from_branch(
@@ -520,81 +438,3 @@ def curves_from_branch(
         if c is not None:
             curves.append(c)
     return curves[len(existing) :]
-
-
-def curve_crossings(
-    plane: PlaneFamily, curve: Curve, axis: str, value: float, cs: CurveSettings | None = None
-) -> list[CurvePoint]:
-    """The points where ``curve`` crosses the line ``axis`` ("p" or "q") = value, each solved on the
-    extended system with the line as the extra equation (from the chord between the bracketing points)."""
-    ext = Extended(plane, curve.kind, curve.n, curve.scales, cs or CurveSettings())
-    k = 0 if axis == "p" else 1
-    d = curve.points[0].z.size - 2
-    out = []
-    for a, b in zip(curve.points, [*curve.points[1:], curve.points[-1]], strict=True):
-        va, vb = a.z[d + k] - value, b.z[d + k] - value
-        if va == 0.0 or (vb != 0.0 and (va > 0) != (vb > 0)):
-            w = va / (va - vb) if va != vb else 0.0
-            pt = ext.corrected(a.z + w * (b.z - a.z), a, _row(d, k), value / ext.scales[1 + k])
-            out += [pt] if pt is not None else []
-    return out
-
-
-def _attrs(name: str, units: Mapping[str, str] | None, long_names: Mapping[str, str] | None) -> dict[str, str]:
-    if units and name in units:
-        u = units[name]
-    else:
-        u = point.units_of(name) if name in point.CONTROLS or name in point.PARAMETER_UNITS else "1"
-    ln = (long_names or {}).get(name) or (point.CONTROLS[name][1] if name in point.CONTROLS else name)
-    return {"units": u, "long_name": ln}
-
-
-def _flags(names: Sequence[str], long_name: str) -> dict[str, Any]:
-    return dict(long_name=long_name, flag_values=np.arange(len(names), dtype=np.int8), flag_meanings=" ".join(names))
-
-
-def curve_dataset(
-    curves: Sequence[Curve],
-    names: tuple[str, str],
-    units: Mapping[str, str] | None = None,
-    long_names: Mapping[str, str] | None = None,
-) -> xr.Dataset:
-    """The curves as one CF dataset: dimension ``point`` (every curve's points in order, ``curve_index``
-    the curve's), ``curve`` (kind, period, first point, length; end statuses as attributes
-    ``curve_<k>_end``) and ``codim2`` (type, curve, (p, q), multipliers, located)."""
-    d = curves[0].points[0].z.size - 2 if curves and curves[0].points else 0
-    rows = [(k, pt) for k, c in enumerate(curves) for pt in c.points]
-    c2 = [(k, b) for k, c in enumerate(curves) for b in c.codim2]
-    mu = np.array([pt.multipliers for _, pt in rows]).reshape(len(rows), d)
-    mu2 = np.array([b.multipliers for _, b in c2]).reshape(len(c2), d)
-    pa, qa = _attrs(names[0], units, long_names), _attrs(names[1], units, long_names)
-    P, PM, C2, C2M = ("point",), ("point", "multiplier"), ("codim2",), ("codim2", "multiplier")
-    g = "defining condition G (fold: mu - 1, period doubling: mu + 1, Neimark-Sacker: |mu|^2 - 1, grazing: g)"
-    spec: list[tuple[str, tuple[str, ...], Any, Any]] = [
-        ("curve_index", P, np.array([k for k, _ in rows], np.int32), "index of the curve"),
-        (names[0], P, [pt.z[-2] for _, pt in rows], pa),
-        (names[1], P, [pt.z[-1] for _, pt in rows], qa),
-        ("orbit_state", ("point", "state"), np.reshape([pt.z[:-2] for _, pt in rows], (len(rows), d)), "orbit state"),
-        ("multiplier_real", PM, mu.real, "Floquet multiplier, real part"),
-        ("multiplier_imag", PM, mu.imag, "Floquet multiplier, imaginary part"),
-        ("condition_residual", P, [pt.G for _, pt in rows], g),
-        ("grazing_margin", P, [pt.grazing for _, pt in rows], "grazing margin min |x_VH| - b over the cycle"),
-        ("curve_kind", ("curve",), [CURVE_KINDS.index(c.kind) for c in curves], _flags(CURVE_KINDS, "curve kind")),
-        ("curve_period", ("curve",), np.array([c.n for c in curves], np.int16), "orbit period (mesh periods)"),
-        ("curve_start", ("curve",), np.cumsum([0] + [len(c) for c in curves])[:-1], "index of the first point"),
-        ("curve_length", ("curve",), [len(c) for c in curves], "number of points"),
-        ("codim2_type", C2, [CODIM2_TYPES.index(b.kind) for _, b in c2], _flags(CODIM2_TYPES, "codim-2 type")),
-        ("codim2_curve", C2, np.array([k for k, _ in c2], np.int32), "index of the curve"),
-        (f"codim2_{names[0]}", C2, [b.p for _, b in c2], pa),
-        (f"codim2_{names[1]}", C2, [b.q for _, b in c2], qa),
-        ("codim2_multiplier_real", C2M, mu2.real, "Floquet multiplier, real part"),
-        ("codim2_multiplier_imag", C2M, mu2.imag, "Floquet multiplier, imaginary part"),
-        ("codim2_located", C2, [int(b.located) for _, b in c2], _flags(("bracketed", "located"), "located")),
-    ]
-    data = {}
-    for name, dims, values, attrs in spec:
-        a = attrs if isinstance(attrs, dict) else {"units": "1", "long_name": attrs}
-        v = np.asarray(values, dtype=np.int8 if "flag_values" in a else None)
-        data[name] = (dims, v.astype(np.int32) if v.dtype == np.int64 else v, a)
-    ends = {f"curve_{k}_end": ", ".join(f"{s}={v}" for s, v in c.end_status.items()) for k, c in enumerate(curves)}
-    return xr.Dataset(data, attrs={**ends, "curve_parameters": f"{names[0]} {names[1]}"})

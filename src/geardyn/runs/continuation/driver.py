@@ -14,12 +14,11 @@ import numpy as np
 
 from geardyn.khv import point
 from geardyn.papers import paper_of
-from geardyn.runs.continuation.branch import Branch, on_branch
-from geardyn.runs.continuation.family import KHVFamily, cycle_states
+from geardyn.runs.continuation.branch import Branch
+from geardyn.runs.continuation.family import KHVFamily
 from geardyn.runs.continuation.output import bifurcation_rows, branch_dataset
 from geardyn.runs.continuation.spec import OrbitSpec, final_state, seeds_from_cube
-from geardyn.runs.continuation.stepping import continue_branch
-from geardyn.runs.continuation.switching import switch_at_period_doubling
+from geardyn.runs.continuation.switching import add_branch
 from geardyn.solve.base import SimulationSettings
 from geardyn.solve.shooting import newton_shooting
 
@@ -31,6 +30,7 @@ def sweep_branches(
 ) -> list[tuple[int, Branch]]:
     """Continue every distinct branch seeded by the cube's periodic points, case by case."""
     out: list[tuple[int, Branch]] = []
+    doubling = spec.max_period if spec.switch_period_doubling else 0
     for case in range(n_cases):
         family = family_of(case)
         mine: list[Branch] = []
@@ -39,53 +39,11 @@ def sweep_branches(
             if not r.converged:
                 log.info("case %d: seed P%d at %g not converged (%s)", case, n, p, r.status)
                 continue
-            cyc = cycle_states(family, p, r.state, n)
-            if any(b.n == n and on_branch(b, p, cyc, 1e-3) for b in mine):
-                continue
-            br = continue_branch(family, p, r.state, n, family.lo, family.hi, spec.continuation)
+            br = add_branch(family, p, r.state, n, mine, spec.continuation, max_period=doubling)
             if br is not None:
-                log.info(
-                    "case %d: P%d branch from %g: %d points, %d bifurcations, ends %s",
-                    case,
-                    n,
-                    p,
-                    len(br),
-                    len(br.bifurcations),
-                    br.end_status,
-                )
-                mine.append(br)
-                if spec.switch_period_doubling:
-                    mine.extend(_doubled(family, br, mine, spec, case))
+                ends = br.end_status
+                log.info("case %d: P%d branch from %g: %d points, ends %s", case, n, p, len(br), ends)
         out.extend((case, b) for b in mine)
-    return out
-
-
-def _doubled(
-    family: KHVFamily, br: Branch, known: list[Branch], spec: OrbitSpec, case: int, depth: int = 0
-) -> list[Branch]:
-    """Branches born at the located period doublings of ``br`` (recursively, up to max_period)."""
-    out: list[Branch] = []
-    for bf in br.bifurcations:
-        if bf.kind != "period_doubling" or not bf.located or 2 * br.n > spec.max_period:
-            continue
-        pts = cycle_states(family, bf.p, bf.state, br.n)
-        if any(b.n == 2 * br.n and on_branch(b, bf.p, pts, 1e-2) for b in known + out):
-            continue
-        new = switch_at_period_doubling(family, bf, family.lo, family.hi, spec.continuation)
-        if new is None:
-            log.info("case %d: no period-%d branch found at the period doubling at %g", case, 2 * br.n, bf.p)
-            continue
-        log.info(
-            "case %d: P%d branch switched at %g: %d points, %d bifurcations",
-            case,
-            new.n,
-            bf.p,
-            len(new),
-            len(new.bifurcations),
-        )
-        out.append(new)
-        if depth < 4:
-            out.extend(_doubled(family, new, known + out, spec, case, depth + 1))
     return out
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.optimize import brentq
@@ -131,29 +132,35 @@ def _locate(
     point interpolated at w0 (not located) when that fails or is not asked for."""
     if corr is None or not cs.locate:
         return _interpolated(br, i, w0), False
-    cache: dict[float, _Onb] = {0.0: _stored(br, i, 0.0), 1.0: _stored(br, i + 1, 1.0)}
+    lo, hi = _stored(br, i, 0.0), _stored(br, i + 1, 1.0)
+    q = None
+    if (test(lo) > 0) != (test(hi) > 0):
+        q = brent_on_step(lambda u: _on_branch(corr, br, i, u), test, lo, hi, cs.locate_xtol)
+    return (q, True) if q is not None else (_interpolated(br, i, w0), False)
 
-    def at(u: float) -> _Onb:
-        if u not in cache:
-            q = _on_branch(corr, br, i, u)
+
+def brent_on_step(point_at: Callable[[float], Any], test: Callable[[Any], float], a: Any, b: Any, xtol: float) -> Any:
+    """Brent on the arclength fraction s in [0, 1] of one step (a at 0, b at 1, every trial point
+    ``point_at(s)`` a corrected point, cached): the point where ``test`` vanishes, None when a correction
+    fails, the test is undefined or has one sign at both ends."""
+    cache = {0.0: a, 1.0: b}
+
+    def f(s: float) -> float:
+        if s not in cache:
+            q = point_at(s)
             if q is None:
                 raise RuntimeError("correction failed while locating")
-            cache[u] = q
-        return cache[u]
-
-    def f(u: float) -> float:
-        v = test(at(u))
+            cache[s] = q
+        v = test(cache[s])
         if not np.isfinite(v):
             raise RuntimeError("test function undefined")
         return v
 
     try:
-        if (f(0.0) > 0) == (f(1.0) > 0):
-            return _interpolated(br, i, w0), False
-        u = brentq(f, 0.0, 1.0, xtol=cs.locate_xtol, rtol=1e-15, maxiter=60)
-        return at(u), True
+        s = brentq(f, 0.0, 1.0, xtol=xtol, rtol=1e-15, maxiter=60)
     except (RuntimeError, ValueError):
-        return _interpolated(br, i, w0), False
+        return None
+    return cache[s] if s in cache else point_at(s)
 
 
 def _fold(br: Branch, i: int, corr: Corrector | None, iterations: int = 12) -> tuple[_Onb, bool]:

@@ -1,6 +1,6 @@
-"""The model adapter: a parameter family of periodic systems (the system at a parameter value, its
-stroboscopic map with monodromy, the grazing margin of an orbit), with the spline cache of
-:class:`KHVFamily` for a KHV design."""
+"""The model adapters: one- and two-parameter families of periodic systems (the system at a parameter
+value, its stroboscopic map with monodromy, the grazing margins of an orbit), with the spline cache of
+:class:`KHVFamily` and :class:`KHVPlane` for a KHV design."""
 
 from __future__ import annotations
 
@@ -26,16 +26,9 @@ class Family(Protocol):
 
 
 class KHVFamily:
-    """A KHV design along one control parameter, with the other overrides fixed.
-
-    The coefficients come from :func:`geardyn.khv.point.point_coefficients` at ``nodes`` values of
-    the parameter over [lo, hi] and are interpolated in between by cubic splines (field by field):
-    one call of point_coefficients costs about 2 ms (geometry and mesh stiffness), a spline
-    evaluation microseconds.  For b, e and w the coefficients are linear in the parameter (exact);
-    for x1 the largest relative difference to a direct evaluation at the mid-points between nodes is
-    measured on construction (:attr:`interpolation_error`).  ``nodes = 0`` calls point_coefficients
-    at every p instead.  Coefficient sets are cached by p (the cache is emptied past 256 entries).
-    """
+    """A KHV design along one control parameter, the other overrides fixed: the coefficients of
+    :func:`geardyn.khv.point.point_coefficients` at ``nodes`` values over [lo, hi], cubic splines in between
+    (``nodes = 0``: direct), the measured :attr:`interpolation_error`, cached by p (docs/orbits.md, section 2)."""
 
     def __init__(
         self,
@@ -79,21 +72,15 @@ class KHVFamily:
 
     def coefficients(self, p: float) -> Coefficients:
         """The system at parameter value p (spline-interpolated when ``nodes >= 4``)."""
-        p = float(p)
-        c = self._cache.get(p)
-        if c is None:
-            if self.nodes >= 4:
-                vals = self._spline(p)
-                d = dict(self._const)
-                d.update({k: float(v) for k, v in zip(self._floats, vals, strict=True)})
-                d["backlash_on"] = bool(d.get("backlash_on", True))
-                c = Coefficients(**d)
-            else:
-                c = self._direct(p)
-            if len(self._cache) > 256:
-                self._cache.clear()
-            self._cache[p] = c
-        return c
+        return cached(self._cache, float(p), self._make)
+
+    def _make(self, p: float) -> Coefficients:
+        if self.nodes < 4:
+            return self._direct(p)
+        d = dict(self._const)
+        d.update({k: float(v) for k, v in zip(self._floats, self._spline(p), strict=True)})
+        d["backlash_on"] = bool(d.get("backlash_on", True))
+        return Coefficients(**d)
 
     def flow(self, p: float, n: int) -> FlowMap:
         return khv_flow(self.coefficients(p), n, self.settings)
@@ -103,29 +90,45 @@ class KHVFamily:
 
 
 def grazing_margin(system: Coefficients, x: np.ndarray, n: int, settings: SimulationSettings) -> float:
-    """g = min over the cycle of |x_VH| - b (NaN without backlash): g < 0 when contact is lost.
-
-    Dense run of the n periods from x (every step).  When x_VH changes sign the orbit crosses the
-    whole backlash zone and g = -b (|x_VH| has a kink at 0, which a parabola would misread as a
-    minimum above 0).  Otherwise the discrete minimum of |x_VH| is refined by the parabola through it
-    and its two neighbours.
-    """
-    if not system.backlash_on or system.b <= 0.0:
+    """g = min over the cycle of |x_VH| - b (NaN without backlash): g < 0 when contact is lost; -b when x_VH
+    changes sign, else the minimum of |x_VH| over a dense run refined by a parabola (docs/orbits.md, section 3)."""
+    x2 = cycle_xvh(system, x, n, settings.steps_per_period, settings.divergence_threshold)
+    if x2 is None:
         return float("nan")
+    if x2.min() < 0.0 < x2.max():
+        return -float(system.b)  # x_VH changes sign: the orbit passes right through the backlash
+    return refined_min(np.abs(x2)) - system.b
+
+
+def back_margin(system: Coefficients, x: np.ndarray, n: int, settings: SimulationSettings) -> float:
+    """h = min over the cycle of s X_VH + b, s the drive side (the sign of the static mesh deflection beyond
+    the backlash): h < 0 when the teeth strike on the back flank (NaN without backlash); refined as g."""
+    x2 = cycle_xvh(system, x, n, settings.steps_per_period, SimulationSettings.divergence_threshold)
+    if x2 is None:
+        return float("nan")
+    return refined_min((-1.0 if float(system.static_state()[1]) < 0.0 else 1.0) * x2) + system.b
+
+
+def cycle_xvh(system: Coefficients, x: np.ndarray, n: int, steps: int, threshold: float) -> np.ndarray | None:
+    """X_VH at x and every step of a dense run of n periods from x (rk4_event); None without backlash, when
+    the run diverges or has fewer than 3 points."""
+    if not system.backlash_on or system.b <= 0.0:
+        return None
     s = SimulationSettings(
         integrator="rk4_event",
-        steps_per_period=settings.steps_per_period,
+        steps_per_period=steps,
         transient_periods=0,
         recorded_periods=n,
-        divergence_threshold=settings.divergence_threshold,
+        divergence_threshold=threshold,
     )
     r = simulate(system, s, x, dense=True)
     if r.diverged or r.states is None or r.states.shape[0] < 3:
-        return float("nan")
-    x2 = np.concatenate([[x[1]], r.states[:, 1]])
-    if x2.min() < 0.0 < x2.max():
-        return -float(system.b)  # x_VH changes sign: the orbit passes right through the backlash
-    a = np.abs(x2)
+        return None
+    return np.concatenate([[x[1]], r.states[:, 1]])
+
+
+def refined_min(a: np.ndarray) -> float:
+    """The discrete minimum of ``a`` refined by the parabola through it and its two neighbours."""
     i = int(np.argmin(a))
     m = float(a[i])
     if 0 < i < a.size - 1:
@@ -133,29 +136,103 @@ def grazing_margin(system: Coefficients, x: np.ndarray, n: int, settings: Simula
         den = y0 - 2 * y1 + y2
         if den > 0:
             m = float(y1 - 0.125 * (y2 - y0) ** 2 / den)
-    return m - system.b
+    return m
 
 
-class CallableFamily:
-    """A family from plain functions: ``flow_of(p, n) -> FlowMap`` (no grazing)."""
-
-    def __init__(self, flow_of: Callable[[float, int], FlowMap]):
-        self._flow_of = flow_of
-
-    def flow(self, p: float, n: int) -> FlowMap:
-        return self._flow_of(p, n)
-
-    def grazing(self, p: float, x: np.ndarray, n: int) -> float:
-        return float("nan")
-
-
-def cycle_states(family: Family, p: float, x: np.ndarray, n: int) -> np.ndarray:
-    """The n phase-0 points (n, d) of a period-n orbit through x (x first)."""
+def cycle_states(flow: FlowMap, x: np.ndarray, n: int) -> np.ndarray:
+    """The n phase-0 points (n, d) of a period-n orbit through x (x first); ``flow`` the one-period map."""
     pts = [np.asarray(x, dtype=float)]
-    fl = family.flow(p, 1)
     for _ in range(n - 1):
-        y, _ = fl(pts[-1], False)
+        y, _ = flow(pts[-1], False)
         if y is None:
             break
         pts.append(y)
     return np.array(pts)
+
+
+def cached(cache: dict, key: Any, make: Callable[[Any], Any]) -> Any:
+    """cache[key], made by ``make(key)`` on a miss (the cache is emptied past 256 entries)."""
+    c = cache.get(key)
+    if c is None:
+        c = make(key)
+        if len(cache) > 256:
+            cache.clear()
+        cache[key] = c
+    return c
+
+
+class PlaneFamily(Protocol):
+    """What curve continuation needs of a two-parameter family of periodic systems."""
+
+    box: tuple[float, float, float, float]  # p_lo, p_hi, q_lo, q_hi
+
+    def flow(self, p: float, q: float, n: int) -> FlowMap: ...
+
+    def grazing(self, p: float, q: float, x: np.ndarray, n: int) -> float: ...
+
+
+_CHEAP = {"b": "b", "e": "e", "w": "omega"}  # overrides that are one coefficient field each
+
+
+class KHVPlane:
+    """A KHV design over two control parameters ``names`` = (p, q) in ``box`` = (p_lo, p_hi, q_lo, q_hi),
+    the other overrides ``fixed`` (docs/orbits.md, section 9: the coefficients along one parameter from a
+    :class:`KHVFamily` when the other is b, e or w and agrees at the box corner).  Cached by (p, q)."""
+
+    def __init__(
+        self,
+        design: Any,
+        names: tuple[str, str],
+        fixed: Mapping[str, float],
+        box: tuple[float, float, float, float],
+        settings: SimulationSettings | None = None,
+        nodes: int = 0,
+    ):
+        self.design, self.names, self.fixed = design, (names[0], names[1]), dict(fixed)
+        self.box = tuple(float(v) for v in box)
+        self.settings = settings or point.integration_settings(design)
+        swap = self.names[0] in _CHEAP and self.names[1] not in _CHEAP
+        self._swap, fast = swap, self.names[0 if swap else 1]
+        self._field = _CHEAP.get(fast)
+        self._cache: dict[tuple[float, float], Any] = {}
+        if self._field is not None:
+            lo, hi = self.box[2:] if swap else self.box[:2]
+            mid = 0.5 * (self.box[0] + self.box[1]) if swap else 0.5 * (self.box[2] + self.box[3])
+            self._line = KHVFamily(design, self.names[1 if swap else 0], {**self.fixed, fast: mid}, lo, hi, None, nodes)
+            corner = self.coefficients(self.box[1], self.box[3]).as_dict()
+            direct = self._direct((self.box[1], self.box[3])).as_dict()
+            if any(abs(corner[k] - v) > 1e-9 * max(1.0, abs(v)) for k, v in direct.items() if isinstance(v, float)):
+                self._field = None
+            self._cache.clear()
+
+    def _direct(self, key: tuple[float, float]) -> Any:
+        return point.point_coefficients(self.design, {**self.fixed, self.names[0]: key[0], self.names[1]: key[1]})
+
+    def _make(self, key: tuple[float, float]) -> Any:
+        if self._field is None:
+            return self._direct(key)
+        slow, fast = (key[1], key[0]) if self._swap else key
+        return self._line.coefficients(slow).replace(**{self._field: fast})
+
+    def coefficients(self, p: float, q: float) -> Any:
+        return cached(self._cache, (float(p), float(q)), self._make)
+
+    def flow(self, p: float, q: float, n: int) -> FlowMap:
+        return khv_flow(self.coefficients(p, q), n, self.settings)
+
+    def grazing(self, p: float, q: float, x: np.ndarray, n: int) -> float:
+        return grazing_margin(self.coefficients(p, q), x, n, self.settings)
+
+
+class BackFlank:
+    """A :class:`KHVPlane` whose grazing margin is the back flank's (:func:`back_margin`): its grazing
+    curves are where back-side contact begins."""
+
+    def __init__(self, plane: KHVPlane):
+        self.plane, self.box = plane, plane.box
+
+    def flow(self, p: float, q: float, n: int) -> FlowMap:
+        return self.plane.flow(p, q, n)
+
+    def grazing(self, p: float, q: float, x: np.ndarray, n: int) -> float:
+        return back_margin(self.plane.coefficients(p, q), x, n, self.plane.settings)

@@ -18,15 +18,10 @@ STATE_VARS = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
 
 @dataclass(frozen=True)
 class OrbitSpec:
-    """One ``orbits:`` entry of the configuration (keyed by the sweep it continues).
-
-    max_period: sweep points labelled P1..P<max_period> are seeds.  max_seeds: per case.
-    nodes: coefficient interpolation nodes of :class:`~geardyn.runs.continuation.KHVFamily`.
-    continuation: the :class:`ContinuationSettings`.  attractors: the mapping for
-    :mod:`geardyn.runs.attractors`.  switch_period_doubling: continue the period-2n branch born at
-    each located period doubling (when 2n <= max_period), see
-    :func:`~geardyn.runs.continuation.switch_at_period_doubling`.
-    """
+    """One ``orbits:`` entry of the configuration (keyed by the sweep it continues; its keys in the config
+    schema): ``nodes`` the coefficient interpolation nodes of :class:`~geardyn.runs.continuation.KHVFamily`,
+    ``continuation`` the :class:`ContinuationSettings`, ``attractors`` the mapping for
+    :mod:`geardyn.runs.attractors`."""
 
     max_period: int = 6
     max_seeds: int = 6
@@ -63,17 +58,20 @@ def seeds_from_cube(cube: Any, case: int, max_period: int, max_seeds: int) -> li
     (first direction of the cube), longest runs first, at most ``max_seeds``."""
     par = cube.attrs["control_parameter"]
     values = np.asarray(cube[par].values, dtype=float)
-    labels = np.asarray(cube["label"].values[case, 0], dtype=int)
-    runs = [
-        (int(last) - int(first) + 1, int(first), n)
-        for first, last, n in classify.bands(np.arange(labels.size), labels)
-        if 1 <= n <= max_period
-    ]
-    runs.sort(key=lambda r: (-r[0], r[1]))
     seeds = []
-    for length, first, n in runs[:max_seeds]:
+    for length, first, n in label_runs(np.asarray(cube["label"].values[case, 0], dtype=int), max_period)[:max_seeds]:
         j = first + length // 2
         x = final_state(cube, case, j)
         if np.all(np.isfinite(x)):
             seeds.append((float(values[j]), x, n))
     return seeds
+
+
+def label_runs(labels: np.ndarray, max_period: int) -> list[tuple[int, int, int]]:
+    """(length, first index, n) of every run of equal label P1..P<max_period>, longest runs first."""
+    runs = [
+        (int(last) - int(first) + 1, int(first), n)
+        for first, last, n in classify.bands(np.arange(labels.size), labels)
+        if 1 <= n <= max_period
+    ]
+    return sorted(runs, key=lambda r: (-r[0], r[1]))

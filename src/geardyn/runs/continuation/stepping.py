@@ -1,14 +1,15 @@
-"""Stepping along a branch: predictor, corrector call, step-size control and the end tests of one
-direction (:func:`march`), and :func:`continue_branch`, which shoots the seed, marches both ways
-and assembles the :class:`~geardyn.runs.continuation.branch.Branch` with its bifurcation points.
-
-The march carries its state in :class:`ContState` (frozen; a new one per accepted or refused
-step) and stores :class:`BranchPoint` records."""
+"""The one stepper of continuation: the march of one direction with its step control and end tests
+(:func:`march`, for branches and for curves), both directions from a seed (:func:`both_ways`), and
+:func:`continue_branch`, which shoots the seed, marches both ways and assembles the
+:class:`~geardyn.runs.continuation.branch.Branch` with its bifurcation points."""
 
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from dataclasses import dataclass, replace
+from functools import partial
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -20,6 +21,7 @@ from geardyn.runs.continuation.family import Family
 from geardyn.solve.shooting import newton_shooting, sorted_multipliers
 
 log = logging.getLogger("geardyn.continuation")
+P = TypeVar("P")
 
 
 @dataclass(frozen=True)
@@ -33,28 +35,13 @@ class BranchPoint:
     tangent: np.ndarray
     iterations: int
 
-
-@dataclass(frozen=True)
-class ContState:
-    """Where a march stands: the last accepted point (x, p), its unit tangent (scaled variables) and
-    the step ds for the next predictor, in units of the scaled arclength."""
-
-    x: np.ndarray
-    p: float
-    tangent: np.ndarray
-    ds: float
-
-    def u(self, sx: float, sp: float) -> np.ndarray:
-        """The scaled point (x / sx, p / sp)."""
-        return np.append(self.x / sx, self.p / sp)
-
-    def predicted(self, sx: float, sp: float) -> np.ndarray:
-        """The predictor z_pred = u + ds t (scaled)."""
-        return self.u(sx, sp) + self.ds * self.tangent
+    @property
+    def multipliers(self) -> np.ndarray:
+        return sorted_multipliers(self.M)
 
 
 def _at_bound(
-    corr: Corrector, st: ContState, xp: np.ndarray, pp: float, lo: float, hi: float, cs: ContinuationSettings
+    corr: Corrector, st: BranchPoint, xp: np.ndarray, pp: float, lo: float, hi: float, cs: ContinuationSettings
 ) -> list[BranchPoint]:
     """The prediction (xp, pp) left [lo, hi]: the last point exactly on the bound, by fixed-p Newton
     from the prediction shortened to the bound (none when the branch runs along the bound, is
@@ -77,43 +64,76 @@ def _at_bound(
 
 
 def march(
-    corr: Corrector, start: ContState, lo: float, hi: float, cs: ContinuationSettings
-) -> tuple[list[BranchPoint], str]:
-    """Points along one direction from ``start`` (excluded) within [lo, hi]; returns (points, end
-    status).  ds grows by 1.3 after a corrector of at most 3 evaluations, halves after a failure,
-    never exceeds ``cs.ds_max``."""
-    pts: list[BranchPoint] = []
-    sx, sp = corr.sx, corr.sp
-    d = start.x.size
-    st = start
-    u_start, t_start = start.u(sx, sp), start.tangent.copy()
+    start: P,
+    advance: Callable[[P, float], tuple[list[P], str] | None],
+    u_of: Callable[[P], np.ndarray],
+    cs: Any,
+    grow_at: int,
+) -> tuple[list[P], str]:
+    """Points along one direction from ``start`` (excluded); returns (points, end status).  ``advance(cur,
+    ds)`` predicts and corrects one step: None when the corrector failed (ds halves, down to ``cs.ds_min``),
+    else the points to add and a status that ends the march ("" to go on).  ds grows by 1.3 after a
+    corrector of at most ``grow_at`` evaluations, never beyond ``cs.ds_max``; the march ends back at
+    its start (``closed_loop``: an isola), past multipliers of modulus 1e8 or after ``cs.max_points``."""
+    pts: list[P] = []
+    cur, ds = start, cs.ds
+    u_start = u_of(start)
     while len(pts) < cs.max_points:
-        u = st.predicted(sx, sp)
-        xp, pp = u[:d] * sx, u[d] * sp
-        if pp > hi or pp < lo:
-            return pts + _at_bound(corr, st, xp, pp, lo, hi, cs), "range"
-        out = corr.correct(xp, pp, st.tangent)
+        out = advance(cur, ds)
         if out is None:
-            st = replace(st, ds=st.ds * 0.5)
-            if st.ds < cs.ds_min:
+            ds *= 0.5
+            if ds < cs.ds_min:
                 return pts, "step_too_small"
             continue
-        merged = merged_period(corr, out.x, out.p)
-        if merged:
-            return pts, f"merged_into_period_{merged}"
-        try:
-            t = corr.tangent(out.A, out.Fp, st.tangent)
-        except np.linalg.LinAlgError:
-            return pts, "singular_tangent"
-        pts.append(BranchPoint(out.x, out.p, out.M, t, out.iterations))
-        st = ContState(out.x, out.p, t, st.ds)
-        if len(pts) > 10 and float(np.linalg.norm(st.u(sx, sp) - u_start)) < st.ds and float(t @ t_start) > 0:
-            return pts, "closed_loop"  # an isola: back at the seed
-        if out.iterations <= 3:
-            st = replace(st, ds=min(st.ds * 1.3, cs.ds_max))
-        if float(np.max(libm.cabs(sorted_multipliers(out.M)))) > 1e8:
+        new, end = out
+        pts += new
+        if end:
+            return pts, end
+        cur = new[0]
+        if len(pts) > 10 and float(np.linalg.norm(u_of(cur) - u_start)) < ds and float(cur.tangent @ start.tangent) > 0:
+            return pts, "closed_loop"
+        if cur.iterations <= grow_at:
+            ds = min(ds * 1.3, cs.ds_max)
+        if float(np.max(libm.cabs(cur.multipliers))) > 1e8:
             return pts, "multipliers_too_large"
     return pts, "max_points"
+
+
+def both_ways(
+    run: Callable[[P], tuple[list[P], str]], seed: P, directions: tuple[str, ...] = ("down", "up")
+) -> tuple[list[P], dict[str, str]]:
+    """The points of the marches ``run`` from ``seed`` in ``directions`` (``up``: along its tangent) in
+    order along the tangent, the seed between, the down march's tangents flipped; the end statuses."""
+    up, end_up = run(seed) if "up" in directions else ([], "not_followed")
+    if end_up == "closed_loop":
+        down, end_down = [], "closed_loop"  # the up march went round the whole isola
+    else:
+        down, end_down = run(replace(seed, tangent=-seed.tangent)) if "down" in directions else ([], "not_followed")
+    down = [replace(q, tangent=-q.tangent) for q in reversed(down)]
+    return [*down, seed, *up], {"down": end_down, "up": end_up}
+
+
+def _advance(
+    corr: Corrector, lo: float, hi: float, cur: BranchPoint, ds: float
+) -> tuple[list[BranchPoint], str] | None:
+    """One step of a branch within [lo, hi] (:func:`march`): ends on the bound (``range``), when the point
+    is one of a shorter period (``merged_into_period_<m>``) or its tangent is singular."""
+    d = cur.x.size
+    u = corr.scaled(cur) + ds * cur.tangent
+    xp, pp = u[:d] * corr.sx, u[d] * corr.sp
+    if pp > hi or pp < lo:
+        return _at_bound(corr, cur, xp, pp, lo, hi, corr.cs), "range"
+    out = corr.correct(xp, pp, cur.tangent)
+    if out is None:
+        return None
+    merged = merged_period(partial(corr.family.flow, out.p), out.x, corr.n, 1e-6 * corr.sx)
+    if merged:
+        return [], f"merged_into_period_{merged}"
+    try:
+        t = corr.tangent(out.A, out.Fp, cur.tangent)
+    except np.linalg.LinAlgError:
+        return [], "singular_tangent"
+    return [BranchPoint(out.x, out.p, out.M, t, out.iterations)], ""
 
 
 def _seed_tangent(A: np.ndarray, Fp: np.ndarray, sx: float, sp: float) -> np.ndarray:
@@ -156,65 +176,38 @@ def continue_branch(
     if ev is None:
         return None
     t0 = _seed_tangent(ev.A, ev.Fp, sx, sp)
-    up, st_up = (
-        march(corr, ContState(r.state, p0, t0, cs.ds), lo, hi, cs) if "up" in directions else ([], "not_followed")
-    )
-    if st_up == "closed_loop":
-        down, st_down = [], "closed_loop"  # the up march went round the whole isola
-    else:
-        down, st_down = (
-            march(corr, ContState(r.state, p0, -t0, cs.ds), lo, hi, cs)
-            if "down" in directions
-            else ([], "not_followed")
-        )
-    # the down march's tangents point down the branch: flip them to the branch order
-    down = [replace(q, tangent=-q.tangent) for q in reversed(down)]
-    pts = [*down, BranchPoint(r.state, p0, ev.M, t0, r.iterations), *up]
-    ends = {"down": st_down, "up": st_up}
-    br = _assemble(family, pts, n, sx, sp, ends, p0, cs, corr)
-    return _cut_at_merge(family, br, pts, len(down), ends, p0, cs, corr) if n > 1 else br
+    seed = BranchPoint(r.state, p0, ev.M, t0, r.iterations)
+    run = partial(march, advance=partial(_advance, corr, lo, hi), u_of=corr.scaled, cs=cs, grow_at=3)
+    pts, ends = both_ways(run, seed, directions)
+    down = next(i for i, q in enumerate(pts) if q is seed)
+    br = _assemble(corr, pts, ends, p0)
+    return _cut_at_merge(corr, br, pts, down, ends, p0) if n > 1 else br
 
 
 def _cut_at_merge(
-    family: Family,
-    br: Branch,
-    pts: list[BranchPoint],
-    seed: int,
-    ends: dict[str, str],
-    p0: float,
-    cs: ContinuationSettings,
-    corr: Corrector,
+    corr: Corrector, br: Branch, pts: list[BranchPoint], seed: int, ends: dict[str, str], p0: float
 ) -> Branch:
     """A fold of a period-n branch on a period-m orbit (m | n) is where the branch was born at (or
     merges back into) a period doubling of the period-m orbit: beyond it lies the same orbit shifted
     by m periods.  Cut the branch there (the period doubling is a point of the period-m branch);
     ``seed``: the index of the seed point in ``pts``."""
     for bf in br.bifurcations:
-        m = merged_period(corr, bf.state, bf.p, 1e-4) if bf.kind == "fold" else 0
+        m = merged_period(partial(corr.family.flow, bf.p), bf.state, corr.n, 1e-4 * corr.sx) if bf.kind == "fold" else 0
         if m:
             if bf.index >= seed:
                 pts, ends["up"] = pts[: bf.index + 1], f"merged_into_period_{m}"
             else:
                 pts, ends["down"] = pts[bf.index + 1 :], f"merged_into_period_{m}"
-            return _assemble(family, pts, corr.n, corr.sx, corr.sp, ends, p0, cs, corr)
+            return _assemble(corr, pts, ends, p0)
     return br
 
 
-def _assemble(
-    family: Family,
-    pts: list[BranchPoint],
-    n: int,
-    sx: float,
-    sp: float,
-    ends: dict[str, str],
-    p0: float,
-    cs: ContinuationSettings,
-    corr: Corrector,
-) -> Branch:
+def _assemble(corr: Corrector, pts: list[BranchPoint], ends: dict[str, str], p0: float) -> Branch:
     """The branch of the points in order: multipliers, arclength, grazing margins, bifurcations."""
+    family, n, sx, sp, cs = corr.family, corr.n, corr.sx, corr.sp, corr.cs
     states = np.array([q.x for q in pts])
     ps = np.array([q.p for q in pts])
-    mult = np.array([sorted_multipliers(q.M) for q in pts])
+    mult = np.array([q.multipliers for q in pts])
     tang = np.array([q.tangent for q in pts])
     u = np.column_stack([states / sx, ps / sp])
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(u, axis=0), axis=1))])

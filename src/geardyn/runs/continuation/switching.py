@@ -1,32 +1,29 @@
 """Branch switching: the period-2n branch born at a located period-doubling point of a period-n
-branch."""
+branch, and the distinct branches through a set of seeds with those born at their period doublings."""
 
 from __future__ import annotations
 
+import logging
 import math
+from typing import Any
 
 import numpy as np
 
 from geardyn import libm
-from geardyn.runs.continuation.branch import Bifurcation, Branch, ContinuationSettings
-from geardyn.runs.continuation.family import Family
+from geardyn.runs.continuation.branch import Bifurcation, Branch, ContinuationSettings, on_branch
+from geardyn.runs.continuation.family import Family, KHVFamily, cycle_states
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.solve.shooting import newton_shooting
+
+log = logging.getLogger("geardyn.continuation")
 
 
 def switch_at_period_doubling(
     family: Family, bf: Bifurcation, lo: float, hi: float, cs: ContinuationSettings = ContinuationSettings()
 ) -> Branch | None:
-    """The period-2n branch born at a period-doubling point of a period-n branch.
-
-    Shooting for period 2n from the bifurcating orbit moved along the eigenvector of the multiplier
-    -1, a little past the point on either side (1e-3 and 1e-2 of the range; amplitudes 1e-2 to 1 of
-    max(1, max|x|) times the square root of the parameter offset, the scaling of a
-    period-doubling normal form); the first orbit that is genuinely of period 2n (not the period-n
-    orbit) is continued away from the bifurcation point only: towards it, the period-2n branch
-    ends in the bifurcating orbit and turns back as the same orbit shifted by n periods.  None when
-    none is found.
-    """
+    """The period-2n branch born at a period-doubling point of a period-n branch: shot from the bifurcating
+    orbit pushed along the eigenvector of the multiplier -1 a little past the point and continued away from it
+    only (docs/orbits.md, section 2, "Branch switching"); None when none is found."""
     n = bf.n
     flow = family.flow(bf.p, n)
     phi, M = flow(bf.state, True)
@@ -53,3 +50,60 @@ def switch_at_period_doubling(
                     continue  # the period-n orbit itself
                 return continue_branch(family, p, r.state, 2 * n, lo, hi, cs, ("up",) if side > 0 else ("down",))
     return None
+
+
+def add_branch(
+    family: KHVFamily, p: float, x: np.ndarray, n: int, known: list[Branch], cs: ContinuationSettings, **doubling: Any
+) -> Branch | None:
+    """Continue the period-n orbit through x at p over the family's range unless it lies on a branch of
+    ``known`` (within 1e-3); append it to ``known`` with the branches of its period doublings
+    (:func:`doubled_branches`, keywords ``max_period`` and ``touch``).  Returns the new branch."""
+    cyc = cycle_states(family.flow(p, 1), x, n)
+    if any(b.n == n and on_branch(b, p, cyc, 1e-3) for b in known):
+        return None
+    br = continue_branch(family, p, x, n, family.lo, family.hi, cs)
+    if br is not None:
+        known.append(br)
+        known.extend(doubled_branches(family, br, known, cs, **doubling))
+    return br
+
+
+def doubled_branches(
+    family: KHVFamily,
+    br: Branch,
+    known: list[Branch],
+    cs: ContinuationSettings,
+    max_period: int = 0,
+    touch: float = 0.0,
+    depth: int = 0,
+) -> list[Branch]:
+    """The period-2n branches born at the located period doublings of ``br`` (recursively, 2n <= max_period,
+    five levels); a doubling whose orbit lies on a known period-2n branch (within 1e-2, or with ``touch`` a
+    point of it within ``touch``: :func:`touches`) starts none."""
+    out: list[Branch] = []
+    for bf in br.bifurcations:
+        if bf.kind != "period_doubling" or not bf.located or 2 * br.n > max_period:
+            continue
+        pts = cycle_states(family.flow(bf.p, 1), bf.state, br.n)
+        seen = (b for b in known + out if b.n == 2 * br.n)
+        if any(on_branch(b, bf.p, pts, 1e-2) or (touch and touches(b, bf.p, pts, touch)) for b in seen):
+            continue
+        new = switch_at_period_doubling(family, bf, family.lo, family.hi, cs)
+        if new is None:
+            log.info("no period-%d branch found at the period doubling at %g", 2 * br.n, bf.p)
+            continue
+        log.info("P%d branch switched at %g: %d points, %d bifurcations", new.n, bf.p, len(new), len(new.bifurcations))
+        out.append(new)
+        if depth < 4:
+            out.extend(doubled_branches(family, new, known + out, cs, max_period, touch, depth + 1))
+    return out
+
+
+def touches(br: Branch, p: float, points: np.ndarray, tol: float) -> bool:
+    """True when a point of ``br`` lies within ``tol`` (scaled: the branch's range, max(1, max |x|)) of one of
+    ``points`` at p: a branch that ends at (or was cut just short of) a period doubling it was born at."""
+    span = max(float(np.ptp(br.p)), 1e-12)
+    scale = max(1.0, float(np.max(np.abs(br.states))))
+    dp = np.abs(br.p - p)[:, None] / span
+    dx = np.max(np.abs(br.states[:, None, :] - points[None, :, :]), axis=2) / scale
+    return bool(np.min(np.maximum(dp, dx)) < tol)
