@@ -40,7 +40,6 @@ __all__ = [
     "constraint_info",
     "constraints",
     "describe",
-    "violations",
     "x2_on_overlap_boundary",
     "x2_on_overlap_boundary_many",
 ]
@@ -74,16 +73,8 @@ def constraint_grid(
     min_contact_ratio: float = 1.0,
     cutter: ShaperCutter | None = None,
 ) -> dict[str, FloatArray]:
-    """All constraints as signed margins (>= 0 satisfied); shifts may be broadcasting arrays.
-
-    Keys (internal pair; an external pair uses pinion/wheel and drops the annulus-only rows):
-    ``contact_ratio_margin`` = eps - eps_min (line 1),
-    ``overlap_interference`` = G_s (line 4 boundary; the binding constraint),
-    ``involute_interference_planet``/``_annulus`` (mm, line 2),
-    ``root_interference_planet`` (mm, line 2), ``undercut_planet`` (mm),
-    ``tip_thickness_planet``/``_annulus`` = sa - s_min m (mm, line 3),
-    ``trimming_interference_annulus`` (rad, line 3).
-    """
+    """All constraints as signed margins (>= 0 satisfied); shifts may be broadcasting arrays.  Keys: those
+    of :func:`constraint_info` for the pair's role names (docs/geometry.md, "Lines 1-4 of Fig. 3")."""
     n1, n2 = pair.names
     out: dict[str, FloatArray] = {"contact_ratio_margin": contact_ratio(pair) - min_contact_ratio}
     if pair.internal:
@@ -115,20 +106,12 @@ def constraints(
     min_contact_ratio: float = 1.0,
     cutter: ShaperCutter | None = None,
 ) -> dict[str, float]:
-    """Every constraint of one design as a float margin; >= 0 means satisfied.
-
-    ``min_tip_thickness`` is s_min in modules (0.25 m or 0.4 m are the usual choices).
-    See :func:`constraint_grid` for the names.
-    """
+    """Every constraint of one design as a float margin (>= 0 satisfied); ``min_tip_thickness`` is s_min in
+    modules (0.25 m or 0.4 m are the usual choices)."""
     grid = constraint_grid(
         pair, min_tip_thickness=min_tip_thickness, min_contact_ratio=min_contact_ratio, cutter=cutter
     )
     return {k: float(v) for k, v in grid.items()}
-
-
-def violations(pair: GearPair, **kwargs: Any) -> list[str]:
-    """Names of the constraints that fail (margin < 0 or not a number)."""
-    return [k for k, v in constraints(pair, **kwargs).items() if not v >= 0.0]
 
 
 def describe(pair: GearPair, **kwargs: Any) -> dict[str, float]:
@@ -171,13 +154,9 @@ def _gs_scalar(base: GearPair, x1: float, x2: float) -> float:
 
 
 def x2_on_overlap_boundary(x1: float, base: GearPair, *, xtol: float = 1e-12) -> float:
-    """Annulus shift x2 with G_s(x1, x2) = 0 ("line 4", the design point for a given x1).
-
-    G_s increases with x2 at fixed x1 (larger a' and a larger annulus tip circle pull the tips
-    apart), so the root is bracketed by stepping x2 upwards from x1 - 0.5 and solved with brentq.
-    Raises ``ValueError`` when no root exists: G_s is already positive where the pair first meshes
-    (strongly negative x1), or never changes sign.
-    """
+    """Annulus shift x2 with G_s(x1, x2) = 0 ("line 4", the design point for a given x1): bracketed by
+    stepping x2 up from x1 - 0.5, then brentq (docs/geometry.md, "Lines 1-4 of Fig. 3"); ``ValueError`` when no root
+    exists."""
     if not base.internal:
         raise ValueError("the G_s = 0 boundary applies to internal pairs only")
     lo = float(x1) - 0.5

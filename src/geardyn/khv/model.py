@@ -28,7 +28,6 @@ from typing import Literal
 
 import numpy as np
 
-from geardyn.gears.backlash import backlash
 from geardyn.gears.stiffness import ParabolicStiffness
 from geardyn.solve import base as layout
 
@@ -388,26 +387,6 @@ def natural_frequencies(coeffs: Coefficients) -> np.ndarray:
     k_full = m["K"] + np.outer(m["g"], [0.0, 1.0, 0.0])
     lam = np.linalg.eigvals(k_full)
     return np.sort(np.sqrt(np.abs(lam.real)))
-
-
-def energy(coeffs: Coefficients, y: np.ndarray, kappa: float = 1.0) -> np.ndarray:
-    """Mechanical energy of the relative motion in units of k_mean b_c^2.
-
-    Kinetic energy of the 4 masses minus that of the centre of mass (conserved separately
-    when no external torque acts), plus shaft and mesh potentials (mesh: kappa/2 f(x2)^2,
-    valid for constant kappa; TE must be off for this to be a conserved quantity).
-    """
-    y = np.asarray(y, dtype=float)
-    x1, x2, x3, u1, u2, u3 = np.moveaxis(y, -1, 0)
-    muD, muH, muV, muL = coeffs.mu_D, coeffs.mu_H, coeffs.mu_V, coeffs.mu_L
-    # velocities relative to the carrier: D = u1, H = 0, V = u2, L = u2 - u3
-    vD, vV, vL = u1, u2, u2 - u3
-    mtot = muD + muH + muV + muL
-    p = muD * vD + muV * vV + muL * vL
-    kin = 0.5 * (muD * vD**2 + muV * vV**2 + muL * vL**2) - 0.5 * p**2 / mtot
-    pot = 0.5 * coeffs.k_DH * x1**2 + 0.5 * coeffs.k_VL * x3**2
-    pot = pot + 0.5 * kappa * backlash(x2, coeffs.b) ** 2
-    return kin + pot
 
 
 @functools.lru_cache(maxsize=4096)
