@@ -1,17 +1,6 @@
-"""Closed graph of paper 1 (Li et al. 2013, Fig. 3) computed on an (x1, x2) grid.
-
-The paper names four lines (Sec. 3.2):
-
-* line 1: eps = 1                         -> ``contact_ratio_margin``
-* line 2: no tooth-profile interference   -> ``involute_interference_*``, ``root_interference_*``
-* line 3: no "shortcut" of the gear       -> ``tip_thickness_*``, ``trimming_interference_annulus``
-* line 4: "equal meshing angle"           -> ``overlap_interference`` (G_s = 0)
-
-Line 4 is drawn as G_s = 0, not as a line of constant working pressure angle: the paper's limit
-points M (0.416, 0.601) and N (0.835, 0.995) both lie on G_s = 0 (x2 = 0.60095 and 0.99443), and
-a' falls from 31.0 deg to 29.97 deg between them (docs/geometry.md).
-
-Pure: returns an :class:`xarray.Dataset`; writing it is the caller's job.
+"""Closed graph of paper 1 (Li et al. 2013, Fig. 3) computed on an (x1, x2) grid: lines 1-4 of the paper
+(:data:`LINE_OF`), line 4 being G_s = 0, not a line of constant a' (docs/geometry.md, "Lines 1-4 of
+Fig. 3").  Pure: returns an :class:`xarray.Dataset`; writing it is the caller's job.
 """
 
 from __future__ import annotations
@@ -125,9 +114,19 @@ def closed_graph(
     return ds
 
 
-def _flag_attrs() -> dict[str, Any]:
-    """CF flag attributes of an int8 feasibility variable (a fresh array each time)."""
-    return {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "infeasible feasible"}
+def _flag(dims: str | tuple[str, ...], ok: np.ndarray, long_name: str) -> Any:
+    """An int8 feasibility variable with its CF flag attributes."""
+    flags = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "infeasible feasible"}
+    return cf(dims, np.asarray(ok).astype(np.int8), "1", long_name, **flags)
+
+
+def _mesh_vars(ds: xr.Dataset, pair: geo.GearPair, dims: str | tuple[str, ...], suffix: str, where: str) -> None:
+    """The contact ratio and working pressure angle of ``pair`` as ``contact_ratio<suffix>`` and
+    ``working_pressure_angle<suffix>`` (long names ending in ``where``)."""
+    eps = interference.contact_ratio(pair)
+    ds[f"contact_ratio{suffix}"] = cf(dims, eps, "1", f"transverse contact ratio{where}")
+    aw = np.degrees(geo.working_pressure_angle(pair))
+    ds[f"working_pressure_angle{suffix}"] = cf(dims, aw, "degree", f"working pressure angle a'{where}")
 
 
 def _add_grid(ds: xr.Dataset, grid_pair: geo.GearPair, margins: Mapping[str, np.ndarray]) -> None:
@@ -144,22 +143,12 @@ def _add_grid(ds: xr.Dataset, grid_pair: geo.GearPair, margins: Mapping[str, np.
             cutter_dependent=int(name in CUTTER_DEPENDENT),
             sign_convention=">= 0 satisfied",
         )
-    ds["contact_ratio"] = cf(("x2", "x1"), interference.contact_ratio(grid_pair), "1", "transverse contact ratio")
-    ds["working_pressure_angle"] = cf(
-        ("x2", "x1"), np.degrees(geo.working_pressure_angle(grid_pair)), "degree", "working pressure angle a'"
-    )
-
+    _mesh_vars(ds, grid_pair, ("x2", "x1"), "", "")
     stack = np.stack([ds[n].values for n in margins])
     free = np.stack([ds[n].values for n in margins if n not in CUTTER_DEPENDENT])
-    ds["feasible"] = cf(
-        ("x2", "x1"), np.all(stack >= 0.0, axis=0).astype(np.int8), "1", "all constraints satisfied", **_flag_attrs()
-    )
-    ds["feasible_cutter_free"] = cf(
-        ("x2", "x1"),
-        np.all(free >= 0.0, axis=0).astype(np.int8),
-        "1",
-        "all constraints satisfied except the cutter-dependent ones",
-        **_flag_attrs(),
+    ds["feasible"] = _flag(("x2", "x1"), np.all(stack >= 0.0, axis=0), "all constraints satisfied")
+    ds["feasible_cutter_free"] = _flag(
+        ("x2", "x1"), np.all(free >= 0.0, axis=0), "all constraints satisfied except the cutter-dependent ones"
     )
 
 
@@ -174,21 +163,10 @@ def _add_line4(ds: xr.Dataset, base: geo.GearPair, x1a: np.ndarray, kw: Mapping[
     others_free = np.stack([v for k, v in on_line.items() if k not in (*CUTTER_DEPENDENT, "overlap_interference")])
     ok_line_free = np.all(others_free >= 0.0, axis=0)
     ds["x2_line4"] = cf("x1", x2_l4, "1", "annulus shift x2 on line 4 (G_s = 0)")
-    ds["contact_ratio_line4"] = cf(
-        "x1", interference.contact_ratio(line_pair), "1", "transverse contact ratio on line 4"
-    )
-    ds["working_pressure_angle_line4"] = cf(
-        "x1", np.degrees(geo.working_pressure_angle(line_pair)), "degree", "working pressure angle a' on line 4"
-    )
-    ds["feasible_line4"] = cf(
-        "x1", ok_line.astype(np.int8), "1", "line-4 point satisfying every other constraint", **_flag_attrs()
-    )
-    ds["feasible_line4_cutter_free"] = cf(
-        "x1",
-        ok_line_free.astype(np.int8),
-        "1",
-        "line-4 point satisfying every cutter-independent constraint",
-        **_flag_attrs(),
+    _mesh_vars(ds, line_pair, "x1", "_line4", " on line 4")
+    ds["feasible_line4"] = _flag("x1", ok_line, "line-4 point satisfying every other constraint")
+    ds["feasible_line4_cutter_free"] = _flag(
+        "x1", ok_line_free, "line-4 point satisfying every cutter-independent constraint"
     )
     return ok_line
 
@@ -203,15 +181,7 @@ def _reference_points(ds: xr.Dataset, base: geo.GearPair, points: Mapping[str, t
     ds["paper_x2"] = cf("point", px2, "1", "x2 of the printed limit point")
     ds["computed_x2"] = cf("point", cx2, "1", "computed x2 on G_s = 0 at the paper's x1")
     ds["residual_x2"] = cf("point", cx2 - px2, "1", "computed minus paper x2")
-    ds["contact_ratio_point"] = cf(
-        "point", interference.contact_ratio(pt_pair), "1", "transverse contact ratio at the computed point"
-    )
-    ds["working_pressure_angle_point"] = cf(
-        "point",
-        np.degrees(geo.working_pressure_angle(pt_pair)),
-        "degree",
-        "working pressure angle a' at the computed point",
-    )
+    _mesh_vars(ds, pt_pair, "point", "_point", " at the computed point")
     ds["working_centre_distance_point"] = cf(
         "point", geo.working_centre_distance(pt_pair), "mm", "working centre distance a' at the computed point"
     )

@@ -207,7 +207,10 @@ def meshing_problem(pair: geometry.GearPair) -> str | None:
     )
 
 
-def _violations(values: dict[str, Any], bad: list[str]) -> str:
+def _infeasible(pair: geometry.GearPair, min_tip: float, enforce_cutter: bool, cutter: geometry.ShaperCutter) -> str:
+    """The constraints ``pair`` violates (:func:`violated_constraints`) with their margins, in words ('' if none)."""
+    bad = violated_constraints(pair, min_tip, enforce_cutter, cutter)
+    values = constraints.constraints(pair, min_tip_thickness=min_tip, cutter=cutter) if bad else {}
     return ", ".join(
         f"{name} = {float(values[name]):.4g} (needs >= 0)"
         if math.isfinite(float(values[name]))
@@ -243,15 +246,14 @@ def from_dict(raw: dict[str, Any], where: str = "design", check: bool = True) ->
     problem = meshing_problem(base)
     if problem and check:
         raise ConfigError(f"{where}: design point {problem}")
-    if adm["check_feasibility"] and check:
-        bad = violated_constraints(base, adm["min_tip_thickness"], adm["enforce_cutter_constraints"], cutter)
-        if bad:
-            values = constraints.constraints(base, min_tip_thickness=adm["min_tip_thickness"], cutter=cutter)
-            detail = _violations(values, bad)
-            raise ConfigError(
-                f"{where}: design point (x1, x2) = ({base.x1:.4f}, {base.x2:.4f}) is outside the "
-                f"feasible region: {detail}"
-            )
+    feasibility = adm["check_feasibility"] and check
+    detail = (
+        _infeasible(base, adm["min_tip_thickness"], adm["enforce_cutter_constraints"], cutter) if feasibility else ""
+    )
+    if detail:
+        raise ConfigError(
+            f"{where}: design point (x1, x2) = ({base.x1:.4f}, {base.x2:.4f}) is outside the feasible region: {detail}"
+        )
     return KHVDesign(
         name=raw["name"],
         title=raw.get("title", ""),
@@ -269,45 +271,30 @@ def from_dict(raw: dict[str, Any], where: str = "design", check: bool = True) ->
 
 
 def check_segment(design: KHVDesign, where: str = "design", points: int = 11) -> None:
-    """Refuse a design whose admissible segment M-N leaves the region the model can run in.
-
-    Checks ``points`` evenly spaced x1 from ``x1_min`` to ``x1_max`` (ends included): x2 exists on
-    line 4, the contact ratio is in [1, 2) (paper 1 Eq. 9), and, with ``check_feasibility``, no
-    closed-graph constraint is violated. Sweeps, point runs and calibrations stay inside the segment
-    (checked in :mod:`geardyn.config`), so this is what keeps them inside the feasible region.
-    """
+    """Refuse a design whose admissible segment M-N leaves the region the model can run in: at ``points``
+    evenly spaced x1 (ends included) x2 exists on line 4, eps is in [1, 2) (Eq. 9) and, with
+    ``check_feasibility``, no closed-graph constraint is violated (runs stay inside the segment)."""
     adm = design.raw["admissible"]
     for x1 in np.linspace(design.x1_min, design.x1_max, points):
+        leaves = f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the"
+        covers = f"{leaves} region the model covers at x1 = {x1:.4f}: "
         try:
             pair = pair_at(design, x1)
         except (ValueError, RuntimeError) as err:
-            raise ConfigError(
-                f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
-                f"region the model covers at x1 = {x1:.4f}: no x2 on line 4 (G_s = 0): {err}"
-            ) from None
+            raise ConfigError(f"{covers}no x2 on line 4 (G_s = 0): {err}") from None
         problem = meshing_problem(pair)
         if problem:
-            raise ConfigError(
-                f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
-                f"region the model covers at x1 = {x1:.4f}: {problem}"
-            )
+            raise ConfigError(covers + problem)
         try:
             mesh_properties(design, x1)
         except (ValueError, RuntimeError) as err:  # ConfigError is a ValueError
-            reason = str(err).split(": ", 1)[-1] if isinstance(err, ConfigError) else str(err)
             raise ConfigError(
-                f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
-                f"region the model covers at x1 = {x1:.4f}: {reason}"
+                covers + (str(err).split(": ", 1)[-1] if isinstance(err, ConfigError) else str(err))
             ) from None
-        if adm["check_feasibility"]:
-            bad = violated_constraints(pair, design.min_tip_thickness, design.enforce_cutter_constraints, design.cutter)
-            if bad:
-                values = constraints.constraints(pair, min_tip_thickness=design.min_tip_thickness, cutter=design.cutter)
-                detail = _violations(values, bad)
-                raise ConfigError(
-                    f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
-                    f"feasible region at x1 = {x1:.4f}: {detail}"
-                )
+        if adm["check_feasibility"] and (
+            detail := _infeasible(pair, design.min_tip_thickness, design.enforce_cutter_constraints, design.cutter)
+        ):
+            raise ConfigError(f"{leaves} feasible region at x1 = {x1:.4f}: {detail}")
 
 
 def _read(path: str | Path) -> dict[str, Any]:

@@ -1,22 +1,7 @@
-"""The KHV torsional model of paper 1 (Li et al. 2013, Eqs. 1-6 and 11-16), corrected.
+"""The KHV torsional model of paper 1 (Li et al. 2013, Eqs. 1-6 and 11-16), corrected (docs/model.md).
 
-Physical model (Eq. 2), line-of-action coordinates X_D = theta_D r_bH, X_H = theta_H r_bH,
-X_V = theta_V r_bV, X_L = theta_L r_bV (Eq. 1)::
-
-    M_D X_D'' + F_DH                 = P_D
-    M_H X_H'' - F_DH - F_m           = 0
-    M_V X_V'' + F_VL + F_m           = 0
-    M_L X_L'' - F_VL                 = -P_L
-
-with F_DH = k_DH X_DH + c_DH X_DH', F_VL = k_VL X_VL + c_VL X_VL' and the mesh force
-F_m = k_m(t) f(X_VH, b) + c_m X_VH', X_VH = X_V - X_H - e(t) (Eq. 3).  The relative 3-DOF form
-(Eq. 4 corrected: no extra ``- e'`` in the first and third lines, reduced mass M_VH in the
-second) and its dimensionless version (Eq. 13) are derived in ``docs/model.md``.
-
-Everything dimensionless is produced by ONE function, :func:`dimensionless`, and held in the
-frozen :class:`Coefficients`, which can be stored (``as_dict``) and rebuilt (``from_dict``).
-Scales: displacement b_c = 1 um, time 1/w_n with w_n = sqrt(k_mean / M_VH), force
-M_VH w_n^2 b_c = k_mean b_c, energy k_mean b_c^2.
+Everything dimensionless is made by ONE function, :func:`dimensionless`, and held in the frozen
+:class:`Coefficients` (stored with ``as_dict``, rebuilt with ``from_dict``).
 """
 
 from __future__ import annotations
@@ -41,23 +26,8 @@ StiffnessMode = Literal["time_varying", "mean"]
 
 @dataclass(frozen=True)
 class KHVParameters:
-    """Physical parameters of the KHV drive (SI units unless stated).
-
-    Mesh inputs (plain numbers, computed elsewhere from the geometry):
-      eps  contact ratio (-), k_c pitch-point single-pair stiffness (N/m, Eq. 7),
-      r_bV planet base radius (m), r_bH carrier radius a cos(alpha) (m).
-
-    Every field is required: a design states them (``dynamics.parameters`` of its file), and a
-    paper's values live in :mod:`geardyn.papers`, never here.
-
-    Shaft stiffnesses are torsional (N m / rad); ``k_DH = K_DH / r_bH^2`` and
-    ``k_VL = K_VL / r_bV^2`` on the line of action.  Damping: c_m = 2 zeta sqrt(k_mean M_VH),
-    c_DH = 2 eta sqrt(k_DH M_DH), c_VL = 2 eta sqrt(k_VL M_VL).
-
-    Mesh frequency: with the annulus fixed, w_m = z_annulus * (input speed); in
-    ``frequency_mode="physical"`` the input speed ``input_speed_rpm`` is held, in
-    ``"dimensionless"`` w_m / w_n = ``omega_bar`` is held.
-    """
+    """Physical parameters of the KHV drive (SI units; docs/model.md, "Parameters"): every field required, a
+    design states them and a paper's values live in :mod:`geardyn.papers`."""
 
     eps: float
     k_c: float
@@ -132,14 +102,8 @@ COEFFICIENT_ATTRS = {
 
 @dataclass(frozen=True)
 class Coefficients:
-    """Every dimensionless number of the model (paper 1 Eq. 13, corrected); hashable and storable.
-
-    Masses are given relative to M_VH (``mu_*``), stiffnesses relative to k_mean, damping
-    relative to M_VH w_n, forces relative to k_mean b_c, lengths relative to b_c.
-    The mesh stiffness is k_m(tau) = k_mean kappa(s), s = tau / T the mesh phase,
-    kappa = k(s) / k_mean from :class:`~geardyn.stiffness.ParabolicStiffness` (mean 1),
-    or kappa = 1 when ``stiffness_mode == "mean"``.
-    """
+    """Every dimensionless number of the model (paper 1 Eq. 13, corrected; docs/model.md, section 3);
+    hashable and storable."""
 
     mu_D: float
     mu_H: float
@@ -213,12 +177,8 @@ class Coefficients:
         return np.where(first, np.polyval(p[0], s), np.polyval(p[1], s))
 
     def matrices(self) -> dict[str, np.ndarray | float]:
-        """The 3-DOF dimensionless system (Eq. 16) x'' + C x' + K x + g (kappa f(x2) + c_m x2') = p.
-
-        x = (X_DH, X_VH, X_VL) / b_c.  Returns K (3x3, shafts only), C (3x3, shafts only),
-        g (mesh coupling, g[1] = 1), p (constant loads) and ``te`` (amplitude of the
-        e_bar omega^2 sin(omega tau + phi) forcing of the second row).
-        """
+        """The 3-DOF dimensionless system (Eq. 16, docs/model.md section 3): K, C (3x3, shafts only), g (mesh
+        coupling), p (constant loads) and ``te`` (the TE forcing amplitude of the second row)."""
         mu_DH = self.mu_D * self.mu_H / (self.mu_D + self.mu_H)
         mu_VL = self.mu_V * self.mu_L / (self.mu_V + self.mu_L)
         K = np.array(
@@ -271,28 +231,11 @@ class Coefficients:
     @functools.cached_property
     def _kernel_array(self) -> np.ndarray:
         m = self.matrices()
-        K, C, g, p = m["K"], m["C"], m["g"], m["p"]
-        values = {
-            "K11": K[0, 0],
-            "C11": C[0, 0],
-            "G1": g[0],
-            "P1": p[0],
-            "K21": K[1, 0],
-            "C21": C[1, 0],
-            "K23": K[1, 2],
-            "C23": C[1, 2],
-            "K33": K[2, 2],
-            "C33": C[2, 2],
-            "G3": g[2],
-            "P3": p[2],
-            "CM": self.c_m,
-            "B": self.b,
-            "TE": self.te_forcing,
-            "PHI": self.phi,
-            "T": self.period,
-            "BACKLASH_ON": 1.0 if self.backlash_on else 0.0,
-            "EPS": self.eps,
-        }
+        # LAYOUT names matrix entries by letter and 1-based indices: K21 is K[1, 0], G3 is g[2]
+        values = {f"{n}{i + 1}{j + 1}": m[n][i, j] for n in "KC" for i in range(3) for j in range(3)}
+        values |= {f"{n.upper()}{i + 1}": m[n][i] for n in "gp" for i in range(3)}
+        values |= {"CM": self.c_m, "B": self.b, "TE": self.te_forcing, "PHI": self.phi, "T": self.period}
+        values |= {"BACKLASH_ON": 1.0 if self.backlash_on else 0.0, "EPS": self.eps}
         return np.array([values[name] for name in layout.LAYOUT], dtype=np.float64)
 
 
@@ -312,11 +255,8 @@ def physical_masses(params: KHVParameters) -> dict[str, float]:
 
 
 def dimensionless(params: KHVParameters, options: Options = Options()) -> Coefficients:
-    """All dimensionless coefficients of the corrected Eq. (13)-(16).
-
-    w_n = sqrt(k_mean / M_VH) with k_mean the exact mean of the chosen stiffness form
-    (corrected: 8/9 eps k_C, not the printed 0.866268 eps k_C of Eq. 10).
-    """
+    """All dimensionless coefficients of the corrected Eq. (13)-(16); w_n = sqrt(k_mean / M_VH) with k_mean
+    the exact mean of the chosen stiffness form (docs/model.md, section 3)."""
     ms = physical_masses(params)
     M_VH = ms["M_VH"]
     k_mean = params.stiffness(options.stiffness_form).mean()
@@ -378,11 +318,8 @@ _BALANCE_FIELDS = frozenset({"mu_D", "mu_H", "mu_V", "mu_L", "k_DH", "k_VL", "P_
 
 
 def natural_frequencies(coeffs: Coefficients) -> np.ndarray:
-    """Undamped natural frequencies of the linearised 3-DOF system in contact (mean stiffness kappa = 1,
-    no backlash), ascending, in units of w_n (dimensionless, comparable with the mesh frequency w).
-
-    The square roots of the eigenvalues of K + g e2^T (:meth:`Coefficients.matrices`, mass-normalised);
-    the rigid-body mode of the 4-DOF drive is not among them (relative coordinates)."""
+    """Undamped natural frequencies (units of w_n, ascending) of the linearised 3-DOF system in contact
+    (kappa = 1, no backlash): square roots of the eigenvalues of K + g e2^T (no rigid-body mode)."""
     m = coeffs.matrices()
     k_full = m["K"] + np.outer(m["g"], [0.0, 1.0, 0.0])
     lam = np.linalg.eigvals(k_full)

@@ -1,15 +1,6 @@
-"""From a KHV design file to the dimensionless model at one operating point.
-
-A point is the design plus *overrides* of control parameters, in the units a user thinks in:
-
-=========  ==========================================================================
-``x1``     planet profile shift (-); x2 follows line 4, eps and k_C follow x1
-``b``      half backlash in um (= dimensionless b with b_c = 1 um)
-``e``      transmission-error amplitude in um
-``w``      dimensionless mesh frequency w_m / w_n (``frequency_mode: dimensionless``)
-``speed``  input speed in rpm (``frequency_mode: physical``)
-any other  a field of :class:`geardyn.model.KHVParameters` in SI units (e.g. ``K_DH``)
-=========  ==========================================================================
+"""From a KHV design file to the dimensionless model at one operating point: the design plus overrides of
+control parameters (:data:`CONTROLS`: x1, b and e in um, w, speed in rpm) or of any field of
+:class:`~geardyn.khv.model.KHVParameters` in SI units (e.g. ``K_DH``); x2, eps and k_C follow x1.
 """
 
 from __future__ import annotations
