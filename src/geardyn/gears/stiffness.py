@@ -120,10 +120,6 @@ class ParabolicStiffness:
     def zone_poly(self, m: int) -> tuple[float, float, float]:
         """(a, b, c) of a s^2 + b s + c: the sum of the single-pair parabolas of m pairs at t = s + j."""
         a, b, c = self.a, self.b, self.c
-        if m == 1:
-            return (a, b, c)
-        if m == 2:
-            return (2 * a, 2 * (a + b), a + b + 2 * c)
         sj = m * (m - 1) / 2.0
         sj2 = (m - 1) * m * (2 * m - 1) / 6.0
         return (m * a, 2 * a * sj + m * b, a * sj2 + b * sj + m * c)

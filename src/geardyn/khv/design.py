@@ -39,21 +39,40 @@ class StiffnessOptions:
 
 
 @dataclass(frozen=True)
-class KHVDesign:
-    """A validated KHV design (paper 1 type)."""
+class DesignHeader:
+    """What a job that only reads results needs of a KHV design: its name, title, paper (the key of the paper
+    it reproduces in geardyn.papers, or None), stiffness options (the model variant) and the validated file
+    with defaults (provenance)."""
 
     name: str
     title: str
+    paper: str | None
+    stiffness: StiffnessOptions
+    raw: dict[str, Any]
+
+    @staticmethod
+    def fields_of(raw: dict[str, Any]) -> dict[str, Any]:
+        """The header fields of a schema-validated design file."""
+        return {
+            "name": raw["name"],
+            "title": raw.get("title", ""),
+            "paper": raw.get("paper"),
+            "stiffness": StiffnessOptions(**raw["stiffness"]),
+            "raw": raw,
+        }
+
+
+@dataclass(frozen=True)
+class KHVDesign(DesignHeader):
+    """A validated KHV design (paper 1 type): the header and the geometry."""
+
     base: geometry.GearPair  # x1, x2 of the configured design point
     x1_min: float
     x1_max: float
     min_tip_thickness: float
     cutter: geometry.ShaperCutter
     enforce_cutter_constraints: bool
-    stiffness: StiffnessOptions
-    paper: str | None  # key of the paper this design reproduces (geardyn.papers), or None
     dynamics: dict[str, Any]
-    raw: dict[str, Any]  # the validated file with defaults, for provenance
 
     @property
     def segment(self) -> tuple[float, float]:
@@ -255,18 +274,14 @@ def from_dict(raw: dict[str, Any], where: str = "design", check: bool = True) ->
             f"{where}: design point (x1, x2) = ({base.x1:.4f}, {base.x2:.4f}) is outside the feasible region: {detail}"
         )
     return KHVDesign(
-        name=raw["name"],
-        title=raw.get("title", ""),
+        **DesignHeader.fields_of(raw),
         base=base,
         x1_min=adm["x1_min"],
         x1_max=adm["x1_max"],
         min_tip_thickness=adm["min_tip_thickness"],
         cutter=cutter,
         enforce_cutter_constraints=adm["enforce_cutter_constraints"],
-        stiffness=StiffnessOptions(**raw["stiffness"]),
-        paper=raw.get("paper"),
         dynamics=raw.get("dynamics", {}),
-        raw=raw,
     )
 
 
@@ -310,31 +325,13 @@ def load(path: str | Path) -> KHVDesign:
     return from_dict(_read(path), str(path))
 
 
-@dataclass(frozen=True)
-class DesignHeader:
-    """What a job that only reads results needs of a KHV design: its name, title, paper, stiffness options
-    (the model variant) and the validated file (provenance), as :class:`KHVDesign` has them."""
-
-    name: str
-    title: str
-    paper: str | None
-    stiffness: StiffnessOptions
-    raw: dict[str, Any]
-
-
 def header(path: str | Path) -> DesignHeader:
     """The :class:`DesignHeader` of a KHV design file: schema-validated, without the geometry (no profile
     shift is solved, so the jobs that merge, draw and tabulate start without scipy's root finders).  The
     workflow checks every design in full (:func:`load`) before any job runs."""
     raw = _read(path)
     _check(raw, str(path))
-    return DesignHeader(
-        name=raw["name"],
-        title=raw.get("title", ""),
-        paper=raw.get("paper"),
-        stiffness=StiffnessOptions(**raw["stiffness"]),
-        raw=raw,
-    )
+    return DesignHeader(**DesignHeader.fields_of(raw))
 
 
 def figure_x1(

@@ -165,14 +165,9 @@ def ranked_score(record: Record, require: str | None = None) -> float:
 
 
 def paper_regime_string(paper: ModuleType) -> str:
-    return regime_string(
-        np.array(
-            [
-                claims_mod.code(lab) if not isinstance(claims_mod.code(lab), tuple) else claims_mod.code(lab)[0]
-                for _, _, lab in paper.SEQUENCE
-            ]
-        )
-    )
+    """The regime string of the paper's ``SEQUENCE`` (a label with several codes counts by its first)."""
+    codes = [claims_mod.code(lab) for _, _, lab in paper.SEQUENCE]
+    return regime_string(np.array([c[0] if isinstance(c, tuple) else c for c in codes]))
 
 
 def lcs(a: str, b: str) -> int:

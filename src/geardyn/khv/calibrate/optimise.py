@@ -33,13 +33,8 @@ def refine(
     steps = sorted(steps, reverse=True)
     rank = functools.partial(ranked_score, require=evaluator.problem.require)
     while k < len(steps) and done < rounds:
-        units = []
-        for u in space.unknowns:
-            for sign in (-1.0, 1.0):
-                v = dict(best.values)
-                v[u.name] = perturbed(v[u.name], u, sign * steps[k])
-                units.append(list(space.unit(v)))
-        recs = evaluator.records(units)
+        moves = [{u.name: perturbed(best.values[u.name], u, s * steps[k])} for u in space.unknowns for s in (-1.0, 1.0)]
+        recs = evaluator.records(space.moved(best.values, moves))
         cand = max(recs, key=rank)
         if rank(cand) > rank(best):
             best, done = cand, done + 1

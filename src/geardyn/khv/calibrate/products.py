@@ -29,41 +29,23 @@ def records_dataset(records: Sequence[Record], space: SearchSpace, grids: Grids)
     n = len(records)
     main = grids.lines[grids.main]
     par = main.parameter
-    data: dict = {
-        "score": cf(
-            "candidate", np.array([r.score for r in records]), "1", "claims that agree + 0.99 * partial credit"
-        ),
-        "agree": cf(
-            "candidate",
-            np.array([r.agree for r in records], np.int16),
-            "1",
-            "claims that agree (of those the labels decide)",
-        ),
-        "partial": cf(
-            "candidate",
-            np.array([r.partial for r in records]),
-            "1",
-            "partial credit: transition positions and regime order",
-        ),
-        "leave_p1": cf(
-            "candidate",
-            np.array([r.transitions["leave_p1"] for r in records]),
-            point.units_of(par),
-            f"first {par} not P1",
-        ),
-        "first_chaos": cf(
-            "candidate",
-            np.array([r.transitions["first_chaos"] for r in records]),
-            point.units_of(par),
-            f"first chaotic {par}",
-        ),
-        "label": cf(
-            ("candidate", par),
-            np.array([r.labels[grids.main] for r in records], np.int16).reshape(n, main.values.size),
-            "1",
-            f"motion label along {par} after the slow-transient check (geardyn.classify codes)",
-        ),
+    columns = {  # name: (value of a record, dtype, units, long name)
+        "score": (lambda r: r.score, None, "1", "claims that agree + 0.99 * partial credit"),
+        "agree": (lambda r: r.agree, np.int16, "1", "claims that agree (of those the labels decide)"),
+        "partial": (lambda r: r.partial, None, "1", "partial credit: transition positions and regime order"),
+        "leave_p1": (lambda r: r.transitions["leave_p1"], None, point.units_of(par), f"first {par} not P1"),
+        "first_chaos": (lambda r: r.transitions["first_chaos"], None, point.units_of(par), f"first chaotic {par}"),
     }
+    data: dict = {
+        name: cf("candidate", np.array([value(r) for r in records], dtype), units, long_name)
+        for name, (value, dtype, units, long_name) in columns.items()
+    }
+    data["label"] = cf(
+        ("candidate", par),
+        np.array([r.labels[grids.main] for r in records], np.int16).reshape(n, main.values.size),
+        "1",
+        f"motion label along {par} after the slow-transient check (geardyn.classify codes)",
+    )
     for u in space.unknowns:
         data[u.name] = cf(
             "candidate",
