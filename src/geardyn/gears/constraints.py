@@ -11,38 +11,8 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import ArrayLike
 
-from geardyn.gears.geometry import (
-    FloatArray,
-    GearPair,
-    ShaperCutter,
-    base_diameters,
-    centre_distance_modification,
-    reference_centre_distance,
-    root_diameters,
-    shifts,
-    tip_diameters,
-    working_centre_distance,
-    working_pressure_angle,
-)
-from geardyn.gears.interference import (
-    contact_ratio,
-    involute_interference,
-    overlap_interference,
-    radial_interference,
-    root_interference,
-    tip_thickness,
-    trimming_interference,
-    undercut_margin,
-)
-
-__all__ = [
-    "constraint_grid",
-    "constraint_info",
-    "constraints",
-    "describe",
-    "x2_on_overlap_boundary",
-    "x2_on_overlap_boundary_many",
-]
+from geardyn.gears import geometry as geo
+from geardyn.gears import interference as itf
 
 # --------------------------------------------------------------------------------------------
 # Constraint set
@@ -67,44 +37,44 @@ def constraint_info(name: str) -> tuple[str, str]:
 
 
 def constraint_grid(
-    pair: GearPair,
+    pair: geo.GearPair,
     *,
     min_tip_thickness: float = 0.25,
     min_contact_ratio: float = 1.0,
-    cutter: ShaperCutter | None = None,
-) -> dict[str, FloatArray]:
+    cutter: geo.ShaperCutter | None = None,
+) -> dict[str, geo.FloatArray]:
     """All constraints as signed margins (>= 0 satisfied); shifts may be broadcasting arrays.  Keys: those
     of :func:`constraint_info` for the pair's role names (docs/geometry.md, "Lines 1-4 of Fig. 3")."""
     n1, n2 = pair.names
-    out: dict[str, FloatArray] = {"contact_ratio_margin": contact_ratio(pair) - min_contact_ratio}
+    out: dict[str, geo.FloatArray] = {"contact_ratio_margin": itf.contact_ratio(pair) - min_contact_ratio}
     if pair.internal:
-        out["overlap_interference"] = overlap_interference(pair)
-    i1, i2 = involute_interference(pair)
+        out["overlap_interference"] = itf.overlap_interference(pair)
+    i1, i2 = itf.involute_interference(pair)
     out[f"involute_interference_{n1}"] = i1
     out[f"involute_interference_{n2}"] = i2
-    r1, r2 = root_interference(pair, cutter)
-    u1, u2 = undercut_margin(pair)
+    r1, r2 = itf.root_interference(pair, cutter)
+    u1, u2 = itf.undercut_margin(pair)
     out[f"root_interference_{n1}"] = r1
     out[f"root_interference_{n2}"] = r2
     out[f"undercut_{n1}"] = u1
     if not pair.internal:
         out[f"undercut_{n2}"] = u2
-    sa1, sa2 = tip_thickness(pair)
+    sa1, sa2 = itf.tip_thickness(pair)
     smin = min_tip_thickness * pair.module
-    out[f"tip_thickness_{n1}"] = cast(FloatArray, sa1 - smin)
-    out[f"tip_thickness_{n2}"] = cast(FloatArray, sa2 - smin)
+    out[f"tip_thickness_{n1}"] = cast(geo.FloatArray, sa1 - smin)
+    out[f"tip_thickness_{n2}"] = cast(geo.FloatArray, sa2 - smin)
     if pair.internal:
-        out["trimming_interference_annulus"] = trimming_interference(pair, cutter)
-    shape = np.broadcast(*shifts(pair)).shape
-    return {k: cast(FloatArray, np.broadcast_to(np.asarray(v, dtype=float), shape)) for k, v in out.items()}
+        out["trimming_interference_annulus"] = itf.trimming_interference(pair, cutter)
+    shape = np.broadcast(*geo.shifts(pair)).shape
+    return {k: cast(geo.FloatArray, np.broadcast_to(np.asarray(v, dtype=float), shape)) for k, v in out.items()}
 
 
 def constraints(
-    pair: GearPair,
+    pair: geo.GearPair,
     *,
     min_tip_thickness: float = 0.25,
     min_contact_ratio: float = 1.0,
-    cutter: ShaperCutter | None = None,
+    cutter: geo.ShaperCutter | None = None,
 ) -> dict[str, float]:
     """Every constraint of one design as a float margin (>= 0 satisfied); ``min_tip_thickness`` is s_min in
     modules (0.25 m or 0.4 m are the usual choices)."""
@@ -114,20 +84,20 @@ def constraints(
     return {k: float(v) for k, v in grid.items()}
 
 
-def describe(pair: GearPair, **kwargs: Any) -> dict[str, float]:
+def describe(pair: geo.GearPair, **kwargs: Any) -> dict[str, float]:
     """Derived geometry of one design for ``geardyn check-design`` (mm, deg, -)."""
-    aw = float(working_pressure_angle(pair))
-    da1, da2 = tip_diameters(pair)
-    df1, df2 = root_diameters(pair)
-    sa1, sa2 = tip_thickness(pair)
-    db1, db2 = base_diameters(pair)
+    aw = float(geo.working_pressure_angle(pair))
+    da1, da2 = geo.tip_diameters(pair)
+    df1, df2 = geo.root_diameters(pair)
+    sa1, sa2 = itf.tip_thickness(pair)
+    db1, db2 = geo.base_diameters(pair)
     out: dict[str, float] = {
-        "reference_centre_distance_mm": reference_centre_distance(pair),
+        "reference_centre_distance_mm": geo.reference_centre_distance(pair),
         "working_pressure_angle_deg": math.degrees(aw),
         "cos_working_pressure_angle": math.cos(aw),
-        "working_centre_distance_mm": float(working_centre_distance(pair)),
-        "centre_distance_modification": float(centre_distance_modification(pair)),
-        "contact_ratio": float(contact_ratio(pair)),
+        "working_centre_distance_mm": float(geo.working_centre_distance(pair)),
+        "centre_distance_modification": float(geo.centre_distance_modification(pair)),
+        "contact_ratio": float(itf.contact_ratio(pair)),
         "da1_mm": float(da1),
         "da2_mm": float(da2),
         "df1_mm": float(df1),
@@ -138,8 +108,8 @@ def describe(pair: GearPair, **kwargs: Any) -> dict[str, float]:
         "sa2_mm": float(sa2),
     }
     if pair.internal:
-        out["overlap_interference_Gs"] = float(overlap_interference(pair))
-        out["radial_interference_assembly"] = float(radial_interference(pair))
+        out["overlap_interference_Gs"] = float(itf.overlap_interference(pair))
+        out["radial_interference_assembly"] = float(itf.radial_interference(pair))
     out.update({f"margin_{k}": v for k, v in constraints(pair, **kwargs).items()})
     return out
 
@@ -149,11 +119,11 @@ def describe(pair: GearPair, **kwargs: Any) -> dict[str, float]:
 # --------------------------------------------------------------------------------------------
 
 
-def _gs_scalar(base: GearPair, x1: float, x2: float) -> float:
-    return float(overlap_interference(dataclasses.replace(base, x1=x1, x2=x2)))
+def _gs_scalar(base: geo.GearPair, x1: float, x2: float) -> float:
+    return float(itf.overlap_interference(dataclasses.replace(base, x1=x1, x2=x2)))
 
 
-def x2_on_overlap_boundary(x1: float, base: GearPair, *, xtol: float = 1e-12) -> float:
+def x2_on_overlap_boundary(x1: float, base: geo.GearPair, *, xtol: float = 1e-12) -> float:
     """Annulus shift x2 with G_s(x1, x2) = 0 ("line 4", the design point for a given x1): bracketed by
     stepping x2 up from x1 - 0.5, then brentq (docs/geometry.md, "Lines 1-4 of Fig. 3"); ``ValueError`` when no root
     exists."""
@@ -180,8 +150,8 @@ def x2_on_overlap_boundary(x1: float, base: GearPair, *, xtol: float = 1e-12) ->
     return float(brentq(lambda x2: _gs_scalar(base, x1, x2), lo, hi, xtol=xtol, rtol=4 * np.finfo(float).eps))
 
 
-def x2_on_overlap_boundary_many(x1: ArrayLike, base: GearPair) -> FloatArray:
+def x2_on_overlap_boundary_many(x1: ArrayLike, base: geo.GearPair) -> geo.FloatArray:
     """Vectorised :func:`x2_on_overlap_boundary` (one brentq per x1 value)."""
     arr = np.asarray(x1, dtype=float)
     out = np.array([x2_on_overlap_boundary(float(v), base) for v in arr.ravel()])
-    return cast(FloatArray, out.reshape(arr.shape))
+    return cast(geo.FloatArray, out.reshape(arr.shape))

@@ -18,26 +18,6 @@ from geardyn import libm
 
 FloatArray = NDArray[np.float64]
 
-__all__ = [
-    "FloatArray",
-    "GearPair",
-    "ShaperCutter",
-    "base_diameters",
-    "centre_distance_modification",
-    "inverse_involute",
-    "involute",
-    "pitch_diameters",
-    "pressure_angle_at",
-    "reference_centre_distance",
-    "root_diameters",
-    "shifts",
-    "tip_diameters",
-    "tip_pressure_angles",
-    "with_shifts",
-    "working_centre_distance",
-    "working_pressure_angle",
-]
-
 
 @dataclass(frozen=True)
 class GearPair:
