@@ -14,9 +14,7 @@ from numpy.typing import ArrayLike
 from geardyn.gears import geometry as geo
 from geardyn.gears import interference as itf
 
-# --------------------------------------------------------------------------------------------
-# Constraint set
-# --------------------------------------------------------------------------------------------
+# --- Constraint set ---
 
 #: name -> (units, long_name); filled for both internal and external role names.
 _INFO: dict[str, tuple[str, str]] = {
@@ -114,9 +112,7 @@ def describe(pair: geo.GearPair, **kwargs: Any) -> dict[str, float]:
     return out
 
 
-# --------------------------------------------------------------------------------------------
-# Line 4: the G_s = 0 boundary
-# --------------------------------------------------------------------------------------------
+# --- Line 4: the G_s = 0 boundary ---
 
 
 def _gs_scalar(base: geo.GearPair, x1: float, x2: float) -> float:

@@ -132,9 +132,7 @@ def shifts(pair: GearPair) -> tuple[FloatArray, FloatArray]:
     return np.asarray(pair.x1, dtype=float), np.asarray(pair.x2, dtype=float)
 
 
-# --------------------------------------------------------------------------------------------
-# Centre distance and pressure angle
-# --------------------------------------------------------------------------------------------
+# --- Centre distance and pressure angle ---
 
 
 def reference_centre_distance(pair: GearPair) -> float:
@@ -164,9 +162,7 @@ def centre_distance_modification(pair: GearPair) -> FloatArray:
     return cast(FloatArray, (working_centre_distance(pair) - reference_centre_distance(pair)) / pair.module)
 
 
-# --------------------------------------------------------------------------------------------
-# Diameters
-# --------------------------------------------------------------------------------------------
+# --- Diameters ---
 
 
 def pitch_diameters(pair: GearPair) -> tuple[float, float]:

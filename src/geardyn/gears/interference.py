@@ -14,9 +14,7 @@ from numpy.typing import ArrayLike
 from geardyn import libm
 from geardyn.gears import geometry as geo
 
-# --------------------------------------------------------------------------------------------
-# Contact ratio and interference
-# --------------------------------------------------------------------------------------------
+# --- Contact ratio and interference ---
 
 
 def contact_ratio(pair: geo.GearPair) -> geo.FloatArray:

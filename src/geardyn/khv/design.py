@@ -102,20 +102,13 @@ class MeshProperties:
         return stiffness.ParabolicStiffness(self.contact_ratio, self.k_prime, form)
 
 
+#: The keys of a design file's ``pair`` that are :class:`~geardyn.gears.geometry.GearPair` fields as they are.
+_PAIR_KEYS = ("z1", "z2", "module", "x1", "pressure_angle_deg", "addendum", "clearance", "facewidth")
+
+
 def _pair_from(raw: dict[str, Any], x2: float) -> geometry.GearPair:
-    p = raw["pair"]
-    return geometry.GearPair(
-        z1=p["z1"],
-        z2=p["z2"],
-        module=p["module"],
-        x1=p["x1"],
-        x2=x2,
-        pressure_angle_deg=p["pressure_angle_deg"],
-        addendum=p["addendum"],
-        clearance=p["clearance"],
-        internal=True,
-        facewidth=p["facewidth"],
-    )
+    """The internal pair of a design file with annulus shift ``x2``."""
+    return geometry.GearPair(**{k: raw["pair"][k] for k in _PAIR_KEYS}, x2=x2, internal=True)
 
 
 def x2_for(design: KHVDesign, x1: float) -> float:

@@ -15,7 +15,6 @@ from geardyn.khv.calibrate.objective import (
     requirement_text,
     route_in,
     score_labels,
-    shows_route,
     transitions,
 )
 from geardyn.khv.calibrate.optimise import problem_from_config, search, verified_choice
@@ -61,7 +60,6 @@ __all__ = [
     "search_result",
     "search_table",
     "sensitivity",
-    "shows_route",
     "transitions",
     "verified_choice",
 ]

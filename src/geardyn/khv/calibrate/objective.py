@@ -132,11 +132,6 @@ def route_in(order: str) -> bool:
     return re.match(r"1[Qn]+C", order) is not None
 
 
-def shows_route(labels: np.ndarray) -> bool:
-    """Whether labels along a line go from period-1 through non-period-1 motion into chaos (:func:`route_in`)."""
-    return route_in(regime_string(np.asarray(labels)))
-
-
 #: Requirements a search can place on a candidate besides its score (``search.require``): a name ->
 #: (test of a record, the sentence the calibrated design's header states, ``{line}`` being the text of the
 #: paper's main line, its ``CLAIM_LINES[...]["text"]``).  A record's ``order`` is the regime string along
