@@ -59,16 +59,9 @@ def closed_graph(
     cutter: geo.ShaperCutter | None = None,
     reference_points: Mapping[str, tuple[float, float]] | None = None,
 ) -> xr.Dataset:
-    """All constraints of an internal pair on the (x1, x2) grid, plus line 4 and reference points.
-
-    ``base`` gives teeth, module, ha*, c*, pressure angle; its own x1/x2 are ignored.
-    Variables (dims ``x2, x1`` so that ``ds[v].plot()`` has x1 across):
-    one per constraint (signed margin, >= 0 satisfied), ``contact_ratio``,
-    ``working_pressure_angle``, ``feasible`` (int8, all constraints), ``feasible_cutter_free``
-    (int8, the constraints that do not depend on the assumed cutter), ``x2_line4(x1)`` (G_s = 0),
-    and, with ``reference_points`` (a paper's printed (x1, x2), e.g. its M and N), those points and
-    ours on line 4 with residuals along dim ``point``.
-    """
+    """All constraints of an internal pair (``base``; its own shifts ignored) on the (x1, x2) grid as signed
+    margins, the feasibility flags, line 4 (G_s = 0) with the constraints on it, and ``reference_points``
+    (a paper's printed (x1, x2)) against ours along dim ``point`` (docs/geometry.md, "The closed graph dataset")."""
     if not base.internal:
         raise ValueError("the closed graph of paper 1 is for an internal pair")
     x1a = np.asarray(x1, dtype=float)

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import asdict, dataclass, fields, replace
-from typing import Literal
+from dataclasses import asdict, dataclass, field, fields, replace
+from typing import Any, Literal
 
 import numpy as np
 
@@ -31,25 +31,25 @@ class KHVParameters:
 
     eps: float
     k_c: float
-    r_bV: float
-    r_bH: float
-    I_D: float
-    I_H: float
-    I_V: float
-    I_L: float
-    m_V: float
-    K_DH: float
-    K_VL: float
-    zeta: float
-    eta: float
-    T_D: float
-    T_L: float
-    backlash: float
-    te_amplitude: float
-    te_phase: float
-    z_annulus: int
-    input_speed_rpm: float
-    omega_bar: float
+    r_bV: float = field(metadata={"units": "m"})
+    r_bH: float = field(metadata={"units": "m"})
+    I_D: float = field(metadata={"units": "kg m2"})
+    I_H: float = field(metadata={"units": "kg m2"})
+    I_V: float = field(metadata={"units": "kg m2"})
+    I_L: float = field(metadata={"units": "kg m2"})
+    m_V: float = field(metadata={"units": "kg"})
+    K_DH: float = field(metadata={"units": "N m rad-1"})
+    K_VL: float = field(metadata={"units": "N m rad-1"})
+    zeta: float = field(metadata={"units": "1"})
+    eta: float = field(metadata={"units": "1"})
+    T_D: float = field(metadata={"units": "N m"})
+    T_L: float = field(metadata={"units": "N m"})
+    backlash: float = field(metadata={"units": "m"})
+    te_amplitude: float = field(metadata={"units": "m"})
+    te_phase: float = field(metadata={"units": "rad"})
+    z_annulus: int = field(metadata={"units": "1"})
+    input_speed_rpm: float = field(metadata={"units": "rpm"})
+    omega_bar: float = field(metadata={"units": "1"})
     pressure_angle_deg: float  # of the pair; enters M_H through a = r_bH / cos(alpha)
 
     def stiffness(self, form: StiffnessForm = "corrected") -> ParabolicStiffness:
@@ -77,27 +77,9 @@ class Options:
                 raise ValueError(f"{name}={getattr(self, name)!r}; allowed: {allowed}")
 
 
-#: Units and long names of the :class:`Coefficients` fields stored per point in sweep cubes.
-COEFFICIENT_ATTRS = {
-    "mu_D": ("1", "drive mass M_D / M_VH"),
-    "mu_H": ("1", "carrier mass M_H / M_VH"),
-    "mu_V": ("1", "planet mass M_V / M_VH"),
-    "mu_L": ("1", "load mass M_L / M_VH"),
-    "k_DH": ("1", "input shaft stiffness / k_mean"),
-    "k_VL": ("1", "output shaft stiffness / k_mean"),
-    "c_DH": ("1", "input shaft damping / (M_VH w_n)"),
-    "c_VL": ("1", "output shaft damping / (M_VH w_n)"),
-    "c_m": ("1", "mesh damping / (M_VH w_n)"),
-    "P_D": ("1", "drive force / (k_mean b_c)"),
-    "P_L": ("1", "load force / (k_mean b_c)"),
-    "b": ("1", "half backlash / b_c"),
-    "e": ("1", "TE amplitude / b_c"),
-    "phi": ("rad", "TE phase"),
-    "omega": ("1", "mesh frequency w_m / w_n"),
-    "eps": ("1", "contact ratio"),
-    "omega_n": ("rad s-1", "natural-frequency scale w_n"),
-    "k_mean": ("N m-1", "mean mesh stiffness"),
-}
+def _stored(units: str, long_name: str, **kw: Any) -> Any:
+    """A :class:`Coefficients` field stored per point in sweep cubes, with its units and long name."""
+    return field(metadata={"cf": (units, long_name)}, **kw)
 
 
 @dataclass(frozen=True)
@@ -105,28 +87,28 @@ class Coefficients:
     """Every dimensionless number of the model (paper 1 Eq. 13, corrected; docs/model.md, section 3);
     hashable and storable."""
 
-    mu_D: float
-    mu_H: float
-    mu_V: float
-    mu_L: float
-    k_DH: float
-    k_VL: float
-    c_DH: float
-    c_VL: float
-    c_m: float
-    P_D: float
-    P_L: float
-    b: float
-    e: float
-    phi: float
-    omega: float
-    eps: float
+    mu_D: float = _stored("1", "drive mass M_D / M_VH")
+    mu_H: float = _stored("1", "carrier mass M_H / M_VH")
+    mu_V: float = _stored("1", "planet mass M_V / M_VH")
+    mu_L: float = _stored("1", "load mass M_L / M_VH")
+    k_DH: float = _stored("1", "input shaft stiffness / k_mean")
+    k_VL: float = _stored("1", "output shaft stiffness / k_mean")
+    c_DH: float = _stored("1", "input shaft damping / (M_VH w_n)")
+    c_VL: float = _stored("1", "output shaft damping / (M_VH w_n)")
+    c_m: float = _stored("1", "mesh damping / (M_VH w_n)")
+    P_D: float = _stored("1", "drive force / (k_mean b_c)")
+    P_L: float = _stored("1", "load force / (k_mean b_c)")
+    b: float = _stored("1", "half backlash / b_c")
+    e: float = _stored("1", "TE amplitude / b_c")
+    phi: float = _stored("rad", "TE phase")
+    omega: float = _stored("1", "mesh frequency w_m / w_n")
+    eps: float = _stored("1", "contact ratio")
     stiffness_form: str = "corrected"
     stiffness_mode: str = "time_varying"
     backlash_on: bool = True
     # provenance (not used by the equations): w_n in rad/s and k_mean in N/m
-    omega_n: float = float("nan")
-    k_mean: float = float("nan")
+    omega_n: float = _stored("rad s-1", "natural-frequency scale w_n", default=float("nan"))
+    k_mean: float = _stored("N m-1", "mean mesh stiffness", default=float("nan"))
 
     # --- storage -------------------------------------------------------------------------
     def as_dict(self) -> dict[str, float | str | int]:
@@ -237,6 +219,10 @@ class Coefficients:
         values |= {"CM": self.c_m, "B": self.b, "TE": self.te_forcing, "PHI": self.phi, "T": self.period}
         values |= {"BACKLASH_ON": 1.0 if self.backlash_on else 0.0, "EPS": self.eps}
         return np.array([values[name] for name in layout.LAYOUT], dtype=np.float64)
+
+
+#: Units and long names of the :class:`Coefficients` fields stored per point in sweep cubes.
+COEFFICIENT_ATTRS = {f.name: f.metadata["cf"] for f in fields(Coefficients) if "cf" in f.metadata}
 
 
 def mesh_omega(params: KHVParameters) -> float:

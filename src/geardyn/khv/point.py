@@ -25,25 +25,7 @@ CONTROLS: dict[str, tuple[str, str]] = {
 
 #: UDUNITS units of the model parameters (fields of :class:`KHVParameters`) when used as overrides.
 PARAMETER_UNITS: dict[str, str] = {
-    "r_bV": "m",
-    "r_bH": "m",
-    "I_D": "kg m2",
-    "I_H": "kg m2",
-    "I_V": "kg m2",
-    "I_L": "kg m2",
-    "m_V": "kg",
-    "K_DH": "N m rad-1",
-    "K_VL": "N m rad-1",
-    "zeta": "1",
-    "eta": "1",
-    "T_D": "N m",
-    "T_L": "N m",
-    "backlash": "m",
-    "te_amplitude": "m",
-    "te_phase": "rad",
-    "z_annulus": "1",
-    "input_speed_rpm": "rpm",
-    "omega_bar": "1",
+    f.name: f.metadata["units"] for f in dataclasses.fields(KHVParameters) if "units" in f.metadata
 }
 
 

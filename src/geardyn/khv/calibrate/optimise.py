@@ -54,14 +54,10 @@ def search(
     refine_steps: Sequence[float] = (0.1, 0.02),
     refine_rounds: int = 2,
 ) -> tuple[Record, Evaluator]:
-    """Differential evolution over the unit cube of ``problem.space``, then :func:`refine` from its best;
-    returns (best record, evaluator).  Only the candidates this run asked for count (the cache may hold
-    others, e.g. of a sensitivity study).
-
-    ``init``: candidates (values) placed in the initial population (e.g. the design's current
-    values), the rest Latin-hypercube from ``seed``.  Deterministic: same seed, same candidates, so
-    a rerun replays the cache.
-    """
+    """Differential evolution over the unit cube of ``problem.space`` (``init``: values placed in the initial
+    population, the rest Latin-hypercube from ``seed``), then :func:`refine` from its best; returns (best
+    record, evaluator).  Deterministic, so a rerun replays the cache (docs/calibration.md, "Search method, cost,
+    resumption")."""
 
     dim = len(problem.space.unknowns)
     n_pop = max(5, popsize * dim)

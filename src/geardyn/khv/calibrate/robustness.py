@@ -41,14 +41,9 @@ def sensitivity(
     steps: Sequence[float],
     map_points: int = 7,
 ) -> tuple[xr.Dataset, xr.Dataset, str]:
-    """Robustness and sensitivity of the best candidate.
-
-    One-at-a-time moves of each unknown by +-step (:func:`perturbed`) give the score, the number of
-    agreeing claims and the transitions along x1 (tornado); the smallest move that changes any claim
-    verdict, or any label along x1, is the distance to the nearest label change.  Then a 2-D map of
-    the score over the two unknowns whose moves change the score most (+-50 %, ``map_points`` per
-    axis).  Returns (one-at-a-time dataset, map dataset, Markdown summary).
-    """
+    """Robustness and sensitivity of the best candidate: one-at-a-time moves of each unknown by +-step
+    (tornado), then a 2-D score map over the two unknowns that move the score most (docs/calibration.md,
+    "Robustness and sensitivity").  Returns (one-at-a-time dataset, map dataset, Markdown summary)."""
     space = problem.space
     base = evaluator.records([list(space.unit(best_values))])[0]
     steps = sorted(float(s) for s in steps)
