@@ -149,16 +149,11 @@ def tip_thickness(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:
 
 
 def _trimming(
-    z_small: int,
-    z_big: int,
-    da_small: ArrayLike,
-    da_big: ArrayLike,
-    db_small: float,
-    db_big: float,
-    inv_w: ArrayLike,
+    small: tuple[int, ArrayLike, float], big: tuple[int, ArrayLike, float], inv_w: ArrayLike
 ) -> geo.FloatArray:
-    """Radial (trimming) interference margin of an internal mesh, rad: KHK Eqs. (5-9)/(5-10)
-    (docs/geometry.md, "Formulas")."""
+    """Radial (trimming) interference margin of an internal mesh, rad: KHK Eqs. (5-9)/(5-10) (docs/geometry.md,
+    "Formulas"); each gear given as (teeth, tip diameter, base diameter)."""
+    (z_small, da_small, db_small), (z_big, da_big, db_big) = small, big
     aa1 = geo.pressure_angle_at(db_small, da_small)
     aa2 = geo.pressure_angle_at(db_big, da_big)
     q = (np.cos(aa1) / np.cos(aa2)) ** 2
@@ -178,7 +173,7 @@ def radial_interference(pair: geo.GearPair) -> geo.FloatArray:
         raise ValueError("radial interference applies to internal pairs only")
     da1, da2 = geo.tip_diameters(pair)
     db1, db2 = geo.base_diameters(pair)
-    return _trimming(pair.z1, pair.z2, da1, da2, db1, db2, geo.involute(geo.working_pressure_angle(pair)))
+    return _trimming((pair.z1, da1, db1), (pair.z2, da2, db2), geo.involute(geo.working_pressure_angle(pair)))
 
 
 def default_cutter(pair: geo.GearPair) -> geo.ShaperCutter:
@@ -199,4 +194,4 @@ def trimming_interference(pair: geo.GearPair, cutter: geo.ShaperCutter | None = 
     _, da2 = geo.tip_diameters(pair)
     db0 = cut.teeth * pair.module * math.cos(pair.alpha)
     _, db2 = geo.base_diameters(pair)
-    return _trimming(cut.teeth, pair.z2, np.full(np.shape(da2), da0), da2, db0, db2, inv_w0)
+    return _trimming((cut.teeth, np.full(np.shape(da2), da0), db0), (pair.z2, da2, db2), inv_w0)

@@ -1,5 +1,5 @@
 """Closed graph of paper 1 (Li et al. 2013, Fig. 3) computed on an (x1, x2) grid: lines 1-4 of the paper
-(:data:`LINE_OF`), line 4 being G_s = 0, not a line of constant a' (docs/geometry.md, "Lines 1-4 of
+(:data:`LINES`), line 4 being G_s = 0, not a line of constant a' (docs/geometry.md, "Lines 1-4 of
 Fig. 3").  Pure: returns an :class:`xarray.Dataset`; writing it is the caller's job.
 """
 
@@ -17,18 +17,19 @@ from geardyn.gears import constraints, interference
 from geardyn.gears import geometry as geo
 from geardyn.io import cf
 
-#: Which of the paper's lines each constraint belongs to (0: drawn but not one of lines 1-4).
-LINE_OF: dict[str, int] = {
-    "contact_ratio_margin": 1,
-    "involute_interference_planet": 2,
-    "involute_interference_annulus": 2,
-    "root_interference_planet": 2,
-    "root_interference_annulus": 2,
-    "tip_thickness_planet": 3,
-    "tip_thickness_annulus": 3,
-    "trimming_interference_annulus": 3,
-    "overlap_interference": 4,
-    "undercut_planet": 0,
+#: Each constraint of the graph: the paper's line it belongs to (0: drawn but not one of lines 1-4) and its
+#: short label in the figure (K the annulus, V the planet; * cutter-dependent), in the figure's drawing order.
+LINES: dict[str, tuple[int, str]] = {
+    "contact_ratio_margin": (1, "eps=1"),
+    "overlap_interference": (4, "G_s=0"),
+    "involute_interference_planet": (2, "inv. int. V"),
+    "involute_interference_annulus": (2, "inv. int. K"),
+    "root_interference_planet": (2, "root int. V"),
+    "root_interference_annulus": (2, "root int. K*"),
+    "tip_thickness_planet": (3, "s_a V"),
+    "tip_thickness_annulus": (3, "s_a K"),
+    "trimming_interference_annulus": (3, "trimming K*"),
+    "undercut_planet": (0, "undercut V"),
 }
 
 #: Constraints that need the (unknown) shaper cutter of the annulus.
@@ -132,7 +133,7 @@ def _add_grid(ds: xr.Dataset, grid_pair: geo.GearPair, margins: Mapping[str, np.
             np.asarray(value, dtype=float),
             units,
             long_name,
-            closed_graph_line=LINE_OF.get(name, 0),
+            closed_graph_line=LINES.get(name, (0, ""))[0],
             cutter_dependent=int(name in CUTTER_DEPENDENT),
             sign_convention=">= 0 satisfied",
         )

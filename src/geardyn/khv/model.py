@@ -163,23 +163,20 @@ class Coefficients:
         coupling), p (constant loads) and ``te`` (the TE forcing amplitude of the second row)."""
         mu_DH = self.mu_D * self.mu_H / (self.mu_D + self.mu_H)
         mu_VL = self.mu_V * self.mu_L / (self.mu_V + self.mu_L)
-        K = np.array(
-            [
-                [self.k_DH / mu_DH, 0.0, 0.0],
-                [self.k_DH / self.mu_H, 0.0, self.k_VL / self.mu_V],
-                [0.0, 0.0, self.k_VL / mu_VL],
-            ]
-        )
-        C = np.array(
-            [
-                [self.c_DH / mu_DH, 0.0, 0.0],
-                [self.c_DH / self.mu_H, 0.0, self.c_VL / self.mu_V],
-                [0.0, 0.0, self.c_VL / mu_VL],
-            ]
-        )
+
+        def shafts(dh: float, vl: float) -> np.ndarray:
+            """The shaft terms (stiffness or damping) of the input (dh) and output (vl) shafts."""
+            return np.array([[dh / mu_DH, 0.0, 0.0], [dh / self.mu_H, 0.0, vl / self.mu_V], [0.0, 0.0, vl / mu_VL]])
+
         g = np.array([1.0 / self.mu_H, 1.0, 1.0 / self.mu_V])
         p = np.array([self.P_D / self.mu_D, 0.0, self.P_L / self.mu_L])
-        return {"K": K, "C": C, "g": g, "p": p, "te": self.te_forcing}
+        return {
+            "K": shafts(self.k_DH, self.k_VL),
+            "C": shafts(self.c_DH, self.c_VL),
+            "g": g,
+            "p": p,
+            "te": self.te_forcing,
+        }
 
     def kernel_array(self) -> np.ndarray:
         """Flat float64 array read by the solver, in the named order of :data:`geardyn.solve.base.LAYOUT`
