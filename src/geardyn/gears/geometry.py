@@ -143,10 +143,15 @@ def reference_centre_distance(pair: GearPair) -> float:
 def working_pressure_angle(pair: GearPair) -> FloatArray:
     """Working pressure angle a' in rad from the no-backlash condition (docs/geometry.md, "Formulas");
     NaN where inv a' <= 0: no positive working angle exists and the teeth cannot mesh."""
+    inv_w = working_involute(pair)
+    return cast(FloatArray, np.where(inv_w > 0.0, inverse_involute(np.maximum(inv_w, 0.0)), np.nan))
+
+
+def working_involute(pair: GearPair) -> FloatArray:
+    """inv a' of the no-backlash condition (docs/geometry.md, "Formulas"); <= 0 where the teeth cannot mesh."""
     x1, x2 = shifts(pair)
     s = pair.sigma
-    inv_w = 2.0 * (x2 + s * x1) * math.tan(pair.alpha) / (pair.z2 + s * pair.z1) + involute(pair.alpha)
-    return cast(FloatArray, np.where(inv_w > 0.0, inverse_involute(np.maximum(inv_w, 0.0)), np.nan))
+    return cast(FloatArray, 2.0 * (x2 + s * x1) * math.tan(pair.alpha) / (pair.z2 + s * pair.z1) + involute(pair.alpha))
 
 
 def working_centre_distance(pair: GearPair) -> FloatArray:

@@ -208,8 +208,7 @@ def violated_constraints(
 
 def meshing_problem(pair: geometry.GearPair) -> str | None:
     """Why ``pair`` cannot mesh at all (no working pressure angle), in words, or None."""
-    alpha = math.radians(pair.pressure_angle_deg)
-    inv_w = 2.0 * (pair.x2 - pair.x1) * math.tan(alpha) / (pair.z2 - pair.z1) + geometry.involute(alpha)
+    inv_w = float(geometry.working_involute(pair))
     if inv_w > 0.0:
         return None
     return (

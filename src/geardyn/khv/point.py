@@ -41,12 +41,8 @@ _OPTION_FIELDS = {f.name for f in dataclasses.fields(Options)}
 _SETTING_FIELDS = {f.name for f in dataclasses.fields(SimulationSettings)}
 
 
-def dynamics_section(design: design_mod.KHVDesign) -> dict[str, Any]:
-    """The validated ``dynamics`` mapping of the design (parameters, options, integration)."""
-    return dict(design.dynamics)
-
-
 def _split(dynamics: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any]]:
+    """The model parameters, options and integrator settings of a design's validated ``dynamics`` mapping."""
     params = {k: v for k, v in dynamics.get("parameters", {}).items() if k in _PARAM_FIELDS}
     options = {k: v for k, v in dynamics.get("options", {}).items() if k in _OPTION_FIELDS}
     settings = {k: v for k, v in dynamics.get("integration", {}).items() if k in _SETTING_FIELDS}
@@ -58,7 +54,7 @@ def point_model(
 ) -> tuple[KHVParameters, Options, design_mod.MeshProperties]:
     """Physical parameters and options of ``design`` at the point given by ``overrides``."""
     overrides = dict(overrides or {})
-    params, options, _ = _split(dynamics_section(design))
+    params, options, _ = _split(design.dynamics)
     options["stiffness_form"] = design.stiffness.form  # one source: the design's stiffness section
     x1 = float(overrides.pop("x1", design.base.x1))
     mesh = design_mod.mesh_properties(design, x1)
@@ -99,6 +95,6 @@ def point_coefficients(design: design_mod.KHVDesign, overrides: Mapping[str, flo
 
 def integration_settings(design: design_mod.KHVDesign, **changes: Any) -> SimulationSettings:
     """Integrator settings from the design's ``dynamics.integration`` with ``changes`` applied."""
-    _, _, settings = _split(dynamics_section(design))
+    _, _, settings = _split(design.dynamics)
     settings.update({k: v for k, v in changes.items() if v is not None})
     return SimulationSettings(**settings)

@@ -128,6 +128,12 @@ def summary(
     """Markdown: per unknown its value, bounds, position in them, the smallest moves that change a verdict
     or a label along x1, the largest score change; then the map's best score."""
     signed = oat["step"].values.tolist()
+
+    def smallest(changed: np.ndarray) -> str:
+        """The smallest move (of ``signed``) that changed something, or '> largest step'."""
+        d = min((abs(s) for s, c in zip(signed, changed, strict=True) if c), default=None)
+        return "> " + format(max(steps), "g") if d is None else "+-" + format(d, "g")
+
     lines = [
         "# Calibration: robustness and sensitivity of the best candidate",
         "",
@@ -139,16 +145,12 @@ def summary(
         "|---|---|---|---|---|---|---|",
     ]
     for k, u in enumerate(space.unknowns):
-        vc = oat["verdicts_changed"].values[k]
-        lc = oat["labels_changed"].values[k]
-        dv = min((abs(s) for s, c in zip(signed, vc, strict=True) if c), default=None)
-        dl = min((abs(s) for s, c in zip(signed, lc, strict=True) if c), default=None)
         pos = u.to_unit(best_values[u.name])
         lines.append(
             f"| {u.name} | {best_values[u.name]:.4g} | [{u.low:g}, {u.high:g}]{' log' if u.log else ''} | "
             f"{pos:.2f}{' (edge)' if min(pos, 1 - pos) < 0.05 else ''} | "
-            f"{'> ' + format(max(steps), 'g') if dv is None else '+-' + format(dv, 'g')} | "
-            f"{'> ' + format(max(steps), 'g') if dl is None else '+-' + format(dl, 'g')} | {impact[k]:.3f} |"
+            f"{smallest(oat['verdicts_changed'].values[k])} | {smallest(oat['labels_changed'].values[k])} | "
+            f"{impact[k]:.3f} |"
         )
     lines += [
         "",
