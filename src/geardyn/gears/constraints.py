@@ -29,6 +29,11 @@ for _g in ("planet", "annulus", "pinion", "wheel"):
     _INFO[f"tip_thickness_{_g}"] = ("mm", f"tip thickness of the {_g} minus required minimum")
 
 
+#: Constraints that need the shaper cutter of the annulus (teeth, shift), which a paper may not give: a
+#: design reports them always and enforces them only with ``admissible.enforce_cutter_constraints``.
+CUTTER_DEPENDENT = ("root_interference_annulus", "trimming_interference_annulus")
+
+
 def constraint_info(name: str) -> tuple[str, str]:
     """(units, long_name) of a constraint returned by :func:`constraints`."""
     return _INFO[name]

@@ -119,7 +119,8 @@ class ParabolicStiffness:
 
     def zone_poly(self, m: int) -> tuple[float, float, float]:
         """(a, b, c) of a s^2 + b s + c: the sum of the single-pair parabolas of m pairs at t = s + j."""
-        a, b, c = self.a, self.b, self.c
+        # the single-pair parabola of Eq. (9): A = -2k'/eps^2, B = 2k'/eps, C = k'
+        a, b, c = -2.0 * self.k_prime / self.eps**2, 2.0 * self.k_prime / self.eps, self.k_prime
         sj = m * (m - 1) / 2.0
         sj2 = (m - 1) * m * (2 * m - 1) / 6.0
         return (m * a, 2 * a * sj + m * b, a * sj2 + b * sj + m * c)
@@ -128,18 +129,6 @@ class ParabolicStiffness:
         """The polynomials of the first zone [0, f) and the second [f, 1) (swapped in the printed form)."""
         more, fewer = self.zone_poly(self.pairs + 1), self.zone_poly(self.pairs)
         return (more, fewer) if self.form == "corrected" else (fewer, more)
-
-    @property
-    def a(self) -> float:
-        return -2.0 * self.k_prime / self.eps**2
-
-    @property
-    def b(self) -> float:
-        return 2.0 * self.k_prime / self.eps
-
-    @property
-    def c(self) -> float:
-        return self.k_prime
 
     def __call__(self, t: ArrayLike) -> NDArray[np.float64]:
         """k(t) in N/m, periodic with period 1; right-continuous at the jumps."""

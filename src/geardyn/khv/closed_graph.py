@@ -32,8 +32,8 @@ LINES: dict[str, tuple[int, str]] = {
     "undercut_planet": (0, "undercut V"),
 }
 
-#: Constraints that need the (unknown) shaper cutter of the annulus.
-CUTTER_DEPENDENT = ("root_interference_annulus", "trimming_interference_annulus")
+#: Constraints that need the shaper cutter of the annulus (the figure and the scaffold read them here).
+CUTTER_DEPENDENT = constraints.CUTTER_DEPENDENT
 
 #: Tolerance on G_s (rad) when testing points that lie on line 4 by construction.
 _ON_LINE_TOL = 1e-9

@@ -186,9 +186,6 @@ def _check(design_raw: dict[str, Any], where: str) -> None:
         )
 
 
-#: Constraints that need the shaper cutter (teeth, shift), which paper 1 does not give: reported
-#: always, enforced only with ``admissible.enforce_cutter_constraints``.
-CUTTER_CONSTRAINTS = ("root_interference_annulus", "trimming_interference_annulus")
 #: Margin below which a constraint counts as violated: points on line 4 have G_s = 0 up to round-off.
 FEASIBILITY_TOLERANCE = 1e-6
 
@@ -202,7 +199,7 @@ def violated_constraints(
     return [
         name
         for name, v in values.items()
-        if not float(v) >= -FEASIBILITY_TOLERANCE and (enforce_cutter or name not in CUTTER_CONSTRAINTS)
+        if not float(v) >= -FEASIBILITY_TOLERANCE and (enforce_cutter or name not in constraints.CUTTER_DEPENDENT)
     ]
 
 
