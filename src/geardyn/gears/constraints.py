@@ -90,10 +90,6 @@ def constraints(
 def describe(pair: geo.GearPair, **kwargs: Any) -> dict[str, float]:
     """Derived geometry of one design for ``geardyn check-design`` (mm, deg, -)."""
     aw = float(geo.working_pressure_angle(pair))
-    da1, da2 = geo.tip_diameters(pair)
-    df1, df2 = geo.root_diameters(pair)
-    sa1, sa2 = itf.tip_thickness(pair)
-    db1, db2 = geo.base_diameters(pair)
     out: dict[str, float] = {
         "reference_centre_distance_mm": geo.reference_centre_distance(pair),
         "working_pressure_angle_deg": math.degrees(aw),
@@ -101,15 +97,11 @@ def describe(pair: geo.GearPair, **kwargs: Any) -> dict[str, float]:
         "working_centre_distance_mm": float(geo.working_centre_distance(pair)),
         "centre_distance_modification": float(geo.centre_distance_modification(pair)),
         "contact_ratio": float(itf.contact_ratio(pair)),
-        "da1_mm": float(da1),
-        "da2_mm": float(da2),
-        "df1_mm": float(df1),
-        "df2_mm": float(df2),
-        "db1_mm": db1,
-        "db2_mm": db2,
-        "sa1_mm": float(sa1),
-        "sa2_mm": float(sa2),
     }
+    # tip, root and base diameters and tip thickness of each gear: da1_mm, da2_mm, df1_mm, ...
+    per_gear = {"da": geo.tip_diameters(pair), "df": geo.root_diameters(pair), "db": geo.base_diameters(pair)}
+    per_gear["sa"] = itf.tip_thickness(pair)
+    out |= {f"{name}{i + 1}_mm": float(v[i]) for name, v in per_gear.items() for i in (0, 1)}
     if pair.internal:
         out["overlap_interference_Gs"] = float(itf.overlap_interference(pair))
         out["radial_interference_assembly"] = float(itf.radial_interference(pair))
