@@ -39,6 +39,17 @@ CUTTER_DEPENDENT = constraints.CUTTER_DEPENDENT
 _ON_LINE_TOL = 1e-9
 
 
+#: The pair's fields stored as attributes of the dataset: attribute -> (GearPair field, type).
+_PAIR_ATTRS: dict[str, tuple[str, type]] = {
+    "z1": ("z1", int),
+    "z2": ("z2", int),
+    "module_mm": ("module", float),
+    "pressure_angle_deg": ("pressure_angle_deg", float),
+    "addendum_coefficient": ("addendum", float),
+    "clearance_coefficient": ("clearance", float),
+}
+
+
 def _cutter_attrs(base: geo.GearPair, cutter: geo.ShaperCutter | None) -> dict[str, float | int | str]:
     cut = cutter if cutter is not None else interference.default_cutter(base)
     ha0 = cut.addendum if cut.addendum is not None else base.addendum + base.clearance
@@ -92,12 +103,7 @@ def closed_graph(
             "conventions_note": "every constraint is a signed margin, >= 0 satisfied; x2 in the Chinese convention",
             "line4_definition": "G_s = 0 (tooth-profile overlap interference); the working pressure angle a' varies "
             "along it",
-            "z1": base.z1,
-            "z2": base.z2,
-            "module_mm": base.module,
-            "pressure_angle_deg": base.pressure_angle_deg,
-            "addendum_coefficient": base.addendum,
-            "clearance_coefficient": base.clearance,
+            **{attr: getattr(base, field) for attr, (field, _) in _PAIR_ATTRS.items()},
             "min_tip_thickness_modules": min_tip_thickness,
             "min_contact_ratio": min_contact_ratio,
             **_cutter_attrs(base, cutter),
@@ -182,20 +188,9 @@ def _reference_points(ds: xr.Dataset, base: geo.GearPair, points: Mapping[str, t
 
 
 def line4_crossings(ds: xr.Dataset, name: str) -> list[float]:
-    """x1 values (linear interpolation on the grid) where constraint ``name`` changes sign on line 4.
-
-    Re-evaluates the constraint along ``x2_line4`` from the dataset attributes.
-    """
-    base = geo.GearPair(
-        z1=int(ds.attrs["z1"]),
-        z2=int(ds.attrs["z2"]),
-        module=float(ds.attrs["module_mm"]),
-        x1=0.0,
-        x2=0.0,
-        pressure_angle_deg=float(ds.attrs["pressure_angle_deg"]),
-        addendum=float(ds.attrs["addendum_coefficient"]),
-        clearance=float(ds.attrs["clearance_coefficient"]),
-    )
+    """x1 values (linear interpolation on the grid) where constraint ``name`` changes sign on line 4,
+    re-evaluated along ``x2_line4`` from the dataset attributes."""
+    base = geo.GearPair(x1=0.0, x2=0.0, **{field: kind(ds.attrs[attr]) for attr, (field, kind) in _PAIR_ATTRS.items()})
     cutter = geo.ShaperCutter(
         int(ds.attrs["cutter_teeth"]), float(ds.attrs["cutter_shift"]), float(ds.attrs["cutter_addendum"])
     )

@@ -64,16 +64,9 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
                 textcoords="offset points",
                 color="crimson",
             )
+        printed = "printed " + ", ".join(str(p) for p in ds["point"].values)
         handles += [
-            Line2D(
-                [],
-                [],
-                ls="",
-                marker="o",
-                mfc="none",
-                mec="crimson",
-                label="printed " + ", ".join(str(p) for p in ds["point"].values),
-            ),
+            Line2D([], [], ls="", marker="o", mfc="none", mec="crimson", label=printed),
             Line2D([], [], ls="", marker="x", color="k", label="computed (G_s = 0)"),
         ]
     ax.set_xlim(x1.min(), x1.max())
