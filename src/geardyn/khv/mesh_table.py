@@ -23,11 +23,8 @@ _FIELDS = {
 
 
 def stiffness_table(design: KHVDesign, x1: np.ndarray, phase_points: int = 400) -> xr.Dataset:
-    """Mesh quantities at each ``x1`` and k(t) over one mesh period (``phase_points`` samples).
-
-    The phase grid is ``t = j / phase_points``; k(t) is right-continuous at its jumps
-    (t = 0 and t = eps - 1).
-    """
+    """Mesh quantities at each ``x1`` and k(t) over one mesh period on the phase grid t = j / ``phase_points``
+    (k(t) right-continuous at its jumps t = 0 and t = eps - 1)."""
     x1 = np.asarray(x1, dtype=float)
     props = [mesh_properties(design, float(v)) for v in x1]
     phase = np.arange(phase_points) / phase_points

@@ -17,11 +17,8 @@ _LINE_COLOURS = {0: "0.5", 1: "tab:blue", 2: "tab:orange", 3: "tab:green", 4: "b
 
 
 def plot_closed_graph(ds: xr.Dataset) -> Figure:
-    """Closed graph: feasible region shaded, each constraint's zero contour labelled (drawn where
-    G_s >= 0), line 4 (G_s = 0) bold, the paper's M and N and our points marked.
-
-    Returns a :class:`matplotlib.figure.Figure` built without pyplot (Agg-safe).
-    """
+    """Closed graph: feasible region shaded, each constraint's zero contour labelled (drawn where G_s >= 0),
+    line 4 (G_s = 0) bold, the paper's M and N and our points marked (a Figure built without pyplot)."""
     fig = Figure(figsize=(7.0, 5.6), layout="constrained")
     ax = fig.add_subplot()
     x1 = ds["x1"].values

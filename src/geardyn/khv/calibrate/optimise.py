@@ -90,10 +90,8 @@ def verified_choice(
     top: int,
     require: str | None = None,
 ) -> tuple[Record, Record, list[tuple[Record, Record]]]:
-    """Re-score the ``top`` best candidates of the search with ``verify`` (the design's own integration
-    settings and the default classifier) and choose by (verified score, search score, distance from
-    the bounds): an optimum inside the region beats an equal one on its edge.  Scores are ranked by
-    :func:`ranked_score`: with ``require``, a candidate must meet it at the design's settings too.
+    """Re-score the ``top`` best candidates with ``verify`` (the design's own settings) and choose by
+    (verified, search :func:`ranked_score`, distance from the bounds: inside beats an equal one on the edge).
     Returns (search record, verified record, all pairs)."""
     order = sorted(search_records, key=lambda r: (-ranked_score(r, require), -interior(r.unit)))[: max(1, top)]
     checked = verify([r.unit for r in order])
