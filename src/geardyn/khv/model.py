@@ -222,11 +222,6 @@ class Coefficients:
 COEFFICIENT_ATTRS = {f.name: f.metadata["cf"] for f in fields(Coefficients) if "cf" in f.metadata}
 
 
-def mesh_omega(params: KHVParameters) -> float:
-    """Physical mesh angular frequency (rad/s) at the input speed: w_m = z_K * 2 pi n / 60."""
-    return params.z_annulus * 2.0 * math.pi * params.input_speed_rpm / 60.0
-
-
 def physical_masses(params: KHVParameters) -> dict[str, float]:
     """Equivalent masses of Eq. (2) in kg (M_H includes the planet's translation on the crank)."""
     M_D = params.I_D / params.r_bH**2
@@ -252,7 +247,7 @@ def dimensionless(params: KHVParameters, options: Options = Options()) -> Coeffi
     c_DH = 2.0 * params.eta * math.sqrt(k_DH * M_DH)
     c_VL = 2.0 * params.eta * math.sqrt(k_VL * M_VL)
     if options.frequency_mode == "physical":
-        omega = mesh_omega(params) / w_n
+        omega = params.z_annulus * 2.0 * math.pi * params.input_speed_rpm / 60.0 / w_n  # w_m = z_K 2 pi n / 60
     else:
         omega = params.omega_bar
     fscale = k_mean * B_C
