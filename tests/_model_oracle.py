@@ -9,6 +9,7 @@ direct-solve damping matrix of modal damping, the rigid-body ratio of a plus set
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import scipy.linalg
@@ -115,3 +116,38 @@ def read_provenance_text(text: str) -> dict[str, str]:
         return {}
     body = text[start + len("<!-- provenance\n") : text.find("-->", start)]
     return dict(line.split(": ", 1) for line in body.splitlines() if ": " in line)
+
+
+# Moved from geardyn (used only by tests)
+
+
+def energy(coeffs: Coefficients, y: np.ndarray, kappa: float = 1.0) -> np.ndarray:
+    """Mechanical energy of the relative motion in units of k_mean b_c^2.
+
+    Kinetic energy of the 4 masses minus that of the centre of mass (conserved separately
+    when no external torque acts), plus shaft and mesh potentials (mesh: kappa/2 f(x2)^2,
+    valid for constant kappa; TE must be off for this to be a conserved quantity).
+    """
+    y = np.asarray(y, dtype=float)
+    x1, x2, x3, u1, u2, u3 = np.moveaxis(y, -1, 0)
+    muD, muH, muV, muL = coeffs.mu_D, coeffs.mu_H, coeffs.mu_V, coeffs.mu_L
+    # velocities relative to the carrier: D = u1, H = 0, V = u2, L = u2 - u3
+    vD, vV, vL = u1, u2, u2 - u3
+    mtot = muD + muH + muV + muL
+    p = muD * vD + muV * vV + muL * vL
+    kin = 0.5 * (muD * vD**2 + muV * vV**2 + muL * vL**2) - 0.5 * p**2 / mtot
+    pot = 0.5 * coeffs.k_DH * x1**2 + 0.5 * coeffs.k_VL * x3**2
+    pot = pot + 0.5 * kappa * _backlash(x2, coeffs.b) ** 2
+    return kin + pot
+
+
+def violations(pair: geo.GearPair, **kwargs: Any) -> list[str]:
+    """Names of the constraints that fail (margin < 0 or not a number)."""
+    return [k for k, v in constraints.constraints(pair, **kwargs).items() if not v >= 0.0]
+
+
+def working_pitch_diameters(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:
+    """Working pitch diameters d' = d cos a / cos a', mm."""
+    d1, d2 = geo.pitch_diameters(pair)
+    r = math.cos(pair.alpha) / np.cos(geo.working_pressure_angle(pair))
+    return d1 * r, d2 * r

@@ -147,8 +147,8 @@ def test_energy_conserved_in_conservative_variant():
     for n in (256, 512):
         r = run(c, n=n, rec=100, x0=y0, dense=True)
         assert r.n_events > 100
-        E = model.energy(c, r.states)
-        E0 = model.energy(c, y0)
+        E = oracle.energy(c, r.states)
+        E0 = oracle.energy(c, y0)
         errs.append(np.abs(E - E0).max() / E0)
     # 4th-order integrator: relative energy error ~ h^4; 1e-7 at 512 steps over 100 periods
     assert errs[1] < 1e-7

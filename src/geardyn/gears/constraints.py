@@ -11,43 +11,10 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import ArrayLike
 
-from geardyn.gears.geometry import (
-    FloatArray,
-    GearPair,
-    ShaperCutter,
-    base_diameters,
-    centre_distance_modification,
-    reference_centre_distance,
-    root_diameters,
-    shifts,
-    tip_diameters,
-    working_centre_distance,
-    working_pressure_angle,
-)
-from geardyn.gears.interference import (
-    contact_ratio,
-    involute_interference,
-    overlap_interference,
-    radial_interference,
-    root_interference,
-    tip_thickness,
-    trimming_interference,
-    undercut_margin,
-)
+from geardyn.gears import geometry as geo
+from geardyn.gears import interference as itf
 
-__all__ = [
-    "constraint_grid",
-    "constraint_info",
-    "constraints",
-    "describe",
-    "violations",
-    "x2_on_overlap_boundary",
-    "x2_on_overlap_boundary_many",
-]
-
-# --------------------------------------------------------------------------------------------
-# Constraint set
-# --------------------------------------------------------------------------------------------
+# --- Constraint set ---
 
 #: name -> (units, long_name); filled for both internal and external role names.
 _INFO: dict[str, tuple[str, str]] = {
@@ -62,122 +29,97 @@ for _g in ("planet", "annulus", "pinion", "wheel"):
     _INFO[f"tip_thickness_{_g}"] = ("mm", f"tip thickness of the {_g} minus required minimum")
 
 
+#: Constraints that need the shaper cutter of the annulus (teeth, shift), which a paper may not give: a
+#: design reports them always and enforces them only with ``admissible.enforce_cutter_constraints``.
+CUTTER_DEPENDENT = ("root_interference_annulus", "trimming_interference_annulus")
+
+
 def constraint_info(name: str) -> tuple[str, str]:
     """(units, long_name) of a constraint returned by :func:`constraints`."""
     return _INFO[name]
 
 
 def constraint_grid(
-    pair: GearPair,
+    pair: geo.GearPair,
     *,
     min_tip_thickness: float = 0.25,
     min_contact_ratio: float = 1.0,
-    cutter: ShaperCutter | None = None,
-) -> dict[str, FloatArray]:
-    """All constraints as signed margins (>= 0 satisfied); shifts may be broadcasting arrays.
-
-    Keys (internal pair; an external pair uses pinion/wheel and drops the annulus-only rows):
-    ``contact_ratio_margin`` = eps - eps_min (line 1),
-    ``overlap_interference`` = G_s (line 4 boundary; the binding constraint),
-    ``involute_interference_planet``/``_annulus`` (mm, line 2),
-    ``root_interference_planet`` (mm, line 2), ``undercut_planet`` (mm),
-    ``tip_thickness_planet``/``_annulus`` = sa - s_min m (mm, line 3),
-    ``trimming_interference_annulus`` (rad, line 3).
-    """
+    cutter: geo.ShaperCutter | None = None,
+) -> dict[str, geo.FloatArray]:
+    """All constraints as signed margins (>= 0 satisfied); shifts may be broadcasting arrays.  Keys: those
+    of :func:`constraint_info` for the pair's role names (docs/geometry.md, "Lines 1-4 of Fig. 3")."""
     n1, n2 = pair.names
-    out: dict[str, FloatArray] = {"contact_ratio_margin": contact_ratio(pair) - min_contact_ratio}
+    out: dict[str, geo.FloatArray] = {"contact_ratio_margin": itf.contact_ratio(pair) - min_contact_ratio}
     if pair.internal:
-        out["overlap_interference"] = overlap_interference(pair)
-    i1, i2 = involute_interference(pair)
+        out["overlap_interference"] = itf.overlap_interference(pair)
+    i1, i2 = itf.involute_interference(pair)
     out[f"involute_interference_{n1}"] = i1
     out[f"involute_interference_{n2}"] = i2
-    r1, r2 = root_interference(pair, cutter)
-    u1, u2 = undercut_margin(pair)
+    r1, r2 = itf.root_interference(pair, cutter)
+    u1, u2 = itf.undercut_margin(pair)
     out[f"root_interference_{n1}"] = r1
     out[f"root_interference_{n2}"] = r2
     out[f"undercut_{n1}"] = u1
     if not pair.internal:
         out[f"undercut_{n2}"] = u2
-    sa1, sa2 = tip_thickness(pair)
+    sa1, sa2 = itf.tip_thickness(pair)
     smin = min_tip_thickness * pair.module
-    out[f"tip_thickness_{n1}"] = cast(FloatArray, sa1 - smin)
-    out[f"tip_thickness_{n2}"] = cast(FloatArray, sa2 - smin)
+    out[f"tip_thickness_{n1}"] = cast(geo.FloatArray, sa1 - smin)
+    out[f"tip_thickness_{n2}"] = cast(geo.FloatArray, sa2 - smin)
     if pair.internal:
-        out["trimming_interference_annulus"] = trimming_interference(pair, cutter)
-    shape = np.broadcast(*shifts(pair)).shape
-    return {k: cast(FloatArray, np.broadcast_to(np.asarray(v, dtype=float), shape)) for k, v in out.items()}
+        out["trimming_interference_annulus"] = itf.trimming_interference(pair, cutter)
+    shape = np.broadcast(*geo.shifts(pair)).shape
+    return {k: cast(geo.FloatArray, np.broadcast_to(np.asarray(v, dtype=float), shape)) for k, v in out.items()}
 
 
 def constraints(
-    pair: GearPair,
+    pair: geo.GearPair,
     *,
     min_tip_thickness: float = 0.25,
     min_contact_ratio: float = 1.0,
-    cutter: ShaperCutter | None = None,
+    cutter: geo.ShaperCutter | None = None,
 ) -> dict[str, float]:
-    """Every constraint of one design as a float margin; >= 0 means satisfied.
-
-    ``min_tip_thickness`` is s_min in modules (0.25 m or 0.4 m are the usual choices).
-    See :func:`constraint_grid` for the names.
-    """
+    """Every constraint of one design as a float margin (>= 0 satisfied); ``min_tip_thickness`` is s_min in
+    modules (0.25 m or 0.4 m are the usual choices)."""
     grid = constraint_grid(
         pair, min_tip_thickness=min_tip_thickness, min_contact_ratio=min_contact_ratio, cutter=cutter
     )
     return {k: float(v) for k, v in grid.items()}
 
 
-def violations(pair: GearPair, **kwargs: Any) -> list[str]:
-    """Names of the constraints that fail (margin < 0 or not a number)."""
-    return [k for k, v in constraints(pair, **kwargs).items() if not v >= 0.0]
-
-
-def describe(pair: GearPair, **kwargs: Any) -> dict[str, float]:
+def describe(pair: geo.GearPair, **kwargs: Any) -> dict[str, float]:
     """Derived geometry of one design for ``geardyn check-design`` (mm, deg, -)."""
-    aw = float(working_pressure_angle(pair))
-    da1, da2 = tip_diameters(pair)
-    df1, df2 = root_diameters(pair)
-    sa1, sa2 = tip_thickness(pair)
-    db1, db2 = base_diameters(pair)
+    aw = float(geo.working_pressure_angle(pair))
     out: dict[str, float] = {
-        "reference_centre_distance_mm": reference_centre_distance(pair),
+        "reference_centre_distance_mm": geo.reference_centre_distance(pair),
         "working_pressure_angle_deg": math.degrees(aw),
         "cos_working_pressure_angle": math.cos(aw),
-        "working_centre_distance_mm": float(working_centre_distance(pair)),
-        "centre_distance_modification": float(centre_distance_modification(pair)),
-        "contact_ratio": float(contact_ratio(pair)),
-        "da1_mm": float(da1),
-        "da2_mm": float(da2),
-        "df1_mm": float(df1),
-        "df2_mm": float(df2),
-        "db1_mm": db1,
-        "db2_mm": db2,
-        "sa1_mm": float(sa1),
-        "sa2_mm": float(sa2),
+        "working_centre_distance_mm": float(geo.working_centre_distance(pair)),
+        "centre_distance_modification": float(geo.centre_distance_modification(pair)),
+        "contact_ratio": float(itf.contact_ratio(pair)),
     }
+    # tip, root and base diameters and tip thickness of each gear: da1_mm, da2_mm, df1_mm, ...
+    per_gear = {"da": geo.tip_diameters(pair), "df": geo.root_diameters(pair), "db": geo.base_diameters(pair)}
+    per_gear["sa"] = itf.tip_thickness(pair)
+    out |= {f"{name}{i + 1}_mm": float(v[i]) for name, v in per_gear.items() for i in (0, 1)}
     if pair.internal:
-        out["overlap_interference_Gs"] = float(overlap_interference(pair))
-        out["radial_interference_assembly"] = float(radial_interference(pair))
+        out["overlap_interference_Gs"] = float(itf.overlap_interference(pair))
+        out["radial_interference_assembly"] = float(itf.radial_interference(pair))
     out.update({f"margin_{k}": v for k, v in constraints(pair, **kwargs).items()})
     return out
 
 
-# --------------------------------------------------------------------------------------------
-# Line 4: the G_s = 0 boundary
-# --------------------------------------------------------------------------------------------
+# --- Line 4: the G_s = 0 boundary ---
 
 
-def _gs_scalar(base: GearPair, x1: float, x2: float) -> float:
-    return float(overlap_interference(dataclasses.replace(base, x1=x1, x2=x2)))
+def _gs_scalar(base: geo.GearPair, x1: float, x2: float) -> float:
+    return float(itf.overlap_interference(dataclasses.replace(base, x1=x1, x2=x2)))
 
 
-def x2_on_overlap_boundary(x1: float, base: GearPair, *, xtol: float = 1e-12) -> float:
-    """Annulus shift x2 with G_s(x1, x2) = 0 ("line 4", the design point for a given x1).
-
-    G_s increases with x2 at fixed x1 (larger a' and a larger annulus tip circle pull the tips
-    apart), so the root is bracketed by stepping x2 upwards from x1 - 0.5 and solved with brentq.
-    Raises ``ValueError`` when no root exists: G_s is already positive where the pair first meshes
-    (strongly negative x1), or never changes sign.
-    """
+def x2_on_overlap_boundary(x1: float, base: geo.GearPair, *, xtol: float = 1e-12) -> float:
+    """Annulus shift x2 with G_s(x1, x2) = 0 ("line 4", the design point for a given x1): bracketed by
+    stepping x2 up from x1 - 0.5, then brentq (docs/geometry.md, "Lines 1-4 of Fig. 3"); ``ValueError`` when no root
+    exists."""
     if not base.internal:
         raise ValueError("the G_s = 0 boundary applies to internal pairs only")
     lo = float(x1) - 0.5
@@ -201,8 +143,8 @@ def x2_on_overlap_boundary(x1: float, base: GearPair, *, xtol: float = 1e-12) ->
     return float(brentq(lambda x2: _gs_scalar(base, x1, x2), lo, hi, xtol=xtol, rtol=4 * np.finfo(float).eps))
 
 
-def x2_on_overlap_boundary_many(x1: ArrayLike, base: GearPair) -> FloatArray:
+def x2_on_overlap_boundary_many(x1: ArrayLike, base: geo.GearPair) -> geo.FloatArray:
     """Vectorised :func:`x2_on_overlap_boundary` (one brentq per x1 value)."""
     arr = np.asarray(x1, dtype=float)
     out = np.array([x2_on_overlap_boundary(float(v), base) for v in arr.ravel()])
-    return cast(FloatArray, out.reshape(arr.shape))
+    return cast(geo.FloatArray, out.reshape(arr.shape))

@@ -1,37 +1,7 @@
-"""Involute spur-pair geometry for internal and external pairs (paper 1, Sec. 3.2; docs/findings.md).
+"""Involute spur-pair geometry for internal and external pairs (paper 1, Sec. 3.2).
 
-Units: lengths in mm, angles in rad (names ending ``_deg`` are in degrees). Gear 1 is the
-pinion (the planet V of paper 1), gear 2 the annulus (internal pair) or the wheel (external pair).
-
-Sign convention
----------------
-External pairs use the ordinary convention: positive ``x`` moves the tool away from the gear
-centre, thickens the tooth and enlarges the tip circle.
-
-Internal pairs use the Chinese-textbook convention for the annulus (docs/findings.md, "Internal pair
-sign convention"): positive ``x2`` enlarges the annulus tip circle and *thins* its tooth::
-
-    da2 = d2 - 2 (ha* - x2) m,      s2 = m (pi/2 - 2 x2 tan a),
-    inv a' = 2 (x2 - x1) tan a / (z2 - z1) + inv a.
-
-This equals ISO 21771 with a negative annulus tooth count and ``x2_iso = -x2``.  Internally every
-formula is written once with ``sigma = +1`` (external) or ``-1`` (internal): ``z2 -> sigma z2``,
-``x2 -> sigma x2``, so the same functions serve both kinds of pair.
-
-Vectorisation
--------------
-Every function accepts a :class:`GearPair` whose ``x1``/``x2`` are floats *or* numpy arrays that
-broadcast (see :func:`with_shifts`); scalars give numpy scalars.
-:func:`geardyn.gears.constraints.constraint_grid` evaluates all constraints on an (x1, x2) grid at once.
-
-Sources
--------
-* Paper 1: Li et al. (2013), Sec. 3.2 and Fig. 3 (closed graph after Zhang 2011, ref. [26]).
-* SDP/SI-KHK, "Elements of Metric Gear Technology", Sec. 5.2-5.3, Eqs. (5-6)-(5-10) and
-  Table 5-4 (http://www.sdp-si.com/D785/HTML1/D785T043_3.html and ..._4.html).
-* Chinese closed-graph criteria (overlap interference G_s, radial/trimming interference, root
-  transition-curve interference), as in Zhang (2011) and the Chinese gear handbooks; the
-  trimming formula is the same as KHK Eqs. (5-9)/(5-10).
+Units mm and rad; gear 1 the pinion/planet, gear 2 the annulus (internal, Chinese sign convention) or
+the wheel; shifts may be broadcasting arrays.  Conventions, formulas and sources: docs/geometry.md.
 """
 
 from __future__ import annotations
@@ -48,52 +18,12 @@ from geardyn import libm
 
 FloatArray = NDArray[np.float64]
 
-__all__ = [
-    "FloatArray",
-    "GearPair",
-    "ShaperCutter",
-    "base_diameters",
-    "centre_distance_modification",
-    "inverse_involute",
-    "involute",
-    "pitch_diameters",
-    "pressure_angle_at",
-    "reference_centre_distance",
-    "root_diameters",
-    "shifts",
-    "tip_diameters",
-    "tip_pressure_angles",
-    "with_shifts",
-    "working_centre_distance",
-    "working_pitch_diameters",
-    "working_pressure_angle",
-]
-
 
 @dataclass(frozen=True)
 class GearPair:
-    """A spur pair with profile shift.
-
-    Attributes
-    ----------
-    z1: pinion / planet teeth.
-    z2: annulus (``internal=True``) or wheel teeth.
-    module: mm.
-    x1: pinion / planet profile-shift coefficient (-).
-    x2: annulus / wheel profile-shift coefficient (-); for an annulus the Chinese convention
-        (positive enlarges the annulus tip circle and thins its tooth).
-    pressure_angle_deg: reference (tool) pressure angle, degrees.
-    addendum: addendum coefficient ha* (-).
-    clearance: bottom clearance coefficient c* (-).
-    internal: True for a planet-annulus pair.
-    facewidth: mm (carried for the stiffness model; not used by the geometry).
-    tip_shortening: external pairs only.  True (default) shortens both tips by
-        ``(x1 + x2 - y) m`` so that the standard bottom clearance c* m is kept at the working
-        centre distance (KHK/SDP-SI profile-shifted spur example and Chinese practice,
-        ``da = d + 2 (ha* + x - dy) m``).  False keeps ``da = d + 2 (ha* + x) m``.
-        Internal pairs are never shortened (docs/findings.md, "Working angle, centre distance, tip
-        diameters, contact ratio").
-    """
+    """A spur pair with profile shift: teeth z1, z2, module (mm), shifts x1, x2 (annulus: Chinese
+    convention), pressure angle (deg), ha*, c*, internal or external, facewidth (mm, for the stiffness)
+    and external tip shortening (docs/geometry.md, "The pair")."""
 
     z1: int
     z2: int
@@ -135,11 +65,8 @@ class GearPair:
 
 @dataclass(frozen=True)
 class ShaperCutter:
-    """Pinion-type shaper cutter that generates the annulus (internal pairs).
-
-    ``teeth`` z0, ``shift`` x0 (ordinary convention), ``addendum`` ha0* (None: ha* + c* of the
-    pair, i.e. the cutter cuts the standard root depth).
-    """
+    """Pinion-type shaper cutter that generates the annulus: teeth z0, shift x0 (ordinary convention),
+    addendum ha0* (None: ha* + c* of the pair, the standard root depth)."""
 
     teeth: int
     shift: float = 0.0
@@ -153,16 +80,9 @@ def involute(alpha: ArrayLike) -> FloatArray:
 
 
 def inverse_involute(value: ArrayLike, *, tol: float = 1e-15, max_iter: int = 60) -> FloatArray:
-    """Angle a in (-pi/2, pi/2) with inv a = value, vectorised.
-
-    Newton's method on the convex increasing f(a) = tan a - a - v, started at an upper bound
-    of the root, converges monotonically: tan a - a >= a^3 / 3 gives a* <= (3 v)^(1/3), and
-    tan(atan(v + pi/2)) - atan(v + pi/2) >= v gives a* <= atan(v + pi/2).  inv is odd, so
-    negative values map to negative angles.  Each value stops when its own step is below ``tol``
-    relative (or not finite): an array gives, value for value, the bits of one value alone.  One value
-    takes the same steps in Python floats (20 times faster than numpy on one value; the root solvers of
-    the profile shifts call it one value at a time).
-    """
+    """Angle a in (-pi/2, pi/2) with inv a = value, vectorised: monotone Newton from an upper bound, each
+    value stopping on its own step, so an array gives the bits of each value alone (docs/geometry.md,
+    "Inverse involute")."""
     if np.ndim(value) == 0:
         return cast(FloatArray, np.float64(_inverse_involute_scalar(float(value), tol, max_iter)))
     v = np.asarray(value, dtype=float)
@@ -212,9 +132,7 @@ def shifts(pair: GearPair) -> tuple[FloatArray, FloatArray]:
     return np.asarray(pair.x1, dtype=float), np.asarray(pair.x2, dtype=float)
 
 
-# --------------------------------------------------------------------------------------------
-# Centre distance and pressure angle
-# --------------------------------------------------------------------------------------------
+# --- Centre distance and pressure angle ---
 
 
 def reference_centre_distance(pair: GearPair) -> float:
@@ -223,17 +141,17 @@ def reference_centre_distance(pair: GearPair) -> float:
 
 
 def working_pressure_angle(pair: GearPair) -> FloatArray:
-    """Working pressure angle a' in rad from the no-backlash condition.
+    """Working pressure angle a' in rad from the no-backlash condition (docs/geometry.md, "Formulas");
+    NaN where inv a' <= 0: no positive working angle exists and the teeth cannot mesh."""
+    inv_w = working_involute(pair)
+    return cast(FloatArray, np.where(inv_w > 0.0, inverse_involute(np.maximum(inv_w, 0.0)), np.nan))
 
-    External: inv a' = 2 (x1 + x2) tan a / (z1 + z2) + inv a.
-    Internal: inv a' = 2 (x2 - x1) tan a / (z2 - z1) + inv a (KHK Sec. 5.1; docs/findings.md, "Working
-    angle, centre distance, tip diameters, contact ratio").
-    NaN where inv a' <= 0: no positive working angle exists and the teeth cannot mesh.
-    """
+
+def working_involute(pair: GearPair) -> FloatArray:
+    """inv a' of the no-backlash condition (docs/geometry.md, "Formulas"); <= 0 where the teeth cannot mesh."""
     x1, x2 = shifts(pair)
     s = pair.sigma
-    inv_w = 2.0 * (x2 + s * x1) * math.tan(pair.alpha) / (pair.z2 + s * pair.z1) + involute(pair.alpha)
-    return cast(FloatArray, np.where(inv_w > 0.0, inverse_involute(np.maximum(inv_w, 0.0)), np.nan))
+    return cast(FloatArray, 2.0 * (x2 + s * x1) * math.tan(pair.alpha) / (pair.z2 + s * pair.z1) + involute(pair.alpha))
 
 
 def working_centre_distance(pair: GearPair) -> FloatArray:
@@ -249,9 +167,7 @@ def centre_distance_modification(pair: GearPair) -> FloatArray:
     return cast(FloatArray, (working_centre_distance(pair) - reference_centre_distance(pair)) / pair.module)
 
 
-# --------------------------------------------------------------------------------------------
-# Diameters
-# --------------------------------------------------------------------------------------------
+# --- Diameters ---
 
 
 def pitch_diameters(pair: GearPair) -> tuple[float, float]:
@@ -266,13 +182,6 @@ def base_diameters(pair: GearPair) -> tuple[float, float]:
     return d1 * c, d2 * c
 
 
-def working_pitch_diameters(pair: GearPair) -> tuple[FloatArray, FloatArray]:
-    """Working pitch diameters d' = d cos a / cos a', mm."""
-    d1, d2 = pitch_diameters(pair)
-    r = math.cos(pair.alpha) / np.cos(working_pressure_angle(pair))
-    return d1 * r, d2 * r
-
-
 def _tip_shortening(pair: GearPair) -> FloatArray:
     """Tip-shortening coefficient dy = x1 + x2 - y for external pairs (0 for internal)."""
     x1, x2 = shifts(pair)
@@ -282,13 +191,8 @@ def _tip_shortening(pair: GearPair) -> FloatArray:
 
 
 def tip_diameters(pair: GearPair) -> tuple[FloatArray, FloatArray]:
-    """Tip diameters (da1, da2) in mm.
-
-    Internal (docs/findings.md, "Working angle, centre distance, tip diameters, contact ratio"):
-    da1 = d1 + 2 (ha* + x1) m, da2 = d2 - 2 (ha* - x2) m, no shortening.
-    External: da = d + 2 (ha* + x - dy) m with dy = x1 + x2 - y when ``tip_shortening`` (default)
-    keeps the standard clearance c* m; dy = 0 otherwise.
-    """
+    """Tip diameters (da1, da2) in mm; external tips shortened by dy m when ``tip_shortening``
+    (docs/geometry.md, "Formulas")."""
     x1, x2 = shifts(pair)
     d1, d2 = pitch_diameters(pair)
     m, ha = pair.module, pair.addendum
@@ -302,12 +206,8 @@ def tip_diameters(pair: GearPair) -> tuple[FloatArray, FloatArray]:
 
 
 def root_diameters(pair: GearPair) -> tuple[FloatArray, FloatArray]:
-    """Root diameters (df1, df2) in mm, rack-equivalent generation.
-
-    df1 = d1 - 2 (ha* + c* - x1) m.  External wheel: df2 = d2 - 2 (ha* + c* - x2) m.
-    Annulus: df2 = d2 + 2 (ha* + c* + x2) m.  A shaper-cut root is really 2 a0' + da0, which is
-    close to this (equal when x2 = x0 = 0 and ha0* = ha* + c*); no constraint uses df.
-    """
+    """Root diameters (df1, df2) in mm, rack-equivalent generation (docs/geometry.md, "Formulas"; reported
+    only, no constraint uses them)."""
     x1, x2 = shifts(pair)
     d1, d2 = pitch_diameters(pair)
     m, h = pair.module, pair.addendum + pair.clearance

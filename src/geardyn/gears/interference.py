@@ -12,279 +12,186 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from geardyn import libm
-from geardyn.gears.geometry import (
-    FloatArray,
-    GearPair,
-    ShaperCutter,
-    base_diameters,
-    inverse_involute,
-    involute,
-    pitch_diameters,
-    pressure_angle_at,
-    shifts,
-    tip_diameters,
-    tip_pressure_angles,
-    working_centre_distance,
-    working_pressure_angle,
-)
+from geardyn.gears import geometry as geo
 
-__all__ = [
-    "contact_ratio",
-    "default_cutter",
-    "involute_interference",
-    "overlap_interference",
-    "radial_interference",
-    "root_interference",
-    "tip_thickness",
-    "trimming_interference",
-    "undercut_margin",
-]
-
-# --------------------------------------------------------------------------------------------
-# Contact ratio and interference
-# --------------------------------------------------------------------------------------------
+# --- Contact ratio and interference ---
 
 
-def contact_ratio(pair: GearPair) -> FloatArray:
-    """Transverse contact ratio (paper 1 Sec. 3.2 line 1; checked against KHK Table 5-4, docs/findings.md).
-
-    eps = [z1 (tan aa1 - tan a') + sigma z2 (tan aa2 - tan a')] / (2 pi), sigma = -1 internal.
-    """
-    aw = working_pressure_angle(pair)
-    aa1, aa2 = tip_pressure_angles(pair)
+def contact_ratio(pair: geo.GearPair) -> geo.FloatArray:
+    """Transverse contact ratio (paper 1 Sec. 3.2 line 1; docs/geometry.md, "Formulas")."""
+    aw = geo.working_pressure_angle(pair)
+    aa1, aa2 = geo.tip_pressure_angles(pair)
     tw = libm.tan(aw)
     return cast(
-        FloatArray,
+        geo.FloatArray,
         (pair.z1 * (libm.tan(aa1) - tw) + pair.sigma * pair.z2 * (libm.tan(aa2) - tw)) / (2.0 * np.pi),
     )
 
 
-def overlap_interference(pair: GearPair) -> FloatArray:
-    """Tooth-profile overlap interference G_s (internal pairs), rad; >= 0 is feasible.
-
-    G_s = z1 (inv aa1 + d1) - z2 (inv aa2 + d2) + (z2 - z1) inv a', with
-    cos d1 = (ra2^2 - ra1^2 - a'^2) / (2 ra1 a'),  cos d2 = (ra2^2 - ra1^2 + a'^2) / (2 ra2 a').
-    Identical to KHK's trochoid-interference condition, Eqs. (5-6)/(5-7), multiplied by z2.
-    When the two tip circles do not intersect the cosines are clipped to [-1, 1].
-    """
+def overlap_interference(pair: geo.GearPair) -> geo.FloatArray:
+    """Tooth-profile overlap interference G_s (internal pairs), rad; >= 0 is feasible (KHK Eqs. (5-6)/(5-7)
+    times z2; docs/geometry.md, "Formulas")."""
     if not pair.internal:
         raise ValueError("overlap interference G_s applies to internal pairs only")
-    aw = working_pressure_angle(pair)
-    a_w = working_centre_distance(pair)
-    da1, da2 = tip_diameters(pair)
+    aw = geo.working_pressure_angle(pair)
+    a_w = geo.working_centre_distance(pair)
+    da1, da2 = geo.tip_diameters(pair)
     ra1, ra2 = da1 / 2.0, da2 / 2.0
-    aa1, aa2 = tip_pressure_angles(pair)
+    aa1, aa2 = geo.tip_pressure_angles(pair)
     c1 = np.clip((ra2**2 - ra1**2 - a_w**2) / (2.0 * ra1 * a_w), -1.0, 1.0)
     c2 = np.clip((ra2**2 - ra1**2 + a_w**2) / (2.0 * ra2 * a_w), -1.0, 1.0)
     d1, d2 = libm.arccos(c1), libm.arccos(c2)
     return cast(
-        FloatArray,
-        pair.z1 * (involute(aa1) + d1) - pair.z2 * (involute(aa2) + d2) + (pair.z2 - pair.z1) * involute(aw),
+        geo.FloatArray,
+        pair.z1 * (geo.involute(aa1) + d1)
+        - pair.z2 * (geo.involute(aa2) + d2)
+        + (pair.z2 - pair.z1) * geo.involute(aw),
     )
 
 
-def _lowest_contact_roll(pair: GearPair) -> tuple[FloatArray, FloatArray]:
-    """Roll distances (mm along the line of action) of the deepest contact point on each gear.
-
-    Measured from that gear's tangent point N on the line of action:
-    rho1 = rb1 [tan a' - sigma (z2/z1)(tan aa2 - tan a')]  (start set by the mating tip),
-    rho2 = rb2 [tan a' - (z1/z2)(tan aa1 - tan a')]          (external wheel only).
-    """
-    db1, db2 = base_diameters(pair)
-    aw = working_pressure_angle(pair)
-    aa1, aa2 = tip_pressure_angles(pair)
+def _lowest_contact_roll(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:
+    """Roll distances (mm from each gear's tangent point N) of its deepest contact point (docs/geometry.md)."""
+    db1, db2 = geo.base_diameters(pair)
+    aw = geo.working_pressure_angle(pair)
+    aa1, aa2 = geo.tip_pressure_angles(pair)
     tw = libm.tan(aw)
     rho1 = db1 / 2.0 * (tw - pair.sigma * pair.z2 / pair.z1 * (libm.tan(aa2) - tw))
     rho2 = db2 / 2.0 * (tw - pair.z1 / pair.z2 * (libm.tan(aa1) - tw))
-    return cast(FloatArray, rho1), cast(FloatArray, rho2)
+    return cast(geo.FloatArray, rho1), cast(geo.FloatArray, rho2)
 
 
-def involute_interference(pair: GearPair) -> tuple[FloatArray, FloatArray]:
-    """Signed involute-interference margins (mm) for (gear 1, gear 2); >= 0 is feasible.
-
-    Gear 1 (planet/pinion): distance along the line of action from its tangent point N1 to the
-    contact point set by the mating tip circle.  Negative: the mating tip works below the base
-    circle of gear 1.  For an internal pair this is KHK's condition z1/z2 >= 1 - tan aa2/tan a'
-    (SDP/SI Sec. 5.2(a)) multiplied by rb1 tan a'.
-    Gear 2: external wheel - the same distance from N2; annulus - ra2 - rb2, the annulus tip
-    circle must lie outside its base circle (the planet tip contact lies beyond the pitch point
-    and can never pass N2, which is the far end of the line of action).
-    """
+def involute_interference(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:
+    """Signed involute-interference margins (mm) for (gear 1, gear 2); >= 0 is feasible: the roll distance
+    of the deepest contact, for an annulus ra2 - rb2 (docs/geometry.md, "Formulas")."""
     rho1, rho2 = _lowest_contact_roll(pair)
     if pair.internal:
-        _, da2 = tip_diameters(pair)
-        _, db2 = base_diameters(pair)
-        return rho1, cast(FloatArray, (da2 - db2) / 2.0)
+        _, da2 = geo.tip_diameters(pair)
+        _, db2 = geo.base_diameters(pair)
+        return rho1, cast(geo.FloatArray, (da2 - db2) / 2.0)
     return rho1, rho2
 
 
-def _rack_form_roll(pair: GearPair, which: int) -> FloatArray:
-    """Roll distance rb tan aF (mm) of the lowest involute point generated by a rack cutter.
-
-    tan aF = tan a - 4 (ha* - x) / (z sin 2a), taking the straight flank of the rack to reach
-    the depth ha* m (the remaining c* m is the tool tip fillet), standard Chinese-textbook rule.
-    """
-    x1, x2 = shifts(pair)
+def _rack_form_roll(pair: geo.GearPair, which: int) -> geo.FloatArray:
+    """Roll distance rb tan aF (mm) of the lowest involute point a rack cutter generates (docs/geometry.md,
+    "Choices": rack form point)."""
+    x1, x2 = geo.shifts(pair)
     z, x = (pair.z1, x1) if which == 1 else (pair.z2, x2)
-    db = (base_diameters(pair))[which - 1]
+    db = (geo.base_diameters(pair))[which - 1]
     a = pair.alpha
     tan_f = math.tan(a) - 4.0 * (pair.addendum - x) / (z * math.sin(2.0 * a))
-    return cast(FloatArray, db / 2.0 * tan_f)
+    return cast(geo.FloatArray, db / 2.0 * tan_f)
 
 
-def undercut_margin(pair: GearPair) -> tuple[FloatArray, FloatArray]:
-    """Undercut margins (mm along the line of action) for rack-cut gears.
-
-    rb tan aF >= 0  <=>  x >= ha* - z sin^2(a) / 2 (no undercut).  The annulus (internal) is
-    shaper-cut and cannot be undercut in this sense: its entry is +inf.
-    """
+def undercut_margin(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:
+    """Undercut margins (mm along the line of action) for rack-cut gears; +inf for the shaper-cut annulus."""
     u1 = _rack_form_roll(pair, 1)
     if pair.internal:
-        return u1, cast(FloatArray, np.full(np.shape(u1), np.inf))
+        return u1, cast(geo.FloatArray, np.full(np.shape(u1), np.inf))
     return u1, _rack_form_roll(pair, 2)
 
 
-def _cutting_mesh(pair: GearPair, cutter: ShaperCutter | None) -> tuple[ShaperCutter, float, FloatArray, float]:
-    """Shaper-cutter data for the annulus: (cutter, ha0*, inv a0', da0 in mm).
-
-    Cutting mesh without backlash: inv a0' = 2 (x2 - x0) tan a / (z2 - z0) + inv a;
-    cutter tip diameter da0 = m (z0 + 2 (ha0* + x0)).
-    """
+def _cutting_mesh(
+    pair: geo.GearPair, cutter: geo.ShaperCutter | None
+) -> tuple[geo.ShaperCutter, float, geo.FloatArray, float]:
+    """Shaper-cutter data for the annulus: (cutter, ha0*, inv a0', da0 in mm) of the cutting mesh."""
     cut = cutter if cutter is not None else default_cutter(pair)
     if cut.teeth >= pair.z2:
         raise ValueError(f"cutter teeth z0={cut.teeth} must be fewer than annulus teeth z2={pair.z2}")
-    _, x2 = shifts(pair)
+    _, x2 = geo.shifts(pair)
     m, a = pair.module, pair.alpha
     ha0 = cut.addendum if cut.addendum is not None else pair.addendum + pair.clearance
-    inv_w0 = 2.0 * (x2 - cut.shift) * math.tan(a) / (pair.z2 - cut.teeth) + involute(a)
+    inv_w0 = 2.0 * (x2 - cut.shift) * math.tan(a) / (pair.z2 - cut.teeth) + geo.involute(a)
     da0 = m * (cut.teeth + 2.0 * (ha0 + cut.shift))
-    return cut, ha0, cast(FloatArray, inv_w0), da0
+    return cut, ha0, cast(geo.FloatArray, inv_w0), da0
 
 
-def root_interference(pair: GearPair, cutter: ShaperCutter | None = None) -> tuple[FloatArray, FloatArray]:
-    """Root (transition-curve) interference margins, mm along the line of action; >= 0 feasible.
-
-    Gear 1 (rack-cut planet/pinion): its involute starts at the form point rb1 tan aF1 (see
-    :func:`undercut_margin`); the mating tip must not reach below it:
-    margin1 = rho1 - rb1 tan aF1, i.e. (Chinese textbook form, divided by rb1)
-    tan a' - sigma (z2/z1)(tan aa2 - tan a') >= tan a - 4 (ha* - x1) / (z1 sin 2a).
-    Gear 2, external wheel: the same with the indices swapped.
-    Gear 2, shaper-cut annulus: the annulus involute ends where the cutter tip left it, at roll
-    distance rb2 tan a0' + rb0 (tan aa0 - tan a0') from N2; the planet tip contact lies at
-    rb2 tan a' + rb1 (tan aa1 - tan a').  Margin = difference (mm); divided by m cos a / 2 it is
-    the Chinese condition z0 tan aa0 - (z0 - z2) tan a0' >= z1 tan aa1 - (z1 - z2) tan a'.
-    """
+def root_interference(
+    pair: geo.GearPair, cutter: geo.ShaperCutter | None = None
+) -> tuple[geo.FloatArray, geo.FloatArray]:
+    """Root (transition-curve) interference margins, mm along the line of action; >= 0 feasible: deepest
+    contact minus the form point (rack-cut gears) or the end of the shaper-cut annulus involute
+    (docs/geometry.md, "Formulas")."""
     rho1, rho2 = _lowest_contact_roll(pair)
     m1 = rho1 - _rack_form_roll(pair, 1)
     if not pair.internal:
-        return cast(FloatArray, m1), cast(FloatArray, rho2 - _rack_form_roll(pair, 2))
+        return cast(geo.FloatArray, m1), cast(geo.FloatArray, rho2 - _rack_form_roll(pair, 2))
     cut, _, inv_w0, da0 = _cutting_mesh(pair, cutter)
     c = math.cos(pair.alpha)
     rb0 = cut.teeth * pair.module * c / 2.0
-    db1, db2 = base_diameters(pair)
+    db1, db2 = geo.base_diameters(pair)
     rb1, rb2 = db1 / 2.0, db2 / 2.0
-    t_w0 = libm.tan(inverse_involute(inv_w0))
+    t_w0 = libm.tan(geo.inverse_involute(inv_w0))
     t_a0 = math.tan(math.acos(rb0 / (da0 / 2.0)))
-    t_w = libm.tan(working_pressure_angle(pair))
-    aa1, _ = tip_pressure_angles(pair)
+    t_w = libm.tan(geo.working_pressure_angle(pair))
+    aa1, _ = geo.tip_pressure_angles(pair)
     form2 = rb2 * t_w0 + rb0 * (t_a0 - t_w0)
     contact2 = rb2 * t_w + rb1 * (libm.tan(aa1) - t_w)
-    return cast(FloatArray, m1), cast(FloatArray, form2 - contact2)
+    return cast(geo.FloatArray, m1), cast(geo.FloatArray, form2 - contact2)
 
 
-def tip_thickness(pair: GearPair) -> tuple[FloatArray, FloatArray]:
-    """Transverse tooth thickness on the tip circles (sa1, sa2), mm.
-
-    External tooth: sa = da (s / d + inv a - inv aa), s = m (pi/2 + 2 x tan a).
-    Annulus tooth (teeth thin towards the centre): sa2 = da2 (s2 / d2 - inv a + inv aa2),
-    s2 = m (pi/2 - 2 x2 tan a) (Chinese convention).
-    """
-    x1, x2 = shifts(pair)
-    d1, d2 = pitch_diameters(pair)
-    da1, da2 = tip_diameters(pair)
-    aa1, aa2 = tip_pressure_angles(pair)
+def tip_thickness(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:
+    """Transverse tooth thickness on the tip circles (sa1, sa2), mm (docs/geometry.md, "Formulas")."""
+    x1, x2 = geo.shifts(pair)
+    d1, d2 = geo.pitch_diameters(pair)
+    da1, da2 = geo.tip_diameters(pair)
+    aa1, aa2 = geo.tip_pressure_angles(pair)
     m, a = pair.module, pair.alpha
-    inv_a = involute(a)
+    inv_a = geo.involute(a)
     s1 = m * (np.pi / 2 + 2.0 * x1 * math.tan(a))
-    sa1 = da1 * (s1 / d1 + inv_a - involute(aa1))
+    sa1 = da1 * (s1 / d1 + inv_a - geo.involute(aa1))
     if pair.internal:
         s2 = m * (np.pi / 2 - 2.0 * x2 * math.tan(a))
-        sa2 = da2 * (s2 / d2 - inv_a + involute(aa2))
+        sa2 = da2 * (s2 / d2 - inv_a + geo.involute(aa2))
     else:
         s2 = m * (np.pi / 2 + 2.0 * x2 * math.tan(a))
-        sa2 = da2 * (s2 / d2 + inv_a - involute(aa2))
-    return cast(FloatArray, sa1), cast(FloatArray, sa2)
+        sa2 = da2 * (s2 / d2 + inv_a - geo.involute(aa2))
+    return cast(geo.FloatArray, sa1), cast(geo.FloatArray, sa2)
 
 
 def _trimming(
-    z_small: int,
-    z_big: int,
-    da_small: ArrayLike,
-    da_big: ArrayLike,
-    db_small: float,
-    db_big: float,
-    inv_w: ArrayLike,
-) -> FloatArray:
-    """Radial (trimming) interference margin of an internal mesh, rad.
-
-    KHK Eqs. (5-9)/(5-10) (also the Chinese "radial interference" G_s'):
-    G = z1 (t1 + inv aa1 - inv a') - z2 (t2 + inv aa2 - inv a') >= 0, with
-    t1 = asin sqrt[(1 - (cos aa1/cos aa2)^2) / (1 - (z1/z2)^2)],
-    t2 = asin sqrt[((cos aa2/cos aa1)^2 - 1) / ((z2/z1)^2 - 1)].
-    """
-    aa1 = pressure_angle_at(db_small, da_small)
-    aa2 = pressure_angle_at(db_big, da_big)
+    small: tuple[int, ArrayLike, float], big: tuple[int, ArrayLike, float], inv_w: ArrayLike
+) -> geo.FloatArray:
+    """Radial (trimming) interference margin of an internal mesh, rad: KHK Eqs. (5-9)/(5-10) (docs/geometry.md,
+    "Formulas"); each gear given as (teeth, tip diameter, base diameter)."""
+    (z_small, da_small, db_small), (z_big, da_big, db_big) = small, big
+    aa1 = geo.pressure_angle_at(db_small, da_small)
+    aa2 = geo.pressure_angle_at(db_big, da_big)
     q = (np.cos(aa1) / np.cos(aa2)) ** 2
     with np.errstate(invalid="ignore"):
         t1 = libm.arcsin(np.sqrt(np.clip((1.0 - q) / (1.0 - (z_small / z_big) ** 2), 0.0, 1.0)))
         t2 = libm.arcsin(np.sqrt(np.clip((1.0 / q - 1.0) / ((z_big / z_small) ** 2 - 1.0), 0.0, 1.0)))
     return cast(
-        FloatArray,
-        z_small * (t1 + involute(aa1) - inv_w) - z_big * (t2 + involute(aa2) - inv_w),
+        geo.FloatArray,
+        z_small * (t1 + geo.involute(aa1) - inv_w) - z_big * (t2 + geo.involute(aa2) - inv_w),
     )
 
 
-def radial_interference(pair: GearPair) -> FloatArray:
-    """Radial (assembly) interference of the planet-annulus pair, KHK Eq. (5-9), rad.
-
-    Negative means the planet cannot be moved radially into mesh and must be assembled
-    axially.  KHK Table 5-4 notes that this is the normal case for tooth differences 1-8, so it
-    is reported by :func:`describe` but is not a feasibility constraint.
-    """
+def radial_interference(pair: geo.GearPair) -> geo.FloatArray:
+    """Radial (assembly) interference of the planet-annulus pair, KHK Eq. (5-9), rad: reported, not a
+    constraint (negative is normal for tooth differences 1-8; docs/geometry.md)."""
     if not pair.internal:
         raise ValueError("radial interference applies to internal pairs only")
-    da1, da2 = tip_diameters(pair)
-    db1, db2 = base_diameters(pair)
-    return _trimming(pair.z1, pair.z2, da1, da2, db1, db2, involute(working_pressure_angle(pair)))
+    da1, da2 = geo.tip_diameters(pair)
+    db1, db2 = geo.base_diameters(pair)
+    return _trimming((pair.z1, da1, db1), (pair.z2, da2, db2), geo.involute(geo.working_pressure_angle(pair)))
 
 
-def default_cutter(pair: GearPair) -> ShaperCutter:
-    """Assumed shaper cutter when none is configured: nominal 100 mm reference diameter, x0 = 0.
-
-    z0 = round(100 / m) (29 teeth for m = 3.5 mm), or z2 // 2 if that is not below z2; addendum
-    ha* + c*.  Paper 1 does not give the cutter; this is a documented assumption
-    (docs/geometry.md), and the trimming and annulus-root margins depend strongly on it.
-    """
+def default_cutter(pair: geo.GearPair) -> geo.ShaperCutter:
+    """Assumed shaper cutter when none is configured: z0 = round(100 / m) (at least 10; z2 // 2 if not
+    below z2), x0 = 0, ha0* = ha* + c* (docs/geometry.md, "Choices")."""
     z0 = max(10, round(100.0 / pair.module))
     if z0 >= pair.z2:
         z0 = pair.z2 // 2
-    return ShaperCutter(teeth=z0, shift=0.0, addendum=None)
+    return geo.ShaperCutter(teeth=z0, shift=0.0, addendum=None)
 
 
-def trimming_interference(pair: GearPair, cutter: ShaperCutter | None = None) -> FloatArray:
-    """Trimming (radial-feed) interference of the shaper-cut annulus, rad; >= 0 feasible.
-
-    While the annulus is cut by a pinion-type shaper cutter fed radially to depth, the cutter's
-    tips must not trim the annulus teeth: KHK Eqs. (5-9)/(5-10) (SDP/SI Sec. 5.2(c): "This type
-    of interference can occur in the process of cutting an internal gear with a pinion cutter"),
-    the Chinese "径向切入顶切" check, with the cutter as the small gear at the cutting centre
-    distance: inv a0' = 2 (x2 - x0) tan a / (z2 - z0) + inv a, cutter tip diameter
-    da0 = m (z0 + 2 (ha0* + x0)), annulus tip da2 as in :func:`tip_diameters`.
-    """
+def trimming_interference(pair: geo.GearPair, cutter: geo.ShaperCutter | None = None) -> geo.FloatArray:
+    """Trimming (radial-feed) interference of the shaper-cut annulus, rad; >= 0 feasible: KHK Eqs.
+    (5-9)/(5-10) with the cutter as the small gear at the cutting centre distance (docs/geometry.md)."""
     if not pair.internal:
         raise ValueError("trimming interference applies to internal pairs only")
     cut, _, inv_w0, da0 = _cutting_mesh(pair, cutter)
-    _, da2 = tip_diameters(pair)
+    _, da2 = geo.tip_diameters(pair)
     db0 = cut.teeth * pair.module * math.cos(pair.alpha)
-    _, db2 = base_diameters(pair)
-    return _trimming(cut.teeth, pair.z2, np.full(np.shape(da2), da0), da2, db0, db2, inv_w0)
+    _, db2 = geo.base_diameters(pair)
+    return _trimming((cut.teeth, np.full(np.shape(da2), da0), db0), (pair.z2, da2, db2), inv_w0)

@@ -1,17 +1,7 @@
-"""Mesh stiffness of a spur pair: ISO 6336-1 method B and the parabolic k(t) of paper 1.
+"""Mesh stiffness of a spur pair: ISO 6336-1 method B and the parabolic k(t) of paper 1 (Eqs. 7-10).
 
-Paper 1 is Li et al. (2013), "Effect of modification coefficient on nonlinear dynamic
-characteristics of planetary drive with small teeth number difference", Eqs. (7)-(10).
-
-Units: stiffness in N/m (SI) unless a name says otherwise; time ``t`` in mesh periods,
-so that one mesh period is ``t in [0, 1)``.
-
-Two misprints in the paper are handled here (see ``docs/paper1_choices.md``):
-
-* ``C1`` is printed 0.04732; ISO 6336-1 gives 0.04723 (transposed digits).
-* Eq. (9) prints its two intervals swapped.  Summing the single-tooth parabolas of the
-  pairs in contact gives the double-pair expression on ``[0, eps - 1]`` and the
-  single-pair expression on ``[eps - 1, 1]``.  ``form="printed"`` keeps the paper's order.
+Stiffness in N/m, time in mesh periods; the paper's two misprints (C1, the swapped intervals of Eq. 9)
+and every formula: docs/stiffness.md.
 """
 
 from __future__ import annotations
@@ -55,20 +45,8 @@ def flexibility_q(
     variant: QVariant = "iso",
     constants: tuple[float, ...] = ISO_C,
 ) -> NDArray[np.float64]:
-    """Minimum single-tooth flexibility q' in mm um / N (ISO 6336-1 method B; paper 1 Eq. 8).
-
-    ``x2`` uses the sign convention of :mod:`geardyn.geometry`: for an internal pair,
-    positive ``x2`` enlarges the annulus tip circle and thins its teeth ("Chinese" convention).
-
-    ``variant="iso"``: ISO 6336-1 for internal gears, ``z_n2 -> infinity`` and ``x2`` taken in
-    the ISO 21771 / DIN 3960 convention, which for an annulus is ``x2_iso = -x2``.  It is the
-    same convention that makes ``inv a' = 2 (x1 + x2) tan a / (z1 + z2) + inv a`` hold with a
-    negative annulus tooth count.
-
-    ``variant="paper"``: paper 1's reading, ``z_n2 = z2`` with "+" in front of the C6 and C7
-    terms for internal gearing (i.e. ISO's external formula with ``x2 -> -x2`` but a finite
-    ``z_n2``).  For external pairs both variants are ISO's formula.
-    """
+    """Minimum single-tooth flexibility q' in mm um / N (ISO 6336-1 method B; paper 1 Eq. 8); ``x2`` in the
+    Chinese convention, ``variant`` "iso" (z_n2 -> infinity) or "paper" (z_n2 = z2): docs/stiffness.md."""
     c = constants
     x1 = np.asarray(x1, dtype=float)
     x2 = np.asarray(x2, dtype=float)
@@ -104,11 +82,8 @@ def tip_stiffness(k_c: ArrayLike) -> NDArray[np.float64]:
 
 
 def single_tooth_stiffness(s: ArrayLike, eps: float, k_prime: float) -> NDArray[np.float64]:
-    """Stiffness of one tooth pair at engagement time ``s`` (mesh periods), zero outside [0, eps].
-
-    The parabola k'(1 + 2u(1 - u)) with u = s / eps: k' at entry and exit, 1.5 k' mid-way
-    (paper 1 Fig. 4).
-    """
+    """Stiffness of one tooth pair at engagement time ``s`` (mesh periods), zero outside [0, eps]: the
+    parabola k'(1 + 2u(1 - u)), u = s / eps (paper 1 Fig. 4)."""
     s = np.asarray(s, dtype=float)
     u = s / eps
     inside = (u >= 0.0) & (u <= 1.0)
@@ -117,13 +92,8 @@ def single_tooth_stiffness(s: ArrayLike, eps: float, k_prime: float) -> NDArray[
 
 @dataclass(frozen=True)
 class ParabolicStiffness:
-    """Coefficients of paper 1 Eq. (9): A = -2k'/eps^2, B = 2k'/eps, C = k' (N/m per period^n).
-
-    The corrected k(t) is the sum of the single-pair parabolas k_s(t) = A t^2 + B t + C (t in [0, eps])
-    of every pair in contact, for any contact ratio eps >= 1: with n = floor(eps) and f = eps - n,
-    n + 1 pairs mesh on [0, f) and n pairs on [f, 1) of each mesh period (docs/findings.md).  The
-    printed form (intervals swapped) exists only for 1 <= eps < 2, where the paper states it.
-    """
+    """Paper 1 Eq. (9): k(t) as the sum of the single-pair parabolas of the pairs in contact (corrected) or
+    with the printed intervals (1 <= eps < 2 only); docs/stiffness.md."""
 
     eps: float
     k_prime: float
@@ -149,11 +119,8 @@ class ParabolicStiffness:
 
     def zone_poly(self, m: int) -> tuple[float, float, float]:
         """(a, b, c) of a s^2 + b s + c: the sum of the single-pair parabolas of m pairs at t = s + j."""
-        a, b, c = self.a, self.b, self.c
-        if m == 1:
-            return (a, b, c)
-        if m == 2:
-            return (2 * a, 2 * (a + b), a + b + 2 * c)
+        # the single-pair parabola of Eq. (9): A = -2k'/eps^2, B = 2k'/eps, C = k'
+        a, b, c = -2.0 * self.k_prime / self.eps**2, 2.0 * self.k_prime / self.eps, self.k_prime
         sj = m * (m - 1) / 2.0
         sj2 = (m - 1) * m * (2 * m - 1) / 6.0
         return (m * a, 2 * a * sj + m * b, a * sj2 + b * sj + m * c)
@@ -162,18 +129,6 @@ class ParabolicStiffness:
         """The polynomials of the first zone [0, f) and the second [f, 1) (swapped in the printed form)."""
         more, fewer = self.zone_poly(self.pairs + 1), self.zone_poly(self.pairs)
         return (more, fewer) if self.form == "corrected" else (fewer, more)
-
-    @property
-    def a(self) -> float:
-        return -2.0 * self.k_prime / self.eps**2
-
-    @property
-    def b(self) -> float:
-        return 2.0 * self.k_prime / self.eps
-
-    @property
-    def c(self) -> float:
-        return self.k_prime
 
     def __call__(self, t: ArrayLike) -> NDArray[np.float64]:
         """k(t) in N/m, periodic with period 1; right-continuous at the jumps."""

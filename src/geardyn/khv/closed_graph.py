@@ -1,17 +1,6 @@
-"""Closed graph of paper 1 (Li et al. 2013, Fig. 3) computed on an (x1, x2) grid.
-
-The paper names four lines (Sec. 3.2):
-
-* line 1: eps = 1                         -> ``contact_ratio_margin``
-* line 2: no tooth-profile interference   -> ``involute_interference_*``, ``root_interference_*``
-* line 3: no "shortcut" of the gear       -> ``tip_thickness_*``, ``trimming_interference_annulus``
-* line 4: "equal meshing angle"           -> ``overlap_interference`` (G_s = 0)
-
-Line 4 is drawn as G_s = 0, not as a line of constant working pressure angle: the paper's limit
-points M (0.416, 0.601) and N (0.835, 0.995) both lie on G_s = 0 (x2 = 0.60095 and 0.99443), and
-a' falls from 31.0 deg to 29.97 deg between them (docs/geometry.md).
-
-Pure: returns an :class:`xarray.Dataset`; writing it is the caller's job.
+"""Closed graph of paper 1 (Li et al. 2013, Fig. 3) computed on an (x1, x2) grid: lines 1-4 of the paper
+(:data:`LINES`), line 4 being G_s = 0, not a line of constant a' (docs/geometry.md, "Lines 1-4 of
+Fig. 3").  Pure: returns an :class:`xarray.Dataset`; writing it is the caller's job.
 """
 
 from __future__ import annotations
@@ -28,25 +17,37 @@ from geardyn.gears import constraints, interference
 from geardyn.gears import geometry as geo
 from geardyn.io import cf
 
-#: Which of the paper's lines each constraint belongs to (0: drawn but not one of lines 1-4).
-LINE_OF: dict[str, int] = {
-    "contact_ratio_margin": 1,
-    "involute_interference_planet": 2,
-    "involute_interference_annulus": 2,
-    "root_interference_planet": 2,
-    "root_interference_annulus": 2,
-    "tip_thickness_planet": 3,
-    "tip_thickness_annulus": 3,
-    "trimming_interference_annulus": 3,
-    "overlap_interference": 4,
-    "undercut_planet": 0,
+#: Each constraint of the graph: the paper's line it belongs to (0: drawn but not one of lines 1-4) and its
+#: short label in the figure (K the annulus, V the planet; * cutter-dependent), in the figure's drawing order.
+LINES: dict[str, tuple[int, str]] = {
+    "contact_ratio_margin": (1, "eps=1"),
+    "overlap_interference": (4, "G_s=0"),
+    "involute_interference_planet": (2, "inv. int. V"),
+    "involute_interference_annulus": (2, "inv. int. K"),
+    "root_interference_planet": (2, "root int. V"),
+    "root_interference_annulus": (2, "root int. K*"),
+    "tip_thickness_planet": (3, "s_a V"),
+    "tip_thickness_annulus": (3, "s_a K"),
+    "trimming_interference_annulus": (3, "trimming K*"),
+    "undercut_planet": (0, "undercut V"),
 }
 
-#: Constraints that need the (unknown) shaper cutter of the annulus.
-CUTTER_DEPENDENT = ("root_interference_annulus", "trimming_interference_annulus")
+#: Constraints that need the shaper cutter of the annulus (the figure and the scaffold read them here).
+CUTTER_DEPENDENT = constraints.CUTTER_DEPENDENT
 
 #: Tolerance on G_s (rad) when testing points that lie on line 4 by construction.
 _ON_LINE_TOL = 1e-9
+
+
+#: The pair's fields stored as attributes of the dataset: attribute -> (GearPair field, type).
+_PAIR_ATTRS: dict[str, tuple[str, type]] = {
+    "z1": ("z1", int),
+    "z2": ("z2", int),
+    "module_mm": ("module", float),
+    "pressure_angle_deg": ("pressure_angle_deg", float),
+    "addendum_coefficient": ("addendum", float),
+    "clearance_coefficient": ("clearance", float),
+}
 
 
 def _cutter_attrs(base: geo.GearPair, cutter: geo.ShaperCutter | None) -> dict[str, float | int | str]:
@@ -70,16 +71,9 @@ def closed_graph(
     cutter: geo.ShaperCutter | None = None,
     reference_points: Mapping[str, tuple[float, float]] | None = None,
 ) -> xr.Dataset:
-    """All constraints of an internal pair on the (x1, x2) grid, plus line 4 and reference points.
-
-    ``base`` gives teeth, module, ha*, c*, pressure angle; its own x1/x2 are ignored.
-    Variables (dims ``x2, x1`` so that ``ds[v].plot()`` has x1 across):
-    one per constraint (signed margin, >= 0 satisfied), ``contact_ratio``,
-    ``working_pressure_angle``, ``feasible`` (int8, all constraints), ``feasible_cutter_free``
-    (int8, the constraints that do not depend on the assumed cutter), ``x2_line4(x1)`` (G_s = 0),
-    and, with ``reference_points`` (a paper's printed (x1, x2), e.g. its M and N), those points and
-    ours on line 4 with residuals along dim ``point``.
-    """
+    """All constraints of an internal pair (``base``; its own shifts ignored) on the (x1, x2) grid as signed
+    margins, the feasibility flags, line 4 (G_s = 0) with the constraints on it, and ``reference_points``
+    (a paper's printed (x1, x2)) against ours along dim ``point`` (docs/geometry.md, "The closed graph dataset")."""
     if not base.internal:
         raise ValueError("the closed graph of paper 1 is for an internal pair")
     x1a = np.asarray(x1, dtype=float)
@@ -109,12 +103,7 @@ def closed_graph(
             "conventions_note": "every constraint is a signed margin, >= 0 satisfied; x2 in the Chinese convention",
             "line4_definition": "G_s = 0 (tooth-profile overlap interference); the working pressure angle a' varies "
             "along it",
-            "z1": base.z1,
-            "z2": base.z2,
-            "module_mm": base.module,
-            "pressure_angle_deg": base.pressure_angle_deg,
-            "addendum_coefficient": base.addendum,
-            "clearance_coefficient": base.clearance,
+            **{attr: getattr(base, field) for attr, (field, _) in _PAIR_ATTRS.items()},
             "min_tip_thickness_modules": min_tip_thickness,
             "min_contact_ratio": min_contact_ratio,
             **_cutter_attrs(base, cutter),
@@ -125,9 +114,19 @@ def closed_graph(
     return ds
 
 
-def _flag_attrs() -> dict[str, Any]:
-    """CF flag attributes of an int8 feasibility variable (a fresh array each time)."""
-    return {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "infeasible feasible"}
+def _flag(dims: str | tuple[str, ...], ok: np.ndarray, long_name: str) -> Any:
+    """An int8 feasibility variable with its CF flag attributes."""
+    flags = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "infeasible feasible"}
+    return cf(dims, np.asarray(ok).astype(np.int8), "1", long_name, **flags)
+
+
+def _mesh_vars(ds: xr.Dataset, pair: geo.GearPair, dims: str | tuple[str, ...], suffix: str, where: str) -> None:
+    """The contact ratio and working pressure angle of ``pair`` as ``contact_ratio<suffix>`` and
+    ``working_pressure_angle<suffix>`` (long names ending in ``where``)."""
+    eps = interference.contact_ratio(pair)
+    ds[f"contact_ratio{suffix}"] = cf(dims, eps, "1", f"transverse contact ratio{where}")
+    aw = np.degrees(geo.working_pressure_angle(pair))
+    ds[f"working_pressure_angle{suffix}"] = cf(dims, aw, "degree", f"working pressure angle a'{where}")
 
 
 def _add_grid(ds: xr.Dataset, grid_pair: geo.GearPair, margins: Mapping[str, np.ndarray]) -> None:
@@ -140,26 +139,16 @@ def _add_grid(ds: xr.Dataset, grid_pair: geo.GearPair, margins: Mapping[str, np.
             np.asarray(value, dtype=float),
             units,
             long_name,
-            closed_graph_line=LINE_OF.get(name, 0),
+            closed_graph_line=LINES.get(name, (0, ""))[0],
             cutter_dependent=int(name in CUTTER_DEPENDENT),
             sign_convention=">= 0 satisfied",
         )
-    ds["contact_ratio"] = cf(("x2", "x1"), interference.contact_ratio(grid_pair), "1", "transverse contact ratio")
-    ds["working_pressure_angle"] = cf(
-        ("x2", "x1"), np.degrees(geo.working_pressure_angle(grid_pair)), "degree", "working pressure angle a'"
-    )
-
+    _mesh_vars(ds, grid_pair, ("x2", "x1"), "", "")
     stack = np.stack([ds[n].values for n in margins])
     free = np.stack([ds[n].values for n in margins if n not in CUTTER_DEPENDENT])
-    ds["feasible"] = cf(
-        ("x2", "x1"), np.all(stack >= 0.0, axis=0).astype(np.int8), "1", "all constraints satisfied", **_flag_attrs()
-    )
-    ds["feasible_cutter_free"] = cf(
-        ("x2", "x1"),
-        np.all(free >= 0.0, axis=0).astype(np.int8),
-        "1",
-        "all constraints satisfied except the cutter-dependent ones",
-        **_flag_attrs(),
+    ds["feasible"] = _flag(("x2", "x1"), np.all(stack >= 0.0, axis=0), "all constraints satisfied")
+    ds["feasible_cutter_free"] = _flag(
+        ("x2", "x1"), np.all(free >= 0.0, axis=0), "all constraints satisfied except the cutter-dependent ones"
     )
 
 
@@ -174,21 +163,10 @@ def _add_line4(ds: xr.Dataset, base: geo.GearPair, x1a: np.ndarray, kw: Mapping[
     others_free = np.stack([v for k, v in on_line.items() if k not in (*CUTTER_DEPENDENT, "overlap_interference")])
     ok_line_free = np.all(others_free >= 0.0, axis=0)
     ds["x2_line4"] = cf("x1", x2_l4, "1", "annulus shift x2 on line 4 (G_s = 0)")
-    ds["contact_ratio_line4"] = cf(
-        "x1", interference.contact_ratio(line_pair), "1", "transverse contact ratio on line 4"
-    )
-    ds["working_pressure_angle_line4"] = cf(
-        "x1", np.degrees(geo.working_pressure_angle(line_pair)), "degree", "working pressure angle a' on line 4"
-    )
-    ds["feasible_line4"] = cf(
-        "x1", ok_line.astype(np.int8), "1", "line-4 point satisfying every other constraint", **_flag_attrs()
-    )
-    ds["feasible_line4_cutter_free"] = cf(
-        "x1",
-        ok_line_free.astype(np.int8),
-        "1",
-        "line-4 point satisfying every cutter-independent constraint",
-        **_flag_attrs(),
+    _mesh_vars(ds, line_pair, "x1", "_line4", " on line 4")
+    ds["feasible_line4"] = _flag("x1", ok_line, "line-4 point satisfying every other constraint")
+    ds["feasible_line4_cutter_free"] = _flag(
+        "x1", ok_line_free, "line-4 point satisfying every cutter-independent constraint"
     )
     return ok_line
 
@@ -203,35 +181,16 @@ def _reference_points(ds: xr.Dataset, base: geo.GearPair, points: Mapping[str, t
     ds["paper_x2"] = cf("point", px2, "1", "x2 of the printed limit point")
     ds["computed_x2"] = cf("point", cx2, "1", "computed x2 on G_s = 0 at the paper's x1")
     ds["residual_x2"] = cf("point", cx2 - px2, "1", "computed minus paper x2")
-    ds["contact_ratio_point"] = cf(
-        "point", interference.contact_ratio(pt_pair), "1", "transverse contact ratio at the computed point"
-    )
-    ds["working_pressure_angle_point"] = cf(
-        "point",
-        np.degrees(geo.working_pressure_angle(pt_pair)),
-        "degree",
-        "working pressure angle a' at the computed point",
-    )
+    _mesh_vars(ds, pt_pair, "point", "_point", " at the computed point")
     ds["working_centre_distance_point"] = cf(
         "point", geo.working_centre_distance(pt_pair), "mm", "working centre distance a' at the computed point"
     )
 
 
 def line4_crossings(ds: xr.Dataset, name: str) -> list[float]:
-    """x1 values (linear interpolation on the grid) where constraint ``name`` changes sign on line 4.
-
-    Re-evaluates the constraint along ``x2_line4`` from the dataset attributes.
-    """
-    base = geo.GearPair(
-        z1=int(ds.attrs["z1"]),
-        z2=int(ds.attrs["z2"]),
-        module=float(ds.attrs["module_mm"]),
-        x1=0.0,
-        x2=0.0,
-        pressure_angle_deg=float(ds.attrs["pressure_angle_deg"]),
-        addendum=float(ds.attrs["addendum_coefficient"]),
-        clearance=float(ds.attrs["clearance_coefficient"]),
-    )
+    """x1 values (linear interpolation on the grid) where constraint ``name`` changes sign on line 4,
+    re-evaluated along ``x2_line4`` from the dataset attributes."""
+    base = geo.GearPair(x1=0.0, x2=0.0, **{field: kind(ds.attrs[attr]) for attr, (field, kind) in _PAIR_ATTRS.items()})
     cutter = geo.ShaperCutter(
         int(ds.attrs["cutter_teeth"]), float(ds.attrs["cutter_shift"]), float(ds.attrs["cutter_addendum"])
     )

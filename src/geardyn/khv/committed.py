@@ -1,17 +1,6 @@
-"""How far a calibration search's optimum lies from the committed calibrated design.
-
-The committed calibrated design files (``config/designs/<name>.yaml``, written by a search) are the
-source of the calibrated values: every build uses them.  The pipeline's own search writes its optimum
-under ``results/<design>/calibration/`` and this module compares the two as conclusions, not as bytes
-(``docs/calibration.md``, "Reproducing a calibration"):
-
-* the distance of each searched unknown, in the search's unit cube (0 = low bound, 1 = high bound,
-  log scale where the search is logarithmic), so unknowns of different units compare;
-* the difference of the search scores (claims that agree + half the borderline ones + 0.99 x partial)
-  and of the sets of agreeing claims.
-
-The search is the same optimum when every unknown lies within :data:`UNIT_TOLERANCE` of the committed
-value and the scores differ by at most :data:`SCORE_TOLERANCE`.
+"""How far a calibration search's optimum lies from the committed calibrated design: each searched unknown's
+distance in the search's unit cube and the score difference, compared as conclusions, not as bytes
+(docs/calibration.md, "Reproducing a calibration").
 """
 
 from __future__ import annotations

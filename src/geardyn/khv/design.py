@@ -39,21 +39,40 @@ class StiffnessOptions:
 
 
 @dataclass(frozen=True)
-class KHVDesign:
-    """A validated KHV design (paper 1 type)."""
+class DesignHeader:
+    """What a job that only reads results needs of a KHV design: its name, title, paper (the key of the paper
+    it reproduces in geardyn.papers, or None), stiffness options (the model variant) and the validated file
+    with defaults (provenance)."""
 
     name: str
     title: str
+    paper: str | None
+    stiffness: StiffnessOptions
+    raw: dict[str, Any]
+
+    @staticmethod
+    def fields_of(raw: dict[str, Any]) -> dict[str, Any]:
+        """The header fields of a schema-validated design file."""
+        return {
+            "name": raw["name"],
+            "title": raw.get("title", ""),
+            "paper": raw.get("paper"),
+            "stiffness": StiffnessOptions(**raw["stiffness"]),
+            "raw": raw,
+        }
+
+
+@dataclass(frozen=True)
+class KHVDesign(DesignHeader):
+    """A validated KHV design (paper 1 type): the header and the geometry."""
+
     base: geometry.GearPair  # x1, x2 of the configured design point
     x1_min: float
     x1_max: float
     min_tip_thickness: float
     cutter: geometry.ShaperCutter
     enforce_cutter_constraints: bool
-    stiffness: StiffnessOptions
-    paper: str | None  # key of the paper this design reproduces (geardyn.papers), or None
     dynamics: dict[str, Any]
-    raw: dict[str, Any]  # the validated file with defaults, for provenance
 
     @property
     def segment(self) -> tuple[float, float]:
@@ -83,20 +102,13 @@ class MeshProperties:
         return stiffness.ParabolicStiffness(self.contact_ratio, self.k_prime, form)
 
 
+#: The keys of a design file's ``pair`` that are :class:`~geardyn.gears.geometry.GearPair` fields as they are.
+_PAIR_KEYS = ("z1", "z2", "module", "x1", "pressure_angle_deg", "addendum", "clearance", "facewidth")
+
+
 def _pair_from(raw: dict[str, Any], x2: float) -> geometry.GearPair:
-    p = raw["pair"]
-    return geometry.GearPair(
-        z1=p["z1"],
-        z2=p["z2"],
-        module=p["module"],
-        x1=p["x1"],
-        x2=x2,
-        pressure_angle_deg=p["pressure_angle_deg"],
-        addendum=p["addendum"],
-        clearance=p["clearance"],
-        internal=True,
-        facewidth=p["facewidth"],
-    )
+    """The internal pair of a design file with annulus shift ``x2``."""
+    return geometry.GearPair(**{k: raw["pair"][k] for k in _PAIR_KEYS}, x2=x2, internal=True)
 
 
 def x2_for(design: KHVDesign, x1: float) -> float:
@@ -174,9 +186,6 @@ def _check(design_raw: dict[str, Any], where: str) -> None:
         )
 
 
-#: Constraints that need the shaper cutter (teeth, shift), which paper 1 does not give: reported
-#: always, enforced only with ``admissible.enforce_cutter_constraints``.
-CUTTER_CONSTRAINTS = ("root_interference_annulus", "trimming_interference_annulus")
 #: Margin below which a constraint counts as violated: points on line 4 have G_s = 0 up to round-off.
 FEASIBILITY_TOLERANCE = 1e-6
 
@@ -190,14 +199,13 @@ def violated_constraints(
     return [
         name
         for name, v in values.items()
-        if not float(v) >= -FEASIBILITY_TOLERANCE and (enforce_cutter or name not in CUTTER_CONSTRAINTS)
+        if not float(v) >= -FEASIBILITY_TOLERANCE and (enforce_cutter or name not in constraints.CUTTER_DEPENDENT)
     ]
 
 
 def meshing_problem(pair: geometry.GearPair) -> str | None:
     """Why ``pair`` cannot mesh at all (no working pressure angle), in words, or None."""
-    alpha = math.radians(pair.pressure_angle_deg)
-    inv_w = 2.0 * (pair.x2 - pair.x1) * math.tan(alpha) / (pair.z2 - pair.z1) + geometry.involute(alpha)
+    inv_w = float(geometry.working_involute(pair))
     if inv_w > 0.0:
         return None
     return (
@@ -207,7 +215,10 @@ def meshing_problem(pair: geometry.GearPair) -> str | None:
     )
 
 
-def _violations(values: dict[str, Any], bad: list[str]) -> str:
+def _infeasible(pair: geometry.GearPair, min_tip: float, enforce_cutter: bool, cutter: geometry.ShaperCutter) -> str:
+    """The constraints ``pair`` violates (:func:`violated_constraints`) with their margins, in words ('' if none)."""
+    bad = violated_constraints(pair, min_tip, enforce_cutter, cutter)
+    values = constraints.constraints(pair, min_tip_thickness=min_tip, cutter=cutter) if bad else {}
     return ", ".join(
         f"{name} = {float(values[name]):.4g} (needs >= 0)"
         if math.isfinite(float(values[name]))
@@ -243,71 +254,51 @@ def from_dict(raw: dict[str, Any], where: str = "design", check: bool = True) ->
     problem = meshing_problem(base)
     if problem and check:
         raise ConfigError(f"{where}: design point {problem}")
-    if adm["check_feasibility"] and check:
-        bad = violated_constraints(base, adm["min_tip_thickness"], adm["enforce_cutter_constraints"], cutter)
-        if bad:
-            values = constraints.constraints(base, min_tip_thickness=adm["min_tip_thickness"], cutter=cutter)
-            detail = _violations(values, bad)
-            raise ConfigError(
-                f"{where}: design point (x1, x2) = ({base.x1:.4f}, {base.x2:.4f}) is outside the "
-                f"feasible region: {detail}"
-            )
+    feasibility = adm["check_feasibility"] and check
+    detail = (
+        _infeasible(base, adm["min_tip_thickness"], adm["enforce_cutter_constraints"], cutter) if feasibility else ""
+    )
+    if detail:
+        raise ConfigError(
+            f"{where}: design point (x1, x2) = ({base.x1:.4f}, {base.x2:.4f}) is outside the feasible region: {detail}"
+        )
     return KHVDesign(
-        name=raw["name"],
-        title=raw.get("title", ""),
+        **DesignHeader.fields_of(raw),
         base=base,
         x1_min=adm["x1_min"],
         x1_max=adm["x1_max"],
         min_tip_thickness=adm["min_tip_thickness"],
         cutter=cutter,
         enforce_cutter_constraints=adm["enforce_cutter_constraints"],
-        stiffness=StiffnessOptions(**raw["stiffness"]),
-        paper=raw.get("paper"),
         dynamics=raw.get("dynamics", {}),
-        raw=raw,
     )
 
 
 def check_segment(design: KHVDesign, where: str = "design", points: int = 11) -> None:
-    """Refuse a design whose admissible segment M-N leaves the region the model can run in.
-
-    Checks ``points`` evenly spaced x1 from ``x1_min`` to ``x1_max`` (ends included): x2 exists on
-    line 4, the contact ratio is in [1, 2) (paper 1 Eq. 9), and, with ``check_feasibility``, no
-    closed-graph constraint is violated. Sweeps, point runs and calibrations stay inside the segment
-    (checked in :mod:`geardyn.config`), so this is what keeps them inside the feasible region.
-    """
+    """Refuse a design whose admissible segment M-N leaves the region the model can run in: at ``points``
+    evenly spaced x1 (ends included) x2 exists on line 4, eps is in [1, 2) (Eq. 9) and, with
+    ``check_feasibility``, no closed-graph constraint is violated (runs stay inside the segment)."""
     adm = design.raw["admissible"]
     for x1 in np.linspace(design.x1_min, design.x1_max, points):
+        leaves = f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the"
+        covers = f"{leaves} region the model covers at x1 = {x1:.4f}: "
         try:
             pair = pair_at(design, x1)
         except (ValueError, RuntimeError) as err:
-            raise ConfigError(
-                f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
-                f"region the model covers at x1 = {x1:.4f}: no x2 on line 4 (G_s = 0): {err}"
-            ) from None
+            raise ConfigError(f"{covers}no x2 on line 4 (G_s = 0): {err}") from None
         problem = meshing_problem(pair)
         if problem:
-            raise ConfigError(
-                f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
-                f"region the model covers at x1 = {x1:.4f}: {problem}"
-            )
+            raise ConfigError(covers + problem)
         try:
             mesh_properties(design, x1)
         except (ValueError, RuntimeError) as err:  # ConfigError is a ValueError
-            reason = str(err).split(": ", 1)[-1] if isinstance(err, ConfigError) else str(err)
             raise ConfigError(
-                f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
-                f"region the model covers at x1 = {x1:.4f}: {reason}"
+                covers + (str(err).split(": ", 1)[-1] if isinstance(err, ConfigError) else str(err))
             ) from None
-        if adm["check_feasibility"]:
-            bad = violated_constraints(pair, design.min_tip_thickness, design.enforce_cutter_constraints, design.cutter)
-            if bad:
-                values = constraints.constraints(pair, min_tip_thickness=design.min_tip_thickness, cutter=design.cutter)
-                detail = _violations(values, bad)
-                raise ConfigError(
-                    f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the "
-                    f"feasible region at x1 = {x1:.4f}: {detail}"
-                )
+        if adm["check_feasibility"] and (
+            detail := _infeasible(pair, design.min_tip_thickness, design.enforce_cutter_constraints, design.cutter)
+        ):
+            raise ConfigError(f"{leaves} feasible region at x1 = {x1:.4f}: {detail}")
 
 
 def _read(path: str | Path) -> dict[str, Any]:
@@ -323,31 +314,13 @@ def load(path: str | Path) -> KHVDesign:
     return from_dict(_read(path), str(path))
 
 
-@dataclass(frozen=True)
-class DesignHeader:
-    """What a job that only reads results needs of a KHV design: its name, title, paper, stiffness options
-    (the model variant) and the validated file (provenance), as :class:`KHVDesign` has them."""
-
-    name: str
-    title: str
-    paper: str | None
-    stiffness: StiffnessOptions
-    raw: dict[str, Any]
-
-
 def header(path: str | Path) -> DesignHeader:
     """The :class:`DesignHeader` of a KHV design file: schema-validated, without the geometry (no profile
     shift is solved, so the jobs that merge, draw and tabulate start without scipy's root finders).  The
     workflow checks every design in full (:func:`load`) before any job runs."""
     raw = _read(path)
     _check(raw, str(path))
-    return DesignHeader(
-        name=raw["name"],
-        title=raw.get("title", ""),
-        paper=raw.get("paper"),
-        stiffness=StiffnessOptions(**raw["stiffness"]),
-        raw=raw,
-    )
+    return DesignHeader(**DesignHeader.fields_of(raw))
 
 
 def figure_x1(

@@ -1,34 +1,18 @@
-"""The KHV torsional model of paper 1 (Li et al. 2013, Eqs. 1-6 and 11-16), corrected.
+"""The KHV torsional model of paper 1 (Li et al. 2013, Eqs. 1-6 and 11-16), corrected (docs/model.md).
 
-Physical model (Eq. 2), line-of-action coordinates X_D = theta_D r_bH, X_H = theta_H r_bH,
-X_V = theta_V r_bV, X_L = theta_L r_bV (Eq. 1)::
-
-    M_D X_D'' + F_DH                 = P_D
-    M_H X_H'' - F_DH - F_m           = 0
-    M_V X_V'' + F_VL + F_m           = 0
-    M_L X_L'' - F_VL                 = -P_L
-
-with F_DH = k_DH X_DH + c_DH X_DH', F_VL = k_VL X_VL + c_VL X_VL' and the mesh force
-F_m = k_m(t) f(X_VH, b) + c_m X_VH', X_VH = X_V - X_H - e(t) (Eq. 3).  The relative 3-DOF form
-(Eq. 4 corrected: no extra ``- e'`` in the first and third lines, reduced mass M_VH in the
-second) and its dimensionless version (Eq. 13) are derived in ``docs/model.md``.
-
-Everything dimensionless is produced by ONE function, :func:`dimensionless`, and held in the
-frozen :class:`Coefficients`, which can be stored (``as_dict``) and rebuilt (``from_dict``).
-Scales: displacement b_c = 1 um, time 1/w_n with w_n = sqrt(k_mean / M_VH), force
-M_VH w_n^2 b_c = k_mean b_c, energy k_mean b_c^2.
+Everything dimensionless is made by ONE function, :func:`dimensionless`, and held in the frozen
+:class:`Coefficients` (stored with ``as_dict``, rebuilt with ``from_dict``).
 """
 
 from __future__ import annotations
 
 import functools
 import math
-from dataclasses import asdict, dataclass, fields, replace
-from typing import Literal
+from dataclasses import asdict, dataclass, field, fields, replace
+from typing import Any, Literal
 
 import numpy as np
 
-from geardyn.gears.backlash import backlash
 from geardyn.gears.stiffness import ParabolicStiffness
 from geardyn.solve import base as layout
 
@@ -42,45 +26,30 @@ StiffnessMode = Literal["time_varying", "mean"]
 
 @dataclass(frozen=True)
 class KHVParameters:
-    """Physical parameters of the KHV drive (SI units unless stated).
-
-    Mesh inputs (plain numbers, computed elsewhere from the geometry):
-      eps  contact ratio (-), k_c pitch-point single-pair stiffness (N/m, Eq. 7),
-      r_bV planet base radius (m), r_bH carrier radius a cos(alpha) (m).
-
-    Every field is required: a design states them (``dynamics.parameters`` of its file), and a
-    paper's values live in :mod:`geardyn.papers`, never here.
-
-    Shaft stiffnesses are torsional (N m / rad); ``k_DH = K_DH / r_bH^2`` and
-    ``k_VL = K_VL / r_bV^2`` on the line of action.  Damping: c_m = 2 zeta sqrt(k_mean M_VH),
-    c_DH = 2 eta sqrt(k_DH M_DH), c_VL = 2 eta sqrt(k_VL M_VL).
-
-    Mesh frequency: with the annulus fixed, w_m = z_annulus * (input speed); in
-    ``frequency_mode="physical"`` the input speed ``input_speed_rpm`` is held, in
-    ``"dimensionless"`` w_m / w_n = ``omega_bar`` is held.
-    """
+    """Physical parameters of the KHV drive (SI units; docs/model.md, "Parameters"): every field required, a
+    design states them and a paper's values live in :mod:`geardyn.papers`."""
 
     eps: float
     k_c: float
-    r_bV: float
-    r_bH: float
-    I_D: float
-    I_H: float
-    I_V: float
-    I_L: float
-    m_V: float
-    K_DH: float
-    K_VL: float
-    zeta: float
-    eta: float
-    T_D: float
-    T_L: float
-    backlash: float
-    te_amplitude: float
-    te_phase: float
-    z_annulus: int
-    input_speed_rpm: float
-    omega_bar: float
+    r_bV: float = field(metadata={"units": "m"})
+    r_bH: float = field(metadata={"units": "m"})
+    I_D: float = field(metadata={"units": "kg m2"})
+    I_H: float = field(metadata={"units": "kg m2"})
+    I_V: float = field(metadata={"units": "kg m2"})
+    I_L: float = field(metadata={"units": "kg m2"})
+    m_V: float = field(metadata={"units": "kg"})
+    K_DH: float = field(metadata={"units": "N m rad-1"})
+    K_VL: float = field(metadata={"units": "N m rad-1"})
+    zeta: float = field(metadata={"units": "1"})
+    eta: float = field(metadata={"units": "1"})
+    T_D: float = field(metadata={"units": "N m"})
+    T_L: float = field(metadata={"units": "N m"})
+    backlash: float = field(metadata={"units": "m"})
+    te_amplitude: float = field(metadata={"units": "m"})
+    te_phase: float = field(metadata={"units": "rad"})
+    z_annulus: int = field(metadata={"units": "1"})
+    input_speed_rpm: float = field(metadata={"units": "rpm"})
+    omega_bar: float = field(metadata={"units": "1"})
     pressure_angle_deg: float  # of the pair; enters M_H through a = r_bH / cos(alpha)
 
     def stiffness(self, form: StiffnessForm = "corrected") -> ParabolicStiffness:
@@ -108,62 +77,38 @@ class Options:
                 raise ValueError(f"{name}={getattr(self, name)!r}; allowed: {allowed}")
 
 
-#: Units and long names of the :class:`Coefficients` fields stored per point in sweep cubes.
-COEFFICIENT_ATTRS = {
-    "mu_D": ("1", "drive mass M_D / M_VH"),
-    "mu_H": ("1", "carrier mass M_H / M_VH"),
-    "mu_V": ("1", "planet mass M_V / M_VH"),
-    "mu_L": ("1", "load mass M_L / M_VH"),
-    "k_DH": ("1", "input shaft stiffness / k_mean"),
-    "k_VL": ("1", "output shaft stiffness / k_mean"),
-    "c_DH": ("1", "input shaft damping / (M_VH w_n)"),
-    "c_VL": ("1", "output shaft damping / (M_VH w_n)"),
-    "c_m": ("1", "mesh damping / (M_VH w_n)"),
-    "P_D": ("1", "drive force / (k_mean b_c)"),
-    "P_L": ("1", "load force / (k_mean b_c)"),
-    "b": ("1", "half backlash / b_c"),
-    "e": ("1", "TE amplitude / b_c"),
-    "phi": ("rad", "TE phase"),
-    "omega": ("1", "mesh frequency w_m / w_n"),
-    "eps": ("1", "contact ratio"),
-    "omega_n": ("rad s-1", "natural-frequency scale w_n"),
-    "k_mean": ("N m-1", "mean mesh stiffness"),
-}
+def _stored(units: str, long_name: str, **kw: Any) -> Any:
+    """A :class:`Coefficients` field stored per point in sweep cubes, with its units and long name."""
+    return field(metadata={"cf": (units, long_name)}, **kw)
 
 
 @dataclass(frozen=True)
 class Coefficients:
-    """Every dimensionless number of the model (paper 1 Eq. 13, corrected); hashable and storable.
+    """Every dimensionless number of the model (paper 1 Eq. 13, corrected; docs/model.md, section 3);
+    hashable and storable."""
 
-    Masses are given relative to M_VH (``mu_*``), stiffnesses relative to k_mean, damping
-    relative to M_VH w_n, forces relative to k_mean b_c, lengths relative to b_c.
-    The mesh stiffness is k_m(tau) = k_mean kappa(s), s = tau / T the mesh phase,
-    kappa = k(s) / k_mean from :class:`~geardyn.stiffness.ParabolicStiffness` (mean 1),
-    or kappa = 1 when ``stiffness_mode == "mean"``.
-    """
-
-    mu_D: float
-    mu_H: float
-    mu_V: float
-    mu_L: float
-    k_DH: float
-    k_VL: float
-    c_DH: float
-    c_VL: float
-    c_m: float
-    P_D: float
-    P_L: float
-    b: float
-    e: float
-    phi: float
-    omega: float
-    eps: float
+    mu_D: float = _stored("1", "drive mass M_D / M_VH")
+    mu_H: float = _stored("1", "carrier mass M_H / M_VH")
+    mu_V: float = _stored("1", "planet mass M_V / M_VH")
+    mu_L: float = _stored("1", "load mass M_L / M_VH")
+    k_DH: float = _stored("1", "input shaft stiffness / k_mean")
+    k_VL: float = _stored("1", "output shaft stiffness / k_mean")
+    c_DH: float = _stored("1", "input shaft damping / (M_VH w_n)")
+    c_VL: float = _stored("1", "output shaft damping / (M_VH w_n)")
+    c_m: float = _stored("1", "mesh damping / (M_VH w_n)")
+    P_D: float = _stored("1", "drive force / (k_mean b_c)")
+    P_L: float = _stored("1", "load force / (k_mean b_c)")
+    b: float = _stored("1", "half backlash / b_c")
+    e: float = _stored("1", "TE amplitude / b_c")
+    phi: float = _stored("rad", "TE phase")
+    omega: float = _stored("1", "mesh frequency w_m / w_n")
+    eps: float = _stored("1", "contact ratio")
     stiffness_form: str = "corrected"
     stiffness_mode: str = "time_varying"
     backlash_on: bool = True
     # provenance (not used by the equations): w_n in rad/s and k_mean in N/m
-    omega_n: float = float("nan")
-    k_mean: float = float("nan")
+    omega_n: float = _stored("rad s-1", "natural-frequency scale w_n", default=float("nan"))
+    k_mean: float = _stored("N m-1", "mean mesh stiffness", default=float("nan"))
 
     # --- storage -------------------------------------------------------------------------
     def as_dict(self) -> dict[str, float | str | int]:
@@ -214,31 +159,24 @@ class Coefficients:
         return np.where(first, np.polyval(p[0], s), np.polyval(p[1], s))
 
     def matrices(self) -> dict[str, np.ndarray | float]:
-        """The 3-DOF dimensionless system (Eq. 16) x'' + C x' + K x + g (kappa f(x2) + c_m x2') = p.
-
-        x = (X_DH, X_VH, X_VL) / b_c.  Returns K (3x3, shafts only), C (3x3, shafts only),
-        g (mesh coupling, g[1] = 1), p (constant loads) and ``te`` (amplitude of the
-        e_bar omega^2 sin(omega tau + phi) forcing of the second row).
-        """
+        """The 3-DOF dimensionless system (Eq. 16, docs/model.md section 3): K, C (3x3, shafts only), g (mesh
+        coupling), p (constant loads) and ``te`` (the TE forcing amplitude of the second row)."""
         mu_DH = self.mu_D * self.mu_H / (self.mu_D + self.mu_H)
         mu_VL = self.mu_V * self.mu_L / (self.mu_V + self.mu_L)
-        K = np.array(
-            [
-                [self.k_DH / mu_DH, 0.0, 0.0],
-                [self.k_DH / self.mu_H, 0.0, self.k_VL / self.mu_V],
-                [0.0, 0.0, self.k_VL / mu_VL],
-            ]
-        )
-        C = np.array(
-            [
-                [self.c_DH / mu_DH, 0.0, 0.0],
-                [self.c_DH / self.mu_H, 0.0, self.c_VL / self.mu_V],
-                [0.0, 0.0, self.c_VL / mu_VL],
-            ]
-        )
+
+        def shafts(dh: float, vl: float) -> np.ndarray:
+            """The shaft terms (stiffness or damping) of the input (dh) and output (vl) shafts."""
+            return np.array([[dh / mu_DH, 0.0, 0.0], [dh / self.mu_H, 0.0, vl / self.mu_V], [0.0, 0.0, vl / mu_VL]])
+
         g = np.array([1.0 / self.mu_H, 1.0, 1.0 / self.mu_V])
         p = np.array([self.P_D / self.mu_D, 0.0, self.P_L / self.mu_L])
-        return {"K": K, "C": C, "g": g, "p": p, "te": self.te_forcing}
+        return {
+            "K": shafts(self.k_DH, self.k_VL),
+            "C": shafts(self.c_DH, self.c_VL),
+            "g": g,
+            "p": p,
+            "te": self.te_forcing,
+        }
 
     def kernel_array(self) -> np.ndarray:
         """Flat float64 array read by the solver, in the named order of :data:`geardyn.solve.base.LAYOUT`
@@ -272,34 +210,16 @@ class Coefficients:
     @functools.cached_property
     def _kernel_array(self) -> np.ndarray:
         m = self.matrices()
-        K, C, g, p = m["K"], m["C"], m["g"], m["p"]
-        values = {
-            "K11": K[0, 0],
-            "C11": C[0, 0],
-            "G1": g[0],
-            "P1": p[0],
-            "K21": K[1, 0],
-            "C21": C[1, 0],
-            "K23": K[1, 2],
-            "C23": C[1, 2],
-            "K33": K[2, 2],
-            "C33": C[2, 2],
-            "G3": g[2],
-            "P3": p[2],
-            "CM": self.c_m,
-            "B": self.b,
-            "TE": self.te_forcing,
-            "PHI": self.phi,
-            "T": self.period,
-            "BACKLASH_ON": 1.0 if self.backlash_on else 0.0,
-            "EPS": self.eps,
-        }
+        # LAYOUT names matrix entries by letter and 1-based indices: K21 is K[1, 0], G3 is g[2]
+        values = {f"{n}{i + 1}{j + 1}": m[n][i, j] for n in "KC" for i in range(3) for j in range(3)}
+        values |= {f"{n.upper()}{i + 1}": m[n][i] for n in "gp" for i in range(3)}
+        values |= {"CM": self.c_m, "B": self.b, "TE": self.te_forcing, "PHI": self.phi, "T": self.period}
+        values |= {"BACKLASH_ON": 1.0 if self.backlash_on else 0.0, "EPS": self.eps}
         return np.array([values[name] for name in layout.LAYOUT], dtype=np.float64)
 
 
-def mesh_omega(params: KHVParameters) -> float:
-    """Physical mesh angular frequency (rad/s) at the input speed: w_m = z_K * 2 pi n / 60."""
-    return params.z_annulus * 2.0 * math.pi * params.input_speed_rpm / 60.0
+#: Units and long names of the :class:`Coefficients` fields stored per point in sweep cubes.
+COEFFICIENT_ATTRS = {f.name: f.metadata["cf"] for f in fields(Coefficients) if "cf" in f.metadata}
 
 
 def physical_masses(params: KHVParameters) -> dict[str, float]:
@@ -313,11 +233,8 @@ def physical_masses(params: KHVParameters) -> dict[str, float]:
 
 
 def dimensionless(params: KHVParameters, options: Options = Options()) -> Coefficients:
-    """All dimensionless coefficients of the corrected Eq. (13)-(16).
-
-    w_n = sqrt(k_mean / M_VH) with k_mean the exact mean of the chosen stiffness form
-    (corrected: 8/9 eps k_C, not the printed 0.866268 eps k_C of Eq. 10).
-    """
+    """All dimensionless coefficients of the corrected Eq. (13)-(16); w_n = sqrt(k_mean / M_VH) with k_mean
+    the exact mean of the chosen stiffness form (docs/model.md, section 3)."""
     ms = physical_masses(params)
     M_VH = ms["M_VH"]
     k_mean = params.stiffness(options.stiffness_form).mean()
@@ -330,7 +247,7 @@ def dimensionless(params: KHVParameters, options: Options = Options()) -> Coeffi
     c_DH = 2.0 * params.eta * math.sqrt(k_DH * M_DH)
     c_VL = 2.0 * params.eta * math.sqrt(k_VL * M_VL)
     if options.frequency_mode == "physical":
-        omega = mesh_omega(params) / w_n
+        omega = params.z_annulus * 2.0 * math.pi * params.input_speed_rpm / 60.0 / w_n  # w_m = z_K 2 pi n / 60
     else:
         omega = params.omega_bar
     fscale = k_mean * B_C
@@ -379,35 +296,12 @@ _BALANCE_FIELDS = frozenset({"mu_D", "mu_H", "mu_V", "mu_L", "k_DH", "k_VL", "P_
 
 
 def natural_frequencies(coeffs: Coefficients) -> np.ndarray:
-    """Undamped natural frequencies of the linearised 3-DOF system in contact (mean stiffness kappa = 1,
-    no backlash), ascending, in units of w_n (dimensionless, comparable with the mesh frequency w).
-
-    The square roots of the eigenvalues of K + g e2^T (:meth:`Coefficients.matrices`, mass-normalised);
-    the rigid-body mode of the 4-DOF drive is not among them (relative coordinates)."""
+    """Undamped natural frequencies (units of w_n, ascending) of the linearised 3-DOF system in contact
+    (kappa = 1, no backlash): square roots of the eigenvalues of K + g e2^T (no rigid-body mode)."""
     m = coeffs.matrices()
     k_full = m["K"] + np.outer(m["g"], [0.0, 1.0, 0.0])
     lam = np.linalg.eigvals(k_full)
     return np.sort(np.sqrt(np.abs(lam.real)))
-
-
-def energy(coeffs: Coefficients, y: np.ndarray, kappa: float = 1.0) -> np.ndarray:
-    """Mechanical energy of the relative motion in units of k_mean b_c^2.
-
-    Kinetic energy of the 4 masses minus that of the centre of mass (conserved separately
-    when no external torque acts), plus shaft and mesh potentials (mesh: kappa/2 f(x2)^2,
-    valid for constant kappa; TE must be off for this to be a conserved quantity).
-    """
-    y = np.asarray(y, dtype=float)
-    x1, x2, x3, u1, u2, u3 = np.moveaxis(y, -1, 0)
-    muD, muH, muV, muL = coeffs.mu_D, coeffs.mu_H, coeffs.mu_V, coeffs.mu_L
-    # velocities relative to the carrier: D = u1, H = 0, V = u2, L = u2 - u3
-    vD, vV, vL = u1, u2, u2 - u3
-    mtot = muD + muH + muV + muL
-    p = muD * vD + muV * vV + muL * vL
-    kin = 0.5 * (muD * vD**2 + muV * vV**2 + muL * vL**2) - 0.5 * p**2 / mtot
-    pot = 0.5 * coeffs.k_DH * x1**2 + 0.5 * coeffs.k_VL * x3**2
-    pot = pot + 0.5 * kappa * backlash(x2, coeffs.b) ** 2
-    return kin + pot
 
 
 @functools.lru_cache(maxsize=4096)

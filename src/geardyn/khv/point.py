@@ -1,15 +1,6 @@
-"""From a KHV design file to the dimensionless model at one operating point.
-
-A point is the design plus *overrides* of control parameters, in the units a user thinks in:
-
-=========  ==========================================================================
-``x1``     planet profile shift (-); x2 follows line 4, eps and k_C follow x1
-``b``      half backlash in um (= dimensionless b with b_c = 1 um)
-``e``      transmission-error amplitude in um
-``w``      dimensionless mesh frequency w_m / w_n (``frequency_mode: dimensionless``)
-``speed``  input speed in rpm (``frequency_mode: physical``)
-any other  a field of :class:`geardyn.model.KHVParameters` in SI units (e.g. ``K_DH``)
-=========  ==========================================================================
+"""From a KHV design file to the dimensionless model at one operating point: the design plus overrides of
+control parameters (:data:`CONTROLS`: x1, b and e in um, w, speed in rpm) or of any field of
+:class:`~geardyn.khv.model.KHVParameters` in SI units (e.g. ``K_DH``); x2, eps and k_C follow x1.
 """
 
 from __future__ import annotations
@@ -34,25 +25,7 @@ CONTROLS: dict[str, tuple[str, str]] = {
 
 #: UDUNITS units of the model parameters (fields of :class:`KHVParameters`) when used as overrides.
 PARAMETER_UNITS: dict[str, str] = {
-    "r_bV": "m",
-    "r_bH": "m",
-    "I_D": "kg m2",
-    "I_H": "kg m2",
-    "I_V": "kg m2",
-    "I_L": "kg m2",
-    "m_V": "kg",
-    "K_DH": "N m rad-1",
-    "K_VL": "N m rad-1",
-    "zeta": "1",
-    "eta": "1",
-    "T_D": "N m",
-    "T_L": "N m",
-    "backlash": "m",
-    "te_amplitude": "m",
-    "te_phase": "rad",
-    "z_annulus": "1",
-    "input_speed_rpm": "rpm",
-    "omega_bar": "1",
+    f.name: f.metadata["units"] for f in dataclasses.fields(KHVParameters) if "units" in f.metadata
 }
 
 
@@ -68,12 +41,8 @@ _OPTION_FIELDS = {f.name for f in dataclasses.fields(Options)}
 _SETTING_FIELDS = {f.name for f in dataclasses.fields(SimulationSettings)}
 
 
-def dynamics_section(design: design_mod.KHVDesign) -> dict[str, Any]:
-    """The validated ``dynamics`` mapping of the design (parameters, options, integration)."""
-    return dict(design.dynamics)
-
-
 def _split(dynamics: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any]]:
+    """The model parameters, options and integrator settings of a design's validated ``dynamics`` mapping."""
     params = {k: v for k, v in dynamics.get("parameters", {}).items() if k in _PARAM_FIELDS}
     options = {k: v for k, v in dynamics.get("options", {}).items() if k in _OPTION_FIELDS}
     settings = {k: v for k, v in dynamics.get("integration", {}).items() if k in _SETTING_FIELDS}
@@ -85,7 +54,7 @@ def point_model(
 ) -> tuple[KHVParameters, Options, design_mod.MeshProperties]:
     """Physical parameters and options of ``design`` at the point given by ``overrides``."""
     overrides = dict(overrides or {})
-    params, options, _ = _split(dynamics_section(design))
+    params, options, _ = _split(design.dynamics)
     options["stiffness_form"] = design.stiffness.form  # one source: the design's stiffness section
     x1 = float(overrides.pop("x1", design.base.x1))
     mesh = design_mod.mesh_properties(design, x1)
@@ -126,6 +95,6 @@ def point_coefficients(design: design_mod.KHVDesign, overrides: Mapping[str, flo
 
 def integration_settings(design: design_mod.KHVDesign, **changes: Any) -> SimulationSettings:
     """Integrator settings from the design's ``dynamics.integration`` with ``changes`` applied."""
-    _, _, settings = _split(dynamics_section(design))
+    _, _, settings = _split(design.dynamics)
     settings.update({k: v for k, v in changes.items() if v is not None})
     return SimulationSettings(**settings)

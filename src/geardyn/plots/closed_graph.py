@@ -10,30 +10,15 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from geardyn.khv.closed_graph import CUTTER_DEPENDENT, line4_crossings
+from geardyn.khv.closed_graph import CUTTER_DEPENDENT, LINES, line4_crossings
 from geardyn.plots import paper_caption
 
 _LINE_COLOURS = {0: "0.5", 1: "tab:blue", 2: "tab:orange", 3: "tab:green", 4: "black"}
-_SHORT = {
-    "contact_ratio_margin": "eps=1",
-    "overlap_interference": "G_s=0",
-    "involute_interference_planet": "inv. int. V",
-    "involute_interference_annulus": "inv. int. K",
-    "root_interference_planet": "root int. V",
-    "root_interference_annulus": "root int. K*",
-    "tip_thickness_planet": "s_a V",
-    "tip_thickness_annulus": "s_a K",
-    "trimming_interference_annulus": "trimming K*",
-    "undercut_planet": "undercut V",
-}
 
 
 def plot_closed_graph(ds: xr.Dataset) -> Figure:
-    """Closed graph: feasible region shaded, each constraint's zero contour labelled (drawn where
-    G_s >= 0), line 4 (G_s = 0) bold, the paper's M and N and our points marked.
-
-    Returns a :class:`matplotlib.figure.Figure` built without pyplot (Agg-safe).
-    """
+    """Closed graph: feasible region shaded, each constraint's zero contour labelled (drawn where G_s >= 0),
+    line 4 (G_s = 0) bold, the paper's M and N and our points marked (a Figure built without pyplot)."""
     fig = Figure(figsize=(7.0, 5.6), layout="constrained")
     ax = fig.add_subplot()
     x1 = ds["x1"].values
@@ -44,7 +29,7 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
         Patch(color="#9ecae1", label="feasible (all constraints)"),
         Patch(color="#dbe9f6", label="feasible without cutter-dependent (*)"),
     ]
-    for name in _SHORT:
+    for name, (_, short) in LINES.items():
         if name not in ds or name == "overlap_interference":
             continue
         # Only where the teeth do not overlap (G_s >= 0): below line 4 the other margins describe
@@ -55,7 +40,7 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
         line = int(ds[name].attrs.get("closed_graph_line", 0))
         style = "--" if name in CUTTER_DEPENDENT else "-"
         cs = ax.contour(x1, x2, values, levels=[0.0], colors=[_LINE_COLOURS[line]], linewidths=1.1, linestyles=style)
-        ax.clabel(cs, fmt={0.0: f"{line}: {_SHORT[name]}"}, fontsize=7, inline=True)
+        ax.clabel(cs, fmt={0.0: f"{line}: {short}"}, fontsize=7, inline=True)
     ax.plot(x1, ds["x2_line4"].values, color="black", lw=2.0)
     l4 = ds["feasible_line4"].values.astype(bool)
     ax.plot(np.where(l4, x1, np.nan), np.where(l4, ds["x2_line4"].values, np.nan), color="red", lw=3.0)
@@ -76,16 +61,9 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
                 textcoords="offset points",
                 color="crimson",
             )
+        printed = "printed " + ", ".join(str(p) for p in ds["point"].values)
         handles += [
-            Line2D(
-                [],
-                [],
-                ls="",
-                marker="o",
-                mfc="none",
-                mec="crimson",
-                label="printed " + ", ".join(str(p) for p in ds["point"].values),
-            ),
+            Line2D([], [], ls="", marker="o", mfc="none", mec="crimson", label=printed),
             Line2D([], [], ls="", marker="x", color="k", label="computed (G_s = 0)"),
         ]
     ax.set_xlim(x1.min(), x1.max())

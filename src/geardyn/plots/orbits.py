@@ -1,9 +1,6 @@
-"""Continued branches drawn over a simulated bifurcation diagram.
-
-Grey dots: the sweep's Poincaré points of X_VH (what brute-force simulation shows).  Lines: the
-phase-0 points of every continued periodic orbit (a period-n orbit has n lines), solid where the
-orbit is stable, dashed where it is unstable.  Markers: the typed bifurcation points.
-"""
+"""Continued branches drawn over a simulated bifurcation diagram (docs/orbits.md, "Outputs"): the sweep's
+Poincaré points grey, each branch's phase-0 points solid where stable and dashed where unstable, the typed
+bifurcation points marked."""
 
 from __future__ import annotations
 

@@ -43,11 +43,9 @@ def _hatch_runs(ax: Axes, w: np.ndarray, flags: np.ndarray) -> None:
 
 
 def frequency_response_figure(ds: xr.Dataset, title: str) -> Figure:
-    """RMS DTE (top) and dynamic factor K_v (bottom) against w, up (solid) and down (dashed) with the jumps
-    marked (triangles in the direction of travel) and the frequencies with hysteresis hatched (the up and
-    down sweeps on different attractors, whatever their RMS); the impact classes shaded (lower half of each
-    panel: up, upper half: down); the linear natural frequencies and their halves and thirds (super-harmonic
-    resonances) as grey lines."""
+    """RMS DTE (top) and dynamic factor K_v (bottom) against w, up (solid) and down (dashed): jumps marked,
+    hysteresis hatched, impact classes shaded (lower half up, upper half down), natural frequencies and their
+    halves and thirds as grey lines (docs/response.md, "Frequency response")."""
     fig = Figure(figsize=(9.0, 6.5), constrained_layout=True)
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
     w = ds.w.values

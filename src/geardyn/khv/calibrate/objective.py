@@ -132,11 +132,6 @@ def route_in(order: str) -> bool:
     return re.match(r"1[Qn]+C", order) is not None
 
 
-def shows_route(labels: np.ndarray) -> bool:
-    """Whether labels along a line go from period-1 through non-period-1 motion into chaos (:func:`route_in`)."""
-    return route_in(regime_string(np.asarray(labels)))
-
-
 #: Requirements a search can place on a candidate besides its score (``search.require``): a name ->
 #: (test of a record, the sentence the calibrated design's header states, ``{line}`` being the text of the
 #: paper's main line, its ``CLAIM_LINES[...]["text"]``).  A record's ``order`` is the regime string along
@@ -165,14 +160,9 @@ def ranked_score(record: Record, require: str | None = None) -> float:
 
 
 def paper_regime_string(paper: ModuleType) -> str:
-    return regime_string(
-        np.array(
-            [
-                claims_mod.code(lab) if not isinstance(claims_mod.code(lab), tuple) else claims_mod.code(lab)[0]
-                for _, _, lab in paper.SEQUENCE
-            ]
-        )
-    )
+    """The regime string of the paper's ``SEQUENCE`` (a label with several codes counts by its first)."""
+    codes = [claims_mod.code(lab) for _, _, lab in paper.SEQUENCE]
+    return regime_string(np.array([c[0] if isinstance(c, tuple) else c for c in codes]))
 
 
 def lcs(a: str, b: str) -> int:

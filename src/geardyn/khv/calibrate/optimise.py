@@ -33,13 +33,8 @@ def refine(
     steps = sorted(steps, reverse=True)
     rank = functools.partial(ranked_score, require=evaluator.problem.require)
     while k < len(steps) and done < rounds:
-        units = []
-        for u in space.unknowns:
-            for sign in (-1.0, 1.0):
-                v = dict(best.values)
-                v[u.name] = perturbed(v[u.name], u, sign * steps[k])
-                units.append(list(space.unit(v)))
-        recs = evaluator.records(units)
+        moves = [{u.name: perturbed(best.values[u.name], u, s * steps[k])} for u in space.unknowns for s in (-1.0, 1.0)]
+        recs = evaluator.records(space.moved(best.values, moves))
         cand = max(recs, key=rank)
         if rank(cand) > rank(best):
             best, done = cand, done + 1
@@ -59,14 +54,10 @@ def search(
     refine_steps: Sequence[float] = (0.1, 0.02),
     refine_rounds: int = 2,
 ) -> tuple[Record, Evaluator]:
-    """Differential evolution over the unit cube of ``problem.space``, then :func:`refine` from its best;
-    returns (best record, evaluator).  Only the candidates this run asked for count (the cache may hold
-    others, e.g. of a sensitivity study).
-
-    ``init``: candidates (values) placed in the initial population (e.g. the design's current
-    values), the rest Latin-hypercube from ``seed``.  Deterministic: same seed, same candidates, so
-    a rerun replays the cache.
-    """
+    """Differential evolution over the unit cube of ``problem.space`` (``init``: values placed in the initial
+    population, the rest Latin-hypercube from ``seed``), then :func:`refine` from its best; returns (best
+    record, evaluator).  Deterministic, so a rerun replays the cache (docs/calibration.md, "Search method, cost,
+    resumption")."""
 
     dim = len(problem.space.unknowns)
     n_pop = max(5, popsize * dim)
@@ -99,10 +90,8 @@ def verified_choice(
     top: int,
     require: str | None = None,
 ) -> tuple[Record, Record, list[tuple[Record, Record]]]:
-    """Re-score the ``top`` best candidates of the search with ``verify`` (the design's own integration
-    settings and the default classifier) and choose by (verified score, search score, distance from
-    the bounds): an optimum inside the region beats an equal one on its edge.  Scores are ranked by
-    :func:`ranked_score`: with ``require``, a candidate must meet it at the design's settings too.
+    """Re-score the ``top`` best candidates with ``verify`` (the design's own settings) and choose by
+    (verified, search :func:`ranked_score`, distance from the bounds: inside beats an equal one on the edge).
     Returns (search record, verified record, all pairs)."""
     order = sorted(search_records, key=lambda r: (-ranked_score(r, require), -interior(r.unit)))[: max(1, top)]
     checked = verify([r.unit for r in order])

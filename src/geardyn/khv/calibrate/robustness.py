@@ -4,6 +4,7 @@ over the two unknowns that matter most, and a Markdown summary."""
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -14,6 +15,24 @@ from geardyn.khv.calibrate.evaluate import Evaluator, Problem
 from geardyn.khv.calibrate.records import Record
 from geardyn.khv.calibrate.space import SearchSpace, Unknown, perturbed
 
+#: What the robustness datasets store of a record: name -> (its value, long name).
+MEASURES: dict[str, tuple[Callable[[Record], Any], str]] = {
+    "score": (lambda r: r.score, "score"),
+    "agree": (lambda r: r.agree, "claims that agree"),
+    "leave_p1": (lambda r: r.transitions["leave_p1"], "first x1 not P1"),
+    "first_chaos": (lambda r: r.transitions["first_chaos"], "first chaotic x1"),
+}
+
+
+def _grid(
+    recs: Sequence[Record], dims: tuple[str, str], shape: tuple[int, int], measures: Mapping, dtype: Any
+) -> dict[str, Any]:
+    """Each measure (name -> (value of a record, long name)) of ``recs`` on the 2-D grid ``dims``."""
+    return {
+        name: cf(dims, np.array([value(r) for r in recs], dtype).reshape(shape), "1", long_name)
+        for name, (value, long_name) in measures.items()
+    }
+
 
 def sensitivity(
     problem: Problem,
@@ -22,14 +41,9 @@ def sensitivity(
     steps: Sequence[float],
     map_points: int = 7,
 ) -> tuple[xr.Dataset, xr.Dataset, str]:
-    """Robustness and sensitivity of the best candidate.
-
-    One-at-a-time moves of each unknown by +-step (:func:`perturbed`) give the score, the number of
-    agreeing claims and the transitions along x1 (tornado); the smallest move that changes any claim
-    verdict, or any label along x1, is the distance to the nearest label change.  Then a 2-D map of
-    the score over the two unknowns whose moves change the score most (+-50 %, ``map_points`` per
-    axis).  Returns (one-at-a-time dataset, map dataset, Markdown summary).
-    """
+    """Robustness and sensitivity of the best candidate: one-at-a-time moves of each unknown by +-step
+    (tornado), then a 2-D score map over the two unknowns that move the score most (docs/calibration.md,
+    "Robustness and sensitivity").  Returns (one-at-a-time dataset, map dataset, Markdown summary)."""
     space = problem.space
     base = evaluator.records([list(space.unit(best_values))])[0]
     steps = sorted(float(s) for s in steps)
@@ -51,39 +65,19 @@ def one_at_a_time(
 ) -> xr.Dataset:
     """Each unknown moved by each relative step of ``signed`` (the others at ``best_values``): score,
     agreeing claims, transitions along x1, and whether any verdict or label along x1 changed."""
-    units = []
-    for u in space.unknowns:
-        for st in signed:
-            v = dict(best_values)
-            v[u.name] = perturbed(best_values[u.name], u, st)
-            units.append(list(space.unit(v)))
-    recs = evaluator.records(units)
+    moves = [{u.name: perturbed(best_values[u.name], u, st)} for u in space.unknowns for st in signed]
+    recs = evaluator.records(space.moved(best_values, moves))
     main = evaluator.problem.grids.main
-    shape = (len(space.unknowns), len(signed))
-    dims = ("unknown", "step")
-
-    def grid(fn: Callable[[Record], float]) -> np.ndarray:
-        return np.array([fn(r) for r in recs], float).reshape(shape)
-
+    measures = {
+        **MEASURES,
+        "verdicts_changed": (lambda r: r.verdicts != base.verdicts, "1 when any claim verdict differs from the best's"),
+        "labels_changed": (
+            lambda r: r.labels[main] != base.labels[main],
+            "1 when any label along x1 differs from the best's",
+        ),
+    }
     return xr.Dataset(
-        {
-            "score": cf(dims, grid(lambda r: r.score), "1", "score"),
-            "agree": cf(dims, grid(lambda r: r.agree), "1", "claims that agree"),
-            "leave_p1": cf(dims, grid(lambda r: r.transitions["leave_p1"]), "1", "first x1 not P1"),
-            "first_chaos": cf(dims, grid(lambda r: r.transitions["first_chaos"]), "1", "first chaotic x1"),
-            "verdicts_changed": cf(
-                dims,
-                grid(lambda r: float(r.verdicts != base.verdicts)),
-                "1",
-                "1 when any claim verdict differs from the best's",
-            ),
-            "labels_changed": cf(
-                dims,
-                grid(lambda r: float(r.labels[main] != base.labels[main])),
-                "1",
-                "1 when any label along x1 differs from the best's",
-            ),
-        },
+        _grid(recs, ("unknown", "step"), (len(space.unknowns), len(signed)), measures, float),
         coords={
             "unknown": cf("unknown", space.names, "1", "searched unknown"),
             "step": cf("step", np.array(signed), "1", "relative move of the unknown"),
@@ -110,23 +104,10 @@ def score_map(
     rel = np.linspace(-0.5, 0.5, map_points)
     va = [perturbed(best_values[a.name], a, r) for r in rel]
     vb = [perturbed(best_values[b.name], b, r) for r in rel]
-    units = []
-    for y in vb:
-        for x in va:
-            v = dict(best_values)
-            v[a.name], v[b.name] = x, y
-            units.append(list(space.unit(v)))
-    recs = evaluator.records(units)
-    shape = (map_points, map_points)
-    dims = (b.name, a.name)
+    recs = evaluator.records(space.moved(best_values, [{a.name: x, b.name: y} for y in vb for x in va]))
+    measures = {k: MEASURES[k] for k in ("score", "agree", "leave_p1")}
     return xr.Dataset(
-        {
-            "score": cf(dims, np.array([r.score for r in recs]).reshape(shape), "1", "score"),
-            "agree": cf(dims, np.array([r.agree for r in recs]).reshape(shape), "1", "claims that agree"),
-            "leave_p1": cf(
-                dims, np.array([r.transitions["leave_p1"] for r in recs]).reshape(shape), "1", "first x1 not P1"
-            ),
-        },
+        _grid(recs, (b.name, a.name), (map_points, map_points), measures, None),
         coords={
             a.name: cf(a.name, np.array(va), point.units_of(a.name), f"{a.name} (searched unknown)"),
             b.name: cf(b.name, np.array(vb), point.units_of(b.name), f"{b.name} (searched unknown)"),
@@ -147,6 +128,12 @@ def summary(
     """Markdown: per unknown its value, bounds, position in them, the smallest moves that change a verdict
     or a label along x1, the largest score change; then the map's best score."""
     signed = oat["step"].values.tolist()
+
+    def smallest(changed: np.ndarray) -> str:
+        """The smallest move (of ``signed``) that changed something, or '> largest step'."""
+        d = min((abs(s) for s, c in zip(signed, changed, strict=True) if c), default=None)
+        return "> " + format(max(steps), "g") if d is None else "+-" + format(d, "g")
+
     lines = [
         "# Calibration: robustness and sensitivity of the best candidate",
         "",
@@ -158,16 +145,12 @@ def summary(
         "|---|---|---|---|---|---|---|",
     ]
     for k, u in enumerate(space.unknowns):
-        vc = oat["verdicts_changed"].values[k]
-        lc = oat["labels_changed"].values[k]
-        dv = min((abs(s) for s, c in zip(signed, vc, strict=True) if c), default=None)
-        dl = min((abs(s) for s, c in zip(signed, lc, strict=True) if c), default=None)
         pos = u.to_unit(best_values[u.name])
         lines.append(
             f"| {u.name} | {best_values[u.name]:.4g} | [{u.low:g}, {u.high:g}]{' log' if u.log else ''} | "
             f"{pos:.2f}{' (edge)' if min(pos, 1 - pos) < 0.05 else ''} | "
-            f"{'> ' + format(max(steps), 'g') if dv is None else '+-' + format(dv, 'g')} | "
-            f"{'> ' + format(max(steps), 'g') if dl is None else '+-' + format(dl, 'g')} | {impact[k]:.3f} |"
+            f"{smallest(oat['verdicts_changed'].values[k])} | {smallest(oat['labels_changed'].values[k])} | "
+            f"{impact[k]:.3f} |"
         )
     lines += [
         "",

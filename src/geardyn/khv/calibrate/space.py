@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -58,6 +58,10 @@ class SearchSpace:
 
     def unit(self, values: Mapping[str, float]) -> np.ndarray:
         return np.array([u.to_unit(float(values[u.name])) for u in self.unknowns])
+
+    def moved(self, values: Mapping[str, float], changes: Iterable[Mapping[str, float]]) -> list[list[float]]:
+        """The unit vectors of ``values`` with each of ``changes`` applied (the candidates of a local study)."""
+        return [list(self.unit({**values, **change})) for change in changes]
 
 
 def perturbed(value: float, unknown: Unknown, step: float) -> float:
