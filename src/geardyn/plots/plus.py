@@ -12,23 +12,12 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
+from geardyn.plus.modal import distinct_groups
+
 ELEMENT_ORDER = ["sp1", "sp2", "sp3", "pd1", "pd2", "pd3", "dr1", "dr2", "dr3"]
 ELEMENT_TICKS = ["1\ns-p1", "2\ns-p2", "3\ns-p3", "4\np1-d1", "5\np2-d2", "6\np3-d3", "7\nd1-r", "8\nd2-r", "9\nd3-r"]
 COMPONENT_ORDER = [*(f"revolution{k}" for k in (1, 2, 3)), "p1", "p2", "p3", "d1", "d2", "d3", "sun", "ring", "carrier"]
 COMPONENT_TICKS = [f"{k}\n{name}" for k, name in enumerate(["rev 1", "rev 2", "rev 3", *COMPONENT_ORDER[3:]], start=1)]
-
-
-def distinct_groups(freq: np.ndarray, rtol: float = 1e-6) -> list[list[int]]:
-    """Indices of the elastic (positive) frequencies grouped by equal value (within ``rtol``), ascending."""
-    groups: list[list[int]] = []
-    for i, f in enumerate(freq):
-        if not f > 0:
-            continue
-        if groups and abs(f - freq[groups[-1][0]]) <= rtol * f:
-            groups[-1].append(i)
-        else:
-            groups.append([i])
-    return groups
 
 
 def orders(ds: xr.Dataset, n_orders: int = 6) -> Iterator[tuple[str, xr.Dataset, np.ndarray, list[list[int]]]]:

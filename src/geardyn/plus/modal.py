@@ -173,16 +173,12 @@ def mass_components(design: PlusDesign) -> dict[str, NDArray]:
     geo = geometry(design)
     e_s, e_r, e_c = _unit("theta_s"), _unit("theta_r"), _unit("theta_c")
     ex, ey = _unit("x_s"), _unit("y_s")
-    comps: dict[str, NDArray] = {}
-    for j in range(3):
-        rev = design.planet_p.mass * geo.a_sp**2 + design.planet_d.mass * geo.a_dr**2
-        comps[f"revolution{j + 1}"] = rev * np.outer(e_c, e_c)
-    for j in range(3):
-        w = e_c + _unit(f"theta_p{j + 1}")
-        comps[f"p{j + 1}"] = design.planet_p.inertia * np.outer(w, w)
-    for j in range(3):
-        w = e_c + _unit(f"theta_d{j + 1}")
-        comps[f"d{j + 1}"] = design.planet_d.inertia * np.outer(w, w)
+    rev = design.planet_p.mass * geo.a_sp**2 + design.planet_d.mass * geo.a_dr**2
+    comps = {f"revolution{j}": rev * np.outer(e_c, e_c) for j in (1, 2, 3)}
+    for g, planet in (("p", design.planet_p), ("d", design.planet_d)):
+        for j in (1, 2, 3):
+            w = e_c + _unit(f"theta_{g}{j}")
+            comps[f"{g}{j}"] = planet.inertia * np.outer(w, w)
     comps["sun"] = design.sun.inertia * np.outer(e_s, e_s) + design.sun.mass * (np.outer(ex, ex) + np.outer(ey, ey))
     comps["ring"] = design.ring.inertia * np.outer(e_r, e_r)
     comps["carrier"] = design.carrier.inertia * np.outer(e_c, e_c)
@@ -341,14 +337,9 @@ def group_strain(fr: dict[str, NDArray]) -> dict[str, NDArray]:
 
 def group_kinetic(fr: dict[str, NDArray]) -> dict[str, NDArray]:
     """Kinetic-energy shares per component group (Table 4 grouped)."""
-    return {
-        "revolution": sum(fr[f"revolution{j}"] for j in (1, 2, 3)),
-        "planet_p": sum(fr[f"p{j}"] for j in (1, 2, 3)),
-        "planet_d": sum(fr[f"d{j}"] for j in (1, 2, 3)),
-        "sun": fr["sun"],
-        "ring": fr["ring"],
-        "carrier": fr["carrier"],
-    }
+    planets = {"revolution": "revolution", "planet_p": "p", "planet_d": "d"}
+    out = {group: sum(fr[f"{key}{j}"] for j in (1, 2, 3)) for group, key in planets.items()}
+    return out | {c: fr[c] for c in ("sun", "ring", "carrier")}
 
 
 def classify(md: Modes, *, rtol: float = 1e-6, atol: float = 1e-9) -> list[str]:
@@ -379,11 +370,14 @@ def classify(md: Modes, *, rtol: float = 1e-6, atol: float = 1e-9) -> list[str]:
     return out
 
 
-def distinct_elastic(md: Modes, *, rtol: float = 1e-6) -> list[list[int]]:
-    """Indices of the elastic modes grouped by (numerically) equal frequency, ascending."""
+def distinct_groups(freq: NDArray, rtol: float = 1e-6) -> list[list[int]]:
+    """Indices of the elastic (positive) frequencies grouped by equal value (within ``rtol``), ascending; on
+    ``Modes.omega2`` (rigid modes exactly 0) or on the natural frequencies of modal.nc."""
     groups: list[list[int]] = []
-    for i in range(md.n_rigid, len(md.omega2)):
-        if groups and abs(md.omega2[i] - md.omega2[groups[-1][0]]) <= rtol * md.omega2[i]:
+    for i, f in enumerate(freq):
+        if not f > 0:
+            continue
+        if groups and abs(f - freq[groups[-1][0]]) <= rtol * f:
             groups[-1].append(i)
         else:
             groups.append([i])
