@@ -26,6 +26,7 @@ from geardyn.verdicts import BORDERLINE_Z, RANGE_AGREE, Claim, band, fraction_ve
 P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
 #: The words for labels that are not period-n (:func:`geardyn.classify.short_name`: "QP", "chaos", ...).
 _WORDS = {classify.short_name(c): c for c in classify.LABELS.values()}
+_name = classify.short_name
 
 
 def code(label: int | str) -> int | tuple[int, ...]:
@@ -79,10 +80,6 @@ def lines_of_runs(lines: Mapping[str, Mapping[str, Any]], runs: Mapping[str, Any
             cases = spec.get("cases")
             out[role] = track_of_cube(cube) if cases is None else tracks_of_cube(cube, cases, spec["case_parameter"])
     return out
-
-
-def _name(code: int) -> str:
-    return classify.short_name(code)
 
 
 def first_non(values: np.ndarray, labels: np.ndarray, want: int) -> float:
@@ -420,10 +417,8 @@ def within_verdict(ours: Any, paper: Any, tolerance: float, relative: bool = Fal
     o, p = _cells(ours, keys), _cells(paper, keys)
     if len(o) != len(p):
         return "not comparable", f"we have {len(o)} values, the paper {len(p)}"
-    if relative:
-        err = [(float(a) - float(b)) / abs(float(b)) for (_, a), (_, b) in zip(o, p, strict=True)]
-    else:
-        err = [float(a) - float(b) for (_, a), (_, b) in zip(o, p, strict=True)]
+    # an absolute difference is divided by 1.0, which is exact
+    err = [(float(a) - float(b)) / (abs(float(b)) if relative else 1.0) for (_, a), (_, b) in zip(o, p, strict=True)]
     worst = int(np.argmax(np.abs(err)))
     label = f" at {o[worst][0]}" if len(o) > 1 else ""
     shown = f"{100 * err[worst]:+.1f} %" if relative else f"{err[worst]:+.3g} {unit}".rstrip()
