@@ -206,11 +206,10 @@ def stiffness_scaling(
     return out
 
 
-def fixed_factor_residual(
-    design: PlusDesign, paper: ModuleType, factor: float, reference: str = "theoretical"
-) -> dict[str, float]:
-    """RMS and worst log-residual (in %) against the paper with every stiffness times ``factor``."""
-    r = _matched_log_residual(design.with_stiffness_scale(factor), paper, reference, "rank")
+def fixed_factor_residual(design: PlusDesign, paper: ModuleType, factor: float) -> dict[str, float]:
+    """RMS and worst log-residual (in %) against the paper's theoretical values (rank matching) with every
+    stiffness times ``factor``."""
+    r = _matched_log_residual(design.with_stiffness_scale(factor), paper, "theoretical", "rank")
     return {
         "factor": factor,
         "rms_pct": _pct(np.sqrt(np.mean(r**2))),
