@@ -277,25 +277,19 @@ def key_element_table(design: PlusDesign, paper: ModuleType | None, threshold: f
 def modal_dataset(design: PlusDesign) -> xr.Dataset:
     """All modes of conditions I-III: frequencies, damping, shapes, energy shares (CF attrs)."""
     conds = list(WORKING)
-    n = len(modal.COORDS) - 1
     el_names = [el.name for el in modal.elements(design)]
     comp_names = list(modal.mass_components(design))
-    f = np.full((3, n), np.nan)
-    fd, z = f.copy(), f.copy()
-    shapes = np.full((3, n, len(modal.COORDS)), np.nan)
-    se = np.full((3, n, len(el_names)), np.nan)
-    ke = np.full((3, n, len(comp_names)), np.nan)
-    mtype = np.empty((3, n), dtype=object)
-    for ci, c in enumerate(conds):
+    per_condition = []  # (frequencies, damped, zeta, shapes, strain and kinetic shares, types) of each condition
+    for c in conds:
         md = modal.modes(design, c)
-        f[ci], fd[ci], z[ci] = md.freq_hz, md.damped_hz, md.zeta
-        shapes[ci] = md.full_shapes.T
         s_fr = modal.strain_energy_fractions(design, md)
         k_fr = modal.kinetic_energy_fractions(design, md)
-        se[ci] = np.column_stack([s_fr[k] for k in el_names])
-        ke[ci] = np.column_stack([k_fr[k] for k in comp_names])
-        mtype[ci] = modal.classify(md)
-    values = (f, fd, z, shapes, se, ke, mtype.astype(str), _lever_arms(design), conds, np.arange(1, n + 1))
+        se = np.column_stack([s_fr[k] for k in el_names])
+        ke = np.column_stack([k_fr[k] for k in comp_names])
+        per_condition.append((md.freq_hz, md.damped_hz, md.zeta, md.full_shapes.T, se, ke, modal.classify(md)))
+    stacked = tuple(np.array(v) for v in zip(*per_condition, strict=True))
+    n = stacked[0].shape[1]
+    values = (*stacked, _lever_arms(design), conds, np.arange(1, n + 1))
     title = f"Modal analysis of the plus planetary set {design.name}"
     return cf_dataset(
         MODAL_VARIABLES,
