@@ -115,6 +115,7 @@ def load_study(design: PlusDesign, torques: tuple[float, ...], shape: str = "lin
     """For each sun torque (N m): the optimum within the paper's bounds and within wide bounds (amount from 0
     to the paper's upper bound, length from 0 to the physical one), as dicts (N m, N, m)."""
     rows = []
+    fields = ("amount", "length", "ptp")  # of each optimum, as paper_* and wide_*
     for t in torques:
         d = replace(design, torque=float(t), torque_member="sun")
         d_wide = replace(
@@ -128,17 +129,6 @@ def load_study(design: PlusDesign, torques: tuple[float, ...], shape: str = "lin
         grid = design_grid(d, points)
         paper = optimise(d, shape, "paper", grid=grid)
         wide = optimise(d_wide, shape, "physical", grid=grid)
-        rows.append(
-            {
-                "torque": float(t),
-                "load": pd_mesh_load(d),
-                "ptp_unmodified": paper.ptp_unmodified,
-                "paper_amount": paper.amount,
-                "paper_length": paper.length,
-                "paper_ptp": paper.ptp,
-                "wide_amount": wide.amount,
-                "wide_length": wide.length,
-                "wide_ptp": wide.ptp,
-            }
-        )
+        found = {f"{name}_{k}": getattr(o, k) for name, o in (("paper", paper), ("wide", wide)) for k in fields}
+        rows.append({"torque": float(t), "load": pd_mesh_load(d), "ptp_unmodified": paper.ptp_unmodified, **found})
     return rows
