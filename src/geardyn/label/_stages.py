@@ -202,11 +202,10 @@ def decide(points: list[Point], verdicts: list[Verdict | None]) -> list[Point]:
 
 def diverged_verdict(p: Point, r: SimulationResult) -> Verdict:
     """The verdict of a run that diverged: no measures (:meth:`ResponseMeasures.not_computed`)."""
-    lam = float("inf")
     return Verdict(
         DIVERGED,
         0,
-        lam,
+        math.inf,
         0.0,
         "none",
         "diverged",
