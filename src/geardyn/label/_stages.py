@@ -37,7 +37,7 @@ class Point:
     line's fixed start, the run the later stages read and the notes for the reason."""
 
     system: System
-    prev: Verdict | None
+    prev: Verdict | None  # None for a line's first point and after a diverged one (:meth:`_Line.point`)
     start: np.ndarray | None
     prev2: Verdict | None = None
     tables: LaneTables | None = None  # the step tables of the batch the point came in (built once per batch)
