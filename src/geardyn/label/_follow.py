@@ -7,10 +7,10 @@ from collections import defaultdict
 
 import numpy as np
 
-from geardyn.label._stages import Point, decide, periodic_verdicts, shoot, tables_of
+from geardyn.label._stages import Point, decide, periodic_verdicts, shoot, shoot_batch
 from geardyn.label.policy import Policy
 from geardyn.solve.floquet import bifurcation_type
-from geardyn.solve.shooting import ShootingResult, newton_shooting_batch
+from geardyn.solve.shooting import ShootingResult
 
 # ------------------------------------------------------------------------------------------------
 # stage 1: follow the previous point's orbit
@@ -31,14 +31,13 @@ def _chord(points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy) -
     M_prev of each point's previous orbit: plain runs (no variational part), all points together; it stops
     where the residual does not fall by ``policy.chord.fall`` at an iteration (then full Newton takes
     over)."""
-    return newton_shooting_batch(
-        [p.system for p in points],
+    return shoot_batch(
+        points,
         x0s,
         n,
-        policy.integration,
+        policy,
         tol=policy.newton.tol,
         max_iter=policy.chord.max_iter - 1,
-        tables=tables_of(points),
         max_growth=policy.chord.fall,
         chord=[np.linalg.inv(p.prev.monodromy - np.eye(6)) for p in points],
     )
@@ -47,15 +46,7 @@ def _chord(points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy) -
 def _certify_states(points: list[Point], xs: list[np.ndarray], n: int, policy: Policy) -> list[ShootingResult]:
     """One monodromy run of n periods at each converged state: residual and multipliers (Newton shooting
     with no iteration, within ``policy.chord.tol_factor`` times its tolerance)."""
-    return newton_shooting_batch(
-        [p.system for p in points],
-        xs,
-        n,
-        policy.integration,
-        tol=policy.chord.tol_factor * policy.newton.tol,
-        max_iter=0,
-        tables=tables_of(points),
-    )
+    return shoot_batch(points, xs, n, policy, tol=policy.chord.tol_factor * policy.newton.tol, max_iter=0)
 
 
 def follow(points: list[Point], policy: Policy) -> list[Point]:

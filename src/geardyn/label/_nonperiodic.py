@@ -62,12 +62,9 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
     )
     for p in points:
         p.run = cont.get(id(p), p.run)
-    bounded = []
-    for p in points:
         if p.run.diverged:
             p.verdict = diverged_verdict(p, p.run)
-        else:
-            bounded.append(p)
+    bounded = [p for p in points if not p.run.diverged]
     periods = rule3([p.run for p in bounded], cs)
     periodic = [(p, n) for p, n in zip(bounded, periods, strict=True) if n > 0]
     if periodic:
@@ -124,21 +121,20 @@ def longer_record(points: list[Point], periods: int, policy: Policy) -> list[Poi
         sums_last=[p.measured - (p.left - periods) for p in points],
         sums_start=[None if p.piece is None else p.piece.sums for p in points],
     )
-    done: set[int] = set()
+    diverged: set[int] = set()
     ended: list[Point] = []
     for p, r in zip(points, runs, strict=True):
         p.piece = r if p.piece is None else _joined(p.piece, r)
         p.left -= periods
         if r.diverged:
             p.verdict = diverged_verdict(p, p.piece)
-            done.add(id(p))
+            diverged.add(id(p))
         elif p.left == 0:
             p.run = _appended(p.run, p.piece)  # the round's run, reading the whole record
             p.verdict = _nonperiodic_verdict(p, policy)
             ended.append(p)
-    grow = set(map(id, end_round(ended, policy)))
-    done |= {id(p) for p in ended if id(p) not in grow}
-    return [p for p in points if id(p) not in done]
+    grow = set(map(id, end_round(ended, policy)))  # of the rounds ended, the records that run on
+    return [p for p in points if id(p) in grow or (p.left > 0 and id(p) not in diverged)]
 
 
 def _appended(a: SimulationResult, b: SimulationResult) -> SimulationResult:

@@ -47,7 +47,7 @@ def early_stop(policy: Policy) -> EarlyStop | None:
 
 def _follows_motion(p: Point) -> bool:
     """Whether the point starts from the (non-periodic) attractor of the previous point of its line."""
-    return p.prev is not None and not p.prev.diverged and not p.prev.periodic
+    return p.prev is not None and not p.prev.periodic
 
 
 def integrate(points: list[Point], policy: Policy) -> list[Point]:
@@ -63,10 +63,8 @@ def integrate(points: list[Point], policy: Policy) -> list[Point]:
     for tangent, group in enumerate(groups):
         if not group:
             continue
-        x0s = [p.start if p.prev is None or p.prev.diverged else p.prev.final_state for p in group]
-        trans = [
-            s.transient_periods if p.prev is None or p.prev.diverged else policy.follow_transient_periods for p in group
-        ]
+        x0s = [p.start if p.prev is None else p.prev.final_state for p in group]
+        trans = [s.transient_periods if p.prev is None else policy.follow_transient_periods for p in group]
         rec = [max(s.recorded_periods, cs.tangent_periods) if tangent else s.recorded_periods] * len(group)
         runs = simulate_batch(
             [p.system for p in group],

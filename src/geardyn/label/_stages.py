@@ -37,7 +37,7 @@ class Point:
     line's fixed start, the run the later stages read and the notes for the reason."""
 
     system: System
-    prev: Verdict | None
+    prev: Verdict | None  # None for a line's first point and after a diverged one (:meth:`_Line.point`)
     start: np.ndarray | None
     prev2: Verdict | None = None
     tables: LaneTables | None = None  # the step tables of the batch the point came in (built once per batch)
@@ -161,14 +161,13 @@ def shoot(
     for k, n in enumerate(ns):
         by_n[n].append(k)
     for n, ks in sorted(by_n.items()):
-        shots = newton_shooting_batch(
-            [points[k].system for k in ks],
+        shots = shoot_batch(
+            [points[k] for k in ks],
             [starts[k] for k in ks],
             n,
-            policy.integration,
+            policy,
             tol=policy.newton.tol,
             max_iter=policy.newton.max_iter if deflate is None else policy.deflation.max_iter,
-            tables=tables_of([points[k] for k in ks]),
             max_growth=policy.newton.max_growth if deflate is None else math.inf,
             deflate=None if deflate is None else [deflate[k] for k in ks],
             deflation_shift=policy.deflation.shift,
@@ -177,6 +176,14 @@ def shoot(
         for k, s in zip(ks, shots, strict=True):
             out[k] = s
     return out  # type: ignore[return-value]
+
+
+def shoot_batch(points: list[Point], xs: list[np.ndarray], n: int, policy: Policy, **options) -> list[ShootingResult]:
+    """Newton shooting (:func:`geardyn.solve.shooting.newton_shooting_batch`, its ``options``) of the points'
+    systems from ``xs``, with the policy's integration and the points' lane tables."""
+    return newton_shooting_batch(
+        [p.system for p in points], xs, n, policy.integration, tables=tables_of(points), **options
+    )
 
 
 def tables_of(points: list[Point]) -> LaneTables | None:
@@ -202,11 +209,10 @@ def decide(points: list[Point], verdicts: list[Verdict | None]) -> list[Point]:
 
 def diverged_verdict(p: Point, r: SimulationResult) -> Verdict:
     """The verdict of a run that diverged: no measures (:meth:`ResponseMeasures.not_computed`)."""
-    lam = float("inf")
     return Verdict(
         DIVERGED,
         0,
-        lam,
+        math.inf,
         0.0,
         "none",
         "diverged",

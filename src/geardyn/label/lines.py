@@ -115,15 +115,12 @@ def label_lines(
     """Label every point of every line: ``out[i][k]`` is the verdict of point k of line i, from ``starts[i]``
     (None: the static deflection); a verdict depends only on its line (``docs/classify.md``)."""
     starts = [None] * len(lines) if starts is None else list(starts)
-    if policy.start == "fixed":
-        flat = [(i, k) for i, line in enumerate(lines) for k in range(len(line))]
-        single = label_lines(
-            [[lines[i][k]] for i, k in flat], policy.with_start("follow"), [starts[i] for i, _ in flat], progress
+    if policy.start == "fixed":  # every point a line of its own, from its line's start
+        singles = [([s], x0) for line, x0 in zip(lines, starts, strict=True) for s in line]
+        it = iter(
+            label_lines([s for s, _ in singles], policy.with_start("follow"), [x0 for _, x0 in singles], progress)
         )
-        out: list[list[Verdict]] = [[None] * len(line) for line in lines]  # type: ignore[list-item]
-        for (i, k), (v,) in zip(flat, single, strict=True):
-            out[i][k] = v
-        return out
+        return [[next(it)[0] for _ in line] for line in lines]
     state = [
         _Line(line, None if x0 is None else np.asarray(x0, float), []) for line, x0 in zip(lines, starts, strict=True)
     ]

@@ -170,21 +170,19 @@ def _judge(
     max_periods = policy.classifier.settle_max_periods
     reads = (policy.settle.min_points, policy.settle.rate_share, policy.settle.record_fall)
 
+    def settled(i: int, after: int, why: str, **more) -> Settled:
+        return Settled(labels[i], after, n, shots[i].spectral_radius, why, **more)
+
     def found(i: int, how: str) -> Settled:
         r = shots[i]
         m = len(cycles[i])
         # a shorter orbit is also fixed by the n-period map (its multipliers are those of the m-map to the
         # power n/m): the m-period shooting did not reach it from here, so it is judged as found
-        return Settled(
-            labels[i],
-            m,
-            n,
-            r.spectral_radius,
+        why = (
             f"slow transient: stable period-{m} orbit by shooting "
-            f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached {how}",
-            state=r.state.copy(),
-            multipliers=r.multipliers,
+            f"(|mu|max = {r.spectral_radius:.4f} over {n} periods), approached {how}"
         )
+        return settled(i, m, why, state=r.state.copy(), multipliers=r.multipliers)
 
     out = {
         i: found(i, "over the recorded periods")
@@ -225,24 +223,16 @@ def _judge(
         if rho[i] ** (done / n) > fall:
             # the multiplier is so close to 1 that the horizon could not show a 10-fold fall: the run may be a
             # transient onto this orbit; say so instead of calling it quasi-periodic
-            return Settled(
-                labels[i],
-                UNDET,
-                n,
-                r.spectral_radius,
+            why = (
                 f"possible slow transient: stable period-{m} orbit (|mu|max = {r.spectral_radius:.5f} "
-                f"over {n} periods) too slow to confirm in {done} periods "
-                f"(distance {d0:.2g} -> {d1:.2g})",
-                possible=True,
+                f"over {n} periods) too slow to confirm in {done} periods (distance {d0:.2g} -> {d1:.2g})"
             )
-        return Settled(
-            labels[i],
-            labels[i],
-            n,
-            r.spectral_radius,
+            return settled(i, UNDET, why, possible=True)
+        why = (
             f"stable period-{n} orbit found, but the run does not approach it "
-            f"(distance {d0:.2g} -> {d1:.2g} in {done} periods)",
+            f"(distance {d0:.2g} -> {d1:.2g} in {done} periods)"
         )
+        return settled(i, labels[i], why)
 
     out.update(zip(last, threaded_map(by_run, last), strict=True))
     return out

@@ -173,11 +173,9 @@ def torus_verdict(
         raise ValueError(
             f"the chaos threshold log10 sqrt(N) + {chaos_digits} exceeds torus_digits = {torus_digits} at N = {n}"
         )
-    if n < min_n:
-        verdict = "inconclusive"
-    elif digits >= torus_digits:
+    if n >= min_n and digits >= torus_digits:
         verdict = "torus"
-    elif digits < 0.5 * math.log10(n) + chaos_digits:
+    elif n >= min_n and digits < 0.5 * math.log10(n) + chaos_digits:
         verdict = "chaotic"
     else:
         verdict = "inconclusive"

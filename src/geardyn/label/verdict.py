@@ -68,7 +68,3 @@ class Verdict:
     @property
     def periodic(self) -> bool:
         return self.period > 0
-
-    @property
-    def decided(self) -> bool:
-        return self.label != classify.LABELS["undetermined"]

@@ -122,8 +122,8 @@ def _newton_next(
     return out
 
 
-def _step_cap(x0: np.ndarray, max_step: float | None, factor: float = 10.0) -> float:
-    return max_step if max_step is not None else factor * max(1.0, float(np.max(np.abs(x0))))
+def _step_cap(x0: np.ndarray, factor: float = 10.0) -> float:
+    return factor * max(1.0, float(np.max(np.abs(x0))))
 
 
 def newton_shooting(
@@ -132,13 +132,12 @@ def newton_shooting(
     n: int = 1,
     tol: float = 1e-9,
     max_iter: int = 30,
-    max_step: float | None = None,
     max_growth: float = math.inf,
 ) -> ShootingResult:
     """Newton on F(x) = phi(x) - x from x0: converged when max |F| <= tol max(1, max |x|), the step capped
-    at ``max_step``, stopped when the residual grows ``max_growth`` times (``docs/numerics.md``)."""
+    at 10 max(1, max |x0|), stopped when the residual grows ``max_growth`` times (``docs/numerics.md``)."""
     x = np.asarray(x0, dtype=float).copy()
-    cap = _step_cap(x, max_step)
+    cap = _step_cap(x)
     previous = math.inf
     for it in range(max_iter + 1):
         phi, M = flow(x, True)
@@ -173,7 +172,7 @@ def newton_shooting_batch(
     s = period_settings(settings, n)
     tables = lane_tables(systems, s) if tables is None else tables
     xs = [np.asarray(x, dtype=float).copy() for x in x0s]
-    caps = [_step_cap(x, None, step_cap) for x in xs]
+    caps = [_step_cap(x, step_cap) for x in xs]
     previous = [math.inf] * len(xs)
     out: list[ShootingResult | None] = [None] * len(xs)
     todo = list(range(len(xs)))  # the unfinished points; ``tables`` holds their rows, in this order
@@ -241,7 +240,7 @@ def _deflated_step(
         step = np.linalg.solve(A, -m * F)
     except np.linalg.LinAlgError:
         return ShootingResult(x, n, False, "singular", it, float(np.max(np.abs(F))))
-    limit = _step_cap(x, None, cap)
+    limit = _step_cap(x, cap)
     size = float(np.max(np.abs(step)))
     return x + (step * (limit / size) if size > limit else step)
 
