@@ -10,9 +10,8 @@ import numpy as np
 from numba import njit, prange
 
 import geardyn.solve._cache as _cache
-from geardyn.solve._kernel import diverged, locate_switches, record, region, run
+from geardyn.solve._kernel import diverged, end_period, locate_switches, region, run
 from geardyn.solve._model import rk4, rk4_tangent_at, slope
-from geardyn.solve._period import early_stop
 from geardyn.solve._response import STATUS, add_step, start_sums
 from geardyn.solve.base import BACKLASH_ON, CM, B, T
 
@@ -157,7 +156,7 @@ def _block(
     the response measures' sums over each lane's last ACC_LAST[l] periods, going on from ACC[l] where that
     exceeds the run (``docs/numerics.md``)."""
     H, S, SEG, K, P, POLY = TABS
-    es_min, es_confirm, es_max_n = ES[0], ES[1], ES[2]
+    es_max_n = ES[2]
     nl = lanes.shape[0]
     nsteps = H.shape[1]
     Wd = WIDTH
@@ -175,7 +174,6 @@ def _block(
     stop_n = np.zeros(Wd, dtype=np.int64)
     ring = np.empty((Wd, es_max_n + 1, 6))
     count = np.zeros((Wd, es_max_n + 1), dtype=np.int64)
-    n_seen = np.zeros(Wd, dtype=np.int64)
     dcur = np.full(es_max_n + 1, np.inf)
     tan_start = np.zeros(Wd, dtype=np.int64)
     tan_on = np.zeros(Wd, dtype=np.bool_)
@@ -255,23 +253,14 @@ def _block(
                     W[ln, i, 0] = Wl[i, 0]
                 done[q] = True
                 continue
-            record(
-                y,
-                Wl,
-                per - tan_start[q] if tan_on[q] else -1,
-                GROWTH[ln],
-                STROBE[ln],
-                POINC[ln],
-                per - n_tr[q] if per >= n_tr[q] else -1,
+            k = per - tan_start[q] if tan_on[q] else -1
+            stop_n[q], tr = end_period(
+                y, Wl, k, per, n_tr[q], GROWTH[ln], STROBE[ln], POINC[ln], ES, ring[q], count[q], dcur, stop_n[q]
             )
             for i in range(6):
                 A[(33 + i) * Wd + q] = Wl[i, 0]
-            if per < n_tr[q] and es_confirm > 0:
-                check = per + 1 >= es_min and per + 1 < n_tr[q]
-                n_seen[q], stop_n[q] = early_stop(ring[q], count[q], dcur, n_seen[q], y, ES, check)
-                if stop_n[q] > 0:
-                    n_end[q] = per + 1 + (n_end[q] - n_tr[q])
-                    n_tr[q] = per + 1
+            n_end[q] += tr - n_tr[q]  # shortened with the transient by an early stop
+            n_tr[q] = tr
             if per + 1 >= n_end[q]:
                 _finish(OUT[ln], YFINAL[ln], y, 0, n_end[q], nev[q], n_tr[q], stop_n[q])
                 for i in range(6 * m):  # the tangent column at the end, as the scalar loop leaves it

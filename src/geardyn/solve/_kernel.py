@@ -216,7 +216,7 @@ def run(
          c[14], c[15], c[16], c[17], c[18])
     # fmt: on
     tab_h, tab_s, tab_seg, tab_k, tab_p, poly = tabs
-    es_min, es_confirm, es_max_n = es[0], es[1], es[2]
+    es_max_n = es[2]
     nsteps = tab_h.shape[0]
     period = c[T]
     b = c[B]
@@ -233,11 +233,11 @@ def run(
     ring = np.empty((es_max_n + 1, 6))
     count = np.zeros(es_max_n + 1, dtype=np.int64)
     dcur = np.full(es_max_n + 1, np.inf)
-    n_seen = 0
     stop_n = 0
     n_tr = n_trans
     reg = region(y[1], b)
     per = 0
+    status = 0
     # the monodromy matrix's columns in one buffer (step_columns); W and Wnew hold them only at switches
     packed = m == 6 and not renorm
     A = np.zeros(12 * COLUMNS if packed else 0)
@@ -280,30 +280,16 @@ def run(
                     dense_y[n_dense, i] = y[i]
                 n_dense += 1
         if diverged(y, limits):
-            for i in range(6):
-                yfinal[i] = y[i]
-            if packed:
-                _columns(A, W, 0, False)
-            return 1, per, n_events, n_dense, min(per + 1, n_tr), stop_n
-        record(
-            y,
-            W,
-            per - tan_start if (mt > 0 and renorm) else -1,
-            growth,
-            strobe,
-            poinc,
-            per - n_tr if per >= n_tr else -1,
-        )
-        if per < n_tr and es_confirm > 0:
-            n_seen, stop_n = early_stop(ring, count, dcur, n_seen, y, es, per + 1 >= es_min and per + 1 < n_tr)
-            if stop_n > 0:
-                n_tr = per + 1
+            status = 1
+            break
+        k_tan = per - tan_start if (mt > 0 and renorm) else -1
+        stop_n, n_tr = end_period(y, W, k_tan, per, n_tr, growth, strobe, poinc, es, ring, count, dcur, stop_n)
         per += 1
     for i in range(6):
         yfinal[i] = y[i]
     if packed:
         _columns(A, W, 0, False)
-    return 0, n_tr + n_rec, n_events, n_dense, n_tr, stop_n
+    return status, per, n_events, n_dense, min(per + 1, n_tr), stop_n
 
 
 @njit(cache=True)
@@ -316,11 +302,11 @@ def diverged(y, limits):
 
 
 @njit(cache=True)
-def record(y, W, k_tan, growth, strobe, poinc, k_rec):
-    """The records of a mesh period's end (state y, tangent columns W): with ``k_tan >= 0`` the column
-    W[:, 0] is renormalised, growth[k_tan] = log of its norm before that and strobe[k_tan] = x2; with
-    ``0 <= k_rec < len(poinc)`` poinc[k_rec] = y (a recorded period; a poinc of length 0 records none)."""
-    if k_tan >= 0:
+def end_period(y, W, k_tan, per, n_tr, growth, strobe, poinc, es, ring, count, dcur, stop_n):
+    """The records of the end of mesh period ``per`` (state y, tangent columns W) in both loops, and the early
+    stop's running record (ring, count, dcur: the points fed so far are the ``per`` transient periods before).
+    Returns (stop_n, the transient periods n_tr, shortened by an early stop) (``docs/numerics.md``)."""
+    if k_tan >= 0:  # renormalise W[:, 0]: growth[k_tan] = log of its norm before that, strobe[k_tan] = x2
         nrm = 0.0
         for i in range(6):
             nrm += W[i, 0] * W[i, 0]
@@ -329,6 +315,11 @@ def record(y, W, k_tan, growth, strobe, poinc, k_rec):
         strobe[k_tan] = y[1]
         for i in range(6):
             W[i, 0] /= nrm
-    if k_rec >= 0 and k_rec < poinc.shape[0]:
+    if per >= n_tr and per - n_tr < poinc.shape[0]:  # a recorded period (a poinc of length 0 records none)
         for i in range(6):
-            poinc[k_rec, i] = y[i]
+            poinc[per - n_tr, i] = y[i]
+    if per < n_tr and es[1] > 0:
+        _, stop_n = early_stop(ring, count, dcur, per, y, es, per + 1 >= es[0] and per + 1 < n_tr)
+        if stop_n > 0:
+            n_tr = per + 1
+    return stop_n, n_tr
