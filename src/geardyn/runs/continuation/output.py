@@ -124,18 +124,17 @@ def branch_dataset(
     units, long_name = point.CONTROLS.get(parameter, (point.units_of(parameter), parameter))
     nmax = max([b.n for _, b in branches], default=1)
     data = {**_point_vars(branches, families, units, long_name, nmax), **_bifurcation_vars(branches, units, long_name)}
-    coords = {
-        "state": ("state", list(STATE_VARS), {"long_name": "state component"}),
-        "multiplier": ("multiplier", np.arange(_D, dtype=np.int32), "multiplier index (by decreasing modulus)"),
-        "cycle": ("cycle", np.arange(nmax, dtype=np.int32), "index of the phase-0 point in the cycle"),
-        "case": ("case", list(case_labels), {"long_name": "case (fixed overrides)"}),
-    }
+    coords = variables(
+        [
+            ("state", "state", list(STATE_VARS), {"long_name": "state component"}),
+            ("multiplier", "multiplier", np.arange(_D, dtype=np.int32), "multiplier index (by decreasing modulus)"),
+            ("cycle", "cycle", np.arange(nmax, dtype=np.int32), "index of the phase-0 point in the cycle"),
+            ("case", "case", list(case_labels), {"long_name": "case (fixed overrides)"}),
+        ]
+    )
     ends = {
         f"branch_{j}_ends": f"down={b.end_status.get('down')} up={b.end_status.get('up')}"
         for j, (_, b) in enumerate(branches)
-    }
-    coords = {
-        k: (d, v, a if isinstance(a, dict) else {"units": "1", "long_name": a}) for k, (d, v, a) in coords.items()
     }
     return xr.Dataset(data, coords=coords, attrs={"control_parameter": parameter, **ends})
 
