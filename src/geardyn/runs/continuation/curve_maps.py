@@ -27,7 +27,7 @@ from geardyn.runs.continuation.curves import (
     curves_from_branch,
     polyline_distance,
 )
-from geardyn.runs.continuation.family import BackFlank, KHVFamily, KHVPlane, back_margin
+from geardyn.runs.continuation.family import ONE_FIELD, BackFlank, KHVFamily, KHVPlane, back_margin
 from geardyn.runs.continuation.spec import label_runs
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.runs.continuation.switching import add_branch
@@ -77,8 +77,6 @@ class BoundarySpec:
 
 #: Keys of a curves study entry that are not curve settings.
 _ENTRY_KEYS = ("designs", "title", "x", "y", "fixed", "integration")
-#: Parameters the coefficients are linear in (a spline through 5 nodes is exact).
-_LINEAR = ("b", "e", "w")
 
 
 @dataclass(frozen=True)
@@ -208,11 +206,12 @@ def attractor_orbit(
 
 
 def line_family(design: Any, region: Region, line: Line, settings: SimulationSettings, nodes: int) -> KHVFamily:
-    """The one-parameter family along ``line`` over the box."""
+    """The one-parameter family along ``line`` over the box (5 spline nodes along b, e or w: the coefficients
+    are linear in them, a spline through 5 nodes is exact)."""
     (xp, yp), (x0, x1, y0, y1) = region.names, region.box
     held, free, lo, hi = (xp, yp, y0, y1) if line.axis == "x" else (yp, xp, x0, x1)
     fixed = {**dict(region.fixed), held: line.value}
-    return KHVFamily(design, free, fixed, lo, hi, settings, 5 if free in _LINEAR else nodes)
+    return KHVFamily(design, free, fixed, lo, hi, settings, 5 if free in ONE_FIELD else nodes)
 
 
 def map_line_seeds(map_ds: xr.Dataset, line: Line, max_period: int, max_seeds: int) -> list[tuple[float, int]]:
