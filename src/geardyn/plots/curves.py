@@ -117,16 +117,8 @@ def draw_curves(ax: Axes, ds: xr.Dataset, legend: bool = True, lw: float = 1.4, 
         earlier = ax.get_legend()
         if earlier is not None:
             ax.add_artist(earlier)
-        handles = [
-            Line2D(
-                [],
-                [],
-                color=KIND_STYLE[k][0],
-                lw=lw,
-                label=f"{KIND_STYLE[k][1]}: " + ", ".join(f"P{n}" for n in sorted(v)),
-            )
-            for k, v in periods.items()
-        ]
+        label = {k: f"{KIND_STYLE[k][1]}: " + ", ".join(f"P{n}" for n in sorted(v)) for k, v in periods.items()}
+        handles = [Line2D([], [], color=KIND_STYLE[k][0], lw=lw, label=label[k]) for k in periods]
         handles.append(Line2D([], [], color="0.3", lw=0.7 * lw, ls=":", label="dotted: orbit already unstable"))
         ax.legend(handles=handles, loc=loc, fontsize=6, framealpha=0.8)
 
@@ -145,7 +137,7 @@ def plot_curves(ds: xr.Dataset, title: str, background: tuple[np.ndarray, tuple]
     draw_curves(ax, ds, legend=True)
     kinds_legend = ax.get_legend()
     if "check_reason" in ds and ds.sizes.get("check", 0):
-        reasons = np.array(ds["check_reason"].attrs["flag_meanings"].split())[ds["check_reason"].values]
+        reasons = np.array(_meanings(ds, "check_reason"))[ds["check_reason"].values]
         ok, failed = reasons == "ok", np.isin(reasons, FAILURES)
         cx, cy = ds[f"check_{xn}"].values, ds[f"check_{yn}"].values
         ax.plot(cx[~ok & ~failed], cy[~ok & ~failed], ".", ms=1.5, color="0.6")
@@ -241,7 +233,7 @@ def check_table(name: str, ds: xr.Dataset) -> str:
         return f"\n## Pixel check: {name}\n\nno samples\n"
     a = ds.attrs
     xn, yn = (str(v) for v in a.get("curve_parameters", "x y").split())
-    kinds = ds["check_kind"].attrs["flag_meanings"].split()
+    kinds = _meanings(ds, "check_kind")
     rows = [
         f"\n## Pixel check: {name}\n",
         f"{a['pixel_check_passed']} of {a['pixel_check_samples']} checked crossings as predicted "
@@ -253,8 +245,8 @@ def check_table(name: str, ds: xr.Dataset) -> str:
         f"| reason | kind | curve | {xn} | {yn} | stable pixel | other pixel | labels | modulus | criticality | row |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
-    reasons = ds["check_reason"].attrs["flag_meanings"].split()
-    crit = ds["check_criticality"].attrs["flag_meanings"].split()
+    reasons = _meanings(ds, "check_reason")
+    crit = _meanings(ds, "check_criticality")
     for k in range(ds.sizes["check"]):
         r = reasons[int(ds["check_reason"][k])]
         if r == "ok":

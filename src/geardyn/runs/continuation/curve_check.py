@@ -121,6 +121,9 @@ class PixelCheck:
         def q(long_name: str, u: str = "1") -> dict[str, str]:
             return {"long_name": long_name, "units": u}
 
+        def flag(attr: str, meanings: Sequence[str], long_name: str) -> tuple:
+            return (f"check_{attr}", C, [list(meanings).index(getattr(v, attr)) for v in s], flags(meanings, long_name))
+
         pix = np.array([list(v.pixels[0]) + list(v.pixels[1]) if v.pixels else [-1] * 4 for v in s], np.int32)
         pixels = "row, column of the stable-side pixel, then the other (-1: none)"
         labels = np.array([v.labels for v in s], np.int16).reshape(len(s), 2)
@@ -130,18 +133,13 @@ class PixelCheck:
                 (f"check_{names[0]}", C, np.array([v.x for v in s], float), q(f"{names[0]} at the crossing", units[0])),
                 (f"check_{names[1]}", C, np.array([v.y for v in s], float), q(f"{names[1]} at the crossing", units[1])),
                 ("check_curve", C, np.array([v.curve for v in s], np.int32), q("index of the curve")),
-                ("check_kind", C, [list(kinds).index(v.kind) for v in s], flags(kinds, "curve kind")),
+                flag("kind", kinds, "curve kind"),
                 ("check_forward", C, [v.forward for v in s], flags(("return", "forward"), FORWARD)),
-                ("check_reason", C, [REASONS.index(v.reason) for v in s], flags(REASONS, "outcome of the check")),
+                flag("reason", REASONS, "outcome of the check"),
                 ("check_pixels", ("check", "pixel_index"), pix.reshape(len(s), 4), pixels),
                 ("check_labels", ("check", "side"), labels, "map label at the stable-side pixel and the other"),
                 ("check_modulus", C, np.array([v.modulus for v in s], float), q(modulus)),
-                (
-                    "check_criticality",
-                    C,
-                    [CRITICALITY.index(v.criticality) for v in s],
-                    flags(CRITICALITY, "criticality"),
-                ),
+                flag("criticality", CRITICALITY, "criticality"),
             ]
         )
 

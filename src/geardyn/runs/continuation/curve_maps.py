@@ -27,7 +27,7 @@ from geardyn.runs.continuation.curves import (
     curves_from_branch,
     polyline_distance,
 )
-from geardyn.runs.continuation.family import BackFlank, KHVFamily, KHVPlane, back_margin
+from geardyn.runs.continuation.family import ONE_FIELD, BackFlank, KHVFamily, KHVPlane, back_margin
 from geardyn.runs.continuation.spec import label_runs
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.runs.continuation.switching import add_branch
@@ -77,8 +77,6 @@ class BoundarySpec:
 
 #: Keys of a curves study entry that are not curve settings.
 _ENTRY_KEYS = ("designs", "title", "x", "y", "fixed", "integration")
-#: Parameters the coefficients are linear in (a spline through 5 nodes is exact).
-_LINEAR = ("b", "e", "w")
 
 
 @dataclass(frozen=True)
@@ -208,12 +206,12 @@ def attractor_orbit(
 
 
 def line_family(design: Any, region: Region, line: Line, settings: SimulationSettings, nodes: int) -> KHVFamily:
-    """The one-parameter family along ``line`` over the box."""
+    """The one-parameter family along ``line`` over the box (5 spline nodes along b, e or w: the coefficients
+    are linear in them, a spline through 5 nodes is exact)."""
     (xp, yp), (x0, x1, y0, y1) = region.names, region.box
-    fixed = dict(region.fixed)
-    if line.axis == "x":
-        return KHVFamily(design, yp, {**fixed, xp: line.value}, y0, y1, settings, 5 if yp in _LINEAR else nodes)
-    return KHVFamily(design, xp, {**fixed, yp: line.value}, x0, x1, settings, 5 if xp in _LINEAR else nodes)
+    held, free, lo, hi = (xp, yp, y0, y1) if line.axis == "x" else (yp, xp, x0, x1)
+    fixed = {**dict(region.fixed), held: line.value}
+    return KHVFamily(design, free, fixed, lo, hi, settings, 5 if free in ONE_FIELD else nodes)
 
 
 def map_line_seeds(map_ds: xr.Dataset, line: Line, max_period: int, max_seeds: int) -> list[tuple[float, int]]:
@@ -367,8 +365,8 @@ def line_curves(
 # --- the map's records as seeds -----------------------------------------------------------------------------
 
 
-#: The map's ``bifurcation`` flags that seed curves, and the curve kind of each.
-RECORD_KINDS = {"fold": "fold", "period_doubling": "period_doubling", "neimark_sacker": "neimark_sacker"}
+#: The map's ``bifurcation`` flags that seed curves (each the kind of the curve it seeds).
+RECORD_KINDS = ("fold", "period_doubling", "neimark_sacker")
 
 
 def pixel_size(map_ds: xr.Dataset) -> tuple[float, float]:
@@ -385,8 +383,8 @@ def map_records(map_ds: xr.Dataset) -> list[tuple[int, int, str, int]]:
     code, period, label = var.values, map_ds["period"].values, map_ds["label"].values
     out = []
     for j, i in zip(*np.nonzero(code > 0), strict=True):
-        kind = RECORD_KINDS.get(names.get(int(code[j, i]), ""))
-        if kind is None or i == 0:
+        kind = names.get(int(code[j, i]), "")
+        if kind not in RECORD_KINDS or i == 0:
             continue
         n = int(period[j, i - 1]) if label[j, i - 1] >= 1 else 0
         out.append((int(j), int(i), kind, n))
@@ -411,28 +409,20 @@ def _record_curves(
         first -= 1
     lo, hi = float(xs[max(first, i - 12)]), float(xs[min(i + 3, xs.size - 1)])
     (xp, yp), fixed = bd.region.names, dict(bd.region.fixed)
-    fam = KHVFamily(design, xp, {**fixed, yp: float(ys[j])}, lo, hi, plane.settings, 5)
+    row = Line("y", float(ys[j]))
+    fam = KHVFamily(design, xp, {**fixed, yp: row.value}, lo, hi, plane.settings, 5)
+    cs = replace(spec.branch_settings(), ds=0.05, ds_max=0.05)
+    px = pixel_size(map_ds)[0]
     for t in dict.fromkeys((float(xs[i - 1]), float(xs[(max(first, i - 12) + i - 1) // 2]))):
         found = attractor_orbit(fam, t, n, plane.settings, spec.max_period)
-        if found is None:
-            continue
-        cs = replace(spec.branch_settings(), ds=0.05, ds_max=0.05)
-        br = continue_branch(fam, t, found[0], n, lo, hi, cs)
+        br = None if found is None else continue_branch(fam, t, found[0], n, lo, hi, cs)
         if br is None:
             continue
-        px = pixel_size(map_ds)[0]
         near = [b for b in br.bifurcations if b.kind == kind and b.located and abs(b.p - xs[i]) <= 2.5 * px]
         if near:
             before = len(bd.curves)
-            branch_curves(
-                plane,
-                bd,
-                replace(br, bifurcations=near[:1]),
-                Line("y", float(ys[j])),
-                spec.curve_settings(),
-                origin,
-                (kind,),
-            )
+            one = replace(br, bifurcations=near[:1])
+            branch_curves(plane, bd, one, row, spec.curve_settings(), origin, (kind,))
             return bd.curves[before:]
     return []
 

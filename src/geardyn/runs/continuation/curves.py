@@ -36,8 +36,8 @@ _TESTS = {
 @dataclass(frozen=True)
 class CurveSettings:
     """Numbers of curve continuation (ds in the scaled arclength, box sides = 1).  tol: max |F| <=
-    tol max(1, max |x|); test_tol: |G| for the multiplier conditions (grazing: as F).  fd_x, fd_p:
-    forward-difference steps relative to sx and the box sides; fold_h: the step of the second
+    tol max(1, max |x|); test_tol: |G| for the multiplier conditions (grazing: as F).  fd: the
+    forward-difference step relative to sx and the box sides; fold_h: the step of the second
     difference of the cusp test, relative to sx."""
 
     ds: float = 0.01
@@ -46,11 +46,9 @@ class CurveSettings:
     tol: float = 1e-9
     test_tol: float = 1e-10
     max_corrector: int = 10
-    fd_x: float = 1e-7
-    fd_p: float = 1e-7
+    fd: float = 1e-7
     fold_h: float = 1e-3
     max_points: int = 400
-    grazing: bool = True
     locate_xtol: float = 1e-10
 
 
@@ -186,7 +184,7 @@ class Extended:
         J = np.empty((d + 1, d + 2))
         J[:d, :d] = M - np.eye(d)
         for k in range(d + 2):
-            h = (self.cs.fd_x if k < d else self.cs.fd_p) * sc[k]
+            h = self.cs.fd * sc[k]
             zk = z.copy()
             zk[k] += h
             r = self.residual(zk, ref)
@@ -233,7 +231,7 @@ class Extended:
         a, v = float("nan"), None
         if self.kind == "fold":
             a, v = self._fold_coefficient(z, M, crit[0], v_ref)
-        g = float(self.plane.grazing(float(z[-2]), float(z[-1]), z[:-2], self.n)) if self.cs.grazing else float("nan")
+        g = float(self.plane.grazing(float(z[-2]), float(z[-1]), z[:-2], self.n))
         return CurvePoint(z, mu, crit, _others(mu, crit), G, t, g, a, v, it)
 
     def corrected(self, z: np.ndarray, a: CurvePoint, row: np.ndarray, c: float) -> CurvePoint | None:

@@ -50,12 +50,9 @@ def ns_product(mu: np.ndarray) -> float:
     return float(np.prod(libm.cabs(c) - 1.0)) if c.size else float("nan")
 
 
-def _near_m1(mu: np.ndarray) -> complex:
-    return complex(mu[np.argmin(libm.cabs(mu + 1.0))])
-
-
-def _near_p1(mu: np.ndarray) -> complex:
-    return complex(mu[np.argmin(libm.cabs(mu - 1.0))])
+def _near(target: float) -> Callable[[np.ndarray], complex]:
+    """The multiplier nearest ``target`` (-1: period doubling, +1: fold and branch point)."""
+    return lambda mu: complex(mu[np.argmin(libm.cabs(mu - target))])
 
 
 def _lin_zero(a: float, b: float) -> float:
@@ -195,10 +192,6 @@ def _fold(br: Branch, i: int, corr: Corrector | None, iterations: int = 12) -> t
     return (best, ok) if best is not None else (_interpolated(br, i, 0.5), False)
 
 
-def _ns_test(q: _Onb) -> float:
-    return ns_product(q.multipliers)
-
-
 def _step_events(
     family: Family, br: Branch, i: int, cs: ContinuationSettings, corr: Corrector | None
 ) -> list[Bifurcation]:
@@ -208,20 +201,20 @@ def _step_events(
     a, b = pd_test(m0), pd_test(m1)
     if (a > 0) != (b > 0):
         q, ok = _locate(br, i, lambda q: pd_test(q.multipliers), corr, cs, _lin_zero(a, b))
-        found.append(_bifurcation("period_doubling", q, i, ok, br, _near_m1))
+        found.append(_bifurcation("period_doubling", q, i, ok, br, _near(-1.0)))
     dpds = br.tangents[:, -1]
     fa, fb = fold_test(m0), fold_test(m1)
     if (dpds[i] > 0) != (dpds[i + 1] > 0):
         q, ok = _fold(br, i, corr)
-        found.append(_bifurcation("fold", q, i, ok, br, _near_p1))
+        found.append(_bifurcation("fold", q, i, ok, br, _near(1.0)))
     elif (fa > 0) != (fb > 0):
         q, ok = _locate(br, i, lambda q: fold_test(q.multipliers), corr, cs, _lin_zero(fa, fb))
-        found.append(_bifurcation("branch_point", q, i, ok, br, _near_p1))
+        found.append(_bifurcation("branch_point", q, i, ok, br, _near(1.0)))
     (o0, c0), (o1, c1) = _counts(m0), _counts(m1)
     if abs(o1 - o0) == 2 and abs(c1 - c0) == 2 and (o1 - o0) == (c1 - c0):
         n0, n1 = ns_product(m0), ns_product(m1)
         w = _lin_zero(n0, n1) if np.isfinite(n0) and np.isfinite(n1) else 0.5
-        q, ok = _locate(br, i, _ns_test, corr, cs, w)
+        q, ok = _locate(br, i, lambda q: ns_product(q.multipliers), corr, cs, w)
         found.append(_bifurcation("neimark_sacker", q, i, ok, br, ns_pair))
     g0, g1 = br.grazing[i], br.grazing[i + 1]
     if np.isfinite(g0) and np.isfinite(g1) and (g0 > 0) != (g1 > 0):

@@ -171,7 +171,8 @@ class PlaneFamily(Protocol):
     def grazing(self, p: float, q: float, x: np.ndarray, n: int) -> float: ...
 
 
-_CHEAP = {"b": "b", "e": "e", "w": "omega"}  # overrides that are one coefficient field each
+#: Overrides that are one coefficient field each (the coefficients are linear in them).
+ONE_FIELD = {"b": "b", "e": "e", "w": "omega"}
 
 
 class KHVPlane:
@@ -191,9 +192,9 @@ class KHVPlane:
         self.design, self.names, self.fixed = design, (names[0], names[1]), dict(fixed)
         self.box = tuple(float(v) for v in box)
         self.settings = settings or point.integration_settings(design)
-        swap = self.names[0] in _CHEAP and self.names[1] not in _CHEAP
+        swap = self.names[0] in ONE_FIELD and self.names[1] not in ONE_FIELD
         self._swap, fast = swap, self.names[0 if swap else 1]
-        self._field = _CHEAP.get(fast)
+        self._field = ONE_FIELD.get(fast)
         self._cache: dict[tuple[float, float], Any] = {}
         if self._field is not None:
             lo, hi = self.box[2:] if swap else self.box[:2]

@@ -59,41 +59,31 @@ def _point_vars(
             cyc[k + i, : b.n] = cycle_states(families[c].flow(float(b.p[i]), 1), x, b.n)[:, 1] if b.n > 1 else x[1]
         k += len(b)
 
-    def cat(get: Any, dtype: Any = float, shape: tuple[int, ...] = (0,)) -> np.ndarray:
-        return _joined([get(j, c, b) for j, (c, b) in enumerate(branches)], dtype, shape)
+    def cat(attr: str, dtype: Any = float, shape: tuple[int, ...] = (0,)) -> np.ndarray:
+        return _joined([getattr(b, attr) for _, b in branches], dtype, shape)
 
-    mu = cat(lambda j, c, b: b.multipliers, complex, (0, _D))
+    def each(values: Sequence[int], dtype: Any) -> np.ndarray:
+        """One value per branch, repeated on its points."""
+        return _joined([np.full(len(b), v) for v, (_, b) in zip(values, branches, strict=True)], dtype)
+
+    mu = cat("multipliers", complex, (0, _D))
     radius = np.max(libm.cabs(mu), axis=1)  # (rows,), also for no rows
     P, PM = ("point",), ("point", "multiplier")
     state = "orbit state at mesh phase 0 (x / b_c, dx/dtau / b_c)"
+    margin = "min over the cycle of |X_VH| / b_c - b (< 0: contact lost)"
     return variables(
         [
-            ("branch", P, cat(lambda j, c, b: np.full(len(b), j), np.int32), "index of the continued branch"),
-            (
-                "case_index",
-                P,
-                cat(lambda j, c, b: np.full(len(b), c), np.int32),
-                "index of the sweep case (fixed overrides)",
-            ),
-            (
-                "orbit_period",
-                P,
-                cat(lambda j, c, b: np.full(len(b), b.n), np.int16),
-                "period of the orbit in mesh periods",
-            ),
-            ("parameter", P, cat(lambda j, c, b: b.p), {"units": units, "long_name": long_name}),
-            ("orbit_state", ("point", "state"), cat(lambda j, c, b: b.states, float, (0, _D)), state),
+            ("branch", P, each(range(len(branches)), np.int32), "index of the continued branch"),
+            ("case_index", P, each([c for c, _ in branches], np.int32), "index of the sweep case (fixed overrides)"),
+            ("orbit_period", P, each([b.n for _, b in branches], np.int16), "period of the orbit in mesh periods"),
+            ("parameter", P, cat("p"), {"units": units, "long_name": long_name}),
+            ("orbit_state", ("point", "state"), cat("states", float, (0, _D)), state),
             ("multiplier_real", PM, mu.real, "Floquet multiplier, real part"),
             ("multiplier_imag", PM, mu.imag, "Floquet multiplier, imaginary part"),
             ("spectral_radius", P, radius, "largest Floquet multiplier modulus (< 1: stable)"),
             ("stable", P, radius < 1.0, flags(("unstable", "stable"), "orbit asymptotically stable")),
-            ("arclength", P, cat(lambda j, c, b: b.arclength), "arclength along the branch in scaled variables"),
-            (
-                "grazing_margin",
-                P,
-                cat(lambda j, c, b: b.grazing),
-                "min over the cycle of |X_VH| / b_c - b (< 0: contact lost)",
-            ),
+            ("arclength", P, cat("arclength"), "arclength along the branch in scaled variables"),
+            ("grazing_margin", P, cat("grazing"), margin),
             ("cycle_x_vh", ("point", "cycle"), cyc, "X_VH / b_c at the phase-0 points of the cycle"),
         ]
     )
@@ -107,30 +97,22 @@ def _bifurcation_vars(branches: Sequence[tuple[int, Branch]], units: str, long_n
     crit = np.array([bf.critical for _, bf in bifs], complex)
     kinds = flags(BIFURCATION_TYPES, "type of the bifurcation point")
     located = flags(("bracketed", "located"), "point refined on the branch (else interpolated between two points)")
-    at = {"units": units, "long_name": f"{long_name} at the bifurcation point"}
+    at_bif = "at the bifurcation point"
+    at = {"units": units, "long_name": f"{long_name} {at_bif}"}
     rot = "arg(mu) / (2 pi) of the Neimark-Sacker pair (NaN otherwise)"
+    x_vh = f"X_VH / b_c of the orbit {at_bif} (phase 0)"
     return variables(
         [
             ("bifurcation_branch", B, np.array([j for j, _ in bifs], np.int32), "branch of the bifurcation point"),
             ("bifurcation_type", B, [TYPE_CODES[bf.kind] for _, bf in bifs], kinds),
             ("bifurcation_parameter", B, np.array([bf.p for _, bf in bifs]), at),
-            (
-                "bifurcation_x_vh",
-                B,
-                np.array([bf.state[1] for _, bf in bifs]),
-                "X_VH / b_c of the orbit at the bifurcation point (phase 0)",
-            ),
+            ("bifurcation_x_vh", B, np.array([bf.state[1] for _, bf in bifs]), x_vh),
             ("critical_multiplier_real", B, crit.real, "crossing multiplier, real part (NaN for grazing)"),
             ("critical_multiplier_imag", B, crit.imag, "crossing multiplier, imaginary part"),
             ("rotation_number", B, np.array([bf.rotation_number for _, bf in bifs]), rot),
             ("located", B, [int(bf.located) for _, bf in bifs], located),
-            ("bifurcation_multiplier_real", BM, mu.real, "Floquet multipliers at the bifurcation point, real part"),
-            (
-                "bifurcation_multiplier_imag",
-                BM,
-                mu.imag,
-                "Floquet multipliers at the bifurcation point, imaginary part",
-            ),
+            ("bifurcation_multiplier_real", BM, mu.real, f"Floquet multipliers {at_bif}, real part"),
+            ("bifurcation_multiplier_imag", BM, mu.imag, f"Floquet multipliers {at_bif}, imaginary part"),
         ]
     )
 
@@ -142,18 +124,17 @@ def branch_dataset(
     units, long_name = point.CONTROLS.get(parameter, (point.units_of(parameter), parameter))
     nmax = max([b.n for _, b in branches], default=1)
     data = {**_point_vars(branches, families, units, long_name, nmax), **_bifurcation_vars(branches, units, long_name)}
-    coords = {
-        "state": ("state", list(STATE_VARS), {"long_name": "state component"}),
-        "multiplier": ("multiplier", np.arange(_D, dtype=np.int32), "multiplier index (by decreasing modulus)"),
-        "cycle": ("cycle", np.arange(nmax, dtype=np.int32), "index of the phase-0 point in the cycle"),
-        "case": ("case", list(case_labels), {"long_name": "case (fixed overrides)"}),
-    }
+    coords = variables(
+        [
+            ("state", "state", list(STATE_VARS), {"long_name": "state component"}),
+            ("multiplier", "multiplier", np.arange(_D, dtype=np.int32), "multiplier index (by decreasing modulus)"),
+            ("cycle", "cycle", np.arange(nmax, dtype=np.int32), "index of the phase-0 point in the cycle"),
+            ("case", "case", list(case_labels), {"long_name": "case (fixed overrides)"}),
+        ]
+    )
     ends = {
         f"branch_{j}_ends": f"down={b.end_status.get('down')} up={b.end_status.get('up')}"
         for j, (_, b) in enumerate(branches)
-    }
-    coords = {
-        k: (d, v, a if isinstance(a, dict) else {"units": "1", "long_name": a}) for k, (d, v, a) in coords.items()
     }
     return xr.Dataset(data, coords=coords, attrs={"control_parameter": parameter, **ends})
 

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from geardyn import classify
+from geardyn.config import settings_from
 from geardyn.runs.continuation.branch import ContinuationSettings
 
 #: The state variables of a cube, in the order of the model's state vector.
@@ -32,20 +33,10 @@ class OrbitSpec:
 
     @classmethod
     def from_config(cls, spec: Mapping[str, Any] | None) -> OrbitSpec:
-        spec = dict(spec or {})
-        spec.pop("designs", None)
-        known = {"max_period", "max_seeds", "nodes", "continuation", "attractors", "switch_period_doubling"}
-        unknown = set(spec) - known
-        if unknown:
-            raise ValueError(f"unknown orbits settings {sorted(unknown)}; allowed: {sorted(known)}")
-        return cls(
-            max_period=int(spec.get("max_period", 6)),
-            max_seeds=int(spec.get("max_seeds", 6)),
-            nodes=int(spec.get("nodes", 101)),
-            continuation=ContinuationSettings.from_mapping(spec.get("continuation")),
-            attractors=tuple(sorted((spec.get("attractors") or {}).items())),
-            switch_period_doubling=bool(spec.get("switch_period_doubling", True)),
-        )
+        values = {k: v for k, v in (spec or {}).items() if k != "designs"}
+        values["continuation"] = ContinuationSettings.from_mapping(values.get("continuation"))
+        values["attractors"] = tuple(sorted((values.get("attractors") or {}).items()))
+        return settings_from(cls, values, "orbits settings")
 
 
 def final_state(cube: Any, case: int, j: int) -> np.ndarray:
