@@ -12,7 +12,9 @@ import pytest
 import yaml
 
 from geardyn import config, validate
+from geardyn.classify import ClassifierSettings
 from geardyn.khv import design
+from geardyn.runs.continuation.spec import OrbitSpec
 
 ROOT = Path(__file__).resolve().parents[1]
 LI2013 = ROOT / "config" / "designs" / "li2013.yaml"
@@ -441,3 +443,11 @@ def test_run_integration_block_is_defined_once_and_is_the_design_block_without_d
     assert filled["sweeps"]["s"]["integration"] == {"steps_per_period": 128}
     text = _refused(_config(sweeps={"s": _sweep(integration={"steps_per_period": 70000})}))
     assert "sweeps.s.integration.steps_per_period = 70000 is not allowed: integer >= 8 and <= 65536 (RK4 steps" in text
+
+
+def test_an_integer_written_as_a_float_reaches_an_int_setting():
+    """The schema's "integer" admits 6.0; every settings class built by settings_from gets the int 6."""
+    assert type(OrbitSpec.from_config({"max_period": 6.0, "nodes": 101.0}).max_period) is int
+    assert OrbitSpec.from_config({"max_period": 6.0}) == OrbitSpec.from_config({"max_period": 6})
+    with pytest.raises(ValueError, match="unknown classifier settings"):
+        config.settings_from(ClassifierSettings, {"nonsense": 1.0}, "classifier settings")

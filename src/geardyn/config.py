@@ -20,7 +20,7 @@ from collections.abc import Mapping
 from functools import cache
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Any, get_type_hints
 
 import jsonschema
 import yaml
@@ -311,6 +311,10 @@ def settings_from(cls: type, spec: Mapping[str, Any] | None, what: str) -> Any:
     unknown = set(spec) - names
     if unknown:
         raise ValueError(f"unknown {what} {sorted(unknown)}; allowed: {sorted(names)}")
+    hints = get_type_hints(cls)
+    for k, v in spec.items():  # the schema's "integer" admits 6.0: an int field gets an int
+        if hints.get(k) is int and isinstance(v, float) and v.is_integer():
+            spec[k] = int(v)
     return cls(**spec)
 
 
