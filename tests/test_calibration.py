@@ -4,6 +4,7 @@ search, and the provenance of the committed calibrated design."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 
@@ -18,6 +19,7 @@ from geardyn.khv import calibrate as K
 from geardyn.khv import committed as committed_mod
 from geardyn.khv import design, point
 from geardyn.khv.calibrate import evaluate as KE
+from geardyn.khv.calibrate import objective
 from geardyn.label import Policy, label_lines, label_points
 from geardyn.label import settle as S
 from geardyn.label.compare import least_period
@@ -190,6 +192,16 @@ def test_score_counts_the_claims_and_partial_credit():
     flat = {**lab, "fig07": C.Track(x1, np.ones(x1.size, np.int16))}
     s2 = K.score_labels(paper, flat)
     assert s2.transitions["leave_p1"] == float("inf") and s2.partial == pytest.approx(1 / 6 / 3)
+
+
+def test_a_borderline_claim_earns_half_an_agreeing_one(monkeypatch):
+    lab = _labels_paper(_grids())
+    base = K.score_labels(paper, lab)
+    assert not any(r.verdict == "borderline" for r in base.rows)
+    rows = [dataclasses.replace(r, verdict="borderline") if r.id == "fig8b" else r for r in base.rows]
+    monkeypatch.setattr(objective.claims_mod, "evaluate", lambda p, lab: rows)
+    sc = K.score_labels(paper, lab)
+    assert sc.agree == base.agree and sc.score == pytest.approx(base.score + 0.5)
 
 
 def test_a_record_is_one_json_line_with_the_labels_of_each_line_under_its_role():

@@ -221,10 +221,8 @@ def score_labels(paper: ModuleType, lab: CandidateLabels) -> Score:
     half = sum(credit(r.verdict) for r in rows if r.verdict == "borderline")
     main = lab[paper.CALIBRATION["line"]]
     tr, want_tr = transitions(main.values, main.labels), paper_transitions(paper)
-    credit = [
-        max(0.0, 1.0 - abs(tr[k] - want_tr[k]) / TRANSITION_SCALE) if np.isfinite(tr[k]) else 0.0 for k in want_tr
-    ]
+    parts = [max(0.0, 1.0 - abs(tr[k] - want_tr[k]) / TRANSITION_SCALE) if np.isfinite(tr[k]) else 0.0 for k in want_tr]
     ours, want = regime_string(main.labels), paper_regime_string(paper)
-    credit.append(lcs(ours, want) / len(want))
-    partial = float(np.mean(credit))
+    parts.append(lcs(ours, want) / len(want))
+    partial = float(np.mean(parts))
     return Score(agree + half + 0.99 * partial, agree, partial, tr, ours, rows)
