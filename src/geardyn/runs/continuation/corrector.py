@@ -1,6 +1,6 @@
 """The corrector: Newton on the pseudo-arclength system in scaled variables u = (x / sx, p / sp),
 the unit tangent of the branch, and the test for a period-n orbit that is already a fixed point of
-a shorter map.  Its results are named records (:class:`Evaluation`, :class:`Corrected`)."""
+a shorter map.  Its results are named records (:class:`Evaluation`, :class:`BranchPoint`)."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import numpy as np
 
 from geardyn.runs.continuation.branch import ContinuationSettings
 from geardyn.runs.continuation.family import Family
-from geardyn.solve.shooting import FlowMap
+from geardyn.solve.shooting import FlowMap, sorted_multipliers
 
 
 @dataclass(frozen=True)
@@ -26,16 +26,17 @@ class Evaluation:
 
 
 @dataclass(frozen=True)
-class Corrected:
-    """A converged corrector: the point (x, p), its monodromy M, A = M - I and Fp = dF/dp there (the
-    ingredients of the tangent), and the number of evaluations it took."""
+class BranchPoint:
+    """A point of a branch: the orbit's state x at phase 0, the parameter p, the sorted multipliers, the unit
+    tangent in the scaled variables (oriented along the march; None where singular), the corrector
+    evaluations, and u, the arclength fraction of the step it lies on (event location)."""
 
     x: np.ndarray
     p: float
-    M: np.ndarray
-    A: np.ndarray
-    Fp: np.ndarray
-    iterations: int
+    multipliers: np.ndarray
+    tangent: np.ndarray | None
+    iterations: int = 0
+    u: float = 0.0
 
 
 class Corrector:
@@ -85,10 +86,18 @@ class Corrector:
         t /= np.linalg.norm(t)
         return t if float(t @ t_prev) >= 0 else -t
 
-    def correct(self, x: np.ndarray, p: float, t: np.ndarray) -> Corrected | None:
-        """Newton from the predicted point (x, p) on (F = 0, t . (u - u_pred) = 0); None when it
-        diverges, leaves the prediction by more than 0.5 (scaled) in one step, or does not converge
-        within ``max_corrector`` evaluations."""
+    def point(self, x: np.ndarray, p: float, ev: Evaluation, t_prev: np.ndarray, iterations: int) -> BranchPoint:
+        """The point (x, p) of the evaluation ``ev``, its tangent oriented like t_prev (None when singular)."""
+        try:
+            t = self.tangent(ev.A, ev.Fp, t_prev)
+        except np.linalg.LinAlgError:
+            t = None
+        return BranchPoint(x, p, sorted_multipliers(ev.M), t, iterations)
+
+    def correct(self, x: np.ndarray, p: float, t: np.ndarray) -> BranchPoint | None:
+        """Newton from the predicted point (x, p) on (F = 0, t . (u - u_pred) = 0), the point with its
+        tangent; None when it diverges, leaves the prediction by more than 0.5 (scaled) in one step, or
+        does not converge within ``max_corrector`` evaluations."""
         d = x.size
         u_pred = np.append(x / self.sx, p / self.sp)
         last = np.inf
@@ -102,7 +111,7 @@ class Corrector:
             if not np.isfinite(res):
                 return None
             if res <= self.cs.tol * max(1.0, float(np.max(np.abs(x)))) and last < 1e-6:
-                return Corrected(x, p, ev.M, ev.A, Fp, it + 1)
+                return self.point(x, p, ev, t, it + 1)
             g = np.append(ev.F, float(t @ (np.append(x / self.sx, p / self.sp) - u_pred)))
             try:
                 du = np.linalg.solve(self.jacobian(ev.A, Fp, t), -g)

@@ -6,7 +6,7 @@ pseudo-arclength correction so that it stays on this branch."""
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -14,10 +14,10 @@ from scipy.optimize import brentq
 
 from geardyn import libm
 from geardyn.runs.continuation.branch import Bifurcation, Branch, ContinuationSettings
-from geardyn.runs.continuation.corrector import Corrector
+from geardyn.runs.continuation.corrector import BranchPoint, Corrector
 from geardyn.runs.continuation.family import Family
 from geardyn.solve.floquet import is_complex
-from geardyn.solve.shooting import rotation_number, sorted_multipliers
+from geardyn.solve.shooting import rotation_number
 
 
 def _counts(mu: np.ndarray) -> tuple[int, int]:
@@ -59,22 +59,11 @@ def _lin_zero(a: float, b: float) -> float:
     return a / (a - b) if a != b else 0.5
 
 
-@dataclass(frozen=True)
-class _Onb:
-    """A point on the branch between two stored points (u: fraction of the arclength step)."""
-
-    u: float
-    state: np.ndarray
-    p: float
-    multipliers: np.ndarray
-    tangent: np.ndarray
+def _stored(br: Branch, i: int, u: float) -> BranchPoint:
+    return BranchPoint(br.states[i], float(br.p[i]), br.multipliers[i], br.tangents[i], u=u)
 
 
-def _stored(br: Branch, i: int, u: float) -> _Onb:
-    return _Onb(u, br.states[i], float(br.p[i]), br.multipliers[i], br.tangents[i])
-
-
-def _on_branch(corr: Corrector, br: Branch, i: int, u: float) -> _Onb | None:
+def _on_branch(corr: Corrector, br: Branch, i: int, u: float) -> BranchPoint | None:
     """Predict u * (s_{i+1} - s_i) along the tangent at point i and correct (pseudo-arclength), so
     the point stays on this branch even next to a fold or another branch."""
     d = br.states.shape[1]
@@ -82,37 +71,31 @@ def _on_branch(corr: Corrector, br: Branch, i: int, u: float) -> _Onb | None:
     h = float(br.arclength[i + 1] - br.arclength[i])
     up = np.append(br.states[i] / corr.sx, br.p[i] / corr.sp) + u * h * t
     out = corr.correct(up[:d] * corr.sx, float(up[d] * corr.sp), t)
-    if out is None:
-        return None
-    try:
-        tn = corr.tangent(out.A, out.Fp, t)
-    except np.linalg.LinAlgError:
-        tn = t
-    return _Onb(u, out.x, float(out.p), sorted_multipliers(out.M), tn)
+    return None if out is None else replace(out, p=float(out.p), tangent=t if out.tangent is None else out.tangent, u=u)
 
 
-def _interpolated(br: Branch, i: int, w: float) -> _Onb:
+def _interpolated(br: Branch, i: int, w: float) -> BranchPoint:
     """Linear interpolation of state and parameter at the fraction w of step i; the multipliers of
     the nearer end point (the sorted multiplier lists of two points need not correspond element by
     element)."""
-    return _Onb(
-        w,
+    return BranchPoint(
         br.states[i] + w * (br.states[i + 1] - br.states[i]),
         float(br.p[i] + w * (br.p[i + 1] - br.p[i])),
         br.multipliers[i if w < 0.5 else i + 1],
         br.tangents[i],
+        u=w,
     )
 
 
 def _bifurcation(
-    kind: str, q: _Onb, i: int, located: bool, br: Branch, critical_of: Callable[[np.ndarray], complex | None]
+    kind: str, q: BranchPoint, i: int, located: bool, br: Branch, critical_of: Callable[[np.ndarray], complex | None]
 ) -> Bifurcation:
     crit = critical_of(q.multipliers)
     rot = rotation_number(crit) if kind == "neimark_sacker" and crit is not None else float("nan")
     return Bifurcation(
         kind,
         float(q.p),
-        np.asarray(q.state),
+        np.asarray(q.x),
         np.asarray(q.multipliers),
         complex(crit) if crit is not None else complex("nan"),
         rot,
@@ -123,8 +106,13 @@ def _bifurcation(
 
 
 def _locate(
-    br: Branch, i: int, test: Callable[[_Onb], float], corr: Corrector | None, cs: ContinuationSettings, w0: float
-) -> tuple[_Onb, bool]:
+    br: Branch,
+    i: int,
+    test: Callable[[BranchPoint], float],
+    corr: Corrector | None,
+    cs: ContinuationSettings,
+    w0: float,
+) -> tuple[BranchPoint, bool]:
     """Brent on the arclength fraction u in [0, 1] between points i and i+1 (corrected points); the
     point interpolated at w0 (not located) when that fails or is not asked for."""
     if corr is None or not cs.locate:
@@ -160,7 +148,7 @@ def brent_on_step(point_at: Callable[[float], Any], test: Callable[[Any], float]
     return cache[s] if s in cache else point_at(s)
 
 
-def _fold(br: Branch, i: int, corr: Corrector | None, iterations: int = 12) -> tuple[_Onb, bool]:
+def _fold(br: Branch, i: int, corr: Corrector | None, iterations: int = 12) -> tuple[BranchPoint, bool]:
     """Fold between points i and i+1: the extremum of the cubic Hermite interpolant of p(s) (values
     and dp/ds at the bracket ends), corrected onto the branch there; the bracket shrinks to the
     corrected point and its tangent until dp/ds = 0 (then one multiplier is +1)."""
@@ -218,7 +206,7 @@ def _step_events(
         found.append(_bifurcation("neimark_sacker", q, i, ok, br, ns_pair))
     g0, g1 = br.grazing[i], br.grazing[i + 1]
     if np.isfinite(g0) and np.isfinite(g1) and (g0 > 0) != (g1 > 0):
-        q, ok = _locate(br, i, lambda q: family.grazing(q.p, q.state, br.n), corr, cs, _lin_zero(g0, g1))
+        q, ok = _locate(br, i, lambda q: family.grazing(q.p, q.x, br.n), corr, cs, _lin_zero(g0, g1))
         found.append(_bifurcation("grazing", q, i, ok, br, lambda m: None))
     return found
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from functools import partial
 from typing import Any, TypeVar
 
@@ -15,29 +15,13 @@ import numpy as np
 
 from geardyn import libm
 from geardyn.runs.continuation.branch import Branch, ContinuationSettings
-from geardyn.runs.continuation.corrector import Corrector, merged_period
+from geardyn.runs.continuation.corrector import BranchPoint, Corrector, merged_period
 from geardyn.runs.continuation.events import detect_bifurcations
 from geardyn.runs.continuation.family import Family
 from geardyn.solve.shooting import newton_shooting, sorted_multipliers
 
 log = logging.getLogger("geardyn.continuation")
 P = TypeVar("P")
-
-
-@dataclass(frozen=True)
-class BranchPoint:
-    """A point of a branch: the orbit's state x at phase 0, the parameter p, the monodromy M, the
-    unit tangent in the scaled variables (oriented along the march), the corrector evaluations."""
-
-    x: np.ndarray
-    p: float
-    M: np.ndarray
-    tangent: np.ndarray
-    iterations: int
-
-    @property
-    def multipliers(self) -> np.ndarray:
-        return sorted_multipliers(self.M)
 
 
 def _at_bound(
@@ -55,12 +39,9 @@ def _at_bound(
         return []
     xs = st.x + frac * (xp - st.x)
     r = newton_shooting(corr.family.flow(bound, corr.n), xs, corr.n, cs.tol)
-    if r.converged:
-        ev = corr.evaluate(r.state, bound)
-        if ev is not None:
-            t = corr.tangent(ev.A, ev.Fp, st.tangent)
-            return [BranchPoint(r.state, bound, ev.M, t, r.iterations + 1)]
-    return []
+    ev = corr.evaluate(r.state, bound) if r.converged else None
+    pt = None if ev is None else corr.point(r.state, bound, ev, st.tangent, r.iterations + 1)
+    return [] if pt is None or pt.tangent is None else [pt]
 
 
 def march(
@@ -129,11 +110,7 @@ def _advance(
     merged = merged_period(partial(corr.family.flow, out.p), out.x, corr.n, 1e-6 * corr.sx)
     if merged:
         return [], f"merged_into_period_{merged}"
-    try:
-        t = corr.tangent(out.A, out.Fp, cur.tangent)
-    except np.linalg.LinAlgError:
-        return [], "singular_tangent"
-    return [BranchPoint(out.x, out.p, out.M, t, out.iterations)], ""
+    return ([], "singular_tangent") if out.tangent is None else ([out], "")
 
 
 def _seed_tangent(A: np.ndarray, Fp: np.ndarray, sx: float, sp: float) -> np.ndarray:
@@ -176,7 +153,7 @@ def continue_branch(
     if ev is None:
         return None
     t0 = _seed_tangent(ev.A, ev.Fp, sx, sp)
-    seed = BranchPoint(r.state, p0, ev.M, t0, r.iterations)
+    seed = BranchPoint(r.state, p0, sorted_multipliers(ev.M), t0, r.iterations)
     run = partial(march, advance=partial(_advance, corr, lo, hi), u_of=corr.scaled, cs=cs, grow_at=3)
     pts, ends = both_ways(run, seed, directions)
     down = next(i for i, q in enumerate(pts) if q is seed)
