@@ -155,7 +155,7 @@ def test_pixel_check_types_the_duffing_period_doubling_supercritical():
     x = _attractor(fam.flow(0.2, 1), np.array([0.1, 0.0]), 200)
     br = C.continue_branch(fam, 0.2, x, 1, 0.2, 0.3, C.ContinuationSettings(ds=0.02, ds_max=0.02))
     (bf,) = [b for b in br.bifurcations if b.kind == "period_doubling"]
-    probe = curve_check._Probe(plane, "period_doubling", 1, "working")
+    probe = curve_check._Probe(plane, "period_doubling", 1)
     for d, past in ((-2e-3, False), (2e-3, True), (1e-2, True)):
         orbit = newton_shooting(plane.flow(bf.p + d, 1.2, 1), bf.state, 1, 1e-10).state
         assert probe.doubled(bf.p + d, 1.2, orbit) == past, d

@@ -52,7 +52,6 @@ class Branch:
     iterations: np.ndarray
     end_status: dict[str, str] = field(default_factory=dict)
     bifurcations: list[Bifurcation] = field(default_factory=list)
-    seed_p: float = float("nan")
     tangents: np.ndarray | None = None  # (m, d + 1) unit tangents in the scaled variables
 
     @property
@@ -73,11 +72,17 @@ class Branch:
                 yield i, self.states[i] + w * (self.states[i + 1] - self.states[i])
 
 
-def on_branch(br: Branch, p: float, points: np.ndarray, tol: float) -> bool:
+def on_branch(br: Branch, p: float, points: np.ndarray, tol: float, pad: float = 1e-12, stable: bool = False) -> bool:
     """True when one of ``points`` (phase-0 points of an orbit at p) lies on the branch (max-norm
-    distance within tol * max(1, max |x|) of the branch interpolated at p)."""
+    distance within tol * max(1, max |x|) of the branch interpolated at p, :meth:`Branch.states_at`);
+    ``stable``: only on steps of changing p between two stable points."""
     scale = max(1.0, float(np.max(np.abs(br.states))))
-    return any(float(np.min(np.max(np.abs(points - x), axis=1))) <= tol * scale for _, x in br.states_at(p, 1e-12))
+    st = br.stable if stable else None
+    return any(
+        float(np.min(np.max(np.abs(points - x), axis=1))) <= tol * scale
+        for i, x in br.states_at(p, pad)
+        if st is None or (st[i] and st[i + 1] and br.p[i] != br.p[i + 1])
+    )
 
 
 @dataclass(frozen=True)

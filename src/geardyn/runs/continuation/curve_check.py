@@ -17,7 +17,7 @@ from geardyn.classify import LABELS
 from geardyn.khv import point
 from geardyn.runs.continuation.curve_maps import Boundaries, shorter_period
 from geardyn.runs.continuation.curves import bounds_stable, crossings, segment_distance
-from geardyn.runs.continuation.family import back_margin, cycle_states
+from geardyn.runs.continuation.family import cycle_states
 from geardyn.runs.continuation.output import flags, variables
 from geardyn.solve.response import IMPACT_CLASSES, response_measures
 from geardyn.solve.shooting import newton_shooting
@@ -156,8 +156,8 @@ class _Probe:
     """The curve's orbit at pixels: status (stable, unstable, absent), state, mean X_VH, margin, impact class,
     spread of X_VH, largest multiplier modulus; and the period-2n orbit born at a period doubling."""
 
-    def __init__(self, plane: Any, kind: str, n: int, flank: str):
-        self.plane, self.kind, self.n, self.flank = plane, kind, n, flank
+    def __init__(self, plane: Any, kind: str, n: int):
+        self.plane, self.kind, self.n = plane, kind, n
         self.cache: dict[tuple[float, float], tuple] = {}
 
     def at(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: tuple) -> tuple:
@@ -185,10 +185,7 @@ class _Probe:
             return ("unstable", r.state, np.nan, np.nan, -1, np.nan, r.spectral_radius)
         cyc = cycle_states(self.plane.flow(p, q, 1), r.state, self.n)
         system, s = self.plane.coefficients(p, q), self.plane.settings
-        margin = np.nan
-        if self.kind == "grazing":
-            back = self.flank == "back"
-            margin = back_margin(system, r.state, self.n, s) if back else self.plane.grazing(p, q, r.state, self.n)
+        margin = self.plane.grazing(p, q, r.state, self.n) if self.kind == "grazing" else np.nan
         impact = IMPACT_CLASSES[response_measures(system, r.state, s, periods=self.n).impact_class]
         mean, spread = float(np.mean(cyc[:, 1])), float(np.ptp(cyc[:, 1]))
         return ("stable", r.state, mean, margin, impact, spread, r.spectral_radius)
@@ -301,7 +298,7 @@ def pixel_check(
     judge = _Judge(map_ds, out.slow_margin)
     for k, curve in enumerate(bd.curves):
         kind = bd.file_kind(k)
-        probe = _Probe(plane, curve.kind, curve.n, bd.flank[k])
+        probe = _Probe(plane.back_flank() if bd.flank[k] == "back" else plane, curve.kind, curve.n)
         flags = stable[k]
         own = np.column_stack([curve.p / px, curve.q / py])
         others = [m for m, c in enumerate(bd.curves) if m != k and (kind not in _LABEL_KINDS or c.kind != "grazing")]

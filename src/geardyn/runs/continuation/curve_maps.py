@@ -27,7 +27,7 @@ from geardyn.runs.continuation.curves import (
     curves_from_branch,
     polyline_distance,
 )
-from geardyn.runs.continuation.family import ONE_FIELD, BackFlank, KHVFamily, KHVPlane, back_margin
+from geardyn.runs.continuation.family import ONE_FIELD, KHVFamily, KHVPlane, back_margin
 from geardyn.runs.continuation.spec import label_runs
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.runs.continuation.switching import add_branch
@@ -339,7 +339,7 @@ def line_curves(
     plane = KHVPlane(design, region.names, dict(region.fixed), region.box, settings, spec.nodes)
     lines = list(lines) if lines is not None else lines_of(region, spec.lines_x, spec.lines_y)
     bd = Boundaries(region, lines)
-    back = BackFlank(plane)
+    back = plane.back_flank()
     cs = spec.curve_settings()
     for line in lines:
         fam = line_family(design, region, line, settings, spec.nodes)

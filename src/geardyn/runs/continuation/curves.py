@@ -12,7 +12,7 @@ import numpy as np
 
 from geardyn import libm
 from geardyn.runs.continuation.branch import Branch
-from geardyn.runs.continuation.events import brent_on_step, fold_test, ns_product, pd_test
+from geardyn.runs.continuation.events import brent_on_step, fold_test, ns_product, pd_test, unstable_counts
 from geardyn.runs.continuation.family import PlaneFamily
 from geardyn.runs.continuation.stepping import both_ways, march
 from geardyn.solve.shooting import sorted_multipliers
@@ -127,10 +127,6 @@ def _others(mu: np.ndarray, crit: tuple[complex, ...]) -> np.ndarray:
     return mu[keep]
 
 
-def _ns_count(mu: np.ndarray) -> int:
-    return int(np.sum((libm.cabs(mu) > 1.0) & (np.abs(mu.imag) > 1e-8 * np.maximum(libm.cabs(mu), 1e-300))))
-
-
 def tests(kind: str, pt: CurvePoint) -> dict[str, float]:
     """The codimension-2 tests of a point (docs/orbits.md, "Regime boundaries as curves"): the fold's
     normal-form coefficient, the NS pair's trace -+ 2, det(others -+ I), the others' complex pairs, g."""
@@ -146,7 +142,7 @@ def _crossed(kind: str, name: str, a: CurvePoint, b: CurvePoint, ta: float, tb: 
         return False
     if name.endswith("neimark_sacker") and not (kind == "neimark_sacker" and name != "double_neimark_sacker"):
         mu_a, mu_b = (a.multipliers, b.multipliers) if kind == "grazing" else (a.others, b.others)
-        return abs(_ns_count(mu_a) - _ns_count(mu_b)) == 2
+        return abs(unstable_counts(mu_a)[1] - unstable_counts(mu_b)[1]) == 2
     return True
 
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from geardyn.khv import point
 from geardyn.papers import paper_of
-from geardyn.runs.continuation.branch import Branch
+from geardyn.runs.continuation.branch import Branch, on_branch
 from geardyn.runs.continuation.family import KHVFamily
 from geardyn.runs.continuation.output import bifurcation_rows, branch_dataset
 from geardyn.runs.continuation.spec import OrbitSpec, final_state, seeds_from_cube
@@ -64,22 +64,11 @@ def label_agreement(
         if not np.all(np.isfinite(x)):
             continue
         checked += 1
-        ok = any(_on_stable_part(br, values[j], x, tol) for br in branches if br.n == lab)
+        ok = any(on_branch(br, values[j], x[None], tol, 0.0, True) for br in branches if br.n == lab)
         agree += int(ok)
         if not ok:
             bad.append(float(values[j]))
     return checked, agree, bad
-
-
-def _on_stable_part(br: Branch, p: float, x: np.ndarray, tol: float) -> bool:
-    """x within tol * max(1, max |x|) of the branch interpolated at p on a step between two stable
-    points (steps of constant p left out)."""
-    scale = max(1.0, float(np.max(np.abs(br.states))))
-    st = br.stable
-    return any(
-        st[i] and st[i + 1] and br.p[i] != br.p[i + 1] and float(np.max(np.abs(y - x))) <= tol * scale
-        for i, y in br.states_at(p)
-    )
 
 
 def label_check(cube: Any, branches: Sequence[tuple[int, Branch]], n_cases: int, max_period: int) -> dict[str, str]:

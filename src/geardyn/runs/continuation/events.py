@@ -20,7 +20,8 @@ from geardyn.solve.floquet import is_complex
 from geardyn.solve.shooting import rotation_number
 
 
-def _counts(mu: np.ndarray) -> tuple[int, int]:
+def unstable_counts(mu: np.ndarray) -> tuple[int, int]:
+    """How many multipliers lie outside the unit circle, and how many of them are complex."""
     out = libm.cabs(mu) > 1.0
     return int(out.sum()), int((out & is_complex(mu)).sum())
 
@@ -198,7 +199,7 @@ def _step_events(
     elif (fa > 0) != (fb > 0):
         q, ok = _locate(br, i, lambda q: fold_test(q.multipliers), corr, cs, _lin_zero(fa, fb))
         found.append(_bifurcation("branch_point", q, i, ok, br, _near(1.0)))
-    (o0, c0), (o1, c1) = _counts(m0), _counts(m1)
+    (o0, c0), (o1, c1) = unstable_counts(m0), unstable_counts(m1)
     if abs(o1 - o0) == 2 and abs(c1 - c0) == 2 and (o1 - o0) == (c1 - c0):
         n0, n1 = ns_product(m0), ns_product(m1)
         w = _lin_zero(n0, n1) if np.isfinite(n0) and np.isfinite(n1) else 0.5

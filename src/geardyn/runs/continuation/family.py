@@ -4,6 +4,7 @@ value, its stroboscopic map with monodromy, the grazing margins of an orbit), wi
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable, Mapping
 from typing import Any, Protocol
 
@@ -196,6 +197,7 @@ class KHVPlane:
         self._swap, fast = swap, self.names[0 if swap else 1]
         self._field = ONE_FIELD.get(fast)
         self._cache: dict[tuple[float, float], Any] = {}
+        self.margin: Callable[..., float] = grazing_margin
         if self._field is not None:
             lo, hi = self.box[2:] if swap else self.box[:2]
             mid = 0.5 * (self.box[0] + self.box[1]) if swap else 0.5 * (self.box[2] + self.box[3])
@@ -222,18 +224,11 @@ class KHVPlane:
         return khv_flow(self.coefficients(p, q), n, self.settings)
 
     def grazing(self, p: float, q: float, x: np.ndarray, n: int) -> float:
-        return grazing_margin(self.coefficients(p, q), x, n, self.settings)
+        return self.margin(self.coefficients(p, q), x, n, self.settings)
 
-
-class BackFlank:
-    """A :class:`KHVPlane` whose grazing margin is the back flank's (:func:`back_margin`): its grazing
-    curves are where back-side contact begins."""
-
-    def __init__(self, plane: KHVPlane):
-        self.plane, self.box = plane, plane.box
-
-    def flow(self, p: float, q: float, n: int) -> FlowMap:
-        return self.plane.flow(p, q, n)
-
-    def grazing(self, p: float, q: float, x: np.ndarray, n: int) -> float:
-        return back_margin(self.plane.coefficients(p, q), x, n, self.plane.settings)
+    def back_flank(self) -> KHVPlane:
+        """This plane (sharing its coefficients) with the back flank's margin (:func:`back_margin`) as its
+        grazing margin: its grazing curves are where back-side contact begins."""
+        back = copy.copy(self)
+        back.margin = back_margin
+        return back

@@ -157,13 +157,11 @@ def continue_branch(
     run = partial(march, advance=partial(_advance, corr, lo, hi), u_of=corr.scaled, cs=cs, grow_at=3)
     pts, ends = both_ways(run, seed, directions)
     down = next(i for i, q in enumerate(pts) if q is seed)
-    br = _assemble(corr, pts, ends, p0)
-    return _cut_at_merge(corr, br, pts, down, ends, p0) if n > 1 else br
+    br = _assemble(corr, pts, ends)
+    return _cut_at_merge(corr, br, pts, down, ends) if n > 1 else br
 
 
-def _cut_at_merge(
-    corr: Corrector, br: Branch, pts: list[BranchPoint], seed: int, ends: dict[str, str], p0: float
-) -> Branch:
+def _cut_at_merge(corr: Corrector, br: Branch, pts: list[BranchPoint], seed: int, ends: dict[str, str]) -> Branch:
     """A fold of a period-n branch on a period-m orbit (m | n) is where the branch was born at (or
     merges back into) a period doubling of the period-m orbit: beyond it lies the same orbit shifted
     by m periods.  Cut the branch there (the period doubling is a point of the period-m branch);
@@ -175,11 +173,11 @@ def _cut_at_merge(
                 pts, ends["up"] = pts[: bf.index + 1], f"merged_into_period_{m}"
             else:
                 pts, ends["down"] = pts[bf.index + 1 :], f"merged_into_period_{m}"
-            return _assemble(corr, pts, ends, p0)
+            return _assemble(corr, pts, ends)
     return br
 
 
-def _assemble(corr: Corrector, pts: list[BranchPoint], ends: dict[str, str], p0: float) -> Branch:
+def _assemble(corr: Corrector, pts: list[BranchPoint], ends: dict[str, str]) -> Branch:
     """The branch of the points in order: multipliers, arclength, grazing margins, bifurcations."""
     family, n, sx, sp, cs = corr.family, corr.n, corr.sx, corr.sp, corr.cs
     states = np.array([q.x for q in pts])
@@ -198,7 +196,6 @@ def _assemble(corr: Corrector, pts: list[BranchPoint], ends: dict[str, str], p0:
         grazing=graz,
         iterations=np.array([q.iterations for q in pts], dtype=np.int32),
         end_status=dict(ends),
-        seed_p=float(p0),
     )
     br.bifurcations = detect_bifurcations(family, br, tang, cs, corr)
     return br
