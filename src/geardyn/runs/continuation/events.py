@@ -13,9 +13,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 from geardyn import libm
-from geardyn.runs.continuation.branch import Bifurcation, Branch, ContinuationSettings
+from geardyn.runs.continuation.branch import Bifurcation, Branch
 from geardyn.runs.continuation.corrector import BranchPoint, Corrector
-from geardyn.runs.continuation.family import Family
 from geardyn.solve.floquet import is_complex
 from geardyn.solve.shooting import rotation_number
 
@@ -107,21 +106,16 @@ def _bifurcation(
 
 
 def _locate(
-    br: Branch,
-    i: int,
-    test: Callable[[BranchPoint], float],
-    corr: Corrector | None,
-    cs: ContinuationSettings,
-    w0: float,
+    corr: Corrector, br: Branch, i: int, test: Callable[[BranchPoint], float], w0: float
 ) -> tuple[BranchPoint, bool]:
     """Brent on the arclength fraction u in [0, 1] between points i and i+1 (corrected points); the
-    point interpolated at w0 (not located) when that fails or is not asked for."""
-    if corr is None or not cs.locate:
+    point interpolated at w0 (not located) when that fails or is not asked for (``locate`` off)."""
+    if not corr.cs.locate:
         return _interpolated(br, i, w0), False
     lo, hi = _stored(br, i, 0.0), _stored(br, i + 1, 1.0)
     q = None
     if (test(lo) > 0) != (test(hi) > 0):
-        q = brent_on_step(lambda u: _on_branch(corr, br, i, u), test, lo, hi, cs.locate_xtol)
+        q = brent_on_step(lambda u: _on_branch(corr, br, i, u), test, lo, hi, corr.cs.locate_xtol)
     return (q, True) if q is not None else (_interpolated(br, i, w0), False)
 
 
@@ -149,14 +143,12 @@ def brent_on_step(point_at: Callable[[float], Any], test: Callable[[Any], float]
     return cache[s] if s in cache else point_at(s)
 
 
-def _fold(br: Branch, i: int, corr: Corrector | None, iterations: int = 12) -> tuple[BranchPoint, bool]:
+def _fold(corr: Corrector, br: Branch, i: int, iterations: int = 12) -> tuple[BranchPoint, bool]:
     """Fold between points i and i+1: the extremum of the cubic Hermite interpolant of p(s) (values
     and dp/ds at the bracket ends), corrected onto the branch there; the bracket shrinks to the
     corrected point and its tangent until dp/ds = 0 (then one multiplier is +1)."""
     d = br.states.shape[1]
     lo, hi = _stored(br, i, 0.0), _stored(br, i + 1, 1.0)
-    if corr is None:
-        return _interpolated(br, i, 0.5), False
     h = float(br.arclength[i + 1] - br.arclength[i])
     best, ok = None, False
     for _ in range(iterations):
@@ -181,42 +173,37 @@ def _fold(br: Branch, i: int, corr: Corrector | None, iterations: int = 12) -> t
     return (best, ok) if best is not None else (_interpolated(br, i, 0.5), False)
 
 
-def _step_events(
-    family: Family, br: Branch, i: int, cs: ContinuationSettings, corr: Corrector | None
-) -> list[Bifurcation]:
+def _step_events(corr: Corrector, br: Branch, i: int) -> list[Bifurcation]:
     """The typed bifurcation points between points i and i + 1, in the order of the package table."""
     found: list[Bifurcation] = []
     m0, m1 = br.multipliers[i], br.multipliers[i + 1]
     a, b = pd_test(m0), pd_test(m1)
     if (a > 0) != (b > 0):
-        q, ok = _locate(br, i, lambda q: pd_test(q.multipliers), corr, cs, _lin_zero(a, b))
+        q, ok = _locate(corr, br, i, lambda q: pd_test(q.multipliers), _lin_zero(a, b))
         found.append(_bifurcation("period_doubling", q, i, ok, br, _near(-1.0)))
     dpds = br.tangents[:, -1]
     fa, fb = fold_test(m0), fold_test(m1)
     if (dpds[i] > 0) != (dpds[i + 1] > 0):
-        q, ok = _fold(br, i, corr)
+        q, ok = _fold(corr, br, i)
         found.append(_bifurcation("fold", q, i, ok, br, _near(1.0)))
     elif (fa > 0) != (fb > 0):
-        q, ok = _locate(br, i, lambda q: fold_test(q.multipliers), corr, cs, _lin_zero(fa, fb))
+        q, ok = _locate(corr, br, i, lambda q: fold_test(q.multipliers), _lin_zero(fa, fb))
         found.append(_bifurcation("branch_point", q, i, ok, br, _near(1.0)))
     (o0, c0), (o1, c1) = unstable_counts(m0), unstable_counts(m1)
     if abs(o1 - o0) == 2 and abs(c1 - c0) == 2 and (o1 - o0) == (c1 - c0):
         n0, n1 = ns_product(m0), ns_product(m1)
         w = _lin_zero(n0, n1) if np.isfinite(n0) and np.isfinite(n1) else 0.5
-        q, ok = _locate(br, i, lambda q: ns_product(q.multipliers), corr, cs, w)
+        q, ok = _locate(corr, br, i, lambda q: ns_product(q.multipliers), w)
         found.append(_bifurcation("neimark_sacker", q, i, ok, br, ns_pair))
     g0, g1 = br.grazing[i], br.grazing[i + 1]
     if np.isfinite(g0) and np.isfinite(g1) and (g0 > 0) != (g1 > 0):
-        q, ok = _locate(br, i, lambda q: family.grazing(q.p, q.x, br.n), corr, cs, _lin_zero(g0, g1))
+        q, ok = _locate(corr, br, i, lambda q: corr.family.grazing(q.p, q.x, br.n), _lin_zero(g0, g1))
         found.append(_bifurcation("grazing", q, i, ok, br, lambda m: None))
     return found
 
 
-def detect_bifurcations(
-    family: Family, br: Branch, tangents: np.ndarray, cs: ContinuationSettings, corr: Corrector | None = None
-) -> list[Bifurcation]:
-    """Typed bifurcation points between consecutive branch points (see the package table); stores
-    ``tangents`` on the branch.  Without ``corr`` (or with ``cs.locate`` off) the points are only
-    bracketed (interpolated, ``located`` False)."""
-    br.tangents = tangents
-    return [bf for i in range(len(br) - 1) for bf in _step_events(family, br, i, cs, corr)]
+def detect_bifurcations(corr: Corrector, br: Branch) -> list[Bifurcation]:
+    """Typed bifurcation points between consecutive points of ``br`` (continued by ``corr``, with its
+    tangents; see the package table); with ``locate`` off they are only bracketed (interpolated,
+    ``located`` False), but for the fold."""
+    return [bf for i in range(len(br) - 1) for bf in _step_events(corr, br, i)]

@@ -196,6 +196,7 @@ def _assemble(corr: Corrector, pts: list[BranchPoint], ends: dict[str, str]) -> 
         grazing=graz,
         iterations=np.array([q.iterations for q in pts], dtype=np.int32),
         end_status=dict(ends),
+        tangents=tang,
     )
-    br.bifurcations = detect_bifurcations(family, br, tang, cs, corr)
+    br.bifurcations = detect_bifurcations(corr, br)
     return br
