@@ -68,6 +68,11 @@ class Corrector:
         """The scaled point u = (x / sx, p / sp) of a point q with fields x and p."""
         return np.append(q.x / self.sx, q.p / self.sp)
 
+    def predict(self, q: Any, h: float) -> tuple[np.ndarray, float]:
+        """The predicted point (x, p) at scaled arclength h from q along its tangent."""
+        u = self.scaled(q) + h * q.tangent
+        return u[:-1] * self.sx, u[-1] * self.sp
+
     def jacobian(self, A: np.ndarray, Fp: np.ndarray, t: np.ndarray) -> np.ndarray:
         """[[A sx, Fp sp], [t]]: the Jacobian of (F, t . u) in the scaled variables."""
         d = A.shape[0]

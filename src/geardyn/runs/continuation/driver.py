@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import logging
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -25,14 +25,11 @@ from geardyn.solve.shooting import newton_shooting
 log = logging.getLogger("geardyn.continuation")
 
 
-def sweep_branches(
-    family_of: Callable[[int], KHVFamily], cube: Any, n_cases: int, spec: OrbitSpec
-) -> list[tuple[int, Branch]]:
-    """Continue every distinct branch seeded by the cube's periodic points, case by case."""
+def sweep_branches(families: Sequence[KHVFamily], cube: Any, spec: OrbitSpec) -> list[tuple[int, Branch]]:
+    """Continue every distinct branch seeded by the cube's periodic points, case by case (one family each)."""
     out: list[tuple[int, Branch]] = []
     doubling = spec.max_period if spec.switch_period_doubling else 0
-    for case in range(n_cases):
-        family = family_of(case)
+    for case, family in enumerate(families):
         mine: list[Branch] = []
         for p, x, n in seeds_from_cube(cube, case, spec.max_period, spec.max_seeds):
             r = newton_shooting(family.flow(p, n), x, n, spec.continuation.tol)
@@ -95,20 +92,14 @@ def sweep_orbits(
 
     settings = settings or point.integration_settings(drive, **dict(spec.integration))
     fams: dict[int, KHVFamily] = {}
-
-    def family_of(case: int) -> KHVFamily:
-        if case not in fams:
-            fixed = {**dict(spec.fixed), **dict(spec.cases[case])}
-            fams[case] = KHVFamily(drive, spec.parameter, fixed, spec.start, spec.stop, settings, orbit_spec.nodes)
-            log.info("case %d: coefficient interpolation error %.2e", case, fams[case].interpolation_error)
-        return fams[case]
-
+    for c, case in enumerate(spec.cases):
+        fixed = {**dict(spec.fixed), **dict(case)}
+        fams[c] = KHVFamily(drive, spec.parameter, fixed, spec.start, spec.stop, settings, orbit_spec.nodes)
+        log.info("case %d: coefficient interpolation error %.2e", c, fams[c].interpolation_error)
     t0 = time.perf_counter()
-    branches = sweep_branches(family_of, cube, len(spec.cases), orbit_spec)
+    branches = sweep_branches(list(fams.values()), cube, orbit_spec)
     log.info("%d branches in %.1f s", len(branches), time.perf_counter() - t0)
     labels = [spec.case_label(i) for i in range(len(spec.cases))]
-    for c in range(len(spec.cases)):
-        family_of(c)
     ds = branch_dataset(branches, fams, spec.parameter, labels)
     ds.attrs.update(
         {

@@ -66,11 +66,9 @@ def _stored(br: Branch, i: int, u: float) -> BranchPoint:
 def _on_branch(corr: Corrector, br: Branch, i: int, u: float) -> BranchPoint | None:
     """Predict u * (s_{i+1} - s_i) along the tangent at point i and correct (pseudo-arclength), so
     the point stays on this branch even next to a fold or another branch."""
-    d = br.states.shape[1]
     t = br.tangents[i]
-    h = float(br.arclength[i + 1] - br.arclength[i])
-    up = np.append(br.states[i] / corr.sx, br.p[i] / corr.sp) + u * h * t
-    out = corr.correct(up[:d] * corr.sx, float(up[d] * corr.sp), t)
+    xp, pp = corr.predict(_stored(br, i, 0.0), u * float(br.arclength[i + 1] - br.arclength[i]))
+    out = corr.correct(xp, float(pp), t)
     return None if out is None else replace(out, p=float(out.p), tangent=t if out.tangent is None else out.tangent, u=u)
 
 

@@ -99,9 +99,7 @@ def _advance(
 ) -> tuple[list[BranchPoint], str] | None:
     """One step of a branch within [lo, hi] (:func:`march`): ends on the bound (``range``), when the point
     is one of a shorter period (``merged_into_period_<m>``) or its tangent is singular."""
-    d = cur.x.size
-    u = corr.scaled(cur) + ds * cur.tangent
-    xp, pp = u[:d] * corr.sx, u[d] * corr.sp
+    xp, pp = corr.predict(cur, ds)
     if pp > hi or pp < lo:
         return _at_bound(corr, cur, xp, pp, lo, hi, corr.cs), "range"
     out = corr.correct(xp, pp, cur.tangent)
