@@ -17,7 +17,7 @@ from geardyn.classify import LABELS
 from geardyn.khv import point
 from geardyn.runs.continuation.curve_maps import Boundaries, shorter_period
 from geardyn.runs.continuation.curves import bounds_stable, crossings, segment_distance
-from geardyn.runs.continuation.family import cycle_states
+from geardyn.runs.continuation.family import cached, cycle_states
 from geardyn.runs.continuation.output import flags, variables
 from geardyn.solve.response import IMPACT_CLASSES, response_measures
 from geardyn.solve.shooting import newton_shooting
@@ -164,9 +164,7 @@ class _Probe:
         """The orbit at (p, q) (cached until :meth:`clear`): Newton from each guess (kept within 0.1 max(1, |x|)
         of ``near``, the curve's orbit at the crossing ``origin``; the stable one nearest it), else followed from
         the crossing in 8 steps."""
-        if (p, q) not in self.cache:
-            self.cache[(p, q)] = self._solve(p, q, guesses, near, origin)
-        return self.cache[(p, q)]
+        return cached(self.cache, (p, q), lambda key: self._solve(*key, guesses, near, origin))
 
     def _solve(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: tuple) -> tuple:
         scale = max(1.0, float(np.max(np.abs(near))))

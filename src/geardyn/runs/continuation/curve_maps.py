@@ -28,7 +28,7 @@ from geardyn.runs.continuation.curves import (
     polyline_distance,
 )
 from geardyn.runs.continuation.family import ONE_FIELD, KHVFamily, KHVPlane, back_margin
-from geardyn.runs.continuation.spec import label_runs
+from geardyn.runs.continuation.spec import run_middles
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.runs.continuation.switching import add_branch
 from geardyn.solve.base import SimulationSettings
@@ -224,10 +224,10 @@ def map_line_seeds(map_ds: xr.Dataset, line: Line, max_period: int, max_seeds: i
         grid, labels = xs, lab[int(np.argmin(np.abs(ys - line.value))), :]
     per: dict[int, int] = {}
     out = []
-    for length, first, n in label_runs(np.asarray(labels), max_period):
+    for j, n in run_middles(np.asarray(labels), max_period):
         if per.get(n, 0) < max_seeds:
             per[n] = per.get(n, 0) + 1
-            out.append((float(grid[first + length // 2]), n))
+            out.append((float(grid[j]), n))
     return out
 
 

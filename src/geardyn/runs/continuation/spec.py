@@ -50,19 +50,18 @@ def seeds_from_cube(cube: Any, case: int, max_period: int, max_seeds: int) -> li
     par = cube.attrs["control_parameter"]
     values = np.asarray(cube[par].values, dtype=float)
     seeds = []
-    for length, first, n in label_runs(np.asarray(cube["label"].values[case, 0], dtype=int), max_period)[:max_seeds]:
-        j = first + length // 2
+    for j, n in run_middles(np.asarray(cube["label"].values[case, 0], dtype=int), max_period)[:max_seeds]:
         x = final_state(cube, case, j)
         if np.all(np.isfinite(x)):
             seeds.append((float(values[j]), x, n))
     return seeds
 
 
-def label_runs(labels: np.ndarray, max_period: int) -> list[tuple[int, int, int]]:
-    """(length, first index, n) of every run of equal label P1..P<max_period>, longest runs first."""
+def run_middles(labels: np.ndarray, max_period: int) -> list[tuple[int, int]]:
+    """(middle index, n) of every run of equal label P1..P<max_period>, longest runs first."""
     runs = [
         (int(last) - int(first) + 1, int(first), n)
         for first, last, n in classify.bands(np.arange(labels.size), labels)
         if 1 <= n <= max_period
     ]
-    return sorted(runs, key=lambda r: (-r[0], r[1]))
+    return [(first + length // 2, n) for length, first, n in sorted(runs, key=lambda r: (-r[0], r[1]))]
