@@ -14,10 +14,25 @@ from matplotlib.figure import Figure
 
 from geardyn.plus.modal import distinct_groups
 
-ELEMENT_ORDER = ["sp1", "sp2", "sp3", "pd1", "pd2", "pd3", "dr1", "dr2", "dr3"]
-ELEMENT_TICKS = ["1\ns-p1", "2\ns-p2", "3\ns-p3", "4\np1-d1", "5\np2-d2", "6\np3-d3", "7\nd1-r", "8\nd2-r", "9\nd3-r"]
-COMPONENT_ORDER = [*(f"revolution{k}" for k in (1, 2, 3)), "p1", "p2", "p3", "d1", "d2", "d3", "sun", "ring", "carrier"]
-COMPONENT_TICKS = [f"{k}\n{name}" for k, name in enumerate(["rev 1", "rev 2", "rev 3", *COMPONENT_ORDER[3:]], start=1)]
+_COMPONENTS = [*(f"revolution{k}" for k in (1, 2, 3)), "p1", "p2", "p3", "d1", "d2", "d3", "sun", "ring", "carrier"]
+#: The energy-bar figures (Figs. 6-7 style): variable of modal.nc, its dimension, the bars in the order of the
+#: paper's Table 3 or 4, their tick labels and the title.
+ENERGY_BARS = {
+    "strain": (
+        "strain_energy_share",
+        "element",
+        ["sp1", "sp2", "sp3", "pd1", "pd2", "pd3", "dr1", "dr2", "dr3"],
+        ["1\ns-p1", "2\ns-p2", "3\ns-p3", "4\np1-d1", "5\np2-d2", "6\np3-d3", "7\nd1-r", "8\nd2-r", "9\nd3-r"],
+        "Modal strain energy per mesh (Table 3 numbering; doubled modes averaged over the pair)",
+    ),
+    "kinetic": (
+        "kinetic_energy_share",
+        "component",
+        _COMPONENTS,
+        [f"{k}\n{name}" for k, name in enumerate(["rev 1", "rev 2", "rev 3", *_COMPONENTS[3:]], start=1)],
+        "Modal kinetic energy per component (Table 4 numbering; doubled modes averaged over the pair)",
+    ),
+}
 
 
 def orders(ds: xr.Dataset, n_orders: int = 6) -> Iterator[tuple[str, xr.Dataset, np.ndarray, list[list[int]]]]:
@@ -29,9 +44,10 @@ def orders(ds: xr.Dataset, n_orders: int = 6) -> Iterator[tuple[str, xr.Dataset,
         yield cond, sub, freq, distinct_groups(freq)[:n_orders]
 
 
-def _energy_bars(
-    ds: xr.Dataset, var: str, dim: str, order: list[str], ticks: list[str], title: str, n_orders: int = 6
-) -> Figure:
+def modal_energy_figure(ds: xr.Dataset, kind: str, n_orders: int = 6) -> Figure:
+    """Figs. 6-7 analogue: share of the modal strain energy in each mesh (``kind`` "strain") or of the kinetic
+    energy in each component ("kinetic") for the first ``n_orders`` distinct modes (:data:`ENERGY_BARS`)."""
+    var, dim, order, ticks, title = ENERGY_BARS[kind]
     conds = list(ds.condition.values)
     fig = Figure(figsize=(11, 2.9 * len(conds)), constrained_layout=True)
     axes = fig.subplots(len(conds), 1, squeeze=False)[:, 0]
@@ -50,18 +66,6 @@ def _energy_bars(
         ax.grid(axis="y", alpha=0.3)
     fig.suptitle(title, fontsize=10)
     return fig
-
-
-def modal_strain_energy_figure(ds: xr.Dataset) -> Figure:
-    """Fig. 6 analogue: share of the modal strain energy in each mesh of Table 3 (orders 1-6)."""
-    title = "Modal strain energy per mesh (Table 3 numbering; doubled modes averaged over the pair)"
-    return _energy_bars(ds, "strain_energy_share", "element", ELEMENT_ORDER, ELEMENT_TICKS, title)
-
-
-def modal_kinetic_energy_figure(ds: xr.Dataset) -> Figure:
-    """Fig. 7 analogue: share of the modal kinetic energy in each component of Table 4 (orders 1-6)."""
-    title = "Modal kinetic energy per component (Table 4 numbering; doubled modes averaged over the pair)"
-    return _energy_bars(ds, "kinetic_energy_share", "component", COMPONENT_ORDER, COMPONENT_TICKS, title)
 
 
 def te_unmodified_figure(te: xr.Dataset) -> Figure:
