@@ -7,12 +7,18 @@ state, safe under the Agg backend); saving is the caller's job.
 from __future__ import annotations
 
 from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
 from geardyn.plus.modal import distinct_groups
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from geardyn.plus.design import PlusDesign
 
 _COMPONENTS = [*(f"revolution{k}" for k in (1, 2, 3)), "p1", "p2", "p3", "d1", "d2", "d3", "sun", "ring", "carrier"]
 #: The energy-bar figures (Figs. 6-7 style): variable of modal.nc, its dimension, the bars in the order of the
@@ -115,11 +121,15 @@ def te_relief_figure(te: xr.Dataset, paper=None) -> Figure:
     return fig
 
 
-def relief_landscape_figure(land: xr.Dataset, optima: list[dict] | None = None, boxes: dict | None = None) -> Figure:
-    """Objective landscape: peak-to-peak TE over (relief amount, relief length), one panel per shape.
-
-    ``optima``: dicts with shape, bounds, amount_um, length_mm; ``boxes``: {name: (a0, a1, l0, l1)} in um/mm.
-    """
+def relief_landscape_figure(land: xr.Dataset, optima: pd.DataFrame, design: PlusDesign) -> Figure:
+    """Objective landscape: peak-to-peak TE over (relief amount, relief length), one panel per shape, with the
+    design's stated and physical bounds as dashed boxes and the rows of the relief-optima table marked (the
+    paper's row, if any, with our TE at its relief)."""
+    r = design.relief
+    boxes = {
+        ("paper" if design.paper else "stated"): (r.paper_amount, r.paper_length),
+        "physical": (r.physical_amount, r.physical_length),
+    }
     shapes = list(land.shape_.values) if "shape_" in land.dims else list(land["shape"].values)
     fig = Figure(figsize=(5.2 * len(shapes), 4.4), constrained_layout=True)
     axes = fig.subplots(1, len(shapes), squeeze=False)[0]
@@ -130,17 +140,18 @@ def relief_landscape_figure(land: xr.Dataset, optima: list[dict] | None = None, 
         z = land.te_ptp.sel(shape=sh).values
         cs = ax.contourf(L, a, z, levels=np.linspace(vmin, vmax, 25), cmap="viridis")
         ax.contour(L, a, z, levels=np.arange(np.floor(vmin), np.ceil(vmax) + 0.01, 1.0), colors="w", linewidths=0.5)
-        for name, (a0, a1, l0, l1) in (boxes or {}).items():
+        for name, (amount, length) in boxes.items():
+            a0, a1, l0, l1 = amount[0] * 1e6, amount[1] * 1e6, length[0] * 1e3, length[1] * 1e3  # um, mm
             colour = "r" if name in ("paper", "stated") else "orange"
             ax.plot([l0, l1, l1, l0, l0], [a0, a0, a1, a1, a0], ls="--", color=colour, lw=1.2, label=f"{name} bounds")
-        for o in optima or []:
+        for o in optima.to_dict("records"):
             at, physical = (o["length_mm"], o["amount_um"]), o["bounds"] == "physical"
             if o["shape"] == sh:
                 label = f"{o['bounds']} optimum: {o['te_ptp_after_um']:.2f} um"
                 style = {"marker": "*" if physical else "o", "ms": 11, "color": "orange" if physical else "r"}
                 ax.plot(*at, mec="k", ls="none", label=label, **style)
             if o["shape"].startswith("linear (paper)") and sh == "linear":
-                label = f"paper optimum (ours: {o.get('ours_um', float('nan')):.2f} um)"
+                label = f"paper optimum (ours: {o.get('ours_at_this_relief_um', float('nan')):.2f} um)"
                 ax.plot(*at, marker="X", ms=10, mec="k", color="w", ls="none", label=label)
         ax.set_xlabel("relief length along the path of contact (mm)")
         ax.set_ylabel("relief amount (um)")
@@ -148,29 +159,6 @@ def relief_landscape_figure(land: xr.Dataset, optima: list[dict] | None = None, 
         ax.legend(fontsize=7, loc="upper right")
         fig.colorbar(cs, ax=ax, label="peak-to-peak TE (um)")
     return fig
-
-
-def landscape_markers(optima) -> list[dict]:
-    """The optima table's rows as markers for :func:`relief_landscape_figure` (the paper row, if any,
-    with our TE at its relief as ``ours_um``)."""
-    recs = optima.to_dict("records")
-    for rec in recs:
-        if rec["shape"].startswith("linear (paper)"):
-            rec["ours_um"] = rec.get("ours_at_this_relief_um", float("nan"))
-    return recs
-
-
-def bound_boxes(design) -> dict[str, tuple[float, float, float, float]]:
-    """The stated and the physical relief bounds of a design as boxes (amount um, amount um, length mm, length mm)."""
-    r = design.relief
-
-    def box(amount: tuple[float, float], length: tuple[float, float]) -> tuple[float, float, float, float]:
-        return (amount[0] * 1e6, amount[1] * 1e6, length[0] * 1e3, length[1] * 1e3)
-
-    return {
-        ("paper" if design.paper else "stated"): box(r.paper_amount, r.paper_length),
-        "physical": box(r.physical_amount, r.physical_length),
-    }
 
 
 COORD_TICKS = ["s", "r", "c", "p1", "p2", "p3", "d1", "d2", "d3", "x_s", "y_s"]

@@ -154,12 +154,14 @@ def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
     (:func:`geardyn.config.load_design_dict`), with the checks the schema cannot state."""
 
     te, rl = d["transmission_error"], d["relief"]
-    for lo_hi in ("paper_amount_mm", "paper_length_mm", "physical_amount_mm", "physical_length_mm"):
-        lo, hi = rl[lo_hi]
+    bounds = {}  # the four relief bounds in m
+    for name in ("paper_amount", "paper_length", "physical_amount", "physical_length"):
+        lo, hi = rl[f"{name}_mm"]
         if not lo < hi:
             raise ConfigError(
-                f"{where}: relief.{lo_hi} = {rl[lo_hi]} is not allowed: the lower bound must be below the upper bound"
+                f"{where}: relief.{name}_mm = {[lo, hi]} is not allowed: the lower bound must be below the upper bound"
             )
+        bounds[name] = (lo * 1e-3, hi * 1e-3)
     return PlusDesign(
         name=d["name"],
         paper=d.get("paper"),
@@ -193,10 +195,7 @@ def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
         ),
         relief=ReliefSpec(
             apply_to=rl["apply_to"],
-            paper_amount=tuple(v * 1e-3 for v in rl["paper_amount_mm"]),
-            paper_length=tuple(v * 1e-3 for v in rl["paper_length_mm"]),
-            physical_amount=tuple(v * 1e-3 for v in rl["physical_amount_mm"]),
-            physical_length=tuple(v * 1e-3 for v in rl["physical_length_mm"]),
+            **bounds,
             seed=rl["seed"],
             popsize=rl["popsize"],
             maxiter=rl["maxiter"],
