@@ -341,8 +341,6 @@ def design_te(
     """:func:`static_te` with the design's pair, material, load, deviations and relief placement;
     ``relief``: relief_amount, relief_length, relief_shape (none by default)."""
     t = design.te
-    deviations = {"ef1": t.ef1, "ef2": t.ef2, "es": t.es, "pitch_error_sign": t.pitch_error_sign}
     grid = grid or design_grid(design, points)
-    load = pd_mesh_load(design)
-    pair, mat, placed = spur_pair(design), material(design), design.relief.apply_to
-    return static_te(pair, mat, load, grid=grid, relief_apply_to=placed, **deviations, **relief)
+    e = grid.separation(es=t.es, pitch_error_sign=t.pitch_error_sign, relief_apply_to=design.relief.apply_to, **relief)
+    return grid.solve(pd_mesh_load(design), e, t.ef1 + t.ef2)

@@ -390,24 +390,6 @@ def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
     )
 
 
-def relief_load_table(rows: list[dict]) -> pd.DataFrame:
-    """:func:`geardyn.plus.relief.load_study` in display units (N m, N, um, mm, %)."""
-    return pd.DataFrame(
-        {
-            "sun_torque_Nm": r["torque"],
-            "pd_load_N": r["load"],
-            "te_ptp_unmodified_um": r["ptp_unmodified"] * 1e6,
-            "paper_bounds_amount_um": r["paper_amount"] * 1e6,
-            "paper_bounds_length_mm": r["paper_length"] * 1e3,
-            "paper_bounds_change_pct": 100 * (r["paper_ptp"] / r["ptp_unmodified"] - 1),
-            "wide_bounds_amount_um": r["wide_amount"] * 1e6,
-            "wide_bounds_length_mm": r["wide_length"] * 1e3,
-            "wide_bounds_change_pct": 100 * (r["wide_ptp"] / r["ptp_unmodified"] - 1),
-        }
-        for r in rows
-    )
-
-
 def write_table(df: pd.DataFrame, csv: str, md: str | None = None, header: str = "", floatfmt: str = ".4g") -> None:
     """CSV (full precision) and, if asked, a Markdown version with a header paragraph."""
 
