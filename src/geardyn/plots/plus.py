@@ -13,6 +13,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
+from geardyn.plots import single_axes
 from geardyn.plus.modal import distinct_groups
 
 if TYPE_CHECKING:
@@ -102,20 +103,17 @@ def te_unmodified_figure(te: xr.Dataset) -> Figure:
 def te_relief_figure(te: xr.Dataset, paper=None) -> Figure:
     """TE before and after the optimal reliefs (two mesh periods, mean removed); the title gives the
     paper's before and after values for a design that names a paper."""
-    fig = Figure(figsize=(8, 4.5), constrained_layout=True)
-    ax = fig.subplots()
+    title = "Static TE of the p-d pair before/after optimal tip relief"
+    if paper is not None:
+        title += f" (paper: {paper.TE_BEFORE_UM:g} -> {paper.TE_AFTER_UM:g} um)"
+    fig, ax = single_axes((8, 4.5), title, "mesh phase (base pitches)", "TE - mean (um)", "constrained")
     s = te.mesh_phase.values
     s2 = np.concatenate([s, s + 1])
     for case in te.case.values:
         tr = te.transmission_error.sel(case=case).values
         tr = tr - tr.mean()
         ax.plot(s2, np.tile(tr, 2), label=f"{case}: ptp {np.ptp(tr):.2f} um", lw=2 if case == "unmodified" else 1.2)
-    ax.set_xlabel("mesh phase (base pitches)")
-    ax.set_ylabel("TE - mean (um)")
-    title = "Static TE of the p-d pair before/after optimal tip relief"
-    if paper is not None:
-        title += f" (paper: {paper.TE_BEFORE_UM:g} -> {paper.TE_AFTER_UM:g} um)"
-    ax.set_title(title, fontsize=9)
+    ax.title.set_fontsize(9)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     return fig
