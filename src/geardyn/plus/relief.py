@@ -1,6 +1,6 @@
 """Tip-relief optimisation of the p-d pair (paper 2, Sec. 4) with scipy's differential evolution.
 
-Objective: the peak-to-peak static TE (m) of :func:`geardyn.plus.ishikawa.static_te`; seeded, one worker, no
+Objective: the peak-to-peak static TE (m) of :func:`geardyn.plus.ishikawa.design_te`; seeded, one worker, no
 polishing: deterministic (the paper's GA and its swapped names: docs/paper2.md Sec. 4).  Units: m.
 """
 
