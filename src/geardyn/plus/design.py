@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -135,18 +135,7 @@ def _body(d: Mapping[str, Any]) -> Body:
 
 
 def _springs(d: Mapping[str, Any]) -> Springs:
-    return Springs(float(d["sun_planet"]), float(d["planet_planet"]), float(d["planet_ring"]), float(d["sun_bearing"]))
-
-
-def _forced(d: Mapping[str, Any]) -> ForcedSpec:
-    return ForcedSpec(
-        damping_ratio=float(d["damping_ratio"]),
-        condition=str(d["condition"]),
-        harmonics=int(d["harmonics"]),
-        phasing=str(d["phasing"]),
-        speed_points=int(d["speed_points"]),
-        speed_max_factor=float(d["speed_max_factor"]),
-    )
+    return Springs(*(float(d[f.name]) for f in fields(Springs)))
 
 
 def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
@@ -203,7 +192,8 @@ def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
             landscape_points=rl["landscape_points"],
             load_study_torques=tuple(float(t) for t in rl["load_study_torques_Nm"]),
         ),
-        forced=_forced(d["forced_response"]),
+        # every forced-response field converted to the type of its default (the schema's number admits 1 for 1.0)
+        forced=ForcedSpec(**{f.name: type(f.default)(d["forced_response"][f.name]) for f in fields(ForcedSpec)}),
         planet_angles_in_sun_terms=d["fixes"]["planet_angles_in_sun_terms"],
         plus_set_sign=d["fixes"]["plus_set_sign"],
         raw=d,

@@ -325,15 +325,12 @@ def stiffness_comparison(design: PlusDesign) -> pd.DataFrame:
 def te_dataset(design: PlusDesign, optima: list[ReliefOptimum]) -> xr.Dataset:
     """TE over one mesh period before relief and with each optimum (um), CF attrs."""
     base = design_te(design)
-    curves = [base.te * 1e6]
-    labels = ["unmodified"]
-    for o in optima:
-        r = design_te(design, relief_amount=o.amount, relief_length=o.length, relief_shape=o.shape)
-        curves.append(r.te * 1e6)
-        labels.append(f"{o.shape}_{o.bounds}")
+    relieved = [design_te(design, relief_amount=o.amount, relief_length=o.length, relief_shape=o.shape) for o in optima]
+    curves = np.array([r.te * 1e6 for r in (base, *relieved)])
+    labels = ["unmodified", *(f"{o.shape}_{o.bounds}" for o in optima)]
     return cf_dataset(
         TE_VARIABLES,
-        (np.array(curves), base.stiffness, base.loads, labels, base.s, np.arange(base.loads.shape[0])),
+        (curves, base.stiffness, base.loads, labels, base.s, np.arange(base.loads.shape[0])),
         title=f"Static TE of the p-d pair, design {design.name}",
         contact_ratio=spur_pair(design).contact_ratio,
         load_N=pd_mesh_load(design),
