@@ -55,6 +55,6 @@ def test_paper_optimum_belongs_to_a_much_higher_load():
     """At ~1000 N m on the sun (23 x Table 1's 43 N m) the paper-bound optimum is near the paper's
     32.5 um / 2.498 mm; at 43 N m it sits on the lower amount bound (20 um)."""
     rows = relief.load_study(D, (43.0, 1000.0), points=100)
-    assert rows[0]["paper_amount"] == pytest.approx(20e-6, abs=1e-6)
-    assert rows[1]["paper_amount"] == pytest.approx(32.5e-6, abs=4e-6)
-    assert rows[1]["paper_length"] == pytest.approx(2.5e-3, abs=0.2e-3)
+    assert rows.paper_bounds_amount_um[0] == pytest.approx(20, abs=1)
+    assert rows.paper_bounds_amount_um[1] == pytest.approx(32.5, abs=4)
+    assert rows.paper_bounds_length_mm[1] == pytest.approx(2.5, abs=0.2)

@@ -44,6 +44,6 @@ io.write_netcdf(
     ),
 )
 tables.write_table(tables.stiffness_comparison(plus), out.stiffness_csv, out.stiffness_md, captions.STIFFNESS_HEADER)
-lt = tables.relief_load_table(relief.load_study(plus, tuple(plus.relief.load_study_torques)))
+lt = relief.load_study(plus, tuple(plus.relief.load_study_torques))
 tables.write_table(lt, out.load_csv, out.load_md, captions.load_study_header(plus, paper))
 log.info("load study: %s", lt.round(2).to_dict("records"))

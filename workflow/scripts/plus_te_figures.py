@@ -17,7 +17,7 @@ optima = pd.read_csv(snakemake.input.optima_csv)
 save_figure(plots.te_unmodified_figure(te), snakemake.output.fig04, captions.te_unmodified(plus, te, paper))
 save_figure(plots.te_relief_figure(te, paper), snakemake.output.fig09, captions.te_relief(plus, te, optima, paper))
 save_figure(
-    plots.relief_landscape_figure(land, plots.landscape_markers(optima), plots.bound_boxes(plus)),
+    plots.relief_landscape_figure(land, optima, plus),
     snakemake.output.fig09b,
     captions.relief_landscape(te, land, plus, optima, paper),
 )

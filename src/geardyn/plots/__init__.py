@@ -21,6 +21,19 @@ def paper_caption(text: str, paper: ModuleType | None, figure: str) -> str:
     return f"{number} of {paper.SHORT}{aside}. " + text + " " + note
 
 
+def single_axes(
+    figsize: tuple[float, float], title: str, xlabel: str, ylabel: str, layout: str | None = None
+) -> tuple[Any, Any]:
+    """A pyplot-free figure of one axes with its title and axis labels; ``layout`` "constrained" lays it out,
+    else the caller does."""
+    from matplotlib.figure import Figure  # noqa: PLC0415 - the captions import this package without matplotlib
+
+    fig = Figure(figsize=figsize, layout=layout)
+    ax = fig.subplots()
+    ax.set(title=title, xlabel=xlabel, ylabel=ylabel)
+    return fig, ax
+
+
 def save_figure(fig: Any, path: str | os.PathLike[str], caption: str | None = None, dpi: int = 150) -> Path:
     """Save a matplotlib figure atomically, and its caption beside it as ``<name>.txt``.  The plots build
     :class:`matplotlib.figure.Figure` objects without pyplot (0.2-0.3 s of a figure job's start-up); a figure

@@ -8,6 +8,8 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
+from geardyn.plots import single_axes
+
 
 def plot_tornado(oat: xr.Dataset, paper_leave_p1: float) -> Figure:
     """Score change and transition positions when each unknown moves by +-10 % and +-50 %; the paper's
@@ -43,16 +45,13 @@ def plot_tornado(oat: xr.Dataset, paper_leave_p1: float) -> Figure:
 
 def plot_score_map(mp: xr.Dataset) -> Figure:
     """Score over the two unknowns that matter most, the best candidate marked."""
-    fig = Figure(figsize=(5.6, 4.6))
-    ax = fig.subplots()
     x, y = mp.attrs["x"], mp.attrs["y"]
+    xlabel, ylabel = f"{x} ({mp[x].attrs.get('units', '')})", f"{y} ({mp[y].attrs.get('units', '')})"
+    fig, ax = single_axes((5.6, 4.6), "Calibration score map", xlabel, ylabel)
     pc = ax.pcolormesh(mp[x].values, mp[y].values, mp["score"].values, shading="nearest", cmap="viridis")
     fig.colorbar(pc, ax=ax, label="score (claims that agree + partial)")
     ax.plot([mp.attrs["best_x"]], [mp.attrs["best_y"]], "r*", ms=12, label="best")
-    ax.set_xlabel(f"{x} ({mp[x].attrs.get('units', '')})")
-    ax.set_ylabel(f"{y} ({mp[y].attrs.get('units', '')})")
     ax.legend(fontsize=7)
-    ax.set_title("Calibration score map")
     fig.tight_layout()
     return fig
 

@@ -14,7 +14,7 @@ import xarray as xr
 
 from geardyn import classify
 from geardyn.label import STAGE_NAMES
-from geardyn.plots.plus import orders
+from geardyn.plots.plus import ENERGY_BARS, orders
 from geardyn.runs.cube import STATES, fractions, labels_of_cube
 
 if TYPE_CHECKING:
@@ -153,8 +153,19 @@ PLUS_MODEL = (
 )
 
 
-def energy_summary(ds: xr.Dataset, var: str, dim: str, n_orders: int = 6) -> str:
-    """The three largest shares of each of the first ``n_orders`` distinct modes per condition."""
+#: What the energy bars show (:data:`geardyn.plots.plus.ENERGY_BARS`), by kind.
+ENERGY_WHAT = {
+    "strain": "Modal strain energy: share stored in each mesh (numbering 1-9 of the element table) for the first "
+    "six distinct elastic frequencies of each working condition.",
+    "kinetic": "Modal kinetic energy: share in each component (numbering 1-12: planet revolution, planet rotations, "
+    "sun incl. translation, ring, carrier).",
+}
+
+
+def modal_energy(ds: xr.Dataset, paper: ModuleType | None, kind: str, n_orders: int = 6) -> str:
+    """Caption of the strain or kinetic energy bars (``kind``): the three largest shares of each of the first
+    ``n_orders`` distinct modes per condition."""
+    var, dim = ENERGY_BARS[kind][:2]
     lines = []
     for cond, sub, f, groups in orders(ds, n_orders):
         for k, grp in enumerate(groups, 1):
@@ -165,30 +176,8 @@ def energy_summary(ds: xr.Dataset, var: str, dim: str, n_orders: int = 6) -> str
                 f"  {cond}-{k} {f[grp[0]]:.0f} Hz ({sub.mode_type.values[grp[0]]}"
                 f"{', x2' if len(grp) == 2 else ''}): {desc}"
             )
-    return "\n".join(lines)
-
-
-def _energy(ds: xr.Dataset, paper: ModuleType | None, what: str, var: str, dim: str) -> str:
-    summary = energy_summary(ds, var, dim)
-    return f"{what}\n{PLUS_MODEL}{paper_says(paper, 'modal')}\nLargest shares ({dim} share):\n{summary}"
-
-
-def modal_strain(ds: xr.Dataset, paper: ModuleType | None) -> str:
-    """Caption of the modal strain-energy bars."""
-    what = (
-        "Modal strain energy: share stored in each mesh (numbering 1-9 of the element table) for the first "
-        "six distinct elastic frequencies of each working condition."
-    )
-    return _energy(ds, paper, what, "strain_energy_share", "element")
-
-
-def modal_kinetic(ds: xr.Dataset, paper: ModuleType | None) -> str:
-    """Caption of the modal kinetic-energy bars."""
-    what = (
-        "Modal kinetic energy: share in each component (numbering 1-12: planet revolution, planet rotations, sun "
-        "incl. translation, ring, carrier)."
-    )
-    return _energy(ds, paper, what, "kinetic_energy_share", "component")
+    summary = "\n".join(lines)
+    return f"{ENERGY_WHAT[kind]}\n{PLUS_MODEL}{paper_says(paper, 'modal')}\nLargest shares ({dim} share):\n{summary}"
 
 
 def mode_shapes(ds: xr.Dataset, paper: ModuleType | None) -> str:

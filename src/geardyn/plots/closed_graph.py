@@ -11,7 +11,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from geardyn.khv.closed_graph import CUTTER_DEPENDENT, LINES, line4_crossings
-from geardyn.plots import paper_caption
+from geardyn.plots import paper_caption, single_axes
 
 _LINE_COLOURS = {0: "0.5", 1: "tab:blue", 2: "tab:orange", 3: "tab:green", 4: "black"}
 
@@ -19,8 +19,9 @@ _LINE_COLOURS = {0: "0.5", 1: "tab:blue", 2: "tab:orange", 3: "tab:green", 4: "b
 def plot_closed_graph(ds: xr.Dataset) -> Figure:
     """Closed graph: feasible region shaded, each constraint's zero contour labelled (drawn where G_s >= 0),
     line 4 (G_s = 0) bold, the paper's M and N and our points marked (a Figure built without pyplot)."""
-    fig = Figure(figsize=(7.0, 5.6), layout="constrained")
-    ax = fig.add_subplot()
+    title = f"Closed graph, z1 = {ds.attrs['z1']}, z2 = {ds.attrs['z2']}, m = {ds.attrs['module_mm']} mm"
+    xlabel, ylabel = "planet shift x1", "annulus shift x2 (Chinese convention)"
+    fig, ax = single_axes((7.0, 5.6), title, xlabel, ylabel, "constrained")
     x1 = ds["x1"].values
     x2 = ds["x2"].values
     ax.contourf(x1, x2, ds["feasible_cutter_free"].values, levels=[0.5, 1.5], colors=["#dbe9f6"])
@@ -68,9 +69,6 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
         ]
     ax.set_xlim(x1.min(), x1.max())
     ax.set_ylim(x2.min(), x2.max())
-    ax.set_xlabel("planet shift x1")
-    ax.set_ylabel("annulus shift x2 (Chinese convention)")
-    ax.set_title(f"Closed graph, z1 = {ds.attrs['z1']}, z2 = {ds.attrs['z2']}, m = {ds.attrs['module_mm']} mm")
     ax.legend(handles=handles, fontsize=7, loc="upper left")
     return fig
 

@@ -7,17 +7,39 @@ state, safe under the Agg backend); saving is the caller's job.
 from __future__ import annotations
 
 from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
+from geardyn.plots import single_axes
 from geardyn.plus.modal import distinct_groups
 
-ELEMENT_ORDER = ["sp1", "sp2", "sp3", "pd1", "pd2", "pd3", "dr1", "dr2", "dr3"]
-ELEMENT_TICKS = ["1\ns-p1", "2\ns-p2", "3\ns-p3", "4\np1-d1", "5\np2-d2", "6\np3-d3", "7\nd1-r", "8\nd2-r", "9\nd3-r"]
-COMPONENT_ORDER = [*(f"revolution{k}" for k in (1, 2, 3)), "p1", "p2", "p3", "d1", "d2", "d3", "sun", "ring", "carrier"]
-COMPONENT_TICKS = [f"{k}\n{name}" for k, name in enumerate(["rev 1", "rev 2", "rev 3", *COMPONENT_ORDER[3:]], start=1)]
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from geardyn.plus.design import PlusDesign
+
+_COMPONENTS = [*(f"revolution{k}" for k in (1, 2, 3)), "p1", "p2", "p3", "d1", "d2", "d3", "sun", "ring", "carrier"]
+#: The energy-bar figures (Figs. 6-7 style): variable of modal.nc, its dimension, the bars in the order of the
+#: paper's Table 3 or 4, their tick labels and the title.
+ENERGY_BARS = {
+    "strain": (
+        "strain_energy_share",
+        "element",
+        ["sp1", "sp2", "sp3", "pd1", "pd2", "pd3", "dr1", "dr2", "dr3"],
+        ["1\ns-p1", "2\ns-p2", "3\ns-p3", "4\np1-d1", "5\np2-d2", "6\np3-d3", "7\nd1-r", "8\nd2-r", "9\nd3-r"],
+        "Modal strain energy per mesh (Table 3 numbering; doubled modes averaged over the pair)",
+    ),
+    "kinetic": (
+        "kinetic_energy_share",
+        "component",
+        _COMPONENTS,
+        [f"{k}\n{name}" for k, name in enumerate(["rev 1", "rev 2", "rev 3", *_COMPONENTS[3:]], start=1)],
+        "Modal kinetic energy per component (Table 4 numbering; doubled modes averaged over the pair)",
+    ),
+}
 
 
 def orders(ds: xr.Dataset, n_orders: int = 6) -> Iterator[tuple[str, xr.Dataset, np.ndarray, list[list[int]]]]:
@@ -29,9 +51,10 @@ def orders(ds: xr.Dataset, n_orders: int = 6) -> Iterator[tuple[str, xr.Dataset,
         yield cond, sub, freq, distinct_groups(freq)[:n_orders]
 
 
-def _energy_bars(
-    ds: xr.Dataset, var: str, dim: str, order: list[str], ticks: list[str], title: str, n_orders: int = 6
-) -> Figure:
+def modal_energy_figure(ds: xr.Dataset, kind: str, n_orders: int = 6) -> Figure:
+    """Figs. 6-7 analogue: share of the modal strain energy in each mesh (``kind`` "strain") or of the kinetic
+    energy in each component ("kinetic") for the first ``n_orders`` distinct modes (:data:`ENERGY_BARS`)."""
+    var, dim, order, ticks, title = ENERGY_BARS[kind]
     conds = list(ds.condition.values)
     fig = Figure(figsize=(11, 2.9 * len(conds)), constrained_layout=True)
     axes = fig.subplots(len(conds), 1, squeeze=False)[:, 0]
@@ -50,18 +73,6 @@ def _energy_bars(
         ax.grid(axis="y", alpha=0.3)
     fig.suptitle(title, fontsize=10)
     return fig
-
-
-def modal_strain_energy_figure(ds: xr.Dataset) -> Figure:
-    """Fig. 6 analogue: share of the modal strain energy in each mesh of Table 3 (orders 1-6)."""
-    title = "Modal strain energy per mesh (Table 3 numbering; doubled modes averaged over the pair)"
-    return _energy_bars(ds, "strain_energy_share", "element", ELEMENT_ORDER, ELEMENT_TICKS, title)
-
-
-def modal_kinetic_energy_figure(ds: xr.Dataset) -> Figure:
-    """Fig. 7 analogue: share of the modal kinetic energy in each component of Table 4 (orders 1-6)."""
-    title = "Modal kinetic energy per component (Table 4 numbering; doubled modes averaged over the pair)"
-    return _energy_bars(ds, "kinetic_energy_share", "component", COMPONENT_ORDER, COMPONENT_TICKS, title)
 
 
 def te_unmodified_figure(te: xr.Dataset) -> Figure:
@@ -92,30 +103,31 @@ def te_unmodified_figure(te: xr.Dataset) -> Figure:
 def te_relief_figure(te: xr.Dataset, paper=None) -> Figure:
     """TE before and after the optimal reliefs (two mesh periods, mean removed); the title gives the
     paper's before and after values for a design that names a paper."""
-    fig = Figure(figsize=(8, 4.5), constrained_layout=True)
-    ax = fig.subplots()
+    title = "Static TE of the p-d pair before/after optimal tip relief"
+    if paper is not None:
+        title += f" (paper: {paper.TE_BEFORE_UM:g} -> {paper.TE_AFTER_UM:g} um)"
+    fig, ax = single_axes((8, 4.5), title, "mesh phase (base pitches)", "TE - mean (um)", "constrained")
     s = te.mesh_phase.values
     s2 = np.concatenate([s, s + 1])
     for case in te.case.values:
         tr = te.transmission_error.sel(case=case).values
         tr = tr - tr.mean()
         ax.plot(s2, np.tile(tr, 2), label=f"{case}: ptp {np.ptp(tr):.2f} um", lw=2 if case == "unmodified" else 1.2)
-    ax.set_xlabel("mesh phase (base pitches)")
-    ax.set_ylabel("TE - mean (um)")
-    title = "Static TE of the p-d pair before/after optimal tip relief"
-    if paper is not None:
-        title += f" (paper: {paper.TE_BEFORE_UM:g} -> {paper.TE_AFTER_UM:g} um)"
-    ax.set_title(title, fontsize=9)
+    ax.title.set_fontsize(9)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     return fig
 
 
-def relief_landscape_figure(land: xr.Dataset, optima: list[dict] | None = None, boxes: dict | None = None) -> Figure:
-    """Objective landscape: peak-to-peak TE over (relief amount, relief length), one panel per shape.
-
-    ``optima``: dicts with shape, bounds, amount_um, length_mm; ``boxes``: {name: (a0, a1, l0, l1)} in um/mm.
-    """
+def relief_landscape_figure(land: xr.Dataset, optima: pd.DataFrame, design: PlusDesign) -> Figure:
+    """Objective landscape: peak-to-peak TE over (relief amount, relief length), one panel per shape, with the
+    design's stated and physical bounds as dashed boxes and the rows of the relief-optima table marked (the
+    paper's row, if any, with our TE at its relief)."""
+    r = design.relief
+    boxes = {
+        ("paper" if design.paper else "stated"): (r.paper_amount, r.paper_length),
+        "physical": (r.physical_amount, r.physical_length),
+    }
     shapes = list(land.shape_.values) if "shape_" in land.dims else list(land["shape"].values)
     fig = Figure(figsize=(5.2 * len(shapes), 4.4), constrained_layout=True)
     axes = fig.subplots(1, len(shapes), squeeze=False)[0]
@@ -126,17 +138,18 @@ def relief_landscape_figure(land: xr.Dataset, optima: list[dict] | None = None, 
         z = land.te_ptp.sel(shape=sh).values
         cs = ax.contourf(L, a, z, levels=np.linspace(vmin, vmax, 25), cmap="viridis")
         ax.contour(L, a, z, levels=np.arange(np.floor(vmin), np.ceil(vmax) + 0.01, 1.0), colors="w", linewidths=0.5)
-        for name, (a0, a1, l0, l1) in (boxes or {}).items():
+        for name, (amount, length) in boxes.items():
+            a0, a1, l0, l1 = amount[0] * 1e6, amount[1] * 1e6, length[0] * 1e3, length[1] * 1e3  # um, mm
             colour = "r" if name in ("paper", "stated") else "orange"
             ax.plot([l0, l1, l1, l0, l0], [a0, a0, a1, a1, a0], ls="--", color=colour, lw=1.2, label=f"{name} bounds")
-        for o in optima or []:
+        for o in optima.to_dict("records"):
             at, physical = (o["length_mm"], o["amount_um"]), o["bounds"] == "physical"
             if o["shape"] == sh:
                 label = f"{o['bounds']} optimum: {o['te_ptp_after_um']:.2f} um"
                 style = {"marker": "*" if physical else "o", "ms": 11, "color": "orange" if physical else "r"}
                 ax.plot(*at, mec="k", ls="none", label=label, **style)
             if o["shape"].startswith("linear (paper)") and sh == "linear":
-                label = f"paper optimum (ours: {o.get('ours_um', float('nan')):.2f} um)"
+                label = f"paper optimum (ours: {o.get('ours_at_this_relief_um', float('nan')):.2f} um)"
                 ax.plot(*at, marker="X", ms=10, mec="k", color="w", ls="none", label=label)
         ax.set_xlabel("relief length along the path of contact (mm)")
         ax.set_ylabel("relief amount (um)")
@@ -144,29 +157,6 @@ def relief_landscape_figure(land: xr.Dataset, optima: list[dict] | None = None, 
         ax.legend(fontsize=7, loc="upper right")
         fig.colorbar(cs, ax=ax, label="peak-to-peak TE (um)")
     return fig
-
-
-def landscape_markers(optima) -> list[dict]:
-    """The optima table's rows as markers for :func:`relief_landscape_figure` (the paper row, if any,
-    with our TE at its relief as ``ours_um``)."""
-    recs = optima.to_dict("records")
-    for rec in recs:
-        if rec["shape"].startswith("linear (paper)"):
-            rec["ours_um"] = rec.get("ours_at_this_relief_um", float("nan"))
-    return recs
-
-
-def bound_boxes(design) -> dict[str, tuple[float, float, float, float]]:
-    """The stated and the physical relief bounds of a design as boxes (amount um, amount um, length mm, length mm)."""
-    r = design.relief
-
-    def box(amount: tuple[float, float], length: tuple[float, float]) -> tuple[float, float, float, float]:
-        return (amount[0] * 1e6, amount[1] * 1e6, length[0] * 1e3, length[1] * 1e3)
-
-    return {
-        ("paper" if design.paper else "stated"): box(r.paper_amount, r.paper_length),
-        "physical": box(r.physical_amount, r.physical_length),
-    }
 
 
 COORD_TICKS = ["s", "r", "c", "p1", "p2", "p3", "d1", "d2", "d3", "x_s", "y_s"]

@@ -10,15 +10,15 @@ import xarray as xr
 from matplotlib.figure import Figure
 
 from geardyn.gears.backlash import backlash
-from geardyn.plots import paper_caption
+from geardyn.plots import paper_caption, single_axes
 
 _STYLES = ("-.", ":", "--", "-")
 
 
 def plot_single_tooth(curve: xr.Dataset) -> Figure:
     """Fig. 4: stiffness of one tooth pair from engaging-in point A through pitch C to exit B."""
-    fig = Figure(figsize=(5.5, 3.5))
-    ax = fig.subplots()
+    xlabel = "time since engagement (mesh periods)"
+    fig, ax = single_axes((5.5, 3.5), "Fig. 4  single tooth-pair stiffness", xlabel, "single-pair stiffness (N/um)")
     k = curve["k_single"] / 1e6
     ax.plot(curve["s"], k, color="k")
     eps = float(curve.attrs["contact_ratio"])
@@ -26,18 +26,14 @@ def plot_single_tooth(curve: xr.Dataset) -> Figure:
     for label, s, kk in (("A", 0.0, k_prime), ("C", eps / 2, 1.5 * k_prime), ("B", eps, k_prime)):
         ax.plot([s], [kk], "o", color="k")
         ax.annotate(label, (s, kk), textcoords="offset points", xytext=(4, 6))
-    ax.set_xlabel("time since engagement (mesh periods)")
-    ax.set_ylabel("single-pair stiffness (N/um)")
     ax.set_ylim(0, 1.7 * k_prime)
-    ax.set_title("Fig. 4  single tooth-pair stiffness")
     fig.tight_layout()
     return fig
 
 
 def plot_mesh_stiffness(table: xr.Dataset) -> Figure:
     """Fig. 5: k(t) over two mesh periods at the x1 values of ``table`` (already selected)."""
-    fig = Figure(figsize=(6.5, 3.8))
-    ax = fig.subplots()
+    fig, ax = single_axes((6.5, 3.8), "Fig. 5  time-varying mesh stiffness", "t (mesh periods)", "k(t) (N/um)")
     t = np.concatenate([table["phase"].values, table["phase"].values + 1.0])
     for i, x1 in enumerate(table["x1"].values):
         k = np.tile(table["k_t"].sel(x1=x1).values, 2) / 1e6
@@ -48,9 +44,6 @@ def plot_mesh_stiffness(table: xr.Dataset) -> Figure:
             linestyle=_STYLES[i % len(_STYLES)],
             label=f"x1 = {x1:.3f}, eps = {float(table['contact_ratio'].sel(x1=x1)):.3f}",
         )
-    ax.set_xlabel("t (mesh periods)")
-    ax.set_ylabel("k(t) (N/um)")
-    ax.set_title("Fig. 5  time-varying mesh stiffness")
     ax.legend(fontsize=8)
     fig.tight_layout()
     return fig
@@ -59,16 +52,12 @@ def plot_mesh_stiffness(table: xr.Dataset) -> Figure:
 def plot_backlash(b: float = 1.0) -> Figure:
     """Fig. 6: the dead-zone backlash function f(X) of Eq. (11), in units of b."""
     x = np.linspace(-3 * b, 3 * b, 601)
-    fig = Figure(figsize=(4.5, 3.5))
-    ax = fig.subplots()
+    fig, ax = single_axes((4.5, 3.5), "Fig. 6  backlash function", "X", "f(X)")
     ax.plot(x / b, backlash(x, b) / b, color="k")
     ax.axhline(0, color="0.7", lw=0.5)
     ax.axvline(0, color="0.7", lw=0.5)
     ax.set_xticks([-2, -1, 0, 1, 2], ["-2b", "-b", "0", "b", "2b"])
     ax.set_yticks([-2, -1, 0, 1, 2], ["-2b", "-b", "0", "b", "2b"])
-    ax.set_xlabel("X")
-    ax.set_ylabel("f(X)")
-    ax.set_title("Fig. 6  backlash function")
     fig.tight_layout()
     return fig
 

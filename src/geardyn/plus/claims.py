@@ -227,19 +227,11 @@ def _q_relief_optimum(p: PlusProducts, shape: str, bounds: str, field: str) -> M
 
 
 def _q_relief_shape_gain(p: PlusProducts, bounds: str) -> Measured:
-    after = {
-        (s, b): float(_optimum(p, s, b).te_ptp_after_um)
-        for s in ("linear", "parabolic")
-        for b in sorted(set(p.optima["bounds"]))
-        if ((p.optima["shape"] == s) & (p.optima["bounds"] == b)).any()
-    }
-    parts = [
-        f"{b} bounds: linear {after['linear', b]:.3g}, parabolic {after['parabolic', b]:.3g} um"
-        for s, b in after
-        if s == "linear" and ("parabolic", b) in after
-    ]
+    after = p.optima.set_index(["shape", "bounds"])["te_ptp_after_um"]
+    both = [b for b in sorted(set(p.optima["bounds"])) if {("linear", b), ("parabolic", b)} <= set(after.index)]
+    parts = [f"{b} bounds: linear {after['linear', b]:.3g}, parabolic {after['parabolic', b]:.3g} um" for b in both]
     return Measured(
-        after["linear", bounds] - after["parabolic", bounds],
+        float(after["linear", bounds]) - float(after["parabolic", bounds]),
         f"TE after the linear optimum - after the parabolic one, {bounds} bounds; " + "; ".join(parts),
     )
 

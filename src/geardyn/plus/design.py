@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -135,18 +135,7 @@ def _body(d: Mapping[str, Any]) -> Body:
 
 
 def _springs(d: Mapping[str, Any]) -> Springs:
-    return Springs(float(d["sun_planet"]), float(d["planet_planet"]), float(d["planet_ring"]), float(d["sun_bearing"]))
-
-
-def _forced(d: Mapping[str, Any]) -> ForcedSpec:
-    return ForcedSpec(
-        damping_ratio=float(d["damping_ratio"]),
-        condition=str(d["condition"]),
-        harmonics=int(d["harmonics"]),
-        phasing=str(d["phasing"]),
-        speed_points=int(d["speed_points"]),
-        speed_max_factor=float(d["speed_max_factor"]),
-    )
+    return Springs(*(float(d[f.name]) for f in fields(Springs)))
 
 
 def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
@@ -154,12 +143,14 @@ def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
     (:func:`geardyn.config.load_design_dict`), with the checks the schema cannot state."""
 
     te, rl = d["transmission_error"], d["relief"]
-    for lo_hi in ("paper_amount_mm", "paper_length_mm", "physical_amount_mm", "physical_length_mm"):
-        lo, hi = rl[lo_hi]
+    bounds = {}  # the four relief bounds in m
+    for name in ("paper_amount", "paper_length", "physical_amount", "physical_length"):
+        lo, hi = rl[f"{name}_mm"]
         if not lo < hi:
             raise ConfigError(
-                f"{where}: relief.{lo_hi} = {rl[lo_hi]} is not allowed: the lower bound must be below the upper bound"
+                f"{where}: relief.{name}_mm = {[lo, hi]} is not allowed: the lower bound must be below the upper bound"
             )
+        bounds[name] = (lo * 1e-3, hi * 1e-3)
     return PlusDesign(
         name=d["name"],
         paper=d.get("paper"),
@@ -193,10 +184,7 @@ def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
         ),
         relief=ReliefSpec(
             apply_to=rl["apply_to"],
-            paper_amount=tuple(v * 1e-3 for v in rl["paper_amount_mm"]),
-            paper_length=tuple(v * 1e-3 for v in rl["paper_length_mm"]),
-            physical_amount=tuple(v * 1e-3 for v in rl["physical_amount_mm"]),
-            physical_length=tuple(v * 1e-3 for v in rl["physical_length_mm"]),
+            **bounds,
             seed=rl["seed"],
             popsize=rl["popsize"],
             maxiter=rl["maxiter"],
@@ -204,7 +192,8 @@ def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
             landscape_points=rl["landscape_points"],
             load_study_torques=tuple(float(t) for t in rl["load_study_torques_Nm"]),
         ),
-        forced=_forced(d["forced_response"]),
+        # every forced-response field converted to the type of its default (the schema's number admits 1 for 1.0)
+        forced=ForcedSpec(**{f.name: type(f.default)(d["forced_response"][f.name]) for f in fields(ForcedSpec)}),
         planet_angles_in_sun_terms=d["fixes"]["planet_angles_in_sun_terms"],
         plus_set_sign=d["fixes"]["plus_set_sign"],
         raw=d,

@@ -91,14 +91,6 @@ class ForcedResponse:
     min_factor: NDArray
     natural_hz: NDArray
 
-    @property
-    def mesh_frequency_hz(self) -> NDArray:
-        return self.speed_rpm * self.mesh_hz_per_rpm
-
-    def resonance_speeds(self) -> NDArray:
-        """Speeds (rpm), shape (harmonic, mode), at which harmonic h of the mesh frequency meets a mode."""
-        return self.natural_hz[None, :] / (self.harmonics[:, None] * self.mesh_hz_per_rpm)
-
 
 def speed_grid(design: PlusDesign, natural_hz: NDArray, mesh_hz_per_rpm: float) -> NDArray:
     """``speed_points`` speeds (rpm) from top/points to top = factor x the speed where h = 1 meets the highest mode."""
@@ -171,15 +163,6 @@ def forced_response(
     )
 
 
-def best_relief_case(cases: tuple[str, ...], te_ptp: ArrayLike) -> str:
-    """The relief case with the smallest peak-to-peak TE (any case but 'unmodified')."""
-    ptp = np.asarray(te_ptp, dtype=float)
-    relieved = [i for i, c in enumerate(cases) if c != "unmodified"]
-    if not relieved:
-        raise ValueError("no relief case")
-    return cases[min(relieved, key=lambda i: ptp[i])]
-
-
 #: The CF variables of forced_response.nc (:func:`geardyn.plus.tables.cf_dataset`).
 _FORCES = ("case", "speed", "mesh")
 VARIABLES: dict[str, tuple] = {
@@ -213,15 +196,18 @@ VARIABLES: dict[str, tuple] = {
 
 def to_dataset(res: ForcedResponse, design: PlusDesign) -> xr.Dataset:
     """CF dataset of a :class:`ForcedResponse` (forces in N, TE in um, speeds in rpm)."""
-    values = (res.rms, res.dynamic_factor, res.min_factor, libm.cabs(res.amplitude), res.mesh_frequency_hz)
+    per_rpm = res.mesh_hz_per_rpm
+    values = (res.rms, res.dynamic_factor, res.min_factor, libm.cabs(res.amplitude), res.speed_rpm * per_rpm)
+    resonance = res.natural_hz[None, :] / (res.harmonics[:, None] * per_rpm)  # harmonic h of the mesh meets a mode
     coords = (list(res.cases), res.speed_rpm, list(res.meshes), res.harmonics, np.arange(1, len(res.natural_hz) + 1))
+    relieved = [i for i, c in enumerate(res.cases) if c != "unmodified"]  # the best: the smallest TE
     return cf_dataset(
         VARIABLES,
-        (*values, res.te_ptp * 1e6, res.natural_hz, res.resonance_speeds(), *coords),
+        (*values, res.te_ptp * 1e6, res.natural_hz, resonance, *coords),
         title=f"Forced response to the static TE against speed, design {design.name}",
         condition=res.condition,
         damping_ratio=res.zeta,
         phasing=design.forced.phasing,
         static_force_N=res.static_force,
-        best_relief_case=best_relief_case(res.cases, res.te_ptp) if len(res.cases) > 1 else "",
+        best_relief_case=res.cases[min(relieved, key=lambda i: res.te_ptp[i])] if relieved else "",
     )

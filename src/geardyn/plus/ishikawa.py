@@ -272,28 +272,12 @@ class MeshGrid:
         return np.where(self.inside, e, np.inf)
 
     def solve(self, load: float, e: NDArray, ef: float = 0.0) -> TEResult:
+        """Loaded static TE (Eq. 9) with the separations ``e`` under ``load`` (N), ``ef`` = Ef1 + Ef2 (load
+        sharing and the pitch-step model: docs/paper2.md, "Load sharing and deviations")."""
         x = _solve_approach(e, self.lam, load)
         loads = np.where(self.inside, np.clip(x[None, :] - np.where(self.inside, e, 0.0), 0.0, None) / self.lam, 0.0)
         stiff = np.sum(np.where(loads > 0, 1.0 / self.lam, 0.0), axis=0)
         return TEResult(self.s, ef - x, x, loads, np.where(self.inside, self.u, np.nan), stiff)
-
-
-def static_te(
-    pair: SpurPair,
-    mat: Material,
-    load: float,
-    *,
-    ef1: float = 0.0,
-    ef2: float = 0.0,
-    points: int = 400,
-    grid: MeshGrid | None = None,
-    **separation: Any,
-) -> TEResult:
-    """Loaded static TE of one pair over one mesh period (Eq. 9, Ishikawa compliance; load sharing and the
-    pitch-step model: docs/paper2.md, "Load sharing and deviations").  ``separation``: ES, its sign and the
-    relief (keywords of :meth:`MeshGrid.separation`)."""
-    grid = grid or MeshGrid.build(pair, mat, points)
-    return grid.solve(load, grid.separation(**separation), ef1 + ef2)
 
 
 def _solve_approach(e: NDArray, lam: NDArray, load: float) -> NDArray:
@@ -338,11 +322,9 @@ def design_grid(design: PlusDesign, points: int | None = None) -> MeshGrid:
 def design_te(
     design: PlusDesign, *, points: int | None = None, grid: MeshGrid | None = None, **relief: Any
 ) -> TEResult:
-    """:func:`static_te` with the design's pair, material, load, deviations and relief placement;
+    """Static TE of the design's pair on its grid, with its load, deviations and relief placement;
     ``relief``: relief_amount, relief_length, relief_shape (none by default)."""
     t = design.te
-    deviations = {"ef1": t.ef1, "ef2": t.ef2, "es": t.es, "pitch_error_sign": t.pitch_error_sign}
     grid = grid or design_grid(design, points)
-    load = pd_mesh_load(design)
-    pair, mat, placed = spur_pair(design), material(design), design.relief.apply_to
-    return static_te(pair, mat, load, grid=grid, relief_apply_to=placed, **deviations, **relief)
+    e = grid.separation(es=t.es, pitch_error_sign=t.pitch_error_sign, relief_apply_to=design.relief.apply_to, **relief)
+    return grid.solve(pd_mesh_load(design), e, t.ef1 + t.ef2)

@@ -303,29 +303,20 @@ def damped_frequencies(mat: Matrices, n_rigid: int, omega_min: float) -> tuple[N
     return damped, zeta
 
 
-def strain_energy_fractions(design: PlusDesign, md: Modes) -> dict[str, NDArray]:
-    """Share of each spring in the modal strain energy, per element name, shape (n_modes,).
-
-    U_e = k_e (v_e . phi)^2 / 2 and sum_e U_e = w^2 / 2 for an M-normalised phi.  Rigid modes: NaN.
-    """
-    els = elements(design)
+def energy_shares(design: PlusDesign, md: Modes) -> tuple[dict[str, NDArray], dict[str, NDArray]]:
+    """Shares of each spring in the modal strain energy (rigid modes: NaN) and of each Table 4 component in the
+    modal kinetic energy, per name, shape (n_modes,); U_e = k_e (v_e . phi)^2 / 2 sums to w^2 / 2 for an
+    M-normalised phi."""
     phis = md.full_shapes
-    energy = {el.name: 0.5 * el.k * (el.v @ phis) ** 2 for el in els}
-    total = sum(energy.values())
-    with np.errstate(invalid="ignore", divide="ignore"):
-        out = {k: np.where(md.omega2 > 0, v / total, np.nan) for k, v in energy.items()}
-    return {k: np.where(np.abs(v) < 1e-12, 0.0, v) for k, v in out.items()}  # round-off of exact zeros
-
-
-def kinetic_energy_fractions(design: PlusDesign, md: Modes) -> dict[str, NDArray]:
-    """Share of each Table 4 component in the modal kinetic energy, per component, shape (n_modes,)."""
-    comps = mass_components(design)
-    phis = md.full_shapes
-    energy = {k: np.einsum("im,ij,jm->m", phis, Mc, phis) for k, Mc in comps.items()}
-    total = sum(energy.values())
-    return {
-        k: np.where(np.abs(v / total) < 1e-12, 0.0, v / total) for k, v in energy.items()
-    }  # round-off of exact zeros
+    strain = {el.name: 0.5 * el.k * (el.v @ phis) ** 2 for el in elements(design)}
+    kinetic = {k: np.einsum("im,ij,jm->m", phis, Mc, phis) for k, Mc in mass_components(design).items()}
+    out = []
+    for energy, valid in ((strain, md.omega2 > 0), (kinetic, True)):
+        total = sum(energy.values())
+        with np.errstate(invalid="ignore", divide="ignore"):
+            shares = {k: np.where(valid, v / total, np.nan) for k, v in energy.items()}
+        out.append({k: np.where(np.abs(v) < 1e-12, 0.0, v) for k, v in shares.items()})  # round-off of exact zeros
+    return out[0], out[1]
 
 
 def group_strain(fr: dict[str, NDArray]) -> dict[str, NDArray]:

@@ -1,6 +1,6 @@
 """Tip-relief optimisation of the p-d pair (paper 2, Sec. 4) with scipy's differential evolution.
 
-Objective: the peak-to-peak static TE (m) of :func:`geardyn.plus.ishikawa.static_te`; seeded, one worker, no
+Objective: the peak-to-peak static TE (m) of :func:`geardyn.plus.ishikawa.design_te`; seeded, one worker, no
 polishing: deterministic (the paper's GA and its swapped names: docs/paper2.md Sec. 4).  Units: m.
 """
 
@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
+import pandas as pd
 from numpy.typing import NDArray
 from scipy.optimize import differential_evolution
 
@@ -111,11 +112,12 @@ def landscape_axes(design: PlusDesign, n: int | None = None) -> tuple[NDArray, N
     return np.linspace(0.0, amax, n), np.linspace(0.0, lmax, n)
 
 
-def load_study(design: PlusDesign, torques: tuple[float, ...], shape: str = "linear", points: int = 200) -> list[dict]:
+def load_study(
+    design: PlusDesign, torques: tuple[float, ...], shape: str = "linear", points: int = 200
+) -> pd.DataFrame:
     """For each sun torque (N m): the optimum within the paper's bounds and within wide bounds (amount from 0
-    to the paper's upper bound, length from 0 to the physical one), as dicts (N m, N, m)."""
+    to the paper's upper bound, length from 0 to the physical one), in display units (N m, N, um, mm, %)."""
     rows = []
-    fields = ("amount", "length", "ptp")  # of each optimum, as paper_* and wide_*
     for t in torques:
         d = replace(design, torque=float(t), torque_member="sun")
         d_wide = replace(
@@ -129,6 +131,14 @@ def load_study(design: PlusDesign, torques: tuple[float, ...], shape: str = "lin
         grid = design_grid(d, points)
         paper = optimise(d, shape, "paper", grid=grid)
         wide = optimise(d_wide, shape, "physical", grid=grid)
-        found = {f"{name}_{k}": getattr(o, k) for name, o in (("paper", paper), ("wide", wide)) for k in fields}
-        rows.append({"torque": float(t), "load": pd_mesh_load(d), "ptp_unmodified": paper.ptp_unmodified, **found})
-    return rows
+        row = {
+            "sun_torque_Nm": float(t),
+            "pd_load_N": pd_mesh_load(d),
+            "te_ptp_unmodified_um": paper.ptp_unmodified * 1e6,
+        }
+        for name, o in (("paper", paper), ("wide", wide)):
+            row[f"{name}_bounds_amount_um"] = o.amount * 1e6
+            row[f"{name}_bounds_length_mm"] = o.length * 1e3
+            row[f"{name}_bounds_change_pct"] = 100 * (o.ptp / paper.ptp_unmodified - 1)
+        rows.append(row)
+    return pd.DataFrame(rows)

@@ -104,8 +104,8 @@ def distinct_frequencies(design: PlusDesign, condition: str) -> list[dict]:
     """One record per distinct elastic frequency: Hz, damped Hz, zeta, multiplicity, type, energies."""
     md = modal.modes(design, condition)
     types = modal.classify(md)
-    se = modal.group_strain(modal.strain_energy_fractions(design, md))
-    ke = modal.group_kinetic(modal.kinetic_energy_fractions(design, md))
+    strain, kinetic = modal.energy_shares(design, md)
+    se, ke = modal.group_strain(strain), modal.group_kinetic(kinetic)
     out = []
     for order, grp in enumerate(modal.distinct_groups(md.omega2), start=1):
         rec = {
@@ -243,34 +243,20 @@ def key_element_table(design: PlusDesign, paper: ModuleType | None, threshold: f
     rows = []
     for cond in WORKING:
         for rec in distinct_frequencies(design, cond)[:6]:
-            strain = {t: rec[f"strain_{t}"] for t in (*modal.MESH_TYPES, "bearing")}
-            key = max(modal.MESH_TYPES, key=lambda t: strain[t])
+            key = max(modal.MESH_TYPES, key=lambda t: rec[f"strain_{t}"])
             kin = {c: rec[f"kinetic_{c}"] for c in modal.COMPONENT_GROUPS}
             comps = [c for c in sorted(kin, key=kin.get, reverse=True) if kin[c] >= threshold]
-            i = rec["order"] - 1
-            rows.append(
-                {
-                    "condition": cond,
-                    "order": rec["order"],
-                    "freq_hz": rec["freq_hz"],
-                    "mode_type": rec["mode_type"],
-                    "key_element": modal.MESH_LABELS[key],
-                    "key_element_share": strain[key],
-                    "key_elements_no": {"sp": "1, 2, 3", "pd": "4, 5, 6", "dr": "7, 8, 9"}[key],
-                    "key_components": ", ".join(COMPONENT_LABELS[c] for c in comps),
-                    **(
-                        {}
-                        if paper is None
-                        else {
-                            "paper_key_element": modal.MESH_LABELS[paper.PAPER_TABLE5_ELEMENT[cond][i]],
-                            "paper_key_components": paper.PAPER_TABLE5_COMPONENTS[cond][i],
-                            "element_agrees": key == paper.PAPER_TABLE5_ELEMENT[cond][i],
-                        }
-                    ),
-                    **{f"strain_{t}": strain[t] for t in strain},
-                    **{f"kinetic_{c}": kin[c] for c in kin},
-                }
-            )
+            row = {k: rec[k] for k in ("condition", "order", "freq_hz", "mode_type")}
+            row["key_element"] = modal.MESH_LABELS[key]
+            row["key_element_share"] = rec[f"strain_{key}"]
+            row["key_elements_no"] = {"sp": "1, 2, 3", "pd": "4, 5, 6", "dr": "7, 8, 9"}[key]
+            row["key_components"] = ", ".join(COMPONENT_LABELS[c] for c in comps)
+            if paper is not None:
+                theirs = paper.PAPER_TABLE5_ELEMENT[cond][rec["order"] - 1]
+                row["paper_key_element"] = modal.MESH_LABELS[theirs]
+                row["paper_key_components"] = paper.PAPER_TABLE5_COMPONENTS[cond][rec["order"] - 1]
+                row["element_agrees"] = key == theirs
+            rows.append(row | {k: v for k, v in rec.items() if k.startswith(("strain_", "kinetic_"))})
     return pd.DataFrame(rows)
 
 
@@ -282,8 +268,7 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
     per_condition = []  # (frequencies, damped, zeta, shapes, strain and kinetic shares, types) of each condition
     for c in conds:
         md = modal.modes(design, c)
-        s_fr = modal.strain_energy_fractions(design, md)
-        k_fr = modal.kinetic_energy_fractions(design, md)
+        s_fr, k_fr = modal.energy_shares(design, md)
         se = np.column_stack([s_fr[k] for k in el_names])
         ke = np.column_stack([k_fr[k] for k in comp_names])
         per_condition.append((md.freq_hz, md.damped_hz, md.zeta, md.full_shapes.T, se, ke, modal.classify(md)))
@@ -300,18 +285,13 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
 
 
 def _lever_arms(design: PlusDesign) -> np.ndarray:
-    geo = modal.geometry(design)
     arms = {
         "theta_s": design.sun.base_radius,
         "theta_r": design.ring.base_radius,
-        "theta_c": geo.a_sp,
-        "x_s": 1.0,
-        "y_s": 1.0,
+        "theta_c": modal.geometry(design).a_sp,
     }
-    for j in (1, 2, 3):
-        arms[f"theta_p{j}"] = design.planet_p.base_radius
-        arms[f"theta_d{j}"] = design.planet_d.base_radius
-    return np.array([arms[c] for c in modal.COORDS])
+    arms |= {f"theta_{g}{j}": getattr(design, f"planet_{g}").base_radius for g in "pd" for j in (1, 2, 3)}
+    return np.array([arms.get(c, 1.0) for c in modal.COORDS])  # x_s, y_s: 1
 
 
 def _variant(design: PlusDesign) -> str:
@@ -345,15 +325,12 @@ def stiffness_comparison(design: PlusDesign) -> pd.DataFrame:
 def te_dataset(design: PlusDesign, optima: list[ReliefOptimum]) -> xr.Dataset:
     """TE over one mesh period before relief and with each optimum (um), CF attrs."""
     base = design_te(design)
-    curves = [base.te * 1e6]
-    labels = ["unmodified"]
-    for o in optima:
-        r = design_te(design, relief_amount=o.amount, relief_length=o.length, relief_shape=o.shape)
-        curves.append(r.te * 1e6)
-        labels.append(f"{o.shape}_{o.bounds}")
+    relieved = [design_te(design, relief_amount=o.amount, relief_length=o.length, relief_shape=o.shape) for o in optima]
+    curves = np.array([r.te * 1e6 for r in (base, *relieved)])
+    labels = ["unmodified", *(f"{o.shape}_{o.bounds}" for o in optima)]
     return cf_dataset(
         TE_VARIABLES,
-        (np.array(curves), base.stiffness, base.loads, labels, base.s, np.arange(base.loads.shape[0])),
+        (curves, base.stiffness, base.loads, labels, base.s, np.arange(base.loads.shape[0])),
         title=f"Static TE of the p-d pair, design {design.name}",
         contact_ratio=spur_pair(design).contact_ratio,
         load_N=pd_mesh_load(design),
@@ -407,24 +384,6 @@ def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
         title=f"Objective landscape of the tip-relief optimisation, design {design.name}",
         relief_applied_to=design.relief.apply_to,
         load_N=pd_mesh_load(design),
-    )
-
-
-def relief_load_table(rows: list[dict]) -> pd.DataFrame:
-    """:func:`geardyn.plus.relief.load_study` in display units (N m, N, um, mm, %)."""
-    return pd.DataFrame(
-        {
-            "sun_torque_Nm": r["torque"],
-            "pd_load_N": r["load"],
-            "te_ptp_unmodified_um": r["ptp_unmodified"] * 1e6,
-            "paper_bounds_amount_um": r["paper_amount"] * 1e6,
-            "paper_bounds_length_mm": r["paper_length"] * 1e3,
-            "paper_bounds_change_pct": 100 * (r["paper_ptp"] / r["ptp_unmodified"] - 1),
-            "wide_bounds_amount_um": r["wide_amount"] * 1e6,
-            "wide_bounds_length_mm": r["wide_length"] * 1e3,
-            "wide_bounds_change_pct": 100 * (r["wide_ptp"] / r["ptp_unmodified"] - 1),
-        }
-        for r in rows
     )
 
 
