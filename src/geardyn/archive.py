@@ -238,7 +238,7 @@ def verify(path: str | Path) -> Summary:
     cubes = [name for name, e in entries.items() if e["kind"] == "netcdf"]
     if not cubes:
         raise ArchiveError(f"{where}: the archive holds no netCDF cube")
-    runtimes: list[tuple[dict[str, str], int]] = []
+    runtimes: list[dict[str, str]] = []
     with tempfile.TemporaryDirectory(prefix="geardyn-verify-") as tmp:
         for name in cubes:
             local = Path(tmp) / Path(name).name
@@ -253,12 +253,7 @@ def verify(path: str | Path) -> Summary:
                     f"{where}: {top}/{name} does not open as netCDF ({type(err).__name__}: {text[0] if text else ''})"
                 ) from None
             local.unlink()
-            if rt:
-                known = [k for k, (r, _) in enumerate(runtimes) if r == rt]
-                if known:
-                    runtimes[known[0]] = (rt, runtimes[known[0]][1] + 1)
-                else:
-                    runtimes.append((rt, 1))
+            runtimes.append(rt)
     return Summary(
         where,
         str(manifest.get("design", "?")),
@@ -266,5 +261,5 @@ def verify(path: str | Path) -> Summary:
         len(cubes),
         str(manifest.get("geardyn_version", "?")),
         str(manifest.get("git_commit", "?")),
-        tuple(runtimes),
+        tuple((rt, runtimes.count(rt)) for k, rt in enumerate(runtimes) if rt and rt not in runtimes[:k]),
     )
