@@ -49,16 +49,10 @@ def write_netcdf(
     checksum: bool = False,
     zlib_level: int = ZLIB_LEVEL,
 ) -> Path:
-    """Write ``ds`` to ``path`` atomically (temporary file + rename) with global ``attrs`` merged in.
-
-    Raises ``ValueError`` if a variable lacks ``units``/``long_name`` and ``require_cf`` is set, so
-    no undocumented file is ever produced. Coordinate variables get no ``_FillValue`` (CF 2.5.1).
-    With ``checksum`` every non-empty numeric variable is stored with HDF5's Fletcher-32 checksum,
-    so that reading it back (:func:`geardyn.quarantine.netcdf_problem`) detects any damaged byte, not only truncation.
-    Every non-scalar numeric variable is compressed losslessly: zlib at ``zlib_level`` (1-9, 0 = off)
-    after HDF5's byte shuffle (which groups the bytes of equal significance of neighbouring values,
-    so slowly varying floats compress).  The global attributes include :func:`runtime_provenance`.
-    """
+    """Write ``ds`` to ``path`` atomically (temporary file + rename) with global ``attrs`` and
+    :func:`runtime_provenance` merged in; refuse a variable without ``units``/``long_name`` (``require_cf``).
+    Numeric variables: shuffle + zlib at ``zlib_level`` (0 = off), Fletcher-32 with ``checksum``; coordinates
+    without ``_FillValue`` (CF 2.5.1).  Why each: ``docs/operations.md``, Compression and provenance."""
     if not 0 <= zlib_level <= 9:
         raise ValueError(f"zlib_level must be 0 (off) to 9, got {zlib_level}")
     path = Path(path)
@@ -112,13 +106,9 @@ def provenance_sidecar(path: str | os.PathLike[str]) -> Path:
 
 
 def write_text(text: str, path: str | os.PathLike[str], *, provenance: bool | None = None) -> Path:
-    """Write a text file atomically (captions, Markdown and CSV tables).
-
-    A table (``provenance`` None and a suffix in :data:`TABLE_SUFFIXES`, or ``provenance=True``) records
-    where it was made (:func:`provenance_text`): a Markdown file ends with it as an HTML comment (not
-    shown when rendered); a CSV or JSON file, which has no comment syntax every reader accepts, gets it
-    in ``<name>.provenance.json`` beside it (:func:`provenance_sidecar`).
-    """
+    """Write a text file atomically (captions, Markdown and CSV tables).  A table (a suffix of
+    :data:`TABLE_SUFFIXES`, or ``provenance=True``) records :func:`provenance_text`: Markdown in a closing HTML
+    comment, CSV and JSON (no comment syntax every reader accepts) in :func:`provenance_sidecar`."""
     path = Path(path)
     if provenance is None:
         provenance = path.suffix.lower() in TABLE_SUFFIXES and not path.name.endswith(PROVENANCE_SIDECAR)
