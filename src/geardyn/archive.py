@@ -238,7 +238,7 @@ def verify(path: str | Path) -> Summary:
     cubes = [name for name, e in entries.items() if e["kind"] == "netcdf"]
     if not cubes:
         raise ArchiveError(f"{where}: the archive holds no netCDF cube")
-    runtimes: list[dict[str, str]] = []
+    attrs: list[dict[str, Any]] = []
     with tempfile.TemporaryDirectory(prefix="geardyn-verify-") as tmp:
         for name in cubes:
             local = Path(tmp) / Path(name).name
@@ -246,14 +246,13 @@ def verify(path: str | Path) -> Summary:
             try:
                 with xr.open_dataset(local) as ds:
                     ds.load()
-                    rt = prov.runtime_of(ds.attrs)
+                    attrs.append(dict(ds.attrs))
             except Exception as err:
                 text = str(err).replace(str(local), name).splitlines()
                 raise ArchiveError(
                     f"{where}: {top}/{name} does not open as netCDF ({type(err).__name__}: {text[0] if text else ''})"
                 ) from None
             local.unlink()
-            runtimes.append(rt)
     return Summary(
         where,
         str(manifest.get("design", "?")),
@@ -261,5 +260,5 @@ def verify(path: str | Path) -> Summary:
         len(cubes),
         str(manifest.get("geardyn_version", "?")),
         str(manifest.get("git_commit", "?")),
-        tuple((rt, runtimes.count(rt)) for k, rt in enumerate(runtimes) if rt and rt not in runtimes[:k]),
+        tuple(prov.distinct_runtimes(attrs)),
     )
