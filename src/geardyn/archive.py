@@ -24,6 +24,7 @@ import yaml
 
 from geardyn import __version__
 from geardyn import provenance as prov
+from geardyn.io import atomic
 
 MANIFEST = "MANIFEST.json"
 SUMS = "SHA256SUMS"
@@ -124,7 +125,7 @@ def build(
     ``cubes`` maps a path inside the archive (the pipeline's own, ``results/<design>/...``) to a file on
     disk, ``configs`` a path inside ``config/``.
     ``effective_config`` (the validated workflow config) is stored as ``config/effective_config.yaml``.
-    The archive is written to a temporary name and renamed, so it is never seen half-written.
+    The archive is written to a temporary name and renamed (:func:`geardyn.io.atomic`).
     """
 
     if not cubes:
@@ -166,15 +167,12 @@ def build(
     add(SUMS, sums.encode(), "sums")
     manifest_bytes = (json.dumps(manifest, indent=1) + "\n").encode()
 
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.name}.tmp")
     mtime = int(_dt.datetime.fromisoformat(created).timestamp())
-    with tarfile.open(tmp, "w:gz") as tar:
+    with atomic(out) as tmp, tarfile.open(tmp, "w:gz") as tar:
         for name, data in [(MANIFEST, manifest_bytes), *sorted(members.items())]:
             info = tarfile.TarInfo(f"{top}/{name}")
             info.size, info.mtime, info.mode = len(data), mtime, 0o644
             tar.addfile(info, _io.BytesIO(data))
-    tmp.replace(out)
     return manifest
 
 
