@@ -36,7 +36,7 @@ CONTINUE_PIECE = 1000
 
 
 @dataclass(frozen=True)
-class ResponseSpec(study.StudySpec):
+class ResponseSpec(study.StudySpec, study.Grid):
     """One frequency response as declared in ``config.yaml`` under ``responses:`` (the shared fields:
     :class:`StudySpec`; a response follows the attractor, ``start_from: follow``, in one job)."""
 
@@ -51,10 +51,6 @@ class ResponseSpec(study.StudySpec):
             raise ValueError(f"frequency response: need 0 < start < stop and num >= 3, got {self}")
         if not (self.jump_threshold > 0.0 and self.jump_floor >= 0.0):
             raise ValueError("frequency response: jump_threshold > 0 and jump_floor >= 0")
-
-    @property
-    def values(self) -> np.ndarray:
-        return np.linspace(self.start, self.stop, self.num)
 
 
 def find_jumps(
