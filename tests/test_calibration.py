@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 import yaml
 
+import _workflow
 from _oracle import rules_label
 from geardyn import claims as C
 from geardyn import classify
@@ -27,7 +28,6 @@ from geardyn.papers import li2013 as paper
 from geardyn.plots import captions
 from geardyn.runs.points import dense_points
 from geardyn.solve import SimulationSettings
-from geardyn.testing import Job, run_script
 
 ROOT = Path(__file__).resolve().parents[1]
 FULL = SimulationSettings(steps_per_period=512, transient_periods=500, recorded_periods=100)
@@ -459,9 +459,9 @@ def test_compare_script_reports_the_distance_to_the_committed_design(tmp_path):
     best = tmp_path / "best.json"
     best.write_text(json.dumps({"result": moved}))
     out = tmp_path / "vs.md"
-    run_script(
+    _workflow.run_script(
         ROOT / "workflow" / "scripts" / "calibration_compare.py",
-        Job(
+        _workflow.Job(
             input={
                 "design": ROOT / "config" / "designs" / "li2013.yaml",
                 "best": best,

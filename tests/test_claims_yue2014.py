@@ -17,7 +17,6 @@ from geardyn import claims as C
 from geardyn import verdicts as V
 from geardyn.papers import yue2014 as paper
 from geardyn.plus import claims as PC
-from geardyn.testing import Job, run_script
 
 ROOT = Path(__file__).resolve().parents[1]
 #: A quantity that returns the "products" it is given: the rules on numbers chosen by the test.
@@ -153,9 +152,9 @@ def shipped_claims(tmp_path_factory):
     design.write_text(yaml.safe_dump(raw))
     f = {k: tmp / k for k in ("modal.nc", "t2.csv", "sc.csv", "t5.csv", "te.nc", "opt.csv", "forced.nc")}
     scripts = ROOT / "workflow" / "scripts"
-    run_script(
+    wf.run_script(
         scripts / "plus_modal.py",
-        Job(
+        wf.Job(
             input={"design": design},
             log=[tmp / "m.log"],
             output=dict(
@@ -169,9 +168,9 @@ def shipped_claims(tmp_path_factory):
             ),
         ),
     )
-    run_script(
+    wf.run_script(
         scripts / "plus_relief.py",
-        Job(
+        wf.Job(
             input={"design": design},
             log=[tmp / "r.log"],
             output=dict(
@@ -185,18 +184,18 @@ def shipped_claims(tmp_path_factory):
             ),
         ),
     )
-    run_script(
+    wf.run_script(
         scripts / "plus_forced_response.py",
-        Job(
+        wf.Job(
             input={"design": design, "te": f["te.nc"]},
             log=[tmp / "fr.log"],
             output=dict(data=f["forced.nc"], figure=tmp / "forced.png"),
         ),
     )
     out = {"md": tmp / "claims.md", "csv": tmp / "claims.csv"}
-    run_script(
+    wf.run_script(
         scripts / "plus_claims.py",
-        Job(
+        wf.Job(
             input=dict(
                 design=design,
                 frequencies=f["t2.csv"],

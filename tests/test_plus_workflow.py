@@ -12,16 +12,16 @@ import pytest
 import xarray as xr
 import yaml
 
+import _workflow
 from geardyn import io
 from geardyn.plus import tables
 from geardyn.plus.design import default_design
-from geardyn.testing import Job, run_script
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def _script(name, **job):
-    run_script(ROOT / "workflow" / "scripts" / f"{name}.py", Job(**job))
+    _workflow.run_script(ROOT / "workflow" / "scripts" / f"{name}.py", _workflow.Job(**job))
 
 
 @pytest.fixture(scope="module")

@@ -24,6 +24,7 @@ import yaml
 
 from geardyn import __version__
 from geardyn import provenance as prov
+from geardyn.io import atomic
 
 MANIFEST = "MANIFEST.json"
 SUMS = "SHA256SUMS"
@@ -124,7 +125,7 @@ def build(
     ``cubes`` maps a path inside the archive (the pipeline's own, ``results/<design>/...``) to a file on
     disk, ``configs`` a path inside ``config/``.
     ``effective_config`` (the validated workflow config) is stored as ``config/effective_config.yaml``.
-    The archive is written to a temporary name and renamed, so it is never seen half-written.
+    The archive is written to a temporary name and renamed (:func:`geardyn.io.atomic`).
     """
 
     if not cubes:
@@ -166,15 +167,12 @@ def build(
     add(SUMS, sums.encode(), "sums")
     manifest_bytes = (json.dumps(manifest, indent=1) + "\n").encode()
 
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.name}.tmp")
     mtime = int(_dt.datetime.fromisoformat(created).timestamp())
-    with tarfile.open(tmp, "w:gz") as tar:
+    with atomic(out) as tmp, tarfile.open(tmp, "w:gz") as tar:
         for name, data in [(MANIFEST, manifest_bytes), *sorted(members.items())]:
             info = tarfile.TarInfo(f"{top}/{name}")
             info.size, info.mtime, info.mode = len(data), mtime, 0o644
             tar.addfile(info, _io.BytesIO(data))
-    tmp.replace(out)
     return manifest
 
 
@@ -238,7 +236,7 @@ def verify(path: str | Path) -> Summary:
     cubes = [name for name, e in entries.items() if e["kind"] == "netcdf"]
     if not cubes:
         raise ArchiveError(f"{where}: the archive holds no netCDF cube")
-    runtimes: list[tuple[dict[str, str], int]] = []
+    attrs: list[dict[str, Any]] = []
     with tempfile.TemporaryDirectory(prefix="geardyn-verify-") as tmp:
         for name in cubes:
             local = Path(tmp) / Path(name).name
@@ -246,19 +244,13 @@ def verify(path: str | Path) -> Summary:
             try:
                 with xr.open_dataset(local) as ds:
                     ds.load()
-                    rt = prov.runtime_of(ds.attrs)
+                    attrs.append(dict(ds.attrs))
             except Exception as err:
                 text = str(err).replace(str(local), name).splitlines()
                 raise ArchiveError(
                     f"{where}: {top}/{name} does not open as netCDF ({type(err).__name__}: {text[0] if text else ''})"
                 ) from None
             local.unlink()
-            if rt:
-                known = [k for k, (r, _) in enumerate(runtimes) if r == rt]
-                if known:
-                    runtimes[known[0]] = (rt, runtimes[known[0]][1] + 1)
-                else:
-                    runtimes.append((rt, 1))
     return Summary(
         where,
         str(manifest.get("design", "?")),
@@ -266,5 +258,5 @@ def verify(path: str | Path) -> Summary:
         len(cubes),
         str(manifest.get("geardyn_version", "?")),
         str(manifest.get("git_commit", "?")),
-        tuple(runtimes),
+        tuple(prov.distinct_runtimes(attrs)),
     )

@@ -1,13 +1,6 @@
-"""Command line: ``geardyn check-design PATH [--json]``, ``geardyn check-config PATH`` and
-``geardyn verify-archive PATH``.
-
-``check-design`` is how a user checks a new gear design before launching sweeps: it validates
-the file (one clear line on any problem, exit code 2) and prints the derived geometry and
-stiffness, and whether the design point is feasible and why. ``verify-archive`` checks a results
-archive (``results/<design>_archive.tar.gz``): sha256 sums, nothing missing or added, every cube
-opens (exit code 1 with one line naming the member otherwise), and prints where the cubes were
-computed (Python and library versions, CPU model, SIMD features numpy and numba used).
-"""
+"""Command line: ``geardyn check-design``, ``check-config``, ``new-design`` and ``verify-archive`` (each
+subcommand's help says what it does; exit codes: 0 good, 1 not feasible / archive damaged, 2 invalid input;
+README, A design of your own)."""
 
 from __future__ import annotations
 

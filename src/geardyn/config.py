@@ -127,16 +127,19 @@ def read_yaml(path: str | Path) -> Any:
 MAX_EXPANDED_VALUES = 100_000
 
 
-def expanded_size(data: Any, where: str = "input", sizes: dict[int, int] | None = None) -> int:
+def expanded_size(data: Any, where: str = "input", sizes: dict[int, int] | None = None, finite: bool = False) -> int:
     """The number of values in ``data`` with every alias expanded, computed on the object graph the
     YAML loader built (an alias is the same Python object as its anchor), memoised by object id in
     ``sizes``: the cost is linear in the number of distinct objects, however large the expansion. A
-    structure that contains itself is refused (:class:`ConfigError`)."""
+    structure that contains itself is refused (:class:`ConfigError`); with ``finite``, so are NaN and
+    infinity, which are not values of any key (named by their key)."""
     sizes = {} if sizes is None else sizes
     open_ids: set[int] = set()
 
-    def size(node: Any) -> int:
+    def size(node: Any, path: tuple[Any, ...]) -> int:
         if not isinstance(node, (dict, list)):
+            if finite and isinstance(node, float) and not math.isfinite(node):
+                raise ConfigError(f"{where}: {_key(path)} = {node} is not allowed: a finite number")
             return 1
         key = id(node)
         if key in sizes:
@@ -146,23 +149,23 @@ def expanded_size(data: Any, where: str = "input", sizes: dict[int, int] | None 
                 f"{where}: an alias refers to a mapping or list that contains it: a structure may not contain itself"
             )
         open_ids.add(key)
-        children = list(node.values()) if isinstance(node, dict) else node
-        total = 1 + sum(size(child) for child in children)
+        children = node.items() if isinstance(node, dict) else enumerate(node)
+        total = 1 + sum(size(child, (*path, k)) for k, child in children)
         open_ids.discard(key)
         sizes[key] = total
         return total
 
     try:
-        return size(data)
+        return size(data, ())
     except RecursionError:
         raise ConfigError(f"{where}: the structure is nested too deeply") from None
 
 
-def check_expanded_size(data: Any, where: str) -> None:
+def check_expanded_size(data: Any, where: str, finite: bool = False) -> None:
     """Refuse ``data`` (one line) when its aliases expand to more than :data:`MAX_EXPANDED_VALUES`
-    values, before anything walks the expanded structure."""
+    values, before anything walks the expanded structure (with ``finite``, NaN and infinity too)."""
     sizes: dict[int, int] = {}
-    n = expanded_size(data, where, sizes)
+    n = expanded_size(data, where, sizes, finite)
     if n > MAX_EXPANDED_VALUES:
         # name the top-level key whose value expands most, the last one of equals: an anchor is
         # defined before the key that uses it (the sizes are memoised: no new walk)
@@ -291,8 +294,7 @@ def validate(data: Any, schema_name: str, where: str) -> dict[str, Any]:
         raise ConfigError(f"{where}: the file is empty; expected a mapping of keys to values")
     if not isinstance(data, dict):
         raise ConfigError(f"{where}: expected a mapping of keys to values at the top level, got {_kind_of(data)}")
-    check_expanded_size(data, where)
-    _refuse_non_finite(data, where)
+    check_expanded_size(data, where, finite=True)
     sch = schema(schema_name)
     filled = _fill_defaults(sch, copy.deepcopy(data))
     validator = jsonschema.Draft202012Validator(sch)
@@ -322,18 +324,6 @@ def _kind_of(value: Any) -> str:
     return {list: "a list", str: "a string", int: "a number", float: "a number", bool: "true/false"}.get(
         type(value), type(value).__name__
     )
-
-
-def _refuse_non_finite(node: Any, where: str, path: tuple[Any, ...] = ()) -> None:
-    """NaN and infinity are not values of any key: refuse them with the key's name."""
-    if isinstance(node, dict):
-        for k, v in node.items():
-            _refuse_non_finite(v, where, (*path, k))
-    elif isinstance(node, list):
-        for i, v in enumerate(node):
-            _refuse_non_finite(v, where, (*path, i))
-    elif isinstance(node, float) and not math.isfinite(node):
-        raise ConfigError(f"{where}: {_key(path)} = {node} is not allowed: a finite number")
 
 
 def load_design_dict(path: str | Path) -> dict[str, Any]:

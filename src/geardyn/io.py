@@ -8,7 +8,8 @@ from __future__ import annotations
 import json
 import os
 import tempfile
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -45,29 +46,21 @@ def write_netcdf(
     path: str | os.PathLike[str],
     attrs: Mapping[str, str] | None = None,
     *,
-    require_cf: bool = True,
     checksum: bool = False,
     zlib_level: int = ZLIB_LEVEL,
 ) -> Path:
-    """Write ``ds`` to ``path`` atomically (temporary file + rename) with global ``attrs`` merged in.
-
-    Raises ``ValueError`` if a variable lacks ``units``/``long_name`` and ``require_cf`` is set, so
-    no undocumented file is ever produced. Coordinate variables get no ``_FillValue`` (CF 2.5.1).
-    With ``checksum`` every non-empty numeric variable is stored with HDF5's Fletcher-32 checksum,
-    so that reading it back (:func:`geardyn.quarantine.netcdf_problem`) detects any damaged byte, not only truncation.
-    Every non-scalar numeric variable is compressed losslessly: zlib at ``zlib_level`` (1-9, 0 = off)
-    after HDF5's byte shuffle (which groups the bytes of equal significance of neighbouring values,
-    so slowly varying floats compress).  The global attributes include :func:`runtime_provenance`.
-    """
+    """Write ``ds`` to ``path`` atomically (temporary file + rename) with global ``attrs`` and
+    :func:`runtime_provenance` merged in; refuse a variable without ``units``/``long_name``.
+    Numeric variables: shuffle + zlib at ``zlib_level`` (0 = off), Fletcher-32 with ``checksum``; coordinates
+    without ``_FillValue`` (CF 2.5.1).  Why each: ``docs/operations.md``, Compression and provenance."""
     if not 0 <= zlib_level <= 9:
         raise ValueError(f"zlib_level must be 0 (off) to 9, got {zlib_level}")
     path = Path(path)
     out = ds.copy()
     out.attrs = {**ds.attrs, **(attrs or {}), **runtime_provenance()}
-    if require_cf:
-        missing = missing_cf_attributes(out)
-        if missing:
-            raise ValueError(f"dataset for {path.name} lacks CF attributes: {', '.join(missing)}")
+    missing = missing_cf_attributes(out)
+    if missing:
+        raise ValueError(f"dataset for {path.name} lacks CF attributes: {', '.join(missing)}")
     for name in out.coords:
         if name in out.dims and out[name].dtype.kind == "f":
             out[name].encoding = {**out[name].encoding, "_FillValue": None}
@@ -81,17 +74,26 @@ def write_netcdf(
             if checksum:
                 enc["fletcher32"] = True
             var.encoding = enc
+    with atomic(path) as tmp:
+        out.to_netcdf(tmp, engine="netcdf4")
+    return path
+
+
+@contextmanager
+def atomic(path: str | os.PathLike[str]) -> Iterator[Path]:
+    """A temporary file beside ``path`` for the block to write, renamed to ``path`` when the block ends (and
+    removed if it raises): no reader ever sees a half-written file.  The one writer of every output."""
+    path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     os.close(fd)
     try:
-        out.to_netcdf(tmp, engine="netcdf4")
+        yield Path(tmp)
         os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600: give the file the permissions of any other
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
-    return path
 
 
 def _umask() -> int:
@@ -111,29 +113,18 @@ def provenance_sidecar(path: str | os.PathLike[str]) -> Path:
     return path.with_name(path.name + PROVENANCE_SIDECAR)
 
 
-def write_text(text: str, path: str | os.PathLike[str], *, provenance: bool | None = None) -> Path:
-    """Write a text file atomically (captions, Markdown and CSV tables).
-
-    A table (``provenance`` None and a suffix in :data:`TABLE_SUFFIXES`, or ``provenance=True``) records
-    where it was made (:func:`provenance_text`): a Markdown file ends with it as an HTML comment (not
-    shown when rendered); a CSV or JSON file, which has no comment syntax every reader accepts, gets it
-    in ``<name>.provenance.json`` beside it (:func:`provenance_sidecar`).
-    """
+def write_text(text: str, path: str | os.PathLike[str]) -> Path:
+    """Write a text file atomically (captions, Markdown and CSV tables).  A table (a suffix of
+    :data:`TABLE_SUFFIXES`) records :func:`provenance_text`: Markdown in a closing HTML comment, CSV and JSON
+    (no comment syntax every reader accepts) in :func:`provenance_sidecar`."""
     path = Path(path)
-    if provenance is None:
-        provenance = path.suffix.lower() in TABLE_SUFFIXES and not path.name.endswith(PROVENANCE_SIDECAR)
-    if provenance and path.suffix.lower() == ".md":
+    if path.suffix.lower() == ".md":
         text = text.rstrip("\n") + "\n\n<!-- provenance\n" + provenance_text() + "-->\n"
-    elif provenance:
-        _write_atomic(json.dumps({"file": path.name, **info()}, indent=1) + "\n", provenance_sidecar(path))
-    return _write_atomic(text, path)
-
-
-def _write_atomic(text: str, path: Path) -> Path:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
+    elif path.suffix.lower() in TABLE_SUFFIXES and not path.name.endswith(PROVENANCE_SIDECAR):
+        with atomic(provenance_sidecar(path)) as tmp:
+            tmp.write_text(json.dumps({"file": path.name, **info()}, indent=1) + "\n", encoding="utf-8")
+    with atomic(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
     return path
 
 

@@ -1,11 +1,6 @@
-"""Where and how an output was made: the provenance every result of the pipeline records.
-
-:func:`provenance` gives a dataset's global attributes (CF basics, geardyn version, git commit, config
-hash, model variant, the paper's reference) and :func:`runtime_provenance` where it was computed: Python
-and library versions, CPU model and its SIMD features, the instruction sets numpy dispatches to, the
-OpenBLAS kernels and C math library in use and the CPU numba compiles for.  :mod:`geardyn.io` writes them
-into every netCDF file and table (and re-exports these names).
-"""
+"""Where and how an output was made: :func:`provenance`, a dataset's global attributes (CF basics, version,
+git commit, config hash, model variant, reference), and :func:`runtime_provenance`, where it was computed
+(each key: ``docs/operations.md``).  :mod:`geardyn.io` writes them into every netCDF file and table."""
 
 from __future__ import annotations
 
@@ -18,7 +13,7 @@ import platform
 import re
 import subprocess
 import sys
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from importlib import metadata
 from pathlib import Path
 from typing import Any
@@ -133,6 +128,13 @@ RUNTIME_KEYS = (
 def runtime_of(attrs: Mapping[str, Any]) -> dict[str, str]:
     """The runtime provenance recorded in a file's global attributes (:data:`RUNTIME_KEYS`, ``env_*``)."""
     return {k: str(v) for k, v in attrs.items() if k in RUNTIME_KEYS or k.startswith("env_")}
+
+
+def distinct_runtimes(attrs: Iterable[Mapping[str, Any]]) -> list[tuple[dict[str, str], int]]:
+    """The distinct runtime provenances (:func:`runtime_of`) of several files' global attributes, in the order
+    they first appear, and how many files recorded each (files that recorded none left out)."""
+    found = [rt for rt in map(runtime_of, attrs) if rt]
+    return [(rt, found.count(rt)) for k, rt in enumerate(found) if rt not in found[:k]]
 
 
 @functools.lru_cache(maxsize=1)

@@ -1,9 +1,5 @@
-"""Damaged netCDF files set aside: a merge never reads a truncated or corrupted chunk.
-
-A chunk job writes atomically (:func:`geardyn.io.write_netcdf`), but a machine that dies or a disk that
-fills can still leave a bad file.  :func:`read_chunks` checks every chunk of a merge first
-(:func:`netcdf_problem`), renames the bad ones to ``<name>.damaged`` (:func:`set_aside_damaged`) and
-refuses the merge by name, so that running the same command again recomputes exactly those chunks.
+"""Damaged netCDF files set aside: a merge never reads a truncated or corrupted chunk (``docs/operations.md``,
+Damaged chunk).
 """
 
 from __future__ import annotations
@@ -19,11 +15,8 @@ HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
 
 
 def netcdf_problem(path: str | os.PathLike[str]) -> str | None:
-    """Why the netCDF file ``path`` cannot be trusted (one short line), or ``None`` if it reads back whole.
-
-    Checks the signature, opens the file and reads every variable, which finds truncated and cut files
-    and, for files written with ``checksum=True``, any byte that differs from what was written.
-    """
+    """Why the netCDF file ``path`` cannot be trusted (one short line), or ``None`` if it reads back whole: the
+    signature, then every variable read (with ``checksum=True`` files, any altered byte is found too)."""
     path = Path(path)
     try:
         with open(path, "rb") as fh:
@@ -47,32 +40,16 @@ def netcdf_problem(path: str | os.PathLike[str]) -> str | None:
     return None
 
 
-def set_aside_damaged(paths: list[str]) -> list[str]:
-    """Rename every existing file of ``paths`` that :func:`netcdf_problem` rejects to ``<name>.damaged``.
-
-    A damaged chunk then counts as missing, so Snakemake recomputes it instead of merging it; the
-    damaged copy is kept for inspection.  Returns one line for each file set aside (path and problem).
-    """
+def read_chunks(paths: list[str] | tuple[str, ...]) -> list[xr.Dataset]:
+    """Load the chunk files of a merge (inside the merge job, never while Snakemake plans).  Every existing chunk
+    that :func:`netcdf_problem` rejects is first renamed to ``<name>.damaged`` (kept for inspection), then one
+    ``ValueError`` names them: the chunk is missing, so the same command again recomputes exactly those."""
     moved = []
     for p in paths:
-        if not os.path.exists(p):
-            continue
-        problem = netcdf_problem(p)
-        if problem is None:
-            continue
-        os.replace(p, f"{p}.damaged")
-        moved.append(f"{p} ({problem})")
-    return moved
-
-
-def read_chunks(paths: list[str] | tuple[str, ...]) -> list[xr.Dataset]:
-    """Load the chunk files of a merge; refuse any that does not read back whole.
-
-    Runs inside the merge job (never while Snakemake plans): every damaged chunk is first set aside as
-    ``<name>.damaged`` (kept for inspection), then one ``ValueError`` names them.  The chunk is then
-    missing, so running the same command again recomputes exactly those chunks and merges.
-    """
-    moved = set_aside_damaged(list(paths))
+        problem = netcdf_problem(p) if os.path.exists(p) else None
+        if problem is not None:
+            os.replace(p, f"{p}.damaged")
+            moved.append(f"{p} ({problem})")
     if moved:
         problems = ", ".join(moved)
         raise ValueError(

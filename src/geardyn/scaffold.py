@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 import yaml
 
+from geardyn.classify import bands
 from geardyn.config import ConfigError, schema, validate
 from geardyn.gears import constraints
 from geardyn.gears import geometry as geo
@@ -60,14 +61,9 @@ def admissible_segment(
     for name, value in margins.items():
         if name not in (*CUTTER_DEPENDENT, "overlap_interference"):
             ok &= np.asarray(value) >= 0.0
-    best, start = (0, -1), None
-    for i, good in enumerate(np.append(ok, False)):
-        if good and start is None:
-            start = i
-        elif not good and start is not None:
-            if i - start > best[1] - best[0]:
-                best = (start, i - 1)
-            start = None
+    # the longest run of admissible grid points (the last of equals), by index
+    runs = [(int(a), int(b)) for a, b, good in bands(np.arange(ok.size), ok) if good]
+    best = max(reversed(runs), key=lambda r: r[1] - r[0], default=(0, 0))
     if best[1] <= best[0]:
         raise ConfigError(
             f"z1 = {z1}, z2 = {z2}, m = {module}: no part of line 4 satisfies every constraint; choose another pair"

@@ -111,13 +111,6 @@ def find_attractors(
     return found, where
 
 
-def basin_fractions(attractors: Sequence[Attractor], n_random: int) -> np.ndarray:
-    """Share of the random starts that reached each attractor (NaN without random starts)."""
-    if n_random <= 0:
-        return np.full(len(attractors), np.nan)
-    return np.array([a.n_random / n_random for a in attractors], dtype=float)
-
-
 # ----------------------------------------------------------------------------------------------
 # along a sweep
 # ----------------------------------------------------------------------------------------------
@@ -233,24 +226,28 @@ def attractors_dataset(
     """Attractors at each of ``points`` as one CF dataset (dimension ``point``, the slots of
     :data:`SLOT_VARIABLES` as many as the most attractors at one point)."""
     fixed_names = ["static", "up", "down"] + [f"random_{k}" for k in range(settings.n_random)]
-    found = [_attractors_of(q, settings, integration, classifier) for q in points]
-    na = max([len(a) for _, a, _, _ in found], default=1)
+    starts = [{"static": q.system.static_state(), **q.extra, **random_starts(q.system, settings)} for q in points]
+    found = [
+        find_attractors(q.system, s, settings, integration, classifier) for q, s in zip(points, starts, strict=True)
+    ]
+    na = max([len(atts) for atts, _ in found], default=1)
     per_point = {
-        "parameter": ([q.p for q, *_ in found], np.float64, {"units": units, "long_name": long_name}),
-        "case_index": ([q.case for q, *_ in found], np.int32, _one("index of the sweep case (fixed overrides)")),
-        "sweep_index": ([q.index for q, *_ in found], np.int32, _one("index of the point in the sweep")),
-        "n_attractors": ([len(a) for _, a, _, _ in found], np.int16, _one("number of distinct attractors found")),
-        "n_starts": ([n for *_, n in found], np.int16, _one("number of initial conditions integrated")),
+        "parameter": ([q.p for q in points], np.float64, {"units": units, "long_name": long_name}),
+        "case_index": ([q.case for q in points], np.int32, _one("index of the sweep case (fixed overrides)")),
+        "sweep_index": ([q.index for q in points], np.int32, _one("index of the point in the sweep")),
+        "n_attractors": ([len(atts) for atts, _ in found], np.int16, _one("number of distinct attractors found")),
+        "n_starts": ([len(s) for s in starts], np.int16, _one("number of initial conditions integrated")),
     }
     data = {name: ("point", np.array(v, dtype), attrs) for name, (v, dtype, attrs) in per_point.items()}
-    sizes = {"point": len(found), "attractor": na, "state": len(STATES), "start": len(fixed_names)}
+    sizes = {"point": len(points), "attractor": na, "state": len(STATES), "start": len(fixed_names)}
     for name, (dims, fill, attrs) in SLOT_VARIABLES.items():
         attrs = {**attrs, **classify.flag_attrs(classifier.max_n)} if name == "attractor_label" else dict(attrs)
         data[name] = (dims, np.full([sizes[d] for d in dims], fill), attrs)
-    for r, (_, atts, where, _) in enumerate(found):
-        fr = basin_fractions(atts, settings.n_random)
+    for r, (atts, where) in enumerate(found):
         for k, a in enumerate(atts):
-            values = (a.label, 1, a.centroid, a.size, a.lyapunov, fr[k], len(a.starts))
+            # the share of the random starts that reached it (NaN without random starts)
+            basin = a.n_random / settings.n_random if settings.n_random > 0 else np.nan
+            values = (a.label, 1, a.centroid, a.size, a.lyapunov, basin, len(a.starts))
             for name, value in zip(list(SLOT_VARIABLES)[:-1], values, strict=True):  # reached_from: per start
                 data[name][1][r, k] = value
         data["reached_from"][1][r] = [where.get(name, -1) for name in fixed_names]
@@ -265,19 +262,6 @@ def attractors_dataset(
     attrs["box"] = f"static state +- {s.box_x:g} (displacements), +- {s.box_v:g} (velocities), units b_c"
     attrs.update({k: getattr(s, k) for k in ("transient_periods", "recorded_periods", "distance_tol")})
     return xr.Dataset(data, coords=coords, attrs={**attrs, "chaotic_distance_tol": s.chaotic_distance_tol})
-
-
-def _attractors_of(
-    q: PointStarts,
-    settings: AttractorSettings,
-    integration: SimulationSettings,
-    classifier: classify.ClassifierSettings,
-) -> tuple[PointStarts, list, dict, int]:
-    """The attractors one point's starts reach: (point, attractors, start name -> attractor, starts used)."""
-    starts: dict[str, np.ndarray] = {"static": q.system.static_state(), **q.extra}
-    starts.update(random_starts(q.system, settings))
-    atts, where = find_attractors(q.system, starts, settings, integration, classifier)
-    return q, atts, where, len(starts)
 
 
 def sweep_attractors(

@@ -9,18 +9,6 @@ import xarray as xr
 from geardyn import classify
 from geardyn.runs.cube import labels_of_cube
 
-BAND_COLUMNS = (
-    "case",
-    "direction",
-    "label",
-    "name",
-    "start",
-    "stop",
-    "n_points",
-    "lyapunov_median",
-    "transition_to_next",
-)
-
 
 def band_rows(cube: xr.Dataset) -> list[dict]:
     """Regime bands of a sweep cube: runs of equal labels along the control parameter per (case,
@@ -55,9 +43,10 @@ def band_rows(cube: xr.Dataset) -> list[dict]:
 
 
 def bands_csv(rows: list[dict]) -> str:
-    lines = [",".join(BAND_COLUMNS)]
+    columns = list(rows[0]) if rows else []  # the keys of band_rows, in its order
+    lines = [",".join(columns)]
     for r in rows:
-        lines.append(",".join(f"{r[c]:.6g}" if isinstance(r[c], float) else str(r[c]) for c in BAND_COLUMNS))
+        lines.append(",".join(f"{r[c]:.6g}" if isinstance(r[c], float) else str(r[c]) for c in columns))
     return "\n".join(lines) + "\n"
 
 

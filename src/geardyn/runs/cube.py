@@ -13,8 +13,8 @@ import numpy as np
 import xarray as xr
 
 from geardyn import classify
-from geardyn.io import runtime_provenance
 from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES
+from geardyn.provenance import distinct_runtimes
 from geardyn.solve.response import IMPACT_CLASSES
 
 STATES = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
@@ -190,13 +190,7 @@ def merge_chunks(chunks: Sequence[xr.Dataset]) -> xr.Dataset:
         out.attrs.pop(key, None)
     # where the chunks were computed (a cluster may run them on different CPUs); the merged file's own
     # runtime attributes are those of the merge job (geardyn.io.write_netcdf)
-
-    keys = tuple(runtime_provenance())
-    seen = []
-    for c in chunks:
-        rt = {k: str(c.attrs[k]) for k in keys if k in c.attrs}
-        if rt and rt not in seen:
-            seen.append(rt)
+    seen = [rt for rt, _ in distinct_runtimes(c.attrs for c in chunks)]
     if seen:
         out.attrs["chunks_runtime"] = json.dumps(seen, sort_keys=True)
     if any("wall_time_s" in c.attrs for c in chunks):

@@ -26,15 +26,11 @@ _DIRECT = {"b": "b", "e": "e", "w": "omega"}
 
 
 @dataclass(frozen=True)
-class Axis:
+class Axis(study.Grid):
     parameter: str
     start: float
     stop: float
     num: int
-
-    @property
-    def values(self) -> np.ndarray:
-        return np.linspace(self.start, self.stop, self.num)
 
 
 @dataclass(frozen=True)

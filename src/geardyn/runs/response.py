@@ -36,25 +36,17 @@ CONTINUE_PIECE = 1000
 
 
 @dataclass(frozen=True)
-class ResponseSpec(study.StudySpec):
+class ResponseSpec(study.StudySpec, study.Grid):
     """One frequency response as declared in ``config.yaml`` under ``responses:`` (the shared fields:
-    :class:`StudySpec`; a response follows the attractor, ``start_from: follow``, in one job)."""
+    :class:`StudySpec`; a response follows the attractor, ``start_from: follow``, in one job).  Its limits are the
+    config schema's (0 < start < stop, num >= 3, jump_threshold > 0, jump_floor >= 0; :func:`frequency_response`
+    refuses a grid that does not ascend)."""
 
     start: float
     stop: float
     num: int
     jump_threshold: float = 0.25
     jump_floor: float = 0.05
-
-    def __post_init__(self) -> None:
-        if not (0.0 < self.start < self.stop) or self.num < 3:
-            raise ValueError(f"frequency response: need 0 < start < stop and num >= 3, got {self}")
-        if not (self.jump_threshold > 0.0 and self.jump_floor >= 0.0):
-            raise ValueError("frequency response: jump_threshold > 0 and jump_floor >= 0")
-
-    @property
-    def values(self) -> np.ndarray:
-        return np.linspace(self.start, self.stop, self.num)
 
 
 def find_jumps(

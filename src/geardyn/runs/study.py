@@ -91,6 +91,15 @@ class StudySpec:
         return ",".join(f"{k}={v:g}" for k, v in self.fixed) or "none"
 
 
+class Grid:
+    """The ``values`` of a study's axis: ``num`` values from ``start`` to ``stop``, both included (the fields
+    of the dataclass that takes it)."""
+
+    @property
+    def values(self) -> np.ndarray:
+        return np.linspace(self.start, self.stop, self.num)  # type: ignore[attr-defined]
+
+
 @dataclass
 class Layout:
     """What one run of a study computes.

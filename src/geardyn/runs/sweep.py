@@ -27,7 +27,7 @@ Work = list[tuple[int, int, list[int]]]
 
 
 @dataclass(frozen=True)
-class SweepSpec(study.StudySpec):
+class SweepSpec(study.StudySpec, study.Grid):
     """One sweep as declared in ``config.yaml`` under ``sweeps:`` (the shared fields: :class:`StudySpec`)."""
 
     parameter: str
@@ -41,10 +41,6 @@ class SweepSpec(study.StudySpec):
     def own_fields(cls, spec: Mapping[str, Any]) -> dict[str, Any]:
         """:meth:`StudySpec.own_fields` and the cases (each a tuple of sorted overrides; one without)."""
         return {**super().own_fields(spec), "cases": tuple(tuple(sorted(c.items())) for c in spec.get("cases") or [{}])}
-
-    @property
-    def values(self) -> np.ndarray:
-        return np.linspace(self.start, self.stop, self.num)
 
     @property
     def directions(self) -> tuple[str, ...]:
