@@ -170,23 +170,10 @@ def lane_tables(systems: Sequence[System], settings: SimulationSettings) -> Lane
         if settings.aligned:
             C[lane] = system.kernel_array()
             POLY[lane] = system.stiffness_polys()
-            _batch.fill_tables(
-                lane,
-                float(system.eps),
-                float(system.period),
-                float(system.te_forcing),
-                float(system.phi),
-                POLY[lane],
-                n,
-                H,
-                S,
-                SEG,
-                K,
-                P,
-            )
+            scalars = (float(v) for v in (system.eps, system.period, system.te_forcing, system.phi))
+            _batch.fill_tables(lane, *scalars, POLY[lane], n, H, S, SEG, K, P)
         else:
-            c, h, st, sg, tk, tp, poly = step_tables(system, n, settings.aligned)
-            C[lane], H[lane], S[lane], SEG[lane], K[lane], P[lane], POLY[lane] = c, h, st, sg, tk, tp, poly
+            C[lane], H[lane], S[lane], SEG[lane], K[lane], P[lane], POLY[lane] = step_tables(system, n, False)
     limits = np.stack([divergence_limits(system, settings) for system in systems]) if L else np.empty((0, 6))
     return LaneTables(C, H, S, SEG, K, P, POLY, limits)
 
