@@ -188,12 +188,17 @@ def newton_shooting_batch(
     :func:`geardyn.solve.run.simulate_batch` (each result bit for bit that of the point alone); ``chord``:
     a fixed matrix per point, ``deflate``: a root per point to avoid (``docs/numerics.md``)."""
     s = period_settings(settings, n)
-    tables = lane_tables(systems, s) if tables is None else tables
     caps = [_step_cap(np.asarray(x, dtype=float), step_cap) for x in x0s]
+    # the unfinished points whose rows the lane tables hold, and the tables
+    held = {"points": list(range(len(x0s))), "tables": lane_tables(systems, s) if tables is None else tables}
 
     def evaluate(todo: list[int], xs: list[np.ndarray]) -> list:
-        rows = tables if len(todo) == len(x0s) else tables.take(todo)
-        runs = simulate_batch([systems[i] for i in todo], s, xs, monodromy_periods=0 if chord else n, tables=rows)
+        if len(todo) < len(held["points"]):  # copied only when a point has finished
+            at = {i: k for k, i in enumerate(held["points"])}
+            held.update(points=todo, tables=held["tables"].take([at[i] for i in todo]))
+        runs = simulate_batch(
+            [systems[i] for i in todo], s, xs, monodromy_periods=0 if chord else n, tables=held["tables"]
+        )
         return [
             (None, None) if r.diverged else (r.final_state.copy(), None if chord else r.monodromy.copy()) for r in runs
         ]
