@@ -72,19 +72,10 @@ def constraint_grid(
     return {k: cast(geo.FloatArray, np.broadcast_to(np.asarray(v, dtype=float), shape)) for k, v in out.items()}
 
 
-def constraints(
-    pair: geo.GearPair,
-    *,
-    min_tip_thickness: float = 0.25,
-    min_contact_ratio: float = 1.0,
-    cutter: geo.ShaperCutter | None = None,
-) -> dict[str, float]:
-    """Every constraint of one design as a float margin (>= 0 satisfied); ``min_tip_thickness`` is s_min in
-    modules (0.25 m or 0.4 m are the usual choices)."""
-    grid = constraint_grid(
-        pair, min_tip_thickness=min_tip_thickness, min_contact_ratio=min_contact_ratio, cutter=cutter
-    )
-    return {k: float(v) for k, v in grid.items()}
+def constraints(pair: geo.GearPair, **kwargs: Any) -> dict[str, float]:
+    """Every constraint of one design as a float margin (>= 0 satisfied); ``kwargs``: those of
+    :func:`constraint_grid` (``min_tip_thickness`` is s_min in modules, 0.25 m or 0.4 m the usual choices)."""
+    return {k: float(v) for k, v in constraint_grid(pair, **kwargs).items()}
 
 
 def describe(pair: geo.GearPair, **kwargs: Any) -> dict[str, float]:

@@ -39,6 +39,13 @@ def units_of(name: str) -> str:
 _PARAM_FIELDS = {f.name for f in dataclasses.fields(KHVParameters)} - {"eps", "k_c", "pressure_angle_deg"}
 _OPTION_FIELDS = {f.name for f in dataclasses.fields(Options)}
 _SETTING_FIELDS = {f.name for f in dataclasses.fields(SimulationSettings)}
+#: The control parameters but x1 as (field of :class:`KHVParameters`, its SI value per unit of the control).
+_CONTROL_FIELDS = {
+    "b": ("backlash", B_C),
+    "e": ("te_amplitude", B_C),
+    "w": ("omega_bar", 1.0),
+    "speed": ("input_speed_rpm", 1.0),
+}
 
 
 def _split(dynamics: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any]]:
@@ -69,19 +76,11 @@ def point_model(
         params["z_annulus"] = pair.z2
     params["pressure_angle_deg"] = pair.pressure_angle_deg
     for key, value in overrides.items():
-        if key == "b":
-            params["backlash"] = float(value) * B_C
-        elif key == "e":
-            params["te_amplitude"] = float(value) * B_C
-        elif key == "w":
-            params["omega_bar"] = float(value)
-        elif key == "speed":
-            params["input_speed_rpm"] = float(value)
-        elif key in _PARAM_FIELDS:
-            params[key] = float(value)
-        else:
+        if key not in _CONTROL_FIELDS and key not in _PARAM_FIELDS:
             allowed = ", ".join(sorted(set(CONTROLS) | _PARAM_FIELDS))
             raise ValueError(f"unknown control parameter {key!r}; allowed: {allowed}")
+        field, scale = _CONTROL_FIELDS.get(key, (key, 1.0))
+        params[field] = float(value) * scale
     params = {k: v for k, v in params.items() if v is not None}
     phys = KHVParameters(eps=mesh.contact_ratio, k_c=mesh.k_c, **params)
     return phys, Options(**options), mesh

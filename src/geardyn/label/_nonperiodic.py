@@ -71,7 +71,7 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
         ps, ns = [p for p, _ in periodic], [n for _, n in periodic]
         left = certify(ps, ns, policy, "period_test", "periodic on the continued record")
         for p in left:
-            p.verdict = _undecided(p, p.run, "looks periodic but no stable orbit is found", policy)
+            p.verdict = _undecided(p, "looks periodic but no stable orbit is found", policy)
     rest = [p for p, n in zip(bounded, periods, strict=True) if n == 0]
     for p, v in zip(rest, threaded_map(lambda p: _nonperiodic_verdict(p, policy), rest), strict=True):
         p.verdict = v
@@ -193,7 +193,7 @@ def _at_circle(points: list[Point], policy: Policy) -> None:
                     f"circles a period-{n} orbit with |mu|max = {s.spectral_radius:.6f}, within the stability "
                     "margin of 1: at its bifurcation, to this accuracy"
                 )
-                p.verdict = _undecided(p, p.run, why, policy)
+                p.verdict = _undecided(p, why, policy)
 
 
 def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True) -> None:
@@ -374,26 +374,17 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
             )
     why += f" ({r.poincare.shape[0]} recorded periods)"
     indicators = {"k01": k01, "flatness": flat, "torus_digits": digits, "crosscheck": cross}
-    return _record_verdict(p, r, policy, label, lam, sig, "tangent", stage, why, **indicators)
+    return _record_verdict(p, policy, label, lam, sig, "tangent", stage, why, **indicators)
 
 
-def _undecided(p: Point, r: SimulationResult, why: str, policy: Policy) -> Verdict:
-    return _record_verdict(p, r, policy, UNDET, NAN, NAN, "none", "undecided", why)
+def _undecided(p: Point, why: str, policy: Policy) -> Verdict:
+    return _record_verdict(p, policy, UNDET, NAN, NAN, "none", "undecided", why)
 
 
 def _record_verdict(
-    p: Point,
-    r: SimulationResult,
-    policy: Policy,
-    label: int,
-    lam: float,
-    sig: float,
-    method: str,
-    stage: str,
-    why: str,
-    **indicators: float | int,
+    p: Point, policy: Policy, label: int, lam: float, sig: float, method: str, stage: str, why: str, **indicators: float
 ) -> Verdict:
-    """A verdict of no period read off the record ``r``: its final state, its newest Poincare points, the
+    """A verdict of no period read off the point's record ``p.run``: its final state, its newest Poincare points, the
     response measures of its last ``p.measured`` periods (the sums its run added), the earlier stages' notes
     appended to the reason; ``indicators``: the torus and chaos measures, where computed."""
     if p.notes:
@@ -406,11 +397,11 @@ def _record_verdict(
         method,
         stage,
         why,
-        final_state=r.final_state.copy(),
-        poincare=r.poincare[-record_length(policy) :],
+        final_state=p.run.final_state.copy(),
+        poincare=p.run.poincare[-record_length(policy) :],
         bifurcation=p.bifurcation,
         transient_used=p.transient_used,
-        n_events=int(r.n_events),
-        response=measures_of_sums(r.sums, p.system, p.measured),
+        n_events=int(p.run.n_events),
+        response=measures_of_sums(p.run.sums, p.system, p.measured),
         **indicators,
     )

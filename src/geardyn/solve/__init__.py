@@ -14,20 +14,4 @@ _RUN = (
 ).split()
 __getattr__ = lazy_attributes(__name__, dict.fromkeys(_RUN, "run"))
 
-__all__ = [
-    "LAYOUT",
-    "POINCARE_ERROR",
-    "EarlyStop",
-    "LaneTables",
-    "SimulationResult",
-    "SimulationSettings",
-    "System",
-    "full_batch",
-    "lane_tables",
-    "simulate",
-    "simulate_batch",
-    "step_tables",
-    "strict_period",
-    "strict_periods",
-    "warm_up",
-]
+__all__ = ["LAYOUT", "POINCARE_ERROR", "SimulationResult", "SimulationSettings", "System", *_RUN]

@@ -14,25 +14,11 @@ IntegratorName = Literal["rk4", "rk4_event", "dop853"]
 
 #: Order of the flat coefficient array of :meth:`System.kernel_array` (names of the 3-DOF form).
 LAYOUT: tuple[str, ...] = (
-    "K11",
-    "C11",
-    "G1",
-    "P1",  # row 1: x1 stiffness, damping, mesh coupling, load
-    "K21",
-    "C21",
-    "K23",
-    "C23",  # row 2: couplings of x2 to x1 and x3
-    "K33",
-    "C33",
-    "G3",
-    "P3",  # row 3
-    "CM",
-    "B",
-    "TE",
-    "PHI",
-    "T",  # mesh damping, half backlash, TE forcing amplitude and phase, period
-    "BACKLASH_ON",
-    "EPS",  # 1.0 when the dead zone is active; contact ratio
+    *("K11", "C11", "G1", "P1"),  # row 1: x1 stiffness, damping, mesh coupling, load
+    *("K21", "C21", "K23", "C23"),  # row 2: couplings of x2 to x1 and x3
+    *("K33", "C33", "G3", "P3"),  # row 3
+    *("CM", "B", "TE", "PHI", "T"),  # mesh damping, half backlash, TE forcing amplitude and phase, period
+    *("BACKLASH_ON", "EPS"),  # 1.0 when the dead zone is active; contact ratio
 )
 (K11, C11, G1, P1, K21, C21, K23, C23, K33, C33, G3, P3, CM, B, TE, PHI, T, BACKLASH_ON, EPS) = range(len(LAYOUT))
 

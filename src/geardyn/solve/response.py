@@ -102,11 +102,12 @@ def response_measures(
     return response_measures_many([system], [y0], settings, None if periods is None else [periods])[0]
 
 
-def _periods_of(
+def _runnable(
     systems: Sequence[System], y0s: Sequence[np.ndarray], settings: SimulationSettings, periods: Sequence[int] | None
-) -> list[int]:
-    """Each point's period count (``settings.recorded_periods`` by default), after checking the arguments of
-    the response measures: an RK4 integrator, one start state (and one period count) per system."""
+) -> tuple[list[int], list[np.ndarray], list[int]]:
+    """Each point's period count (``settings.recorded_periods`` by default) and start state, and the points
+    that can run (a finite start state (6,)), after checking the arguments of the response measures: an RK4
+    integrator, one start state (and one period count) per system."""
     if settings.integrator == "dop853":
         raise ValueError("the response measures integrate with 'rk4' or 'rk4_event'")
     if len(y0s) != len(systems) or (periods is not None and len(periods) != len(systems)):
@@ -114,7 +115,8 @@ def _periods_of(
     n_per = [settings.recorded_periods] * len(systems) if periods is None else [int(n) for n in periods]
     if any(n < 1 for n in n_per):
         raise ValueError(f"periods must be >= 1, got {min(n_per)}")
-    return n_per
+    starts = [np.asarray(y0, dtype=float) for y0 in y0s]
+    return n_per, starts, [i for i, y0 in enumerate(starts) if y0.shape == (6,) and np.all(np.isfinite(y0))]
 
 
 def response_measures_many(
@@ -129,14 +131,10 @@ def response_measures_many(
     from geardyn.solve.run import simulate_batch  # noqa: PLC0415 - compiled: not imported by jobs that read results
 
     settings = SimulationSettings() if settings is None else settings
-    n_per = _periods_of(systems, y0s, settings, periods)
-    f_s = [static_mesh_force(system) for system in systems]
-    starts = [np.asarray(y0, dtype=float) for y0 in y0s]
+    n_per, starts, runnable = _runnable(systems, y0s, settings, periods)
     measures: list[ResponseMeasures | None] = [None] * len(systems)
     # the points that can run, those of equal length side by side (a block runs as long as its longest lane)
-    order = sorted(
-        (i for i, y0 in enumerate(starts) if y0.shape == (6,) and np.all(np.isfinite(y0))), key=n_per.__getitem__
-    )
+    order = sorted(runnable, key=n_per.__getitem__)
     for g in range(0, len(order), GROUP):  # groups of points: step tables that stay in the caches
         group = order[g : g + GROUP]
         counts = [n_per[i] for i in group]
@@ -150,6 +148,7 @@ def response_measures_many(
         )
         for i, r in zip(group, runs, strict=True):
             measures[i] = measures_of_sums(r.sums, systems[i], n_per[i])
+    f_s = [static_mesh_force(system) for system in systems]
     return [ResponseMeasures.not_computed(f) if m is None else m for m, f in zip(measures, f_s, strict=True)]
 
 
@@ -223,10 +222,9 @@ def rms_errors_many(
     settings = SimulationSettings() if settings is None else settings
     if blocks < 2:
         raise ValueError(f"batch means need at least 2 blocks, got {blocks}")
-    n_per = _periods_of(systems, y0s, settings, periods)
-    starts = [np.asarray(y0, dtype=float) for y0 in y0s]
+    n_per, starts, runnable = _runnable(systems, y0s, settings, periods)
     out = [RMSErrors.not_computed(min(blocks, n)) for n in n_per]
-    run = [i for i, y0 in enumerate(starts) if n_per[i] >= 2 and y0.shape == (6,) and np.all(np.isfinite(y0))]
+    run = [i for i in runnable if n_per[i] >= 2]
     if not run:
         return out
     records = simulate_batch(

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -74,18 +75,11 @@ def simulate(
     # lanes, and one compiled version serves both (the copies cost nothing next to a run)
     c, *tabs = (np.array(a) for a in step_tables(system, n, settings.aligned))
     n_trans, n_rec = settings.transient_periods, settings.recorded_periods
-    poinc = np.full((n_rec, 6), np.nan)
     stride = max(1, settings.dense_stride)
     nd = (n_rec * n) // stride if dense else 0
     dt = np.empty(nd)
     dy = np.empty((nd, 6))
-    final = np.empty((1, 6))
-    ntr = np.array([n_trans])
-    nrec = np.array([n_rec])
-    mono = np.array([monodromy_periods])
-    m, ntan, W = _tangent_columns(tangent_periods, mono, ntr + nrec)
-    growth = np.full((1, ntan[0] if tangent_periods else 0), np.nan)
-    strobe = np.full((1, ntan[0] if tangent_periods else 0), np.nan)
+    b = _buffers(np.array([n_trans]), np.array([n_rec]), np.array([monodromy_periods]), tangent_periods)
     status, per, nev, ndense, used, stop_n = _kernel.run(
         c,
         tuple(tabs),
@@ -95,19 +89,19 @@ def simulate(
         settings.integrator == "rk4_event",
         divergence_limits(system, settings),
         stride,
-        poinc,
+        b.poinc[0],
         dt,
         dy,
-        W[0],
-        int(ntan[0]),
+        b.W[0],
+        int(b.ntan[0]),
         bool(tangent_periods),
-        growth[0],
-        strobe[0],
-        final[0],
+        b.growth[0],
+        b.strobe[0],
+        b.final[0],
         _kernel.NO_EARLY_STOP,
     )
-    out = (status, per, nev, used, stop_n)
-    r = _lane_result(0, system, settings, out, ntr, nrec, ntan, poinc[None], final, growth, strobe, W, m, mono)
+    b.out[0] = (status, per, nev, used, stop_n)
+    r = _lane_result(0, system, settings, b)
     r.tangent = None  # only simulate_batch hands a tangent on (its tangent_start)
     if dense:
         r.tau, r.states = dt[:ndense], dy[:ndense]
@@ -129,14 +123,8 @@ class EarlyStop:
 
     def as_kernel_args(self) -> tuple[int, int, int, float, float, float]:
         """The early-stop tuple of the compiled loops (``es`` of :func:`geardyn.solve._kernel.run`)."""
-        return (
-            int(self.min_periods),
-            int(self.confirm),
-            int(self.max_n),
-            float(self.floor),
-            float(self.atol),
-            float(self.separation),
-        )
+        v = dataclasses.astuple(self)
+        return (*map(int, v[:3]), *map(float, v[3:]))  # type: ignore[return-value]
 
 
 @dataclass(frozen=True)
@@ -182,23 +170,10 @@ def lane_tables(systems: Sequence[System], settings: SimulationSettings) -> Lane
         if settings.aligned:
             C[lane] = system.kernel_array()
             POLY[lane] = system.stiffness_polys()
-            _batch.fill_tables(
-                lane,
-                float(system.eps),
-                float(system.period),
-                float(system.te_forcing),
-                float(system.phi),
-                POLY[lane],
-                n,
-                H,
-                S,
-                SEG,
-                K,
-                P,
-            )
+            scalars = (float(v) for v in (system.eps, system.period, system.te_forcing, system.phi))
+            _batch.fill_tables(lane, *scalars, POLY[lane], n, H, S, SEG, K, P)
         else:
-            c, h, st, sg, tk, tp, poly = step_tables(system, n, settings.aligned)
-            C[lane], H[lane], S[lane], SEG[lane], K[lane], P[lane], POLY[lane] = c, h, st, sg, tk, tp, poly
+            C[lane], H[lane], S[lane], SEG[lane], K[lane], P[lane], POLY[lane] = step_tables(system, n, False)
     limits = np.stack([divergence_limits(system, settings) for system in systems]) if L else np.empty((0, 6))
     return LaneTables(C, H, S, SEG, K, P, POLY, limits)
 
@@ -219,6 +194,35 @@ def _tangent_columns(tangent_periods: int, mono: np.ndarray, total: np.ndarray) 
         W[:, range(6), range(6)] = 1.0
         return 6, np.minimum(mono, total), W
     return 0, np.zeros(L, np.int64), np.empty((L, 6, 0))
+
+
+@dataclass
+class _Buffers:
+    """The per-point periods and the loops' output arrays of a batch of L points (:func:`_buffers`): the
+    Poincare records, final states, tangent columns W and their growth and strobe, and ``out`` (L, 5): status,
+    period reached, contact switches, transient used, period of the early stop."""
+
+    ntr: np.ndarray
+    nrec: np.ndarray
+    mono: np.ndarray
+    m: int
+    ntan: np.ndarray
+    W: np.ndarray
+    growth: np.ndarray
+    strobe: np.ndarray
+    poinc: np.ndarray
+    final: np.ndarray
+    out: np.ndarray
+
+
+def _buffers(ntr: np.ndarray, nrec: np.ndarray, mono: np.ndarray, tangent_periods: int) -> _Buffers:
+    """The :class:`_Buffers` of points with transient, recorded and monodromy periods (L,) each."""
+    L = ntr.shape[0]
+    m, ntan, W = _tangent_columns(tangent_periods, mono, ntr + nrec)
+    ng = int(ntan.max()) if tangent_periods else 0
+    growth, strobe = np.full((L, ng), np.nan), np.full((L, ng), np.nan)
+    poinc = np.full((L, int(nrec.max()), 6), np.nan)
+    return _Buffers(ntr, nrec, mono, m, ntan, W, growth, strobe, poinc, np.empty((L, 6)), np.zeros((L, 5), np.int64))
 
 
 def full_batch() -> int:
@@ -253,47 +257,31 @@ def _start_states(systems: Sequence[System], x0) -> np.ndarray:
     return Y0
 
 
-def _lane_result(
-    lane: int,
-    system: System,
-    settings: SimulationSettings,
-    out: np.ndarray,
-    ntr,
-    nrec,
-    ntan,
-    poinc,
-    final,
-    growth,
-    strobe,
-    W,
-    m: int,
-    mono,
-) -> SimulationResult:
-    """The :class:`SimulationResult` of lane ``lane`` of a batch from the loops' outputs (``out``: status,
-    period reached, contact switches, transient used, period of the early stop)."""
-    status, per, nev, used, stop_n = (int(v) for v in out)
+def _lane_result(lane: int, system: System, settings: SimulationSettings, b: _Buffers) -> SimulationResult:
+    """The :class:`SimulationResult` of lane ``lane`` of a batch from the loops' outputs."""
+    status, per, nev, used, stop_n = (int(v) for v in b.out[lane])
     diverged = status == 1
-    npts = max(0, per - used) if diverged else int(nrec[lane])
-    tan_start = int(ntr[lane] + nrec[lane] - ntan[lane])
+    npts = max(0, per - used) if diverged else int(b.nrec[lane])
+    tan_start = int(b.ntr[lane] + b.nrec[lane] - b.ntan[lane])
     if stop_n:
         ngrowth = 0
     else:
-        ngrowth = max(0, per - tan_start) if diverged else int(ntan[lane])
-    tangent = m == 1
+        ngrowth = max(0, per - tan_start) if diverged else int(b.ntan[lane])
+    tangent = b.m == 1
     return SimulationResult(
-        poincare=poinc[lane, :npts],
-        final_state=final[lane],
+        poincare=b.poinc[lane, :npts],
+        final_state=b.final[lane],
         diverged=diverged,
         diverged_period=per if diverged else -1,
         n_events=nev,
         period=system.period,
         settings=settings,
-        growth=growth[lane, :ngrowth] if tangent else np.zeros(0),
-        strobe=strobe[lane, :ngrowth] if tangent else np.zeros(0),
-        monodromy=W[lane] if (m == 6 and mono[lane] and not diverged) else None,
+        growth=b.growth[lane, :ngrowth] if tangent else np.zeros(0),
+        strobe=b.strobe[lane, :ngrowth] if tangent else np.zeros(0),
+        monodromy=b.W[lane] if (b.m == 6 and b.mono[lane] and not diverged) else None,
         transient_used=used,
         stop_period=stop_n,
-        tangent=W[lane, :, 0].copy() if tangent else None,
+        tangent=b.W[lane, :, 0].copy() if tangent else None,
     )
 
 
@@ -331,37 +319,25 @@ def simulate_batch(
         raise ValueError(f"lane tables for {lt.H.shape[0]} points of {lt.H.shape[1]} steps, not {L} of {n}")
     C, TABS, limits = lt.C, (lt.H, lt.S, lt.SEG, lt.K, lt.P, lt.POLY), lt.limits
     Y0 = _start_states(systems, x0)
-    m, ntan, W = _tangent_columns(tangent_periods, mono, ntr + nrec)
+    b = _buffers(ntr, nrec, mono, tangent_periods)
     if tangent_start is not None:
-        if m != 1:
+        if b.m != 1:
             raise ValueError("tangent_start needs tangent_periods")
         for lane, w in enumerate(tangent_start):
             if w is not None:
-                W[lane, :, 0] = w
-    ng = int(ntan.max()) if tangent_periods else 0
-    growth = np.full((L, ng), np.nan)
-    strobe = np.full((L, ng), np.nan)
-    poinc = np.full((L, int(nrec.max()), 6), np.nan)
-    final = np.empty((L, 6))
-    out = np.zeros((L, 5), np.int64)
+                b.W[lane, :, 0] = w
     es = _kernel.NO_EARLY_STOP if early_stop is None else early_stop.as_kernel_args()
     event = settings.integrator == "rk4_event"
-    tan = bool(tangent_periods)
-    acc, sgn, last = _sums(systems, sums_last, sums_start, m)
-    k = (L if sums_last is not None else _blocked_lanes(L)) if m <= 1 else 0
-    arrays = (C, TABS, Y0, ntr, nrec, limits, poinc, final, out, W, ntan, growth, strobe, acc, sgn, last)
+    acc, sgn, last = _sums(systems, sums_last, sums_start, b.m)
+    k = (L if sums_last is not None else _blocked_lanes(L)) if b.m <= 1 else 0
+    arrays = (C, TABS, Y0, ntr, nrec, limits, b.poinc, b.final, b.out, b.W, b.ntan, b.growth, b.strobe, acc, sgn, last)
     if k:
         c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb, ac, sg, la = _lanes(arrays, slice(0, k))
         _batch.run_blocks(c, tabs, y0, nt, nr, event, lim, po, fi, es, ou, w, na, gr, sb, ac, sg, la)
     if k < L:
         c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb, _, _, _ = _lanes(arrays, slice(k, L))
-        _batch.run_batch(c, tabs, y0, nt, nr, event, lim, w, na, tan, gr, sb, po, fi, es, ou)
-    results = [
-        _lane_result(
-            lane, systems[lane], settings, out[lane], ntr, nrec, ntan, poinc, final, growth, strobe, W, m, mono
-        )
-        for lane in range(L)
-    ]
+        _batch.run_batch(c, tabs, y0, nt, nr, event, lim, w, na, bool(tangent_periods), gr, sb, po, fi, es, ou)
+    results = [_lane_result(lane, systems[lane], settings, b) for lane in range(L)]
     if sums_last is not None:
         for r, a, n in zip(results, acc, last, strict=True):
             r.sums = a.copy() if n > 0 else None

@@ -4,6 +4,7 @@ is never silent (:class:`ShootingResult`; the method: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -92,15 +93,13 @@ def _result(x: np.ndarray, n: int, ok: bool, status: str, it: int, res: float, M
     return ShootingResult(x, n, ok, status, it, res, M, sorted_multipliers(M))
 
 
-def _newton_next(
-    xs: list[np.ndarray], phis: list[np.ndarray], Ms: list[np.ndarray], caps: list[float], n: int, it: int
-) -> list[np.ndarray | ShootingResult]:
-    """The next Newton iterates x - (M - I)^-1 (phi - x), each step capped at its ``cap`` (max norm), of
-    points whose iteration goes on, by one stacked solve (the same LAPACK call per point as alone); a
-    point whose M - I is singular gets its ``singular`` :class:`ShootingResult` instead."""
-    X = np.stack(xs)
-    F = np.stack(phis) - X
-    A = np.stack(Ms) - np.eye(X.shape[1])
+def _newton_next(go: list[tuple[int, np.ndarray, np.ndarray, np.ndarray]], it: int, n: int, caps: list[float]) -> list:
+    """The next Newton iterates x - (M - I)^-1 (phi - x) of the points ``go`` ((point, x, phi, M) each), each
+    step capped at ``caps[point]`` (max norm), by one stacked solve (the same LAPACK call per point as alone);
+    a point whose M - I is singular gets its ``singular`` :class:`ShootingResult` instead."""
+    X = np.stack([x for _, x, _, _ in go])
+    F = np.stack([phi for _, _, phi, _ in go]) - X
+    A = np.stack([M for _, _, _, M in go]) - np.eye(X.shape[1])
     try:
         dx = list(np.linalg.solve(A, -F[:, :, None])[:, :, 0])
     except np.linalg.LinAlgError:  # a singular matrix among them: find it, point by point
@@ -111,19 +110,48 @@ def _newton_next(
             except np.linalg.LinAlgError:
                 dx.append(None)
     out: list[np.ndarray | ShootingResult] = []
-    for x, f, M, d, cap in zip(xs, F, Ms, dx, caps, strict=True):
+    for (i, x, _, M), f, d in zip(go, F, dx, strict=True):
         if d is None:
             out.append(ShootingResult(x, n, False, "singular", it, float(np.max(np.abs(f))), M, sorted_multipliers(M)))
             continue
         step = float(np.max(np.abs(d)))
-        if step > cap:
-            d *= cap / step
+        if step > caps[i]:
+            d *= caps[i] / step
         out.append(x + d)
     return out
 
 
 def _step_cap(x0: np.ndarray, factor: float = 10.0) -> float:
     return factor * max(1.0, float(np.max(np.abs(x0))))
+
+
+def _iterate(
+    evaluate: Callable, step: Callable, x0s: list, n: int, tol: float, max_iter: int, max_growth: float
+) -> list:
+    """The shooting iteration of the points from ``x0s``, scalar or batch: each iteration evaluates the
+    unfinished points together (``evaluate(points, xs)``: (phi(x), M(x) or None) each), ends those that
+    :func:`_newton_end` ends and steps the others (``step(go, it)``, go: (point, x, phi, M) each)."""
+    xs = [np.asarray(x, dtype=float).copy() for x in x0s]
+    previous = [math.inf] * len(xs)
+    out: list[ShootingResult | None] = [None] * len(xs)
+    todo = list(range(len(xs)))  # the unfinished points
+    for it in range(max_iter + 1):
+        go = []  # (point, x, phi, M) of the points whose iteration goes on
+        for i, (phi, M) in zip(todo, evaluate(todo, [xs[i] for i in todo]) if todo else [], strict=True):
+            growth_first = M is None  # a chord iteration stops on a growing residual before convergence
+            end, previous[i] = _newton_end(xs[i], phi, M, n, tol, it, max_iter, max_growth, previous[i], growth_first)
+            if end is None:
+                go.append((i, xs[i], phi, M))
+            else:
+                out[i] = end
+        todo = []
+        for (i, _, _, _), x in zip(go, step(go, it) if go else [], strict=True):
+            if isinstance(x, ShootingResult):
+                out[i] = x
+            else:
+                xs[i] = x
+                todo.append(i)
+    return out
 
 
 def newton_shooting(
@@ -136,19 +164,9 @@ def newton_shooting(
 ) -> ShootingResult:
     """Newton on F(x) = phi(x) - x from x0: converged when max |F| <= tol max(1, max |x|), the step capped
     at 10 max(1, max |x0|), stopped when the residual grows ``max_growth`` times (``docs/numerics.md``)."""
-    x = np.asarray(x0, dtype=float).copy()
-    cap = _step_cap(x)
-    previous = math.inf
-    for it in range(max_iter + 1):
-        phi, M = flow(x, True)
-        end, previous = _newton_end(x, phi, M, n, tol, it, max_iter, max_growth, previous)
-        if end is not None:
-            return end
-        nxt = _newton_next([x], [phi], [M], [cap], n, it)[0]
-        if isinstance(nxt, ShootingResult):
-            return nxt
-        x = nxt
-    raise AssertionError("unreachable: the last iteration returns")  # pragma: no cover
+    caps = [_step_cap(np.asarray(x0, dtype=float))]
+    step = functools.partial(_newton_next, caps=caps, n=n)
+    return _iterate(lambda _, xs: [flow(xs[0], True)], step, [x0], n, tol, max_iter, max_growth)[0]
 
 
 def newton_shooting_batch(
@@ -170,57 +188,29 @@ def newton_shooting_batch(
     :func:`geardyn.solve.run.simulate_batch` (each result bit for bit that of the point alone); ``chord``:
     a fixed matrix per point, ``deflate``: a root per point to avoid (``docs/numerics.md``)."""
     s = period_settings(settings, n)
-    tables = lane_tables(systems, s) if tables is None else tables
-    xs = [np.asarray(x, dtype=float).copy() for x in x0s]
-    caps = [_step_cap(x, step_cap) for x in xs]
-    previous = [math.inf] * len(xs)
-    out: list[ShootingResult | None] = [None] * len(xs)
-    todo = list(range(len(xs)))  # the unfinished points; ``tables`` holds their rows, in this order
-    for it in range(max_iter + 1):
-        if not todo:
-            break
+    caps = [_step_cap(np.asarray(x, dtype=float), step_cap) for x in x0s]
+    # the unfinished points whose rows the lane tables hold, and the tables
+    held = {"points": list(range(len(x0s))), "tables": lane_tables(systems, s) if tables is None else tables}
+
+    def evaluate(todo: list[int], xs: list[np.ndarray]) -> list:
+        if len(todo) < len(held["points"]):  # copied only when a point has finished
+            at = {i: k for k, i in enumerate(held["points"])}
+            held.update(points=todo, tables=held["tables"].take([at[i] for i in todo]))
         runs = simulate_batch(
-            [systems[i] for i in todo], s, [xs[i] for i in todo], monodromy_periods=0 if chord else n, tables=tables
+            [systems[i] for i in todo], s, xs, monodromy_periods=0 if chord else n, tables=held["tables"]
         )
-        go = []  # (position in todo, phi, M) of the points whose iteration goes on
-        for k, (i, r) in enumerate(zip(todo, runs, strict=True)):
-            phi, M = (None, None) if r.diverged else (r.final_state.copy(), None if chord else r.monodromy.copy())
-            end, previous[i] = _newton_end(
-                xs[i], phi, M, n, tol, it, max_iter, max_growth, previous[i], growth_first=chord is not None
-            )
-            if end is None:
-                go.append((k, phi, M))
-            else:
-                out[i] = end
-        if not go:
-            nxt = []
-        elif chord is not None:
-            nxt = [xs[todo[k]] - chord[todo[k]] @ (phi - xs[todo[k]]) for k, phi, _ in go]
-        elif deflate is not None:
-            nxt = [
-                _deflated_step(xs[todo[k]], phi, M, deflate[todo[k]], deflation_shift, step_cap, n, it)
-                for k, phi, M in go
-            ]
-        else:
-            nxt = _newton_next(
-                [xs[todo[k]] for k, _, _ in go],
-                [phi for _, phi, _ in go],
-                [M for _, _, M in go],
-                [caps[todo[k]] for k, _, _ in go],
-                n,
-                it,
-            )
-        left = []
-        for (k, _, _), x in zip(go, nxt, strict=True):
-            if isinstance(x, ShootingResult):
-                out[todo[k]] = x
-            else:
-                xs[todo[k]] = x
-                left.append(k)
-        if len(left) < len(todo):
-            tables = tables.take(left)  # copied only when a point has finished
-        todo = [todo[k] for k in left]
-    return out  # type: ignore[return-value]
+        return [
+            (None, None) if r.diverged else (r.final_state.copy(), None if chord else r.monodromy.copy()) for r in runs
+        ]
+
+    def step(go: list, it: int) -> list:
+        if chord is not None:
+            return [x - chord[i] @ (phi - x) for i, x, phi, _ in go]
+        if deflate is not None:
+            return [_deflated_step(x, phi, M, deflate[i], deflation_shift, step_cap, n, it) for i, x, phi, M in go]
+        return _newton_next(go, it, n, caps)
+
+    return _iterate(evaluate, step, x0s, n, tol, max_iter, max_growth)
 
 
 def _deflated_step(
