@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from types import ModuleType
 from typing import Any
 
@@ -201,19 +201,11 @@ def paper_transitions(paper: ModuleType) -> dict[str, float]:
 TRANSITION_SCALE = 0.1
 
 
-@dataclass
-class Score:
-    score: float
-    agree: int
-    partial: float
-    transitions: dict[str, float]
-    order: str
-    rows: list = field(default_factory=list)
-
-
-def score_labels(paper: ModuleType, lab: CandidateLabels) -> Score:
+def score_labels(paper: ModuleType, lab: CandidateLabels) -> dict[str, Any]:
     """Score of a candidate's labels: claims that agree (:func:`geardyn.claims.evaluate`) plus the
-    partial credit (module docstring) along the paper's main line (``CALIBRATION["line"]``)."""
+    partial credit (module docstring) along the paper's main line (``CALIBRATION["line"]``), as the
+    scored fields of a :class:`~geardyn.khv.calibrate.records.Record` (score, agree, partial,
+    transitions, order, verdicts)."""
     rows = claims_mod.evaluate(paper, lab)
     agree = sum(r.verdict == "agree" for r in rows)
     # a borderline claim (a fraction within its statistical uncertainty of the threshold,
@@ -225,4 +217,7 @@ def score_labels(paper: ModuleType, lab: CandidateLabels) -> Score:
     ours, want = regime_string(main.labels), paper_regime_string(paper)
     parts.append(lcs(ours, want) / len(want))
     partial = float(np.mean(parts))
-    return Score(agree + half + 0.99 * partial, agree, partial, tr, ours, rows)
+    verdicts = {r.id: r.verdict for r in rows}
+    return dict(
+        score=agree + half + 0.99 * partial, agree=agree, partial=partial, transitions=tr, order=ours, verdicts=verdicts
+    )
