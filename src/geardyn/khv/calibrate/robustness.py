@@ -81,12 +81,7 @@ def one_at_a_time(
             "unknown": cf("unknown", space.names, "1", "searched unknown"),
             "step": cf("step", np.array(signed), "1", "relative move of the unknown"),
         },
-        attrs={
-            "base_score": base.score,
-            "base_agree": base.agree,
-            "base_leave_p1": base.transitions["leave_p1"],
-            "base_first_chaos": base.transitions["first_chaos"],
-        },
+        attrs={f"base_{name}": value(base) for name, (value, _) in MEASURES.items()},
     )
 
 
