@@ -1,5 +1,6 @@
 """Adapter: global search of a paper design's unknowns, scored by the paper's claims (resumes from its cache)."""
 
+import dataclasses
 import json
 import time
 from pathlib import Path
@@ -23,15 +24,7 @@ best, ev = calibrate.search(problem, cache, init=start, workers=snakemake.thread
 wall = time.time() - t0
 records = ev.searched()  # this search's candidates (the cache may hold others)
 # the best few again at the design's own integration settings and the default classifier
-full = calibrate.Problem(
-    problem.design,
-    problem.paper,
-    problem.space,
-    problem.grids,
-    Policy(point.integration_settings(drive)),
-    problem.fixed,
-    problem.require,
-)
+full = dataclasses.replace(problem, policy=Policy(point.integration_settings(drive)))
 with calibrate.Evaluator(
     full, cache.with_name(f"{snakemake.wildcards.calibration}_verify_cache.jsonl"), snakemake.threads
 ) as vev:

@@ -5,13 +5,11 @@ distance in the search's unit cube and the score difference, compared as conclus
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from geardyn.khv.calibrate.products import RESULT_PREFIX
 from geardyn.khv.calibrate.space import SearchSpace
 
 #: Largest distance of one unknown, as a fraction of its search range, for "the same optimum": well
@@ -20,14 +18,6 @@ from geardyn.khv.calibrate.space import SearchSpace
 UNIT_TOLERANCE = 0.05
 #: Largest score difference for "the same optimum": less than one claim.
 SCORE_TOLERANCE = 0.99
-
-
-def result_of(design_text: str) -> dict[str, Any]:
-    """The search-result JSON line of a calibrated design file (``# search-result: {...}``)."""
-    for line in design_text.splitlines():
-        if line.startswith(RESULT_PREFIX):
-            return dict(json.loads(line[len(RESULT_PREFIX) :]))
-    raise ValueError(f"not a calibrated design file: no line starting with {RESULT_PREFIX.strip()!r}")
 
 
 @dataclass(frozen=True)
@@ -79,7 +69,7 @@ class Comparison:
 
 
 def compare(committed: Mapping[str, Any], found: Mapping[str, Any], space: SearchSpace) -> Comparison:
-    """Compare two search results (:func:`result_of`, or ``calibrate.search_result``) over ``space``.
+    """Compare two search results (``calibrate.result_of`` or ``calibrate.search_result``) over ``space``.
 
     Raises ``ValueError`` when they searched different unknowns (not comparable)."""
     cv, fv = committed["values"], found["values"]

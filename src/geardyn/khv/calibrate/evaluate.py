@@ -42,18 +42,12 @@ def evaluate_candidate(problem: Problem, unit: Sequence[float]) -> Record:
     paper = paper_of(problem.paper) if isinstance(problem.paper, str) else problem.paper
     values = problem.space.values(unit)
     lab = candidate_labels(problem.design, {**problem.fixed, **values}, problem.grids, problem.policy)
-    sc = score_labels(paper, lab)
     return Record(
         key=cache_key(unit),
         unit=[float(x) for x in unit],
         values=values,
-        score=sc.score,
-        agree=sc.agree,
-        partial=sc.partial,
-        transitions=sc.transitions,
-        order=sc.order,
-        verdicts={r.id: r.verdict for r in sc.rows},
         labels={role: _label_lists(lines) for role, lines in lab.items()},
+        **score_labels(paper, lab),
     )
 
 

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from types import ModuleType
 from typing import Any
 
@@ -67,43 +67,29 @@ class Grids:
         return sum(line.values.size * max(1, len(line.cases)) for line in self.lines.values())
 
 
-def label_tracks(
-    design: KHVDesign, tracks: Sequence[tuple[Mapping[str, float], str, Sequence[float]]], policy: Policy
-) -> list[claims_mod.Track]:
-    """Labels along each track (overrides, swept parameter, values): every track is a line of the one
-    labeller (:func:`geardyn.label.label_lines`), all tracks advancing together; each point's label
-    depends only on its own track."""
-    lines = [
-        [point.point_coefficients(design, {**over, par: float(v)}) for v in values] for over, par, values in tracks
-    ]
-    out = label_lines(lines, policy)
-    return [
-        claims_mod.Track(
-            np.asarray(values, float),
-            np.array([v.label for v in vs], np.int16),
-            np.array([v.exponent for v in vs], float),
-            np.array([v.exponent_sigma for v in vs], float),
-        )
-        for (_, _, values), vs in zip(tracks, out, strict=True)
-    ]
-
-
 #: A candidate's labelled lines, by role: a :class:`~geardyn.claims.Track`, or {case value: Track} for a
 #: family of lines (what :func:`geardyn.claims.evaluate` reads).
 CandidateLabels = dict
 
 
 def candidate_labels(design: KHVDesign, values: Mapping[str, float], grids: Grids, policy: Policy) -> CandidateLabels:
-    """The labelled lines of one candidate (overrides ``values``), all labelled together."""
-    base = dict(values)
-    tracks, where = [], []
+    """The labelled lines of one candidate (overrides ``values``): every line is a line of the one labeller
+    (:func:`geardyn.label.label_lines`), all advancing together; each point's label depends only on its
+    own line."""
+    where, lines = [], []
     for role, line in grids.lines.items():
         for case in line.cases or (None,):
-            over = {**base, **line.fixed, **({line.case_parameter: case} if case is not None else {})}
-            tracks.append((over, line.parameter, line.values))
-            where.append((role, case))
+            over = {**values, **line.fixed, **({line.case_parameter: case} if case is not None else {})}
+            lines.append([point.point_coefficients(design, {**over, line.parameter: float(v)}) for v in line.values])
+            where.append((role, case, line.values))
     out: CandidateLabels = {}
-    for (role, case), track in zip(where, label_tracks(design, tracks, policy), strict=True):
+    for (role, case, x), vs in zip(where, label_lines(lines, policy), strict=True):
+        track = claims_mod.Track(
+            np.asarray(x, float),
+            np.array([v.label for v in vs], np.int16),
+            np.array([v.exponent for v in vs], float),
+            np.array([v.exponent_sigma for v in vs], float),
+        )
         if case is None:
             out[role] = track
         else:
@@ -201,19 +187,11 @@ def paper_transitions(paper: ModuleType) -> dict[str, float]:
 TRANSITION_SCALE = 0.1
 
 
-@dataclass
-class Score:
-    score: float
-    agree: int
-    partial: float
-    transitions: dict[str, float]
-    order: str
-    rows: list = field(default_factory=list)
-
-
-def score_labels(paper: ModuleType, lab: CandidateLabels) -> Score:
+def score_labels(paper: ModuleType, lab: CandidateLabels) -> dict[str, Any]:
     """Score of a candidate's labels: claims that agree (:func:`geardyn.claims.evaluate`) plus the
-    partial credit (module docstring) along the paper's main line (``CALIBRATION["line"]``)."""
+    partial credit (module docstring) along the paper's main line (``CALIBRATION["line"]``), as the
+    scored fields of a :class:`~geardyn.khv.calibrate.records.Record` (score, agree, partial,
+    transitions, order, verdicts)."""
     rows = claims_mod.evaluate(paper, lab)
     agree = sum(r.verdict == "agree" for r in rows)
     # a borderline claim (a fraction within its statistical uncertainty of the threshold,
@@ -225,4 +203,7 @@ def score_labels(paper: ModuleType, lab: CandidateLabels) -> Score:
     ours, want = regime_string(main.labels), paper_regime_string(paper)
     parts.append(lcs(ours, want) / len(want))
     partial = float(np.mean(parts))
-    return Score(agree + half + 0.99 * partial, agree, partial, tr, ours, rows)
+    verdicts = {r.id: r.verdict for r in rows}
+    return dict(
+        score=agree + half + 0.99 * partial, agree=agree, partial=partial, transitions=tr, order=ours, verdicts=verdicts
+    )

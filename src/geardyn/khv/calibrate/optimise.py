@@ -15,7 +15,7 @@ from geardyn.khv import point
 from geardyn.khv.calibrate.evaluate import Evaluator, Problem
 from geardyn.khv.calibrate.objective import Grids, ranked_score
 from geardyn.khv.calibrate.records import Record
-from geardyn.khv.calibrate.space import SearchSpace, interior, perturbed
+from geardyn.khv.calibrate.space import SearchSpace, interior
 from geardyn.khv.design import KHVDesign
 from geardyn.label import Policy
 from geardyn.papers import paper_of
@@ -33,8 +33,7 @@ def refine(
     steps = sorted(steps, reverse=True)
     rank = functools.partial(ranked_score, require=evaluator.problem.require)
     while k < len(steps) and done < rounds:
-        moves = [{u.name: perturbed(best.values[u.name], u, s * steps[k])} for u in space.unknowns for s in (-1.0, 1.0)]
-        recs = evaluator.records(space.moved(best.values, moves))
+        recs = evaluator.records(space.one_at_a_time(best.values, (-steps[k], steps[k])))
         cand = max(recs, key=rank)
         if rank(cand) > rank(best):
             best, done = cand, done + 1

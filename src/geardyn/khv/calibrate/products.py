@@ -132,13 +132,17 @@ def search_design_text(source: str, name: str, result: Mapping[str, Any]) -> str
     return header + yaml.safe_dump(data, sort_keys=False)
 
 
+def result_of(design_text: str) -> dict[str, Any]:
+    """The search-result JSON line of a calibrated design file (``# search-result: {...}``)."""
+    for line in design_text.splitlines():
+        if line.startswith(RESULT_PREFIX):
+            return dict(json.loads(line[len(RESULT_PREFIX) :]))
+    raise ValueError(f"not a calibrated design file: no line starting with {RESULT_PREFIX.strip()!r}")
+
+
 def design_text_from_file(text: str, source: str) -> str:
     """Regenerate a calibrated design file from its own search-result line and the source design."""
-
-    line = next(ln for ln in text.splitlines() if ln.startswith(RESULT_PREFIX))
-    result = json.loads(line[len(RESULT_PREFIX) :])
-    name = yaml.safe_load(text)["name"]
-    return search_design_text(source, name, result)
+    return search_design_text(source, yaml.safe_load(text)["name"], result_of(text))
 
 
 def design_values(design: KHVDesign, space: SearchSpace) -> dict[str, float]:

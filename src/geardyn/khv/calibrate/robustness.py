@@ -65,8 +65,7 @@ def one_at_a_time(
 ) -> xr.Dataset:
     """Each unknown moved by each relative step of ``signed`` (the others at ``best_values``): score,
     agreeing claims, transitions along x1, and whether any verdict or label along x1 changed."""
-    moves = [{u.name: perturbed(best_values[u.name], u, st)} for u in space.unknowns for st in signed]
-    recs = evaluator.records(space.moved(best_values, moves))
+    recs = evaluator.records(space.one_at_a_time(best_values, signed))
     main = evaluator.problem.grids.main
     measures = {
         **MEASURES,
@@ -82,12 +81,7 @@ def one_at_a_time(
             "unknown": cf("unknown", space.names, "1", "searched unknown"),
             "step": cf("step", np.array(signed), "1", "relative move of the unknown"),
         },
-        attrs={
-            "base_score": base.score,
-            "base_agree": base.agree,
-            "base_leave_p1": base.transitions["leave_p1"],
-            "base_first_chaos": base.transitions["first_chaos"],
-        },
+        attrs={f"base_{name}": value(base) for name, (value, _) in MEASURES.items()},
     )
 
 

@@ -63,6 +63,11 @@ class SearchSpace:
         """The unit vectors of ``values`` with each of ``changes`` applied (the candidates of a local study)."""
         return [list(self.unit({**values, **change})) for change in changes]
 
+    def one_at_a_time(self, values: Mapping[str, float], steps: Sequence[float]) -> list[list[float]]:
+        """The unit vectors of ``values`` with each unknown in turn moved by each relative step
+        (:func:`perturbed`), unknown by unknown."""
+        return self.moved(values, [{u.name: perturbed(values[u.name], u, s)} for u in self.unknowns for s in steps])
+
 
 def perturbed(value: float, unknown: Unknown, step: float) -> float:
     """``value`` moved by the relative ``step`` (e.g. -0.1); a phase (or any value at 0) moves by
