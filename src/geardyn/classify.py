@@ -201,3 +201,20 @@ def strict_period(p: np.ndarray, settings: ClassifierSettings = ClassifierSettin
         settings.separation,
     )
     return n
+
+
+def strict_periods(records: list[np.ndarray], settings: ClassifierSettings = ClassifierSettings()) -> list[int]:
+    """Rule 3 (:func:`strict_period`, compiled) on many records (m_i, 6) at once: each record's period, 0 for
+    one with a NaN row or fewer than 3 points (:func:`geardyn.solve.run.strict_periods`)."""
+
+    from geardyn.solve.run import strict_periods as rule3  # noqa: PLC0415 - numba: only labelling jobs
+
+    pts = np.zeros((len(records), max([p.shape[0] for p in records] + [0]), 6))
+    npts = np.zeros(len(records), np.int64)
+    for i, p in enumerate(records):
+        if p.shape[0] and not np.isnan(p).any():
+            pts[i, : p.shape[0]] = p
+            npts[i] = p.shape[0]
+    s = settings
+    out = rule3(pts, npts, s.max_n, s.atol, s.rtol, s.error_margin * s.error_floor, s.separation)
+    return [int(v) for v in out[:, 0]]

@@ -3,11 +3,9 @@ prediction, chord iteration, Newton shooting, one monodromy run; ``docs/classify
 
 from __future__ import annotations
 
-from collections import defaultdict
-
 import numpy as np
 
-from geardyn.label._stages import Point, decide, periodic_verdicts, shoot, shoot_batch
+from geardyn.label._stages import Point, decide, grouped, periodic_verdicts, shoot, shoot_batch
 from geardyn.label.policy import Policy
 from geardyn.solve.floquet import bifurcation_type
 from geardyn.solve.shooting import ShootingResult
@@ -57,27 +55,21 @@ def follow(points: list[Point], policy: Policy) -> list[Point]:
     rest = [p for p in points if not (p.prev is not None and p.prev.periodic)]
     if not todo:
         return rest
-    shots: list[ShootingResult | None] = [None] * len(todo)
-    by_n: dict[int, list[int]] = defaultdict(list)
-    for k, p in enumerate(todo):
-        by_n[p.prev.period].append(k)
-    for n, ks in sorted(by_n.items()):
+
+    def orbits(n: int, ks: list[int]) -> list[ShootingResult]:
+        """The orbits of the points ``ks``, all of period n: the chord iteration, else Newton shooting."""
         x0 = {k: _predict(todo[k]) for k in ks}
         chord = [k for k in ks if todo[k].prev.monodromy is not None]
         got = dict(zip(chord, _chord([todo[k] for k in chord], [x0[k] for k in chord], n, policy), strict=True))
         done = [k for k in chord if got[k] is not None and got[k].converged]
-        for k, r in zip(
-            done, _certify_states([todo[k] for k in done], [got[k].state for k in done], n, policy), strict=True
-        ):
-            shots[k] = r if r.converged else None
-        newton = [k for k in ks if shots[k] is None]
-        if newton:
-            for k, r in zip(
-                newton,
-                shoot([todo[k] for k in newton], [x0[k] for k in newton], [n] * len(newton), policy),
-                strict=True,
-            ):
-                shots[k] = r
+        certified = _certify_states([todo[k] for k in done], [got[k].state for k in done], n, policy)
+        found = {k: r for k, r in zip(done, certified, strict=True) if r.converged}
+        newton = [k for k in ks if k not in found]
+        shot = shoot([todo[k] for k in newton], [x0[k] for k in newton], [n] * len(newton), policy)
+        found.update(zip(newton, shot, strict=True))
+        return [found[k] for k in ks]
+
+    shots = grouped([p.prev.period for p in todo], orbits)
     for p, s in zip(todo, shots, strict=True):
         if not s.converged:
             p.bifurcation = "orbit_lost"

@@ -18,8 +18,6 @@ from geardyn.label._stages import (
     Point,
     certify,
     diverged_verdict,
-    record_length,
-    rule3,
     shoot,
     tables_of,
 )
@@ -55,7 +53,7 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
                 [p.run.final_state for p in again],
                 tangent_periods=cs.tangent_periods,
                 tables=tables_of(again),
-                sums_last=[record_length(policy)] * len(again),
+                sums_last=[policy.integration.recorded_periods] * len(again),
             ),
             strict=True,
         )
@@ -65,7 +63,7 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
         if p.run.diverged:
             p.verdict = diverged_verdict(p, p.run)
     bounded = [p for p in points if not p.run.diverged]
-    periods = rule3([p.run for p in bounded], cs)
+    periods = classify.strict_periods([p.run.poincare for p in bounded], cs)
     periodic = [(p, n) for p, n in zip(bounded, periods, strict=True) if n > 0]
     if periodic:
         ps, ns = [p for p, _ in periodic], [n for _, n in periodic]
@@ -97,7 +95,9 @@ def start_round(p: Point, policy: Policy) -> bool:
     if p.verdict.stage != "undecided" or cs.torus_extend <= 0 or length >= cs.torus_max_periods:
         return False
     p.left, p.piece = min(cs.torus_extend * length, cs.torus_max_periods - length), None
-    p.measured = min(record_length(policy), p.left)  # the round's verdict: the measures of its last periods
+    p.measured = min(
+        policy.integration.recorded_periods, p.left
+    )  # the round's verdict: the measures of its last periods
     return True
 
 
@@ -204,15 +204,13 @@ def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True)
     cs = policy.classifier
     if not points or cs.long_max_n <= 0:
         return
-    half = [
-        dataclasses.replace(
-            p.run, poincare=p.run.poincare[p.run.poincare.shape[0] // 2 :] if newest_half else p.run.poincare
-        )
-        for p in points
-    ]
+    half = [p.run.poincare[p.run.poincare.shape[0] // 2 if newest_half else 0 :] for p in points]
     big = dataclasses.replace(cs, max_n=max(cs.long_max_n, cs.max_n))
     reps = policy.cycle_repeats
-    ns = [n if 0 < n and reps * n <= r.poincare.shape[0] else 0 for n, r in zip(rule3(half, big), half, strict=True)]
+    ns = [
+        n if 0 < n and reps * n <= r.shape[0] else 0
+        for n, r in zip(classify.strict_periods(half, big), half, strict=True)
+    ]
     short = [n if n <= cs.max_n else 0 for n in ns]
     _try_periods(points, short, policy, "the newest part of the record returns after a few periods")
     _try_periods(
@@ -398,7 +396,7 @@ def _record_verdict(
         stage,
         why,
         final_state=p.run.final_state.copy(),
-        poincare=p.run.poincare[-record_length(policy) :],
+        poincare=p.run.poincare[-policy.integration.recorded_periods :],
         bifurcation=p.bifurcation,
         transient_used=p.transient_used,
         n_events=int(p.run.n_events),

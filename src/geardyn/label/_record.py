@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import dataclasses
 
+from geardyn import classify
 from geardyn.label._stages import (
     NAN,
     UNDET,
@@ -15,8 +16,6 @@ from geardyn.label._stages import (
     decide,
     diverged_verdict,
     periodic_verdicts,
-    record_length,
-    rule3,
     tables_of,
 )
 from geardyn.label.policy import Policy
@@ -75,17 +74,17 @@ def integrate(points: list[Point], policy: Policy) -> list[Point]:
             transient_periods=trans,
             recorded_periods=rec,
             tangent_periods=cs.tangent_periods if tangent else 0,
-            sums_last=[record_length(policy)] * len(group),
+            sums_last=[policy.integration.recorded_periods] * len(group),
         )
         for p, r in zip(group, runs, strict=True):
-            p.run, p.transient_used, p.measured = r, r.transient_used, record_length(policy)
+            p.run, p.transient_used, p.measured = r, r.transient_used, policy.integration.recorded_periods
             p.tangent = bool(tangent) and r.growth is not None and r.growth.size >= cs.tangent_periods
             if r.diverged:
                 p.verdict = diverged_verdict(p, r)
     left = [p for p in points if p.verdict is None]
     if not left:
         return left
-    periods = rule3([p.run for p in left], cs)
+    periods = classify.strict_periods([p.run.poincare for p in left], cs)
     return certify(left, periods, policy, "period_test", "the run returns within tolerance")
 
 

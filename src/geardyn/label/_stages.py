@@ -7,7 +7,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import math
-from collections import defaultdict
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,7 +19,7 @@ from geardyn.label.torus import OrderTest
 from geardyn.label.verdict import Verdict
 from geardyn.solve.base import SimulationResult, System
 from geardyn.solve.response import ResponseMeasures, measures_of_sums, response_measures_many
-from geardyn.solve.run import LaneTables, strict_periods
+from geardyn.solve.run import LaneTables
 from geardyn.solve.shooting import ShootingResult, cycle_points, newton_shooting_batch
 
 UNDET = classify.LABELS["undetermined"]
@@ -59,10 +59,6 @@ class Point:
 # ------------------------------------------------------------------------------------------------
 
 
-def record_length(policy: Policy) -> int:
-    return policy.integration.recorded_periods
-
-
 def tile(points: np.ndarray, length: int) -> np.ndarray:
     """The m cycle points repeated to ``length`` rows (what a periodic verdict draws)."""
     reps = -(-length // max(1, points.shape[0]))
@@ -79,24 +75,16 @@ def periodic_verdicts(
     good = [k for k, s in enumerate(shots) if s.converged and s.spectral_radius < 1.0 - margin]
     out: list[Verdict | None] = [None] * len(shots)
     cycles: dict[int, tuple[np.ndarray, int, np.ndarray | None]] = {}
-    by_n: dict[int, list[int]] = defaultdict(list)
-    for k in good:
-        by_n[shots[k].n].append(k)
-    for n, ks in by_n.items():
-        found = cycle_points(
-            [points[k].system for k in ks],
-            [shots[k].state for k in ks],
-            n,
-            policy.integration,
-            tables=tables_of([points[k] for k in ks]),
-            measure=True,
-        )
-        for k, (cyc, events, diverged, sums) in zip(ks, found, strict=True):
-            if not diverged:
-                tol = (
-                    policy.newton.cycle_tol_factor * policy.newton.tol * max(1.0, float(np.max(np.abs(shots[k].state))))
-                )
-                cycles[k] = (cyc[: least_period(cyc, tol)], events, sums)
+
+    def run(n: int, js: list[int]) -> list:
+        ks = [good[j] for j in js]
+        ps, xs = [points[k] for k in ks], [shots[k].state for k in ks]
+        return cycle_points([p.system for p in ps], xs, n, policy.integration, tables=tables_of(ps), measure=True)
+
+    for k, (cyc, events, diverged, sums) in zip(good, grouped([shots[k].n for k in good], run), strict=True):
+        if not diverged:
+            tol = policy.newton.cycle_tol_factor * policy.newton.tol * max(1.0, float(np.max(np.abs(shots[k].state))))
+            cycles[k] = (cyc[: least_period(cyc, tol)], events, sums)
     measures = _cycle_measures(points, shots, cycles, policy)
     for k, (cycle, events, _) in cycles.items():
         shot, m = shots[k], cycle.shape[0]
@@ -110,7 +98,7 @@ def periodic_verdicts(
             stage=stage,
             reason=f"{why}: stable period-{m} orbit, |mu|max = {rho ** (m / n):.6f}",
             final_state=shot.state.copy(),
-            poincare=tile(cycle, record_length(policy)),
+            poincare=tile(cycle, policy.integration.recorded_periods),
             multiplier=rho ** (m / n),
             bifurcation=points[k].bifurcation,
             transient_used=points[k].transient_used,
@@ -156,12 +144,9 @@ def shoot(
     """Newton shooting of every point for its n from its start, grouped by n (each point as alone).  With
     ``deflate``: deflated Newton about each point's unstable orbit point already found (it cannot converge
     to it again; ``policy.deflation``, no growth stop)."""
-    out: list[ShootingResult | None] = [None] * len(points)
-    by_n: dict[int, list[int]] = defaultdict(list)
-    for k, n in enumerate(ns):
-        by_n[n].append(k)
-    for n, ks in sorted(by_n.items()):
-        shots = shoot_batch(
+    return grouped(
+        ns,
+        lambda n, ks: shoot_batch(
             [points[k] for k in ks],
             [starts[k] for k in ks],
             n,
@@ -172,10 +157,19 @@ def shoot(
             deflate=None if deflate is None else [deflate[k] for k in ks],
             deflation_shift=policy.deflation.shift,
             step_cap=policy.newton.step_cap,
-        )
-        for k, s in zip(ks, shots, strict=True):
-            out[k] = s
-    return out  # type: ignore[return-value]
+        ),
+    )
+
+
+def grouped(keys: list[int], run: Callable[[int, list[int]], list]) -> list:
+    """``run(key, ks)`` once for the indices ``ks`` of each key, by increasing key (the points of one period
+    in one batch), its results put back at those indices."""
+    out: list = [None] * len(keys)
+    for key in sorted(set(keys)):
+        ks = [k for k, x in enumerate(keys) if x == key]
+        for k, r in zip(ks, run(key, ks), strict=True):
+            out[k] = r
+    return out
 
 
 def shoot_batch(points: list[Point], xs: list[np.ndarray], n: int, policy: Policy, **options) -> list[ShootingResult]:
@@ -227,22 +221,6 @@ def diverged_verdict(p: Point, r: SimulationResult) -> Verdict:
     )
 
 
-def rule3(results: list[SimulationResult], cs: classify.ClassifierSettings) -> list[int]:
-    """Rule 3 (:func:`geardyn.classify.strict_period`, compiled) on every record at once; 0 for a diverged
-    run or fewer than 3 points."""
-    L = len(results)
-    m = max([r.poincare.shape[0] for r in results] + [0])
-    pts = np.zeros((L, m, 6))
-    npts = np.zeros(L, np.int64)
-    for i, r in enumerate(results):
-        p = r.poincare
-        if not r.diverged and p.shape[0] and not np.isnan(p).any():
-            pts[i, : p.shape[0]] = p
-            npts[i] = p.shape[0]
-    out = strict_periods(pts, npts, cs.max_n, cs.atol, cs.rtol, cs.error_margin * cs.error_floor, cs.separation)
-    return [int(v) for v in out[:, 0]]
-
-
 def certify(
     points: list[Point], ns: list[int], policy: Policy, stage: str, why: str, record_on_orbit: bool = True
 ) -> list[Point]:
@@ -277,7 +255,7 @@ def certify(
             )
         elif record_on_orbit and p.run.poincare.shape[0]:  # the record is on the orbit: draw what was integrated
             verdicts[k] = dataclasses.replace(
-                v, poincare=p.run.poincare[-record_length(policy) :], n_events=int(p.run.n_events)
+                v, poincare=p.run.poincare[-policy.integration.recorded_periods :], n_events=int(p.run.n_events)
             )
     decide(tp, verdicts)
     return [p for p in points if p.verdict is None]
