@@ -330,14 +330,13 @@ def line_curves(
     spec: BoundarySpec,
     settings: SimulationSettings,
     map_ds: xr.Dataset | None = None,
-    lines: Sequence[Line] | None = None,
 ) -> tuple[Boundaries, KHVPlane]:
-    """The first stage (module doc): branches along ``lines`` (default: the spec's lines, else the middle
-    lines) seeded by the map's periodic pixels or, without a map, by ``probes`` simulations per line, and the
-    curves of their events and back-flank sign changes."""
+    """The first stage (module doc): branches along the spec's lines (else the middle lines) seeded by the map's
+    periodic pixels or, without a map, by ``probes`` simulations per line, and the curves of their events and
+    back-flank sign changes."""
     t0 = time.perf_counter()
     plane = KHVPlane(design, region.names, dict(region.fixed), region.box, settings, spec.nodes)
-    lines = list(lines) if lines is not None else lines_of(region, spec.lines_x, spec.lines_y)
+    lines = lines_of(region, spec.lines_x, spec.lines_y)
     bd = Boundaries(region, lines)
     back = plane.back_flank()
     cs = spec.curve_settings()
@@ -458,11 +457,10 @@ def boundary_curves(
     spec: BoundarySpec,
     settings: SimulationSettings,
     map_ds: xr.Dataset | None = None,
-    lines: Sequence[Line] | None = None,
 ) -> tuple[Boundaries, KHVPlane]:
     """The regime boundaries of ``region``: the curves from the lines
     (:func:`~geardyn.runs.continuation.curve_maps.line_curves`), then, with a map, from its records."""
-    bd, plane = line_curves(design, region, spec, settings, map_ds, lines)
+    bd, plane = line_curves(design, region, spec, settings, map_ds)
     if map_ds is not None and spec.map_seeds and "bifurcation" in map_ds:
         t1 = time.perf_counter()
         record_seeds(design, plane, bd, map_ds, spec)
