@@ -23,7 +23,7 @@ from geardyn import io
 from geardyn.khv import point
 from geardyn.plots.curves import check_table
 from geardyn.runs import maps
-from geardyn.runs.continuation import curve_check, curve_maps, output
+from geardyn.runs.continuation import curve_check, output
 from geardyn.solve import warm_up
 
 
@@ -48,14 +48,8 @@ def curves_benchmark(config: Path, results: Path, map_name: str = "map_x1_b", ev
     t_map = t_rows * spec.y.num / n_rows
     log(f"{n_rows} of {spec.y.num} rows labelled in {t_rows:.2f} s: the map {t_map:.1f} s")
 
-    bs = curve_maps.BoundarySpec.from_config(entry["curves"])
-    region = curve_maps.Region.of_map(spec)
-    lines = curve_maps.lines_of(region, bs.lines_x or entry.get("cuts_x", []), bs.lines_y or entry.get("cuts_y", []))
-    settings = point.integration_settings(design, **dict(spec.integration))
-    t0 = time.perf_counter()
-    bd, plane = curve_maps.boundary_curves(design, region, bs, settings, cube, lines)
-    t_curves = time.perf_counter() - t0
-    check = curve_check.pixel_check(plane, bd, cube, bs.check_every)
+    bd, check, settings = curve_check.map_boundaries(design, spec, entry, cube)
+    t_curves = bd.timing["total"]
     log(f"{len(bd.curves)} curves in {t_curves:.2f} s, pixel check {check.seconds:.2f} s")
 
     built = [float(v) for v in str(cube.attrs.get("chunk_wall_time_s", "")).split(",") if v]
@@ -84,12 +78,7 @@ def curves_benchmark(config: Path, results: Path, map_name: str = "map_x1_b", ev
 
 def _check_only(cube, design, spec, entry, map_name: str, dname: str, log) -> str:
     """The curves of the built map and their pixel check: its attributes and table."""
-    bs = curve_maps.BoundarySpec.from_config(entry["curves"])
-    region = curve_maps.Region.of_map(spec)
-    lines = curve_maps.lines_of(region, bs.lines_x or entry.get("cuts_x", []), bs.lines_y or entry.get("cuts_y", []))
-    settings = point.integration_settings(design, **dict(spec.integration))
-    bd, plane = curve_maps.boundary_curves(design, region, bs, settings, cube, lines)
-    check = curve_check.pixel_check(plane, bd, cube, bs.check_every)
+    bd, check, _ = curve_check.map_boundaries(design, spec, entry, cube)
     log(f"{len(bd.curves)} curves in {bd.timing['total']:.2f} s, pixel check {check.seconds:.2f} s")
     ds = output.boundary_dataset(bd, check)
     head = f"{map_name} ({dname}): {len(bd.curves)} curves, pixel check in {check.seconds:.2f} s\n\n"

@@ -331,8 +331,8 @@ def _small_map(d, x, y, fixed, n=20):
 
 def _map_curves(d, spec, cube, settings, lines, **changes):
     region = curve_maps.Region.of_map(spec)
-    bs = dataclasses.replace(curve_maps.BoundarySpec(), **changes)
-    bd, plane = curve_maps.boundary_curves(d, region, bs, settings, cube, curve_maps.lines_of(region, *lines))
+    bs = dataclasses.replace(curve_maps.BoundarySpec(), lines_x=tuple(lines[0]), lines_y=tuple(lines[1]), **changes)
+    bd, plane = curve_maps.boundary_curves(d, region, bs, settings, cube)
     return bd, curve_check.pixel_check(plane, bd, cube, every=1), plane
 
 

@@ -11,10 +11,8 @@ drive = design.load(snakemake.input.design)
 spec = snakemake.params.spec
 paper = paper_of(drive.paper)
 x1_values = design.figure_x1(drive, spec["fig05_x1"], getattr(paper, "FIG05_X1", None))
-props = [design.mesh_properties(drive, x1) for x1 in x1_values]
-middle = props[len(props) // 2]
-curve = mesh_table.single_tooth_curve(middle.contact_ratio, middle.k_prime)
-save_figure(plots.plot_single_tooth(curve), snakemake.output.fig04, plots.caption_fig04(middle, paper))
+middle = design.mesh_properties(drive, x1_values[len(x1_values) // 2])
+save_figure(plots.plot_single_tooth(middle), snakemake.output.fig04, plots.caption_fig04(middle, paper))
 curves = mesh_table.stiffness_table(drive, x1_values, spec["phase_points"])
 save_figure(plots.plot_mesh_stiffness(curves), snakemake.output.fig05, plots.caption_fig05(curves, drive, paper))
 save_figure(plots.plot_backlash(), snakemake.output.fig06, plots.caption_fig06(paper))

@@ -1,11 +1,10 @@
-"""Tables of mesh quantities along the admissible segment M-N (paper 1 Figs. 4-5)."""
+"""Tables of mesh quantities along the admissible segment M-N (paper 1 Fig. 5)."""
 
 from __future__ import annotations
 
 import numpy as np
 import xarray as xr
 
-from geardyn.gears import stiffness
 from geardyn.io import cf
 from geardyn.khv.design import KHVDesign, mesh_properties
 
@@ -46,15 +45,4 @@ def stiffness_table(design: KHVDesign, x1: np.ndarray, phase_points: int = 400) 
             "phase": cf("phase", phase, "1", "time in mesh periods t"),
         },
         attrs={"stiffness_options": design.stiffness.label},
-    )
-
-
-def single_tooth_curve(eps: float, k_prime: float, num: int = 401) -> xr.Dataset:
-    """One pair's parabolic stiffness over its engagement (paper 1 Fig. 4)."""
-    s = np.linspace(0.0, eps, num)
-    k = stiffness.single_tooth_stiffness(s, eps, k_prime)
-    return xr.Dataset(
-        {"k_single": cf("s", k, "N m-1", "single tooth-pair stiffness")},
-        coords={"s": cf("s", s, "1", "time since the pair entered mesh, in mesh periods")},
-        attrs={"contact_ratio": eps, "k_prime": k_prime},
     )

@@ -10,19 +10,20 @@ import xarray as xr
 from matplotlib.figure import Figure
 
 from geardyn.gears.backlash import backlash
+from geardyn.gears.stiffness import single_tooth_stiffness
 from geardyn.plots import paper_caption, single_axes
 
 _STYLES = ("-.", ":", "--", "-")
 
 
-def plot_single_tooth(curve: xr.Dataset) -> Figure:
-    """Fig. 4: stiffness of one tooth pair from engaging-in point A through pitch C to exit B."""
+def plot_single_tooth(props) -> Figure:  # props: geardyn.khv.design.MeshProperties
+    """Fig. 4: stiffness of one tooth pair (the parabola at ``props``) from engaging-in point A through pitch C
+    to exit B."""
     xlabel = "time since engagement (mesh periods)"
     fig, ax = single_axes((5.5, 3.5), "Fig. 4  single tooth-pair stiffness", xlabel, "single-pair stiffness (N/um)")
-    k = curve["k_single"] / 1e6
-    ax.plot(curve["s"], k, color="k")
-    eps = float(curve.attrs["contact_ratio"])
-    k_prime = float(curve.attrs["k_prime"]) / 1e6
+    eps, k_prime = float(props.contact_ratio), float(props.k_prime) / 1e6
+    s = np.linspace(0.0, props.contact_ratio, 401)
+    ax.plot(s, single_tooth_stiffness(s, props.contact_ratio, props.k_prime) / 1e6, color="k")
     for label, s, kk in (("A", 0.0, k_prime), ("C", eps / 2, 1.5 * k_prime), ("B", eps, k_prime)):
         ax.plot([s], [kk], "o", color="k")
         ax.annotate(label, (s, kk), textcoords="offset points", xytext=(4, 6))

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import time
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -15,10 +15,11 @@ import xarray as xr
 
 from geardyn.classify import LABELS
 from geardyn.khv import point
-from geardyn.runs.continuation.curve_maps import Boundaries, shorter_period
+from geardyn.runs.continuation.curve_maps import Boundaries, BoundarySpec, Region, boundary_curves, shorter_period
 from geardyn.runs.continuation.curves import bounds_stable, crossings, segment_distance
 from geardyn.runs.continuation.family import cached, cycle_states
 from geardyn.runs.continuation.output import flags, variables
+from geardyn.solve.base import SimulationSettings
 from geardyn.solve.response import IMPACT_CLASSES, response_measures
 from geardyn.solve.shooting import newton_shooting
 
@@ -322,6 +323,23 @@ def pixel_check(
                 out.samples.append(_probe_sample(base, curve, (line, idx, seg, w), xs, ys, probe, judge))
     out.seconds = time.perf_counter() - t0
     return out
+
+
+def map_boundaries(
+    design: Any, spec: Any, entry: Mapping[str, Any], map_ds: xr.Dataset
+) -> tuple[Boundaries, PixelCheck, SimulationSettings]:
+    """The regime boundaries of a map (``spec``: its :class:`~geardyn.runs.maps.MapSpec`, ``entry``: its config
+    entry) along the lines of its ``curves:`` settings, else along its cut lines, and their pixel check."""
+    bs = BoundarySpec.from_config(entry["curves"])
+    lines = {
+        "lines_x": bs.lines_x or tuple(entry.get("cuts_x", [])),
+        "lines_y": bs.lines_y or tuple(entry.get("cuts_y", [])),
+    }
+    settings = point.integration_settings(design, **dict(spec.integration))
+    bd, plane = boundary_curves(design, Region.of_map(spec), replace(bs, **lines), settings, map_ds)
+    check = pixel_check(plane, bd, map_ds, bs.check_every)
+    bd.timing["check"] = check.seconds
+    return bd, check, settings
 
 
 def _self_crowded(pts: np.ndarray, seg: int, x: float, y: float, crowd: float, skip: int = 3) -> bool:

@@ -1,6 +1,6 @@
 """Regime boundaries of a regime map (or of a plane without a map, a ``curves:`` study) as curves: the
 settings, the plane and its lines, the one-parameter branches along the lines and the two-parameter curves of
-their events (:func:`line_curves`), then the map's records as seeds (:func:`record_seeds`), both stages in
+their events, then the map's records as seeds (:func:`record_seeds`), both stages in
 :func:`boundary_curves` (docs/orbits.md, section 9, "In the workflow")."""
 
 from __future__ import annotations
@@ -324,44 +324,6 @@ def branch_curves(
             bd.add(curves_from_branch(plane, one, line.along, line.value, cs, kinds, bd.curves), origin, plane=plane)
 
 
-def line_curves(
-    design: Any,
-    region: Region,
-    spec: BoundarySpec,
-    settings: SimulationSettings,
-    map_ds: xr.Dataset | None = None,
-    lines: Sequence[Line] | None = None,
-) -> tuple[Boundaries, KHVPlane]:
-    """The first stage (module doc): branches along ``lines`` (default: the spec's lines, else the middle
-    lines) seeded by the map's periodic pixels or, without a map, by ``probes`` simulations per line, and the
-    curves of their events and back-flank sign changes."""
-    t0 = time.perf_counter()
-    plane = KHVPlane(design, region.names, dict(region.fixed), region.box, settings, spec.nodes)
-    lines = list(lines) if lines is not None else lines_of(region, spec.lines_x, spec.lines_y)
-    bd = Boundaries(region, lines)
-    back = plane.back_flank()
-    cs = spec.curve_settings()
-    for line in lines:
-        fam = line_family(design, region, line, settings, spec.nodes)
-        if map_ds is not None:
-            seeds = map_line_seeds(map_ds, line, spec.max_period, spec.max_seeds)
-        else:
-            seeds = [(float(t), 0) for t in np.linspace(fam.lo, fam.hi, spec.probes + 2)[1:-1]]
-        for br in line_branches(fam, seeds, settings, spec):
-            bd.branches.append((line, br))
-            events = [(b.kind, round(b.p, 5)) for b in br.bifurcations]
-            log.info("line %s: P%d branch, %d points, events %s", line, br.n, len(br), events)
-            branch_curves(plane, bd, br, line, cs, f"line {line}")
-            if spec.back_grazing:
-                for t, x in back_grazing_seeds(fam, br):
-                    pq = (line.value, t) if line.axis == "x" else (t, line.value)
-                    if not bd.known("grazing", br.n, pq, "back"):
-                        c = continue_curve(back, "grazing", br.n, x, pq, cs=cs, along=line.along)
-                        bd.add([c] if c is not None else [], f"line {line}", "back", plane)
-    bd.timing["lines"] = time.perf_counter() - t0
-    return bd, plane
-
-
 # --- the map's records as seeds -----------------------------------------------------------------------------
 
 
@@ -458,11 +420,34 @@ def boundary_curves(
     spec: BoundarySpec,
     settings: SimulationSettings,
     map_ds: xr.Dataset | None = None,
-    lines: Sequence[Line] | None = None,
 ) -> tuple[Boundaries, KHVPlane]:
-    """The regime boundaries of ``region``: the curves from the lines
-    (:func:`~geardyn.runs.continuation.curve_maps.line_curves`), then, with a map, from its records."""
-    bd, plane = line_curves(design, region, spec, settings, map_ds, lines)
+    """The regime boundaries of ``region`` (module doc): branches along the spec's lines (else the middle lines)
+    seeded by the map's periodic pixels or, without a map, by ``probes`` simulations per line, and the curves of
+    their events and back-flank sign changes; then, with a map, the curves its records seed."""
+    t0 = time.perf_counter()
+    plane = KHVPlane(design, region.names, dict(region.fixed), region.box, settings, spec.nodes)
+    lines = lines_of(region, spec.lines_x, spec.lines_y)
+    bd = Boundaries(region, lines)
+    back = plane.back_flank()
+    cs = spec.curve_settings()
+    for line in lines:
+        fam = line_family(design, region, line, settings, spec.nodes)
+        if map_ds is not None:
+            seeds = map_line_seeds(map_ds, line, spec.max_period, spec.max_seeds)
+        else:
+            seeds = [(float(t), 0) for t in np.linspace(fam.lo, fam.hi, spec.probes + 2)[1:-1]]
+        for br in line_branches(fam, seeds, settings, spec):
+            bd.branches.append((line, br))
+            events = [(b.kind, round(b.p, 5)) for b in br.bifurcations]
+            log.info("line %s: P%d branch, %d points, events %s", line, br.n, len(br), events)
+            branch_curves(plane, bd, br, line, cs, f"line {line}")
+            if spec.back_grazing:
+                for t, x in back_grazing_seeds(fam, br):
+                    pq = (line.value, t) if line.axis == "x" else (t, line.value)
+                    if not bd.known("grazing", br.n, pq, "back"):
+                        c = continue_curve(back, "grazing", br.n, x, pq, cs=cs, along=line.along)
+                        bd.add([c] if c is not None else [], f"line {line}", "back", plane)
+    bd.timing["lines"] = time.perf_counter() - t0
     if map_ds is not None and spec.map_seeds and "bifurcation" in map_ds:
         t1 = time.perf_counter()
         record_seeds(design, plane, bd, map_ds, spec)
