@@ -61,12 +61,11 @@ def _newton_end(
     max_iter: int,
     max_growth: float = math.inf,
     previous: float = math.inf,
-    growth_first: bool = False,
 ) -> tuple[ShootingResult | None, float]:
     """The :class:`ShootingResult` when the iteration ends at the iterate ``x`` given phi(x) (None: diverged)
     and M(x) (None: a chord iteration, which carries none): diverged, not finite, converged, the residual
-    grown more than ``max_growth`` times over the ``previous`` iterate's (checked before convergence with
-    ``growth_first``), or the last iteration; else None.  With it, the residual max |phi(x) - x| (the next
+    grown more than ``max_growth`` times over the ``previous`` iterate's (checked before convergence in a
+    chord iteration), or the last iteration; else None.  With it, the residual max |phi(x) - x| (the next
     iteration's ``previous``)."""
     if phi is None:
         return ShootingResult(x, n, False, "diverged", it, float("inf")), float("inf")
@@ -75,7 +74,7 @@ def _newton_end(
     if not (np.all(np.isfinite(F)) and (M is None or np.all(np.isfinite(M)))):
         return ShootingResult(x, n, False, "not_finite", it, res), res
     grows = res > max_growth * previous
-    if growth_first and grows:
+    if M is None and grows:  # a chord iteration stops on a growing residual before convergence
         return ShootingResult(x, n, False, "residual_grows", it, res), res
     if res <= tol * max(1.0, float(np.max(np.abs(x)))):
         return _result(x, n, True, "converged", it, res, M), res
@@ -138,8 +137,7 @@ def _iterate(
     for it in range(max_iter + 1):
         go = []  # (point, x, phi, M) of the points whose iteration goes on
         for i, (phi, M) in zip(todo, evaluate(todo, [xs[i] for i in todo]) if todo else [], strict=True):
-            growth_first = M is None  # a chord iteration stops on a growing residual before convergence
-            end, previous[i] = _newton_end(xs[i], phi, M, n, tol, it, max_iter, max_growth, previous[i], growth_first)
+            end, previous[i] = _newton_end(xs[i], phi, M, n, tol, it, max_iter, max_growth, previous[i])
             if end is None:
                 go.append((i, xs[i], phi, M))
             else:
