@@ -95,9 +95,8 @@ def start_round(p: Point, policy: Policy) -> bool:
     if p.verdict.stage != "undecided" or cs.torus_extend <= 0 or length >= cs.torus_max_periods:
         return False
     p.left, p.piece = min(cs.torus_extend * length, cs.torus_max_periods - length), None
-    p.measured = min(
-        policy.integration.recorded_periods, p.left
-    )  # the round's verdict: the measures of its last periods
+    # the round's verdict: the measures of its last periods
+    p.measured = min(policy.integration.recorded_periods, p.left)
     return True
 
 
