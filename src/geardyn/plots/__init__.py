@@ -9,7 +9,7 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-from geardyn.io import write_text
+from geardyn.io import atomic, write_text
 
 
 def paper_caption(text: str, paper: ModuleType | None, figure: str) -> str:
@@ -40,13 +40,11 @@ def save_figure(fig: Any, path: str | os.PathLike[str], caption: str | None = No
     made with pyplot is closed after saving."""
 
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")
-    fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
+    with atomic(path) as tmp:  # the temporary name ends in .tmp: the format is the target's suffix
+        fig.savefig(tmp, format=path.suffix.lstrip(".").lower(), dpi=dpi, bbox_inches="tight")
     pyplot = sys.modules.get("matplotlib.pyplot")
     if pyplot is not None:
         pyplot.close(fig)
-    os.replace(tmp, path)
     if caption is not None:
         write_text(caption.strip() + "\n", path.with_name(path.name + ".txt"))
     return path
