@@ -289,9 +289,11 @@ def _lever_arms(design: PlusDesign) -> np.ndarray:
         "theta_s": design.sun.base_radius,
         "theta_r": design.ring.base_radius,
         "theta_c": modal.geometry(design).a_sp,
+        "x_s": 1.0,
+        "y_s": 1.0,
     }
     arms |= {f"theta_{g}{j}": getattr(design, f"planet_{g}").base_radius for g in "pd" for j in (1, 2, 3)}
-    return np.array([arms.get(c, 1.0) for c in modal.COORDS])  # x_s, y_s: 1
+    return np.array([arms[c] for c in modal.COORDS])
 
 
 def _variant(design: PlusDesign) -> str:
