@@ -126,8 +126,8 @@ def _same(a, b) -> bool:
 
 def test_a_batch_gives_each_point_its_own_measures_bit_for_bit():
     """The lanes step 8 points together, those of equal length side by side: each point's measures are those
-    of the point alone, whatever its neighbours (other TE, periods 1 to 40, a start that diverges, one that
-    is not finite, more points than a lockstep block)."""
+    of the point alone (on the scalar loop), whatever its neighbours (other TE, periods 1 to 40, a start that
+    diverges, one that is not finite, more points than a lockstep block)."""
     settings = SimulationSettings(integrator="rk4_event", steps_per_period=64)
     systems = [_system(e=e, b=0.5) for e in (0.05, 0.8, 1.5, 2.5, 0.3, 1.1, 3.0, 0.6, 2.0, 0.9, 1.8)]
     starts = [s.static_state() for s in systems]

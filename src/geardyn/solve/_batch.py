@@ -10,8 +10,8 @@ import numpy as np
 from numba import njit, prange
 
 import geardyn.solve._cache as _cache
-from geardyn.solve._kernel import diverged, end_period, locate_switches, region, run
-from geardyn.solve._model import rk4, rk4_tangent_at, slope
+from geardyn.solve._kernel import diverged, end_period, locate_switches, run
+from geardyn.solve._model import region, rk4, rk4_tangent_at, slope
 from geardyn.solve._response import STATUS, add_step, start_sums
 from geardyn.solve.base import BACKLASH_ON, CM, B, T
 
@@ -19,9 +19,30 @@ _cache.renew_once()  # before the loops: numba's cache renewed when any kernel s
 
 
 @njit(cache=True, parallel=True)
-def run_batch(C, TABS, Y0, NTRANS, NREC, event, LIMITS, W, NTAN, renorm, GROWTH, STROBE, POINC, YFINAL, ES, OUT):
+def run_batch(
+    C,
+    TABS,
+    Y0,
+    NTRANS,
+    NREC,
+    event,
+    LIMITS,
+    W,
+    NTAN,
+    renorm,
+    GROWTH,
+    STROBE,
+    POINC,
+    YFINAL,
+    ES,
+    OUT,
+    ACC,
+    SGN,
+    ACC_LAST,
+):
     """:func:`geardyn.solve._kernel.run` (no dense output) for every lane, in parallel over lanes; W (L, 6, m)
-    updated in place, OUT (L, 5) the status, last period, switches, transient used and stop period."""
+    updated in place, OUT (L, 5) the status, last period, switches, transient used and stop period; ACC, SGN,
+    ACC_LAST the response measures' sums as in :func:`run_blocks`."""
     H, S, SEG, K, P, POLY = TABS
     n_lanes = C.shape[0]
     for lane in prange(n_lanes):
@@ -44,6 +65,9 @@ def run_batch(C, TABS, Y0, NTRANS, NREC, event, LIMITS, W, NTAN, renorm, GROWTH,
             STROBE[lane],
             YFINAL[lane],
             ES,
+            ACC[lane],
+            SGN[lane],
+            ACC_LAST[lane],
         )
         OUT[lane, 0] = st
         OUT[lane, 1] = per

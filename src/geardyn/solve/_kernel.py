@@ -10,9 +10,10 @@ import numpy as np
 from numba import njit
 
 import geardyn.solve._cache as _cache
-from geardyn.solve._model import rk4, rk4_tangent, rk4_tangent_at, slope
+from geardyn.solve._model import hermite_root, region, rk4, rk4_tangent, rk4_tangent_at, slope
 from geardyn.solve._period import early_stop
-from geardyn.solve.base import BACKLASH_ON, EPS, PHI, TE, B, T
+from geardyn.solve._response import STATUS, add_step, start_sums
+from geardyn.solve.base import BACKLASH_ON, CM, EPS, PHI, TE, B, T
 
 _cache.renew_once()  # before the loops: numba's cache renewed when any kernel source changed
 
@@ -85,15 +86,6 @@ def te_at(c, s):
 
 
 @njit(cache=True, inline="always")
-def region(x, b):
-    if x > b:
-        return 1
-    if x < -b:
-        return -1
-    return 0
-
-
-@njit(cache=True, inline="always")
 def sub_step(c, poly, seg, y, W, m, s0, dt, yout, Wout, fixed):
     """RK4 sub-step of length dt (time) from phase s0, kappa and TE evaluated on the fly; the m
     tangent columns follow when m > 0.  Inlined into :func:`locate_switches`, as is :func:`hermite_root`:
@@ -105,37 +97,6 @@ def sub_step(c, poly, seg, y, W, m, s0, dt, yout, Wout, fixed):
     k0, k1, k2 = kappa_at(poly, seg, eps1, s0), kappa_at(poly, seg, eps1, sm), kappa_at(poly, seg, eps1, se)
     p0, p1, p2 = te_at(c, s0), te_at(c, sm), te_at(c, se)
     step(c, y, W, m, dt, k0, k1, k2, p0, p1, p2, yout, Wout, fixed)
-
-
-@njit(cache=True, inline="always")
-def hermite_root(x0, x1, d0, d1, h, target):
-    """Root in (0, h) of the cubic Hermite interpolant of x (values x0, x1, slopes d0, d1) = target, by
-    safeguarded Newton (``docs/numerics.md``)."""
-    dx = x1 - x0
-    c1 = h * d0
-    c2 = 3.0 * dx - h * (2.0 * d0 + d1)
-    c3 = -2.0 * dx + h * (d0 + d1)
-    f0 = x0 - target
-    lo, hi = 0.0, 1.0
-    flo = f0
-    u = f0 / (f0 - (x1 - target))  # secant start
-    for _ in range(40):
-        fu = f0 + u * (c1 + u * (c2 + u * c3))
-        if fu == 0.0:
-            break
-        if (fu > 0.0) == (flo > 0.0):
-            lo, flo = u, fu
-        else:
-            hi = u
-        du = c1 + u * (2.0 * c2 + 3.0 * u * c3)
-        un = u - fu / du if du != 0.0 else 0.5 * (lo + hi)
-        if not (lo < un < hi):
-            un = 0.5 * (lo + hi)
-        if abs(un - u) < 1e-14:
-            u = un
-            break
-        u = un
-    return u * h
 
 
 @njit(cache=True)
@@ -206,10 +167,15 @@ def run(
     strobe,
     yfinal,
     es,
+    acc,
+    sgn,
+    acc_last,
 ):
     """Integrate n_trans + n_rec mesh periods from y0 (phase 0): the one loop of the solver, with Poincare
-    points, dense output, tangent columns and the early stop ``es`` (:data:`NO_EARLY_STOP`: off).  Returns
-    (status, last_period, n_events, n_dense, transient_used, stop_period) (arguments: ``docs/numerics.md``)."""
+    points, dense output, tangent columns, the early stop ``es`` (:data:`NO_EARLY_STOP`: off) and, with acc
+    (N_OUT,) (empty: none), the response measures' sums over the last ``acc_last`` periods (drive side
+    ``sgn``), as the lanes add them.  Returns (status, last_period, n_events, n_dense, transient_used,
+    stop_period) (arguments: ``docs/numerics.md``)."""
     # coefficients as a tuple: numba keeps them in registers instead of reloading the array
     # fmt: off
     c = (c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9], c[10], c[11], c[12], c[13],
@@ -238,6 +204,8 @@ def run(
     reg = region(y[1], b)
     per = 0
     status = 0
+    summed = acc.shape[0] > 0 and acc_last > 0
+    b_sums = b if c[BACKLASH_ON] != 0.0 else 0.0
     # the monodromy matrix's columns in one buffer (step_columns); W and Wnew hold them only at switches
     packed = m == 6 and not renorm
     A = np.zeros(12 * COLUMNS if packed else 0)
@@ -246,6 +214,9 @@ def run(
     while per < n_tr + n_rec:
         mt = m if (per >= tan_start and stop_n == 0) else 0
         cols = packed and mt > 0  # this period's columns step in the buffer
+        adding = summed and per >= n_tr + n_rec - acc_last
+        if adding and per == n_tr + n_rec - acc_last:
+            start_sums(acc, tab_k[0, 0], c[CM], b_sums, y[1], y[4], sgn)
         for j in range(nsteps):
             h = tab_h[j]
             k0, k1, k2, p0, p1, p2 = tab_k[j, 0], tab_k[j, 1], tab_k[j, 2], tab_p[j, 0], tab_p[j, 1], tab_p[j, 2]
@@ -253,6 +224,7 @@ def run(
                 step_columns(c, y, h, k0, k1, k2, p0, p1, p2, ynew, A)
             else:
                 step(c, y, W, mt, h, k0, k1, k2, p0, p1, p2, ynew, Wnew, -1.0)
+            xs, vs = y[1], y[4]  # the step's start (a located switch moves y to the crossing)
             if use_events:
                 rnew = region(ynew[1], b)
                 if rnew != reg:
@@ -265,6 +237,8 @@ def run(
                     if cols:  # the new values only: they replace the columns below
                         _columns(A, Wnew, 1, True)
                     n_events += nev
+            if adding:
+                add_step(acc, h, k0, k2, c[CM], b_sums, sgn, xs, vs, ynew[1], ynew[4])
             for i in range(6):
                 y[i] = ynew[i]
             if cols:
@@ -281,6 +255,8 @@ def run(
                 n_dense += 1
         if diverged(y, limits):
             status = 1
+            if summed:
+                acc[STATUS] = 1.0
             break
         k_tan = per - tan_start if (mt > 0 and renorm) else -1
         stop_n, n_tr = end_period(y, W, k_tan, per, n_tr, growth, strobe, poinc, es, ring, count, dcur, stop_n)

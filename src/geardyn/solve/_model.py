@@ -1,4 +1,5 @@
-"""The model's equations, stated once: accelerations, linearisation, one RK4 step of orbit and tangent.
+"""The model's equations, stated once: accelerations, linearisation, one RK4 step of orbit and tangent, the
+contact region of x2 and the crossing of a region's boundary within a step.
 Private to :mod:`geardyn.solve`; inlined into the scalar loop and the SIMD lanes, so both run the same
 bits (arguments and the dead zone's form: ``docs/numerics.md``)."""
 
@@ -124,3 +125,44 @@ def rk4_tangent_at(k, h, s1, s2, s3, s4, A, read, write, stride, q):
     A[(write + 3) * stride + q] = w[3]
     A[(write + 4) * stride + q] = w[4]
     A[(write + 5) * stride + q] = w[5]
+
+
+@njit(cache=True, inline="always")
+def region(x, b):
+    """The contact region of x2 = x for half backlash b: 1 (x > b), 0 (inside), -1 (x < -b)."""
+    if x > b:
+        return 1
+    if x < -b:
+        return -1
+    return 0
+
+
+@njit(cache=True, inline="always")
+def hermite_root(x0, x1, d0, d1, h, target):
+    """Root in (0, h) of the cubic Hermite interpolant of x (values x0, x1, slopes d0, d1) = target, by
+    safeguarded Newton (``docs/numerics.md``)."""
+    dx = x1 - x0
+    c1 = h * d0
+    c2 = 3.0 * dx - h * (2.0 * d0 + d1)
+    c3 = -2.0 * dx + h * (d0 + d1)
+    f0 = x0 - target
+    lo, hi = 0.0, 1.0
+    flo = f0
+    u = f0 / (f0 - (x1 - target))  # secant start
+    for _ in range(40):
+        fu = f0 + u * (c1 + u * (c2 + u * c3))
+        if fu == 0.0:
+            break
+        if (fu > 0.0) == (flo > 0.0):
+            lo, flo = u, fu
+        else:
+            hi = u
+        du = c1 + u * (2.0 * c2 + 3.0 * u * c3)
+        un = u - fu / du if du != 0.0 else 0.5 * (lo + hi)
+        if not (lo < un < hi):
+            un = 0.5 * (lo + hi)
+        if abs(un - u) < 1e-14:
+            u = un
+            break
+        u = un
+    return u * h

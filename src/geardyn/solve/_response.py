@@ -1,4 +1,4 @@
-"""The response measures' sums, added step by step inside the batch's lanes (private to
+"""The response measures' sums, added step by step in the batch's lanes and the scalar loop (private to
 :mod:`geardyn.solve`; use :func:`geardyn.solve.response.response_measures`; the sums: ``docs/numerics.md``)."""
 
 from __future__ import annotations
@@ -6,7 +6,7 @@ from __future__ import annotations
 from numba import njit
 
 import geardyn.solve._cache as _cache
-from geardyn.solve._kernel import hermite_root, region
+from geardyn.solve._model import hermite_root, region
 
 #: Layout of the accumulator's output (one float64 each).
 (

@@ -99,6 +99,9 @@ def simulate(
         b.strobe[0],
         b.final[0],
         _kernel.NO_EARLY_STOP,
+        np.empty(0),
+        0.0,
+        0,
     )
     b.out[0] = (status, per, nev, used, stop_n)
     r = _lane_result(0, system, settings, b)
@@ -329,14 +332,15 @@ def simulate_batch(
     es = _kernel.NO_EARLY_STOP if early_stop is None else early_stop.as_kernel_args()
     event = settings.integrator == "rk4_event"
     acc, sgn, last = _sums(systems, sums_last, sums_start, b.m)
-    k = (L if sums_last is not None else _blocked_lanes(L)) if b.m <= 1 else 0
+    k = _blocked_lanes(L) if b.m <= 1 else 0
     arrays = (C, TABS, Y0, ntr, nrec, limits, b.poinc, b.final, b.out, b.W, b.ntan, b.growth, b.strobe, acc, sgn, last)
     if k:
         c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb, ac, sg, la = _lanes(arrays, slice(0, k))
         _batch.run_blocks(c, tabs, y0, nt, nr, event, lim, po, fi, es, ou, w, na, gr, sb, ac, sg, la)
     if k < L:
-        c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb, _, _, _ = _lanes(arrays, slice(k, L))
-        _batch.run_batch(c, tabs, y0, nt, nr, event, lim, w, na, bool(tangent_periods), gr, sb, po, fi, es, ou)
+        c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb, ac, sg, la = _lanes(arrays, slice(k, L))
+        tan = bool(tangent_periods)
+        _batch.run_batch(c, tabs, y0, nt, nr, event, lim, w, na, tan, gr, sb, po, fi, es, ou, ac, sg, la)
     results = [_lane_result(lane, systems[lane], settings, b) for lane in range(L)]
     if sums_last is not None:
         for r, a, n in zip(results, acc, last, strict=True):
