@@ -46,6 +46,7 @@ rule map_curves_figure:
 
 rule curves_study:
     input:
+        kernels=KERNELS,
         design=design_file,
     output:
         results("curves", "{study}.nc"),

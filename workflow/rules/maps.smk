@@ -3,6 +3,7 @@
 
 rule map_chunk:
     input:
+        kernels=KERNELS,
         design=design_file,
     output:
         temp(results("maps", "{map}", "chunk_{chunk}.nc")),

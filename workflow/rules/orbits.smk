@@ -6,6 +6,7 @@
 
 rule orbit_branches:
     input:
+        kernels=KERNELS,
         design=design_file,
         cube=rules.sweep_merge.output[0],
     output:
@@ -46,6 +47,7 @@ rule orbit_figure:
 
 rule orbit_attractors:
     input:
+        kernels=KERNELS,
         design=design_file,
         cube=rules.sweep_merge.output[0],
         branches=rules.orbit_branches.output.data,

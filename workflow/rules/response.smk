@@ -4,6 +4,7 @@
 
 rule frequency_response:
     input:
+        kernels=KERNELS,
         design=design_file,
     output:
         cube=results("response", "{response}.nc"),

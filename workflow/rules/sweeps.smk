@@ -4,6 +4,7 @@
 
 rule sweep_chunk:
     input:
+        kernels=KERNELS,
         design=design_file,
     output:
         temp(results("sweeps", "{sweep}", "chunk_{chunk}.nc")),
@@ -56,6 +57,7 @@ rule bifurcation_figure:
 
 rule point_runs:
     input:
+        kernels=KERNELS,
         design=design_file,
     output:
         data=results("points", "{points}.nc"),
