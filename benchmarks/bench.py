@@ -53,6 +53,7 @@ def main_speed(argv: list[str]) -> int:
         help="check: the built sweeps' points with these labels (quasi_periodic, chaotic, long_period, "
         "periodic, all) instead of a map's, read from --new",
     )
+    ap.add_argument("--designs", nargs="*", help="check --sweeps: only these designs' cubes")
     a = ap.parse_args(argv[1:])
     log = lambda m: print(m, flush=True)  # noqa: E731
     ds = None
@@ -76,7 +77,13 @@ def main_speed(argv: list[str]) -> int:
         )
     elif a.sweeps is not None:
         md = "# Independent check: long runs from the sweeps' stored points\n\n" + long_run.sweep_check(
-            a.config, a.new, tuple(a.sweeps) or ("quasi_periodic",), n_points=a.points, periods=a.periods, log=log
+            a.config,
+            a.new,
+            tuple(a.sweeps) or ("quasi_periodic",),
+            n_points=a.points,
+            periods=a.periods,
+            log=log,
+            designs=tuple(a.designs or ()),
         )
     else:
         md = "# Independent check: long runs from the follow start\n\n" + long_run.long_run_check(

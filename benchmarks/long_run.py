@@ -157,6 +157,7 @@ def sweep_check(
     periods: int = 20000,
     seed: int = 0,
     log=print,
+    designs: tuple[str, ...] = (),
 ) -> str:
     """Independent check of the labels of the built sweeps: ``n_points`` random points with one of
     ``labels`` (names of :data:`geardyn.classify.LABELS`; ``periodic`` for P1 ... P12, ``all``) drawn from
@@ -164,7 +165,8 @@ def sweep_check(
     (plain RK4 with a tangent vector, no labeller) from its newest stored Poincare point.  The run's newest
     points and exponent say what it ends on (:func:`ending`); a verdict holds when that is what it promises
     (a periodic verdict: its own least period, and the stored points on the run's cycle within 1e-6 of the
-    state's size)."""
+    state's size).  ``designs``: only these designs' cubes (default: all).  The table holds a row per design and
+    verdict: a share held in one design is not hidden by another's many points."""
     import xarray as xr  # noqa: PLC0415
 
     from benchmarks.common import load_design, workflow_config  # noqa: PLC0415
@@ -177,7 +179,7 @@ def sweep_check(
     pool: list[tuple[str, str, Any, int, int, int]] = []  # (design, sweep, spec, case, direction, index)
     cubes: dict[tuple[str, str], Any] = {}
     for name, raw in sorted(config["sweeps"].items()):
-        for dname in config["designs"]:  # the designs the sweep ran for are those with its cube
+        for dname in designs or config["designs"]:  # the designs the sweep ran for are those with its cube
             path = results / dname / "sweeps" / f"{name}.nc"
             if not path.exists():
                 continue
@@ -239,9 +241,8 @@ def sweep_check(
                 n == per
                 and directed_distance(stored[-min(per, stored.shape[0]) :], r.poincare[-3 * per :]) < 1e-6 * scale
             )
-        row = table.setdefault(
-            classify.short_name(lab) if per <= 0 or lab > 0 else "long cycle", dict.fromkeys(("held", *ENDINGS), 0)
-        )
+        kind = classify.short_name(lab) if per <= 0 or lab > 0 else "long cycle"
+        row = table.setdefault(f"{pick[0]} | {kind}", dict.fromkeys(("held", *ENDINGS), 0))
         row["held" if ok else end] += 1
         if not ok:
             dname, name, spec, case, direction, j = pick
@@ -253,11 +254,13 @@ def sweep_check(
     head = (
         f"{len(picks)} points of the sweeps under {results} ({', '.join(sorted(wanted))}), {periods} periods "
         f"each from the newest stored point ({time.perf_counter() - t0:.0f} s).\n\n"
-        f"| verdict | points | held | {' | '.join(ENDINGS)} |\n|---|---:|---:|{'---:|' * len(ENDINGS)}\n"
+        f"| design | verdict | points | held | share | {' | '.join(ENDINGS)} |\n"
+        f"|---|---|---:|---:|---:|{'---:|' * len(ENDINGS)}\n"
     )
     body = "".join(
-        f"| {k} | {sum(v.values())} | {v['held']} | {' | '.join(str(v[e]) for e in ENDINGS)} |\n"
-        for k, v in table.items()
+        f"| {k} | {sum(v.values())} | {v['held']} | {100 * v['held'] / sum(v.values()):.1f} % "
+        f"| {' | '.join(str(v[e]) for e in ENDINGS)} |\n"
+        for k, v in sorted(table.items())
     )
     fails = ""
     if failed:
