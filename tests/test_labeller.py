@@ -313,3 +313,56 @@ def test_a_record_circling_an_orbit_at_the_unit_circle_is_undetermined():
     assert "circles a period-1 orbit" in v[-1].reason and "within the stability margin" in v[-1].reason
     off = dataclasses.replace(policy, locked=dataclasses.replace(policy.locked, circle_max_n=0))
     assert label_lines([line], off)[0][-1].label == classify.LABELS["quasi_periodic"]
+
+
+# paper 1's sweeps' settings (preset "sweep"): 512 steps per period, records of up to 16 000 periods
+SWEEP = Policy(
+    SimulationSettings(steps_per_period=512, transient_periods=500, recorded_periods=100),
+    classify.ClassifierSettings(tangent_periods=400, torus_max_periods=16000),
+)
+
+
+def test_the_orbit_born_at_a_period_doubling_is_found_by_branch_switching():
+    """li2013_route, Fig. 7 (b = 2, e = 5): the P1 orbit loses its stability through -1 between x1 = 0.57622
+    (|mu| 0.99908) and 0.57664 (1.00018). The P2 born there attracts at |mu| 0.99928 per two periods, and a
+    record from the old orbit leaves it at 1.00018 per period: 3200 periods still look like a torus. Shooting
+    for period 2 from the old orbit displaced along its eigenvector of the multiplier past -1 certifies the P2;
+    an independent 20 000-period run from the old orbit has moved towards that cycle and returns after two
+    periods (to 5e-9 of the state's size, against 3e-5 after one)."""
+    line = _line("li2013_route", [0.5762182182182182, 0.5766376376376376])
+    old, new = label_lines([line], SWEEP)[0]
+    assert (old.label, new.label, new.period, new.bifurcation) == (1, 2, 2, "period_doubling")
+    assert new.multiplier == pytest.approx(0.99928, abs=2e-5)  # 0.999287 from Newton at the long run's end
+    long = dataclasses.replace(SWEEP.integration, transient_periods=20000, recorded_periods=4)
+    p = simulate(line[1], long, x0=old.final_state).poincare
+    scale = float(np.max(np.abs(p)))
+
+    def to_cycle(q: np.ndarray) -> float:
+        return float(np.min(np.max(np.abs(new.poincare[:2] - q), axis=1)))
+
+    assert to_cycle(p[-1]) < 0.5 * to_cycle(old.final_state)
+    assert float(np.max(np.abs(p[2:] - p[:-2]))) < 1e-7 * scale < float(np.max(np.abs(p[1:] - p[:-1])))
+
+
+def test_a_torus_after_a_period_doubling_is_run_on_until_its_record_decides():
+    """li2013_route, Fig. 9 at x1 = 0.83 (e = 5): past the period doubling of the P8 orbit at b = 1.7856 the
+    Birkhoff averages converge on the first 400 periods (a torus) while a 20 000-period run from there has a
+    positive exponent, 2.6e-3 per unit time (chaos): the record in doubt runs on, and the verdict is not a torus.
+    Where the longer record confirms the torus (Fig. 7, x1 = 0.71127, past the P8's doubling), the verdict is
+    the one first reached, and every verdict of the line is that of the labeller without the doubt, bit for bit."""
+    d = design.load(ROOT / "config" / "designs" / "li2013_route.yaml")
+    bs = np.linspace(0.0, 2.2, 500)[400:406]
+    line = [point.point_coefficients(d, {"x1": 0.83, "b": float(b), "e": 5.0}) for b in bs]
+    out = label_lines([line], SWEEP)[0]
+    assert [v.label for v in out[:5]] == [4, 4, 4, 8, 8] and out[5].bifurcation == "period_doubling"
+    assert out[5].label == classify.LABELS["undetermined"]
+    long = dataclasses.replace(SWEEP.integration, transient_periods=0, recorded_periods=20000)
+    r = simulate(line[5], long, x0=out[5].final_state, tangent_periods=20000)
+    lam, sigma = classify.lyapunov_estimate(r.growth, r.period)
+    assert lam > 2e-3 and lam > SWEEP.classifier.lam_tol + 3 * sigma
+    x1s = np.linspace(0.416, 0.835, 1000)[698:707]
+    line = _line("li2013_route", x1s)
+    held, plain = (label_lines([line], dataclasses.replace(SWEEP, doubt_periods=k))[0] for k in (3200, 0))
+    assert held[6].label == classify.LABELS["quasi_periodic"] and "confirmed on 3200" in held[6].reason
+    for a, b in zip(held, plain, strict=True):
+        assert a.label == b.label and np.array_equal(a.final_state, b.final_state) and a.response == b.response

@@ -75,7 +75,7 @@ def follow(points: list[Point], policy: Policy) -> list[Point]:
             p.bifurcation = "orbit_lost"
             p.notes.append(f"the period-{s.n} orbit of the previous point is lost ({s.status})")
         elif s.spectral_radius >= 1.0 - policy.stability_margin:  # not certified stable: it is losing stability
-            p.bifurcation = bifurcation_type(s.multipliers)
+            p.bifurcation, p.lost = bifurcation_type(s.multipliers), s
             p.notes.append(
                 f"the followed period-{s.n} orbit is not stable here (|mu|max = {s.spectral_radius:.5f}, "
                 f"{p.bifurcation.replace('_', '-')})"

@@ -18,6 +18,7 @@ from geardyn.label._stages import (
     Point,
     certify,
     diverged_verdict,
+    periodic_verdicts,
     shoot,
     tables_of,
 )
@@ -81,6 +82,7 @@ def end_round(points: list[Point], policy: Policy) -> list[Point]:
     (:func:`_long_periods`), the still undetermined points start their next round and are returned, the
     others are finished (``docs/classify.md``)."""
     _long_periods([p for p in points if p.verdict.stage == "undecided"], policy)
+    _doubt([p for p in points if p.verdict.label == QP], policy)
     grow = {id(p) for p in points if start_round(p, policy)}
     finish([p for p in points if id(p) not in grow], policy)
     return [p for p in points if id(p) in grow]
@@ -158,12 +160,63 @@ def _joined(a: SimulationResult, b: SimulationResult) -> SimulationResult:
 
 
 def finish(points: list[Point], policy: Policy) -> None:
-    """The last step for points whose record is done: long cycles (:func:`_long_periods`), slowly gathered
-    cycles (:func:`_locked`), orbits circled at the unit circle (:func:`_at_circle`) (``docs/classify.md``)."""
+    """The last step for points whose record is done: long cycles (:func:`_long_periods`), the orbit born at a
+    period doubling (:func:`_doubled`), slowly gathered cycles (:func:`_locked`), orbits circled at the unit
+    circle (:func:`_at_circle`), held verdicts confirmed (:func:`_doubt`) (``docs/classify.md``)."""
     for newest_half in (True, False):
         _long_periods([p for p in points if p.verdict.label == QP], policy, newest_half=newest_half)
+    _doubled([p for p in points if p.verdict.label == QP], policy)
     _locked([p for p in points if p.verdict.label == QP], policy)
     _at_circle([p for p in points if p.verdict.label == QP], policy)
+    for p in points:
+        if p.held is not None and p.verdict.label == QP:
+            n = p.run.poincare.shape[0]
+            p.verdict = dataclasses.replace(p.held, reason=f"{p.held.reason}; confirmed on {n} recorded periods")
+
+
+def _doubt(points: list[Point], policy: Policy) -> None:
+    """Quasi-periodic verdicts in doubt (past a period doubling of the followed orbit, or after a point with a
+    positive exponent) run on to ``policy.doubt_periods``, undetermined meanwhile; the verdict first reached,
+    after :func:`finish`, is held and kept where the longer record confirms it (``docs/classify.md``)."""
+    cs = policy.classifier
+    cap = min(policy.doubt_periods, cs.torus_max_periods)
+    doubted = []
+    for p in points:
+        prev = p.prev
+        chaotic = prev is not None and not prev.periodic and bool(prev.exponent > cs.lam_tol)
+        if p.run.poincare.shape[0] < cap and (p.bifurcation == "period_doubling" or chaotic):
+            doubted.append(p)
+    finish([p for p in doubted if p.held is None], policy)
+    for p in doubted:
+        if p.verdict.label == QP:
+            p.held = p.verdict if p.held is None else p.held
+            why = "a torus after a period doubling or a chaotic point: in doubt until a longer record confirms it"
+            p.verdict = _undecided(p, f"{why} ({cap} periods)", policy)
+
+
+def _doubled(points: list[Point], policy: Policy) -> None:
+    """Past the period doubling of the followed period-n orbit (the follow stage's orbit point and monodromy),
+    the period-2n orbit born there, shot for from that point displaced along the eigenvector of the multiplier
+    past -1 on either side (branch switching; ``docs/classify.md``)."""
+    todo = [p for p in points if p.bifurcation == "period_doubling" and p.lost and p.lost.monodromy is not None]
+    for side in (1.0, -1.0):
+        todo = [p for p in todo if p.verdict.label == QP]
+        if not todo:
+            return
+        starts = [_switched(p.lost.state, p.lost.monodromy, side * policy.switch_step) for p in todo]
+        shots = shoot(todo, starts, [2 * p.lost.n for p in todo], policy)
+        why = "the orbit born at the followed orbit's period doubling"
+        for p, s, v in zip(todo, shots, periodic_verdicts(todo, shots, policy, "period_test", why), strict=True):
+            if v is not None and v.period == s.n:  # the new orbit, not the old one's n / 2 periods
+                p.verdict = v
+
+
+def _switched(x: np.ndarray, monodromy: np.ndarray, step: float) -> np.ndarray:
+    """x displaced by ``step`` times max(1, |x|) along the (real) eigenvector of the multiplier of ``monodromy``
+    nearest -1, scaled to a largest component of 1."""
+    mu, vectors = np.linalg.eig(monodromy)
+    v = np.real(vectors[:, int(np.argmin(np.abs(mu + 1.0)))])
+    return x + step * max(1.0, float(np.max(np.abs(x)))) * v / float(np.max(np.abs(v)))
 
 
 def _at_circle(points: list[Point], policy: Policy) -> None:

@@ -51,6 +51,8 @@ class Point:
     order: tuple[np.ndarray, OrderTest] | None = None  # the torus test's order test of a record: (record, test)
     transient_used: int = 0
     measured: int = 0  # the last periods of the record whose response measures' sums the run carries
+    lost: ShootingResult | None = None  # the followed orbit where it is no longer stable (the follow stage's)
+    held: Verdict | None = None  # a torus verdict in doubt until its longer record confirms it
     notes: list[str] = dataclasses.field(default_factory=list)
 
 

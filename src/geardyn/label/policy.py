@@ -99,6 +99,8 @@ class Policy:
     cycle_repeats: int = 3
     gather_fall: float = 0.5
     return_fall: float = 0.95
+    doubt_periods: int = 3200
+    switch_step: float = 1e-4
 
     def __post_init__(self) -> None:
         if self.start not in ("follow", "fixed"):
