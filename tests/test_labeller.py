@@ -328,10 +328,17 @@ def test_the_orbit_born_at_a_period_doubling_is_found_by_branch_switching():
     record from the old orbit leaves it at 1.00018 per period: 3200 periods still look like a torus. Shooting
     for period 2 from the old orbit displaced along its eigenvector of the multiplier past -1 certifies the P2;
     an independent 20 000-period run from the old orbit has moved towards that cycle and returns after two
-    periods (to 5e-9 of the state's size, against 3e-5 after one)."""
-    line = _line("li2013_route", [0.5762182182182182, 0.5766376376376376])
-    old, new = label_lines([line], SWEEP)[0]
+    periods (to 5e-9 of the state's size, against 3e-5 after one). The line goes on from the torus verdict,
+    so the points after it are those of the labeller without the check, bit for bit."""
+    line = _line("li2013_route", np.linspace(0.416, 0.835, 1000)[382:387])
+    out = label_lines([line], SWEEP)[0]
+    old, new = out[:2]
     assert (old.label, new.label, new.period, new.bifurcation) == (1, 2, 2, "period_doubling")
+    # the line goes on from the verdict before the check: the points after it are as without the check
+    plain = label_lines([line], dataclasses.replace(SWEEP, switch_step=0.0, doubt_periods=0))[0]
+    assert plain[1].label == classify.LABELS["quasi_periodic"]
+    for a, b in zip(out[2:], plain[2:], strict=True):
+        assert a.label == b.label and np.array_equal(a.final_state, b.final_state) and a.response == b.response
     assert new.multiplier == pytest.approx(0.99928, abs=2e-5)  # 0.999287 from Newton at the long run's end
     long = dataclasses.replace(SWEEP.integration, transient_periods=20000, recorded_periods=4)
     p = simulate(line[1], long, x0=old.final_state).poincare
@@ -366,3 +373,17 @@ def test_a_torus_after_a_period_doubling_is_run_on_until_its_record_decides():
     assert held[6].label == classify.LABELS["quasi_periodic"] and "confirmed on 3200" in held[6].reason
     for a, b in zip(held, plain, strict=True):
         assert a.label == b.label and np.array_equal(a.final_state, b.final_state) and a.response == b.response
+
+
+def test_a_record_gathering_in_pairs_about_a_doubled_cycle_points_to_its_period():
+    """A record approaching a period-16 cycle born from a period-8 one (the 16 points in pairs 0.02 of the
+    attractor's size apart, the distance to the cycle falling by 0.999 per period): the return distance after
+    8 periods stays at the pairs' spacing, after 16 (and 32) it falls below 1 % of the size."""
+    k = np.arange(3200)
+    base = np.stack([np.cos(np.pi * k / 4), np.sin(np.pi * k / 4), np.zeros_like(k, float)], axis=1)
+    base[:, 2] = 0.02 * np.where((k // 8) % 2 == 0, 1.0, -1.0)
+    record = np.concatenate([base, np.zeros((k.size, 3))], axis=1)
+    record += 0.3 * 0.999 ** k[:, None] * np.random.default_rng(0).normal(size=(16, 6))[k % 16]
+    policy = Policy(MAP, CS)
+    assert not nonperiodic._gathers_at(record, 8, policy, False)
+    assert nonperiodic._gathers_at(record, 16, policy, False) and nonperiodic._gathers_at(record, 32, policy, False)

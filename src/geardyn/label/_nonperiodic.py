@@ -165,13 +165,15 @@ def finish(points: list[Point], policy: Policy) -> None:
     circle (:func:`_at_circle`), held verdicts confirmed (:func:`_doubt`) (``docs/classify.md``)."""
     for newest_half in (True, False):
         _long_periods([p for p in points if p.verdict.label == QP], policy, newest_half=newest_half)
-    _doubled([p for p in points if p.verdict.label == QP], policy)
     _locked([p for p in points if p.verdict.label == QP], policy)
     _at_circle([p for p in points if p.verdict.label == QP], policy)
+    _doubled([p for p in points if p.verdict.label == QP], policy)
     for p in points:
-        if p.held is not None and p.verdict.label == QP:
-            n = p.run.poincare.shape[0]
-            p.verdict = dataclasses.replace(p.held, reason=f"{p.held.reason}; confirmed on {n} recorded periods")
+        if p.held is not None:
+            p.handed = p.handed or p.held
+            if p.verdict.label == QP:
+                n = p.run.poincare.shape[0]
+                p.verdict = dataclasses.replace(p.held, reason=f"{p.held.reason}; confirmed on {n} recorded periods")
 
 
 def _doubt(points: list[Point], policy: Policy) -> None:
@@ -183,7 +185,8 @@ def _doubt(points: list[Point], policy: Policy) -> None:
     doubted = []
     for p in points:
         prev = p.prev
-        chaotic = prev is not None and not prev.periodic and bool(prev.exponent > cs.lam_tol)
+        # a positive exponent as the verdicts' own: above the zero band by two standard errors
+        chaotic = prev is not None and not prev.periodic and bool(prev.exponent > cs.lam_tol + 2 * prev.exponent_sigma)
         if p.run.poincare.shape[0] < cap and (p.bifurcation == "period_doubling" or chaotic):
             doubted.append(p)
     finish([p for p in doubted if p.held is None], policy)
@@ -208,7 +211,7 @@ def _doubled(points: list[Point], policy: Policy) -> None:
         why = "the orbit born at the followed orbit's period doubling"
         for p, s, v in zip(todo, shots, periodic_verdicts(todo, shots, policy, "period_test", why), strict=True):
             if v is not None and v.period == s.n:  # the new orbit, not the old one's n / 2 periods
-                p.verdict = v
+                p.handed, p.verdict = p.handed or p.verdict, v
 
 
 def _switched(x: np.ndarray, monodromy: np.ndarray, step: float) -> np.ndarray:
@@ -277,35 +280,50 @@ def _locked(points: list[Point], policy: Policy) -> None:
     cs = policy.classifier
     if not points or cs.long_max_n <= 0:
         return
-    ns = []
+    ns, doubled = [], []
     for p in points:
         record = p.run.poincare
         known = p.order[1] if p.order is not None and p.order[0] is record else None  # the torus test's
         gaps = (known or order_test(_order_part(record, cs), 0)).gaps
-        n = gaps[0]
-        oldest, newest = (
-            _returns(record, n, policy.cycle_repeats) if 0 < n <= max(cs.long_max_n, cs.max_n) else (0.0, math.inf)
-        )
-        # a short cycle: any fall along the record
-        falls = newest < (policy.locked.fall_short if n <= cs.max_n else policy.locked.fall_long) * oldest
-        if newest < policy.locked.return_tol and (falls or len(gaps) == 1):
+        n = gaps[0] if _gathers_at(record, gaps[0], policy, len(gaps) == 1) else 0
+        # the nearest neighbours in pairs (differences m, 2m and multiples of m): a cycle of twice m, tried last
+        if 1 < gaps[0] and 2 * gaps[0] in gaps and all(g % gaps[0] == 0 for g in gaps):
+            doubled.append(2 * gaps[0])
+        else:
+            doubled.append(0)
+        if n:
             ns.append(n)
         else:  # a short cycle whose approach the newest half still shows (nearest neighbours not yet n apart)
             falling = classify.falling_return_distances(record, cs.max_n, policy.return_fall)  # compiled, cheap
             short = (m for m in range(1, cs.max_n + 1) if falling[m - 1] and _gathers(record, m, policy))
             ns.append(next(short, 0))
-    _try_periods(
-        points,
-        ns,
-        dataclasses.replace(
-            policy,
-            newton=dataclasses.replace(
-                policy.newton, max_iter=policy.locked.newton_max_iter, max_growth=policy.locked.max_growth
-            ),
+    locked = dataclasses.replace(
+        policy,
+        newton=dataclasses.replace(
+            policy.newton, max_iter=policy.locked.newton_max_iter, max_growth=policy.locked.max_growth
         ),
-        "the record gathers about the points of a cycle",
-        record_on_orbit=False,
     )
+    why = "the record gathers about the points of a cycle"
+    _try_periods(points, ns, locked, why, record_on_orbit=False)
+    todo = [(p, m) for p, m in zip(points, doubled, strict=True) if m and p.verdict.label == QP]
+    todo = [(p, m) for p, m in todo if _gathers_at(p.run.poincare, m, policy, False)]
+    before = [p.verdict for p, _ in todo]
+    _try_periods([p for p, _ in todo], [m for _, m in todo], locked, why, record_on_orbit=False)
+    for (p, _), v in zip(todo, before, strict=True):  # a finding of the checks of doubt: not followed
+        if p.verdict is not v:
+            p.handed = p.handed or v
+
+
+def _gathers_at(record: np.ndarray, n: int, policy: Policy, alone: bool) -> bool:
+    """Whether the record gathers about a cycle of the period n its nearest neighbours point to: its return
+    distance after n periods over the newest third below ``locked.return_tol`` and falling along the record
+    (any fall for a short cycle), or every neighbour n periods away (``alone``)."""
+    cs, lk = policy.classifier, policy.locked
+    if not 0 < n <= max(cs.long_max_n, cs.max_n):
+        return False
+    oldest, newest = _returns(record, n, policy.cycle_repeats)
+    falls = newest < (lk.fall_short if n <= cs.max_n else lk.fall_long) * oldest
+    return newest < lk.return_tol and (falls or alone)
 
 
 def _gathers(p: np.ndarray, n: int, policy: Policy) -> bool:

@@ -53,6 +53,7 @@ class Point:
     measured: int = 0  # the last periods of the record whose response measures' sums the run carries
     lost: ShootingResult | None = None  # the followed orbit where it is no longer stable (the follow stage's)
     held: Verdict | None = None  # a torus verdict in doubt until its longer record confirms it
+    handed: Verdict | None = None  # the verdict the line goes on from, where a check of doubt changed it
     notes: list[str] = dataclasses.field(default_factory=list)
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -43,11 +43,13 @@ def _first_pass(points: list[st.Point], policy: Policy) -> list[st.Point]:
 @dataclass
 class _Line:
     """A line on its way: its systems, fixed start, the verdicts so far (the next point is the one after
-    them) and the point that waits in the pool (None: the line is free)."""
+    them), the verdicts the line goes on from (a check of doubt's finding is not followed: ``Point.handed``)
+    and the point that waits in the pool (None: the line is free)."""
 
     systems: Sequence[System]
     start: np.ndarray | None
     out: list[Verdict]
+    chain: list[Verdict] = field(default_factory=list)
     waiting: st.Point | None = None
 
     @property
@@ -59,15 +61,16 @@ class _Line:
         self.waiting = p if waits else None
         if not waits:
             self.out.append(p.verdict)  # type: ignore[arg-type]
+            self.chain.append(p.handed or p.verdict)  # type: ignore[arg-type]
 
     def point(self, tables: LaneTables, row: int) -> st.Point:
         """The line's next point, row ``row`` of its batch's ``tables``."""
-        prev = self.out[-1] if self.out else None
+        prev = self.chain[-1] if self.chain else None
         return st.Point(
             self.systems[len(self.out)],
             None if prev is None or prev.diverged else prev,
             self.start,
-            self.out[-2] if len(self.out) > 1 else None,
+            self.chain[-2] if len(self.chain) > 1 else None,
             tables,
             row,
         )
