@@ -2,7 +2,9 @@
 ``python -m benchmarks.bench throughput|labels|check ...`` (see ``--help`` of each),
 ``python -m benchmarks.bench curves [--map map_x1_b] [--rows 10]`` (a map's regime boundaries against the map),
 ``python -m benchmarks.bench fingerprint [--write]`` (a hash per stage of a small fixed study, to compare
-machines; ``--write`` replaces the committed reference).
+machines; ``--write`` replaces the committed reference), ``python -m benchmarks.bench ledger [--write]`` (the
+cost of fixed small workloads in kernel point-steps against the committed reference), ``python -m benchmarks.bench
+stages [map | design/sweep]`` (the labeller's periods by stage and label).
 
 Single-threaded by construction when run as a program (thread pools pinned to 1 before numpy/numba
 load); importing the module sets nothing.
@@ -21,7 +23,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from benchmarks import circles, curves, fingerprint, labels, long_run, throughput, work_precision
+from benchmarks import circles, curves, fingerprint, labels, ledger, long_run, stages, throughput, work_precision
 from geardyn import io, libm
 
 
@@ -123,12 +125,41 @@ def main_fingerprint(argv: list[str]) -> int:
     return 0
 
 
+def main_stages(argv: list[str]) -> int:
+    """Where the labeller's periods go (:mod:`benchmarks.stages`), on map rows or a sweep's chunk 0."""
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.bench stages")
+    ap.add_argument("--config", type=Path, default=Path("config/config.yaml"))
+    ap.add_argument("what", nargs="?", default="map_x1_e", help="a map, or design/sweep")
+    ap.add_argument("--rows", default="0:200:10", help="the map's rows, start:stop:step")
+    a = ap.parse_args(argv)
+    stages.stages_benchmark(a.config, a.what, a.rows)
+    return 0
+
+
+def main_ledger(argv: list[str]) -> int:
+    """The cost ledger (:mod:`benchmarks.ledger`) against the committed reference; ``--write`` replaces it."""
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.bench ledger")
+    ap.add_argument("--config", type=Path, default=Path("config/config.yaml"))
+    ap.add_argument("--write", action="store_true", help="write benchmarks/ledger.json")
+    a = ap.parse_args(argv)
+    now = ledger.ledger(a.config, log=lambda m: print(m, flush=True))
+    print(ledger.markdown(now, ledger.read_reference()), end="")
+    if a.write:
+        ledger.write_reference(now, fingerprint.machine())
+        print(f"wrote {ledger.REFERENCE}")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     if argv is None:  # as a program: the C library's plain math, as in the pipeline's jobs
         libm.restart_canonical()
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv and argv[0] == "fingerprint":
         return main_fingerprint(argv[1:])
+    if argv and argv[0] == "ledger":
+        return main_ledger(argv[1:])
+    if argv and argv[0] == "stages":
+        return main_stages(argv[1:])
     if argv and argv[0] in ("throughput", "labels", "check", "circles", "curves"):
         return main_speed(argv)
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench", description=work_precision.__doc__.splitlines()[0])

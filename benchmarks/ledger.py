@@ -1,0 +1,166 @@
+"""The cost ledger (``python -m benchmarks.bench ledger [--write]``): a fixed set of small workloads, one of
+each kind the pipeline runs, each costed in CPU seconds and expressed in kernel point-steps (its CPU time
+divided by the kernel's own ns per point-step, measured in the same process), so that the figure holds from
+machine to machine; compared with the committed reference ``benchmarks/ledger.json``
+(``docs/performance.md``).  One thread; each workload runs twice and keeps the cheaper run."""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from benchmarks.common import load_design, map_lines, workflow_config
+from geardyn.khv import point
+from geardyn.label import label_lines
+from geardyn.runs import continuation, maps, response, sweep
+from geardyn.runs.continuation import curve_maps
+from geardyn.solve import SimulationSettings, simulate_batch, warm_up
+
+REFERENCE = Path(__file__).with_name("ledger.json")
+#: a workload this much dearer than the reference is reported
+DEARER = 1.10
+CAL = "li2013_calibrated"
+FIG7, FIG9, FIG11 = "fig07_bifurcation_x1", "fig09_bifurcation_b", "fig11_bifurcation_e"
+
+
+def kernel_ns(config: dict, root: Path, repeats: int = 5) -> float:
+    """The kernel's ns per point-step: 64 points of a torus row of ``map_x1_e`` (row 100), 100 transient and 200
+    recorded periods with the tangent vector, 128 steps per period, in the lockstep blocks; the cheapest of
+    ``repeats`` runs."""
+    raw = dict(config["maps"]["map_x1_e"])
+    design = load_design(raw["designs"][0], config, root)
+    spec = maps.MapSpec.from_config("map_x1_e", raw, raw["designs"][0], design.segment)
+    systems = map_lines(design, spec, [100])[0][:64]
+    s = SimulationSettings(steps_per_period=128, transient_periods=100, recorded_periods=200)
+    best = np.inf
+    for _ in range(repeats):
+        c0 = time.process_time()
+        simulate_batch(systems, s, tangent_periods=200)
+        best = min(best, time.process_time() - c0)
+    return best * 1e9 / (len(systems) * 300 * 128)
+
+
+def _sweep(config: dict, root: Path, design: str, name: str, first: int, points: int) -> Callable[[], object]:
+    """Chunk 0 of a sweep cut to its points ``first`` .. ``first + points - 1`` (the study runner, cube and all)."""
+    raw = dict(config["sweeps"][name])
+    d = load_design(design, config, root)
+    step = (raw["stop"] - raw["start"]) / (raw["num"] - 1)
+    raw.update(start=raw["start"] + first * step, num=points, stop=raw["start"] + (first + points - 1) * step)
+    spec = sweep.SweepSpec.from_config(name, raw, design, d.segment)
+    return lambda: sweep.run_chunk(d, spec, 0)
+
+
+def _map_rows(config: dict, root: Path, name: str, rows: list[int]) -> Callable[[], object]:
+    """Rows of a regime map labelled (the labeller alone, as ``docs/performance.md``'s command)."""
+    raw = dict(config["maps"][name])
+    d = load_design(raw["designs"][0], config, root)
+    spec = maps.MapSpec.from_config(name, raw, raw["designs"][0], d.segment)
+    lines, policy = map_lines(d, spec, rows), spec.policy(d)
+    return lambda: label_lines(lines, policy)
+
+
+def _response(config: dict, root: Path, design: str, num: int) -> Callable[[], object]:
+    """The frequency response of ``design`` on ``num`` frequencies, up and down."""
+    raw = {**config["responses"]["frequency_response"], "num": num}
+    d = load_design(design, config, root)
+    spec = response.ResponseSpec.from_config("frequency_response", raw, design, d.segment)
+    return lambda: response.run(d, spec)
+
+
+def _curves(config: dict, root: Path, design: str, name: str) -> Callable[[], object]:
+    """A curves study: the regime boundaries of a parameter plane continued from its lines."""
+    entry = config["curves"][name]
+    d = load_design(design, config, root)
+    region = curve_maps.Region.from_config(entry, d.segment)
+    settings = curve_maps.BoundarySpec.from_config(entry)
+    integration = point.integration_settings(d, **dict(entry.get("integration", {})))
+    return lambda: curve_maps.boundary_curves(d, region, settings, integration)
+
+
+def _orbits(config: dict, root: Path, design: str, name: str) -> Callable[[], object]:
+    """The periodic orbits of a sweep continued from its periodic points (the sweep's cube built first, not
+    costed)."""
+    d = load_design(design, config, root)
+    spec = sweep.SweepSpec.from_config(name, config["sweeps"][name], design, d.segment)
+    cube = sweep.run_chunk(d, spec, 0)
+    orbits = continuation.OrbitSpec.from_config(config["orbits"][name])
+    return lambda: continuation.sweep_orbits(d, spec, cube, orbits)
+
+
+def workloads(config: dict, root: Path) -> dict[str, Callable[[], object]]:
+    """The ledger's workloads by name, each ready to run (its inputs built)."""
+    c, r = config, root
+    return {
+        "sweep x1: li2013_calibrated Fig. 7, points 300-549, 1 line": _sweep(c, r, CAL, FIG7, 300, 250),
+        "sweep b: li2013_route Fig. 9, points 380-499, 2 lines": _sweep(c, r, "li2013_route", FIG9, 380, 120),
+        "sweep e: li2013_calibrated Fig. 11, points 380-479, 2 lines": _sweep(c, r, CAL, FIG11, 380, 100),
+        "map_x1_b: 4 rows": _map_rows(c, r, "map_x1_b", [20, 70, 120, 170]),
+        "map_x1_e: 4 rows": _map_rows(c, r, "map_x1_e", [30, 80, 130, 180]),
+        "map_x1_w: 4 rows": _map_rows(c, r, "map_x1_w", [40, 90, 140, 190]),
+        "frequency response: li2013_calibrated, 2 x 80 frequencies": _response(c, r, "li2013_calibrated", 80),
+        "curves: li2013, boundaries over (b, e)": _curves(c, r, "li2013", "boundaries_b_e"),
+        "orbits: li2013 Fig. 7, branches": _orbits(c, r, "li2013", FIG7),
+    }
+
+
+def ledger(config_path: Path, repeats: int = 2, log=print) -> dict:
+    """Every workload's CPU seconds (the cheaper of ``repeats`` runs) and cost in million kernel point-steps,
+    with the kernel's ns per point-step (the cheaper of its runs before and after the workloads)."""
+    config = workflow_config(config_path)
+    root = config_path.resolve().parent.parent
+    warm_up(point.point_coefficients(load_design("li2013", config, root)))
+    ns = kernel_ns(config, root)
+    out: dict = {"workloads": {}}
+    for name, run in workloads(config, root).items():
+        cpu = np.inf
+        for _ in range(repeats):
+            c0 = time.process_time()
+            run()
+            cpu = min(cpu, time.process_time() - c0)
+        out["workloads"][name] = {"cpu_s": round(float(cpu), 3)}
+        log(f"{name}: {cpu:.2f} CPU-s")
+    out["kernel_ns_per_point_step"] = round(min(ns, kernel_ns(config, root)), 3)
+    for w in out["workloads"].values():
+        w["cost_M_point_steps"] = round(w["cpu_s"] * 1e3 / out["kernel_ns_per_point_step"], 1)
+    return out
+
+
+def read_reference(path: Path = REFERENCE) -> dict:
+    return json.loads(path.read_text()) if path.exists() else {"workloads": {}}
+
+
+def markdown(now: dict, reference: dict) -> str:
+    """The ledger against the reference: each workload's cost, the reference's, their ratio, and a mark where
+    it is more than :data:`DEARER` times the reference's."""
+    ref = reference.get("workloads", {})
+    rows = []
+    for name, w in now["workloads"].items():
+        r = ref.get(name, {}).get("cost_M_point_steps")
+        ratio = w["cost_M_point_steps"] / r if r else float("nan")
+        mark = " **dearer**" if ratio > DEARER else ""
+        rows.append(
+            f"| {name} | {w['cpu_s']:.2f} | {w['cost_M_point_steps']:.0f} | {r if r else '-'} | {ratio:.2f}{mark} |"
+        )
+    dearer = [n for n, w in now["workloads"].items() if _ratio(w, ref.get(n)) > DEARER]
+    return (
+        f"kernel: {now['kernel_ns_per_point_step']:.2f} ns per point-step (reference machine: "
+        f"{reference.get('kernel_ns_per_point_step', '-')})\n\n"
+        "| workload | CPU-s | cost (M point-steps) | reference | ratio |\n|---|---:|---:|---:|---:|\n"
+        + "\n".join(rows)
+        + "\n\n"
+        + (f"more than {DEARER:.2f}x dearer: {', '.join(dearer)}\n" if dearer else "no workload dearer than 1.10x\n")
+    )
+
+
+def _ratio(now: dict, ref: dict | None) -> float:
+    r = (ref or {}).get("cost_M_point_steps")
+    return now["cost_M_point_steps"] / r if r else 0.0
+
+
+def write_reference(now: dict, machine: dict[str, str], path: Path = REFERENCE) -> None:
+    """Replace the committed reference with ``now`` (a commit that makes a workload dearer says why)."""
+    path.write_text(json.dumps({"machine": machine, **now}, indent=1) + "\n")
