@@ -23,6 +23,7 @@ from pathlib import Path
 
 from benchmarks import circles, curves, fingerprint, labels, long_run, throughput, work_precision
 from geardyn import io, libm
+from geardyn.io import provenance
 
 
 def main_speed(argv: list[str]) -> int:
@@ -90,7 +91,7 @@ def main_speed(argv: list[str]) -> int:
             io.write_netcdf(
                 ds,
                 a.out / f"{argv[0]}.nc",
-                io.provenance(title=ds.attrs["title"], paper="li2013", model_variant="benchmark"),
+                provenance.attributes(title=ds.attrs["title"], paper="li2013", model_variant="benchmark"),
             )
         print(f"wrote {a.out}/{argv[0]}.*")
     return 0
@@ -137,7 +138,7 @@ def main(argv: list[str] | None = None) -> int:
         io.write_netcdf(
             work_precision.to_dataset(out),
             a.out / "work_precision.nc",
-            io.provenance(
+            provenance.attributes(
                 title="Work-precision study of the KHV integrators", paper="li2013", model_variant="benchmark"
             ),
         )

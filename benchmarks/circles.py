@@ -19,8 +19,7 @@ import numpy as np
 
 from benchmarks.common import map_lines, map_study
 from benchmarks.invariant_circle import distance_to_circle, find_circles
-from geardyn import classify
-from geardyn.label import label_lines
+from geardyn.label import classify, label_lines
 from geardyn.solve import SimulationSettings
 from geardyn.solve.run import simulate_batch
 

@@ -9,9 +9,9 @@ import numpy as np
 import xarray as xr
 
 from benchmarks.common import load_design, workflow_config
-from geardyn.classify import LABELS, short_name
 from geardyn.khv import point
 from geardyn.label import STAGE_NAMES, label_points
+from geardyn.label.classify import LABELS, short_name
 from geardyn.runs import maps, sweep
 
 # ----------------------------------------------------------------------------------------------

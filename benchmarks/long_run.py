@@ -11,8 +11,7 @@ from typing import Any
 import numpy as np
 
 from benchmarks.common import map_lines, map_study
-from geardyn import classify
-from geardyn.label import label_lines
+from geardyn.label import classify, label_lines
 from geardyn.label.compare import directed_distance, hausdorff
 from geardyn.solve import SimulationSettings
 from geardyn.solve.run import simulate_batch
@@ -159,7 +158,7 @@ def sweep_check(
     log=print,
 ) -> str:
     """Independent check of the labels of the built sweeps: ``n_points`` random points with one of
-    ``labels`` (names of :data:`geardyn.classify.LABELS`; ``periodic`` for P1 ... P12, ``all``) drawn from
+    ``labels`` (names of :data:`geardyn.label.classify.LABELS`; ``periodic`` for P1 ... P12, ``all``) drawn from
     every sweep cube of every design the config lists under ``results``, each run ``periods`` mesh periods
     (plain RK4 with a tangent vector, no labeller) from its newest stored Poincare point.  The run's newest
     points and exponent say what it ends on (:func:`ending`); a verdict holds when that is what it promises

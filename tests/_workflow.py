@@ -1,6 +1,6 @@
 """Helpers for tests that run the Snakemake workflow on a copy in a temporary directory.
 
-The copy holds Snakefile, workflow/, config/ and benchmarks/ (the work-precision target's code, beside the
+The copy holds workflow/ (its Snakefile too), config/ and benchmarks/ (the work-precision target's code, beside the
 package); the library comes from this checkout's src/ via PYTHONPATH. Nothing is ever written into the
 repository's own results/.
 """
@@ -35,7 +35,7 @@ def workflow_copy(
 ) -> Path:
     """Copy the workflow to ``dest``; replace config.yaml and design files by the given mappings."""
     dest.mkdir(parents=True, exist_ok=True)
-    for item in ("Snakefile", "workflow", "config", "benchmarks"):
+    for item in ("workflow", "config", "benchmarks"):
         src = ROOT / item
         (shutil.copytree if src.is_dir() else shutil.copy)(src, dest / item)
     if config is not None:

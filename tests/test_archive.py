@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from geardyn import __version__, archive, cli, io, provenance
+from geardyn import __version__, cli, io
+from geardyn.io import archive, provenance
 
 
 def _cube(n=5):
@@ -24,8 +25,8 @@ def _cube(n=5):
 @pytest.fixture
 def built(tmp_path):
     data = tmp_path / "src"
-    a = io.write_netcdf(_cube(), data / "a.nc", io.provenance(title="a", paper="li2013"))
-    b = io.write_netcdf(_cube(7), data / "sweeps" / "b.nc", io.provenance(title="b", paper="li2013"))
+    a = io.write_netcdf(_cube(), data / "a.nc", provenance.attributes(title="a", paper="li2013"))
+    b = io.write_netcdf(_cube(7), data / "sweeps" / "b.nc", provenance.attributes(title="b", paper="li2013"))
     cfg = data / "config.yaml"
     cfg.write_text("designs: {d: config/designs/d.yaml}\n")
     des = data / "d.yaml"

@@ -15,13 +15,12 @@ import yaml
 import _workflow
 from _oracle import rules_label
 from geardyn import claims as C
-from geardyn import classify
 from geardyn.khv import calibrate as K
 from geardyn.khv import committed as committed_mod
 from geardyn.khv import design, point
 from geardyn.khv.calibrate import evaluate as KE
 from geardyn.khv.calibrate import objective
-from geardyn.label import Policy, label_lines, label_points
+from geardyn.label import Policy, classify, label_lines, label_points
 from geardyn.label import settle as S
 from geardyn.label.compare import least_period
 from geardyn.papers import li2013 as paper
@@ -35,7 +34,7 @@ FULL = SimulationSettings(steps_per_period=512, transient_periods=500, recorded_
 
 def _falls(poincare, n: int) -> bool:
     """Whether the return distance after n periods falls over the record (the slow-transient check's test of
-    a period n, :func:`geardyn.classify.falling_return_distances`, factor 0.95)."""
+    a period n, :func:`geardyn.label.classify.falling_return_distances`, factor 0.95)."""
     return bool(classify.falling_return_distances(poincare, n, 0.95)[n - 1])
 
 

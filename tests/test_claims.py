@@ -11,7 +11,7 @@ import pytest
 import xarray as xr
 
 from geardyn import claims as C
-from geardyn import verdicts as V
+from geardyn.claims import verdicts as V
 from geardyn.papers import li2013 as paper
 
 P1, QP, CH, UND, DIV = 1, C.QP, C.CHAOS, -1, -2

@@ -14,7 +14,7 @@ import yaml
 
 import _workflow as wf
 from geardyn import claims as C
-from geardyn import verdicts as V
+from geardyn.claims import verdicts as V
 from geardyn.papers import yue2014 as paper
 from geardyn.plus import claims as PC
 

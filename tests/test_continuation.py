@@ -14,8 +14,10 @@ import xarray as xr
 
 import _orbits
 from _oracle import rules_label
-from geardyn import classify, io
+from geardyn import io
+from geardyn.io import provenance
 from geardyn.khv import design, point
+from geardyn.label import classify
 from geardyn.papers import li2013 as paper
 from geardyn.plots import save_figure
 from geardyn.plots.orbits import plot_branches
@@ -123,7 +125,7 @@ def test_dataset_is_cf_and_table_names_paper_transitions(calibrated_branch, tmp_
     _, fam, br = calibrated_branch
     ds = C.branch_dataset([(0, br)], {0: fam}, "x1", ["base"])
     assert io.missing_cf_attributes(ds) == []
-    io.write_netcdf(ds, tmp_path / "b.nc", io.provenance(title="test"))
+    io.write_netcdf(ds, tmp_path / "b.nc", provenance.attributes(title="test"))
     rows = C.bifurcation_rows([(0, br)], "x1", ["base"], paper.TRANSITIONS)
     assert {r["type"] for r in rows} >= {"fold", "neimark_sacker"}
     ns = next(r for r in rows if r["type"] == "neimark_sacker")

@@ -23,9 +23,11 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from _orbits import CallableFamily, curve_crossings
-from geardyn import classify, io
+from geardyn import io
 from geardyn.config import schema as io_schema
+from geardyn.io import provenance
 from geardyn.khv import design, model, point
+from geardyn.label import classify
 from geardyn.plots import curves as plots_curves
 from geardyn.runs import continuation as C
 from geardyn.runs import maps
@@ -307,7 +309,7 @@ def test_curve_dataset_is_cf_complete(calibrated_ns, linear_limit, tmp_path):
     assert ds.sizes["point"] == len(curves[0]) and ds.sizes["codim2"] == len(curves[0].codim2)
     assert ds["e"].attrs["units"] == "1" and "transmission-error" in ds["e"].attrs["long_name"]
     assert ds["codim2_type"].attrs["flag_meanings"].split()[int(ds["codim2_type"][0])] == "flip_neimark_sacker"
-    io.write_netcdf(ds, tmp_path / "curves.nc", io.provenance(title="test"))
+    io.write_netcdf(ds, tmp_path / "curves.nc", provenance.attributes(title="test"))
     lin = C.curve_dataset(linear_limit[4], ("w", "e"))
     assert io.missing_cf_attributes(lin) == [] and set(lin["curve_kind"].values) == {0, 3}
 
@@ -473,10 +475,10 @@ def test_curves_file_is_cf_complete_and_keeps_the_check(map_x1_b_small, tmp_path
     assert plots_curves.FAILURES == curve_check.FAILURES
     assert ds["curve_kind"].attrs["flag_meanings"].split()[-1] == "back_grazing"
     assert ds.sizes["record"] == len(bd.records) and ds.attrs["records_on_curve"] >= 1
-    io.write_netcdf(ds, tmp_path / "curves.nc", io.provenance(title="test"))
+    io.write_netcdf(ds, tmp_path / "curves.nc", provenance.attributes(title="test"))
     empty = output.boundary_dataset(type(bd)(bd.region))  # no curve at all: still a valid file
     assert io.missing_cf_attributes(empty) == []
-    io.write_netcdf(empty, tmp_path / "empty.nc", io.provenance(title="test"))
+    io.write_netcdf(empty, tmp_path / "empty.nc", provenance.attributes(title="test"))
 
 
 def test_a_period_two_curve_is_cut_where_it_becomes_the_doubled_period_one_orbit(calibrated_ns):

@@ -9,8 +9,8 @@ import pytest
 import xarray as xr
 
 import _workflow as wf
-from geardyn import io, validate
-from geardyn.config import ConfigError
+from geardyn import io
+from geardyn.config import ConfigError, validate
 
 DESIGN = "li2013_calibrated"
 FAST_MAP = {"steps_per_period": 64, "transient_periods": 200, "recorded_periods": 20}

@@ -115,11 +115,16 @@ def _recorded_chunks(work):
 # SIGINT is Ctrl-C in the terminal (to the whole process group); SIGKILL a power cut or the OOM killer.
 # (SIGTERM is not used: Snakemake 9.27's SIGTERM handler takes a lock the main thread may hold, and
 # the run can hang; see docs/operations.md.) The interruption is deterministic: the third chunk job
-# sends the signal to the process group as it starts (geardyn.testing.fault_point), with --cores 1.
+# sends the signal to the process group as it starts (tests/faults/sitecustomize.py), with --cores 1.
 @pytest.mark.parametrize("sig", ["SIGINT", "SIGKILL"])
 def test_killed_run_resumes_without_recomputing_and_gives_the_same_cube(tmp_path, reference, sig):
     work = wf.workflow_copy(tmp_path / "w", _config())
-    env = {**wf.env(), "GEARDYN_FAULT": f"sweep_chunk:3:{sig}", "GEARDYN_FAULT_COUNTER": str(tmp_path / "count")}
+    env = wf.env()
+    env.update(
+        PYTHONPATH=f"{wf.ROOT / 'tests' / 'faults'}{os.pathsep}{env['PYTHONPATH']}",
+        GEARDYN_FAULT=f"sweep_chunk:3:{sig}",
+        GEARDYN_FAULT_COUNTER=str(tmp_path / "count"),
+    )
     # SIGINT back to its default in the child: a test runner started in the background by a shell without job
     # control inherits SIGINT ignored, and Snakemake would then never see the Ctrl-C this test sends
     proc = subprocess.run(

@@ -10,8 +10,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from geardyn import classify, validate
+from geardyn.config import validate
 from geardyn.khv import design, point
+from geardyn.label import classify
 from geardyn.runs import response
 from geardyn.solve import simulate
 from geardyn.solve.response import response_measures

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from geardyn import __version__, io, provenance
+from geardyn import __version__, io
+from geardyn.io import provenance
 
 
 def _dataset():
@@ -17,7 +18,7 @@ def _dataset():
 
 def test_round_trip_is_identical_and_carries_provenance(tmp_path):
     ds = _dataset()
-    attrs = io.provenance(title="t", paper="li2013", config={"a": 1, "b": [1, 2]}, model_variant="v")
+    attrs = provenance.attributes(title="t", paper="li2013", config={"a": 1, "b": [1, 2]}, model_variant="v")
     path = io.write_netcdf(ds, tmp_path / "a.nc", attrs)
     with xr.open_dataset(path) as back:
         back.load()
@@ -45,8 +46,8 @@ def test_config_hash_ignores_key_order_and_sees_values():
 
 
 def test_references_name_the_paper_of_the_design_or_the_docs():
-    assert provenance.provenance(title="t", paper="li2013")["references"].startswith("Li H., Niu W.")
-    assert provenance.provenance(title="t")["references"] == "geardyn documentation (docs/)"
+    assert provenance.attributes(title="t", paper="li2013")["references"].startswith("Li H., Niu W.")
+    assert provenance.attributes(title="t")["references"] == "geardyn documentation (docs/)"
 
 
 def test_missing_units_refused(tmp_path):

@@ -11,9 +11,8 @@ import numpy as np
 import pytest
 
 import geardyn.solve.response as response
-from geardyn import classify
 from geardyn.khv import design, point
-from geardyn.label import Policy, label_lines
+from geardyn.label import Policy, classify, label_lines
 from geardyn.runs import study
 from geardyn.solve import SimulationSettings
 from geardyn.solve.response import ResponseMeasures, response_measures_many, rms_errors_many

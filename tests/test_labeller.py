@@ -9,9 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from geardyn import classify
 from geardyn.khv import design, point
-from geardyn.label import Policy, label_lines, label_points
+from geardyn.label import Policy, classify, label_lines, label_points
 from geardyn.label import _nonperiodic as nonperiodic
 from geardyn.label import _stages as st
 from geardyn.label.compare import directed_distance, hausdorff

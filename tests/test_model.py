@@ -175,7 +175,7 @@ def test_4dof_and_3dof_trajectories_agree():
 
 def test_schema_defaults_match_dataclasses():
     jsonschema = pytest.importorskip("jsonschema")
-    schema = json.loads(resources.files("geardyn").joinpath("schemas/dynamics.schema.json").read_text())
+    schema = json.loads(resources.files("geardyn.config").joinpath("schemas/dynamics.schema.json").read_text())
     jsonschema.Draft202012Validator.check_schema(schema)
     jsonschema.validate({}, schema)
     sections = {

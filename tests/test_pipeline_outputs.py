@@ -17,7 +17,8 @@ import xarray as xr
 import yaml
 
 import _workflow as wf
-from geardyn import archive, io, provenance
+from geardyn import io
+from geardyn.io import archive, provenance
 
 
 def _small_pipeline(work):

@@ -124,7 +124,7 @@ def runs_for(section, *patterns):
     """Each of ``patterns`` (a rule's outputs) for every (design, entry) of a config section: the designs
     each entry selects (``designs:``, or a calibration's one ``design:``), the entry's name in the
     section's wildcard (``SECTION_KEYS``)."""
-    from geardyn.validate import selected_designs
+    from geardyn.config.validate import selected_designs
 
     return [
         entry_path(pattern, section, name, design)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from geardyn import classify
+import geardyn.label.classify as classify
 from geardyn.label.verdict import Verdict
 
 #: Default tolerances (relative to max(1, attractor size)).

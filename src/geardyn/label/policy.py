@@ -9,7 +9,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, Literal
 
-from geardyn.classify import ClassifierSettings
+from geardyn.label.classify import ClassifierSettings
 from geardyn.solve.base import SimulationSettings
 
 Start = Literal["follow", "fixed"]

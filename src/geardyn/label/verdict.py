@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geardyn import classify
+import geardyn.label.classify as classify
 from geardyn.solve.response import ResponseMeasures
 
 #: Which stage decided a verdict (cube variable ``stage``; codes and meanings).

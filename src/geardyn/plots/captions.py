@@ -12,8 +12,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from geardyn import classify
-from geardyn.label import STAGE_NAMES
+from geardyn.label import STAGE_NAMES, classify
 from geardyn.plots.plus import ENERGY_BARS, orders
 from geardyn.runs.cube import STATES, fractions, labels_of_cube
 
@@ -57,19 +56,6 @@ def bifurcation(name: str, cube: xr.Dataset, paper: ModuleType | None = None) ->
     return "\n".join(lines)
 
 
-def spectral_peaks(freq, amp, n: int = 5, fmax: float = 3.0) -> list[float]:
-    """The ``n`` highest local maxima of a spectrum below ``fmax`` (>= 2 % of the largest), by height."""
-
-    keep = (freq > 0.02) & (freq <= fmax)
-    if keep.sum() < 3:
-        return []
-    f, a = freq[keep], amp[keep]
-    from scipy.signal import find_peaks  # noqa: PLC0415 - 0.3 s to import: only the captions with spectra
-
-    idx, _ = find_peaks(a, height=0.02 * a.max())
-    return [float(f[i]) for i in idx[np.argsort(-a[idx], kind="stable")[:n]]]  # ties: the lower frequency first
-
-
 def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
     lines = [
         f"{name}: phase trajectory (X_VH, dX_VH/dtau), Poincare map and amplitude spectrum of X_VH over the "
@@ -86,7 +72,7 @@ def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
             how = f" ({stage.replace('_', ' ')})" if stage else ""
         else:
             n = classify.LABELS["diverged"] if int(d["diverged"]) == 1 else classify.LABELS["undetermined"]
-        peaks = spectral_peaks(d["frequency"].values, d["amplitude"].values)
+        peaks = classify.spectral_peaks(d["frequency"].values, d["amplitude"].values)
         peaks = (", peaks at " + ", ".join(f"{v:.3g}" for v in peaks) + " x f_mesh") if peaks else ""
         lines.append(f"Ours, {case}: {classify.label_name(n)}{how}{peaks}.")
     lines += _tail(name, paper)

@@ -15,10 +15,9 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn import classify
 from geardyn.config import settings_from
 from geardyn.khv import point
-from geardyn.label import Policy, compare, label_points
+from geardyn.label import Policy, classify, compare, label_points
 from geardyn.runs.continuation import branches_from_dataset
 from geardyn.runs.cube import LABEL_FILL, STATES, flags
 from geardyn.solve.base import SimulationSettings, System

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from geardyn import classify
+from geardyn.label import classify
 from geardyn.runs.cube import labels_of_cube
 
 

@@ -12,9 +12,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn import classify
-from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES
-from geardyn.provenance import distinct_runtimes
+from geardyn.io.provenance import distinct_runtimes
+from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES, classify
 from geardyn.solve.response import IMPACT_CLASSES
 
 STATES = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")

@@ -44,7 +44,7 @@ def records_dataset(records: Sequence[Record], space: SearchSpace, grids: Grids)
         ("candidate", par),
         np.array([r.labels[grids.main] for r in records], np.int16).reshape(n, main.values.size),
         "1",
-        f"motion label along {par} after the slow-transient check (geardyn.classify codes)",
+        f"motion label along {par} after the slow-transient check (geardyn.label.classify codes)",
     )
     for u in space.unknowns:
         data[u.name] = cf(

@@ -13,8 +13,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn.classify import LABELS
 from geardyn.khv import point
+from geardyn.label.classify import LABELS
 from geardyn.runs.continuation.curve_maps import Boundaries, BoundarySpec, Region, boundary_curves, shorter_period
 from geardyn.runs.continuation.curves import bounds_stable, crossings, segment_distance
 from geardyn.runs.continuation.family import cached, cycle_states

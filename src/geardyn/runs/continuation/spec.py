@@ -9,8 +9,8 @@ from typing import Any
 
 import numpy as np
 
-from geardyn import classify
 from geardyn.config import settings_from
+from geardyn.label import classify
 from geardyn.runs.continuation.branch import ContinuationSettings
 
 #: The state variables of a cube, in the order of the model's state vector.

@@ -1,5 +1,5 @@
 """Self-describing outputs, written atomically: netCDF with CF attributes, compressed losslessly, and tables,
-each with its provenance (:mod:`geardyn.provenance`, whose writers' names it re-exports): what, where and on
+each with its provenance (:mod:`geardyn.io.provenance`): what, where and on
 what it was made (``docs/operations.md``, Compression and provenance of every file).
 """
 
@@ -15,10 +15,7 @@ from typing import Any
 
 import xarray as xr
 
-# where and how an output was made (geardyn.provenance): the attributes the writers' callers pass in
-from geardyn.provenance import info, provenance_text
-from geardyn.provenance import provenance as provenance
-from geardyn.provenance import runtime_provenance as runtime_provenance
+from geardyn.io import provenance
 
 #: zlib level of every netCDF variable (with the shuffle filter); measured in docs/operations.md.
 ZLIB_LEVEL = 1
@@ -50,14 +47,14 @@ def write_netcdf(
     zlib_level: int = ZLIB_LEVEL,
 ) -> Path:
     """Write ``ds`` to ``path`` atomically (temporary file + rename) with global ``attrs`` and
-    :func:`runtime_provenance` merged in; refuse a variable without ``units``/``long_name``.
+    :func:`geardyn.io.provenance.runtime` merged in; refuse a variable without ``units``/``long_name``.
     Numeric variables: shuffle + zlib at ``zlib_level`` (0 = off), Fletcher-32 with ``checksum``; coordinates
     without ``_FillValue`` (CF 2.5.1).  Why each: ``docs/operations.md``, Compression and provenance."""
     if not 0 <= zlib_level <= 9:
         raise ValueError(f"zlib_level must be 0 (off) to 9, got {zlib_level}")
     path = Path(path)
     out = ds.copy()
-    out.attrs = {**ds.attrs, **(attrs or {}), **runtime_provenance()}
+    out.attrs = {**ds.attrs, **(attrs or {}), **provenance.runtime()}
     missing = missing_cf_attributes(out)
     if missing:
         raise ValueError(f"dataset for {path.name} lacks CF attributes: {', '.join(missing)}")
@@ -119,10 +116,10 @@ def write_text(text: str, path: str | os.PathLike[str]) -> Path:
     (no comment syntax every reader accepts) in :func:`provenance_sidecar`."""
     path = Path(path)
     if path.suffix.lower() == ".md":
-        text = text.rstrip("\n") + "\n\n<!-- provenance\n" + provenance_text() + "-->\n"
+        text = text.rstrip("\n") + "\n\n<!-- provenance\n" + provenance.provenance_text() + "-->\n"
     elif path.suffix.lower() in TABLE_SUFFIXES and not path.name.endswith(PROVENANCE_SIDECAR):
         with atomic(provenance_sidecar(path)) as tmp:
-            tmp.write_text(json.dumps({"file": path.name, **info()}, indent=1) + "\n", encoding="utf-8")
+            tmp.write_text(json.dumps({"file": path.name, **provenance.info()}, indent=1) + "\n", encoding="utf-8")
     with atomic(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
     return path

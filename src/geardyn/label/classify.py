@@ -22,7 +22,7 @@ def falling_return_distances(poincare: np.ndarray, max_n: int, factor: float = 0
     record: mean of its last quarter < ``factor`` x mean of its first quarter (a quarter: max(2, len // 4)
     values).  True when there are fewer than n + 8 points (too short to tell).  Compiled."""
 
-    from geardyn._indicators import falling  # noqa: PLC0415 - numba: only the jobs that label import it
+    from geardyn.label._falling import falling  # noqa: PLC0415 - numba: only the jobs that label import it
 
     p = np.asarray(poincare, dtype=float)
     return falling(np.ascontiguousarray(p[np.all(np.isfinite(p), axis=1)]), max_n, factor)
@@ -148,6 +148,19 @@ def spectral_flatness(phi: np.ndarray) -> float:
 # ----------------------------------------------------------------------------------------
 # decision
 # ----------------------------------------------------------------------------------------
+
+
+def spectral_peaks(freq, amp, n: int = 5, fmax: float = 3.0) -> list[float]:
+    """The ``n`` highest local maxima of a spectrum below ``fmax`` (>= 2 % of the largest), by height."""
+
+    keep = (freq > 0.02) & (freq <= fmax)
+    if keep.sum() < 3:
+        return []
+    f, a = freq[keep], amp[keep]
+    from scipy.signal import find_peaks  # noqa: PLC0415 - 0.3 s to import: only the captions with spectra
+
+    idx, _ = find_peaks(a, height=0.02 * a.max())
+    return [float(f[i]) for i in idx[np.argsort(-a[idx], kind="stable")[:n]]]  # ties: the lower frequency first
 
 
 @dataclass(frozen=True)

@@ -23,8 +23,8 @@ import xarray as xr
 import yaml
 
 from geardyn import __version__
-from geardyn import provenance as prov
 from geardyn.io import atomic
+from geardyn.io import provenance as prov
 
 MANIFEST = "MANIFEST.json"
 SUMS = "SHA256SUMS"
@@ -78,7 +78,7 @@ class Summary:
     cubes: int
     geardyn_version: str
     git_commit: str
-    #: the distinct runtime provenances (:func:`geardyn.provenance.runtime_of`) of the cubes, and how many cubes each
+    #: the distinct runtime provenances (:func:`geardyn.io.provenance.runtime_of`) of the cubes, and how many cubes each
     runtimes: tuple[tuple[dict[str, str], int], ...] = field(default_factory=tuple)
 
     def line(self) -> str:

@@ -16,7 +16,15 @@ from typing import Any
 
 import jsonschema
 
-from geardyn.config import ConfigError, allowed_text, check_expanded_size, load_design_dict, read_yaml, schema, validate
+from geardyn.config import (
+    ConfigError,
+    allowed_text,
+    check_expanded_size,
+    load_design_dict,
+    read_yaml,
+    schema,
+    validated,
+)
 from geardyn.khv import design as khv_design
 from geardyn.khv.design import resolve_fractions
 from geardyn.papers import paper_of
@@ -100,9 +108,9 @@ def fill_config(config: dict[str, Any], where: str = "config") -> dict[str, Any]
     and the ``error_floor`` of each entry that sets ``integration.steps_per_period`` (otherwise
     :func:`validate_workflow` takes it from the designs)."""
     check_expanded_size(config, where)
-    checked = validate(config, "config.schema.json", where)
+    checked = validated(config, "config.schema.json", where)
     resolved = _resolve_presets(copy.deepcopy(config), checked["presets"], where)
-    filled = validate(resolved, "config.schema.json", where)
+    filled = validated(resolved, "config.schema.json", where)
     _check_maps(filled, where)
     for section in PRESET_KEYS:
         for name, spec in filled[section].items():

@@ -14,11 +14,11 @@ from typing import Any
 import numpy as np
 import yaml
 
-from geardyn.classify import bands
-from geardyn.config import ConfigError, schema, validate
+from geardyn.config import ConfigError, schema, validated
 from geardyn.gears import constraints
 from geardyn.gears import geometry as geo
 from geardyn.khv.closed_graph import CUTTER_DEPENDENT
+from geardyn.label.classify import bands
 
 KINDS = {"khv": "khv.schema.json", "plus": "plus_planetary.schema.json"}
 
@@ -84,12 +84,12 @@ def khv_design(name: str, z1: int = 40, z2: int = 43, module: float = 2.0) -> di
         "pair": {"z1": z1, "z2": z2, "module": module, "x1": round(0.5 * (lo + hi), 4), "x2": "line4"},
         "admissible": {"x1_min": lo, "x1_max": hi, "enforce_cutter_constraints": False},
     }
-    return validate(raw, KINDS["khv"], name)
+    return validated(raw, KINDS["khv"], name)
 
 
 def plus_design(name: str) -> dict[str, Any]:
     """The validated dict of a new plus-set design: the schema's defaults under a name of your own."""
-    return validate(
+    return validated(
         {"kind": "plus_planetary", "name": name, "title": f"Plus planetary set {name}", "paper": None},
         KINDS["plus"],
         name,
