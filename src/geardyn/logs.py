@@ -9,13 +9,13 @@ import sys
 from pathlib import Path
 
 
-def to_file(path: str | Path | None, name: str = "geardyn") -> logging.Logger:
+def to_file(path: str | Path | None) -> logging.Logger:
     """Send ``geardyn`` log records (and Python warnings) to ``path``; return the logger.  From here on an
-    :class:`OSError` that ends the process (a full disk, a read-only folder, a quota) prints one line on stderr,
-    :func:`oserror_line`, and its traceback goes to the log where the disk takes it."""
+    :class:`OSError` that ends the process (a full disk, a read-only folder, a quota) is one line on stderr,
+    ``geardyn: No space left on device (ENOSPC): <path>``, its traceback in the log where the disk takes it."""
     sys.excepthook = _excepthook
-    logging.raiseExceptions = False  # a log on a full disk: no traceback for every record it cannot write
-    logger = logging.getLogger(name)
+    logging.raiseExceptions = False  # a log on a full disk: no traceback for each record it cannot write
+    logger = logging.getLogger("geardyn")
     logger.setLevel(logging.INFO)
     if path is not None:
         Path(path).parent.mkdir(parents=True, exist_ok=True)
@@ -27,18 +27,11 @@ def to_file(path: str | Path | None, name: str = "geardyn") -> logging.Logger:
     return logger
 
 
-def oserror_line(err: OSError) -> str:
-    """What failed and where: ``geardyn: No space left on device (ENOSPC): results/.../chunk_0.nc``."""
-    code = errno.errorcode.get(err.errno or 0, f"errno {err.errno}")
-    where = " -> ".join(str(f) for f in (err.filename, err.filename2) if f is not None) or "(no path)"
-    return f"geardyn: {err.strerror or err} ({code}): {where}"
-
-
 def _excepthook(kind: type[BaseException], err: BaseException, tb: object) -> None:
     if not isinstance(err, OSError):
-        sys.__excepthook__(kind, err, tb)  # type: ignore[arg-type]
-        return
-    log = logging.getLogger("geardyn")
-    if log.handlers:  # without one, logging would print the traceback on stderr
-        log.error("%s", oserror_line(err), exc_info=(kind, err, tb))  # type: ignore[arg-type]
-    print(oserror_line(err), file=sys.stderr)
+        return sys.__excepthook__(kind, err, tb)  # type: ignore[arg-type]
+    where = " -> ".join(str(f) for f in (err.filename, err.filename2) if f is not None)
+    line = f"geardyn: {err.strerror or err} ({errno.errorcode.get(err.errno or 0, err.errno)}): {where or '?'}"
+    if logging.getLogger("geardyn").handlers:  # without one, logging would print the traceback on stderr
+        logging.getLogger("geardyn").error(line, exc_info=(kind, err, tb))  # type: ignore[arg-type]
+    print(line, file=sys.stderr)
