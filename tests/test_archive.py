@@ -88,9 +88,37 @@ def test_archive_holds_cubes_configs_manifest_and_readme(built):
 def test_good_archive_verifies(built, capsys):
     out, _ = built
     summary = archive.verify(out)
-    assert (summary.files, summary.cubes, summary.design) == (7, 2, "d")
+    assert (summary.files, summary.cubes, summary.design, summary.own_sum) == (7, 2, "d", True)
     assert cli.main(["verify-archive", str(out)]) == 0
-    assert "OK" in capsys.readouterr().out
+    assert "OK, its own sha256 matches" in capsys.readouterr().out
+    # the archive's own sum beside it, as `sha256sum -c` reads it (computed independently of the module)
+    digest = hashlib.sha256(out.read_bytes()).hexdigest()
+    assert (out.parent / f"{out.name}.sha256").read_text() == f"{digest}  {out.name}\n"
+
+
+def test_a_byte_flipped_anywhere_is_refused(built, tmp_path):
+    """A byte flipped at 50 seeded positions: the gzip header's time stamp, 30 drawn, and the last 16 bytes
+    (deflate's last block and the gzip trailer, CRC-32 and length, which tar never reads: it stops at its
+    end-of-archive blocks).  Each is refused by the archive's own sum, and beyond the header (its time stamp,
+    flags, OS and file name are under no CRC) also without it: the whole gzip stream is read."""
+    data = built[0].read_bytes()
+    header = data.index(b"\0", 10) + 1 if data[3] & 0x08 else 10  # with the file name (FNAME) the header holds
+    drawn = np.random.default_rng(0).choice(np.arange(header, len(data) - 16), 30, replace=False)
+    positions = [4, 5, 6, 7, *drawn, *range(len(data) - 16, len(data))]
+    (tmp_path / "bad").mkdir()
+    bad, own_sum = tmp_path / "bad" / built[0].name, tmp_path / "bad" / f"{built[0].name}.sha256"
+    for pos in positions:
+        flipped = bytearray(data)
+        flipped[pos] ^= 0xFF
+        bad.write_bytes(flipped)
+        own_sum.write_bytes((built[0].parent / own_sum.name).read_bytes())
+        with pytest.raises(archive.ArchiveError):
+            archive.verify(bad)
+        own_sum.unlink()
+        if pos >= header:
+            with pytest.raises(archive.ArchiveError):
+                archive.verify(bad)
+    assert len(set(positions)) == 50
 
 
 def _flip_member(out, name, tmp_path):

@@ -162,6 +162,7 @@ def test_archive_holds_every_cube_and_verifies(small_run, design):
     manifest = json.loads(_archive_member(path, "MANIFEST.json"))
     cubes = {e["path"].removeprefix(f"results/{design}/") for e in manifest["files"] if e["kind"] == "netcdf"}
     assert cubes == _cubes_on_disk(small_run, design) and summary.cubes == len(cubes) > 0
+    assert summary.own_sum  # the rule wrote <archive>.sha256 beside it, and it matches
     configs = {e["path"] for e in manifest["files"] if e["kind"] == "config"}
     assert configs == {"config/config.yaml", f"config/designs/{design}.yaml", "config/effective_config.yaml"}
     run = subprocess.run(

@@ -79,13 +79,27 @@ def write_netcdf(
 @contextmanager
 def atomic(path: str | os.PathLike[str]) -> Iterator[Path]:
     """A temporary file beside ``path`` for the block to write, renamed to ``path`` when the block ends (and
-    removed if it raises): no reader ever sees a half-written file.  The one writer of every output."""
+    removed if it raises): no reader ever sees a half-written file.  The one writer of every output.  A write
+    that fails on the disk (full, a quota) raises its :class:`OSError` naming ``path``, also where the writer
+    named no errno (netCDF's "HDF error"): one block appended to the temporary file asks the disk."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     os.close(fd)
     try:
-        yield Path(tmp)
+        try:
+            yield Path(tmp)
+        except OSError as err:
+            err.filename = str(path) if err.filename in (None, tmp) else err.filename
+            raise
+        except Exception:
+            try:
+                with open(tmp, "ab", buffering=0) as fh:
+                    fh.write(bytes(os.statvfs(tmp).f_bsize))
+                    os.fsync(fh.fileno())
+            except OSError as err:
+                raise OSError(err.errno, err.strerror, str(path)) from None
+            raise
         os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600: give the file the permissions of any other
         os.replace(tmp, path)
     finally:

@@ -109,9 +109,10 @@ def layout(design: KHVDesign, spec: SweepSpec, chunk: int, policy: Policy) -> st
 
 
 def _store(arrays: dict[str, np.ndarray], idx: study.Index, system: System, v: Verdict) -> None:
-    n = v.poincare.shape[0]
+    ns = arrays[STATES[0]].shape[-1]
+    p = v.poincare[max(0, v.poincare.shape[0] - ns) :]  # the newest the axis holds (a diverged run: its whole record)
     for k, name in enumerate(STATES):
-        arrays[name][(*idx, slice(0, n))] = v.poincare[:, k]
+        arrays[name][(*idx, slice(0, p.shape[0]))] = p[:, k]
     arrays["diverged_period"][idx] = v.diverged_period
     arrays["n_events"][idx] = v.n_events
     values = system.as_dict()
