@@ -1,5 +1,6 @@
 """Results archives: what build() writes verifies; every kind of damage is refused with one line."""
 
+import datetime
 import gzip
 import hashlib
 import io as _io
@@ -83,6 +84,16 @@ def test_archive_holds_cubes_configs_manifest_and_readme(built):
     assert f"{cube['sha256']}  results/d/a.nc" in sums  # the format `sha256sum -c` reads
     readme = members["d_archive/README.txt"].decode()
     assert "xr.open_dataset" in readme and "geardyn verify-archive d_archive.tar.gz" in readme
+
+
+def test_the_gzip_header_names_no_file_and_bears_the_archives_time(built):
+    """RFC 1952: FLG bit 3 (FNAME) unset, MTIME (bytes 4-7, little-endian) the manifest's creation time, so the
+    same members give the same bytes whatever temporary name the writer used."""
+    out, manifest = built
+    head = out.read_bytes()[:10]
+    assert head[:3] == b"\x1f\x8b\x08" and head[3] & 0x08 == 0
+    created = datetime.datetime.fromisoformat(manifest["created"])
+    assert int.from_bytes(head[4:8], "little") == int(created.timestamp())
 
 
 def test_good_archive_verifies(built, capsys):

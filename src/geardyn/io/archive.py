@@ -173,7 +173,13 @@ def build(
     manifest_bytes = (json.dumps(manifest, indent=1) + "\n").encode()
 
     mtime = int(_dt.datetime.fromisoformat(created).timestamp())
-    with atomic(out) as tmp, tarfile.open(tmp, "w:gz") as tar:
+    # the gzip header names no file and bears the archive's own time: the same members give the same bytes
+    with (
+        atomic(out) as tmp,
+        tmp.open("wb") as raw,
+        gzip.GzipFile("", "wb", fileobj=raw, mtime=mtime) as gz,
+        tarfile.open(fileobj=gz, mode="w:") as tar,
+    ):
         for name, data in [(MANIFEST, manifest_bytes), *sorted(members.items())]:
             info = tarfile.TarInfo(f"{top}/{name}")
             info.size, info.mtime, info.mode = len(data), mtime, 0o644
