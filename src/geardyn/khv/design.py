@@ -23,7 +23,7 @@ from geardyn.gears import constraints, geometry, interference, stiffness
 
 @dataclass(frozen=True)
 class StiffnessOptions:
-    """Paper 1 Eqs. (7)-(9) choices; see ``docs/paper1_choices.md``."""
+    """Paper 1 Eqs. (7)-(9) choices; see ``docs/paper1.md``."""
 
     q_variant: stiffness.QVariant = "iso"
     constants: str = "iso"

@@ -167,7 +167,7 @@ def spectral_peaks(freq, amp, n: int = 5, fmax: float = 3.0) -> list[float]:
 class ClassifierSettings:
     """Thresholds of the labeller (exponents per unit dimensionless time tau = w_n t): rule 3's period,
     tolerances and separation, the exponent's zero band, indicator thresholds, and the slow-transient and torus
-    tests' settings (fields and measured values: ``docs/classify.md``)."""
+    tests' settings (measured values: ``docs/classify.md``)."""
 
     max_n: int = 12
     rtol: float = 1e-4

@@ -50,7 +50,7 @@ class Chord:
 @dataclass(frozen=True)
 class Settle:
     """The slow-transient check's numerics (:mod:`geardyn.label.settle`): shooting iterations, cycle tolerance,
-    the approach tests on the record, the probe and the last continued run (fields: ``docs/classify.md``)."""
+    the approach tests on the record, the probe and the last continued run (``docs/classify.md``, "Slow transients")."""
 
     newton_max_iter: int = 15
     cycle_rtol: float = 1e-6
@@ -82,7 +82,7 @@ class Locked:
 @dataclass(frozen=True)
 class Policy:
     """How the points of a study are labelled: integration, classifier thresholds, start (``"follow"`` or
-    ``"fixed"``), coexistence, and the numerics of the stages (fields: ``docs/classify.md``)."""
+    ``"fixed"``), coexistence, and the numerics of the stages (``docs/classify.md``)."""
 
     integration: SimulationSettings
     classifier: ClassifierSettings = ClassifierSettings()

@@ -38,7 +38,7 @@ EXPONENT_METHODS = {"none": 0, "floquet": 1, "tangent": 2}
 class Verdict:
     """One point's label and how it was obtained: label and period, exponent and method, multiplier, stage,
     bifurcation, reason, indicators, the attractor's points and final state, and the response measures on it
-    (fields: ``docs/classify.md``)."""
+    (``docs/classify.md``)."""
 
     label: int
     period: int

@@ -209,7 +209,7 @@ def run(
 ):
     """Integrate n_trans + n_rec mesh periods from y0 (phase 0): the one loop of the solver, with Poincare
     points, dense output, tangent columns and the early stop ``es`` (:data:`NO_EARLY_STOP`: off).  Returns
-    (status, last_period, n_events, n_dense, transient_used, stop_period) (arguments: ``docs/numerics.md``)."""
+    (status, last_period, n_events, n_dense, transient_used, stop_period) (``docs/numerics.md``)."""
     # coefficients as a tuple: numba keeps them in registers instead of reloading the array
     # fmt: off
     c = (c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9], c[10], c[11], c[12], c[13],

@@ -1,6 +1,6 @@
 """The engineer's response measures of one operating point: dynamic mesh force, dynamic factor, DTE,
-contact fractions, impact class, and the standard errors of the RMS values (definitions:
-``docs/response.md``; how they are summed: ``docs/numerics.md``)."""
+contact fractions, impact class, and the standard errors of the RMS values (definitions and
+how they are summed: ``docs/response.md``)."""
 
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ CONTACT_LOSS_MIN = 1.0e-9
 @dataclass(frozen=True)
 class ResponseMeasures:
     """The response of one point over ``periods`` mesh periods (forces / (k_mean b_c), lengths / b_c); NaN
-    and class ``"diverged"`` where the run diverged (fields: ``docs/numerics.md``)."""
+    and class ``"diverged"`` where the run diverged (definitions: ``docs/response.md``)."""
 
     static_force: float
     force_mean: float

@@ -302,7 +302,7 @@ def simulate_batch(
     """:func:`simulate` for many systems at once (``rk4``/``rk4_event``, no dense output), in parallel, each
     point bit-identical to :func:`simulate` without ``early_stop``; per-point transient, recorded and monodromy
     periods, cached ``tables``, ``tangent_start`` and the response sums ``sums_last``/``sums_start``
-    (arguments: ``docs/numerics.md``)."""
+    (``docs/numerics.md``)."""
     if settings.integrator == "dop853":
         raise ValueError("simulate_batch integrates with 'rk4' or 'rk4_event'")
     L = len(systems)
