@@ -90,12 +90,6 @@ def markdown_table(header: Sequence[str], rows: Iterable[Sequence[Any]], align: 
     return "\n".join([lines[0], "|" + "|".join(rule) + "|", *lines[1:]])
 
 
-def cf(dims: str | tuple[str, ...], data: Any, units: str, long_name: str, **attrs: Any) -> tuple[Any, Any, dict]:
-    """A variable of an xarray Dataset with its CF ``units`` and ``long_name`` (and any other attributes):
-    ``(dims, data, attrs)``."""
-    return (dims, data, {"units": units, "long_name": long_name, **attrs})
-
-
 def missing_cf_attributes(ds: xr.Dataset) -> list[str]:
     """Names of variables/coordinates lacking ``units`` or ``long_name`` (flags and masks need no units)."""
     missing = []
