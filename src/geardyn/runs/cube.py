@@ -133,15 +133,13 @@ VARIABLES = _table(
     _num("x_vh_spread", "peak-to-peak of Poincare X_VH / b_c"),
 )
 
-#: The verdict's field of each of its variables.
+#: The verdict's field of each of its variables (a string field stored as its code in the variable's flags).
 VERDICT_FIELDS = {name: name for name in VERDICT} | {
     "lyapunov": "exponent",
     "lyapunov_sigma": "exponent_sigma",
     "zero_one_k": "k01",
     "spectral_flatness": "flatness",
 }
-#: The verdict's fields stored as codes: name -> (field value -> code).
-VERDICT_CODES = {"exponent_method": EXPONENT_METHODS, "stage": STAGES, "bifurcation": BIFURCATIONS}
 
 
 #: The motion labels: from the study's own start, and from the fixed start (policy ``coexistence``).
@@ -158,10 +156,8 @@ def empty(
     ``long_names`` replace the table's)."""
     out = {}
     for name in names:
-        var = VARIABLES[name]
-        if name in LABELS:
-            var = label(name, var.long_name, max_n)
-        out[name] = replace(var, dims=dims, long_name=long_names.get(name, var.long_name)).empty(shape)
+        var = replace(VARIABLES[name], dims=dims, long_name=long_names.get(name, VARIABLES[name].long_name))
+        out[name] = (replace(var, flags=classify.label_codes(max_n)) if name in LABELS else var).empty(shape)
     return out
 
 
