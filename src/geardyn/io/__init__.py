@@ -25,10 +25,10 @@ ZLIB_LEVEL = 1
 
 @dataclass(frozen=True)
 class Var:
-    """One CF variable of an output: a row of its writer's table.  ``units`` is None for a flag or a name (CF gives
-    them none); ``flags`` (meaning -> code, as every code table of the package) gives ``flag_values`` (in the
-    variable's dtype: int8 unless ``dtype`` says) and ``flag_meanings``; ``fill``: the value of a point not computed
-    (:meth:`empty`); ``attrs``: the other attributes."""
+    """One CF variable of an output, a row of its writer's table.  ``units``: None for a flag or a name (CF gives
+    them none); ``flags`` (meaning -> code, as every code table of the package) give ``flag_values``, in the
+    variable's ``dtype`` (int8 unless given), and ``flag_meanings``; ``fill``: the value where nothing was
+    computed (:meth:`empty`); ``attrs``: the other attributes."""
 
     name: str
     dims: str | tuple[str, ...]
@@ -46,45 +46,43 @@ class Var:
 
     def attributes(self) -> dict[str, Any]:
         """The CF attributes: ``units``, ``long_name``, the flags', the others."""
-        out = {"units": self.units} if self.units is not None else {}
-        out["long_name"] = self.long_name
+        out = ({} if self.units is None else {"units": self.units}) | {"long_name": self.long_name}
         if self.flags is not None:
             out["flag_values"] = np.array(list(self.flags.values()), self.dtype)
             out["flag_meanings"] = " ".join(self.flags)
         return out | dict(self.attrs)
 
     def __call__(self, values: Any) -> tuple[tuple[str, ...], Any, dict[str, Any]]:
-        """The variable holding ``values`` (cast to its dtype) as :class:`xarray.Dataset` takes it."""
+        """The variable holding ``values`` (in its dtype) as :class:`xarray.Dataset` takes it."""
         return self.dims, values if self.dtype is None else np.asarray(values, self.dtype), self.attributes()
 
     def empty(self, shape: tuple[int, ...]) -> tuple[tuple[str, ...], Any, dict[str, Any]]:
-        """The variable of ``shape`` filled with its fill value."""
+        """The variable of ``shape`` holding its fill value."""
         return self(np.full(shape, self.fill, self.dtype))
 
 
 def variables(table: Iterable[Var], values: Mapping[str, Any] | Iterable[Any]) -> dict[str, tuple]:
-    """The variables of ``table`` holding ``values`` (by name, or in the table's order) as
+    """The variables of ``table`` holding ``values`` (by name, or in the table's order), as
     :class:`xarray.Dataset` takes them."""
     table = list(table)
-    if not isinstance(values, Mapping):
-        values = dict(zip([v.name for v in table], values, strict=True))
-    return {v.name: v(values[v.name]) for v in table}
+    named = values if isinstance(values, Mapping) else dict(zip([v.name for v in table], values, strict=True))
+    return {v.name: v(named[v.name]) for v in table}
 
 
 def dataset(
-    table: Iterable[Var], values: Mapping[str, Any] | Iterable[Any], attrs: Mapping[str, Any] | None = None
+    table: Iterable[Var], values: Mapping[str, Any] | Iterable[Any], attrs: Mapping | None = None
 ) -> xr.Dataset:
-    """The Dataset of the variables of ``table`` holding ``values`` (:func:`variables`), with global ``attrs``;
-    a variable named as its one dimension is a coordinate."""
+    """The Dataset of :func:`variables` with the global ``attrs``; a variable named as its one dimension is a
+    coordinate."""
     out = variables(table, values)
-    coords = {k: out.pop(k) for k in [v.name for v in table if v.dims == (v.name,)]}
+    coords = {k: out.pop(k) for k in [k for k, (dims, *_) in out.items() if dims == (k,)]}
     return xr.Dataset(out, coords=coords, attrs=attrs)
 
 
 def markdown_table(header: Sequence[str], rows: Iterable[Sequence[Any]], align: str = "") -> str:
-    """A GitHub Markdown table: the ``header``, its rule, one line per row (each cell as ``str``; a ``|`` in a
-    cell, which would end it, as ``/``).  ``align``: a letter per column, ``r`` right, ``c`` centred, ``l``
-    left, ``-`` (or none) not stated."""
+    """A GitHub Markdown table: ``header``, its rule, a line per row (each cell as ``str``; a ``|``, which would
+    end the cell, as ``/``).  ``align``: a letter per column, ``r`` right, ``c`` centred, ``l`` left, ``-`` (or
+    none) not stated."""
     rule = [{"r": "---:", "c": ":---:", "l": ":---"}.get(a, "---") for a in align.ljust(len(header))]
     lines = ["| " + " | ".join(str(c).replace("|", "/") for c in cells) + " |" for cells in (header, *rows)]
     return "\n".join([lines[0], "|" + "|".join(rule) + "|", *lines[1:]])
