@@ -72,11 +72,9 @@ def variables(table: Iterable[Var], values: Mapping[str, Any] | Iterable[Any]) -
 def dataset(
     table: Iterable[Var], values: Mapping[str, Any] | Iterable[Any], attrs: Mapping | None = None
 ) -> xr.Dataset:
-    """The Dataset of :func:`variables` with the global ``attrs``; a variable named as its one dimension is a
-    coordinate."""
-    out = variables(table, values)
-    coords = {k: out.pop(k) for k in [k for k, (dims, *_) in out.items() if dims == (k,)]}
-    return xr.Dataset(out, coords=coords, attrs=attrs)
+    """The Dataset of :func:`variables`, in the table's order, with the global ``attrs`` (a variable named as its
+    one dimension is a coordinate)."""
+    return xr.Dataset(variables(table, values), attrs=attrs)
 
 
 def markdown_table(header: Sequence[str], rows: Iterable[Sequence[Any]], align: str = "") -> str:

@@ -111,39 +111,42 @@ def closed_graph(
 _GRID = ("x2", "x1")
 #: The feasibility flags' codes.
 FEASIBLE = {"infeasible": 0, "feasible": 1}
-#: Where the contact ratio and the working pressure angle are given: suffix -> (dims, end of the long name).
-_MESH_AT = {"": (_GRID, ""), "_line4": ("x1", " on line 4"), "_point": ("point", " at the computed point")}
 
 
 def variables(margins: Iterable[str]) -> list[Var]:
     """The variables of the closed graph dataset; ``margins``: the constraints' names."""
-    out = [
+    ok = FEASIBLE
+    return [
         Var("x1", "x1", "1", "planet profile-shift coefficient x1"),
         Var("x2", "x2", "1", "annulus profile-shift coefficient x2 (Chinese sign convention)"),
         Var("point", "point", None, "printed limit point"),
-    ]
-    for name in margins:
-        line, dependent = LINES.get(name, (0, ""))[0], int(name in CUTTER_DEPENDENT)
-        attrs = {"closed_graph_line": line, "cutter_dependent": dependent, "sign_convention": ">= 0 satisfied"}
-        out.append(Var(name, _GRID, *constraints.constraint_info(name), dtype=float, attrs=attrs))
-    for suffix, (dims, where) in _MESH_AT.items():
-        out.append(Var(f"contact_ratio{suffix}", dims, "1", f"transverse contact ratio{where}"))
-        out.append(Var(f"working_pressure_angle{suffix}", dims, "degree", f"working pressure angle a'{where}"))
-    flags = {
-        "feasible": (_GRID, "all constraints satisfied"),
-        "feasible_cutter_free": (_GRID, "all constraints satisfied except the cutter-dependent ones"),
-        "feasible_line4": ("x1", "line-4 point satisfying every other constraint"),
-        "feasible_line4_cutter_free": ("x1", "line-4 point satisfying every cutter-independent constraint"),
-    }
-    return [
-        *out,
-        *(Var(name, dims, "1", long_name, FEASIBLE) for name, (dims, long_name) in flags.items()),
+        *(_margin(name) for name in margins),
+        *_mesh_vars("", _GRID, ""),
+        Var("feasible", _GRID, "1", "all constraints satisfied", ok),
+        Var("feasible_cutter_free", _GRID, "1", "all constraints satisfied except the cutter-dependent ones", ok),
         Var("x2_line4", "x1", "1", "annulus shift x2 on line 4 (G_s = 0)"),
+        *_mesh_vars("_line4", "x1", " on line 4"),
+        Var("feasible_line4", "x1", "1", "line-4 point satisfying every other constraint", ok),
+        Var("feasible_line4_cutter_free", "x1", "1", "line-4 point satisfying every cutter-independent constraint", ok),
         Var("paper_x1", "point", "1", "x1 of the printed limit point"),
         Var("paper_x2", "point", "1", "x2 of the printed limit point"),
         Var("computed_x2", "point", "1", "computed x2 on G_s = 0 at the paper's x1"),
         Var("residual_x2", "point", "1", "computed minus paper x2"),
+        *_mesh_vars("_point", "point", " at the computed point"),
         Var("working_centre_distance_point", "point", "mm", "working centre distance a' at the computed point"),
+    ]
+
+
+def _margin(name: str) -> Var:
+    line, dependent = LINES.get(name, (0, ""))[0], int(name in CUTTER_DEPENDENT)
+    attrs = {"closed_graph_line": line, "cutter_dependent": dependent, "sign_convention": ">= 0 satisfied"}
+    return Var(name, _GRID, *constraints.constraint_info(name), dtype=float, attrs=attrs)
+
+
+def _mesh_vars(suffix: str, dims: str | tuple[str, ...], where: str) -> list[Var]:
+    return [
+        Var(f"contact_ratio{suffix}", dims, "1", f"transverse contact ratio{where}"),
+        Var(f"working_pressure_angle{suffix}", dims, "degree", f"working pressure angle a'{where}"),
     ]
 
 
