@@ -26,11 +26,14 @@ MEASURES: dict[str, tuple[Callable[[Record], Any], str]] = {
 
 
 def _grid(
-    recs: Sequence[Record], dims: tuple[str, str], shape: tuple[int, int], measures: Mapping, dtype: Any
-) -> dict[str, Any]:
-    """Each measure (name -> (value of a record, long name)) of ``recs`` on the 2-D grid ``dims``."""
-    table = [Var(name, dims, "1", long_name) for name, (_, long_name) in measures.items()]
-    return io.variables(table, [np.array([f(r) for r in recs], dtype).reshape(shape) for f, _ in measures.values()])
+    recs: Sequence[Record], coords: Sequence[tuple[Var, Any]], measures: Mapping, dtype: Any, attrs: dict
+) -> xr.Dataset:
+    """Each measure (name -> (value of a record, long name)) of ``recs`` on the grid of ``coords`` (each a variable
+    and its values), with the global ``attrs``."""
+    shape, dims = tuple(len(v) for _, v in coords), tuple(var.name for var, _ in coords)
+    data = {name: np.array([f(r) for r in recs], dtype).reshape(shape) for name, (f, _) in measures.items()}
+    table = [*(Var(name, dims, "1", long_name) for name, (_, long_name) in measures.items()), *(c for c, _ in coords)]
+    return io.dataset(table, data | {var.name: values for var, values in coords}, attrs)
 
 
 def sensitivity(
@@ -74,14 +77,11 @@ def one_at_a_time(
             "1 when any label along x1 differs from the best's",
         ),
     }
-    return xr.Dataset(
-        _grid(recs, ("unknown", "step"), (len(space.unknowns), len(signed)), measures, float),
-        coords={
-            "unknown": Var("unknown", "unknown", "1", "searched unknown")(space.names),
-            "step": Var("step", "step", "1", "relative move of the unknown")(np.array(signed)),
-        },
-        attrs={f"base_{name}": value(base) for name, (value, _) in MEASURES.items()},
-    )
+    coords = [
+        (Var("unknown", "unknown", "1", "searched unknown"), space.names),
+        (Var("step", "step", "1", "relative move of the unknown"), np.array(signed)),
+    ]
+    return _grid(recs, coords, measures, float, {f"base_{name}": value(base) for name, (value, _) in MEASURES.items()})
 
 
 def score_map(
@@ -99,14 +99,12 @@ def score_map(
     vb = [perturbed(best_values[b.name], b, r) for r in rel]
     recs = evaluator.records(space.moved(best_values, [{a.name: x, b.name: y} for y in vb for x in va]))
     measures = {k: MEASURES[k] for k in ("score", "agree", "leave_p1")}
-    return xr.Dataset(
-        _grid(recs, (b.name, a.name), (map_points, map_points), measures, None),
-        coords={
-            u.name: Var(u.name, u.name, point.units_of(u.name), f"{u.name} (searched unknown)")(np.array(v))
-            for u, v in ((a, va), (b, vb))
-        },
-        attrs={"x": a.name, "y": b.name, "best_x": best_values[a.name], "best_y": best_values[b.name]},
-    )
+    coords = [
+        (Var(u.name, u.name, point.units_of(u.name), f"{u.name} (searched unknown)"), np.array(v))
+        for u, v in ((b, vb), (a, va))
+    ]
+    attrs = {"x": a.name, "y": b.name, "best_x": best_values[a.name], "best_y": best_values[b.name]}
+    return _grid(recs, coords, measures, None, attrs)
 
 
 def summary(
