@@ -74,7 +74,7 @@ def test_a_table_of_variables_is_a_cf_dataset_that_round_trips(tmp_path):
         table,
         {"k": np.ones((2, 3)), "ok": [True, False, True], "label": [1, -4, 1]}
         | {"x1": np.linspace(0.4, 0.8, 3), "case": ["a", "b"]},
-        {"title": "t"},
+        title="t",
     )
     assert list(ds.variables) == [v.name for v in table] and set(ds.coords) == {"x1", "case"}
     assert ds["ok"].dtype == ds["ok"].attrs["flag_values"].dtype == np.int8 and ds["ok"].values.tolist() == [1, 0, 1]

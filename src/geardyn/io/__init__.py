@@ -25,10 +25,9 @@ ZLIB_LEVEL = 1
 
 @dataclass(frozen=True)
 class Var:
-    """One CF variable of an output, a row of its writer's table.  ``units``: None for a flag or a name (CF gives
-    them none); ``flags`` (meaning -> code, as every code table of the package) give ``flag_values``, in the
-    variable's ``dtype`` (int8 unless given), and ``flag_meanings``; ``fill``: the value where nothing was
-    computed (:meth:`empty`); ``attrs``: the other attributes."""
+    """One CF variable of an output, a row of its writer's table.  ``units``: None for a flag or a name; ``flags``
+    (meaning -> code, as every code table of the package) give ``flag_values`` in the variable's ``dtype`` (int8
+    unless given) and ``flag_meanings``; ``fill``: where nothing was computed; ``attrs``: the other attributes."""
 
     name: str
     dims: str | tuple[str, ...]
@@ -62,25 +61,21 @@ class Var:
 
 
 def variables(table: Iterable[Var], values: Mapping[str, Any] | Iterable[Any]) -> dict[str, tuple]:
-    """The variables of ``table`` holding ``values`` (by name, or in the table's order), as
-    :class:`xarray.Dataset` takes them."""
+    """The variables of ``table`` holding ``values`` (by name, or in the table's order) as xarray takes them."""
     table = list(table)
     named = values if isinstance(values, Mapping) else dict(zip([v.name for v in table], values, strict=True))
     return {v.name: v(named[v.name]) for v in table}
 
 
-def dataset(
-    table: Iterable[Var], values: Mapping[str, Any] | Iterable[Any], attrs: Mapping | None = None
-) -> xr.Dataset:
-    """The Dataset of :func:`variables`, in the table's order, with the global ``attrs`` (a variable named as its
-    one dimension is a coordinate)."""
+def dataset(table: Iterable[Var], values: Mapping[str, Any] | Iterable[Any], **attrs: Any) -> xr.Dataset:
+    """The Dataset of :func:`variables` in the table's order (a variable named as its dimension is a coordinate),
+    with the global ``attrs``."""
     return xr.Dataset(variables(table, values), attrs=attrs)
 
 
 def markdown_table(header: Sequence[str], rows: Iterable[Sequence[Any]], align: str = "") -> str:
-    """A GitHub Markdown table: ``header``, its rule, a line per row (each cell as ``str``; a ``|``, which would
-    end the cell, as ``/``).  ``align``: a letter per column, ``r`` right, ``c`` centred, ``l`` left, ``-`` (or
-    none) not stated."""
+    """A GitHub Markdown table: ``header``, its rule, a line per row (cells as ``str``, a ``|`` as ``/``: it would
+    end the cell).  ``align``: a letter per column, ``r`` right, ``c`` centred, ``l`` left, ``-`` (or none) as is."""
     rule = [{"r": "---:", "c": ":---:", "l": ":---"}.get(a, "---") for a in align.ljust(len(header))]
     lines = ["| " + " | ".join(str(c).replace("|", "/") for c in cells) + " |" for cells in (header, *rows)]
     return "\n".join([lines[0], "|" + "|".join(rule) + "|", *lines[1:]])

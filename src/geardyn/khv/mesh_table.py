@@ -43,4 +43,4 @@ def stiffness_table(design: KHVDesign, x1: np.ndarray, phase_points: int = 400) 
     values = {v.name: np.array([getattr(p, FIELDS.get(v.name, v.name)) for p in props]) for v in VARIABLES[:8]}
     values["k_t"] = np.stack([p.k_of_t(design.stiffness.form)(phase) for p in props])
     values["k_mean_closed_form_ratio"] = np.array([p.k_mean / (p.contact_ratio * p.k_c) for p in props])
-    return io.dataset(VARIABLES, values | {"x1": x1, "phase": phase}, {"stiffness_options": design.stiffness.label})
+    return io.dataset(VARIABLES, values | {"x1": x1, "phase": phase}, stiffness_options=design.stiffness.label)

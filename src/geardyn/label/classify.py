@@ -60,12 +60,6 @@ def short_name(n: int) -> str:
     return NAMES[int(n)][1] if int(n) in NAMES else f"P{int(n)}"
 
 
-def label_codes(max_n: int = 12) -> dict[str, int]:
-    """The label codes as a flag variable's meanings and values (period-n for n = 1..max_n; ``long_period``: a
-    certified periodic orbit of a period above max_n, stored in the variable ``period``)."""
-    return {**LABELS, **{f"period_{n}": n for n in range(1, max_n + 1)}}
-
-
 # ----------------------------------------------------------------------------------------
 # indicators
 # ----------------------------------------------------------------------------------------

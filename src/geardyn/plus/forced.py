@@ -7,8 +7,7 @@ tests: docs/paper2.md Sec. 5).  Units: SI (m, N, rad/s); speeds in rpm of the su
 
 from __future__ import annotations
 
-import dataclasses
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import xarray as xr
@@ -205,13 +204,14 @@ def to_dataset(res: ForcedResponse, design: PlusDesign) -> xr.Dataset:
     resonance = res.natural_hz[None, :] / (res.harmonics[:, None] * per_rpm)  # harmonic h of the mesh meets a mode
     coords = (list(res.cases), res.speed_rpm, list(res.meshes), res.harmonics, np.arange(1, len(res.natural_hz) + 1))
     relieved = [i for i, c in enumerate(res.cases) if c != "unmodified"]  # the best: the smallest TE
-    table = [dataclasses.replace(v, long_name=v.long_name.format(condition=res.condition)) for v in VARIABLES]
-    attrs = {
-        "title": f"Forced response to the static TE against speed, design {design.name}",
-        "condition": res.condition,
-        "damping_ratio": res.zeta,
-        "phasing": design.forced.phasing,
-        "static_force_N": res.static_force,
-        "best_relief_case": res.cases[min(relieved, key=lambda i: res.te_ptp[i])] if relieved else "",
-    }
-    return io.dataset(table, (*values, res.te_ptp * 1e6, res.natural_hz, resonance, *coords), attrs)
+    table = [replace(v, long_name=v.long_name.format(condition=res.condition)) for v in VARIABLES]
+    return io.dataset(
+        table,
+        (*values, res.te_ptp * 1e6, res.natural_hz, resonance, *coords),
+        title=f"Forced response to the static TE against speed, design {design.name}",
+        condition=res.condition,
+        damping_ratio=res.zeta,
+        phasing=design.forced.phasing,
+        static_force_N=res.static_force,
+        best_relief_case=res.cases[min(relieved, key=lambda i: res.te_ptp[i])] if relieved else "",
+    )

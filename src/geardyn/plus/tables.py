@@ -268,7 +268,7 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
     values = (*stacked, _lever_arms(design), conds, np.arange(1, n + 1))
     title = f"Modal analysis of the plus planetary set {design.name}"
     values = (*values, list(modal.COORDS), el_names, comp_names)
-    return io.dataset(MODAL_VARIABLES, values, {"title": title, "model_variant": _variant(design)})
+    return io.dataset(MODAL_VARIABLES, values, title=title, model_variant=_variant(design))
 
 
 def _lever_arms(design: PlusDesign) -> np.ndarray:
@@ -317,14 +317,15 @@ def te_dataset(design: PlusDesign, optima: list[ReliefOptimum]) -> xr.Dataset:
     relieved = [design_te(design, relief_amount=o.amount, relief_length=o.length, relief_shape=o.shape) for o in optima]
     curves = np.array([r.te * 1e6 for r in (base, *relieved)])
     labels = ["unmodified", *(f"{o.shape}_{o.bounds}" for o in optima)]
-    attrs = {
-        "title": f"Static TE of the p-d pair, design {design.name}",
-        "contact_ratio": spur_pair(design).contact_ratio,
-        "load_N": pd_mesh_load(design),
-        "model_variant": "Ishikawa rectangle+trapezoid, base-pitch error model",
-    }
     values = (curves, base.stiffness, base.loads, labels, base.s, np.arange(base.loads.shape[0]))
-    return io.dataset(TE_VARIABLES, values, attrs)
+    return io.dataset(
+        TE_VARIABLES,
+        values,
+        title=f"Static TE of the p-d pair, design {design.name}",
+        contact_ratio=spur_pair(design).contact_ratio,
+        load_N=pd_mesh_load(design),
+        model_variant="Ishikawa rectangle+trapezoid, base-pitch error model",
+    )
 
 
 def relief_table(optima: list[ReliefOptimum], paper: ModuleType | None) -> pd.DataFrame:
@@ -362,12 +363,13 @@ def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
     amounts, lengths = landscape_axes(design, n)
     grid = design_grid(design)
     z = np.array([landscape(design, sh, amounts, lengths, grid=grid) for sh in SHAPES]) * 1e6
-    attrs = {
-        "title": f"Objective landscape of the tip-relief optimisation, design {design.name}",
-        "relief_applied_to": design.relief.apply_to,
-        "load_N": pd_mesh_load(design),
-    }
-    return io.dataset(LANDSCAPE_VARIABLES, (z, list(SHAPES), amounts * 1e6, lengths * 1e3), attrs)
+    return io.dataset(
+        LANDSCAPE_VARIABLES,
+        (z, list(SHAPES), amounts * 1e6, lengths * 1e3),
+        title=f"Objective landscape of the tip-relief optimisation, design {design.name}",
+        relief_applied_to=design.relief.apply_to,
+        load_N=pd_mesh_load(design),
+    )
 
 
 def write_table(df: pd.DataFrame, csv: str, md: str | None = None, header: str = "", floatfmt: str = ".4g") -> None:

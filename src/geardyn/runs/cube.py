@@ -42,9 +42,10 @@ def _table(*rows: Var) -> dict[str, Var]:
 
 
 def label(name: str, long_name: str, max_n: int = 12, dims: tuple[str, ...] = ()) -> Var:
-    """A motion-label variable (int16 codes of :func:`geardyn.label.classify.label_codes`, period-n up to ``max_n``),
-    filled ``undetermined`` where no point was labelled."""
-    return Var(name, dims, None, long_name, classify.label_codes(max_n), np.int16, classify.LABELS["undetermined"])
+    """A motion label (int16 codes, :data:`geardyn.label.classify.LABELS` and period-n for n = 1..``max_n``;
+    ``long_period``: a certified orbit of a longer period, in ``period``), ``undetermined`` where not labelled."""
+    codes = {**classify.LABELS, **{f"period_{n}": n for n in range(1, max_n + 1)}}
+    return Var(name, dims, None, long_name, codes, np.int16, classify.LABELS["undetermined"])
 
 
 #: The per-point variables of a verdict (:class:`geardyn.label.Verdict`) besides its label, on the study's dims.
@@ -156,8 +157,8 @@ def empty(
     ``long_names`` replace the table's)."""
     out = {}
     for name in names:
-        var = replace(VARIABLES[name], dims=dims, long_name=long_names.get(name, VARIABLES[name].long_name))
-        out[name] = (replace(var, flags=classify.label_codes(max_n)) if name in LABELS else var).empty(shape)
+        var = label(name, VARIABLES[name].long_name, max_n) if name in LABELS else VARIABLES[name]
+        out[name] = replace(var, dims=dims, long_name=long_names.get(name, var.long_name)).empty(shape)
     return out
 
 

@@ -78,7 +78,7 @@ def dense_point(
     attrs.update({f"override_{k}": float(v) for k, v in overrides.items()})
     attrs["diverged"] = int(res.diverged)
     attrs.update(study.integration_attrs(settings))
-    return io.dataset(VARIABLES, values, attrs)
+    return io.dataset(VARIABLES, values, **attrs)
 
 
 def dense_points(

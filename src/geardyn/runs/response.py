@@ -146,9 +146,8 @@ def rms_error_variables(systems: list[System], verdicts: list[list[Verdict]], po
         f"batch means over {RMS_BLOCKS} blocks of whole mesh periods of the record of a non-periodic point; "
         "0 for a periodic one, averaged over one whole cycle"
     )
-    table = [
-        Var(f"{k}_rms_error", ("direction", "w"), "1", f"standard error of {k}_rms ({how})") for k in ("dte", "force")
-    ]
+    dims = ("direction", "w")
+    table = [Var(f"{k}_rms_error", dims, "1", f"standard error of {k}_rms ({how})") for k in ("dte", "force")]
     return io.variables(table, (dte, force))
 
 

@@ -123,11 +123,10 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int) -> xr.Dataset:
     data = study.run(layout(design, spec, chunk, policy), policy, f"{spec.name} chunk {chunk}").data
     first = (*STATES, "diverged", "diverged_period", "n_events", "transient_used")  # the cube's order of variables
     data = {**{name: data[name] for name in first}, **data}
-    units, long_name = point.CONTROLS.get(spec.parameter, ("1", spec.parameter))
     coords = (
         Var("case", "case", None, "case (fixed overrides)"),
         Var("direction", "direction", None, "continuation direction of the sweep"),
-        Var(spec.parameter, spec.parameter, units, long_name),
+        Var(spec.parameter, spec.parameter, *point.CONTROLS.get(spec.parameter, ("1", spec.parameter))),
         Var(
             "section", "section", "1", "index of the recorded mesh period (Poincare section at phase 0)", dtype=np.int32
         ),

@@ -33,7 +33,7 @@ def _grid(
     shape, dims = tuple(len(v) for _, v in coords), tuple(var.name for var, _ in coords)
     data = {name: np.array([f(r) for r in recs], dtype).reshape(shape) for name, (f, _) in measures.items()}
     table = [*(Var(name, dims, "1", long_name) for name, (_, long_name) in measures.items()), *(c for c, _ in coords)]
-    return io.dataset(table, data | {var.name: values for var, values in coords}, attrs)
+    return io.dataset(table, data | {var.name: values for var, values in coords}, **attrs)
 
 
 def sensitivity(
