@@ -358,10 +358,11 @@ def test_the_labeller_settles_slow_transients(li2013):
     cs = classify.ClassifierSettings()
     systems = [point.point_coefficients(li2013, {"x1": 0.761, "e": 5.0, "b": b, "w": 0.7}) for b in (0.83, 1.68, 2.0)]
     out = label_points(systems, Policy(FULL, cs, start="fixed"))
-    assert [v.label for v in out] == [1, 7, classify.LABELS["quasi_periodic"]]
-    assert [v.stage for v in out] == ["shooting", "shooting", "torus"]
+    assert [(v.label, v.period) for v in out] == [(1, 1), (7, 7), (classify.LABELS["quasi_periodic"], 0)]
+    # the two orbits certified by their multipliers (inside the unit circle), the torus's exponent in the zero band
     assert [v.exponent_method for v in out] == ["floquet", "floquet", "tangent"]
     np.testing.assert_allclose([out[0].multiplier, out[1].multiplier], [0.9902, 0.9694], atol=2e-4)
+    assert abs(out[2].exponent) < cs.lam_tol
 
 
 def test_return_distance_and_record_approach_tell_a_transient_from_a_torus():
@@ -419,7 +420,9 @@ def test_a_line_across_the_neimark_sacker_point_types_it():
         Policy(point.integration_settings(d)),
     )[0]
     assert [v.label for v in out] == [1, 1, 1, 1, classify.LABELS["quasi_periodic"]]
-    assert [v.stage for v in out[1:4]] == ["follow"] * 3
+    # below it the stable P1 orbit, certified by its multipliers, followed from the previous point (no transient)
+    assert all(v.period == 1 and v.exponent_method == "floquet" and v.multiplier < 1.0 for v in out[:4])
+    assert [v.transient_used for v in out[1:4]] == [0] * 3
     assert 0.9999 < out[3].multiplier < 1.0
     assert [v.bifurcation for v in out] == ["none"] * 4 + ["neimark_sacker"]
 

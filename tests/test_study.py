@@ -6,13 +6,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import xarray as xr
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from geardyn import io
 from geardyn.khv import design, point
 from geardyn.label import Policy, label_lines
 from geardyn.runs import maps, response, study, sweep
-from geardyn.runs.cube import COMMON, empty
+from geardyn.runs.cube import COMMON, VARIABLES, empty
 
 ROOT = Path(__file__).resolve().parents[1]
 SEGMENT = (0.416, 0.835)
@@ -54,15 +56,27 @@ def test_the_specs_share_their_fields_and_their_policy(li2013):
 
 
 def test_the_variables_follow_the_layout_and_the_policy(li2013):
+    """A study keeps the verdict's and the response's variables, the fixed start's label and the coexistence flag
+    with the policy's coexistence, the divergence flag, transient and computed flag where the layout keeps them,
+    and the layout's own as given; each on the layout's grid as the table declares it (CF attributes, dtype),
+    filled with its fill value (NaN, or the code of "not computed")."""
     policy = Policy(point.integration_settings(li2013), coexistence=True)
     own = {"mine": (("p",), np.zeros(3), {})}
-    full = study.Layout(("p",), (3,), [], diverged="unbounded", computed=True, own=own)
-    names = list(study.variables(full, policy))
-    assert names[-5:] == ["coexisting", "diverged", "mine", "transient_used", "computed"]
+    full = study.variables(study.Layout(("p",), (3,), [], diverged="unbounded", computed=True, own=own), policy)
+    assert set(full) == {*COMMON, "label_fixed", "coexisting", "diverged", "mine", "transient_used", "computed"}
+    assert full.pop("mine") is own["mine"]
+    assert io.missing_cf_attributes(xr.Dataset(full)) == []
+    for name, (dims, values, attrs) in full.items():
+        var = VARIABLES[name]
+        declared = {**var.attributes(), "long_name": "unbounded"} if name == "diverged" else var.attributes()
+        want = xr.Variable(("p",), np.full(3, var.fill, var.dtype), declared)
+        assert values.dtype == want.dtype and xr.Variable(dims, values, attrs).identical(want), name
+        if var.flags is not None:
+            assert set(np.unique(values)) <= set(var.flags.values()), name
     bare = study.variables(
         study.Layout(("p",), (3,), [], transient=False), dataclasses.replace(policy, coexistence=False)
     )
-    assert list(bare) == list(COMMON)
+    assert set(bare) == set(COMMON)
 
 
 def test_a_run_stores_each_verdict_at_its_index(li2013):

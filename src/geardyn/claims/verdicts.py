@@ -10,6 +10,8 @@ import io
 import math
 from dataclasses import dataclass
 
+from geardyn.io import markdown_table
+
 RANGE_AGREE = 0.8
 #: A fraction within this many binomial standard errors of its threshold is "borderline".
 BORDERLINE_Z = 2.0
@@ -101,8 +103,5 @@ def to_markdown(rows: list[Claim], design: str, note: str = "", paper: str = "th
     ]
     if note:
         lines += [note, ""]
-    lines += ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
-    for r in rows:
-        cells = [f"**{r.verdict}**" if c == "verdict" else getattr(r, c) for c in cols]
-        lines.append("| " + " | ".join(str(x).replace("|", "/") for x in cells) + " |")
-    return "\n".join(lines) + "\n"
+    cells = [[f"**{r.verdict}**" if c == "verdict" else getattr(r, c) for c in cols] for r in rows]
+    return "\n".join([*lines, markdown_table(cols, cells)]) + "\n"

@@ -8,11 +8,13 @@ from __future__ import annotations
 import json
 import os
 import tempfile
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import xarray as xr
 
 from geardyn.io import provenance
@@ -21,10 +23,62 @@ from geardyn.io import provenance
 ZLIB_LEVEL = 1
 
 
-def cf(dims: str | tuple[str, ...], data: Any, units: str, long_name: str, **attrs: Any) -> tuple[Any, Any, dict]:
-    """A variable of an xarray Dataset with its CF ``units`` and ``long_name`` (and any other attributes):
-    ``(dims, data, attrs)``."""
-    return (dims, data, {"units": units, "long_name": long_name, **attrs})
+@dataclass(frozen=True)
+class Var:
+    """One CF variable of an output, a row of its writer's table.  ``units``: None for a flag or a name; ``flags``
+    (meaning -> code, as every code table of the package) give ``flag_values`` in the variable's ``dtype`` (int8
+    unless given) and ``flag_meanings``; ``fill``: where nothing was computed; ``attrs``: the other attributes."""
+
+    name: str
+    dims: str | tuple[str, ...]
+    units: str | None
+    long_name: str
+    flags: Mapping[str, int] | None = None
+    dtype: Any = None
+    fill: Any = np.nan
+    attrs: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "dims", (self.dims,) if isinstance(self.dims, str) else tuple(self.dims))
+        if self.flags is not None and self.dtype is None:
+            object.__setattr__(self, "dtype", np.int8)
+
+    def attributes(self) -> dict[str, Any]:
+        """The CF attributes: ``units``, ``long_name``, the flags', the others."""
+        out = ({} if self.units is None else {"units": self.units}) | {"long_name": self.long_name}
+        if self.flags is not None:
+            out["flag_values"] = np.array(list(self.flags.values()), self.dtype)
+            out["flag_meanings"] = " ".join(self.flags)
+        return out | dict(self.attrs)
+
+    def __call__(self, values: Any) -> tuple[tuple[str, ...], Any, dict[str, Any]]:
+        """The variable holding ``values`` (in its dtype) as :class:`xarray.Dataset` takes it."""
+        return self.dims, values if self.dtype is None else np.asarray(values, self.dtype), self.attributes()
+
+    def empty(self, shape: tuple[int, ...]) -> tuple[tuple[str, ...], Any, dict[str, Any]]:
+        """The variable of ``shape`` holding its fill value."""
+        return self(np.full(shape, self.fill, self.dtype))
+
+
+def variables(table: Iterable[Var], values: Mapping[str, Any] | Iterable[Any]) -> dict[str, tuple]:
+    """The variables of ``table`` holding ``values`` (by name, or in the table's order) as xarray takes them."""
+    table = list(table)
+    named = values if isinstance(values, Mapping) else dict(zip([v.name for v in table], values, strict=True))
+    return {v.name: v(named[v.name]) for v in table}
+
+
+def dataset(table: Iterable[Var], values: Mapping[str, Any] | Iterable[Any], **attrs: Any) -> xr.Dataset:
+    """The Dataset of :func:`variables` in the table's order (a variable named as its dimension is a coordinate),
+    with the global ``attrs``."""
+    return xr.Dataset(variables(table, values), attrs=attrs)
+
+
+def markdown_table(header: Sequence[str], rows: Iterable[Sequence[Any]], align: str = "") -> str:
+    """A GitHub Markdown table: ``header``, its rule, a line per row (cells as ``str``, a ``|`` as ``/``: it would
+    end the cell).  ``align``: a letter per column, ``r`` right, ``c`` centred, ``l`` left, ``-`` (or none) as is."""
+    rule = [{"r": "---:", "c": ":---:", "l": ":---"}.get(a, "---") for a in align.ljust(len(header))]
+    lines = ["| " + " | ".join(str(c).replace("|", "/") for c in cells) + " |" for cells in (header, *rows)]
+    return "\n".join([lines[0], "|" + "|".join(rule) + "|", *lines[1:]])
 
 
 def missing_cf_attributes(ds: xr.Dataset) -> list[str]:

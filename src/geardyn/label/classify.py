@@ -60,14 +60,6 @@ def short_name(n: int) -> str:
     return NAMES[int(n)][1] if int(n) in NAMES else f"P{int(n)}"
 
 
-def flag_attrs(max_n: int = 12) -> dict:
-    """CF ``flag_values``/``flag_meanings`` of the label codes (period-n for n = 1..max_n; ``long_period``: a
-    certified periodic orbit of a period above max_n, stored in the variable ``period``)."""
-    values = [*LABELS.values(), *range(1, max_n + 1)]
-    meanings = [*LABELS, *(f"period_{n}" for n in range(1, max_n + 1))]
-    return {"flag_values": np.array(values, np.int16), "flag_meanings": " ".join(meanings)}
-
-
 # ----------------------------------------------------------------------------------------
 # indicators
 # ----------------------------------------------------------------------------------------

@@ -17,6 +17,8 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
+from geardyn.io import markdown_table
+
 #: The pixel check's failures (``check_reason``; as geardyn.runs.continuation.curve_check.FAILURES, without
 #: importing the solvers into a figure job); the other reasons but "ok" are exclusions.
 FAILURES = ("not_straddled", "stable_side", "other_side", "impact_class")
@@ -212,18 +214,16 @@ def codim2_table(name: str, ds: xr.Dataset) -> str:
         f"Plane ({xn}, {yn}), fixed {ds.attrs.get('fixed_overrides', 'none')}; located: refined by Brent on the "
         "curve (else bracketed between two curve points). Multipliers of the n-period map.",
         "",
-        f"| type | on curve | period | {xn} | {yn} | located | multipliers |",
-        "|---|---|---|---|---|---|---|",
     ]
+    cells = []
     for p in codim2_of(ds):
         mu = ", ".join(
             f"{z.real:.5f}{z.imag:+.5f}i" if abs(z.imag) > 1e-9 else f"{z.real:.5f}" for z in p["multipliers"]
         )
         located = "yes" if p["located"] else "no"
-        rows.append(f"| {p['type']} | {p['kind']} | {p['n']} | {p['x']:.6f} | {p['y']:.6f} | {located} | {mu} |")
-    if len(rows) == 6:
-        rows.append("| none | | | | | | |")
-    return "\n".join(rows) + "\n"
+        cells.append((p["type"], p["kind"], p["n"], f"{p['x']:.6f}", f"{p['y']:.6f}", located, mu))
+    rows.append(markdown_table(("type", "on curve", "period", xn, yn, "located", "multipliers"), cells))
+    return "\n".join(rows) + ("\n" if cells else "\n| none | | | | | | |\n")
 
 
 def check_table(name: str, ds: xr.Dataset) -> str:
@@ -242,9 +242,8 @@ def check_table(name: str, ds: xr.Dataset) -> str:
         f"{a['pixel_check_excluded']}. Crossings where the curve bounds no stable orbit: "
         f"{a['pixel_check_interior']}. Slow: the orbit's modulus above 1 - {a['pixel_check_slow_margin']:.3g}.",
         "",
-        f"| reason | kind | curve | {xn} | {yn} | stable pixel | other pixel | labels | modulus | criticality | row |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
+    cells = []
     reasons = _meanings(ds, "check_reason")
     crit = _meanings(ds, "check_criticality")
     for k in range(ds.sizes["check"]):
@@ -255,9 +254,8 @@ def check_table(name: str, ds: xr.Dataset) -> str:
         l0, l1 = (int(v) for v in ds["check_labels"][k].values)
         pix = (f"({j0}, {i0})", f"({j1}, {i1})", f"{l0}, {l1}") if j0 >= 0 else ("", "", "")
         fwd = "forward" if int(ds["check_forward"][k]) else "return"
-        rows.append(
-            f"| {r} | {kinds[int(ds['check_kind'][k])]} | {int(ds['check_curve'][k])} | "
-            f"{float(ds[f'check_{xn}'][k]):.5f} | {float(ds[f'check_{yn}'][k]):.5f} | {pix[0]} | {pix[1]} | "
-            f"{pix[2]} | {float(ds['check_modulus'][k]):.6f} | {crit[int(ds['check_criticality'][k])]} | {fwd} |"
-        )
-    return "\n".join(rows) + "\n"
+        at = [f"{float(ds[f'check_{v}'][k]):.5f}" for v in (xn, yn)]
+        last = (f"{float(ds['check_modulus'][k]):.6f}", crit[int(ds["check_criticality"][k])], fwd)
+        cells.append((r, kinds[int(ds["check_kind"][k])], int(ds["check_curve"][k]), *at, *pix, *last))
+    head = ("reason", "kind", "curve", xn, yn, "stable pixel", "other pixel", "labels", "modulus", "criticality", "row")
+    return "\n".join([*rows, markdown_table(head, cells)]) + "\n"

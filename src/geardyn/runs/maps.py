@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn.io import cf
+from geardyn.io import Var
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import Coefficients
@@ -118,7 +118,7 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
     coords = {}
     for dim, ax in (("x", spec.x), ("y", spec.y)):
         units, long_name = point.CONTROLS.get(ax.parameter, ("1", ax.parameter))
-        coords[dim] = cf(dim, ax.values, units, long_name, parameter=ax.parameter)
+        coords[dim] = Var(dim, dim, units, long_name, attrs={"parameter": ax.parameter})(ax.values)
     attrs = {
         "map": spec.name,
         "design": spec.design,

@@ -20,7 +20,7 @@ from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.label import Policy, Verdict
 from geardyn.label.compare import same
-from geardyn.runs.cube import COMMON, RESPONSE, VERDICT_CODES, VERDICT_FIELDS, empty
+from geardyn.runs.cube import COMMON, RESPONSE, VERDICT, VERDICT_FIELDS, empty
 from geardyn.solve import SimulationSettings, System
 from geardyn.solve.response import IMPACT_CLASSES, ResponseMeasures
 
@@ -150,7 +150,8 @@ def store(arrays: dict[str, np.ndarray], idx: Index, v: Verdict, r: ResponseMeas
     a = arrays
     a["label"][idx] = v.label
     for name, attr in VERDICT_FIELDS.items():
-        a[name][idx] = VERDICT_CODES[name][getattr(v, attr)] if name in VERDICT_CODES else getattr(v, attr)
+        value = getattr(v, attr)
+        a[name][idx] = VERDICT[name].flags[value] if isinstance(value, str) else value
     for name in RESPONSE:
         a[name][idx] = getattr(r, name)
     a["impact_class"][idx] = IMPACT_CLASSES.get(r.impact_class, -1)
