@@ -281,6 +281,8 @@ def test_rms_error_is_batch_means_of_the_record_itself():
     (e,) = rms_errors_many([c], [points], [r], settings)
     assert expected > 1e-4  # a transient: the blocks differ, and a record from its end would differ again
     assert e.dte_rms_error == pytest.approx(expected, rel=1e-9)
+    # only the measured periods' points are read: a record that holds older points too gives the same
+    assert rms_errors_many([c], [np.vstack([np.zeros((5, 6)), points])], [r], settings) == [e]
 
 
 def test_rms_error_bad_input():

@@ -231,7 +231,7 @@ def rms_errors_many(
         if m.diverged or n < 2:
             continue
         if points.ndim != 2 or points.shape[0] < n:
-            raise ValueError(f"a record of {n} measured periods holds its last {n} Poincare points at least")
+            raise ValueError(f"a record measured over {n} periods needs its last {n} Poincare points at least")
         cuts[i] = edges = np.array([n * k // min(blocks, n) for k in range(min(blocks, n) + 1)])
         for k in range(1, edges.size - 1):
             b_sys.append(system)
