@@ -49,6 +49,7 @@ include: "workflow/rules/classify.smk"
 include: "workflow/rules/maps.smk"
 include: "workflow/rules/curves.smk"
 include: "workflow/rules/response.smk"
+include: "workflow/rules/probabilities.smk"
 include: "workflow/rules/archive.smk"
 include: "workflow/rules/cluster.smk"
 
@@ -64,6 +65,7 @@ rule all:
         CLASSIFY_TARGETS,
         MAP_TARGETS,
         RESPONSE_TARGETS,
+        PROBABILITY_TARGETS,
         ORBIT_TARGETS,
 
 
