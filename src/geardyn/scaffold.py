@@ -83,6 +83,7 @@ def khv_design(name: str, z1: int = 40, z2: int = 43, module: float = 2.0) -> di
         "paper": None,
         "pair": {"z1": z1, "z2": z2, "module": module, "x1": round(0.5 * (lo + hi), 4), "x2": "line4"},
         "admissible": {"x1_min": lo, "x1_max": hi, "enforce_cutter_constraints": False},
+        "tolerances": {"grade": 6, "backlash": [1.0, 3.0]},  # the standard probabilities study reads them
     }
     return validate(raw, KINDS["khv"], name)
 
