@@ -24,9 +24,12 @@ FAMILY_COLOURS = {
 }
 
 
-def _lead(ds: xr.Dataset, indicator: str) -> str:
-    name = ds.attrs.get(f"leading_input_{indicator}", "none")
-    return f"; leading input ({ds.attrs['sensitivity_method']}): {name}" if name != "none" else ""
+def _lead(ds: xr.Dataset, among: np.ndarray) -> str:
+    """The leading input of the first of the study's indicators that is among ``among`` (families, impacts)."""
+    names = {str(a) for a in among}
+    name = next((str(i) for i in ds["indicator"].values if str(i) in names), None)
+    lead = ds.attrs.get(f"leading_input_{name}", "none")
+    return f"; leading input of P({name}) ({ds.attrs['sensitivity_method']}): {lead}" if lead != "none" else ""
 
 
 def probabilities_figure(ds: xr.Dataset, title: str) -> Figure:
@@ -56,9 +59,12 @@ def probabilities_figure(ds: xr.Dataset, title: str) -> Figure:
     axes[2].set(ylabel="K_v (-)", xlabel=ds[dim].attrs.get("long_name", dim))
     axes[2].legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
     n = ds.sizes["sample"]
-    axes[0].set_title(f"{title}\nmotion families, {n} samples{_lead(ds, 'P1')}", fontsize=9, loc="left")
-    axes[1].set_title(f"impact classes{_lead(ds, 'double_sided')}", fontsize=9, loc="left")
-    axes[2].set_title(f"dynamic factor K_v{_lead(ds, 'dynamic_factor')}", fontsize=9, loc="left")
+    axes[0].set_title(f"{title}\nmotion families, {n} samples{_lead(ds, ds.family.values)}", fontsize=9, loc="left")
+    axes[1].set_title(f"impact classes{_lead(ds, ds.impact.values)}", fontsize=9, loc="left")
+    kv = ds.attrs.get("leading_input_dynamic_factor", "none")
+    axes[2].set_title(
+        f"dynamic factor K_v; leading input ({ds.attrs['sensitivity_method']}): {kv}", fontsize=9, loc="left"
+    )
     return fig
 
 

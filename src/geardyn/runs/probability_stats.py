@@ -135,12 +135,16 @@ def sensitivities(ds: xr.Dataset, spec: ProbabilitySpec, table: Samples) -> dict
 
 
 def leading(ds: xr.Dataset) -> dict[str, str]:
-    """The input with the largest mean index over the operating points, per indicator (none where no index)."""
-    s = ds["sensitivity_index"].values
+    """Per indicator, the input with the largest mean index over the operating points, where that mean exceeds
+    the mean half-width of its interval ("none" otherwise: no input tells from zero)."""
+    s, c = ds["sensitivity_index"].values, np.nan_to_num(ds["sensitivity_index_conf"].values)
     out = {}
     for a, name in enumerate(ds["indicator"].values):
-        mean = np.array([np.nanmean(row) if np.isfinite(row).any() else -np.inf for row in s[a]])
-        out[str(name)] = str(ds["input"].values[int(np.argmax(mean))]) if np.isfinite(mean).any() else "none"
+        ok = np.isfinite(s[a])
+        n = np.maximum(ok.sum(axis=1), 1)
+        mean, conf = np.where(ok, s[a], 0.0).sum(axis=1) / n, np.where(ok, c[a], 0.0).sum(axis=1) / n
+        k = int(np.argmax(np.where(ok.any(axis=1), mean, -np.inf)))
+        out[str(name)] = str(ds["input"].values[k]) if ok[k].any() and mean[k] > conf[k] else "none"
     return out
 
 
