@@ -44,6 +44,7 @@ KINDS = [
     "li2013/sweeps/fig07_small.nc",
     "li2013/points/fig08_small.nc",
     "li2013/calibration/small_search.nc",
+    "li2013/probabilities/small_prob.nc",
     "benchmarks/work_precision.nc",
     "yue2014/data/modal.nc",
     "yue2014/data/te.nc",
@@ -136,6 +137,9 @@ def test_report_groups_figures_by_paper_and_figure_with_captions(small_run):
         "Fig. 09: tip relief",
         "fig07_small.png",
         "fig09_te_relief.png",
+        "Regime probabilities",
+        "small_prob.png",
+        "claims_small_prob.csv",
     ):
         assert text in html, text
     # a caption: the family's .rst, with the caption text the figure's job wrote included
