@@ -81,30 +81,22 @@ def indices(method: str, unit: np.ndarray, y: np.ndarray, resamples: int, seed: 
     unit-cube coordinates ``unit``, by SALib: RBD-FAST's or PAWN's (the median KS statistic; no interval) index on
     the given data (finite values only), or Sobol' first-order and total indices on Saltelli's design (every value
     finite).  NaN where the output does not vary or too few samples are finite."""
-    d = unit.shape[1]
-    out = np.full((4, d), np.nan)
-    ok = np.isfinite(y)
-    problem = {"num_vars": d, "names": [f"u{k}" for k in range(d)], "bounds": [[0.0, 1.0]] * d}
-    if ok.sum() < MIN_SAMPLES or np.ptp(y[ok]) == 0.0 or (method == "sobol" and not ok.all()):
-        return out
-    with np.errstate(invalid="ignore", divide="ignore"):  # a bootstrap resample of a rare indicator may not vary
-        return _salib(method, problem, unit, y, ok, resamples, seed)
-
-
-def _salib(
-    method: str, problem: dict, unit: np.ndarray, y: np.ndarray, ok: np.ndarray, resamples: int, seed: int
-) -> Any:
     from SALib.analyze import pawn, rbd_fast, sobol  # noqa: PLC0415 - SALib: only the summary job
 
-    out = np.full((4, unit.shape[1]), np.nan)
-    if method == "sobol":
-        r = sobol.analyze(problem, y, calc_second_order=True, num_resamples=resamples, seed=seed)
-        out[:] = r["S1"], r["S1_conf"], r["ST"], r["ST_conf"]
-    elif method == "pawn":
-        out[0] = pawn.analyze(problem, unit[ok], y[ok], seed=seed)["median"]
-    else:
-        r = rbd_fast.analyze(problem, unit[ok], y[ok], num_resamples=resamples, seed=seed)
-        out[:2] = r["S1"], r["S1_conf"]
+    d, ok = unit.shape[1], np.isfinite(y)
+    out = np.full((4, d), np.nan)
+    if ok.sum() < MIN_SAMPLES or np.ptp(y[ok]) == 0.0 or (method == "sobol" and not ok.all()):
+        return out
+    problem = {"num_vars": d, "names": [f"u{k}" for k in range(d)], "bounds": [[0.0, 1.0]] * d}
+    with np.errstate(invalid="ignore", divide="ignore"):  # a bootstrap resample of a rare indicator may not vary
+        if method == "sobol":
+            r = sobol.analyze(problem, y, calc_second_order=True, num_resamples=resamples, seed=seed)
+            out[:] = r["S1"], r["S1_conf"], r["ST"], r["ST_conf"]
+        elif method == "pawn":
+            out[0] = pawn.analyze(problem, unit[ok], y[ok], seed=seed)["median"]
+        else:
+            r = rbd_fast.analyze(problem, unit[ok], y[ok], num_resamples=resamples, seed=seed)
+            out[:2] = r["S1"], r["S1_conf"]
     return out
 
 
@@ -118,7 +110,7 @@ def sensitivities(ds: xr.Dataset, spec: ProbabilitySpec, table: Samples) -> dict
     for Sobol' the total index too, at :func:`sensitivity_points` of the axis."""
     opts = dict(spec.sensitivity)
     names = tuple(opts.get("indicators", INDICATORS))
-    at = sensitivity_points(ds.sizes[spec.dim], int(opts.get("points", 20)))
+    at = sensitivity_points(ds.sizes[spec.dim], int(opts.get("points", 10)))
     res = np.full((4, len(names), len(table.names), at.size), np.nan)
     for a, name in enumerate(names):
         y = indicator(ds, name)
