@@ -2,18 +2,6 @@
 # along the study's axis, in chunks of whole samples; merged with their statistics (probabilities, quantiles,
 # sensitivities); figure and table; for a study with claims, the paper's claims along its line checked per sample.
 
-SECTION_KEYS["probabilities"] = "prob"
-
-
-wildcard_constraints:
-    prob=either(config["probabilities"], "no-prob"),
-
-
-def probability_chunks(name, spec, design):
-    from geardyn.runs.probabilities import ProbabilitySpec
-
-    return ProbabilitySpec.from_config(name, spec, design, segment_of(design)).n_chunks
-
 
 rule probabilities_chunk:
     input:
@@ -92,18 +80,6 @@ rule probabilities_claims:
         spec=config_slice("probabilities"),
     script:
         "../scripts/probabilities_claims.py"
-
-
-def probability_claims(pattern):
-    """``pattern`` (the claims rule's output) for every design of every study that checks claims."""
-    from geardyn.validate import selected_designs
-
-    return [
-        entry_path(pattern, "probabilities", name, design)
-        for name, spec in config["probabilities"].items()
-        if spec.get("claims")
-        for design in selected_designs(spec["designs"], DESIGNS)
-    ]
 
 
 PROBABILITY_TARGETS = runs_for(
