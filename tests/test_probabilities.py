@@ -27,6 +27,8 @@ from geardyn import io
 from geardyn.config import ConfigError
 from geardyn.gears import tolerances
 from geardyn.khv import design, model, point
+from geardyn.plots import probabilities as plots
+from geardyn.plots import save_figure
 from geardyn.runs import cube, probabilities, probability_stats
 from geardyn.validate import read_config_file, validate_workflow
 
@@ -222,3 +224,28 @@ def test_bad_input_stops_snakemake_before_any_job(tmp_path):
     assert run.returncode != 0 and len(lines) == 1, run.stderr + run.stdout
     assert lines[0].startswith("geardyn config error: config: probabilities.p.inputs.zeta: zeta uniform on [0.2, 0.1]")
     assert not (work / "results").exists()
+
+
+def test_a_study_of_one_point_with_sobol_indices_and_its_figure(tmp_path):
+    """No axis: the design's point; the initial state as an input (basin stability); Saltelli's design of 4 base
+    points for 2 inputs and the 6 start components: 4 (2 x 8 + 2) = 72 runs."""
+    d = design.load(ROOT / "tests" / "data" / "li2013_w07.yaml")
+    entry = {
+        "fixed": {"x1": 0.5, "b": 2.0, "e": 5.0},
+        "inputs": {"zeta": {"relative_tolerance": 0.2}, "m_V": {"tolerance": 0.1}},
+        "initial_state": {"box_x": 5.0, "box_v": 5.0},
+        "samples": 4,
+        "sensitivity": {"method": "sobol", "indicators": ["dynamic_factor", "P1"]},
+        "integration": {"steps_per_period": 64, "transient_periods": 40, "recorded_periods": 12},
+        "classifier": {"error_floor": 3e-4, "tangent_periods": 30},
+    }
+    spec = probabilities.ProbabilitySpec.from_config("one", entry, d.name, d.segment)
+    table = probabilities.samples(d, spec)
+    assert table.values.shape == (72, 8)
+    zeta = point.nominal(d, "zeta", entry["fixed"])
+    assert np.all(np.abs(table.values[:, 0] - zeta) <= 0.2 * zeta)
+    ds = probability_stats.summarize(cube.merge_chunks([probabilities.run_chunk(d, spec, 0)]), spec, table)
+    assert ds.sizes == {**ds.sizes, "sample": 72, "point": 1, "sensitivity_at": 1}
+    assert np.isclose(ds.family_probability.sum("family"), 1.0).all() and "total_index" in ds
+    save_figure(plots.probabilities_figure(ds, "one point"), tmp_path / "one.png", plots.caption("one", ds))
+    assert (tmp_path / "one.png").stat().st_size > 10_000

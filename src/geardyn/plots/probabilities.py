@@ -54,8 +54,11 @@ def probabilities_figure(ds: xr.Dataset, title: str) -> Figure:
         ax.set(ylim=(0, 1), ylabel="probability")
         ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
     q = ds["dynamic_factor_quantile"].values
-    axes[2].fill_between(x, q[0], q[2], color="tab:blue", alpha=0.3, label="5-95 %", step="mid" if one else None)
-    axes[2].plot(x, q[1], color="tab:blue", marker="o" if one else None, label="median")
+    if one:
+        axes[2].errorbar(x, q[1], [q[1] - q[0], q[2] - q[1]], fmt="o", capsize=8, label="median, 5-95 %")
+    else:
+        axes[2].fill_between(x, q[0], q[2], color="tab:blue", alpha=0.3, label="5-95 %")
+        axes[2].plot(x, q[1], color="tab:blue", label="median")
     axes[2].set(ylabel="K_v (-)", xlabel=ds[dim].attrs.get("long_name", dim))
     axes[2].legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
     n = ds.sizes["sample"]
