@@ -353,15 +353,13 @@ def _check_overrides(section: str, spec: dict[str, Any], raw: dict[str, Any], wh
             _check_value(key, value, f"{where}.{label}")
 
 
-def _distribution_shape(dist: Mapping[str, Any]) -> bool:
-    """Whether an input's distribution has one shape: low and high (scale), std (mean, low, high), or one of
-    tolerance and relative_tolerance alone."""
-    keys = set(dist)
-    if "std" in keys:
-        return keys <= {"std", "mean", "low", "high"}
-    if keys & {"tolerance", "relative_tolerance"}:
-        return len(keys) == 1
-    return {"low", "high"} <= keys <= {"low", "high", "scale"}
+#: The shapes of an input's distribution: (the keys it needs, the keys it may have).
+SHAPES = (
+    ({"low", "high"}, {"low", "high", "scale"}),
+    ({"std"}, {"std", "mean", "low", "high"}),
+    ({"tolerance"}, {"tolerance"}),
+    ({"relative_tolerance"}, {"relative_tolerance"}),
+)
 
 
 def _check_probabilities(spec: dict[str, Any], raw: dict[str, Any], where: str) -> None:
@@ -385,7 +383,7 @@ def _check_probabilities(spec: dict[str, Any], raw: dict[str, Any], where: str) 
     for name, dist in spec["inputs"].items():
         at = places[name] = f"{where}.inputs.{name}"
         _override_node(name, f"{where}.inputs")
-        if not _distribution_shape(dist):
+        if not any(needs <= set(dist) <= may for needs, may in SHAPES):
             raise ConfigError(
                 f"{at} = {dist!r} is not allowed: low and high (scale), std (mean, low, high), tolerance or "
                 "relative_tolerance"

@@ -221,23 +221,19 @@ def coordinates(spec: ProbabilitySpec, n: int) -> dict[str, Any]:
 
 def attributes(spec: ProbabilitySpec, table: Samples, policy: Policy) -> dict[str, Any]:
     """What a study's files record of it: its inputs, sampling, initial state and labelling."""
-    sampling = (
-        f"Saltelli's design for Sobol' indices (SALib.sample.sobol, {spec.samples} base points, seed {spec.seed})"
-        if spec.method == "sobol"
-        else f"the first {spec.samples} points of the scrambled Sobol' sequence (scipy.stats.qmc, seed {spec.seed})"
-    )
-    start = (
-        f"uniform in the static deflection at each sample's first point +- {spec.box[0]:g} (displacements), "
-        f"+- {spec.box[1]:g} (velocities), units b_c"
-        if spec.box
-        else "the static deflection at each sample's first point"
-    )
+    if spec.method == "sobol":
+        sampling = f"Saltelli's design for Sobol' indices (SALib.sample.sobol, {spec.samples} base points"
+    else:
+        sampling = f"the first {spec.samples} points of the scrambled Sobol' sequence (scipy.stats.qmc"
+    start = "the static deflection at each sample's first point"
+    if spec.box:
+        start = f"uniform in {start} +- {spec.box[0]:g} (displacements), +- {spec.box[1]:g} (velocities), units b_c"
     return {
         "probabilities": spec.name,
         "design": spec.design,
         "axis_parameter": spec.dim,
         "inputs": "; ".join(i.text for i in table.inputs),
-        "sampling": sampling,
+        "sampling": f"{sampling}, seed {spec.seed})",
         "initial_state": start,
         "fixed_overrides": spec.fixed_overrides,
         **study.study_attrs(policy),

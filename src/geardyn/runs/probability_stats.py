@@ -220,11 +220,9 @@ def claims_markdown(rows: Sequence[dict[str, Any]], title: str, note: str) -> st
 
 def claims_csv(rows: Sequence[dict[str, Any]]) -> str:
     """The claims' probabilities as CSV (the report's table)."""
-    cols = ("id", "figure", "statement", "agree", "low", "high", "borderline", "disagree", "not comparable")
-    body = [",".join(cols)]
-    for r in rows:
-        body.append(",".join(f'"{r[c]}"' if isinstance(r[c], str) else f"{float(r[c]):.4f}" for c in cols))
-    return "\n".join(body) + "\n"
+    import pandas as pd  # noqa: PLC0415
+
+    return str(pd.DataFrame(list(rows)).to_csv(index=False, float_format="%.4f"))
 
 
 def table_markdown(ds: xr.Dataset, title: str) -> str:
