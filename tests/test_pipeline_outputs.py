@@ -237,6 +237,9 @@ def test_slurm_profile_keeps_cheap_rules_local(tmp_path):
         "claims",
         "map_merge",
         "map_figure",
+        "probabilities_merge",
+        "probabilities_figure",
+        "probabilities_claims",
         "calibration_compare",
     } == local
     assert "localrule: True" in (wf.ROOT / "workflow/rules/archive.smk").read_text()
