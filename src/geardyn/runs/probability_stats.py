@@ -128,11 +128,14 @@ def sensitivities(ds: xr.Dataset, spec: ProbabilitySpec, table: Samples) -> dict
 
 def leading(ds: xr.Dataset) -> dict[str, str]:
     """Per indicator, the input with the largest mean index over the operating points, where that mean exceeds
-    the mean half-width of its interval ("none" otherwise: no input tells from zero)."""
-    s, c = ds["sensitivity_index"].values, np.nan_to_num(ds["sensitivity_index_conf"].values)
+    the mean half-width of its interval ("none" otherwise: no input tells from zero).  The points whose bootstrap
+    gave no interval (a rare indicator's resamples that do not vary) do not count; PAWN's index has none."""
+    s, c = ds["sensitivity_index"].values, ds["sensitivity_index_conf"].values
+    if ds.attrs["sensitivity_method"] == "pawn":
+        c = np.zeros_like(c)
     out = {}
     for a, name in enumerate(ds["indicator"].values):
-        ok = np.isfinite(s[a])
+        ok = np.isfinite(s[a]) & np.isfinite(c[a])
         n = np.maximum(ok.sum(axis=1), 1)
         mean, conf = np.where(ok, s[a], 0.0).sum(axis=1) / n, np.where(ok, c[a], 0.0).sum(axis=1) / n
         k = int(np.argmax(np.where(ok.any(axis=1), mean, -np.inf)))
