@@ -18,7 +18,6 @@ import jsonschema
 
 from geardyn.config import ConfigError, allowed_text, check_expanded_size, load_design_dict, read_yaml, schema, validate
 from geardyn.khv import design as khv_design
-from geardyn.khv import point
 from geardyn.khv.design import resolve_fractions
 from geardyn.papers import paper_of
 from geardyn.plus import design as plus_design
@@ -367,7 +366,8 @@ def _check_probabilities(spec: dict[str, Any], raw: dict[str, Any], where: str) 
     and the fixed ones, of one distribution's shape, its range going upwards (low > 0 on a log scale) and inside
     the override's limits; a tolerance class to take, in ISO 1328-1's scope; a power of 2 of samples for
     Sobol' indices; the claims' line one of the paper's, along the axis, at the study's fixed values."""
-    from geardyn.runs.probabilities import distribution, tolerance_inputs  # noqa: PLC0415 - only with such a study
+    from geardyn.khv import point  # noqa: PLC0415 - only with such a study
+    from geardyn.runs.probabilities import distribution, tolerance_inputs  # noqa: PLC0415
 
     drive, fixed, tol = khv_design.from_dict(raw, where), spec["fixed"], spec.get("tolerances")
     if tol == "design" and "tolerances" not in raw:
