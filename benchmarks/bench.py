@@ -2,6 +2,7 @@
 ``python -m benchmarks.bench throughput|labels|check ...`` (see ``--help`` of each),
 ``python -m benchmarks.bench curves [--map map_x1_b] [--rows 10]`` (a map's regime boundaries against the map),
 ``python -m benchmarks.bench coverage [--new results]`` (the coverage of the frequency response's RMS error bars),
+``python -m benchmarks.bench probabilities`` (256 samples x 100 points of a probabilities study against map_x1_b),
 ``python -m benchmarks.bench fingerprint [--write]`` (a hash per stage of a small fixed study, to compare
 machines; ``--write`` replaces the committed reference).
 
@@ -22,7 +23,17 @@ import argparse
 import sys
 from pathlib import Path
 
-from benchmarks import circles, coverage, curves, fingerprint, labels, long_run, throughput, work_precision
+from benchmarks import (
+    circles,
+    coverage,
+    curves,
+    fingerprint,
+    labels,
+    long_run,
+    probabilities,
+    throughput,
+    work_precision,
+)
 from geardyn import io, libm
 from geardyn.io import provenance
 
@@ -69,6 +80,10 @@ def main_speed(argv: list[str]) -> int:
         for item in a.explain or ():
             design, kind, name = item.split("/")
             md += "\n" + labels.explain_differences(a.config, a.old, a.new, design, kind, name, log=log)
+    elif argv[0] == "probabilities":
+        md = "# A probabilities study against a regime map (one run)\n\n" + probabilities.probabilities_benchmark(
+            a.config, quick=a.quick, log=log
+        )
     elif argv[0] == "curves":
         md = "# Regime boundaries against the map\n\n" + curves.curves_benchmark(
             a.config, a.new, a.map or "map_x1_b", every=a.rows, log=log
@@ -127,7 +142,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv and argv[0] == "fingerprint":
         return main_fingerprint(argv[1:])
-    if argv and argv[0] in ("throughput", "labels", "check", "circles", "curves", "coverage"):
+    if argv and argv[0] in ("throughput", "labels", "check", "circles", "curves", "coverage", "probabilities"):
         return main_speed(argv)
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench", description=work_precision.__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=None, help="directory for work_precision.nc/.md/.png")

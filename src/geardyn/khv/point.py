@@ -86,6 +86,16 @@ def point_model(
     return phys, Options(**options), mesh
 
 
+def nominal(design: design_mod.KHVDesign, name: str, overrides: Mapping[str, float] | None = None) -> float:
+    """The value of the override ``name`` at the point of ``overrides`` (the design's own where they do not set
+    it), in the override's units (:data:`CONTROLS`: um for b and e; SI for a model parameter)."""
+    overrides = dict(overrides or {})
+    if name in overrides or name == "x1":
+        return float(overrides.get(name, design.base.x1))
+    field, scale = _CONTROL_FIELDS.get(name, (name, 1.0))
+    return float(getattr(point_model(design, overrides)[0], field)) / scale
+
+
 def point_coefficients(design: design_mod.KHVDesign, overrides: Mapping[str, float] | None = None) -> Coefficients:
     """The dimensionless coefficients (paper 1 Eq. 13, corrected) at one point."""
     phys, opts, _ = point_model(design, overrides)

@@ -108,7 +108,8 @@ class Layout:
     :func:`run` (which times building them).  ``dims`` and ``shape``: of the per-point arrays.  Which common
     variables the study keeps: ``diverged`` (the flag's long name; empty: none), ``transient`` (``transient_used``)
     and ``computed`` (a chunk's flag of the points it holds).  ``own``: the study's own per-point variables,
-    written by ``store_own(arrays, index, system, verdict)``."""
+    written by ``store_own(arrays, index, system, verdict)``.  ``starts``: each line's start (None: the static
+    deflection; :func:`geardyn.label.label_lines`)."""
 
     dims: tuple[str, ...]
     shape: tuple[int, ...]
@@ -118,6 +119,7 @@ class Layout:
     computed: bool = False
     own: Variables = field(default_factory=dict)
     store_own: Callable[[dict[str, np.ndarray], Index, System, Verdict], None] | None = None
+    starts: Sequence[np.ndarray | None] | None = None
 
 
 class Result(NamedTuple):
@@ -180,7 +182,7 @@ def run(layout: Layout, policy: Policy, progress: str = "") -> Result:
     points = list(layout.lines)
     lines = [[system for _, system in line] for line in points]
     data = variables(layout, policy)
-    verdicts = label.label_lines(lines, policy, progress=progress)
+    verdicts = label.label_lines(lines, policy, layout.starts, progress=progress)
     fixed = label.label_lines(lines, policy.with_start("fixed")) if policy.coexistence else None
     responses = line_responses(verdicts)
     arrays = {name: var[1] for name, var in data.items()}
