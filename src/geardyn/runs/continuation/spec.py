@@ -11,10 +11,8 @@ import numpy as np
 
 from geardyn import classify
 from geardyn.config import settings_from
-from geardyn.runs.continuation.branch import ContinuationSettings
-
-#: The state variables of a cube, in the order of the model's state vector.
-STATE_VARS = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
+from geardyn.runs.continuation.corrector import ContinuationSettings
+from geardyn.runs.cube import STATES
 
 
 @dataclass(frozen=True)
@@ -41,7 +39,7 @@ class OrbitSpec:
 
 def final_state(cube: Any, case: int, j: int) -> np.ndarray:
     """The last Poincare point of sweep point j of ``case`` (first direction of the cube)."""
-    return np.array([float(cube[v].values[case, 0, j, -1]) for v in STATE_VARS])
+    return np.array([float(cube[v].values[case, 0, j, -1]) for v in STATES])
 
 
 def seeds_from_cube(cube: Any, case: int, max_period: int, max_seeds: int) -> list[tuple[float, np.ndarray, int]]:
