@@ -493,15 +493,18 @@ def test_curves_file_is_cf_complete_and_keeps_the_check(map_x1_b_small, tmp_path
     io.write_netcdf(empty, tmp_path / "empty.nc", io.provenance(title="test"))
 
 
-def test_a_period_two_curve_is_cut_where_it_becomes_the_doubled_period_one_orbit(calibrated_ns):
-    """The period-2 curve through a period doubling of the P1 orbit runs on along the P1 orbit traversed twice:
-    cut there (``merged_into_shorter_period``)."""
+def test_a_period_two_curve_on_the_doubled_period_one_orbit_starts_none(calibrated_ns):
+    """The period-1 orbit at its Neimark-Sacker point is a period-2 orbit with its pair squared on the circle: a
+    period-2 Neimark-Sacker curve seeded there is the period-1 curve traversed twice, so it starts none (a period-2
+    curve that reaches such an orbit ends there, ``merged_into_shorter_period``)."""
     _, _, plane, curves = calibrated_ns
-    ns = curves[0]
-    doubled = C.Curve("neimark_sacker", 2, ns.points, ns.scales, dict(ns.end_status))
-    assert curve_maps.shorter_period(plane, ns.p[0], ns.q[0], ns.points[0].z[:-2], 2)
-    assert len(curve_maps.cut_merged(plane, doubled)) == 0
-    assert curve_maps.cut_merged(plane, ns) is ns
+    pt = curves[0].points[len(curves[0]) // 2]
+    assert C.curves.shorter_period(plane, pt.p, pt.q, pt.x, 2) and not C.curves.shorter_period(
+        plane, pt.p, pt.q, pt.x, 1
+    )
+    assert C.continue_curve(plane, "neimark_sacker", 2, pt.x, (pt.p, pt.q), pt.crit[0] ** 2) is None
+    again = C.continue_curve(plane, "neimark_sacker", 1, pt.x, (pt.p, pt.q), pt.crit[0])
+    assert again is not None and again.end_status == curves[0].end_status
 
 
 def test_every_run_of_a_curves_study_integrates_as_the_caller_says(monkeypatch):

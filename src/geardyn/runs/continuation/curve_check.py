@@ -17,8 +17,8 @@ from geardyn.classify import LABELS
 from geardyn.khv import point
 from geardyn.runs.continuation.branch import Bifurcation
 from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, correct
-from geardyn.runs.continuation.curve_maps import Boundaries, BoundarySpec, Region, boundary_curves, shorter_period
-from geardyn.runs.continuation.curves import Curve, bounds_stable, crossings, segment_distance
+from geardyn.runs.continuation.curve_maps import Boundaries, BoundarySpec, Region, boundary_curves
+from geardyn.runs.continuation.curves import Curve, bounds_stable, crossings, segment_distance, shorter_period
 from geardyn.runs.continuation.family import PlaneLine, cached
 from geardyn.runs.continuation.output import flags, variables
 from geardyn.runs.continuation.problem import CurveProblem

@@ -19,7 +19,7 @@ from geardyn.khv import point
 from geardyn.khv.design import resolve_fractions
 from geardyn.label import Policy, label_points
 from geardyn.runs.continuation.branch import Branch
-from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, merged
+from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings
 from geardyn.runs.continuation.curves import Curve, continue_curve, lies_on
 from geardyn.runs.continuation.family import KHVFamily, KHVPlane, back_margin
 from geardyn.runs.continuation.spec import run_middles
@@ -125,7 +125,8 @@ def lines_of(region: Region, xs: Sequence[float], ys: Sequence[float]) -> list[L
 class Boundaries:
     """The curves of a plane: ``flank[k]`` "back" for a back-flank grazing curve, ``origin[k]`` its seed;
     the branches along the lines; ``records``: the fate of each of the map's records (kind, n, x, y, fate);
-    ``unseeded``: the events that seeded no curve (kind, n, x, y, located); ``timing``: seconds per stage."""
+    ``unseeded``: the events that seeded no curve (kind, n, x, y, located: the corrector did not reach the seed or
+    its orbit is of a shorter period); ``timing``: seconds per stage."""
 
     region: Region
     lines: list[Line] = field(default_factory=list)
@@ -137,9 +138,8 @@ class Boundaries:
     unseeded: list[tuple[str, int, float, float, bool]] = field(default_factory=list)
     timing: dict[str, float] = field(default_factory=dict)
 
-    def add(self, curves: Sequence[Curve], origin: str, flank: str = "working", plane: Any = None) -> None:
+    def add(self, curves: Sequence[Curve], origin: str, flank: str = "working") -> None:
         for c in curves:
-            c = c if plane is None else cut_merged(plane, c)
             if len(c) < 2:
                 continue
             self.curves.append(c)
@@ -254,38 +254,6 @@ def back_grazing_seeds(family: KHVFamily, br: Branch, iterations: int = 8) -> li
 # --- curves: merged periods, the polyline, one branch's events ----------------------------------------------
 
 
-def shorter_period(plane: Any, p: float, q: float, x: np.ndarray, n: int, cs: ContinuationSettings = CURVES) -> bool:
-    """True when the period-n orbit through x at (p, q) is an orbit of a proper divisor m of n traversed n / m
-    times (its m-th cycle point within ``cs.merge_tol`` max(1, max |x|) of x)."""
-    tol = cs.merge_tol * max(1.0, float(np.max(np.abs(x))))
-    return n > 1 and merged(plane.cycle(p, q, x, n), n, tol) > 0
-
-
-def cut_merged(plane: Any, curve: Curve) -> Curve:
-    """A period-n curve (n > 1) cut to its longest run of points whose orbit is not of a shorter period: where
-    it reaches one (through a period doubling of the shorter orbit) it goes on along that orbit's curve
-    traversed twice.  The cut ends get ``merged_into_shorter_period``."""
-    if curve.n == 1:
-        return curve
-    ok = [not shorter_period(plane, float(pt.z[-2]), float(pt.z[-1]), pt.z[:-2], curve.n) for pt in curve.points]
-    if all(ok):
-        return curve
-    best, start = (0, 0), None
-    for i, good in enumerate([*ok, False]):
-        if good and start is None:
-            start = i
-        elif not good and start is not None:
-            best, start = max(best, (start, i), key=lambda r: r[1] - r[0]), None
-    a, b = best
-    ends = dict(curve.end_status)
-    ends.update({"down": "merged_into_shorter_period"} if a > 0 else {})
-    ends.update({"up": "merged_into_shorter_period"} if b < len(ok) else {})
-    cut = Curve(curve.kind, curve.n, curve.points[a:b], curve.scales, ends)
-    if len(cut) > 1:
-        cut.codim2 = [c for c in curve.codim2 if lies_on(cut, cut.kind, cut.n, c.p, c.q, 1e-6, curve.scales[1:])]
-    return cut
-
-
 def branch_curves(
     plane: KHVPlane,
     bd: Boundaries,
@@ -305,7 +273,7 @@ def branch_curves(
             if c is None:
                 log.info("%s: %s (P%d) at %s seeds no curve (located: %s)", origin, bf.kind, bf.n, pq, bf.located)
                 bd.unseeded.append((bf.kind, bf.n, *pq, bf.located))
-            bd.add([c] if c is not None else [], origin, plane=plane)
+            bd.add([c] if c is not None else [], origin)
 
 
 # --- the map's records as seeds -----------------------------------------------------------------------------
@@ -434,7 +402,7 @@ def boundary_curves(
                     pq = (line.value, t) if line.axis == "x" else (t, line.value)
                     if not bd.known("grazing", br.n, pq, cs.on_curve_tol, "back"):
                         c = continue_curve(back, "grazing", br.n, x, pq, cs=cs, along=line.along)
-                        bd.add([c] if c is not None else [], f"line {line}", "back", plane)
+                        bd.add([c] if c is not None else [], f"line {line}", "back")
     bd.timing["lines"] = time.perf_counter() - t0
     if map_ds is not None and spec.map_seeds and "bifurcation" in map_ds:
         t1 = time.perf_counter()

@@ -13,7 +13,7 @@ import numpy as np
 
 from geardyn import libm
 from geardyn.runs.continuation.branch import Branch
-from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, Point, correct, step
+from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, Point, correct, merged, step
 from geardyn.runs.continuation.events import brent_on_step, fold_test, ns_test, pd_test, unstable_counts
 from geardyn.runs.continuation.problem import TARGET, CurveProblem, others
 from geardyn.runs.continuation.stepping import both_ways, box_end, inside, march
@@ -107,19 +107,35 @@ def _events(prob: CurveProblem, a: Point, b: Point) -> list[Codim2]:
     return found
 
 
+def shorter_period(plane: Any, p: float, q: float, x: np.ndarray, n: int, cs: ContinuationSettings = CURVES) -> bool:
+    """True when the period-n orbit through x at (p, q) is one of a proper divisor m of n traversed n / m times
+    (its m-th cycle point within ``cs.merge_tol`` max(1, max |x|) of x)."""
+    return n > 1 and merged(plane.cycle(p, q, x, n), n, cs.merge_tol * max(1.0, float(np.max(np.abs(x))))) > 0
+
+
+def _merged(prob: CurveProblem, pt: Point | None) -> bool:
+    return pt is not None and shorter_period(prob.plane, pt.p, pt.q, pt.x, prob.n, prob.cs)
+
+
 def _advance(
     prob: CurveProblem, box: Sequence[float], found: list[Codim2], cur: Point, ds: float
 ) -> tuple[list[Point], str] | None:
     """One step of a curve (:func:`~geardyn.runs.continuation.stepping.march`): ends on the box (the last point
-    solved on its side) or at a 1:1 or 1:2 resonance; the codimension-2 points passed go to ``found``."""
+    solved on its side), at a 1:1 or 1:2 resonance, or where a period-n curve reaches an orbit of a shorter period
+    (through a period doubling of that orbit it would go on as its curve traversed n / m times); the
+    codimension-2 points passed go to ``found``."""
     z_pred = (cur.z / prob.scale + ds * cur.tangent) * prob.scale
     if not inside(z_pred, box, 2):
         end = box_end(prob, cur, z_pred, box, prob.cs)
+        if _merged(prob, end):
+            return [], "merged_into_shorter_period"
         found += _events(prob, cur, end) if end is not None else []
         return ([end] if end is not None else []), "box"
     new = step(prob, cur, ds, prob.cs)
     if new is None:
         return None
+    if _merged(prob, new):
+        return [], "merged_into_shorter_period"
     ev = _events(prob, cur, new)
     found += ev
     term = [c.kind for c in ev if c.kind in TERMINAL]
@@ -146,7 +162,7 @@ def continue_curve(
     """The curve of ``kind`` (period n) through the codimension-1 point near (x0, start = (p0, q0)), both ways to
     the box ``plane.box``.  ``critical``: the critical multiplier there (the upper one of a Neimark-Sacker pair;
     default +1 / -1 for fold / period doubling).  The seed is corrected on the line through ``start`` along
-    ``along`` (the other parameter held); None when that fails."""
+    ``along`` (the other parameter held); None when that fails or its orbit is of a shorter period."""
     box = tuple(plane.box)
     x0 = np.asarray(x0, dtype=float)
     if not inside(np.asarray(start), box, 2):
@@ -157,10 +173,9 @@ def continue_curve(
     crit = () if kind == "grazing" else (complex(critical if np.isfinite(critical) else TARGET[kind]),)
     z0 = np.concatenate([x0, start])
     k = 1 if along == "p" else 0
-    seed = correct(
-        prob, z0, _line(x0.size, k), start[k] / prob.scale[x0.size + k], cs, Point(z0, z0[:0], None, npar=2, crit=crit)
-    )
-    if seed is None:
+    ref = Point(z0, z0[:0], None, npar=2, crit=crit)
+    seed = correct(prob, z0, _line(x0.size, k), start[k] / prob.scale[x0.size + k], cs, ref)
+    if seed is None or _merged(prob, seed):
         return None
     found: list[list[Codim2]] = []  # per march: up, then down
 

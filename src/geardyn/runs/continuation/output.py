@@ -310,6 +310,13 @@ def boundary_dataset(bd: Any, check: Any = None) -> xr.Dataset:
     ds.attrs.update({f"curve_{k}_seed": o for k, o in enumerate(bd.origin)})
     ds.attrs.update({f"records_{f}": int(sum(r[4] == f for r in rec)) for f in RECORD_FATES})
     ds.attrs.update({f"time_{k}_s": round(v, 3) for k, v in bd.timing.items()})
+    ds.attrs["unseeded_events"] = (
+        "; ".join(
+            f"{kind} P{n} at ({x:.6g}, {y:.6g}){'' if located else ' (bracketed)'}"
+            for kind, n, x, y, located in bd.unseeded
+        )
+        or "none"
+    )
     ds.attrs["lines"] = "; ".join(str(line) for line in bd.lines)
     ds.attrs["box"] = ", ".join(f"{v:g}" for v in bd.region.box)
     ds.attrs["fixed_overrides"] = point.label(bd.region.fixed)
