@@ -14,7 +14,7 @@ import yaml
 from geardyn import config, validate
 from geardyn.classify import ClassifierSettings
 from geardyn.khv import design
-from geardyn.runs.continuation.spec import OrbitSpec
+from geardyn.runs.continuation import OrbitSpec
 
 ROOT = Path(__file__).resolve().parents[1]
 LI2013 = ROOT / "config" / "designs" / "li2013.yaml"

@@ -20,7 +20,7 @@ from geardyn.papers import li2013 as paper
 from geardyn.plots import save_figure
 from geardyn.plots.orbits import plot_branches
 from geardyn.runs import continuation as C
-from geardyn.runs.continuation import curve_maps
+from geardyn.runs.continuation.family import back_margin
 from geardyn.runs.cube import STATES
 from geardyn.solve import SimulationSettings, simulate
 
@@ -249,10 +249,10 @@ def test_both_margins_take_the_callers_divergence_threshold():
     c = point.point_coefficients(d, {"x1": 0.5, "b": 2.0, "e": 5.0})
     x = simulate(c, SimulationSettings(transient_periods=2000, recorded_periods=1)).final_state
     ok = SimulationSettings()
-    assert C.grazing_margin(c, x, 1, ok) == -2.0 and curve_maps.back_margin(c, x, 1, ok) < 0
+    assert C.grazing_margin(c, x, 1, ok) == -2.0 and back_margin(c, x, 1, ok) < 0
     low = SimulationSettings(divergence_threshold=0.5)
     assert np.isnan(C.grazing_margin(c, x, 1, low))
-    assert np.isnan(curve_maps.back_margin(c, x, 1, low))
+    assert np.isnan(back_margin(c, x, 1, low))
 
 
 def _two_pair_map(p: float, n: int):

@@ -31,6 +31,7 @@ from geardyn.plots import curves as plots_curves
 from geardyn.runs import continuation as C
 from geardyn.runs import maps
 from geardyn.runs.continuation import curve_check, curve_maps, output
+from geardyn.runs.continuation.family import back_margin
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.bifurcations import CODES, decode
 from geardyn.solve.shooting import newton_shooting
@@ -456,7 +457,7 @@ def test_grazing_meets_a_fold_a_period_doubling_and_a_neimark_sacker_on_the_back
     for kind, points in found.items():
         for b in points:
             assert b.located
-            h = curve_maps.back_margin(plane.coefficients(b.p, b.q), b.state, b.n, plane.settings)
+            h = back_margin(plane.coefficients(b.p, b.q), b.state, b.n, plane.settings)
             assert abs(h) < 1e-7, (kind, h)  # measured 4.7e-9 (fold), 3.9e-12, 7.5e-14 (flip), 1.1e-13 (NS)
             y, M = plane.flow(b.p, b.q, b.n)(b.state, True)
             assert np.max(np.abs(y - b.state)) < 1e-7  # on the orbit

@@ -5,7 +5,7 @@ settings class (docs/orbits.md, with the map of the package's modules)."""
 from geardyn.runs.continuation.branch import Bifurcation, Branch, on_branch
 from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, Point
 from geardyn.runs.continuation.curves import Codim2, Curve, continue_curve, curves_from_branch, line_points
-from geardyn.runs.continuation.driver import label_agreement, label_check, sweep_orbits
+from geardyn.runs.continuation.driver import OrbitSpec, label_agreement, label_check, seeds_from_cube, sweep_orbits
 from geardyn.runs.continuation.family import KHVFamily, KHVPlane, PlaneLine, grazing_margin
 from geardyn.runs.continuation.output import (
     bifurcation_rows,
@@ -14,7 +14,6 @@ from geardyn.runs.continuation.output import (
     curve_dataset,
     rows_to_csv,
 )
-from geardyn.runs.continuation.spec import OrbitSpec, seeds_from_cube
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.runs.continuation.switching import switch_at_period_doubling
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -46,6 +47,13 @@ class Branch:
     end_status: dict[str, str] = field(default_factory=dict)
     bifurcations: list[Bifurcation] = field(default_factory=list)
     tangents: np.ndarray | None = None  # (m, d + 1) unit tangents in the scaled variables
+    problem: Any = None  # the problem it was continued as (its scales and settings; event location)
+
+    @property
+    def grazing_changes(self) -> set[int]:
+        """The steps i -> i + 1 over which the grazing margin changes sign."""
+        g = self.grazing
+        return set(np.flatnonzero(np.isfinite(g[:-1]) & np.isfinite(g[1:]) & ((g[:-1] > 0) != (g[1:] > 0))).tolist())
 
     @property
     def stable(self) -> np.ndarray:

@@ -21,13 +21,13 @@ from geardyn.label import Policy, label_points
 from geardyn.runs.continuation.branch import Branch
 from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings
 from geardyn.runs.continuation.curves import Curve, continue_curve, lies_on
-from geardyn.runs.continuation.family import KHVFamily, KHVPlane, back_margin
-from geardyn.runs.continuation.spec import run_middles
+from geardyn.runs.continuation.driver import run_middles
+from geardyn.runs.continuation.events import sign_changes
+from geardyn.runs.continuation.family import KHVFamily, KHVPlane
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.runs.continuation.switching import add_branch
 from geardyn.solve.base import SimulationSettings
 from geardyn.solve.bifurcations import CURVE_KINDS, decode
-from geardyn.solve.shooting import newton_shooting
 
 log = logging.getLogger("geardyn.curves")
 
@@ -222,35 +222,6 @@ def line_branches(
     return out
 
 
-def back_grazing_seeds(family: KHVFamily, br: Branch, iterations: int = 8) -> list[tuple[float, np.ndarray]]:
-    """(t, state) where the back-flank margin of the branch's orbit changes sign between consecutive points,
-    refined by regula falsi (Illinois) on the orbit shot at each trial t."""
-
-    def h(t: float, x: np.ndarray) -> float:
-        return back_margin(family.coefficients(t), x, br.n, family.settings)
-
-    hs = np.array([h(p, x) for p, x in zip(br.p, br.states, strict=True)])
-    out = []
-    for i in np.flatnonzero(np.isfinite(hs[:-1]) & np.isfinite(hs[1:]) & (np.sign(hs[:-1]) != np.sign(hs[1:]))):
-        (ta, xa, ha), (tb, xb, hb) = (br.p[i], br.states[i], hs[i]), (br.p[i + 1], br.states[i + 1], hs[i + 1])
-        t, x = float(ta), xa
-        for _ in range(iterations):
-            w = ha / (ha - hb)
-            t = float(ta + w * (tb - ta))
-            r = newton_shooting(family.flow(t, br.n), xa + w * (xb - xa), br.n, CURVES.tol)
-            if not r.converged:
-                break
-            x, ht = r.state, h(t, r.state)
-            if not np.isfinite(ht) or abs(ht) < 1e-9:
-                break
-            if np.sign(ht) == np.sign(ha):
-                ta, xa, ha, hb = t, x, ht, 0.5 * hb
-            else:
-                tb, xb, hb, ha = t, x, ht, 0.5 * ha
-        out.append((t, x))
-    return out
-
-
 # --- curves: merged periods, the polyline, one branch's events ----------------------------------------------
 
 
@@ -398,7 +369,8 @@ def boundary_curves(
             log.info("line %s: P%d branch, %d points, events %s", line, br.n, len(br), events)
             branch_curves(plane, bd, br, line, cs, f"line {line}")
             if spec.back_grazing:
-                for t, x in back_grazing_seeds(fam, br):
+                for q, _ in sign_changes(br, fam.back_grazing):
+                    t, x = q.p, q.x
                     pq = (line.value, t) if line.axis == "x" else (t, line.value)
                     if not bd.known("grazing", br.n, pq, cs.on_curve_tol, "back"):
                         c = continue_curve(back, "grazing", br.n, x, pq, cs=cs, along=line.along)

@@ -96,6 +96,9 @@ class KHVFamily:
     def grazing(self, p: float, x: np.ndarray, n: int) -> float:
         return grazing_margin(self.coefficients(p), x, n, self.settings)
 
+    def back_grazing(self, p: float, x: np.ndarray, n: int) -> float:
+        return back_margin(self.coefficients(p), x, n, self.settings)
+
 
 def grazing_margin(system: Coefficients, x: np.ndarray, n: int, settings: SimulationSettings) -> float:
     """g = min over the cycle of |x_VH| - b (NaN without backlash): g < 0 when contact is lost; -b when x_VH

@@ -180,6 +180,7 @@ def _assemble(prob: BranchProblem, pts: list[Point], ends: dict[str, str]) -> Br
         iterations=np.array([q.iterations for q in pts], dtype=np.int32),
         end_status=dict(ends),
         tangents=np.array([q.tangent for q in pts]),
+        problem=prob,
     )
-    br.bifurcations = detect_bifurcations(prob, br)
+    br.bifurcations = detect_bifurcations(br)
     return br
