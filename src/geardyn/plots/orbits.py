@@ -1,4 +1,4 @@
-"""Continued branches drawn over a simulated bifurcation diagram (docs/orbits.md, "Outputs"): the sweep's
+"""Continued branches drawn over a simulated bifurcation diagram (docs/orbits.md, section 4): the sweep's
 Poincaré points grey, each branch's phase-0 points solid where stable and dashed where unstable, the typed
 bifurcation points marked."""
 

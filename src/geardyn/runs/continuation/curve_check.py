@@ -1,6 +1,6 @@
 """The pixel check of regime-boundary curves against their map: every curve crossed with rows and columns of
 the map, the curve's orbit shot at the pixels beside each crossing and the map's labels judged (docs/orbits.md,
-section 9, "The pixel check": the samples left out, the table of what each side must show, the reasons)."""
+section 5, "The pixel check": the samples left out, the table of what each side must show, the reasons)."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """Regime boundaries of a regime map (or of a plane without a map, a ``curves:`` study) as curves: the
 settings, the plane and its lines, the one-parameter branches along the lines (seeded by the labeller) and the
 two-parameter curves of their events, then the map's records as seeds (:func:`record_seeds`), both stages in
-:func:`boundary_curves` (docs/orbits.md, section 9, "In the workflow")."""
+:func:`boundary_curves` (docs/orbits.md, section 5, "In the workflow")."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Regime boundaries as curves: the codimension-1 bifurcations of period-n orbits continued in a plane (p, q) by
 the one corrector (the problem :class:`~geardyn.runs.continuation.problem.CurveProblem`), with the codimension-2
-points on them; and the one test of whether a point already lies on a curve (docs/orbits.md, section 9)."""
+points on them; and the one test of whether a point already lies on a curve (docs/orbits.md, section 5)."""
 
 from __future__ import annotations
 
@@ -66,7 +66,7 @@ class Curve:
 
 
 def tests(kind: str, pt: Point) -> dict[str, float]:
-    """The codimension-2 tests of a point (docs/orbits.md, section 9): the fold's normal-form coefficient, the
+    """The codimension-2 tests of a point (docs/orbits.md, section 5): the fold's normal-form coefficient, the
     Neimark-Sacker pair's trace -+ 2, det(others -+ I), the others' pair nearest the circle, the margin g."""
     o = pt.multipliers if kind == "grazing" else others(pt.multipliers, pt.crit)
     tr = float(sum(pt.crit).real)

@@ -189,7 +189,7 @@ class PlaneLine:
 
 class KHVPlane:
     """A KHV design over two control parameters ``names`` = (p, q) in ``box`` = (p_lo, p_hi, q_lo, q_hi),
-    the other overrides ``fixed`` (docs/orbits.md, section 9: the coefficients along one parameter from a
+    the other overrides ``fixed`` (docs/orbits.md, section 2: the coefficients along one parameter from a
     :class:`KHVFamily` when the other is b, e or w and agrees at the box corner).  Cached by (p, q)."""
 
     def __init__(

@@ -1,5 +1,5 @@
 """The problems of continuation, each stating its residual, its Jacobian blocks and its monodromy for the one
-corrector (:func:`~geardyn.runs.continuation.corrector.correct`; docs/orbits.md, sections 2 and 9):
+corrector (:func:`~geardyn.runs.continuation.corrector.correct`; docs/orbits.md, sections 2 and 5):
 
 * a branch (F, p): F(x, p) = phi_n(x; p) - x, z = (x, p); dF/dx = M - I from the variational equations, dF/dp
   by a forward difference at the corrector's first iterate, reused after it (a chord in that column);

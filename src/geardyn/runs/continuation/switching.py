@@ -24,7 +24,7 @@ def switch_at_period_doubling(
 ) -> Branch | None:
     """The period-2n branch born at a period-doubling point of a period-n branch: shot from the bifurcating
     orbit pushed along the eigenvector of the multiplier -1 a little past the point and continued away from it
-    only (docs/orbits.md, section 2, "Branch switching"); None when none is found."""
+    only (docs/orbits.md, section 3, "Branch switching"); None when none is found."""
     n = bf.n
     flow = family.flow(bf.p, n)
     phi, M = flow(bf.state, True)
