@@ -50,12 +50,6 @@ class Branch:
     problem: Any = None  # the problem it was continued as (its scales and settings; event location)
 
     @property
-    def grazing_changes(self) -> set[int]:
-        """The steps i -> i + 1 over which the grazing margin changes sign."""
-        g = self.grazing
-        return set(np.flatnonzero(np.isfinite(g[:-1]) & np.isfinite(g[1:]) & ((g[:-1] > 0) != (g[1:] > 0))).tolist())
-
-    @property
     def stable(self) -> np.ndarray:
         return np.max(libm.cabs(self.multipliers), axis=1) < 1.0
 

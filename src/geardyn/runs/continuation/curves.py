@@ -107,14 +107,15 @@ def _events(prob: CurveProblem, a: Point, b: Point) -> list[Codim2]:
     return found
 
 
-def shorter_period(plane: Any, p: float, q: float, x: np.ndarray, n: int, cs: ContinuationSettings = CURVES) -> bool:
+def shorter_period(plane: Any, p: float, q: float, x: np.ndarray, n: int, tol: float = CURVES.merge_tol) -> bool:
     """True when the period-n orbit through x at (p, q) is one of a proper divisor m of n traversed n / m times
-    (its m-th cycle point within ``cs.merge_tol`` max(1, max |x|) of x)."""
-    return n > 1 and merged(plane.cycle(p, q, x, n), n, cs.merge_tol * max(1.0, float(np.max(np.abs(x))))) > 0
+    (its m-th cycle point within ``tol`` max(1, max |x|) of x)."""
+    return n > 1 and merged(plane.cycle(p, q, x, n), n, tol * max(1.0, float(np.max(np.abs(x))))) > 0
 
 
-def _merged(prob: CurveProblem, pt: Point | None) -> bool:
-    return pt is not None and shorter_period(prob.plane, pt.p, pt.q, pt.x, prob.n, prob.cs)
+def _merged(prob: CurveProblem, pt: Point | None, tol: float | None = None) -> bool:
+    tol = prob.cs.merge_tol if tol is None else tol
+    return pt is not None and shorter_period(prob.plane, pt.p, pt.q, pt.x, prob.n, tol)
 
 
 def _advance(
@@ -162,7 +163,9 @@ def continue_curve(
     """The curve of ``kind`` (period n) through the codimension-1 point near (x0, start = (p0, q0)), both ways to
     the box ``plane.box``.  ``critical``: the critical multiplier there (the upper one of a Neimark-Sacker pair;
     default +1 / -1 for fold / period doubling).  The seed is corrected on the line through ``start`` along
-    ``along`` (the other parameter held); None when that fails or its orbit is of a shorter period."""
+    ``along`` (the other parameter held); None when that fails or its orbit is of a shorter period (a fold's within
+    ``merge_tol_fold``, as a branch's: there the period-2m orbit meets the period-m one at its period doubling, and
+    the curve is that one's period-doubling curve)."""
     box = tuple(plane.box)
     x0 = np.asarray(x0, dtype=float)
     if not inside(np.asarray(start), box, 2):
@@ -175,7 +178,7 @@ def continue_curve(
     k = 1 if along == "p" else 0
     ref = Point(z0, z0[:0], None, npar=2, crit=crit)
     seed = correct(prob, z0, _line(x0.size, k), start[k] / prob.scale[x0.size + k], cs, ref)
-    if seed is None or _merged(prob, seed):
+    if seed is None or _merged(prob, seed, cs.merge_tol_fold if kind == "fold" else cs.merge_tol):
         return None
     found: list[list[Codim2]] = []  # per march: up, then down
 

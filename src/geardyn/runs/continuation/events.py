@@ -153,7 +153,12 @@ def _fold(br: Branch, i: int, iterations: int = 12) -> tuple[Point, bool]:
     return (best, True) if best is not None else (_interpolated(br, i, 0.5), False)
 
 
-def _step_events(br: Branch, i: int) -> list[Bifurcation]:
+def _changes(h: np.ndarray) -> np.ndarray:
+    """The steps i -> i + 1 over which the finite values h change sign."""
+    return np.flatnonzero(np.isfinite(h[:-1]) & np.isfinite(h[1:]) & ((h[:-1] > 0) != (h[1:] > 0)))
+
+
+def _step_events(br: Branch, i: int, grazes: bool) -> list[Bifurcation]:
     """The typed bifurcation points between points i and i + 1, in the order of the package table."""
     found: list[Bifurcation] = []
     m0, m1 = br.multipliers[i], br.multipliers[i + 1]
@@ -176,7 +181,7 @@ def _step_events(br: Branch, i: int) -> list[Bifurcation]:
         tests = [lambda q: ns_test(q.multipliers), lambda q: unstable_counts(q.multipliers)[1] - 0.5 * (c0 + c1)]
         q, ok = _locate(br, i, tests, _lin_zero(ns_test(m0), ns_test(m1)))
         found.append(_bifurcation("neimark_sacker", q, i, ok, br, ns_pair))
-    if i in br.grazing_changes:
+    if grazes:
         margin = br.problem.family.grazing
         q, ok = _locate(br, i, [lambda q: margin(q.p, q.x, br.n)], _lin_zero(*br.grazing[i : i + 2]))
         found.append(_bifurcation("grazing", q, i, ok, br, lambda m: None))
@@ -186,12 +191,12 @@ def _step_events(br: Branch, i: int) -> list[Bifurcation]:
 def detect_bifurcations(br: Branch) -> list[Bifurcation]:
     """Typed bifurcation points between consecutive points of ``br`` (with its tangents and problem; see the
     package table); with ``locate`` off they are only bracketed (interpolated, ``located`` False), but the fold."""
-    return [bf for i in range(len(br) - 1) for bf in _step_events(br, i)]
+    graze = set(_changes(br.grazing).tolist())
+    return [bf for i in range(len(br) - 1) for bf in _step_events(br, i, i in graze)]
 
 
 def sign_changes(br: Branch, margin: Callable[[float, np.ndarray, int], float]) -> list[tuple[Point, bool]]:
     """The points of ``br`` where ``margin(p, x, n)`` changes sign between consecutive points (e.g. a grazing
     margin), each located by :func:`_locate` (or only bracketed: located False)."""
     h = np.array([margin(p, x, br.n) for p, x in zip(br.p, br.states, strict=True)])
-    changes = np.flatnonzero(np.isfinite(h[:-1]) & np.isfinite(h[1:]) & ((h[:-1] > 0) != (h[1:] > 0)))
-    return [_locate(br, int(i), [lambda q: margin(q.p, q.x, br.n)], _lin_zero(h[i], h[i + 1])) for i in changes]
+    return [_locate(br, int(i), [lambda q: margin(q.p, q.x, br.n)], _lin_zero(h[i], h[i + 1])) for i in _changes(h)]
