@@ -44,6 +44,10 @@ _TORUS = (LABELS["quasi_periodic"], LABELS["long_period"])
 _LABEL_KINDS = ("fold", "period_doubling", "neimark_sacker")
 
 
+#: The probes' branches: about 8 steps over the way, no grazing margins, events only bracketed.
+FOLLOW = ContinuationSettings(ds=0.125, ds_max=0.125, max_points=40, grazing=False, locate=False)
+
+
 @dataclass(frozen=True)
 class CheckSettings:
     """The numbers of the pixel check (module doc).  Every ``every``-th row and column, at most ``max_samples``
@@ -63,7 +67,9 @@ class CheckSettings:
     newton_iter: int = 12
     pushes: tuple[float, ...] = (0.02, -0.02, 0.1, -0.1)
     near: float = 0.1
-    follow: ContinuationSettings = ContinuationSettings(ds=0.125, ds_max=0.125, max_points=40, grazing=False)
+    follow: ContinuationSettings = ContinuationSettings(
+        ds=0.125, ds_max=0.125, max_points=40, grazing=False, locate=False
+    )
     follow_share: float = 0.125
     mean_rtol: float = 1e-3
     mean_spread: float = 0.1

@@ -24,7 +24,6 @@ from geardyn.runs.continuation.curves import Curve, continue_curve, lies_on
 from geardyn.runs.continuation.driver import run_middles
 from geardyn.runs.continuation.events import sign_changes
 from geardyn.runs.continuation.family import KHVFamily, KHVPlane
-from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.runs.continuation.switching import add_branch
 from geardyn.solve.base import SimulationSettings
 from geardyn.solve.bifurcations import CURVE_KINDS, decode
@@ -172,13 +171,14 @@ class Boundaries:
 # --- orbits and branches along a line ----------------------------------------------------------------------
 
 
-def labelled_orbits(family: KHVFamily, seeds: Sequence[tuple[float, int]], policy: Policy, max_period: int) -> list:
-    """(t, state, n) of the stable orbit the labeller certifies at each seed (t, n) from the static deflection: of
-    period n, or of any period up to ``max_period`` for n = 0; None where it certifies none."""
-    verdicts = label_points([family.coefficients(t) for t, _ in seeds], policy)
+def labelled_orbits(seeds: Sequence[tuple[KHVFamily, float, int]], policy: Policy, max_period: int) -> list:
+    """(t, state, n) of the stable orbit the labeller certifies at each seed (family, t, n) from the static
+    deflection (all in one call): of period n, or of any period up to ``max_period`` for n = 0; None where it
+    certifies none."""
+    verdicts = label_points([family.coefficients(t) for family, t, _ in seeds], policy)
     return [
         (t, v.final_state, v.period) if v.period >= 1 and (v.period == n if n else v.period <= max_period) else None
-        for (t, n), v in zip(seeds, verdicts, strict=True)
+        for (_, t, n), v in zip(seeds, verdicts, strict=True)
     ]
 
 
@@ -208,17 +208,13 @@ def map_line_seeds(map_ds: xr.Dataset, line: Line, max_period: int, max_seeds: i
     return out
 
 
-def line_branches(
-    family: KHVFamily, seeds: Sequence[tuple[float, int]], policy: Policy, spec: BoundarySpec
-) -> list[Branch]:
-    """The distinct branches through the seeds' attractors (:func:`labelled_orbits`; n = 0: the period the
-    labeller finds) along the family's range, with the period-2n branches of their period doublings."""
+def line_branches(family: KHVFamily, orbits: Sequence[tuple | None], spec: BoundarySpec) -> list[Branch]:
+    """The distinct branches through the seeds' orbits (:func:`labelled_orbits`) along the family's range, with
+    the period-2n branches of their period doublings."""
     out: list[Branch] = []
-    for seed, found in zip(seeds, labelled_orbits(family, seeds, policy, spec.max_period), strict=True):
-        if found is None:
-            log.info("line seed at %g (P%d): no stable orbit certified", *seed)
-            continue
-        add_branch(family, *found, out, spec.branch_settings(), max_period=spec.max_period, touch=2e-3)
+    for found in orbits:
+        if found is not None:
+            add_branch(family, *found, out, spec.branch_settings(), max_period=spec.max_period, touch=2e-3)
     return out
 
 
@@ -296,12 +292,13 @@ def _record_curves(
     (xp, yp), fixed = bd.region.names, dict(bd.region.fixed)
     row = Line("y", float(ys[j]))
     fam = KHVFamily(design, xp, {**fixed, yp: row.value}, lo, hi, plane.settings, 5)
-    cs = replace(spec.branch_settings(), ds=0.05, ds_max=0.05)
+    cs = replace(spec.branch_settings(), ds=0.05, ds_max=0.05, grazing=False)  # the record's kind only
     px = pixel_size(map_ds)[0]
     origin = f"map record ({float(xs[i]) - 0.5 * px:.6g}, {row.value:.6g})"
+    known: list[Branch] = []  # a second orbit on the first one's branch starts none
     for t in dict.fromkeys((float(xs[i - 1]), float(xs[(max(first, i - 12) + i - 1) // 2]))):
-        (found,) = labelled_orbits(fam, [(t, n)], policy, spec.max_period)
-        br = None if found is None else continue_branch(fam, t, found[1], n, lo, hi, cs)
+        (found,) = labelled_orbits([(fam, t, n)], policy, spec.max_period)
+        br = None if found is None else add_branch(fam, t, found[1], n, known, cs)
         if br is None:
             continue
         near = [b for b in br.bifurcations if b.kind == kind and abs(b.p - xs[i]) <= spec.record_tol * px]
@@ -357,24 +354,28 @@ def boundary_curves(
     bd = Boundaries(region, lines)
     back = plane.back_flank()
     cs = spec.curve_settings()
-    for line in lines:
-        fam = line_family(design, region, line, settings, spec.nodes)
-        if map_ds is not None:
-            seeds = map_line_seeds(map_ds, line, spec.max_period, spec.max_seeds)
-        else:
-            seeds = [(float(t), 0) for t in np.linspace(fam.lo, fam.hi, spec.probes + 2)[1:-1]]
-        for br in line_branches(fam, seeds, policy, spec):
+    fams = [line_family(design, region, line, settings, spec.nodes) for line in lines]
+    seeds = [
+        [(fam, t, n) for t, n in map_line_seeds(map_ds, line, spec.max_period, spec.max_seeds)]
+        if map_ds is not None
+        else [(fam, float(t), 0) for t in np.linspace(fam.lo, fam.hi, spec.probes + 2)[1:-1]]
+        for line, fam in zip(lines, fams, strict=True)
+    ]
+    found = iter(labelled_orbits([s for line_seeds in seeds for s in line_seeds], policy, spec.max_period))
+    for line, fam, line_seeds in zip(lines, fams, seeds, strict=True):
+        for br in line_branches(fam, [next(found) for _ in line_seeds], spec):
             bd.branches.append((line, br))
             events = [(b.kind, round(b.p, 5)) for b in br.bifurcations]
             log.info("line %s: P%d branch, %d points, events %s", line, br.n, len(br), events)
             branch_curves(plane, bd, br, line, cs, f"line {line}")
             if spec.back_grazing:
-                for q, _ in sign_changes(br, fam.back_grazing):
+                for q, located in sign_changes(br, fam.back_grazing):
                     t, x = q.p, q.x
                     pq = (line.value, t) if line.axis == "x" else (t, line.value)
                     if not bd.known("grazing", br.n, pq, cs.on_curve_tol, "back"):
                         c = continue_curve(back, "grazing", br.n, x, pq, cs=cs, along=line.along)
                         bd.add([c] if c is not None else [], f"line {line}", "back")
+                        bd.unseeded += [] if c is not None else [("back_grazing", br.n, *pq, located)]
     bd.timing["lines"] = time.perf_counter() - t0
     if map_ds is not None and spec.map_seeds and "bifurcation" in map_ds:
         t1 = time.perf_counter()
