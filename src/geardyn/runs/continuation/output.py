@@ -141,20 +141,10 @@ def branch_dataset(
     return xr.Dataset(data, coords=coords, attrs={"control_parameter": parameter, **ends})
 
 
-TABLE_COLUMNS = (
-    "case",
-    "branch",
-    "period",
-    "type",
-    "parameter",
-    "value",
-    "critical_multiplier",
-    "modulus",
-    "rotation_number",
-    "located",
-    "multipliers",
-    "paper_transition",
-    "paper_difference",
+#: The columns of the table of bifurcation points.
+TABLE_COLUMNS = tuple(
+    "case branch period type parameter value critical_multiplier modulus rotation_number located multipliers "
+    "paper_transition paper_difference".split()
 )
 
 

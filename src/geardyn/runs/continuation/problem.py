@@ -70,9 +70,6 @@ class BranchProblem:
             Fp = last.J[:, -1]
         return Evaluation(phi - x, M, np.column_stack([M - np.eye(x.size), Fp]))
 
-    def jacobian(self, z: np.ndarray, ev: Evaluation, ref: Point | None = None) -> np.ndarray | None:
-        return ev.J
-
     def converged(self, z: np.ndarray, ev: Evaluation) -> bool:
         return float(np.max(np.abs(ev.H))) <= self.cs.tol * max(1.0, float(np.max(np.abs(z[:-1]))))
 
