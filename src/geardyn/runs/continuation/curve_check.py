@@ -44,8 +44,8 @@ _TORUS = (LABELS["quasi_periodic"], LABELS["long_period"])
 _LABEL_KINDS = ("fold", "period_doubling", "neimark_sacker")
 
 
-#: The probes' branches: about 8 steps over the way, no grazing margins, events only bracketed.
-FOLLOW = ContinuationSettings(ds=0.125, ds_max=0.125, max_points=40, grazing=False, locate=False)
+#: The probes' branches: about 8 steps over the way (at least 1/512 of it), no grazing margins, events only bracketed.
+FOLLOW = ContinuationSettings(ds=0.125, ds_min=2e-3, ds_max=0.125, max_points=40, grazing=False, locate=False)
 
 
 @dataclass(frozen=True)
