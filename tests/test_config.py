@@ -15,7 +15,7 @@ from geardyn import config
 from geardyn.config import validate
 from geardyn.khv import design
 from geardyn.label.classify import ClassifierSettings
-from geardyn.runs.continuation.spec import OrbitSpec
+from geardyn.runs.continuation import OrbitSpec
 
 ROOT = Path(__file__).resolve().parents[1]
 LI2013 = ROOT / "config" / "designs" / "li2013.yaml"

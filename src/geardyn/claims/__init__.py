@@ -19,6 +19,7 @@ import numpy as np
 import xarray as xr
 
 from geardyn.claims.verdicts import BORDERLINE_Z, RANGE_AGREE, Claim, band, fraction_verdict
+from geardyn.khv import point
 from geardyn.label import classify
 from geardyn.runs.cube import labels_of_cube
 
@@ -60,7 +61,7 @@ def track_of_cube(cube: xr.Dataset, case: int = 0) -> Track:
 
 def case_label(values: Mapping[str, float]) -> str:
     """The name of a run's case that sets ``values``: ``x1=0.5``."""
-    return ",".join(f"{k}={v:g}" for k, v in values.items())
+    return point.label(values, "")
 
 
 def tracks_of_cube(cube: xr.Dataset, cases: Sequence[float], parameter: str = "x1") -> dict[float, Track]:

@@ -20,6 +20,7 @@ from geardyn.config import settings_from
 from geardyn.io import Var
 from geardyn.khv import point
 from geardyn.label import Policy, classify, compare, label_points
+from geardyn.label.policy import Same
 from geardyn.runs.continuation import branches_from_dataset
 from geardyn.runs.cube import STATES, label
 from geardyn.solve.base import SimulationSettings, System
@@ -35,8 +36,8 @@ class AttractorSettings:
     box_v: float = 20.0
     transient_periods: int = 1000
     recorded_periods: int = 100
-    distance_tol: float = 1e-3
-    chaotic_distance_tol: float = 0.2
+    distance_tol: float = Same.distance_tol
+    chaotic_distance_tol: float = Same.chaotic_distance_tol
 
     @classmethod
     def from_mapping(cls, spec: Mapping[str, Any] | None) -> AttractorSettings:
@@ -76,7 +77,7 @@ def random_starts(system: System, settings: AttractorSettings) -> dict[str, np.n
 
 def same_attractor(label_a: int, pa: np.ndarray, label_b: int, pb: np.ndarray, settings: AttractorSettings) -> bool:
     """Same label and Poincaré sets within the settings' tolerances (:func:`geardyn.label.compare.same_attractor`)."""
-    return compare.same_attractor(label_a, pa, label_b, pb, settings.distance_tol, settings.chaotic_distance_tol)
+    return compare.same_attractor(label_a, pa, label_b, pb, Same(settings.distance_tol, settings.chaotic_distance_tol))
 
 
 def find_attractors(

@@ -99,7 +99,7 @@ def dense_points(
     for case, v in zip(cases, verdicts, strict=True):
         x0 = None if v.diverged else v.final_state
         ds = dense_point(design, {**fixed, **case}, policy.integration, samples_per_period, x0=x0)
-        label = ",".join(f"{k}={v:g}" for k, v in case.items()) or "base"
+        label = point.label(case, "base")
         attrs = ds.attrs
         ds = ds.expand_dims(case=[label])
         for key, value in attrs.items():
@@ -116,7 +116,7 @@ def dense_points(
         {
             **study.integration_attrs(policy.integration),
             "record_starts": "on the attractor found by the labeller (its final state)",
-            "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in fixed.items()),
+            "fixed_overrides": point.label(fixed, ""),
         }
     )
     return out

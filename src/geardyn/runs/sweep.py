@@ -58,7 +58,7 @@ class SweepSpec(study.StudySpec, study.Grid):
         return max(1, min(self.chunks, units))
 
     def case_label(self, i: int) -> str:
-        return ",".join(f"{k}={v:g}" for k, v in self.cases[i]) or "base"
+        return point.label(self.cases[i], "base")
 
 
 def chunk_work(spec: SweepSpec, chunk: int) -> Work:
