@@ -1,6 +1,8 @@
 """Run the benchmarks: ``python -m benchmarks.bench [--out DIR] [--quick]`` (work precision),
 ``python -m benchmarks.bench throughput|labels|check ...`` (see ``--help`` of each),
 ``python -m benchmarks.bench curves [--map map_x1_b] [--rows 10]`` (a map's regime boundaries against the map),
+``python -m benchmarks.bench coverage [--new results]`` (the coverage of the frequency response's RMS error bars),
+``python -m benchmarks.bench probabilities`` (256 samples x 100 points of a probabilities study against map_x1_b),
 ``python -m benchmarks.bench fingerprint [--write]`` (a hash per stage of a small fixed study, to compare
 machines; ``--write`` replaces the committed reference), ``python -m benchmarks.bench ledger [--write]`` (the
 cost of fixed small workloads in kernel point-steps against the committed reference), ``python -m benchmarks.bench
@@ -23,8 +25,21 @@ import argparse
 import sys
 from pathlib import Path
 
-from benchmarks import circles, curves, fingerprint, labels, ledger, long_run, stages, throughput, work_precision
+from benchmarks import (
+    circles,
+    coverage,
+    curves,
+    fingerprint,
+    labels,
+    ledger,
+    long_run,
+    probabilities,
+    stages,
+    throughput,
+    work_precision,
+)
 from geardyn import io, libm
+from geardyn.io import provenance
 
 
 def main_speed(argv: list[str]) -> int:
@@ -44,6 +59,7 @@ def main_speed(argv: list[str]) -> int:
         help="labels: cubes (design/sweeps|maps/name) whose differing points are labelled again from the fixed start",
     )
     ap.add_argument("--points", type=int, default=200, help="check: random map points")
+    ap.add_argument("--gap", type=int, default=1000, help="coverage: mesh periods between the two records")
     ap.add_argument("--periods", type=int, default=20000, help="check: mesh periods of each long run")
     ap.add_argument("--map", default=None, help="check, circles: the regime map (map_x1_b, map_x1_e)")
     ap.add_argument(
@@ -69,6 +85,10 @@ def main_speed(argv: list[str]) -> int:
         for item in a.explain or ():
             design, kind, name = item.split("/")
             md += "\n" + labels.explain_differences(a.config, a.old, a.new, design, kind, name, log=log)
+    elif argv[0] == "probabilities":
+        md = "# A probabilities study against a regime map (one run)\n\n" + probabilities.probabilities_benchmark(
+            a.config, quick=a.quick, log=log
+        )
     elif argv[0] == "curves":
         md = "# Regime boundaries against the map\n\n" + curves.curves_benchmark(
             a.config, a.new, a.map or "map_x1_b", every=a.rows, log=log
@@ -77,6 +97,8 @@ def main_speed(argv: list[str]) -> int:
         md = "# Invariant circles of the non-periodic labels\n\n" + circles.circle_check(
             a.config, map_name=a.map or "map_x1_e", n_rows=2 if a.quick else a.rows, per_class=5 if a.quick else 40
         )
+    elif argv[0] == "coverage":
+        md = "# Coverage of the RMS error bars\n\n" + coverage.coverage_check(a.config, a.new, gap=a.gap, log=log)
     elif a.sweeps is not None:
         md = "# Independent check: long runs from the sweeps' stored points\n\n" + long_run.sweep_check(
             a.config,
@@ -99,7 +121,7 @@ def main_speed(argv: list[str]) -> int:
             io.write_netcdf(
                 ds,
                 a.out / f"{argv[0]}.nc",
-                io.provenance(title=ds.attrs["title"], paper="li2013", model_variant="benchmark"),
+                provenance.attributes(title=ds.attrs["title"], paper="li2013", model_variant="benchmark"),
             )
         print(f"wrote {a.out}/{argv[0]}.*")
     return 0
@@ -160,7 +182,7 @@ def main(argv: list[str] | None = None) -> int:
         return main_ledger(argv[1:])
     if argv and argv[0] == "stages":
         return main_stages(argv[1:])
-    if argv and argv[0] in ("throughput", "labels", "check", "circles", "curves"):
+    if argv and argv[0] in ("throughput", "labels", "check", "circles", "curves", "coverage", "probabilities"):
         return main_speed(argv)
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench", description=work_precision.__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=None, help="directory for work_precision.nc/.md/.png")
@@ -175,7 +197,7 @@ def main(argv: list[str] | None = None) -> int:
         io.write_netcdf(
             work_precision.to_dataset(out),
             a.out / "work_precision.nc",
-            io.provenance(
+            provenance.attributes(
                 title="Work-precision study of the KHV integrators", paper="li2013", model_variant="benchmark"
             ),
         )

@@ -19,8 +19,8 @@ import numpy as np
 
 from benchmarks.common import map_lines, map_study
 from benchmarks.invariant_circle import distance_to_circle, find_circles
-from geardyn import classify
-from geardyn.label import label_lines
+from geardyn.io import markdown_table
+from geardyn.label import classify, label_lines
 from geardyn.solve import SimulationSettings
 from geardyn.solve.run import simulate_batch
 
@@ -66,10 +66,8 @@ def circle_check(
         f"{map_name} of {dname}: rows {rows}; up to {per_class} points per label, run on {periods} periods "
         f"from the verdict's final state; circles on {nodes} nodes, tolerance {tol:g}. The labeller took "
         f"{1e3 * t_label:.1f} ms per point of these rows.\n",
-        "| label | points | on an attracting circle | circle, run off it | unstable circle | unresolved | "
-        "no circle | median invariance | ms per point |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
+    cells = []
     for name in CLASSES:
         code = classify.LABELS[name]
         where = [(r, i) for r, row in enumerate(verdicts) for i, v in enumerate(row) if v.label == code]
@@ -84,10 +82,11 @@ def circle_check(
         outcomes = [_outcome(c, run.poincare[periods // 2 :], tol) for c, run in zip(circles, runs, strict=True)]
         counts = Counter(o[0] for o in outcomes)
         inv = [o[1] for o in outcomes if np.isfinite(o[1])]
-        md.append(
-            f"| {name} | {len(pick)} | {counts['on circle']} | {counts['circle, run off it']} | "
-            f"{counts['unstable circle']} | {counts['unresolved']} | {counts['no circle']} | "
-            f"{np.median(inv) if inv else float('nan'):.1e} | {1e3 * t_circle:.0f} |"
+        found = (counts[k] for k in ("on circle", "circle, run off it", "unstable circle", "unresolved", "no circle"))
+        cells.append(
+            (name, len(pick), *found, f"{np.median(inv) if inv else float('nan'):.1e}", f"{1e3 * t_circle:.0f}")
         )
-        log(md[-1])
-    return "\n".join(md) + "\n"
+        log(cells[-1])
+    head = ("label", "points", "on an attracting circle", "circle, run off it", "unstable circle", "unresolved")
+    head += ("no circle", "median invariance", "ms per point")
+    return "\n".join([*md, markdown_table(head, cells, "-" + "r" * 8)]) + "\n"

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from geardyn import validate
+from geardyn.config import validate
 from geardyn.khv import design as design_mod
 from geardyn.khv import point
 from geardyn.label import label_lines

@@ -156,9 +156,12 @@ def study() -> dict[str, str]:
     """Run the study; the stage names (:data:`STAGES`) mapped to their hashes (``chaos_statistics`` to its
     values as text)."""
     import geardyn  # noqa: F401, PLC0415 - first: the process settings
-    from geardyn import classify  # noqa: PLC0415
     from geardyn.khv import design, point  # noqa: PLC0415
-    from geardyn.label import Policy, label_lines  # noqa: PLC0415
+    from geardyn.label import (  # noqa: PLC0415
+        Policy,
+        classify,
+        label_lines,
+    )
     from geardyn.label import _nonperiodic as nonperiodic  # noqa: PLC0415
     from geardyn.runs import continuation as C  # noqa: PLC0415
     from geardyn.solve import SimulationSettings, simulate  # noqa: PLC0415
@@ -229,9 +232,9 @@ def _sig2(x: float) -> str:
 
 def machine() -> dict[str, str]:
     """The CPU and the process settings that decide the bits (from the provenance)."""
-    from geardyn import io  # noqa: PLC0415
+    from geardyn.io import provenance  # noqa: PLC0415
 
-    p = io.runtime_provenance()
+    p = provenance.runtime()
     keys = ("cpu_model", "libm_variant", "numpy_blas_core", "scipy_blas_core", "numpy_cpu_dispatch", "numba_cpu_name")
     return {k: p[k] for k in keys}
 

@@ -9,9 +9,10 @@ import numpy as np
 import xarray as xr
 
 from benchmarks.common import load_design, workflow_config
-from geardyn.classify import LABELS, short_name
+from geardyn.io import markdown_table
 from geardyn.khv import point
 from geardyn.label import STAGE_NAMES, label_points
+from geardyn.label.classify import LABELS, short_name
 from geardyn.runs import maps, sweep
 
 # ----------------------------------------------------------------------------------------------
@@ -31,11 +32,9 @@ def confusion(old_labels, new_labels) -> tuple[list[int], np.ndarray]:
 
 def confusion_markdown(codes, m, first: str = "previous", second: str = "new") -> str:
 
-    head = f"| {first} \\ {second} | " + " | ".join(short_name(c) for c in codes) + " |"
-    lines = [head, "|---|" + "---:|" * len(codes)]
-    for k, c in enumerate(codes):
-        lines.append(f"| {short_name(c)} | " + " | ".join(str(int(v)) for v in m[k]) + " |")
-    return "\n".join(lines)
+    head = (f"{first} \\ {second}", *(short_name(c) for c in codes))
+    cells = [(short_name(c), *(int(v) for v in m[k])) for k, c in enumerate(codes)]
+    return markdown_table(head, cells, "-" + "r" * len(codes))
 
 
 def compare_builds(old: Path, new: Path) -> str:
@@ -44,12 +43,7 @@ def compare_builds(old: Path, new: Path) -> str:
     new one repeats (points flagged ``coexisting`` left out), the new build's undetermined share and the
     stages that decided it."""
 
-    lines = [
-        "| cube | points | same label | decided before, same now (no coexistence) | undetermined before | "
-        "undetermined now |",
-        "|---|---:|---:|---:|---:|---:|",
-    ]
-    parts = []
+    cells, parts = [], []
     for path in sorted(list(new.glob("*/sweeps/*.nc")) + list(new.glob("*/maps/*.nc"))):
         rel = path.relative_to(new)
         if path.name.startswith("chunk_") or not (old / rel).exists():
@@ -61,11 +55,9 @@ def compare_builds(old: Path, new: Path) -> str:
         und = LABELS["undetermined"]
         decided = (lo != und) & ~coex
         same_dec = int(np.sum((lo == ln) & decided))
-        lines.append(
-            f"| {rel} | {lo.size} | {int(np.sum(lo == ln))} ({np.mean(lo == ln):.1%}) | {same_dec} of "
-            f"{int(decided.sum())} ({same_dec / max(1, int(decided.sum())):.2%}) | "
-            f"{np.mean(lo == und):.1%} | {np.mean(ln == und):.1%} |"
-        )
+        same = f"{int(np.sum(lo == ln))} ({np.mean(lo == ln):.1%})"
+        kept = f"{same_dec} of {int(decided.sum())} ({same_dec / max(1, int(decided.sum())):.2%})"
+        cells.append((rel, lo.size, same, kept, f"{np.mean(lo == und):.1%}", f"{np.mean(ln == und):.1%}"))
         codes, m = confusion(lo.tolist(), ln.tolist())
         parts += ["", f"### {rel}", "", confusion_markdown(codes, m)]
         if stage is not None:
@@ -74,7 +66,8 @@ def compare_builds(old: Path, new: Path) -> str:
                 "\nstages now: "
                 + ", ".join(f"{STAGE_NAMES.get(int(k), 'not computed')} {int(n)}" for k, n in zip(u, c, strict=True))
             )
-    return "\n".join(lines + parts) + "\n"
+    head = ("cube", "points", "same label", "decided before, same now (no coexistence)", "undetermined before")
+    return "\n".join([markdown_table((*head, "undetermined now"), cells, "-rrrrr"), *parts]) + "\n"
 
 
 #: the class of a point whose fixed start gives the earlier label and whose follow start another attractor
@@ -136,8 +129,6 @@ def explain_differences(config_path: Path, old: Path, new: Path, design: str, ki
         "more, among points whose label is the same; leaving k such points out gives (same - k) / (decided - "
         f"{coexisting} - k), at least 99 % while k <= {max(0, int((same - 0.99 * (decided - coexisting)) / 0.01))}.",
         "",
-        "| class | points | example (index: labels) |",
-        "|---|---:|---|",
     ]
-    lines += [f"| {k} | {n} | {examples[k]} |" for k, n in sorted(classes.items(), key=lambda kv: -kv[1])]
-    return "\n".join(lines) + "\n"
+    cells = [(k, n, examples[k]) for k, n in sorted(classes.items(), key=lambda kv: -kv[1])]
+    return "\n".join([*lines, markdown_table(("class", "points", "example (index: labels)"), cells, "-r")]) + "\n"

@@ -11,8 +11,8 @@ from typing import Any
 import numpy as np
 
 from benchmarks.common import map_lines, map_study
-from geardyn import classify
-from geardyn.label import label_lines
+from geardyn.io import markdown_table
+from geardyn.label import classify, label_lines
 from geardyn.label.compare import directed_distance, hausdorff
 from geardyn.solve import SimulationSettings
 from geardyn.solve.run import simulate_batch
@@ -55,10 +55,7 @@ def long_run_check(
     long_cs = dataclasses.replace(cs, max_n=cs.long_max_n)
     records = [max(64, 3 * (v.period if v.period > 0 else cs.long_max_n)) for v in want]
     runs = simulate_batch(systems, s, starts, recorded_periods=records)
-    rows_md = [
-        "| x | y | verdict | stage | long run: rule-3 period | orbit distance | agrees |",
-        "|---:|---:|---|---|---:|---:|---|",
-    ]
+    cells = []
     counts = {"periodic": [0, 0], "other": [0, 0]}
     for (j, i), v, r in zip(picks, want, runs, strict=True):
         n = 0 if r.diverged else classify.strict_period(r.poincare, cs if 0 < v.period <= cs.max_n else long_cs)
@@ -80,10 +77,8 @@ def long_run_check(
             counts["other"][0] += ok
             counts["other"][1] += 1
         if not ok or v.period == 0:
-            rows_md.append(
-                f"| {spec.x.values[i]:.4g} | {spec.y.values[j]:.4g} | {classify.short_name(v.label)} | "
-                f"{v.stage} | {n} | {dist:.2g} | {ok} |"
-            )
+            at = (f"{spec.x.values[i]:.4g}", f"{spec.y.values[j]:.4g}")
+            cells.append((*at, classify.short_name(v.label), v.stage, n, f"{dist:.2g}", ok))
     head = (
         f"{map_name} of {dname}: {len(picks)} random points, {periods} periods each "
         f"({time.perf_counter() - t0:.0f} s). Periodic verdicts met by the long run (same least period, orbit "
@@ -91,7 +86,8 @@ def long_run_check(
         f"run is still not periodic: {counts['other'][0]} of {counts['other'][1]}.\n\n"
     )
     log(head)
-    return head + "\n".join(rows_md) + "\n"
+    header = ("x", "y", "verdict", "stage", "long run: rule-3 period", "orbit distance", "agrees")
+    return head + markdown_table(header, cells, "rr--rr-") + "\n"
 
 
 #: What a long run from a verdict's state ends on (:func:`ending`).
@@ -160,7 +156,7 @@ def sweep_check(
     designs: tuple[str, ...] = (),
 ) -> str:
     """Independent check of the labels of the built sweeps: ``n_points`` random points with one of
-    ``labels`` (names of :data:`geardyn.classify.LABELS`; ``periodic`` for P1 ... P12, ``all``) drawn from
+    ``labels`` (names of :data:`geardyn.label.classify.LABELS`; ``periodic`` for P1 ... P12, ``all``) drawn from
     every sweep cube of every design the config lists under ``results``, each run ``periods`` mesh periods
     (plain RK4 with a tangent vector, no labeller) from its newest stored Poincare point.  The run's newest
     points and exponent say what it ends on (:func:`ending`); a verdict holds when that is what it promises
@@ -242,33 +238,27 @@ def sweep_check(
                 and directed_distance(stored[-min(per, stored.shape[0]) :], r.poincare[-3 * per :]) < 1e-6 * scale
             )
         kind = classify.short_name(lab) if per <= 0 or lab > 0 else "long cycle"
-        row = table.setdefault(f"{pick[0]} | {kind}", dict.fromkeys(("held", *ENDINGS), 0))
+        row = table.setdefault((pick[0], kind), dict.fromkeys(("held", *ENDINGS), 0))
         row["held" if ok else end] += 1
         if not ok:
             dname, name, spec, case, direction, j = pick
             value = float(cubes[dname, name][2][spec.parameter].values[j])
-            failed.append(
-                f"| {dname} | {name} | {spec.case_label(case)} | {value:.5g} | {classify.short_name(lab)} "
-                f"| {end} {n or ''} | {radius.get(k, math.nan):.6g} |"
-            )
+            where = (dname, name, spec.case_label(case), f"{value:.5g}")
+            failed.append((*where, classify.short_name(lab), f"{end} {n or ''}", f"{radius.get(k, math.nan):.6g}"))
     head = (
         f"{len(picks)} points of the sweeps under {results} ({', '.join(sorted(wanted))}), {periods} periods "
         f"each from the newest stored point ({time.perf_counter() - t0:.0f} s).\n\n"
-        f"| design | verdict | points | held | share | {' | '.join(ENDINGS)} |\n"
-        f"|---|---|---:|---:|---:|{'---:|' * len(ENDINGS)}\n"
     )
-    body = "".join(
-        f"| {k} | {sum(v.values())} | {v['held']} | {100 * v['held'] / sum(v.values()):.1f} % "
-        f"| {' | '.join(str(v[e]) for e in ENDINGS)} |\n"
+    cells = [
+        (*k, sum(v.values()), v["held"], f"{100 * v['held'] / sum(v.values()):.1f} %", *(v[e] for e in ENDINGS))
         for k, v in sorted(table.items())
-    )
+    ]
+    header = ("design", "verdict", "points", "held", "share", *ENDINGS)
+    body = markdown_table(header, cells, "--rrr" + "r" * len(ENDINGS)) + "\n"
     fails = ""
     if failed:
-        fails = (
-            "\n| design | sweep | case | parameter | verdict | long run ends on | shooting: spectral radius |\n"
-            "|---|---|---|---:|---|---|---:|\n"
-        )
-        fails += "\n".join(failed) + "\n"
+        header = ("design", "sweep", "case", "parameter", "verdict", "long run ends on", "shooting: spectral radius")
+        fails = "\n" + markdown_table(header, failed, "---r--r") + "\n"
     log(head + body)
     return head + body + fails
 

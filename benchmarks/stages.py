@@ -17,8 +17,7 @@ import numpy as np
 import geardyn.label._nonperiodic as nonperiodic
 import geardyn.solve.run as run
 from benchmarks.common import load_design, map_lines, workflow_config
-from geardyn import classify
-from geardyn.label import label_lines
+from geardyn.label import classify, label_lines
 from geardyn.runs import maps, sweep
 from geardyn.solve import shooting, warm_up
 

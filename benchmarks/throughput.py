@@ -8,10 +8,11 @@ import platform
 from pathlib import Path
 
 import numba
-import xarray as xr
 
 from benchmarks.common import PAPER1_SWEEPS, load_design, map_lines, timed_labels, workflow_config
 from benchmarks.kernels import C_FLAGS, dop853_ratios, kernel_costs
+from geardyn import io
+from geardyn.io import Var, markdown_table
 from geardyn.khv import point
 from geardyn.runs import maps, sweep
 from geardyn.solve import warm_up
@@ -116,38 +117,41 @@ def throughput(config_path: Path = Path("config/config.yaml"), quick: bool = Fal
 def throughput_markdown(out: dict) -> str:
 
     k, d, m, f = out["kernel"], out["dop853"], out["map"], out["figures"]
+    cells = [
+        (
+            f"map {m['map']} of {m['design']} ({m['points']} points), wall",
+            f"{m['fixed_wall_s_estimate']:.0f} s (from {m['fixed_rows']} rows)",
+            f"{m['follow_wall_s']:.1f} s",
+            f"{m['fixed_wall_s_estimate'] / m['follow_wall_s']:.1f}x",
+        ),
+        (
+            "same map, CPU time",
+            f"{m['fixed_cpu_s_estimate']:.0f} CPU-s",
+            f"{m['follow_cpu_s']:.0f} CPU-s",
+            f"{m['fixed_cpu_s_estimate'] / m['follow_cpu_s']:.1f}x",
+        ),
+        (
+            f"paper 1 sweeps for {f['design']} ({f['points']} points), wall",
+            f"{f['fixed_wall_s']:.1f} s",
+            f"{f['follow_wall_s']:.1f} s",
+            f"{f['fixed_wall_s'] / f['follow_wall_s']:.1f}x",
+        ),
+    ]
+    for integ in ("rk4", "rk4_event"):
+        r, c = k[integ], k["c_ns"]
+        batch = f"{r['batch_ns'] / c:.2f}x ({k['threads']} threads), {r['batch1_ns'] / c:.2f}x (1 thread)"
+        what = f"cost per point-step, {integ}, vs scalar C RK4 ({c:.1f} ns): scalar loop / batch"
+        cells.append((what, f"{r['scalar_ns'] / c:.2f}x", batch, ""))
+    for target in ("1e-06", "1e-08"):
+        what = f"speed vs scipy DOP853 at equal Poincare error {target} (batch)"
+        cells.append((what, "", f"{d[f'ratio_new_{target}']:.0f}x", ""))
     lines = [
         f"Machine: {platform.node()} {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
         f"{numba.get_num_threads()} numba threads; both starts measured in the same run; load average "
         f"{os.getloadavg()[0]:.1f} at the end (shared machine: wall times are upper bounds).",
         "",
-        "| what | fixed start | follow start | ratio (fixed / follow) |",
-        "|---|---:|---:|---:|",
+        markdown_table(("what", "fixed start", "follow start", "ratio (fixed / follow)"), cells, "-rrr"),
     ]
-    lines.append(
-        f"| map {m['map']} of {m['design']} ({m['points']} points), wall | {m['fixed_wall_s_estimate']:.0f} s "
-        f"(from {m['fixed_rows']} rows) | {m['follow_wall_s']:.1f} s | "
-        f"{m['fixed_wall_s_estimate'] / m['follow_wall_s']:.1f}x |"
-    )
-    lines.append(
-        f"| same map, CPU time | {m['fixed_cpu_s_estimate']:.0f} CPU-s | {m['follow_cpu_s']:.0f} CPU-s | "
-        f"{m['fixed_cpu_s_estimate'] / m['follow_cpu_s']:.1f}x |"
-    )
-    lines.append(
-        f"| paper 1 sweeps for {f['design']} ({f['points']} points), wall | {f['fixed_wall_s']:.1f} s | "
-        f"{f['follow_wall_s']:.1f} s | {f['fixed_wall_s'] / f['follow_wall_s']:.1f}x |"
-    )
-    for integ in ("rk4", "rk4_event"):
-        r = k[integ]
-        lines.append(
-            f"| cost per point-step, {integ}, vs scalar C RK4 ({k['c_ns']:.1f} ns): scalar loop / batch "
-            f"| {r['scalar_ns'] / k['c_ns']:.2f}x | {r['batch_ns'] / k['c_ns']:.2f}x ({k['threads']} threads), "
-            f"{r['batch1_ns'] / k['c_ns']:.2f}x (1 thread) | |"
-        )
-    for target in ("1e-06", "1e-08"):
-        lines.append(
-            f"| speed vs scipy DOP853 at equal Poincare error {target} (batch) | | {d[f'ratio_new_{target}']:.0f}x | |"
-        )
     lines += [
         "",
         f"- map: labels of the {m['fixed_rows']} rows compared agree {m['rows_agree']}/{m['rows_points']}; "
@@ -164,39 +168,29 @@ def throughput_markdown(out: dict) -> str:
 def throughput_dataset(out: dict):
 
     k, m, f = out["kernel"], out["map"], out["figures"]
-    start = ["fixed", "follow"]
-    ds = xr.Dataset(
-        {
-            "ns_per_point_step": (
-                ("integrator",),
-                [k[i]["batch_ns"] for i in ("rk4", "rk4_event")],
-                {"units": "ns", "long_name": "batch kernel per point and RK4 step (all threads)"},
-            ),
-            "ns_per_point_step_scalar": (
-                ("integrator",),
-                [k[i]["scalar_ns"] for i in ("rk4", "rk4_event")],
-                {"units": "ns", "long_name": "scalar loop per RK4 step"},
-            ),
-            "c_ns_per_step": ((), k["c_ns"], {"units": "ns", "long_name": "scalar C RK4 (gcc) per step"}),
-            "map_wall_time": (
-                ("start",),
-                [m["fixed_wall_s_estimate"], m["follow_wall_s"]],
-                {
-                    "units": "s",
-                    "long_name": f"regime map {m['map']}: wall time (fixed: estimate from {m['fixed_rows']} rows)",
-                },
-            ),
-            "figures_wall_time": (
-                ("start",),
-                [f["fixed_wall_s"], f["follow_wall_s"]],
-                {"units": "s", "long_name": f"paper 1 sweeps for {f['design']}: wall time"},
-            ),
-        },
-        coords={
-            "integrator": ("integrator", ["rk4", "rk4_event"], {"long_name": "fixed-step integrator"}),
-            "start": ("start", start, {"long_name": "start of each point: fixed state or the previous attractor"}),
-        },
+    integ = ("rk4", "rk4_event")
+    table = (
+        Var("ns_per_point_step", "integrator", "ns", "batch kernel per point and RK4 step (all threads)"),
+        Var("ns_per_point_step_scalar", "integrator", "ns", "scalar loop per RK4 step"),
+        Var("c_ns_per_step", (), "ns", "scalar C RK4 (gcc) per step"),
+        Var(
+            "map_wall_time",
+            "start",
+            "s",
+            f"regime map {m['map']}: wall time (fixed: estimate from {m['fixed_rows']} rows)",
+        ),
+        Var("figures_wall_time", "start", "s", f"paper 1 sweeps for {f['design']}: wall time"),
+        Var("integrator", "integrator", None, "fixed-step integrator"),
+        Var("start", "start", None, "start of each point: fixed state or the previous attractor"),
     )
+    values = {
+        "ns_per_point_step": [k[i]["batch_ns"] for i in integ],
+        "ns_per_point_step_scalar": [k[i]["scalar_ns"] for i in integ],
+        "c_ns_per_step": k["c_ns"],
+        "map_wall_time": [m["fixed_wall_s_estimate"], m["follow_wall_s"]],
+        "figures_wall_time": [f["fixed_wall_s"], f["follow_wall_s"]],
+    }
+    ds = io.dataset(table, values | {"integrator": list(integ), "start": ["fixed", "follow"]})
     ds.attrs.update(
         {
             "title": "Throughput of the labeller: follow against fixed starts",

@@ -26,11 +26,12 @@ from pathlib import Path
 
 import numba
 import numpy as np
-import xarray as xr
 from matplotlib.figure import Figure
 from scipy.stats import wasserstein_distance
 
 from benchmarks.common import timed
+from geardyn import io
+from geardyn.io import Var
 from geardyn.khv.model import Coefficients, KHVParameters, dimensionless, static_deflection
 from geardyn.papers import li2013
 from geardyn.solve import SimulationSettings, System, simulate, warm_up
@@ -244,58 +245,31 @@ def to_dataset(out: dict):
     def stack(key):
         return np.array([[out["cases"][c][i][key] for i in integ] for c in names])
 
-    ds = xr.Dataset(
-        {
-            "wall_time": (
-                ("case", "integrator", "steps_per_period"),
-                stack("time"),
-                {"units": "s", "long_name": "wall time per sweep point (single thread)"},
-            ),
-            "error": (
-                ("case", "integrator", "steps_per_period"),
-                stack("error"),
-                {
-                    "units": "1",
-                    "long_name": "periodic: max abs Poincare error vs DOP853 rtol 1e-12 "
-                    "(units of b_c); chaotic: normalised Wasserstein-1 distance of Poincare x2/v2",
-                },
-            ),
-            "lyapunov": (
-                ("case", "integrator", "steps_per_period"),
-                stack("lyapunov"),
-                {
-                    "units": "1",
-                    "long_name": "largest Lyapunov exponent per unit dimensionless time (chaotic case only)",
-                },
-            ),
-            "ns_per_step": (
-                ("case", "integrator", "steps_per_period"),
-                stack("ns_per_step"),
-                {"units": "ns", "long_name": "wall time per RK4 step, events included"},
-            ),
-            "dop853_wall_time": (
-                ("case", "rtol"),
-                np.array([out["cases"][c]["dop853"]["time"] for c in names]),
-                {"units": "s", "long_name": "DOP853 wall time per sweep point"},
-            ),
-            "dop853_error": (
-                ("case", "rtol"),
-                np.array([out["cases"][c]["dop853"]["error"] for c in names]),
-                {"units": "1", "long_name": "DOP853 error (same measure as error)"},
-            ),
-            "reference_wall_time": (
-                ("case",),
-                np.array([out["cases"][c]["ref_time"] for c in names]),
-                {"units": "s", "long_name": "DOP853 rtol 1e-12 reference wall time"},
-            ),
-        },
-        coords={
-            "case": ("case", names, {"long_name": "test case"}),
-            "integrator": ("integrator", integ, {"long_name": "fixed-step integrator"}),
-            "steps_per_period": ("steps_per_period", steps, {"units": "1", "long_name": "RK4 steps per mesh period"}),
-            "rtol": ("rtol", rtols, {"units": "1", "long_name": "DOP853 relative tolerance"}),
-        },
+    runs, dop = ("case", "integrator", "steps_per_period"), ("case", "rtol")
+    table = (
+        Var("wall_time", runs, "s", "wall time per sweep point (single thread)"),
+        Var(
+            "error",
+            runs,
+            "1",
+            "periodic: max abs Poincare error vs DOP853 rtol 1e-12 (units of b_c); chaotic: normalised Wasserstein-1 "
+            "distance of Poincare x2/v2",
+        ),
+        Var("lyapunov", runs, "1", "largest Lyapunov exponent per unit dimensionless time (chaotic case only)"),
+        Var("ns_per_step", runs, "ns", "wall time per RK4 step, events included"),
+        Var("dop853_wall_time", dop, "s", "DOP853 wall time per sweep point"),
+        Var("dop853_error", dop, "1", "DOP853 error (same measure as error)"),
+        Var("reference_wall_time", "case", "s", "DOP853 rtol 1e-12 reference wall time"),
+        Var("case", "case", None, "test case"),
+        Var("integrator", "integrator", None, "fixed-step integrator"),
+        Var("steps_per_period", "steps_per_period", "1", "RK4 steps per mesh period"),
+        Var("rtol", "rtol", "1", "DOP853 relative tolerance"),
     )
+    values = {"wall_time": stack("time"), **{k: stack(k) for k in ("error", "lyapunov", "ns_per_step")}}
+    dop853 = {k: np.array([out["cases"][c]["dop853"][k] for c in names]) for k in ("time", "error")}
+    values |= {"dop853_wall_time": dop853["time"], "dop853_error": dop853["error"]}
+    values["reference_wall_time"] = np.array([out["cases"][c]["ref_time"] for c in names])
+    ds = io.dataset(table, values | {"case": names, "integrator": integ, "steps_per_period": steps, "rtol": rtols})
     s = out["summary"]
     ds.attrs.update(
         {
@@ -317,26 +291,32 @@ def to_dataset(out: dict):
 
 
 def markdown(out: dict) -> str:
-    lines = [
-        "| case | integrator | steps/period | wall time per point (ms) | error | ns/step | Lyapunov |",
-        "|---|---|---:|---:|---:|---:|---:|",
-    ]
+    cells = []
     for c, res in out["cases"].items():
         for integ in ("rk4", "rk4_event"):
             r = res[integ]
             for i, n in enumerate(out["steps"]):
                 lam = "" if np.isnan(r["lyapunov"][i]) else f"{r['lyapunov'][i]:.4f}"
-                lines.append(
-                    f"| {c} | {integ} | {n} | {r['time'][i] * 1e3:.1f} | {r['error'][i]:.2e} | "
-                    f"{r['ns_per_step'][i]:.1f} | {lam} |"
+                cells.append(
+                    (
+                        c,
+                        integ,
+                        n,
+                        f"{r['time'][i] * 1e3:.1f}",
+                        f"{r['error'][i]:.2e}",
+                        f"{r['ns_per_step'][i]:.1f}",
+                        lam,
+                    )
                 )
         for i, rt in enumerate(out["rtols"]):
             d = res["dop853"]
-            lines.append(f"| {c} | dop853 rtol {rt:.0e} | - | {d['time'][i] * 1e3:.0f} | {d['error'][i]:.2e} | - | |")
-        lines.append(
-            f"| {c} | dop853 rtol 1e-12 (reference) | - | {res['ref_time'] * 1e3:.0f} | 0 | - | "
-            f"{res.get('lyap_ref', float('nan')):.4f} |"
-        )
+            cells.append(
+                (c, f"dop853 rtol {rt:.0e}", "-", f"{d['time'][i] * 1e3:.0f}", f"{d['error'][i]:.2e}", "-", "")
+            )
+        lam = f"{res.get('lyap_ref', float('nan')):.4f}"
+        cells.append((c, "dop853 rtol 1e-12 (reference)", "-", f"{res['ref_time'] * 1e3:.0f}", "0", "-", lam))
+    head = ("case", "integrator", "steps/period", "wall time per point (ms)", "error", "ns/step", "Lyapunov")
+    lines = [io.markdown_table(head, cells, "--rrrrr")]
     s = out["summary"]
     lines += [
         "",

@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geardyn import classify, libm
+from geardyn import libm
+from geardyn.label import classify
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.shooting import FlowMap, khv_flow, newton_shooting
 

@@ -1,6 +1,6 @@
 """Helpers for tests that run the Snakemake workflow on a copy in a temporary directory.
 
-The copy holds Snakefile, workflow/, config/ and benchmarks/ (the work-precision target's code, beside the
+The copy holds workflow/ (its Snakefile too), config/ and benchmarks/ (the work-precision target's code, beside the
 package); the library comes from this checkout's src/ via PYTHONPATH. Nothing is ever written into the
 repository's own results/.
 """
@@ -35,7 +35,7 @@ def workflow_copy(
 ) -> Path:
     """Copy the workflow to ``dest``; replace config.yaml and design files by the given mappings."""
     dest.mkdir(parents=True, exist_ok=True)
-    for item in ("Snakefile", "workflow", "config", "benchmarks"):
+    for item in ("workflow", "config", "benchmarks"):
         src = ROOT / item
         (shutil.copytree if src.is_dir() else shutil.copy)(src, dest / item)
     if config is not None:
@@ -103,6 +103,18 @@ def small_config() -> dict[str, Any]:
         }
     }
     cfg["benchmarks"] = {"work_precision": True, "quick": True}
+    cfg["probabilities"] = {
+        "small_prob": {
+            "designs": ["li2013"],
+            "title": "small probabilities",
+            "axis": {"parameter": "x1", "start": 0.45, "stop": 0.8, "num": 5},
+            "fixed": {"b": 2.0, "e": 5.0},
+            "inputs": {"zeta": {"low": 0.08, "high": 0.12}},
+            "samples": 8,
+            "claims": "fig07",
+            "integration": dict(FAST),
+        }
+    }
     cfg["calibration"] = {
         "small_search": {
             "design": "li2013",

@@ -1,5 +1,6 @@
 """Results archives: what build() writes verifies; every kind of damage is refused with one line."""
 
+import datetime
 import gzip
 import hashlib
 import io as _io
@@ -10,7 +11,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from geardyn import __version__, archive, cli, io, provenance
+from geardyn import __version__, cli, io
+from geardyn.io import archive, provenance
 
 
 def _cube(n=5):
@@ -24,8 +26,8 @@ def _cube(n=5):
 @pytest.fixture
 def built(tmp_path):
     data = tmp_path / "src"
-    a = io.write_netcdf(_cube(), data / "a.nc", io.provenance(title="a", paper="li2013"))
-    b = io.write_netcdf(_cube(7), data / "sweeps" / "b.nc", io.provenance(title="b", paper="li2013"))
+    a = io.write_netcdf(_cube(), data / "a.nc", provenance.attributes(title="a", paper="li2013"))
+    b = io.write_netcdf(_cube(7), data / "sweeps" / "b.nc", provenance.attributes(title="b", paper="li2013"))
     cfg = data / "config.yaml"
     cfg.write_text("designs: {d: config/designs/d.yaml}\n")
     des = data / "d.yaml"
@@ -84,12 +86,50 @@ def test_archive_holds_cubes_configs_manifest_and_readme(built):
     assert "xr.open_dataset" in readme and "geardyn verify-archive d_archive.tar.gz" in readme
 
 
+def test_the_gzip_header_names_no_file_and_bears_the_archives_time(built):
+    """RFC 1952: FLG bit 3 (FNAME) unset, MTIME (bytes 4-7, little-endian) the manifest's creation time, so the
+    same members give the same bytes whatever temporary name the writer used."""
+    out, manifest = built
+    head = out.read_bytes()[:10]
+    assert head[:3] == b"\x1f\x8b\x08" and head[3] & 0x08 == 0
+    created = datetime.datetime.fromisoformat(manifest["created"])
+    assert int.from_bytes(head[4:8], "little") == int(created.timestamp())
+
+
 def test_good_archive_verifies(built, capsys):
     out, _ = built
     summary = archive.verify(out)
-    assert (summary.files, summary.cubes, summary.design) == (7, 2, "d")
+    assert (summary.files, summary.cubes, summary.design, summary.own_sum) == (7, 2, "d", True)
     assert cli.main(["verify-archive", str(out)]) == 0
-    assert "OK" in capsys.readouterr().out
+    assert "OK, its own sha256 matches" in capsys.readouterr().out
+    # the archive's own sum beside it, as `sha256sum -c` reads it (computed independently of the module)
+    digest = hashlib.sha256(out.read_bytes()).hexdigest()
+    assert (out.parent / f"{out.name}.sha256").read_text() == f"{digest}  {out.name}\n"
+
+
+def test_a_byte_flipped_anywhere_is_refused(built, tmp_path):
+    """A byte flipped at 50 seeded positions: the gzip header's time stamp, 30 drawn, and the last 16 bytes
+    (deflate's last block and the gzip trailer, CRC-32 and length, which tar never reads: it stops at its
+    end-of-archive blocks).  Each is refused by the archive's own sum, and beyond the header (its time stamp,
+    flags, OS and file name are under no CRC) also without it: the whole gzip stream is read."""
+    data = built[0].read_bytes()
+    header = data.index(b"\0", 10) + 1 if data[3] & 0x08 else 10  # with the file name (FNAME) the header holds
+    drawn = np.random.default_rng(0).choice(np.arange(header, len(data) - 16), 30, replace=False)
+    positions = [4, 5, 6, 7, *drawn, *range(len(data) - 16, len(data))]
+    (tmp_path / "bad").mkdir()
+    bad, own_sum = tmp_path / "bad" / built[0].name, tmp_path / "bad" / f"{built[0].name}.sha256"
+    for pos in positions:
+        flipped = bytearray(data)
+        flipped[pos] ^= 0xFF
+        bad.write_bytes(flipped)
+        own_sum.write_bytes((built[0].parent / own_sum.name).read_bytes())
+        with pytest.raises(archive.ArchiveError):
+            archive.verify(bad)
+        own_sum.unlink()
+        if pos >= header:
+            with pytest.raises(archive.ArchiveError):
+                archive.verify(bad)
+    assert len(set(positions)) == 50
 
 
 def _flip_member(out, name, tmp_path):

@@ -11,8 +11,10 @@ import numpy as np
 import pytest
 
 import _orbits
-from geardyn import classify, io
+from geardyn import io
+from geardyn.io import provenance
 from geardyn.khv import design, point
+from geardyn.label import classify
 from geardyn.runs import attractors as A
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -78,4 +80,4 @@ def test_basin_fractions_sum_to_one_and_dataset_is_cf(coexistence, tmp_path):
     frac = np.nansum(ds["basin_fraction"].values, axis=1)
     np.testing.assert_allclose(frac, 1.0)
     assert io.missing_cf_attributes(ds) == []
-    io.write_netcdf(ds, tmp_path / "a.nc", io.provenance(title="test"))
+    io.write_netcdf(ds, tmp_path / "a.nc", provenance.attributes(title="test"))

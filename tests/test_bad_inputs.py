@@ -1,6 +1,6 @@
 """Malformed designs and configs: each gives one geardyn line, before anything runs.
 
-Every case goes through :func:`geardyn.validate.validate_workflow` in-process, the code the Snakefile
+Every case goes through :func:`geardyn.config.validate.validate_workflow` in-process, the code the Snakefile
 and `geardyn check-config` run; a handful (END_TO_END) also run the real workflow (a copy in tmp_path,
 `snakemake --cores 1`, no dry run): if a case slipped through, jobs would start and results/ would appear.
 """
@@ -9,7 +9,7 @@ import pytest
 
 import _workflow as wf
 from geardyn.config import ConfigError
-from geardyn.validate import read_config_file, selected_designs, validate_workflow
+from geardyn.config.validate import read_config_file, selected_designs, validate_workflow
 
 LI2013 = "config/designs/li2013.yaml"
 

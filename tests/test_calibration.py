@@ -15,13 +15,12 @@ import yaml
 import _workflow
 from _oracle import rules_label
 from geardyn import claims as C
-from geardyn import classify
 from geardyn.khv import calibrate as K
 from geardyn.khv import committed as committed_mod
 from geardyn.khv import design, point
 from geardyn.khv.calibrate import evaluate as KE
 from geardyn.khv.calibrate import objective
-from geardyn.label import Policy, label_lines, label_points
+from geardyn.label import Policy, classify, label_lines, label_points
 from geardyn.label import settle as S
 from geardyn.label.compare import least_period
 from geardyn.papers import li2013 as paper
@@ -35,7 +34,7 @@ FULL = SimulationSettings(steps_per_period=512, transient_periods=500, recorded_
 
 def _falls(poincare, n: int) -> bool:
     """Whether the return distance after n periods falls over the record (the slow-transient check's test of
-    a period n, :func:`geardyn.classify.falling_return_distances`, factor 0.95)."""
+    a period n, :func:`geardyn.label.classify.falling_return_distances`, factor 0.95)."""
     return bool(classify.falling_return_distances(poincare, n, 0.95)[n - 1])
 
 
@@ -359,10 +358,11 @@ def test_the_labeller_settles_slow_transients(li2013):
     cs = classify.ClassifierSettings()
     systems = [point.point_coefficients(li2013, {"x1": 0.761, "e": 5.0, "b": b, "w": 0.7}) for b in (0.83, 1.68, 2.0)]
     out = label_points(systems, Policy(FULL, cs, start="fixed"))
-    assert [v.label for v in out] == [1, 7, classify.LABELS["quasi_periodic"]]
-    assert [v.stage for v in out] == ["shooting", "shooting", "torus"]
+    assert [(v.label, v.period) for v in out] == [(1, 1), (7, 7), (classify.LABELS["quasi_periodic"], 0)]
+    # the two orbits certified by their multipliers (inside the unit circle), the torus's exponent in the zero band
     assert [v.exponent_method for v in out] == ["floquet", "floquet", "tangent"]
     np.testing.assert_allclose([out[0].multiplier, out[1].multiplier], [0.9902, 0.9694], atol=2e-4)
+    assert abs(out[2].exponent) < cs.lam_tol
 
 
 def test_return_distance_and_record_approach_tell_a_transient_from_a_torus():
@@ -420,7 +420,9 @@ def test_a_line_across_the_neimark_sacker_point_types_it():
         Policy(point.integration_settings(d)),
     )[0]
     assert [v.label for v in out] == [1, 1, 1, 1, classify.LABELS["quasi_periodic"]]
-    assert [v.stage for v in out[1:4]] == ["follow"] * 3
+    # below it the stable P1 orbit, certified by its multipliers, followed from the previous point (no transient)
+    assert all(v.period == 1 and v.exponent_method == "floquet" and v.multiplier < 1.0 for v in out[:4])
+    assert [v.transient_used for v in out[1:4]] == [0] * 3
     assert 0.9999 < out[3].multiplier < 1.0
     assert [v.bifurcation for v in out] == ["none"] * 4 + ["neimark_sacker"]
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from _oracle import classify_point
-from geardyn import classify
+from geardyn.label import classify
 from geardyn.runs.points import amplitude_spectrum
 
 

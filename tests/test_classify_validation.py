@@ -18,8 +18,8 @@ import pytest
 from numba import njit
 
 from _oracle import classify_point, linear_floquet, linear_part, rules_label
-from geardyn import classify
 from geardyn.khv import design, point
+from geardyn.label import classify
 from geardyn.solve import SimulationSettings
 
 ROOT = Path(__file__).resolve().parents[1]

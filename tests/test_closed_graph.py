@@ -61,7 +61,7 @@ def test_feasible_mask_is_all_margins_nonnegative(ds: xr.Dataset) -> None:
 def test_paper_points_and_residuals(ds: xr.Dataset) -> None:
     # Requirement: |x2(0.416) - 0.601| and |x2(0.835) - 0.995| below 0.002.
     assert np.all(np.abs(ds["residual_x2"].values) < 0.002)
-    # G_s = 0 gives 0.60095 and 0.99443 (docs/findings.md, "M and N lie on G_s = 0"; 5 decimals: 5e-6).
+    # G_s = 0 gives 0.60095 and 0.99443 (docs/paper1.md, "M and N lie on G_s = 0"; 5 decimals: 5e-6).
     np.testing.assert_allclose(ds["computed_x2"].sel(point=["M", "N"]).values, [0.60095, 0.99443], atol=5e-6)
     np.testing.assert_allclose(ds["paper_x2"].values, [0.601, 0.995], atol=0)
 

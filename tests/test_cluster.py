@@ -1,6 +1,7 @@
 """SLURM, for real: the workflow through ``workflow/profiles/slurm`` on a single-node SLURM cluster on
-this machine (``tests/cluster/local_slurm.sh``). The cubes equal those of a local ``--cores 2`` run;
-each rule's runtime and memory reach sbatch (read back from slurmctld with ``scontrol show job``); a
+this machine (``tests/cluster/local_slurm.sh``). Every chunk job goes to SLURM, every job SLURM ran
+finished once, the merges and figures run on the login node, and the outputs equal those of a local
+``--cores 2`` run; each rule's runtime and memory reach sbatch (read back from slurmctld with ``scontrol show job``); a
 job cancelled mid-run is resubmitted, one cancelled twice fails the run, and the rerun completes with
 nothing lost; Ctrl-C on the login node cancels the run's jobs and the same command resumes; the
 per-job overhead against local execution is measured and printed.
@@ -52,7 +53,8 @@ RESOURCES = {"sweep_chunk": {"runtime": 7, "mem_mb": 1111}, "map_chunk": {"runti
 #: Job status checked 2 s after a check that saw a job end (plugin default: 40 s; the interval grows
 #: by 10 s with each check that sees none). Only where stated: where the test waits for retries.
 FAST_POLLING = {"slurm-init-seconds-before-status-checks": 2, "seconds-between-status-checks": 2}
-#: Global attributes that say when, from which checkout and how fast a file was made, not what it holds.
+#: Global attributes that say when, from which checkout and how fast a file was made, not what it holds
+#: (and the curves' ``time_<step>_s``).
 PROVENANCE = ("history", "git_commit", "chunk_wall_time_s")
 
 
@@ -120,8 +122,8 @@ def assert_same_data(a: xr.Dataset, b: xr.Dataset) -> None:
     """Identical values, coordinates, dtypes and attributes, but for the provenance time stamps."""
     a, b = a.copy(), b.copy()
     for ds in (a, b):
-        for key in PROVENANCE:
-            ds.attrs.pop(key, None)
+        for key in [k for k in ds.attrs if k in PROVENANCE or re.fullmatch(r"time_\w+_s", k)]:
+            ds.attrs.pop(key)
     xr.testing.assert_identical(a, b)
 
 
@@ -161,25 +163,37 @@ def study(cluster, local, tmp_path_factory):
     _profile(work, RESOURCES)
     run, wall = _timed(work, "--profile", PROFILE, *FIGURES)
     print(
-        f"\n[cluster] small study ({SWEEP_CHUNKS} sweep + {MAP_CHUNKS} map chunk jobs, merges, 2 figures): "
-        f"local --cores 2 {local[1]:.1f} s, SLURM profile {wall:.1f} s (load average {os.getloadavg()[0]:.1f})"
+        f"\n[cluster] small study ({SWEEP_CHUNKS} sweep + {MAP_CHUNKS} map chunk jobs, the map's curves, merges, "
+        f"2 figures): local --cores 2 {local[1]:.1f} s, SLURM profile {wall:.1f} s "
+        f"(load average {os.getloadavg()[0]:.1f})"
     )
     return work, run, slurm_jobs(work)
 
 
+def _outputs(work: Path) -> set[str]:
+    return {str(p.relative_to(work)) for p in (work / "results").rglob("*") if p.is_file()}
+
+
 def test_study_through_slurm_equals_local_run(local, study):
+    """What the profile promises, whichever rules it sends to the cluster: every chunk job went to SLURM, every
+    job Snakemake submitted ran there once and finished, the merges and figures ran on the login node, and
+    every output equals the local run's."""
     work, run, jobs = study
-    for cube in CUBES.values():
+    text = run.stdout + run.stderr
+    ran = Counter((job["rule"], job["wildcards"]) for job in jobs)
+    assert set(ran.values()) == {1} and {(job["JobState"], job["ExitCode"]) for job in jobs} == {("COMPLETED", "0:0")}
+    submitted = Counter(re.findall(r"^rule (\w+):", text, re.M))  # Snakemake's line for a job it submits
+    assert Counter(job["rule"] for job in jobs) == submitted
+    assert submitted["sweep_chunk"] == SWEEP_CHUNKS and submitted["map_chunk"] == MAP_CHUNKS
+    for rule in ("sweep_merge", "map_merge", "bifurcation_figure", "map_figure"):
+        assert re.search(rf"^localrule {rule}:", text, re.M) and rule not in submitted, rule
+    assert _outputs(work) == _outputs(local[0])
+    cubes = sorted(path for path in _outputs(work) if path.endswith(".nc"))
+    assert {*CUBES.values(), "results/li2013_calibrated/maps/map_small_curves.nc"} <= set(cubes)
+    for cube in cubes:
         assert_same_data(_open(work / cube), _open(local[0] / cube))
     for figure in FIGURES:
         assert (work / figure).stat().st_size > 0 and (work / f"{figure}.txt").exists()
-    # only the chunk jobs went to SLURM, each once, and each finished; merges and figures are
-    # localrules (workflow/rules/cluster.smk) and ran on the submitting host
-    assert Counter(job["rule"] for job in jobs) == {"sweep_chunk": SWEEP_CHUNKS, "map_chunk": MAP_CHUNKS}
-    assert {(job["JobState"], job["ExitCode"]) for job in jobs} == {("COMPLETED", "0:0")}
-    text = run.stdout + run.stderr
-    for rule in ("sweep_merge", "map_merge", "bifurcation_figure", "map_figure"):
-        assert re.search(rf"^localrule {rule}:", text, re.M), rule
 
 
 def test_rule_resources_reach_sbatch(study):
@@ -193,13 +207,17 @@ def test_rule_resources_reach_sbatch(study):
     partition = subprocess.run(["sinfo", "-h", "-o", "%P"], capture_output=True, text=True, check=True).stdout
     default_partition = next(p.rstrip("*") for p in partition.split() if p.endswith("*"))
     jobs = study[2]
-    assert jobs
-    for job in jobs:
-        res = RESOURCES[job["rule"]]
+    assert {job["rule"] for job in jobs} >= set(RESOURCES)
+    for job in jobs:  # the test's requests for the chunk rules, the profile's for the others
+        res = RESOURCES.get(job["rule"]) or {
+            **shipped["default-resources"],
+            **shipped["set-resources"].get(job["rule"], {}),
+        }
         assert job["TimeLimit"] == _time_limit(res["runtime"]), job["Comment"]
         assert job["MinMemoryNode"] == f"{res['mem_mb']}M", job["Comment"]
+        assert job["Partition"] == default_partition, job["Comment"]
         # the chunk rules take both cores of a node (the profile's set-threads: 2): SLURM must reserve them
-        assert job["NumCPUs"] == "2" and job["Partition"] == default_partition, job["Comment"]
+        assert job["rule"] not in RESOURCES or job["NumCPUs"] == "2", job["Comment"]
 
 
 def test_cancelled_jobs_are_resubmitted_then_fail_and_a_rerun_loses_nothing(cluster, local, tmp_path):

@@ -20,7 +20,9 @@ import pytest
 from numpy._core import _multiarray_umath as mu
 
 import _cpu_study
-from geardyn import classify, io, libm
+from geardyn import libm
+from geardyn.io import provenance
+from geardyn.label import classify
 
 HERE = Path(__file__).resolve().parent
 CHAOS = classify.LABELS["chaotic"]
@@ -46,7 +48,7 @@ def both(tmp_path_factory):
     )
     assert run.returncode == 0, run.stderr[-3000:]
     check = subprocess.run(
-        [sys.executable, "-c", "import geardyn.io as g, json; print(json.dumps(g.runtime_provenance()))"],
+        [sys.executable, "-c", "from geardyn.io import provenance as g; import json; print(json.dumps(g.runtime()))"],
         env=env,
         capture_output=True,
         text=True,
@@ -64,9 +66,9 @@ def test_the_subprocess_really_ran_with_fewer_features(both):
     assert rt["numba_cpu_name"] == "generic" and rt["env_NUMBA_CPU_NAME"] == "generic"
 
     if any(mu.__cpu_features__.get(f) for f in mu.__cpu_dispatch__):
-        assert rt["numpy_cpu_dispatch"] == "none" != io.runtime_provenance()["numpy_cpu_dispatch"]
-    assert rt["numpy_blas_core"] == io.runtime_provenance()["numpy_blas_core"]  # geardyn's pinned kernels
-    assert rt["libm_variant"] == io.runtime_provenance()["libm_variant"]
+        assert rt["numpy_cpu_dispatch"] == "none" != provenance.runtime()["numpy_cpu_dispatch"]
+    assert rt["numpy_blas_core"] == provenance.runtime()["numpy_blas_core"]  # geardyn's pinned kernels
+    assert rt["libm_variant"] == provenance.runtime()["libm_variant"]
 
 
 def test_same_numbers_bit_for_bit_on_fewer_cpu_features(both):
@@ -105,14 +107,14 @@ needs_glibc = pytest.mark.skipif(libm.variant() == "other", reason="not glibc on
 @needs_glibc
 def test_the_tests_run_the_plain_c_library():
     assert libm.variant() == libm.CANONICAL
-    assert io.runtime_provenance()["libm_variant"] == libm.CANONICAL
+    assert provenance.runtime()["libm_variant"] == libm.CANONICAL
     assert "glibc.cpu.hwcaps=" in os.environ["GLIBC_TUNABLES"]  # set by importing geardyn, for subprocesses
 
 
 @needs_glibc
 def test_a_process_started_without_the_setting_is_seen_and_restarts():
     env = {k: v for k, v in os.environ.items() if k not in ("GLIBC_TUNABLES", "GEARDYN_LIBM_RESTARTED")}
-    cpu_fma = {"fma", "avx2"} <= set(io.runtime_provenance()["cpu_simd_flags"].split())
+    cpu_fma = {"fma", "avx2"} <= set(provenance.runtime()["cpu_simd_flags"].split())
     assert _variant_in(env) == ("glibc-fma" if cpu_fma else libm.CANONICAL)  # the probe tells the builds apart
     assert _variant_in(env, "libm.restart_canonical(); ") == libm.CANONICAL
 

@@ -7,7 +7,8 @@ import numpy as np
 import xarray as xr
 
 from benchmarks.work_precision import cases
-from geardyn import io, quarantine
+from geardyn import io
+from geardyn.io import quarantine
 from geardyn.khv import design
 from geardyn.runs import cube, maps, sweep
 from geardyn.solve import SimulationSettings, simulate

@@ -1,7 +1,8 @@
 """Faults, measured: a run killed mid-sweep resumes without recomputing finished chunks and gives the
 same cube; damaged chunks are recomputed, never merged; cubes do not depend on the number of cores or
 chunks; sweep jobs log their progress.  Chunk files are ``temp()``: removed once their merge succeeded,
-kept while it has not (a failed merge, an interrupted run).
+kept while it has not (a failed merge, an interrupted run).  A job whose write fails on the disk says so in
+one line on stderr and leaves nothing behind.
 
 All runs use a copy of the workflow in a temporary directory (see _workflow.py).
 """
@@ -12,6 +13,7 @@ import re
 import shutil
 import signal
 import subprocess
+import sys
 import zlib
 
 import numpy as np
@@ -115,11 +117,16 @@ def _recorded_chunks(work):
 # SIGINT is Ctrl-C in the terminal (to the whole process group); SIGKILL a power cut or the OOM killer.
 # (SIGTERM is not used: Snakemake 9.27's SIGTERM handler takes a lock the main thread may hold, and
 # the run can hang; see docs/operations.md.) The interruption is deterministic: the third chunk job
-# sends the signal to the process group as it starts (geardyn.testing.fault_point), with --cores 1.
+# sends the signal to the process group as it starts (tests/faults/sitecustomize.py), with --cores 1.
 @pytest.mark.parametrize("sig", ["SIGINT", "SIGKILL"])
 def test_killed_run_resumes_without_recomputing_and_gives_the_same_cube(tmp_path, reference, sig):
     work = wf.workflow_copy(tmp_path / "w", _config())
-    env = {**wf.env(), "GEARDYN_FAULT": f"sweep_chunk:3:{sig}", "GEARDYN_FAULT_COUNTER": str(tmp_path / "count")}
+    env = wf.env()
+    env.update(
+        PYTHONPATH=f"{wf.ROOT / 'tests' / 'faults'}{os.pathsep}{env['PYTHONPATH']}",
+        GEARDYN_FAULT=f"sweep_chunk:3:{sig}",
+        GEARDYN_FAULT_COUNTER=str(tmp_path / "count"),
+    )
     # SIGINT back to its default in the child: a test runner started in the background by a shell without job
     # control inherits SIGINT ignored, and Snakemake would then never see the Ctrl-C this test sends
     proc = subprocess.run(
@@ -246,3 +253,50 @@ def test_sweep_jobs_log_progress_and_remaining_time(reference):
     # a line every 10 % of a chunk's lines; the 6 points of this chunk start from the fixed state, each a
     # line of its own, all labelled in one step
     assert len(lines) >= 1 and lines[-1][:2] == ("6", "6") and float(lines[-1][3]) == 0.0
+
+
+#: An adapter (the closed graph's) run in an interpreter of its own, its writer failing on a disk that is full
+#: (netCDF's error names no errno; the disk, asked again, says ENOSPC) or over its quota (an OSError without a
+#: file name, as a Python writer raises it), or with a writer error that is not the disk's.
+WRITE_FAILS = """
+import errno, os, sys
+import xarray as xr
+import _workflow as wf
+
+mode, out, log = sys.argv[1:]
+
+def to_netcdf(self, path, *args, **kwargs):  # half a file written, then the writer's own error
+    with open(path, "wb") as fh:
+        fh.write(b"half a netCDF file")
+    if mode == "quota":
+        raise OSError(errno.EDQUOT, os.strerror(errno.EDQUOT))
+    raise RuntimeError("NetCDF: HDF error")
+
+def fsync(fd):
+    if mode == "full disk":
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+xr.Dataset.to_netcdf, os.fsync = to_netcdf, fsync
+grid = {"x1": {"start": 0.2, "stop": 1.1, "num": 4}, "x2": {"start": 0.3, "stop": 1.4, "num": 4}}
+design = wf.ROOT / "config" / "designs" / "li2013.yaml"
+job = wf.Job(input={"design": design}, output=[out], params={"spec": grid}, log=[log])
+wf.run_script(wf.ROOT / "workflow" / "scripts" / "closed_graph.py", job)
+"""
+
+
+@pytest.mark.parametrize(
+    ("mode", "line"),
+    [("full disk", "No space left on device (ENOSPC)"), ("quota", "Disk quota exceeded (EDQUOT)"), ("other", None)],
+)
+def test_a_write_that_fails_on_the_disk_is_one_line_and_leaves_nothing(tmp_path, mode, line):
+    out, log = tmp_path / "data" / "closed_graph.nc", tmp_path / "logs" / "closed_graph.log"
+    env = {**wf.env(), "PYTHONPATH": os.pathsep.join([str(wf.ROOT / "src"), str(wf.ROOT / "tests")])}
+    args = [sys.executable, "-c", WRITE_FAILS, mode, str(out), str(log)]
+    run = subprocess.run(args, env=env, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 1
+    assert not list(out.parent.iterdir())  # neither the output nor its temporary file
+    if line is None:  # an error that is not the disk's keeps its traceback
+        assert "Traceback" in run.stderr and run.stderr.rstrip().endswith("RuntimeError: NetCDF: HDF error")
+    else:
+        assert run.stderr == f"geardyn: {line}: {out}\n"  # one line, no traceback
+        assert line in log.read_text() and "Traceback" in log.read_text()  # the traceback in the job's log

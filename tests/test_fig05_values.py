@@ -1,7 +1,7 @@
 """Paper 1 Fig. 5 points: eps, k_C and mean stiffness against an independent calculation.
 
-The independent calculation below uses only the formulas of docs/findings.md ("Paper 1 geometry and
-closed graph": internal pair, Chinese sign convention) and ISO 6336-1's constants, written out here
+The independent calculation below uses only the formulas of docs/geometry.md ("Formulas": internal
+pair, Chinese sign convention) and ISO 6336-1's constants, written out here
 with scipy's root finder; it shares no code with geardyn.geometry or geardyn.stiffness.
 """
 

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from geardyn import config, validate
+from geardyn import config
+from geardyn.config import validate
 from geardyn.khv.model import Coefficients
 from geardyn.label import Policy
 from geardyn.runs.response import find_jumps, frequency_response, jump_frequencies

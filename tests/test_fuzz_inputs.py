@@ -14,7 +14,7 @@ import _workflow as wf
 from _examples import EXAMPLE_SCALE
 from geardyn import cli
 from geardyn.config import ConfigError, load_design_dict
-from geardyn.validate import check_design, read_config_file, validate_workflow
+from geardyn.config.validate import check_design, read_config_file, validate_workflow
 
 VALUES = [
     float("nan"),

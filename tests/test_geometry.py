@@ -1,5 +1,5 @@
 """Gear geometry against numbers from outside the code: paper 1, published tables, hand derivations
-(docs/findings.md, "Paper 1 geometry and closed graph")."""
+(docs/paper1.md, "Geometry and closed graph")."""
 
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ def at(x1: float, x2: float, base: geo.GearPair = KHV) -> geo.GearPair:
 
 
 # ------------------------------------------------------------------------------------------
-# Paper 1 (Sec. 3.2, Eq. 10) and docs/findings.md, "Paper 1 geometry and closed graph"
+# Paper 1 (Sec. 3.2, Eq. 10) and docs/paper1.md, "Geometry and closed graph"
 # ------------------------------------------------------------------------------------------
 
 
@@ -35,13 +35,13 @@ def test_reference_centre_distance_khv() -> None:
 
 @pytest.mark.parametrize(
     ("x1", "paper_x2", "computed_x2"),
-    [(0.416, 0.601, 0.60095), (0.835, 0.995, 0.99443)],  # paper M and N; G_s = 0 to 5 decimals (docs/findings.md)
+    [(0.416, 0.601, 0.60095), (0.835, 0.995, 0.99443)],  # paper M and N; G_s = 0 to 5 decimals (docs/paper1.md)
 )
 def test_paper_points_on_overlap_boundary(x1: float, paper_x2: float, computed_x2: float) -> None:
     x2 = constraints.x2_on_overlap_boundary(x1, KHV)
     # Requirement: within 0.002 of the paper's 3-decimal values.
     assert abs(x2 - paper_x2) < 0.002
-    # The 5-decimal values of docs/findings.md ("M and N lie on G_s = 0"): half a unit in the last digit.
+    # The 5-decimal values of docs/paper1.md ("M and N lie on G_s = 0"): half a unit in the last digit.
     assert x2 == pytest.approx(computed_x2, abs=5e-6)
     # By construction G_s = 0 there (brentq xtol 1e-12 in x2, dG_s/dx2 ~ 10).
     assert float(interference.overlap_interference(at(x1, x2))) == pytest.approx(0.0, abs=1e-9)
@@ -55,7 +55,7 @@ def test_eq10_constant_is_cos_working_angle_at_n() -> None:
 
 def test_working_angle_along_line4_is_not_constant() -> None:
     # a' falls from 30.996 deg (M) to 29.972 deg (N), so line 4 is not a constant-a' line; eps 1.298 -> 1.171
-    # (docs/findings.md, "Line 4 is not a constant-a' line").
+    # (docs/paper1.md, "Line 4 is not a constant-a' line").
     pm = at(0.416, constraints.x2_on_overlap_boundary(0.416, KHV))
     pn = at(0.835, constraints.x2_on_overlap_boundary(0.835, KHV))
     assert math.degrees(float(geo.working_pressure_angle(pm))) == pytest.approx(31.0, abs=0.05)

@@ -112,7 +112,7 @@ def test_large_te_double_sided_impacts():
 
 
 def test_parametric_instability_is_flagged():
-    # printed Eq. (9) with eps = 1.17 < 1.193: k(t) < 0 over part of the period (docs/findings.md,
+    # printed Eq. (9) with eps = 1.17 < 1.193: k(t) < 0 over part of the period (docs/paper1.md,
     # "The printed form is negative for eps < 1.193")
     p = li2013_parameters(eps=1.17, k_c=3.1e8, omega_bar=1.5)
     c = dimensionless(p, Options(stiffness_form="printed"))

@@ -45,7 +45,7 @@ def test_event_rk4_is_fourth_order(reference):
     ns = np.array([64, 128, 256, 512])
     errs = np.array([_err("rk4_event", n, reference) for n in ns])
     p = _order(ns, errs)
-    # requirement: observed order 3.8-4.2 on a periodic case (measured 3.99; docs/findings.md, "Numerics")
+    # requirement: observed order 3.8-4.2 on a periodic case (measured 3.99; docs/numerics.md, "Numerics")
     assert 3.8 <= p <= 4.2, (p, errs)
     # reference error (rtol 1e-12) is ~1e-10, far below the smallest RK4 error (~1e-7)
     assert errs[-1] < 3e-7
@@ -56,14 +56,14 @@ def test_plain_rk4_loses_order_with_backlash(reference):
     plain = np.array([_err("rk4", n, reference) for n in ns])
     event = np.array([_err("rk4_event", n, reference) for n in ns])
     # plain RK4 through the kink shows erratic local orders (1.3-5.4, docs/model.md section 6); overall
-    # well below 4 (docs/findings.md, "Event location restores 4th order")
+    # well below 4 (docs/numerics.md, "Event location restores 4th order")
     assert _order(ns, plain) < 3.5
     assert np.all(plain > 50 * event)
 
 
 def test_misaligned_grid_is_worse(reference):
     # steps straddling the stiffness jumps make RK4 first order there (measured 9e-2 at 256 steps against
-    # 1.3e-6 aligned; docs/findings.md, "Aligned grid")
+    # 1.3e-6 aligned; docs/numerics.md, "Aligned grid")
     for integ in ("rk4_event", "rk4"):
         aligned = _err(integ, 256, reference)
         mis = _err(integ, 256, reference, aligned=False)

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from geardyn import io, quarantine
+from geardyn import io
+from geardyn.io import quarantine
 from geardyn.khv import design, point
 from geardyn.runs import cube, maps
 

@@ -21,8 +21,8 @@ from geardyn.khv import design, model, point
 from geardyn.khv.model import Options, dimensionless
 from geardyn.solve import SimulationSettings, simulate
 
-# Paper design at M and N: eps and the ISO k_C rounded (docs/findings.md, "M and N lie on G_s = 0" and
-# "Paper 1 mesh stiffness"); not computed here
+# Paper design at M and N: eps and the ISO k_C rounded (docs/paper1.md, "M and N lie on G_s = 0" and
+# "Mesh stiffness"); not computed here
 P416 = li2013_parameters(eps=1.30, k_c=3.1e8)
 P835 = li2013_parameters(eps=1.17, k_c=3.1e8)
 
@@ -34,7 +34,7 @@ def test_masses_and_scaling_by_hand():
     assert ms["M_D"] == pytest.approx(0.03 / r_bH**2, rel=1e-12)
     assert ms["M_V"] == pytest.approx(0.2175 / r_bV**2, rel=1e-12)
     c = dimensionless(P416)
-    # corrected mean stiffness 8/9 eps k_C (docs/findings.md, "Exact mean"), w_n = sqrt(k_mean / M_VH) (Eq. 13)
+    # corrected mean stiffness 8/9 eps k_C (docs/paper1.md, "Exact mean"), w_n = sqrt(k_mean / M_VH) (Eq. 13)
     assert c.k_mean == pytest.approx(8 / 9 * 1.30 * 3.1e8, rel=1e-12)
     assert c.omega_n == pytest.approx(math.sqrt(c.k_mean / ms["M_VH"]), rel=1e-12)
     assert c.c_m == pytest.approx(2 * 0.1, rel=1e-12)  # c_m / (M_VH w_n) = 2 zeta exactly
@@ -175,7 +175,7 @@ def test_4dof_and_3dof_trajectories_agree():
 
 def test_schema_defaults_match_dataclasses():
     jsonschema = pytest.importorskip("jsonschema")
-    schema = json.loads(resources.files("geardyn").joinpath("schemas/dynamics.schema.json").read_text())
+    schema = json.loads(resources.files("geardyn.config").joinpath("schemas/dynamics.schema.json").read_text())
     jsonschema.Draft202012Validator.check_schema(schema)
     jsonschema.validate({}, schema)
     sections = {

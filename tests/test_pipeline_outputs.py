@@ -17,7 +17,8 @@ import xarray as xr
 import yaml
 
 import _workflow as wf
-from geardyn import archive, io, provenance
+from geardyn import io
+from geardyn.io import archive, provenance
 
 
 def _small_pipeline(work):
@@ -44,6 +45,7 @@ KINDS = [
     "li2013/sweeps/fig07_small.nc",
     "li2013/points/fig08_small.nc",
     "li2013/calibration/small_search.nc",
+    "li2013/probabilities/small_prob.nc",
     "benchmarks/work_precision.nc",
     "yue2014/data/modal.nc",
     "yue2014/data/te.nc",
@@ -136,6 +138,9 @@ def test_report_groups_figures_by_paper_and_figure_with_captions(small_run):
         "Fig. 09: tip relief",
         "fig07_small.png",
         "fig09_te_relief.png",
+        "Regime probabilities",
+        "small_prob.png",
+        "claims_small_prob.csv",
     ):
         assert text in html, text
     # a caption: the family's .rst, with the caption text the figure's job wrote included
@@ -161,6 +166,7 @@ def test_archive_holds_every_cube_and_verifies(small_run, design):
     manifest = json.loads(_archive_member(path, "MANIFEST.json"))
     cubes = {e["path"].removeprefix(f"results/{design}/") for e in manifest["files"] if e["kind"] == "netcdf"}
     assert cubes == _cubes_on_disk(small_run, design) and summary.cubes == len(cubes) > 0
+    assert summary.own_sum  # the rule wrote <archive>.sha256 beside it, and it matches
     configs = {e["path"] for e in manifest["files"] if e["kind"] == "config"}
     assert configs == {"config/config.yaml", f"config/designs/{design}.yaml", "config/effective_config.yaml"}
     run = subprocess.run(
@@ -233,6 +239,9 @@ def test_slurm_profile_keeps_cheap_rules_local(tmp_path):
         "claims",
         "map_merge",
         "map_figure",
+        "probabilities_merge",
+        "probabilities_figure",
+        "probabilities_claims",
         "calibration_compare",
     } == local
     assert "localrule: True" in (wf.ROOT / "workflow/rules/archive.smk").read_text()

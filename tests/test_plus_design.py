@@ -67,11 +67,11 @@ def test_yaml_validates_and_has_table1_values():
 def test_invalid_designs_rejected(patch):
     raw = {"kind": "plus_planetary", **patch}
     with pytest.raises(ConfigError, match=r"is not allowed|unknown key|kind"):
-        design_from_dict(config.validate(raw, "plus_planetary.schema.json", "design"))
+        design_from_dict(config.validated(raw, "plus_planetary.schema.json", "design"))
 
 
 def test_reversed_bounds_rejected():
-    raw = config.validate(
+    raw = config.validated(
         {"kind": "plus_planetary", "relief": {"physical_amount_mm": [0.03, 0.0]}},
         "plus_planetary.schema.json",
         "design",

@@ -90,7 +90,7 @@ def test_unloaded_te_is_the_pitch_sawtooth():
 
 def test_te_peak_to_peak_near_9_um():
     # paper 2, Sec. 3.2: about 9 um (FE); Ishikawa compliance with ES = 10 um gives 8.98 um
-    # (docs/findings.md, "Transmission error about 9 um").  +-1 um.
+    # (docs/paper2.md, Sec. 3).  +-1 um.
     assert ik.design_te(D).ptp == pytest.approx(9e-6, abs=1e-6)
 
 

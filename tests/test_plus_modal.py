@@ -98,7 +98,7 @@ def test_mode_counts_and_three_doubled_planet_frequencies_shared():
 
 
 def test_first_mode_near_340_hz():
-    # first mode 339.8 Hz against the paper's 1295 Hz (docs/findings.md, "The frequency gap")
+    # first mode 339.8 Hz against the paper's 1295 Hz (docs/paper2.md, Sec. 2, "The frequency gap")
     assert modal.modes(D, "I").freq_hz[1] == pytest.approx(340.0, rel=0.01)
 
 

@@ -31,15 +31,15 @@ def test_optima_within_bounds_and_better_than_unmodified(optima):
 
 def test_physical_bounds_reach_about_a_third(optima):
     # optimal relief lowers the TE by about a third (measured -33 % linear, -30 % parabolic;
-    # docs/findings.md, "Relief lowers TE by about a third"); the paper: -27.78 %.
+    # docs/paper2.md, Sec. 4); the paper: -27.78 %.
     for sh in relief.SHAPES:
         assert optima[(sh, "physical")].reduction == pytest.approx(-0.31, abs=0.05)
         assert optima[(sh, "physical")].ptp < optima[(sh, "paper")].ptp
 
 
 def test_paper_bounds_push_the_amount_to_its_lower_bound(optima):
-    # the paper's amount >= 0.02 mm lies above the optimum for its load (about 10 um = ES; docs/findings.md,
-    # "The paper's relief bounds lie above the optimum")
+    # the paper's amount >= 0.02 mm lies above the optimum for its load (about 10 um = ES; docs/paper2.md,
+    # Sec. 4)
     for sh in relief.SHAPES:
         assert optima[(sh, "paper")].amount == pytest.approx(D.relief.paper_amount[0], abs=1e-6)
         assert optima[(sh, "physical")].amount < D.relief.paper_amount[0]

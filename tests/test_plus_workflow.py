@@ -14,6 +14,7 @@ import yaml
 
 import _workflow
 from geardyn import io
+from geardyn.io import provenance
 from geardyn.plus import tables
 from geardyn.plus.design import default_design
 
@@ -142,7 +143,7 @@ def test_netcdf_round_trip(tmp_path):
     io.write_netcdf(ds, path, {"source": "test"})
     with xr.open_dataset(path) as back:
         expected = ds.copy()
-        expected.attrs.update({"source": "test", **io.runtime_provenance()})  # every file says where it was made
+        expected.attrs.update({"source": "test", **provenance.runtime()})  # every file says where it was made
         xr.testing.assert_identical(back.load(), expected)
 
 

@@ -1,4 +1,4 @@
-"""Where an output was computed (geardyn.provenance): library versions and CPU features in every netCDF file
+"""Where an output was computed (geardyn.io.provenance): library versions and CPU features in every netCDF file
 and table, printed by ``geardyn verify-archive``; every variable compressed losslessly; the pinned environment."""
 
 import json
@@ -16,7 +16,8 @@ import xarray as xr
 from numpy._core import _multiarray_umath as mu
 
 import _model_oracle as oracle
-from geardyn import archive, io, provenance
+from geardyn import io
+from geardyn.io import archive, provenance
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -48,7 +49,7 @@ def _cpuinfo_field(name):
 
 
 def test_runtime_provenance_names_versions_and_cpu():
-    rt = provenance.runtime_provenance()
+    rt = provenance.runtime()
     assert set(rt) >= set(provenance.RUNTIME_KEYS)
     # versions as the package metadata has them (an independent source)
     for pkg in ("numpy", "scipy", "numba", "llvmlite", "xarray", "netCDF4", "snakemake"):
@@ -66,22 +67,15 @@ def test_runtime_provenance_names_versions_and_cpu():
     assert rt["numba_cpu_name"] == (__import__("numba").config.CPU_NAME or llvm.get_host_cpu_name())
 
 
-def test_provenance_has_its_module_and_the_writer_still_offers_it():
-    """The provenance functions live in geardyn.provenance; geardyn.io, which writes them into every file,
-    offers the two its callers pass to the writers (the same objects), and no other."""
-    for name in ("provenance", "runtime_provenance"):
-        assert getattr(io, name) is getattr(provenance, name), name
-    for name in ("CONVENTIONS", "RUNTIME_KEYS", "config_hash", "runtime_of"):
-        assert not hasattr(io, name), name
+def test_runtime_of_keeps_the_runtime_keys_and_the_text_names_the_cpu():
+    """runtime_of keeps only the keys that say where a file was computed; the tables' provenance text names
+    the version and the CPU."""
     assert provenance.runtime_of({"cpu_model": "x", "env_NUMBA_CPU_NAME": "y", "title": "t"}) == {
         "cpu_model": "x",
         "env_NUMBA_CPU_NAME": "y",
     }
     text = provenance.provenance_text("# ")
-    assert (
-        text.startswith("# geardyn_version: ")
-        and f"# cpu_model: {provenance.runtime_provenance()['cpu_model']}\n" in text
-    )
+    assert text.startswith("# geardyn_version: ") and f"# cpu_model: {provenance.runtime()['cpu_model']}\n" in text
 
 
 def test_every_variable_is_compressed_losslessly_with_provenance(tmp_path):
@@ -99,7 +93,7 @@ def test_every_variable_is_compressed_losslessly_with_provenance(tmp_path):
     xr.testing.assert_identical(a, b)  # lossless, bit for bit
     np.testing.assert_array_equal(b["x_vh"].values, ds["x_vh"].values)
     assert packed.stat().st_size < 0.8 * plain.stat().st_size
-    for key, value in io.runtime_provenance().items():
+    for key, value in provenance.runtime().items():
         assert b.attrs[key] == value
     with pytest.raises(ValueError, match="zlib_level"):
         io.write_netcdf(ds, tmp_path / "bad.nc", zlib_level=10)
@@ -111,8 +105,7 @@ def test_tables_carry_provenance(tmp_path):
     assert text.startswith("# t\n\n| a |") and text.rstrip().endswith("-->")
     found = oracle.read_provenance_text(text)
     assert (
-        found["numpy_version"] == metadata.version("numpy")
-        and found["cpu_model"] == io.runtime_provenance()["cpu_model"]
+        found["numpy_version"] == metadata.version("numpy") and found["cpu_model"] == provenance.runtime()["cpu_model"]
     )
     csv = io.write_text("a,b\n1,2\n", tmp_path / "t.csv")
     assert csv.read_text() == "a,b\n1,2\n"  # a CSV stays plain: its provenance is beside it
@@ -123,18 +116,18 @@ def test_tables_carry_provenance(tmp_path):
 
 
 def test_verify_archive_prints_where_the_cubes_were_computed(tmp_path):
-    cube = io.write_netcdf(_cube(), tmp_path / "a.nc", io.provenance(title="a", paper="li2013"))
+    cube = io.write_netcdf(_cube(), tmp_path / "a.nc", provenance.attributes(title="a", paper="li2013"))
     cfg = tmp_path / "config.yaml"
     cfg.write_text("designs: {d: config/designs/d.yaml}\n")
     out = tmp_path / "d_archive.tar.gz"
     manifest = archive.build(out, "d", {"results/d/a.nc": cube}, {"config.yaml": cfg})
     entry = next(e for e in manifest["files"] if e["kind"] == "netcdf")
-    assert entry["cpu_model"] == io.runtime_provenance()["cpu_model"]
+    assert entry["cpu_model"] == provenance.runtime()["cpu_model"]
     run = subprocess.run(
         [sys.executable, "-m", "geardyn.cli", "verify-archive", str(out)], capture_output=True, text=True, timeout=120
     )
     assert run.returncode == 0, run.stderr
-    rt = io.runtime_provenance()
+    rt = provenance.runtime()
     for key in (
         "numpy_version",
         "scipy_version",

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from geardyn import classify
+from geardyn.label import classify
 from geardyn.solve import _period
 from geardyn.solve.run import strict_period, strict_periods
 

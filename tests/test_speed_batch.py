@@ -7,8 +7,7 @@ import pytest
 
 from _oracle import rules_label
 from benchmarks.work_precision import cases
-from geardyn import classify
-from geardyn.label import Policy, label_points
+from geardyn.label import Policy, classify, label_points
 from geardyn.solve import SimulationSettings, _batch, _period, simulate
 from geardyn.solve.run import EarlyStop, simulate_batch, step_tables
 

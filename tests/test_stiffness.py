@@ -1,4 +1,4 @@
-"""Mesh stiffness (paper 1 Eqs. 7-10) against closed forms, ISO 6336-1, docs/findings.md and independent sums."""
+"""Mesh stiffness (paper 1 Eqs. 7-10) against closed forms, ISO 6336-1, docs/paper1.md and independent sums."""
 
 import numpy as np
 import pytest
@@ -17,7 +17,7 @@ def test_iso_constants_and_printed_c1():
     q_iso = s.flexibility_q(30, 33, 0.626, 0.8, variant="paper", constants=s.ISO_C)
     q_pr = s.flexibility_q(30, 33, 0.626, 0.8, variant="paper", constants=s.PRINTED_C)
     # the transposition 0.04723 -> 0.04732 adds 9e-5 to q' = 0.064: k_C changes by -0.14 %
-    # (docs/findings.md, "ISO 6336-1 constants and the C1 transposition")
+    # (docs/paper1.md, "ISO 6336-1 constants and the C1 transposition")
     assert 1 / q_pr * q_iso - 1 == pytest.approx(-0.0014, abs=0.0002)
 
 
@@ -100,7 +100,7 @@ def test_periodic_with_jumps_of_k_prime_at_entry_and_exit(eps):
 
 def test_printed_form_goes_negative_below_eps_1p193():
     # the printed Eq. (9) reaches k' (2 + 6/eps - 10/eps^2) at t = 1: negative for eps < (sqrt 29 - 3)/2
-    # = 1.1926 (docs/findings.md, "The printed form is negative for eps < 1.193")
+    # = 1.1926 (docs/paper1.md, "The printed form is negative for eps < 1.193")
     root = optimize.brentq(lambda e: s.ParabolicStiffness(e, 1.0, "printed").minimum(), 1.05, 1.5, xtol=1e-6)
     assert root == pytest.approx(1.193, abs=0.001)
     assert s.ParabolicStiffness(1.17, 1.0, "printed").minimum() < 0

@@ -6,11 +6,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import xarray as xr
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
+from geardyn import io
 from geardyn.khv import design, point
 from geardyn.label import Policy, label_lines
 from geardyn.runs import maps, response, study, sweep
-from geardyn.runs.cube import COMMON, empty
+from geardyn.runs.cube import COMMON, VARIABLES, empty
 
 ROOT = Path(__file__).resolve().parents[1]
 SEGMENT = (0.416, 0.835)
@@ -24,6 +28,11 @@ SHARED = {
 @pytest.fixture(scope="module")
 def li2013():
     return design.load(ROOT / "config" / "designs" / "li2013.yaml")
+
+
+@pytest.fixture(scope="module")
+def route():
+    return design.load(ROOT / "config" / "designs" / "li2013_route.yaml")
 
 
 def test_the_specs_share_their_fields_and_their_policy(li2013):
@@ -47,15 +56,27 @@ def test_the_specs_share_their_fields_and_their_policy(li2013):
 
 
 def test_the_variables_follow_the_layout_and_the_policy(li2013):
+    """A study keeps the verdict's and the response's variables, the fixed start's label and the coexistence flag
+    with the policy's coexistence, the divergence flag, transient and computed flag where the layout keeps them,
+    and the layout's own as given; each on the layout's grid as the table declares it (CF attributes, dtype),
+    filled with its fill value (NaN, or the code of "not computed")."""
     policy = Policy(point.integration_settings(li2013), coexistence=True)
     own = {"mine": (("p",), np.zeros(3), {})}
-    full = study.Layout(("p",), (3,), [], diverged="unbounded", computed=True, own=own)
-    names = list(study.variables(full, policy))
-    assert names[-5:] == ["coexisting", "diverged", "mine", "transient_used", "computed"]
+    full = study.variables(study.Layout(("p",), (3,), [], diverged="unbounded", computed=True, own=own), policy)
+    assert set(full) == {*COMMON, "label_fixed", "coexisting", "diverged", "mine", "transient_used", "computed"}
+    assert full.pop("mine") is own["mine"]
+    assert io.missing_cf_attributes(xr.Dataset(full)) == []
+    for name, (dims, values, attrs) in full.items():
+        var = VARIABLES[name]
+        declared = {**var.attributes(), "long_name": "unbounded"} if name == "diverged" else var.attributes()
+        want = xr.Variable(("p",), np.full(3, var.fill, var.dtype), declared)
+        assert values.dtype == want.dtype and xr.Variable(dims, values, attrs).identical(want), name
+        if var.flags is not None:
+            assert set(np.unique(values)) <= set(var.flags.values()), name
     bare = study.variables(
         study.Layout(("p",), (3,), [], transient=False), dataclasses.replace(policy, coexistence=False)
     )
-    assert list(bare) == list(COMMON)
+    assert set(bare) == set(COMMON)
 
 
 def test_a_run_stores_each_verdict_at_its_index(li2013):
@@ -79,3 +100,30 @@ def test_a_run_stores_each_verdict_at_its_index(li2013):
         assert data["label_fixed"][i, j] == f.label and data["transient_used"][i, j] == v.transient_used
     assert data["computed"].tolist() == [[1, 0, 0], [0, 1, 1]]
     assert data["label_fixed"][0, 1] == data["label"][0, 1] == empty(["label"], ("a",), (1,))["label"][1][0]
+
+
+@settings(max_examples=5, deadline=None)
+@given(recorded=st.integers(1, 24), max_n=st.integers(1, 12))
+def test_no_verdict_overflows_its_axis(route, recorded, max_n):
+    """Any recorded periods and largest period: every verdict fits the cube.  li2013_route's x1 line holds
+    period-2 and period-4 orbits and chaos; without damping at w = 1 its runs diverge and keep their whole
+    records.  Each point's label is a flag value of the cube, its section axis holds the verdict's newest points."""
+    entry = {
+        **SHARED,
+        "integration": {"steps_per_period": 32, "transient_periods": 20, "recorded_periods": recorded},
+        "classifier": {"max_n": max_n, "tangent_periods": 30},
+        "cases": [{}, {"zeta": 0.0, "eta": 0.0, "w": 1.0}],
+        **{"parameter": "x1", "start": 0.6, "stop": 0.8, "num": 3},
+    }
+    spec = sweep.SweepSpec.from_config("s", entry, route.name, SEGMENT)
+    policy = spec.policy(route)
+    result = study.run(sweep.layout(route, spec, 0, policy), policy)
+    data = {name: var[1] for name, var in result.data.items()}
+    flags = set(result.data["label"][2]["flag_values"].tolist())
+    assert data["x_vh"].shape[-1] == recorded
+    for (case, _, order), line in zip(sweep.chunk_work(spec, 0), result.verdicts, strict=True):
+        for j, v in zip(order, line, strict=True):
+            assert data["label"][case, 0, j] == v.label in flags
+            newest = v.poincare[-recorded:, 1]
+            np.testing.assert_array_equal(data["x_vh"][case, 0, j, : newest.size], newest)
+            assert np.isnan(data["x_vh"][case, 0, j, newest.size :]).all()

@@ -6,11 +6,16 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from geardyn import io, quarantine
-from geardyn.khv import design
+from geardyn import io
+from geardyn.io import quarantine
+from geardyn.khv import design, point
+from geardyn.label import label_lines
+from geardyn.label.classify import LABELS
 from geardyn.runs import cube, sweep
 
 ROOT = Path(__file__).resolve().parents[1]
+#: The integration of a new user's small sweep (64 steps per period, 40 + 8 periods).
+FAST = {"steps_per_period": 64, "transient_periods": 40, "recorded_periods": 8}
 
 
 @pytest.fixture(scope="module")
@@ -85,3 +90,21 @@ def test_continuation_both_directions_has_direction_coordinate(li2013):
     np.testing.assert_array_equal(
         merged["x_vh"].sel(direction="up").values[:, 0], plain["x_vh"].sel(direction="none").values[:, 0]
     )
+
+
+def test_an_undamped_sweep_diverges_and_stores_the_newest_points_its_axis_holds(li2013):
+    """No damping (zeta = eta = 0): every point grows without bound (parametric instability).  A diverged run
+    keeps its whole record, longer than the recorded periods at x1 = 0.625; the cube stores its newest points."""
+    spec = _spec(num=3, fixed={"b": 2.0, "e": 5.0, "zeta": 0.0, "eta": 0.0, "w": 2.0}, integration=FAST)
+    policy = spec.policy(li2013)
+    ds = sweep.run_chunk(li2013, spec, 0)
+    assert ds.label.values.ravel().tolist() == [LABELS["diverged"]] * 3 and ds.diverged.values.all()
+    assert ds.sizes["section"] == FAST["recorded_periods"]
+    systems = [point.point_coefficients(li2013, sweep.point_overrides(spec, 0, x)) for x in spec.values]
+    (verdicts,) = label_lines([systems], policy)
+    assert max(v.poincare.shape[0] for v in verdicts) > FAST["recorded_periods"]  # the case that overflowed
+    for j, v in enumerate(verdicts):
+        newest = v.poincare[-FAST["recorded_periods"] :]
+        stored = ds.x_vh.values[0, 0, j]
+        np.testing.assert_array_equal(stored[: newest.shape[0]], newest[:, 1])
+        assert np.isnan(stored[newest.shape[0] :]).all()

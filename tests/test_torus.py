@@ -23,8 +23,8 @@ import pytest
 from scipy.integrate import odeint, quad
 
 import _oracle as O
-from geardyn import classify
 from geardyn.khv import design, point
+from geardyn.label import classify
 from geardyn.label import torus as T
 from geardyn.solve import SimulationSettings, shooting, simulate
 

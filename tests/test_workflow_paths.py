@@ -9,7 +9,7 @@ import pytest
 import _workflow as wf
 from geardyn.papers import li2013
 
-RULE_FILES = [wf.ROOT / "Snakefile", *sorted((wf.ROOT / "workflow/rules").glob("*.smk"))]
+RULE_FILES = [wf.ROOT / "workflow/Snakefile", *sorted((wf.ROOT / "workflow/rules").glob("*.smk"))]
 
 
 def _code(path):

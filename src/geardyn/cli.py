@@ -108,8 +108,8 @@ def _plus_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
 
 def check_design(path: str, as_json: bool) -> int:
     """Print what can be computed of the design, then run the pipeline's own checks of it
-    (:func:`geardyn.validate.check_design`): exit 0 when it builds, 1 when not (with the reason)."""
-    from geardyn.validate import check_design as pipeline_check  # noqa: PLC0415 - --help loads no numba or scipy
+    (:func:`geardyn.config.validate.check_design`): exit 0 when it builds, 1 when not (with the reason)."""
+    from geardyn.config.validate import check_design as pipeline_check  # noqa: PLC0415 - --help loads no numba or scipy
 
     raw = load_design_dict(path)
     summary = _defined(_khv_summary(raw, path) if raw["kind"] == "khv" else _plus_summary(raw, path))
@@ -130,7 +130,7 @@ def check_design(path: str, as_json: bool) -> int:
 
 
 def check_config(path: str) -> int:
-    from geardyn.validate import read_config_file, validate_workflow  # noqa: PLC0415 - --help loads no numba or scipy
+    from geardyn.config.validate import read_config_file, validate_workflow  # noqa: PLC0415 - --help loads no numba or scipy
 
     cfg = read_config_file(path)
     root = Path(path).resolve().parent.parent
@@ -141,7 +141,7 @@ def check_config(path: str) -> int:
 
 def new_design(kind: str, name: str, out: str | None, force: bool, z1: int, z2: int, module: float) -> int:
     """Write a new design file and print the next two commands."""
-    from geardyn import scaffold  # noqa: PLC0415 - --help loads no numba or scipy
+    from geardyn.config import scaffold  # noqa: PLC0415 - --help loads no numba or scipy
 
     path = Path(out or f"config/designs/{name}.yaml")
     if path.exists() and not force:
@@ -157,7 +157,7 @@ def new_design(kind: str, name: str, out: str | None, force: bool, z1: int, z2: 
 
 
 def verify_archive(path: str) -> int:
-    from geardyn.archive import ArchiveError, verify  # noqa: PLC0415 - --help loads no numba or scipy
+    from geardyn.io.archive import ArchiveError, verify  # noqa: PLC0415 - --help loads no numba or scipy
 
     try:
         print(verify(path).text())

@@ -1,4 +1,4 @@
-# One archive per design with every netCDF cube, the configs and a sha256 manifest.
+# One archive per design with every netCDF cube, the configs and a sha256 manifest; its own sha256 beside it.
 #   snakemake --cores 2 archive                         # all designs
 #   geardyn verify-archive results/li2013_archive.tar.gz
 
@@ -10,6 +10,7 @@ rule design_archive:
         config="config/config.yaml",
     output:
         results("{design}_archive.tar.gz", design=None),
+        results("{design}_archive.tar.gz.sha256", design=None),
     log:
         logs("archive.log"),
     localrule: True

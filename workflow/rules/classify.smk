@@ -1,4 +1,4 @@
-# Regime bands of every sweep (labels from geardyn.classify) and, for designs that name paper 1, its
+# Regime bands of every sweep (labels from geardyn.label.classify) and, for designs that name paper 1, its
 # claims checked one by one.
 
 

@@ -2,7 +2,7 @@
 # Neimark-Sacker points and grazings of the periodic orbits found along a map's cut lines and in its rows,
 # continued in the map's two parameters (every map whose `curves.enabled` is true, the default), and the
 # `curves:` studies, which do the same in a plane without a map.
-from geardyn.validate import selected_designs
+from geardyn.config.validate import selected_designs
 
 
 rule map_curves:

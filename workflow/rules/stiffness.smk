@@ -46,6 +46,7 @@ for _scheme, _designs in naming_schemes("khv"):
                 ),
                 labels={"design": "{design}"},
             ),
+            fig04_caption=f"{_fig['fig04']}.txt",
             fig05=report(
                 _fig["fig05"],
                 caption="../report/fig05_mesh_stiffness.rst",
@@ -55,6 +56,7 @@ for _scheme, _designs in naming_schemes("khv"):
                 ),
                 labels={"design": "{design}"},
             ),
+            fig05_caption=f"{_fig['fig05']}.txt",
             fig06=report(
                 _fig["fig06"],
                 caption="../report/fig06_backlash.rst",
@@ -62,6 +64,7 @@ for _scheme, _designs in naming_schemes("khv"):
                 subcategory=name_of(_scheme, "Fig. 06: backlash", "Backlash"),
                 labels={"design": "{design}"},
             ),
+            fig06_caption=f"{_fig['fig06']}.txt",
         log:
             logs("stiffness_figures.log"),
         wildcard_constraints:

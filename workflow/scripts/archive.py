@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from geardyn import archive, logs
+from geardyn.io import archive, logs
 
 log = logs.to_file(snakemake.log[0])
 design = snakemake.wildcards.design

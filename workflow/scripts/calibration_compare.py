@@ -3,7 +3,8 @@
 import json
 from pathlib import Path
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs
 from geardyn.khv import calibrate, committed, design
 
 log = logs.to_file(snakemake.log[0])

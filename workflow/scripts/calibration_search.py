@@ -5,7 +5,8 @@ import json
 import time
 from pathlib import Path
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.khv import calibrate, design, point
 from geardyn.label import Policy
 from geardyn.papers import paper_of
@@ -40,7 +41,7 @@ cost = {
     "points per candidate": problem.grids.n_points,
 }
 ds = calibrate.records_dataset(records, problem.space, problem.grids)
-attrs = io.provenance(
+attrs = provenance.attributes(
     title=f"Calibration search {snakemake.wildcards.calibration}",
     paper=drive.paper,
     config={"design": drive.raw, "calibration": spec},

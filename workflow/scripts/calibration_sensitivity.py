@@ -3,7 +3,8 @@
 import json
 from pathlib import Path
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.khv import calibrate, design
 from geardyn.papers import paper_of
 from geardyn.plots import calibration as plots
@@ -20,7 +21,7 @@ with calibrate.Evaluator(problem, cache, spec["search"].get("workers", 1)) as ev
     oat, mp, text = calibrate.sensitivity(
         problem, ev, best.values, sens.get("steps", [0.02, 0.1, 0.5]), sens.get("map_points", 7)
     )
-attrs = io.provenance(
+attrs = provenance.attributes(
     title=f"Calibration sensitivity {snakemake.wildcards.calibration}",
     paper=drive.paper,
     config={"design": drive.raw, "calibration": spec},

@@ -3,7 +3,9 @@ design that names that paper."""
 
 import numpy as np
 
-from geardyn import claims, io, logs, verdicts
+from geardyn import claims, io
+from geardyn.claims import verdicts
+from geardyn.io import logs
 from geardyn.khv import design, point
 from geardyn.papers import paper_of
 from geardyn.solve import simulate, warm_up

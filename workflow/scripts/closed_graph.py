@@ -2,7 +2,8 @@
 
 import numpy as np
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.khv import closed_graph, design
 from geardyn.papers import paper_of
 
@@ -20,7 +21,7 @@ ds = closed_graph.closed_graph(
     cutter=drive.cutter,
     reference_points=paper.POINTS if paper is not None else None,
 )
-attrs = io.provenance(
+attrs = provenance.attributes(
     title=f"Closed graph of profile-shift coefficients, {drive.title}",
     paper=drive.paper,
     config={"design": drive.raw, "grid": grid},

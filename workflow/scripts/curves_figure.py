@@ -1,7 +1,8 @@
 """Adapter: the regime boundaries of a map or a curves study drawn with their codimension-2 points (and the
 map's labels behind them) -> figure, caption, table of the codimension-2 points and of the pixel check."""
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs
 from geardyn.plots import curves, save_figure
 from geardyn.plots.dynamics import label_image
 

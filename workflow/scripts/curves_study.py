@@ -1,6 +1,7 @@
 """Adapter: the regime boundaries of one `curves:` study (a plane of two parameters, no map) -> curves file."""
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.khv import design, point
 from geardyn.runs.continuation import curve_maps, output
 from geardyn.solve import warm_up
@@ -16,7 +17,7 @@ integration = point.integration_settings(drive, **dict(entry.get("integration", 
 bd, _ = curve_maps.boundary_curves(drive, region, settings_of, integration)
 ds = output.boundary_dataset(bd)
 log.info("%d curves in %.1f s", len(bd.curves), bd.timing["total"])
-attrs = io.provenance(
+attrs = provenance.attributes(
     title=f"Regime boundaries {name}, {drive.title}",
     paper=drive.paper,
     config={"design": drive.raw, "curves": entry},

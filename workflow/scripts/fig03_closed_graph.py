@@ -1,6 +1,7 @@
 """Adapter: draw the closed graph (paper 1 Fig. 3 for a paper design) from its cube."""
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs
 from geardyn.khv import design
 from geardyn.papers import paper_of
 from geardyn.plots import save_figure

@@ -2,7 +2,8 @@
 
 import numba
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.khv import design, point
 from geardyn.plots import captions, save_figure
 from geardyn.plots.response import frequency_response_figure
@@ -16,7 +17,7 @@ name = snakemake.wildcards.response
 spec = response.ResponseSpec.from_config(name, snakemake.params.spec, drive.name, drive.segment)
 warm_up(point.point_coefficients(drive))  # load the compiled kernels from numba's cache
 ds = response.run(drive, spec)
-attrs = io.provenance(
+attrs = provenance.attributes(
     title=f"Frequency response {name}, {drive.title}",
     paper=drive.paper,
     config={"design": drive.raw, "response": snakemake.params.spec},

@@ -2,7 +2,8 @@
 
 import numba
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.khv import design, point
 from geardyn.runs import maps
 from geardyn.solve import warm_up
@@ -15,7 +16,7 @@ chunk = int(snakemake.wildcards.chunk)
 warm_up(point.point_coefficients(drive))
 ds = maps.run_chunk(drive, spec, chunk)
 log.info("chunk %d: %d points in %.1f s", chunk, int(ds["computed"].sum()), ds.attrs["wall_time_s"])
-attrs = io.provenance(
+attrs = provenance.attributes(
     title=f"{spec.name} chunk {chunk}",
     paper=drive.paper,
     config={"design": drive.raw, "map": snakemake.params.spec},

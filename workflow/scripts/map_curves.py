@@ -1,7 +1,8 @@
 """Adapter: the regime boundaries of one map as curves, seeded along its cut lines and by its records, with the
 pixel check against the map -> curves file (netCDF)."""
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.khv import design, point
 from geardyn.runs import maps
 from geardyn.runs.continuation import curve_check, output
@@ -16,7 +17,7 @@ warm_up(point.point_coefficients(drive))  # compiled kernels from numba's cache 
 bd, check, integration = curve_check.map_boundaries(drive, spec, entry, cube)
 ds = output.boundary_dataset(bd, check)
 log.info("%d curves in %.1f s; pixel check %s", len(bd.curves), bd.timing["total"], check.attrs())
-attrs = io.provenance(
+attrs = provenance.attributes(
     title=f"Regime boundaries of map {spec.name}, {drive.title}",
     paper=drive.paper,
     config={"design": drive.raw, "map": entry},

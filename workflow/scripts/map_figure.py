@@ -1,7 +1,8 @@
 """Adapter: label image of a regime map with the sweeps' 1-D cuts drawn on it (and its regime boundaries as
 curves, when the map computes them)."""
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs
 from geardyn.plots import captions, save_figure
 from geardyn.plots.curves import summary
 from geardyn.plots.dynamics import plot_map

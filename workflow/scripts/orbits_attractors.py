@@ -1,6 +1,7 @@
 """Adapter: coexisting attractors and basin fractions at a subset of one sweep's points."""
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.khv import design, point
 from geardyn.runs import attractors, sweep
 from geardyn.solve import warm_up
@@ -14,7 +15,7 @@ cube = io.read_dataset(snakemake.input.cube)
 branches = io.read_dataset(snakemake.input.branches)
 warm_up(point.point_coefficients(drive))
 ds = attractors.sweep_attractors(drive, spec, cube, branches, entry.get("attractors") or {})
-attrs = io.provenance(
+attrs = provenance.attributes(
     title=f"{name}: coexisting attractors",
     paper=drive.paper,
     config={"design": drive.raw, "sweep": snakemake.params.sweep, "orbits": entry},

@@ -1,6 +1,7 @@
 """Adapter: continue the periodic orbits of one sweep -> branches (netCDF) and bifurcation table (CSV)."""
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.khv import design, point
 from geardyn.runs import continuation, sweep
 from geardyn.solve import warm_up
@@ -14,7 +15,7 @@ orbits = continuation.OrbitSpec.from_config(entry)
 cube = io.read_dataset(snakemake.input.cube)
 warm_up(point.point_coefficients(drive))  # compiled kernels from numba's cache before timing starts
 ds, rows = continuation.sweep_orbits(drive, spec, cube, orbits)
-attrs = io.provenance(
+attrs = provenance.attributes(
     title=f"{name}: continued periodic orbits",
     paper=drive.paper,
     config={"design": drive.raw, "sweep": snakemake.params.sweep, "orbits": entry},

@@ -1,6 +1,7 @@
 """Adapter: draw the continued branches over the sweep's bifurcation diagram."""
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs
 from geardyn.khv import design
 from geardyn.plots import save_figure
 from geardyn.plots.orbits import plot_branches

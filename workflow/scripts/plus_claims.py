@@ -3,7 +3,9 @@ design that names that paper -> claims.md and claims.csv."""
 
 import pandas as pd
 
-from geardyn import io, logs, verdicts
+from geardyn import io
+from geardyn.claims import verdicts
+from geardyn.io import logs
 from geardyn.papers import paper_of
 from geardyn.plus import claims as plus_claims
 from geardyn.plus import design

@@ -1,7 +1,8 @@
 """Adapter: linear forced response of the plus set to the static TE of the p-d meshes (without and with each
 optimal tip relief of te.nc) against input speed -> forced_response.nc and its figure."""
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.papers import paper_of
 from geardyn.plots import captions, save_figure
 from geardyn.plots import plus as plots
@@ -16,7 +17,7 @@ ds = forced.to_dataset(res, plus)
 io.write_netcdf(
     ds,
     snakemake.output.data,
-    io.provenance(
+    provenance.attributes(
         title=ds.attrs["title"],
         paper=plus.paper,
         config=dict(plus.raw),

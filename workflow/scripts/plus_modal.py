@@ -3,7 +3,8 @@
 
 import pandas as pd
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.papers import paper_of
 from geardyn.plots import captions
 from geardyn.plus import design, tables
@@ -16,7 +17,7 @@ ds = tables.modal_dataset(plus)
 io.write_netcdf(
     ds,
     out.modal,
-    io.provenance(
+    provenance.attributes(
         title=ds.attrs["title"], paper=plus.paper, config=dict(plus.raw), model_variant=ds.attrs["model_variant"]
     ),
 )

@@ -1,6 +1,7 @@
 """Adapter: modal strain and kinetic energy and mode shapes (paper 2 Figs. 6-7 style) from modal.nc."""
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs
 from geardyn.papers import paper_of
 from geardyn.plots import captions, save_figure
 from geardyn.plots import plus as plots

@@ -1,7 +1,8 @@
 """Adapter: TE of the p-d pair, tip-relief optima (differential evolution), mesh stiffness against ISO and
 the load study -> te.nc and tables (paper 2 Sec. 4 beside ours for a design that names the paper)."""
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.papers import paper_of
 from geardyn.plots import captions
 from geardyn.plus import design, ishikawa, relief, tables
@@ -39,7 +40,7 @@ ds = tables.te_dataset(plus, optima)
 io.write_netcdf(
     ds,
     out.te,
-    io.provenance(
+    provenance.attributes(
         title=ds.attrs["title"], paper=plus.paper, config=dict(plus.raw), model_variant=ds.attrs["model_variant"]
     ),
 )

@@ -2,7 +2,8 @@
 
 import pandas as pd
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs
 from geardyn.papers import paper_of
 from geardyn.plots import captions, save_figure
 from geardyn.plots import plus as plots

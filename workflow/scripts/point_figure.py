@@ -1,6 +1,7 @@
 """Adapter: trajectory / Poincare map / spectrum panels (paper 1 Figs. 8, 10, 12 for a paper design)."""
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs
 from geardyn.khv import design
 from geardyn.papers import paper_of
 from geardyn.plots import captions, save_figure

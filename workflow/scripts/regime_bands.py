@@ -1,6 +1,7 @@
 """Adapter: regime bands with transition points of one sweep cube -> CSV + Markdown."""
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs
 from geardyn.runs import bands
 
 log = logs.to_file(snakemake.log[0])

@@ -1,6 +1,6 @@
 """Adapter: single-tooth stiffness, k(t) at three x1, and the backlash function (paper 1 Figs. 4-6)."""
 
-from geardyn import logs
+from geardyn.io import logs
 from geardyn.khv import design, mesh_table
 from geardyn.papers import paper_of
 from geardyn.plots import save_figure

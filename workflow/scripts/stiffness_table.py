@@ -1,6 +1,7 @@
 """Adapter: mesh quantities and k(t) along the admissible segment -> netCDF."""
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.khv import design, mesh_table
 
 log = logs.to_file(snakemake.log[0])
@@ -8,7 +9,7 @@ drive = design.load(snakemake.input.design)
 spec = snakemake.params.spec
 x1 = design.x1_grid(drive, spec["points"])
 ds = mesh_table.stiffness_table(drive, x1, spec["phase_points"])
-attrs = io.provenance(
+attrs = provenance.attributes(
     title=f"Mesh stiffness along the admissible segment, {drive.title}",
     paper=drive.paper,
     config={"design": drive.raw, "stiffness_table": spec},

@@ -2,21 +2,20 @@
 
 import numba
 
-from geardyn import io, logs
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.khv import design, point
 from geardyn.runs import sweep
 from geardyn.solve import warm_up
-from geardyn.testing import fault_point
 
 log = logs.to_file(snakemake.log[0])
 numba.set_num_threads(snakemake.threads)  # the chunk's points run in parallel on the job's cores
-fault_point("sweep_chunk")  # no-op unless a fault test asks for an interruption here
 drive = design.load(snakemake.input.design)
 spec = sweep.SweepSpec.from_config(snakemake.wildcards.sweep, snakemake.params.spec, drive.name, drive.segment)
 chunk = int(snakemake.wildcards.chunk)
 warm_up(point.point_coefficients(drive))  # load the compiled kernels from numba's cache before timing starts
 cube = sweep.run_chunk(drive, spec, chunk)
-attrs = io.provenance(
+attrs = provenance.attributes(
     title=f"{spec.name} chunk {chunk}",
     paper=drive.paper,
     config={"design": drive.raw, "sweep": snakemake.params.spec},

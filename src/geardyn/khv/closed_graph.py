@@ -6,16 +6,17 @@ Fig. 3").  Pure: returns an :class:`xarray.Dataset`; writing it is the caller's 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
+from geardyn import io
 from geardyn.gears import constraints, interference
 from geardyn.gears import geometry as geo
-from geardyn.io import cf
+from geardyn.io import Var
 
 #: Each constraint of the graph: the paper's line it belongs to (0: drawn but not one of lines 1-4) and its
 #: short label in the figure (K the annulus, V the planet; * cutter-dependent), in the figure's drawing order.
@@ -84,18 +85,11 @@ def closed_graph(
 
     grid_pair = geo.with_shifts(base, x1a[np.newaxis, :], x2a[:, np.newaxis])
     margins = constraints.constraint_grid(grid_pair, **kw)  # type: ignore[arg-type]
-    coords = {
-        "x1": cf("x1", x1a, "1", "planet profile-shift coefficient x1"),
-        "x2": cf("x2", x2a, "1", "annulus profile-shift coefficient x2 (Chinese sign convention)"),
-    }
+    values = {"x1": x1a, "x2": x2a, **_grid_values(grid_pair, margins), **_line4_values(base, x1a, kw)}
     if reference_points:
-        coords["point"] = ("point", np.array(list(reference_points)), {"long_name": "printed limit point"})
-    ds = xr.Dataset(coords=coords)
-    _add_grid(ds, grid_pair, margins)
-    ok_line = _add_line4(ds, base, x1a, kw)
-    if reference_points:
-        _reference_points(ds, base, reference_points)
-    feas_x1 = x1a[ok_line]
+        values |= _point_values(base, reference_points)
+    ds = io.dataset([v for v in variables(margins) if v.name in values], values)
+    feas_x1 = x1a[values["feasible_line4"]]
     ds.attrs.update(
         {
             "title": "Closed graph of profile-shift coefficients, computed",
@@ -114,77 +108,85 @@ def closed_graph(
     return ds
 
 
-def _flag(dims: str | tuple[str, ...], ok: np.ndarray, long_name: str) -> Any:
-    """An int8 feasibility variable with its CF flag attributes."""
-    flags = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "infeasible feasible"}
-    return cf(dims, np.asarray(ok).astype(np.int8), "1", long_name, **flags)
+_GRID = ("x2", "x1")
+#: The feasibility flags' codes.
+FEASIBLE = {"infeasible": 0, "feasible": 1}
 
 
-def _mesh_vars(ds: xr.Dataset, pair: geo.GearPair, dims: str | tuple[str, ...], suffix: str, where: str) -> None:
-    """The contact ratio and working pressure angle of ``pair`` as ``contact_ratio<suffix>`` and
-    ``working_pressure_angle<suffix>`` (long names ending in ``where``)."""
-    eps = interference.contact_ratio(pair)
-    ds[f"contact_ratio{suffix}"] = cf(dims, eps, "1", f"transverse contact ratio{where}")
+def variables(margins: Iterable[str]) -> list[Var]:
+    """The variables of the closed graph dataset; ``margins``: the constraints' names."""
+    ok = FEASIBLE
+    return [
+        Var("x1", "x1", "1", "planet profile-shift coefficient x1"),
+        Var("x2", "x2", "1", "annulus profile-shift coefficient x2 (Chinese sign convention)"),
+        Var("point", "point", None, "printed limit point"),
+        *(_margin(name) for name in margins),
+        *_mesh_vars("", _GRID, ""),
+        Var("feasible", _GRID, "1", "all constraints satisfied", ok),
+        Var("feasible_cutter_free", _GRID, "1", "all constraints satisfied except the cutter-dependent ones", ok),
+        Var("x2_line4", "x1", "1", "annulus shift x2 on line 4 (G_s = 0)"),
+        *_mesh_vars("_line4", "x1", " on line 4"),
+        Var("feasible_line4", "x1", "1", "line-4 point satisfying every other constraint", ok),
+        Var("feasible_line4_cutter_free", "x1", "1", "line-4 point satisfying every cutter-independent constraint", ok),
+        Var("paper_x1", "point", "1", "x1 of the printed limit point"),
+        Var("paper_x2", "point", "1", "x2 of the printed limit point"),
+        Var("computed_x2", "point", "1", "computed x2 on G_s = 0 at the paper's x1"),
+        Var("residual_x2", "point", "1", "computed minus paper x2"),
+        *_mesh_vars("_point", "point", " at the computed point"),
+        Var("working_centre_distance_point", "point", "mm", "working centre distance a' at the computed point"),
+    ]
+
+
+def _margin(name: str) -> Var:
+    line, dependent = LINES.get(name, (0, ""))[0], int(name in CUTTER_DEPENDENT)
+    attrs = {"closed_graph_line": line, "cutter_dependent": dependent, "sign_convention": ">= 0 satisfied"}
+    return Var(name, _GRID, *constraints.constraint_info(name), dtype=float, attrs=attrs)
+
+
+def _mesh_vars(suffix: str, dims: str | tuple[str, ...], where: str) -> list[Var]:
+    return [
+        Var(f"contact_ratio{suffix}", dims, "1", f"transverse contact ratio{where}"),
+        Var(f"working_pressure_angle{suffix}", dims, "degree", f"working pressure angle a'{where}"),
+    ]
+
+
+def _mesh_values(pair: geo.GearPair, suffix: str) -> dict[str, Any]:
+    """The contact ratio and working pressure angle of ``pair`` (``contact_ratio<suffix>``, ...)."""
     aw = np.degrees(geo.working_pressure_angle(pair))
-    ds[f"working_pressure_angle{suffix}"] = cf(dims, aw, "degree", f"working pressure angle a'{where}")
+    return {f"contact_ratio{suffix}": interference.contact_ratio(pair), f"working_pressure_angle{suffix}": aw}
 
 
-def _add_grid(ds: xr.Dataset, grid_pair: geo.GearPair, margins: Mapping[str, np.ndarray]) -> None:
+def _grid_values(grid_pair: geo.GearPair, margins: Mapping[str, np.ndarray]) -> dict[str, Any]:
     """Every constraint's margin on the (x2, x1) grid, the contact ratio, the working pressure angle and the
     feasibility flags (all constraints; the cutter-independent ones)."""
-    for name, value in margins.items():
-        units, long_name = constraints.constraint_info(name)
-        ds[name] = cf(
-            ("x2", "x1"),
-            np.asarray(value, dtype=float),
-            units,
-            long_name,
-            closed_graph_line=LINES.get(name, (0, ""))[0],
-            cutter_dependent=int(name in CUTTER_DEPENDENT),
-            sign_convention=">= 0 satisfied",
-        )
-    _mesh_vars(ds, grid_pair, ("x2", "x1"), "", "")
-    stack = np.stack([ds[n].values for n in margins])
-    free = np.stack([ds[n].values for n in margins if n not in CUTTER_DEPENDENT])
-    ds["feasible"] = _flag(("x2", "x1"), np.all(stack >= 0.0, axis=0), "all constraints satisfied")
-    ds["feasible_cutter_free"] = _flag(
-        ("x2", "x1"), np.all(free >= 0.0, axis=0), "all constraints satisfied except the cutter-dependent ones"
-    )
+    stack = np.stack([np.asarray(v, float) for v in margins.values()])
+    free = np.stack([np.asarray(v, float) for n, v in margins.items() if n not in CUTTER_DEPENDENT])
+    ok = {"feasible": np.all(stack >= 0.0, axis=0), "feasible_cutter_free": np.all(free >= 0.0, axis=0)}
+    return {**margins, **_mesh_values(grid_pair, ""), **ok}
 
 
-def _add_line4(ds: xr.Dataset, base: geo.GearPair, x1a: np.ndarray, kw: Mapping[str, Any]) -> np.ndarray:
-    """Line 4 (G_s = 0) along the x1 grid, with the other constraints evaluated on it; returns where a
-    line-4 point satisfies every other constraint."""
+def _line4_values(base: geo.GearPair, x1a: np.ndarray, kw: Mapping[str, Any]) -> dict[str, Any]:
+    """Line 4 (G_s = 0) along the x1 grid, with the other constraints evaluated on it: where a line-4 point
+    satisfies every other constraint (``feasible_line4``), every cutter-independent one."""
     x2_l4 = constraints.x2_on_overlap_boundary_many(x1a, base)
     line_pair = geo.with_shifts(base, x1a, x2_l4)
     on_line = constraints.constraint_grid(line_pair, **kw)  # type: ignore[arg-type]
     others = np.stack([v for k, v in on_line.items() if k != "overlap_interference"])
     ok_line = np.all(others >= 0.0, axis=0) & (np.abs(on_line["overlap_interference"]) < _ON_LINE_TOL)
     others_free = np.stack([v for k, v in on_line.items() if k not in (*CUTTER_DEPENDENT, "overlap_interference")])
-    ok_line_free = np.all(others_free >= 0.0, axis=0)
-    ds["x2_line4"] = cf("x1", x2_l4, "1", "annulus shift x2 on line 4 (G_s = 0)")
-    _mesh_vars(ds, line_pair, "x1", "_line4", " on line 4")
-    ds["feasible_line4"] = _flag("x1", ok_line, "line-4 point satisfying every other constraint")
-    ds["feasible_line4_cutter_free"] = _flag(
-        "x1", ok_line_free, "line-4 point satisfying every cutter-independent constraint"
-    )
-    return ok_line
+    ok = {"feasible_line4": ok_line, "feasible_line4_cutter_free": np.all(others_free >= 0.0, axis=0)}
+    return {"x2_line4": x2_l4, **_mesh_values(line_pair, "_line4"), **ok}
 
 
-def _reference_points(ds: xr.Dataset, base: geo.GearPair, points: Mapping[str, tuple[float, float]]) -> None:
+def _point_values(base: geo.GearPair, points: Mapping[str, tuple[float, float]]) -> dict[str, Any]:
     """Printed points (x1, x2) and ours on G_s = 0 at the same x1, with residuals, along ``point``."""
     px1 = np.array([p[0] for p in points.values()])
     px2 = np.array([p[1] for p in points.values()])
     cx2 = constraints.x2_on_overlap_boundary_many(px1, base)
     pt_pair = geo.with_shifts(base, px1, cx2)
-    ds["paper_x1"] = cf("point", px1, "1", "x1 of the printed limit point")
-    ds["paper_x2"] = cf("point", px2, "1", "x2 of the printed limit point")
-    ds["computed_x2"] = cf("point", cx2, "1", "computed x2 on G_s = 0 at the paper's x1")
-    ds["residual_x2"] = cf("point", cx2 - px2, "1", "computed minus paper x2")
-    _mesh_vars(ds, pt_pair, "point", "_point", " at the computed point")
-    ds["working_centre_distance_point"] = cf(
-        "point", geo.working_centre_distance(pt_pair), "mm", "working centre distance a' at the computed point"
-    )
+    values = {"point": np.array(list(points)), "paper_x1": px1, "paper_x2": px2, "computed_x2": cx2}
+    values |= {"residual_x2": cx2 - px2, "working_centre_distance_point": geo.working_centre_distance(pt_pair)}
+    return values | _mesh_values(pt_pair, "_point")
 
 
 def line4_crossings(ds: xr.Dataset, name: str) -> list[float]:

@@ -10,6 +10,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from geardyn.io import markdown_table
 from geardyn.khv.calibrate.space import SearchSpace
 
 #: Largest distance of one unknown, as a fraction of its search range, for "the same optimum": well
@@ -56,11 +57,10 @@ class Comparison:
             "The committed design file is what every build uses; this search is the pipeline's own rerun of "
             'it (docs/calibration.md, "Reproducing a calibration").',
             "",
-            "| unknown | committed | found | distance (fraction of search range) |",
-            "|---|---|---|---|",
-        ]
-        lines += [f"| {n} | {c:.6g} | {f:.6g} | {d:.3f} |" for n, c, f, d in self.unknowns]
-        lines += [
+            markdown_table(
+                ("unknown", "committed", "found", "distance (fraction of search range)"),
+                [(n, f"{c:.6g}", f"{f:.6g}", f"{d:.3f}") for n, c, f, d in self.unknowns],
+            ),
             "",
             f"Claims agreeing only at the committed optimum: {', '.join(self.only_committed) or 'none'}.",
             f"Claims agreeing only at the found optimum: {', '.join(self.only_found) or 'none'}.",

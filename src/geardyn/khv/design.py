@@ -23,7 +23,7 @@ from geardyn.gears import constraints, geometry, interference, stiffness
 
 @dataclass(frozen=True)
 class StiffnessOptions:
-    """Paper 1 Eqs. (7)-(9) choices; see ``docs/paper1_choices.md``."""
+    """Paper 1 Eqs. (7)-(9) choices; see ``docs/paper1.md``."""
 
     q_variant: stiffness.QVariant = "iso"
     constants: str = "iso"
@@ -353,7 +353,7 @@ def along_segment(value: float | str, segment: tuple[float, float]) -> float:
 
 def resolve_fractions(spec: Any, segment: tuple[float, float]) -> Any:
     """A copy of a run's config entry with every percentage turned into x1 on the design's segment
-    (percentages are allowed for x1 only; :mod:`geardyn.validate` refuses them elsewhere)."""
+    (percentages are allowed for x1 only; :mod:`geardyn.config.validate` refuses them elsewhere)."""
     if isinstance(spec, Mapping):
         return {k: resolve_fractions(v, segment) for k, v in spec.items()}
     if isinstance(spec, list | tuple):

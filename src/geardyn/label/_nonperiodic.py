@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from geardyn import classify
+import geardyn.label.classify as classify
 from geardyn.label._stages import (
     CHAOS,
     NAN,

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from geardyn import classify
+import geardyn.label.classify as classify
 from geardyn.label._stages import (
     NAN,
     UNDET,

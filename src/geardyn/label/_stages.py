@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geardyn import classify
+import geardyn.label.classify as classify
 from geardyn.label.compare import least_period
 from geardyn.label.policy import Policy
 from geardyn.label.torus import OrderTest

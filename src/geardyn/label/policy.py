@@ -9,7 +9,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, Literal
 
-from geardyn.classify import ClassifierSettings
+from geardyn.label.classify import ClassifierSettings
 from geardyn.solve.base import SimulationSettings
 
 Start = Literal["follow", "fixed"]
@@ -50,7 +50,7 @@ class Chord:
 @dataclass(frozen=True)
 class Settle:
     """The slow-transient check's numerics (:mod:`geardyn.label.settle`): shooting iterations, cycle tolerance,
-    the approach tests on the record, the probe and the last continued run (fields: ``docs/classify.md``)."""
+    the approach tests on the record, the probe and the last continued run (``docs/classify.md``, "Slow transients")."""
 
     newton_max_iter: int = 15
     cycle_rtol: float = 1e-6
@@ -80,9 +80,19 @@ class Locked:
 
 
 @dataclass(frozen=True)
+class Same:
+    """When two runs reached the same attractor (:mod:`geardyn.label.compare`): the same label and, periodic,
+    cycles within ``distance_tol`` max(1, size) (symmetric Hausdorff distance, max norm), else centroids and
+    bounding boxes within ``chaotic_distance_tol`` max(1, size) (``docs/classify.md``)."""
+
+    distance_tol: float = 1e-3
+    chaotic_distance_tol: float = 0.2
+
+
+@dataclass(frozen=True)
 class Policy:
     """How the points of a study are labelled: integration, classifier thresholds, start (``"follow"`` or
-    ``"fixed"``), coexistence, and the numerics of the stages (fields: ``docs/classify.md``)."""
+    ``"fixed"``), coexistence, and the numerics of the stages (``docs/classify.md``)."""
 
     integration: SimulationSettings
     classifier: ClassifierSettings = ClassifierSettings()
@@ -94,6 +104,7 @@ class Policy:
     chord: Chord = Chord()
     settle: Settle = Settle()
     locked: Locked = Locked()
+    same: Same = Same()
     extrapolate_min: int = 24
     torus_windows: int = 6
     cycle_repeats: int = 3

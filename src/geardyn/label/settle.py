@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geardyn import classify
+import geardyn.label.classify as classify
 from geardyn.label.compare import least_period, nearest_distances
 from geardyn.label.policy import Policy, Settle
 from geardyn.parallel import threaded_map

@@ -12,9 +12,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from geardyn import classify
-from geardyn.label import STAGE_NAMES
+from geardyn.label import STAGE_NAMES, classify
 from geardyn.plots.plus import ENERGY_BARS, orders
+from geardyn.plus.modal import MESH_TYPES
 from geardyn.runs.cube import STATES, fractions, labels_of_cube
 
 if TYPE_CHECKING:
@@ -57,19 +57,6 @@ def bifurcation(name: str, cube: xr.Dataset, paper: ModuleType | None = None) ->
     return "\n".join(lines)
 
 
-def spectral_peaks(freq, amp, n: int = 5, fmax: float = 3.0) -> list[float]:
-    """The ``n`` highest local maxima of a spectrum below ``fmax`` (>= 2 % of the largest), by height."""
-
-    keep = (freq > 0.02) & (freq <= fmax)
-    if keep.sum() < 3:
-        return []
-    f, a = freq[keep], amp[keep]
-    from scipy.signal import find_peaks  # noqa: PLC0415 - 0.3 s to import: only the captions with spectra
-
-    idx, _ = find_peaks(a, height=0.02 * a.max())
-    return [float(f[i]) for i in idx[np.argsort(-a[idx], kind="stable")[:n]]]  # ties: the lower frequency first
-
-
 def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
     lines = [
         f"{name}: phase trajectory (X_VH, dX_VH/dtau), Poincare map and amplitude spectrum of X_VH over the "
@@ -86,7 +73,7 @@ def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
             how = f" ({stage.replace('_', ' ')})" if stage else ""
         else:
             n = classify.LABELS["diverged"] if int(d["diverged"]) == 1 else classify.LABELS["undetermined"]
-        peaks = spectral_peaks(d["frequency"].values, d["amplitude"].values)
+        peaks = classify.spectral_peaks(d["frequency"].values, d["amplitude"].values)
         peaks = (", peaks at " + ", ".join(f"{v:.3g}" for v in peaks) + " x f_mesh") if peaks else ""
         lines.append(f"Ours, {case}: {classify.label_name(n)}{how}{peaks}.")
     lines += _tail(name, paper)
@@ -339,7 +326,7 @@ def forced_response(design: PlusDesign, ds: xr.Dataset, paper: ModuleType | None
             "only marks a severe resonance."
         )
     for case in [c for c in ("unmodified", best) if c]:
-        for kind in ("sp", "pd", "dr"):
+        for kind in MESH_TYPES:
             sub = ds.sel(case=case, mesh=f"{kind}1")
             i = int(np.argmax(sub.rms_force.values))
             j = int(np.argmax(sub.dynamic_factor.values))

@@ -11,8 +11,8 @@ from matplotlib.colors import BoundaryNorm, ListedColormap, TwoSlopeNorm, to_rgb
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from geardyn import classify
-from geardyn.classify import LABELS
+from geardyn.label import classify
+from geardyn.label.classify import LABELS
 from geardyn.plots.curves import draw_curves
 from geardyn.plots.response import draw_map_layers
 from geardyn.runs.cube import labels_of_cube

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
-from geardyn.config import ConfigError, load_design_dict, validate
+from geardyn.config import ConfigError, load_design_dict, validated
 
 
 @dataclass(frozen=True)
@@ -210,4 +210,4 @@ def load(path: str | Path) -> PlusDesign:
 
 def default_design() -> PlusDesign:
     """The schema defaults (the values of the schema file), validated like any design."""
-    return design_from_dict(validate({"kind": "plus_planetary"}, "plus_planetary.schema.json", "defaults"))
+    return design_from_dict(validated({"kind": "plus_planetary"}, "plus_planetary.schema.json", "defaults"))

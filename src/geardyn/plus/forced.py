@@ -7,20 +7,19 @@ tests: docs/paper2.md Sec. 5).  Units: SI (m, N, rad/s); speeds in rpm of the su
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 
-from geardyn import libm
+from geardyn import io, libm
+from geardyn.io import Var
 
 from . import modal
 from .design import PlusDesign
 from .ishikawa import pd_mesh_load
-from .tables import cf_dataset
 
-MESH_KINDS = ("sp", "pd", "dr")
 #: Samples per mesh period used to find the largest force of a periodic response.
 PHASE_SAMPLES = 128
 
@@ -123,7 +122,7 @@ def forced_response(
     natural_hz = np.sqrt(omega2) / (2 * np.pi)
     per_rpm = mesh_frequency_per_rpm(design, cond)
     speed = speed_grid(design, natural_hz, per_rpm) if speeds is None else np.asarray(speeds, dtype=float)
-    meshes = [el for el in modal.elements(design) if el.kind in MESH_KINDS]
+    meshes = [el for el in modal.elements(design) if el.kind in modal.MESH_TYPES]
     V = np.array([el.v[keep] for el in meshes])  # (9, n)
     k = np.array([el.k for el in meshes])
     pd = np.array([el.kind == "pd" for el in meshes])
@@ -163,35 +162,38 @@ def forced_response(
     )
 
 
-#: The CF variables of forced_response.nc (:func:`geardyn.plus.tables.cf_dataset`).
+#: The CF variables of forced_response.nc (:func:`geardyn.io.dataset`; ``{condition}``: the modal condition's).
 _FORCES = ("case", "speed", "mesh")
-VARIABLES: dict[str, tuple] = {
-    "rms_force": (_FORCES, "N", "RMS of the fluctuating mesh force"),
-    "dynamic_factor": (_FORCES, "1", "largest mesh force over a mesh period / static mesh force"),
-    "min_force_factor": (
+VARIABLES = (
+    Var("rms_force", _FORCES, "N", "RMS of the fluctuating mesh force"),
+    Var("dynamic_factor", _FORCES, "1", "largest mesh force over a mesh period / static mesh force"),
+    Var(
+        "min_force_factor",
         _FORCES,
         "1",
         "smallest mesh force over a mesh period / static mesh force (< 0: contact lost)",
     ),
-    "force_amplitude": (
+    Var(
+        "force_amplitude",
         ("case", "speed", "harmonic", "mesh"),
         "N",
         "amplitude of the mesh force at each harmonic of the mesh frequency",
     ),
-    "mesh_frequency": ("speed", "Hz", "mesh frequency at the input (sun) speed"),
-    "te_ptp": ("case", "um", "peak-to-peak static TE of the p-d pair (excitation)"),
-    "natural_frequency": ("mode", "Hz", "undamped natural frequency of elastic mode, condition {condition}"),
-    "resonance_speed": (
+    Var("mesh_frequency", "speed", "Hz", "mesh frequency at the input (sun) speed"),
+    Var("te_ptp", "case", "um", "peak-to-peak static TE of the p-d pair (excitation)"),
+    Var("natural_frequency", "mode", "Hz", "undamped natural frequency of elastic mode, condition {condition}"),
+    Var(
+        "resonance_speed",
         ("harmonic", "mode"),
         "rpm",
         "sun speed at which the harmonic of the mesh frequency meets the mode",
     ),
-    "case": ("case", "1", "tip-relief case of the p-d pair"),
-    "speed": ("speed", "rpm", "input (sun) speed"),
-    "mesh": ("mesh", "1", "mesh (s-p, p-d, d-r of planet 1-3)"),
-    "harmonic": ("harmonic", "1", "harmonic of the mesh frequency"),
-    "mode": ("mode", "1", "elastic mode"),
-}
+    Var("case", "case", "1", "tip-relief case of the p-d pair"),
+    Var("speed", "speed", "rpm", "input (sun) speed"),
+    Var("mesh", "mesh", "1", "mesh (s-p, p-d, d-r of planet 1-3)"),
+    Var("harmonic", "harmonic", "1", "harmonic of the mesh frequency"),
+    Var("mode", "mode", "1", "elastic mode"),
+)
 
 
 def to_dataset(res: ForcedResponse, design: PlusDesign) -> xr.Dataset:
@@ -201,8 +203,9 @@ def to_dataset(res: ForcedResponse, design: PlusDesign) -> xr.Dataset:
     resonance = res.natural_hz[None, :] / (res.harmonics[:, None] * per_rpm)  # harmonic h of the mesh meets a mode
     coords = (list(res.cases), res.speed_rpm, list(res.meshes), res.harmonics, np.arange(1, len(res.natural_hz) + 1))
     relieved = [i for i, c in enumerate(res.cases) if c != "unmodified"]  # the best: the smallest TE
-    return cf_dataset(
-        VARIABLES,
+    table = [replace(v, long_name=v.long_name.format(condition=res.condition)) for v in VARIABLES]
+    return io.dataset(
+        table,
         (*values, res.te_ptp * 1e6, res.natural_hz, resonance, *coords),
         title=f"Forced response to the static TE against speed, design {design.name}",
         condition=res.condition,

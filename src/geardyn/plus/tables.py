@@ -6,7 +6,6 @@ DataFrames, and Datasets with ``units`` and ``long_name`` on every variable; wit
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from types import ModuleType
 from typing import Any
@@ -17,7 +16,7 @@ import xarray as xr
 from scipy.optimize import minimize_scalar
 
 from geardyn import io, libm
-from geardyn.io import cf
+from geardyn.io import Var
 
 from . import modal
 from .design import PlusDesign
@@ -43,61 +42,53 @@ COMPONENT_LABELS = {
 WORKING = ("I", "II", "III")
 
 
-#: The CF variables of the plus set's datasets, one table per dataset: name -> (dims, units, long_name[, more
-#: attributes]); a variable whose dims are its own name is a coordinate (:func:`cf_dataset`).
+#: The CF variables of the plus set's datasets, one table per dataset (:func:`geardyn.io.dataset`).
 _CM = ("condition", "mode")
-MODAL_VARIABLES: dict[str, tuple] = {
-    "natural_frequency": (_CM, "Hz", "undamped natural frequency"),
-    "damped_frequency": (_CM, "Hz", "damped natural frequency"),
-    "damping_ratio": (_CM, "1", "modal damping ratio"),
-    "mode_shape": (
+MODAL_VARIABLES = (
+    Var("natural_frequency", _CM, "Hz", "undamped natural frequency"),
+    Var("damped_frequency", _CM, "Hz", "damped natural frequency"),
+    Var("damping_ratio", _CM, "1", "modal damping ratio"),
+    Var(
+        "mode_shape",
         (*_CM, "coordinate"),
         "kg-1/2",
         "mass-normalised mode shape (0 on the fixed coordinate)",
-        {"comment": "translations in kg-1/2; rotations in rad kg-1/2 m-1"},
+        attrs={"comment": "translations in kg-1/2; rotations in rad kg-1/2 m-1"},
     ),
-    "strain_energy_share": ((*_CM, "element"), "1", "share of the modal strain energy per spring"),
-    "kinetic_energy_share": ((*_CM, "component"), "1", "share of the modal kinetic energy per component"),
-    "mode_type": (_CM, "1", "mode class: rigid, planet (doubled) or overall (axisymmetric)"),
-    "lever_arm": (
+    Var("strain_energy_share", (*_CM, "element"), "1", "share of the modal strain energy per spring"),
+    Var("kinetic_energy_share", (*_CM, "component"), "1", "share of the modal kinetic energy per component"),
+    Var("mode_type", _CM, "1", "mode class: rigid, planet (doubled) or overall (axisymmetric)"),
+    Var(
+        "lever_arm",
         "coordinate",
         "m",
         "radius turning a rotation into a displacement (base radius; carrier: a_sp; 1 for x_s, y_s)",
     ),
-    "condition": ("condition", "1", "working condition (I carrier, II ring, III sun fixed)"),
-    "mode": ("mode", "1", "mode number including the rigid-body mode"),
-    "coordinate": ("coordinate", "1", "generalised coordinate"),
-    "element": ("element", "1", "spring (Table 3 meshes, sun bearing)"),
-    "component": ("component", "1", "kinetic-energy component (Table 4)"),
-}
-TE_VARIABLES: dict[str, tuple] = {
-    "transmission_error": (
+    Var("condition", "condition", "1", "working condition (I carrier, II ring, III sun fixed)"),
+    Var("mode", "mode", "1", "mode number including the rigid-body mode"),
+    Var("coordinate", "coordinate", "1", "generalised coordinate"),
+    Var("element", "element", "1", "spring (Table 3 meshes, sun bearing)"),
+    Var("component", "component", "1", "kinetic-energy component (Table 4)"),
+)
+TE_VARIABLES = (
+    Var(
+        "transmission_error",
         ("case", "mesh_phase"),
         "um",
         "static transmission error TE = E - delta (Eq. 9) of the p-d pair",
     ),
-    "mesh_stiffness": ("mesh_phase", "N m-1", "quasi-static mesh stiffness of the unmodified pair"),
-    "load_per_pair": (("slot", "mesh_phase"), "N", "normal load on each tooth pair slot (unmodified)"),
-    "case": ("case", "1", "relief case"),
-    "mesh_phase": ("mesh_phase", "1", "mesh phase in base pitches"),
-    "slot": ("slot", "1", "tooth pair slot (0 = newest)"),
-}
-LANDSCAPE_VARIABLES: dict[str, tuple] = {
-    "te_ptp": (("shape", "amount", "length"), "um", "peak-to-peak static transmission error of the p-d pair"),
-    "shape": ("shape", "1", "tip relief shape"),
-    "amount": ("amount", "um", "tip relief amount along the line of action"),
-    "length": ("length", "mm", "tip relief length along the path of contact"),
-}
-
-
-def cf_dataset(variables: Mapping[str, tuple], values: Sequence[Any], **attrs: Any) -> xr.Dataset:
-    """A Dataset of the CF ``variables`` (a table above) holding ``values`` in the table's order; a long_name
-    may name one of the dataset's ``attrs`` (``{condition}``)."""
-    data: dict[str, Any] = {}
-    coords: dict[str, Any] = {}
-    for (name, (dims, units, long_name, *more)), v in zip(variables.items(), values, strict=True):
-        (coords if dims == name else data)[name] = cf(dims, v, units, long_name.format(**attrs), **(more or [{}])[0])
-    return xr.Dataset(data, coords=coords, attrs=attrs)
+    Var("mesh_stiffness", "mesh_phase", "N m-1", "quasi-static mesh stiffness of the unmodified pair"),
+    Var("load_per_pair", ("slot", "mesh_phase"), "N", "normal load on each tooth pair slot (unmodified)"),
+    Var("case", "case", "1", "relief case"),
+    Var("mesh_phase", "mesh_phase", "1", "mesh phase in base pitches"),
+    Var("slot", "slot", "1", "tooth pair slot (0 = newest)"),
+)
+LANDSCAPE_VARIABLES = (
+    Var("te_ptp", ("shape", "amount", "length"), "um", "peak-to-peak static transmission error of the p-d pair"),
+    Var("shape", "shape", "1", "tip relief shape"),
+    Var("amount", "amount", "um", "tip relief amount along the line of action"),
+    Var("length", "length", "mm", "tip relief length along the path of contact"),
+)
 
 
 def distinct_frequencies(design: PlusDesign, condition: str) -> list[dict]:
@@ -276,12 +267,8 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
     n = stacked[0].shape[1]
     values = (*stacked, _lever_arms(design), conds, np.arange(1, n + 1))
     title = f"Modal analysis of the plus planetary set {design.name}"
-    return cf_dataset(
-        MODAL_VARIABLES,
-        (*values, list(modal.COORDS), el_names, comp_names),
-        title=title,
-        model_variant=_variant(design),
-    )
+    values = (*values, list(modal.COORDS), el_names, comp_names)
+    return io.dataset(MODAL_VARIABLES, values, title=title, model_variant=_variant(design))
 
 
 def _lever_arms(design: PlusDesign) -> np.ndarray:
@@ -330,9 +317,10 @@ def te_dataset(design: PlusDesign, optima: list[ReliefOptimum]) -> xr.Dataset:
     relieved = [design_te(design, relief_amount=o.amount, relief_length=o.length, relief_shape=o.shape) for o in optima]
     curves = np.array([r.te * 1e6 for r in (base, *relieved)])
     labels = ["unmodified", *(f"{o.shape}_{o.bounds}" for o in optima)]
-    return cf_dataset(
+    values = (curves, base.stiffness, base.loads, labels, base.s, np.arange(base.loads.shape[0]))
+    return io.dataset(
         TE_VARIABLES,
-        (curves, base.stiffness, base.loads, labels, base.s, np.arange(base.loads.shape[0])),
+        values,
         title=f"Static TE of the p-d pair, design {design.name}",
         contact_ratio=spur_pair(design).contact_ratio,
         load_N=pd_mesh_load(design),
@@ -361,17 +349,12 @@ def relief_table(optima: list[ReliefOptimum], paper: ModuleType | None) -> pd.Da
 
 
 def to_markdown(df: pd.DataFrame, floatfmt: str = ".4g") -> str:
-    """Plain GitHub-style Markdown table (no extra dependency)."""
-    cols = list(df.columns)
+    """The table in Markdown (:func:`geardyn.io.markdown_table`): floats in ``floatfmt``, NaN empty."""
 
-    def fmt(v):
-        if isinstance(v, (float, np.floating)):
-            return "" if np.isnan(v) else format(float(v), floatfmt)
-        return str(v)
+    def fmt(v: Any) -> str:
+        return ("" if np.isnan(v) else format(float(v), floatfmt)) if isinstance(v, (float, np.floating)) else str(v)
 
-    lines = ["| " + " | ".join(cols) + " |", "|" + "|".join("---" for _ in cols) + "|"]
-    lines += ["| " + " | ".join(fmt(v) for v in row) + " |" for row in df.itertuples(index=False)]
-    return "\n".join(lines) + "\n"
+    return io.markdown_table(list(df.columns), [[fmt(v) for v in row] for row in df.itertuples(index=False)]) + "\n"
 
 
 def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
@@ -380,7 +363,7 @@ def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
     amounts, lengths = landscape_axes(design, n)
     grid = design_grid(design)
     z = np.array([landscape(design, sh, amounts, lengths, grid=grid) for sh in SHAPES]) * 1e6
-    return cf_dataset(
+    return io.dataset(
         LANDSCAPE_VARIABLES,
         (z, list(SHAPES), amounts * 1e6, lengths * 1e3),
         title=f"Objective landscape of the tip-relief optimisation, design {design.name}",

@@ -15,12 +15,14 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn import classify
+from geardyn import io
 from geardyn.config import settings_from
+from geardyn.io import Var
 from geardyn.khv import point
-from geardyn.label import Policy, compare, label_points
+from geardyn.label import Policy, classify, compare, label_points
+from geardyn.label.policy import Same
 from geardyn.runs.continuation import branches_from_dataset
-from geardyn.runs.cube import LABEL_FILL, STATES, flags
+from geardyn.runs.cube import STATES, label
 from geardyn.solve.base import SimulationSettings, System
 
 
@@ -34,8 +36,8 @@ class AttractorSettings:
     box_v: float = 20.0
     transient_periods: int = 1000
     recorded_periods: int = 100
-    distance_tol: float = 1e-3
-    chaotic_distance_tol: float = 0.2
+    distance_tol: float = Same.distance_tol
+    chaotic_distance_tol: float = Same.chaotic_distance_tol
 
     @classmethod
     def from_mapping(cls, spec: Mapping[str, Any] | None) -> AttractorSettings:
@@ -75,7 +77,7 @@ def random_starts(system: System, settings: AttractorSettings) -> dict[str, np.n
 
 def same_attractor(label_a: int, pa: np.ndarray, label_b: int, pb: np.ndarray, settings: AttractorSettings) -> bool:
     """Same label and Poincaré sets within the settings' tolerances (:func:`geardyn.label.compare.same_attractor`)."""
-    return compare.same_attractor(label_a, pa, label_b, pb, settings.distance_tol, settings.chaotic_distance_tol)
+    return compare.same_attractor(label_a, pa, label_b, pb, Same(settings.distance_tol, settings.chaotic_distance_tol))
 
 
 def find_attractors(
@@ -179,38 +181,21 @@ def sweep_points(
     return out
 
 
-def _one(long_name: str) -> dict[str, str]:
-    return {"units": "1", "long_name": long_name}
-
-
-#: The variables of each attractor slot at a point: name -> (dims, fill value of the dtype, CF attributes),
-#: filled in this order from an :class:`Attractor` by :func:`attractors_dataset`.
-SLOT_VARIABLES: dict[str, tuple[tuple[str, ...], Any, dict[str, Any]]] = {
-    "attractor_label": (("point", "attractor"), LABEL_FILL, {"long_name": "motion label of the attractor (classify)"}),
-    "attractor_found": (("point", "attractor"), np.int8(0), flags({"empty": 0, "found": 1}, "attractor slot used")),
-    "centroid": (
-        ("point", "attractor", "state"),
-        np.nan,
-        _one("centroid of the attractor's Poincare points (x / b_c, dx/dtau / b_c)"),
-    ),
-    "attractor_size": (("point", "attractor"), np.nan, _one("largest extent of the Poincare points")),
-    "attractor_lyapunov": (
-        ("point", "attractor"),
-        np.nan,
-        _one("largest exponent per unit tau (Floquet for periodic attractors, tangent vector otherwise)"),
-    ),
-    "basin_fraction": (
-        ("point", "attractor"),
-        np.nan,
-        _one("share of the random starts in the box that reach the attractor"),
-    ),
-    "starts_reaching": (("point", "attractor"), np.int32(0), _one("number of starts (all kinds) reaching it")),
-    "reached_from": (
-        ("point", "start"),
-        np.int16(-1),
-        _one("attractor index reached from the named start (-1: start not used)"),
-    ),
-}
+def slot_variables(max_n: int = 12) -> tuple[Var, ...]:
+    """The variables of each attractor slot at a point (labels up to period ``max_n``), filled in this order from
+    an :class:`Attractor` by :func:`attractors_dataset`."""
+    pa, per_unit_tau = ("point", "attractor"), "(Floquet for periodic attractors, tangent vector otherwise)"
+    reached = "attractor index reached from the named start (-1: start not used)"
+    return (
+        label("attractor_label", "motion label of the attractor (classify)", max_n, pa),
+        Var("attractor_found", pa, None, "attractor slot used", {"empty": 0, "found": 1}, fill=0),
+        Var("centroid", (*pa, "state"), "1", "centroid of the attractor's Poincare points (x / b_c, dx/dtau / b_c)"),
+        Var("attractor_size", pa, "1", "largest extent of the Poincare points"),
+        Var("attractor_lyapunov", pa, "1", f"largest exponent per unit tau {per_unit_tau}"),
+        Var("basin_fraction", pa, "1", "share of the random starts in the box that reach the attractor"),
+        Var("starts_reaching", pa, "1", "number of starts (all kinds) reaching it", dtype=np.int32, fill=0),
+        Var("reached_from", ("point", "start"), "1", reached, dtype=np.int16, fill=-1),
+    )
 
 
 def attractors_dataset(
@@ -224,44 +209,48 @@ def attractors_dataset(
     case_labels: Sequence[str] = ("base",),
 ):
     """Attractors at each of ``points`` as one CF dataset (dimension ``point``, the slots of
-    :data:`SLOT_VARIABLES` as many as the most attractors at one point)."""
+    :func:`slot_variables` as many as the most attractors at one point)."""
     fixed_names = ["static", "up", "down"] + [f"random_{k}" for k in range(settings.n_random)]
     starts = [{"static": q.system.static_state(), **q.extra, **random_starts(q.system, settings)} for q in points]
     found = [
         find_attractors(q.system, s, settings, integration, classifier) for q, s in zip(points, starts, strict=True)
     ]
     na = max([len(atts) for atts, _ in found], default=1)
-    per_point = {
-        "parameter": ([q.p for q in points], np.float64, {"units": units, "long_name": long_name}),
-        "case_index": ([q.case for q in points], np.int32, _one("index of the sweep case (fixed overrides)")),
-        "sweep_index": ([q.index for q in points], np.int32, _one("index of the point in the sweep")),
-        "n_attractors": ([len(atts) for atts, _ in found], np.int16, _one("number of distinct attractors found")),
-        "n_starts": ([len(s) for s in starts], np.int16, _one("number of initial conditions integrated")),
-    }
-    data = {name: ("point", np.array(v, dtype), attrs) for name, (v, dtype, attrs) in per_point.items()}
+    per_point = (
+        Var("parameter", "point", units, long_name, dtype=np.float64),
+        Var("case_index", "point", "1", "index of the sweep case (fixed overrides)", dtype=np.int32),
+        Var("sweep_index", "point", "1", "index of the point in the sweep", dtype=np.int32),
+        Var("n_attractors", "point", "1", "number of distinct attractors found", dtype=np.int16),
+        Var("n_starts", "point", "1", "number of initial conditions integrated", dtype=np.int16),
+    )
+    counts = ([len(atts) for atts, _ in found], [len(s) for s in starts])
+    data = io.variables(
+        per_point, ([q.p for q in points], [q.case for q in points], [q.index for q in points], *counts)
+    )
     sizes = {"point": len(points), "attractor": na, "state": len(STATES), "start": len(fixed_names)}
-    for name, (dims, fill, attrs) in SLOT_VARIABLES.items():
-        attrs = {**attrs, **classify.flag_attrs(classifier.max_n)} if name == "attractor_label" else dict(attrs)
-        data[name] = (dims, np.full([sizes[d] for d in dims], fill), attrs)
+    slots = slot_variables(classifier.max_n)
+    data |= {var.name: var.empty(tuple(sizes[d] for d in var.dims)) for var in slots}
     for r, (atts, where) in enumerate(found):
         for k, a in enumerate(atts):
             # the share of the random starts that reached it (NaN without random starts)
             basin = a.n_random / settings.n_random if settings.n_random > 0 else np.nan
             values = (a.label, 1, a.centroid, a.size, a.lyapunov, basin, len(a.starts))
-            for name, value in zip(list(SLOT_VARIABLES)[:-1], values, strict=True):  # reached_from: per start
-                data[name][1][r, k] = value
+            for var, value in zip(slots[:-1], values, strict=True):  # reached_from: per start
+                data[var.name][1][r, k] = value
         data["reached_from"][1][r] = [where.get(name, -1) for name in fixed_names]
-    coords = {
-        "state": ("state", list(STATES), {"long_name": "state component"}),
-        "start": ("start", fixed_names, {"long_name": "named initial condition"}),
-        "attractor": ("attractor", np.arange(na, dtype=np.int32), _one("attractor slot")),
-        "case": ("case", list(case_labels), {"long_name": "case (fixed overrides)"}),
-    }
+    coords = (
+        Var("state", "state", None, "state component"),
+        Var("start", "start", None, "named initial condition"),
+        Var("attractor", "attractor", "1", "attractor slot", dtype=np.int32),
+        Var("case", "case", None, "case (fixed overrides)"),
+    )
+    coords_values = (list(STATES), fixed_names, np.arange(na), list(case_labels))
     s = settings
     attrs = {"control_parameter": parameter, "n_random": s.n_random, "random_seed": s.seed}
     attrs["box"] = f"static state +- {s.box_x:g} (displacements), +- {s.box_v:g} (velocities), units b_c"
     attrs.update({k: getattr(s, k) for k in ("transient_periods", "recorded_periods", "distance_tol")})
-    return xr.Dataset(data, coords=coords, attrs={**attrs, "chaotic_distance_tol": s.chaotic_distance_tol})
+    attrs["chaotic_distance_tol"] = s.chaotic_distance_tol
+    return xr.Dataset(data, coords=io.variables(coords, coords_values), attrs=attrs)
 
 
 def sweep_attractors(

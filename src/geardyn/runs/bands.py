@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from geardyn import classify
+from geardyn.io import markdown_table
+from geardyn.label import classify
 from geardyn.runs.cube import labels_of_cube
 
 
@@ -57,12 +58,9 @@ def bands_markdown(rows: list[dict], title: str, par: str) -> str:
         f"Runs of equal motion labels along {par} (geardyn.label); transition = midway "
         "between the last point of a band and the first of the next (half a grid step uncertainty).",
         "",
-        "| case | direction | label | from | to | points | median lambda_max | transition to next |",
-        "|---|---|---|---:|---:|---:|---:|---:|",
     ]
-    for r in rows:
-        lines.append(
-            f"| {r['case']} | {r['direction']} | {r['name']} | {r['start']:.4g} | {r['stop']:.4g} | "
-            f"{r['n_points']} | {r['lyapunov_median']:.2e} | {r['transition_to_next']:.4g} |"
-        )
+    keys = ("case", "direction", "name", "start", "stop", "n_points", "lyapunov_median", "transition_to_next")
+    header = ("case", "direction", "label", "from", "to", "points", "median lambda_max", "transition to next")
+    fmt = {"start": ".4g", "stop": ".4g", "lyapunov_median": ".2e", "transition_to_next": ".4g"}
+    lines.append(markdown_table(header, [[format(r[k], fmt.get(k, "")) for k in keys] for r in rows], "---rrrrr"))
     return "\n".join(lines) + "\n"

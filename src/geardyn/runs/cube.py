@@ -7,14 +7,15 @@ from __future__ import annotations
 
 import json
 from collections.abc import Iterable, Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from geardyn import classify
-from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES
-from geardyn.provenance import distinct_runtimes
+from geardyn.io import Var
+from geardyn.io.provenance import distinct_runtimes
+from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES, classify
 from geardyn.solve.response import IMPACT_CLASSES
 
 STATES = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
@@ -28,116 +29,122 @@ STATE_NAMES = {
 }
 
 
-def flags(codes: dict[str, int], long_name: str) -> dict[str, Any]:
-    """CF attributes of a flag variable (int8) with ``codes`` (meaning -> value)."""
-    return {
-        "long_name": long_name,
-        "flag_values": np.array(list(codes.values()), np.int8),
-        "flag_meanings": " ".join(codes),
-    }
+def _num(name: str, long_name: str, fill: Any = np.nan, dtype: Any = None) -> Var:
+    return Var(name, (), "1", long_name, dtype=dtype, fill=fill)
 
 
-def _num(long_name: str, fill: Any = np.nan) -> tuple[Any, dict[str, Any]]:
-    return fill, {"units": "1", "long_name": long_name}
+def _flag(name: str, codes: dict[str, int], long_name: str, fill: int = -1) -> Var:
+    return Var(name, (), None, long_name, flags=codes, fill=fill)
 
 
-def _flag(codes: dict[str, int], long_name: str, fill: int = -1) -> tuple[Any, dict[str, Any]]:
-    return np.int8(fill), flags(codes, long_name)
+def _table(*rows: Var) -> dict[str, Var]:
+    return {v.name: v for v in rows}
 
 
-#: The fill value (dtype int16) of a motion label where no point was labelled.
-LABEL_FILL = np.int16(classify.LABELS["undetermined"])
+def label(name: str, long_name: str, max_n: int = 12, dims: tuple[str, ...] = ()) -> Var:
+    """A motion label (int16 codes, :data:`geardyn.label.classify.LABELS` and period-n for n = 1..``max_n``;
+    ``long_period``: a certified orbit of a longer period, in ``period``), ``undetermined`` where not labelled."""
+    codes = {**classify.LABELS, **{f"period_{n}": n for n in range(1, max_n + 1)}}
+    return Var(name, dims, None, long_name, codes, np.int16, classify.LABELS["undetermined"])
 
-#: The per-point variables of a verdict (:class:`geardyn.label.Verdict`) besides its label: name -> (fill
-#: value, NaN or an integer of the variable's dtype; CF attributes).
-VERDICT: dict[str, tuple[Any, dict[str, Any]]] = {
-    "period": _num("least period n in mesh periods (0: not periodic)", np.int16(0)),
-    "lyapunov": _num(
-        "largest exponent per unit dimensionless time tau = w_n t (Floquet: log max|mu| / (n T) of the certified "
-        "orbit; else a tangent vector)"
+
+#: The per-point variables of a verdict (:class:`geardyn.label.Verdict`) besides its label, on the study's dims.
+VERDICT = _table(
+    _num("period", "least period n in mesh periods (0: not periodic)", 0, np.int16),
+    _num(
+        "lyapunov",
+        "largest exponent per unit dimensionless time tau = w_n t (Floquet: log max|mu| / (n T) of the "
+        "certified orbit; else a tangent vector)",
     ),
-    "lyapunov_sigma": _num("uncertainty of the largest exponent (0 for Floquet exponents)"),
-    "exponent_method": _flag(
+    _num("lyapunov_sigma", "uncertainty of the largest exponent (0 for Floquet exponents)"),
+    _flag(
+        "exponent_method",
         EXPONENT_METHODS,
-        "how the exponent was obtained: Floquet multipliers of the certified orbit, or a tangent vector over the "
-        "record",
+        "how the exponent was obtained: Floquet multipliers of the certified orbit, or a tangent vector over "
+        "the record",
         0,
     ),
-    "multiplier": _num("largest Floquet multiplier modulus of the orbit over its least period"),
-    "zero_one_k": _num("0-1 test statistic K on stroboscopic X_VH (Gottwald-Melbourne; NaN if periodic)"),
-    "spectral_flatness": _num("spectral flatness of stroboscopic X_VH (0 lines, ~0.56 white; NaN if periodic)"),
-    "torus_digits": _num(
-        "digits of agreement of the weighted Birkhoff averages of the two halves of the record (large: a torus; "
-        "NaN if periodic)"
+    _num("multiplier", "largest Floquet multiplier modulus of the orbit over its least period"),
+    _num("zero_one_k", "0-1 test statistic K on stroboscopic X_VH (Gottwald-Melbourne; NaN if periodic)"),
+    _num("spectral_flatness", "spectral flatness of stroboscopic X_VH (0 lines, ~0.56 white; NaN if periodic)"),
+    _num(
+        "torus_digits",
+        "digits of agreement of the weighted Birkhoff averages of the two halves of the record (large: a "
+        "torus; NaN if periodic)",
     ),
-    "crosscheck": _flag(
-        {"not_applicable": -1, "one_agrees": 0, "both_agree": 1}, "0-1 test and spectrum agree with the label"
+    _flag(
+        "crosscheck",
+        {"not_applicable": -1, "one_agrees": 0, "both_agree": 1},
+        "0-1 test and spectrum agree with the label",
     ),
-    "stage": _flag({"not_computed": 0, **STAGES}, "labeller stage that decided the label (geardyn.label)", 0),
-    "bifurcation": _flag(
+    _flag("stage", {"not_computed": 0, **STAGES}, "labeller stage that decided the label (geardyn.label)", 0),
+    _flag(
+        "bifurcation",
         BIFURCATIONS,
         "how the orbit followed from the previous point of the line lost stability here (leading Floquet multiplier)",
         0,
     ),
-}
+)
 #: The response measures of a point (:class:`geardyn.solve.response.ResponseMeasures`), likewise.
-RESPONSE = {
-    "static_force": _num("static mesh force F_s / (k_mean b_c) (mean stiffness, no TE)"),
-    "force_mean": _num("mean dynamic mesh force on the drive side / (k_mean b_c)"),
-    "force_rms": _num("RMS of the dynamic mesh force's fluctuation / (k_mean b_c)"),
-    "force_max": _num("largest dynamic mesh force on the drive side / (k_mean b_c)"),
-    "dynamic_factor": _num("dynamic factor K_v = largest dynamic mesh force / static mesh force"),
-    "dte_mean": _num("mean dynamic transmission error X_VH / b_c (b_c = 1 um)"),
-    "dte_rms": _num("RMS of the dynamic transmission error's fluctuation, X_VH / b_c (b_c = 1 um)"),
-    "dte_pp": _num("peak-to-peak dynamic transmission error X_VH / b_c (b_c = 1 um)"),
-    "drive_fraction": _num("fraction of time in drive-side contact"),
-    "separation_fraction": _num("fraction of time with the teeth separated (inside the backlash)"),
-    "back_fraction": _num("fraction of time in back-side contact"),
-}
-#: Every per-point variable the studies store besides the motion labels, likewise: :func:`empty` makes them.
-VARIABLES = {
-    **VERDICT,
-    **RESPONSE,
-    "impact_class": _flag(
+RESPONSE = _table(
+    _num("static_force", "static mesh force F_s / (k_mean b_c) (mean stiffness, no TE)"),
+    _num("force_mean", "mean dynamic mesh force on the drive side / (k_mean b_c)"),
+    _num("force_rms", "RMS of the dynamic mesh force's fluctuation / (k_mean b_c)"),
+    _num("force_max", "largest dynamic mesh force on the drive side / (k_mean b_c)"),
+    _num("dynamic_factor", "dynamic factor K_v = largest dynamic mesh force / static mesh force"),
+    _num("dte_mean", "mean dynamic transmission error X_VH / b_c (b_c = 1 um)"),
+    _num("dte_rms", "RMS of the dynamic transmission error's fluctuation, X_VH / b_c (b_c = 1 um)"),
+    _num("dte_pp", "peak-to-peak dynamic transmission error X_VH / b_c (b_c = 1 um)"),
+    _num("drive_fraction", "fraction of time in drive-side contact"),
+    _num("separation_fraction", "fraction of time with the teeth separated (inside the backlash)"),
+    _num("back_fraction", "fraction of time in back-side contact"),
+)
+#: Every per-point variable the studies store, likewise (the motion labels of :data:`LABELS` too, up to period
+#: 12): :func:`empty` makes them.
+VARIABLES = _table(
+    *VERDICT.values(),
+    *RESPONSE.values(),
+    _flag(
+        "impact_class",
         {"not_computed_or_diverged": -1, **IMPACT_CLASSES},
         "impact class: no impact, single-sided (separation, never back-side contact), double-sided (back-side contact)",
     ),
-    # policy coexistence (label_fixed, a motion label: LABELS)
-    "coexisting": _flag(
+    # policy coexistence: the fixed start's label and whether it differs
+    label("label_fixed", "motion label from the fixed start (the static deflection)"),
+    _flag(
+        "coexisting",
         {"not_checked": -1, "same": 0, "coexisting": 1},
         "the follow and the fixed start end on different attractors at this point",
     ),
-    "transient_used": _num(
+    label("label", "motion label (geardyn.label)"),
+    _num(
+        "transient_used",
         "transient mesh periods integrated before the recorded ones (0: followed from the previous "
         "point's orbit; less than the configured transient after an early stop)",
-        np.int32(-1),
+        -1,
+        np.int32,
     ),
-    "diverged": _flag({"not_computed": -1, "bounded": 0, "diverged": 1}, "unbounded growth detected"),
-    "computed": _flag({"absent": 0, "present": 1}, "1 where this file holds the point", 0),
+    _flag("diverged", {"not_computed": -1, "bounded": 0, "diverged": 1}, "unbounded growth detected"),
+    _flag("computed", {"absent": 0, "present": 1}, "1 where this file holds the point", 0),
     # a sweep's own (besides the Poincare sections and the coefficients)
-    "diverged_period": _num("mesh period at which the state exceeded the threshold (-1: never)", np.int32(-1)),
-    "n_events": _num("number of contact-switch events located (rk4_event)", np.int64(-1)),
+    _num("diverged_period", "mesh period at which the state exceeded the threshold (-1: never)", -1, np.int32),
+    _num("n_events", "number of contact-switch events located (rk4_event)", -1, np.int64),
     # a map's own
-    "x_vh_mean": _num("mean Poincare X_VH / b_c"),
-    "x_vh_spread": _num("peak-to-peak of Poincare X_VH / b_c"),
-}
+    _num("x_vh_mean", "mean Poincare X_VH / b_c"),
+    _num("x_vh_spread", "peak-to-peak of Poincare X_VH / b_c"),
+)
 
-#: The verdict's field of each of its variables.
+#: The verdict's field of each of its variables (a string field stored as its code in the variable's flags).
 VERDICT_FIELDS = {name: name for name in VERDICT} | {
     "lyapunov": "exponent",
     "lyapunov_sigma": "exponent_sigma",
     "zero_one_k": "k01",
     "spectral_flatness": "flatness",
 }
-#: The verdict's fields stored as codes: name -> (field value -> code).
-VERDICT_CODES = {"exponent_method": EXPONENT_METHODS, "stage": STAGES, "bifurcation": BIFURCATIONS}
 
 
-#: The motion labels' long names: from the study's own start, and from the fixed start (policy ``coexistence``).
-LABELS = {
-    "label": "motion label (geardyn.label)",
-    "label_fixed": "motion label from the fixed start (the static deflection)",
-}
+#: The motion labels: from the study's own start, and from the fixed start (policy ``coexistence``).
+LABELS = ("label", "label_fixed")
 #: The per-point variables every study stores: the verdict's and the response measures.
 COMMON = ("label", *VERDICT, *RESPONSE, "impact_class")
 
@@ -145,17 +152,13 @@ COMMON = ("label", *VERDICT, *RESPONSE, "impact_class")
 def empty(
     names: Iterable[str], dims: tuple[str, ...], shape: tuple[int, ...], max_n: int = 12, **long_names: str
 ) -> dict[str, Any]:
-    """The one writer of the per-point variables: those of :data:`VARIABLES` and :data:`LABELS` named, as
+    """The one writer of the per-point variables: those of :data:`VARIABLES` named, on ``dims``, as
     :class:`xarray.Dataset` takes them, filled with their fill values (``max_n``: the labels' largest period;
     ``long_names`` replace the table's)."""
     out = {}
     for name in names:
-        if name in LABELS:
-            fill, attrs = LABEL_FILL, {"long_name": LABELS[name], **classify.flag_attrs(max_n)}
-        else:
-            fill, attrs = VARIABLES[name]
-        attrs = {**attrs, "long_name": long_names[name]} if name in long_names else dict(attrs)
-        out[name] = (dims, np.full(shape, fill), attrs)
+        var = label(name, VARIABLES[name].long_name, max_n) if name in LABELS else VARIABLES[name]
+        out[name] = replace(var, dims=dims, long_name=long_names.get(name, var.long_name)).empty(shape)
     return out
 
 

@@ -11,14 +11,25 @@ from collections.abc import Mapping
 import numpy as np
 import xarray as xr
 
-from geardyn import libm
-from geardyn.io import cf
+from geardyn import io, libm
+from geardyn.io import Var
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.label import Policy
 from geardyn.runs import study
 from geardyn.runs.cube import STATE_NAMES, STATES
 from geardyn.solve import SimulationSettings, simulate
+
+_STATE_AT = (("", "time", ""), ("poincare_", "section", "Poincare section: "))
+#: The variables of a dense run (:func:`dense_point`): each state over the record and at the Poincare sections, and
+#: the amplitude spectrum of X_VH.
+VARIABLES = (
+    *(Var(f"{p}{name}", dims, "1", f"{t}{STATE_NAMES[name]}") for name in STATES for p, dims, t in _STATE_AT),
+    Var("amplitude", "frequency", "1", "amplitude spectrum of X_VH / b_c (Hann)"),
+    Var("time", "time", "1", "time since the start of the record, in mesh periods"),
+    Var("section", "section", "1", "index of the recorded mesh period", dtype=np.int32),
+    Var("frequency", "frequency", "1", "frequency / mesh frequency"),
+)
 
 
 def amplitude_spectrum(x: np.ndarray, samples_per_period: int) -> tuple[np.ndarray, np.ndarray]:
@@ -50,33 +61,24 @@ def dense_point(
     if x0 is not None:
         settings = dataclasses.replace(settings, transient_periods=0)
     res = simulate(coeffs, settings, x0=x0, dense=True)
-    data: dict = {}
     if res.diverged:
         tau = np.zeros(0)
         states = np.zeros((0, 6))
     else:
         tau, states = res.uniform(samples_per_period)
-    for k, name in enumerate(STATES):
-        data[name] = cf("time", states[:, k], "1", STATE_NAMES[name])
-        data[f"poincare_{name}"] = cf("section", res.poincare[:, k], "1", f"Poincare section: {STATE_NAMES[name]}")
+    values = {name: states[:, k] for k, name in enumerate(STATES)}
+    values |= {f"poincare_{name}": res.poincare[:, k] for k, name in enumerate(STATES)}
     if states.shape[0] > 8:
-        freq, amp = amplitude_spectrum(states[:, 1], samples_per_period)
+        values["frequency"], values["amplitude"] = amplitude_spectrum(states[:, 1], samples_per_period)
     else:
-        freq, amp = np.zeros(0), np.zeros(0)
-    data["amplitude"] = cf("frequency", amp, "1", "amplitude spectrum of X_VH / b_c (Hann)")
-    time = (tau - (tau[0] if tau.size else 0.0)) / coeffs.period
-    coords = {
-        "time": cf("time", time, "1", "time since the start of the record, in mesh periods"),
-        "section": cf(
-            "section", np.arange(res.poincare.shape[0], dtype=np.int32), "1", "index of the recorded mesh period"
-        ),
-        "frequency": cf("frequency", freq, "1", "frequency / mesh frequency"),
-    }
+        values["frequency"], values["amplitude"] = np.zeros(0), np.zeros(0)
+    values["time"] = (tau - (tau[0] if tau.size else 0.0)) / coeffs.period
+    values["section"] = np.arange(res.poincare.shape[0])
     attrs = {f"coef_{k}": (float(v) if not isinstance(v, str) else v) for k, v in coeffs.as_dict().items()}
     attrs.update({f"override_{k}": float(v) for k, v in overrides.items()})
     attrs["diverged"] = int(res.diverged)
     attrs.update(study.integration_attrs(settings))
-    return xr.Dataset(data, coords=coords, attrs=attrs)
+    return io.dataset(VARIABLES, values, **attrs)
 
 
 def dense_points(
@@ -97,12 +99,12 @@ def dense_points(
     for case, v in zip(cases, verdicts, strict=True):
         x0 = None if v.diverged else v.final_state
         ds = dense_point(design, {**fixed, **case}, policy.integration, samples_per_period, x0=x0)
-        label = ",".join(f"{k}={v:g}" for k, v in case.items()) or "base"
+        label = point.label(case, "base")
         attrs = ds.attrs
         ds = ds.expand_dims(case=[label])
         for key, value in attrs.items():
             if key.startswith(("coef_", "override_", "diverged")):
-                ds[key] = cf("case", [value], "1", f"point parameter {key}")
+                ds[key] = Var(key, "case", "1", f"point parameter {key}")([value])
         parts.append(ds)
     out = xr.concat(
         parts, dim="case", join="outer", data_vars="all", coords="different", compat="equals", combine_attrs="override"
@@ -114,7 +116,7 @@ def dense_points(
         {
             **study.integration_attrs(policy.integration),
             "record_starts": "on the attractor found by the labeller (its final state)",
-            "fixed_overrides": ",".join(f"{k}={v:g}" for k, v in fixed.items()),
+            "fixed_overrides": point.label(fixed, ""),
         }
     )
     return out

@@ -15,7 +15,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn.io import cf
+from geardyn import io
+from geardyn.io import Var
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import COEFFICIENT_ATTRS, Coefficients, natural_frequencies
@@ -126,7 +127,7 @@ def jump_frequencies(w: np.ndarray, flags: np.ndarray, direction: str) -> np.nda
 def rms_error_variables(systems: list[System], verdicts: list[list[Verdict]], policy: Policy) -> dict[str, Any]:
     """The standard errors of ``dte_rms`` and ``force_rms`` (dims direction x w; ``verdicts`` of both sweeps in
     ascending order, at ``systems``): 0 where periodic, NaN where diverged, else the batch-means error of the
-    ``recorded_periods`` from the final state (:func:`geardyn.solve.response.rms_errors_many`, ``docs/response.md``)."""
+    record whose sums gave them (:func:`geardyn.solve.response.rms_errors_many`, ``docs/response.md``)."""
     shape = (len(verdicts), len(systems))
     dte, force = np.full(shape, np.nan), np.full(shape, np.nan)
     todo = []
@@ -136,20 +137,51 @@ def rms_error_variables(systems: list[System], verdicts: list[list[Verdict]], po
                 dte[d, j] = force[d, j] = 0.0
             elif not v.diverged:
                 todo.append((d, j))
+    chosen = [verdicts[d][j] for d, j in todo]
     errors = rms_errors_many(
-        [systems[j] for _, j in todo], [verdicts[d][j].final_state for d, j in todo], policy.integration
+        [systems[j] for _, j in todo], [v.poincare for v in chosen], [v.response for v in chosen], policy.integration
     )
     for (d, j), e in zip(todo, errors, strict=True):
         dte[d, j], force[d, j] = e.dte_rms_error, e.force_rms_error
     how = (
-        f"batch means over {RMS_BLOCKS} blocks of whole mesh periods of the record of a non-periodic point; "
-        "0 for a periodic one, averaged over one whole cycle"
+        f"batch means over {RMS_BLOCKS} blocks of whole mesh periods of the very record the RMS is summed over, at a "
+        "non-periodic point; 0 for a periodic one, averaged over one whole cycle"
     )
     dims = ("direction", "w")
-    return {
-        f"{k}_rms_error": cf(dims, e, "1", f"standard error of {k}_rms ({how})")
-        for k, e in (("dte", dte), ("force", force))
-    }
+    table = [Var(f"{k}_rms_error", dims, "1", f"standard error of {k}_rms ({how})") for k in ("dte", "force")]
+    return io.variables(table, (dte, force))
+
+
+def variables(threshold: float, floor: float, continue_periods: int) -> tuple[Var, ...]:
+    """The variables of a frequency response besides the study's per-point ones and the RMS values' standard
+    errors (:func:`rms_error_variables`), and its coordinates; ``threshold``, ``floor``: of the jumps."""
+    jump = (
+        f"a jump: the RMS DTE steps by more than {threshold:g} x max(its two values, {floor:g}) from the next "
+        "lower frequency of the same line, where the up and down sweeps end on different attractors at one of "
+        "the two frequencies"
+    )
+    split = (
+        "the up and down sweeps end on different attractors: other labels, or Poincare sets apart by more than "
+        "the labeller's tolerance (geardyn.label.compare), two non-periodic ones still after integrating both on "
+        "(hysteresis_continued_periods)"
+    )
+    continued = (
+        "mesh periods two non-periodic verdicts the labeller's comparison separates were integrated on before "
+        f"their Poincare sets agreed (at most {continue_periods}: still different); 0: not integrated on"
+    )
+    final = "state at phase 0 on the attractor at the end of the record (a restart)"
+    return (
+        Var("final_state", ("direction", "w", "state"), "1", final),
+        Var("jump", ("direction", "w"), None, jump, {"smooth": 0, "jump": 1}),
+        Var("hysteresis", "w", None, split, {"same": 0, "different": 1}),
+        Var("hysteresis_continued_periods", "w", "1", continued, dtype=np.int32),
+        Var("natural_frequency", "mode", "1", "undamped natural frequency of the linearised system in contact / w_n"),
+        Var("direction", "direction", None, "sweep direction (line of the labeller)"),
+        Var("w", "w", "1", "dimensionless mesh frequency w_m / w_n"),
+        Var("state", "state", None, "state component (geardyn.runs.cube.STATE_NAMES)"),
+        Var("mode", "mode", "1", "mode number", dtype=np.int32),
+        Var("mesh_frequency_hz", "w", "Hz", "mesh frequency w_m / (2 pi)"),
+    )
 
 
 def frequency_response(
@@ -171,53 +203,17 @@ def frequency_response(
     data, verdicts, _ = study.run(study.Layout(dims, (2, n), lines), policy, "frequency response")
     ordered = [verdicts[0], verdicts[1][::-1]]  # both sweeps in ascending w
     final = np.array([[v.final_state for v in vs] for vs in ordered], dtype=float)
-    data["final_state"] = cf(
-        (*dims, "state"), final, "1", "state at phase 0 on the attractor at the end of the record (a restart)"
-    )
-    data.update(rms_error_variables(up, ordered, policy))
     data["dte_rms"][2]["ancillary_variables"] = "dte_rms_error"
     data["force_rms"][2]["ancillary_variables"] = "force_rms_error"
     differ, continued = different_attractors(up, ordered[0], ordered[1], policy, continue_periods)
-    rms = data["dte_rms"][1]
-    jumps, split = find_jumps(rms, threshold, floor, differ)
-    data["jump"] = (
-        dims,
-        jumps.astype(np.int8),
-        cube.flags(
-            {"smooth": 0, "jump": 1},
-            f"a jump: the RMS DTE steps by more than {threshold:g} x max(its two values, {floor:g}) from the next "
-            "lower frequency of the same line, where the up and down sweeps end on different attractors at one of "
-            "the two frequencies",
-        ),
-    )
-    data["hysteresis"] = (
-        ("w",),
-        split.astype(np.int8),
-        cube.flags(
-            {"same": 0, "different": 1},
-            "the up and down sweeps end on different attractors: other labels, or Poincare sets apart by more than "
-            "the labeller's tolerance (geardyn.label.compare), two non-periodic ones still after integrating both on "
-            "(hysteresis_continued_periods)",
-        ),
-    )
-    data["hysteresis_continued_periods"] = cf(
-        ("w",),
-        continued.astype(np.int32),
-        "1",
-        "mesh periods two non-periodic verdicts the labeller's comparison separates were integrated on before their "
-        f"Poincare sets agreed (at most {continue_periods}: still different); 0: not integrated on",
-    )
+    jumps, split = find_jumps(data["dte_rms"][1], threshold, floor, differ)
     nat = natural_frequencies(base)
-    long_name = "undamped natural frequency of the linearised system in contact / w_n"
-    data["natural_frequency"] = cf(("mode",), nat, "1", long_name)
-    omega_n = float(base.omega_n)
-    coords = {
-        "direction": ("direction", list(DIRECTIONS), {"long_name": "sweep direction (line of the labeller)"}),
-        "w": cf("w", w, "1", "dimensionless mesh frequency w_m / w_n"),
-        "state": ("state", list(cube.STATES), {"long_name": "state component (geardyn.runs.cube.STATE_NAMES)"}),
-        "mode": cf("mode", np.arange(nat.size, dtype=np.int32), "1", "mode number"),
-        "mesh_frequency_hz": cf("w", w * omega_n / (2.0 * math.pi), "Hz", "mesh frequency w_m / (2 pi)"),
-    }
+    values = {"final_state": final, "jump": jumps, "hysteresis": split, "hysteresis_continued_periods": continued}
+    values |= {"natural_frequency": nat, "direction": list(DIRECTIONS), "w": w, "state": list(cube.STATES)}
+    values |= {"mode": np.arange(nat.size), "mesh_frequency_hz": w * base.omega_n / (2.0 * math.pi)}
+    own = io.variables(variables(threshold, floor, continue_periods), values)
+    coords = {k: own.pop(k) for k in ("direction", "w", "state", "mode", "mesh_frequency_hz")}
+    data |= {"final_state": own.pop("final_state"), **rms_error_variables(up, ordered, policy), **own}
     attrs = {
         "jump_threshold": threshold,
         "jump_floor": floor,

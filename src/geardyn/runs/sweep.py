@@ -13,7 +13,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn.io import cf
+from geardyn import io
+from geardyn.io import Var
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import COEFFICIENT_ATTRS
@@ -57,7 +58,7 @@ class SweepSpec(study.StudySpec, study.Grid):
         return max(1, min(self.chunks, units))
 
     def case_label(self, i: int) -> str:
-        return ",".join(f"{k}={v:g}" for k, v in self.cases[i]) or "base"
+        return point.label(self.cases[i], "base")
 
 
 def chunk_work(spec: SweepSpec, chunk: int) -> Work:
@@ -92,13 +93,9 @@ def layout(design: KHVDesign, spec: SweepSpec, chunk: int, policy: Policy) -> st
     dims = ("case", "direction", spec.parameter)
     shape = (len(spec.cases), len(spec.directions), spec.num)
     ns = policy.integration.recorded_periods
-    own: study.Variables = {
-        name: cf((*dims, "section"), np.full((*shape, ns), np.nan), "1", f"Poincare section: {STATE_NAMES[name]}")
-        for name in STATES
-    }
-    own.update(empty(("diverged_period", "n_events"), dims, shape))
-    for cname, (units, long_name) in COEFFICIENT_ATTRS.items():
-        own[f"coef_{cname}"] = cf(dims, np.full(shape, np.nan), units, long_name)
+    sections = [Var(name, (*dims, "section"), "1", f"Poincare section: {STATE_NAMES[name]}") for name in STATES]
+    own = {v.name: v.empty((*shape, ns)) for v in sections} | empty(("diverged_period", "n_events"), dims, shape)
+    own |= {f"coef_{k}": Var(f"coef_{k}", dims, *cf).empty(shape) for k, cf in COEFFICIENT_ATTRS.items()}
     values = spec.values
     lines = (
         [((case, d, j), point.point_coefficients(design, point_overrides(spec, case, values[j]))) for j in order]
@@ -109,9 +106,10 @@ def layout(design: KHVDesign, spec: SweepSpec, chunk: int, policy: Policy) -> st
 
 
 def _store(arrays: dict[str, np.ndarray], idx: study.Index, system: System, v: Verdict) -> None:
-    n = v.poincare.shape[0]
+    ns = arrays[STATES[0]].shape[-1]
+    p = v.poincare[max(0, v.poincare.shape[0] - ns) :]  # the newest the axis holds (a diverged run: its whole record)
     for k, name in enumerate(STATES):
-        arrays[name][(*idx, slice(0, n))] = v.poincare[:, k]
+        arrays[name][(*idx, slice(0, p.shape[0]))] = p[:, k]
     arrays["diverged_period"][idx] = v.diverged_period
     arrays["n_events"][idx] = v.n_events
     values = system.as_dict()
@@ -126,18 +124,16 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int) -> xr.Dataset:
     data = study.run(layout(design, spec, chunk, policy), policy, f"{spec.name} chunk {chunk}").data
     first = (*STATES, "diverged", "diverged_period", "n_events", "transient_used")  # the cube's order of variables
     data = {**{name: data[name] for name in first}, **data}
-    units, long_name = point.CONTROLS.get(spec.parameter, ("1", spec.parameter))
-    coords = {
-        "case": ("case", [spec.case_label(i) for i in range(len(spec.cases))], {"long_name": "case (fixed overrides)"}),
-        "direction": ("direction", list(spec.directions), {"long_name": "continuation direction of the sweep"}),
-        spec.parameter: cf(spec.parameter, spec.values, units, long_name),
-        "section": cf(
-            "section",
-            np.arange(policy.integration.recorded_periods, dtype=np.int32),
-            "1",
-            "index of the recorded mesh period (Poincare section at phase 0)",
+    coords = (
+        Var("case", "case", None, "case (fixed overrides)"),
+        Var("direction", "direction", None, "continuation direction of the sweep"),
+        Var(spec.parameter, spec.parameter, *point.CONTROLS.get(spec.parameter, ("1", spec.parameter))),
+        Var(
+            "section", "section", "1", "index of the recorded mesh period (Poincare section at phase 0)", dtype=np.int32
         ),
-    }
+    )
+    cases = [spec.case_label(i) for i in range(len(spec.cases))]
+    values = (cases, list(spec.directions), spec.values, np.arange(policy.integration.recorded_periods))
     attrs = {
         "sweep": spec.name,
         "design": spec.design,
@@ -147,4 +143,4 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int) -> xr.Dataset:
         **study.study_attrs(policy),
         "fixed_overrides": spec.fixed_overrides,
     }
-    return xr.Dataset(data, coords=coords, attrs=attrs)
+    return xr.Dataset(data, coords=io.variables(coords, values), attrs=attrs)

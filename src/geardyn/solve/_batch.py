@@ -178,7 +178,7 @@ def _block(
 ):
     """Lanes ``lanes`` (<= WIDTH) stepped in lockstep, each bit-identical to the scalar loop; with ACC (L, N_OUT)
     the response measures' sums over each lane's last ACC_LAST[l] periods, going on from ACC[l] where that
-    exceeds the run (``docs/numerics.md``)."""
+    exceeds the run (``docs/response.md``)."""
     H, S, SEG, K, P, POLY = TABS
     es_max_n = ES[2]
     nl = lanes.shape[0]

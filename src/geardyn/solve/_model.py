@@ -1,7 +1,7 @@
 """The model's equations, stated once: accelerations, linearisation, one RK4 step of orbit and tangent, the
 contact region of x2 and the crossing of a region's boundary within a step.
 Private to :mod:`geardyn.solve`; inlined into the scalar loop and the SIMD lanes, so both run the same
-bits (arguments and the dead zone's form: ``docs/numerics.md``)."""
+bits (the dead zone's form: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Rule 3 of the classifier, stated once, compiled: the strict period test of Poincaré points and the
 early stop of the transient that applies it while the run goes on.  Private to :mod:`geardyn.solve`
-(the rule and its users: ``docs/numerics.md``)."""
+(the rule: ``docs/classify.md``; the early stop: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 
@@ -85,7 +85,7 @@ def strict_periods(POINC, npts, max_n, atol, rtol, floor_tol, separation, OUT):
 def early_stop(ring, count, dcur, n_seen, y, es, check):
     """Feed the Poincaré point y of a transient period to the running record (ring, counts, current distances)
     and, with ``check``, apply rule 3 to the counts; returns (n_seen + 1, n), n the period at which the
-    transient may stop, 0 if none (arguments: ``docs/numerics.md``)."""
+    transient may stop, 0 if none (``docs/numerics.md``)."""
     confirm, max_n, floor_tol, atol, separation = es[1], es[2], es[3], es[4], es[5]
     slot = n_seen % (max_n + 1)
     scale = 1.0

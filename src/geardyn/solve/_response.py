@@ -1,5 +1,5 @@
 """The response measures' sums, added step by step in the batch's lanes and the scalar loop (private to
-:mod:`geardyn.solve`; use :func:`geardyn.solve.response.response_measures`; the sums: ``docs/numerics.md``)."""
+:mod:`geardyn.solve`; use :func:`geardyn.solve.response.response_measures`; the sums: ``docs/response.md``)."""
 
 from __future__ import annotations
 

@@ -48,7 +48,7 @@ class System(Protocol):
 @dataclass(frozen=True)
 class SimulationSettings:
     """How to integrate (times in mesh periods, thresholds in units of b_c); the early-stop fields are
-    read by the labeller only (fields: ``docs/numerics.md``)."""
+    read by the labeller only (``docs/numerics.md``)."""
 
     integrator: IntegratorName = "rk4_event"
     steps_per_period: int = 512
@@ -76,7 +76,7 @@ class SimulationSettings:
 class SimulationResult:
     """Output of :func:`geardyn.solve.simulate` and :func:`geardyn.solve.simulate_batch` (dimensionless;
     states x1, x2, x3, v1, v2, v3): Poincare points, final state, divergence, dense output, tangent and
-    monodromy records, early-stop and response sums (fields: ``docs/numerics.md``)."""
+    monodromy records, early-stop and response sums (``docs/numerics.md``)."""
 
     poincare: np.ndarray
     final_state: np.ndarray

@@ -305,7 +305,7 @@ def simulate_batch(
     """:func:`simulate` for many systems at once (``rk4``/``rk4_event``, no dense output), in parallel, each
     point bit-identical to :func:`simulate` without ``early_stop``; per-point transient, recorded and monodromy
     periods, cached ``tables``, ``tangent_start`` and the response sums ``sums_last``/``sums_start``
-    (arguments: ``docs/numerics.md``)."""
+    (``docs/numerics.md``)."""
     if settings.integrator == "dop853":
         raise ValueError("simulate_batch integrates with 'rk4' or 'rk4_event'")
     L = len(systems)
@@ -383,7 +383,7 @@ def warm_up(system: System) -> None:
 def strict_periods(
     poincare: np.ndarray, npts: np.ndarray, max_n: int, atol: float, rtol: float, floor_tol: float, separation: float
 ) -> np.ndarray:
-    """Rule 3 of :func:`geardyn.classify.strict_period`, compiled, for many point sets at once:
+    """Rule 3 of :func:`geardyn.label.classify.strict_period`, compiled, for many point sets at once:
     ``poincare`` (L, m, 6) with the first ``npts[l]`` rows of set l used.  Returns (L, 2): the period n
     (0 if none) and the tolerance of each set (the same operations as the classifier's, so the same n)."""
     out = np.zeros((poincare.shape[0], 2))
@@ -394,7 +394,7 @@ def strict_periods(
 def strict_period(
     poincare: np.ndarray, max_n: int, atol: float, rtol: float, floor_tol: float, separation: float
 ) -> tuple[int, float]:
-    """Rule 3 of :func:`geardyn.classify.strict_period`, compiled, on one record ``poincare`` (m, n_states)
+    """Rule 3 of :func:`geardyn.label.classify.strict_period`, compiled, on one record ``poincare`` (m, n_states)
     without NaN rows (m >= 1): (the period n, 0 if none; the tolerance).  The one statement of the rule
     (:mod:`geardyn.solve._period`), shared with :func:`strict_periods` and the early stop."""
     p = np.ascontiguousarray(poincare, dtype=float)

@@ -25,7 +25,7 @@ STATUSES = ("converged", "max_iterations", "diverged", "singular", "not_finite",
 @dataclass
 class ShootingResult:
     """A periodic orbit found (or not) by :func:`newton_shooting`: state, period n, convergence and
-    :data:`STATUSES` word, iterations, residual, monodromy and multipliers (fields: ``docs/numerics.md``)."""
+    :data:`STATUSES` word, iterations, residual, monodromy and multipliers (``docs/numerics.md``)."""
 
     state: np.ndarray
     n: int
@@ -242,7 +242,7 @@ def cycle_points(
     measure: bool = False,
 ) -> list[tuple[np.ndarray, int, bool, np.ndarray | None]]:
     """The n phase-0 points of the period-n orbits through ``states``, from one run of n periods each: (points,
-    contact switches (-1: not run), diverged, sums); ``measure`` adds the response sums (``docs/numerics.md``)."""
+    contact switches (-1: not run), diverged, sums); ``measure`` adds the response sums (``docs/response.md``)."""
     if n == 1 and not measure:
         return [(np.asarray(x)[None, :], -1, False, None) for x in states]
     last = [n] * len(states) if measure else None

@@ -11,12 +11,11 @@ from typing import Any
 import numpy as np
 
 from geardyn import claims as claims_mod
-from geardyn import classify
+from geardyn.claims.verdicts import credit
 from geardyn.khv import point
 from geardyn.khv.calibrate.records import Record
 from geardyn.khv.design import KHVDesign
-from geardyn.label import Policy, label_lines
-from geardyn.verdicts import credit
+from geardyn.label import Policy, classify, label_lines
 
 P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
 

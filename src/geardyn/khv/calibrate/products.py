@@ -11,11 +11,12 @@ import numpy as np
 import xarray as xr
 import yaml
 
-from geardyn.io import cf
+from geardyn import io
+from geardyn.io import Var, markdown_table
 from geardyn.khv import point
 from geardyn.khv.calibrate.objective import REQUIREMENTS, Grids, paper_regime_string, requirement_text
 from geardyn.khv.calibrate.records import Record
-from geardyn.khv.calibrate.space import SearchSpace, interior
+from geardyn.khv.calibrate.space import SearchSpace, Unknown, interior
 from geardyn.khv.design import KHVDesign
 from geardyn.papers import paper_of
 
@@ -26,41 +27,39 @@ RESULT_PREFIX = "# search-result: "
 def records_dataset(records: Sequence[Record], space: SearchSpace, grids: Grids) -> xr.Dataset:
     """All evaluated candidates as a dataset (candidate order: order of evaluation), with their labels along
     the main line (``grids.main``)."""
-    n = len(records)
     main = grids.lines[grids.main]
-    par = main.parameter
-    columns = {  # name: (value of a record, dtype, units, long name)
-        "score": (lambda r: r.score, None, "1", "claims that agree + 0.99 * partial credit"),
-        "agree": (lambda r: r.agree, np.int16, "1", "claims that agree (of those the labels decide)"),
-        "partial": (lambda r: r.partial, None, "1", "partial credit: transition positions and regime order"),
-        "leave_p1": (lambda r: r.transitions["leave_p1"], None, point.units_of(par), f"first {par} not P1"),
-        "first_chaos": (lambda r: r.transitions["first_chaos"], None, point.units_of(par), f"first chaotic {par}"),
+    par, units = main.parameter, point.units_of(main.parameter)
+    table = [
+        Var("score", "candidate", "1", "claims that agree + 0.99 * partial credit"),
+        Var("agree", "candidate", "1", "claims that agree (of those the labels decide)", dtype=np.int16),
+        Var("partial", "candidate", "1", "partial credit: transition positions and regime order"),
+        Var("leave_p1", "candidate", units, f"first {par} not P1"),
+        Var("first_chaos", "candidate", units, f"first chaotic {par}"),
+        Var(
+            "label",
+            ("candidate", par),
+            "1",
+            f"motion label along {par} after the slow-transient check (geardyn.label.classify codes)",
+            dtype=np.int16,
+        ),
+        *(
+            Var(u.name, "candidate", point.units_of(u.name), f"candidate value of {u.name}", attrs=_bounds(u))
+            for u in space.unknowns
+        ),
+        Var("candidate", "candidate", "1", "candidate (evaluation order)"),
+        Var(par, par, units, point.CONTROLS[par][1]),
+    ]
+    values = {
+        **{k: np.array([getattr(r, k) for r in records]) for k in ("score", "agree", "partial")},
+        **{k: np.array([r.transitions[k] for r in records]) for k in ("leave_p1", "first_chaos")},
+        "label": np.array([r.labels[grids.main] for r in records]).reshape(len(records), main.values.size),
+        **{u.name: np.array([r.values[u.name] for r in records]) for u in space.unknowns},
     }
-    data: dict = {
-        name: cf("candidate", np.array([value(r) for r in records], dtype), units, long_name)
-        for name, (value, dtype, units, long_name) in columns.items()
-    }
-    data["label"] = cf(
-        ("candidate", par),
-        np.array([r.labels[grids.main] for r in records], np.int16).reshape(n, main.values.size),
-        "1",
-        f"motion label along {par} after the slow-transient check (geardyn.classify codes)",
-    )
-    for u in space.unknowns:
-        data[u.name] = cf(
-            "candidate",
-            np.array([r.values[u.name] for r in records]),
-            point.units_of(u.name),
-            f"candidate value of {u.name}",
-            search_low=u.low,
-            search_high=u.high,
-            search_scale="log" if u.log else "linear",
-        )
-    coords = {
-        "candidate": cf("candidate", np.arange(n), "1", "candidate (evaluation order)"),
-        par: cf(par, main.values, point.units_of(par), point.CONTROLS[par][1]),
-    }
-    return xr.Dataset(data, coords=coords)
+    return io.dataset(table, values | {"candidate": np.arange(len(records)), par: main.values})
+
+
+def _bounds(u: Unknown) -> dict[str, Any]:
+    return {"search_low": u.low, "search_high": u.high, "search_scale": "log" if u.log else "linear"}
 
 
 def search_result(
@@ -174,16 +173,20 @@ def search_table(
         "",
         "Cost: " + ", ".join(f"{k} {v:.3g}" for k, v in cost.items()),
         "",
-        "| rank | " + " | ".join(names) + " | agree | partial | leave P1 | first chaos | order | score |",
-        "|---|" + "---|" * len(names) + "---|---|---|---|---|---|",
     ]
-    for rank, i in enumerate(order, 1):
-        r = records[i]
-        vals = " | ".join(f"{r.values[n]:.4g}" for n in names)
-        lines.append(
-            f"| {rank} | {vals} | {r.agree} | {r.partial:.3f} | {r.transitions['leave_p1']:.4g} | "
-            f"{r.transitions['first_chaos']:.4g} | {r.order} | {r.score:.3f} |"
-        )
+
+    def vals(r: Record) -> list[str]:
+        return [f"{r.values[n]:.4g}" for n in names]
+
+    def moves(r: Record) -> list[str]:
+        return [f"{r.transitions[k]:.4g}" for k in ("leave_p1", "first_chaos")]
+
+    head = ("rank", *names, "agree", "partial", "leave P1", "first chaos", "order", "score")
+    best = [records[i] for i in order]
+    cells = [
+        (k, *vals(r), r.agree, f"{r.partial:.3f}", *moves(r), r.order, f"{r.score:.3f}") for k, r in enumerate(best, 1)
+    ]
+    lines.append(markdown_table(head, cells))
     if pairs:
         lines += [
             "",
@@ -191,15 +194,10 @@ def search_table(
             "classifier with the slow-transient check); the chosen one has the highest verified score "
             "(ties: search score, then distance from the bounds):",
             "",
-            "| " + " | ".join(names) + " | search score | verified score | verified agree | distance from bounds |",
-            "|" + "---|" * (len(names) + 4),
         ]
-        for a, b in pairs:
-            lines.append(
-                "| "
-                + " | ".join(f"{a.values[n]:.4g}" for n in names)
-                + f" | {a.score:.3f} | {b.score:.3f} | {b.agree} | {interior(a.unit):.3f} |"
-            )
+        head = (*names, "search score", "verified score", "verified agree", "distance from bounds")
+        cells = [(*vals(a), f"{a.score:.3f}", f"{b.score:.3f}", b.agree, f"{interior(a.unit):.3f}") for a, b in pairs]
+        lines.append(markdown_table(head, cells))
     rec = verified if verified is not None else best_rec
     lines += [
         "",
@@ -212,9 +210,7 @@ def search_table(
         "Chosen candidate's claims verdicts (search settings; verified settings; static claims and those that "
         "need dense runs are not evaluated here):",
         "",
-        "| claim | search | verified |",
-        "|---|---|---|",
     ]
     checked = verified.verdicts if verified is not None else {}
-    lines += [f"| {k} | {v} | {checked.get(k, '-')} |" for k, v in best_rec.verdicts.items()]
-    return "\n".join(lines) + "\n"
+    cells = [(k, v, checked.get(k, "-")) for k, v in best_rec.verdicts.items()]
+    return "\n".join([*lines, markdown_table(("claim", "search", "verified"), cells)]) + "\n"

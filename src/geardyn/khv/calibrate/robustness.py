@@ -9,7 +9,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn.io import cf
+from geardyn import io
+from geardyn.io import Var, markdown_table
 from geardyn.khv import point
 from geardyn.khv.calibrate.evaluate import Evaluator, Problem
 from geardyn.khv.calibrate.records import Record
@@ -25,13 +26,14 @@ MEASURES: dict[str, tuple[Callable[[Record], Any], str]] = {
 
 
 def _grid(
-    recs: Sequence[Record], dims: tuple[str, str], shape: tuple[int, int], measures: Mapping, dtype: Any
-) -> dict[str, Any]:
-    """Each measure (name -> (value of a record, long name)) of ``recs`` on the 2-D grid ``dims``."""
-    return {
-        name: cf(dims, np.array([value(r) for r in recs], dtype).reshape(shape), "1", long_name)
-        for name, (value, long_name) in measures.items()
-    }
+    recs: Sequence[Record], coords: Sequence[tuple[Var, Any]], measures: Mapping, dtype: Any, attrs: dict
+) -> xr.Dataset:
+    """Each measure (name -> (value of a record, long name)) of ``recs`` on the grid of ``coords`` (each a variable
+    and its values), with the global ``attrs``."""
+    shape, dims = tuple(len(v) for _, v in coords), tuple(var.name for var, _ in coords)
+    data = {name: np.array([f(r) for r in recs], dtype).reshape(shape) for name, (f, _) in measures.items()}
+    table = [*(Var(name, dims, "1", long_name) for name, (_, long_name) in measures.items()), *(c for c, _ in coords)]
+    return io.dataset(table, data | {var.name: values for var, values in coords}, **attrs)
 
 
 def sensitivity(
@@ -75,14 +77,11 @@ def one_at_a_time(
             "1 when any label along x1 differs from the best's",
         ),
     }
-    return xr.Dataset(
-        _grid(recs, ("unknown", "step"), (len(space.unknowns), len(signed)), measures, float),
-        coords={
-            "unknown": cf("unknown", space.names, "1", "searched unknown"),
-            "step": cf("step", np.array(signed), "1", "relative move of the unknown"),
-        },
-        attrs={f"base_{name}": value(base) for name, (value, _) in MEASURES.items()},
-    )
+    coords = [
+        (Var("unknown", "unknown", "1", "searched unknown"), space.names),
+        (Var("step", "step", "1", "relative move of the unknown"), np.array(signed)),
+    ]
+    return _grid(recs, coords, measures, float, {f"base_{name}": value(base) for name, (value, _) in MEASURES.items()})
 
 
 def score_map(
@@ -100,14 +99,12 @@ def score_map(
     vb = [perturbed(best_values[b.name], b, r) for r in rel]
     recs = evaluator.records(space.moved(best_values, [{a.name: x, b.name: y} for y in vb for x in va]))
     measures = {k: MEASURES[k] for k in ("score", "agree", "leave_p1")}
-    return xr.Dataset(
-        _grid(recs, (b.name, a.name), (map_points, map_points), measures, None),
-        coords={
-            a.name: cf(a.name, np.array(va), point.units_of(a.name), f"{a.name} (searched unknown)"),
-            b.name: cf(b.name, np.array(vb), point.units_of(b.name), f"{b.name} (searched unknown)"),
-        },
-        attrs={"x": a.name, "y": b.name, "best_x": best_values[a.name], "best_y": best_values[b.name]},
-    )
+    coords = [
+        (Var(u.name, u.name, point.units_of(u.name), f"{u.name} (searched unknown)"), np.array(v))
+        for u, v in ((b, vb), (a, va))
+    ]
+    attrs = {"x": a.name, "y": b.name, "best_x": best_values[a.name], "best_y": best_values[b.name]}
+    return _grid(recs, coords, measures, None, attrs)
 
 
 def summary(
@@ -134,18 +131,16 @@ def summary(
         f"Best: score {base.score:.3f}, {base.agree} claims agree, leaves P1 at x1 = "
         f"{base.transitions['leave_p1']:.4g}, first chaos at {base.transitions['first_chaos']:.4g}.",
         "",
-        "| unknown | value | bounds | position in bounds | smallest move changing a verdict | smallest move "
-        "changing a label along x1 | max score change |",
-        "|---|---|---|---|---|---|---|",
     ]
+    cells = []
     for k, u in enumerate(space.unknowns):
         pos = u.to_unit(best_values[u.name])
-        lines.append(
-            f"| {u.name} | {best_values[u.name]:.4g} | [{u.low:g}, {u.high:g}]{' log' if u.log else ''} | "
-            f"{pos:.2f}{' (edge)' if min(pos, 1 - pos) < 0.05 else ''} | "
-            f"{smallest(oat['verdicts_changed'].values[k])} | {smallest(oat['labels_changed'].values[k])} | "
-            f"{impact[k]:.3f} |"
-        )
+        edge = " (edge)" if min(pos, 1 - pos) < 0.05 else ""
+        changed = [smallest(oat[f"{what}_changed"].values[k]) for what in ("verdicts", "labels")]
+        bounds = f"[{u.low:g}, {u.high:g}]{' log' if u.log else ''}"
+        cells.append((u.name, f"{best_values[u.name]:.4g}", bounds, f"{pos:.2f}{edge}", *changed, f"{impact[k]:.3f}"))
+    head = ("unknown", "value", "bounds", "position in bounds", "smallest move changing a verdict")
+    lines.append(markdown_table((*head, "smallest move changing a label along x1", "max score change"), cells))
     lines += [
         "",
         f"2-D map over {mp.attrs['x']} and {mp.attrs['y']} (the two with the largest score change): best score on "

@@ -35,7 +35,7 @@ class ConfigError(ValueError):
 
 @cache
 def _raw_schema(name: str) -> dict[str, Any]:
-    text = resources.files("geardyn").joinpath("schemas", name).read_text(encoding="utf-8")
+    text = resources.files("geardyn.config").joinpath("schemas", name).read_text(encoding="utf-8")
     return json.loads(text)
 
 
@@ -285,7 +285,7 @@ def _fill_defaults(node: Mapping[str, Any], value: Any, root: Mapping[str, Any] 
     return value
 
 
-def validate(data: Any, schema_name: str, where: str) -> dict[str, Any]:
+def validated(data: Any, schema_name: str, where: str) -> dict[str, Any]:
     """Validate ``data`` against a schema; return a copy with defaults filled in.
 
     Raises :class:`ConfigError` with one line for the first problem (the most specific one).
@@ -337,4 +337,4 @@ def load_design_dict(path: str | Path) -> dict[str, Any]:
         raise ConfigError(
             f"{where}: kind = {kind!r} is not allowed: one of " + ", ".join(repr(k) for k in DESIGN_SCHEMAS)
         )
-    return validate(data, DESIGN_SCHEMAS[kind], where)
+    return validated(data, DESIGN_SCHEMAS[kind], where)

@@ -10,6 +10,8 @@ import io
 import math
 from dataclasses import dataclass
 
+from geardyn.io import markdown_table
+
 RANGE_AGREE = 0.8
 #: A fraction within this many binomial standard errors of its threshold is "borderline".
 BORDERLINE_Z = 2.0
@@ -19,7 +21,7 @@ VERDICTS = ("agree", "borderline", "disagree", "not comparable")
 def fraction_verdict(k: int, n: int, threshold: float = RANGE_AGREE, z: float = BORDERLINE_Z) -> str:
     """``agree`` (k/n clearly >= threshold), ``disagree`` (clearly below) or ``borderline`` (the threshold
     within ``z`` binomial standard errors of k/n): the one rule for every verdict on a fraction
-    (``docs/classify.md``)."""
+    (``docs/claims.md``)."""
     if n <= 0 or not 0 <= k <= n:
         raise ValueError(f"fraction_verdict needs 0 <= k <= n and n > 0, got k={k}, n={n}")
     p = k / n
@@ -101,8 +103,5 @@ def to_markdown(rows: list[Claim], design: str, note: str = "", paper: str = "th
     ]
     if note:
         lines += [note, ""]
-    lines += ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
-    for r in rows:
-        cells = [f"**{r.verdict}**" if c == "verdict" else getattr(r, c) for c in cols]
-        lines.append("| " + " | ".join(str(x).replace("|", "/") for x in cells) + " |")
-    return "\n".join(lines) + "\n"
+    cells = [[f"**{r.verdict}**" if c == "verdict" else getattr(r, c) for c in cols] for r in rows]
+    return "\n".join([*lines, markdown_table(cols, cells)]) + "\n"

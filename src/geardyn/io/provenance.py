@@ -1,5 +1,5 @@
-"""Where and how an output was made: :func:`provenance`, a dataset's global attributes (CF basics, version,
-git commit, config hash, model variant, reference), and :func:`runtime_provenance`, where it was computed
+"""Where and how an output was made: :func:`attributes`, a dataset's global attributes (CF basics, version,
+git commit, config hash, model variant, reference), and :func:`runtime`, where it was computed
 (each key: ``docs/operations.md``).  :mod:`geardyn.io` writes them into every netCDF file and table."""
 
 from __future__ import annotations
@@ -105,7 +105,7 @@ def _numba_cpu() -> dict[str, str]:
     return {"numba_cpu_name": name, "numba_cpu_features": " ".join(simd) if simd else feats}
 
 
-#: The keys of :func:`runtime_provenance` (besides ``env_<VARIABLE>`` for the overrides that are set).
+#: The keys of :func:`runtime` (besides ``env_<VARIABLE>`` for the overrides that are set).
 RUNTIME_KEYS = (
     "python_version",
     "python_implementation",
@@ -138,7 +138,7 @@ def distinct_runtimes(attrs: Iterable[Mapping[str, Any]]) -> list[tuple[dict[str
 
 
 @functools.lru_cache(maxsize=1)
-def runtime_provenance() -> dict[str, str]:
+def runtime() -> dict[str, str]:
     """Where an output was computed (:data:`RUNTIME_KEYS` and ``env_<VARIABLE>`` for the overrides that are set:
     Python and library versions, CPU, the instruction sets, OpenBLAS kernels and C math build in use; each
     key: ``docs/operations.md``).  Computed once per process (the values cannot change while it runs)."""
@@ -165,8 +165,8 @@ def runtime_provenance() -> dict[str, str]:
 
 
 def info() -> dict[str, str]:
-    """:func:`runtime_provenance` with the geardyn version and git commit first."""
-    return {"geardyn_version": __version__, "git_commit": git_commit(), **runtime_provenance()}
+    """:func:`runtime` with the geardyn version and git commit first."""
+    return {"geardyn_version": __version__, "git_commit": git_commit(), **runtime()}
 
 
 def provenance_text(prefix: str = "") -> str:
@@ -205,7 +205,7 @@ def git_commit(repo: str | os.PathLike[str] | None = None) -> str:
         return "unknown"
 
 
-def provenance(
+def attributes(
     *,
     title: str,
     paper: str | None = None,
@@ -224,7 +224,7 @@ def provenance(
         "references": _reference(paper),
         "geardyn_version": __version__,
         "git_commit": git_commit(),
-        **runtime_provenance(),
+        **runtime(),
     }
     if paper:
         attrs["paper"] = paper

@@ -14,11 +14,11 @@ from typing import Any
 import numpy as np
 import yaml
 
-from geardyn.classify import bands
-from geardyn.config import ConfigError, schema, validate
+from geardyn.config import ConfigError, schema, validated
 from geardyn.gears import constraints
 from geardyn.gears import geometry as geo
 from geardyn.khv.closed_graph import CUTTER_DEPENDENT
+from geardyn.label.classify import bands
 
 KINDS = {"khv": "khv.schema.json", "plus": "plus_planetary.schema.json"}
 
@@ -83,13 +83,14 @@ def khv_design(name: str, z1: int = 40, z2: int = 43, module: float = 2.0) -> di
         "paper": None,
         "pair": {"z1": z1, "z2": z2, "module": module, "x1": round(0.5 * (lo + hi), 4), "x2": "line4"},
         "admissible": {"x1_min": lo, "x1_max": hi, "enforce_cutter_constraints": False},
+        "tolerances": {"grade": 6, "backlash": [1.0, 3.0]},  # the standard probabilities study reads them
     }
-    return validate(raw, KINDS["khv"], name)
+    return validated(raw, KINDS["khv"], name)
 
 
 def plus_design(name: str) -> dict[str, Any]:
     """The validated dict of a new plus-set design: the schema's defaults under a name of your own."""
-    return validate(
+    return validated(
         {"kind": "plus_planetary", "name": name, "title": f"Plus planetary set {name}", "paper": None},
         KINDS["plus"],
         name,
@@ -100,15 +101,17 @@ def _scalar(value: Any) -> str:
     return yaml.safe_dump(value, default_flow_style=True, width=1000).strip().removesuffix("\n...").strip()
 
 
-def _emit(data: dict[str, Any], node: dict[str, Any], indent: int, lines: list[str]) -> None:
+def _emit(data: dict[str, Any], node: dict[str, Any], indent: int, lines: list[str], defs: dict[str, Any]) -> None:
     props = node.get("properties", {})
     for key, value in data.items():
         sub = props.get(key, {})
+        if str(sub.get("$ref", "")).startswith("#/$defs/"):  # a local definition, its keys' comments too
+            sub = {**defs[sub["$ref"].rpartition("/")[2]], **sub}
         desc = " ".join(str(sub.get("description", "")).split())
         pad = "  " * indent
         if isinstance(value, dict) and value:
             lines.append(f"{pad}{key}:" + (f"  # {desc}" if desc else ""))
-            _emit(value, sub, indent + 1, lines)
+            _emit(value, sub, indent + 1, lines, defs)
         else:
             text = f"{pad}{key}: {_scalar(value)}"
             lines.append(text + (f"  # {desc}" if desc else ""))
@@ -127,5 +130,6 @@ def render(raw: dict[str, Any], kind: str) -> str:
             "2 % inside its ends)."
         )
     lines: list[str] = []
-    _emit(raw, schema(KINDS[kind]), 0, lines)
+    node = schema(KINDS[kind])
+    _emit(raw, node, 0, lines, node.get("$defs", {}))
     return "\n".join(header + lines) + "\n"

@@ -22,7 +22,7 @@ def falling_return_distances(poincare: np.ndarray, max_n: int, factor: float = 0
     record: mean of its last quarter < ``factor`` x mean of its first quarter (a quarter: max(2, len // 4)
     values).  True when there are fewer than n + 8 points (too short to tell).  Compiled."""
 
-    from geardyn._indicators import falling  # noqa: PLC0415 - numba: only the jobs that label import it
+    from geardyn.label._falling import falling  # noqa: PLC0415 - numba: only the jobs that label import it
 
     p = np.asarray(poincare, dtype=float)
     return falling(np.ascontiguousarray(p[np.all(np.isfinite(p), axis=1)]), max_n, factor)
@@ -58,14 +58,6 @@ def label_name(n: int) -> str:
 def short_name(n: int) -> str:
     """Compact label: P1, P5, QP, chaos, div, undet."""
     return NAMES[int(n)][1] if int(n) in NAMES else f"P{int(n)}"
-
-
-def flag_attrs(max_n: int = 12) -> dict:
-    """CF ``flag_values``/``flag_meanings`` of the label codes (period-n for n = 1..max_n; ``long_period``: a
-    certified periodic orbit of a period above max_n, stored in the variable ``period``)."""
-    values = [*LABELS.values(), *range(1, max_n + 1)]
-    meanings = [*LABELS, *(f"period_{n}" for n in range(1, max_n + 1))]
-    return {"flag_values": np.array(values, np.int16), "flag_meanings": " ".join(meanings)}
 
 
 # ----------------------------------------------------------------------------------------
@@ -150,11 +142,24 @@ def spectral_flatness(phi: np.ndarray) -> float:
 # ----------------------------------------------------------------------------------------
 
 
+def spectral_peaks(freq, amp, n: int = 5, fmax: float = 3.0) -> list[float]:
+    """The ``n`` highest local maxima of a spectrum below ``fmax`` (>= 2 % of the largest), by height."""
+
+    keep = (freq > 0.02) & (freq <= fmax)
+    if keep.sum() < 3:
+        return []
+    f, a = freq[keep], amp[keep]
+    from scipy.signal import find_peaks  # noqa: PLC0415 - 0.3 s to import: only the captions with spectra
+
+    idx, _ = find_peaks(a, height=0.02 * a.max())
+    return [float(f[i]) for i in idx[np.argsort(-a[idx], kind="stable")[:n]]]  # ties: the lower frequency first
+
+
 @dataclass(frozen=True)
 class ClassifierSettings:
     """Thresholds of the labeller (exponents per unit dimensionless time tau = w_n t): rule 3's period,
     tolerances and separation, the exponent's zero band, indicator thresholds, and the slow-transient and torus
-    tests' settings (fields and measured values: ``docs/classify.md``)."""
+    tests' settings (measured values: ``docs/classify.md``)."""
 
     max_n: int = 12
     rtol: float = 1e-4

@@ -18,13 +18,13 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn import classify
-from geardyn.plots.captions import spectral_peaks
+from geardyn.claims.verdicts import BORDERLINE_Z, RANGE_AGREE, Claim, band, fraction_verdict
+from geardyn.khv import point
+from geardyn.label import classify
 from geardyn.runs.cube import labels_of_cube
-from geardyn.verdicts import BORDERLINE_Z, RANGE_AGREE, Claim, band, fraction_verdict
 
 P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
-#: The words for labels that are not period-n (:func:`geardyn.classify.short_name`: "QP", "chaos", ...).
+#: The words for labels that are not period-n (:func:`geardyn.label.classify.short_name`: "QP", "chaos", ...).
 _WORDS = {classify.short_name(c): c for c in classify.LABELS.values()}
 _name = classify.short_name
 
@@ -61,7 +61,7 @@ def track_of_cube(cube: xr.Dataset, case: int = 0) -> Track:
 
 def case_label(values: Mapping[str, float]) -> str:
     """The name of a run's case that sets ``values``: ``x1=0.5``."""
-    return ",".join(f"{k}={v:g}" for k, v in values.items())
+    return point.label(values, "")
 
 
 def tracks_of_cube(cube: xr.Dataset, cases: Sequence[float], parameter: str = "x1") -> dict[float, Track]:
@@ -202,7 +202,7 @@ def _peaks(spec: Mapping[str, Any], points: xr.Dataset | None) -> Claim:
     if int(d["diverged"]) == 1:
         return _missing(spec, "our run diverged", "diverged")
     peaks, tol = spec["peaks"], spec["tolerance"]
-    ours = sorted(spectral_peaks(d["frequency"].values, d["amplitude"].values, n=spec["highest"]))
+    ours = sorted(classify.spectral_peaks(d["frequency"].values, d["amplitude"].values, n=spec["highest"]))
     matched = [any(abs(p - o) <= tol for o in ours) for p in peaks]
     reason = (
         f"{sum(matched)}/{len(peaks)} of the paper's peaks have one of our {spec['highest']} highest peaks "

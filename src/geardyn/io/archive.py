@@ -1,18 +1,19 @@
 """Archives of one design's results: every netCDF cube, the configs, a sha256 manifest, a README.
 
 :func:`build` writes ``<design>_archive.tar.gz`` (one top folder: ``MANIFEST.json``, ``SHA256SUMS``,
-``README.txt``, ``config/``, ``results/<design>/``); :func:`verify` checks one, any problem one
-:class:`ArchiveError` line naming the archive and the member (``docs/operations.md``, Archive).
+``README.txt``, ``config/``, ``results/<design>/``) and its own sum beside it (``<archive>.sha256``);
+:func:`verify` checks one, any problem one :class:`ArchiveError` line naming the archive and the member
+(``docs/operations.md``, Archive).
 """
 
 from __future__ import annotations
 
 import datetime as _dt
+import gzip
 import hashlib
 import io as _io
 import json
 import tarfile
-import tempfile
 import zlib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -23,8 +24,8 @@ import xarray as xr
 import yaml
 
 from geardyn import __version__
-from geardyn import provenance as prov
-from geardyn.io import atomic
+from geardyn.io import atomic, write_text
+from geardyn.io import provenance as prov
 
 MANIFEST = "MANIFEST.json"
 SUMS = "SHA256SUMS"
@@ -78,13 +79,16 @@ class Summary:
     cubes: int
     geardyn_version: str
     git_commit: str
-    #: the distinct runtime provenances (:func:`geardyn.provenance.runtime_of`) of the cubes, and how many cubes each
+    #: the distinct runtime provenances (:func:`geardyn.io.provenance.runtime_of`) of the cubes, and how many cubes each
     runtimes: tuple[tuple[dict[str, str], int], ...] = field(default_factory=tuple)
+    #: whether the archive's own sum (``<archive>.sha256``) was beside it and matched
+    own_sum: bool = False
 
     def line(self) -> str:
         return (
-            f"{self.path}: OK, design {self.design}: {self.files} files match their sha256, "
-            f"{self.cubes} netCDF cubes open (geardyn {self.geardyn_version}, commit {self.git_commit})"
+            f"{self.path}: OK{', its own sha256 matches' if self.own_sum else ''}, design {self.design}: {self.files} "
+            f"files match their sha256, {self.cubes} netCDF cubes open (geardyn {self.geardyn_version}, commit "
+            f"{self.git_commit})"
         )
 
     def text(self) -> str:
@@ -125,7 +129,8 @@ def build(
     ``cubes`` maps a path inside the archive (the pipeline's own, ``results/<design>/...``) to a file on
     disk, ``configs`` a path inside ``config/``.
     ``effective_config`` (the validated workflow config) is stored as ``config/effective_config.yaml``.
-    The archive is written to a temporary name and renamed (:func:`geardyn.io.atomic`).
+    The archive is written to a temporary name and renamed (:func:`geardyn.io.atomic`), then its sha256 to
+    ``<out>.sha256`` (``sha256sum -c`` reads it).
     """
 
     if not cubes:
@@ -168,23 +173,42 @@ def build(
     manifest_bytes = (json.dumps(manifest, indent=1) + "\n").encode()
 
     mtime = int(_dt.datetime.fromisoformat(created).timestamp())
-    with atomic(out) as tmp, tarfile.open(tmp, "w:gz") as tar:
+    # the gzip header names no file and bears the archive's own time: the same members give the same bytes
+    with (
+        atomic(out) as tmp,
+        tmp.open("wb") as raw,
+        gzip.GzipFile("", "wb", fileobj=raw, mtime=mtime) as gz,
+        tarfile.open(fileobj=gz, mode="w:") as tar,
+    ):
         for name, data in [(MANIFEST, manifest_bytes), *sorted(members.items())]:
             info = tarfile.TarInfo(f"{top}/{name}")
             info.size, info.mtime, info.mode = len(data), mtime, 0o644
             tar.addfile(info, _io.BytesIO(data))
+    write_text(f"{sha256_bytes(out.read_bytes())}  {out.name}\n", f"{out}.sha256")
     return manifest
 
 
+def _own_sum(path: Path) -> bool:
+    """Whether ``<archive>.sha256`` lies beside the archive; raise if it does and the archive's sha256 differs."""
+    sums = Path(f"{path}.sha256")
+    if not sums.is_file():
+        return False
+    expected, digest = sums.read_text(encoding="utf-8").partition(" ")[0], sha256_bytes(path.read_bytes())
+    if digest != expected:
+        raise ArchiveError(f"{path}: sha256 mismatch: {sums.name} {expected[:16]}..., archive {digest[:16]}...")
+    return True
+
+
 def _read_members(path: Path) -> tuple[str, dict[str, bytes]]:
-    """All regular files of the archive by their name below the top folder, and the top folder."""
+    """All regular files of the archive by their name below the top folder, and the top folder.  The gzip
+    stream is read to its end (its CRC-32 and length checked), past tar's end-of-archive blocks."""
     where = str(path)
     if not path.is_file():
         raise ArchiveError(f"{where}: file not found")
     members: dict[str, bytes] = {}
     tops = set()
     try:
-        with tarfile.open(path, "r:gz") as tar:
+        with gzip.open(path) as gz, tarfile.open(fileobj=gz, mode="r:") as tar:
             for info in tar:
                 name = info.name
                 if name.startswith("/") or ".." in Path(name).parts:
@@ -197,6 +221,8 @@ def _read_members(path: Path) -> tuple[str, dict[str, bytes]]:
                 tops.add(top)
                 fh = tar.extractfile(info)
                 members[rest] = fh.read() if fh is not None else b""
+            while gz.read(1 << 20):  # tar stops at its end-of-archive blocks; the stream goes on to its trailer
+                pass
     except ArchiveError:
         raise
     except (tarfile.TarError, EOFError, OSError, zlib.error) as err:
@@ -212,6 +238,7 @@ def verify(path: str | Path) -> Summary:
     path = Path(path)
     where = str(path)
     top, members = _read_members(path)
+    own_sum = _own_sum(path)
     if MANIFEST not in members:
         raise ArchiveError(f"{where}: no {top}/{MANIFEST} in the archive")
     try:
@@ -237,20 +264,15 @@ def verify(path: str | Path) -> Summary:
     if not cubes:
         raise ArchiveError(f"{where}: the archive holds no netCDF cube")
     attrs: list[dict[str, Any]] = []
-    with tempfile.TemporaryDirectory(prefix="geardyn-verify-") as tmp:
-        for name in cubes:
-            local = Path(tmp) / Path(name).name
-            local.write_bytes(members[name])
-            try:
-                with xr.open_dataset(local) as ds:
-                    ds.load()
-                    attrs.append(dict(ds.attrs))
-            except Exception as err:
-                text = str(err).replace(str(local), name).splitlines()
-                raise ArchiveError(
-                    f"{where}: {top}/{name} does not open as netCDF ({type(err).__name__}: {text[0] if text else ''})"
-                ) from None
-            local.unlink()
+    for name in cubes:
+        try:
+            with xr.open_dataset(members[name], engine="netcdf4") as ds:  # from memory: verifying writes nothing
+                attrs.append(dict(ds.load().attrs))
+        except Exception as err:
+            text = str(err).splitlines()
+            raise ArchiveError(
+                f"{where}: {top}/{name} does not open as netCDF ({type(err).__name__}: {text[0] if text else ''})"
+            ) from None
     return Summary(
         where,
         str(manifest.get("design", "?")),
@@ -259,4 +281,5 @@ def verify(path: str | Path) -> Summary:
         str(manifest.get("geardyn_version", "?")),
         str(manifest.get("git_commit", "?")),
         tuple(prov.distinct_runtimes(attrs)),
+        own_sum,
     )
