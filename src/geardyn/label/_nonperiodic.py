@@ -307,6 +307,8 @@ def _locked(points: list[Point], policy: Policy) -> None:
     _try_periods(points, ns, locked, why, record_on_orbit=False)
     todo = [(p, m) for p, m in zip(points, doubled, strict=True) if m and p.verdict.label == QP]
     todo = [(p, m) for p, m in todo if _gathers_at(p.run.poincare, m, policy, False)]
+    if not todo:
+        return
     before = [p.verdict for p, _ in todo]
     _try_periods([p for p, _ in todo], [m for _, m in todo], locked, why, record_on_orbit=False)
     for (p, _), v in zip(todo, before, strict=True):  # a finding of the checks of doubt: not followed
