@@ -3,9 +3,10 @@ it) by one job, before the jobs that integrate; the output is the runtime they w
 
 import numpy as np
 
-from geardyn import classify, io, logs, provenance
+from geardyn import io
+from geardyn.io import logs, provenance
 from geardyn.khv import design, point
-from geardyn.label import torus
+from geardyn.label import classify, torus
 from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
