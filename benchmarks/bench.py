@@ -163,8 +163,11 @@ def main_ledger(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench ledger")
     ap.add_argument("--config", type=Path, default=Path("config/config.yaml"))
     ap.add_argument("--write", action="store_true", help="write benchmarks/ledger.json")
+    ap.add_argument("--only", default="", help="only the workloads whose name contains this")
     a = ap.parse_args(argv)
-    now = ledger.ledger(a.config, log=lambda m: print(m, flush=True))
+    if a.write and a.only:
+        ap.error("--write replaces the whole reference: not with --only")
+    now = ledger.ledger(a.config, log=lambda m: print(m, flush=True), only=a.only)
     print(ledger.markdown(now, ledger.read_reference()), end="")
     if a.write:
         ledger.write_reference(now, fingerprint.machine())

@@ -91,31 +91,33 @@ def _orbits(config: dict, root: Path, design: str, name: str) -> Callable[[], ob
     return lambda: continuation.sweep_orbits(d, spec, cube, orbits)
 
 
-def workloads(config: dict, root: Path) -> dict[str, Callable[[], object]]:
-    """The ledger's workloads by name, each ready to run (its inputs built)."""
-    c, r = config, root
-    return {
-        "sweep x1: li2013_calibrated Fig. 7, points 300-549, 1 line": _sweep(c, r, CAL, FIG7, 300, 250),
-        "sweep b: li2013_route Fig. 9, points 380-499, 2 lines": _sweep(c, r, "li2013_route", FIG9, 380, 120),
-        "sweep e: li2013_calibrated Fig. 11, points 380-479, 2 lines": _sweep(c, r, CAL, FIG11, 380, 100),
-        "map_x1_b: 4 rows": _map_rows(c, r, "map_x1_b", [20, 70, 120, 170]),
-        "map_x1_e: 4 rows": _map_rows(c, r, "map_x1_e", [30, 80, 130, 180]),
-        "map_x1_w: 4 rows": _map_rows(c, r, "map_x1_w", [40, 90, 140, 190]),
-        "frequency response: li2013_calibrated, 2 x 80 frequencies": _response(c, r, "li2013_calibrated", 80),
-        "curves: li2013, boundaries over (b, e)": _curves(c, r, "li2013", "boundaries_b_e"),
-        "orbits: li2013 Fig. 7, branches": _orbits(c, r, "li2013", FIG7),
-    }
+#: the ledger's workloads: name, builder and its arguments after (config, root)
+WORKLOADS: tuple[tuple[str, Callable[..., Callable[[], object]], tuple], ...] = (
+    ("sweep x1: li2013_calibrated Fig. 7, points 300-549, 1 line", _sweep, (CAL, FIG7, 300, 250)),
+    ("sweep b: li2013_route Fig. 9, points 380-499, 2 lines", _sweep, ("li2013_route", FIG9, 380, 120)),
+    ("sweep e: li2013_calibrated Fig. 11, points 380-479, 2 lines", _sweep, (CAL, FIG11, 380, 100)),
+    ("map_x1_b: 4 rows", _map_rows, ("map_x1_b", [20, 70, 120, 170])),
+    ("map_x1_e: 4 rows", _map_rows, ("map_x1_e", [30, 80, 130, 180])),
+    ("map_x1_w: 4 rows", _map_rows, ("map_x1_w", [40, 90, 140, 190])),
+    ("frequency response: li2013_calibrated, 2 x 80 frequencies", _response, (CAL, 80)),
+    ("curves: li2013, boundaries over (b, e)", _curves, ("li2013", "boundaries_b_e")),
+    ("orbits: li2013 Fig. 7, branches", _orbits, ("li2013", FIG7)),
+)
 
 
-def ledger(config_path: Path, repeats: int = 2, log=print) -> dict:
+def ledger(config_path: Path, repeats: int = 2, log=print, only: str = "") -> dict:
     """Every workload's CPU seconds (the cheaper of ``repeats`` runs) and cost in million kernel point-steps,
-    with the kernel's ns per point-step (the cheaper of its runs before and after the workloads)."""
+    with the kernel's ns per point-step (the cheaper of its runs before and after the workloads); ``only``:
+    the workloads whose name contains it."""
     config = workflow_config(config_path)
     root = config_path.resolve().parent.parent
     warm_up(point.point_coefficients(load_design("li2013", config, root)))
     ns = kernel_ns(config, root)
     out: dict = {"workloads": {}}
-    for name, run in workloads(config, root).items():
+    for name, build, args in WORKLOADS:
+        if only not in name:
+            continue
+        run = build(config, root, *args)
         cpu = np.inf
         for _ in range(repeats):
             c0 = time.process_time()
@@ -142,9 +144,8 @@ def markdown(now: dict, reference: dict) -> str:
         r = ref.get(name, {}).get("cost_M_point_steps")
         ratio = w["cost_M_point_steps"] / r if r else float("nan")
         mark = " **dearer**" if ratio > DEARER else ""
-        rows.append(
-            f"| {name} | {w['cpu_s']:.2f} | {w['cost_M_point_steps']:.0f} | {r if r else '-'} | {ratio:.2f}{mark} |"
-        )
+        shown = f"{ratio:.2f}{mark}" if r else "-"
+        rows.append(f"| {name} | {w['cpu_s']:.2f} | {w['cost_M_point_steps']:.0f} | {r if r else '-'} | {shown} |")
     dearer = [n for n, w in now["workloads"].items() if _ratio(w, ref.get(n)) > DEARER]
     return (
         f"kernel: {now['kernel_ns_per_point_step']:.2f} ns per point-step (reference machine: "

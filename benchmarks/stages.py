@@ -172,9 +172,8 @@ def markdown(lines: Sequence[Sequence], verdicts: list[list], counter: _Counter,
     srows = sorted({s for s, _ in shots})
     out += "\n| shots (attempts / iterations) per point | " + " | ".join(cols) + " |\n|---|" + "---:|" * len(cols)
     for s in srows:
-        out += f"\n| {s} | " + " | ".join(
-            f"{shots[(s, c)][0] / points[c]:.2f} / {shots[(s, c)][1] / points[c]:.1f}" for c in cols
-        )
+        cells = (f"{shots[(s, c)][0] / points[c]:.2f} / {shots[(s, c)][1] / points[c]:.1f}" for c in cols)
+        out += f"\n| {s} | " + " | ".join(cells) + " |"
     out += "\n\n| record (periods) | points | mean today | mean least | least <= 200 / 400 / 800 |\n"
     out += "|---|---:|---:|---:|---|\n"
     for k in ("QP", "chaos"):
@@ -204,6 +203,6 @@ def stages_benchmark(config_path: Path, what: str, rows: str = "0:200:10", log=p
         lines = map_lines(d, spec, range(*map(int, rows.split(":"))))
     warm_up(lines[0][0])
     verdicts, counter, least = profile(lines, policy)
-    md = f"{what}: {sum(map(len, lines))} points, {len(lines)} lines\n\n" + markdown(lines, verdicts, counter, least)
+    md = f"{what}: {sum(map(len, lines))} points, lines: {len(lines)}\n\n" + markdown(lines, verdicts, counter, least)
     log(md)
     return md
