@@ -4,9 +4,6 @@ bifurcation points marked."""
 
 from __future__ import annotations
 
-import matplotlib
-
-matplotlib.use("Agg")
 import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure

@@ -4,9 +4,6 @@ impact-class layers of a regime map."""
 
 from __future__ import annotations
 
-import matplotlib
-
-matplotlib.use("Agg")
 import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
