@@ -14,17 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 #: ISO 6336-1:2006 Table 8 (method B), coefficients of q' in mm um / N.
-ISO_C: tuple[float, ...] = (
-    0.04723,
-    0.15551,
-    0.25791,
-    -0.00635,
-    -0.11654,
-    -0.00193,
-    -0.24188,
-    0.00529,
-    0.00182,
-)
+ISO_C: tuple[float, ...] = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
 #: The same as printed in paper 1, Eq. (8): C1 = 0.04732 (a transposition).
 PRINTED_C: tuple[float, ...] = (0.04732, *ISO_C[1:])
 
