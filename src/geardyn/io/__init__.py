@@ -154,17 +154,13 @@ def atomic(path: str | os.PathLike[str]) -> Iterator[Path]:
             except OSError as err:
                 raise OSError(err.errno, err.strerror, str(path)) from None
             raise
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600: give the file the permissions of any other
+        mask = os.umask(0)  # read, then restore: mkstemp makes 0600, the file gets the permissions of any other
+        os.umask(mask)
+        os.chmod(tmp, 0o666 & ~mask)
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
 
 
 #: Suffixes of generated tables that :func:`write_text` gives their provenance.
