@@ -1,9 +1,6 @@
-"""Every checkable statement of a paper against our results (only for designs that name the paper).
-
-The statements are data (a paper module's ``CLAIMS``); this module holds the verdict rules of both families
-(:data:`SWEEP_RULES` on a KHV drive's labelled sweeps, :data:`DATA_RULES` on a model family's products) and
-applies them.  The rules, the keys of a claim and the verdict thresholds: docs/claims.md.
-"""
+"""Every checkable statement of a paper (data: a paper module's ``CLAIMS``) against our results, for designs that
+name the paper: the verdict rules on a KHV drive's labelled sweeps (:data:`SWEEP_RULES`) and on a model family's
+products (:data:`DATA_RULES`); the rules, the keys of a claim and the thresholds: docs/claims.md."""
 
 from __future__ import annotations
 
@@ -38,11 +35,8 @@ def code(label: int | str) -> int | tuple[int, ...]:
 
 @dataclass(frozen=True)
 class Track:
-    """One labelled 1-D sweep: parameter values, motion labels and (optionally) the exponent per point.
-
-    What a claim reads of a sweep, whether it comes from a stored cube (:func:`track_of_cube`) or
-    from a calibration candidate's in-memory labels (:mod:`geardyn.khv.calibrate`).
-    """
+    """One labelled 1-D sweep, what a claim reads of it: parameter values, motion labels and (optionally) the
+    exponent per point, from a stored cube (:func:`track_of_cube`) or a calibration candidate's labels."""
 
     values: np.ndarray
     labels: np.ndarray
@@ -63,21 +57,20 @@ def case_label(values: Mapping[str, float]) -> str:
     return ",".join(f"{k}={v:g}" for k, v in values.items())
 
 
-def tracks_of_cube(cube: xr.Dataset, cases: Sequence[float], parameter: str = "x1") -> dict[float, Track]:
-    """{value: Track} for the cases ``<parameter>=<value>`` of a cube (a family of lines)."""
-    names = [str(c) for c in cube["case"].values]
-    return {float(v): track_of_cube(cube, names.index(case_label({parameter: v}))) for v in cases}
-
-
 def lines_of_runs(lines: Mapping[str, Mapping[str, Any]], runs: Mapping[str, Any]) -> dict[str, Any]:
     """The labelled lines (``lines``: a paper's ``CLAIM_LINES``) of the sweep cubes ``runs`` (by role): a
     :class:`Track`, or {case value: Track} for a family of lines; the roles ``runs`` lacks are left out."""
     out: dict[str, Any] = {}
     for role, spec in lines.items():
-        if runs.get(role) is not None:
-            cube = runs[role]
-            cases = spec.get("cases")
-            out[role] = track_of_cube(cube) if cases is None else tracks_of_cube(cube, cases, spec["case_parameter"])
+        cube = runs.get(role)
+        if cube is None:
+            continue
+        if spec.get("cases") is None:
+            out[role] = track_of_cube(cube)
+        else:  # a family: {value: Track} of the cases ``<case_parameter>=<value>``
+            names = [str(c) for c in cube["case"].values]
+            index = {float(v): names.index(case_label({spec["case_parameter"]: v})) for v in spec["cases"]}
+            out[role] = {v: track_of_cube(cube, i) for v, i in index.items()}
     return out
 
 
@@ -93,10 +86,8 @@ def _first(values: np.ndarray, labels: np.ndarray, want: int) -> float:
 
 
 def claims(paper: ModuleType, products: Mapping[str, Any]) -> list[Claim]:
-    """The claims of ``paper`` from the pipeline's products (by the names the claims read: ``closed_graph``,
-    ``stiffness``, ``amplitude`` = {"x1": ..., "ptp": ...} of dense runs, and the roles of the paper's
-    ``CLAIM_RUNS``, sweep cubes and point runs).  The verdicts are those of :func:`evaluate` on the cubes'
-    labelled sweeps."""
+    """:func:`evaluate` on the pipeline's products (``closed_graph``, ``stiffness``, ``amplitude`` = {"x1", "ptp"} of
+    dense runs, the sweep cubes and point runs of the paper's ``CLAIM_RUNS`` roles) and the cubes' labelled lines."""
     return evaluate(paper, {**products, **lines_of_runs(paper.CLAIM_LINES, products)})
 
 
