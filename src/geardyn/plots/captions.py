@@ -81,7 +81,6 @@ def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
 
 def regime_map(name: str, ds: xr.Dataset) -> str:
     """Caption of a two-parameter regime map: grid, settings, classifier path and the label shares."""
-
     shares = ", ".join(f"{k} {100 * v:.1f} %" for k, v in sorted(fractions(ds).items(), key=lambda kv: -kv[1]))
     return (
         f"{name}: motion label over ({ds.attrs['x_parameter']}, {ds.attrs['y_parameter']}), "

@@ -76,10 +76,8 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
 def caption_closed_graph(
     ds: xr.Dataset, paper: ModuleType | None = None, segment: tuple[float, float] | None = None
 ) -> str:
-    """Caption: what the figure shows and, for a design that names a paper, how it compares, with numbers.
-
-    ``segment``: the design's configured admissible segment (x1_min, x1_max).
-    """
+    """Caption: what the figure shows and, for a design that names a paper, how it compares, with numbers;
+    ``segment``: the design's configured admissible segment (x1_min, x1_max)."""
     a = ds.attrs
     lo, hi = a["line4_feasible_x1_min"], a["line4_feasible_x1_max"]
     found = (

@@ -35,13 +35,8 @@ def plot_mesh_stiffness(table: xr.Dataset) -> Figure:
     t = np.concatenate([table["phase"].values, table["phase"].values + 1.0])
     for i, x1 in enumerate(table["x1"].values):
         k = np.tile(table["k_t"].sel(x1=x1).values, 2) / 1e6
-        ax.step(
-            t,
-            k,
-            where="post",
-            linestyle=_STYLES[i % len(_STYLES)],
-            label=f"x1 = {x1:.3f}, eps = {float(table['contact_ratio'].sel(x1=x1)):.3f}",
-        )
+        label = f"x1 = {x1:.3f}, eps = {float(table['contact_ratio'].sel(x1=x1)):.3f}"
+        ax.step(t, k, where="post", linestyle=_STYLES[i % len(_STYLES)], label=label)
     ax.legend(fontsize=8)
     fig.tight_layout()
     return fig
