@@ -20,13 +20,8 @@ from geardyn.plus import modal as plus_modal
 
 @dataclass(frozen=True)
 class PlusProducts:
-    """What the claims of a plus-set design read: the tables and datasets its plus rules wrote.
-
-    ``frequencies``: the natural-frequency table (condition, order, freq_hz, multiplicity, mode_type);
-    ``scaling``: the stiffness-scaling table (reference, matching, uniform_factor, uniform_rms_pct);
-    ``key_elements``: the key-element table (condition, order, key_element, key_components);
-    ``modal``: modal.nc; ``te``: te.nc; ``optima``: the relief-optima table; ``forced``: forced_response.nc.
-    """
+    """What the claims of a plus-set design read: the tables (natural frequencies, stiffness scaling, key elements,
+    relief optima) and datasets (modal.nc, te.nc, forced_response.nc) its plus rules wrote."""
 
     frequencies: pd.DataFrame
     scaling: pd.DataFrame
