@@ -120,10 +120,7 @@ class Coefficients:
     @classmethod
     def from_dict(cls, d: dict) -> Coefficients:
         names = {f.name for f in fields(cls)}
-        kw = {k: d[k] for k in names if k in d}
-        for k, v in kw.items():
-            if isinstance(v, np.generic):
-                kw[k] = v.item()
+        kw = {k: d[k].item() if isinstance(d[k], np.generic) else d[k] for k in names if k in d}
         kw["backlash_on"] = bool(kw.get("backlash_on", True))
         return cls(**kw)
 
@@ -197,13 +194,7 @@ class Coefficients:
         """(x1, x3, F) of :func:`static_deflection`, a function of :data:`_BALANCE_FIELDS` only."""
         m = self.matrices()
         K, g, p = m["K"], m["g"], m["p"]
-        A = np.array(
-            [
-                [K[0, 0], 0.0, g[0]],
-                [K[1, 0], K[1, 2], g[1]],
-                [0.0, K[2, 2], g[2]],
-            ]
-        )
+        A = np.array([[K[0, 0], 0.0, g[0]], [K[1, 0], K[1, 2], g[1]], [0.0, K[2, 2], g[2]]])
         x1, x3, F = np.linalg.solve(A, p)
         return float(x1), float(x3), float(F)
 
