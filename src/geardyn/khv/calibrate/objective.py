@@ -22,9 +22,8 @@ P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
 
 @dataclass(frozen=True)
 class Line:
-    """One labelled line of a candidate (a role of the paper's ``CLAIM_LINES``): ``parameter`` swept over
-    ``values`` with ``fixed`` held; a family of lines (``cases``) has one line per value of
-    ``case_parameter``."""
+    """One labelled line of a candidate (a role of the paper's ``CLAIM_LINES``): ``parameter`` swept over ``values``
+    with ``fixed`` held; a family (``cases``) has one line per value of ``case_parameter``."""
 
     parameter: str
     values: np.ndarray
@@ -117,10 +116,8 @@ def route_in(order: str) -> bool:
     return re.match(r"1[Qn]+C", order) is not None
 
 
-#: Requirements a search can place on a candidate besides its score (``search.require``): a name ->
-#: (test of a record, the sentence the calibrated design's header states, ``{line}`` being the text of the
-#: paper's main line, its ``CLAIM_LINES[...]["text"]``).  A record's ``order`` is the regime string along
-#: the main line.
+#: Requirements a search can place on a candidate besides its score (``search.require``): name -> (test of a
+#: record, the sentence of the calibrated design's header, ``{line}`` the main line's ``CLAIM_LINES`` text).
 REQUIREMENTS: dict[str, tuple[Callable[[Record], bool], str]] = {
     "route": (lambda rec: route_in(rec.order), "{line} goes from period-1 through non-period-1 motion into chaos"),
 }
@@ -187,10 +184,8 @@ TRANSITION_SCALE = 0.1
 
 
 def score_labels(paper: ModuleType, lab: CandidateLabels) -> dict[str, Any]:
-    """Score of a candidate's labels: claims that agree (:func:`geardyn.claims.evaluate`) plus the
-    partial credit (module docstring) along the paper's main line (``CALIBRATION["line"]``), as the
-    scored fields of a :class:`~geardyn.khv.calibrate.records.Record` (score, agree, partial,
-    transitions, order, verdicts)."""
+    """Score of a candidate's labels, the scored fields of a :class:`Record`: claims that agree
+    (:func:`geardyn.claims.evaluate`) plus the partial credit along the paper's main line (``CALIBRATION["line"]``)."""
     rows = claims_mod.evaluate(paper, lab)
     agree = sum(r.verdict == "agree" for r in rows)
     # a borderline claim (a fraction within its statistical uncertainty of the threshold,
