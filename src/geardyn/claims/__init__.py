@@ -17,7 +17,7 @@ import xarray as xr
 
 from geardyn.claims.verdicts import BORDERLINE_Z, RANGE_AGREE, Claim, band, fraction_verdict
 from geardyn.label import classify
-from geardyn.runs.cube import labels_of_cube
+from geardyn.runs.cube import case_label, labels_of_cube
 
 P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
 #: The words for labels that are not period-n (:func:`geardyn.label.classify.short_name`: "QP", "chaos", ...).
@@ -50,11 +50,6 @@ def track_of_cube(cube: xr.Dataset, case: int = 0) -> Track:
     lam = cube["lyapunov"].values[case, 0] if "lyapunov" in cube else None
     sig = cube["lyapunov_sigma"].values[case, 0] if "lyapunov_sigma" in cube else None
     return Track(cube[par].values, labels_of_cube(cube)[case, 0], lam, sig)
-
-
-def case_label(values: Mapping[str, float]) -> str:
-    """The name of a run's case that sets ``values``: ``x1=0.5``."""
-    return ",".join(f"{k}={v:g}" for k, v in values.items())
 
 
 def lines_of_runs(lines: Mapping[str, Mapping[str, Any]], runs: Mapping[str, Any]) -> dict[str, Any]:

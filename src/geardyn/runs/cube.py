@@ -1,12 +1,10 @@
-"""What the studies store: the state names, the per-point variables in one table (:data:`VARIABLES`) with
-one writer (:func:`empty`), and the ONE chunk merge of sweeps and maps (:func:`merge_chunks`: a chunk holds
-its run's full grid, a ``computed`` flag where it computed; the chunks must tile the grid exactly once).
-"""
+"""What the studies store: the state names, the per-point variables in one table (:data:`VARIABLES`) with one
+writer (:func:`empty`), the name of a case, and the one chunk merge of sweeps and maps (:func:`merge_chunks`)."""
 
 from __future__ import annotations
 
 import json
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -166,17 +164,19 @@ def empty(
 CHUNK_ATTRS = ("chunk", "n_chunks", "wall_time_s")
 
 
+def case_label(values: Mapping[str, float]) -> str:
+    """The name of a run's case that sets ``values``: ``x1=0.5`` (its fixed overrides likewise)."""
+    return ",".join(f"{k}={v:g}" for k, v in values.items())
+
+
 def labels_of_cube(cube: xr.Dataset) -> np.ndarray:
     """The motion labels stored in a sweep cube or map (``label``)."""
     return cube["label"].values.astype(np.int16)
 
 
 def merge_chunks(chunks: Sequence[xr.Dataset]) -> xr.Dataset:
-    """Combine chunk files of one sweep or map; each point must be present exactly once.
-
-    The chunks' own attributes (:data:`CHUNK_ATTRS`) are dropped; their wall times are kept as
-    ``chunk_wall_time_s`` where the chunks recorded them.
-    """
+    """Combine the chunk files of one sweep or map, each holding the full grid and a ``computed`` flag: every point
+    computed exactly once; the chunks' own attributes go, their wall times kept as ``chunk_wall_time_s``."""
     if not chunks:
         raise ValueError("no chunks to merge")
     present = sum(c["computed"].values.astype(int) for c in chunks)

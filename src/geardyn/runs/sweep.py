@@ -1,8 +1,6 @@
-"""Parameter sweeps: bifurcation cubes of one control parameter, for one or more cases (fixed overrides),
-built in chunks that can run in any order, anywhere: each a layout of :mod:`geardyn.runs.study` holding whole
-lines (``start_from: follow``) or contiguous points (``fixed``), so no result depends on the chunking
-(``docs/classify.md``, Studies).
-"""
+"""Parameter sweeps: bifurcation cubes of one control parameter for one or more cases (fixed overrides), in
+chunks that run in any order, anywhere, each a layout of :mod:`geardyn.runs.study` holding whole lines (``start_from:
+follow``) or contiguous points (``fixed``), so no result depends on the chunking."""
 
 from __future__ import annotations
 
@@ -20,7 +18,7 @@ from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import COEFFICIENT_ATTRS
 from geardyn.label import Policy, Verdict
 from geardyn.runs import study
-from geardyn.runs.cube import STATE_NAMES, STATES, empty
+from geardyn.runs.cube import STATE_NAMES, STATES, case_label, empty
 from geardyn.solve import System
 
 #: The lines of a sweep: (case index, direction index, parameter indices in the order of travel).
@@ -58,7 +56,7 @@ class SweepSpec(study.StudySpec, study.Grid):
         return max(1, min(self.chunks, units))
 
     def case_label(self, i: int) -> str:
-        return ",".join(f"{k}={v:g}" for k, v in self.cases[i]) or "base"
+        return case_label(dict(self.cases[i])) or "base"
 
 
 def chunk_work(spec: SweepSpec, chunk: int) -> Work:
