@@ -1,9 +1,6 @@
-"""Coexisting attractors at single operating points: several starts (static, the sweep's neighbours, the
-continued branches' orbits, random states in a box), one label each by the one labeller, deduplicated by
-:func:`geardyn.label.compare.same_attractor`, with basin fractions over the random starts.
-
-The starts, the tolerances and the basin fractions' error: ``docs/orbits.md`` section 4.
-"""
+"""Coexisting attractors at single operating points: several starts (static, the sweep's neighbours, the branches'
+orbits, random states in a box), one label each by the one labeller, deduplicated by
+:func:`geardyn.label.compare.same_attractor`, with basin fractions over the random starts (``docs/orbits.md`` 4)."""
 
 from __future__ import annotations
 
@@ -38,10 +35,6 @@ class AttractorSettings:
     distance_tol: float = 1e-3
     chaotic_distance_tol: float = 0.2
 
-    @classmethod
-    def from_mapping(cls, spec: Mapping[str, Any] | None) -> AttractorSettings:
-        return settings_from(cls, spec, "attractor settings")
-
 
 @dataclass
 class Attractor:
@@ -74,11 +67,6 @@ def random_starts(system: System, settings: AttractorSettings) -> dict[str, np.n
     return {f"random_{k}": centre + rng.uniform(-1.0, 1.0, 6) * half for k in range(settings.n_random)}
 
 
-def same_attractor(label_a: int, pa: np.ndarray, label_b: int, pb: np.ndarray, settings: AttractorSettings) -> bool:
-    """Same label and Poincaré sets within the settings' tolerances (:func:`geardyn.label.compare.same_attractor`)."""
-    return compare.same_attractor(label_a, pa, label_b, pb, settings.distance_tol, settings.chaotic_distance_tol)
-
-
 def find_attractors(
     system: System,
     starts: Mapping[str, np.ndarray],
@@ -99,10 +87,11 @@ def find_attractors(
     )
     found: list[Attractor] = []
     where: dict[str, int] = {}
+    tols = (settings.distance_tol, settings.chaotic_distance_tol)
     for name, v in zip(names, verdicts, strict=True):
         p = compare.attractor_points(v)
         for k, att in enumerate(found):
-            if same_attractor(att.label, att.poincare, v.label, p, settings):
+            if compare.same_attractor(att.label, att.poincare, v.label, p, *tols):
                 att.starts.append(name)
                 where[name] = k
                 break
@@ -247,8 +236,9 @@ def attractors_dataset(
     s = settings
     attrs = {"control_parameter": parameter, "n_random": s.n_random, "random_seed": s.seed}
     attrs["box"] = f"static state +- {s.box_x:g} (displacements), +- {s.box_v:g} (velocities), units b_c"
-    attrs.update({k: getattr(s, k) for k in ("transient_periods", "recorded_periods", "distance_tol")})
-    attrs["chaotic_distance_tol"] = s.chaotic_distance_tol
+    attrs |= {
+        k: getattr(s, k) for k in ("transient_periods", "recorded_periods", "distance_tol", "chaotic_distance_tol")
+    }
     return xr.Dataset(data, coords=io.variables(coords, coords_values), attrs=attrs)
 
 
@@ -263,13 +253,12 @@ def sweep_attractors(
 ):
     """Attractors at a subset of a sweep's points (``every`` / ``at`` in ``attractor_spec``, the rest
     are :class:`AttractorSettings`), every case; the branches come from the orbits dataset."""
-
     spec_map = dict(attractor_spec)
     every = spec_map.pop("every", None)
     at = spec_map.pop("at", None)
     if not every and not at:
         every = max(1, spec.num // 10)
-    aset = AttractorSettings.from_mapping(spec_map)
+    aset = settings_from(AttractorSettings, spec_map, "attractor settings")
     settings = settings or point.integration_settings(drive, **dict(spec.integration))
     classifier = classifier or classify.ClassifierSettings.from_mapping(dict(spec.classifier))
     values = spec.values
