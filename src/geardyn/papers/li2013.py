@@ -79,6 +79,30 @@ _FIG07_RANGES: dict[str, dict] = {
     )
 }
 
+#: The paper's names of the labels its claims give ("QP|chaos": either).
+_NAMES = {1: "P1", 5: "P5", 6: "P6", "QP": "QP", "chaos": "chaos", "QP|chaos": "quasi-periodic or chaotic"}
+#: Figs. 9-12: the label the paper gives on each line of a family (x1 = 0.5, 0.761, 0.83) at one value of its
+#: parameter, b = 0.5 (Figs. 9/10, e = 5) and e = 4.55 (Figs. 11/12, b = 2), as claims of rule "label_at".
+_FAMILY_LABELS: dict[str, tuple[dict, ...]] = {
+    line: tuple(
+        {
+            "id": f"{line}_{par}{at}_x1_{x1}",
+            "figure": f"Fig. {fig}",
+            "statement": f"{par} = {at}, x1 = {x1}: {_NAMES[label]}",
+            "rule": "label_at",
+            "line": line,
+            "case": x1,
+            "at": at,
+            "label": label,
+        }
+        for fig, x1, label in rows
+    )
+    for line, par, at, rows in (
+        ("fig09", "b", 0.5, (("9a/10a", 0.5, 1), ("9b/10b", 0.761, "QP"), ("9c/10c", 0.83, "chaos"))),
+        ("fig11", "e", 4.55, (("11a/12a", 0.5, 1), ("12b", 0.761, "QP|chaos"), ("12c", 0.83, "QP|chaos"))),
+    )
+}
+
 #: Every checkable statement of the paper, in the order of the claims table, as data for
 #: geardyn.claims.evaluate (the rules and their keys: geardyn.claims.SWEEP_RULES).  Each names its
 #: rule and what it reads: ``input`` (a product: closed_graph, stiffness, amplitude, or a role of
@@ -146,39 +170,23 @@ CLAIMS: tuple[dict, ...] = (
         {
             "id": f"fig{fig}",
             "figure": f"Fig. {fig}",
-            "statement": f"x1 = {x1}: {name}",
+            "statement": f"x1 = {x1}: {_NAMES[label]}",
             "rule": "label_at",
             "line": "fig07",
             "at": x1,
             "label": label,
         }
-        for fig, x1, label, name in (
-            ("8a", 0.5, 1, "P1"),
-            ("8b", 0.565, "QP", "QP"),
-            ("8c", 0.585, 5, "P5"),
-            ("8d", 0.63, "chaos", "chaos"),
-            ("8e", 0.761, 6, "P6"),
-            ("8f", 0.8, "chaos", "chaos"),
+        for fig, x1, label in (
+            ("8a", 0.5, 1),
+            ("8b", 0.565, "QP"),
+            ("8c", 0.585, 5),
+            ("8d", 0.63, "chaos"),
+            ("8e", 0.761, 6),
+            ("8f", 0.8, "chaos"),
         )
     ),
     # Figs. 9/10 at b = 0.5 (e = 5): the label at each of the three x1, then the route along b
-    *(
-        {
-            "id": f"fig09_b0.5_x1_{x1}",
-            "figure": f"Fig. {fig}",
-            "statement": f"b = 0.5, x1 = {x1}: {name}",
-            "rule": "label_at",
-            "line": "fig09",
-            "case": x1,
-            "at": 0.5,
-            "label": label,
-        }
-        for fig, x1, label, name in (
-            ("9a/10a", 0.5, 1, "P1"),
-            ("9b/10b", 0.761, "QP", "QP"),
-            ("9c/10c", 0.83, "chaos", "chaos"),
-        )
-    ),
+    *_FAMILY_LABELS["fig09"],
     {
         "id": "fig09_route",
         "figure": "Fig. 9",
@@ -191,23 +199,7 @@ CLAIMS: tuple[dict, ...] = (
     },
     # Figs. 11/12 at e = 4.55 (b = 2): the label at each of the three x1 ("QP|chaos": either), the route
     # along e and the synchronous range
-    *(
-        {
-            "id": f"fig11_e4.55_x1_{x1}",
-            "figure": f"Fig. {fig}",
-            "statement": f"e = 4.55, x1 = {x1}: {name}",
-            "rule": "label_at",
-            "line": "fig11",
-            "case": x1,
-            "at": 4.55,
-            "label": label,
-        }
-        for fig, x1, label, name in (
-            ("11a/12a", 0.5, 1, "P1"),
-            ("12b", 0.761, "QP|chaos", "quasi-periodic or chaotic"),
-            ("12c", 0.83, "QP|chaos", "quasi-periodic or chaotic"),
-        )
-    ),
+    *_FAMILY_LABELS["fig11"],
     {
         "id": "fig11_route",
         "figure": "Fig. 11",
