@@ -87,10 +87,9 @@ def claims(paper: ModuleType, products: Mapping[str, Any]) -> list[Claim]:
 
 
 def evaluate(paper: ModuleType, inputs: Mapping[str, Any]) -> list[Claim]:
-    """The claims of ``paper`` (its ``CLAIMS``, in order) from ``inputs``: the one function behind
-    ``claims.md`` and the calibration objective.  A claim's ``line`` is a labelled sweep, a :class:`Track`
-    (or {case value: Track} for a family of lines, ``CLAIM_LINES``); its ``input`` is a product.  A claim
-    whose input is not given is "not comparable" (the list always has the same ids in the same order)."""
+    """The claims of ``paper`` (its ``CLAIMS``, in order) from ``inputs`` (a ``line``: a :class:`Track`, or
+    {case value: Track} for a family; an ``input``: a product), behind ``claims.md`` and the calibration objective;
+    a claim whose input is not given is "not comparable"."""
     _unique_ids(paper.CLAIMS)
     return [sweep_claim(spec, inputs, paper.CLAIM_LINES) for spec in paper.CLAIMS]
 

@@ -94,10 +94,8 @@ def poincare_error(steps: int, where: str) -> float:
 
 
 def fill_config(config: dict[str, Any], where: str = "config") -> dict[str, Any]:
-    """The workflow config with presets resolved and defaults filled, the names and maps checked (in that
-    order, the size with aliases expanded first: ``docs/operations.md``, Presets and the limits of the config),
-    and the ``error_floor`` of each entry that sets ``integration.steps_per_period`` (otherwise
-    :func:`validate_workflow` takes it from the designs)."""
+    """The workflow config with presets resolved, defaults filled, maps checked (the size with aliases expanded
+    first) and the ``error_floor`` of each entry that sets ``integration.steps_per_period``."""
     check_expanded_size(config, where)
     checked = validated(config, "config.schema.json", where)
     resolved = _resolve_presets(copy.deepcopy(config), checked["presets"], where)

@@ -1,8 +1,5 @@
-"""Involute spur-pair geometry for internal and external pairs (paper 1, Sec. 3.2).
-
-Units mm and rad; gear 1 the pinion/planet, gear 2 the annulus (internal, Chinese sign convention) or
-the wheel; shifts may be broadcasting arrays.  Conventions, formulas and sources: docs/geometry.md.
-"""
+"""Involute spur-pair geometry of internal and external pairs (paper 1, Sec. 3.2) in mm and rad: gear 1 the planet
+or pinion, gear 2 the annulus (Chinese sign convention) or wheel, shifts broadcasting arrays (docs/geometry.md)."""
 
 from __future__ import annotations
 

@@ -1,7 +1,6 @@
 """Contact ratio and the interference checks of a spur pair: overlap (G_s), involute, root transition curve,
-undercut, tip thickness, radial and shaper-cutter trimming interference (paper 1, Sec. 3.2; the closed graph's
-lines 1-4).  Units, sign convention and vectorisation as in :mod:`geardyn.gears.geometry`.
-"""
+undercut, tip thickness, radial and shaper-cutter trimming (paper 1, Sec. 3.2; the closed graph's lines 1-4), in the
+units and conventions of :mod:`geardyn.gears.geometry`."""
 
 from __future__ import annotations
 

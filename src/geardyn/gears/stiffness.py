@@ -1,8 +1,5 @@
-"""Mesh stiffness of a spur pair: ISO 6336-1 method B and the parabolic k(t) of paper 1 (Eqs. 7-10).
-
-Stiffness in N/m, time in mesh periods; the paper's two misprints (C1, the swapped intervals of Eq. 9)
-and every formula: docs/stiffness.md.
-"""
+"""Mesh stiffness of a spur pair: ISO 6336-1 method B and the parabolic k(t) of paper 1 (Eqs. 7-10), in N/m over
+mesh periods; the paper's two misprints (C1, the swapped intervals of Eq. 9) and every formula: docs/stiffness.md."""
 
 from __future__ import annotations
 

@@ -1,10 +1,6 @@
-"""Paper 1 as data: Li, Niu, Zhang, Tian, Fu (2013), KHV drive with a small teeth-number difference.
-
-Every number the paper prints that the code compares with, every statement it makes about its
-figures, and the values it gives for the dynamic model, each stated once.  Nothing here computes;
-generic code receives these values as arguments, and only designs that name ``paper: li2013`` meet
-them.
-"""
+"""Paper 1 as data: Li, Niu, Zhang, Tian, Fu (2013), KHV drive with a small teeth-number difference: every
+number it prints that the code compares with, every statement about its figures and its dynamic model's values,
+each stated once; nothing here computes, and only designs that name ``paper: li2013`` meet them."""
 
 from __future__ import annotations
 

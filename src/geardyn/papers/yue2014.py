@@ -1,9 +1,6 @@
-"""Paper 2 as data: Yue, Liu, Xu, Lai (2014), vibration and tip relief of a plus planetary set.
-
-The numbers the paper prints that the code compares with, each stated once, and every checkable
-statement of the paper as data (:data:`CLAIMS`, evaluated by geardyn.claims).  Nothing here computes;
-only designs that name ``paper: yue2014`` are compared with them.
-"""
+"""Paper 2 as data: Yue, Liu, Xu, Lai (2014), vibration and tip relief of a plus planetary set: the numbers it
+prints that the code compares with, each stated once, and every checkable statement (:data:`CLAIMS`, evaluated by
+geardyn.claims); nothing here computes, and only designs that name ``paper: yue2014`` meet them."""
 
 from __future__ import annotations
 

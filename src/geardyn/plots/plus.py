@@ -190,10 +190,8 @@ MESH_COLOURS = {"sp": "tab:blue", "pd": "tab:red", "dr": "tab:green"}
 
 
 def forced_response_figure(ds: xr.Dataset, planet: int = 1, max_harmonic_marks: int = 3) -> Figure:
-    """Forced response against input speed: RMS of the fluctuating mesh force (top) and the dynamic
-    factor (bottom) of the three meshes of one planet, without relief (solid) and with the best relief
-    (dashed).  Vertical lines: the natural frequencies divided by harmonic h = 1, 2, 3 of the mesh
-    frequency (solid, dashed, dotted)."""
+    """RMS fluctuating mesh force (top) and dynamic factor (bottom) of one planet's three meshes against input speed,
+    unrelieved (solid) and best relief (dashed); grey: natural frequencies / harmonic h = 1, 2, 3."""
     fig = Figure(figsize=(9, 6.5), constrained_layout=True)
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
     speed = ds.speed.values

@@ -134,10 +134,8 @@ def frequency_table(design: PlusDesign, paper: ModuleType | None) -> pd.DataFram
 def _matched_pairs(
     design: PlusDesign, paper: ModuleType, reference: str, matching: str
 ) -> tuple[np.ndarray, np.ndarray]:
-    """(paper, ours) frequency pairs.  ``rank``: order k against order k (as the paper's Table 2).
-    ``type``: our three doubled (planet) frequencies against the three the paper lists under all three
-    conditions (``PAPER_SHARED``, its planet modes) and our three overall frequencies against the
-    paper's remaining three, each in ascending order."""
+    """(paper, ours) frequency pairs: ``rank`` order k against order k (Table 2); ``type`` our doubled (planet)
+    frequencies against the paper's ``PAPER_SHARED``, our overall ones against the rest, each ascending."""
     t = frequency_table(design, paper)
     if matching == "rank":
         return t[f"paper_{reference}_hz"].to_numpy(float), t["freq_hz"].to_numpy(float)

@@ -1,8 +1,6 @@
-"""Calibration of a paper design's unknowns: a global search scored by the paper's own claims
-(docs/calibration.md).  In parts: the search space (:mod:`.space`), a candidate's labels and score
-(:mod:`.objective`), the records and their cache (:mod:`.records`), evaluation on a process pool
-(:mod:`.evaluate`), the search (:mod:`.optimise`), its products (:mod:`.products`), robustness (:mod:`.robustness`).
-"""
+"""Calibration of a paper design's unknowns by a global search scored by the paper's own claims (docs/calibration.md):
+the space (:mod:`.space`), a candidate's labels and score (:mod:`.objective`), the records (:mod:`.records`), evaluation
+(:mod:`.evaluate`), the search (:mod:`.optimise`), its products (:mod:`.products`), robustness (:mod:`.robustness`)."""
 
 from geardyn.khv.calibrate.evaluate import Evaluator, Problem
 from geardyn.khv.calibrate.objective import (
