@@ -11,13 +11,12 @@ from typing import Any
 from geardyn.io import atomic, write_text
 
 
-def paper_caption(text: str, paper: ModuleType | None, figure: str) -> str:
-    """A geometry or stiffness caption, for a design that names a paper with the paper's figure and what it
-    shows otherwise (its ``GEOMETRY_FIGURES[figure]``); ``text`` as it is for one that names none."""
-    if paper is None:
-        return text
-    number, aside, note = paper.GEOMETRY_FIGURES[figure]
-    return f"{number} of {paper.SHORT}{aside}. " + text + " " + note
+def paper_says(paper: ModuleType | None, key: str, **fields: Any) -> str:
+    """The paper's text for caption or table header ``key`` (its ``CAPTIONS``, formatted with the paper's own
+    values and ``fields``, ``text`` ours where it surrounds it); "" for a design that names no paper."""
+    if paper is None or key not in getattr(paper, "CAPTIONS", {}):
+        return ""
+    return paper.CAPTIONS[key].format_map({**vars(paper), **fields})
 
 
 def single_axes(

@@ -11,7 +11,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from geardyn.khv.closed_graph import CUTTER_DEPENDENT, LINES, line4_crossings
-from geardyn.plots import paper_caption, single_axes
+from geardyn.plots import paper_says, single_axes
 
 _LINE_COLOURS = {0: "0.5", 1: "tab:blue", 2: "tab:orange", 3: "tab:green", 4: "black"}
 
@@ -117,7 +117,7 @@ def caption_closed_graph(
     worst = float(np.max(np.abs(ds["residual_x2"].values)))
     verdict = "within" if worst <= paper.POINT_TOLERANCE else "NOT within"
     return (
-        paper_caption(text, paper, "closed_graph")
+        paper_says(paper, "closed_graph", text=text)
         + " "
         + "; ".join(pts)
         + ". "

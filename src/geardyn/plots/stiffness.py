@@ -8,7 +8,7 @@ from matplotlib.figure import Figure
 
 from geardyn.gears.backlash import backlash
 from geardyn.gears.stiffness import single_tooth_stiffness
-from geardyn.plots import paper_caption, single_axes
+from geardyn.plots import paper_says, single_axes
 
 _STYLES = ("-.", ":", "--", "-")
 
@@ -63,7 +63,7 @@ def caption_fig04(props, paper=None) -> str:  # props: geardyn.khv.design.MeshPr
         f"k' = {props.k_prime / 1e6:.1f} N/um, k_C = 1.5 k' = {props.k_c / 1e6:.1f} N/um, ISO 6336-1 method B); "
         "k_A = k_B = k' at the ends of the engagement and k_C = 1.5 k' at the pitch point."
     )
-    return paper_caption(text, paper, "single_tooth")
+    return paper_says(paper, "single_tooth", text=text) or text
 
 
 def caption_fig05(table: xr.Dataset, design, paper=None) -> str:
@@ -82,7 +82,7 @@ def caption_fig05(table: xr.Dataset, design, paper=None) -> str:
         f"{design.stiffness.label}. {rows}. The double-pair zone is on [0, eps - 1] (sum of the single-pair "
         "parabolas), so k(t) jumps by k' where a pair enters or leaves; the exact mean is (8/9) eps k_C."
     )
-    return paper_caption(text, paper, "mesh_stiffness")
+    return paper_says(paper, "mesh_stiffness", text=text) or text
 
 
 def caption_fig06(paper=None) -> str:
@@ -91,4 +91,4 @@ def caption_fig06(paper=None) -> str:
         "The backlash (dead-zone) function f(X): X - b above b, 0 inside |X| <= b, X + b below -b, with b half "
         "the backlash."
     )
-    return paper_caption(text, paper, "backlash")
+    return paper_says(paper, "backlash", text=text) or text
