@@ -19,20 +19,13 @@ MARKERS = {
 _BRANCH_COLOURS = ["#1f77b4", "#17becf", "#393b79", "#637939", "#e377c2", "#7f7f7f"]
 
 
-def _dilate(mask: np.ndarray) -> np.ndarray:
-    out = mask.copy()
-    out[1:] |= mask[:-1]
-    out[:-1] |= mask[1:]
-    return out
-
-
 def plot_branches(cube: xr.Dataset | None, branches: xr.Dataset, title: str) -> Figure:
     """One panel per case: sweep dots (if ``cube``), branches, bifurcation points."""
     par = branches.attrs["control_parameter"]
     cases = [str(c) for c in branches["case"].values]
     fig = Figure(figsize=(9, 3.6 * len(cases)))
     axes = fig.subplots(len(cases), 1, squeeze=False)
-    types = [t for t in branches["bifurcation_type"].attrs["flag_meanings"].split()]
+    types = branches["bifurcation_type"].attrs["flag_meanings"].split()
     for k, case in enumerate(cases):
         ax = axes[k, 0]
         if cube is not None and "x_vh" in cube:
@@ -45,6 +38,7 @@ def plot_branches(cube: xr.Dataset | None, branches: xr.Dataset, title: str) -> 
             m = branches["branch"].values == b
             p = branches["parameter"].values[m]
             stable = branches["stable"].values[m].astype(bool)
+            near = np.convolve(~stable, np.ones(3))[1:-1] > 0  # the unstable points and their neighbours
             cyc = branches["cycle_x_vh"].values[m]
             n = int(branches["orbit_period"].values[m][0])
             colour = _BRANCH_COLOURS[j % len(_BRANCH_COLOURS)]
@@ -53,7 +47,7 @@ def plot_branches(cube: xr.Dataset | None, branches: xr.Dataset, title: str) -> 
                 label = f"{name} stable" if c == 0 else None
                 ax.plot(p, np.where(stable, yc, np.nan), "-", color=colour, lw=1.4, label=label)
                 label = f"{name} unstable" if c == 0 and (~stable).any() else None
-                ax.plot(p, np.where(_dilate(~stable), yc, np.nan), "--", color=colour, lw=1.0, label=label)
+                ax.plot(p, np.where(near, yc, np.nan), "--", color=colour, lw=1.0, label=label)
         bsel = np.isin(branches["bifurcation_branch"].values, ids)
         for code, kind in enumerate(types):
             mk = bsel & (branches["bifurcation_type"].values == code)
