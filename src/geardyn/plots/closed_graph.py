@@ -1,4 +1,4 @@
-"""Paper 1, Fig. 3: the closed graph drawn from :func:`geardyn.closed_graph.closed_graph`."""
+"""Paper 1, Fig. 3: the closed graph drawn from :func:`geardyn.khv.closed_graph.closed_graph`, and its caption."""
 
 from __future__ import annotations
 
@@ -49,19 +49,13 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
         Line2D([], [], color="black", lw=2.0, label="line 4: G_s = 0"),
         Line2D([], [], color="red", lw=3.0, label="admissible part of line 4 (computed)"),
     ]
-    for line in (1, 2, 3):
-        handles.append(Line2D([], [], color=_LINE_COLOURS[line], label=f"line {line}"))
+    handles += [Line2D([], [], color=_LINE_COLOURS[line], label=f"line {line}") for line in (1, 2, 3)]
     if "point" in ds.dims:
         ax.plot(ds["paper_x1"].values, ds["paper_x2"].values, "o", mfc="none", mec="crimson", ms=9)
         ax.plot(ds["paper_x1"].values, ds["computed_x2"].values, "x", color="k", ms=7)
         for p in ds["point"].values:
-            ax.annotate(
-                str(p),
-                (float(ds["paper_x1"].sel(point=p)), float(ds["paper_x2"].sel(point=p))),
-                xytext=(6, -12),
-                textcoords="offset points",
-                color="crimson",
-            )
+            at = (float(ds["paper_x1"].sel(point=p)), float(ds["paper_x2"].sel(point=p)))
+            ax.annotate(str(p), at, xytext=(6, -12), textcoords="offset points", color="crimson")
         printed = "printed " + ", ".join(str(p) for p in ds["point"].values)
         handles += [
             Line2D([], [], ls="", marker="o", mfc="none", mec="crimson", label=printed),

@@ -52,15 +52,13 @@ def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figur
             sel = cube[state].sel(case=case, direction=direction)
             xv = sel[par].values
             lab = labels[i, j]
-            present = []
             for code in np.unique(lab):
                 m = lab == code
                 x = np.broadcast_to(xv[m][:, None], sel.values[m].shape)
                 ax.plot(x.ravel(), sel.values[m].ravel(), ",", color=label_colour(code), alpha=0.7, rasterized=True)
-                present.append(code)
             handles = [
                 Line2D([], [], ls="", marker="s", color=label_colour(c), label=classify.short_name(c))
-                for c in sorted(present)
+                for c in np.unique(lab)
             ]
             ax.legend(handles=handles, loc="upper right", fontsize=6, ncol=min(6, len(handles)), framealpha=0.7)
             div = cube["diverged"].sel(case=case, direction=direction).values == 1
