@@ -342,25 +342,17 @@ def _cells(v: Any, keys: Sequence | None = None) -> list[tuple[str, Any]]:
     """(label, cell) pairs of a value: a mapping of sequences in ``keys`` order (``I #2``), a sequence
     (``#2``) or one cell."""
     if isinstance(v, Mapping):
-        out = []
-        for k in keys if keys is not None else list(v):
-            out += [(f"{k} {label}".strip(), x) for label, x in _cells(v[k])]
-        return out
+        return [(f"{k} {label}".strip(), x) for k in (keys if keys is not None else v) for label, x in _cells(v[k])]
     if isinstance(v, Sequence | np.ndarray) and not isinstance(v, str):
         return [(f"#{i}", x) for i, x in enumerate(v, start=1)]
     return [("", v)]
 
 
 def _missing_value(v: Any) -> bool:
-    if v is None:
-        return True
-    if isinstance(v, Real) and not isinstance(v, bool | np.bool_):
-        return not math.isfinite(float(v))
-    if isinstance(v, Mapping):
-        return any(_missing_value(x) for x in v.values())
-    if isinstance(v, Sequence | np.ndarray) and not isinstance(v, str):
-        return any(_missing_value(x) for x in v)
-    return False
+    """None, NaN or infinity, or a mapping or sequence holding one."""
+    if isinstance(v, Mapping | Sequence | np.ndarray) and not isinstance(v, str):
+        return any(_missing_value(x) for x in (v.values() if isinstance(v, Mapping) else v))
+    return v is None or (isinstance(v, Real) and not isinstance(v, bool | np.bool_) and not math.isfinite(float(v)))
 
 
 def _names(cell: Any) -> set[str]:

@@ -11,13 +11,12 @@ from typing import Any
 import numpy as np
 
 from geardyn import claims as claims_mod
+from geardyn.claims import CHAOS, P1, QP
 from geardyn.claims.verdicts import credit
 from geardyn.khv import point
 from geardyn.khv.calibrate.records import Record
 from geardyn.khv.design import KHVDesign
-from geardyn.label import Policy, classify, label_lines
-
-P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
+from geardyn.label import Policy, label_lines
 
 
 @dataclass(frozen=True)
