@@ -173,21 +173,14 @@ def base_diameters(pair: GearPair) -> tuple[float, float]:
     return d1 * c, d2 * c
 
 
-def _tip_shortening(pair: GearPair) -> FloatArray:
-    """Tip-shortening coefficient dy = x1 + x2 - y for external pairs (0 for internal)."""
-    x1, x2 = shifts(pair)
-    if pair.internal or not pair.tip_shortening:
-        return np.zeros(np.broadcast(x1, x2).shape)
-    return x1 + x2 - centre_distance_modification(pair)
-
-
 def tip_diameters(pair: GearPair) -> tuple[FloatArray, FloatArray]:
     """Tip diameters (da1, da2) in mm; external tips shortened by dy m when ``tip_shortening``
     (docs/geometry.md, "Formulas")."""
     x1, x2 = shifts(pair)
     d1, d2 = pitch_diameters(pair)
     m, ha = pair.module, pair.addendum
-    dy = _tip_shortening(pair)
+    external = not pair.internal and pair.tip_shortening  # tip shortening dy = x1 + x2 - y, 0 for internal pairs
+    dy = x1 + x2 - centre_distance_modification(pair) if external else np.zeros(np.broadcast(x1, x2).shape)
     da1 = d1 + 2.0 * (ha + x1 - dy) * m
     if pair.internal:
         da2 = d2 - 2.0 * (ha - x2) * m

@@ -104,14 +104,6 @@ def sha256_bytes(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
-def _cube_provenance(path: Path) -> dict[str, str]:
-    with xr.open_dataset(path) as ds:
-        return {
-            **{k: str(ds.attrs.get(k, "unknown")) for k in ("geardyn_version", "git_commit", "config_hash")},
-            **prov.runtime_of(ds.attrs),
-        }
-
-
 def build(
     out: str | Path,
     design: str,
@@ -143,8 +135,10 @@ def build(
         )
         add("config/effective_config.yaml", text.encode(), "config")
     for rel, src in sorted(cubes.items()):
-        add(rel, Path(src).read_bytes(), "netcdf", _cube_provenance(Path(src)))
-    example = sorted(cubes)[0] if cubes else "results/<cube>.nc"
+        with xr.open_dataset(src) as ds:  # the cube's provenance beside its sum
+            made = {k: str(ds.attrs.get(k, "unknown")) for k in ("geardyn_version", "git_commit", "config_hash")}
+            add(rel, Path(src).read_bytes(), "netcdf", made | prov.runtime_of(ds.attrs))
+    example = min(cubes)
     readme = _README.format(
         design=design, version=__version__, commit=commit, created=created, n_cubes=len(cubes), example=example
     )

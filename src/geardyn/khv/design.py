@@ -119,11 +119,6 @@ def _x2(base: geometry.GearPair, on_line4: bool, x1: float) -> float:
     return float(constraints.x2_on_overlap_boundary(x1, base)) if on_line4 else base.x2
 
 
-def pair_at(design: KHVDesign, x1: float) -> geometry.GearPair:
-    """The gear pair of ``design`` at planet shift ``x1`` (x2 from :func:`x2_for`)."""
-    return dataclasses.replace(design.base, x1=float(x1), x2=x2_for(design, x1))
-
-
 def mesh_properties(design: KHVDesign, x1: float) -> MeshProperties:
     """Contact ratio and ISO 6336 stiffness of ``design`` at ``x1`` (paper 1 Eqs. 7-10)."""
     return _mesh_properties(design.name, design.base, design.x2_on_line4, design.stiffness, float(x1))
@@ -274,7 +269,7 @@ def check_segment(design: KHVDesign, where: str = "design", points: int = 11) ->
         leaves = f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the"
         covers = f"{leaves} region the model covers at x1 = {x1:.4f}: "
         try:
-            pair = pair_at(design, x1)
+            pair = dataclasses.replace(design.base, x1=float(x1), x2=x2_for(design, x1))
         except (ValueError, RuntimeError) as err:
             raise ConfigError(f"{covers}no x2 on line 4 (G_s = 0): {err}") from None
         problem = meshing_problem(pair)

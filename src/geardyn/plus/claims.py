@@ -205,13 +205,8 @@ def _q_design_input(p: PlusProducts, section: str, key: str) -> Measured:
     return Measured(raw[section][key], f"the design's {section}.{key}, an input of the model")
 
 
-def _optimum(p: PlusProducts, shape: str, bounds: str) -> pd.Series:
-    t = p.optima
-    return t[(t["shape"] == shape) & (t["bounds"] == bounds)].iloc[0]
-
-
 def _q_relief_optimum(p: PlusProducts, shape: str, bounds: str, field: str) -> Measured:
-    row = _optimum(p, shape, bounds)
+    row = p.optima[(p.optima["shape"] == shape) & (p.optima["bounds"] == bounds)].iloc[0]
     text = f"{shape} relief, {bounds} bounds ({row.amount_bounds_um} um, {row.length_bounds_mm} mm)"
     span = {"amount_um": row.amount_bounds_um, "length_mm": row.length_bounds_mm}.get(field)
     if span is not None:

@@ -106,18 +106,6 @@ def find_attractors(
 # ----------------------------------------------------------------------------------------------
 
 
-def subset_indices(values: np.ndarray, every: int | None = None, at: Sequence[float] | None = None) -> list[int]:
-    """Sweep indices to examine: every ``every``-th point (first and last included) and/or the points
-    nearest to the values ``at``."""
-    idx: set[int] = set()
-    if every:
-        idx.update(range(0, values.size, int(every)))
-        idx.add(values.size - 1)
-    for v in at or ():
-        idx.add(int(np.argmin(np.abs(values - float(v)))))
-    return sorted(idx)
-
-
 def branch_starts(branches: Sequence[Any], p: float, perturb: float = 1e-3) -> dict[str, np.ndarray]:
     """Starts on the continued branches at p: the orbit itself where it is stable, the orbit moved by
     ``perturb`` (every state) where it is unstable (to find what it loses stability to, e.g. a torus)."""
@@ -261,8 +249,9 @@ def sweep_attractors(
     aset = settings_from(AttractorSettings, spec_map, "attractor settings")
     settings = settings or point.integration_settings(drive, **dict(spec.integration))
     classifier = classifier or classify.ClassifierSettings.from_mapping(dict(spec.classifier))
-    values = spec.values
-    idx = subset_indices(values, every, at)
+    values = spec.values  # every ``every``-th point (the last too) and the points nearest the values ``at``
+    idx = set(range(0, values.size, int(every))) | {values.size - 1} if every else set()
+    idx = sorted(idx | {int(np.argmin(np.abs(values - float(v)))) for v in at or ()})
     par = spec.parameter
     allb = branches_from_dataset(branches_ds) if branches_ds is not None else []
     pts: list[PointStarts] = []
