@@ -1,6 +1,8 @@
 """Run the benchmarks: ``python -m benchmarks.bench [--out DIR] [--quick]`` (work precision),
 ``python -m benchmarks.bench throughput|labels|check ...`` (see ``--help`` of each),
 ``python -m benchmarks.bench curves [--map map_x1_b] [--rows 10]`` (a map's regime boundaries against the map),
+``python -m benchmarks.bench coverage [--new results]`` (the coverage of the frequency response's RMS error bars),
+``python -m benchmarks.bench probabilities`` (256 samples x 100 points of a probabilities study against map_x1_b),
 ``python -m benchmarks.bench fingerprint [--write]`` (a hash per stage of a small fixed study, to compare
 machines; ``--write`` replaces the committed reference).
 
@@ -21,7 +23,17 @@ import argparse
 import sys
 from pathlib import Path
 
-from benchmarks import circles, curves, fingerprint, labels, long_run, throughput, work_precision
+from benchmarks import (
+    circles,
+    coverage,
+    curves,
+    fingerprint,
+    labels,
+    long_run,
+    probabilities,
+    throughput,
+    work_precision,
+)
 from geardyn import io, libm
 from geardyn.io import provenance
 
@@ -43,6 +55,7 @@ def main_speed(argv: list[str]) -> int:
         help="labels: cubes (design/sweeps|maps/name) whose differing points are labelled again from the fixed start",
     )
     ap.add_argument("--points", type=int, default=200, help="check: random map points")
+    ap.add_argument("--gap", type=int, default=1000, help="coverage: mesh periods between the two records")
     ap.add_argument("--periods", type=int, default=20000, help="check: mesh periods of each long run")
     ap.add_argument("--map", default=None, help="check, circles: the regime map (map_x1_b, map_x1_e)")
     ap.add_argument(
@@ -67,6 +80,10 @@ def main_speed(argv: list[str]) -> int:
         for item in a.explain or ():
             design, kind, name = item.split("/")
             md += "\n" + labels.explain_differences(a.config, a.old, a.new, design, kind, name, log=log)
+    elif argv[0] == "probabilities":
+        md = "# A probabilities study against a regime map (one run)\n\n" + probabilities.probabilities_benchmark(
+            a.config, quick=a.quick, log=log
+        )
     elif argv[0] == "curves":
         md = "# Regime boundaries against the map\n\n" + curves.curves_benchmark(
             a.config, a.new, a.map or "map_x1_b", every=a.rows, log=log
@@ -75,6 +92,8 @@ def main_speed(argv: list[str]) -> int:
         md = "# Invariant circles of the non-periodic labels\n\n" + circles.circle_check(
             a.config, map_name=a.map or "map_x1_e", n_rows=2 if a.quick else a.rows, per_class=5 if a.quick else 40
         )
+    elif argv[0] == "coverage":
+        md = "# Coverage of the RMS error bars\n\n" + coverage.coverage_check(a.config, a.new, gap=a.gap, log=log)
     elif a.sweeps is not None:
         md = "# Independent check: long runs from the sweeps' stored points\n\n" + long_run.sweep_check(
             a.config, a.new, tuple(a.sweeps) or ("quasi_periodic",), n_points=a.points, periods=a.periods, log=log
@@ -123,7 +142,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv and argv[0] == "fingerprint":
         return main_fingerprint(argv[1:])
-    if argv and argv[0] in ("throughput", "labels", "check", "circles", "curves"):
+    if argv and argv[0] in ("throughput", "labels", "check", "circles", "curves", "coverage", "probabilities"):
         return main_speed(argv)
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench", description=work_precision.__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=None, help="directory for work_precision.nc/.md/.png")

@@ -1,6 +1,6 @@
 """The continued P1 branch of the calibrated design over x1 in [0.70, 0.78] (b = 2, e = 5), shared by the
-continuation and attractor tests (computed once per test process), and the crossings of a curve with a line
-(the curve tests' measure of where a curve lies), and a family of any model from plain functions."""
+continuation and attractor tests (computed once per test process), and a family of any model from plain
+functions (its cycle by repeated one-period maps, independent of the package's cycle builder)."""
 
 from collections.abc import Callable
 from functools import cache
@@ -10,7 +10,6 @@ import numpy as np
 
 from geardyn.khv import design
 from geardyn.runs import continuation as C
-from geardyn.runs.continuation.curves import Extended, _row, crossings
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.shooting import FlowMap
 
@@ -29,23 +28,6 @@ def calibrated_branch():
     return d, fam, br
 
 
-def curve_crossings(
-    plane: C.PlaneFamily, curve: C.Curve, axis: str, value: float, cs: C.CurveSettings | None = None
-) -> list[C.CurvePoint]:
-    """The points where ``curve`` crosses the line ``axis`` ("p" or "q") = value, each solved on the
-    extended system with the line as the extra equation (from the chord between the bracketing points)."""
-    ext = Extended(plane, curve.kind, curve.n, curve.scales, cs or C.CurveSettings())
-    k = 0 if axis == "p" else 1
-    d = curve.points[0].z.size - 2
-    along = curve.p if axis == "p" else curve.q
-    out = []
-    for i, w in crossings(np.append(along, along[-1:]), value):  # the last point counts too
-        a, b = curve.points[i], curve.points[min(i + 1, len(curve) - 1)]
-        pt = ext.corrected(a.z + w * (b.z - a.z), a, _row(d, k), value / ext.scales[1 + k])
-        out += [pt] if pt is not None else []
-    return out
-
-
 class CallableFamily:
     """A family from plain functions: ``flow_of(p, n) -> FlowMap`` (no grazing)."""
 
@@ -55,5 +37,16 @@ class CallableFamily:
     def flow(self, p: float, n: int) -> FlowMap:
         return self._flow_of(p, n)
 
+    def cycle(self, p: float, x: np.ndarray, n: int) -> np.ndarray:
+        return cycle_of(self.flow(p, 1), x, n)
+
     def grazing(self, p: float, x: np.ndarray, n: int) -> float:
         return float("nan")
+
+
+def cycle_of(flow: FlowMap, x: np.ndarray, n: int) -> np.ndarray:
+    """The n phase-0 points of the orbit through x by n - 1 applications of the one-period map ``flow``."""
+    pts = [np.asarray(x, dtype=float)]
+    for _ in range(n - 1):
+        pts.append(flow(pts[-1], False)[0])
+    return np.array(pts)

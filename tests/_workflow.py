@@ -103,6 +103,18 @@ def small_config() -> dict[str, Any]:
         }
     }
     cfg["benchmarks"] = {"work_precision": True, "quick": True}
+    cfg["probabilities"] = {
+        "small_prob": {
+            "designs": ["li2013"],
+            "title": "small probabilities",
+            "axis": {"parameter": "x1", "start": 0.45, "stop": 0.8, "num": 5},
+            "fixed": {"b": 2.0, "e": 5.0},
+            "inputs": {"zeta": {"low": 0.08, "high": 0.12}},
+            "samples": 8,
+            "claims": "fig07",
+            "integration": dict(FAST),
+        }
+    }
     cfg["calibration"] = {
         "small_search": {
             "design": "li2013",

@@ -283,7 +283,7 @@ def _planned(run) -> list[str]:
 def test_a_plus_design_of_your_own_gets_no_claims(tmp_path):
     cfg = wf.shipped("config/config.yaml")
     cfg["designs"] = {"yue2014": "config/designs/yue2014.yaml", "myplus": "config/designs/myplus.yaml"}
-    for section in ("sweeps", "points", "maps", "orbits", "calibration"):
+    for section in ("sweeps", "points", "maps", "orbits", "calibration", "probabilities"):
         cfg[section] = {}
     cfg["claims"] = {"designs": []}
     raw = wf.shipped("config/designs/yue2014.yaml")

@@ -15,7 +15,7 @@ from geardyn import config
 from geardyn.config import validate
 from geardyn.khv import design
 from geardyn.label.classify import ClassifierSettings
-from geardyn.runs.continuation.spec import OrbitSpec
+from geardyn.runs.continuation import OrbitSpec
 
 ROOT = Path(__file__).resolve().parents[1]
 LI2013 = ROOT / "config" / "designs" / "li2013.yaml"
@@ -429,12 +429,12 @@ def test_error_table_is_the_one_of_the_work_precision_study():
 
 
 def test_run_integration_block_is_defined_once_and_is_the_design_block_without_defaults():
-    """Sweeps, maps, calibrations, frequency responses, curves studies and presets share one $defs/integration,
-    whose keys refer to the design's dynamics.integration (one statement of each key), without the defaults: a key a run
-    does not set keeps the design's value."""
+    """Sweeps, maps, calibrations, frequency responses, curves and probabilities studies and presets share one
+    $defs/integration, whose keys refer to the design's dynamics.integration (one statement of each key), without the
+    defaults: a key a run does not set keeps the design's value."""
 
     raw = json.loads((ROOT / "src" / "geardyn" / "config" / "schemas" / "config.schema.json").read_text())
-    assert json.dumps(raw).count('"#/$defs/integration"') == 6
+    assert json.dumps(raw).count('"#/$defs/integration"') == 7
     assert all(set(node) == {"$ref"} for node in raw["$defs"]["integration"]["properties"].values())
     design = config.schema("dynamics.schema.json")["properties"]["integration"]["properties"]
     run = config.schema("config.schema.json")["$defs"]["integration"]["properties"]

@@ -22,6 +22,8 @@ from geardyn.papers import li2013 as paper
 from geardyn.plots import save_figure
 from geardyn.plots.orbits import plot_branches
 from geardyn.runs import continuation as C
+from geardyn.runs.continuation.family import back_margin
+from geardyn.runs.cube import STATES
 from geardyn.solve import SimulationSettings, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -164,7 +166,7 @@ def test_label_agreement_counts_points_on_stable_branch(calibrated_branch):
     on, off = br.states[j], br.states[j] + 1.0
     data = {
         v: (("case", "direction", "x1", "section"), np.array([on[k], off[k]]).reshape(1, 1, 2, 1))
-        for k, v in enumerate(C.STATE_VARS)
+        for k, v in enumerate(STATES)
     }
     data["label"] = (("case", "direction", "x1"), np.array([[[1, 1]]]))
     cube = xr.Dataset(data, coords={"x1": [br.p[j], br.p[j]]}, attrs={"control_parameter": "x1"})
@@ -198,9 +200,7 @@ def test_period_doubling_bubble_of_the_khv_model_under_light_load():
 
 def _one_point_cube(p, x, label):
 
-    data = {
-        v: (("case", "direction", "x1", "section"), np.array([[[[x[k]], [x[k]]]]])) for k, v in enumerate(C.STATE_VARS)
-    }
+    data = {v: (("case", "direction", "x1", "section"), np.array([[[[x[k]], [x[k]]]]])) for k, v in enumerate(STATES)}
     data["label"] = (("case", "direction", "x1"), np.array([[[label, 0]]]))
     return xr.Dataset(data, coords={"x1": [p, p + 1.0]}, attrs={"control_parameter": "x1"})
 
@@ -231,7 +231,7 @@ def test_seeds_are_the_middles_of_the_longest_periodic_runs():
     values = np.linspace(0.0, 1.3, labels.size)
     data = {
         v: (("case", "direction", "x1", "section"), np.full((1, 1, labels.size, 1), float(k)))
-        for k, v in enumerate(C.STATE_VARS)
+        for k, v in enumerate(STATES)
     }
     data["label"] = (("case", "direction", "x1"), labels.reshape(1, 1, -1))
     cube = xr.Dataset(data, coords={"x1": values}, attrs={"control_parameter": "x1"})
@@ -240,3 +240,51 @@ def test_seeds_are_the_middles_of_the_longest_periodic_runs():
     assert [(round(p, 6), n) for p, _, n in seeds] == [(0.6, 2), (1.2, 1)]
     np.testing.assert_array_equal(seeds[0][1], np.arange(6.0))
     assert [n for _, _, n in C.seeds_from_cube(cube, 0, 7, 10)] == [2, 1, 1, 7]
+
+
+def test_both_margins_take_the_callers_divergence_threshold():
+    """The grazing and back-flank margins integrate the cycle with the caller's settings: a run whose states pass
+    the caller's divergence threshold (here 0.5 of the static state's size, below the P1 orbit's excursion) is
+    diverged, and both margins are NaN; with the default threshold both are finite (li2013, x1 = 0.5, b = 2,
+    e = 5: x_VH passes through the backlash, g = -b; the back flank is struck, h < 0)."""
+    d = design.load(ROOT / "config" / "designs" / "li2013.yaml")
+    c = point.point_coefficients(d, {"x1": 0.5, "b": 2.0, "e": 5.0})
+    x = simulate(c, SimulationSettings(transient_periods=2000, recorded_periods=1)).final_state
+    ok = SimulationSettings()
+    assert C.grazing_margin(c, x, 1, ok) == -2.0 and back_margin(c, x, 1, ok) < 0
+    low = SimulationSettings(divergence_threshold=0.5)
+    assert np.isnan(C.grazing_margin(c, x, 1, low))
+    assert np.isnan(back_margin(c, x, 1, low))
+
+
+def _two_pair_map(p: float, n: int):
+    """The map x -> M(p) x on R^4 with M = diag(r R(2 pi 0.2), B): a pair r e^(+-i 2 pi 0.2), r = 0.95 + 0.1 p,
+    leaves the unit circle at p = 0.5 (Neimark-Sacker, rotation number 0.2), and B = [[0.5, 1], [0.49 - p, 0.5]]
+    has the multipliers 0.5 +- sqrt(0.49 - p): a real pair that turns complex at p = 0.49, inside the circle
+    (modulus sqrt(0.25 + p - 0.49))."""
+    c, s = np.cos(2 * np.pi * 0.2), np.sin(2 * np.pi * 0.2)
+    M = np.zeros((4, 4))
+    M[:2, :2] = (0.95 + 0.1 * p) * np.array([[c, -s], [s, c]])
+    M[2:, 2:] = [[0.5, 1.0], [0.49 - p, 0.5]]
+    Mn = np.linalg.matrix_power(M, n)
+    return lambda x, jacobian=True: (Mn @ x, Mn if jacobian else None)
+
+
+def test_neimark_sacker_located_when_another_pair_turns_complex_in_the_same_step():
+    """On a branch step that holds both the Neimark-Sacker point (p = 0.5) and the point where another real pair
+    turns complex inside the circle (p = 0.49), the product of |mu| - 1 over the complex pairs has one sign at
+    both ends; the event is located on the modulus of the pair that crosses, at the analytic point."""
+    fam = _orbits.CallableFamily(_two_pair_map)
+    cs = C.ContinuationSettings(ds=0.04, ds_max=0.04, grazing=False)
+    br = C.continue_branch(fam, 0.0, np.zeros(4), 1, 0.0, 1.0, cs)
+    (ns,) = [b for b in br.bifurcations if b.kind == "neimark_sacker"]
+    i = ns.index
+    assert br.p[i] < 0.49 < 0.5 < br.p[i + 1]  # the step holds both changes
+
+    def product(mu):
+        c = mu[(np.abs(mu.imag) > 1e-8) & (mu.imag > 0)]
+        return np.prod(np.abs(c) - 1.0)
+
+    assert np.sign(product(br.multipliers[i])) == np.sign(product(br.multipliers[i + 1]))
+    assert ns.located and ns.p == pytest.approx(0.5, abs=1e-9)
+    assert abs(ns.critical) == pytest.approx(1.0, abs=1e-9) and ns.rotation_number == pytest.approx(0.2, abs=1e-12)

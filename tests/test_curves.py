@@ -22,7 +22,8 @@ from numba import njit
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from _orbits import CallableFamily, curve_crossings
+import geardyn.solve.run as run_module
+from _orbits import CallableFamily, cycle_of
 from geardyn import io
 from geardyn.config import schema as io_schema
 from geardyn.io import provenance
@@ -32,10 +33,13 @@ from geardyn.plots import curves as plots_curves
 from geardyn.runs import continuation as C
 from geardyn.runs import maps
 from geardyn.runs.continuation import curve_check, curve_maps, output
+from geardyn.runs.continuation.family import back_margin
 from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.bifurcations import CODES, decode
 from geardyn.solve.shooting import newton_shooting
 
 ROOT = Path(__file__).resolve().parents[1]
+CHECK = curve_check.CheckSettings(every=1)
 
 
 # --- a smooth oscillator as a two-parameter family ------------------------------------------------------
@@ -89,6 +93,9 @@ class DuffingPlane:
     def grazing(self, p, q, x, n):
         return float("nan")
 
+    def cycle(self, p, q, x, n):
+        return cycle_of(self.flow(p, q, 1), x, n)
+
     def along_p(self, q):
         """The one-parameter family along p at q (for :func:`continue_branch`)."""
         return CallableFamily(lambda p, n: self.flow(p, q, n))
@@ -135,12 +142,12 @@ def test_period_doubling_curve_of_duffing_matches_scipy_floquet():
     fam = plane.along_p(1.2)
     x = _attractor(fam.flow(0.2, 1), np.array([0.1, 0.0]), 200)
     br = C.continue_branch(fam, 0.2, x, 1, 0.2, 0.3, C.ContinuationSettings(ds=0.02, ds_max=0.02))
-    curves = C.curves_from_branch(plane, br, "p", 1.2, C.CurveSettings(ds=0.02, ds_max=0.05))
+    curves = C.curves_from_branch(plane, br, "p", 1.2, dataclasses.replace(C.CURVES, ds=0.02, ds_max=0.05))
     assert [c.kind for c in curves] == ["period_doubling"]
     pd = curves[0]
     assert pd.end_status == {"down": "box", "up": "box"} and np.max(np.abs(pd.residual)) < 1e-10
     for omega in (1.12, 1.2, 1.28):
-        (cross,) = curve_crossings(plane, pd, "q", omega)
+        (cross,) = C.line_points(plane, pd, "q", omega)
         gamma = float(cross.z[-2])
         ref, orbit = _scipy_period_doubling(omega, gamma - 2e-3, gamma + 2e-3, cross.z[:2])
         assert abs(gamma - ref) < 1e-6  # measured 2.2e-11 to 3.9e-10
@@ -149,22 +156,28 @@ def test_period_doubling_curve_of_duffing_matches_scipy_floquet():
 
 
 def test_pixel_check_types_the_duffing_period_doubling_supercritical():
-    """The pixel check's criticality of a period doubling (a stable period-2 orbit near the P1 orbit on its
-    unstable side: supercritical): found just past the Duffing period doubling, where a run from the P1 orbit
-    pushed off settles on a period-2 cycle next to it (independent of the check), and not before it."""
+    """The pixel check's criticality of a period doubling (the period-2 branch switched at the crossing reaches the
+    pixel on the orbit's unstable side, stable: supercritical): the Duffing period doubling is supercritical, as a
+    run from the P1 orbit pushed off just past it shows (it settles on a period-2 cycle next to the orbit, and
+    before it on the orbit itself); with the pixels' sides swapped the same crossing reads subcritical."""
     plane = DuffingPlane(0.3, -1.0, 1.0, (0.2, 0.4, 1.1, 1.3))
     fam = plane.along_p(1.2)
     x = _attractor(fam.flow(0.2, 1), np.array([0.1, 0.0]), 200)
     br = C.continue_branch(fam, 0.2, x, 1, 0.2, 0.3, C.ContinuationSettings(ds=0.02, ds_max=0.02))
     (bf,) = [b for b in br.bifurcations if b.kind == "period_doubling"]
-    probe = curve_check._Probe(plane, "period_doubling", 1)
-    for d, past in ((-2e-3, False), (2e-3, True), (1e-2, True)):
-        orbit = newton_shooting(plane.flow(bf.p + d, 1.2, 1), bf.state, 1, 1e-10).state
-        assert probe.doubled(bf.p + d, 1.2, orbit) == past, d
-        y = _attractor(plane.flow(bf.p + d, 1.2, 1), orbit + 1e-3, 3000)
-        back2 = np.max(np.abs(plane.flow(bf.p + d, 1.2, 2)(y, False)[0] - y))
-        back1 = np.max(np.abs(plane.flow(bf.p + d, 1.2, 1)(y, False)[0] - y))
-        assert (back2 < 1e-8 < back1) == past and np.max(np.abs(y - orbit)) < 0.2, (d, back1, back2)
+    (pd,) = C.curves_from_branch(plane, br, "p", 1.2, dataclasses.replace(C.CURVES, ds=0.02, ds_max=0.05))
+    ref = min(pd.points, key=lambda pt: abs(pt.q - 1.2))
+    probe = curve_check._Probe(plane, pd, curve_check.CheckSettings())
+    for d in (2e-3, 1e-2):
+        t_pair = (bf.p - d, bf.p + d)  # the P1 orbit is stable below the period doubling
+        assert probe.criticality((bf.p, 1.2, "p"), ref, bf.state, t_pair) == "supercritical", d
+        assert probe.criticality((bf.p, 1.2, "p"), ref, bf.state, t_pair[::-1]) == "subcritical", d
+        for g, past in ((bf.p - d, False), (bf.p + d, True)):
+            orbit = newton_shooting(plane.flow(g, 1.2, 1), bf.state, 1, 1e-10).state
+            y = _attractor(plane.flow(g, 1.2, 1), orbit + 1e-3, 3000)
+            back2 = np.max(np.abs(plane.flow(g, 1.2, 2)(y, False)[0] - y))
+            back1 = np.max(np.abs(plane.flow(g, 1.2, 1)(y, False)[0] - y))
+            assert (back2 < 1e-8 < back1) == past and np.max(np.abs(y - orbit)) < 0.2, (g, back1, back2)
 
 
 def test_cusp_of_a_hardening_duffing_fold_curve_where_the_hysteresis_begins():
@@ -181,15 +194,15 @@ def test_cusp_of_a_hardening_duffing_fold_curve_where_the_hysteresis_begins():
         return br, sorted(b.p for b in br.bifurcations if b.kind == "fold")
 
     br, _ = folds(0.3)
-    curves = C.curves_from_branch(plane, br, "p", 0.3, C.CurveSettings(ds=0.02, ds_max=0.05))
+    curves = C.curves_from_branch(plane, br, "p", 0.3, dataclasses.replace(C.CURVES, ds=0.02, ds_max=0.05))
     assert [c.kind for c in curves] == ["fold"]  # the second fold lies on the curve of the first
     cusps = [b for b in curves[0].codim2 if b.kind == "cusp"]
     assert len(cusps) == 1 and cusps[0].located
     g_c = cusps[0].q  # measured (omega, gamma) = (1.187300, 0.164702)
     above = folds(g_c * 1.03)[1]
-    cross = sorted(pt.z[-2] for pt in curve_crossings(plane, curves[0], "q", g_c * 1.03))
+    cross = sorted(pt.z[-2] for pt in C.line_points(plane, curves[0], "q", g_c * 1.03))
     assert len(above) == 2 and np.max(np.abs(np.subtract(above, cross))) < 1e-6  # measured 5e-15
-    assert folds(g_c * 0.97)[1] == [] and curve_crossings(plane, curves[0], "q", g_c * 0.97) == []
+    assert folds(g_c * 0.97)[1] == [] and C.line_points(plane, curves[0], "q", g_c * 0.97) == []
 
 
 # --- the KHV model ------------------------------------------------------------------------------------------
@@ -207,7 +220,7 @@ def linear_limit():
     x = simulate(fam.coefficients(0.5), SimulationSettings(transient_periods=2000, recorded_periods=1)).final_state
     br = C.continue_branch(fam, 0.5, x, 1, 0.0, 3.0, C.ContinuationSettings(ds=0.05, ds_max=0.05))
     plane = C.KHVPlane(d, ("w", "e"), fixed, (0.8, 1.6, 0.0, 3.0), nodes=5)
-    curves = C.curves_from_branch(plane, br, "q", 0.9, C.CurveSettings(ds=0.02, ds_max=0.02))
+    curves = C.curves_from_branch(plane, br, "q", 0.9, dataclasses.replace(C.CURVES, ds=0.02, ds_max=0.02))
     return d, fixed, plane, br, curves
 
 
@@ -227,7 +240,7 @@ def test_grazing_curve_of_the_linear_limit_is_the_closed_form(linear_limit):
     assert len(graz) == 1 and graz[0].end_status == {"down": "box", "up": "box"}
     errs = []
     for w in np.linspace(0.8, 1.6, 20):
-        (cross,) = curve_crossings(plane, graz[0], "p", w)
+        (cross,) = C.line_points(plane, graz[0], "p", w)
         errs.append(abs(cross.z[-1] / _closed_form_grazing(d, fixed, w) - 1.0))
     assert max(errs) < 1e-6  # measured 5.0e-8 (median 2.0e-8)
     # every point of the curve, too
@@ -253,9 +266,9 @@ def test_fold_curve_of_the_linear_limit_has_a_cusp_beyond_grazing(linear_limit):
         return sorted(f.p for f in b.bifurcations if f.kind == "fold")
 
     below = folds(w_c - 3e-3)
-    cross = sorted(pt.z[-1] for pt in curve_crossings(plane, fold, "p", w_c - 3e-3))
+    cross = sorted(pt.z[-1] for pt in C.line_points(plane, fold, "p", w_c - 3e-3))
     assert len(below) == 2 and np.max(np.abs(np.subtract(below, cross))) < 1e-6  # measured 2.8e-11
-    assert folds(w_c + 3e-3) == [] and curve_crossings(plane, fold, "p", w_c + 3e-3) == []
+    assert folds(w_c + 3e-3) == [] and C.line_points(plane, fold, "p", w_c + 3e-3) == []
 
 
 @pytest.fixture(scope="module")
@@ -263,7 +276,7 @@ def calibrated_ns():
     d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
     br = _x1_branch(d, 5.0, 0.53, 0.555)
     plane = C.KHVPlane(d, ("x1", "e"), {"b": 2.0}, (0.50, 0.60, 4.0, 6.0), nodes=5)
-    curves = C.curves_from_branch(plane, br, "p", 5.0, C.CurveSettings(ds=0.02, ds_max=0.05))
+    curves = C.curves_from_branch(plane, br, "p", 5.0, dataclasses.replace(C.CURVES, ds=0.02, ds_max=0.05))
     return d, br, plane, curves
 
 
@@ -280,10 +293,10 @@ def test_neimark_sacker_curve_crosses_the_sweeps_where_they_bifurcate(calibrated
     assert [c.kind for c in curves] == ["neimark_sacker"]
     curve = curves[0]
     assert np.max(np.abs(curve.residual)) < 1e-10
-    (at5,) = curve_crossings(plane, curve, "q", 5.0)
+    (at5,) = C.line_points(plane, curve, "q", 5.0)
     assert abs(at5.z[-2] - ns.p) < 1e-5  # measured 6.4e-9
     for e in (4.5, 5.5):
-        (cross,) = curve_crossings(plane, curve, "q", e)
+        (cross,) = C.line_points(plane, curve, "q", e)
         x1 = float(cross.z[-2])
         other = _x1_branch(d, e, x1 - 0.01, x1 + 0.01)
         (hit,) = [b for b in other.bifurcations if b.kind == "neimark_sacker"]
@@ -308,10 +321,12 @@ def test_curve_dataset_is_cf_complete(calibrated_ns, linear_limit, tmp_path):
     assert io.missing_cf_attributes(ds) == []
     assert ds.sizes["point"] == len(curves[0]) and ds.sizes["codim2"] == len(curves[0].codim2)
     assert ds["e"].attrs["units"] == "1" and "transmission-error" in ds["e"].attrs["long_name"]
-    assert ds["codim2_type"].attrs["flag_meanings"].split()[int(ds["codim2_type"][0])] == "flip_neimark_sacker"
+    assert decode(ds["codim2_type"].attrs)[int(ds["codim2_type"][0])] == "flip_neimark_sacker"
     io.write_netcdf(ds, tmp_path / "curves.nc", provenance.attributes(title="test"))
     lin = C.curve_dataset(linear_limit[4], ("w", "e"))
-    assert io.missing_cf_attributes(lin) == [] and set(lin["curve_kind"].values) == {0, 3}
+    meaning = decode(lin["curve_kind"].attrs)
+    assert io.missing_cf_attributes(lin) == [] and {meaning[c] for c in lin["curve_kind"].values} == {"fold", "grazing"}
+    assert {int(c) for c in lin["curve_kind"].values} == {CODES["fold"], CODES["grazing"]}
 
 
 # --- regime boundaries of a map (geardyn.runs.continuation.curve_maps, curve_check, output) -------------
@@ -335,7 +350,7 @@ def _map_curves(d, spec, cube, settings, lines, **changes):
     region = curve_maps.Region.of_map(spec)
     bs = dataclasses.replace(curve_maps.BoundarySpec(), lines_x=tuple(lines[0]), lines_y=tuple(lines[1]), **changes)
     bd, plane = curve_maps.boundary_curves(d, region, bs, settings, cube)
-    return bd, curve_check.pixel_check(plane, bd, cube, every=1), plane
+    return bd, curve_check.pixel_check(plane, bd, cube, CHECK), plane
 
 
 @pytest.fixture(scope="module")
@@ -388,13 +403,13 @@ def test_pixel_check_fails_a_misplaced_curve_and_a_mislabelled_map(map_x1_b_smal
     shifted = curve_maps.Boundaries(
         bd.region, curves=[C.Curve(curve.kind, curve.n, moved, curve.scales, {})], flank=["working"], origin=["x"]
     )
-    wrong = curve_check.pixel_check(plane, shifted, cube, every=1)
+    wrong = curve_check.pixel_check(plane, shifted, cube, CHECK)
     assert wrong.fraction <= 0.3 and wrong.tally(("not_straddled",))  # measured 0.0: 19 of 19 not straddled
     relabelled = cube.copy()
     lab = relabelled["label"].values.copy()
     lab[lab == 1] = classify.LABELS["quasi_periodic"]
     relabelled["label"] = (relabelled["label"].dims, lab, relabelled["label"].attrs)
-    bad = curve_check.pixel_check(plane, bd, relabelled, every=1)
+    bad = curve_check.pixel_check(plane, bd, relabelled, CHECK)
     assert bad.fraction <= 0.3 and bad.tally(("stable_side",))  # measured 0.0
 
 
@@ -444,7 +459,7 @@ def test_grazing_meets_a_fold_a_period_doubling_and_a_neimark_sacker_on_the_back
     for kind, points in found.items():
         for b in points:
             assert b.located
-            h = curve_maps.back_margin(plane.coefficients(b.p, b.q), b.state, b.n, plane.settings)
+            h = back_margin(plane.coefficients(b.p, b.q), b.state, b.n, plane.settings)
             assert abs(h) < 1e-7, (kind, h)  # measured 4.7e-9 (fold), 3.9e-12, 7.5e-14 (flip), 1.1e-13 (NS)
             y, M = plane.flow(b.p, b.q, b.n)(b.state, True)
             assert np.max(np.abs(y - b.state)) < 1e-7  # on the orbit
@@ -472,8 +487,8 @@ def test_curves_file_is_cf_complete_and_keeps_the_check(map_x1_b_small, tmp_path
     assert io.missing_cf_attributes(ds) == []
     assert ds.attrs["pixel_check_samples"] == len(check.checked) and ds.sizes["check"] == len(check.samples)
     assert "## Pixel check: small" in plots_curves.check_table("small", ds)
-    assert plots_curves.FAILURES == curve_check.FAILURES
-    assert ds["curve_kind"].attrs["flag_meanings"].split()[-1] == "back_grazing"
+    assert ds["check_reason"].attrs["failures"].split() == list(curve_check.FAILURES)
+    assert decode(ds["curve_kind"].attrs)[CODES["back_grazing"]] == "back_grazing"
     assert ds.sizes["record"] == len(bd.records) and ds.attrs["records_on_curve"] >= 1
     io.write_netcdf(ds, tmp_path / "curves.nc", provenance.attributes(title="test"))
     empty = output.boundary_dataset(type(bd)(bd.region))  # no curve at all: still a valid file
@@ -481,12 +496,39 @@ def test_curves_file_is_cf_complete_and_keeps_the_check(map_x1_b_small, tmp_path
     io.write_netcdf(empty, tmp_path / "empty.nc", provenance.attributes(title="test"))
 
 
-def test_a_period_two_curve_is_cut_where_it_becomes_the_doubled_period_one_orbit(calibrated_ns):
-    """The period-2 curve through a period doubling of the P1 orbit runs on along the P1 orbit traversed twice:
-    cut there (``merged_into_shorter_period``)."""
+def test_a_period_two_curve_on_the_doubled_period_one_orbit_starts_none(calibrated_ns):
+    """The period-1 orbit at its Neimark-Sacker point is a period-2 orbit with its pair squared on the circle: a
+    period-2 Neimark-Sacker curve seeded there is the period-1 curve traversed twice, so it starts none (a period-2
+    curve that reaches such an orbit ends there, ``merged_into_shorter_period``)."""
     _, _, plane, curves = calibrated_ns
-    ns = curves[0]
-    doubled = C.Curve("neimark_sacker", 2, ns.points, ns.scales, dict(ns.end_status))
-    assert curve_maps.shorter_period(plane, ns.p[0], ns.q[0], ns.points[0].z[:-2], 2)
-    assert len(curve_maps.cut_merged(plane, doubled)) == 0
-    assert curve_maps.cut_merged(plane, ns) is ns
+    pt = curves[0].points[len(curves[0]) // 2]
+    assert C.curves.shorter_period(plane, pt.p, pt.q, pt.x, 2) and not C.curves.shorter_period(
+        plane, pt.p, pt.q, pt.x, 1
+    )
+    assert C.continue_curve(plane, "neimark_sacker", 2, pt.x, (pt.p, pt.q), pt.crit[0] ** 2) is None
+    again = C.continue_curve(plane, "neimark_sacker", 1, pt.x, (pt.p, pt.q), pt.crit[0])
+    assert again is not None and again.end_status == curves[0].end_status
+
+
+def test_every_run_of_a_curves_study_integrates_as_the_caller_says(monkeypatch):
+    """The seeds, the branches and the curves of a plane without a map integrate with the caller's integrator and
+    step alignment (here plain RK4 on steps not aligned with the mesh-stiffness switches): every run, whatever
+    stage made it, carries those settings (a spy on the run's result, the one funnel of ``simulate`` and
+    ``simulate_batch``)."""
+    seen = set()
+    lane_result = run_module._lane_result
+
+    def spy(lane, system, settings, b):
+        seen.add((settings.integrator, settings.aligned))
+        return lane_result(lane, system, settings, b)
+
+    monkeypatch.setattr(run_module, "_lane_result", spy)
+    d = design.load(ROOT / "config" / "designs" / "li2013.yaml")
+    region = curve_maps.Region(("x1", "e"), (0.50, 0.52, 4.9, 5.0), (("b", 2.0),))
+    spec = dataclasses.replace(curve_maps.BoundarySpec(), probes=1, max_period=2, back_grazing=False, nodes=5)
+    settings = point.integration_settings(
+        d, integrator="rk4", aligned=False, steps_per_period=128, transient_periods=300, recorded_periods=30
+    )
+    bd, _ = curve_maps.boundary_curves(d, region, spec, settings)
+    assert [br.n for _, br in bd.branches] == [1, 1]  # a P1 orbit seeded and continued on both lines
+    assert seen == {("rk4", False)}

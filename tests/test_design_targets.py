@@ -44,7 +44,7 @@ def test_one_design_plans_only_its_own_outputs(shipped, full_plan, design):
 def test_a_design_named_like_a_rule_is_refused(tmp_path):
     cfg = wf.shipped("config/config.yaml")
     cfg["designs"] = {"archive": "config/designs/archive.yaml"}
-    for section in ("sweeps", "points", "maps", "orbits", "calibration"):
+    for section in ("sweeps", "points", "maps", "orbits", "calibration", "probabilities"):
         cfg[section] = {}
     cfg["claims"] = {"designs": []}
     raw = wf.shipped("config/designs/yue2014.yaml")
@@ -61,7 +61,7 @@ def test_a_design_of_your_own_plans_names_without_paper_numbers(tmp_path):
     # the same plus set under a name of its own and with no paper: descriptive names only, its own outputs only
     cfg = wf.shipped("config/config.yaml")
     cfg["designs"] = {"yue2014": "config/designs/yue2014.yaml", "myplus": "config/designs/myplus.yaml"}
-    for section in ("sweeps", "points", "maps", "orbits", "calibration"):
+    for section in ("sweeps", "points", "maps", "orbits", "calibration", "probabilities"):
         cfg[section] = {}
     cfg["claims"] = {"designs": []}
     raw = wf.shipped("config/designs/yue2014.yaml")

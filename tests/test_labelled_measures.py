@@ -14,8 +14,13 @@ import geardyn.solve.response as response
 from geardyn.khv import design, point
 from geardyn.label import Policy, classify, label_lines
 from geardyn.runs import study
-from geardyn.solve import SimulationSettings
-from geardyn.solve.response import ResponseMeasures, response_measures_many, rms_errors_many
+from geardyn.solve import SimulationSettings, simulate_batch
+from geardyn.solve.response import (
+    ResponseMeasures,
+    measures_of_sums,
+    response_measures_many,
+    rms_errors_many,
+)
 
 ROOT = Path(__file__).resolve().parent.parent
 SETTINGS = SimulationSettings(steps_per_period=128, transient_periods=400, recorded_periods=50)
@@ -62,21 +67,39 @@ def test_a_periodic_verdict_carries_the_measures_of_one_cycle_from_its_final_sta
 
 def test_a_non_periodic_verdict_measures_its_record_within_the_standard_errors(labelled):
     """Over the last recorded periods of the record instead of the next ones: the RMS values differ by less
-    than 4 standard errors of a difference of two records, the means by less than 1 %."""
+    than 4 standard errors of the difference of the two records (each record's error from its own blocks),
+    the means by less than 1 %."""
     lines, verdicts = labelled
     pairs = [(s, v) for line, vs in zip(lines, verdicts, strict=True) for s, v in zip(line, vs, strict=True)]
     other = [(s, v) for s, v in pairs if not v.periodic and not v.diverged]
     assert other, "the torus row has non-periodic points"
-    systems, states = [s for s, _ in other], [v.final_state for _, v in other]
-    nxt = response_measures_many(systems, states, SETTINGS)
-    errors = rms_errors_many(systems, states, SETTINGS)
-    for (_, v), r, e in zip(other, nxt, errors, strict=True):
+    systems, n = [s for s, _ in other], SETTINGS.recorded_periods
+    own = rms_errors_many(systems, [v.poincare for _, v in other], [v.response for _, v in other], SETTINGS)
+    runs = simulate_batch(systems, SETTINGS, [v.final_state for _, v in other], transient_periods=[0] * len(other),
+                          sums_last=[n] * len(other))  # fmt: skip
+    nxt = [measures_of_sums(r.sums, s, n) for r, s in zip(runs, systems, strict=True)]
+    errors = rms_errors_many(systems, [r.poincare for r in runs], nxt, SETTINGS)
+    for (_, v), e1, r, e2 in zip(other, own, nxt, errors, strict=True):
         got = v.response
-        assert got.periods == SETTINGS.recorded_periods and not got.diverged
-        assert abs(got.dte_rms - r.dte_rms) <= 4.0 * math.sqrt(2.0) * e.dte_rms_error + 1e-12
-        assert abs(got.force_rms - r.force_rms) <= 4.0 * math.sqrt(2.0) * e.force_rms_error + 1e-12
+        assert got.periods == n and not got.diverged and e1.blocks == 10
+        assert abs(got.dte_rms - r.dte_rms) <= 4.0 * math.hypot(e1.dte_rms_error, e2.dte_rms_error) + 1e-12
+        assert abs(got.force_rms - r.force_rms) <= 4.0 * math.hypot(e1.force_rms_error, e2.force_rms_error) + 1e-12
         assert got.force_mean == pytest.approx(r.force_mean, rel=1e-2)
         assert got.dte_mean == pytest.approx(r.dte_mean, rel=1e-2, abs=1e-3)
+
+
+def test_the_error_bars_blocks_are_pieces_of_the_verdicts_own_record(labelled):
+    """A non-periodic verdict keeps its record's Poincare points: a block integrated from the point where it
+    begins ends on the point where the next begins, bit for bit, so the error bar's blocks are the very record
+    the RMS was summed over (the first block: the record less the others)."""
+    lines, verdicts = labelled
+    other = [(s, v) for line, vs in zip(lines, verdicts, strict=True) for s, v in zip(line, vs, strict=True)
+             if not v.periodic and not v.diverged]  # fmt: skip
+    n = SETTINGS.recorded_periods
+    runs = simulate_batch([s for s, _ in other], SETTINGS, [v.poincare[-n] for _, v in other],
+                          transient_periods=[0] * len(other), recorded_periods=[n - 1] * len(other))  # fmt: skip
+    for (_, v), r in zip(other, runs, strict=True):
+        assert v.poincare.shape[0] >= n and np.array_equal(r.poincare, v.poincare[-(n - 1) :])
 
 
 def test_the_study_runner_does_not_integrate_the_points_again(monkeypatch):

@@ -38,6 +38,11 @@ def _own_config(shipped):
     for spec in cfg["responses"].values():
         spec.update(num=5, integration=dict(wf.FAST), classifier={"error_floor": 3e-4, "tangent_periods": 30})
         spec.pop("preset", None)
+    cfg["probabilities"] = {n: dict(s) for n, s in shipped["probabilities"].items() if s.get("designs") == "own"}
+    for spec in cfg["probabilities"].values():
+        spec.update(samples=8, integration=dict(wf.FAST), classifier={"error_floor": 3e-4, "tangent_periods": 30})
+        spec["axis"] = {**spec["axis"], "num": 4}
+        spec.pop("preset", None)
     cfg["calibration"], cfg["claims"], cfg["benchmarks"] = {}, {"designs": []}, {"work_precision": False}
     return cfg
 
@@ -83,6 +88,9 @@ def test_every_standard_study_is_built_under_the_designs_own_names(own):
         "figures/map_own_x1_b.png",
         "response/frequency_response.nc",
         "figures/frequency_response.png",
+        "probabilities/regimes_w.nc",  # at the tolerance class new-design writes
+        "figures/regimes_w.png",
+        "tables/regimes_w.md",
     ):
         assert (res / "mydrive" / rel).exists(), rel
     for rel in (

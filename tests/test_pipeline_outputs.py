@@ -45,6 +45,7 @@ KINDS = [
     "li2013/sweeps/fig07_small.nc",
     "li2013/points/fig08_small.nc",
     "li2013/calibration/small_search.nc",
+    "li2013/probabilities/small_prob.nc",
     "benchmarks/work_precision.nc",
     "yue2014/data/modal.nc",
     "yue2014/data/te.nc",
@@ -137,6 +138,9 @@ def test_report_groups_figures_by_paper_and_figure_with_captions(small_run):
         "Fig. 09: tip relief",
         "fig07_small.png",
         "fig09_te_relief.png",
+        "Regime probabilities",
+        "small_prob.png",
+        "claims_small_prob.csv",
     ):
         assert text in html, text
     # a caption: the family's .rst, with the caption text the figure's job wrote included
@@ -235,6 +239,9 @@ def test_slurm_profile_keeps_cheap_rules_local(tmp_path):
         "claims",
         "map_merge",
         "map_figure",
+        "probabilities_merge",
+        "probabilities_figure",
+        "probabilities_claims",
         "calibration_compare",
     } == local
     assert "localrule: True" in (wf.ROOT / "workflow/rules/archive.smk").read_text()

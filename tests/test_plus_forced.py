@@ -67,7 +67,7 @@ def test_quasi_static_limit_is_the_static_solution():
     res = forced.forced_response(d, _sine_te(a), speeds=[1e-4])
     mat = modal.matrices(d, "I")
     keep = [modal.COORDS.index(c) for c in mat.coords]
-    meshes = [el for el in modal.elements(d) if el.kind in forced.MESH_KINDS]
+    meshes = [el for el in modal.elements(d) if el.kind in modal.MESH_TYPES]
     g = forced.mesh_phases(d)
     e = np.array([a * np.exp(2j * np.pi * g[el.j]) if el.kind == "pd" else 0.0 for el in meshes])
     f = -sum(el.k * ej * el.v[keep] for el, ej in zip(meshes, e, strict=True))

@@ -6,16 +6,20 @@ import math
 
 import numpy as np
 import pytest
+import scipy.signal
+import scipy.stats
 
 from _oracle import contact_fractions
 from geardyn.khv.model import Coefficients
 from geardyn.label import Policy
 from geardyn.runs.response import frequency_response
-from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve import SimulationSettings, simulate, simulate_batch
 from geardyn.solve.response import (
     IMPACT_CLASSES,
+    ResponseMeasures,
     batch_means_rms_error,
     impact_class,
+    measures_of_sums,
     response_measures,
     response_measures_many,
     rms_errors_many,
@@ -211,22 +215,53 @@ def test_rms_error_of_a_quasi_periodic_signal_covers_its_known_mean_square():
     assert errors[1] < errors[0] / 3.0
 
 
+def test_rms_error_covers_the_difference_of_two_independent_records_as_often_as_it_should():
+    """A Gaussian AR(1) process x_k = phi x_(k-1) + noise, of unit variance: the RMS of N samples has the
+    standard error sqrt((1 + phi^2) / (2 N (1 - phi^2))) (the variance of x^2 summed over its correlations
+    phi^(2k)).  Over 1000 pairs of independent records of N = 4000 samples, 10 blocks each: the errors' root
+    mean square is that within 2 % (4 of its own standard deviations), and |RMS1 - RMS2| <= 1.96 sqrt(SE1^2 +
+    SE2^2) as often as a t variable of 18 degrees of freedom (two errors of 9 each) is within +-1.96, 93.4 %:
+    within 3.3 binomial standard deviations (0.8 %) of it."""
+    phi, n, pairs, blocks = 0.6, 4000, 1000, 10
+    rng = np.random.default_rng(2024)
+    noise = rng.standard_normal((2 * pairs, n)) * math.sqrt(1.0 - phi * phi)
+    noise[:, 0] = rng.standard_normal(2 * pairs)  # stationary from the first sample
+    x = 1.5 + scipy.signal.lfilter([1.0], [1.0, -phi], noise, axis=1)
+    parts = x.reshape(2 * pairs, blocks, n // blocks)
+    means, rms = parts.mean(axis=2), parts.std(axis=2)
+    se = np.array([batch_means_rms_error(np.ones(blocks), m, r) for m, r in zip(means, rms, strict=True)])
+    exact = math.sqrt((1.0 + phi * phi) / (2.0 * n * (1.0 - phi * phi)))
+    assert math.sqrt(np.mean(se**2)) == pytest.approx(exact, rel=0.02)
+    total = x.std(axis=1)
+    covered = np.abs(total[0::2] - total[1::2]) <= 1.96 * np.hypot(se[0::2], se[1::2])
+    expected = 2.0 * scipy.stats.t.cdf(1.96, 2 * (blocks - 1)) - 1.0
+    assert expected == pytest.approx(0.934, abs=1e-3)
+    assert abs(np.mean(covered) - expected) <= 3.3 * math.sqrt(expected * (1.0 - expected) / pairs)
+
+
+def _record(c: Coefficients, settings: SimulationSettings, x0: np.ndarray | None = None):
+    """A record of ``settings`` (transient, then the recorded periods) from x0: its Poincare points and the
+    measures summed over its recorded periods (as the labeller's runs sum them)."""
+    (r,) = simulate_batch([c], settings, None if x0 is None else [x0], sums_last=[settings.recorded_periods])
+    return r.poincare, measures_of_sums(r.sums, c, settings.recorded_periods)
+
+
 def test_rms_error_of_a_periodic_orbit_is_zero():
     """On a periodic orbit every block of whole periods is the same record: the error is 0 to rounding (the
     linear model's orbit, reached after 400 periods)."""
     c = _system()
     settings = SimulationSettings(steps_per_period=128, transient_periods=400, recorded_periods=40)
-    y0 = simulate(c, settings).final_state
-    (e,) = rms_errors_many([c], [y0], settings)
-    r = response_measures(c, y0, settings)
+    points, r = _record(c, settings)
+    (e,) = rms_errors_many([c], [points], [r], settings)
     assert e.blocks == 10 and r.dte_rms > 0.01
     assert e.dte_rms_error <= 1e-12 * r.dte_rms and e.force_rms_error <= 1e-12 * r.force_rms
 
 
-def test_rms_error_equals_batch_means_of_the_dense_trajectory():
-    """The blocks measured in the lanes are the record's own: the error equals batch means of
-    :func:`simulate`'s dense output over the same blocks (3 periods each of a 30-period transient with
-    impacts), reduced in numpy with the trapezoidal rule (constant stiffness, uniform steps)."""
+def test_rms_error_is_batch_means_of_the_record_itself():
+    """The blocks are the record's own: the error of a record's RMS equals batch means of :func:`simulate`'s
+    dense output of that record over the same blocks (3 periods each of a 30-period transient with impacts,
+    reduced in numpy with the trapezoidal rule; constant stiffness, uniform steps), the first block's share
+    taken from the record's sums, the others integrated again from its Poincare points."""
     c = _system(e=1.5, b=0.5, omega=1.2)
     settings = SimulationSettings(
         integrator="rk4_event", steps_per_period=128, aligned=False, transient_periods=0, recorded_periods=30
@@ -241,18 +276,27 @@ def test_rms_error_equals_batch_means_of_the_dense_trajectory():
         means.append(m)
         rms.append(math.sqrt(np.trapezoid((seg - m) ** 2) / (seg.size - 1)))
     expected = batch_means_rms_error(np.full(10, 3.0), np.array(means), np.array(rms))
-    (e,) = rms_errors_many([c], [y0], settings)
-    assert expected > 1e-4  # a transient: the blocks differ
+    points, r = _record(c, settings, y0)
+    assert np.array_equal(points, run.poincare)
+    (e,) = rms_errors_many([c], [points], [r], settings)
+    assert expected > 1e-4  # a transient: the blocks differ, and a record from its end would differ again
     assert e.dte_rms_error == pytest.approx(expected, rel=1e-9)
+    # only the measured periods' points are read: a record that holds older points too gives the same
+    assert rms_errors_many([c], [np.vstack([np.zeros((5, 6)), points])], [r], settings) == [e]
 
 
 def test_rms_error_bad_input():
     c = _system()
-    settings = SimulationSettings(steps_per_period=64)
-    one, bad = rms_errors_many([c, c], [c.static_state(), np.full(6, np.nan)], settings, [1, 20])
+    settings = SimulationSettings(steps_per_period=64, transient_periods=20, recorded_periods=20)
+    points, r = _record(c, settings)
+    one, bad = rms_errors_many(
+        [c, c], [points, points], [dataclasses.replace(r, periods=1), ResponseMeasures.not_computed()], settings
+    )
     assert one.blocks == 1 and math.isnan(one.dte_rms_error)  # one period: no batch means
-    assert math.isnan(bad.dte_rms_error) and math.isnan(bad.force_rms_error)
+    assert math.isnan(bad.dte_rms_error) and math.isnan(bad.force_rms_error)  # a diverged record
+    with pytest.raises(ValueError, match="Poincare points"):  # fewer points than measured periods
+        rms_errors_many([c], [points[:10]], [r], settings)
     with pytest.raises(ValueError, match="at least 2 blocks"):
-        rms_errors_many([c], [c.static_state()], settings, blocks=1)
+        rms_errors_many([c], [points], [r], settings, blocks=1)
     with pytest.raises(ValueError, match="batch means"):
         batch_means_rms_error(np.ones(1), np.ones(1), np.ones(1))

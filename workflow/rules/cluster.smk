@@ -21,3 +21,6 @@ localrules:
     claims,
     map_merge,
     map_figure,
+    probabilities_merge,
+    probabilities_figure,
+    probabilities_claims,

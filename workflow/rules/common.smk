@@ -62,6 +62,7 @@ SECTION_KEYS = {
     "orbits": "sweep",
     "responses": "response",
     "curves": "study",
+    "probabilities": "prob",
 }
 
 
@@ -108,6 +109,7 @@ wildcard_constraints:
     calibration=either(config["calibration"], "no-calibration"),
     response=either(config["responses"], "no-response"),
     study=either(config["curves"], "no-study"),
+    prob=either(config["probabilities"], "no-prob"),
     chunk=r"\d+",
 
 
@@ -167,6 +169,24 @@ def map_chunks(name, spec, design):
     from geardyn.runs.maps import MapSpec
 
     return MapSpec.from_config(name, spec, design, segment_of(design)).n_chunks
+
+
+def probability_chunks(name, spec, design):
+    from geardyn.runs.probabilities import ProbabilitySpec
+
+    return ProbabilitySpec.from_config(name, spec, design, segment_of(design)).n_chunks
+
+
+def probability_claims(pattern):
+    """``pattern`` (the probabilities claims rule's output) for every design of every study that checks claims."""
+    from geardyn.config.validate import selected_designs
+
+    return [
+        entry_path(pattern, "probabilities", name, design)
+        for name, spec in config["probabilities"].items()
+        if spec.get("claims")
+        for design in selected_designs(spec["designs"], DESIGNS)
+    ]
 
 
 def design_targets(design, targets):

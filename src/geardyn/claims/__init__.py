@@ -16,8 +16,9 @@ import numpy as np
 import xarray as xr
 
 from geardyn.claims.verdicts import BORDERLINE_Z, RANGE_AGREE, Claim, band, fraction_verdict
+from geardyn.khv import point
 from geardyn.label import classify
-from geardyn.runs.cube import case_label, labels_of_cube
+from geardyn.runs.cube import labels_of_cube
 
 P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
 #: The words for labels that are not period-n (:func:`geardyn.label.classify.short_name`: "QP", "chaos", ...).
@@ -64,7 +65,7 @@ def lines_of_runs(lines: Mapping[str, Mapping[str, Any]], runs: Mapping[str, Any
             out[role] = track_of_cube(cube)
         else:  # a family: {value: Track} of the cases ``<case_parameter>=<value>``
             names = [str(c) for c in cube["case"].values]
-            index = {float(v): names.index(case_label({spec["case_parameter"]: v})) for v in spec["cases"]}
+            index = {float(v): names.index(point.label({spec["case_parameter"]: v}, "")) for v in spec["cases"]}
             out[role] = {v: track_of_cube(cube, i) for v, i in index.items()}
     return out
 
@@ -179,7 +180,7 @@ def _amplitude_falls(spec: Mapping[str, Any], amplitude: Mapping[str, np.ndarray
 
 def _peaks(spec: Mapping[str, Any], points: xr.Dataset | None) -> Claim:
     """Each of the paper's spectral peaks has one of our ``highest`` peaks within ``tolerance`` (dense run ``case``)."""
-    case = case_label(spec["case"])
+    case = point.label(spec["case"], "")
     if points is None or case not in [str(c) for c in points["case"].values]:
         return _missing(spec, "point missing", "no dense run")
     d = points.sel(case=case)

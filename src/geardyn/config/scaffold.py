@@ -68,6 +68,7 @@ def khv_design(name: str, z1: int = 40, z2: int = 43, module: float = 2.0) -> di
         "paper": None,
         "pair": {"z1": z1, "z2": z2, "module": module, "x1": round(0.5 * (lo + hi), 4), "x2": "line4"},
         "admissible": {"x1_min": lo, "x1_max": hi, "enforce_cutter_constraints": False},
+        "tolerances": {"grade": 6, "backlash": [1.0, 3.0]},  # the standard probabilities study reads them
     }
     return validated(raw, KINDS["khv"], name)
 
@@ -82,15 +83,17 @@ def _scalar(value: Any) -> str:
     return yaml.safe_dump(value, default_flow_style=True, width=1000).strip().removesuffix("\n...").strip()
 
 
-def _emit(data: dict[str, Any], node: dict[str, Any], indent: int, lines: list[str]) -> None:
+def _emit(data: dict[str, Any], node: dict[str, Any], indent: int, lines: list[str], defs: dict[str, Any]) -> None:
     props = node.get("properties", {})
     for key, value in data.items():
         sub = props.get(key, {})
+        if str(sub.get("$ref", "")).startswith("#/$defs/"):  # a local definition, its keys' comments too
+            sub = {**defs[sub["$ref"].rpartition("/")[2]], **sub}
         desc = " ".join(str(sub.get("description", "")).split())
         pad = "  " * indent
         if isinstance(value, dict) and value:
             lines.append(f"{pad}{key}:" + (f"  # {desc}" if desc else ""))
-            _emit(value, sub, indent + 1, lines)
+            _emit(value, sub, indent + 1, lines, defs)
         else:
             text = f"{pad}{key}: {_scalar(value)}"
             lines.append(text + (f"  # {desc}" if desc else ""))
@@ -109,5 +112,6 @@ def render(raw: dict[str, Any], kind: str) -> str:
             "2 % inside its ends)."
         )
     lines: list[str] = []
-    _emit(raw, schema(KINDS[kind]), 0, lines)
+    node = schema(KINDS[kind])
+    _emit(raw, node, 0, lines, node.get("$defs", {}))
     return "\n".join(header + lines) + "\n"

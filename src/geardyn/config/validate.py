@@ -75,6 +75,7 @@ PRESET_KEYS = {
     "maps": ("integration", "classifier", "start_from", "coexistence"),
     "calibration": ("integration", "classifier"),
     "responses": ("integration", "classifier"),
+    "probabilities": ("integration", "classifier", "start_from", "coexistence"),
 }
 
 
@@ -240,6 +241,9 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
     """Every run against every design it selects: a known KHV design, known control parameters with values in
     range, ranges that go upwards, x1 inside the admissible segment; claims and calibrations for paper designs."""
     khv = [name for name, raw in designs.items() if raw["kind"] == "khv"]
+    taken = {n for s in ("sweeps", "points", "maps", "curves", "responses") for n in filled.get(s, {})}
+    for name in set(filled.get("probabilities", {})) & taken:
+        raise ConfigError(f"config: probabilities name {name!r} is not allowed: a name other than the other studies'")
     for axis in ("x1", "x2"):
         _check_range(filled["closed_graph"][axis], f"config: closed_graph.{axis}")
     for i, x1 in enumerate(filled["stiffness_table"]["fig05_x1"]):
@@ -247,7 +251,7 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
             _check_x1(
                 resolve_fractions(x1, _segment(designs[name])), designs[name], f"config: stiffness_table.fig05_x1[{i}]"
             )
-    for section in ("sweeps", "points", "calibration", "maps", "responses", "curves"):
+    for section in ("sweeps", "points", "calibration", "maps", "responses", "curves", "probabilities"):
         for name, spec in filled.get(section, {}).items():
             where = f"config: {section}.{name}"
             selector = spec["designs"] if "designs" in spec else [spec["design"]]
@@ -263,6 +267,8 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
                         "design's unknowns to its paper's results (set 'paper:' in the design file)"
                     )
                 _check_overrides(section, resolve_fractions(spec, _segment(raw)), raw, where)
+                if section == "probabilities":
+                    _check_probabilities(resolve_fractions(spec, _segment(raw)), raw, where)
     for name, spec in filled.get("orbits", {}).items():
         where = f"config: orbits.{name}"
         if name not in filled["sweeps"]:
@@ -315,6 +321,7 @@ RANGES: dict[str, tuple[tuple[str, str | None], ...]] = {
     "curves": (("x", None), ("y", None)),
     "calibration": (("x1", "x1"),),
     "responses": (("", "w"),),
+    "probabilities": (("axis", None),),
 }
 
 
@@ -323,7 +330,7 @@ def _check_overrides(section: str, spec: dict[str, Any], raw: dict[str, Any], wh
     overrides = [("fixed", spec.get("fixed", {}))] + [
         (f"cases[{i}]", case) for i, case in enumerate(spec.get("cases", []))
     ]
-    for key, parameter in RANGES.get(section, ()):
+    for key, parameter in [(k, p) for k, p in RANGES.get(section, ()) if not k or k in spec]:
         rng, at = (spec[key], f"{key}.") if key else (spec, "")
         if parameter is None:
             parameter = rng["parameter"]
@@ -335,3 +342,78 @@ def _check_overrides(section: str, spec: dict[str, Any], raw: dict[str, Any], wh
             if key == "x1" and raw["kind"] == "khv":
                 _check_x1(value, raw, f"{where}.{label}")
             _check_value(key, value, f"{where}.{label}")
+
+
+#: The shapes of an input's distribution: (the keys it needs, the keys it may have).
+SHAPES = (
+    ({"low", "high"}, {"low", "high", "scale"}),
+    ({"std"}, {"std", "mean", "low", "high"}),
+    ({"tolerance"}, {"tolerance"}),
+    ({"relative_tolerance"}, {"relative_tolerance"}),
+)
+
+
+def _check_probabilities(spec: dict[str, Any], raw: dict[str, Any], where: str) -> None:
+    """A probabilities study against one KHV design: an input at all, each a known override other than the axis
+    and the fixed ones, of one distribution's shape, its range going upwards (low > 0 on a log scale) and inside
+    the override's limits; a tolerance class to take, in ISO 1328-1's scope; a power of 2 of samples for
+    Sobol' indices; the claims' line one of the paper's, along the axis, at the study's fixed values."""
+    from geardyn.khv import point  # noqa: PLC0415 - only with such a study
+    from geardyn.runs.probabilities import distribution, tolerance_inputs  # noqa: PLC0415
+
+    drive, fixed, tol = khv_design.from_dict(raw, where), spec["fixed"], spec.get("tolerances")
+    if tol == "design" and "tolerances" not in raw:
+        raise ConfigError(
+            f"{where}.tolerances = 'design' is not allowed for design {raw['name']!r}: it states no tolerances "
+            "(add tolerances: {grade: <1-11>} to its file, as geardyn new-design does, or give the class here)"
+        )
+    try:
+        inputs = tolerance_inputs(drive, raw["tolerances"] if tol == "design" else tol) if tol else []
+    except ValueError as err:
+        raise ConfigError(f"{where}.tolerances: {err}") from None
+    places = {i.name: f"{where}.tolerances" for i in inputs}
+    for name, dist in spec["inputs"].items():
+        at = places[name] = f"{where}.inputs.{name}"
+        _override_node(name, f"{where}.inputs")
+        if not any(needs <= set(dist) <= may for needs, may in SHAPES):
+            raise ConfigError(
+                f"{at} = {dist!r} is not allowed: low and high (scale), std (mean, low, high), tolerance or "
+                "relative_tolerance"
+            )
+        inputs = [i for i in inputs if i.name != name] + [distribution(name, dist, point.nominal(drive, name, fixed))]
+    for inp in inputs:
+        at = places[inp.name]
+        if inp.name in fixed or inp.name == spec.get("axis", {}).get("parameter"):
+            raise ConfigError(f"{at}: input {inp.name} is not allowed: an input other than the axis and the fixed ones")
+        if not inp.low < inp.high or (inp.log and inp.low <= 0) or (inp.std and not inp.low <= inp.mean <= inp.high):
+            raise ConfigError(
+                f"{at}: {inp.text} is not allowed: low < high (low > 0 on a log scale, the mean between them)"
+            )
+        for value in (inp.low, inp.high):
+            if inp.name == "x1":
+                _check_x1(value, raw, at)
+            _check_value(inp.name, value, at)
+    _check_sampling(spec, raw, where, bool(inputs))
+
+
+def _check_sampling(spec: dict[str, Any], raw: dict[str, Any], where: str, inputs: bool) -> None:
+    """An uncertain input at all, a power of 2 of samples for Sobol' indices, the claims' line one of the
+    design's paper's, without cases, along the axis and at the study's fixed values."""
+    if not inputs and "initial_state" not in spec:
+        raise ConfigError(f"{where}.inputs = {{}} is not allowed: an input, or a tolerance class or initial_state")
+    n = spec["samples"]
+    if spec["sensitivity"]["method"] == "sobol" and n & (n - 1):
+        raise ConfigError(f"{where}.samples = {n} is not allowed: a power of 2 with sensitivity.method sobol")
+    if "claims" not in spec:
+        return
+    lines = getattr(paper_of(raw.get("paper")), "CLAIM_LINES", {})
+    line = lines.get(spec["claims"], {})
+    if not line or "cases" in line or line["parameter"] != spec.get("axis", {}).get("parameter"):
+        raise ConfigError(
+            f"{where}.claims = {spec['claims']!r} is not allowed for design {raw['name']!r}: one of "
+            + (", ".join(repr(k) for k, v in lines.items() if "cases" not in v) or "none (it names no such paper)")
+            + ", a line along the study's axis parameter"
+        )
+    differ = {k: v for k, v in line.get("fixed", {}).items() if spec["fixed"].get(k) != v}
+    if differ:
+        raise ConfigError(f"{where}.fixed is not allowed: the claims' line holds {differ} (set them in fixed)")

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 from geardyn.khv import design as design_mod
@@ -22,17 +22,28 @@ CONTROLS: dict[str, tuple[str, str]] = {
     "speed": ("rpm", "input speed"),
 }
 
+#: The control parameters that are one field of the dimensionless coefficients each (the coefficients are linear
+#: in them; w where the design's mesh frequency is dimensionless).
+COEFFICIENT_FIELDS = {"b": "b", "e": "e", "w": "omega"}
+
 #: UDUNITS units of the model parameters (fields of :class:`KHVParameters`) when used as overrides.
 PARAMETER_UNITS: dict[str, str] = {
     f.name: f.metadata["units"] for f in dataclasses.fields(KHVParameters) if "units" in f.metadata
 }
 
 
-def units_of(name: str) -> str:
-    """UDUNITS units of an override: a control parameter (``CONTROLS``) or a model parameter."""
+def units_of(name: str, default: str | None = None) -> str:
+    """UDUNITS units of an override: a control parameter (``CONTROLS``) or a model parameter; ``default`` for
+    any other name (else a KeyError)."""
     if name in CONTROLS:
         return CONTROLS[name][0]
-    return PARAMETER_UNITS[name]
+    return PARAMETER_UNITS[name] if default is None else PARAMETER_UNITS.get(name, default)
+
+
+def label(overrides: Iterable[tuple[str, float]] | Mapping[str, float], empty: str = "none") -> str:
+    """The overrides as ``k=v,k=v`` (values ``:g``), ``empty`` without any."""
+    pairs = overrides.items() if isinstance(overrides, Mapping) else overrides
+    return ",".join(f"{k}={v:g}" for k, v in pairs) or empty
 
 
 _PARAM_FIELDS = {f.name for f in dataclasses.fields(KHVParameters)} - {"eps", "k_c", "pressure_angle_deg"}
@@ -83,6 +94,16 @@ def point_model(
     params = {k: v for k, v in params.items() if v is not None}
     phys = KHVParameters(eps=mesh.contact_ratio, k_c=mesh.k_c, **params)
     return phys, Options(**options), mesh
+
+
+def nominal(design: design_mod.KHVDesign, name: str, overrides: Mapping[str, float] | None = None) -> float:
+    """The value of the override ``name`` at the point of ``overrides`` (the design's own where they do not set
+    it), in the override's units (:data:`CONTROLS`: um for b and e; SI for a model parameter)."""
+    overrides = dict(overrides or {})
+    if name in overrides or name == "x1":
+        return float(overrides.get(name, design.base.x1))
+    field, scale = _CONTROL_FIELDS.get(name, (name, 1.0))
+    return float(getattr(point_model(design, overrides)[0], field)) / scale
 
 
 def point_coefficients(design: design_mod.KHVDesign, overrides: Mapping[str, float] | None = None) -> Coefficients:

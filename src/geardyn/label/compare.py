@@ -6,11 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 import geardyn.label.classify as classify
+from geardyn.label.policy import Same
 from geardyn.label.verdict import Verdict
-
-#: Default tolerances (relative to max(1, attractor size)).
-DISTANCE_TOL = 1e-3
-CHAOTIC_DISTANCE_TOL = 0.2
 
 
 def hausdorff(a: np.ndarray, b: np.ndarray) -> float:
@@ -45,11 +42,10 @@ def same_attractor(
     pa: np.ndarray,
     label_b: int,
     pb: np.ndarray,
-    distance_tol: float = DISTANCE_TOL,
-    chaotic_distance_tol: float = CHAOTIC_DISTANCE_TOL,
+    tol: Same = Same(),
 ) -> bool:
-    """Same label and Poincare sets within the tolerance (``docs/classify.md``).  ``pa``, ``pb``: for a periodic
-    label, one cycle (its n points)."""
+    """Same label and Poincare sets within the tolerances ``tol`` (``docs/classify.md``).  ``pa``, ``pb``: for a
+    periodic label, one cycle (its n points)."""
     if label_a != label_b:
         return False
     if label_a == classify.LABELS["diverged"]:
@@ -58,11 +54,11 @@ def same_attractor(
         return False
     size = max(float(np.max(np.ptp(pa, axis=0))), float(np.max(np.ptp(pb, axis=0))))
     if label_a >= 1:
-        return hausdorff(pa, pb) <= distance_tol * max(1.0, size)
+        return hausdorff(pa, pb) <= tol.distance_tol * max(1.0, size)
     # a Hausdorff distance of two samples of a cloud is sampling noise: compare centroids and bounding boxes
-    tol = chaotic_distance_tol * max(1.0, size)
+    cloud = tol.chaotic_distance_tol * max(1.0, size)
     box = max(float(np.max(np.abs(pa.min(0) - pb.min(0)))), float(np.max(np.abs(pa.max(0) - pb.max(0)))))
-    return float(np.max(np.abs(pa.mean(0) - pb.mean(0)))) <= tol and box <= tol
+    return float(np.max(np.abs(pa.mean(0) - pb.mean(0)))) <= cloud and box <= cloud
 
 
 def attractor_points(v: Verdict) -> np.ndarray:
@@ -71,6 +67,6 @@ def attractor_points(v: Verdict) -> np.ndarray:
     return p[: v.period] if v.period > 0 else p
 
 
-def same(a: Verdict, b: Verdict) -> bool:
+def same(a: Verdict, b: Verdict, tol: Same = Same()) -> bool:
     """Whether two verdicts at one point describe the same attractor."""
-    return same_attractor(a.label, attractor_points(a), b.label, attractor_points(b))
+    return same_attractor(a.label, attractor_points(a), b.label, attractor_points(b), tol)

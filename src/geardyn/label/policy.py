@@ -80,6 +80,16 @@ class Locked:
 
 
 @dataclass(frozen=True)
+class Same:
+    """When two runs reached the same attractor (:mod:`geardyn.label.compare`): the same label and, periodic,
+    cycles within ``distance_tol`` max(1, size) (symmetric Hausdorff distance, max norm), else centroids and
+    bounding boxes within ``chaotic_distance_tol`` max(1, size) (``docs/classify.md``)."""
+
+    distance_tol: float = 1e-3
+    chaotic_distance_tol: float = 0.2
+
+
+@dataclass(frozen=True)
 class Policy:
     """How the points of a study are labelled: integration, classifier thresholds, start (``"follow"`` or
     ``"fixed"``), coexistence, and the numerics of the stages (``docs/classify.md``)."""
@@ -94,6 +104,7 @@ class Policy:
     chord: Chord = Chord()
     settle: Settle = Settle()
     locked: Locked = Locked()
+    same: Same = Same()
     extrapolate_min: int = 24
     torus_windows: int = 6
     cycle_repeats: int = 3

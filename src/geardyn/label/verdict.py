@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import geardyn.label.classify as classify
+from geardyn.solve.bifurcations import CODES
 from geardyn.solve.response import ResponseMeasures
 
 #: Which stage decided a verdict (cube variable ``stage``; codes and meanings).
@@ -21,14 +22,10 @@ STAGES = {
 }
 STAGE_NAMES = {v: k for k, v in STAGES.items()}
 
-#: How the followed orbit lost stability at this point (cube variable ``bifurcation``).
-BIFURCATIONS = {
-    "none": 0,
-    "fold": 1,  # a real multiplier left the unit circle through +1
-    "period_doubling": 2,  # a real multiplier left through -1
-    "neimark_sacker": 3,  # a complex pair left the unit circle
-    "orbit_lost": 4,  # Newton shooting found no orbit near the previous one (a fold or a jump)
-}
+#: How the followed orbit lost stability at this point (cube variable ``bifurcation``; codes of the one vocabulary,
+#: :mod:`geardyn.solve.bifurcations`): a real multiplier left the unit circle through +1 or -1, a complex pair left
+#: it, or Newton shooting found no orbit near the previous one (a fold or a jump).
+BIFURCATIONS = {k: CODES[k] for k in ("none", "fold", "period_doubling", "neimark_sacker", "orbit_lost")}
 
 #: How the exponent was obtained (cube variable ``exponent_method``).
 EXPONENT_METHODS = {"none": 0, "floquet": 1, "tangent": 2}

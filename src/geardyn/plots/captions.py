@@ -14,6 +14,7 @@ import xarray as xr
 from geardyn.label import STAGE_NAMES, classify
 from geardyn.plots import paper_says
 from geardyn.plots.plus import ENERGY_BARS, orders
+from geardyn.plus.modal import MESH_TYPES
 from geardyn.runs.cube import STATES, fractions, labels_of_cube
 
 if TYPE_CHECKING:
@@ -316,7 +317,7 @@ def forced_response(design: PlusDesign, ds: xr.Dataset, paper: ModuleType | None
             "only marks a severe resonance."
         )
     for case in [c for c in ("unmodified", best) if c]:
-        for kind in ("sp", "pd", "dr"):
+        for kind in MESH_TYPES:
             sub = ds.sel(case=case, mesh=f"{kind}1")
             i = int(np.argmax(sub.rms_force.values))
             j = int(np.argmax(sub.dynamic_factor.values))

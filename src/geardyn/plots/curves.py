@@ -15,17 +15,15 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from geardyn.io import markdown_table
+from geardyn.solve import bifurcations
 
-#: The pixel check's failures (``check_reason``; as geardyn.runs.continuation.curve_check.FAILURES, without
-#: importing the solvers into a figure job); the other reasons but "ok" are exclusions.
-FAILURES = ("not_straddled", "stable_side", "other_side", "impact_class")
-#: Colour and name of each curve kind (the file's ``curve_kind`` flag meanings).
-KIND_STYLE = {
-    "fold": ("#000000", "fold"),
-    "period_doubling": ("#1f3fbf", "period doubling"),
-    "neimark_sacker": ("#d0006f", "Neimark-Sacker"),
-    "grazing": ("#1b9e3b", "grazing (contact loss)"),
-    "back_grazing": ("#e66100", "back-flank grazing (double-sided impact)"),
+#: Colour of each curve kind (the file's ``curve_kind`` flag meanings; the legend text of the one vocabulary).
+KIND_COLOUR = {
+    "fold": "#000000",
+    "period_doubling": "#1f3fbf",
+    "neimark_sacker": "#d0006f",
+    "grazing": "#1b9e3b",
+    "back_grazing": "#e66100",
 }
 #: Marker of each codimension-2 type.
 CODIM2_MARKERS = {
@@ -42,8 +40,9 @@ CODIM2_MARKERS = {
 }
 
 
-def _meanings(ds: xr.Dataset, name: str) -> list[str]:
-    return str(ds[name].attrs.get("flag_meanings", "")).split()
+def _meanings(ds: xr.Dataset, name: str) -> dict[int, str]:
+    """code -> meaning of the flag variable ``name``."""
+    return bifurcations.decode(ds[name].attrs)
 
 
 def names_of(ds: xr.Dataset) -> tuple[str, str]:
@@ -105,7 +104,7 @@ def draw_curves(ax: Axes, ds: xr.Dataset, legend: bool = True, lw: float = 1.4, 
     a legend of the kinds present (and their periods) at ``loc`` (an earlier legend of ``ax`` is kept)."""
     periods: dict[str, set[int]] = {}
     for c in curves_of(ds):
-        colour = KIND_STYLE.get(c["kind"], ("0.3", c["kind"]))[0]
+        colour = KIND_COLOUR.get(c["kind"], "0.3")
         ax.plot(c["x"], c["y"], ":", color=colour, lw=0.7 * lw)
         ax.plot(c["x"], np.where(c["bounds"], c["y"], np.nan), "-", color=colour, lw=lw)
         periods.setdefault(c["kind"], set()).add(c["n"])
@@ -113,8 +112,8 @@ def draw_curves(ax: Axes, ds: xr.Dataset, legend: bool = True, lw: float = 1.4, 
         earlier = ax.get_legend()
         if earlier is not None:
             ax.add_artist(earlier)
-        label = {k: f"{KIND_STYLE[k][1]}: " + ", ".join(f"P{n}" for n in sorted(v)) for k, v in periods.items()}
-        handles = [Line2D([], [], color=KIND_STYLE[k][0], lw=lw, label=label[k]) for k in periods]
+        label = {k: f"{bifurcations.legend(k)}: " + ", ".join(f"P{n}" for n in sorted(v)) for k, v in periods.items()}
+        handles = [Line2D([], [], color=KIND_COLOUR.get(k, "0.3"), lw=lw, label=label[k]) for k in periods]
         handles.append(Line2D([], [], color="0.3", lw=0.7 * lw, ls=":", label="dotted: orbit already unstable"))
         ax.legend(handles=handles, loc=loc, fontsize=6, framealpha=0.8)
 
@@ -133,8 +132,9 @@ def plot_curves(ds: xr.Dataset, title: str, background: tuple[np.ndarray, tuple]
     draw_curves(ax, ds, legend=True)
     kinds_legend = ax.get_legend()
     if "check_reason" in ds and ds.sizes.get("check", 0):
-        reasons = np.array(_meanings(ds, "check_reason"))[ds["check_reason"].values]
-        ok, failed = reasons == "ok", np.isin(reasons, FAILURES)
+        code = _meanings(ds, "check_reason")
+        reasons = np.array([code[int(c)] for c in ds["check_reason"].values])
+        ok, failed = reasons == "ok", np.isin(reasons, str(ds["check_reason"].attrs.get("failures", "")).split())
         cx, cy = ds[f"check_{xn}"].values, ds[f"check_{yn}"].values
         ax.plot(cx[~ok & ~failed], cy[~ok & ~failed], ".", ms=1.5, color="0.6")
         ax.plot(cx[ok], cy[ok], "o", ms=2.5, mfc="none", mec="#2ca02c", mew=0.6)
@@ -143,7 +143,8 @@ def plot_curves(ds: xr.Dataset, title: str, background: tuple[np.ndarray, tuple]
     for p in _unique_codim2(codim2_of(ds)):
         ax.plot(p["x"], p["y"], CODIM2_MARKERS.get(p["type"], "o"), ms=9, mfc="#ffd700", mec="k", mew=0.8)
     for t in sorted({p["type"] for p in codim2_of(ds)}):
-        handles.append(Line2D([], [], ls="", marker=CODIM2_MARKERS.get(t, "o"), mfc="#ffd700", mec="k", label=t))
+        marker = CODIM2_MARKERS.get(t, "o")
+        handles.append(Line2D([], [], ls="", marker=marker, mfc="#ffd700", mec="k", label=bifurcations.legend(t)))
     if handles:
         if kinds_legend is not None:
             ax.add_artist(kinds_legend)

@@ -1,4 +1,4 @@
-"""Continued branches drawn over a simulated bifurcation diagram (docs/orbits.md, "Outputs"): the sweep's
+"""Continued branches drawn over a simulated bifurcation diagram (docs/orbits.md, section 4): the sweep's
 Poincaré points grey, each branch's phase-0 points solid where stable and dashed where unstable, the typed
 bifurcation points marked."""
 
@@ -8,13 +8,15 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
-#: Marker, colour and legend text of each bifurcation type.
+from geardyn.solve.bifurcations import decode, legend
+
+#: Marker and colour of each bifurcation type (the legend text of the one vocabulary).
 MARKERS = {
-    "period_doubling": ("v", "#d62728", "period doubling (mu = -1)"),
-    "neimark_sacker": ("D", "#9467bd", "Neimark-Sacker (|mu| = 1, complex)"),
-    "fold": ("o", "#2ca02c", "fold (mu = +1, turning point)"),
-    "branch_point": ("X", "#8c564b", "branch point (mu = +1)"),
-    "grazing": ("^", "#ff7f0e", "grazing (min |X_VH| = b)"),
+    "period_doubling": ("v", "#d62728"),
+    "neimark_sacker": ("D", "#9467bd"),
+    "fold": ("o", "#2ca02c"),
+    "branch_point": ("X", "#8c564b"),
+    "grazing": ("^", "#ff7f0e"),
 }
 _BRANCH_COLOURS = ["#1f77b4", "#17becf", "#393b79", "#637939", "#e377c2", "#7f7f7f"]
 
@@ -25,7 +27,7 @@ def plot_branches(cube: xr.Dataset | None, branches: xr.Dataset, title: str) -> 
     cases = [str(c) for c in branches["case"].values]
     fig = Figure(figsize=(9, 3.6 * len(cases)))
     axes = fig.subplots(len(cases), 1, squeeze=False)
-    types = branches["bifurcation_type"].attrs["flag_meanings"].split()
+    types = decode(branches["bifurcation_type"].attrs)
     for k, case in enumerate(cases):
         ax = axes[k, 0]
         if cube is not None and "x_vh" in cube:
@@ -49,12 +51,12 @@ def plot_branches(cube: xr.Dataset | None, branches: xr.Dataset, title: str) -> 
                 label = f"{name} unstable" if c == 0 and (~stable).any() else None
                 ax.plot(p, np.where(near, yc, np.nan), "--", color=colour, lw=1.0, label=label)
         bsel = np.isin(branches["bifurcation_branch"].values, ids)
-        for code, kind in enumerate(types):
+        for code, kind in types.items():
             mk = bsel & (branches["bifurcation_type"].values == code)
             if mk.any():
-                marker, colour, text = MARKERS.get(kind, ("s", "k", kind))
+                marker, colour = MARKERS.get(kind, ("s", "k"))
                 at = (branches["bifurcation_parameter"].values[mk], branches["bifurcation_x_vh"].values[mk])
-                ax.plot(*at, marker, color=colour, ms=7, mec="k", mew=0.6, ls="none", label=text)
+                ax.plot(*at, marker, color=colour, ms=7, mec="k", mew=0.6, ls="none", label=legend(kind))
         ax.set_xlabel(par)
         ax.set_ylabel("X_VH / b_c (phase 0)")
         ax.set_title(f"{title} ({case})" if len(cases) > 1 or case != "base" else title, fontsize=10)

@@ -11,7 +11,7 @@ import xarray as xr
 from matplotlib.figure import Figure
 
 from geardyn.plots import single_axes
-from geardyn.plus.modal import distinct_groups
+from geardyn.plus.modal import MESH_TYPES, distinct_groups
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -197,7 +197,7 @@ def forced_response_figure(ds: xr.Dataset, planet: int = 1, max_harmonic_marks: 
     speed = ds.speed.values
     best = ds.attrs.get("best_relief_case") or None
     cases = [("unmodified", "-")] + ([(best, "--")] if best else [])
-    for kind in ("sp", "pd", "dr"):
+    for kind in MESH_TYPES:
         mesh = f"{kind}{planet}"
         for case, ls in cases:
             lab = f"{mesh}, {case} (TE ptp {float(ds.te_ptp.sel(case=case)):.2f} um)"

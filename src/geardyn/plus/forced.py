@@ -17,7 +17,6 @@ from . import modal
 from .design import PlusDesign
 from .ishikawa import pd_mesh_load
 
-MESH_KINDS = ("sp", "pd", "dr")
 #: Samples per mesh period used to find the largest force of a periodic response.
 PHASE_SAMPLES = 128
 
@@ -120,7 +119,7 @@ def forced_response(
     natural_hz = np.sqrt(omega2) / (2 * np.pi)
     per_rpm = mesh_frequency_per_rpm(design, cond)
     speed = speed_grid(design, natural_hz, per_rpm) if speeds is None else np.asarray(speeds, dtype=float)
-    meshes = [el for el in modal.elements(design) if el.kind in MESH_KINDS]
+    meshes = [el for el in modal.elements(design) if el.kind in modal.MESH_TYPES]
     V = np.array([el.v[keep] for el in meshes])  # (9, n)
     k = np.array([el.k for el in meshes])
     pd = np.array([el.kind == "pd" for el in meshes])

@@ -17,6 +17,7 @@ from geardyn.config import settings_from
 from geardyn.io import Var
 from geardyn.khv import point
 from geardyn.label import Policy, classify, compare, label_points
+from geardyn.label.policy import Same
 from geardyn.runs.continuation import branches_from_dataset
 from geardyn.runs.cube import STATES, label
 from geardyn.solve.base import SimulationSettings, System
@@ -32,8 +33,8 @@ class AttractorSettings:
     box_v: float = 20.0
     transient_periods: int = 1000
     recorded_periods: int = 100
-    distance_tol: float = 1e-3
-    chaotic_distance_tol: float = 0.2
+    distance_tol: float = Same.distance_tol
+    chaotic_distance_tol: float = Same.chaotic_distance_tol
 
 
 @dataclass

@@ -4,7 +4,7 @@ writer (:func:`empty`), the name of a case, and the one chunk merge of sweeps an
 from __future__ import annotations
 
 import json
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -162,11 +162,6 @@ def empty(
 
 #: Attributes that describe one chunk (its number, its wall time), not the merged result.
 CHUNK_ATTRS = ("chunk", "n_chunks", "wall_time_s")
-
-
-def case_label(values: Mapping[str, float]) -> str:
-    """The name of a run's case that sets ``values``: ``x1=0.5`` (its fixed overrides likewise)."""
-    return ",".join(f"{k}={v:g}" for k, v in values.items())
 
 
 def labels_of_cube(cube: xr.Dataset) -> np.ndarray:

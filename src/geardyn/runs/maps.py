@@ -20,9 +20,6 @@ from geardyn.runs import study
 from geardyn.runs.cube import empty
 from geardyn.solve import System
 
-#: y parameters that can be set on the dimensionless coefficients directly (design option permitting).
-_DIRECT = {"b": "b", "e": "e", "w": "omega"}
-
 
 @dataclass(frozen=True)
 class Axis(study.Grid):
@@ -67,7 +64,9 @@ def _direct_ok(design: KHVDesign, par: str) -> bool:
     """Whether ``par`` is set on the coefficients directly: b and e, and w where the design's mesh frequency is
     dimensionless."""
     opts = dict(design.dynamics).get("options", {})
-    return par in _DIRECT and (par != "w" or opts.get("frequency_mode", "dimensionless") == "dimensionless")
+    return par in point.COEFFICIENT_FIELDS and (
+        par != "w" or opts.get("frequency_mode", "dimensionless") == "dimensionless"
+    )
 
 
 def point_coefficients(
@@ -75,7 +74,7 @@ def point_coefficients(
 ) -> Coefficients:
     """Coefficients at (xv, yv); ``base`` = coefficients at xv with the fixed values (reused)."""
     if base is not None and _direct_ok(design, spec.y.parameter):
-        field = _DIRECT[spec.y.parameter]
+        field = point.COEFFICIENT_FIELDS[spec.y.parameter]
         return base.replace(**{field: float(yv)})
     return point.point_coefficients(
         design, {**dict(spec.fixed), spec.x.parameter: float(xv), spec.y.parameter: float(yv)}

@@ -15,7 +15,7 @@ from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.label import Policy
 from geardyn.runs import study
-from geardyn.runs.cube import STATE_NAMES, STATES, case_label
+from geardyn.runs.cube import STATE_NAMES, STATES
 from geardyn.solve import SimulationSettings, simulate
 
 _STATE_AT = (("", "time", ""), ("poincare_", "section", "Poincare section: "))
@@ -90,7 +90,7 @@ def dense_points(
     for case, v in zip(cases, verdicts, strict=True):
         x0 = None if v.diverged else v.final_state
         ds = dense_point(design, {**fixed, **case}, policy.integration, samples_per_period, x0=x0)
-        label = case_label(case) or "base"
+        label = point.label(case, "base")
         attrs = ds.attrs
         ds = ds.expand_dims(case=[label])
         for key, value in attrs.items():
@@ -107,7 +107,7 @@ def dense_points(
         {
             **study.integration_attrs(policy.integration),
             "record_starts": "on the attractor found by the labeller (its final state)",
-            "fixed_overrides": case_label(fixed),
+            "fixed_overrides": point.label(fixed, ""),
         }
     )
     return out

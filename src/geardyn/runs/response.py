@@ -127,7 +127,7 @@ def jump_frequencies(w: np.ndarray, flags: np.ndarray, direction: str) -> np.nda
 def rms_error_variables(systems: list[System], verdicts: list[list[Verdict]], policy: Policy) -> dict[str, Any]:
     """The standard errors of ``dte_rms`` and ``force_rms`` (dims direction x w; ``verdicts`` of both sweeps in
     ascending order, at ``systems``): 0 where periodic, NaN where diverged, else the batch-means error of the
-    ``recorded_periods`` from the final state (:func:`geardyn.solve.response.rms_errors_many`, ``docs/response.md``)."""
+    record whose sums gave them (:func:`geardyn.solve.response.rms_errors_many`, ``docs/response.md``)."""
     shape = (len(verdicts), len(systems))
     dte, force = np.full(shape, np.nan), np.full(shape, np.nan)
     todo = []
@@ -137,14 +137,15 @@ def rms_error_variables(systems: list[System], verdicts: list[list[Verdict]], po
                 dte[d, j] = force[d, j] = 0.0
             elif not v.diverged:
                 todo.append((d, j))
+    chosen = [verdicts[d][j] for d, j in todo]
     errors = rms_errors_many(
-        [systems[j] for _, j in todo], [verdicts[d][j].final_state for d, j in todo], policy.integration
+        [systems[j] for _, j in todo], [v.poincare for v in chosen], [v.response for v in chosen], policy.integration
     )
     for (d, j), e in zip(todo, errors, strict=True):
         dte[d, j], force[d, j] = e.dte_rms_error, e.force_rms_error
     how = (
-        f"batch means over {RMS_BLOCKS} blocks of whole mesh periods of the record of a non-periodic point; "
-        "0 for a periodic one, averaged over one whole cycle"
+        f"batch means over {RMS_BLOCKS} blocks of whole mesh periods of the very record the RMS is summed over, at a "
+        "non-periodic point; 0 for a periodic one, averaged over one whole cycle"
     )
     dims = ("direction", "w")
     table = [Var(f"{k}_rms_error", dims, "1", f"standard error of {k}_rms ({how})") for k in ("dte", "force")]

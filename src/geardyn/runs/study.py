@@ -20,6 +20,7 @@ from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.label import Policy, Verdict
 from geardyn.label.compare import same
+from geardyn.label.policy import Same
 from geardyn.runs.cube import COMMON, RESPONSE, VERDICT, VERDICT_FIELDS, empty
 from geardyn.solve import SimulationSettings, System
 from geardyn.solve.response import IMPACT_CLASSES, ResponseMeasures
@@ -88,7 +89,7 @@ class StudySpec:
 
     @property
     def fixed_overrides(self) -> str:
-        return ",".join(f"{k}={v:g}" for k, v in self.fixed) or "none"
+        return point.label(self.fixed)
 
 
 class Grid:
@@ -108,7 +109,8 @@ class Layout:
     :func:`run` (which times building them).  ``dims`` and ``shape``: of the per-point arrays.  Which common
     variables the study keeps: ``diverged`` (the flag's long name; empty: none), ``transient`` (``transient_used``)
     and ``computed`` (a chunk's flag of the points it holds).  ``own``: the study's own per-point variables,
-    written by ``store_own(arrays, index, system, verdict)``."""
+    written by ``store_own(arrays, index, system, verdict)``.  ``starts``: each line's start (None: the static
+    deflection; :func:`geardyn.label.label_lines`)."""
 
     dims: tuple[str, ...]
     shape: tuple[int, ...]
@@ -118,6 +120,7 @@ class Layout:
     computed: bool = False
     own: Variables = field(default_factory=dict)
     store_own: Callable[[dict[str, np.ndarray], Index, System, Verdict], None] | None = None
+    starts: Sequence[np.ndarray | None] | None = None
 
 
 class Result(NamedTuple):
@@ -143,10 +146,17 @@ def variables(layout: Layout, policy: Policy) -> Variables:
     return data | empty(tail, dims, shape)
 
 
-def store(arrays: dict[str, np.ndarray], idx: Index, v: Verdict, r: ResponseMeasures, fixed: Verdict | None) -> None:
+def store(
+    arrays: dict[str, np.ndarray],
+    idx: Index,
+    v: Verdict,
+    r: ResponseMeasures,
+    fixed: Verdict | None,
+    tol: Same = Same(),
+) -> None:
     """Write one point into the arrays of :func:`variables`: its verdict, its response measures, with ``fixed``
-    (policy ``coexistence``) the fixed start's label and whether the two differ, and the divergence, transient
-    and computed flag where the study keeps them."""
+    (policy ``coexistence``) the fixed start's label and whether the two differ (tolerances ``tol``), and the
+    divergence, transient and computed flag where the study keeps them."""
     a = arrays
     a["label"][idx] = v.label
     for name, attr in VERDICT_FIELDS.items():
@@ -156,7 +166,7 @@ def store(arrays: dict[str, np.ndarray], idx: Index, v: Verdict, r: ResponseMeas
         a[name][idx] = getattr(r, name)
     a["impact_class"][idx] = IMPACT_CLASSES.get(r.impact_class, -1)
     if fixed is not None:
-        a["label_fixed"][idx], a["coexisting"][idx] = fixed.label, int(not same(v, fixed))
+        a["label_fixed"][idx], a["coexisting"][idx] = fixed.label, int(not same(v, fixed, tol))
     for name, value in (("diverged", int(v.diverged)), ("transient_used", v.transient_used), ("computed", 1)):
         if name in a:
             a[name][idx] = value
@@ -180,13 +190,13 @@ def run(layout: Layout, policy: Policy, progress: str = "") -> Result:
     points = list(layout.lines)
     lines = [[system for _, system in line] for line in points]
     data = variables(layout, policy)
-    verdicts = label.label_lines(lines, policy, progress=progress)
+    verdicts = label.label_lines(lines, policy, layout.starts, progress=progress)
     fixed = label.label_lines(lines, policy.with_start("fixed")) if policy.coexistence else None
     responses = line_responses(verdicts)
     arrays = {name: var[1] for name, var in data.items()}
     for k, line in enumerate(points):
         for m, (idx, system) in enumerate(line):
-            store(arrays, idx, verdicts[k][m], responses[k][m], None if fixed is None else fixed[k][m])
+            store(arrays, idx, verdicts[k][m], responses[k][m], None if fixed is None else fixed[k][m], policy.same)
             if layout.store_own is not None:
                 layout.store_own(arrays, idx, system, verdicts[k][m])
     el, n = time.perf_counter() - t0, sum(map(len, lines))

@@ -18,7 +18,7 @@ from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import COEFFICIENT_ATTRS
 from geardyn.label import Policy, Verdict
 from geardyn.runs import study
-from geardyn.runs.cube import STATE_NAMES, STATES, case_label, empty
+from geardyn.runs.cube import STATE_NAMES, STATES, empty
 from geardyn.solve import System
 
 #: The lines of a sweep: (case index, direction index, parameter indices in the order of travel).
@@ -56,7 +56,7 @@ class SweepSpec(study.StudySpec, study.Grid):
         return max(1, min(self.chunks, units))
 
     def case_label(self, i: int) -> str:
-        return case_label(dict(self.cases[i])) or "base"
+        return point.label(self.cases[i], "base")
 
 
 def chunk_work(spec: SweepSpec, chunk: int) -> Work:

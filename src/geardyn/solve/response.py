@@ -4,7 +4,6 @@ how they are summed: ``docs/response.md``)."""
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, fields
@@ -210,51 +209,49 @@ def batch_means_rms_error(weights: np.ndarray, means: np.ndarray, rms: np.ndarra
 
 def rms_errors_many(
     systems: Sequence[System],
-    y0s: Sequence[np.ndarray],
+    records: Sequence[np.ndarray],
+    measures: Sequence[ResponseMeasures],
     settings: SimulationSettings | None = None,
-    periods: Sequence[int] | None = None,
     blocks: int = RMS_BLOCKS,
 ) -> list[RMSErrors]:
-    """The standard errors of ``dte_rms`` and ``force_rms`` of the records of :func:`response_measures_many`
-    (same arguments), from min(``blocks``, periods) blocks of whole mesh periods (method: ``docs/numerics.md``)."""
-    from geardyn.solve.run import simulate_batch  # noqa: PLC0415 - compiled: not imported by readers
-
+    """The standard errors of ``measures[i].dte_rms`` and ``force_rms``, summed over the last
+    ``measures[i].periods`` mesh periods of a record whose Poincare points (its states at phase 0 at the ends
+    of its periods, the last its final state) end with ``records[i]``: batch means over min(``blocks``,
+    periods) blocks of whole periods of that very record (``docs/response.md``).  Blocks 2, 3, ... are
+    integrated again from the record's states where they begin (at the settings of the record: the same
+    steps, bit for bit); block 1, whose start the record does not hold, is the record less the others."""
     settings = SimulationSettings() if settings is None else settings
     if blocks < 2:
         raise ValueError(f"batch means need at least 2 blocks, got {blocks}")
-    n_per, starts, runnable = _runnable(systems, y0s, settings, periods)
-    out = [RMSErrors.not_computed(min(blocks, n)) for n in n_per]
-    run = [i for i in runnable if n_per[i] >= 2]
-    if not run:
-        return out
-    records = simulate_batch(
-        [systems[i] for i in run],
-        dataclasses.replace(settings, transient_periods=0, early_stop=False),
-        [starts[i] for i in run],
-        recorded_periods=[n_per[i] for i in run],
-    )
-    cuts: dict[int, np.ndarray] = {}
+    out, cuts = [], {}
     b_sys, b_y0, b_n = [], [], []
-    for i, rec in zip(run, records, strict=True):
-        if rec.diverged:
+    for i, (system, points, m) in enumerate(zip(systems, records, measures, strict=True)):
+        n, points = m.periods, np.asarray(points, dtype=float)
+        out.append(RMSErrors.not_computed(min(blocks, n)))
+        if m.diverged or n < 2:
             continue
-        nb = min(blocks, n_per[i])
-        cuts[i] = edges = np.array([n_per[i] * k // nb for k in range(nb + 1)])
-        for k in range(nb):
-            b_sys.append(systems[i])
-            b_y0.append(starts[i] if edges[k] == 0 else rec.poincare[edges[k] - 1])
+        if points.ndim != 2 or points.shape[0] < n:
+            raise ValueError(f"a record measured over {n} periods needs its last {n} Poincare points at least")
+        cuts[i] = edges = np.array([n * k // min(blocks, n) for k in range(min(blocks, n) + 1)])
+        for k in range(1, edges.size - 1):
+            b_sys.append(system)
+            b_y0.append(points[edges[k] - n - 1])  # the state where block k + 1 begins
             b_n.append(int(edges[k + 1] - edges[k]))
     measured = iter(response_measures_many(b_sys, b_y0, settings, b_n))
     for i, edges in cuts.items():
-        parts = [next(measured) for _ in range(edges.size - 1)]
-        if any(p.diverged for p in parts):
-            continue
-        weights = np.diff(edges).astype(float)
-        out[i] = RMSErrors(
-            batch_means_rms_error(weights, np.array([p.dte_mean for p in parts]), np.array([p.dte_rms for p in parts])),
-            batch_means_rms_error(
-                weights, np.array([p.force_mean for p in parts]), np.array([p.force_rms for p in parts])
-            ),
-            edges.size - 1,
-        )
+        parts = [next(measured) for _ in range(edges.size - 2)]
+        if not any(p.diverged for p in parts):
+            w = np.diff(edges).astype(float)
+            out[i] = RMSErrors(*(_record_error(w, measures[i], parts, k) for k in ("dte", "force")), edges.size - 1)
     return out
+
+
+def _record_error(w: np.ndarray, record: ResponseMeasures, parts: list[ResponseMeasures], key: str) -> float:
+    """:func:`batch_means_rms_error` of ``{key}_rms`` of a record cut into blocks of durations ``w``, all but the
+    first measured (``parts``): the first block's mean and RMS follow from the record's, A = sum_b w_b m_b and
+    R^2 = sum_b w_b (r_b^2 + (m_b - A)^2) (w_b the shares of time)."""
+    s, mean, rms = w / w.sum(), getattr(record, f"{key}_mean"), getattr(record, f"{key}_rms")
+    m, r = (np.array([getattr(p, f"{key}_{v}") for p in parts]) for v in ("mean", "rms"))
+    m1 = mean - float(s[1:] @ (m - mean)) / s[0]
+    r1 = (rms * rms - float(s[1:] @ (r * r + (m - mean) ** 2))) / s[0] - (m1 - mean) ** 2
+    return batch_means_rms_error(w, np.append(m1, m), np.append(math.sqrt(max(r1, 0.0)), r))

@@ -1,22 +1,16 @@
-"""The records of continuation: its settings, a continued :class:`Branch` and its typed
-:class:`Bifurcation` points, and the one interpolation of a branch at a parameter value
-(:meth:`Branch.states_at`, used by :func:`on_branch` and the label cross-check)."""
+"""The records of a continued :class:`Branch` and its typed :class:`Bifurcation` points, and the one
+interpolation of a branch at a parameter value (:meth:`Branch.states_at`, used by :func:`on_branch` and the label
+cross-check)."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from geardyn import libm
-from geardyn.config import settings_from
-
-BIFURCATION_TYPES = ("period_doubling", "neimark_sacker", "fold", "branch_point", "grazing")
-
-#: Integer codes of the bifurcation types in netCDF files (``flag_values``).
-TYPE_CODES = {kind: k for k, kind in enumerate(BIFURCATION_TYPES)}
 
 
 @dataclass
@@ -53,6 +47,7 @@ class Branch:
     end_status: dict[str, str] = field(default_factory=dict)
     bifurcations: list[Bifurcation] = field(default_factory=list)
     tangents: np.ndarray | None = None  # (m, d + 1) unit tangents in the scaled variables
+    problem: Any = None  # the problem it was continued as (its scales and settings; event location)
 
     @property
     def stable(self) -> np.ndarray:
@@ -83,25 +78,3 @@ def on_branch(br: Branch, p: float, points: np.ndarray, tol: float, pad: float =
         for i, x in br.states_at(p, pad)
         if st is None or (st[i] and st[i + 1] and br.p[i] != br.p[i + 1])
     )
-
-
-@dataclass(frozen=True)
-class ContinuationSettings:
-    """Numbers of :func:`~geardyn.runs.continuation.continue_branch` (ds in units of the parameter range;
-    tol: shooting residual max |phi(x) - x| <= tol * max(1, max |x|); dp_rel: forward-difference step of dF/dp
-    relative to the range; max_points: per direction; docs/orbits.md, section 2)."""
-
-    ds: float = 1e-3
-    ds_min: float = 1e-7
-    ds_max: float = 1e-3
-    tol: float = 1e-9
-    max_corrector: int = 8
-    dp_rel: float = 1e-6
-    max_points: int = 5000
-    grazing: bool = True
-    locate: bool = True
-    locate_xtol: float = 1e-9
-
-    @classmethod
-    def from_mapping(cls, spec: Mapping[str, Any] | None) -> ContinuationSettings:
-        return settings_from(cls, spec, "continuation settings")

@@ -1,145 +1,180 @@
-"""The corrector: Newton on the pseudo-arclength system in scaled variables u = (x / sx, p / sp),
-the unit tangent of the branch, and the test for a period-n orbit that is already a fixed point of
-a shorter map.  Its results are named records (:class:`Evaluation`, :class:`BranchPoint`)."""
+"""The engine of every continuation (BifurcationKit's ``ContinuationPar``, ``ContState``, ``newton``): one
+settings class, one point record, the predictor, ONE bordered Newton corrector and ONE tangent.  A problem
+(:mod:`~geardyn.runs.continuation.problem`: a branch, a curve, a grazing curve) states its residual, its Jacobian
+blocks and its monodromy; the corrector solves it with one extra equation, the arclength's or a line's
+(docs/orbits.md, section 2)."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import math
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 
-from geardyn.runs.continuation.branch import ContinuationSettings
-from geardyn.runs.continuation.family import Family
-from geardyn.solve.shooting import FlowMap, sorted_multipliers
+from geardyn.config import settings_from
+from geardyn.label.compare import least_period
 
 
 @dataclass(frozen=True)
-class Evaluation:
-    """F = phi_nT(x) - x, A = dF/dx = M - I, Fp = dF/dp and the monodromy M at one (x, p)."""
+class ContinuationSettings:
+    """Every number of continuation; the defaults are a branch's, :data:`CURVES` a two-parameter curve's.  Steps
+    ds in the scaled arclength (x / sx, each parameter over its range); residuals max |F| <= tol max(1, max |x|),
+    |G| <= test_tol (a multiplier condition; a grazing margin as F).  The corrector: converged after a step below
+    ``step_tol`` with the arclength equation within ``constraint_tol``, failed by a step above ``max_step`` or
+    after ``max_corrector`` evaluations; forward differences of step ``dp_rel`` of the scales.  Step control: ds
+    grows by 1.3 after at most ``grow_at`` evaluations, halves after a failure down to ``ds_min``.  A period-n
+    point is of period m | n when its m-th cycle point returns within ``merge_tol`` sx (``merge_tol_fold`` at a
+    fold); a seed within ``on_curve_tol`` (box sides = 1) of a curve of its kind starts none."""
 
-    F: np.ndarray
-    A: np.ndarray
-    Fp: np.ndarray
-    M: np.ndarray
+    ds: float = 1e-3
+    ds_min: float = 1e-7
+    ds_max: float = 1e-3
+    tol: float = 1e-9
+    test_tol: float = 1e-10
+    constraint_tol: float = 1e-10
+    step_tol: float = 1e-6
+    max_step: float = 0.5
+    max_corrector: int = 8
+    grow_at: int = 3
+    dp_rel: float = 1e-6
+    fold_h: float = 1e-3
+    max_points: int = 5000
+    max_multiplier: float = 1e8
+    grazing: bool = True
+    locate: bool = True
+    locate_xtol: float = 1e-9
+    merge_tol: float = 1e-6
+    merge_tol_fold: float = 1e-4
+    on_curve_tol: float = 5e-3
+
+    @classmethod
+    def from_mapping(cls, spec: Mapping[str, Any] | None) -> ContinuationSettings:
+        return settings_from(cls, spec, "continuation settings")
+
+
+#: The settings of a two-parameter curve: steps of the plane with both box sides 1, converged on the first
+#: residual within tolerance after a step.
+CURVES = ContinuationSettings(
+    ds=0.01,
+    ds_min=1e-6,
+    ds_max=0.02,
+    step_tol=math.inf,
+    max_corrector=10,
+    grow_at=4,
+    dp_rel=1e-7,
+    max_points=400,
+    locate_xtol=1e-10,
+)
 
 
 @dataclass(frozen=True)
-class BranchPoint:
-    """A point of a branch: the orbit's state x at phase 0, the parameter p, the sorted multipliers, the unit
-    tangent in the scaled variables (oriented along the march; None where singular), the corrector
-    evaluations, and u, the arclength fraction of the step it lies on (event location)."""
+class Point:
+    """A point of a branch or a curve: z = (x, parameters) with ``npar`` parameters, the multipliers by decreasing
+    modulus, the unit tangent in the scaled variables (oriented along the march), the corrector's evaluations,
+    the arclength fraction u of the step it was located on; a curve's point also its critical multipliers, its
+    condition G, its grazing margin and a fold curve's normal-form coefficient with its eigenvector."""
 
-    x: np.ndarray
-    p: float
+    z: np.ndarray
     multipliers: np.ndarray
     tangent: np.ndarray | None
     iterations: int = 0
     u: float = 0.0
+    npar: int = 1
+    crit: tuple[complex, ...] = ()
+    G: float = float("nan")
+    grazing: float = float("nan")
+    fold_a: float = float("nan")
+    v: np.ndarray | None = None
+
+    x = property(lambda self: self.z[: -self.npar], doc="the orbit's state at phase 0")
+    p = property(lambda self: float(self.z[-self.npar]), doc="the (first) parameter")
+    q = property(lambda self: float(self.z[-1]), doc="the second parameter")
 
 
-class Corrector:
-    """Newton on the augmented system in scaled variables u = (x / sx, p / sp) for the period-n
-    orbits of ``family``; ``evals`` counts the flow-map evaluations with monodromy."""
+@dataclass(frozen=True)
+class Evaluation:
+    """A problem's residual H at one z, the monodromy M there, its Jacobian dH/dz (unscaled) when it comes with
+    the residual (else the problem's :meth:`Problem.jacobian` makes it), and the critical multipliers."""
 
-    def __init__(self, family: Family, n: int, sx: float, sp: float, cs: ContinuationSettings):
-        self.family, self.n, self.sx, self.sp, self.cs = family, n, sx, sp, cs
-        self.evals = 0
+    H: np.ndarray
+    M: np.ndarray
+    J: np.ndarray | None = None
+    crit: tuple[complex, ...] = ()
 
-    def evaluate(self, x: np.ndarray, p: float, Fp: np.ndarray | None = None) -> Evaluation | None:
-        """F, dF/dx (= M - I), dF/dp, M at (x, p); None when the orbit diverged.  dF/dp by a forward
-        difference unless ``Fp`` is given (the corrector reuses the one of its first iterate: a chord
-        step in the parameter column, which saves one new system per iteration)."""
-        phi, M = self.family.flow(p, self.n)(x, True)
-        self.evals += 1
-        if phi is None:
+
+class Problem(Protocol):
+    """What the corrector needs of a problem: the scales of z, its residual (reusing what the last evaluation
+    allows), its Jacobian, its convergence test and the point record of a solution."""
+
+    npar: int
+    scale: np.ndarray
+
+    def evaluate(self, z: np.ndarray, last: Evaluation | None, ref: Point) -> Evaluation | None: ...
+
+    def jacobian(self, z: np.ndarray, ev: Evaluation, ref: Point) -> np.ndarray | None: ...  # when ev.J is None
+
+    def converged(self, z: np.ndarray, ev: Evaluation) -> bool: ...
+
+    def point(self, z: np.ndarray, ev: Evaluation, t: np.ndarray, iterations: int, ref: Point) -> Point: ...
+
+
+def tangent(J: np.ndarray, npar: int, ref: np.ndarray | None = None) -> np.ndarray:
+    """The unit null vector of the scaled Jacobian J (m, m + 1), oriented like ``ref`` (none: with its largest
+    parameter component positive, the last ``npar`` entries)."""
+    t = np.linalg.svd(J)[2][-1]
+    sign = float(t @ ref) if ref is not None else float(t[-npar:][np.argmax(np.abs(t[-npar:]))])
+    return t if sign >= 0 else -t
+
+
+def correct(
+    problem: Problem, z: np.ndarray, row: np.ndarray, c: float, cs: ContinuationSettings, ref: Point
+) -> Point | None:
+    """Newton on (H(z) = 0, row . u = c), u = z / scale, from z; the point with its tangent oriented like
+    ``ref.tangent`` (``ref``: the point it was predicted from), or None (module doc, :class:`ContinuationSettings`).
+    The tangent takes the newest Jacobian known without a new evaluation."""
+    sc = problem.scale
+    ev, J, last = None, None, math.inf
+    for it in range(cs.max_corrector):
+        ev = problem.evaluate(z, ev, ref)
+        if ev is None or not np.all(np.isfinite(ev.H)):
             return None
-        if Fp is None:
-            dp = self.cs.dp_rel * self.sp
-            phi2, _ = self.family.flow(p + dp, self.n)(x, False)
-            if phi2 is None:
-                return None
-            Fp = (phi2 - phi) / dp
-        F = phi - x
-        return Evaluation(F, M - np.eye(x.size), Fp, M)
-
-    def scaled(self, q: Any) -> np.ndarray:
-        """The scaled point u = (x / sx, p / sp) of a point q with fields x and p."""
-        return np.append(q.x / self.sx, q.p / self.sp)
-
-    def predict(self, q: Any, h: float) -> tuple[np.ndarray, float]:
-        """The predicted point (x, p) at scaled arclength h from q along its tangent."""
-        u = self.scaled(q) + h * q.tangent
-        return u[:-1] * self.sx, u[-1] * self.sp
-
-    def jacobian(self, A: np.ndarray, Fp: np.ndarray, t: np.ndarray) -> np.ndarray:
-        """[[A sx, Fp sp], [t]]: the Jacobian of (F, t . u) in the scaled variables."""
-        d = A.shape[0]
-        J = np.zeros((d + 1, d + 1))
-        J[:d, :d] = A * self.sx
-        J[:d, d] = Fp * self.sp
-        J[d] = t
-        return J
-
-    def tangent(self, A: np.ndarray, Fp: np.ndarray, t_prev: np.ndarray) -> np.ndarray:
-        """Unit null vector of [A sx, Fp sp] oriented like t_prev."""
-        d = A.shape[0]
-        rhs = np.zeros(d + 1)
-        rhs[d] = 1.0
-        t = np.linalg.solve(self.jacobian(A, Fp, t_prev), rhs)
-        t /= np.linalg.norm(t)
-        return t if float(t @ t_prev) >= 0 else -t
-
-    def point(self, x: np.ndarray, p: float, ev: Evaluation, t_prev: np.ndarray, iterations: int) -> BranchPoint:
-        """The point (x, p) of the evaluation ``ev``, its tangent oriented like t_prev (None when singular)."""
+        lin = float(row @ (z / sc)) - c
+        if last < cs.step_tol and abs(lin) < cs.constraint_tol and problem.converged(z, ev):
+            t = tangent((ev.J if ev.J is not None else J) * sc, problem.npar, ref.tangent)
+            return problem.point(z, ev, t, it + 1, ref)
+        J = ev.J if ev.J is not None else problem.jacobian(z, ev, ref)
+        if J is None or not np.all(np.isfinite(J)):
+            return None
         try:
-            t = self.tangent(ev.A, ev.Fp, t_prev)
+            du = np.linalg.solve(np.vstack([J * sc, row]), -np.append(ev.H, lin))
         except np.linalg.LinAlgError:
-            t = None
-        return BranchPoint(x, p, sorted_multipliers(ev.M), t, iterations)
-
-    def correct(self, x: np.ndarray, p: float, t: np.ndarray) -> BranchPoint | None:
-        """Newton from the predicted point (x, p) on (F = 0, t . (u - u_pred) = 0), the point with its
-        tangent; None when it diverges, leaves the prediction by more than 0.5 (scaled) in one step, or
-        does not converge within ``max_corrector`` evaluations."""
-        d = x.size
-        u_pred = np.append(x / self.sx, p / self.sp)
-        last = np.inf
-        Fp = None
-        for it in range(self.cs.max_corrector):
-            ev = self.evaluate(x, p, Fp)
-            if ev is None:
-                return None
-            Fp = ev.Fp
-            res = float(np.max(np.abs(ev.F)))
-            if not np.isfinite(res):
-                return None
-            if res <= self.cs.tol * max(1.0, float(np.max(np.abs(x)))) and last < 1e-6:
-                return self.point(x, p, ev, t, it + 1)
-            g = np.append(ev.F, float(t @ (np.append(x / self.sx, p / self.sp) - u_pred)))
-            try:
-                du = np.linalg.solve(self.jacobian(ev.A, Fp, t), -g)
-            except np.linalg.LinAlgError:
-                return None
-            last = float(np.max(np.abs(du)))
-            if last > 0.5:  # far off the predicted point: let the step control shorten ds
-                return None
-            x = x + du[:d] * self.sx
-            p = p + du[d] * self.sp
-        return None
+            return None
+        last = float(np.max(np.abs(du)))
+        if last > cs.max_step:  # far off the predicted point: the step control shortens ds
+            return None
+        z = z + du * sc
+    return None
 
 
-def merged_period(flow_of: Callable[[int], FlowMap], x: np.ndarray, n: int, tol: float | None = None) -> int:
-    """The smallest proper divisor m of n for which x is already a fixed point of the m-period map
-    ``flow_of(m)`` within ``tol`` (default 1e-6 max(1, max |x|)), else 0: the period-n orbit is one of
-    period m traversed n / m times (a period-2n branch that reaches a second period doubling merges there
-    into the period-n orbit and would otherwise continue along it)."""
-    tol = 1e-6 * max(1.0, float(np.max(np.abs(x)))) if tol is None else tol
-    for m in range(1, n):
-        if n % m:
-            continue
-        y, _ = flow_of(m)(x, False)
-        if y is not None and float(np.max(np.abs(y - x))) <= tol:
-            return m
-    return 0
+def predict(problem: Problem, pt: Point, h: float) -> tuple[np.ndarray, float]:
+    """The point at scaled arclength h from ``pt`` along its tangent, and the arclength equation's right side."""
+    u = pt.z / problem.scale + h * pt.tangent
+    return u * problem.scale, float(pt.tangent @ u)
+
+
+def step(problem: Problem, pt: Point, h: float, cs: ContinuationSettings) -> Point | None:
+    """Predictor and corrector: the point at scaled arclength h from ``pt`` (pseudo-arclength), or None."""
+    z, c = predict(problem, pt, h)
+    return correct(problem, z, pt.tangent, c, cs, pt)
+
+
+def merged(cycle: np.ndarray, n: int, tol: float) -> int:
+    """m when the period-n orbit of the n points ``cycle`` is one of period m (a proper divisor of n) traversed
+    n / m times, within ``tol`` (:func:`geardyn.label.compare.least_period`), else 0 (also for a cycle cut short
+    by divergence)."""
+    if cycle.shape[0] < n or not np.all(np.isfinite(cycle)):
+        return 0
+    m = least_period(cycle[:n], tol)
+    return m if m < n else 0

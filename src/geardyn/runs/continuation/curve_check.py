@@ -1,6 +1,6 @@
 """The pixel check of regime-boundary curves against their map: every curve crossed with rows and columns of
 the map, the curve's orbit shot at the pixels beside each crossing and the map's labels judged (docs/orbits.md,
-section 9, "The pixel check": the samples left out, the table of what each side must show, the reasons)."""
+section 5, "The pixel check": the samples left out, the table of what each side must show, the reasons)."""
 
 from __future__ import annotations
 
@@ -15,11 +15,18 @@ import xarray as xr
 
 from geardyn.khv import point
 from geardyn.label.classify import LABELS
-from geardyn.runs.continuation.curve_maps import Boundaries, BoundarySpec, Region, boundary_curves, shorter_period
-from geardyn.runs.continuation.curves import bounds_stable, crossings, segment_distance
-from geardyn.runs.continuation.family import cached, cycle_states
+from geardyn.runs.continuation.branch import Bifurcation
+from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, correct
+from geardyn.runs.continuation.curve_maps import Boundaries, BoundarySpec, Region, boundary_curves
+from geardyn.runs.continuation.curves import Curve, bounds_stable, crossings, segment_distance, shorter_period
+from geardyn.runs.continuation.family import PlaneLine, cached
 from geardyn.runs.continuation.output import flags, variables
+from geardyn.runs.continuation.problem import CurveProblem
+from geardyn.runs.continuation.stepping import continue_branch
+from geardyn.runs.continuation.switching import switch_at_period_doubling
 from geardyn.solve.base import SimulationSettings
+from geardyn.solve.bifurcations import CODES
+from geardyn.solve.bifurcations import flags as kind_flags
 from geardyn.solve.response import IMPACT_CLASSES, response_measures
 from geardyn.solve.shooting import newton_shooting
 
@@ -35,6 +42,38 @@ FORWARD = "the stable pixel's row reaches it without crossing the curve"
 CRITICALITY = ("untyped", "supercritical", "subcritical")
 _TORUS = (LABELS["quasi_periodic"], LABELS["long_period"])
 _LABEL_KINDS = ("fold", "period_doubling", "neimark_sacker")
+
+
+#: The probes' branches: about 8 steps over the way (at least 1/512 of it), no grazing margins, events only bracketed.
+FOLLOW = ContinuationSettings(ds=0.125, ds_min=2e-3, ds_max=0.125, max_points=40, grazing=False, locate=False)
+
+
+@dataclass(frozen=True)
+class CheckSettings:
+    """The numbers of the pixel check (module doc).  Every ``every``-th row and column, at most ``max_samples``
+    crossings per curve; left out within ``margin`` pixels of a codimension-2 point or ``crowd`` pixels of another
+    curve.  The curve's orbit at a pixel: Newton shooting (``tol``, ``newton_iter`` iterations) from the curve's
+    state and from it pushed by ``pushes`` max(1, |x|) along the fold eigenvector, kept within ``near``
+    max(1, |x|) of the curve's state; else the branch from the crossing (``follow``, over at most ``follow_share``
+    of the way first).  A pixel is on the orbit when its mean X_VH lies within ``mean_rtol`` max(1, |X_VH|) +
+    ``mean_spread`` times the orbit's spread of it, and its spread within the orbit's + ``spread_rtol``
+    max(1, |X_VH|)."""
+
+    every: int = 5
+    margin: float = 3.0
+    crowd: float = 1.5
+    max_samples: int = 80
+    tol: float = 1e-9
+    newton_iter: int = 12
+    pushes: tuple[float, ...] = (0.02, -0.02, 0.1, -0.1)
+    near: float = 0.1
+    follow: ContinuationSettings = ContinuationSettings(
+        ds=0.125, ds_max=0.125, max_points=40, grazing=False, locate=False
+    )
+    follow_share: float = 0.125
+    mean_rtol: float = 1e-3
+    mean_spread: float = 0.1
+    spread_rtol: float = 1e-2
 
 
 @dataclass(frozen=True)
@@ -117,7 +156,7 @@ class PixelCheck:
     def variables(self, names: tuple[str, str], kinds: Sequence[str]) -> dict[str, Any]:
         """The samples as variables of dimension ``check``."""
         s, C = self.samples, ("check",)
-        units = [point.units_of(n) if n in point.CONTROLS or n in point.PARAMETER_UNITS else "1" for n in names]
+        units = [point.units_of(n, "1") for n in names]
 
         def q(long_name: str, u: str = "1") -> dict[str, str]:
             return {"long_name": long_name, "units": u}
@@ -129,14 +168,15 @@ class PixelCheck:
         pixels = "row, column of the stable-side pixel, then the other (-1: none)"
         labels = np.array([v.labels for v in s], np.int16).reshape(len(s), 2)
         modulus = "largest multiplier modulus, stable-side orbit"
+        reasons = {**flags(REASONS, "outcome of the check"), "failures": " ".join(FAILURES)}
         return variables(
             [
                 (f"check_{names[0]}", C, np.array([v.x for v in s], float), q(f"{names[0]} at the crossing", units[0])),
                 (f"check_{names[1]}", C, np.array([v.y for v in s], float), q(f"{names[1]} at the crossing", units[1])),
                 ("check_curve", C, np.array([v.curve for v in s], np.int32), q("index of the curve")),
-                flag("kind", kinds, "curve kind"),
+                ("check_kind", C, [CODES[v.kind] for v in s], kind_flags(kinds, "curve kind")),
                 ("check_forward", C, [v.forward for v in s], flags(("return", "forward"), FORWARD)),
-                flag("reason", REASONS, "outcome of the check"),
+                ("check_reason", C, [REASONS.index(v.reason) for v in s], reasons),
                 ("check_pixels", ("check", "pixel_index"), pix.reshape(len(s), 4), pixels),
                 ("check_labels", ("check", "side"), labels, "map label at the stable-side pixel and the other"),
                 ("check_modulus", C, np.array([v.modulus for v in s], float), q(modulus)),
@@ -154,71 +194,77 @@ def _boundary_segments(flags: np.ndarray, curve: Any, px: float, py: float) -> t
 
 
 class _Probe:
-    """The curve's orbit at pixels: status (stable, unstable, absent), state, mean X_VH, margin, impact class,
-    spread of X_VH, largest multiplier modulus; and the period-2n orbit born at a period doubling."""
+    """The curve's orbit at pixels (:meth:`at`): status (stable, unstable, absent), state, mean X_VH, margin,
+    impact class, spread of X_VH, largest multiplier modulus; and the criticality of a period doubling."""
 
-    def __init__(self, plane: Any, kind: str, n: int):
-        self.plane, self.kind, self.n = plane, kind, n
+    def __init__(self, plane: Any, curve: Curve, cs: CheckSettings):
+        self.plane, self.curve, self.kind, self.n, self.cs = plane, curve, curve.kind, curve.n, cs
         self.cache: dict[tuple[float, float], tuple] = {}
 
     def at(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: tuple) -> tuple:
-        """The orbit at (p, q) (cached until :meth:`clear`): Newton from each guess (kept within 0.1 max(1, |x|)
-        of ``near``, the curve's orbit at the crossing ``origin``; the stable one nearest it), else followed from
-        the crossing in 8 steps."""
+        """The orbit at (p, q) (cached until the cache is cleared): Newton from each guess, kept within ``near``
+        of the curve's state at the crossing ``origin`` = (p, q, along: "p" for a row, "q" for a column; the
+        stable one nearest it), else the branch along the crossing's line followed from it (:meth:`followed`)."""
         return cached(self.cache, (p, q), lambda key: self._solve(*key, guesses, near, origin))
 
     def _solve(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: tuple) -> tuple:
         scale = max(1.0, float(np.max(np.abs(near))))
         found = []
         for g in guesses:
-            r = newton_shooting(self.plane.flow(p, q, self.n), g, self.n, 1e-9, max_iter=12)
-            if r.converged and float(np.max(np.abs(r.state - near))) < 0.1 * scale:
-                found.append(r)
-        if not found and (r := self._march(p, q, near, origin, scale)) is not None:
-            found.append(r)
-        found = [r for r in found if not shorter_period(self.plane, p, q, r.state, self.n)]
+            r = newton_shooting(self.plane.flow(p, q, self.n), g, self.n, self.cs.tol, max_iter=self.cs.newton_iter)
+            if r.converged and float(np.max(np.abs(r.state - near))) < self.cs.near * scale:
+                found.append((r.state, r.spectral_radius))
+        found = found or self.followed(p, q, near, origin)
+        found = [f for f in found if not shorter_period(self.plane, p, q, f[0], self.n)]
         if not found:
             return ("absent", None, np.nan, np.nan, -1, np.nan, np.nan)
-        r = min(found, key=lambda f: (not f.stable, float(np.max(np.abs(f.state - near)))))  # stable, nearest
-        if not r.stable:
-            return ("unstable", r.state, np.nan, np.nan, -1, np.nan, r.spectral_radius)
-        cyc = cycle_states(self.plane.flow(p, q, 1), r.state, self.n)
+        x, rho = min(found, key=lambda f: (f[1] >= 1.0, float(np.max(np.abs(f[0] - near)))))  # stable, nearest
+        if rho >= 1.0:
+            return ("unstable", x, np.nan, np.nan, -1, np.nan, rho)
+        cyc = self.plane.cycle(p, q, x, self.n)
         system, s = self.plane.coefficients(p, q), self.plane.settings
-        margin = self.plane.grazing(p, q, r.state, self.n) if self.kind == "grazing" else np.nan
-        impact = IMPACT_CLASSES[response_measures(system, r.state, s, periods=self.n).impact_class]
-        mean, spread = float(np.mean(cyc[:, 1])), float(np.ptp(cyc[:, 1]))
-        return ("stable", r.state, mean, margin, impact, spread, r.spectral_radius)
+        margin = self.plane.grazing(p, q, x, self.n) if self.kind == "grazing" else np.nan
+        impact = IMPACT_CLASSES[response_measures(system, x, s, periods=self.n).impact_class]
+        return ("stable", x, float(np.mean(cyc[:, 1])), margin, impact, float(np.ptp(cyc[:, 1])), rho)
 
-    def _march(self, p: float, q: float, x: np.ndarray, origin: tuple, scale: float, steps: int = 8):
-        """The orbit followed from ``origin`` (state x) to (p, q) in ``steps`` Newton steps, each within 0.1
-        max(1, |x|) of the last; None when lost."""
-        r = None
-        for t in np.linspace(0.0, 1.0, steps + 1)[1:]:
-            pt, qt = origin[0] + t * (p - origin[0]), origin[1] + t * (q - origin[1])
-            r = newton_shooting(self.plane.flow(pt, qt, self.n), x, self.n, 1e-9, max_iter=12)
-            if not r.converged or float(np.max(np.abs(r.state - x))) >= 0.1 * scale:
-                return None
-            x = r.state
-        return r
+    def followed(self, p: float, q: float, x: np.ndarray, origin: tuple) -> list[tuple[np.ndarray, float]]:
+        """The orbit at (p, q) on the branch along the crossing's row or column through (p, q), continued from the
+        orbit shot ``follow_share`` of the way from ``origin`` (state x) towards (p, q); none when the branch does
+        not reach (p, q)."""
+        along = origin[2]
+        t0, t1 = (origin[0], p) if along == "p" else (origin[1], q)
+        line = PlaneLine(self.plane, along, q if along == "p" else p)
+        ts = t0 + self.cs.follow_share * (t1 - t0)
+        lo, hi = min(ts, t1), max(ts, t1)
+        br = continue_branch(line, ts, x, self.n, lo, hi, self.cs.follow, ("up",) if t1 > ts else ("down",))
+        if br is None or br.p[-1 if t1 > ts else 0] != t1:
+            return []
+        k = -1 if t1 > ts else 0
+        return [(br.states[k], float(np.max(np.abs(br.multipliers[k]))))]
 
-    def doubled(self, p: float, q: float, x: np.ndarray) -> bool:
-        """True when a stable orbit of period 2n (not the period-n one) lies near x at (p, q): Newton from x
-        pushed along each real eigenvector of the n-period map, amplitudes 1e-3 to 0.1 of max(1, |x|)."""
-        scale = max(1.0, float(np.max(np.abs(x))))
-        _, M = self.plane.flow(p, q, self.n)(x, True)
-        lam, V = np.linalg.eig(M)
-        v = V[:, int(np.argmin(np.abs(lam + 1.0)))].real
-        v /= max(float(np.linalg.norm(v)), 1e-300)
-        for a in (1e-3, 1e-2, 3e-2, 0.1, -1e-3, -1e-2, -3e-2, -0.1):
-            r = newton_shooting(self.plane.flow(p, q, 2 * self.n), x + a * scale * v, 2 * self.n, 1e-9, max_iter=12)
-            d = float(np.max(np.abs(r.state - x)))
-            if (
-                r.stable
-                and 1e-6 * scale < d < 0.2 * scale
-                and not shorter_period(self.plane, p, q, r.state, 2 * self.n)
-            ):
-                return True
-        return False
+    def criticality(self, origin: tuple, ref: Any, state: np.ndarray, t_pair: tuple[float, float]) -> str:
+        """A period doubling's criticality on the crossing's line (``origin`` as in :meth:`at`): the point solved
+        on the line by the corrector (the curve's problem with the line as the extra equation, from ``state``
+        and the curve point ``ref``), the period-2n branch switched there
+        (:func:`~geardyn.runs.continuation.switching.switch_at_period_doubling`) within the pixel pair ``t_pair``
+        (stable side, other side): ``supercritical`` when it reaches the other pixel stable, else
+        ``subcritical``."""
+        along, d = origin[2], state.size
+        held = d + 1 if along == "p" else d
+        prob = CurveProblem(self.plane, self.kind, self.n, d, self.curve.scales, CURVES)
+        row = np.zeros(d + 2)
+        row[held] = 1.0
+        z = np.r_[state, origin[:2]]
+        pt = correct(prob, z, row, z[held] / prob.scale[held], CURVES, ref)
+        if pt is None:
+            return "subcritical"
+        at, t_cross = (pt.q, pt.p) if along == "p" else (pt.p, pt.q)
+        bf = Bifurcation("period_doubling", t_cross, pt.x, pt.multipliers, -1.0, np.nan, -1, True, self.n)
+        lo, hi = sorted(t_pair)
+        t_other = t_pair[1]
+        br = switch_at_period_doubling(PlaneLine(self.plane, along, at), bf, lo, hi, self.cs.follow)
+        reached = [] if br is None else [i for i, _ in br.states_at(t_other)]
+        return "supercritical" if any(br.stable[i] and br.stable[i + 1] for i in reached) else "subcritical"
 
 
 def slow_margin(map_ds: xr.Dataset) -> float:
@@ -230,10 +276,10 @@ def slow_margin(map_ds: xr.Dataset) -> float:
     return max(float(a.get("stability_margin", 0.0)), 1.0 / float(a.get("classifier_torus_max_periods", np.inf)))
 
 
-def _on_orbit(mean: float, spread: float, st: tuple) -> bool:
+def _on_orbit(mean: float, spread: float, st: tuple, cs: CheckSettings) -> bool:
     scale = max(1.0, abs(st[2]))
-    near = np.isfinite(mean) and abs(mean - st[2]) <= 1e-3 * scale + 0.1 * st[5]
-    return bool(near and np.isfinite(spread) and spread <= st[5] + 1e-2 * scale)
+    near = np.isfinite(mean) and abs(mean - st[2]) <= cs.mean_rtol * scale + cs.mean_spread * st[5]
+    return bool(near and np.isfinite(spread) and spread <= st[5] + cs.spread_rtol * scale)
 
 
 def _other_ok(kind: str, n: int, lab: int, moved: bool, supercritical: bool) -> bool:
@@ -248,13 +294,13 @@ def _other_ok(kind: str, n: int, lab: int, moved: bool, supercritical: bool) -> 
 class _Judge:
     """The outcome of one sample against the map (module doc)."""
 
-    def __init__(self, map_ds: xr.Dataset, slow: float):
+    def __init__(self, map_ds: xr.Dataset, slow: float, cs: CheckSettings):
         self.lab, self.mean, self.spread = (map_ds[v].values for v in ("label", "x_vh_mean", "x_vh_spread"))
         self.impact = map_ds["impact_class"].values if "impact_class" in map_ds else None
-        self.slow = slow
+        self.slow, self.cs = slow, cs
 
     def stable_side(self, px: tuple[int, int], st: tuple, n: int, forward: bool) -> str:
-        lab, on = int(self.lab[px]), _on_orbit(self.mean[px], self.spread[px], st)
+        lab, on = int(self.lab[px]), _on_orbit(self.mean[px], self.spread[px], st, self.cs)
         if lab == n and on:
             return "ok"
         if on:
@@ -273,19 +319,11 @@ class _Judge:
             return "ok" if ok else "impact_class"
         if int(self.lab[pu]) == _UNDETERMINED and stu[6] <= 1.0 + self.slow:
             return "slow"  # the labeller resolves no attractor within the margin past the bifurcation either
-        moved = not _on_orbit(self.mean[pu], self.spread[pu], sts)
+        moved = not _on_orbit(self.mean[pu], self.spread[pu], sts, self.cs)
         return "ok" if _other_ok(kind, n, int(self.lab[pu]), moved, supercritical) else "other_side"
 
 
-def pixel_check(
-    plane: Any,
-    bd: Boundaries,
-    map_ds: xr.Dataset,
-    every: int = 5,
-    margin: float = 3.0,
-    crowd: float = 1.5,
-    max_samples: int = 80,
-) -> PixelCheck:
+def pixel_check(plane: Any, bd: Boundaries, map_ds: xr.Dataset, cs: CheckSettings = CheckSettings()) -> PixelCheck:
     """The pixel check (module doc) of the curves ``bd`` against their map; ``plane`` the curves' plane."""
     xs, ys = map_ds["x"].values, map_ds["y"].values
     px, py = float(xs[1] - xs[0]), float(ys[1] - ys[0])
@@ -293,30 +331,31 @@ def pixel_check(
     stable = [np.array([bounds_stable(c.kind, pt.multipliers, pt.crit) for pt in c.points]) for c in bd.curves]
     segs = [_boundary_segments(f, c, px, py) for f, c in zip(stable, bd.curves, strict=True)]
     t0 = time.perf_counter()
-    out = PixelCheck(every=every, slow_margin=slow_margin(map_ds))
-    judge = _Judge(map_ds, out.slow_margin)
+    out = PixelCheck(every=cs.every, slow_margin=slow_margin(map_ds))
+    judge = _Judge(map_ds, out.slow_margin, cs)
     for k, curve in enumerate(bd.curves):
         kind = bd.file_kind(k)
-        probe = _Probe(plane.back_flank() if bd.flank[k] == "back" else plane, curve.kind, curve.n)
+        probe = _Probe(plane.back_flank() if bd.flank[k] == "back" else plane, curve, cs)
         flags = stable[k]
         own = np.column_stack([curve.p / px, curve.q / py])
         others = [m for m, c in enumerate(bd.curves) if m != k and (kind not in _LABEL_KINDS or c.kind != "grazing")]
         steep = np.abs(np.diff(curve.q)) / py >= np.abs(np.diff(curve.p)) / px  # rows cross it, else columns
+        every = cs.every
         cands = [("row", j, g, w) for j in range(0, ys.size, every) for g, w in crossings(curve.q, ys[j]) if steep[g]]
         cands += [("column", i, g, w) for i in range(0, xs.size, every) for g, w in crossings(curve.p, xs[i])]
         cands = [c for c in cands if c[0] == "row" or not steep[min(c[2], steep.size - 1)]]
         bound = [c for c in cands if flags[c[2]] and flags[min(c[2] + 1, flags.size - 1)]]
         out.interior += len(cands) - len(bound)
         cands = bound
-        if len(cands) > max_samples:
-            cands = [cands[i] for i in np.linspace(0, len(cands) - 1, max_samples).round().astype(int)]
+        if len(cands) > cs.max_samples:
+            cands = [cands[i] for i in np.linspace(0, len(cands) - 1, cs.max_samples).round().astype(int)]
         for line, idx, seg, w in cands:
             x, y = _lerp(curve.p, seg, w), _lerp(curve.q, seg, w)
             base = Sample(k, kind, curve.n, float(x), float(y))
-            if any(np.hypot((x - a) / px, (y - b) / py) < margin for a, b in c2):
+            if any(np.hypot((x - a) / px, (y - b) / py) < cs.margin for a, b in c2):
                 out.samples.append(replace(base, reason="codim2"))
-            elif any(segment_distance(*segs[m], np.array([x / px, y / py])) < crowd for m in others) or _self_crowded(
-                own, seg, x / px, y / py, crowd
+            elif any(segment_distance(*segs[m], np.array([x / px, y / py])) < cs.crowd for m in others) or (
+                _self_crowded(own, seg, x / px, y / py, cs.crowd)
             ):
                 out.samples.append(replace(base, reason="crowded"))
             else:
@@ -335,9 +374,10 @@ def map_boundaries(
         "lines_x": bs.lines_x or tuple(entry.get("cuts_x", [])),
         "lines_y": bs.lines_y or tuple(entry.get("cuts_y", [])),
     }
-    settings = point.integration_settings(design, **dict(spec.integration))
-    bd, plane = boundary_curves(design, Region.of_map(spec), replace(bs, **lines), settings, map_ds)
-    check = pixel_check(plane, bd, map_ds, bs.check_every)
+    policy = spec.policy(design)
+    settings = policy.integration
+    bd, plane = boundary_curves(design, Region.of_map(spec), replace(bs, **lines), settings, map_ds, policy)
+    check = pixel_check(plane, bd, map_ds, CheckSettings(every=bs.check_every))
     bd.timing["check"] = check.seconds
     return bd, check, settings
 
@@ -357,12 +397,13 @@ def _lerp(values: np.ndarray, seg: int, w: float) -> Any:
 def _probe_sample(base: Sample, curve: Any, cross: tuple, xs, ys, probe: _Probe, judge: _Judge) -> Sample:
     """The sample at one crossing: the orbit shot at the pixels beside it, the map judged (module doc)."""
     line, idx, seg, w = cross
-    state = _lerp(np.array([pt.z[:-2] for pt in curve.points]), seg, w)
+    state = _lerp(np.array([pt.x for pt in curve.points]), seg, w)
     scale = max(1.0, float(np.max(np.abs(state))))
     v = curve.points[seg].v
-    guesses = [state] + ([state + a * scale * v for a in (0.02, -0.02, 0.1, -0.1)] if v is not None else [])
+    guesses = [state] + ([state + a * scale * v for a in probe.cs.pushes] if v is not None else [])
     probe.cache.clear()
-    pair = _pair(base.kind, line, idx, (base.x, base.y), xs, ys, probe, guesses, state)
+    origin = (base.x, base.y, "p" if line == "row" else "q")
+    pair = _pair(base.kind, line, idx, origin, xs, ys, probe, guesses, state)
     if pair in ("edge", "not_straddled"):
         return replace(base, reason=pair)
     (ps, sts), (pu, stu) = pair
@@ -370,8 +411,8 @@ def _probe_sample(base: Sample, curve: Any, cross: tuple, xs, ys, probe: _Probe,
     fwd = graze or _forward(curve, ps, pu, xs, ys, line == "row")
     crit = "untyped"
     if base.kind == "period_doubling" and stu[1] is not None:
-        sup = probe.doubled(float(xs[pu[1]]), float(ys[pu[0]]), stu[1])
-        crit = "supercritical" if sup else "subcritical"
+        t_pair = (float(xs[ps[1]]), float(xs[pu[1]])) if line == "row" else (float(ys[ps[0]]), float(ys[pu[0]]))
+        crit = probe.criticality(origin, curve.points[seg], state, t_pair)
     reason = judge(base.kind, curve.n, (ps, sts), (pu, stu), fwd, crit == "supercritical")
     labels = (int(judge.lab[ps]), int(judge.lab[pu]))
     return replace(base, pixels=(ps, pu), labels=labels, reason=reason, forward=fwd, modulus=sts[6], criticality=crit)

@@ -1,7 +1,7 @@
 """Regime boundaries of a regime map (or of a plane without a map, a ``curves:`` study) as curves: the
-settings, the plane and its lines, the one-parameter branches along the lines and the two-parameter curves of
-their events, then the map's records as seeds (:func:`record_seeds`), both stages in
-:func:`boundary_curves` (docs/orbits.md, section 9, "In the workflow")."""
+settings, the plane and its lines, the one-parameter branches along the lines (seeded by the labeller) and the
+two-parameter curves of their events, then the map's records as seeds (:func:`record_seeds`), both stages in
+:func:`boundary_curves` (docs/orbits.md, section 5, "In the workflow")."""
 
 from __future__ import annotations
 
@@ -9,31 +9,24 @@ import logging
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from functools import partial
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from geardyn.config import settings_from
+from geardyn.khv import point
 from geardyn.khv.design import resolve_fractions
-from geardyn.runs.continuation.branch import Branch, ContinuationSettings
-from geardyn.runs.continuation.corrector import merged_period
-from geardyn.runs.continuation.curves import (
-    CURVE_KINDS,
-    Curve,
-    CurveSettings,
-    continue_curve,
-    curves_from_branch,
-    polyline_distance,
-)
-from geardyn.runs.continuation.family import ONE_FIELD, KHVFamily, KHVPlane, back_margin
-from geardyn.runs.continuation.spec import run_middles
-from geardyn.runs.continuation.stepping import continue_branch
+from geardyn.label import Policy, label_points
+from geardyn.runs.continuation.branch import Branch
+from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings
+from geardyn.runs.continuation.curves import Curve, continue_curve, lies_on
+from geardyn.runs.continuation.driver import run_middles
+from geardyn.runs.continuation.events import sign_changes
+from geardyn.runs.continuation.family import KHVFamily, KHVPlane
 from geardyn.runs.continuation.switching import add_branch
 from geardyn.solve.base import SimulationSettings
-from geardyn.solve.run import simulate
-from geardyn.solve.shooting import newton_shooting
+from geardyn.solve.bifurcations import CURVE_KINDS, decode
 
 log = logging.getLogger("geardyn.curves")
 
@@ -68,8 +61,8 @@ class BoundarySpec:
                 values[key] = tuple(float(v) for v in values[key])
         return settings_from(cls, values, "curves settings")
 
-    def curve_settings(self) -> CurveSettings:
-        return CurveSettings(ds=min(0.02, self.ds_max), ds_max=self.ds_max, max_points=self.max_points)
+    def curve_settings(self) -> ContinuationSettings:
+        return replace(CURVES, ds=min(CURVES.ds_max, self.ds_max), ds_max=self.ds_max, max_points=self.max_points)
 
     def branch_settings(self) -> ContinuationSettings:
         return ContinuationSettings(ds=self.branch_ds_max, ds_max=self.branch_ds_max, max_points=2000)
@@ -131,7 +124,8 @@ def lines_of(region: Region, xs: Sequence[float], ys: Sequence[float]) -> list[L
 class Boundaries:
     """The curves of a plane: ``flank[k]`` "back" for a back-flank grazing curve, ``origin[k]`` its seed;
     the branches along the lines; ``records``: the fate of each of the map's records (kind, n, x, y, fate);
-    ``timing``: seconds per stage."""
+    ``unseeded``: the events that seeded no curve (kind, n, x, y, located: the corrector did not reach the seed or
+    its orbit is of a shorter period); ``timing``: seconds per stage."""
 
     region: Region
     lines: list[Line] = field(default_factory=list)
@@ -140,11 +134,11 @@ class Boundaries:
     origin: list[str] = field(default_factory=list)
     branches: list[tuple[Line, Branch]] = field(default_factory=list)
     records: list[tuple[str, int, float, float, str]] = field(default_factory=list)
+    unseeded: list[tuple[str, int, float, float, bool]] = field(default_factory=list)
     timing: dict[str, float] = field(default_factory=dict)
 
-    def add(self, curves: Sequence[Curve], origin: str, flank: str = "working", plane: Any = None) -> None:
+    def add(self, curves: Sequence[Curve], origin: str, flank: str = "working") -> None:
         for c in curves:
-            c = c if plane is None else cut_merged(plane, c)
             if len(c) < 2:
                 continue
             self.curves.append(c)
@@ -160,13 +154,13 @@ class Boundaries:
                 len(c.codim2),
             )
 
-    def known(self, kind: str, n: int, pq: tuple[float, float], flank: str = "working", tol: float = 5e-3) -> bool:
-        """True when (p, q) lies within ``tol`` of the box (each side scaled to 1) of a curve of that kind,
-        period and flank (the polyline: looser than the library's 1e-3 on the corrected seed)."""
+    def known(self, kind: str, n: int, pq: tuple[float, float], tol: float, flank: str = "working") -> bool:
+        """True when (p, q) lies on a curve of that kind, period and flank (:func:`lies_on`, within ``tol`` of the
+        box with its sides scaled to 1)."""
         x0, x1, y0, y1 = self.region.box
+        units = (x1 - x0, y1 - y0)
         return any(
-            c.kind == kind and c.n == n and f == flank and polyline_distance(c, *pq, x1 - x0, y1 - y0) <= tol
-            for c, f in zip(self.curves, self.flank, strict=True)
+            f == flank and lies_on(c, kind, n, *pq, tol, units) for c, f in zip(self.curves, self.flank, strict=True)
         )
 
     def file_kind(self, k: int) -> str:
@@ -177,32 +171,15 @@ class Boundaries:
 # --- orbits and branches along a line ----------------------------------------------------------------------
 
 
-def _periods_of(points: np.ndarray, max_period: int, tol: float = 0.05) -> list[int]:
-    """The three least periods n <= max_period whose return distance over the recorded stroboscopic points is
-    below ``tol`` of their size (candidates for shooting: the run may still be approaching its orbit)."""
-    scale = max(1.0, float(np.max(np.abs(points))))
-    near = [n for n in range(1, max_period + 1) if float(np.max(np.abs(points[n:] - points[:-n]))) < tol * scale]
-    return near[:3]
-
-
-def attractor_orbit(
-    family: KHVFamily, t: float, n: int, settings: SimulationSettings, max_period: int = 12
-) -> tuple[np.ndarray, int] | None:
-    """The stable orbit reached from the static deflection at t (``settings.transient_periods``), shot for
-    period n (n = 0: the periods whose returns the run comes closest to, up to max_period); None when none."""
-    s = SimulationSettings(
-        steps_per_period=settings.steps_per_period,
-        transient_periods=settings.transient_periods,
-        recorded_periods=2 * max(n, max_period) + 1,
-    )
-    r = simulate(family.coefficients(t), s)
-    if r.diverged:
-        return None
-    for m in [n] if n else _periods_of(r.poincare, max_period):
-        sh = newton_shooting(family.flow(t, m), r.poincare[-1], m, 1e-9)
-        if sh.stable and (m == 1 or not merged_period(partial(family.flow, t), sh.state, m)):
-            return sh.state, m
-    return None
+def labelled_orbits(seeds: Sequence[tuple[KHVFamily, float, int]], policy: Policy, max_period: int) -> list:
+    """(t, state, n) of the stable orbit the labeller certifies at each seed (family, t, n) from the static
+    deflection (all in one call): of period n, or of any period up to ``max_period`` for n = 0; None where it
+    certifies none."""
+    verdicts = label_points([family.coefficients(t) for family, t, _ in seeds], policy)
+    return [
+        (t, v.final_state, v.period) if v.period >= 1 and (v.period == n if n else v.period <= max_period) else None
+        for (_, t, n), v in zip(seeds, verdicts, strict=True)
+    ]
 
 
 def line_family(design: Any, region: Region, line: Line, settings: SimulationSettings, nodes: int) -> KHVFamily:
@@ -211,7 +188,7 @@ def line_family(design: Any, region: Region, line: Line, settings: SimulationSet
     (xp, yp), (x0, x1, y0, y1) = region.names, region.box
     held, free, lo, hi = (xp, yp, y0, y1) if line.axis == "x" else (yp, xp, x0, x1)
     fixed = {**dict(region.fixed), held: line.value}
-    return KHVFamily(design, free, fixed, lo, hi, settings, 5 if free in ONE_FIELD else nodes)
+    return KHVFamily(design, free, fixed, lo, hi, settings, 5 if free in point.COEFFICIENT_FIELDS else nodes)
 
 
 def map_line_seeds(map_ds: xr.Dataset, line: Line, max_period: int, max_seeds: int) -> list[tuple[float, int]]:
@@ -231,97 +208,39 @@ def map_line_seeds(map_ds: xr.Dataset, line: Line, max_period: int, max_seeds: i
     return out
 
 
-def line_branches(
-    family: KHVFamily,
-    seeds: Sequence[tuple[float, int]],
-    settings: SimulationSettings,
-    spec: BoundarySpec,
-) -> list[Branch]:
-    """The distinct branches through the seeds' attractors (n = 0: the period the run shows) along the
-    family's range, with the period-2n branches of their period doublings."""
+def line_branches(family: KHVFamily, orbits: Sequence[tuple | None], spec: BoundarySpec) -> list[Branch]:
+    """The distinct branches through the seeds' orbits (:func:`labelled_orbits`) along the family's range, with
+    the period-2n branches of their period doublings."""
     out: list[Branch] = []
-    for t, n in seeds:
-        found = attractor_orbit(family, t, n, settings, spec.max_period)
-        if found is None:
-            log.info("line seed at %g (P%d): no stable orbit reached", t, n)
-            continue
-        add_branch(family, t, *found, out, spec.branch_settings(), max_period=spec.max_period, touch=2e-3)
-    return out
-
-
-def back_grazing_seeds(family: KHVFamily, br: Branch, iterations: int = 8) -> list[tuple[float, np.ndarray]]:
-    """(t, state) where the back-flank margin of the branch's orbit changes sign between consecutive points,
-    refined by regula falsi (Illinois) on the orbit shot at each trial t."""
-
-    def h(t: float, x: np.ndarray) -> float:
-        return back_margin(family.coefficients(t), x, br.n, family.settings)
-
-    hs = np.array([h(p, x) for p, x in zip(br.p, br.states, strict=True)])
-    out = []
-    for i in np.flatnonzero(np.isfinite(hs[:-1]) & np.isfinite(hs[1:]) & (np.sign(hs[:-1]) != np.sign(hs[1:]))):
-        (ta, xa, ha), (tb, xb, hb) = (br.p[i], br.states[i], hs[i]), (br.p[i + 1], br.states[i + 1], hs[i + 1])
-        t, x = float(ta), xa
-        for _ in range(iterations):
-            w = ha / (ha - hb)
-            t = float(ta + w * (tb - ta))
-            r = newton_shooting(family.flow(t, br.n), xa + w * (xb - xa), br.n, 1e-9)
-            if not r.converged:
-                break
-            x, ht = r.state, h(t, r.state)
-            if not np.isfinite(ht) or abs(ht) < 1e-9:
-                break
-            if np.sign(ht) == np.sign(ha):
-                ta, xa, ha, hb = t, x, ht, 0.5 * hb
-            else:
-                tb, xb, hb, ha = t, x, ht, 0.5 * ha
-        out.append((t, x))
+    for found in orbits:
+        if found is not None:
+            add_branch(family, *found, out, spec.branch_settings(), max_period=spec.max_period, touch=2e-3)
     return out
 
 
 # --- curves: merged periods, the polyline, one branch's events ----------------------------------------------
 
 
-def shorter_period(plane: Any, p: float, q: float, x: np.ndarray, n: int) -> bool:
-    """True when the period-n orbit through x at (p, q) is an orbit of a proper divisor m of n traversed n / m
-    times (x a fixed point of the m-period map within 1e-6 max(1, max |x|))."""
-    return merged_period(partial(plane.flow, p, q), x, n) > 0
-
-
-def cut_merged(plane: Any, curve: Curve) -> Curve:
-    """A period-n curve (n > 1) cut to its longest run of points whose orbit is not of a shorter period: where
-    it reaches one (through a period doubling of the shorter orbit) it goes on along that orbit's curve
-    traversed twice.  The cut ends get ``merged_into_shorter_period``."""
-    if curve.n == 1:
-        return curve
-    ok = [not shorter_period(plane, float(pt.z[-2]), float(pt.z[-1]), pt.z[:-2], curve.n) for pt in curve.points]
-    if all(ok):
-        return curve
-    best, start = (0, 0), None
-    for i, good in enumerate([*ok, False]):
-        if good and start is None:
-            start = i
-        elif not good and start is not None:
-            best, start = max(best, (start, i), key=lambda r: r[1] - r[0]), None
-    a, b = best
-    ends = dict(curve.end_status)
-    ends.update({"down": "merged_into_shorter_period"} if a > 0 else {})
-    ends.update({"up": "merged_into_shorter_period"} if b < len(ok) else {})
-    cut = Curve(curve.kind, curve.n, curve.points[a:b], curve.scales, ends)
-    if len(cut) > 1:
-        cut.codim2 = [c for c in curve.codim2 if polyline_distance(cut, c.p, c.q, *curve.scales[1:]) < 1e-6]
-    return cut
-
-
 def branch_curves(
-    plane: KHVPlane, bd: Boundaries, br: Branch, line: Line, cs: CurveSettings, origin: str, kinds=CURVE_KINDS
+    plane: KHVPlane,
+    bd: Boundaries,
+    br: Branch,
+    line: Line,
+    cs: ContinuationSettings,
+    origin: str,
+    kinds: Sequence[str] = CURVE_KINDS,
 ) -> None:
-    """A curve from each located event of ``br`` (along ``line``) that lies on no curve of ``bd`` yet
-    (:meth:`Boundaries.known`), one event at a time (:func:`curves_from_branch`)."""
+    """A curve from each event of ``br`` (along ``line``), located or only bracketed, that lies on no curve of
+    ``bd`` yet (:meth:`Boundaries.known`); an event whose seed the corrector does not reach goes to
+    ``bd.unseeded``."""
     for bf in br.bifurcations:
         pq = (line.value, bf.p) if line.axis == "x" else (bf.p, line.value)
-        if bf.kind in kinds and bf.located and not bd.known(bf.kind, bf.n, pq):
-            one = replace(br, bifurcations=[bf])
-            bd.add(curves_from_branch(plane, one, line.along, line.value, cs, kinds, bd.curves), origin, plane=plane)
+        if bf.kind in kinds and not bd.known(bf.kind, bf.n, pq, cs.on_curve_tol):
+            c = continue_curve(plane, bf.kind, bf.n, bf.state, pq, bf.critical, cs, line.along)
+            if c is None:
+                log.info("%s: %s (P%d) at %s seeds no curve (located: %s)", origin, bf.kind, bf.n, pq, bf.located)
+                bd.unseeded.append((bf.kind, bf.n, *pq, bf.located))
+            bd.add([c] if c is not None else [], origin)
 
 
 # --- the map's records as seeds -----------------------------------------------------------------------------
@@ -340,9 +259,8 @@ def map_records(map_ds: xr.Dataset) -> list[tuple[int, int, str, int]]:
     """(row j, column i, curve kind, period n) of every pixel whose row's followed orbit lost stability by a
     fold, period doubling or Neimark-Sacker (``bifurcation``), n the period of the pixel before (0: not
     periodic)."""
-    var = map_ds["bifurcation"]
-    names = dict(zip(np.asarray(var.attrs["flag_values"]).tolist(), var.attrs["flag_meanings"].split(), strict=True))
-    code, period, label = var.values, map_ds["period"].values, map_ds["label"].values
+    names = decode(map_ds["bifurcation"].attrs)
+    code, period, label = map_ds["bifurcation"].values, map_ds["period"].values, map_ds["label"].values
     out = []
     for j, i in zip(*np.nonzero(code > 0), strict=True):
         kind = names.get(int(code[j, i]), "")
@@ -360,10 +278,11 @@ def _record_curves(
     map_ds: xr.Dataset,
     rec: tuple[int, int, str, int],
     spec: BoundarySpec,
-    origin: str,
+    policy: Policy,
 ) -> list[Curve]:
-    """A curve from one map record (added to ``bd``): the orbit at the pixel before, continued along the row
-    past the pixel, the event of the record's kind nearest the pixel; [] when not reproduced."""
+    """A curve from one map record (added to ``bd``): the orbit the labeller certifies at the pixel before (or
+    half way back along the row's run), continued along the row past the pixel, the event of the record's kind
+    nearest the pixel (within ``record_tol`` pixels); [] when not reproduced."""
     j, i, kind, n = rec
     xs, ys, lab = map_ds["x"].values, map_ds["y"].values, map_ds["label"].values
     first = i - 1
@@ -373,25 +292,29 @@ def _record_curves(
     (xp, yp), fixed = bd.region.names, dict(bd.region.fixed)
     row = Line("y", float(ys[j]))
     fam = KHVFamily(design, xp, {**fixed, yp: row.value}, lo, hi, plane.settings, 5)
-    cs = replace(spec.branch_settings(), ds=0.05, ds_max=0.05)
+    cs = replace(spec.branch_settings(), ds=0.05, ds_max=0.05, grazing=False)  # the record's kind only
     px = pixel_size(map_ds)[0]
+    origin = f"map record ({float(xs[i]) - 0.5 * px:.6g}, {row.value:.6g})"
+    known: list[Branch] = []  # a second orbit on the first one's branch starts none
     for t in dict.fromkeys((float(xs[i - 1]), float(xs[(max(first, i - 12) + i - 1) // 2]))):
-        found = attractor_orbit(fam, t, n, plane.settings, spec.max_period)
-        br = None if found is None else continue_branch(fam, t, found[0], n, lo, hi, cs)
+        (found,) = labelled_orbits([(fam, t, n)], policy, spec.max_period)
+        br = None if found is None else add_branch(fam, t, found[1], n, known, cs)
         if br is None:
             continue
-        near = [b for b in br.bifurcations if b.kind == kind and b.located and abs(b.p - xs[i]) <= 2.5 * px]
+        near = [b for b in br.bifurcations if b.kind == kind and abs(b.p - xs[i]) <= spec.record_tol * px]
         if near:
             before = len(bd.curves)
-            one = replace(br, bifurcations=near[:1])
-            branch_curves(plane, bd, one, row, spec.curve_settings(), origin, (kind,))
+            branch_curves(plane, bd, replace(br, bifurcations=near[:1]), row, spec.curve_settings(), origin, (kind,))
             return bd.curves[before:]
     return []
 
 
-def record_seeds(design: Any, plane: KHVPlane, bd: Boundaries, map_ds: xr.Dataset, spec: BoundarySpec) -> None:
-    """The fate of each of the map's records (:data:`RECORD_FATES`): on a curve, or the seed of a new one
-    (at most ``max_map_seeds`` tried), or not reproduced; appended to ``bd.records``, curves to ``bd``."""
+def record_seeds(
+    design: Any, plane: KHVPlane, bd: Boundaries, map_ds: xr.Dataset, spec: BoundarySpec, policy: Policy
+) -> None:
+    """The fate of each of the map's records (:data:`RECORD_FATES`): on a curve (:func:`lies_on`, within
+    ``record_tol`` pixels), or the seed of a new one (at most ``max_map_seeds`` tried), or not reproduced;
+    appended to ``bd.records``, curves to ``bd``."""
     px, py = pixel_size(map_ds)
     xs, ys = map_ds["x"].values, map_ds["y"].values
     tried = 0
@@ -400,14 +323,12 @@ def record_seeds(design: Any, plane: KHVPlane, bd: Boundaries, map_ds: xr.Datase
         x, y = float(xs[i]) - 0.5 * px, float(ys[j])  # the loss lies between the pixel and the one before
         if not 1 <= n <= spec.max_period:
             fate = "period_out_of_range"
-        elif any(
-            c.kind == kind and c.n == n and polyline_distance(c, x, y, px, py) <= spec.record_tol for c in bd.curves
-        ):
+        elif any(lies_on(c, kind, n, x, y, spec.record_tol, (px, py)) for c in bd.curves):
             fate = "on_curve"
         elif tried < spec.max_map_seeds:
             tried += 1
-            new = _record_curves(design, plane, bd, map_ds, rec, spec, f"map record ({x:.6g}, {y:.6g})")
-            on = any(c.kind == kind and polyline_distance(c, x, y, px, py) <= spec.record_tol for c in new)
+            new = _record_curves(design, plane, bd, map_ds, rec, spec, policy)
+            on = any(lies_on(c, kind, n, x, y, spec.record_tol, (px, py)) for c in new)
             fate = "started_curve" if on else "not_reproduced"
         else:
             fate = "not_reproduced"
@@ -420,37 +341,45 @@ def boundary_curves(
     spec: BoundarySpec,
     settings: SimulationSettings,
     map_ds: xr.Dataset | None = None,
+    policy: Policy | None = None,
 ) -> tuple[Boundaries, KHVPlane]:
     """The regime boundaries of ``region`` (module doc): branches along the spec's lines (else the middle lines)
-    seeded by the map's periodic pixels or, without a map, by ``probes`` simulations per line, and the curves of
-    their events and back-flank sign changes; then, with a map, the curves its records seed."""
+    seeded by the map's periodic pixels or, without a map, by ``probes`` points per line, each labelled by
+    ``policy`` (default: the labeller's with ``settings``), and the curves of their events and back-flank sign
+    changes; then, with a map, the curves its records seed."""
     t0 = time.perf_counter()
+    policy = policy or Policy(settings)
     plane = KHVPlane(design, region.names, dict(region.fixed), region.box, settings, spec.nodes)
     lines = lines_of(region, spec.lines_x, spec.lines_y)
     bd = Boundaries(region, lines)
     back = plane.back_flank()
     cs = spec.curve_settings()
-    for line in lines:
-        fam = line_family(design, region, line, settings, spec.nodes)
-        if map_ds is not None:
-            seeds = map_line_seeds(map_ds, line, spec.max_period, spec.max_seeds)
-        else:
-            seeds = [(float(t), 0) for t in np.linspace(fam.lo, fam.hi, spec.probes + 2)[1:-1]]
-        for br in line_branches(fam, seeds, settings, spec):
+    fams = [line_family(design, region, line, settings, spec.nodes) for line in lines]
+    seeds = [
+        [(fam, t, n) for t, n in map_line_seeds(map_ds, line, spec.max_period, spec.max_seeds)]
+        if map_ds is not None
+        else [(fam, float(t), 0) for t in np.linspace(fam.lo, fam.hi, spec.probes + 2)[1:-1]]
+        for line, fam in zip(lines, fams, strict=True)
+    ]
+    found = iter(labelled_orbits([s for line_seeds in seeds for s in line_seeds], policy, spec.max_period))
+    for line, fam, line_seeds in zip(lines, fams, seeds, strict=True):
+        for br in line_branches(fam, [next(found) for _ in line_seeds], spec):
             bd.branches.append((line, br))
             events = [(b.kind, round(b.p, 5)) for b in br.bifurcations]
             log.info("line %s: P%d branch, %d points, events %s", line, br.n, len(br), events)
             branch_curves(plane, bd, br, line, cs, f"line {line}")
             if spec.back_grazing:
-                for t, x in back_grazing_seeds(fam, br):
+                for q, located in sign_changes(br, fam.back_grazing):
+                    t, x = q.p, q.x
                     pq = (line.value, t) if line.axis == "x" else (t, line.value)
-                    if not bd.known("grazing", br.n, pq, "back"):
+                    if not bd.known("grazing", br.n, pq, cs.on_curve_tol, "back"):
                         c = continue_curve(back, "grazing", br.n, x, pq, cs=cs, along=line.along)
-                        bd.add([c] if c is not None else [], f"line {line}", "back", plane)
+                        bd.add([c] if c is not None else [], f"line {line}", "back")
+                        bd.unseeded += [] if c is not None else [("back_grazing", br.n, *pq, located)]
     bd.timing["lines"] = time.perf_counter() - t0
     if map_ds is not None and spec.map_seeds and "bifurcation" in map_ds:
         t1 = time.perf_counter()
-        record_seeds(design, plane, bd, map_ds, spec)
+        record_seeds(design, plane, bd, map_ds, spec, policy)
         bd.timing["records"] = time.perf_counter() - t1
     bd.timing["total"] = sum(bd.timing.values())
     return bd, plane

@@ -1,42 +1,91 @@
-"""The driver of a sweep's continuation: branches seeded by the cube's periodic points (with branch
-switching at their period doublings), the CF dataset and the table of bifurcation points, and the
-cross-check of the sweep's labels against the branches (:func:`label_check`, the one place the
-driver reads the sweep's labels after seeding)."""
+"""The continuation of a sweep: its ``orbits:`` settings (:class:`OrbitSpec`), branches seeded by the labeller's
+periodic points of the cube (with branch switching at their period doublings), the CF dataset and the table of
+bifurcation points, and the cross-check of the sweep's labels against the branches (:func:`label_check`)."""
 
 from __future__ import annotations
 
 import logging
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from geardyn.config import settings_from
 from geardyn.khv import point
+from geardyn.label import classify
 from geardyn.papers import paper_of
 from geardyn.runs.continuation.branch import Branch, on_branch
+from geardyn.runs.continuation.corrector import ContinuationSettings
 from geardyn.runs.continuation.family import KHVFamily
 from geardyn.runs.continuation.output import bifurcation_rows, branch_dataset
-from geardyn.runs.continuation.spec import OrbitSpec, final_state, seeds_from_cube
 from geardyn.runs.continuation.switching import add_branch
+from geardyn.runs.cube import STATES
 from geardyn.solve.base import SimulationSettings
-from geardyn.solve.shooting import newton_shooting
 
 log = logging.getLogger("geardyn.continuation")
 
 
+@dataclass(frozen=True)
+class OrbitSpec:
+    """One ``orbits:`` entry of the configuration (keyed by the sweep it continues; its keys in the config
+    schema): ``nodes`` the coefficient interpolation nodes of :class:`~geardyn.runs.continuation.KHVFamily`,
+    ``continuation`` the :class:`ContinuationSettings`, ``attractors`` the mapping for
+    :mod:`geardyn.runs.attractors`."""
+
+    max_period: int = 6
+    max_seeds: int = 6
+    nodes: int = 101
+    continuation: ContinuationSettings = ContinuationSettings()
+    attractors: tuple[tuple[str, Any], ...] = ()
+    switch_period_doubling: bool = True
+
+    @classmethod
+    def from_config(cls, spec: Mapping[str, Any] | None) -> OrbitSpec:
+        values = {k: v for k, v in (spec or {}).items() if k != "designs"}
+        values["continuation"] = ContinuationSettings.from_mapping(values.get("continuation"))
+        values["attractors"] = tuple(sorted((values.get("attractors") or {}).items()))
+        return settings_from(cls, values, "orbits settings")
+
+
+def final_state(cube: Any, case: int, j: int) -> np.ndarray:
+    """The last Poincare point of sweep point j of ``case`` (first direction of the cube)."""
+    return np.array([float(cube[v].values[case, 0, j, -1]) for v in STATES])
+
+
+def seeds_from_cube(cube: Any, case: int, max_period: int, max_seeds: int) -> list[tuple[float, np.ndarray, int]]:
+    """(p, final state, n) at the middle of each run of equal label P1..P<max_period> along the sweep
+    (first direction of the cube), longest runs first, at most ``max_seeds``."""
+    par = cube.attrs["control_parameter"]
+    values = np.asarray(cube[par].values, dtype=float)
+    seeds = []
+    for j, n in run_middles(np.asarray(cube["label"].values[case, 0], dtype=int), max_period)[:max_seeds]:
+        x = final_state(cube, case, j)
+        if np.all(np.isfinite(x)):
+            seeds.append((float(values[j]), x, n))
+    return seeds
+
+
+def run_middles(labels: np.ndarray, max_period: int) -> list[tuple[int, int]]:
+    """(middle index, n) of every run of equal label P1..P<max_period>, longest runs first."""
+    runs = [
+        (int(last) - int(first) + 1, int(first), n)
+        for first, last, n in classify.bands(np.arange(labels.size), labels)
+        if 1 <= n <= max_period
+    ]
+    return [(first + length // 2, n) for length, first, n in sorted(runs, key=lambda r: (-r[0], r[1]))]
+
+
 def sweep_branches(families: Sequence[KHVFamily], cube: Any, spec: OrbitSpec) -> list[tuple[int, Branch]]:
-    """Continue every distinct branch seeded by the cube's periodic points, case by case (one family each)."""
+    """Continue every distinct branch seeded by the cube's periodic points (the labeller's final states, shot by
+    :func:`~geardyn.runs.continuation.stepping.continue_branch`), case by case (one family each)."""
     out: list[tuple[int, Branch]] = []
     doubling = spec.max_period if spec.switch_period_doubling else 0
     for case, family in enumerate(families):
         mine: list[Branch] = []
         for p, x, n in seeds_from_cube(cube, case, spec.max_period, spec.max_seeds):
-            r = newton_shooting(family.flow(p, n), x, n, spec.continuation.tol)
-            if not r.converged:
-                log.info("case %d: seed P%d at %g not converged (%s)", case, n, p, r.status)
-                continue
-            br = add_branch(family, p, r.state, n, mine, spec.continuation, max_period=doubling)
+            br = add_branch(family, p, x, n, mine, spec.continuation, max_period=doubling)
             if br is not None:
                 ends = br.end_status
                 log.info("case %d: P%d branch from %g: %d points, ends %s", case, n, p, len(br), ends)

@@ -1,7 +1,7 @@
-"""Typed bifurcation points of a continued branch: the test functions between consecutive points
-(period doubling, Neimark-Sacker, fold, branch point, grazing) and their location on the branch
-(Brent on the arclength fraction, the fold by its cubic Hermite extremum), every trial point a
-pseudo-arclength correction so that it stays on this branch."""
+"""Typed bifurcation points of a continued branch: the test functions between consecutive points (period
+doubling, Neimark-Sacker, fold, branch point, grazing) and their location on the branch (Brent on the arclength
+fraction, the fold by its cubic Hermite extremum), every trial point a pseudo-arclength correction so that it
+stays on this branch (docs/orbits.md, section 3)."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from scipy.optimize import brentq
 
 from geardyn import libm
 from geardyn.runs.continuation.branch import Bifurcation, Branch
-from geardyn.runs.continuation.corrector import BranchPoint, Corrector
+from geardyn.runs.continuation.corrector import Point, step
 from geardyn.solve.floquet import is_complex
 from geardyn.solve.shooting import rotation_number
 
@@ -43,11 +43,12 @@ def ns_pair(mu: np.ndarray) -> complex | None:
     return complex(c[np.argmin(np.abs(libm.cabs(c) - 1.0))])
 
 
-def ns_product(mu: np.ndarray) -> float:
-    """prod over the complex multipliers in the upper half plane of (|mu| - 1): changes sign when one
-    pair crosses the unit circle, whatever the other pairs do (NaN without complex multipliers)."""
-    c = mu[is_complex(mu) & (mu.imag > 0)]
-    return float(np.prod(libm.cabs(c) - 1.0)) if c.size else float("nan")
+def ns_test(mu: np.ndarray) -> float:
+    """|mu| - 1 of the complex pair nearest the unit circle (NaN without one): changes sign when that pair
+    crosses the circle, whatever the other multipliers do (a real pair that turns complex inside the circle
+    leaves it alone)."""
+    c = ns_pair(mu)
+    return float("nan") if c is None else abs(c) - 1.0
 
 
 def _near(target: float) -> Callable[[np.ndarray], complex]:
@@ -56,71 +57,52 @@ def _near(target: float) -> Callable[[np.ndarray], complex]:
 
 
 def _lin_zero(a: float, b: float) -> float:
-    return a / (a - b) if a != b else 0.5
+    return a / (a - b) if a != b and np.isfinite(a) and np.isfinite(b) else 0.5
 
 
-def _stored(br: Branch, i: int, u: float) -> BranchPoint:
-    return BranchPoint(br.states[i], float(br.p[i]), br.multipliers[i], br.tangents[i], u=u)
+def _stored(br: Branch, i: int, u: float) -> Point:
+    return Point(np.append(br.states[i], br.p[i]), br.multipliers[i], br.tangents[i], u=u)
 
 
-def _on_branch(corr: Corrector, br: Branch, i: int, u: float) -> BranchPoint | None:
-    """Predict u * (s_{i+1} - s_i) along the tangent at point i and correct (pseudo-arclength), so
-    the point stays on this branch even next to a fold or another branch."""
-    t = br.tangents[i]
-    xp, pp = corr.predict(_stored(br, i, 0.0), u * float(br.arclength[i + 1] - br.arclength[i]))
-    out = corr.correct(xp, float(pp), t)
-    return None if out is None else replace(out, p=float(out.p), tangent=t if out.tangent is None else out.tangent, u=u)
+def _on_branch(br: Branch, i: int, u: float) -> Point | None:
+    """Predict u * (s_{i+1} - s_i) along the tangent at point i and correct (pseudo-arclength), so the point stays
+    on this branch even next to a fold or another branch."""
+    prob = br.problem
+    out = step(prob, _stored(br, i, 0.0), u * float(br.arclength[i + 1] - br.arclength[i]), prob.cs)
+    return None if out is None else replace(out, u=u)
 
 
-def _interpolated(br: Branch, i: int, w: float) -> BranchPoint:
-    """Linear interpolation of state and parameter at the fraction w of step i; the multipliers of
-    the nearer end point (the sorted multiplier lists of two points need not correspond element by
-    element)."""
-    return BranchPoint(
-        br.states[i] + w * (br.states[i + 1] - br.states[i]),
-        float(br.p[i] + w * (br.p[i + 1] - br.p[i])),
-        br.multipliers[i if w < 0.5 else i + 1],
-        br.tangents[i],
-        u=w,
-    )
+def _interpolated(br: Branch, i: int, w: float) -> Point:
+    """Linear interpolation of state and parameter at the fraction w of step i; the multipliers of the nearer end
+    point (the sorted multiplier lists of two points need not correspond element by element)."""
+    a, b = _stored(br, i, 0.0), _stored(br, i + 1, 1.0)
+    return replace(a, z=a.z + w * (b.z - a.z), multipliers=(a if w < 0.5 else b).multipliers, u=w)
 
 
-def _bifurcation(
-    kind: str, q: BranchPoint, i: int, located: bool, br: Branch, critical_of: Callable[[np.ndarray], complex | None]
-) -> Bifurcation:
+def _bifurcation(kind: str, q: Point, i: int, located: bool, br: Branch, critical_of: Callable) -> Bifurcation:
     crit = critical_of(q.multipliers)
     rot = rotation_number(crit) if kind == "neimark_sacker" and crit is not None else float("nan")
-    return Bifurcation(
-        kind,
-        float(q.p),
-        np.asarray(q.x),
-        np.asarray(q.multipliers),
-        complex(crit) if crit is not None else complex("nan"),
-        rot,
-        i,
-        located,
-        br.n,
-    )
+    c = complex(crit) if crit is not None else complex("nan")
+    return Bifurcation(kind, q.p, np.asarray(q.x), np.asarray(q.multipliers), c, rot, i, located, br.n)
 
 
-def _locate(
-    corr: Corrector, br: Branch, i: int, test: Callable[[BranchPoint], float], w0: float
-) -> tuple[BranchPoint, bool]:
-    """Brent on the arclength fraction u in [0, 1] between points i and i+1 (corrected points); the
-    point interpolated at w0 (not located) when that fails or is not asked for (``locate`` off)."""
-    if not corr.cs.locate:
-        return _interpolated(br, i, w0), False
+def _locate(br: Branch, i: int, tests: list[Callable[[Point], float]], w0: float) -> tuple[Point, bool]:
+    """Brent on the arclength fraction u in [0, 1] between points i and i+1 (corrected points) on the first of
+    ``tests`` whose sign differs at the two ends; the point interpolated at w0 (not located) when none does, Brent
+    fails or location is off (``locate``)."""
     lo, hi = _stored(br, i, 0.0), _stored(br, i + 1, 1.0)
-    q = None
-    if (test(lo) > 0) != (test(hi) > 0):
-        q = brent_on_step(lambda u: _on_branch(corr, br, i, u), test, lo, hi, corr.cs.locate_xtol)
-    return (q, True) if q is not None else (_interpolated(br, i, w0), False)
+    for test in tests if br.problem.cs.locate else []:
+        if (test(lo) > 0) != (test(hi) > 0):
+            q = brent_on_step(lambda u: _on_branch(br, i, u), test, lo, hi, br.problem.cs.locate_xtol)
+            if q is not None:
+                return q, True
+    return _interpolated(br, i, w0), False
 
 
 def brent_on_step(point_at: Callable[[float], Any], test: Callable[[Any], float], a: Any, b: Any, xtol: float) -> Any:
-    """Brent on the arclength fraction s in [0, 1] of one step (a at 0, b at 1, every trial point
-    ``point_at(s)`` a corrected point, cached): the point where ``test`` vanishes, None when a correction
-    fails, the test is undefined or has one sign at both ends."""
+    """Brent on the arclength fraction s in [0, 1] of one step (a at 0, b at 1, every trial point ``point_at(s)``
+    a corrected point, cached): the point where ``test`` vanishes, None when a correction fails, the test is
+    undefined or has one sign at both ends."""
     cache = {0.0: a, 1.0: b}
 
     def f(s: float) -> float:
@@ -141,67 +123,80 @@ def brent_on_step(point_at: Callable[[float], Any], test: Callable[[Any], float]
     return cache[s] if s in cache else point_at(s)
 
 
-def _fold(corr: Corrector, br: Branch, i: int, iterations: int = 12) -> tuple[BranchPoint, bool]:
-    """Fold between points i and i+1: the extremum of the cubic Hermite interpolant of p(s) (values
-    and dp/ds at the bracket ends), corrected onto the branch there; the bracket shrinks to the
-    corrected point and its tangent until dp/ds = 0 (then one multiplier is +1)."""
-    d = br.states.shape[1]
+def _fold(br: Branch, i: int, iterations: int = 12) -> tuple[Point, bool]:
+    """Fold between points i and i+1: the extremum of the cubic Hermite interpolant of p(s) (values and dp/ds at
+    the bracket ends), corrected onto the branch there; the bracket shrinks to the corrected point and its tangent
+    until dp/ds = 0 (then one multiplier is +1)."""
     lo, hi = _stored(br, i, 0.0), _stored(br, i + 1, 1.0)
     h = float(br.arclength[i + 1] - br.arclength[i])
-    best, ok = None, False
+    best = None
     for _ in range(iterations):
         span = (hi.u - lo.u) * h
         p0, p1 = lo.p, hi.p
-        m0, m1 = float(lo.tangent[d]) * corr.sp * span, float(hi.tangent[d]) * corr.sp * span
+        sp = br.problem.sp
+        m0, m1 = float(lo.tangent[-1]) * sp * span, float(hi.tangent[-1]) * sp * span
         c2 = 3 * (p1 - p0) - 2 * m0 - m1
         c3 = 2 * (p0 - p1) + m0 + m1
         roots = np.atleast_1d(np.roots([3 * c3, 2 * c2, m0])) if (c3 != 0 or c2 != 0) else np.array([])
         cand = [float(r.real) for r in roots if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0]
         v = min(cand, key=lambda r: abs(r - 0.5)) if cand else 0.5
-        q = _on_branch(corr, br, i, lo.u + v * (hi.u - lo.u))
+        q = _on_branch(br, i, lo.u + v * (hi.u - lo.u))
         if q is None:
             break
-        best, ok = q, True
-        if abs(float(q.tangent[d])) < 1e-10 or (hi.u - lo.u) < 1e-12:
+        best = q
+        if abs(float(q.tangent[-1])) < 1e-10 or (hi.u - lo.u) < 1e-12:
             break
-        if (q.tangent[d] > 0) == (lo.tangent[d] > 0):
+        if (q.tangent[-1] > 0) == (lo.tangent[-1] > 0):
             lo = q
         else:
             hi = q
-    return (best, ok) if best is not None else (_interpolated(br, i, 0.5), False)
+    return (best, True) if best is not None else (_interpolated(br, i, 0.5), False)
 
 
-def _step_events(corr: Corrector, br: Branch, i: int) -> list[Bifurcation]:
+def _changes(h: np.ndarray) -> np.ndarray:
+    """The steps i -> i + 1 over which the finite values h change sign."""
+    return np.flatnonzero(np.isfinite(h[:-1]) & np.isfinite(h[1:]) & ((h[:-1] > 0) != (h[1:] > 0)))
+
+
+def _step_events(br: Branch, i: int, grazes: bool) -> list[Bifurcation]:
     """The typed bifurcation points between points i and i + 1, in the order of the package table."""
     found: list[Bifurcation] = []
     m0, m1 = br.multipliers[i], br.multipliers[i + 1]
     a, b = pd_test(m0), pd_test(m1)
     if (a > 0) != (b > 0):
-        q, ok = _locate(corr, br, i, lambda q: pd_test(q.multipliers), _lin_zero(a, b))
+        q, ok = _locate(br, i, [lambda q: pd_test(q.multipliers)], _lin_zero(a, b))
         found.append(_bifurcation("period_doubling", q, i, ok, br, _near(-1.0)))
     dpds = br.tangents[:, -1]
     fa, fb = fold_test(m0), fold_test(m1)
     if (dpds[i] > 0) != (dpds[i + 1] > 0):
-        q, ok = _fold(corr, br, i)
+        q, ok = _fold(br, i)
         found.append(_bifurcation("fold", q, i, ok, br, _near(1.0)))
     elif (fa > 0) != (fb > 0):
-        q, ok = _locate(corr, br, i, lambda q: fold_test(q.multipliers), _lin_zero(fa, fb))
+        q, ok = _locate(br, i, [lambda q: fold_test(q.multipliers)], _lin_zero(fa, fb))
         found.append(_bifurcation("branch_point", q, i, ok, br, _near(1.0)))
     (o0, c0), (o1, c1) = unstable_counts(m0), unstable_counts(m1)
     if abs(o1 - o0) == 2 and abs(c1 - c0) == 2 and (o1 - o0) == (c1 - c0):
-        n0, n1 = ns_product(m0), ns_product(m1)
-        w = _lin_zero(n0, n1) if np.isfinite(n0) and np.isfinite(n1) else 0.5
-        q, ok = _locate(corr, br, i, lambda q: ns_product(q.multipliers), w)
+        # the modulus of the pair that crosses; failing that (another pair turned complex or crossed inside the
+        # step), the count of unstable complex multipliers, which changes by 2 just where the pair crosses
+        tests = [lambda q: ns_test(q.multipliers), lambda q: unstable_counts(q.multipliers)[1] - 0.5 * (c0 + c1)]
+        q, ok = _locate(br, i, tests, _lin_zero(ns_test(m0), ns_test(m1)))
         found.append(_bifurcation("neimark_sacker", q, i, ok, br, ns_pair))
-    g0, g1 = br.grazing[i], br.grazing[i + 1]
-    if np.isfinite(g0) and np.isfinite(g1) and (g0 > 0) != (g1 > 0):
-        q, ok = _locate(corr, br, i, lambda q: corr.family.grazing(q.p, q.x, br.n), _lin_zero(g0, g1))
+    if grazes:
+        margin = br.problem.family.grazing
+        q, ok = _locate(br, i, [lambda q: margin(q.p, q.x, br.n)], _lin_zero(*br.grazing[i : i + 2]))
         found.append(_bifurcation("grazing", q, i, ok, br, lambda m: None))
     return found
 
 
-def detect_bifurcations(corr: Corrector, br: Branch) -> list[Bifurcation]:
-    """Typed bifurcation points between consecutive points of ``br`` (continued by ``corr``, with its
-    tangents; see the package table); with ``locate`` off they are only bracketed (interpolated,
-    ``located`` False), but for the fold."""
-    return [bf for i in range(len(br) - 1) for bf in _step_events(corr, br, i)]
+def detect_bifurcations(br: Branch) -> list[Bifurcation]:
+    """Typed bifurcation points between consecutive points of ``br`` (with its tangents and problem; see the
+    package table); with ``locate`` off they are only bracketed (interpolated, ``located`` False), but the fold."""
+    graze = set(_changes(br.grazing).tolist())
+    return [bf for i in range(len(br) - 1) for bf in _step_events(br, i, i in graze)]
+
+
+def sign_changes(br: Branch, margin: Callable[[float, np.ndarray, int], float]) -> list[tuple[Point, bool]]:
+    """The points of ``br`` where ``margin(p, x, n)`` changes sign between consecutive points (e.g. a grazing
+    margin), each located by :func:`_locate` (or only bracketed: located False)."""
+    h = np.array([margin(p, x, br.n) for p, x in zip(br.p, br.states, strict=True)])
+    return [_locate(br, int(i), [lambda q: margin(q.p, q.x, br.n)], _lin_zero(h[i], h[i + 1])) for i in _changes(h)]

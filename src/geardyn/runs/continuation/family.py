@@ -1,6 +1,7 @@
-"""The model adapters: one- and two-parameter families of periodic systems (the system at a parameter
-value, its stroboscopic map with monodromy, the grazing margins of an orbit), with the spline cache of
-:class:`KHVFamily` and :class:`KHVPlane` for a KHV design."""
+"""The model adapters: one- and two-parameter families of periodic systems (the system at a parameter value, its
+stroboscopic map with monodromy, the cycle of an orbit, the grazing margins of an orbit), with the spline cache
+of :class:`KHVFamily` and :class:`KHVPlane` for a KHV design, and a line of a plane as a family
+(:class:`PlaneLine`)."""
 
 from __future__ import annotations
 
@@ -15,13 +16,16 @@ from geardyn.khv import point
 from geardyn.khv.model import Coefficients
 from geardyn.solve.base import SimulationSettings
 from geardyn.solve.run import simulate
-from geardyn.solve.shooting import FlowMap, khv_flow
+from geardyn.solve.shooting import FlowMap, cycle_points, khv_flow, period_settings
 
 
 class Family(Protocol):
-    """What continuation needs of a parameter family of periodic systems."""
+    """What continuation needs of a parameter family of periodic systems: the n-period map with its monodromy,
+    the n phase-0 points of the orbit through x (x first), the grazing margin of the orbit."""
 
     def flow(self, p: float, n: int) -> FlowMap: ...
+
+    def cycle(self, p: float, x: np.ndarray, n: int) -> np.ndarray: ...
 
     def grazing(self, p: float, x: np.ndarray, n: int) -> float: ...
 
@@ -86,14 +90,20 @@ class KHVFamily:
     def flow(self, p: float, n: int) -> FlowMap:
         return khv_flow(self.coefficients(p), n, self.settings)
 
+    def cycle(self, p: float, x: np.ndarray, n: int) -> np.ndarray:
+        return cycle_points([self.coefficients(p)], [x], n, self.settings)[0][0]
+
     def grazing(self, p: float, x: np.ndarray, n: int) -> float:
         return grazing_margin(self.coefficients(p), x, n, self.settings)
+
+    def back_grazing(self, p: float, x: np.ndarray, n: int) -> float:
+        return back_margin(self.coefficients(p), x, n, self.settings)
 
 
 def grazing_margin(system: Coefficients, x: np.ndarray, n: int, settings: SimulationSettings) -> float:
     """g = min over the cycle of |x_VH| - b (NaN without backlash): g < 0 when contact is lost; -b when x_VH
     changes sign, else the minimum of |x_VH| over a dense run refined by a parabola (docs/orbits.md, section 3)."""
-    x2 = cycle_xvh(system, x, n, settings.steps_per_period, settings.divergence_threshold)
+    x2 = _dense_xvh(system, x, n, settings)
     if x2 is None:
         return float("nan")
     if x2.min() < 0.0 < x2.max():
@@ -104,25 +114,19 @@ def grazing_margin(system: Coefficients, x: np.ndarray, n: int, settings: Simula
 def back_margin(system: Coefficients, x: np.ndarray, n: int, settings: SimulationSettings) -> float:
     """h = min over the cycle of s X_VH + b, s the drive side (the sign of the static mesh deflection beyond
     the backlash): h < 0 when the teeth strike on the back flank (NaN without backlash); refined as g."""
-    x2 = cycle_xvh(system, x, n, settings.steps_per_period, SimulationSettings.divergence_threshold)
+    x2 = _dense_xvh(system, x, n, settings)
     if x2 is None:
         return float("nan")
     return refined_min((-1.0 if float(system.static_state()[1]) < 0.0 else 1.0) * x2) + system.b
 
 
-def cycle_xvh(system: Coefficients, x: np.ndarray, n: int, steps: int, threshold: float) -> np.ndarray | None:
-    """X_VH at x and every step of a dense run of n periods from x (rk4_event); None without backlash, when
-    the run diverges or has fewer than 3 points."""
+def _dense_xvh(system: Coefficients, x: np.ndarray, n: int, settings: SimulationSettings) -> np.ndarray | None:
+    """X_VH at x and every step of a dense run of n periods from x with the shooting's settings (the caller's
+    integrator, steps, alignment and divergence threshold); None without backlash, when the run diverges or has
+    fewer than 3 points."""
     if not system.backlash_on or system.b <= 0.0:
         return None
-    s = SimulationSettings(
-        integrator="rk4_event",
-        steps_per_period=steps,
-        transient_periods=0,
-        recorded_periods=n,
-        divergence_threshold=threshold,
-    )
-    r = simulate(system, s, x, dense=True)
+    r = simulate(system, period_settings(settings, n), x, dense=True)
     if r.diverged or r.states is None or r.states.shape[0] < 3:
         return None
     return np.concatenate([[x[1]], r.states[:, 1]])
@@ -140,17 +144,6 @@ def refined_min(a: np.ndarray) -> float:
     return m
 
 
-def cycle_states(flow: FlowMap, x: np.ndarray, n: int) -> np.ndarray:
-    """The n phase-0 points (n, d) of a period-n orbit through x (x first); ``flow`` the one-period map."""
-    pts = [np.asarray(x, dtype=float)]
-    for _ in range(n - 1):
-        y, _ = flow(pts[-1], False)
-        if y is None:
-            break
-        pts.append(y)
-    return np.array(pts)
-
-
 def cached(cache: dict, key: Any, make: Callable[[Any], Any]) -> Any:
     """cache[key], made by ``make(key)`` on a miss (the cache is emptied past 256 entries)."""
     c = cache.get(key)
@@ -163,22 +156,40 @@ def cached(cache: dict, key: Any, make: Callable[[Any], Any]) -> Any:
 
 
 class PlaneFamily(Protocol):
-    """What curve continuation needs of a two-parameter family of periodic systems."""
+    """What curve continuation needs of a two-parameter family of periodic systems (a :class:`Family` with the
+    parameter (p, q) in the box p_lo, p_hi, q_lo, q_hi)."""
 
-    box: tuple[float, float, float, float]  # p_lo, p_hi, q_lo, q_hi
+    box: tuple[float, float, float, float]
 
     def flow(self, p: float, q: float, n: int) -> FlowMap: ...
+
+    def cycle(self, p: float, q: float, x: np.ndarray, n: int) -> np.ndarray: ...
 
     def grazing(self, p: float, q: float, x: np.ndarray, n: int) -> float: ...
 
 
-#: Overrides that are one coefficient field each (the coefficients are linear in them).
-ONE_FIELD = {"b": "b", "e": "e", "w": "omega"}
+class PlaneLine:
+    """The line of ``plane`` along p (``along`` = "p", q held at ``at``) or along q, as a :class:`Family`."""
+
+    def __init__(self, plane: Any, along: str, at: float):
+        self.plane, self.along, self.at = plane, along, float(at)
+
+    def _pq(self, t: float) -> tuple[float, float]:
+        return (t, self.at) if self.along == "p" else (self.at, t)
+
+    def flow(self, t: float, n: int) -> FlowMap:
+        return self.plane.flow(*self._pq(t), n)
+
+    def cycle(self, t: float, x: np.ndarray, n: int) -> np.ndarray:
+        return self.plane.cycle(*self._pq(t), x, n)
+
+    def grazing(self, t: float, x: np.ndarray, n: int) -> float:
+        return self.plane.grazing(*self._pq(t), x, n)
 
 
 class KHVPlane:
     """A KHV design over two control parameters ``names`` = (p, q) in ``box`` = (p_lo, p_hi, q_lo, q_hi),
-    the other overrides ``fixed`` (docs/orbits.md, section 9: the coefficients along one parameter from a
+    the other overrides ``fixed`` (docs/orbits.md, section 2: the coefficients along one parameter from a
     :class:`KHVFamily` when the other is b, e or w and agrees at the box corner).  Cached by (p, q)."""
 
     def __init__(
@@ -193,9 +204,9 @@ class KHVPlane:
         self.design, self.names, self.fixed = design, (names[0], names[1]), dict(fixed)
         self.box = tuple(float(v) for v in box)
         self.settings = settings or point.integration_settings(design)
-        swap = self.names[0] in ONE_FIELD and self.names[1] not in ONE_FIELD
+        swap = self.names[0] in point.COEFFICIENT_FIELDS and self.names[1] not in point.COEFFICIENT_FIELDS
         self._swap, fast = swap, self.names[0 if swap else 1]
-        self._field = ONE_FIELD.get(fast)
+        self._field = point.COEFFICIENT_FIELDS.get(fast)
         self._cache: dict[tuple[float, float], Any] = {}
         self.margin: Callable[..., float] = grazing_margin
         if self._field is not None:
@@ -222,6 +233,9 @@ class KHVPlane:
 
     def flow(self, p: float, q: float, n: int) -> FlowMap:
         return khv_flow(self.coefficients(p, q), n, self.settings)
+
+    def cycle(self, p: float, q: float, x: np.ndarray, n: int) -> np.ndarray:
+        return cycle_points([self.coefficients(p, q)], [x], n, self.settings)[0][0]
 
     def grazing(self, p: float, q: float, x: np.ndarray, n: int) -> float:
         return self.margin(self.coefficients(p, q), x, n, self.settings)

@@ -14,14 +14,16 @@ import xarray as xr
 
 from geardyn import libm
 from geardyn.khv import point
-from geardyn.runs.continuation.branch import BIFURCATION_TYPES, TYPE_CODES, Branch
-from geardyn.runs.continuation.curves import CODIM2_TYPES, CURVE_KINDS, Curve, bounds_stable
-from geardyn.runs.continuation.family import Family, cycle_states
-from geardyn.runs.continuation.spec import STATE_VARS
+from geardyn.runs.continuation.branch import Branch
+from geardyn.runs.continuation.curves import Curve, bounds_stable
+from geardyn.runs.continuation.family import Family
+from geardyn.runs.cube import STATES
+from geardyn.solve import bifurcations as kinds
+from geardyn.solve.bifurcations import CODES
 
 _D = 6  # state dimension of the KHV model
 #: Kinds of the curves file: the library's four and the grazing of the back flank (onset of back-side contact).
-FILE_KINDS = (*CURVE_KINDS, "back_grazing")
+FILE_KINDS = (*kinds.CURVE_KINDS, "back_grazing")
 #: Fates of a map record as a seed of curves (``record_fate``).
 RECORD_FATES = ("on_curve", "started_curve", "not_reproduced", "period_out_of_range")
 
@@ -56,7 +58,7 @@ def _point_vars(
     for c, b in branches:
         for i in range(len(b)):
             x = b.states[i]
-            cyc[k + i, : b.n] = cycle_states(families[c].flow(float(b.p[i]), 1), x, b.n)[:, 1] if b.n > 1 else x[1]
+            cyc[k + i, : b.n] = families[c].cycle(float(b.p[i]), x, b.n)[:, 1]
         k += len(b)
 
     def cat(attr: str, dtype: Any = float, shape: tuple[int, ...] = (0,)) -> np.ndarray:
@@ -95,7 +97,7 @@ def _bifurcation_vars(branches: Sequence[tuple[int, Branch]], units: str, long_n
     B, BM = ("bifurcation",), ("bifurcation", "multiplier")
     mu = np.array([bf.multipliers for _, bf in bifs]).reshape(len(bifs), _D)
     crit = np.array([bf.critical for _, bf in bifs], complex)
-    kinds = flags(BIFURCATION_TYPES, "type of the bifurcation point")
+    types = kinds.flags(kinds.BRANCH_KINDS, "type of the bifurcation point")
     located = flags(("bracketed", "located"), "point refined on the branch (else interpolated between two points)")
     at_bif = "at the bifurcation point"
     at = {"units": units, "long_name": f"{long_name} {at_bif}"}
@@ -104,7 +106,7 @@ def _bifurcation_vars(branches: Sequence[tuple[int, Branch]], units: str, long_n
     return variables(
         [
             ("bifurcation_branch", B, np.array([j for j, _ in bifs], np.int32), "branch of the bifurcation point"),
-            ("bifurcation_type", B, [TYPE_CODES[bf.kind] for _, bf in bifs], kinds),
+            ("bifurcation_type", B, [CODES[bf.kind] for _, bf in bifs], types),
             ("bifurcation_parameter", B, np.array([bf.p for _, bf in bifs]), at),
             ("bifurcation_x_vh", B, np.array([bf.state[1] for _, bf in bifs]), x_vh),
             ("critical_multiplier_real", B, crit.real, "crossing multiplier, real part (NaN for grazing)"),
@@ -126,7 +128,7 @@ def branch_dataset(
     data = {**_point_vars(branches, families, units, long_name, nmax), **_bifurcation_vars(branches, units, long_name)}
     coords = variables(
         [
-            ("state", "state", list(STATE_VARS), {"long_name": "state component"}),
+            ("state", "state", list(STATES), {"long_name": "state component"}),
             ("multiplier", "multiplier", np.arange(_D, dtype=np.int32), "multiplier index (by decreasing modulus)"),
             ("cycle", "cycle", np.arange(nmax, dtype=np.int32), "index of the phase-0 point in the cycle"),
             ("case", "case", list(case_labels), {"long_name": "case (fixed overrides)"}),
@@ -139,20 +141,10 @@ def branch_dataset(
     return xr.Dataset(data, coords=coords, attrs={"control_parameter": parameter, **ends})
 
 
-TABLE_COLUMNS = (
-    "case",
-    "branch",
-    "period",
-    "type",
-    "parameter",
-    "value",
-    "critical_multiplier",
-    "modulus",
-    "rotation_number",
-    "located",
-    "multipliers",
-    "paper_transition",
-    "paper_difference",
+#: The columns of the table of bifurcation points.
+TABLE_COLUMNS = tuple(
+    "case branch period type parameter value critical_multiplier modulus rotation_number located multipliers "
+    "paper_transition paper_difference".split()
 )
 
 
@@ -225,10 +217,7 @@ def branches_from_dataset(ds: Any) -> list[tuple[int, Branch]]:
 
 
 def _attrs(name: str, units: Mapping[str, str] | None, long_names: Mapping[str, str] | None) -> dict[str, str]:
-    if units and name in units:
-        u = units[name]
-    else:
-        u = point.units_of(name) if name in point.CONTROLS or name in point.PARAMETER_UNITS else "1"
+    u = units[name] if units and name in units else point.units_of(name, "1")
     ln = (long_names or {}).get(name) or (point.CONTROLS[name][1] if name in point.CONTROLS else name)
     return {"units": u, "long_name": ln}
 
@@ -259,11 +248,11 @@ def curve_dataset(
         ("multiplier_imag", PM, mu.imag, "Floquet multiplier, imaginary part"),
         ("condition_residual", P, [pt.G for _, pt in rows], g),
         ("grazing_margin", P, [pt.grazing for _, pt in rows], "grazing margin min |x_VH| - b over the cycle"),
-        ("curve_kind", ("curve",), [CURVE_KINDS.index(c.kind) for c in curves], flags(CURVE_KINDS, "curve kind")),
+        ("curve_kind", ("curve",), [CODES[c.kind] for c in curves], kinds.flags(kinds.CURVE_KINDS, "curve kind")),
         ("curve_period", ("curve",), np.array([c.n for c in curves], np.int16), "orbit period (mesh periods)"),
         ("curve_start", ("curve",), np.cumsum([0] + [len(c) for c in curves])[:-1], "index of the first point"),
         ("curve_length", ("curve",), [len(c) for c in curves], "number of points"),
-        ("codim2_type", C2, [CODIM2_TYPES.index(b.kind) for _, b in c2], flags(CODIM2_TYPES, "codim-2 type")),
+        ("codim2_type", C2, [CODES[b.kind] for _, b in c2], kinds.flags(kinds.CODIM2, "codim-2 type")),
         ("codim2_curve", C2, np.array([k for k, _ in c2], np.int32), "index of the curve"),
         (f"codim2_{names[0]}", C2, [b.p for _, b in c2], pa),
         (f"codim2_{names[1]}", C2, [b.q for _, b in c2], qa),
@@ -285,12 +274,16 @@ def boundary_dataset(bd: Any, check: Any = None) -> xr.Dataset:
     ds = curve_dataset(bd.curves, names)
     bounds = [bounds_stable(c.kind, pt.multipliers, pt.crit) for c in bd.curves for pt in c.points]
     stable = flags(("interior", "boundary"), "the curve bounds a stable orbit here (the other multipliers inside)")
-    kinds = [FILE_KINDS.index(bd.file_kind(k)) for k in range(len(bd.curves))]
     fates = [RECORD_FATES.index(r[4]) for r in rec]
     spec = [
-        ("curve_kind", ("curve",), kinds, flags(FILE_KINDS, "curve kind")),
+        (
+            "curve_kind",
+            ("curve",),
+            [CODES[bd.file_kind(k)] for k in range(len(bd.curves))],
+            kinds.flags(FILE_KINDS, "curve kind"),
+        ),
         ("bounds_stable", ("point",), bounds, stable),
-        ("record_kind", R, [FILE_KINDS.index(r[0]) for r in rec], flags(FILE_KINDS, "kind of the map's record")),
+        ("record_kind", R, [CODES[r[0]] for r in rec], kinds.flags(FILE_KINDS, "kind of the map's record")),
         (
             "record_period",
             R,
@@ -307,9 +300,16 @@ def boundary_dataset(bd: Any, check: Any = None) -> xr.Dataset:
     ds.attrs.update({f"curve_{k}_seed": o for k, o in enumerate(bd.origin)})
     ds.attrs.update({f"records_{f}": int(sum(r[4] == f for r in rec)) for f in RECORD_FATES})
     ds.attrs.update({f"time_{k}_s": round(v, 3) for k, v in bd.timing.items()})
+    ds.attrs["unseeded_events"] = (
+        "; ".join(
+            f"{kind} P{n} at ({x:.6g}, {y:.6g}){'' if located else ' (bracketed)'}"
+            for kind, n, x, y, located in bd.unseeded
+        )
+        or "none"
+    )
     ds.attrs["lines"] = "; ".join(str(line) for line in bd.lines)
     ds.attrs["box"] = ", ".join(f"{v:g}" for v in bd.region.box)
-    ds.attrs["fixed_overrides"] = ",".join(f"{k}={v:g}" for k, v in bd.region.fixed) or "none"
+    ds.attrs["fixed_overrides"] = point.label(bd.region.fixed)
     if check is not None:
         ds.update(check.variables(names, FILE_KINDS))
         ds.attrs.update(check.attrs())

@@ -10,8 +10,9 @@ from typing import Any
 import numpy as np
 
 from geardyn import libm
-from geardyn.runs.continuation.branch import Bifurcation, Branch, ContinuationSettings, on_branch
-from geardyn.runs.continuation.family import Family, KHVFamily, cycle_states
+from geardyn.runs.continuation.branch import Bifurcation, Branch, on_branch
+from geardyn.runs.continuation.corrector import ContinuationSettings
+from geardyn.runs.continuation.family import Family, KHVFamily
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.solve.shooting import newton_shooting
 
@@ -23,7 +24,7 @@ def switch_at_period_doubling(
 ) -> Branch | None:
     """The period-2n branch born at a period-doubling point of a period-n branch: shot from the bifurcating
     orbit pushed along the eigenvector of the multiplier -1 a little past the point and continued away from it
-    only (docs/orbits.md, section 2, "Branch switching"); None when none is found."""
+    only (docs/orbits.md, section 3, "Branch switching"); None when none is found."""
     n = bf.n
     flow = family.flow(bf.p, n)
     phi, M = flow(bf.state, True)
@@ -58,7 +59,7 @@ def add_branch(
     """Continue the period-n orbit through x at p over the family's range unless it lies on a branch of
     ``known`` (within 1e-3); append it to ``known`` with the branches of its period doublings
     (:func:`doubled_branches`, keywords ``max_period`` and ``touch``).  Returns the new branch."""
-    cyc = cycle_states(family.flow(p, 1), x, n)
+    cyc = family.cycle(p, x, n)
     if any(b.n == n and on_branch(b, p, cyc, 1e-3) for b in known):
         return None
     br = continue_branch(family, p, x, n, family.lo, family.hi, cs)
@@ -84,7 +85,7 @@ def doubled_branches(
     for bf in br.bifurcations:
         if bf.kind != "period_doubling" or not bf.located or 2 * br.n > max_period:
             continue
-        pts = cycle_states(family.flow(bf.p, 1), bf.state, br.n)
+        pts = family.cycle(bf.p, bf.state, br.n)
         seen = (b for b in known + out if b.n == 2 * br.n)
         if any(on_branch(b, bf.p, pts, 1e-2) or (touch and touches(b, bf.p, pts, touch)) for b in seen):
             continue

@@ -1,0 +1,56 @@
+"""The cost of a probabilities study against a regime map, both in one run (``python -m benchmarks.bench
+probabilities``): ``samples`` x ``points`` of a study's axis (default 256 x 100 of ``fig07_unknowns``, paper 1's
+unknowns along x1: 25 600 points) against the map ``map_x1_b`` (40 000 points), each labelled in one call on
+every core, and the study's summary (probabilities, quantiles, SALib indices)."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+from benchmarks.common import load_design, map_lines, map_study, timed_labels, workflow_config
+from geardyn.khv import point
+from geardyn.runs import cube, probabilities, probability_stats
+from geardyn.solve import warm_up
+
+
+def probabilities_benchmark(
+    config_path: Path,
+    study: str = "fig07_unknowns",
+    map_name: str = "map_x1_b",
+    samples: int = 256,
+    points: int = 100,
+    quick: bool = False,
+    log=print,
+) -> str:
+    """The wall and CPU times of the map and of the study (labels, then summary) and their ratios (Markdown)."""
+    config = workflow_config(config_path)
+    _, design, spec, policy = map_study(config_path, map_name)
+    rows = range(0, spec.y.num, 20) if quick else None
+    warm_up(point.point_coefficients(design))
+    lines = map_lines(design, spec, rows)
+    _, t_map, c_map = timed_labels(lines, policy)
+    n_map = sum(map(len, lines))
+    log(f"[probabilities] {map_name}: {n_map} points in {t_map:.1f} s wall, {c_map:.0f} CPU-s")
+    raw = {**config["probabilities"][study], "samples": 16 if quick else samples, "chunks": 1}
+    raw["axis"] = {**raw["axis"], "num": 20 if quick else points}
+    dname = raw["designs"][0]
+    drive = load_design(dname, config, config_path.resolve().parent.parent)
+    pspec = probabilities.ProbabilitySpec.from_config(study, raw, dname, drive.segment)
+    t0, c0 = time.perf_counter(), time.process_time()
+    ds = probabilities.run_chunk(drive, pspec, 0)
+    t_run, c_run = time.perf_counter() - t0, time.process_time() - c0
+    t0 = time.perf_counter()
+    probability_stats.summarize(cube.merge_chunks([ds]), pspec, probabilities.samples(drive, pspec))
+    t_sum = time.perf_counter() - t0
+    n = int(ds["computed"].sum())
+    log(f"[probabilities] {study}: {n} points in {t_run:.1f} s wall, {c_run:.0f} CPU-s; summary {t_sum:.1f} s")
+    return (
+        f"Load average {os.getloadavg()[0]:.1f} at the end; both labelled in one call on every core.\n\n"
+        "| what | points | wall (s) | CPU (s) | wall / map's |\n|---|---:|---:|---:|---:|\n"
+        f"| map {map_name} | {n_map} | {t_map:.1f} | {c_map:.0f} | 1 |\n"
+        f"| {study}: {pspec.samples} samples x {raw['axis']['num']} points | {n} | {t_run:.1f} | {c_run:.0f} | "
+        f"{t_run / t_map:.2f} |\n"
+        f"| its summary (probabilities, quantiles, {pspec.method} indices) | | {t_sum:.1f} | | {t_sum / t_map:.2f} |\n"
+    )

@@ -1,0 +1,93 @@
+"""The figure of a probabilities study (``docs/probabilities.md``): stacked probability bands of the motion
+families and of the impact classes against the operating axis, the K_v quantile band, the leading inputs named;
+and its caption."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
+
+from geardyn.plots.response import IMPACT_COLOURS, IMPACT_LABELS
+
+FAMILY_COLOURS = {
+    "P1": "#4c9bd6",
+    "Pn": "#8fd18a",
+    "long_period": "#2f7d32",
+    "quasi_periodic": "#f2c14e",
+    "chaotic": "#d1495b",
+    "undetermined": "#9e9e9e",
+    "diverged": "#333333",
+}
+
+
+def _lead(ds: xr.Dataset, among: np.ndarray) -> str:
+    """The leading input of the first of the study's indicators that is among ``among`` (families, impacts)."""
+    names = {str(a) for a in among}
+    name = next((str(i) for i in ds["indicator"].values if str(i) in names), None)
+    lead = ds.attrs.get(f"leading_input_{name}", "none")
+    return f"; leading input of P({name}) ({ds.attrs['sensitivity_method']}): {lead}" if lead != "none" else ""
+
+
+def probabilities_figure(ds: xr.Dataset, title: str) -> Figure:
+    """Stacked probabilities of the motion families (top) and impact classes (middle) and the 5-95 % band and
+    median of K_v (bottom) against the axis (bars for a study of one point)."""
+    fig = Figure(figsize=(9.0, 8.0), constrained_layout=True)
+    axes = fig.subplots(3, 1, sharex=True)
+    dim = ds.attrs["axis_parameter"]
+    x = ds[dim].values.astype(float)
+    one = x.size == 1
+    for ax, what, names, colours, labels in (
+        (axes[0], "family", ds.family.values, FAMILY_COLOURS, {}),
+        (axes[1], "impact", ds.impact.values, {**IMPACT_COLOURS, "no_impact": "#d9ecf7"}, IMPACT_LABELS),
+    ):
+        p = ds[f"{what}_probability"].values
+        kw = [{"color": colours[str(n)], "label": labels.get(str(n), str(n))} for n in names]
+        if one:
+            for k in range(len(names)):
+                ax.bar(x, p[k], bottom=p[:k].sum(axis=0), width=1.0, **kw[k])
+        else:
+            ax.stackplot(x, p, colors=[k["color"] for k in kw], labels=[k["label"] for k in kw])
+        ax.set(ylim=(0, 1), ylabel="probability")
+        ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
+    q = ds["dynamic_factor_quantile"].values
+    if one:
+        axes[2].errorbar(x, q[1], [q[1] - q[0], q[2] - q[1]], fmt="o", capsize=8, label="median, 5-95 %")
+    else:
+        axes[2].fill_between(x, q[0], q[2], color="tab:blue", alpha=0.3, label="5-95 %")
+        axes[2].plot(x, q[1], color="tab:blue", label="median")
+    axes[2].set(ylabel="K_v (-)", xlabel=ds[dim].attrs.get("long_name", dim))
+    axes[2].legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
+    n = ds.sizes["sample"]
+    axes[0].set_title(f"{title}\nmotion families, {n} samples{_lead(ds, ds.family.values)}", fontsize=9, loc="left")
+    axes[1].set_title(f"impact classes{_lead(ds, ds.impact.values)}", fontsize=9, loc="left")
+    kv = ds.attrs.get("leading_input_dynamic_factor", "none")
+    axes[2].set_title(
+        f"dynamic factor K_v; leading input ({ds.attrs['sensitivity_method']}): {kv}", fontsize=9, loc="left"
+    )
+    return fig
+
+
+def caption(name: str, ds: xr.Dataset) -> str:
+    """Caption of a probabilities study: its inputs, sampling, start, labelling, largest probabilities and
+    leading inputs."""
+    dim = ds.attrs["axis_parameter"]
+    x = ds[dim].values
+    p = ds["family_probability"]
+    most = []
+    for fam in ("chaotic", "quasi_periodic", "Pn"):
+        j = int(np.argmax(p.sel(family=fam).values))
+        most.append(f"P({fam}) at most {float(p.sel(family=fam).values[j]):.2f} (at {dim} = {float(x[j]):.4g})")
+    lead = ", ".join(f"{k.removeprefix('leading_input_')}: {v}" for k, v in ds.attrs.items() if k.startswith("leading"))
+    return (
+        f"{name}: probability of each motion family and impact class (95 % Wilson intervals in the table and the "
+        f"file) and the 5/50/95 % quantiles of the dynamic factor K_v against {dim}, over {ds.sizes['sample']} "
+        f"samples of the uncertain inputs: {ds.attrs['inputs']}. Sampling: {ds.attrs['sampling']}. Start: "
+        f"{ds.attrs['initial_state']}; each sample is a line along {dim} on which every point starts from its "
+        f"neighbour's attractor (geardyn.label), {ds.attrs['steps_per_period']} steps per period. Fixed overrides: "
+        f"{ds.attrs['fixed_overrides']}. {'; '.join(most)}. Leading input per indicator "
+        f"({ds.attrs['sensitivity_method']}, largest mean index along the axis): {lead}."
+    )

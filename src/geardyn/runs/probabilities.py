@@ -1,0 +1,250 @@
+"""Regime probabilities under uncertain inputs (``docs/probabilities.md``): the inputs drawn by scrambled Sobol'
+sampling (or, where a study asks for Sobol' indices, by Saltelli's design), each sample a line along the study's
+axis that the one study runner labels as a layout, so each sample follows its attractor as a sweep does.  A chunk
+holds whole samples, so no result depends on the chunking; the statistics of the merged cube are
+:mod:`geardyn.runs.probability_stats`'s.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+import numpy as np
+import xarray as xr
+
+from geardyn.gears.tolerances import te_amplitude_bound
+from geardyn.io import Var
+from geardyn.khv import point
+from geardyn.khv.design import KHVDesign
+from geardyn.label import Policy
+from geardyn.runs import study
+from geardyn.runs.cube import STATES
+from geardyn.runs.maps import Axis
+
+#: The initial state as uncertain inputs: its offsets from the static deflection (units of b_c).
+START_INPUTS = tuple(f"start_{s}" for s in STATES)
+
+
+@dataclass(frozen=True)
+class Input:
+    """One uncertain input: an override (a control or a model parameter, in its override units) uniform on
+    [low, high] (``log``: its logarithm uniform) or, with ``std`` > 0, a normal of ``mean`` truncated to
+    [low, high]; ``source``: where its range comes from."""
+
+    name: str
+    low: float
+    high: float
+    log: bool = False
+    mean: float = math.nan
+    std: float = 0.0
+    source: str = ""
+
+    def values(self, u: np.ndarray) -> np.ndarray:
+        """The input's values at the unit-cube coordinates ``u``: its inverse distribution function."""
+        if self.std > 0.0:
+            from scipy.stats import truncnorm  # noqa: PLC0415 - scipy.stats: only the jobs that sample
+
+            a, b = (self.low - self.mean) / self.std, (self.high - self.mean) / self.std
+            return np.asarray(truncnorm.ppf(u, a, b, loc=self.mean, scale=self.std), dtype=float)
+        if self.log:
+            return np.exp(math.log(self.low) + u * (math.log(self.high) - math.log(self.low)))
+        return self.low + u * (self.high - self.low)
+
+    @property
+    def text(self) -> str:
+        """``zeta uniform on [0.03, 0.15] (source)``."""
+        if self.std > 0.0:
+            what = f"normal {self.mean:.4g} +- {self.std:.4g} truncated to [{self.low:.4g}, {self.high:.4g}]"
+        else:
+            what = f"{'log-' if self.log else ''}uniform on [{self.low:.4g}, {self.high:.4g}]"
+        return f"{self.name} {what}" + (f" ({self.source})" if self.source else "")
+
+
+def distribution(name: str, spec: Mapping[str, Any], nominal: float) -> Input:
+    """The input ``name`` of an entry of a study's ``inputs``: ``tolerance`` or ``relative_tolerance`` (uniform on
+    the ``nominal`` value, the design's at the study's point, +- it), ``std`` (a normal of ``mean``, default the
+    nominal value, truncated to ``low`` and ``high``, default 3 std from the mean) or ``low`` and ``high``
+    (uniform; ``scale: log``: log-uniform)."""
+    if "tolerance" in spec or "relative_tolerance" in spec:
+        tol = float(spec["tolerance"]) if "tolerance" in spec else abs(nominal) * float(spec["relative_tolerance"])
+        return Input(name, nominal - tol, nominal + tol, source=f"design value {nominal:.4g} +- {tol:.4g}")
+    if "std" in spec:
+        mean, std = float(spec.get("mean", nominal)), float(spec["std"])
+        low, high = float(spec.get("low", mean - 3.0 * std)), float(spec.get("high", mean + 3.0 * std))
+        return Input(name, low, high, mean=mean, std=std)
+    return Input(name, float(spec["low"]), float(spec["high"]), spec.get("scale") == "log")
+
+
+def tolerance_inputs(design: KHVDesign, tolerances: Mapping[str, Any]) -> list[Input]:
+    """The inputs of a tolerance class: e uniform on [0, f_pT] of ISO 1328-1:2013 class ``grade``
+    (:func:`geardyn.gears.tolerances.te_amplitude_bound`) and, with ``backlash`` [low, high] (um), b uniform on it."""
+    pair, grade = design.base, int(tolerances["grade"])
+    e_max = te_amplitude_bound(grade, pair.z1, pair.z2, pair.module)
+    out = [Input("e", 0.0, e_max, source=f"single-pitch tolerance of ISO 1328-1:2013 class {grade}")]
+    if "backlash" in tolerances:
+        low, high = tolerances["backlash"]
+        out.append(Input("b", float(low), float(high), source="the stated backlash range"))
+    return out
+
+
+def _pairs(mapping: Mapping[str, Any] | None) -> tuple[tuple[str, Any], ...]:
+    return tuple(sorted((k, tuple(v) if isinstance(v, list) else v) for k, v in (mapping or {}).items()))
+
+
+@dataclass(frozen=True)
+class ProbabilitySpec(study.StudySpec):
+    """One study as declared in ``config.yaml`` under ``probabilities:`` (the shared fields: :class:`StudySpec`).
+    ``axis``: the operating axis (None: the study's one point); ``inputs``: name -> distribution (as pairs);
+    ``tolerances``: "design" (the design file's block), a tolerance class (as pairs) or None; ``box``: the half
+    widths (displacements, velocities; units of b_c) of the initial state's box, or None (the static deflection);
+    ``sensitivity``: method, indicators, points, resamples (as pairs); ``claims``: a role of the paper's
+    ``CLAIM_LINES`` whose claims are checked per sample."""
+
+    axis: Axis | None = None
+    inputs: tuple[tuple[str, tuple[tuple[str, Any], ...]], ...] = ()
+    tolerances: str | tuple[tuple[str, Any], ...] | None = None
+    box: tuple[float, float] | None = None
+    samples: int = 256
+    seed: int = 0
+    sensitivity: tuple[tuple[str, Any], ...] = ()
+    claims: str = ""
+
+    @classmethod
+    def own_fields(cls, spec: Mapping[str, Any]) -> dict[str, Any]:
+        a, tol, box = spec.get("axis"), spec.get("tolerances"), spec.get("initial_state")
+        return {
+            **super().own_fields(spec),
+            "axis": None if a is None else Axis(a["parameter"], float(a["start"]), float(a["stop"]), int(a["num"])),
+            "inputs": tuple((k, _pairs(v)) for k, v in (spec.get("inputs") or {}).items()),
+            "tolerances": tol if tol is None or isinstance(tol, str) else _pairs(tol),
+            "box": None if box is None else (float(box["box_x"]), float(box["box_v"])),
+            "sensitivity": _pairs(spec.get("sensitivity")),
+        }
+
+    @property
+    def method(self) -> str:
+        """The sensitivity method: rbd_fast or pawn (given data, on the samples) or sobol (Saltelli's design)."""
+        return str(dict(self.sensitivity).get("method", "rbd_fast"))
+
+    @property
+    def dim(self) -> str:
+        """The name of the operating axis (``point`` for a study of one point)."""
+        return "point" if self.axis is None else self.axis.parameter
+
+    @property
+    def n_chunks(self) -> int:
+        """Number of chunk jobs: the configured count, at most one per sample."""
+        return max(1, min(self.chunks, self.samples))
+
+    def uncertain(self, design: KHVDesign) -> list[Input]:
+        """The study's inputs: those of its tolerance class (e, b), then its own ``inputs``, which replace a
+        tolerance class's input of the same name."""
+        block = design.raw.get("tolerances") if self.tolerances == "design" else dict(self.tolerances or ())
+        out = {i.name: i for i in tolerance_inputs(design, block)} if block else {}
+        for name, spec in self.inputs:
+            out[name] = distribution(name, dict(spec), point.nominal(design, name, dict(self.fixed)))
+        return list(out.values())
+
+
+class Samples(NamedTuple):
+    """A study's samples: the inputs (the initial state's components last), their unit-cube coordinates and
+    their values (n, D), the initial state's as offsets from the static deflection; the inputs themselves."""
+
+    names: tuple[str, ...]
+    unit: np.ndarray
+    values: np.ndarray
+    inputs: tuple[Input, ...]
+
+
+def unit_cube(dim: int, n: int, seed: int, saltelli: bool = False) -> np.ndarray:
+    """The first n points of the scrambled Sobol' sequence in [0, 1)^dim (``scipy.stats.qmc``, seeded) or, with
+    ``saltelli``, Saltelli's design of n base points for first-order, total and second-order Sobol' indices,
+    n (2 dim + 2) rows (``SALib.sample.sobol``, seeded; n a power of 2)."""
+    if saltelli:
+        from SALib.sample import sobol  # noqa: PLC0415 - SALib: only the jobs that sample for Sobol' indices
+
+        problem = {"num_vars": dim, "names": [f"u{k}" for k in range(dim)], "bounds": [[0.0, 1.0]] * dim}
+        return np.asarray(sobol.sample(problem, n, calc_second_order=True, seed=seed))
+    from scipy.stats import qmc  # noqa: PLC0415
+
+    return qmc.Sobol(dim, scramble=True, seed=seed).random_base2(max(0, math.ceil(math.log2(n))))[:n]
+
+
+def samples(design: KHVDesign, spec: ProbabilitySpec) -> Samples:
+    """Every sample of a study (each chunk draws them all: the same on every machine, whatever the chunking)."""
+    inputs = spec.uncertain(design)
+    names = (*(i.name for i in inputs), *(START_INPUTS if spec.box else ()))
+    unit = unit_cube(len(names), spec.samples, spec.seed, spec.method == "sobol")
+    cols = [inp.values(unit[:, k]) for k, inp in enumerate(inputs)]
+    if spec.box:
+        half = np.repeat(np.asarray(spec.box, dtype=float), 3)
+        cols += list(((2.0 * unit[:, len(inputs) :] - 1.0) * half).T)
+    return Samples(names, unit, np.column_stack(cols), tuple(inputs))
+
+
+def layout(design: KHVDesign, spec: ProbabilitySpec, chunk: int, table: Samples) -> study.Layout:
+    """The lines of chunk ``chunk``: one per sample of its share (whole samples), each along the study's axis
+    (increasing) at the sample's inputs and the study's fixed overrides, from the static deflection at its first
+    point moved by the sample's initial state."""
+    if not 0 <= chunk < spec.n_chunks:
+        raise ValueError(f"chunk {chunk} outside 0..{spec.n_chunks - 1} for probabilities {spec.name}")
+    n, k = table.values.shape[0], len(table.inputs)
+    axis = [None] if spec.axis is None else [float(x) for x in spec.axis.values]
+    lines, starts = [], []
+    for i in np.array_split(np.arange(n), spec.n_chunks)[chunk]:
+        own = {
+            **dict(spec.fixed),
+            **{name: float(v) for name, v in zip(table.names[:k], table.values[i, :k], strict=True)},
+        }
+        line = [
+            ((int(i), j), point.point_coefficients(design, own if x is None else {**own, spec.dim: x}))
+            for j, x in enumerate(axis)
+        ]
+        lines.append(line)
+        starts.append(line[0][1].static_state() + table.values[i, k:] if spec.box else None)
+    diverged = "unbounded growth detected"
+    return study.Layout(("sample", spec.dim), (n, len(axis)), lines, diverged=diverged, computed=True, starts=starts)
+
+
+def coordinates(spec: ProbabilitySpec, n: int) -> dict[str, Any]:
+    """The sample numbers and the operating axis."""
+    if spec.axis is None:
+        axis = Var("point", "point", "1", "the study's one operating point")(np.zeros(1, np.int32))
+    else:
+        units, long_name = point.CONTROLS.get(spec.dim, (point.units_of(spec.dim), spec.dim))
+        axis = Var(spec.dim, spec.dim, units, long_name)(spec.axis.values)
+    sample = Var("sample", "sample", "1", "sample of the inputs", dtype=np.int32)
+    return {"sample": sample(np.arange(n)), spec.dim: axis}
+
+
+def attributes(spec: ProbabilitySpec, table: Samples, policy: Policy) -> dict[str, Any]:
+    """What a study's files record of it: its inputs, sampling, initial state and labelling."""
+    if spec.method == "sobol":
+        sampling = f"Saltelli's design for Sobol' indices (SALib.sample.sobol, {spec.samples} base points"
+    else:
+        sampling = f"the first {spec.samples} points of the scrambled Sobol' sequence (scipy.stats.qmc"
+    start = "the static deflection at each sample's first point"
+    if spec.box:
+        start = f"uniform in {start} +- {spec.box[0]:g} (displacements), +- {spec.box[1]:g} (velocities), units b_c"
+    return {
+        "probabilities": spec.name,
+        "design": spec.design,
+        "axis_parameter": spec.dim,
+        "inputs": "; ".join(i.text for i in table.inputs),
+        "sampling": f"{sampling}, seed {spec.seed})",
+        "initial_state": start,
+        "fixed_overrides": spec.fixed_overrides,
+        **study.study_attrs(policy),
+    }
+
+
+def run_chunk(design: KHVDesign, spec: ProbabilitySpec, chunk: int) -> xr.Dataset:
+    """Label the samples of one chunk: a cube (sample, axis) of every point of the study, ``computed`` 1 on the
+    chunk's samples, with CF attributes and the chunk's wall time."""
+    policy, table = spec.policy(design), samples(design, spec)
+    result = study.run(layout(design, spec, chunk, table), policy, f"{spec.name} chunk {chunk}")
+    attrs = {**attributes(spec, table, policy), "wall_time_s": result.wall_time_s}
+    return xr.Dataset(result.data, coords=coordinates(spec, table.values.shape[0]), attrs=attrs)

@@ -1,0 +1,25 @@
+"""Adapter: the probability that each claim of a design's paper decided along the study's line holds, over the
+study's samples -> Markdown and CSV beside claims.md."""
+
+from geardyn import io
+from geardyn.io import logs
+from geardyn.khv import design
+from geardyn.papers import paper_of
+from geardyn.runs import probability_stats
+
+log = logs.to_file(snakemake.log[0])
+drive = design.header(snakemake.input.design)
+paper = paper_of(drive.paper)
+ds = io.read_dataset(snakemake.input.cube)
+role = snakemake.params.spec["claims"]
+rows = probability_stats.claim_probabilities(paper, ds, role)
+note = (
+    f"Design `{drive.name}`: the claims of {paper.SHORT} decided along {paper.CLAIM_LINES[role].get('text', role)}, "
+    f"each checked (geardyn.claims, as in claims.md) on every one of the {ds.sizes['sample']} samples of study "
+    f"`{snakemake.wildcards.prob}`: {ds.attrs['inputs']}. Sampling: {ds.attrs['sampling']}. P(holds): the share of "
+    "the samples on which the claim agrees, with its 95 % Wilson interval."
+)
+title = f"Claims of {paper.SHORT} under the study's inputs ({snakemake.wildcards.prob})"
+io.write_text(probability_stats.claims_markdown(rows, title, note), snakemake.output.md)
+io.write_text(probability_stats.claims_csv(rows), snakemake.output.csv)
+log.info("%s: %s", snakemake.wildcards.prob, {r["id"]: round(r["agree"], 3) for r in rows})
