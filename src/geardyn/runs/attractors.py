@@ -88,11 +88,11 @@ def find_attractors(
     )
     found: list[Attractor] = []
     where: dict[str, int] = {}
-    tols = (settings.distance_tol, settings.chaotic_distance_tol)
+    tol = Same(settings.distance_tol, settings.chaotic_distance_tol)
     for name, v in zip(names, verdicts, strict=True):
         p = compare.attractor_points(v)
         for k, att in enumerate(found):
-            if compare.same_attractor(att.label, att.poincare, v.label, p, *tols):
+            if compare.same_attractor(att.label, att.poincare, v.label, p, tol):
                 att.starts.append(name)
                 where[name] = k
                 break
