@@ -15,25 +15,28 @@ from geardyn import io
 from geardyn.io import provenance
 from geardyn.khv import design, point
 from geardyn.label import classify
+from geardyn.label.compare import same_attractor
+from geardyn.label.policy import Same
 from geardyn.runs import attractors as A
 
 ROOT = Path(__file__).resolve().parents[1]
 S = A.AttractorSettings()
+TOLS = Same(S.distance_tol, S.chaotic_distance_tol)
 
 
 def test_same_periodic_orbit_from_different_cycle_phase_is_one_attractor():
     cyc = np.array([[0.0] * 6, [1.0] * 6])
-    assert A.same_attractor(2, cyc, 2, cyc[::-1] + 1e-9, S)
-    assert not A.same_attractor(2, cyc, 2, cyc + 0.1, S)
-    assert not A.same_attractor(1, cyc[:1], 2, cyc, S)
+    assert same_attractor(2, cyc, 2, cyc[::-1] + 1e-9, TOLS)
+    assert not same_attractor(2, cyc, 2, cyc + 0.1, TOLS)
+    assert not same_attractor(1, cyc[:1], 2, cyc, TOLS)
 
 
 def test_chaotic_sets_compared_relative_to_their_size():
     rng = np.random.default_rng(1)
     a = rng.uniform(-10, 10, (200, 6))
     b = rng.uniform(-10, 10, (200, 6))
-    assert A.same_attractor(-4, a, -4, b, S)  # same cloud, different samples
-    assert not A.same_attractor(-4, a, -4, b + 15.0, S)
+    assert same_attractor(-4, a, -4, b, TOLS)  # same cloud, different samples
+    assert not same_attractor(-4, a, -4, b + 15.0, TOLS)
 
 
 def test_random_starts_reproducible_and_in_the_box():

@@ -15,11 +15,12 @@ import yaml
 import _workflow
 from _oracle import rules_label
 from geardyn import claims as C
-from geardyn.khv import calibrate as K
 from geardyn.khv import committed as committed_mod
 from geardyn.khv import design, point
 from geardyn.khv.calibrate import evaluate as KE
-from geardyn.khv.calibrate import objective
+from geardyn.khv.calibrate import objective, optimise, products
+from geardyn.khv.calibrate import records as KR
+from geardyn.khv.calibrate import space as KS
 from geardyn.label import Policy, classify, label_lines, label_points
 from geardyn.label import settle as S
 from geardyn.label.compare import least_period
@@ -45,7 +46,7 @@ def _settle(system, result, label, lyapunov, settings, classifier):
 
 def shows_route(labels) -> bool:
     """Whether labels along a line go from period-1 through non-period-1 motion into chaos."""
-    return K.route_in(K.regime_string(np.asarray(labels)))
+    return objective.route_in(objective.regime_string(np.asarray(labels)))
 
 
 @pytest.fixture(scope="module")
@@ -108,32 +109,32 @@ def test_settle_of_many_points_is_settle_of_each(li2013):
 
 
 def test_search_space_units_and_log_scale():
-    sp = K.SearchSpace.from_config({"w": {"low": 0.5, "high": 1.5}, "K_DH": {"low": 1e3, "high": 1e5, "scale": "log"}})
+    sp = KS.SearchSpace.from_config({"w": {"low": 0.5, "high": 1.5}, "K_DH": {"low": 1e3, "high": 1e5, "scale": "log"}})
     v = sp.values([0.5, 0.5])
     assert v["w"] == pytest.approx(1.0) and v["K_DH"] == pytest.approx(1e4)
     np.testing.assert_allclose(sp.unit(v), [0.5, 0.5])
     with pytest.raises(ValueError):
-        K.SearchSpace.from_config({"K_DH": {"low": 0.0, "high": 1.0, "scale": "log"}})
+        KS.SearchSpace.from_config({"K_DH": {"low": 0.0, "high": 1.0, "scale": "log"}})
     u = sp.unknowns[0]
-    assert K.perturbed(1.0, u, -0.1) == pytest.approx(0.9)
-    phase = K.Unknown("te_phase", 0.0, 2 * np.pi)
-    assert K.perturbed(0.0, phase, 0.5) == pytest.approx(np.pi)
+    assert KS.perturbed(1.0, u, -0.1) == pytest.approx(0.9)
+    phase = KS.Unknown("te_phase", 0.0, 2 * np.pi)
+    assert KS.perturbed(0.0, phase, 0.5) == pytest.approx(np.pi)
 
 
 def test_regime_order_and_transitions():
-    assert K.paper_regime_string(paper) == "1QnCnC"
-    assert K.regime_string(np.array([1, 1, -3, -1, 5, 5, -4, -4, 6, -4])) == "1QnCnC"
-    assert K.lcs("1QnCnC", "1C") == 2 and K.lcs("1QnCnC", "") == 0
+    assert objective.paper_regime_string(paper) == "1QnCnC"
+    assert objective.regime_string(np.array([1, 1, -3, -1, 5, 5, -4, -4, 6, -4])) == "1QnCnC"
+    assert objective.lcs("1QnCnC", "1C") == 2 and objective.lcs("1QnCnC", "") == 0
     x = np.array([0.5, 0.56, 0.57, 0.6])
-    t = K.transitions(x, np.array([1, 1, -3, -4]))
+    t = objective.transitions(x, np.array([1, 1, -3, -4]))
     assert t == {"leave_p1": 0.57, "first_chaos": 0.6}
-    assert K.transitions(x, np.ones(4))["first_chaos"] == float("inf")
+    assert objective.transitions(x, np.ones(4))["first_chaos"] == float("inf")
     # the paper's, where its regime sequence places them (Sec. 4.1: P1 up to 0.565, chaos from 0.593)
-    assert K.paper_transitions(paper) == {"leave_p1": 0.565, "first_chaos": 0.593}
+    assert objective.paper_transitions(paper) == {"leave_p1": 0.565, "first_chaos": 0.593}
 
 
 def _grids():
-    return K.Grids.from_config(
+    return objective.Grids.from_config(
         {
             "x1": {"start": 0.416, "stop": 0.835, "num": 120},
             "b": {"start": 0, "stop": 2.25, "num": 10},
@@ -177,7 +178,7 @@ def _labels_paper(grids):
 def test_score_counts_the_claims_and_partial_credit():
     g = _grids()
     lab = _labels_paper(g)
-    sc = K.score_labels(paper, lab)
+    sc = objective.score_labels(paper, lab)
     v = sc["verdicts"]
     # 6 Fig. 7 ranges + 5 Fig. 8 points (8b: nearest point 0.5638 is in the paper's own P1 range) +
     # chaos at b = 0.5 for x1 = 0.83 + Fig. 9 route + e = 4.55 at x1 = 0.5 (P1)
@@ -189,23 +190,23 @@ def test_score_counts_the_claims_and_partial_credit():
     assert sc["partial"] > 0.97 and sc["score"] == pytest.approx(14 + 0.99 * sc["partial"])
     # all P1: P1 range claims only; leave_p1 = inf earns nothing
     flat = {**lab, "fig07": C.Track(x1, np.ones(x1.size, np.int16))}
-    s2 = K.score_labels(paper, flat)
+    s2 = objective.score_labels(paper, flat)
     assert s2["transitions"]["leave_p1"] == float("inf") and s2["partial"] == pytest.approx(1 / 6 / 3)
 
 
 def test_a_borderline_claim_earns_half_an_agreeing_one(monkeypatch):
     lab = _labels_paper(_grids())
-    base = K.score_labels(paper, lab)
+    base = objective.score_labels(paper, lab)
     assert "borderline" not in base["verdicts"].values()
     rows = [dataclasses.replace(r, verdict="borderline") if r.id == "fig8b" else r for r in C.evaluate(paper, lab)]
     monkeypatch.setattr(objective.claims_mod, "evaluate", lambda p, lab: rows)
-    sc = K.score_labels(paper, lab)
+    sc = objective.score_labels(paper, lab)
     assert sc["agree"] == base["agree"] and sc["score"] == pytest.approx(base["score"] + 0.5)
 
 
 def test_a_record_is_one_json_line_with_the_labels_of_each_line_under_its_role():
     """The cache line keeps its layout: the record's fields, then each line's labels under its role."""
-    rec = K.Record(
+    rec = KR.Record(
         "k",
         [0.5],
         {"w": 1.0},
@@ -231,7 +232,7 @@ def test_a_record_is_one_json_line_with_the_labels_of_each_line_under_its_role()
         "fig07",
         "fig09",
     ]
-    assert data["fig09"] == {"0.5": [1, 1]} and K.Record.from_json(json.loads(json.dumps(data))) == rec
+    assert data["fig09"] == {"0.5": [1, 1]} and KR.Record.from_json(json.loads(json.dumps(data))) == rec
 
 
 def test_search_resumes_from_its_cache(tmp_path, monkeypatch):
@@ -240,13 +241,13 @@ def test_search_resumes_from_its_cache(tmp_path, monkeypatch):
     def fake(problem, unit):
         u = np.asarray(unit)
         s = float(10.0 - np.sum((u - 0.3) ** 2))
-        return K.Record(K.cache_key(unit), list(map(float, unit)), problem.space.values(unit), s)
+        return KR.Record(KR.cache_key(unit), list(map(float, unit)), problem.space.values(unit), s)
 
     monkeypatch.setattr(KE, "evaluate_candidate", fake)
-    space = K.SearchSpace.from_config({"w": {"low": 0.0, "high": 1.0}, "eta": {"low": 0.0, "high": 1.0}})
-    prob = K.Problem(None, paper, space, None, Policy(SimulationSettings()))
+    space = KS.SearchSpace.from_config({"w": {"low": 0.0, "high": 1.0}, "eta": {"low": 0.0, "high": 1.0}})
+    prob = KE.Problem(None, paper, space, None, Policy(SimulationSettings()))
     monkeypatch.setattr(KE, "warm_worker", lambda design: None)
-    full, ev_full = K.search(prob, tmp_path / "a.jsonl", seed=3, popsize=4, maxiter=5)
+    full, ev_full = optimise.search(prob, tmp_path / "a.jsonl", seed=3, popsize=4, maxiter=5)
     n_full = len(ev_full.cache)
     # interrupted: stop after 20 evaluations (torn last line as well)
     calls = {"n": 0}
@@ -259,12 +260,12 @@ def test_search_resumes_from_its_cache(tmp_path, monkeypatch):
 
     monkeypatch.setattr(KE, "evaluate_candidate", dying)
     with pytest.raises(KeyboardInterrupt):
-        K.search(prob, tmp_path / "b.jsonl", seed=3, popsize=4, maxiter=5)
+        optimise.search(prob, tmp_path / "b.jsonl", seed=3, popsize=4, maxiter=5)
     with open(tmp_path / "b.jsonl", "a") as fh:
         fh.write('{"key": "torn')
-    assert len(K.read_cache(tmp_path / "b.jsonl")) == 20
+    assert len(KR.read_cache(tmp_path / "b.jsonl")) == 20
     monkeypatch.setattr(KE, "evaluate_candidate", fake)
-    resumed, ev = K.search(prob, tmp_path / "b.jsonl", seed=3, popsize=4, maxiter=5)
+    resumed, ev = optimise.search(prob, tmp_path / "b.jsonl", seed=3, popsize=4, maxiter=5)
     assert ev.reused >= 20 and ev.new == n_full - 20
     assert resumed.key == full.key and resumed.score == full.score
 
@@ -278,11 +279,10 @@ def test_committed_calibrated_design_is_the_search_output(name, require):
     record met it."""
     committed = (ROOT / "config" / "designs" / f"{name}.yaml").read_text()
     source = (ROOT / "config" / "designs" / "li2013.yaml").read_text()
-    assert K.design_text_from_file(committed, source) == committed
+    assert products.design_text_from_file(committed, source) == committed
     assert "CALIBRATED" in committed and "Fitted to paper 1's claims" in committed
-    result = json.loads(
-        next(ln for ln in committed.splitlines() if ln.startswith(K.RESULT_PREFIX))[len(K.RESULT_PREFIX) :]
-    )
+    prefix = products.RESULT_PREFIX
+    result = json.loads(next(ln for ln in committed.splitlines() if ln.startswith(prefix))[len(prefix) :])
     assert result.get("require") == require
     if require:
         assert result["meets_requirement"] and "# Required: Fig. 7" in committed
@@ -291,13 +291,13 @@ def test_committed_calibrated_design_is_the_search_output(name, require):
     assert phys.omega_bar == pytest.approx(result["values"]["w"])
     for k in ("r_bH", "K_DH", "K_VL", "zeta", "eta", "te_phase", "m_V"):
         assert getattr(phys, k) == pytest.approx(result["values"][k])
-    assert K.result_of(committed) == result
+    assert products.result_of(committed) == result
     produced = ROOT / "results" / "li2013" / "calibration" / f"{result['search']}_design.yaml"
     if produced.exists():
-        space = K.problem_from_config(
+        space = optimise.problem_from_config(
             design.load(ROOT / "config" / "designs" / "li2013.yaml"), _config_calibration(result["search"])
         )[0].space
-        cmp = committed_mod.compare(result, K.result_of(produced.read_text()), space)
+        cmp = committed_mod.compare(result, products.result_of(produced.read_text()), space)
         assert cmp.same_optimum, cmp.markdown()
 
 
@@ -308,7 +308,7 @@ def _config_calibration(name):
 
 def test_comparison_with_the_committed_design_in_unit_distances():
     """Distances in the search's unit cube, worked by hand: w on [0.5, 1.5] linear, K_DH on [1e4, 1e6] log."""
-    space = K.SearchSpace.from_config(
+    space = KS.SearchSpace.from_config(
         {"w": {"low": 0.5, "high": 1.5}, "K_DH": {"low": 1e4, "high": 1e6, "scale": "log"}}
     )
     base = {"search": "s", "score": 9.5, "agreeing": ["a", "b"], "values": {"w": 1.0, "K_DH": 1e5}}
@@ -326,7 +326,7 @@ def test_comparison_with_the_committed_design_in_unit_distances():
     with pytest.raises(ValueError, match="different unknowns"):
         committed_mod.compare(base, {**near, "values": {"w": 1.0}}, space)
     with pytest.raises(ValueError, match="not a calibrated design"):
-        K.result_of("kind: khv\n")
+        products.result_of("kind: khv\n")
 
 
 def test_route_requirement_and_its_ranking():
@@ -339,16 +339,15 @@ def test_route_requirement_and_its_ranking():
     assert not shows_route([P1, QP, P1, CH])  # back to P1 before the chaos
     assert not shows_route([QP, P1, 2, CH])  # does not start on P1
     assert not shows_route([P1, QP, 5])  # no chaos
-    route = K.Record("route", [], {}, 6.6, order=K.regime_string(np.array([P1, QP, CH])))
-    better = K.Record("better", [], {}, 8.4, order=K.regime_string(np.array([P1, QP, QP])))
-    assert K.route_in(route.order) and not K.route_in(better.order)
-    assert K.requirement_text("route", paper) == (
+    route = KR.Record("route", [], {}, 6.6, order=objective.regime_string(np.array([P1, QP, CH])))
+    better = KR.Record("better", [], {}, 8.4, order=objective.regime_string(np.array([P1, QP, QP])))
+    assert objective.route_in(route.order) and not objective.route_in(better.order)
+    assert objective.requirement_text("route", paper) == (
         "Fig. 7 (x1 sweep, b = 2, e = 5) goes from period-1 through non-period-1 motion into chaos"
     )
-    assert K.ranked_score(better) > K.ranked_score(route)  # without the requirement: the claims alone
-    assert K.ranked_score(route, "route") == 6.6 and K.ranked_score(better, "route") < 0 < K.ranked_score(
-        route, "route"
-    )
+    assert objective.ranked_score(better) > objective.ranked_score(route)  # without the requirement: the claims alone
+    rank = objective.ranked_score
+    assert rank(route, "route") == 6.6 and rank(better, "route") < 0 < rank(route, "route")
 
 
 def test_the_labeller_settles_slow_transients(li2013):
@@ -450,7 +449,7 @@ def test_compare_script_reports_the_distance_to_the_committed_design(tmp_path):
     scored 0.5 less is the same optimum as the committed li2013_route.yaml."""
 
     committed = (ROOT / "config" / "designs" / "li2013_route.yaml").read_text()
-    result = K.result_of(committed)
+    result = products.result_of(committed)
     spec = _config_calibration(result["search"])
     lo, hi = float(spec["search"]["bounds"]["w"]["low"]), float(spec["search"]["bounds"]["w"]["high"])
     moved = {

@@ -41,7 +41,7 @@ def test_compiled_rule_equals_the_numpy_statement():
     args = (cs.max_n, cs.atol, cs.rtol, cs.error_margin * cs.error_floor, cs.separation)
     records = _records(rng)
     expected = [_rule3_numpy(p, *args) for p in records]
-    assert [strict_period(p, *args)[0] for p in records] == expected
+    assert [strict_period(np.ascontiguousarray(p), len(p), *args)[0] for p in records] == expected
     assert [classify.strict_period(p, cs) for p in records] == expected
     assert {1, 2, 3, 4, 7, 12, 0} <= set(expected)  # the cases exercise every outcome
     # the batch version on the same records (fewer than 3 points: rule 2, no period)
@@ -49,7 +49,8 @@ def test_compiled_rule_equals_the_numpy_statement():
     P = np.zeros((len(records), m, 6))
     for k, p in enumerate(records):
         P[k, : len(p)] = p
-    out = strict_periods(P, np.array([len(p) for p in records]), *args)
+    out = np.zeros((len(records), 2))
+    strict_periods(P, np.array([len(p) for p in records]), *args, out)
     assert [int(v) for v in out[:, 0]] == [e if len(p) >= 3 else 0 for e, p in zip(expected, records, strict=True)]
 
 

@@ -47,15 +47,9 @@ def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
         "geometry": {k: v for k, v in derived.items() if not k.startswith("margin_")},
         "constraints (>= 0 is satisfied)": values,
         "stiffness": (
-            {
-                "options": spec.stiffness.label,
-                "q_mm_um_per_N": mesh.q,
-                "k_C_N_per_um": mesh.k_c / 1e6,
-                "k_prime_N_per_um": mesh.k_prime / 1e6,
-                "k_mean_N_per_um": mesh.k_mean / 1e6,
-                "k_min_N_per_um": mesh.k_min / 1e6,
-                "contact_ratio": mesh.contact_ratio,
-            }
+            {"options": spec.stiffness.label, "q_mm_um_per_N": mesh.q}
+            | {f"{k}_N_per_um": getattr(mesh, k.lower()) / 1e6 for k in ("k_C", "k_prime", "k_mean", "k_min")}
+            | {"contact_ratio": mesh.contact_ratio}
             if mesh is not None
             else {"not computed": problem}
         ),
@@ -89,11 +83,8 @@ def _plus_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
     from geardyn.plus import design, modal  # noqa: PLC0415 - --help loads no numba or scipy
 
     plus = design.design_from_dict(raw, path)
-    freqs = {}
-    for cond in ("I", "II", "III"):
-        md = modal.modes(plus, cond)
-        f = [float(v) for v in md.freq_hz[md.n_rigid :]]
-        freqs[cond] = ", ".join(f"{v:.1f}" for v in f[:6])
+    modes = {cond: modal.modes(plus, cond) for cond in ("I", "II", "III")}
+    freqs = {c: ", ".join(f"{v:.1f}" for v in md.freq_hz[md.n_rigid :][:6]) for c, md in modes.items()}
     return {
         "design": plus.name,
         "kind": "plus_planetary",

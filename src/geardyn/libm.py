@@ -1,8 +1,6 @@
-"""Elementary functions whose results do not depend on the CPU: the C library's, element by element, and the
-process environment that makes the C library and OpenBLAS round the same on every x86-64 CPU.
-
-Why and how, with the measurements: ``docs/reproducibility.md`` (sections 1, 2 and 5).
-"""
+"""Elementary functions whose results do not depend on the CPU (the C library's, element by element) and the
+process environment that makes the C library and OpenBLAS round the same on every x86-64 CPU (why and how, with
+the measurements: ``docs/reproducibility.md``, sections 1, 2 and 5)."""
 
 from __future__ import annotations
 
@@ -59,11 +57,9 @@ def _safe(f: Callable[..., float], pole: float | None = None) -> Callable[..., f
 
 
 def cabs(z: Any) -> Any:
-    """The modulus of complex numbers, the same bits on every CPU: sqrt(re^2 + im^2) as one product, one
-    sum and one square root per element, each correctly rounded.  (``np.abs`` of a complex array runs an
-    AVX-512 kernel on CPUs that have it, and ``np.hypot`` another dispatched kernel: each differs from its
-    baseline path in the last bit for a few per cent of values.)  For the moduli of multipliers and
-    spectra, far from overflow; a float for a scalar argument."""
+    """The modulus of complex numbers (far from overflow), the same bits on every CPU: sqrt(re^2 + im^2), each step
+    correctly rounded (``np.abs`` and ``np.hypot`` run dispatched AVX-512 kernels that differ in the last bit for a
+    few per cent of values); a float for a scalar argument."""
     zz = np.asarray(z)
     re, im = np.asarray(zz.real, dtype=np.float64), np.asarray(zz.imag, dtype=np.float64)
     out = np.sqrt(re * re + im * im)
@@ -100,18 +96,13 @@ HWCAPS = ("-FMA", "-FMA4", "-FMA_Usable", "-FMA4_Usable")
 #: The variant every x86-64 CPU can run: glibc's math functions without fused multiply-adds.
 CANONICAL = "glibc-plain"
 
-#: The OpenBLAS kernels (bundled with numpy and scipy) that every process computes with: SSE4.2 without
-#: fused multiply-adds, so they run on every CPU that numpy's baseline (x86-64-v2) runs on and round the
-#: same everywhere.  Set whatever the environment says: OpenBLAS otherwise picks kernels per CPU
-#: (SkylakeX, Haswell, Zen ...), and a machine's environment may name others (``OPENBLAS_CORETYPE=Haswell``
-#: on one of this project's machines): the Newton steps, inverses and eigenvalues of the 6 x 6 matrices
-#: round differently, and a followed torus or a slow approach to a long cycle ends elsewhere
-#: (``docs/reproducibility.md``).
+#: The OpenBLAS kernels (bundled with numpy and scipy) every process computes with, whatever the environment
+#: says: SSE4.2 without fused multiply-adds, on every CPU of numpy's baseline (x86-64-v2); kernels picked per CPU
+#: round the 6 x 6 solves differently, and a followed torus ends elsewhere (``docs/reproducibility.md``).
 BLAS_CORETYPE = "Nehalem"
 
-#: The process environment that makes results the same on every x86-64 CPU (:func:`canonical_environ`):
-#: OpenBLAS's kernels, and one OpenBLAS thread (a sum that OpenBLAS splits between threads would depend
-#: on the number of cores; the jobs are parallel already).
+#: The process environment that makes results the same on every x86-64 CPU (:func:`canonical_environ`): OpenBLAS's
+#: kernels, and one thread (a sum split between threads depends on the cores; the jobs are parallel already).
 BLAS_ENVIRON = {"OPENBLAS_CORETYPE": BLAS_CORETYPE, "OPENBLAS_NUM_THREADS": "1"}
 
 #: sin(x) at this x rounds differently in glibc's FMA and plain builds (found among 100 001 random arguments).
@@ -150,10 +141,8 @@ def canonical_environ(environ: Mapping[str, str]) -> dict[str, str]:
 
 
 def blas_core(package: str = "numpy") -> str:
-    """The kernel set ("core") that the OpenBLAS bundled with ``package`` (``numpy`` or ``scipy``) uses, e.g.
-    ``Nehalem``, or ``unknown`` (another BLAS, or the package not installed).  Opens the package's OpenBLAS
-    library, not the package (the same handle where the package loaded it; with the environment's kernel
-    setting where it did not, as the package will then find it)."""
+    """The kernel set ("core", e.g. ``Nehalem``) of the OpenBLAS bundled with ``package`` (``numpy`` or ``scipy``),
+    or ``unknown``; opens the library, not the package (the package's own handle where it loaded it already)."""
     spec = importlib.util.find_spec(package)
     if spec is None or not spec.submodule_search_locations:
         return "unknown"
@@ -184,10 +173,9 @@ def needs_restart() -> bool:
 
 
 def restart_canonical() -> None:
-    """Restart this process (same interpreter, same command line) with :func:`canonical_environ` when
-    :func:`needs_restart`; otherwise return.  For entry points only: a library function never replaces its
-    caller's process.  Flush and restore what must survive first (open files stay open; output buffered
-    in Python is lost)."""
+    """Restart this process (same interpreter and command line) with :func:`canonical_environ` when
+    :func:`needs_restart`, else return; for entry points only (open files stay open, output buffered in Python
+    is lost: flush first)."""
     if not needs_restart():
         return
     env = canonical_environ(os.environ)

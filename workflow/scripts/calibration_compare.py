@@ -5,14 +5,15 @@ from pathlib import Path
 
 from geardyn import io
 from geardyn.io import logs
-from geardyn.khv import calibrate, committed, design
+from geardyn.khv import committed, design
+from geardyn.khv.calibrate import optimise, products
 
 log = logs.to_file(snakemake.log[0])
 drive = design.load(snakemake.input.design)
-problem, _ = calibrate.problem_from_config(drive, snakemake.params.spec)
+problem, _ = optimise.problem_from_config(drive, snakemake.params.spec)
 found = json.loads(Path(snakemake.input.best).read_text())["result"]
 try:
-    result = committed.compare(calibrate.result_of(Path(snakemake.input.committed).read_text()), found, problem.space)
+    result = committed.compare(products.result_of(Path(snakemake.input.committed).read_text()), found, problem.space)
 except ValueError as err:  # a search of other unknowns than the committed design's: nothing to compare
     io.write_text(
         f"# Calibration {snakemake.wildcards.calibration} against {snakemake.input.committed}\n\n"

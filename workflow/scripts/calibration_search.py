@@ -7,7 +7,8 @@ from pathlib import Path
 
 from geardyn import io
 from geardyn.io import logs, provenance
-from geardyn.khv import calibrate, design, point
+from geardyn.khv import design, point
+from geardyn.khv.calibrate import evaluate, optimise, products, space
 from geardyn.label import Policy
 from geardyn.papers import paper_of
 
@@ -15,21 +16,21 @@ log = logs.to_file(snakemake.log[0])
 spec = snakemake.params.spec
 drive = design.load(snakemake.input.design)
 paper = paper_of(drive.paper)
-problem, budget = calibrate.problem_from_config(drive, spec)
-start = [calibrate.design_values(drive, problem.space)]
+problem, budget = optimise.problem_from_config(drive, spec)
+start = [products.design_values(drive, problem.space)]
 if spec["search"].get("start"):
     start.append({**start[0], **spec["search"]["start"]})
 cache = Path(snakemake.output.scores).with_name(f"{snakemake.wildcards.calibration}_cache.jsonl")
 t0, c0 = time.time(), time.process_time()
-best, ev = calibrate.search(problem, cache, init=start, workers=snakemake.threads, **budget)
+best, ev = optimise.search(problem, cache, init=start, workers=snakemake.threads, **budget)
 wall = time.time() - t0
 records = ev.searched()  # this search's candidates (the cache may hold others)
 # the best few again at the design's own integration settings and the default classifier
 full = dataclasses.replace(problem, policy=Policy(point.integration_settings(drive)))
-with calibrate.Evaluator(
+with evaluate.Evaluator(
     full, cache.with_name(f"{snakemake.wildcards.calibration}_verify_cache.jsonl"), snakemake.threads
 ) as vev:
-    best, verified, pairs = calibrate.verified_choice(
+    best, verified, pairs = optimise.verified_choice(
         records, vev.records, spec["search"].get("verify_top", 5), problem.require
     )
 cost = {
@@ -40,7 +41,7 @@ cost = {
     "wall s per new candidate (all workers)": wall / max(ev.new, 1),
     "points per candidate": problem.grids.n_points,
 }
-ds = calibrate.records_dataset(records, problem.space, problem.grids)
+ds = products.records_dataset(records, problem.space, problem.grids)
 attrs = provenance.attributes(
     title=f"Calibration search {snakemake.wildcards.calibration}",
     paper=drive.paper,
@@ -49,7 +50,7 @@ attrs = provenance.attributes(
 )
 io.write_netcdf(ds, snakemake.output.scores, attrs)
 cost["wall s with verification"] = time.time() - t0
-result = calibrate.search_result(best, snakemake.wildcards.calibration, len(records), verified, problem.require)
+result = products.search_result(best, snakemake.wildcards.calibration, len(records), verified, problem.require)
 io.write_text(
     json.dumps(
         {
@@ -63,7 +64,7 @@ io.write_text(
                     "search_score": a.score,
                     "verified_score": b.score,
                     "verified_agree": b.agree,
-                    "interior": calibrate.interior(a.unit),
+                    "interior": space.interior(a.unit),
                 }
                 for a, b in pairs
             ],
@@ -75,10 +76,10 @@ io.write_text(
 )
 name = spec["search"].get("design_name") or f"{drive.name}_calibrated"
 io.write_text(
-    calibrate.search_design_text(Path(snakemake.input.design).read_text(), name, result), snakemake.output.design
+    products.search_design_text(Path(snakemake.input.design).read_text(), name, result), snakemake.output.design
 )
 io.write_text(
-    calibrate.search_table(records, problem.space, paper, best, cost, verified=verified, pairs=pairs),
+    products.search_table(records, problem.space, paper, best, cost, verified=verified, pairs=pairs),
     snakemake.output.table,
 )
 log.info(

@@ -5,7 +5,8 @@ from pathlib import Path
 
 from geardyn import io
 from geardyn.io import logs, provenance
-from geardyn.khv import calibrate, design
+from geardyn.khv import design
+from geardyn.khv.calibrate import evaluate, objective, optimise, records, robustness
 from geardyn.papers import paper_of
 from geardyn.plots import calibration as plots
 from geardyn.plots import save_figure
@@ -13,12 +14,12 @@ from geardyn.plots import save_figure
 log = logs.to_file(snakemake.log[0])
 spec = snakemake.params.spec
 drive = design.load(snakemake.input.design)
-problem, _ = calibrate.problem_from_config(drive, spec)
-best = calibrate.Record.from_json(json.loads(Path(snakemake.input.best).read_text())["record"])
+problem, _ = optimise.problem_from_config(drive, spec)
+best = records.Record.from_json(json.loads(Path(snakemake.input.best).read_text())["record"])
 cache = Path(snakemake.input.best).with_name(f"{snakemake.wildcards.calibration}_cache.jsonl")
 sens = spec.get("sensitivity", {})
-with calibrate.Evaluator(problem, cache, spec["search"].get("workers", 1)) as ev:
-    oat, mp, text = calibrate.sensitivity(
+with evaluate.Evaluator(problem, cache, spec["search"].get("workers", 1)) as ev:
+    oat, mp, text = robustness.sensitivity(
         problem, ev, best.values, sens.get("steps", [0.02, 0.1, 0.5]), sens.get("map_points", 7)
     )
 attrs = provenance.attributes(
@@ -30,7 +31,7 @@ attrs = provenance.attributes(
 io.write_netcdf(oat, snakemake.output.oat, attrs)
 io.write_netcdf(mp, snakemake.output.map, attrs)
 paper = paper_of(drive.paper)
-leave = calibrate.paper_transitions(paper)["leave_p1"]
+leave = objective.paper_transitions(paper)["leave_p1"]
 fixed = paper.CLAIM_LINES[paper.CALIBRATION["line"]]["fixed"]
 save_figure(plots.plot_tornado(oat, leave), snakemake.output.tornado, plots.caption_tornado(oat, fixed, leave))
 save_figure(plots.plot_score_map(mp), snakemake.output.map_figure, plots.caption_map(mp))

@@ -1,9 +1,6 @@
-"""Every checkable statement of a paper against our results (only for designs that name the paper).
-
-The statements are data (a paper module's ``CLAIMS``); this module holds the verdict rules of both families
-(:data:`SWEEP_RULES` on a KHV drive's labelled sweeps, :data:`DATA_RULES` on a model family's products) and
-applies them.  The rules, the keys of a claim and the verdict thresholds: docs/claims.md.
-"""
+"""Every checkable statement of a paper (data: a paper module's ``CLAIMS``) against our results, for designs that
+name the paper: the verdict rules on a KHV drive's labelled sweeps (:data:`SWEEP_RULES`) and on a model family's
+products (:data:`DATA_RULES`); the rules, the keys of a claim and the thresholds: docs/claims.md."""
 
 from __future__ import annotations
 
@@ -39,11 +36,8 @@ def code(label: int | str) -> int | tuple[int, ...]:
 
 @dataclass(frozen=True)
 class Track:
-    """One labelled 1-D sweep: parameter values, motion labels and (optionally) the exponent per point.
-
-    What a claim reads of a sweep, whether it comes from a stored cube (:func:`track_of_cube`) or
-    from a calibration candidate's in-memory labels (:mod:`geardyn.khv.calibrate`).
-    """
+    """One labelled 1-D sweep, what a claim reads of it: parameter values, motion labels and (optionally) the
+    exponent per point, from a stored cube (:func:`track_of_cube`) or a calibration candidate's labels."""
 
     values: np.ndarray
     labels: np.ndarray
@@ -59,26 +53,20 @@ def track_of_cube(cube: xr.Dataset, case: int = 0) -> Track:
     return Track(cube[par].values, labels_of_cube(cube)[case, 0], lam, sig)
 
 
-def case_label(values: Mapping[str, float]) -> str:
-    """The name of a run's case that sets ``values``: ``x1=0.5``."""
-    return point.label(values, "")
-
-
-def tracks_of_cube(cube: xr.Dataset, cases: Sequence[float], parameter: str = "x1") -> dict[float, Track]:
-    """{value: Track} for the cases ``<parameter>=<value>`` of a cube (a family of lines)."""
-    names = [str(c) for c in cube["case"].values]
-    return {float(v): track_of_cube(cube, names.index(case_label({parameter: v}))) for v in cases}
-
-
 def lines_of_runs(lines: Mapping[str, Mapping[str, Any]], runs: Mapping[str, Any]) -> dict[str, Any]:
     """The labelled lines (``lines``: a paper's ``CLAIM_LINES``) of the sweep cubes ``runs`` (by role): a
     :class:`Track`, or {case value: Track} for a family of lines; the roles ``runs`` lacks are left out."""
     out: dict[str, Any] = {}
     for role, spec in lines.items():
-        if runs.get(role) is not None:
-            cube = runs[role]
-            cases = spec.get("cases")
-            out[role] = track_of_cube(cube) if cases is None else tracks_of_cube(cube, cases, spec["case_parameter"])
+        cube = runs.get(role)
+        if cube is None:
+            continue
+        if spec.get("cases") is None:
+            out[role] = track_of_cube(cube)
+        else:  # a family: {value: Track} of the cases ``<case_parameter>=<value>``
+            names = [str(c) for c in cube["case"].values]
+            index = {float(v): names.index(point.label({spec["case_parameter"]: v}, "")) for v in spec["cases"]}
+            out[role] = {v: track_of_cube(cube, i) for v, i in index.items()}
     return out
 
 
@@ -94,18 +82,15 @@ def _first(values: np.ndarray, labels: np.ndarray, want: int) -> float:
 
 
 def claims(paper: ModuleType, products: Mapping[str, Any]) -> list[Claim]:
-    """The claims of ``paper`` from the pipeline's products (by the names the claims read: ``closed_graph``,
-    ``stiffness``, ``amplitude`` = {"x1": ..., "ptp": ...} of dense runs, and the roles of the paper's
-    ``CLAIM_RUNS``, sweep cubes and point runs).  The verdicts are those of :func:`evaluate` on the cubes'
-    labelled sweeps."""
+    """:func:`evaluate` on the pipeline's products (``closed_graph``, ``stiffness``, ``amplitude`` = {"x1", "ptp"} of
+    dense runs, the sweep cubes and point runs of the paper's ``CLAIM_RUNS`` roles) and the cubes' labelled lines."""
     return evaluate(paper, {**products, **lines_of_runs(paper.CLAIM_LINES, products)})
 
 
 def evaluate(paper: ModuleType, inputs: Mapping[str, Any]) -> list[Claim]:
-    """The claims of ``paper`` (its ``CLAIMS``, in order) from ``inputs``: the one function behind
-    ``claims.md`` and the calibration objective.  A claim's ``line`` is a labelled sweep, a :class:`Track`
-    (or {case value: Track} for a family of lines, ``CLAIM_LINES``); its ``input`` is a product.  A claim
-    whose input is not given is "not comparable" (the list always has the same ids in the same order)."""
+    """The claims of ``paper`` (its ``CLAIMS``, in order) from ``inputs`` (a ``line``: a :class:`Track`, or
+    {case value: Track} for a family; an ``input``: a product), behind ``claims.md`` and the calibration objective;
+    a claim whose input is not given is "not comparable"."""
     _unique_ids(paper.CLAIMS)
     return [sweep_claim(spec, inputs, paper.CLAIM_LINES) for spec in paper.CLAIMS]
 
@@ -195,7 +180,7 @@ def _amplitude_falls(spec: Mapping[str, Any], amplitude: Mapping[str, np.ndarray
 
 def _peaks(spec: Mapping[str, Any], points: xr.Dataset | None) -> Claim:
     """Each of the paper's spectral peaks has one of our ``highest`` peaks within ``tolerance`` (dense run ``case``)."""
-    case = case_label(spec["case"])
+    case = point.label(spec["case"], "")
     if points is None or case not in [str(c) for c in points["case"].values]:
         return _missing(spec, "point missing", "no dense run")
     d = points.sel(case=case)
@@ -358,25 +343,17 @@ def _cells(v: Any, keys: Sequence | None = None) -> list[tuple[str, Any]]:
     """(label, cell) pairs of a value: a mapping of sequences in ``keys`` order (``I #2``), a sequence
     (``#2``) or one cell."""
     if isinstance(v, Mapping):
-        out = []
-        for k in keys if keys is not None else list(v):
-            out += [(f"{k} {label}".strip(), x) for label, x in _cells(v[k])]
-        return out
+        return [(f"{k} {label}".strip(), x) for k in (keys if keys is not None else v) for label, x in _cells(v[k])]
     if isinstance(v, Sequence | np.ndarray) and not isinstance(v, str):
         return [(f"#{i}", x) for i, x in enumerate(v, start=1)]
     return [("", v)]
 
 
 def _missing_value(v: Any) -> bool:
-    if v is None:
-        return True
-    if isinstance(v, Real) and not isinstance(v, bool | np.bool_):
-        return not math.isfinite(float(v))
-    if isinstance(v, Mapping):
-        return any(_missing_value(x) for x in v.values())
-    if isinstance(v, Sequence | np.ndarray) and not isinstance(v, str):
-        return any(_missing_value(x) for x in v)
-    return False
+    """None, NaN or infinity, or a mapping or sequence holding one."""
+    if isinstance(v, Mapping | Sequence | np.ndarray) and not isinstance(v, str):
+        return any(_missing_value(x) for x in (v.values() if isinstance(v, Mapping) else v))
+    return v is None or (isinstance(v, Real) and not isinstance(v, bool | np.bool_) and not math.isfinite(float(v)))
 
 
 def _names(cell: Any) -> set[str]:

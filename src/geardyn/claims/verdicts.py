@@ -1,7 +1,5 @@
-"""A claim's verdict and the claims table: the record of one checked claim (:class:`Claim`), the three-valued
-rule for every verdict on a fraction (:func:`fraction_verdict`), what a verdict is worth to the calibration
-(:func:`credit`) and the table of a design's claims in CSV and Markdown.  The rules that decide the verdicts
-and the claims of each paper: :mod:`geardyn.claims`."""
+"""A checked claim (:class:`Claim`), the one rule for a verdict on a fraction (:func:`fraction_verdict`), what a
+verdict is worth to the calibration (:func:`credit`) and a design's claims table in CSV and Markdown."""
 
 from __future__ import annotations
 

@@ -1,12 +1,6 @@
-"""Load and validate configuration and design files against the JSON Schemas in ``schemas/``.
-
-Every problem is reported as a single :class:`ConfigError` line that names the file, the key,
-the offending value and what is allowed, e.g.::
-
-    config/designs/my_drive.yaml: pair.module = -3.5 is not allowed: number > 0 and <= 100 (Module m (mm).)
-
-Defaults declared in the schema are filled in, so downstream code sees every key.
-"""
+"""Load and validate configuration and design files against the JSON Schemas in ``schemas/``, with the schema's
+defaults filled in; every problem is one :class:`ConfigError` line naming the file, the key, the value and what
+is allowed (``my_drive.yaml: pair.module = -3.5 is not allowed: number > 0 and <= 100 (Module m (mm).)``)."""
 
 from __future__ import annotations
 
@@ -120,19 +114,15 @@ def read_yaml(path: str | Path) -> Any:
     return data
 
 
-#: The most values (mappings, lists and scalars, counted with every alias expanded) a config or design
-#: file may hold. The shipped config.yaml holds about 500. YAML anchors and aliases let a few lines
-#: stand for an exponentially large structure (a "billion laughs"); such a file is refused before
-#: anything walks it.
+#: The most values (mappings, lists and scalars, every alias expanded) a config or design file may hold (the
+#: shipped config.yaml about 500): a few aliases can stand for an exponentially large structure ("billion laughs").
 MAX_EXPANDED_VALUES = 100_000
 
 
 def expanded_size(data: Any, where: str = "input", sizes: dict[int, int] | None = None, finite: bool = False) -> int:
-    """The number of values in ``data`` with every alias expanded, computed on the object graph the
-    YAML loader built (an alias is the same Python object as its anchor), memoised by object id in
-    ``sizes``: the cost is linear in the number of distinct objects, however large the expansion. A
-    structure that contains itself is refused (:class:`ConfigError`); with ``finite``, so are NaN and
-    infinity, which are not values of any key (named by their key)."""
+    """The number of values in ``data`` with every alias expanded, memoised by object id in ``sizes`` (an alias
+    is its anchor's object: linear in the distinct objects); a structure that contains itself is refused, and
+    with ``finite`` NaN and infinity (named by their key)."""
     sizes = {} if sizes is None else sizes
     open_ids: set[int] = set()
 
@@ -202,15 +192,8 @@ def allowed_text(node: Mapping[str, Any]) -> str:
     for key in ("anyOf", "oneOf"):
         if key in node:
             return " or ".join(allowed_text(sub) for sub in node[key])
-    kind = node.get("type", "value")
-    kind = {
-        "integer": "integer",
-        "number": "number",
-        "string": "string",
-        "boolean": "true/false",
-        "array": "list",
-        "object": "mapping",
-    }.get(kind, str(kind))
+    kind = str(node.get("type", "value"))
+    kind = {"boolean": "true/false", "array": "list", "object": "mapping"}.get(kind, kind)
     bounds = [text.format(node[key]) for key, text in _BOUND_TEXT if key in node]
     return kind + (" " + " and ".join(bounds) if bounds else "")
 
@@ -245,19 +228,14 @@ def _format(error: jsonschema.ValidationError, where: str) -> str:
         full = f"{key}.{missing}" if error.absolute_path else missing
         return f"{where}: missing required key '{full}'"
     # point at the schema node of the offending value (the property, not the sub-branch of anyOf)
-    value_node = _node_for(error)
+    parent = error
+    while parent.parent is not None and parent.parent.absolute_path == error.absolute_path:
+        parent = parent.parent
+    value_node = parent.schema if isinstance(parent.schema, Mapping) else {}
     desc = value_node.get("description", "")
     return f"{where}: {key} = {error.instance!r} is not allowed: {allowed_text(value_node)}" + (
         f" ({desc})" if desc else ""
     )
-
-
-def _node_for(error: jsonschema.ValidationError) -> Mapping[str, Any]:
-    parent = error
-    while parent.parent is not None and parent.parent.absolute_path == error.absolute_path:
-        parent = parent.parent
-    node = parent.schema
-    return node if isinstance(node, Mapping) else {}
 
 
 def _fill_defaults(node: Mapping[str, Any], value: Any, root: Mapping[str, Any] | None = None) -> Any:
@@ -285,15 +263,18 @@ def _fill_defaults(node: Mapping[str, Any], value: Any, root: Mapping[str, Any] 
     return value
 
 
-def validated(data: Any, schema_name: str, where: str) -> dict[str, Any]:
-    """Validate ``data`` against a schema; return a copy with defaults filled in.
+#: How a value of each Python type is named in a message.
+_KINDS = {list: "a list", str: "a string", int: "a number", float: "a number", bool: "true/false"}
 
-    Raises :class:`ConfigError` with one line for the first problem (the most specific one).
-    """
+
+def validated(data: Any, schema_name: str, where: str) -> dict[str, Any]:
+    """A copy of ``data`` with the schema's defaults filled in; :class:`ConfigError`, one line, for the first
+    (most specific) problem."""
     if data is None:
         raise ConfigError(f"{where}: the file is empty; expected a mapping of keys to values")
     if not isinstance(data, dict):
-        raise ConfigError(f"{where}: expected a mapping of keys to values at the top level, got {_kind_of(data)}")
+        got = _KINDS.get(type(data), type(data).__name__)
+        raise ConfigError(f"{where}: expected a mapping of keys to values at the top level, got {got}")
     check_expanded_size(data, where, finite=True)
     sch = schema(schema_name)
     filled = _fill_defaults(sch, copy.deepcopy(data))
@@ -318,12 +299,6 @@ def settings_from(cls: type, spec: Mapping[str, Any] | None, what: str) -> Any:
         if hints.get(k) is int and isinstance(v, float) and v.is_integer():
             spec[k] = int(v)
     return cls(**spec)
-
-
-def _kind_of(value: Any) -> str:
-    return {list: "a list", str: "a string", int: "a number", float: "a number", bool: "true/false"}.get(
-        type(value), type(value).__name__
-    )
 
 
 def load_design_dict(path: str | Path) -> dict[str, Any]:

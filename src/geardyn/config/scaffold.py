@@ -1,11 +1,6 @@
-"""``geardyn new-design``: a clean, commented design file to start a study of your own.
-
-A KHV file gets the pair you name, x2 on line 4, the nominal shaper cutter (its limits reported, not
-enforced), and an admissible segment computed from the geometry: the longest stretch of line 4 on which
-every cutter-independent constraint of the closed graph holds, trimmed by 2 % at each end.  The dynamic
-parameters are the schema's defaults, marked as example values to replace.  A plus file gets the
-schema's defaults.  Neither names a paper.  Every key carries its schema description as a comment.
-"""
+"""``geardyn new-design``: a commented design file of your own (each key with its schema description), naming no
+paper: for a KHV drive the pair you name, x2 on line 4, the nominal cutter (reported, not enforced), the segment of
+:func:`admissible_segment` and example dynamics; for a plus set the schema's defaults."""
 
 from __future__ import annotations
 
@@ -34,17 +29,7 @@ def admissible_segment(
 ) -> tuple[float, float]:
     """The longest x1 interval on line 4 (G_s = 0) where every cutter-independent constraint holds,
     trimmed by 2 % of its length at each end (x1 on a 0.002 grid from -1 to 2)."""
-
-    base = geo.GearPair(
-        z1=z1,
-        z2=z2,
-        module=module,
-        x1=0.0,
-        x2=0.0,
-        pressure_angle_deg=pressure_angle_deg,
-        addendum=addendum,
-        clearance=clearance,
-    )
+    base = geo.GearPair(z1, z2, module, 0.0, 0.0, pressure_angle_deg, addendum, clearance)
     x1 = np.round(np.arange(-1.0, 2.0005, 0.002), 6)
 
     def on_line4(v: float) -> float:
@@ -90,11 +75,8 @@ def khv_design(name: str, z1: int = 40, z2: int = 43, module: float = 2.0) -> di
 
 def plus_design(name: str) -> dict[str, Any]:
     """The validated dict of a new plus-set design: the schema's defaults under a name of your own."""
-    return validated(
-        {"kind": "plus_planetary", "name": name, "title": f"Plus planetary set {name}", "paper": None},
-        KINDS["plus"],
-        name,
-    )
+    raw = {"kind": "plus_planetary", "name": name, "title": f"Plus planetary set {name}", "paper": None}
+    return validated(raw, KINDS["plus"], name)
 
 
 def _scalar(value: Any) -> str:

@@ -1,10 +1,6 @@
-"""The one validator of a workflow: the config and every design it lists, before any job runs.
-
-The same checks, in the same order, serve ``geardyn check-design``, ``geardyn check-config`` and the
-Snakefile: schema (with defaults), then the semantic checks of each design kind (for a KHV design the
-design point and the admissible segment the runs stay inside), then every run of the config against
-the designs it names.  Every problem is one :class:`~geardyn.config.ConfigError` line.
-"""
+"""The one validator of a workflow, before any job runs, behind ``geardyn check-design``, ``check-config`` and the
+Snakefile alike: schema (with defaults), the semantic checks of each design (a KHV design's point and the segment
+its runs stay inside), then every run against the designs it names; every problem one ConfigError line."""
 
 from __future__ import annotations
 
@@ -56,14 +52,9 @@ def check_design(raw: dict[str, Any], where: str) -> None:
 def validate_workflow(
     config: dict[str, Any], root: str | Path = "."
 ) -> tuple[dict[str, Any], dict[str, dict[str, Any]]]:
-    """Validate the workflow config and every design it lists, before any job runs.
-
-    Returns the config with presets resolved and defaults filled (:func:`fill_config`; every
-    ``error_floor`` a run does not set taken from :data:`POINCARE_ERROR` at the run's steps per period)
-    and ``{design name: validated design dict}``. Each design is also checked semantically
-    (:func:`check_design`; for a KHV design z2 - z1, the design point and the admissible segment the
-    runs stay inside), then every run against its designs.
-    """
+    """The config with presets resolved and defaults filled (:func:`fill_config`; an ``error_floor`` a run does not
+    set from :data:`POINCARE_ERROR` at its designs' steps per period) and ``{design name: validated design dict}``,
+    each design checked (:func:`check_design`), then every run against its designs."""
     filled = fill_config(config, "config")
     designs: dict[str, dict[str, Any]] = {}
     for name, rel in filled["designs"].items():
@@ -104,10 +95,8 @@ def poincare_error(steps: int, where: str) -> float:
 
 
 def fill_config(config: dict[str, Any], where: str = "config") -> dict[str, Any]:
-    """The workflow config with presets resolved and defaults filled, the names and maps checked (in that
-    order, the size with aliases expanded first: ``docs/operations.md``, Presets and the limits of the config),
-    and the ``error_floor`` of each entry that sets ``integration.steps_per_period`` (otherwise
-    :func:`validate_workflow` takes it from the designs)."""
+    """The workflow config with presets resolved, defaults filled, maps checked (the size with aliases expanded
+    first) and the ``error_floor`` of each entry that sets ``integration.steps_per_period``."""
     check_expanded_size(config, where)
     checked = validated(config, "config.schema.json", where)
     resolved = _resolve_presets(copy.deepcopy(config), checked["presets"], where)
@@ -124,10 +113,8 @@ def fill_config(config: dict[str, Any], where: str = "config") -> dict[str, Any]
 
 
 def _resolve_presets(config: dict[str, Any], presets: Mapping[str, Any], where: str) -> dict[str, Any]:
-    """Replace each entry's ``preset: <name>`` by the preset's blocks (in place; returns ``config``).
-
-    ``config`` is the raw config (no defaults filled yet), so a key the entry sets is one its author
-    wrote; it overrides the preset's, key by key within integration and classifier."""
+    """Replace each entry's ``preset: <name>`` by the preset's blocks, in place in the raw ``config`` (no defaults
+    yet, so a key the entry sets is its author's: it overrides the preset's, key by key within a block)."""
     for section, keys in PRESET_KEYS.items():
         for name, spec in (config.get(section) or {}).items():
             if "preset" not in spec:
@@ -251,11 +238,8 @@ def _segment(raw: Mapping[str, Any]) -> tuple[float, float]:
 
 
 def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> None:
-    """Semantic checks of every run against every design it selects: known KHV design, known control
-    parameters with values in range (NaN and inf refused), ranges that go upwards, x1 inside the design's
-    admissible segment; claims and calibrations only for paper designs (percentages only for x1: the
-    schema)."""
-
+    """Every run against every design it selects: a known KHV design, known control parameters with values in
+    range, ranges that go upwards, x1 inside the admissible segment; claims and calibrations for paper designs."""
     khv = [name for name, raw in designs.items() if raw["kind"] == "khv"]
     taken = {n for s in ("sweeps", "points", "maps", "curves", "responses") for n in filled.get(s, {})}
     for name in set(filled.get("probabilities", {})) & taken:

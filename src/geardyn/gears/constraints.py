@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any, cast
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -64,12 +64,12 @@ def constraint_grid(
         out[f"undercut_{n2}"] = u2
     sa1, sa2 = itf.tip_thickness(pair)
     smin = min_tip_thickness * pair.module
-    out[f"tip_thickness_{n1}"] = cast(geo.FloatArray, sa1 - smin)
-    out[f"tip_thickness_{n2}"] = cast(geo.FloatArray, sa2 - smin)
+    out[f"tip_thickness_{n1}"] = sa1 - smin
+    out[f"tip_thickness_{n2}"] = sa2 - smin
     if pair.internal:
         out["trimming_interference_annulus"] = itf.trimming_interference(pair, cutter)
     shape = np.broadcast(*geo.shifts(pair)).shape
-    return {k: cast(geo.FloatArray, np.broadcast_to(np.asarray(v, dtype=float), shape)) for k, v in out.items()}
+    return {k: np.broadcast_to(np.asarray(v, dtype=float), shape) for k, v in out.items()}
 
 
 def constraints(pair: geo.GearPair, **kwargs: Any) -> dict[str, float]:
@@ -138,4 +138,4 @@ def x2_on_overlap_boundary_many(x1: ArrayLike, base: geo.GearPair) -> geo.FloatA
     """Vectorised :func:`x2_on_overlap_boundary` (one brentq per x1 value)."""
     arr = np.asarray(x1, dtype=float)
     out = np.array([x2_on_overlap_boundary(float(v), base) for v in arr.ravel()])
-    return cast(geo.FloatArray, out.reshape(arr.shape))
+    return out.reshape(arr.shape)

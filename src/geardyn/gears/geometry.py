@@ -1,15 +1,11 @@
-"""Involute spur-pair geometry for internal and external pairs (paper 1, Sec. 3.2).
-
-Units mm and rad; gear 1 the pinion/planet, gear 2 the annulus (internal, Chinese sign convention) or
-the wheel; shifts may be broadcasting arrays.  Conventions, formulas and sources: docs/geometry.md.
-"""
+"""Involute spur-pair geometry of internal and external pairs (paper 1, Sec. 3.2) in mm and rad: gear 1 the planet
+or pinion, gear 2 the annulus (Chinese sign convention) or wheel, shifts broadcasting arrays (docs/geometry.md)."""
 
 from __future__ import annotations
 
 import dataclasses
 import math
 from dataclasses import dataclass
-from typing import cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -76,7 +72,7 @@ class ShaperCutter:
 def involute(alpha: ArrayLike) -> FloatArray:
     """inv a = tan a - a (a in rad)."""
     a = np.asarray(alpha, dtype=float)
-    return cast(FloatArray, libm.tan(a) - a)
+    return libm.tan(a) - a
 
 
 def inverse_involute(value: ArrayLike, *, tol: float = 1e-15, max_iter: int = 60) -> FloatArray:
@@ -84,7 +80,7 @@ def inverse_involute(value: ArrayLike, *, tol: float = 1e-15, max_iter: int = 60
     value stopping on its own step, so an array gives the bits of each value alone (docs/geometry.md,
     "Inverse involute")."""
     if np.ndim(value) == 0:
-        return cast(FloatArray, np.float64(_inverse_involute_scalar(float(value), tol, max_iter)))
+        return np.float64(_inverse_involute_scalar(float(value), tol, max_iter))
     v = np.asarray(value, dtype=float)
     y = np.abs(v)
     a = np.minimum(libm.cbrt(3.0 * y), libm.arctan(y + np.pi / 2)).ravel()
@@ -100,7 +96,7 @@ def inverse_involute(value: ArrayLike, *, tol: float = 1e-15, max_iter: int = 60
             at = at - step
             a[todo] = at
             todo = todo[~((np.abs(step) <= tol * np.maximum(at, 1e-300)) | ~np.isfinite(step))]
-    return cast(FloatArray, np.sign(v) * a.reshape(v.shape))
+    return np.sign(v) * a.reshape(v.shape)
 
 
 def _inverse_involute_scalar(v: float, tol: float, max_iter: int) -> float:
@@ -122,9 +118,7 @@ def _inverse_involute_scalar(v: float, tol: float, max_iter: int) -> float:
 
 def with_shifts(base: GearPair, x1: ArrayLike, x2: ArrayLike) -> GearPair:
     """Copy of ``base`` whose shifts are arrays (broadcast by numpy) for vectorised evaluation."""
-    return dataclasses.replace(
-        base, x1=cast(float, np.asarray(x1, dtype=float)), x2=cast(float, np.asarray(x2, dtype=float))
-    )
+    return dataclasses.replace(base, x1=np.asarray(x1, dtype=float), x2=np.asarray(x2, dtype=float))
 
 
 def shifts(pair: GearPair) -> tuple[FloatArray, FloatArray]:
@@ -144,27 +138,24 @@ def working_pressure_angle(pair: GearPair) -> FloatArray:
     """Working pressure angle a' in rad from the no-backlash condition (docs/geometry.md, "Formulas");
     NaN where inv a' <= 0: no positive working angle exists and the teeth cannot mesh."""
     inv_w = working_involute(pair)
-    return cast(FloatArray, np.where(inv_w > 0.0, inverse_involute(np.maximum(inv_w, 0.0)), np.nan))
+    return np.where(inv_w > 0.0, inverse_involute(np.maximum(inv_w, 0.0)), np.nan)
 
 
 def working_involute(pair: GearPair) -> FloatArray:
     """inv a' of the no-backlash condition (docs/geometry.md, "Formulas"); <= 0 where the teeth cannot mesh."""
     x1, x2 = shifts(pair)
     s = pair.sigma
-    return cast(FloatArray, 2.0 * (x2 + s * x1) * math.tan(pair.alpha) / (pair.z2 + s * pair.z1) + involute(pair.alpha))
+    return 2.0 * (x2 + s * x1) * math.tan(pair.alpha) / (pair.z2 + s * pair.z1) + involute(pair.alpha)
 
 
 def working_centre_distance(pair: GearPair) -> FloatArray:
     """a' = a cos a / cos a' in mm."""
-    return cast(
-        FloatArray,
-        reference_centre_distance(pair) * math.cos(pair.alpha) / np.cos(working_pressure_angle(pair)),
-    )
+    return reference_centre_distance(pair) * math.cos(pair.alpha) / np.cos(working_pressure_angle(pair))
 
 
 def centre_distance_modification(pair: GearPair) -> FloatArray:
     """Centre-distance modification coefficient y = (a' - a) / m (-)."""
-    return cast(FloatArray, (working_centre_distance(pair) - reference_centre_distance(pair)) / pair.module)
+    return (working_centre_distance(pair) - reference_centre_distance(pair)) / pair.module
 
 
 # --- Diameters ---
@@ -182,27 +173,20 @@ def base_diameters(pair: GearPair) -> tuple[float, float]:
     return d1 * c, d2 * c
 
 
-def _tip_shortening(pair: GearPair) -> FloatArray:
-    """Tip-shortening coefficient dy = x1 + x2 - y for external pairs (0 for internal)."""
-    x1, x2 = shifts(pair)
-    if pair.internal or not pair.tip_shortening:
-        return np.zeros(np.broadcast(x1, x2).shape)
-    return cast(FloatArray, x1 + x2 - centre_distance_modification(pair))
-
-
 def tip_diameters(pair: GearPair) -> tuple[FloatArray, FloatArray]:
     """Tip diameters (da1, da2) in mm; external tips shortened by dy m when ``tip_shortening``
     (docs/geometry.md, "Formulas")."""
     x1, x2 = shifts(pair)
     d1, d2 = pitch_diameters(pair)
     m, ha = pair.module, pair.addendum
-    dy = _tip_shortening(pair)
+    external = not pair.internal and pair.tip_shortening  # tip shortening dy = x1 + x2 - y, 0 for internal pairs
+    dy = x1 + x2 - centre_distance_modification(pair) if external else np.zeros(np.broadcast(x1, x2).shape)
     da1 = d1 + 2.0 * (ha + x1 - dy) * m
     if pair.internal:
         da2 = d2 - 2.0 * (ha - x2) * m
     else:
         da2 = d2 + 2.0 * (ha + x2 - dy) * m
-    return cast(FloatArray, da1), cast(FloatArray, da2)
+    return da1, da2
 
 
 def root_diameters(pair: GearPair) -> tuple[FloatArray, FloatArray]:
@@ -213,14 +197,14 @@ def root_diameters(pair: GearPair) -> tuple[FloatArray, FloatArray]:
     m, h = pair.module, pair.addendum + pair.clearance
     df1 = d1 - 2.0 * (h - x1) * m
     df2 = d2 + 2.0 * (h + x2) * m if pair.internal else d2 - 2.0 * (h - x2) * m
-    return cast(FloatArray, df1), cast(FloatArray, df2)
+    return df1, df2
 
 
 def pressure_angle_at(db: float, da: ArrayLike) -> FloatArray:
     """arccos(db / da); NaN where the circle lies inside the base circle."""
     with np.errstate(invalid="ignore", divide="ignore"):
         r = db / np.asarray(da, dtype=float)
-        return cast(FloatArray, np.where(r <= 1.0, libm.arccos(np.minimum(r, 1.0)), np.nan))
+        return np.where(r <= 1.0, libm.arccos(np.minimum(r, 1.0)), np.nan)
 
 
 def tip_pressure_angles(pair: GearPair) -> tuple[FloatArray, FloatArray]:

@@ -1,12 +1,10 @@
 """Contact ratio and the interference checks of a spur pair: overlap (G_s), involute, root transition curve,
-undercut, tip thickness, radial and shaper-cutter trimming interference (paper 1, Sec. 3.2; the closed graph's
-lines 1-4).  Units, sign convention and vectorisation as in :mod:`geardyn.gears.geometry`.
-"""
+undercut, tip thickness, radial and shaper-cutter trimming (paper 1, Sec. 3.2; the closed graph's lines 1-4), in the
+units and conventions of :mod:`geardyn.gears.geometry`."""
 
 from __future__ import annotations
 
 import math
-from typing import cast
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -22,10 +20,7 @@ def contact_ratio(pair: geo.GearPair) -> geo.FloatArray:
     aw = geo.working_pressure_angle(pair)
     aa1, aa2 = geo.tip_pressure_angles(pair)
     tw = libm.tan(aw)
-    return cast(
-        geo.FloatArray,
-        (pair.z1 * (libm.tan(aa1) - tw) + pair.sigma * pair.z2 * (libm.tan(aa2) - tw)) / (2.0 * np.pi),
-    )
+    return (pair.z1 * (libm.tan(aa1) - tw) + pair.sigma * pair.z2 * (libm.tan(aa2) - tw)) / (2.0 * np.pi)
 
 
 def overlap_interference(pair: geo.GearPair) -> geo.FloatArray:
@@ -41,11 +36,8 @@ def overlap_interference(pair: geo.GearPair) -> geo.FloatArray:
     c1 = np.clip((ra2**2 - ra1**2 - a_w**2) / (2.0 * ra1 * a_w), -1.0, 1.0)
     c2 = np.clip((ra2**2 - ra1**2 + a_w**2) / (2.0 * ra2 * a_w), -1.0, 1.0)
     d1, d2 = libm.arccos(c1), libm.arccos(c2)
-    return cast(
-        geo.FloatArray,
-        pair.z1 * (geo.involute(aa1) + d1)
-        - pair.z2 * (geo.involute(aa2) + d2)
-        + (pair.z2 - pair.z1) * geo.involute(aw),
+    return (
+        pair.z1 * (geo.involute(aa1) + d1) - pair.z2 * (geo.involute(aa2) + d2) + (pair.z2 - pair.z1) * geo.involute(aw)
     )
 
 
@@ -57,7 +49,7 @@ def _lowest_contact_roll(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatA
     tw = libm.tan(aw)
     rho1 = db1 / 2.0 * (tw - pair.sigma * pair.z2 / pair.z1 * (libm.tan(aa2) - tw))
     rho2 = db2 / 2.0 * (tw - pair.z1 / pair.z2 * (libm.tan(aa1) - tw))
-    return cast(geo.FloatArray, rho1), cast(geo.FloatArray, rho2)
+    return rho1, rho2
 
 
 def involute_interference(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:
@@ -67,7 +59,7 @@ def involute_interference(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.Float
     if pair.internal:
         _, da2 = geo.tip_diameters(pair)
         _, db2 = geo.base_diameters(pair)
-        return rho1, cast(geo.FloatArray, (da2 - db2) / 2.0)
+        return rho1, (da2 - db2) / 2.0
     return rho1, rho2
 
 
@@ -79,14 +71,14 @@ def _rack_form_roll(pair: geo.GearPair, which: int) -> geo.FloatArray:
     db = (geo.base_diameters(pair))[which - 1]
     a = pair.alpha
     tan_f = math.tan(a) - 4.0 * (pair.addendum - x) / (z * math.sin(2.0 * a))
-    return cast(geo.FloatArray, db / 2.0 * tan_f)
+    return db / 2.0 * tan_f
 
 
 def undercut_margin(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:
     """Undercut margins (mm along the line of action) for rack-cut gears; +inf for the shaper-cut annulus."""
     u1 = _rack_form_roll(pair, 1)
     if pair.internal:
-        return u1, cast(geo.FloatArray, np.full(np.shape(u1), np.inf))
+        return u1, np.full(np.shape(u1), np.inf)
     return u1, _rack_form_roll(pair, 2)
 
 
@@ -102,7 +94,7 @@ def _cutting_mesh(
     ha0 = cut.addendum if cut.addendum is not None else pair.addendum + pair.clearance
     inv_w0 = 2.0 * (x2 - cut.shift) * math.tan(a) / (pair.z2 - cut.teeth) + geo.involute(a)
     da0 = m * (cut.teeth + 2.0 * (ha0 + cut.shift))
-    return cut, ha0, cast(geo.FloatArray, inv_w0), da0
+    return cut, ha0, inv_w0, da0
 
 
 def root_interference(
@@ -114,7 +106,7 @@ def root_interference(
     rho1, rho2 = _lowest_contact_roll(pair)
     m1 = rho1 - _rack_form_roll(pair, 1)
     if not pair.internal:
-        return cast(geo.FloatArray, m1), cast(geo.FloatArray, rho2 - _rack_form_roll(pair, 2))
+        return m1, rho2 - _rack_form_roll(pair, 2)
     cut, _, inv_w0, da0 = _cutting_mesh(pair, cutter)
     c = math.cos(pair.alpha)
     rb0 = cut.teeth * pair.module * c / 2.0
@@ -126,7 +118,7 @@ def root_interference(
     aa1, _ = geo.tip_pressure_angles(pair)
     form2 = rb2 * t_w0 + rb0 * (t_a0 - t_w0)
     contact2 = rb2 * t_w + rb1 * (libm.tan(aa1) - t_w)
-    return cast(geo.FloatArray, m1), cast(geo.FloatArray, form2 - contact2)
+    return m1, form2 - contact2
 
 
 def tip_thickness(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:
@@ -145,7 +137,7 @@ def tip_thickness(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:
     else:
         s2 = m * (np.pi / 2 + 2.0 * x2 * math.tan(a))
         sa2 = da2 * (s2 / d2 + inv_a - geo.involute(aa2))
-    return cast(geo.FloatArray, sa1), cast(geo.FloatArray, sa2)
+    return sa1, sa2
 
 
 def _trimming(
@@ -160,10 +152,7 @@ def _trimming(
     with np.errstate(invalid="ignore"):
         t1 = libm.arcsin(np.sqrt(np.clip((1.0 - q) / (1.0 - (z_small / z_big) ** 2), 0.0, 1.0)))
         t2 = libm.arcsin(np.sqrt(np.clip((1.0 / q - 1.0) / ((z_big / z_small) ** 2 - 1.0), 0.0, 1.0)))
-    return cast(
-        geo.FloatArray,
-        z_small * (t1 + geo.involute(aa1) - inv_w) - z_big * (t2 + geo.involute(aa2) - inv_w),
-    )
+    return z_small * (t1 + geo.involute(aa1) - inv_w) - z_big * (t2 + geo.involute(aa2) - inv_w)
 
 
 def radial_interference(pair: geo.GearPair) -> geo.FloatArray:

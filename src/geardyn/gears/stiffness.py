@@ -1,8 +1,5 @@
-"""Mesh stiffness of a spur pair: ISO 6336-1 method B and the parabolic k(t) of paper 1 (Eqs. 7-10).
-
-Stiffness in N/m, time in mesh periods; the paper's two misprints (C1, the swapped intervals of Eq. 9)
-and every formula: docs/stiffness.md.
-"""
+"""Mesh stiffness of a spur pair: ISO 6336-1 method B and the parabolic k(t) of paper 1 (Eqs. 7-10), in N/m over
+mesh periods; the paper's two misprints (C1, the swapped intervals of Eq. 9) and every formula: docs/stiffness.md."""
 
 from __future__ import annotations
 
@@ -14,17 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 #: ISO 6336-1:2006 Table 8 (method B), coefficients of q' in mm um / N.
-ISO_C: tuple[float, ...] = (
-    0.04723,
-    0.15551,
-    0.25791,
-    -0.00635,
-    -0.11654,
-    -0.00193,
-    -0.24188,
-    0.00529,
-    0.00182,
-)
+ISO_C: tuple[float, ...] = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
 #: The same as printed in paper 1, Eq. (8): C1 = 0.04732 (a transposition).
 PRINTED_C: tuple[float, ...] = (0.04732, *ISO_C[1:])
 

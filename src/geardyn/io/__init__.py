@@ -1,7 +1,5 @@
-"""Self-describing outputs, written atomically: netCDF with CF attributes, compressed losslessly, and tables,
-each with its provenance (:mod:`geardyn.io.provenance`): what, where and on
-what it was made (``docs/operations.md``, Compression and provenance of every file).
-"""
+"""Self-describing outputs, written atomically: netCDF with CF attributes, compressed losslessly, and tables, each
+with its provenance (:mod:`geardyn.io.provenance`; ``docs/operations.md``, Compression and provenance)."""
 
 from __future__ import annotations
 
@@ -132,10 +130,9 @@ def write_netcdf(
 
 @contextmanager
 def atomic(path: str | os.PathLike[str]) -> Iterator[Path]:
-    """A temporary file beside ``path`` for the block to write, renamed to ``path`` when the block ends (and
-    removed if it raises): no reader ever sees a half-written file.  The one writer of every output.  A write
-    that fails on the disk (full, a quota) raises its :class:`OSError` naming ``path``, also where the writer
-    named no errno (netCDF's "HDF error"): one block appended to the temporary file asks the disk."""
+    """A temporary file beside ``path`` for the block to write, renamed to ``path`` when it ends (removed if it
+    raises), the one writer of every output; a disk that fails it (full, quota) raises an :class:`OSError` naming
+    ``path``, also where the writer named no errno (netCDF's "HDF error": one block appended asks the disk)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
@@ -154,17 +151,13 @@ def atomic(path: str | os.PathLike[str]) -> Iterator[Path]:
             except OSError as err:
                 raise OSError(err.errno, err.strerror, str(path)) from None
             raise
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600: give the file the permissions of any other
+        mask = os.umask(0)  # read, then restore: mkstemp makes 0600, the file gets the permissions of any other
+        os.umask(mask)
+        os.chmod(tmp, 0o666 & ~mask)
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
 
 
 #: Suffixes of generated tables that :func:`write_text` gives their provenance.

@@ -1,10 +1,6 @@
-"""Archives of one design's results: every netCDF cube, the configs, a sha256 manifest, a README.
-
-:func:`build` writes ``<design>_archive.tar.gz`` (one top folder: ``MANIFEST.json``, ``SHA256SUMS``,
-``README.txt``, ``config/``, ``results/<design>/``) and its own sum beside it (``<archive>.sha256``);
-:func:`verify` checks one, any problem one :class:`ArchiveError` line naming the archive and the member
-(``docs/operations.md``, Archive).
-"""
+"""Archives of one design's results (:func:`build`: every netCDF cube, the configs, a sha256 manifest, a README,
+and the archive's own sum beside it) and their check (:func:`verify`: any problem one :class:`ArchiveError` line
+naming the archive and the member); the layout: ``docs/operations.md``, Archive."""
 
 from __future__ import annotations
 
@@ -108,15 +104,6 @@ def sha256_bytes(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
-def _cube_provenance(path: Path) -> dict[str, str]:
-
-    with xr.open_dataset(path) as ds:
-        return {
-            **{k: str(ds.attrs.get(k, "unknown")) for k in ("geardyn_version", "git_commit", "config_hash")},
-            **prov.runtime_of(ds.attrs),
-        }
-
-
 def build(
     out: str | Path,
     design: str,
@@ -124,15 +111,9 @@ def build(
     configs: Mapping[str, str | Path],
     effective_config: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
-    """Write the archive ``out`` (``.tar.gz``) and return its manifest.
-
-    ``cubes`` maps a path inside the archive (the pipeline's own, ``results/<design>/...``) to a file on
-    disk, ``configs`` a path inside ``config/``.
-    ``effective_config`` (the validated workflow config) is stored as ``config/effective_config.yaml``.
-    The archive is written to a temporary name and renamed (:func:`geardyn.io.atomic`), then its sha256 to
-    ``<out>.sha256`` (``sha256sum -c`` reads it).
-    """
-
+    """Write the archive ``out`` (``.tar.gz``, atomically) and ``<out>.sha256``; return its manifest.  ``cubes`` maps
+    a path inside the archive (``results/<design>/...``) to a file, ``configs`` a path inside ``config/``;
+    ``effective_config`` (the validated workflow config) goes to ``config/effective_config.yaml``."""
     if not cubes:
         raise ArchiveError(f"{out}: no netCDF cube of design {design!r} to archive (its rules built none)")
     out = Path(out)
@@ -154,8 +135,10 @@ def build(
         )
         add("config/effective_config.yaml", text.encode(), "config")
     for rel, src in sorted(cubes.items()):
-        add(rel, Path(src).read_bytes(), "netcdf", _cube_provenance(Path(src)))
-    example = sorted(cubes)[0] if cubes else "results/<cube>.nc"
+        with xr.open_dataset(src) as ds:  # the cube's provenance beside its sum
+            made = {k: str(ds.attrs.get(k, "unknown")) for k in ("geardyn_version", "git_commit", "config_hash")}
+            add(rel, Path(src).read_bytes(), "netcdf", made | prov.runtime_of(ds.attrs))
+    example = min(cubes)
     readme = _README.format(
         design=design, version=__version__, commit=commit, created=created, n_cubes=len(cubes), example=example
     )
@@ -234,7 +217,6 @@ def _read_members(path: Path) -> tuple[str, dict[str, bytes]]:
 
 def verify(path: str | Path) -> Summary:
     """Check an archive written by :func:`build`; raise :class:`ArchiveError` on the first problem."""
-
     path = Path(path)
     where = str(path)
     top, members = _read_members(path)

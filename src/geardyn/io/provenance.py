@@ -47,20 +47,16 @@ def _package_version(name: str) -> str:
 
 def _cpuinfo() -> tuple[str, list[str]]:
     """CPU model name and its SIMD flags from /proc/cpuinfo (Linux), else from :mod:`platform`."""
+    generic = ("unknown", platform.machine(), platform.processor())
     model, flags = platform.processor() or platform.machine() or "unknown", []
     try:
         text = Path("/proc/cpuinfo").read_text(encoding="utf-8", errors="replace")
     except OSError:
         return model, flags
     for line in text.splitlines():
-        key, _, value = line.partition(":")
-        key = key.strip()
-        if key in ("model name", "Model", "cpu model") and model in (
-            "unknown",
-            platform.machine(),
-            platform.processor(),
-        ):
-            model = value.strip()
+        key, _, value = (part.strip() for part in line.partition(":"))
+        if key in ("model name", "Model", "cpu model") and model in generic:
+            model = value
         elif key in ("flags", "Features") and not flags:
             flags = sorted(f for f in value.split() if _SIMD_FLAG.match(f))
     return model, flags
@@ -110,18 +106,12 @@ RUNTIME_KEYS = (
     "python_version",
     "python_implementation",
     *(f"{p.lower()}_version" for p in PROVENANCE_PACKAGES),
-    "platform",
-    "cpu_model",
-    "cpu_simd_flags",
-    "numpy_cpu_baseline",
-    "numpy_cpu_dispatch",
-    "numpy_blas",
-    "numpy_lapack",
-    "numpy_blas_core",
-    "scipy_blas_core",
-    "numba_cpu_name",
-    "numba_cpu_features",
-    "libm_variant",
+    *"platform cpu_model cpu_simd_flags numpy_cpu_baseline numpy_cpu_dispatch numpy_blas numpy_lapack".split(),
+    *"numpy_blas_core scipy_blas_core numba_cpu_name numba_cpu_features libm_variant".split(),
+)
+#: The environment variables that override what the CPU and the libraries choose, recorded when set.
+OVERRIDES = (
+    "NPY_DISABLE_CPU_FEATURES NUMBA_CPU_NAME NUMBA_CPU_FEATURES NUMBA_FASTMATH OPENBLAS_CORETYPE OPENBLAS_L2_SIZE"
 )
 
 
@@ -150,16 +140,7 @@ def runtime() -> dict[str, str]:
     out.update(_numpy_cpu())
     out.update(_numba_cpu())
     out["libm_variant"] = libm.variant()
-    for var in (
-        "NPY_DISABLE_CPU_FEATURES",
-        "NUMBA_CPU_NAME",
-        "NUMBA_CPU_FEATURES",
-        "NUMBA_FASTMATH",
-        "OPENBLAS_CORETYPE",
-        "OPENBLAS_L2_SIZE",
-    ):
-        if os.environ.get(var):
-            out[f"env_{var}"] = os.environ[var]
+    out |= {f"env_{var}": os.environ[var] for var in OVERRIDES.split() if os.environ.get(var)}
     assert set(out) - {k for k in out if k.startswith("env_")} == set(RUNTIME_KEYS)
     return out
 
@@ -191,15 +172,9 @@ def _json_default(obj: Any) -> Any:
 def git_commit(repo: str | os.PathLike[str] | None = None) -> str:
     """The current git commit of the source tree (with ``-dirty``), or ``unknown`` outside git."""
     where = Path(repo) if repo is not None else Path(__file__).resolve().parent
+    cmd = ["git", "describe", "--always", "--dirty", "--abbrev=12"]
     try:
-        out = subprocess.run(
-            ["git", "describe", "--always", "--dirty", "--abbrev=12"],
-            cwd=where,
-            capture_output=True,
-            text=True,
-            timeout=10,
-            check=True,
-        )
+        out = subprocess.run(cmd, cwd=where, capture_output=True, text=True, timeout=10, check=True)
         return out.stdout.strip() or "unknown"
     except (OSError, subprocess.SubprocessError):
         return "unknown"
@@ -221,7 +196,7 @@ def attributes(
         "institution": "geardyn project",
         "source": f"geardyn {__version__}",
         "history": f"{now} created by geardyn {__version__}",
-        "references": _reference(paper),
+        "references": getattr(paper_of(paper), "REFERENCE", "geardyn documentation (docs/)"),
         "geardyn_version": __version__,
         "git_commit": git_commit(),
         **runtime(),
@@ -236,9 +211,3 @@ def attributes(
     for key, value in (extra or {}).items():
         attrs[key] = value if isinstance(value, str) else json.dumps(value, default=_json_default)
     return attrs
-
-
-def _reference(paper: str | None) -> str:
-    """The paper's full reference for a design that names one, else the project's documentation."""
-    mod = paper_of(paper)
-    return mod.REFERENCE if mod is not None else "geardyn documentation (docs/)"

@@ -1,7 +1,5 @@
-"""Closed graph of paper 1 (Li et al. 2013, Fig. 3) computed on an (x1, x2) grid: lines 1-4 of the paper
-(:data:`LINES`), line 4 being G_s = 0, not a line of constant a' (docs/geometry.md, "Lines 1-4 of
-Fig. 3").  Pure: returns an :class:`xarray.Dataset`; writing it is the caller's job.
-"""
+"""Closed graph of paper 1 (Li et al. 2013, Fig. 3) on an (x1, x2) grid as an :class:`xarray.Dataset`: lines 1-4
+(:data:`LINES`), line 4 being G_s = 0, not a line of constant a' (docs/geometry.md, "Lines 1-4 of Fig. 3")."""
 
 from __future__ import annotations
 
@@ -51,17 +49,6 @@ _PAIR_ATTRS: dict[str, tuple[str, type]] = {
 }
 
 
-def _cutter_attrs(base: geo.GearPair, cutter: geo.ShaperCutter | None) -> dict[str, float | int | str]:
-    cut = cutter if cutter is not None else interference.default_cutter(base)
-    ha0 = cut.addendum if cut.addendum is not None else base.addendum + base.clearance
-    return {
-        "cutter_teeth": int(cut.teeth),
-        "cutter_shift": float(cut.shift),
-        "cutter_addendum": float(ha0),
-        "cutter_source": "configured" if cutter is not None else "assumed (interference.default_cutter)",
-    }
-
-
 def closed_graph(
     base: geo.GearPair,
     x1: ArrayLike,
@@ -90,6 +77,8 @@ def closed_graph(
         values |= _point_values(base, reference_points)
     ds = io.dataset([v for v in variables(margins) if v.name in values], values)
     feas_x1 = x1a[values["feasible_line4"]]
+    cut = cutter if cutter is not None else interference.default_cutter(base)
+    ha0 = cut.addendum if cut.addendum is not None else base.addendum + base.clearance
     ds.attrs.update(
         {
             "title": "Closed graph of profile-shift coefficients, computed",
@@ -100,7 +89,10 @@ def closed_graph(
             **{attr: getattr(base, field) for attr, (field, _) in _PAIR_ATTRS.items()},
             "min_tip_thickness_modules": min_tip_thickness,
             "min_contact_ratio": min_contact_ratio,
-            **_cutter_attrs(base, cutter),
+            "cutter_teeth": int(cut.teeth),
+            "cutter_shift": float(cut.shift),
+            "cutter_addendum": float(ha0),
+            "cutter_source": "configured" if cutter is not None else "assumed (interference.default_cutter)",
             "line4_feasible_x1_min": float(feas_x1.min()) if feas_x1.size else math.nan,
             "line4_feasible_x1_max": float(feas_x1.max()) if feas_x1.size else math.nan,
         }

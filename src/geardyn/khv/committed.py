@@ -1,7 +1,5 @@
-"""How far a calibration search's optimum lies from the committed calibrated design: each searched unknown's
-distance in the search's unit cube and the score difference, compared as conclusions, not as bytes
-(docs/calibration.md, "Reproducing a calibration").
-"""
+"""How far a calibration search's optimum lies from the committed calibrated design: each unknown's distance in
+the search's unit cube and the score difference, compared as conclusions, not as bytes (docs/calibration.md)."""
 
 from __future__ import annotations
 

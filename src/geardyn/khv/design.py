@@ -1,9 +1,6 @@
-"""A KHV design: the validated design file turned into a gear pair and mesh properties.
-
-This is the one place where the design file meets the numerics: geometry (:mod:`geardyn.geometry`)
-gives x2 on line 4, the contact ratio and the constraints; :mod:`geardyn.stiffness` gives k_C, k'
-and k(t).  Everything downstream (tables, dynamics, sweeps) asks this module for the mesh at x1.
-"""
+"""A KHV design: the validated design file turned into a gear pair and its mesh at any x1 (x2 on line 4, the
+contact ratio and the constraints from :mod:`geardyn.gears`, k_C, k' and k(t)), the one place where a design
+file meets the numerics."""
 
 from __future__ import annotations
 
@@ -40,9 +37,8 @@ class StiffnessOptions:
 
 @dataclass(frozen=True)
 class DesignHeader:
-    """What a job that only reads results needs of a KHV design: its name, title, paper (the key of the paper
-    it reproduces in geardyn.papers, or None), stiffness options (the model variant) and the validated file
-    with defaults (provenance)."""
+    """What a job that only reads results needs of a KHV design: name, title, paper (a key of geardyn.papers, or
+    None), stiffness options (the model variant) and the validated file with defaults (provenance)."""
 
     name: str
     title: str
@@ -121,11 +117,6 @@ def _x2(base: geometry.GearPair, on_line4: bool, x1: float) -> float:
     """x2 of :func:`x2_for` (a pure function of its arguments, so kept: a design's checks, its mesh
     properties and its pairs ask for the same x1, each a root solve)."""
     return float(constraints.x2_on_overlap_boundary(x1, base)) if on_line4 else base.x2
-
-
-def pair_at(design: KHVDesign, x1: float) -> geometry.GearPair:
-    """The gear pair of ``design`` at planet shift ``x1`` (x2 from :func:`x2_for`)."""
-    return dataclasses.replace(design.base, x1=float(x1), x2=x2_for(design, x1))
 
 
 def mesh_properties(design: KHVDesign, x1: float) -> MeshProperties:
@@ -227,14 +218,6 @@ def _infeasible(pair: geometry.GearPair, min_tip: float, enforce_cutter: bool, c
     )
 
 
-def cutter_of(raw: dict[str, Any], pair: geometry.GearPair) -> geometry.ShaperCutter:
-    """The configured shaper cutter, or the geometry module's nominal one when ``teeth`` is null."""
-    c = raw.get("cutter", {})
-    if c.get("teeth") is None:
-        return interference.default_cutter(pair)
-    return geometry.ShaperCutter(teeth=c["teeth"], shift=c.get("shift", 0.0), addendum=c.get("addendum"))
-
-
 def from_dict(raw: dict[str, Any], where: str = "design", check: bool = True) -> KHVDesign:
     """Build a :class:`KHVDesign` from a schema-validated dict, with the semantic checks (``check=False``:
     only what is needed to build it, for printing the geometry of a design that does not pass)."""
@@ -249,8 +232,11 @@ def from_dict(raw: dict[str, Any], where: str = "design", check: bool = True) ->
     else:
         x2 = float(p["x2"])
     base = _pair_from(raw, x2)
-    adm = raw["admissible"]
-    cutter = cutter_of(raw, base)
+    adm, c = raw["admissible"], raw.get("cutter", {})
+    if c.get("teeth") is None:  # the nominal cutter
+        cutter = interference.default_cutter(base)
+    else:
+        cutter = geometry.ShaperCutter(c["teeth"], c.get("shift", 0.0), c.get("addendum"))
     problem = meshing_problem(base)
     if problem and check:
         raise ConfigError(f"{where}: design point {problem}")
@@ -283,7 +269,7 @@ def check_segment(design: KHVDesign, where: str = "design", points: int = 11) ->
         leaves = f"{where}: admissible segment x1 = [{design.x1_min}, {design.x1_max}] leaves the"
         covers = f"{leaves} region the model covers at x1 = {x1:.4f}: "
         try:
-            pair = pair_at(design, x1)
+            pair = dataclasses.replace(design.base, x1=float(x1), x2=x2_for(design, x1))
         except (ValueError, RuntimeError) as err:
             raise ConfigError(f"{covers}no x2 on line 4 (G_s = 0): {err}") from None
         problem = meshing_problem(pair)
@@ -315,9 +301,8 @@ def load(path: str | Path) -> KHVDesign:
 
 
 def header(path: str | Path) -> DesignHeader:
-    """The :class:`DesignHeader` of a KHV design file: schema-validated, without the geometry (no profile
-    shift is solved, so the jobs that merge, draw and tabulate start without scipy's root finders).  The
-    workflow checks every design in full (:func:`load`) before any job runs."""
+    """The :class:`DesignHeader` of a KHV design file, schema-validated, without the geometry: no profile shift is
+    solved, so the jobs that merge, draw and tabulate start without scipy's root finders."""
     raw = _read(path)
     _check(raw, str(path))
     return DesignHeader(**DesignHeader.fields_of(raw))

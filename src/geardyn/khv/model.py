@@ -1,8 +1,5 @@
-"""The KHV torsional model of paper 1 (Li et al. 2013, Eqs. 1-6 and 11-16), corrected (docs/model.md).
-
-Everything dimensionless is made by ONE function, :func:`dimensionless`, and held in the frozen
-:class:`Coefficients` (stored with ``as_dict``, rebuilt with ``from_dict``).
-"""
+"""The KHV torsional model of paper 1 (Li et al. 2013, Eqs. 1-6 and 11-16), corrected (docs/model.md): everything
+dimensionless made by one function, :func:`dimensionless`, and held in the frozen :class:`Coefficients`."""
 
 from __future__ import annotations
 
@@ -120,10 +117,7 @@ class Coefficients:
     @classmethod
     def from_dict(cls, d: dict) -> Coefficients:
         names = {f.name for f in fields(cls)}
-        kw = {k: d[k] for k in names if k in d}
-        for k, v in kw.items():
-            if isinstance(v, np.generic):
-                kw[k] = v.item()
+        kw = {k: d[k].item() if isinstance(d[k], np.generic) else d[k] for k in names if k in d}
         kw["backlash_on"] = bool(kw.get("backlash_on", True))
         return cls(**kw)
 
@@ -197,13 +191,7 @@ class Coefficients:
         """(x1, x3, F) of :func:`static_deflection`, a function of :data:`_BALANCE_FIELDS` only."""
         m = self.matrices()
         K, g, p = m["K"], m["g"], m["p"]
-        A = np.array(
-            [
-                [K[0, 0], 0.0, g[0]],
-                [K[1, 0], K[1, 2], g[1]],
-                [0.0, K[2, 2], g[2]],
-            ]
-        )
+        A = np.array([[K[0, 0], 0.0, g[0]], [K[1, 0], K[1, 2], g[1]], [0.0, K[2, 2], g[2]]])
         x1, x3, F = np.linalg.solve(A, p)
         return float(x1), float(x3), float(F)
 
@@ -280,10 +268,8 @@ def dimensionless(params: KHVParameters, options: Options = Options()) -> Coeffi
 
 
 def static_deflection(coeffs: Coefficients) -> np.ndarray:
-    """Static equilibrium state (6,) with the mean stiffness and no TE: the default initial state.
-
-    Solves K x + g F = p with F = f(x2) (kappa = 1) for (x1, x3, F), then x2 = F + b sign(F).
-    """
+    """Static equilibrium state (6,) with the mean stiffness and no TE, the default initial state: K x + g F = p
+    with F = f(x2) (kappa = 1) solved for (x1, x3, F), then x2 = F + b sign(F)."""
     x1, x3, F = coeffs._static_balance
     b = coeffs.b if coeffs.backlash_on else 0.0
     x2 = F + math.copysign(b, F) if F != 0.0 else 0.0

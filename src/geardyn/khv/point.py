@@ -1,7 +1,6 @@
-"""From a KHV design file to the dimensionless model at one operating point: the design plus overrides of
-control parameters (:data:`CONTROLS`: x1, b and e in um, w, speed in rpm) or of any field of
-:class:`~geardyn.khv.model.KHVParameters` in SI units (e.g. ``K_DH``); x2, eps and k_C follow x1.
-"""
+"""From a KHV design file to the dimensionless model at one operating point: the design plus overrides of control
+parameters (:data:`CONTROLS`: x1, b and e in um, w, speed in rpm) or of any :class:`~geardyn.khv.model.KHVParameters`
+field in SI units (e.g. ``K_DH``); x2, eps and k_C follow x1."""
 
 from __future__ import annotations
 

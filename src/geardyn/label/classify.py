@@ -187,30 +187,22 @@ class ClassifierSettings:
 
 
 def strict_period(p: np.ndarray, settings: ClassifierSettings = ClassifierSettings()) -> int:
-    """Rule 3: the smallest n <= max_n with every return distance after n
-    periods within the tolerance and the n cycle points distinct (> separation * tol); 0 if none.
-    ``p``: (n_points, n_states) without NaN rows.  Compiled (:func:`geardyn.solve.run.strict_period`:
-    the one statement of the rule, also used by the batch classifier and the early stop)."""
+    """Rule 3: the smallest n <= max_n with every return distance after n periods within the tolerance and the n
+    cycle points distinct (> separation * tol); 0 if none.  ``p``: (n_points, n_states) without NaN rows.  Stated
+    once, compiled (:mod:`geardyn.solve._period`), read here, by the batch classifier and by the early stop."""
 
     from geardyn.solve.run import strict_period as rule3  # noqa: PLC0415 - numba: only labelling jobs
 
     q = np.ascontiguousarray(p, dtype=float)
     if q.shape[0] == 0:
         raise ValueError("strict_period needs at least one Poincaré point")
-    n, _ = rule3(
-        q,
-        settings.max_n,
-        settings.atol,
-        settings.rtol,
-        settings.error_margin * settings.error_floor,
-        settings.separation,
-    )
-    return n
+    s = settings
+    return int(rule3(q, q.shape[0], s.max_n, s.atol, s.rtol, s.error_margin * s.error_floor, s.separation)[0])
 
 
 def strict_periods(records: list[np.ndarray], settings: ClassifierSettings = ClassifierSettings()) -> list[int]:
-    """Rule 3 (:func:`strict_period`, compiled) on many records (m_i, 6) at once: each record's period, 0 for
-    one with a NaN row or fewer than 3 points (:func:`geardyn.solve.run.strict_periods`)."""
+    """Rule 3 (:func:`strict_period`) on many records (m_i, 6) at once: each record's period, 0 for one with a NaN
+    row or fewer than 3 points."""
 
     from geardyn.solve.run import strict_periods as rule3  # noqa: PLC0415 - numba: only labelling jobs
 
@@ -220,6 +212,6 @@ def strict_periods(records: list[np.ndarray], settings: ClassifierSettings = Cla
         if p.shape[0] and not np.isnan(p).any():
             pts[i, : p.shape[0]] = p
             npts[i] = p.shape[0]
-    s = settings
-    out = rule3(pts, npts, s.max_n, s.atol, s.rtol, s.error_margin * s.error_floor, s.separation)
+    s, out = settings, np.zeros((len(records), 2))
+    rule3(pts, npts, s.max_n, s.atol, s.rtol, s.error_margin * s.error_floor, s.separation, out)
     return [int(v) for v in out[:, 0]]

@@ -1,8 +1,5 @@
-"""The papers as data: each module holds one paper's printed values, claims and caption texts.
-
-A design file names its paper (``paper: li2013``) or none; only designs that name a paper are
-compared with it.  :data:`PAPERS` maps the key to the module.
-"""
+"""The papers as data, a module each (printed values, claims, caption texts); :data:`PAPERS` maps a design file's
+``paper:`` key to its module, and only designs that name a paper are compared with it."""
 
 from geardyn.papers import li2013, yue2014
 

@@ -1,10 +1,6 @@
-"""Paper 1 as data: Li, Niu, Zhang, Tian, Fu (2013), KHV drive with a small teeth-number difference.
-
-Every number the paper prints that the code compares with, every statement it makes about its
-figures, and the values it gives for the dynamic model, each stated once.  Nothing here computes;
-generic code receives these values as arguments, and only designs that name ``paper: li2013`` meet
-them.
-"""
+"""Paper 1 as data: Li, Niu, Zhang, Tian, Fu (2013), KHV drive with a small teeth-number difference: every
+number it prints that the code compares with, every statement about its figures and its dynamic model's values,
+each stated once; nothing here computes, and only designs that name ``paper: li2013`` meet them."""
 
 from __future__ import annotations
 
@@ -79,6 +75,30 @@ _FIG07_RANGES: dict[str, dict] = {
     )
 }
 
+#: The paper's names of the labels its claims give ("QP|chaos": either).
+_NAMES = {1: "P1", 5: "P5", 6: "P6", "QP": "QP", "chaos": "chaos", "QP|chaos": "quasi-periodic or chaotic"}
+#: Figs. 9-12: the label the paper gives on each line of a family (x1 = 0.5, 0.761, 0.83) at one value of its
+#: parameter, b = 0.5 (Figs. 9/10, e = 5) and e = 4.55 (Figs. 11/12, b = 2), as claims of rule "label_at".
+_FAMILY_LABELS: dict[str, tuple[dict, ...]] = {
+    line: tuple(
+        {
+            "id": f"{line}_{par}{at}_x1_{x1}",
+            "figure": f"Fig. {fig}",
+            "statement": f"{par} = {at}, x1 = {x1}: {_NAMES[label]}",
+            "rule": "label_at",
+            "line": line,
+            "case": x1,
+            "at": at,
+            "label": label,
+        }
+        for fig, x1, label in rows
+    )
+    for line, par, at, rows in (
+        ("fig09", "b", 0.5, (("9a/10a", 0.5, 1), ("9b/10b", 0.761, "QP"), ("9c/10c", 0.83, "chaos"))),
+        ("fig11", "e", 4.55, (("11a/12a", 0.5, 1), ("12b", 0.761, "QP|chaos"), ("12c", 0.83, "QP|chaos"))),
+    )
+}
+
 #: Every checkable statement of the paper, in the order of the claims table, as data for
 #: geardyn.claims.evaluate (the rules and their keys: geardyn.claims.SWEEP_RULES).  Each names its
 #: rule and what it reads: ``input`` (a product: closed_graph, stiffness, amplitude, or a role of
@@ -146,39 +166,23 @@ CLAIMS: tuple[dict, ...] = (
         {
             "id": f"fig{fig}",
             "figure": f"Fig. {fig}",
-            "statement": f"x1 = {x1}: {name}",
+            "statement": f"x1 = {x1}: {_NAMES[label]}",
             "rule": "label_at",
             "line": "fig07",
             "at": x1,
             "label": label,
         }
-        for fig, x1, label, name in (
-            ("8a", 0.5, 1, "P1"),
-            ("8b", 0.565, "QP", "QP"),
-            ("8c", 0.585, 5, "P5"),
-            ("8d", 0.63, "chaos", "chaos"),
-            ("8e", 0.761, 6, "P6"),
-            ("8f", 0.8, "chaos", "chaos"),
+        for fig, x1, label in (
+            ("8a", 0.5, 1),
+            ("8b", 0.565, "QP"),
+            ("8c", 0.585, 5),
+            ("8d", 0.63, "chaos"),
+            ("8e", 0.761, 6),
+            ("8f", 0.8, "chaos"),
         )
     ),
     # Figs. 9/10 at b = 0.5 (e = 5): the label at each of the three x1, then the route along b
-    *(
-        {
-            "id": f"fig09_b0.5_x1_{x1}",
-            "figure": f"Fig. {fig}",
-            "statement": f"b = 0.5, x1 = {x1}: {name}",
-            "rule": "label_at",
-            "line": "fig09",
-            "case": x1,
-            "at": 0.5,
-            "label": label,
-        }
-        for fig, x1, label, name in (
-            ("9a/10a", 0.5, 1, "P1"),
-            ("9b/10b", 0.761, "QP", "QP"),
-            ("9c/10c", 0.83, "chaos", "chaos"),
-        )
-    ),
+    *_FAMILY_LABELS["fig09"],
     {
         "id": "fig09_route",
         "figure": "Fig. 9",
@@ -191,23 +195,7 @@ CLAIMS: tuple[dict, ...] = (
     },
     # Figs. 11/12 at e = 4.55 (b = 2): the label at each of the three x1 ("QP|chaos": either), the route
     # along e and the synchronous range
-    *(
-        {
-            "id": f"fig11_e4.55_x1_{x1}",
-            "figure": f"Fig. {fig}",
-            "statement": f"e = 4.55, x1 = {x1}: {name}",
-            "rule": "label_at",
-            "line": "fig11",
-            "case": x1,
-            "at": 4.55,
-            "label": label,
-        }
-        for fig, x1, label, name in (
-            ("11a/12a", 0.5, 1, "P1"),
-            ("12b", 0.761, "QP|chaos", "quasi-periodic or chaotic"),
-            ("12c", 0.83, "QP|chaos", "quasi-periodic or chaotic"),
-        )
-    ),
+    *_FAMILY_LABELS["fig11"],
     {
         "id": "fig11_route",
         "figure": "Fig. 11",
@@ -249,53 +237,36 @@ CALIBRATION: dict = {
     ),
 }
 
-#: What the paper states about each dynamic figure (Sec. 4), quoted as closely as the text allows.
-FIGURE_CLAIMS: dict[str, str] = {
-    "fig07": "P1 for x1 in [0.416, 0.565] with amplitude falling; quasi-periodic on [0.565, 0.568]; period-5 on "
-    "[0.568, 0.593]; chaos above 0.593; period-6 near 0.761; chaos again above 0.768.",
-    "fig08": "(a) x1 = 0.5 P1; (b) 0.565 quasi-periodic; (c) 0.585 P5 with peaks 0.48, 0.57, 0.81, 1, 1.2 x f_mesh; "
-    "(d) 0.63 chaos; (e) 0.761 P6; (f) 0.8 chaos.",
-    "fig09": "At b = 0.5: P1 for x1 = 0.5, quasi-periodic for 0.761, chaotic for 0.83; the response goes from P1 "
-    "to chaos as b grows.",
-    "fig10": "b = 0.5: (a) x1 = 0.5 P1; (b) 0.761 quasi-periodic; (c) 0.83 chaotic.",
-    "fig11": "P1 at e = 4.55 for x1 = 0.5; synchronous, then quasi-periodic, then chaotic as e grows; the "
-    "synchronous range narrows as x1 grows.",
-    "fig12": "e = 4.55: P1 for x1 = 0.5, quasi-periodic and chaotic as x1 grows (0.761, 0.83).",
-}
-
 #: The assumptions where the paper is silent, as the captions of the dynamic figures state them.
 FIGURE_ASSUMPTIONS = (
     "Assumptions where the paper is silent (see the design file and docs/model.md): shaft stiffnesses, planet "
     "mass, carrier radius a cos(alpha), dimensionless mesh frequency, TE phase; corrected Eq. (4) damping and "
     "Eq. (9) stiffness."
 )
-#: The paper's geometry and stiffness figures, by the name of ours: (its figure, an aside after the paper's
-#: name, what the paper shows or says that we read otherwise), for the captions.
-GEOMETRY_FIGURES: dict[str, tuple[str, str, str]] = {
-    "closed_graph": (
-        "Fig. 3",
-        "",
-        "The paper calls line 4 'equal meshing angle', but its limit points lie on G_s = 0 where a' varies.",
-    ),
-    "single_tooth": (
-        "Fig. 4",
-        "",
-        "The paper's sentence that the meshing point is '1.67 times' the engaging-in point does not match its "
-        "own k_C = 1.5 k'; we follow k_C = 1.5 k'.",
-    ),
-    "mesh_stiffness": (
-        "Fig. 5",
-        " (the paper's three x1 values)",
-        "Differences from the paper: Eq. (9) prints its two intervals swapped; here the double-pair zone is on "
-        "[0, eps - 1] (sum of the single-pair parabolas), so k(t) jumps by k' where a pair enters or leaves. "
-        "The exact mean is (8/9) eps k_C, not the printed 0.866268 eps k_C (that constant equals cos a' at N). "
-        "Stiffness still falls with x1 because eps falls.",
-    ),
-    "backlash": (
-        "Fig. 6",
-        " (Eq. (11))",
-        "Identical to the paper's figure; Eq. (14)'s last case is misprinted ('-b' should read 'X < -b').",
-    ),
+#: The paper's text in our captions, by caption (geardyn.plots.paper_says): what it states about each dynamic
+#: figure (Sec. 4), quoted as closely as the text allows, and its geometry and stiffness figures around ours
+#: (``{text}``) with what it shows or says that we read otherwise.
+CAPTIONS: dict[str, str] = {
+    "fig07": "Paper ({SHORT}): P1 for x1 in [0.416, 0.565] with amplitude falling; quasi-periodic on [0.565, 0.568]; "
+    "period-5 on [0.568, 0.593]; chaos above 0.593; period-6 near 0.761; chaos again above 0.768.",
+    "fig08": "Paper ({SHORT}): (a) x1 = 0.5 P1; (b) 0.565 quasi-periodic; (c) 0.585 P5 with peaks 0.48, 0.57, 0.81, "
+    "1, 1.2 x f_mesh; (d) 0.63 chaos; (e) 0.761 P6; (f) 0.8 chaos.",
+    "fig09": "Paper ({SHORT}): At b = 0.5: P1 for x1 = 0.5, quasi-periodic for 0.761, chaotic for 0.83; the response "
+    "goes from P1 to chaos as b grows.",
+    "fig10": "Paper ({SHORT}): b = 0.5: (a) x1 = 0.5 P1; (b) 0.761 quasi-periodic; (c) 0.83 chaotic.",
+    "fig11": "Paper ({SHORT}): P1 at e = 4.55 for x1 = 0.5; synchronous, then quasi-periodic, then chaotic as e "
+    "grows; the synchronous range narrows as x1 grows.",
+    "fig12": "Paper ({SHORT}): e = 4.55: P1 for x1 = 0.5, quasi-periodic and chaotic as x1 grows (0.761, 0.83).",
+    "closed_graph": "Fig. 3 of {SHORT}. {text} The paper calls line 4 'equal meshing angle', but its limit points "
+    "lie on G_s = 0 where a' varies.",
+    "single_tooth": "Fig. 4 of {SHORT}. {text} The paper's sentence that the meshing point is '1.67 times' the "
+    "engaging-in point does not match its own k_C = 1.5 k'; we follow k_C = 1.5 k'.",
+    "mesh_stiffness": "Fig. 5 of {SHORT} (the paper's three x1 values). {text} Differences from the paper: Eq. (9) "
+    "prints its two intervals swapped; here the double-pair zone is on [0, eps - 1] (sum of the single-pair "
+    "parabolas), so k(t) jumps by k' where a pair enters or leaves. The exact mean is (8/9) eps k_C, not the "
+    "printed 0.866268 eps k_C (that constant equals cos a' at N). Stiffness still falls with x1 because eps falls.",
+    "backlash": "Fig. 6 of {SHORT} (Eq. (11)). {text} Identical to the paper's figure; Eq. (14)'s last case is "
+    "misprinted ('-b' should read 'X < -b').",
 }
 
 #: Table 1 and Table 2 values of the dynamic model (SI), with Table 2's "I_K" read as the carrier

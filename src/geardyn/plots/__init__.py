@@ -4,7 +4,6 @@ writes one, with its caption beside it."""
 from __future__ import annotations
 
 import os
-import sys
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -12,13 +11,12 @@ from typing import Any
 from geardyn.io import atomic, write_text
 
 
-def paper_caption(text: str, paper: ModuleType | None, figure: str) -> str:
-    """A geometry or stiffness caption, for a design that names a paper with the paper's figure and what it
-    shows otherwise (its ``GEOMETRY_FIGURES[figure]``); ``text`` as it is for one that names none."""
-    if paper is None:
-        return text
-    number, aside, note = paper.GEOMETRY_FIGURES[figure]
-    return f"{number} of {paper.SHORT}{aside}. " + text + " " + note
+def paper_says(paper: ModuleType | None, key: str, **fields: Any) -> str:
+    """The paper's text for caption or table header ``key`` (its ``CAPTIONS``, formatted with the paper's own
+    values and ``fields``, ``text`` ours where it surrounds it); "" for a design that names no paper."""
+    if paper is None or key not in getattr(paper, "CAPTIONS", {}):
+        return ""
+    return paper.CAPTIONS[key].format_map({**vars(paper), **fields})
 
 
 def single_axes(
@@ -36,15 +34,10 @@ def single_axes(
 
 def save_figure(fig: Any, path: str | os.PathLike[str], caption: str | None = None, dpi: int = 150) -> Path:
     """Save a matplotlib figure atomically, and its caption beside it as ``<name>.txt``.  The plots build
-    :class:`matplotlib.figure.Figure` objects without pyplot (0.2-0.3 s of a figure job's start-up); a figure
-    made with pyplot is closed after saving."""
-
+    :class:`matplotlib.figure.Figure` objects without pyplot (0.2-0.3 s of a figure job's start-up)."""
     path = Path(path)
     with atomic(path) as tmp:  # the temporary name ends in .tmp: the format is the target's suffix
         fig.savefig(tmp, format=path.suffix.lstrip(".").lower(), dpi=dpi, bbox_inches="tight")
-    pyplot = sys.modules.get("matplotlib.pyplot")
-    if pyplot is not None:
-        pyplot.close(fig)
     if caption is not None:
         write_text(caption.strip() + "\n", path.with_name(path.name + ".txt"))
     return path

@@ -1,18 +1,18 @@
 """Caption and table-header texts of every figure and table: what is shown, how it was computed and what we
-measured.  For a design that names a paper (``paper`` given), the paper's text about the same figure is set
-beside ours (KHV: its ``FIGURE_CLAIMS``; plus set: its ``CAPTIONS``, through :func:`paper_says`); a user's own
-design gets no paper text."""
+measured; for a design that names a paper the paper's text about the same figure beside ours (its ``CAPTIONS``,
+through :func:`geardyn.plots.paper_says`), for a user's own design none."""
 
 from __future__ import annotations
 
 from types import ModuleType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
 import xarray as xr
 
 from geardyn.label import STAGE_NAMES, classify
+from geardyn.plots import paper_says
 from geardyn.plots.plus import ENERGY_BARS, orders
 from geardyn.plus.modal import MESH_TYPES
 from geardyn.runs.cube import STATES, fractions, labels_of_cube
@@ -35,8 +35,8 @@ def _tail(name: str, paper: ModuleType | None) -> list[str]:
     then the method."""
     if paper is None:
         return [_METHOD]
-    claim = paper.FIGURE_CLAIMS.get(name[:5], "no statement in the paper")
-    return [f"Paper ({paper.SHORT}): {claim}", paper.FIGURE_ASSUMPTIONS, _METHOD]
+    claim = paper_says(paper, name[:5]) or f"Paper ({paper.SHORT}): no statement in the paper"
+    return [claim, paper.FIGURE_ASSUMPTIONS, _METHOD]
 
 
 def bifurcation(name: str, cube: xr.Dataset, paper: ModuleType | None = None) -> str:
@@ -82,7 +82,6 @@ def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
 
 def regime_map(name: str, ds: xr.Dataset) -> str:
     """Caption of a two-parameter regime map: grid, settings, classifier path and the label shares."""
-
     shares = ", ".join(f"{k} {100 * v:.1f} %" for k, v in sorted(fractions(ds).items(), key=lambda kv: -kv[1]))
     return (
         f"{name}: motion label over ({ds.attrs['x_parameter']}, {ds.attrs['y_parameter']}), "
@@ -123,14 +122,6 @@ def frequency_response(name: str, ds: xr.Dataset) -> str:
 
 
 # --- plus planetary set ---------------------------------------------------------------------------------
-
-
-def paper_says(paper: ModuleType | None, key: str, **fields: Any) -> str:
-    """The paper's text for caption or table header ``key`` (its ``CAPTIONS``, formatted with the paper's
-    own values and ``fields``); "" for a design that names no paper."""
-    if paper is None or key not in getattr(paper, "CAPTIONS", {}):
-        return ""
-    return paper.CAPTIONS[key].format_map({**vars(paper), **fields})
 
 
 PLUS_MODEL = (

@@ -1,4 +1,4 @@
-"""Paper 1, Fig. 3: the closed graph drawn from :func:`geardyn.closed_graph.closed_graph`."""
+"""Paper 1, Fig. 3: the closed graph drawn from :func:`geardyn.khv.closed_graph.closed_graph`, and its caption."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from geardyn.khv.closed_graph import CUTTER_DEPENDENT, LINES, line4_crossings
-from geardyn.plots import paper_caption, single_axes
+from geardyn.plots import paper_says, single_axes
 
 _LINE_COLOURS = {0: "0.5", 1: "tab:blue", 2: "tab:orange", 3: "tab:green", 4: "black"}
 
@@ -49,19 +49,13 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
         Line2D([], [], color="black", lw=2.0, label="line 4: G_s = 0"),
         Line2D([], [], color="red", lw=3.0, label="admissible part of line 4 (computed)"),
     ]
-    for line in (1, 2, 3):
-        handles.append(Line2D([], [], color=_LINE_COLOURS[line], label=f"line {line}"))
+    handles += [Line2D([], [], color=_LINE_COLOURS[line], label=f"line {line}") for line in (1, 2, 3)]
     if "point" in ds.dims:
         ax.plot(ds["paper_x1"].values, ds["paper_x2"].values, "o", mfc="none", mec="crimson", ms=9)
         ax.plot(ds["paper_x1"].values, ds["computed_x2"].values, "x", color="k", ms=7)
         for p in ds["point"].values:
-            ax.annotate(
-                str(p),
-                (float(ds["paper_x1"].sel(point=p)), float(ds["paper_x2"].sel(point=p))),
-                xytext=(6, -12),
-                textcoords="offset points",
-                color="crimson",
-            )
+            at = (float(ds["paper_x1"].sel(point=p)), float(ds["paper_x2"].sel(point=p)))
+            ax.annotate(str(p), at, xytext=(6, -12), textcoords="offset points", color="crimson")
         printed = "printed " + ", ".join(str(p) for p in ds["point"].values)
         handles += [
             Line2D([], [], ls="", marker="o", mfc="none", mec="crimson", label=printed),
@@ -76,10 +70,8 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
 def caption_closed_graph(
     ds: xr.Dataset, paper: ModuleType | None = None, segment: tuple[float, float] | None = None
 ) -> str:
-    """Caption: what the figure shows and, for a design that names a paper, how it compares, with numbers.
-
-    ``segment``: the design's configured admissible segment (x1_min, x1_max).
-    """
+    """Caption: what the figure shows and, for a design that names a paper, how it compares, with numbers;
+    ``segment``: the design's configured admissible segment (x1_min, x1_max)."""
     a = ds.attrs
     lo, hi = a["line4_feasible_x1_min"], a["line4_feasible_x1_max"]
     found = (
@@ -119,7 +111,7 @@ def caption_closed_graph(
     worst = float(np.max(np.abs(ds["residual_x2"].values)))
     verdict = "within" if worst <= paper.POINT_TOLERANCE else "NOT within"
     return (
-        paper_caption(text, paper, "closed_graph")
+        paper_says(paper, "closed_graph", text=text)
         + " "
         + "; ".join(pts)
         + ". "

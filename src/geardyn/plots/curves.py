@@ -8,9 +8,6 @@ from collections import Counter
 from collections.abc import Iterator
 from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
 import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
@@ -77,23 +74,20 @@ def codim2_of(ds: xr.Dataset) -> list[dict[str, Any]]:
         return []
     xn, yn = names_of(ds)
     types, kinds = _meanings(ds, "codim2_type"), _meanings(ds, "curve_kind")
-    out = []
-    for i in range(ds.sizes["codim2"]):
-        k = int(ds["codim2_curve"][i])
-        mu = ds["codim2_multiplier_real"].values[i] + 1j * ds["codim2_multiplier_imag"].values[i]
-        out.append(
-            {
-                "type": types[int(ds["codim2_type"][i])],
-                "curve": k,
-                "kind": kinds[int(ds["curve_kind"][k])],
-                "n": int(ds["curve_period"][k]),
-                "x": float(ds[f"codim2_{xn}"][i]),
-                "y": float(ds[f"codim2_{yn}"][i]),
-                "located": bool(ds["codim2_located"][i]),
-                "multipliers": mu,
-            }
-        )
-    return out
+    mu = ds["codim2_multiplier_real"].values + 1j * ds["codim2_multiplier_imag"].values
+    return [
+        {
+            "type": types[int(ds["codim2_type"][i])],
+            "curve": k,
+            "kind": kinds[int(ds["curve_kind"][k])],
+            "n": int(ds["curve_period"][k]),
+            "x": float(ds[f"codim2_{xn}"][i]),
+            "y": float(ds[f"codim2_{yn}"][i]),
+            "located": bool(ds["codim2_located"][i]),
+            "multipliers": mu[i],
+        }
+        for i, k in enumerate(int(c) for c in ds["codim2_curve"].values)
+    ]
 
 
 def _unique_codim2(points: list[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -233,7 +227,7 @@ def check_table(name: str, ds: xr.Dataset) -> str:
     if "check_reason" not in ds or not ds.sizes.get("check", 0):
         return f"\n## Pixel check: {name}\n\nno samples\n"
     a = ds.attrs
-    xn, yn = (str(v) for v in a.get("curve_parameters", "x y").split())
+    xn, yn = names_of(ds)
     kinds = _meanings(ds, "check_kind")
     rows = [
         f"\n## Pixel check: {name}\n",

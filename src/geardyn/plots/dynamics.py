@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-import matplotlib
-
-matplotlib.use("Agg")
 import numpy as np
 import xarray as xr
 from matplotlib.colors import BoundaryNorm, ListedColormap, TwoSlopeNorm, to_rgb
@@ -22,7 +19,6 @@ _LABELS = {"x_vh": "X_VH / b_c", "v_vh": "dX_VH/dtau / b_c", "x_dh": "X_DH / b_c
 
 def label_colour(code: int) -> str:
     """Colour of a motion label: periods in blues/greens/purples, QP orange, chaos red, others grey/black."""
-
     fixed = {
         LABELS["chaotic"]: "#d62728",
         LABELS["quasi_periodic"]: "#ff7f0e",
@@ -39,7 +35,6 @@ def label_colour(code: int) -> str:
 def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figure:
     """Poincaré points of ``state`` against the control parameter, coloured by the motion label, with
     the largest Lyapunov exponent (and its uncertainty) in a panel below; one pair per case and direction."""
-
     par = cube.attrs["control_parameter"]
     cases = list(cube["case"].values)
     directions = list(cube["direction"].values)
@@ -57,15 +52,13 @@ def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figur
             sel = cube[state].sel(case=case, direction=direction)
             xv = sel[par].values
             lab = labels[i, j]
-            present = []
             for code in np.unique(lab):
                 m = lab == code
                 x = np.broadcast_to(xv[m][:, None], sel.values[m].shape)
                 ax.plot(x.ravel(), sel.values[m].ravel(), ",", color=label_colour(code), alpha=0.7, rasterized=True)
-                present.append(code)
             handles = [
                 Line2D([], [], ls="", marker="s", color=label_colour(c), label=classify.short_name(c))
-                for c in sorted(present)
+                for c in np.unique(lab)
             ]
             ax.legend(handles=handles, loc="upper right", fontsize=6, ncol=min(6, len(handles)), framealpha=0.7)
             div = cube["diverged"].sel(case=case, direction=direction).values == 1
@@ -132,13 +125,9 @@ def label_image(ds: xr.Dataset) -> tuple[np.ndarray, tuple[float, float, float, 
 
 
 def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=(), curves: xr.Dataset | None = None) -> Figure:
-    """Regime map: label image (left) and largest exponent (right: Floquet for periodic points, the tangent
-    vector otherwise), with the paper's 1-D cuts as dashed lines; where the map was also labelled from the
-    fixed start (``coexisting``), the points whose two starts end on different attractors are hatched.  A map
-    with response measures gains the K_v and impact-class layers below
-    (:func:`geardyn.plots.response.draw_map_layers`).  ``curves``: a curves file
-    (:mod:`geardyn.plots.curves`) drawn over the label and impact-class panels, coloured by kind."""
-
+    """Regime map: labels (hatched where the fixed start ends elsewhere, ``coexisting``) and largest exponent, the
+    1-D cuts dashed; with response measures the K_v and impact-class layers below (:func:`draw_map_layers`);
+    ``curves``: a curves file drawn over the label and impact-class panels."""
     lab = ds["label"].values
     codes = sorted(int(c) for c in np.unique(lab))
     cmap = ListedColormap([label_colour(c) for c in codes])

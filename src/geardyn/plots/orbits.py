@@ -4,9 +4,6 @@ bifurcation points marked."""
 
 from __future__ import annotations
 
-import matplotlib
-
-matplotlib.use("Agg")
 import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
@@ -22,13 +19,6 @@ MARKERS = {
     "grazing": ("^", "#ff7f0e"),
 }
 _BRANCH_COLOURS = ["#1f77b4", "#17becf", "#393b79", "#637939", "#e377c2", "#7f7f7f"]
-
-
-def _dilate(mask: np.ndarray) -> np.ndarray:
-    out = mask.copy()
-    out[1:] |= mask[:-1]
-    out[:-1] |= mask[1:]
-    return out
 
 
 def plot_branches(cube: xr.Dataset | None, branches: xr.Dataset, title: str) -> Figure:
@@ -50,6 +40,7 @@ def plot_branches(cube: xr.Dataset | None, branches: xr.Dataset, title: str) -> 
             m = branches["branch"].values == b
             p = branches["parameter"].values[m]
             stable = branches["stable"].values[m].astype(bool)
+            near = np.convolve(~stable, np.ones(3))[1:-1] > 0  # the unstable points and their neighbours
             cyc = branches["cycle_x_vh"].values[m]
             n = int(branches["orbit_period"].values[m][0])
             colour = _BRANCH_COLOURS[j % len(_BRANCH_COLOURS)]
@@ -58,7 +49,7 @@ def plot_branches(cube: xr.Dataset | None, branches: xr.Dataset, title: str) -> 
                 label = f"{name} stable" if c == 0 else None
                 ax.plot(p, np.where(stable, yc, np.nan), "-", color=colour, lw=1.4, label=label)
                 label = f"{name} unstable" if c == 0 and (~stable).any() else None
-                ax.plot(p, np.where(_dilate(~stable), yc, np.nan), "--", color=colour, lw=1.0, label=label)
+                ax.plot(p, np.where(near, yc, np.nan), "--", color=colour, lw=1.0, label=label)
         bsel = np.isin(branches["bifurcation_branch"].values, ids)
         for code, kind in types.items():
             mk = bsel & (branches["bifurcation_type"].values == code)

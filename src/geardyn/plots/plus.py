@@ -1,8 +1,5 @@
-"""Figures of paper 2 (plus planetary set): modal energy bars (Figs. 6-7 style), TE and relief.
-
-Every function returns a :class:`matplotlib.figure.Figure` built with the object API (no pyplot
-state, safe under the Agg backend); saving is the caller's job.
-"""
+"""Figures of paper 2 (plus planetary set): modal energy bars and mode shapes (Figs. 6-7 style), TE, relief and
+the forced response, each a :class:`matplotlib.figure.Figure` (object API, no pyplot); saving is the caller's."""
 
 from __future__ import annotations
 
@@ -193,10 +190,8 @@ MESH_COLOURS = {"sp": "tab:blue", "pd": "tab:red", "dr": "tab:green"}
 
 
 def forced_response_figure(ds: xr.Dataset, planet: int = 1, max_harmonic_marks: int = 3) -> Figure:
-    """Forced response against input speed: RMS of the fluctuating mesh force (top) and the dynamic
-    factor (bottom) of the three meshes of one planet, without relief (solid) and with the best relief
-    (dashed).  Vertical lines: the natural frequencies divided by harmonic h = 1, 2, 3 of the mesh
-    frequency (solid, dashed, dotted)."""
+    """RMS fluctuating mesh force (top) and dynamic factor (bottom) of one planet's three meshes against input speed,
+    unrelieved (solid) and best relief (dashed); grey: natural frequencies / harmonic h = 1, 2, 3."""
     fig = Figure(figsize=(9, 6.5), constrained_layout=True)
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
     speed = ds.speed.values
@@ -218,16 +213,8 @@ def forced_response_figure(ds: xr.Dataset, planet: int = 1, max_harmonic_marks: 
     for f in np.unique(np.round(ds.natural_frequency.values, 3)):
         n = f / float(ds.mesh_frequency[0] / ds.speed[0])
         if n <= top:
-            ax1.text(
-                n,
-                1.0,
-                f"{f:.0f} Hz",
-                rotation=90,
-                fontsize=6,
-                va="top",
-                ha="right",
-                transform=ax1.get_xaxis_transform(),
-            )
+            text = {"rotation": 90, "fontsize": 6, "va": "top", "ha": "right", "transform": ax1.get_xaxis_transform()}
+            ax1.text(n, 1.0, f"{f:.0f} Hz", **text)
     ax1.set_yscale("log")
     ax1.set_ylabel("RMS fluctuating mesh force (N)")
     ax1.legend(fontsize=7, loc="lower right")

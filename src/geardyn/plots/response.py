@@ -4,9 +4,6 @@ impact-class layers of a regime map."""
 
 from __future__ import annotations
 
-import matplotlib
-
-matplotlib.use("Agg")
 import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
@@ -23,25 +20,6 @@ DIRECTION_STYLE = {"up": ("tab:blue", "-", "^"), "down": ("tab:red", "--", "v")}
 HYSTERESIS_STYLE = {"facecolor": "none", "edgecolor": "0.3", "hatch": "////", "lw": 0.0}
 
 
-def _shade_classes(ax: Axes, w: np.ndarray, classes: np.ndarray, band: tuple[float, float]) -> None:
-    """Impact classes of one direction as coloured spans over ``band`` (axes fraction, bottom and top)."""
-    edges = np.concatenate([[w[0]], 0.5 * (w[1:] + w[:-1]), [w[-1]]])
-    for name, code in IMPACT_CLASSES.items():
-        if name == "no_impact":
-            continue
-        for j in np.flatnonzero(classes == code):
-            ax.axvspan(edges[j], edges[j + 1], *band, color=IMPACT_COLOURS[name], lw=0)
-
-
-def _hatch_runs(ax: Axes, w: np.ndarray, flags: np.ndarray) -> None:
-    """Hatch the frequencies where ``flags`` is set, each run of neighbours as one span (to the mid-points)."""
-    edges = np.concatenate([[w[0]], 0.5 * (w[1:] + w[:-1]), [w[-1]]])
-    on = np.concatenate([[False], np.asarray(flags, dtype=bool), [False]])
-    starts, stops = np.flatnonzero(on[1:] & ~on[:-1]), np.flatnonzero(~on[1:] & on[:-1])
-    for a, b in zip(starts, stops, strict=True):
-        ax.axvspan(edges[a], edges[b], **HYSTERESIS_STYLE)
-
-
 def frequency_response_figure(ds: xr.Dataset, title: str) -> Figure:
     """RMS DTE (top) and dynamic factor K_v (bottom) against w, up (solid) and down (dashed): jumps marked,
     hysteresis hatched, impact classes shaded (lower half up, upper half down), natural frequencies and their
@@ -49,11 +27,19 @@ def frequency_response_figure(ds: xr.Dataset, title: str) -> Figure:
     fig = Figure(figsize=(9.0, 6.5), constrained_layout=True)
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
     w = ds.w.values
+    edges = np.concatenate([[w[0]], 0.5 * (w[1:] + w[:-1]), [w[-1]]])  # each frequency's span, to the mid-points
     hysteresis = ds["hysteresis"].values.astype(bool) if "hysteresis" in ds else np.zeros(w.size, bool)
+    on = np.concatenate([[False], hysteresis, [False]])  # its runs of neighbours, each hatched as one span
+    runs = list(zip(np.flatnonzero(on[1:] & ~on[:-1]), np.flatnonzero(~on[1:] & on[:-1]), strict=True))
+    shaded = [(name, code) for name, code in IMPACT_CLASSES.items() if name != "no_impact"]
     for ax, var in ((ax1, "dte_rms"), (ax2, "dynamic_factor")):
         for d, direction in enumerate(ds.direction.values):
-            _shade_classes(ax, w, ds.impact_class.values[d], (0.0, 0.5) if direction == "up" else (0.5, 1.0))
-        _hatch_runs(ax, w, hysteresis)
+            band = (0.0, 0.5) if direction == "up" else (0.5, 1.0)
+            for name, code in shaded:
+                for j in np.flatnonzero(ds.impact_class.values[d] == code):
+                    ax.axvspan(edges[j], edges[j + 1], *band, color=IMPACT_COLOURS[name], lw=0)
+        for a, b in runs:
+            ax.axvspan(edges[a], edges[b], **HYSTERESIS_STYLE)
         for d, direction in enumerate(ds.direction.values):
             colour, ls, marker = DIRECTION_STYLE[str(direction)]
             y = ds[var].values[d]

@@ -2,16 +2,13 @@
 
 from __future__ import annotations
 
-import matplotlib
-
-matplotlib.use("Agg")
 import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
 from geardyn.gears.backlash import backlash
 from geardyn.gears.stiffness import single_tooth_stiffness
-from geardyn.plots import paper_caption, single_axes
+from geardyn.plots import paper_says, single_axes
 
 _STYLES = ("-.", ":", "--", "-")
 
@@ -38,13 +35,8 @@ def plot_mesh_stiffness(table: xr.Dataset) -> Figure:
     t = np.concatenate([table["phase"].values, table["phase"].values + 1.0])
     for i, x1 in enumerate(table["x1"].values):
         k = np.tile(table["k_t"].sel(x1=x1).values, 2) / 1e6
-        ax.step(
-            t,
-            k,
-            where="post",
-            linestyle=_STYLES[i % len(_STYLES)],
-            label=f"x1 = {x1:.3f}, eps = {float(table['contact_ratio'].sel(x1=x1)):.3f}",
-        )
+        label = f"x1 = {x1:.3f}, eps = {float(table['contact_ratio'].sel(x1=x1)):.3f}"
+        ax.step(t, k, where="post", linestyle=_STYLES[i % len(_STYLES)], label=label)
     ax.legend(fontsize=8)
     fig.tight_layout()
     return fig
@@ -71,7 +63,7 @@ def caption_fig04(props, paper=None) -> str:  # props: geardyn.khv.design.MeshPr
         f"k' = {props.k_prime / 1e6:.1f} N/um, k_C = 1.5 k' = {props.k_c / 1e6:.1f} N/um, ISO 6336-1 method B); "
         "k_A = k_B = k' at the ends of the engagement and k_C = 1.5 k' at the pitch point."
     )
-    return paper_caption(text, paper, "single_tooth")
+    return paper_says(paper, "single_tooth", text=text) or text
 
 
 def caption_fig05(table: xr.Dataset, design, paper=None) -> str:
@@ -90,7 +82,7 @@ def caption_fig05(table: xr.Dataset, design, paper=None) -> str:
         f"{design.stiffness.label}. {rows}. The double-pair zone is on [0, eps - 1] (sum of the single-pair "
         "parabolas), so k(t) jumps by k' where a pair enters or leaves; the exact mean is (8/9) eps k_C."
     )
-    return paper_caption(text, paper, "mesh_stiffness")
+    return paper_says(paper, "mesh_stiffness", text=text) or text
 
 
 def caption_fig06(paper=None) -> str:
@@ -99,4 +91,4 @@ def caption_fig06(paper=None) -> str:
         "The backlash (dead-zone) function f(X): X - b above b, 0 inside |X| <= b, X + b below -b, with b half "
         "the backlash."
     )
-    return paper_caption(text, paper, "backlash")
+    return paper_says(paper, "backlash", text=text) or text

@@ -20,13 +20,8 @@ from geardyn.plus import modal as plus_modal
 
 @dataclass(frozen=True)
 class PlusProducts:
-    """What the claims of a plus-set design read: the tables and datasets its plus rules wrote.
-
-    ``frequencies``: the natural-frequency table (condition, order, freq_hz, multiplicity, mode_type);
-    ``scaling``: the stiffness-scaling table (reference, matching, uniform_factor, uniform_rms_pct);
-    ``key_elements``: the key-element table (condition, order, key_element, key_components);
-    ``modal``: modal.nc; ``te``: te.nc; ``optima``: the relief-optima table; ``forced``: forced_response.nc.
-    """
+    """What the claims of a plus-set design read: the tables (natural frequencies, stiffness scaling, key elements,
+    relief optima) and datasets (modal.nc, te.nc, forced_response.nc) its plus rules wrote."""
 
     frequencies: pd.DataFrame
     scaling: pd.DataFrame
@@ -210,13 +205,8 @@ def _q_design_input(p: PlusProducts, section: str, key: str) -> Measured:
     return Measured(raw[section][key], f"the design's {section}.{key}, an input of the model")
 
 
-def _optimum(p: PlusProducts, shape: str, bounds: str) -> pd.Series:
-    t = p.optima
-    return t[(t["shape"] == shape) & (t["bounds"] == bounds)].iloc[0]
-
-
 def _q_relief_optimum(p: PlusProducts, shape: str, bounds: str, field: str) -> Measured:
-    row = _optimum(p, shape, bounds)
+    row = p.optima[(p.optima["shape"] == shape) & (p.optima["bounds"] == bounds)].iloc[0]
     text = f"{shape} relief, {bounds} bounds ({row.amount_bounds_um} um, {row.length_bounds_mm} mm)"
     span = {"amount_um": row.amount_bounds_um, "length_mm": row.length_bounds_mm}.get(field)
     if span is not None:

@@ -1,10 +1,5 @@
-"""Design of the plus planetary set of paper 2 (Yue et al. 2014, Table 1) as frozen dataclasses.
-
-:func:`load` reads a design file through :mod:`geardyn.config` (the one validator: schema, defaults,
-one-line errors) and :func:`design_from_dict` builds the :class:`PlusDesign` from the validated dict.
-
-Units: lengths in mm in the design (as printed), converted to SI by the numerical modules.
-"""
+"""Design of the plus planetary set of paper 2 (Yue et al. 2014, Table 1) as frozen dataclasses in SI units, built
+(:func:`design_from_dict`) from a design file in printed units that :func:`load` reads through :mod:`geardyn.config`."""
 
 from __future__ import annotations
 
@@ -121,7 +116,6 @@ class PlusDesign:
 
     def with_stiffness_scale(self, factor: float) -> PlusDesign:
         """Copy with every spring (meshes and bearing) multiplied by ``factor``."""
-
         return replace(self, stiffness=self.stiffness.scaled(factor))
 
 
@@ -183,13 +177,8 @@ def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
             points_per_period=te["points_per_period"],
         ),
         relief=ReliefSpec(
-            apply_to=rl["apply_to"],
+            **{k: rl[k] for k in ("apply_to", "seed", "popsize", "maxiter", "tol", "landscape_points")},
             **bounds,
-            seed=rl["seed"],
-            popsize=rl["popsize"],
-            maxiter=rl["maxiter"],
-            tol=rl["tol"],
-            landscape_points=rl["landscape_points"],
             load_study_torques=tuple(float(t) for t in rl["load_study_torques_Nm"]),
         ),
         # every forced-response field converted to the type of its default (the schema's number admits 1 for 1.0)

@@ -1,9 +1,6 @@
-"""Linear forced response of the plus set to the static transmission error, against input speed.
-
-The modal model of :mod:`.modal` with modal damping, excited by the static TE of the p-d meshes as a
-displacement in the mesh spring, solved per harmonic by modal superposition (the model, its limits and the
-tests: docs/paper2.md Sec. 5).  Units: SI (m, N, rad/s); speeds in rpm of the sun (the input member).
-"""
+"""Linear forced response of the plus set against input speed: the modal model with modal damping, excited by
+the static TE of the p-d meshes as a displacement in the mesh spring, by modal superposition per harmonic
+(docs/paper2.md Sec. 5).  SI units (m, N, rad/s); speeds in rpm of the sun (the input member)."""
 
 from __future__ import annotations
 

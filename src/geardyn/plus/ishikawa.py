@@ -1,9 +1,6 @@
-"""Ishikawa-type tooth compliance and static transmission error of the p-d pair (paper 2, Eq. 9).
-
-Tooth = rectangle (root to base circle) + trapezoid (base circle to tip): bending, shear and root rotation,
-plus the pair's Hertzian approach; load sharing between the pairs in mesh (docs/paper2.md Sec. 3).  Units:
-SI (m, N, rad); ``u`` in m along the path of contact from its start, ``s = u / p_b`` in base pitches.
-"""
+"""Ishikawa tooth compliance (rectangle to the base circle + trapezoid to the tip: bending, shear, root rotation;
+Hertzian approach) and the static TE of the p-d pair with load sharing (paper 2 Eq. 9; docs/paper2.md Sec. 3).
+SI units; ``u`` in m along the path of contact from its start, ``s = u / p_b`` in base pitches."""
 
 from __future__ import annotations
 
@@ -119,10 +116,8 @@ def material(design: PlusDesign) -> Material:
 
 
 def tooth_compliance(g: ToothGeom, rho: ArrayLike, mat: Material) -> dict[str, NDArray]:
-    """Ishikawa compliance (m/N) of one tooth loaded at roll distance ``rho`` (m) from its base tangent point.
-
-    Returns the parts ``bending``, ``shear``, ``root`` (rotation of the foundation) and their ``total``.
-    """
+    """Ishikawa compliance (m/N) of one tooth loaded at roll distance ``rho`` (m) from its base tangent point: the
+    parts ``bending``, ``shear``, ``root`` (rotation of the foundation) and their ``total``."""
     rho = np.asarray(rho, dtype=float)
     rx = np.sqrt(g.rb**2 + rho**2)
     psi_x = half_tooth_angle(g, rx)
@@ -153,30 +148,18 @@ def tooth_compliance(g: ToothGeom, rho: ArrayLike, mat: Material) -> dict[str, N
     return {"bending": bending, "shear": shear, "root": root, "total": total, "hx": hx, "gamma": gamma}
 
 
-def contact_compliance(mat: Material) -> float:
-    """Ishikawa's Hertzian approach of a tooth pair, 4 (1 - nu^2) / (pi E b) in m/N."""
-    return 4 * (1 - mat.nu**2) / (np.pi * mat.E * mat.b)
-
-
 def pair_compliance(pair: SpurPair, u: ArrayLike, mat: Material) -> NDArray:
-    """Compliance (m/N) of one tooth pair in contact at ``u`` (m along the path of contact)."""
+    """Compliance (m/N) of one tooth pair in contact at ``u`` (m along the path of contact): both teeth and
+    Ishikawa's Hertzian approach 4 (1 - nu^2) / (pi E b)."""
     rho1, rho2 = pair.roll_distances(u)
-    return (
-        tooth_compliance(pair.driver, rho1, mat)["total"]
-        + tooth_compliance(pair.driven, rho2, mat)["total"]
-        + contact_compliance(mat)
-    )
-
-
-def pitch_point_u(pair: SpurPair) -> float:
-    """Position (m) of the pitch point on the path of contact."""
-    rho1_pitch = pair.driver.rb * libm.tan(pair.working_alpha)
-    return float(rho1_pitch - pair.roll_distances(0.0)[0])
+    hertz = 4 * (1 - mat.nu**2) / (np.pi * mat.E * mat.b)
+    return tooth_compliance(pair.driver, rho1, mat)["total"] + tooth_compliance(pair.driven, rho2, mat)["total"] + hertz
 
 
 def single_pair_stiffness_pitch(pair: SpurPair, mat: Material) -> float:
     """Single-pair stiffness at the pitch point (N/m): the analogue of ISO's c' times b."""
-    return float(1.0 / pair_compliance(pair, pitch_point_u(pair), mat))
+    pitch = float(pair.driver.rb * libm.tan(pair.working_alpha) - pair.roll_distances(0.0)[0])  # u of the pitch point
+    return float(1.0 / pair_compliance(pair, pitch, mat))
 
 
 def iso_single_stiffness(pair: SpurPair, facewidth_mm: float) -> dict[str, float]:

@@ -1,9 +1,6 @@
-"""Lumped-parameter modal model of the plus planetary set (paper 2, Eqs. 1-8, Table 1).
-
-Eleven coordinates (:data:`COORDS`; planet rotations relative to the carrier, rad; sun translation, m).
-The energies are derived geometrically (mesh springs along their lines of action), which fixes the printed
-Eq. (6); the derivation and the fixes (and the switches that restore the printed forms): docs/paper2.md Sec. 1.
-"""
+"""Lumped-parameter modal model of the plus planetary set (paper 2, Eqs. 1-8, Table 1) on eleven coordinates
+(:data:`COORDS`: rotations in rad, planets relative to the carrier; sun translation in m), its energies derived
+geometrically (mesh springs along their lines of action), which fixes Eq. (6): docs/paper2.md Sec. 1."""
 
 from __future__ import annotations
 
@@ -85,12 +82,9 @@ class _Gear:
 
 
 def _line_of_action(g1: _Gear, g2: _Gear, internal: bool, drive: int) -> tuple[NDArray, NDArray]:
-    """Unit normal ``n`` of the loaded flank and a point on the line of action.
-
-    ``drive`` is the sense (+1 ccw) in which gear 1 turns while transmitting the load; the contact
-    force on gear 1 is along +n.  External: m.e = -cos a_w; internal: m.e = +cos a_w, where the line is
-    {p : m.p = const} and e the unit vector from c1 to c2.
-    """
+    """Unit normal ``n`` of the loaded flank (the contact force on gear 1 along +n when it turns in the sense
+    ``drive``, +1 ccw) and a point on the line of action {p : m.p = const}: m.e = -cos a_w external, +cos a_w
+    internal, e the unit vector from c1 to c2."""
     e = g2.centre - g1.centre
     a = float(math.hypot(*e))
     e = e / a
@@ -165,11 +159,8 @@ def elements(design: PlusDesign) -> list[Element]:
 
 
 def mass_components(design: PlusDesign) -> dict[str, NDArray]:
-    """Kinetic-energy matrices of the Table 4 components (Eq. 2): M = sum of the values.
-
-    Keys: ``revolution{j}`` (planet centres moving with the carrier), ``p{j}``, ``d{j}`` (absolute
-    planet rotation th_c + th_pj, Eqs. 3-4), ``sun`` (rotation and translation), ``ring``, ``carrier``.
-    """
+    """Kinetic-energy matrices of the Table 4 components (Eq. 2; M = their sum): ``revolution{j}`` (planet centres
+    moving with the carrier), ``p{j}``, ``d{j}`` (rotation th_c + th_pj, Eqs. 3-4), ``sun``, ``ring``, ``carrier``."""
     geo = geometry(design)
     e_s, e_r, e_c = _unit("theta_s"), _unit("theta_r"), _unit("theta_c")
     ex, ey = _unit("x_s"), _unit("y_s")
@@ -195,32 +186,23 @@ class Matrices:
     C: NDArray
 
 
-def _keep(condition: Condition) -> NDArray:
-    if condition not in CONDITIONS:
-        raise ValueError(f"unknown working condition {condition!r}; allowed: {sorted(CONDITIONS)}")
-    fixed = CONDITIONS[condition]
-    return np.array([i for i, c in enumerate(COORDS) if c != fixed])
-
-
 def matrices(design: PlusDesign, condition: Condition = "free") -> Matrices:
     """Assemble M, K, C (Eq. 8) and remove the static member's rotation for conditions I-III."""
+    if condition not in CONDITIONS:
+        raise ValueError(f"unknown working condition {condition!r}; allowed: {sorted(CONDITIONS)}")
+    keep = np.array([i for i, c in enumerate(COORDS) if c != CONDITIONS[condition]])
     els = elements(design)
     K = sum(el.k * np.outer(el.v, el.v) for el in els)
     C = sum(el.c * np.outer(el.v, el.v) for el in els)
     M = sum(mass_components(design).values())
-    keep = _keep(condition)
     ix = np.ix_(keep, keep)
     return Matrices(tuple(COORDS[i] for i in keep), M[ix], K[ix], C[ix])
 
 
 @dataclass(frozen=True)
 class Modes:
-    """Modal solution of one working condition.
-
-    ``omega2`` (rad^2/s^2) and ``shapes`` (M-normalised columns) in ascending order over all
-    coordinates of ``coords``; the first ``n_rigid`` are rigid-body modes.  ``damped_hz`` and ``zeta``
-    are from the state-space eigenvalues, matched to the undamped modes in order.
-    """
+    """Modal solution of one working condition: ``omega2`` (rad^2/s^2) and ``shapes`` (M-normalised columns over
+    ``coords``) ascending, the first ``n_rigid`` rigid; ``damped_hz`` and ``zeta`` from the state-space eigenvalues."""
 
     condition: str
     coords: tuple[str, ...]

@@ -1,8 +1,5 @@
-"""Tip-relief optimisation of the p-d pair (paper 2, Sec. 4) with scipy's differential evolution.
-
-Objective: the peak-to-peak static TE (m) of :func:`geardyn.plus.ishikawa.design_te`; seeded, one worker, no
-polishing: deterministic (the paper's GA and its swapped names: docs/paper2.md Sec. 4).  Units: m.
-"""
+"""Tip-relief optimisation of the p-d pair (paper 2, Sec. 4): scipy's differential evolution of the peak-to-peak
+static TE (m) of :func:`geardyn.plus.ishikawa.design_te`, seeded, one worker, no polishing: deterministic."""
 
 from __future__ import annotations
 
@@ -52,12 +49,9 @@ def objective(design: PlusDesign, grid: MeshGrid, shape: str):
 
 
 def bounds_of(design: PlusDesign, which: str) -> tuple[tuple[float, float], tuple[float, float]]:
-    r = design.relief
-    if which == "paper":
-        return r.paper_amount, r.paper_length
-    if which == "physical":
-        return r.physical_amount, r.physical_length
-    raise ValueError(f"unknown bound set {which!r}; allowed: {BOUND_SETS}")
+    if which not in BOUND_SETS:
+        raise ValueError(f"unknown bound set {which!r}; allowed: {BOUND_SETS}")
+    return getattr(design.relief, f"{which}_amount"), getattr(design.relief, f"{which}_length")
 
 
 def optimise(
@@ -70,27 +64,11 @@ def optimise(
     f = objective(design, grid, shape)
     ab, lb = bounds_of(design, which)
     r = design.relief
-    res = differential_evolution(
-        f,
-        [ab, lb],
-        seed=r.seed,
-        popsize=r.popsize,
-        maxiter=r.maxiter,
-        tol=r.tol,
-        polish=False,
-        workers=1,
-        updating="immediate",
-    )
+    settings = {"seed": r.seed, "popsize": r.popsize, "maxiter": r.maxiter, "tol": r.tol, "updating": "immediate"}
+    res = differential_evolution(f, [ab, lb], polish=False, workers=1, **settings)
+    amount, length = (float(v) for v in res.x)
     return ReliefOptimum(
-        shape,
-        which,
-        float(res.x[0]),
-        float(res.x[1]),
-        float(res.fun),
-        f(np.zeros(2)),
-        int(res.nfev),
-        tuple(ab),
-        tuple(lb),
+        shape, which, amount, length, float(res.fun), f(np.zeros(2)), int(res.nfev), tuple(ab), tuple(lb)
     )
 
 
@@ -120,14 +98,11 @@ def load_study(
     rows = []
     for t in torques:
         d = replace(design, torque=float(t), torque_member="sun")
-        d_wide = replace(
-            d,
-            relief=replace(
-                d.relief,
-                physical_amount=(0.0, d.relief.paper_amount[1]),
-                physical_length=(0.0, d.relief.physical_length[1]),
-            ),
-        )
+        wide = {
+            "physical_amount": (0.0, d.relief.paper_amount[1]),
+            "physical_length": (0.0, d.relief.physical_length[1]),
+        }
+        d_wide = replace(d, relief=replace(d.relief, **wide))
         grid = design_grid(d, points)
         paper = optimise(d, shape, "paper", grid=grid)
         wide = optimise(d_wide, shape, "physical", grid=grid)

@@ -1,8 +1,5 @@
-"""Tables of a plus set: natural frequencies, key elements, stiffness scaling, TE, relief optima.
-
-DataFrames, and Datasets with ``units`` and ``long_name`` on every variable; with ``paper`` (a module of
-:mod:`geardyn.papers`) the paper's columns and rows are set beside ours, with ``None`` left out.
-"""
+"""Tables of a plus set (natural frequencies, key elements, stiffness scaling, TE, relief optima) as DataFrames and
+CF Datasets; with ``paper`` (a module of :mod:`geardyn.papers`) the paper's columns and rows beside ours."""
 
 from __future__ import annotations
 
@@ -137,10 +134,8 @@ def frequency_table(design: PlusDesign, paper: ModuleType | None) -> pd.DataFram
 def _matched_pairs(
     design: PlusDesign, paper: ModuleType, reference: str, matching: str
 ) -> tuple[np.ndarray, np.ndarray]:
-    """(paper, ours) frequency pairs.  ``rank``: order k against order k (as the paper's Table 2).
-    ``type``: our three doubled (planet) frequencies against the three the paper lists under all three
-    conditions (``PAPER_SHARED``, its planet modes) and our three overall frequencies against the
-    paper's remaining three, each in ascending order."""
+    """(paper, ours) frequency pairs: ``rank`` order k against order k (Table 2); ``type`` our doubled (planet)
+    frequencies against the paper's ``PAPER_SHARED``, our overall ones against the rest, each ascending."""
     t = frequency_table(design, paper)
     if matching == "rank":
         return t[f"paper_{reference}_hz"].to_numpy(float), t["freq_hz"].to_numpy(float)
@@ -265,29 +260,14 @@ def modal_dataset(design: PlusDesign) -> xr.Dataset:
         per_condition.append((md.freq_hz, md.damped_hz, md.zeta, md.full_shapes.T, se, ke, modal.classify(md)))
     stacked = tuple(np.array(v) for v in zip(*per_condition, strict=True))
     n = stacked[0].shape[1]
-    values = (*stacked, _lever_arms(design), conds, np.arange(1, n + 1))
-    title = f"Modal analysis of the plus planetary set {design.name}"
-    values = (*values, list(modal.COORDS), el_names, comp_names)
-    return io.dataset(MODAL_VARIABLES, values, title=title, model_variant=_variant(design))
-
-
-def _lever_arms(design: PlusDesign) -> np.ndarray:
-    arms = {
-        "theta_s": design.sun.base_radius,
-        "theta_r": design.ring.base_radius,
-        "theta_c": modal.geometry(design).a_sp,
-        "x_s": 1.0,
-        "y_s": 1.0,
-    }
+    arms = {"theta_s": design.sun.base_radius, "theta_r": design.ring.base_radius, "x_s": 1.0, "y_s": 1.0}
     arms |= {f"theta_{g}{j}": getattr(design, f"planet_{g}").base_radius for g in "pd" for j in (1, 2, 3)}
-    return np.array([arms[c] for c in modal.COORDS])
-
-
-def _variant(design: PlusDesign) -> str:
-    return (
-        f"11-DOF Lagrangian; planet angles in sun terms={design.planet_angles_in_sun_terms}; "
-        f"plus-set sign={design.plus_set_sign}"
-    )
+    arms["theta_c"] = modal.geometry(design).a_sp
+    values = (*stacked, np.array([arms[c] for c in modal.COORDS]), conds, np.arange(1, n + 1))
+    values = (*values, list(modal.COORDS), el_names, comp_names)
+    variant = f"planet angles in sun terms={design.planet_angles_in_sun_terms}; plus-set sign={design.plus_set_sign}"
+    title = f"Modal analysis of the plus planetary set {design.name}"
+    return io.dataset(MODAL_VARIABLES, values, title=title, model_variant=f"11-DOF Lagrangian; {variant}")
 
 
 def stiffness_comparison(design: PlusDesign) -> pd.DataFrame:
@@ -359,7 +339,6 @@ def to_markdown(df: pd.DataFrame, floatfmt: str = ".4g") -> str:
 
 def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
     """Peak-to-peak TE over (amount, length) for both relief shapes, CF attrs (um, mm)."""
-
     amounts, lengths = landscape_axes(design, n)
     grid = design_grid(design)
     z = np.array([landscape(design, sh, amounts, lengths, grid=grid) for sh in SHAPES]) * 1e6
@@ -374,7 +353,6 @@ def landscape_dataset(design: PlusDesign, n: int | None = None) -> xr.Dataset:
 
 def write_table(df: pd.DataFrame, csv: str, md: str | None = None, header: str = "", floatfmt: str = ".4g") -> None:
     """CSV (full precision) and, if asked, a Markdown version with a header paragraph."""
-
     io.write_text(df.to_csv(index=False, float_format="%.6g"), csv)
     if md is not None:
         io.write_text((header + "\n\n" if header else "") + to_markdown(df, floatfmt), md)

@@ -1,9 +1,6 @@
-"""Coexisting attractors at single operating points: several starts (static, the sweep's neighbours, the
-continued branches' orbits, random states in a box), one label each by the one labeller, deduplicated by
-:func:`geardyn.label.compare.same_attractor`, with basin fractions over the random starts.
-
-The starts, the tolerances and the basin fractions' error: ``docs/orbits.md`` section 4.
-"""
+"""Coexisting attractors at single operating points: several starts (static, the sweep's neighbours, the branches'
+orbits, random states in a box), one label each by the one labeller, deduplicated by
+:func:`geardyn.label.compare.same_attractor`, with basin fractions over the random starts (``docs/orbits.md`` 4)."""
 
 from __future__ import annotations
 
@@ -39,10 +36,6 @@ class AttractorSettings:
     distance_tol: float = Same.distance_tol
     chaotic_distance_tol: float = Same.chaotic_distance_tol
 
-    @classmethod
-    def from_mapping(cls, spec: Mapping[str, Any] | None) -> AttractorSettings:
-        return settings_from(cls, spec, "attractor settings")
-
 
 @dataclass
 class Attractor:
@@ -75,11 +68,6 @@ def random_starts(system: System, settings: AttractorSettings) -> dict[str, np.n
     return {f"random_{k}": centre + rng.uniform(-1.0, 1.0, 6) * half for k in range(settings.n_random)}
 
 
-def same_attractor(label_a: int, pa: np.ndarray, label_b: int, pb: np.ndarray, settings: AttractorSettings) -> bool:
-    """Same label and Poincaré sets within the settings' tolerances (:func:`geardyn.label.compare.same_attractor`)."""
-    return compare.same_attractor(label_a, pa, label_b, pb, Same(settings.distance_tol, settings.chaotic_distance_tol))
-
-
 def find_attractors(
     system: System,
     starts: Mapping[str, np.ndarray],
@@ -100,10 +88,11 @@ def find_attractors(
     )
     found: list[Attractor] = []
     where: dict[str, int] = {}
+    tol = Same(settings.distance_tol, settings.chaotic_distance_tol)
     for name, v in zip(names, verdicts, strict=True):
         p = compare.attractor_points(v)
         for k, att in enumerate(found):
-            if same_attractor(att.label, att.poincare, v.label, p, settings):
+            if compare.same_attractor(att.label, att.poincare, v.label, p, tol):
                 att.starts.append(name)
                 where[name] = k
                 break
@@ -116,18 +105,6 @@ def find_attractors(
 # ----------------------------------------------------------------------------------------------
 # along a sweep
 # ----------------------------------------------------------------------------------------------
-
-
-def subset_indices(values: np.ndarray, every: int | None = None, at: Sequence[float] | None = None) -> list[int]:
-    """Sweep indices to examine: every ``every``-th point (first and last included) and/or the points
-    nearest to the values ``at``."""
-    idx: set[int] = set()
-    if every:
-        idx.update(range(0, values.size, int(every)))
-        idx.add(values.size - 1)
-    for v in at or ():
-        idx.add(int(np.argmin(np.abs(values - float(v)))))
-    return sorted(idx)
 
 
 def branch_starts(branches: Sequence[Any], p: float, perturb: float = 1e-3) -> dict[str, np.ndarray]:
@@ -248,8 +225,9 @@ def attractors_dataset(
     s = settings
     attrs = {"control_parameter": parameter, "n_random": s.n_random, "random_seed": s.seed}
     attrs["box"] = f"static state +- {s.box_x:g} (displacements), +- {s.box_v:g} (velocities), units b_c"
-    attrs.update({k: getattr(s, k) for k in ("transient_periods", "recorded_periods", "distance_tol")})
-    attrs["chaotic_distance_tol"] = s.chaotic_distance_tol
+    attrs |= {
+        k: getattr(s, k) for k in ("transient_periods", "recorded_periods", "distance_tol", "chaotic_distance_tol")
+    }
     return xr.Dataset(data, coords=io.variables(coords, coords_values), attrs=attrs)
 
 
@@ -264,17 +242,17 @@ def sweep_attractors(
 ):
     """Attractors at a subset of a sweep's points (``every`` / ``at`` in ``attractor_spec``, the rest
     are :class:`AttractorSettings`), every case; the branches come from the orbits dataset."""
-
     spec_map = dict(attractor_spec)
     every = spec_map.pop("every", None)
     at = spec_map.pop("at", None)
     if not every and not at:
         every = max(1, spec.num // 10)
-    aset = AttractorSettings.from_mapping(spec_map)
+    aset = settings_from(AttractorSettings, spec_map, "attractor settings")
     settings = settings or point.integration_settings(drive, **dict(spec.integration))
     classifier = classifier or classify.ClassifierSettings.from_mapping(dict(spec.classifier))
-    values = spec.values
-    idx = subset_indices(values, every, at)
+    values = spec.values  # every ``every``-th point (the last too) and the points nearest the values ``at``
+    idx = set(range(0, values.size, int(every))) | {values.size - 1} if every else set()
+    idx = sorted(idx | {int(np.argmin(np.abs(values - float(v)))) for v in at or ()})
     par = spec.parameter
     allb = branches_from_dataset(branches_ds) if branches_ds is not None else []
     pts: list[PointStarts] = []

@@ -1,7 +1,5 @@
-"""What the studies store: the state names, the per-point variables in one table (:data:`VARIABLES`) with
-one writer (:func:`empty`), and the ONE chunk merge of sweeps and maps (:func:`merge_chunks`: a chunk holds
-its run's full grid, a ``computed`` flag where it computed; the chunks must tile the grid exactly once).
-"""
+"""What the studies store: the state names, the per-point variables in one table (:data:`VARIABLES`) with one
+writer (:func:`empty`), the name of a case, and the one chunk merge of sweeps and maps (:func:`merge_chunks`)."""
 
 from __future__ import annotations
 
@@ -172,11 +170,8 @@ def labels_of_cube(cube: xr.Dataset) -> np.ndarray:
 
 
 def merge_chunks(chunks: Sequence[xr.Dataset]) -> xr.Dataset:
-    """Combine chunk files of one sweep or map; each point must be present exactly once.
-
-    The chunks' own attributes (:data:`CHUNK_ATTRS`) are dropped; their wall times are kept as
-    ``chunk_wall_time_s`` where the chunks recorded them.
-    """
+    """Combine the chunk files of one sweep or map, each holding the full grid and a ``computed`` flag: every point
+    computed exactly once; the chunks' own attributes go, their wall times kept as ``chunk_wall_time_s``."""
     if not chunks:
         raise ValueError("no chunks to merge")
     present = sum(c["computed"].values.astype(int) for c in chunks)

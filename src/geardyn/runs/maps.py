@@ -1,7 +1,6 @@
-"""Two-parameter regime maps: the motion label over a grid of (x, y) control parameters, each row (x
-increasing) a line of the labeller, a chunk whole rows; the points keep their verdicts and the mean and
-spread of their Poincaré X_VH, no sections (``docs/classify.md``, Studies).
-"""
+"""Two-parameter regime maps: the motion label over an (x, y) grid of control parameters, each row (x increasing)
+a line of the labeller, a chunk whole rows; the points keep their verdicts and the mean and spread of their
+Poincaré X_VH, no sections."""
 
 from __future__ import annotations
 

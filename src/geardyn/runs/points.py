@@ -1,7 +1,5 @@
-"""Dense runs at single operating points (Figs. 8, 10 and 12 of paper 1 only, never inside a sweep): phase
-trajectory, Poincaré map and amplitude spectrum, started on the attractor the labeller found from the static
-deflection (``docs/classify.md``, Studies).
-"""
+"""Dense runs at single operating points (Figs. 8, 10 and 12 of paper 1): phase trajectory, Poincaré map and
+amplitude spectrum, started on the attractor the labeller found from the static deflection."""
 
 from __future__ import annotations
 
@@ -33,11 +31,8 @@ VARIABLES = (
 
 
 def amplitude_spectrum(x: np.ndarray, samples_per_period: int) -> tuple[np.ndarray, np.ndarray]:
-    """One-sided amplitude spectrum of a uniformly sampled signal (mean removed, Hann window).
-
-    Frequencies are in multiples of the mesh frequency (the sampling covers whole mesh periods);
-    amplitudes are corrected for the window's coherent gain, so a pure sine of amplitude A shows A.
-    """
+    """One-sided amplitude spectrum of a uniformly sampled signal (mean removed, Hann window), frequencies in
+    multiples of the mesh frequency, amplitudes corrected for the window's coherent gain (a sine of amplitude A: A)."""
     x = np.asarray(x, dtype=float)
     n = x.size
     window = np.hanning(n)
@@ -61,11 +56,7 @@ def dense_point(
     if x0 is not None:
         settings = dataclasses.replace(settings, transient_periods=0)
     res = simulate(coeffs, settings, x0=x0, dense=True)
-    if res.diverged:
-        tau = np.zeros(0)
-        states = np.zeros((0, 6))
-    else:
-        tau, states = res.uniform(samples_per_period)
+    tau, states = (np.zeros(0), np.zeros((0, 6))) if res.diverged else res.uniform(samples_per_period)
     values = {name: states[:, k] for k, name in enumerate(STATES)}
     values |= {f"poincare_{name}": res.poincare[:, k] for k, name in enumerate(STATES)}
     if states.shape[0] > 8:

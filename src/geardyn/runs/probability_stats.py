@@ -15,7 +15,7 @@ import numpy as np
 import xarray as xr
 
 from geardyn import claims
-from geardyn.io import Var, variables
+from geardyn.io import Var, markdown_table, variables
 from geardyn.label.classify import LABELS
 from geardyn.runs.probabilities import ProbabilitySpec, Samples
 from geardyn.solve.response import IMPACT_CLASSES
@@ -215,16 +215,18 @@ def _p(p: float, lo: float, hi: float) -> str:
     return f"{p:.2f} [{lo:.2f}, {hi:.2f}]"
 
 
+_OTHER = ("borderline", "disagree", "not comparable")
+
+
 def claims_markdown(rows: Sequence[dict[str, Any]], title: str, note: str) -> str:
     """The claims' probabilities as a Markdown table."""
-    head = "| claim | figure | statement | P(holds) [95 % Wilson] | P(borderline) | P(disagree) | P(not comparable) |"
-    lines = [f"# {title}", "", note, "", head, "|---|---|---|---:|---:|---:|---:|"]
-    for r in rows:
-        lines.append(
-            f"| {r['id']} | {r['figure']} | {r['statement']} | {_p(r['agree'], float(r['low']), float(r['high']))} | "
-            f"{r['borderline']:.2f} | {r['disagree']:.2f} | {r['not comparable']:.2f} |"
-        )
-    return "\n".join(lines) + "\n"
+    head = ("claim", "figure", "statement", "P(holds) [95 % Wilson]", *(f"P({k})" for k in _OTHER))
+    cells = [
+        [r["id"], r["figure"], r["statement"], _p(r["agree"], float(r["low"]), float(r["high"]))]
+        + [f"{r[k]:.2f}" for k in _OTHER]
+        for r in rows
+    ]
+    return "\n".join([f"# {title}", "", note, "", markdown_table(head, cells, "---rrrr")]) + "\n"
 
 
 def claims_csv(rows: Sequence[dict[str, Any]]) -> str:
@@ -240,13 +242,12 @@ def table_markdown(ds: xr.Dataset, title: str) -> str:
     dim, fam, imp = ds.attrs["axis_parameter"], ds["family"].values, ds["impact"].values
     head = [dim, *map(str, fam), *(f"impact {c}" for c in imp), "K_v 5/50/95 %", "DTE RMS 50 %"]
     lines = [f"# {title}", "", f"Inputs: {ds.attrs['inputs']}. Sampling: {ds.attrs['sampling']}.", ""]
-    lines += ["| " + " | ".join(head) + " |", "|" + "---:|" * len(head)]
+    rows = []
     for j, x in enumerate(ds[dim].values):
         cells = [f"{float(x):.4g}"]
         for what in ("family", "impact"):
             p, lo, hi = (ds[f"{what}_probability{e}"].values[:, j] for e in ("", "_low", "_high"))
             cells += [_p(*v) for v in zip(p, lo, hi, strict=True)]
         kv = ds["dynamic_factor_quantile"].values[:, j]
-        cells += ["/".join(f"{v:.3g}" for v in kv), f"{ds['dte_rms_quantile'].values[1, j]:.3g}"]
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines) + "\n"
+        rows.append([*cells, "/".join(f"{v:.3g}" for v in kv), f"{ds['dte_rms_quantile'].values[1, j]:.3g}"])
+    return "\n".join([*lines, markdown_table(head, rows, "r" * len(head))]) + "\n"

@@ -1,8 +1,6 @@
-"""Parameter sweeps: bifurcation cubes of one control parameter, for one or more cases (fixed overrides),
-built in chunks that can run in any order, anywhere: each a layout of :mod:`geardyn.runs.study` holding whole
-lines (``start_from: follow``) or contiguous points (``fixed``), so no result depends on the chunking
-(``docs/classify.md``, Studies).
-"""
+"""Parameter sweeps: bifurcation cubes of one control parameter for one or more cases (fixed overrides), in
+chunks that run in any order, anywhere, each a layout of :mod:`geardyn.runs.study` holding whole lines (``start_from:
+follow``) or contiguous points (``fixed``), so no result depends on the chunking."""
 
 from __future__ import annotations
 

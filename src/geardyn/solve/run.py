@@ -380,23 +380,5 @@ def warm_up(system: System) -> None:
         simulate_batch([system] * 2, tiny, monodromy_periods=1)
 
 
-def strict_periods(
-    poincare: np.ndarray, npts: np.ndarray, max_n: int, atol: float, rtol: float, floor_tol: float, separation: float
-) -> np.ndarray:
-    """Rule 3 of :func:`geardyn.label.classify.strict_period`, compiled, for many point sets at once:
-    ``poincare`` (L, m, 6) with the first ``npts[l]`` rows of set l used.  Returns (L, 2): the period n
-    (0 if none) and the tolerance of each set (the same operations as the classifier's, so the same n)."""
-    out = np.zeros((poincare.shape[0], 2))
-    _period.strict_periods(poincare, npts, max_n, atol, rtol, floor_tol, separation, out)
-    return out
-
-
-def strict_period(
-    poincare: np.ndarray, max_n: int, atol: float, rtol: float, floor_tol: float, separation: float
-) -> tuple[int, float]:
-    """Rule 3 of :func:`geardyn.label.classify.strict_period`, compiled, on one record ``poincare`` (m, n_states)
-    without NaN rows (m >= 1): (the period n, 0 if none; the tolerance).  The one statement of the rule
-    (:mod:`geardyn.solve._period`), shared with :func:`strict_periods` and the early stop."""
-    p = np.ascontiguousarray(poincare, dtype=float)
-    n, tol = _period.strict_period(p, p.shape[0], max_n, atol, rtol, floor_tol, separation)
-    return int(n), float(tol)
+#: rule 3, compiled: stated once in :mod:`geardyn.solve._period`, read by :mod:`geardyn.label.classify`
+strict_period, strict_periods = _period.strict_period, _period.strict_periods

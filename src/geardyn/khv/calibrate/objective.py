@@ -11,20 +11,18 @@ from typing import Any
 import numpy as np
 
 from geardyn import claims as claims_mod
+from geardyn.claims import CHAOS, P1, QP
 from geardyn.claims.verdicts import credit
 from geardyn.khv import point
 from geardyn.khv.calibrate.records import Record
 from geardyn.khv.design import KHVDesign
-from geardyn.label import Policy, classify, label_lines
-
-P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
+from geardyn.label import Policy, label_lines
 
 
 @dataclass(frozen=True)
 class Line:
-    """One labelled line of a candidate (a role of the paper's ``CLAIM_LINES``): ``parameter`` swept over
-    ``values`` with ``fixed`` held; a family of lines (``cases``) has one line per value of
-    ``case_parameter``."""
+    """One labelled line of a candidate (a role of the paper's ``CLAIM_LINES``): ``parameter`` swept over ``values``
+    with ``fixed`` held; a family (``cases``) has one line per value of ``case_parameter``."""
 
     parameter: str
     values: np.ndarray
@@ -117,10 +115,8 @@ def route_in(order: str) -> bool:
     return re.match(r"1[Qn]+C", order) is not None
 
 
-#: Requirements a search can place on a candidate besides its score (``search.require``): a name ->
-#: (test of a record, the sentence the calibrated design's header states, ``{line}`` being the text of the
-#: paper's main line, its ``CLAIM_LINES[...]["text"]``).  A record's ``order`` is the regime string along
-#: the main line.
+#: Requirements a search can place on a candidate besides its score (``search.require``): name -> (test of a
+#: record, the sentence of the calibrated design's header, ``{line}`` the main line's ``CLAIM_LINES`` text).
 REQUIREMENTS: dict[str, tuple[Callable[[Record], bool], str]] = {
     "route": (lambda rec: route_in(rec.order), "{line} goes from period-1 through non-period-1 motion into chaos"),
 }
@@ -187,10 +183,8 @@ TRANSITION_SCALE = 0.1
 
 
 def score_labels(paper: ModuleType, lab: CandidateLabels) -> dict[str, Any]:
-    """Score of a candidate's labels: claims that agree (:func:`geardyn.claims.evaluate`) plus the
-    partial credit (module docstring) along the paper's main line (``CALIBRATION["line"]``), as the
-    scored fields of a :class:`~geardyn.khv.calibrate.records.Record` (score, agree, partial,
-    transitions, order, verdicts)."""
+    """Score of a candidate's labels, the scored fields of a :class:`Record`: claims that agree
+    (:func:`geardyn.claims.evaluate`) plus the partial credit along the paper's main line (``CALIBRATION["line"]``)."""
     rows = claims_mod.evaluate(paper, lab)
     agree = sum(r.verdict == "agree" for r in rows)
     # a borderline claim (a fraction within its statistical uncertainty of the threshold,

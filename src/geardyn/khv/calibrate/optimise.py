@@ -24,10 +24,9 @@ from geardyn.papers import paper_of
 def refine(
     space: SearchSpace, evaluator: Evaluator, start: Record, steps: Sequence[float] = (0.1, 0.02), rounds: int = 2
 ) -> Record:
-    """Deterministic local refinement after the global search: in each round every unknown is moved by
-    +-step (:func:`perturbed`, all moves of a round evaluated together); the best move is taken if it
-    raises the score (:func:`ranked_score`), else the next smaller step is tried; stops after ``rounds``
-    improvements or when no move improves."""
+    """Deterministic local refinement: each round moves every unknown by +-step (:func:`perturbed`, evaluated
+    together) and takes the best move if it raises :func:`ranked_score`, else tries the next smaller step; stops
+    after ``rounds`` improvements or when no move improves."""
     best = start
     k, done = 0, 0
     steps = sorted(steps, reverse=True)
@@ -53,29 +52,17 @@ def search(
     refine_steps: Sequence[float] = (0.1, 0.02),
     refine_rounds: int = 2,
 ) -> tuple[Record, Evaluator]:
-    """Differential evolution over the unit cube of ``problem.space`` (``init``: values placed in the initial
-    population, the rest Latin-hypercube from ``seed``), then :func:`refine` from its best; returns (best
-    record, evaluator).  Deterministic, so a rerun replays the cache (docs/calibration.md, "Search method, cost,
-    resumption")."""
-
+    """Differential evolution over the unit cube of ``problem.space`` (``init`` in the initial population, the rest
+    Latin-hypercube from ``seed``), then :func:`refine` from its best: (best record, evaluator); deterministic, so a
+    rerun replays the cache."""
     dim = len(problem.space.unknowns)
     n_pop = max(5, popsize * dim)
     pop = qmc.LatinHypercube(d=dim, seed=seed).random(n_pop)
     for i, v in enumerate(init):
         pop[i] = np.clip(problem.space.unit(v), 0.0, 1.0)
     with Evaluator(problem, cache, workers) as ev:
-        differential_evolution(
-            ev,
-            [(0.0, 1.0)] * dim,
-            init=pop,
-            maxiter=maxiter,
-            seed=seed,
-            polish=False,
-            vectorized=True,
-            updating="deferred",
-            tol=0.0,
-            atol=0.0,
-        )
+        fixed = {"polish": False, "vectorized": True, "updating": "deferred", "tol": 0.0, "atol": 0.0}
+        differential_evolution(ev, [(0.0, 1.0)] * dim, init=pop, maxiter=maxiter, seed=seed, **fixed)
         recs = ev.searched()
         best_rec = max(recs, key=lambda r: (ranked_score(r, problem.require), interior(r.unit)))
         if refine_rounds > 0 and refine_steps:
@@ -103,7 +90,6 @@ def verified_choice(
 
 def problem_from_config(design: KHVDesign, spec: Mapping[str, Any]) -> tuple[Problem, dict]:
     """The search problem and its budget (seed, popsize, maxiter) from a ``calibration`` entry."""
-
     paper = paper_of(design.paper)
     s = spec["search"]
     space = SearchSpace.from_config(s["bounds"])

@@ -92,7 +92,6 @@ def search_design_text(source: str, name: str, result: Mapping[str, Any]) -> str
     """A calibrated design file: the source design with the searched values written into it, and a
     header that says it is calibrated, what it was fitted to, and the search result (one JSON line
     from which this text is regenerated: :func:`design_text_from_file`)."""
-
     note = "calibrated" + (f", {result['require']} required" if result.get("require") else "")
     # the source design renamed and titled, the searched values in its dynamics.parameters (w and speed as
     # omega_bar and input_speed_rpm; b, e and x1 stay run values)
