@@ -87,7 +87,7 @@ def test_monodromy_columns_are_the_single_column_runs_bit_for_bit(contact_loss_o
         # fmt: off
         _kernel.run(k, tuple(tabs), orbit.state.copy(), 0, 3, True, np.full(6, np.inf), 1, np.empty((3, 6)),
                     np.empty(0), np.empty((0, 6)), W, 3, False, np.empty(0), np.empty(0), np.empty(6),
-                    _kernel.NO_EARLY_STOP)
+                    _kernel.NO_EARLY_STOP, np.empty(0), 0.0, 0)
         # fmt: on
         cols[:, i] = W[:, 0]
     assert np.array_equal(cols, full.monodromy)
