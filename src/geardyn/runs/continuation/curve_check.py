@@ -13,20 +13,20 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn.khv import point
+from geardyn.io import Var
 from geardyn.label.classify import LABELS
 from geardyn.runs.continuation.branch import Bifurcation
 from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, correct
 from geardyn.runs.continuation.curve_maps import Boundaries, BoundarySpec, Region, boundary_curves
 from geardyn.runs.continuation.curves import Curve, bounds_stable, crossings, segment_distance, shorter_period
 from geardyn.runs.continuation.family import PlaneLine, cached
-from geardyn.runs.continuation.output import flags, variables
+from geardyn.runs.continuation.output import index, quantity
 from geardyn.runs.continuation.problem import CurveProblem
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.runs.continuation.switching import switch_at_period_doubling
+from geardyn.solve import bifurcations
 from geardyn.solve.base import SimulationSettings
 from geardyn.solve.bifurcations import CODES
-from geardyn.solve.bifurcations import flags as kind_flags
 from geardyn.solve.response import IMPACT_CLASSES, response_measures
 from geardyn.solve.shooting import newton_shooting
 
@@ -153,36 +153,49 @@ class PixelCheck:
             "pixel_check_slow_margin": self.slow_margin,
         }
 
-    def variables(self, names: tuple[str, str], kinds: Sequence[str]) -> dict[str, Any]:
-        """The samples as variables of dimension ``check``."""
-        s, C = self.samples, ("check",)
-        units = [point.units_of(n, "1") for n in names]
-
-        def q(long_name: str, u: str = "1") -> dict[str, str]:
-            return {"long_name": long_name, "units": u}
-
-        def flag(attr: str, meanings: Sequence[str], long_name: str) -> tuple:
-            return (f"check_{attr}", C, [list(meanings).index(getattr(v, attr)) for v in s], flags(meanings, long_name))
-
+    def variables(self, names: tuple[str, str], kinds: Sequence[str]) -> list[tuple[Var, Any]]:
+        """The samples as (row, values) of dimension ``check``."""
+        s, C = self.samples, "check"
         pix = np.array([list(v.pixels[0]) + list(v.pixels[1]) if v.pixels else [-1] * 4 for v in s], np.int32)
         pixels = "row, column of the stable-side pixel, then the other (-1: none)"
-        labels = np.array([v.labels for v in s], np.int16).reshape(len(s), 2)
-        modulus = "largest multiplier modulus, stable-side orbit"
-        reasons = {**flags(REASONS, "outcome of the check"), "failures": " ".join(FAILURES)}
-        return variables(
-            [
-                (f"check_{names[0]}", C, np.array([v.x for v in s], float), q(f"{names[0]} at the crossing", units[0])),
-                (f"check_{names[1]}", C, np.array([v.y for v in s], float), q(f"{names[1]} at the crossing", units[1])),
-                ("check_curve", C, np.array([v.curve for v in s], np.int32), q("index of the curve")),
-                ("check_kind", C, [CODES[v.kind] for v in s], kind_flags(kinds, "curve kind")),
-                ("check_forward", C, [v.forward for v in s], flags(("return", "forward"), FORWARD)),
-                ("check_reason", C, [REASONS.index(v.reason) for v in s], reasons),
-                ("check_pixels", ("check", "pixel_index"), pix.reshape(len(s), 4), pixels),
-                ("check_labels", ("check", "side"), labels, "map label at the stable-side pixel and the other"),
-                ("check_modulus", C, np.array([v.modulus for v in s], float), q(modulus)),
-                flag("criticality", CRITICALITY, "criticality"),
-            ]
-        )
+        return [
+            *[
+                (
+                    Var(f"check_{n}", C, quantity(n)[0], f"{n} at the crossing"),
+                    np.array([getattr(v, a) for v in s], float),
+                )
+                for n, a in zip(names, "xy", strict=True)
+            ],
+            (Var("check_curve", C, "1", "index of the curve", dtype=np.int32), [v.curve for v in s]),
+            (Var("check_kind", C, None, "curve kind", bifurcations.flags(kinds)), [CODES[v.kind] for v in s]),
+            (Var("check_forward", C, None, FORWARD, index(("return", "forward"))), [v.forward for v in s]),
+            (
+                Var(
+                    "check_reason",
+                    C,
+                    None,
+                    "outcome of the check",
+                    index(REASONS),
+                    attrs={"failures": " ".join(FAILURES)},
+                ),
+                [REASONS.index(v.reason) for v in s],
+            ),
+            (Var("check_pixels", (C, "pixel_index"), "1", pixels), pix.reshape(len(s), 4)),
+            (
+                Var(
+                    "check_labels", (C, "side"), "1", "map label at the stable-side pixel and the other", dtype=np.int16
+                ),
+                np.reshape([v.labels for v in s], (len(s), 2)),
+            ),
+            (
+                Var("check_modulus", C, "1", "largest multiplier modulus, stable-side orbit"),
+                np.array([v.modulus for v in s], float),
+            ),
+            (
+                Var("check_criticality", C, None, "criticality", index(CRITICALITY)),
+                [CRITICALITY.index(v.criticality) for v in s],
+            ),
+        ]
 
 
 def _boundary_segments(flags: np.ndarray, curve: Any, px: float, py: float) -> tuple[np.ndarray, np.ndarray]:
