@@ -44,20 +44,17 @@ _TORUS = (LABELS["quasi_periodic"], LABELS["long_period"])
 _LABEL_KINDS = ("fold", "period_doubling", "neimark_sacker")
 
 
-#: The probes' branches: about 8 steps over the way (at least 1/512 of it), no grazing margins, events only bracketed.
-FOLLOW = ContinuationSettings(ds=0.125, ds_min=2e-3, ds_max=0.125, max_points=40, grazing=False, locate=False)
-
-
 @dataclass(frozen=True)
 class CheckSettings:
     """The numbers of the pixel check (module doc).  Every ``every``-th row and column, at most ``max_samples``
     crossings per curve; left out within ``margin`` pixels of a codimension-2 point or ``crowd`` pixels of another
     curve.  The curve's orbit at a pixel: Newton shooting (``tol``, ``newton_iter`` iterations) from the curve's
     state and from it pushed by ``pushes`` max(1, |x|) along the fold eigenvector, kept within ``near``
-    max(1, |x|) of the curve's state; else the branch from the crossing (``follow``, over at most ``follow_share``
-    of the way first).  A pixel is on the orbit when its mean X_VH lies within ``mean_rtol`` max(1, |X_VH|) +
-    ``mean_spread`` times the orbit's spread of it, and its spread within the orbit's + ``spread_rtol``
-    max(1, |X_VH|)."""
+    max(1, |x|) of the curve's state; else the branch from the crossing (``follow``: about 8 steps over the way,
+    none below 1/512 of it; over at most ``follow_share`` of the way first); a period doubling's switched branch
+    halves its steps down to ``switch_ds_min``.  A pixel is on the orbit when its mean X_VH lies within
+    ``mean_rtol`` max(1, |X_VH|) + ``mean_spread`` times the orbit's spread of it, and its spread within the
+    orbit's + ``spread_rtol`` max(1, |X_VH|)."""
 
     every: int = 5
     margin: float = 3.0
@@ -68,8 +65,9 @@ class CheckSettings:
     pushes: tuple[float, ...] = (0.02, -0.02, 0.1, -0.1)
     near: float = 0.1
     follow: ContinuationSettings = ContinuationSettings(
-        ds=0.125, ds_max=0.125, max_points=40, grazing=False, locate=False
+        ds=0.125, ds_min=2e-3, ds_max=0.125, max_points=40, grazing=False, locate=False
     )
+    switch_ds_min: float = 1e-7
     follow_share: float = 0.125
     mean_rtol: float = 1e-3
     mean_spread: float = 0.1
@@ -275,7 +273,8 @@ class _Probe:
         bf = Bifurcation("period_doubling", t_cross, pt.x, pt.multipliers, -1.0, np.nan, -1, True, self.n)
         lo, hi = sorted(t_pair)
         t_other = t_pair[1]
-        br = switch_at_period_doubling(PlaneLine(self.plane, along, at), bf, lo, hi, self.cs.follow)
+        follow = replace(self.cs.follow, ds_min=self.cs.switch_ds_min)
+        br = switch_at_period_doubling(PlaneLine(self.plane, along, at), bf, lo, hi, follow)
         reached = [] if br is None else [i for i, _ in br.states_at(t_other)]
         return "supercritical" if any(br.stable[i] and br.stable[i + 1] for i in reached) else "subcritical"
 
