@@ -156,39 +156,28 @@ class PixelCheck:
         s, C = self.samples, "check"
         pix = np.array([list(v.pixels[0]) + list(v.pixels[1]) if v.pixels else [-1] * 4 for v in s], np.int32)
         pixels = "row, column of the stable-side pixel, then the other (-1: none)"
+        labels, modulus = (
+            "map label at the stable-side pixel and the other",
+            "largest multiplier modulus, stable-side orbit",
+        )
+        reason = Var(
+            "check_reason", C, None, "outcome of the check", index(REASONS), attrs={"failures": " ".join(FAILURES)}
+        )
         return [
             *[
-                (
-                    Var(f"check_{n}", C, quantity(n)[0], f"{n} at the crossing"),
-                    np.array([getattr(v, a) for v in s], float),
-                )
+                (Var(f"check_{n}", C, quantity(n)[0], f"{n} at the crossing"), [getattr(v, a) for v in s])
                 for n, a in zip(names, "xy", strict=True)
             ],
             (Var("check_curve", C, "1", "index of the curve", dtype=np.int32), [v.curve for v in s]),
             (Var("check_kind", C, None, "curve kind", bifurcations.flags(kinds)), [CODES[v.kind] for v in s]),
             (Var("check_forward", C, None, FORWARD, index(("return", "forward"))), [v.forward for v in s]),
-            (
-                Var(
-                    "check_reason",
-                    C,
-                    None,
-                    "outcome of the check",
-                    index(REASONS),
-                    attrs={"failures": " ".join(FAILURES)},
-                ),
-                [REASONS.index(v.reason) for v in s],
-            ),
+            (reason, [REASONS.index(v.reason) for v in s]),
             (Var("check_pixels", (C, "pixel_index"), "1", pixels), pix.reshape(len(s), 4)),
             (
-                Var(
-                    "check_labels", (C, "side"), "1", "map label at the stable-side pixel and the other", dtype=np.int16
-                ),
+                Var("check_labels", (C, "side"), "1", labels, dtype=np.int16),
                 np.reshape([v.labels for v in s], (len(s), 2)),
             ),
-            (
-                Var("check_modulus", C, "1", "largest multiplier modulus, stable-side orbit"),
-                np.array([v.modulus for v in s], float),
-            ),
+            (Var("check_modulus", C, "1", modulus), np.array([v.modulus for v in s], float)),
             (
                 Var("check_criticality", C, None, "criticality", index(CRITICALITY)),
                 [CRITICALITY.index(v.criticality) for v in s],
@@ -263,10 +252,8 @@ class _Probe:
         along, d = origin[2], state.size
         held = d + 1 if along == "p" else d
         prob = CurveProblem(self.plane, self.kind, self.n, d, self.curve.scales, CURVES)
-        row = np.zeros(d + 2)
-        row[held] = 1.0
         z = np.r_[state, origin[:2]]
-        pt = correct(prob, z, row, z[held] / prob.scale[held], CURVES, ref)
+        pt = correct(prob, z, np.eye(d + 2)[held], z[held] / prob.scale[held], CURVES, ref)
         if pt is None:
             return "subcritical"
         at, t_cross = (pt.q, pt.p) if along == "p" else (pt.p, pt.q)

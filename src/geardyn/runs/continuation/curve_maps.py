@@ -144,15 +144,8 @@ class Boundaries:
             self.curves.append(c)
             self.flank.append(flank)
             self.origin.append(origin)
-            log.info(
-                "%s: %s curve (period %d), %d points, ends %s, %d codim-2",
-                origin,
-                c.kind,
-                c.n,
-                len(c),
-                c.end_status,
-                len(c.codim2),
-            )
+            msg = "%s: %s curve (period %d), %d points, ends %s, %d codim-2"
+            log.info(msg, origin, c.kind, c.n, len(c), c.end_status, len(c.codim2))
 
     def known(self, kind: str, n: int, pq: tuple[float, float], tol: float, flank: str = "working") -> bool:
         """True when (p, q) lies on a curve of that kind, period and flank (:func:`lies_on`, within ``tol`` of the

@@ -143,13 +143,6 @@ def _advance(
     return ([], term[0]) if term else ([new], "")
 
 
-def _line(d: int, k: int) -> np.ndarray:
-    """The extra equation's row of the line on which parameter k (0: p, 1: q) is held."""
-    row = np.zeros(d + 2)
-    row[d + k] = 1.0
-    return row
-
-
 def continue_curve(
     plane: Any,
     kind: str,
@@ -177,7 +170,7 @@ def continue_curve(
     z0 = np.concatenate([x0, start])
     k = 1 if along == "p" else 0
     ref = Point(z0, z0[:0], None, npar=2, crit=crit)
-    seed = correct(prob, z0, _line(x0.size, k), start[k] / prob.scale[x0.size + k], cs, ref)
+    seed = correct(prob, z0, np.eye(z0.size)[x0.size + k], start[k] / prob.scale[x0.size + k], cs, ref)
     if seed is None or _merged(prob, seed, cs.merge_tol_fold if kind == "fold" else cs.merge_tol):
         return None
     found: list[list[Codim2]] = []  # per march: up, then down
@@ -199,7 +192,7 @@ def line_points(plane: Any, curve: Curve, axis: str, value: float, cs: Continuat
     out = []
     for i, w in crossings(np.append(along, along[-1:]), value):
         a, b = curve.points[i], curve.points[min(i + 1, len(curve) - 1)]
-        pt = correct(prob, a.z + w * (b.z - a.z), _line(d, k), value / prob.scale[d + k], cs, a)
+        pt = correct(prob, a.z + w * (b.z - a.z), np.eye(d + 2)[d + k], value / prob.scale[d + k], cs, a)
         out += [pt] if pt is not None else []
     return out
 

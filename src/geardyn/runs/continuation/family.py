@@ -155,19 +155,6 @@ def cached(cache: dict, key: Any, make: Callable[[Any], Any]) -> Any:
     return c
 
 
-class PlaneFamily(Protocol):
-    """What curve continuation needs of a two-parameter family of periodic systems (a :class:`Family` with the
-    parameter (p, q) in the box p_lo, p_hi, q_lo, q_hi)."""
-
-    box: tuple[float, float, float, float]
-
-    def flow(self, p: float, q: float, n: int) -> FlowMap: ...
-
-    def cycle(self, p: float, q: float, x: np.ndarray, n: int) -> np.ndarray: ...
-
-    def grazing(self, p: float, q: float, x: np.ndarray, n: int) -> float: ...
-
-
 class PlaneLine:
     """The line of ``plane`` along p (``along`` = "p", q held at ``at``) or along q, as a :class:`Family`."""
 

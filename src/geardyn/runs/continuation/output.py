@@ -22,7 +22,7 @@ from geardyn.runs.cube import STATES
 from geardyn.solve import bifurcations as kinds
 from geardyn.solve.bifurcations import CODES
 
-_D = 6  # state dimension of the KHV model
+_D = len(STATES)
 #: Kinds of the curves file: the library's four and the grazing of the back flank (onset of back-side contact).
 FILE_KINDS = (*kinds.CURVE_KINDS, "back_grazing")
 #: Fates of a map record as a seed of curves (``record_fate``).
@@ -67,20 +67,14 @@ def _point_vars(branches: Sequence[tuple[int, Branch]], families: Mapping[int, F
 
     mu = cat("multipliers", complex, (0, _D))
     radius = np.max(libm.cabs(mu), axis=1)  # (rows,), also for no rows
-    P, PM = "point", ("point", "multiplier")
-    i32, i16 = np.int32, np.int16
+    P, PM, i32, i16 = "point", ("point", "multiplier"), np.int32, np.int16
+    state, case = "orbit state at mesh phase 0 (x / b_c, dx/dtau / b_c)", "index of the sweep case (fixed overrides)"
     return [
         (Var("branch", P, "1", "index of the continued branch", dtype=i32), each(range(len(branches)))),
-        (
-            Var("case_index", P, "1", "index of the sweep case (fixed overrides)", dtype=i32),
-            each(c for c, _ in branches),
-        ),
+        (Var("case_index", P, "1", case, dtype=i32), each(c for c, _ in branches)),
         (Var("orbit_period", P, "1", "period of the orbit in mesh periods", dtype=i16), each(b.n for _, b in branches)),
         (Var("parameter", P, *quantity(par)), cat("p")),
-        (
-            Var("orbit_state", (P, "state"), "1", "orbit state at mesh phase 0 (x / b_c, dx/dtau / b_c)"),
-            cat("states", float, (0, _D)),
-        ),
+        (Var("orbit_state", (P, "state"), "1", state), cat("states", float, (0, _D))),
         (Var("multiplier_real", PM, "1", "Floquet multiplier, real part"), mu.real),
         (Var("multiplier_imag", PM, "1", "Floquet multiplier, imaginary part"), mu.imag),
         (Var("spectral_radius", P, "1", "largest Floquet multiplier modulus (< 1: stable)"), radius),
@@ -100,17 +94,12 @@ def _bifurcation_vars(branches: Sequence[tuple[int, Branch]], par: str) -> list:
     units, long_name = quantity(par)
     located = "point refined on the branch (else interpolated between two points)"
     rot = "arg(mu) / (2 pi) of the Neimark-Sacker pair (NaN otherwise)"
+    kind = kinds.flags(kinds.BRANCH_KINDS)
     return [
         (Var("bifurcation_branch", B, "1", "branch of the bifurcation point", dtype=np.int32), [j for j, _ in bifs]),
-        (
-            Var("bifurcation_type", B, None, "type of the bifurcation point", kinds.flags(kinds.BRANCH_KINDS)),
-            [CODES[bf.kind] for _, bf in bifs],
-        ),
+        (Var("bifurcation_type", B, None, "type of the bifurcation point", kind), [CODES[bf.kind] for _, bf in bifs]),
         (Var("bifurcation_parameter", B, units, f"{long_name} {at}"), np.array([bf.p for _, bf in bifs])),
-        (
-            Var("bifurcation_x_vh", B, "1", f"X_VH / b_c of the orbit {at} (phase 0)"),
-            np.array([bf.state[1] for _, bf in bifs]),
-        ),
+        (Var("bifurcation_x_vh", B, "1", f"X_VH / b_c of the orbit {at} (phase 0)"), [bf.state[1] for _, bf in bifs]),
         (Var("critical_multiplier_real", B, "1", "crossing multiplier, real part (NaN for grazing)"), crit.real),
         (Var("critical_multiplier_imag", B, "1", "crossing multiplier, imaginary part"), crit.imag),
         (Var("rotation_number", B, "1", rot), np.array([bf.rotation_number for _, bf in bifs])),
@@ -161,24 +150,12 @@ def bifurcation_rows(
             if paper_transitions:
                 t = min(paper_transitions, key=lambda v: abs(v - bf.p))
                 near, diff = f"{t:g}", f"{bf.p - t:+.4f}"
-            crit = bf.critical
-            rows.append(
-                {
-                    "case": case_labels[c],
-                    "branch": j,
-                    "period": b.n,
-                    "type": bf.kind,
-                    "parameter": parameter,
-                    "value": f"{bf.p:.7f}",
-                    "critical_multiplier": "" if not np.isfinite(crit.real) else f"{crit.real:+.6f}{crit.imag:+.6f}j",
-                    "modulus": "" if not np.isfinite(crit.real) else f"{abs(crit):.6f}",
-                    "rotation_number": "" if not np.isfinite(bf.rotation_number) else f"{bf.rotation_number:.5f}",
-                    "located": int(bf.located),
-                    "multipliers": " ".join(f"{m.real:+.4f}{m.imag:+.4f}j" for m in bf.multipliers),
-                    "paper_transition": near,
-                    "paper_difference": diff,
-                }
-            )
+            crit, rot, finite = bf.critical, bf.rotation_number, np.isfinite(bf.critical.real)
+            values = [case_labels[c], j, b.n, bf.kind, parameter, f"{bf.p:.7f}"]
+            values += [f"{crit.real:+.6f}{crit.imag:+.6f}j" if finite else "", f"{abs(crit):.6f}" if finite else ""]
+            values += ["" if not np.isfinite(rot) else f"{rot:.5f}", int(bf.located)]
+            values += [" ".join(f"{m.real:+.4f}{m.imag:+.4f}j" for m in bf.multipliers), near, diff]
+            rows.append(dict(zip(TABLE_COLUMNS, values, strict=True)))
     rows.sort(key=lambda r: (r["case"], float(r["value"])))
     return rows
 
@@ -225,15 +202,13 @@ def curve_dataset(curves: Sequence[Curve], names: tuple[str, str]) -> xr.Dataset
     mu2 = np.array([b.multipliers for _, b in c2]).reshape(len(c2), d)
     (p, q), P, PM, C2, C2M = names, "point", ("point", "multiplier"), "codim2", ("codim2", "multiplier")
     g = "defining condition G (fold: mu - 1, period doubling: mu + 1, Neimark-Sacker: |mu|^2 - 1, grazing: g)"
-    i32 = np.int32
+    i32, states = np.int32, np.reshape([pt.z[:-2] for _, pt in rows], (len(rows), d))
+    starts, codim2 = np.cumsum([0] + [len(c) for c in curves])[:-1], kinds.flags(kinds.CODIM2)
     data = [
         (Var("curve_index", P, "1", "index of the curve", dtype=i32), [k for k, _ in rows]),
         (Var(p, P, *quantity(p)), [pt.z[-2] for _, pt in rows]),
         (Var(q, P, *quantity(q)), [pt.z[-1] for _, pt in rows]),
-        (
-            Var("orbit_state", (P, "state"), "1", "orbit state"),
-            np.reshape([pt.z[:-2] for _, pt in rows], (len(rows), d)),
-        ),
+        (Var("orbit_state", (P, "state"), "1", "orbit state"), states),
         (Var("multiplier_real", PM, "1", "Floquet multiplier, real part"), mu.real),
         (Var("multiplier_imag", PM, "1", "Floquet multiplier, imaginary part"), mu.imag),
         (Var("condition_residual", P, "1", g), [pt.G for _, pt in rows]),
@@ -243,12 +218,9 @@ def curve_dataset(curves: Sequence[Curve], names: tuple[str, str]) -> xr.Dataset
             [CODES[c.kind] for c in curves],
         ),
         (Var("curve_period", "curve", "1", "orbit period (mesh periods)", dtype=np.int16), [c.n for c in curves]),
-        (
-            Var("curve_start", "curve", "1", "index of the first point", dtype=i32),
-            np.cumsum([0] + [len(c) for c in curves])[:-1],
-        ),
+        (Var("curve_start", "curve", "1", "index of the first point", dtype=i32), starts),
         (Var("curve_length", "curve", "1", "number of points", dtype=i32), [len(c) for c in curves]),
-        (Var("codim2_type", C2, None, "codim-2 type", kinds.flags(kinds.CODIM2)), [CODES[b.kind] for _, b in c2]),
+        (Var("codim2_type", C2, None, "codim-2 type", codim2), [CODES[b.kind] for _, b in c2]),
         (Var("codim2_curve", C2, "1", "index of the curve", dtype=i32), [k for k, _ in c2]),
         (Var(f"codim2_{p}", C2, *quantity(p)), [b.p for _, b in c2]),
         (Var(f"codim2_{q}", C2, *quantity(q)), [b.q for _, b in c2]),
@@ -269,39 +241,25 @@ def boundary_dataset(bd: Any, check: Any = None) -> xr.Dataset:
     ds = curve_dataset(bd.curves, names)
     bounds = [bounds_stable(c.kind, pt.multipliers, pt.crit) for c in bd.curves for pt in c.points]
     stable = "the curve bounds a stable orbit here (the other multipliers inside)"
-    ds.update(
-        table(
-            [
-                (
-                    Var("curve_kind", "curve", None, "curve kind", kinds.flags(FILE_KINDS)),
-                    [CODES[bd.file_kind(k)] for k in range(len(bd.curves))],
-                ),
-                (Var("bounds_stable", "point", None, stable, index(("interior", "boundary"))), bounds),
-                (
-                    Var("record_kind", R, None, "kind of the map's record", kinds.flags(FILE_KINDS)),
-                    [CODES[r[0]] for r in rec],
-                ),
-                (
-                    Var(
-                        "record_period",
-                        R,
-                        "1",
-                        "period of the orbit before the record (0: not periodic)",
-                        dtype=np.int16,
-                    ),
-                    [r[1] for r in rec],
-                ),
-                *[
-                    (Var(f"record_{nm}", R, *quantity(nm)), np.array([r[2 + k] for r in rec], float))
-                    for k, nm in enumerate(names)
-                ],
-                (
-                    Var("record_fate", R, None, "fate of the map's record as a seed", index(RECORD_FATES)),
-                    [RECORD_FATES.index(r[4]) for r in rec],
-                ),
-            ]
-        )
-    )
+    period, file_kinds = "period of the orbit before the record (0: not periodic)", kinds.flags(FILE_KINDS)
+    rows = [
+        (
+            Var("curve_kind", "curve", None, "curve kind", file_kinds),
+            [CODES[bd.file_kind(k)] for k in range(len(bd.curves))],
+        ),
+        (Var("bounds_stable", "point", None, stable, index(("interior", "boundary"))), bounds),
+        (Var("record_kind", R, None, "kind of the map's record", file_kinds), [CODES[r[0]] for r in rec]),
+        (Var("record_period", R, "1", period, dtype=np.int16), [r[1] for r in rec]),
+        *[
+            (Var(f"record_{nm}", R, *quantity(nm)), np.array([r[2 + k] for r in rec], float))
+            for k, nm in enumerate(names)
+        ],
+        (
+            Var("record_fate", R, None, "fate of the map's record as a seed", index(RECORD_FATES)),
+            [RECORD_FATES.index(r[4]) for r in rec],
+        ),
+    ]
+    ds.update(table(rows))
     ds.attrs.update({f"curve_{k}_seed": o for k, o in enumerate(bd.origin)})
     ds.attrs.update({f"records_{f}": int(sum(r[4] == f for r in rec)) for f in RECORD_FATES})
     ds.attrs.update({f"time_{k}_s": round(v, 3) for k, v in bd.timing.items()})

@@ -95,9 +95,7 @@ def box_end(problem: Problem, a: Point, z_pred: np.ndarray, box: Sequence[float]
     frac, k, bound = min(fracs)
     if frac <= cs.locate_xtol:
         return None
-    row = np.zeros(a.z.size)
-    row[k0 + k] = 1.0
-    return correct(problem, a.z + frac * (z_pred - a.z), row, bound / problem.scale[k0 + k], cs, a)
+    return correct(problem, a.z + frac * (z_pred - a.z), np.eye(a.z.size)[k0 + k], bound / problem.scale[k0 + k], cs, a)
 
 
 def inside(z: np.ndarray, box: Sequence[float], npar: int) -> bool:
