@@ -201,16 +201,6 @@ def map_line_seeds(map_ds: xr.Dataset, line: Line, max_period: int, max_seeds: i
     return out
 
 
-def line_branches(family: KHVFamily, orbits: Sequence[tuple | None], spec: BoundarySpec) -> list[Branch]:
-    """The distinct branches through the seeds' orbits (:func:`labelled_orbits`) along the family's range, with
-    the period-2n branches of their period doublings."""
-    out: list[Branch] = []
-    for found in orbits:
-        if found is not None:
-            add_branch(family, *found, out, spec.branch_settings(), max_period=spec.max_period, touch=2e-3)
-    return out
-
-
 # --- curves: merged periods, the polyline, one branch's events ----------------------------------------------
 
 
@@ -234,6 +224,24 @@ def branch_curves(
                 log.info("%s: %s (P%d) at %s seeds no curve (located: %s)", origin, bf.kind, bf.n, pq, bf.located)
                 bd.unseeded.append((bf.kind, bf.n, *pq, bf.located))
             bd.add([c] if c is not None else [], origin)
+
+
+def curves_from_branch(
+    plane: Any,
+    branch: Branch,
+    axis: str,
+    at: float,
+    cs: ContinuationSettings = CURVES,
+    kinds: Sequence[str] = CURVE_KINDS,
+    existing: Sequence[Curve] = (),
+) -> list[Curve]:
+    """:func:`branch_curves` of a ``branch`` along the plane's ``axis`` ("p" or "q", the other coordinate at
+    ``at``), ``existing`` the curves known already: the new curves."""
+    if axis not in ("p", "q"):
+        raise ValueError(f"axis {axis!r}; allowed: 'p', 'q'")
+    bd = Boundaries(Region(("p", "q"), plane.box), curves=list(existing), flank=["working"] * len(existing))
+    branch_curves(plane, bd, branch, Line("y" if axis == "p" else "x", at), cs, f"branch at {at:g}", kinds)
+    return bd.curves[len(existing) :]
 
 
 # --- the map's records as seeds -----------------------------------------------------------------------------
@@ -356,7 +364,11 @@ def boundary_curves(
     ]
     found = iter(labelled_orbits([s for line_seeds in seeds for s in line_seeds], policy, spec.max_period))
     for line, fam, line_seeds in zip(lines, fams, seeds, strict=True):
-        for br in line_branches(fam, [next(found) for _ in line_seeds], spec):
+        known: list[Branch] = []  # the distinct branches through the seeds' orbits, with their period doublings'
+        for orbit in [next(found) for _ in line_seeds]:
+            if orbit is not None:
+                add_branch(fam, *orbit, known, spec.branch_settings(), max_period=spec.max_period, touch=2e-3)
+        for br in known:
             bd.branches.append((line, br))
             events = [(b.kind, round(b.p, 5)) for b in br.bifurcations]
             log.info("line %s: P%d branch, %d points, events %s", line, br.n, len(br), events)

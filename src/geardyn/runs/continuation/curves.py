@@ -12,12 +12,11 @@ from typing import Any
 import numpy as np
 
 from geardyn import libm
-from geardyn.runs.continuation.branch import Branch
 from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, Point, correct, merged, step
 from geardyn.runs.continuation.events import brent_on_step, fold_test, ns_test, pd_test, unstable_counts
 from geardyn.runs.continuation.problem import TARGET, CurveProblem, others
 from geardyn.runs.continuation.stepping import both_ways, box_end, inside, march
-from geardyn.solve.bifurcations import CODIM2, CURVE_KINDS
+from geardyn.solve.bifurcations import CODIM2
 
 #: The codimension-2 points that end a curve.
 TERMINAL = ("resonance_1_1", "resonance_1_2")
@@ -234,32 +233,3 @@ def bounds_stable(kind: str, multipliers: np.ndarray, crit: Sequence[complex]) -
     is a boundary of a stable orbit there."""
     mu = np.asarray(multipliers)
     return bool(np.all(libm.cabs(mu if kind == "grazing" else others(mu, tuple(crit))) < 1.0))
-
-
-def curves_from_branch(
-    plane: Any,
-    branch: Branch,
-    axis: str,
-    at: float,
-    cs: ContinuationSettings = CURVES,
-    kinds: Sequence[str] = CURVE_KINDS,
-    existing: Sequence[Curve] = (),
-) -> list[Curve]:
-    """A curve from every bifurcation of ``branch`` whose kind is in ``kinds``, located or only bracketed (the
-    one-parameter branch runs along the plane's ``axis``, "p" or "q", with the other coordinate at ``at``).  A
-    seed that lies on a curve already found (among them or ``existing``: :func:`lies_on`) starts none."""
-    if axis not in ("p", "q"):
-        raise ValueError(f"axis {axis!r}; allowed: 'p', 'q'")
-    curves = list(existing)
-    box = plane.box
-    for bf in branch.bifurcations:
-        if bf.kind not in kinds:
-            continue
-        p, q = (bf.p, at) if axis == "p" else (at, bf.p)
-        units = (box[1] - box[0], box[3] - box[2])
-        if any(lies_on(c, bf.kind, bf.n, p, q, cs.on_curve_tol, units) for c in curves):
-            continue
-        c = continue_curve(plane, bf.kind, bf.n, bf.state, (p, q), bf.critical, cs, axis)
-        if c is not None:
-            curves.append(c)
-    return curves[len(existing) :]
