@@ -65,7 +65,11 @@ class BoundarySpec:
         return replace(CURVES, ds=min(CURVES.ds_max, self.ds_max), ds_max=self.ds_max, max_points=self.max_points)
 
     def branch_settings(self) -> ContinuationSettings:
-        return ContinuationSettings(ds=self.branch_ds_max, ds_max=self.branch_ds_max, max_points=2000)
+        return ContinuationSettings(ds=self.branch_ds_max, ds_max=self.branch_ds_max, max_points=2000, touch_tol=2e-3)
+
+    def record_settings(self) -> ContinuationSettings:
+        """A record's branch: searched for the record's kind only (no grazing margins)."""
+        return replace(self.branch_settings(), ds=0.05, ds_max=0.05, grazing=False)
 
 
 #: Keys of a curves study entry that are not curve settings.
@@ -293,7 +297,7 @@ def _record_curves(
     (xp, yp), fixed = bd.region.names, dict(bd.region.fixed)
     row = Line("y", float(ys[j]))
     fam = KHVFamily(design, xp, {**fixed, yp: row.value}, lo, hi, plane.settings, 5)
-    cs = replace(spec.branch_settings(), ds=0.05, ds_max=0.05, grazing=False)  # the record's kind only
+    cs = spec.record_settings()
     px = pixel_size(map_ds)[0]
     origin = f"map record ({float(xs[i]) - 0.5 * px:.6g}, {row.value:.6g})"
     known: list[Branch] = []  # a second orbit on the first one's branch starts none
@@ -367,7 +371,7 @@ def boundary_curves(
         known: list[Branch] = []  # the distinct branches through the seeds' orbits, with their period doublings'
         for orbit in [next(found) for _ in line_seeds]:
             if orbit is not None:
-                add_branch(fam, *orbit, known, spec.branch_settings(), max_period=spec.max_period, touch=2e-3)
+                add_branch(fam, *orbit, known, spec.branch_settings(), spec.max_period)
         for br in known:
             bd.branches.append((line, br))
             events = [(b.kind, round(b.p, 5)) for b in br.bifurcations]

@@ -85,7 +85,7 @@ def sweep_branches(families: Sequence[KHVFamily], cube: Any, spec: OrbitSpec) ->
     for case, family in enumerate(families):
         mine: list[Branch] = []
         for p, x, n in seeds_from_cube(cube, case, spec.max_period, spec.max_seeds):
-            br = add_branch(family, p, x, n, mine, spec.continuation, max_period=doubling)
+            br = add_branch(family, p, x, n, mine, spec.continuation, doubling)
             if br is not None:
                 ends = br.end_status
                 log.info("case %d: P%d branch from %g: %d points, ends %s", case, n, p, len(br), ends)
