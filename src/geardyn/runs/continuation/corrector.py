@@ -1,8 +1,6 @@
 """The engine of every continuation (BifurcationKit's ``ContinuationPar``, ``ContState``, ``newton``): one
-settings class, one point record, the predictor, ONE bordered Newton corrector and ONE tangent.  A problem
-(:mod:`~geardyn.runs.continuation.problem`: a branch, a curve, a grazing curve) states its residual, its Jacobian
-blocks and its monodromy; the corrector solves it with one extra equation, the arclength's or a line's
-(docs/orbits.md, section 2)."""
+settings class, one point record, the predictor, one bordered Newton corrector and one tangent for every
+:mod:`~geardyn.runs.continuation.problem` (docs/orbits.md, section 2)."""
 
 from __future__ import annotations
 

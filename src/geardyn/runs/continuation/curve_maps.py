@@ -18,7 +18,7 @@ from geardyn.config import settings_from
 from geardyn.khv import point
 from geardyn.khv.design import resolve_fractions
 from geardyn.label import Policy, label_points
-from geardyn.runs.continuation.branch import Branch
+from geardyn.runs.continuation.branch import Bifurcation, Branch
 from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings
 from geardyn.runs.continuation.curves import Curve, continue_curve, lies_on
 from geardyn.runs.continuation.driver import run_middles
@@ -141,10 +141,8 @@ class Boundaries:
     unseeded: list[tuple[str, int, float, float, bool]] = field(default_factory=list)
     timing: dict[str, float] = field(default_factory=dict)
 
-    def add(self, curves: Sequence[Curve], origin: str, flank: str = "working") -> None:
-        for c in curves:
-            if len(c) < 2:
-                continue
+    def add(self, c: Curve | None, origin: str, flank: str = "working") -> None:
+        if c is not None and len(c) >= 2:
             self.curves.append(c)
             self.flank.append(flank)
             self.origin.append(origin)
@@ -216,18 +214,19 @@ def branch_curves(
     cs: ContinuationSettings,
     origin: str,
     kinds: Sequence[str] = CURVE_KINDS,
+    flank: str = "working",
 ) -> None:
     """A curve from each event of ``br`` (along ``line``), located or only bracketed, that lies on no curve of
-    ``bd`` yet (:meth:`Boundaries.known`); an event whose seed the corrector does not reach goes to
-    ``bd.unseeded``."""
+    ``bd`` of its ``flank`` yet (:meth:`Boundaries.known`); an event whose seed the corrector does not reach goes
+    to ``bd.unseeded``."""
     for bf in br.bifurcations:
         pq = (line.value, bf.p) if line.axis == "x" else (bf.p, line.value)
-        if bf.kind in kinds and not bd.known(bf.kind, bf.n, pq, cs.on_curve_tol):
+        if bf.kind in kinds and not bd.known(bf.kind, bf.n, pq, cs.on_curve_tol, flank):
             c = continue_curve(plane, bf.kind, bf.n, bf.state, pq, bf.critical, cs, line.along)
             if c is None:
                 log.info("%s: %s (P%d) at %s seeds no curve (located: %s)", origin, bf.kind, bf.n, pq, bf.located)
-                bd.unseeded.append((bf.kind, bf.n, *pq, bf.located))
-            bd.add([c] if c is not None else [], origin)
+                bd.unseeded.append(("back_grazing" if flank == "back" else bf.kind, bf.n, *pq, bf.located))
+            bd.add(c, origin, flank)
 
 
 def curves_from_branch(
@@ -377,14 +376,13 @@ def boundary_curves(
             events = [(b.kind, round(b.p, 5)) for b in br.bifurcations]
             log.info("line %s: P%d branch, %d points, events %s", line, br.n, len(br), events)
             branch_curves(plane, bd, br, line, cs, f"line {line}")
-            if spec.back_grazing:
-                for q, located in sign_changes(br, fam.back_grazing):
-                    t, x = q.p, q.x
-                    pq = (line.value, t) if line.axis == "x" else (t, line.value)
-                    if not bd.known("grazing", br.n, pq, cs.on_curve_tol, "back"):
-                        c = continue_curve(back, "grazing", br.n, x, pq, cs=cs, along=line.along)
-                        bd.add([c] if c is not None else [], f"line {line}", "back")
-                        bd.unseeded += [] if c is not None else [("back_grazing", br.n, *pq, located)]
+            if spec.back_grazing:  # where back-side contact begins: the back flank's grazing curves
+                nan = complex("nan")
+                bfs = [
+                    Bifurcation("grazing", q.p, q.x, q.multipliers, nan, nan.real, -1, ok, br.n)
+                    for q, ok in sign_changes(br, fam.back_grazing)
+                ]
+                branch_curves(back, bd, replace(br, bifurcations=bfs), line, cs, f"line {line}", ("grazing",), "back")
     bd.timing["lines"] = time.perf_counter() - t0
     if map_ds is not None and spec.map_seeds and "bifurcation" in map_ds:
         t1 = time.perf_counter()

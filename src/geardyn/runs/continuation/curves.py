@@ -152,12 +152,10 @@ def continue_curve(
     cs: ContinuationSettings = CURVES,
     along: str = "p",
 ) -> Curve | None:
-    """The curve of ``kind`` (period n) through the codimension-1 point near (x0, start = (p0, q0)), both ways to
-    the box ``plane.box``.  ``critical``: the critical multiplier there (the upper one of a Neimark-Sacker pair;
-    default +1 / -1 for fold / period doubling).  The seed is corrected on the line through ``start`` along
-    ``along`` (the other parameter held); None when that fails or its orbit is of a shorter period (a fold's within
-    ``merge_tol_fold``, as a branch's: there the period-2m orbit meets the period-m one at its period doubling, and
-    the curve is that one's period-doubling curve)."""
+    """The curve of ``kind`` (period n) through the point near (x0, start = (p0, q0)) with the critical multiplier
+    ``critical`` (a Neimark-Sacker pair's upper one; default +1 / -1), both ways to ``plane.box``; the seed solved on
+    the line through ``start`` along ``along``.  None when that fails or its orbit is of a shorter period (a fold's
+    within ``merge_tol_fold``: the curve is then that orbit's period-doubling curve)."""
     box = tuple(plane.box)
     x0 = np.asarray(x0, dtype=float)
     if not inside(np.asarray(start), box, 2):

@@ -37,11 +37,9 @@ def march(
     scale: np.ndarray,
     cs: ContinuationSettings,
 ) -> tuple[list[Point], str]:
-    """Points along one direction from ``start`` (excluded); returns (points, end status).  ``advance(cur, ds)``
-    predicts and corrects one step: None when the corrector failed (ds halves, down to ``cs.ds_min``), else the
-    points to add and a status that ends the march ("" to go on).  ds grows by 1.3 after a corrector of at most
-    ``cs.grow_at`` evaluations, never beyond ``cs.ds_max``; the march ends back at its start (``closed_loop``: an
-    isola), past multipliers of modulus ``cs.max_multiplier`` or after ``cs.max_points``."""
+    """(points, end status) along one direction from ``start`` (excluded), with the step control of ``cs``.
+    ``advance(cur, ds)`` steps once: None when the corrector failed, else the points to add and a status that ends
+    the march ("" to go on); the march also ends back at its start (``closed_loop``: an isola)."""
     pts: list[Point] = []
     cur, ds = start, cs.ds
     u_start = start.z / scale
