@@ -15,6 +15,7 @@ from scipy.optimize import brentq
 from geardyn import libm
 from geardyn.runs.continuation.branch import Bifurcation, Branch
 from geardyn.runs.continuation.corrector import Point, step
+from geardyn.runs.continuation.problem import nearest
 from geardyn.solve.floquet import is_complex
 from geardyn.solve.shooting import rotation_number
 
@@ -53,7 +54,7 @@ def ns_test(mu: np.ndarray) -> float:
 
 def _near(target: float) -> Callable[[np.ndarray], complex]:
     """The multiplier nearest ``target`` (-1: period doubling, +1: fold and branch point)."""
-    return lambda mu: complex(mu[np.argmin(libm.cabs(mu - target))])
+    return lambda mu: complex(mu[nearest(mu, target)])
 
 
 def _lin_zero(a: float, b: float) -> float:

@@ -18,7 +18,10 @@ TARGET = {"fold": 1.0, "period_doubling": -1.0}
 
 def nearest(mu: np.ndarray, target: complex, skip: int = -1) -> int:
     """The index of the multiplier nearest ``target`` (but ``skip``)."""
-    return int(np.argmin(np.where(np.arange(mu.size) == skip, np.inf, libm.cabs(mu - target))))
+    d = libm.cabs(mu - target)
+    if skip >= 0:
+        d[skip] = np.inf
+    return int(np.argmin(d))
 
 
 def condition(kind: str, M: np.ndarray, ref: tuple[complex, ...]) -> tuple[float, tuple[complex, ...]]:
