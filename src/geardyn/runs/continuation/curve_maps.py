@@ -1,7 +1,5 @@
-"""Regime boundaries of a regime map (or of a plane without a map, a ``curves:`` study) as curves: the
-settings, the plane and its lines, the one-parameter branches along the lines (seeded by the labeller) and the
-two-parameter curves of their events, then the map's records as seeds (:func:`record_seeds`), both stages in
-:func:`boundary_curves` (docs/orbits.md, section 5, "In the workflow")."""
+"""Regime boundaries of a map (or of a ``curves:`` study's plane) as curves: branches along lines seeded by the
+labeller, the curves of their events, then the map's records as seeds (docs/orbits.md, section 5)."""
 
 from __future__ import annotations
 
@@ -347,10 +345,8 @@ def boundary_curves(
     map_ds: xr.Dataset | None = None,
     policy: Policy | None = None,
 ) -> tuple[Boundaries, KHVPlane]:
-    """The regime boundaries of ``region`` (module doc): branches along the spec's lines (else the middle lines)
-    seeded by the map's periodic pixels or, without a map, by ``probes`` points per line, each labelled by
-    ``policy`` (default: the labeller's with ``settings``), and the curves of their events and back-flank sign
-    changes; then, with a map, the curves its records seed."""
+    """The regime boundaries of ``region`` (module doc), the seeds labelled by ``policy`` (default: the labeller's
+    with ``settings``): the map's periodic pixels along its lines or, without a map, ``probes`` points per line."""
     t0 = time.perf_counter()
     policy = policy or Policy(settings)
     plane = KHVPlane(design, region.names, dict(region.fixed), region.box, settings, spec.nodes)

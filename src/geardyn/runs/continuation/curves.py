@@ -120,10 +120,8 @@ def _merged(prob: CurveProblem, pt: Point | None, tol: float | None = None) -> b
 def _advance(
     prob: CurveProblem, box: Sequence[float], found: list[Codim2], cur: Point, ds: float
 ) -> tuple[list[Point], str] | None:
-    """One step of a curve (:func:`~geardyn.runs.continuation.stepping.march`): ends on the box (the last point
-    solved on its side), at a 1:1 or 1:2 resonance, or where a period-n curve reaches an orbit of a shorter period
-    (through a period doubling of that orbit it would go on as its curve traversed n / m times); the
-    codimension-2 points passed go to ``found``."""
+    """One step of a curve (:func:`~geardyn.runs.continuation.stepping.march`), ending on the box, at a 1:1 or 1:2
+    resonance or on an orbit of a shorter period; the codimension-2 points passed go to ``found``."""
     z_pred = (cur.z / prob.scale + ds * cur.tangent) * prob.scale
     if not inside(z_pred, box, 2):
         end = box_end(prob, cur, z_pred, box, prob.cs)

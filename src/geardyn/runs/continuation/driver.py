@@ -29,10 +29,8 @@ log = logging.getLogger("geardyn.continuation")
 
 @dataclass(frozen=True)
 class OrbitSpec:
-    """One ``orbits:`` entry of the configuration (keyed by the sweep it continues; its keys in the config
-    schema): ``nodes`` the coefficient interpolation nodes of :class:`~geardyn.runs.continuation.KHVFamily`,
-    ``continuation`` the :class:`ContinuationSettings`, ``attractors`` the mapping for
-    :mod:`geardyn.runs.attractors`."""
+    """One ``orbits:`` entry of the configuration (its keys in the config schema): ``nodes`` of the
+    :class:`~geardyn.runs.continuation.KHVFamily`, ``attractors`` for :mod:`geardyn.runs.attractors`."""
 
     max_period: int = 6
     max_seeds: int = 6

@@ -1,7 +1,5 @@
-"""Typed bifurcation points of a continued branch: the test functions between consecutive points (period
-doubling, Neimark-Sacker, fold, branch point, grazing) and their location on the branch (Brent on the arclength
-fraction, the fold by its cubic Hermite extremum), every trial point a pseudo-arclength correction so that it
-stays on this branch (docs/orbits.md, section 3)."""
+"""Typed bifurcation points of a continued branch: the test functions between consecutive points and their
+location on the branch, every trial point a pseudo-arclength correction (docs/orbits.md, section 3)."""
 
 from __future__ import annotations
 

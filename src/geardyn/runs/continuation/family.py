@@ -1,7 +1,5 @@
-"""The model adapters: one- and two-parameter families of periodic systems (the system at a parameter value, its
-stroboscopic map with monodromy, the cycle of an orbit, the grazing margins of an orbit), with the spline cache
-of :class:`KHVFamily` and :class:`KHVPlane` for a KHV design, and a line of a plane as a family
-(:class:`PlaneLine`)."""
+"""The model adapters: one- and two-parameter families of periodic systems (flow with monodromy, cycle, grazing
+margins), :class:`KHVFamily` and :class:`KHVPlane` of a KHV design, a line of a plane as a family."""
 
 from __future__ import annotations
 

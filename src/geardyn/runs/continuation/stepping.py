@@ -1,7 +1,5 @@
-"""The one stepper of continuation: the march of one direction with its step control and end tests
-(:func:`march`, for branches and curves), both directions from a seed (:func:`both_ways`), the end on a side
-of the box (:func:`box_end`), and :func:`continue_branch`, which shoots the seed, marches both ways and
-assembles the :class:`~geardyn.runs.continuation.branch.Branch` with its bifurcation points."""
+"""The one stepper of continuation (:func:`march`, for branches and curves, :func:`both_ways`, :func:`box_end`)
+and :func:`continue_branch`, which shoots a seed, marches both ways and types the branch's points."""
 
 from __future__ import annotations
 
