@@ -49,11 +49,11 @@ class ContinuationSettings:
     merge_tol: float = 1e-6
     merge_tol_fold: float = 1e-4
     on_curve_tol: float = 5e-3
+    switch_steps: tuple[float, ...] = (1e-3, 1e-2)
     seed_tol: float = 1e-3
+    switch_amplitudes: tuple[float, ...] = (1e-2, 1e-1, 1.0)
     doubled_tol: float = 1e-2
     touch_tol: float = 0.0
-    switch_steps: tuple[float, ...] = (1e-3, 1e-2)
-    switch_amplitudes: tuple[float, ...] = (1e-2, 1e-1, 1.0)
 
     @classmethod
     def from_mapping(cls, spec: Mapping[str, Any] | None) -> ContinuationSettings:
