@@ -178,14 +178,6 @@ class PixelCheck:
         ]
 
 
-def _boundary_segments(flags: np.ndarray, curve: Any, px: float, py: float) -> tuple[np.ndarray, np.ndarray]:
-    """The segments (start, end; pixel units) of a curve between consecutive points that both bound a stable
-    orbit (``flags``): the parts of the curve that can change the map's labels."""
-    pts = np.column_stack([curve.p / px, curve.q / py])
-    keep = flags[:-1] & flags[1:]
-    return pts[:-1][keep], pts[1:][keep]
-
-
 class _Probe:
     """The curve's orbit at pixels (:meth:`at`): status (stable, unstable, absent), state, mean X_VH, margin,
     impact class, spread of X_VH, largest multiplier modulus; and the criticality of a period doubling."""
@@ -314,7 +306,10 @@ def pixel_check(plane: Any, bd: Boundaries, map_ds: xr.Dataset, cs: CheckSetting
     px, py = float(xs[1] - xs[0]), float(ys[1] - ys[0])
     c2 = [(b.p, b.q) for c in bd.curves for b in c.codim2]
     stable = [np.array([bounds_stable(c.kind, pt.multipliers, pt.crit) for pt in c.points]) for c in bd.curves]
-    segs = [_boundary_segments(f, c, px, py) for f, c in zip(stable, bd.curves, strict=True)]
+    segs = []  # (start, end) in pixels of the segments that bound a stable orbit: those that change the labels
+    for f, c in zip(stable, bd.curves, strict=True):
+        pts, keep = np.column_stack([c.p / px, c.q / py]), f[:-1] & f[1:]
+        segs.append((pts[:-1][keep], pts[1:][keep]))
     t0 = time.perf_counter()
     out = PixelCheck(every=cs.every, slow_margin=slow_margin(map_ds))
     judge = _Judge(map_ds, out.slow_margin, cs)

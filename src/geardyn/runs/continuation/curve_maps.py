@@ -114,14 +114,6 @@ class Line:
         return f"{self.axis} = {self.value:g}"
 
 
-def lines_of(region: Region, xs: Sequence[float], ys: Sequence[float]) -> list[Line]:
-    """The lines inside the box; a direction without any gets the middle line."""
-    x0, x1, y0, y1 = region.box
-    lx = [Line("x", float(v)) for v in xs if x0 <= v <= x1] or [Line("x", 0.5 * (x0 + x1))]
-    ly = [Line("y", float(v)) for v in ys if y0 <= v <= y1] or [Line("y", 0.5 * (y0 + y1))]
-    return lx + ly
-
-
 @dataclass
 class Boundaries:
     """The curves of a plane: ``flank[k]`` "back" for a back-flank grazing curve, ``origin[k]`` its seed;
@@ -350,7 +342,9 @@ def boundary_curves(
     t0 = time.perf_counter()
     policy = policy or Policy(settings)
     plane = KHVPlane(design, region.names, dict(region.fixed), region.box, settings, spec.nodes)
-    lines = lines_of(region, spec.lines_x, spec.lines_y)
+    x0, x1, y0, y1 = region.box  # the lines inside the box; a direction without any gets the middle line
+    lines = [Line("x", float(v)) for v in spec.lines_x if x0 <= v <= x1] or [Line("x", 0.5 * (x0 + x1))]
+    lines += [Line("y", float(v)) for v in spec.lines_y if y0 <= v <= y1] or [Line("y", 0.5 * (y0 + y1))]
     bd = Boundaries(region, lines)
     back = plane.back_flank()
     cs = spec.curve_settings()

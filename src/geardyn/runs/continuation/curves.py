@@ -195,14 +195,10 @@ def line_points(plane: Any, curve: Curve, axis: str, value: float, cs: Continuat
 def lies_on(curve: Curve, kind: str, n: int, p: float, q: float, tol: float, units: tuple[float, float]) -> bool:
     """The one test of whether (p, q) already lies on ``curve``: of that kind and period, within ``tol`` of its
     polyline in ``units`` (the box's sides, or the map's pixel)."""
-    return curve.kind == kind and curve.n == n and polyline_distance(curve, p, q, *units) <= tol
-
-
-def polyline_distance(curve: Curve, x: float, y: float, px: float, py: float) -> float:
-    """Distance of (x, y) from the curve's polyline in units of (px, py) (e.g. the map's pixel)."""
-    pts = np.column_stack([curve.p / px, curve.q / py])
-    pt = np.array([x / px, y / py])
-    return float(np.linalg.norm(pts[0] - pt)) if len(pts) == 1 else segment_distance(pts[:-1], pts[1:], pt)
+    if curve.kind != kind or curve.n != n:
+        return False
+    pts, pt = np.column_stack([curve.p / units[0], curve.q / units[1]]), np.array([p / units[0], q / units[1]])
+    return (float(np.linalg.norm(pts[0] - pt)) if len(pts) == 1 else segment_distance(pts[:-1], pts[1:], pt)) <= tol
 
 
 def segment_distance(a: np.ndarray, b: np.ndarray, pt: np.ndarray) -> float:

@@ -56,19 +56,12 @@ class KHVFamily:
             self._floats = [k for k, v in d0.items() if isinstance(v, float)]
             table = np.array([[c.as_dict()[k] for k in self._floats] for c in cs])
             self._spline = CubicSpline(grid, table, axis=0)
-            self.interpolation_error = self._spline_error(grid)
+            mids = 0.5 * (grid[1:] + grid[:-1])  # the error: the largest relative one at about five mid-points
+            for v in mids[:: max(1, len(mids) // 5)]:
+                direct = np.array([self._direct(v).as_dict()[k] for k in self._floats])
+                err = np.abs(self._spline(v) - direct) / np.maximum(np.abs(direct), 1e-300)
+                self.interpolation_error = max(self.interpolation_error, float(np.max(err)))
         self._cache: dict[float, Coefficients] = {}
-
-    def _spline_error(self, grid: np.ndarray) -> float:
-        """Largest relative difference of the splines to a direct evaluation at about five mid-points."""
-        mids = 0.5 * (grid[1:] + grid[:-1])
-        probe = mids[:: max(1, len(mids) // 5)]
-        err = 0.0
-        for v in probe:
-            direct = np.array([self._direct(v).as_dict()[k] for k in self._floats])
-            interp = self._spline(v)
-            err = max(err, float(np.max(np.abs(interp - direct) / np.maximum(np.abs(direct), 1e-300))))
-        return err
 
     def _direct(self, p: float) -> Coefficients:
         return point.point_coefficients(self.design, {**self.fixed, self.parameter: float(p)})
