@@ -44,14 +44,9 @@ def legend(kind: str) -> str:
     return KINDS[kind][1] if kind in KINDS else kind
 
 
-def flags(kinds: Iterable[str], long_name: str) -> dict[str, Any]:
-    """CF attributes of a flag variable holding the codes of ``kinds``."""
-    kinds = list(kinds)
-    return {
-        "long_name": long_name,
-        "flag_values": np.array([CODES[k] for k in kinds], np.int8),
-        "flag_meanings": " ".join(kinds),
-    }
+def flags(kinds: Iterable[str]) -> dict[str, int]:
+    """meaning -> code of ``kinds``: the ``flags`` of a :class:`geardyn.io.Var` holding their codes."""
+    return {k: CODES[k] for k in kinds}
 
 
 def decode(attrs: Mapping[str, Any]) -> dict[int, str]:

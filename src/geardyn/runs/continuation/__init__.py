@@ -4,7 +4,8 @@ settings class (docs/orbits.md, with the map of the package's modules)."""
 
 from geardyn.runs.continuation.branch import Bifurcation, Branch, on_branch
 from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, Point
-from geardyn.runs.continuation.curves import Codim2, Curve, continue_curve, curves_from_branch, line_points
+from geardyn.runs.continuation.curve_maps import curves_from_branch
+from geardyn.runs.continuation.curves import Codim2, Curve, continue_curve, line_points
 from geardyn.runs.continuation.driver import OrbitSpec, label_agreement, label_check, seeds_from_cube, sweep_orbits
 from geardyn.runs.continuation.family import KHVFamily, KHVPlane, PlaneLine, grazing_margin
 from geardyn.runs.continuation.output import (

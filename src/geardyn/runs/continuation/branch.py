@@ -30,12 +30,9 @@ class Bifurcation:
 
 @dataclass
 class Branch:
-    """One continued branch of period-n orbits, ordered along the arclength.
-
-    p (m,), states (m, d) at phase 0, multipliers (m, d) by decreasing modulus, arclength (m,),
-    grazing (m,) margin g = min |x_VH| - b over the cycle (NaN when not computed), iterations (m,)
-    corrector evaluations.  end_status: why each end stopped (``down``, ``up``).
-    """
+    """One continued branch of period-n orbits along its arclength: p (m,), states (m, d) at phase 0, multipliers
+    (m, d) by decreasing modulus, grazing margins (NaN when not computed), corrector evaluations; ``end_status``:
+    why each end (``down``, ``up``) stopped."""
 
     n: int
     p: np.ndarray

@@ -1,8 +1,6 @@
 """The engine of every continuation (BifurcationKit's ``ContinuationPar``, ``ContState``, ``newton``): one
-settings class, one point record, the predictor, ONE bordered Newton corrector and ONE tangent.  A problem
-(:mod:`~geardyn.runs.continuation.problem`: a branch, a curve, a grazing curve) states its residual, its Jacobian
-blocks and its monodromy; the corrector solves it with one extra equation, the arclength's or a line's
-(docs/orbits.md, section 2)."""
+settings class, one point record, the predictor, one bordered Newton corrector and one tangent for every
+:mod:`~geardyn.runs.continuation.problem` (docs/orbits.md, section 2)."""
 
 from __future__ import annotations
 
@@ -26,7 +24,10 @@ class ContinuationSettings:
     after ``max_corrector`` evaluations; forward differences of step ``dp_rel`` of the scales.  Step control: ds
     grows by 1.3 after at most ``grow_at`` evaluations, halves after a failure down to ``ds_min``.  A period-n
     point is of period m | n when its m-th cycle point returns within ``merge_tol`` sx (``merge_tol_fold`` at a
-    fold); a seed within ``on_curve_tol`` (box sides = 1) of a curve of its kind starts none."""
+    fold); a seed within ``on_curve_tol`` (box sides = 1) of a curve of its kind starts none, one within ``seed_tol``
+    sx of a branch of its period too.  Branch switching (docs/orbits.md, section 3) tries the steps ``switch_steps``
+    of the range and the amplitudes ``switch_amplitudes``; a period doubling on a known period-2n branch (within
+    ``doubled_tol`` sx, or ``touch_tol`` of a point of it, sx and the range scaled to 1) starts none."""
 
     ds: float = 1e-3
     ds_min: float = 1e-7
@@ -48,6 +49,11 @@ class ContinuationSettings:
     merge_tol: float = 1e-6
     merge_tol_fold: float = 1e-4
     on_curve_tol: float = 5e-3
+    switch_steps: tuple[float, ...] = (1e-3, 1e-2)
+    seed_tol: float = 1e-3
+    switch_amplitudes: tuple[float, ...] = (1e-2, 1e-1, 1.0)
+    doubled_tol: float = 1e-2
+    touch_tol: float = 0.0
 
     @classmethod
     def from_mapping(cls, spec: Mapping[str, Any] | None) -> ContinuationSettings:

@@ -13,25 +13,25 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from geardyn.khv import point
+from geardyn.io import Var
 from geardyn.label.classify import LABELS
 from geardyn.runs.continuation.branch import Bifurcation
 from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, correct
-from geardyn.runs.continuation.curve_maps import Boundaries, BoundarySpec, Region, boundary_curves
+from geardyn.runs.continuation.curve_maps import RECORD_KINDS, Boundaries, BoundarySpec, Region, boundary_curves
 from geardyn.runs.continuation.curves import Curve, bounds_stable, crossings, segment_distance, shorter_period
 from geardyn.runs.continuation.family import PlaneLine, cached
-from geardyn.runs.continuation.output import flags, variables
+from geardyn.runs.continuation.output import index, quantity
 from geardyn.runs.continuation.problem import CurveProblem
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.runs.continuation.switching import switch_at_period_doubling
+from geardyn.solve import bifurcations
 from geardyn.solve.base import SimulationSettings
 from geardyn.solve.bifurcations import CODES
-from geardyn.solve.bifurcations import flags as kind_flags
 from geardyn.solve.response import IMPACT_CLASSES, response_measures
 from geardyn.solve.shooting import newton_shooting
 
-#: Failures of a checked sample.
 _UNDETERMINED = LABELS["undetermined"]
+#: Failures of a checked sample.
 FAILURES = ("not_straddled", "stable_side", "other_side", "impact_class")
 #: Samples left out of the fraction, each with its reason (module doc).
 EXCLUDED = ("codim2", "crowded", "edge", "slow", "hysteresis", "coexistence")
@@ -41,23 +41,15 @@ FORWARD = "the stable pixel's row reaches it without crossing the curve"
 #: Criticality of a period doubling (``check_criticality`` flags; "untyped" for the other kinds).
 CRITICALITY = ("untyped", "supercritical", "subcritical")
 _TORUS = (LABELS["quasi_periodic"], LABELS["long_period"])
-_LABEL_KINDS = ("fold", "period_doubling", "neimark_sacker")
-
-
-#: The probes' branches: about 8 steps over the way (at least 1/512 of it), no grazing margins, events only bracketed.
-FOLLOW = ContinuationSettings(ds=0.125, ds_min=2e-3, ds_max=0.125, max_points=40, grazing=False, locate=False)
 
 
 @dataclass(frozen=True)
 class CheckSettings:
-    """The numbers of the pixel check (module doc).  Every ``every``-th row and column, at most ``max_samples``
-    crossings per curve; left out within ``margin`` pixels of a codimension-2 point or ``crowd`` pixels of another
-    curve.  The curve's orbit at a pixel: Newton shooting (``tol``, ``newton_iter`` iterations) from the curve's
-    state and from it pushed by ``pushes`` max(1, |x|) along the fold eigenvector, kept within ``near``
-    max(1, |x|) of the curve's state; else the branch from the crossing (``follow``, over at most ``follow_share``
-    of the way first).  A pixel is on the orbit when its mean X_VH lies within ``mean_rtol`` max(1, |X_VH|) +
-    ``mean_spread`` times the orbit's spread of it, and its spread within the orbit's + ``spread_rtol``
-    max(1, |X_VH|)."""
+    """The numbers of the pixel check (docs/orbits.md, section 5): the samples (``every``, ``max_samples``), left
+    out (``margin``, ``crowd`` pixels), the orbit at a pixel (Newton: ``tol``, ``newton_iter``, ``pushes`` along the
+    fold eigenvector, within ``near``; else ``follow``, the probes' branches: about 8 steps over the way, none below
+    1/512 of it, from ``follow_share`` of it; a period doubling's switched branch halves its steps down to
+    ``switch_ds_min``), a pixel on the orbit (``mean_rtol``, ``mean_spread``, ``spread_rtol``)."""
 
     every: int = 5
     margin: float = 3.0
@@ -68,8 +60,9 @@ class CheckSettings:
     pushes: tuple[float, ...] = (0.02, -0.02, 0.1, -0.1)
     near: float = 0.1
     follow: ContinuationSettings = ContinuationSettings(
-        ds=0.125, ds_max=0.125, max_points=40, grazing=False, locate=False
+        ds=0.125, ds_min=2e-3, ds_max=0.125, max_points=40, grazing=False, locate=False
     )
+    switch_ds_min: float = 1e-7
     follow_share: float = 0.125
     mean_rtol: float = 1e-3
     mean_spread: float = 0.1
@@ -78,10 +71,8 @@ class CheckSettings:
 
 @dataclass(frozen=True)
 class Sample:
-    """One crossing: the curve, its kind and period, the crossing (x, y), the two pixels ((row, column) of the
-    stable side first; none when excluded before shooting), their labels, the outcome (:data:`REASONS`),
-    forward (:data:`FORWARD`), the largest multiplier modulus of the orbit at the stable pixel and the
-    criticality (:data:`CRITICALITY`)."""
+    """One crossing (x, y) of a curve: the two pixels ((row, column), the stable side first), their labels, the
+    outcome (:data:`REASONS`), :data:`FORWARD`, the stable side's largest multiplier modulus, the criticality."""
 
     curve: int
     kind: str
@@ -153,44 +144,38 @@ class PixelCheck:
             "pixel_check_slow_margin": self.slow_margin,
         }
 
-    def variables(self, names: tuple[str, str], kinds: Sequence[str]) -> dict[str, Any]:
-        """The samples as variables of dimension ``check``."""
-        s, C = self.samples, ("check",)
-        units = [point.units_of(n, "1") for n in names]
-
-        def q(long_name: str, u: str = "1") -> dict[str, str]:
-            return {"long_name": long_name, "units": u}
-
-        def flag(attr: str, meanings: Sequence[str], long_name: str) -> tuple:
-            return (f"check_{attr}", C, [list(meanings).index(getattr(v, attr)) for v in s], flags(meanings, long_name))
-
+    def variables(self, names: tuple[str, str], kinds: Sequence[str]) -> list[tuple[Var, Any]]:
+        """The samples as (row, values) of dimension ``check``."""
+        s, C = self.samples, "check"
         pix = np.array([list(v.pixels[0]) + list(v.pixels[1]) if v.pixels else [-1] * 4 for v in s], np.int32)
         pixels = "row, column of the stable-side pixel, then the other (-1: none)"
-        labels = np.array([v.labels for v in s], np.int16).reshape(len(s), 2)
-        modulus = "largest multiplier modulus, stable-side orbit"
-        reasons = {**flags(REASONS, "outcome of the check"), "failures": " ".join(FAILURES)}
-        return variables(
-            [
-                (f"check_{names[0]}", C, np.array([v.x for v in s], float), q(f"{names[0]} at the crossing", units[0])),
-                (f"check_{names[1]}", C, np.array([v.y for v in s], float), q(f"{names[1]} at the crossing", units[1])),
-                ("check_curve", C, np.array([v.curve for v in s], np.int32), q("index of the curve")),
-                ("check_kind", C, [CODES[v.kind] for v in s], kind_flags(kinds, "curve kind")),
-                ("check_forward", C, [v.forward for v in s], flags(("return", "forward"), FORWARD)),
-                ("check_reason", C, [REASONS.index(v.reason) for v in s], reasons),
-                ("check_pixels", ("check", "pixel_index"), pix.reshape(len(s), 4), pixels),
-                ("check_labels", ("check", "side"), labels, "map label at the stable-side pixel and the other"),
-                ("check_modulus", C, np.array([v.modulus for v in s], float), q(modulus)),
-                flag("criticality", CRITICALITY, "criticality"),
-            ]
+        labels, modulus = (
+            "map label at the stable-side pixel and the other",
+            "largest multiplier modulus, stable-side orbit",
         )
-
-
-def _boundary_segments(flags: np.ndarray, curve: Any, px: float, py: float) -> tuple[np.ndarray, np.ndarray]:
-    """The segments (start, end; pixel units) of a curve between consecutive points that both bound a stable
-    orbit (``flags``): the parts of the curve that can change the map's labels."""
-    pts = np.column_stack([curve.p / px, curve.q / py])
-    keep = flags[:-1] & flags[1:]
-    return pts[:-1][keep], pts[1:][keep]
+        reason = Var(
+            "check_reason", C, None, "outcome of the check", index(REASONS), attrs={"failures": " ".join(FAILURES)}
+        )
+        return [
+            *[
+                (Var(f"check_{n}", C, quantity(n)[0], f"{n} at the crossing"), [getattr(v, a) for v in s])
+                for n, a in zip(names, "xy", strict=True)
+            ],
+            (Var("check_curve", C, "1", "index of the curve", dtype=np.int32), [v.curve for v in s]),
+            (Var("check_kind", C, None, "curve kind", bifurcations.flags(kinds)), [CODES[v.kind] for v in s]),
+            (Var("check_forward", C, None, FORWARD, index(("return", "forward"))), [v.forward for v in s]),
+            (reason, [REASONS.index(v.reason) for v in s]),
+            (Var("check_pixels", (C, "pixel_index"), "1", pixels), pix.reshape(len(s), 4)),
+            (
+                Var("check_labels", (C, "side"), "1", labels, dtype=np.int16),
+                np.reshape([v.labels for v in s], (len(s), 2)),
+            ),
+            (Var("check_modulus", C, "1", modulus), np.array([v.modulus for v in s], float)),
+            (
+                Var("check_criticality", C, None, "criticality", index(CRITICALITY)),
+                [CRITICALITY.index(v.criticality) for v in s],
+            ),
+        ]
 
 
 class _Probe:
@@ -202,9 +187,8 @@ class _Probe:
         self.cache: dict[tuple[float, float], tuple] = {}
 
     def at(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: tuple) -> tuple:
-        """The orbit at (p, q) (cached until the cache is cleared): Newton from each guess, kept within ``near``
-        of the curve's state at the crossing ``origin`` = (p, q, along: "p" for a row, "q" for a column; the
-        stable one nearest it), else the branch along the crossing's line followed from it (:meth:`followed`)."""
+        """The orbit at (p, q), cached: Newton from each guess within ``near`` of the curve's state (the stable one
+        nearest it), else :meth:`followed` from the crossing ``origin`` = (p, q, "p" along a row, "q" a column)."""
         return cached(self.cache, (p, q), lambda key: self._solve(*key, guesses, near, origin))
 
     def _solve(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: tuple) -> tuple:
@@ -228,9 +212,8 @@ class _Probe:
         return ("stable", x, float(np.mean(cyc[:, 1])), margin, impact, float(np.ptp(cyc[:, 1])), rho)
 
     def followed(self, p: float, q: float, x: np.ndarray, origin: tuple) -> list[tuple[np.ndarray, float]]:
-        """The orbit at (p, q) on the branch along the crossing's row or column through (p, q), continued from the
-        orbit shot ``follow_share`` of the way from ``origin`` (state x) towards (p, q); none when the branch does
-        not reach (p, q)."""
+        """The orbit at (p, q) on the branch along the crossing's line from ``follow_share`` of the way from
+        ``origin`` (state x); none when the branch does not reach (p, q)."""
         along = origin[2]
         t0, t1 = (origin[0], p) if along == "p" else (origin[1], q)
         line = PlaneLine(self.plane, along, q if along == "p" else p)
@@ -243,35 +226,29 @@ class _Probe:
         return [(br.states[k], float(np.max(np.abs(br.multipliers[k]))))]
 
     def criticality(self, origin: tuple, ref: Any, state: np.ndarray, t_pair: tuple[float, float]) -> str:
-        """A period doubling's criticality on the crossing's line (``origin`` as in :meth:`at`): the point solved
-        on the line by the corrector (the curve's problem with the line as the extra equation, from ``state``
-        and the curve point ``ref``), the period-2n branch switched there
-        (:func:`~geardyn.runs.continuation.switching.switch_at_period_doubling`) within the pixel pair ``t_pair``
-        (stable side, other side): ``supercritical`` when it reaches the other pixel stable, else
-        ``subcritical``."""
+        """A period doubling's criticality on the crossing's line: the period-2n branch switched at the curve's
+        point solved on the line (from ``state`` and the curve point ``ref``) is ``supercritical`` when it reaches
+        the other pixel of ``t_pair`` (stable side, other side) stable."""
         along, d = origin[2], state.size
         held = d + 1 if along == "p" else d
         prob = CurveProblem(self.plane, self.kind, self.n, d, self.curve.scales, CURVES)
-        row = np.zeros(d + 2)
-        row[held] = 1.0
         z = np.r_[state, origin[:2]]
-        pt = correct(prob, z, row, z[held] / prob.scale[held], CURVES, ref)
+        pt = correct(prob, z, np.eye(d + 2)[held], z[held] / prob.scale[held], CURVES, ref)
         if pt is None:
             return "subcritical"
         at, t_cross = (pt.q, pt.p) if along == "p" else (pt.p, pt.q)
         bf = Bifurcation("period_doubling", t_cross, pt.x, pt.multipliers, -1.0, np.nan, -1, True, self.n)
         lo, hi = sorted(t_pair)
         t_other = t_pair[1]
-        br = switch_at_period_doubling(PlaneLine(self.plane, along, at), bf, lo, hi, self.cs.follow)
+        follow = replace(self.cs.follow, ds_min=self.cs.switch_ds_min)
+        br = switch_at_period_doubling(PlaneLine(self.plane, along, at), bf, lo, hi, follow)
         reached = [] if br is None else [i for i, _ in br.states_at(t_other)]
         return "supercritical" if any(br.stable[i] and br.stable[i + 1] for i in reached) else "subcritical"
 
 
 def slow_margin(map_ds: xr.Dataset) -> float:
-    """1 - |mu| below which the map cannot show a stable orbit that its record does not start on: the larger of
-    the labeller's ``stability_margin`` (it certifies no orbit with |mu| above 1 - margin) and 1 / T, T the
-    longest run of the labeller on a record (``classifier_torus_max_periods``): a slower approach does not
-    shrink by 1/e in the run, and looks like a torus."""
+    """1 - |mu| below which the map cannot show a stable orbit its record does not start on: the larger of the
+    labeller's ``stability_margin`` and 1 / T, T its longest run on a record (slower, an approach looks a torus)."""
     a = map_ds.attrs
     return max(float(a.get("stability_margin", 0.0)), 1.0 / float(a.get("classifier_torus_max_periods", np.inf)))
 
@@ -329,7 +306,10 @@ def pixel_check(plane: Any, bd: Boundaries, map_ds: xr.Dataset, cs: CheckSetting
     px, py = float(xs[1] - xs[0]), float(ys[1] - ys[0])
     c2 = [(b.p, b.q) for c in bd.curves for b in c.codim2]
     stable = [np.array([bounds_stable(c.kind, pt.multipliers, pt.crit) for pt in c.points]) for c in bd.curves]
-    segs = [_boundary_segments(f, c, px, py) for f, c in zip(stable, bd.curves, strict=True)]
+    segs = []  # (start, end) in pixels of the segments that bound a stable orbit: those that change the labels
+    for f, c in zip(stable, bd.curves, strict=True):
+        pts, keep = np.column_stack([c.p / px, c.q / py]), f[:-1] & f[1:]
+        segs.append((pts[:-1][keep], pts[1:][keep]))
     t0 = time.perf_counter()
     out = PixelCheck(every=cs.every, slow_margin=slow_margin(map_ds))
     judge = _Judge(map_ds, out.slow_margin, cs)
@@ -338,7 +318,7 @@ def pixel_check(plane: Any, bd: Boundaries, map_ds: xr.Dataset, cs: CheckSetting
         probe = _Probe(plane.back_flank() if bd.flank[k] == "back" else plane, curve, cs)
         flags = stable[k]
         own = np.column_stack([curve.p / px, curve.q / py])
-        others = [m for m, c in enumerate(bd.curves) if m != k and (kind not in _LABEL_KINDS or c.kind != "grazing")]
+        others = [m for m, c in enumerate(bd.curves) if m != k and (kind not in RECORD_KINDS or c.kind != "grazing")]
         steep = np.abs(np.diff(curve.q)) / py >= np.abs(np.diff(curve.p)) / px  # rows cross it, else columns
         every = cs.every
         cands = [("row", j, g, w) for j in range(0, ys.size, every) for g, w in crossings(curve.q, ys[j]) if steep[g]]
@@ -419,10 +399,9 @@ def _probe_sample(base: Sample, curve: Any, cross: tuple, xs, ys, probe: _Probe,
 
 
 def _pair(kind, line, idx, origin, xs, ys, probe: _Probe, guesses, state):
-    """((stable pixel, its orbit), (other pixel, its orbit)) across the crossing at coordinate c of the row or
-    column idx, from the pair of pixels around it or the pairs one pixel either way; "edge" when the map
-    has no pixel on either side, "not_straddled" when no pair straddles a change of the orbit's stability
-    (grazing: of the margin's sign on a stable orbit)."""
+    """((stable pixel, its orbit), (other pixel, its orbit)) across the crossing, from the pixels around it or one
+    pixel either way; "edge" without a pixel on one side, "not_straddled" when no pair straddles a change of the
+    orbit's stability (grazing: of the margin's sign on a stable orbit)."""
     grid, c = (xs, origin[0]) if line == "row" else (ys, origin[1])
     i0 = int(np.searchsorted(grid, c) - 1)
     if i0 < 0 or i0 + 1 >= grid.size:

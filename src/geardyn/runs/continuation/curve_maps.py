@@ -1,7 +1,5 @@
-"""Regime boundaries of a regime map (or of a plane without a map, a ``curves:`` study) as curves: the
-settings, the plane and its lines, the one-parameter branches along the lines (seeded by the labeller) and the
-two-parameter curves of their events, then the map's records as seeds (:func:`record_seeds`), both stages in
-:func:`boundary_curves` (docs/orbits.md, section 5, "In the workflow")."""
+"""Regime boundaries of a map (or of a ``curves:`` study's plane) as curves: branches along lines seeded by the
+labeller, the curves of their events, then the map's records as seeds (docs/orbits.md, section 5)."""
 
 from __future__ import annotations
 
@@ -18,7 +16,7 @@ from geardyn.config import settings_from
 from geardyn.khv import point
 from geardyn.khv.design import resolve_fractions
 from geardyn.label import Policy, label_points
-from geardyn.runs.continuation.branch import Branch
+from geardyn.runs.continuation.branch import Bifurcation, Branch
 from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings
 from geardyn.runs.continuation.curves import Curve, continue_curve, lies_on
 from geardyn.runs.continuation.driver import run_middles
@@ -65,7 +63,11 @@ class BoundarySpec:
         return replace(CURVES, ds=min(CURVES.ds_max, self.ds_max), ds_max=self.ds_max, max_points=self.max_points)
 
     def branch_settings(self) -> ContinuationSettings:
-        return ContinuationSettings(ds=self.branch_ds_max, ds_max=self.branch_ds_max, max_points=2000)
+        return ContinuationSettings(ds=self.branch_ds_max, ds_max=self.branch_ds_max, max_points=2000, touch_tol=2e-3)
+
+    def record_settings(self) -> ContinuationSettings:
+        """A record's branch: searched for the record's kind only (no grazing margins)."""
+        return replace(self.branch_settings(), ds=0.05, ds_max=0.05, grazing=False)
 
 
 #: Keys of a curves study entry that are not curve settings.
@@ -112,14 +114,6 @@ class Line:
         return f"{self.axis} = {self.value:g}"
 
 
-def lines_of(region: Region, xs: Sequence[float], ys: Sequence[float]) -> list[Line]:
-    """The lines inside the box; a direction without any gets the middle line."""
-    x0, x1, y0, y1 = region.box
-    lx = [Line("x", float(v)) for v in xs if x0 <= v <= x1] or [Line("x", 0.5 * (x0 + x1))]
-    ly = [Line("y", float(v)) for v in ys if y0 <= v <= y1] or [Line("y", 0.5 * (y0 + y1))]
-    return lx + ly
-
-
 @dataclass
 class Boundaries:
     """The curves of a plane: ``flank[k]`` "back" for a back-flank grazing curve, ``origin[k]`` its seed;
@@ -137,22 +131,13 @@ class Boundaries:
     unseeded: list[tuple[str, int, float, float, bool]] = field(default_factory=list)
     timing: dict[str, float] = field(default_factory=dict)
 
-    def add(self, curves: Sequence[Curve], origin: str, flank: str = "working") -> None:
-        for c in curves:
-            if len(c) < 2:
-                continue
+    def add(self, c: Curve | None, origin: str, flank: str = "working") -> None:
+        if c is not None and len(c) >= 2:
             self.curves.append(c)
             self.flank.append(flank)
             self.origin.append(origin)
-            log.info(
-                "%s: %s curve (period %d), %d points, ends %s, %d codim-2",
-                origin,
-                c.kind,
-                c.n,
-                len(c),
-                c.end_status,
-                len(c.codim2),
-            )
+            msg = "%s: %s curve (period %d), %d points, ends %s, %d codim-2"
+            log.info(msg, origin, c.kind, c.n, len(c), c.end_status, len(c.codim2))
 
     def known(self, kind: str, n: int, pq: tuple[float, float], tol: float, flank: str = "working") -> bool:
         """True when (p, q) lies on a curve of that kind, period and flank (:func:`lies_on`, within ``tol`` of the
@@ -208,16 +193,6 @@ def map_line_seeds(map_ds: xr.Dataset, line: Line, max_period: int, max_seeds: i
     return out
 
 
-def line_branches(family: KHVFamily, orbits: Sequence[tuple | None], spec: BoundarySpec) -> list[Branch]:
-    """The distinct branches through the seeds' orbits (:func:`labelled_orbits`) along the family's range, with
-    the period-2n branches of their period doublings."""
-    out: list[Branch] = []
-    for found in orbits:
-        if found is not None:
-            add_branch(family, *found, out, spec.branch_settings(), max_period=spec.max_period, touch=2e-3)
-    return out
-
-
 # --- curves: merged periods, the polyline, one branch's events ----------------------------------------------
 
 
@@ -229,18 +204,37 @@ def branch_curves(
     cs: ContinuationSettings,
     origin: str,
     kinds: Sequence[str] = CURVE_KINDS,
+    flank: str = "working",
 ) -> None:
     """A curve from each event of ``br`` (along ``line``), located or only bracketed, that lies on no curve of
-    ``bd`` yet (:meth:`Boundaries.known`); an event whose seed the corrector does not reach goes to
-    ``bd.unseeded``."""
+    ``bd`` of its ``flank`` yet (:meth:`Boundaries.known`); an event whose seed the corrector does not reach goes
+    to ``bd.unseeded``."""
     for bf in br.bifurcations:
         pq = (line.value, bf.p) if line.axis == "x" else (bf.p, line.value)
-        if bf.kind in kinds and not bd.known(bf.kind, bf.n, pq, cs.on_curve_tol):
+        if bf.kind in kinds and not bd.known(bf.kind, bf.n, pq, cs.on_curve_tol, flank):
             c = continue_curve(plane, bf.kind, bf.n, bf.state, pq, bf.critical, cs, line.along)
             if c is None:
                 log.info("%s: %s (P%d) at %s seeds no curve (located: %s)", origin, bf.kind, bf.n, pq, bf.located)
-                bd.unseeded.append((bf.kind, bf.n, *pq, bf.located))
-            bd.add([c] if c is not None else [], origin)
+                bd.unseeded.append(("back_grazing" if flank == "back" else bf.kind, bf.n, *pq, bf.located))
+            bd.add(c, origin, flank)
+
+
+def curves_from_branch(
+    plane: Any,
+    branch: Branch,
+    axis: str,
+    at: float,
+    cs: ContinuationSettings = CURVES,
+    kinds: Sequence[str] = CURVE_KINDS,
+    existing: Sequence[Curve] = (),
+) -> list[Curve]:
+    """:func:`branch_curves` of a ``branch`` along the plane's ``axis`` ("p" or "q", the other coordinate at
+    ``at``), ``existing`` the curves known already: the new curves."""
+    if axis not in ("p", "q"):
+        raise ValueError(f"axis {axis!r}; allowed: 'p', 'q'")
+    bd = Boundaries(Region(("p", "q"), plane.box), curves=list(existing), flank=["working"] * len(existing))
+    branch_curves(plane, bd, branch, Line("y" if axis == "p" else "x", at), cs, f"branch at {at:g}", kinds)
+    return bd.curves[len(existing) :]
 
 
 # --- the map's records as seeds -----------------------------------------------------------------------------
@@ -292,7 +286,7 @@ def _record_curves(
     (xp, yp), fixed = bd.region.names, dict(bd.region.fixed)
     row = Line("y", float(ys[j]))
     fam = KHVFamily(design, xp, {**fixed, yp: row.value}, lo, hi, plane.settings, 5)
-    cs = replace(spec.branch_settings(), ds=0.05, ds_max=0.05, grazing=False)  # the record's kind only
+    cs = spec.record_settings()
     px = pixel_size(map_ds)[0]
     origin = f"map record ({float(xs[i]) - 0.5 * px:.6g}, {row.value:.6g})"
     known: list[Branch] = []  # a second orbit on the first one's branch starts none
@@ -343,14 +337,14 @@ def boundary_curves(
     map_ds: xr.Dataset | None = None,
     policy: Policy | None = None,
 ) -> tuple[Boundaries, KHVPlane]:
-    """The regime boundaries of ``region`` (module doc): branches along the spec's lines (else the middle lines)
-    seeded by the map's periodic pixels or, without a map, by ``probes`` points per line, each labelled by
-    ``policy`` (default: the labeller's with ``settings``), and the curves of their events and back-flank sign
-    changes; then, with a map, the curves its records seed."""
+    """The regime boundaries of ``region`` (module doc), the seeds labelled by ``policy`` (default: the labeller's
+    with ``settings``): the map's periodic pixels along its lines or, without a map, ``probes`` points per line."""
     t0 = time.perf_counter()
     policy = policy or Policy(settings)
     plane = KHVPlane(design, region.names, dict(region.fixed), region.box, settings, spec.nodes)
-    lines = lines_of(region, spec.lines_x, spec.lines_y)
+    x0, x1, y0, y1 = region.box  # the lines inside the box; a direction without any gets the middle line
+    lines = [Line("x", float(v)) for v in spec.lines_x if x0 <= v <= x1] or [Line("x", 0.5 * (x0 + x1))]
+    lines += [Line("y", float(v)) for v in spec.lines_y if y0 <= v <= y1] or [Line("y", 0.5 * (y0 + y1))]
     bd = Boundaries(region, lines)
     back = plane.back_flank()
     cs = spec.curve_settings()
@@ -363,19 +357,22 @@ def boundary_curves(
     ]
     found = iter(labelled_orbits([s for line_seeds in seeds for s in line_seeds], policy, spec.max_period))
     for line, fam, line_seeds in zip(lines, fams, seeds, strict=True):
-        for br in line_branches(fam, [next(found) for _ in line_seeds], spec):
+        known: list[Branch] = []  # the distinct branches through the seeds' orbits, with their period doublings'
+        for orbit in [next(found) for _ in line_seeds]:
+            if orbit is not None:
+                add_branch(fam, *orbit, known, spec.branch_settings(), spec.max_period)
+        for br in known:
             bd.branches.append((line, br))
             events = [(b.kind, round(b.p, 5)) for b in br.bifurcations]
             log.info("line %s: P%d branch, %d points, events %s", line, br.n, len(br), events)
             branch_curves(plane, bd, br, line, cs, f"line {line}")
-            if spec.back_grazing:
-                for q, located in sign_changes(br, fam.back_grazing):
-                    t, x = q.p, q.x
-                    pq = (line.value, t) if line.axis == "x" else (t, line.value)
-                    if not bd.known("grazing", br.n, pq, cs.on_curve_tol, "back"):
-                        c = continue_curve(back, "grazing", br.n, x, pq, cs=cs, along=line.along)
-                        bd.add([c] if c is not None else [], f"line {line}", "back")
-                        bd.unseeded += [] if c is not None else [("back_grazing", br.n, *pq, located)]
+            if spec.back_grazing:  # where back-side contact begins: the back flank's grazing curves
+                nan = complex("nan")
+                bfs = [
+                    Bifurcation("grazing", q.p, q.x, q.multipliers, nan, nan.real, -1, ok, br.n)
+                    for q, ok in sign_changes(br, fam.back_grazing)
+                ]
+                branch_curves(back, bd, replace(br, bifurcations=bfs), line, cs, f"line {line}", ("grazing",), "back")
     bd.timing["lines"] = time.perf_counter() - t0
     if map_ds is not None and spec.map_seeds and "bifurcation" in map_ds:
         t1 = time.perf_counter()

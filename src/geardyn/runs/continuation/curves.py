@@ -12,12 +12,11 @@ from typing import Any
 import numpy as np
 
 from geardyn import libm
-from geardyn.runs.continuation.branch import Branch
 from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, Point, correct, merged, step
 from geardyn.runs.continuation.events import brent_on_step, fold_test, ns_test, pd_test, unstable_counts
 from geardyn.runs.continuation.problem import TARGET, CurveProblem, others
 from geardyn.runs.continuation.stepping import both_ways, box_end, inside, march
-from geardyn.solve.bifurcations import CODIM2, CURVE_KINDS
+from geardyn.solve.bifurcations import CODIM2
 
 #: The codimension-2 points that end a curve.
 TERMINAL = ("resonance_1_1", "resonance_1_2")
@@ -121,10 +120,8 @@ def _merged(prob: CurveProblem, pt: Point | None, tol: float | None = None) -> b
 def _advance(
     prob: CurveProblem, box: Sequence[float], found: list[Codim2], cur: Point, ds: float
 ) -> tuple[list[Point], str] | None:
-    """One step of a curve (:func:`~geardyn.runs.continuation.stepping.march`): ends on the box (the last point
-    solved on its side), at a 1:1 or 1:2 resonance, or where a period-n curve reaches an orbit of a shorter period
-    (through a period doubling of that orbit it would go on as its curve traversed n / m times); the
-    codimension-2 points passed go to ``found``."""
+    """One step of a curve (:func:`~geardyn.runs.continuation.stepping.march`), ending on the box, at a 1:1 or 1:2
+    resonance or on an orbit of a shorter period; the codimension-2 points passed go to ``found``."""
     z_pred = (cur.z / prob.scale + ds * cur.tangent) * prob.scale
     if not inside(z_pred, box, 2):
         end = box_end(prob, cur, z_pred, box, prob.cs)
@@ -143,13 +140,6 @@ def _advance(
     return ([], term[0]) if term else ([new], "")
 
 
-def _line(d: int, k: int) -> np.ndarray:
-    """The extra equation's row of the line on which parameter k (0: p, 1: q) is held."""
-    row = np.zeros(d + 2)
-    row[d + k] = 1.0
-    return row
-
-
 def continue_curve(
     plane: Any,
     kind: str,
@@ -160,12 +150,10 @@ def continue_curve(
     cs: ContinuationSettings = CURVES,
     along: str = "p",
 ) -> Curve | None:
-    """The curve of ``kind`` (period n) through the codimension-1 point near (x0, start = (p0, q0)), both ways to
-    the box ``plane.box``.  ``critical``: the critical multiplier there (the upper one of a Neimark-Sacker pair;
-    default +1 / -1 for fold / period doubling).  The seed is corrected on the line through ``start`` along
-    ``along`` (the other parameter held); None when that fails or its orbit is of a shorter period (a fold's within
-    ``merge_tol_fold``, as a branch's: there the period-2m orbit meets the period-m one at its period doubling, and
-    the curve is that one's period-doubling curve)."""
+    """The curve of ``kind`` (period n) through the point near (x0, start = (p0, q0)) with the critical multiplier
+    ``critical`` (a Neimark-Sacker pair's upper one; default +1 / -1), both ways to ``plane.box``; the seed solved on
+    the line through ``start`` along ``along``.  None when that fails or its orbit is of a shorter period (a fold's
+    within ``merge_tol_fold``: the curve is then that orbit's period-doubling curve)."""
     box = tuple(plane.box)
     x0 = np.asarray(x0, dtype=float)
     if not inside(np.asarray(start), box, 2):
@@ -177,7 +165,7 @@ def continue_curve(
     z0 = np.concatenate([x0, start])
     k = 1 if along == "p" else 0
     ref = Point(z0, z0[:0], None, npar=2, crit=crit)
-    seed = correct(prob, z0, _line(x0.size, k), start[k] / prob.scale[x0.size + k], cs, ref)
+    seed = correct(prob, z0, np.eye(z0.size)[x0.size + k], start[k] / prob.scale[x0.size + k], cs, ref)
     if seed is None or _merged(prob, seed, cs.merge_tol_fold if kind == "fold" else cs.merge_tol):
         return None
     found: list[list[Codim2]] = []  # per march: up, then down
@@ -199,7 +187,7 @@ def line_points(plane: Any, curve: Curve, axis: str, value: float, cs: Continuat
     out = []
     for i, w in crossings(np.append(along, along[-1:]), value):
         a, b = curve.points[i], curve.points[min(i + 1, len(curve) - 1)]
-        pt = correct(prob, a.z + w * (b.z - a.z), _line(d, k), value / prob.scale[d + k], cs, a)
+        pt = correct(prob, a.z + w * (b.z - a.z), np.eye(d + 2)[d + k], value / prob.scale[d + k], cs, a)
         out += [pt] if pt is not None else []
     return out
 
@@ -207,14 +195,10 @@ def line_points(plane: Any, curve: Curve, axis: str, value: float, cs: Continuat
 def lies_on(curve: Curve, kind: str, n: int, p: float, q: float, tol: float, units: tuple[float, float]) -> bool:
     """The one test of whether (p, q) already lies on ``curve``: of that kind and period, within ``tol`` of its
     polyline in ``units`` (the box's sides, or the map's pixel)."""
-    return curve.kind == kind and curve.n == n and polyline_distance(curve, p, q, *units) <= tol
-
-
-def polyline_distance(curve: Curve, x: float, y: float, px: float, py: float) -> float:
-    """Distance of (x, y) from the curve's polyline in units of (px, py) (e.g. the map's pixel)."""
-    pts = np.column_stack([curve.p / px, curve.q / py])
-    pt = np.array([x / px, y / py])
-    return float(np.linalg.norm(pts[0] - pt)) if len(pts) == 1 else segment_distance(pts[:-1], pts[1:], pt)
+    if curve.kind != kind or curve.n != n:
+        return False
+    pts, pt = np.column_stack([curve.p / units[0], curve.q / units[1]]), np.array([p / units[0], q / units[1]])
+    return (float(np.linalg.norm(pts[0] - pt)) if len(pts) == 1 else segment_distance(pts[:-1], pts[1:], pt)) <= tol
 
 
 def segment_distance(a: np.ndarray, b: np.ndarray, pt: np.ndarray) -> float:
@@ -241,32 +225,3 @@ def bounds_stable(kind: str, multipliers: np.ndarray, crit: Sequence[complex]) -
     is a boundary of a stable orbit there."""
     mu = np.asarray(multipliers)
     return bool(np.all(libm.cabs(mu if kind == "grazing" else others(mu, tuple(crit))) < 1.0))
-
-
-def curves_from_branch(
-    plane: Any,
-    branch: Branch,
-    axis: str,
-    at: float,
-    cs: ContinuationSettings = CURVES,
-    kinds: Sequence[str] = CURVE_KINDS,
-    existing: Sequence[Curve] = (),
-) -> list[Curve]:
-    """A curve from every bifurcation of ``branch`` whose kind is in ``kinds``, located or only bracketed (the
-    one-parameter branch runs along the plane's ``axis``, "p" or "q", with the other coordinate at ``at``).  A
-    seed that lies on a curve already found (among them or ``existing``: :func:`lies_on`) starts none."""
-    if axis not in ("p", "q"):
-        raise ValueError(f"axis {axis!r}; allowed: 'p', 'q'")
-    curves = list(existing)
-    box = plane.box
-    for bf in branch.bifurcations:
-        if bf.kind not in kinds:
-            continue
-        p, q = (bf.p, at) if axis == "p" else (at, bf.p)
-        units = (box[1] - box[0], box[3] - box[2])
-        if any(lies_on(c, bf.kind, bf.n, p, q, cs.on_curve_tol, units) for c in curves):
-            continue
-        c = continue_curve(plane, bf.kind, bf.n, bf.state, (p, q), bf.critical, cs, axis)
-        if c is not None:
-            curves.append(c)
-    return curves[len(existing) :]

@@ -29,10 +29,8 @@ log = logging.getLogger("geardyn.continuation")
 
 @dataclass(frozen=True)
 class OrbitSpec:
-    """One ``orbits:`` entry of the configuration (keyed by the sweep it continues; its keys in the config
-    schema): ``nodes`` the coefficient interpolation nodes of :class:`~geardyn.runs.continuation.KHVFamily`,
-    ``continuation`` the :class:`ContinuationSettings`, ``attractors`` the mapping for
-    :mod:`geardyn.runs.attractors`."""
+    """One ``orbits:`` entry of the configuration (its keys in the config schema): ``nodes`` of the
+    :class:`~geardyn.runs.continuation.KHVFamily`, ``attractors`` for :mod:`geardyn.runs.attractors`."""
 
     max_period: int = 6
     max_seeds: int = 6
@@ -85,7 +83,7 @@ def sweep_branches(families: Sequence[KHVFamily], cube: Any, spec: OrbitSpec) ->
     for case, family in enumerate(families):
         mine: list[Branch] = []
         for p, x, n in seeds_from_cube(cube, case, spec.max_period, spec.max_seeds):
-            br = add_branch(family, p, x, n, mine, spec.continuation, max_period=doubling)
+            br = add_branch(family, p, x, n, mine, spec.continuation, doubling)
             if br is not None:
                 ends = br.end_status
                 log.info("case %d: P%d branch from %g: %d points, ends %s", case, n, p, len(br), ends)

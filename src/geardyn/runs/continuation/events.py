@@ -1,7 +1,5 @@
-"""Typed bifurcation points of a continued branch: the test functions between consecutive points (period
-doubling, Neimark-Sacker, fold, branch point, grazing) and their location on the branch (Brent on the arclength
-fraction, the fold by its cubic Hermite extremum), every trial point a pseudo-arclength correction so that it
-stays on this branch (docs/orbits.md, section 3)."""
+"""Typed bifurcation points of a continued branch: the test functions between consecutive points and their
+location on the branch, every trial point a pseudo-arclength correction (docs/orbits.md, section 3)."""
 
 from __future__ import annotations
 
@@ -15,6 +13,7 @@ from scipy.optimize import brentq
 from geardyn import libm
 from geardyn.runs.continuation.branch import Bifurcation, Branch
 from geardyn.runs.continuation.corrector import Point, step
+from geardyn.runs.continuation.problem import nearest
 from geardyn.solve.floquet import is_complex
 from geardyn.solve.shooting import rotation_number
 
@@ -53,7 +52,7 @@ def ns_test(mu: np.ndarray) -> float:
 
 def _near(target: float) -> Callable[[np.ndarray], complex]:
     """The multiplier nearest ``target`` (-1: period doubling, +1: fold and branch point)."""
-    return lambda mu: complex(mu[np.argmin(libm.cabs(mu - target))])
+    return lambda mu: complex(mu[nearest(mu, target)])
 
 
 def _lin_zero(a: float, b: float) -> float:

@@ -1,7 +1,5 @@
-"""The model adapters: one- and two-parameter families of periodic systems (the system at a parameter value, its
-stroboscopic map with monodromy, the cycle of an orbit, the grazing margins of an orbit), with the spline cache
-of :class:`KHVFamily` and :class:`KHVPlane` for a KHV design, and a line of a plane as a family
-(:class:`PlaneLine`)."""
+"""The model adapters: one- and two-parameter families of periodic systems (flow with monodromy, cycle, grazing
+margins), :class:`KHVFamily` and :class:`KHVPlane` of a KHV design, a line of a plane as a family."""
 
 from __future__ import annotations
 
@@ -58,19 +56,12 @@ class KHVFamily:
             self._floats = [k for k, v in d0.items() if isinstance(v, float)]
             table = np.array([[c.as_dict()[k] for k in self._floats] for c in cs])
             self._spline = CubicSpline(grid, table, axis=0)
-            self.interpolation_error = self._spline_error(grid)
+            mids = 0.5 * (grid[1:] + grid[:-1])  # the error: the largest relative one at about five mid-points
+            for v in mids[:: max(1, len(mids) // 5)]:
+                direct = np.array([self._direct(v).as_dict()[k] for k in self._floats])
+                err = np.abs(self._spline(v) - direct) / np.maximum(np.abs(direct), 1e-300)
+                self.interpolation_error = max(self.interpolation_error, float(np.max(err)))
         self._cache: dict[float, Coefficients] = {}
-
-    def _spline_error(self, grid: np.ndarray) -> float:
-        """Largest relative difference of the splines to a direct evaluation at about five mid-points."""
-        mids = 0.5 * (grid[1:] + grid[:-1])
-        probe = mids[:: max(1, len(mids) // 5)]
-        err = 0.0
-        for v in probe:
-            direct = np.array([self._direct(v).as_dict()[k] for k in self._floats])
-            interp = self._spline(v)
-            err = max(err, float(np.max(np.abs(interp - direct) / np.maximum(np.abs(direct), 1e-300))))
-        return err
 
     def _direct(self, p: float) -> Coefficients:
         return point.point_coefficients(self.design, {**self.fixed, self.parameter: float(p)})
@@ -153,19 +144,6 @@ def cached(cache: dict, key: Any, make: Callable[[Any], Any]) -> Any:
             cache.clear()
         cache[key] = c
     return c
-
-
-class PlaneFamily(Protocol):
-    """What curve continuation needs of a two-parameter family of periodic systems (a :class:`Family` with the
-    parameter (p, q) in the box p_lo, p_hi, q_lo, q_hi)."""
-
-    box: tuple[float, float, float, float]
-
-    def flow(self, p: float, q: float, n: int) -> FlowMap: ...
-
-    def cycle(self, p: float, q: float, x: np.ndarray, n: int) -> np.ndarray: ...
-
-    def grazing(self, p: float, q: float, x: np.ndarray, n: int) -> float: ...
 
 
 class PlaneLine:

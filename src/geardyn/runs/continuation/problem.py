@@ -1,11 +1,5 @@
 """The problems of continuation, each stating its residual, its Jacobian blocks and its monodromy for the one
-corrector (:func:`~geardyn.runs.continuation.corrector.correct`; docs/orbits.md, sections 2 and 5):
-
-* a branch (F, p): F(x, p) = phi_n(x; p) - x, z = (x, p); dF/dx = M - I from the variational equations, dF/dp
-  by a forward difference at the corrector's first iterate, reused after it (a chord in that column);
-* a curve (F, G, p, q): G the multiplier condition of its kind, z = (x, p, q); the columns beyond M - I and the
-  row of G by forward differences;
-* a grazing curve (F, g, p, q): g the plane's grazing margin (of the working or the back flank)."""
+corrector: a branch (F, p), a curve (F, G, p, q), a grazing curve (F, g, p, q) (docs/orbits.md, section 2)."""
 
 from __future__ import annotations
 
@@ -24,7 +18,10 @@ TARGET = {"fold": 1.0, "period_doubling": -1.0}
 
 def nearest(mu: np.ndarray, target: complex, skip: int = -1) -> int:
     """The index of the multiplier nearest ``target`` (but ``skip``)."""
-    return int(np.argmin(np.where(np.arange(mu.size) == skip, np.inf, libm.cabs(mu - target))))
+    d = libm.cabs(mu - target)
+    if skip >= 0:
+        d[skip] = np.inf
+    return int(np.argmin(d))
 
 
 def condition(kind: str, M: np.ndarray, ref: tuple[complex, ...]) -> tuple[float, tuple[complex, ...]]:

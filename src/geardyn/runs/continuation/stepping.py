@@ -1,7 +1,5 @@
-"""The one stepper of continuation: the march of one direction with its step control and end tests
-(:func:`march`, for branches and curves), both directions from a seed (:func:`both_ways`), the end on a side
-of the box (:func:`box_end`), and :func:`continue_branch`, which shoots the seed, marches both ways and
-assembles the :class:`~geardyn.runs.continuation.branch.Branch` with its bifurcation points."""
+"""The one stepper of continuation (:func:`march`, for branches and curves, :func:`both_ways`, :func:`box_end`)
+and :func:`continue_branch`, which shoots a seed, marches both ways and types the branch's points."""
 
 from __future__ import annotations
 
@@ -37,11 +35,9 @@ def march(
     scale: np.ndarray,
     cs: ContinuationSettings,
 ) -> tuple[list[Point], str]:
-    """Points along one direction from ``start`` (excluded); returns (points, end status).  ``advance(cur, ds)``
-    predicts and corrects one step: None when the corrector failed (ds halves, down to ``cs.ds_min``), else the
-    points to add and a status that ends the march ("" to go on).  ds grows by 1.3 after a corrector of at most
-    ``cs.grow_at`` evaluations, never beyond ``cs.ds_max``; the march ends back at its start (``closed_loop``: an
-    isola), past multipliers of modulus ``cs.max_multiplier`` or after ``cs.max_points``."""
+    """(points, end status) along one direction from ``start`` (excluded), with the step control of ``cs``.
+    ``advance(cur, ds)`` steps once: None when the corrector failed, else the points to add and a status that ends
+    the march ("" to go on); the march also ends back at its start (``closed_loop``: an isola)."""
     pts: list[Point] = []
     cur, ds = start, cs.ds
     u_start = start.z / scale
@@ -95,9 +91,7 @@ def box_end(problem: Problem, a: Point, z_pred: np.ndarray, box: Sequence[float]
     frac, k, bound = min(fracs)
     if frac <= cs.locate_xtol:
         return None
-    row = np.zeros(a.z.size)
-    row[k0 + k] = 1.0
-    return correct(problem, a.z + frac * (z_pred - a.z), row, bound / problem.scale[k0 + k], cs, a)
+    return correct(problem, a.z + frac * (z_pred - a.z), np.eye(a.z.size)[k0 + k], bound / problem.scale[k0 + k], cs, a)
 
 
 def inside(z: np.ndarray, box: Sequence[float], npar: int) -> bool:

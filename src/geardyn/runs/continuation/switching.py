@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import Any
 
 import numpy as np
 
@@ -36,36 +35,42 @@ def switch_at_period_doubling(
     v /= float(np.max(np.abs(v)))
     scale = max(1.0, float(np.max(np.abs(bf.state))))
     span = hi - lo
-    for frac in (1e-3, 1e-2):
+    for frac in cs.switch_steps:
         for side in (1.0, -1.0):
             p = bf.p + side * frac * span
             if not lo <= p <= hi:
                 continue
-            for amp in (1e-2, 1e-1, 1.0):
+            for amp in cs.switch_amplitudes:
                 x0 = bf.state + amp * scale * math.sqrt(frac) * v
                 r = newton_shooting(family.flow(p, 2 * n), x0, 2 * n, cs.tol)
                 if not r.converged:
                     continue
                 back, _ = family.flow(p, n)(r.state, False)
-                if back is None or float(np.max(np.abs(back - r.state))) < 1e-6 * scale:
+                if back is None or float(np.max(np.abs(back - r.state))) < cs.merge_tol * scale:
                     continue  # the period-n orbit itself
                 return continue_branch(family, p, r.state, 2 * n, lo, hi, cs, ("up",) if side > 0 else ("down",))
     return None
 
 
 def add_branch(
-    family: KHVFamily, p: float, x: np.ndarray, n: int, known: list[Branch], cs: ContinuationSettings, **doubling: Any
+    family: KHVFamily,
+    p: float,
+    x: np.ndarray,
+    n: int,
+    known: list[Branch],
+    cs: ContinuationSettings,
+    max_period: int = 0,
 ) -> Branch | None:
     """Continue the period-n orbit through x at p over the family's range unless it lies on a branch of
-    ``known`` (within 1e-3); append it to ``known`` with the branches of its period doublings
-    (:func:`doubled_branches`, keywords ``max_period`` and ``touch``).  Returns the new branch."""
+    ``known`` (within ``cs.seed_tol``); append it to ``known`` with the branches of its period doublings
+    (:func:`doubled_branches`).  Returns the new branch."""
     cyc = family.cycle(p, x, n)
-    if any(b.n == n and on_branch(b, p, cyc, 1e-3) for b in known):
+    if any(b.n == n and on_branch(b, p, cyc, cs.seed_tol) for b in known):
         return None
     br = continue_branch(family, p, x, n, family.lo, family.hi, cs)
     if br is not None:
         known.append(br)
-        known.extend(doubled_branches(family, br, known, cs, **doubling))
+        known.extend(doubled_branches(family, br, known, cs, max_period))
     return br
 
 
@@ -75,19 +80,18 @@ def doubled_branches(
     known: list[Branch],
     cs: ContinuationSettings,
     max_period: int = 0,
-    touch: float = 0.0,
     depth: int = 0,
 ) -> list[Branch]:
     """The period-2n branches born at the located period doublings of ``br`` (recursively, 2n <= max_period,
-    five levels); a doubling whose orbit lies on a known period-2n branch (within 1e-2, or with ``touch`` a
-    point of it within ``touch``: :func:`touches`) starts none."""
+    five levels); a doubling whose orbit lies on a known period-2n branch (``cs.doubled_tol``, ``cs.touch_tol``:
+    :func:`touches`) starts none."""
     out: list[Branch] = []
     for bf in br.bifurcations:
         if bf.kind != "period_doubling" or not bf.located or 2 * br.n > max_period:
             continue
         pts = family.cycle(bf.p, bf.state, br.n)
         seen = (b for b in known + out if b.n == 2 * br.n)
-        if any(on_branch(b, bf.p, pts, 1e-2) or (touch and touches(b, bf.p, pts, touch)) for b in seen):
+        if any(on_branch(b, bf.p, pts, cs.doubled_tol) or touches(b, bf.p, pts, cs.touch_tol) for b in seen):
             continue
         new = switch_at_period_doubling(family, bf, family.lo, family.hi, cs)
         if new is None:
@@ -96,13 +100,15 @@ def doubled_branches(
         log.info("P%d branch switched at %g: %d points, %d bifurcations", new.n, bf.p, len(new), len(new.bifurcations))
         out.append(new)
         if depth < 4:
-            out.extend(doubled_branches(family, new, known + out, cs, max_period, touch, depth + 1))
+            out.extend(doubled_branches(family, new, known + out, cs, max_period, depth + 1))
     return out
 
 
 def touches(br: Branch, p: float, points: np.ndarray, tol: float) -> bool:
     """True when a point of ``br`` lies within ``tol`` (scaled: the branch's range, max(1, max |x|)) of one of
     ``points`` at p: a branch that ends at (or was cut just short of) a period doubling it was born at."""
+    if tol <= 0.0:
+        return False
     span = max(float(np.ptp(br.p)), 1e-12)
     scale = max(1.0, float(np.max(np.abs(br.states))))
     dp = np.abs(br.p - p)[:, None] / span
