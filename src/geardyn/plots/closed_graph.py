@@ -61,8 +61,7 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
             Line2D([], [], ls="", marker="o", mfc="none", mec="crimson", label=printed),
             Line2D([], [], ls="", marker="x", color="k", label="computed (G_s = 0)"),
         ]
-    ax.set_xlim(x1.min(), x1.max())
-    ax.set_ylim(x2.min(), x2.max())
+    ax.set(xlim=(x1.min(), x1.max()), ylim=(x2.min(), x2.max()))
     ax.legend(handles=handles, fontsize=7, loc="upper left")
     return fig
 
