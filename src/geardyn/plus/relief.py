@@ -83,10 +83,8 @@ def landscape(
 
 def landscape_axes(design: PlusDesign, n: int | None = None) -> tuple[NDArray, NDArray]:
     """Axes covering both bound sets: amount 0..max, length 0..max (m)."""
-    n = n or design.relief.landscape_points
-    r = design.relief
-    amax = max(r.paper_amount[1], r.physical_amount[1])
-    lmax = max(r.paper_length[1], r.physical_length[1])
+    r, n = design.relief, n or design.relief.landscape_points
+    amax, lmax = max(r.paper_amount[1], r.physical_amount[1]), max(r.paper_length[1], r.physical_length[1])
     return np.linspace(0.0, amax, n), np.linspace(0.0, lmax, n)
 
 
