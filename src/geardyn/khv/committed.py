@@ -76,10 +76,8 @@ def compare(committed: Mapping[str, Any], found: Mapping[str, Any], space: Searc
             f"the results searched different unknowns: committed {sorted(cv)}, found {sorted(fv)}, "
             f"search space {sorted(space.names)}"
         )
-    rows = []
-    for u in space.unknowns:
-        c, f = float(cv[u.name]), float(fv[u.name])
-        rows.append((u.name, c, f, abs(u.to_unit(f) - u.to_unit(c))))
+    pairs = [(u, float(cv[u.name]), float(fv[u.name])) for u in space.unknowns]
+    rows = [(u.name, c, f, abs(u.to_unit(f) - u.to_unit(c))) for u, c, f in pairs]
     if not all(math.isfinite(d) for *_, d in rows):
         raise ValueError("a searched value lies outside its (log) search range")
     a, b = set(committed.get("agreeing", ())), set(found.get("agreeing", ()))

@@ -233,10 +233,11 @@ def from_dict(raw: dict[str, Any], where: str = "design", check: bool = True) ->
         x2 = float(p["x2"])
     base = _pair_from(raw, x2)
     adm, c = raw["admissible"], raw.get("cutter", {})
-    if c.get("teeth") is None:  # the nominal cutter
-        cutter = interference.default_cutter(base)
-    else:
-        cutter = geometry.ShaperCutter(c["teeth"], c.get("shift", 0.0), c.get("addendum"))
+    cutter = (  # the configured cutter, or the nominal one
+        interference.default_cutter(base)
+        if c.get("teeth") is None
+        else geometry.ShaperCutter(c["teeth"], c.get("shift", 0.0), c.get("addendum"))
+    )
     problem = meshing_problem(base)
     if problem and check:
         raise ConfigError(f"{where}: design point {problem}")

@@ -145,11 +145,8 @@ def design_text_from_file(text: str, source: str) -> str:
 
 def design_values(design: KHVDesign, space: SearchSpace) -> dict[str, float]:
     """The values a design has for the searched unknowns (the start of a search, a reference)."""
-    phys, _, _ = point.point_model(design, {})
-    out = {}
-    for u in space.unknowns:
-        out[u.name] = float(phys.omega_bar) if u.name == "w" else float(getattr(phys, u.name))
-    return out
+    phys = point.point_model(design, {})[0]
+    return {u.name: float(getattr(phys, "omega_bar" if u.name == "w" else u.name)) for u in space.unknowns}
 
 
 def search_table(
