@@ -48,24 +48,17 @@ def constraint_grid(
 ) -> dict[str, geo.FloatArray]:
     """All constraints as signed margins (>= 0 satisfied); shifts may be broadcasting arrays.  Keys: those
     of :func:`constraint_info` for the pair's role names (docs/geometry.md, "Lines 1-4 of Fig. 3")."""
-    n1, n2 = pair.names
     out: dict[str, geo.FloatArray] = {"contact_ratio_margin": itf.contact_ratio(pair) - min_contact_ratio}
     if pair.internal:
         out["overlap_interference"] = itf.overlap_interference(pair)
-    i1, i2 = itf.involute_interference(pair)
-    out[f"involute_interference_{n1}"] = i1
-    out[f"involute_interference_{n2}"] = i2
-    r1, r2 = itf.root_interference(pair, cutter)
-    u1, u2 = itf.undercut_margin(pair)
-    out[f"root_interference_{n1}"] = r1
-    out[f"root_interference_{n2}"] = r2
-    out[f"undercut_{n1}"] = u1
-    if not pair.internal:
-        out[f"undercut_{n2}"] = u2
-    sa1, sa2 = itf.tip_thickness(pair)
     smin = min_tip_thickness * pair.module
-    out[f"tip_thickness_{n1}"] = sa1 - smin
-    out[f"tip_thickness_{n2}"] = sa2 - smin
+    per_gear = (  # each gear's margin (the annulus is shaper-cut: no undercut)
+        ("involute_interference", itf.involute_interference(pair)),
+        ("root_interference", itf.root_interference(pair, cutter)),
+        ("undercut", itf.undercut_margin(pair)[: 1 if pair.internal else 2]),
+        ("tip_thickness", tuple(sa - smin for sa in itf.tip_thickness(pair))),
+    )
+    out |= {f"{key}_{name}": v for key, values in per_gear for name, v in zip(pair.names, values, strict=False)}
     if pair.internal:
         out["trimming_interference_annulus"] = itf.trimming_interference(pair, cutter)
     shape = np.broadcast(*geo.shifts(pair)).shape
