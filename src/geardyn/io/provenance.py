@@ -71,8 +71,7 @@ def _numpy_cpu() -> dict[str, str]:
         "numpy_cpu_baseline": " ".join(getattr(mu, "__cpu_baseline__", [])),
         "numpy_cpu_dispatch": " ".join(dispatch) or "none",
     }
-    out["numpy_blas_core"] = libm.blas_core("numpy")
-    out["scipy_blas_core"] = libm.blas_core("scipy")
+    out |= {f"{m}_blas_core": libm.blas_core(m) for m in ("numpy", "scipy")}
     try:
         cfg = np.show_config(mode="dicts")["Build Dependencies"]
         out["numpy_blas"] = " ".join(str(cfg["blas"].get(k, "")) for k in ("name", "version")).strip()

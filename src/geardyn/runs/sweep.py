@@ -66,14 +66,8 @@ def chunk_work(spec: SweepSpec, chunk: int) -> Work:
         raise ValueError(f"chunk {chunk} outside 0..{spec.n_chunks - 1} for sweep {spec.name}")
     nd = len(spec.directions)
     if spec.start_from == "follow":
-        work = []
-        for line in np.array_split(np.arange(spec.n_lines), spec.n_chunks)[chunk]:
-            case, d = divmod(int(line), nd)
-            order = list(range(spec.num))
-            if spec.directions[d] == "down":
-                order.reverse()
-            work.append((case, d, order))
-        return work
+        lines = [divmod(int(line), nd) for line in np.array_split(np.arange(spec.n_lines), spec.n_chunks)[chunk]]
+        return [(case, d, list(range(spec.num))[:: -1 if spec.directions[d] == "down" else 1]) for case, d in lines]
     lines: dict[int, list[int]] = {}  # the chunk's points of each line, in order
     for i in np.array_split(np.arange(spec.n_lines * spec.num), spec.n_chunks)[chunk]:
         lines.setdefault(int(i) // spec.num, []).append(int(i) % spec.num)
