@@ -17,9 +17,8 @@ VERDICTS = ("agree", "borderline", "disagree", "not comparable")
 
 
 def fraction_verdict(k: int, n: int, threshold: float = RANGE_AGREE, z: float = BORDERLINE_Z) -> str:
-    """``agree`` (k/n clearly >= threshold), ``disagree`` (clearly below) or ``borderline`` (the threshold
-    within ``z`` binomial standard errors of k/n): the one rule for every verdict on a fraction
-    (``docs/claims.md``)."""
+    """``agree`` (k/n clearly >= threshold), ``disagree`` (clearly below) or ``borderline`` (the threshold within ``z``
+    binomial standard errors of k/n): the one rule for every verdict on a fraction (``docs/claims.md``)."""
     if n <= 0 or not 0 <= k <= n:
         raise ValueError(f"fraction_verdict needs 0 <= k <= n and n > 0, got k={k}, n={n}")
     p = k / n

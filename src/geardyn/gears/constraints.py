@@ -1,6 +1,5 @@
-"""The constraint set of a spur pair as signed margins (>= 0 satisfied), the derived geometry of one design, and
-line 4 of the closed graph (the G_s = 0 boundary), on which the design point of an x1 lies.
-"""
+"""The constraint set of a spur pair as signed margins (>= 0 satisfied), the derived geometry of one design, and line 4
+of the closed graph (the G_s = 0 boundary), on which the design point of an x1 lies."""
 
 from __future__ import annotations
 
@@ -101,9 +100,8 @@ def _gs_scalar(base: geo.GearPair, x1: float, x2: float) -> float:
 
 
 def x2_on_overlap_boundary(x1: float, base: geo.GearPair, *, xtol: float = 1e-12) -> float:
-    """Annulus shift x2 with G_s(x1, x2) = 0 ("line 4", the design point for a given x1): bracketed by
-    stepping x2 up from x1 - 0.5, then brentq (docs/geometry.md, "Lines 1-4 of Fig. 3"); ``ValueError`` when no root
-    exists."""
+    """Annulus shift x2 with G_s(x1, x2) = 0 ("line 4", the design point for a given x1): bracketed by stepping x2 up
+    from x1 - 0.5, then brentq (docs/geometry.md, "Lines 1-4 of Fig. 3"); ``ValueError`` when no root exists."""
     if not base.internal:
         raise ValueError("the G_s = 0 boundary applies to internal pairs only")
     lo = float(x1) - 0.5

@@ -76,9 +76,8 @@ def involute(alpha: ArrayLike) -> FloatArray:
 
 
 def inverse_involute(value: ArrayLike, *, tol: float = 1e-15, max_iter: int = 60) -> FloatArray:
-    """Angle a in (-pi/2, pi/2) with inv a = value, vectorised: monotone Newton from an upper bound, each
-    value stopping on its own step, so an array gives the bits of each value alone (docs/geometry.md,
-    "Inverse involute")."""
+    """Angle a in (-pi/2, pi/2) with inv a = value, vectorised: monotone Newton from an upper bound, each value stopping
+    on its own step, so an array gives the bits of each value alone (docs/geometry.md, "Inverse involute")."""
     if np.ndim(value) == 0:
         return np.float64(_inverse_involute_scalar(float(value), tol, max_iter))
     v = np.asarray(value, dtype=float)

@@ -100,9 +100,8 @@ def _cutting_mesh(
 def root_interference(
     pair: geo.GearPair, cutter: geo.ShaperCutter | None = None
 ) -> tuple[geo.FloatArray, geo.FloatArray]:
-    """Root (transition-curve) interference margins, mm along the line of action; >= 0 feasible: deepest
-    contact minus the form point (rack-cut gears) or the end of the shaper-cut annulus involute
-    (docs/geometry.md, "Formulas")."""
+    """Root (transition-curve) interference margins, mm along the line of action; >= 0 feasible: deepest contact minus
+    the form point (rack-cut gears) or the end of the shaper-cut annulus involute (docs/geometry.md, "Formulas")."""
     rho1, rho2 = _lowest_contact_roll(pair)
     m1 = rho1 - _rack_form_roll(pair, 1)
     if not pair.internal:

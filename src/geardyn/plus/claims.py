@@ -1,6 +1,5 @@
-"""The quantities of a plus planetary set that a paper's claims (stated as data) name, read from the
-pipeline's products (:class:`PlusProducts`), and those claims evaluated by the generic engine
-(:func:`geardyn.claims.data_claims`)."""
+"""The quantities of a plus planetary set that a paper's claims (stated as data) name, read from the pipeline's products
+(:class:`PlusProducts`), and those claims evaluated by the generic engine (:func:`geardyn.claims.data_claims`)."""
 
 from __future__ import annotations
 

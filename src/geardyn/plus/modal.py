@@ -276,9 +276,8 @@ def damped_frequencies(mat: Matrices, n_rigid: int, omega_min: float) -> tuple[N
 
 
 def energy_shares(design: PlusDesign, md: Modes) -> tuple[dict[str, NDArray], dict[str, NDArray]]:
-    """Shares of each spring in the modal strain energy (rigid modes: NaN) and of each Table 4 component in the
-    modal kinetic energy, per name, shape (n_modes,); U_e = k_e (v_e . phi)^2 / 2 sums to w^2 / 2 for an
-    M-normalised phi."""
+    """Shares of each spring in the modal strain energy (rigid modes: NaN) and of each Table 4 component in the modal
+    kinetic energy, per name, shape (n_modes,); U_e = k_e (v_e . phi)^2 / 2 sums to w^2 / 2 for an M-normalised phi."""
     phis = md.full_shapes
     strain = {el.name: 0.5 * el.k * (el.v @ phis) ** 2 for el in elements(design)}
     kinetic = {k: np.einsum("im,ij,jm->m", phis, Mc, phis) for k, Mc in mass_components(design).items()}

@@ -1,9 +1,8 @@
 """Regime probabilities under uncertain inputs (``docs/probabilities.md``): the inputs drawn by scrambled Sobol'
-sampling (or, where a study asks for Sobol' indices, by Saltelli's design), each sample a line along the study's
-axis that the one study runner labels as a layout, so each sample follows its attractor as a sweep does.  A chunk
-holds whole samples, so no result depends on the chunking; the statistics of the merged cube are
-:mod:`geardyn.runs.probability_stats`'s.
-"""
+sampling (or, where a study asks for Sobol' indices, by Saltelli's design), each sample a line along the study's axis
+that the one study runner labels as a layout, so each sample follows its attractor as a sweep does. A chunk holds whole
+samples, so no result depends on the chunking; the statistics of the merged cube are
+:mod:`geardyn.runs.probability_stats`'s."""
 
 from __future__ import annotations
 

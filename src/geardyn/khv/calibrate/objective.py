@@ -71,8 +71,7 @@ CandidateLabels = dict
 
 def candidate_labels(design: KHVDesign, values: Mapping[str, float], grids: Grids, policy: Policy) -> CandidateLabels:
     """The labelled lines of one candidate (overrides ``values``): every line is a line of the one labeller
-    (:func:`geardyn.label.label_lines`), all advancing together; each point's label depends only on its
-    own line."""
+    (:func:`geardyn.label.label_lines`), all advancing together; each point's label depends only on its own line."""
     where, lines = [], []
     for role, line in grids.lines.items():
         for case in line.cases or (None,):
