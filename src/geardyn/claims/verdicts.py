@@ -79,12 +79,8 @@ def columns(rows: list[Claim]) -> tuple[str, ...]:
 
 
 def to_csv(rows: list[Claim]) -> str:
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    cols = columns(rows)
-    w.writerow(cols)
-    for r in rows:
-        w.writerow([getattr(r, c) for c in cols])
+    buf, cols = io.StringIO(), columns(rows)
+    csv.writer(buf).writerows([cols, *([getattr(r, c) for c in cols] for r in rows)])
     return buf.getvalue()
 
 
