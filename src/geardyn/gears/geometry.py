@@ -181,10 +181,7 @@ def tip_diameters(pair: GearPair) -> tuple[FloatArray, FloatArray]:
     external = not pair.internal and pair.tip_shortening  # tip shortening dy = x1 + x2 - y, 0 for internal pairs
     dy = x1 + x2 - centre_distance_modification(pair) if external else np.zeros(np.broadcast(x1, x2).shape)
     da1 = d1 + 2.0 * (ha + x1 - dy) * m
-    if pair.internal:
-        da2 = d2 - 2.0 * (ha - x2) * m
-    else:
-        da2 = d2 + 2.0 * (ha + x2 - dy) * m
+    da2 = d2 - 2.0 * (ha - x2) * m if pair.internal else d2 + 2.0 * (ha + x2 - dy) * m
     return da1, da2
 
 

@@ -130,13 +130,8 @@ def tip_thickness(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:
     inv_a = geo.involute(a)
     s1 = m * (np.pi / 2 + 2.0 * x1 * math.tan(a))
     sa1 = da1 * (s1 / d1 + inv_a - geo.involute(aa1))
-    if pair.internal:
-        s2 = m * (np.pi / 2 - 2.0 * x2 * math.tan(a))
-        sa2 = da2 * (s2 / d2 - inv_a + geo.involute(aa2))
-    else:
-        s2 = m * (np.pi / 2 + 2.0 * x2 * math.tan(a))
-        sa2 = da2 * (s2 / d2 + inv_a - geo.involute(aa2))
-    return sa1, sa2
+    s, s2 = pair.sigma, m * (np.pi / 2 + pair.sigma * 2.0 * x2 * math.tan(a))  # the annulus's space is its tooth
+    return sa1, da2 * (s2 / d2 + s * inv_a - s * geo.involute(aa2))
 
 
 def _trimming(
