@@ -194,10 +194,7 @@ def layout(design: KHVDesign, spec: ProbabilitySpec, chunk: int, table: Samples)
     axis = [None] if spec.axis is None else [float(x) for x in spec.axis.values]
     lines, starts = [], []
     for i in np.array_split(np.arange(n), spec.n_chunks)[chunk]:
-        own = {
-            **dict(spec.fixed),
-            **{name: float(v) for name, v in zip(table.names[:k], table.values[i, :k], strict=True)},
-        }
+        own = dict(spec.fixed) | {n: float(v) for n, v in zip(table.names[:k], table.values[i, :k], strict=True)}
         line = [
             ((int(i), j), point.point_coefficients(design, own if x is None else {**own, spec.dim: x}))
             for j, x in enumerate(axis)
