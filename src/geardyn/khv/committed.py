@@ -47,10 +47,9 @@ class Comparison:
         lines = [
             f"# Search `{self.search}` against the committed design",
             "",
-            f"**{verdict}**: largest distance {100 * self.max_unit_distance:.1f} % of a search range "
-            f"(tolerance {100 * UNIT_TOLERANCE:.0f} %), score {self.found_score:.3f} found against "
-            f"{self.committed_score:.3f} committed ({self.score_difference:+.3f}; tolerance "
-            f"{SCORE_TOLERANCE:g}).",
+            f"**{verdict}**: largest distance {100 * self.max_unit_distance:.1f} % of a search range (tolerance "
+            f"{100 * UNIT_TOLERANCE:.0f} %), score {self.found_score:.3f} found against {self.committed_score:.3f} "
+            f"committed ({self.score_difference:+.3f}; tolerance {SCORE_TOLERANCE:g}).",
             "",
             "The committed design file is what every build uses; this search is the pipeline's own rerun of "
             'it (docs/calibration.md, "Reproducing a calibration").',

@@ -312,9 +312,8 @@ def forced_response(design: PlusDesign, ds: xr.Dataset, paper: ModuleType | None
         speeds = ds.speed.where(lost.any("mesh"), drop=True).values
         lines.append(
             f"Where the smallest force falls below zero (without relief, at speeds between {speeds.min():.0f} and "
-            f"{speeds.max():.0f} rpm) "
-            "the linear model would pull the teeth together: there the teeth separate and the linear result "
-            "only marks a severe resonance."
+            f"{speeds.max():.0f} rpm) the linear model would pull the teeth together: there the teeth separate and the "
+            "linear result only marks a severe resonance."
         )
     for case in [c for c in ("unmodified", best) if c]:
         for kind in MESH_TYPES:
