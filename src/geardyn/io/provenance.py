@@ -132,13 +132,10 @@ def runtime() -> dict[str, str]:
     Python and library versions, CPU, the instruction sets, OpenBLAS kernels and C math build in use; each
     key: ``docs/operations.md``).  Computed once per process (the values cannot change while it runs)."""
     out = {"python_version": platform.python_version(), "python_implementation": sys.implementation.name}
-    for pkg in PROVENANCE_PACKAGES:
-        out[f"{pkg.lower()}_version"] = _package_version(pkg)
+    out |= {f"{pkg.lower()}_version": _package_version(pkg) for pkg in PROVENANCE_PACKAGES}
     model, flags = _cpuinfo()
-    out.update({"platform": platform.platform(), "cpu_model": model, "cpu_simd_flags": " ".join(flags) or "unknown"})
-    out.update(_numpy_cpu())
-    out.update(_numba_cpu())
-    out["libm_variant"] = libm.variant()
+    out |= {"platform": platform.platform(), "cpu_model": model, "cpu_simd_flags": " ".join(flags) or "unknown"}
+    out |= _numpy_cpu() | _numba_cpu() | {"libm_variant": libm.variant()}
     out |= {f"env_{var}": os.environ[var] for var in OVERRIDES.split() if os.environ.get(var)}
     assert set(out) - {k for k in out if k.startswith("env_")} == set(RUNTIME_KEYS)
     return out
