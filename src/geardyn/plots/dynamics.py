@@ -36,8 +36,7 @@ def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figur
     """Poincaré points of ``state`` against the control parameter, coloured by the motion label, with
     the largest Lyapunov exponent (and its uncertainty) in a panel below; one pair per case and direction."""
     par = cube.attrs["control_parameter"]
-    cases = list(cube["case"].values)
-    directions = list(cube["direction"].values)
+    cases, directions = list(cube["case"].values), list(cube["direction"].values)
     n = len(cases) * len(directions)
     labels = labels_of_cube(cube)
     has_lyap = "lyapunov" in cube

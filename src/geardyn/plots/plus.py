@@ -76,8 +76,7 @@ def te_unmodified_figure(te: xr.Dataset) -> Figure:
     """Fig. 4 analogue: TE of the unmodified p-d pair over two mesh periods, with the load per pair."""
     fig = Figure(figsize=(8, 5.5), constrained_layout=True)
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
-    s = te.mesh_phase.values
-    s2 = np.concatenate([s, s + 1])
+    s2 = np.concatenate([te.mesh_phase.values, te.mesh_phase.values + 1])
     tr = te.transmission_error.sel(case="unmodified").values
     ax1.plot(s2, np.tile(tr, 2), color="k")
     ax1.set_ylabel("TE = E - delta (um)")
@@ -103,8 +102,7 @@ def te_relief_figure(te: xr.Dataset, paper=None) -> Figure:
     if paper is not None:
         title += f" (paper: {paper.TE_BEFORE_UM:g} -> {paper.TE_AFTER_UM:g} um)"
     fig, ax = single_axes((8, 4.5), title, "mesh phase (base pitches)", "TE - mean (um)", "constrained")
-    s = te.mesh_phase.values
-    s2 = np.concatenate([s, s + 1])
+    s2 = np.concatenate([te.mesh_phase.values, te.mesh_phase.values + 1])
     for case in te.case.values:
         tr = te.transmission_error.sel(case=case).values
         tr = tr - tr.mean()
@@ -127,8 +125,7 @@ def relief_landscape_figure(land: xr.Dataset, optima: pd.DataFrame, design: Plus
     shapes = list(land.shape_.values) if "shape_" in land.dims else list(land["shape"].values)
     fig = Figure(figsize=(5.2 * len(shapes), 4.4), constrained_layout=True)
     axes = fig.subplots(1, len(shapes), squeeze=False)[0]
-    a = land.amount.values
-    L = land.length.values
+    a, L = land.amount.values, land.length.values
     vmin, vmax = float(land.te_ptp.min()), float(land.te_ptp.max())
     for ax, sh in zip(axes, shapes, strict=True):
         z = land.te_ptp.sel(shape=sh).values
