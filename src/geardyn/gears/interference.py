@@ -140,8 +140,7 @@ def _trimming(
     """Radial (trimming) interference margin of an internal mesh, rad: KHK Eqs. (5-9)/(5-10) (docs/geometry.md,
     "Formulas"); each gear given as (teeth, tip diameter, base diameter)."""
     (z_small, da_small, db_small), (z_big, da_big, db_big) = small, big
-    aa1 = geo.pressure_angle_at(db_small, da_small)
-    aa2 = geo.pressure_angle_at(db_big, da_big)
+    aa1, aa2 = geo.pressure_angle_at(db_small, da_small), geo.pressure_angle_at(db_big, da_big)
     q = (np.cos(aa1) / np.cos(aa2)) ** 2
     with np.errstate(invalid="ignore"):
         t1 = libm.arcsin(np.sqrt(np.clip((1.0 - q) / (1.0 - (z_small / z_big) ** 2), 0.0, 1.0)))

@@ -35,8 +35,7 @@ def flexibility_q(
     """Minimum single-tooth flexibility q' in mm um / N (ISO 6336-1 method B; paper 1 Eq. 8); ``x2`` in the
     Chinese convention, ``variant`` "iso" (z_n2 -> infinity) or "paper" (z_n2 = z2): docs/stiffness.md."""
     c = constants
-    x1 = np.asarray(x1, dtype=float)
-    x2 = np.asarray(x2, dtype=float)
+    x1, x2 = np.asarray(x1, dtype=float), np.asarray(x2, dtype=float)
     if not internal:
         inv_z2, x2_eff = 1.0 / z2, x2
     elif variant == "iso":

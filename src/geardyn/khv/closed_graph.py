@@ -64,8 +64,7 @@ def closed_graph(
     (a paper's printed (x1, x2)) against ours along dim ``point`` (docs/geometry.md, "The closed graph dataset")."""
     if not base.internal:
         raise ValueError("the closed graph of paper 1 is for an internal pair")
-    x1a = np.asarray(x1, dtype=float)
-    x2a = np.asarray(x2, dtype=float)
+    x1a, x2a = np.asarray(x1, dtype=float), np.asarray(x2, dtype=float)
     if x1a.ndim != 1 or x2a.ndim != 1:
         raise ValueError("x1 and x2 must be 1-D grids")
     kw = {"min_tip_thickness": min_tip_thickness, "min_contact_ratio": min_contact_ratio, "cutter": cutter}

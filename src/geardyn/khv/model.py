@@ -155,8 +155,7 @@ class Coefficients:
     def matrices(self) -> dict[str, np.ndarray | float]:
         """The 3-DOF dimensionless system (Eq. 16, docs/model.md section 3): K, C (3x3, shafts only), g (mesh
         coupling), p (constant loads) and ``te`` (the TE forcing amplitude of the second row)."""
-        mu_DH = self.mu_D * self.mu_H / (self.mu_D + self.mu_H)
-        mu_VL = self.mu_V * self.mu_L / (self.mu_V + self.mu_L)
+        mu_DH, mu_VL = self.mu_D * self.mu_H / (self.mu_D + self.mu_H), self.mu_V * self.mu_L / (self.mu_V + self.mu_L)
 
         def shafts(dh: float, vl: float) -> np.ndarray:
             """The shaft terms (stiffness or damping) of the input (dh) and output (vl) shafts."""
@@ -215,8 +214,7 @@ def physical_masses(params: KHVParameters) -> dict[str, float]:
     M_D = params.I_D / params.r_bH**2
     cos_a = math.cos(math.radians(params.pressure_angle_deg))
     M_H = (params.I_H + params.m_V * params.r_bH**2 / cos_a**2) / params.r_bH**2
-    M_V = params.I_V / params.r_bV**2
-    M_L = params.I_L / params.r_bV**2
+    M_V, M_L = params.I_V / params.r_bV**2, params.I_L / params.r_bV**2
     return {"M_D": M_D, "M_H": M_H, "M_V": M_V, "M_L": M_L, "M_VH": M_V * M_H / (M_V + M_H)}
 
 
@@ -227,13 +225,10 @@ def dimensionless(params: KHVParameters, options: Options = Options()) -> Coeffi
     M_VH = ms["M_VH"]
     k_mean = params.stiffness(options.stiffness_form).mean()
     w_n = math.sqrt(k_mean / M_VH)
-    k_DH = params.K_DH / params.r_bH**2
-    k_VL = params.K_VL / params.r_bV**2
-    M_DH = ms["M_D"] * ms["M_H"] / (ms["M_D"] + ms["M_H"])
-    M_VL = ms["M_V"] * ms["M_L"] / (ms["M_V"] + ms["M_L"])
+    k_DH, k_VL = params.K_DH / params.r_bH**2, params.K_VL / params.r_bV**2
+    M_DH, M_VL = ms["M_D"] * ms["M_H"] / (ms["M_D"] + ms["M_H"]), ms["M_V"] * ms["M_L"] / (ms["M_V"] + ms["M_L"])
     c_m = 2.0 * params.zeta * math.sqrt(k_mean * M_VH)
-    c_DH = 2.0 * params.eta * math.sqrt(k_DH * M_DH)
-    c_VL = 2.0 * params.eta * math.sqrt(k_VL * M_VL)
+    c_DH, c_VL = 2.0 * params.eta * math.sqrt(k_DH * M_DH), 2.0 * params.eta * math.sqrt(k_VL * M_VL)
     if options.frequency_mode == "physical":
         omega = params.z_annulus * 2.0 * math.pi * params.input_speed_rpm / 60.0 / w_n  # w_m = z_K 2 pi n / 60
     else:

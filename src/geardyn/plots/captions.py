@@ -318,8 +318,7 @@ def forced_response(design: PlusDesign, ds: xr.Dataset, paper: ModuleType | None
     for case in [c for c in ("unmodified", best) if c]:
         for kind in MESH_TYPES:
             sub = ds.sel(case=case, mesh=f"{kind}1")
-            i = int(np.argmax(sub.rms_force.values))
-            j = int(np.argmax(sub.dynamic_factor.values))
+            i, j = int(np.argmax(sub.rms_force.values)), int(np.argmax(sub.dynamic_factor.values))
             lines.append(
                 f"  {case}, {kind}1 (TE ptp {float(ds.te_ptp.sel(case=case)):.2f} um): largest RMS "
                 f"{float(sub.rms_force[i]):.1f} N at {float(ds.speed[i]):.0f} rpm, largest dynamic factor "

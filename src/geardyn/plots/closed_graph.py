@@ -22,8 +22,7 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
     title = f"Closed graph, z1 = {ds.attrs['z1']}, z2 = {ds.attrs['z2']}, m = {ds.attrs['module_mm']} mm"
     xlabel, ylabel = "planet shift x1", "annulus shift x2 (Chinese convention)"
     fig, ax = single_axes((7.0, 5.6), title, xlabel, ylabel, "constrained")
-    x1 = ds["x1"].values
-    x2 = ds["x2"].values
+    x1, x2 = ds["x1"].values, ds["x2"].values
     ax.contourf(x1, x2, ds["feasible_cutter_free"].values, levels=[0.5, 1.5], colors=["#dbe9f6"])
     ax.contourf(x1, x2, ds["feasible"].values, levels=[0.5, 1.5], colors=["#9ecae1"])
     handles: list[Line2D | Patch] = [

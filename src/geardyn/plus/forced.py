@@ -25,8 +25,7 @@ def modal_frf(omega2: ArrayLike, shapes: ArrayLike, zeta: float, force: ArrayLik
     """Complex response X (..., n) of a modally damped system to the harmonic ``force`` (..., n): ``omega2``
     (m,) squared elastic circular frequencies, ``shapes`` (n, m) M-normalised, ``omega`` (rad/s) broadcast
     against ``force[..., 0]``."""
-    omega2 = np.asarray(omega2, dtype=float)
-    shapes = np.asarray(shapes, dtype=float)
+    omega2, shapes = np.asarray(omega2, dtype=float), np.asarray(shapes, dtype=float)
     f = np.asarray(force)
     w = np.asarray(omega, dtype=float)[..., None]
     wr = np.sqrt(omega2)
@@ -114,8 +113,7 @@ def forced_response(
     cond = spec.condition
     md = modal.modes(design, cond)  # type: ignore[arg-type]
     keep = [modal.COORDS.index(c) for c in md.coords]
-    omega2 = md.omega2[md.n_rigid :]
-    shapes = md.shapes[:, md.n_rigid :]
+    omega2, shapes = md.omega2[md.n_rigid :], md.shapes[:, md.n_rigid :]
     natural_hz = np.sqrt(omega2) / (2 * np.pi)
     per_rpm = mesh_frequency_per_rpm(design, cond)
     speed = speed_grid(design, natural_hz, per_rpm) if speeds is None else np.asarray(speeds, dtype=float)

@@ -266,8 +266,7 @@ class MeshGrid:
 def _solve_approach(e: NDArray, lam: NDArray, load: float) -> NDArray:
     """Solve sum_k max(0, x - e_k)/lam_k = W for each column (piecewise linear, increasing in x)."""
     order = np.argsort(e, axis=0, kind="stable")  # ties in one order on every CPU (numpy dispatches its sorts)
-    es = np.take_along_axis(e, order, axis=0)
-    ks = np.take_along_axis(1.0 / lam, order, axis=0)
+    es, ks = np.take_along_axis(e, order, axis=0), np.take_along_axis(1.0 / lam, order, axis=0)
     n = e.shape[0]
     x, done = np.full(e.shape[1], np.nan), np.zeros(e.shape[1], dtype=bool)
     ksum, kesum = np.zeros(e.shape[1]), np.zeros(e.shape[1])

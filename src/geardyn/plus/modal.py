@@ -183,8 +183,7 @@ def matrices(design: PlusDesign, condition: Condition = "free") -> Matrices:
         raise ValueError(f"unknown working condition {condition!r}; allowed: {sorted(CONDITIONS)}")
     keep = np.array([i for i, c in enumerate(COORDS) if c != CONDITIONS[condition]])
     els = elements(design)
-    K = sum(el.k * np.outer(el.v, el.v) for el in els)
-    C = sum(el.c * np.outer(el.v, el.v) for el in els)
+    K, C = sum(el.k * np.outer(el.v, el.v) for el in els), sum(el.c * np.outer(el.v, el.v) for el in els)
     M = sum(mass_components(design).values())
     ix = np.ix_(keep, keep)
     return Matrices(tuple(COORDS[i] for i in keep), M[ix], K[ix], C[ix])
@@ -227,8 +226,7 @@ def _canonical_pairs(omega2: NDArray, shapes: NDArray, coords: tuple[str, ...], 
             if iy is not None and np.hypot(a[iy], b[iy]) > 0:
                 # first = cos*a + sin*b has y = 0 when tan(ang) = -a_y / b_y
                 ang = libm.arctan2(-a[iy], b[iy])
-                u = np.cos(ang) * a + np.sin(ang) * b
-                w = -np.sin(ang) * a + np.cos(ang) * b
+                u, w = np.cos(ang) * a + np.sin(ang) * b, -np.sin(ang) * a + np.cos(ang) * b
                 shapes[:, i], shapes[:, i + 1] = u, w
             i += 2
         else:

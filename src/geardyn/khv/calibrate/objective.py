@@ -159,8 +159,7 @@ def lcs(a: str, b: str) -> int:
 def transitions(values: np.ndarray, labels: np.ndarray) -> dict[str, float]:
     """Where the motion along a line first leaves P1 and where chaos first appears (inf if never)."""
     lab = np.asarray(labels)
-    leave = np.nonzero(lab != P1)[0]
-    chaos = np.nonzero(lab == CHAOS)[0]
+    leave, chaos = np.nonzero(lab != P1)[0], np.nonzero(lab == CHAOS)[0]
     return {
         "leave_p1": float(values[leave[0]]) if leave.size else float("inf"),
         "first_chaos": float(values[chaos[0]]) if chaos.size else float("inf"),
