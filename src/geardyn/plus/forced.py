@@ -26,8 +26,7 @@ def modal_frf(omega2: ArrayLike, shapes: ArrayLike, zeta: float, force: ArrayLik
     (m,) squared elastic circular frequencies, ``shapes`` (n, m) M-normalised, ``omega`` (rad/s) broadcast
     against ``force[..., 0]``."""
     omega2, shapes = np.asarray(omega2, dtype=float), np.asarray(shapes, dtype=float)
-    f = np.asarray(force)
-    w = np.asarray(omega, dtype=float)[..., None]
+    f, w = np.asarray(force), np.asarray(omega, dtype=float)[..., None]
     wr = np.sqrt(omega2)
     modal_force = f @ shapes  # (..., m)
     q = modal_force / (omega2 - w**2 + 2j * zeta * wr * w)
@@ -119,8 +118,7 @@ def forced_response(
     speed = speed_grid(design, natural_hz, per_rpm) if speeds is None else np.asarray(speeds, dtype=float)
     meshes = [el for el in modal.elements(design) if el.kind in modal.MESH_TYPES]
     V = np.array([el.v[keep] for el in meshes])  # (9, n)
-    k = np.array([el.k for el in meshes])
-    pd = np.array([el.kind == "pd" for el in meshes])
+    k, pd = np.array([el.k for el in meshes]), np.array([el.kind == "pd" for el in meshes])
     phase = np.zeros(len(meshes))
     phase[pd] = mesh_phases(design)[[el.j for el in meshes if el.kind == "pd"]]
     h = np.arange(1, spec.harmonics + 1)

@@ -218,8 +218,7 @@ def _canonical_pairs(omega2: NDArray, shapes: NDArray, coords: tuple[str, ...], 
     """Rotate each degenerate pair so that its first member has y_s = 0 (deterministic shapes)."""
     shapes = shapes.copy()
     iy = coords.index("y_s") if "y_s" in coords else None
-    i = 0
-    n = len(omega2)
+    i, n = 0, len(omega2)
     while i < n - 1:
         if omega2[i] > 0 and abs(omega2[i + 1] - omega2[i]) <= rtol * abs(omega2[i]):
             a, b = shapes[:, i].copy(), shapes[:, i + 1].copy()

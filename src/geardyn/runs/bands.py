@@ -16,8 +16,7 @@ def band_rows(cube: xr.Dataset) -> list[dict]:
     direction), with the median exponent and the transition point to the next band (midway between
     the last point of this band and the first of the next; NaN for the last band)."""
     par = cube.attrs["control_parameter"]
-    values = cube[par].values
-    labels = labels_of_cube(cube)
+    values, labels = cube[par].values, labels_of_cube(cube)
     lam = cube["lyapunov"].values if "lyapunov" in cube else np.full(labels.shape, np.nan)
     rows = []
     for i, case in enumerate(cube["case"].values):

@@ -82,8 +82,7 @@ def point_overrides(spec: SweepSpec, case: int, value: float) -> dict[str, float
 def layout(design: KHVDesign, spec: SweepSpec, chunk: int, policy: Policy) -> study.Layout:
     """The lines of chunk ``chunk`` on the cube (case, direction, parameter), and the sweep's own per-point
     variables: the Poincare sections (the recorded periods) and the point's coefficients."""
-    dims = ("case", "direction", spec.parameter)
-    shape = (len(spec.cases), len(spec.directions), spec.num)
+    dims, shape = ("case", "direction", spec.parameter), (len(spec.cases), len(spec.directions), spec.num)
     ns = policy.integration.recorded_periods
     sections = [Var(name, (*dims, "section"), "1", f"Poincare section: {STATE_NAMES[name]}") for name in STATES]
     own = {v.name: v.empty((*shape, ns)) for v in sections} | empty(("diverged_period", "n_events"), dims, shape)
