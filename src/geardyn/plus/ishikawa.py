@@ -173,9 +173,7 @@ def iso_single_stiffness(pair: SpurPair, facewidth_mm: float) -> dict[str, float
     return {"q_mm_um_per_N": q, "C_B": float(cb), "k_iso_0.8": k08, "k_iso_CB": k08 / 0.8 * (0.8 * cb)}
 
 
-# ---------------------------------------------------------------------------------------------
-# Static transmission error with load sharing (Eq. 9)
-# ---------------------------------------------------------------------------------------------
+# --- Static transmission error with load sharing (Eq. 9) ---
 
 
 def relief_profile(

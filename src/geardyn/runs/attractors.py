@@ -102,9 +102,7 @@ def find_attractors(
     return found, where
 
 
-# ----------------------------------------------------------------------------------------------
-# along a sweep
-# ----------------------------------------------------------------------------------------------
+# --- along a sweep ---
 
 
 def branch_starts(branches: Sequence[Any], p: float, perturb: float = 1e-3) -> dict[str, np.ndarray]:
