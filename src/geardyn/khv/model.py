@@ -161,13 +161,11 @@ class Coefficients:
             """The shaft terms (stiffness or damping) of the input (dh) and output (vl) shafts."""
             return np.array([[dh / mu_DH, 0.0, 0.0], [dh / self.mu_H, 0.0, vl / self.mu_V], [0.0, 0.0, vl / mu_VL]])
 
-        g = np.array([1.0 / self.mu_H, 1.0, 1.0 / self.mu_V])
-        p = np.array([self.P_D / self.mu_D, 0.0, self.P_L / self.mu_L])
         return {
             "K": shafts(self.k_DH, self.k_VL),
             "C": shafts(self.c_DH, self.c_VL),
-            "g": g,
-            "p": p,
+            "g": np.array([1.0 / self.mu_H, 1.0, 1.0 / self.mu_V]),
+            "p": np.array([self.P_D / self.mu_D, 0.0, self.P_L / self.mu_L]),
             "te": self.te_forcing,
         }
 
