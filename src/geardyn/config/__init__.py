@@ -295,9 +295,8 @@ def settings_from(cls: type, spec: Mapping[str, Any] | None, what: str) -> Any:
     if unknown:
         raise ValueError(f"unknown {what} {sorted(unknown)}; allowed: {sorted(names)}")
     hints = get_type_hints(cls)
-    for k, v in spec.items():  # the schema's "integer" admits 6.0: an int field gets an int
-        if hints.get(k) is int and isinstance(v, float) and v.is_integer():
-            spec[k] = int(v)
+    # the schema's "integer" admits 6.0: an int field gets an int
+    spec |= {k: int(v) for k, v in spec.items() if hints.get(k) is int and isinstance(v, float) and v.is_integer()}
     return cls(**spec)
 
 

@@ -44,10 +44,8 @@ def band_rows(cube: xr.Dataset) -> list[dict]:
 
 def bands_csv(rows: list[dict]) -> str:
     columns = list(rows[0]) if rows else []  # the keys of band_rows, in its order
-    lines = [",".join(columns)]
-    for r in rows:
-        lines.append(",".join(f"{r[c]:.6g}" if isinstance(r[c], float) else str(r[c]) for c in columns))
-    return "\n".join(lines) + "\n"
+    cells = [[f"{r[c]:.6g}" if isinstance(r[c], float) else str(r[c]) for c in columns] for r in rows]
+    return "\n".join(",".join(line) for line in [columns, *cells]) + "\n"
 
 
 def bands_markdown(rows: list[dict], title: str, par: str) -> str:
