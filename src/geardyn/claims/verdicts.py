@@ -23,9 +23,7 @@ def fraction_verdict(k: int, n: int, threshold: float = RANGE_AGREE, z: float = 
         raise ValueError(f"fraction_verdict needs 0 <= k <= n and n > 0, got k={k}, n={n}")
     p = k / n
     se = math.sqrt(p * (1.0 - p) / n)
-    if abs(p - threshold) <= z * se:
-        return "borderline"
-    return "agree" if p >= threshold else "disagree"
+    return "borderline" if abs(p - threshold) <= z * se else "agree" if p >= threshold else "disagree"
 
 
 def credit(verdict: str) -> float:

@@ -77,9 +77,7 @@ def _rack_form_roll(pair: geo.GearPair, which: int) -> geo.FloatArray:
 def undercut_margin(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:
     """Undercut margins (mm along the line of action) for rack-cut gears; +inf for the shaper-cut annulus."""
     u1 = _rack_form_roll(pair, 1)
-    if pair.internal:
-        return u1, np.full(np.shape(u1), np.inf)
-    return u1, _rack_form_roll(pair, 2)
+    return u1, (np.full(np.shape(u1), np.inf) if pair.internal else _rack_form_roll(pair, 2))
 
 
 def _cutting_mesh(
