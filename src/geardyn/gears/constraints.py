@@ -128,5 +128,4 @@ def x2_on_overlap_boundary(x1: float, base: geo.GearPair, *, xtol: float = 1e-12
 def x2_on_overlap_boundary_many(x1: ArrayLike, base: geo.GearPair) -> geo.FloatArray:
     """Vectorised :func:`x2_on_overlap_boundary` (one brentq per x1 value)."""
     arr = np.asarray(x1, dtype=float)
-    out = np.array([x2_on_overlap_boundary(float(v), base) for v in arr.ravel()])
-    return out.reshape(arr.shape)
+    return np.array([x2_on_overlap_boundary(float(v), base) for v in arr.ravel()]).reshape(arr.shape)

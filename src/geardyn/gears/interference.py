@@ -70,8 +70,7 @@ def _rack_form_roll(pair: geo.GearPair, which: int) -> geo.FloatArray:
     z, x = (pair.z1, x1) if which == 1 else (pair.z2, x2)
     db = (geo.base_diameters(pair))[which - 1]
     a = pair.alpha
-    tan_f = math.tan(a) - 4.0 * (pair.addendum - x) / (z * math.sin(2.0 * a))
-    return db / 2.0 * tan_f
+    return db / 2.0 * (math.tan(a) - 4.0 * (pair.addendum - x) / (z * math.sin(2.0 * a)))
 
 
 def undercut_margin(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:

@@ -72,8 +72,7 @@ def single_tooth_stiffness(s: ArrayLike, eps: float, k_prime: float) -> NDArray[
     parabola k'(1 + 2u(1 - u)), u = s / eps (paper 1 Fig. 4)."""
     s = np.asarray(s, dtype=float)
     u = s / eps
-    inside = (u >= 0.0) & (u <= 1.0)
-    return np.where(inside, k_prime * (1.0 + 2.0 * u * (1.0 - u)), 0.0)
+    return np.where((u >= 0.0) & (u <= 1.0), k_prime * (1.0 + 2.0 * u * (1.0 - u)), 0.0)
 
 
 @dataclass(frozen=True)
@@ -135,5 +134,4 @@ class ParabolicStiffness:
 
     def minimum(self) -> float:
         """Smallest value over a period (negative values make the model meaningless)."""
-        t = np.concatenate([np.linspace(0.0, 1.0, 4001), [self.fraction]])
-        return float(np.min(self(t)))
+        return float(np.min(self(np.concatenate([np.linspace(0.0, 1.0, 4001), [self.fraction]]))))

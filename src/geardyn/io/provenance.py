@@ -153,8 +153,7 @@ def provenance_text(prefix: str = "") -> str:
 
 def config_hash(config: Mapping[str, Any]) -> str:
     """Short sha256 of a configuration mapping, independent of key order."""
-    text = json.dumps(config, sort_keys=True, default=_json_default)
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
+    return hashlib.sha256(json.dumps(config, sort_keys=True, default=_json_default).encode()).hexdigest()[:16]
 
 
 def _json_default(obj: Any) -> Any:

@@ -149,8 +149,7 @@ class Coefficients:
         """Normalised mesh stiffness at mesh phase s (periods), right-continuous at the jumps."""
         s = np.mod(np.asarray(s, dtype=float), 1.0)
         p = self.stiffness_polys()
-        first = s < self.eps - math.floor(self.eps)
-        return np.where(first, np.polyval(p[0], s), np.polyval(p[1], s))
+        return np.where(s < self.eps - math.floor(self.eps), np.polyval(p[0], s), np.polyval(p[1], s))
 
     def matrices(self) -> dict[str, np.ndarray | float]:
         """The 3-DOF dimensionless system (Eq. 16, docs/model.md section 3): K, C (3x3, shafts only), g (mesh
@@ -278,8 +277,7 @@ def natural_frequencies(coeffs: Coefficients) -> np.ndarray:
     """Undamped natural frequencies (units of w_n, ascending) of the linearised 3-DOF system in contact
     (kappa = 1, no backlash): square roots of the eigenvalues of K + g e2^T (no rigid-body mode)."""
     m = coeffs.matrices()
-    k_full = m["K"] + np.outer(m["g"], [0.0, 1.0, 0.0])
-    lam = np.linalg.eigvals(k_full)
+    lam = np.linalg.eigvals(m["K"] + np.outer(m["g"], [0.0, 1.0, 0.0]))
     return np.sort(np.sqrt(np.abs(lam.real)))
 
 

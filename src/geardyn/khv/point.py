@@ -92,8 +92,7 @@ def point_model(
         field, scale = _CONTROL_FIELDS.get(key, (key, 1.0))
         params[field] = float(value) * scale
     params = {k: v for k, v in params.items() if v is not None}
-    phys = KHVParameters(eps=mesh.contact_ratio, k_c=mesh.k_c, **params)
-    return phys, Options(**options), mesh
+    return KHVParameters(eps=mesh.contact_ratio, k_c=mesh.k_c, **params), Options(**options), mesh
 
 
 def nominal(design: design_mod.KHVDesign, name: str, overrides: Mapping[str, float] | None = None) -> float:

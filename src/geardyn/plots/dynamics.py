@@ -132,8 +132,7 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=(), curves: xr.Datase
     layers = "dynamic_factor" in ds and "impact_class" in ds
     if layers:
         fig = Figure(figsize=(12.0, 9.5))
-        axes = fig.subplots(2, 2)
-        (ax, axl), (ax_kv, ax_impact) = axes
+        (ax, axl), (ax_kv, ax_impact) = fig.subplots(2, 2)
         draw_map_layers(ax_kv, ax_impact, ds)
     else:
         fig = Figure(figsize=(12.0, 5.0))

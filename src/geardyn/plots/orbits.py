@@ -34,8 +34,7 @@ def plot_branches(cube: xr.Dataset | None, branches: xr.Dataset, title: str) -> 
             xs = np.asarray(cube[par].values, dtype=float)
             y = cube["x_vh"].isel(case=k, direction=0).values
             ax.plot(np.repeat(xs, y.shape[1]), y.ravel(), ",", color="0.6", alpha=0.6, rasterized=True)
-        sel = branches["case_index"].values == k
-        ids = np.unique(branches["branch"].values[sel])
+        ids = np.unique(branches["branch"].values[branches["case_index"].values == k])
         for j, b in enumerate(ids):
             m = branches["branch"].values == b
             p = branches["parameter"].values[m]

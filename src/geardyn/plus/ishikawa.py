@@ -233,8 +233,7 @@ class MeshGrid:
         u = (s[None, :] + np.arange(n_slots)[:, None]) * pb
         inside = u <= ga + 1e-15
         u = np.where(inside, u, 0.0)
-        lam = np.where(inside, pair_compliance(pair, u, mat), np.inf)
-        return cls(pair, s, u, inside, lam)
+        return cls(pair, s, u, inside, np.where(inside, pair_compliance(pair, u, mat), np.inf))
 
     def separation(
         self,

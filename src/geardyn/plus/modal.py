@@ -256,8 +256,7 @@ def damped_frequencies(mat: Matrices, n_rigid: int, omega_min: float) -> tuple[N
     damping).  ``omega_min`` (rad/s): the lowest undamped elastic circular frequency."""
     n = mat.M.shape[0]
     Minv = np.linalg.inv(mat.M)
-    A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ mat.K, -Minv @ mat.C]])
-    lam = np.linalg.eigvals(A)
+    lam = np.linalg.eigvals(np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ mat.K, -Minv @ mat.C]]))
     # rigid-body modes give a (numerically split) double eigenvalue at 0: drop |lambda| << omega_min
     osc = lam[(lam.imag > 0) & (libm.cabs(lam) > 1e-3 * omega_min)]
     osc = osc[np.argsort(libm.cabs(osc))]

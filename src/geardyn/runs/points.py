@@ -38,8 +38,7 @@ def amplitude_spectrum(x: np.ndarray, samples_per_period: int) -> tuple[np.ndarr
     window = np.hanning(n)
     spec = np.fft.rfft((x - x.mean()) * window)
     amp = 2.0 * libm.cabs(spec) / window.sum()
-    freq = np.fft.rfftfreq(n, d=1.0 / samples_per_period)
-    return freq, amp
+    return np.fft.rfftfreq(n, d=1.0 / samples_per_period), amp
 
 
 def dense_point(

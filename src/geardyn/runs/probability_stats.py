@@ -124,8 +124,7 @@ def sensitivities(ds: xr.Dataset, spec: ProbabilitySpec, table: Samples) -> dict
         Var("total_index_conf", dims, "1", "half-width of the 95 % interval of the Sobol' total index"),
     ]
     kept = 4 if spec.method == "sobol" else 2
-    out = variables(table[:kept], res[:kept])
-    return {"names": names, "at": at, "variables": out}
+    return {"names": names, "at": at, "variables": variables(table[:kept], res[:kept])}
 
 
 def leading(ds: xr.Dataset) -> dict[str, str]:
