@@ -104,8 +104,7 @@ def root_interference(
     if not pair.internal:
         return m1, rho2 - _rack_form_roll(pair, 2)
     cut, _, inv_w0, da0 = _cutting_mesh(pair, cutter)
-    c = math.cos(pair.alpha)
-    rb0 = cut.teeth * pair.module * c / 2.0
+    rb0 = cut.teeth * pair.module * math.cos(pair.alpha) / 2.0
     db1, db2 = geo.base_diameters(pair)
     rb1, rb2 = db1 / 2.0, db2 / 2.0
     t_w0 = libm.tan(geo.inverse_involute(inv_w0))

@@ -226,8 +226,7 @@ def _q_te_at_relief(p: PlusProducts, shape: str) -> Measured:
 
 def _band_rms(forced: xr.Dataset, case: str, band: Sequence[float]) -> float:
     sp = forced["speed"].values
-    m = (sp >= band[0]) & (sp <= band[1])
-    return float(np.sqrt(np.mean(forced["rms_force"].sel(case=case).values[m] ** 2)))
+    return float(np.sqrt(np.mean(forced["rms_force"].sel(case=case).values[(sp >= band[0]) & (sp <= band[1])] ** 2)))
 
 
 def _q_force_band_change(p: PlusProducts, case: str, band_rpm: Sequence[float]) -> Measured:

@@ -60,8 +60,7 @@ def optimise(
     """Differential-evolution optimum of ``shape`` relief within the ``which`` bounds."""
     if shape not in SHAPES:
         raise ValueError(f"unknown relief shape {shape!r}; allowed: {SHAPES}")
-    grid = grid or design_grid(design, points)
-    f = objective(design, grid, shape)
+    f = objective(design, grid or design_grid(design, points), shape)
     ab, lb = bounds_of(design, which)
     r = design.relief
     settings = {"seed": r.seed, "popsize": r.popsize, "maxiter": r.maxiter, "tol": r.tol, "updating": "immediate"}
@@ -76,8 +75,7 @@ def landscape(
     design: PlusDesign, shape: str, amounts: NDArray, lengths: NDArray, *, grid: MeshGrid | None = None
 ) -> NDArray:
     """Peak-to-peak TE (m) on the grid ``amounts x lengths`` (m), shape (len(amounts), len(lengths))."""
-    grid = grid or design_grid(design)
-    f = objective(design, grid, shape)
+    f = objective(design, grid or design_grid(design), shape)
     return np.array([[f(np.array([a, L])) for L in lengths] for a in amounts])
 
 

@@ -52,8 +52,7 @@ class SweepSpec(study.StudySpec, study.Grid):
     @property
     def n_chunks(self) -> int:
         """Number of chunk jobs: the configured count, at most one per line (``follow``) or per point."""
-        units = self.n_lines if self.start_from == "follow" else self.n_lines * self.num
-        return max(1, min(self.chunks, units))
+        return max(1, min(self.chunks, self.n_lines if self.start_from == "follow" else self.n_lines * self.num))
 
     def case_label(self, i: int) -> str:
         return point.label(self.cases[i], "base")
