@@ -70,8 +70,7 @@ def tip_stiffness(k_c: ArrayLike) -> NDArray[np.float64]:
 def single_tooth_stiffness(s: ArrayLike, eps: float, k_prime: float) -> NDArray[np.float64]:
     """Stiffness of one tooth pair at engagement time ``s`` (mesh periods), zero outside [0, eps]: the
     parabola k'(1 + 2u(1 - u)), u = s / eps (paper 1 Fig. 4)."""
-    s = np.asarray(s, dtype=float)
-    u = s / eps
+    u = np.asarray(s, dtype=float) / eps
     return np.where((u >= 0.0) & (u <= 1.0), k_prime * (1.0 + 2.0 * u * (1.0 - u)), 0.0)
 
 

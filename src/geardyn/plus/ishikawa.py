@@ -47,8 +47,7 @@ class ToothGeom:
 
 def half_tooth_angle(g: ToothGeom, radius: ArrayLike) -> NDArray:
     """Half angular tooth thickness (rad) at ``radius`` >= r_b: pi/(2z) + 2x tan(a)/z + inv a - inv a_r."""
-    radius = np.asarray(radius, dtype=float)
-    a_r = libm.arccos(np.clip(g.rb / radius, -1.0, 1.0))
+    a_r = libm.arccos(np.clip(g.rb / np.asarray(radius, dtype=float), -1.0, 1.0))
     return np.pi / (2 * g.z) + 2 * g.x * libm.tan(g.alpha) / g.z + inv(g.alpha) - inv(a_r)
 
 

@@ -36,8 +36,7 @@ def amplitude_spectrum(x: np.ndarray, samples_per_period: int) -> tuple[np.ndarr
     x = np.asarray(x, dtype=float)
     n = x.size
     window = np.hanning(n)
-    spec = np.fft.rfft((x - x.mean()) * window)
-    amp = 2.0 * libm.cabs(spec) / window.sum()
+    amp = 2.0 * libm.cabs(np.fft.rfft((x - x.mean()) * window)) / window.sum()
     return np.fft.rfftfreq(n, d=1.0 / samples_per_period), amp
 
 

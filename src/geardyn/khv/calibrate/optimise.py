@@ -32,8 +32,7 @@ def refine(
     steps = sorted(steps, reverse=True)
     rank = functools.partial(ranked_score, require=evaluator.problem.require)
     while k < len(steps) and done < rounds:
-        recs = evaluator.records(space.one_at_a_time(best.values, (-steps[k], steps[k])))
-        cand = max(recs, key=rank)
+        cand = max(evaluator.records(space.one_at_a_time(best.values, (-steps[k], steps[k]))), key=rank)
         if rank(cand) > rank(best):
             best, done = cand, done + 1
         else:
