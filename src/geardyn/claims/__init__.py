@@ -48,8 +48,7 @@ class Track:
 def track_of_cube(cube: xr.Dataset, case: int = 0) -> Track:
     """The labelled sweep of case ``case`` of a sweep cube."""
     par = cube.attrs["control_parameter"]
-    lam = cube["lyapunov"].values[case, 0] if "lyapunov" in cube else None
-    sig = cube["lyapunov_sigma"].values[case, 0] if "lyapunov_sigma" in cube else None
+    lam, sig = (cube[v].values[case, 0] if v in cube else None for v in ("lyapunov", "lyapunov_sigma"))
     return Track(cube[par].values, labels_of_cube(cube)[case, 0], lam, sig)
 
 

@@ -17,16 +17,13 @@ VERDICTS = ("agree", "borderline", "disagree", "not comparable")
 
 
 def fraction_verdict(k: int, n: int, threshold: float = RANGE_AGREE, z: float = BORDERLINE_Z) -> str:
-    """``agree`` (k/n clearly >= threshold), ``disagree`` (clearly below) or ``borderline`` (the threshold
-    within ``z`` binomial standard errors of k/n): the one rule for every verdict on a fraction
-    (``docs/claims.md``)."""
+    """``agree`` (k/n clearly >= threshold), ``disagree`` (clearly below) or ``borderline`` (the threshold within ``z``
+    binomial standard errors of k/n): the one rule for every verdict on a fraction (``docs/claims.md``)."""
     if n <= 0 or not 0 <= k <= n:
         raise ValueError(f"fraction_verdict needs 0 <= k <= n and n > 0, got k={k}, n={n}")
     p = k / n
     se = math.sqrt(p * (1.0 - p) / n)
-    if abs(p - threshold) <= z * se:
-        return "borderline"
-    return "agree" if p >= threshold else "disagree"
+    return "borderline" if abs(p - threshold) <= z * se else "agree" if p >= threshold else "disagree"
 
 
 def credit(verdict: str) -> float:
@@ -80,12 +77,8 @@ def columns(rows: list[Claim]) -> tuple[str, ...]:
 
 
 def to_csv(rows: list[Claim]) -> str:
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    cols = columns(rows)
-    w.writerow(cols)
-    for r in rows:
-        w.writerow([getattr(r, c) for c in cols])
+    buf, cols = io.StringIO(), columns(rows)
+    csv.writer(buf).writerows([cols, *([getattr(r, c) for c in cols] for r in rows)])
     return buf.getvalue()
 
 

@@ -29,8 +29,7 @@ class ConfigError(ValueError):
 
 @cache
 def _raw_schema(name: str) -> dict[str, Any]:
-    text = resources.files("geardyn.config").joinpath("schemas", name).read_text(encoding="utf-8")
-    return json.loads(text)
+    return json.loads(resources.files("geardyn.config").joinpath("schemas", name).read_text(encoding="utf-8"))
 
 
 def schema(name: str) -> dict[str, Any]:
@@ -50,8 +49,7 @@ def _inline(node: Any) -> Any:
             target = {k: v for k, v in target.items() if k not in ("$schema", "$id")}
             if pointer:
                 target.pop("default", None)
-            rest = {k: _inline(v) for k, v in node.items() if k != "$ref"}
-            return {**target, **rest}
+            return {**target, **{k: _inline(v) for k, v in node.items() if k != "$ref"}}
         return {k: _inline(v) for k, v in node.items()}
     if isinstance(node, list):
         return [_inline(v) for v in node]
@@ -199,8 +197,7 @@ def allowed_text(node: Mapping[str, Any]) -> str:
 
 
 def _key(path: Any) -> str:
-    parts = [f"[{p}]" if isinstance(p, int) else str(p) for p in path]
-    return ".".join(parts).replace(".[", "[") or "(top level)"
+    return ".".join([f"[{p}]" if isinstance(p, int) else str(p) for p in path]).replace(".[", "[") or "(top level)"
 
 
 def _format(error: jsonschema.ValidationError, where: str) -> str:
@@ -281,8 +278,7 @@ def validated(data: Any, schema_name: str, where: str) -> dict[str, Any]:
     validator = jsonschema.Draft202012Validator(sch)
     errors = sorted(validator.iter_errors(filled), key=lambda e: (len(e.absolute_path), str(e.absolute_path)))
     if errors:
-        best = jsonschema.exceptions.best_match(errors)
-        raise ConfigError(_format(best, where))
+        raise ConfigError(_format(jsonschema.exceptions.best_match(errors), where))
     return filled
 
 
@@ -295,9 +291,8 @@ def settings_from(cls: type, spec: Mapping[str, Any] | None, what: str) -> Any:
     if unknown:
         raise ValueError(f"unknown {what} {sorted(unknown)}; allowed: {sorted(names)}")
     hints = get_type_hints(cls)
-    for k, v in spec.items():  # the schema's "integer" admits 6.0: an int field gets an int
-        if hints.get(k) is int and isinstance(v, float) and v.is_integer():
-            spec[k] = int(v)
+    # the schema's "integer" admits 6.0: an int field gets an int
+    spec |= {k: int(v) for k, v in spec.items() if hints.get(k) is int and isinstance(v, float) and v.is_integer()}
     return cls(**spec)
 
 

@@ -42,10 +42,8 @@ def admissible_segment(
         x2 = np.array([on_line4(v) for v in x1])
         pair = geo.with_shifts(base, x1, np.where(np.isfinite(x2), x2, 0.0))
         margins = constraints.constraint_grid(pair, min_tip_thickness=min_tip_thickness)
-    ok = np.isfinite(x2)
-    for name, value in margins.items():
-        if name not in (*CUTTER_DEPENDENT, "overlap_interference"):
-            ok &= np.asarray(value) >= 0.0
+    kept = [np.asarray(v) >= 0.0 for k, v in margins.items() if k not in (*CUTTER_DEPENDENT, "overlap_interference")]
+    ok = np.isfinite(x2) & np.all(kept, axis=0)
     # the longest run of admissible grid points (the last of equals), by index
     runs = [(int(a), int(b)) for a, b, good in bands(np.arange(ok.size), ok) if good]
     best = max(reversed(runs), key=lambda r: r[1] - r[0], default=(0, 0))
@@ -95,8 +93,7 @@ def _emit(data: dict[str, Any], node: dict[str, Any], indent: int, lines: list[s
             lines.append(f"{pad}{key}:" + (f"  # {desc}" if desc else ""))
             _emit(value, sub, indent + 1, lines, defs)
         else:
-            text = f"{pad}{key}: {_scalar(value)}"
-            lines.append(text + (f"  # {desc}" if desc else ""))
+            lines.append(f"{pad}{key}: {_scalar(value)}" + (f"  # {desc}" if desc else ""))
 
 
 def render(raw: dict[str, Any], kind: str) -> str:

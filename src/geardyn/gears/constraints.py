@@ -1,6 +1,5 @@
-"""The constraint set of a spur pair as signed margins (>= 0 satisfied), the derived geometry of one design, and
-line 4 of the closed graph (the G_s = 0 boundary), on which the design point of an x1 lies.
-"""
+"""The constraint set of a spur pair as signed margins (>= 0 satisfied), the derived geometry of one design, and line 4
+of the closed graph (the G_s = 0 boundary), on which the design point of an x1 lies."""
 
 from __future__ import annotations
 
@@ -48,24 +47,17 @@ def constraint_grid(
 ) -> dict[str, geo.FloatArray]:
     """All constraints as signed margins (>= 0 satisfied); shifts may be broadcasting arrays.  Keys: those
     of :func:`constraint_info` for the pair's role names (docs/geometry.md, "Lines 1-4 of Fig. 3")."""
-    n1, n2 = pair.names
     out: dict[str, geo.FloatArray] = {"contact_ratio_margin": itf.contact_ratio(pair) - min_contact_ratio}
     if pair.internal:
         out["overlap_interference"] = itf.overlap_interference(pair)
-    i1, i2 = itf.involute_interference(pair)
-    out[f"involute_interference_{n1}"] = i1
-    out[f"involute_interference_{n2}"] = i2
-    r1, r2 = itf.root_interference(pair, cutter)
-    u1, u2 = itf.undercut_margin(pair)
-    out[f"root_interference_{n1}"] = r1
-    out[f"root_interference_{n2}"] = r2
-    out[f"undercut_{n1}"] = u1
-    if not pair.internal:
-        out[f"undercut_{n2}"] = u2
-    sa1, sa2 = itf.tip_thickness(pair)
     smin = min_tip_thickness * pair.module
-    out[f"tip_thickness_{n1}"] = sa1 - smin
-    out[f"tip_thickness_{n2}"] = sa2 - smin
+    per_gear = (  # each gear's margin (the annulus is shaper-cut: no undercut)
+        ("involute_interference", itf.involute_interference(pair)),
+        ("root_interference", itf.root_interference(pair, cutter)),
+        ("undercut", itf.undercut_margin(pair)[: 1 if pair.internal else 2]),
+        ("tip_thickness", tuple(sa - smin for sa in itf.tip_thickness(pair))),
+    )
+    out |= {f"{key}_{name}": v for key, values in per_gear for name, v in zip(pair.names, values, strict=False)}
     if pair.internal:
         out["trimming_interference_annulus"] = itf.trimming_interference(pair, cutter)
     shape = np.broadcast(*geo.shifts(pair)).shape
@@ -108,9 +100,8 @@ def _gs_scalar(base: geo.GearPair, x1: float, x2: float) -> float:
 
 
 def x2_on_overlap_boundary(x1: float, base: geo.GearPair, *, xtol: float = 1e-12) -> float:
-    """Annulus shift x2 with G_s(x1, x2) = 0 ("line 4", the design point for a given x1): bracketed by
-    stepping x2 up from x1 - 0.5, then brentq (docs/geometry.md, "Lines 1-4 of Fig. 3"); ``ValueError`` when no root
-    exists."""
+    """Annulus shift x2 with G_s(x1, x2) = 0 ("line 4", the design point for a given x1): bracketed by stepping x2 up
+    from x1 - 0.5, then brentq (docs/geometry.md, "Lines 1-4 of Fig. 3"); ``ValueError`` when no root exists."""
     if not base.internal:
         raise ValueError("the G_s = 0 boundary applies to internal pairs only")
     lo = float(x1) - 0.5
@@ -137,5 +128,4 @@ def x2_on_overlap_boundary(x1: float, base: geo.GearPair, *, xtol: float = 1e-12
 def x2_on_overlap_boundary_many(x1: ArrayLike, base: geo.GearPair) -> geo.FloatArray:
     """Vectorised :func:`x2_on_overlap_boundary` (one brentq per x1 value)."""
     arr = np.asarray(x1, dtype=float)
-    out = np.array([x2_on_overlap_boundary(float(v), base) for v in arr.ravel()])
-    return out.reshape(arr.shape)
+    return np.array([x2_on_overlap_boundary(float(v), base) for v in arr.ravel()]).reshape(arr.shape)

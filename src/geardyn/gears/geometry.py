@@ -76,9 +76,8 @@ def involute(alpha: ArrayLike) -> FloatArray:
 
 
 def inverse_involute(value: ArrayLike, *, tol: float = 1e-15, max_iter: int = 60) -> FloatArray:
-    """Angle a in (-pi/2, pi/2) with inv a = value, vectorised: monotone Newton from an upper bound, each
-    value stopping on its own step, so an array gives the bits of each value alone (docs/geometry.md,
-    "Inverse involute")."""
+    """Angle a in (-pi/2, pi/2) with inv a = value, vectorised: monotone Newton from an upper bound, each value stopping
+    on its own step, so an array gives the bits of each value alone (docs/geometry.md, "Inverse involute")."""
     if np.ndim(value) == 0:
         return np.float64(_inverse_involute_scalar(float(value), tol, max_iter))
     v = np.asarray(value, dtype=float)
@@ -182,10 +181,7 @@ def tip_diameters(pair: GearPair) -> tuple[FloatArray, FloatArray]:
     external = not pair.internal and pair.tip_shortening  # tip shortening dy = x1 + x2 - y, 0 for internal pairs
     dy = x1 + x2 - centre_distance_modification(pair) if external else np.zeros(np.broadcast(x1, x2).shape)
     da1 = d1 + 2.0 * (ha + x1 - dy) * m
-    if pair.internal:
-        da2 = d2 - 2.0 * (ha - x2) * m
-    else:
-        da2 = d2 + 2.0 * (ha + x2 - dy) * m
+    da2 = d2 - 2.0 * (ha - x2) * m if pair.internal else d2 + 2.0 * (ha + x2 - dy) * m
     return da1, da2
 
 

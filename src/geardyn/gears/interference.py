@@ -70,16 +70,13 @@ def _rack_form_roll(pair: geo.GearPair, which: int) -> geo.FloatArray:
     z, x = (pair.z1, x1) if which == 1 else (pair.z2, x2)
     db = (geo.base_diameters(pair))[which - 1]
     a = pair.alpha
-    tan_f = math.tan(a) - 4.0 * (pair.addendum - x) / (z * math.sin(2.0 * a))
-    return db / 2.0 * tan_f
+    return db / 2.0 * (math.tan(a) - 4.0 * (pair.addendum - x) / (z * math.sin(2.0 * a)))
 
 
 def undercut_margin(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:
     """Undercut margins (mm along the line of action) for rack-cut gears; +inf for the shaper-cut annulus."""
     u1 = _rack_form_roll(pair, 1)
-    if pair.internal:
-        return u1, np.full(np.shape(u1), np.inf)
-    return u1, _rack_form_roll(pair, 2)
+    return u1, (np.full(np.shape(u1), np.inf) if pair.internal else _rack_form_roll(pair, 2))
 
 
 def _cutting_mesh(
@@ -100,16 +97,14 @@ def _cutting_mesh(
 def root_interference(
     pair: geo.GearPair, cutter: geo.ShaperCutter | None = None
 ) -> tuple[geo.FloatArray, geo.FloatArray]:
-    """Root (transition-curve) interference margins, mm along the line of action; >= 0 feasible: deepest
-    contact minus the form point (rack-cut gears) or the end of the shaper-cut annulus involute
-    (docs/geometry.md, "Formulas")."""
+    """Root (transition-curve) interference margins, mm along the line of action; >= 0 feasible: deepest contact minus
+    the form point (rack-cut gears) or the end of the shaper-cut annulus involute (docs/geometry.md, "Formulas")."""
     rho1, rho2 = _lowest_contact_roll(pair)
     m1 = rho1 - _rack_form_roll(pair, 1)
     if not pair.internal:
         return m1, rho2 - _rack_form_roll(pair, 2)
     cut, _, inv_w0, da0 = _cutting_mesh(pair, cutter)
-    c = math.cos(pair.alpha)
-    rb0 = cut.teeth * pair.module * c / 2.0
+    rb0 = cut.teeth * pair.module * math.cos(pair.alpha) / 2.0
     db1, db2 = geo.base_diameters(pair)
     rb1, rb2 = db1 / 2.0, db2 / 2.0
     t_w0 = libm.tan(geo.inverse_involute(inv_w0))
@@ -131,13 +126,8 @@ def tip_thickness(pair: geo.GearPair) -> tuple[geo.FloatArray, geo.FloatArray]:
     inv_a = geo.involute(a)
     s1 = m * (np.pi / 2 + 2.0 * x1 * math.tan(a))
     sa1 = da1 * (s1 / d1 + inv_a - geo.involute(aa1))
-    if pair.internal:
-        s2 = m * (np.pi / 2 - 2.0 * x2 * math.tan(a))
-        sa2 = da2 * (s2 / d2 - inv_a + geo.involute(aa2))
-    else:
-        s2 = m * (np.pi / 2 + 2.0 * x2 * math.tan(a))
-        sa2 = da2 * (s2 / d2 + inv_a - geo.involute(aa2))
-    return sa1, sa2
+    s, s2 = pair.sigma, m * (np.pi / 2 + pair.sigma * 2.0 * x2 * math.tan(a))  # the annulus's space is its tooth
+    return sa1, da2 * (s2 / d2 + s * inv_a - s * geo.involute(aa2))
 
 
 def _trimming(
@@ -146,8 +136,7 @@ def _trimming(
     """Radial (trimming) interference margin of an internal mesh, rad: KHK Eqs. (5-9)/(5-10) (docs/geometry.md,
     "Formulas"); each gear given as (teeth, tip diameter, base diameter)."""
     (z_small, da_small, db_small), (z_big, da_big, db_big) = small, big
-    aa1 = geo.pressure_angle_at(db_small, da_small)
-    aa2 = geo.pressure_angle_at(db_big, da_big)
+    aa1, aa2 = geo.pressure_angle_at(db_small, da_small), geo.pressure_angle_at(db_big, da_big)
     q = (np.cos(aa1) / np.cos(aa2)) ** 2
     with np.errstate(invalid="ignore"):
         t1 = libm.arcsin(np.sqrt(np.clip((1.0 - q) / (1.0 - (z_small / z_big) ** 2), 0.0, 1.0)))

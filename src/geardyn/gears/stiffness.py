@@ -35,8 +35,7 @@ def flexibility_q(
     """Minimum single-tooth flexibility q' in mm um / N (ISO 6336-1 method B; paper 1 Eq. 8); ``x2`` in the
     Chinese convention, ``variant`` "iso" (z_n2 -> infinity) or "paper" (z_n2 = z2): docs/stiffness.md."""
     c = constants
-    x1 = np.asarray(x1, dtype=float)
-    x2 = np.asarray(x2, dtype=float)
+    x1, x2 = np.asarray(x1, dtype=float), np.asarray(x2, dtype=float)
     if not internal:
         inv_z2, x2_eff = 1.0 / z2, x2
     elif variant == "iso":
@@ -71,10 +70,8 @@ def tip_stiffness(k_c: ArrayLike) -> NDArray[np.float64]:
 def single_tooth_stiffness(s: ArrayLike, eps: float, k_prime: float) -> NDArray[np.float64]:
     """Stiffness of one tooth pair at engagement time ``s`` (mesh periods), zero outside [0, eps]: the
     parabola k'(1 + 2u(1 - u)), u = s / eps (paper 1 Fig. 4)."""
-    s = np.asarray(s, dtype=float)
-    u = s / eps
-    inside = (u >= 0.0) & (u <= 1.0)
-    return np.where(inside, k_prime * (1.0 + 2.0 * u * (1.0 - u)), 0.0)
+    u = np.asarray(s, dtype=float) / eps
+    return np.where((u >= 0.0) & (u <= 1.0), k_prime * (1.0 + 2.0 * u * (1.0 - u)), 0.0)
 
 
 @dataclass(frozen=True)
@@ -136,5 +133,4 @@ class ParabolicStiffness:
 
     def minimum(self) -> float:
         """Smallest value over a period (negative values make the model meaningless)."""
-        t = np.concatenate([np.linspace(0.0, 1.0, 4001), [self.fraction]])
-        return float(np.min(self(t)))
+        return float(np.min(self(np.concatenate([np.linspace(0.0, 1.0, 4001), [self.fraction]]))))

@@ -1,6 +1,5 @@
-"""Flank tolerance classes of ISO 1328-1:2013 (cylindrical gears): the single-pitch tolerance f_pT of a
-stated class, the bound of the transmission-error amplitude of a tolerance study (``docs/probabilities.md``).
-"""
+"""Flank tolerance classes of ISO 1328-1:2013 (cylindrical gears): the single-pitch tolerance f_pT of a stated class,
+the bound of the transmission-error amplitude of a tolerance study (``docs/probabilities.md``)."""
 
 from __future__ import annotations
 

@@ -115,11 +115,9 @@ def write_netcdf(
             out[name].encoding = {**out[name].encoding, "_FillValue": None}
     for var in out.variables.values():
         if var.ndim > 0 and var.size > 0 and var.dtype.kind in "biuf":
-            enc = {**var.encoding, "zlib": zlib_level > 0, "shuffle": zlib_level > 0}
-            if zlib_level > 0:
-                enc["complevel"] = zlib_level
-            else:
-                enc.pop("complevel", None)
+            enc = {**var.encoding, "zlib": zlib_level > 0, "shuffle": zlib_level > 0, "complevel": zlib_level}
+            if not zlib_level:
+                del enc["complevel"]
             if checksum:
                 enc["fletcher32"] = True
             var.encoding = enc

@@ -151,8 +151,7 @@ def build(
         "created": created,
         "files": entries,
     }
-    sums = "".join(f"{e['sha256']}  {e['path']}\n" for e in entries)
-    add(SUMS, sums.encode(), "sums")
+    add(SUMS, "".join(f"{e['sha256']}  {e['path']}\n" for e in entries).encode(), "sums")
     manifest_bytes = (json.dumps(manifest, indent=1) + "\n").encode()
 
     mtime = int(_dt.datetime.fromisoformat(created).timestamp())

@@ -71,8 +71,7 @@ def _numpy_cpu() -> dict[str, str]:
         "numpy_cpu_baseline": " ".join(getattr(mu, "__cpu_baseline__", [])),
         "numpy_cpu_dispatch": " ".join(dispatch) or "none",
     }
-    out["numpy_blas_core"] = libm.blas_core("numpy")
-    out["scipy_blas_core"] = libm.blas_core("scipy")
+    out |= {f"{m}_blas_core": libm.blas_core(m) for m in ("numpy", "scipy")}
     try:
         cfg = np.show_config(mode="dicts")["Build Dependencies"]
         out["numpy_blas"] = " ".join(str(cfg["blas"].get(k, "")) for k in ("name", "version")).strip()
@@ -133,13 +132,10 @@ def runtime() -> dict[str, str]:
     Python and library versions, CPU, the instruction sets, OpenBLAS kernels and C math build in use; each
     key: ``docs/operations.md``).  Computed once per process (the values cannot change while it runs)."""
     out = {"python_version": platform.python_version(), "python_implementation": sys.implementation.name}
-    for pkg in PROVENANCE_PACKAGES:
-        out[f"{pkg.lower()}_version"] = _package_version(pkg)
+    out |= {f"{pkg.lower()}_version": _package_version(pkg) for pkg in PROVENANCE_PACKAGES}
     model, flags = _cpuinfo()
-    out.update({"platform": platform.platform(), "cpu_model": model, "cpu_simd_flags": " ".join(flags) or "unknown"})
-    out.update(_numpy_cpu())
-    out.update(_numba_cpu())
-    out["libm_variant"] = libm.variant()
+    out |= {"platform": platform.platform(), "cpu_model": model, "cpu_simd_flags": " ".join(flags) or "unknown"}
+    out |= _numpy_cpu() | _numba_cpu() | {"libm_variant": libm.variant()}
     out |= {f"env_{var}": os.environ[var] for var in OVERRIDES.split() if os.environ.get(var)}
     assert set(out) - {k for k in out if k.startswith("env_")} == set(RUNTIME_KEYS)
     return out
@@ -157,8 +153,7 @@ def provenance_text(prefix: str = "") -> str:
 
 def config_hash(config: Mapping[str, Any]) -> str:
     """Short sha256 of a configuration mapping, independent of key order."""
-    text = json.dumps(config, sort_keys=True, default=_json_default)
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
+    return hashlib.sha256(json.dumps(config, sort_keys=True, default=_json_default).encode()).hexdigest()[:16]
 
 
 def _json_default(obj: Any) -> Any:

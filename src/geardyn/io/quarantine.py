@@ -1,6 +1,5 @@
-"""Damaged netCDF files set aside: a merge never reads a truncated or corrupted chunk (``docs/operations.md``,
-Damaged chunk).
-"""
+"""Damaged netCDF files set aside: a merge never reads a truncated or corrupted chunk (``docs/operations.md``, Damaged
+chunk)."""
 
 from __future__ import annotations
 

@@ -64,8 +64,7 @@ def closed_graph(
     (a paper's printed (x1, x2)) against ours along dim ``point`` (docs/geometry.md, "The closed graph dataset")."""
     if not base.internal:
         raise ValueError("the closed graph of paper 1 is for an internal pair")
-    x1a = np.asarray(x1, dtype=float)
-    x2a = np.asarray(x2, dtype=float)
+    x1a, x2a = np.asarray(x1, dtype=float), np.asarray(x2, dtype=float)
     if x1a.ndim != 1 or x2a.ndim != 1:
         raise ValueError("x1 and x2 must be 1-D grids")
     kw = {"min_tip_thickness": min_tip_thickness, "min_contact_ratio": min_contact_ratio, "cutter": cutter}
@@ -172,8 +171,7 @@ def _line4_values(base: geo.GearPair, x1a: np.ndarray, kw: Mapping[str, Any]) ->
 
 def _point_values(base: geo.GearPair, points: Mapping[str, tuple[float, float]]) -> dict[str, Any]:
     """Printed points (x1, x2) and ours on G_s = 0 at the same x1, with residuals, along ``point``."""
-    px1 = np.array([p[0] for p in points.values()])
-    px2 = np.array([p[1] for p in points.values()])
+    px1, px2 = (np.array([p[k] for p in points.values()]) for k in (0, 1))
     cx2 = constraints.x2_on_overlap_boundary_many(px1, base)
     pt_pair = geo.with_shifts(base, px1, cx2)
     values = {"point": np.array(list(points)), "paper_x1": px1, "paper_x2": px2, "computed_x2": cx2}
@@ -196,8 +194,5 @@ def line4_crossings(ds: xr.Dataset, name: str) -> list[float]:
         min_contact_ratio=float(ds.attrs["min_contact_ratio"]),
         cutter=cutter,
     )[name]
-    out = []
-    for i in range(len(x1) - 1):
-        if np.sign(v[i]) != np.sign(v[i + 1]) and np.isfinite(v[i]) and np.isfinite(v[i + 1]):
-            out.append(float(x1[i] - v[i] * (x1[i + 1] - x1[i]) / (v[i + 1] - v[i])))
-    return out
+    changes = [i for i in range(len(x1) - 1) if np.sign(v[i]) != np.sign(v[i + 1]) and np.isfinite(v[i : i + 2]).all()]
+    return [float(x1[i] - v[i] * (x1[i + 1] - x1[i]) / (v[i + 1] - v[i])) for i in changes]

@@ -47,10 +47,9 @@ class Comparison:
         lines = [
             f"# Search `{self.search}` against the committed design",
             "",
-            f"**{verdict}**: largest distance {100 * self.max_unit_distance:.1f} % of a search range "
-            f"(tolerance {100 * UNIT_TOLERANCE:.0f} %), score {self.found_score:.3f} found against "
-            f"{self.committed_score:.3f} committed ({self.score_difference:+.3f}; tolerance "
-            f"{SCORE_TOLERANCE:g}).",
+            f"**{verdict}**: largest distance {100 * self.max_unit_distance:.1f} % of a search range (tolerance "
+            f"{100 * UNIT_TOLERANCE:.0f} %), score {self.found_score:.3f} found against {self.committed_score:.3f} "
+            f"committed ({self.score_difference:+.3f}; tolerance {SCORE_TOLERANCE:g}).",
             "",
             "The committed design file is what every build uses; this search is the pipeline's own rerun of "
             'it (docs/calibration.md, "Reproducing a calibration").',
@@ -76,10 +75,8 @@ def compare(committed: Mapping[str, Any], found: Mapping[str, Any], space: Searc
             f"the results searched different unknowns: committed {sorted(cv)}, found {sorted(fv)}, "
             f"search space {sorted(space.names)}"
         )
-    rows = []
-    for u in space.unknowns:
-        c, f = float(cv[u.name]), float(fv[u.name])
-        rows.append((u.name, c, f, abs(u.to_unit(f) - u.to_unit(c))))
+    pairs = [(u, float(cv[u.name]), float(fv[u.name])) for u in space.unknowns]
+    rows = [(u.name, c, f, abs(u.to_unit(f) - u.to_unit(c))) for u, c, f in pairs]
     if not all(math.isfinite(d) for *_, d in rows):
         raise ValueError("a searched value lies outside its (log) search range")
     a, b = set(committed.get("agreeing", ())), set(found.get("agreeing", ()))

@@ -27,10 +27,6 @@ class StiffnessOptions:
     form: stiffness.KForm = "corrected"
 
     @property
-    def c_constants(self) -> tuple[float, ...]:
-        return stiffness.PRINTED_C if self.constants == "printed" else stiffness.ISO_C
-
-    @property
     def label(self) -> str:
         return f"q={self.q_variant},C={self.constants},k(t)={self.form}"
 
@@ -94,9 +90,6 @@ class MeshProperties:
     k_mean: float  # N/m, exact mean of k(t)
     k_min: float  # N/m, smallest k(t) over a period
 
-    def k_of_t(self, form: stiffness.KForm) -> stiffness.ParabolicStiffness:
-        return stiffness.ParabolicStiffness(self.contact_ratio, self.k_prime, form)
-
 
 #: The keys of a design file's ``pair`` that are :class:`~geardyn.gears.geometry.GearPair` fields as they are.
 _PAIR_KEYS = ("z1", "z2", "module", "x1", "pressure_angle_deg", "addendum", "clearance", "facewidth")
@@ -131,11 +124,8 @@ def _mesh_properties(
     """:func:`mesh_properties` of the design with these fields (a pure function of them, so kept: the
     b and e sweeps and the calibration's tracks ask for the same x1 many times)."""
     pair = dataclasses.replace(base, x1=x1, x2=_x2(base, on_line4, x1))
-    q = float(
-        stiffness.flexibility_q(
-            pair.z1, pair.z2, pair.x1, pair.x2, internal=True, variant=opts.q_variant, constants=opts.c_constants
-        )
-    )
+    c = stiffness.PRINTED_C if opts.constants == "printed" else stiffness.ISO_C
+    q = float(stiffness.flexibility_q(pair.z1, pair.z2, pair.x1, pair.x2, variant=opts.q_variant, constants=c))
     k_c = float(stiffness.pitch_point_stiffness(q, pair.facewidth))
     k_prime = float(stiffness.tip_stiffness(k_c))
     eps = float(interference.contact_ratio(pair))
@@ -233,10 +223,11 @@ def from_dict(raw: dict[str, Any], where: str = "design", check: bool = True) ->
         x2 = float(p["x2"])
     base = _pair_from(raw, x2)
     adm, c = raw["admissible"], raw.get("cutter", {})
-    if c.get("teeth") is None:  # the nominal cutter
-        cutter = interference.default_cutter(base)
-    else:
-        cutter = geometry.ShaperCutter(c["teeth"], c.get("shift", 0.0), c.get("addendum"))
+    cutter = (  # the configured cutter, or the nominal one
+        interference.default_cutter(base)
+        if c.get("teeth") is None
+        else geometry.ShaperCutter(c["teeth"], c.get("shift", 0.0), c.get("addendum"))
+    )
     problem = meshing_problem(base)
     if problem and check:
         raise ConfigError(f"{where}: design point {problem}")

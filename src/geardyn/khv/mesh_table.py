@@ -6,6 +6,7 @@ import numpy as np
 import xarray as xr
 
 from geardyn import io
+from geardyn.gears.stiffness import ParabolicStiffness
 from geardyn.io import Var
 from geardyn.khv.design import KHVDesign, mesh_properties
 
@@ -41,6 +42,7 @@ def stiffness_table(design: KHVDesign, x1: np.ndarray, phase_points: int = 400) 
     props = [mesh_properties(design, float(v)) for v in x1]
     phase = np.arange(phase_points) / phase_points
     values = {v.name: np.array([getattr(p, FIELDS.get(v.name, v.name)) for p in props]) for v in VARIABLES[:8]}
-    values["k_t"] = np.stack([p.k_of_t(design.stiffness.form)(phase) for p in props])
+    k_t = [ParabolicStiffness(p.contact_ratio, p.k_prime, design.stiffness.form) for p in props]
+    values["k_t"] = np.stack([k(phase) for k in k_t])
     values["k_mean_closed_form_ratio"] = np.array([p.k_mean / (p.contact_ratio * p.k_c) for p in props])
     return io.dataset(VARIABLES, values | {"x1": x1, "phase": phase}, stiffness_options=design.stiffness.label)

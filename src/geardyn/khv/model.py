@@ -149,26 +149,22 @@ class Coefficients:
         """Normalised mesh stiffness at mesh phase s (periods), right-continuous at the jumps."""
         s = np.mod(np.asarray(s, dtype=float), 1.0)
         p = self.stiffness_polys()
-        first = s < self.eps - math.floor(self.eps)
-        return np.where(first, np.polyval(p[0], s), np.polyval(p[1], s))
+        return np.where(s < self.eps - math.floor(self.eps), np.polyval(p[0], s), np.polyval(p[1], s))
 
     def matrices(self) -> dict[str, np.ndarray | float]:
         """The 3-DOF dimensionless system (Eq. 16, docs/model.md section 3): K, C (3x3, shafts only), g (mesh
         coupling), p (constant loads) and ``te`` (the TE forcing amplitude of the second row)."""
-        mu_DH = self.mu_D * self.mu_H / (self.mu_D + self.mu_H)
-        mu_VL = self.mu_V * self.mu_L / (self.mu_V + self.mu_L)
+        mu_DH, mu_VL = self.mu_D * self.mu_H / (self.mu_D + self.mu_H), self.mu_V * self.mu_L / (self.mu_V + self.mu_L)
 
         def shafts(dh: float, vl: float) -> np.ndarray:
             """The shaft terms (stiffness or damping) of the input (dh) and output (vl) shafts."""
             return np.array([[dh / mu_DH, 0.0, 0.0], [dh / self.mu_H, 0.0, vl / self.mu_V], [0.0, 0.0, vl / mu_VL]])
 
-        g = np.array([1.0 / self.mu_H, 1.0, 1.0 / self.mu_V])
-        p = np.array([self.P_D / self.mu_D, 0.0, self.P_L / self.mu_L])
         return {
             "K": shafts(self.k_DH, self.k_VL),
             "C": shafts(self.c_DH, self.c_VL),
-            "g": g,
-            "p": p,
+            "g": np.array([1.0 / self.mu_H, 1.0, 1.0 / self.mu_V]),
+            "p": np.array([self.P_D / self.mu_D, 0.0, self.P_L / self.mu_L]),
             "te": self.te_forcing,
         }
 
@@ -215,8 +211,7 @@ def physical_masses(params: KHVParameters) -> dict[str, float]:
     M_D = params.I_D / params.r_bH**2
     cos_a = math.cos(math.radians(params.pressure_angle_deg))
     M_H = (params.I_H + params.m_V * params.r_bH**2 / cos_a**2) / params.r_bH**2
-    M_V = params.I_V / params.r_bV**2
-    M_L = params.I_L / params.r_bV**2
+    M_V, M_L = params.I_V / params.r_bV**2, params.I_L / params.r_bV**2
     return {"M_D": M_D, "M_H": M_H, "M_V": M_V, "M_L": M_L, "M_VH": M_V * M_H / (M_V + M_H)}
 
 
@@ -227,13 +222,10 @@ def dimensionless(params: KHVParameters, options: Options = Options()) -> Coeffi
     M_VH = ms["M_VH"]
     k_mean = params.stiffness(options.stiffness_form).mean()
     w_n = math.sqrt(k_mean / M_VH)
-    k_DH = params.K_DH / params.r_bH**2
-    k_VL = params.K_VL / params.r_bV**2
-    M_DH = ms["M_D"] * ms["M_H"] / (ms["M_D"] + ms["M_H"])
-    M_VL = ms["M_V"] * ms["M_L"] / (ms["M_V"] + ms["M_L"])
+    k_DH, k_VL = params.K_DH / params.r_bH**2, params.K_VL / params.r_bV**2
+    M_DH, M_VL = ms["M_D"] * ms["M_H"] / (ms["M_D"] + ms["M_H"]), ms["M_V"] * ms["M_L"] / (ms["M_V"] + ms["M_L"])
     c_m = 2.0 * params.zeta * math.sqrt(k_mean * M_VH)
-    c_DH = 2.0 * params.eta * math.sqrt(k_DH * M_DH)
-    c_VL = 2.0 * params.eta * math.sqrt(k_VL * M_VL)
+    c_DH, c_VL = 2.0 * params.eta * math.sqrt(k_DH * M_DH), 2.0 * params.eta * math.sqrt(k_VL * M_VL)
     if options.frequency_mode == "physical":
         omega = params.z_annulus * 2.0 * math.pi * params.input_speed_rpm / 60.0 / w_n  # w_m = z_K 2 pi n / 60
     else:
@@ -285,8 +277,7 @@ def natural_frequencies(coeffs: Coefficients) -> np.ndarray:
     """Undamped natural frequencies (units of w_n, ascending) of the linearised 3-DOF system in contact
     (kappa = 1, no backlash): square roots of the eigenvalues of K + g e2^T (no rigid-body mode)."""
     m = coeffs.matrices()
-    k_full = m["K"] + np.outer(m["g"], [0.0, 1.0, 0.0])
-    lam = np.linalg.eigvals(k_full)
+    lam = np.linalg.eigvals(m["K"] + np.outer(m["g"], [0.0, 1.0, 0.0]))
     return np.sort(np.sqrt(np.abs(lam.real)))
 
 

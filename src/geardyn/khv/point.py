@@ -78,12 +78,12 @@ def point_model(
     pair = design.base
     alpha = math.radians(pair.pressure_angle_deg)
     # radii and the mesh-frequency tooth count follow the pair unless the design states them
-    if params.get("r_bV") is None:
-        params["r_bV"] = pair.module * 1e-3 * pair.z1 * math.cos(alpha) / 2.0
-    if params.get("r_bH") is None:
-        params["r_bH"] = pair.module * 1e-3 * (pair.z2 - pair.z1) / 2.0 * math.cos(alpha)
-    if params.get("z_annulus") is None:
-        params["z_annulus"] = pair.z2
+    follow = {
+        "r_bV": pair.module * 1e-3 * pair.z1 * math.cos(alpha) / 2.0,
+        "r_bH": pair.module * 1e-3 * (pair.z2 - pair.z1) / 2.0 * math.cos(alpha),
+        "z_annulus": pair.z2,
+    }
+    params |= {k: v for k, v in follow.items() if params.get(k) is None}
     params["pressure_angle_deg"] = pair.pressure_angle_deg
     for key, value in overrides.items():
         if key not in _CONTROL_FIELDS and key not in _PARAM_FIELDS:
@@ -92,8 +92,7 @@ def point_model(
         field, scale = _CONTROL_FIELDS.get(key, (key, 1.0))
         params[field] = float(value) * scale
     params = {k: v for k, v in params.items() if v is not None}
-    phys = KHVParameters(eps=mesh.contact_ratio, k_c=mesh.k_c, **params)
-    return phys, Options(**options), mesh
+    return KHVParameters(eps=mesh.contact_ratio, k_c=mesh.k_c, **params), Options(**options), mesh
 
 
 def nominal(design: design_mod.KHVDesign, name: str, overrides: Mapping[str, float] | None = None) -> float:

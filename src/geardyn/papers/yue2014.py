@@ -153,37 +153,39 @@ CAPTIONS: dict[str, str] = {
     "{PAPER_RELIEF[reduction_pct]:+.2f} % at T = {torque:g} N m.",
 }
 
+#: The keys shared by the claims on Table 2's frequencies and on the relief optimum (linear, within a tolerance).
+_FREQUENCIES = {
+    "figure": "Table 2",
+    "quantity": "frequencies_hz",
+    "rule": "within",
+    "tolerance": THEORY_ERROR_PCT[1] / 100,
+    "relative": True,
+    "unit": "Hz",
+    "why": _WHY_FREQUENCIES,
+}
+_OPTIMUM = {"quantity": "relief_optimum", "rule": "within", "why": _WHY_RELIEF}
+#: The keys shared by the claims on a TE's peak-to-peak of about 9 or 6.5 um.
+_TE_UM = {"rule": "within", "tolerance": TE_TOLERANCE_UM, "unit": "um"}
+
 #: Every checkable statement of the paper, as data for geardyn.claims.data_claims (keys and rules: see
 #: geardyn.claims.DATA_RULES).  Quantities are read from the design's tables and datasets.
 CLAIMS: tuple[dict, ...] = (
     *(
         {
+            **_FREQUENCIES,
             "id": f"table2_{c}",
-            "figure": "Table 2",
             "statement": f"natural frequencies of working condition {c}, orders 1-6 (theoretical)",
-            "quantity": "frequencies_hz",
             "args": {"condition": c},
-            "rule": "within",
             "paper": PAPER_TABLE2[c]["theoretical"],
-            "tolerance": THEORY_ERROR_PCT[1] / 100,
-            "relative": True,
-            "unit": "Hz",
-            "why": _WHY_FREQUENCIES,
             "note": "Tolerance: the paper's own largest model-vs-test error (12.1 %)",
         }
         for c in _CONDITIONS
     ),
     {
+        **_FREQUENCIES,
         "id": "table2_experiment",
-        "figure": "Table 2",
         "statement": "the model predicts the measured natural frequencies within 0.4-12.1 % (all conditions)",
-        "quantity": "frequencies_hz",
-        "rule": "within",
         "paper": {c: PAPER_TABLE2[c]["experimental"] for c in _CONDITIONS},
-        "tolerance": THEORY_ERROR_PCT[1] / 100,
-        "relative": True,
-        "unit": "Hz",
-        "why": _WHY_FREQUENCIES,
     },
     {
         "id": "table2_pattern",
@@ -334,15 +336,13 @@ CLAIMS: tuple[dict, ...] = (
         ),
     },
     {
+        **_TE_UM,
         "id": "te_ptp",
         "figure": "Fig. 9, Sec. 3.2",
         "statement": "the largest fluctuation of the p-d pair's transmission error is about 9 um",
         "quantity": "te_ptp_um",
-        "rule": "within",
         "paper": TE_BEFORE_UM,
         "paper_text": "about 9 um",
-        "tolerance": TE_TOLERANCE_UM,
-        "unit": "um",
     },
     {
         "id": "te_ishikawa",
@@ -385,30 +385,26 @@ CLAIMS: tuple[dict, ...] = (
         "why": "Our model takes the pitch step ES = 10 um on the incoming pair as an input; it does not compute it",
     },
     {
+        **_OPTIMUM,
         "id": "relief_amount",
         "figure": "Sec. 4",
         "statement": "the optimal (linear) relief amount, the paper's 'width', is 0.032534 mm",
-        "quantity": "relief_optimum",
         "args": {"shape": "linear", "bounds": "paper", "field": "amount_um"},
-        "rule": "within",
         "paper": RELIEF_AMOUNT_UM,
         "tolerance": RELIEF_LOCATION_RTOL,
         "relative": True,
         "unit": "um",
-        "why": _WHY_RELIEF,
     },
     {
+        **_OPTIMUM,
         "id": "relief_length",
         "figure": "Sec. 4",
         "statement": "the optimal (linear) relief length, the paper's 'depth', is 2.4983 mm",
-        "quantity": "relief_optimum",
         "args": {"shape": "linear", "bounds": "paper", "field": "length_mm"},
-        "rule": "within",
         "paper": PAPER_RELIEF["length_mm"],
         "tolerance": RELIEF_LOCATION_RTOL,
         "relative": True,
         "unit": "mm",
-        "why": _WHY_RELIEF,
         "note": "Both optima run to the longest relief the paper allows (2.6 mm)",
     },
     {
@@ -428,36 +424,30 @@ CLAIMS: tuple[dict, ...] = (
         ),
     },
     {
+        **_OPTIMUM,
+        **_TE_UM,
         "id": "relief_te_after",
         "figure": "Fig. 9, Sec. 4",
         "statement": "with the optimal relief the TE fluctuation is 6.5 um",
-        "quantity": "relief_optimum",
         "args": {"shape": "linear", "bounds": "paper", "field": "te_ptp_after_um"},
-        "rule": "within",
         "paper": TE_AFTER_UM,
-        "tolerance": TE_TOLERANCE_UM,
-        "unit": "um",
-        "why": _WHY_RELIEF,
     },
     {
+        **_OPTIMUM,
         "id": "relief_reduction",
         "figure": "Fig. 9, Sec. 4",
         "statement": "the optimal relief lowers the TE fluctuation by 27.78 %",
-        "quantity": "relief_optimum",
         "args": {"shape": "linear", "bounds": "paper", "field": "reduction_pct"},
-        "rule": "within",
         "paper": PAPER_RELIEF["reduction_pct"],
         "tolerance": REDUCTION_TOLERANCE_PCT,
         "unit": "%",
-        "why": _WHY_RELIEF,
     },
     {
+        **_OPTIMUM,
         "id": "relief_reduction_physical",
         "figure": "Fig. 9, Sec. 4",
         "statement": "the optimal relief lowers the TE fluctuation by 27.78 % (relief bounds free: 0-30 um, 0-4.5 mm)",
-        "quantity": "relief_optimum",
         "args": {"shape": "linear", "bounds": "physical", "field": "reduction_pct"},
-        "rule": "within",
         "paper": PAPER_RELIEF["reduction_pct"],
         "tolerance": REDUCTION_TOLERANCE_PCT,
         "unit": "%",
@@ -467,15 +457,13 @@ CLAIMS: tuple[dict, ...] = (
         ),
     },
     {
+        **_TE_UM,
         "id": "relief_paper_optimum",
         "figure": "Sec. 4",
         "statement": "the paper's optimal relief (0.032534 mm, 2.4983 mm, linear) brings the TE to 6.5 um",
         "quantity": "te_at_relief_um",
         "args": {"shape": "linear (paper)"},
-        "rule": "within",
         "paper": TE_AFTER_UM,
-        "tolerance": TE_TOLERANCE_UM,
-        "unit": "um",
         "why": (
             "In our model that relief removes far more material than the 10 um pitch step and the 1-2 um "
             "deflection call for at Table 1's load, and the TE grows instead"

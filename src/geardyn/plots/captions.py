@@ -312,15 +312,13 @@ def forced_response(design: PlusDesign, ds: xr.Dataset, paper: ModuleType | None
         speeds = ds.speed.where(lost.any("mesh"), drop=True).values
         lines.append(
             f"Where the smallest force falls below zero (without relief, at speeds between {speeds.min():.0f} and "
-            f"{speeds.max():.0f} rpm) "
-            "the linear model would pull the teeth together: there the teeth separate and the linear result "
-            "only marks a severe resonance."
+            f"{speeds.max():.0f} rpm) the linear model would pull the teeth together: there the teeth separate and the "
+            "linear result only marks a severe resonance."
         )
     for case in [c for c in ("unmodified", best) if c]:
         for kind in MESH_TYPES:
             sub = ds.sel(case=case, mesh=f"{kind}1")
-            i = int(np.argmax(sub.rms_force.values))
-            j = int(np.argmax(sub.dynamic_factor.values))
+            i, j = int(np.argmax(sub.rms_force.values)), int(np.argmax(sub.dynamic_factor.values))
             lines.append(
                 f"  {case}, {kind}1 (TE ptp {float(ds.te_ptp.sel(case=case)):.2f} um): largest RMS "
                 f"{float(sub.rms_force[i]):.1f} N at {float(ds.speed[i]):.0f} rpm, largest dynamic factor "

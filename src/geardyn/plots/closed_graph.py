@@ -22,8 +22,7 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
     title = f"Closed graph, z1 = {ds.attrs['z1']}, z2 = {ds.attrs['z2']}, m = {ds.attrs['module_mm']} mm"
     xlabel, ylabel = "planet shift x1", "annulus shift x2 (Chinese convention)"
     fig, ax = single_axes((7.0, 5.6), title, xlabel, ylabel, "constrained")
-    x1 = ds["x1"].values
-    x2 = ds["x2"].values
+    x1, x2 = ds["x1"].values, ds["x2"].values
     ax.contourf(x1, x2, ds["feasible_cutter_free"].values, levels=[0.5, 1.5], colors=["#dbe9f6"])
     ax.contourf(x1, x2, ds["feasible"].values, levels=[0.5, 1.5], colors=["#9ecae1"])
     handles: list[Line2D | Patch] = [
@@ -61,8 +60,7 @@ def plot_closed_graph(ds: xr.Dataset) -> Figure:
             Line2D([], [], ls="", marker="o", mfc="none", mec="crimson", label=printed),
             Line2D([], [], ls="", marker="x", color="k", label="computed (G_s = 0)"),
         ]
-    ax.set_xlim(x1.min(), x1.max())
-    ax.set_ylim(x2.min(), x2.max())
+    ax.set(xlim=(x1.min(), x1.max()), ylim=(x2.min(), x2.max()))
     ax.legend(handles=handles, fontsize=7, loc="upper left")
     return fig
 
@@ -85,18 +83,16 @@ def caption_closed_graph(
     root = line4_crossings(ds, "root_interference_annulus")
     eps1 = line4_crossings(ds, "contact_ratio_margin")
     text = (
-        f"Closed graph of the internal pair z1 = {a['z1']}, z2 = {a['z2']}, "
-        f"m = {a['module_mm']} mm, ha* = {a['addendum_coefficient']}, alpha = {a['pressure_angle_deg']} deg, "
-        "computed from the geometry (every constraint a signed margin, zero contours drawn; "
-        "dashed = depends on the shaper cutter). "
-        "Line 1: eps = 1; line 2: involute and root transition-curve interference; line 3: tip thickness "
-        f">= {a['min_tip_thickness_modules']} m and shaper-cutter trimming; line 4: tooth-profile overlap "
-        "interference G_s = 0. "
-        f"With the {a['cutter_source']} cutter z0 = {a['cutter_teeth']}, x0 = {a['cutter_shift']:.4f}, "
-        f"ha0* = {a['cutter_addendum']} {found}; on line 4 the "
-        f"trimming limit is at x1 = {', '.join(f'{v:.3f}' for v in trim) or 'none'}, the annulus root "
-        f"interference limit at x1 = {', '.join(f'{v:.3f}' for v in root) or 'none'} and eps = 1 at "
-        f"x1 = {', '.join(f'{v:.3f}' for v in eps1) or 'none (outside the grid)'}."
+        f"Closed graph of the internal pair z1 = {a['z1']}, z2 = {a['z2']}, m = {a['module_mm']} mm, ha* = "
+        f"{a['addendum_coefficient']}, alpha = {a['pressure_angle_deg']} deg, computed from the geometry (every "
+        "constraint a signed margin, zero contours drawn; dashed = depends on the shaper cutter). Line 1: eps = 1; "
+        "line 2: involute and root transition-curve interference; line 3: tip thickness >= "
+        f"{a['min_tip_thickness_modules']} m and shaper-cutter trimming; line 4: tooth-profile overlap interference "
+        f"G_s = 0. With the {a['cutter_source']} cutter z0 = {a['cutter_teeth']}, x0 = {a['cutter_shift']:.4f}, ha0* = "
+        f"{a['cutter_addendum']} {found}; on line 4 the trimming limit is at x1 = "
+        f"{', '.join(f'{v:.3f}' for v in trim) or 'none'}, the annulus root interference limit at x1 = "
+        f"{', '.join(f'{v:.3f}' for v in root) or 'none'} and eps = 1 at x1 = "
+        f"{', '.join(f'{v:.3f}' for v in eps1) or 'none (outside the grid)'}."
     )
     if paper is None or "point" not in ds.dims:
         return text

@@ -36,8 +36,7 @@ def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figur
     """Poincaré points of ``state`` against the control parameter, coloured by the motion label, with
     the largest Lyapunov exponent (and its uncertainty) in a panel below; one pair per case and direction."""
     par = cube.attrs["control_parameter"]
-    cases = list(cube["case"].values)
-    directions = list(cube["direction"].values)
+    cases, directions = list(cube["case"].values), list(cube["direction"].values)
     n = len(cases) * len(directions)
     labels = labels_of_cube(cube)
     has_lyap = "lyapunov" in cube
@@ -94,21 +93,17 @@ def plot_points(ds: xr.Dataset, title: str, fmax: float = 3.0) -> Figure:
         if int(d["diverged"]) == 1:
             ax_t.text(0.5, 0.5, "diverged", ha="center", transform=ax_t.transAxes, color="r")
         ax_t.plot(d["x_vh"], d["v_vh"], lw=0.4, color="k")
-        ax_t.set_xlabel(_LABELS["x_vh"])
-        ax_t.set_ylabel(_LABELS["v_vh"])
+        ax_t.set(xlabel=_LABELS["x_vh"], ylabel=_LABELS["v_vh"])
         ax_t.set_title(f"({chr(97 + i)}) {case}: trajectory", fontsize=9, loc="left")
         # the map on the trajectory's axes: a period-1 point is one dot, not a cloud of round-off
         ax_p.plot(d["x_vh"], d["v_vh"], lw=0.3, color="0.85")
         ax_p.plot(d["poincare_x_vh"], d["poincare_v_vh"], ".", ms=3, color="k")
-        ax_p.set_xlim(ax_t.get_xlim())
-        ax_p.set_ylim(ax_t.get_ylim())
-        ax_p.set_xlabel(_LABELS["x_vh"])
+        ax_p.set(xlim=ax_t.get_xlim(), ylim=ax_t.get_ylim(), xlabel=_LABELS["x_vh"])
         ax_p.set_title("Poincare map", fontsize=9, loc="left")
         f = d["frequency"].values
         keep = (f > 0) & (f <= fmax)
         ax_s.plot(f[keep], d["amplitude"].values[keep], lw=0.6, color="k")
-        ax_s.set_xlabel("f / f_mesh")
-        ax_s.set_ylabel("amplitude")
+        ax_s.set(xlabel="f / f_mesh", ylabel="amplitude")
         ax_s.set_title("spectrum", fontsize=9, loc="left")
     fig.suptitle(title)
     fig.tight_layout()
@@ -137,8 +132,7 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=(), curves: xr.Datase
     layers = "dynamic_factor" in ds and "impact_class" in ds
     if layers:
         fig = Figure(figsize=(12.0, 9.5))
-        axes = fig.subplots(2, 2)
-        (ax, axl), (ax_kv, ax_impact) = axes
+        (ax, axl), (ax_kv, ax_impact) = fig.subplots(2, 2)
         draw_map_layers(ax_kv, ax_impact, ds)
     else:
         fig = Figure(figsize=(12.0, 5.0))
@@ -165,13 +159,11 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=(), curves: xr.Datase
             a.axvline(cx, color="k", ls="--", lw=0.8)
         for cy in cuts_y:
             a.axhline(cy, color="k", ls="--", lw=0.8)
-        a.set_xlabel(ds["x"].attrs.get("long_name", "x"))
-        a.set_ylabel(ds["y"].attrs.get("long_name", "y"))
+        a.set(xlabel=ds["x"].attrs.get("long_name", "x"), ylabel=ds["y"].attrs.get("long_name", "y"))
     if curves is not None:
         for a in (ax, ax_impact) if layers else (ax,):
             draw_curves(a, curves, legend=a is ax, lw=1.1, loc="lower right")
-            a.set_xlim(x[0], x[-1])
-            a.set_ylim(y[0], y[-1])
+            a.set(xlim=(x[0], x[-1]), ylim=(y[0], y[-1]))
     ax.set_title("motion label" + (" and regime boundaries" if curves is not None else ""), fontsize=9, loc="left")
     axl.set_title("largest exponent (Floquet or tangent)", fontsize=9, loc="left")
     fig.suptitle(title)

@@ -34,8 +34,7 @@ def plot_branches(cube: xr.Dataset | None, branches: xr.Dataset, title: str) -> 
             xs = np.asarray(cube[par].values, dtype=float)
             y = cube["x_vh"].isel(case=k, direction=0).values
             ax.plot(np.repeat(xs, y.shape[1]), y.ravel(), ",", color="0.6", alpha=0.6, rasterized=True)
-        sel = branches["case_index"].values == k
-        ids = np.unique(branches["branch"].values[sel])
+        ids = np.unique(branches["branch"].values[branches["case_index"].values == k])
         for j, b in enumerate(ids):
             m = branches["branch"].values == b
             p = branches["parameter"].values[m]
@@ -57,8 +56,7 @@ def plot_branches(cube: xr.Dataset | None, branches: xr.Dataset, title: str) -> 
                 marker, colour = MARKERS.get(kind, ("s", "k"))
                 at = (branches["bifurcation_parameter"].values[mk], branches["bifurcation_x_vh"].values[mk])
                 ax.plot(*at, marker, color=colour, ms=7, mec="k", mew=0.6, ls="none", label=legend(kind))
-        ax.set_xlabel(par)
-        ax.set_ylabel("X_VH / b_c (phase 0)")
+        ax.set(xlabel=par, ylabel="X_VH / b_c (phase 0)")
         ax.set_title(f"{title} ({case})" if len(cases) > 1 or case != "base" else title, fontsize=10)
         ax.legend(fontsize=7, loc="best", ncol=2)
     fig.tight_layout()

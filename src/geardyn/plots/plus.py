@@ -76,8 +76,7 @@ def te_unmodified_figure(te: xr.Dataset) -> Figure:
     """Fig. 4 analogue: TE of the unmodified p-d pair over two mesh periods, with the load per pair."""
     fig = Figure(figsize=(8, 5.5), constrained_layout=True)
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
-    s = te.mesh_phase.values
-    s2 = np.concatenate([s, s + 1])
+    s2 = np.concatenate([te.mesh_phase.values, te.mesh_phase.values + 1])
     tr = te.transmission_error.sel(case="unmodified").values
     ax1.plot(s2, np.tile(tr, 2), color="k")
     ax1.set_ylabel("TE = E - delta (um)")
@@ -90,8 +89,7 @@ def te_unmodified_figure(te: xr.Dataset) -> Figure:
     loads = te.load_per_pair.values
     for k in range(loads.shape[0]):
         ax2.plot(s2, np.tile(loads[k], 2), label=f"pair slot {k}")
-    ax2.set_xlabel("mesh phase (base pitches)")
-    ax2.set_ylabel("load per pair (N)")
+    ax2.set(xlabel="mesh phase (base pitches)", ylabel="load per pair (N)")
     ax2.legend(fontsize=8)
     ax2.grid(alpha=0.3)
     return fig
@@ -104,8 +102,7 @@ def te_relief_figure(te: xr.Dataset, paper=None) -> Figure:
     if paper is not None:
         title += f" (paper: {paper.TE_BEFORE_UM:g} -> {paper.TE_AFTER_UM:g} um)"
     fig, ax = single_axes((8, 4.5), title, "mesh phase (base pitches)", "TE - mean (um)", "constrained")
-    s = te.mesh_phase.values
-    s2 = np.concatenate([s, s + 1])
+    s2 = np.concatenate([te.mesh_phase.values, te.mesh_phase.values + 1])
     for case in te.case.values:
         tr = te.transmission_error.sel(case=case).values
         tr = tr - tr.mean()
@@ -128,8 +125,7 @@ def relief_landscape_figure(land: xr.Dataset, optima: pd.DataFrame, design: Plus
     shapes = list(land.shape_.values) if "shape_" in land.dims else list(land["shape"].values)
     fig = Figure(figsize=(5.2 * len(shapes), 4.4), constrained_layout=True)
     axes = fig.subplots(1, len(shapes), squeeze=False)[0]
-    a = land.amount.values
-    L = land.length.values
+    a, L = land.amount.values, land.length.values
     vmin, vmax = float(land.te_ptp.min()), float(land.te_ptp.max())
     for ax, sh in zip(axes, shapes, strict=True):
         z = land.te_ptp.sel(shape=sh).values
@@ -148,8 +144,7 @@ def relief_landscape_figure(land: xr.Dataset, optima: pd.DataFrame, design: Plus
             if o["shape"].startswith("linear (paper)") and sh == "linear":
                 label = f"paper optimum (ours: {o.get('ours_at_this_relief_um', float('nan')):.2f} um)"
                 ax.plot(*at, marker="X", ms=10, mec="k", color="w", ls="none", label=label)
-        ax.set_xlabel("relief length along the path of contact (mm)")
-        ax.set_ylabel("relief amount (um)")
+        ax.set(xlabel="relief length along the path of contact (mm)", ylabel="relief amount (um)")
         ax.set_title(f"{sh} tip relief", fontsize=9)
         ax.legend(fontsize=7, loc="upper right")
         fig.colorbar(cs, ax=ax, label="peak-to-peak TE (um)")
@@ -215,13 +210,11 @@ def forced_response_figure(ds: xr.Dataset, planet: int = 1, max_harmonic_marks: 
         if n <= top:
             text = {"rotation": 90, "fontsize": 6, "va": "top", "ha": "right", "transform": ax1.get_xaxis_transform()}
             ax1.text(n, 1.0, f"{f:.0f} Hz", **text)
-    ax1.set_yscale("log")
-    ax1.set_ylabel("RMS fluctuating mesh force (N)")
+    ax1.set(yscale="log", ylabel="RMS fluctuating mesh force (N)")
     ax1.legend(fontsize=7, loc="lower right")
     ax1.grid(alpha=0.3, which="both")
     ax2.axhline(1.0, color="k", lw=0.6)
-    ax2.set_ylabel("dynamic factor F_max / F_static (-)")
-    ax2.set_xlabel("input (sun) speed (rpm)")
+    ax2.set(ylabel="dynamic factor F_max / F_static (-)", xlabel="input (sun) speed (rpm)")
     ax2.grid(alpha=0.3)
     ax1.set_title(
         f"Forced response to the static TE, condition {ds.attrs['condition']}, modal damping "

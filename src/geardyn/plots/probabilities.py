@@ -1,6 +1,5 @@
-"""The figure of a probabilities study (``docs/probabilities.md``): stacked probability bands of the motion
-families and of the impact classes against the operating axis, the K_v quantile band, the leading inputs named;
-and its caption."""
+"""The figure of a probabilities study (``docs/probabilities.md``): stacked probability bands of the motion families and
+of the impact classes against the operating axis, the K_v quantile band, the leading inputs named; and its caption."""
 
 from __future__ import annotations
 

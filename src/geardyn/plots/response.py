@@ -59,8 +59,7 @@ def frequency_response_figure(ds: xr.Dataset, title: str) -> Figure:
     ax1.set_ylabel("RMS DTE  X_VH / b_c  (b_c = 1 um)")
     ax1.legend(fontsize=7, loc="upper left")
     ax2.axhline(1.0, color="k", lw=0.6)
-    ax2.set_ylabel("dynamic factor K_v = F_max / F_s (-)")
-    ax2.set_xlabel(ds.w.attrs.get("long_name", "w"))
+    ax2.set(ylabel="dynamic factor K_v = F_max / F_s (-)", xlabel=ds.w.attrs.get("long_name", "w"))
     ax1.set_title(
         f"{title}\nshading: impact class (lower half: up sweep, upper half: down sweep); hatched: hysteresis",
         fontsize=9,

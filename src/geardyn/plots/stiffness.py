@@ -69,10 +69,9 @@ def caption_fig04(props, paper=None) -> str:  # props: geardyn.khv.design.MeshPr
 def caption_fig05(table: xr.Dataset, design, paper=None) -> str:
     """Caption of the k(t) figure; the comparison with the paper only for a design that names one."""
     rows = "; ".join(
-        f"x1 = {x1:.3f}: x2 = {float(table['x2'].sel(x1=x1)):.4f}, "
-        f"eps = {float(table['contact_ratio'].sel(x1=x1)):.4f}, "
-        f"k_C = {float(table['k_c'].sel(x1=x1)) / 1e6:.1f} N/um, "
-        f"mean k = {float(table['k_mean'].sel(x1=x1)) / 1e6:.1f} N/um"
+        f"x1 = {x1:.3f}: x2 = {float(table['x2'].sel(x1=x1)):.4f}, eps = "
+        f"{float(table['contact_ratio'].sel(x1=x1)):.4f}, k_C = {float(table['k_c'].sel(x1=x1)) / 1e6:.1f} N/um, mean "
+        f"k = {float(table['k_mean'].sel(x1=x1)) / 1e6:.1f} N/um"
         for x1 in table["x1"].values
     )
     x2_text = "x2 on line 4 (G_s = 0)" if design.x2_on_line4 else f"x2 fixed at {design.base.x2:g}"

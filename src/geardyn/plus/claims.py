@@ -1,6 +1,5 @@
-"""The quantities of a plus planetary set that a paper's claims (stated as data) name, read from the
-pipeline's products (:class:`PlusProducts`), and those claims evaluated by the generic engine
-(:func:`geardyn.claims.data_claims`)."""
+"""The quantities of a plus planetary set that a paper's claims (stated as data) name, read from the pipeline's products
+(:class:`PlusProducts`), and those claims evaluated by the generic engine (:func:`geardyn.claims.data_claims`)."""
 
 from __future__ import annotations
 
@@ -89,10 +88,6 @@ def _q_shared_count(p: PlusProducts) -> Measured:
     return Measured(len(shared), f"{format_value(shared, 'Hz')} in every condition")
 
 
-def _q_shared_orders(p: PlusProducts) -> Measured:
-    return Measured(shared_orders(_frequencies(p)))
-
-
 def _q_planet_doubled(p: PlusProducts) -> Measured:
     t = p.frequencies[p.frequencies.mode_type == "planet"]
     flags = tuple(bool(m == 2) for m in t.multiplicity)
@@ -172,10 +167,6 @@ def _q_key_element_of_order(p: PlusProducts, order: int) -> Measured:
     return Measured(tuple(v[order - 1] for v in codes.values()), f"conditions {', '.join(codes)}")
 
 
-def _q_key_element_counts(p: PlusProducts) -> Measured:
-    return Measured(key_element_counts(_q_key_elements(p).value))
-
-
 def _q_dominant_component(p: PlusProducts) -> Measured:
     comps = by_condition(p.key_elements.fillna({"key_components": ""}), "key_components")
     return Measured(
@@ -235,8 +226,7 @@ def _q_te_at_relief(p: PlusProducts, shape: str) -> Measured:
 
 def _band_rms(forced: xr.Dataset, case: str, band: Sequence[float]) -> float:
     sp = forced["speed"].values
-    m = (sp >= band[0]) & (sp <= band[1])
-    return float(np.sqrt(np.mean(forced["rms_force"].sel(case=case).values[m] ** 2)))
+    return float(np.sqrt(np.mean(forced["rms_force"].sel(case=case).values[(sp >= band[0]) & (sp <= band[1])] ** 2)))
 
 
 def _q_force_band_change(p: PlusProducts, case: str, band_rpm: Sequence[float]) -> Measured:
@@ -257,7 +247,7 @@ PLUS_QUANTITIES: dict[str, Quantity] = {
     "frequencies_hz": Quantity(_q_frequencies),
     "scaled_rms_pct": Quantity(_q_scaled_rms),
     "shared_count": Quantity(_q_shared_count, lambda table: len(shared_frequencies(table))),
-    "shared_orders": Quantity(_q_shared_orders, shared_orders),
+    "shared_orders": Quantity(lambda p: Measured(shared_orders(_frequencies(p))), shared_orders),
     "planet_modes_doubled": Quantity(_q_planet_doubled),
     "mode_classes": Quantity(_q_mode_classes),
     "planet_central_rotation": Quantity(_q_planet_central_rotation),
@@ -265,7 +255,9 @@ PLUS_QUANTITIES: dict[str, Quantity] = {
     "overall_planets_alike": Quantity(_q_overall_alike),
     "key_elements": Quantity(_q_key_elements),
     "key_element_of_order": Quantity(_q_key_element_of_order),
-    "key_element_counts": Quantity(_q_key_element_counts, key_element_counts),
+    "key_element_counts": Quantity(
+        lambda p: Measured(key_element_counts(_q_key_elements(p).value)), key_element_counts
+    ),
     "dominant_component": Quantity(_q_dominant_component),
     "te_ptp_um": Quantity(_q_te_ptp),
     "te_zone_difference_um": Quantity(_q_te_zone_difference),

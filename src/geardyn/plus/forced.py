@@ -25,10 +25,8 @@ def modal_frf(omega2: ArrayLike, shapes: ArrayLike, zeta: float, force: ArrayLik
     """Complex response X (..., n) of a modally damped system to the harmonic ``force`` (..., n): ``omega2``
     (m,) squared elastic circular frequencies, ``shapes`` (n, m) M-normalised, ``omega`` (rad/s) broadcast
     against ``force[..., 0]``."""
-    omega2 = np.asarray(omega2, dtype=float)
-    shapes = np.asarray(shapes, dtype=float)
-    f = np.asarray(force)
-    w = np.asarray(omega, dtype=float)[..., None]
+    omega2, shapes = np.asarray(omega2, dtype=float), np.asarray(shapes, dtype=float)
+    f, w = np.asarray(force), np.asarray(omega, dtype=float)[..., None]
     wr = np.sqrt(omega2)
     modal_force = f @ shapes  # (..., m)
     q = modal_force / (omega2 - w**2 + 2j * zeta * wr * w)
@@ -114,15 +112,13 @@ def forced_response(
     cond = spec.condition
     md = modal.modes(design, cond)  # type: ignore[arg-type]
     keep = [modal.COORDS.index(c) for c in md.coords]
-    omega2 = md.omega2[md.n_rigid :]
-    shapes = md.shapes[:, md.n_rigid :]
+    omega2, shapes = md.omega2[md.n_rigid :], md.shapes[:, md.n_rigid :]
     natural_hz = np.sqrt(omega2) / (2 * np.pi)
     per_rpm = mesh_frequency_per_rpm(design, cond)
     speed = speed_grid(design, natural_hz, per_rpm) if speeds is None else np.asarray(speeds, dtype=float)
     meshes = [el for el in modal.elements(design) if el.kind in modal.MESH_TYPES]
     V = np.array([el.v[keep] for el in meshes])  # (9, n)
-    k = np.array([el.k for el in meshes])
-    pd = np.array([el.kind == "pd" for el in meshes])
+    k, pd = np.array([el.k for el in meshes]), np.array([el.kind == "pd" for el in meshes])
     phase = np.zeros(len(meshes))
     phase[pd] = mesh_phases(design)[[el.j for el in meshes if el.kind == "pd"]]
     h = np.arange(1, spec.harmonics + 1)

@@ -47,8 +47,7 @@ class ToothGeom:
 
 def half_tooth_angle(g: ToothGeom, radius: ArrayLike) -> NDArray:
     """Half angular tooth thickness (rad) at ``radius`` >= r_b: pi/(2z) + 2x tan(a)/z + inv a - inv a_r."""
-    radius = np.asarray(radius, dtype=float)
-    a_r = libm.arccos(np.clip(g.rb / radius, -1.0, 1.0))
+    a_r = libm.arccos(np.clip(g.rb / np.asarray(radius, dtype=float), -1.0, 1.0))
     return np.pi / (2 * g.z) + 2 * g.x * libm.tan(g.alpha) / g.z + inv(g.alpha) - inv(a_r)
 
 
@@ -96,8 +95,10 @@ class SpurPair:
 
 def spur_pair(design: PlusDesign) -> SpurPair:
     """The p-d pair of paper 2 (z = 19 and 20, m = 4 mm, 25 deg, ha* = 1, c* = 0.25, x = 0)."""
-    gp = ToothGeom(design.planet_p.teeth, design.module, design.pressure_angle, design.addendum, design.clearance)
-    gd = ToothGeom(design.planet_d.teeth, design.module, design.pressure_angle, design.addendum, design.clearance)
+    gp, gd = (
+        ToothGeom(g.teeth, design.module, design.pressure_angle, design.addendum, design.clearance)
+        for g in (design.planet_p, design.planet_d)
+    )
     return SpurPair(gp, gd) if design.te.driver == "planet_p" else SpurPair(gd, gp)
 
 
@@ -125,8 +126,7 @@ def tooth_compliance(g: ToothGeom, rho: ArrayLike, mat: Material) -> dict[str, N
     gamma = alpha_x - psi_x  # load angle against the normal to the tooth centre line
     # load-line / centre-line intersection, measured from the root circle along the centre line
     hx = rx * np.cos(psi_x) - rx * np.sin(psi_x) * libm.tan(gamma) - g.rf
-    psi_b = half_tooth_angle(g, g.rb)
-    psi_a = half_tooth_angle(g, g.ra)
+    psi_b, psi_a = half_tooth_angle(g, g.rb), half_tooth_angle(g, g.ra)
     sf = 2 * g.rb * np.sin(psi_b)  # rectangle width
     sa = 2 * g.ra * np.sin(psi_a)  # tip thickness
     hr = g.rb * np.cos(psi_b) - g.rf  # rectangle height
@@ -144,8 +144,7 @@ def tooth_compliance(g: ToothGeom, rho: ArrayLike, mat: Material) -> dict[str, N
     bending = c2 * (rect + trap)
     shear = mat.kappa * 2 * (1 + nu) * c2 / (E * b * sf) * (top + np.where(in_trap, H * libm.log(1 / t), 0.0))
     root = 24.0 * hx**2 * c2 / (np.pi * E * b * sf**2)
-    total = bending + shear + root
-    return {"bending": bending, "shear": shear, "root": root, "total": total, "hx": hx, "gamma": gamma}
+    return {"bending": bending, "shear": shear, "root": root, "total": bending + shear + root, "hx": hx, "gamma": gamma}
 
 
 def pair_compliance(pair: SpurPair, u: ArrayLike, mat: Material) -> NDArray:
@@ -173,9 +172,7 @@ def iso_single_stiffness(pair: SpurPair, facewidth_mm: float) -> dict[str, float
     return {"q_mm_um_per_N": q, "C_B": float(cb), "k_iso_0.8": k08, "k_iso_CB": k08 / 0.8 * (0.8 * cb)}
 
 
-# ---------------------------------------------------------------------------------------------
-# Static transmission error with load sharing (Eq. 9)
-# ---------------------------------------------------------------------------------------------
+# --- Static transmission error with load sharing (Eq. 9) ---
 
 
 def relief_profile(
@@ -235,8 +232,7 @@ class MeshGrid:
         u = (s[None, :] + np.arange(n_slots)[:, None]) * pb
         inside = u <= ga + 1e-15
         u = np.where(inside, u, 0.0)
-        lam = np.where(inside, pair_compliance(pair, u, mat), np.inf)
-        return cls(pair, s, u, inside, lam)
+        return cls(pair, s, u, inside, np.where(inside, pair_compliance(pair, u, mat), np.inf))
 
     def separation(
         self,
@@ -266,13 +262,10 @@ class MeshGrid:
 def _solve_approach(e: NDArray, lam: NDArray, load: float) -> NDArray:
     """Solve sum_k max(0, x - e_k)/lam_k = W for each column (piecewise linear, increasing in x)."""
     order = np.argsort(e, axis=0, kind="stable")  # ties in one order on every CPU (numpy dispatches its sorts)
-    es = np.take_along_axis(e, order, axis=0)
-    ks = np.take_along_axis(1.0 / lam, order, axis=0)
+    es, ks = np.take_along_axis(e, order, axis=0), np.take_along_axis(1.0 / lam, order, axis=0)
     n = e.shape[0]
-    x = np.full(e.shape[1], np.nan)
-    done = np.zeros(e.shape[1], dtype=bool)
-    ksum = np.zeros(e.shape[1])
-    kesum = np.zeros(e.shape[1])
+    x, done = np.full(e.shape[1], np.nan), np.zeros(e.shape[1], dtype=bool)
+    ksum, kesum = np.zeros(e.shape[1]), np.zeros(e.shape[1])
     for i in range(n):
         ok = np.isfinite(es[i])
         ksum = ksum + np.where(ok, ks[i], 0.0)
@@ -293,8 +286,7 @@ def pd_mesh_load(design: PlusDesign) -> float:
     balance gives F_pd = F_sp), T / r_b,driver for a torque on the p-d pair's driver (``torque_member``)."""
     if design.torque_member == "sun":
         return design.torque / (design.n_planets * design.sun.base_radius)
-    pair = spur_pair(design)
-    return design.torque / pair.driver.rb
+    return design.torque / spur_pair(design).driver.rb
 
 
 def design_grid(design: PlusDesign, points: int | None = None) -> MeshGrid:

@@ -89,13 +89,9 @@ def _line_of_action(g1: _Gear, g2: _Gear, internal: bool, drive: int) -> tuple[N
     a = float(math.hypot(*e))
     e = e / a
     if internal:
-        cos_aw = (g2.base_radius - g1.base_radius) / a
-        alpha = libm.arccos(cos_aw)
-        m = _rot(e, -drive * alpha)
+        m = _rot(e, -drive * libm.arccos((g2.base_radius - g1.base_radius) / a))
     else:
-        cos_aw = (g1.base_radius + g2.base_radius) / a
-        alpha = libm.arccos(cos_aw)
-        m = _rot(e, np.pi - drive * alpha)
+        m = _rot(e, np.pi - drive * libm.arccos((g1.base_radius + g2.base_radius) / a))
     n = _rot(m, np.pi / 2)
     point = g1.centre - g1.base_radius * m  # tangent point on gear 1's base circle
     return n, point
@@ -142,17 +138,12 @@ def elements(design: PlusDesign) -> list[Element]:
             v = nvec @ (g1.point_map(point) - g2.point_map(point))
             v[np.abs(v) < 1e-15] = 0.0
             out.append(Element(f"{kind}{j + 1}", kind, j, k, c, v, nvec))
-    # printed variants (for the documentation of the fixes)
-    if not design.planet_angles_in_sun_terms:
-        first = out[0].v
-        for el in out:
-            if el.kind == "sp":
-                el.v[COORDS.index("x_s")] = first[COORDS.index("x_s")]
-                el.v[COORDS.index("y_s")] = first[COORDS.index("y_s")]
-    if not design.plus_set_sign:
-        for el in out:
-            if el.kind == "pd":
-                el.v[COORDS.index(f"theta_d{el.j + 1}")] *= -1.0
+    xy = [COORDS.index("x_s"), COORDS.index("y_s")]
+    for el in out:  # printed variants (for the documentation of the fixes)
+        if el.kind == "sp" and not design.planet_angles_in_sun_terms:
+            el.v[xy] = out[0].v[xy]
+        if el.kind == "pd" and not design.plus_set_sign:
+            el.v[COORDS.index(f"theta_d{el.j + 1}")] *= -1.0
     out.append(Element("bearing_x", "bearing", -1, ks.sun_bearing, cs.sun_bearing, ex, np.array([1.0, 0.0])))
     out.append(Element("bearing_y", "bearing", -1, ks.sun_bearing, cs.sun_bearing, ey, np.array([0.0, 1.0])))
     return out
@@ -192,8 +183,7 @@ def matrices(design: PlusDesign, condition: Condition = "free") -> Matrices:
         raise ValueError(f"unknown working condition {condition!r}; allowed: {sorted(CONDITIONS)}")
     keep = np.array([i for i, c in enumerate(COORDS) if c != CONDITIONS[condition]])
     els = elements(design)
-    K = sum(el.k * np.outer(el.v, el.v) for el in els)
-    C = sum(el.c * np.outer(el.v, el.v) for el in els)
+    K, C = sum(el.k * np.outer(el.v, el.v) for el in els), sum(el.c * np.outer(el.v, el.v) for el in els)
     M = sum(mass_components(design).values())
     ix = np.ix_(keep, keep)
     return Matrices(tuple(COORDS[i] for i in keep), M[ix], K[ix], C[ix])
@@ -228,16 +218,14 @@ def _canonical_pairs(omega2: NDArray, shapes: NDArray, coords: tuple[str, ...], 
     """Rotate each degenerate pair so that its first member has y_s = 0 (deterministic shapes)."""
     shapes = shapes.copy()
     iy = coords.index("y_s") if "y_s" in coords else None
-    i = 0
-    n = len(omega2)
+    i, n = 0, len(omega2)
     while i < n - 1:
         if omega2[i] > 0 and abs(omega2[i + 1] - omega2[i]) <= rtol * abs(omega2[i]):
             a, b = shapes[:, i].copy(), shapes[:, i + 1].copy()
             if iy is not None and np.hypot(a[iy], b[iy]) > 0:
                 # first = cos*a + sin*b has y = 0 when tan(ang) = -a_y / b_y
                 ang = libm.arctan2(-a[iy], b[iy])
-                u = np.cos(ang) * a + np.sin(ang) * b
-                w = -np.sin(ang) * a + np.cos(ang) * b
+                u, w = np.cos(ang) * a + np.sin(ang) * b, -np.sin(ang) * a + np.cos(ang) * b
                 shapes[:, i], shapes[:, i + 1] = u, w
             i += 2
         else:
@@ -268,14 +256,12 @@ def damped_frequencies(mat: Matrices, n_rigid: int, omega_min: float) -> tuple[N
     damping).  ``omega_min`` (rad/s): the lowest undamped elastic circular frequency."""
     n = mat.M.shape[0]
     Minv = np.linalg.inv(mat.M)
-    A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ mat.K, -Minv @ mat.C]])
-    lam = np.linalg.eigvals(A)
+    lam = np.linalg.eigvals(np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ mat.K, -Minv @ mat.C]]))
     # rigid-body modes give a (numerically split) double eigenvalue at 0: drop |lambda| << omega_min
     osc = lam[(lam.imag > 0) & (libm.cabs(lam) > 1e-3 * omega_min)]
     osc = osc[np.argsort(libm.cabs(osc))]
     n_el = n - n_rigid
-    damped = np.full(n, np.nan)
-    zeta = np.full(n, np.nan)
+    damped, zeta = np.full(n, np.nan), np.full(n, np.nan)
     if len(osc) > n_el:
         raise RuntimeError(f"{len(osc)} oscillatory eigenvalues for {n_el} elastic modes")
     # overdamped modes (none for Table 1) have no damped frequency: they keep NaN at the top of the list
@@ -286,9 +272,8 @@ def damped_frequencies(mat: Matrices, n_rigid: int, omega_min: float) -> tuple[N
 
 
 def energy_shares(design: PlusDesign, md: Modes) -> tuple[dict[str, NDArray], dict[str, NDArray]]:
-    """Shares of each spring in the modal strain energy (rigid modes: NaN) and of each Table 4 component in the
-    modal kinetic energy, per name, shape (n_modes,); U_e = k_e (v_e . phi)^2 / 2 sums to w^2 / 2 for an
-    M-normalised phi."""
+    """Shares of each spring in the modal strain energy (rigid modes: NaN) and of each Table 4 component in the modal
+    kinetic energy, per name, shape (n_modes,); U_e = k_e (v_e . phi)^2 / 2 sums to w^2 / 2 for an M-normalised phi."""
     phis = md.full_shapes
     strain = {el.name: 0.5 * el.k * (el.v @ phis) ** 2 for el in elements(design)}
     kinetic = {k: np.einsum("im,ij,jm->m", phis, Mc, phis) for k, Mc in mass_components(design).items()}
@@ -320,26 +305,16 @@ def classify(md: Modes, *, rtol: float = 1e-6, atol: float = 1e-9) -> list[str]:
     (none for the symmetric set) for each mode (docs/paper2.md, "Mode classes")."""
     out: list[str] = []
     f, phis = md.omega2, md.full_shapes
+    central, xy, p, d = (
+        [COORDS.index(c) for c in names] for names in (COORDS[:3], COORDS[-2:], _PLANETS[:3], _PLANETS[3:])
+    )
     for i in range(len(f)):
-        if f[i] == 0:
-            out.append("rigid")
-            continue
         phi = phis[:, i]
         scale = np.max(np.abs(phi))
-        central = np.abs(phi[[COORDS.index(c) for c in ("theta_s", "theta_r", "theta_c")]]).max() / scale
-        degenerate = (i > 0 and abs(f[i] - f[i - 1]) <= rtol * f[i]) or (
-            i + 1 < len(f) and abs(f[i + 1] - f[i]) <= rtol * f[i]
-        )
-        p = phi[[COORDS.index(f"theta_p{j}") for j in (1, 2, 3)]]
-        d = phi[[COORDS.index(f"theta_d{j}") for j in (1, 2, 3)]]
-        xy = np.abs(phi[[COORDS.index("x_s"), COORDS.index("y_s")]]).max() / scale
-        axisym = np.ptp(p) / scale < 1e-6 and np.ptp(d) / scale < 1e-6 and xy < 1e-6
-        if degenerate and central < 1e-6:
-            out.append("planet")
-        elif axisym:
-            out.append("overall")
-        else:
-            out.append("mixed")
+        degenerate = any(0 <= k < len(f) and abs(f[k] - f[i]) <= rtol * f[i] for k in (i - 1, i + 1))
+        planet = degenerate and np.abs(phi[central]).max() / scale < 1e-6
+        axisym = max(np.ptp(phi[p]), np.ptp(phi[d]), np.abs(phi[xy]).max()) / scale < 1e-6
+        out.append("rigid" if f[i] == 0 else "planet" if planet else "overall" if axisym else "mixed")
     return out
 
 

@@ -60,8 +60,7 @@ def optimise(
     """Differential-evolution optimum of ``shape`` relief within the ``which`` bounds."""
     if shape not in SHAPES:
         raise ValueError(f"unknown relief shape {shape!r}; allowed: {SHAPES}")
-    grid = grid or design_grid(design, points)
-    f = objective(design, grid, shape)
+    f = objective(design, grid or design_grid(design, points), shape)
     ab, lb = bounds_of(design, which)
     r = design.relief
     settings = {"seed": r.seed, "popsize": r.popsize, "maxiter": r.maxiter, "tol": r.tol, "updating": "immediate"}
@@ -76,17 +75,14 @@ def landscape(
     design: PlusDesign, shape: str, amounts: NDArray, lengths: NDArray, *, grid: MeshGrid | None = None
 ) -> NDArray:
     """Peak-to-peak TE (m) on the grid ``amounts x lengths`` (m), shape (len(amounts), len(lengths))."""
-    grid = grid or design_grid(design)
-    f = objective(design, grid, shape)
+    f = objective(design, grid or design_grid(design), shape)
     return np.array([[f(np.array([a, L])) for L in lengths] for a in amounts])
 
 
 def landscape_axes(design: PlusDesign, n: int | None = None) -> tuple[NDArray, NDArray]:
     """Axes covering both bound sets: amount 0..max, length 0..max (m)."""
-    n = n or design.relief.landscape_points
-    r = design.relief
-    amax = max(r.paper_amount[1], r.physical_amount[1])
-    lmax = max(r.paper_length[1], r.physical_length[1])
+    r, n = design.relief, n or design.relief.landscape_points
+    amax, lmax = max(r.paper_amount[1], r.physical_amount[1]), max(r.paper_length[1], r.physical_length[1])
     return np.linspace(0.0, amax, n), np.linspace(0.0, lmax, n)
 
 

@@ -249,14 +249,12 @@ def key_element_table(design: PlusDesign, paper: ModuleType | None, threshold: f
 def modal_dataset(design: PlusDesign) -> xr.Dataset:
     """All modes of conditions I-III: frequencies, damping, shapes, energy shares (CF attrs)."""
     conds = list(WORKING)
-    el_names = [el.name for el in modal.elements(design)]
-    comp_names = list(modal.mass_components(design))
+    el_names, comp_names = [el.name for el in modal.elements(design)], list(modal.mass_components(design))
     per_condition = []  # (frequencies, damped, zeta, shapes, strain and kinetic shares, types) of each condition
     for c in conds:
         md = modal.modes(design, c)
         s_fr, k_fr = modal.energy_shares(design, md)
-        se = np.column_stack([s_fr[k] for k in el_names])
-        ke = np.column_stack([k_fr[k] for k in comp_names])
+        se, ke = np.column_stack([s_fr[k] for k in el_names]), np.column_stack([k_fr[k] for k in comp_names])
         per_condition.append((md.freq_hz, md.damped_hz, md.zeta, md.full_shapes.T, se, ke, modal.classify(md)))
     stacked = tuple(np.array(v) for v in zip(*per_condition, strict=True))
     n = stacked[0].shape[1]

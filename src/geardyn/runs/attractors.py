@@ -102,9 +102,7 @@ def find_attractors(
     return found, where
 
 
-# ----------------------------------------------------------------------------------------------
-# along a sweep
-# ----------------------------------------------------------------------------------------------
+# --- along a sweep ---
 
 
 def branch_starts(branches: Sequence[Any], p: float, perturb: float = 1e-3) -> dict[str, np.ndarray]:
@@ -243,8 +241,7 @@ def sweep_attractors(
     """Attractors at a subset of a sweep's points (``every`` / ``at`` in ``attractor_spec``, the rest
     are :class:`AttractorSettings`), every case; the branches come from the orbits dataset."""
     spec_map = dict(attractor_spec)
-    every = spec_map.pop("every", None)
-    at = spec_map.pop("at", None)
+    every, at = spec_map.pop("every", None), spec_map.pop("at", None)
     if not every and not at:
         every = max(1, spec.num // 10)
     aset = settings_from(AttractorSettings, spec_map, "attractor settings")

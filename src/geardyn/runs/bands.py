@@ -16,8 +16,7 @@ def band_rows(cube: xr.Dataset) -> list[dict]:
     direction), with the median exponent and the transition point to the next band (midway between
     the last point of this band and the first of the next; NaN for the last band)."""
     par = cube.attrs["control_parameter"]
-    values = cube[par].values
-    labels = labels_of_cube(cube)
+    values, labels = cube[par].values, labels_of_cube(cube)
     lam = cube["lyapunov"].values if "lyapunov" in cube else np.full(labels.shape, np.nan)
     rows = []
     for i, case in enumerate(cube["case"].values):
@@ -45,10 +44,8 @@ def band_rows(cube: xr.Dataset) -> list[dict]:
 
 def bands_csv(rows: list[dict]) -> str:
     columns = list(rows[0]) if rows else []  # the keys of band_rows, in its order
-    lines = [",".join(columns)]
-    for r in rows:
-        lines.append(",".join(f"{r[c]:.6g}" if isinstance(r[c], float) else str(r[c]) for c in columns))
-    return "\n".join(lines) + "\n"
+    cells = [[f"{r[c]:.6g}" if isinstance(r[c], float) else str(r[c]) for c in columns] for r in rows]
+    return "\n".join(",".join(line) for line in [columns, *cells]) + "\n"
 
 
 def bands_markdown(rows: list[dict], title: str, par: str) -> str:

@@ -176,8 +176,7 @@ def merge_chunks(chunks: Sequence[xr.Dataset]) -> xr.Dataset:
         raise ValueError("no chunks to merge")
     present = sum(c["computed"].values.astype(int) for c in chunks)
     if np.any(present != 1):
-        missing = int(np.sum(present == 0))
-        twice = int(np.sum(present > 1))
+        missing, twice = int(np.sum(present == 0)), int(np.sum(present > 1))
         raise ValueError(f"chunks do not tile the grid: {missing} points missing, {twice} computed twice")
     out = chunks[0].drop_vars("computed").copy(deep=True)
     for c in chunks[1:]:

@@ -74,8 +74,7 @@ def point_coefficients(
 ) -> Coefficients:
     """Coefficients at (xv, yv); ``base`` = coefficients at xv with the fixed values (reused)."""
     if base is not None and _direct_ok(design, spec.y.parameter):
-        field = point.COEFFICIENT_FIELDS[spec.y.parameter]
-        return base.replace(**{field: float(yv)})
+        return base.replace(**{point.COEFFICIENT_FIELDS[spec.y.parameter]: float(yv)})
     return point.point_coefficients(
         design, {**dict(spec.fixed), spec.x.parameter: float(xv), spec.y.parameter: float(yv)}
     )

@@ -36,10 +36,8 @@ def amplitude_spectrum(x: np.ndarray, samples_per_period: int) -> tuple[np.ndarr
     x = np.asarray(x, dtype=float)
     n = x.size
     window = np.hanning(n)
-    spec = np.fft.rfft((x - x.mean()) * window)
-    amp = 2.0 * libm.cabs(spec) / window.sum()
-    freq = np.fft.rfftfreq(n, d=1.0 / samples_per_period)
-    return freq, amp
+    amp = 2.0 * libm.cabs(np.fft.rfft((x - x.mean()) * window)) / window.sum()
+    return np.fft.rfftfreq(n, d=1.0 / samples_per_period), amp
 
 
 def dense_point(
@@ -59,10 +57,8 @@ def dense_point(
     tau, states = (np.zeros(0), np.zeros((0, 6))) if res.diverged else res.uniform(samples_per_period)
     values = {name: states[:, k] for k, name in enumerate(STATES)}
     values |= {f"poincare_{name}": res.poincare[:, k] for k, name in enumerate(STATES)}
-    if states.shape[0] > 8:
-        values["frequency"], values["amplitude"] = amplitude_spectrum(states[:, 1], samples_per_period)
-    else:
-        values["frequency"], values["amplitude"] = np.zeros(0), np.zeros(0)
+    spectrum = amplitude_spectrum(states[:, 1], samples_per_period) if states.shape[0] > 8 else (np.zeros(0),) * 2
+    values["frequency"], values["amplitude"] = spectrum
     values["time"] = (tau - (tau[0] if tau.size else 0.0)) / coeffs.period
     values["section"] = np.arange(res.poincare.shape[0])
     attrs = {f"coef_{k}": (float(v) if not isinstance(v, str) else v) for k, v in coeffs.as_dict().items()}
@@ -100,14 +96,10 @@ def dense_points(
     out = xr.concat(
         parts, dim="case", join="outer", data_vars="all", coords="different", compat="equals", combine_attrs="override"
     )
-    out.attrs = {}
     out["case"].attrs["long_name"] = "operating point (overrides)"
     out = out.assign(labelled)
-    out.attrs.update(
-        {
-            **study.integration_attrs(policy.integration),
-            "record_starts": "on the attractor found by the labeller (its final state)",
-            "fixed_overrides": point.label(fixed, ""),
-        }
-    )
+    out.attrs = study.integration_attrs(policy.integration) | {
+        "record_starts": "on the attractor found by the labeller (its final state)",
+        "fixed_overrides": point.label(fixed, ""),
+    }
     return out

@@ -1,9 +1,8 @@
 """Regime probabilities under uncertain inputs (``docs/probabilities.md``): the inputs drawn by scrambled Sobol'
-sampling (or, where a study asks for Sobol' indices, by Saltelli's design), each sample a line along the study's
-axis that the one study runner labels as a layout, so each sample follows its attractor as a sweep does.  A chunk
-holds whole samples, so no result depends on the chunking; the statistics of the merged cube are
-:mod:`geardyn.runs.probability_stats`'s.
-"""
+sampling (or, where a study asks for Sobol' indices, by Saltelli's design), each sample a line along the study's axis
+that the one study runner labels as a layout, so each sample follows its attractor as a sweep does. A chunk holds whole
+samples, so no result depends on the chunking; the statistics of the merged cube are
+:mod:`geardyn.runs.probability_stats`'s."""
 
 from __future__ import annotations
 
@@ -195,10 +194,7 @@ def layout(design: KHVDesign, spec: ProbabilitySpec, chunk: int, table: Samples)
     axis = [None] if spec.axis is None else [float(x) for x in spec.axis.values]
     lines, starts = [], []
     for i in np.array_split(np.arange(n), spec.n_chunks)[chunk]:
-        own = {
-            **dict(spec.fixed),
-            **{name: float(v) for name, v in zip(table.names[:k], table.values[i, :k], strict=True)},
-        }
+        own = dict(spec.fixed) | {n: float(v) for n, v in zip(table.names[:k], table.values[i, :k], strict=True)}
         line = [
             ((int(i), j), point.point_coefficients(design, own if x is None else {**own, spec.dim: x}))
             for j, x in enumerate(axis)

@@ -1,8 +1,7 @@
 """The statistics of a probabilities study's merged cube (``docs/probabilities.md``): per operating point the
-probability of each motion family and impact class with 95 % Wilson intervals, the 5 / 50 / 95 % quantiles of
-K_v and of the RMS DTE with distribution-free intervals, the inputs' sensitivity indices (SALib), and, for a design
-that names a paper, the probability that each claim decided along the study's line holds.
-"""
+probability of each motion family and impact class with 95 % Wilson intervals, the 5 / 50 / 95 % quantiles of K_v and of
+the RMS DTE with distribution-free intervals, the inputs' sensitivity indices (SALib), and, for a design that names a
+paper, the probability that each claim decided along the study's line holds."""
 
 from __future__ import annotations
 
@@ -125,8 +124,7 @@ def sensitivities(ds: xr.Dataset, spec: ProbabilitySpec, table: Samples) -> dict
         Var("total_index_conf", dims, "1", "half-width of the 95 % interval of the Sobol' total index"),
     ]
     kept = 4 if spec.method == "sobol" else 2
-    out = variables(table[:kept], res[:kept])
-    return {"names": names, "at": at, "variables": out}
+    return {"names": names, "at": at, "variables": variables(table[:kept], res[:kept])}
 
 
 def leading(ds: xr.Dataset) -> dict[str, str]:

@@ -233,11 +233,9 @@ def run(design: KHVDesign, spec: ResponseSpec) -> xr.Dataset:
     ds = frequency_response(base, spec.values, spec.policy(design), spec.jump_threshold, spec.jump_floor)
     teeth = int(point.point_model(design)[0].z_annulus)
     ds.attrs.update(
-        {
-            "response": spec.name,
-            "design": spec.design,
-            "fixed_overrides": spec.fixed_overrides,
-            "speed_per_w_rpm": float(base.omega_n) * 60.0 / (2.0 * math.pi * teeth),
-        }
+        response=spec.name,
+        design=spec.design,
+        fixed_overrides=spec.fixed_overrides,
+        speed_per_w_rpm=float(base.omega_n) * 60.0 / (2.0 * math.pi * teeth),
     )
     return ds

@@ -52,8 +52,7 @@ class SweepSpec(study.StudySpec, study.Grid):
     @property
     def n_chunks(self) -> int:
         """Number of chunk jobs: the configured count, at most one per line (``follow``) or per point."""
-        units = self.n_lines if self.start_from == "follow" else self.n_lines * self.num
-        return max(1, min(self.chunks, units))
+        return max(1, min(self.chunks, self.n_lines if self.start_from == "follow" else self.n_lines * self.num))
 
     def case_label(self, i: int) -> str:
         return point.label(self.cases[i], "base")
@@ -66,14 +65,8 @@ def chunk_work(spec: SweepSpec, chunk: int) -> Work:
         raise ValueError(f"chunk {chunk} outside 0..{spec.n_chunks - 1} for sweep {spec.name}")
     nd = len(spec.directions)
     if spec.start_from == "follow":
-        work = []
-        for line in np.array_split(np.arange(spec.n_lines), spec.n_chunks)[chunk]:
-            case, d = divmod(int(line), nd)
-            order = list(range(spec.num))
-            if spec.directions[d] == "down":
-                order.reverse()
-            work.append((case, d, order))
-        return work
+        lines = [divmod(int(line), nd) for line in np.array_split(np.arange(spec.n_lines), spec.n_chunks)[chunk]]
+        return [(case, d, list(range(spec.num))[:: -1 if spec.directions[d] == "down" else 1]) for case, d in lines]
     lines: dict[int, list[int]] = {}  # the chunk's points of each line, in order
     for i in np.array_split(np.arange(spec.n_lines * spec.num), spec.n_chunks)[chunk]:
         lines.setdefault(int(i) // spec.num, []).append(int(i) % spec.num)
@@ -88,8 +81,7 @@ def point_overrides(spec: SweepSpec, case: int, value: float) -> dict[str, float
 def layout(design: KHVDesign, spec: SweepSpec, chunk: int, policy: Policy) -> study.Layout:
     """The lines of chunk ``chunk`` on the cube (case, direction, parameter), and the sweep's own per-point
     variables: the Poincare sections (the recorded periods) and the point's coefficients."""
-    dims = ("case", "direction", spec.parameter)
-    shape = (len(spec.cases), len(spec.directions), spec.num)
+    dims, shape = ("case", "direction", spec.parameter), (len(spec.cases), len(spec.directions), spec.num)
     ns = policy.integration.recorded_periods
     sections = [Var(name, (*dims, "section"), "1", f"Poincare section: {STATE_NAMES[name]}") for name in STATES]
     own = {v.name: v.empty((*shape, ns)) for v in sections} | empty(("diverged_period", "n_events"), dims, shape)

@@ -73,9 +73,7 @@ class Evaluator:
         self.cache_path = Path(cache)
         self.cache = read_cache(cache)
         self.workers = max(1, int(workers))
-        self.pool = None
-        self.new = 0
-        self.reused = 0
+        self.pool, self.new, self.reused = None, 0, 0
         self.seen: dict[str, None] = {}
 
     def __enter__(self):
@@ -93,8 +91,7 @@ class Evaluator:
     def records(self, units: Sequence[Sequence[float]]) -> list[Record]:
         keys = [cache_key(u) for u in units]
         self.seen.update(dict.fromkeys(keys))
-        todo = [(k, list(u)) for k, u in zip(keys, units, strict=True) if k not in self.cache]
-        todo = list(dict(todo).items())
+        todo = list({k: list(u) for k, u in zip(keys, units, strict=True) if k not in self.cache}.items())
         self.reused += len(units) - len(todo)
         if todo:
             evaluate = functools.partial(evaluate_candidate, self.problem)

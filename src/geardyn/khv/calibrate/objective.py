@@ -71,8 +71,7 @@ CandidateLabels = dict
 
 def candidate_labels(design: KHVDesign, values: Mapping[str, float], grids: Grids, policy: Policy) -> CandidateLabels:
     """The labelled lines of one candidate (overrides ``values``): every line is a line of the one labeller
-    (:func:`geardyn.label.label_lines`), all advancing together; each point's label depends only on its
-    own line."""
+    (:func:`geardyn.label.label_lines`), all advancing together; each point's label depends only on its own line."""
     where, lines = [], []
     for role, line in grids.lines.items():
         for case in line.cases or (None,):
@@ -160,8 +159,7 @@ def lcs(a: str, b: str) -> int:
 def transitions(values: np.ndarray, labels: np.ndarray) -> dict[str, float]:
     """Where the motion along a line first leaves P1 and where chaos first appears (inf if never)."""
     lab = np.asarray(labels)
-    leave = np.nonzero(lab != P1)[0]
-    chaos = np.nonzero(lab == CHAOS)[0]
+    leave, chaos = np.nonzero(lab != P1)[0], np.nonzero(lab == CHAOS)[0]
     return {
         "leave_p1": float(values[leave[0]]) if leave.size else float("inf"),
         "first_chaos": float(values[chaos[0]]) if chaos.size else float("inf"),

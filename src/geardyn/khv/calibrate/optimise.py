@@ -32,8 +32,7 @@ def refine(
     steps = sorted(steps, reverse=True)
     rank = functools.partial(ranked_score, require=evaluator.problem.require)
     while k < len(steps) and done < rounds:
-        recs = evaluator.records(space.one_at_a_time(best.values, (-steps[k], steps[k])))
-        cand = max(recs, key=rank)
+        cand = max(evaluator.records(space.one_at_a_time(best.values, (-steps[k], steps[k]))), key=rank)
         if rank(cand) > rank(best):
             best, done = cand, done + 1
         else:
@@ -56,8 +55,7 @@ def search(
     Latin-hypercube from ``seed``), then :func:`refine` from its best: (best record, evaluator); deterministic, so a
     rerun replays the cache."""
     dim = len(problem.space.unknowns)
-    n_pop = max(5, popsize * dim)
-    pop = qmc.LatinHypercube(d=dim, seed=seed).random(n_pop)
+    pop = qmc.LatinHypercube(d=dim, seed=seed).random(max(5, popsize * dim))
     for i, v in enumerate(init):
         pop[i] = np.clip(problem.space.unit(v), 0.0, 1.0)
     with Evaluator(problem, cache, workers) as ev:
@@ -80,8 +78,7 @@ def verified_choice(
     (verified, search :func:`ranked_score`, distance from the bounds: inside beats an equal one on the edge).
     Returns (search record, verified record, all pairs)."""
     order = sorted(search_records, key=lambda r: (-ranked_score(r, require), -interior(r.unit)))[: max(1, top)]
-    checked = verify([r.unit for r in order])
-    pairs = list(zip(order, checked, strict=True))
+    pairs = list(zip(order, verify([r.unit for r in order]), strict=True))
     best_pair = max(
         pairs, key=lambda p: (ranked_score(p[1], require), ranked_score(p[0], require), interior(p[0].unit))
     )

@@ -95,8 +95,7 @@ def score_map(
     """Score, agreeing claims and where P1 is left along x1 over ``a`` (across) and ``b`` (up), each
     moved by -50 % .. +50 % in ``map_points`` steps."""
     rel = np.linspace(-0.5, 0.5, map_points)
-    va = [perturbed(best_values[a.name], a, r) for r in rel]
-    vb = [perturbed(best_values[b.name], b, r) for r in rel]
+    va, vb = ([perturbed(best_values[u.name], u, r) for r in rel] for u in (a, b))
     recs = evaluator.records(space.moved(best_values, [{a.name: x, b.name: y} for y in vb for x in va]))
     measures = {k: MEASURES[k] for k in ("score", "agree", "leave_p1")}
     coords = [
