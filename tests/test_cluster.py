@@ -90,9 +90,9 @@ def _profile(work: Path, resources=None, **settings) -> None:
     path.write_text(yaml.safe_dump(profile, sort_keys=False), encoding="utf-8")
 
 
-def slurm_jobs(work: Path) -> list[dict[str, str]]:
-    """Every job slurmctld knows of (finished ones too, for MinJobAge) that ran in ``work``, by job id,
-    with ``rule`` and ``wildcards`` from the comment the executor plugin gives each job."""
+def slurm_jobs(work: Path, rule: str = "") -> list[dict[str, str]]:
+    """Every job slurmctld knows of (finished ones too, for MinJobAge) that ran in ``work`` (of ``rule`` only,
+    when given), by job id, with ``rule`` and ``wildcards`` from the comment the executor plugin gives each job."""
     out = subprocess.run(
         ["scontrol", "show", "job", "-o"], capture_output=True, text=True, check=True, timeout=60
     ).stdout
@@ -100,9 +100,9 @@ def slurm_jobs(work: Path) -> list[dict[str, str]]:
     for line in out.splitlines():
         fields = dict(re.findall(r"(\S+?)=(\S*)", line))
         if fields.get("WorkDir") and Path(fields["WorkDir"]).resolve() == work.resolve():
-            rule, _, wildcards = fields["Comment"].removeprefix("rule_").partition("_wildcards_")
-            jobs.append({**fields, "rule": rule, "wildcards": wildcards})
-    return sorted(jobs, key=lambda job: int(job["JobId"]))
+            name, _, wildcards = fields["Comment"].removeprefix("rule_").partition("_wildcards_")
+            jobs.append({**fields, "rule": name, "wildcards": wildcards})
+    return sorted((j for j in jobs if j["rule"] == (rule or j["rule"])), key=lambda job: int(job["JobId"]))
 
 
 def _seconds(job, start, end):
@@ -242,7 +242,7 @@ def test_cancelled_jobs_are_resubmitted_then_fail_and_a_rerun_loses_nothing(clus
     deadline = time.monotonic() + 600
     try:
         while proc.poll() is None and time.monotonic() < deadline:
-            for job in slurm_jobs(work):
+            for job in slurm_jobs(work, "sweep_chunk"):  # the chunks (the kernels job runs before them)
                 chunk, jobid = job["wildcards"], job["JobId"]
                 if job["JobState"] != "RUNNING" or jobid in cancelled.get(chunk, []):
                     continue
@@ -265,7 +265,7 @@ def test_cancelled_jobs_are_resubmitted_then_fail_and_a_rerun_loses_nothing(clus
     assert proc.returncode != 0, "the run should fail: one chunk was cancelled on both attempts"
     assert once and twice and len(cancelled[once]) == 1 and len(cancelled[twice]) == 2, cancelled
     by_chunk: dict[str, list[str]] = {}
-    for job in slurm_jobs(work):
+    for job in slurm_jobs(work, "sweep_chunk"):
         by_chunk.setdefault(job["wildcards"], []).append(job["JobState"])
     assert by_chunk.pop(once) == ["CANCELLED", "COMPLETED"]  # resubmitted (retries: 1) and completed
     assert by_chunk.pop(twice) == ["CANCELLED", "CANCELLED"]  # retry used up: the run reports it failed
@@ -331,7 +331,7 @@ def test_per_job_overhead_against_local_execution(cluster, tmp_path):
         if mode == "slurm_fast_polling":
             _profile(work, **FAST_POLLING)
         _, walls[mode] = _timed(work, "--profile", PROFILE, *targets)
-        jobs[mode] = slurm_jobs(work)
+        jobs[mode] = slurm_jobs(work, "sweep_chunk")
         assert [job["JobState"] for job in jobs[mode]] == ["COMPLETED"] * n
         for target in targets:
             assert_same_data(_open(work / target), _open(tmp_path / "local" / target))
