@@ -10,6 +10,7 @@
 
 rule calibration_search:
     input:
+        kernels=KERNELS,
         design=design_file,
     output:
         scores=results("calibration", "{calibration}.nc"),

@@ -5,6 +5,7 @@
 
 rule probabilities_chunk:
     input:
+        kernels=KERNELS,
         design=design_file,
     output:
         temp(results("probabilities", "{prob}", "chunk_{chunk}.nc")),
