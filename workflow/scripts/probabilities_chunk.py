@@ -2,10 +2,9 @@
 
 import numba
 
-from geardyn import io
-from geardyn.io import logs, provenance
+from geardyn.io import logs
 from geardyn.khv import design, point
-from geardyn.runs import probabilities
+from geardyn.runs import probabilities, study
 from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
@@ -18,11 +17,4 @@ chunk = int(snakemake.wildcards.chunk)
 warm_up(point.point_coefficients(drive))
 ds = probabilities.run_chunk(drive, spec, chunk)
 log.info("chunk %d: %d points in %.1f s", chunk, int(ds["computed"].sum()), ds.attrs["wall_time_s"])
-attrs = provenance.attributes(
-    title=f"{spec.name} chunk {chunk}",
-    paper=drive.paper,
-    config={"design": drive.raw, "probabilities": snakemake.params.spec},
-    model_variant=drive.stiffness.label,
-    extra={"chunk": chunk, "n_chunks": spec.n_chunks},
-)
-io.write_netcdf(ds, snakemake.output[0], {**ds.attrs, **attrs}, checksum=True)
+study.write_chunk(ds, drive, spec, chunk, "probabilities", snakemake.params.spec, snakemake.output[0])

@@ -2,10 +2,9 @@
 
 import numba
 
-from geardyn import io
-from geardyn.io import logs, provenance
+from geardyn.io import logs
 from geardyn.khv import design, point
-from geardyn.runs import sweep
+from geardyn.runs import study, sweep
 from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
@@ -15,11 +14,4 @@ spec = sweep.SweepSpec.from_config(snakemake.wildcards.sweep, snakemake.params.s
 chunk = int(snakemake.wildcards.chunk)
 warm_up(point.point_coefficients(drive))  # load the compiled kernels from numba's cache before timing starts
 cube = sweep.run_chunk(drive, spec, chunk)
-attrs = provenance.attributes(
-    title=f"{spec.name} chunk {chunk}",
-    paper=drive.paper,
-    config={"design": drive.raw, "sweep": snakemake.params.spec},
-    model_variant=drive.stiffness.label,
-    extra={"chunk": chunk, "n_chunks": spec.n_chunks},
-)
-io.write_netcdf(cube, snakemake.output[0], attrs, checksum=True)  # Fletcher-32: damage is found before a merge
+study.write_chunk(cube, drive, spec, chunk, "sweep", snakemake.params.spec, snakemake.output[0])

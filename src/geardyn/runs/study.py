@@ -222,3 +222,19 @@ def study_attrs(policy: Policy) -> dict[str, Any]:
         **{k: getattr(s, k) for k in ("early_stop_min_periods", "early_stop_confirm", "early_stop_tol_factor")},
         **{f"classifier_{k}": v for k, v in dataclasses.asdict(p.classifier).items()},
     }
+
+
+def write_chunk(ds: Any, drive: KHVDesign, spec: Any, chunk: int, key: str, raw: Mapping[str, Any], path: str) -> None:
+    """Write chunk ``chunk`` of the study ``spec`` (its config entry ``raw`` under ``key``) with its provenance and
+    Fletcher-32 checksums (a damaged chunk is found before its merge)."""
+    from geardyn import io  # noqa: PLC0415 - netCDF: only the jobs that write
+    from geardyn.io import provenance  # noqa: PLC0415
+
+    attrs = provenance.attributes(
+        title=f"{spec.name} chunk {chunk}",
+        paper=drive.paper,
+        config={"design": drive.raw, key: raw},
+        model_variant=drive.stiffness.label,
+        extra={"chunk": chunk, "n_chunks": spec.n_chunks},
+    )
+    io.write_netcdf(ds, path, attrs, checksum=True)
