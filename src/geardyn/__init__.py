@@ -19,3 +19,9 @@ from geardyn import libm as _libm  # noqa: E402  (after the setting above: it lo
 
 assert _libm.BLAS_CORETYPE == BLAS_CORETYPE
 _os.environ.update(_libm.canonical_environ(_os.environ))
+
+# ds.geardyn and ds.cf on every xarray Dataset (geardyn.accessor); open_results and simulate loaded on first use.
+from geardyn import accessor as _accessor  # noqa: E402, F401
+from geardyn._lazy import lazy_attributes as _lazy_attributes  # noqa: E402
+
+__getattr__ = _lazy_attributes("geardyn", {"open_results": "io.tree", "simulate": "solve"})

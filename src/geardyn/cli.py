@@ -1,4 +1,4 @@
-"""Command line: ``geardyn check-design``, ``check-config``, ``new-design`` and ``verify-archive`` (each
+"""Command line: ``geardyn check-design``, ``check-config``, ``new-design``, ``verify-archive`` and ``show`` (each
 subcommand's help says what it does; exit codes: 0 good, 1 not feasible / archive damaged, 2 invalid input;
 README, A design of your own)."""
 
@@ -158,6 +158,25 @@ def verify_archive(path: str) -> int:
     return 0
 
 
+def show(path: str) -> int:
+    """Print what an output file is, its axes, its label shares or headline numbers and its provenance (under 20
+    lines, :meth:`geardyn.accessor.GeardynAccessor.describe`): exit 0; a file that is not a geardyn output or
+    cannot be read: one line, exit 1."""
+    import xarray as xr  # noqa: PLC0415 - --help loads no numba or scipy
+
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            if "geardyn_version" not in ds.attrs:
+                print(f"{path}: not a geardyn output (no geardyn_version attribute)", file=sys.stderr)
+                return 1
+            first, *rest = ds.geardyn.describe()
+            print("\n".join([f"{path}: {first}", *rest]))
+    except (OSError, ValueError, KeyError, RuntimeError) as err:
+        print(f"{path}: cannot be read: {' '.join(str(err).split())}", file=sys.stderr)
+        return 1
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     if argv is None:  # the command itself (not a call from Python): the C library's plain math, as in the jobs
         libm.restart_canonical()
@@ -179,9 +198,13 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--module", type=float, default=2.0, help="KHV: module in mm (default 2)")
     p = sub.add_parser("verify-archive", help="check a results archive: sha256 sums and that every cube opens")
     p.add_argument("path")
+    p = sub.add_parser("show", help="what an output file is: axes, label shares or headline numbers, provenance")
+    p.add_argument("path")
     args = parser.parse_args(argv)
     if args.command == "verify-archive":
         return verify_archive(args.path)
+    if args.command == "show":
+        return show(args.path)
     try:
         if args.command == "check-design":
             return check_design(args.path, args.json)
