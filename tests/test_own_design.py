@@ -82,10 +82,10 @@ def test_every_standard_study_is_built_under_the_designs_own_names(own):
         "sweeps/bifurcation_b.nc",
         "sweeps/bifurcation_e.nc",
         "points/points_x1.nc",
-        "maps/map_own_x1_b.nc",
+        "maps/map_own_w_e.nc",
         "tables/bifurcation_x1_bands.md",
         "figures/bifurcation_b.png",
-        "figures/map_own_x1_b.png",
+        "figures/map_own_w_e.png",
         "response/frequency_response.nc",
         "figures/frequency_response.png",
         "probabilities/regimes_w.nc",  # at the tolerance class new-design writes

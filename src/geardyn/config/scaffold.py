@@ -104,10 +104,13 @@ def render(raw: dict[str, Any], kind: str) -> str:
         "# so its results are compared with none. Check it with `geardyn check-design <this file>`.",
     ]
     if kind == "khv":
-        header.append(
+        header += [
             "# admissible: computed from the geometry (line 4, every cutter-independent constraint, "
-            "2 % inside its ends)."
-        )
+            "2 % inside its ends).",
+            "# Its default regime map (config.yaml, map_own_w_e) spans the mesh frequency w against the TE amplitude",
+            "# e at mid-segment: the plane of a gear engineer's operating chart, where a drive's regimes change (over",
+            "# (x1, b) at e = 5 a drive such as z1 = 40, z2 = 43, m = 2 is P1 throughout).",
+        ]
     lines: list[str] = []
     node = schema(KINDS[kind])
     _emit(raw, node, 0, lines, node.get("$defs", {}))

@@ -99,6 +99,21 @@ def _unique_codim2(points: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return out
 
 
+def say_on_face(ax: Axes, text: str) -> None:
+    """``text`` in the middle of ``ax``, boxed, above what is drawn (a figure that holds one regime says so)."""
+    ax.text(
+        0.5,
+        0.5,
+        text,
+        transform=ax.transAxes,
+        ha="center",
+        va="center",
+        fontsize=12,
+        zorder=10,
+        bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "0.3"},
+    )
+
+
 def draw_curves(ax: Axes, ds: xr.Dataset, legend: bool = True, lw: float = 1.4, loc: str = "upper right") -> None:
     """The curves on ``ax``: solid where they bound a stable orbit, dotted elsewhere, coloured by kind, with
     a legend of the kinds present (and their periods) at ``loc`` (an earlier legend of ``ax`` is kept)."""
@@ -130,6 +145,8 @@ def plot_curves(ds: xr.Dataset, title: str, background: tuple[np.ndarray, tuple]
         rgb, extent = background
         ax.imshow(0.35 * rgb + 0.65, origin="lower", aspect="auto", extent=extent, interpolation="nearest")
     draw_curves(ax, ds, legend=True)
+    if not any(True for _ in curves_of(ds)):  # an empty square: say why on its face
+        say_on_face(ax, "no regime boundary in this plane")
     kinds_legend = ax.get_legend()
     if "check_reason" in ds and ds.sizes.get("check", 0):
         code = _meanings(ds, "check_reason")

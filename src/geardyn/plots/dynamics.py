@@ -10,7 +10,7 @@ from matplotlib.lines import Line2D
 
 from geardyn.label import classify
 from geardyn.label.classify import LABELS
-from geardyn.plots.curves import draw_curves
+from geardyn.plots.curves import draw_curves, say_on_face
 from geardyn.plots.response import draw_map_layers
 from geardyn.runs.cube import labels_of_cube
 
@@ -164,6 +164,8 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=(), curves: xr.Datase
         for a in (ax, ax_impact) if layers else (ax,):
             draw_curves(a, curves, legend=a is ax, lw=1.1, loc="lower right")
             a.set(xlim=(x[0], x[-1]), ylim=(y[0], y[-1]))
+    if len(codes) == 1:  # one flat colour: say so on the figure's face
+        say_on_face(ax, f"{classify.short_name(codes[0])} everywhere in this plane")
     ax.set_title("motion label" + (" and regime boundaries" if curves is not None else ""), fontsize=9, loc="left")
     axl.set_title("largest exponent (Floquet or tangent)", fontsize=9, loc="left")
     fig.suptitle(title)
