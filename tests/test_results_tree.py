@@ -114,6 +114,8 @@ def test_plot_options_a_sub_range_a_line_and_a_panel(results):
             ds.geardyn.plot(line="base")
     with xr.open_dataset(results / "li2013/points/points_small.nc") as ds:
         assert len(ds.geardyn.plot(line="x1=0.5").axes) == 3  # one case: trajectory, Poincare map, spectrum
+        with pytest.raises(ValueError, match="has no axis"):
+            ds.geardyn.plot(range=(0.0, 1.0))
 
 
 def test_show_prints_every_kind_in_under_20_lines(results, capsys):
@@ -134,3 +136,34 @@ def test_show_of_a_foreign_or_damaged_file_is_one_line(results, tmp_path, capsys
         assert cli.main(["show", str(path)]) == 1
         captured = capsys.readouterr()
         assert captured.out == "" and len(captured.err.splitlines()) == 1 and why in captured.err
+
+
+@pytest.fixture(scope="module")
+def whole_pipeline(tmp_path_factory) -> Path:
+    """The whole pipeline's small build (tests/test_pipeline_outputs.py builds the same, once per session)."""
+    from test_pipeline_outputs import _small_pipeline  # noqa: PLC0415 - the other module's build, shared by name
+
+    return wf.shared(tmp_path_factory, "pipeline", _small_pipeline) / "results"
+
+
+def test_every_kind_of_the_whole_pipeline_opens_shows_and_draws(whole_pipeline, capsys):
+    """Every netCDF kind the pipeline writes (a plus design's too): in the tree, ``ds.cf`` finds its flag
+    variables, ``show`` prints it in under 20 lines, and ``plot()`` draws it or names the kinds it draws."""
+    from geardyn.accessor import FIGURES  # noqa: PLC0415 - the table of kinds under test
+
+    files = _files(whole_pipeline)
+    tree = geardyn.open_results(whole_pipeline)
+    assert sum(node.has_data for node in tree.subtree) == len(files) > 10
+    drawn = set()
+    for path in files:
+        with xr.open_dataset(path) as ds:
+            flagged = [n for n, v in ds.variables.items() if "flag_meanings" in v.attrs]
+            assert [n for n in flagged if ds[n].cf.is_flag_variable] == flagged == ds.geardyn.flag_variables
+            assert cli.main(["show", str(path)]) == 0 and len(capsys.readouterr().out.splitlines()) < 20
+            if ds.geardyn.kind in FIGURES:
+                assert isinstance(ds.geardyn.plot(), Figure), path
+                drawn.add(ds.geardyn.kind)
+            else:
+                with pytest.raises(ValueError, match="no figure of its own"):
+                    ds.geardyn.plot()
+    assert {"sweep", "points", "closed_graph", "stiffness_table", "probabilities", "te", "modal"} <= drawn

@@ -187,10 +187,10 @@ class GeardynAccessor:
             f"{self.kind} of design {prov['design'] or 'unknown'}: {_title(ds) or 'untitled'}",
             "axes: " + (", ".join(f"{d} ({n}: {_extent(ds, d)})" for d, n in ds.sizes.items()) or "none"),
         ]
-        for var in (v for v in ("label", "impact_class") if v in ds):
+        flags = set(self.flag_variables)
+        for var in (v for v in ("label", "impact_class") if v in flags):
             shares = self.shares(var, by=[]).iloc[0].sort_values(ascending=False)
             lines.append(f"{var} shares: " + ", ".join(f"{k} {v:.3f}" for k, v in shares.items()))
-        flags = set(self.flag_variables)
         numbers = [v for v in ds.data_vars if v not in flags and ds[v].dtype.kind in "fiu" and ds[v].size]
         numbers.sort(key=lambda v: v not in HEADLINES)
         room = max_lines - len(lines) - len(tail) - 1
@@ -219,6 +219,8 @@ class GeardynAccessor:
         panel of that index (0: the first; colour bars follow their panel)."""
         ds = self._ds
         if range is not None:
+            if not isinstance(range, Mapping) and not self._axes():
+                raise ValueError(f"range={range!r}: a {self.kind} file has no axis (give {{dimension: (lo, hi)}})")
             box = range if isinstance(range, Mapping) else {self._axes()[0]: range}
             ds = ds.sel({d: slice(*sorted(lim)) for d, lim in box.items()})
         if line is not None:
