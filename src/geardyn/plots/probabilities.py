@@ -68,12 +68,13 @@ def probabilities_figure(ds: xr.Dataset, title: str) -> Figure:
         ax.set(ylim=(0, 1), ylabel="probability")
         ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
     q = ds["dynamic_factor_quantile"].values
-    top = float(np.nanmax(np.where(np.isfinite(q), q, np.nan), initial=1.0))
+    top, inf = float(np.nanmax(np.where(np.isfinite(q), q, np.nan), initial=1.0)), bool(np.isinf(q).any())
     q = np.where(np.isinf(q), 1.15 * top, q)  # a quantile among the diverged samples (+inf): drawn at the top
+    band = "5-95 %" + (" (at the top: +inf, diverged)" if inf else "")
     if one:
-        axes[2].errorbar(x, q[1], [q[1] - q[0], q[2] - q[1]], fmt="o", capsize=8, label="median, 5-95 %")
+        axes[2].errorbar(x, q[1], [q[1] - q[0], q[2] - q[1]], fmt="o", capsize=8, label=f"median, {band}")
     else:
-        axes[2].fill_between(x, q[0], q[2], color="tab:blue", alpha=0.3, label="5-95 % (top edge: +inf, diverged)")
+        axes[2].fill_between(x, q[0], q[2], color="tab:blue", alpha=0.3, label=band)
         axes[2].plot(x, q[1], color="tab:blue", label="median")
     axes[2].set(ylabel="K_v (-)", xlabel=ds[dim].attrs.get("long_name", dim))
     axes[2].legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
