@@ -150,6 +150,10 @@ def test_sobol_probabilities_are_of_the_base_sample():
     ds = probability_stats.summarize(_cube(table, attrs), spec, table)
     base = ds.label.values[:: len(table.names) + 2]
     assert table.values.shape[0] == 16 * (2 + 2) and base.shape[0] == 16  # N (D + 2) lines, no second order
+    # Saltelli's layout per base point: A, AB_1 .. AB_D (A with column i from B), B; block 0 marks A
+    u = table.unit.reshape(16, 4, 2)
+    assert np.all(u[:, 1, 1] == u[:, 0, 1]) and np.all(u[:, 1, 0] == u[:, 3, 0]) and np.all(u[:, 2, 0] == u[:, 0, 0])
+    assert np.all(table.block.reshape(16, 4) == [0, -1, -1, -1])
     assert ds.family_probability.sel(family="P1").values == pytest.approx((base == 1).mean(axis=0))
     assert "total_index" in ds and "sensitivity_null" not in ds
 

@@ -79,7 +79,8 @@ def quantile_interval(x: np.ndarray, q: float, confidence: float = CONFIDENCE) -
     top = float(np.max(x[np.isfinite(x)], initial=0.0))
     big = np.where(np.isinf(x), 2.0 * abs(top) + 1.0, x)  # above every finite value: the order is the same
     ci = quantile_test(big, p=q).confidence_interval(confidence)
-    return tuple(math.inf if v > top else float(v) for v in (np.quantile(big, q), ci.low, ci.high))  # type: ignore[return-value]
+    value, low, high = (math.inf if v > top else float(v) for v in (np.quantile(big, q), ci.low, ci.high))
+    return value, low, high
 
 
 def indicator(ds: xr.Dataset, name: str) -> np.ndarray:
