@@ -63,8 +63,10 @@ def wilson(k: Any, n: Any, confidence: float = CONFIDENCE) -> tuple[np.ndarray, 
         ci = binomtest(int(k), int(n)).proportion_ci(confidence, method="wilson")
         return float(ci.low), float(ci.high)
 
-    lo, hi = np.vectorize(one, otypes=[float, float])(k, n)
-    return lo, hi
+    pairs, at = np.unique(np.stack(np.broadcast_arrays(k, n)).reshape(2, -1), axis=1, return_inverse=True)
+    lo, hi = np.vectorize(one, otypes=[float, float])(*pairs)  # one call per distinct (k, n)
+    shape = np.broadcast_shapes(np.shape(k), np.shape(n))
+    return lo[at.ravel()].reshape(shape), hi[at.ravel()].reshape(shape)
 
 
 def quantile_interval(x: np.ndarray, q: float, confidence: float = CONFIDENCE) -> tuple[float, float, float]:
