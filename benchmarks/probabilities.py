@@ -50,7 +50,8 @@ def probabilities_benchmark(
         f"Load average {os.getloadavg()[0]:.1f} at the end; both labelled in one call on every core.\n\n"
         "| what | points | wall (s) | CPU (s) | wall / map's |\n|---|---:|---:|---:|---:|\n"
         f"| map {map_name} | {n_map} | {t_map:.1f} | {c_map:.0f} | 1 |\n"
-        f"| {study}: {pspec.samples} samples x {raw['axis']['num']} points | {n} | {t_run:.1f} | {c_run:.0f} | "
+        f"| {study}: ({pspec.samples} samples + {pspec.index_samples} index lines) x {raw['axis']['num']} points | {n} "
+        f"| {t_run:.1f} | {c_run:.0f} | "
         f"{t_run / t_map:.2f} |\n"
         f"| its summary (probabilities, quantiles, {pspec.method} indices) | | {t_sum:.1f} | | {t_sum / t_map:.2f} |\n"
     )

@@ -111,6 +111,7 @@ def small_config() -> dict[str, Any]:
             "fixed": {"b": 2.0, "e": 5.0},
             "inputs": {"zeta": {"low": 0.08, "high": 0.12}},
             "samples": 8,
+            "sensitivity": {"samples": 8},  # the indices' Latin hypercube: 8 lines, not the default 128
             "claims": "fig07",
             "integration": dict(FAST),
         }

@@ -41,6 +41,7 @@ def _own_config(shipped):
     cfg["probabilities"] = {n: dict(s) for n, s in shipped["probabilities"].items() if s.get("designs") == "own"}
     for spec in cfg["probabilities"].values():
         spec.update(samples=8, integration=dict(wf.FAST), classifier={"error_floor": 3e-4, "tangent_periods": 30})
+        spec["sensitivity"] = {**spec.get("sensitivity", {}), "samples": 8}  # 8 index lines, not 128
         spec["axis"] = {**spec["axis"], "num": 4}
         spec.pop("preset", None)
     cfg["calibration"], cfg["claims"], cfg["benchmarks"] = {}, {"designs": []}, {"work_precision": False}

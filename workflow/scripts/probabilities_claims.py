@@ -15,7 +15,8 @@ role = snakemake.params.spec["claims"]
 rows = probability_stats.claim_probabilities(paper, ds, role)
 note = (
     f"Design `{drive.name}`: the claims of {paper.SHORT} decided along {paper.CLAIM_LINES[role].get('text', role)}, "
-    f"each checked (geardyn.claims, as in claims.md) on every one of the {ds.sizes['sample']} samples of study "
+    f"each checked (geardyn.claims, as in claims.md) on every one of the {int((ds['sample_block'] >= 0).sum())} "
+    "samples of the probabilities of study "
     f"`{snakemake.wildcards.prob}`: {ds.attrs['inputs']}. Sampling: {ds.attrs['sampling']}. P(holds): the share of "
     "the samples on which the claim agrees, with its 95 % Wilson interval."
 )

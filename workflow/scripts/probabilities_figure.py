@@ -12,4 +12,4 @@ name = snakemake.wildcards.prob
 title = snakemake.params.spec.get("title") or name
 save_figure(plots.probabilities_figure(ds, title), snakemake.output.figure, plots.caption(name, ds))
 io.write_text(probability_stats.table_markdown(ds, f"{title} ({snakemake.wildcards.design})"), snakemake.output.table)
-log.info("%s: figure and table of %d samples", name, ds.sizes["sample"])
+log.info("%s: figure and table of %d samples", name, int((ds["sample_block"] >= 0).sum()))

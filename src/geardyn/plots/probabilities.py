@@ -1,5 +1,6 @@
 """The figure of a probabilities study (``docs/probabilities.md``): stacked probability bands of the motion families and
-of the impact classes against the operating axis, the K_v quantile band, the leading inputs named; and its caption."""
+of the impact classes against the operating axis, the K_v quantile band, the leading inputs named (or "none"), the
+convergence of the headline probabilities over nested prefixes; and its caption."""
 
 from __future__ import annotations
 
@@ -8,9 +9,11 @@ import matplotlib
 matplotlib.use("Agg")
 import numpy as np
 import xarray as xr
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from geardyn.plots.response import IMPACT_COLOURS, IMPACT_LABELS
+from geardyn.runs.probability_stats import lead_text
 
 FAMILY_COLOURS = {
     "P1": "#4c9bd6",
@@ -18,30 +21,42 @@ FAMILY_COLOURS = {
     "long_period": "#2f7d32",
     "quasi_periodic": "#f2c14e",
     "chaotic": "#d1495b",
+    "not_periodic": "#e07b39",
     "undetermined": "#9e9e9e",
     "diverged": "#333333",
 }
 
 
 def _lead(ds: xr.Dataset, among: np.ndarray) -> str:
-    """The leading input of the first of the study's indicators that is among ``among`` (families, impacts)."""
+    """The leading input of the first of the study's indicators that is among ``among`` (families, impacts):
+    "none" where no input clears its null."""
     names = {str(a) for a in among}
     name = next((str(i) for i in ds["indicator"].values if str(i) in names), None)
-    lead = ds.attrs.get(f"leading_input_{name}", "none")
-    return f"; leading input of P({name}) ({ds.attrs['sensitivity_method']}): {lead}" if lead != "none" else ""
+    if name is None:
+        return ""
+    return f"; leading input of P({name}) ({ds.attrs['sensitivity_method']}): {ds.attrs[f'leading_input_{name}']}"
 
 
 def probabilities_figure(ds: xr.Dataset, title: str) -> Figure:
-    """Stacked probabilities of the motion families (top) and impact classes (middle) and the 5-95 % band and
-    median of K_v (bottom) against the axis (bars for a study of one point)."""
-    fig = Figure(figsize=(9.0, 8.0), constrained_layout=True)
-    axes = fig.subplots(3, 1, sharex=True)
+    """Stacked probabilities of the motion families (top) and impact classes (second) and the 5-95 % band and
+    median of K_v (third) against the axis (bars for a study of one point); the convergence of the headline
+    probabilities (along the axis) over nested prefixes of the scramblings, +- 2 QMC standard errors (bottom)."""
+    fig = Figure(figsize=(9.0, 10.5), constrained_layout=True)
+    axes = fig.subplots(4, 1, height_ratios=(1, 1, 1, 0.8))
+    for ax in axes[1:3]:
+        ax.sharex(axes[0])
     dim = ds.attrs["axis_parameter"]
     x = ds[dim].values.astype(float)
     one = x.size == 1
     for ax, what, names, colours, labels in (
         (axes[0], "family", ds.family.values, FAMILY_COLOURS, {}),
-        (axes[1], "impact", ds.impact.values, {**IMPACT_COLOURS, "no_impact": "#d9ecf7"}, IMPACT_LABELS),
+        (
+            axes[1],
+            "impact",
+            ds.impact.values,
+            {**IMPACT_COLOURS, "no_impact": "#d9ecf7", "diverged": FAMILY_COLOURS["diverged"]},
+            IMPACT_LABELS,
+        ),
     ):
         p = ds[f"{what}_probability"].values
         kw = [{"color": colours[str(n)], "label": labels.get(str(n), str(n))} for n in names]
@@ -53,14 +68,18 @@ def probabilities_figure(ds: xr.Dataset, title: str) -> Figure:
         ax.set(ylim=(0, 1), ylabel="probability")
         ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
     q = ds["dynamic_factor_quantile"].values
+    top, inf = float(np.nanmax(np.where(np.isfinite(q), q, np.nan), initial=1.0)), bool(np.isinf(q).any())
+    q = np.where(np.isinf(q), 1.15 * top, q)  # a quantile among the diverged samples (+inf): drawn at the top
+    band = "5-95 %" + (" (at the top: +inf, diverged)" if inf else "")
     if one:
-        axes[2].errorbar(x, q[1], [q[1] - q[0], q[2] - q[1]], fmt="o", capsize=8, label="median, 5-95 %")
+        axes[2].errorbar(x, q[1], [q[1] - q[0], q[2] - q[1]], fmt="o", capsize=8, label=f"median, {band}")
     else:
-        axes[2].fill_between(x, q[0], q[2], color="tab:blue", alpha=0.3, label="5-95 %")
+        axes[2].fill_between(x, q[0], q[2], color="tab:blue", alpha=0.3, label=band)
         axes[2].plot(x, q[1], color="tab:blue", label="median")
     axes[2].set(ylabel="K_v (-)", xlabel=ds[dim].attrs.get("long_name", dim))
     axes[2].legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
-    n = ds.sizes["sample"]
+    _convergence(axes[3], ds)
+    n = int((ds["sample_block"].values >= 0).sum())
     axes[0].set_title(f"{title}\nmotion families, {n} samples{_lead(ds, ds.family.values)}", fontsize=9, loc="left")
     axes[1].set_title(f"impact classes{_lead(ds, ds.impact.values)}", fontsize=9, loc="left")
     kv = ds.attrs.get("leading_input_dynamic_factor", "none")
@@ -68,6 +87,22 @@ def probabilities_figure(ds: xr.Dataset, title: str) -> Figure:
         f"dynamic factor K_v; leading input ({ds.attrs['sensitivity_method']}): {kv}", fontsize=9, loc="left"
     )
     return fig
+
+
+def _convergence(ax: Axes, ds: xr.Dataset) -> None:
+    """Each headline probability (its mean along the axis) against the prefix n, +- 2 QMC standard errors."""
+    n = ds["prefix"].values
+    for name in ds["headline"].values:
+        p, se = (ds[v].sel(headline=name).values for v in ("convergence_probability", "convergence_probability_qmc_se"))
+        line = ax.plot(n, p, marker="o", ms=3, label=f"P({name})")[0]
+        ax.fill_between(n, p - 2 * se, p + 2 * se, color=line.get_color(), alpha=0.25, lw=0)
+    ax.set(xlabel="samples n (nested prefixes of the scramblings)", ylabel="probability (axis mean)")
+    ax.set_xscale("log", base=2)
+    ax.set_xticks(n, [str(int(v)) for v in n])
+    ax.tick_params(which="minor", labelbottom=False)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
+    r = int(ds["sample_block"].values.max()) + 1
+    ax.set_title(f"convergence: +- 2 QMC standard errors over {r} independent scrambling(s)", fontsize=9, loc="left")
 
 
 def caption(name: str, ds: xr.Dataset) -> str:
@@ -80,13 +115,16 @@ def caption(name: str, ds: xr.Dataset) -> str:
     for fam in ("chaotic", "quasi_periodic", "Pn"):
         j = int(np.argmax(p.sel(family=fam).values))
         most.append(f"P({fam}) at most {float(p.sel(family=fam).values[j]):.2f} (at {dim} = {float(x[j]):.4g})")
-    lead = ", ".join(f"{k.removeprefix('leading_input_')}: {v}" for k, v in ds.attrs.items() if k.startswith("leading"))
+    n, r = int((ds["sample_block"].values >= 0).sum()), int(ds["sample_block"].values.max()) + 1
     return (
-        f"{name}: probability of each motion family and impact class (95 % Wilson intervals in the table and the "
-        f"file) and the 5/50/95 % quantiles of the dynamic factor K_v against {dim}, over {ds.sizes['sample']} "
-        f"samples of the uncertain inputs: {ds.attrs['inputs']}. Sampling: {ds.attrs['sampling']}. Start: "
+        f"{name}: probability of each motion family and impact class (95 % Wilson intervals and the quasi-Monte "
+        f"Carlo standard error across {r} independent scramblings in the table and the file) and the 5/50/95 % "
+        f"quantiles of the dynamic factor K_v (a diverged sample: +inf) against {dim}, over {n} samples of the "
+        f"uncertain inputs: {ds.attrs['inputs']}. Sampling: {ds.attrs['sampling']}. Start: "
         f"{ds.attrs['initial_state']}; each sample is a line along {dim} on which every point starts from its "
         f"neighbour's attractor (geardyn.label), {ds.attrs['steps_per_period']} steps per period. Fixed overrides: "
-        f"{ds.attrs['fixed_overrides']}. {'; '.join(most)}. Leading input per indicator "
-        f"({ds.attrs['sensitivity_method']}, largest mean index along the axis): {lead}."
+        f"{ds.attrs['fixed_overrides']}. {'; '.join(most)}. Bottom: the headline probabilities (mean along {dim}) "
+        f"on nested prefixes of the scramblings. Leading input per indicator ({ds.attrs['sensitivity_method']}, "
+        "mean index along the axis, +- its half-width, beside its null, the 95th percentile of the index on the "
+        f"output permuted; none: no input clears its null by its interval): {lead_text(ds)}."
     )

@@ -42,15 +42,18 @@ class Input:
     source: str = ""
 
     def values(self, u: np.ndarray) -> np.ndarray:
-        """The input's values at the unit-cube coordinates ``u``: its inverse distribution function."""
-        if self.std > 0.0:
-            from scipy.stats import truncnorm  # noqa: PLC0415 - scipy.stats: only the jobs that sample
+        """The input's values at the unit-cube coordinates ``u``: the inverse distribution function of its frozen
+        ``scipy.stats`` distribution (``truncnorm``, ``loguniform`` or ``uniform``)."""
+        from scipy import stats  # noqa: PLC0415 - scipy.stats: only the jobs that sample
 
+        if self.std > 0.0:
             a, b = (self.low - self.mean) / self.std, (self.high - self.mean) / self.std
-            return np.asarray(truncnorm.ppf(u, a, b, loc=self.mean, scale=self.std), dtype=float)
-        if self.log:
-            return np.exp(math.log(self.low) + u * (math.log(self.high) - math.log(self.low)))
-        return self.low + u * (self.high - self.low)
+            dist = stats.truncnorm(a, b, loc=self.mean, scale=self.std)
+        elif self.log:
+            dist = stats.loguniform(self.low, self.high)
+        else:
+            dist = stats.uniform(self.low, self.high - self.low)
+        return np.asarray(dist.ppf(u), dtype=float)
 
     @property
     def text(self) -> str:
@@ -108,6 +111,7 @@ class ProbabilitySpec(study.StudySpec):
     box: tuple[float, float] | None = None
     samples: int = 256
     seed: int = 0
+    scramblings: int = 4
     sensitivity: tuple[tuple[str, Any], ...] = ()
     claims: str = ""
 
@@ -127,6 +131,11 @@ class ProbabilitySpec(study.StudySpec):
     def method(self) -> str:
         """The sensitivity method: rbd_fast or pawn (given data, on the samples) or sobol (Saltelli's design)."""
         return str(dict(self.sensitivity).get("method", "rbd_fast"))
+
+    @property
+    def index_samples(self) -> int:
+        """The points of the given-data indices' Latin hypercube (``sensitivity.samples``; none under ``sobol``)."""
+        return 0 if self.method == "sobol" else int(dict(self.sensitivity).get("samples", 128))
 
     @property
     def dim(self) -> str:
@@ -150,38 +159,71 @@ class ProbabilitySpec(study.StudySpec):
 
 class Samples(NamedTuple):
     """A study's samples: the inputs (the initial state's components last), their unit-cube coordinates and
-    their values (n, D), the initial state's as offsets from the static deflection; the inputs themselves."""
+    their values (n, D), the initial state's as offsets from the static deflection; the inputs themselves; each
+    sample's block (n): the scrambling it belongs to (0 .. R - 1: the samples of the probabilities) or -1 (the
+    design of the sensitivity indices only)."""
 
     names: tuple[str, ...]
     unit: np.ndarray
     values: np.ndarray
     inputs: tuple[Input, ...]
+    block: np.ndarray
 
 
-def unit_cube(dim: int, n: int, seed: int, saltelli: bool = False) -> np.ndarray:
-    """The first n points of the scrambled Sobol' sequence in [0, 1)^dim (``scipy.stats.qmc``, seeded) or, with
-    ``saltelli``, Saltelli's design of n base points for first-order, total and second-order Sobol' indices,
-    n (2 dim + 2) rows (``SALib.sample.sobol``, seeded; n a power of 2)."""
-    if saltelli:
-        from SALib.sample import sobol  # noqa: PLC0415 - SALib: only the jobs that sample for Sobol' indices
-
-        problem = {"num_vars": dim, "names": [f"u{k}" for k in range(dim)], "bounds": [[0.0, 1.0]] * dim}
-        return np.asarray(sobol.sample(problem, n, calc_second_order=True, seed=seed))
+def unit_cube(dim: int, n: int, seed: int, scramblings: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """n points in [0, 1)^dim and the scrambling of each: ``scramblings`` R independent scramblings of the Sobol'
+    sequence (``scipy.stats.qmc.Sobol``, seeded by the first R children of ``numpy.random.SeedSequence(seed)``),
+    the n points split across them (np.array_split: the first n mod R blocks one point more), each block the
+    first points of its own sequence (n / R a power of 2 keeps every block a (t, m, d)-net)."""
     from scipy.stats import qmc  # noqa: PLC0415
 
-    return qmc.Sobol(dim, scramble=True, seed=seed).random_base2(max(0, math.ceil(math.log2(n))))[:n]
+    sizes = [len(s) for s in np.array_split(np.arange(n), max(1, min(scramblings, n)))]
+    seeds = np.random.SeedSequence(seed).spawn(len(sizes))
+    blocks = [
+        qmc.Sobol(dim, scramble=True, seed=np.random.default_rng(s)).random_base2(max(0, math.ceil(math.log2(m))))[:m]
+        for s, m in zip(seeds, sizes, strict=True)
+    ]
+    return np.concatenate(blocks), np.repeat(np.arange(len(sizes)), sizes)
+
+
+def index_design(dim: int, n: int, seed: int) -> np.ndarray:
+    """The design of the given-data sensitivity indices: a Latin hypercube of n points in [0, 1)^dim
+    (``scipy.stats.qmc.LatinHypercube``), independent of the probabilities' scramblings: seeded by the child
+    2^16 of ``SeedSequence(seed)``, theirs being the children 0 .. R - 1."""
+    from scipy.stats import qmc  # noqa: PLC0415
+
+    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**16,)))
+    return qmc.LatinHypercube(dim, seed=rng).random(n)
+
+
+def saltelli(dim: int, n: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """Saltelli's design for first-order and total Sobol' indices (no second order): n base points, n (dim + 2)
+    rows (``SALib.sample.sobol``, seeded; n a power of 2), and each row's block: 0 for the base sample A (every
+    (dim + 2)-th row, the probabilities' sample), -1 for the others."""
+    from SALib.sample import sobol  # noqa: PLC0415 - SALib: only the jobs that sample for Sobol' indices
+
+    problem = {"num_vars": dim, "names": [f"u{k}" for k in range(dim)], "bounds": [[0.0, 1.0]] * dim}
+    unit = np.asarray(sobol.sample(problem, n, calc_second_order=False, seed=seed))
+    return unit, np.where(np.arange(unit.shape[0]) % (dim + 2) == 0, 0, -1)
 
 
 def samples(design: KHVDesign, spec: ProbabilitySpec) -> Samples:
-    """Every sample of a study (each chunk draws them all: the same on every machine, whatever the chunking)."""
+    """Every sample of a study (each chunk draws them all: the same on every machine, whatever the chunking):
+    under ``sobol`` Saltelli's design; otherwise the probabilities' R scramblings of ``samples`` Sobol' points,
+    then the ``sensitivity.samples`` points of the indices' Latin hypercube."""
     inputs = spec.uncertain(design)
     names = (*(i.name for i in inputs), *(START_INPUTS if spec.box else ()))
-    unit = unit_cube(len(names), spec.samples, spec.seed, spec.method == "sobol")
+    if spec.method == "sobol":
+        unit, block = saltelli(len(names), spec.samples, spec.seed)
+    else:
+        unit, block = unit_cube(len(names), spec.samples, spec.seed, spec.scramblings)
+        extra = index_design(len(names), spec.index_samples, spec.seed)
+        unit, block = np.concatenate([unit, extra]), np.concatenate([block, np.full(len(extra), -1)])
     cols = [inp.values(unit[:, k]) for k, inp in enumerate(inputs)]
     if spec.box:
         half = np.repeat(np.asarray(spec.box, dtype=float), 3)
         cols += list(((2.0 * unit[:, len(inputs) :] - 1.0) * half).T)
-    return Samples(names, unit, np.column_stack(cols), tuple(inputs))
+    return Samples(names, unit, np.column_stack(cols), tuple(inputs), block)
 
 
 def layout(design: KHVDesign, spec: ProbabilitySpec, chunk: int, table: Samples) -> study.Layout:
@@ -219,9 +261,17 @@ def coordinates(spec: ProbabilitySpec, n: int) -> dict[str, Any]:
 def attributes(spec: ProbabilitySpec, table: Samples, policy: Policy) -> dict[str, Any]:
     """What a study's files record of it: its inputs, sampling, initial state and labelling."""
     if spec.method == "sobol":
-        sampling = f"Saltelli's design for Sobol' indices (SALib.sample.sobol, {spec.samples} base points"
+        rows = spec.samples * (len(table.names) + 2)
+        sampling = (
+            f"Saltelli's design for first-order and total Sobol' indices (SALib.sample.sobol, {spec.samples} base "
+            f"points, {rows} lines; the probabilities from the base sample only, n = {spec.samples})"
+        )
     else:
-        sampling = f"the first {spec.samples} points of the scrambled Sobol' sequence (scipy.stats.qmc"
+        r = int(table.block.max()) + 1
+        sampling = (
+            f"{spec.samples} points of the scrambled Sobol' sequence in {r} independent scramblings (scipy.stats.qmc, "
+            f"the probabilities), and a Latin hypercube of {spec.index_samples} more lines (the sensitivity indices)"
+        )
     start = "the static deflection at each sample's first point"
     if spec.box:
         start = f"uniform in {start} +- {spec.box[0]:g} (displacements), +- {spec.box[1]:g} (velocities), units b_c"
@@ -230,7 +280,7 @@ def attributes(spec: ProbabilitySpec, table: Samples, policy: Policy) -> dict[st
         "design": spec.design,
         "axis_parameter": spec.dim,
         "inputs": "; ".join(i.text for i in table.inputs),
-        "sampling": f"{sampling}, seed {spec.seed})",
+        "sampling": f"{sampling}; seed {spec.seed}",
         "initial_state": start,
         "fixed_overrides": spec.fixed_overrides,
         **study.study_attrs(policy),
