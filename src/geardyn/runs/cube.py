@@ -63,6 +63,13 @@ VERDICT = _table(
         0,
     ),
     _num("multiplier", "largest Floquet multiplier modulus of the orbit over its least period"),
+    _num(
+        "period_searched",
+        "quasi-periodic: the longest period in mesh periods the long-cycle search excluded (a torus or a cycle "
+        "longer than this); 0 otherwise",
+        0,
+        np.int16,
+    ),
     _num("zero_one_k", "0-1 test statistic K on stroboscopic X_VH (Gottwald-Melbourne; NaN if periodic)"),
     _num("spectral_flatness", "spectral flatness of stroboscopic X_VH (0 lines, ~0.56 white; NaN if periodic)"),
     _num(

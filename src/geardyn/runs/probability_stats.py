@@ -26,7 +26,7 @@ FAMILIES: dict[str, Callable[[np.ndarray], np.ndarray]] = {
     "long_period": lambda lab: lab == LABELS["long_period"],
     "quasi_periodic": lambda lab: lab == LABELS["quasi_periodic"],
     "chaotic": lambda lab: lab == LABELS["chaotic"],
-    "undetermined": lambda lab: (lab == LABELS["undetermined"]) | (lab == LABELS["not_periodic"]),
+    "undetermined": lambda lab: np.isin(lab, [LABELS[k] for k in ("undetermined", "not_periodic", "transient")]),
     "diverged": lambda lab: lab == LABELS["diverged"],
 }
 #: The response measures whose quantiles a study gives, and the quantiles.

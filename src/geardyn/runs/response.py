@@ -200,7 +200,7 @@ def frequency_response(
     dims, n = ("direction", "w"), w.size
     up = [base.replace(omega=float(v)) for v in w]
     lines = [[((0, j), s) for j, s in enumerate(up)], [((1, j), up[j]) for j in reversed(range(n))]]
-    data, verdicts, _ = study.run(study.Layout(dims, (2, n), lines), policy, "frequency response")
+    data, verdicts, _, damping = study.run(study.Layout(dims, (2, n), lines), policy, "frequency response")
     ordered = [verdicts[0], verdicts[1][::-1]]  # both sweeps in ascending w
     final = np.array([[v.final_state for v in vs] for vs in ordered], dtype=float)
     data["dte_rms"][2]["ancillary_variables"] = "dte_rms_error"
@@ -222,6 +222,7 @@ def frequency_response(
         "jumps_up": ",".join(f"{v:.4g}" for v in jump_frequencies(w, jumps[0], "up")) or "none",
         "jumps_down": ",".join(f"{v:.4g}" for v in jump_frequencies(w, jumps[1], "down")) or "none",
         **study.study_attrs(policy),
+        **damping,
         **{f"coef_{k}": v for k, v in base.as_dict().items() if k in COEFFICIENT_ATTRS and k != "omega"},
     }
     return xr.Dataset(data, coords=coords, attrs=attrs)
