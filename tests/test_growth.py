@@ -19,7 +19,7 @@ from geardyn.label._nonperiodic import period_searched
 from geardyn.label.growth import growth_test
 from geardyn.label.policy import GrowthSettings
 from geardyn.plots import captions
-from geardyn.runs import probabilities, response, study
+from geardyn.runs import probabilities, response, study, sweep
 from geardyn.solve import SimulationSettings, simulate_batch
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -130,9 +130,8 @@ def test_quasi_periodic_response_points_stay_bounded_when_run_on(printed):
     assert not any(g for _, g in grown), [w for w, g in grown if g]
     searched = ds.period_searched.values[ds.label.values == QP]
     assert (searched > 0).all() and (ds.period_searched.values[ds.label.values != QP] == 0).all()
-    assert f"a torus or cycle longer than the long-cycle search's reach, N = {searched.min()}" in (
-        captions.frequency_response("r", ds)
-    )
+    reach = f"{searched.min()}" if searched.min() == searched.max() else f"{searched.min()}-{searched.max()}"
+    assert f"a torus or cycle longer than {reach} mesh periods" in captions.frequency_response("r", ds)
 
 
 def test_growing_response_points_are_transient_not_quasi_periodic(printed):
@@ -145,17 +144,23 @@ def test_growing_response_points_are_transient_not_quasi_periodic(printed):
 
 
 def test_a_system_without_damping_is_said_to_be_one_and_refused_by_probabilities():
-    """li2013_route at w = 2 with zeta = eta = 0: the file attribute and the caption line; a probabilities study
-    of it refuses in one line."""
+    """li2013_route at w = 2 with zeta = eta = 0 (x1 = 0.5, b = 2, e = 5): a frequency response about it (short
+    settings) has the file attribute and the caption line; a probabilities study of it refuses in one line."""
     d = design.load(ROOT / "config" / "designs" / "li2013_route.yaml")
     fixed = {"x1": 0.5, "b": 2.0, "e": 5.0, "w": 2.0, "zeta": 0.0, "eta": 0.0}
     system = point.point_coefficients(d, fixed)
     assert study.undamped(system)
     assert not study.undamped(point.point_coefficients(d, {**fixed, "zeta": 0.01}))
-    attrs = study.damping_attrs([system])
-    assert attrs["undamped"] == 1
-    ds = xr.Dataset({"label": ("x", np.array([classify.LABELS["chaotic"]]))}, attrs=attrs)
-    assert any(line.startswith("No damping: ") and "not the only motion" in line for line in captions.verdict_notes(ds))
+    settings = SimulationSettings(steps_per_period=64, transient_periods=50, recorded_periods=20)
+    cs = classify.ClassifierSettings(error_floor=3e-4, tangent_periods=200, torus_max_periods=400)
+    w, policy = np.array([1.98, 2.0, 2.02]), Policy(settings, cs)
+    ds = response.frequency_response(system, w, policy, 0.25, 0.05, 0)
+    assert ds.attrs["undamped"] == 1
+    caption = captions.frequency_response("undamped", ds)
+    assert "No damping: no damping in any mode (zeta = eta = 0)" in caption
+    assert "single orbit" in caption and "not the only motion" in caption
+    damped = response.frequency_response(point.point_coefficients(d, {**fixed, "zeta": 0.03}), w, policy, 0.25, 0.05, 0)
+    assert damped.attrs["undamped"] == 0 and "No damping" not in captions.frequency_response("damped", damped)
     entry = {
         "axis": {"parameter": "x1", "start": 0.5, "stop": 0.6, "num": 3},
         "fixed": {k: v for k, v in fixed.items() if k != "x1"},
@@ -167,3 +172,26 @@ def test_a_system_without_damping_is_said_to_be_one_and_refused_by_probabilities
     with pytest.raises(ValueError, match="c_m = c_DH = c_VL = 0") as err:
         probabilities.run_chunk(d, spec, 0)
     assert "\n" not in str(err.value)
+
+
+#: The final state stored for li2013_route's Fig. 9 sweep at index (1, 0, 431) (x1 = 0.761, b = 1.9002, e = 5),
+#: labelled quasi-periodic; from it the plain integrator ends on a stable P192 within 20 000 periods (return
+#: distance after 192 periods 8e-12 of the attractor's size over the last 720, docs/classify.md).
+FIG9_431 = [18.0910715, -6.8185857, 1469.57989, 0.0203575361, 3.54978765, 5.08389908]
+
+
+def test_a_torus_that_may_be_a_longer_cycle_says_so():
+    """That point relabelled from its stored state with the sweep's policy: quasi-periodic on its 400-period
+    record, whose long-cycle search reaches 133 < 192 periods; the file stores it and the caption says "torus or
+    cycle longer than 133"."""
+    cfg = validate.fill_config(validate.read_config_file(ROOT / "config" / "config.yaml"))
+    d = design.load(ROOT / "config" / "designs" / "li2013_route.yaml")
+    spec = sweep.SweepSpec.from_config("fig09_bifurcation_b", cfg["sweeps"]["fig09_bifurcation_b"], d.name, d.segment)
+    system = point.point_coefficients(d, sweep.point_overrides(spec, 1, spec.values[431]))
+    layout = study.Layout(("b",), (1,), [[((0,), system)]], starts=[np.array(FIG9_431)])
+    ds = xr.Dataset(study.run(layout, spec.policy(d)).data)
+    assert int(ds.label[0]) == QP
+    assert 0 < int(ds.period_searched[0]) < 192
+    assert f"a torus or cycle longer than {int(ds.period_searched[0])} mesh periods" in " ".join(
+        captions.verdict_notes(ds)
+    )

@@ -42,8 +42,8 @@ def verdict_notes(ds: xr.Dataset) -> list[str]:
         n = ds["period_searched"].values[qp]
         reach = f"{int(n.min())}" if n.min() == n.max() else f"{int(n.min())}-{int(n.max())}"
         lines.append(
-            f"Quasi-periodic ({int(qp.sum())} points): a torus or cycle longer than the long-cycle search's reach, "
-            f"N = {reach} mesh periods (period_searched of each point)."
+            f"Quasi-periodic ({int(qp.sum())} points): a torus or cycle longer than {reach} mesh periods (the "
+            "long-cycle search's reach on each point's record, period_searched)."
         )
     grow = int(np.sum(label == classify.LABELS["transient"]))
     if grow:
