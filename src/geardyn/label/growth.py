@@ -21,17 +21,20 @@ from geardyn.label.policy import GrowthSettings
 @dataclass(frozen=True)
 class Growth:
     """The growth test on one record: Kendall's tau of the block envelope against the block index, its one-sided
-    p-value, the envelope's rise over the record (Theil-Sen, exp(slope (blocks - 1)) - 1) and the verdict."""
+    p-value, the envelope's rise over the record (Theil-Sen, exp(slope (blocks - 1)) - 1), the verdict, and for the
+    reader the pace: the newer half's Theil-Sen slope over the older half's (about 1 for one exponential, near 0
+    where the growth levels off; not part of the verdict: a record that levels off may still leave later)."""
 
     tau: float
     p_value: float
     rise: float
     growing: bool
+    pace: float = math.nan
 
     def describe(self) -> str:
         """The statistic in words, for a verdict's reason."""
         rise = f"envelope rises {100 * self.rise:.0f} % over the record"
-        return f"{rise}, Kendall tau {self.tau:.2f}, p = {self.p_value:.1g}"
+        return f"{rise}, Kendall tau {self.tau:.2f}, p = {self.p_value:.1g}, newer half's pace {self.pace:.2f}"
 
 
 def envelope(poincare: np.ndarray, blocks: int) -> np.ndarray:
@@ -60,6 +63,10 @@ def growth_test(poincare: np.ndarray, settings: GrowthSettings | None = None) ->
     if np.ptp(env) == 0.0:  # a constant envelope (a fixed point, a cycle sampled alike in every block)
         return Growth(0.0, 1.0, 0.0, False)
     tau, p_value = stats.kendalltau(index, env, alternative="greater")
-    slope = stats.theilslopes(np.log(np.maximum(env, 1e-300)), index).slope
-    rise = math.expm1(float(slope) * (s.blocks - 1))
-    return Growth(float(tau), float(p_value), rise, bool(p_value < s.alpha and rise > s.min_rise))
+    log_env = np.log(np.maximum(env, 1e-300))
+    slope = float(stats.theilslopes(log_env, index).slope)
+    rise = math.expm1(slope * (s.blocks - 1))
+    half = s.blocks // 2
+    older, newer = (float(stats.theilslopes(log_env[k], index[k]).slope) for k in (slice(0, half), slice(half, None)))
+    pace = newer / older if older > 0.0 else math.inf
+    return Growth(float(tau), float(p_value), rise, bool(p_value < s.alpha and rise > s.min_rise), pace)
