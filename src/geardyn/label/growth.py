@@ -5,8 +5,9 @@ The amplitude of a point is its distance (max norm) from the record's median poi
 (the largest standard deviation of a component). The record is cut into ``blocks`` blocks of whole periods and
 each block's largest amplitude is its envelope. The record grows when the envelope rises by the Mann-Kendall test
 (Kendall's tau of the envelope against the block index, one-sided p below ``alpha``) and the Theil-Sen slope of
-the log-envelope rises by more than ``min_rise`` over the record: a bounded record's envelope only fluctuates,
-a spiral off an unstable orbit or toward divergence rises block after block."""
+the log-envelope rises by more than ``min_rise`` over the record, and its newest half grows so too at the same rate: a
+bounded record's envelope only fluctuates, a record approaching its bound levels off in its newest half, a spiral off
+an unstable orbit or toward divergence rises block after block to its end."""
 
 from __future__ import annotations
 
@@ -21,20 +22,19 @@ from geardyn.label.policy import GrowthSettings
 @dataclass(frozen=True)
 class Growth:
     """The growth test on one record: Kendall's tau of the block envelope against the block index, its one-sided
-    p-value, the envelope's rise over the record (Theil-Sen, exp(slope (blocks - 1)) - 1), the verdict, and for the
-    reader the pace: the newer half's Theil-Sen slope over the older half's (about 1 for one exponential, near 0
-    where the growth levels off; not part of the verdict: a record that levels off may still leave later)."""
+    p-value, the envelope's rise over the record (Theil-Sen, exp(slope (blocks - 1)) - 1), the same rise over the
+    record's newest half, and the verdict."""
 
     tau: float
     p_value: float
     rise: float
     growing: bool
-    pace: float = math.nan
+    newest_rise: float = math.nan
 
     def describe(self) -> str:
         """The statistic in words, for a verdict's reason."""
-        rise = f"envelope rises {100 * self.rise:.0f} % over the record"
-        return f"{rise}, Kendall tau {self.tau:.2f}, p = {self.p_value:.1g}, newer half's pace {self.pace:.2f}"
+        rise = f"envelope rises {100 * self.rise:.0f} % over the record ({100 * self.newest_rise:.0f} % over its newest"
+        return f"{rise} half), Kendall tau {self.tau:.2f}, p = {self.p_value:.1g}"
 
 
 def envelope(poincare: np.ndarray, blocks: int) -> np.ndarray:
@@ -48,25 +48,35 @@ def envelope(poincare: np.ndarray, blocks: int) -> np.ndarray:
     return amp[amp.shape[0] - blocks * length :].reshape(blocks, length).max(axis=1)
 
 
-def growth_test(poincare: np.ndarray, settings: GrowthSettings | None = None) -> Growth:
-    """Whether the record ``poincare`` (n_periods, n_states) grows (module docstring; ``settings``: the default
-    :class:`GrowthSettings` unless given); a record shorter than ``blocks`` x ``min_block`` periods, or the test
-    off, does not."""
+def _trend(poincare: np.ndarray, s: GrowthSettings) -> tuple[float, float, float]:
+    """Kendall's tau and one-sided p of the record's block envelope against the block index, and its Theil-Sen
+    rise over the record ((0, 1, 0) for a constant envelope)."""
     from scipy import stats  # noqa: PLC0415 - 0.3 s to import: only the labelling jobs
 
-    s = GrowthSettings() if settings is None else settings
-    n = int(np.sum(np.all(np.isfinite(poincare), axis=1)))
-    if s.blocks == 0 or n < s.blocks * s.min_block:
-        return Growth(math.nan, 1.0, 0.0, False)
     env = envelope(poincare, s.blocks)
-    index = np.arange(s.blocks, dtype=float)
     if np.ptp(env) == 0.0:  # a constant envelope (a fixed point, a cycle sampled alike in every block)
-        return Growth(0.0, 1.0, 0.0, False)
+        return 0.0, 1.0, 0.0
+    index = np.arange(s.blocks, dtype=float)
     tau, p_value = stats.kendalltau(index, env, alternative="greater")
-    log_env = np.log(np.maximum(env, 1e-300))
-    slope = float(stats.theilslopes(log_env, index).slope)
-    rise = math.expm1(slope * (s.blocks - 1))
-    half = s.blocks // 2
-    older, newer = (float(stats.theilslopes(log_env[k], index[k]).slope) for k in (slice(0, half), slice(half, None)))
-    pace = newer / older if older > 0.0 else math.inf
-    return Growth(float(tau), float(p_value), rise, bool(p_value < s.alpha and rise > s.min_rise), pace)
+    slope = float(stats.theilslopes(np.log(np.maximum(env, 1e-300)), index).slope)
+    return float(tau), float(p_value), math.expm1(slope * (s.blocks - 1))
+
+
+def growth_test(poincare: np.ndarray, settings: GrowthSettings | None = None) -> Growth:
+    """Whether the record ``poincare`` (n_periods, n_states) grows (module docstring; ``settings``: the default
+    :class:`GrowthSettings` unless given): the whole record, and its newest half at the same rate (a rise of
+    sqrt(1 + ``min_rise``) - 1) where that half holds ``blocks`` x ``min_block`` periods; a record shorter than
+    that, or the test off, does not grow."""
+    s = GrowthSettings() if settings is None else settings
+    p = np.asarray(poincare, dtype=float)
+    p = p[np.all(np.isfinite(p), axis=1)]
+    if s.blocks == 0 or p.shape[0] < s.blocks * s.min_block:
+        return Growth(math.nan, 1.0, 0.0, False)
+    tau, p_value, rise = _trend(p, s)
+    growing = p_value < s.alpha and rise > s.min_rise
+    half = p[p.shape[0] // 2 :]
+    newest = math.nan
+    if half.shape[0] >= s.blocks * s.min_block:
+        _, p_half, newest = _trend(half, s)
+        growing = growing and p_half < s.alpha and newest > math.sqrt(1.0 + s.min_rise) - 1.0
+    return Growth(tau, p_value, rise, bool(growing), newest)
