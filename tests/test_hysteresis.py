@@ -19,6 +19,7 @@ from geardyn.solve.response import response_measures
 
 ROOT = Path(__file__).resolve().parents[1]
 QP = classify.LABELS["quasi_periodic"]
+TRANSIENT = classify.LABELS["transient"]
 
 
 @pytest.fixture(scope="module")
@@ -64,37 +65,29 @@ def test_p1_up_and_torus_down_is_hysteresis_though_the_rms_differs_by_less_than_
         base.replace(omega=float(part.w[j])), part.final_state.values[1, j], policy.integration, 2000
     )
     assert abs(longer.dte_rms - down) < 3.0 * e_down and longer.dte_rms > up + 1.4
-    # the up sweep leaves the P1 orbit at the next frequency: a jump onto the torus
+    # the up sweep leaves the P1 orbit at the next frequency: a jump onto the torus (its record grows at first and
+    # runs on until its newest half levels off: docs/classify.md, "Growing records")
     assert part.jump.values[0, j + 1] == 1 and part.label.values[0, j + 1] == QP
     assert part.attrs["jumps_up"] == "1.434"
 
 
-@pytest.mark.parametrize(
-    ("w", "rms_up", "rms_down", "periods"),
-    # the RMS over the last 50 periods of each record (6.521 and 6.034 up over the 50 after it: 0.15 and 0.35
-    # of their standard errors away)
-    [(1.5118, 6.530, 5.392, 1000), (1.5186, 6.049, 5.359, 3000), (1.5254, 5.452, 5.329, 17000)],
-)
-def test_two_quasi_periodic_sweeps_below_the_neimark_sacker_point_are_one_torus(
-    part, study, w, rms_up, rms_down, periods
-):
-    """w = 1.512 ... 1.525: both sweeps quasi-periodic, their RMS DTE 2-17 % apart.  Not a torus measured too
-    briefly: the down records' standard errors are below 3e-4 and the up records' 0.014-0.06, so the RMS
-    values of the two records differ by more than 8 standard errors.  Not two tori either: the down sweep's
-    record is a slow spiral away from the P1 orbit, unstable since its Neimark-Sacker bifurcation near
-    w = 1.53 (at w = 1.5118 its Poincare points span 0.4 b_c in X_VL, the up torus's 80).  The labeller's comparison
-    separates the two records; integrated on, the down run reaches the up torus (after 1000, 3000 and
-    17000 periods): one attractor, no hysteresis."""
+@pytest.mark.parametrize(("w", "down", "periods"), [(1.5118, QP, 0), (1.5186, -1, 1000), (1.5254, TRANSIENT, 13000)])
+def test_a_growing_record_below_the_neimark_sacker_point_is_no_second_attractor(part, study, w, down, periods):
+    """w = 1.512 ... 1.525: the up sweep quasi-periodic; the down sweep's record a slow spiral away from the P1
+    orbit it followed, unstable since its Neimark-Sacker bifurcation near w = 1.53: the growth test finds it
+    growing and it runs on: at 1.5118 it reaches the up sweep's torus within its record (quasi-periodic, the same
+    attractor at once), at 1.5186 it levels off undecided, at 1.5254 it still grows at the record cap (transient;
+    docs/classify.md, "Growing records"); before the test all three were quasi-periodic on short records.  A record
+    that shows no attractor is integrated on with the other sweep's run and compared as its label: the down run
+    reaches the up torus (after 1000 and 13 000 periods; 3000 and 17 000 from the shorter records before the
+    test): one attractor, no hysteresis."""
     base, policy, _ = study
     j = _at(part, w)
-    assert part.label.values[:, j].tolist() == [QP, QP]
-    up, down = part.dte_rms.values[:, j]
-    assert up == pytest.approx(rms_up, abs=2e-3) and down == pytest.approx(rms_down, abs=2e-3)
-    e_up, e_down = part.dte_rms_error.values[:, j]
-    assert e_down < 3e-4 and 0.005 < e_up < 0.1
-    assert up - down > 8.0 * np.hypot(e_up, e_down)
+    assert part.label.values[:, j].tolist() == [QP, down]
     assert part.hysteresis.values[j] == 0
     assert part.hysteresis_continued_periods.values[j] == pytest.approx(periods, abs=1000)
+    up = part.dte_rms.values[0, j]
+    e_up = part.dte_rms_error.values[0, j]
     if periods <= 1000:  # the down run on the torus: its RMS after the transient is the up sweep's
         s = dataclasses.replace(policy.integration, transient_periods=2000, early_stop=False)
         y = simulate(base.replace(omega=float(part.w[j])), s, part.final_state.values[1, j]).final_state

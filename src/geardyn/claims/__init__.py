@@ -220,7 +220,7 @@ def _label_at(spec: Mapping[str, Any], t: Track, line: Mapping[str, Any]) -> Cla
     if t.lyapunov is not None and t.sigma is not None:
         extra = f", lambda = {float(t.lyapunov[j]):.2e} +- {float(t.sigma[j]):.1e}"
     ours = f"{_name(got)} at {t.values[j]:.4g}{extra}"
-    if got in (classify.LABELS["undetermined"], classify.LABELS["diverged"]):
+    if got in (classify.LABELS["undetermined"], classify.LABELS["diverged"], classify.LABELS["transient"]):
         return _claim(spec, ours, "not comparable", f"our point is {_name(got)}")
     verdict = "agree" if got in (want if isinstance(want, tuple) else (want,)) else "disagree"
     return _claim(spec, ours, verdict, f"label at the nearest sweep point ({t.values[j]:.4g})")

@@ -14,6 +14,7 @@ from geardyn.label._stages import (
     CHAOS,
     NAN,
     QP,
+    TRANSIENT,
     UNDET,
     Point,
     certify,
@@ -22,6 +23,7 @@ from geardyn.label._stages import (
     shoot,
     tables_of,
 )
+from geardyn.label.growth import growth_test
 from geardyn.label.policy import Policy
 from geardyn.label.torus import OrderTest, TorusTest, coordinates, order_test, torus_digits, torus_verdict
 from geardyn.label.verdict import Verdict
@@ -174,6 +176,19 @@ def finish(points: list[Point], policy: Policy) -> None:
             if p.verdict.label == QP:
                 n = p.run.poincare.shape[0]
                 p.verdict = dataclasses.replace(p.held, reason=f"{p.held.reason}; confirmed on {n} recorded periods")
+    for p in points:
+        if p.verdict.label == QP:
+            n = period_searched(p.run.poincare.shape[0], policy)
+            why = f"{p.verdict.reason}; a torus or a cycle longer than {n} periods (the long-cycle search's reach)"
+            p.verdict = dataclasses.replace(p.verdict, period_searched=n, reason=why)
+
+
+def period_searched(length: int, policy: Policy) -> int:
+    """The longest period the searches exclude on a record of ``length`` periods: rule 3 up to ``max_n`` on the
+    whole record, the long-cycle search up to ``long_max_n`` with ``cycle_repeats`` cycles in it
+    (:func:`_long_periods`)."""
+    cs = policy.classifier
+    return max(cs.max_n, min(cs.long_max_n, length // policy.cycle_repeats))
 
 
 def _doubt(points: list[Point], policy: Policy) -> None:
@@ -444,7 +459,28 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
             )
     why += f" ({r.poincare.shape[0]} recorded periods)"
     indicators = {"k01": k01, "flatness": flat, "torus_digits": digits, "crosscheck": cross}
-    return _record_verdict(p, policy, label, lam, sig, "tangent", stage, why, **indicators)
+    return _unless_growing(p, policy, _record_verdict(p, policy, label, lam, sig, "tangent", stage, why, **indicators))
+
+
+def _unless_growing(p: Point, policy: Policy, v: Verdict) -> Verdict:
+    """A torus or chaos verdict ``v`` unless the record grows (:func:`geardyn.label.growth.growth_test`): a
+    growing record runs on (undetermined) while it is shorter than the record cap, and is ``transient`` at the
+    cap.  The line goes on from ``v`` (``Point.handed``: the growth test corrects its own point only;
+    ``docs/classify.md``, "Growing records")."""
+    if v.label not in (QP, CHAOS):
+        return v
+    g = growth_test(p.run.poincare, policy.growth)
+    if not g.growing:
+        return v
+    p.handed = p.handed or v
+    cs = policy.classifier
+    was = f"{classify.label_name(v.label)} on its record: {v.reason}"
+    if cs.torus_extend > 0 and p.run.poincare.shape[0] < cs.torus_max_periods:
+        why = f"the record grows ({g.describe()}): it runs on before a verdict ({was})"
+        return dataclasses.replace(v, label=UNDET, stage="undecided", reason=why)
+    cap = p.run.poincare.shape[0]
+    why = f"the record still grows at the cap of {cap} periods ({g.describe()}): a transient ({was})"
+    return dataclasses.replace(v, label=TRANSIENT, stage="growing", reason=why)
 
 
 def _undecided(p: Point, why: str, policy: Policy) -> Verdict:

@@ -26,6 +26,7 @@ UNDET = classify.LABELS["undetermined"]
 QP = classify.LABELS["quasi_periodic"]
 CHAOS = classify.LABELS["chaotic"]
 DIVERGED = classify.LABELS["diverged"]
+TRANSIENT = classify.LABELS["transient"]
 NAN = float("nan")
 
 log = logging.getLogger("geardyn.label")

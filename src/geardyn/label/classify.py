@@ -13,7 +13,17 @@ from geardyn.config import settings_from
 
 #: Label codes stored in cubes (``flag_values``/``flag_meanings``); n >= 1 is period-n.
 #: ``not_periodic`` is what the Poincaré test alone says (QP or chaos, unresolved).
-LABELS = {"long_period": -5, "chaotic": -4, "quasi_periodic": -3, "diverged": -2, "undetermined": -1, "not_periodic": 0}
+#: ``transient``: a record that still grows at the policy's cap (``docs/classify.md``, "Growing records"): no
+#: attractor found, counted as undetermined where a family table needs one.
+LABELS = {
+    "transient": -6,
+    "long_period": -5,
+    "chaotic": -4,
+    "quasi_periodic": -3,
+    "diverged": -2,
+    "undetermined": -1,
+    "not_periodic": 0,
+}
 
 
 def falling_return_distances(poincare: np.ndarray, max_n: int, factor: float = 0.95) -> np.ndarray:
@@ -41,6 +51,7 @@ def bands(values: np.ndarray, labels: np.ndarray) -> list[tuple[float, float, in
 
 #: The long and the short name of each code that is not period-n (period n: ``P{n}``).
 NAMES = {
+    LABELS["transient"]: ("transient (the record still grows)", "grow"),
     LABELS["long_period"]: ("long period (a phase-locked torus)", "Plong"),
     LABELS["chaotic"]: ("chaotic", "chaos"),
     LABELS["quasi_periodic"]: ("quasi-periodic", "QP"),

@@ -90,6 +90,26 @@ class Same:
 
 
 @dataclass(frozen=True)
+class GrowthSettings:
+    """The growth test's numbers (:func:`geardyn.label.growth.growth_test`; measured false alarms and detections:
+    ``docs/classify.md``, "Growing records"): ``blocks`` blocks of at least ``min_block`` periods, one-sided level
+    ``alpha``, least rise ``min_rise`` of the envelope over the record; ``blocks`` = 0: off."""
+
+    blocks: int = 16
+    min_block: int = 8
+    alpha: float = 1e-3
+    min_rise: float = 0.05
+
+    def __post_init__(self) -> None:
+        if self.blocks < 0 or 0 < self.blocks < 4:
+            raise ValueError(f"growth blocks = {self.blocks}; allowed: 0 (off) or >= 4")
+        if not 0.0 < self.alpha < 1.0:
+            raise ValueError(f"growth alpha = {self.alpha}; allowed: 0 < alpha < 1")
+        if self.min_rise < 0.0:
+            raise ValueError(f"growth min_rise = {self.min_rise}; allowed: >= 0")
+
+
+@dataclass(frozen=True)
 class Policy:
     """How the points of a study are labelled: integration, classifier thresholds, start (``"follow"`` or
     ``"fixed"``), coexistence, and the numerics of the stages (``docs/classify.md``)."""
@@ -105,6 +125,7 @@ class Policy:
     settle: Settle = Settle()
     locked: Locked = Locked()
     same: Same = Same()
+    growth: GrowthSettings = GrowthSettings()
     extrapolate_min: int = 24
     torus_windows: int = 6
     cycle_repeats: int = 3

@@ -19,6 +19,7 @@ STAGES = {
     "torus": 5,  # weighted Birkhoff averages converge: a torus (quasi-periodic)
     "undecided": 6,  # the indicators disagree (the reason says how)
     "diverged": 7,  # unbounded growth
+    "growing": 8,  # the record's amplitude still grows at the record cap: a transient (geardyn.label.growth)
 }
 STAGE_NAMES = {v: k for k, v in STAGES.items()}
 
@@ -34,8 +35,9 @@ EXPONENT_METHODS = {"none": 0, "floquet": 1, "tangent": 2}
 @dataclass(frozen=True, eq=False)
 class Verdict:
     """One point's label and how it was obtained: label and period, exponent and method, multiplier, stage,
-    bifurcation, reason, indicators, the attractor's points and final state, and the response measures on it
-    (``docs/classify.md``)."""
+    bifurcation, reason, indicators, the attractor's points and final state, the response measures on it, and for a
+    quasi-periodic verdict the longest period its long-cycle search excluded, ``period_searched`` (a torus or a
+    cycle longer than that; ``docs/classify.md``)."""
 
     label: int
     period: int
@@ -55,6 +57,7 @@ class Verdict:
     transient_used: int = 0
     n_events: int = -1
     diverged_period: int = -1
+    period_searched: int = 0
     monodromy: np.ndarray | None = None
     response: ResponseMeasures | None = None
 

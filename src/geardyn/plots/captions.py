@@ -30,6 +30,30 @@ _METHOD = (
 )
 
 
+def verdict_notes(ds: xr.Dataset) -> list[str]:
+    """The lines a study's file needs beside its labels: no damping (its ``undamped`` attribute), the long-cycle
+    search's reach on its quasi-periodic points (``period_searched``) and its growing records (``transient``)."""
+    lines = []
+    if int(ds.attrs.get("undamped", 0)) == 1:
+        lines.append(f"No damping: {ds.attrs['undamped_note']}.")
+    label = ds["label"].values if "label" in ds else np.zeros(0)
+    qp = label == classify.LABELS["quasi_periodic"]
+    if "period_searched" in ds and qp.any():
+        n = ds["period_searched"].values[qp]
+        reach = f"{int(n.min())}" if n.min() == n.max() else f"{int(n.min())}-{int(n.max())}"
+        lines.append(
+            f"Quasi-periodic ({int(qp.sum())} points): a torus or cycle longer than {reach} mesh periods (the "
+            "long-cycle search's reach on each point's record, period_searched)."
+        )
+    grow = int(np.sum(label == classify.LABELS["transient"]))
+    if grow:
+        lines.append(
+            f"Transient ({grow} points): the record's amplitude still grows at the record cap (growth test, "
+            "docs/classify.md): no attractor is claimed there."
+        )
+    return lines
+
+
 def _tail(name: str, paper: ModuleType | None) -> list[str]:
     """The closing lines: the paper's statement and its assumptions (``FIGURE_ASSUMPTIONS``; paper designs),
     then the method."""
@@ -53,7 +77,7 @@ def bifurcation(name: str, cube: xr.Dataset, paper: ModuleType | None = None) ->
             text = "; ".join(f"{classify.label_name(lab)} on [{a:.4g}, {b:.4g}]" for a, b, lab in runs[:12])
             more = f" (+{len(runs) - 12} more bands)" if len(runs) > 12 else ""
             lines.append(f"Ours, {case}{'' if direction == 'none' else ', ' + direction}: {text}{more}.")
-    lines += _tail(name, paper)
+    lines += verdict_notes(cube) + _tail(name, paper)
     return "\n".join(lines)
 
 
@@ -76,7 +100,7 @@ def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
         peaks = classify.spectral_peaks(d["frequency"].values, d["amplitude"].values)
         peaks = (", peaks at " + ", ".join(f"{v:.3g}" for v in peaks) + " x f_mesh") if peaks else ""
         lines.append(f"Ours, {case}: {classify.label_name(n)}{how}{peaks}.")
-    lines += _tail(name, paper)
+    lines += verdict_notes(ds) + _tail(name, paper)
     return "\n".join(lines)
 
 
@@ -97,6 +121,7 @@ def regime_map(name: str, ds: xr.Dataset) -> str:
             if "dynamic_factor" in ds
             else ""
         )
+        + "".join(f" {line}" for line in verdict_notes(ds))
     )
 
 
@@ -118,6 +143,7 @@ def frequency_response(name: str, ds: xr.Dataset) -> str:
         f"w = {ds.attrs['jumps_up']}, down at w = {ds.attrs['jumps_down']}. Largest RMS DTE "
         f"{float(ds.dte_rms.values[j]):.3g} at w = {float(w[j[1]]):.3g}; largest K_v {kv:.3g}. "
         f"Linear natural frequencies (in contact, mean stiffness): {nat}. Shading: impact classes."
+        + "".join(f" {line}" for line in verdict_notes(ds))
     )
 
 

@@ -26,6 +26,7 @@ def label_colour(code: int) -> str:
         LABELS["undetermined"]: "#9e9e9e",
         LABELS["not_periodic"]: "#8c564b",
         LABELS["long_period"]: "#bcbd22",
+        LABELS["transient"]: "#5c5c5c",
     }
     periods = "#1f77b4 #2ca02c #17becf #9467bd #bcbd22 #e377c2 #00441b #393b79 #637939 #8c6d31 #843c39 #7b4173".split()
     code = int(code)

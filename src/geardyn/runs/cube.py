@@ -63,6 +63,13 @@ VERDICT = _table(
         0,
     ),
     _num("multiplier", "largest Floquet multiplier modulus of the orbit over its least period"),
+    _num(
+        "period_searched",
+        "quasi-periodic: the longest period in mesh periods the long-cycle search excluded (a torus or a cycle "
+        "longer than this); 0 otherwise",
+        0,
+        np.int16,
+    ),
     _num("zero_one_k", "0-1 test statistic K on stroboscopic X_VH (Gottwald-Melbourne; NaN if periodic)"),
     _num("spectral_flatness", "spectral flatness of stroboscopic X_VH (0 lines, ~0.56 white; NaN if periodic)"),
     _num(
@@ -171,7 +178,8 @@ def labels_of_cube(cube: xr.Dataset) -> np.ndarray:
 
 def merge_chunks(chunks: Sequence[xr.Dataset]) -> xr.Dataset:
     """Combine the chunk files of one sweep or map, each holding the full grid and a ``computed`` flag: every point
-    computed exactly once; the chunks' own attributes go, their wall times kept as ``chunk_wall_time_s``."""
+    computed exactly once; the chunks' own attributes go, their wall times kept as ``chunk_wall_time_s``;
+    ``undamped`` 1 only where every chunk says so."""
     if not chunks:
         raise ValueError("no chunks to merge")
     present = sum(c["computed"].values.astype(int) for c in chunks)
@@ -185,6 +193,10 @@ def merge_chunks(chunks: Sequence[xr.Dataset]) -> xr.Dataset:
             out[name].values[mask] = c[name].values[mask]
     for key in CHUNK_ATTRS:
         out.attrs.pop(key, None)
+    # undamped only where every chunk's points are
+    if "undamped" in out.attrs and any(int(c.attrs.get("undamped", 0)) == 0 for c in chunks):
+        out.attrs["undamped"] = 0
+        out.attrs.pop("undamped_note", None)
     # where the chunks were computed (a cluster may run them on different CPUs); the merged file's own
     # runtime attributes are those of the merge job (geardyn.io.write_netcdf)
     seen = [rt for rt, _ in distinct_runtimes(c.attrs for c in chunks)]

@@ -124,6 +124,7 @@ def run_chunk(design: KHVDesign, spec: MapSpec, chunk: int) -> xr.Dataset:
         "fixed_overrides": spec.fixed_overrides,
         "lines": "rows: x increasing at fixed y",
         **study.study_attrs(policy),
+        **result.attrs,
         "wall_time_s": result.wall_time_s,
     }
     return xr.Dataset(result.data, coords=coords, attrs=attrs)

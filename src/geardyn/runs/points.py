@@ -80,7 +80,7 @@ def dense_points(
     ``period``, ``lyapunov``, ``stage``, ...) and its dense run started on the attractor it found."""
     systems = [point.point_coefficients(design, {**fixed, **case}) for case in cases]
     layout = study.Layout(("case",), (len(cases),), [[((k,), s)] for k, s in enumerate(systems)], transient=False)
-    labelled, lines, _ = study.run(layout, policy, "points")  # each point a line of its own
+    labelled, lines, _, damping = study.run(layout, policy, "points")  # each point a line of its own
     verdicts = [v for (v,) in lines]
     parts = []
     for case, v in zip(cases, verdicts, strict=True):
@@ -101,5 +101,6 @@ def dense_points(
     out.attrs = study.integration_attrs(policy.integration) | {
         "record_starts": "on the attractor found by the labeller (its final state)",
         "fixed_overrides": point.label(fixed, ""),
+        **damping,
     }
     return out

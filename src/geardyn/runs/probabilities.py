@@ -241,7 +241,7 @@ def layout(design: KHVDesign, spec: ProbabilitySpec, chunk: int, table: Samples)
             ((int(i), j), point.point_coefficients(design, own if x is None else {**own, spec.dim: x}))
             for j, x in enumerate(axis)
         ]
-        lines.append(line)
+        lines.append(study.damped(line, f"probabilities {spec.name}"))
         starts.append(line[0][1].static_state() + table.values[i, k:] if spec.box else None)
     diverged = "unbounded growth detected"
     return study.Layout(("sample", spec.dim), (n, len(axis)), lines, diverged=diverged, computed=True, starts=starts)

@@ -30,7 +30,7 @@ FAMILIES: dict[str, Callable[[np.ndarray], np.ndarray]] = {
     "quasi_periodic": lambda lab: lab == LABELS["quasi_periodic"],
     "chaotic": lambda lab: lab == LABELS["chaotic"],
     "not_periodic": lambda lab: lab == LABELS["not_periodic"],
-    "undetermined": lambda lab: lab == LABELS["undetermined"],
+    "undetermined": lambda lab: np.isin(lab, [LABELS["undetermined"], LABELS["transient"]]),
     "diverged": lambda lab: lab == LABELS["diverged"],
 }
 #: The impact classes and ``diverged`` (no response measured: ``impact_class`` -1), so that they sum to 1.

@@ -21,6 +21,7 @@ from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import COEFFICIENT_ATTRS, Coefficients, natural_frequencies
 from geardyn.label import Policy, Verdict
+from geardyn.label.classify import LABELS
 from geardyn.label.compare import same, same_attractor
 from geardyn.runs import cube, study
 from geardyn.solve.base import System
@@ -83,17 +84,16 @@ def different_attractors(
     continue_periods: int = CONTINUE_PERIODS,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Where the up and down sweeps (verdicts in ascending order at ``systems``) end on different attractors by
-    :func:`geardyn.label.compare.same`, two non-periodic verdicts of one label integrated on and compared again
+    :func:`geardyn.label.compare.same`, two non-periodic verdicts of one label (or one of them a record that shows
+    no attractor: transient or undetermined, compared as the other's label) integrated on and compared again
     up to ``continue_periods`` (``docs/response.md``, Hysteresis).  Returns ``(differ, continued)`` (n,): the
     flags, and the periods integrated on before the records agreed (all where they never did; 0: not)."""
     n = len(systems)
     differ = np.array([not same(a, b) for a, b in zip(up, down, strict=True)])
     continued = np.zeros(n, np.int64)
-    todo = [
-        j
-        for j in np.flatnonzero(differ)
-        if up[j].label == down[j].label and not up[j].periodic and not up[j].diverged and not down[j].periodic
-    ]
+    todo = [j for j in np.flatnonzero(differ) if _integrate_on(up[j], down[j])]
+    # a record that shows no attractor (transient, undetermined) is compared as the other sweep's label
+    labels = {j: down[j].label if up[j].label in _NO_ATTRACTOR else up[j].label for j in todo}
     keep = max(1, policy.integration.recorded_periods)
     piece = max(CONTINUE_PIECE, keep)
     settings = dataclasses.replace(policy.integration, transient_periods=piece - keep, recorded_periods=keep)
@@ -108,13 +108,25 @@ def different_attractors(
             continued[j] += piece
             if ra.diverged or rb.diverged:
                 continue  # one of them leaves the bounded region: two different ends
-            if same_attractor(up[j].label, ra.poincare, down[j].label, rb.poincare):
+            if same_attractor(labels[j], ra.poincare, labels[j], rb.poincare):
                 differ[j] = False
             else:
                 states[j] = (ra.final_state, rb.final_state)
                 left.append(j)
         todo = left
     return differ, continued
+
+
+#: The labels of records that show no attractor: a growing record (``transient``) and an undetermined one.
+_NO_ATTRACTOR = (LABELS["transient"], LABELS["undetermined"])
+
+
+def _integrate_on(a: Verdict, b: Verdict) -> bool:
+    """Whether two verdicts the comparison separates are integrated on before they count as two attractors: both
+    non-periodic and bounded, of one label or one of them showing no attractor (:data:`_NO_ATTRACTOR`)."""
+    if a.periodic or b.periodic or a.diverged or b.diverged:
+        return False
+    return a.label == b.label or a.label in _NO_ATTRACTOR or b.label in _NO_ATTRACTOR
 
 
 def jump_frequencies(w: np.ndarray, flags: np.ndarray, direction: str) -> np.ndarray:
@@ -200,7 +212,7 @@ def frequency_response(
     dims, n = ("direction", "w"), w.size
     up = [base.replace(omega=float(v)) for v in w]
     lines = [[((0, j), s) for j, s in enumerate(up)], [((1, j), up[j]) for j in reversed(range(n))]]
-    data, verdicts, _ = study.run(study.Layout(dims, (2, n), lines), policy, "frequency response")
+    data, verdicts, _, damping = study.run(study.Layout(dims, (2, n), lines), policy, "frequency response")
     ordered = [verdicts[0], verdicts[1][::-1]]  # both sweeps in ascending w
     final = np.array([[v.final_state for v in vs] for vs in ordered], dtype=float)
     data["dte_rms"][2]["ancillary_variables"] = "dte_rms_error"
@@ -222,6 +234,7 @@ def frequency_response(
         "jumps_up": ",".join(f"{v:.4g}" for v in jump_frequencies(w, jumps[0], "up")) or "none",
         "jumps_down": ",".join(f"{v:.4g}" for v in jump_frequencies(w, jumps[1], "down")) or "none",
         **study.study_attrs(policy),
+        **damping,
         **{f"coef_{k}": v for k, v in base.as_dict().items() if k in COEFFICIENT_ATTRS and k != "omega"},
     }
     return xr.Dataset(data, coords=coords, attrs=attrs)

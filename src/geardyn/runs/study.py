@@ -124,11 +124,47 @@ class Layout:
 
 
 class Result(NamedTuple):
-    """A run's variables (filled), its verdicts (line by line, in the order of travel) and its wall time."""
+    """A run's variables (filled), its verdicts (line by line, in the order of travel), its wall time and the file
+    attributes its systems decide (:func:`damping_attrs`)."""
 
     data: Variables
     verdicts: list[list[Verdict]]
     wall_time_s: float
+    attrs: dict[str, Any]
+
+
+#: What a file of points without damping says (``docs/classify.md``, "Systems without damping").
+UNDAMPED_NOTE = (
+    "no damping in any mode (zeta = eta = 0): the Poincare map preserves phase volume, so there are no attractors; "
+    "each label describes the single orbit run from that point's start (an island's cycle, an invariant circle or "
+    "a chaotic sea), and a line's points start from the previous point's final state, so they describe the orbits "
+    "through that state, not the only motion at those parameters"
+)
+
+
+def undamped(system: System) -> bool:
+    """Whether ``system`` has no damping in any mode (mesh and both shafts: c_m = c_DH = c_VL = 0)."""
+    return system.c_m == 0.0 and system.c_DH == 0.0 and system.c_VL == 0.0
+
+
+def damping_attrs(systems: Iterable[System]) -> dict[str, Any]:
+    """The file attributes of a study's points: ``undamped`` 1 where every point has no damping in any mode (with
+    ``undamped_note``, :data:`UNDAMPED_NOTE`), else 0."""
+    if all(map(undamped, systems)):
+        return {"undamped": 1, "undamped_note": UNDAMPED_NOTE}
+    return {"undamped": 0}
+
+
+def damped(line: list[tuple[Index, System]], what: str) -> list[tuple[Index, System]]:
+    """``line`` unchanged, or one line of refusal where a point has no damping in any mode: a study that needs
+    attractors (basin stability) has none to count there."""
+    for idx, system in line:
+        if undamped(system):
+            raise ValueError(
+                f"{what}: point {idx} has c_m = c_DH = c_VL = 0 (zeta = eta = 0); allowed: damping > 0 in some mode "
+                "(without damping the Poincare map preserves volume: no attractors, no basin stability)"
+            )
+    return line
 
 
 def variables(layout: Layout, policy: Policy) -> Variables:
@@ -201,7 +237,7 @@ def run(layout: Layout, policy: Policy, progress: str = "") -> Result:
                 layout.store_own(arrays, idx, system, verdicts[k][m])
     el, n = time.perf_counter() - t0, sum(map(len, lines))
     log.info("%s: %d points in %.1f s (%.2f ms/point)", progress, n, el, 1e3 * el / max(1, n))
-    return Result(data, verdicts, el)
+    return Result(data, verdicts, el, damping_attrs(s for line in lines for s in line))
 
 
 def integration_attrs(settings: SimulationSettings) -> dict[str, Any]:
@@ -213,7 +249,7 @@ def integration_attrs(settings: SimulationSettings) -> dict[str, Any]:
 
 def study_attrs(policy: Policy) -> dict[str, Any]:
     """Attributes recording how the points were labelled: the integration, start, coexistence, transients,
-    early stop and the classifier settings."""
+    early stop, the classifier and the growth test's settings."""
     s, p = policy.integration, policy
     return {
         **integration_attrs(s),
@@ -221,6 +257,7 @@ def study_attrs(policy: Policy) -> dict[str, Any]:
         **{"newton_tol": p.newton_tol, "stability_margin": p.stability_margin, "early_stop": int(s.early_stop)},
         **{k: getattr(s, k) for k in ("early_stop_min_periods", "early_stop_confirm", "early_stop_tol_factor")},
         **{f"classifier_{k}": v for k, v in dataclasses.asdict(p.classifier).items()},
+        **{f"growth_{k}": v for k, v in dataclasses.asdict(p.growth).items()},
     }
 
 

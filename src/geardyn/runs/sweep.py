@@ -111,7 +111,8 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int) -> xr.Dataset:
     """Label the points of one chunk: a cube of every point of the sweep, NaN (float) / -1 (int) where the
     chunk did not compute, ``computed`` 1 where it did, with CF attributes."""
     policy = spec.policy(design)
-    data = study.run(layout(design, spec, chunk, policy), policy, f"{spec.name} chunk {chunk}").data
+    result = study.run(layout(design, spec, chunk, policy), policy, f"{spec.name} chunk {chunk}")
+    data = result.data
     first = (*STATES, "diverged", "diverged_period", "n_events", "transient_used")  # the cube's order of variables
     data = {**{name: data[name] for name in first}, **data}
     coords = (
@@ -131,6 +132,7 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int) -> xr.Dataset:
         "divergence_threshold": policy.integration.divergence_threshold,
         "continuation": spec.continuation,
         **study.study_attrs(policy),
+        **result.attrs,
         "fixed_overrides": spec.fixed_overrides,
     }
     return xr.Dataset(data, coords=io.variables(coords, values), attrs=attrs)
