@@ -7,8 +7,9 @@ import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Literal
 
+from geardyn.jsontypes import Json
 from geardyn.label.classify import ClassifierSettings
 from geardyn.solve.base import SimulationSettings
 
@@ -137,7 +138,7 @@ class Policy:
         return dataclasses.replace(self, start=start)
 
     @classmethod
-    def from_spec(cls, integration: SimulationSettings, spec: Mapping[str, Any] | None = None) -> Policy:
+    def from_spec(cls, integration: SimulationSettings, spec: Mapping[str, Json] | None = None) -> Policy:
         """The policy of a study entry of the config (a sweep, map, points run or calibration): its
         ``classifier`` block, ``start_from`` (follow or fixed; not ``start``, which a sweep uses for its range)
         and ``coexistence`` keys (presets already resolved by the validator)."""

@@ -6,13 +6,14 @@ from __future__ import annotations
 import json
 from collections.abc import Iterable, Sequence
 from dataclasses import replace
-from typing import Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import DTypeLike
 
 from geardyn.io import Var
 from geardyn.io.provenance import distinct_runtimes
+from geardyn.jsontypes import Json
 from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES, classify
 from geardyn.solve.response import IMPACT_CLASSES
 
@@ -27,7 +28,7 @@ STATE_NAMES = {
 }
 
 
-def _num(name: str, long_name: str, fill: Any = np.nan, dtype: Any = None) -> Var:
+def _num(name: str, long_name: str, fill: Json = np.nan, dtype: DTypeLike | None = None) -> Var:
     return Var(name, (), "1", long_name, dtype=dtype, fill=fill)
 
 
@@ -149,7 +150,7 @@ COMMON = ("label", *VERDICT, *RESPONSE, "impact_class")
 
 def empty(
     names: Iterable[str], dims: tuple[str, ...], shape: tuple[int, ...], max_n: int = 12, **long_names: str
-) -> dict[str, Any]:
+) -> dict[str, Json]:
     """The one writer of the per-point variables: those of :data:`VARIABLES` named, on ``dims``, as
     :class:`xarray.Dataset` takes them, filled with their fill values (``max_n``: the labels' largest period;
     ``long_names`` replace the table's)."""

@@ -8,13 +8,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from types import ModuleType
-from typing import Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import ArrayLike
 
 from geardyn import claims
 from geardyn.io import Var, markdown_table, variables
+from geardyn.jsontypes import Json
 from geardyn.label.classify import LABELS
 from geardyn.runs.probabilities import ProbabilitySpec, Samples
 from geardyn.solve.response import IMPACT_CLASSES
@@ -39,7 +40,7 @@ INDICATORS = ("dynamic_factor", "dte_rms", "P1", "double_sided")
 MIN_SAMPLES = 22
 
 
-def wilson(k: Any, n: Any, confidence: float = CONFIDENCE) -> tuple[np.ndarray, np.ndarray]:
+def wilson(k: ArrayLike, n: ArrayLike, confidence: float = CONFIDENCE) -> tuple[np.ndarray, np.ndarray]:
     """Wilson score interval of the probability of k successes in n trials (arrays; NaN where n = 0):
     (p + z^2/2n -+ z sqrt(p (1 - p)/n + z^2/4n^2)) / (1 + z^2/n), z the normal quantile at (1 + confidence)/2."""
     from scipy.stats import norm  # noqa: PLC0415 - scipy.stats: only the jobs that summarise
@@ -104,7 +105,7 @@ def sensitivity_points(n: int, points: int) -> np.ndarray:
     return np.unique(np.round(np.linspace(0, n - 1, min(points, n))).astype(int))
 
 
-def sensitivities(ds: xr.Dataset, spec: ProbabilitySpec, table: Samples) -> dict[str, Any]:
+def sensitivities(ds: xr.Dataset, spec: ProbabilitySpec, table: Samples) -> dict[str, Json]:
     """The sensitivity variables (indicator, input, sensitivity_at): the index and its confidence half-width,
     for Sobol' the total index too, at :func:`sensitivity_points` of the axis."""
     opts = dict(spec.sensitivity)
@@ -117,14 +118,14 @@ def sensitivities(ds: xr.Dataset, spec: ProbabilitySpec, table: Samples) -> dict
             res[:, a, :, b] = indices(spec.method, table.unit, y[:, j], int(opts.get("resamples", 30)), spec.seed)
     what = {"rbd_fast": "RBD-FAST first-order", "pawn": "PAWN (median KS)", "sobol": "Sobol' first-order"}
     dims, index = ("indicator", "input", "sensitivity_at"), what[spec.method] + " index (SALib)"
-    table = [
+    table = [  # type: ignore[assignment]  # the table of the output variables
         Var("sensitivity_index", dims, "1", f"{index} of each input for each indicator"),
         Var("sensitivity_index_conf", dims, "1", f"half-width of the 95 % interval of the {index}"),
         Var("total_index", dims, "1", "Sobol' total index (SALib)"),
         Var("total_index_conf", dims, "1", "half-width of the 95 % interval of the Sobol' total index"),
     ]
     kept = 4 if spec.method == "sobol" else 2
-    return {"names": names, "at": at, "variables": variables(table[:kept], res[:kept])}
+    return {"names": names, "at": at, "variables": variables(table[:kept], res[:kept])}  # type: ignore[arg-type]
 
 
 def leading(ds: xr.Dataset) -> dict[str, str]:
@@ -144,7 +145,7 @@ def leading(ds: xr.Dataset) -> dict[str, str]:
     return out
 
 
-def _probabilities(flags: dict[str, np.ndarray], dim: str, what: str) -> dict[str, Any]:
+def _probabilities(flags: dict[str, np.ndarray], dim: str, what: str) -> dict[str, Json]:
     """Probability and Wilson interval (class, axis) of each of ``flags`` (sample, axis), of all samples."""
     n = next(iter(flags.values())).shape[0]
     k = np.array([f.sum(axis=0) for f in flags.values()])
@@ -192,7 +193,7 @@ def summarize(ds: xr.Dataset, spec: ProbabilitySpec, table: Samples) -> xr.Datas
     return out
 
 
-def claim_probabilities(paper: ModuleType, ds: xr.Dataset, role: str) -> list[dict[str, Any]]:
+def claim_probabilities(paper: ModuleType, ds: xr.Dataset, role: str) -> list[dict[str, Json]]:
     """For each claim of ``paper`` decided along its line ``role`` (``CLAIM_LINES``; one line, no case), the
     share of the samples on which :func:`geardyn.claims.sweep_claim` gives each verdict, with the Wilson interval
     of "agree" (the claim holds)."""
@@ -216,7 +217,7 @@ def _p(p: float, lo: float, hi: float) -> str:
 _OTHER = ("borderline", "disagree", "not comparable")
 
 
-def claims_markdown(rows: Sequence[dict[str, Any]], title: str, note: str) -> str:
+def claims_markdown(rows: Sequence[dict[str, Json]], title: str, note: str) -> str:
     """The claims' probabilities as a Markdown table."""
     head = ("claim", "figure", "statement", "P(holds) [95 % Wilson]", *(f"P({k})" for k in _OTHER))
     cells = [
@@ -227,7 +228,7 @@ def claims_markdown(rows: Sequence[dict[str, Any]], title: str, note: str) -> st
     return "\n".join([f"# {title}", "", note, "", markdown_table(head, cells, "---rrrr")]) + "\n"
 
 
-def claims_csv(rows: Sequence[dict[str, Any]]) -> str:
+def claims_csv(rows: Sequence[dict[str, Json]]) -> str:
     """The claims' probabilities as CSV (the report's table)."""
     import pandas as pd  # noqa: PLC0415
 

@@ -4,6 +4,7 @@ and region by region, independent of the RK4 kernels (method: ``docs/numerics.md
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -64,23 +65,25 @@ def _rhs_region(t, y, c, poly, seg, reg, per):
     return out
 
 
-def _events(b: float, reg: int):
-    def up(t, y, *_):
-        return y[1] - b
+@dataclass(frozen=True)
+class _Crossing:
+    """A terminal event of :func:`scipy.integrate.solve_ivp`: the displacement y[1] reaches ``edge`` moving in
+    ``direction``."""
 
-    def down(t, y, *_):
-        return y[1] + b
+    edge: float
+    direction: float
+    terminal: bool = True
 
-    up.terminal = True
-    down.terminal = True
+    def __call__(self, t: float, y: np.ndarray, *_: object) -> float:
+        return y[1] - self.edge
+
+
+def _events(b: float, reg: int) -> tuple[list[_Crossing], list[int]]:
     if reg == 0:
-        up.direction, down.direction = 1.0, -1.0
-        return [up, down], [1, -1]
+        return [_Crossing(b, 1.0), _Crossing(-b, -1.0)], [1, -1]
     if reg == 1:
-        up.direction = -1.0
-        return [up], [0]
-    down.direction = 1.0
-    return [down], [0]
+        return [_Crossing(b, -1.0)], [0]
+    return [_Crossing(-b, 1.0)], [0]
 
 
 def _initial_region(y: np.ndarray, b: float) -> int:

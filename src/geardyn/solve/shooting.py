@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -168,7 +168,7 @@ def newton_shooting(
 
 
 def newton_shooting_batch(
-    systems: list[System],
+    systems: Sequence[System],
     x0s: list[np.ndarray],
     n: int = 1,
     settings: SimulationSettings | None = None,
@@ -188,17 +188,19 @@ def newton_shooting_batch(
     s = period_settings(settings, n)
     caps = [_step_cap(np.asarray(x, dtype=float), step_cap) for x in x0s]
     # the unfinished points whose rows the lane tables hold, and the tables
-    held = {"points": list(range(len(x0s))), "tables": lane_tables(systems, s) if tables is None else tables}
+    held, held_tables = list(range(len(x0s))), lane_tables(systems, s) if tables is None else tables
 
     def evaluate(todo: list[int], xs: list[np.ndarray]) -> list:
-        if len(todo) < len(held["points"]):  # copied only when a point has finished
-            at = {i: k for k, i in enumerate(held["points"])}
-            held.update(points=todo, tables=held["tables"].take([at[i] for i in todo]))
+        nonlocal held, held_tables
+        if len(todo) < len(held):  # copied only when a point has finished
+            at = {i: k for k, i in enumerate(held)}
+            held, held_tables = todo, held_tables.take([at[i] for i in todo])
         runs = simulate_batch(
-            [systems[i] for i in todo], s, xs, monodromy_periods=0 if chord else n, tables=held["tables"]
+            [systems[i] for i in todo], s, xs, monodromy_periods=0 if chord else n, tables=held_tables
         )
         return [
-            (None, None) if r.diverged else (r.final_state.copy(), None if chord else r.monodromy.copy()) for r in runs
+            (None, None) if r.diverged else (r.final_state.copy(), None if chord else np.array(r.monodromy))
+            for r in runs
         ]
 
     def step(go: list, it: int) -> list:
@@ -234,7 +236,7 @@ def _deflated_step(
 
 
 def cycle_points(
-    systems: list[System],
+    systems: Sequence[System],
     states: list[np.ndarray],
     n: int,
     settings: SimulationSettings | None,
@@ -286,7 +288,7 @@ def khv_flow(system: System, n: int = 1, settings: SimulationSettings | None = N
         r = simulate(system, s, x, monodromy_periods=n if jacobian else 0)
         if r.diverged:
             return None, None
-        return r.final_state.copy(), (r.monodromy.copy() if jacobian else None)
+        return r.final_state.copy(), (np.array(r.monodromy) if jacobian else None)
 
     return flow
 

@@ -6,11 +6,11 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
 from geardyn import libm
+from geardyn.runs.continuation.corrector import ContinuationSettings
 
 
 @dataclass
@@ -44,7 +44,9 @@ class Branch:
     end_status: dict[str, str] = field(default_factory=dict)
     bifurcations: list[Bifurcation] = field(default_factory=list)
     tangents: np.ndarray | None = None  # (m, d + 1) unit tangents in the scaled variables
-    problem: Any = None  # the problem it was continued as (its scales and settings; event location)
+    sx: float = 1.0  # the scale of the states it was continued with
+    sp: float = 1.0  # the scale of the parameter
+    settings: ContinuationSettings = ContinuationSettings()  # the settings it was continued with
 
     @property
     def stable(self) -> np.ndarray:

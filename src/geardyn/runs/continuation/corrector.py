@@ -7,11 +7,12 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Protocol
+from typing import Protocol
 
 import numpy as np
 
 from geardyn.config import settings_from
+from geardyn.jsontypes import Json
 from geardyn.label.compare import least_period
 
 
@@ -56,7 +57,7 @@ class ContinuationSettings:
     touch_tol: float = 0.0
 
     @classmethod
-    def from_mapping(cls, spec: Mapping[str, Any] | None) -> ContinuationSettings:
+    def from_mapping(cls, spec: Mapping[str, Json] | None) -> ContinuationSettings:
         return settings_from(cls, spec, "continuation settings")
 
 

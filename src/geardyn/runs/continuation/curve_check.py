@@ -8,18 +8,20 @@ import time
 from collections import Counter
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import xarray as xr
 
 from geardyn.io import Var
+from geardyn.jsontypes import Json
+from geardyn.khv.design import KHVDesign
 from geardyn.label.classify import LABELS
 from geardyn.runs.continuation.branch import Bifurcation
-from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, correct
+from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, Point, correct
 from geardyn.runs.continuation.curve_maps import RECORD_KINDS, Boundaries, BoundarySpec, Region, boundary_curves
 from geardyn.runs.continuation.curves import Curve, bounds_stable, crossings, segment_distance, shorter_period
-from geardyn.runs.continuation.family import PlaneLine, cached
+from geardyn.runs.continuation.family import KHVPlane, PlaneLine, cached
 from geardyn.runs.continuation.output import index, quantity
 from geardyn.runs.continuation.problem import CurveProblem
 from geardyn.runs.continuation.stepping import continue_branch
@@ -29,6 +31,9 @@ from geardyn.solve.base import SimulationSettings
 from geardyn.solve.bifurcations import CODES
 from geardyn.solve.response import IMPACT_CLASSES, response_measures
 from geardyn.solve.shooting import newton_shooting
+
+if TYPE_CHECKING:  # imported for the annotations only (the module imports this one)
+    from geardyn.runs.maps import MapSpec
 
 _UNDETERMINED = LABELS["undetermined"]
 #: Failures of a checked sample.
@@ -125,7 +130,7 @@ class PixelCheck:
     def tally(self, reasons: Sequence[str]) -> Counter:
         return Counter(f"{s.kind}: {s.reason}" for s in self.samples if s.reason in reasons)
 
-    def attrs(self) -> dict[str, Any]:
+    def attrs(self) -> dict[str, Json]:
         """Global attributes of the curves file."""
 
         def text(c: Counter) -> str:
@@ -144,7 +149,7 @@ class PixelCheck:
             "pixel_check_slow_margin": self.slow_margin,
         }
 
-    def variables(self, names: tuple[str, str], kinds: Sequence[str]) -> list[tuple[Var, Any]]:
+    def variables(self, names: tuple[str, str], kinds: Sequence[str]) -> list[tuple[Var, Json]]:
         """The samples as (row, values) of dimension ``check``."""
         s, C = self.samples, "check"
         pix = np.array([list(v.pixels[0]) + list(v.pixels[1]) if v.pixels else [-1] * 4 for v in s], np.int32)
@@ -182,14 +187,14 @@ class _Probe:
     """The curve's orbit at pixels (:meth:`at`): status (stable, unstable, absent), state, mean X_VH, margin,
     impact class, spread of X_VH, largest multiplier modulus; and the criticality of a period doubling."""
 
-    def __init__(self, plane: Any, curve: Curve, cs: CheckSettings):
+    def __init__(self, plane: KHVPlane, curve: Curve, cs: CheckSettings):
         self.plane, self.curve, self.kind, self.n, self.cs = plane, curve, curve.kind, curve.n, cs
         self.cache: dict[tuple[float, float], tuple] = {}
 
     def at(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: tuple) -> tuple:
         """The orbit at (p, q), cached: Newton from each guess within ``near`` of the curve's state (the stable one
         nearest it), else :meth:`followed` from the crossing ``origin`` = (p, q, "p" along a row, "q" a column)."""
-        return cached(self.cache, (p, q), lambda key: self._solve(*key, guesses, near, origin))
+        return cached(self.cache, (p, q), lambda key: self._solve(key[0], key[1], guesses, near, origin))
 
     def _solve(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: tuple) -> tuple:
         scale = max(1.0, float(np.max(np.abs(near))))
@@ -225,7 +230,7 @@ class _Probe:
         k = -1 if t1 > ts else 0
         return [(br.states[k], float(np.max(np.abs(br.multipliers[k]))))]
 
-    def criticality(self, origin: tuple, ref: Any, state: np.ndarray, t_pair: tuple[float, float]) -> str:
+    def criticality(self, origin: tuple, ref: Point, state: np.ndarray, t_pair: tuple[float, float]) -> str:
         """A period doubling's criticality on the crossing's line: the period-2n branch switched at the curve's
         point solved on the line (from ``state`` and the curve point ``ref``) is ``supercritical`` when it reaches
         the other pixel of ``t_pair`` (stable side, other side) stable."""
@@ -243,7 +248,11 @@ class _Probe:
         follow = replace(self.cs.follow, ds_min=self.cs.switch_ds_min)
         br = switch_at_period_doubling(PlaneLine(self.plane, along, at), bf, lo, hi, follow)
         reached = [] if br is None else [i for i, _ in br.states_at(t_other)]
-        return "supercritical" if any(br.stable[i] and br.stable[i + 1] for i in reached) else "subcritical"
+        return (
+            "supercritical"
+            if br is not None and any(br.stable[i] and br.stable[i + 1] for i in reached)
+            else "subcritical"
+        )
 
 
 def slow_margin(map_ds: xr.Dataset) -> float:
@@ -300,7 +309,7 @@ class _Judge:
         return "ok" if _other_ok(kind, n, int(self.lab[pu]), moved, supercritical) else "other_side"
 
 
-def pixel_check(plane: Any, bd: Boundaries, map_ds: xr.Dataset, cs: CheckSettings = CheckSettings()) -> PixelCheck:
+def pixel_check(plane: KHVPlane, bd: Boundaries, map_ds: xr.Dataset, cs: CheckSettings = CheckSettings()) -> PixelCheck:
     """The pixel check (module doc) of the curves ``bd`` against their map; ``plane`` the curves' plane."""
     xs, ys = map_ds["x"].values, map_ds["y"].values
     px, py = float(xs[1] - xs[0]), float(ys[1] - ys[0])
@@ -330,7 +339,7 @@ def pixel_check(plane: Any, bd: Boundaries, map_ds: xr.Dataset, cs: CheckSetting
         if len(cands) > cs.max_samples:
             cands = [cands[i] for i in np.linspace(0, len(cands) - 1, cs.max_samples).round().astype(int)]
         for line, idx, seg, w in cands:
-            x, y = _lerp(curve.p, seg, w), _lerp(curve.q, seg, w)
+            x, y = float(_lerp(curve.p, seg, w)), float(_lerp(curve.q, seg, w))
             base = Sample(k, kind, curve.n, float(x), float(y))
             if any(np.hypot((x - a) / px, (y - b) / py) < cs.margin for a, b in c2):
                 out.samples.append(replace(base, reason="codim2"))
@@ -345,18 +354,17 @@ def pixel_check(plane: Any, bd: Boundaries, map_ds: xr.Dataset, cs: CheckSetting
 
 
 def map_boundaries(
-    design: Any, spec: Any, entry: Mapping[str, Any], map_ds: xr.Dataset
+    design: KHVDesign, spec: MapSpec, entry: Mapping[str, Json], map_ds: xr.Dataset
 ) -> tuple[Boundaries, PixelCheck, SimulationSettings]:
     """The regime boundaries of a map (``spec``: its :class:`~geardyn.runs.maps.MapSpec`, ``entry``: its config
     entry) along the lines of its ``curves:`` settings, else along its cut lines, and their pixel check."""
     bs = BoundarySpec.from_config(entry["curves"])
-    lines = {
-        "lines_x": bs.lines_x or tuple(entry.get("cuts_x", [])),
-        "lines_y": bs.lines_y or tuple(entry.get("cuts_y", [])),
-    }
+    bs = replace(
+        bs, lines_x=bs.lines_x or tuple(entry.get("cuts_x", [])), lines_y=bs.lines_y or tuple(entry.get("cuts_y", []))
+    )
     policy = spec.policy(design)
     settings = policy.integration
-    bd, plane = boundary_curves(design, Region.of_map(spec), replace(bs, **lines), settings, map_ds, policy)
+    bd, plane = boundary_curves(design, Region.of_map(spec), bs, settings, map_ds, policy)
     check = pixel_check(plane, bd, map_ds, CheckSettings(every=bs.check_every))
     bd.timing["check"] = check.seconds
     return bd, check, settings
@@ -369,12 +377,12 @@ def _self_crowded(pts: np.ndarray, seg: int, x: float, y: float, crowd: float, s
     return segment_distance(pts[far], pts[far + 1], np.array([x, y])) < crowd if far.size else False
 
 
-def _lerp(values: np.ndarray, seg: int, w: float) -> Any:
+def _lerp(values: np.ndarray, seg: int, w: float) -> np.ndarray:
     """``values`` at the fraction w of segment seg (of the last point past the end)."""
     return values[seg] + w * (values[min(seg + 1, len(values) - 1)] - values[seg])
 
 
-def _probe_sample(base: Sample, curve: Any, cross: tuple, xs, ys, probe: _Probe, judge: _Judge) -> Sample:
+def _probe_sample(base: Sample, curve: Curve, cross: tuple, xs, ys, probe: _Probe, judge: _Judge) -> Sample:
     """The sample at one crossing: the orbit shot at the pixels beside it, the map judged (module doc)."""
     line, idx, seg, w = cross
     state = _lerp(np.array([pt.x for pt in curve.points]), seg, w)

@@ -7,14 +7,15 @@ import logging
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import xarray as xr
 
 from geardyn.config import settings_from
+from geardyn.jsontypes import Json
 from geardyn.khv import point
-from geardyn.khv.design import resolve_fractions
+from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.label import Policy, label_points
 from geardyn.runs.continuation.branch import Bifurcation, Branch
 from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings
@@ -22,9 +23,13 @@ from geardyn.runs.continuation.curves import Curve, continue_curve, lies_on
 from geardyn.runs.continuation.driver import run_middles
 from geardyn.runs.continuation.events import sign_changes
 from geardyn.runs.continuation.family import KHVFamily, KHVPlane
+from geardyn.runs.continuation.problem import BranchProblem
 from geardyn.runs.continuation.switching import add_branch
 from geardyn.solve.base import SimulationSettings
 from geardyn.solve.bifurcations import CURVE_KINDS, decode
+
+if TYPE_CHECKING:  # imported for the annotations only (the module imports this one)
+    from geardyn.runs.maps import MapSpec
 
 log = logging.getLogger("geardyn.curves")
 
@@ -52,7 +57,7 @@ class BoundarySpec:
     max_points: int = 400
 
     @classmethod
-    def from_config(cls, spec: Mapping[str, Any] | None) -> BoundarySpec:
+    def from_config(cls, spec: Mapping[str, Json] | None) -> BoundarySpec:
         values = {k: v for k, v in (spec or {}).items() if k not in _ENTRY_KEYS}
         for key in ("lines_x", "lines_y"):
             if key in values:
@@ -83,14 +88,14 @@ class Region:
     fixed: tuple[tuple[str, float], ...] = ()
 
     @classmethod
-    def of_map(cls, spec: Any) -> Region:
+    def of_map(cls, spec: MapSpec) -> Region:
         """The plane of a :class:`geardyn.runs.maps.MapSpec`."""
         return cls(
             (spec.x.parameter, spec.y.parameter), (spec.x.start, spec.x.stop, spec.y.start, spec.y.stop), spec.fixed
         )
 
     @classmethod
-    def from_config(cls, spec: Mapping[str, Any], segment: tuple[float, float]) -> Region:
+    def from_config(cls, spec: Mapping[str, Json], segment: tuple[float, float]) -> Region:
         """The plane of a curves study entry (x1 percentages resolved on the design's segment)."""
         s = resolve_fractions(spec, segment)
         x, y = s["x"], s["y"]
@@ -156,7 +161,9 @@ class Boundaries:
 # --- orbits and branches along a line ----------------------------------------------------------------------
 
 
-def labelled_orbits(seeds: Sequence[tuple[KHVFamily, float, int]], policy: Policy, max_period: int) -> list:
+def labelled_orbits(
+    seeds: Sequence[tuple[KHVFamily, float, int]], policy: Policy, max_period: int
+) -> list[tuple[float, np.ndarray, int] | None]:
     """(t, state, n) of the stable orbit the labeller certifies at each seed (family, t, n) from the static
     deflection (all in one call): of period n, or of any period up to ``max_period`` for n = 0; None where it
     certifies none."""
@@ -167,7 +174,7 @@ def labelled_orbits(seeds: Sequence[tuple[KHVFamily, float, int]], policy: Polic
     ]
 
 
-def line_family(design: Any, region: Region, line: Line, settings: SimulationSettings, nodes: int) -> KHVFamily:
+def line_family(design: KHVDesign, region: Region, line: Line, settings: SimulationSettings, nodes: int) -> KHVFamily:
     """The one-parameter family along ``line`` over the box (5 spline nodes along b, e or w: the coefficients
     are linear in them, a spline through 5 nodes is exact)."""
     (xp, yp), (x0, x1, y0, y1) = region.names, region.box
@@ -220,7 +227,7 @@ def branch_curves(
 
 
 def curves_from_branch(
-    plane: Any,
+    plane: KHVPlane,
     branch: Branch,
     axis: str,
     at: float,
@@ -266,7 +273,7 @@ def map_records(map_ds: xr.Dataset) -> list[tuple[int, int, str, int]]:
 
 
 def _record_curves(
-    design: Any,
+    design: KHVDesign,
     plane: KHVPlane,
     bd: Boundaries,
     map_ds: xr.Dataset,
@@ -304,7 +311,7 @@ def _record_curves(
 
 
 def record_seeds(
-    design: Any, plane: KHVPlane, bd: Boundaries, map_ds: xr.Dataset, spec: BoundarySpec, policy: Policy
+    design: KHVDesign, plane: KHVPlane, bd: Boundaries, map_ds: xr.Dataset, spec: BoundarySpec, policy: Policy
 ) -> None:
     """The fate of each of the map's records (:data:`RECORD_FATES`): on a curve (:func:`lies_on`, within
     ``record_tol`` pixels), or the seed of a new one (at most ``max_map_seeds`` tried), or not reproduced;
@@ -330,7 +337,7 @@ def record_seeds(
 
 
 def boundary_curves(
-    design: Any,
+    design: KHVDesign,
     region: Region,
     spec: BoundarySpec,
     settings: SimulationSettings,
@@ -370,7 +377,7 @@ def boundary_curves(
                 nan = complex("nan")
                 bfs = [
                     Bifurcation("grazing", q.p, q.x, q.multipliers, nan, nan.real, -1, ok, br.n)
-                    for q, ok in sign_changes(br, fam.back_grazing)
+                    for q, ok in sign_changes(BranchProblem.of(fam, br), br, fam.back_grazing)
                 ]
                 branch_curves(back, bd, replace(br, bifurcations=bfs), line, cs, f"line {line}", ("grazing",), "back")
     bd.timing["lines"] = time.perf_counter() - t0

@@ -7,13 +7,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import partial
-from typing import Any
 
 import numpy as np
 
 from geardyn import libm
 from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, Point, correct, merged, step
 from geardyn.runs.continuation.events import brent_on_step, fold_test, ns_test, pd_test, unstable_counts
+from geardyn.runs.continuation.family import Plane
 from geardyn.runs.continuation.problem import TARGET, CurveProblem, others
 from geardyn.runs.continuation.stepping import both_ways, box_end, inside, march
 from geardyn.solve.bifurcations import CODIM2
@@ -106,7 +106,7 @@ def _events(prob: CurveProblem, a: Point, b: Point) -> list[Codim2]:
     return found
 
 
-def shorter_period(plane: Any, p: float, q: float, x: np.ndarray, n: int, tol: float = CURVES.merge_tol) -> bool:
+def shorter_period(plane: Plane, p: float, q: float, x: np.ndarray, n: int, tol: float = CURVES.merge_tol) -> bool:
     """True when the period-n orbit through x at (p, q) is one of a proper divisor m of n traversed n / m times
     (its m-th cycle point within ``tol`` max(1, max |x|) of x)."""
     return n > 1 and merged(plane.cycle(p, q, x, n), n, tol * max(1.0, float(np.max(np.abs(x))))) > 0
@@ -141,7 +141,7 @@ def _advance(
 
 
 def continue_curve(
-    plane: Any,
+    plane: Plane,
     kind: str,
     n: int,
     x0: np.ndarray,
@@ -178,7 +178,7 @@ def continue_curve(
     return Curve(kind, n, pts, prob.scales, ends, [c for events in reversed(found) for c in events])
 
 
-def line_points(plane: Any, curve: Curve, axis: str, value: float, cs: ContinuationSettings = CURVES) -> list[Point]:
+def line_points(plane: Plane, curve: Curve, axis: str, value: float, cs: ContinuationSettings = CURVES) -> list[Point]:
     """The points where ``curve`` crosses the line ``axis`` ("p" or "q") = value, each solved by the corrector
     with the line as the extra equation (from the chord between the bracketing points; the last point counts)."""
     k, d = (0 if axis == "p" else 1), curve.points[0].z.size - 2

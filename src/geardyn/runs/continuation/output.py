@@ -5,15 +5,17 @@ points (CSV), and the branches read back from a dataset."""
 from __future__ import annotations
 
 import csv
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from io import StringIO
 from typing import Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import DTypeLike
 
 from geardyn import io, libm
 from geardyn.io import Var
+from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.runs.continuation.branch import Branch
 from geardyn.runs.continuation.curves import Curve, bounds_stable
@@ -39,12 +41,12 @@ def quantity(name: str) -> tuple[str, str]:
     return point.CONTROLS.get(name, (point.units_of(name, "1"), name))
 
 
-def table(rows: Sequence[tuple[Var, Any]]) -> dict[str, Any]:
+def table(rows: Sequence[tuple[Var, Json]]) -> dict[str, Json]:
     """The variables of (row, values) pairs as xarray takes them."""
     return io.variables([v for v, _ in rows], [x for _, x in rows])
 
 
-def _joined(parts: list[np.ndarray], dtype: Any, shape: tuple[int, ...] = (0,)) -> np.ndarray:
+def _joined(parts: list[np.ndarray], dtype: DTypeLike, shape: tuple[int, ...] = (0,)) -> np.ndarray:
     """The branches' arrays one after the other (empty of ``shape`` without branches)."""
     return np.concatenate([np.asarray(v, dtype) for v in parts]) if parts else np.zeros(shape, dtype)
 
@@ -58,10 +60,10 @@ def _point_vars(branches: Sequence[tuple[int, Branch]], families: Mapping[int, F
             cyc[k + i, : b.n] = families[c].cycle(float(b.p[i]), b.states[i], b.n)[:, 1]
         k += len(b)
 
-    def cat(attr: str, dtype: Any = float, shape: tuple[int, ...] = (0,)) -> np.ndarray:
+    def cat(attr: str, dtype: DTypeLike = float, shape: tuple[int, ...] = (0,)) -> np.ndarray:
         return _joined([getattr(b, attr) for _, b in branches], dtype, shape)
 
-    def each(values: Any) -> np.ndarray:
+    def each(values: Iterable[int]) -> np.ndarray:
         """One value per branch, repeated on its points."""
         return _joined([np.full(len(b), v) for v, (_, b) in zip(values, branches, strict=True)], int)
 
@@ -140,10 +142,10 @@ def bifurcation_rows(
     parameter: str,
     case_labels: Sequence[str],
     paper_transitions: Sequence[float] | None = None,
-) -> list[dict[str, Any]]:
+) -> list[dict[str, Json]]:
     """One row per bifurcation point; ``paper_transitions``: the paper's transition values along the
     same parameter (only for a design that names its paper), nearest one and the difference."""
-    rows = []
+    rows: list[dict[str, Json]] = []
     for j, (c, b) in enumerate(branches):
         for bf in b.bifurcations:
             near, diff = "", ""
@@ -160,7 +162,7 @@ def bifurcation_rows(
     return rows
 
 
-def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
+def rows_to_csv(rows: Sequence[Mapping[str, Json]]) -> str:
     """The table as CSV text (columns :data:`TABLE_COLUMNS`, a header line, ``\\n`` line ends)."""
 
     buf = StringIO()
@@ -171,7 +173,7 @@ def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
     return buf.getvalue()
 
 
-def branches_from_dataset(ds: Any) -> list[tuple[int, Branch]]:
+def branches_from_dataset(ds: xr.Dataset) -> list[tuple[int, Branch]]:
     """The branches of a :func:`branch_dataset` file (points, states, multipliers; no bifurcations)."""
     out = []
     ids = ds["branch"].values
