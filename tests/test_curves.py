@@ -32,7 +32,7 @@ from geardyn.label import classify
 from geardyn.plots import curves as plots_curves
 from geardyn.runs import continuation as C
 from geardyn.runs import maps
-from geardyn.runs.continuation import curve_check, curve_maps, output
+from geardyn.runs.continuation import curve_check, curve_maps
 from geardyn.runs.continuation.family import back_margin
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.bifurcations import CODES, decode
@@ -170,8 +170,9 @@ def test_pixel_check_types_the_duffing_period_doubling_supercritical():
     probe = curve_check._Probe(plane, pd, curve_check.CheckSettings())
     for d in (2e-3, 1e-2):
         t_pair = (bf.p - d, bf.p + d)  # the P1 orbit is stable below the period doubling
-        assert probe.criticality((bf.p, 1.2, "p"), ref, bf.state, t_pair) == "supercritical", d
-        assert probe.criticality((bf.p, 1.2, "p"), ref, bf.state, t_pair[::-1]) == "subcritical", d
+        origin = curve_check.Origin(bf.p, 1.2, "p")
+        assert probe.criticality(origin, ref, bf.state, t_pair) == "supercritical", d
+        assert probe.criticality(origin, ref, bf.state, t_pair[::-1]) == "subcritical", d
         for g, past in ((bf.p - d, False), (bf.p + d, True)):
             orbit = newton_shooting(plane.flow(g, 1.2, 1), bf.state, 1, 1e-10).state
             y = _attractor(plane.flow(g, 1.2, 1), orbit + 1e-3, 3000)
@@ -350,7 +351,7 @@ def _map_curves(d, spec, cube, settings, lines, **changes):
     region = curve_maps.Region.of_map(spec)
     bs = dataclasses.replace(curve_maps.BoundarySpec(), lines_x=tuple(lines[0]), lines_y=tuple(lines[1]), **changes)
     bd, plane = curve_maps.boundary_curves(d, region, bs, settings, cube)
-    return bd, curve_check.pixel_check(plane, bd, cube, CHECK), plane
+    return bd, curve_check.pixel_check(plane, bd.curves, cube, CHECK), plane
 
 
 @pytest.fixture(scope="module")
@@ -371,9 +372,9 @@ def test_pixel_check_of_the_neimark_sacker_boundary(map_x1_b_small):
     whose multiplier is within the slow margin of 1, an other side undetermined at the circle, a crossing
     within 1.5 pixels of the curve itself."""
     cube, bd, check, _ = map_x1_b_small
-    assert [(bd.file_kind(k), c.n) for k, c in enumerate(bd.curves)] == [("neimark_sacker", 1)]
+    assert [(bc.kind, bc.curve.n) for bc in bd.curves] == [("neimark_sacker", 1)]
     # every record of the rows (after a periodic pixel) lies on the curve
-    assert {r[4] for r in bd.records if r[1] >= 1} == {"on_curve"}
+    assert {r.fate for r in bd.records if r.n >= 1} == {"on_curve"}
     assert len(check.checked) >= 15 and check.fraction >= 0.95  # measured 1.0 (18 of 18)
     assert check.attrs()["pixel_check_samples"] == len(check.checked)
     margin = curve_check.slow_margin(cube)
@@ -397,19 +398,17 @@ def test_pixel_check_fails_a_misplaced_curve_and_a_mislabelled_map(map_x1_b_smal
     orbit's stability: ``not_straddled``), and the map with its P1 pixels relabelled quasi-periodic (the stable
     side on the orbit, certified, labelled otherwise: ``stable_side``)."""
     cube, bd, _, plane = map_x1_b_small
-    (curve,) = bd.curves
+    ((curve, _, _),) = bd.curves
     dx, dy = (3 * float(cube[v][1] - cube[v][0]) for v in ("x", "y"))
     moved = [dataclasses.replace(pt, z=np.r_[pt.z[:-2], pt.z[-2] + dx, pt.z[-1] - dy]) for pt in curve.points]
-    shifted = curve_maps.Boundaries(
-        bd.region, curves=[C.Curve(curve.kind, curve.n, moved, curve.scales, {})], flank=["working"], origin=["x"]
-    )
+    shifted = [C.curves.BoundaryCurve(C.Curve(curve.kind, curve.n, moved, curve.scales, {}))]
     wrong = curve_check.pixel_check(plane, shifted, cube, CHECK)
     assert wrong.fraction <= 0.3 and wrong.tally(("not_straddled",))  # measured 0.0: 19 of 19 not straddled
     relabelled = cube.copy()
     lab = relabelled["label"].values.copy()
     lab[lab == 1] = classify.LABELS["quasi_periodic"]
     relabelled["label"] = (relabelled["label"].dims, lab, relabelled["label"].attrs)
-    bad = curve_check.pixel_check(plane, bd, relabelled, CHECK)
+    bad = curve_check.pixel_check(plane, bd.curves, relabelled, CHECK)
     assert bad.fraction <= 0.3 and bad.tally(("stable_side",))  # measured 0.0
 
 
@@ -432,7 +431,7 @@ def test_pixel_check_of_the_grazing_curve_no_impact_to_single_sided(linear_limit
     """Across the grazing curve the impact class changes from no impact to single-sided impact as the shot
     orbit predicts, at every row and column that crosses it; every checked crossing of every curve passes."""
     _, cube, bd, check, _ = linear_limit_map
-    kinds = {bd.file_kind(k) for k in range(len(bd.curves))}
+    kinds = {bc.kind for bc in bd.curves}
     assert {"grazing", "fold", "neimark_sacker"} <= kinds
     grazing = [s for s in check.checked if s.kind == "grazing"]
     assert len(grazing) >= 12  # measured 15 (11 more within 3 pixels of a codimension-2 point)
@@ -451,9 +450,9 @@ def test_grazing_meets_a_fold_a_period_doubling_and_a_neimark_sacker_on_the_back
     circle."""
     _, _, bd, _, plane = linear_limit_map
     found = {}
-    for k, c in enumerate(bd.curves):
-        for b in c.codim2:
-            if bd.file_kind(k) == "back_grazing":
+    for bc in bd.curves:
+        for b in bc.curve.codim2:
+            if bc.kind == "back_grazing":
                 found.setdefault(b.kind, []).append(b)
     assert {k: len(v) for k, v in found.items()} == {"grazing_fold": 1, "grazing_flip": 2, "grazing_neimark_sacker": 1}
     for kind, points in found.items():
@@ -483,7 +482,7 @@ def test_boundary_settings_agree_with_the_config_schema():
 
 def test_curves_file_is_cf_complete_and_keeps_the_check(map_x1_b_small, tmp_path):
     _, bd, check, _ = map_x1_b_small
-    ds = output.boundary_dataset(bd, check)
+    ds = curve_maps.boundary_dataset(bd, check)
     assert io.missing_cf_attributes(ds) == []
     assert ds.attrs["pixel_check_samples"] == len(check.checked) and ds.sizes["check"] == len(check.samples)
     assert "## Pixel check: small" in plots_curves.check_table("small", ds)
@@ -491,7 +490,7 @@ def test_curves_file_is_cf_complete_and_keeps_the_check(map_x1_b_small, tmp_path
     assert decode(ds["curve_kind"].attrs)[CODES["back_grazing"]] == "back_grazing"
     assert ds.sizes["record"] == len(bd.records) and ds.attrs["records_on_curve"] >= 1
     io.write_netcdf(ds, tmp_path / "curves.nc", provenance.attributes(title="test"))
-    empty = output.boundary_dataset(type(bd)(bd.region))  # no curve at all: still a valid file
+    empty = curve_maps.boundary_dataset(type(bd)(bd.region))  # no curve at all: still a valid file
     assert io.missing_cf_attributes(empty) == []
     io.write_netcdf(empty, tmp_path / "empty.nc", provenance.attributes(title="test"))
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import partial
+from typing import NamedTuple
 
 import numpy as np
 
@@ -18,6 +19,8 @@ from geardyn.runs.continuation.problem import TARGET, CurveProblem, others
 from geardyn.runs.continuation.stepping import both_ways, box_end, inside, march
 from geardyn.solve.bifurcations import CODIM2
 
+#: The map's ``bifurcation`` flags that seed curves (each the kind of the curve it seeds).
+RECORD_KINDS = ("fold", "period_doubling", "neimark_sacker")
 #: The codimension-2 points that end a curve.
 TERMINAL = ("resonance_1_1", "resonance_1_2")
 #: The codimension-2 tests of each kind of curve, in the order of :func:`tests`.
@@ -62,6 +65,20 @@ class Curve:
     p = property(lambda self: np.array([c.z[-2] for c in self.points]), doc="p at every point")
     q = property(lambda self: np.array([c.z[-1] for c in self.points]), doc="q at every point")
     residual = property(lambda self: np.array([c.G for c in self.points]), doc="the defining condition G")
+
+
+class BoundaryCurve(NamedTuple):
+    """A curve of a plane with its ``flank`` ("back": a back-flank grazing curve, else "working") and its
+    ``origin`` (the seed it started from)."""
+
+    curve: Curve
+    flank: str = "working"
+    origin: str = ""
+
+    @property
+    def kind(self) -> str:
+        """Its kind in the curves file: ``back_grazing`` for a back-flank grazing curve."""
+        return "back_grazing" if self.curve.kind == "grazing" and self.flank == "back" else self.curve.kind
 
 
 def tests(kind: str, pt: Point) -> dict[str, float]:

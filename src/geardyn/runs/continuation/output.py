@@ -7,7 +7,6 @@ from __future__ import annotations
 import csv
 from collections.abc import Iterable, Mapping, Sequence
 from io import StringIO
-from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -18,7 +17,7 @@ from geardyn.io import Var
 from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.runs.continuation.branch import Branch
-from geardyn.runs.continuation.curves import Curve, bounds_stable
+from geardyn.runs.continuation.curves import Curve
 from geardyn.runs.continuation.family import Family
 from geardyn.runs.cube import STATES
 from geardyn.solve import bifurcations as kinds
@@ -232,50 +231,3 @@ def curve_dataset(curves: Sequence[Curve], names: tuple[str, str]) -> xr.Dataset
     ]
     ends = {f"curve_{k}_end": ", ".join(f"{s}={v}" for s, v in c.end_status.items()) for k, c in enumerate(curves)}
     return xr.Dataset(table(data), attrs={**ends, "curve_parameters": f"{p} {q}"})
-
-
-def boundary_dataset(bd: Any, check: Any = None) -> xr.Dataset:
-    """The curves file of :class:`~geardyn.runs.continuation.curve_maps.Boundaries` ``bd``: the curves
-    (:func:`curve_dataset`) with the kind ``back_grazing``, ``bounds_stable`` per point, the seeds (``curve_<k>_seed``),
-    the map's records and their fates (``record_*``), the seconds per stage (``time_<stage>_s``) and, given a
-    :class:`~geardyn.runs.continuation.curve_check.PixelCheck`, its samples (``check_*``, ``pixel_check_*``)."""
-    names, rec, R = bd.region.names, bd.records, "record"
-    ds = curve_dataset(bd.curves, names)
-    bounds = [bounds_stable(c.kind, pt.multipliers, pt.crit) for c in bd.curves for pt in c.points]
-    stable = "the curve bounds a stable orbit here (the other multipliers inside)"
-    period, file_kinds = "period of the orbit before the record (0: not periodic)", kinds.flags(FILE_KINDS)
-    rows = [
-        (
-            Var("curve_kind", "curve", None, "curve kind", file_kinds),
-            [CODES[bd.file_kind(k)] for k in range(len(bd.curves))],
-        ),
-        (Var("bounds_stable", "point", None, stable, index(("interior", "boundary"))), bounds),
-        (Var("record_kind", R, None, "kind of the map's record", file_kinds), [CODES[r[0]] for r in rec]),
-        (Var("record_period", R, "1", period, dtype=np.int16), [r[1] for r in rec]),
-        *[
-            (Var(f"record_{nm}", R, *quantity(nm)), np.array([r[2 + k] for r in rec], float))
-            for k, nm in enumerate(names)
-        ],
-        (
-            Var("record_fate", R, None, "fate of the map's record as a seed", index(RECORD_FATES)),
-            [RECORD_FATES.index(r[4]) for r in rec],
-        ),
-    ]
-    ds.update(table(rows))
-    ds.attrs.update({f"curve_{k}_seed": o for k, o in enumerate(bd.origin)})
-    ds.attrs.update({f"records_{f}": int(sum(r[4] == f for r in rec)) for f in RECORD_FATES})
-    ds.attrs.update({f"time_{k}_s": round(v, 3) for k, v in bd.timing.items()})
-    ds.attrs["unseeded_events"] = (
-        "; ".join(
-            f"{kind} P{n} at ({x:.6g}, {y:.6g}){'' if located else ' (bracketed)'}"
-            for kind, n, x, y, located in bd.unseeded
-        )
-        or "none"
-    )
-    ds.attrs["lines"] = "; ".join(str(line) for line in bd.lines)
-    ds.attrs["box"] = ", ".join(f"{v:g}" for v in bd.region.box)
-    ds.attrs["fixed_overrides"] = point.label(bd.region.fixed)
-    if check is not None:
-        ds.update(table(check.variables(names, FILE_KINDS)))
-        ds.attrs.update(check.attrs())
-    return ds
