@@ -16,6 +16,10 @@ from typing import Any, overload
 import numpy as np
 import numpy.typing as npt
 
+#: A floor for a divisor that may be zero: below any scale that occurs (states, multipliers, coefficients), above
+#: the smallest normal double (2.2e-308).
+TINY = 1e-300
+
 FloatArray = npt.NDArray[np.float64]
 
 

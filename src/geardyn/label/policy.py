@@ -4,7 +4,6 @@ stage of the labeller reads (integration, classifier thresholds, the stages' num
 from __future__ import annotations
 
 import dataclasses
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Literal
@@ -12,19 +11,17 @@ from typing import Literal
 from geardyn.jsontypes import Json
 from geardyn.label.classify import ClassifierSettings
 from geardyn.solve.base import SimulationSettings
+from geardyn.solve.shooting import ShootingSettings
 
 Start = Literal["follow", "fixed"]
 
 
 @dataclass(frozen=True)
-class Newton:
-    """Newton shooting (:func:`geardyn.solve.shooting.newton_shooting_batch`): tolerance, iterations, growth
-    stop, step cap, and the cycle tolerance of a certified orbit's least period (``docs/classify.md``)."""
+class Newton(ShootingSettings):
+    """The labeller's Newton shooting (:class:`~geardyn.solve.shooting.ShootingSettings`, 12 iterations), and the
+    cycle tolerance of a certified orbit's least period (``docs/classify.md``)."""
 
-    tol: float = 1e-9
     max_iter: int = 12
-    max_growth: float = math.inf
-    step_cap: float = 10.0
     cycle_tol_factor: float = 1e3
 
 

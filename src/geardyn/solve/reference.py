@@ -35,6 +35,11 @@ from geardyn.solve.base import (
     divergence_limits,
 )
 
+#: The reference solver's relative tolerance (scipy's DOP853; the independent check of the fixed-step loops), and
+#: the fraction of a period below which what is left of it after an event is not integrated.
+RTOL = 1e-12
+END_FRACTION = 1e-14
+
 _cache.renew_once()  # before the loops: numba's cache renewed when any kernel source changed
 
 
@@ -99,7 +104,7 @@ def integrate_period(
     coeffs: System,
     y: np.ndarray,
     per: int = 0,
-    rtol: float = 1e-12,
+    rtol: float = RTOL,
     atol: float | None = None,
     reg: int | None = None,
     collect: list | None = None,
@@ -149,7 +154,7 @@ def integrate_period(
                 else:
                     reg = 0
                 nev += 1
-                if t_end - t <= 1e-14 * T:
+                if t_end - t <= END_FRACTION * T:
                     break
                 continue
             y = sol.y[:, -1].copy()

@@ -18,6 +18,22 @@ from geardyn.solve.run import lane_tables, simulate, simulate_batch
 #: flow(x, jacobian) -> (state after n periods, monodromy or None); (None, None) when diverged.
 FlowMap = Callable[[np.ndarray, bool], tuple[np.ndarray | None, np.ndarray | None]]
 
+
+@dataclass(frozen=True)
+class ShootingSettings:
+    """Newton shooting on the n-period map (``docs/numerics.md``): converged when max |phi(x) - x| <= ``tol``
+    max(1, max |x|), at most ``max_iter`` iterations, each step capped at ``step_cap`` max(1, max |x0|), stopped when
+    the residual grows ``max_growth`` times over the previous iterate's (never by default)."""
+
+    tol: float = 1e-9
+    max_iter: int = 30
+    step_cap: float = 10.0
+    max_growth: float = math.inf
+
+
+#: The shooting of every caller that does not name its own settings.
+SHOOTING = ShootingSettings()
+
 #: Status words of :class:`ShootingResult`.
 STATUSES = ("converged", "max_iterations", "diverged", "singular", "not_finite", "residual_grows")
 
@@ -120,7 +136,7 @@ def _newton_next(go: list[tuple[int, np.ndarray, np.ndarray, np.ndarray]], it: i
     return out
 
 
-def _step_cap(x0: np.ndarray, factor: float = 10.0) -> float:
+def _step_cap(x0: np.ndarray, factor: float = SHOOTING.step_cap) -> float:
     return factor * max(1.0, float(np.max(np.abs(x0))))
 
 
@@ -156,12 +172,11 @@ def newton_shooting(
     flow: FlowMap,
     x0: np.ndarray,
     n: int = 1,
-    tol: float = 1e-9,
-    max_iter: int = 30,
-    max_growth: float = math.inf,
+    tol: float = SHOOTING.tol,
+    max_iter: int = SHOOTING.max_iter,
+    max_growth: float = SHOOTING.max_growth,
 ) -> ShootingResult:
-    """Newton on F(x) = phi(x) - x from x0: converged when max |F| <= tol max(1, max |x|), the step capped
-    at 10 max(1, max |x0|), stopped when the residual grows ``max_growth`` times (``docs/numerics.md``)."""
+    """Newton on F(x) = phi(x) - x from x0 (:class:`ShootingSettings`)."""
     caps = [_step_cap(np.asarray(x0, dtype=float))]
     step = functools.partial(_newton_next, caps=caps, n=n)
     return _iterate(lambda _, xs: [flow(xs[0], True)], step, [x0], n, tol, max_iter, max_growth)[0]
@@ -172,15 +187,15 @@ def newton_shooting_batch(
     x0s: list[np.ndarray],
     n: int = 1,
     settings: SimulationSettings | None = None,
-    tol: float = 1e-9,
-    max_iter: int = 30,
+    tol: float = SHOOTING.tol,
+    max_iter: int = SHOOTING.max_iter,
     tables=None,
-    max_growth: float = math.inf,
+    max_growth: float = SHOOTING.max_growth,
     *,
     chord: list[np.ndarray] | None = None,
     deflate: list[np.ndarray] | None = None,
     deflation_shift: float = 1.0,
-    step_cap: float = 10.0,
+    step_cap: float = SHOOTING.step_cap,
 ) -> list[ShootingResult]:
     """:func:`newton_shooting` on the n-period map of many systems at once, every iteration one
     :func:`geardyn.solve.run.simulate_batch` (each result bit for bit that of the point alone); ``chord``:

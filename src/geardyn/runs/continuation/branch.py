@@ -12,6 +12,10 @@ import numpy as np
 from geardyn import libm
 from geardyn.runs.continuation.corrector import ContinuationSettings
 
+#: How far a step's parameter interval is widened when asked which steps hold p (:func:`on_branch`): a point at a
+#: step's end is on it after rounding (parameters are of order 1; the double's resolution is 2.2e-16).
+PAD = 1e-12
+
 
 @dataclass
 class Bifurcation:
@@ -66,7 +70,7 @@ class Branch:
                 yield i, self.states[i] + w * (self.states[i + 1] - self.states[i])
 
 
-def on_branch(br: Branch, p: float, points: np.ndarray, tol: float, pad: float = 1e-12, stable: bool = False) -> bool:
+def on_branch(br: Branch, p: float, points: np.ndarray, tol: float, pad: float = PAD, stable: bool = False) -> bool:
     """True when one of ``points`` (phase-0 points of an orbit at p) lies on the branch (max-norm
     distance within tol * max(1, max |x|) of the branch interpolated at p, :meth:`Branch.states_at`);
     ``stable``: only on steps of changing p between two stable points."""

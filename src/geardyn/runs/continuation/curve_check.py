@@ -35,7 +35,7 @@ from geardyn.runs.continuation.switching import switch_at_period_doubling
 from geardyn.solve import bifurcations
 from geardyn.solve.bifurcations import CODES
 from geardyn.solve.response import IMPACT_CLASSES, response_measures
-from geardyn.solve.shooting import newton_shooting
+from geardyn.solve.shooting import ShootingSettings, newton_shooting
 
 _UNDETERMINED = LABELS["undetermined"]
 #: Failures of a checked sample.
@@ -53,7 +53,7 @@ _TORUS = (LABELS["quasi_periodic"], LABELS["long_period"])
 @dataclass(frozen=True)
 class CheckSettings:
     """The numbers of the pixel check (docs/orbits.md, section 5): the samples (``every``, ``max_samples``), left
-    out (``margin``, ``crowd`` pixels), the orbit at a pixel (Newton: ``tol``, ``newton_iter``, ``pushes`` along the
+    out (``margin``, ``crowd`` pixels), the orbit at a pixel (Newton: ``shooting``, ``pushes`` along the
     fold eigenvector, within ``near``; else ``follow``, the probes' branches: about 8 steps over the way, none below
     1/512 of it, from ``follow_share`` of it; a period doubling's switched branch halves its steps down to
     ``switch_ds_min``), a pixel on the orbit (``mean_rtol``, ``mean_spread``, ``spread_rtol``)."""
@@ -62,8 +62,7 @@ class CheckSettings:
     margin: float = 3.0
     crowd: float = 1.5
     max_samples: int = 80
-    tol: float = 1e-9
-    newton_iter: int = 12
+    shooting: ShootingSettings = ShootingSettings(max_iter=12)
     pushes: tuple[float, ...] = (0.02, -0.02, 0.1, -0.1)
     near: float = 0.1
     follow: ContinuationSettings = ContinuationSettings(
@@ -242,7 +241,8 @@ class _Probe:
         scale = max(1.0, float(np.max(np.abs(near))))
         found = []
         for g in guesses:
-            r = newton_shooting(self.plane.flow(p, q, self.n), g, self.n, self.cs.tol, max_iter=self.cs.newton_iter)
+            sh = self.cs.shooting
+            r = newton_shooting(self.plane.flow(p, q, self.n), g, self.n, sh.tol, sh.max_iter)
             if r.converged and float(np.max(np.abs(r.state - near))) < self.cs.near * scale:
                 found.append((r.state, r.spectral_radius))
         found = found or self.followed(p, q, near, origin)

@@ -32,6 +32,10 @@ from geardyn.solve import bifurcations as kinds
 from geardyn.solve.base import SimulationSettings
 from geardyn.solve.bifurcations import CODES, CURVE_KINDS, decode
 
+#: The branches along a line: up to 2000 points each (five times a curve's 400), and a period doubling within 2e-3
+#: of a point of a known period-2n branch (sx and the range scaled to 1) starts none.
+LINE_BRANCHES = ContinuationSettings(max_points=2000, touch_tol=2e-3)
+
 if TYPE_CHECKING:  # for the annotations only
     from geardyn.runs.maps import MapSpec
 
@@ -72,7 +76,7 @@ class BoundarySpec:
         return replace(CURVES, ds=min(CURVES.ds_max, self.ds_max), ds_max=self.ds_max, max_points=self.max_points)
 
     def branch_settings(self) -> ContinuationSettings:
-        return ContinuationSettings(ds=self.branch_ds_max, ds_max=self.branch_ds_max, max_points=2000, touch_tol=2e-3)
+        return replace(LINE_BRANCHES, ds=self.branch_ds_max, ds_max=self.branch_ds_max)
 
     def record_settings(self) -> ContinuationSettings:
         """A record's branch: searched for the record's kind only (no grazing margins)."""

@@ -223,7 +223,7 @@ def segment_distance(a: np.ndarray, b: np.ndarray, pt: np.ndarray) -> float:
     if not len(a):
         return np.inf
     ab = b - a
-    w = np.clip(np.sum((pt - a) * ab, axis=1) / np.maximum(np.sum(ab * ab, axis=1), 1e-300), 0.0, 1.0)
+    w = np.clip(np.sum((pt - a) * ab, axis=1) / np.maximum(np.sum(ab * ab, axis=1), libm.TINY), 0.0, 1.0)
     return float(np.min(np.linalg.norm(a + w[:, None] * ab - pt, axis=1)))
 
 

@@ -27,6 +27,11 @@ from geardyn.runs.continuation.switching import add_branch
 from geardyn.runs.cube import STATES
 from geardyn.solve.base import SimulationSettings
 
+#: How near a branch a sweep point's last Poincare point must lie to agree with it (:func:`label_agreement`,
+#: relative to max(1, max |x|)): above the Poincare errors of the shipped step counts (1.9e-5 at 128 steps per
+#: period and less).
+AGREEMENT_TOL = 1e-4
+
 if TYPE_CHECKING:  # for the annotations only
     from geardyn.runs.sweep import SweepSpec
 
@@ -100,7 +105,7 @@ def sweep_branches(families: Sequence[KHVFamily], cube: xr.Dataset, spec: OrbitS
 
 
 def label_agreement(
-    cube: xr.Dataset, case: int, branches: Sequence[Branch], max_period: int, tol: float = 1e-4
+    cube: xr.Dataset, case: int, branches: Sequence[Branch], max_period: int, tol: float = AGREEMENT_TOL
 ) -> tuple[int, int, list[float]]:
     """Consistency of the simulated labels with the branches: of the sweep points labelled P1..P<max_period>,
     how many have their last Poincare point on a *stable* part of a branch of that period (within

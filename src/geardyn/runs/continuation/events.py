@@ -16,6 +16,18 @@ from geardyn.runs.continuation.problem import BranchProblem, nearest
 from geardyn.solve.floquet import is_complex
 from geardyn.solve.shooting import rotation_number
 
+#: Brent's method on a step's arclength fraction: the relative tolerance at scipy's least (4 eps = 8.9e-16), and
+#: an iteration limit twice the 30 bisections that take the unit interval below the default location tolerance.
+BRENT_RTOL = 1e-15
+BRENT_MAXITER = 60
+#: The fold's rounds (:func:`_fold`): at most ``FOLD_ROUNDS`` corrected points; a root of the Hermite cubic is real
+#: when its imaginary part is below ``REAL_ROOT`` (np.roots leaves rounding there); the fold is reached when
+#: dp/ds (scaled) is below ``FOLD_DPDS`` or the bracket below ``FOLD_BRACKET`` of the step.
+FOLD_ROUNDS = 12
+REAL_ROOT = 1e-12
+FOLD_DPDS = 1e-10
+FOLD_BRACKET = 1e-12
+
 
 def unstable_counts(mu: np.ndarray) -> tuple[int, int]:
     """How many multipliers lie outside the unit circle, and how many of them are complex."""
@@ -118,20 +130,20 @@ def brent_on_step(
         return v
 
     try:
-        s = brentq(f, 0.0, 1.0, xtol=xtol, rtol=1e-15, maxiter=60)
+        s = brentq(f, 0.0, 1.0, xtol=xtol, rtol=BRENT_RTOL, maxiter=BRENT_MAXITER)
     except (RuntimeError, ValueError):
         return None
     return cache[s] if s in cache else point_at(s)
 
 
-def _fold(prob: BranchProblem, br: Branch, i: int, iterations: int = 12) -> tuple[Point, bool]:
+def _fold(prob: BranchProblem, br: Branch, i: int) -> tuple[Point, bool]:
     """Fold between points i and i+1: the extremum of the cubic Hermite interpolant of p(s) (values and dp/ds at
     the bracket ends), corrected onto the branch there; the bracket shrinks to the corrected point and its tangent
     until dp/ds = 0 (then one multiplier is +1)."""
     lo, hi = _stored(br, i, 0.0), _stored(br, i + 1, 1.0)
     h = float(br.arclength[i + 1] - br.arclength[i])
     best = None
-    for _ in range(iterations):
+    for _ in range(FOLD_ROUNDS):
         span = (hi.u - lo.u) * h
         p0, p1 = lo.p, hi.p
         sp = prob.sp
@@ -139,13 +151,13 @@ def _fold(prob: BranchProblem, br: Branch, i: int, iterations: int = 12) -> tupl
         c2 = 3 * (p1 - p0) - 2 * m0 - m1
         c3 = 2 * (p0 - p1) + m0 + m1
         roots = np.atleast_1d(np.roots([3 * c3, 2 * c2, m0])) if (c3 != 0 or c2 != 0) else np.array([])
-        cand = [float(r.real) for r in roots if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0]
+        cand = [float(r.real) for r in roots if abs(r.imag) < REAL_ROOT and 0.0 < r.real < 1.0]
         v = min(cand, key=lambda r: abs(r - 0.5)) if cand else 0.5
         q = _on_branch(prob, br, i, lo.u + v * (hi.u - lo.u))
         if q is None:
             break
         best = q
-        if abs(float(q.tangent[-1])) < 1e-10 or (hi.u - lo.u) < 1e-12:
+        if abs(float(q.tangent[-1])) < FOLD_DPDS or (hi.u - lo.u) < FOLD_BRACKET:
             break
         if (q.tangent[-1] > 0) == (lo.tangent[-1] > 0):
             lo = q

@@ -10,12 +10,17 @@ from typing import Protocol, TypeVar
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+from geardyn import libm
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import Coefficients
 from geardyn.solve.base import SimulationSettings
 from geardyn.solve.run import simulate
 from geardyn.solve.shooting import FlowMap, cycle_points, khv_flow, period_settings
+
+#: Relative agreement of a coefficient from the line's spline with the design's at the box corner, where the
+#: spline passes through its node: rounding only (1e-9 is about 4e6 times the double's resolution).
+CORNER_RTOL = 1e-9
 
 
 class Family(Protocol):
@@ -74,7 +79,7 @@ class KHVFamily:
             mids = 0.5 * (grid[1:] + grid[:-1])  # the error: the largest relative one at about five mid-points
             for v in mids[:: max(1, len(mids) // 5)]:
                 direct = np.array([self._direct(v).as_dict()[k] for k in self._floats])
-                err = np.abs(self._spline(v) - direct) / np.maximum(np.abs(direct), 1e-300)
+                err = np.abs(self._spline(v) - direct) / np.maximum(np.abs(direct), libm.TINY)
                 self.interpolation_error = max(self.interpolation_error, float(np.max(err)))
         self._cache: dict[float, Coefficients] = {}
 
@@ -212,9 +217,12 @@ class KHVPlane:
             self._line = KHVFamily(design, self.names[1 if swap else 0], {**self.fixed, fast: mid}, lo, hi, None, nodes)
             corner = self.coefficients(self.box[1], self.box[3]).as_dict()
             direct = self._direct((self.box[1], self.box[3])).as_dict()
-            if any(
-                abs(float(corner[k]) - v) > 1e-9 * max(1.0, abs(v)) for k, v in direct.items() if isinstance(v, float)
-            ):
+            off = (
+                abs(float(corner[k]) - v) > CORNER_RTOL * max(1.0, abs(v))
+                for k, v in direct.items()
+                if isinstance(v, float)
+            )
+            if any(off):
                 self._field = None
             self._cache.clear()
 

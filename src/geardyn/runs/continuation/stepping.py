@@ -57,7 +57,7 @@ def march(
         if len(pts) > 10 and back:
             return pts, "closed_loop"
         if cur.iterations <= cs.grow_at:
-            ds = min(ds * 1.3, cs.ds_max)
+            ds = min(ds * cs.ds_grow, cs.ds_max)
         if float(np.max(libm.cabs(cur.multipliers))) > cs.max_multiplier:
             return pts, "multipliers_too_large"
     return pts, "max_points"
