@@ -64,7 +64,7 @@ def lines_of_runs(lines: Mapping[str, Mapping[str, Json]], runs: Mapping[str, Js
             out[role] = track_of_cube(cube)
         else:  # a family: {value: Track} of the cases ``<case_parameter>=<value>``
             names = [str(c) for c in cube["case"].values]
-            index = {float(v): names.index(point.label({spec["case_parameter"]: v}, "")) for v in spec["cases"]}
+            index = {float(v): names.index(point.override_text({spec["case_parameter"]: v}, "")) for v in spec["cases"]}
             out[role] = {v: track_of_cube(cube, i) for v, i in index.items()}
     return out
 
@@ -179,7 +179,7 @@ def _amplitude_falls(spec: Mapping[str, Json], amplitude: Mapping[str, np.ndarra
 
 def _peaks(spec: Mapping[str, Json], points: xr.Dataset | None) -> Claim:
     """Each of the paper's spectral peaks has one of our ``highest`` peaks within ``tolerance`` (dense run ``case``)."""
-    case = point.label(spec["case"], "")
+    case = point.override_text(spec["case"], "")
     if points is None or case not in [str(c) for c in points["case"].values]:
         return _missing(spec, "point missing", "no dense run")
     d = points.sel(case=case)

@@ -41,7 +41,7 @@ def units_of(name: str, default: str | None = None) -> str:
     return PARAMETER_UNITS[name] if default is None else PARAMETER_UNITS.get(name, default)
 
 
-def label(overrides: Iterable[tuple[str, float]] | Mapping[str, float], empty: str = "none") -> str:
+def override_text(overrides: Iterable[tuple[str, float]] | Mapping[str, float], empty: str = "none") -> str:
     """The overrides as ``k=v,k=v`` (values ``:g``), ``empty`` without any."""
     pairs = overrides.items() if isinstance(overrides, Mapping) else overrides
     return ",".join(f"{k}={v:g}" for k, v in pairs) or empty

@@ -22,7 +22,7 @@ from geardyn.label import Policy, classify, compare, label_points
 from geardyn.label.policy import Same
 from geardyn.runs.continuation import branches_from_dataset
 from geardyn.runs.continuation.branch import Branch
-from geardyn.runs.cube import STATES, label
+from geardyn.runs.cube import STATES, label_var
 from geardyn.solve.base import SimulationSettings, System
 
 if TYPE_CHECKING:  # imported for the annotations only (the module imports this one)
@@ -173,7 +173,7 @@ def slot_variables(max_n: int = 12) -> tuple[Var, ...]:
     pa, per_unit_tau = ("point", "attractor"), "(Floquet for periodic attractors, tangent vector otherwise)"
     reached = "attractor index reached from the named start (-1: start not used)"
     return (
-        label("attractor_label", "motion label of the attractor (classify)", max_n, pa),
+        label_var("attractor_label", "motion label of the attractor (classify)", max_n, pa),
         Var("attractor_found", pa, None, "attractor slot used", {"empty": 0, "found": 1}, fill=0),
         Var("centroid", (*pa, "state"), "1", "centroid of the attractor's Poincare points (x / b_c, dx/dtau / b_c)"),
         Var("attractor_size", pa, "1", "largest extent of the Poincare points"),

@@ -40,7 +40,7 @@ def _table(*rows: Var) -> dict[str, Var]:
     return {v.name: v for v in rows}
 
 
-def label(name: str, long_name: str, max_n: int = 12, dims: tuple[str, ...] = ()) -> Var:
+def label_var(name: str, long_name: str, max_n: int = 12, dims: tuple[str, ...] = ()) -> Var:
     """A motion label (int16 codes, :data:`geardyn.label.classify.LABELS` and period-n for n = 1..``max_n``;
     ``long_period``: a certified orbit of a longer period, in ``period``), ``undetermined`` where not labelled."""
     codes = {**classify.LABELS, **{f"period_{n}": n for n in range(1, max_n + 1)}}
@@ -109,13 +109,13 @@ VARIABLES = _table(
         "impact class: no impact, single-sided (separation, never back-side contact), double-sided (back-side contact)",
     ),
     # policy coexistence: the fixed start's label and whether it differs
-    label("label_fixed", "motion label from the fixed start (the static deflection)"),
+    label_var("label_fixed", "motion label from the fixed start (the static deflection)"),
     _flag(
         "coexisting",
         {"not_checked": -1, "same": 0, "coexisting": 1},
         "the follow and the fixed start end on different attractors at this point",
     ),
-    label("label", "motion label (geardyn.label)"),
+    label_var("label", "motion label (geardyn.label)"),
     _num(
         "transient_used",
         "transient mesh periods integrated before the recorded ones (0: followed from the previous "
@@ -156,7 +156,7 @@ def empty(
     ``long_names`` replace the table's)."""
     out = {}
     for name in names:
-        var = label(name, VARIABLES[name].long_name, max_n) if name in LABELS else VARIABLES[name]
+        var = label_var(name, VARIABLES[name].long_name, max_n) if name in LABELS else VARIABLES[name]
         out[name] = replace(var, dims=dims, long_name=long_names.get(name, var.long_name)).empty(shape)
     return out
 

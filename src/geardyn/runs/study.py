@@ -104,7 +104,7 @@ class StudySpec:
 
     @property
     def fixed_overrides(self) -> str:
-        return point.label(self.fixed)
+        return point.override_text(self.fixed)
 
 
 class Grid:

@@ -55,7 +55,7 @@ class SweepSpec(study.StudySpec, study.Grid):
         return max(1, min(self.chunks, self.n_lines if self.start_from == "follow" else self.n_lines * self.num))
 
     def case_label(self, i: int) -> str:
-        return point.label(self.cases[i], "base")
+        return point.override_text(self.cases[i], "base")
 
 
 def chunk_work(spec: SweepSpec, chunk: int) -> Work:

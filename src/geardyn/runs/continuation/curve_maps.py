@@ -479,7 +479,7 @@ def boundary_dataset(bd: Boundaries, check: PixelCheck | None = None) -> xr.Data
     )
     ds.attrs["lines"] = "; ".join(str(line) for line in bd.lines)
     ds.attrs["box"] = ", ".join(f"{v:g}" for v in bd.region.box)
-    ds.attrs["fixed_overrides"] = point.label(bd.region.fixed)
+    ds.attrs["fixed_overrides"] = point.override_text(bd.region.fixed)
     if check is not None:
         ds.update(table(check.variables(names, FILE_KINDS)))
         ds.attrs.update(check.attrs())
