@@ -8,13 +8,13 @@ from collections.abc import Iterator
 
 from geardyn.label import classify, policy
 from geardyn.runs.continuation import corrector, curve_check, curve_maps
-from geardyn.solve import base, run, shooting
+from geardyn.solve import base, run
 
 #: (title, the settings, the instances side by side: (column, instance)), in the order of the page.
 SECTIONS = (
     ("Integration (`geardyn.solve.base.SimulationSettings`)", [("default", base.SimulationSettings())]),
     ("Early stop of the transient (`geardyn.solve.run.EarlyStop`)", [("default", run.EarlyStop())]),
-    ("Newton shooting (`geardyn.solve.shooting.ShootingSettings`)", [("default", shooting.SHOOTING)]),
+    ("Newton shooting (`geardyn.solve.base.ShootingSettings`)", [("default", base.SHOOTING)]),
     (
         "Continuation (`geardyn.runs.continuation.corrector.ContinuationSettings`)",
         [("branch (default)", corrector.ContinuationSettings()), ("curve (`CURVES`)", corrector.CURVES)],

@@ -10,15 +10,14 @@ from typing import Literal
 
 from geardyn.jsontypes import Json
 from geardyn.label.classify import ClassifierSettings
-from geardyn.solve.base import SimulationSettings
-from geardyn.solve.shooting import ShootingSettings
+from geardyn.solve.base import ShootingSettings, SimulationSettings
 
 Start = Literal["follow", "fixed"]
 
 
 @dataclass(frozen=True)
 class Newton(ShootingSettings):
-    """The labeller's Newton shooting (:class:`~geardyn.solve.shooting.ShootingSettings`, 12 iterations), and the
+    """The labeller's Newton shooting (:class:`~geardyn.solve.base.ShootingSettings`, 12 iterations), and the
     cycle tolerance of a certified orbit's least period (``docs/classify.md``)."""
 
     max_iter: int = 12

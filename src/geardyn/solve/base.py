@@ -5,6 +5,7 @@ settings and results (equations and layout: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Hashable
 from dataclasses import dataclass
 from typing import Literal, Protocol
@@ -56,6 +57,23 @@ class System(Hashable, Protocol):
     def static_state(self) -> np.ndarray: ...
 
     def as_dict(self) -> dict[str, float | str | int]: ...
+
+
+@dataclass(frozen=True)
+class ShootingSettings:
+    """Newton shooting on the n-period map (:mod:`geardyn.solve.shooting`, ``docs/numerics.md``): converged when
+    max |phi(x) - x| <= ``tol`` max(1, max |x|), at most ``max_iter`` iterations, each step capped at ``step_cap``
+    max(1, max |x0|), stopped when the residual grows ``max_growth`` times over the previous iterate's (never by
+    default)."""
+
+    tol: float = 1e-9
+    max_iter: int = 30
+    step_cap: float = 10.0
+    max_growth: float = math.inf
+
+
+#: The shooting of every caller that does not name its own settings.
+SHOOTING = ShootingSettings()
 
 
 @dataclass(frozen=True)

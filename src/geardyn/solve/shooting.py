@@ -12,27 +12,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from geardyn import libm
-from geardyn.solve.base import SimulationSettings, System
+from geardyn.solve.base import SHOOTING, SimulationSettings, System
 from geardyn.solve.run import lane_tables, simulate, simulate_batch
 
 #: flow(x, jacobian) -> (state after n periods, monodromy or None); (None, None) when diverged.
 FlowMap = Callable[[np.ndarray, bool], tuple[np.ndarray | None, np.ndarray | None]]
 
-
-@dataclass(frozen=True)
-class ShootingSettings:
-    """Newton shooting on the n-period map (``docs/numerics.md``): converged when max |phi(x) - x| <= ``tol``
-    max(1, max |x|), at most ``max_iter`` iterations, each step capped at ``step_cap`` max(1, max |x0|), stopped when
-    the residual grows ``max_growth`` times over the previous iterate's (never by default)."""
-
-    tol: float = 1e-9
-    max_iter: int = 30
-    step_cap: float = 10.0
-    max_growth: float = math.inf
-
-
-#: The shooting of every caller that does not name its own settings.
-SHOOTING = ShootingSettings()
 
 #: Status words of :class:`ShootingResult`.
 STATUSES = ("converged", "max_iterations", "diverged", "singular", "not_finite", "residual_grows")

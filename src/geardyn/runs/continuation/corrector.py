@@ -14,7 +14,7 @@ import numpy as np
 from geardyn.config import settings_from
 from geardyn.jsontypes import Json
 from geardyn.label.compare import least_period
-from geardyn.solve.shooting import SHOOTING, ShootingSettings
+from geardyn.solve.base import SHOOTING, ShootingSettings
 
 
 @dataclass(frozen=True)

@@ -33,9 +33,10 @@ from geardyn.runs.continuation.problem import CurveProblem
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.runs.continuation.switching import switch_at_period_doubling
 from geardyn.solve import bifurcations
+from geardyn.solve.base import ShootingSettings
 from geardyn.solve.bifurcations import CODES
 from geardyn.solve.response import IMPACT_CLASSES, response_measures
-from geardyn.solve.shooting import ShootingSettings, newton_shooting
+from geardyn.solve.shooting import newton_shooting
 
 _UNDETERMINED = LABELS["undetermined"]
 #: Failures of a checked sample.
