@@ -229,8 +229,8 @@ class _Probe:
     """The curve's orbit at pixels (:meth:`at`): status (stable, unstable, absent), state, mean X_VH, margin,
     impact class, spread of X_VH, largest multiplier modulus; and the criticality of a period doubling."""
 
-    def __init__(self, plane: KHVPlane, curve: Curve, cs: CheckSettings):
-        self.plane, self.curve, self.kind, self.n, self.cs = plane, curve, curve.kind, curve.n, cs
+    def __init__(self, plane: KHVPlane, curve: Curve, check: CheckSettings):
+        self.plane, self.curve, self.kind, self.n, self.check = plane, curve, curve.kind, curve.n, check
         self.cache: dict[tuple[float, float], Orbit] = {}
 
     def at(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: Origin) -> Orbit:
@@ -242,9 +242,9 @@ class _Probe:
         scale = max(1.0, float(np.max(np.abs(near))))
         found = []
         for g in guesses:
-            sh = self.cs.shooting
+            sh = self.check.shooting
             r = newton_shooting(self.plane.flow(p, q, self.n), g, self.n, sh.tol, sh.max_iter)
-            if r.converged and float(np.max(np.abs(r.state - near))) < self.cs.near * scale:
+            if r.converged and float(np.max(np.abs(r.state - near))) < self.check.near * scale:
                 found.append((r.state, r.spectral_radius))
         found = found or self.followed(p, q, near, origin)
         found = [f for f in found if not shorter_period(self.plane, p, q, f[0], self.n)]
@@ -265,9 +265,9 @@ class _Probe:
         along = origin.along
         t0, t1 = (origin.p, p) if along == "p" else (origin.q, q)
         line = PlaneLine(self.plane, along, q if along == "p" else p)
-        ts = t0 + self.cs.follow_share * (t1 - t0)
+        ts = t0 + self.check.follow_share * (t1 - t0)
         lo, hi = min(ts, t1), max(ts, t1)
-        br = continue_branch(line, ts, x, self.n, lo, hi, self.cs.follow, ("up",) if t1 > ts else ("down",))
+        br = continue_branch(line, ts, x, self.n, lo, hi, self.check.follow, ("up",) if t1 > ts else ("down",))
         if br is None or br.p[-1 if t1 > ts else 0] != t1:
             return []
         k = -1 if t1 > ts else 0
@@ -288,7 +288,7 @@ class _Probe:
         bf = Bifurcation("period_doubling", t_cross, pt.x, pt.multipliers, -1.0, np.nan, -1, True, self.n)
         lo, hi = sorted(t_pair)
         t_other = t_pair[1]
-        follow = replace(self.cs.follow, ds_min=self.cs.switch_ds_min)
+        follow = replace(self.check.follow, ds_min=self.check.switch_ds_min)
         br = switch_at_period_doubling(PlaneLine(self.plane, along, at), bf, lo, hi, follow)
         reached = [] if br is None else [i for i, _ in br.states_at(t_other)]
         return (
@@ -305,11 +305,11 @@ def slow_margin(map_ds: xr.Dataset) -> float:
     return max(float(a.get("stability_margin", 0.0)), 1.0 / float(a.get("classifier_torus_max_periods", np.inf)))
 
 
-def _on_orbit(mean: float, spread: float, orbit: Orbit, cs: CheckSettings) -> bool:
+def _on_orbit(mean: float, spread: float, orbit: Orbit, check: CheckSettings) -> bool:
     """Whether a pixel's mean and spread of X_VH are those of ``orbit``."""
     scale = max(1.0, abs(orbit.mean))
-    near = np.isfinite(mean) and abs(mean - orbit.mean) <= cs.mean_rtol * scale + cs.mean_spread * orbit.spread
-    return bool(near and np.isfinite(spread) and spread <= orbit.spread + cs.spread_rtol * scale)
+    near = np.isfinite(mean) and abs(mean - orbit.mean) <= check.mean_rtol * scale + check.mean_spread * orbit.spread
+    return bool(near and np.isfinite(spread) and spread <= orbit.spread + check.spread_rtol * scale)
 
 
 def _other_ok(kind: str, n: int, lab: int, moved: bool, supercritical: bool) -> bool:
@@ -324,14 +324,14 @@ def _other_ok(kind: str, n: int, lab: int, moved: bool, supercritical: bool) -> 
 class _Judge:
     """The outcome of one sample against the map (module doc)."""
 
-    def __init__(self, map_ds: xr.Dataset, slow: float, cs: CheckSettings):
+    def __init__(self, map_ds: xr.Dataset, slow: float, check: CheckSettings):
         self.lab, self.mean, self.spread = (map_ds[v].values for v in ("label", "x_vh_mean", "x_vh_spread"))
         self.impact = map_ds["impact_class"].values if "impact_class" in map_ds else None
-        self.slow, self.cs = slow, cs
+        self.slow, self.check = slow, check
 
     def stable_side(self, side: Side, n: int, forward: bool) -> str:
         px = side.pixel
-        lab, on = int(self.lab[px]), _on_orbit(self.mean[px], self.spread[px], side.orbit, self.cs)
+        lab, on = int(self.lab[px]), _on_orbit(self.mean[px], self.spread[px], side.orbit, self.check)
         if lab == n and on:
             return "ok"
         if on:
@@ -352,12 +352,12 @@ class _Judge:
             return "ok" if ok else "impact_class"
         if int(self.lab[pu]) == _UNDETERMINED and other.orbit.rho <= 1.0 + self.slow:
             return "slow"  # the labeller resolves no attractor within the margin past the bifurcation either
-        moved = not _on_orbit(self.mean[pu], self.spread[pu], stable.orbit, self.cs)
+        moved = not _on_orbit(self.mean[pu], self.spread[pu], stable.orbit, self.check)
         return "ok" if _other_ok(kind, n, int(self.lab[pu]), moved, supercritical) else "other_side"
 
 
 def pixel_check(
-    plane: KHVPlane, curves: Sequence[BoundaryCurve], map_ds: xr.Dataset, cs: CheckSettings = CheckSettings()
+    plane: KHVPlane, curves: Sequence[BoundaryCurve], map_ds: xr.Dataset, check: CheckSettings = CheckSettings()
 ) -> PixelCheck:
     """The pixel check (module doc) of ``curves`` against their map; ``plane`` the curves' plane."""
     xs, ys = map_ds["x"].values, map_ds["y"].values
@@ -371,18 +371,18 @@ def pixel_check(
         pts, keep = np.column_stack([c.p / px, c.q / py]), f[:-1] & f[1:]
         segs.append((pts[:-1][keep], pts[1:][keep]))
     t0 = time.perf_counter()
-    out = PixelCheck(every=cs.every, slow_margin=slow_margin(map_ds))
-    judge = _Judge(map_ds, out.slow_margin, cs)
+    out = PixelCheck(every=check.every, slow_margin=slow_margin(map_ds))
+    judge = _Judge(map_ds, out.slow_margin, check)
     for k, bc in enumerate(curves):
         curve, kind = bc.curve, bc.kind
-        probe = _Probe(plane.back_flank() if bc.flank == "back" else plane, curve, cs)
+        probe = _Probe(plane.back_flank() if bc.flank == "back" else plane, curve, check)
         flags = stable[k]
         own = np.column_stack([curve.p / px, curve.q / py])
         others = [
             m for m, bc in enumerate(curves) if m != k and (kind not in RECORD_KINDS or bc.curve.kind != "grazing")
         ]
         steep = np.abs(np.diff(curve.q)) / py >= np.abs(np.diff(curve.p)) / px  # rows cross it, else columns
-        every = cs.every
+        every = check.every
         rows = [Crossing("row", j, g, w) for j in range(0, ys.size, every) for g, w in crossings(curve.q, ys[j])]
         cands = [c for c in rows if steep[c.seg]]
         cands += [Crossing("column", i, g, w) for i in range(0, xs.size, every) for g, w in crossings(curve.p, xs[i])]
@@ -390,15 +390,15 @@ def pixel_check(
         bound = [c for c in cands if flags[c.seg] and flags[min(c.seg + 1, flags.size - 1)]]
         out.interior += len(cands) - len(bound)
         cands = bound
-        if len(cands) > cs.max_samples:
-            cands = [cands[i] for i in np.linspace(0, len(cands) - 1, cs.max_samples).round().astype(int)]
+        if len(cands) > check.max_samples:
+            cands = [cands[i] for i in np.linspace(0, len(cands) - 1, check.max_samples).round().astype(int)]
         for cross in cands:
             x, y = float(_lerp(curve.p, cross.seg, cross.w)), float(_lerp(curve.q, cross.seg, cross.w))
             base = Sample(k, kind, curve.n, float(x), float(y))
-            if any(np.hypot((x - a) / px, (y - b) / py) < cs.margin for a, b in c2):
+            if any(np.hypot((x - a) / px, (y - b) / py) < check.margin for a, b in c2):
                 out.samples.append(replace(base, reason="codim2"))
-            elif any(segment_distance(*segs[m], np.array([x / px, y / py])) < cs.crowd for m in others) or (
-                _self_crowded(own, cross.seg, x / px, y / py, cs.crowd)
+            elif any(segment_distance(*segs[m], np.array([x / px, y / py])) < check.crowd for m in others) or (
+                _self_crowded(own, cross.seg, x / px, y / py, check.crowd)
             ):
                 out.samples.append(replace(base, reason="crowded"))
             else:
@@ -427,7 +427,7 @@ def _probe_sample(
     state = _lerp(np.array([pt.x for pt in curve.points]), seg, cross.w)
     scale = max(1.0, float(np.max(np.abs(state))))
     v = curve.points[seg].v
-    guesses = [state] + ([state + a * scale * v for a in probe.cs.pushes] if v is not None else [])
+    guesses = [state] + ([state + a * scale * v for a in probe.check.pushes] if v is not None else [])
     probe.cache.clear()
     origin = Origin(base.x, base.y, "p" if row else "q")
     grid, c = (xs, origin.p) if row else (ys, origin.q)

@@ -70,11 +70,11 @@ class KHVFamily:
         self.interpolation_error = 0.0
         if self.nodes >= 4:
             grid = np.linspace(self.lo, self.hi, self.nodes)
-            cs = [self._direct(v) for v in grid]
-            d0 = cs[0].as_dict()
+            at_nodes = [self._direct(v) for v in grid]
+            d0 = at_nodes[0].as_dict()
             self._const = {k: v for k, v in d0.items() if not isinstance(v, float)}
             self._floats = [k for k, v in d0.items() if isinstance(v, float)]
-            table = np.array([[c.as_dict()[k] for k in self._floats] for c in cs])
+            table = np.array([[c.as_dict()[k] for k in self._floats] for c in at_nodes])
             self._spline = CubicSpline(grid, table, axis=0)
             mids = 0.5 * (grid[1:] + grid[:-1])  # the error: the largest relative one at about five mid-points
             for v in mids[:: max(1, len(mids) // 5)]:
