@@ -23,7 +23,7 @@ from geardyn import io
 from geardyn.khv import point
 from geardyn.plots.curves import check_table
 from geardyn.runs import maps
-from geardyn.runs.continuation import curve_check, output
+from geardyn.runs.continuation import curve_maps
 from geardyn.solve import warm_up
 
 
@@ -48,7 +48,7 @@ def curves_benchmark(config: Path, results: Path, map_name: str = "map_x1_b", ev
     t_map = t_rows * spec.y.num / n_rows
     log(f"{n_rows} of {spec.y.num} rows labelled in {t_rows:.2f} s: the map {t_map:.1f} s")
 
-    bd, check, settings = curve_check.map_boundaries(design, spec, entry, cube)
+    bd, check, settings = curve_maps.map_boundaries(design, spec, entry, cube)
     t_curves = bd.timing["total"]
     log(f"{len(bd.curves)} curves in {t_curves:.2f} s, pixel check {check.seconds:.2f} s")
 
@@ -78,8 +78,8 @@ def curves_benchmark(config: Path, results: Path, map_name: str = "map_x1_b", ev
 
 def _check_only(cube, design, spec, entry, map_name: str, dname: str, log) -> str:
     """The curves of the built map and their pixel check: its attributes and table."""
-    bd, check, _ = curve_check.map_boundaries(design, spec, entry, cube)
+    bd, check, _ = curve_maps.map_boundaries(design, spec, entry, cube)
     log(f"{len(bd.curves)} curves in {bd.timing['total']:.2f} s, pixel check {check.seconds:.2f} s")
-    ds = output.boundary_dataset(bd, check)
+    ds = curve_maps.boundary_dataset(bd, check)
     head = f"{map_name} ({dname}): {len(bd.curves)} curves, pixel check in {check.seconds:.2f} s\n\n"
     return head + "\n".join(f"- {k}: {v}" for k, v in check.attrs().items()) + "\n" + check_table(map_name, ds)

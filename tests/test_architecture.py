@@ -3,6 +3,7 @@ modules, gear science that knows no paper, and a solver core that knows no model
 
 import ast
 import pathlib
+import re
 
 import pytest
 
@@ -179,3 +180,87 @@ def test_the_paper_check_sees_a_string_and_an_import(tmp_path):
     tree = ast.parse(path.read_text())
     assert [n.value for n in _code_strings(tree) if any(k in n.value for k in PAPER_KEYS)] == ["/li2013.nc"]
     assert set(PAPER_MODULES) & {m for m, _ in _imports("geardyn.fake", path)} == {"geardyn.papers.li2013"}
+
+
+# --- one home for every number ------------------------------------------------------------------------------
+
+#: The parameter names of a tolerance or an iteration limit.
+_LIMIT_NAME = re.compile(r"(^|_)(tol|rtol|atol|xtol|maxiter|max_iter|iterations|max_points|max_corrector|max_step)$")
+#: The packages whose functions write no tolerance and no iteration limit (the labeller's turn comes when its own
+#: numbers move into its settings).
+NUMBERS_HOMED = ("geardyn.solve", "geardyn.runs.continuation")
+
+
+def _is_number(node: ast.AST | None) -> bool:
+    return isinstance(node, ast.Constant) and type(node.value) in (int, float)
+
+
+def _tolerance(node: ast.AST | None) -> bool:
+    """A float literal of magnitude below 1e-3 (a tolerance, not a coefficient such as 0.5 or a count)."""
+    return isinstance(node, ast.Constant) and type(node.value) is float and 0.0 < abs(node.value) < 1e-3
+
+
+def _numbers_in_functions(path: pathlib.Path) -> list[str]:
+    """Every tolerance or iteration limit written inside a function of ``path``: a small float in its body or its
+    defaults, a number as the default of a parameter named like one, or passed to a keyword named like one."""
+    found = []
+    for fn in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if not isinstance(fn, ast.FunctionDef | ast.AsyncFunctionDef):
+            continue
+        a = fn.args
+        positional = a.posonlyargs + a.args
+        defaults = list(zip(positional[len(positional) - len(a.defaults) :], a.defaults, strict=True))
+        defaults += [(arg, d) for arg, d in zip(a.kwonlyargs, a.kw_defaults, strict=True) if d is not None]
+        found += [
+            f"line {d.lineno}: {fn.name}({arg.arg}={d.value!r})"
+            for arg, d in defaults
+            if _tolerance(d) or (_is_number(d) and _LIMIT_NAME.search(arg.arg))
+        ]
+        for node in (n for stmt in fn.body for n in ast.walk(stmt)):
+            if isinstance(node, ast.keyword) and node.arg and _LIMIT_NAME.search(node.arg) and _is_number(node.value):
+                found.append(f"line {node.value.lineno}: {node.arg}={node.value.value!r} in {fn.name}")
+            elif _tolerance(node):
+                found.append(f"line {node.lineno}: {node.value!r} in {fn.name}")
+    return sorted(set(found))
+
+
+_CONSTANT = re.compile(r"^[A-Z][A-Z0-9_]* = ")
+
+
+def _unexplained_constants(path: pathlib.Path) -> list[str]:
+    """The module-level constants of ``path`` that hold a tolerance without a comment on their line or above their
+    group (consecutive constants)."""
+    lines = path.read_text(encoding="utf-8").splitlines()
+    out = []
+    for node in ast.parse("\n".join(lines)).body:
+        if isinstance(node, ast.Assign | ast.AnnAssign) and any(_tolerance(n) for n in ast.walk(node)):
+            k = node.lineno - 2  # up through the constants of its group to the comment above them
+            while k >= 0 and _CONSTANT.match(lines[k]):
+                k -= 1
+            if not ((k >= 0 and lines[k].startswith("#")) or "#" in lines[node.lineno - 1]):
+                out.append(f"line {node.lineno}")
+    return out
+
+
+@pytest.mark.parametrize("name", [m for m in sorted(MODULES) if m.startswith(NUMBERS_HOMED)])
+def test_no_tolerance_or_iteration_limit_inside_a_function(name):
+    """In the solver and the continuation engine every tolerance and iteration limit is a settings field or a named
+    module-level constant whose comment gives its reason; none is written inside a function."""
+    assert not _numbers_in_functions(MODULES[name]), _numbers_in_functions(MODULES[name])
+    assert not _unexplained_constants(MODULES[name]), _unexplained_constants(MODULES[name])
+
+
+def test_the_number_check_sees_a_tolerance_a_limit_and_a_bare_constant(tmp_path):
+    path = tmp_path / "fake.py"
+    path.write_text(
+        "import scipy\n\n#: why\nGOOD = 1e-9\n\nBARE = 1e-12\n\n\n"
+        "def f(x, tol=1e-6, max_iter=30, scale=0.5):\n"
+        "    return scipy.optimize.brentq(x, 0.0, 1.0, maxiter=60) < 1e-9 * scale + GOOD\n"
+    )
+    assert _numbers_in_functions(path) == [
+        "line 10: 1e-09 in f",
+        "line 10: maxiter=60 in f",
+        "line 9: f(max_iter=30)",
+        "line 9: f(tol=1e-06)",
+    ]
+    assert _unexplained_constants(path) == ["line 6"]

@@ -22,7 +22,6 @@ from numba import njit
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-import geardyn.solve.run as run_module
 from _orbits import CallableFamily, cycle_of
 from geardyn import io
 from geardyn.config import schema as io_schema
@@ -32,7 +31,7 @@ from geardyn.label import classify
 from geardyn.plots import curves as plots_curves
 from geardyn.runs import continuation as C
 from geardyn.runs import maps
-from geardyn.runs.continuation import curve_check, curve_maps, output
+from geardyn.runs.continuation import curve_check, curve_maps
 from geardyn.runs.continuation.family import back_margin
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.bifurcations import CODES, decode
@@ -170,8 +169,9 @@ def test_pixel_check_types_the_duffing_period_doubling_supercritical():
     probe = curve_check._Probe(plane, pd, curve_check.CheckSettings())
     for d in (2e-3, 1e-2):
         t_pair = (bf.p - d, bf.p + d)  # the P1 orbit is stable below the period doubling
-        assert probe.criticality((bf.p, 1.2, "p"), ref, bf.state, t_pair) == "supercritical", d
-        assert probe.criticality((bf.p, 1.2, "p"), ref, bf.state, t_pair[::-1]) == "subcritical", d
+        origin = curve_check.Origin(bf.p, 1.2, "p")
+        assert probe.criticality(origin, ref, bf.state, t_pair) == "supercritical", d
+        assert probe.criticality(origin, ref, bf.state, t_pair[::-1]) == "subcritical", d
         for g, past in ((bf.p - d, False), (bf.p + d, True)):
             orbit = newton_shooting(plane.flow(g, 1.2, 1), bf.state, 1, 1e-10).state
             y = _attractor(plane.flow(g, 1.2, 1), orbit + 1e-3, 3000)
@@ -350,7 +350,7 @@ def _map_curves(d, spec, cube, settings, lines, **changes):
     region = curve_maps.Region.of_map(spec)
     bs = dataclasses.replace(curve_maps.BoundarySpec(), lines_x=tuple(lines[0]), lines_y=tuple(lines[1]), **changes)
     bd, plane = curve_maps.boundary_curves(d, region, bs, settings, cube)
-    return bd, curve_check.pixel_check(plane, bd, cube, CHECK), plane
+    return bd, curve_check.pixel_check(plane, bd.curves, cube, CHECK), plane
 
 
 @pytest.fixture(scope="module")
@@ -371,9 +371,9 @@ def test_pixel_check_of_the_neimark_sacker_boundary(map_x1_b_small):
     whose multiplier is within the slow margin of 1, an other side undetermined at the circle, a crossing
     within 1.5 pixels of the curve itself."""
     cube, bd, check, _ = map_x1_b_small
-    assert [(bd.file_kind(k), c.n) for k, c in enumerate(bd.curves)] == [("neimark_sacker", 1)]
+    assert [(bc.kind, bc.curve.n) for bc in bd.curves] == [("neimark_sacker", 1)]
     # every record of the rows (after a periodic pixel) lies on the curve
-    assert {r[4] for r in bd.records if r[1] >= 1} == {"on_curve"}
+    assert {r.fate for r in bd.records if r.n >= 1} == {"on_curve"}
     assert len(check.checked) >= 15 and check.fraction >= 0.95  # measured 1.0 (18 of 18)
     assert check.attrs()["pixel_check_samples"] == len(check.checked)
     margin = curve_check.slow_margin(cube)
@@ -397,19 +397,17 @@ def test_pixel_check_fails_a_misplaced_curve_and_a_mislabelled_map(map_x1_b_smal
     orbit's stability: ``not_straddled``), and the map with its P1 pixels relabelled quasi-periodic (the stable
     side on the orbit, certified, labelled otherwise: ``stable_side``)."""
     cube, bd, _, plane = map_x1_b_small
-    (curve,) = bd.curves
+    ((curve, _, _),) = bd.curves
     dx, dy = (3 * float(cube[v][1] - cube[v][0]) for v in ("x", "y"))
     moved = [dataclasses.replace(pt, z=np.r_[pt.z[:-2], pt.z[-2] + dx, pt.z[-1] - dy]) for pt in curve.points]
-    shifted = curve_maps.Boundaries(
-        bd.region, curves=[C.Curve(curve.kind, curve.n, moved, curve.scales, {})], flank=["working"], origin=["x"]
-    )
+    shifted = [C.curves.BoundaryCurve(C.Curve(curve.kind, curve.n, moved, curve.scales, {}))]
     wrong = curve_check.pixel_check(plane, shifted, cube, CHECK)
     assert wrong.fraction <= 0.3 and wrong.tally(("not_straddled",))  # measured 0.0: 19 of 19 not straddled
     relabelled = cube.copy()
     lab = relabelled["label"].values.copy()
     lab[lab == 1] = classify.LABELS["quasi_periodic"]
     relabelled["label"] = (relabelled["label"].dims, lab, relabelled["label"].attrs)
-    bad = curve_check.pixel_check(plane, bd, relabelled, CHECK)
+    bad = curve_check.pixel_check(plane, bd.curves, relabelled, CHECK)
     assert bad.fraction <= 0.3 and bad.tally(("stable_side",))  # measured 0.0
 
 
@@ -432,7 +430,7 @@ def test_pixel_check_of_the_grazing_curve_no_impact_to_single_sided(linear_limit
     """Across the grazing curve the impact class changes from no impact to single-sided impact as the shot
     orbit predicts, at every row and column that crosses it; every checked crossing of every curve passes."""
     _, cube, bd, check, _ = linear_limit_map
-    kinds = {bd.file_kind(k) for k in range(len(bd.curves))}
+    kinds = {bc.kind for bc in bd.curves}
     assert {"grazing", "fold", "neimark_sacker"} <= kinds
     grazing = [s for s in check.checked if s.kind == "grazing"]
     assert len(grazing) >= 12  # measured 15 (11 more within 3 pixels of a codimension-2 point)
@@ -451,9 +449,9 @@ def test_grazing_meets_a_fold_a_period_doubling_and_a_neimark_sacker_on_the_back
     circle."""
     _, _, bd, _, plane = linear_limit_map
     found = {}
-    for k, c in enumerate(bd.curves):
-        for b in c.codim2:
-            if bd.file_kind(k) == "back_grazing":
+    for bc in bd.curves:
+        for b in bc.curve.codim2:
+            if bc.kind == "back_grazing":
                 found.setdefault(b.kind, []).append(b)
     assert {k: len(v) for k, v in found.items()} == {"grazing_fold": 1, "grazing_flip": 2, "grazing_neimark_sacker": 1}
     for kind, points in found.items():
@@ -483,7 +481,7 @@ def test_boundary_settings_agree_with_the_config_schema():
 
 def test_curves_file_is_cf_complete_and_keeps_the_check(map_x1_b_small, tmp_path):
     _, bd, check, _ = map_x1_b_small
-    ds = output.boundary_dataset(bd, check)
+    ds = curve_maps.boundary_dataset(bd, check)
     assert io.missing_cf_attributes(ds) == []
     assert ds.attrs["pixel_check_samples"] == len(check.checked) and ds.sizes["check"] == len(check.samples)
     assert "## Pixel check: small" in plots_curves.check_table("small", ds)
@@ -491,7 +489,7 @@ def test_curves_file_is_cf_complete_and_keeps_the_check(map_x1_b_small, tmp_path
     assert decode(ds["curve_kind"].attrs)[CODES["back_grazing"]] == "back_grazing"
     assert ds.sizes["record"] == len(bd.records) and ds.attrs["records_on_curve"] >= 1
     io.write_netcdf(ds, tmp_path / "curves.nc", provenance.attributes(title="test"))
-    empty = output.boundary_dataset(type(bd)(bd.region))  # no curve at all: still a valid file
+    empty = curve_maps.boundary_dataset(type(bd)(bd.region))  # no curve at all: still a valid file
     assert io.missing_cf_attributes(empty) == []
     io.write_netcdf(empty, tmp_path / "empty.nc", provenance.attributes(title="test"))
 
@@ -510,25 +508,24 @@ def test_a_period_two_curve_on_the_doubled_period_one_orbit_starts_none(calibrat
     assert again is not None and again.end_status == curves[0].end_status
 
 
-def test_every_run_of_a_curves_study_integrates_as_the_caller_says(monkeypatch):
+def test_every_orbit_of_a_curves_study_is_one_of_the_callers_integrator():
     """The seeds, the branches and the curves of a plane without a map integrate with the caller's integrator and
-    step alignment (here plain RK4 on steps not aligned with the mesh-stiffness switches): every run, whatever
-    stage made it, carries those settings (a spy on the run's result, the one funnel of ``simulate`` and
-    ``simulate_batch``)."""
-    seen = set()
-    lane_result = run_module._lane_result
-
-    def spy(lane, system, settings, b):
-        seen.add((settings.integrator, settings.aligned))
-        return lane_result(lane, system, settings, b)
-
-    monkeypatch.setattr(run_module, "_lane_result", spy)
+    step alignment (here plain RK4 on steps not aligned with the mesh-stiffness switches): every branch point is a
+    fixed point of the caller's n-period map, within the shooting tolerance (1e-9), and is not one of the design's
+    own integrator's (event-located RK4 on aligned steps), which moves it by 1e-4 or more."""
     d = design.load(ROOT / "config" / "designs" / "li2013.yaml")
     region = curve_maps.Region(("x1", "e"), (0.50, 0.52, 4.9, 5.0), (("b", 2.0),))
     spec = dataclasses.replace(curve_maps.BoundarySpec(), probes=1, max_period=2, back_grazing=False, nodes=5)
-    settings = point.integration_settings(
-        d, integrator="rk4", aligned=False, steps_per_period=128, transient_periods=300, recorded_periods=30
-    )
+    steps = {"steps_per_period": 128, "transient_periods": 300, "recorded_periods": 30}
+    settings = point.integration_settings(d, integrator="rk4", aligned=False, **steps)
     bd, _ = curve_maps.boundary_curves(d, region, spec, settings)
     assert [br.n for _, br in bd.branches] == [1, 1]  # a P1 orbit seeded and continued on both lines
-    assert seen == {("rk4", False)}
+    own = point.integration_settings(d, **steps)
+    assert (own.integrator, own.aligned) == ("rk4_event", True)
+    for line, br in bd.branches:
+        mine, theirs = (curve_maps.line_family(d, region, line, s, spec.nodes) for s in (settings, own))
+        for p, x in zip(br.p[::10], br.states[::10], strict=True):
+            scale = max(1.0, float(np.max(np.abs(x))))
+            moved = [float(np.max(np.abs(f.flow(float(p), br.n)(x, False)[0] - x))) / scale for f in (mine, theirs)]
+            # measured: at most 3.3e-15 (the caller's map), at least 2.6e-3 (the design's), at 12 points
+            assert moved[0] <= 1e-9 and moved[1] >= 1e-4, (line, p, moved)

@@ -162,7 +162,7 @@ def test_batch_shooting_is_point_shooting_bit_for_bit(li2013, contact_loss_orbit
             assert (a.status, a.iterations, a.converged) == (b.status, b.iterations, b.converged)
             np.testing.assert_array_equal(a.state, b.state)
         assert [b.status for b in batch] == ends
-        assert batch[0].iterations == 1
+        assert batch[0].iterations < 15  # stopped by the growth, not run to max_iter (measured: at the first)
 
 
 def test_newton_gives_up_when_its_residual_grows() -> None:

@@ -9,6 +9,7 @@ from collections.abc import Callable, Mapping
 from typing import Any
 
 
+# Any: a package's __getattr__ returns whichever attribute is named (a module, a function, a class).
 def lazy_attributes(package: str, homes: Mapping[str, str]) -> Callable[[str], Any]:
     """The module ``__getattr__`` of ``package`` that loads each name of ``homes`` (name -> submodule) from
     its submodule on first use, and raises AttributeError for any other name."""

@@ -9,16 +9,16 @@ import json
 import math
 import sys
 from pathlib import Path
-from typing import Any
 
 from geardyn import __version__, libm
 from geardyn.config import ConfigError, load_design_dict
+from geardyn.jsontypes import Json
 
 #: The pair's values that ``check-design`` prints (lengths in mm).
 PAIR_KEYS = ("z1", "z2", "module", "x1", "x2", "pressure_angle_deg", "addendum", "clearance", "facewidth")
 
 
-def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
+def _khv_summary(raw: dict[str, Json], path: str) -> dict[str, Json]:
     from geardyn.gears import constraints  # noqa: PLC0415 - --help loads no numba or scipy
     from geardyn.khv import design  # noqa: PLC0415 - --help loads no numba or scipy
 
@@ -33,7 +33,7 @@ def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
     except ConfigError as err:
         problem = str(err).split(": ", 1)[-1]
         mesh = None
-    segment = {}
+    segment: dict[str, dict[str, float | str]] = {}
     for label, x1 in (("M", spec.x1_min), ("N", spec.x1_max)):
         try:
             segment[label] = {"x1": x1, "x2": design.x2_for(spec, x1)}
@@ -58,7 +58,7 @@ def _khv_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
     }
 
 
-def _defined(data: Any) -> Any:
+def _defined(data: Json) -> Json:
     """The summary with every NaN replaced by 'undefined' (a quantity the pair does not have)."""
     if isinstance(data, dict):
         return {k: _defined(v) for k, v in data.items()}
@@ -67,7 +67,7 @@ def _defined(data: Any) -> Any:
     return data
 
 
-def _print_tree(data: dict[str, Any], indent: int = 0) -> None:
+def _print_tree(data: dict[str, Json], indent: int = 0) -> None:
     pad = "  " * indent
     for key, value in data.items():
         if isinstance(value, dict):
@@ -79,7 +79,7 @@ def _print_tree(data: dict[str, Any], indent: int = 0) -> None:
             print(f"{pad}{key}: {value}")
 
 
-def _plus_summary(raw: dict[str, Any], path: str) -> dict[str, Any]:
+def _plus_summary(raw: dict[str, Json], path: str) -> dict[str, Json]:
     from geardyn.plus import design, modal  # noqa: PLC0415 - --help loads no numba or scipy
 
     plus = design.design_from_dict(raw, path)

@@ -11,14 +11,19 @@ import math
 import os
 import sys
 from collections.abc import Callable, Mapping
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 import numpy.typing as npt
 
+#: A floor for a divisor that may be zero: below any scale that occurs (states, multipliers, coefficients), above
+#: the smallest normal double (2.2e-308).
+TINY = 1e-300
+
 FloatArray = npt.NDArray[np.float64]
 
 
+# A lifted function takes and returns a scalar or an array, as numpy's ufuncs do (typed Any in numpy's stubs too).
 def _lift(f: Callable[..., float], nin: int = 1, domain: bool = False) -> Callable[..., Any]:
     """``f`` (of ``nin`` floats) element by element with broadcasting; a float for scalar arguments."""
     uf = np.frompyfunc(f, nin, 1)
@@ -56,7 +61,11 @@ def _safe(f: Callable[..., float], pole: float | None = None) -> Callable[..., f
     return g
 
 
-def cabs(z: Any) -> Any:
+@overload
+def cabs(z: complex) -> float: ...
+@overload
+def cabs(z: np.ndarray) -> np.ndarray: ...
+def cabs(z: complex | np.ndarray) -> float | np.ndarray:
     """The modulus of complex numbers (far from overflow), the same bits on every CPU: sqrt(re^2 + im^2), each step
     correctly rounded (``np.abs`` and ``np.hypot`` run dispatched AVX-512 kernels that differ in the last bit for a
     few per cent of values); a float for a scalar argument."""
@@ -66,7 +75,7 @@ def cabs(z: Any) -> Any:
     return float(out) if np.ndim(z) == 0 else out
 
 
-def cmul(a: Any, b: Any) -> Any:
+def cmul(a: npt.ArrayLike, b: npt.ArrayLike) -> np.ndarray:
     """The product of complex arrays, the same bits on every CPU: (ar br - ai bi) + i (ar bi + ai br), each
     real product and sum rounded on its own.  (numpy's complex multiply runs an AVX-512 kernel with fused
     multiply-adds on CPUs that have it: 43 % of products differ from its baseline path in the last bit.)"""

@@ -5,10 +5,13 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any
+from typing import TypeVar
+
+T = TypeVar("T")
+R = TypeVar("R")
 
 
-def threaded_map(fn: Callable[[Any], Any], items: Sequence[Any], min_items: int = 2, chunksize: int = 1) -> list:
+def threaded_map(fn: Callable[[T], R], items: Sequence[T], min_items: int = 2, chunksize: int = 1) -> list[R]:
     """``[fn(x) for x in items]``, in a thread pool as wide as the numba thread count when there are at
     least ``min_items`` items.  The items must be independent, so the results do not depend on the
     threads."""

@@ -3,7 +3,7 @@
 from geardyn import io
 from geardyn.io import logs, provenance
 from geardyn.khv import design, point
-from geardyn.runs.continuation import curve_maps, output
+from geardyn.runs.continuation import curve_maps
 from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
@@ -15,7 +15,7 @@ settings_of = curve_maps.BoundarySpec.from_config(entry)
 warm_up(point.point_coefficients(drive))
 integration = point.integration_settings(drive, **dict(entry.get("integration", {})))
 bd, _ = curve_maps.boundary_curves(drive, region, settings_of, integration)
-ds = output.boundary_dataset(bd)
+ds = curve_maps.boundary_dataset(bd)
 log.info("%d curves in %.1f s", len(bd.curves), bd.timing["total"])
 attrs = provenance.attributes(
     title=f"Regime boundaries {name}, {drive.title}",

@@ -5,7 +5,7 @@ from geardyn import io
 from geardyn.io import logs, provenance
 from geardyn.khv import design, point
 from geardyn.runs import maps
-from geardyn.runs.continuation import curve_check, output
+from geardyn.runs.continuation import curve_maps
 from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
@@ -14,8 +14,8 @@ entry = snakemake.params.spec
 spec = maps.MapSpec.from_config(snakemake.wildcards.map, entry, drive.name, drive.segment)
 cube = io.read_dataset(snakemake.input.cube)
 warm_up(point.point_coefficients(drive))  # compiled kernels from numba's cache before timing starts
-bd, check, integration = curve_check.map_boundaries(drive, spec, entry, cube)
-ds = output.boundary_dataset(bd, check)
+bd, check, integration = curve_maps.map_boundaries(drive, spec, entry, cube)
+ds = curve_maps.boundary_dataset(bd, check)
 log.info("%d curves in %.1f s; pixel check %s", len(bd.curves), bd.timing["total"], check.attrs())
 attrs = provenance.attributes(
     title=f"Regime boundaries of map {spec.name}, {drive.title}",

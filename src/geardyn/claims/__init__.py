@@ -10,12 +10,12 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from numbers import Real
 from types import ModuleType
-from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from geardyn.claims.verdicts import BORDERLINE_Z, RANGE_AGREE, Claim, band, fraction_verdict
+from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.label import classify
 from geardyn.runs.cube import labels_of_cube
@@ -52,10 +52,10 @@ def track_of_cube(cube: xr.Dataset, case: int = 0) -> Track:
     return Track(cube[par].values, labels_of_cube(cube)[case, 0], lam, sig)
 
 
-def lines_of_runs(lines: Mapping[str, Mapping[str, Any]], runs: Mapping[str, Any]) -> dict[str, Any]:
+def lines_of_runs(lines: Mapping[str, Mapping[str, Json]], runs: Mapping[str, Json]) -> dict[str, Json]:
     """The labelled lines (``lines``: a paper's ``CLAIM_LINES``) of the sweep cubes ``runs`` (by role): a
     :class:`Track`, or {case value: Track} for a family of lines; the roles ``runs`` lacks are left out."""
-    out: dict[str, Any] = {}
+    out: dict[str, Json] = {}
     for role, spec in lines.items():
         cube = runs.get(role)
         if cube is None:
@@ -64,7 +64,7 @@ def lines_of_runs(lines: Mapping[str, Mapping[str, Any]], runs: Mapping[str, Any
             out[role] = track_of_cube(cube)
         else:  # a family: {value: Track} of the cases ``<case_parameter>=<value>``
             names = [str(c) for c in cube["case"].values]
-            index = {float(v): names.index(point.label({spec["case_parameter"]: v}, "")) for v in spec["cases"]}
+            index = {float(v): names.index(point.override_text({spec["case_parameter"]: v}, "")) for v in spec["cases"]}
             out[role] = {v: track_of_cube(cube, i) for v, i in index.items()}
     return out
 
@@ -80,13 +80,13 @@ def _first(values: np.ndarray, labels: np.ndarray, want: int) -> float:
     return float(values[labels == want].min()) if (labels == want).any() else float("inf")
 
 
-def claims(paper: ModuleType, products: Mapping[str, Any]) -> list[Claim]:
+def claims(paper: ModuleType, products: Mapping[str, Json]) -> list[Claim]:
     """:func:`evaluate` on the pipeline's products (``closed_graph``, ``stiffness``, ``amplitude`` = {"x1", "ptp"} of
     dense runs, the sweep cubes and point runs of the paper's ``CLAIM_RUNS`` roles) and the cubes' labelled lines."""
     return evaluate(paper, {**products, **lines_of_runs(paper.CLAIM_LINES, products)})
 
 
-def evaluate(paper: ModuleType, inputs: Mapping[str, Any]) -> list[Claim]:
+def evaluate(paper: ModuleType, inputs: Mapping[str, Json]) -> list[Claim]:
     """The claims of ``paper`` (its ``CLAIMS``, in order) from ``inputs`` (a ``line``: a :class:`Track`, or
     {case value: Track} for a family; an ``input``: a product), behind ``claims.md`` and the calibration objective;
     a claim whose input is not given is "not comparable"."""
@@ -94,13 +94,13 @@ def evaluate(paper: ModuleType, inputs: Mapping[str, Any]) -> list[Claim]:
     return [sweep_claim(spec, inputs, paper.CLAIM_LINES) for spec in paper.CLAIMS]
 
 
-def _unique_ids(specs: Sequence[Mapping[str, Any]]) -> None:
+def _unique_ids(specs: Sequence[Mapping[str, Json]]) -> None:
     ids = [s.get("id") for s in specs]
     if len(set(ids)) != len(ids):
-        raise ValueError(f"claim ids repeat: {sorted({i for i in ids if ids.count(i) > 1})}")
+        raise ValueError(f"claim ids repeat: {sorted({i for i in ids if ids.count(i) > 1})}")  # type: ignore[type-var]
 
 
-def sweep_claim(spec: Mapping[str, Any], inputs: Mapping[str, Any], lines: Mapping[str, Mapping[str, Any]]) -> Claim:
+def sweep_claim(spec: Mapping[str, Json], inputs: Mapping[str, Json], lines: Mapping[str, Mapping[str, Json]]) -> Claim:
     """One claim about a KHV drive's regimes (:data:`SWEEP_RULES`) from ``inputs``."""
     if spec.get("rule") not in SWEEP_RULES:
         raise ValueError(f"claim {spec.get('id')!r}: rule {spec.get('rule')!r} (allowed: {sorted(SWEEP_RULES)})")
@@ -114,11 +114,11 @@ def sweep_claim(spec: Mapping[str, Any], inputs: Mapping[str, Any], lines: Mappi
     return rule(spec, got, lines.get(role, {})) if needs_line else rule(spec, got)
 
 
-def _missing(spec: Mapping[str, Any], reason: str, ours: str = "not evaluated") -> Claim:
+def _missing(spec: Mapping[str, Json], reason: str, ours: str = "not evaluated") -> Claim:
     return _claim(spec, ours, "not comparable", reason)
 
 
-def _paper_text(spec: Mapping[str, Any]) -> str:
+def _paper_text(spec: Mapping[str, Json]) -> str:
     """The paper's value as the claims table shows it: stated, or derived from the claim's label and interval."""
     if "paper" in spec:
         return spec["paper"]
@@ -130,11 +130,11 @@ def _paper_text(spec: Mapping[str, Any]) -> str:
     return " or ".join(_name(w) for w in (want if isinstance(want, tuple) else (want,)))
 
 
-def _claim(spec: Mapping[str, Any], ours: str, verdict: str, reason: str) -> Claim:
+def _claim(spec: Mapping[str, Json], ours: str, verdict: str, reason: str) -> Claim:
     return Claim(spec["id"], spec["figure"], spec["statement"], _paper_text(spec), ours, verdict, reason)
 
 
-def _on_line(spec: Mapping[str, Any], closed_graph: xr.Dataset) -> Claim:
+def _on_line(spec: Mapping[str, Json], closed_graph: xr.Dataset) -> Claim:
     """A limit point (x1, x2) of the paper lies on the closed graph's line: our x2 at its x1 within tolerance."""
     names = [str(p) for p in closed_graph["point"].values]
     if spec["point"] not in names:
@@ -150,7 +150,7 @@ def _on_line(spec: Mapping[str, Any], closed_graph: xr.Dataset) -> Claim:
     )
 
 
-def _stiffness_falls(spec: Mapping[str, Any], stiffness: xr.Dataset) -> Claim:
+def _stiffness_falls(spec: Mapping[str, Json], stiffness: xr.Dataset) -> Claim:
     """The mean mesh stiffness falls at every step of the stiffness table (along the segment)."""
     km, kc, x1s = stiffness["k_mean"].values, stiffness["k_c"].values, stiffness["x1"].values
     frac_down = float(np.mean(np.diff(km) < 0))
@@ -163,7 +163,7 @@ def _stiffness_falls(spec: Mapping[str, Any], stiffness: xr.Dataset) -> Claim:
     )
 
 
-def _amplitude_falls(spec: Mapping[str, Any], amplitude: Mapping[str, np.ndarray]) -> Claim:
+def _amplitude_falls(spec: Mapping[str, Json], amplitude: Mapping[str, np.ndarray]) -> Claim:
     """The peak-to-peak amplitude of dense runs falls as x1 grows (verdict on the fraction of falling steps)."""
     if len(amplitude["x1"]) <= 2:
         return _missing(spec, "input not given")
@@ -177,9 +177,9 @@ def _amplitude_falls(spec: Mapping[str, Any], amplitude: Mapping[str, np.ndarray
     )
 
 
-def _peaks(spec: Mapping[str, Any], points: xr.Dataset | None) -> Claim:
+def _peaks(spec: Mapping[str, Json], points: xr.Dataset | None) -> Claim:
     """Each of the paper's spectral peaks has one of our ``highest`` peaks within ``tolerance`` (dense run ``case``)."""
-    case = point.label(spec["case"], "")
+    case = point.override_text(spec["case"], "")
     if points is None or case not in [str(c) for c in points["case"].values]:
         return _missing(spec, "point missing", "no dense run")
     d = points.sel(case=case)
@@ -195,7 +195,7 @@ def _peaks(spec: Mapping[str, Any], points: xr.Dataset | None) -> Claim:
     return _claim(spec, ", ".join(f"{v:.3g}" for v in ours) or "none", "agree" if all(matched) else "disagree", reason)
 
 
-def _range(spec: Mapping[str, Any], t: Track, line: Mapping[str, Any]) -> Claim:
+def _range(spec: Mapping[str, Json], t: Track, line: Mapping[str, Json]) -> Claim:
     """At least RANGE_AGREE of the line's points on ``interval`` carry ``label`` (lower end open: ``open_below``)."""
     (lo, hi), want = spec["interval"], code(spec["label"])
     m = (t.values > lo if spec.get("open_below") else t.values >= lo) & (t.values <= hi)
@@ -212,7 +212,7 @@ def _range(spec: Mapping[str, Any], t: Track, line: Mapping[str, Any]) -> Claim:
     return _claim(spec, ours, fraction_verdict(hits, n), reason)
 
 
-def _label_at(spec: Mapping[str, Any], t: Track, line: Mapping[str, Any]) -> Claim:
+def _label_at(spec: Mapping[str, Json], t: Track, line: Mapping[str, Json]) -> Claim:
     """The label at the line's point nearest ``at`` is ``label`` (or one of its alternatives, "QP|chaos")."""
     j = int(np.argmin(np.abs(t.values - spec["at"])))
     got, want = int(t.labels[j]), code(spec["label"])
@@ -226,7 +226,7 @@ def _label_at(spec: Mapping[str, Any], t: Track, line: Mapping[str, Any]) -> Cla
     return _claim(spec, ours, verdict, f"label at the nearest sweep point ({t.values[j]:.4g})")
 
 
-def _route(spec: Mapping[str, Any], family: Mapping[float, Track], line: Mapping[str, Any]) -> Claim:
+def _route(spec: Mapping[str, Json], family: Mapping[float, Track], line: Mapping[str, Json]) -> Claim:
     """Along every line of a family the label starts as ``start`` and reaches ``end``; with ``via``, that label
     comes no later than the first ``end``."""
     par, cpar = line["parameter"], line["case_parameter"]
@@ -261,7 +261,7 @@ def _route(spec: Mapping[str, Any], family: Mapping[float, Track], line: Mapping
 _COUNT = {2: "two", 3: "three", 4: "four", 5: "five"}
 
 
-def _narrows(spec: Mapping[str, Any], family: Mapping[float, Track], line: Mapping[str, Any]) -> Claim:
+def _narrows(spec: Mapping[str, Json], family: Mapping[float, Track], line: Mapping[str, Json]) -> Claim:
     """The first value where the label leaves ``label`` falls strictly from each line of a family to the next."""
     par, cpar, cases, want = line["parameter"], line["case_parameter"], line["cases"], code(spec["label"])
     ends = [first_non(family[float(x)].values, family[float(x)].labels, want) for x in cases]
@@ -305,7 +305,7 @@ class Measured:
     """One of our numbers: ``value`` (a number, a sequence, a mapping of sequences, or ``None`` when our
     products cannot give it) and ``text``, what it is and where it comes from, shown beside it."""
 
-    value: Any
+    value: Json
     text: str = ""
 
 
@@ -315,10 +315,10 @@ class Quantity:
     the same quantity from a table in the paper's form (for claims that give ``paper_of``)."""
 
     measure: Callable[..., Measured]
-    derive: Callable[..., Any] | None = None
+    derive: Callable[..., Json] | None = None
 
 
-def format_value(v: Any, unit: str = "") -> str:
+def format_value(v: Json, unit: str = "") -> str:
     """A value for the claims table: numbers to 4 significant digits, sequences joined, mappings by key."""
     u = f" {unit}" if unit else ""
     if v is None:
@@ -338,7 +338,7 @@ def format_value(v: Any, unit: str = "") -> str:
     return str(v) + u
 
 
-def _cells(v: Any, keys: Sequence | None = None) -> list[tuple[str, Any]]:
+def _cells(v: Json, keys: Sequence | None = None) -> list[tuple[str, Json]]:
     """(label, cell) pairs of a value: a mapping of sequences in ``keys`` order (``I #2``), a sequence
     (``#2``) or one cell."""
     if isinstance(v, Mapping):
@@ -348,20 +348,20 @@ def _cells(v: Any, keys: Sequence | None = None) -> list[tuple[str, Any]]:
     return [("", v)]
 
 
-def _missing_value(v: Any) -> bool:
+def _missing_value(v: Json) -> bool:
     """None, NaN or infinity, or a mapping or sequence holding one."""
     if isinstance(v, Mapping | Sequence | np.ndarray) and not isinstance(v, str):
         return any(_missing_value(x) for x in (v.values() if isinstance(v, Mapping) else v))
     return v is None or (isinstance(v, Real) and not isinstance(v, bool | np.bool_) and not math.isfinite(float(v)))
 
 
-def _names(cell: Any) -> set[str]:
+def _names(cell: Json) -> set[str]:
     """A cell of a "matches" rule as a set of names: "a, b" and ("a", "b") are {"a", "b"}."""
     parts = cell.split(",") if isinstance(cell, str) else list(cell)
     return {str(p).strip() for p in parts if str(p).strip()}
 
 
-def _normal(v: Any) -> Any:
+def _normal(v: Json) -> Json:
     """Sequences as tuples, numbers as Python numbers, mappings recursively: for the "equal" rule."""
     if isinstance(v, Mapping):
         return {k: _normal(x) for k, x in v.items()}
@@ -372,7 +372,7 @@ def _normal(v: Any) -> Any:
     return v
 
 
-def tolerance_text(spec: Mapping[str, Any]) -> str:
+def tolerance_text(spec: Mapping[str, Json]) -> str:
     """The tolerance of a claim stated as data, as the claims table shows it."""
     rule, unit = spec["rule"], spec.get("unit", "")
     if rule == "within":
@@ -385,7 +385,9 @@ def tolerance_text(spec: Mapping[str, Any]) -> str:
     return {"equal": "exact", "all": "every case", "unchecked": "none"}[rule]
 
 
-def within_verdict(ours: Any, paper: Any, tolerance: float, relative: bool = False, unit: str = "") -> tuple[str, str]:
+def within_verdict(
+    ours: Json, paper: Json, tolerance: float, relative: bool = False, unit: str = ""
+) -> tuple[str, str]:
     """Rule "within": (verdict, reason).  Every cell of ``ours`` within ``tolerance`` of the paper's cell
     (relative: ``|ours - paper| <= tolerance |paper|``); the reason names the worst cell and, for relative
     tolerances on several cells, the range of ours/paper."""
@@ -406,7 +408,7 @@ def within_verdict(ours: Any, paper: Any, tolerance: float, relative: bool = Fal
     return ("agree" if ok else "disagree"), reason
 
 
-def matches_verdict(ours: Any, paper: Any) -> tuple[str, str]:
+def matches_verdict(ours: Json, paper: Json) -> tuple[str, str]:
     """Rule "matches": cell by cell, a cell agrees when our names and the paper's share one; the verdict on
     the fraction of agreeing cells is :func:`fraction_verdict`."""
     keys = list(paper) if isinstance(paper, Mapping) else None
@@ -422,7 +424,7 @@ def matches_verdict(ours: Any, paper: Any) -> tuple[str, str]:
     return fraction_verdict(k, n), reason
 
 
-def data_claim(spec: Mapping[str, Any], products: Any, quantities: Mapping[str, Quantity]) -> Claim:
+def data_claim(spec: Mapping[str, Json], products: Json, quantities: Mapping[str, Quantity]) -> Claim:
     """One claim stated as data (see DATA_RULES and the keys above) evaluated on our ``products``."""
     unknown = set(spec) - DATA_KEYS
     if unknown or spec.get("rule") not in DATA_RULES or spec.get("quantity") not in quantities:
@@ -470,7 +472,7 @@ def data_claim(spec: Mapping[str, Any], products: Any, quantities: Mapping[str, 
     )
 
 
-def data_claims(specs: Sequence[Mapping[str, Any]], products: Any, quantities: Mapping[str, Quantity]) -> list[Claim]:
+def data_claims(specs: Sequence[Mapping[str, Json]], products: Json, quantities: Mapping[str, Quantity]) -> list[Claim]:
     """Every claim of a paper stated as data (its ``CLAIMS``), in the paper module's order."""
     _unique_ids(specs)
     return [data_claim(s, products, quantities) for s in specs]

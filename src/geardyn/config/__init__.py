@@ -14,10 +14,12 @@ from collections.abc import Mapping
 from functools import cache
 from importlib import resources
 from pathlib import Path
-from typing import Any, get_type_hints
+from typing import get_type_hints
 
 import jsonschema
 import yaml
+
+from geardyn.jsontypes import Json
 
 #: Design kinds and the schema that validates each.
 DESIGN_SCHEMAS = {"khv": "khv.schema.json", "plus_planetary": "plus_planetary.schema.json"}
@@ -28,22 +30,22 @@ class ConfigError(ValueError):
 
 
 @cache
-def _raw_schema(name: str) -> dict[str, Any]:
+def _raw_schema(name: str) -> dict[str, Json]:
     return json.loads(resources.files("geardyn.config").joinpath("schemas", name).read_text(encoding="utf-8"))
 
 
-def schema(name: str) -> dict[str, Any]:
+def schema(name: str) -> dict[str, Json]:
     """The named schema with references to other schema files inlined (local ``#/$defs`` kept; a reference
     with a JSON pointer inlined without its ``default``; keys beside ``$ref`` win: ``docs/operations.md``)."""
     return _inline(copy.deepcopy(_raw_schema(name)))
 
 
-def _inline(node: Any) -> Any:
+def _inline(node: Json) -> Json:
     if isinstance(node, dict):
         ref = node.get("$ref")
         if isinstance(ref, str) and not ref.startswith("#") and ".schema.json" in ref:
             file, _, pointer = ref.partition("#")
-            target: Any = schema(file)
+            target: Json = schema(file)
             for part in [p for p in pointer.split("/") if p]:
                 target = target[part]
             target = {k: v for k, v in target.items() if k not in ("$schema", "$id")}
@@ -60,8 +62,8 @@ class _Loader(yaml.SafeLoader):
     """YAML with the number syntax of YAML 1.2 and JSON (``1e6``, ``2e-6`` and ``1.0e6`` are numbers,
     not strings as YAML 1.1 reads them) and duplicate keys refused."""
 
-    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict[Any, Any]:
-        seen: dict[Any, int] = {}
+    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict[Json, Json]:
+        seen: dict[Json, int] = {}
         for key_node, _ in node.value:
             key = self.construct_object(key_node, deep=deep)
             line = key_node.start_mark.line + 1
@@ -88,7 +90,7 @@ _Loader.add_implicit_resolver(
 )
 
 
-def read_yaml(path: str | Path) -> Any:
+def read_yaml(path: str | Path) -> Json:
     """Parse a YAML file, turning unreadable/undecodable/ill-formed files into one-line errors."""
     path = Path(path)
     try:
@@ -117,14 +119,14 @@ def read_yaml(path: str | Path) -> Any:
 MAX_EXPANDED_VALUES = 100_000
 
 
-def expanded_size(data: Any, where: str = "input", sizes: dict[int, int] | None = None, finite: bool = False) -> int:
+def expanded_size(data: Json, where: str = "input", sizes: dict[int, int] | None = None, finite: bool = False) -> int:
     """The number of values in ``data`` with every alias expanded, memoised by object id in ``sizes`` (an alias
     is its anchor's object: linear in the distinct objects); a structure that contains itself is refused, and
     with ``finite`` NaN and infinity (named by their key)."""
     sizes = {} if sizes is None else sizes
     open_ids: set[int] = set()
 
-    def size(node: Any, path: tuple[Any, ...]) -> int:
+    def size(node: Json, path: tuple[Json, ...]) -> int:
         if not isinstance(node, (dict, list)):
             if finite and isinstance(node, float) and not math.isfinite(node):
                 raise ConfigError(f"{where}: {_key(path)} = {node} is not allowed: a finite number")
@@ -149,7 +151,7 @@ def expanded_size(data: Any, where: str = "input", sizes: dict[int, int] | None 
         raise ConfigError(f"{where}: the structure is nested too deeply") from None
 
 
-def check_expanded_size(data: Any, where: str, finite: bool = False) -> None:
+def check_expanded_size(data: Json, where: str, finite: bool = False) -> None:
     """Refuse ``data`` (one line) when its aliases expand to more than :data:`MAX_EXPANDED_VALUES`
     values, before anything walks the expanded structure (with ``finite``, NaN and infinity too)."""
     sizes: dict[int, int] = {}
@@ -157,7 +159,7 @@ def check_expanded_size(data: Any, where: str, finite: bool = False) -> None:
     if n > MAX_EXPANDED_VALUES:
         # name the top-level key whose value expands most, the last one of equals: an anchor is
         # defined before the key that uses it (the sizes are memoised: no new walk)
-        path: list[Any] = []
+        path: list[Json] = []
         if isinstance(data, dict):
             sized = [(sizes.get(id(v), 1), k) for k, v in reversed(data.items())]
             top, key = max(sized, key=lambda item: item[0])
@@ -181,7 +183,7 @@ _BOUND_TEXT = (
 )
 
 
-def allowed_text(node: Mapping[str, Any]) -> str:
+def allowed_text(node: Mapping[str, Json]) -> str:
     """Human-readable description of what a schema node accepts."""
     if "const" in node:
         return repr(node["const"])
@@ -196,7 +198,7 @@ def allowed_text(node: Mapping[str, Any]) -> str:
     return kind + (" " + " and ".join(bounds) if bounds else "")
 
 
-def _key(path: Any) -> str:
+def _key(path: Json) -> str:
     return ".".join([f"[{p}]" if isinstance(p, int) else str(p) for p in path]).replace(".[", "[") or "(top level)"
 
 
@@ -235,12 +237,12 @@ def _format(error: jsonschema.ValidationError, where: str) -> str:
     )
 
 
-def _fill_defaults(node: Mapping[str, Any], value: Any, root: Mapping[str, Any] | None = None) -> Any:
+def _fill_defaults(node: Mapping[str, Json], value: Json, root: Mapping[str, Json] | None = None) -> Json:
     """Insert schema defaults into ``value`` (in place), through properties, maps and local $refs."""
     root = root if root is not None else node
     ref = node.get("$ref")
     if isinstance(ref, str) and ref.startswith("#/"):
-        target: Any = root
+        target: Json = root
         for part in ref[2:].split("/"):
             target = target[part]
         node = {**target, **{k: v for k, v in node.items() if k != "$ref"}}
@@ -264,7 +266,7 @@ def _fill_defaults(node: Mapping[str, Any], value: Any, root: Mapping[str, Any] 
 _KINDS = {list: "a list", str: "a string", int: "a number", float: "a number", bool: "true/false"}
 
 
-def validated(data: Any, schema_name: str, where: str) -> dict[str, Any]:
+def validated(data: Json, schema_name: str, where: str) -> dict[str, Json]:
     """A copy of ``data`` with the schema's defaults filled in; :class:`ConfigError`, one line, for the first
     (most specific) problem."""
     if data is None:
@@ -282,7 +284,7 @@ def validated(data: Any, schema_name: str, where: str) -> dict[str, Any]:
     return filled
 
 
-def settings_from(cls: type, spec: Mapping[str, Any] | None, what: str) -> Any:
+def settings_from(cls: type, spec: Mapping[str, Json] | None, what: str) -> Json:
     """A settings dataclass ``cls`` from a mapping of its field values; an unknown key is refused with
     one line naming it and the allowed keys (``what``: e.g. "classifier settings")."""
     spec = dict(spec or {})
@@ -296,7 +298,7 @@ def settings_from(cls: type, spec: Mapping[str, Any] | None, what: str) -> Any:
     return cls(**spec)
 
 
-def load_design_dict(path: str | Path) -> dict[str, Any]:
+def load_design_dict(path: str | Path) -> dict[str, Json]:
     """Read and schema-validate one design file; the schema is chosen by its ``kind`` key."""
     data = read_yaml(path)
     where = str(path)

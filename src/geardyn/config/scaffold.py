@@ -4,14 +4,13 @@ paper: for a KHV drive the pair you name, x2 on line 4, the nominal cutter (repo
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 import yaml
 
 from geardyn.config import ConfigError, schema, validated
 from geardyn.gears import constraints
 from geardyn.gears import geometry as geo
+from geardyn.jsontypes import Json
 from geardyn.khv.closed_graph import CUTTER_DEPENDENT
 from geardyn.label.classify import bands
 
@@ -56,7 +55,7 @@ def admissible_segment(
     return round(lo + trim, 4), round(hi - trim, 4)
 
 
-def khv_design(name: str, z1: int = 40, z2: int = 43, module: float = 2.0) -> dict[str, Any]:
+def khv_design(name: str, z1: int = 40, z2: int = 43, module: float = 2.0) -> dict[str, Json]:
     """The validated dict of a new KHV design (see the module docstring)."""
     lo, hi = admissible_segment(z1, z2, module)
     raw = {
@@ -71,17 +70,17 @@ def khv_design(name: str, z1: int = 40, z2: int = 43, module: float = 2.0) -> di
     return validated(raw, KINDS["khv"], name)
 
 
-def plus_design(name: str) -> dict[str, Any]:
+def plus_design(name: str) -> dict[str, Json]:
     """The validated dict of a new plus-set design: the schema's defaults under a name of your own."""
     raw = {"kind": "plus_planetary", "name": name, "title": f"Plus planetary set {name}", "paper": None}
     return validated(raw, KINDS["plus"], name)
 
 
-def _scalar(value: Any) -> str:
+def _scalar(value: Json) -> str:
     return yaml.safe_dump(value, default_flow_style=True, width=1000).strip().removesuffix("\n...").strip()
 
 
-def _emit(data: dict[str, Any], node: dict[str, Any], indent: int, lines: list[str], defs: dict[str, Any]) -> None:
+def _emit(data: dict[str, Json], node: dict[str, Json], indent: int, lines: list[str], defs: dict[str, Json]) -> None:
     props = node.get("properties", {})
     for key, value in data.items():
         sub = props.get(key, {})
@@ -96,7 +95,7 @@ def _emit(data: dict[str, Any], node: dict[str, Any], indent: int, lines: list[s
             lines.append(f"{pad}{key}: {_scalar(value)}" + (f"  # {desc}" if desc else ""))
 
 
-def render(raw: dict[str, Any], kind: str) -> str:
+def render(raw: dict[str, Json], kind: str) -> str:
     """YAML text of a design dict, every key followed by its schema description as a comment."""
     header = [
         f"# Design {raw['name']}: written by `geardyn new-design --kind {kind}`.",

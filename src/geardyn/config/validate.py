@@ -8,7 +8,6 @@ import copy
 import difflib
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
 
 import jsonschema
 
@@ -21,6 +20,7 @@ from geardyn.config import (
     schema,
     validated,
 )
+from geardyn.jsontypes import Json
 from geardyn.khv import design as khv_design
 from geardyn.khv.design import resolve_fractions
 from geardyn.papers import paper_of
@@ -28,7 +28,7 @@ from geardyn.plus import design as plus_design
 from geardyn.solve.precision import POINCARE_ERROR, measured_poincare_error
 
 
-def read_config_file(path: str | Path) -> dict[str, Any]:
+def read_config_file(path: str | Path) -> dict[str, Json]:
     """Read a workflow config file: YAML errors, an empty file or a top level that is not a mapping are
     one line each (schema validation follows in :func:`validate_workflow`)."""
     data = read_yaml(path)
@@ -41,7 +41,7 @@ def read_config_file(path: str | Path) -> dict[str, Any]:
     return data
 
 
-def check_design(raw: dict[str, Any], where: str) -> None:
+def check_design(raw: dict[str, Json], where: str) -> None:
     """The semantic checks of one schema-validated design (after :func:`geardyn.config.load_design_dict`)."""
     if raw["kind"] == "khv":
         khv_design.check_segment(khv_design.from_dict(raw, where), where)
@@ -50,13 +50,13 @@ def check_design(raw: dict[str, Any], where: str) -> None:
 
 
 def validate_workflow(
-    config: dict[str, Any], root: str | Path = "."
-) -> tuple[dict[str, Any], dict[str, dict[str, Any]]]:
+    config: dict[str, Json], root: str | Path = "."
+) -> tuple[dict[str, Json], dict[str, dict[str, Json]]]:
     """The config with presets resolved and defaults filled (:func:`fill_config`; an ``error_floor`` a run does not
     set from :data:`POINCARE_ERROR` at its designs' steps per period) and ``{design name: validated design dict}``,
     each design checked (:func:`check_design`), then every run against its designs."""
     filled = fill_config(config, "config")
-    designs: dict[str, dict[str, Any]] = {}
+    designs: dict[str, dict[str, Json]] = {}
     for name, rel in filled["designs"].items():
         path = Path(root) / rel
         raw = load_design_dict(path)
@@ -94,7 +94,7 @@ def poincare_error(steps: int, where: str) -> float:
     return error
 
 
-def fill_config(config: dict[str, Any], where: str = "config") -> dict[str, Any]:
+def fill_config(config: dict[str, Json], where: str = "config") -> dict[str, Json]:
     """The workflow config with presets resolved, defaults filled, maps checked (the size with aliases expanded
     first) and the ``error_floor`` of each entry that sets ``integration.steps_per_period``."""
     check_expanded_size(config, where)
@@ -112,7 +112,7 @@ def fill_config(config: dict[str, Any], where: str = "config") -> dict[str, Any]
     return filled
 
 
-def _resolve_presets(config: dict[str, Any], presets: Mapping[str, Any], where: str) -> dict[str, Any]:
+def _resolve_presets(config: dict[str, Json], presets: Mapping[str, Json], where: str) -> dict[str, Json]:
     """Replace each entry's ``preset: <name>`` by the preset's blocks, in place in the raw ``config`` (no defaults
     yet, so a key the entry sets is its author's: it overrides the preset's, key by key within a block)."""
     for section, keys in PRESET_KEYS.items():
@@ -138,7 +138,7 @@ def _resolve_presets(config: dict[str, Any], presets: Mapping[str, Any], where: 
     return config
 
 
-def _check_maps(config: Mapping[str, Any], where: str) -> None:
+def _check_maps(config: Mapping[str, Json], where: str) -> None:
     """Degenerate maps and curves studies, whatever designs they select: both axes the same parameter, an axis
     whose ends are the same value (the schema refuses num < 2); a curves study named like a map."""
     for section, name, spec in [(s, n, e) for s in ("maps", "curves") for n, e in config.get(s, {}).items()]:
@@ -158,7 +158,7 @@ def _check_maps(config: Mapping[str, Any], where: str) -> None:
             raise ConfigError(f"{where}: curves name {name!r} is not allowed: a name other than the maps' (figures)")
 
 
-def _fill_error_floors(filled: dict[str, Any], designs: Mapping[str, Mapping[str, Any]]) -> None:
+def _fill_error_floors(filled: dict[str, Json], designs: Mapping[str, Mapping[str, Json]]) -> None:
     """Every classifier ``error_floor`` still unset: the measured Poincare error (:func:`poincare_error`)
     at the steps per period of the designs the run selects (the largest error when they differ)."""
     default_steps = schema("dynamics.schema.json")["properties"]["integration"]["properties"]["steps_per_period"][
@@ -184,7 +184,7 @@ def _fill_error_floors(filled: dict[str, Any], designs: Mapping[str, Mapping[str
             )
 
 
-def controls() -> dict[str, Mapping[str, Any]]:
+def controls() -> dict[str, Mapping[str, Json]]:
     """The schema nodes of the values a run may give a control parameter: the control parameters of a KHV
     drive (``$defs/controls`` of the config schema: x1, b and e in um, w, speed), then every
     ``dynamics.parameters`` key with that key's limits (each group in alphabetical order)."""
@@ -195,7 +195,7 @@ def controls() -> dict[str, Mapping[str, Any]]:
     return {k: group[k] for group in groups for k in sorted(group)}
 
 
-def _override_node(key: str, where: str) -> Mapping[str, Any]:
+def _override_node(key: str, where: str) -> Mapping[str, Json]:
     """The schema node an override ``key`` is checked against; unknown keys are refused with a hint."""
     known = controls()
     if key in known:
@@ -205,7 +205,7 @@ def _override_node(key: str, where: str) -> Mapping[str, Any]:
     raise ConfigError(f"{where}: unknown control parameter '{key}'{hint}")
 
 
-def _check_value(key: str, value: Any, where: str) -> None:
+def _check_value(key: str, value: Json, where: str) -> None:
     node = _override_node(key, where)
     if not jsonschema.Draft202012Validator(node).is_valid(value):
         desc = node.get("description", "")
@@ -214,12 +214,12 @@ def _check_value(key: str, value: Any, where: str) -> None:
         )
 
 
-def _check_range(rng: Mapping[str, Any], where: str) -> None:
+def _check_range(rng: Mapping[str, Json], where: str) -> None:
     if rng["num"] > 1 and not rng["stop"] > rng["start"]:
         raise ConfigError(f"{where}: stop = {rng['stop']} must be above start = {rng['start']}")
 
 
-def selected_designs(selector: Any, designs: Mapping[str, Mapping[str, Any]]) -> list[str]:
+def selected_designs(selector: Json, designs: Mapping[str, Mapping[str, Json]]) -> list[str]:
     """The KHV designs a run's ``designs`` selector names: a list, 'all', 'own' (no paper) or
     'paper:<key>', in the order of the config's ``designs``."""
     khv = [name for name, raw in designs.items() if raw["kind"] == "khv"]
@@ -233,11 +233,11 @@ def selected_designs(selector: Any, designs: Mapping[str, Mapping[str, Any]]) ->
     return [name for name in khv if designs[name].get("paper") == key]
 
 
-def _segment(raw: Mapping[str, Any]) -> tuple[float, float]:
+def _segment(raw: Mapping[str, Json]) -> tuple[float, float]:
     return (raw["admissible"]["x1_min"], raw["admissible"]["x1_max"])
 
 
-def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> None:
+def _check_runs(filled: dict[str, Json], designs: dict[str, dict[str, Json]]) -> None:
     """Every run against every design it selects: a known KHV design, known control parameters with values in
     range, ranges that go upwards, x1 inside the admissible segment; claims and calibrations for paper designs."""
     khv = [name for name, raw in designs.items() if raw["kind"] == "khv"]
@@ -303,7 +303,7 @@ def _check_runs(filled: dict[str, Any], designs: dict[str, dict[str, Any]]) -> N
                 )
 
 
-def _check_x1(value: float, raw: dict[str, Any], where: str) -> None:
+def _check_x1(value: float, raw: dict[str, Json], where: str) -> None:
     lo, hi = raw["admissible"]["x1_min"], raw["admissible"]["x1_max"]
     if not lo - 1e-12 <= value <= hi + 1e-12:
         raise ConfigError(
@@ -325,7 +325,7 @@ RANGES: dict[str, tuple[tuple[str, str | None], ...]] = {
 }
 
 
-def _check_overrides(section: str, spec: dict[str, Any], raw: dict[str, Any], where: str) -> None:
+def _check_overrides(section: str, spec: dict[str, Json], raw: dict[str, Json], where: str) -> None:
     """Overrides of one run against one design: known keys, values in range, x1 inside the segment M-N."""
     overrides = [("fixed", spec.get("fixed", {}))] + [
         (f"cases[{i}]", case) for i, case in enumerate(spec.get("cases", []))
@@ -353,7 +353,7 @@ SHAPES = (
 )
 
 
-def _check_probabilities(spec: dict[str, Any], raw: dict[str, Any], where: str) -> None:
+def _check_probabilities(spec: dict[str, Json], raw: dict[str, Json], where: str) -> None:
     """A probabilities study against one KHV design: an input at all, each a known override other than the axis
     and the fixed ones, of one distribution's shape, its range going upwards (low > 0 on a log scale) and inside
     the override's limits; a tolerance class to take, in ISO 1328-1's scope; a power of 2 of samples for
@@ -396,7 +396,7 @@ def _check_probabilities(spec: dict[str, Any], raw: dict[str, Any], where: str) 
     _check_sampling(spec, raw, where, bool(inputs))
 
 
-def _check_sampling(spec: dict[str, Any], raw: dict[str, Any], where: str, inputs: bool) -> None:
+def _check_sampling(spec: dict[str, Json], raw: dict[str, Json], where: str, inputs: bool) -> None:
     """An uncertain input at all, a power of 2 of samples for Sobol' indices, the claims' line one of the
     design's paper's, without cases, along the axis and at the study's fixed values."""
     if not inputs and "initial_state" not in spec:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any
+from typing import TypedDict, Unpack
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -38,6 +38,14 @@ def constraint_info(name: str) -> tuple[str, str]:
     return _INFO[name]
 
 
+class Options(TypedDict, total=False):
+    """The options of :func:`constraint_grid`, passed on by :func:`constraints` and :func:`describe`."""
+
+    min_tip_thickness: float
+    min_contact_ratio: float
+    cutter: geo.ShaperCutter | None
+
+
 def constraint_grid(
     pair: geo.GearPair,
     *,
@@ -64,13 +72,13 @@ def constraint_grid(
     return {k: np.broadcast_to(np.asarray(v, dtype=float), shape) for k, v in out.items()}
 
 
-def constraints(pair: geo.GearPair, **kwargs: Any) -> dict[str, float]:
+def constraints(pair: geo.GearPair, **kwargs: Unpack[Options]) -> dict[str, float]:
     """Every constraint of one design as a float margin (>= 0 satisfied); ``kwargs``: those of
     :func:`constraint_grid` (``min_tip_thickness`` is s_min in modules, 0.25 m or 0.4 m the usual choices)."""
     return {k: float(v) for k, v in constraint_grid(pair, **kwargs).items()}
 
 
-def describe(pair: geo.GearPair, **kwargs: Any) -> dict[str, float]:
+def describe(pair: geo.GearPair, **kwargs: Unpack[Options]) -> dict[str, float]:
     """Derived geometry of one design for ``geardyn check-design`` (mm, deg, -)."""
     aw = float(geo.working_pressure_angle(pair))
     out: dict[str, float] = {
@@ -82,6 +90,7 @@ def describe(pair: geo.GearPair, **kwargs: Any) -> dict[str, float]:
         "contact_ratio": float(itf.contact_ratio(pair)),
     }
     # tip, root and base diameters and tip thickness of each gear: da1_mm, da2_mm, df1_mm, ...
+    per_gear: dict[str, tuple[float, float] | tuple[geo.FloatArray, geo.FloatArray]]
     per_gear = {"da": geo.tip_diameters(pair), "df": geo.root_diameters(pair), "db": geo.base_diameters(pair)}
     per_gear["sa"] = itf.tip_thickness(pair)
     out |= {f"{name}{i + 1}_mm": float(v[i]) for name, v in per_gear.items() for i in (0, 1)}

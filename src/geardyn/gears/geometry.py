@@ -79,7 +79,7 @@ def inverse_involute(value: ArrayLike, *, tol: float = 1e-15, max_iter: int = 60
     """Angle a in (-pi/2, pi/2) with inv a = value, vectorised: monotone Newton from an upper bound, each value stopping
     on its own step, so an array gives the bits of each value alone (docs/geometry.md, "Inverse involute")."""
     if np.ndim(value) == 0:
-        return np.float64(_inverse_involute_scalar(float(value), tol, max_iter))
+        return np.float64(_inverse_involute_scalar(float(value), tol, max_iter))  # type: ignore[arg-type,return-value]
     v = np.asarray(value, dtype=float)
     y = np.abs(v)
     a = np.minimum(libm.cbrt(3.0 * y), libm.arctan(y + np.pi / 2)).ravel()
@@ -117,7 +117,7 @@ def _inverse_involute_scalar(v: float, tol: float, max_iter: int) -> float:
 
 def with_shifts(base: GearPair, x1: ArrayLike, x2: ArrayLike) -> GearPair:
     """Copy of ``base`` whose shifts are arrays (broadcast by numpy) for vectorised evaluation."""
-    return dataclasses.replace(base, x1=np.asarray(x1, dtype=float), x2=np.asarray(x2, dtype=float))
+    return dataclasses.replace(base, x1=np.asarray(x1, dtype=float), x2=np.asarray(x2, dtype=float))  # type: ignore[arg-type]
 
 
 def shifts(pair: GearPair) -> tuple[FloatArray, FloatArray]:

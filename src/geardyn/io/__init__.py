@@ -10,12 +10,13 @@ from collections.abc import Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import DTypeLike
 
 from geardyn.io import provenance
+from geardyn.jsontypes import Json
 
 #: zlib level of every netCDF variable (with the shuffle filter); measured in docs/operations.md.
 ZLIB_LEVEL = 1
@@ -32,46 +33,47 @@ class Var:
     units: str | None
     long_name: str
     flags: Mapping[str, int] | None = None
-    dtype: Any = None
-    fill: Any = np.nan
-    attrs: Mapping[str, Any] = field(default_factory=dict)
+    dtype: DTypeLike | None = None
+    fill: Json = np.nan
+    attrs: Mapping[str, Json] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "dims", (self.dims,) if isinstance(self.dims, str) else tuple(self.dims))
         if self.flags is not None and self.dtype is None:
             object.__setattr__(self, "dtype", np.int8)
 
-    def attributes(self) -> dict[str, Any]:
+    def attributes(self) -> dict[str, Json]:
         """The CF attributes: ``units``, ``long_name``, the flags', the others."""
-        out = ({} if self.units is None else {"units": self.units}) | {"long_name": self.long_name}
+        out: dict[str, Json] = ({} if self.units is None else {"units": self.units}) | {"long_name": self.long_name}
         if self.flags is not None:
             out["flag_values"] = np.array(list(self.flags.values()), self.dtype)
             out["flag_meanings"] = " ".join(self.flags)
         return out | dict(self.attrs)
 
-    def __call__(self, values: Any) -> tuple[tuple[str, ...], Any, dict[str, Any]]:
+    def __call__(self, values: Json) -> tuple[tuple[str, ...], Json, dict[str, Json]]:
         """The variable holding ``values`` (in its dtype) as :class:`xarray.Dataset` takes it."""
-        return self.dims, values if self.dtype is None else np.asarray(values, self.dtype), self.attributes()
+        dims: tuple[str, ...] = self.dims  # type: ignore[assignment]  # a tuple after __post_init__
+        return dims, values if self.dtype is None else np.asarray(values, self.dtype), self.attributes()
 
-    def empty(self, shape: tuple[int, ...]) -> tuple[tuple[str, ...], Any, dict[str, Any]]:
+    def empty(self, shape: tuple[int, ...]) -> tuple[tuple[str, ...], Json, dict[str, Json]]:
         """The variable of ``shape`` holding its fill value."""
         return self(np.full(shape, self.fill, self.dtype))
 
 
-def variables(table: Iterable[Var], values: Mapping[str, Any] | Iterable[Any]) -> dict[str, tuple]:
+def variables(table: Iterable[Var], values: Mapping[str, Json] | Iterable[Json]) -> dict[str, tuple]:
     """The variables of ``table`` holding ``values`` (by name, or in the table's order) as xarray takes them."""
     table = list(table)
     named = values if isinstance(values, Mapping) else dict(zip([v.name for v in table], values, strict=True))
     return {v.name: v(named[v.name]) for v in table}
 
 
-def dataset(table: Iterable[Var], values: Mapping[str, Any] | Iterable[Any], **attrs: Any) -> xr.Dataset:
+def dataset(table: Iterable[Var], values: Mapping[str, Json] | Iterable[Json], **attrs: Json) -> xr.Dataset:
     """The Dataset of :func:`variables` in the table's order (a variable named as its dimension is a coordinate),
     with the global ``attrs``."""
     return xr.Dataset(variables(table, values), attrs=attrs)
 
 
-def markdown_table(header: Sequence[str], rows: Iterable[Sequence[Any]], align: str = "") -> str:
+def markdown_table(header: Sequence[str], rows: Iterable[Sequence[Json]], align: str = "") -> str:
     """A GitHub Markdown table: ``header``, its rule, a line per row (cells as ``str``, a ``|`` as ``/``: it would
     end the cell).  ``align``: a letter per column, ``r`` right, ``c`` centred, ``l`` left, ``-`` (or none) as is."""
     rule = [{"r": "---:", "c": ":---:", "l": ":---"}.get(a, "---") for a in align.ljust(len(header))]

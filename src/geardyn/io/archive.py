@@ -14,7 +14,6 @@ import zlib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import xarray as xr
 import yaml
@@ -22,6 +21,7 @@ import yaml
 from geardyn import __version__
 from geardyn.io import atomic, write_text
 from geardyn.io import provenance as prov
+from geardyn.jsontypes import Json
 
 MANIFEST = "MANIFEST.json"
 SUMS = "SHA256SUMS"
@@ -109,8 +109,8 @@ def build(
     design: str,
     cubes: Mapping[str, str | Path],
     configs: Mapping[str, str | Path],
-    effective_config: Mapping[str, Any] | None = None,
-) -> dict[str, Any]:
+    effective_config: Mapping[str, Json] | None = None,
+) -> dict[str, Json]:
     """Write the archive ``out`` (``.tar.gz``, atomically) and ``<out>.sha256``; return its manifest.  ``cubes`` maps
     a path inside the archive (``results/<design>/...``) to a file, ``configs`` a path inside ``config/``;
     ``effective_config`` (the validated workflow config) goes to ``config/effective_config.yaml``."""
@@ -121,7 +121,7 @@ def build(
     created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     commit = prov.git_commit()
     members: dict[str, bytes] = {}
-    entries: list[dict[str, Any]] = []
+    entries: list[dict[str, Json]] = []
 
     def add(name: str, data: bytes, kind: str, extra: Mapping[str, str] | None = None) -> None:
         members[name] = data
@@ -244,7 +244,7 @@ def verify(path: str | Path) -> Summary:
     cubes = [name for name, e in entries.items() if e["kind"] == "netcdf"]
     if not cubes:
         raise ArchiveError(f"{where}: the archive holds no netCDF cube")
-    attrs: list[dict[str, Any]] = []
+    attrs: list[dict[str, Json]] = []
     for name in cubes:
         try:
             with xr.open_dataset(members[name], engine="netcdf4") as ds:  # from memory: verifying writes nothing

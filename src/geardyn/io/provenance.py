@@ -16,17 +16,17 @@ import sys
 from collections.abc import Iterable, Mapping
 from importlib import metadata
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from geardyn import __version__, libm
+from geardyn.jsontypes import Json
 from geardyn.papers import paper_of
 
 try:
-    from numpy._core import _multiarray_umath as mu
+    from numpy._core import _multiarray_umath as mu  # type: ignore[attr-defined]  # not in numpy's stubs
 except ImportError:  # numpy < 2
-    from numpy.core import _multiarray_umath as mu  # type: ignore[no-redef]
+    from numpy.core import _multiarray_umath as mu
 
 #: The CF conventions every dataset follows.
 CONVENTIONS = "CF-1.10"
@@ -48,6 +48,7 @@ def _package_version(name: str) -> str:
 def _cpuinfo() -> tuple[str, list[str]]:
     """CPU model name and its SIMD flags from /proc/cpuinfo (Linux), else from :mod:`platform`."""
     generic = ("unknown", platform.machine(), platform.processor())
+    flags: list[str]
     model, flags = platform.processor() or platform.machine() or "unknown", []
     try:
         text = Path("/proc/cpuinfo").read_text(encoding="utf-8", errors="replace")
@@ -114,12 +115,12 @@ OVERRIDES = (
 )
 
 
-def runtime_of(attrs: Mapping[str, Any]) -> dict[str, str]:
+def runtime_of(attrs: Mapping[str, Json]) -> dict[str, str]:
     """The runtime provenance recorded in a file's global attributes (:data:`RUNTIME_KEYS`, ``env_*``)."""
     return {k: str(v) for k, v in attrs.items() if k in RUNTIME_KEYS or k.startswith("env_")}
 
 
-def distinct_runtimes(attrs: Iterable[Mapping[str, Any]]) -> list[tuple[dict[str, str], int]]:
+def distinct_runtimes(attrs: Iterable[Mapping[str, Json]]) -> list[tuple[dict[str, str], int]]:
     """The distinct runtime provenances (:func:`runtime_of`) of several files' global attributes, in the order
     they first appear, and how many files recorded each (files that recorded none left out)."""
     found = [rt for rt in map(runtime_of, attrs) if rt]
@@ -151,12 +152,12 @@ def provenance_text(prefix: str = "") -> str:
     return "".join(f"{prefix}{k}: {v}\n" for k, v in info().items())
 
 
-def config_hash(config: Mapping[str, Any]) -> str:
+def config_hash(config: Mapping[str, Json]) -> str:
     """Short sha256 of a configuration mapping, independent of key order."""
     return hashlib.sha256(json.dumps(config, sort_keys=True, default=_json_default).encode()).hexdigest()[:16]
 
 
-def _json_default(obj: Any) -> Any:
+def _json_default(obj: Json) -> Json:
     if isinstance(obj, np.generic):
         return obj.item()
     if isinstance(obj, np.ndarray):
@@ -179,9 +180,9 @@ def attributes(
     *,
     title: str,
     paper: str | None = None,
-    config: Mapping[str, Any] | None = None,
+    config: Mapping[str, Json] | None = None,
     model_variant: str | None = None,
-    extra: Mapping[str, Any] | None = None,
+    extra: Mapping[str, Json] | None = None,
 ) -> dict[str, str]:
     """Global attributes for a dataset: CF basics plus where and how it was made."""
     now = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()

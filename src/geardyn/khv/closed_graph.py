@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping
-from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -15,6 +14,7 @@ from geardyn import io
 from geardyn.gears import constraints, interference
 from geardyn.gears import geometry as geo
 from geardyn.io import Var
+from geardyn.jsontypes import Json
 
 #: Each constraint of the graph: the paper's line it belongs to (0: drawn but not one of lines 1-4) and its
 #: short label in the figure (K the annulus, V the planet; * cutter-dependent), in the figure's drawing order.
@@ -141,13 +141,13 @@ def _mesh_vars(suffix: str, dims: str | tuple[str, ...], where: str) -> list[Var
     ]
 
 
-def _mesh_values(pair: geo.GearPair, suffix: str) -> dict[str, Any]:
+def _mesh_values(pair: geo.GearPair, suffix: str) -> dict[str, Json]:
     """The contact ratio and working pressure angle of ``pair`` (``contact_ratio<suffix>``, ...)."""
     aw = np.degrees(geo.working_pressure_angle(pair))
     return {f"contact_ratio{suffix}": interference.contact_ratio(pair), f"working_pressure_angle{suffix}": aw}
 
 
-def _grid_values(grid_pair: geo.GearPair, margins: Mapping[str, np.ndarray]) -> dict[str, Any]:
+def _grid_values(grid_pair: geo.GearPair, margins: Mapping[str, np.ndarray]) -> dict[str, Json]:
     """Every constraint's margin on the (x2, x1) grid, the contact ratio, the working pressure angle and the
     feasibility flags (all constraints; the cutter-independent ones)."""
     stack = np.stack([np.asarray(v, float) for v in margins.values()])
@@ -156,12 +156,12 @@ def _grid_values(grid_pair: geo.GearPair, margins: Mapping[str, np.ndarray]) -> 
     return {**margins, **_mesh_values(grid_pair, ""), **ok}
 
 
-def _line4_values(base: geo.GearPair, x1a: np.ndarray, kw: Mapping[str, Any]) -> dict[str, Any]:
+def _line4_values(base: geo.GearPair, x1a: np.ndarray, kw: Mapping[str, Json]) -> dict[str, Json]:
     """Line 4 (G_s = 0) along the x1 grid, with the other constraints evaluated on it: where a line-4 point
     satisfies every other constraint (``feasible_line4``), every cutter-independent one."""
     x2_l4 = constraints.x2_on_overlap_boundary_many(x1a, base)
     line_pair = geo.with_shifts(base, x1a, x2_l4)
-    on_line = constraints.constraint_grid(line_pair, **kw)  # type: ignore[arg-type]
+    on_line = constraints.constraint_grid(line_pair, **kw)
     others = np.stack([v for k, v in on_line.items() if k != "overlap_interference"])
     ok_line = np.all(others >= 0.0, axis=0) & (np.abs(on_line["overlap_interference"]) < _ON_LINE_TOL)
     others_free = np.stack([v for k, v in on_line.items() if k not in (*CUTTER_DEPENDENT, "overlap_interference")])
@@ -169,7 +169,7 @@ def _line4_values(base: geo.GearPair, x1a: np.ndarray, kw: Mapping[str, Any]) ->
     return {"x2_line4": x2_l4, **_mesh_values(line_pair, "_line4"), **ok}
 
 
-def _point_values(base: geo.GearPair, points: Mapping[str, tuple[float, float]]) -> dict[str, Any]:
+def _point_values(base: geo.GearPair, points: Mapping[str, tuple[float, float]]) -> dict[str, Json]:
     """Printed points (x1, x2) and ours on G_s = 0 at the same x1, with residuals, along ``point``."""
     px1, px2 = (np.array([p[k] for p in points.values()]) for k in (0, 1))
     cx2 = constraints.x2_on_overlap_boundary_many(px1, base)

@@ -6,9 +6,9 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
 
 from geardyn.io import markdown_table
+from geardyn.jsontypes import Json
 from geardyn.khv.calibrate.space import SearchSpace
 
 #: Largest distance of one unknown, as a fraction of its search range, for "the same optimum": well
@@ -65,7 +65,7 @@ class Comparison:
         return "\n".join(lines) + "\n"
 
 
-def compare(committed: Mapping[str, Any], found: Mapping[str, Any], space: SearchSpace) -> Comparison:
+def compare(committed: Mapping[str, Json], found: Mapping[str, Json], space: SearchSpace) -> Comparison:
     """Compare two search results (``calibrate.result_of`` or ``calibrate.search_result``) over ``space``.
 
     Raises ``ValueError`` when they searched different unknowns (not comparable)."""

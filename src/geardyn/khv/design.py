@@ -10,12 +10,12 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from geardyn.config import ConfigError, load_design_dict
 from geardyn.gears import constraints, geometry, interference, stiffness
+from geardyn.jsontypes import Json
 
 
 @dataclass(frozen=True)
@@ -40,10 +40,10 @@ class DesignHeader:
     title: str
     paper: str | None
     stiffness: StiffnessOptions
-    raw: dict[str, Any]
+    raw: dict[str, Json]
 
     @staticmethod
-    def fields_of(raw: dict[str, Any]) -> dict[str, Any]:
+    def fields_of(raw: dict[str, Json]) -> dict[str, Json]:
         """The header fields of a schema-validated design file."""
         return {
             "name": raw["name"],
@@ -64,7 +64,7 @@ class KHVDesign(DesignHeader):
     min_tip_thickness: float
     cutter: geometry.ShaperCutter
     enforce_cutter_constraints: bool
-    dynamics: dict[str, Any]
+    dynamics: dict[str, Json]
 
     @property
     def segment(self) -> tuple[float, float]:
@@ -95,7 +95,7 @@ class MeshProperties:
 _PAIR_KEYS = ("z1", "z2", "module", "x1", "pressure_angle_deg", "addendum", "clearance", "facewidth")
 
 
-def _pair_from(raw: dict[str, Any], x2: float) -> geometry.GearPair:
+def _pair_from(raw: dict[str, Json], x2: float) -> geometry.GearPair:
     """The internal pair of a design file with annulus shift ``x2``."""
     return geometry.GearPair(**{k: raw["pair"][k] for k in _PAIR_KEYS}, x2=x2, internal=True)
 
@@ -153,7 +153,7 @@ def _mesh_properties(
     )
 
 
-def _check(design_raw: dict[str, Any], where: str) -> None:
+def _check(design_raw: dict[str, Json], where: str) -> None:
     p = design_raw["pair"]
     if p["z2"] - p["z1"] < 1:
         raise ConfigError(
@@ -208,7 +208,7 @@ def _infeasible(pair: geometry.GearPair, min_tip: float, enforce_cutter: bool, c
     )
 
 
-def from_dict(raw: dict[str, Any], where: str = "design", check: bool = True) -> KHVDesign:
+def from_dict(raw: dict[str, Json], where: str = "design", check: bool = True) -> KHVDesign:
     """Build a :class:`KHVDesign` from a schema-validated dict, with the semantic checks (``check=False``:
     only what is needed to build it, for printing the geometry of a design that does not pass)."""
     _check(raw, where)
@@ -278,7 +278,7 @@ def check_segment(design: KHVDesign, where: str = "design", points: int = 11) ->
             raise ConfigError(f"{leaves} feasible region at x1 = {x1:.4f}: {detail}")
 
 
-def _read(path: str | Path) -> dict[str, Any]:
+def _read(path: str | Path) -> dict[str, Json]:
     """A KHV design file, read and schema-validated."""
     raw = load_design_dict(path)
     if raw["kind"] != "khv":
@@ -313,7 +313,7 @@ def x1_grid(design: KHVDesign, num: int) -> np.ndarray:
     return np.linspace(design.x1_min, design.x1_max, num)
 
 
-def is_fraction(value: Any) -> bool:
+def is_fraction(value: Json) -> bool:
     """Whether ``value`` is a percentage of the admissible segment such as ``"25%"``."""
     return isinstance(value, str) and value.endswith("%")
 
@@ -327,7 +327,7 @@ def along_segment(value: float | str, segment: tuple[float, float]) -> float:
     return float(value)
 
 
-def resolve_fractions(spec: Any, segment: tuple[float, float]) -> Any:
+def resolve_fractions(spec: Json, segment: tuple[float, float]) -> Json:
     """A copy of a run's config entry with every percentage turned into x1 on the design's segment
     (percentages are allowed for x1 only; :mod:`geardyn.config.validate` refuses them elsewhere)."""
     if isinstance(spec, Mapping):

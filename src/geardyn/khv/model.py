@@ -74,6 +74,7 @@ class Options:
                 raise ValueError(f"{name}={getattr(self, name)!r}; allowed: {allowed}")
 
 
+# Any: as dataclasses.field, the field's default (any type) and its other arguments pass through.
 def _stored(units: str, long_name: str, **kw: Any) -> Any:
     """A :class:`Coefficients` field stored per point in sweep cubes, with its units and long name."""
     return field(metadata={"cf": (units, long_name)}, **kw)
@@ -186,7 +187,7 @@ class Coefficients:
     def _static_balance(self) -> tuple[float, float, float]:
         """(x1, x3, F) of :func:`static_deflection`, a function of :data:`_BALANCE_FIELDS` only."""
         m = self.matrices()
-        K, g, p = m["K"], m["g"], m["p"]
+        K, g, p = (np.asarray(m[k]) for k in "Kgp")
         A = np.array([[K[0, 0], 0.0, g[0]], [K[1, 0], K[1, 2], g[1]], [0.0, K[2, 2], g[2]]])
         x1, x3, F = np.linalg.solve(A, p)
         return float(x1), float(x3), float(F)
@@ -195,8 +196,8 @@ class Coefficients:
     def _kernel_array(self) -> np.ndarray:
         m = self.matrices()
         # LAYOUT names matrix entries by letter and 1-based indices: K21 is K[1, 0], G3 is g[2]
-        values = {f"{n}{i + 1}{j + 1}": m[n][i, j] for n in "KC" for i in range(3) for j in range(3)}
-        values |= {f"{n.upper()}{i + 1}": m[n][i] for n in "gp" for i in range(3)}
+        values = {f"{n}{i + 1}{j + 1}": np.asarray(m[n])[i, j] for n in "KC" for i in range(3) for j in range(3)}
+        values |= {f"{n.upper()}{i + 1}": np.asarray(m[n])[i] for n in "gp" for i in range(3)}
         values |= {"CM": self.c_m, "B": self.b, "TE": self.te_forcing, "PHI": self.phi, "T": self.period}
         values |= {"BACKLASH_ON": 1.0 if self.backlash_on else 0.0, "EPS": self.eps}
         return np.array([values[name] for name in layout.LAYOUT], dtype=np.float64)

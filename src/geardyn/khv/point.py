@@ -9,6 +9,7 @@ import math
 from collections.abc import Iterable, Mapping
 from typing import Any
 
+from geardyn.jsontypes import Json
 from geardyn.khv import design as design_mod
 from geardyn.khv.model import B_C, Coefficients, KHVParameters, Options, dimensionless
 from geardyn.solve import SimulationSettings
@@ -40,7 +41,7 @@ def units_of(name: str, default: str | None = None) -> str:
     return PARAMETER_UNITS[name] if default is None else PARAMETER_UNITS.get(name, default)
 
 
-def label(overrides: Iterable[tuple[str, float]] | Mapping[str, float], empty: str = "none") -> str:
+def override_text(overrides: Iterable[tuple[str, float]] | Mapping[str, float], empty: str = "none") -> str:
     """The overrides as ``k=v,k=v`` (values ``:g``), ``empty`` without any."""
     pairs = overrides.items() if isinstance(overrides, Mapping) else overrides
     return ",".join(f"{k}={v:g}" for k, v in pairs) or empty
@@ -58,7 +59,7 @@ _CONTROL_FIELDS = {
 }
 
 
-def _split(dynamics: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any]]:
+def _split(dynamics: Mapping[str, Json]) -> tuple[dict[str, Json], dict[str, Json], dict[str, Json]]:
     """The model parameters, options and integrator settings of a design's validated ``dynamics`` mapping."""
     params = {k: v for k, v in dynamics.get("parameters", {}).items() if k in _PARAM_FIELDS}
     options = {k: v for k, v in dynamics.get("options", {}).items() if k in _OPTION_FIELDS}
@@ -111,6 +112,7 @@ def point_coefficients(design: design_mod.KHVDesign, overrides: Mapping[str, flo
     return dimensionless(phys, opts)
 
 
+# Any: changes to SimulationSettings' fields (of several types), checked by dataclasses.replace.
 def integration_settings(design: design_mod.KHVDesign, **changes: Any) -> SimulationSettings:
     """Integrator settings from the design's ``dynamics.integration`` with ``changes`` applied."""
     _, _, settings = _split(design.dynamics)

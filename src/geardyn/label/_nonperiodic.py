@@ -509,5 +509,5 @@ def _record_verdict(
         transient_used=p.transient_used,
         n_events=int(p.run.n_events),
         response=measures_of_sums(p.run.sums, p.system, p.measured),
-        **indicators,
+        **indicators,  # type: ignore[arg-type]  # Verdict's float fields (k01, flatness, ...), by name
     )

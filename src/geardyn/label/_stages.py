@@ -191,7 +191,7 @@ def tables_of(points: list[Point]) -> LaneTables | None:
     first = points[0].tables
     if all(p.tables is first for p in points):
         return first.take([p.row for p in points])
-    return LaneTables.gather([(p.tables, p.row) for p in points])  # type: ignore[misc]
+    return LaneTables.gather([(p.tables, p.row) for p in points])
 
 
 def decide(points: list[Point], verdicts: list[Verdict | None]) -> list[Point]:

@@ -10,6 +10,7 @@ import numpy as np
 
 from geardyn import libm
 from geardyn.config import settings_from
+from geardyn.solve.precision import POINCARE_ERROR
 
 #: Label codes stored in cubes (``flag_values``/``flag_meanings``); n >= 1 is period-n.
 #: ``not_periodic`` is what the Poincaré test alone says (QP or chaos, unresolved).
@@ -175,7 +176,7 @@ class ClassifierSettings:
     max_n: int = 12
     rtol: float = 1e-4
     atol: float = 1e-6
-    error_floor: float = 7.5e-8
+    error_floor: float = POINCARE_ERROR[512]  # the measured Poincare error at the default 512 steps per period
     error_margin: float = 10.0
     lam_tol: float = 1e-3
     k_chaos: float = 0.5

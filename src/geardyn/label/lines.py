@@ -60,8 +60,8 @@ class _Line:
         """The line's current point either waits in the pool (its record grows) or is decided."""
         self.waiting = p if waits else None
         if not waits:
-            self.out.append(p.verdict)  # type: ignore[arg-type]
-            self.chain.append(p.handed or p.verdict)  # type: ignore[arg-type]
+            self.out.append(p.verdict)
+            self.chain.append(p.handed or p.verdict)
 
     def point(self, tables: LaneTables, row: int) -> st.Point:
         """The line's next point, row ``row`` of its batch's ``tables``."""
@@ -91,11 +91,11 @@ def _schedule(lines: list[_Line], policy: Policy, progress: str) -> None:
             grow = {id(p) for p in _first_pass(points, policy)}
         elif busy:
             batch, points = busy, [ln.waiting for ln in busy]
-            grow = {id(p) for p in longer_record(points, min(p.left for p in points), policy)}  # type: ignore[union-attr]
+            grow = {id(p) for p in longer_record(points, min(p.left for p in points), policy)}
         else:
             return
         for ln, p in zip(batch, points, strict=True):
-            ln.place(p, id(p) in grow)  # type: ignore[arg-type]
+            ln.place(p, id(p) in grow)
         done = sum(len(ln.out) for ln in lines)
         if progress and (done - shown >= max(1, total // 10) or done == total):
             shown, elapsed = done, time.perf_counter() - t0

@@ -4,26 +4,23 @@ stage of the labeller reads (integration, classifier thresholds, the stages' num
 from __future__ import annotations
 
 import dataclasses
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Literal
 
+from geardyn.jsontypes import Json
 from geardyn.label.classify import ClassifierSettings
-from geardyn.solve.base import SimulationSettings
+from geardyn.solve.base import ShootingSettings, SimulationSettings
 
 Start = Literal["follow", "fixed"]
 
 
 @dataclass(frozen=True)
-class Newton:
-    """Newton shooting (:func:`geardyn.solve.shooting.newton_shooting_batch`): tolerance, iterations, growth
-    stop, step cap, and the cycle tolerance of a certified orbit's least period (``docs/classify.md``)."""
+class Newton(ShootingSettings):
+    """The labeller's Newton shooting (:class:`~geardyn.solve.base.ShootingSettings`, 12 iterations), and the
+    cycle tolerance of a certified orbit's least period (``docs/classify.md``)."""
 
-    tol: float = 1e-9
     max_iter: int = 12
-    max_growth: float = math.inf
-    step_cap: float = 10.0
     cycle_tol_factor: float = 1e3
 
 
@@ -158,7 +155,7 @@ class Policy:
         return dataclasses.replace(self, start=start)
 
     @classmethod
-    def from_spec(cls, integration: SimulationSettings, spec: Mapping[str, Any] | None = None) -> Policy:
+    def from_spec(cls, integration: SimulationSettings, spec: Mapping[str, Json] | None = None) -> Policy:
         """The policy of a study entry of the config (a sweep, map, points run or calibration): its
         ``classifier`` block, ``start_from`` (follow or fixed; not ``start``, which a sweep uses for its range)
         and ``coexistence`` keys (presets already resolved by the validator)."""

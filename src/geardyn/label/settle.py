@@ -251,7 +251,7 @@ def _continued(
         i: n * math.ceil(min(max_periods, max(least, math.ceil(math.log(fall) / math.log(r)))) / n)
         for i, r in rho.items()
     }
-    ext = {}
+    ext: dict[int, simulate.SimulationResult] = {}
     for group in _length_classes(k4):
         runs = simulate_batch(
             [systems[i] for i in group],

@@ -98,8 +98,8 @@ def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
         else:
             n = classify.LABELS["diverged"] if int(d["diverged"]) == 1 else classify.LABELS["undetermined"]
         peaks = classify.spectral_peaks(d["frequency"].values, d["amplitude"].values)
-        peaks = (", peaks at " + ", ".join(f"{v:.3g}" for v in peaks) + " x f_mesh") if peaks else ""
-        lines.append(f"Ours, {case}: {classify.label_name(n)}{how}{peaks}.")
+        peak_text = (", peaks at " + ", ".join(f"{v:.3g}" for v in peaks) + " x f_mesh") if peaks else ""
+        lines.append(f"Ours, {case}: {classify.label_name(n)}{how}{peak_text}.")
     lines += verdict_notes(ds) + _tail(name, paper)
     return "\n".join(lines)
 

@@ -6,15 +6,16 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Iterator
-from typing import Any
 
 import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
+from matplotlib.typing import LegendLocType
 
 from geardyn.io import markdown_table
+from geardyn.jsontypes import Json
 from geardyn.solve import bifurcations
 
 #: Colour of each curve kind (the file's ``curve_kind`` flag meanings; the legend text of the one vocabulary).
@@ -51,7 +52,7 @@ def names_of(ds: xr.Dataset) -> tuple[str, str]:
     return x, y
 
 
-def curves_of(ds: xr.Dataset) -> Iterator[dict[str, Any]]:
+def curves_of(ds: xr.Dataset) -> Iterator[dict[str, Json]]:
     """Each curve of the file: kind, period, x, y, bounds (the curve bounds a stable orbit at that point)."""
     xn, yn = names_of(ds)
     kinds = _meanings(ds, "curve_kind")
@@ -68,7 +69,7 @@ def curves_of(ds: xr.Dataset) -> Iterator[dict[str, Any]]:
         }
 
 
-def codim2_of(ds: xr.Dataset) -> list[dict[str, Any]]:
+def codim2_of(ds: xr.Dataset) -> list[dict[str, Json]]:
     """The codimension-2 points: type, curve kind and period, x, y, located."""
     if not ds.sizes.get("codim2", 0):
         return []
@@ -90,9 +91,9 @@ def codim2_of(ds: xr.Dataset) -> list[dict[str, Any]]:
     ]
 
 
-def _unique_codim2(points: list[dict[str, Any]]) -> list[dict[str, Any]]:
+def _unique_codim2(points: list[dict[str, Json]]) -> list[dict[str, Json]]:
     """One entry per codimension-2 point found on several curves (same type, within 1e-6)."""
-    out: list[dict[str, Any]] = []
+    out: list[dict[str, Json]] = []
     for p in points:
         if not any(q["type"] == p["type"] and abs(q["x"] - p["x"]) + abs(q["y"] - p["y"]) < 1e-6 for q in out):
             out.append(p)
@@ -114,7 +115,9 @@ def say_on_face(ax: Axes, text: str) -> None:
     )
 
 
-def draw_curves(ax: Axes, ds: xr.Dataset, legend: bool = True, lw: float = 1.4, loc: str = "upper right") -> None:
+def draw_curves(
+    ax: Axes, ds: xr.Dataset, legend: bool = True, lw: float = 1.4, loc: LegendLocType = "upper right"
+) -> None:
     """The curves on ``ax``: solid where they bound a stable orbit, dotted elsewhere, coloured by kind, with
     a legend of the kinds present (and their periods) at ``loc`` (an earlier legend of ``ax`` is kept)."""
     periods: dict[str, set[int]] = {}
@@ -176,7 +179,7 @@ def plot_curves(ds: xr.Dataset, title: str, background: tuple[np.ndarray, tuple]
     return fig
 
 
-def summary(ds: xr.Dataset) -> dict[str, Any]:
+def summary(ds: xr.Dataset) -> dict[str, Json]:
     """Counts by kind (with periods), the codimension-2 points, the records' fates, the pixel check."""
     kinds = Counter(f"{c['kind']} P{c['n']}" for c in curves_of(ds))
     return {

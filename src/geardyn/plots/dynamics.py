@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import xarray as xr
-from matplotlib.colors import BoundaryNorm, ListedColormap, TwoSlopeNorm, to_rgb
+from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize, TwoSlopeNorm, to_rgb
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
@@ -128,7 +128,7 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=(), curves: xr.Datase
     codes = sorted(int(c) for c in np.unique(lab))
     cmap = ListedColormap([label_colour(c) for c in codes])
     index = np.searchsorted(codes, lab)
-    norm = BoundaryNorm(np.arange(len(codes) + 1) - 0.5, len(codes))
+    norm: Normalize = BoundaryNorm(np.arange(len(codes) + 1) - 0.5, len(codes))
     x, y = ds["x"].values, ds["y"].values
     layers = "dynamic_factor" in ds and "impact_class" in ds
     if layers:

@@ -21,9 +21,9 @@ def plot_single_tooth(props) -> Figure:  # props: geardyn.khv.design.MeshPropert
     eps, k_prime = float(props.contact_ratio), float(props.k_prime) / 1e6
     s = np.linspace(0.0, props.contact_ratio, 401)
     ax.plot(s, single_tooth_stiffness(s, props.contact_ratio, props.k_prime) / 1e6, color="k")
-    for label, s, kk in (("A", 0.0, k_prime), ("C", eps / 2, 1.5 * k_prime), ("B", eps, k_prime)):
-        ax.plot([s], [kk], "o", color="k")
-        ax.annotate(label, (s, kk), textcoords="offset points", xytext=(4, 6))
+    for label, at, kk in (("A", 0.0, k_prime), ("C", eps / 2, 1.5 * k_prime), ("B", eps, k_prime)):
+        ax.plot([at], [kk], "o", color="k")
+        ax.annotate(label, (at, kk), textcoords="offset points", xytext=(4, 6))
     ax.set_ylim(0, 1.7 * k_prime)
     fig.tight_layout()
     return fig

@@ -7,9 +7,9 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
-from typing import Any
 
 from geardyn.config import ConfigError, load_design_dict, validated
+from geardyn.jsontypes import Json
 
 
 @dataclass(frozen=True)
@@ -108,7 +108,7 @@ class PlusDesign:
     forced: ForcedSpec = field(default_factory=ForcedSpec)
     planet_angles_in_sun_terms: bool = True
     plus_set_sign: bool = True
-    raw: Mapping[str, Any] = field(default_factory=dict, compare=False, repr=False)
+    raw: Mapping[str, Json] = field(default_factory=dict, compare=False, repr=False)
 
     @property
     def n_planets(self) -> int:
@@ -119,7 +119,7 @@ class PlusDesign:
         return replace(self, stiffness=self.stiffness.scaled(factor))
 
 
-def _body(d: Mapping[str, Any]) -> Body:
+def _body(d: Mapping[str, Json]) -> Body:
     return Body(
         teeth=int(d.get("teeth", 0)),
         base_radius=float(d.get("base_radius_mm", 0.0)) * 1e-3,
@@ -128,11 +128,11 @@ def _body(d: Mapping[str, Any]) -> Body:
     )
 
 
-def _springs(d: Mapping[str, Any]) -> Springs:
+def _springs(d: Mapping[str, Json]) -> Springs:
     return Springs(*(float(d[f.name]) for f in fields(Springs)))
 
 
-def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
+def design_from_dict(d: Mapping[str, Json], where: str = "design") -> PlusDesign:
     """Build a :class:`PlusDesign` (SI units) from a schema-validated dict with defaults filled
     (:func:`geardyn.config.load_design_dict`), with the checks the schema cannot state."""
 
@@ -178,11 +178,13 @@ def design_from_dict(d: Mapping[str, Any], where: str = "design") -> PlusDesign:
         ),
         relief=ReliefSpec(
             **{k: rl[k] for k in ("apply_to", "seed", "popsize", "maxiter", "tol", "landscape_points")},
-            **bounds,
+            **bounds,  # type: ignore[arg-type]  # the (lo, hi) bound fields, by name
             load_study_torques=tuple(float(t) for t in rl["load_study_torques_Nm"]),
         ),
         # every forced-response field converted to the type of its default (the schema's number admits 1 for 1.0)
-        forced=ForcedSpec(**{f.name: type(f.default)(d["forced_response"][f.name]) for f in fields(ForcedSpec)}),
+        forced=ForcedSpec(
+            **{f.name: type(f.default)(d["forced_response"][f.name]) for f in fields(ForcedSpec)}  # type: ignore[misc]
+        ),
         planet_angles_in_sun_terms=d["fixes"]["planet_angles_in_sun_terms"],
         plus_set_sign=d["fixes"]["plus_set_sign"],
         raw=d,

@@ -5,7 +5,7 @@ SI units; ``u`` in m along the path of contact from its start, ``s = u / p_b`` i
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TypedDict, Unpack
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -294,8 +294,16 @@ def design_grid(design: PlusDesign, points: int | None = None) -> MeshGrid:
     return MeshGrid.build(spur_pair(design), material(design), points or design.te.points_per_period)
 
 
+class Relief(TypedDict, total=False):
+    """A tip relief of :meth:`MeshGrid.separation` (none by default)."""
+
+    relief_amount: float
+    relief_length: float
+    relief_shape: str
+
+
 def design_te(
-    design: PlusDesign, *, points: int | None = None, grid: MeshGrid | None = None, **relief: Any
+    design: PlusDesign, *, points: int | None = None, grid: MeshGrid | None = None, **relief: Unpack[Relief]
 ) -> TEResult:
     """Static TE of the design's pair on its grid, with its load, deviations and relief placement;
     ``relief``: relief_amount, relief_length, relief_shape (none by default)."""

@@ -186,7 +186,7 @@ def matrices(design: PlusDesign, condition: Condition = "free") -> Matrices:
     K, C = sum(el.k * np.outer(el.v, el.v) for el in els), sum(el.c * np.outer(el.v, el.v) for el in els)
     M = sum(mass_components(design).values())
     ix = np.ix_(keep, keep)
-    return Matrices(tuple(COORDS[i] for i in keep), M[ix], K[ix], C[ix])
+    return Matrices(tuple(COORDS[i] for i in keep), M[ix], K[ix], C[ix])  # type: ignore[index]  # sums of arrays
 
 
 @dataclass(frozen=True)
@@ -290,14 +290,14 @@ def group_strain(fr: dict[str, NDArray]) -> dict[str, NDArray]:
     """Strain-energy shares summed per mesh type (Table 3 groups 1-3, 4-6, 7-9) and the bearing."""
     out = {t: sum(v for k, v in fr.items() if k.startswith(t) and k[len(t) :].isdigit()) for t in MESH_TYPES}
     out["bearing"] = fr["bearing_x"] + fr["bearing_y"]
-    return out
+    return out  # type: ignore[return-value]  # sums of arrays
 
 
 def group_kinetic(fr: dict[str, NDArray]) -> dict[str, NDArray]:
     """Kinetic-energy shares per component group (Table 4 grouped)."""
     planets = {"revolution": "revolution", "planet_p": "p", "planet_d": "d"}
     out = {group: sum(fr[f"{key}{j}"] for j in (1, 2, 3)) for group, key in planets.items()}
-    return out | {c: fr[c] for c in ("sun", "ring", "carrier")}
+    return out | {c: fr[c] for c in ("sun", "ring", "carrier")}  # type: ignore[return-value]  # sums of arrays
 
 
 def classify(md: Modes, *, rtol: float = 1e-6, atol: float = 1e-9) -> list[str]:

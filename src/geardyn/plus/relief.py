@@ -66,9 +66,7 @@ def optimise(
     settings = {"seed": r.seed, "popsize": r.popsize, "maxiter": r.maxiter, "tol": r.tol, "updating": "immediate"}
     res = differential_evolution(f, [ab, lb], polish=False, workers=1, **settings)
     amount, length = (float(v) for v in res.x)
-    return ReliefOptimum(
-        shape, which, amount, length, float(res.fun), f(np.zeros(2)), int(res.nfev), tuple(ab), tuple(lb)
-    )
+    return ReliefOptimum(shape, which, amount, length, float(res.fun), f(np.zeros(2)), int(res.nfev), ab, lb)
 
 
 def landscape(
@@ -94,11 +92,12 @@ def load_study(
     rows = []
     for t in torques:
         d = replace(design, torque=float(t), torque_member="sun")
-        wide = {
-            "physical_amount": (0.0, d.relief.paper_amount[1]),
-            "physical_length": (0.0, d.relief.physical_length[1]),
-        }
-        d_wide = replace(d, relief=replace(d.relief, **wide))
+        wide_bounds = replace(
+            d.relief,
+            physical_amount=(0.0, d.relief.paper_amount[1]),
+            physical_length=(0.0, d.relief.physical_length[1]),
+        )
+        d_wide = replace(d, relief=wide_bounds)
         grid = design_grid(d, points)
         paper = optimise(d, shape, "paper", grid=grid)
         wide = optimise(d_wide, shape, "physical", grid=grid)

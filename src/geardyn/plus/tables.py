@@ -5,7 +5,6 @@ from __future__ import annotations
 
 from dataclasses import replace
 from types import ModuleType
-from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -14,6 +13,7 @@ from scipy.optimize import minimize_scalar
 
 from geardyn import io, libm
 from geardyn.io import Var
+from geardyn.jsontypes import Json
 
 from . import modal
 from .design import PlusDesign
@@ -36,7 +36,7 @@ COMPONENT_LABELS = {
     "ring": "gear ring",
     "carrier": "planet carrier",
 }
-WORKING = ("I", "II", "III")
+WORKING: tuple[modal.Condition, ...] = ("I", "II", "III")
 
 
 #: The CF variables of the plus set's datasets, one table per dataset (:func:`geardyn.io.dataset`).
@@ -88,7 +88,7 @@ LANDSCAPE_VARIABLES = (
 )
 
 
-def distinct_frequencies(design: PlusDesign, condition: str) -> list[dict]:
+def distinct_frequencies(design: PlusDesign, condition: modal.Condition) -> list[dict]:
     """One record per distinct elastic frequency: Hz, damped Hz, zeta, multiplicity, type, energies."""
     md = modal.modes(design, condition)
     types = modal.classify(md)
@@ -165,14 +165,14 @@ def _pct(log_value: float) -> float:
 
 def stiffness_scaling(
     design: PlusDesign, paper: ModuleType, reference: str = "theoretical", matching: str = "rank"
-) -> dict[str, float]:
+) -> dict[str, float | str]:
     """Uniform stiffness factor s that best matches the paper in log frequency (exactly log s = 2 mean(log
     f_paper - log f_ours), as frequencies scale with sqrt(s)), a mesh-only factor fitted numerically, and the
     remaining RMS and worst residuals in percent."""
     r = _matched_log_residual(design, paper, reference, matching)
     shift = float(np.mean(r))
     res_u = r - shift
-    out = {
+    out: dict[str, float | str] = {
         "reference": reference,
         "matching": matching,
         "uniform_factor": float(libm.exp(2 * shift)),
@@ -231,7 +231,7 @@ def key_element_table(design: PlusDesign, paper: ModuleType | None, threshold: f
         for rec in distinct_frequencies(design, cond)[:6]:
             key = max(modal.MESH_TYPES, key=lambda t: rec[f"strain_{t}"])
             kin = {c: rec[f"kinetic_{c}"] for c in modal.COMPONENT_GROUPS}
-            comps = [c for c in sorted(kin, key=kin.get, reverse=True) if kin[c] >= threshold]
+            comps = [c for c in sorted(kin, key=lambda c: kin[c], reverse=True) if kin[c] >= threshold]
             row = {k: rec[k] for k in ("condition", "order", "freq_hz", "mode_type")}
             row["key_element"] = modal.MESH_LABELS[key]
             row["key_element_share"] = rec[f"strain_{key}"]
@@ -329,7 +329,7 @@ def relief_table(optima: list[ReliefOptimum], paper: ModuleType | None) -> pd.Da
 def to_markdown(df: pd.DataFrame, floatfmt: str = ".4g") -> str:
     """The table in Markdown (:func:`geardyn.io.markdown_table`): floats in ``floatfmt``, NaN empty."""
 
-    def fmt(v: Any) -> str:
+    def fmt(v: Json) -> str:
         return ("" if np.isnan(v) else format(float(v), floatfmt)) if isinstance(v, (float, np.floating)) else str(v)
 
     return io.markdown_table(list(df.columns), [[fmt(v) for v in row] for row in df.itertuples(index=False)]) + "\n"

@@ -5,9 +5,9 @@ orbits, random states in a box), one label each by the one labeller, deduplicate
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import xarray as xr
@@ -15,12 +15,18 @@ import xarray as xr
 from geardyn import io
 from geardyn.config import settings_from
 from geardyn.io import Var
+from geardyn.jsontypes import Json
 from geardyn.khv import point
+from geardyn.khv.design import KHVDesign
 from geardyn.label import Policy, classify, compare, label_points
 from geardyn.label.policy import Same
 from geardyn.runs.continuation import branches_from_dataset
-from geardyn.runs.cube import STATES, label
+from geardyn.runs.continuation.branch import Branch
+from geardyn.runs.cube import STATES, label_var
 from geardyn.solve.base import SimulationSettings, System
+
+if TYPE_CHECKING:  # imported for the annotations only (the module imports this one)
+    from geardyn.runs.sweep import SweepSpec
 
 
 @dataclass(frozen=True)
@@ -105,7 +111,7 @@ def find_attractors(
 # --- along a sweep ---
 
 
-def branch_starts(branches: Sequence[Any], p: float, perturb: float = 1e-3) -> dict[str, np.ndarray]:
+def branch_starts(branches: Sequence[Branch], p: float, perturb: float = 1e-3) -> dict[str, np.ndarray]:
     """Starts on the continued branches at p: the orbit itself where it is stable, the orbit moved by
     ``perturb`` (every state) where it is unstable (to find what it loses stability to, e.g. a torus)."""
     out: dict[str, np.ndarray] = {}
@@ -132,12 +138,17 @@ class PointStarts:
     case: int
     index: int
     p: float
-    system: Any
+    system: System
     extra: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 def sweep_points(
-    system_of: Any, values: np.ndarray, indices: Sequence[int], case: int, neighbour_state: Any, branches: Sequence[Any]
+    system_of: Callable[[float], System],
+    values: np.ndarray,
+    indices: Sequence[int],
+    case: int,
+    neighbour_state: Callable[[int], np.ndarray | None],
+    branches: Sequence[Branch],
 ) -> list[PointStarts]:
     """The :class:`PointStarts` of one case: ``up`` / ``down`` are the final states of the sweep
     points below / above (a sweep continued upwards / downwards arrives from there), then the branch
@@ -162,7 +173,7 @@ def slot_variables(max_n: int = 12) -> tuple[Var, ...]:
     pa, per_unit_tau = ("point", "attractor"), "(Floquet for periodic attractors, tangent vector otherwise)"
     reached = "attractor index reached from the named start (-1: start not used)"
     return (
-        label("attractor_label", "motion label of the attractor (classify)", max_n, pa),
+        label_var("attractor_label", "motion label of the attractor (classify)", max_n, pa),
         Var("attractor_found", pa, None, "attractor slot used", {"empty": 0, "found": 1}, fill=0),
         Var("centroid", (*pa, "state"), "1", "centroid of the attractor's Poincare points (x / b_c, dx/dtau / b_c)"),
         Var("attractor_size", pa, "1", "largest extent of the Poincare points"),
@@ -230,11 +241,11 @@ def attractors_dataset(
 
 
 def sweep_attractors(
-    drive: Any,
-    spec: Any,
-    cube: Any,
-    branches_ds: Any,
-    attractor_spec: Mapping[str, Any],
+    drive: KHVDesign,
+    spec: SweepSpec,
+    cube: xr.Dataset,
+    branches_ds: xr.Dataset | None,
+    attractor_spec: Mapping[str, Json],
     settings: SimulationSettings | None = None,
     classifier: classify.ClassifierSettings | None = None,
 ):
@@ -248,8 +259,8 @@ def sweep_attractors(
     settings = settings or point.integration_settings(drive, **dict(spec.integration))
     classifier = classifier or classify.ClassifierSettings.from_mapping(dict(spec.classifier))
     values = spec.values  # every ``every``-th point (the last too) and the points nearest the values ``at``
-    idx = set(range(0, values.size, int(every))) | {values.size - 1} if every else set()
-    idx = sorted(idx | {int(np.argmin(np.abs(values - float(v)))) for v in at or ()})
+    some = set(range(0, values.size, int(every))) | {values.size - 1} if every else set()
+    idx = sorted(some | {int(np.argmin(np.abs(values - float(v)))) for v in at or ()})
     par = spec.parameter
     allb = branches_from_dataset(branches_ds) if branches_ds is not None else []
     pts: list[PointStarts] = []

@@ -6,13 +6,14 @@ from __future__ import annotations
 import json
 from collections.abc import Iterable, Sequence
 from dataclasses import replace
-from typing import Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import DTypeLike
 
 from geardyn.io import Var
 from geardyn.io.provenance import distinct_runtimes
+from geardyn.jsontypes import Json
 from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES, classify
 from geardyn.solve.response import IMPACT_CLASSES
 
@@ -27,7 +28,7 @@ STATE_NAMES = {
 }
 
 
-def _num(name: str, long_name: str, fill: Any = np.nan, dtype: Any = None) -> Var:
+def _num(name: str, long_name: str, fill: Json = np.nan, dtype: DTypeLike | None = None) -> Var:
     return Var(name, (), "1", long_name, dtype=dtype, fill=fill)
 
 
@@ -39,7 +40,7 @@ def _table(*rows: Var) -> dict[str, Var]:
     return {v.name: v for v in rows}
 
 
-def label(name: str, long_name: str, max_n: int = 12, dims: tuple[str, ...] = ()) -> Var:
+def label_var(name: str, long_name: str, max_n: int = 12, dims: tuple[str, ...] = ()) -> Var:
     """A motion label (int16 codes, :data:`geardyn.label.classify.LABELS` and period-n for n = 1..``max_n``;
     ``long_period``: a certified orbit of a longer period, in ``period``), ``undetermined`` where not labelled."""
     codes = {**classify.LABELS, **{f"period_{n}": n for n in range(1, max_n + 1)}}
@@ -115,13 +116,13 @@ VARIABLES = _table(
         "impact class: no impact, single-sided (separation, never back-side contact), double-sided (back-side contact)",
     ),
     # policy coexistence: the fixed start's label and whether it differs
-    label("label_fixed", "motion label from the fixed start (the static deflection)"),
+    label_var("label_fixed", "motion label from the fixed start (the static deflection)"),
     _flag(
         "coexisting",
         {"not_checked": -1, "same": 0, "coexisting": 1},
         "the follow and the fixed start end on different attractors at this point",
     ),
-    label("label", "motion label (geardyn.label)"),
+    label_var("label", "motion label (geardyn.label)"),
     _num(
         "transient_used",
         "transient mesh periods integrated before the recorded ones (0: followed from the previous "
@@ -156,13 +157,13 @@ COMMON = ("label", *VERDICT, *RESPONSE, "impact_class")
 
 def empty(
     names: Iterable[str], dims: tuple[str, ...], shape: tuple[int, ...], max_n: int = 12, **long_names: str
-) -> dict[str, Any]:
+) -> dict[str, Json]:
     """The one writer of the per-point variables: those of :data:`VARIABLES` named, on ``dims``, as
     :class:`xarray.Dataset` takes them, filled with their fill values (``max_n``: the labels' largest period;
     ``long_names`` replace the table's)."""
     out = {}
     for name in names:
-        var = label(name, VARIABLES[name].long_name, max_n) if name in LABELS else VARIABLES[name]
+        var = label_var(name, VARIABLES[name].long_name, max_n) if name in LABELS else VARIABLES[name]
         out[name] = replace(var, dims=dims, long_name=long_names.get(name, var.long_name)).empty(shape)
     return out
 

@@ -6,12 +6,12 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from geardyn.io import Var
+from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import Coefficients
@@ -37,7 +37,7 @@ class MapSpec(study.StudySpec):
     y: Axis
 
     @classmethod
-    def own_fields(cls, spec: Mapping[str, Any]) -> dict[str, Any]:
+    def own_fields(cls, spec: Mapping[str, Json]) -> dict[str, Json]:
         return {
             a: Axis(spec[a]["parameter"], float(spec[a]["start"]), float(spec[a]["stop"]), int(spec[a]["num"]))
             for a in ("x", "y")

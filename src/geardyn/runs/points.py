@@ -86,7 +86,7 @@ def dense_points(
     for case, v in zip(cases, verdicts, strict=True):
         x0 = None if v.diverged else v.final_state
         ds = dense_point(design, {**fixed, **case}, policy.integration, samples_per_period, x0=x0)
-        label = point.label(case, "base")
+        label = point.override_text(case, "base")
         attrs = ds.attrs
         ds = ds.expand_dims(case=[label])
         for key, value in attrs.items():
@@ -100,7 +100,7 @@ def dense_points(
     out = out.assign(labelled)
     out.attrs = study.integration_attrs(policy.integration) | {
         "record_starts": "on the attractor found by the labeller (its final state)",
-        "fixed_overrides": point.label(fixed, ""),
+        "fixed_overrides": point.override_text(fixed, ""),
         **damping,
     }
     return out

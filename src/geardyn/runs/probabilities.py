@@ -9,13 +9,14 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 import xarray as xr
 
 from geardyn.gears.tolerances import te_amplitude_bound
 from geardyn.io import Var
+from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.label import Policy
@@ -65,7 +66,7 @@ class Input:
         return f"{self.name} {what}" + (f" ({self.source})" if self.source else "")
 
 
-def distribution(name: str, spec: Mapping[str, Any], nominal: float) -> Input:
+def distribution(name: str, spec: Mapping[str, Json], nominal: float) -> Input:
     """The input ``name`` of an entry of a study's ``inputs``: ``tolerance`` or ``relative_tolerance`` (uniform on
     the ``nominal`` value, the design's at the study's point, +- it), ``std`` (a normal of ``mean``, default the
     nominal value, truncated to ``low`` and ``high``, default 3 std from the mean) or ``low`` and ``high``
@@ -80,7 +81,7 @@ def distribution(name: str, spec: Mapping[str, Any], nominal: float) -> Input:
     return Input(name, float(spec["low"]), float(spec["high"]), spec.get("scale") == "log")
 
 
-def tolerance_inputs(design: KHVDesign, tolerances: Mapping[str, Any]) -> list[Input]:
+def tolerance_inputs(design: KHVDesign, tolerances: Mapping[str, Json]) -> list[Input]:
     """The inputs of a tolerance class: e uniform on [0, f_pT] of ISO 1328-1:2013 class ``grade``
     (:func:`geardyn.gears.tolerances.te_amplitude_bound`) and, with ``backlash`` [low, high] (um), b uniform on it."""
     pair, grade = design.base, int(tolerances["grade"])
@@ -92,7 +93,7 @@ def tolerance_inputs(design: KHVDesign, tolerances: Mapping[str, Any]) -> list[I
     return out
 
 
-def _pairs(mapping: Mapping[str, Any] | None) -> tuple[tuple[str, Any], ...]:
+def _pairs(mapping: Mapping[str, Json] | None) -> tuple[tuple[str, Json], ...]:
     return tuple(sorted((k, tuple(v) if isinstance(v, list) else v) for k, v in (mapping or {}).items()))
 
 
@@ -106,17 +107,17 @@ class ProbabilitySpec(study.StudySpec):
     ``CLAIM_LINES`` whose claims are checked per sample."""
 
     axis: Axis | None = None
-    inputs: tuple[tuple[str, tuple[tuple[str, Any], ...]], ...] = ()
-    tolerances: str | tuple[tuple[str, Any], ...] | None = None
+    inputs: tuple[tuple[str, tuple[tuple[str, Json], ...]], ...] = ()
+    tolerances: str | tuple[tuple[str, Json], ...] | None = None
     box: tuple[float, float] | None = None
     samples: int = 256
     seed: int = 0
     scramblings: int = 4
-    sensitivity: tuple[tuple[str, Any], ...] = ()
+    sensitivity: tuple[tuple[str, Json], ...] = ()
     claims: str = ""
 
     @classmethod
-    def own_fields(cls, spec: Mapping[str, Any]) -> dict[str, Any]:
+    def own_fields(cls, spec: Mapping[str, Json]) -> dict[str, Json]:
         a, tol, box = spec.get("axis"), spec.get("tolerances"), spec.get("initial_state")
         return {
             **super().own_fields(spec),
@@ -150,7 +151,7 @@ class ProbabilitySpec(study.StudySpec):
     def uncertain(self, design: KHVDesign) -> list[Input]:
         """The study's inputs: those of its tolerance class (e, b), then its own ``inputs``, which replace a
         tolerance class's input of the same name."""
-        block = design.raw.get("tolerances") if self.tolerances == "design" else dict(self.tolerances or ())
+        block = design.raw.get("tolerances") if self.tolerances == "design" else dict(self.tolerances or ())  # type: ignore[arg-type]
         out = {i.name: i for i in tolerance_inputs(design, block)} if block else {}
         for name, spec in self.inputs:
             out[name] = distribution(name, dict(spec), point.nominal(design, name, dict(self.fixed)))
@@ -247,7 +248,7 @@ def layout(design: KHVDesign, spec: ProbabilitySpec, chunk: int, table: Samples)
     return study.Layout(("sample", spec.dim), (n, len(axis)), lines, diverged=diverged, computed=True, starts=starts)
 
 
-def coordinates(spec: ProbabilitySpec, n: int) -> dict[str, Any]:
+def coordinates(spec: ProbabilitySpec, n: int) -> dict[str, Json]:
     """The sample numbers and the operating axis."""
     if spec.axis is None:
         axis = Var("point", "point", "1", "the study's one operating point")(np.zeros(1, np.int32))
@@ -258,7 +259,7 @@ def coordinates(spec: ProbabilitySpec, n: int) -> dict[str, Any]:
     return {"sample": sample(np.arange(n)), spec.dim: axis}
 
 
-def attributes(spec: ProbabilitySpec, table: Samples, policy: Policy) -> dict[str, Any]:
+def attributes(spec: ProbabilitySpec, table: Samples, policy: Policy) -> dict[str, Json]:
     """What a study's files record of it: its inputs, sampling, initial state and labelling."""
     if spec.method == "sobol":
         rows = spec.samples * (len(table.names) + 2)

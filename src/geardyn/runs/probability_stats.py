@@ -10,13 +10,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from types import ModuleType
-from typing import Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import ArrayLike
 
 from geardyn import claims
 from geardyn.io import Var, markdown_table, variables
+from geardyn.jsontypes import Json
 from geardyn.label.classify import LABELS
 from geardyn.runs.probabilities import ProbabilitySpec, Samples
 from geardyn.solve.response import IMPACT_CLASSES
@@ -52,7 +53,7 @@ HARMONICS, SLICES = 10, 10
 FIRST_PREFIX = 32
 
 
-def wilson(k: Any, n: Any, confidence: float = CONFIDENCE) -> tuple[np.ndarray, np.ndarray]:
+def wilson(k: ArrayLike, n: ArrayLike, confidence: float = CONFIDENCE) -> tuple[np.ndarray, np.ndarray]:
     """Wilson score interval of the probability of k successes in n trials (arrays; NaN where n = 0):
     ``scipy.stats.binomtest(k, n).proportion_ci(method="wilson")``."""
     from scipy.stats import binomtest  # noqa: PLC0415 - scipy.stats: only the jobs that summarise
@@ -179,7 +180,7 @@ def sensitivity_points(n: int, points: int) -> np.ndarray:
     return np.unique(np.round(np.linspace(0, n - 1, min(points, n))).astype(int))
 
 
-def sensitivities(ds: xr.Dataset, spec: ProbabilitySpec, table: Samples) -> dict[str, Any]:
+def sensitivities(ds: xr.Dataset, spec: ProbabilitySpec, table: Samples) -> dict[str, Json]:
     """The sensitivity variables (indicator, input, sensitivity_at): the index, its confidence half-width and
     (given data) its permutation null, on the indices' own design (the Latin hypercube's lines; Saltelli's
     design under ``sobol``, with the total index), at :func:`sensitivity_points` of the axis."""
@@ -225,7 +226,7 @@ def leading(ds: xr.Dataset) -> dict[str, str]:
     return out
 
 
-def _probabilities(flags: dict[str, np.ndarray], block: np.ndarray, dim: str, what: str) -> dict[str, Any]:
+def _probabilities(flags: dict[str, np.ndarray], block: np.ndarray, dim: str, what: str) -> dict[str, Json]:
     """Probability, Wilson interval and QMC standard error (class, axis) of each of ``flags`` (sample, axis)
     over the probabilities' samples (block >= 0): the standard deviation of the R scramblings' probabilities
     over sqrt(R) (NaN for one scrambling)."""
@@ -322,7 +323,7 @@ def summarize(ds: xr.Dataset, spec: ProbabilitySpec, table: Samples) -> xr.Datas
     return out
 
 
-def claim_probabilities(paper: ModuleType, ds: xr.Dataset, role: str) -> list[dict[str, Any]]:
+def claim_probabilities(paper: ModuleType, ds: xr.Dataset, role: str) -> list[dict[str, Json]]:
     """For each claim of ``paper`` decided along its line ``role`` (``CLAIM_LINES``; one line, no case), the
     share of the probabilities' samples on which :func:`geardyn.claims.sweep_claim` gives each verdict, with the
     Wilson interval of "agree" (the claim holds)."""
@@ -347,7 +348,7 @@ def _p(p: float, lo: float, hi: float, se: float = math.nan) -> str:
 _OTHER = ("borderline", "disagree", "not comparable")
 
 
-def claims_markdown(rows: Sequence[dict[str, Any]], title: str, note: str) -> str:
+def claims_markdown(rows: Sequence[dict[str, Json]], title: str, note: str) -> str:
     """The claims' probabilities as a Markdown table."""
     head = ("claim", "figure", "statement", "P(holds) [95 % Wilson]", *(f"P({k})" for k in _OTHER))
     cells = [
@@ -358,7 +359,7 @@ def claims_markdown(rows: Sequence[dict[str, Any]], title: str, note: str) -> st
     return "\n".join([f"# {title}", "", note, "", markdown_table(head, cells, "---rrrr")]) + "\n"
 
 
-def claims_csv(rows: Sequence[dict[str, Any]]) -> str:
+def claims_csv(rows: Sequence[dict[str, Json]]) -> str:
     """The claims' probabilities as CSV (the report's table)."""
     import pandas as pd  # noqa: PLC0415
 

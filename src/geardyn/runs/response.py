@@ -9,14 +9,15 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from geardyn import io
 from geardyn.io import Var
+from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import COEFFICIENT_ATTRS, Coefficients, natural_frequencies
@@ -77,7 +78,7 @@ def find_jumps(
 
 
 def different_attractors(
-    systems: list[System],
+    systems: Sequence[System],
     up: list[Verdict],
     down: list[Verdict],
     policy: Policy,
@@ -91,7 +92,7 @@ def different_attractors(
     n = len(systems)
     differ = np.array([not same(a, b) for a, b in zip(up, down, strict=True)])
     continued = np.zeros(n, np.int64)
-    todo = [j for j in np.flatnonzero(differ) if _integrate_on(up[j], down[j])]
+    todo = [j for j in map(int, np.flatnonzero(differ)) if _integrate_on(up[j], down[j])]
     # a record that shows no attractor (transient, undetermined) is compared as the other sweep's label
     labels = {j: down[j].label if up[j].label in _NO_ATTRACTOR else up[j].label for j in todo}
     keep = max(1, policy.integration.recorded_periods)
@@ -136,7 +137,7 @@ def jump_frequencies(w: np.ndarray, flags: np.ndarray, direction: str) -> np.nda
     return mids if direction == "up" else mids[::-1]
 
 
-def rms_error_variables(systems: list[System], verdicts: list[list[Verdict]], policy: Policy) -> dict[str, Any]:
+def rms_error_variables(systems: Sequence[System], verdicts: list[list[Verdict]], policy: Policy) -> dict[str, Json]:
     """The standard errors of ``dte_rms`` and ``force_rms`` (dims direction x w; ``verdicts`` of both sweeps in
     ascending order, at ``systems``): 0 where periodic, NaN where diverged, else the batch-means error of the
     record whose sums gave them (:func:`geardyn.solve.response.rms_errors_many`, ``docs/response.md``)."""
@@ -151,7 +152,10 @@ def rms_error_variables(systems: list[System], verdicts: list[list[Verdict]], po
                 todo.append((d, j))
     chosen = [verdicts[d][j] for d, j in todo]
     errors = rms_errors_many(
-        [systems[j] for _, j in todo], [v.poincare for v in chosen], [v.response for v in chosen], policy.integration
+        [systems[j] for _, j in todo],
+        [v.poincare for v in chosen],
+        [v.response for v in chosen],  # type: ignore[misc]  # a bounded run's verdict has its measures
+        policy.integration,
     )
     for (d, j), e in zip(todo, errors, strict=True):
         dte[d, j], force[d, j] = e.dte_rms_error, e.force_rms_error
@@ -220,7 +224,12 @@ def frequency_response(
     differ, continued = different_attractors(up, ordered[0], ordered[1], policy, continue_periods)
     jumps, split = find_jumps(data["dte_rms"][1], threshold, floor, differ)
     nat = natural_frequencies(base)
-    values = {"final_state": final, "jump": jumps, "hysteresis": split, "hysteresis_continued_periods": continued}
+    values: dict[str, object] = {
+        "final_state": final,
+        "jump": jumps,
+        "hysteresis": split,
+        "hysteresis_continued_periods": continued,
+    }
     values |= {"natural_frequency": nat, "direction": list(DIRECTIONS), "w": w, "state": list(cube.STATES)}
     values |= {"mode": np.arange(nat.size), "mesh_frequency_hz": w * base.omega_n / (2.0 * math.pi)}
     own = io.variables(variables(threshold, floor, continue_periods), values)

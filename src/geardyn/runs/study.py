@@ -11,11 +11,12 @@ import logging
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, NamedTuple, Self
+from typing import TYPE_CHECKING, NamedTuple, Protocol, Self
 
 import numpy as np
 
 from geardyn import label  # label.label_lines on first use: the workflow's DAG reads the specs without the solver
+from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.label import Policy, Verdict
@@ -25,15 +26,29 @@ from geardyn.runs.cube import COMMON, RESPONSE, VERDICT, VERDICT_FIELDS, empty
 from geardyn.solve import SimulationSettings, System
 from geardyn.solve.response import IMPACT_CLASSES, ResponseMeasures
 
+if TYPE_CHECKING:  # for the annotations only
+    import xarray as xr
+
 log = logging.getLogger("geardyn.study")
 
 #: A point's place in the arrays of its study.
 Index = tuple[int, ...]
+
+
+class Chunked(Protocol):
+    """A study whose points are computed in chunks (a sweep, a map, a probabilities study)."""
+
+    name: str
+
+    @property
+    def n_chunks(self) -> int: ...
+
+
 #: Variables as :class:`xarray.Dataset` takes them: name -> (dims, array, attributes).
-Variables = dict[str, tuple[Any, ...]]
+Variables = dict[str, tuple[Json, ...]]
 
 
-def _pairs(spec: Mapping[str, Any], key: str) -> tuple[tuple[str, Any], ...]:
+def _pairs(spec: Mapping[str, Json], key: str) -> tuple[tuple[str, Json], ...]:
     return tuple(sorted((spec.get(key) or {}).items()))
 
 
@@ -48,13 +63,13 @@ class StudySpec:
     design: str
     fixed: tuple[tuple[str, float], ...] = ()
     chunks: int = 1
-    integration: tuple[tuple[str, Any], ...] = ()
-    classifier: tuple[tuple[str, Any], ...] = ()
+    integration: tuple[tuple[str, Json], ...] = ()
+    classifier: tuple[tuple[str, Json], ...] = ()
     start_from: str = "follow"
     coexistence: bool = False
 
     @classmethod
-    def from_config(cls, name: str, spec: Mapping[str, Any], design: str, segment: tuple[float, float]) -> Self:
+    def from_config(cls, name: str, spec: Mapping[str, Json], design: str, segment: tuple[float, float]) -> Self:
         """The study ``name`` of the config for ``design``, whose admissible segment (x1_min, x1_max)
         resolves percentages of x1 (:func:`geardyn.khv.design.resolve_fractions`)."""
         spec = resolve_fractions(spec, segment)
@@ -71,10 +86,10 @@ class StudySpec:
         )
 
     @classmethod
-    def own_fields(cls, spec: Mapping[str, Any]) -> dict[str, Any]:
+    def own_fields(cls, spec: Mapping[str, Json]) -> dict[str, Json]:
         """The fields of a study's own spec that its config entry (percentages resolved) sets: those of type
         ``float``, ``int`` or ``str`` converted to it (a study converts its others itself)."""
-        convert: dict[Any, Callable[[Any], Any]] = {"float": float, "int": int, "str": str}
+        convert: dict[Json, Callable[[Json], Json]] = {"float": float, "int": int, "str": str}
         common = {f.name for f in dataclasses.fields(StudySpec)}
         own = [f for f in dataclasses.fields(cls) if f.name not in common and f.type in convert and f.name in spec]
         return {f.name: convert[f.type](spec[f.name]) for f in own}
@@ -89,7 +104,7 @@ class StudySpec:
 
     @property
     def fixed_overrides(self) -> str:
-        return point.label(self.fixed)
+        return point.override_text(self.fixed)
 
 
 class Grid:
@@ -114,7 +129,7 @@ class Layout:
 
     dims: tuple[str, ...]
     shape: tuple[int, ...]
-    lines: Iterable[list[tuple[Index, System]]]
+    lines: Iterable[Sequence[tuple[Index, System]]]
     diverged: str = ""
     transient: bool = True
     computed: bool = False
@@ -197,7 +212,7 @@ def store(
     a["label"][idx] = v.label
     for name, attr in VERDICT_FIELDS.items():
         value = getattr(v, attr)
-        a[name][idx] = VERDICT[name].flags[value] if isinstance(value, str) else value
+        a[name][idx] = VERDICT[name].flags[value] if isinstance(value, str) else value  # type: ignore[index]  # flags
     for name in RESPONSE:
         a[name][idx] = getattr(r, name)
     a["impact_class"][idx] = IMPACT_CLASSES.get(r.impact_class, -1)
@@ -240,14 +255,14 @@ def run(layout: Layout, policy: Policy, progress: str = "") -> Result:
     return Result(data, verdicts, el, damping_attrs(s for line in lines for s in line))
 
 
-def integration_attrs(settings: SimulationSettings) -> dict[str, Any]:
+def integration_attrs(settings: SimulationSettings) -> dict[str, Json]:
     """Attributes recording the integration of a study's runs."""
     return {
         k: getattr(settings, k) for k in ("integrator", "steps_per_period", "transient_periods", "recorded_periods")
     }
 
 
-def study_attrs(policy: Policy) -> dict[str, Any]:
+def study_attrs(policy: Policy) -> dict[str, Json]:
     """Attributes recording how the points were labelled: the integration, start, coexistence, transients,
     early stop, the classifier and the growth test's settings."""
     s, p = policy.integration, policy
@@ -261,7 +276,9 @@ def study_attrs(policy: Policy) -> dict[str, Any]:
     }
 
 
-def write_chunk(ds: Any, drive: KHVDesign, spec: Any, chunk: int, key: str, raw: Mapping[str, Any], path: str) -> None:
+def write_chunk(
+    ds: xr.Dataset, drive: KHVDesign, spec: Chunked, chunk: int, key: str, raw: Mapping[str, Json], path: str
+) -> None:
     """Write chunk ``chunk`` of the study ``spec`` (its config entry ``raw`` under ``key``) with its provenance and
     Fletcher-32 checksums (a damaged chunk is found before its merge)."""
     from geardyn import io  # noqa: PLC0415 - netCDF: only the jobs that write

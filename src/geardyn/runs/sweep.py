@@ -6,13 +6,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from geardyn import io
 from geardyn.io import Var
+from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import COEFFICIENT_ATTRS
@@ -37,7 +37,7 @@ class SweepSpec(study.StudySpec, study.Grid):
     continuation: str = "none"
 
     @classmethod
-    def own_fields(cls, spec: Mapping[str, Any]) -> dict[str, Any]:
+    def own_fields(cls, spec: Mapping[str, Json]) -> dict[str, Json]:
         """:meth:`StudySpec.own_fields` and the cases (each a tuple of sorted overrides; one without)."""
         return {**super().own_fields(spec), "cases": tuple(tuple(sorted(c.items())) for c in spec.get("cases") or [{}])}
 
@@ -55,7 +55,7 @@ class SweepSpec(study.StudySpec, study.Grid):
         return max(1, min(self.chunks, self.n_lines if self.start_from == "follow" else self.n_lines * self.num))
 
     def case_label(self, i: int) -> str:
-        return point.label(self.cases[i], "base")
+        return point.override_text(self.cases[i], "base")
 
 
 def chunk_work(spec: SweepSpec, chunk: int) -> Work:
@@ -65,8 +65,8 @@ def chunk_work(spec: SweepSpec, chunk: int) -> Work:
         raise ValueError(f"chunk {chunk} outside 0..{spec.n_chunks - 1} for sweep {spec.name}")
     nd = len(spec.directions)
     if spec.start_from == "follow":
-        lines = [divmod(int(line), nd) for line in np.array_split(np.arange(spec.n_lines), spec.n_chunks)[chunk]]
-        return [(case, d, list(range(spec.num))[:: -1 if spec.directions[d] == "down" else 1]) for case, d in lines]
+        whole = [divmod(int(line), nd) for line in np.array_split(np.arange(spec.n_lines), spec.n_chunks)[chunk]]
+        return [(case, d, list(range(spec.num))[:: -1 if spec.directions[d] == "down" else 1]) for case, d in whole]
     lines: dict[int, list[int]] = {}  # the chunk's points of each line, in order
     for i in np.array_split(np.arange(spec.n_lines * spec.num), spec.n_chunks)[chunk]:
         lines.setdefault(int(i) // spec.num, []).append(int(i) % spec.num)
@@ -99,7 +99,7 @@ def _store(arrays: dict[str, np.ndarray], idx: study.Index, system: System, v: V
     ns = arrays[STATES[0]].shape[-1]
     p = v.poincare[max(0, v.poincare.shape[0] - ns) :]  # the newest the axis holds (a diverged run: its whole record)
     for k, name in enumerate(STATES):
-        arrays[name][(*idx, slice(0, p.shape[0]))] = p[:, k]
+        arrays[name][(*idx, slice(0, p.shape[0]))] = p[:, k]  # type: ignore[index]  # numpy takes the mixed tuple
     arrays["diverged_period"][idx] = v.diverged_period
     arrays["n_events"][idx] = v.n_events
     values = system.as_dict()

@@ -15,6 +15,10 @@ from geardyn.solve._period import early_stop
 from geardyn.solve._response import STATUS, add_step, start_sums
 from geardyn.solve.base import BACKLASH_ON, CM, EPS, PHI, TE, B, T
 
+#: A crossing located within this fraction of a step from either end lies at that end (the step is accepted as it
+#: is, no sliver step of rounding size follows).
+END_FRACTION = 1e-12
+
 _cache.renew_once()  # before the loops: numba's cache renewed when any kernel source changed
 
 
@@ -113,7 +117,7 @@ def locate_switches(c, poly, y, ynew, W, Wnew, mt, h, s0, seg, reg, rnew, b, per
         else:
             target = b if reg > 0 else -b
         th = hermite_root(y[1], ynew[1], y[4], ynew[4], left, target)
-        if th <= 1e-12 * h or th >= left * (1.0 - 1e-12):
+        if th <= END_FRACTION * h or th >= left * (1.0 - END_FRACTION):
             # crossing at an end point: accept the step as it is
             reg = rnew
             break

@@ -10,6 +10,10 @@ from numba import njit
 import geardyn.solve._cache as _cache
 from geardyn.solve.base import C11, C21, C23, C33, CM, G1, G3, K11, K21, K23, K33, P1, P3
 
+#: The safeguarded Newton for a root u in [lo, hi] stops when a step is below this (a few hundred units of the
+#: double's resolution at u of order 1).
+ROOT_STEP = 1e-14
+
 _cache.renew_once()  # before the loops: numba's cache renewed when any kernel source changed
 
 
@@ -161,7 +165,7 @@ def hermite_root(x0, x1, d0, d1, h, target):
         un = u - fu / du if du != 0.0 else 0.5 * (lo + hi)
         if not (lo < un < hi):
             un = 0.5 * (lo + hi)
-        if abs(un - u) < 1e-14:
+        if abs(un - u) < ROOT_STEP:
             u = un
             break
         u = un

@@ -5,6 +5,8 @@ settings and results (equations and layout: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 
+import math
+from collections.abc import Hashable
 from dataclasses import dataclass
 from typing import Literal, Protocol
 
@@ -23,14 +25,24 @@ LAYOUT: tuple[str, ...] = (
 (K11, C11, G1, P1, K21, C21, K23, C23, K33, C33, G3, P3, CM, B, TE, PHI, T, BACKLASH_ON, EPS) = range(len(LAYOUT))
 
 
-class System(Protocol):
-    """What the solver needs of a model (see :class:`geardyn.khv.model.Coefficients`)."""
+class System(Hashable, Protocol):
+    """What the solver needs of a model (see :class:`geardyn.khv.model.Coefficients`): its scalars, read-only (the
+    fields of a frozen dataclass), its tables and its static state."""
 
-    eps: float
-    b: float
-    phi: float
-    backlash_on: bool
-    stiffness_mode: str
+    @property
+    def eps(self) -> float: ...
+
+    @property
+    def b(self) -> float: ...
+
+    @property
+    def phi(self) -> float: ...
+
+    @property
+    def backlash_on(self) -> bool: ...
+
+    @property
+    def stiffness_mode(self) -> str: ...
 
     @property
     def period(self) -> float: ...
@@ -43,6 +55,25 @@ class System(Protocol):
     def stiffness_polys(self) -> np.ndarray: ...
 
     def static_state(self) -> np.ndarray: ...
+
+    def as_dict(self) -> dict[str, float | str | int]: ...
+
+
+@dataclass(frozen=True)
+class ShootingSettings:
+    """Newton shooting on the n-period map (:mod:`geardyn.solve.shooting`, ``docs/numerics.md``): converged when
+    max |phi(x) - x| <= ``tol`` max(1, max |x|), at most ``max_iter`` iterations, each step capped at ``step_cap``
+    max(1, max |x0|), stopped when the residual grows ``max_growth`` times over the previous iterate's (never by
+    default)."""
+
+    tol: float = 1e-9
+    max_iter: int = 30
+    step_cap: float = 10.0
+    max_growth: float = math.inf
+
+
+#: The shooting of every caller that does not name its own settings.
+SHOOTING = ShootingSettings()
 
 
 @dataclass(frozen=True)

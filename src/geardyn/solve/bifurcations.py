@@ -5,9 +5,10 @@ figure legend are made from :data:`KINDS`, so a kind has the same code in every 
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
-from typing import Any
 
 import numpy as np
+
+from geardyn.jsontypes import Json
 
 #: kind -> (code, legend text).  Codimension 1: the way an orbit loses stability or contact; codimension 2: the
 #: points of a curve where two conditions hold at once (docs/orbits.md).
@@ -49,7 +50,7 @@ def flags(kinds: Iterable[str]) -> dict[str, int]:
     return {k: CODES[k] for k in kinds}
 
 
-def decode(attrs: Mapping[str, Any]) -> dict[int, str]:
+def decode(attrs: Mapping[str, Json]) -> dict[int, str]:
     """code -> meaning of a flag variable's attributes (``flag_values``, ``flag_meanings``)."""
     values = np.atleast_1d(np.asarray(attrs.get("flag_values", []))).tolist()
     return dict(zip(values, str(attrs.get("flag_meanings", "")).split(), strict=True))

@@ -17,7 +17,7 @@ COMPLEX_RTOL = 1e-8
 def is_complex(mu: np.ndarray) -> np.ndarray:
     """Which of the multipliers ``mu`` are complex (:data:`COMPLEX_RTOL`), element by element."""
     mu = np.asarray(mu)
-    return np.abs(mu.imag) > COMPLEX_RTOL * np.maximum(libm.cabs(mu), 1e-300)
+    return np.abs(mu.imag) > COMPLEX_RTOL * np.maximum(libm.cabs(mu), libm.TINY)
 
 
 def bifurcation_type(multipliers: np.ndarray) -> str:

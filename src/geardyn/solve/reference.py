@@ -4,6 +4,7 @@ and region by region, independent of the RK4 kernels (method: ``docs/numerics.md
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -33,6 +34,11 @@ from geardyn.solve.base import (
     T,
     divergence_limits,
 )
+
+#: The reference solver's relative tolerance (scipy's DOP853; the independent check of the fixed-step loops), and
+#: the fraction of a period below which what is left of it after an event is not integrated.
+RTOL = 1e-12
+END_FRACTION = 1e-14
 
 _cache.renew_once()  # before the loops: numba's cache renewed when any kernel source changed
 
@@ -64,23 +70,25 @@ def _rhs_region(t, y, c, poly, seg, reg, per):
     return out
 
 
-def _events(b: float, reg: int):
-    def up(t, y, *_):
-        return y[1] - b
+@dataclass(frozen=True)
+class _Crossing:
+    """A terminal event of :func:`scipy.integrate.solve_ivp`: the displacement y[1] reaches ``edge`` moving in
+    ``direction``."""
 
-    def down(t, y, *_):
-        return y[1] + b
+    edge: float
+    direction: float
+    terminal: bool = True
 
-    up.terminal = True
-    down.terminal = True
+    def __call__(self, t: float, y: np.ndarray, *_: object) -> float:
+        return y[1] - self.edge
+
+
+def _events(b: float, reg: int) -> tuple[list[_Crossing], list[int]]:
     if reg == 0:
-        up.direction, down.direction = 1.0, -1.0
-        return [up, down], [1, -1]
+        return [_Crossing(b, 1.0), _Crossing(-b, -1.0)], [1, -1]
     if reg == 1:
-        up.direction = -1.0
-        return [up], [0]
-    down.direction = 1.0
-    return [down], [0]
+        return [_Crossing(b, -1.0)], [0]
+    return [_Crossing(-b, 1.0)], [0]
 
 
 def _initial_region(y: np.ndarray, b: float) -> int:
@@ -96,7 +104,7 @@ def integrate_period(
     coeffs: System,
     y: np.ndarray,
     per: int = 0,
-    rtol: float = 1e-12,
+    rtol: float = RTOL,
     atol: float | None = None,
     reg: int | None = None,
     collect: list | None = None,
@@ -146,7 +154,7 @@ def integrate_period(
                 else:
                     reg = 0
                 nev += 1
-                if t_end - t <= 1e-14 * T:
+                if t_end - t <= END_FRACTION * T:
                     break
                 continue
             y = sol.y[:, -1].copy()

@@ -242,7 +242,8 @@ def rms_errors_many(
         parts = [next(measured) for _ in range(edges.size - 2)]
         if not any(p.diverged for p in parts):
             w = np.diff(edges).astype(float)
-            out[i] = RMSErrors(*(_record_error(w, measures[i], parts, k) for k in ("dte", "force")), edges.size - 1)
+            dte, force = (_record_error(w, measures[i], parts, k) for k in ("dte", "force"))
+            out[i] = RMSErrors(dte, force, edges.size - 1)
     return out
 
 

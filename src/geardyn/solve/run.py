@@ -24,6 +24,7 @@ from geardyn.solve.base import (
     drive_side,
     static_mesh_force,
 )
+from geardyn.solve.precision import POINCARE_ERROR
 
 
 @lru_cache(maxsize=64)
@@ -120,7 +121,7 @@ class EarlyStop:
     min_periods: int = 50
     confirm: int = 10
     max_n: int = 12
-    floor: float = 1.9e-5
+    floor: float = POINCARE_ERROR[128]  # the measured Poincare error at 128 steps per period
     atol: float = 1e-7
     separation: float = 10.0
 

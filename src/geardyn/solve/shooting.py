@@ -6,17 +6,18 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from geardyn import libm
-from geardyn.solve.base import SimulationSettings, System
+from geardyn.solve.base import SHOOTING, SimulationSettings, System
 from geardyn.solve.run import lane_tables, simulate, simulate_batch
 
 #: flow(x, jacobian) -> (state after n periods, monodromy or None); (None, None) when diverged.
 FlowMap = Callable[[np.ndarray, bool], tuple[np.ndarray | None, np.ndarray | None]]
+
 
 #: Status words of :class:`ShootingResult`.
 STATUSES = ("converged", "max_iterations", "diverged", "singular", "not_finite", "residual_grows")
@@ -120,7 +121,7 @@ def _newton_next(go: list[tuple[int, np.ndarray, np.ndarray, np.ndarray]], it: i
     return out
 
 
-def _step_cap(x0: np.ndarray, factor: float = 10.0) -> float:
+def _step_cap(x0: np.ndarray, factor: float = SHOOTING.step_cap) -> float:
     return factor * max(1.0, float(np.max(np.abs(x0))))
 
 
@@ -156,31 +157,30 @@ def newton_shooting(
     flow: FlowMap,
     x0: np.ndarray,
     n: int = 1,
-    tol: float = 1e-9,
-    max_iter: int = 30,
-    max_growth: float = math.inf,
+    tol: float = SHOOTING.tol,
+    max_iter: int = SHOOTING.max_iter,
+    max_growth: float = SHOOTING.max_growth,
 ) -> ShootingResult:
-    """Newton on F(x) = phi(x) - x from x0: converged when max |F| <= tol max(1, max |x|), the step capped
-    at 10 max(1, max |x0|), stopped when the residual grows ``max_growth`` times (``docs/numerics.md``)."""
+    """Newton on F(x) = phi(x) - x from x0 (:class:`ShootingSettings`)."""
     caps = [_step_cap(np.asarray(x0, dtype=float))]
     step = functools.partial(_newton_next, caps=caps, n=n)
     return _iterate(lambda _, xs: [flow(xs[0], True)], step, [x0], n, tol, max_iter, max_growth)[0]
 
 
 def newton_shooting_batch(
-    systems: list[System],
+    systems: Sequence[System],
     x0s: list[np.ndarray],
     n: int = 1,
     settings: SimulationSettings | None = None,
-    tol: float = 1e-9,
-    max_iter: int = 30,
+    tol: float = SHOOTING.tol,
+    max_iter: int = SHOOTING.max_iter,
     tables=None,
-    max_growth: float = math.inf,
+    max_growth: float = SHOOTING.max_growth,
     *,
     chord: list[np.ndarray] | None = None,
     deflate: list[np.ndarray] | None = None,
     deflation_shift: float = 1.0,
-    step_cap: float = 10.0,
+    step_cap: float = SHOOTING.step_cap,
 ) -> list[ShootingResult]:
     """:func:`newton_shooting` on the n-period map of many systems at once, every iteration one
     :func:`geardyn.solve.run.simulate_batch` (each result bit for bit that of the point alone); ``chord``:
@@ -188,17 +188,19 @@ def newton_shooting_batch(
     s = period_settings(settings, n)
     caps = [_step_cap(np.asarray(x, dtype=float), step_cap) for x in x0s]
     # the unfinished points whose rows the lane tables hold, and the tables
-    held = {"points": list(range(len(x0s))), "tables": lane_tables(systems, s) if tables is None else tables}
+    held, held_tables = list(range(len(x0s))), lane_tables(systems, s) if tables is None else tables
 
     def evaluate(todo: list[int], xs: list[np.ndarray]) -> list:
-        if len(todo) < len(held["points"]):  # copied only when a point has finished
-            at = {i: k for k, i in enumerate(held["points"])}
-            held.update(points=todo, tables=held["tables"].take([at[i] for i in todo]))
+        nonlocal held, held_tables
+        if len(todo) < len(held):  # copied only when a point has finished
+            at = {i: k for k, i in enumerate(held)}
+            held, held_tables = todo, held_tables.take([at[i] for i in todo])
         runs = simulate_batch(
-            [systems[i] for i in todo], s, xs, monodromy_periods=0 if chord else n, tables=held["tables"]
+            [systems[i] for i in todo], s, xs, monodromy_periods=0 if chord else n, tables=held_tables
         )
         return [
-            (None, None) if r.diverged else (r.final_state.copy(), None if chord else r.monodromy.copy()) for r in runs
+            (None, None) if r.diverged else (r.final_state.copy(), None if chord else np.array(r.monodromy))
+            for r in runs
         ]
 
     def step(go: list, it: int) -> list:
@@ -234,7 +236,7 @@ def _deflated_step(
 
 
 def cycle_points(
-    systems: list[System],
+    systems: Sequence[System],
     states: list[np.ndarray],
     n: int,
     settings: SimulationSettings | None,
@@ -286,7 +288,7 @@ def khv_flow(system: System, n: int = 1, settings: SimulationSettings | None = N
         r = simulate(system, s, x, monodromy_periods=n if jacobian else 0)
         if r.diverged:
             return None, None
-        return r.final_state.copy(), (r.monodromy.copy() if jacobian else None)
+        return r.final_state.copy(), (np.array(r.monodromy) if jacobian else None)
 
     return flow
 

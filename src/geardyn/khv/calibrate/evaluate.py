@@ -10,7 +10,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import ModuleType
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -22,6 +22,9 @@ from geardyn.khv.design import KHVDesign
 from geardyn.label import Policy
 from geardyn.papers import paper_of
 from geardyn.solve import warm_up
+
+if TYPE_CHECKING:  # for the annotations only
+    from geardyn.claims import Track
 
 
 @dataclass
@@ -51,7 +54,7 @@ def evaluate_candidate(problem: Problem, unit: Sequence[float]) -> Record:
     )
 
 
-def _label_lists(lines: Any) -> list[int] | dict[str, list[int]]:
+def _label_lists(lines: Track | Mapping[float, Track]) -> list[int] | dict[str, list[int]]:
     """The labels of a line as a list, of a family of lines as {f"{case:g}": list}."""
     if isinstance(lines, Mapping):
         return {f"{k:g}": [int(x) for x in t.labels] for k, t in lines.items()}

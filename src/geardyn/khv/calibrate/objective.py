@@ -6,16 +6,17 @@ import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import ModuleType
-from typing import Any
 
 import numpy as np
 
 from geardyn import claims as claims_mod
 from geardyn.claims import CHAOS, P1, QP
 from geardyn.claims.verdicts import credit
+from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.khv.calibrate.records import Record
 from geardyn.khv.design import KHVDesign
+from geardyn.khv.model import Coefficients
 from geardyn.label import Policy, label_lines
 
 
@@ -41,7 +42,7 @@ class Grids:
     main: str
 
     @classmethod
-    def from_config(cls, spec: Mapping[str, Any], paper: ModuleType) -> Grids:
+    def from_config(cls, spec: Mapping[str, Json], paper: ModuleType) -> Grids:
         """The paper's lines, each on the grid ``spec[<its parameter>]`` ({start, stop, num})."""
 
         def lin(r):
@@ -72,10 +73,15 @@ CandidateLabels = dict
 def candidate_labels(design: KHVDesign, values: Mapping[str, float], grids: Grids, policy: Policy) -> CandidateLabels:
     """The labelled lines of one candidate (overrides ``values``): every line is a line of the one labeller
     (:func:`geardyn.label.label_lines`), all advancing together; each point's label depends only on its own line."""
-    where, lines = [], []
+    where: list[tuple[str, float | None, np.ndarray]] = []
+    lines: list[list[Coefficients]] = []
     for role, line in grids.lines.items():
         for case in line.cases or (None,):
-            over = {**values, **line.fixed, **({line.case_parameter: case} if case is not None else {})}
+            over: dict[str, float] = {
+                **values,
+                **line.fixed,
+                **({line.case_parameter: case} if case is not None else {}),  # type: ignore[dict-item]  # cases have one
+            }
             lines.append([point.point_coefficients(design, {**over, line.parameter: float(v)}) for v in line.values])
             where.append((role, case, line.values))
     out: CandidateLabels = {}
@@ -99,7 +105,7 @@ _ORDER = {P1: "1", QP: "Q", CHAOS: "C"}
 
 def regime_string(labels: np.ndarray) -> str:
     """Run-length compressed regime classes along a sweep (undetermined and diverged left out)."""
-    out = []
+    out: list[str] = []
     for lab in labels:
         c = _ORDER.get(int(lab), "n" if int(lab) > 1 else "")
         if c and (not out or out[-1] != c):
@@ -180,7 +186,7 @@ def paper_transitions(paper: ModuleType) -> dict[str, float]:
 TRANSITION_SCALE = 0.1
 
 
-def score_labels(paper: ModuleType, lab: CandidateLabels) -> dict[str, Any]:
+def score_labels(paper: ModuleType, lab: CandidateLabels) -> dict[str, Json]:
     """Score of a candidate's labels, the scored fields of a :class:`Record`: claims that agree
     (:func:`geardyn.claims.evaluate`) plus the partial credit along the paper's main line (``CALIBRATION["line"]``)."""
     rows = claims_mod.evaluate(paper, lab)

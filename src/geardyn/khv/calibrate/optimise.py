@@ -5,12 +5,12 @@ from __future__ import annotations
 import functools
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 from scipy.optimize import differential_evolution
 from scipy.stats import qmc
 
+from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.khv.calibrate.evaluate import Evaluator, Problem
 from geardyn.khv.calibrate.objective import Grids, ranked_score
@@ -85,7 +85,7 @@ def verified_choice(
     return best_pair[0], best_pair[1], pairs
 
 
-def problem_from_config(design: KHVDesign, spec: Mapping[str, Any]) -> tuple[Problem, dict]:
+def problem_from_config(design: KHVDesign, spec: Mapping[str, Json]) -> tuple[Problem, dict]:
     """The search problem and its budget (seed, popsize, maxiter) from a ``calibration`` entry."""
     paper = paper_of(design.paper)
     s = spec["search"]
@@ -97,4 +97,4 @@ def problem_from_config(design: KHVDesign, spec: Mapping[str, Any]) -> tuple[Pro
     ref = s.get("refine", {})
     budget["refine_steps"] = tuple(ref.get("steps", (0.1, 0.02)))
     budget["refine_rounds"] = int(ref.get("rounds", 2))
-    return Problem(design, design.paper, space, grids, policy, dict(spec.get("fixed", {})), s.get("require")), budget
+    return Problem(design, design.paper, space, grids, policy, dict(spec.get("fixed", {})), s.get("require")), budget  # type: ignore[arg-type]

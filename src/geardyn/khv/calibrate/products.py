@@ -5,7 +5,6 @@ from __future__ import annotations
 import json
 from collections.abc import Mapping, Sequence
 from types import ModuleType
-from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -13,6 +12,7 @@ import yaml
 
 from geardyn import io
 from geardyn.io import Var, markdown_table
+from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.khv.calibrate.objective import REQUIREMENTS, Grids, paper_regime_string, requirement_text
 from geardyn.khv.calibrate.records import Record
@@ -58,7 +58,7 @@ def records_dataset(records: Sequence[Record], space: SearchSpace, grids: Grids)
     return io.dataset(table, values | {"candidate": np.arange(len(records)), par: main.values})
 
 
-def _bounds(u: Unknown) -> dict[str, Any]:
+def _bounds(u: Unknown) -> dict[str, Json]:
     return {"search_low": u.low, "search_high": u.high, "search_scale": "log" if u.log else "linear"}
 
 
@@ -88,7 +88,7 @@ def search_result(
     return out
 
 
-def search_design_text(source: str, name: str, result: Mapping[str, Any]) -> str:
+def search_design_text(source: str, name: str, result: Mapping[str, Json]) -> str:
     """A calibrated design file: the source design with the searched values written into it, and a
     header that says it is calibrated, what it was fitted to, and the search result (one JSON line
     from which this text is regenerated: :func:`design_text_from_file`)."""
@@ -128,7 +128,7 @@ def search_design_text(source: str, name: str, result: Mapping[str, Any]) -> str
     return header + yaml.safe_dump(data, sort_keys=False)
 
 
-def result_of(design_text: str) -> dict[str, Any]:
+def result_of(design_text: str) -> dict[str, Json]:
     """The search-result JSON line of a calibrated design file (``# search-result: {...}``)."""
     for line in design_text.splitlines():
         if line.startswith(RESULT_PREFIX):

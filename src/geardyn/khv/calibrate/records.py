@@ -8,7 +8,8 @@ import json
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+
+from geardyn.jsontypes import Json
 
 
 @dataclass(frozen=True)
@@ -26,16 +27,16 @@ class Record:
     transitions: dict[str, float] = field(default_factory=dict)
     order: str = ""
     verdicts: dict[str, str] = field(default_factory=dict)
-    labels: dict[str, Any] = field(default_factory=dict)
+    labels: dict[str, Json] = field(default_factory=dict)
 
-    def to_json(self) -> dict[str, Any]:
+    def to_json(self) -> dict[str, Json]:
         """The record as the JSON object of a cache line: the fields in order, the labels of each line
         under its role."""
         out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "labels"}
         return copy.deepcopy({**out, **self.labels})
 
     @classmethod
-    def from_json(cls, data: dict[str, Any]) -> Record:
+    def from_json(cls, data: dict[str, Json]) -> Record:
         """A record from its JSON object: every key that is not a field holds the labels of one line."""
         names = {f.name for f in dataclasses.fields(cls)} - {"labels"}
         return cls(

@@ -4,20 +4,21 @@ over the two unknowns that matter most, and a Markdown summary."""
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from typing import Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import DTypeLike
 
 from geardyn import io
 from geardyn.io import Var, markdown_table
+from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.khv.calibrate.evaluate import Evaluator, Problem
 from geardyn.khv.calibrate.records import Record
 from geardyn.khv.calibrate.space import SearchSpace, Unknown, perturbed
 
 #: What the robustness datasets store of a record: name -> (its value, long name).
-MEASURES: dict[str, tuple[Callable[[Record], Any], str]] = {
+MEASURES: dict[str, tuple[Callable[[Record], float], str]] = {
     "score": (lambda r: r.score, "score"),
     "agree": (lambda r: r.agree, "claims that agree"),
     "leave_p1": (lambda r: r.transitions["leave_p1"], "first x1 not P1"),
@@ -26,7 +27,7 @@ MEASURES: dict[str, tuple[Callable[[Record], Any], str]] = {
 
 
 def _grid(
-    recs: Sequence[Record], coords: Sequence[tuple[Var, Any]], measures: Mapping, dtype: Any, attrs: dict
+    recs: Sequence[Record], coords: Sequence[tuple[Var, Json]], measures: Mapping, dtype: DTypeLike | None, attrs: dict
 ) -> xr.Dataset:
     """Each measure (name -> (value of a record, long name)) of ``recs`` on the grid of ``coords`` (each a variable
     and its values), with the global ``attrs``."""

@@ -5,9 +5,10 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
+
+from geardyn.jsontypes import Json
 
 
 @dataclass(frozen=True)
@@ -36,7 +37,7 @@ class SearchSpace:
     unknowns: tuple[Unknown, ...]
 
     @classmethod
-    def from_config(cls, bounds: Mapping[str, Mapping[str, Any]]) -> SearchSpace:
+    def from_config(cls, bounds: Mapping[str, Mapping[str, Json]]) -> SearchSpace:
         out = []
         for name, b in bounds.items():
             lo, hi = float(b["low"]), float(b["high"])

@@ -6,11 +6,15 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
 from geardyn import libm
+from geardyn.runs.continuation.corrector import ContinuationSettings
+
+#: How far a step's parameter interval is widened when asked which steps hold p (:func:`on_branch`): a point at a
+#: step's end is on it after rounding (parameters are of order 1; the double's resolution is 2.2e-16).
+PAD = 1e-12
 
 
 @dataclass
@@ -44,7 +48,9 @@ class Branch:
     end_status: dict[str, str] = field(default_factory=dict)
     bifurcations: list[Bifurcation] = field(default_factory=list)
     tangents: np.ndarray | None = None  # (m, d + 1) unit tangents in the scaled variables
-    problem: Any = None  # the problem it was continued as (its scales and settings; event location)
+    sx: float = 1.0  # the scale of the states it was continued with
+    sp: float = 1.0  # the scale of the parameter
+    settings: ContinuationSettings = ContinuationSettings()  # the settings it was continued with
 
     @property
     def stable(self) -> np.ndarray:
@@ -64,7 +70,7 @@ class Branch:
                 yield i, self.states[i] + w * (self.states[i + 1] - self.states[i])
 
 
-def on_branch(br: Branch, p: float, points: np.ndarray, tol: float, pad: float = 1e-12, stable: bool = False) -> bool:
+def on_branch(br: Branch, p: float, points: np.ndarray, tol: float, pad: float = PAD, stable: bool = False) -> bool:
     """True when one of ``points`` (phase-0 points of an orbit at p) lies on the branch (max-norm
     distance within tol * max(1, max |x|) of the branch interpolated at p, :meth:`Branch.states_at`);
     ``stable``: only on steps of changing p between two stable points."""

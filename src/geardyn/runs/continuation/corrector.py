@@ -6,23 +6,26 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
-from typing import Any, Protocol
+from dataclasses import dataclass, replace
+from typing import Protocol
 
 import numpy as np
 
 from geardyn.config import settings_from
+from geardyn.jsontypes import Json
 from geardyn.label.compare import least_period
+from geardyn.solve.base import SHOOTING, ShootingSettings
 
 
 @dataclass(frozen=True)
 class ContinuationSettings:
     """Every number of continuation; the defaults are a branch's, :data:`CURVES` a two-parameter curve's.  Steps
-    ds in the scaled arclength (x / sx, each parameter over its range); residuals max |F| <= tol max(1, max |x|),
+    ds in the scaled arclength (x / sx, each parameter over its range); residuals max |F| <= tol max(1, max |x|)
+    (``tol``: the ``shooting`` tolerance, which also shoots a branch's seed),
     |G| <= test_tol (a multiplier condition; a grazing margin as F).  The corrector: converged after a step below
     ``step_tol`` with the arclength equation within ``constraint_tol``, failed by a step above ``max_step`` or
     after ``max_corrector`` evaluations; forward differences of step ``dp_rel`` of the scales.  Step control: ds
-    grows by 1.3 after at most ``grow_at`` evaluations, halves after a failure down to ``ds_min``.  A period-n
+    grows by ``ds_grow`` after at most ``grow_at`` evaluations, halves after a failure down to ``ds_min``.  A period-n
     point is of period m | n when its m-th cycle point returns within ``merge_tol`` sx (``merge_tol_fold`` at a
     fold); a seed within ``on_curve_tol`` (box sides = 1) of a curve of its kind starts none, one within ``seed_tol``
     sx of a branch of its period too.  Branch switching (docs/orbits.md, section 3) tries the steps ``switch_steps``
@@ -32,13 +35,14 @@ class ContinuationSettings:
     ds: float = 1e-3
     ds_min: float = 1e-7
     ds_max: float = 1e-3
-    tol: float = 1e-9
+    shooting: ShootingSettings = SHOOTING
     test_tol: float = 1e-10
     constraint_tol: float = 1e-10
     step_tol: float = 1e-6
     max_step: float = 0.5
     max_corrector: int = 8
     grow_at: int = 3
+    ds_grow: float = 1.3
     dp_rel: float = 1e-6
     fold_h: float = 1e-3
     max_points: int = 5000
@@ -55,9 +59,18 @@ class ContinuationSettings:
     doubled_tol: float = 1e-2
     touch_tol: float = 0.0
 
+    @property
+    def tol(self) -> float:
+        """The residual tolerance of a point: the shooting's."""
+        return self.shooting.tol
+
     @classmethod
-    def from_mapping(cls, spec: Mapping[str, Any] | None) -> ContinuationSettings:
-        return settings_from(cls, spec, "continuation settings")
+    def from_mapping(cls, spec: Mapping[str, Json] | None) -> ContinuationSettings:
+        """The settings of a config entry; its ``tol`` is the shooting's tolerance."""
+        values = dict(spec or {})
+        if "tol" in values:
+            values["shooting"] = replace(SHOOTING, tol=float(values.pop("tol")))
+        return settings_from(cls, values, "continuation settings")
 
 
 #: The settings of a two-parameter curve: steps of the plane with both box sides 1, converged on the first

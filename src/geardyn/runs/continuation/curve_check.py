@@ -6,26 +6,34 @@ from __future__ import annotations
 
 import time
 from collections import Counter
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import NamedTuple
 
 import numpy as np
 import xarray as xr
 
 from geardyn.io import Var
+from geardyn.jsontypes import Json
 from geardyn.label.classify import LABELS
 from geardyn.runs.continuation.branch import Bifurcation
-from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, correct
-from geardyn.runs.continuation.curve_maps import RECORD_KINDS, Boundaries, BoundarySpec, Region, boundary_curves
-from geardyn.runs.continuation.curves import Curve, bounds_stable, crossings, segment_distance, shorter_period
-from geardyn.runs.continuation.family import PlaneLine, cached
+from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, Point, correct
+from geardyn.runs.continuation.curves import (
+    RECORD_KINDS,
+    BoundaryCurve,
+    Curve,
+    bounds_stable,
+    crossings,
+    segment_distance,
+    shorter_period,
+)
+from geardyn.runs.continuation.family import KHVPlane, PlaneLine, cached
 from geardyn.runs.continuation.output import index, quantity
 from geardyn.runs.continuation.problem import CurveProblem
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.runs.continuation.switching import switch_at_period_doubling
 from geardyn.solve import bifurcations
-from geardyn.solve.base import SimulationSettings
+from geardyn.solve.base import ShootingSettings
 from geardyn.solve.bifurcations import CODES
 from geardyn.solve.response import IMPACT_CLASSES, response_measures
 from geardyn.solve.shooting import newton_shooting
@@ -46,7 +54,7 @@ _TORUS = (LABELS["quasi_periodic"], LABELS["long_period"])
 @dataclass(frozen=True)
 class CheckSettings:
     """The numbers of the pixel check (docs/orbits.md, section 5): the samples (``every``, ``max_samples``), left
-    out (``margin``, ``crowd`` pixels), the orbit at a pixel (Newton: ``tol``, ``newton_iter``, ``pushes`` along the
+    out (``margin``, ``crowd`` pixels), the orbit at a pixel (Newton: ``shooting``, ``pushes`` along the
     fold eigenvector, within ``near``; else ``follow``, the probes' branches: about 8 steps over the way, none below
     1/512 of it, from ``follow_share`` of it; a period doubling's switched branch halves its steps down to
     ``switch_ds_min``), a pixel on the orbit (``mean_rtol``, ``mean_spread``, ``spread_rtol``)."""
@@ -55,8 +63,7 @@ class CheckSettings:
     margin: float = 3.0
     crowd: float = 1.5
     max_samples: int = 80
-    tol: float = 1e-9
-    newton_iter: int = 12
+    shooting: ShootingSettings = ShootingSettings(max_iter=12)
     pushes: tuple[float, ...] = (0.02, -0.02, 0.1, -0.1)
     near: float = 0.1
     follow: ContinuationSettings = ContinuationSettings(
@@ -67,6 +74,46 @@ class CheckSettings:
     mean_rtol: float = 1e-3
     mean_spread: float = 0.1
     spread_rtol: float = 1e-2
+
+
+class Orbit(NamedTuple):
+    """The curve's orbit at a pixel (:meth:`_Probe.at`): ``status`` stable, unstable or absent, its phase-0 state,
+    of a stable orbit the mean of X_VH over its cycle, its grazing margin (grazing curves; else NaN), its impact
+    class (:data:`~geardyn.solve.response.IMPACT_CLASSES`; -1: none) and the spread of X_VH, and its largest
+    multiplier modulus (NaN: absent)."""
+
+    status: str
+    state: np.ndarray | None = None
+    mean: float = float("nan")
+    margin: float = float("nan")
+    impact: int = -1
+    spread: float = float("nan")
+    rho: float = float("nan")
+
+
+class Origin(NamedTuple):
+    """A crossing (p, q) of a curve with a row (``along`` "p") or a column (``along`` "q")."""
+
+    p: float
+    q: float
+    along: str
+
+
+class Crossing(NamedTuple):
+    """A row (``line`` "row", index ``idx`` of y) or a column (``line`` "column", index of x) that crosses a
+    curve at the fraction ``w`` of its segment ``seg``."""
+
+    line: str
+    idx: int
+    seg: int
+    w: float
+
+
+class Side(NamedTuple):
+    """One pixel (row, column) beside a crossing and the curve's orbit there."""
+
+    pixel: tuple[int, int]
+    orbit: Orbit
 
 
 @dataclass(frozen=True)
@@ -125,7 +172,7 @@ class PixelCheck:
     def tally(self, reasons: Sequence[str]) -> Counter:
         return Counter(f"{s.kind}: {s.reason}" for s in self.samples if s.reason in reasons)
 
-    def attrs(self) -> dict[str, Any]:
+    def attrs(self) -> dict[str, Json]:
         """Global attributes of the curves file."""
 
         def text(c: Counter) -> str:
@@ -144,7 +191,7 @@ class PixelCheck:
             "pixel_check_slow_margin": self.slow_margin,
         }
 
-    def variables(self, names: tuple[str, str], kinds: Sequence[str]) -> list[tuple[Var, Any]]:
+    def variables(self, names: tuple[str, str], kinds: Sequence[str]) -> list[tuple[Var, Json]]:
         """The samples as (row, values) of dimension ``check``."""
         s, C = self.samples, "check"
         pix = np.array([list(v.pixels[0]) + list(v.pixels[1]) if v.pixels else [-1] * 4 for v in s], np.int32)
@@ -182,57 +229,58 @@ class _Probe:
     """The curve's orbit at pixels (:meth:`at`): status (stable, unstable, absent), state, mean X_VH, margin,
     impact class, spread of X_VH, largest multiplier modulus; and the criticality of a period doubling."""
 
-    def __init__(self, plane: Any, curve: Curve, cs: CheckSettings):
-        self.plane, self.curve, self.kind, self.n, self.cs = plane, curve, curve.kind, curve.n, cs
-        self.cache: dict[tuple[float, float], tuple] = {}
+    def __init__(self, plane: KHVPlane, curve: Curve, check: CheckSettings):
+        self.plane, self.curve, self.kind, self.n, self.check = plane, curve, curve.kind, curve.n, check
+        self.cache: dict[tuple[float, float], Orbit] = {}
 
-    def at(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: tuple) -> tuple:
+    def at(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: Origin) -> Orbit:
         """The orbit at (p, q), cached: Newton from each guess within ``near`` of the curve's state (the stable one
-        nearest it), else :meth:`followed` from the crossing ``origin`` = (p, q, "p" along a row, "q" a column)."""
-        return cached(self.cache, (p, q), lambda key: self._solve(*key, guesses, near, origin))
+        nearest it), else :meth:`followed` from the crossing ``origin``."""
+        return cached(self.cache, (p, q), lambda key: self._solve(key[0], key[1], guesses, near, origin))
 
-    def _solve(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: tuple) -> tuple:
+    def _solve(self, p: float, q: float, guesses: Sequence[np.ndarray], near: np.ndarray, origin: Origin) -> Orbit:
         scale = max(1.0, float(np.max(np.abs(near))))
         found = []
         for g in guesses:
-            r = newton_shooting(self.plane.flow(p, q, self.n), g, self.n, self.cs.tol, max_iter=self.cs.newton_iter)
-            if r.converged and float(np.max(np.abs(r.state - near))) < self.cs.near * scale:
+            sh = self.check.shooting
+            r = newton_shooting(self.plane.flow(p, q, self.n), g, self.n, sh.tol, sh.max_iter)
+            if r.converged and float(np.max(np.abs(r.state - near))) < self.check.near * scale:
                 found.append((r.state, r.spectral_radius))
         found = found or self.followed(p, q, near, origin)
         found = [f for f in found if not shorter_period(self.plane, p, q, f[0], self.n)]
         if not found:
-            return ("absent", None, np.nan, np.nan, -1, np.nan, np.nan)
+            return Orbit("absent")
         x, rho = min(found, key=lambda f: (f[1] >= 1.0, float(np.max(np.abs(f[0] - near)))))  # stable, nearest
         if rho >= 1.0:
-            return ("unstable", x, np.nan, np.nan, -1, np.nan, rho)
+            return Orbit("unstable", x, rho=rho)
         cyc = self.plane.cycle(p, q, x, self.n)
         system, s = self.plane.coefficients(p, q), self.plane.settings
         margin = self.plane.grazing(p, q, x, self.n) if self.kind == "grazing" else np.nan
         impact = IMPACT_CLASSES[response_measures(system, x, s, periods=self.n).impact_class]
-        return ("stable", x, float(np.mean(cyc[:, 1])), margin, impact, float(np.ptp(cyc[:, 1])), rho)
+        return Orbit("stable", x, float(np.mean(cyc[:, 1])), margin, impact, float(np.ptp(cyc[:, 1])), rho)
 
-    def followed(self, p: float, q: float, x: np.ndarray, origin: tuple) -> list[tuple[np.ndarray, float]]:
+    def followed(self, p: float, q: float, x: np.ndarray, origin: Origin) -> list[tuple[np.ndarray, float]]:
         """The orbit at (p, q) on the branch along the crossing's line from ``follow_share`` of the way from
         ``origin`` (state x); none when the branch does not reach (p, q)."""
-        along = origin[2]
-        t0, t1 = (origin[0], p) if along == "p" else (origin[1], q)
+        along = origin.along
+        t0, t1 = (origin.p, p) if along == "p" else (origin.q, q)
         line = PlaneLine(self.plane, along, q if along == "p" else p)
-        ts = t0 + self.cs.follow_share * (t1 - t0)
+        ts = t0 + self.check.follow_share * (t1 - t0)
         lo, hi = min(ts, t1), max(ts, t1)
-        br = continue_branch(line, ts, x, self.n, lo, hi, self.cs.follow, ("up",) if t1 > ts else ("down",))
+        br = continue_branch(line, ts, x, self.n, lo, hi, self.check.follow, ("up",) if t1 > ts else ("down",))
         if br is None or br.p[-1 if t1 > ts else 0] != t1:
             return []
         k = -1 if t1 > ts else 0
         return [(br.states[k], float(np.max(np.abs(br.multipliers[k]))))]
 
-    def criticality(self, origin: tuple, ref: Any, state: np.ndarray, t_pair: tuple[float, float]) -> str:
+    def criticality(self, origin: Origin, ref: Point, state: np.ndarray, t_pair: tuple[float, float]) -> str:
         """A period doubling's criticality on the crossing's line: the period-2n branch switched at the curve's
         point solved on the line (from ``state`` and the curve point ``ref``) is ``supercritical`` when it reaches
         the other pixel of ``t_pair`` (stable side, other side) stable."""
-        along, d = origin[2], state.size
+        along, d = origin.along, state.size
         held = d + 1 if along == "p" else d
         prob = CurveProblem(self.plane, self.kind, self.n, d, self.curve.scales, CURVES)
-        z = np.r_[state, origin[:2]]
+        z = np.r_[state, origin.p, origin.q]
         pt = correct(prob, z, np.eye(d + 2)[held], z[held] / prob.scale[held], CURVES, ref)
         if pt is None:
             return "subcritical"
@@ -240,10 +288,14 @@ class _Probe:
         bf = Bifurcation("period_doubling", t_cross, pt.x, pt.multipliers, -1.0, np.nan, -1, True, self.n)
         lo, hi = sorted(t_pair)
         t_other = t_pair[1]
-        follow = replace(self.cs.follow, ds_min=self.cs.switch_ds_min)
+        follow = replace(self.check.follow, ds_min=self.check.switch_ds_min)
         br = switch_at_period_doubling(PlaneLine(self.plane, along, at), bf, lo, hi, follow)
         reached = [] if br is None else [i for i, _ in br.states_at(t_other)]
-        return "supercritical" if any(br.stable[i] and br.stable[i + 1] for i in reached) else "subcritical"
+        return (
+            "supercritical"
+            if br is not None and any(br.stable[i] and br.stable[i + 1] for i in reached)
+            else "subcritical"
+        )
 
 
 def slow_margin(map_ds: xr.Dataset) -> float:
@@ -253,10 +305,11 @@ def slow_margin(map_ds: xr.Dataset) -> float:
     return max(float(a.get("stability_margin", 0.0)), 1.0 / float(a.get("classifier_torus_max_periods", np.inf)))
 
 
-def _on_orbit(mean: float, spread: float, st: tuple, cs: CheckSettings) -> bool:
-    scale = max(1.0, abs(st[2]))
-    near = np.isfinite(mean) and abs(mean - st[2]) <= cs.mean_rtol * scale + cs.mean_spread * st[5]
-    return bool(near and np.isfinite(spread) and spread <= st[5] + cs.spread_rtol * scale)
+def _on_orbit(mean: float, spread: float, orbit: Orbit, check: CheckSettings) -> bool:
+    """Whether a pixel's mean and spread of X_VH are those of ``orbit``."""
+    scale = max(1.0, abs(orbit.mean))
+    near = np.isfinite(mean) and abs(mean - orbit.mean) <= check.mean_rtol * scale + check.mean_spread * orbit.spread
+    return bool(near and np.isfinite(spread) and spread <= orbit.spread + check.spread_rtol * scale)
 
 
 def _other_ok(kind: str, n: int, lab: int, moved: bool, supercritical: bool) -> bool:
@@ -271,95 +324,87 @@ def _other_ok(kind: str, n: int, lab: int, moved: bool, supercritical: bool) -> 
 class _Judge:
     """The outcome of one sample against the map (module doc)."""
 
-    def __init__(self, map_ds: xr.Dataset, slow: float, cs: CheckSettings):
+    def __init__(self, map_ds: xr.Dataset, slow: float, check: CheckSettings):
         self.lab, self.mean, self.spread = (map_ds[v].values for v in ("label", "x_vh_mean", "x_vh_spread"))
         self.impact = map_ds["impact_class"].values if "impact_class" in map_ds else None
-        self.slow, self.cs = slow, cs
+        self.slow, self.check = slow, check
 
-    def stable_side(self, px: tuple[int, int], st: tuple, n: int, forward: bool) -> str:
-        lab, on = int(self.lab[px]), _on_orbit(self.mean[px], self.spread[px], st, self.cs)
+    def stable_side(self, side: Side, n: int, forward: bool) -> str:
+        px = side.pixel
+        lab, on = int(self.lab[px]), _on_orbit(self.mean[px], self.spread[px], side.orbit, self.check)
         if lab == n and on:
             return "ok"
         if on:
-            return "slow" if st[6] >= 1.0 - self.slow else "stable_side"
+            return "slow" if side.orbit.rho >= 1.0 - self.slow else "stable_side"
         return "coexistence" if forward else "hysteresis"
 
-    def __call__(self, kind: str, n: int, stable: tuple, other: tuple, forward: bool, supercritical: bool) -> str:
-        (ps, sts), (pu, stu) = stable, other
+    def __call__(self, kind: str, n: int, stable: Side, other: Side, forward: bool, supercritical: bool) -> str:
+        ps, pu = stable.pixel, other.pixel
         graze = kind in ("grazing", "back_grazing")
-        for px, st in (stable, other) if graze else (stable,):
-            why = self.stable_side(px, st, n, forward)
+        for side in (stable, other) if graze else (stable,):
+            why = self.stable_side(side, n, forward)
             if why != "ok":
                 return why
         if graze:
-            ok = self.impact is None or (int(self.impact[ps]) == sts[4] and int(self.impact[pu]) == stu[4])
+            ok = self.impact is None or (
+                int(self.impact[ps]) == stable.orbit.impact and int(self.impact[pu]) == other.orbit.impact
+            )
             return "ok" if ok else "impact_class"
-        if int(self.lab[pu]) == _UNDETERMINED and stu[6] <= 1.0 + self.slow:
+        if int(self.lab[pu]) == _UNDETERMINED and other.orbit.rho <= 1.0 + self.slow:
             return "slow"  # the labeller resolves no attractor within the margin past the bifurcation either
-        moved = not _on_orbit(self.mean[pu], self.spread[pu], sts, self.cs)
+        moved = not _on_orbit(self.mean[pu], self.spread[pu], stable.orbit, self.check)
         return "ok" if _other_ok(kind, n, int(self.lab[pu]), moved, supercritical) else "other_side"
 
 
-def pixel_check(plane: Any, bd: Boundaries, map_ds: xr.Dataset, cs: CheckSettings = CheckSettings()) -> PixelCheck:
-    """The pixel check (module doc) of the curves ``bd`` against their map; ``plane`` the curves' plane."""
+def pixel_check(
+    plane: KHVPlane, curves: Sequence[BoundaryCurve], map_ds: xr.Dataset, check: CheckSettings = CheckSettings()
+) -> PixelCheck:
+    """The pixel check (module doc) of ``curves`` against their map; ``plane`` the curves' plane."""
     xs, ys = map_ds["x"].values, map_ds["y"].values
     px, py = float(xs[1] - xs[0]), float(ys[1] - ys[0])
-    c2 = [(b.p, b.q) for c in bd.curves for b in c.codim2]
-    stable = [np.array([bounds_stable(c.kind, pt.multipliers, pt.crit) for pt in c.points]) for c in bd.curves]
+    c2 = [(b.p, b.q) for bc in curves for b in bc.curve.codim2]
+    stable = [
+        np.array([bounds_stable(bc.curve.kind, pt.multipliers, pt.crit) for pt in bc.curve.points]) for bc in curves
+    ]
     segs = []  # (start, end) in pixels of the segments that bound a stable orbit: those that change the labels
-    for f, c in zip(stable, bd.curves, strict=True):
+    for f, c in zip(stable, (bc.curve for bc in curves), strict=True):
         pts, keep = np.column_stack([c.p / px, c.q / py]), f[:-1] & f[1:]
         segs.append((pts[:-1][keep], pts[1:][keep]))
     t0 = time.perf_counter()
-    out = PixelCheck(every=cs.every, slow_margin=slow_margin(map_ds))
-    judge = _Judge(map_ds, out.slow_margin, cs)
-    for k, curve in enumerate(bd.curves):
-        kind = bd.file_kind(k)
-        probe = _Probe(plane.back_flank() if bd.flank[k] == "back" else plane, curve, cs)
+    out = PixelCheck(every=check.every, slow_margin=slow_margin(map_ds))
+    judge = _Judge(map_ds, out.slow_margin, check)
+    for k, bc in enumerate(curves):
+        curve, kind = bc.curve, bc.kind
+        probe = _Probe(plane.back_flank() if bc.flank == "back" else plane, curve, check)
         flags = stable[k]
         own = np.column_stack([curve.p / px, curve.q / py])
-        others = [m for m, c in enumerate(bd.curves) if m != k and (kind not in RECORD_KINDS or c.kind != "grazing")]
+        others = [
+            m for m, bc in enumerate(curves) if m != k and (kind not in RECORD_KINDS or bc.curve.kind != "grazing")
+        ]
         steep = np.abs(np.diff(curve.q)) / py >= np.abs(np.diff(curve.p)) / px  # rows cross it, else columns
-        every = cs.every
-        cands = [("row", j, g, w) for j in range(0, ys.size, every) for g, w in crossings(curve.q, ys[j]) if steep[g]]
-        cands += [("column", i, g, w) for i in range(0, xs.size, every) for g, w in crossings(curve.p, xs[i])]
-        cands = [c for c in cands if c[0] == "row" or not steep[min(c[2], steep.size - 1)]]
-        bound = [c for c in cands if flags[c[2]] and flags[min(c[2] + 1, flags.size - 1)]]
+        every = check.every
+        rows = [Crossing("row", j, g, w) for j in range(0, ys.size, every) for g, w in crossings(curve.q, ys[j])]
+        cands = [c for c in rows if steep[c.seg]]
+        cands += [Crossing("column", i, g, w) for i in range(0, xs.size, every) for g, w in crossings(curve.p, xs[i])]
+        cands = [c for c in cands if c.line == "row" or not steep[min(c.seg, steep.size - 1)]]
+        bound = [c for c in cands if flags[c.seg] and flags[min(c.seg + 1, flags.size - 1)]]
         out.interior += len(cands) - len(bound)
         cands = bound
-        if len(cands) > cs.max_samples:
-            cands = [cands[i] for i in np.linspace(0, len(cands) - 1, cs.max_samples).round().astype(int)]
-        for line, idx, seg, w in cands:
-            x, y = _lerp(curve.p, seg, w), _lerp(curve.q, seg, w)
+        if len(cands) > check.max_samples:
+            cands = [cands[i] for i in np.linspace(0, len(cands) - 1, check.max_samples).round().astype(int)]
+        for cross in cands:
+            x, y = float(_lerp(curve.p, cross.seg, cross.w)), float(_lerp(curve.q, cross.seg, cross.w))
             base = Sample(k, kind, curve.n, float(x), float(y))
-            if any(np.hypot((x - a) / px, (y - b) / py) < cs.margin for a, b in c2):
+            if any(np.hypot((x - a) / px, (y - b) / py) < check.margin for a, b in c2):
                 out.samples.append(replace(base, reason="codim2"))
-            elif any(segment_distance(*segs[m], np.array([x / px, y / py])) < cs.crowd for m in others) or (
-                _self_crowded(own, seg, x / px, y / py, cs.crowd)
+            elif any(segment_distance(*segs[m], np.array([x / px, y / py])) < check.crowd for m in others) or (
+                _self_crowded(own, cross.seg, x / px, y / py, check.crowd)
             ):
                 out.samples.append(replace(base, reason="crowded"))
             else:
-                out.samples.append(_probe_sample(base, curve, (line, idx, seg, w), xs, ys, probe, judge))
+                out.samples.append(_probe_sample(base, curve, cross, xs, ys, probe, judge))
     out.seconds = time.perf_counter() - t0
     return out
-
-
-def map_boundaries(
-    design: Any, spec: Any, entry: Mapping[str, Any], map_ds: xr.Dataset
-) -> tuple[Boundaries, PixelCheck, SimulationSettings]:
-    """The regime boundaries of a map (``spec``: its :class:`~geardyn.runs.maps.MapSpec`, ``entry``: its config
-    entry) along the lines of its ``curves:`` settings, else along its cut lines, and their pixel check."""
-    bs = BoundarySpec.from_config(entry["curves"])
-    lines = {
-        "lines_x": bs.lines_x or tuple(entry.get("cuts_x", [])),
-        "lines_y": bs.lines_y or tuple(entry.get("cuts_y", [])),
-    }
-    policy = spec.policy(design)
-    settings = policy.integration
-    bd, plane = boundary_curves(design, Region.of_map(spec), replace(bs, **lines), settings, map_ds, policy)
-    check = pixel_check(plane, bd, map_ds, CheckSettings(every=bs.check_every))
-    bd.timing["check"] = check.seconds
-    return bd, check, settings
 
 
 def _self_crowded(pts: np.ndarray, seg: int, x: float, y: float, crowd: float, skip: int = 3) -> bool:
@@ -369,59 +414,76 @@ def _self_crowded(pts: np.ndarray, seg: int, x: float, y: float, crowd: float, s
     return segment_distance(pts[far], pts[far + 1], np.array([x, y])) < crowd if far.size else False
 
 
-def _lerp(values: np.ndarray, seg: int, w: float) -> Any:
+def _lerp(values: np.ndarray, seg: int, w: float) -> np.ndarray:
     """``values`` at the fraction w of segment seg (of the last point past the end)."""
     return values[seg] + w * (values[min(seg + 1, len(values) - 1)] - values[seg])
 
 
-def _probe_sample(base: Sample, curve: Any, cross: tuple, xs, ys, probe: _Probe, judge: _Judge) -> Sample:
+def _probe_sample(
+    base: Sample, curve: Curve, cross: Crossing, xs: np.ndarray, ys: np.ndarray, probe: _Probe, judge: _Judge
+) -> Sample:
     """The sample at one crossing: the orbit shot at the pixels beside it, the map judged (module doc)."""
-    line, idx, seg, w = cross
-    state = _lerp(np.array([pt.x for pt in curve.points]), seg, w)
+    seg, row = cross.seg, cross.line == "row"
+    state = _lerp(np.array([pt.x for pt in curve.points]), seg, cross.w)
     scale = max(1.0, float(np.max(np.abs(state))))
     v = curve.points[seg].v
-    guesses = [state] + ([state + a * scale * v for a in probe.cs.pushes] if v is not None else [])
+    guesses = [state] + ([state + a * scale * v for a in probe.check.pushes] if v is not None else [])
     probe.cache.clear()
-    origin = (base.x, base.y, "p" if line == "row" else "q")
-    pair = _pair(base.kind, line, idx, origin, xs, ys, probe, guesses, state)
-    if pair in ("edge", "not_straddled"):
-        return replace(base, reason=pair)
-    (ps, sts), (pu, stu) = pair
-    graze = base.kind in ("grazing", "back_grazing")
-    fwd = graze or _forward(curve, ps, pu, xs, ys, line == "row")
-    crit = "untyped"
-    if base.kind == "period_doubling" and stu[1] is not None:
-        t_pair = (float(xs[ps[1]]), float(xs[pu[1]])) if line == "row" else (float(ys[ps[0]]), float(ys[pu[0]]))
-        crit = probe.criticality(origin, curve.points[seg], state, t_pair)
-    reason = judge(base.kind, curve.n, (ps, sts), (pu, stu), fwd, crit == "supercritical")
-    labels = (int(judge.lab[ps]), int(judge.lab[pu]))
-    return replace(base, pixels=(ps, pu), labels=labels, reason=reason, forward=fwd, modulus=sts[6], criticality=crit)
-
-
-def _pair(kind, line, idx, origin, xs, ys, probe: _Probe, guesses, state):
-    """((stable pixel, its orbit), (other pixel, its orbit)) across the crossing, from the pixels around it or one
-    pixel either way; "edge" without a pixel on one side, "not_straddled" when no pair straddles a change of the
-    orbit's stability (grazing: of the margin's sign on a stable orbit)."""
-    grid, c = (xs, origin[0]) if line == "row" else (ys, origin[1])
+    origin = Origin(base.x, base.y, "p" if row else "q")
+    grid, c = (xs, origin.p) if row else (ys, origin.q)
     i0 = int(np.searchsorted(grid, c) - 1)
     if i0 < 0 or i0 + 1 >= grid.size:
-        return "edge"
+        return replace(base, reason="edge")
+    pair = _pair(base.kind, cross, i0, origin, xs, ys, probe, guesses, state)
+    if pair is None:
+        return replace(base, reason="not_straddled")
+    stable, other = pair
+    ps, pu = stable.pixel, other.pixel
+    graze = base.kind in ("grazing", "back_grazing")
+    fwd = graze or _forward(curve, ps, pu, xs, ys, row)
+    crit = "untyped"
+    if base.kind == "period_doubling" and other.orbit.state is not None:
+        t_pair = (float(xs[ps[1]]), float(xs[pu[1]])) if row else (float(ys[ps[0]]), float(ys[pu[0]]))
+        crit = probe.criticality(origin, curve.points[seg], state, t_pair)
+    reason = judge(base.kind, curve.n, stable, other, fwd, crit == "supercritical")
+    labels = (int(judge.lab[ps]), int(judge.lab[pu]))
+    rho = stable.orbit.rho
+    return replace(base, pixels=(ps, pu), labels=labels, reason=reason, forward=fwd, modulus=rho, criticality=crit)
+
+
+def _pair(
+    kind: str,
+    cross: Crossing,
+    i0: int,
+    origin: Origin,
+    xs: np.ndarray,
+    ys: np.ndarray,
+    probe: _Probe,
+    guesses: Sequence[np.ndarray],
+    state: np.ndarray,
+) -> tuple[Side, Side] | None:
+    """(stable side, other side) across the crossing, from the pixels i0, i0 + 1 of its line around it or one pixel
+    either way; None when no pair straddles a change of the orbit's stability (grazing: of the margin's sign on a
+    stable orbit)."""
+    size, idx = (xs if cross.line == "row" else ys).size, cross.idx
     for a in (i0, i0 - 1, i0 + 1):
-        if a < 0 or a + 1 >= grid.size:
+        if a < 0 or a + 1 >= size:
             continue
-        pix = [(idx, a), (idx, a + 1)] if line == "row" else [(a, idx), (a + 1, idx)]
-        st = [probe.at(float(xs[i]), float(ys[j]), guesses, state, origin) for j, i in pix]
-        status = [s[0] for s in st]
+        pix = [(idx, a), (idx, a + 1)] if cross.line == "row" else [(a, idx), (a + 1, idx)]
+        sides = [Side(px, probe.at(float(xs[px[1]]), float(ys[px[0]]), guesses, state, origin)) for px in pix]
+        status = [s.orbit.status for s in sides]
         if kind in ("grazing", "back_grazing"):
-            if status == ["stable", "stable"] and np.sign(st[0][3]) != np.sign(st[1][3]):
-                return (pix[0], st[0]), (pix[1], st[1])
+            if status == ["stable", "stable"] and np.sign(sides[0].orbit.margin) != np.sign(sides[1].orbit.margin):
+                return sides[0], sides[1]
         elif status.count("stable") == 1:
             s = status.index("stable")
-            return (pix[s], st[s]), (pix[1 - s], st[1 - s])
-    return "not_straddled"
+            return sides[s], sides[1 - s]
+    return None
 
 
-def _forward(curve, stable_px, other_px, xs, ys, same_row: bool) -> bool:
+def _forward(
+    curve: Curve, stable_px: tuple[int, int], other_px: tuple[int, int], xs: np.ndarray, ys: np.ndarray, same_row: bool
+) -> bool:
     """True when the stable pixel's row reaches it without crossing the curve (x increases along a row): the
     curve alone then says what the map shows there."""
     js, is_ = stable_px

@@ -7,24 +7,37 @@ import logging
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 import xarray as xr
 
 from geardyn.config import settings_from
+from geardyn.io import Var
+from geardyn.jsontypes import Json
 from geardyn.khv import point
-from geardyn.khv.design import resolve_fractions
+from geardyn.khv.design import KHVDesign, resolve_fractions
 from geardyn.label import Policy, label_points
 from geardyn.runs.continuation.branch import Bifurcation, Branch
 from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings
-from geardyn.runs.continuation.curves import Curve, continue_curve, lies_on
+from geardyn.runs.continuation.curve_check import CheckSettings, PixelCheck, pixel_check
+from geardyn.runs.continuation.curves import RECORD_KINDS, BoundaryCurve, Curve, bounds_stable, continue_curve, lies_on
 from geardyn.runs.continuation.driver import run_middles
 from geardyn.runs.continuation.events import sign_changes
 from geardyn.runs.continuation.family import KHVFamily, KHVPlane
+from geardyn.runs.continuation.output import FILE_KINDS, RECORD_FATES, curve_dataset, index, quantity, table
+from geardyn.runs.continuation.problem import BranchProblem
 from geardyn.runs.continuation.switching import add_branch
+from geardyn.solve import bifurcations as kinds
 from geardyn.solve.base import SimulationSettings
-from geardyn.solve.bifurcations import CURVE_KINDS, decode
+from geardyn.solve.bifurcations import CODES, CURVE_KINDS, decode
+
+#: The branches along a line: up to 2000 points each (five times a curve's 400), and a period doubling within 2e-3
+#: of a point of a known period-2n branch (sx and the range scaled to 1) starts none.
+LINE_BRANCHES = ContinuationSettings(max_points=2000, touch_tol=2e-3)
+
+if TYPE_CHECKING:  # for the annotations only
+    from geardyn.runs.maps import MapSpec
 
 log = logging.getLogger("geardyn.curves")
 
@@ -52,7 +65,7 @@ class BoundarySpec:
     max_points: int = 400
 
     @classmethod
-    def from_config(cls, spec: Mapping[str, Any] | None) -> BoundarySpec:
+    def from_config(cls, spec: Mapping[str, Json] | None) -> BoundarySpec:
         values = {k: v for k, v in (spec or {}).items() if k not in _ENTRY_KEYS}
         for key in ("lines_x", "lines_y"):
             if key in values:
@@ -63,7 +76,7 @@ class BoundarySpec:
         return replace(CURVES, ds=min(CURVES.ds_max, self.ds_max), ds_max=self.ds_max, max_points=self.max_points)
 
     def branch_settings(self) -> ContinuationSettings:
-        return ContinuationSettings(ds=self.branch_ds_max, ds_max=self.branch_ds_max, max_points=2000, touch_tol=2e-3)
+        return replace(LINE_BRANCHES, ds=self.branch_ds_max, ds_max=self.branch_ds_max)
 
     def record_settings(self) -> ContinuationSettings:
         """A record's branch: searched for the record's kind only (no grazing margins)."""
@@ -83,14 +96,14 @@ class Region:
     fixed: tuple[tuple[str, float], ...] = ()
 
     @classmethod
-    def of_map(cls, spec: Any) -> Region:
+    def of_map(cls, spec: MapSpec) -> Region:
         """The plane of a :class:`geardyn.runs.maps.MapSpec`."""
         return cls(
             (spec.x.parameter, spec.y.parameter), (spec.x.start, spec.x.stop, spec.y.start, spec.y.stop), spec.fixed
         )
 
     @classmethod
-    def from_config(cls, spec: Mapping[str, Any], segment: tuple[float, float]) -> Region:
+    def from_config(cls, spec: Mapping[str, Json], segment: tuple[float, float]) -> Region:
         """The plane of a curves study entry (x1 percentages resolved on the design's segment)."""
         s = resolve_fractions(spec, segment)
         x, y = s["x"], s["y"]
@@ -114,28 +127,44 @@ class Line:
         return f"{self.axis} = {self.value:g}"
 
 
+class RecordFate(NamedTuple):
+    """A map's record (:func:`map_records`) as a seed: its kind, the period before it (0: not periodic), where
+    the loss lies (x, y) and its fate (:data:`RECORD_FATES`)."""
+
+    kind: str
+    n: int
+    x: float
+    y: float
+    fate: str
+
+
+class Unseeded(NamedTuple):
+    """An event of a branch that seeded no curve (the corrector did not reach the seed, or its orbit is of a
+    shorter period): its kind in the curves file, period, (x, y) and whether it was located."""
+
+    kind: str
+    n: int
+    x: float
+    y: float
+    located: bool
+
+
 @dataclass
 class Boundaries:
-    """The curves of a plane: ``flank[k]`` "back" for a back-flank grazing curve, ``origin[k]`` its seed;
-    the branches along the lines; ``records``: the fate of each of the map's records (kind, n, x, y, fate);
-    ``unseeded``: the events that seeded no curve (kind, n, x, y, located: the corrector did not reach the seed or
-    its orbit is of a shorter period); ``timing``: seconds per stage."""
+    """The curves of a plane, the branches along the lines, the fate of each of the map's records, the events that
+    seeded no curve and the seconds per stage (``timing``)."""
 
     region: Region
     lines: list[Line] = field(default_factory=list)
-    curves: list[Curve] = field(default_factory=list)
-    flank: list[str] = field(default_factory=list)
-    origin: list[str] = field(default_factory=list)
+    curves: list[BoundaryCurve] = field(default_factory=list)
     branches: list[tuple[Line, Branch]] = field(default_factory=list)
-    records: list[tuple[str, int, float, float, str]] = field(default_factory=list)
-    unseeded: list[tuple[str, int, float, float, bool]] = field(default_factory=list)
+    records: list[RecordFate] = field(default_factory=list)
+    unseeded: list[Unseeded] = field(default_factory=list)
     timing: dict[str, float] = field(default_factory=dict)
 
     def add(self, c: Curve | None, origin: str, flank: str = "working") -> None:
         if c is not None and len(c) >= 2:
-            self.curves.append(c)
-            self.flank.append(flank)
-            self.origin.append(origin)
+            self.curves.append(BoundaryCurve(c, flank, origin))
             msg = "%s: %s curve (period %d), %d points, ends %s, %d codim-2"
             log.info(msg, origin, c.kind, c.n, len(c), c.end_status, len(c.codim2))
 
@@ -144,30 +173,35 @@ class Boundaries:
         box with its sides scaled to 1)."""
         x0, x1, y0, y1 = self.region.box
         units = (x1 - x0, y1 - y0)
-        return any(
-            f == flank and lies_on(c, kind, n, *pq, tol, units) for c, f in zip(self.curves, self.flank, strict=True)
-        )
-
-    def file_kind(self, k: int) -> str:
-        c = self.curves[k]
-        return "back_grazing" if c.kind == "grazing" and self.flank[k] == "back" else c.kind
+        return any(b.flank == flank and lies_on(b.curve, kind, n, *pq, tol, units) for b in self.curves)
 
 
 # --- orbits and branches along a line ----------------------------------------------------------------------
 
 
-def labelled_orbits(seeds: Sequence[tuple[KHVFamily, float, int]], policy: Policy, max_period: int) -> list:
-    """(t, state, n) of the stable orbit the labeller certifies at each seed (family, t, n) from the static
-    deflection (all in one call): of period n, or of any period up to ``max_period`` for n = 0; None where it
-    certifies none."""
+class SeedOrbit(NamedTuple):
+    """The stable orbit the labeller certifies at a seed: the parameter t along its line, its state, its period."""
+
+    t: float
+    state: np.ndarray
+    n: int
+
+
+def labelled_orbits(
+    seeds: Sequence[tuple[KHVFamily, float, int]], policy: Policy, max_period: int
+) -> list[SeedOrbit | None]:
+    """The orbit the labeller certifies at each seed (family, t, n) from the static deflection (all in one call):
+    of period n, or of any period up to ``max_period`` for n = 0; None where it certifies none."""
     verdicts = label_points([family.coefficients(t) for family, t, _ in seeds], policy)
     return [
-        (t, v.final_state, v.period) if v.period >= 1 and (v.period == n if n else v.period <= max_period) else None
+        SeedOrbit(t, v.final_state, v.period)
+        if v.period >= 1 and (v.period == n if n else v.period <= max_period)
+        else None
         for (_, t, n), v in zip(seeds, verdicts, strict=True)
     ]
 
 
-def line_family(design: Any, region: Region, line: Line, settings: SimulationSettings, nodes: int) -> KHVFamily:
+def line_family(design: KHVDesign, region: Region, line: Line, settings: SimulationSettings, nodes: int) -> KHVFamily:
     """The one-parameter family along ``line`` over the box (5 spline nodes along b, e or w: the coefficients
     are linear in them, a spline through 5 nodes is exact)."""
     (xp, yp), (x0, x1, y0, y1) = region.names, region.box
@@ -215,12 +249,12 @@ def branch_curves(
             c = continue_curve(plane, bf.kind, bf.n, bf.state, pq, bf.critical, cs, line.along)
             if c is None:
                 log.info("%s: %s (P%d) at %s seeds no curve (located: %s)", origin, bf.kind, bf.n, pq, bf.located)
-                bd.unseeded.append(("back_grazing" if flank == "back" else bf.kind, bf.n, *pq, bf.located))
+                bd.unseeded.append(Unseeded("back_grazing" if flank == "back" else bf.kind, bf.n, *pq, bf.located))
             bd.add(c, origin, flank)
 
 
 def curves_from_branch(
-    plane: Any,
+    plane: KHVPlane,
     branch: Branch,
     axis: str,
     at: float,
@@ -232,16 +266,12 @@ def curves_from_branch(
     ``at``), ``existing`` the curves known already: the new curves."""
     if axis not in ("p", "q"):
         raise ValueError(f"axis {axis!r}; allowed: 'p', 'q'")
-    bd = Boundaries(Region(("p", "q"), plane.box), curves=list(existing), flank=["working"] * len(existing))
+    bd = Boundaries(Region(("p", "q"), plane.box), curves=[BoundaryCurve(c) for c in existing])
     branch_curves(plane, bd, branch, Line("y" if axis == "p" else "x", at), cs, f"branch at {at:g}", kinds)
-    return bd.curves[len(existing) :]
+    return [b.curve for b in bd.curves[len(existing) :]]
 
 
 # --- the map's records as seeds -----------------------------------------------------------------------------
-
-
-#: The map's ``bifurcation`` flags that seed curves (each the kind of the curve it seeds).
-RECORD_KINDS = ("fold", "period_doubling", "neimark_sacker")
 
 
 def pixel_size(map_ds: xr.Dataset) -> tuple[float, float]:
@@ -249,10 +279,18 @@ def pixel_size(map_ds: xr.Dataset) -> tuple[float, float]:
     return float(abs(xs[1] - xs[0])), float(abs(ys[1] - ys[0]))
 
 
-def map_records(map_ds: xr.Dataset) -> list[tuple[int, int, str, int]]:
-    """(row j, column i, curve kind, period n) of every pixel whose row's followed orbit lost stability by a
-    fold, period doubling or Neimark-Sacker (``bifurcation``), n the period of the pixel before (0: not
-    periodic)."""
+class MapRecord(NamedTuple):
+    """A pixel (row j, column i) whose row's followed orbit lost stability by a fold, period doubling or
+    Neimark-Sacker (the map's ``bifurcation``): that kind, and the period n of the pixel before (0: not periodic)."""
+
+    j: int
+    i: int
+    kind: str
+    n: int
+
+
+def map_records(map_ds: xr.Dataset) -> list[MapRecord]:
+    """The map's records (:class:`MapRecord`), in the order of the map's pixels."""
     names = decode(map_ds["bifurcation"].attrs)
     code, period, label = map_ds["bifurcation"].values, map_ds["period"].values, map_ds["label"].values
     out = []
@@ -261,16 +299,16 @@ def map_records(map_ds: xr.Dataset) -> list[tuple[int, int, str, int]]:
         if kind not in RECORD_KINDS or i == 0:
             continue
         n = int(period[j, i - 1]) if label[j, i - 1] >= 1 else 0
-        out.append((int(j), int(i), kind, n))
+        out.append(MapRecord(int(j), int(i), kind, n))
     return out
 
 
 def _record_curves(
-    design: Any,
+    design: KHVDesign,
     plane: KHVPlane,
     bd: Boundaries,
     map_ds: xr.Dataset,
-    rec: tuple[int, int, str, int],
+    rec: MapRecord,
     spec: BoundarySpec,
     policy: Policy,
 ) -> list[Curve]:
@@ -292,19 +330,19 @@ def _record_curves(
     known: list[Branch] = []  # a second orbit on the first one's branch starts none
     for t in dict.fromkeys((float(xs[i - 1]), float(xs[(max(first, i - 12) + i - 1) // 2]))):
         (found,) = labelled_orbits([(fam, t, n)], policy, spec.max_period)
-        br = None if found is None else add_branch(fam, t, found[1], n, known, cs)
+        br = None if found is None else add_branch(fam, t, found.state, n, known, cs)
         if br is None:
             continue
         near = [b for b in br.bifurcations if b.kind == kind and abs(b.p - xs[i]) <= spec.record_tol * px]
         if near:
             before = len(bd.curves)
             branch_curves(plane, bd, replace(br, bifurcations=near[:1]), row, spec.curve_settings(), origin, (kind,))
-            return bd.curves[before:]
+            return [b.curve for b in bd.curves[before:]]
     return []
 
 
 def record_seeds(
-    design: Any, plane: KHVPlane, bd: Boundaries, map_ds: xr.Dataset, spec: BoundarySpec, policy: Policy
+    design: KHVDesign, plane: KHVPlane, bd: Boundaries, map_ds: xr.Dataset, spec: BoundarySpec, policy: Policy
 ) -> None:
     """The fate of each of the map's records (:data:`RECORD_FATES`): on a curve (:func:`lies_on`, within
     ``record_tol`` pixels), or the seed of a new one (at most ``max_map_seeds`` tried), or not reproduced;
@@ -312,12 +350,12 @@ def record_seeds(
     px, py = pixel_size(map_ds)
     xs, ys = map_ds["x"].values, map_ds["y"].values
     tried = 0
-    for rec in sorted(map_records(map_ds), key=lambda r: (r[3], r[2], r[0], r[1])):
+    for rec in sorted(map_records(map_ds), key=lambda r: (r.n, r.kind, r.j, r.i)):
         j, i, kind, n = rec
         x, y = float(xs[i]) - 0.5 * px, float(ys[j])  # the loss lies between the pixel and the one before
         if not 1 <= n <= spec.max_period:
             fate = "period_out_of_range"
-        elif any(lies_on(c, kind, n, x, y, spec.record_tol, (px, py)) for c in bd.curves):
+        elif any(lies_on(b.curve, kind, n, x, y, spec.record_tol, (px, py)) for b in bd.curves):
             fate = "on_curve"
         elif tried < spec.max_map_seeds:
             tried += 1
@@ -326,11 +364,11 @@ def record_seeds(
             fate = "started_curve" if on else "not_reproduced"
         else:
             fate = "not_reproduced"
-        bd.records.append((kind, n, x, y, fate))
+        bd.records.append(RecordFate(kind, n, x, y, fate))
 
 
 def boundary_curves(
-    design: Any,
+    design: KHVDesign,
     region: Region,
     spec: BoundarySpec,
     settings: SimulationSettings,
@@ -370,7 +408,7 @@ def boundary_curves(
                 nan = complex("nan")
                 bfs = [
                     Bifurcation("grazing", q.p, q.x, q.multipliers, nan, nan.real, -1, ok, br.n)
-                    for q, ok in sign_changes(br, fam.back_grazing)
+                    for q, ok in sign_changes(BranchProblem.of(fam, br), br, fam.back_grazing)
                 ]
                 branch_curves(back, bd, replace(br, bifurcations=bfs), line, cs, f"line {line}", ("grazing",), "back")
     bd.timing["lines"] = time.perf_counter() - t0
@@ -380,3 +418,69 @@ def boundary_curves(
         bd.timing["records"] = time.perf_counter() - t1
     bd.timing["total"] = sum(bd.timing.values())
     return bd, plane
+
+
+# --- a map's boundaries and their file ----------------------------------------------------------------------
+
+
+def map_boundaries(
+    design: KHVDesign, spec: MapSpec, entry: Mapping[str, Json], map_ds: xr.Dataset
+) -> tuple[Boundaries, PixelCheck, SimulationSettings]:
+    """The regime boundaries of a map (``spec``: its :class:`~geardyn.runs.maps.MapSpec`, ``entry``: its config
+    entry) along the lines of its ``curves:`` settings, else along its cut lines, and their pixel check."""
+    bs = BoundarySpec.from_config(entry["curves"])
+    bs = replace(
+        bs, lines_x=bs.lines_x or tuple(entry.get("cuts_x", [])), lines_y=bs.lines_y or tuple(entry.get("cuts_y", []))
+    )
+    policy = spec.policy(design)
+    settings = policy.integration
+    bd, plane = boundary_curves(design, Region.of_map(spec), bs, settings, map_ds, policy)
+    check = pixel_check(plane, bd.curves, map_ds, CheckSettings(every=bs.check_every))
+    bd.timing["check"] = check.seconds
+    return bd, check, settings
+
+
+def boundary_dataset(bd: Boundaries, check: PixelCheck | None = None) -> xr.Dataset:
+    """The curves file of the :class:`Boundaries` ``bd``: the curves
+    (:func:`curve_dataset`) with the kind ``back_grazing``, ``bounds_stable`` per point, the seeds (``curve_<k>_seed``),
+    the map's records and their fates (``record_*``), the seconds per stage (``time_<stage>_s``) and, given a
+    :class:`~geardyn.runs.continuation.curve_check.PixelCheck`, its samples (``check_*``, ``pixel_check_*``)."""
+    names, rec, R = bd.region.names, bd.records, "record"
+    ds = curve_dataset([bc.curve for bc in bd.curves], names)
+    bounds = [bounds_stable(bc.curve.kind, pt.multipliers, pt.crit) for bc in bd.curves for pt in bc.curve.points]
+    stable = "the curve bounds a stable orbit here (the other multipliers inside)"
+    period, file_kinds = "period of the orbit before the record (0: not periodic)", kinds.flags(FILE_KINDS)
+    rows = [
+        (
+            Var("curve_kind", "curve", None, "curve kind", file_kinds),
+            [CODES[bc.kind] for bc in bd.curves],
+        ),
+        (Var("bounds_stable", "point", None, stable, index(("interior", "boundary"))), bounds),
+        (Var("record_kind", R, None, "kind of the map's record", file_kinds), [CODES[r.kind] for r in rec]),
+        (Var("record_period", R, "1", period, dtype=np.int16), [r.n for r in rec]),
+        *[
+            (Var(f"record_{nm}", R, *quantity(nm)), np.array([getattr(r, xy) for r in rec], float))
+            for xy, nm in zip("xy", names, strict=True)
+        ],
+        (
+            Var("record_fate", R, None, "fate of the map's record as a seed", index(RECORD_FATES)),
+            [RECORD_FATES.index(r.fate) for r in rec],
+        ),
+    ]
+    ds.update(table(rows))
+    ds.attrs.update({f"curve_{k}_seed": bc.origin for k, bc in enumerate(bd.curves)})
+    ds.attrs.update({f"records_{f}": int(sum(r.fate == f for r in rec)) for f in RECORD_FATES})
+    ds.attrs.update({f"time_{k}_s": round(v, 3) for k, v in bd.timing.items()})
+    ds.attrs["unseeded_events"] = (
+        "; ".join(
+            f"{u.kind} P{u.n} at ({u.x:.6g}, {u.y:.6g}){'' if u.located else ' (bracketed)'}" for u in bd.unseeded
+        )
+        or "none"
+    )
+    ds.attrs["lines"] = "; ".join(str(line) for line in bd.lines)
+    ds.attrs["box"] = ", ".join(f"{v:g}" for v in bd.region.box)
+    ds.attrs["fixed_overrides"] = point.override_text(bd.region.fixed)
+    if check is not None:
+        ds.update(table(check.variables(names, FILE_KINDS)))
+        ds.attrs.update(check.attrs())
+    return ds

@@ -7,17 +7,20 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import partial
-from typing import Any
+from typing import NamedTuple
 
 import numpy as np
 
 from geardyn import libm
 from geardyn.runs.continuation.corrector import CURVES, ContinuationSettings, Point, correct, merged, step
 from geardyn.runs.continuation.events import brent_on_step, fold_test, ns_test, pd_test, unstable_counts
+from geardyn.runs.continuation.family import Plane
 from geardyn.runs.continuation.problem import TARGET, CurveProblem, others
 from geardyn.runs.continuation.stepping import both_ways, box_end, inside, march
 from geardyn.solve.bifurcations import CODIM2
 
+#: The map's ``bifurcation`` flags that seed curves (each the kind of the curve it seeds).
+RECORD_KINDS = ("fold", "period_doubling", "neimark_sacker")
 #: The codimension-2 points that end a curve.
 TERMINAL = ("resonance_1_1", "resonance_1_2")
 #: The codimension-2 tests of each kind of curve, in the order of :func:`tests`.
@@ -64,6 +67,20 @@ class Curve:
     residual = property(lambda self: np.array([c.G for c in self.points]), doc="the defining condition G")
 
 
+class BoundaryCurve(NamedTuple):
+    """A curve of a plane with its ``flank`` ("back": a back-flank grazing curve, else "working") and its
+    ``origin`` (the seed it started from)."""
+
+    curve: Curve
+    flank: str = "working"
+    origin: str = ""
+
+    @property
+    def kind(self) -> str:
+        """Its kind in the curves file: ``back_grazing`` for a back-flank grazing curve."""
+        return "back_grazing" if self.curve.kind == "grazing" and self.flank == "back" else self.curve.kind
+
+
 def tests(kind: str, pt: Point) -> dict[str, float]:
     """The codimension-2 tests of a point (docs/orbits.md, section 5): the fold's normal-form coefficient, the
     Neimark-Sacker pair's trace -+ 2, det(others -+ I), the others' pair nearest the circle, the margin g."""
@@ -106,7 +123,7 @@ def _events(prob: CurveProblem, a: Point, b: Point) -> list[Codim2]:
     return found
 
 
-def shorter_period(plane: Any, p: float, q: float, x: np.ndarray, n: int, tol: float = CURVES.merge_tol) -> bool:
+def shorter_period(plane: Plane, p: float, q: float, x: np.ndarray, n: int, tol: float = CURVES.merge_tol) -> bool:
     """True when the period-n orbit through x at (p, q) is one of a proper divisor m of n traversed n / m times
     (its m-th cycle point within ``tol`` max(1, max |x|) of x)."""
     return n > 1 and merged(plane.cycle(p, q, x, n), n, tol * max(1.0, float(np.max(np.abs(x))))) > 0
@@ -141,7 +158,7 @@ def _advance(
 
 
 def continue_curve(
-    plane: Any,
+    plane: Plane,
     kind: str,
     n: int,
     x0: np.ndarray,
@@ -178,7 +195,7 @@ def continue_curve(
     return Curve(kind, n, pts, prob.scales, ends, [c for events in reversed(found) for c in events])
 
 
-def line_points(plane: Any, curve: Curve, axis: str, value: float, cs: ContinuationSettings = CURVES) -> list[Point]:
+def line_points(plane: Plane, curve: Curve, axis: str, value: float, cs: ContinuationSettings = CURVES) -> list[Point]:
     """The points where ``curve`` crosses the line ``axis`` ("p" or "q") = value, each solved by the corrector
     with the line as the extra equation (from the chord between the bracketing points; the last point counts)."""
     k, d = (0 if axis == "p" else 1), curve.points[0].z.size - 2
@@ -206,7 +223,7 @@ def segment_distance(a: np.ndarray, b: np.ndarray, pt: np.ndarray) -> float:
     if not len(a):
         return np.inf
     ab = b - a
-    w = np.clip(np.sum((pt - a) * ab, axis=1) / np.maximum(np.sum(ab * ab, axis=1), 1e-300), 0.0, 1.0)
+    w = np.clip(np.sum((pt - a) * ab, axis=1) / np.maximum(np.sum(ab * ab, axis=1), libm.TINY), 0.0, 1.0)
     return float(np.min(np.linalg.norm(a + w[:, None] * ab - pt, axis=1)))
 
 

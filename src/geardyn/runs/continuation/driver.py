@@ -8,12 +8,15 @@ import logging
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
+import xarray as xr
 
 from geardyn.config import settings_from
+from geardyn.jsontypes import Json
 from geardyn.khv import point
+from geardyn.khv.design import KHVDesign
 from geardyn.label import classify
 from geardyn.papers import paper_of
 from geardyn.runs.continuation.branch import Branch, on_branch
@@ -23,6 +26,14 @@ from geardyn.runs.continuation.output import bifurcation_rows, branch_dataset
 from geardyn.runs.continuation.switching import add_branch
 from geardyn.runs.cube import STATES
 from geardyn.solve.base import SimulationSettings
+
+#: How near a branch a sweep point's last Poincare point must lie to agree with it (:func:`label_agreement`,
+#: relative to max(1, max |x|)): above the Poincare errors of the shipped step counts (1.9e-5 at 128 steps per
+#: period and less).
+AGREEMENT_TOL = 1e-4
+
+if TYPE_CHECKING:  # for the annotations only
+    from geardyn.runs.sweep import SweepSpec
 
 log = logging.getLogger("geardyn.continuation")
 
@@ -36,23 +47,25 @@ class OrbitSpec:
     max_seeds: int = 6
     nodes: int = 101
     continuation: ContinuationSettings = ContinuationSettings()
-    attractors: tuple[tuple[str, Any], ...] = ()
+    attractors: tuple[tuple[str, Json], ...] = ()
     switch_period_doubling: bool = True
 
     @classmethod
-    def from_config(cls, spec: Mapping[str, Any] | None) -> OrbitSpec:
+    def from_config(cls, spec: Mapping[str, Json] | None) -> OrbitSpec:
         values = {k: v for k, v in (spec or {}).items() if k != "designs"}
         values["continuation"] = ContinuationSettings.from_mapping(values.get("continuation"))
         values["attractors"] = tuple(sorted((values.get("attractors") or {}).items()))
         return settings_from(cls, values, "orbits settings")
 
 
-def final_state(cube: Any, case: int, j: int) -> np.ndarray:
+def final_state(cube: xr.Dataset, case: int, j: int) -> np.ndarray:
     """The last Poincare point of sweep point j of ``case`` (first direction of the cube)."""
     return np.array([float(cube[v].values[case, 0, j, -1]) for v in STATES])
 
 
-def seeds_from_cube(cube: Any, case: int, max_period: int, max_seeds: int) -> list[tuple[float, np.ndarray, int]]:
+def seeds_from_cube(
+    cube: xr.Dataset, case: int, max_period: int, max_seeds: int
+) -> list[tuple[float, np.ndarray, int]]:
     """(p, final state, n) at the middle of each run of equal label P1..P<max_period> along the sweep
     (first direction of the cube), longest runs first, at most ``max_seeds``."""
     par = cube.attrs["control_parameter"]
@@ -75,7 +88,7 @@ def run_middles(labels: np.ndarray, max_period: int) -> list[tuple[int, int]]:
     return [(first + length // 2, n) for length, first, n in sorted(runs, key=lambda r: (-r[0], r[1]))]
 
 
-def sweep_branches(families: Sequence[KHVFamily], cube: Any, spec: OrbitSpec) -> list[tuple[int, Branch]]:
+def sweep_branches(families: Sequence[KHVFamily], cube: xr.Dataset, spec: OrbitSpec) -> list[tuple[int, Branch]]:
     """Continue every distinct branch seeded by the cube's periodic points (the labeller's final states, shot by
     :func:`~geardyn.runs.continuation.stepping.continue_branch`), case by case (one family each)."""
     out: list[tuple[int, Branch]] = []
@@ -92,7 +105,7 @@ def sweep_branches(families: Sequence[KHVFamily], cube: Any, spec: OrbitSpec) ->
 
 
 def label_agreement(
-    cube: Any, case: int, branches: Sequence[Branch], max_period: int, tol: float = 1e-4
+    cube: xr.Dataset, case: int, branches: Sequence[Branch], max_period: int, tol: float = AGREEMENT_TOL
 ) -> tuple[int, int, list[float]]:
     """Consistency of the simulated labels with the branches: of the sweep points labelled P1..P<max_period>,
     how many have their last Poincare point on a *stable* part of a branch of that period (within
@@ -115,7 +128,9 @@ def label_agreement(
     return checked, agree, bad
 
 
-def label_check(cube: Any, branches: Sequence[tuple[int, Branch]], n_cases: int, max_period: int) -> dict[str, str]:
+def label_check(
+    cube: xr.Dataset, branches: Sequence[tuple[int, Branch]], n_cases: int, max_period: int
+) -> dict[str, str]:
     """The cross-check of the sweep's simulated labels against the branches, as dataset attributes
     ``case_<k>_label_agreement`` (see :func:`label_agreement`): how many simulated P-n points lie on
     a stable branch, and which do not (at most 20 listed).  The one place where the driver compares
@@ -131,8 +146,12 @@ def label_check(cube: Any, branches: Sequence[tuple[int, Branch]], n_cases: int,
 
 
 def sweep_orbits(
-    drive: Any, spec: Any, cube: Any, orbit_spec: OrbitSpec, settings: SimulationSettings | None = None
-) -> tuple[Any, list[dict[str, Any]]]:
+    drive: KHVDesign,
+    spec: SweepSpec,
+    cube: xr.Dataset,
+    orbit_spec: OrbitSpec,
+    settings: SimulationSettings | None = None,
+) -> tuple[xr.Dataset, list[dict[str, Json]]]:
     """Branches of one sweep (a :class:`geardyn.runs.sweep.SweepSpec` and its merged cube): the CF
     dataset and the bifurcation table rows.  The paper's transitions are named only for a design
     that names its paper and only along x1 (the paper's Fig. 7 sequence)."""

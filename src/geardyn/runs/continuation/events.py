@@ -5,7 +5,6 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import replace
-from typing import Any
 
 import numpy as np
 from scipy.optimize import brentq
@@ -13,9 +12,21 @@ from scipy.optimize import brentq
 from geardyn import libm
 from geardyn.runs.continuation.branch import Bifurcation, Branch
 from geardyn.runs.continuation.corrector import Point, step
-from geardyn.runs.continuation.problem import nearest
+from geardyn.runs.continuation.problem import BranchProblem, nearest
 from geardyn.solve.floquet import is_complex
 from geardyn.solve.shooting import rotation_number
+
+#: Brent's method on a step's arclength fraction: the relative tolerance at scipy's least (4 eps = 8.9e-16), and
+#: an iteration limit twice the 30 bisections that take the unit interval below the default location tolerance.
+BRENT_RTOL = 1e-15
+BRENT_MAXITER = 60
+#: The fold's rounds (:func:`_fold`): at most ``FOLD_ROUNDS`` corrected points; a root of the Hermite cubic is real
+#: when its imaginary part is below ``REAL_ROOT`` (np.roots leaves rounding there); the fold is reached when
+#: dp/ds (scaled) is below ``FOLD_DPDS`` or the bracket below ``FOLD_BRACKET`` of the step.
+FOLD_ROUNDS = 12
+REAL_ROOT = 1e-12
+FOLD_DPDS = 1e-10
+FOLD_BRACKET = 1e-12
 
 
 def unstable_counts(mu: np.ndarray) -> tuple[int, int]:
@@ -63,10 +74,9 @@ def _stored(br: Branch, i: int, u: float) -> Point:
     return Point(np.append(br.states[i], br.p[i]), br.multipliers[i], br.tangents[i], u=u)
 
 
-def _on_branch(br: Branch, i: int, u: float) -> Point | None:
+def _on_branch(prob: BranchProblem, br: Branch, i: int, u: float) -> Point | None:
     """Predict u * (s_{i+1} - s_i) along the tangent at point i and correct (pseudo-arclength), so the point stays
-    on this branch even next to a fold or another branch."""
-    prob = br.problem
+    on this branch (continued as ``prob``) even next to a fold or another branch."""
     out = step(prob, _stored(br, i, 0.0), u * float(br.arclength[i + 1] - br.arclength[i]), prob.cs)
     return None if out is None else replace(out, u=u)
 
@@ -85,20 +95,24 @@ def _bifurcation(kind: str, q: Point, i: int, located: bool, br: Branch, critica
     return Bifurcation(kind, q.p, np.asarray(q.x), np.asarray(q.multipliers), c, rot, i, located, br.n)
 
 
-def _locate(br: Branch, i: int, tests: list[Callable[[Point], float]], w0: float) -> tuple[Point, bool]:
+def _locate(
+    prob: BranchProblem, br: Branch, i: int, tests: list[Callable[[Point], float]], w0: float
+) -> tuple[Point, bool]:
     """Brent on the arclength fraction u in [0, 1] between points i and i+1 (corrected points) on the first of
     ``tests`` whose sign differs at the two ends; the point interpolated at w0 (not located) when none does, Brent
     fails or location is off (``locate``)."""
     lo, hi = _stored(br, i, 0.0), _stored(br, i + 1, 1.0)
-    for test in tests if br.problem.cs.locate else []:
+    for test in tests if prob.cs.locate else []:
         if (test(lo) > 0) != (test(hi) > 0):
-            q = brent_on_step(lambda u: _on_branch(br, i, u), test, lo, hi, br.problem.cs.locate_xtol)
+            q = brent_on_step(lambda u: _on_branch(prob, br, i, u), test, lo, hi, prob.cs.locate_xtol)
             if q is not None:
                 return q, True
     return _interpolated(br, i, w0), False
 
 
-def brent_on_step(point_at: Callable[[float], Any], test: Callable[[Any], float], a: Any, b: Any, xtol: float) -> Any:
+def brent_on_step(
+    point_at: Callable[[float], Point | None], test: Callable[[Point], float], a: Point, b: Point, xtol: float
+) -> Point | None:
     """Brent on the arclength fraction s in [0, 1] of one step (a at 0, b at 1, every trial point ``point_at(s)``
     a corrected point, cached): the point where ``test`` vanishes, None when a correction fails, the test is
     undefined or has one sign at both ends."""
@@ -116,34 +130,34 @@ def brent_on_step(point_at: Callable[[float], Any], test: Callable[[Any], float]
         return v
 
     try:
-        s = brentq(f, 0.0, 1.0, xtol=xtol, rtol=1e-15, maxiter=60)
+        s = brentq(f, 0.0, 1.0, xtol=xtol, rtol=BRENT_RTOL, maxiter=BRENT_MAXITER)
     except (RuntimeError, ValueError):
         return None
     return cache[s] if s in cache else point_at(s)
 
 
-def _fold(br: Branch, i: int, iterations: int = 12) -> tuple[Point, bool]:
+def _fold(prob: BranchProblem, br: Branch, i: int) -> tuple[Point, bool]:
     """Fold between points i and i+1: the extremum of the cubic Hermite interpolant of p(s) (values and dp/ds at
     the bracket ends), corrected onto the branch there; the bracket shrinks to the corrected point and its tangent
     until dp/ds = 0 (then one multiplier is +1)."""
     lo, hi = _stored(br, i, 0.0), _stored(br, i + 1, 1.0)
     h = float(br.arclength[i + 1] - br.arclength[i])
     best = None
-    for _ in range(iterations):
+    for _ in range(FOLD_ROUNDS):
         span = (hi.u - lo.u) * h
         p0, p1 = lo.p, hi.p
-        sp = br.problem.sp
+        sp = prob.sp
         m0, m1 = float(lo.tangent[-1]) * sp * span, float(hi.tangent[-1]) * sp * span
         c2 = 3 * (p1 - p0) - 2 * m0 - m1
         c3 = 2 * (p0 - p1) + m0 + m1
         roots = np.atleast_1d(np.roots([3 * c3, 2 * c2, m0])) if (c3 != 0 or c2 != 0) else np.array([])
-        cand = [float(r.real) for r in roots if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0]
+        cand = [float(r.real) for r in roots if abs(r.imag) < REAL_ROOT and 0.0 < r.real < 1.0]
         v = min(cand, key=lambda r: abs(r - 0.5)) if cand else 0.5
-        q = _on_branch(br, i, lo.u + v * (hi.u - lo.u))
+        q = _on_branch(prob, br, i, lo.u + v * (hi.u - lo.u))
         if q is None:
             break
         best = q
-        if abs(float(q.tangent[-1])) < 1e-10 or (hi.u - lo.u) < 1e-12:
+        if abs(float(q.tangent[-1])) < FOLD_DPDS or (hi.u - lo.u) < FOLD_BRACKET:
             break
         if (q.tangent[-1] > 0) == (lo.tangent[-1] > 0):
             lo = q
@@ -157,45 +171,48 @@ def _changes(h: np.ndarray) -> np.ndarray:
     return np.flatnonzero(np.isfinite(h[:-1]) & np.isfinite(h[1:]) & ((h[:-1] > 0) != (h[1:] > 0)))
 
 
-def _step_events(br: Branch, i: int, grazes: bool) -> list[Bifurcation]:
+def _step_events(prob: BranchProblem, br: Branch, i: int, grazes: bool) -> list[Bifurcation]:
     """The typed bifurcation points between points i and i + 1, in the order of the package table."""
     found: list[Bifurcation] = []
     m0, m1 = br.multipliers[i], br.multipliers[i + 1]
     a, b = pd_test(m0), pd_test(m1)
     if (a > 0) != (b > 0):
-        q, ok = _locate(br, i, [lambda q: pd_test(q.multipliers)], _lin_zero(a, b))
+        q, ok = _locate(prob, br, i, [lambda q: pd_test(q.multipliers)], _lin_zero(a, b))
         found.append(_bifurcation("period_doubling", q, i, ok, br, _near(-1.0)))
     dpds = br.tangents[:, -1]
     fa, fb = fold_test(m0), fold_test(m1)
     if (dpds[i] > 0) != (dpds[i + 1] > 0):
-        q, ok = _fold(br, i)
+        q, ok = _fold(prob, br, i)
         found.append(_bifurcation("fold", q, i, ok, br, _near(1.0)))
     elif (fa > 0) != (fb > 0):
-        q, ok = _locate(br, i, [lambda q: fold_test(q.multipliers)], _lin_zero(fa, fb))
+        q, ok = _locate(prob, br, i, [lambda q: fold_test(q.multipliers)], _lin_zero(fa, fb))
         found.append(_bifurcation("branch_point", q, i, ok, br, _near(1.0)))
     (o0, c0), (o1, c1) = unstable_counts(m0), unstable_counts(m1)
     if abs(o1 - o0) == 2 and abs(c1 - c0) == 2 and (o1 - o0) == (c1 - c0):
         # the modulus of the pair that crosses; failing that (another pair turned complex or crossed inside the
         # step), the count of unstable complex multipliers, which changes by 2 just where the pair crosses
         tests = [lambda q: ns_test(q.multipliers), lambda q: unstable_counts(q.multipliers)[1] - 0.5 * (c0 + c1)]
-        q, ok = _locate(br, i, tests, _lin_zero(ns_test(m0), ns_test(m1)))
+        q, ok = _locate(prob, br, i, tests, _lin_zero(ns_test(m0), ns_test(m1)))
         found.append(_bifurcation("neimark_sacker", q, i, ok, br, ns_pair))
     if grazes:
-        margin = br.problem.family.grazing
-        q, ok = _locate(br, i, [lambda q: margin(q.p, q.x, br.n)], _lin_zero(*br.grazing[i : i + 2]))
+        margin = prob.family.grazing
+        q, ok = _locate(prob, br, i, [lambda q: margin(q.p, q.x, br.n)], _lin_zero(*br.grazing[i : i + 2]))
         found.append(_bifurcation("grazing", q, i, ok, br, lambda m: None))
     return found
 
 
-def detect_bifurcations(br: Branch) -> list[Bifurcation]:
-    """Typed bifurcation points between consecutive points of ``br`` (with its tangents and problem; see the
+def detect_bifurcations(prob: BranchProblem, br: Branch) -> list[Bifurcation]:
+    """Typed bifurcation points between consecutive points of ``br`` (with its tangents, continued as ``prob``; see the
     package table); with ``locate`` off they are only bracketed (interpolated, ``located`` False), but the fold."""
     graze = set(_changes(br.grazing).tolist())
-    return [bf for i in range(len(br) - 1) for bf in _step_events(br, i, i in graze)]
+    return [bf for i in range(len(br) - 1) for bf in _step_events(prob, br, i, i in graze)]
 
 
-def sign_changes(br: Branch, margin: Callable[[float, np.ndarray, int], float]) -> list[tuple[Point, bool]]:
+def sign_changes(
+    prob: BranchProblem, br: Branch, margin: Callable[[float, np.ndarray, int], float]
+) -> list[tuple[Point, bool]]:
     """The points of ``br`` where ``margin(p, x, n)`` changes sign between consecutive points (e.g. a grazing
     margin), each located by :func:`_locate` (or only bracketed: located False)."""
     h = np.array([margin(p, x, br.n) for p, x in zip(br.p, br.states, strict=True)])
-    return [_locate(br, int(i), [lambda q: margin(q.p, q.x, br.n)], _lin_zero(h[i], h[i + 1])) for i in _changes(h)]
+    tests = [lambda q: margin(q.p, q.x, br.n)]
+    return [_locate(prob, br, int(i), tests, _lin_zero(h[i], h[i + 1])) for i in _changes(h)]

@@ -5,16 +5,22 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Callable, Mapping
-from typing import Any, Protocol
+from typing import Protocol, TypeVar
 
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+from geardyn import libm
 from geardyn.khv import point
+from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import Coefficients
 from geardyn.solve.base import SimulationSettings
 from geardyn.solve.run import simulate
 from geardyn.solve.shooting import FlowMap, cycle_points, khv_flow, period_settings
+
+#: Relative agreement of a coefficient from the line's spline with the design's at the box corner, where the
+#: spline passes through its node: rounding only (1e-9 is about 4e6 times the double's resolution).
+CORNER_RTOL = 1e-9
 
 
 class Family(Protocol):
@@ -28,6 +34,20 @@ class Family(Protocol):
     def grazing(self, p: float, x: np.ndarray, n: int) -> float: ...
 
 
+class Plane(Protocol):
+    """What a two-parameter curve needs of a plane of periodic systems: its box (p_lo, p_hi, q_lo, q_hi), the
+    n-period map at (p, q) with its monodromy, the n phase-0 points of the orbit through x, its grazing margin."""
+
+    @property
+    def box(self) -> tuple[float, float, float, float]: ...
+
+    def flow(self, p: float, q: float, n: int) -> FlowMap: ...
+
+    def cycle(self, p: float, q: float, x: np.ndarray, n: int) -> np.ndarray: ...
+
+    def grazing(self, p: float, q: float, x: np.ndarray, n: int) -> float: ...
+
+
 class KHVFamily:
     """A KHV design along one control parameter, the other overrides fixed: the coefficients of
     :func:`geardyn.khv.point.point_coefficients` at ``nodes`` values over [lo, hi], cubic splines in between
@@ -35,7 +55,7 @@ class KHVFamily:
 
     def __init__(
         self,
-        design: Any,
+        design: KHVDesign,
         parameter: str,
         fixed: Mapping[str, float],
         lo: float,
@@ -50,16 +70,16 @@ class KHVFamily:
         self.interpolation_error = 0.0
         if self.nodes >= 4:
             grid = np.linspace(self.lo, self.hi, self.nodes)
-            cs = [self._direct(v) for v in grid]
-            d0 = cs[0].as_dict()
+            at_nodes = [self._direct(v) for v in grid]
+            d0 = at_nodes[0].as_dict()
             self._const = {k: v for k, v in d0.items() if not isinstance(v, float)}
             self._floats = [k for k, v in d0.items() if isinstance(v, float)]
-            table = np.array([[c.as_dict()[k] for k in self._floats] for c in cs])
+            table = np.array([[c.as_dict()[k] for k in self._floats] for c in at_nodes])
             self._spline = CubicSpline(grid, table, axis=0)
             mids = 0.5 * (grid[1:] + grid[:-1])  # the error: the largest relative one at about five mid-points
             for v in mids[:: max(1, len(mids) // 5)]:
                 direct = np.array([self._direct(v).as_dict()[k] for k in self._floats])
-                err = np.abs(self._spline(v) - direct) / np.maximum(np.abs(direct), 1e-300)
+                err = np.abs(self._spline(v) - direct) / np.maximum(np.abs(direct), libm.TINY)
                 self.interpolation_error = max(self.interpolation_error, float(np.max(err)))
         self._cache: dict[float, Coefficients] = {}
 
@@ -73,10 +93,10 @@ class KHVFamily:
     def _make(self, p: float) -> Coefficients:
         if self.nodes < 4:
             return self._direct(p)
-        d = dict(self._const)
+        d: dict[str, float | int | str | bool] = dict(self._const)
         d.update({k: float(v) for k, v in zip(self._floats, self._spline(p), strict=True)})
         d["backlash_on"] = bool(d.get("backlash_on", True))
-        return Coefficients(**d)
+        return Coefficients(**d)  # type: ignore[arg-type]  # the fields of as_dict(), each of its own type
 
     def flow(self, p: float, n: int) -> FlowMap:
         return khv_flow(self.coefficients(p), n, self.settings)
@@ -135,7 +155,11 @@ def refined_min(a: np.ndarray) -> float:
     return m
 
 
-def cached(cache: dict, key: Any, make: Callable[[Any], Any]) -> Any:
+K = TypeVar("K")
+V = TypeVar("V")
+
+
+def cached(cache: dict[K, V], key: K, make: Callable[[K], V]) -> V:
     """cache[key], made by ``make(key)`` on a miss (the cache is emptied past 256 entries)."""
     c = cache.get(key)
     if c is None:
@@ -149,7 +173,7 @@ def cached(cache: dict, key: Any, make: Callable[[Any], Any]) -> Any:
 class PlaneLine:
     """The line of ``plane`` along p (``along`` = "p", q held at ``at``) or along q, as a :class:`Family`."""
 
-    def __init__(self, plane: Any, along: str, at: float):
+    def __init__(self, plane: Plane, along: str, at: float):
         self.plane, self.along, self.at = plane, along, float(at)
 
     def _pq(self, t: float) -> tuple[float, float]:
@@ -172,7 +196,7 @@ class KHVPlane:
 
     def __init__(
         self,
-        design: Any,
+        design: KHVDesign,
         names: tuple[str, str],
         fixed: Mapping[str, float],
         box: tuple[float, float, float, float],
@@ -180,12 +204,12 @@ class KHVPlane:
         nodes: int = 0,
     ):
         self.design, self.names, self.fixed = design, (names[0], names[1]), dict(fixed)
-        self.box = tuple(float(v) for v in box)
+        self.box = (float(box[0]), float(box[1]), float(box[2]), float(box[3]))
         self.settings = settings or point.integration_settings(design)
         swap = self.names[0] in point.COEFFICIENT_FIELDS and self.names[1] not in point.COEFFICIENT_FIELDS
         self._swap, fast = swap, self.names[0 if swap else 1]
         self._field = point.COEFFICIENT_FIELDS.get(fast)
-        self._cache: dict[tuple[float, float], Any] = {}
+        self._cache: dict[tuple[float, float], Coefficients] = {}
         self.margin: Callable[..., float] = grazing_margin
         if self._field is not None:
             lo, hi = self.box[2:] if swap else self.box[:2]
@@ -193,20 +217,25 @@ class KHVPlane:
             self._line = KHVFamily(design, self.names[1 if swap else 0], {**self.fixed, fast: mid}, lo, hi, None, nodes)
             corner = self.coefficients(self.box[1], self.box[3]).as_dict()
             direct = self._direct((self.box[1], self.box[3])).as_dict()
-            if any(abs(corner[k] - v) > 1e-9 * max(1.0, abs(v)) for k, v in direct.items() if isinstance(v, float)):
+            off = (
+                abs(float(corner[k]) - v) > CORNER_RTOL * max(1.0, abs(v))
+                for k, v in direct.items()
+                if isinstance(v, float)
+            )
+            if any(off):
                 self._field = None
             self._cache.clear()
 
-    def _direct(self, key: tuple[float, float]) -> Any:
+    def _direct(self, key: tuple[float, float]) -> Coefficients:
         return point.point_coefficients(self.design, {**self.fixed, self.names[0]: key[0], self.names[1]: key[1]})
 
-    def _make(self, key: tuple[float, float]) -> Any:
+    def _make(self, key: tuple[float, float]) -> Coefficients:
         if self._field is None:
             return self._direct(key)
         slow, fast = (key[1], key[0]) if self._swap else key
         return self._line.coefficients(slow).replace(**{self._field: fast})
 
-    def coefficients(self, p: float, q: float) -> Any:
+    def coefficients(self, p: float, q: float) -> Coefficients:
         return cached(self._cache, (float(p), float(q)), self._make)
 
     def flow(self, p: float, q: float, n: int) -> FlowMap:

@@ -5,18 +5,19 @@ points (CSV), and the branches read back from a dataset."""
 from __future__ import annotations
 
 import csv
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from io import StringIO
-from typing import Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import DTypeLike
 
 from geardyn import io, libm
 from geardyn.io import Var
+from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.runs.continuation.branch import Branch
-from geardyn.runs.continuation.curves import Curve, bounds_stable
+from geardyn.runs.continuation.curves import Curve
 from geardyn.runs.continuation.family import Family
 from geardyn.runs.cube import STATES
 from geardyn.solve import bifurcations as kinds
@@ -39,12 +40,12 @@ def quantity(name: str) -> tuple[str, str]:
     return point.CONTROLS.get(name, (point.units_of(name, "1"), name))
 
 
-def table(rows: Sequence[tuple[Var, Any]]) -> dict[str, Any]:
+def table(rows: Sequence[tuple[Var, Json]]) -> dict[str, Json]:
     """The variables of (row, values) pairs as xarray takes them."""
     return io.variables([v for v, _ in rows], [x for _, x in rows])
 
 
-def _joined(parts: list[np.ndarray], dtype: Any, shape: tuple[int, ...] = (0,)) -> np.ndarray:
+def _joined(parts: list[np.ndarray], dtype: DTypeLike, shape: tuple[int, ...] = (0,)) -> np.ndarray:
     """The branches' arrays one after the other (empty of ``shape`` without branches)."""
     return np.concatenate([np.asarray(v, dtype) for v in parts]) if parts else np.zeros(shape, dtype)
 
@@ -58,10 +59,10 @@ def _point_vars(branches: Sequence[tuple[int, Branch]], families: Mapping[int, F
             cyc[k + i, : b.n] = families[c].cycle(float(b.p[i]), b.states[i], b.n)[:, 1]
         k += len(b)
 
-    def cat(attr: str, dtype: Any = float, shape: tuple[int, ...] = (0,)) -> np.ndarray:
+    def cat(attr: str, dtype: DTypeLike = float, shape: tuple[int, ...] = (0,)) -> np.ndarray:
         return _joined([getattr(b, attr) for _, b in branches], dtype, shape)
 
-    def each(values: Any) -> np.ndarray:
+    def each(values: Iterable[int]) -> np.ndarray:
         """One value per branch, repeated on its points."""
         return _joined([np.full(len(b), v) for v, (_, b) in zip(values, branches, strict=True)], int)
 
@@ -140,10 +141,10 @@ def bifurcation_rows(
     parameter: str,
     case_labels: Sequence[str],
     paper_transitions: Sequence[float] | None = None,
-) -> list[dict[str, Any]]:
+) -> list[dict[str, Json]]:
     """One row per bifurcation point; ``paper_transitions``: the paper's transition values along the
     same parameter (only for a design that names its paper), nearest one and the difference."""
-    rows = []
+    rows: list[dict[str, Json]] = []
     for j, (c, b) in enumerate(branches):
         for bf in b.bifurcations:
             near, diff = "", ""
@@ -160,7 +161,7 @@ def bifurcation_rows(
     return rows
 
 
-def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
+def rows_to_csv(rows: Sequence[Mapping[str, Json]]) -> str:
     """The table as CSV text (columns :data:`TABLE_COLUMNS`, a header line, ``\\n`` line ends)."""
 
     buf = StringIO()
@@ -171,7 +172,7 @@ def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
     return buf.getvalue()
 
 
-def branches_from_dataset(ds: Any) -> list[tuple[int, Branch]]:
+def branches_from_dataset(ds: xr.Dataset) -> list[tuple[int, Branch]]:
     """The branches of a :func:`branch_dataset` file (points, states, multipliers; no bifurcations)."""
     out = []
     ids = ds["branch"].values
@@ -230,50 +231,3 @@ def curve_dataset(curves: Sequence[Curve], names: tuple[str, str]) -> xr.Dataset
     ]
     ends = {f"curve_{k}_end": ", ".join(f"{s}={v}" for s, v in c.end_status.items()) for k, c in enumerate(curves)}
     return xr.Dataset(table(data), attrs={**ends, "curve_parameters": f"{p} {q}"})
-
-
-def boundary_dataset(bd: Any, check: Any = None) -> xr.Dataset:
-    """The curves file of :class:`~geardyn.runs.continuation.curve_maps.Boundaries` ``bd``: the curves
-    (:func:`curve_dataset`) with the kind ``back_grazing``, ``bounds_stable`` per point, the seeds (``curve_<k>_seed``),
-    the map's records and their fates (``record_*``), the seconds per stage (``time_<stage>_s``) and, given a
-    :class:`~geardyn.runs.continuation.curve_check.PixelCheck`, its samples (``check_*``, ``pixel_check_*``)."""
-    names, rec, R = bd.region.names, bd.records, "record"
-    ds = curve_dataset(bd.curves, names)
-    bounds = [bounds_stable(c.kind, pt.multipliers, pt.crit) for c in bd.curves for pt in c.points]
-    stable = "the curve bounds a stable orbit here (the other multipliers inside)"
-    period, file_kinds = "period of the orbit before the record (0: not periodic)", kinds.flags(FILE_KINDS)
-    rows = [
-        (
-            Var("curve_kind", "curve", None, "curve kind", file_kinds),
-            [CODES[bd.file_kind(k)] for k in range(len(bd.curves))],
-        ),
-        (Var("bounds_stable", "point", None, stable, index(("interior", "boundary"))), bounds),
-        (Var("record_kind", R, None, "kind of the map's record", file_kinds), [CODES[r[0]] for r in rec]),
-        (Var("record_period", R, "1", period, dtype=np.int16), [r[1] for r in rec]),
-        *[
-            (Var(f"record_{nm}", R, *quantity(nm)), np.array([r[2 + k] for r in rec], float))
-            for k, nm in enumerate(names)
-        ],
-        (
-            Var("record_fate", R, None, "fate of the map's record as a seed", index(RECORD_FATES)),
-            [RECORD_FATES.index(r[4]) for r in rec],
-        ),
-    ]
-    ds.update(table(rows))
-    ds.attrs.update({f"curve_{k}_seed": o for k, o in enumerate(bd.origin)})
-    ds.attrs.update({f"records_{f}": int(sum(r[4] == f for r in rec)) for f in RECORD_FATES})
-    ds.attrs.update({f"time_{k}_s": round(v, 3) for k, v in bd.timing.items()})
-    ds.attrs["unseeded_events"] = (
-        "; ".join(
-            f"{kind} P{n} at ({x:.6g}, {y:.6g}){'' if located else ' (bracketed)'}"
-            for kind, n, x, y, located in bd.unseeded
-        )
-        or "none"
-    )
-    ds.attrs["lines"] = "; ".join(str(line) for line in bd.lines)
-    ds.attrs["box"] = ", ".join(f"{v:g}" for v in bd.region.box)
-    ds.attrs["fixed_overrides"] = point.label(bd.region.fixed)
-    if check is not None:
-        ds.update(table(check.variables(names, FILE_KINDS)))
-        ds.attrs.update(check.attrs())
-    return ds

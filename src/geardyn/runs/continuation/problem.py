@@ -3,12 +3,12 @@ corrector: a branch (F, p), a curve (F, G, p, q), a grazing curve (F, g, p, q) (
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
 from geardyn import libm
+from geardyn.runs.continuation.branch import Branch
 from geardyn.runs.continuation.corrector import ContinuationSettings, Evaluation, Point
+from geardyn.runs.continuation.family import Family, Plane
 from geardyn.solve.bifurcations import CURVE_KINDS
 from geardyn.solve.shooting import sorted_multipliers
 
@@ -48,9 +48,14 @@ class BranchProblem:
 
     npar = 1
 
-    def __init__(self, family: Any, n: int, d: int, sx: float, sp: float, cs: ContinuationSettings):
+    def __init__(self, family: Family, n: int, d: int, sx: float, sp: float, cs: ContinuationSettings):
         self.family, self.n, self.sx, self.sp, self.cs = family, n, sx, sp, cs
         self.scale = np.array([sx] * d + [sp])
+
+    @classmethod
+    def of(cls, family: Family, br: Branch) -> BranchProblem:
+        """The problem ``br`` was continued as (its scales and settings), on ``family``."""
+        return cls(family, br.n, br.states.shape[1], br.sx, br.sp, br.settings)
 
     def evaluate(self, z: np.ndarray, last: Evaluation | None, ref: Point | None = None) -> Evaluation | None:
         x, p = z[:-1], float(z[-1])
@@ -67,6 +72,10 @@ class BranchProblem:
             Fp = last.J[:, -1]
         return Evaluation(phi - x, M, np.column_stack([M - np.eye(x.size), Fp]))
 
+    def jacobian(self, z: np.ndarray, ev: Evaluation, ref: Point) -> np.ndarray | None:
+        """dH/dz, which comes with every evaluation (:meth:`evaluate`)."""
+        return ev.J
+
     def converged(self, z: np.ndarray, ev: Evaluation) -> bool:
         return float(np.max(np.abs(ev.H))) <= self.cs.tol * max(1.0, float(np.max(np.abs(z[:-1]))))
 
@@ -80,7 +89,9 @@ class CurveProblem:
 
     npar = 2
 
-    def __init__(self, plane: Any, kind: str, n: int, d: int, scales: tuple[float, float, float], cs: Any):
+    def __init__(
+        self, plane: Plane, kind: str, n: int, d: int, scales: tuple[float, float, float], cs: ContinuationSettings
+    ):
         if kind not in CURVE_KINDS:
             raise ValueError(f"curve kind {kind!r}; allowed: {CURVE_KINDS}")
         self.plane, self.kind, self.n, self.scales, self.cs = plane, kind, n, scales, cs

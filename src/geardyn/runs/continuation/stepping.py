@@ -7,7 +7,6 @@ import logging
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from functools import partial
-from typing import Any
 
 import numpy as np
 
@@ -23,6 +22,7 @@ from geardyn.runs.continuation.corrector import (
     tangent,
 )
 from geardyn.runs.continuation.events import detect_bifurcations
+from geardyn.runs.continuation.family import Family
 from geardyn.runs.continuation.problem import BranchProblem
 from geardyn.solve.shooting import newton_shooting, sorted_multipliers
 
@@ -57,7 +57,7 @@ def march(
         if len(pts) > 10 and back:
             return pts, "closed_loop"
         if cur.iterations <= cs.grow_at:
-            ds = min(ds * 1.3, cs.ds_max)
+            ds = min(ds * cs.ds_grow, cs.ds_max)
         if float(np.max(libm.cabs(cur.multipliers))) > cs.max_multiplier:
             return pts, "multipliers_too_large"
     return pts, "max_points"
@@ -69,6 +69,7 @@ def both_ways(
     """The points of the marches ``run`` from ``seed`` in ``directions`` (``up``: along its tangent) in order
     along the tangent, the seed between, the down march's tangents flipped; the end statuses."""
     up, end_up = run(seed) if "up" in directions else ([], "not_followed")
+    down: list[Point]
     if end_up == "closed_loop":
         down, end_down = [], "closed_loop"  # the up march went round the whole isola
     else:
@@ -77,7 +78,9 @@ def both_ways(
     return [*down, seed, *up], {"down": end_down, "up": end_up}
 
 
-def box_end(problem: Problem, a: Point, z_pred: np.ndarray, box: Sequence[float], cs: Any) -> Point | None:
+def box_end(
+    problem: Problem, a: Point, z_pred: np.ndarray, box: Sequence[float], cs: ContinuationSettings
+) -> Point | None:
     """The point where the step from ``a`` to the prediction ``z_pred`` leaves ``box`` (lo, hi of each parameter):
     solved on the side it crosses first, from the prediction shortened to it; None when ``a`` is on that side
     already (within ``cs.locate_xtol`` of the step) or the corrector fails."""
@@ -114,7 +117,7 @@ def _advance(prob: BranchProblem, box: tuple[float, float], cur: Point, ds: floa
 
 
 def continue_branch(
-    family: Any,
+    family: Family,
     p0: float,
     x0: np.ndarray,
     n: int,
@@ -174,7 +177,9 @@ def _assemble(prob: BranchProblem, pts: list[Point], ends: dict[str, str]) -> Br
         iterations=np.array([q.iterations for q in pts], dtype=np.int32),
         end_status=dict(ends),
         tangents=np.array([q.tangent for q in pts]),
-        problem=prob,
+        sx=prob.sx,
+        sp=prob.sp,
+        settings=prob.cs,
     )
-    br.bifurcations = detect_bifurcations(br)
+    br.bifurcations = detect_bifurcations(prob, br)
     return br

@@ -15,6 +15,9 @@ from geardyn.runs.continuation.family import Family, KHVFamily
 from geardyn.runs.continuation.stepping import continue_branch
 from geardyn.solve.shooting import newton_shooting
 
+#: The smallest parameter span of a branch that scales a distance (a branch of one point has none).
+SPAN_FLOOR = 1e-12
+
 log = logging.getLogger("geardyn.continuation")
 
 
@@ -109,7 +112,7 @@ def touches(br: Branch, p: float, points: np.ndarray, tol: float) -> bool:
     ``points`` at p: a branch that ends at (or was cut just short of) a period doubling it was born at."""
     if tol <= 0.0:
         return False
-    span = max(float(np.ptp(br.p)), 1e-12)
+    span = max(float(np.ptp(br.p)), SPAN_FLOOR)
     scale = max(1.0, float(np.max(np.abs(br.states))))
     dp = np.abs(br.p - p)[:, None] / span
     dx = np.max(np.abs(br.states[:, None, :] - points[None, :, :]), axis=2) / scale
