@@ -162,7 +162,7 @@ class GeardynAccessor:
         to 1); ``by``: the dimensions that make a row (default: every dimension but the study's axes)."""
         names = self.names(var)
         axes = set(self._axes()) | {"sample"}
-        by = [d for d in names.dims if d not in axes] if by is None else list(by)
+        by = [str(d) for d in names.dims if d not in axes] if by is None else list(by)
         table = names.to_dataframe(name=var).reset_index()
         index = [table[d] for d in by] if by else pd.Series("all", index=table.index, name="of")
         return pd.crosstab(index, table[var], normalize="index").rename_axis(columns=var)
@@ -254,7 +254,7 @@ def _title(ds: xr.Dataset) -> str:
 def _spec(ds: xr.Dataset) -> dict[str, Any]:
     """The study's config entry (the file's ``config_json`` without the design)."""
     config = json.loads(ds.attrs.get("config_json", "{}"))
-    return next((v for k, v in config.items() if k != "design" and isinstance(v, Mapping)), {})
+    return dict(next((v for k, v in config.items() if k != "design" and isinstance(v, Mapping)), {}))
 
 
 def _beside(path: Path | None, name: str) -> xr.Dataset | None:

@@ -19,6 +19,7 @@ from geardyn.io import Var
 from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
+from geardyn.khv.model import Coefficients
 from geardyn.label import Policy
 from geardyn.runs import study
 from geardyn.runs.cube import STATES
@@ -238,7 +239,7 @@ def layout(design: KHVDesign, spec: ProbabilitySpec, chunk: int, table: Samples)
     lines, starts = [], []
     for i in np.array_split(np.arange(n), spec.n_chunks)[chunk]:
         own = dict(spec.fixed) | {n: float(v) for n, v in zip(table.names[:k], table.values[i, :k], strict=True)}
-        line = [
+        line: list[tuple[study.Index, Coefficients]] = [
             ((int(i), j), point.point_coefficients(design, own if x is None else {**own, spec.dim: x}))
             for j, x in enumerate(axis)
         ]

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from functools import partial
 from types import ModuleType
 
 import numpy as np
@@ -36,7 +37,7 @@ FAMILIES: dict[str, Callable[[np.ndarray], np.ndarray]] = {
 }
 #: The impact classes and ``diverged`` (no response measured: ``impact_class`` -1), so that they sum to 1.
 IMPACTS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
-    **{name: (lambda c, code=code: c == code) for name, code in IMPACT_CLASSES.items()},
+    **{name: partial(np.equal, code) for name, code in IMPACT_CLASSES.items()},
     "diverged": lambda c: c < 0,
 }
 #: The response measures whose quantiles a study gives, and the quantiles.
@@ -96,7 +97,7 @@ def indicator(ds: xr.Dataset, name: str) -> np.ndarray:
     return np.where(ds["label"].values == LABELS["diverged"], np.inf, ds[name].values.astype(float))
 
 
-def _problem(d: int) -> dict[str, Any]:
+def _problem(d: int) -> dict[str, Json]:
     return {"num_vars": d, "names": [f"u{k}" for k in range(d)], "bounds": [[0.0, 1.0]] * d}
 
 
@@ -257,7 +258,7 @@ def headline(spec: ProbabilitySpec) -> tuple[str, ...]:
     return tuple(i for i in names if i in FAMILIES or i in IMPACTS) or ("P1", "double_sided")
 
 
-def convergence(ds: xr.Dataset, spec: ProbabilitySpec, block: np.ndarray) -> dict[str, Any]:
+def convergence(ds: xr.Dataset, spec: ProbabilitySpec, block: np.ndarray) -> dict[str, Json]:
     """The headline probabilities, averaged along the axis, on nested prefixes of the scramblings: n = 32, 64,
     ... and the whole sample, each the first n / R points of every scrambling, with their QMC standard errors."""
     r = int(block.max()) + 1
@@ -330,8 +331,8 @@ def claim_probabilities(paper: ModuleType, ds: xr.Dataset, role: str) -> list[di
     specs = [c for c in paper.CLAIMS if c.get("line") == role and "case" not in c]
     x, lab = ds[ds.attrs["axis_parameter"]].values, ds["label"].values
     lam, sig = ds["lyapunov"].values, ds["lyapunov_sigma"].values
-    rows = np.flatnonzero(ds["sample_block"].values >= 0)  # the probabilities' samples
-    tracks = [claims.Track(x, lab[s], lam[s], sig[s]) for s in rows]
+    kept = np.flatnonzero(ds["sample_block"].values >= 0)  # the probabilities' samples
+    tracks = [claims.Track(x, lab[s], lam[s], sig[s]) for s in kept]
     rows = []
     for c in specs:
         got = [claims.sweep_claim(c, {role: t}, paper.CLAIM_LINES).verdict for t in tracks]

@@ -11,7 +11,7 @@ import logging
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, NamedTuple, Protocol, Self
+from typing import TYPE_CHECKING, NamedTuple, Protocol, Self, TypeVar
 
 import numpy as np
 
@@ -145,8 +145,11 @@ class Result(NamedTuple):
     data: Variables
     verdicts: list[list[Verdict]]
     wall_time_s: float
-    attrs: dict[str, Any]
+    attrs: dict[str, Json]
 
+
+#: A line's kind of system (``damped`` hands back the line it was given).
+S = TypeVar("S", bound=System)
 
 #: What a file of points without damping says (``docs/classify.md``, "Systems without damping").
 UNDAMPED_NOTE = (
@@ -162,7 +165,7 @@ def undamped(system: System) -> bool:
     return system.c_m == 0.0 and system.c_DH == 0.0 and system.c_VL == 0.0
 
 
-def damping_attrs(systems: Iterable[System]) -> dict[str, Any]:
+def damping_attrs(systems: Iterable[System]) -> dict[str, Json]:
     """The file attributes of a study's points: ``undamped`` 1 where every point has no damping in any mode (with
     ``undamped_note``, :data:`UNDAMPED_NOTE`), else 0."""
     if all(map(undamped, systems)):
@@ -170,7 +173,7 @@ def damping_attrs(systems: Iterable[System]) -> dict[str, Any]:
     return {"undamped": 0}
 
 
-def damped(line: list[tuple[Index, System]], what: str) -> list[tuple[Index, System]]:
+def damped(line: list[tuple[Index, S]], what: str) -> list[tuple[Index, S]]:
     """``line`` unchanged, or one line of refusal where a point has no damping in any mode: a study that needs
     attractors (basin stability) has none to count there."""
     for idx, system in line:
