@@ -48,7 +48,9 @@ REASONS = ("ok", *FAILURES, *EXCLUDED)
 FORWARD = "the stable pixel's row reaches it without crossing the curve"
 #: Criticality of a period doubling (``check_criticality`` flags; "untyped" for the other kinds).
 CRITICALITY = ("untyped", "supercritical", "subcritical")
-_TORUS = (LABELS["quasi_periodic"], LABELS["long_period"])
+#: What a pixel just past a Neimark-Sacker curve may show: the torus, a phase-locked torus, or a record that still
+#: grows away from the orbit toward the torus at the labeller's cap (``transient``).
+_TORUS = (LABELS["quasi_periodic"], LABELS["long_period"], LABELS["transient"])
 
 
 @dataclass(frozen=True)
