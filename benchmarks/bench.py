@@ -5,7 +5,8 @@
 ``python -m benchmarks.bench probabilities`` (256 samples x 100 points of a probabilities study against map_x1_b),
 ``python -m benchmarks.bench fingerprint [--write]`` (a hash per stage of a small fixed study, to compare
 machines; ``--write`` replaces the committed reference), ``python -m benchmarks.bench ledger [--write]`` (the
-cost of fixed small workloads in kernel point-steps against the committed reference), ``python -m benchmarks.bench
+cost of fixed small workloads in kernel point-steps against the committed reference; ``ledger --log LOG
+[--reference-log LOG]``: a build's job-seconds per stage from its Snakemake log), ``python -m benchmarks.bench
 stages [map | design/sweep]`` (the labeller's periods by stage and label).
 
 Single-threaded by construction when run as a program (thread pools pinned to 1 before numpy/numba
@@ -164,9 +165,15 @@ def main_ledger(argv: list[str]) -> int:
     ap.add_argument("--config", type=Path, default=Path("config/config.yaml"))
     ap.add_argument("--write", action="store_true", help="write benchmarks/ledger.json")
     ap.add_argument("--only", default="", help="only the workloads whose name contains this")
+    ap.add_argument("--log", type=Path, help="a build's Snakemake log: print its job-seconds per stage, run nothing")
+    ap.add_argument("--reference-log", type=Path, help="with --log: the reference build's log, side by side")
     a = ap.parse_args(argv)
     if a.write and a.only:
         ap.error("--write replaces the whole reference: not with --only")
+    if a.log is not None:
+        ref = ledger.build_stages(a.reference_log) if a.reference_log is not None else None
+        print(ledger.stage_markdown(ledger.build_stages(a.log), ref), end="")
+        return 0
     now = ledger.ledger(a.config, log=lambda m: print(m, flush=True), only=a.only)
     print(ledger.markdown(now, ledger.read_reference()), end="")
     if a.write:

@@ -7,8 +7,10 @@ machine to machine; compared with the committed reference ``benchmarks/ledger.js
 from __future__ import annotations
 
 import json
+import re
 import time
 from collections.abc import Callable
+from datetime import datetime
 from pathlib import Path
 
 import numpy as np
@@ -165,3 +167,90 @@ def _ratio(now: dict, ref: dict | None) -> float:
 def write_reference(now: dict, machine: dict[str, str], path: Path = REFERENCE) -> None:
     """Replace the committed reference with ``now`` (a commit that makes a workload dearer says why)."""
     path.write_text(json.dumps({"machine": machine, **now}, indent=1) + "\n")
+
+
+# --- the whole build: job-seconds per stage, read from a Snakemake log -------------------------------------
+
+CONTINUATION = ("map_curves", "curves_study", "orbit_branches", "orbit_attractors")
+#: the build's stages, each the rules whose jobs it sums (in the order printed); every other rule's jobs are
+#: "the other jobs" (figures, merges, point runs, plus, claims, tables)
+STAGES: tuple[tuple[str, tuple[str, ...]], ...] = (
+    ("map chunks", ("map_chunk",)),
+    ("sweep chunks", ("sweep_chunk",)),
+    ("kernels (compiling once)", ("kernels",)),
+    ("continuation: map curves, curves studies, branches, attractors", CONTINUATION),
+    ("probabilities chunks", ("probabilities_chunk",)),
+    ("work precision", ("work_precision",)),
+)
+OTHER = "the other jobs: figures, merges, point runs, plus, claims, tables"
+
+_STAMP = re.compile(r"^\[(\w{3} \w{3} +\d+ \d\d:\d\d:\d\d \d{4})\]$")
+_RULE = re.compile(r"^(?:local)?(?:rule|checkpoint) (\w+):$")
+_JOBID = re.compile(r"^\s+jobid: (\d+)$")
+_FINISHED = re.compile(r"^Finished job(?:id:)? (\d+)")
+
+
+def build_jobs(text: str) -> list[tuple[str, float, float]]:
+    """The jobs of a build that wrote files, from its Snakemake log (``.snakemake/log/*.snakemake.log``):
+    (rule, start, end) in seconds since the log's first time stamp, a job's start the stamp above its ``rule
+    <name>:`` block and its end the stamp above its ``Finished jobid`` line (both to the second, as the log
+    writes them).  Target rules (a block without ``output:``, such as ``all``) and jobs that never finished
+    (a failed or cut build) are left out."""
+    stamp = first = None
+    rule, writes = "", False
+    started: dict[str, tuple[str, datetime]] = {}
+    jobs = []
+    for line in text.splitlines():
+        if m := _STAMP.match(line.strip()):
+            stamp = datetime.strptime(" ".join(m.group(1).split()), "%a %b %d %H:%M:%S %Y")
+            first = first or stamp
+        elif m := _RULE.match(line):
+            rule, writes = m.group(1), False
+        elif line.startswith("    output: "):
+            writes = True
+        elif (m := _JOBID.match(line)) and rule and stamp is not None:
+            if writes:
+                started[m.group(1)] = (rule, stamp)
+            rule = ""
+        elif (m := _FINISHED.match(line)) and m.group(1) in started and stamp is not None:
+            name, t0 = started.pop(m.group(1))
+            jobs.append((name, (t0 - first).total_seconds(), (stamp - first).total_seconds()))
+    return jobs
+
+
+def stage_seconds(jobs: list[tuple[str, float, float]]) -> dict[str, tuple[float, int]]:
+    """Job-seconds and jobs per stage (:data:`STAGES`, then :data:`OTHER`), then "all" and "wall" (the
+    first start to the last end, 0 jobs)."""
+    stage_of = {r: name for name, rules in STAGES for r in rules}
+    out = {name: (0.0, 0) for name, _ in STAGES} | {OTHER: (0.0, 0)}
+    for r, t0, t1 in jobs:
+        s, n = out[stage_of.get(r, OTHER)]
+        out[stage_of.get(r, OTHER)] = (s + t1 - t0, n + 1)
+    out["all"] = (sum(s for s, _ in out.values()), len(jobs))
+    out["wall"] = (max((t for *_, t in jobs), default=0.0) - min((t for _, t, _ in jobs), default=0.0), 0)
+    return out
+
+
+def stage_markdown(now: dict[str, tuple[float, int]], reference: dict[str, tuple[float, int]] | None = None) -> str:
+    """The stage table: job-seconds (and jobs) per stage of a build, beside a reference build's and their
+    ratio; the last rows all jobs and the wall time."""
+    ref = reference or {}
+    head = "| stage (job-s) | this build | reference | ratio |\n|---|---:|---:|---:|\n"
+    rows = []
+    for name, (s, n) in now.items():
+        r, rn = ref.get(name, (0.0, 0))
+        bold = "**" if name in ("all", "wall") else ""
+        rows.append(
+            f"| {bold}{name}{bold} | {_cell(s, n)} | {_cell(r, rn) if reference else '-'} | "
+            f"{f'{s / r:.2f}' if r else '-'} |"
+        )
+    return head + "\n".join(rows) + "\n"
+
+
+def _cell(seconds: float, jobs: int) -> str:
+    return f"{seconds:.0f}" + (f" ({jobs} jobs)" if jobs else "")
+
+
+def build_stages(log: Path) -> dict[str, tuple[float, int]]:
+    """The stage table's column of one build: :func:`stage_seconds` of the jobs of its Snakemake log."""
+    return stage_seconds(build_jobs(log.read_text(encoding="utf-8", errors="replace")))

@@ -1,6 +1,7 @@
 """Jobs that only read results start without the solver: their modules do not import numba, the compiled
 loops or scipy's heavier packages (each workflow job is a new process, so its imports are its start-up)."""
 
+import ast
 import subprocess
 import sys
 from pathlib import Path
@@ -104,3 +105,50 @@ def test_a_design_header_is_what_the_full_design_says() -> None:
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False"
+
+
+#: The workflow's adapters that draw, merge or write tables: nothing in them integrates, so their imports (their
+#: job's start-up) load neither numba nor the kernel cache, nor scipy's linear algebra.
+DRAWING_ADAPTERS = (
+    "bifurcation_figure",
+    "closed_graph",
+    "curves_figure",
+    "fig03_closed_graph",
+    "map_figure",
+    "map_merge",
+    "orbits_figure",
+    "plus_claims",
+    "plus_modal_figures",
+    "plus_te_figures",
+    "point_figure",
+    "probabilities_claims",
+    "probabilities_figure",
+    "probabilities_merge",
+    "stiffness_figures",
+    "stiffness_table",
+    "sweep_merge",
+)
+SCRIPTS = Path(__file__).parents[1] / "workflow" / "scripts"
+
+
+@pytest.mark.parametrize("adapter", DRAWING_ADAPTERS)
+def test_a_drawing_or_merging_adapter_does_not_import_the_solver(adapter: str) -> None:
+    # the adapter's own import statements, run as its job runs them (a new interpreter)
+    tree = ast.parse((SCRIPTS / f"{adapter}.py").read_text())
+    imports = [ast.unparse(n) for n in tree.body if isinstance(n, ast.Import | ast.ImportFrom)]
+    assert imports, adapter
+    heavy = (*HEAVY, "scipy.linalg", "geardyn.solve._cache", "geardyn.solve._batch")
+    code = "\n".join(imports) + f"\nimport sys; print(' '.join(m for m in {heavy!r} if m in sys.modules))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == []
+
+
+def test_a_spectrums_peaks_are_found_without_scipy_signal() -> None:
+    # the point figures' captions and the claims name a spectrum's peaks: scipy.signal costs 0.6-0.9 CPU-s to import
+    code = (
+        "import sys, numpy as np; from geardyn.label import classify; "
+        "f = np.linspace(0, 3, 301); a = np.exp(-(((f - 1) / 0.05) ** 2)); "
+        "print(classify.spectral_peaks(f, a), 'scipy.signal' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["[1.0]", "False"]

@@ -235,7 +235,6 @@ def test_slurm_profile_keeps_cheap_rules_local(tmp_path):
         "plus_te_figures",
         "plus_te_figures_own",
         "plus_forced_response",
-        "regime_bands",
         "claims",
         "map_merge",
         "map_figure",

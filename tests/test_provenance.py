@@ -2,6 +2,7 @@
 and table, printed by ``geardyn verify-archive``; every variable compressed losslessly; the pinned environment."""
 
 import json
+import os
 import re
 import subprocess
 import sys
@@ -162,3 +163,30 @@ def test_readme_and_ci_install_from_the_pins_and_the_pins_are_this_environment()
     for pkg in ("numpy", "scipy", "numba", "llvmlite", "xarray", "netcdf4", "snakemake", "pytest", "hypothesis"):
         assert pkg in pins, pkg
         assert metadata.version(pkg) == pins[pkg], f"{pkg}: installed {metadata.version(pkg)}, pinned {pins[pkg]}"
+
+
+@pytest.mark.parametrize(
+    "env",
+    [
+        {},
+        {"NUMBA_CPU_NAME": "generic"},
+        {"NUMBA_CPU_NAME": "skylake"},
+        {"NUMBA_CPU_NAME": "x", "NUMBA_CPU_FEATURES": "+avx"},
+    ],
+)
+def test_the_cpu_numba_compiles_for_is_recorded_without_importing_numba(env, tmp_path):
+    # what numba's own config says (numba imported first) against what a job that never imports numba records
+    code = (
+        "import json, sys{}; from geardyn.io import provenance; r = provenance.runtime(); "
+        "print(json.dumps([r['numba_cpu_name'], r['numba_cpu_features'], 'numba' in sys.modules]))"
+    )
+    base = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_CPU")}
+
+    def run(c: str) -> list:
+        out = subprocess.run(
+            [sys.executable, "-c", c], capture_output=True, text=True, check=True, env={**base, **env}, cwd=tmp_path
+        )
+        return json.loads(out.stdout)
+
+    with_numba, without = run(code.format(", numba")), run(code.format(""))
+    assert with_numba[:2] == without[:2] and with_numba[2] and not without[2]

@@ -1,26 +1,5 @@
-# Regime bands of every sweep (labels from geardyn.label.classify) and, for designs that name paper 1, its
-# claims checked one by one.
-
-
-rule regime_bands:
-    input:
-        cube=rules.sweep_merge.output[0],
-    output:
-        csv=report(
-            results("tables", "{sweep}_bands.csv"),
-            caption="../report/bands.rst",
-            category=category,
-            subcategory=subcategory("sweep"),
-            labels={"design": "{design}", "table": "regime bands"},
-        ),
-        md=results("tables", "{sweep}_bands.md"),
-    log:
-        logs("bands_{sweep}.log"),
-    threads: 1
-    params:
-        spec=config_slice("sweeps"),
-    script:
-        "../scripts/regime_bands.py"
+# The regime bands of every sweep (labels from geardyn.label.classify; written with the sweep's cube by rule
+# sweep_merge) and, for designs that name paper 1, its claims checked one by one.
 
 
 rule claims:
@@ -49,6 +28,6 @@ rule claims:
         "../scripts/claims.py"
 
 
-CLASSIFY_TARGETS = runs_for("sweeps", rules.regime_bands.output.md) + per_design(
+CLASSIFY_TARGETS = runs_for("sweeps", rules.sweep_merge.output.md) + per_design(
     rules.claims.output.md, config["claims"]["designs"]
 )

@@ -17,7 +17,6 @@ localrules:
     plus_te_figures,
     plus_te_figures_own,
     plus_forced_response,
-    regime_bands,
     claims,
     map_merge,
     map_figure,

@@ -23,7 +23,17 @@ rule sweep_merge:
         design=design_file,
         chunks=chunk_files("sweeps", rules.sweep_chunk.output[0], sweep_chunks),
     output:
-        results("sweeps", "{sweep}.nc"),
+        cube=results("sweeps", "{sweep}.nc"),
+        # the regime bands of the cube, written by the same job (a job of their own paid an interpreter and
+        # the cube's reading for 0.1 s of work)
+        csv=report(
+            results("tables", "{sweep}_bands.csv"),
+            caption="../report/bands.rst",
+            category=category,
+            subcategory=subcategory("sweep"),
+            labels={"design": "{design}", "table": "regime bands"},
+        ),
+        md=results("tables", "{sweep}_bands.md"),
     log:
         logs("sweep_{sweep}_merge.log"),
     threads: 1

@@ -87,18 +87,32 @@ def _numba_cpu() -> dict[str, str]:
     else the host's (llvmlite)."""
     try:
         import llvmlite.binding as llvm  # noqa: PLC0415 - the JIT only when provenance is asked for
-        import numba  # noqa: PLC0415 - likewise
     except ImportError:
         return {"numba_cpu_name": "not installed", "numba_cpu_features": ""}
-    name = numba.config.CPU_NAME or llvm.get_host_cpu_name()
-    if numba.config.CPU_FEATURES is not None:
-        feats = numba.config.CPU_FEATURES
-    elif numba.config.CPU_NAME:
+    cpu_name, cpu_features = _numba_cpu_settings()
+    name = cpu_name or llvm.get_host_cpu_name()
+    if cpu_features is not None:
+        feats = cpu_features
+    elif cpu_name:
         feats = "(those of the named CPU)"
     else:
         feats = llvm.get_host_cpu_features().flatten()
     simd = sorted(f[1:] for f in feats.split(",") if f.startswith("+") and _SIMD_FLAG.match(f[1:].replace(".", "_")))
     return {"numba_cpu_name": name, "numba_cpu_features": " ".join(simd) if simd else feats}
+
+
+def _numba_cpu_settings() -> tuple[str | None, str | None]:
+    """numba's ``config.CPU_NAME`` and ``config.CPU_FEATURES``.  A job that writes results without integrating
+    does not import numba for them (0.3 CPU-s): they are read from the environment as numba reads them, unless
+    numba is loaded already or a ``.numba_config.yaml`` in the working folder may set them."""
+    if "numba" in sys.modules or Path(".numba_config.yaml").is_file():
+        try:
+            import numba  # noqa: PLC0415 - the JIT only when provenance is asked for
+        except ImportError:
+            return None, None
+        return numba.config.CPU_NAME, numba.config.CPU_FEATURES
+    name = os.environ.get("NUMBA_CPU_NAME")
+    return name, os.environ.get("NUMBA_CPU_FEATURES", "" if str(name).lower() == "generic" else None)
 
 
 #: The keys of :func:`runtime` (besides ``env_<VARIABLE>`` for the overrides that are set).
