@@ -2,10 +2,6 @@
 
 import numpy as np
 import pytest
-from hypothesis import given
-from hypothesis import strategies as st
-from hypothesis.extra.numpy import arrays
-from scipy.signal import find_peaks
 
 from _oracle import classify_point
 from geardyn.label import classify
@@ -61,23 +57,3 @@ def test_chaotic_logistic_map_is_not_periodic():
     for i in range(199):
         x[i + 1] = 4.0 * x[i] * (1 - x[i])
     assert classify.strict_period(x[100:, None]) == 0
-
-
-@given(
-    st.one_of(
-        arrays(np.int64, st.integers(0, 60), elements=st.integers(0, 3)),  # plateaus and flat ends
-        arrays(np.float64, st.integers(0, 60), elements=st.floats(-1e3, 1e3)),
-    )
-)
-def test_local_maxima_are_those_of_scipys_find_peaks(a):
-    # scipy.signal.find_peaks, an independent implementation (its flat tops: the middle sample, rounded down)
-    np.testing.assert_array_equal(classify.local_maxima(a), find_peaks(a)[0])
-
-
-def test_spectral_peaks_of_a_known_spectrum():
-    # three lines at 0.5, 1 and 2.5 (amplitudes 0.3, 1, 0.01: the last below 2 % of the largest), one a flat top
-    freq = np.linspace(0, 3, 301)
-    amp = np.zeros_like(freq)
-    amp[[50, 250]] = 0.3, 0.01
-    amp[100:103] = 1.0
-    assert classify.spectral_peaks(freq, amp) == [pytest.approx(1.01), pytest.approx(0.5)]

@@ -141,14 +141,3 @@ def test_a_drawing_or_merging_adapter_does_not_import_the_solver(adapter: str) -
     code = "\n".join(imports) + f"\nimport sys; print(' '.join(m for m in {heavy!r} if m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.split() == []
-
-
-def test_a_spectrums_peaks_are_found_without_scipy_signal() -> None:
-    # the point figures' captions and the claims name a spectrum's peaks: scipy.signal costs 0.6-0.9 CPU-s to import
-    code = (
-        "import sys, numpy as np; from geardyn.label import classify; "
-        "f = np.linspace(0, 3, 301); a = np.exp(-(((f - 1) / 0.05) ** 2)); "
-        "print(classify.spectral_peaks(f, a), 'scipy.signal' in sys.modules)"
-    )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
-    assert out.split() == ["[1.0]", "False"]

@@ -161,25 +161,10 @@ def spectral_peaks(freq, amp, n: int = 5, fmax: float = 3.0) -> list[float]:
     if keep.sum() < 3:
         return []
     f, a = freq[keep], amp[keep]
-    idx = local_maxima(a)
-    idx = idx[a[idx] >= 0.02 * a.max()]
+    from scipy.signal import find_peaks  # noqa: PLC0415 - 0.3 s to import: only the captions with spectra
+
+    idx, _ = find_peaks(a, height=0.02 * a.max())
     return [float(f[i]) for i in idx[np.argsort(-a[idx], kind="stable")[:n]]]  # ties: the lower frequency first
-
-
-def local_maxima(a: np.ndarray) -> np.ndarray:
-    """Indices of the local maxima of the 1-D array ``a``, as ``scipy.signal.find_peaks(a)`` gives them: a value
-    above both neighbours, a flat top at its middle sample (rounded down), none at either end.  Written here
-    because importing ``scipy.signal`` costs 0.6-0.9 CPU-s (it loads ``scipy.stats``), more than the whole
-    drawing of the figure jobs whose captions name a spectrum's peaks; ``tests/test_classify.py`` checks it
-    against ``find_peaks``."""
-    a = np.asarray(a)
-    if a.size < 3:
-        return np.zeros(0, dtype=np.intp)
-    start = np.flatnonzero(np.r_[True, a[1:] != a[:-1]])  # the runs of equal values: first and last index
-    end = np.r_[start[1:], a.size] - 1
-    top, inner = a[start], np.arange(1, max(start.size - 1, 1))
-    peak = inner[(top[inner - 1] < top[inner]) & (top[inner + 1] < top[inner])]
-    return (start[peak] + end[peak]) // 2
 
 
 @dataclass(frozen=True)
