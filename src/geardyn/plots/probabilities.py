@@ -88,5 +88,18 @@ def caption(name: str, ds: xr.Dataset) -> str:
         f"{ds.attrs['initial_state']}; each sample is a line along {dim} on which every point starts from its "
         f"neighbour's attractor (geardyn.label), {ds.attrs['steps_per_period']} steps per period. Fixed overrides: "
         f"{ds.attrs['fixed_overrides']}. {'; '.join(most)}. Leading input per indicator "
-        f"({ds.attrs['sensitivity_method']}, largest mean index along the axis): {lead}."
+        f"({ds.attrs['sensitivity_method']}, largest mean index along the axis): {lead}. {conditioning(ds)}"
+    )
+
+
+def conditioning(ds: xr.Dataset) -> str:
+    """What a study's probabilities condition on: its axis and fixed overrides; where it draws an operating
+    condition on purpose (``operating: true``), that its numbers are shares of the box of that condition."""
+    drawn = ds.attrs.get("operating_inputs", "")
+    given = f"Each probability is conditional on {ds.attrs['axis_parameter']} and the fixed overrides"
+    if not drawn:
+        return f"{given}; only the inputs above are drawn."
+    return (
+        f"{given}, but {drawn} (an operating condition) is drawn over its range: these probabilities are shares of "
+        "the box, not probabilities of a drive."
     )

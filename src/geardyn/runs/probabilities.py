@@ -6,6 +6,7 @@ samples, so no result depends on the chunking; the statistics of the merged cube
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -14,7 +15,8 @@ from typing import Any, NamedTuple
 import numpy as np
 import xarray as xr
 
-from geardyn.gears.tolerances import te_amplitude_bound
+from geardyn.gears import geometry
+from geardyn.gears import tolerances as flank
 from geardyn.io import Var
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
@@ -23,6 +25,10 @@ from geardyn.runs import study
 from geardyn.runs.cube import STATES
 from geardyn.runs.maps import Axis
 
+#: The operating conditions (the mesh frequency, the input speed, the torques): an axis or a fixed value of a
+#: study, drawn as an input only where its config marks it ``operating: true`` (a share of the box, not a
+#: probability over a drive's unknowns).
+OPERATING = ("w", "speed", "T_D", "T_L")
 #: The initial state as uncertain inputs: its offsets from the static deflection (units of b_c).
 START_INPUTS = tuple(f"start_{s}" for s in STATES)
 
@@ -31,7 +37,8 @@ START_INPUTS = tuple(f"start_{s}" for s in STATES)
 class Input:
     """One uncertain input: an override (a control or a model parameter, in its override units) uniform on
     [low, high] (``log``: its logarithm uniform) or, with ``std`` > 0, a normal of ``mean`` truncated to
-    [low, high]; ``source``: where its range comes from."""
+    [low, high]; ``source``: where its range comes from; ``operating``: an operating condition drawn on purpose
+    (:data:`OPERATING`)."""
 
     name: str
     low: float
@@ -40,6 +47,7 @@ class Input:
     mean: float = math.nan
     std: float = 0.0
     source: str = ""
+    operating: bool = False
 
     def values(self, u: np.ndarray) -> np.ndarray:
         """The input's values at the unit-cube coordinates ``u``: its inverse distribution function."""
@@ -59,14 +67,19 @@ class Input:
             what = f"normal {self.mean:.4g} +- {self.std:.4g} truncated to [{self.low:.4g}, {self.high:.4g}]"
         else:
             what = f"{'log-' if self.log else ''}uniform on [{self.low:.4g}, {self.high:.4g}]"
-        return f"{self.name} {what}" + (f" ({self.source})" if self.source else "")
+        source = "; ".join(s for s in (self.source, "operating condition: a share of the box" * self.operating) if s)
+        return f"{self.name} {what}" + (f" ({source})" if source else "")
 
 
 def distribution(name: str, spec: Mapping[str, Any], nominal: float) -> Input:
     """The input ``name`` of an entry of a study's ``inputs``: ``tolerance`` or ``relative_tolerance`` (uniform on
     the ``nominal`` value, the design's at the study's point, +- it), ``std`` (a normal of ``mean``, default the
     nominal value, truncated to ``low`` and ``high``, default 3 std from the mean) or ``low`` and ``high``
-    (uniform; ``scale: log``: log-uniform)."""
+    (uniform; ``scale: log``: log-uniform); ``operating: true``: an operating condition drawn on purpose."""
+    if spec.get("operating"):
+        return dataclasses.replace(
+            distribution(name, {k: v for k, v in spec.items() if k != "operating"}, nominal), operating=True
+        )
     if "tolerance" in spec or "relative_tolerance" in spec:
         tol = float(spec["tolerance"]) if "tolerance" in spec else abs(nominal) * float(spec["relative_tolerance"])
         return Input(name, nominal - tol, nominal + tol, source=f"design value {nominal:.4g} +- {tol:.4g}")
@@ -78,14 +91,38 @@ def distribution(name: str, spec: Mapping[str, Any], nominal: float) -> Input:
 
 
 def tolerance_inputs(design: KHVDesign, tolerances: Mapping[str, Any]) -> list[Input]:
-    """The inputs of a tolerance class: e uniform on [0, f_pT] of ISO 1328-1:2013 class ``grade``
-    (:func:`geardyn.gears.tolerances.te_amplitude_bound`) and, with ``backlash`` [low, high] (um), b uniform on it."""
+    """The inputs of a tolerance class (``docs/probabilities.md``): e uniform on [0, e_max], e_max half the band
+    of both gears' ``te_tolerance`` of ISO 1328-1:2013 class ``grade`` added by ``combine``
+    (:func:`geardyn.gears.tolerances.te_amplitude_bound`); the TE phase uniform on [0, 2 pi) (no class fixes it);
+    b uniform on the stated ``backlash`` range (um) or, without one, on the range of
+    ``tooth_thickness_allowances`` and ``centre_distance_allowance``
+    (:func:`geardyn.gears.tolerances.backlash_range`); neither: b not drawn."""
     pair, grade = design.base, int(tolerances["grade"])
-    e_max = te_amplitude_bound(grade, pair.z1, pair.z2, pair.module)
-    out = [Input("e", 0.0, e_max, source=f"single-pitch tolerance of ISO 1328-1:2013 class {grade}")]
+    which, combine = tolerances.get("te_tolerance", "profile"), tolerances.get("combine", "rss")
+    e_max = flank.te_amplitude_bound(grade, pair.z1, pair.z2, pair.module, which, combine)
+    name = {"profile": "total profile tolerance F_aT (formula 9)", "single_pitch": "single pitch tolerance f_pT (5)"}
+    out = [
+        Input(
+            "e",
+            0.0,
+            e_max,
+            source=f"half the {combine} band of both gears' {name[which]}, ISO 1328-1:2013 class {grade}",
+        ),
+        Input("te_phase", 0.0, 2.0 * math.pi, source="the TE phase, which no tolerance class fixes"),
+    ]
     if "backlash" in tolerances:
         low, high = tolerances["backlash"]
         out.append(Input("b", float(low), float(high), source="the stated backlash range"))
+    elif "tooth_thickness_allowances" in tolerances:
+        (u1, l1), (u2, l2) = tolerances["tooth_thickness_allowances"]
+        working = math.degrees(float(geometry.working_pressure_angle(pair)))
+        low, high = flank.backlash_range(
+            ((u1, l1), (u2, l2)),
+            float(tolerances.get("centre_distance_allowance", 0.0)),
+            pair.pressure_angle_deg,
+            working,
+        )
+        out.append(Input("b", low, high, source="tooth thickness and centre distance allowances (DIN 3967)"))
     return out
 
 
@@ -139,10 +176,11 @@ class ProbabilitySpec(study.StudySpec):
         return max(1, min(self.chunks, self.samples))
 
     def uncertain(self, design: KHVDesign) -> list[Input]:
-        """The study's inputs: those of its tolerance class (e, b), then its own ``inputs``, which replace a
-        tolerance class's input of the same name."""
+        """The study's inputs: those of its tolerance class (e, te_phase, b; but those the study holds fixed or
+        puts on its axis), then its own ``inputs``, which replace a tolerance class's input of the same name."""
         block = design.raw.get("tolerances") if self.tolerances == "design" else dict(self.tolerances or ())
-        out = {i.name: i for i in tolerance_inputs(design, block)} if block else {}
+        held = {*dict(self.fixed), self.dim}
+        out = {i.name: i for i in tolerance_inputs(design, block) if i.name not in held} if block else {}
         for name, spec in self.inputs:
             out[name] = distribution(name, dict(spec), point.nominal(design, name, dict(self.fixed)))
         return list(out.values())
@@ -233,6 +271,7 @@ def attributes(spec: ProbabilitySpec, table: Samples, policy: Policy) -> dict[st
         "sampling": f"{sampling}, seed {spec.seed})",
         "initial_state": start,
         "fixed_overrides": spec.fixed_overrides,
+        "operating_inputs": " ".join(i.name for i in table.inputs if i.operating),
         **study.study_attrs(policy),
     }
 

@@ -1,0 +1,132 @@
+"""Tolerance classes of ISO 1328-1:2013 worked by hand: the profile tolerances (formulas 7, 8, 9) of two classes and
+the two gears of paper 1's pair (z = 30 and 33, m_n = 3.5 mm), their combination into the bound of the mesh-frequency
+TE amplitude, and the backlash range from tooth thickness and centre distance allowances (DIN 3967 relations)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+import yaml
+
+import _workflow as wf
+from geardyn import cli
+from geardyn.gears import tolerances
+from geardyn.khv import design
+from geardyn.runs import probabilities
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.mark.parametrize(
+    ("grade", "diameter", "slope", "form", "total"),
+    [
+        # class 6, step (sqrt 2)^1 = 1.414214; planet d = 30 x 3.5 = 105 mm:
+        # (7) (0.4 x 3.5 + 0.001 x 105 + 4) = 5.505 x 1.414214 = 7.7852 -> 8.0 (nearest 0.5 between 5 and 10 um)
+        # (8) (0.55 x 3.5 + 5) = 6.925 x 1.414214 = 9.7934 -> 10.0
+        # (9) sqrt(7.7852^2 + 9.7934^2) = sqrt(60.609 + 95.911) = 12.511 -> 13 (nearest 1 above 10 um)
+        (6, 105.0, 8.0, 10.0, 13.0),
+        # annulus d = 33 x 3.5 = 115.5 mm: 5.5155 x 1.414214 = 7.8001 -> 8.0; form as above 10.0;
+        # sqrt(7.8001^2 + 95.911) = 12.520 -> 13
+        (6, 115.5, 8.0, 10.0, 13.0),
+        # class 8, step (sqrt 2)^3 = 2.828427; planet: 5.505 x 2.828427 = 15.571 -> 16; 6.925 x 2.828427 = 19.587
+        # -> 20; sqrt(15.571^2 + 19.587^2) = sqrt(242.44 + 383.65) = 25.022 -> 25
+        (8, 105.0, 16.0, 20.0, 25.0),
+        # annulus: 5.5155 x 2.828427 = 15.600 -> 16; sqrt(15.600^2 + 383.65) = sqrt(243.37 + 383.65) = 25.040 -> 25
+        (8, 115.5, 16.0, 20.0, 25.0),
+    ],
+)
+def test_profile_tolerances_by_hand(grade, diameter, slope, form, total):
+    assert tolerances.profile_slope_tolerance(grade, diameter, 3.5) == slope
+    assert tolerances.profile_form_tolerance(grade, diameter, 3.5) == form
+    assert tolerances.total_profile_tolerance(grade, diameter, 3.5) == total
+
+
+def test_the_total_is_of_the_unrounded_parts():
+    # class 5 (step 1), d = 105: sqrt(5.505^2 + 6.925^2) = sqrt(30.305 + 47.956) = 8.8465 -> 9.0; the rounded
+    # parts 5.5 and 7.0 would give sqrt(30.25 + 49) = 8.9022 -> 9.0 too, so take class 4 (step 1 / sqrt 2):
+    # 3.8926 and 4.8967 -> 6.2553 -> 6.5; rounded parts 3.9 and 4.9 -> 6.2626 -> 6.5; and class 3 (step 1/2):
+    # 2.7525, 3.4625 -> 4.4232 -> 4.4; rounded parts 2.8, 3.5 -> 4.4822 -> 4.5: the formula's 4.4 it is
+    assert tolerances.total_profile_tolerance(3, 105.0, 3.5) == 4.4
+
+
+@pytest.mark.parametrize(
+    ("grade", "combine", "bound"),
+    [
+        (6, "rss", 0.5 * math.hypot(13.0, 13.0)),  # half of sqrt(13^2 + 13^2) = 18.385: 9.1924 um
+        (6, "sum", 13.0),  # half of 13 + 13
+        (8, "rss", 0.5 * math.hypot(25.0, 25.0)),  # half of 35.355: 17.678 um
+        (8, "sum", 25.0),
+    ],
+)
+def test_the_pairs_te_amplitude_by_hand(grade, combine, bound):
+    assert tolerances.te_amplitude_bound(grade, 30, 33, 3.5, "profile", combine) == pytest.approx(bound, abs=1e-12)
+
+
+def test_the_single_pitch_option_keeps_its_name():
+    # f_pT (5) at class 6: planet 6.505 x 1.414214 = 9.1995 -> 9.0, annulus 6.5155 x 1.414214 = 9.2143 -> 9.0;
+    # half of their root-sum-square: 9 sqrt(2) / 2 = 6.3640 um
+    got = tolerances.te_amplitude_bound(6, 30, 33, 3.5, "single_pitch")
+    assert got == pytest.approx(4.5 * math.sqrt(2.0), abs=1e-12)
+    with pytest.raises(ValueError, match="tolerance = 'pitch', combine = 'rss' is not allowed"):
+        tolerances.te_amplitude_bound(6, 30, 33, 3.5, "pitch")
+
+
+def test_backlash_from_allowances_by_hand():
+    # allowances [-40, -80] um on both gears, A_a = +-10 um, a_n = 20 deg, a_w = 30 deg:
+    # smallest j_n = 80 cos 20 - 2 x 10 sin 30 = 75.175 - 10 = 65.175 um -> b = 32.588 um
+    # largest j_n = 160 cos 20 + 2 x 10 sin 30 = 150.351 + 10 = 160.351 um -> b = 80.175 um
+    low, high = tolerances.backlash_range(((-40.0, -80.0), (-40.0, -80.0)), 10.0, 20.0, 30.0)
+    assert low == pytest.approx(32.5877, abs=1e-4) and high == pytest.approx(80.1754, abs=1e-4)
+    with pytest.raises(ValueError, match="smallest backlash"):
+        tolerances.backlash_range(((0.0, -10.0), (0.0, -10.0)), 5.0, 20.0, 30.0)
+
+
+def test_a_class_gives_e_the_phase_and_b():
+    d = design.load(ROOT / "config" / "designs" / "li2013.yaml")
+    block = {
+        "grade": 6,
+        "tooth_thickness_allowances": [[-40.0, -80.0], [-40.0, -80.0]],
+        "centre_distance_allowance": 10,
+    }
+    inputs = {i.name: i for i in probabilities.tolerance_inputs(d, block)}
+    assert (inputs["e"].low, inputs["e"].high) == (0.0, pytest.approx(9.1924, abs=1e-4))  # as worked above
+    assert (inputs["te_phase"].low, inputs["te_phase"].high) == (0.0, 2.0 * math.pi)
+    # li2013's pair at x1 = 0.626 has a_w = 30.46 deg (MODEL_NOTES: 31.0 deg at x1 = 0.416 falling to 29.97 at
+    # 0.835): b from 0.5 (80 cos 20 - 20 sin 30.46) = 0.5 (75.175 - 10.140) = 32.518 um
+    # to 0.5 (160 cos 20 + 20 sin 30.46) = 0.5 (150.351 + 10.140) = 80.245 um
+    assert inputs["b"].low == pytest.approx(32.518, abs=2e-3) and inputs["b"].high == pytest.approx(80.245, abs=2e-3)
+    stated = {i.name: i for i in probabilities.tolerance_inputs(d, {**block, "backlash": [1.0, 3.0]})}
+    assert (stated["b"].low, stated["b"].high) == (1.0, 3.0)  # the stated range overrides the allowances
+
+
+def _copied_design():
+    """li2013.yaml copied and edited as a user starts: a name of its own, no paper, other teeth and module, and
+    (as in the paper's file) no tolerances: block."""
+    raw = yaml.safe_load((ROOT / "config" / "designs" / "li2013.yaml").read_text())
+    raw.update(name="mine", paper=None)
+    raw["pair"].update(z1=40, z2=43, module=2.0)
+    assert "tolerances" not in raw
+    return raw
+
+
+def test_a_design_without_a_class_plans_every_other_study(tmp_path, monkeypatch):
+    shipped = wf.shipped("config/config.yaml")
+    cfg = {k: v for k, v in shipped.items() if k in ("closed_graph", "stiffness_table", "presets")}
+    cfg["designs"] = {"mine": "config/designs/mine.yaml"}
+    for section in ("sweeps", "maps", "probabilities"):
+        cfg[section] = {n: s for n, s in shipped[section].items() if s.get("designs") == "own"}
+    cfg["calibration"], cfg["claims"], cfg["benchmarks"] = {}, {"designs": []}, {"work_precision": False}
+    assert [s.get("tolerances") for s in cfg["probabilities"].values()] == ["design"]  # regimes_w
+    work = wf.workflow_copy(tmp_path / "w", cfg, {"mine": _copied_design()})
+    run = wf.snakemake(work, "-n", "--cores", "1", timeout=300)
+    out = run.stdout + run.stderr
+    skip = "geardyn: probabilities.regimes_w skips design 'mine': it states no tolerances: block"
+    assert out.count(skip) == 1, out[-3000:]
+    assert "sweep_chunk" in out and "map_chunk" in out  # the other studies are planned
+    assert "probabilities_chunk" not in out and "regimes_w" not in out.replace(skip, "")
+    monkeypatch.chdir(work)  # check-design reads the config of the working directory
+    assert cli._skipped_by(_copied_design()) == [
+        "probabilities.regimes_w: it states no tolerances: block (the study takes tolerances: design)"
+    ]
