@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
@@ -14,7 +15,7 @@ import _workflow as wf
 from geardyn import cli
 from geardyn.gears import tolerances
 from geardyn.khv import design
-from geardyn.runs import probabilities
+from geardyn.runs import cube, probabilities, tolerance_classes
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -118,15 +119,53 @@ def test_a_design_without_a_class_plans_every_other_study(tmp_path, monkeypatch)
     for section in ("sweeps", "maps", "probabilities"):
         cfg[section] = {n: s for n, s in shipped[section].items() if s.get("designs") == "own"}
     cfg["calibration"], cfg["claims"], cfg["benchmarks"] = {}, {"designs": []}, {"work_precision": False}
-    assert [s.get("tolerances") for s in cfg["probabilities"].values()] == ["design"]  # regimes_w
+    studies = ["regimes_w", "classes_w"]  # the standard studies of an own design that read its class
+    assert [n for n, s in cfg["probabilities"].items() if s.get("tolerances") == "design"] == studies
     work = wf.workflow_copy(tmp_path / "w", cfg, {"mine": _copied_design()})
     run = wf.snakemake(work, "-n", "--cores", "1", timeout=300)
     out = run.stdout + run.stderr
-    skip = "geardyn: probabilities.regimes_w skips design 'mine': it states no tolerances: block"
-    assert out.count(skip) == 1, out[-3000:]
+    why = "it states no tolerances: block (the study takes tolerances: design)"
+    skips = [f"geardyn: probabilities.{n} skips design 'mine': {why}" for n in studies]
+    assert [out.count(line) for line in skips] == [1, 1], out[-3000:]
     assert "sweep_chunk" in out and "map_chunk" in out  # the other studies are planned
-    assert "probabilities_chunk" not in out and "regimes_w" not in out.replace(skip, "")
+    rest = out
+    for line in skips:
+        rest = rest.replace(line, "")
+    assert "probabilities_chunk" not in rest and not any(n in rest for n in studies)
     monkeypatch.chdir(work)  # check-design reads the config of the working directory
-    assert cli._skipped_by(_copied_design()) == [
-        "probabilities.regimes_w: it states no tolerances: block (the study takes tolerances: design)"
-    ]
+    assert cli._skipped_by(_copied_design()) == [f"probabilities.{n}: {why}" for n in studies]
+
+
+def test_the_coarsest_class_is_the_closed_forms():
+    """Linear closed form (tests/test_probabilities.py): with e uniform on [0, e_max(A)] of class A, the contact-loss
+    probability is clip(1 - e_g(w) / e_max(A), 0, 1), so the coarsest class with P <= p* is the largest A with
+    e_max(A) <= e_g(w) / (1 - p*). The class study must give that class at every tested frequency."""
+    from test_probabilities import FIXED, _grazing, _linear_design  # noqa: PLC0415 - the closed-form setup
+
+    d, classes, p_star = _linear_design(), np.array([1, 2, 3]), 0.3
+    entry = {
+        "axis": {"parameter": "w", "start": 1.2, "stop": 1.6, "num": 20},
+        "fixed": FIXED,
+        "tolerances": {"grade": 1},
+        "classes": classes.tolist(),
+        "limits": {"contact_loss": p_star},
+        "samples": 128,
+        "seed": 1,
+        "integration": {"steps_per_period": 64, "transient_periods": 100, "recorded_periods": 16},
+        "classifier": {"error_floor": 3e-4, "tangent_periods": 40},
+    }
+    spec = probabilities.ProbabilitySpec.from_config("cls", entry, d.name, d.segment)
+    # e_max of classes 1, 2, 3 (F_aT 2.2, 3.1, 4.4 um on both gears; half their root-sum-square): 1.556, 2.192, 3.111
+    bounds = {int(c): tolerances.te_amplitude_bound(int(c), 30, 33, 3.5) for c in classes}
+    assert [round(bounds[c], 3) for c in (1, 2, 3)] == [1.556, 2.192, 3.111]
+    merged = cube.merge_chunks([probabilities.run_chunk(d, spec, 0)])
+    ds = tolerance_classes.summarize(merged, spec, d)
+    e_g = np.array([_grazing(d, w) for w in ds.w.values])
+    p = np.clip(1.0 - e_g[None, :] / np.array([bounds[c] for c in classes])[:, None], 0.0, 1.0)
+    # the e coordinate of 128 scrambled Sobol' points has one point in each 1/128: error at most 0.0078
+    assert ds.e_max.values == pytest.approx([bounds[c] for c in classes], abs=1e-12)
+    assert np.abs(ds.contact_loss.values - p).max() <= 0.01, np.abs(ds.contact_loss.values - p).max()
+    expected = tolerance_classes.coarsest(p <= p_star, classes)
+    tested = np.abs(p - p_star).min(axis=0) > 0.01  # a frequency whose answer the sampling error cannot flip
+    assert tested.sum() >= 12 and len(set(expected[tested])) >= 2, (tested.sum(), expected)
+    assert (ds.coarsest_class.values[tested] == expected[tested]).all(), (ds.coarsest_class.values, expected)

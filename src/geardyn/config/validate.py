@@ -405,6 +405,12 @@ def _check_probabilities(spec: dict[str, Any], raw: dict[str, Any], where: str) 
     except ValueError as err:
         raise ConfigError(f"{where}.tolerances: {err}") from None
     inputs = [i for i in inputs if i.name not in held]
+    if spec.get("classes") and not tol:
+        raise ConfigError(f"{where}.classes is not allowed without tolerances: a class study needs a tolerance block")
+    if spec.get("classes") and spec.get("claims"):
+        raise ConfigError(f"{where}.claims is not allowed with classes: a class study checks no claims")
+    if spec.get("classes") and spec["sensitivity"]["method"] == "sobol":
+        raise ConfigError(f"{where}.sensitivity.method = 'sobol' is not allowed with classes: rbd_fast or pawn")
     places = {i.name: f"{where}.tolerances" for i in inputs}
     for name, dist in spec["inputs"].items():
         at = places[name] = f"{where}.inputs.{name}"

@@ -137,7 +137,9 @@ class ProbabilitySpec(study.StudySpec):
     ``tolerances``: "design" (the design file's block), a tolerance class (as pairs) or None; ``box``: the half
     widths (displacements, velocities; units of b_c) of the initial state's box, or None (the static deflection);
     ``sensitivity``: method, indicators, points, resamples (as pairs); ``claims``: a role of the paper's
-    ``CLAIM_LINES`` whose claims are checked per sample."""
+    ``CLAIM_LINES`` whose claims are checked per sample; ``classes``: a class study's tolerance classes (each
+    replaces the tolerance block's grade; :func:`class_samples`) and ``limits`` its limits
+    (:mod:`geardyn.runs.tolerance_classes`)."""
 
     axis: Axis | None = None
     inputs: tuple[tuple[str, tuple[tuple[str, Any], ...]], ...] = ()
@@ -147,6 +149,8 @@ class ProbabilitySpec(study.StudySpec):
     seed: int = 0
     sensitivity: tuple[tuple[str, Any], ...] = ()
     claims: str = ""
+    classes: tuple[int, ...] = ()
+    limits: tuple[tuple[str, float], ...] = ()
 
     @classmethod
     def own_fields(cls, spec: Mapping[str, Any]) -> dict[str, Any]:
@@ -158,6 +162,8 @@ class ProbabilitySpec(study.StudySpec):
             "tolerances": tol if tol is None or isinstance(tol, str) else _pairs(tol),
             "box": None if box is None else (float(box["box_x"]), float(box["box_v"])),
             "sensitivity": _pairs(spec.get("sensitivity")),
+            "classes": tuple(int(c) for c in spec.get("classes") or ()),
+            "limits": tuple(sorted((k, float(v)) for k, v in (spec.get("limits") or {}).items())),
         }
 
     @property
@@ -175,10 +181,12 @@ class ProbabilitySpec(study.StudySpec):
         """Number of chunk jobs: the configured count, at most one per sample."""
         return max(1, min(self.chunks, self.samples))
 
-    def uncertain(self, design: KHVDesign) -> list[Input]:
+    def uncertain(self, design: KHVDesign, grade: int | None = None) -> list[Input]:
         """The study's inputs: those of its tolerance class (e, te_phase, b; but those the study holds fixed or
-        puts on its axis), then its own ``inputs``, which replace a tolerance class's input of the same name."""
+        puts on its axis; ``grade``: of that class instead of the block's), then its own ``inputs``, which
+        replace a tolerance class's input of the same name."""
         block = design.raw.get("tolerances") if self.tolerances == "design" else dict(self.tolerances or ())
+        block = block if grade is None or not block else {**block, "grade": grade}
         held = {*dict(self.fixed), self.dim}
         out = {i.name: i for i in tolerance_inputs(design, block) if i.name not in held} if block else {}
         for name, spec in self.inputs:
@@ -220,6 +228,22 @@ def samples(design: KHVDesign, spec: ProbabilitySpec) -> Samples:
         half = np.repeat(np.asarray(spec.box, dtype=float), 3)
         cols += list(((2.0 * unit[:, len(inputs) :] - 1.0) * half).T)
     return Samples(names, unit, np.column_stack(cols), tuple(inputs))
+
+
+def class_samples(design: KHVDesign, spec: ProbabilitySpec) -> Samples:
+    """A class study's samples: the same unit-cube points at each of ``spec.classes`` (common random numbers: the
+    classes differ only in their inputs' ranges), stacked class by class (sample c N + i, N = ``spec.samples``);
+    the inputs those of the coarsest class."""
+    one = samples(design, spec)
+    inputs = [spec.uncertain(design, c) for c in spec.classes]
+    values = [np.column_stack([inp.values(one.unit[:, k]) for k, inp in enumerate(ins)]) for ins in inputs]
+    values = [np.hstack([v, one.values[:, v.shape[1] :]]) for v in values]  # the initial state's: every class's
+    return Samples(one.names, np.vstack([one.unit] * len(values)), np.vstack(values), tuple(inputs[-1]))
+
+
+def study_samples(design: KHVDesign, spec: ProbabilitySpec) -> Samples:
+    """Every sample of a study: :func:`class_samples` for a class study, else :func:`samples`."""
+    return class_samples(design, spec) if spec.classes else samples(design, spec)
 
 
 def layout(design: KHVDesign, spec: ProbabilitySpec, chunk: int, table: Samples) -> study.Layout:
@@ -279,7 +303,7 @@ def attributes(spec: ProbabilitySpec, table: Samples, policy: Policy) -> dict[st
 def run_chunk(design: KHVDesign, spec: ProbabilitySpec, chunk: int) -> xr.Dataset:
     """Label the samples of one chunk: a cube (sample, axis) of every point of the study, ``computed`` 1 on the
     chunk's samples, with CF attributes and the chunk's wall time."""
-    policy, table = spec.policy(design), samples(design, spec)
+    policy, table = spec.policy(design), study_samples(design, spec)
     result = study.run(layout(design, spec, chunk, table), policy, f"{spec.name} chunk {chunk}")
     attrs = {**attributes(spec, table, policy), "wall_time_s": result.wall_time_s}
     return xr.Dataset(result.data, coords=coordinates(spec, table.values.shape[0]), attrs=attrs)
