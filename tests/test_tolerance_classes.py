@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import xarray as xr
 import yaml
 
 import _workflow as wf
@@ -169,3 +170,29 @@ def test_the_coarsest_class_is_the_closed_forms():
     tested = np.abs(p - p_star).min(axis=0) > 0.01  # a frequency whose answer the sampling error cannot flip
     assert tested.sum() >= 12 and len(set(expected[tested])) >= 2, (tested.sum(), expected)
     assert (ds.coarsest_class.values[tested] == expected[tested]).all(), (ds.coarsest_class.values, expected)
+
+
+def test_an_operating_condition_is_drawn_only_on_purpose_and_then_says_so():
+    from geardyn.config import ConfigError  # noqa: PLC0415
+    from geardyn.config.validate import read_config_file, validate_workflow  # noqa: PLC0415
+    from geardyn.plots import probabilities as plots  # noqa: PLC0415
+
+    cfg = read_config_file(ROOT / "config" / "config.yaml")
+    cfg["designs"] = {"li2013": "config/designs/li2013.yaml"}
+    for section in ("sweeps", "points", "maps", "curves", "responses", "orbits", "calibration"):
+        cfg[section] = {}
+    cfg["claims"] = {"designs": []}
+    entry = {**cfg["probabilities"]["fig07_unknowns"], "designs": ["li2013"]}
+    entry.pop("claims")
+    entry["inputs"] = {**entry["inputs"], "w": {"low": 0.3, "high": 2.0}}
+    cfg["probabilities"] = {"p": entry}
+    with pytest.raises(ConfigError, match="input w is not allowed: an operating condition"):
+        validate_workflow(yaml.safe_load(yaml.safe_dump(cfg)), ROOT)
+    entry["inputs"]["w"]["operating"] = True
+    validate_workflow(yaml.safe_load(yaml.safe_dump(cfg)), ROOT)  # on purpose: allowed
+    w = probabilities.distribution("w", entry["inputs"]["w"], 1.0)
+    assert w.operating and (w.low, w.high) == (0.3, 2.0) and "a share of the box" in w.text
+    box = plots.conditioning(xr.Dataset(attrs={"axis_parameter": "x1", "operating_inputs": "w"}))
+    assert "shares of the box" in box and "not probabilities of a drive" in box
+    held = plots.conditioning(xr.Dataset(attrs={"axis_parameter": "x1", "operating_inputs": ""}))
+    assert "conditional on x1 and the fixed overrides" in held and "box" not in held
