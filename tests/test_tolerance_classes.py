@@ -196,3 +196,25 @@ def test_an_operating_condition_is_drawn_only_on_purpose_and_then_says_so():
     assert "shares of the box" in box and "not probabilities of a drive" in box
     held = plots.conditioning(xr.Dataset(attrs={"axis_parameter": "x1", "operating_inputs": ""}))
     assert "conditional on x1 and the fixed overrides" in held and "box" not in held
+
+
+def test_a_study_given_values_of_w_holds_each_and_draws_the_rest_alike():
+    d = design.load(ROOT / "config" / "designs" / "li2013.yaml")
+    entry = {
+        "axis": {"parameter": "x1", "start": 0.5, "stop": 0.8, "num": 3},
+        "fixed": {"b": 2.0, "e": 5.0},
+        "inputs": {"zeta": {"low": 0.03, "high": 0.15}, "K_DH": {"low": 1e3, "high": 1e6, "scale": "log"}},
+        "given": {"parameter": "w", "values": [0.6, 1.2, 1.8]},
+        "samples": 8,
+    }
+    spec = probabilities.ProbabilitySpec.from_config("g", entry, d.name, d.segment)
+    table = probabilities.study_samples(d, spec)
+    assert table.names == ("zeta", "K_DH", "w") and table.values.shape == (24, 3)
+    assert (table.values[:, 2] == np.repeat([0.6, 1.2, 1.8], 8)).all()  # held: 8 samples at each value
+    # the same unknowns at every value (common random numbers)
+    assert (table.values[:8, :2] == table.values[8:16, :2]).all() and (
+        table.values[:8, :2] == table.values[16:, :2]
+    ).all()
+    assert table.inputs[-1].operating  # the summary over all values is a share of the box: its caption says so
+    lines = probabilities.layout(d, spec, 0, table).lines
+    assert [line[0][1].omega for line in lines[::8]] == pytest.approx([0.6, 1.2, 1.8])  # each line at its w

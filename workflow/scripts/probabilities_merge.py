@@ -15,7 +15,7 @@ merged = cube.merge_chunks(quarantine.read_chunks(snakemake.input.chunks))
 if spec.classes:  # a class study: per class and point, and the coarsest class meeting the limits
     ds = tolerance_classes.summarize(merged, spec, drive)
 else:
-    ds = probability_stats.summarize(merged, spec, probabilities.samples(drive, spec))
+    ds = probability_stats.summarize(merged, spec, probabilities.study_samples(drive, spec))
 attrs = provenance.attributes(
     title=f"Regime probabilities {spec.name}, {drive.title}",
     paper=drive.paper,

@@ -407,6 +407,14 @@ def _check_probabilities(spec: dict[str, Any], raw: dict[str, Any], where: str) 
     inputs = [i for i in inputs if i.name not in held]
     if spec.get("classes") and not tol:
         raise ConfigError(f"{where}.classes is not allowed without tolerances: a class study needs a tolerance block")
+    given = spec.get("given")
+    if given and (spec.get("classes") or given["parameter"] in {*held, *spec["inputs"]}):
+        raise ConfigError(
+            f"{where}.given.parameter = {given['parameter']!r} is not allowed: a parameter other than the axis, the "
+            "fixed ones and the inputs, in a study without classes"
+        )
+    for i, value in enumerate(given["values"] if given else ()):
+        _check_value(given["parameter"], value, f"{where}.given.values[{i}]")
     if spec.get("classes") and spec.get("claims"):
         raise ConfigError(f"{where}.claims is not allowed with classes: a class study checks no claims")
     if spec.get("classes") and spec["sensitivity"]["method"] == "sobol":

@@ -139,7 +139,8 @@ class ProbabilitySpec(study.StudySpec):
     ``sensitivity``: method, indicators, points, resamples (as pairs); ``claims``: a role of the paper's
     ``CLAIM_LINES`` whose claims are checked per sample; ``classes``: a class study's tolerance classes (each
     replaces the tolerance block's grade; :func:`class_samples`) and ``limits`` its limits
-    (:mod:`geardyn.runs.tolerance_classes`)."""
+    (:mod:`geardyn.runs.tolerance_classes`); ``given``: (parameter, values) of a study conditioned on each of
+    those values of an operating condition (:func:`given_samples`)."""
 
     axis: Axis | None = None
     inputs: tuple[tuple[str, tuple[tuple[str, Any], ...]], ...] = ()
@@ -151,6 +152,7 @@ class ProbabilitySpec(study.StudySpec):
     claims: str = ""
     classes: tuple[int, ...] = ()
     limits: tuple[tuple[str, float], ...] = ()
+    given: tuple[str, tuple[float, ...]] | None = None
 
     @classmethod
     def own_fields(cls, spec: Mapping[str, Any]) -> dict[str, Any]:
@@ -164,6 +166,9 @@ class ProbabilitySpec(study.StudySpec):
             "sensitivity": _pairs(spec.get("sensitivity")),
             "classes": tuple(int(c) for c in spec.get("classes") or ()),
             "limits": tuple(sorted((k, float(v)) for k, v in (spec.get("limits") or {}).items())),
+            "given": None
+            if "given" not in spec
+            else (spec["given"]["parameter"], tuple(map(float, spec["given"]["values"]))),
         }
 
     @property
@@ -241,9 +246,28 @@ def class_samples(design: KHVDesign, spec: ProbabilitySpec) -> Samples:
     return Samples(one.names, np.vstack([one.unit] * len(values)), np.vstack(values), tuple(inputs[-1]))
 
 
+def given_samples(design: KHVDesign, spec: ProbabilitySpec) -> Samples:
+    """A study conditioned on values of an operating condition (``given``): the same samples at each value, stacked
+    value by value (sample c N + i), the condition one more column among the inputs (held at the value; its
+    unit-cube coordinate the value's place (c + 1/2) / C), so each value's share is a probability given it."""
+    one, (name, held) = samples(design, spec), spec.given or ("", ())
+    k, c = len(one.inputs), len(held)
+    text = f"held at each of {', '.join(f'{v:g}' for v in held)}: the claims are given each"
+    cond = Input(name, min(held), max(held), source=text, operating=True)
+    at = np.repeat(np.asarray(held, dtype=float), one.values.shape[0])[:, None]
+    place = np.repeat((np.arange(c) + 0.5) / c, one.values.shape[0])[:, None]
+    stack = [np.tile(one.values[:, :k], (c, 1)), at, np.tile(one.values[:, k:], (c, 1))]
+    unit = [np.tile(one.unit[:, :k], (c, 1)), place, np.tile(one.unit[:, k:], (c, 1))]
+    names = (*one.names[:k], name, *one.names[k:])
+    return Samples(names, np.hstack(unit), np.hstack(stack), (*one.inputs, cond))
+
+
 def study_samples(design: KHVDesign, spec: ProbabilitySpec) -> Samples:
-    """Every sample of a study: :func:`class_samples` for a class study, else :func:`samples`."""
-    return class_samples(design, spec) if spec.classes else samples(design, spec)
+    """Every sample of a study: :func:`class_samples` for a class study, :func:`given_samples` for one given
+    values of an operating condition, else :func:`samples`."""
+    if spec.classes:
+        return class_samples(design, spec)
+    return given_samples(design, spec) if spec.given else samples(design, spec)
 
 
 def layout(design: KHVDesign, spec: ProbabilitySpec, chunk: int, table: Samples) -> study.Layout:
