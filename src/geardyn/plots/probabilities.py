@@ -100,8 +100,8 @@ def conditioning(ds: xr.Dataset) -> str:
     if not drawn:
         return f"{given}; only the inputs above are drawn."
     return (
-        f"{given}, but {drawn} (an operating condition) is drawn over its range: these probabilities are shares of "
-        "the box, not probabilities of a drive."
+        f"{given}, but {drawn} (an operating condition) is drawn over its range or pooled over its values: these "
+        "probabilities are shares of the box, not probabilities of a drive."
     )
 
 
