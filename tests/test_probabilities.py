@@ -170,8 +170,9 @@ def test_the_same_bits_whatever_the_chunking_and_the_threads(tmp_path):
         numba.set_num_threads(n0)
     xr.testing.assert_identical(runs[0], runs[1])
     table = probabilities.samples(d, spec)
-    assert table.names == ("e", "zeta", "K_DH", *probabilities.START_INPUTS)
-    assert np.all(table.values[:, 0] <= 9.0) and np.all(np.abs(table.values[:, 3:]) <= 3.0)  # f_pT of class 6: 9 um
+    assert table.names == ("e", "te_phase", "zeta", "K_DH", *probabilities.START_INPUTS)
+    # e_max of class 6: half the rss of F_aT = 13 um on both gears, 9.19 um (tests/test_tolerance_classes.py)
+    assert np.all(table.values[:, 0] <= 9.2) and np.all(np.abs(table.values[:, 4:]) <= 3.0)
 
 
 def test_saltelli_design_and_sobol_indices():
