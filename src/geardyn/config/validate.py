@@ -417,8 +417,10 @@ def _check_probabilities(spec: dict[str, Any], raw: dict[str, Any], where: str) 
         _check_value(given["parameter"], value, f"{where}.given.values[{i}]")
     if spec.get("classes") and spec.get("claims"):
         raise ConfigError(f"{where}.claims is not allowed with classes: a class study checks no claims")
-    if spec.get("classes") and spec["sensitivity"]["method"] == "sobol":
-        raise ConfigError(f"{where}.sensitivity.method = 'sobol' is not allowed with classes: rbd_fast or pawn")
+    if (spec.get("classes") or given) and spec["sensitivity"]["method"] == "sobol":
+        raise ConfigError(
+            f"{where}.sensitivity.method = 'sobol' is not allowed with classes or given: rbd_fast or pawn"
+        )
     places = {i.name: f"{where}.tolerances" for i in inputs}
     for name, dist in spec["inputs"].items():
         at = places[name] = f"{where}.inputs.{name}"

@@ -126,8 +126,13 @@ def tolerance_inputs(design: KHVDesign, tolerances: Mapping[str, Any]) -> list[I
     return out
 
 
+def _frozen(value: Any) -> Any:
+    """Lists as tuples, at every depth (a spec is hashable)."""
+    return tuple(_frozen(v) for v in value) if isinstance(value, list | tuple) else value
+
+
 def _pairs(mapping: Mapping[str, Any] | None) -> tuple[tuple[str, Any], ...]:
-    return tuple(sorted((k, tuple(v) if isinstance(v, list) else v) for k, v in (mapping or {}).items()))
+    return tuple(sorted((k, _frozen(v)) for k, v in (mapping or {}).items()))
 
 
 @dataclass(frozen=True)
