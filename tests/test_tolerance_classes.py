@@ -46,10 +46,8 @@ def test_profile_tolerances_by_hand(grade, diameter, slope, form, total):
 
 
 def test_the_total_is_of_the_unrounded_parts():
-    # class 5 (step 1), d = 105: sqrt(5.505^2 + 6.925^2) = sqrt(30.305 + 47.956) = 8.8465 -> 9.0; the rounded
-    # parts 5.5 and 7.0 would give sqrt(30.25 + 49) = 8.9022 -> 9.0 too, so take class 4 (step 1 / sqrt 2):
-    # 3.8926 and 4.8967 -> 6.2553 -> 6.5; rounded parts 3.9 and 4.9 -> 6.2626 -> 6.5; and class 3 (step 1/2):
-    # 2.7525, 3.4625 -> 4.4232 -> 4.4; rounded parts 2.8, 3.5 -> 4.4822 -> 4.5: the formula's 4.4 it is
+    # class 3 (step 1/2), d = 105 mm: (7) 5.505 / 2 = 2.7525, (8) 6.925 / 2 = 3.4625, (9) sqrt(2.7525^2 + 3.4625^2)
+    # = 4.4232 -> 4.4 (nearest 0.1); the rounded parts 2.8 and 3.5 would give sqrt(7.84 + 12.25) = 4.4822 -> 4.5
     assert tolerances.total_profile_tolerance(3, 105.0, 3.5) == 4.4
 
 
