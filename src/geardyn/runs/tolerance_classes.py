@@ -11,11 +11,10 @@ import xarray as xr
 
 from geardyn.io import Var, markdown_table, variables
 from geardyn.khv.design import KHVDesign
-from geardyn.label.classify import LABELS
+from geardyn.runs import probabilities, probability_stats
 from geardyn.runs.probabilities import ProbabilitySpec
-from geardyn.solve.response import IMPACT_CLASSES
 
-CONFIDENCE = 0.95
+CONFIDENCE = probability_stats.CONFIDENCE
 #: The quantities a class study limits: name -> what it is. A diverged sample counts as a failure in each
 #: (impact, not periodic, K_v = +inf).
 QUANTITIES = {
@@ -34,33 +33,16 @@ def limits(spec: ProbabilitySpec) -> dict[str, float]:
 
 
 def _flags(label: np.ndarray, impact: np.ndarray) -> dict[str, np.ndarray]:
-    diverged = label == LABELS["diverged"]
-    wandering = np.isin(label, [LABELS[k] for k in ("chaotic", "quasi_periodic", "not_periodic")])
+    """The limited shares' indicators, from the study's own families and impact classes
+    (:mod:`geardyn.runs.probability_stats`): a diverged sample fails each."""
+    fam, imp = probability_stats.FAMILIES, probability_stats.IMPACTS
+    diverged = fam["diverged"](label) | imp["diverged"](impact)
+    wandering = fam["chaotic"](label) | fam["quasi_periodic"](label) | fam["not_periodic"](label)
     return {
-        "double_sided": (impact == IMPACT_CLASSES["double_sided"]) | diverged,
-        "contact_loss": (impact == IMPACT_CLASSES["single_sided"])
-        | (impact == IMPACT_CLASSES["double_sided"])
-        | diverged,
+        "double_sided": imp["double_sided"](impact) | diverged,
+        "contact_loss": imp["single_sided"](impact) | imp["double_sided"](impact) | diverged,
         "not_periodic": wandering | diverged,
     }
-
-
-def _share(k: np.ndarray, n: int) -> np.ndarray:
-    """(estimate, low, high) of k successes in n trials: the 95 % Wilson interval of scipy."""
-    from scipy.stats import binomtest  # noqa: PLC0415 - scipy.stats: only the jobs that summarise
-
-    ends = [binomtest(int(kk), n).proportion_ci(CONFIDENCE, method="wilson") for kk in k.ravel()]
-    return np.stack([k / n, *(np.reshape([getattr(e, a) for e in ends], k.shape) for a in ("low", "high"))])
-
-
-def _quantile95(x: np.ndarray) -> tuple[float, float, float]:
-    """The 95 % quantile of ``x`` (+inf allowed: a diverged sample) and its distribution-free 95 % interval
-    (scipy's quantile_test)."""
-    from scipy.stats import quantile_test  # noqa: PLC0415
-
-    q = float(np.quantile(x, 0.95, method="inverted_cdf"))
-    ci = quantile_test(x, q=q, p=0.95).confidence_interval(CONFIDENCE)
-    return q, float(ci.low), float(ci.high)
 
 
 def coarsest(ok: np.ndarray, classes: np.ndarray) -> np.ndarray:
@@ -73,13 +55,21 @@ def summarize(ds: xr.Dataset, spec: ProbabilitySpec, design: KHVDesign) -> xr.Da
     quantities of :data:`QUANTITIES` with 95 % intervals, whether the class meets the study's :func:`limits` (on
     the estimates) and per point the coarsest class that does; each class's inputs (their text) and e_max."""
     classes, dim, lim = np.asarray(spec.classes), spec.dim, limits(spec)
-    n = ds.sizes["sample"] // len(classes)
-    shape = (len(classes), n, ds.sizes[dim])
-    label, impact = (ds[v].values.reshape(shape) for v in ("label", "impact_class"))
-    kv = np.where(label == LABELS["diverged"], np.inf, ds["dynamic_factor"].values.reshape(shape))
-    table: dict[str, np.ndarray] = {k: _share(f.sum(axis=1), n) for k, f in _flags(label, impact).items()}
+    block = probabilities.study_samples(design, spec).block.reshape(len(classes), -1)[0]
+    kept = np.flatnonzero(block >= 0)  # the probabilities' samples of each class (the same at every class)
+    n, r, shape = kept.size, int(block.max()) + 1, (len(classes), block.size, ds.sizes[dim])
+    label, impact = (ds[v].values.reshape(shape)[:, kept] for v in ("label", "impact_class"))
+    kv = probability_stats.indicator(ds, "dynamic_factor").reshape(shape)[:, kept]  # diverged: +inf
+    table: dict[str, np.ndarray] = {}
+    se: dict[str, np.ndarray] = {}
+    for key, flag in _flags(label, impact).items():
+        k = flag.sum(axis=1)
+        table[key] = np.stack([k / n, *probability_stats.wilson(k, n)])
+        each = np.array([flag[:, block[kept] == b].mean(axis=1) for b in range(r)])  # per scrambling
+        se[key] = each.std(axis=0, ddof=1) / np.sqrt(r) if r > 1 else np.full(k.shape, np.nan)
+    quantile = probability_stats.quantile_interval
     table["dynamic_factor_95"] = np.moveaxis(
-        np.array([[_quantile95(kv[c, :, j]) for j in range(shape[2])] for c in range(shape[0])]), -1, 0
+        np.array([[quantile(kv[c, :, j], 0.95) for j in range(shape[2])] for c in range(shape[0])]), -1, 0
     )
     ok = np.ones(shape[::2], dtype=bool)
     for key, value in lim.items():
@@ -100,6 +90,9 @@ def summarize(ds: xr.Dataset, spec: ProbabilitySpec, design: KHVDesign) -> xr.Da
                 table[key][2],
             ),
         ]
+        if key in se:
+            text = f"{what}: quasi-Monte Carlo standard error (spread of the class's {r} scramblings)"
+            rows.append((Var(f"{key}_qmc_se", dims, "1", text), se[key]))
     rows += [
         (Var("meets_limits", ("tolerance_class", dim), "1", "1 where the class meets every limit", dtype=np.int8), ok),
         (
