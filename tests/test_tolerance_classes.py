@@ -215,6 +215,12 @@ def test_a_study_given_values_of_w_holds_each_and_draws_the_rest_alike():
         table.values[:8, :2] == table.values[16:, :2]
     ).all()
     assert table.inputs[-1].operating  # the summary over all values is a share of the box: its caption says so
+    # no index lines (sample_block < 0) in a given or class study; each value, each class, the same scramblings
+    assert spec.index_samples == 0 and (table.block == np.tile(np.repeat(np.arange(4), 2), 3)).all()
+    entry = {k: v for k, v in entry.items() if k != "given"} | {"tolerances": {"grade": 6}, "classes": [5, 7]}
+    spec = probabilities.ProbabilitySpec.from_config("c", entry, d.name, d.segment)
+    classes = probabilities.study_samples(d, spec)
+    assert spec.index_samples == 0 and (classes.block == np.tile(np.repeat(np.arange(4), 2), 2)).all()
     lines = probabilities.layout(d, spec, 0, table).lines
     assert [line[0][1].omega for line in lines[::8]] == pytest.approx([0.6, 1.2, 1.8])  # each line at its w
 

@@ -16,11 +16,14 @@ name, values = (
     snakemake.params.spec.get("given", {}).get("parameter"),
     snakemake.params.spec.get("given", {}).get("values", [None]),
 )
-n = ds.sizes["sample"] // len(values)  # a study given values of an operating condition: n samples at each
+# a study given values of an operating condition: its lines stacked value by value, `each` at each value, of
+# which n are the probabilities' samples (sample_block >= 0; claim_probabilities counts those only)
+each = ds.sizes["sample"] // len(values)
+n = int((ds["sample_block"] >= 0).sum()) // len(values)
 rows = [
     {**({name: v} if name else {}), **row, "id": f"{row['id']} ({name} = {v:g})" if name else row["id"]}
     for c, v in enumerate(values)
-    for row in probability_stats.claim_probabilities(paper, ds.isel(sample=slice(c * n, (c + 1) * n)), role)
+    for row in probability_stats.claim_probabilities(paper, ds.isel(sample=slice(c * each, (c + 1) * each)), role)
 ]
 note = (
     f"Design `{drive.name}`: the claims of {paper.SHORT} decided along {paper.CLAIM_LINES[role].get('text', role)}, "

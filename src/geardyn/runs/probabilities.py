@@ -364,9 +364,11 @@ def attributes(spec: ProbabilitySpec, table: Samples, policy: Policy) -> dict[st
         )
     else:
         r = int(table.block.max()) + 1
-        sampling = (
-            f"{spec.samples} points of the scrambled Sobol' sequence in {r} independent scramblings (scipy.stats.qmc, "
-            f"the probabilities), and a Latin hypercube of {spec.index_samples} more lines (the sensitivity indices)"
+        sampling = f"{spec.samples} points of the scrambled Sobol' sequence in {r} independent scramblings " + (
+            f"(scipy.stats.qmc, the probabilities), and a Latin hypercube of {spec.index_samples} more lines (the "
+            "sensitivity indices)"
+            if spec.index_samples
+            else "(scipy.stats.qmc), the same at every class or given value; no index lines, no sensitivity indices"
         )
     start = "the static deflection at each sample's first point"
     if spec.box:
