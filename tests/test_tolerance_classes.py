@@ -240,6 +240,7 @@ def test_a_new_design_builds_its_class_study(tmp_path):
             samples=4, chunks=1, integration=dict(wf.FAST), classifier={"error_floor": 3e-4, "tangent_periods": 30}
         )
         spec["axis"] = {**spec["axis"], "num": 3}
+        spec["sensitivity"] = {**spec.get("sensitivity", {}), "samples": 8}  # 8 index lines, not 128
         spec.pop("preset", None)
     cfg["probabilities"]["classes_w"]["classes"] = [5, 9]
     work = wf.workflow_copy(tmp_path / "w", cfg)
