@@ -182,7 +182,8 @@ def class_caption(name: str, ds: xr.Dataset) -> str:
     return (
         f"{name}: the coarsest ISO 1328-1:2013 tolerance class (classes {classes}) "
         f"that keeps {ds.attrs['limits']} at each {dim}, decided {ds.attrs['decision']} (95 % Wilson intervals of the "
-        f"probabilities and distribution-free intervals of the K_v quantile in the file and the table). "
+        "probabilities and distribution-free intervals of the K_v quantile in the file and the table; the "
+        "probabilities' QMC standard errors across each class's scramblings in the file). "
         f"{ds.attrs['samples_per_class']} samples per class, the same unit-cube points at every class "
         f"({ds.attrs['sampling']}); a diverged sample counts as an impact, as not periodic and as K_v = +inf. Inputs: "
         f"{ds.attrs['class_inputs']}. Fixed overrides: {ds.attrs['fixed_overrides']}. Where no class meets the limits: "
