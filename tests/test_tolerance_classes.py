@@ -173,18 +173,14 @@ def test_the_coarsest_class_is_the_closed_forms():
 
 def test_an_operating_condition_is_drawn_only_on_purpose_and_then_says_so():
     from geardyn.config import ConfigError  # noqa: PLC0415
-    from geardyn.config.validate import read_config_file, validate_workflow  # noqa: PLC0415
+    from geardyn.config.validate import validate_workflow  # noqa: PLC0415
     from geardyn.plots import probabilities as plots  # noqa: PLC0415
+    from test_probabilities import _config  # noqa: PLC0415 - the li2013 config of one fig07_unknowns study
 
-    cfg = read_config_file(ROOT / "config" / "config.yaml")
-    cfg["designs"] = {"li2013": "config/designs/li2013.yaml"}
-    for section in ("sweeps", "points", "maps", "curves", "responses", "orbits", "calibration"):
-        cfg[section] = {}
-    cfg["claims"] = {"designs": []}
-    entry = {**cfg["probabilities"]["fig07_unknowns"], "designs": ["li2013"]}
+    cfg = _config()
+    entry = cfg["probabilities"]["p"]
     entry.pop("claims")
     entry["inputs"] = {**entry["inputs"], "w": {"low": 0.3, "high": 2.0}}
-    cfg["probabilities"] = {"p": entry}
     with pytest.raises(ConfigError, match="input w is not allowed: an operating condition"):
         validate_workflow(yaml.safe_load(yaml.safe_dump(cfg)), ROOT)
     entry["inputs"]["w"]["operating"] = True
