@@ -3,6 +3,8 @@
 ``python -m benchmarks.bench curves [--map map_x1_b] [--rows 10]`` (a map's regime boundaries against the map),
 ``python -m benchmarks.bench coverage [--new results]`` (the coverage of the frequency response's RMS error bars),
 ``python -m benchmarks.bench probabilities`` (256 samples x 100 points of a probabilities study against map_x1_b),
+``python -m benchmarks.bench classes [--rows 10]`` (the class study, 7 classes x 128 samples x 100 points, against
+map_x1_b, both thinned by --rows),
 ``python -m benchmarks.bench fingerprint [--write]`` (a hash per stage of a small fixed study, to compare
 machines; ``--write`` replaces the committed reference), ``python -m benchmarks.bench ledger [--write]`` (the
 cost of fixed small workloads in kernel point-steps against the committed reference; ``ledger --log LOG
@@ -89,6 +91,10 @@ def main_speed(argv: list[str]) -> int:
     elif argv[0] == "probabilities":
         md = "# A probabilities study against a regime map (one run)\n\n" + probabilities.probabilities_benchmark(
             a.config, quick=a.quick, log=log
+        )
+    elif argv[0] == "classes":
+        md = "# The class study against a regime map (one run)\n\n" + probabilities.class_benchmark(
+            a.config, every=a.rows or 10, log=log
         )
     elif argv[0] == "curves":
         md = "# Regime boundaries against the map\n\n" + curves.curves_benchmark(
@@ -192,7 +198,8 @@ def main(argv: list[str] | None = None) -> int:
         return main_ledger(argv[1:])
     if argv and argv[0] == "stages":
         return main_stages(argv[1:])
-    if argv and argv[0] in ("throughput", "labels", "check", "circles", "curves", "coverage", "probabilities"):
+    speed = ("throughput", "labels", "check", "circles", "curves", "coverage", "probabilities", "classes")
+    if argv and argv[0] in speed:
         return main_speed(argv)
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench", description=work_precision.__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=None, help="directory for work_precision.nc/.md/.png")

@@ -111,6 +111,7 @@ def check_design(path: str, as_json: bool) -> int:
         verdict = str(err).removeprefix(f"{path}: ")
     summary["feasible"] = verdict is None
     summary["why not"] = verdict or ""
+    summary["skipped by"] = "; ".join(_skipped_by(raw)) or "none"
     if as_json:
         print(json.dumps(summary, indent=2, default=float))
     else:
@@ -118,6 +119,15 @@ def check_design(path: str, as_json: bool) -> int:
         if verdict:
             print(f"NOT FEASIBLE: {verdict}")
     return 0 if verdict is None else 1
+
+
+def _skipped_by(raw: dict[str, Any]) -> list[str]:
+    """The studies of ``config/config.yaml`` (from the working directory, where there is one) that would skip
+    the design for a block it lacks."""
+    from geardyn.config.validate import read_config_file, skipped_studies  # noqa: PLC0415 - --help loads no numba or scipy
+
+    config = Path("config/config.yaml")
+    return skipped_studies(raw, read_config_file(config)) if raw["kind"] == "khv" and config.exists() else []
 
 
 def check_config(path: str) -> int:

@@ -126,15 +126,13 @@ def runs_for(section, *patterns):
     """Each of ``patterns`` (a rule's outputs) for every (design, entry) of a config section: the designs
     each entry selects (``designs:``, or a calibration's one ``design:``), the entry's name in the
     section's wildcard (``SECTION_KEYS``)."""
-    from geardyn.config.validate import selected_designs
+    from geardyn.config.validate import study_designs
 
     return [
         entry_path(pattern, section, name, design)
         for pattern in patterns
         for name, spec in config[section].items()
-        for design in selected_designs(
-            spec["designs"] if "designs" in spec else [spec["design"]], DESIGNS
-        )
+        for design in study_designs(spec, DESIGNS)
     ]
 
 
@@ -179,14 +177,25 @@ def probability_chunks(name, spec, design):
 
 def probability_claims(pattern):
     """``pattern`` (the probabilities claims rule's output) for every design of every study that checks claims."""
-    from geardyn.config.validate import selected_designs
+    from geardyn.config.validate import study_designs
 
     return [
         entry_path(pattern, "probabilities", name, design)
         for name, spec in config["probabilities"].items()
         if spec.get("claims")
-        for design in selected_designs(spec["designs"], DESIGNS)
+        for design in study_designs(spec, DESIGNS)
     ]
+
+
+def skipped_designs(section):
+    """For ``params:``: the lines saying which designs the job's study skips (caption and log)."""
+    from geardyn.config.validate import skipped_runs
+
+    def get(wildcards):
+        name = wildcards[SECTION_KEYS[section]]
+        return skipped_runs({section: {name: config[section][name]}}, DESIGNS)
+
+    return get
 
 
 def design_targets(design, targets):

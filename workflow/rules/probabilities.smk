@@ -54,6 +54,7 @@ rule probabilities_figure:
     threads: 1
     params:
         spec=config_slice("probabilities"),
+        skipped=skipped_designs("probabilities"),
     script:
         "../scripts/probabilities_figure.py"
 

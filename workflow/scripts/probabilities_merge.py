@@ -4,7 +4,7 @@ sensitivities)."""
 from geardyn import io
 from geardyn.io import logs, provenance, quarantine
 from geardyn.khv import design
-from geardyn.runs import cube, probabilities, probability_stats
+from geardyn.runs import cube, probabilities, probability_stats, tolerance_classes
 
 log = logs.to_file(snakemake.log[0])
 drive = design.load(snakemake.input.design)  # the samples are drawn again from the design and the spec
@@ -12,7 +12,10 @@ spec = probabilities.ProbabilitySpec.from_config(
     snakemake.wildcards.prob, snakemake.params.spec, drive.name, drive.segment
 )
 merged = cube.merge_chunks(quarantine.read_chunks(snakemake.input.chunks))
-ds = probability_stats.summarize(merged, spec, probabilities.samples(drive, spec))
+if spec.classes:  # a class study: per class and point, and the coarsest class meeting the limits
+    ds = tolerance_classes.summarize(merged, spec, drive)
+else:
+    ds = probability_stats.summarize(merged, spec, probabilities.study_samples(drive, spec))
 attrs = provenance.attributes(
     title=f"Regime probabilities {spec.name}, {drive.title}",
     paper=drive.paper,
@@ -21,3 +24,5 @@ attrs = provenance.attributes(
 )
 io.write_netcdf(ds, snakemake.output[0], {**ds.attrs, **attrs})
 log.info("%s: leading inputs %s", spec.name, {k: v for k, v in ds.attrs.items() if k.startswith("leading")})
+if spec.classes:
+    log.info("%s: coarsest class per point %s", spec.name, ds["coarsest_class"].values.tolist())

@@ -65,7 +65,17 @@ def khv_design(name: str, z1: int = 40, z2: int = 43, module: float = 2.0) -> di
         "paper": None,
         "pair": {"z1": z1, "z2": z2, "module": module, "x1": round(0.5 * (lo + hi), 4), "x2": "line4"},
         "admissible": {"x1_min": lo, "x1_max": hi, "enforce_cutter_constraints": False},
-        "tolerances": {"grade": 6, "backlash": [1.0, 3.0]},  # the standard probabilities study reads them
+        # the standard probabilities studies read them (docs/probabilities.md, "Tolerance classes"): class 6 of
+        # ISO 1328-1:2013 (profile tolerances, both gears root-sum-square); b from example tooth thickness
+        # allowances [upper, lower] um of planet and annulus and a centre distance allowance +- um (take yours
+        # from DIN 3967 and DIN 3964 for the drive)
+        "tolerances": {
+            "grade": 6,
+            "te_tolerance": "profile",
+            "combine": "rss",
+            "tooth_thickness_allowances": [[-5.0, -15.0], [-5.0, -15.0]],
+            "centre_distance_allowance": 2.0,
+        },
     }
     return validated(raw, KINDS["khv"], name)
 

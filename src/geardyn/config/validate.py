@@ -219,6 +219,41 @@ def _check_range(rng: Mapping[str, Json], where: str) -> None:
         raise ConfigError(f"{where}: stop = {rng['stop']} must be above start = {rng['start']}")
 
 
+def skip_reason(spec: Mapping[str, Json], raw: Mapping[str, Json]) -> str:
+    """Why a study skips a design, "" where it does not: ``tolerances: design`` on a design that states no
+    tolerance class (the design's block is optional: the study is the one thing it cannot build)."""
+    if spec.get("tolerances") == "design" and "tolerances" not in raw:
+        return "it states no tolerances: block (the study takes tolerances: design)"
+    return ""
+
+
+def study_designs(spec: Mapping[str, Json], designs: Mapping[str, Mapping[str, Json]]) -> list[str]:
+    """The designs a run builds: those its selector names (``designs:``, or a calibration's ``design:``) but
+    those it skips (:func:`skip_reason`)."""
+    chosen = selected_designs(spec["designs"] if "designs" in spec else [spec["design"]], designs)
+    return [d for d in chosen if d not in designs or not skip_reason(spec, designs[d])]
+
+
+def _skips(filled: Mapping[str, Json], designs: Mapping[str, Mapping[str, Json]]) -> list[tuple[str, str, str]]:
+    return [
+        (name, d, skip_reason(spec, designs[d]))
+        for name, spec in filled.get("probabilities", {}).items()
+        for d in selected_designs(spec["designs"], designs)
+        if d in designs and skip_reason(spec, designs[d])
+    ]
+
+
+def skipped_runs(filled: Mapping[str, Json], designs: Mapping[str, Mapping[str, Json]]) -> list[str]:
+    """One line per (study, design) that a study skips: ``probabilities.regimes_w skips design 'x': ...``."""
+    return [f"probabilities.{name} skips design {d!r}: {why}" for name, d, why in _skips(filled, designs)]
+
+
+def skipped_studies(raw: Mapping[str, Json], filled: Mapping[str, Json]) -> list[str]:
+    """The studies of a config (``filled``) that would select the design ``raw`` and skip it for a block it
+    lacks, one line each (``geardyn check-design``)."""
+    return [f"probabilities.{name}: {why}" for name, _, why in _skips(filled, {raw["name"]: raw})]
+
+
 def selected_designs(selector: Json, designs: Mapping[str, Mapping[str, Json]]) -> list[str]:
     """The KHV designs a run's ``designs`` selector names: a list, 'all', 'own' (no paper) or
     'paper:<key>', in the order of the config's ``designs``."""
@@ -261,6 +296,8 @@ def _check_runs(filled: dict[str, Json], designs: dict[str, dict[str, Json]]) ->
                         f"{where}: design {design_name!r} is not allowed: one of " + ", ".join(repr(d) for d in khv)
                     )
                 raw = designs[design_name]
+                if skip_reason(spec, raw):
+                    continue
                 if section == "calibration" and not raw.get("paper"):
                     raise ConfigError(
                         f"{where}: design {design_name!r} names no paper: a calibration fits a "
@@ -359,22 +396,41 @@ def _check_probabilities(spec: dict[str, Json], raw: dict[str, Json], where: str
     the override's limits; a tolerance class to take, in ISO 1328-1's scope; a power of 2 of samples for
     Sobol' indices; the claims' line one of the paper's, along the axis, at the study's fixed values."""
     from geardyn.khv import point  # noqa: PLC0415 - only with such a study
-    from geardyn.runs.probabilities import distribution, tolerance_inputs  # noqa: PLC0415
+    from geardyn.runs.probabilities import OPERATING, distribution, tolerance_inputs  # noqa: PLC0415
 
     drive, fixed, tol = khv_design.from_dict(raw, where), spec["fixed"], spec.get("tolerances")
-    if tol == "design" and "tolerances" not in raw:
-        raise ConfigError(
-            f"{where}.tolerances = 'design' is not allowed for design {raw['name']!r}: it states no tolerances "
-            "(add tolerances: {grade: <1-11>} to its file, as geardyn new-design does, or give the class here)"
-        )
+    held = {*fixed, spec.get("axis", {}).get("parameter")}
     try:
         inputs = tolerance_inputs(drive, raw["tolerances"] if tol == "design" else tol) if tol else []
     except ValueError as err:
         raise ConfigError(f"{where}.tolerances: {err}") from None
+    inputs = [i for i in inputs if i.name not in held]
+    if spec.get("classes") and not tol:
+        raise ConfigError(f"{where}.classes is not allowed without tolerances: a class study needs a tolerance block")
+    given = spec.get("given")
+    if given and (spec.get("classes") or given["parameter"] in {*held, *spec["inputs"]}):
+        raise ConfigError(
+            f"{where}.given.parameter = {given['parameter']!r} is not allowed: a parameter other than the axis, the "
+            "fixed ones and the inputs, in a study without classes"
+        )
+    for i, value in enumerate(given["values"] if given else ()):
+        _check_value(given["parameter"], value, f"{where}.given.values[{i}]")
+    if spec.get("classes") and spec.get("claims"):
+        raise ConfigError(f"{where}.claims is not allowed with classes: a class study checks no claims")
+    if (spec.get("classes") or given) and spec["sensitivity"]["method"] == "sobol":
+        raise ConfigError(
+            f"{where}.sensitivity.method = 'sobol' is not allowed with classes or given: rbd_fast or pawn"
+        )
     places = {i.name: f"{where}.tolerances" for i in inputs}
     for name, dist in spec["inputs"].items():
         at = places[name] = f"{where}.inputs.{name}"
         _override_node(name, f"{where}.inputs")
+        if name in OPERATING and not dist.get("operating"):
+            raise ConfigError(
+                f"{at}: input {name} is not allowed: an operating condition ({', '.join(OPERATING)}) is an axis or "
+                "a fixed value, or an input marked operating: true (its probabilities then are shares of the box)"
+            )
+        dist = {k: v for k, v in dist.items() if k != "operating"}
         if not any(needs <= set(dist) <= may for needs, may in SHAPES):
             raise ConfigError(
                 f"{at} = {dist!r} is not allowed: low and high (scale), std (mean, low, high), tolerance or "

@@ -126,5 +126,66 @@ def caption(name: str, ds: xr.Dataset) -> str:
         f"{ds.attrs['fixed_overrides']}. {'; '.join(most)}. Bottom: the headline probabilities (mean along {dim}) "
         f"on nested prefixes of the scramblings. Leading input per indicator ({ds.attrs['sensitivity_method']}, "
         "mean index along the axis, +- its half-width, beside its null, the 95th percentile of the index on the "
-        f"output permuted; none: no input clears its null by its interval): {lead_text(ds)}."
+        f"output permuted; none: no input clears its null by its interval): {lead_text(ds)}. {conditioning(ds)}"
+    )
+
+
+def conditioning(ds: xr.Dataset) -> str:
+    """What a study's probabilities condition on: its axis and fixed overrides; where it draws an operating
+    condition on purpose (``operating: true``), that its numbers are shares of the box of that condition."""
+    drawn = ds.attrs.get("operating_inputs", "")
+    given = f"Each probability is conditional on {ds.attrs['axis_parameter']} and the fixed overrides"
+    if not drawn:
+        return f"{given}; only the inputs above are drawn."
+    return (
+        f"{given}, but {drawn} (an operating condition) is drawn over its range or pooled over its values: these "
+        "probabilities are shares of the box, not probabilities of a drive."
+    )
+
+
+def class_figure(ds: xr.Dataset, title: str) -> Figure:
+    """A class study at a glance: tolerance class (rows, fine at the bottom) against the operating axis, each cell
+    green where the class meets every limit and red where not, the coarsest class that does marked with a black
+    step line; the points where no class does shaded grey along the top."""
+    from matplotlib.colors import ListedColormap  # noqa: PLC0415
+
+    dim = ds.attrs["axis_parameter"]
+    x, classes = ds[dim].values.astype(float), ds["tolerance_class"].values
+    fig = Figure(figsize=(9.0, 4.5), constrained_layout=True)
+    ax = fig.subplots()
+    edges = (
+        np.r_[x[0] - 0.5 * (x[1] - x[0]), 0.5 * (x[1:] + x[:-1]), x[-1] + 0.5 * (x[-1] - x[-2])]
+        if x.size > 1
+        else np.r_[x - 0.5, x + 0.5]
+    )
+    rows = np.r_[classes - 0.5, classes[-1] + 0.5]
+    ax.pcolormesh(edges, rows, ds["meets_limits"].values, cmap=ListedColormap(["#d1495b", "#8fd18a"]), vmin=0, vmax=1)
+    best = ds["coarsest_class"].values.astype(float)
+    ax.step(
+        x, np.where(best > 0, best, np.nan), where="mid", color="k", lw=2, label="coarsest class meeting the limits"
+    )
+    none = best == 0
+    if none.any():
+        ax.scatter(x[none], np.full(none.sum(), classes[-1] + 0.3), marker="x", color="k", s=12, label="no class does")
+    ax.set(xlabel=ds[dim].attrs.get("long_name", dim), ylabel="ISO 1328-1:2013 tolerance class", yticks=classes)
+    ax.set_title(f"{title}\n{ds.attrs['limits']} (green: met, red: not)", fontsize=9, loc="left")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    return fig
+
+
+def class_caption(name: str, ds: xr.Dataset) -> str:
+    """Caption of a class study: what is limited, how the classes were sampled, the answer per point."""
+    dim = ds.attrs["axis_parameter"]
+    best = ds["coarsest_class"].values
+    none = [f"{dim} = {v:.4g}" for v, c in zip(ds[dim].values, best, strict=True) if c == 0]
+    classes = ", ".join(map(str, ds.tolerance_class.values))
+    return (
+        f"{name}: the coarsest ISO 1328-1:2013 tolerance class (classes {classes}) "
+        f"that keeps {ds.attrs['limits']} at each {dim}, decided {ds.attrs['decision']} (95 % Wilson intervals of the "
+        "probabilities and distribution-free intervals of the K_v quantile in the file and the table; the "
+        "probabilities' QMC standard errors across each class's scramblings in the file). "
+        f"{ds.attrs['samples_per_class']} samples per class, the same unit-cube points at every class "
+        f"({ds.attrs['sampling']}); a diverged sample counts as an impact, as not periodic and as K_v = +inf. Inputs: "
+        f"{ds.attrs['class_inputs']}. Fixed overrides: {ds.attrs['fixed_overrides']}. Where no class meets the limits: "
+        f"{', '.join(none) or 'nowhere'}. {conditioning(ds)}"
     )

@@ -368,7 +368,10 @@ def claims_csv(rows: Sequence[dict[str, Json]]) -> str:
 
 
 def lead_text(ds: xr.Dataset) -> str:
-    """The leading input of each indicator, with its index, interval and null (mean along the axis)."""
+    """The leading input of each indicator, with its index, interval and null (mean along the axis); a study
+    without an index design (a class study, or one given values of an operating condition) says so."""
+    if ds.attrs.get("sensitivity_method") != "sobol" and not (ds["sample_block"].values < 0).any():
+        return "none computed (no index lines: a study given values of an operating condition draws none)"
     out = []
     for name in ds["indicator"].values:
         lead = ds.attrs[f"leading_input_{name}"]
