@@ -121,7 +121,7 @@ def check_design(path: str, as_json: bool) -> int:
     return 0 if verdict is None else 1
 
 
-def _skipped_by(raw: dict[str, Any]) -> list[str]:
+def _skipped_by(raw: dict[str, Json]) -> list[str]:
     """The studies of ``config/config.yaml`` (from the working directory, where there is one) that would skip
     the design for a block it lacks."""
     from geardyn.config.validate import read_config_file, skipped_studies  # noqa: PLC0415 - --help loads no numba or scipy

@@ -413,8 +413,8 @@ def _check_probabilities(spec: dict[str, Json], raw: dict[str, Json], where: str
             f"{where}.given.parameter = {given['parameter']!r} is not allowed: a parameter other than the axis, the "
             "fixed ones and the inputs, in a study without classes"
         )
-    for i, value in enumerate(given["values"] if given else ()):
-        _check_value(given["parameter"], value, f"{where}.given.values[{i}]")
+    for i, value in enumerate(given["values"] if given is not None else ()):
+        _check_value(given["parameter"], value, f"{where}.given.values[{i}]")  # type: ignore[index]  # given set
     if spec.get("classes") and spec.get("claims"):
         raise ConfigError(f"{where}.claims is not allowed with classes: a class study checks no claims")
     if (spec.get("classes") or given) and spec["sensitivity"]["method"] == "sobol":
