@@ -366,7 +366,8 @@ def map_x1_b_small():
 
 def test_pixel_check_of_the_neimark_sacker_boundary(map_x1_b_small):
     """Both pixels beside every crossing of the curve with a row or column: P1 on the orbit's stable side,
-    quasi-periodic beyond (18 of 18 checked crossings); left out, each with its reason: the return crossings
+    quasi-periodic beyond, or transient where the record still grows toward the torus at the labeller's cap
+    (18 of 18 checked crossings); left out, each with its reason: the return crossings
     whose rows carry the torus across the curve's subcritical part (hysteresis), a stable side on the orbit
     whose multiplier is within the slow margin of 1, an other side undetermined at the circle, a crossing
     within 1.5 pixels of the curve itself."""
@@ -379,8 +380,9 @@ def test_pixel_check_of_the_neimark_sacker_boundary(map_x1_b_small):
     margin = curve_check.slow_margin(cube)
     assert margin == max(1.9e-5, 1 / 4000)
     for s in check.samples:
-        if s.ok:  # the predicted change: P1 on the stable side, a torus beyond
-            assert s.labels == (1, classify.LABELS["quasi_periodic"]) and s.modulus < 1.0, s
+        if s.ok:  # the predicted change: P1 on the stable side, a torus beyond (or a record still growing toward it)
+            assert s.labels[0] == 1 and s.modulus < 1.0, s
+            assert s.labels[1] in (classify.LABELS["quasi_periodic"], classify.LABELS["transient"]), s
         elif s.reason == "slow" and s.labels[0] == 1:  # beyond: a record at the circle, undetermined
             assert s.labels[1] == classify.LABELS["undetermined"] and s.modulus < 1.0, s
         elif s.reason == "slow":  # the stable side's multiplier within the margin of 1
