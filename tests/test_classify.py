@@ -5,7 +5,8 @@ import pytest
 
 from _oracle import classify_point
 from geardyn.label import classify
-from geardyn.runs.points import amplitude_spectrum
+from geardyn.runs.bands import bands
+from geardyn.runs.spectrum import amplitude_spectrum
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 5, 6, 12])
@@ -25,7 +26,7 @@ def test_quasi_periodic_circle_is_not_periodic():
 
 def test_bands():
     x = np.array([0.1, 0.2, 0.3, 0.4])
-    assert classify.bands(x, np.array([1, 1, 0, 5])) == [(0.1, 0.2, 1), (0.3, 0.3, 0), (0.4, 0.4, 5)]
+    assert bands(x, np.array([1, 1, 0, 5])) == [(0.1, 0.2, 1), (0.3, 0.3, 0), (0.4, 0.4, 5)]
 
 
 def test_spectrum_of_a_sine_shows_its_amplitude_and_frequency():

@@ -15,6 +15,7 @@ from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.label import classify
 from geardyn.runs.cube import labels_of_cube
+from geardyn.runs.spectrum import spectral_peaks
 
 P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
 #: The words for labels that are not period-n (:func:`geardyn.label.classify.short_name`: "QP", "chaos", ...).
@@ -132,7 +133,7 @@ def _peaks(spec: Mapping[str, Json], points: xr.Dataset | None) -> Claim:
     if int(d["diverged"]) == 1:
         return missing(spec, "our run diverged", "diverged")
     peaks, tol = spec["peaks"], spec["tolerance"]
-    ours = sorted(classify.spectral_peaks(d["frequency"].values, d["amplitude"].values, n=spec["highest"]))
+    ours = sorted(spectral_peaks(d["frequency"].values, d["amplitude"].values, n=spec["highest"]))
     matched = [any(abs(p - o) <= tol for o in ours) for p in peaks]
     reason = (
         f"{sum(matched)}/{len(peaks)} of the paper's peaks have one of our {spec['highest']} highest peaks "

@@ -39,17 +39,6 @@ def falling_return_distances(poincare: np.ndarray, max_n: int, factor: float = 0
     return falling(np.ascontiguousarray(p[np.all(np.isfinite(p), axis=1)]), max_n, factor)
 
 
-def bands(values: np.ndarray, labels: np.ndarray) -> list[tuple[float, float, int]]:
-    """Runs of equal labels along a sweep as (first value, last value, label)."""
-    out: list[tuple[float, float, int]] = []
-    start = 0
-    for i in range(1, len(labels) + 1):
-        if i == len(labels) or labels[i] != labels[start]:
-            out.append((float(values[start]), float(values[i - 1]), int(labels[start])))
-            start = i
-    return out
-
-
 #: The long and the short name of each code that is not period-n (period n: ``P{n}``).
 NAMES = {
     LABELS["transient"]: ("transient (the record still grows)", "grow"),
@@ -152,19 +141,6 @@ def spectral_flatness(phi: np.ndarray) -> float:
 # ----------------------------------------------------------------------------------------
 # decision
 # ----------------------------------------------------------------------------------------
-
-
-def spectral_peaks(freq, amp, n: int = 5, fmax: float = 3.0) -> list[float]:
-    """The ``n`` highest local maxima of a spectrum below ``fmax`` (>= 2 % of the largest), by height."""
-
-    keep = (freq > 0.02) & (freq <= fmax)
-    if keep.sum() < 3:
-        return []
-    f, a = freq[keep], amp[keep]
-    from scipy.signal import find_peaks  # noqa: PLC0415 - 0.3 s to import: only the captions with spectra
-
-    idx, _ = find_peaks(a, height=0.02 * a.max())
-    return [float(f[i]) for i in idx[np.argsort(-a[idx], kind="stable")[:n]]]  # ties: the lower frequency first
 
 
 @dataclass(frozen=True)

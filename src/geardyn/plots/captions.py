@@ -15,7 +15,9 @@ from geardyn.label import STAGE_NAMES, classify
 from geardyn.plots import paper_says
 from geardyn.plots.plus import ENERGY_BARS, orders
 from geardyn.plus.modal import MESH_TYPES
+from geardyn.runs.bands import bands
 from geardyn.runs.cube import STATES, fractions, labels_of_cube
+from geardyn.runs.spectrum import spectral_peaks
 
 if TYPE_CHECKING:
     from geardyn.plus.design import PlusDesign
@@ -73,7 +75,7 @@ def bifurcation(name: str, cube: xr.Dataset, paper: ModuleType | None = None) ->
     ]
     for i, case in enumerate(cube["case"].values):
         for j, direction in enumerate(cube["direction"].values):
-            runs = classify.bands(cube[par].values, periods[i, j])
+            runs = bands(cube[par].values, periods[i, j])
             text = "; ".join(f"{classify.label_name(lab)} on [{a:.4g}, {b:.4g}]" for a, b, lab in runs[:12])
             more = f" (+{len(runs) - 12} more bands)" if len(runs) > 12 else ""
             lines.append(f"Ours, {case}{'' if direction == 'none' else ', ' + direction}: {text}{more}.")
@@ -97,7 +99,7 @@ def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
             how = f" ({stage.replace('_', ' ')})" if stage else ""
         else:
             n = classify.LABELS["diverged"] if int(d["diverged"]) == 1 else classify.LABELS["undetermined"]
-        peaks = classify.spectral_peaks(d["frequency"].values, d["amplitude"].values)
+        peaks = spectral_peaks(d["frequency"].values, d["amplitude"].values)
         peak_text = (", peaks at " + ", ".join(f"{v:.3g}" for v in peaks) + " x f_mesh") if peaks else ""
         lines.append(f"Ours, {case}: {classify.label_name(n)}{how}{peak_text}.")
     lines += verdict_notes(ds) + _tail(name, paper)
