@@ -159,7 +159,7 @@ def study() -> dict[str, str]:
     from geardyn.khv import design, point  # noqa: PLC0415
     from geardyn.label import (  # noqa: PLC0415
         Policy,
-        classify,
+        indicators,
         label_lines,
     )
     from geardyn.label import _nonperiodic as nonperiodic  # noqa: PLC0415
@@ -171,7 +171,7 @@ def study() -> dict[str, str]:
 
     settings = SimulationSettings(steps_per_period=128, transient_periods=400, recorded_periods=50)
     cs = dataclasses.replace(
-        classify.ClassifierSettings(error_floor=1.9e-5, tangent_periods=200), torus_max_periods=16000
+        indicators.ClassifierSettings(error_floor=1.9e-5, tangent_periods=200), torus_max_periods=16000
     )
     lines = [_line(PERIODIC_LINE), _line(TORUS_ROW), _line(CHAOTIC_LINE)]
     digits: list[bytes] = []

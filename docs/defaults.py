@@ -6,7 +6,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Iterator
 
-from geardyn.label import classify, policy
+from geardyn.label import indicators, policy
 from geardyn.runs.continuation import boundaries, corrector, pixel_samples
 from geardyn.solve import base, run
 
@@ -27,7 +27,10 @@ SECTIONS = (
         "Pixel check (`geardyn.runs.continuation.pixel_samples.CheckSettings`)",
         [("default", pixel_samples.CheckSettings())],
     ),
-    ("Labeller thresholds (`geardyn.label.classify.ClassifierSettings`)", [("default", classify.ClassifierSettings())]),
+    (
+        "Labeller thresholds (`geardyn.label.indicators.ClassifierSettings`)",
+        [("default", indicators.ClassifierSettings())],
+    ),
     ("Labeller's shooting (`geardyn.label.policy.Newton`)", [("default", policy.Newton())]),
     ("Deflated shooting (`geardyn.label.policy.Deflation`)", [("default", policy.Deflation())]),
     ("Chord iteration (`geardyn.label.policy.Chord`)", [("default", policy.Chord())]),

@@ -27,7 +27,7 @@ from geardyn import io
 from geardyn.config import schema as io_schema
 from geardyn.io import provenance
 from geardyn.khv import design, model, point
-from geardyn.label import classify
+from geardyn.label import vocabulary
 from geardyn.plots import curves as plots_curves
 from geardyn.runs import continuation as C
 from geardyn.runs import maps
@@ -380,9 +380,9 @@ def test_pixel_check_of_the_neimark_sacker_boundary(map_x1_b_small):
     assert margin == max(1.9e-5, 1 / 4000)
     for s in check.samples:
         if s.ok:  # the predicted change: P1 on the stable side, a torus beyond
-            assert s.labels == (1, classify.LABELS["quasi_periodic"]) and s.modulus < 1.0, s
+            assert s.labels == (1, vocabulary.LABELS["quasi_periodic"]) and s.modulus < 1.0, s
         elif s.reason == "slow" and s.labels[0] == 1:  # beyond: a record at the circle, undetermined
-            assert s.labels[1] == classify.LABELS["undetermined"] and s.modulus < 1.0, s
+            assert s.labels[1] == vocabulary.LABELS["undetermined"] and s.modulus < 1.0, s
         elif s.reason == "slow":  # the stable side's multiplier within the margin of 1
             assert 1.0 - margin <= s.modulus < 1.0, s
         elif s.reason == "hysteresis":  # the row came through the torus and kept it
@@ -405,7 +405,7 @@ def test_pixel_check_fails_a_misplaced_curve_and_a_mislabelled_map(map_x1_b_smal
     assert wrong.fraction <= 0.3 and wrong.tally(("not_straddled",))  # measured 0.0: 19 of 19 not straddled
     relabelled = cube.copy()
     lab = relabelled["label"].values.copy()
-    lab[lab == 1] = classify.LABELS["quasi_periodic"]
+    lab[lab == 1] = vocabulary.LABELS["quasi_periodic"]
     relabelled["label"] = (relabelled["label"].dims, lab, relabelled["label"].attrs)
     bad = curve_check.pixel_check(plane, bd.curves, relabelled, CHECK)
     assert bad.fraction <= 0.3 and bad.tally(("stable_side",))  # measured 0.0

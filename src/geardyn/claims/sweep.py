@@ -13,14 +13,14 @@ import xarray as xr
 from geardyn.claims.verdicts import RANGE_AGREE, Claim, band, fraction_verdict
 from geardyn.jsontypes import Json
 from geardyn.khv import point
-from geardyn.label import classify
+from geardyn.label import vocabulary
 from geardyn.runs.cube import labels_of_cube
 from geardyn.runs.spectrum import spectral_peaks
 
-P1, QP, CHAOS = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]
-#: The words for labels that are not period-n (:func:`geardyn.label.classify.short_name`: "QP", "chaos", ...).
-_WORDS = {classify.short_name(c): c for c in classify.LABELS.values()}
-_name = classify.short_name
+P1, QP, CHAOS = 1, vocabulary.LABELS["quasi_periodic"], vocabulary.LABELS["chaotic"]
+#: The words for labels that are not period-n (:func:`geardyn.label.vocabulary.short_name`: "QP", "chaos", ...).
+_WORDS = {vocabulary.short_name(c): c for c in vocabulary.LABELS.values()}
+_name = vocabulary.short_name
 
 
 def code(label: int | str) -> int | tuple[int, ...]:
@@ -167,7 +167,7 @@ def _label_at(spec: Mapping[str, Json], t: Track, line: Mapping[str, Json]) -> C
     if t.lyapunov is not None and t.sigma is not None:
         extra = f", lambda = {float(t.lyapunov[j]):.2e} +- {float(t.sigma[j]):.1e}"
     ours = f"{_name(got)} at {t.values[j]:.4g}{extra}"
-    if got in (classify.LABELS["undetermined"], classify.LABELS["diverged"], classify.LABELS["transient"]):
+    if got in (vocabulary.LABELS["undetermined"], vocabulary.LABELS["diverged"], vocabulary.LABELS["transient"]):
         return _claim(spec, ours, "not comparable", f"our point is {_name(got)}")
     verdict = "agree" if got in (want if isinstance(want, tuple) else (want,)) else "disagree"
     return _claim(spec, ours, verdict, f"label at the nearest sweep point ({t.values[j]:.4g})")

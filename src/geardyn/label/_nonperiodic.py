@@ -9,7 +9,8 @@ import math
 
 import numpy as np
 
-import geardyn.label.classify as classify
+import geardyn.label.indicators as indicators
+import geardyn.label.vocabulary as vocabulary
 from geardyn.label._stages import (
     CHAOS,
     NAN,
@@ -66,7 +67,7 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
         if p.run.diverged:
             p.verdict = diverged_verdict(p, p.run)
     bounded = [p for p in points if not p.run.diverged]
-    periods = classify.strict_periods([p.run.poincare for p in bounded], cs)
+    periods = indicators.strict_periods([p.run.poincare for p in bounded], cs)
     periodic = [(p, n) for p, n in zip(bounded, periods, strict=True) if n > 0]
     if periodic:
         ps, ns = [p for p, _ in periodic], [n for _, n in periodic]
@@ -279,7 +280,7 @@ def _long_periods(points: list[Point], policy: Policy, newest_half: bool = True)
     reps = policy.cycle_repeats
     ns = [
         n if 0 < n and reps * n <= r.shape[0] else 0
-        for n, r in zip(classify.strict_periods(half, big), half, strict=True)
+        for n, r in zip(indicators.strict_periods(half, big), half, strict=True)
     ]
     short = [n if n <= cs.max_n else 0 for n in ns]
     _try_periods(points, short, policy, "the newest part of the record returns after a few periods")
@@ -309,7 +310,7 @@ def _locked(points: list[Point], policy: Policy) -> None:
         if n:
             ns.append(n)
         else:  # a short cycle whose approach the newest half still shows (nearest neighbours not yet n apart)
-            falling = classify.falling_return_distances(record, cs.max_n, policy.return_fall)  # compiled, cheap
+            falling = indicators.falling_return_distances(record, cs.max_n, policy.return_fall)  # compiled, cheap
             short = (m for m in range(1, cs.max_n + 1) if falling[m - 1] and _gathers(record, m, policy))
             ns.append(next(short, 0))
     locked = dataclasses.replace(
@@ -380,7 +381,7 @@ def _try_periods(points: list[Point], ns: list[int], policy: Policy, reason: str
             p.verdict = kept[id(p)]
 
 
-def _order_part(points: np.ndarray, cs: classify.ClassifierSettings) -> np.ndarray:
+def _order_part(points: np.ndarray, cs: indicators.ClassifierSettings) -> np.ndarray:
     """The part of a record that the order tests read: its newest half (of the last 2N points), or its
     newest ``order_min_n`` points where that half is shorter (all of a shorter record)."""
     n = max(1, points.shape[0] // 2)
@@ -424,7 +425,7 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
     converge); quasi-periodic needs the torus test and an exponent that is not positive; anything else is
     undetermined, with the reason.  The 0-1 test and the spectral flatness cross-check a chaos label."""
     r, cs = p.run, policy.classifier
-    lam, sig = classify.lyapunov_estimate(r.growth, r.period)
+    lam, sig = indicators.lyapunov_estimate(r.growth, r.period)
     tt, how, order = _torus(r.poincare, policy)
     # kept for :func:`_locked`, which reads the same part of the record (the same points, the same gaps)
     p.order = None if order is None else (r.poincare, order)
@@ -435,7 +436,7 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
     cross = -1
     if positive and tt.verdict == "chaotic":
         phi = r.strobe if r.strobe is not None and r.strobe.size else r.poincare[:, 1]
-        k01, flat = classify.zero_one_test(phi), classify.spectral_flatness(phi)
+        k01, flat = indicators.zero_one_test(phi), indicators.spectral_flatness(phi)
         cross = int(k01 > cs.k_chaos) + int(flat > cs.flat_broadband) - 1
         label, stage = CHAOS, "exponent"
         why = f"positive exponent {lam:.2g} +- {sig:.1g}; the Birkhoff averages do not converge (digits {digits:.1f})"
@@ -458,8 +459,8 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
                 f"(digits {digits:.1f})"
             )
     why += f" ({r.poincare.shape[0]} recorded periods)"
-    indicators = {"k01": k01, "flatness": flat, "torus_digits": digits, "crosscheck": cross}
-    return _unless_growing(p, policy, _record_verdict(p, policy, label, lam, sig, "tangent", stage, why, **indicators))
+    measured = {"k01": k01, "flatness": flat, "torus_digits": digits, "crosscheck": cross}
+    return _unless_growing(p, policy, _record_verdict(p, policy, label, lam, sig, "tangent", stage, why, **measured))
 
 
 def _unless_growing(p: Point, policy: Policy, v: Verdict) -> Verdict:
@@ -474,7 +475,7 @@ def _unless_growing(p: Point, policy: Policy, v: Verdict) -> Verdict:
         return v
     p.handed = p.handed or v
     cs = policy.classifier
-    was = f"{classify.label_name(v.label)} on its record: {v.reason}"
+    was = f"{vocabulary.label_name(v.label)} on its record: {v.reason}"
     if cs.torus_extend > 0 and p.run.poincare.shape[0] < cs.torus_max_periods:
         why = f"the record grows ({g.describe()}): it runs on before a verdict ({was})"
         return dataclasses.replace(v, label=UNDET, stage="undecided", reason=why)
@@ -488,11 +489,11 @@ def _undecided(p: Point, why: str, policy: Policy) -> Verdict:
 
 
 def _record_verdict(
-    p: Point, policy: Policy, label: int, lam: float, sig: float, method: str, stage: str, why: str, **indicators: float
+    p: Point, policy: Policy, label: int, lam: float, sig: float, method: str, stage: str, why: str, **measured: float
 ) -> Verdict:
     """A verdict of no period read off the point's record ``p.run``: its final state, its newest Poincare points, the
     response measures of its last ``p.measured`` periods (the sums its run added), the earlier stages' notes
-    appended to the reason; ``indicators``: the torus and chaos measures, where computed."""
+    appended to the reason; ``measured``: the torus and chaos measures, where computed."""
     if p.notes:
         why += "; " + "; ".join(p.notes)
     return Verdict(
@@ -509,5 +510,5 @@ def _record_verdict(
         transient_used=p.transient_used,
         n_events=int(p.run.n_events),
         response=measures_of_sums(p.run.sums, p.system, p.measured),
-        **indicators,  # type: ignore[arg-type]  # Verdict's float fields (k01, flatness, ...), by name
+        **measured,  # type: ignore[arg-type]  # Verdict's float fields (k01, flatness, ...), by name
     )

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-import geardyn.label.classify as classify
+import geardyn.label.vocabulary as vocabulary
 from geardyn.label.compare import least_period
 from geardyn.label.policy import Policy
 from geardyn.label.torus import OrderTest
@@ -22,11 +22,11 @@ from geardyn.solve.response import ResponseMeasures, measures_of_sums, response_
 from geardyn.solve.run import LaneTables
 from geardyn.solve.shooting import ShootingResult, cycle_points, newton_shooting_batch
 
-UNDET = classify.LABELS["undetermined"]
-QP = classify.LABELS["quasi_periodic"]
-CHAOS = classify.LABELS["chaotic"]
-DIVERGED = classify.LABELS["diverged"]
-TRANSIENT = classify.LABELS["transient"]
+UNDET = vocabulary.LABELS["undetermined"]
+QP = vocabulary.LABELS["quasi_periodic"]
+CHAOS = vocabulary.LABELS["chaotic"]
+DIVERGED = vocabulary.LABELS["diverged"]
+TRANSIENT = vocabulary.LABELS["transient"]
 NAN = float("nan")
 
 log = logging.getLogger("geardyn.label")
@@ -94,7 +94,7 @@ def periodic_verdicts(
         shot, m = shots[k], cycle.shape[0]
         n, rho = shot.n, shot.spectral_radius
         out[k] = Verdict(
-            label=m if m <= policy.classifier.max_n else classify.LABELS["long_period"],
+            label=m if m <= policy.classifier.max_n else vocabulary.LABELS["long_period"],
             period=m,
             exponent=math.log(rho) / (n * points[k].system.period),
             exponent_sigma=0.0,

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from geardyn.jsontypes import Json
-from geardyn.label.classify import ClassifierSettings
+from geardyn.label.indicators import ClassifierSettings
 from geardyn.solve.base import ShootingSettings, SimulationSettings
 
 Start = Literal["follow", "fixed"]

@@ -7,7 +7,7 @@ import numpy as np
 import xarray as xr
 
 from geardyn.io import markdown_table
-from geardyn.label import classify
+from geardyn.label import vocabulary
 from geardyn.runs.cube import labels_of_cube
 
 
@@ -42,7 +42,7 @@ def band_rows(cube: xr.Dataset) -> list[dict]:
                         "case": str(case),
                         "direction": str(direction),
                         "label": int(lab),
-                        "name": classify.short_name(lab),
+                        "name": vocabulary.short_name(lab),
                         "start": a,
                         "stop": b,
                         "n_points": int(m.sum()),

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike
 from geardyn import claims
 from geardyn.io import Var, markdown_table, variables
 from geardyn.jsontypes import Json
-from geardyn.label.classify import LABELS
+from geardyn.label.vocabulary import LABELS
 from geardyn.runs.probabilities import ProbabilitySpec, Samples
 from geardyn.solve.response import IMPACT_CLASSES
 
@@ -308,7 +308,7 @@ def summarize(ds: xr.Dataset, spec: ProbabilitySpec, table: Samples) -> xr.Datas
             data |= variables([Var(f"{name}_quantile{end}", ("quantile", dim), "1", text)], [q[..., k]])
     sens, conv = sensitivities(ds, spec, table), convergence(ds, spec, block)
     coords = {
-        "family": ("family", list(FAMILIES), {"long_name": "motion family (label codes: geardyn.label.classify)"}),
+        "family": ("family", list(FAMILIES), {"long_name": "motion family (label codes: geardyn.label.vocabulary)"}),
         "impact": ("impact", list(IMPACTS), {"long_name": "impact class (diverged: no response measured)"}),
         "quantile": Var("quantile", "quantile", "1", "probability of the quantile")(np.array(QUANTILES)),
         "input": ("input", list(table.names), {"long_name": "uncertain input (an override of the design's point)"}),

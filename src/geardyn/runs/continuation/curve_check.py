@@ -11,7 +11,7 @@ from dataclasses import replace
 import numpy as np
 import xarray as xr
 
-from geardyn.label.classify import LABELS
+from geardyn.label.vocabulary import LABELS
 from geardyn.runs.continuation.curves import (
     RECORD_KINDS,
     BoundaryCurve,

@@ -1,6 +1,7 @@
-"""Labels for steady motions (period-n, quasi-periodic, chaotic, diverged, undetermined): the label codes,
-rule 3 and the indicators (Lyapunov exponent, 0-1 test, spectral flatness); :mod:`geardyn.label` decides
-the labels (``docs/classify.md``)."""
+"""What the labeller measures on a record: rule 3 (:func:`strict_period` with its thresholds,
+:class:`ClassifierSettings`), the falling return distances and the indicators (Lyapunov exponent, 0-1 test,
+spectral flatness); :mod:`geardyn.label` decides the labels, :mod:`geardyn.label.vocabulary` names them
+(``docs/classify.md``)."""
 
 from __future__ import annotations
 
@@ -11,20 +12,6 @@ import numpy as np
 from geardyn import libm
 from geardyn.config import settings_from
 from geardyn.solve.precision import POINCARE_ERROR
-
-#: Label codes stored in cubes (``flag_values``/``flag_meanings``); n >= 1 is period-n.
-#: ``not_periodic`` is what the Poincaré test alone says (QP or chaos, unresolved).
-#: ``transient``: a record that still grows at the policy's cap (``docs/classify.md``, "Growing records"): no
-#: attractor found, counted as undetermined where a family table needs one.
-LABELS = {
-    "transient": -6,
-    "long_period": -5,
-    "chaotic": -4,
-    "quasi_periodic": -3,
-    "diverged": -2,
-    "undetermined": -1,
-    "not_periodic": 0,
-}
 
 
 def falling_return_distances(poincare: np.ndarray, max_n: int, factor: float = 0.95) -> np.ndarray:
@@ -37,28 +24,6 @@ def falling_return_distances(poincare: np.ndarray, max_n: int, factor: float = 0
 
     p = np.asarray(poincare, dtype=float)
     return falling(np.ascontiguousarray(p[np.all(np.isfinite(p), axis=1)]), max_n, factor)
-
-
-#: The long and the short name of each code that is not period-n (period n: ``P{n}``).
-NAMES = {
-    LABELS["transient"]: ("transient (the record still grows)", "grow"),
-    LABELS["long_period"]: ("long period (a phase-locked torus)", "Plong"),
-    LABELS["chaotic"]: ("chaotic", "chaos"),
-    LABELS["quasi_periodic"]: ("quasi-periodic", "QP"),
-    LABELS["diverged"]: ("diverged", "div"),
-    LABELS["undetermined"]: ("undetermined", "undet"),
-    LABELS["not_periodic"]: ("not periodic (QP or chaos)", "NP"),
-}
-
-
-def label_name(n: int) -> str:
-    """The label's name in words: ``quasi-periodic``, ``P3``, ..."""
-    return NAMES[n][0] if n in NAMES else f"P{n}"
-
-
-def short_name(n: int) -> str:
-    """Compact label: P1, P5, QP, chaos, div, undet."""
-    return NAMES[int(n)][1] if int(n) in NAMES else f"P{int(n)}"
 
 
 # ----------------------------------------------------------------------------------------
