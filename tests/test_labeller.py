@@ -12,7 +12,6 @@ import pytest
 from geardyn.khv import design, point
 from geardyn.label import Policy, indicators, label_lines, label_points, vocabulary
 from geardyn.label import _nonperiodic as nonperiodic
-from geardyn.label import _stages as st
 from geardyn.label.compare import directed_distance, hausdorff
 from geardyn.runs import sweep
 from geardyn.solve import SimulationSettings, simulate
@@ -191,18 +190,14 @@ def test_coexistence_adds_the_fixed_start_and_leaves_the_followed_labels_bit_for
 
 
 def test_a_long_cycle_is_labelled_long_period_with_its_period():
-    """A periodic orbit longer than max_n (a torus locked to a long cycle) gets the label long_period and its
-    least period in ``period``; a followed one keeps that label (the CF flags list 1..max_n only)."""
-
-    line = _line("li2013_route", [0.80])
-    point_ = st.Point(line[0], None, None)
-    cycle_state = np.zeros(6)
-    shot = st.ShootingResult(cycle_state, 1, True, "converged", 0, 0.0, np.eye(6) * 0.5, np.full(6, 0.5 + 0j))
-    small = Policy(MAP, indicators.ClassifierSettings(error_floor=1.9e-5, max_n=0))
-    v = st.periodic_verdicts([point_], [shot], small, "follow", "test")[0]
-    assert v.label == vocabulary.LABELS["long_period"] and v.period == 1
-    v = st.periodic_verdicts([point_], [shot], Policy(MAP, CS), "follow", "test")[0]
-    assert v.label == 1 and v.period == 1
+    """A periodic orbit longer than max_n gets the label long_period and its least period in ``period`` (the CF
+    flags list 1..max_n only): li2013_route, b = 2, e = 5, x1 = 0.586, past the period doubling at x1 = 0.577
+    (``ROUTE_X1``), is period 2 under the default max_n and long_period with period 2 when max_n is 1."""
+    line = _line("li2013_route", [0.586])
+    v = label_points(line, Policy(MAP, CS))[0]
+    assert v.label == 2 and v.period == 2
+    v = label_points(line, Policy(MAP, dataclasses.replace(CS, max_n=1)))[0]
+    assert v.label == vocabulary.LABELS["long_period"] and v.period == 2
 
 
 def test_a_torus_locked_to_a_long_cycle_is_certified_from_the_order_of_its_points():
@@ -225,29 +220,27 @@ def test_a_torus_locked_to_a_long_cycle_is_certified_from_the_order_of_its_point
     assert hausdorff(v.poincare[:48], p[-48:]) < 1e-9  # the figure draws the cycle, not the slow approach
 
 
-def test_a_record_that_returns_after_a_long_period_is_decided_when_the_cycle_shows(monkeypatch):
+def test_a_record_that_returns_after_a_long_period_is_decided_when_the_cycle_shows():
     """li2013_calibrated, b = 2, e = 1.6583 (row 60 of the (x1, e) map), x1 = 0.4286 (column 6), from the static
     deflection: no test decides the 200-period record; the record of the next round (400 periods) returns
     after 48 periods within rule 3's tolerance, and shooting certifies a stable period-48 cycle.  The record
-    ends there, not at ``torus_max_periods`` (16 000), where the search for long cycles ran before.
+    ends there, not at ``torus_max_periods`` (16 000): capped at 400 periods, the labeller gives the same
+    verdict, capped at 200 none.
     Independent check: a plain run of 20 000 periods from the verdict's final state returns after 48 periods
     to 1e-9 and not after 1-47."""
     d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
     x1, e = float(np.linspace(0.416, 0.835, 200)[6]), float(np.linspace(0.0, 5.5, 200)[60])
     c = point.point_coefficients(d, {"x1": x1, "b": 2.0, "e": e})
-    lengths: list[int] = []
-    finish = nonperiodic.finish
-
-    def recorded(points, policy):
-        finish(points, policy)
-        lengths.extend(p.run.poincare.shape[0] for p in points)
-
-    monkeypatch.setattr(nonperiodic, "finish", recorded)
-    cs = dataclasses.replace(CS, torus_max_periods=16000)
-    v = label_points([c], Policy(MAP, cs, start="fixed"))[0]
+    v, capped, first = (
+        label_points([c], Policy(MAP, dataclasses.replace(CS, torus_max_periods=cap), start="fixed"))[0]
+        for cap in (16000, 400, 200)
+    )
     assert v.label == vocabulary.LABELS["long_period"] and v.period == 48 and v.stage == "period_test"
     assert v.reason.startswith("the longer record returns after a long period")
-    assert lengths == [400]
+    # decided on the 400-period record: a cap there gives the same verdict, a cap at the first (200) none
+    assert (capped.label, capped.period, capped.reason) == (v.label, v.period, v.reason)
+    assert np.array_equal(capped.final_state, v.final_state)
+    assert first.label == vocabulary.LABELS["undetermined"]
     ret, _ = _returns_after_a_long_run(c, v.final_state, 48, 200)
     assert ret[47] < 1e-9 and min(ret[:47]) > 1e-3
 
