@@ -13,6 +13,19 @@ from geardyn import libm
 from geardyn.config import settings_from
 from geardyn.solve.precision import POINCARE_ERROR
 
+#: Numeric guards of the indicators (not thresholds of a verdict):
+#: a signal or coordinate whose spread is below CONSTANT_SPREAD of its magnitude is constant (ten thousand
+#: times double precision's 2.2e-16: round-off, not motion);
+CONSTANT_SPREAD = 1e-12
+#: a spread below FLAT_COMPONENT of the largest component's is no component of the motion (round-off of the
+#: largest one carried into the others);
+FLAT_COMPONENT = 1e-9
+#: the floor, relative to the largest bin, that keeps the log of an empty spectral bin finite without moving the
+#: flatness of any spectrum with content (its bins are far above 1e-30 of the largest);
+POWER_FLOOR = 1e-30
+#: the floor that keeps the log of a zero distance finite (the smallest normal double is 2.2e-308).
+LOG_FLOOR = 1e-300
+
 
 def falling_return_distances(poincare: np.ndarray, max_n: int, factor: float = 0.95) -> np.ndarray:
     """For n = 1 .. ``max_n`` (boolean array, entry n - 1): whether the return distance
@@ -59,7 +72,7 @@ def zero_one_test(phi: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
     if n_pts < 20:
         return float("nan")
     x = x - x.mean()
-    if float(np.max(np.abs(x))) <= 1e-12 * max(1.0, float(np.max(np.abs(phi)))):
+    if float(np.max(np.abs(x))) <= CONSTANT_SPREAD * max(1.0, float(np.max(np.abs(phi)))):
         return 0.0
 
     ncut = max(3, n_pts // 10)
@@ -99,7 +112,7 @@ def spectral_flatness(phi: np.ndarray) -> float:
     if float(np.max(np.abs(x))) == 0.0:
         return 0.0
     pw = libm.cabs(np.fft.rfft(x * np.hanning(x.size)))[1:] ** 2
-    pw = pw + 1e-30 * pw.max()
+    pw = pw + POWER_FLOOR * pw.max()
     return float(libm.exp(float(np.mean(libm.log(pw)))) / np.mean(pw))
 
 

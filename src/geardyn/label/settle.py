@@ -71,7 +71,7 @@ def approached_in_record(
     if p.shape[0] < min_points or not 0.0 < rho < 1.0:
         return False
     d = nearest_distances(p, np.asarray(cycle))
-    slope = float(np.polyfit(np.arange(d.size), np.log(np.maximum(d, 1e-300)), 1)[0])
+    slope = float(np.polyfit(np.arange(d.size), np.log(np.maximum(d, indicators.LOG_FLOOR)), 1)[0])
     return slope <= rate_share * math.log(rho) / n and math.exp(slope * (d.size - 1)) <= fall
 
 
