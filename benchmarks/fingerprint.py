@@ -162,6 +162,7 @@ def study() -> dict[str, str]:
         indicators,
         label_lines,
     )
+    from geardyn.label import _cycles as cycles  # noqa: PLC0415
     from geardyn.label import _nonperiodic as nonperiodic  # noqa: PLC0415
     from geardyn.runs import continuation as C  # noqa: PLC0415
     from geardyn.solve import SimulationSettings, simulate  # noqa: PLC0415
@@ -180,7 +181,8 @@ def study() -> dict[str, str]:
     with (
         _recording(nonperiodic, "torus_digits", digits, lambda a, r: np.asarray(r, dtype=float)),
         _recording(nonperiodic, "order_test", gaps, lambda a, r: np.asarray(r.gaps, dtype=np.int64)),
-        _recording(nonperiodic, "_try_periods", tried, lambda a, r: [n for n in a[1] if n > 0]),
+        _recording(cycles, "order_test", gaps, lambda a, r: np.asarray(r.gaps, dtype=np.int64)),
+        _recording(cycles, "_try_periods", tried, lambda a, r: [n for n in a[1] if n > 0]),
     ):
         periodic, torus, chaotic = label_lines(lines, Policy(settings, cs))
     regular = periodic + torus

@@ -29,9 +29,9 @@ STAGES = {
     "integrate": "run from the previous attractor",
     "settle_points": "slow transients",
     "exponents": "tangent run",
-    "_long_periods": "search: returns (rule 3 to 240)",
+    "long_periods": "search: returns (rule 3 to 240)",
     "_doubled": "search: period doubled",
-    "_locked": "search: gathered cycles",
+    "locked": "search: gathered cycles",
     "_at_circle": "search: circled orbit",
     "longer_record": "record growth",
 }

@@ -15,7 +15,7 @@ import xarray as xr
 from geardyn.config import validate
 from geardyn.khv import design, point
 from geardyn.label import Policy, indicators, label_points, vocabulary
-from geardyn.label._nonperiodic import period_searched
+from geardyn.label._cycles import period_searched
 from geardyn.label.growth import growth_test
 from geardyn.label.policy import GrowthSettings
 from geardyn.plots import captions

@@ -11,7 +11,7 @@ import pytest
 
 from geardyn.khv import design, point
 from geardyn.label import Policy, indicators, label_lines, label_points, vocabulary
-from geardyn.label import _nonperiodic as nonperiodic
+from geardyn.label import _cycles as cycles
 from geardyn.label.compare import directed_distance, hausdorff
 from geardyn.runs import sweep
 from geardyn.solve import SimulationSettings, simulate
@@ -378,5 +378,5 @@ def test_a_record_gathering_in_pairs_about_a_doubled_cycle_points_to_its_period(
     record = np.concatenate([base, np.zeros((k.size, 3))], axis=1)
     record += 0.3 * 0.999 ** k[:, None] * np.random.default_rng(0).normal(size=(16, 6))[k % 16]
     policy = Policy(MAP, CS)
-    assert not nonperiodic._gathers_at(record, 8, policy, False)
-    assert nonperiodic._gathers_at(record, 16, policy, False) and nonperiodic._gathers_at(record, 32, policy, False)
+    assert not cycles._gathers_at(record, 8, policy, False)
+    assert cycles._gathers_at(record, 16, policy, False) and cycles._gathers_at(record, 32, policy, False)

@@ -263,3 +263,33 @@ def certify(
             )
     decide(tp, verdicts)
     return [p for p in points if p.verdict is None]
+
+
+def undecided(p: Point, why: str, policy: Policy) -> Verdict:
+    return record_verdict(p, policy, UNDET, NAN, NAN, "none", "undecided", why)
+
+
+def record_verdict(
+    p: Point, policy: Policy, label: int, lam: float, sig: float, method: str, stage: str, why: str, **measured: float
+) -> Verdict:
+    """A verdict of no period read off the point's record ``p.run``: its final state, its newest Poincare points, the
+    response measures of its last ``p.measured`` periods (the sums its run added), the earlier stages' notes
+    appended to the reason; ``measured``: the torus and chaos measures, where computed."""
+    if p.notes:
+        why += "; " + "; ".join(p.notes)
+    return Verdict(
+        label,
+        0,
+        lam,
+        sig,
+        method,
+        stage,
+        why,
+        final_state=p.run.final_state.copy(),
+        poincare=p.run.poincare[-policy.integration.recorded_periods :],
+        bifurcation=p.bifurcation,
+        transient_used=p.transient_used,
+        n_events=int(p.run.n_events),
+        response=measures_of_sums(p.run.sums, p.system, p.measured),
+        **measured,  # type: ignore[arg-type]  # Verdict's float fields (k01, flatness, ...), by name
+    )
