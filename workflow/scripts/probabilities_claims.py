@@ -2,7 +2,7 @@
 study's samples -> Markdown and CSV beside claims.md."""
 
 from geardyn import io
-from geardyn.io import logs
+from geardyn.io import logs, tables
 from geardyn.khv import design
 from geardyn.papers import paper_of
 from geardyn.runs import probability_stats
@@ -21,6 +21,6 @@ note = (
     "the samples on which the claim agrees, with its 95 % Wilson interval."
 )
 title = f"Claims of {paper.SHORT} under the study's inputs ({snakemake.wildcards.prob})"
-io.write_text(probability_stats.claims_markdown(rows, title, note), snakemake.output.md)
-io.write_text(probability_stats.claims_csv(rows), snakemake.output.csv)
+io.write_text(tables.claims_markdown(rows, title, note), snakemake.output.md)
+io.write_text(tables.claims_csv(rows), snakemake.output.csv)
 log.info("%s: %s", snakemake.wildcards.prob, {r["id"]: round(r["agree"], 3) for r in rows})

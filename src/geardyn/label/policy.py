@@ -64,7 +64,7 @@ class Settle:
 
 @dataclass(frozen=True)
 class Locked:
-    """The search for a cycle that a quasi-periodic record gathers about (:mod:`geardyn.label._nonperiodic`):
+    """The search for a cycle that a quasi-periodic record gathers about (:func:`geardyn.label._cycles.locked`):
     return tolerance, Newton iterations and growth stop, required falls, circled periods (measured values:
     ``docs/classify.md``)."""
 
