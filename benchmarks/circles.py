@@ -20,7 +20,7 @@ import numpy as np
 from benchmarks.common import map_lines, map_study
 from benchmarks.invariant_circle import distance_to_circle, find_circles
 from geardyn.io import markdown_table
-from geardyn.label import classify, label_lines
+from geardyn.label import label_lines, vocabulary
 from geardyn.solve import SimulationSettings
 from geardyn.solve.run import simulate_batch
 
@@ -69,7 +69,7 @@ def circle_check(
     ]
     cells = []
     for name in CLASSES:
-        code = classify.LABELS[name]
+        code = vocabulary.LABELS[name]
         where = [(r, i) for r, row in enumerate(verdicts) for i, v in enumerate(row) if v.label == code]
         if not where:
             continue

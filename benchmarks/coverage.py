@@ -11,12 +11,12 @@ from scipy.stats import binomtest
 
 from benchmarks.common import PAPER1_SWEEPS, load_design, workflow_config
 from geardyn.khv import point
-from geardyn.label import classify
+from geardyn.label import vocabulary
 from geardyn.runs import response, sweep
 from geardyn.solve.response import measures_of_sums, rms_errors_many
 from geardyn.solve.run import simulate_batch
 
-NAMES = {classify.LABELS["quasi_periodic"]: "quasi-periodic", classify.LABELS["chaotic"]: "chaotic"}
+NAMES = {vocabulary.LABELS["quasi_periodic"]: "quasi-periodic", vocabulary.LABELS["chaotic"]: "chaotic"}
 #: windows of mesh periods run on after a record to say whether it is stationary (:func:`_drifts`)
 WINDOWS, WINDOW = 5, 1000
 
@@ -108,7 +108,7 @@ def coverage_check(config_path: Path, results: Path, gap: int = 1000, n_qp: int 
                         pools.setdefault(code, []).append((dname, system, state, settings))
     rng = np.random.default_rng(seed)
     for code, pool in pools.items():
-        if code == classify.LABELS["quasi_periodic"] and len(pool) > n_qp:
+        if code == vocabulary.LABELS["quasi_periodic"] and len(pool) > n_qp:
             pool = [pool[k] for k in sorted(rng.choice(len(pool), n_qp, replace=False))]
         for dname in sorted({p[0] for p in pool}):
             part = [p for p in pool if p[0] == dname]

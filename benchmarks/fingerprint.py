@@ -159,9 +159,10 @@ def study() -> dict[str, str]:
     from geardyn.khv import design, point  # noqa: PLC0415
     from geardyn.label import (  # noqa: PLC0415
         Policy,
-        classify,
+        indicators,
         label_lines,
     )
+    from geardyn.label import _cycles as cycles  # noqa: PLC0415
     from geardyn.label import _nonperiodic as nonperiodic  # noqa: PLC0415
     from geardyn.runs import continuation as C  # noqa: PLC0415
     from geardyn.solve import SimulationSettings, simulate  # noqa: PLC0415
@@ -171,7 +172,7 @@ def study() -> dict[str, str]:
 
     settings = SimulationSettings(steps_per_period=128, transient_periods=400, recorded_periods=50)
     cs = dataclasses.replace(
-        classify.ClassifierSettings(error_floor=1.9e-5, tangent_periods=200), torus_max_periods=16000
+        indicators.ClassifierSettings(error_floor=1.9e-5, tangent_periods=200), torus_max_periods=16000
     )
     lines = [_line(PERIODIC_LINE), _line(TORUS_ROW), _line(CHAOTIC_LINE)]
     digits: list[bytes] = []
@@ -180,7 +181,8 @@ def study() -> dict[str, str]:
     with (
         _recording(nonperiodic, "torus_digits", digits, lambda a, r: np.asarray(r, dtype=float)),
         _recording(nonperiodic, "order_test", gaps, lambda a, r: np.asarray(r.gaps, dtype=np.int64)),
-        _recording(nonperiodic, "_try_periods", tried, lambda a, r: [n for n in a[1] if n > 0]),
+        _recording(cycles, "order_test", gaps, lambda a, r: np.asarray(r.gaps, dtype=np.int64)),
+        _recording(cycles, "_try_periods", tried, lambda a, r: [n for n in a[1] if n > 0]),
     ):
         periodic, torus, chaotic = label_lines(lines, Policy(settings, cs))
     regular = periodic + torus

@@ -12,7 +12,7 @@ from benchmarks.common import load_design, workflow_config
 from geardyn.io import markdown_table
 from geardyn.khv import point
 from geardyn.label import STAGE_NAMES, label_points
-from geardyn.label.classify import LABELS, short_name
+from geardyn.label.vocabulary import LABELS, short_name
 from geardyn.runs import maps, sweep
 
 # ----------------------------------------------------------------------------------------------

@@ -19,7 +19,7 @@ from benchmarks.common import load_design, map_lines, workflow_config
 from geardyn.khv import point
 from geardyn.label import label_lines
 from geardyn.runs import continuation, maps, response, sweep
-from geardyn.runs.continuation import curve_maps
+from geardyn.runs.continuation import boundaries, curve_maps
 from geardyn.solve import SimulationSettings, simulate_batch, warm_up
 
 REFERENCE = Path(__file__).with_name("ledger.json")
@@ -77,8 +77,8 @@ def _curves(config: dict, root: Path, design: str, name: str) -> Callable[[], ob
     """A curves study: the regime boundaries of a parameter plane continued from its lines."""
     entry = config["curves"][name]
     d = load_design(design, config, root)
-    region = curve_maps.Region.from_config(entry, d.segment)
-    settings = curve_maps.BoundarySpec.from_config(entry)
+    region = boundaries.Region.from_config(entry, d.segment)
+    settings = boundaries.BoundarySpec.from_config(entry)
     integration = point.integration_settings(d, **dict(entry.get("integration", {})))
     return lambda: curve_maps.boundary_curves(d, region, settings, integration)
 

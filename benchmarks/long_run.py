@@ -12,7 +12,7 @@ import numpy as np
 
 from benchmarks.common import map_lines, map_study
 from geardyn.io import markdown_table
-from geardyn.label import classify, label_lines
+from geardyn.label import indicators, label_lines, vocabulary
 from geardyn.label.compare import directed_distance, hausdorff
 from geardyn.solve import SimulationSettings
 from geardyn.solve.run import simulate_batch
@@ -58,7 +58,7 @@ def long_run_check(
     cells = []
     counts = {"periodic": [0, 0], "other": [0, 0]}
     for (j, i), v, r in zip(picks, want, runs, strict=True):
-        n = 0 if r.diverged else classify.strict_period(r.poincare, cs if 0 < v.period <= cs.max_n else long_cs)
+        n = 0 if r.diverged else indicators.strict_period(r.poincare, cs if 0 < v.period <= cs.max_n else long_cs)
         if v.period > 0:
             # the verdict keeps the newest ``recorded_periods`` points: a cycle longer than that is stored in
             # part, so every stored point must lie on the long run's cycle (with the same least period, the
@@ -73,12 +73,12 @@ def long_run_check(
             counts["periodic"][1] += 1
         else:
             dist = float("nan")
-            ok = n == 0 if v.label != classify.LABELS["diverged"] else r.diverged
+            ok = n == 0 if v.label != vocabulary.LABELS["diverged"] else r.diverged
             counts["other"][0] += ok
             counts["other"][1] += 1
         if not ok or v.period == 0:
             at = (f"{spec.x.values[i]:.4g}", f"{spec.y.values[j]:.4g}")
-            cells.append((*at, classify.short_name(v.label), v.stage, n, f"{dist:.2g}", ok))
+            cells.append((*at, vocabulary.short_name(v.label), v.stage, n, f"{dist:.2g}", ok))
     head = (
         f"{map_name} of {dname}: {len(picks)} random points, {periods} periods each "
         f"({time.perf_counter() - t0:.0f} s). Periodic verdicts met by the long run (same least period, orbit "
@@ -95,7 +95,7 @@ ENDINGS = ("torus", "short cycle", "long cycle", "chaos", "diverged")
 
 
 def ending(
-    poincare: np.ndarray, growth: np.ndarray, period: float, cs: classify.ClassifierSettings
+    poincare: np.ndarray, growth: np.ndarray, period: float, cs: indicators.ClassifierSettings
 ) -> tuple[str, int, float]:
     """What a long run ends on, from its newest Poincare points and its tangent vector's growth, without
     the labeller: a cycle when its newest points return after n periods (rule 3 up to ``long_max_n``, at
@@ -106,12 +106,12 @@ def ending(
     unstable cycle, which :func:`sweep_check` tells apart by shooting)."""
     if poincare.shape[0] == 0 or not np.all(np.isfinite(poincare)) or not np.all(np.isfinite(growth)):
         return "diverged", 0, math.nan
-    n = classify.strict_period(poincare, dataclasses.replace(cs, max_n=min(cs.long_max_n, poincare.shape[0] // 3)))
+    n = indicators.strict_period(poincare, dataclasses.replace(cs, max_n=min(cs.long_max_n, poincare.shape[0] // 3)))
     if n > 0:
         size = float(np.max(poincare.std(axis=0))) or 1.0
         d = float(np.max(np.abs(poincare[n:] - poincare[:-n]))) / size
         return ("short cycle" if n <= cs.max_n else "long cycle"), n, d
-    lam, sigma = classify.lyapunov_estimate(growth[growth.size // 2 :], period, skip=0)
+    lam, sigma = indicators.lyapunov_estimate(growth[growth.size // 2 :], period, skip=0)
     return ("chaos" if lam > max(cs.lam_tol, 3.0 * sigma) else "torus"), 0, math.nan
 
 
@@ -142,7 +142,7 @@ def _expected(label: int, period: int) -> str:
     """The ending a verdict promises."""
     if period > 0:
         return "short cycle" if label > 0 else "long cycle"
-    return {classify.LABELS["chaotic"]: "chaos", classify.LABELS["quasi_periodic"]: "torus"}.get(label, "")
+    return {vocabulary.LABELS["chaotic"]: "chaos", vocabulary.LABELS["quasi_periodic"]: "torus"}.get(label, "")
 
 
 def sweep_check(
@@ -156,7 +156,7 @@ def sweep_check(
     designs: tuple[str, ...] = (),
 ) -> str:
     """Independent check of the labels of the built sweeps: ``n_points`` random points with one of
-    ``labels`` (names of :data:`geardyn.label.classify.LABELS`; ``periodic`` for P1 ... P12, ``all``) drawn from
+    ``labels`` (names of :data:`geardyn.label.vocabulary.LABELS`; ``periodic`` for P1 ... P12, ``all``) drawn from
     every sweep cube of every design the config lists under ``results``, each run ``periods`` mesh periods
     (plain RK4 with a tangent vector, no labeller) from its newest stored Poincare point.  The run's newest
     points and exponent say what it ends on (:func:`ending`); a verdict holds when that is what it promises
@@ -200,7 +200,7 @@ def sweep_check(
         verdicts.append(
             (int(cube["label"].values[case, direction, j]), int(cube["period"].values[case, direction, j]), stored)
         )
-    cs = classify.ClassifierSettings()
+    cs = indicators.ClassifierSettings()
     keep = 3 * cs.long_max_n
     # each point with its sweep's own integration (steps per period, contact switches located), no early stop
     settings = [
@@ -237,14 +237,14 @@ def sweep_check(
                 n == per
                 and directed_distance(stored[-min(per, stored.shape[0]) :], r.poincare[-3 * per :]) < 1e-6 * scale
             )
-        kind = classify.short_name(lab) if per <= 0 or lab > 0 else "long cycle"
+        kind = vocabulary.short_name(lab) if per <= 0 or lab > 0 else "long cycle"
         row = table.setdefault((pick[0], kind), dict.fromkeys(("held", *ENDINGS), 0))
         row["held" if ok else end] += 1
         if not ok:
             dname, name, spec, case, direction, j = pick
             value = float(cubes[dname, name][2][spec.parameter].values[j])
             where = (dname, name, spec.case_label(case), f"{value:.5g}")
-            failed.append((*where, classify.short_name(lab), f"{end} {n or ''}", f"{radius.get(k, math.nan):.6g}"))
+            failed.append((*where, vocabulary.short_name(lab), f"{end} {n or ''}", f"{radius.get(k, math.nan):.6g}"))
     head = (
         f"{len(picks)} points of the sweeps under {results} ({', '.join(sorted(wanted))}), {periods} periods "
         f"each from the newest stored point ({time.perf_counter() - t0:.0f} s).\n\n"
@@ -264,7 +264,7 @@ def sweep_check(
 
 
 def _label_codes(names: set[str]) -> list[int]:
-    codes = dict(classify.LABELS)
+    codes = dict(vocabulary.LABELS)
     out: list[int] = []
     for name in names:
         if name == "all":

@@ -17,7 +17,7 @@ import numpy as np
 import geardyn.label._nonperiodic as nonperiodic
 import geardyn.solve.run as run
 from benchmarks.common import load_design, map_lines, workflow_config
-from geardyn.label import classify, label_lines
+from geardyn.label import label_lines, vocabulary
 from geardyn.runs import maps, sweep
 from geardyn.solve import shooting, warm_up
 
@@ -29,13 +29,13 @@ STAGES = {
     "integrate": "run from the previous attractor",
     "settle_points": "slow transients",
     "exponents": "tangent run",
-    "_long_periods": "search: returns (rule 3 to 240)",
+    "long_periods": "search: returns (rule 3 to 240)",
     "_doubled": "search: period doubled",
-    "_locked": "search: gathered cycles",
+    "locked": "search: gathered cycles",
     "_at_circle": "search: circled orbit",
     "longer_record": "record growth",
 }
-QP, CHAOS, UNDET = (classify.LABELS[k] for k in ("quasi_periodic", "chaotic", "undetermined"))
+QP, CHAOS, UNDET = (vocabulary.LABELS[k] for k in ("quasi_periodic", "chaotic", "undetermined"))
 
 
 def _stage() -> str:

@@ -6,8 +6,8 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Iterator
 
-from geardyn.label import classify, policy
-from geardyn.runs.continuation import corrector, curve_check, curve_maps
+from geardyn.label import indicators, policy
+from geardyn.runs.continuation import boundaries, corrector, pixel_samples
 from geardyn.solve import base, run
 
 #: (title, the settings, the instances side by side: (column, instance)), in the order of the page.
@@ -20,11 +20,17 @@ SECTIONS = (
         [("branch (default)", corrector.ContinuationSettings()), ("curve (`CURVES`)", corrector.CURVES)],
     ),
     (
-        "Regime boundaries (`geardyn.runs.continuation.curve_maps.BoundarySpec`)",
-        [("default", curve_maps.BoundarySpec())],
+        "Regime boundaries (`geardyn.runs.continuation.boundaries.BoundarySpec`)",
+        [("default", boundaries.BoundarySpec())],
     ),
-    ("Pixel check (`geardyn.runs.continuation.curve_check.CheckSettings`)", [("default", curve_check.CheckSettings())]),
-    ("Labeller thresholds (`geardyn.label.classify.ClassifierSettings`)", [("default", classify.ClassifierSettings())]),
+    (
+        "Pixel check (`geardyn.runs.continuation.pixel_samples.CheckSettings`)",
+        [("default", pixel_samples.CheckSettings())],
+    ),
+    (
+        "Labeller thresholds (`geardyn.label.indicators.ClassifierSettings`)",
+        [("default", indicators.ClassifierSettings())],
+    ),
     ("Labeller's shooting (`geardyn.label.policy.Newton`)", [("default", policy.Newton())]),
     ("Deflated shooting (`geardyn.label.policy.Deflation`)", [("default", policy.Deflation())]),
     ("Chord iteration (`geardyn.label.policy.Chord`)", [("default", policy.Chord())]),

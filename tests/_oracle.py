@@ -14,17 +14,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from geardyn import libm
-from geardyn.label import classify
+from geardyn.label import indicators, vocabulary
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.shooting import FlowMap, khv_flow, newton_shooting
 
-LABELS = classify.LABELS
+LABELS = vocabulary.LABELS
 
 
 def rules_label(
     system,
     settings: SimulationSettings,
-    cs: classify.ClassifierSettings = classify.ClassifierSettings(),
+    cs: indicators.ClassifierSettings = indicators.ClassifierSettings(),
     x0: np.ndarray | None = None,
 ):
     """(SimulationResult, Classification) of one plain run."""
@@ -80,7 +80,7 @@ def classify_point(
     growth: np.ndarray,
     period: float,
     diverged: bool = False,
-    settings: classify.ClassifierSettings = classify.ClassifierSettings(),
+    settings: indicators.ClassifierSettings = indicators.ClassifierSettings(),
     samples: np.ndarray | None = None,
 ) -> Classification:
     """Label one point from its Poincaré points (n, 6) and its tangent growth per period.
@@ -109,22 +109,22 @@ def classify_point(
     """
     nan = float("nan")
     if diverged:
-        lam, sig = classify.lyapunov_estimate(growth, period) if len(growth) else (float("inf"), 0.0)
+        lam, sig = indicators.lyapunov_estimate(growth, period) if len(growth) else (float("inf"), 0.0)
         return Classification(LABELS["diverged"], 0, lam, sig, nan, nan, -1, "diverged")
     p = np.asarray(poincare, dtype=float)
     if p.ndim == 1:
         p = p[:, None]
     p = p[~np.isnan(p).any(axis=1)]
-    lam, sig = classify.lyapunov_estimate(growth, period)
+    lam, sig = indicators.lyapunov_estimate(growth, period)
     if p.shape[0] < 3:
         return Classification(LABELS["undetermined"], 0, lam, sig, nan, nan, -1, "too few points")
     tol = tolerance(p, settings)
-    n = classify.strict_period(p, settings)
+    n = indicators.strict_period(p, settings)
     if n > 0:
         return Classification(n, n, lam, sig, nan, nan, -1, f"returns within {tol:.2g} after {n}")
     phi = p[:, 1] if samples is None else np.asarray(samples, dtype=float)  # X_VH at the section
-    k01 = classify.zero_one_test(phi)
-    flat = classify.spectral_flatness(phi)
+    k01 = indicators.zero_one_test(phi)
+    flat = indicators.spectral_flatness(phi)
     k_chaos = bool(k01 > settings.k_chaos)
     broad = bool(flat > settings.flat_broadband)
 
@@ -314,7 +314,7 @@ def linear_floquet(coeffs, rtol: float = 1e-12) -> FloquetResult:
     return FloquetResult(phi, np.linalg.eigvals(phi), ystar)
 
 
-def tolerance(p: np.ndarray, cs: classify.ClassifierSettings) -> float:
+def tolerance(p: np.ndarray, cs: indicators.ClassifierSettings) -> float:
     """Rule 3's return-distance tolerance of the points ``p`` (the classifier's, stated in numpy)."""
     size = float(np.max(np.ptp(p, axis=0)))
     scale = max(float(np.max(np.abs(p))), 1.0)

@@ -186,9 +186,8 @@ def test_the_paper_check_sees_a_string_and_an_import(tmp_path):
 
 #: The parameter names of a tolerance or an iteration limit.
 _LIMIT_NAME = re.compile(r"(^|_)(tol|rtol|atol|xtol|maxiter|max_iter|iterations|max_points|max_corrector|max_step)$")
-#: The packages whose functions write no tolerance and no iteration limit (the labeller's turn comes when its own
-#: numbers move into its settings).
-NUMBERS_HOMED = ("geardyn.solve", "geardyn.runs.continuation")
+#: The packages whose functions write no tolerance and no iteration limit.
+NUMBERS_HOMED = ("geardyn.solve", "geardyn.runs.continuation", "geardyn.label")
 
 
 def _is_number(node: ast.AST | None) -> bool:
@@ -244,8 +243,8 @@ def _unexplained_constants(path: pathlib.Path) -> list[str]:
 
 @pytest.mark.parametrize("name", [m for m in sorted(MODULES) if m.startswith(NUMBERS_HOMED)])
 def test_no_tolerance_or_iteration_limit_inside_a_function(name):
-    """In the solver and the continuation engine every tolerance and iteration limit is a settings field or a named
-    module-level constant whose comment gives its reason; none is written inside a function."""
+    """In the solver, the continuation engine and the labeller every tolerance and iteration limit is a settings
+    field or a named module-level constant whose comment gives its reason; none is written inside a function."""
     assert not _numbers_in_functions(MODULES[name]), _numbers_in_functions(MODULES[name])
     assert not _unexplained_constants(MODULES[name]), _unexplained_constants(MODULES[name])
 

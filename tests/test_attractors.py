@@ -14,7 +14,7 @@ import _orbits
 from geardyn import io
 from geardyn.io import provenance
 from geardyn.khv import design, point
-from geardyn.label import classify
+from geardyn.label import indicators, vocabulary
 from geardyn.label.compare import same_attractor
 from geardyn.label.policy import Same
 from geardyn.runs import attractors as A
@@ -60,7 +60,7 @@ def coexistence():
         pts,
         A.AttractorSettings(n_random=4),
         point.integration_settings(d),
-        classify.ClassifierSettings(),
+        indicators.ClassifierSettings(),
         "x1",
         "1",
         "planet profile shift x1",
@@ -70,12 +70,12 @@ def coexistence():
 
 def test_p1_and_torus_coexist_between_ns_and_fold(coexistence):
     ds = coexistence
-    labels = sorted(int(v) for v in ds["attractor_label"].values[0] if v != classify.LABELS["undetermined"])
+    labels = sorted(int(v) for v in ds["attractor_label"].values[0] if v != vocabulary.LABELS["undetermined"])
     assert ds["n_attractors"].values[0] == 2
-    assert labels == [classify.LABELS["quasi_periodic"], 1]
+    assert labels == [vocabulary.LABELS["quasi_periodic"], 1]
     # past the fold only the torus is left
     assert ds["n_attractors"].values[1] == 1
-    assert ds["attractor_label"].values[1, 0] == classify.LABELS["quasi_periodic"]
+    assert ds["attractor_label"].values[1, 0] == vocabulary.LABELS["quasi_periodic"]
 
 
 def test_basin_fractions_sum_to_one_and_dataset_is_cf(coexistence, tmp_path):

@@ -21,7 +21,7 @@ from geardyn.khv.calibrate import evaluate as KE
 from geardyn.khv.calibrate import objective, optimise, products
 from geardyn.khv.calibrate import records as KR
 from geardyn.khv.calibrate import space as KS
-from geardyn.label import Policy, classify, label_lines, label_points
+from geardyn.label import Policy, indicators, label_lines, label_points, vocabulary
 from geardyn.label import settle as S
 from geardyn.label.compare import least_period
 from geardyn.papers import li2013 as paper
@@ -35,8 +35,8 @@ FULL = SimulationSettings(steps_per_period=512, transient_periods=500, recorded_
 
 def _falls(poincare, n: int) -> bool:
     """Whether the return distance after n periods falls over the record (the slow-transient check's test of
-    a period n, :func:`geardyn.label.classify.falling_return_distances`, factor 0.95)."""
-    return bool(classify.falling_return_distances(poincare, n, 0.95)[n - 1])
+    a period n, :func:`geardyn.label.indicators.falling_return_distances`, factor 0.95)."""
+    return bool(indicators.falling_return_distances(poincare, n, 0.95)[n - 1])
 
 
 def _settle(system, result, label, lyapunov, settings, classifier):
@@ -60,13 +60,13 @@ def li2013():
 @pytest.mark.parametrize(
     "over, before, rho",
     [
-        ({"x1": 0.761, "e": 5.0, "b": 0.83}, classify.LABELS["quasi_periodic"], 0.9902),
-        ({"x1": 0.5, "b": 2.0, "e": 3.6}, classify.LABELS["quasi_periodic"], 0.9942),
+        ({"x1": 0.761, "e": 5.0, "b": 0.83}, vocabulary.LABELS["quasi_periodic"], 0.9902),
+        ({"x1": 0.5, "b": 2.0, "e": 3.6}, vocabulary.LABELS["quasi_periodic"], 0.9942),
     ],
 )
 def test_slow_transient_is_relabelled_p1(li2013, over, before, rho):
     c = point.point_coefficients(li2013, {**over, "w": 0.7})
-    cs = classify.ClassifierSettings()
+    cs = indicators.ClassifierSettings()
     res, cl = rules_label(c, FULL, cs)
     assert cl.label == before and -1e-3 < cl.lyapunov < 0.0  # inside the zero band: the classifier's QP
     r = _settle(c, res, cl.label, cl.lyapunov, FULL, cs)
@@ -77,26 +77,26 @@ def test_slow_transient_is_relabelled_p1(li2013, over, before, rho):
 
 def test_torus_is_not_relabelled(li2013):
     c = point.point_coefficients(li2013, {"x1": 0.761, "b": 2.0, "e": 5.0, "w": 0.7})
-    cs = classify.ClassifierSettings()
+    cs = indicators.ClassifierSettings()
     res, cl = rules_label(c, FULL, cs)
     r = _settle(c, res, cl.label, cl.lyapunov, FULL, cs)
-    assert cl.label == r.after == classify.LABELS["quasi_periodic"]
+    assert cl.label == r.after == vocabulary.LABELS["quasi_periodic"]
     assert r.reason.startswith("no stable orbit of period <= 12")
     # chaos and periodic labels are never touched
-    assert _settle(c, res, classify.LABELS["chaotic"], 0.03, FULL, cs).after == classify.LABELS["chaotic"]
+    assert _settle(c, res, vocabulary.LABELS["chaotic"], 0.03, FULL, cs).after == vocabulary.LABELS["chaotic"]
     assert _settle(c, res, 5, float("nan"), FULL, cs).after == 5
 
 
 def test_settle_of_many_points_is_settle_of_each(li2013):
     """settle_points integrates every stage of many points together; each point's verdict must be the one
     it gets alone: two slow transients onto P1, a torus, a chaos label (never tried) and a periodic one."""
-    cs = classify.ClassifierSettings()
+    cs = indicators.ClassifierSettings()
     overs = [{"x1": 0.761, "e": 5.0, "b": 0.83}, {"x1": 0.761, "b": 2.0, "e": 5.0}, {"x1": 0.5, "b": 2.0, "e": 3.6}]
     systems = [point.point_coefficients(li2013, {**o, "w": 0.7}) for o in overs]
     runs = [rules_label(c, FULL, cs) for c in systems]
     systems += systems[:2]
     runs += runs[:2]
-    labels = [cl.label for _, cl in runs[:3]] + [classify.LABELS["chaotic"], 1]
+    labels = [cl.label for _, cl in runs[:3]] + [vocabulary.LABELS["chaotic"], 1]
     lams = [cl.lyapunov for _, cl in runs[:3]] + [0.03, float("nan")]
     together = S.settle_points(systems, [r for r, _ in runs], labels, lams, Policy(FULL, cs))
     alone = [_settle(c, r, lab, lam, FULL, cs) for c, (r, _), lab, lam in zip(systems, runs, labels, lams, strict=True)]
@@ -105,7 +105,7 @@ def test_settle_of_many_points_is_settle_of_each(li2013):
         (t.state is None and a.state is None) or np.array_equal(t.state, a.state)
         for t, a in zip(together, alone, strict=True)
     )
-    assert [s.after for s in together] == [1, classify.LABELS["quasi_periodic"], 1, classify.LABELS["chaotic"], 1]
+    assert [s.after for s in together] == [1, vocabulary.LABELS["quasi_periodic"], 1, vocabulary.LABELS["chaotic"], 1]
 
 
 def test_search_space_units_and_log_scale():
@@ -332,7 +332,12 @@ def test_comparison_with_the_committed_design_in_unit_distances():
 def test_route_requirement_and_its_ranking():
     """'route': P1, then quasi-periodic or period-n motion, then chaos along x1; a candidate that fails it
     ranks below every one that meets it, and among those the claims score decides."""
-    P1, QP, CH, UND = 1, classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"], classify.LABELS["undetermined"]
+    P1, QP, CH, UND = (
+        1,
+        vocabulary.LABELS["quasi_periodic"],
+        vocabulary.LABELS["chaotic"],
+        vocabulary.LABELS["undetermined"],
+    )
     assert shows_route([P1, P1, QP, 5, CH, 6, CH])
     assert shows_route([P1, UND, 2, 2, 4, CH])  # undetermined points are left out
     assert not shows_route([P1, CH, QP])  # no non-period-1 motion before the chaos
@@ -354,10 +359,10 @@ def test_the_labeller_settles_slow_transients(li2013):
     """The labeller (sweeps, maps, claims, calibration) from the static deflection: b = 0.83 and 1.68 at
     x1 = 0.761 are slow transients onto P1 and P7 (|mu|max 0.990, 0.969 over their periods), found by
     shooting and certified by their multipliers; b = 2.0 is a torus (the Birkhoff averages converge)."""
-    cs = classify.ClassifierSettings()
+    cs = indicators.ClassifierSettings()
     systems = [point.point_coefficients(li2013, {"x1": 0.761, "e": 5.0, "b": b, "w": 0.7}) for b in (0.83, 1.68, 2.0)]
     out = label_points(systems, Policy(FULL, cs, start="fixed"))
-    assert [(v.label, v.period) for v in out] == [(1, 1), (7, 7), (classify.LABELS["quasi_periodic"], 0)]
+    assert [(v.label, v.period) for v in out] == [(1, 1), (7, 7), (vocabulary.LABELS["quasi_periodic"], 0)]
     # the two orbits certified by their multipliers (inside the unit circle), the torus's exponent in the zero band
     assert [v.exponent_method for v in out] == ["floquet", "floquet", "tangent"]
     np.testing.assert_allclose([out[0].multiplier, out[1].multiplier], [0.9902, 0.9694], atol=2e-4)
@@ -397,7 +402,7 @@ def test_point_figures_carry_the_sweeps_label(li2013):
     (a Fig. 8 caption once said "not periodic" at a point the Fig. 7 colours and claims.md called P1)."""
 
     ds = dense_points(li2013, {"x1": 0.761, "e": 5.0, "w": 0.7}, [{"b": 0.83}, {"b": 2.0}], Policy(FULL))
-    assert ds["label"].values.tolist() == [1, classify.LABELS["quasi_periodic"]]
+    assert ds["label"].values.tolist() == [1, vocabulary.LABELS["quasi_periodic"]]
     # the drawn record starts on the orbit: its Poincare points return within 1e-7 (no transient drawn)
     p = np.stack([ds[f"poincare_{v}"].values[0] for v in ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")], axis=1)
     assert np.max(np.abs(p - p[0])) < 1e-7
@@ -418,7 +423,7 @@ def test_a_line_across_the_neimark_sacker_point_types_it():
         [[point.point_coefficients(d, {"x1": x, "b": 2.0, "e": 5.0}) for x in xs]],
         Policy(point.integration_settings(d)),
     )[0]
-    assert [v.label for v in out] == [1, 1, 1, 1, classify.LABELS["quasi_periodic"]]
+    assert [v.label for v in out] == [1, 1, 1, 1, vocabulary.LABELS["quasi_periodic"]]
     # below it the stable P1 orbit, certified by its multipliers, followed from the previous point (no transient)
     assert all(v.period == 1 and v.exponent_method == "floquet" and v.multiplier < 1.0 for v in out[:4])
     assert [v.transient_used for v in out[1:4]] == [0] * 3
@@ -439,8 +444,8 @@ def test_falling_return_distances_is_the_quarter_means_of_the_return_distances()
             d = np.max(np.abs(p[n:] - p[:-n]), axis=1)
             q = max(2, d.size // 4)
             want[n - 1] = d[-q:].mean() < 0.95 * d[:q].mean()
-        np.testing.assert_array_equal(classify.falling_return_distances(p, 12), want)
-    period3 = classify.falling_return_distances(cases[-1], 12)
+        np.testing.assert_array_equal(indicators.falling_return_distances(p, 12), want)
+    period3 = indicators.falling_return_distances(cases[-1], 12)
     assert not period3[0] and period3[2]
 
 

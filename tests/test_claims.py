@@ -11,6 +11,7 @@ import pytest
 import xarray as xr
 
 from geardyn import claims as C
+from geardyn.claims import sweep
 from geardyn.claims import verdicts as V
 from geardyn.papers import li2013 as paper
 
@@ -190,7 +191,7 @@ def _cube(par: str, values: np.ndarray, labels: np.ndarray, cases: list[str]) ->
 def test_cube_path_gives_the_same_verdicts_as_the_arrays(monkeypatch):
     """claims() (cubes, what writes claims.md) and evaluate() (arrays, the calibration objective) agree, and each
     claim's verdict is the one its rule gives on the constructed labels and products."""
-    monkeypatch.setattr(C, "labels_of_cube", lambda cube: cube["label"].values)
+    monkeypatch.setattr(sweep, "labels_of_cube", lambda cube: cube["label"].values)
     f07 = paper_labels(X1)
     b_lab = {x: np.where(B < 1.0, P1, CH) for x in paper.CASE_X1}
     e_lab = {

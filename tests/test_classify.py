@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from _oracle import classify_point
-from geardyn.label import classify
-from geardyn.runs.points import amplitude_spectrum
+from geardyn.label import indicators
+from geardyn.runs.bands import bands
+from geardyn.runs.spectrum import amplitude_spectrum
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 5, 6, 12])
@@ -13,19 +14,19 @@ def test_period_n_sequence(n):
     rng = np.random.default_rng(n)
     cycle = rng.normal(size=(n, 6))
     pts = np.tile(cycle, (100 // n + 1, 1))[:100] + 1e-9 * rng.normal(size=(100, 6))  # integration noise
-    assert classify.strict_period(pts) == n
+    assert indicators.strict_period(pts) == n
 
 
 def test_quasi_periodic_circle_is_not_periodic():
     k = np.arange(100)
     theta = 2 * np.pi * k * (np.sqrt(5) - 1) / 2  # irrational rotation number
     pts = np.column_stack([np.cos(theta), np.sin(theta)])
-    assert classify.strict_period(pts) == 0
+    assert indicators.strict_period(pts) == 0
 
 
 def test_bands():
     x = np.array([0.1, 0.2, 0.3, 0.4])
-    assert classify.bands(x, np.array([1, 1, 0, 5])) == [(0.1, 0.2, 1), (0.3, 0.3, 0), (0.4, 0.4, 5)]
+    assert bands(x, np.array([1, 1, 0, 5])) == [(0.1, 0.2, 1), (0.3, 0.3, 0), (0.4, 0.4, 5)]
 
 
 def test_spectrum_of_a_sine_shows_its_amplitude_and_frequency():
@@ -45,7 +46,7 @@ def test_converging_period_two_counts_as_period_two():
     cycle = np.where(k % 2 == 0, 1.0, -1.0)
     transient = 0.3 * 0.98**k * np.cos(0.9 * k)
     pts = np.column_stack([cycle + transient, 0.5 * cycle - transient])
-    assert classify.strict_period(pts) == 0  # the return test alone: not yet periodic
+    assert indicators.strict_period(pts) == 0  # the return test alone: not yet periodic
     # with the exponent of that decay (log 0.98 per period), rule 5 of the classifier: converging to P2
     lab = classify_point(pts, np.full(100, np.log(0.98)), period=1.0)
     assert (lab.label, lab.period) == (2, 2)
@@ -56,4 +57,4 @@ def test_chaotic_logistic_map_is_not_periodic():
     x[0] = 0.3
     for i in range(199):
         x[i + 1] = 4.0 * x[i] * (1 - x[i])
-    assert classify.strict_period(x[100:, None]) == 0
+    assert indicators.strict_period(x[100:, None]) == 0

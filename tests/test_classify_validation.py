@@ -19,7 +19,7 @@ from numba import njit
 
 from _oracle import classify_point, linear_floquet, linear_part, rules_label
 from geardyn.khv import design, point
-from geardyn.label import classify
+from geardyn.label import indicators, vocabulary
 from geardyn.solve import SimulationSettings
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -77,7 +77,7 @@ def _duffing(delta, alpha, beta, gamma, omega, n_steps, n_trans, n_rec, y0):
 
 # The classifier's tolerance floor: RK4 with 200 steps per period on these problems is accurate to
 # ~1e-7 (h^4 with h = 0.026); keep the default 10x margin over a 1e-7 floor.
-_CS = classify.ClassifierSettings(error_floor=1e-7)
+_CS = indicators.ClassifierSettings(error_floor=1e-7)
 
 
 def _classify_duffing(delta, alpha, beta, gamma, omega, n_rec=400, n_trans=400):
@@ -104,7 +104,7 @@ def test_duffing_period_doubling(gamma, expected):
 
 def test_duffing_chaos():
     lab = _classify_duffing(0.3, -1.0, 1.0, 0.50, 1.2, n_rec=800)
-    assert lab.label == classify.LABELS["chaotic"]
+    assert lab.label == vocabulary.LABELS["chaotic"]
     # no published value is asserted here: the test requires a clearly positive, resolved exponent
     # (measured 0.127 +- 0.010 per unit time with 200 steps per period and 800 periods)
     assert lab.lyapunov > 0.05
@@ -123,23 +123,23 @@ def test_quasi_periodic_two_incommensurate_frequencies():
     pts = np.column_stack([np.sin(t) + 0.5 * np.sin(w2 * t), np.cos(t) + 0.5 * w2 * np.cos(w2 * t)])
     growth = 0.1 * np.diff(np.sin(w2 * np.append(t, t[-1] + 2 * np.pi)))
     lab = classify_point(pts, growth, 2 * np.pi)
-    assert lab.label == classify.LABELS["quasi_periodic"]
+    assert lab.label == vocabulary.LABELS["quasi_periodic"]
     assert abs(lab.lyapunov) < 1e-3
     assert lab.k01 < 0.2  # 0-1 test: regular -> K near 0 (600 samples)
     assert lab.flatness < 1e-3  # discrete lines
-    assert classify.strict_period(pts) == 0
+    assert indicators.strict_period(pts) == 0
 
 
 def test_zero_one_test_needs_about_400_samples_for_quasi_periodic_series():
     # documents the limitation behind ClassifierSettings.tangent_periods = 400
     k = np.arange(400)
     theta = 2 * np.pi * k * (math.sqrt(5) - 1) / 2
-    assert classify.zero_one_test(np.cos(theta)[:400]) < 0.2
+    assert indicators.zero_one_test(np.cos(theta)[:400]) < 0.2
     x = np.empty(500)
     x[0] = 0.3
     for i in range(499):
         x[i + 1] = 3.9 * x[i] * (1 - x[i])
-    assert classify.zero_one_test(x[100:]) > 0.95  # logistic map at r = 3.9 is chaotic
+    assert indicators.zero_one_test(x[100:]) > 0.95  # logistic map at r = 3.9 is chaotic
 
 
 def _k01_numpy(x: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
@@ -178,7 +178,7 @@ def test_zero_one_test_by_fft_is_the_numpy_formula(kind):
             x[i + 1] = 3.9 * x[i] * (1 - x[i])
     else:
         x = np.cos(np.pi * j) + 1e-3 * rng.normal(size=300)
-    assert classify.zero_one_test(x) == pytest.approx(_k01_numpy(x), abs=1e-12)
+    assert indicators.zero_one_test(x) == pytest.approx(_k01_numpy(x), abs=1e-12)
 
 
 def test_linear_gear_model_p1_with_least_damped_floquet_exponent():
@@ -187,7 +187,7 @@ def test_linear_gear_model_p1_with_least_damped_floquet_exponent():
     fl = linear_floquet(coeffs)
     least = float(np.max(np.log(np.abs(fl.multipliers)))) / coeffs.period
     settings = SimulationSettings(steps_per_period=128, transient_periods=500, recorded_periods=100)
-    cs = classify.ClassifierSettings(error_floor=1.9e-5, tangent_periods=600)
+    cs = indicators.ClassifierSettings(error_floor=1.9e-5, tangent_periods=600)
     res, lab = rules_label(coeffs, settings, cs)
     assert lab.label == 1
     # the two slowest Floquet exponents are -0.00273 and -0.00338 (shaft modes): over 600 periods the

@@ -14,7 +14,7 @@ import yaml
 from geardyn import config
 from geardyn.config import validate
 from geardyn.khv import design
-from geardyn.label.classify import ClassifierSettings
+from geardyn.label.indicators import ClassifierSettings
 from geardyn.runs.continuation import OrbitSpec
 
 ROOT = Path(__file__).resolve().parents[1]

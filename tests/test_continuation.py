@@ -17,7 +17,7 @@ from _oracle import rules_label
 from geardyn import io
 from geardyn.io import provenance
 from geardyn.khv import design, point
-from geardyn.label import classify
+from geardyn.label import indicators, vocabulary
 from geardyn.papers import li2013 as paper
 from geardyn.plots import save_figure
 from geardyn.plots.orbits import plot_branches
@@ -79,7 +79,7 @@ def test_neimark_sacker_rotation_number_matches_torus_spectrum(calibrated_branch
 def test_branch_agrees_with_simulated_labels_where_stable(calibrated_branch):
     d, _, br = calibrated_branch
     settings = point.integration_settings(d)
-    cls = classify.ClassifierSettings()
+    cls = indicators.ClassifierSettings()
     scale = np.max(np.abs(br.states))
     checked = 0
     for x1 in np.linspace(0.70, 0.78, 9):
@@ -101,7 +101,7 @@ def test_branch_agrees_with_simulated_labels_where_stable(calibrated_branch):
             checked += 1
         else:
             # not P1: no stable branch point is the attractor reached (it is elsewhere: torus)
-            assert lab.label in (classify.LABELS["quasi_periodic"], classify.LABELS["chaotic"]) or lab.label > 1
+            assert lab.label in (vocabulary.LABELS["quasi_periodic"], vocabulary.LABELS["chaotic"]) or lab.label > 1
     assert checked >= 4
 
 
@@ -192,7 +192,7 @@ def test_period_doubling_bubble_of_the_khv_model_under_light_load():
     assert p2 is not None and p2.n == 2 and p2.stable.all()
     assert p2.end_status["up"] == "merged_into_period_1"
     assert p2.p.max() == pytest.approx(pds[1].p, abs=1e-3)
-    res, lab = rules_label(fam.coefficients(0.805), point.integration_settings(d), classify.ClassifierSettings())
+    res, lab = rules_label(fam.coefficients(0.805), point.integration_settings(d), indicators.ClassifierSettings())
     assert lab.label == 2
     checked, agree, _ = C.label_agreement(_one_point_cube(0.805, res.poincare[-1], 2), 0, [p2], 6)
     assert (checked, agree) == (1, 1)

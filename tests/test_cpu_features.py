@@ -22,10 +22,10 @@ from numpy._core import _multiarray_umath as mu
 import _cpu_study
 from geardyn import libm
 from geardyn.io import provenance
-from geardyn.label import classify
+from geardyn.label import vocabulary
 
 HERE = Path(__file__).resolve().parent
-CHAOS = classify.LABELS["chaotic"]
+CHAOS = vocabulary.LABELS["chaotic"]
 
 
 def _reduced_env() -> dict[str, str]:

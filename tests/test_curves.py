@@ -27,18 +27,18 @@ from geardyn import io
 from geardyn.config import schema as io_schema
 from geardyn.io import provenance
 from geardyn.khv import design, model, point
-from geardyn.label import classify
+from geardyn.label import vocabulary
 from geardyn.plots import curves as plots_curves
 from geardyn.runs import continuation as C
 from geardyn.runs import maps
-from geardyn.runs.continuation import curve_check, curve_maps
+from geardyn.runs.continuation import boundaries, curve_check, curve_maps, pixel_probe, pixel_samples
 from geardyn.runs.continuation.family import back_margin
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.bifurcations import CODES, decode
 from geardyn.solve.shooting import newton_shooting
 
 ROOT = Path(__file__).resolve().parents[1]
-CHECK = curve_check.CheckSettings(every=1)
+CHECK = pixel_samples.CheckSettings(every=1)
 
 
 # --- a smooth oscillator as a two-parameter family ------------------------------------------------------
@@ -166,10 +166,10 @@ def test_pixel_check_types_the_duffing_period_doubling_supercritical():
     (bf,) = [b for b in br.bifurcations if b.kind == "period_doubling"]
     (pd,) = C.curves_from_branch(plane, br, "p", 1.2, dataclasses.replace(C.CURVES, ds=0.02, ds_max=0.05))
     ref = min(pd.points, key=lambda pt: abs(pt.q - 1.2))
-    probe = curve_check._Probe(plane, pd, curve_check.CheckSettings())
+    probe = pixel_probe.Probe(plane, pd, pixel_samples.CheckSettings())
     for d in (2e-3, 1e-2):
         t_pair = (bf.p - d, bf.p + d)  # the P1 orbit is stable below the period doubling
-        origin = curve_check.Origin(bf.p, 1.2, "p")
+        origin = pixel_probe.Origin(bf.p, 1.2, "p")
         assert probe.criticality(origin, ref, bf.state, t_pair) == "supercritical", d
         assert probe.criticality(origin, ref, bf.state, t_pair[::-1]) == "subcritical", d
         for g, past in ((bf.p - d, False), (bf.p + d, True)):
@@ -347,8 +347,8 @@ def _small_map(d, x, y, fixed, n=20):
 
 
 def _map_curves(d, spec, cube, settings, lines, **changes):
-    region = curve_maps.Region.of_map(spec)
-    bs = dataclasses.replace(curve_maps.BoundarySpec(), lines_x=tuple(lines[0]), lines_y=tuple(lines[1]), **changes)
+    region = boundaries.Region.of_map(spec)
+    bs = dataclasses.replace(boundaries.BoundarySpec(), lines_x=tuple(lines[0]), lines_y=tuple(lines[1]), **changes)
     bd, plane = curve_maps.boundary_curves(d, region, bs, settings, cube)
     return bd, curve_check.pixel_check(plane, bd.curves, cube, CHECK), plane
 
@@ -382,9 +382,9 @@ def test_pixel_check_of_the_neimark_sacker_boundary(map_x1_b_small):
     for s in check.samples:
         if s.ok:  # the predicted change: P1 on the stable side, a torus beyond (or a record still growing toward it)
             assert s.labels[0] == 1 and s.modulus < 1.0, s
-            assert s.labels[1] in (classify.LABELS["quasi_periodic"], classify.LABELS["transient"]), s
+            assert s.labels[1] in (vocabulary.LABELS["quasi_periodic"], vocabulary.LABELS["transient"]), s
         elif s.reason == "slow" and s.labels[0] == 1:  # beyond: a record at the circle, undetermined
-            assert s.labels[1] == classify.LABELS["undetermined"] and s.modulus < 1.0, s
+            assert s.labels[1] == vocabulary.LABELS["undetermined"] and s.modulus < 1.0, s
         elif s.reason == "slow":  # the stable side's multiplier within the margin of 1
             assert 1.0 - margin <= s.modulus < 1.0, s
         elif s.reason == "hysteresis":  # the row came through the torus and kept it
@@ -407,7 +407,7 @@ def test_pixel_check_fails_a_misplaced_curve_and_a_mislabelled_map(map_x1_b_smal
     assert wrong.fraction <= 0.3 and wrong.tally(("not_straddled",))  # measured 0.0: 19 of 19 not straddled
     relabelled = cube.copy()
     lab = relabelled["label"].values.copy()
-    lab[lab == 1] = classify.LABELS["quasi_periodic"]
+    lab[lab == 1] = vocabulary.LABELS["quasi_periodic"]
     relabelled["label"] = (relabelled["label"].dims, lab, relabelled["label"].attrs)
     bad = curve_check.pixel_check(plane, bd.curves, relabelled, CHECK)
     assert bad.fraction <= 0.3 and bad.tally(("stable_side",))  # measured 0.0
@@ -475,7 +475,7 @@ def test_grazing_meets_a_fold_a_period_doubling_and_a_neimark_sacker_on_the_back
 
 def test_boundary_settings_agree_with_the_config_schema():
     node = io_schema("config.schema.json")["$defs"]["curve_settings"]["properties"]
-    defaults = dataclasses.asdict(curve_maps.BoundarySpec())
+    defaults = dataclasses.asdict(boundaries.BoundarySpec())
     assert set(node) == set(defaults) - {"probes"}
     for key, sub in node.items():
         assert sub["default"] == (list(defaults[key]) if isinstance(defaults[key], tuple) else defaults[key]), key
@@ -487,7 +487,7 @@ def test_curves_file_is_cf_complete_and_keeps_the_check(map_x1_b_small, tmp_path
     assert io.missing_cf_attributes(ds) == []
     assert ds.attrs["pixel_check_samples"] == len(check.checked) and ds.sizes["check"] == len(check.samples)
     assert "## Pixel check: small" in plots_curves.check_table("small", ds)
-    assert ds["check_reason"].attrs["failures"].split() == list(curve_check.FAILURES)
+    assert ds["check_reason"].attrs["failures"].split() == list(pixel_samples.FAILURES)
     assert decode(ds["curve_kind"].attrs)[CODES["back_grazing"]] == "back_grazing"
     assert ds.sizes["record"] == len(bd.records) and ds.attrs["records_on_curve"] >= 1
     io.write_netcdf(ds, tmp_path / "curves.nc", provenance.attributes(title="test"))
@@ -516,8 +516,8 @@ def test_every_orbit_of_a_curves_study_is_one_of_the_callers_integrator():
     fixed point of the caller's n-period map, within the shooting tolerance (1e-9), and is not one of the design's
     own integrator's (event-located RK4 on aligned steps), which moves it by 1e-4 or more."""
     d = design.load(ROOT / "config" / "designs" / "li2013.yaml")
-    region = curve_maps.Region(("x1", "e"), (0.50, 0.52, 4.9, 5.0), (("b", 2.0),))
-    spec = dataclasses.replace(curve_maps.BoundarySpec(), probes=1, max_period=2, back_grazing=False, nodes=5)
+    region = boundaries.Region(("x1", "e"), (0.50, 0.52, 4.9, 5.0), (("b", 2.0),))
+    spec = dataclasses.replace(boundaries.BoundarySpec(), probes=1, max_period=2, back_grazing=False, nodes=5)
     steps = {"steps_per_period": 128, "transient_periods": 300, "recorded_periods": 30}
     settings = point.integration_settings(d, integrator="rk4", aligned=False, **steps)
     bd, _ = curve_maps.boundary_curves(d, region, spec, settings)

@@ -14,8 +14,8 @@ import xarray as xr
 
 from geardyn.config import validate
 from geardyn.khv import design, point
-from geardyn.label import Policy, classify, label_points
-from geardyn.label._nonperiodic import period_searched
+from geardyn.label import Policy, indicators, label_points, vocabulary
+from geardyn.label._cycles import period_searched
 from geardyn.label.growth import growth_test
 from geardyn.label.policy import GrowthSettings
 from geardyn.plots import captions
@@ -23,7 +23,7 @@ from geardyn.runs import probabilities, response, study, sweep
 from geardyn.solve import SimulationSettings, simulate_batch
 
 ROOT = Path(__file__).resolve().parents[1]
-QP = classify.LABELS["quasi_periodic"]
+QP = vocabulary.LABELS["quasi_periodic"]
 RNG = np.random.default_rng(5)
 
 
@@ -80,20 +80,22 @@ def test_a_growing_oscillation_is_never_quasi_periodic_or_periodic():
     smooth spiral whose Birkhoff averages extrapolate); with it, it runs on to the cap and is transient (or
     diverges on the way)."""
     settings = SimulationSettings(steps_per_period=64, transient_periods=50, recorded_periods=50)
-    cs = classify.ClassifierSettings(error_floor=3e-4, tangent_periods=400, torus_max_periods=1600)
+    cs = indicators.ClassifierSettings(error_floor=3e-4, tangent_periods=400, torus_max_periods=1600)
     system = _growing_oscillator(-2e-4)
     with_test = label_points([system], Policy(settings, cs))[0]
-    assert with_test.label in (classify.LABELS["transient"], classify.LABELS["diverged"]), with_test.reason
+    assert with_test.label in (vocabulary.LABELS["transient"], vocabulary.LABELS["diverged"]), with_test.reason
     assert not with_test.periodic
     without = label_points([system], Policy(settings, cs, growth=GrowthSettings(blocks=0)))[0]
-    assert without.label not in (classify.LABELS["transient"],)  # the new label only comes from the test
+    assert without.label not in (vocabulary.LABELS["transient"],)  # the new label only comes from the test
 
 
 def test_period_searched_is_the_long_cycle_searchs_reach():
     """Rule 3 up to long_max_n (240) with three cycles in the record: 133 on a record of 400 periods, 240 from 720."""
     policy = Policy(SimulationSettings())
     assert [period_searched(n, policy) for n in (30, 400, 720, 16000)] == [12, 133, 240, 240]
-    assert period_searched(400, dataclasses.replace(policy, classifier=classify.ClassifierSettings(long_max_n=0))) == 12
+    assert (
+        period_searched(400, dataclasses.replace(policy, classifier=indicators.ClassifierSettings(long_max_n=0))) == 12
+    )
 
 
 def _response_spec(name: str):
@@ -139,7 +141,7 @@ def test_growing_response_points_are_transient_not_quasi_periodic(printed):
     """The tori that grow toward divergence (w = 1.47-1.53, docs/response.md) are labelled transient or diverged,
     and the caption counts them."""
     _, _, ds = printed
-    grow = ds.label.values == classify.LABELS["transient"]
+    grow = ds.label.values == vocabulary.LABELS["transient"]
     assert grow.sum() >= 1
     assert f"Transient ({int(grow.sum())} points)" in captions.frequency_response("r", ds)
 
@@ -153,7 +155,7 @@ def test_a_system_without_damping_is_said_to_be_one_and_refused_by_probabilities
     assert study.undamped(system)
     assert not study.undamped(point.point_coefficients(d, {**fixed, "zeta": 0.01}))
     settings = SimulationSettings(steps_per_period=64, transient_periods=50, recorded_periods=20)
-    cs = classify.ClassifierSettings(error_floor=3e-4, tangent_periods=200, torus_max_periods=400)
+    cs = indicators.ClassifierSettings(error_floor=3e-4, tangent_periods=200, torus_max_periods=400)
     w, policy = np.array([1.98, 2.0, 2.02]), Policy(settings, cs)
     ds = response.frequency_response(system, w, policy, 0.25, 0.05, 0)
     assert ds.attrs["undamped"] == 1

@@ -12,14 +12,14 @@ import pytest
 
 from geardyn.config import validate
 from geardyn.khv import design, point
-from geardyn.label import classify
+from geardyn.label import vocabulary
 from geardyn.runs import response
 from geardyn.solve import simulate
 from geardyn.solve.response import response_measures
 
 ROOT = Path(__file__).resolve().parents[1]
-QP = classify.LABELS["quasi_periodic"]
-TRANSIENT = classify.LABELS["transient"]
+QP = vocabulary.LABELS["quasi_periodic"]
+TRANSIENT = vocabulary.LABELS["transient"]
 
 
 @pytest.fixture(scope="module")

@@ -12,7 +12,7 @@ import pytest
 
 import geardyn.solve.response as response
 from geardyn.khv import design, point
-from geardyn.label import Policy, classify, label_lines
+from geardyn.label import Policy, indicators, label_lines
 from geardyn.runs import study
 from geardyn.solve import SimulationSettings, simulate_batch
 from geardyn.solve.response import (
@@ -44,7 +44,7 @@ def labelled():
     """A periodic line (``li2013``, P1) and a few points of a torus row of ``li2013_calibrated`` (the map
     x1-e at e = 5.5 * 72 / 199), labelled with the maps' integration and short growing records."""
     cs = dataclasses.replace(
-        classify.ClassifierSettings(error_floor=1.9e-5, tangent_periods=200), torus_max_periods=800
+        indicators.ClassifierSettings(error_floor=1.9e-5, tangent_periods=200), torus_max_periods=800
     )
     lines = [
         _line("li2013", np.linspace(0.45, 0.8, 4), 5.0),

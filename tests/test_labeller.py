@@ -10,9 +10,8 @@ import numpy as np
 import pytest
 
 from geardyn.khv import design, point
-from geardyn.label import Policy, classify, label_lines, label_points
-from geardyn.label import _nonperiodic as nonperiodic
-from geardyn.label import _stages as st
+from geardyn.label import Policy, indicators, label_lines, label_points, vocabulary
+from geardyn.label import _cycles as cycles
 from geardyn.label.compare import directed_distance, hausdorff
 from geardyn.runs import sweep
 from geardyn.solve import SimulationSettings, simulate
@@ -20,7 +19,7 @@ from geardyn.solve import SimulationSettings, simulate
 ROOT = Path(__file__).resolve().parents[1]
 # the regime maps' settings: 128 steps per period (Poincare error 1.9e-5), 400 + 50 periods
 MAP = SimulationSettings(steps_per_period=128, transient_periods=400, recorded_periods=50)
-CS = classify.ClassifierSettings(error_floor=1.9e-5, tangent_periods=200)
+CS = indicators.ClassifierSettings(error_floor=1.9e-5, tangent_periods=200)
 ROUTE_X1 = np.linspace(0.5635, 0.5885, 11)  # li2013_route, b = 2, e = 5: P1 -> P2 between x1 = 0.576 and 0.5785
 
 
@@ -97,7 +96,7 @@ def test_chaos_needs_a_positive_exponent_that_the_torus_test_confirms():
     """li2013_route at x1 = 0.805 (b = 2, e = 5): exponent +0.043 per unit tau (tangent vector), the weighted
     Birkhoff averages of the two halves agree to less than log10 sqrt(N) + 1.5 digits."""
     v = label_points(_line("li2013_route", [0.805]), Policy(MAP, CS, start="fixed"))[0]
-    assert v.label == classify.LABELS["chaotic"] and v.stage == "exponent" and v.exponent_method == "tangent"
+    assert v.label == vocabulary.LABELS["chaotic"] and v.stage == "exponent" and v.exponent_method == "tangent"
     assert 0.025 < v.exponent < 0.05 and v.exponent > 5 * v.exponent_sigma
     assert v.torus_digits < 0.5 * np.log10(100) + 1.5
 
@@ -113,7 +112,7 @@ def test_slowly_attracting_tori_are_certified_past_their_transient():
     tori: at x1 = 0.56 a run of 8000 + 4000 periods scores 8.4 digits (tests/test_torus.py)."""
     xs = (0.545, 0.55, 0.555, 0.56, 0.565, 0.57)
     out = label_lines([_line("li2013_calibrated", xs)], Policy(MAP, CS))[0]
-    assert [v.label for v in out] == [classify.LABELS["quasi_periodic"]] * len(xs)
+    assert [v.label for v in out] == [vocabulary.LABELS["quasi_periodic"]] * len(xs)
     assert all(v.stage == "torus" and abs(v.exponent) < CS.lam_tol + 2 * v.exponent_sigma for v in out)
     records = [int(v.reason.split(" recorded periods")[0].rsplit("(", 1)[1]) for v in out]
     assert [r <= 400 for r in records] == [True, True, False, False, True, True] and max(records) <= 4000
@@ -187,22 +186,18 @@ def test_coexistence_adds_the_fixed_start_and_leaves_the_followed_labels_bit_for
         np.testing.assert_array_equal(plain[name].values, both[name].values, err_msg=name)
     label, fixed, flag = (both[k].values.ravel() for k in ("label", "label_fixed", "coexisting"))
     assert np.all(flag[label != fixed] == 1)
-    assert (label[-1], fixed[-1], flag[-1]) == (classify.LABELS["quasi_periodic"], 1, 1)
+    assert (label[-1], fixed[-1], flag[-1]) == (vocabulary.LABELS["quasi_periodic"], 1, 1)
 
 
 def test_a_long_cycle_is_labelled_long_period_with_its_period():
-    """A periodic orbit longer than max_n (a torus locked to a long cycle) gets the label long_period and its
-    least period in ``period``; a followed one keeps that label (the CF flags list 1..max_n only)."""
-
-    line = _line("li2013_route", [0.80])
-    point_ = st.Point(line[0], None, None)
-    cycle_state = np.zeros(6)
-    shot = st.ShootingResult(cycle_state, 1, True, "converged", 0, 0.0, np.eye(6) * 0.5, np.full(6, 0.5 + 0j))
-    small = Policy(MAP, classify.ClassifierSettings(error_floor=1.9e-5, max_n=0))
-    v = st.periodic_verdicts([point_], [shot], small, "follow", "test")[0]
-    assert v.label == classify.LABELS["long_period"] and v.period == 1
-    v = st.periodic_verdicts([point_], [shot], Policy(MAP, CS), "follow", "test")[0]
-    assert v.label == 1 and v.period == 1
+    """A periodic orbit longer than max_n gets the label long_period and its least period in ``period`` (the CF
+    flags list 1..max_n only): li2013_route, b = 2, e = 5, x1 = 0.586, past the period doubling at x1 = 0.577
+    (``ROUTE_X1``), is period 2 under the default max_n and long_period with period 2 when max_n is 1."""
+    line = _line("li2013_route", [0.586])
+    v = label_points(line, Policy(MAP, CS))[0]
+    assert v.label == 2 and v.period == 2
+    v = label_points(line, Policy(MAP, dataclasses.replace(CS, max_n=1)))[0]
+    assert v.label == vocabulary.LABELS["long_period"] and v.period == 2
 
 
 def test_a_torus_locked_to_a_long_cycle_is_certified_from_the_order_of_its_points():
@@ -217,7 +212,7 @@ def test_a_torus_locked_to_a_long_cycle_is_certified_from_the_order_of_its_point
     c = point.point_coefficients(d, {"x1": 0.416, "b": 2.0, "e": e})
     cs = dataclasses.replace(CS, torus_max_periods=16000)
     v = label_points([c], Policy(MAP, cs, start="fixed"))[0]
-    assert v.label == classify.LABELS["long_period"] and v.period == 48 and v.stage == "period_test"
+    assert v.label == vocabulary.LABELS["long_period"] and v.period == 48 and v.stage == "period_test"
     assert v.reason.startswith("the record gathers about the points of a cycle")
     assert v.multiplier == pytest.approx(0.665156, abs=1e-5)
     ret, p = _returns_after_a_long_run(c, v.final_state, 48, 200)
@@ -225,29 +220,27 @@ def test_a_torus_locked_to_a_long_cycle_is_certified_from_the_order_of_its_point
     assert hausdorff(v.poincare[:48], p[-48:]) < 1e-9  # the figure draws the cycle, not the slow approach
 
 
-def test_a_record_that_returns_after_a_long_period_is_decided_when_the_cycle_shows(monkeypatch):
+def test_a_record_that_returns_after_a_long_period_is_decided_when_the_cycle_shows():
     """li2013_calibrated, b = 2, e = 1.6583 (row 60 of the (x1, e) map), x1 = 0.4286 (column 6), from the static
     deflection: no test decides the 200-period record; the record of the next round (400 periods) returns
     after 48 periods within rule 3's tolerance, and shooting certifies a stable period-48 cycle.  The record
-    ends there, not at ``torus_max_periods`` (16 000), where the search for long cycles ran before.
+    ends there, not at ``torus_max_periods`` (16 000): capped at 400 periods, the labeller gives the same
+    verdict, capped at 200 none.
     Independent check: a plain run of 20 000 periods from the verdict's final state returns after 48 periods
     to 1e-9 and not after 1-47."""
     d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
     x1, e = float(np.linspace(0.416, 0.835, 200)[6]), float(np.linspace(0.0, 5.5, 200)[60])
     c = point.point_coefficients(d, {"x1": x1, "b": 2.0, "e": e})
-    lengths: list[int] = []
-    finish = nonperiodic.finish
-
-    def recorded(points, policy):
-        finish(points, policy)
-        lengths.extend(p.run.poincare.shape[0] for p in points)
-
-    monkeypatch.setattr(nonperiodic, "finish", recorded)
-    cs = dataclasses.replace(CS, torus_max_periods=16000)
-    v = label_points([c], Policy(MAP, cs, start="fixed"))[0]
-    assert v.label == classify.LABELS["long_period"] and v.period == 48 and v.stage == "period_test"
+    v, capped, first = (
+        label_points([c], Policy(MAP, dataclasses.replace(CS, torus_max_periods=cap), start="fixed"))[0]
+        for cap in (16000, 400, 200)
+    )
+    assert v.label == vocabulary.LABELS["long_period"] and v.period == 48 and v.stage == "period_test"
     assert v.reason.startswith("the longer record returns after a long period")
-    assert lengths == [400]
+    # decided on the 400-period record: a cap there gives the same verdict, a cap at the first (200) none
+    assert (capped.label, capped.period, capped.reason) == (v.label, v.period, v.reason)
+    assert np.array_equal(capped.final_state, v.final_state)
+    assert first.label == vocabulary.LABELS["undetermined"]
     ret, _ = _returns_after_a_long_run(c, v.final_state, 48, 200)
     assert ret[47] < 1e-9 and min(ret[:47]) > 1e-3
 
@@ -266,7 +259,7 @@ def test_a_torus_locked_to_a_long_cycle_is_found_from_its_record(row, column, pe
     line = _line("li2013_calibrated", np.linspace(0.416, 0.835, 200)[: column + 1], e=e)
     cs = dataclasses.replace(CS, torus_max_periods=16000)
     v = label_lines([line], Policy(MAP, cs))[0][-1]
-    assert v.label == classify.LABELS["long_period"] and v.period == period and v.stage == "period_test"
+    assert v.label == vocabulary.LABELS["long_period"] and v.period == period and v.stage == "period_test"
     assert v.reason.startswith("the record gathers about the points of a cycle")
     assert v.multiplier == pytest.approx(multiplier, abs=1e-5)
     ret, p = _returns_after_a_long_run(line[-1], v.final_state, period, 3 * period)
@@ -302,16 +295,16 @@ def test_a_record_circling_an_orbit_at_the_unit_circle_is_undetermined():
     policy = Policy(MAP, CS)
     v = label_lines([line], policy)[0]
     assert v[-2].label == 1 and v[-2].multiplier < 1.0
-    assert v[-1].label == classify.LABELS["undetermined"]
+    assert v[-1].label == vocabulary.LABELS["undetermined"]
     assert "circles a period-1 orbit" in v[-1].reason and "within the stability margin" in v[-1].reason
     off = dataclasses.replace(policy, locked=dataclasses.replace(policy.locked, circle_max_n=0))
-    assert label_lines([line], off)[0][-1].label == classify.LABELS["quasi_periodic"]
+    assert label_lines([line], off)[0][-1].label == vocabulary.LABELS["quasi_periodic"]
 
 
 # paper 1's sweeps' settings (preset "sweep"): 512 steps per period, records of up to 16 000 periods
 SWEEP = Policy(
     SimulationSettings(steps_per_period=512, transient_periods=500, recorded_periods=100),
-    classify.ClassifierSettings(tangent_periods=400, torus_max_periods=16000),
+    indicators.ClassifierSettings(tangent_periods=400, torus_max_periods=16000),
 )
 
 
@@ -362,15 +355,15 @@ def test_a_torus_after_a_period_doubling_is_run_on_until_its_record_decides():
     line = [point.point_coefficients(d, {"x1": 0.83, "b": float(b), "e": 5.0}) for b in bs]
     out = label_lines([line], SWEEP)[0]
     assert [v.label for v in out[:5]] == [4, 4, 4, 8, 8] and out[5].bifurcation == "period_doubling"
-    assert out[5].label == classify.LABELS["undetermined"]
+    assert out[5].label == vocabulary.LABELS["undetermined"]
     long = dataclasses.replace(SWEEP.integration, transient_periods=0, recorded_periods=20000)
     r = simulate(line[5], long, x0=out[5].final_state, tangent_periods=20000)
-    lam, sigma = classify.lyapunov_estimate(r.growth, r.period)
+    lam, sigma = indicators.lyapunov_estimate(r.growth, r.period)
     assert lam > 2e-3 and lam > SWEEP.classifier.lam_tol + 3 * sigma
     x1s = np.linspace(0.416, 0.835, 1000)[698:707]
     line = _line("li2013_route", x1s)
     held, plain = (label_lines([line], dataclasses.replace(SWEEP, doubt_periods=k))[0] for k in (3200, 0))
-    assert held[6].label == classify.LABELS["quasi_periodic"] and "confirmed on 3200" in held[6].reason
+    assert held[6].label == vocabulary.LABELS["quasi_periodic"] and "confirmed on 3200" in held[6].reason
     for a, b in zip(held, plain, strict=True):
         assert a.label == b.label and np.array_equal(a.final_state, b.final_state) and a.response == b.response
 
@@ -385,5 +378,5 @@ def test_a_record_gathering_in_pairs_about_a_doubled_cycle_points_to_its_period(
     record = np.concatenate([base, np.zeros((k.size, 3))], axis=1)
     record += 0.3 * 0.999 ** k[:, None] * np.random.default_rng(0).normal(size=(16, 6))[k % 16]
     policy = Policy(MAP, CS)
-    assert not nonperiodic._gathers_at(record, 8, policy, False)
-    assert nonperiodic._gathers_at(record, 16, policy, False) and nonperiodic._gathers_at(record, 32, policy, False)
+    assert not cycles._gathers_at(record, 8, policy, False)
+    assert cycles._gathers_at(record, 16, policy, False) and cycles._gathers_at(record, 32, policy, False)

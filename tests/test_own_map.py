@@ -10,7 +10,7 @@ import _workflow as wf
 from geardyn import cli
 from geardyn.config import validate
 from geardyn.khv import design
-from geardyn.label.classify import short_name
+from geardyn.label.vocabulary import short_name
 from geardyn.plots.curves import plot_curves
 from geardyn.plots.dynamics import plot_map
 from geardyn.runs import maps

@@ -23,6 +23,7 @@ import xarray as xr
 from SALib.analyze import pawn, rbd_fast
 from scipy.stats import binom, norm
 
+from geardyn.io import tables
 from geardyn.khv import design
 from geardyn.plots import probabilities as plots
 from geardyn.plots import save_figure
@@ -139,7 +140,7 @@ def test_every_sample_counted(tmp_path):
     # the labels are random, K_v rises with e: the table and the caption say so
     assert ds.attrs["leading_input_P1"] == ds.attrs["leading_input_double_sided"] == "none"
     assert ds.attrs["leading_input_dynamic_factor"] == "e"
-    text = probability_stats.table_markdown(ds, "t") + plots.caption("s", ds)
+    text = tables.table_markdown(ds, "t") + plots.caption("s", ds)
     assert "P1: none; double_sided: none; dynamic_factor: e " in text and "+-" in text
     save_figure(plots.probabilities_figure(ds, "s"), tmp_path / "s.png", plots.caption("s", ds))
     assert (tmp_path / "s.png").stat().st_size > 10_000

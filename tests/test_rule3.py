@@ -1,5 +1,5 @@
 """Rule 3 of the classifier is stated once, compiled (geardyn.solve._period); its users are
-classify.strict_period, simulate.strict_periods and the early stop of both loops.  Checked here against
+indicators.strict_period, simulate.strict_periods and the early stop of both loops.  Checked here against
 a plain numpy statement of the rule written in this file."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from geardyn.label import classify
+from geardyn.label import indicators
 from geardyn.solve import _period
 from geardyn.solve.run import strict_period, strict_periods
 
@@ -37,12 +37,12 @@ def _records(rng: np.random.Generator) -> list[np.ndarray]:
 
 def test_compiled_rule_equals_the_numpy_statement():
     rng = np.random.default_rng(11)
-    cs = classify.ClassifierSettings()
+    cs = indicators.ClassifierSettings()
     args = (cs.max_n, cs.atol, cs.rtol, cs.error_margin * cs.error_floor, cs.separation)
     records = _records(rng)
     expected = [_rule3_numpy(p, *args) for p in records]
     assert [strict_period(np.ascontiguousarray(p), len(p), *args)[0] for p in records] == expected
-    assert [classify.strict_period(p, cs) for p in records] == expected
+    assert [indicators.strict_period(p, cs) for p in records] == expected
     assert {1, 2, 3, 4, 7, 12, 0} <= set(expected)  # the cases exercise every outcome
     # the batch version on the same records (fewer than 3 points: rule 2, no period)
     m = max(len(p) for p in records)
@@ -56,7 +56,7 @@ def test_compiled_rule_equals_the_numpy_statement():
 
 def test_two_points_of_one_state_are_period_one():
     p = np.array([[0.5], [0.5]])
-    assert classify.strict_period(p) == 1 == _rule3_numpy(p, 12, 1e-6, 1e-4, 7.5e-7, 10.0)
+    assert indicators.strict_period(p) == 1 == _rule3_numpy(p, 12, 1e-6, 1e-4, 7.5e-7, 10.0)
 
 
 @pytest.mark.parametrize("n", [1, 3, 5])

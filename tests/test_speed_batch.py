@@ -7,7 +7,7 @@ import pytest
 
 from _oracle import rules_label
 from benchmarks.work_precision import cases
-from geardyn.label import Policy, classify, label_points
+from geardyn.label import Policy, indicators, label_points
 from geardyn.solve import SimulationSettings, _batch, _period, simulate
 from geardyn.solve.run import EarlyStop, simulate_batch, step_tables
 
@@ -113,7 +113,7 @@ def test_compiled_tables_equal_step_tables(systems):
 
 def test_compiled_rule3_equals_strict_period():
     rng = np.random.default_rng(3)
-    cs = classify.ClassifierSettings()
+    cs = indicators.ClassifierSettings()
     seqs = []
     for n in (1, 2, 3, 5, 12):
         cyc = rng.normal(size=(n, 6))
@@ -126,7 +126,7 @@ def test_compiled_rule3_equals_strict_period():
     _period.strict_periods(
         pts, np.full(len(seqs), 60), cs.max_n, cs.atol, cs.rtol, cs.error_margin * cs.error_floor, cs.separation, out
     )
-    assert [int(v) for v in out[:, 0]] == [classify.strict_period(p, cs) for p in seqs] == [1, 2, 3, 5, 12, 0, 0]
+    assert [int(v) for v in out[:, 0]] == [indicators.strict_period(p, cs) for p in seqs] == [1, 2, 3, 5, 12, 0, 0]
 
 
 def test_floquet_exponent_of_periodic_points():
@@ -137,7 +137,7 @@ def test_floquet_exponent_of_periodic_points():
 
     periodic = [cases()["periodic"].replace(b=b) for b in (0.0, 1.0, 2.5)]
     base = SimulationSettings(steps_per_period=32, transient_periods=900, recorded_periods=50)
-    cls = classify.ClassifierSettings(error_floor=4e-3, tangent_periods=200)
+    cls = indicators.ClassifierSettings(error_floor=4e-3, tangent_periods=200)
     new = label_points(periodic, Policy(base, cls, start="fixed"))
     for c, v in zip(periodic, new, strict=True):
         _, lo = rules_label(c, base, cls)
@@ -148,7 +148,7 @@ def test_floquet_exponent_of_periodic_points():
         assert abs(v.exponent - lo.lyapunov) <= 2 * lo.lyapunov_sigma
 
 
-def _rule3_by_hand(p: np.ndarray, cs: classify.ClassifierSettings) -> int:
+def _rule3_by_hand(p: np.ndarray, cs: indicators.ClassifierSettings) -> int:
     """Rule 3 with every return distance summed in full (the statement of docs/classify.md)."""
     size = float(np.max(np.ptp(p, axis=0)))
     tol = max(cs.atol * max(float(np.max(np.abs(p))), 1.0) + cs.rtol * size, cs.error_margin * cs.error_floor)
@@ -164,7 +164,7 @@ def test_rule3_cut_short_gives_the_full_sums_answer():
     once no larger period can have distinct cycle points: the same periods as the full sums, on cycles whose
     points are barely distinct, barely not, and returns just inside and outside the tolerance."""
     rng = np.random.default_rng(11)
-    cs = classify.ClassifierSettings()
+    cs = indicators.ClassifierSettings()
     seqs, found = [], set()
     for n in (1, 2, 3, 4, 7):
         for spread in (1e-6, 1e-5, 3e-5, 1e-4, 1e-2):  # cycle points apart by about spread (tol is about 1e-5)
@@ -176,6 +176,6 @@ def test_rule3_cut_short_gives_the_full_sums_answer():
     seqs.append(np.tile(0.5 + np.array([[0.0], [3e-6], [23e-6]]) * np.ones(6), (14, 1))[:40])
     for p in seqs:
         want = _rule3_by_hand(p, cs)
-        assert classify.strict_period(p, cs) == want
+        assert indicators.strict_period(p, cs) == want
         found.add(want)
     assert {0, 1, 2, 3, 4, 7} <= found  # the cases reach every branch: periods found and none

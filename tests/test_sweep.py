@@ -10,7 +10,7 @@ from geardyn import io
 from geardyn.io import quarantine
 from geardyn.khv import design, point
 from geardyn.label import label_lines
-from geardyn.label.classify import LABELS
+from geardyn.label.vocabulary import LABELS
 from geardyn.runs import cube, sweep
 
 ROOT = Path(__file__).resolve().parents[1]

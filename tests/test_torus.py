@@ -24,7 +24,7 @@ from scipy.integrate import odeint, quad
 
 import _oracle as O
 from geardyn.khv import design, point
-from geardyn.label import classify
+from geardyn.label import indicators
 from geardyn.label import torus as T
 from geardyn.solve import SimulationSettings, shooting, simulate
 
@@ -178,7 +178,7 @@ def test_khv_chaos_on_route_design():
     r = simulate(
         c, SimulationSettings(steps_per_period=128, transient_periods=500, recorded_periods=4000), tangent_periods=4000
     )
-    lam, sigma = classify.lyapunov_estimate(r.growth, r.period)
+    lam, sigma = indicators.lyapunov_estimate(r.growth, r.period)
     assert lam > 0.03 and lam > 10 * sigma
     res = O.torus_test(r.poincare)
     assert res.verdict == "chaotic" and res.digits < 0.5 * math.log10(2000) + 0.5
@@ -342,7 +342,7 @@ def test_khv_weak_chaos_stays_chaotic_for_the_extrapolation():
     assert T.extrapolated_digits(r.poincare, _coordinates) == pytest.approx(2.41, abs=0.1)
     assert O.birkhoff_digits(r.poincare, _coordinates) == pytest.approx(2.65, abs=0.1)
     assert 2.65 + 0.1 < chaos
-    lam, sigma = classify.lyapunov_estimate(r.growth, r.period)
+    lam, sigma = indicators.lyapunov_estimate(r.growth, r.period)
     assert 0.0 < lam < 1e-3 and sigma > lam
 
 

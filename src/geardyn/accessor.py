@@ -2,7 +2,7 @@
 :mod:`geardyn` is imported; ``docs/notebook.md`` has the table of what it offers).
 
 The names are the flags' (``flag_values``/``flag_meanings``, read with cf_xarray's flag support, which also gives
-``ds.cf``): a motion label by its short name (``P1``, ``QP``, ``chaos``: :func:`geardyn.label.classify.short_name`)
+``ds.cf``): a motion label by its short name (``P1``, ``QP``, ``chaos``: :func:`geardyn.label.vocabulary.short_name`)
 or its flag meaning (``quasi_periodic``), an impact class or a bifurcation kind by its flag meaning (the one
 vocabulary of :mod:`geardyn.solve.bifurcations` and :data:`geardyn.solve.response.IMPACT_CLASSES`).
 """
@@ -21,7 +21,7 @@ import xarray as xr
 
 from geardyn.io.provenance import runtime_of
 from geardyn.io.tree import SOURCE
-from geardyn.label.classify import short_name
+from geardyn.label.vocabulary import short_name
 
 #: The kind of an output from its folder below ``results/<design>/`` and the end of its name (first match).
 KINDS: tuple[tuple[str, str, str], ...] = (

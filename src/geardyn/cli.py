@@ -124,7 +124,8 @@ def check_design(path: str, as_json: bool) -> int:
 def _skipped_by(raw: dict[str, Json]) -> list[str]:
     """The studies of ``config/config.yaml`` (from the working directory, where there is one) that would skip
     the design for a block it lacks."""
-    from geardyn.config.validate import read_config_file, skipped_studies  # noqa: PLC0415 - --help loads no numba or scipy
+    from geardyn.config.run_checks import skipped_studies  # noqa: PLC0415 - --help loads no numba or scipy
+    from geardyn.config.validate import read_config_file  # noqa: PLC0415 - --help loads no numba or scipy
 
     config = Path("config/config.yaml")
     return skipped_studies(raw, read_config_file(config)) if raw["kind"] == "khv" and config.exists() else []

@@ -1,4 +1,4 @@
-# The regime bands of every sweep (labels from geardyn.label.classify; written with the sweep's cube by rule
+# The regime bands of every sweep (labels from geardyn.label.vocabulary; written with the sweep's cube by rule
 # sweep_merge) and, for designs that name paper 1, its claims checked one by one.
 
 

@@ -126,7 +126,7 @@ def runs_for(section, *patterns):
     """Each of ``patterns`` (a rule's outputs) for every (design, entry) of a config section: the designs
     each entry selects (``designs:``, or a calibration's one ``design:``), the entry's name in the
     section's wildcard (``SECTION_KEYS``)."""
-    from geardyn.config.validate import study_designs
+    from geardyn.config.run_checks import study_designs
 
     return [
         entry_path(pattern, section, name, design)
@@ -177,7 +177,7 @@ def probability_chunks(name, spec, design):
 
 def probability_claims(pattern):
     """``pattern`` (the probabilities claims rule's output) for every design of every study that checks claims."""
-    from geardyn.config.validate import study_designs
+    from geardyn.config.run_checks import study_designs
 
     return [
         entry_path(pattern, "probabilities", name, design)
@@ -189,7 +189,7 @@ def probability_claims(pattern):
 
 def skipped_designs(section):
     """For ``params:``: the lines saying which designs the job's study skips (caption and log)."""
-    from geardyn.config.validate import skipped_runs
+    from geardyn.config.run_checks import skipped_runs
 
     def get(wildcards):
         name = wildcards[SECTION_KEYS[section]]

@@ -3,15 +3,15 @@
 from geardyn import io
 from geardyn.io import logs, provenance
 from geardyn.khv import design, point
-from geardyn.runs.continuation import curve_maps
+from geardyn.runs.continuation import boundaries, curve_maps
 from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
 drive = design.load(snakemake.input.design)
 entry = snakemake.params.spec
 name = snakemake.wildcards.study
-region = curve_maps.Region.from_config(entry, drive.segment)
-settings_of = curve_maps.BoundarySpec.from_config(entry)
+region = boundaries.Region.from_config(entry, drive.segment)
+settings_of = boundaries.BoundarySpec.from_config(entry)
 warm_up(point.point_coefficients(drive))
 integration = point.integration_settings(drive, **dict(entry.get("integration", {})))
 bd, _ = curve_maps.boundary_curves(drive, region, settings_of, integration)

@@ -2,7 +2,7 @@
 study's samples -> Markdown and CSV beside claims.md."""
 
 from geardyn import io
-from geardyn.io import logs
+from geardyn.io import logs, tables
 from geardyn.khv import design
 from geardyn.papers import paper_of
 from geardyn.runs import probability_stats
@@ -33,6 +33,6 @@ note = (
     + (f", given each value of {name} (P(holds | {name}): the rows of one value share its samples)." if name else ".")
 )
 title = f"Claims of {paper.SHORT} under the study's inputs ({snakemake.wildcards.prob})"
-io.write_text(probability_stats.claims_markdown(rows, title, note), snakemake.output.md)
-io.write_text(probability_stats.claims_csv(rows), snakemake.output.csv)
+io.write_text(tables.claims_markdown(rows, title, note), snakemake.output.md)
+io.write_text(tables.claims_csv(rows), snakemake.output.csv)
 log.info("%s: %s", snakemake.wildcards.prob, {r["id"]: round(r["agree"], 3) for r in rows})

@@ -1,10 +1,10 @@
 """Adapter: the figure (with its caption) and the table of one probabilities study."""
 
 from geardyn import io
-from geardyn.io import logs
+from geardyn.io import logs, tables
 from geardyn.plots import probabilities as plots
 from geardyn.plots import save_figure
-from geardyn.runs import probability_stats, tolerance_classes
+from geardyn.runs import tolerance_classes
 
 log = logs.to_file(snakemake.log[0])
 ds = io.read_dataset(snakemake.input.cube)
@@ -18,7 +18,7 @@ if "tolerance_class" in ds.dims:  # a class study
     n = ds.attrs.get("samples_per_class")
 else:
     figure, caption = plots.probabilities_figure(ds, title), plots.caption(name, ds)
-    table = probability_stats.table_markdown(ds, heading)
+    table = tables.table_markdown(ds, heading)
     n = int((ds["sample_block"] >= 0).sum())
 caption = f"{caption} {skipped}".rstrip()
 save_figure(figure, snakemake.output.figure, caption)

@@ -6,9 +6,11 @@ from __future__ import annotations
 import csv
 import io
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 from geardyn.io import markdown_table
+from geardyn.jsontypes import Json
 
 RANGE_AGREE = 0.8
 #: A fraction within this many binomial standard errors of its threshold is "borderline".
@@ -96,3 +98,10 @@ def to_markdown(rows: list[Claim], design: str, note: str = "", paper: str = "th
         lines += [note, ""]
     cells = [[f"**{r.verdict}**" if c == "verdict" else getattr(r, c) for c in cols] for r in rows]
     return "\n".join([*lines, markdown_table(cols, cells)]) + "\n"
+
+
+def unique_ids(specs: Sequence[Mapping[str, Json]]) -> None:
+    """Raise if two claims share an ``id``."""
+    ids = [s.get("id") for s in specs]
+    if len(set(ids)) != len(ids):
+        raise ValueError(f"claim ids repeat: {sorted({i for i in ids if ids.count(i) > 1})}")  # type: ignore[type-var]

@@ -12,7 +12,7 @@ from geardyn.gears import constraints
 from geardyn.gears import geometry as geo
 from geardyn.jsontypes import Json
 from geardyn.khv.closed_graph import CUTTER_DEPENDENT
-from geardyn.label.classify import bands
+from geardyn.runs.bands import bands
 
 KINDS = {"khv": "khv.schema.json", "plus": "plus_planetary.schema.json"}
 

@@ -7,6 +7,8 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from geardyn.label.indicators import CONSTANT_SPREAD, FLAT_COMPONENT
+
 
 @nb.njit(cache=True)
 def _mean_std(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -37,7 +39,7 @@ def standardised(p: np.ndarray) -> np.ndarray:
         big = 1.0
         for i in range(m):
             big = max(big, abs(p[i, j]))
-        if s[j] > 1e-12 * big:
+        if s[j] > CONSTANT_SPREAD * big:
             for i in range(m):
                 z[i, j] = (p[i, j] - mean[j]) / s[j]
     return z
@@ -58,9 +60,9 @@ def scaled(f: np.ndarray, points: np.ndarray) -> np.ndarray:
     top = 0.0
     for j in range(k):
         top = max(top, s[j])
-    if sp.max() <= 1e-12 * mag or top == 0.0:
+    if sp.max() <= CONSTANT_SPREAD * mag or top == 0.0:
         return np.zeros((m, 0))
-    keep = np.nonzero(s > 1e-9 * top)[0]
+    keep = np.nonzero(s > FLAT_COMPONENT * top)[0]
     out = np.empty((m, keep.size))
     for i in range(m):
         for c in range(keep.size):

@@ -1,4 +1,4 @@
-"""The compiled inner loop of :func:`geardyn.label.classify.falling_return_distances` (private); it releases
+"""The compiled inner loop of :func:`geardyn.label.indicators.falling_return_distances` (private); it releases
 the GIL, so the labeller's threads run on both cores."""
 
 from __future__ import annotations

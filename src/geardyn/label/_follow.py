@@ -10,6 +10,9 @@ from geardyn.label.policy import Policy
 from geardyn.solve.floquet import bifurcation_type
 from geardyn.solve.shooting import ShootingResult
 
+#: Certifying a converged state is one monodromy run: Newton shooting with no iteration.
+CERTIFY_ITERATIONS = 0
+
 # ------------------------------------------------------------------------------------------------
 # stage 1: follow the previous point's orbit
 # ------------------------------------------------------------------------------------------------
@@ -44,7 +47,9 @@ def _chord(points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy) -
 def _certify_states(points: list[Point], xs: list[np.ndarray], n: int, policy: Policy) -> list[ShootingResult]:
     """One monodromy run of n periods at each converged state: residual and multipliers (Newton shooting
     with no iteration, within ``policy.chord.tol_factor`` times its tolerance)."""
-    return shoot_batch(points, xs, n, policy, tol=policy.chord.tol_factor * policy.newton.tol, max_iter=0)
+    return shoot_batch(
+        points, xs, n, policy, tol=policy.chord.tol_factor * policy.newton.tol, max_iter=CERTIFY_ITERATIONS
+    )
 
 
 def follow(points: list[Point], policy: Policy) -> list[Point]:

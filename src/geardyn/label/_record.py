@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import dataclasses
 
-import geardyn.label.classify as classify
+import geardyn.label.indicators as indicators
 from geardyn.label._stages import (
     NAN,
     UNDET,
@@ -84,7 +84,7 @@ def integrate(points: list[Point], policy: Policy) -> list[Point]:
     left = [p for p in points if p.verdict is None]
     if not left:
         return left
-    periods = classify.strict_periods([p.run.poincare for p in left], cs)
+    periods = indicators.strict_periods([p.run.poincare for p in left], cs)
     return certify(left, periods, policy, "period_test", "the run returns within tolerance")
 
 

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-import geardyn.label.classify as classify
+import geardyn.label.vocabulary as vocabulary
 from geardyn.label.compare import least_period
 from geardyn.label.policy import Policy
 from geardyn.label.torus import OrderTest
@@ -22,11 +22,11 @@ from geardyn.solve.response import ResponseMeasures, measures_of_sums, response_
 from geardyn.solve.run import LaneTables
 from geardyn.solve.shooting import ShootingResult, cycle_points, newton_shooting_batch
 
-UNDET = classify.LABELS["undetermined"]
-QP = classify.LABELS["quasi_periodic"]
-CHAOS = classify.LABELS["chaotic"]
-DIVERGED = classify.LABELS["diverged"]
-TRANSIENT = classify.LABELS["transient"]
+UNDET = vocabulary.LABELS["undetermined"]
+QP = vocabulary.LABELS["quasi_periodic"]
+CHAOS = vocabulary.LABELS["chaotic"]
+DIVERGED = vocabulary.LABELS["diverged"]
+TRANSIENT = vocabulary.LABELS["transient"]
 NAN = float("nan")
 
 log = logging.getLogger("geardyn.label")
@@ -94,7 +94,7 @@ def periodic_verdicts(
         shot, m = shots[k], cycle.shape[0]
         n, rho = shot.n, shot.spectral_radius
         out[k] = Verdict(
-            label=m if m <= policy.classifier.max_n else classify.LABELS["long_period"],
+            label=m if m <= policy.classifier.max_n else vocabulary.LABELS["long_period"],
             period=m,
             exponent=math.log(rho) / (n * points[k].system.period),
             exponent_sigma=0.0,
@@ -263,3 +263,33 @@ def certify(
             )
     decide(tp, verdicts)
     return [p for p in points if p.verdict is None]
+
+
+def undecided(p: Point, why: str, policy: Policy) -> Verdict:
+    return record_verdict(p, policy, UNDET, NAN, NAN, "none", "undecided", why)
+
+
+def record_verdict(
+    p: Point, policy: Policy, label: int, lam: float, sig: float, method: str, stage: str, why: str, **measured: float
+) -> Verdict:
+    """A verdict of no period read off the point's record ``p.run``: its final state, its newest Poincare points, the
+    response measures of its last ``p.measured`` periods (the sums its run added), the earlier stages' notes
+    appended to the reason; ``measured``: the torus and chaos measures, where computed."""
+    if p.notes:
+        why += "; " + "; ".join(p.notes)
+    return Verdict(
+        label,
+        0,
+        lam,
+        sig,
+        method,
+        stage,
+        why,
+        final_state=p.run.final_state.copy(),
+        poincare=p.run.poincare[-policy.integration.recorded_periods :],
+        bifurcation=p.bifurcation,
+        transient_used=p.transient_used,
+        n_events=int(p.run.n_events),
+        response=measures_of_sums(p.run.sums, p.system, p.measured),
+        **measured,  # type: ignore[arg-type]  # Verdict's float fields (k01, flatness, ...), by name
+    )

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-import geardyn.label.classify as classify
+import geardyn.label.vocabulary as vocabulary
 from geardyn.label.policy import Same
 from geardyn.label.verdict import Verdict
 
@@ -48,7 +48,7 @@ def same_attractor(
     periodic label, one cycle (its n points)."""
     if label_a != label_b:
         return False
-    if label_a == classify.LABELS["diverged"]:
+    if label_a == vocabulary.LABELS["diverged"]:
         return True
     if pa.shape[0] == 0 or pb.shape[0] == 0:
         return False

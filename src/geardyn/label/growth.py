@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from geardyn.label.indicators import LOG_FLOOR
 from geardyn.label.policy import GrowthSettings
 
 
@@ -58,7 +59,7 @@ def _trend(poincare: np.ndarray, s: GrowthSettings) -> tuple[float, float, float
         return 0.0, 1.0, 0.0
     index = np.arange(s.blocks, dtype=float)
     tau, p_value = stats.kendalltau(index, env, alternative="greater")
-    slope = float(stats.theilslopes(np.log(np.maximum(env, 1e-300)), index).slope)
+    slope = float(stats.theilslopes(np.log(np.maximum(env, LOG_FLOOR)), index).slope)
     return float(tau), float(p_value), math.expm1(slope * (s.blocks - 1))
 
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from geardyn.jsontypes import Json
-from geardyn.label.classify import ClassifierSettings
+from geardyn.label.indicators import ClassifierSettings
 from geardyn.solve.base import ShootingSettings, SimulationSettings
 
 Start = Literal["follow", "fixed"]
@@ -64,7 +64,7 @@ class Settle:
 
 @dataclass(frozen=True)
 class Locked:
-    """The search for a cycle that a quasi-periodic record gathers about (:mod:`geardyn.label._nonperiodic`):
+    """The search for a cycle that a quasi-periodic record gathers about (:func:`geardyn.label._cycles.locked`):
     return tolerance, Newton iterations and growth stop, required falls, circled periods (measured values:
     ``docs/classify.md``)."""
 

@@ -10,7 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-import geardyn.label.classify as classify
+import geardyn.label.indicators as indicators
+import geardyn.label.vocabulary as vocabulary
 from geardyn.label.compare import least_period, nearest_distances
 from geardyn.label.policy import Policy, Settle
 from geardyn.parallel import threaded_map
@@ -19,8 +20,8 @@ from geardyn.solve.base import SimulationResult
 from geardyn.solve.run import LaneTables, lane_tables, simulate_batch
 from geardyn.solve.shooting import cycle_points, newton_shooting_batch
 
-QP = classify.LABELS["quasi_periodic"]
-UNDET = classify.LABELS["undetermined"]
+QP = vocabulary.LABELS["quasi_periodic"]
+UNDET = vocabulary.LABELS["undetermined"]
 
 
 @dataclass(frozen=True)
@@ -42,7 +43,7 @@ class Settled:
     multipliers: np.ndarray | None = dataclasses.field(default=None, compare=False)
 
 
-def needs_check(label: int, lyapunov: float, classifier: classify.ClassifierSettings) -> bool:
+def needs_check(label: int, lyapunov: float, classifier: indicators.ClassifierSettings) -> bool:
     """Whether :func:`settle_points` tries the point: quasi-periodic or undetermined with an exponent that is
     not clearly positive, and the check switched on (``settle_max_n > 0``)."""
     return (
@@ -70,7 +71,7 @@ def approached_in_record(
     if p.shape[0] < min_points or not 0.0 < rho < 1.0:
         return False
     d = nearest_distances(p, np.asarray(cycle))
-    slope = float(np.polyfit(np.arange(d.size), np.log(np.maximum(d, 1e-300)), 1)[0])
+    slope = float(np.polyfit(np.arange(d.size), np.log(np.maximum(d, indicators.LOG_FLOOR)), 1)[0])
     return slope <= rate_share * math.log(rho) / n and math.exp(slope * (d.size - 1)) <= fall
 
 
@@ -100,7 +101,7 @@ def settle_points(
     if tables is None:
         tables = lane_tables(systems, settings)  # the per-point step tables, built once for every stage
     falls = {
-        i: classify.falling_return_distances(results[i].poincare, classifier.settle_max_n, policy.return_fall)
+        i: indicators.falling_return_distances(results[i].poincare, classifier.settle_max_n, policy.return_fall)
         for i in active
     }
     one = [True] * len(systems) if always_one is None else always_one

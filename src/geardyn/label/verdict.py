@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-import geardyn.label.classify as classify
+import geardyn.label.vocabulary as vocabulary
 from geardyn.solve.bifurcations import CODES
 from geardyn.solve.response import ResponseMeasures
 
@@ -63,7 +63,7 @@ class Verdict:
 
     @property
     def diverged(self) -> bool:
-        return self.label == classify.LABELS["diverged"]
+        return self.label == vocabulary.LABELS["diverged"]
 
     @property
     def periodic(self) -> bool:

@@ -11,11 +11,13 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from geardyn.label import STAGE_NAMES, classify
+from geardyn.label import STAGE_NAMES, vocabulary
 from geardyn.plots import paper_says
 from geardyn.plots.plus import ENERGY_BARS, orders
 from geardyn.plus.modal import MESH_TYPES
+from geardyn.runs.bands import bands
 from geardyn.runs.cube import STATES, fractions, labels_of_cube
+from geardyn.runs.spectrum import spectral_peaks
 
 if TYPE_CHECKING:
     from geardyn.plus.design import PlusDesign
@@ -37,7 +39,7 @@ def verdict_notes(ds: xr.Dataset) -> list[str]:
     if int(ds.attrs.get("undamped", 0)) == 1:
         lines.append(f"No damping: {ds.attrs['undamped_note']}.")
     label = ds["label"].values if "label" in ds else np.zeros(0)
-    qp = label == classify.LABELS["quasi_periodic"]
+    qp = label == vocabulary.LABELS["quasi_periodic"]
     if "period_searched" in ds and qp.any():
         n = ds["period_searched"].values[qp]
         reach = f"{int(n.min())}" if n.min() == n.max() else f"{int(n.min())}-{int(n.max())}"
@@ -45,7 +47,7 @@ def verdict_notes(ds: xr.Dataset) -> list[str]:
             f"Quasi-periodic ({int(qp.sum())} points): a torus or cycle longer than {reach} mesh periods (the "
             "long-cycle search's reach on each point's record, period_searched)."
         )
-    grow = int(np.sum(label == classify.LABELS["transient"]))
+    grow = int(np.sum(label == vocabulary.LABELS["transient"]))
     if grow:
         lines.append(
             f"Transient ({grow} points): the record's amplitude still grows at the record cap (growth test, "
@@ -73,8 +75,8 @@ def bifurcation(name: str, cube: xr.Dataset, paper: ModuleType | None = None) ->
     ]
     for i, case in enumerate(cube["case"].values):
         for j, direction in enumerate(cube["direction"].values):
-            runs = classify.bands(cube[par].values, periods[i, j])
-            text = "; ".join(f"{classify.label_name(lab)} on [{a:.4g}, {b:.4g}]" for a, b, lab in runs[:12])
+            runs = bands(cube[par].values, periods[i, j])
+            text = "; ".join(f"{vocabulary.label_name(lab)} on [{a:.4g}, {b:.4g}]" for a, b, lab in runs[:12])
             more = f" (+{len(runs) - 12} more bands)" if len(runs) > 12 else ""
             lines.append(f"Ours, {case}{'' if direction == 'none' else ', ' + direction}: {text}{more}.")
     lines += verdict_notes(cube) + _tail(name, paper)
@@ -96,10 +98,10 @@ def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
             stage = STAGE_NAMES.get(int(d["stage"]), "")
             how = f" ({stage.replace('_', ' ')})" if stage else ""
         else:
-            n = classify.LABELS["diverged"] if int(d["diverged"]) == 1 else classify.LABELS["undetermined"]
-        peaks = classify.spectral_peaks(d["frequency"].values, d["amplitude"].values)
+            n = vocabulary.LABELS["diverged"] if int(d["diverged"]) == 1 else vocabulary.LABELS["undetermined"]
+        peaks = spectral_peaks(d["frequency"].values, d["amplitude"].values)
         peak_text = (", peaks at " + ", ".join(f"{v:.3g}" for v in peaks) + " x f_mesh") if peaks else ""
-        lines.append(f"Ours, {case}: {classify.label_name(n)}{how}{peak_text}.")
+        lines.append(f"Ours, {case}: {vocabulary.label_name(n)}{how}{peak_text}.")
     lines += verdict_notes(ds) + _tail(name, paper)
     return "\n".join(lines)
 

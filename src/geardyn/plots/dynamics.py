@@ -8,8 +8,8 @@ from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize, TwoSlopeN
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from geardyn.label import classify
-from geardyn.label.classify import LABELS
+from geardyn.label import vocabulary
+from geardyn.label.vocabulary import LABELS
 from geardyn.plots.curves import draw_curves, say_on_face
 from geardyn.plots.response import draw_map_layers
 from geardyn.runs.cube import labels_of_cube
@@ -57,7 +57,7 @@ def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figur
                 x = np.broadcast_to(xv[m][:, None], sel.values[m].shape)
                 ax.plot(x.ravel(), sel.values[m].ravel(), ",", color=label_colour(code), alpha=0.7, rasterized=True)
             handles = [
-                Line2D([], [], ls="", marker="s", color=label_colour(c), label=classify.short_name(c))
+                Line2D([], [], ls="", marker="s", color=label_colour(c), label=vocabulary.short_name(c))
                 for c in np.unique(lab)
             ]
             ax.legend(handles=handles, loc="upper right", fontsize=6, ncol=min(6, len(handles)), framealpha=0.7)
@@ -140,7 +140,7 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=(), curves: xr.Datase
         ax, axl = fig.subplots(1, 2)
     im = ax.pcolormesh(x, y, index, cmap=cmap, norm=norm, shading="nearest", rasterized=True)
     cb = fig.colorbar(im, ax=ax, ticks=np.arange(len(codes)))
-    cb.ax.set_yticklabels([classify.short_name(c) for c in codes], fontsize=7)
+    cb.ax.set_yticklabels([vocabulary.short_name(c) for c in codes], fontsize=7)
     if "coexisting" in ds:
         both = (ds["coexisting"].values == 1).astype(float)
         if both.any():
@@ -166,7 +166,7 @@ def plot_map(ds: xr.Dataset, title: str, cuts_x=(), cuts_y=(), curves: xr.Datase
             draw_curves(a, curves, legend=a is ax, lw=1.1, loc="lower right")
             a.set(xlim=(x[0], x[-1]), ylim=(y[0], y[-1]))
     if len(codes) == 1:  # one flat colour: say so on the figure's face
-        say_on_face(ax, f"{classify.short_name(codes[0])} everywhere in this plane")
+        say_on_face(ax, f"{vocabulary.short_name(codes[0])} everywhere in this plane")
     ax.set_title("motion label" + (" and regime boundaries" if curves is not None else ""), fontsize=9, loc="left")
     axl.set_title("largest exponent (Floquet or tangent)", fontsize=9, loc="left")
     fig.suptitle(title)

@@ -12,8 +12,8 @@ import xarray as xr
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
+from geardyn.io.tables import lead_text
 from geardyn.plots.response import IMPACT_COLOURS, IMPACT_LABELS
-from geardyn.runs.probability_stats import lead_text
 
 FAMILY_COLOURS = {
     "P1": "#4c9bd6",

@@ -18,7 +18,7 @@ from geardyn.io import Var
 from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
-from geardyn.label import Policy, classify, compare, label_points
+from geardyn.label import Policy, compare, indicators, label_points
 from geardyn.label.policy import Same
 from geardyn.runs.continuation import branches_from_dataset
 from geardyn.runs.continuation.branch import Branch
@@ -79,7 +79,7 @@ def find_attractors(
     starts: Mapping[str, np.ndarray],
     settings: AttractorSettings,
     integration: SimulationSettings,
-    classifier: classify.ClassifierSettings = classify.ClassifierSettings(),
+    classifier: indicators.ClassifierSettings = indicators.ClassifierSettings(),
 ) -> tuple[list[Attractor], dict[str, int]]:
     """Label the run from every start (the labeller, fixed starts), deduplicate.  Returns (attractors,
     start -> attractor index)."""
@@ -188,7 +188,7 @@ def attractors_dataset(
     points: Sequence[PointStarts],
     settings: AttractorSettings,
     integration: SimulationSettings,
-    classifier: classify.ClassifierSettings,
+    classifier: indicators.ClassifierSettings,
     parameter: str,
     units: str,
     long_name: str,
@@ -247,7 +247,7 @@ def sweep_attractors(
     branches_ds: xr.Dataset | None,
     attractor_spec: Mapping[str, Json],
     settings: SimulationSettings | None = None,
-    classifier: classify.ClassifierSettings | None = None,
+    classifier: indicators.ClassifierSettings | None = None,
 ):
     """Attractors at a subset of a sweep's points (``every`` / ``at`` in ``attractor_spec``, the rest
     are :class:`AttractorSettings`), every case; the branches come from the orbits dataset."""
@@ -257,7 +257,7 @@ def sweep_attractors(
         every = max(1, spec.num // 10)
     aset = settings_from(AttractorSettings, spec_map, "attractor settings")
     settings = settings or point.integration_settings(drive, **dict(spec.integration))
-    classifier = classifier or classify.ClassifierSettings.from_mapping(dict(spec.classifier))
+    classifier = classifier or indicators.ClassifierSettings.from_mapping(dict(spec.classifier))
     values = spec.values  # every ``every``-th point (the last too) and the points nearest the values ``at``
     some = set(range(0, values.size, int(every))) | {values.size - 1} if every else set()
     idx = sorted(some | {int(np.argmin(np.abs(values - float(v)))) for v in at or ()})

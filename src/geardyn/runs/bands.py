@@ -7,8 +7,19 @@ import numpy as np
 import xarray as xr
 
 from geardyn.io import markdown_table
-from geardyn.label import classify
+from geardyn.label import vocabulary
 from geardyn.runs.cube import labels_of_cube
+
+
+def bands(values: np.ndarray, labels: np.ndarray) -> list[tuple[float, float, int]]:
+    """Runs of equal labels along a sweep as (first value, last value, label)."""
+    out: list[tuple[float, float, int]] = []
+    start = 0
+    for i in range(1, len(labels) + 1):
+        if i == len(labels) or labels[i] != labels[start]:
+            out.append((float(values[start]), float(values[i - 1]), int(labels[start])))
+            start = i
+    return out
 
 
 def band_rows(cube: xr.Dataset) -> list[dict]:
@@ -21,7 +32,7 @@ def band_rows(cube: xr.Dataset) -> list[dict]:
     rows = []
     for i, case in enumerate(cube["case"].values):
         for j, direction in enumerate(cube["direction"].values):
-            runs = classify.bands(values, labels[i, j])
+            runs = bands(values, labels[i, j])
             for r, (a, b, lab) in enumerate(runs):
                 m = (values >= a) & (values <= b)
                 nxt = 0.5 * (b + runs[r + 1][0]) if r + 1 < len(runs) else float("nan")
@@ -31,7 +42,7 @@ def band_rows(cube: xr.Dataset) -> list[dict]:
                         "case": str(case),
                         "direction": str(direction),
                         "label": int(lab),
-                        "name": classify.short_name(lab),
+                        "name": vocabulary.short_name(lab),
                         "start": a,
                         "stop": b,
                         "n_points": int(m.sum()),

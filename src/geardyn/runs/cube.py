@@ -14,7 +14,7 @@ from numpy.typing import DTypeLike
 from geardyn.io import Var
 from geardyn.io.provenance import distinct_runtimes
 from geardyn.jsontypes import Json
-from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES, classify
+from geardyn.label import BIFURCATIONS, EXPONENT_METHODS, STAGES, vocabulary
 from geardyn.solve.response import IMPACT_CLASSES
 
 STATES = ("x_dh", "x_vh", "x_vl", "v_dh", "v_vh", "v_vl")
@@ -41,10 +41,10 @@ def _table(*rows: Var) -> dict[str, Var]:
 
 
 def label_var(name: str, long_name: str, max_n: int = 12, dims: tuple[str, ...] = ()) -> Var:
-    """A motion label (int16 codes, :data:`geardyn.label.classify.LABELS` and period-n for n = 1..``max_n``;
+    """A motion label (int16 codes, :data:`geardyn.label.vocabulary.LABELS` and period-n for n = 1..``max_n``;
     ``long_period``: a certified orbit of a longer period, in ``period``), ``undetermined`` where not labelled."""
-    codes = {**classify.LABELS, **{f"period_{n}": n for n in range(1, max_n + 1)}}
-    return Var(name, dims, None, long_name, codes, np.int16, classify.LABELS["undetermined"])
+    codes = {**vocabulary.LABELS, **{f"period_{n}": n for n in range(1, max_n + 1)}}
+    return Var(name, dims, None, long_name, codes, np.int16, vocabulary.LABELS["undetermined"])
 
 
 #: The per-point variables of a verdict (:class:`geardyn.label.Verdict`) besides its label, on the study's dims.
@@ -212,4 +212,4 @@ def fractions(ds: xr.Dataset) -> dict[str, float]:
     """Share of each label over a cube (a map or a sweep)."""
     lab = ds["label"].values.ravel()
     codes, n = np.unique(lab, return_counts=True)
-    return {classify.short_name(int(c)): float(k) / lab.size for c, k in zip(codes, n, strict=True)}
+    return {vocabulary.short_name(int(c)): float(k) / lab.size for c, k in zip(codes, n, strict=True)}

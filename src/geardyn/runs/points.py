@@ -9,13 +9,14 @@ from collections.abc import Mapping
 import numpy as np
 import xarray as xr
 
-from geardyn import io, libm
+from geardyn import io
 from geardyn.io import Var
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.label import Policy
 from geardyn.runs import study
 from geardyn.runs.cube import STATE_NAMES, STATES
+from geardyn.runs.spectrum import amplitude_spectrum
 from geardyn.solve import SimulationSettings, simulate
 
 _STATE_AT = (("", "time", ""), ("poincare_", "section", "Poincare section: "))
@@ -28,16 +29,6 @@ VARIABLES = (
     Var("section", "section", "1", "index of the recorded mesh period", dtype=np.int32),
     Var("frequency", "frequency", "1", "frequency / mesh frequency"),
 )
-
-
-def amplitude_spectrum(x: np.ndarray, samples_per_period: int) -> tuple[np.ndarray, np.ndarray]:
-    """One-sided amplitude spectrum of a uniformly sampled signal (mean removed, Hann window), frequencies in
-    multiples of the mesh frequency, amplitudes corrected for the window's coherent gain (a sine of amplitude A: A)."""
-    x = np.asarray(x, dtype=float)
-    n = x.size
-    window = np.hanning(n)
-    amp = 2.0 * libm.cabs(np.fft.rfft((x - x.mean()) * window)) / window.sum()
-    return np.fft.rfftfreq(n, d=1.0 / samples_per_period), amp
 
 
 def dense_point(

@@ -22,8 +22,8 @@ from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import COEFFICIENT_ATTRS, Coefficients, natural_frequencies
 from geardyn.label import Policy, Verdict
-from geardyn.label.classify import LABELS
 from geardyn.label.compare import same, same_attractor
+from geardyn.label.vocabulary import LABELS
 from geardyn.runs import cube, study
 from geardyn.solve.base import System
 from geardyn.solve.response import RMS_BLOCKS, rms_errors_many

@@ -381,5 +381,5 @@ def warm_up(system: System) -> None:
         simulate_batch([system] * 2, tiny, monodromy_periods=1)
 
 
-#: rule 3, compiled: stated once in :mod:`geardyn.solve._period`, read by :mod:`geardyn.label.classify`
+#: rule 3, compiled: stated once in :mod:`geardyn.solve._period`, read by :mod:`geardyn.label.indicators`
 strict_period, strict_periods = _period.strict_period, _period.strict_periods

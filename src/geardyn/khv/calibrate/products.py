@@ -39,7 +39,7 @@ def records_dataset(records: Sequence[Record], space: SearchSpace, grids: Grids)
             "label",
             ("candidate", par),
             "1",
-            f"motion label along {par} after the slow-transient check (geardyn.label.classify codes)",
+            f"motion label along {par} after the slow-transient check (geardyn.label.vocabulary codes)",
             dtype=np.int16,
         ),
         *(

@@ -17,8 +17,8 @@ from geardyn.config import settings_from
 from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign
-from geardyn.label import classify
 from geardyn.papers import paper_of
+from geardyn.runs.bands import bands
 from geardyn.runs.continuation.branch import Branch, on_branch
 from geardyn.runs.continuation.corrector import ContinuationSettings
 from geardyn.runs.continuation.family import KHVFamily
@@ -82,7 +82,7 @@ def run_middles(labels: np.ndarray, max_period: int) -> list[tuple[int, int]]:
     """(middle index, n) of every run of equal label P1..P<max_period>, longest runs first."""
     runs = [
         (int(last) - int(first) + 1, int(first), n)
-        for first, last, n in classify.bands(np.arange(labels.size), labels)
+        for first, last, n in bands(np.arange(labels.size), labels)
         if 1 <= n <= max_period
     ]
     return [(first + length // 2, n) for length, first, n in sorted(runs, key=lambda r: (-r[0], r[1]))]

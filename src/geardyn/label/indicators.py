@@ -1,6 +1,7 @@
-"""Labels for steady motions (period-n, quasi-periodic, chaotic, diverged, undetermined): the label codes,
-rule 3 and the indicators (Lyapunov exponent, 0-1 test, spectral flatness); :mod:`geardyn.label` decides
-the labels (``docs/classify.md``)."""
+"""What the labeller measures on a record: rule 3 (:func:`strict_period` with its thresholds,
+:class:`ClassifierSettings`), the falling return distances and the indicators (Lyapunov exponent, 0-1 test,
+spectral flatness); :mod:`geardyn.label` decides the labels, :mod:`geardyn.label.vocabulary` names them
+(``docs/classify.md``)."""
 
 from __future__ import annotations
 
@@ -12,19 +13,18 @@ from geardyn import libm
 from geardyn.config import settings_from
 from geardyn.solve.precision import POINCARE_ERROR
 
-#: Label codes stored in cubes (``flag_values``/``flag_meanings``); n >= 1 is period-n.
-#: ``not_periodic`` is what the Poincaré test alone says (QP or chaos, unresolved).
-#: ``transient``: a record that still grows at the policy's cap (``docs/classify.md``, "Growing records"): no
-#: attractor found, counted as undetermined where a family table needs one.
-LABELS = {
-    "transient": -6,
-    "long_period": -5,
-    "chaotic": -4,
-    "quasi_periodic": -3,
-    "diverged": -2,
-    "undetermined": -1,
-    "not_periodic": 0,
-}
+#: Numeric guards of the indicators (not thresholds of a verdict):
+#: a signal or coordinate whose spread is below CONSTANT_SPREAD of its magnitude is constant (ten thousand
+#: times double precision's 2.2e-16: round-off, not motion);
+CONSTANT_SPREAD = 1e-12
+#: a spread below FLAT_COMPONENT of the largest component's is no component of the motion (round-off of the
+#: largest one carried into the others);
+FLAT_COMPONENT = 1e-9
+#: the floor, relative to the largest bin, that keeps the log of an empty spectral bin finite without moving the
+#: flatness of any spectrum with content (its bins are far above 1e-30 of the largest);
+POWER_FLOOR = 1e-30
+#: the floor that keeps the log of a zero distance finite (the smallest normal double is 2.2e-308).
+LOG_FLOOR = 1e-300
 
 
 def falling_return_distances(poincare: np.ndarray, max_n: int, factor: float = 0.95) -> np.ndarray:
@@ -37,39 +37,6 @@ def falling_return_distances(poincare: np.ndarray, max_n: int, factor: float = 0
 
     p = np.asarray(poincare, dtype=float)
     return falling(np.ascontiguousarray(p[np.all(np.isfinite(p), axis=1)]), max_n, factor)
-
-
-def bands(values: np.ndarray, labels: np.ndarray) -> list[tuple[float, float, int]]:
-    """Runs of equal labels along a sweep as (first value, last value, label)."""
-    out: list[tuple[float, float, int]] = []
-    start = 0
-    for i in range(1, len(labels) + 1):
-        if i == len(labels) or labels[i] != labels[start]:
-            out.append((float(values[start]), float(values[i - 1]), int(labels[start])))
-            start = i
-    return out
-
-
-#: The long and the short name of each code that is not period-n (period n: ``P{n}``).
-NAMES = {
-    LABELS["transient"]: ("transient (the record still grows)", "grow"),
-    LABELS["long_period"]: ("long period (a phase-locked torus)", "Plong"),
-    LABELS["chaotic"]: ("chaotic", "chaos"),
-    LABELS["quasi_periodic"]: ("quasi-periodic", "QP"),
-    LABELS["diverged"]: ("diverged", "div"),
-    LABELS["undetermined"]: ("undetermined", "undet"),
-    LABELS["not_periodic"]: ("not periodic (QP or chaos)", "NP"),
-}
-
-
-def label_name(n: int) -> str:
-    """The label's name in words: ``quasi-periodic``, ``P3``, ..."""
-    return NAMES[n][0] if n in NAMES else f"P{n}"
-
-
-def short_name(n: int) -> str:
-    """Compact label: P1, P5, QP, chaos, div, undet."""
-    return NAMES[int(n)][1] if int(n) in NAMES else f"P{int(n)}"
 
 
 # ----------------------------------------------------------------------------------------
@@ -105,7 +72,7 @@ def zero_one_test(phi: np.ndarray, n_c: int = 32, seed: int = 1) -> float:
     if n_pts < 20:
         return float("nan")
     x = x - x.mean()
-    if float(np.max(np.abs(x))) <= 1e-12 * max(1.0, float(np.max(np.abs(phi)))):
+    if float(np.max(np.abs(x))) <= CONSTANT_SPREAD * max(1.0, float(np.max(np.abs(phi)))):
         return 0.0
 
     ncut = max(3, n_pts // 10)
@@ -145,26 +112,13 @@ def spectral_flatness(phi: np.ndarray) -> float:
     if float(np.max(np.abs(x))) == 0.0:
         return 0.0
     pw = libm.cabs(np.fft.rfft(x * np.hanning(x.size)))[1:] ** 2
-    pw = pw + 1e-30 * pw.max()
+    pw = pw + POWER_FLOOR * pw.max()
     return float(libm.exp(float(np.mean(libm.log(pw)))) / np.mean(pw))
 
 
 # ----------------------------------------------------------------------------------------
 # decision
 # ----------------------------------------------------------------------------------------
-
-
-def spectral_peaks(freq, amp, n: int = 5, fmax: float = 3.0) -> list[float]:
-    """The ``n`` highest local maxima of a spectrum below ``fmax`` (>= 2 % of the largest), by height."""
-
-    keep = (freq > 0.02) & (freq <= fmax)
-    if keep.sum() < 3:
-        return []
-    f, a = freq[keep], amp[keep]
-    from scipy.signal import find_peaks  # noqa: PLC0415 - 0.3 s to import: only the captions with spectra
-
-    idx, _ = find_peaks(a, height=0.02 * a.max())
-    return [float(f[i]) for i in idx[np.argsort(-a[idx], kind="stable")[:n]]]  # ties: the lower frequency first
 
 
 @dataclass(frozen=True)
