@@ -13,7 +13,7 @@ import numpy as np
 
 from geardyn import libm
 from geardyn.solve.base import SHOOTING, SimulationSettings, System
-from geardyn.solve.run import lane_tables, simulate, simulate_batch
+from geardyn.solve.run import cached_tables, lane_tables, simulate, simulate_batch
 
 #: flow(x, jacobian) -> (state after n periods, monodromy or None); (None, None) when diverged.
 FlowMap = Callable[[np.ndarray, bool], tuple[np.ndarray | None, np.ndarray | None]]
@@ -291,6 +291,24 @@ def khv_flow(system: System, n: int = 1, settings: SimulationSettings | None = N
         return r.final_state.copy(), (np.array(r.monodromy) if jacobian else None)
 
     return flow
+
+
+def khv_flows(
+    systems: Sequence[System],
+    xs: Sequence[np.ndarray],
+    n: int,
+    jacobian: Sequence[bool],
+    settings: SimulationSettings | None = None,
+) -> list[tuple[np.ndarray | None, np.ndarray | None]]:
+    """The n-period maps of :func:`khv_flow` of many (system, x) pairs, the monodromy where ``jacobian`` asks for
+    it, in one :func:`geardyn.solve.run.simulate_batch` (each pair bit for bit the flow of its system alone)."""
+    s = period_settings(settings, n)
+    mono = [n if j else 0 for j in jacobian]
+    runs = simulate_batch(systems, s, list(xs), monodromy_periods=mono, tables=cached_tables(systems, s))
+    return [
+        (None, None) if r.diverged else (r.final_state.copy(), np.array(r.monodromy) if j else None)
+        for r, j in zip(runs, jacobian, strict=True)
+    ]
 
 
 def rotation_number(mu: complex) -> float:
