@@ -9,8 +9,8 @@ from geardyn.solve.precision import POINCARE_ERROR
 
 #: the names loaded from :mod:`geardyn.solve.run` on first use
 _RUN = (
-    "EarlyStop LaneTables cached_tables full_batch lane_tables simulate simulate_batch step_tables strict_period "
-    "strict_periods warm_up"
+    "EarlyStop LaneTables full_batch lane_tables simulate simulate_batch step_tables strict_period strict_periods "
+    "warm_up"
 ).split()
 __getattr__ = lazy_attributes(__name__, dict.fromkeys(_RUN, "run"))
 

@@ -182,17 +182,6 @@ def lane_tables(systems: Sequence[System], settings: SimulationSettings) -> Lane
     return LaneTables(C, H, S, SEG, K, P, POLY, limits)
 
 
-def cached_tables(systems: Sequence[System], settings: SimulationSettings) -> LaneTables:
-    """The :class:`LaneTables` of ``systems`` from :func:`step_tables`' cache, the tables :func:`simulate` runs on
-    (the same numbers as :func:`lane_tables`): for batches whose systems recur from call to call."""
-    n = settings.steps_per_period
-    C, H, S, SEG, K, P, POLY = (
-        np.stack(a) for a in zip(*(step_tables(s, n, settings.aligned) for s in systems), strict=True)
-    )
-    limits = np.stack([divergence_limits(system, settings) for system in systems])
-    return LaneTables(C, H, S, SEG, K, P, POLY, limits)
-
-
 def _per_point(values: Sequence[int] | None, default: int, L: int) -> np.ndarray:
     """A per-point count (L,) int64: ``values``, or ``default`` for every point."""
     return np.full(L, default, np.int64) if values is None else np.asarray(values, dtype=np.int64)

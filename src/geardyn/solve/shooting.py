@@ -13,7 +13,7 @@ import numpy as np
 
 from geardyn import libm
 from geardyn.solve.base import SHOOTING, SimulationSettings, System
-from geardyn.solve.run import cached_tables, lane_tables, simulate, simulate_batch
+from geardyn.solve.run import lane_tables, simulate, simulate_batch
 
 #: flow(x, jacobian) -> (state after n periods, monodromy or None); (None, None) when diverged.
 FlowMap = Callable[[np.ndarray, bool], tuple[np.ndarray | None, np.ndarray | None]]
@@ -301,10 +301,15 @@ def khv_flows(
     settings: SimulationSettings | None = None,
 ) -> list[tuple[np.ndarray | None, np.ndarray | None]]:
     """The n-period maps of :func:`khv_flow` of many (system, x) pairs, the monodromy where ``jacobian`` asks for
-    it, in one :func:`geardyn.solve.run.simulate_batch` (each pair bit for bit the flow of its system alone)."""
+    it, in one :func:`geardyn.solve.run.simulate_batch` (each pair bit for bit the flow of its system alone); the
+    step tables built once per distinct system object."""
     s = period_settings(settings, n)
+    distinct: dict[int, int] = {}  # id(system) -> its row of the tables
+    rows = [distinct.setdefault(id(y), len(distinct)) for y in systems]
+    own = list({id(y): y for y in systems}.values())  # in the order of the rows
     mono = [n if j else 0 for j in jacobian]
-    runs = simulate_batch(systems, s, list(xs), monodromy_periods=mono, tables=cached_tables(systems, s))
+    tables = lane_tables(own, s).take(rows)
+    runs = simulate_batch(systems, s, list(xs), monodromy_periods=mono, tables=tables)
     return [
         (None, None) if r.diverged else (r.final_state.copy(), np.array(r.monodromy) if j else None)
         for r, j in zip(runs, jacobian, strict=True)
