@@ -101,10 +101,6 @@ class KHVFamily:
     def flow(self, p: float, n: int) -> FlowMap:
         return khv_flow(self.coefficients(p), n, self.settings)
 
-    def flows(self, at: Sequence[tuple[float, ...]], xs: Sequence[np.ndarray], n: int, jac: Sequence[bool]) -> Flows:
-        """:meth:`flow` at each parameter tuple ``at`` (p,) from its x, in one batch (:func:`flows`)."""
-        return khv_flows([self.coefficients(*a) for a in at], xs, n, jac, self.settings)
-
     def cycle(self, p: float, x: np.ndarray, n: int) -> np.ndarray:
         return cycle_points([self.coefficients(p)], [x], n, self.settings)[0][0]
 
@@ -164,16 +160,15 @@ Flows = list[tuple[np.ndarray | None, np.ndarray | None]]
 
 
 def flows(
-    source: Family | Plane, at: Sequence[tuple[float, ...]], xs: Sequence[np.ndarray], n: int, jac: Sequence[bool]
+    plane: Plane, at: Sequence[tuple[float, float]], xs: Sequence[np.ndarray], n: int, jac: Sequence[bool]
 ) -> Flows:
-    """The n-period maps of a family or plane at the parameter tuples ``at`` ((p,) or (p, q)), each from its x,
-    with the monodromy where ``jac`` asks for it: in one kernel call when ``source`` batches them (its ``flows``)
-    and there are several, else one :meth:`Family.flow` each; the same numbers either way."""
-    batch = getattr(source, "flows", None)
-    if batch is not None and len(at) > 1:
+    """The n-period maps of ``plane`` at the points ``at`` (p, q), each from its x, with the monodromy where
+    ``jac`` asks for it: in one kernel call when the plane batches them (its ``flows``, a :class:`KHVPlane`), else
+    one :meth:`Plane.flow` each; the same numbers either way."""
+    batch = getattr(plane, "flows", None)
+    if batch is not None:
         return batch(at, xs, n, jac)
-    flow: Callable[..., FlowMap] = source.flow  # (p, n) of a family, (p, q, n) of a plane
-    return [flow(*a, n)(x, j) for a, x, j in zip(at, xs, jac, strict=True)]
+    return [plane.flow(p, q, n)(x, j) for (p, q), x, j in zip(at, xs, jac, strict=True)]
 
 
 K = TypeVar("K")
@@ -202,9 +197,6 @@ class PlaneLine:
 
     def flow(self, t: float, n: int) -> FlowMap:
         return self.plane.flow(*self._pq(t), n)
-
-    def flows(self, at: Sequence[tuple[float, ...]], xs: Sequence[np.ndarray], n: int, jac: Sequence[bool]) -> Flows:
-        return flows(self.plane, [self._pq(a[0]) for a in at], xs, n, jac)
 
     def cycle(self, t: float, x: np.ndarray, n: int) -> np.ndarray:
         return self.plane.cycle(*self._pq(t), x, n)
@@ -265,9 +257,9 @@ class KHVPlane:
     def flow(self, p: float, q: float, n: int) -> FlowMap:
         return khv_flow(self.coefficients(p, q), n, self.settings)
 
-    def flows(self, at: Sequence[tuple[float, ...]], xs: Sequence[np.ndarray], n: int, jac: Sequence[bool]) -> Flows:
-        """:meth:`flow` at each parameter tuple ``at`` (p, q) from its x, in one batch (:func:`flows`)."""
-        return khv_flows([self.coefficients(*a) for a in at], xs, n, jac, self.settings)
+    def flows(self, at: Sequence[tuple[float, float]], xs: Sequence[np.ndarray], n: int, jac: Sequence[bool]) -> Flows:
+        """:meth:`flow` at each point ``at`` (p, q) from its x, in one batch (:func:`flows`)."""
+        return khv_flows([self.coefficients(p, q) for p, q in at], xs, n, jac, self.settings)
 
     def cycle(self, p: float, q: float, x: np.ndarray, n: int) -> np.ndarray:
         return cycle_points([self.coefficients(p, q)], [x], n, self.settings)[0][0]

@@ -59,12 +59,17 @@ class BranchProblem:
 
     def evaluate(self, z: np.ndarray, last: Evaluation | None, ref: Point | None = None) -> Evaluation | None:
         x, p = z[:-1], float(z[-1])
-        dp = self.cs.dp_rel * self.sp
-        at = [(p,)] if last is not None else [(p,), (p + dp,)]  # the first evaluation: dF/dp too, in one batch
-        (phi, M), *more = flows(self.family, at, [x] * len(at), self.n, [True, False][: len(at)])
-        if phi is None or (more and more[0][0] is None):
+        phi, M = self.family.flow(p, self.n)(x, True)
+        if phi is None:
             return None
-        Fp = (more[0][0] - phi) / dp if more else last.J[:, -1]
+        if last is None:  # two flows: a batch of two saves less than its switch to one thread costs
+            dp = self.cs.dp_rel * self.sp
+            phi2, _ = self.family.flow(p + dp, self.n)(x, False)
+            if phi2 is None:
+                return None
+            Fp = (phi2 - phi) / dp
+        else:
+            Fp = last.J[:, -1]
         return Evaluation(phi - x, M, np.column_stack([M - np.eye(x.size), Fp]))
 
     def jacobian(self, z: np.ndarray, ev: Evaluation, ref: Point) -> np.ndarray | None:
