@@ -12,6 +12,7 @@ Reference values (docs/orbits.md, "Validation"):
 import math
 from pathlib import Path
 
+import numba
 import numpy as np
 import pytest
 from numba import njit
@@ -316,6 +317,7 @@ def test_batched_flows_are_the_single_flows_bit_for_bit(li2013, contact_loss_orb
     c, orbit = contact_loss_orbit
     c2 = point.point_coefficients(li2013, {"x1": 0.761, "b": 2.0, "e": 5.0, "w": 0.7})
     settings = SimulationSettings(steps_per_period=128)
+    threads = numba.get_num_threads()
     for n in (1, 2):
         cases = [
             (c, orbit.state, True),
@@ -332,3 +334,4 @@ def test_batched_flows_are_the_single_flows_bit_for_bit(li2013, contact_loss_orb
             if M1 is not None:
                 np.testing.assert_array_equal(M, M1)
         assert batch[2] == (None, None) and batch[1][1] is None and batch[0][1] is not None
+    assert numba.get_num_threads() == threads  # the batch's one thread given back
