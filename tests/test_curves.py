@@ -33,6 +33,7 @@ from geardyn.runs import continuation as C
 from geardyn.runs import maps
 from geardyn.runs.continuation import boundaries, curve_check, curve_maps, pixel_probe, pixel_samples
 from geardyn.runs.continuation.family import back_margin
+from geardyn.runs.continuation.problem import CurveProblem, condition
 from geardyn.solve import SimulationSettings, simulate
 from geardyn.solve.bifurcations import CODES, decode
 from geardyn.solve.shooting import newton_shooting
@@ -313,6 +314,28 @@ def test_flip_neimark_sacker_point_is_where_the_sweep_doubles_its_period(calibra
     (pd,) = [b for b in br.bifurcations if b.kind == "period_doubling"]
     assert abs(pd.p - fns.p) < 1e-5  # measured 5.2e-8
     assert np.min(np.abs(fns.multipliers + 1.0)) < 1e-6
+
+
+def test_corrector_jacobians_from_one_batch_are_the_single_flows_bit_for_bit(calibrated_ns):
+    """The corrector's finite-difference columns of a curve come from one batched kernel call; each must be, bit
+    for bit, what one flow per column gives (the plane's own flow)."""
+    _, _, plane, curves = calibrated_ns
+    curve = curves[0]
+    prob = CurveProblem(plane, curve.kind, curve.n, 6, curve.scales, C.CURVES)
+    for pt in curve.points[:: max(1, len(curve) // 3)]:
+        z = pt.z
+        ev = prob.evaluate(z, None, pt)
+        J = prob.jacobian(z, ev, pt)
+        for k in range(z.size):
+            zk = z.copy()
+            zk[k] += C.CURVES.dp_rel * prob.scale[k]
+            phi, M = plane.flow(float(zk[-2]), float(zk[-1]), 1)(zk[:-2], True)
+            G, _ = condition(curve.kind, M, pt.crit)
+            assert J[-1, k] == (G - ev.H[-1]) / (C.CURVES.dp_rel * prob.scale[k])
+            if k >= 6:
+                np.testing.assert_array_equal(
+                    J[:-1, k], (phi - zk[:-2] - ev.H[:-1]) / (C.CURVES.dp_rel * prob.scale[k])
+                )
 
 
 def test_curve_dataset_is_cf_complete(calibrated_ns, linear_limit, tmp_path):

@@ -12,6 +12,7 @@ Reference values (docs/orbits.md, "Validation"):
 import math
 from pathlib import Path
 
+import numba
 import numpy as np
 import pytest
 from numba import njit
@@ -21,7 +22,7 @@ from _orbits import CallableFamily
 from geardyn.khv import design, point
 from geardyn.runs.continuation import ContinuationSettings, continue_branch, switch_at_period_doubling
 from geardyn.solve import SimulationSettings, simulate
-from geardyn.solve.shooting import khv_flow, newton_shooting, newton_shooting_batch
+from geardyn.solve.shooting import khv_flow, khv_flows, newton_shooting, newton_shooting_batch
 
 ROOT = Path(__file__).resolve().parents[1]
 GAMMA_PD = 0.265581786  # see the module docstring
@@ -307,3 +308,30 @@ def test_singular_newton_matrix_is_reported_not_raised():
     half = newton_shooting(lambda x, jac: (0.5 * x + 1.0, 0.5 * np.eye(2)), np.zeros(2))
     assert half.converged and half.iterations == 1
     np.testing.assert_allclose(half.state, [2.0, 2.0], rtol=0, atol=1e-15)
+
+
+def test_batched_flows_are_the_single_flows_bit_for_bit(li2013, contact_loss_orbit):
+    """khv_flows (one kernel call for many orbits, the continuation's corrector) gives each (system, x) the
+    numbers of khv_flow alone, with or without the monodromy, whatever its neighbours: a period-2 map, another
+    design point, a diverging start ((None, None))."""
+    c, orbit = contact_loss_orbit
+    c2 = point.point_coefficients(li2013, {"x1": 0.761, "b": 2.0, "e": 5.0, "w": 0.7})
+    settings = SimulationSettings(steps_per_period=128)
+    threads = numba.get_num_threads()
+    for n in (1, 2):
+        cases = [
+            (c, orbit.state, True),
+            (c2, c2.static_state(), False),
+            (c, orbit.state + 1e9, True),
+            (c2, orbit.state, True),
+        ]
+        batch = khv_flows([s for s, _, _ in cases], [x for _, x, _ in cases], n, [j for _, _, j in cases], settings)
+        for (s, x, j), (phi, M) in zip(cases, batch, strict=True):
+            phi1, M1 = khv_flow(s, n, settings)(x, j)
+            assert (phi is None) == (phi1 is None) and (M is None) == (M1 is None)
+            if phi1 is not None:
+                np.testing.assert_array_equal(phi, phi1)
+            if M1 is not None:
+                np.testing.assert_array_equal(M, M1)
+        assert batch[2] == (None, None) and batch[1][1] is None and batch[0][1] is not None
+    assert numba.get_num_threads() == threads  # the batch's one thread given back

@@ -9,6 +9,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 
 from geardyn import libm
@@ -291,6 +292,35 @@ def khv_flow(system: System, n: int = 1, settings: SimulationSettings | None = N
         return r.final_state.copy(), (np.array(r.monodromy) if jacobian else None)
 
     return flow
+
+
+def khv_flows(
+    systems: Sequence[System],
+    xs: Sequence[np.ndarray],
+    n: int,
+    jacobian: Sequence[bool],
+    settings: SimulationSettings | None = None,
+) -> list[tuple[np.ndarray | None, np.ndarray | None]]:
+    """The n-period maps of :func:`khv_flow` of many (system, x) pairs, the monodromy where ``jacobian`` asks for
+    it, in one :func:`geardyn.solve.run.simulate_batch` (each pair bit for bit the flow of its system alone); the
+    step tables built once per distinct system object.  On one numba thread: a few lanes of a fraction of a
+    millisecond each, where starting the other threads' share costs more than it saves (``docs/orbits.md``)."""
+    s = period_settings(settings, n)
+    distinct: dict[int, int] = {}  # id(system) -> its row of the tables
+    rows = [distinct.setdefault(id(y), len(distinct)) for y in systems]
+    own = list({id(y): y for y in systems}.values())  # in the order of the rows
+    mono = [n if j else 0 for j in jacobian]
+    tables = lane_tables(own, s).take(rows)
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        runs = simulate_batch(systems, s, list(xs), monodromy_periods=mono, tables=tables)
+    finally:
+        numba.set_num_threads(threads)
+    return [
+        (None, None) if r.diverged else (r.final_state.copy(), np.array(r.monodromy) if j else None)
+        for r, j in zip(runs, jacobian, strict=True)
+    ]
 
 
 def rotation_number(mu: complex) -> float:

@@ -4,7 +4,7 @@ margins), :class:`KHVFamily` and :class:`KHVPlane` of a KHV design, a line of a 
 from __future__ import annotations
 
 import copy
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Protocol, TypeVar
 
 import numpy as np
@@ -16,7 +16,7 @@ from geardyn.khv.design import KHVDesign
 from geardyn.khv.model import Coefficients
 from geardyn.solve.base import SimulationSettings
 from geardyn.solve.run import simulate
-from geardyn.solve.shooting import FlowMap, cycle_points, khv_flow, period_settings
+from geardyn.solve.shooting import FlowMap, cycle_points, khv_flow, khv_flows, period_settings
 
 #: Relative agreement of a coefficient from the line's spline with the design's at the box corner, where the
 #: spline passes through its node: rounding only (1e-9 is about 4e6 times the double's resolution).
@@ -155,6 +155,22 @@ def refined_min(a: np.ndarray) -> float:
     return m
 
 
+#: (state after n periods, monodromy or None) per point; (None, None) where the run diverged.
+Flows = list[tuple[np.ndarray | None, np.ndarray | None]]
+
+
+def flows(
+    plane: Plane, at: Sequence[tuple[float, float]], xs: Sequence[np.ndarray], n: int, jac: Sequence[bool]
+) -> Flows:
+    """The n-period maps of ``plane`` at the points ``at`` (p, q), each from its x, with the monodromy where
+    ``jac`` asks for it: in one kernel call when the plane batches them (its ``flows``, a :class:`KHVPlane`), else
+    one :meth:`Plane.flow` each; the same numbers either way."""
+    batch = getattr(plane, "flows", None)
+    if batch is not None:
+        return batch(at, xs, n, jac)
+    return [plane.flow(p, q, n)(x, j) for (p, q), x, j in zip(at, xs, jac, strict=True)]
+
+
 K = TypeVar("K")
 V = TypeVar("V")
 
@@ -240,6 +256,10 @@ class KHVPlane:
 
     def flow(self, p: float, q: float, n: int) -> FlowMap:
         return khv_flow(self.coefficients(p, q), n, self.settings)
+
+    def flows(self, at: Sequence[tuple[float, float]], xs: Sequence[np.ndarray], n: int, jac: Sequence[bool]) -> Flows:
+        """:meth:`flow` at each point ``at`` (p, q) from its x, in one batch (:func:`flows`)."""
+        return khv_flows([self.coefficients(p, q) for p, q in at], xs, n, jac, self.settings)
 
     def cycle(self, p: float, q: float, x: np.ndarray, n: int) -> np.ndarray:
         return cycle_points([self.coefficients(p, q)], [x], n, self.settings)[0][0]

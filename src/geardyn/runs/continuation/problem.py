@@ -8,7 +8,7 @@ import numpy as np
 from geardyn import libm
 from geardyn.runs.continuation.branch import Branch
 from geardyn.runs.continuation.corrector import ContinuationSettings, Evaluation, Point
-from geardyn.runs.continuation.family import Family, Plane
+from geardyn.runs.continuation.family import Family, Plane, flows
 from geardyn.solve.bifurcations import CURVE_KINDS
 from geardyn.solve.shooting import sorted_multipliers
 
@@ -62,7 +62,7 @@ class BranchProblem:
         phi, M = self.family.flow(p, self.n)(x, True)
         if phi is None:
             return None
-        if last is None:
+        if last is None:  # two flows: a batch of two saves less than its switch to one thread costs
             dp = self.cs.dp_rel * self.sp
             phi2, _ = self.family.flow(p + dp, self.n)(x, False)
             if phi2 is None:
@@ -98,9 +98,13 @@ class CurveProblem:
         self.scale = np.array([scales[0]] * d + [scales[1], scales[2]])
 
     def evaluate(self, z: np.ndarray, last: Evaluation | None, ref: Point) -> Evaluation | None:
+        phi, M = self.plane.flow(float(z[-2]), float(z[-1]), self.n)(z[:-2], True)
+        return self._residual(z, phi, M, ref)
+
+    def _residual(self, z: np.ndarray, phi: np.ndarray | None, M: np.ndarray | None, ref: Point) -> Evaluation | None:
+        """The :class:`Evaluation` at z of the flow's (phi, M) there."""
         x, p, q = z[:-2], float(z[-2]), float(z[-1])
-        phi, M = self.plane.flow(p, q, self.n)(x, True)
-        if phi is None or not np.all(np.isfinite(M)):
+        if phi is None or M is None or not np.all(np.isfinite(M)):
             return None
         if self.kind == "grazing":
             return Evaluation(np.append(phi - x, float(self.plane.grazing(p, q, x, self.n))), M)
@@ -112,16 +116,19 @@ class CurveProblem:
         d = z.size - 2
         J = np.empty((d + 1, d + 2))
         J[:d, :d] = ev.M - np.eye(d)
-        for k in range(d + 2):
-            h = self.cs.dp_rel * self.scale[k]
-            zk = z.copy()
-            zk[k] += h
-            r = self.evaluate(zk, None, ref)
+        hs = self.cs.dp_rel * self.scale
+        zs = [z + np.eye(d + 2)[k] * hs[k] for k in range(d + 2)]
+        # the d + 2 perturbed flows in one batch, each then the residual evaluate() would make of it
+        runs = flows(
+            self.plane, [(float(zk[-2]), float(zk[-1])) for zk in zs], [zk[:-2] for zk in zs], self.n, [True] * (d + 2)
+        )
+        for k, (zk, (phi, M)) in enumerate(zip(zs, runs, strict=True)):
+            r = self._residual(zk, phi, M, ref)
             if r is None:
                 return None
             if k >= d:
-                J[:d, k] = (r.H[:d] - ev.H[:d]) / h
-            J[d, k] = (r.H[d] - ev.H[d]) / h
+                J[:d, k] = (r.H[:d] - ev.H[:d]) / hs[k]
+            J[d, k] = (r.H[d] - ev.H[d]) / hs[k]
         return J
 
     def converged(self, z: np.ndarray, ev: Evaluation) -> bool:
@@ -151,8 +158,10 @@ class CurveProblem:
         w = w / float(w @ v)
         x, p, q = z[:-2], float(z[-2]), float(z[-1])
         h = self.cs.fold_h * self.scales[0]
-        fl = self.plane.flow(p, q, self.n)
-        ys = [fl(x + s * h * v, False)[0] for s in (1.0, -1.0, 0.0)]
+        ys = [
+            y
+            for y, _ in flows(self.plane, [(p, q)] * 3, [x + s * h * v for s in (1.0, -1.0, 0.0)], self.n, [False] * 3)
+        ]
         if any(y is None for y in ys):
             return float("nan"), v
         return float(w @ (ys[0] + ys[1] - 2.0 * ys[2])) / (2.0 * h * h), v
