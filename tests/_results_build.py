@@ -63,6 +63,7 @@ def config() -> dict[str, Any]:
             "fixed": {"x1": 0.626, "b": 2.0, "e": 5.0},
             "inputs": {"zeta": {"low": 0.08, "high": 0.12}},
             "samples": 4,
+            "sensitivity": {"samples": 8},  # 8 index lines, not the default 128
             "chunks": 1,
             "integration": dict(wf.FAST),
             "classifier": dict(CLASSIFIER),

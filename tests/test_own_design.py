@@ -5,6 +5,7 @@ results/<design>/, with no paper attribution anywhere; `snakemake --report` then
 The studies are the standard ones of config/config.yaml (designs: own) at small sizes.
 """
 
+import math
 import re
 
 import pytest
@@ -44,6 +45,7 @@ def _own_config(shipped):
         spec["sensitivity"] = {**spec.get("sensitivity", {}), "samples": 8}  # 8 index lines, not 128
         spec["axis"] = {**spec["axis"], "num": 4}
         spec.pop("preset", None)
+    cfg["probabilities"]["classes_w"]["classes"] = [5, 9]  # two classes, worked by hand below
     cfg["calibration"], cfg["claims"], cfg["benchmarks"] = {}, {"designs": []}, {"work_precision": False}
     return cfg
 
@@ -170,3 +172,18 @@ def test_check_design_prints_the_geometry_of_an_infeasible_design(own, capsys):
     assert cli.main(["check-design", str(bad)]) == 1
     out = capsys.readouterr().out
     assert "contact_ratio" in out and "NOT FEASIBLE" in out and "nan" not in out.lower().split("not feasible")[0]
+
+
+def test_the_class_study_of_a_new_design(own):
+    """geardyn new-design's drive (its tolerance block: class 6, allowances) gets the class study's file, figure and
+    table; its TE bound is that of ISO 1328-1:2013's profile tolerances at the two classes."""
+    out = own / "results/mydrive"
+    with xr.open_dataset(out / "probabilities/classes_w.nc") as ds:
+        assert ds.sizes["tolerance_class"] == 2
+        # classes 5 and 9 of the drive (m = 2, d = 80 and 86 mm): (7) 0.8 + 0.08 + 4 = 4.88 (4.886), (8) 1.1 + 5 = 6.1,
+        # (9) sqrt(4.88^2 + 6.1^2) = 7.81 -> 8.0 at class 5 and x 4 = 31.25 -> 31 at class 9, on both gears;
+        # e_max half the rss: 8 / sqrt 2 = 5.657 and 31 / sqrt 2 = 21.92 um
+        assert ds.e_max.values == pytest.approx([8.0 / math.sqrt(2), 31.0 / math.sqrt(2)], abs=1e-9)
+        assert set(ds.coarsest_class.values) <= {0, 5, 9}
+    table = (out / "tables/classes_w.md").read_text()
+    assert "coarsest class" in table and (out / "figures/classes_w.png").stat().st_size > 10_000

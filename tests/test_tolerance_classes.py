@@ -219,39 +219,3 @@ def test_a_study_given_values_of_w_holds_each_and_draws_the_rest_alike():
     assert spec.index_samples == 0 and (classes.block == np.tile(np.repeat(np.arange(4), 2), 2)).all()
     lines = probabilities.layout(d, spec, 0, table).lines
     assert [line[0][1].omega for line in lines[::8]] == pytest.approx([0.6, 1.2, 1.8])  # each line at its w
-
-
-def test_a_new_design_builds_its_class_study(tmp_path):
-    """geardyn new-design's drive (its tolerance block: class 6, allowances) through the standard probabilities
-    studies of an own design at small sizes: the class study's file, figure and table, and regimes_w's."""
-    shipped = wf.shipped("config/config.yaml")
-    cfg = {k: v for k, v in shipped.items() if k in ("closed_graph", "stiffness_table", "presets")}
-    cfg["designs"] = {"mydrive": "config/designs/mydrive.yaml"}
-    for section in ("sweeps", "points", "maps", "curves", "responses", "orbits", "calibration"):
-        cfg[section] = {}
-    cfg["claims"], cfg["benchmarks"] = {"designs": []}, {"work_precision": False}
-    cfg["probabilities"] = {n: dict(s) for n, s in shipped["probabilities"].items() if s.get("designs") == "own"}
-    for spec in cfg["probabilities"].values():
-        spec.update(
-            samples=4, chunks=1, integration=dict(wf.FAST), classifier={"error_floor": 3e-4, "tangent_periods": 30}
-        )
-        spec["axis"] = {**spec["axis"], "num": 3}
-        spec["sensitivity"] = {**spec.get("sensitivity", {}), "samples": 8}  # 8 index lines, not 128
-        spec.pop("preset", None)
-    cfg["probabilities"]["classes_w"]["classes"] = [5, 9]
-    work = wf.workflow_copy(tmp_path / "w", cfg)
-    assert cli.main(["new-design", "--kind", "khv", "mydrive", "--out", str(work / "config/designs/mydrive.yaml")]) == 0
-    out = "results/mydrive"
-    targets = [
-        f"{out}/{d}/{n}.{x}" for n in ("classes_w", "regimes_w") for d, x in (("figures", "png"), ("tables", "md"))
-    ]
-    wf.snakemake(work, "--cores", "2", *targets, timeout=900)
-    with xr.open_dataset(work / out / "probabilities/classes_w.nc") as ds:
-        assert ds.sizes == {"tolerance_class": 2, "w": 3}
-        # classes 5 and 9 of the drive (m = 2, d = 80 and 86 mm): (7) 0.8 + 0.08 + 4 = 4.88 (4.886), (8) 1.1 + 5 = 6.1,
-        # (9) sqrt(4.88^2 + 6.1^2) = 7.81 -> 8.0 at class 5 and x 4 = 31.25 -> 31 at class 9, on both gears;
-        # e_max half the rss: 8 / sqrt 2 = 5.657 and 31 / sqrt 2 = 21.92 um
-        assert ds.e_max.values == pytest.approx([8.0 / math.sqrt(2), 31.0 / math.sqrt(2)], abs=1e-9)
-        assert set(ds.coarsest_class.values) <= {0, 5, 9}
-    table = (work / out / "tables/classes_w.md").read_text()
-    assert "coarsest class" in table and (work / out / "figures/classes_w.png").stat().st_size > 10_000
