@@ -22,6 +22,7 @@ from benchmarks.invariant_circle import distance_to_circle, find_circles
 from geardyn.io import markdown_table
 from geardyn.label import label_lines, vocabulary
 from geardyn.solve import SimulationSettings
+from geardyn.solve.base import Lane
 from geardyn.solve.run import simulate_batch
 
 #: the labels whose points are checked
@@ -76,7 +77,7 @@ def circle_check(
         pick = [where[k] for k in sorted(rng.choice(len(where), size=min(per_class, len(where)), replace=False))]
         systems = [lines[r][i] for r, i in pick]
         t1 = time.perf_counter()
-        runs = simulate_batch(systems, s, [verdicts[r][i].final_state for r, i in pick])
+        runs = simulate_batch([Lane(c, verdicts[r][i].final_state) for c, (r, i) in zip(systems, pick, strict=True)], s)
         circles = find_circles(systems, [run.poincare for run in runs], s, m=nodes)
         t_circle = (time.perf_counter() - t1) / len(pick)
         outcomes = [_outcome(c, run.poincare[periods // 2 :], tol) for c, run in zip(circles, runs, strict=True)]

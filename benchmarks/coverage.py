@@ -13,6 +13,7 @@ from benchmarks.common import PAPER1_SWEEPS, load_design, workflow_config
 from geardyn.khv import point
 from geardyn.label import vocabulary
 from geardyn.runs import response, sweep
+from geardyn.solve.base import Lane, Sums
 from geardyn.solve.response import measures_of_sums, rms_errors_many
 from geardyn.solve.run import simulate_batch
 
@@ -24,9 +25,9 @@ WINDOWS, WINDOW = 5, 1000
 def _record(systems, starts, settings, before):
     """A record of ``settings.recorded_periods`` after ``before`` periods from ``starts``: each point's (RMS DTE,
     its error, RMS force, its error) or None where it diverged, and the final states."""
-    n, rec = len(systems), settings.recorded_periods
+    rec = settings.recorded_periods
     runs = simulate_batch(
-        systems, settings, starts, transient_periods=[before] * n, recorded_periods=[rec] * n, sums_last=[rec] * n
+        [Lane(s, x, before, rec, sums=Sums(rec)) for s, x in zip(systems, starts, strict=True)], settings
     )
     measures = [measures_of_sums(None if r.diverged else r.sums, s, rec) for r, s in zip(runs, systems, strict=True)]
     errors = rms_errors_many(systems, [r.poincare for r in runs], measures, settings)

@@ -40,7 +40,7 @@ import numpy as np
 
 from geardyn import libm
 from geardyn.parallel import threaded_map
-from geardyn.solve.base import SimulationSettings, System
+from geardyn.solve.base import Lane, Monodromy, SimulationSettings, System
 from geardyn.solve.run import simulate_batch
 from geardyn.solve.shooting import period_settings
 
@@ -342,8 +342,9 @@ def khv_maps(systems: list[System], settings: SimulationSettings) -> CircleMaps:
     s1 = period_settings(settings, 1)
 
     def pmap(which: list[int], sets: list[np.ndarray], jacobian: bool):
-        lanes = [systems[i] for i, x in zip(which, sets, strict=True) for _ in range(x.shape[0])]
-        runs = simulate_batch(lanes, s1, list(np.vstack(sets)), monodromy_periods=1 if jacobian else 0)
+        var = Monodromy(1) if jacobian else None
+        lanes = [Lane(systems[i], y, variational=var) for i, x in zip(which, sets, strict=True) for y in x]
+        runs = simulate_batch(lanes, s1)
         out, k = [], 0
         for x in sets:
             part, k = runs[k : k + x.shape[0]], k + x.shape[0]

@@ -16,6 +16,7 @@ from benchmarks.common import timed
 from benchmarks.work_precision import cases, interp_time
 from geardyn.khv.model import static_deflection
 from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.base import Lane
 from geardyn.solve.reference import simulate_reference
 from geardyn.solve.run import simulate_batch, step_tables
 
@@ -114,13 +115,13 @@ def kernel_costs(lanes: int = 64, periods: int = 100, steps: int = 512, log=prin
             integrator=integ, steps_per_period=steps, transient_periods=periods - 1, recorded_periods=1
         )
         simulate(systems[0], s)
-        simulate_batch(systems[:9], s)
+        simulate_batch([Lane(c) for c in systems[:9]], s)
         t_s, rs = timed(lambda s=s: [simulate(c, s) for c in systems], 3)
         nthreads = numba.get_num_threads()
         numba.set_num_threads(1)
-        t_b1, _ = timed(functools.partial(simulate_batch, systems, s), 3)
+        t_b1, _ = timed(functools.partial(simulate_batch, [Lane(c) for c in systems], s), 3)
         numba.set_num_threads(nthreads)
-        t_b, rb = timed(functools.partial(simulate_batch, systems, s), 3)
+        t_b, rb = timed(functools.partial(simulate_batch, [Lane(c) for c in systems], s), 3)
         same = all(np.array_equal(a.final_state, b.final_state) for a, b in zip(rs, rb, strict=True))
         out[integ] = {
             "scalar_ns": t_s / n_steps * 1e9,
@@ -154,9 +155,9 @@ def dop853_ratios(quick: bool = False, log=print) -> dict:
     err, t_old, t_new = [], [], []
     for n in steps:
         s = SimulationSettings(steps_per_period=n, transient_periods=ntr, recorded_periods=nrec)
-        simulate_batch([c] * 9, s)
+        simulate_batch([Lane(c)] * 9, s)
         to, r = timed(functools.partial(simulate, c, s, y0), 3)
-        tn, rb = timed(functools.partial(simulate_batch, [c] * lanes, s, [y0] * lanes), 2)
+        tn, rb = timed(functools.partial(simulate_batch, [Lane(c, y0)] * lanes, s), 2)
         assert np.array_equal(rb[0].poincare, r.poincare)
         err.append(float(np.abs(r.poincare - ref.poincare).max()))
         t_old.append(to)

@@ -15,6 +15,7 @@ from geardyn.io import markdown_table
 from geardyn.label import indicators, label_lines, vocabulary
 from geardyn.label.compare import directed_distance, hausdorff
 from geardyn.solve import SimulationSettings
+from geardyn.solve.base import Lane, Tangent
 from geardyn.solve.run import simulate_batch
 
 
@@ -54,7 +55,7 @@ def long_run_check(
     cs = policy.classifier
     long_cs = dataclasses.replace(cs, max_n=cs.long_max_n)
     records = [max(64, 3 * (v.period if v.period > 0 else cs.long_max_n)) for v in want]
-    runs = simulate_batch(systems, s, starts, recorded_periods=records)
+    runs = simulate_batch([Lane(c, x, recorded_periods=m) for c, x, m in zip(systems, starts, records, strict=True)], s)
     cells = []
     counts = {"periodic": [0, 0], "other": [0, 0]}
     for (j, i), v, r in zip(picks, want, runs, strict=True):
@@ -124,7 +125,7 @@ def _unconverged_cycles(systems, runs, ends, settings) -> dict[int, float]:
     """The spectral radius of the period-n orbit that Newton shooting finds from the final state of every run
     that ends within rule 3's tolerance of a cycle but has not converged onto it (``ends[i]``: (ending, n,
     return distance)); NaN where shooting does not converge."""
-    from geardyn.solve.shooting import newton_shooting_batch  # noqa: PLC0415
+    from geardyn.solve.shooting import Shot, newton_shooting_batch  # noqa: PLC0415
 
     todo: dict[int, list[int]] = {}
     for i, (_, n, d) in enumerate(ends):
@@ -132,7 +133,7 @@ def _unconverged_cycles(systems, runs, ends, settings) -> dict[int, float]:
             todo.setdefault(n, []).append(i)
     out: dict[int, float] = {}
     for n, idx in sorted(todo.items()):
-        shots = newton_shooting_batch([systems[i] for i in idx], [runs[i].final_state for i in idx], n, settings)
+        shots = newton_shooting_batch([Shot(systems[i], runs[i].final_state) for i in idx], n, settings)
         for i, r in zip(idx, shots, strict=True):
             out[i] = r.spectral_radius if r.converged else math.nan
     return out
@@ -217,7 +218,7 @@ def sweep_check(
     radius: dict[int, float] = {}
     for s in dict.fromkeys(settings):  # one batch per integration setting
         idx = [k for k, sk in enumerate(settings) if sk == s]
-        group = simulate_batch([systems[k] for k in idx], s, [starts[k] for k in idx], tangent_periods=periods)
+        group = simulate_batch([Lane(systems[k], starts[k], variational=Tangent(periods)) for k in idx], s)
         group_ends = [ending(r.poincare, r.growth, systems[k].period, cs) for k, r in zip(idx, group, strict=True)]
         for k, r, e in zip(idx, group, group_ends, strict=True):
             runs[k], ends[k] = r, e

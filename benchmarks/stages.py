@@ -8,6 +8,7 @@ from __future__ import annotations
 import collections
 import copy
 import dataclasses
+import functools
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -19,7 +20,7 @@ import geardyn.solve.run as run
 from benchmarks.common import load_design, map_lines, workflow_config
 from geardyn.label import label_lines, vocabulary
 from geardyn.runs import maps, sweep
-from geardyn.solve import shooting, warm_up
+from geardyn.solve import Monodromy, Tangent, shooting, warm_up
 
 #: the labeller's functions that name a stage, innermost first wins (the stage a run is counted under)
 STAGES = {
@@ -58,6 +59,15 @@ def _kind(v) -> str:
     return {QP: "QP", CHAOS: "chaos", UNDET: "undetermined"}.get(v.label, "diverged")
 
 
+#: the batch shooting iterations whose iterations are counted
+_SHOOTERS = ("newton_shooting_batch", "chord_shooting_batch", "deflated_shooting_batch")
+
+
+def _kind(variational) -> str:
+    """The kind of run a lane's variational part makes."""
+    return {Monodromy: "monodromy", Tangent: "tangent"}.get(type(variational), "plain")
+
+
 class _Counter:
     """Counts the periods of every run the labeller asks for (by stage, kind of run and point), the Newton
     iterations and the candidate periods shot for."""
@@ -65,45 +75,46 @@ class _Counter:
     def __init__(self) -> None:
         self.periods: list[tuple[str, str, int, int]] = []  # (stage, run kind, id of the system, periods)
         self.shots: list[tuple[str, int, int]] = []  # (stage, id of the system, iterations)
-        self.sb, self.nsb, self.sim = run.simulate_batch, shooting.newton_shooting_batch, run.simulate
+        self.sb, self.sim = run.simulate_batch, run.simulate
+        self.shooters = {name: getattr(shooting, name) for name in _SHOOTERS}
+        self.counted = {name: functools.partial(self.shooting_batch, f) for name, f in self.shooters.items()}
 
-    def simulate_batch(self, systems, settings=None, x0=None, tangent_periods=0, monodromy_periods=0, **kw):
-        out = self.sb(systems, settings or run.SimulationSettings(), x0, tangent_periods, monodromy_periods, **kw)
+    def simulate_batch(self, lanes, settings=None, **kw):
+        out = self.sb(lanes, settings or run.SimulationSettings(), **kw)
         stage = _stage()
-        mono = np.broadcast_to(np.asarray(monodromy_periods), (len(systems),))
-        for s, r, m in zip(systems, out, mono, strict=True):
+        for q, r in zip(lanes, out, strict=True):
             n = r.diverged_period + 1 if r.diverged else r.transient_used + r.poincare.shape[0]
-            kind = "monodromy" if m else ("tangent" if tangent_periods else "plain")
-            self.periods.append((stage, kind, id(s), int(n)))
+            self.periods.append((stage, _kind(q.variational), id(q.system), int(n)))
         return out
 
-    def simulate(self, system, settings=None, x0=None, dense=False, tangent_periods=0, **kw):
+    def simulate(self, system, settings=None, x0=None, dense=False, variational=None):
         settings = settings or run.SimulationSettings()
-        r = self.sim(system, settings, x0, dense, tangent_periods, **kw)
+        r = self.sim(system, settings, x0, dense, variational)
         n = r.diverged_period + 1 if r.diverged else settings.transient_periods + settings.recorded_periods
-        kind = "monodromy" if kw.get("monodromy_periods") else ("tangent" if tangent_periods else "plain")
-        self.periods.append((_stage(), kind, id(system), int(n)))
+        self.periods.append((_stage(), _kind(variational), id(system), int(n)))
         return r
 
-    def newton_shooting_batch(self, systems, *args, **kw):
-        out = self.nsb(systems, *args, **kw)
+    def shooting_batch(self, shoot, shots, *args, **kw):
+        out = shoot(shots, *args, **kw)
         stage = _stage()
-        self.shots += [(stage, id(s), r.iterations + 1) for s, r in zip(systems, out, strict=True)]
+        self.shots += [(stage, id(s.system), r.iterations + 1) for s, r in zip(shots, out, strict=True)]
         return out
 
     def __enter__(self) -> _Counter:
-        self._patch({self.sb: self.simulate_batch, self.nsb: self.newton_shooting_batch, self.sim: self.simulate})
+        own = {self.shooters[name]: self.counted[name] for name in _SHOOTERS}
+        self._patch({self.sb: self.simulate_batch, self.sim: self.simulate, **own})
         return self
 
     def __exit__(self, *exc) -> None:
-        self._patch({self.simulate_batch: self.sb, self.newton_shooting_batch: self.nsb, self.simulate: self.sim})
+        own = {self.counted[name]: self.shooters[name] for name in _SHOOTERS}
+        self._patch({self.simulate_batch: self.sb, self.simulate: self.sim, **own})
 
     @staticmethod
     def _patch(swap: dict) -> None:
         """Every geardyn module's name bound to a key of ``swap`` rebound to its value."""
         for mod in list(sys.modules.values()):
             if getattr(mod, "__name__", "").startswith("geardyn."):
-                for name in ("simulate_batch", "newton_shooting_batch", "simulate"):
+                for name in ("simulate_batch", "simulate", *_SHOOTERS):
                     new = swap.get(getattr(mod, name, None))
                     if new is not None:
                         setattr(mod, name, new)

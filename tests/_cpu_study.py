@@ -16,6 +16,7 @@ from geardyn.khv import design, mesh_table, point
 from geardyn.label import torus
 from geardyn.runs import sweep
 from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.base import Tangent
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The sweep: x1 from 0.45 to 0.8 at the paper's b = 2, e = 5 (period-1 motion; one point, x1 = 0.8,
@@ -57,7 +58,7 @@ def study() -> dict[str, np.ndarray]:
     out["orbit/converged"] = np.asarray(orbit.converged)
     t = point.point_coefficients(design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml"), LIBM_SENSITIVE)
     settings = SimulationSettings(steps_per_period=128, transient_periods=0, recorded_periods=300)
-    r = simulate(t, settings, tangent_periods=300)
+    r = simulate(t, settings, variational=Tangent(300))
     out["libm_sensitive/poincare"] = r.poincare
     out["libm_sensitive/growth"] = r.growth
     out["libm_sensitive/order_gaps"] = np.asarray(torus.order_test(r.poincare, 0).gaps)  # cKDTree's neighbours

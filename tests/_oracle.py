@@ -16,6 +16,7 @@ import numpy as np
 from geardyn import libm
 from geardyn.label import indicators, vocabulary
 from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.base import Tangent
 from geardyn.solve.shooting import FlowMap, khv_flow, newton_shooting
 
 LABELS = vocabulary.LABELS
@@ -28,7 +29,7 @@ def rules_label(
     x0: np.ndarray | None = None,
 ):
     """(SimulationResult, Classification) of one plain run."""
-    res = simulate(system, settings, x0=x0, tangent_periods=cs.tangent_periods)
+    res = simulate(system, settings, x0=x0, variational=Tangent(cs.tangent_periods))
     return res, classify_point(res.poincare, res.growth, res.period, res.diverged, cs, samples=res.strobe)
 
 

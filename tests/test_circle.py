@@ -14,6 +14,7 @@ import pytest
 from _oracle import shoot
 from benchmarks import invariant_circle as C
 from geardyn.khv import design, point
+from geardyn.solve.base import Lane
 from geardyn.solve.run import simulate_batch
 from geardyn.solve.shooting import period_settings
 
@@ -118,7 +119,7 @@ def _torus(d, x1: float, periods: int = 3000):
     s = dataclasses.replace(
         point.integration_settings(d), steps_per_period=128, transient_periods=periods, recorded_periods=400
     )
-    return system, s, simulate_batch([system], s)[0]
+    return system, s, simulate_batch([Lane(system)], s)[0]
 
 
 def test_model_torus_past_the_neimark_sacker_point(calibrated):
@@ -153,7 +154,7 @@ def test_no_circle_in_chaos(calibrated):
     s = dataclasses.replace(
         point.integration_settings(calibrated), steps_per_period=128, transient_periods=1000, recorded_periods=400
     )
-    run = simulate_batch([system], s)[0]
+    run = simulate_batch([Lane(system)], s)[0]
     (c,) = C.find_circles([system], [run.poincare], s, m=41)
     attracting = c is not None and c.converged and c.invariance < 1e-3 and c.normal_radius < 1.0
     on_it = False

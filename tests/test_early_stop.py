@@ -12,6 +12,7 @@ from geardyn.io import quarantine
 from geardyn.khv import design
 from geardyn.runs import cube, maps, sweep
 from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.base import Lane
 from geardyn.solve.run import EarlyStop, simulate_batch
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -21,7 +22,7 @@ def test_stop_when_converged_and_not_before_minimum():
     c = cases()["periodic"]
     s = SimulationSettings(steps_per_period=32, transient_periods=900, recorded_periods=20)
     es = EarlyStop(min_periods=50, confirm=10, floor=4e-4)
-    r = simulate_batch([c], s, early_stop=es)[0]
+    r = simulate_batch([Lane(c)], s, early_stop=es)[0]
     # period 1 (the decaying shaft mode turns by about half a turn per period, so d_2 falls below the
     # tolerance first; the stop waits for distinct cycle points, as rule 3 does)
     assert r.stop_period == 1 and 50 <= r.transient_used < 900
@@ -30,14 +31,14 @@ def test_stop_when_converged_and_not_before_minimum():
     assert np.array_equal(ref.poincare, r.poincare)
     # converged: the record returns after one period within the stop tolerance
     assert np.max(np.abs(np.diff(r.poincare, axis=0))) <= 4e-4
-    late = simulate_batch([c], s, early_stop=EarlyStop(min_periods=700, confirm=10, floor=4e-4))[0]
+    late = simulate_batch([Lane(c)], s, early_stop=EarlyStop(min_periods=700, confirm=10, floor=4e-4))[0]
     assert late.transient_used == 700
 
 
 def test_chaotic_point_runs_the_full_transient():
     c = cases()["chaotic"]
     s = SimulationSettings(steps_per_period=32, transient_periods=300, recorded_periods=20)
-    r = simulate_batch([c], s, early_stop=EarlyStop(min_periods=10, confirm=5, floor=1e-3))[0]
+    r = simulate_batch([Lane(c)], s, early_stop=EarlyStop(min_periods=10, confirm=5, floor=1e-3))[0]
     assert r.stop_period == 0 and r.transient_used == 300
 
 

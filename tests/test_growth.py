@@ -21,6 +21,7 @@ from geardyn.label.policy import GrowthSettings
 from geardyn.plots import captions
 from geardyn.runs import probabilities, response, study, sweep
 from geardyn.solve import SimulationSettings, simulate_batch
+from geardyn.solve.base import Lane
 
 ROOT = Path(__file__).resolve().parents[1]
 QP = vocabulary.LABELS["quasi_periodic"]
@@ -125,7 +126,9 @@ def test_quasi_periodic_response_points_stay_bounded_when_run_on(printed):
     assert len(idx) >= 10  # measured: the torus band of both sweeps
     systems = [base.replace(omega=float(ds.w.values[j])) for _, j in idx]
     settings = dataclasses.replace(policy.integration, transient_periods=0, recorded_periods=2000, early_stop=False)
-    runs = simulate_batch(systems, settings, [ds.final_state.values[i, j] for i, j in idx])
+    runs = simulate_batch(
+        [Lane(s, ds.final_state.values[i, j]) for s, (i, j) in zip(systems, idx, strict=True)], settings
+    )
     grown = [
         (float(ds.w.values[j]), r.diverged or growth_test(r.poincare[-1000:]).growing)
         for (_, j), r in zip(idx, runs, strict=True)

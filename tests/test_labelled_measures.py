@@ -15,6 +15,7 @@ from geardyn.khv import design, point
 from geardyn.label import Policy, indicators, label_lines
 from geardyn.runs import study
 from geardyn.solve import SimulationSettings, simulate_batch
+from geardyn.solve.base import Lane, Sums
 from geardyn.solve.response import (
     ResponseMeasures,
     measures_of_sums,
@@ -75,8 +76,7 @@ def test_a_non_periodic_verdict_measures_its_record_within_the_standard_errors(l
     assert other, "the torus row has non-periodic points"
     systems, n = [s for s, _ in other], SETTINGS.recorded_periods
     own = rms_errors_many(systems, [v.poincare for _, v in other], [v.response for _, v in other], SETTINGS)
-    runs = simulate_batch(systems, SETTINGS, [v.final_state for _, v in other], transient_periods=[0] * len(other),
-                          sums_last=[n] * len(other))  # fmt: skip
+    runs = simulate_batch([Lane(s, v.final_state, 0, sums=Sums(n)) for s, v in other], SETTINGS)
     nxt = [measures_of_sums(r.sums, s, n) for r, s in zip(runs, systems, strict=True)]
     errors = rms_errors_many(systems, [r.poincare for r in runs], nxt, SETTINGS)
     for (_, v), e1, r, e2 in zip(other, own, nxt, errors, strict=True):
@@ -96,8 +96,7 @@ def test_the_error_bars_blocks_are_pieces_of_the_verdicts_own_record(labelled):
     other = [(s, v) for line, vs in zip(lines, verdicts, strict=True) for s, v in zip(line, vs, strict=True)
              if not v.periodic and not v.diverged]  # fmt: skip
     n = SETTINGS.recorded_periods
-    runs = simulate_batch([s for s, _ in other], SETTINGS, [v.poincare[-n] for _, v in other],
-                          transient_periods=[0] * len(other), recorded_periods=[n - 1] * len(other))  # fmt: skip
+    runs = simulate_batch([Lane(s, v.poincare[-n], 0, n - 1) for s, v in other], SETTINGS)
     for (_, v), r in zip(other, runs, strict=True):
         assert v.poincare.shape[0] >= n and np.array_equal(r.poincare, v.poincare[-(n - 1) :])
 

@@ -15,6 +15,7 @@ from geardyn.label import _cycles as cycles
 from geardyn.label.compare import directed_distance, hausdorff
 from geardyn.runs import sweep
 from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.base import Tangent
 
 ROOT = Path(__file__).resolve().parents[1]
 # the regime maps' settings: 128 steps per period (Poincare error 1.9e-5), 400 + 50 periods
@@ -357,7 +358,7 @@ def test_a_torus_after_a_period_doubling_is_run_on_until_its_record_decides():
     assert [v.label for v in out[:5]] == [4, 4, 4, 8, 8] and out[5].bifurcation == "period_doubling"
     assert out[5].label == vocabulary.LABELS["undetermined"]
     long = dataclasses.replace(SWEEP.integration, transient_periods=0, recorded_periods=20000)
-    r = simulate(line[5], long, x0=out[5].final_state, tangent_periods=20000)
+    r = simulate(line[5], long, x0=out[5].final_state, variational=Tangent(20000))
     lam, sigma = indicators.lyapunov_estimate(r.growth, r.period)
     assert lam > 2e-3 and lam > SWEEP.classifier.lam_tol + 3 * sigma
     x1s = np.linspace(0.416, 0.835, 1000)[698:707]

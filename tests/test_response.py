@@ -14,6 +14,7 @@ from geardyn.khv.model import Coefficients
 from geardyn.label import Policy
 from geardyn.runs.response import frequency_response
 from geardyn.solve import SimulationSettings, simulate, simulate_batch
+from geardyn.solve.base import Lane, Sums
 from geardyn.solve.response import (
     IMPACT_CLASSES,
     ResponseMeasures,
@@ -242,7 +243,7 @@ def test_rms_error_covers_the_difference_of_two_independent_records_as_often_as_
 def _record(c: Coefficients, settings: SimulationSettings, x0: np.ndarray | None = None):
     """A record of ``settings`` (transient, then the recorded periods) from x0: its Poincare points and the
     measures summed over its recorded periods (as the labeller's runs sum them)."""
-    (r,) = simulate_batch([c], settings, None if x0 is None else [x0], sums_last=[settings.recorded_periods])
+    (r,) = simulate_batch([Lane(c, x0, sums=Sums(settings.recorded_periods))], settings)
     return r.poincare, measures_of_sums(r.sums, c, settings.recorded_periods)
 
 

@@ -22,7 +22,8 @@ from _orbits import CallableFamily
 from geardyn.khv import design, point
 from geardyn.runs.continuation import ContinuationSettings, continue_branch, switch_at_period_doubling
 from geardyn.solve import SimulationSettings, simulate
-from geardyn.solve.shooting import khv_flow, khv_flows, newton_shooting, newton_shooting_batch
+from geardyn.solve.base import Lane, Monodromy, ShootingSettings
+from geardyn.solve.shooting import Shot, khv_flow, khv_flows, newton_shooting, newton_shooting_batch
 
 ROOT = Path(__file__).resolve().parents[1]
 GAMMA_PD = 0.265581786  # see the module docstring
@@ -76,9 +77,9 @@ def test_monodromy_columns_are_the_single_column_runs_bit_for_bit(contact_loss_o
 
     c, orbit = contact_loss_orbit
     s = SimulationSettings(transient_periods=0, recorded_periods=3)
-    full = simulate(c, s, orbit.state, monodromy_periods=3)
+    full = simulate(c, s, orbit.state, variational=Monodromy(3))
     assert full.n_events >= 6  # the run crosses the backlash zone
-    (lane,) = simulate_batch([c], s, [orbit.state], monodromy_periods=3)
+    (lane,) = simulate_batch([Lane(c, orbit.state, variational=Monodromy(3))], s)
     assert np.array_equal(lane.monodromy, full.monodromy)
     cols = np.empty((6, 6))
     for i in range(6):
@@ -136,7 +137,9 @@ def test_batch_shooting_is_point_shooting_bit_for_bit(li2013, contact_loss_orbit
     for n in (1, 2):
         todo = [(s, x) for s, x, m in cases if m == n]
         for max_iter in (2, 15):
-            batch = newton_shooting_batch([s for s, _ in todo], [x for _, x in todo], n, settings, max_iter=max_iter)
+            batch = newton_shooting_batch(
+                [Shot(s, x) for s, x in todo], n, settings, ShootingSettings(max_iter=max_iter)
+            )
             for (s, x), b in zip(todo, batch, strict=True):
                 a = shoot(s, x, n, settings, max_iter=max_iter)
                 assert (a.status, a.iterations, a.converged) == (b.status, b.iterations, b.converged)
@@ -144,9 +147,7 @@ def test_batch_shooting_is_point_shooting_bit_for_bit(li2013, contact_loss_orbit
                 np.testing.assert_array_equal(a.multipliers, b.multipliers)
     statuses = {
         b.status
-        for b in newton_shooting_batch(
-            [s for s, _, _ in cases[:3]], [x for _, x, _ in cases[:3]], 1, settings, max_iter=2
-        )
+        for b in newton_shooting_batch([Shot(s, x) for s, x, _ in cases[:3]], 1, settings, ShootingSettings(max_iter=2))
     }
     assert statuses == {"converged", "max_iterations"}  # the test covers both endings
     # the growth stop: on the torus of li2013_calibrated at x1 = 0.56 no period-25 cycle exists and the residual
@@ -156,7 +157,7 @@ def test_batch_shooting_is_point_shooting_bit_for_bit(li2013, contact_loss_orbit
     on_torus = simulate(ct, SimulationSettings(transient_periods=500, recorded_periods=1)).final_state
     for n, todo, ends in ((25, [(ct, on_torus), (c, orbit.state + 5.0)], ["residual_grows", "converged"]),):
         batch = newton_shooting_batch(
-            [s for s, _ in todo], [x for _, x in todo], n, settings, max_iter=15, max_growth=2.0
+            [Shot(s, x) for s, x in todo], n, settings, ShootingSettings(max_iter=15, max_growth=2.0)
         )
         for (s, x), b in zip(todo, batch, strict=True):
             a = shoot(s, x, n, settings, max_iter=15, max_growth=2.0)

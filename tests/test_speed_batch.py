@@ -9,6 +9,7 @@ from _oracle import rules_label
 from benchmarks.work_precision import cases
 from geardyn.label import Policy, indicators, label_points
 from geardyn.solve import SimulationSettings, _batch, _period, simulate
+from geardyn.solve.base import Lane, Monodromy, Tangent
 from geardyn.solve.run import EarlyStop, simulate_batch, step_tables
 
 
@@ -23,19 +24,19 @@ SHORT = dict(steps_per_period=32, transient_periods=30, recorded_periods=12)
 
 
 @pytest.mark.parametrize("integrator", ["rk4", "rk4_event"])
-@pytest.mark.parametrize("kw", [{}, {"tangent_periods": 20}, {"monodromy_periods": 3}])
-def test_batch_is_bit_identical_to_simulate(systems, integrator, kw):
+@pytest.mark.parametrize("var", [None, Tangent(20), Monodromy(3)])
+def test_batch_is_bit_identical_to_simulate(systems, integrator, var):
     """Nine points: eight on a lockstep block and one on the scalar loop (all of them with the monodromy)."""
     s = SimulationSettings(integrator=integrator, **SHORT)
-    batch = simulate_batch(systems, s, **kw)
+    batch = simulate_batch([Lane(c, variational=var) for c in systems], s)
     for c, r in zip(systems, batch, strict=True):
-        r0 = simulate(c, s, **kw)
+        r0 = simulate(c, s, variational=var)
         assert np.array_equal(r0.poincare, r.poincare)
         assert np.array_equal(r0.final_state, r.final_state)
         assert r0.n_events == r.n_events and r0.diverged == r.diverged
-        if "tangent_periods" in kw:
+        if isinstance(var, Tangent):
             assert np.array_equal(r0.growth, r.growth) and np.array_equal(r0.strobe, r.strobe)
-        if "monodromy_periods" in kw:
+        if isinstance(var, Monodromy):
             assert np.array_equal(r0.monodromy, r.monodromy)
 
 
@@ -45,15 +46,19 @@ def test_a_run_in_pieces_is_one_run(systems):
     lockstep block (eight points) and on the scalar loop (the ninth); without the carried tangent the second
     piece's exponents differ."""
     s = SimulationSettings(integrator="rk4_event", **SHORT)
-    x0 = [r.final_state for r in simulate_batch(systems, s)]
+    x0 = [r.final_state for r in simulate_batch([Lane(c) for c in systems], s)]
     rec = [
         SimulationSettings(integrator="rk4_event", steps_per_period=32, transient_periods=0, recorded_periods=n)
         for n in (40, 15, 25)
     ]
-    one = simulate_batch(systems, rec[0], x0, tangent_periods=40)
-    a = simulate_batch(systems, rec[1], x0, tangent_periods=15)
-    b = simulate_batch(systems, rec[2], [r.final_state for r in a], 25, tangent_start=[r.tangent for r in a])
-    fresh = simulate_batch(systems, rec[2], [r.final_state for r in a], 25)
+    one = simulate_batch([Lane(c, x, variational=Tangent(40)) for c, x in zip(systems, x0, strict=True)], rec[0])
+    a = simulate_batch([Lane(c, x, variational=Tangent(15)) for c, x in zip(systems, x0, strict=True)], rec[1])
+    b = simulate_batch(
+        [Lane(c, r.final_state, variational=Tangent(25, r.tangent)) for c, r in zip(systems, a, strict=True)], rec[2]
+    )
+    fresh = simulate_batch(
+        [Lane(c, r.final_state, variational=Tangent(25)) for c, r in zip(systems, a, strict=True)], rec[2]
+    )
     for o, u, v, f in zip(one, a, b, fresh, strict=True):
         assert np.array_equal(o.poincare, np.vstack([u.poincare, v.poincare]))
         assert np.array_equal(o.growth, np.concatenate([u.growth, v.growth]))
@@ -63,22 +68,25 @@ def test_a_run_in_pieces_is_one_run(systems):
         assert np.array_equal(f.poincare, v.poincare) and not np.array_equal(f.growth, v.growth)
 
 
+def run(systems, s, es):
+    """The batch run of ``systems`` with a tangent over 15 periods and the early stop ``es``."""
+    return simulate_batch([Lane(c, variational=Tangent(15)) for c in systems], s, early_stop=es)
+
+
 def test_independent_of_threads_order_and_chunking(systems):
     s = SimulationSettings(steps_per_period=32, transient_periods=400, recorded_periods=12)
     es = EarlyStop(min_periods=50, confirm=5, floor=4e-3)
-    ref = simulate_batch(systems, s, tangent_periods=15, early_stop=es)
+    ref = run(systems, s, es)
     n0 = numba.get_num_threads()
     try:
         numba.set_num_threads(1)
-        one = simulate_batch(systems, s, tangent_periods=15, early_stop=es)
+        one = run(systems, s, es)
     finally:
         numba.set_num_threads(n0)
-    rev = simulate_batch(systems[::-1], s, tangent_periods=15, early_stop=es)[::-1]
-    parts = simulate_batch(systems[:3], s, tangent_periods=15, early_stop=es) + simulate_batch(
-        systems[3:], s, tangent_periods=15, early_stop=es
-    )
+    rev = run(systems[::-1], s, es)[::-1]
+    parts = run(systems[:3], s, es) + run(systems[3:], s, es)
     # each point alone: a batch of one runs on the scalar loop
-    lanes = [r for c in systems for r in simulate_batch([c], s, tangent_periods=15, early_stop=es)]
+    lanes = [r for c in systems for r in run([c], s, es)]
     assert any(r.stop_period for r in ref) and not all(r.stop_period for r in ref)
     for other in (one, rev, parts, lanes):
         for a, b in zip(ref, other, strict=True):

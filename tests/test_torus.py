@@ -27,6 +27,7 @@ from geardyn.khv import design, point
 from geardyn.label import indicators
 from geardyn.label import torus as T
 from geardyn.solve import SimulationSettings, shooting, simulate
+from geardyn.solve.base import Tangent
 
 ROOT = Path(__file__).resolve().parents[1]
 GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
@@ -176,7 +177,9 @@ def test_khv_chaos_on_route_design():
     d = design.load(ROOT / "config" / "designs" / "li2013_route.yaml")
     c = point.point_coefficients(d, {"x1": 0.80, "b": 2.0, "e": 5.0})
     r = simulate(
-        c, SimulationSettings(steps_per_period=128, transient_periods=500, recorded_periods=4000), tangent_periods=4000
+        c,
+        SimulationSettings(steps_per_period=128, transient_periods=500, recorded_periods=4000),
+        variational=Tangent(4000),
     )
     lam, sigma = indicators.lyapunov_estimate(r.growth, r.period)
     assert lam > 0.03 and lam > 10 * sigma
@@ -337,7 +340,7 @@ def test_khv_weak_chaos_stays_chaotic_for_the_extrapolation():
     d = design.load(ROOT / "config" / "designs" / "li2013_calibrated.yaml")
     c = point.point_coefficients(d, {"x1": 0.4518, "b": 2.0, "e": 1.658})
     st = SimulationSettings(steps_per_period=128, transient_periods=20000, recorded_periods=4000)
-    r = simulate(c, st, tangent_periods=4000)
+    r = simulate(c, st, variational=Tangent(4000))
     chaos = 0.5 * math.log10(2000) + 1.5
     assert T.extrapolated_digits(r.poincare, _coordinates) == pytest.approx(2.41, abs=0.1)
     assert O.birkhoff_digits(r.poincare, _coordinates) == pytest.approx(2.65, abs=0.1)

@@ -5,10 +5,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from geardyn.label._stages import Point, decide, grouped, periodic_verdicts, shoot, shoot_batch
+from geardyn.label._stages import Point, decide, grouped, periodic_verdicts, shoot, shoot_batch, tables_of
 from geardyn.label.policy import Policy
+from geardyn.solve.base import ShootingSettings
 from geardyn.solve.floquet import bifurcation_type
-from geardyn.solve.shooting import ShootingResult
+from geardyn.solve.shooting import ChordShot, ShootingResult, chord_shooting_batch
 
 #: Certifying a converged state is one monodromy run: Newton shooting with no iteration.
 CERTIFY_ITERATIONS = 0
@@ -32,24 +33,18 @@ def _chord(points: list[Point], x0s: list[np.ndarray], n: int, policy: Policy) -
     M_prev of each point's previous orbit: plain runs (no variational part), all points together; it stops
     where the residual does not fall by ``policy.chord.fall`` at an iteration (then full Newton takes
     over)."""
-    return shoot_batch(
-        points,
-        x0s,
-        n,
-        policy,
-        tol=policy.newton.tol,
-        max_iter=policy.chord.max_iter - 1,
-        max_growth=policy.chord.fall,
-        chord=[np.linalg.inv(p.prev.monodromy - np.eye(6)) for p in points],
-    )
+    shots = [
+        ChordShot(p.system, x, np.linalg.inv(p.prev.monodromy - np.eye(6))) for p, x in zip(points, x0s, strict=True)
+    ]
+    shooting = ShootingSettings(tol=policy.newton.tol, max_iter=policy.chord.max_iter - 1, max_growth=policy.chord.fall)
+    return chord_shooting_batch(shots, n, policy.integration, shooting, tables_of(points))
 
 
 def _certify_states(points: list[Point], xs: list[np.ndarray], n: int, policy: Policy) -> list[ShootingResult]:
     """One monodromy run of n periods at each converged state: residual and multipliers (Newton shooting
     with no iteration, within ``policy.chord.tol_factor`` times its tolerance)."""
-    return shoot_batch(
-        points, xs, n, policy, tol=policy.chord.tol_factor * policy.newton.tol, max_iter=CERTIFY_ITERATIONS
-    )
+    shooting = ShootingSettings(tol=policy.chord.tol_factor * policy.newton.tol, max_iter=CERTIFY_ITERATIONS)
+    return shoot_batch(points, xs, n, policy, shooting)
 
 
 def follow(points: list[Point], policy: Policy) -> list[Point]:

@@ -30,7 +30,7 @@ from geardyn.label.policy import Policy
 from geardyn.label.torus import OrderTest, TorusTest, coordinates, order_test, torus_digits, torus_verdict
 from geardyn.label.verdict import Verdict
 from geardyn.parallel import threaded_map
-from geardyn.solve.base import SimulationResult
+from geardyn.solve.base import Lane, SimulationResult, Sums, Tangent
 from geardyn.solve.run import simulate_batch
 
 # ------------------------------------------------------------------------------------------------
@@ -52,12 +52,17 @@ def exponents(points: list[Point], policy: Policy) -> list[Point]:
         zip(
             map(id, again),
             simulate_batch(
-                [p.system for p in again],
+                [
+                    Lane(
+                        p.system,
+                        p.run.final_state,
+                        variational=Tangent(cs.tangent_periods),
+                        sums=Sums(policy.integration.recorded_periods),
+                    )
+                    for p in again
+                ],
                 more,
-                [p.run.final_state for p in again],
-                tangent_periods=cs.tangent_periods,
                 tables=tables_of(again),
-                sums_last=[policy.integration.recorded_periods] * len(again),
             ),
             strict=True,
         )
@@ -115,15 +120,18 @@ def longer_record(points: list[Point], periods: int, policy: Policy) -> list[Poi
         raise ValueError(f"{periods} periods: more than a point's round has left, or fewer than 1")
     s = dataclasses.replace(policy.integration, transient_periods=0, recorded_periods=periods)
     runs = simulate_batch(
-        [p.system for p in points],
+        [
+            Lane(
+                p.system,
+                (p.run if p.piece is None else p.piece).final_state,
+                variational=Tangent(periods, None if p.piece is None else p.piece.tangent),
+                # the sums of the round's last ``measured`` periods, over the pieces that hold them
+                sums=Sums(p.measured - (p.left - periods), None if p.piece is None else p.piece.sums),
+            )
+            for p in points
+        ],
         s,
-        [(p.run if p.piece is None else p.piece).final_state for p in points],
         tables=tables_of(points),
-        tangent_periods=periods,
-        tangent_start=[None if p.piece is None else p.piece.tangent for p in points],
-        # the sums of the round's last ``measured`` periods, over the pieces that hold them
-        sums_last=[p.measured - (p.left - periods) for p in points],
-        sums_start=[None if p.piece is None else p.piece.sums for p in points],
     )
     diverged: set[int] = set()
     ended: list[Point] = []

@@ -20,6 +20,7 @@ from geardyn.label._stages import (
 )
 from geardyn.label.policy import Policy
 from geardyn.label.settle import settle_points
+from geardyn.solve.base import Lane, Sums, Tangent
 from geardyn.solve.run import EarlyStop, simulate_batch
 from geardyn.solve.shooting import ShootingResult
 
@@ -65,17 +66,13 @@ def integrate(points: list[Point], policy: Policy) -> list[Point]:
         x0s = [p.start if p.prev is None else p.prev.final_state for p in group]
         trans = [s.transient_periods if p.prev is None else policy.follow_transient_periods for p in group]
         rec = [max(s.recorded_periods, cs.tangent_periods) if tangent else s.recorded_periods] * len(group)
-        runs = simulate_batch(
-            [p.system for p in group],
-            s,
-            x0s,
-            early_stop=early_stop(policy),
-            tables=tables_of(group),
-            transient_periods=trans,
-            recorded_periods=rec,
-            tangent_periods=cs.tangent_periods if tangent else 0,
-            sums_last=[policy.integration.recorded_periods] * len(group),
-        )
+        var = Tangent(cs.tangent_periods) if tangent else None
+        sums = Sums(policy.integration.recorded_periods)
+        lanes = [
+            Lane(p.system, x, t, r, variational=var, sums=sums)
+            for p, x, t, r in zip(group, x0s, trans, rec, strict=True)
+        ]
+        runs = simulate_batch(lanes, s, early_stop=early_stop(policy), tables=tables_of(group))
         for p, r in zip(group, runs, strict=True):
             p.run, p.transient_used, p.measured = r, r.transient_used, policy.integration.recorded_periods
             p.tangent = bool(tangent) and r.growth is not None and r.growth.size >= cs.tangent_periods

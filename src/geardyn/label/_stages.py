@@ -17,10 +17,17 @@ from geardyn.label.compare import least_period
 from geardyn.label.policy import Policy
 from geardyn.label.torus import OrderTest
 from geardyn.label.verdict import Verdict
-from geardyn.solve.base import SimulationResult, System
+from geardyn.solve.base import ShootingSettings, SimulationResult, System
 from geardyn.solve.response import ResponseMeasures, measures_of_sums, response_measures_many
 from geardyn.solve.run import LaneTables
-from geardyn.solve.shooting import ShootingResult, cycle_points, newton_shooting_batch
+from geardyn.solve.shooting import (
+    DeflatedShot,
+    ShootingResult,
+    Shot,
+    cycle_points,
+    deflated_shooting_batch,
+    newton_shooting_batch,
+)
 
 UNDET = vocabulary.LABELS["undetermined"]
 QP = vocabulary.LABELS["quasi_periodic"]
@@ -148,21 +155,18 @@ def shoot(
     """Newton shooting of every point for its n from its start, grouped by n (each point as alone).  With
     ``deflate``: deflated Newton about each point's unstable orbit point already found (it cannot converge
     to it again; ``policy.deflation``, no growth stop)."""
-    return grouped(
-        ns,
-        lambda n, ks: shoot_batch(
-            [points[k] for k in ks],
-            [starts[k] for k in ks],
-            n,
-            policy,
-            tol=policy.newton.tol,
-            max_iter=policy.newton.max_iter if deflate is None else policy.deflation.max_iter,
-            max_growth=policy.newton.max_growth if deflate is None else math.inf,
-            deflate=None if deflate is None else [deflate[k] for k in ks],
-            deflation_shift=policy.deflation.shift,
-            step_cap=policy.newton.step_cap,
-        ),
-    )
+    if deflate is None:
+        return grouped(
+            ns, lambda n, ks: shoot_batch([points[k] for k in ks], [starts[k] for k in ks], n, policy, policy.newton)
+        )
+    shooting = dataclasses.replace(policy.newton, max_iter=policy.deflation.max_iter, max_growth=math.inf)
+
+    def deflated(n: int, ks: list[int]) -> list[ShootingResult]:
+        shots = [DeflatedShot(points[k].system, starts[k], deflate[k]) for k in ks]
+        tables = tables_of([points[k] for k in ks])
+        return deflated_shooting_batch(shots, n, policy.integration, shooting, tables, policy.deflation.shift)
+
+    return grouped(ns, deflated)
 
 
 def grouped(keys: list[int], run: Callable[[int, list[int]], list]) -> list:
@@ -176,12 +180,13 @@ def grouped(keys: list[int], run: Callable[[int, list[int]], list]) -> list:
     return out
 
 
-def shoot_batch(points: list[Point], xs: list[np.ndarray], n: int, policy: Policy, **options) -> list[ShootingResult]:
-    """Newton shooting (:func:`geardyn.solve.shooting.newton_shooting_batch`, its ``options``) of the points'
-    systems from ``xs``, with the policy's integration and the points' lane tables."""
-    return newton_shooting_batch(
-        [p.system for p in points], xs, n, policy.integration, tables=tables_of(points), **options
-    )
+def shoot_batch(
+    points: list[Point], xs: list[np.ndarray], n: int, policy: Policy, shooting: ShootingSettings
+) -> list[ShootingResult]:
+    """Newton shooting (:func:`geardyn.solve.shooting.newton_shooting_batch`) of the points' systems from
+    ``xs``, with the policy's integration and the points' lane tables."""
+    shots = [Shot(p.system, x) for p, x in zip(points, xs, strict=True)]
+    return newton_shooting_batch(shots, n, policy.integration, shooting, tables_of(points))
 
 
 def tables_of(points: list[Point]) -> LaneTables | None:

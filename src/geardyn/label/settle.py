@@ -16,9 +16,9 @@ from geardyn.label.compare import least_period, nearest_distances
 from geardyn.label.policy import Policy, Settle
 from geardyn.parallel import threaded_map
 from geardyn.solve import simulate
-from geardyn.solve.base import SimulationResult
+from geardyn.solve.base import Lane, ShootingSettings, SimulationResult
 from geardyn.solve.run import LaneTables, lane_tables, simulate_batch
-from geardyn.solve.shooting import cycle_points, newton_shooting_batch
+from geardyn.solve.shooting import Shot, cycle_points, newton_shooting_batch
 
 QP = vocabulary.LABELS["quasi_periodic"]
 UNDET = vocabulary.LABELS["undetermined"]
@@ -111,15 +111,11 @@ def settle_points(
         tried = [i for i in active if (n == 1 and one[i]) or falls[i][n - 1]]
         if not tried:
             continue
+        shooting = ShootingSettings(
+            tol=policy.newton.tol, max_iter=policy.settle.newton_max_iter, step_cap=policy.newton.step_cap
+        )
         shots = newton_shooting_batch(
-            [systems[i] for i in tried],
-            [x0[i] for i in tried],
-            n,
-            settings,
-            tol=policy.newton.tol,
-            max_iter=policy.settle.newton_max_iter,
-            tables=tables.take(tried),
-            step_cap=policy.newton.step_cap,
+            [Shot(systems[i], x0[i]) for i in tried], n, settings, shooting, tables.take(tried)
         )
         stable = {i: r for i, r in zip(tried, shots, strict=True) if r.converged and r.spectral_radius < 1.0}
         if stable:
@@ -255,10 +251,8 @@ def _continued(
     ext: dict[int, simulate.SimulationResult] = {}
     for group in _length_classes(k4):
         runs = simulate_batch(
-            [systems[i] for i in group],
+            [Lane(systems[i], x0[i], recorded_periods=k4[i]) for i in group],
             dataclasses.replace(settings, transient_periods=0),
-            [x0[i] for i in group],
-            recorded_periods=[k4[i] for i in group],
             tables=tables.take(group),
         )
         ext.update(zip(group, runs, strict=True))

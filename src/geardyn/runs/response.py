@@ -25,7 +25,7 @@ from geardyn.label import Policy, Verdict
 from geardyn.label.compare import same, same_attractor
 from geardyn.label.vocabulary import LABELS
 from geardyn.runs import cube, study
-from geardyn.solve.base import System
+from geardyn.solve.base import Lane, System
 from geardyn.solve.response import RMS_BLOCKS, rms_errors_many
 from geardyn.solve.run import simulate_batch
 
@@ -100,9 +100,7 @@ def different_attractors(
     settings = dataclasses.replace(policy.integration, transient_periods=piece - keep, recorded_periods=keep)
     states = {j: (up[j].final_state, down[j].final_state) for j in todo}
     while todo and continue_periods > 0 and continued[todo[0]] < continue_periods:
-        runs = simulate_batch(
-            [systems[j] for j in todo for _ in range(2)], settings, [y for j in todo for y in states[j]]
-        )
+        runs = simulate_batch([Lane(systems[j], y) for j in todo for y in states[j]], settings)
         left = []
         for k, j in enumerate(todo):
             ra, rb = runs[2 * k], runs[2 * k + 1]

@@ -4,7 +4,7 @@ The contract (:mod:`~geardyn.solve.base`) is imported with the package; :func:`s
 are loaded on first use (PEP 562), so a job that only reads results does not import numba."""
 
 from geardyn._lazy import lazy_attributes
-from geardyn.solve.base import LAYOUT, SimulationResult, SimulationSettings, System
+from geardyn.solve.base import LAYOUT, Lane, Monodromy, SimulationResult, SimulationSettings, Sums, System, Tangent
 from geardyn.solve.precision import POINCARE_ERROR
 
 #: the names loaded from :mod:`geardyn.solve.run` on first use
@@ -14,4 +14,15 @@ _RUN = (
 ).split()
 __getattr__ = lazy_attributes(__name__, dict.fromkeys(_RUN, "run"))
 
-__all__ = ["LAYOUT", "POINCARE_ERROR", "SimulationResult", "SimulationSettings", "System", *_RUN]
+__all__ = [
+    "LAYOUT",
+    "POINCARE_ERROR",
+    "Lane",
+    "Monodromy",
+    "SimulationResult",
+    "SimulationSettings",
+    "Sums",
+    "System",
+    "Tangent",
+    *_RUN,
+]

@@ -112,6 +112,44 @@ class SimulationSettings:
             raise ValueError("early_stop_confirm >= 1, early_stop_min_periods >= 0, early_stop_tol_factor > 0")
 
 
+@dataclass(frozen=True)
+class Tangent:
+    """A renormalised tangent vector carried over the last ``periods`` periods of a run (at most all of them),
+    from ``start`` (None: every component 1/sqrt(6)); its growth and strobe come back (``docs/numerics.md``)."""
+
+    periods: int
+    start: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class Monodromy:
+    """The monodromy matrix carried over the last ``periods`` periods of a run (at most all of them)."""
+
+    periods: int
+
+
+@dataclass(frozen=True)
+class Sums:
+    """The response measures' sums (:mod:`geardyn.solve.response`) added over the last ``last`` periods of a run,
+    onto ``start`` (None: zeros); not in a batch whose lanes carry a :class:`Monodromy`."""
+
+    last: int
+    start: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class Lane:
+    """One point of a batch run (:func:`geardyn.solve.simulate_batch`): its system, start state (None: the
+    static deflection), transient and recorded periods (None: the settings'), variational part and sums."""
+
+    system: System
+    start: np.ndarray | None = None
+    transient_periods: int | None = None
+    recorded_periods: int | None = None
+    variational: Tangent | Monodromy | None = None
+    sums: Sums | None = None
+
+
 @dataclass
 class SimulationResult:
     """Output of :func:`geardyn.solve.simulate` and :func:`geardyn.solve.simulate_batch` (dimensionless;

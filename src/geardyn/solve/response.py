@@ -10,7 +10,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from geardyn.solve.base import SimulationSettings, System, drive_side, static_mesh_force
+from geardyn.solve.base import Lane, SimulationSettings, Sums, System, drive_side, static_mesh_force
 
 #: Impact classes (cube variable ``impact_class``; -1: not computed or diverged).
 IMPACT_CLASSES = {"no_impact": 0, "single_sided": 1, "double_sided": 2}
@@ -126,7 +126,8 @@ def response_measures_many(
 ) -> list[ResponseMeasures]:
     """:func:`response_measures` of many points: system i from the state ``y0s[i]`` over ``periods[i]`` mesh
     periods, the sums of :mod:`geardyn.solve._response` added at every step in the batch's lanes
-    (:func:`geardyn.solve.simulate_batch` with ``sums_last``).  Each point's measures are its own."""
+    (:func:`geardyn.solve.simulate_batch` with :class:`~geardyn.solve.base.Sums`).  Each point's measures are
+    its own."""
     from geardyn.solve.run import simulate_batch  # noqa: PLC0415 - compiled: not imported by jobs that read results
 
     settings = SimulationSettings() if settings is None else settings
@@ -136,15 +137,9 @@ def response_measures_many(
     order = sorted(runnable, key=n_per.__getitem__)
     for g in range(0, len(order), GROUP):  # groups of points: step tables that stay in the caches
         group = order[g : g + GROUP]
-        counts = [n_per[i] for i in group]
-        runs = simulate_batch(
-            [systems[i] for i in group],
-            settings,
-            [starts[i] for i in group],
-            transient_periods=[0] * len(group),
-            recorded_periods=counts,
-            sums_last=counts,  # the sums over the whole run
-        )
+        # the sums over the whole run
+        lanes = [Lane(systems[i], starts[i], 0, n_per[i], sums=Sums(n_per[i])) for i in group]
+        runs = simulate_batch(lanes, settings)
         for i, r in zip(group, runs, strict=True):
             measures[i] = measures_of_sums(r.sums, systems[i], n_per[i])
     f_s = [static_mesh_force(system) for system in systems]
@@ -153,9 +148,9 @@ def response_measures_many(
 
 def measures_of_sums(sums: np.ndarray | None, system: System, periods: int) -> ResponseMeasures:
     """The measures of ``system`` from the sums a batch run added over its last ``periods`` mesh periods
-    (:attr:`geardyn.solve.base.SimulationResult.sums`, ``sums_last`` of :func:`geardyn.solve.simulate_batch`):
-    the numbers of :func:`response_measures_many` from the state where those periods begin, bit for bit;
-    :meth:`ResponseMeasures.not_computed` where there are none or the run diverged."""
+    (:attr:`geardyn.solve.base.SimulationResult.sums`, the :class:`~geardyn.solve.base.Sums` of
+    :func:`geardyn.solve.simulate_batch`): the numbers of :func:`response_measures_many` from the state where
+    those periods begin, bit for bit; :meth:`ResponseMeasures.not_computed` where there are none or the run diverged."""
     import geardyn.solve._response as _acc  # noqa: PLC0415 - compiled: not imported by jobs that read results
 
     f_s = static_mesh_force(system)

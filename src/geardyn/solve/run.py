@@ -17,9 +17,13 @@ import geardyn.solve._kernel as _kernel
 import geardyn.solve._period as _period
 import geardyn.solve._response as _response
 from geardyn.solve.base import (
+    Lane,
+    Monodromy,
     SimulationResult,
     SimulationSettings,
+    Sums,
     System,
+    Tangent,
     divergence_limits,
     drive_side,
     static_mesh_force,
@@ -57,20 +61,17 @@ def simulate(
     settings: SimulationSettings = SimulationSettings(),
     x0: np.ndarray | None = None,
     dense: bool = False,
-    tangent_periods: int = 0,
-    monodromy_periods: int = 0,
+    variational: Tangent | Monodromy | None = None,
 ) -> SimulationResult:
     """Integrate the dimensionless 3-DOF system from x0 (default: the static deflection), optionally with
     a tangent vector or the monodromy over the last periods; never raises on divergence (``docs/numerics.md``)."""
     y0 = system.static_state() if x0 is None else np.asarray(x0, dtype=float).copy()
     if settings.integrator == "dop853":
-        if tangent_periods or monodromy_periods:
+        if variational is not None:
             raise ValueError("the variational part needs a fixed-step integrator ('rk4' or 'rk4_event')")
         from geardyn.solve.reference import simulate_reference  # noqa: PLC0415 - scipy.integrate: 0.5 s to import
 
         return simulate_reference(system, settings, y0, dense=dense)
-    if tangent_periods and monodromy_periods:
-        raise ValueError("carry either a tangent vector (tangent_periods) or the monodromy matrix, not both")
     n = settings.steps_per_period
     # writable copies of the cached tables: the loop then has the argument types it has in the batch's
     # lanes, and one compiled version serves both (the copies cost nothing next to a run)
@@ -80,7 +81,7 @@ def simulate(
     nd = (n_rec * n) // stride if dense else 0
     dt = np.empty(nd)
     dy = np.empty((nd, 6))
-    b = _buffers(np.array([n_trans]), np.array([n_rec]), np.array([monodromy_periods]), tangent_periods)
+    b = _buffers(np.array([n_trans]), np.array([n_rec]), [variational])
     status, per, nev, ndense, used, stop_n = _kernel.run(
         c,
         tuple(tabs),
@@ -95,7 +96,7 @@ def simulate(
         dy,
         b.W[0],
         int(b.ntan[0]),
-        bool(tangent_periods),
+        b.m == 1,
         b.growth[0],
         b.strobe[0],
         b.final[0],
@@ -106,7 +107,7 @@ def simulate(
     )
     b.out[0] = (status, per, nev, used, stop_n)
     r = _lane_result(0, system, settings, b)
-    r.tangent = None  # only simulate_batch hands a tangent on (its tangent_start)
+    r.tangent = None  # only simulate_batch hands a tangent on (its Tangent.start)
     if dense:
         r.tau, r.states = dt[:ndense], dy[:ndense]
     return r
@@ -182,22 +183,32 @@ def lane_tables(systems: Sequence[System], settings: SimulationSettings) -> Lane
     return LaneTables(C, H, S, SEG, K, P, POLY, limits)
 
 
-def _per_point(values: Sequence[int] | None, default: int, L: int) -> np.ndarray:
-    """A per-point count (L,) int64: ``values``, or ``default`` for every point."""
-    return np.full(L, default, np.int64) if values is None else np.asarray(values, dtype=np.int64)
+def _periods(lanes: Sequence[Lane], settings: SimulationSettings) -> tuple[np.ndarray, np.ndarray]:
+    """The transient and recorded periods (L,) int64 each of a batch's lanes (the settings' where None)."""
+    ntr = [settings.transient_periods if q.transient_periods is None else q.transient_periods for q in lanes]
+    nrec = [settings.recorded_periods if q.recorded_periods is None else q.recorded_periods for q in lanes]
+    return np.asarray(ntr, dtype=np.int64), np.asarray(nrec, dtype=np.int64)
 
 
-def _tangent_columns(tangent_periods: int, mono: np.ndarray, total: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
-    """(m, ntan, W) of a batch: m tangent columns per point (1: a renormalised vector, 6: the monodromy
-    matrix, 0: none), carried over the last ntan (L,) of the ``total`` periods, starting from W (L, 6, m)."""
+def _tangent_columns(
+    variational: Sequence[Tangent | Monodromy | None], total: np.ndarray
+) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
+    """(m, ntan, W, mono) of a batch of one kind of variational part: m tangent columns per point (1: a
+    renormalised vector, 6: the monodromy matrix, 0: none), carried over the last ntan (L,) of the ``total``
+    periods, starting from W (L, 6, m); mono (L,): the monodromy's periods (0: none)."""
     L = total.shape[0]
-    if tangent_periods:
-        return 1, np.minimum(int(tangent_periods), total), np.full((L, 6, 1), 1.0 / math.sqrt(6.0))
-    if np.any(mono):
+    ask = np.array([0 if v is None else v.periods for v in variational], dtype=np.int64)
+    if any(isinstance(v, Tangent) for v in variational):
+        W = np.full((L, 6, 1), 1.0 / math.sqrt(6.0))
+        for lane, v in enumerate(variational):
+            if isinstance(v, Tangent) and v.start is not None:
+                W[lane, :, 0] = v.start
+        return 1, np.minimum(ask, total), W, np.zeros(L, np.int64)
+    if np.any(ask):
         W = np.zeros((L, 6, 6))
         W[:, range(6), range(6)] = 1.0
-        return 6, np.minimum(mono, total), W
-    return 0, np.zeros(L, np.int64), np.empty((L, 6, 0))
+        return 6, np.minimum(ask, total), W, ask
+    return 0, np.zeros(L, np.int64), np.empty((L, 6, 0)), ask
 
 
 @dataclass
@@ -219,11 +230,12 @@ class _Buffers:
     out: np.ndarray
 
 
-def _buffers(ntr: np.ndarray, nrec: np.ndarray, mono: np.ndarray, tangent_periods: int) -> _Buffers:
-    """The :class:`_Buffers` of points with transient, recorded and monodromy periods (L,) each."""
+def _buffers(ntr: np.ndarray, nrec: np.ndarray, variational: Sequence[Tangent | Monodromy | None]) -> _Buffers:
+    """The :class:`_Buffers` of points with transient and recorded periods (L,) each and a variational part
+    each, of one kind."""
     L = ntr.shape[0]
-    m, ntan, W = _tangent_columns(tangent_periods, mono, ntr + nrec)
-    ng = int(ntan.max()) if tangent_periods else 0
+    m, ntan, W, mono = _tangent_columns(variational, ntr + nrec)
+    ng = int(ntan.max()) if m == 1 else 0
     growth, strobe = np.full((L, ng), np.nan), np.full((L, ng), np.nan)
     poinc = np.full((L, int(nrec.max()), 6), np.nan)
     return _Buffers(ntr, nrec, mono, m, ntan, W, growth, strobe, poinc, np.empty((L, 6)), np.zeros((L, 5), np.int64))
@@ -252,12 +264,11 @@ def _lanes(arrays: tuple, part: slice) -> tuple:
     return tuple(_lanes(a, part) if isinstance(a, tuple) else a[part] for a in arrays)
 
 
-def _start_states(systems: Sequence[System], x0) -> np.ndarray:
-    """The initial states (L, 6) of a batch: ``x0[lane]``, or the static deflection where None."""
-    Y0 = np.empty((len(systems), 6))
-    for lane, system in enumerate(systems):
-        x = None if x0 is None else x0[lane]
-        Y0[lane] = system.static_state() if x is None else np.asarray(x, dtype=float)
+def _start_states(lanes: Sequence[Lane]) -> np.ndarray:
+    """The initial states (L, 6) of a batch: each lane's start, or the static deflection where None."""
+    Y0 = np.empty((len(lanes), 6))
+    for k, q in enumerate(lanes):
+        Y0[k] = q.system.static_state() if q.start is None else np.asarray(q.start, dtype=float)
     return Y0
 
 
@@ -285,54 +296,55 @@ def _lane_result(lane: int, system: System, settings: SimulationSettings, b: _Bu
         monodromy=b.W[lane] if (b.m == 6 and b.mono[lane] and not diverged) else None,
         transient_used=used,
         stop_period=stop_n,
-        tangent=b.W[lane, :, 0].copy() if tangent else None,
+        tangent=b.W[lane, :, 0].copy() if tangent and b.ntan[lane] else None,
     )
 
 
 def simulate_batch(
-    systems: Sequence[System],
+    lanes: Sequence[Lane],
     settings: SimulationSettings = SimulationSettings(),
-    x0: np.ndarray | Sequence[np.ndarray | None] | None = None,
-    tangent_periods: int = 0,
-    monodromy_periods: int | Sequence[int] = 0,
+    *,
     early_stop: EarlyStop | None = None,
-    transient_periods: Sequence[int] | None = None,
-    recorded_periods: Sequence[int] | None = None,
     tables: LaneTables | None = None,
-    tangent_start: Sequence[np.ndarray | None] | None = None,
-    sums_last: Sequence[int] | None = None,
-    sums_start: Sequence[np.ndarray | None] | None = None,
 ) -> list[SimulationResult]:
-    """:func:`simulate` for many systems at once (``rk4``/``rk4_event``, no dense output), in parallel, each
-    point bit-identical to :func:`simulate` without ``early_stop``; per-point transient, recorded and monodromy
-    periods, cached ``tables``, ``tangent_start`` and the response sums ``sums_last``/``sums_start``
-    (``docs/numerics.md``)."""
+    """:func:`simulate` of many points (a :class:`~geardyn.solve.base.Lane` each) at once (``rk4``/``rk4_event``,
+    no dense output), in parallel, each point bit-identical to :func:`simulate` without ``early_stop``; cached
+    ``tables`` (``docs/numerics.md``).  Lanes with a tangent and lanes with the monodromy run as two batches."""
     if settings.integrator == "dop853":
         raise ValueError("simulate_batch integrates with 'rk4' or 'rk4_event'")
-    L = len(systems)
+    mono = [k for k, q in enumerate(lanes) if isinstance(q.variational, Monodromy)]
+    if mono and any(isinstance(q.variational, Tangent) for q in lanes):
+        rest = [k for k, q in enumerate(lanes) if not isinstance(q.variational, Monodromy)]
+        out: list[SimulationResult] = [None] * len(lanes)  # type: ignore[list-item]
+        for part in (rest, mono):
+            sub = None if tables is None else tables.take(part)
+            runs = simulate_batch([lanes[k] for k in part], settings, early_stop=early_stop, tables=sub)
+            for k, r in zip(part, runs, strict=True):
+                out[k] = r
+        return out
+    return _one_kind(lanes, settings, early_stop, tables)
+
+
+def _one_kind(
+    lanes: Sequence[Lane], settings: SimulationSettings, early_stop: EarlyStop | None, tables: LaneTables | None
+) -> list[SimulationResult]:
+    """:func:`simulate_batch` of lanes whose variational parts are of one kind (or none)."""
+    L = len(lanes)
     if L == 0:
         return []
-    mono = np.broadcast_to(np.asarray(monodromy_periods, dtype=np.int64), (L,))
-    if tangent_periods and np.any(mono):
-        raise ValueError("carry either a tangent vector (tangent_periods) or the monodromy matrix, not both")
     n = settings.steps_per_period
-    ntr = _per_point(transient_periods, settings.transient_periods, L)
-    nrec = _per_point(recorded_periods, settings.recorded_periods, L)
+    systems = [q.system for q in lanes]
+    ntr, nrec = _periods(lanes, settings)
     lt = lane_tables(systems, settings) if tables is None else tables
     if lt.H.shape != (L, n):
         raise ValueError(f"lane tables for {lt.H.shape[0]} points of {lt.H.shape[1]} steps, not {L} of {n}")
     C, TABS, limits = lt.C, (lt.H, lt.S, lt.SEG, lt.K, lt.P, lt.POLY), lt.limits
-    Y0 = _start_states(systems, x0)
-    b = _buffers(ntr, nrec, mono, tangent_periods)
-    if tangent_start is not None:
-        if b.m != 1:
-            raise ValueError("tangent_start needs tangent_periods")
-        for lane, w in enumerate(tangent_start):
-            if w is not None:
-                b.W[lane, :, 0] = w
+    Y0 = _start_states(lanes)
+    b = _buffers(ntr, nrec, [q.variational for q in lanes])
     es = _kernel.NO_EARLY_STOP if early_stop is None else early_stop.as_kernel_args()
     event = settings.integrator == "rk4_event"
-    acc, sgn, last = _sums(systems, sums_last, sums_start, b.m)
+    sums = [q.sums for q in lanes]
+    acc, sgn, last = _sums(systems, sums, b.m)
     k = _blocked_lanes(L) if b.m <= 1 else 0
     arrays = (C, TABS, Y0, ntr, nrec, limits, b.poinc, b.final, b.out, b.W, b.ntan, b.growth, b.strobe, acc, sgn, last)
     if k:
@@ -340,32 +352,30 @@ def simulate_batch(
         _batch.run_blocks(c, tabs, y0, nt, nr, event, lim, po, fi, es, ou, w, na, gr, sb, ac, sg, la)
     if k < L:
         c, tabs, y0, nt, nr, lim, po, fi, ou, w, na, gr, sb, ac, sg, la = _lanes(arrays, slice(k, L))
-        tan = bool(tangent_periods)
+        tan = b.m == 1
         _batch.run_batch(c, tabs, y0, nt, nr, event, lim, w, na, tan, gr, sb, po, fi, es, ou, ac, sg, la)
     results = [_lane_result(lane, systems[lane], settings, b) for lane in range(L)]
-    if sums_last is not None:
-        for r, a, n in zip(results, acc, last, strict=True):
-            r.sums = a.copy() if n > 0 else None
+    if any(s is not None for s in sums):
+        for r, a, m in zip(results, acc, last, strict=True):
+            r.sums = a.copy() if m > 0 else None
     return results
 
 
-def _sums(
-    systems: Sequence[System], last: Sequence[int] | None, start: Sequence[np.ndarray | None] | None, m: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _sums(systems: Sequence[System], sums: Sequence[Sums | None], m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The response measures' arrays of a batch (:func:`geardyn.solve._batch.run_blocks`): the sums (L,
-    N_OUT) (from ``start`` where given; (L, 0) without ``last``), the drive sides (L,) and the periods
-    ``last`` (L,) they cover."""
+    N_OUT) (from each lane's start where given; (L, 0) when no lane asks for them), the drive sides (L,) and
+    the periods (L,) they cover (0 where a lane asks for none)."""
     L = len(systems)
-    if last is None:
+    if all(s is None for s in sums):
         return np.empty((L, 0)), np.empty(L), np.zeros(L, np.int64)
     if m > 1:
         raise ValueError("the response measures' sums are added in runs without the monodromy")
     acc = np.zeros((L, _response.N_OUT))
-    for lane, a in enumerate(start or [None] * L):
-        if a is not None:
-            acc[lane] = a
+    for lane, s in enumerate(sums):
+        if s is not None and s.start is not None:
+            acc[lane] = s.start
     sgn = np.array([drive_side(static_mesh_force(s)) for s in systems])
-    return acc, sgn, np.asarray(last, dtype=np.int64)
+    return acc, sgn, np.array([0 if s is None else s.last for s in sums], dtype=np.int64)
 
 
 def warm_up(system: System) -> None:
@@ -373,12 +383,12 @@ def warm_up(system: System) -> None:
     for integ in ("rk4", "rk4_event"):
         tiny = SimulationSettings(integrator=integ, steps_per_period=16, transient_periods=1, recorded_periods=1)
         simulate(system, tiny, dense=True)
-        simulate(system, tiny, tangent_periods=1)
-        simulate(system, tiny, monodromy_periods=1)
+        simulate(system, tiny, variational=Tangent(1))
+        simulate(system, tiny, variational=Monodromy(1))
         # the batch loops of simulate_batch (lockstep, with tangent, lanes with monodromy)
-        simulate_batch([system] * 9, tiny, early_stop=EarlyStop(min_periods=0, confirm=1))
-        simulate_batch([system] * 9, tiny, tangent_periods=1)
-        simulate_batch([system] * 2, tiny, monodromy_periods=1)
+        simulate_batch([Lane(system)] * 9, tiny, early_stop=EarlyStop(min_periods=0, confirm=1))
+        simulate_batch([Lane(system, variational=Tangent(1))] * 9, tiny)
+        simulate_batch([Lane(system, variational=Monodromy(1))] * 2, tiny)
 
 
 #: rule 3, compiled: stated once in :mod:`geardyn.solve._period`, read by :mod:`geardyn.label.indicators`

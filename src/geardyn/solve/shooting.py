@@ -13,8 +13,8 @@ import numba
 import numpy as np
 
 from geardyn import libm
-from geardyn.solve.base import SHOOTING, SimulationSettings, System
-from geardyn.solve.run import lane_tables, simulate, simulate_batch
+from geardyn.solve.base import SHOOTING, Lane, Monodromy, ShootingSettings, SimulationSettings, Sums, System
+from geardyn.solve.run import LaneTables, lane_tables, simulate, simulate_batch
 
 #: flow(x, jacobian) -> (state after n periods, monodromy or None); (None, None) when diverged.
 FlowMap = Callable[[np.ndarray, bool], tuple[np.ndarray | None, np.ndarray | None]]
@@ -168,56 +168,112 @@ def newton_shooting(
     return _iterate(lambda _, xs: [flow(xs[0], True)], step, [x0], n, tol, max_iter, max_growth)[0]
 
 
+@dataclass(frozen=True)
+class Shot:
+    """One point of a batch shooting: its system and the start of the iteration."""
+
+    system: System
+    start: np.ndarray
+
+
+@dataclass(frozen=True)
+class ChordShot(Shot):
+    """A point of a chord iteration: the fixed matrix (M - I)^-1 of its steps x <- x - matrix (phi(x) - x)."""
+
+    matrix: np.ndarray
+
+
+@dataclass(frozen=True)
+class DeflatedShot(Shot):
+    """A point of a deflated Newton iteration: the root it is kept away from."""
+
+    root: np.ndarray
+
+
 def newton_shooting_batch(
-    systems: Sequence[System],
-    x0s: list[np.ndarray],
+    shots: Sequence[Shot],
     n: int = 1,
     settings: SimulationSettings | None = None,
-    tol: float = SHOOTING.tol,
-    max_iter: int = SHOOTING.max_iter,
-    tables=None,
-    max_growth: float = SHOOTING.max_growth,
-    *,
-    chord: list[np.ndarray] | None = None,
-    deflate: list[np.ndarray] | None = None,
-    deflation_shift: float = 1.0,
-    step_cap: float = SHOOTING.step_cap,
+    shooting: ShootingSettings = SHOOTING,
+    tables: LaneTables | None = None,
 ) -> list[ShootingResult]:
-    """:func:`newton_shooting` on the n-period map of many systems at once, every iteration one
-    :func:`geardyn.solve.run.simulate_batch` (each result bit for bit that of the point alone); ``chord``:
-    a fixed matrix per point, ``deflate``: a root per point to avoid (``docs/numerics.md``)."""
+    """:func:`newton_shooting` on the n-period map of many points at once, every iteration one
+    :func:`geardyn.solve.run.simulate_batch` (each result bit for bit that of the point alone)."""
+    caps = [_step_cap(np.asarray(p.start, dtype=float), shooting.step_cap) for p in shots]
+    step = functools.partial(_newton_next, caps=caps, n=n)
+    return _shooting_batch(shots, n, settings, shooting, tables, True, step)
+
+
+def chord_shooting_batch(
+    shots: Sequence[ChordShot],
+    n: int = 1,
+    settings: SimulationSettings | None = None,
+    shooting: ShootingSettings = SHOOTING,
+    tables: LaneTables | None = None,
+) -> list[ShootingResult]:
+    """The chord iteration of :func:`newton_shooting_batch`: each point's fixed matrix in place of the
+    monodromy, plain runs (a growing residual stops it before convergence: ``docs/numerics.md``)."""
+
+    def step(go: list, it: int) -> list:
+        return [x - shots[i].matrix @ (phi - x) for i, x, phi, _ in go]
+
+    return _shooting_batch(shots, n, settings, shooting, tables, False, step)
+
+
+def deflated_shooting_batch(
+    shots: Sequence[DeflatedShot],
+    n: int = 1,
+    settings: SimulationSettings | None = None,
+    shooting: ShootingSettings = SHOOTING,
+    tables: LaneTables | None = None,
+    shift: float = 1.0,
+) -> list[ShootingResult]:
+    """Deflated Newton of :func:`newton_shooting_batch`: each point kept away from its root by the factor
+    1 / |x - root|^2 + ``shift`` (``docs/numerics.md``)."""
+
+    def step(go: list, it: int) -> list:
+        return [_deflated_step(x, phi, M, shots[i].root, shift, shooting.step_cap, n, it) for i, x, phi, M in go]
+
+    return _shooting_batch(shots, n, settings, shooting, tables, True, step)
+
+
+def _shooting_batch(
+    shots: Sequence[Shot],
+    n: int,
+    settings: SimulationSettings | None,
+    shooting: ShootingSettings,
+    tables: LaneTables | None,
+    monodromy: bool,
+    step: Callable,
+) -> list[ShootingResult]:
+    """The loop of the batch iterations (:func:`_iterate`): the unfinished points' n-period maps in one
+    batch run, with the monodromy where ``monodromy``; ``step(go, it)`` makes the next iterates."""
     s = period_settings(settings, n)
-    caps = [_step_cap(np.asarray(x, dtype=float), step_cap) for x in x0s]
+    systems = [p.system for p in shots]
     # the unfinished points whose rows the lane tables hold, and the tables
-    held, held_tables = list(range(len(x0s))), lane_tables(systems, s) if tables is None else tables
+    held, held_tables = list(range(len(shots))), lane_tables(systems, s) if tables is None else tables
+    variational = Monodromy(n) if monodromy else None
 
     def evaluate(todo: list[int], xs: list[np.ndarray]) -> list:
         nonlocal held, held_tables
         if len(todo) < len(held):  # copied only when a point has finished
             at = {i: k for k, i in enumerate(held)}
             held, held_tables = todo, held_tables.take([at[i] for i in todo])
-        runs = simulate_batch(
-            [systems[i] for i in todo], s, xs, monodromy_periods=0 if chord else n, tables=held_tables
-        )
+        lanes = [Lane(systems[i], x, variational=variational) for i, x in zip(todo, xs, strict=True)]
+        runs = simulate_batch(lanes, s, tables=held_tables)
         return [
-            (None, None) if r.diverged else (r.final_state.copy(), None if chord else np.array(r.monodromy))
+            (None, None) if r.diverged else (r.final_state.copy(), np.array(r.monodromy) if monodromy else None)
             for r in runs
         ]
 
-    def step(go: list, it: int) -> list:
-        if chord is not None:
-            return [x - chord[i] @ (phi - x) for i, x, phi, _ in go]
-        if deflate is not None:
-            return [_deflated_step(x, phi, M, deflate[i], deflation_shift, step_cap, n, it) for i, x, phi, M in go]
-        return _newton_next(go, it, n, caps)
-
-    return _iterate(evaluate, step, x0s, n, tol, max_iter, max_growth)
+    x0s = [p.start for p in shots]
+    return _iterate(evaluate, step, x0s, n, shooting.tol, shooting.max_iter, shooting.max_growth)
 
 
 def _deflated_step(
     x: np.ndarray, phi: np.ndarray, M: np.ndarray, root: np.ndarray, shift: float, cap: float, n: int, it: int
 ) -> np.ndarray | ShootingResult:
-    """The next iterate of deflated Newton (:func:`newton_shooting_batch` with ``deflate``), or the result
+    """The next iterate of deflated Newton (:func:`deflated_shooting_batch`), or the result
     where it stops: at the root itself, or on a singular matrix."""
     F = phi - x
     d = x - root
@@ -248,8 +304,9 @@ def cycle_points(
     contact switches (-1: not run), diverged, sums); ``measure`` adds the response sums (``docs/response.md``)."""
     if n == 1 and not measure:
         return [(np.asarray(x)[None, :], -1, False, None) for x in states]
-    last = [n] * len(states) if measure else None
-    runs = simulate_batch(systems, period_settings(settings, n), list(states), tables=tables, sums_last=last)
+    sums = Sums(n) if measure else None
+    lanes = [Lane(y, x, sums=sums) for y, x in zip(systems, states, strict=True)]
+    runs = simulate_batch(lanes, period_settings(settings, n), tables=tables)
     return [
         (
             np.vstack([np.asarray(x)[None, :], r.poincare])[:n],
@@ -286,7 +343,7 @@ def khv_flow(system: System, n: int = 1, settings: SimulationSettings | None = N
     s = period_settings(settings, n)
 
     def flow(x: np.ndarray, jacobian: bool = True):
-        r = simulate(system, s, x, monodromy_periods=n if jacobian else 0)
+        r = simulate(system, s, x, variational=Monodromy(n) if jacobian else None)
         if r.diverged:
             return None, None
         return r.final_state.copy(), (np.array(r.monodromy) if jacobian else None)
@@ -309,12 +366,12 @@ def khv_flows(
     distinct: dict[int, int] = {}  # id(system) -> its row of the tables
     rows = [distinct.setdefault(id(y), len(distinct)) for y in systems]
     own = list({id(y): y for y in systems}.values())  # in the order of the rows
-    mono = [n if j else 0 for j in jacobian]
+    lanes = [Lane(y, x, variational=Monodromy(n) if j else None) for y, x, j in zip(systems, xs, jacobian, strict=True)]
     tables = lane_tables(own, s).take(rows)
     threads = numba.get_num_threads()
     numba.set_num_threads(1)
     try:
-        runs = simulate_batch(systems, s, list(xs), monodromy_periods=mono, tables=tables)
+        runs = simulate_batch(lanes, s, tables=tables)
     finally:
         numba.set_num_threads(threads)
     return [
