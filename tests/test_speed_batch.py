@@ -40,6 +40,23 @@ def test_batch_is_bit_identical_to_simulate(systems, integrator, var):
             assert np.array_equal(r0.monodromy, r.monodromy)
 
 
+def test_tangent_and_monodromy_lanes_in_one_call_are_each_their_point_alone(systems):
+    """Lanes with a tangent vector, with the monodromy and with neither, mixed in one call (two batches): each
+    lane's record, growth and monodromy are those of :func:`simulate` of its point, bit for bit."""
+    s = SimulationSettings(integrator="rk4_event", **SHORT)
+    kinds = (Tangent(20), Monodromy(3), None)
+    lanes = [Lane(c, variational=kinds[k % 3]) for k, c in enumerate(systems)]
+    for q, r in zip(lanes, simulate_batch(lanes, s), strict=True):
+        r0 = simulate(q.system, s, variational=q.variational)
+        assert np.array_equal(r0.poincare, r.poincare) and np.array_equal(r0.final_state, r.final_state)
+        assert np.array_equal(r0.growth, r.growth) and np.array_equal(r0.strobe, r.strobe)
+        assert (r.growth.size > 0) == isinstance(q.variational, Tangent)
+        if isinstance(q.variational, Monodromy):
+            assert np.array_equal(r0.monodromy, r.monodromy)
+        else:
+            assert r.monodromy is None
+
+
 def test_a_run_in_pieces_is_one_run(systems):
     """A run of 40 periods with the tangent vector equals, bit for bit, a run of 15 and one of 25 that starts
     from its final state and tangent (the pieces the labeller's growing records are made of), on the
