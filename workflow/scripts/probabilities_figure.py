@@ -4,7 +4,6 @@ from geardyn import io
 from geardyn.io import logs, tables
 from geardyn.plots import probabilities as plots
 from geardyn.plots import save_figure
-from geardyn.runs import tolerance_classes
 
 log = logs.to_file(snakemake.log[0])
 ds = io.read_dataset(snakemake.input.cube)
@@ -14,7 +13,7 @@ skipped = " ".join(f"{line}." for line in snakemake.params.skipped)
 heading = f"{title} ({snakemake.wildcards.design})"
 if "tolerance_class" in ds.dims:  # a class study
     figure, caption = plots.class_figure(ds, title), plots.class_caption(name, ds)
-    table = tolerance_classes.table_markdown(ds, heading)
+    table = tables.class_table_markdown(ds, heading)
     n = ds.attrs.get("samples_per_class")
 else:
     figure, caption = plots.probabilities_figure(ds, title), plots.caption(name, ds)

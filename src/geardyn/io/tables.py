@@ -80,3 +80,33 @@ def table_markdown(ds: xr.Dataset, title: str) -> str:
         kv = ds["dynamic_factor_quantile"].values[:, j]
         rows.append([*cells, "/".join(f"{v:.3g}" for v in kv), f"{ds['dte_rms_quantile'].values[1, j]:.3g}"])
     return "\n".join([*lines, markdown_table(head, rows, "r" * len(head))]) + "\n"
+
+
+def class_table_markdown(ds: xr.Dataset, title: str) -> str:
+    """The class study's table (:func:`geardyn.runs.tolerance_classes.summarize`), per point of the axis: the
+    coarsest class meeting the limits and, at it, each limited quantity with its interval; "none" where no class
+    does."""
+    dim, keys = ds.attrs["axis_parameter"], ds.attrs["limited"].split()
+    rows = []
+    for j, x in enumerate(ds[dim].values):
+        c = int(ds["coarsest_class"].values[j])
+        if c == 0:
+            rows.append([f"{x:.4g}", "none", *("" for _ in keys)])
+            continue
+        at = ds.sel(tolerance_class=c).isel({dim: j})
+        rows.append(
+            [
+                f"{x:.4g}",
+                str(c),
+                *(f"{float(at[k]):.3g} [{float(at[f'{k}_low']):.3g}, {float(at[f'{k}_high']):.3g}]" for k in keys),
+            ]
+        )
+    none = [f"{x:.4g}" for x, c in zip(ds[dim].values, ds["coarsest_class"].values, strict=True) if c == 0]
+    head = (
+        f"## {title}\n\nThe coarsest ISO 1328-1:2013 class meeting {ds.attrs['limits']} "
+        f"(decided {ds.attrs['decision']}; "
+        f"{ds.attrs['samples_per_class']} samples per class, 95 % intervals). Where no class meets them: "
+        + (", ".join(f"{dim} = {x}" for x in none) or "nowhere")
+        + ".\n\n"
+    )
+    return head + markdown_table([dim, "coarsest class", *(ds[k].attrs["long_name"] for k in keys)], rows, "rr") + "\n"

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from geardyn.io import Var, markdown_table, variables
+from geardyn.io import Var, variables
 from geardyn.khv.design import KHVDesign
 from geardyn.runs import probabilities, probability_stats
 from geardyn.runs.probabilities import ProbabilitySpec
@@ -122,32 +122,3 @@ def summarize(ds: xr.Dataset, spec: ProbabilitySpec, design: KHVDesign) -> xr.Da
         "decision": "on the estimates; the intervals say how sure each is",
     }
     return xr.Dataset(data, coords=coords, attrs=attrs)
-
-
-def table_markdown(ds: xr.Dataset, title: str) -> str:
-    """Per point of the axis: the coarsest class meeting the limits and, at it, each limited quantity with its
-    interval; "none" where no class does."""
-    dim, keys = ds.attrs["axis_parameter"], ds.attrs["limited"].split()
-    rows = []
-    for j, x in enumerate(ds[dim].values):
-        c = int(ds["coarsest_class"].values[j])
-        if c == 0:
-            rows.append([f"{x:.4g}", "none", *("" for _ in keys)])
-            continue
-        at = ds.sel(tolerance_class=c).isel({dim: j})
-        rows.append(
-            [
-                f"{x:.4g}",
-                str(c),
-                *(f"{float(at[k]):.3g} [{float(at[f'{k}_low']):.3g}, {float(at[f'{k}_high']):.3g}]" for k in keys),
-            ]
-        )
-    none = [f"{x:.4g}" for x, c in zip(ds[dim].values, ds["coarsest_class"].values, strict=True) if c == 0]
-    head = (
-        f"## {title}\n\nThe coarsest ISO 1328-1:2013 class meeting {ds.attrs['limits']} "
-        f"(decided {ds.attrs['decision']}; "
-        f"{ds.attrs['samples_per_class']} samples per class, 95 % intervals). Where no class meets them: "
-        + (", ".join(f"{dim} = {x}" for x in none) or "nowhere")
-        + ".\n\n"
-    )
-    return head + markdown_table([dim, "coarsest class", *(QUANTITIES[k] for k in keys)], rows, "rr") + "\n"
