@@ -57,19 +57,18 @@ def test_the_specs_share_their_fields_and_their_policy(li2013):
 
 def test_the_variables_follow_the_layout_and_the_policy(li2013):
     """A study keeps the verdict's and the response's variables, the fixed start's label and the coexistence flag
-    with the policy's coexistence, the divergence flag, transient and computed flag where the layout keeps them,
+    with the policy's coexistence, the transient and computed flag where the layout keeps them,
     and the layout's own as given; each on the layout's grid as the table declares it (CF attributes, dtype),
     filled with its fill value (NaN, or the code of "not computed")."""
     policy = Policy(point.integration_settings(li2013), coexistence=True)
     own = {"mine": (("p",), np.zeros(3), {})}
-    full = study.variables(study.Layout(("p",), (3,), [], diverged="unbounded", computed=True, own=own), policy)
-    assert set(full) == {*COMMON, "label_fixed", "coexisting", "diverged", "mine", "transient_used", "computed"}
+    full = study.variables(study.Layout(("p",), (3,), [], computed=True, own=own), policy)
+    assert set(full) == {*COMMON, "label_fixed", "coexisting", "mine", "transient_used", "computed"}
     assert full.pop("mine") is own["mine"]
     assert io.missing_cf_attributes(xr.Dataset(full)) == []
     for name, (dims, values, attrs) in full.items():
         var = VARIABLES[name]
-        declared = {**var.attributes(), "long_name": "unbounded"} if name == "diverged" else var.attributes()
-        want = xr.Variable(("p",), np.full(3, var.fill, var.dtype), declared)
+        want = xr.Variable(("p",), np.full(3, var.fill, var.dtype), var.attributes())
         assert values.dtype == want.dtype and xr.Variable(dims, values, attrs).identical(want), name
         if var.flags is not None:
             assert set(np.unique(values)) <= set(var.flags.values()), name

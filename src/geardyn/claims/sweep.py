@@ -130,7 +130,7 @@ def _peaks(spec: Mapping[str, Json], points: xr.Dataset | None) -> Claim:
     if points is None or case not in [str(c) for c in points["case"].values]:
         return missing(spec, "point missing", "no dense run")
     d = points.sel(case=case)
-    if int(d["diverged"]) == 1:
+    if int(d["label"]) == vocabulary.LABELS["diverged"]:
         return missing(spec, "our run diverged", "diverged")
     peaks, tol = spec["peaks"], spec["tolerance"]
     ours = sorted(spectral_peaks(d["frequency"].values, d["amplitude"].values, n=spec["highest"]))

@@ -17,6 +17,9 @@ LABELS = {
     "not_periodic": 0,
 }
 
+#: The code of "not computed" in every flag variable of the outputs (a point a chunk did not compute, a diverged
+#: run's impact class): the same -1 as the label where no label was found.
+NOT_COMPUTED = -1
 
 #: The long and the short name of each code that is not period-n (period n: ``P{n}``).
 NAMES = {

@@ -92,13 +92,10 @@ def points(name: str, ds: xr.Dataset, paper: ModuleType | None = None) -> str:
         d = ds.sel(case=case)
         pts = d[[f"poincare_{s}" for s in STATES]].to_array().values.T
         pts = pts[~np.isnan(pts).any(axis=1)]
-        how = ""
-        if "label" in d:  # the labeller's verdict of this point (as in the sweeps)
-            n = int(d["label"])
-            stage = STAGE_NAMES.get(int(d["stage"]), "")
-            how = f" ({stage.replace('_', ' ')})" if stage else ""
-        else:
-            n = vocabulary.LABELS["diverged"] if int(d["diverged"]) == 1 else vocabulary.LABELS["undetermined"]
+        # the labeller's verdict of this point (as in the sweeps)
+        n = int(d["label"])
+        stage = STAGE_NAMES.get(int(d["stage"]), "")
+        how = f" ({stage.replace('_', ' ')})" if stage else ""
         peaks = spectral_peaks(d["frequency"].values, d["amplitude"].values)
         peak_text = (", peaks at " + ", ".join(f"{v:.3g}" for v in peaks) + " x f_mesh") if peaks else ""
         lines.append(f"Ours, {case}: {vocabulary.label_name(n)}{how}{peak_text}.")

@@ -61,7 +61,7 @@ def plot_bifurcation(cube: xr.Dataset, title: str, state: str = "x_vh") -> Figur
                 for c in np.unique(lab)
             ]
             ax.legend(handles=handles, loc="upper right", fontsize=6, ncol=min(6, len(handles)), framealpha=0.7)
-            div = cube["diverged"].sel(case=case, direction=direction).values == 1
+            div = lab == LABELS["diverged"]
             if div.any():
                 ax.plot(xv[div], np.zeros(div.sum()), "|", color="k")
             label = f"({chr(97 + i)}) {case}" if len(cases) > 1 else case
@@ -91,7 +91,7 @@ def plot_points(ds: xr.Dataset, title: str, fmax: float = 3.0) -> Figure:
     for i, case in enumerate(cases):
         d = ds.sel(case=case)
         ax_t, ax_p, ax_s = axes[i]
-        if int(d["diverged"]) == 1:
+        if int(d["label"]) == LABELS["diverged"]:
             ax_t.text(0.5, 0.5, "diverged", ha="center", transform=ax_t.transAxes, color="r")
         ax_t.plot(d["x_vh"], d["v_vh"], lw=0.4, color="k")
         ax_t.set(xlabel=_LABELS["x_vh"], ylabel=_LABELS["v_vh"])

@@ -32,7 +32,7 @@ def _num(name: str, long_name: str, fill: Json = np.nan, dtype: DTypeLike | None
     return Var(name, (), "1", long_name, dtype=dtype, fill=fill)
 
 
-def _flag(name: str, codes: dict[str, int], long_name: str, fill: int = -1) -> Var:
+def _flag(name: str, codes: dict[str, int], long_name: str, fill: int = vocabulary.NOT_COMPUTED) -> Var:
     return Var(name, (), None, long_name, flags=codes, fill=fill)
 
 
@@ -83,7 +83,11 @@ VERDICT = _table(
         {"not_applicable": -1, "one_agrees": 0, "both_agree": 1},
         "0-1 test and spectrum agree with the label",
     ),
-    _flag("stage", {"not_computed": 0, **STAGES}, "labeller stage that decided the label (geardyn.label)", 0),
+    _flag(
+        "stage",
+        {"not_computed": vocabulary.NOT_COMPUTED, **STAGES},
+        "labeller stage that decided the label (geardyn.label)",
+    ),
     _flag(
         "bifurcation",
         BIFURCATIONS,
@@ -112,8 +116,9 @@ VARIABLES = _table(
     *RESPONSE.values(),
     _flag(
         "impact_class",
-        {"not_computed_or_diverged": -1, **IMPACT_CLASSES},
-        "impact class: no impact, single-sided (separation, never back-side contact), double-sided (back-side contact)",
+        {"not_computed": vocabulary.NOT_COMPUTED, **IMPACT_CLASSES},
+        "impact class: no impact, single-sided (separation, never back-side contact), double-sided (back-side "
+        "contact); not computed where the run diverged (label)",
     ),
     # policy coexistence: the fixed start's label and whether it differs
     label_var("label_fixed", "motion label from the fixed start (the static deflection)"),
@@ -130,7 +135,6 @@ VARIABLES = _table(
         -1,
         np.int32,
     ),
-    _flag("diverged", {"not_computed": -1, "bounded": 0, "diverged": 1}, "unbounded growth detected"),
     _flag("computed", {"absent": 0, "present": 1}, "1 where this file holds the point", 0),
     # a sweep's own (besides the Poincare sections and the coefficients)
     _num("diverged_period", "mesh period at which the state exceeded the threshold (-1: never)", -1, np.int32),

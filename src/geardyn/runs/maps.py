@@ -96,8 +96,7 @@ def layout(design: KHVDesign, spec: MapSpec, chunk: int) -> study.Layout:
         for j in chunk_rows(spec, chunk):
             yield [((j, i), point_coefficients(design, spec, xs[i], ys[j], bases[i])) for i in range(spec.x.num)]
 
-    diverged = "unbounded growth detected"
-    return study.Layout(dims, shape, lines(), diverged=diverged, computed=True, own=own, store_own=_store)
+    return study.Layout(dims, shape, lines(), computed=True, own=own, store_own=_store)
 
 
 def _store(arrays: dict[str, np.ndarray], idx: study.Index, system: System, v: Verdict) -> None:

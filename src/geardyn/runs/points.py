@@ -54,7 +54,6 @@ def dense_point(
     values["section"] = np.arange(res.poincare.shape[0])
     attrs = {f"coef_{k}": (float(v) if not isinstance(v, str) else v) for k, v in coeffs.as_dict().items()}
     attrs.update({f"override_{k}": float(v) for k, v in overrides.items()})
-    attrs["diverged"] = int(res.diverged)
     attrs.update(study.integration_attrs(settings))
     return io.dataset(VARIABLES, values, **attrs)
 
@@ -81,7 +80,7 @@ def dense_points(
         attrs = ds.attrs
         ds = ds.expand_dims(case=[label])
         for key, value in attrs.items():
-            if key.startswith(("coef_", "override_", "diverged")):
+            if key.startswith(("coef_", "override_")):
                 ds[key] = Var(key, "case", "1", f"point parameter {key}")([value])
         parts.append(ds)
     out = xr.concat(

@@ -341,8 +341,7 @@ def layout(design: KHVDesign, spec: ProbabilitySpec, chunk: int, table: Samples)
         ]
         lines.append(study.damped(line, f"probabilities {spec.name}"))
         starts.append(line[0][1].static_state() + table.values[i, k:] if spec.box else None)
-    diverged = "unbounded growth detected"
-    return study.Layout(("sample", spec.dim), (n, len(axis)), lines, diverged=diverged, computed=True, starts=starts)
+    return study.Layout(("sample", spec.dim), (n, len(axis)), lines, computed=True, starts=starts)
 
 
 def coordinates(spec: ProbabilitySpec, n: int) -> dict[str, Json]:

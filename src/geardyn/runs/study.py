@@ -19,7 +19,7 @@ from geardyn import label  # label.label_lines on first use: the workflow's DAG 
 from geardyn.jsontypes import Json
 from geardyn.khv import point
 from geardyn.khv.design import KHVDesign, resolve_fractions
-from geardyn.label import Policy, Verdict
+from geardyn.label import Policy, Verdict, vocabulary
 from geardyn.label.compare import same
 from geardyn.label.policy import Same
 from geardyn.runs.cube import COMMON, RESPONSE, VERDICT, VERDICT_FIELDS, empty
@@ -122,15 +122,13 @@ class Layout:
 
     ``lines``: the lines of points, each point its index in the arrays and its system; consumed once, by
     :func:`run` (which times building them).  ``dims`` and ``shape``: of the per-point arrays.  Which common
-    variables the study keeps: ``diverged`` (the flag's long name; empty: none), ``transient`` (``transient_used``)
-    and ``computed`` (a chunk's flag of the points it holds).  ``own``: the study's own per-point variables,
-    written by ``store_own(arrays, index, system, verdict)``.  ``starts``: each line's start (None: the static
-    deflection; :func:`geardyn.label.label_lines`)."""
+    variables the study keeps: ``transient`` (``transient_used``) and ``computed`` (a chunk's flag of the points it
+    holds).  ``own``: the study's own per-point variables, written by ``store_own(arrays, index, system,
+    verdict)``.  ``starts``: each line's start (None: the static deflection; :func:`geardyn.label.label_lines`)."""
 
     dims: tuple[str, ...]
     shape: tuple[int, ...]
     lines: Iterable[Sequence[tuple[Index, System]]]
-    diverged: str = ""
     transient: bool = True
     computed: bool = False
     own: Variables = field(default_factory=dict)
@@ -187,15 +185,11 @@ def damped(line: list[tuple[Index, S]], what: str) -> list[tuple[Index, S]]:
 
 def variables(layout: Layout, policy: Policy) -> Variables:
     """The empty per-point variables of a study (:func:`geardyn.runs.cube.empty`): the verdict's and the response
-    measures, the fixed start's label and the ``coexisting`` flag with the policy's ``coexistence``,
-    ``diverged``, the layout's own, ``transient_used`` and ``computed``, as the layout keeps them."""
+    measures, the fixed start's label and the ``coexisting`` flag with the policy's ``coexistence``, the
+    layout's own, ``transient_used`` and ``computed``, as the layout keeps them."""
     dims, shape = layout.dims, layout.shape
-    names = [
-        *COMMON,
-        *(("label_fixed", "coexisting") if policy.coexistence else ()),
-        *(["diverged"] * bool(layout.diverged)),
-    ]
-    data = {**empty(names, dims, shape, policy.classifier.max_n, diverged=layout.diverged), **layout.own}
+    names = [*COMMON, *(("label_fixed", "coexisting") if policy.coexistence else ())]
+    data = {**empty(names, dims, shape, policy.classifier.max_n), **layout.own}
     tail = [name for name, keep in (("transient_used", layout.transient), ("computed", layout.computed)) if keep]
     return data | empty(tail, dims, shape)
 
@@ -210,7 +204,7 @@ def store(
 ) -> None:
     """Write one point into the arrays of :func:`variables`: its verdict, its response measures, with ``fixed``
     (policy ``coexistence``) the fixed start's label and whether the two differ (tolerances ``tol``), and the
-    divergence, transient and computed flag where the study keeps them."""
+    transient and computed flag where the study keeps them."""
     a = arrays
     a["label"][idx] = v.label
     for name, attr in VERDICT_FIELDS.items():
@@ -218,10 +212,10 @@ def store(
         a[name][idx] = VERDICT[name].flags[value] if isinstance(value, str) else value  # type: ignore[index]  # flags
     for name in RESPONSE:
         a[name][idx] = getattr(r, name)
-    a["impact_class"][idx] = IMPACT_CLASSES.get(r.impact_class, -1)
+    a["impact_class"][idx] = IMPACT_CLASSES.get(r.impact_class, vocabulary.NOT_COMPUTED)
     if fixed is not None:
         a["label_fixed"][idx], a["coexisting"][idx] = fixed.label, int(not same(v, fixed, tol))
-    for name, value in (("diverged", int(v.diverged)), ("transient_used", v.transient_used), ("computed", 1)):
+    for name, value in (("transient_used", v.transient_used), ("computed", 1)):
         if name in a:
             a[name][idx] = value
 

@@ -91,8 +91,7 @@ def layout(design: KHVDesign, spec: SweepSpec, chunk: int, policy: Policy) -> st
         [((case, d, j), point.point_coefficients(design, point_overrides(spec, case, values[j]))) for j in order]
         for case, d, order in chunk_work(spec, chunk)
     )
-    diverged = "unbounded growth detected (parametric instability)"
-    return study.Layout(dims, shape, lines, diverged=diverged, computed=True, own=own, store_own=_store)
+    return study.Layout(dims, shape, lines, computed=True, own=own, store_own=_store)
 
 
 def _store(arrays: dict[str, np.ndarray], idx: study.Index, system: System, v: Verdict) -> None:
@@ -113,7 +112,7 @@ def run_chunk(design: KHVDesign, spec: SweepSpec, chunk: int) -> xr.Dataset:
     policy = spec.policy(design)
     result = study.run(layout(design, spec, chunk, policy), policy, f"{spec.name} chunk {chunk}")
     data = result.data
-    first = (*STATES, "diverged", "diverged_period", "n_events", "transient_used")  # the cube's order of variables
+    first = (*STATES, "diverged_period", "n_events", "transient_used")  # the cube's order of variables
     data = {**{name: data[name] for name in first}, **data}
     coords = (
         Var("case", "case", None, "case (fixed overrides)"),
