@@ -276,9 +276,27 @@ def _label_codes(names: set[str]) -> list[int]:
     return out
 
 
-#: :func:`growth_check`: the long run's findings (the ending of a run carried with a tangent vector is
-#: read by :func:`ending` instead of "bounded")
+#: :func:`growth_check`: the long run's findings ("bounded late": its envelope reaches its final level only after the
+#: labeller's record cap)
 FINDINGS = ("diverged", "still growing", "bounded late", "bounded")
+
+#: :func:`settled_at`: blocks of the long run, and the envelope's tolerance about its final level
+SETTLE_BLOCKS, SETTLE_TOL = 80, 0.1
+
+
+def settled_at(poincare: np.ndarray) -> int:
+    """The period from which a bounded run's envelope stays within :data:`SETTLE_TOL` of its final level: the
+    amplitude of each point is its distance (max norm) from the median of the run's newest half, over that half's
+    size (the largest standard deviation of a component); each of :data:`SETTLE_BLOCKS` blocks has its largest
+    amplitude as envelope; the final level is the median envelope of the newest half's blocks."""
+    p = np.asarray(poincare, dtype=float)
+    newest = p[p.shape[0] // 2 :]
+    size = float(np.max(newest.std(axis=0))) or 1.0
+    amp = np.max(np.abs(p - np.median(newest, axis=0)), axis=1) / size
+    length = p.shape[0] // SETTLE_BLOCKS
+    env = amp[p.shape[0] - SETTLE_BLOCKS * length :].reshape(SETTLE_BLOCKS, length).max(axis=1)
+    off = np.flatnonzero(np.abs(env / np.median(env[SETTLE_BLOCKS // 2 :]) - 1.0) > SETTLE_TOL)
+    return int(off[-1] + 1) * length + p.shape[0] - SETTLE_BLOCKS * length if off.size else 0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -352,17 +370,18 @@ def _study_lines(config: dict, root: Path, dname: str, kind: str, name: str) -> 
     )
 
 
-def _finding(r, system, policy, periods: int) -> tuple[str, int, str, str]:
-    """What a long run ``r`` of ``system`` shows: one of :data:`FINDINGS` ("bounded late": no trend over its
-    newest half, growing over its oldest, by the growth test of ``policy``), the least period of a bounded run
-    (rule 3 up to the long search's reach ``long_max_n``, on its newest 3 ``long_max_n`` periods; 0: none), what
-    :func:`ending` reads where the run carried a tangent vector ("" otherwise), and the detail in words."""
+def _finding(r, system, policy, periods: int, cap: int) -> tuple[str, int, str, str]:
+    """What a long run ``r`` of ``system`` shows: one of :data:`FINDINGS` ("still growing": the growth test of
+    ``policy`` on its newest half; "bounded late": its envelope settles (:func:`settled_at`) after the record cap
+    ``cap``), the least period of a bounded run (rule 3 up to the long search's reach ``long_max_n``, on its newest
+    3 ``long_max_n`` periods; 0: none), what :func:`ending` reads where the run carried a tangent vector (""
+    otherwise), and the detail in words."""
     from geardyn.label.growth import growth_test  # noqa: PLC0415
 
     if r.diverged:
         return "diverged", 0, "diverged", f"diverges in period {r.diverged_period}"
     half = periods // 2
-    last, first = growth_test(r.poincare[-half:], policy.growth), growth_test(r.poincare[:half], policy.growth)
+    last = growth_test(r.poincare[-half:], policy.growth)
     if last.growing:
         return "still growing", 0, "", f"newest {half} periods: {last.describe()}"
     cs = policy.classifier
@@ -370,8 +389,9 @@ def _finding(r, system, policy, periods: int) -> tuple[str, int, str, str]:
     n = indicators.strict_period(tail, dataclasses.replace(cs, max_n=cs.long_max_n))
     end = ending(tail, r.growth, system.period, cs)[0] if r.growth is not None and r.growth.size else ""
     cycle = f"a cycle of period {n}" if n else f"no cycle up to {cs.long_max_n}"
-    trend = "growing" if first.growing else "no trend"
-    return ("bounded late" if first.growing else "bounded"), n, end, f"{cycle}; oldest {half} periods: {trend}"
+    at = settled_at(r.poincare)
+    settle = f"envelope within {100 * SETTLE_TOL:.0f} % of its final level from period {at} (cap {cap})"
+    return ("bounded late" if at > cap else "bounded"), n, end, f"{cycle}; {settle}"
 
 
 def _consistent(label: int, period: int, finding: str, n: int, end: str) -> bool | None:
@@ -500,7 +520,8 @@ def growth_check(
             t1 = time.perf_counter()
             runs = simulate_batch(systems, s, [starts[c] for c in part], tangent_periods=periods if tangent else 0)
             for c, sy, r in zip(part, systems, runs, strict=True):
-                found[c] = _finding(r, sy, studies[c.line[0]][0].policy, periods)
+                pol = studies[c.line[0]][0].policy
+                found[c] = _finding(r, sy, pol, periods, pol.classifier.torus_max_periods)
             log(f"{len(found)} of {len(picks)} long runs ({time.perf_counter() - t1:.0f} s for {len(part)})")
     rows_out = []
     tally: dict[tuple[str, str, str], list[int]] = {}

@@ -9,11 +9,12 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from benchmarks.long_run import _consistent, _finding
+from benchmarks.long_run import _consistent, _finding, settled_at
 from geardyn.label import indicators, vocabulary
 from geardyn.label.policy import GrowthSettings
 
 N = 4000  # periods of each constructed record; the reading uses its two halves of 2000
+CAP = 1000  # the labeller's record cap the reading compares with
 L = vocabulary.LABELS
 #: the reading's part of the labeller's policy: the growth test and rule 3's numbers, as the default build's
 POLICY = SimpleNamespace(growth=GrowthSettings(), classifier=indicators.ClassifierSettings())
@@ -35,8 +36,10 @@ CASES = {
     "growing": (np.exp(np.log(1.2) / (N / 2) * np.arange(N)), GOLDEN, "still growing", 0),
     # a torus: constant radius, irrational rotation
     "torus": (np.ones(N), GOLDEN, "bounded", 0),
-    # growing by 40 % over the oldest half, constant over the newest
+    # growing by 40 % over the oldest half, constant over the newest: it settles after the cap (1000)
     "late": (np.minimum(np.exp(np.log(1.4) / (N / 2) * np.arange(N)), 1.4), GOLDEN, "bounded late", 0),
+    # growing by 40 % over the first 500 periods: it settles before the cap
+    "early": (np.minimum(np.exp(np.log(1.4) / 500 * np.arange(N)), 1.4), GOLDEN, "bounded", 0),
     # a cycle of period 7 (rotation 2/7)
     "cycle": (np.ones(N), 2.0 / 7.0, "bounded", 7),
 }
@@ -45,12 +48,12 @@ CASES = {
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_the_long_run_reading(case):
     radius, rotation, want, period = CASES[case]
-    word, n, end, _ = _finding(_record(radius, rotation), SimpleNamespace(period=1.0), POLICY, N)
+    word, n, end, _ = _finding(_record(radius, rotation), SimpleNamespace(period=1.0), POLICY, N, CAP)
     assert (word, n, end) == (want, period, "")
 
 
 def test_a_diverged_run_and_the_verdicts_it_agrees_with():
-    word, n, end, detail = _finding(SimpleNamespace(diverged=True, diverged_period=7299), None, POLICY, N)
+    word, n, end, detail = _finding(SimpleNamespace(diverged=True, diverged_period=7299), None, POLICY, N, CAP)
     assert (word, detail) == ("diverged", "diverges in period 7299")
     assert _consistent(L["diverged"], 0, word, n, end) and _consistent(L["transient"], 0, word, n, end)
     assert not _consistent(L["quasi_periodic"], 0, word, n, end)
@@ -68,3 +71,12 @@ def test_which_verdicts_agree_with_a_bounded_run():
     assert _consistent(L["quasi_periodic"], 0, "bounded", 0, "torus")
     assert _consistent(L["quasi_periodic"], 0, "bounded", 0, "") is None
     assert not _consistent(L["chaotic"], 0, "still growing", 0, "")
+
+
+def test_the_period_a_growing_run_settles_at():
+    # radius 1.4^(k/2000) up to 1.4: within 10 % of 1.4 (above 0.9 x 1.4) from k = 2000 ln 1.26 / ln 1.4 = 1374,
+    # read to a block of 50 periods
+    radius = CASES["late"][0]
+    want = 2000.0 * math.log(0.9 * 1.4) / math.log(1.4)
+    got = settled_at(_record(radius, GOLDEN).poincare)
+    assert abs(got - want) <= N / 80
