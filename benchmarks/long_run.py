@@ -438,7 +438,13 @@ def changed_points(config_path: Path, old: Path, new: Path) -> tuple[list[_Chang
                 if not moved.size:
                     continue
                 key = f"{dname}/{kind}/{name}"
-                studies[key] = (_study_lines(config, root, dname, kind, name), x["label"].values)
+                same = np.ones(x["label"].shape, bool)  # the point's record alike in both builds (its state)
+                for v in ("final_state", "x_dh", "lyapunov", "dte_rms"):
+                    if v in x and v in y:
+                        a_, b_ = x[v].values, y[v].values
+                        eq = (a_ == b_) | (np.isnan(a_) & np.isnan(b_))
+                        same &= eq.reshape(*same.shape, -1).all(axis=-1)
+                studies[key] = (_study_lines(config, root, dname, kind, name), x["label"].values, same)
                 for idx in map(tuple, moved.tolist()):
                     line, pos = studies[key][0].where(idx)
                     before = (int(x["label"].values[idx]), int(x["period"].values[idx]))
@@ -463,8 +469,10 @@ def growth_check(
     test off, as the line goes on from the verdict before the test; the static deflection for a line's first
     point or after a diverged one).  Every changed point of the sweeps and frequency responses, a uniform
     random sample of ``map_points`` per map (``seed``).  The long run shows :data:`FINDINGS`; a verdict holds
-    as :func:`_consistent` says.  Returns the tables per study and per label move, with the share held and its
-    95 % Clopper-Pearson interval; ``csv``: the per-point list."""
+    as :func:`_consistent` says.  The start is the new build's where the previous point's record (its final state,
+    Poincare section, exponent and RMS DTE as stored) is alike in both builds; elsewhere (a chaotic line after a
+    changed point) the check tests the old start.  Returns the tables per study and per label move, with the share
+    held and its 95 % Clopper-Pearson interval; ``csv``: the per-point list."""
     from scipy import stats  # noqa: PLC0415
 
     from geardyn.label.policy import GrowthSettings  # noqa: PLC0415
@@ -484,7 +492,8 @@ def growth_check(
     # the follow starts: each line labelled again up to its last picked point, with the growth test off
     starts: dict[_Changed, Any] = {}
     relabelled = [0, 0]  # previous points labelled again, of them with the old build's label
-    for key, (study, old_labels) in studies.items():
+    alike: dict[_Changed, bool] = {}  # the previous point's record alike in both builds: the new build's start
+    for key, (study, old_labels, same) in studies.items():
         lines: dict[tuple, int] = {}
         for c in picks:
             if c.line[0] == key and c.position > 0:
@@ -500,6 +509,7 @@ def growth_check(
                 continue
             prev = verdicts[c.line][c.position - 1] if c.position > 0 else None
             starts[c] = None if prev is None or prev.diverged else prev.final_state
+            alike[c] = prev is None or bool(same[study.index(c.line[1:], c.position - 1)])
             if prev is not None:
                 relabelled[0] += 1
                 relabelled[1] += prev.label == int(old_labels[study.index(c.line[1:], c.position - 1)])
@@ -530,15 +540,16 @@ def growth_check(
         ok_new = _consistent(*c.new, word, n, end)
         ok_old = _consistent(*c.old, word, n, end)
         old_name, new_name = vocabulary.short_name(c.old[0]), vocabulary.short_name(c.new[0])
-        rows_out.append(
-            (c.design, c.study, " ".join(map(str, c.index)), old_name, new_name, word, end, detail, ok_new, ok_old)
-        )
-        t = tally.setdefault((c.design, c.study, f"{old_name} -> {new_name}"), [0, 0, 0])
+        where = (c.design, c.study, " ".join(map(str, c.index)))
+        rows_out.append((*where, old_name, new_name, word, end, detail, ok_new, ok_old, alike[c]))
+        t = tally.setdefault((c.design, c.study, f"{old_name} -> {new_name}"), [0, 0, 0, 0])
         t[0] += 1
         t[1] += ok_new is True
         t[2] += ok_old is True
+        t[3] += alike[c]
     if csv is not None:
-        header = "design,study,index,old_label,new_label,long_run,ending,detail,new_consistent,old_consistent\n"
+        header = "design,study,index,old_label,new_label,long_run,ending,detail,new_consistent,old_consistent,"
+        header += "start_as_new_build\n"
         body = "".join(
             ",".join(f'"{v}"' if isinstance(v, str) and "," in v else str(v) for v in r) + "\n" for r in rows_out
         )
@@ -548,7 +559,7 @@ def growth_check(
         lo, hi = stats.binomtest(k, n).proportion_ci(0.95) if n else (math.nan, math.nan)
         return f"{k} of {n} ({100 * k / n:.0f} %, {100 * lo:.0f}-{100 * hi:.0f} %)"
 
-    cells = [(*k, *(share(v[i], v[0]) for i in (1, 2))) for k, v in sorted(tally.items())]
+    cells = [(*k, *(share(v[i], v[0]) for i in (1, 2)), v[3]) for k, v in sorted(tally.items())]
     counts = {}
     for r in rows_out:
         counts.setdefault((r[0], r[1], f"{r[3]} -> {r[4]}"), dict.fromkeys(FINDINGS, 0))[r[5]] += 1
@@ -560,7 +571,7 @@ def growth_check(
         f"the old build's label at {relabelled[1]} of {relabelled[0]}; "
         f"{time.perf_counter() - t0:.0f} s).\n\n"
     )
-    header = ("design", "study", "move", "new verdict holds (95 % CI)", "old verdict holds", *FINDINGS)
-    body = markdown_table(header, cells, "---rr" + "r" * len(FINDINGS)) + "\n"
+    header = ("design", "study", "move", "new verdict holds (95 % CI)", "old verdict holds", "start as new", *FINDINGS)
+    body = markdown_table(header, cells, "---rrr" + "r" * len(FINDINGS)) + "\n"
     log(head + body)
     return head + body
