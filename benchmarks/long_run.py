@@ -438,19 +438,29 @@ def changed_points(config_path: Path, old: Path, new: Path) -> tuple[list[_Chang
                 if not moved.size:
                     continue
                 key = f"{dname}/{kind}/{name}"
-                same = np.ones(x["label"].shape, bool)  # the point's record alike in both builds (its state)
+                # drift: a periodic point whose label stays but whose record (its orbit) differs between the builds
+                same = np.ones(x["label"].shape, bool)
                 for v in ("final_state", "x_dh", "lyapunov", "dte_rms"):
                     if v in x and v in y:
                         a_, b_ = x[v].values, y[v].values
                         eq = (a_ == b_) | (np.isnan(a_) & np.isnan(b_))
                         same &= eq.reshape(*same.shape, -1).all(axis=-1)
-                studies[key] = (_study_lines(config, root, dname, kind, name), x["label"].values, same)
+                drift = ~same & (x["label"].values == y["label"].values) & (y["period"].values > 0)
+                studies[key] = (_study_lines(config, root, dname, kind, name), x["label"].values, drift)
                 for idx in map(tuple, moved.tolist()):
                     line, pos = studies[key][0].where(idx)
                     before = (int(x["label"].values[idx]), int(x["period"].values[idx]))
                     after = (int(y["label"].values[idx]), int(y["period"].values[idx]))
                     out.append(_Changed(dname, f"{kind}/{name}", idx, before, after, (key, *line), pos))
     return out, studies
+
+
+def new_build_start(study: _Study, drift: np.ndarray, c: _Changed) -> bool:
+    """Whether the follow start of ``c`` labelled again is the new build's: no periodic point before it on its line
+    keeps its label on another orbit (``drift``: label alike, record unlike).  A point whose record grew hands the
+    line the verdict before the growth test (``Point.handed``), whatever it ends on; a periodic point on another
+    orbit (another point of the same cycle within the shooting tolerance) does not."""
+    return not any(drift[study.index(c.line[1:], q)] for q in range(c.position))
 
 
 def growth_check(
@@ -469,9 +479,10 @@ def growth_check(
     test off, as the line goes on from the verdict before the test; the static deflection for a line's first
     point or after a diverged one).  Every changed point of the sweeps and frequency responses, a uniform
     random sample of ``map_points`` per map (``seed``).  The long run shows :data:`FINDINGS`; a verdict holds
-    as :func:`_consistent` says.  The start is the new build's where the previous point's record (its final state,
-    Poincare section, exponent and RMS DTE as stored) is alike in both builds; elsewhere (a chaotic line after a
-    changed point) the check tests the old start.  Returns the tables per study and per label move, with the share
+    as :func:`_consistent` says.  The start is the new build's where no earlier periodic point of the line keeps its
+    label with another record (its final state, Poincare section, exponent and RMS DTE as stored,
+    :func:`new_build_start`); elsewhere (a line that goes on from another point of the same orbit) the check tests
+    the old build's start.  Returns the tables per study and per label move, with the share
     held and its 95 % Clopper-Pearson interval; ``csv``: the per-point list."""
     from scipy import stats  # noqa: PLC0415
 
@@ -493,7 +504,7 @@ def growth_check(
     starts: dict[_Changed, Any] = {}
     relabelled = [0, 0]  # previous points labelled again, of them with the old build's label
     alike: dict[_Changed, bool] = {}  # the previous point's record alike in both builds: the new build's start
-    for key, (study, old_labels, same) in studies.items():
+    for key, (study, old_labels, drift) in studies.items():
         lines: dict[tuple, int] = {}
         for c in picks:
             if c.line[0] == key and c.position > 0:
@@ -509,7 +520,7 @@ def growth_check(
                 continue
             prev = verdicts[c.line][c.position - 1] if c.position > 0 else None
             starts[c] = None if prev is None or prev.diverged else prev.final_state
-            alike[c] = prev is None or bool(same[study.index(c.line[1:], c.position - 1)])
+            alike[c] = new_build_start(study, drift, c)
             if prev is not None:
                 relabelled[0] += 1
                 relabelled[1] += prev.label == int(old_labels[study.index(c.line[1:], c.position - 1)])
@@ -566,9 +577,9 @@ def growth_check(
     cells = [(*c, *counts[c[:3]].values()) for c in cells]
     head = (
         f"{len(picks)} of the {len(points)} points whose label differs between {old} and {new} (all of the sweeps' "
-        f"and responses', a random {map_points} of each map's, seed {seed}), each run {periods} mesh periods by the "
-        f"plain RK4 integrator from its follow start (the previous points labelled again with the growth test off keep "
-        f"the old build's label at {relabelled[1]} of {relabelled[0]}; "
+        f"and responses', of each map's all or a random {map_points}, seed {seed}), each run {periods} mesh periods "
+        f"by the plain RK4 integrator from its follow start (the previous points labelled again with the growth test "
+        f"off keep the old build's label at {relabelled[1]} of {relabelled[0]}; "
         f"{time.perf_counter() - t0:.0f} s).\n\n"
     )
     header = ("design", "study", "move", "new verdict holds (95 % CI)", "old verdict holds", "start as new", *FINDINGS)
