@@ -49,7 +49,8 @@ from geardyn.io import provenance
 
 def main_speed(argv: list[str]) -> int:
     """``throughput`` (follow against fixed starts, kernel, DOP853), ``labels`` (the labels of two builds'
-    cubes compared), ``check`` (random map points run long from their follow start), ``circles`` (the
+    cubes compared), ``check`` (random map points run long from their follow start), ``growth`` (the points whose
+    label moved between two builds run long from their follow start), ``circles`` (the
     invariant circles of the non-periodic labels of random map rows) and ``curves`` (a map's regime
     boundaries against the map itself) modes."""
     ap = argparse.ArgumentParser(prog=f"python -m benchmarks.bench {argv[0]}")
