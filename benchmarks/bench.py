@@ -1,5 +1,7 @@
 """Run the benchmarks: ``python -m benchmarks.bench [--out DIR] [--quick]`` (work precision),
-``python -m benchmarks.bench throughput|labels|check ...`` (see ``--help`` of each),
+``python -m benchmarks.bench throughput|labels|check ...`` (see ``--help`` of each), ``python -m benchmarks.bench
+growth --old OLD --new NEW [--points 300] [--csv FILE]`` (the points whose label moved between two builds, run
+20 000 periods from their follow start),
 ``python -m benchmarks.bench curves [--map map_x1_b] [--rows 10]`` (a map's regime boundaries against the map),
 ``python -m benchmarks.bench coverage [--new results]`` (the coverage of the frequency response's RMS error bars),
 ``python -m benchmarks.bench probabilities`` (256 samples x 100 points of a probabilities study against map_x1_b),
@@ -47,7 +49,8 @@ from geardyn.io import provenance
 
 def main_speed(argv: list[str]) -> int:
     """``throughput`` (follow against fixed starts, kernel, DOP853), ``labels`` (the labels of two builds'
-    cubes compared), ``check`` (random map points run long from their follow start), ``circles`` (the
+    cubes compared), ``check`` (random map points run long from their follow start), ``growth`` (the points whose
+    label moved between two builds run long from their follow start), ``circles`` (the
     invariant circles of the non-periodic labels of random map rows) and ``curves`` (a map's regime
     boundaries against the map itself) modes."""
     ap = argparse.ArgumentParser(prog=f"python -m benchmarks.bench {argv[0]}")
@@ -61,7 +64,8 @@ def main_speed(argv: list[str]) -> int:
         nargs="*",
         help="labels: cubes (design/sweeps|maps/name) whose differing points are labelled again from the fixed start",
     )
-    ap.add_argument("--points", type=int, default=200, help="check: random map points")
+    ap.add_argument("--points", type=int, default=200, help="check: random map points; growth: per map")
+    ap.add_argument("--csv", type=Path, default=None, help="growth: the per-point list written here")
     ap.add_argument("--gap", type=int, default=1000, help="coverage: mesh periods between the two records")
     ap.add_argument("--periods", type=int, default=20000, help="check: mesh periods of each long run")
     ap.add_argument("--map", default=None, help="check, circles: the regime map (map_x1_b, map_x1_e)")
@@ -106,6 +110,9 @@ def main_speed(argv: list[str]) -> int:
         )
     elif argv[0] == "coverage":
         md = "# Coverage of the RMS error bars\n\n" + coverage.coverage_check(a.config, a.new, gap=a.gap, log=log)
+    elif argv[0] == "growth":
+        md = "# Independent check: the points whose label moved, run long from their follow start\n\n"
+        md += long_run.growth_check(a.config, a.old, a.new, map_points=a.points, periods=a.periods, log=log, csv=a.csv)
     elif a.sweeps is not None:
         md = "# Independent check: long runs from the sweeps' stored points\n\n" + long_run.sweep_check(
             a.config,
@@ -198,7 +205,7 @@ def main(argv: list[str] | None = None) -> int:
         return main_ledger(argv[1:])
     if argv and argv[0] == "stages":
         return main_stages(argv[1:])
-    speed = ("throughput", "labels", "check", "circles", "curves", "coverage", "probabilities", "classes")
+    speed = ("throughput", "labels", "check", "growth", "circles", "curves", "coverage", "probabilities", "classes")
     if argv and argv[0] in speed:
         return main_speed(argv)
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench", description=work_precision.__doc__.splitlines()[0])
