@@ -20,6 +20,7 @@ from _paper import li2013_parameters
 from geardyn.khv import design, model, point
 from geardyn.khv.model import Options, dimensionless
 from geardyn.solve import SimulationSettings, simulate
+from geardyn.solve.base import LAYOUT
 
 # Paper design at M and N: eps and the ISO k_C rounded (docs/paper1.md, "M and N lie on G_s = 0" and
 # "Mesh stiffness"); not computed here
@@ -121,6 +122,40 @@ def test_copies_share_the_static_balance_only_where_it_cannot_change():
         assert "_static_balance" not in copy.__dict__
         assert copy.static_state().tobytes() == model.static_deflection(dataclasses.replace(c, **changes)).tobytes()
         assert not np.array_equal(copy.static_state(), c.static_state())
+
+
+def test_fresh_instances_met_in_turn_each_get_the_equilibrium_of_their_own_loads_and_masses():
+    """Static deflections of fresh instances (no shared balance) that alternate between two loads and two
+    planet masses: each is the rest point of its own equations (residual of the 3-DOF right-hand side at rest,
+    mean stiffness, no TE: round-off only, values O(100)), whichever instance came before."""
+    c = dimensionless(P416, Options(stiffness_mode="mean", transmission_error=False))
+    changes = [{"P_L": c.P_L}, {"P_L": 1.5 * c.P_L}, {"mu_V": 1.2 * c.mu_V}, {"P_L": c.P_L, "e": 0.0}]
+    for k in range(12):
+        fresh = dataclasses.replace(c, **changes[k % len(changes)])
+        assert np.abs(oracle.rhs3(fresh, 0.0, fresh.static_state())).max() < 1e-12
+
+
+@pytest.mark.parametrize("backlash", [True, False])
+def test_the_kernel_array_holds_the_equations_terms_at_their_layout_places(backlash):
+    """The accelerations written from the kernel array read by the names of LAYOUT (K21 the x1 term of row 2,
+    G3 the mesh force's in row 3, ...) are those of the model's equations (oracle right-hand side, from the
+    coefficients' matrices) at random states: round-off only (values O(100))."""
+    c = dimensionless(P835, Options(backlash=backlash))
+    k = dict(zip(LAYOUT, c.kernel_array(), strict=True))
+    assert (k["B"], k["BACKLASH_ON"], k["EPS"], k["T"]) == (c.b, float(backlash), c.eps, c.period)
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        tau, y = float(rng.uniform(0.0, 10.0)), rng.normal(0.0, 3.0, 6)
+        (x1, x2, x3), (v1, v2, v3) = y[:3], y[3:]
+        b = k["B"] if backlash else 0.0
+        fm = float(c.kappa(tau / k["T"])) * (x2 - min(max(x2, -b), b)) + k["CM"] * v2
+        te = k["TE"] * math.sin(2.0 * math.pi * tau / k["T"] + k["PHI"])
+        a = [
+            k["P1"] - k["K11"] * x1 - k["C11"] * v1 - k["G1"] * fm,
+            -k["K21"] * x1 - k["C21"] * v1 - k["K23"] * x3 - k["C23"] * v3 - fm + te,
+            k["P3"] - k["K33"] * x3 - k["C33"] * v3 - k["G3"] * fm,
+        ]
+        assert a == pytest.approx(oracle.rhs3(c, tau, y)[3:], rel=1e-12, abs=1e-10)
 
 
 @settings(max_examples=60 * EXAMPLE_SCALE, deadline=None)

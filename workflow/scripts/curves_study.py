@@ -1,5 +1,7 @@
 """Adapter: the regime boundaries of one `curves:` study (a plane of two parameters, no map) -> curves file."""
 
+import numba
+
 from geardyn import io
 from geardyn.io import logs, provenance
 from geardyn.khv import design, point
@@ -7,6 +9,7 @@ from geardyn.runs.continuation import boundaries, curve_maps
 from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
+numba.set_num_threads(snakemake.threads)  # the job's cores: idle OpenMP threads spin on the others
 drive = design.load(snakemake.input.design)
 entry = snakemake.params.spec
 name = snakemake.wildcards.study

@@ -1,6 +1,8 @@
 """Adapter: the regime boundaries of one map as curves, seeded along its cut lines and by its records, with the
 pixel check against the map -> curves file (netCDF)."""
 
+import numba
+
 from geardyn import io
 from geardyn.io import logs, provenance
 from geardyn.khv import design, point
@@ -9,6 +11,7 @@ from geardyn.runs.continuation import curve_maps
 from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
+numba.set_num_threads(snakemake.threads)  # the job's cores: idle OpenMP threads spin on the others
 drive = design.load(snakemake.input.design)
 entry = snakemake.params.spec
 spec = maps.MapSpec.from_config(snakemake.wildcards.map, entry, drive.name, drive.segment)

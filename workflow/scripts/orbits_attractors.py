@@ -1,5 +1,7 @@
 """Adapter: coexisting attractors and basin fractions at a subset of one sweep's points."""
 
+import numba
+
 from geardyn import io
 from geardyn.io import logs, provenance
 from geardyn.khv import design, point
@@ -7,6 +9,7 @@ from geardyn.runs import attractors, sweep
 from geardyn.solve import warm_up
 
 log = logs.to_file(snakemake.log[0])
+numba.set_num_threads(snakemake.threads)  # the job's cores: idle OpenMP threads spin on the others
 drive = design.load(snakemake.input.design)
 name = snakemake.wildcards.sweep
 entry = snakemake.params.spec

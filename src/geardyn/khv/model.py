@@ -159,7 +159,8 @@ class Coefficients:
 
         def shafts(dh: float, vl: float) -> np.ndarray:
             """The shaft terms (stiffness or damping) of the input (dh) and output (vl) shafts."""
-            return np.array([[dh / mu_DH, 0.0, 0.0], [dh / self.mu_H, 0.0, vl / self.mu_V], [0.0, 0.0, vl / mu_VL]])
+            t11, t21, t23, t33 = _shaft_terms(dh, vl, self.mu_H, self.mu_V, mu_DH, mu_VL)
+            return np.array([[t11, 0.0, 0.0], [t21, 0.0, t23], [0.0, 0.0, t33]])
 
         return {
             "K": shafts(self.k_DH, self.k_VL),
@@ -185,22 +186,38 @@ class Coefficients:
 
     @functools.cached_property
     def _static_balance(self) -> tuple[float, float, float]:
-        """(x1, x3, F) of :func:`static_deflection`, a function of :data:`_BALANCE_FIELDS` only."""
-        m = self.matrices()
-        K, g, p = (np.asarray(m[k]) for k in "Kgp")
-        A = np.array([[K[0, 0], 0.0, g[0]], [K[1, 0], K[1, 2], g[1]], [0.0, K[2, 2], g[2]]])
-        x1, x3, F = np.linalg.solve(A, p)
-        return float(x1), float(x3), float(F)
+        """(x1, x3, F) of :func:`static_deflection`, a function of :data:`_BALANCE_FIELDS` only: solved once
+        per distinct value of them (a continuation in b, e or w meets one, each step a new instance)."""
+        key = tuple(getattr(self, f) for f in _BALANCE_ORDER)
+        found = _BALANCES.get(key)
+        if found is None:
+            m = self.matrices()
+            K, g, p = (np.asarray(m[k]) for k in "Kgp")
+            A = np.array([[K[0, 0], 0.0, g[0]], [K[1, 0], K[1, 2], g[1]], [0.0, K[2, 2], g[2]]])
+            x1, x3, F = np.linalg.solve(A, p)
+            found = float(x1), float(x3), float(F)
+            if len(_BALANCES) >= 1024:
+                _BALANCES.clear()
+            _BALANCES[key] = found
+        return found
 
     @functools.cached_property
     def _kernel_array(self) -> np.ndarray:
-        m = self.matrices()
-        # LAYOUT names matrix entries by letter and 1-based indices: K21 is K[1, 0], G3 is g[2]
-        values = {f"{n}{i + 1}{j + 1}": np.asarray(m[n])[i, j] for n in "KC" for i in range(3) for j in range(3)}
-        values |= {f"{n.upper()}{i + 1}": np.asarray(m[n])[i] for n in "gp" for i in range(3)}
-        values |= {"CM": self.c_m, "B": self.b, "TE": self.te_forcing, "PHI": self.phi, "T": self.period}
-        values |= {"BACKLASH_ON": 1.0 if self.backlash_on else 0.0, "EPS": self.eps}
-        return np.array([values[name] for name in layout.LAYOUT], dtype=np.float64)
+        # the entries of matrices() by the same operations (the same bits), at their places in LAYOUT
+        mu_DH, mu_VL = self.mu_D * self.mu_H / (self.mu_D + self.mu_H), self.mu_V * self.mu_L / (self.mu_V + self.mu_L)
+        mu_H, mu_V, at = self.mu_H, self.mu_V, layout
+        a = np.empty(len(at.LAYOUT))
+        a[[at.K11, at.K21, at.K23, at.K33]] = _shaft_terms(self.k_DH, self.k_VL, mu_H, mu_V, mu_DH, mu_VL)
+        a[[at.C11, at.C21, at.C23, at.C33]] = _shaft_terms(self.c_DH, self.c_VL, mu_H, mu_V, mu_DH, mu_VL)
+        a[[at.G1, at.G3, at.P1, at.P3]] = 1.0 / mu_H, 1.0 / mu_V, self.P_D / self.mu_D, self.P_L / self.mu_L
+        a[[at.CM, at.B, at.TE, at.PHI, at.T]] = self.c_m, self.b, self.te_forcing, self.phi, self.period
+        a[[at.BACKLASH_ON, at.EPS]] = 1.0 if self.backlash_on else 0.0, self.eps
+        return a
+
+
+def _shaft_terms(dh: float, vl: float, mu_H: float, mu_V: float, mu_DH: float, mu_VL: float) -> tuple[float, ...]:
+    """The non-zero shaft terms of :meth:`Coefficients.matrices` (K or C): entries 11, 21, 23 and 33."""
+    return dh / mu_DH, dh / mu_H, vl / mu_V, vl / mu_VL
 
 
 #: Units and long names of the :class:`Coefficients` fields stored per point in sweep cubes.
@@ -272,6 +289,9 @@ def static_deflection(coeffs: Coefficients) -> np.ndarray:
 #: The fields of :class:`Coefficients` that the static force balance reads (the K, g and p of
 #: :meth:`Coefficients.matrices`).
 _BALANCE_FIELDS = frozenset({"mu_D", "mu_H", "mu_V", "mu_L", "k_DH", "k_VL", "P_D", "P_L"})
+_BALANCE_ORDER = tuple(sorted(_BALANCE_FIELDS))
+#: (x1, x3, F) of the static force balance per value of :data:`_BALANCE_ORDER` (emptied past 1024 entries)
+_BALANCES: dict[tuple, tuple[float, float, float]] = {}
 
 
 def natural_frequencies(coeffs: Coefficients) -> np.ndarray:

@@ -191,12 +191,11 @@ class SimulationResult:
 def divergence_limits(system: System, settings: SimulationSettings) -> np.ndarray:
     """|state_i| above which a run has diverged (6,): ``divergence_threshold`` times the larger of 1 and the
     static deflection (reasons: ``docs/numerics.md``)."""
-    static = np.abs(system.static_state())
-    if not np.all(np.isfinite(static)):
-        static = np.zeros(6)
-    scale = np.maximum(1.0, static)
-    scale[3:] = max(1.0, float(np.max(static[:3])))
-    return settings.divergence_threshold * scale
+    static = [abs(float(v)) for v in system.static_state()]
+    if not all(math.isfinite(v) for v in static):
+        static = [0.0] * 6
+    top = max(1.0, *static[:3])
+    return settings.divergence_threshold * np.array([*(max(1.0, v) for v in static[:3]), top, top, top])
 
 
 def static_mesh_force(system: System) -> float:

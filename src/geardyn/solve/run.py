@@ -36,8 +36,10 @@ def step_tables(system: System, n: int, aligned: bool = True):
     """Per-step tables of one mesh period (c, h, s, seg, kappa and TE at the 3 stage times, polys), cached
     per (system, n, aligned), read-only (``docs/numerics.md``)."""
     if aligned:  # the tables of simulate_batch: one lane
-        t = lane_tables([system], SimulationSettings(steps_per_period=n))
-        c, h, s, seg, tab_k, tab_p, poly = t.C[0], t.H[0], t.S[0], t.SEG[0], t.K[0], t.P[0], t.POLY[0]
+        c, poly = system.kernel_array(), system.stiffness_polys()
+        H, S, SEG, K, P = _empty_tables(1, n)
+        _batch.fill_tables(0, *_table_scalars(system), poly, n, H, S, SEG, K, P)
+        h, s, seg, tab_k, tab_p = H[0], S[0], SEG[0], K[0], P[0]
     else:
         c = system.kernel_array()
         poly = system.stiffness_polys()
@@ -165,18 +167,13 @@ def lane_tables(systems: Sequence[System], settings: SimulationSettings) -> Lane
     threshold): the arrays :func:`simulate_batch` builds on every call, built once."""
     L, n = len(systems), settings.steps_per_period
     C = np.empty((L, 19))
-    H = np.empty((L, n))
-    S = np.empty((L, n))
-    SEG = np.empty((L, n), np.int64)
-    K = np.empty((L, n, 3))
-    P = np.empty((L, n, 3))
+    H, S, SEG, K, P = _empty_tables(L, n)
     POLY = np.empty((L, 2, 3))
     for lane, system in enumerate(systems):
         if settings.aligned:
             C[lane] = system.kernel_array()
             POLY[lane] = system.stiffness_polys()
-            scalars = (float(v) for v in (system.eps, system.period, system.te_forcing, system.phi))
-            _batch.fill_tables(lane, *scalars, POLY[lane], n, H, S, SEG, K, P)
+            _batch.fill_tables(lane, *_table_scalars(system), POLY[lane], n, H, S, SEG, K, P)
         else:
             C[lane], H[lane], S[lane], SEG[lane], K[lane], P[lane], POLY[lane] = step_tables(system, n, False)
     limits = np.stack([divergence_limits(system, settings) for system in systems]) if L else np.empty((0, 6))
@@ -188,6 +185,17 @@ def _periods(lanes: Sequence[Lane], settings: SimulationSettings) -> tuple[np.nd
     ntr = [settings.transient_periods if q.transient_periods is None else q.transient_periods for q in lanes]
     nrec = [settings.recorded_periods if q.recorded_periods is None else q.recorded_periods for q in lanes]
     return np.asarray(ntr, dtype=np.int64), np.asarray(nrec, dtype=np.int64)
+
+
+def _empty_tables(L: int, n: int) -> tuple[np.ndarray, ...]:
+    """H, S, SEG (L, n) and K, P (L, n, 3), to be filled by :func:`geardyn.solve._batch.fill_tables`."""
+    return np.empty((L, n)), np.empty((L, n)), np.empty((L, n), np.int64), np.empty((L, n, 3)), np.empty((L, n, 3))
+
+
+def _table_scalars(system: System) -> tuple[float, float, float, float]:
+    """The scalars of a system's aligned step tables (:func:`geardyn.solve._batch.fill_tables`): contact ratio,
+    period, TE forcing amplitude and phase."""
+    return float(system.eps), float(system.period), float(system.te_forcing), float(system.phi)
 
 
 def _tangent_columns(

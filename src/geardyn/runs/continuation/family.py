@@ -74,14 +74,19 @@ class KHVFamily:
             d0 = at_nodes[0].as_dict()
             self._const = {k: v for k, v in d0.items() if not isinstance(v, float)}
             self._floats = [k for k, v in d0.items() if isinstance(v, float)]
-            table = np.array([[c.as_dict()[k] for k in self._floats] for c in at_nodes])
+            table = np.array([self._values(c) for c in at_nodes])
             self._spline = CubicSpline(grid, table, axis=0)
             mids = 0.5 * (grid[1:] + grid[:-1])  # the error: the largest relative one at about five mid-points
             for v in mids[:: max(1, len(mids) // 5)]:
-                direct = np.array([self._direct(v).as_dict()[k] for k in self._floats])
+                direct = np.array(self._values(self._direct(v)))
                 err = np.abs(self._spline(v) - direct) / np.maximum(np.abs(direct), libm.TINY)
                 self.interpolation_error = max(self.interpolation_error, float(np.max(err)))
         self._cache: dict[float, Coefficients] = {}
+
+    def _values(self, c: Coefficients) -> list[float | str | int]:
+        """The float fields of ``c`` that the splines interpolate, in their order."""
+        d = c.as_dict()
+        return [d[k] for k in self._floats]
 
     def _direct(self, p: float) -> Coefficients:
         return point.point_coefficients(self.design, {**self.fixed, self.parameter: float(p)})
