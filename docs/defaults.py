@@ -8,12 +8,12 @@ from collections.abc import Iterator
 
 from geardyn.label import indicators, policy
 from geardyn.runs.continuation import boundaries, corrector, pixel_samples
-from geardyn.solve import base, run
+from geardyn.solve import base
 
 #: (title, the settings, the instances side by side: (column, instance)), in the order of the page.
 SECTIONS = (
     ("Integration (`geardyn.solve.base.SimulationSettings`)", [("default", base.SimulationSettings())]),
-    ("Early stop of the transient (`geardyn.solve.run.EarlyStop`)", [("default", run.EarlyStop())]),
+    ("Early stop of the transient (`geardyn.solve.base.EarlyStop`)", [("default", base.EarlyStop())]),
     ("Newton shooting (`geardyn.solve.base.ShootingSettings`)", [("default", base.SHOOTING)]),
     (
         "Continuation (`geardyn.runs.continuation.corrector.ContinuationSettings`)",

@@ -12,8 +12,8 @@ from geardyn.io import quarantine
 from geardyn.khv import design
 from geardyn.runs import cube, maps, sweep
 from geardyn.solve import SimulationSettings, simulate
-from geardyn.solve.base import Lane
-from geardyn.solve.run import EarlyStop, simulate_batch
+from geardyn.solve.base import EarlyStop, Lane
+from geardyn.solve.run import simulate_batch
 
 ROOT = Path(__file__).resolve().parents[1]
 

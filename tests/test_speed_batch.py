@@ -9,8 +9,8 @@ from _oracle import rules_label
 from benchmarks.work_precision import cases
 from geardyn.label import Policy, indicators, label_points
 from geardyn.solve import SimulationSettings, _batch, _period, simulate
-from geardyn.solve.base import Lane, Monodromy, Tangent
-from geardyn.solve.run import EarlyStop, simulate_batch, step_tables
+from geardyn.solve.base import EarlyStop, Lane, Monodromy, Tangent
+from geardyn.solve.run import simulate_batch, step_tables
 
 
 @pytest.fixture(scope="module")

@@ -20,8 +20,8 @@ from geardyn.label._stages import (
 )
 from geardyn.label.policy import Policy
 from geardyn.label.settle import settle_points
-from geardyn.solve.base import Lane, Sums, Tangent
-from geardyn.solve.run import EarlyStop, simulate_batch
+from geardyn.solve.base import EarlyStop, Lane, Sums, Tangent
+from geardyn.solve.run import simulate_batch
 from geardyn.solve.shooting import ShootingResult
 
 # ------------------------------------------------------------------------------------------------

@@ -5,12 +5,15 @@ settings and results (equations and layout: ``docs/numerics.md``)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Hashable
 from dataclasses import dataclass
 from typing import Literal, Protocol
 
 import numpy as np
+
+from geardyn.solve.precision import POINCARE_ERROR
 
 IntegratorName = Literal["rk4", "rk4_event", "dop853"]
 
@@ -208,3 +211,22 @@ def static_mesh_force(system: System) -> float:
 def drive_side(static_force: float) -> float:
     """+1 or -1: the sign of the drive-side contact, that of the static mesh force (+1 for zero)."""
     return -1.0 if static_force < 0.0 else 1.0
+
+
+@dataclass(frozen=True)
+class EarlyStop:
+    """Early stop of the transient (see :mod:`geardyn.solve._batch`): from ``min_periods`` on, stop
+    once a return distance d_n (n <= max_n) stays <= tol = max(atol max(|p|, 1), floor) for ``confirm``
+    consecutive mesh periods, the smallest such n, with d_m > separation * tol for m < n."""
+
+    min_periods: int = 50
+    confirm: int = 10
+    max_n: int = 12
+    floor: float = POINCARE_ERROR[128]  # the measured Poincare error at 128 steps per period
+    atol: float = 1e-7
+    separation: float = 10.0
+
+    def as_kernel_args(self) -> tuple[int, int, int, float, float, float]:
+        """The early-stop tuple of the compiled loops (``es`` of :func:`geardyn.solve._kernel.run`)."""
+        v = dataclasses.astuple(self)
+        return (*map(int, v[:3]), *map(float, v[3:]))  # type: ignore[return-value]

@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -17,6 +16,7 @@ import geardyn.solve._kernel as _kernel
 import geardyn.solve._period as _period
 import geardyn.solve._response as _response
 from geardyn.solve.base import (
+    EarlyStop,
     Lane,
     Monodromy,
     SimulationResult,
@@ -28,7 +28,6 @@ from geardyn.solve.base import (
     drive_side,
     static_mesh_force,
 )
-from geardyn.solve.precision import POINCARE_ERROR
 
 
 @lru_cache(maxsize=64)
@@ -113,25 +112,6 @@ def simulate(
     if dense:
         r.tau, r.states = dt[:ndense], dy[:ndense]
     return r
-
-
-@dataclass(frozen=True)
-class EarlyStop:
-    """Early stop of the transient (see :mod:`geardyn.solve._batch`): from ``min_periods`` on, stop
-    once a return distance d_n (n <= max_n) stays <= tol = max(atol max(|p|, 1), floor) for ``confirm``
-    consecutive mesh periods, the smallest such n, with d_m > separation * tol for m < n."""
-
-    min_periods: int = 50
-    confirm: int = 10
-    max_n: int = 12
-    floor: float = POINCARE_ERROR[128]  # the measured Poincare error at 128 steps per period
-    atol: float = 1e-7
-    separation: float = 10.0
-
-    def as_kernel_args(self) -> tuple[int, int, int, float, float, float]:
-        """The early-stop tuple of the compiled loops (``es`` of :func:`geardyn.solve._kernel.run`)."""
-        v = dataclasses.astuple(self)
-        return (*map(int, v[:3]), *map(float, v[3:]))  # type: ignore[return-value]
 
 
 @dataclass(frozen=True)
