@@ -9,7 +9,6 @@ localrules:
     stiffness_figures,
     stiffness_figures_own,
     sweep_merge,
-    bifurcation_figure,
     point_figure,
     calibration_compare,
     plus_modal_figures,
