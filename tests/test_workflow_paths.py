@@ -71,3 +71,17 @@ def test_the_claims_read_the_runs_their_paper_declares(tmp_path):
     runs = {f for f in outputs if re.fullmatch(r"results/li2013/(sweeps|points)/\w+\.nc", f)}
     assert runs == {f"results/li2013/{section}/{name}.nc" for section, name in li2013.CLAIM_RUNS.values()}
     assert len(runs) == 4
+
+
+def test_a_figure_drawn_by_a_merge_is_a_target_of_its_own(small):
+    # the sweep's merge writes its cube, bands and bifurcation diagram in one job; asking for the diagram alone
+    # plans that job (and the chunks it merges), and its caption asks for the same job
+    for target in ("results/li2013/figures/fig07_small.png", "results/li2013/figures/fig07_small.png.txt"):
+        run = wf.snakemake(small, "-n", target)
+        jobs = dict(re.findall(r"^(\w+)\s+(\d+)$", run.stdout[run.stdout.index("Job stats") :], re.M))
+        assert {k: v for k, v in jobs.items() if k != "total"} == {
+            "kernels": "1",
+            "sweep_chunk": "2",
+            "sweep_merge": "1",
+        }
+        assert target in _planned(run, "output")
