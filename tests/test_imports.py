@@ -121,7 +121,6 @@ DRAWING_ADAPTERS = (
     "plus_te_figures",
     "point_figure",
     "probabilities_claims",
-    "probabilities_figure",
     "probabilities_merge",
     "stiffness_figures",
     "stiffness_table",

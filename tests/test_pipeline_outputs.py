@@ -238,7 +238,6 @@ def test_slurm_profile_keeps_cheap_rules_local(tmp_path):
         "map_merge",
         "map_figure",
         "probabilities_merge",
-        "probabilities_figure",
         "probabilities_claims",
         "calibration_compare",
     } == local

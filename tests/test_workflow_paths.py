@@ -73,15 +73,20 @@ def test_the_claims_read_the_runs_their_paper_declares(tmp_path):
     assert len(runs) == 4
 
 
-def test_a_figure_drawn_by_a_merge_is_a_target_of_its_own(small):
-    # the sweep's merge writes its cube, bands and bifurcation diagram in one job; asking for the diagram alone
-    # plans that job (and the chunks it merges), and its caption asks for the same job
-    for target in ("results/li2013/figures/fig07_small.png", "results/li2013/figures/fig07_small.png.txt"):
-        run = wf.snakemake(small, "-n", target)
-        jobs = dict(re.findall(r"^(\w+)\s+(\d+)$", run.stdout[run.stdout.index("Job stats") :], re.M))
-        assert {k: v for k, v in jobs.items() if k != "total"} == {
-            "kernels": "1",
-            "sweep_chunk": "2",
-            "sweep_merge": "1",
-        }
-        assert target in _planned(run, "output")
+@pytest.mark.parametrize(
+    ("target", "merge"),
+    [
+        ("figures/fig07_small.png", "sweep_merge"),
+        ("figures/fig07_small.png.txt", "sweep_merge"),
+        ("figures/small_prob.png", "probabilities_merge"),
+        ("tables/small_prob.md", "probabilities_merge"),
+    ],
+)
+def test_a_figure_drawn_by_a_merge_is_a_target_of_its_own(small, target, merge):
+    # a sweep's merge writes its cube, bands and bifurcation diagram in one job, a probabilities study's merge its
+    # cube, figure and table; asking for one of them alone plans that job and the chunks it merges, nothing else
+    run = wf.snakemake(small, "-n", f"results/li2013/{target}")
+    jobs = dict(re.findall(r"^(\w+)\s+(\d+)$", run.stdout[run.stdout.index("Job stats") :], re.M))
+    chunk = merge.replace("_merge", "_chunk")
+    assert set(jobs) == {"kernels", chunk, merge, "total"} and jobs[merge] == "1" and int(jobs[chunk]) >= 2
+    assert f"results/li2013/{target}" in _planned(run, "output")

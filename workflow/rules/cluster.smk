@@ -20,5 +20,4 @@ localrules:
     map_merge,
     map_figure,
     probabilities_merge,
-    probabilities_figure,
     probabilities_claims,
