@@ -1,8 +1,8 @@
-"""A small build of the files a notebook user reads, for two designs (li2013 and li2013_calibrated): a sweep of
-each, and of li2013 a regime map over (w, e) with its curves, points, a frequency response, a probabilities study
-against w and the closed graph.  Snakemake builds only these :data:`TARGETS` (no figures, no tables) in a temporary
-copy of the workflow; the tests of :func:`geardyn.open_results`, the ``ds.geardyn`` accessor, ``geardyn show`` and
-docs/quickstart.ipynb read it."""
+"""A small build of the files a notebook user reads, for two designs (li2013 and li2013_calibrated): a sweep of each,
+and of li2013 a regime map over (w, e) with its curves, points, a frequency response, a probabilities study against
+w and the closed graph. Snakemake builds only these :data:`TARGETS` (and what their jobs write with them: a sweep's
+bands and diagram, the probabilities study's figure and table) in a temporary copy of the workflow; the tests of
+:func:`geardyn.open_results`, the ``ds.geardyn`` accessor, ``geardyn show`` and docs/quickstart.ipynb read it."""
 
 from __future__ import annotations
 

@@ -185,7 +185,7 @@ def test_study_through_slurm_equals_local_run(local, study):
     submitted = Counter(re.findall(r"^rule (\w+):", text, re.M))  # Snakemake's line for a job it submits
     assert Counter(job["rule"] for job in jobs) == submitted
     assert submitted["sweep_chunk"] == SWEEP_CHUNKS and submitted["map_chunk"] == MAP_CHUNKS
-    for rule in ("sweep_merge", "map_merge", "bifurcation_figure", "map_figure"):
+    for rule in ("sweep_merge", "map_merge", "map_figure"):
         assert re.search(rf"^localrule {rule}:", text, re.M) and rule not in submitted, rule
     assert _outputs(work) == _outputs(local[0])
     cubes = sorted(path for path in _outputs(work) if path.endswith(".nc"))

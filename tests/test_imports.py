@@ -110,7 +110,6 @@ def test_a_design_header_is_what_the_full_design_says() -> None:
 #: The workflow's adapters that draw, merge or write tables: nothing in them integrates, so their imports (their
 #: job's start-up) load neither numba nor the kernel cache, nor scipy's linear algebra.
 DRAWING_ADAPTERS = (
-    "bifurcation_figure",
     "closed_graph",
     "curves_figure",
     "fig03_closed_graph",
@@ -122,7 +121,6 @@ DRAWING_ADAPTERS = (
     "plus_te_figures",
     "point_figure",
     "probabilities_claims",
-    "probabilities_figure",
     "probabilities_merge",
     "stiffness_figures",
     "stiffness_table",

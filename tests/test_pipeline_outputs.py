@@ -224,7 +224,6 @@ def test_slurm_profile_keeps_cheap_rules_local(tmp_path):
     local = set(re.findall(r"^\s+(\w+),", block, re.M))
     assert {
         "sweep_merge",
-        "bifurcation_figure",
         "point_figure",
         "fig03_closed_graph",
         "closed_graph_figure",
@@ -239,7 +238,6 @@ def test_slurm_profile_keeps_cheap_rules_local(tmp_path):
         "map_merge",
         "map_figure",
         "probabilities_merge",
-        "probabilities_figure",
         "probabilities_claims",
         "calibration_compare",
     } == local

@@ -71,3 +71,22 @@ def test_the_claims_read_the_runs_their_paper_declares(tmp_path):
     runs = {f for f in outputs if re.fullmatch(r"results/li2013/(sweeps|points)/\w+\.nc", f)}
     assert runs == {f"results/li2013/{section}/{name}.nc" for section, name in li2013.CLAIM_RUNS.values()}
     assert len(runs) == 4
+
+
+@pytest.mark.parametrize(
+    ("target", "merge"),
+    [
+        ("figures/fig07_small.png", "sweep_merge"),
+        ("figures/fig07_small.png.txt", "sweep_merge"),
+        ("figures/small_prob.png", "probabilities_merge"),
+        ("tables/small_prob.md", "probabilities_merge"),
+    ],
+)
+def test_a_figure_drawn_by_a_merge_is_a_target_of_its_own(small, target, merge):
+    # a sweep's merge writes its cube, bands and bifurcation diagram in one job, a probabilities study's merge its
+    # cube, figure and table; asking for one of them alone plans that job and the chunks it merges, nothing else
+    run = wf.snakemake(small, "-n", f"results/li2013/{target}")
+    jobs = dict(re.findall(r"^(\w+)\s+(\d+)$", run.stdout[run.stdout.index("Job stats") :], re.M))
+    chunk = merge.replace("_merge", "_chunk")
+    assert set(jobs) == {"kernels", chunk, merge, "total"} and jobs[merge] == "1" and int(jobs[chunk]) >= 2
+    assert f"results/li2013/{target}" in _planned(run, "output")

@@ -9,7 +9,6 @@ localrules:
     stiffness_figures,
     stiffness_figures_own,
     sweep_merge,
-    bifurcation_figure,
     point_figure,
     calibration_compare,
     plus_modal_figures,
@@ -21,5 +20,4 @@ localrules:
     map_merge,
     map_figure,
     probabilities_merge,
-    probabilities_figure,
     probabilities_claims,

@@ -1,6 +1,6 @@
 # Regime probabilities under uncertain inputs (docs/probabilities.md): the samples of the inputs, each a line
 # along the study's axis, in chunks of whole samples; merged with their statistics (probabilities, quantiles,
-# sensitivities); figure and table; for a study with claims, the paper's claims along its line checked per sample.
+# sensitivities), drawn and tabulated; for a study with claims, the paper's claims along its line checked per sample.
 
 
 rule probabilities_chunk:
@@ -26,20 +26,9 @@ rule probabilities_merge:
             "probabilities", rules.probabilities_chunk.output[0], probability_chunks
         ),
     output:
-        results("probabilities", "{prob}.nc"),
-    log:
-        logs("probabilities_{prob}_merge.log"),
-    threads: 1
-    params:
-        spec=config_slice("probabilities"),
-    script:
-        "../scripts/probabilities_merge.py"
-
-
-rule probabilities_figure:
-    input:
-        cube=rules.probabilities_merge.output[0],
-    output:
+        cube=results("probabilities", "{prob}.nc"),
+        # and the study's figure (with its caption) and table, each still a target of its own: a job of its own
+        # paid an interpreter, xarray's and matplotlib's imports and the cube's reading again
         figure=report(
             results("figures", "{prob}.png"),
             caption="../report/probabilities.rst",
@@ -50,13 +39,13 @@ rule probabilities_figure:
         caption=results("figures", "{prob}.png.txt"),
         table=results("tables", "{prob}.md"),
     log:
-        logs("figure_{prob}.log"),
+        logs("probabilities_{prob}_merge.log"),
     threads: 1
     params:
         spec=config_slice("probabilities"),
         skipped=skipped_designs("probabilities"),
     script:
-        "../scripts/probabilities_figure.py"
+        "../scripts/probabilities_merge.py"
 
 
 rule probabilities_claims:
@@ -87,6 +76,6 @@ rule probabilities_claims:
 PROBABILITY_TARGETS = runs_for(
     "probabilities",
     rules.probabilities_merge.output[0],
-    rules.probabilities_figure.output.figure,
-    rules.probabilities_figure.output.table,
+    rules.probabilities_merge.output.figure,
+    rules.probabilities_merge.output.table,
 ) + probability_claims(rules.probabilities_claims.output.csv)

@@ -1,4 +1,4 @@
-# Bifurcation sweeps in chunks, merged into one cube per sweep (paper 1 Figs. 7, 9, 11 for a paper
+# Bifurcation sweeps in chunks, merged into one cube per sweep and drawn (paper 1 Figs. 7, 9, 11 for a paper
 # design), and dense runs at single points (Figs. 8, 10, 12).
 
 
@@ -34,20 +34,8 @@ rule sweep_merge:
             labels={"design": "{design}", "table": "regime bands"},
         ),
         md=results("tables", "{sweep}_bands.md"),
-    log:
-        logs("sweep_{sweep}_merge.log"),
-    threads: 1
-    params:
-        spec=config_slice("sweeps"),
-    script:
-        "../scripts/sweep_merge.py"
-
-
-rule bifurcation_figure:
-    input:
-        design=design_file,
-        cube=rules.sweep_merge.output[0],
-    output:
+        # and its bifurcation diagram (paper 1 Figs. 7, 9, 11 for a paper design), still a target of its own: a
+        # job of its own paid an interpreter, xarray's import and the cube's reading again (0.9 of its 1.3 CPU-s)
         figure=report(
             results("figures", "{sweep}.png"),
             caption="../report/bifurcation.rst",
@@ -57,12 +45,12 @@ rule bifurcation_figure:
         ),
         caption=results("figures", "{sweep}.png.txt"),
     log:
-        logs("figure_{sweep}.log"),
+        logs("sweep_{sweep}_merge.log"),
     threads: 1
     params:
         spec=config_slice("sweeps"),
     script:
-        "../scripts/bifurcation_figure.py"
+        "../scripts/sweep_merge.py"
 
 
 rule point_runs:
@@ -103,5 +91,5 @@ rule point_figure:
 
 
 SWEEP_TARGETS = runs_for(
-    "sweeps", rules.sweep_merge.output[0], rules.bifurcation_figure.output.figure
+    "sweeps", rules.sweep_merge.output[0], rules.sweep_merge.output.figure
 ) + runs_for("points", rules.point_runs.output.data, rules.point_figure.output.figure)

@@ -1,9 +1,12 @@
-"""Adapter: merge the chunk cubes of one sweep into a single bifurcation cube, and write its regime bands with
-transition points (CSV + Markdown)."""
+"""Adapter: merge the chunk cubes of one sweep into a single bifurcation cube, write its regime bands with
+transition points (CSV + Markdown) and draw its bifurcation diagram (paper 1 Figs. 7, 9, 11 for a paper design)."""
 
 from geardyn import io
 from geardyn.io import logs, provenance, quarantine
 from geardyn.khv import design
+from geardyn.papers import paper_of
+from geardyn.plots import captions, save_figure
+from geardyn.plots.dynamics import plot_bifurcation
 from geardyn.runs import bands, cube
 
 log = logs.to_file(snakemake.log[0])
@@ -18,10 +21,16 @@ attrs = provenance.attributes(
 )
 io.write_netcdf(merged, snakemake.output.cube, {**merged.attrs, **attrs})
 log.info("merged %d chunks into %s", len(parts), snakemake.output.cube)
-# the bands of the cube as written (read back, as every reader of the cube sees it)
+# the bands and the diagram of the cube as written (read back, as every reader of the cube sees it)
 written = io.read_dataset(snakemake.output.cube)
 rows = bands.band_rows(written)
-title = f"{snakemake.params.spec.get('title') or snakemake.wildcards.sweep} ({snakemake.wildcards.design})"
+name = snakemake.params.spec.get("title") or snakemake.wildcards.sweep
+title = f"{name} ({snakemake.wildcards.design})"
 io.write_text(bands.bands_csv(rows), snakemake.output.csv)
 io.write_text(bands.bands_markdown(rows, title, written.attrs["control_parameter"]), snakemake.output.md)
 log.info("%d bands written", len(rows))
+save_figure(
+    plot_bifurcation(written, name),
+    snakemake.output.figure,
+    captions.bifurcation(snakemake.wildcards.sweep, written, paper_of(drive.paper)),
+)
