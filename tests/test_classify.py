@@ -1,18 +1,12 @@
 """Period labels from Poincaré points, on sequences whose answers are known."""
 
-import subprocess
-import sys
-
 import numpy as np
 import pytest
-import scipy.signal
-from hypothesis import given
-from hypothesis import strategies as st
 
 from _oracle import classify_point
 from geardyn.label import indicators
 from geardyn.runs.bands import bands
-from geardyn.runs.spectrum import amplitude_spectrum, local_maxima, spectral_peaks
+from geardyn.runs.spectrum import amplitude_spectrum
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 5, 6, 12])
@@ -44,30 +38,6 @@ def test_spectrum_of_a_sine_shows_its_amplitude_and_frequency():
     assert a.max() == pytest.approx(2.0, rel=0.02)  # Hann coherent-gain corrected
     near = (f > 0.4) & (f < 0.56)
     assert f[near][np.argmax(a[near])] == pytest.approx(0.48, abs=0.01)
-
-
-# values from a few levels, so that flat tops, flat valleys and flat ends occur often; NaN as well
-LEVELS = st.sampled_from([0.0, 1.0, 2.0, 2.5, 3.0, float("nan")])
-
-
-@given(st.lists(LEVELS, max_size=40))
-def test_local_maxima_are_scipy_find_peaks(values):
-    x = np.array(values, dtype=float)
-    assert local_maxima(x).tolist() == scipy.signal.find_peaks(x)[0].tolist()
-
-
-def test_spectral_peaks_of_two_sines_without_scipy_signal():
-    # the highest first; the point figures' captions and the claims read them, and their jobs do not import
-    # scipy.signal (0.6-0.9 CPU-s of a job's start-up)
-    code = (
-        "import sys, numpy as np; from geardyn.runs.spectrum import amplitude_spectrum, spectral_peaks; "
-        "t = np.arange(100 * 64) / 64; x = 2.0 * np.sin(2 * np.pi * t) + 0.5 * np.sin(2 * np.pi * 0.48 * t); "
-        "print(*spectral_peaks(*amplitude_spectrum(x, 64), n=2), 'scipy.signal' in sys.modules)"
-    )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
-    assert [float(f) for f in out[:2]] == [pytest.approx(1.0), pytest.approx(0.48, abs=0.01)]
-    assert out[2] == "False"
-    assert spectral_peaks(np.array([0.0, 1.0, 2.0]), np.array([1.0, 2.0, 1.0])) == []  # too few lines above 0.02
 
 
 def test_converging_period_two_counts_as_period_two():
