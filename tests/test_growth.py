@@ -11,12 +11,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from scipy import stats
 
 from geardyn.config import validate
 from geardyn.khv import design, point
 from geardyn.label import Policy, indicators, label_points, vocabulary
 from geardyn.label._cycles import period_searched
-from geardyn.label.growth import growth_test
+from geardyn.label.growth import envelope, growing, growth_test
 from geardyn.label.policy import GrowthSettings
 from geardyn.plots import captions
 from geardyn.runs import probabilities, response, study, sweep
@@ -58,6 +59,25 @@ def test_bounded_records_do_not_grow_and_growing_ones_do(n):
         assert g.growing is found
         assert g.rise == pytest.approx((1.0 + rise) ** (15 / 16) - 1.0, rel=0.1)
         assert not found or g.newest_rise > 0.1  # one exponential: its newest half rises at the same rate
+
+
+def test_the_labellers_growth_check_is_the_growth_test_and_its_rise_scipys_theil_sen():
+    """``growing`` (the labeller's check) gives ``growth_test``'s verdict and numbers on bounded, borderline and
+    growing records (rises of 0 to 30 %, with noise), and the rise is that of ``scipy.stats.theilslopes`` bit for
+    bit."""
+    settings = GrowthSettings()
+    verdicts = []
+    for n in (128, 400, 1600):
+        for rise in (0.0, 0.03, 0.05, 0.08, 0.3):
+            for noise in (0.0, 0.05):
+                r = _rotation(n, math.log1p(rise) / n) * (1.0 + noise * RNG.standard_normal((n, 1)))
+                g = growth_test(r, settings)
+                assert growing(r, settings) == (g if g.growing else None)
+                verdicts.append(g.growing)
+                env = envelope(r, settings.blocks)
+                slope = stats.theilslopes(np.log(np.maximum(env, indicators.LOG_FLOOR)), np.arange(16.0)).slope
+                assert g.rise == math.expm1(float(slope) * 15)
+    assert 0 < sum(verdicts) < len(verdicts)  # both verdicts met
 
 
 def test_growth_settings_refuse_bad_values_in_one_line():

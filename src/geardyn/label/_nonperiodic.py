@@ -25,7 +25,7 @@ from geardyn.label._stages import (
     tables_of,
     undecided,
 )
-from geardyn.label.growth import growth_test
+from geardyn.label.growth import growing
 from geardyn.label.policy import Policy
 from geardyn.label.torus import OrderTest, TorusTest, coordinates, order_test, torus_digits, torus_verdict
 from geardyn.label.verdict import Verdict
@@ -247,14 +247,14 @@ def _nonperiodic_verdict(p: Point, policy: Policy) -> Verdict:
 
 
 def _unless_growing(p: Point, policy: Policy, v: Verdict) -> Verdict:
-    """A torus or chaos verdict ``v`` unless the record grows (:func:`geardyn.label.growth.growth_test`): a
+    """A torus or chaos verdict ``v`` unless the record grows (:func:`geardyn.label.growth.growing`): a
     growing record runs on (undetermined) while it is shorter than the record cap, and is ``transient`` at the
     cap.  The line goes on from ``v`` (``Point.handed``: the growth test corrects its own point only;
     ``docs/classify.md``, "Growing records")."""
     if v.label not in (QP, CHAOS):
         return v
-    g = growth_test(p.run.poincare, policy.growth)
-    if not g.growing:
+    g = growing(p.run.poincare, policy.growth)
+    if g is None:
         return v
     p.handed = p.handed or v
     cs = policy.classifier
