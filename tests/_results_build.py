@@ -14,6 +14,8 @@ import _workflow as wf
 DESIGNS = ("li2013", "li2013_calibrated")
 FAST_MAP = {"steps_per_period": 64, "transient_periods": 200, "recorded_periods": 20}
 CLASSIFIER = {"error_floor": 3e-4, "tangent_periods": 30}
+#: Regime boundaries of a small map: at most 2 seeds from its pixels, periods up to 2.
+CURVES = {"ds_max": 0.05, "max_period": 2, "max_map_seeds": 2, "check_every": 1}
 
 
 def config() -> dict[str, Any]:
@@ -41,7 +43,7 @@ def config() -> dict[str, Any]:
             "chunks": 1,
             "integration": dict(FAST_MAP),
             "classifier": dict(CLASSIFIER),
-            "curves": {"ds_max": 0.05, "max_period": 2, "max_map_seeds": 2, "check_every": 1},
+            "curves": dict(CURVES),
         }
     }
     cfg["responses"] = {

@@ -112,6 +112,7 @@ def small_config() -> dict[str, Any]:
             "inputs": {"zeta": {"low": 0.08, "high": 0.12}},
             "samples": 8,
             "sensitivity": {"samples": 8},  # the indices' Latin hypercube: 8 lines, not the default 128
+            "chunks": 1,
             "claims": "fig07",
             "integration": dict(FAST),
         }

@@ -23,14 +23,14 @@ import xarray as xr
 import _workflow as wf
 
 CUBE = "results/li2013/sweeps/fig07_small.nc"
-CHUNKS = 4
-#: A sweep of 24 points (6 per chunk): each chunk job is mostly start-up, about 2 s.
+CHUNKS = 3  # the fewest that let a run be stopped with two chunks done and one to go
+#: A sweep of 18 points (6 per chunk): each chunk job is mostly start-up, about 2 s.
 INTEGRATION = {"steps_per_period": 128, "transient_periods": 100, "recorded_periods": 20}
 
 
 def _config(chunks=CHUNKS):
     # every point from the fixed start, so the chunks are free to cut the one line anywhere
-    cfg = wf.sweep_config(chunks=chunks, num=24, integration=INTEGRATION)
+    cfg = wf.sweep_config(chunks=chunks, num=18, integration=INTEGRATION)
     cfg["sweeps"]["fig07_small"]["start_from"] = "fixed"
     return cfg
 
@@ -213,7 +213,7 @@ def _stored_offset(data: bytes, value: np.float64) -> int:
 
 def test_silently_flipped_byte_in_a_chunk_is_found_by_its_checksum(tmp_path, reference, premerge):
     work = _copy_of(premerge, tmp_path)
-    victim = work / "results/li2013/sweeps/fig07_small/chunk_3.nc"
+    victim = work / "results/li2013/sweeps/fig07_small/chunk_0.nc"
     stat = victim.stat()
     with xr.open_dataset(victim) as ds:  # flip a byte inside the stored x_vh data, not in the metadata
         values = ds["x_vh"].values
@@ -240,10 +240,10 @@ def test_cubes_do_not_depend_on_cores_or_chunks(tmp_path, reference):
     one_core = wf.workflow_copy(tmp_path / "cores1", _config())
     _run(one_core, "--cores", "1")
     assert_same_cube(_open(one_core / CUBE), reference[1])
-    other_chunks = wf.workflow_copy(tmp_path / "chunks3", _config(chunks=3))
+    other_chunks = wf.workflow_copy(tmp_path / "chunks2", _config(chunks=2))
     run = _run(other_chunks, "--cores", "2")
-    assert _jobs(run, "sweep_chunk") == 3
-    # the config (hence its hash) says 3 chunks instead of 4; everything else is identical
+    assert _jobs(run, "sweep_chunk") == 2
+    # the config (hence its hash) says 2 chunks instead of 3 (9 points a chunk, not 6); everything else is identical
     assert_same_cube(_open(other_chunks / CUBE), reference[1], ignore=("history", "config_hash", "config_json"))
 
 
