@@ -119,6 +119,30 @@ def test_a_process_started_without_the_setting_is_seen_and_restarts():
     assert _variant_in(env, "libm.restart_canonical(); ") == libm.CANONICAL
 
 
+def _labelling_warnings(env: dict[str, str]) -> list[str]:
+    """The warnings of a process started with ``env`` that labels (no lines) twice."""
+    code = (
+        "import logging; logging.basicConfig(format='%(levelname)s %(message)s'); "
+        "from geardyn.label import Policy, label_lines; from geardyn.solve import SimulationSettings; "
+        "p = Policy(SimulationSettings()); label_lines([], p); label_lines([], p)"
+    )
+    run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    return [line for line in run.stderr.splitlines() if line.startswith("WARNING")]
+
+
+@needs_glibc
+def test_labelling_in_a_process_of_the_fused_build_warns_once():
+    """A script started without the setting labels with glibc's fused build (row 60 of li2013_calibrated's
+    map_x1_e: 37 of 200 labels differ from the build's) and is told so, once; one started with it is not."""
+    env = {k: v for k, v in os.environ.items() if k not in ("GLIBC_TUNABLES", "GEARDYN_LIBM_RESTARTED")}
+    cpu_fma = {"fma", "avx2"} <= set(provenance.runtime()["cpu_simd_flags"].split())
+    warned = _labelling_warnings(env)
+    assert len(warned) == (1 if cpu_fma else 0)
+    assert all("glibc-fma" in w and "restart_canonical" in w for w in warned)
+    assert _labelling_warnings(dict(os.environ)) == []
+
+
 def test_the_setting_joins_other_tunables():
     env = libm.canonical_environ({"GLIBC_TUNABLES": "glibc.malloc.arena_max=2:glibc.cpu.hwcaps=-AVX512F", "X": "1"})
     assert env["X"] == "1"

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import geardyn.label._stages as st
+from geardyn import libm
 from geardyn.label._follow import follow
 from geardyn.label._nonperiodic import exponents, longer_record
 from geardyn.label._record import integrate, slow_transients
@@ -20,6 +21,25 @@ from geardyn.solve.base import System
 from geardyn.solve.run import LaneTables, full_batch, lane_tables
 
 log = logging.getLogger("geardyn.label")
+
+#: Whether this process has warned that it is not :func:`geardyn.libm.canonical_process` (once per process).
+_warned = False
+
+
+def _warn_unless_canonical() -> None:
+    """Log a warning, once per process, when it computes with other bits than a build's jobs (glibc's fused
+    math build or other OpenBLAS kernels): its labels may differ from the build's (``docs/reproducibility.md``,
+    section 5)."""
+    global _warned
+    if _warned or libm.canonical_process():
+        return
+    _warned = True
+    log.warning(
+        "this process runs the C library's %s math build (OpenBLAS %s), not a build's: labels may differ from "
+        "the build's; start it with geardyn.libm.restart_canonical() (docs/reproducibility.md, section 5)",
+        libm.variant(),
+        libm.blas_core(),
+    )
 
 
 #: The stages of a batch's first pass, in order: each takes the points still undecided and the policy,
@@ -116,7 +136,9 @@ def label_lines(
     progress: str = "",
 ) -> list[list[Verdict]]:
     """Label every point of every line: ``out[i][k]`` is the verdict of point k of line i, from ``starts[i]``
-    (None: the static deflection); a verdict depends only on its line (``docs/classify.md``)."""
+    (None: the static deflection); a verdict depends only on its line (``docs/classify.md``) and on the process's
+    math build (a warning where it is not a build's: :func:`_warn_unless_canonical`)."""
+    _warn_unless_canonical()
     starts = [None] * len(lines) if starts is None else list(starts)
     if policy.start == "fixed":  # every point a line of its own, from its line's start
         singles = [([s], x0) for line, x0 in zip(lines, starts, strict=True) for s in line]
