@@ -88,5 +88,5 @@ def test_a_figure_drawn_by_a_merge_is_a_target_of_its_own(small, target, merge):
     run = wf.snakemake(small, "-n", f"results/li2013/{target}")
     jobs = dict(re.findall(r"^(\w+)\s+(\d+)$", run.stdout[run.stdout.index("Job stats") :], re.M))
     chunk = merge.replace("_merge", "_chunk")
-    assert set(jobs) == {"kernels", chunk, merge, "total"} and jobs[merge] == "1" and int(jobs[chunk]) >= 2
+    assert set(jobs) == {"kernels", chunk, merge, "total"} and jobs[merge] == "1" and int(jobs[chunk]) >= 1
     assert f"results/li2013/{target}" in _planned(run, "output")
