@@ -111,6 +111,11 @@ def ledger(config_path: Path, repeats: int = 2, log=print, only: str = "") -> di
     """Every workload's CPU seconds (the cheaper of ``repeats`` runs) and cost in million kernel point-steps,
     with the kernel's ns per point-step (the cheaper of its runs before and after the workloads); ``only``:
     the workloads whose name contains it."""
+    import numba  # noqa: PLC0415 - only the ledger's own runs
+
+    # one thread: CPU time counts every thread of the process, and an idle OpenMP thread spins after each
+    # parallel region (two threads read 1.2-2.4x the CPU of one for the same work on this machine)
+    numba.set_num_threads(1)
     config = workflow_config(config_path)
     root = config_path.resolve().parent.parent
     warm_up(point.point_coefficients(load_design("li2013", config, root)))
