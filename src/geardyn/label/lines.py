@@ -22,18 +22,21 @@ from geardyn.solve.run import LaneTables, full_batch, lane_tables
 
 log = logging.getLogger("geardyn.label")
 
-#: Whether this process has warned that it is not :func:`geardyn.libm.canonical_process` (once per process).
-_warned = False
+#: Whether this process has been checked against :func:`geardyn.libm.canonical_process` (once per process: its
+#: math build and BLAS kernels do not change while it runs).
+_checked = False
 
 
 def _warn_unless_canonical() -> None:
     """Log a warning, once per process, when it computes with other bits than a build's jobs (glibc's fused
     math build or other OpenBLAS kernels): its labels may differ from the build's (``docs/reproducibility.md``,
     section 5)."""
-    global _warned
-    if _warned or libm.canonical_process():
+    global _checked
+    if _checked:
         return
-    _warned = True
+    _checked = True
+    if libm.canonical_process():
+        return
     log.warning(
         "this process runs the C library's %s math build (OpenBLAS %s), not a build's: labels may differ from "
         "the build's; start it with geardyn.libm.restart_canonical() (docs/reproducibility.md, section 5)",
